@@ -1,0 +1,172 @@
+use super::*;
+use alloc::string::ToString;
+use alloc::vec;
+
+const T1: Duration = Duration::from_millis(1);
+const T2: Duration = Duration::from_millis(2);
+
+#[test]
+fn typed_get_and_set() {
+    let mut bb = Blackboard::new();
+    bb.set("n", 3_i64).unwrap();
+    bb.set("name", String::from("ada")).unwrap();
+    assert_eq!(bb.get::<i64>("n"), Ok(3));
+    assert_eq!(bb.get_ref::<String>("name").map(String::as_str), Ok("ada"));
+    assert_eq!(
+        bb.get::<i64>("missing"),
+        Err(BlackboardError::NotFound {
+            key: "missing".into()
+        })
+    );
+}
+
+#[test]
+fn wrong_type_reads_and_writes_are_errors() {
+    let mut bb = Blackboard::new();
+    bb.set("n", 3_i64).unwrap();
+    let e = bb.get::<f64>("n").unwrap_err();
+    assert_eq!(
+        e,
+        BlackboardError::WrongType {
+            key: "n".into(),
+            expected: "f64",
+            found: "i64"
+        }
+    );
+    assert_eq!(e.to_string(), "blackboard entry `n` holds a i64, not a f64");
+    assert!(matches!(
+        bb.set("n", 1.5_f64),
+        Err(BlackboardError::WrongType {
+            expected: "f64",
+            found: "i64",
+            ..
+        })
+    ));
+    // The failed write changed nothing.
+    assert_eq!(bb.get::<i64>("n"), Ok(3));
+    assert_eq!(bb.info("n").unwrap().sequence, 1);
+    // replace_in changes the type on purpose.
+    bb.replace_in(ScopeId::ROOT, "n", 1.5_f64, T1);
+    assert_eq!(bb.get::<f64>("n"), Ok(1.5));
+    assert_eq!(bb.info("n").unwrap().sequence, 2);
+}
+
+#[test]
+fn sequence_and_stamp_follow_writes() {
+    let mut bb = Blackboard::new();
+    bb.set_in(ScopeId::ROOT, "k", 1_u8, T1).unwrap();
+    assert_eq!(
+        bb.info("k"),
+        Some(EntryInfo {
+            sequence: 1,
+            stamp: T1,
+            type_name: "u8"
+        })
+    );
+    bb.set_in(ScopeId::ROOT, "k", 2_u8, T2).unwrap();
+    bb.set_in(ScopeId::ROOT, "k", 2_u8, T2).unwrap();
+    let info = bb.info("k").unwrap();
+    assert_eq!((info.sequence, info.stamp), (3, T2));
+    // Overwrites keep a single entry.
+    assert_eq!(bb.keys().count(), 1);
+}
+
+#[test]
+fn remapped_keys_read_and_write_the_parent() {
+    let mut bb = Blackboard::new();
+    bb.set("target", 10_i32).unwrap();
+    let sub = bb.add_scope(ScopeId::ROOT, false);
+    bb.remap(sub, "goal", "target");
+    assert_eq!(bb.get_in::<i32>(sub, "goal"), Ok(10));
+    bb.set_in(sub, "goal", 11_i32, T1).unwrap();
+    assert_eq!(bb.get::<i32>("target"), Ok(11));
+    // Unremapped keys stay in the child.
+    bb.set_in(sub, "local", 1_i32, T1).unwrap();
+    assert!(!bb.contains("local"));
+    assert!(bb.contains_in(sub, "local"));
+    assert!(!bb.contains_in(sub, "target"));
+}
+
+#[test]
+fn remaps_chain_over_two_levels_and_to_the_root() {
+    let mut bb = Blackboard::new();
+    let mid = bb.add_scope(ScopeId::ROOT, false);
+    let leaf = bb.add_scope(mid, false);
+    bb.remap(mid, "b", "a");
+    bb.remap(leaf, "c", "b");
+    bb.remap(leaf, "d", "@top");
+    bb.set_in(leaf, "c", 5_u32, T1).unwrap();
+    bb.set_in(leaf, "d", 6_u32, T1).unwrap();
+    assert_eq!(bb.get::<u32>("a"), Ok(5));
+    assert_eq!(bb.get::<u32>("top"), Ok(6));
+    assert_eq!(bb.parent(leaf), Some(mid));
+    assert_eq!(bb.scope_count(), 3);
+}
+
+#[test]
+fn autoremap_reaches_the_parent_but_not_private_keys() {
+    let mut bb = Blackboard::new();
+    bb.set("shared", 1_i32).unwrap();
+    bb.set("_secret", 2_i32).unwrap();
+    let sub = bb.add_scope(ScopeId::ROOT, true);
+    assert_eq!(bb.get_in::<i32>(sub, "shared"), Ok(1));
+    assert!(bb.get_in::<i32>(sub, "_secret").is_err());
+    // Writes of unknown keys land in the parent too; private ones stay.
+    bb.set_in(sub, "fresh", 3_i32, T1).unwrap();
+    bb.set_in(sub, "_mine", 4_i32, T1).unwrap();
+    assert_eq!(bb.get::<i32>("fresh"), Ok(3));
+    assert!(!bb.contains("_mine"));
+    assert_eq!(bb.keys_in(sub).collect::<Vec<_>>(), ["_mine"]);
+}
+
+#[test]
+fn at_keys_address_the_root_from_anywhere() {
+    let mut bb = Blackboard::new();
+    let a = bb.add_scope(ScopeId::ROOT, false);
+    let b = bb.add_scope(a, false);
+    bb.set_in(b, "@pose", (1.0_f64, 2.0_f64), T1).unwrap();
+    assert_eq!(bb.get::<(f64, f64)>("pose"), Ok((1.0, 2.0)));
+    assert_eq!(bb.get_in::<(f64, f64)>(b, "@pose"), Ok((1.0, 2.0)));
+    assert!(!bb.contains_in(b, "pose"));
+}
+
+#[test]
+fn unset_keys_and_clear() {
+    let mut bb = Blackboard::new();
+    for k in ["b", "a", "c"] {
+        bb.set(k, 0_u8).unwrap();
+    }
+    assert_eq!(bb.keys().collect::<Vec<_>>(), ["a", "b", "c"]);
+    assert!(bb.unset("b"));
+    assert!(!bb.unset("b"));
+    assert_eq!(bb.keys().collect::<Vec<_>>(), ["a", "c"]);
+    let sub = bb.add_scope(ScopeId::ROOT, false);
+    bb.remap(sub, "x", "a");
+    bb.clear();
+    assert_eq!(bb.keys().count(), 0);
+    // Remaps survive a clear.
+    bb.set_in(sub, "x", 9_u8, T1).unwrap();
+    assert_eq!(bb.get::<u8>("a"), Ok(9));
+}
+
+#[test]
+fn unknown_scopes_are_errors() {
+    let mut bb = Blackboard::new();
+    assert_eq!(
+        bb.get_in::<u8>(ScopeId(7), "k"),
+        Err(BlackboardError::NoSuchScope { scope: 7 })
+    );
+    assert!(bb.set_in(ScopeId(7), "k", 1_u8, T1).is_err());
+    // A scope with an unknown parent hangs off the root.
+    let s = bb.add_scope(ScopeId(99), true);
+    assert_eq!(bb.parent(s), Some(ScopeId::ROOT));
+}
+
+#[test]
+fn new_is_empty_and_debug_lists_entries() {
+    let mut bb = Blackboard::new();
+    assert_eq!(bb.scope_count(), 1);
+    assert_eq!(alloc::format!("{bb:?}"), "{}");
+    bb.set("k", vec![1_u8]).unwrap();
+    assert!(alloc::format!("{bb:?}").contains("0:k"));
+}

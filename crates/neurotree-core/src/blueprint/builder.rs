@@ -1,0 +1,704 @@
+//! Building a blueprint: a fluent, closure-nested form for people and an `open`/`close` form
+//! for programs (the XML loader, generators), both on the same flat, non-recursive core so
+//! that no tree shape can overflow the stack while building.
+
+use alloc::boxed::Box;
+use alloc::string::String;
+use alloc::sync::Arc;
+use alloc::vec::Vec;
+use core::time::Duration;
+
+use super::{
+    Blueprint, BuildError, BuildErrorKind, CustomSpec, NodeDef, NodeId, NodeKind, NodeMeta,
+    ParallelPolicy, SubTreeScope, DEFAULT_MAX_DEPTH,
+};
+use crate::blackboard::ScopeId;
+use crate::nodes::leaf::{Action, Condition, StatefulAction};
+use crate::Status;
+
+struct Pending<C> {
+    kind: NodeKind<C>,
+    name: String,
+    parent: Option<u32>,
+    children: Vec<u32>,
+    depth: u32,
+}
+
+/// Builds a [`Blueprint`].
+///
+/// Every node method takes the node's name first (an empty name shows the kind's type name).
+/// Nodes with children take a closure that adds them. Validation errors are kept and
+/// reported by [`Builder::build`], so the chain never needs `?` in the middle.
+///
+/// ```
+/// use core::time::Duration;
+/// use neurotree_core::{Blueprint, ParallelPolicy, Status};
+///
+/// struct Robot { battery: f32 }
+///
+/// let blueprint = Blueprint::<Robot>::builder()
+///     .fallback("root", |f| {
+///         f.sequence("work", |s| {
+///             s.condition("battery_ok", |r: &Robot| r.battery > 20.0)
+///                 .timeout("limit", Duration::from_secs(5), |t| {
+///                     t.action("patrol", |_r: &mut Robot| Status::Success)
+///                 })
+///         })
+///         .action("charge", |r: &mut Robot| { r.battery = 100.0; Status::Success })
+///     })
+///     .build()
+///     .unwrap();
+/// assert_eq!(blueprint.len(), 6);
+/// assert_eq!(blueprint.path(blueprint.find("root/work/limit/patrol").unwrap()), "root/work/limit/patrol");
+/// ```
+pub struct Builder<C> {
+    nodes: Vec<Pending<C>>,
+    open: Vec<u32>,
+    error: Option<BuildError>,
+    /// Opens seen after an error, so their closes balance without storing nodes.
+    ignored: usize,
+    max_depth: u32,
+}
+
+impl<C> Default for Builder<C> {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl<C> Builder<C> {
+    /// An empty builder with the default depth limit.
+    pub fn new() -> Self {
+        Self {
+            nodes: Vec::new(),
+            open: Vec::new(),
+            error: None,
+            ignored: 0,
+            max_depth: DEFAULT_MAX_DEPTH,
+        }
+    }
+
+    /// Sets the deepest tree accepted (the root is at depth 1).
+    pub fn max_depth(mut self, limit: u32) -> Self {
+        self.max_depth = limit;
+        self
+    }
+
+    /// `true` once a validation error has been recorded.
+    pub fn has_error(&self) -> bool {
+        self.error.is_some()
+    }
+
+    fn fail(&mut self, at: Option<u32>, kind: BuildErrorKind) {
+        if self.error.is_none() {
+            let path = at.map(|i| self.pending_path(i)).unwrap_or_default();
+            self.error = Some(BuildError { path, kind });
+        }
+    }
+
+    fn pending_path(&self, mut i: u32) -> String {
+        // Deep chains make long paths; the first and last few names locate the node well.
+        const KEEP: usize = 8;
+        let mut chain = Vec::new();
+        loop {
+            chain.push(i);
+            match self.nodes[i as usize].parent {
+                Some(p) => i = p,
+                None => break,
+            }
+        }
+        chain.reverse();
+        let mut out = String::new();
+        for (k, n) in chain.iter().enumerate() {
+            if chain.len() > 2 * KEEP && k == KEEP {
+                out.push_str("/…");
+            }
+            if chain.len() > 2 * KEEP && (KEEP..chain.len() - KEEP).contains(&k) {
+                continue;
+            }
+            if k > 0 {
+                out.push('/');
+            }
+            out.push_str(&self.nodes[*n as usize].name);
+        }
+        out
+    }
+
+    /// Starts a node; the nodes added until the matching [`close`](Self::close) are its children.
+    pub fn open(mut self, kind: NodeKind<C>, name: &str) -> Self {
+        if self.error.is_some() {
+            self.ignored += 1;
+            return self;
+        }
+        let parent = self.open.last().copied();
+        if parent.is_none() && !self.nodes.is_empty() {
+            self.fail(Some(0), BuildErrorKind::SecondRoot);
+            self.ignored += 1;
+            return self;
+        }
+        let depth = self.open.len() as u32 + 1;
+        if depth > self.max_depth {
+            self.fail(
+                parent,
+                BuildErrorKind::TooDeep {
+                    limit: self.max_depth,
+                },
+            );
+            self.ignored += 1;
+            return self;
+        }
+        if self.nodes.len() >= u32::MAX as usize {
+            self.fail(parent, BuildErrorKind::TooManyNodes { max: u32::MAX });
+            self.ignored += 1;
+            return self;
+        }
+        let id = self.nodes.len() as u32;
+        let name = if name.is_empty() {
+            String::from(kind.type_name())
+        } else {
+            String::from(name)
+        };
+        self.nodes.push(Pending {
+            kind,
+            name,
+            parent,
+            children: Vec::new(),
+            depth,
+        });
+        if let Some(p) = parent {
+            self.nodes[p as usize].children.push(id);
+        }
+        self.open.push(id);
+        self
+    }
+
+    /// Ends the node opened last and checks its number of children.
+    pub fn close(mut self) -> Self {
+        if self.ignored > 0 {
+            self.ignored -= 1;
+            return self;
+        }
+        let Some(id) = self.open.pop() else {
+            self.fail(None, BuildErrorKind::UnbalancedClose);
+            return self;
+        };
+        if let Err(kind) = self.validate(id) {
+            self.fail(Some(id), kind);
+        }
+        self
+    }
+
+    /// Checks the closed node's children and resolves thresholds that depend on their number.
+    fn validate(&mut self, id: u32) -> Result<(), BuildErrorKind> {
+        let node = &mut self.nodes[id as usize];
+        let n = node.children.len() as u32;
+        let arity = node.kind.arity();
+        if !arity.accepts(n) {
+            return Err(BuildErrorKind::ChildCount {
+                type_name: String::from(node.kind.type_name()),
+                expected: arity,
+                found: n,
+            });
+        }
+        let threshold_error = |which, value: i64| BuildErrorKind::Threshold {
+            type_name: String::from("Parallel"),
+            which,
+            value,
+            children: n,
+        };
+        match &mut node.kind {
+            NodeKind::Parallel(policy) => {
+                let (s, f) = match *policy {
+                    ParallelPolicy::Thresholds { success, failure } => (success, failure),
+                    ParallelPolicy::RequireAll => (-1, 1),
+                    ParallelPolicy::RequireOne => (1, -1),
+                    ParallelPolicy::RequireCount(m) => {
+                        let m = i32::try_from(m).unwrap_or(i32::MAX);
+                        (m, (n as i32 - m + 1).max(1))
+                    }
+                };
+                let resolved_s = resolve_threshold(s, n);
+                let resolved_f = resolve_threshold(f, n);
+                if resolved_s > i64::from(n) {
+                    return Err(threshold_error("success", resolved_s));
+                }
+                if resolved_f > i64::from(n) {
+                    return Err(threshold_error("failure", resolved_f));
+                }
+                // Signs are kept: a negative success threshold also counts skipped children.
+                *policy = ParallelPolicy::Thresholds {
+                    success: s,
+                    failure: f,
+                };
+            }
+            NodeKind::ParallelAll { max_failures } => {
+                let f = resolve_threshold(*max_failures, n);
+                if f > i64::from(n) {
+                    return Err(BuildErrorKind::Threshold {
+                        type_name: String::from("ParallelAll"),
+                        which: "max_failures",
+                        value: f,
+                        children: n,
+                    });
+                }
+                *max_failures = f as i32;
+            }
+            _ => {}
+        }
+        Ok(())
+    }
+
+    /// Adds a node with children added by `children`.
+    pub fn node(self, kind: NodeKind<C>, name: &str, children: impl FnOnce(Self) -> Self) -> Self {
+        children(self.open(kind, name)).close()
+    }
+
+    /// Adds a node without children.
+    pub fn leaf(self, kind: NodeKind<C>, name: &str) -> Self {
+        self.open(kind, name).close()
+    }
+
+    /// Finishes and validates the blueprint.
+    pub fn build(mut self) -> Result<Blueprint<C>, BuildError> {
+        if let Some(e) = self.error.take() {
+            return Err(e);
+        }
+        if !self.open.is_empty() {
+            let at = self.open.last().copied();
+            let open = self.open.len();
+            self.fail(at, BuildErrorKind::Unclosed { open });
+            return Err(self.error.take().expect("fail() just stored an error"));
+        }
+        if self.nodes.is_empty() {
+            return Err(BuildError {
+                path: String::new(),
+                kind: BuildErrorKind::Empty,
+            });
+        }
+        Ok(self.finish())
+    }
+
+    /// Finishes the blueprint and wraps it in an `Arc`, ready to instantiate.
+    pub fn build_shared(self) -> Result<Arc<Blueprint<C>>, BuildError> {
+        self.build().map(Arc::new)
+    }
+
+    fn finish(self) -> Blueprint<C> {
+        let count = self.nodes.len();
+        let mut nodes = Vec::with_capacity(count);
+        let mut slots = Vec::with_capacity(count);
+        let mut node_scopes = Vec::with_capacity(count);
+        let mut meta = Vec::with_capacity(count);
+        let mut children = Vec::with_capacity(count.saturating_sub(1));
+        let mut scopes: Vec<(ScopeId, SubTreeScope)> = Vec::new();
+        // The scope each node's children use: a SubTree opens a new one.
+        let mut child_scope: Vec<ScopeId> = Vec::with_capacity(count);
+        let mut aux = 0u32;
+        let mut objects = 0u32;
+        for p in self.nodes {
+            let scope = match p.parent {
+                Some(parent) => child_scope[parent as usize],
+                None => ScopeId::ROOT,
+            };
+            let own_child_scope = match &p.kind {
+                NodeKind::SubTree(spec) => {
+                    scopes.push((scope, SubTreeScope::clone(spec)));
+                    ScopeId(scopes.len() as u32)
+                }
+                _ => scope,
+            };
+            child_scope.push(own_child_scope);
+            let object = match p.kind {
+                NodeKind::Stateful(_) | NodeKind::Custom(_) => {
+                    objects += 1;
+                    objects - 1
+                }
+                _ => 0,
+            };
+            let own_slots = p.kind.aux_slots();
+            slots.push(if own_slots > 0 { aux } else { object });
+            node_scopes.push(scope);
+            nodes.push(NodeDef {
+                first_child: children.len() as u32,
+                child_count: p.children.len() as u32,
+                kind: p.kind,
+            });
+            aux += own_slots;
+            children.extend(p.children.into_iter().map(NodeId));
+            meta.push(NodeMeta {
+                name: p.name,
+                parent: p.parent.map(NodeId),
+                depth: p.depth,
+            });
+        }
+        Blueprint {
+            nodes: nodes.into_boxed_slice(),
+            children: children.into_boxed_slice(),
+            slots: slots.into_boxed_slice(),
+            node_scopes: node_scopes.into_boxed_slice(),
+            meta: meta.into_boxed_slice(),
+            scopes: scopes.into_boxed_slice(),
+            aux_slots: aux,
+            objects,
+            max_depth: self.max_depth,
+        }
+    }
+}
+
+/// BehaviorTree.CPP's rule: a negative threshold `t` means `n + t + 1`, floored at 0.
+pub(crate) fn resolve_threshold(t: i32, n: u32) -> i64 {
+    if t < 0 {
+        (i64::from(n) + i64::from(t) + 1).max(0)
+    } else {
+        i64::from(t)
+    }
+}
+
+/// One method per built-in node, in the order of `SEMANTICS.md`.
+impl<C> Builder<C> {
+    /// A [Sequence](crate::nodes::control::sequence).
+    pub fn sequence(self, name: &str, children: impl FnOnce(Self) -> Self) -> Self {
+        self.node(NodeKind::Sequence, name, children)
+    }
+    /// A [SequenceWithMemory](crate::nodes::control::sequence).
+    pub fn sequence_with_memory(self, name: &str, children: impl FnOnce(Self) -> Self) -> Self {
+        self.node(NodeKind::SequenceWithMemory, name, children)
+    }
+    /// A [ReactiveSequence](crate::nodes::control::reactive).
+    pub fn reactive_sequence(self, name: &str, children: impl FnOnce(Self) -> Self) -> Self {
+        self.node(NodeKind::ReactiveSequence, name, children)
+    }
+    /// A [Fallback](crate::nodes::control::fallback) (the textbook's Selector).
+    pub fn fallback(self, name: &str, children: impl FnOnce(Self) -> Self) -> Self {
+        self.node(NodeKind::Fallback, name, children)
+    }
+    /// The seeds' name for a [Fallback](Self::fallback).
+    pub fn selector(self, name: &str, children: impl FnOnce(Self) -> Self) -> Self {
+        self.fallback(name, children)
+    }
+    /// A [ReactiveFallback](crate::nodes::control::reactive).
+    pub fn reactive_fallback(self, name: &str, children: impl FnOnce(Self) -> Self) -> Self {
+        self.node(NodeKind::ReactiveFallback, name, children)
+    }
+    /// An [AsyncSequence](crate::nodes::control::sequence).
+    pub fn async_sequence(self, name: &str, children: impl FnOnce(Self) -> Self) -> Self {
+        self.node(NodeKind::AsyncSequence, name, children)
+    }
+    /// An [AsyncFallback](crate::nodes::control::fallback).
+    pub fn async_fallback(self, name: &str, children: impl FnOnce(Self) -> Self) -> Self {
+        self.node(NodeKind::AsyncFallback, name, children)
+    }
+    /// A [Parallel](crate::nodes::control::parallel) with BehaviorTree.CPP's thresholds.
+    pub fn parallel(
+        self,
+        name: &str,
+        success: i32,
+        failure: i32,
+        children: impl FnOnce(Self) -> Self,
+    ) -> Self {
+        let policy = ParallelPolicy::Thresholds { success, failure };
+        self.node(NodeKind::Parallel(policy), name, children)
+    }
+    /// A [Parallel](crate::nodes::control::parallel) with one of the seeds' policies.
+    pub fn parallel_policy(
+        self,
+        name: &str,
+        policy: ParallelPolicy,
+        children: impl FnOnce(Self) -> Self,
+    ) -> Self {
+        self.node(NodeKind::Parallel(policy), name, children)
+    }
+    /// A [ParallelAll](crate::nodes::control::parallel_all).
+    pub fn parallel_all(
+        self,
+        name: &str,
+        max_failures: i32,
+        children: impl FnOnce(Self) -> Self,
+    ) -> Self {
+        self.node(NodeKind::ParallelAll { max_failures }, name, children)
+    }
+    /// An [IfThenElse](crate::nodes::control::if_then_else).
+    pub fn if_then_else(self, name: &str, children: impl FnOnce(Self) -> Self) -> Self {
+        self.node(NodeKind::IfThenElse, name, children)
+    }
+    /// A [WhileDoElse](crate::nodes::control::while_do_else).
+    pub fn while_do_else(self, name: &str, children: impl FnOnce(Self) -> Self) -> Self {
+        self.node(NodeKind::WhileDoElse, name, children)
+    }
+    /// A [TryCatch](crate::nodes::control::try_catch).
+    pub fn try_catch(
+        self,
+        name: &str,
+        catch_on_halt: bool,
+        children: impl FnOnce(Self) -> Self,
+    ) -> Self {
+        self.node(NodeKind::TryCatch { catch_on_halt }, name, children)
+    }
+    /// An [Inverter](crate::nodes::decorator::inverter).
+    pub fn inverter(self, name: &str, child: impl FnOnce(Self) -> Self) -> Self {
+        self.node(NodeKind::Inverter, name, child)
+    }
+    /// A [ForceSuccess](crate::nodes::decorator::force).
+    pub fn force_success(self, name: &str, child: impl FnOnce(Self) -> Self) -> Self {
+        self.node(NodeKind::ForceSuccess, name, child)
+    }
+    /// A [ForceFailure](crate::nodes::decorator::force).
+    pub fn force_failure(self, name: &str, child: impl FnOnce(Self) -> Self) -> Self {
+        self.node(NodeKind::ForceFailure, name, child)
+    }
+    /// A [Repeat](crate::nodes::decorator::repeat); `-1` repeats forever.
+    pub fn repeat(self, name: &str, num_cycles: i32, child: impl FnOnce(Self) -> Self) -> Self {
+        self.node(NodeKind::Repeat { num_cycles }, name, child)
+    }
+    /// A [RetryUntilSuccessful](crate::nodes::decorator::retry); `-1` retries forever.
+    pub fn retry(self, name: &str, num_attempts: i32, child: impl FnOnce(Self) -> Self) -> Self {
+        self.node(NodeKind::RetryUntilSuccessful { num_attempts }, name, child)
+    }
+    /// A [KeepRunningUntilFailure](crate::nodes::decorator::keep_running).
+    pub fn keep_running_until_failure(self, name: &str, child: impl FnOnce(Self) -> Self) -> Self {
+        self.node(NodeKind::KeepRunningUntilFailure, name, child)
+    }
+    /// A [Delay](crate::nodes::decorator::delay).
+    pub fn delay(self, name: &str, delay: Duration, child: impl FnOnce(Self) -> Self) -> Self {
+        self.node(NodeKind::Delay(delay), name, child)
+    }
+    /// A [Timeout](crate::nodes::decorator::timeout).
+    pub fn timeout(self, name: &str, limit: Duration, child: impl FnOnce(Self) -> Self) -> Self {
+        self.node(NodeKind::Timeout(limit), name, child)
+    }
+    /// A [Cooldown](crate::nodes::decorator::cooldown).
+    pub fn cooldown(self, name: &str, period: Duration, child: impl FnOnce(Self) -> Self) -> Self {
+        self.node(NodeKind::Cooldown(period), name, child)
+    }
+    /// A [RunOnce](crate::nodes::decorator::run_once).
+    pub fn run_once(self, name: &str, then_skip: bool, child: impl FnOnce(Self) -> Self) -> Self {
+        self.node(NodeKind::RunOnce { then_skip }, name, child)
+    }
+    /// A [SubTree](crate::nodes::decorator::subtree): its child sees its own blackboard scope.
+    pub fn subtree(
+        self,
+        name: &str,
+        scope: SubTreeScope,
+        child: impl FnOnce(Self) -> Self,
+    ) -> Self {
+        self.node(NodeKind::SubTree(Box::new(scope)), name, child)
+    }
+    /// An [AlwaysSuccess](crate::nodes::leaf::always) leaf.
+    pub fn always_success(self, name: &str) -> Self {
+        self.leaf(NodeKind::AlwaysSuccess, name)
+    }
+    /// An [AlwaysFailure](crate::nodes::leaf::always) leaf.
+    pub fn always_failure(self, name: &str) -> Self {
+        self.leaf(NodeKind::AlwaysFailure, name)
+    }
+    /// A [Sleep](crate::nodes::leaf::sleep) leaf.
+    pub fn sleep(self, name: &str, duration: Duration) -> Self {
+        self.leaf(NodeKind::Sleep(duration), name)
+    }
+    /// A condition from a closure of the context.
+    pub fn condition(self, name: &str, f: impl Fn(&C) -> bool + Send + Sync + 'static) -> Self {
+        self.leaf(NodeKind::ConditionFn(Box::new(f)), name)
+    }
+    /// A condition from a [`Condition`] object.
+    pub fn condition_node(self, name: &str, c: impl Condition<C> + 'static) -> Self {
+        self.leaf(NodeKind::Condition(Box::new(c)), name)
+    }
+    /// A sync action from a closure of the context.
+    pub fn action(self, name: &str, f: impl Fn(&mut C) -> Status + Send + Sync + 'static) -> Self {
+        self.leaf(NodeKind::ActionFn(Box::new(f)), name)
+    }
+    /// A sync action from an [`Action`] object.
+    pub fn action_node(self, name: &str, a: impl Action<C> + 'static) -> Self {
+        self.leaf(NodeKind::Action(Box::new(a)), name)
+    }
+    /// A stateful action: `make` builds one object per tree instance.
+    pub fn stateful<S, F>(self, name: &str, make: F) -> Self
+    where
+        S: StatefulAction<C> + 'static,
+        F: Fn() -> S + Send + Sync + 'static,
+    {
+        let factory = move || -> Box<dyn StatefulAction<C>> { Box::new(make()) };
+        self.leaf(NodeKind::Stateful(Box::new(factory)), name)
+    }
+    /// A user-defined control or decorator.
+    pub fn custom(
+        self,
+        name: &str,
+        spec: CustomSpec<C>,
+        children: impl FnOnce(Self) -> Self,
+    ) -> Self {
+        self.node(NodeKind::Custom(Box::new(spec)), name, children)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::blueprint::Arity;
+    use alloc::string::ToString;
+
+    fn err<C>(b: Builder<C>) -> BuildError {
+        match b.build() {
+            Err(e) => e,
+            Ok(_) => panic!("expected a build error"),
+        }
+    }
+
+    #[test]
+    fn pre_order_ids_and_paths() {
+        let bp = Builder::<()>::new()
+            .sequence("root", |s| {
+                s.fallback("f", |f| f.always_failure("a").always_success("b"))
+                    .always_success("c")
+            })
+            .build()
+            .unwrap();
+        let names: Vec<&str> = bp.ids().map(|i| bp.name(i)).collect();
+        assert_eq!(names, ["root", "f", "a", "b", "c"]);
+        assert_eq!(bp.children(NodeId(0)), &[NodeId(1), NodeId(4)]);
+        assert_eq!(bp.children(NodeId(1)), &[NodeId(2), NodeId(3)]);
+        assert_eq!(bp.parent(NodeId(3)), Some(NodeId(1)));
+        assert_eq!(bp.path(NodeId(3)), "root/f/b");
+        assert_eq!(bp.depth(NodeId(3)), 3);
+        assert_eq!(bp.find("root/c"), Some(NodeId(4)));
+    }
+
+    #[test]
+    fn unnamed_nodes_show_their_type() {
+        let bp = Builder::<()>::new()
+            .inverter("", |i| i.always_success(""))
+            .build()
+            .unwrap();
+        assert_eq!(bp.path(NodeId(1)), "Inverter/AlwaysSuccess");
+    }
+
+    #[test]
+    fn decorator_needs_one_child() {
+        let e = err(Builder::<()>::new().sequence("root", |s| {
+            s.inverter("inv", |i| i.always_success("a").always_success("b"))
+        }));
+        assert_eq!(e.path, "root/inv");
+        assert_eq!(
+            e.kind,
+            BuildErrorKind::ChildCount {
+                type_name: "Inverter".into(),
+                expected: Arity::One,
+                found: 2
+            }
+        );
+        assert_eq!(
+            e.to_string(),
+            "root/inv: Inverter takes exactly 1 child, found 2"
+        );
+    }
+
+    #[test]
+    fn if_then_else_needs_two_or_three() {
+        let e = err(Builder::<()>::new().if_then_else("ite", |i| i.always_success("a")));
+        assert!(matches!(
+            e.kind,
+            BuildErrorKind::ChildCount { found: 1, .. }
+        ));
+        let e = err(Builder::<()>::new().if_then_else("ite", |i| {
+            i.always_success("a")
+                .always_success("b")
+                .always_success("c")
+                .always_success("d")
+        }));
+        assert!(matches!(
+            e.kind,
+            BuildErrorKind::ChildCount { found: 4, .. }
+        ));
+    }
+
+    #[test]
+    fn parallel_threshold_above_children_is_rejected() {
+        let e =
+            err(Builder::<()>::new()
+                .parallel("p", 3, 1, |p| p.always_success("a").always_success("b")));
+        assert_eq!(e.path, "p");
+        assert_eq!(
+            e.kind,
+            BuildErrorKind::Threshold {
+                type_name: "Parallel".into(),
+                which: "success",
+                value: 3,
+                children: 2
+            }
+        );
+    }
+
+    #[test]
+    fn negative_thresholds_and_policies_resolve() {
+        let bp = Builder::<()>::new()
+            .sequence("root", |s| {
+                s.parallel("p", -2, -1, |p| {
+                    p.always_success("a")
+                        .always_success("b")
+                        .always_success("c")
+                })
+                .parallel_policy("q", ParallelPolicy::RequireCount(2), |p| {
+                    p.always_success("a")
+                        .always_success("b")
+                        .always_success("c")
+                })
+            })
+            .build()
+            .unwrap();
+        let resolved = |id| match bp.kind(NodeId(id)) {
+            NodeKind::Parallel(ParallelPolicy::Thresholds { success, failure }) => {
+                (*success, *failure)
+            }
+            other => panic!("unexpected {other:?}"),
+        };
+        assert_eq!(resolved(1), (-2, -1));
+        assert_eq!(resolved(5), (2, 2));
+    }
+
+    #[test]
+    fn second_root_and_empty_are_rejected() {
+        let e = err(Builder::<()>::new().always_success("a").always_success("b"));
+        assert_eq!(e.kind, BuildErrorKind::SecondRoot);
+        assert_eq!(err(Builder::<()>::new()).kind, BuildErrorKind::Empty);
+        let e = err(Builder::<()>::new().open(NodeKind::Sequence, "s"));
+        assert_eq!(e.kind, BuildErrorKind::Unclosed { open: 1 });
+        let e = err(Builder::<()>::new().always_success("a").close());
+        assert_eq!(e.kind, BuildErrorKind::UnbalancedClose);
+    }
+
+    #[test]
+    fn depth_limit_is_enforced_without_recursion() {
+        let mut b = Builder::<()>::new().max_depth(40);
+        for _ in 0..10_000 {
+            b = b.open(NodeKind::Inverter, "i");
+        }
+        b = b.always_success("leaf");
+        for _ in 0..10_000 {
+            b = b.close();
+        }
+        let e = err(b);
+        assert_eq!(e.kind, BuildErrorKind::TooDeep { limit: 40 });
+        assert!(e.path.starts_with("i/i/"), "{}", e.path);
+        assert!(e.path.contains('…'));
+    }
+
+    #[test]
+    fn subtrees_open_scopes() {
+        let scope = SubTreeScope {
+            remap: alloc::vec![("goal".into(), "target".into())],
+            autoremap: false,
+        };
+        let bp = Builder::<()>::new()
+            .sequence("root", |s| {
+                s.subtree("sub", scope.clone(), |t| t.always_success("inner"))
+                    .always_success("outer")
+            })
+            .build()
+            .unwrap();
+        assert_eq!(bp.scope(NodeId(1)), ScopeId::ROOT);
+        assert_eq!(bp.scope(NodeId(2)), ScopeId(1));
+        assert_eq!(bp.scope(NodeId(3)), ScopeId::ROOT);
+        assert_eq!(bp.scopes.len(), 1);
+        assert_eq!(bp.scopes[0], (ScopeId::ROOT, scope));
+    }
+}

@@ -1,0 +1,367 @@
+//! What a node is: the closed set of built-in kinds plus the open doors for user leaves and
+//! user control nodes.
+
+use alloc::boxed::Box;
+use alloc::string::String;
+use alloc::vec::Vec;
+use core::fmt;
+use core::time::Duration;
+
+use crate::nodes::custom::CustomNode;
+use crate::nodes::leaf::{Action, Condition, StatefulAction};
+use crate::Status;
+
+/// A closure condition: a pure function of the user's context.
+pub type ConditionFn<C> = Box<dyn Fn(&C) -> bool + Send + Sync>;
+/// A closure sync action: may change the context, must complete in one tick.
+pub type ActionFn<C> = Box<dyn Fn(&mut C) -> Status + Send + Sync>;
+/// Makes one per-instance object of a stateful leaf.
+pub type StatefulFactory<C> = Box<dyn Fn() -> Box<dyn StatefulAction<C>> + Send + Sync>;
+/// Makes one per-instance object of a user control or decorator.
+pub type CustomFactory<C> = Box<dyn Fn() -> Box<dyn CustomNode<C>> + Send + Sync>;
+
+/// How a Parallel node decides, before its number of children is known.
+///
+/// Thresholds follow BehaviorTree.CPP: a negative threshold `t` means `N + t + 1`, so `-1`
+/// means "all children". The seeds' policies are shorthands resolved when the node closes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ParallelPolicy {
+    /// Success once `success` children succeeded; Failure once `failure` failed or success
+    /// became impossible.
+    Thresholds {
+        /// Successes needed (negative: counted from the number of children).
+        success: i32,
+        /// Failures that end it (negative: counted from the number of children).
+        failure: i32,
+    },
+    /// Every child must succeed; the first failure fails the node: `(-1, 1)`.
+    RequireAll,
+    /// The first success succeeds; fails only when all failed: `(1, -1)`.
+    RequireOne,
+    /// `M` successes needed: `(M, N - M + 1)`.
+    RequireCount(u32),
+}
+
+impl Default for ParallelPolicy {
+    /// BehaviorTree.CPP's defaults: `success_count = -1`, `failure_count = 1`.
+    fn default() -> Self {
+        ParallelPolicy::Thresholds {
+            success: -1,
+            failure: 1,
+        }
+    }
+}
+
+/// How many children a kind of node accepts.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Arity {
+    /// No children.
+    Leaf,
+    /// Exactly one child.
+    One,
+    /// Between `min` and `max` children, inclusive.
+    Range {
+        /// Fewest children.
+        min: u32,
+        /// Most children.
+        max: u32,
+    },
+    /// At least this many children.
+    AtLeast(u32),
+}
+
+impl Arity {
+    pub(crate) fn accepts(self, n: u32) -> bool {
+        match self {
+            Arity::Leaf => n == 0,
+            Arity::One => n == 1,
+            Arity::Range { min, max } => (min..=max).contains(&n),
+            Arity::AtLeast(min) => n >= min,
+        }
+    }
+}
+
+impl fmt::Display for Arity {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Arity::Leaf => f.write_str("no children"),
+            Arity::One => f.write_str("exactly 1 child"),
+            Arity::Range { min, max } => write!(f, "{min} to {max} children"),
+            Arity::AtLeast(1) => f.write_str("at least 1 child"),
+            Arity::AtLeast(n) => write!(f, "at least {n} children"),
+        }
+    }
+}
+
+/// The blackboard scope a SubTree opens for its child.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct SubTreeScope {
+    /// `(child_key, parent_key)`: the child's key is an alias of the parent's.
+    pub remap: Vec<(String, String)>,
+    /// Keys the child does not define resolve in the parent (except `_private` ones).
+    pub autoremap: bool,
+}
+
+/// A user-defined control or decorator: its arity, its type name and how to make it.
+pub struct CustomSpec<C> {
+    /// The type name shown in paths and pictures (e.g. `ManualSelector`).
+    pub type_name: String,
+    /// How many children it accepts.
+    pub arity: Arity,
+    /// Makes the per-instance object.
+    pub factory: CustomFactory<C>,
+}
+
+/// Every kind of node the engine ticks.
+///
+/// The first group are BehaviorTree.CPP's built-in nodes with its semantics (see each node's
+/// module under `nodes/`); the last group are the doors for user code.
+#[non_exhaustive]
+// A plain byte tag: the tick loop decodes it with one load instead of a niche computation.
+#[repr(u8)]
+pub enum NodeKind<C> {
+    /// Ticks children in order, resuming at the running one; see [`crate::nodes::control::sequence`].
+    Sequence,
+    /// Sequence that keeps its place after a failure and a halt.
+    SequenceWithMemory,
+    /// Sequence that restarts from the first child every tick.
+    ReactiveSequence,
+    /// Tries children in order until one succeeds.
+    Fallback,
+    /// Fallback that restarts from the first child every tick.
+    ReactiveFallback,
+    /// Sequence that yields after each child that completes at once.
+    AsyncSequence,
+    /// Fallback that yields after each child that completes at once.
+    AsyncFallback,
+    /// Ticks all children, deciding by thresholds.
+    Parallel(ParallelPolicy),
+    /// Ticks all children to completion; fails if `max_failures` of them failed.
+    ParallelAll {
+        /// Failures that make it fail (negative: counted from the number of children).
+        max_failures: i32,
+    },
+    /// `if` child 0 `then` child 1 `else` child 2.
+    IfThenElse,
+    /// Re-checks child 0 every tick and runs child 1 or 2.
+    WhileDoElse,
+    /// Children but the last as a Sequence; the last runs on failure.
+    TryCatch {
+        /// Run the catch child when halted while trying.
+        catch_on_halt: bool,
+    },
+    /// Swaps Success and Failure.
+    Inverter,
+    /// Turns a completed child into Success.
+    ForceSuccess,
+    /// Turns a completed child into Failure.
+    ForceFailure,
+    /// Repeats a succeeding child.
+    Repeat {
+        /// Cycles to run; -1 forever.
+        num_cycles: i32,
+    },
+    /// Retries a failing child.
+    RetryUntilSuccessful {
+        /// Attempts to make; -1 forever.
+        num_attempts: i32,
+    },
+    /// Success becomes Running; Failure ends it.
+    KeepRunningUntilFailure,
+    /// Waits, then ticks the child.
+    Delay(Duration),
+    /// Fails and halts the child when it runs too long.
+    Timeout(Duration),
+    /// After the child completes, fails without ticking it for a while.
+    Cooldown(Duration),
+    /// Runs the child to completion once.
+    RunOnce {
+        /// After the first completion return Skipped (true) or the cached status (false).
+        then_skip: bool,
+    },
+    /// Opens a blackboard scope for its child.
+    SubTree(Box<SubTreeScope>),
+    /// Always Success.
+    AlwaysSuccess,
+    /// Always Failure.
+    AlwaysFailure,
+    /// Running until the duration has passed, then Success.
+    Sleep(Duration),
+    /// A closure of the context that never runs.
+    ConditionFn(ConditionFn<C>),
+    /// A [`Condition`] object, shared by all instances.
+    Condition(Box<dyn Condition<C>>),
+    /// A closure sync action.
+    ActionFn(ActionFn<C>),
+    /// An [`Action`] object, shared by all instances.
+    Action(Box<dyn Action<C>>),
+    /// A [`StatefulAction`], one object per instance.
+    Stateful(StatefulFactory<C>),
+    /// A user control or decorator, one object per instance.
+    Custom(Box<CustomSpec<C>>),
+}
+
+impl<C> NodeKind<C> {
+    /// The kind's type name, as BehaviorTree.CPP's XML spells it.
+    pub fn type_name(&self) -> &str {
+        match self {
+            NodeKind::Sequence => "Sequence",
+            NodeKind::SequenceWithMemory => "SequenceWithMemory",
+            NodeKind::ReactiveSequence => "ReactiveSequence",
+            NodeKind::Fallback => "Fallback",
+            NodeKind::ReactiveFallback => "ReactiveFallback",
+            NodeKind::AsyncSequence => "AsyncSequence",
+            NodeKind::AsyncFallback => "AsyncFallback",
+            NodeKind::Parallel(_) => "Parallel",
+            NodeKind::ParallelAll { .. } => "ParallelAll",
+            NodeKind::IfThenElse => "IfThenElse",
+            NodeKind::WhileDoElse => "WhileDoElse",
+            NodeKind::TryCatch { .. } => "TryCatch",
+            NodeKind::Inverter => "Inverter",
+            NodeKind::ForceSuccess => "ForceSuccess",
+            NodeKind::ForceFailure => "ForceFailure",
+            NodeKind::Repeat { .. } => "Repeat",
+            NodeKind::RetryUntilSuccessful { .. } => "RetryUntilSuccessful",
+            NodeKind::KeepRunningUntilFailure => "KeepRunningUntilFailure",
+            NodeKind::Delay(_) => "Delay",
+            NodeKind::Timeout(_) => "Timeout",
+            NodeKind::Cooldown(_) => "Cooldown",
+            NodeKind::RunOnce { .. } => "RunOnce",
+            NodeKind::SubTree(_) => "SubTree",
+            NodeKind::AlwaysSuccess => "AlwaysSuccess",
+            NodeKind::AlwaysFailure => "AlwaysFailure",
+            NodeKind::Sleep(_) => "Sleep",
+            NodeKind::ConditionFn(_) | NodeKind::Condition(_) => "Condition",
+            NodeKind::ActionFn(_) | NodeKind::Action(_) => "Action",
+            NodeKind::Stateful(_) => "StatefulAction",
+            NodeKind::Custom(spec) => &spec.type_name,
+        }
+    }
+
+    /// The broad family: `Control`, `Decorator`, `Condition`, `Action` or `SubTree`, as the
+    /// `TreeNodesModel` of BehaviorTree.CPP names them.
+    pub fn category(&self) -> Category {
+        match self.arity() {
+            Arity::Leaf => match self {
+                NodeKind::ConditionFn(_) | NodeKind::Condition(_) => Category::Condition,
+                _ => Category::Action,
+            },
+            Arity::One => match self {
+                NodeKind::SubTree(_) => Category::SubTree,
+                _ => Category::Decorator,
+            },
+            Arity::Range { .. } | Arity::AtLeast(_) => Category::Control,
+        }
+    }
+
+    /// How many children the kind accepts.
+    pub fn arity(&self) -> Arity {
+        match self {
+            NodeKind::Sequence
+            | NodeKind::SequenceWithMemory
+            | NodeKind::ReactiveSequence
+            | NodeKind::Fallback
+            | NodeKind::ReactiveFallback
+            | NodeKind::AsyncSequence
+            | NodeKind::AsyncFallback
+            | NodeKind::Parallel(_)
+            | NodeKind::ParallelAll { .. } => Arity::AtLeast(1),
+            NodeKind::IfThenElse | NodeKind::WhileDoElse => Arity::Range { min: 2, max: 3 },
+            NodeKind::TryCatch { .. } => Arity::AtLeast(2),
+            NodeKind::Inverter
+            | NodeKind::ForceSuccess
+            | NodeKind::ForceFailure
+            | NodeKind::Repeat { .. }
+            | NodeKind::RetryUntilSuccessful { .. }
+            | NodeKind::KeepRunningUntilFailure
+            | NodeKind::Delay(_)
+            | NodeKind::Timeout(_)
+            | NodeKind::Cooldown(_)
+            | NodeKind::RunOnce { .. }
+            | NodeKind::SubTree(_) => Arity::One,
+            NodeKind::AlwaysSuccess
+            | NodeKind::AlwaysFailure
+            | NodeKind::Sleep(_)
+            | NodeKind::ConditionFn(_)
+            | NodeKind::Condition(_)
+            | NodeKind::ActionFn(_)
+            | NodeKind::Action(_)
+            | NodeKind::Stateful(_) => Arity::Leaf,
+            NodeKind::Custom(spec) => spec.arity,
+        }
+    }
+
+    /// Per-instance state slots (`u64`) the kind needs: a cursor, a counter or a time.
+    pub(crate) fn aux_slots(&self) -> u32 {
+        match self {
+            NodeKind::Sequence
+            | NodeKind::SequenceWithMemory
+            | NodeKind::Fallback
+            | NodeKind::AsyncSequence
+            | NodeKind::AsyncFallback
+            | NodeKind::IfThenElse
+            | NodeKind::TryCatch { .. }
+            | NodeKind::Repeat { .. }
+            | NodeKind::RetryUntilSuccessful { .. }
+            | NodeKind::Delay(_)
+            | NodeKind::Timeout(_)
+            | NodeKind::Cooldown(_)
+            | NodeKind::RunOnce { .. }
+            | NodeKind::Sleep(_) => 1,
+            _ => 0,
+        }
+    }
+}
+
+impl<C> fmt::Debug for NodeKind<C> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            NodeKind::Parallel(p) => write!(f, "Parallel({p:?})"),
+            NodeKind::ParallelAll { max_failures } => {
+                write!(f, "ParallelAll {{ max_failures: {max_failures} }}")
+            }
+            NodeKind::TryCatch { catch_on_halt } => {
+                write!(f, "TryCatch {{ catch_on_halt: {catch_on_halt} }}")
+            }
+            NodeKind::Repeat { num_cycles } => write!(f, "Repeat {{ num_cycles: {num_cycles} }}"),
+            NodeKind::RetryUntilSuccessful { num_attempts } => {
+                write!(f, "RetryUntilSuccessful {{ num_attempts: {num_attempts} }}")
+            }
+            NodeKind::Delay(d) => write!(f, "Delay({d:?})"),
+            NodeKind::Timeout(d) => write!(f, "Timeout({d:?})"),
+            NodeKind::Cooldown(d) => write!(f, "Cooldown({d:?})"),
+            NodeKind::Sleep(d) => write!(f, "Sleep({d:?})"),
+            NodeKind::RunOnce { then_skip } => write!(f, "RunOnce {{ then_skip: {then_skip} }}"),
+            NodeKind::SubTree(s) => write!(f, "SubTree({s:?})"),
+            other => f.write_str(other.type_name()),
+        }
+    }
+}
+
+/// The broad family of a node, as BehaviorTree.CPP's `TreeNodesModel` names them.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Category {
+    /// Has one or more children and decides which to tick.
+    Control,
+    /// Has exactly one child and changes its outcome.
+    Decorator,
+    /// A leaf that checks and never runs.
+    Condition,
+    /// A leaf that acts.
+    Action,
+    /// Opens a blackboard scope for a child tree.
+    SubTree,
+}
+
+impl Category {
+    /// The XML element name of the family.
+    pub const fn as_str(self) -> &'static str {
+        match self {
+            Category::Control => "Control",
+            Category::Decorator => "Decorator",
+            Category::Condition => "Condition",
+            Category::Action => "Action",
+            Category::SubTree => "SubTree",
+        }
+    }
+}

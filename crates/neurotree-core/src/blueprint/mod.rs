@@ -1,0 +1,224 @@
+//! The immutable tree: built once, validated once, shared by every instance.
+//!
+//! A [`Blueprint`] holds the structure (node kinds, their parameters, child lists, names) in
+//! flat arrays indexed by [`NodeId`], in depth-first pre-order with the root at id 0. It
+//! holds no per-run state: a [`Tree`](crate::Tree) instance keeps that, so one blueprint
+//! serves any number of agents without copying its structure.
+
+pub(crate) mod builder;
+mod error;
+mod kind;
+
+pub use builder::Builder;
+pub use error::{BuildError, BuildErrorKind};
+pub use kind::{
+    ActionFn, Arity, Category, ConditionFn, CustomFactory, CustomSpec, NodeKind, ParallelPolicy,
+    StatefulFactory, SubTreeScope,
+};
+
+use alloc::boxed::Box;
+use alloc::string::String;
+use alloc::vec::Vec;
+use core::fmt;
+
+use crate::blackboard::ScopeId;
+
+/// The deepest tree a blueprint accepts unless told otherwise (BehaviorTree.CPP uses 256).
+pub const DEFAULT_MAX_DEPTH: u32 = 256;
+
+/// A node's index in its blueprint (pre-order, root = 0).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct NodeId(pub u32);
+
+impl NodeId {
+    /// The root of every blueprint.
+    pub const ROOT: NodeId = NodeId(0);
+
+    /// The id as an index into per-node arrays.
+    #[inline]
+    pub const fn index(self) -> usize {
+        self.0 as usize
+    }
+}
+
+impl fmt::Display for NodeId {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "#{}", self.0)
+    }
+}
+
+/// What the tick loop reads for one node; kept small and hot.
+pub(crate) struct NodeDef<C> {
+    pub(crate) kind: NodeKind<C>,
+    /// Start of this node's children in `Blueprint::children`.
+    pub(crate) first_child: u32,
+    pub(crate) child_count: u32,
+}
+
+/// What only tools read: names, parents, depths.
+pub(crate) struct NodeMeta {
+    pub(crate) name: String,
+    pub(crate) parent: Option<NodeId>,
+    pub(crate) depth: u32,
+}
+
+/// An immutable, validated behavior tree, shared by its instances through `Arc`.
+///
+/// ```
+/// use neurotree_core::{Blueprint, ManualClock, Status, Tree};
+///
+/// let blueprint = Blueprint::<u32>::builder()
+///     .sequence("count_to_two", |s| {
+///         s.action("inc", |n: &mut u32| { *n += 1; Status::Success })
+///             .condition("reached", |n: &u32| *n >= 2)
+///     })
+///     .build_shared()
+///     .unwrap();
+/// let mut tree = Tree::with_clock(blueprint, ManualClock::new());
+/// let mut n = 0;
+/// assert_eq!(tree.tick_once(&mut n), Ok(Status::Failure));
+/// assert_eq!(tree.tick_once(&mut n), Ok(Status::Success));
+/// ```
+pub struct Blueprint<C> {
+    pub(crate) nodes: Box<[NodeDef<C>]>,
+    pub(crate) children: Box<[NodeId]>,
+    /// Per node: its first per-instance `u64` state slot (kinds that keep state), or its
+    /// per-instance object (stateful leaves, custom nodes). Kept apart from `nodes` so that a
+    /// `NodeDef` fits in 32 bytes, two to a cache line.
+    pub(crate) slots: Box<[u32]>,
+    /// Per node: the blackboard scope it reads and writes.
+    pub(crate) node_scopes: Box<[ScopeId]>,
+    pub(crate) meta: Box<[NodeMeta]>,
+    /// Subtree scopes in creation order: scope `i + 1` is `scopes[i]`, opened by a SubTree.
+    pub(crate) scopes: Box<[(ScopeId, SubTreeScope)]>,
+    pub(crate) aux_slots: u32,
+    pub(crate) objects: u32,
+    pub(crate) max_depth: u32,
+}
+
+impl<C> Blueprint<C> {
+    /// A builder for a new blueprint.
+    pub fn builder() -> Builder<C> {
+        Builder::new()
+    }
+
+    /// Number of nodes.
+    pub fn len(&self) -> usize {
+        self.nodes.len()
+    }
+
+    /// A blueprint always has a root, so it is never empty.
+    pub fn is_empty(&self) -> bool {
+        self.nodes.is_empty()
+    }
+
+    /// Every node id, in pre-order.
+    pub fn ids(&self) -> impl ExactSizeIterator<Item = NodeId> + '_ {
+        (0..self.nodes.len() as u32).map(NodeId)
+    }
+
+    /// The node's kind.
+    pub fn kind(&self, id: NodeId) -> &NodeKind<C> {
+        &self.nodes[id.index()].kind
+    }
+
+    /// The node's name (its kind's type name when it was given none).
+    pub fn name(&self, id: NodeId) -> &str {
+        &self.meta[id.index()].name
+    }
+
+    /// The node's children, in order.
+    pub fn children(&self, id: NodeId) -> &[NodeId] {
+        self.children_of(&self.nodes[id.index()])
+    }
+
+    /// The children of a node definition.
+    #[inline(always)]
+    pub(crate) fn children_of(&self, def: &NodeDef<C>) -> &[NodeId] {
+        let range = def.first_child as usize..(def.first_child + def.child_count) as usize;
+        debug_assert!(range.end <= self.children.len());
+        // SAFETY: the builder set `first_child` and `child_count` of every node to a range it
+        // had just filled in `children`, and neither changes after `finish`.
+        unsafe { self.children.get_unchecked(range) }
+    }
+
+    /// The definition of a node of this blueprint.
+    #[inline(always)]
+    pub(crate) fn def(&self, id: NodeId) -> &NodeDef<C> {
+        debug_assert!(id.index() < self.nodes.len());
+        // SAFETY: the engine only handles ids of this blueprint (see `Ticker::status`).
+        unsafe { self.nodes.get_unchecked(id.index()) }
+    }
+
+    /// The node's parent, `None` for the root.
+    pub fn parent(&self, id: NodeId) -> Option<NodeId> {
+        self.meta[id.index()].parent
+    }
+
+    /// Depth of the node: the root is at depth 1.
+    pub fn depth(&self, id: NodeId) -> u32 {
+        self.meta[id.index()].depth
+    }
+
+    /// The blackboard scope the node uses.
+    pub fn scope(&self, id: NodeId) -> ScopeId {
+        self.node_scopes[id.index()]
+    }
+
+    /// The node's state slot or object index (see `slots`).
+    #[inline(always)]
+    pub(crate) fn slot(&self, id: NodeId) -> usize {
+        self.slots[id.index()] as usize
+    }
+
+    /// The depth limit this blueprint was validated against.
+    pub fn max_depth(&self) -> u32 {
+        self.max_depth
+    }
+
+    /// Names from the root down to the node, joined by `/`.
+    pub fn path(&self, id: NodeId) -> String {
+        let mut chain = Vec::new();
+        let mut at = Some(id);
+        while let Some(n) = at {
+            chain.push(n);
+            at = self.parent(n);
+        }
+        let mut out = String::new();
+        for (i, n) in chain.iter().rev().enumerate() {
+            if i > 0 {
+                out.push('/');
+            }
+            out.push_str(self.name(*n));
+        }
+        out
+    }
+
+    /// The first node, in pre-order, whose path is `path`.
+    pub fn find(&self, path: &str) -> Option<NodeId> {
+        self.ids().find(|id| self.path(*id) == path)
+    }
+
+    /// Bytes of per-instance state a [`Tree`](crate::Tree) of this blueprint keeps on the
+    /// heap, not counting stateful leaves' own objects or blackboard entries.
+    pub fn instance_state_bytes(&self) -> usize {
+        self.nodes.len() * core::mem::size_of::<crate::NodeStatus>()
+            + self.aux_slots as usize * core::mem::size_of::<u64>()
+            + self.objects as usize * core::mem::size_of::<usize>() * 2
+    }
+}
+
+impl<C> fmt::Debug for Blueprint<C> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let mut list = f.debug_list();
+        for id in self.ids() {
+            list.entry(&format_args!(
+                "{}{} {:?}",
+                "  ".repeat(self.depth(id) as usize - 1),
+                self.name(id),
+                self.kind(id)
+            ));
+        }
+        list.finish()
+    }
+}

@@ -1,0 +1,121 @@
+//! Time, as the tree sees it.
+//!
+//! Every time-based node (Delay, Timeout, Cooldown, Sleep) reads the tree's [`Clock`] and
+//! nothing else: no timer threads, no sleeping. A [`ManualClock`] therefore makes a run fully
+//! deterministic (tests, simulation, replay), while [`SystemClock`] (feature `std`) follows
+//! the wall of monotonic time.
+
+use alloc::sync::Arc;
+use core::sync::atomic::{AtomicU64, Ordering};
+use core::time::Duration;
+
+/// A monotonic source of time for one tree.
+///
+/// `now` is measured from an arbitrary origin fixed for the clock's lifetime; only
+/// differences between two readings are meaningful.
+pub trait Clock: Send + Sync {
+    /// The current time since the clock's origin.
+    fn now(&self) -> Duration;
+}
+
+/// A clock that moves only when told to; clones share the same time.
+///
+/// ```
+/// use core::time::Duration;
+/// use neurotree_core::{Clock, ManualClock};
+///
+/// let clock = ManualClock::new();
+/// let seen_by_tree = clock.clone();
+/// clock.advance(Duration::from_millis(250));
+/// assert_eq!(seen_by_tree.now(), Duration::from_millis(250));
+/// ```
+#[derive(Clone, Debug, Default)]
+pub struct ManualClock {
+    nanos: Arc<AtomicU64>,
+}
+
+impl ManualClock {
+    /// A clock at time zero.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Moves the time forward by `by`.
+    pub fn advance(&self, by: Duration) {
+        self.nanos
+            .fetch_add(duration_to_nanos(by), Ordering::Relaxed);
+    }
+
+    /// Sets the time; it may move backwards, which time-based nodes treat as "no time passed".
+    pub fn set(&self, to: Duration) {
+        self.nanos.store(duration_to_nanos(to), Ordering::Relaxed);
+    }
+}
+
+impl Clock for ManualClock {
+    fn now(&self) -> Duration {
+        Duration::from_nanos(self.nanos.load(Ordering::Relaxed))
+    }
+}
+
+/// Monotonic time from `std::time::Instant`, with its origin at the clock's creation.
+#[cfg(feature = "std")]
+#[derive(Clone, Copy, Debug)]
+pub struct SystemClock {
+    origin: std::time::Instant,
+}
+
+#[cfg(feature = "std")]
+impl SystemClock {
+    /// A clock whose origin is now.
+    pub fn new() -> Self {
+        Self {
+            origin: std::time::Instant::now(),
+        }
+    }
+}
+
+#[cfg(feature = "std")]
+impl Default for SystemClock {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+#[cfg(feature = "std")]
+impl Clock for SystemClock {
+    fn now(&self) -> Duration {
+        self.origin.elapsed()
+    }
+}
+
+/// Nanoseconds as stored in a node's state slot; saturates after ~584 years.
+#[inline]
+pub(crate) fn duration_to_nanos(d: Duration) -> u64 {
+    u64::try_from(d.as_nanos()).unwrap_or(u64::MAX)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn manual_clock_is_shared_by_clones() {
+        let a = ManualClock::new();
+        let b = a.clone();
+        a.advance(Duration::from_millis(5));
+        b.advance(Duration::from_millis(7));
+        assert_eq!(a.now(), Duration::from_millis(12));
+        a.set(Duration::from_secs(1));
+        assert_eq!(b.now(), Duration::from_secs(1));
+    }
+
+    #[cfg(feature = "std")]
+    #[test]
+    fn system_clock_is_monotonic() {
+        let c = SystemClock::new();
+        let t0 = c.now();
+        let t1 = c.now();
+        assert!(t1 >= t0);
+    }
+}

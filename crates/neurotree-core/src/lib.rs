@@ -1,0 +1,78 @@
+//! # NeuroTree core
+//!
+//! The `no_std` heart of NeuroTree: behavior trees with the exact semantics of
+//! Colledanchise & Ögren's *Behavior Trees in Robotics and AI* and, for every node it also
+//! has, of BehaviorTree.CPP v4, tick for tick and halt for halt.
+//!
+//! - A [`Blueprint`] is the immutable tree, built with the [`Builder`], the [`tree!`] macro
+//!   or (in the `neurotree` crate) from BehaviorTree.CPP XML. It is validated once and
+//!   shared through `Arc`.
+//! - A [`Tree`] is one running instance: a status byte per node and a few state slots,
+//!   nothing more. Ticking it never allocates.
+//! - Leaves are closures or traits ([`Condition`], [`Action`], [`StatefulAction`]) that
+//!   receive the user's own context `C`, so they reach the robot or the game world directly.
+//! - Time-based nodes read only the tree's [`Clock`]; with a [`ManualClock`] every run is
+//!   deterministic.
+//! - An [`Observer`] sees every status change; loggers and live views are built on it.
+//!
+//! ```
+//! use std::sync::Arc;
+//! use neurotree_core::{Blueprint, ManualClock, Status, Tree};
+//!
+//! #[derive(Default)]
+//! struct Door { open: bool, knocks: u32 }
+//!
+//! let blueprint = Blueprint::<Door>::builder()
+//!     .fallback("enter", |f| {
+//!         f.condition("is_open", |d: &Door| d.open)
+//!             .retry("knock_until_open", 3, |r| {
+//!                 r.action("knock", |d: &mut Door| {
+//!                     d.knocks += 1;
+//!                     d.open = d.knocks == 2;
+//!                     d.open.into()
+//!                 })
+//!             })
+//!     })
+//!     .build_shared()
+//!     .unwrap();
+//!
+//! let mut tree = Tree::with_clock(Arc::clone(&blueprint), ManualClock::new());
+//! let mut door = Door::default();
+//! assert_eq!(tree.tick_once(&mut door), Ok(Status::Success));
+//! assert_eq!(door.knocks, 2);
+//! ```
+//!
+//! The node catalog, with each node's semantics, is under [`nodes`].
+
+#![no_std]
+#![warn(missing_docs)]
+
+extern crate alloc;
+#[cfg(any(feature = "std", test))]
+extern crate std;
+
+pub mod blackboard;
+pub mod blueprint;
+pub mod clock;
+mod macros;
+pub mod nodes;
+pub mod observer;
+mod status;
+pub mod tree;
+
+#[cfg(test)]
+pub(crate) mod testing;
+
+pub use blackboard::{Blackboard, BlackboardError, EntryInfo, ScopeId};
+pub use blueprint::{
+    Arity, Blueprint, BuildError, BuildErrorKind, Builder, Category, CustomSpec, NodeId, NodeKind,
+    ParallelPolicy, SubTreeScope, DEFAULT_MAX_DEPTH,
+};
+#[cfg(feature = "std")]
+pub use clock::SystemClock;
+pub use clock::{Clock, ManualClock};
+pub use nodes::custom::{CustomNode, NodeCtx};
+pub use nodes::leaf::{Action, Condition, Handle, StatefulAction};
+pub use observer::{Observer, StatusChange};
+pub use status::{NodeStatus, Status};
+pub use tree::{TickError, Tree};

@@ -1,0 +1,87 @@
+//! IfThenElse: pick a branch by a condition, and stay on it until it completes.
+//!
+//! | node | semantics |
+//! |---|---|
+//! | IfThenElse | 2 or 3 children. Condition ticked once; the chosen branch is kept until it completes. Condition Failure with 2 children → Failure. |
+//!
+//! The condition is ticked only when no branch is in progress; a Running condition makes the
+//! node Running. Unlike [WhileDoElse](super::while_do_else), a branch in progress is not
+//! interrupted when the condition would change.
+
+use crate::blueprint::NodeDef;
+use crate::tree::Ticker;
+use crate::{NodeId, NodeStatus};
+
+#[inline(never)]
+pub(crate) fn tick<C>(t: &mut Ticker<'_, C>, id: NodeId, def: &NodeDef<C>) -> NodeStatus {
+    let slot = t.bp.slot(id);
+    t.set_status(id, NodeStatus::Running);
+    if t.aux[slot] == 0 {
+        let condition = t.child(def, 0);
+        match t.tick(condition) {
+            NodeStatus::Running => return NodeStatus::Running,
+            NodeStatus::Success => t.aux[slot] = 1,
+            NodeStatus::Failure | NodeStatus::Idle => {
+                if def.child_count == 3 {
+                    t.aux[slot] = 2;
+                } else {
+                    // BehaviorTree.CPP returns here without resetting the condition.
+                    return NodeStatus::Failure;
+                }
+            }
+            NodeStatus::Skipped => return NodeStatus::Skipped,
+        }
+    }
+    let branch = t.child(def, t.aux[slot] as u32);
+    let status = t.tick(branch);
+    if status != NodeStatus::Running {
+        t.reset_children(id);
+        t.aux[slot] = 0;
+    }
+    status
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::testing::*;
+
+    #[test]
+    fn then_branch_is_kept_until_it_completes() {
+        let mut lab = Lab::new(&[&[S, F], &[R, S], &[S]]);
+        let mut tree =
+            lab.tree(|b| b.if_then_else("ite", |i| i.scripted(0).scripted(1).scripted(2)));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Running));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Success));
+        // The condition was not re-checked while "then" ran.
+        assert_eq!(lab.ticks, [1, 2, 0]);
+    }
+
+    #[test]
+    fn else_branch_on_failure() {
+        let mut lab = Lab::new(&[&[F], &[S], &[F]]);
+        let mut tree =
+            lab.tree(|b| b.if_then_else("ite", |i| i.scripted(0).scripted(1).scripted(2)));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Failure));
+        assert_eq!(lab.ticks, [1, 0, 1]);
+    }
+
+    #[test]
+    fn two_children_fail_with_the_condition() {
+        let mut lab = Lab::new(&[&[F], &[S]]);
+        let mut tree = lab.tree(|b| b.if_then_else("ite", |i| i.scripted(0).scripted(1)));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Failure));
+        assert_eq!(lab.ticks, [1, 0]);
+    }
+
+    #[test]
+    fn halt_returns_to_the_condition() {
+        let mut lab = Lab::new(&[&[S], &[R], &[S]]);
+        let mut tree =
+            lab.tree(|b| b.if_then_else("ite", |i| i.scripted(0).scripted(1).scripted(2)));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Running));
+        lab.halt(&mut tree);
+        assert_eq!(lab.halts, [0, 1, 0]);
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Running));
+        assert_eq!(lab.ticks, [2, 2, 0]);
+    }
+}

@@ -1,0 +1,186 @@
+//! Parallel: tick every child, decide by thresholds.
+//!
+//! | node | semantics |
+//! |---|---|
+//! | Parallel(success_count, failure_count) | Defaults -1 and 1; a negative threshold t means N+t+1 (so -1 = all). Tick only children not yet completed, checking thresholds after each. Success when successes ≥ S; Failure when N − failures < S or failures ≥ F; then halt the Running children and reset. Otherwise Running. A threshold larger than N is a load-time error. |
+//!
+//! The seeds' policies are constructors over the same node: `RequireAll` = (-1, 1),
+//! `RequireOne` = (1, -1), `RequireCount(M)` = (M, N−M+1). The textbook's Parallel
+//! (Colledanchise & Ögren, Algorithm 3: Success if ≥ M succeed, Failure if > N−M fail) is
+//! `RequireCount(M)`.
+//!
+//! Which children completed is read from their stored statuses, so the node keeps no list of
+//! its own. Skipped children count toward success only when the success threshold is
+//! "all" (negative), as in BehaviorTree.CPP; if every child was skipped, the node is Skipped.
+
+use crate::blueprint::builder::resolve_threshold;
+use crate::blueprint::{NodeDef, ParallelPolicy};
+use crate::tree::Ticker;
+use crate::{NodeId, NodeStatus};
+
+#[inline(never)]
+pub(crate) fn tick<C>(
+    t: &mut Ticker<'_, C>,
+    id: NodeId,
+    def: &NodeDef<C>,
+    policy: ParallelPolicy,
+) -> NodeStatus {
+    let n = def.child_count;
+    // The builder turned every policy into thresholds and checked them against `n`.
+    let (success, failure) = match policy {
+        ParallelPolicy::Thresholds { success, failure } => (success, failure),
+        _ => (-1, 1),
+    };
+    let need = resolve_threshold(success, n) as u32;
+    let max_fail = resolve_threshold(failure, n) as u32;
+    // As in BehaviorTree.CPP, skipped children count toward a success threshold given as
+    // negative ("all but ...") only.
+    let skipped_count_as_success = success < 0;
+    let (mut successes, mut failures, mut skipped) = (0u32, 0u32, 0u32);
+    for i in 0..n {
+        match t.status(t.child(def, i)) {
+            NodeStatus::Success => successes += 1,
+            NodeStatus::Failure => failures += 1,
+            _ => {}
+        }
+    }
+    t.set_status(id, NodeStatus::Running);
+    for i in 0..n {
+        let child = t.child(def, i);
+        if !t.status(child).is_completed() {
+            match t.tick(child) {
+                NodeStatus::Success => successes += 1,
+                NodeStatus::Failure => failures += 1,
+                NodeStatus::Skipped => skipped += 1,
+                NodeStatus::Running | NodeStatus::Idle => {}
+            }
+        }
+        if successes >= need || (skipped_count_as_success && successes + skipped >= need) {
+            t.reset_children(id);
+            return NodeStatus::Success;
+        }
+        if n - failures < need || failures == max_fail {
+            t.reset_children(id);
+            return NodeStatus::Failure;
+        }
+    }
+    if skipped == n {
+        NodeStatus::Skipped
+    } else {
+        NodeStatus::Running
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::testing::*;
+
+    #[test]
+    fn all_must_succeed_by_default() {
+        let mut lab = Lab::new(&[&[S], &[R, S], &[R, R, S]]);
+        let mut tree =
+            lab.tree(|b| b.parallel("p", -1, 1, |p| p.scripted(0).scripted(1).scripted(2)));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Running));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Running));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Success));
+        // Completed children are not ticked again.
+        assert_eq!(lab.ticks, [1, 2, 3]);
+        assert_eq!(lab.halts, [0, 0, 0]);
+    }
+
+    #[test]
+    fn thresholds_three_and_minus_two_halt_the_slower_child() {
+        // Four children, success_count 3, failure_count -2 (= 3): the third success ends it
+        // and the fourth, still Running, is halted.
+        let mut lab = Lab::new(&[&[S], &[R, S], &[S], &[R]]);
+        let mut tree = lab.tree(|b| {
+            b.parallel("p", 3, -2, |p| {
+                p.scripted(0).scripted(1).scripted(2).scripted(3)
+            })
+        });
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Running));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Success));
+        assert_eq!(lab.ticks, [1, 2, 1, 1]);
+        assert_eq!(lab.halts, [0, 0, 0, 1]);
+        assert!(tree.statuses().iter().all(|s| *s == NodeStatus::Idle));
+    }
+
+    #[test]
+    fn failure_when_success_becomes_impossible() {
+        // Need 2 of 3; two failures make it impossible before failure_count (3) is reached.
+        let mut lab = Lab::new(&[&[F], &[R], &[F]]);
+        let mut tree =
+            lab.tree(|b| b.parallel("p", 2, 3, |p| p.scripted(0).scripted(1).scripted(2)));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Failure));
+        assert_eq!(lab.ticks, [1, 1, 1]);
+        assert_eq!(lab.halts, [0, 1, 0]);
+    }
+
+    #[test]
+    fn require_one_succeeds_on_the_first_success() {
+        let mut lab = Lab::new(&[&[R], &[S], &[R]]);
+        let mut tree = lab.tree(|b| {
+            b.parallel_policy("p", ParallelPolicy::RequireOne, |p| {
+                p.scripted(0).scripted(1).scripted(2)
+            })
+        });
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Success));
+        // Child 2 was never ticked: the threshold is checked after each child.
+        assert_eq!(lab.ticks, [1, 1, 0]);
+        assert_eq!(lab.halts, [1, 0, 0]);
+    }
+
+    #[test]
+    fn require_all_fails_on_the_first_failure() {
+        let mut lab = Lab::new(&[&[R], &[F], &[R]]);
+        let mut tree = lab.tree(|b| {
+            b.parallel_policy("p", ParallelPolicy::RequireAll, |p| {
+                p.scripted(0).scripted(1).scripted(2)
+            })
+        });
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Failure));
+        assert_eq!(lab.ticks, [1, 1, 0]);
+        assert_eq!(lab.halts, [1, 0, 0]);
+    }
+
+    #[test]
+    fn require_count_is_the_textbook_parallel() {
+        // M = 2 of 3: fails once more than N - M = 1 children failed.
+        let mut lab = Lab::new(&[&[F], &[R, R], &[R, F]]);
+        let mut tree = lab.tree(|b| {
+            b.parallel_policy("p", ParallelPolicy::RequireCount(2), |p| {
+                p.scripted(0).scripted(1).scripted(2)
+            })
+        });
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Running));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Failure));
+        assert_eq!(lab.ticks, [1, 2, 2]);
+        assert_eq!(lab.halts, [0, 1, 0]);
+    }
+
+    #[test]
+    fn skipped_children_count_only_toward_a_negative_threshold() {
+        let mut lab = Lab::new(&[&[S], &[S]]);
+        let mut tree = lab.tree(|b| {
+            b.parallel("p", -1, 1, |p| {
+                p.run_once("once", true, |o| o.scripted(0)).scripted(1)
+            })
+        });
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Success));
+        // RunOnce is skipped now; with "all" (-1) the skipped child counts as done.
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Success));
+        assert_eq!(lab.ticks, [1, 2]);
+
+        let mut lab = Lab::new(&[&[S], &[S]]);
+        let mut tree = lab.tree(|b| {
+            b.parallel("p", 2, 1, |p| {
+                p.run_once("once", true, |o| o.scripted(0)).scripted(1)
+            })
+        });
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Success));
+        // With an explicit 2, one success and one skip never reach the threshold.
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Running));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Running));
+        assert_eq!(lab.ticks, [1, 2]);
+    }
+}

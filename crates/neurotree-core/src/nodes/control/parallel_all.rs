@@ -1,0 +1,91 @@
+//! ParallelAll: run every child to completion, then judge by the number of failures.
+//!
+//! | node | semantics |
+//! |---|---|
+//! | ParallelAll(max_failures) | Tick every child until all completed; Failure if failures ≥ max_failures, else Success. |
+//!
+//! `max_failures` defaults to 1 in BehaviorTree.CPP; a negative value t means N+t+1. Completed
+//! children are not ticked again; skipped children count as completed for the end of the run
+//! and, if every child was skipped, the node is Skipped.
+
+use crate::blueprint::NodeDef;
+use crate::tree::Ticker;
+use crate::{NodeId, NodeStatus};
+
+#[inline(never)]
+pub(crate) fn tick<C>(
+    t: &mut Ticker<'_, C>,
+    id: NodeId,
+    def: &NodeDef<C>,
+    max_failures: i32,
+) -> NodeStatus {
+    let n = def.child_count;
+    let (mut completed, mut failures, mut skipped) = (0u32, 0u32, 0u32);
+    t.set_status(id, NodeStatus::Running);
+    for i in 0..n {
+        let child = t.child(def, i);
+        let status = match t.status(child) {
+            done @ (NodeStatus::Success | NodeStatus::Failure) => done,
+            _ => t.tick(child),
+        };
+        match status {
+            NodeStatus::Success => completed += 1,
+            NodeStatus::Failure => {
+                completed += 1;
+                failures += 1;
+            }
+            NodeStatus::Skipped => skipped += 1,
+            NodeStatus::Running | NodeStatus::Idle => {}
+        }
+    }
+    if skipped == n {
+        return NodeStatus::Skipped;
+    }
+    if skipped + completed >= n {
+        t.reset_children(id);
+        // The builder resolved the threshold to a non-negative count.
+        return if failures >= max_failures as u32 {
+            NodeStatus::Failure
+        } else {
+            NodeStatus::Success
+        };
+    }
+    NodeStatus::Running
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::testing::*;
+
+    #[test]
+    fn waits_for_every_child() {
+        let mut lab = Lab::new(&[&[F], &[R, R, S], &[R, S]]);
+        let mut tree =
+            lab.tree(|b| b.parallel_all("pa", 2, |p| p.scripted(0).scripted(1).scripted(2)));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Running));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Running));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Success));
+        assert_eq!(lab.ticks, [1, 3, 2]);
+    }
+
+    #[test]
+    fn fails_at_max_failures() {
+        let mut lab = Lab::new(&[&[F], &[R, F], &[S]]);
+        let mut tree =
+            lab.tree(|b| b.parallel_all("pa", 2, |p| p.scripted(0).scripted(1).scripted(2)));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Running));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Failure));
+        assert_eq!(lab.ticks, [1, 2, 1]);
+        assert!(tree.statuses().iter().all(|s| *s == NodeStatus::Idle));
+    }
+
+    #[test]
+    fn halt_stops_the_running_children() {
+        let mut lab = Lab::new(&[&[R], &[S], &[R]]);
+        let mut tree =
+            lab.tree(|b| b.parallel_all("pa", 1, |p| p.scripted(0).scripted(1).scripted(2)));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Running));
+        lab.halt(&mut tree);
+        assert_eq!(lab.halts, [1, 0, 1]);
+    }
+}

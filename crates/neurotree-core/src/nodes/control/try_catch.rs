@@ -1,0 +1,138 @@
+//! TryCatch: a Sequence with a clean-up child that runs when it fails.
+//!
+//! | node | semantics |
+//! |---|---|
+//! | TryCatch(catch_on_halt) | Children 0..N-2 as a Sequence; on Failure tick the last child (the catch) and return Failure whatever it returns. |
+//!
+//! On a failure in the try block, every child is halted and reset, then the catch child is
+//! ticked in the same tick; while it runs, the node is Running. With `catch_on_halt`, halting
+//! the node while it is trying also runs the catch child once (halting it if it runs).
+
+use crate::blueprint::NodeDef;
+use crate::tree::Ticker;
+use crate::{NodeId, NodeStatus};
+
+const IN_CATCH: u64 = 1 << 63;
+
+fn unpack(slot: u64) -> (u32, u32, bool) {
+    let (cursor, skipped) = super::unpack(slot & !IN_CATCH);
+    (cursor, skipped, slot & IN_CATCH != 0)
+}
+
+fn pack(cursor: u32, skipped: u32, in_catch: bool) -> u64 {
+    super::pack(cursor, skipped) | if in_catch { IN_CATCH } else { 0 }
+}
+
+#[inline(never)]
+pub(crate) fn tick<C>(t: &mut Ticker<'_, C>, id: NodeId, def: &NodeDef<C>) -> NodeStatus {
+    let slot = t.bp.slot(id);
+    let (mut cursor, mut skipped, mut in_catch) = unpack(t.aux[slot]);
+    if !t.status(id).is_active() {
+        skipped = 0;
+        in_catch = false;
+    }
+    t.set_status(id, NodeStatus::Running);
+    let tries = def.child_count - 1;
+    while !in_catch && cursor < tries {
+        let child = t.child(def, cursor);
+        match t.tick(child) {
+            NodeStatus::Running => {
+                t.aux[slot] = pack(cursor, skipped, false);
+                return NodeStatus::Running;
+            }
+            NodeStatus::Failure | NodeStatus::Idle => {
+                t.reset_children(id);
+                cursor = 0;
+                in_catch = true;
+            }
+            NodeStatus::Success => cursor += 1,
+            NodeStatus::Skipped => {
+                cursor += 1;
+                skipped += 1;
+            }
+        }
+    }
+    if in_catch {
+        let catch = t.child(def, tries);
+        if t.tick(catch) == NodeStatus::Running {
+            t.aux[slot] = pack(cursor, skipped, true);
+            return NodeStatus::Running;
+        }
+        t.reset_children(id);
+        t.aux[slot] = pack(0, skipped, false);
+        return NodeStatus::Failure;
+    }
+    let all_skipped = skipped == tries;
+    t.reset_children(id);
+    t.aux[slot] = 0;
+    if all_skipped {
+        NodeStatus::Skipped
+    } else {
+        NodeStatus::Success
+    }
+}
+
+pub(crate) fn halt<C>(t: &mut Ticker<'_, C>, id: NodeId, def: &NodeDef<C>, catch_on_halt: bool) {
+    let slot = t.bp.slot(id);
+    let (_, _, in_catch) = unpack(t.aux[slot]);
+    if catch_on_halt && !in_catch && t.status(id).is_active() {
+        let catch = t.child(def, def.child_count - 1);
+        for i in 0..def.child_count - 1 {
+            let child = t.child(def, i);
+            t.halt_child(child);
+        }
+        if t.tick(catch) == NodeStatus::Running {
+            t.halt_child(catch);
+        }
+    }
+    t.aux[slot] = 0;
+    t.reset_children(id);
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::testing::*;
+
+    #[test]
+    fn success_skips_the_catch() {
+        let mut lab = Lab::new(&[&[S], &[S], &[S]]);
+        let mut tree =
+            lab.tree(|b| b.try_catch("tc", false, |c| c.scripted(0).scripted(1).scripted(2)));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Success));
+        assert_eq!(lab.ticks, [1, 1, 0]);
+    }
+
+    #[test]
+    fn failure_runs_the_catch_and_fails() {
+        let mut lab = Lab::new(&[&[S], &[F], &[R, S]]);
+        let mut tree =
+            lab.tree(|b| b.try_catch("tc", false, |c| c.scripted(0).scripted(1).scripted(2)));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Running));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Failure));
+        assert_eq!(lab.ticks, [1, 1, 2]);
+        // A catch that succeeds still makes the node fail; the next run starts from the try.
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Failure));
+        assert_eq!(lab.ticks, [2, 2, 3]);
+    }
+
+    #[test]
+    fn catch_on_halt_runs_the_catch_once() {
+        let mut lab = Lab::new(&[&[R], &[S]]);
+        let mut tree = lab.tree(|b| b.try_catch("tc", true, |c| c.scripted(0).scripted(1)));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Running));
+        lab.halt(&mut tree);
+        assert_eq!(lab.halts, [1, 0]);
+        assert_eq!(lab.ticks, [1, 1]);
+        assert!(tree.statuses().iter().all(|s| *s == NodeStatus::Idle));
+    }
+
+    #[test]
+    fn halt_without_catch_on_halt_skips_the_catch() {
+        let mut lab = Lab::new(&[&[R], &[S]]);
+        let mut tree = lab.tree(|b| b.try_catch("tc", false, |c| c.scripted(0).scripted(1)));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Running));
+        lab.halt(&mut tree);
+        assert_eq!(lab.ticks, [1, 0]);
+        assert_eq!(lab.halts, [1, 0]);
+    }
+}

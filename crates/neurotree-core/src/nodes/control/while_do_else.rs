@@ -1,0 +1,76 @@
+//! WhileDoElse: re-check a condition every tick and run the matching branch.
+//!
+//! | node | semantics |
+//! |---|---|
+//! | WhileDoElse | Condition re-ticked every tick; Success halts "else" and ticks "do"; Failure halts "do" and ticks "else" (2 children → Failure). |
+//!
+//! A branch that completes resets the node, so the next tick checks the condition afresh.
+
+use crate::blueprint::NodeDef;
+use crate::tree::Ticker;
+use crate::{NodeId, NodeStatus};
+
+#[inline(never)]
+pub(crate) fn tick<C>(t: &mut Ticker<'_, C>, id: NodeId, def: &NodeDef<C>) -> NodeStatus {
+    let three = def.child_count == 3;
+    t.set_status(id, NodeStatus::Running);
+    let condition = t.child(def, 0);
+    let status = match t.tick(condition) {
+        NodeStatus::Running => return NodeStatus::Running,
+        NodeStatus::Success => {
+            if three {
+                let otherwise = t.child(def, 2);
+                t.halt_child(otherwise);
+            }
+            let body = t.child(def, 1);
+            t.tick(body)
+        }
+        NodeStatus::Failure | NodeStatus::Idle => {
+            if three {
+                let body = t.child(def, 1);
+                t.halt_child(body);
+                let otherwise = t.child(def, 2);
+                t.tick(otherwise)
+            } else {
+                NodeStatus::Failure
+            }
+        }
+        NodeStatus::Skipped => NodeStatus::Skipped,
+    };
+    if status != NodeStatus::Running {
+        t.reset_children(id);
+    }
+    status
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::testing::*;
+
+    #[test]
+    fn condition_flip_halts_the_running_branch() {
+        let mut lab = Lab::new(&[&[S, F], &[R], &[R]]);
+        let mut tree = lab.tree(|b| b.while_do_else("wde", |w| w.check(0).scripted(1).scripted(2)));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Running));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Running));
+        assert_eq!(lab.ticks, [2, 1, 1]);
+        assert_eq!(lab.halts, [0, 1, 0]);
+    }
+
+    #[test]
+    fn two_children_fail_with_the_condition() {
+        let mut lab = Lab::new(&[&[S, F], &[R]]);
+        let mut tree = lab.tree(|b| b.while_do_else("wde", |w| w.check(0).scripted(1)));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Running));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Failure));
+        assert_eq!(lab.halts, [0, 1]);
+    }
+
+    #[test]
+    fn completion_resets() {
+        let mut lab = Lab::new(&[&[S], &[S], &[S]]);
+        let mut tree = lab.tree(|b| b.while_do_else("wde", |w| w.check(0).scripted(1).scripted(2)));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Success));
+        assert!(tree.statuses().iter().all(|s| *s == NodeStatus::Idle));
+    }
+}

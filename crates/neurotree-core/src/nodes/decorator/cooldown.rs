@@ -1,0 +1,81 @@
+//! Cooldown(duration), from the seeds: after the child completes, rest for a while.
+//!
+//! | node | semantics |
+//! |---|---|
+//! | Cooldown(duration) (seed) | After the child completes, return Failure without ticking it until the duration has passed. Halt does not clear the cooldown. |
+//!
+//! The rest starts at the clock reading of the tick on which the child completed, whatever
+//! its outcome; a Running child is not limited.
+
+use core::time::Duration;
+
+use crate::blueprint::NodeDef;
+use crate::clock::duration_to_nanos;
+use crate::tree::Ticker;
+use crate::{NodeId, NodeStatus};
+
+#[inline(never)]
+pub(crate) fn tick<C>(
+    t: &mut Ticker<'_, C>,
+    id: NodeId,
+    def: &NodeDef<C>,
+    period: Duration,
+) -> NodeStatus {
+    let slot = t.bp.slot(id);
+    let now = t.now_nanos();
+    // Stored as time + 1 so that 0 means "never completed".
+    let last = t.aux[slot];
+    if last != 0 && now.saturating_sub(last - 1) < duration_to_nanos(period) {
+        return NodeStatus::Failure;
+    }
+    t.set_status(id, NodeStatus::Running);
+    let child = t.child(def, 0);
+    let status = t.tick(child);
+    if status.is_completed() {
+        t.aux[slot] = now.saturating_add(1);
+        t.halt_child(child);
+    }
+    status
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::testing::*;
+
+    #[test]
+    fn rests_after_completion() {
+        let mut lab = Lab::new(&[&[S]]);
+        let mut tree = lab.tree(|b| b.cooldown("c", ms(1000), |c| c.scripted(0)));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Success));
+        lab.clock.advance(ms(999));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Failure));
+        assert_eq!(lab.ticks, [1]);
+        lab.clock.advance(ms(1));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Success));
+        assert_eq!(lab.ticks, [2]);
+    }
+
+    #[test]
+    fn halt_keeps_the_cooldown() {
+        let mut lab = Lab::new(&[&[F]]);
+        let mut tree = lab
+            .tree(|b| b.reactive_sequence("rs", |s| s.cooldown("c", ms(500), |c| c.scripted(0))));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Failure));
+        lab.halt(&mut tree);
+        lab.clock.advance(ms(100));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Failure));
+        assert_eq!(lab.ticks, [1]);
+    }
+
+    #[test]
+    fn running_child_is_not_limited() {
+        let mut lab = Lab::new(&[&[R, R, S]]);
+        let mut tree = lab.tree(|b| b.cooldown("c", ms(100), |c| c.scripted(0)));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Running));
+        lab.clock.advance(ms(500));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Running));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Success));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Failure));
+        assert_eq!(lab.ticks, [3]);
+    }
+}

@@ -1,0 +1,87 @@
+//! Delay(delay_msec): wait on the clock, then tick the child.
+//!
+//! | node | semantics |
+//! |---|---|
+//! | Delay(delay_msec) | Running until the delay has passed on the tree's clock, then tick the child. |
+//!
+//! The wait starts on the tick that finds the node not started; once it has passed, the
+//! child is ticked on every tick until it completes, which ends the Delay (the next run waits
+//! again). A halt forgets the wait. A delay of 0 ticks the child on the first tick.
+
+use core::time::Duration;
+
+use crate::blueprint::NodeDef;
+use crate::clock::duration_to_nanos;
+use crate::tree::Ticker;
+use crate::{NodeId, NodeStatus};
+
+#[inline(never)]
+pub(crate) fn tick<C>(
+    t: &mut Ticker<'_, C>,
+    id: NodeId,
+    def: &NodeDef<C>,
+    wait: Duration,
+) -> NodeStatus {
+    let slot = t.bp.slot(id);
+    let now = t.now_nanos();
+    if t.aux[slot] == 0 {
+        // Stored as time + 1 so that 0 means "not started" even at time zero.
+        t.aux[slot] = now.saturating_add(1);
+        t.set_status(id, NodeStatus::Running);
+    }
+    let started = t.aux[slot] - 1;
+    if now.saturating_sub(started) < duration_to_nanos(wait) {
+        return NodeStatus::Running;
+    }
+    let child = t.child(def, 0);
+    let status = t.tick(child);
+    if status.is_completed() {
+        t.aux[slot] = 0;
+        t.halt_child(child);
+    }
+    status
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::testing::*;
+
+    #[test]
+    fn waits_then_ticks_the_child() {
+        let mut lab = Lab::new(&[&[R, S]]);
+        let mut tree = lab.tree(|b| b.delay("d", ms(100), |d| d.scripted(0)));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Running));
+        lab.clock.advance(ms(99));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Running));
+        assert_eq!(lab.ticks, [0]);
+        lab.clock.advance(ms(1));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Running));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Success));
+        assert_eq!(lab.ticks, [2]);
+        // A new run waits again.
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Running));
+        assert_eq!(lab.ticks, [2]);
+    }
+
+    #[test]
+    fn zero_delay_ticks_at_once() {
+        let mut lab = Lab::new(&[&[S]]);
+        let mut tree = lab.tree(|b| b.delay("d", ms(0), |d| d.scripted(0)));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Success));
+        assert_eq!(lab.ticks, [1]);
+    }
+
+    #[test]
+    fn halt_forgets_the_wait() {
+        let mut lab = Lab::new(&[&[S]]);
+        let mut tree = lab.tree(|b| b.delay("d", ms(100), |d| d.scripted(0)));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Running));
+        lab.clock.advance(ms(90));
+        lab.halt(&mut tree);
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Running));
+        lab.clock.advance(ms(90));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Running));
+        lab.clock.advance(ms(10));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Success));
+    }
+}

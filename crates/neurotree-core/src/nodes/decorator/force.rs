@@ -1,0 +1,48 @@
+//! ForceSuccess and ForceFailure: a completed child becomes a fixed outcome.
+//!
+//! | node | semantics |
+//! |---|---|
+//! | ForceSuccess / ForceFailure | A completed child becomes the forced status; Running passes. |
+
+use crate::blueprint::NodeDef;
+use crate::tree::Ticker;
+use crate::{NodeId, NodeStatus};
+
+#[inline(never)]
+pub(crate) fn tick<C>(
+    t: &mut Ticker<'_, C>,
+    id: NodeId,
+    def: &NodeDef<C>,
+    forced: NodeStatus,
+) -> NodeStatus {
+    t.set_status(id, NodeStatus::Running);
+    let child = t.child(def, 0);
+    let status = t.tick(child);
+    if status.is_completed() {
+        t.halt_child(child);
+        forced
+    } else {
+        status
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::testing::*;
+
+    #[test]
+    fn forces_completed_outcomes() {
+        let mut lab = Lab::new(&[&[F, R, S]]);
+        let mut tree = lab.tree(|b| b.force_success("ok", |i| i.scripted(0)));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Success));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Running));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Success));
+
+        let mut lab = Lab::new(&[&[S, R, F]]);
+        let mut tree = lab.tree(|b| b.force_failure("no", |i| i.scripted(0)));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Failure));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Running));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Failure));
+        assert_eq!(lab.ticks, [3]);
+    }
+}

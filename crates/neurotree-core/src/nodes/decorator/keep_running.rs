@@ -1,0 +1,45 @@
+//! KeepRunningUntilFailure: keep a succeeding child going.
+//!
+//! | node | semantics |
+//! |---|---|
+//! | KeepRunningUntilFailure | Success → Running; Failure → Failure. |
+//!
+//! The child is reset after each completion, so it starts afresh on the next tick.
+
+use crate::blueprint::NodeDef;
+use crate::tree::Ticker;
+use crate::{NodeId, NodeStatus};
+
+#[inline(never)]
+pub(crate) fn tick<C>(t: &mut Ticker<'_, C>, id: NodeId, def: &NodeDef<C>) -> NodeStatus {
+    t.set_status(id, NodeStatus::Running);
+    let child = t.child(def, 0);
+    match t.tick(child) {
+        NodeStatus::Success => {
+            t.halt_child(child);
+            NodeStatus::Running
+        }
+        NodeStatus::Failure | NodeStatus::Idle => {
+            t.halt_child(child);
+            NodeStatus::Failure
+        }
+        other => other,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::testing::*;
+
+    #[test]
+    fn runs_until_the_child_fails() {
+        let mut lab = Lab::new(&[&[S, R, S, F]]);
+        let mut tree = lab.tree(|b| b.keep_running_until_failure("k", |k| k.scripted(0)));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Running));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Running));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Running));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Failure));
+        assert_eq!(lab.ticks, [4]);
+        assert_eq!(lab.log_of(0), ["start", "start", "running", "start"]);
+    }
+}

@@ -1,0 +1,121 @@
+//! Repeat(num_cycles): run a succeeding child again, `num_cycles` times.
+//!
+//! | node | semantics |
+//! |---|---|
+//! | Repeat(num_cycles) | Child Success: count, yield Running until num_cycles reached (−1 forever) → Success. Child Failure → Failure, count reset. 0 cycles → Success with no tick. |
+//!
+//! The yield follows BehaviorTree.CPP: after a child that succeeded from Idle within this
+//! tick, the node returns Running and asks to be woken, so
+//! [`Tree::tick_once`](crate::Tree::tick_once) runs all cycles of an instant child in one
+//! call while [`Tree::tick_exactly_once`](crate::Tree::tick_exactly_once) runs one cycle per
+//! tick. A child that ran over several ticks goes straight on to its next cycle. A skipped
+//! child makes the node Skipped without resetting the count. Halt resets the count.
+
+use crate::blueprint::NodeDef;
+use crate::tree::Ticker;
+use crate::{NodeId, NodeStatus};
+
+#[inline(never)]
+pub(crate) fn tick<C>(
+    t: &mut Ticker<'_, C>,
+    id: NodeId,
+    def: &NodeDef<C>,
+    cycles: i32,
+) -> NodeStatus {
+    let slot = t.bp.slot(id);
+    let child = t.child(def, 0);
+    let more = |count: u64| cycles < 0 || count < cycles as u64;
+    t.set_status(id, NodeStatus::Running);
+    while more(t.aux[slot]) {
+        let prev = t.status(child);
+        match t.tick(child) {
+            NodeStatus::Success => {
+                t.aux[slot] += 1;
+                t.halt_child(child);
+                if prev == NodeStatus::Idle && more(t.aux[slot]) {
+                    t.wake = true;
+                    return NodeStatus::Running;
+                }
+            }
+            NodeStatus::Failure | NodeStatus::Idle => {
+                t.aux[slot] = 0;
+                t.halt_child(child);
+                return NodeStatus::Failure;
+            }
+            NodeStatus::Running => return NodeStatus::Running,
+            NodeStatus::Skipped => {
+                t.halt_child(child);
+                return NodeStatus::Skipped;
+            }
+        }
+    }
+    t.aux[slot] = 0;
+    NodeStatus::Success
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::testing::*;
+
+    #[test]
+    fn tick_once_runs_every_cycle_of_an_instant_child() {
+        let mut lab = Lab::new(&[&[S]]);
+        let mut tree = lab.tree(|b| b.repeat("r", 3, |r| r.scripted(0)));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Success));
+        assert_eq!(lab.ticks, [3]);
+    }
+
+    #[test]
+    fn tick_exactly_once_runs_one_cycle_per_tick() {
+        let mut lab = Lab::new(&[&[S]]);
+        let mut tree = lab.tree(|b| b.repeat("r", 3, |r| r.scripted(0)));
+        assert_eq!(lab.tick_exactly_once(&mut tree), Ok(Status::Running));
+        assert_eq!(lab.tick_exactly_once(&mut tree), Ok(Status::Running));
+        assert_eq!(lab.tick_exactly_once(&mut tree), Ok(Status::Success));
+        assert_eq!(lab.ticks, [3]);
+    }
+
+    #[test]
+    fn failure_ends_and_resets_the_count() {
+        let mut lab = Lab::new(&[&[S, F, S]]);
+        let mut tree = lab.tree(|b| b.repeat("r", 2, |r| r.scripted(0)));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Failure));
+        assert_eq!(lab.ticks, [2]);
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Success));
+        assert_eq!(lab.ticks, [4]);
+    }
+
+    #[test]
+    fn zero_cycles_succeed_without_a_tick() {
+        let mut lab = Lab::new(&[&[S]]);
+        let mut tree = lab.tree(|b| b.repeat("r", 0, |r| r.scripted(0)));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Success));
+        assert_eq!(lab.ticks, [0]);
+    }
+
+    #[test]
+    fn a_running_child_continues_without_yield() {
+        let mut lab = Lab::new(&[&[R, S, R, S]]);
+        let mut tree = lab.tree(|b| b.repeat("r", 2, |r| r.scripted(0)));
+        assert_eq!(lab.tick_exactly_once(&mut tree), Ok(Status::Running));
+        // Success after Running: no yield, the next cycle starts in the same tick.
+        assert_eq!(lab.tick_exactly_once(&mut tree), Ok(Status::Running));
+        assert_eq!(lab.ticks, [3]);
+        assert_eq!(lab.tick_exactly_once(&mut tree), Ok(Status::Success));
+        assert_eq!(lab.ticks, [4]);
+    }
+
+    #[test]
+    fn halt_resets_the_count() {
+        let mut lab = Lab::new(&[&[S, R, S, S]]);
+        let mut tree = lab.tree(|b| b.repeat("r", 2, |r| r.scripted(0)));
+        assert_eq!(lab.tick_exactly_once(&mut tree), Ok(Status::Running));
+        assert_eq!(lab.tick_exactly_once(&mut tree), Ok(Status::Running));
+        lab.halt(&mut tree);
+        assert_eq!(lab.halts, [1]);
+        // Two full cycles are needed again: without the reset, the next success would end it.
+        assert_eq!(lab.tick_exactly_once(&mut tree), Ok(Status::Running));
+        assert_eq!(lab.tick_exactly_once(&mut tree), Ok(Status::Success));
+        assert_eq!(lab.ticks, [4]);
+    }
+}

@@ -1,0 +1,91 @@
+//! RetryUntilSuccessful(num_attempts): try a failing child again, up to `num_attempts` times.
+//!
+//! | node | semantics |
+//! |---|---|
+//! | RetryUntilSuccessful(num_attempts) | Mirror of Repeat on Failure. 0 attempts → Failure with no tick. |
+//!
+//! The seeds' Retry returns Running between attempts; the textbook's retries within one tick.
+//! Both are this node: under [`Tree::tick_exactly_once`](crate::Tree::tick_exactly_once) an
+//! instant failure yields Running, under [`Tree::tick_once`](crate::Tree::tick_once) the
+//! attempts follow each other in the same call. `-1` retries forever. Halt resets the count.
+
+use crate::blueprint::NodeDef;
+use crate::tree::Ticker;
+use crate::{NodeId, NodeStatus};
+
+#[inline(never)]
+pub(crate) fn tick<C>(
+    t: &mut Ticker<'_, C>,
+    id: NodeId,
+    def: &NodeDef<C>,
+    attempts: i32,
+) -> NodeStatus {
+    let slot = t.bp.slot(id);
+    let child = t.child(def, 0);
+    let more = |count: u64| attempts < 0 || count < attempts as u64;
+    t.set_status(id, NodeStatus::Running);
+    while more(t.aux[slot]) {
+        let prev = t.status(child);
+        match t.tick(child) {
+            NodeStatus::Success => {
+                t.aux[slot] = 0;
+                t.halt_child(child);
+                return NodeStatus::Success;
+            }
+            NodeStatus::Failure | NodeStatus::Idle => {
+                t.aux[slot] += 1;
+                t.halt_child(child);
+                if prev == NodeStatus::Idle && more(t.aux[slot]) {
+                    t.wake = true;
+                    return NodeStatus::Running;
+                }
+            }
+            NodeStatus::Running => return NodeStatus::Running,
+            NodeStatus::Skipped => {
+                t.halt_child(child);
+                return NodeStatus::Skipped;
+            }
+        }
+    }
+    t.aux[slot] = 0;
+    NodeStatus::Failure
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::testing::*;
+
+    #[test]
+    fn retries_until_success() {
+        let mut lab = Lab::new(&[&[F, F, S]]);
+        let mut tree = lab.tree(|b| b.retry("r", 5, |r| r.scripted(0)));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Success));
+        assert_eq!(lab.ticks, [3]);
+    }
+
+    #[test]
+    fn gives_up_after_the_attempts() {
+        let mut lab = Lab::new(&[&[F]]);
+        let mut tree = lab.tree(|b| b.retry("r", 3, |r| r.scripted(0)));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Failure));
+        assert_eq!(lab.ticks, [3]);
+    }
+
+    #[test]
+    fn seeds_retry_is_running_between_attempts() {
+        let mut lab = Lab::new(&[&[F, F, S]]);
+        let mut tree = lab.tree(|b| b.retry("r", 5, |r| r.scripted(0)));
+        assert_eq!(lab.tick_exactly_once(&mut tree), Ok(Status::Running));
+        assert_eq!(lab.tick_exactly_once(&mut tree), Ok(Status::Running));
+        assert_eq!(lab.tick_exactly_once(&mut tree), Ok(Status::Success));
+        assert_eq!(lab.ticks, [3]);
+    }
+
+    #[test]
+    fn zero_attempts_fail_without_a_tick() {
+        let mut lab = Lab::new(&[&[S]]);
+        let mut tree = lab.tree(|b| b.retry("r", 0, |r| r.scripted(0)));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Failure));
+        assert_eq!(lab.ticks, [0]);
+    }
+}

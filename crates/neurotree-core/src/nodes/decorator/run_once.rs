@@ -1,0 +1,81 @@
+//! RunOnce(then_skip): run the child to completion once in the tree's life.
+//!
+//! | node | semantics |
+//! |---|---|
+//! | RunOnce(then_skip=true) | After the first completion return Skipped forever (or the cached status). |
+//!
+//! Halts and resets do not make it forget; a new tree instance starts afresh.
+
+use crate::blueprint::NodeDef;
+use crate::tree::Ticker;
+use crate::{NodeId, NodeStatus};
+
+const SUCCEEDED: u64 = 1;
+const FAILED: u64 = 2;
+
+#[inline(never)]
+pub(crate) fn tick<C>(
+    t: &mut Ticker<'_, C>,
+    id: NodeId,
+    def: &NodeDef<C>,
+    then_skip: bool,
+) -> NodeStatus {
+    let slot = t.bp.slot(id);
+    match t.aux[slot] {
+        0 => {}
+        _ if then_skip => return NodeStatus::Skipped,
+        SUCCEEDED => return NodeStatus::Success,
+        _ => return NodeStatus::Failure,
+    }
+    t.set_status(id, NodeStatus::Running);
+    let child = t.child(def, 0);
+    let status = t.tick(child);
+    if status.is_completed() {
+        t.aux[slot] = if status == NodeStatus::Success {
+            SUCCEEDED
+        } else {
+            FAILED
+        };
+        t.halt_child(child);
+    }
+    status
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::testing::*;
+
+    #[test]
+    fn inside_a_sequence_ticked_five_times() {
+        let mut lab = Lab::new(&[&[S], &[S]]);
+        let mut tree = lab.tree(|b| {
+            b.sequence("seq", |s| {
+                s.run_once("once", true, |o| o.scripted(0)).scripted(1)
+            })
+        });
+        for _ in 0..5 {
+            assert_eq!(lab.tick(&mut tree), Ok(Status::Success));
+        }
+        assert_eq!(lab.ticks, [1, 5]);
+    }
+
+    #[test]
+    fn cached_status_without_skip() {
+        let mut lab = Lab::new(&[&[F, S]]);
+        let mut tree = lab.tree(|b| b.run_once("once", false, |o| o.scripted(0)));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Failure));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Failure));
+        assert_eq!(lab.ticks, [1]);
+    }
+
+    #[test]
+    fn a_running_child_is_ticked_until_it_completes() {
+        let mut lab = Lab::new(&[&[R, R, S]]);
+        let mut tree = lab.tree(|b| b.run_once("once", true, |o| o.scripted(0)));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Running));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Running));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Success));
+        assert_eq!(lab.tick(&mut tree), Err(TickError::RootSkipped));
+        assert_eq!(lab.ticks, [3]);
+    }
+}

@@ -1,0 +1,62 @@
+//! SubTree: a child tree with its own blackboard scope.
+//!
+//! | node | semantics |
+//! |---|---|
+//! | SubTree | Own blackboard scope with remapping; passes the child's status. |
+//!
+//! The scope is created with the tree instance from the blueprint's
+//! [`SubTreeScope`](crate::SubTreeScope): remapped keys alias the parent's entries, and with
+//! `autoremap` every key the child does not define resolves in the parent, except keys
+//! starting with `_`. Keys starting with `@` always address the root scope.
+
+use crate::blueprint::NodeDef;
+use crate::tree::Ticker;
+use crate::{NodeId, NodeStatus};
+
+#[inline(never)]
+pub(crate) fn tick<C>(t: &mut Ticker<'_, C>, id: NodeId, def: &NodeDef<C>) -> NodeStatus {
+    t.set_status(id, NodeStatus::Running);
+    let child = t.child(def, 0);
+    let status = t.tick(child);
+    if status.is_completed() {
+        t.halt_child(child);
+    }
+    status
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::testing::*;
+    use crate::{Action, Handle, SubTreeScope};
+
+    struct Write(&'static str, i64);
+    impl Action<Lab> for Write {
+        fn tick(&self, h: &mut Handle<'_, Lab>) -> Status {
+            h.set(self.0, self.1).is_ok().into()
+        }
+    }
+
+    #[test]
+    fn remapped_keys_write_the_parent() {
+        let scope = SubTreeScope {
+            remap: vec![("goal".into(), "target".into())],
+            autoremap: false,
+        };
+        let mut lab = Lab::new(&[]);
+        let mut tree = lab.tree(|b| {
+            b.sequence("root", |s| {
+                s.subtree("sub", scope, |t| {
+                    t.sequence("inner", |i| {
+                        i.action_node("w1", Write("goal", 7))
+                            .action_node("w2", Write("local", 1))
+                    })
+                })
+            })
+        });
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Success));
+        assert_eq!(tree.blackboard().get::<i64>("target"), Ok(7));
+        assert!(!tree.blackboard().contains("local"));
+        let inner = tree.subtree_scope(NodeId(1)).unwrap();
+        assert_eq!(tree.blackboard().get_in::<i64>(inner, "local"), Ok(1));
+    }
+}

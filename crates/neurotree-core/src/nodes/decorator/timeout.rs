@@ -1,0 +1,87 @@
+//! Timeout(msec): fail and halt the child when it runs too long.
+//!
+//! | node | semantics |
+//! |---|---|
+//! | Timeout(msec) | Start timing on the first tick from Idle; at a tick where the time is up, halt the child and return Failure. Deterministic: reads the clock, no timer thread. |
+//!
+//! The time is checked before the child is ticked, and only a Running child is timed out
+//! (as BehaviorTree.CPP's timer only halts a Running child). A child that completes in time
+//! ends the run; the next run times afresh. `msec = 0` never times out.
+
+use core::time::Duration;
+
+use crate::blueprint::NodeDef;
+use crate::clock::duration_to_nanos;
+use crate::tree::Ticker;
+use crate::{NodeId, NodeStatus};
+
+#[inline(never)]
+pub(crate) fn tick<C>(
+    t: &mut Ticker<'_, C>,
+    id: NodeId,
+    def: &NodeDef<C>,
+    limit: Duration,
+) -> NodeStatus {
+    let slot = t.bp.slot(id);
+    let now = t.now_nanos();
+    let child = t.child(def, 0);
+    if t.aux[slot] == 0 {
+        // Stored as time + 1 so that 0 means "not started" even at time zero.
+        t.aux[slot] = now.saturating_add(1);
+        t.set_status(id, NodeStatus::Running);
+    } else if !limit.is_zero()
+        && now.saturating_sub(t.aux[slot] - 1) >= duration_to_nanos(limit)
+        && t.status(child) == NodeStatus::Running
+    {
+        t.halt_child(child);
+        t.aux[slot] = 0;
+        return NodeStatus::Failure;
+    }
+    let status = t.tick(child);
+    if status.is_completed() {
+        t.aux[slot] = 0;
+        t.halt_child(child);
+    }
+    status
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::testing::*;
+
+    #[test]
+    fn times_out_a_running_child() {
+        let mut lab = Lab::new(&[&[R]]);
+        let mut tree = lab.tree(|b| b.timeout("t", ms(100), |t| t.scripted(0)));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Running));
+        lab.clock.advance(ms(99));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Running));
+        lab.clock.advance(ms(1));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Failure));
+        assert_eq!(lab.ticks, [2]);
+        assert_eq!(lab.halts, [1]);
+        assert!(tree.statuses().iter().all(|s| *s == NodeStatus::Idle));
+    }
+
+    #[test]
+    fn a_child_that_completes_in_time_passes() {
+        let mut lab = Lab::new(&[&[R, S]]);
+        let mut tree = lab.tree(|b| b.timeout("t", ms(100), |t| t.scripted(0)));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Running));
+        lab.clock.advance(ms(50));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Success));
+        // A new run is timed from its own start.
+        lab.clock.advance(ms(80));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Success));
+        assert_eq!(lab.halts, [0]);
+    }
+
+    #[test]
+    fn zero_never_times_out() {
+        let mut lab = Lab::new(&[&[R]]);
+        let mut tree = lab.tree(|b| b.timeout("t", ms(0), |t| t.scripted(0)));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Running));
+        lab.clock.advance(ms(10_000));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Running));
+    }
+}

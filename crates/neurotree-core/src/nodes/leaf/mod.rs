@@ -1,0 +1,217 @@
+//! Leaves: the nodes that do the work.
+//!
+//! | kind | runs | per instance | semantics |
+//! |---|---|---|---|
+//! | [`Condition`] / closure `Fn(&C) -> bool` | never | no | Success or Failure |
+//! | [`Action`] / closure `Fn(&mut C) -> Status` | never | no | Success or Failure in one tick; returning Running is reported as a [`TickError`](crate::TickError) |
+//! | [`StatefulAction`] | yes | yes | `on_start` on the tick from Idle, `on_running` on later ticks, `on_halted` when halted while Running |
+//! | [AlwaysSuccess / AlwaysFailure](always) | never | no | as their names |
+//! | [Sleep](sleep) | yes | state slot | Running until the duration has passed on the tree's clock |
+//!
+//! Stateless leaves belong to the blueprint and serve every instance; only stateful leaves
+//! are created per instance. That keeps an instance of a large tree within a few kilobytes.
+
+pub mod always;
+pub mod sleep;
+
+use core::time::Duration;
+
+use crate::blackboard::{Blackboard, BlackboardError, ScopeId};
+use crate::{Clock, NodeId, Status};
+
+/// What a leaf sees while it runs: the user's context, the blackboard scope of its subtree,
+/// the tree's clock and its own identity.
+pub struct Handle<'a, C> {
+    pub(crate) ctx: &'a mut C,
+    pub(crate) blackboard: &'a mut Blackboard,
+    pub(crate) scope: ScopeId,
+    pub(crate) clock: &'a dyn Clock,
+    pub(crate) node: NodeId,
+    pub(crate) name: &'a str,
+}
+
+impl<'a, C> Handle<'a, C> {
+    /// The user's context.
+    #[inline]
+    pub fn ctx(&self) -> &C {
+        self.ctx
+    }
+
+    /// The user's context, to change the world.
+    #[inline]
+    pub fn ctx_mut(&mut self) -> &mut C {
+        self.ctx
+    }
+
+    /// The tree's blackboard (all scopes).
+    pub fn blackboard(&self) -> &Blackboard {
+        self.blackboard
+    }
+
+    /// The tree's blackboard, writable.
+    pub fn blackboard_mut(&mut self) -> &mut Blackboard {
+        self.blackboard
+    }
+
+    /// The scope this node reads and writes (its subtree's).
+    pub fn scope(&self) -> ScopeId {
+        self.scope
+    }
+
+    /// Reads `key` in this node's scope (`@key` reads the root scope).
+    pub fn get<T: core::any::Any + Clone>(&self, key: &str) -> Result<T, BlackboardError> {
+        self.blackboard.get_in(self.scope, key)
+    }
+
+    /// Writes `key` in this node's scope, stamped with the clock's time.
+    pub fn set<T: core::any::Any + Send + Sync>(
+        &mut self,
+        key: &str,
+        value: T,
+    ) -> Result<(), BlackboardError> {
+        let now = self.clock.now();
+        self.blackboard.set_in(self.scope, key, value, now)
+    }
+
+    /// The tree's clock reading.
+    pub fn now(&self) -> Duration {
+        self.clock.now()
+    }
+
+    /// The node being ticked.
+    pub fn node(&self) -> NodeId {
+        self.node
+    }
+
+    /// The node's name.
+    pub fn name(&self) -> &str {
+        self.name
+    }
+}
+
+/// A check of the world that never runs; one object serves every instance.
+///
+/// ```
+/// use neurotree_core::{Blueprint, Condition, Handle};
+///
+/// struct Above(f32);
+/// impl Condition<f32> for Above {
+///     fn check(&self, h: &Handle<'_, f32>) -> bool { *h.ctx() > self.0 }
+/// }
+/// let bp = Blueprint::<f32>::builder().condition_node("charged", Above(20.0)).build();
+/// assert!(bp.is_ok());
+/// ```
+pub trait Condition<C>: Send + Sync {
+    /// `true` for Success, `false` for Failure.
+    fn check(&self, h: &Handle<'_, C>) -> bool;
+}
+
+/// A synchronous action: it completes within the tick; one object serves every instance.
+pub trait Action<C>: Send + Sync {
+    /// Success or Failure; Running is a contract violation reported by the tick.
+    fn tick(&self, h: &mut Handle<'_, C>) -> Status;
+}
+
+/// An action that runs over several ticks, with per-instance state (the seeds' AsyncAction:
+/// start, update, stop).
+///
+/// ```
+/// use neurotree_core::{Handle, StatefulAction, Status};
+///
+/// /// Moves one step per tick until it has moved `n`.
+/// struct Walk { n: u32, done: u32 }
+/// impl StatefulAction<i32> for Walk {
+///     fn on_start(&mut self, h: &mut Handle<'_, i32>) -> Status {
+///         self.done = 0;
+///         self.on_running(h)
+///     }
+///     fn on_running(&mut self, h: &mut Handle<'_, i32>) -> Status {
+///         *h.ctx_mut() += 1;
+///         self.done += 1;
+///         if self.done == self.n { Status::Success } else { Status::Running }
+///     }
+///     fn on_halted(&mut self, _h: &mut Handle<'_, i32>) {}
+/// }
+/// ```
+pub trait StatefulAction<C>: Send {
+    /// Called on the tick that finds the node Idle.
+    fn on_start(&mut self, h: &mut Handle<'_, C>) -> Status;
+    /// Called on every later tick while the node is Running.
+    fn on_running(&mut self, h: &mut Handle<'_, C>) -> Status;
+    /// Called when the node is halted while Running; release what `on_start` took.
+    fn on_halted(&mut self, _h: &mut Handle<'_, C>) {}
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::testing::*;
+
+    /// Succeeds when the context is above its threshold; records what the handle showed.
+    struct Above(u32);
+    impl Condition<(u32, Vec<String>)> for Above {
+        fn check(&self, h: &Handle<'_, (u32, Vec<String>)>) -> bool {
+            h.ctx().0 > self.0
+        }
+    }
+
+    struct Bump;
+    impl Action<(u32, Vec<String>)> for Bump {
+        fn tick(&self, h: &mut Handle<'_, (u32, Vec<String>)>) -> Status {
+            let seen = format!("{} {} {:?}", h.node(), h.name(), h.now());
+            let ctx = h.ctx_mut();
+            ctx.0 += 10;
+            ctx.1.push(seen);
+            Status::Success
+        }
+    }
+
+    #[test]
+    fn trait_leaves_see_their_identity_and_the_clock() {
+        let clock = ManualClock::new();
+        let bp = Builder::<(u32, Vec<String>)>::new()
+            .fallback("root", |f| {
+                f.condition_node("high", Above(15))
+                    .action_node("bump", Bump)
+            })
+            .build_shared()
+            .unwrap();
+        let mut tree = Tree::with_clock(bp, clock.clone());
+        let mut ctx = (0, Vec::new());
+        clock.advance(ms(7));
+        assert_eq!(tree.tick_once(&mut ctx), Ok(Status::Success));
+        assert_eq!(tree.tick_once(&mut ctx), Ok(Status::Success));
+        // The condition held on the third tick, so the action ran twice.
+        assert_eq!(tree.tick_once(&mut ctx), Ok(Status::Success));
+        assert_eq!(ctx.0, 20);
+        assert_eq!(ctx.1, ["#2 bump 7ms", "#2 bump 7ms"]);
+    }
+
+    #[test]
+    fn closure_condition_and_action() {
+        let mut lab = Lab::new(&[]);
+        let mut tree = lab.tree(|b| {
+            b.sequence("s", |s| {
+                s.condition("no_ticks_yet", |l: &Lab| l.halts.is_empty())
+                    .action("record", |l: &mut Lab| {
+                        l.halts.push(9);
+                        Status::Success
+                    })
+            })
+        });
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Success));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Failure));
+        assert_eq!(lab.halts, [9]);
+    }
+
+    #[test]
+    fn stateful_completed_and_unreset_repeats_its_result() {
+        // IfThenElse with two children leaves a failed condition un-reset, as BT.CPP does;
+        // a stateful condition then answers from its stored status without being called.
+        let mut lab = Lab::new(&[&[F, S], &[S]]);
+        let mut tree = lab.tree(|b| b.if_then_else("ite", |i| i.scripted(0).scripted(1)));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Failure));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Failure));
+        assert_eq!(lab.ticks, [1, 0]);
+    }
+}

@@ -1,0 +1,72 @@
+//! The one hook through which loggers, statistics and live views watch a tree.
+//!
+//! An [`Observer`] attached to a [`Tree`](crate::Tree) is told when a tick starts and ends and
+//! every time a node's stored status changes, including the changes to `Idle` that halts and
+//! resets cause. With no observer attached, the engine pays one branch per status write.
+
+use core::time::Duration;
+
+use crate::{NodeId, NodeStatus};
+
+/// One change of a node's stored status.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct StatusChange {
+    /// The node whose status changed.
+    pub node: NodeId,
+    /// Its status before.
+    pub from: NodeStatus,
+    /// Its status now.
+    pub to: NodeStatus,
+    /// The tree's clock at the change.
+    pub at: Duration,
+}
+
+/// Receives what a tree does, as it happens.
+///
+/// All methods have empty defaults, so an observer implements only what it needs.
+pub trait Observer: Send {
+    /// A root tick is about to start (called once per pass of the root, so `tick_once` may
+    /// call it several times when a node asks to be woken).
+    fn on_tick_start(&mut self, _now: Duration) {}
+
+    /// A node's stored status changed.
+    fn on_status_change(&mut self, _change: StatusChange) {}
+
+    /// A root tick ended with `status`.
+    fn on_tick_end(&mut self, _status: NodeStatus, _now: Duration) {}
+}
+
+/// Two observers side by side: both see every event, the first one first.
+impl<A: Observer, B: Observer> Observer for (A, B) {
+    fn on_tick_start(&mut self, now: Duration) {
+        self.0.on_tick_start(now);
+        self.1.on_tick_start(now);
+    }
+    fn on_status_change(&mut self, change: StatusChange) {
+        self.0.on_status_change(change);
+        self.1.on_status_change(change);
+    }
+    fn on_tick_end(&mut self, status: NodeStatus, now: Duration) {
+        self.0.on_tick_end(status, now);
+        self.1.on_tick_end(status, now);
+    }
+}
+
+/// Any number of boxed observers, in order.
+impl Observer for alloc::vec::Vec<alloc::boxed::Box<dyn Observer>> {
+    fn on_tick_start(&mut self, now: Duration) {
+        for o in self.iter_mut() {
+            o.on_tick_start(now);
+        }
+    }
+    fn on_status_change(&mut self, change: StatusChange) {
+        for o in self.iter_mut() {
+            o.on_status_change(change);
+        }
+    }
+    fn on_tick_end(&mut self, status: NodeStatus, now: Duration) {
+        for o in self.iter_mut() {
+            o.on_tick_end(status, now);
+        }
+    }
+}

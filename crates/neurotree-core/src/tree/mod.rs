@@ -1,0 +1,424 @@
+//! An instance of a blueprint: the per-run state, and the ways to tick it.
+//!
+//! A [`Tree`] holds only what changes while ticking: one status byte per node, a `u64` slot
+//! for each node whose kind keeps a cursor, a counter or a time, the stateful leaves'
+//! objects, and its blackboard. The structure stays in the shared [`Blueprint`].
+//!
+//! Two ways to tick, as in BehaviorTree.CPP:
+//! - [`Tree::tick_exactly_once`]: one pass of the root;
+//! - [`Tree::tick_once`]: a pass, repeated at once while a node yielded and asked to be
+//!   woken (Repeat, RetryUntilSuccessful, SequenceWithMemory and the Async composites do so
+//!   after a child that completed within the tick).
+//!
+//! A root that completes is reset to Idle, so the next tick starts afresh.
+
+mod error;
+pub(crate) mod ticker;
+
+pub use error::TickError;
+pub(crate) use ticker::Ticker;
+
+use alloc::boxed::Box;
+use alloc::sync::Arc;
+use alloc::vec;
+use alloc::vec::Vec;
+use core::time::Duration;
+
+use crate::blackboard::{Blackboard, ScopeId};
+use crate::blueprint::{Blueprint, NodeKind};
+use crate::observer::Observer;
+use crate::{Clock, NodeId, NodeStatus, Status};
+use ticker::Object;
+
+/// A running instance of a [`Blueprint`], ticked with a user context `C`.
+pub struct Tree<C> {
+    blueprint: Arc<Blueprint<C>>,
+    statuses: Box<[NodeStatus]>,
+    aux: Box<[u64]>,
+    objects: Box<[Object<C>]>,
+    blackboard: Blackboard,
+    clock: Arc<dyn Clock>,
+    observer: Option<Box<dyn Observer>>,
+}
+
+impl<C> Tree<C> {
+    /// A fresh instance whose time-based nodes read `clock`.
+    pub fn with_clock(blueprint: Arc<Blueprint<C>>, clock: impl Clock + 'static) -> Self {
+        Self::with_shared_clock(blueprint, Arc::new(clock))
+    }
+
+    /// A fresh instance sharing `clock` with other trees.
+    pub fn with_shared_clock(blueprint: Arc<Blueprint<C>>, clock: Arc<dyn Clock>) -> Self {
+        let mut objects = Vec::with_capacity(blueprint.objects as usize);
+        for def in blueprint.nodes.iter() {
+            match &def.kind {
+                NodeKind::Stateful(make) => objects.push(Object::Stateful(make())),
+                NodeKind::Custom(spec) => objects.push(Object::Custom((spec.factory)())),
+                _ => {}
+            }
+        }
+        let mut blackboard = Blackboard::new();
+        for (parent, scope) in blueprint.scopes.iter() {
+            let id = blackboard.add_scope(*parent, scope.autoremap);
+            for (child_key, parent_key) in &scope.remap {
+                blackboard.remap(id, child_key, parent_key);
+            }
+        }
+        Self {
+            statuses: vec![NodeStatus::Idle; blueprint.len()].into_boxed_slice(),
+            aux: vec![0; blueprint.aux_slots as usize].into_boxed_slice(),
+            objects: objects.into_boxed_slice(),
+            blackboard,
+            clock,
+            observer: None,
+            blueprint,
+        }
+    }
+
+    /// A fresh instance on the system clock.
+    #[cfg(feature = "std")]
+    pub fn new(blueprint: Arc<Blueprint<C>>) -> Self {
+        Self::with_clock(blueprint, crate::SystemClock::new())
+    }
+
+    /// The blueprint this tree instantiates.
+    pub fn blueprint(&self) -> &Arc<Blueprint<C>> {
+        &self.blueprint
+    }
+
+    /// The stored status of a node.
+    pub fn status(&self, id: NodeId) -> NodeStatus {
+        self.statuses[id.index()]
+    }
+
+    /// The stored status of every node, indexed by [`NodeId`].
+    pub fn statuses(&self) -> &[NodeStatus] {
+        &self.statuses
+    }
+
+    /// The tree's blackboard.
+    pub fn blackboard(&self) -> &Blackboard {
+        &self.blackboard
+    }
+
+    /// The tree's blackboard, to seed or inspect entries between ticks.
+    pub fn blackboard_mut(&mut self) -> &mut Blackboard {
+        &mut self.blackboard
+    }
+
+    /// The scope a SubTree node opened for its child, if `id` is a SubTree.
+    pub fn subtree_scope(&self, id: NodeId) -> Option<ScopeId> {
+        match self.blueprint.kind(id) {
+            NodeKind::SubTree(_) => self
+                .blueprint
+                .children(id)
+                .first()
+                .map(|c| self.blueprint.scope(*c)),
+            _ => None,
+        }
+    }
+
+    /// The clock the tree reads.
+    pub fn clock(&self) -> &dyn Clock {
+        &*self.clock
+    }
+
+    /// Attaches an observer, returning the one it replaces.
+    pub fn set_observer(&mut self, observer: impl Observer + 'static) -> Option<Box<dyn Observer>> {
+        self.observer.replace(Box::new(observer))
+    }
+
+    /// Detaches the observer.
+    pub fn take_observer(&mut self) -> Option<Box<dyn Observer>> {
+        self.observer.take()
+    }
+
+    /// The attached observer.
+    pub fn observer_mut(&mut self) -> Option<&mut (dyn Observer + 'static)> {
+        self.observer.as_deref_mut()
+    }
+
+    /// Bytes this instance keeps on the heap for node state (statuses, slots, object
+    /// pointers), not counting the stateful leaves' own objects or blackboard entries.
+    pub fn state_bytes(&self) -> usize {
+        self.statuses.len() * core::mem::size_of::<NodeStatus>()
+            + self.aux.len() * core::mem::size_of::<u64>()
+            + self.objects.len() * core::mem::size_of::<Object<C>>()
+    }
+
+    fn ticker<'t>(&'t mut self, ctx: &'t mut C) -> Ticker<'t, C> {
+        Ticker {
+            bp: &self.blueprint,
+            statuses: &mut self.statuses,
+            aux: &mut self.aux,
+            objects: &mut self.objects,
+            ctx,
+            bb: &mut self.blackboard,
+            clock: &*self.clock,
+            observer: match self.observer.as_deref_mut() {
+                Some(o) => Some(o),
+                None => None,
+            },
+            wake: false,
+            fault: None,
+        }
+    }
+
+    /// One pass of the root: returns its status and whether a node asked to be woken.
+    fn pass(&mut self, ctx: &mut C) -> Result<(NodeStatus, bool), TickError> {
+        let mut t = self.ticker(ctx);
+        if let Some(o) = t.observer.as_deref_mut() {
+            o.on_tick_start(t.clock.now());
+        }
+        let status = t.tick(NodeId::ROOT);
+        if status.is_completed() {
+            t.set_status(NodeId::ROOT, NodeStatus::Idle);
+        }
+        if let Some(o) = t.observer.as_deref_mut() {
+            o.on_tick_end(status, t.clock.now());
+        }
+        if let Some(fault) = t.fault.take() {
+            t.halt_node(NodeId::ROOT);
+            return Err(fault);
+        }
+        Ok((status, t.wake))
+    }
+
+    /// Ticks the root exactly once, ignoring wake-up requests.
+    pub fn tick_exactly_once(&mut self, ctx: &mut C) -> Result<Status, TickError> {
+        let (status, _) = self.pass(ctx)?;
+        to_result(status)
+    }
+
+    /// Ticks the root, and again at once while it is Running and a node asked to be woken.
+    pub fn tick_once(&mut self, ctx: &mut C) -> Result<Status, TickError> {
+        loop {
+            let (status, wake) = self.pass(ctx)?;
+            if status == NodeStatus::Running && wake {
+                continue;
+            }
+            return to_result(status);
+        }
+    }
+
+    /// Ticks with [`tick_once`](Self::tick_once) every `period` (sleeping between ticks) until
+    /// the root completes.
+    #[cfg(feature = "std")]
+    pub fn tick_while_running(
+        &mut self,
+        ctx: &mut C,
+        period: Duration,
+    ) -> Result<Status, TickError> {
+        loop {
+            let status = self.tick_once(ctx)?;
+            if status != Status::Running {
+                return Ok(status);
+            }
+            if !period.is_zero() {
+                std::thread::sleep(period);
+            }
+        }
+    }
+
+    /// Halts every Running node (children before parents) and resets the tree to Idle.
+    /// Stateful actions that were Running get `on_halted`.
+    pub fn halt(&mut self, ctx: &mut C) {
+        let mut t = self.ticker(ctx);
+        t.halt_node(NodeId::ROOT);
+    }
+
+    /// Time since the tree's clock origin.
+    pub fn now(&self) -> Duration {
+        self.clock.now()
+    }
+}
+
+fn to_result(status: NodeStatus) -> Result<Status, TickError> {
+    status.to_status().ok_or(TickError::RootSkipped)
+}
+
+impl<C> core::fmt::Debug for Tree<C> {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.debug_struct("Tree")
+            .field("nodes", &self.blueprint.len())
+            .field("root", &self.statuses[0])
+            .finish_non_exhaustive()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::observer::{Observer, StatusChange};
+    use crate::testing::*;
+    use crate::NodeStatus::{Idle, Running as Run, Success as Ok_};
+    use std::sync::{Arc as StdArc, Mutex};
+
+    /// Records every event as text.
+    #[derive(Clone, Default)]
+    struct Recorder(StdArc<Mutex<Vec<String>>>);
+
+    impl Recorder {
+        fn take(&self) -> Vec<String> {
+            core::mem::take(&mut *self.0.lock().unwrap())
+        }
+    }
+
+    impl Observer for Recorder {
+        fn on_tick_start(&mut self, _now: Duration) {
+            self.0.lock().unwrap().push("tick".into());
+        }
+        fn on_status_change(&mut self, c: StatusChange) {
+            self.0
+                .lock()
+                .unwrap()
+                .push(format!("{} {}->{}", c.node.0, c.from, c.to));
+        }
+        fn on_tick_end(&mut self, status: NodeStatus, _now: Duration) {
+            self.0.lock().unwrap().push(format!("end {status}"));
+        }
+    }
+
+    #[test]
+    fn observer_sees_every_change_in_order() {
+        let mut lab = Lab::new(&[&[S], &[R, S]]);
+        let mut tree = lab.tree(|b| b.sequence("seq", |s| s.scripted(0).scripted(1)));
+        let rec = Recorder::default();
+        tree.set_observer(rec.clone());
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Running));
+        assert_eq!(
+            rec.take(),
+            [
+                "tick",
+                "0 IDLE->RUNNING",
+                "1 IDLE->SUCCESS",
+                "2 IDLE->RUNNING",
+                "end RUNNING"
+            ]
+        );
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Success));
+        assert_eq!(
+            rec.take(),
+            [
+                "tick",
+                "2 RUNNING->SUCCESS",
+                "1 SUCCESS->IDLE",
+                "2 SUCCESS->IDLE",
+                "0 RUNNING->SUCCESS",
+                "0 SUCCESS->IDLE",
+                "end SUCCESS"
+            ]
+        );
+    }
+
+    #[test]
+    fn halt_goes_children_first() {
+        let mut lab = Lab::new(&[&[R], &[R]]);
+        let mut tree = lab.tree(|b| {
+            b.parallel("p", -1, 1, |p| {
+                p.sequence("a", |s| s.scripted(0))
+                    .inverter("b", |i| i.scripted(1))
+            })
+        });
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Running));
+        let rec = Recorder::default();
+        tree.set_observer(rec.clone());
+        lab.halt(&mut tree);
+        assert_eq!(
+            rec.take(),
+            [
+                "2 RUNNING->IDLE",
+                "1 RUNNING->IDLE",
+                "4 RUNNING->IDLE",
+                "3 RUNNING->IDLE",
+                "0 RUNNING->IDLE"
+            ]
+        );
+        assert_eq!(lab.halts, [1, 1]);
+        assert!(tree.statuses().iter().all(|s| *s == Idle));
+    }
+
+    #[test]
+    fn stored_statuses_while_running() {
+        let mut lab = Lab::new(&[&[S], &[R]]);
+        let mut tree = lab.tree(|b| b.sequence("seq", |s| s.scripted(0).scripted(1)));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Running));
+        assert_eq!(tree.statuses(), [Run, Ok_, Run]);
+        assert_eq!(tree.status(NodeId(1)), Ok_);
+    }
+
+    #[test]
+    fn sync_action_returning_running_is_an_error_and_halts_the_tree() {
+        let mut lab = Lab::new(&[&[R]]);
+        let mut tree = lab.tree(|b| {
+            b.parallel("p", -1, 1, |p| {
+                p.scripted(0).action("bad", |_: &mut Lab| Status::Running)
+            })
+        });
+        let err = lab.tick(&mut tree).unwrap_err();
+        assert_eq!(
+            err,
+            TickError::LeafRunning {
+                node: NodeId(2),
+                path: "p/bad".into(),
+                kind: "Action"
+            }
+        );
+        assert!(err.to_string().contains("p/bad"));
+        // The running sibling was halted, so the tree starts clean.
+        assert_eq!(lab.halts, [1]);
+        assert!(tree.statuses().iter().all(|s| *s == Idle));
+    }
+
+    #[test]
+    fn tick_once_rewakes_but_exactly_once_does_not() {
+        let mut lab = Lab::new(&[&[S], &[S], &[S]]);
+        let mut tree =
+            lab.tree(|b| b.async_sequence("a", |s| s.scripted(0).scripted(1).scripted(2)));
+        let rec = Recorder::default();
+        tree.set_observer(rec.clone());
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Success));
+        let passes = rec.take().iter().filter(|e| *e == "tick").count();
+        assert_eq!(passes, 3);
+        assert_eq!(lab.tick_exactly_once(&mut tree), Ok(Status::Running));
+        let passes = rec.take().iter().filter(|e| *e == "tick").count();
+        assert_eq!(passes, 1);
+    }
+
+    #[test]
+    fn state_is_small_and_shared_structure_is_not_copied() {
+        let bp = Builder::<()>::new()
+            .sequence("root", |mut s| {
+                for _ in 0..100 {
+                    s = s.condition("c", |_: &()| true);
+                }
+                s
+            })
+            .build_shared()
+            .unwrap();
+        let a = Tree::with_clock(Arc::clone(&bp), ManualClock::new());
+        let b = Tree::with_clock(Arc::clone(&bp), ManualClock::new());
+        // One status byte per node plus one slot for the sequence's cursor.
+        assert_eq!(a.state_bytes(), 101 + 8);
+        assert!(Arc::ptr_eq(a.blueprint(), b.blueprint()));
+        assert_eq!(Arc::strong_count(&bp), 3);
+    }
+
+    #[cfg(feature = "std")]
+    #[test]
+    fn tick_while_running_loops_until_done() {
+        let mut lab = Lab::new(&[&[R, R, S]]);
+        let mut tree = lab.tree(|b| b.scripted(0));
+        assert_eq!(
+            tree.tick_while_running(&mut lab, Duration::ZERO),
+            Ok(Status::Success)
+        );
+        assert_eq!(lab.ticks, [3]);
+    }
+
+    #[test]
+    fn root_skipped_is_reported() {
+        let (mut tree, _) = build(|b| b.run_once("once", true, |o| o.always_success("a")));
+        assert_eq!(tick(&mut tree), Ok(Status::Success));
+        assert_eq!(tick(&mut tree), Err(TickError::RootSkipped));
+    }
+}

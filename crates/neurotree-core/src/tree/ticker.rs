@@ -1,0 +1,377 @@
+//! The hot path: one recursive pass over the tree, dispatching on the node kind.
+//!
+//! Nothing here allocates, formats or hashes in the normal course; errors are the exception
+//! (they build a path string once, and end the tick). Observers are reached through a
+//! single `Option` branch per status write.
+
+use core::mem;
+
+use crate::blackboard::Blackboard;
+use crate::blueprint::{Blueprint, NodeDef, NodeKind};
+use crate::clock::duration_to_nanos;
+use crate::nodes::custom::{CustomNode, NodeCtx, Vacant};
+use crate::nodes::leaf::{Handle, StatefulAction};
+use crate::nodes::{control, decorator, leaf};
+use crate::observer::{Observer, StatusChange};
+use crate::{Clock, NodeId, NodeStatus, Status, TickError};
+
+/// A per-instance object: the state a leaf or custom node keeps in `self`.
+pub(crate) enum Object<C> {
+    Stateful(alloc::boxed::Box<dyn StatefulAction<C>>),
+    Custom(alloc::boxed::Box<dyn CustomNode<C>>),
+}
+
+/// Everything one pass needs, borrowed from the [`Tree`](crate::Tree) for its duration.
+pub(crate) struct Ticker<'t, C> {
+    pub(crate) bp: &'t Blueprint<C>,
+    pub(crate) statuses: &'t mut [NodeStatus],
+    pub(crate) aux: &'t mut [u64],
+    pub(crate) objects: &'t mut [Object<C>],
+    pub(crate) ctx: &'t mut C,
+    pub(crate) bb: &'t mut Blackboard,
+    pub(crate) clock: &'t dyn Clock,
+    pub(crate) observer: Option<&'t mut dyn Observer>,
+    /// A node yielded and asked to be ticked again at once.
+    pub(crate) wake: bool,
+    /// The first error of this pass.
+    pub(crate) fault: Option<TickError>,
+}
+
+impl<'t, C> Ticker<'t, C> {
+    /// The stored status of a node.
+    #[inline(always)]
+    pub(crate) fn status(&self, id: NodeId) -> NodeStatus {
+        debug_assert!(id.index() < self.statuses.len());
+        // SAFETY: every `NodeId` the engine handles comes from this blueprint (the root or a
+        // child list the builder filled with indices below `nodes.len()`), and `statuses`
+        // was allocated with `nodes.len()` entries for this blueprint (`Tree::new`).
+        unsafe { *self.statuses.get_unchecked(id.index()) }
+    }
+
+    /// The stored status of a node, writable.
+    #[inline(always)]
+    fn status_mut(&mut self, id: NodeId) -> &mut NodeStatus {
+        debug_assert!(id.index() < self.statuses.len());
+        // SAFETY: as in `status`.
+        unsafe { self.statuses.get_unchecked_mut(id.index()) }
+    }
+
+    /// Stores a node's status and tells the observer about a change.
+    #[inline(always)]
+    pub(crate) fn set_status(&mut self, id: NodeId, to: NodeStatus) {
+        if self.observer.is_some() {
+            self.set_status_observed(id, to);
+        } else {
+            *self.status_mut(id) = to;
+        }
+    }
+
+    #[inline(never)]
+    fn set_status_observed(&mut self, id: NodeId, to: NodeStatus) {
+        let from = mem::replace(self.status_mut(id), to);
+        if from != to {
+            let at = self.clock.now();
+            if let Some(observer) = self.observer.as_deref_mut() {
+                observer.on_status_change(StatusChange {
+                    node: id,
+                    from,
+                    to,
+                    at,
+                });
+            }
+        }
+    }
+
+    /// The clock in nanoseconds, the unit of time-based nodes' state slots.
+    #[inline]
+    pub(crate) fn now_nanos(&self) -> u64 {
+        duration_to_nanos(self.clock.now())
+    }
+
+    /// The `i`-th child of a node.
+    #[inline(always)]
+    pub(crate) fn child(&self, def: &NodeDef<C>, i: u32) -> NodeId {
+        self.bp.children[(def.first_child + i) as usize]
+    }
+
+    /// Ticks a node and stores what it returned (a Skipped node keeps its stored status).
+    ///
+    /// Inlined into every control's loop with a fast path for closure conditions, the most
+    /// common leaves, so that ticking them costs no call into the dispatcher.
+    #[inline(always)]
+    pub(crate) fn tick(&mut self, id: NodeId) -> NodeStatus {
+        let def = self.bp.def(id);
+        if let NodeKind::ConditionFn(f) = &def.kind {
+            let status = if f(self.ctx) {
+                NodeStatus::Success
+            } else {
+                NodeStatus::Failure
+            };
+            self.set_status(id, status);
+            return status;
+        }
+        let status = self.dispatch(id, def);
+        // A skipped node keeps (or returns to) Idle, though a control marks itself Running
+        // before it finds that all its children were skipped.
+        let stored = if status == NodeStatus::Skipped {
+            NodeStatus::Idle
+        } else {
+            status
+        };
+        self.set_status(id, stored);
+        status
+    }
+
+    #[inline(never)]
+    fn dispatch(&mut self, id: NodeId, def: &NodeDef<C>) -> NodeStatus {
+        use control::{
+            fallback, if_then_else, parallel, parallel_all, reactive, sequence, try_catch,
+            while_do_else,
+        };
+        use decorator::{
+            cooldown, delay, force, inverter, keep_running, repeat, retry, run_once, subtree,
+            timeout,
+        };
+        let slot = self.bp.slot(id);
+        match &def.kind {
+            NodeKind::ConditionFn(f) => Status::from(f(self.ctx)).into(),
+            NodeKind::Sequence => sequence::tick::<C, { sequence::PLAIN }>(self, id, def),
+            NodeKind::Fallback => fallback::tick::<C, false>(self, id, def),
+            NodeKind::SequenceWithMemory => {
+                sequence::tick::<C, { sequence::MEMORY }>(self, id, def)
+            }
+            NodeKind::AsyncSequence => sequence::tick::<C, { sequence::ASYNC }>(self, id, def),
+            NodeKind::AsyncFallback => fallback::tick::<C, true>(self, id, def),
+            NodeKind::ReactiveSequence => reactive::tick(self, id, def, Status::Success),
+            NodeKind::ReactiveFallback => reactive::tick(self, id, def, Status::Failure),
+            NodeKind::Parallel(policy) => parallel::tick(self, id, def, *policy),
+            NodeKind::ParallelAll { max_failures } => {
+                parallel_all::tick(self, id, def, *max_failures)
+            }
+            NodeKind::IfThenElse => if_then_else::tick(self, id, def),
+            NodeKind::WhileDoElse => while_do_else::tick(self, id, def),
+            NodeKind::TryCatch { .. } => try_catch::tick(self, id, def),
+            NodeKind::Inverter => inverter::tick(self, id, def),
+            NodeKind::ForceSuccess => force::tick(self, id, def, NodeStatus::Success),
+            NodeKind::ForceFailure => force::tick(self, id, def, NodeStatus::Failure),
+            NodeKind::Repeat { num_cycles } => repeat::tick(self, id, def, *num_cycles),
+            NodeKind::RetryUntilSuccessful { num_attempts } => {
+                retry::tick(self, id, def, *num_attempts)
+            }
+            NodeKind::KeepRunningUntilFailure => keep_running::tick(self, id, def),
+            NodeKind::Delay(wait) => delay::tick(self, id, def, *wait),
+            NodeKind::Timeout(limit) => timeout::tick(self, id, def, *limit),
+            NodeKind::Cooldown(period) => cooldown::tick(self, id, def, *period),
+            NodeKind::RunOnce { then_skip } => run_once::tick(self, id, def, *then_skip),
+            NodeKind::SubTree(_) => subtree::tick(self, id, def),
+            NodeKind::AlwaysSuccess => NodeStatus::Success,
+            NodeKind::AlwaysFailure => NodeStatus::Failure,
+            NodeKind::Sleep(wait) => leaf::sleep::tick(self, id, slot, *wait),
+            NodeKind::Condition(c) => {
+                let h = self.handle(id);
+                Status::from(c.check(&h)).into()
+            }
+            NodeKind::ActionFn(f) => {
+                let s = f(self.ctx);
+                self.sync_result(id, s, "Action")
+            }
+            NodeKind::Action(a) => {
+                let mut h = self.handle(id);
+                let s = a.tick(&mut h);
+                self.sync_result(id, s, "Action")
+            }
+            NodeKind::Stateful(_) => self.tick_stateful(id),
+            NodeKind::Custom(_) => self.tick_custom(id),
+        }
+    }
+
+    /// A sync leaf's result; Running breaks its contract and ends the tick with an error.
+    #[inline]
+    fn sync_result(&mut self, id: NodeId, s: Status, kind: &'static str) -> NodeStatus {
+        if s == Status::Running {
+            if self.fault.is_none() {
+                self.fault = Some(TickError::LeafRunning {
+                    node: id,
+                    path: self.bp.path(id),
+                    kind,
+                });
+            }
+            return NodeStatus::Failure;
+        }
+        s.into()
+    }
+
+    /// Records a node's own error; the first error of a pass wins.
+    pub(crate) fn fault_node(&mut self, id: NodeId, message: alloc::string::String) {
+        if self.fault.is_none() {
+            self.fault = Some(TickError::Node {
+                node: id,
+                path: self.bp.path(id),
+                message,
+            });
+        }
+    }
+
+    fn handle(&mut self, id: NodeId) -> Handle<'_, C> {
+        Handle {
+            ctx: self.ctx,
+            blackboard: self.bb,
+            scope: self.bp.scope(id),
+            clock: self.clock,
+            node: id,
+            name: &self.bp.meta[id.index()].name,
+        }
+    }
+
+    fn tick_stateful(&mut self, id: NodeId) -> NodeStatus {
+        let prev = self.statuses[id.index()];
+        let Object::Stateful(action) = &mut self.objects[self.bp.slot(id)] else {
+            // Objects are laid out from the same blueprint that chose this kind.
+            return NodeStatus::Failure;
+        };
+        let mut h = Handle {
+            ctx: &mut *self.ctx,
+            blackboard: &mut *self.bb,
+            scope: self.bp.scope(id),
+            clock: self.clock,
+            node: id,
+            name: &self.bp.meta[id.index()].name,
+        };
+        match prev {
+            NodeStatus::Idle | NodeStatus::Skipped => action.on_start(&mut h).into(),
+            NodeStatus::Running => action.on_running(&mut h).into(),
+            // Completed and not yet reset by its parent: BehaviorTree.CPP repeats the result.
+            done => done,
+        }
+    }
+
+    fn tick_custom(&mut self, id: NodeId) -> NodeStatus {
+        let slot = self.bp.slot(id);
+        let Object::Custom(node) = mem::replace(
+            &mut self.objects[slot],
+            Object::Custom(alloc::boxed::Box::new(Vacant)),
+        ) else {
+            return NodeStatus::Failure;
+        };
+        let mut node = node;
+        self.set_status(id, NodeStatus::Running);
+        let status = node.tick(&mut NodeCtx { t: self, id });
+        self.objects[slot] = Object::Custom(node);
+        if status == NodeStatus::Idle {
+            if self.fault.is_none() {
+                self.fault = Some(TickError::ReturnedIdle {
+                    node: id,
+                    path: self.bp.path(id),
+                });
+            }
+            return NodeStatus::Failure;
+        }
+        status
+    }
+
+    /// Halts a node (its Running descendants first) and resets it to Idle.
+    pub(crate) fn halt_node(&mut self, id: NodeId) {
+        let bp = self.bp;
+        let def = bp.def(id);
+        let slot = self.bp.slot(id);
+        match &def.kind {
+            NodeKind::Stateful(_) => {
+                if self.status(id) == NodeStatus::Running {
+                    if let Object::Stateful(action) = &mut self.objects[self.bp.slot(id)] {
+                        let mut h = Handle {
+                            ctx: &mut *self.ctx,
+                            blackboard: &mut *self.bb,
+                            scope: self.bp.scope(id),
+                            clock: self.clock,
+                            node: id,
+                            name: &bp.meta[id.index()].name,
+                        };
+                        action.on_halted(&mut h);
+                    }
+                }
+            }
+            NodeKind::Custom(_) => {
+                let obj = self.bp.slot(id);
+                if let Object::Custom(mut node) = mem::replace(
+                    &mut self.objects[obj],
+                    Object::Custom(alloc::boxed::Box::new(Vacant)),
+                ) {
+                    node.halt(&mut NodeCtx { t: self, id });
+                    self.objects[obj] = Object::Custom(node);
+                }
+                self.reset_children(id);
+            }
+            NodeKind::Sequence
+            | NodeKind::AsyncSequence
+            | NodeKind::Fallback
+            | NodeKind::AsyncFallback => {
+                self.aux[slot] = 0;
+                self.reset_children(id);
+            }
+            NodeKind::TryCatch { catch_on_halt } => {
+                control::try_catch::halt(self, id, def, *catch_on_halt);
+            }
+            NodeKind::IfThenElse
+            | NodeKind::Repeat { .. }
+            | NodeKind::RetryUntilSuccessful { .. }
+            | NodeKind::Delay(_)
+            | NodeKind::Timeout(_) => {
+                self.aux[slot] = 0;
+                self.reset_children(id);
+            }
+            // SequenceWithMemory keeps its place, Cooldown its timer, RunOnce its memory.
+            _ => self.reset_children(id),
+        }
+        self.set_status(id, NodeStatus::Idle);
+    }
+
+    /// BehaviorTree.CPP's `haltChild`: halt if Running, then reset to Idle.
+    #[inline]
+    pub(crate) fn halt_child(&mut self, child: NodeId) {
+        if self.status(child) == NodeStatus::Running {
+            self.halt_node(child);
+        } else {
+            self.set_status(child, NodeStatus::Idle);
+        }
+    }
+
+    /// Halts every Running child and resets all children to Idle, in order.
+    pub(crate) fn reset_children(&mut self, id: NodeId) {
+        let bp = self.bp;
+        for &child in bp.children_of(bp.def(id)) {
+            self.halt_child(child);
+        }
+    }
+
+    /// Resets to Idle the children a Sequence or Fallback has ticked since its last reset.
+    ///
+    /// None of them is Running: each returned Success, Failure or Skipped (stored as Idle) to
+    /// this very control, and only the control ticks its children. So, unlike
+    /// [`reset_children`](Self::reset_children), no halt is needed and, with no observer,
+    /// the reset is a run of plain stores.
+    #[inline]
+    pub(crate) fn reset_completed(&mut self, children: &[NodeId]) {
+        if self.observer.is_none() {
+            let statuses = &mut *self.statuses;
+            for &child in children {
+                debug_assert!(child.index() < statuses.len());
+                // SAFETY: as in `status`.
+                let status = unsafe { statuses.get_unchecked_mut(child.index()) };
+                debug_assert_ne!(*status, NodeStatus::Running);
+                *status = NodeStatus::Idle;
+            }
+        } else {
+            for &child in children {
+                self.halt_child(child);
+            }
+        }
+    }
+
+    /// Halts children `from..` of a node, in order.
+    pub(crate) fn halt_children_from(&mut self, def: &NodeDef<C>, from: u32) {
+        for i in from..def.child_count {
+            let child = self.child(def, i);
+            self.halt_child(child);
+        }
+    }
+}

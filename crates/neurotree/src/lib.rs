@@ -1,0 +1,14 @@
+//! # NeuroTree
+//!
+//! Behavior trees for robots and game AI, with the semantics of BehaviorTree.CPP v4.
+//! This crate is the `std` facade: it re-exports everything of [`neurotree_core`] and adds
+//! what needs the standard library, such as the thread-safe [`SharedBlackboard`].
+
+#![warn(missing_docs)]
+
+pub use neurotree_core::*;
+
+pub mod bench_trees;
+mod shared_blackboard;
+
+pub use shared_blackboard::SharedBlackboard;
