@@ -115,6 +115,14 @@ enum Found<'a> {
     Absent(usize, &'a str),
 }
 
+/// Where a write goes.
+enum Target {
+    /// An existing entry: scope and slot.
+    Entry(usize, usize),
+    /// A new entry: scope and key.
+    New(usize, String),
+}
+
 /// Typed, scoped entries shared by the nodes of a tree (see the [module docs](self)).
 #[derive(Default)]
 pub struct Blackboard {
@@ -221,17 +229,12 @@ impl Blackboard {
         }
     }
 
-    /// `resolve` for a write: the entry's place, or where to create it under which name
-    /// (owned, so that the blackboard can then be changed; only a first write allocates).
-    #[allow(clippy::type_complexity)]
-    fn resolve_for_write(
-        &self,
-        scope: ScopeId,
-        key: &str,
-    ) -> Result<Result<(usize, usize), (usize, String)>, BlackboardError> {
+    /// `resolve` for a write: the key's name is owned, so that the blackboard can then be
+    /// changed (only a first write, which creates the entry, allocates).
+    fn resolve_for_write(&self, scope: ScopeId, key: &str) -> Result<Target, BlackboardError> {
         Ok(match self.resolve(scope, key)? {
-            Found::Entry(s, slot) => Ok((s, slot)),
-            Found::Absent(s, name) => Err((s, String::from(name))),
+            Found::Entry(s, slot) => Target::Entry(s, slot),
+            Found::Absent(s, name) => Target::New(s, String::from(name)),
         })
     }
 
@@ -283,7 +286,7 @@ impl Blackboard {
         let found = self.resolve_for_write(scope, key)?;
         self.last_stamp = self.last_stamp.max(stamp);
         match found {
-            Ok((s, slot)) => {
+            Target::Entry(s, slot) => {
                 let Some(entry) = self.scopes[s].slots[slot].as_mut() else {
                     return Err(not_found(key));
                 };
@@ -301,7 +304,7 @@ impl Blackboard {
                     }),
                 }
             }
-            Err((s, name)) => {
+            Target::New(s, name) => {
                 self.insert(s, name, Box::new(value), type_name::<T>(), 1, stamp);
                 Ok(())
             }
@@ -322,7 +325,7 @@ impl Blackboard {
         };
         self.last_stamp = self.last_stamp.max(stamp);
         match found {
-            Ok((s, slot)) => {
+            Target::Entry(s, slot) => {
                 if let Some(entry) = self.scopes[s].slots[slot].as_mut() {
                     entry.value = Box::new(value);
                     entry.info.type_name = type_name::<T>();
@@ -330,7 +333,9 @@ impl Blackboard {
                     entry.info.stamp = stamp;
                 }
             }
-            Err((s, name)) => self.insert(s, name, Box::new(value), type_name::<T>(), 1, stamp),
+            Target::New(s, name) => {
+                self.insert(s, name, Box::new(value), type_name::<T>(), 1, stamp)
+            }
         }
     }
 

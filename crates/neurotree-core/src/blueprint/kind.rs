@@ -291,6 +291,11 @@ impl<C> NodeKind<C> {
         }
     }
 
+    /// `true` for kinds with a per-instance object (stateful leaves, custom nodes).
+    pub(crate) fn has_object(&self) -> bool {
+        matches!(self, NodeKind::Stateful(_) | NodeKind::Custom(_))
+    }
+
     /// Per-instance state slots (`u64`) the kind needs: a cursor, a counter or a time.
     pub(crate) fn aux_slots(&self) -> u32 {
         match self {

@@ -213,29 +213,33 @@ impl<'t, C> Ticker<'t, C> {
     }
 
     fn handle(&mut self, id: NodeId) -> Handle<'_, C> {
-        Handle {
-            ctx: self.ctx,
-            blackboard: self.bb,
-            scope: self.bp.scope(id),
+        self.split(id).1
+    }
+
+    /// The node's per-instance object and a handle for it, borrowed side by side.
+    fn split(&mut self, id: NodeId) -> (Option<&mut Object<C>>, Handle<'_, C>) {
+        let bp = self.bp;
+        let object = if bp.nodes[id.index()].kind.has_object() {
+            self.objects.get_mut(bp.slot(id))
+        } else {
+            None
+        };
+        let handle = Handle {
+            ctx: &mut *self.ctx,
+            blackboard: &mut *self.bb,
+            scope: bp.scope(id),
             clock: self.clock,
             node: id,
-            name: &self.bp.meta[id.index()].name,
-        }
+            name: &bp.meta[id.index()].name,
+        };
+        (object, handle)
     }
 
     fn tick_stateful(&mut self, id: NodeId) -> NodeStatus {
-        let prev = self.statuses[id.index()];
-        let Object::Stateful(action) = &mut self.objects[self.bp.slot(id)] else {
+        let prev = self.status(id);
+        let (Some(Object::Stateful(action)), mut h) = self.split(id) else {
             // Objects are laid out from the same blueprint that chose this kind.
             return NodeStatus::Failure;
-        };
-        let mut h = Handle {
-            ctx: &mut *self.ctx,
-            blackboard: &mut *self.bb,
-            scope: self.bp.scope(id),
-            clock: self.clock,
-            node: id,
-            name: &self.bp.meta[id.index()].name,
         };
         match prev {
             NodeStatus::Idle | NodeStatus::Skipped => action.on_start(&mut h).into(),
@@ -277,15 +281,7 @@ impl<'t, C> Ticker<'t, C> {
         match &def.kind {
             NodeKind::Stateful(_) => {
                 if self.status(id) == NodeStatus::Running {
-                    if let Object::Stateful(action) = &mut self.objects[self.bp.slot(id)] {
-                        let mut h = Handle {
-                            ctx: &mut *self.ctx,
-                            blackboard: &mut *self.bb,
-                            scope: self.bp.scope(id),
-                            clock: self.clock,
-                            node: id,
-                            name: &bp.meta[id.index()].name,
-                        };
+                    if let (Some(Object::Stateful(action)), mut h) = self.split(id) {
                         action.on_halted(&mut h);
                     }
                 }
