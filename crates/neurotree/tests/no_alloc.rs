@@ -262,15 +262,14 @@ fn every_node_kind_ticks_and_halts_without_allocating() {
         }
     });
     assert_eq!(n, 0);
-    // The run did real work: actions ran, something was halted, entries were written, and
-    // the last child (the custom node, inside the subtree's sibling list) was reached.
-    eprintln!("ticks {} halts {} custom {}", world.ticks, world.halts, world.custom);
-    assert!(world.ticks > 200);
+    // The run did real work: actions ran, running nodes were halted, the root's last child
+    // (the custom node) was reached, and blackboard entries were rewritten in place.
+    assert!(world.ticks > 100, "actions ran {} times", world.ticks);
+    assert!(world.halts > 10, "{} halts", world.halts);
     assert!(
-        world.custom > 100,
+        world.custom > 40,
         "custom node ticked {} times",
         world.custom
     );
-    assert!(world.halts > 0);
     assert!(tree.blackboard().info("count").unwrap().sequence > 50);
 }
