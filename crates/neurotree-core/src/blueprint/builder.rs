@@ -6,10 +6,11 @@ use alloc::boxed::Box;
 use alloc::string::String;
 use alloc::sync::Arc;
 use alloc::vec::Vec;
+use core::ptr::NonNull;
 use core::time::Duration;
 
 use super::{
-    Blueprint, BuildError, BuildErrorKind, CustomSpec, NodeDef, NodeId, NodeKind, NodeMeta,
+    Blueprint, BuildError, BuildErrorKind, Child, CustomSpec, NodeDef, NodeId, NodeKind, NodeMeta,
     ParallelPolicy, SubTreeScope, DEFAULT_MAX_DEPTH,
 };
 use crate::blackboard::ScopeId;
@@ -331,8 +332,20 @@ impl<C> Builder<C> {
                 depth: p.depth,
             });
         }
+        let nodes = nodes.into_boxed_slice();
+        let hot_children = children
+            .iter()
+            .map(|&id| Child {
+                id,
+                condition: match &nodes[id.index()].kind {
+                    NodeKind::ConditionFn(f) => Some(NonNull::from(&**f)),
+                    _ => None,
+                },
+            })
+            .collect();
         Blueprint {
-            nodes: nodes.into_boxed_slice(),
+            hot_children,
+            nodes,
             children: children.into_boxed_slice(),
             slots: slots.into_boxed_slice(),
             node_scopes: node_scopes.into_boxed_slice(),

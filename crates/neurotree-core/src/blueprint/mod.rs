@@ -20,6 +20,7 @@ use alloc::boxed::Box;
 use alloc::string::String;
 use alloc::vec::Vec;
 use core::fmt;
+use core::ptr::NonNull;
 
 use crate::blackboard::ScopeId;
 
@@ -55,6 +56,31 @@ pub(crate) struct NodeDef<C> {
     pub(crate) child_count: u32,
 }
 
+/// A child as its parent's loop sees it: its id and, for a closure condition (the most
+/// common leaf), the closure itself, so that ticking it needs no look-up of its definition.
+pub(crate) struct Child<C> {
+    pub(crate) id: NodeId,
+    /// Points into the `ConditionFn` box owned by this blueprint's `nodes`.
+    condition: Option<NonNull<dyn Fn(&C) -> bool + Send + Sync>>,
+}
+
+impl<C> Child<C> {
+    /// The child's closure condition, if it is one.
+    #[inline(always)]
+    pub(crate) fn condition(&self) -> Option<&(dyn Fn(&C) -> bool + Send + Sync)> {
+        // SAFETY: the pointer was taken from a `Box` in `Blueprint::nodes` of the blueprint
+        // that owns this `Child`; the blueprint is immutable once built, so the box is
+        // neither dropped nor mutated while `self` (borrowed from the blueprint) lives.
+        self.condition.map(|f| unsafe { f.as_ref() })
+    }
+}
+
+// SAFETY: `condition` points at a `dyn Fn + Send + Sync` owned by the same blueprint, so
+// sharing or sending a `Child` is sharing or sending a reference to that closure.
+unsafe impl<C> Send for Child<C> {}
+// SAFETY: as above.
+unsafe impl<C> Sync for Child<C> {}
+
 /// What only tools read: names, parents, depths.
 pub(crate) struct NodeMeta {
     pub(crate) name: String,
@@ -82,6 +108,8 @@ pub(crate) struct NodeMeta {
 pub struct Blueprint<C> {
     pub(crate) nodes: Box<[NodeDef<C>]>,
     pub(crate) children: Box<[NodeId]>,
+    /// `children` with their closure conditions at hand, for the controls' loops.
+    pub(crate) hot_children: Box<[Child<C>]>,
     /// Per node: its first per-instance `u64` state slot (kinds that keep state), or its
     /// per-instance object (stateful leaves, custom nodes). Kept apart from `nodes` so that a
     /// `NodeDef` fits in 32 bytes, two to a cache line.
@@ -140,6 +168,15 @@ impl<C> Blueprint<C> {
         // SAFETY: the builder set `first_child` and `child_count` of every node to a range it
         // had just filled in `children`, and neither changes after `finish`.
         unsafe { self.children.get_unchecked(range) }
+    }
+
+    /// The children of a node definition, as the controls' loops tick them.
+    #[inline(always)]
+    pub(crate) fn hot_children_of(&self, def: &NodeDef<C>) -> &[Child<C>] {
+        let range = def.first_child as usize..(def.first_child + def.child_count) as usize;
+        debug_assert!(range.end <= self.hot_children.len());
+        // SAFETY: `hot_children` mirrors `children` entry for entry (see `children_of`).
+        unsafe { self.hot_children.get_unchecked(range) }
     }
 
     /// The definition of a node of this blueprint.

@@ -7,7 +7,7 @@
 use core::mem;
 
 use crate::blackboard::Blackboard;
-use crate::blueprint::{Blueprint, NodeDef, NodeKind};
+use crate::blueprint::{Blueprint, Child, NodeDef, NodeKind};
 use crate::clock::duration_to_nanos;
 use crate::nodes::custom::{CustomNode, NodeCtx, Vacant};
 use crate::nodes::leaf::{Handle, StatefulAction};
@@ -120,6 +120,22 @@ impl<'t, C> Ticker<'t, C> {
         };
         self.set_status(id, stored);
         status
+    }
+
+    /// Ticks a child from its parent's loop: closure conditions are called straight from
+    /// the child list, everything else goes through [`tick`](Self::tick).
+    #[inline(always)]
+    pub(crate) fn tick_child(&mut self, child: &Child<C>) -> NodeStatus {
+        if let Some(f) = child.condition() {
+            let status = if f(self.ctx) {
+                NodeStatus::Success
+            } else {
+                NodeStatus::Failure
+            };
+            self.set_status(child.id, status);
+            return status;
+        }
+        self.tick(child.id)
     }
 
     #[inline(never)]

@@ -22,6 +22,7 @@ pub(crate) fn tick<C, const YIELDS: bool>(
 ) -> NodeStatus {
     let bp = t.bp;
     let children = bp.children_of(def);
+    let hot = bp.hot_children_of(def);
     let slot = t.bp.slot(id);
     let n = def.child_count;
     let (mut cursor, mut skipped) = unpack(t.aux[slot]);
@@ -29,14 +30,14 @@ pub(crate) fn tick<C, const YIELDS: bool>(
         skipped = 0;
     }
     t.set_status(id, NodeStatus::Running);
-    while let Some(&child) = children.get(cursor as usize) {
+    while let Some(child) = hot.get(cursor as usize) {
         let prev = if YIELDS {
-            t.status(child)
+            t.status(child.id)
         } else {
             NodeStatus::Running
         };
         // An if-chain rather than a match: see `sequence`.
-        let status = t.tick(child);
+        let status = t.tick_child(child);
         if status == NodeStatus::Failure {
             cursor += 1;
             if YIELDS && prev == NodeStatus::Idle && cursor < n {

@@ -34,6 +34,7 @@ pub(crate) fn tick<C, const FLAVOR: Flavor>(
 ) -> NodeStatus {
     let bp = t.bp;
     let children = bp.children_of(def);
+    let hot = bp.hot_children_of(def);
     let slot = t.bp.slot(id);
     let n = children.len() as u32;
     let (mut cursor, mut skipped) = unpack(t.aux[slot]);
@@ -41,15 +42,15 @@ pub(crate) fn tick<C, const FLAVOR: Flavor>(
         skipped = 0;
     }
     t.set_status(id, NodeStatus::Running);
-    while let Some(&child) = children.get(cursor as usize) {
+    while let Some(child) = hot.get(cursor as usize) {
         let prev = if FLAVOR == PLAIN {
             NodeStatus::Running
         } else {
-            t.status(child)
+            t.status(child.id)
         };
         // An if-chain rather than a match: the common case costs one predictable compare
         // instead of an indirect jump through a table.
-        let status = t.tick(child);
+        let status = t.tick_child(child);
         if status == NodeStatus::Success {
             cursor += 1;
             if FLAVOR != PLAIN && prev == NodeStatus::Idle && cursor < n {
