@@ -61,13 +61,16 @@ pub(crate) struct NodeDef<C> {
 pub(crate) struct Child<C> {
     pub(crate) id: NodeId,
     /// Points into the `ConditionFn` box owned by this blueprint's `nodes`.
-    condition: Option<NonNull<dyn Fn(&C) -> bool + Send + Sync>>,
+    condition: Option<NonNull<ConditionDyn<C>>>,
 }
+
+/// The closure behind a [`ConditionFn`].
+type ConditionDyn<C> = dyn Fn(&C) -> bool + Send + Sync;
 
 impl<C> Child<C> {
     /// The child's closure condition, if it is one.
     #[inline(always)]
-    pub(crate) fn condition(&self) -> Option<&(dyn Fn(&C) -> bool + Send + Sync)> {
+    pub(crate) fn condition(&self) -> Option<&ConditionDyn<C>> {
         // SAFETY: the pointer was taken from a `Box` in `Blueprint::nodes` of the blueprint
         // that owns this `Child`; the blueprint is immutable once built, so the box is
         // neither dropped nor mutated while `self` (borrowed from the blueprint) lives.
