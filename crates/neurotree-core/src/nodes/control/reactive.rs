@@ -24,11 +24,13 @@ pub(crate) fn tick<C>(
 ) -> NodeStatus {
     let bp = t.bp;
     let children = bp.children_of(def);
+    let hot = bp.hot_children_of(def);
     let go_on = NodeStatus::from(goal);
     let mut all_skipped = true;
     t.set_status(id, NodeStatus::Running);
-    for (index, &child) in children.iter().enumerate() {
-        let status = t.tick(child);
+    for (index, hot_child) in hot.iter().enumerate() {
+        let child = hot_child.id;
+        let status = t.tick_child(hot_child);
         all_skipped &= status == NodeStatus::Skipped;
         if status == NodeStatus::Running {
             for (other, &c) in children.iter().enumerate() {
