@@ -50,7 +50,7 @@ impl<'t, C> Ticker<'t, C> {
 
     /// The stored status of a node, writable.
     #[inline(always)]
-    fn status_mut(&mut self, id: NodeId) -> &mut NodeStatus {
+    pub(crate) fn status_mut(&mut self, id: NodeId) -> &mut NodeStatus {
         debug_assert!(id.index() < self.statuses.len());
         // SAFETY: as in `status`.
         unsafe { self.statuses.get_unchecked_mut(id.index()) }
@@ -124,18 +124,31 @@ impl<'t, C> Ticker<'t, C> {
 
     /// Ticks a child from its parent's loop: closure conditions are called straight from
     /// the child list, everything else goes through [`tick`](Self::tick).
+    ///
+    /// `OBSERVED` is the loop-invariant answer to "is an observer attached?", so that a
+    /// control's loop compiles twice and the unobserved one stores statuses directly.
     #[inline(always)]
-    pub(crate) fn tick_child(&mut self, child: &Child<C>) -> NodeStatus {
+    pub(crate) fn tick_child<const OBSERVED: bool>(&mut self, child: &Child<C>) -> NodeStatus {
         if let Some(f) = child.condition() {
             let status = if f(self.ctx) {
                 NodeStatus::Success
             } else {
                 NodeStatus::Failure
             };
-            self.set_status(child.id, status);
+            if OBSERVED {
+                self.set_status(child.id, status);
+            } else {
+                *self.status_mut(child.id) = status;
+            }
             return status;
         }
         self.tick(child.id)
+    }
+
+    /// `true` when an observer is attached.
+    #[inline(always)]
+    pub(crate) fn observed(&self) -> bool {
+        self.observer.is_some()
     }
 
     #[inline(never)]

@@ -20,6 +20,19 @@ pub(crate) fn tick<C, const YIELDS: bool>(
     id: NodeId,
     def: &NodeDef<C>,
 ) -> NodeStatus {
+    if t.observed() {
+        run::<C, YIELDS, true>(t, id, def)
+    } else {
+        run::<C, YIELDS, false>(t, id, def)
+    }
+}
+
+#[inline(always)]
+fn run<C, const YIELDS: bool, const OBSERVED: bool>(
+    t: &mut Ticker<'_, C>,
+    id: NodeId,
+    def: &NodeDef<C>,
+) -> NodeStatus {
     let bp = t.bp;
     let children = bp.children_of(def);
     let hot = bp.hot_children_of(def);
@@ -37,7 +50,7 @@ pub(crate) fn tick<C, const YIELDS: bool>(
             NodeStatus::Running
         };
         // An if-chain rather than a match: see `sequence`.
-        let status = t.tick_child(child);
+        let status = t.tick_child::<OBSERVED>(child);
         if status == NodeStatus::Failure {
             cursor += 1;
             if YIELDS && prev == NodeStatus::Idle && cursor < n {

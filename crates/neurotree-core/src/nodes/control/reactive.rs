@@ -30,7 +30,7 @@ pub(crate) fn tick<C>(
     t.set_status(id, NodeStatus::Running);
     for (index, hot_child) in hot.iter().enumerate() {
         let child = hot_child.id;
-        let status = t.tick_child(hot_child);
+        let status = t.tick_child::<true>(hot_child);
         all_skipped &= status == NodeStatus::Skipped;
         if status == NodeStatus::Running {
             for (other, &c) in children.iter().enumerate() {

@@ -32,6 +32,19 @@ pub(crate) fn tick<C, const FLAVOR: Flavor>(
     id: NodeId,
     def: &NodeDef<C>,
 ) -> NodeStatus {
+    if t.observed() {
+        run::<C, FLAVOR, true>(t, id, def)
+    } else {
+        run::<C, FLAVOR, false>(t, id, def)
+    }
+}
+
+#[inline(always)]
+fn run<C, const FLAVOR: Flavor, const OBSERVED: bool>(
+    t: &mut Ticker<'_, C>,
+    id: NodeId,
+    def: &NodeDef<C>,
+) -> NodeStatus {
     let bp = t.bp;
     let children = bp.children_of(def);
     let hot = bp.hot_children_of(def);
@@ -50,7 +63,7 @@ pub(crate) fn tick<C, const FLAVOR: Flavor>(
         };
         // An if-chain rather than a match: the common case costs one predictable compare
         // instead of an indirect jump through a table.
-        let status = t.tick_child(child);
+        let status = t.tick_child::<OBSERVED>(child);
         if status == NodeStatus::Success {
             cursor += 1;
             if FLAVOR != PLAIN && prev == NodeStatus::Idle && cursor < n {
