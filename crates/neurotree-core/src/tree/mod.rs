@@ -416,6 +416,16 @@ mod tests {
     }
 
     #[test]
+    fn trees_move_between_threads_and_blueprints_are_shared() {
+        fn send<T: Send>() {}
+        fn send_sync<T: Send + Sync>() {}
+        // A context that is neither Send nor Sync does not stop the tree from moving.
+        send::<Tree<std::rc::Rc<u8>>>();
+        send_sync::<crate::Blueprint<std::rc::Rc<u8>>>();
+        send_sync::<Arc<crate::Blueprint<Lab>>>();
+    }
+
+    #[test]
     fn root_skipped_is_reported() {
         let (mut tree, _) = build(|b| b.run_once("once", true, |o| o.always_success("a")));
         assert_eq!(tick(&mut tree), Ok(Status::Success));
