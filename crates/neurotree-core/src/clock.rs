@@ -95,6 +95,25 @@ pub(crate) fn duration_to_nanos(d: Duration) -> u64 {
     u64::try_from(d.as_nanos()).unwrap_or(u64::MAX)
 }
 
+/// A moment kept in a node's `u64` state slot, where 0 must mean "none": moments are stored
+/// as nanoseconds plus one.
+pub(crate) mod moment {
+    /// No moment stored.
+    pub(crate) const NONE: u64 = 0;
+
+    /// The slot value for the moment `now` (nanoseconds).
+    #[inline]
+    pub(crate) fn at(now: u64) -> u64 {
+        now.saturating_add(1)
+    }
+
+    /// Nanoseconds from the stored moment to `now`, or `None` if no moment is stored.
+    #[inline]
+    pub(crate) fn elapsed(slot: u64, now: u64) -> Option<u64> {
+        (slot != NONE).then(|| now.saturating_sub(slot - 1))
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -108,6 +127,14 @@ mod tests {
         assert_eq!(a.now(), Duration::from_millis(12));
         a.set(Duration::from_secs(1));
         assert_eq!(b.now(), Duration::from_secs(1));
+    }
+
+    #[test]
+    fn moments_distinguish_time_zero_from_none() {
+        assert_eq!(moment::elapsed(moment::NONE, 5), None);
+        assert_eq!(moment::elapsed(moment::at(0), 5), Some(5));
+        // A clock set backwards reads as no time passed.
+        assert_eq!(moment::elapsed(moment::at(9), 5), Some(0));
     }
 
     #[cfg(feature = "std")]

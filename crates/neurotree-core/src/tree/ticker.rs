@@ -154,23 +154,21 @@ impl<'t, C> Ticker<'t, C> {
     #[inline(never)]
     fn dispatch(&mut self, id: NodeId, def: &NodeDef<C>) -> NodeStatus {
         use control::{
-            fallback, if_then_else, parallel, parallel_all, reactive, sequence, try_catch,
-            while_do_else,
+            if_then_else, ordered, parallel, parallel_all, reactive, try_catch, while_do_else,
         };
         use decorator::{
-            cooldown, delay, force, inverter, keep_running, repeat, retry, run_once, subtree,
-            timeout,
+            cooldown, delay, force, inverter, keep_running, repeat, run_once, subtree, timeout,
         };
         let slot = self.bp.slot(id);
         match &def.kind {
             NodeKind::ConditionFn(f) => Status::from(f(self.ctx)).into(),
-            NodeKind::Sequence => sequence::tick::<C, { sequence::PLAIN }>(self, id, def),
-            NodeKind::Fallback => fallback::tick::<C, false>(self, id, def),
+            NodeKind::Sequence => ordered::tick::<C, true, { ordered::PLAIN }>(self, id, def),
+            NodeKind::Fallback => ordered::tick::<C, false, { ordered::PLAIN }>(self, id, def),
             NodeKind::SequenceWithMemory => {
-                sequence::tick::<C, { sequence::MEMORY }>(self, id, def)
+                ordered::tick::<C, true, { ordered::MEMORY }>(self, id, def)
             }
-            NodeKind::AsyncSequence => sequence::tick::<C, { sequence::ASYNC }>(self, id, def),
-            NodeKind::AsyncFallback => fallback::tick::<C, true>(self, id, def),
+            NodeKind::AsyncSequence => ordered::tick::<C, true, { ordered::ASYNC }>(self, id, def),
+            NodeKind::AsyncFallback => ordered::tick::<C, false, { ordered::ASYNC }>(self, id, def),
             NodeKind::ReactiveSequence => reactive::tick(self, id, def, Status::Success),
             NodeKind::ReactiveFallback => reactive::tick(self, id, def, Status::Failure),
             NodeKind::Parallel(policy) => parallel::tick(self, id, def, *policy),
@@ -183,9 +181,9 @@ impl<'t, C> Ticker<'t, C> {
             NodeKind::Inverter => inverter::tick(self, id, def),
             NodeKind::ForceSuccess => force::tick(self, id, def, NodeStatus::Success),
             NodeKind::ForceFailure => force::tick(self, id, def, NodeStatus::Failure),
-            NodeKind::Repeat { num_cycles } => repeat::tick(self, id, def, *num_cycles),
+            NodeKind::Repeat { num_cycles } => repeat::tick::<C, true>(self, id, def, *num_cycles),
             NodeKind::RetryUntilSuccessful { num_attempts } => {
-                retry::tick(self, id, def, *num_attempts)
+                repeat::tick::<C, false>(self, id, def, *num_attempts)
             }
             NodeKind::KeepRunningUntilFailure => keep_running::tick(self, id, def),
             NodeKind::Delay(wait) => delay::tick(self, id, def, *wait),

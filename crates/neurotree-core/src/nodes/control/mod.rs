@@ -16,6 +16,7 @@
 
 pub mod fallback;
 pub mod if_then_else;
+pub(crate) mod ordered;
 pub mod parallel;
 pub mod parallel_all;
 pub mod reactive;

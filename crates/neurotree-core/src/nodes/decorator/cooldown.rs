@@ -10,7 +10,7 @@
 use core::time::Duration;
 
 use crate::blueprint::NodeDef;
-use crate::clock::duration_to_nanos;
+use crate::clock::{duration_to_nanos, moment};
 use crate::tree::Ticker;
 use crate::{NodeId, NodeStatus};
 
@@ -23,16 +23,14 @@ pub(crate) fn tick<C>(
 ) -> NodeStatus {
     let slot = t.bp.slot(id);
     let now = t.now_nanos();
-    // Stored as time + 1 so that 0 means "never completed".
-    let last = t.aux[slot];
-    if last != 0 && now.saturating_sub(last - 1) < duration_to_nanos(period) {
+    if moment::elapsed(t.aux[slot], now).is_some_and(|rested| rested < duration_to_nanos(period)) {
         return NodeStatus::Failure;
     }
     t.set_status(id, NodeStatus::Running);
     let child = t.child(def, 0);
     let status = t.tick(child);
     if status.is_completed() {
-        t.aux[slot] = now.saturating_add(1);
+        t.aux[slot] = moment::at(now);
         t.halt_child(child);
     }
     status

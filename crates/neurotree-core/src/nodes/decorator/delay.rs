@@ -11,7 +11,7 @@
 use core::time::Duration;
 
 use crate::blueprint::NodeDef;
-use crate::clock::duration_to_nanos;
+use crate::clock::{duration_to_nanos, moment};
 use crate::tree::Ticker;
 use crate::{NodeId, NodeStatus};
 
@@ -24,13 +24,15 @@ pub(crate) fn tick<C>(
 ) -> NodeStatus {
     let slot = t.bp.slot(id);
     let now = t.now_nanos();
-    if t.aux[slot] == 0 {
-        // Stored as time + 1 so that 0 means "not started" even at time zero.
-        t.aux[slot] = now.saturating_add(1);
-        t.set_status(id, NodeStatus::Running);
-    }
-    let started = t.aux[slot] - 1;
-    if now.saturating_sub(started) < duration_to_nanos(wait) {
+    let waited = match moment::elapsed(t.aux[slot], now) {
+        Some(waited) => waited,
+        None => {
+            t.aux[slot] = moment::at(now);
+            t.set_status(id, NodeStatus::Running);
+            0
+        }
+    };
+    if waited < duration_to_nanos(wait) {
         return NodeStatus::Running;
     }
     let child = t.child(def, 0);

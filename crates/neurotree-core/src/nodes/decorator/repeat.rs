@@ -15,42 +15,48 @@ use crate::blueprint::NodeDef;
 use crate::tree::Ticker;
 use crate::{NodeId, NodeStatus};
 
+/// Repeat (`REPEAT`) or RetryUntilSuccessful (`!REPEAT`): the two mirror each other, one
+/// counting successes and stopping at a failure, the other counting failures and stopping at
+/// a success. `limit` is `num_cycles` or `num_attempts` (negative: forever).
 #[inline(never)]
-pub(crate) fn tick<C>(
+pub(crate) fn tick<C, const REPEAT: bool>(
     t: &mut Ticker<'_, C>,
     id: NodeId,
     def: &NodeDef<C>,
-    cycles: i32,
+    limit: i32,
 ) -> NodeStatus {
+    let (again, stop) = if REPEAT {
+        (NodeStatus::Success, NodeStatus::Failure)
+    } else {
+        (NodeStatus::Failure, NodeStatus::Success)
+    };
     let slot = t.bp.slot(id);
     let child = t.child(def, 0);
-    let more = |count: u64| cycles < 0 || count < cycles as u64;
+    let more = |count: u64| limit < 0 || count < limit as u64;
     t.set_status(id, NodeStatus::Running);
     while more(t.aux[slot]) {
         let prev = t.status(child);
-        match t.tick(child) {
-            NodeStatus::Success => {
-                t.aux[slot] += 1;
-                t.halt_child(child);
-                if prev == NodeStatus::Idle && more(t.aux[slot]) {
-                    t.wake = true;
-                    return NodeStatus::Running;
-                }
-            }
-            NodeStatus::Failure | NodeStatus::Idle => {
-                t.aux[slot] = 0;
-                t.halt_child(child);
-                return NodeStatus::Failure;
-            }
-            NodeStatus::Running => return NodeStatus::Running,
-            NodeStatus::Skipped => {
-                t.halt_child(child);
-                return NodeStatus::Skipped;
-            }
+        let status = t.tick(child);
+        if status == NodeStatus::Running {
+            return NodeStatus::Running;
+        }
+        t.halt_child(child);
+        if status == NodeStatus::Skipped {
+            // Skipped with its count kept, as BehaviorTree.CPP does.
+            return NodeStatus::Skipped;
+        }
+        if status != again {
+            t.aux[slot] = 0;
+            return stop;
+        }
+        t.aux[slot] += 1;
+        if prev == NodeStatus::Idle && more(t.aux[slot]) {
+            t.wake = true;
+            return NodeStatus::Running;
         }
     }
     t.aux[slot] = 0;
-    NodeStatus::Success
+    again
 }
 
 #[cfg(test)]

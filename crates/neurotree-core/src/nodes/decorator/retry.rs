@@ -9,47 +9,7 @@
 //! instant failure yields Running, under [`Tree::tick_once`](crate::Tree::tick_once) the
 //! attempts follow each other in the same call. `-1` retries forever. Halt resets the count.
 
-use crate::blueprint::NodeDef;
-use crate::tree::Ticker;
-use crate::{NodeId, NodeStatus};
-
-#[inline(never)]
-pub(crate) fn tick<C>(
-    t: &mut Ticker<'_, C>,
-    id: NodeId,
-    def: &NodeDef<C>,
-    attempts: i32,
-) -> NodeStatus {
-    let slot = t.bp.slot(id);
-    let child = t.child(def, 0);
-    let more = |count: u64| attempts < 0 || count < attempts as u64;
-    t.set_status(id, NodeStatus::Running);
-    while more(t.aux[slot]) {
-        let prev = t.status(child);
-        match t.tick(child) {
-            NodeStatus::Success => {
-                t.aux[slot] = 0;
-                t.halt_child(child);
-                return NodeStatus::Success;
-            }
-            NodeStatus::Failure | NodeStatus::Idle => {
-                t.aux[slot] += 1;
-                t.halt_child(child);
-                if prev == NodeStatus::Idle && more(t.aux[slot]) {
-                    t.wake = true;
-                    return NodeStatus::Running;
-                }
-            }
-            NodeStatus::Running => return NodeStatus::Running,
-            NodeStatus::Skipped => {
-                t.halt_child(child);
-                return NodeStatus::Skipped;
-            }
-        }
-    }
-    t.aux[slot] = 0;
-    NodeStatus::Failure
-}
+// The loop is Repeat's, mirrored: see `repeat::tick`.
 
 #[cfg(test)]
 mod tests {

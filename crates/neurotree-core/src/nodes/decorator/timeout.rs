@@ -11,7 +11,7 @@
 use core::time::Duration;
 
 use crate::blueprint::NodeDef;
-use crate::clock::duration_to_nanos;
+use crate::clock::{duration_to_nanos, moment};
 use crate::tree::Ticker;
 use crate::{NodeId, NodeStatus};
 
@@ -25,21 +25,25 @@ pub(crate) fn tick<C>(
     let slot = t.bp.slot(id);
     let now = t.now_nanos();
     let child = t.child(def, 0);
-    if t.aux[slot] == 0 {
-        // Stored as time + 1 so that 0 means "not started" even at time zero.
-        t.aux[slot] = now.saturating_add(1);
-        t.set_status(id, NodeStatus::Running);
-    } else if !limit.is_zero()
-        && now.saturating_sub(t.aux[slot] - 1) >= duration_to_nanos(limit)
-        && t.status(child) == NodeStatus::Running
-    {
-        t.halt_child(child);
-        t.aux[slot] = 0;
-        return NodeStatus::Failure;
+    match moment::elapsed(t.aux[slot], now) {
+        None => {
+            t.aux[slot] = moment::at(now);
+            t.set_status(id, NodeStatus::Running);
+        }
+        Some(ran) => {
+            if !limit.is_zero()
+                && ran >= duration_to_nanos(limit)
+                && t.status(child) == NodeStatus::Running
+            {
+                t.halt_child(child);
+                t.aux[slot] = moment::NONE;
+                return NodeStatus::Failure;
+            }
+        }
     }
     let status = t.tick(child);
     if status.is_completed() {
-        t.aux[slot] = 0;
+        t.aux[slot] = moment::NONE;
         t.halt_child(child);
     }
     status
