@@ -1,1 +1,94 @@
-fn main() {}
+//! The `neurotree` command.
+//!
+//! - `neurotree demo`: a simulated robot patrols a corridor; its tree is drawn every tick.
+//! - `neurotree bench`: quick measurements of tick cost and of many agents per frame.
+
+mod bench;
+mod demo;
+
+use std::io::{self, IsTerminal, Write};
+use std::process::ExitCode;
+use std::time::Duration;
+
+use clap::{Args, Parser, Subcommand};
+
+/// Behavior trees for robots and game AI.
+#[derive(Parser, Debug)]
+#[command(name = "neurotree", version, about)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand, Debug)]
+enum Command {
+    /// Run a simulated robot on a corridor and draw its tree with the statuses of each tick.
+    Demo(DemoArgs),
+    /// Measure tick cost (tree1111) and a frame of many agents, in-process.
+    Bench(BenchArgs),
+}
+
+#[derive(Args, Debug)]
+struct DemoArgs {
+    /// Stop after this many ticks if the patrol has not ended.
+    #[arg(long, default_value_t = 200)]
+    ticks: u32,
+    /// Milliseconds between frames when animating.
+    #[arg(long, default_value_t = 150)]
+    speed_ms: u64,
+    /// Print every frame one after the other, without redrawing or pausing (the default
+    /// when the output is not a terminal).
+    #[arg(long)]
+    no_animation: bool,
+    /// Draw the tree with ascii characters instead of unicode box drawing.
+    #[arg(long)]
+    ascii: bool,
+}
+
+#[derive(Args, Debug)]
+struct BenchArgs {
+    /// One JSON object per benchmark, one per line.
+    #[arg(long)]
+    json: bool,
+    /// Measure for a fifth of the usual time.
+    #[arg(long)]
+    quick: bool,
+    /// Instances in the many-agents benchmark.
+    #[arg(long, default_value_t = 100_000, hide = true)]
+    agents: usize,
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let stdout = io::stdout();
+    let animate_allowed = stdout.is_terminal();
+    let mut out = stdout.lock();
+    let result = match cli.command {
+        Command::Demo(args) => {
+            let opts = demo::DemoOptions {
+                max_ticks: args.ticks,
+                frame_pause: Duration::from_millis(args.speed_ms),
+                animate: animate_allowed && !args.no_animation,
+                unicode: !args.ascii,
+            };
+            demo::run(&opts, &mut out).map(|_| ())
+        }
+        Command::Bench(args) => {
+            let opts = bench::BenchOptions {
+                quick: args.quick,
+                agents: args.agents,
+            };
+            bench::run(&opts, args.json, &mut out)
+        }
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        // The reader went away (`neurotree demo | head`): nothing left to tell.
+        Err(e) if e.kind() == io::ErrorKind::BrokenPipe => ExitCode::SUCCESS,
+        Err(e) => {
+            let _ = out.flush();
+            eprintln!("neurotree: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}

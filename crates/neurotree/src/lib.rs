@@ -9,6 +9,7 @@
 pub use neurotree_core::*;
 
 pub mod bench_trees;
+mod readme;
 pub mod render;
 mod shared_blackboard;
 

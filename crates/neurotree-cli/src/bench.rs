@@ -1,0 +1,213 @@
+//! `neurotree bench`: quick in-process measurements of the two reference workloads.
+//!
+//! - `tree1111`: one instance of BehaviorTree.CPP's benchmark shape (1,111 nodes, every
+//!   node visited per tick), ticked in a loop: nanoseconds per tick and per visited node,
+//!   and the bytes of per-instance state.
+//! - `many_agents`: many instances of the 50-node agent tree sharing one blueprint and one
+//!   manual clock, each ticked once per frame: milliseconds per frame and bytes per
+//!   instance.
+//!
+//! These are wall-clock figures from [`Instant`], good for a first look on a new machine;
+//! the criterion benchmarks (`cargo bench -p neurotree --bench tick`) are the careful ones.
+
+use std::hint::black_box;
+use std::io::{self, Write};
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+use neurotree::bench_trees::{agent_tree, tree1111, Agent, TREE1111_NODES_PER_TICK};
+use neurotree::{Clock, ManualClock, Status, Tree};
+
+/// How the benchmarks run.
+#[derive(Clone, Debug)]
+pub struct BenchOptions {
+    /// Shorter measurements (about a fifth of the time).
+    pub quick: bool,
+    /// Instances in the many-agents benchmark.
+    pub agents: usize,
+}
+
+/// Result of the tree1111 benchmark.
+#[derive(Clone, Debug)]
+pub struct Tree1111Result {
+    /// Ticks timed.
+    pub ticks: u64,
+    /// Mean nanoseconds per tick.
+    pub ns_per_tick: f64,
+    /// Nodes one tick visits.
+    pub nodes_per_tick: usize,
+    /// Mean nanoseconds per visited node.
+    pub ns_per_node: f64,
+    /// Bytes of per-instance node state.
+    pub state_bytes: usize,
+}
+
+/// Result of the many-agents benchmark.
+#[derive(Clone, Debug)]
+pub struct ManyAgentsResult {
+    /// Instances ticked per frame.
+    pub agents: usize,
+    /// Frames timed.
+    pub frames: u32,
+    /// Mean milliseconds per frame.
+    pub ms_per_frame: f64,
+    /// Bytes per instance: its node state plus the `Tree` value itself.
+    pub bytes_per_instance: usize,
+}
+
+/// Ticks tree1111 for about a second (a fifth with `quick`) after a warm-up.
+pub fn tree1111_bench(opts: &BenchOptions) -> Tree1111Result {
+    let target = if opts.quick {
+        Duration::from_millis(200)
+    } else {
+        Duration::from_secs(1)
+    };
+    let mut tree = Tree::with_clock(tree1111::<()>(), ManualClock::new());
+    let mut tick = |n: u64| {
+        for _ in 0..n {
+            let status = black_box(tree.tick_once(black_box(&mut ())));
+            debug_assert_eq!(status, Ok(Status::Success));
+        }
+    };
+    // Warm up for a tenth of the target, and learn how many ticks make a batch of ~1 ms so
+    // that reading the clock does not weigh on the measure.
+    let warm_up = Instant::now();
+    let mut warm_ticks = 0u64;
+    while warm_up.elapsed() < target / 10 {
+        tick(16);
+        warm_ticks += 16;
+    }
+    let per_ms = warm_ticks as f64 / (warm_up.elapsed().as_secs_f64() * 1e3);
+    let batch = (per_ms as u64).max(1);
+
+    let start = Instant::now();
+    let mut ticks = 0u64;
+    while start.elapsed() < target {
+        tick(batch);
+        ticks += batch;
+    }
+    let elapsed = start.elapsed();
+    let ns_per_tick = elapsed.as_nanos() as f64 / ticks as f64;
+    Tree1111Result {
+        ticks,
+        ns_per_tick,
+        nodes_per_tick: TREE1111_NODES_PER_TICK,
+        ns_per_node: ns_per_tick / TREE1111_NODES_PER_TICK as f64,
+        state_bytes: tree.state_bytes(),
+    }
+}
+
+/// Ticks `opts.agents` agent trees once per frame, 20 frames (5 with `quick`) after two
+/// warm-up frames, advancing the shared clock 16 ms per frame.
+pub fn many_agents_bench(opts: &BenchOptions) -> ManyAgentsResult {
+    const FRAME: Duration = Duration::from_millis(16);
+    let frames = if opts.quick { 5 } else { 20 };
+    let blueprint = agent_tree();
+    let clock = ManualClock::new();
+    let shared: Arc<dyn Clock> = Arc::new(clock.clone());
+    let mut trees: Vec<Tree<Agent>> = (0..opts.agents)
+        .map(|_| Tree::with_shared_clock(Arc::clone(&blueprint), Arc::clone(&shared)))
+        .collect();
+    let mut agents: Vec<Agent> = (0..opts.agents).map(|i| Agent::new(i as u32)).collect();
+    let mut frame = || {
+        clock.advance(FRAME);
+        for (tree, agent) in trees.iter_mut().zip(agents.iter_mut()) {
+            let _ = black_box(tree.tick_once(agent));
+        }
+    };
+    for _ in 0..2 {
+        frame();
+    }
+    let start = Instant::now();
+    for _ in 0..frames {
+        frame();
+    }
+    let elapsed = start.elapsed();
+    let bytes_per_instance =
+        trees.first().map_or(0, |t| t.state_bytes()) + std::mem::size_of::<Tree<Agent>>();
+    ManyAgentsResult {
+        agents: opts.agents,
+        frames,
+        ms_per_frame: elapsed.as_secs_f64() * 1e3 / f64::from(frames),
+        bytes_per_instance,
+    }
+}
+
+/// Runs both benchmarks and writes a table, or one JSON object per line with `json`.
+pub fn run(opts: &BenchOptions, json: bool, out: &mut impl Write) -> io::Result<()> {
+    let t = tree1111_bench(opts);
+    if json {
+        writeln!(out, "{}", tree1111_json(&t))?;
+    } else {
+        writeln!(out, "{:<12} {:<20} {:>14}", "benchmark", "measure", "value")?;
+        row(out, "tree1111", "ticks", t.ticks.to_string())?;
+        row(out, "", "ns per tick", format!("{:.1}", t.ns_per_tick))?;
+        row(out, "", "nodes per tick", t.nodes_per_tick.to_string())?;
+        row(out, "", "ns per node", format!("{:.3}", t.ns_per_node))?;
+        row(out, "", "state bytes", t.state_bytes.to_string())?;
+    }
+    out.flush()?;
+    let m = many_agents_bench(opts);
+    if json {
+        writeln!(out, "{}", many_agents_json(&m))?;
+    } else {
+        row(out, "many_agents", "agents", m.agents.to_string())?;
+        row(out, "", "frames", m.frames.to_string())?;
+        row(out, "", "ms per frame", format!("{:.3}", m.ms_per_frame))?;
+        row(
+            out,
+            "",
+            "bytes per instance",
+            m.bytes_per_instance.to_string(),
+        )?;
+    }
+    out.flush()
+}
+
+fn row(out: &mut impl Write, bench: &str, measure: &str, value: String) -> io::Result<()> {
+    writeln!(out, "{bench:<12} {measure:<20} {value:>14}")
+}
+
+fn tree1111_json(t: &Tree1111Result) -> String {
+    format!(
+        r#"{{"name":"tree1111","ticks":{},"ns_per_tick":{:.3},"nodes_per_tick":{},"ns_per_node":{:.4},"state_bytes":{}}}"#,
+        t.ticks, t.ns_per_tick, t.nodes_per_tick, t.ns_per_node, t.state_bytes
+    )
+}
+
+fn many_agents_json(m: &ManyAgentsResult) -> String {
+    format!(
+        r#"{{"name":"many_agents","agents":{},"frames":{},"ms_per_frame":{:.4},"bytes_per_instance":{}}}"#,
+        m.agents, m.frames, m.ms_per_frame, m.bytes_per_instance
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn json_lines_have_the_documented_shape() {
+        let t = Tree1111Result {
+            ticks: 1000,
+            ns_per_tick: 812.5,
+            nodes_per_tick: 1111,
+            ns_per_node: 0.7313,
+            state_bytes: 1339,
+        };
+        assert_eq!(
+            tree1111_json(&t),
+            r#"{"name":"tree1111","ticks":1000,"ns_per_tick":812.500,"nodes_per_tick":1111,"ns_per_node":0.7313,"state_bytes":1339}"#
+        );
+        let m = ManyAgentsResult {
+            agents: 100_000,
+            frames: 20,
+            ms_per_frame: 12.25,
+            bytes_per_instance: 320,
+        };
+        assert_eq!(
+            many_agents_json(&m),
+            r#"{"name":"many_agents","agents":100000,"frames":20,"ms_per_frame":12.2500,"bytes_per_instance":320}"#
+        );
+    }
+}

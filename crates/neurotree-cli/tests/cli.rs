@@ -1,0 +1,116 @@
+//! The `neurotree` binary, run as a user runs it.
+
+use std::process::{Command, Output};
+
+fn neurotree(args: &[&str]) -> Output {
+    let output = Command::new(env!("CARGO_BIN_EXE_neurotree"))
+        .args(args)
+        .output()
+        .expect("the neurotree binary runs");
+    assert!(
+        output.status.success(),
+        "neurotree {args:?} failed: {}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    output
+}
+
+fn stdout(output: &Output) -> String {
+    String::from_utf8(output.stdout.clone()).expect("the output is UTF-8")
+}
+
+#[test]
+fn demo_completes_the_patrol_deterministically() {
+    let first = stdout(&neurotree(&["demo", "--no-animation"]));
+    let summary = first
+        .split("Summary\n")
+        .nth(1)
+        .expect("the demo ends with a summary");
+    assert_eq!(
+        summary,
+        "  ticks      41\n\
+         \x20 outcome    SUCCESS\n\
+         \x20 waypoints  3 of 3\n\
+         \x20 distance   27 cells\n\
+         \x20 charges    1\n\
+         \x20 halts      3\n"
+    );
+    // Every tick drew a frame with the tree, and nothing tried to move the cursor.
+    assert_eq!(first.matches("\ntick ").count() + 1, 41);
+    assert!(first.contains("└── [R] leg (Sequence)"));
+    assert!(!first.contains('\x1b'));
+
+    let second = stdout(&neurotree(&["demo", "--no-animation"]));
+    assert_eq!(first, second);
+}
+
+#[test]
+fn piped_demo_does_not_animate_and_can_stop_early() {
+    // The output is a pipe, so even without --no-animation nothing is redrawn.
+    let out = stdout(&neurotree(&["demo", "--ticks", "3", "--ascii"]));
+    assert!(!out.contains('\x1b'));
+    assert!(out.contains("\\-- [R] leg (Sequence)"));
+    assert!(out.contains("  ticks      3\n  outcome    RUNNING\n"));
+}
+
+/// The value of `"key":` in a one-line JSON object of numbers and strings.
+fn field<'a>(line: &'a str, key: &str) -> &'a str {
+    let start = line
+        .find(&format!("\"{key}\":"))
+        .unwrap_or_else(|| panic!("no {key} in {line}"))
+        + key.len()
+        + 3;
+    let rest = &line[start..];
+    let end = rest.find([',', '}']).expect("the value ends");
+    &rest[..end]
+}
+
+fn positive(line: &str, key: &str) -> f64 {
+    let value: f64 = field(line, key)
+        .parse()
+        .unwrap_or_else(|e| panic!("{key} in {line}: {e}"));
+    assert!(value > 0.0, "{key} is not positive in {line}");
+    value
+}
+
+#[test]
+fn bench_json_prints_one_line_per_benchmark() {
+    let out = stdout(&neurotree(&[
+        "bench", "--json", "--quick", "--agents", "1000",
+    ]));
+    let lines: Vec<&str> = out.lines().collect();
+    assert_eq!(lines.len(), 2, "{out}");
+    for line in &lines {
+        assert!(line.starts_with('{') && line.ends_with('}'), "{line}");
+    }
+
+    let tree = lines[0];
+    assert_eq!(field(tree, "name"), "\"tree1111\"");
+    assert_eq!(field(tree, "nodes_per_tick"), "1111");
+    for key in ["ticks", "ns_per_tick", "ns_per_node", "state_bytes"] {
+        positive(tree, key);
+    }
+    let per_node = positive(tree, "ns_per_tick") / 1111.0;
+    assert!((positive(tree, "ns_per_node") - per_node).abs() <= per_node * 0.01);
+
+    let agents = lines[1];
+    assert_eq!(field(agents, "name"), "\"many_agents\"");
+    assert_eq!(field(agents, "agents"), "1000");
+    for key in ["frames", "ms_per_frame", "bytes_per_instance"] {
+        positive(agents, key);
+    }
+}
+
+#[test]
+fn bench_table_names_every_measure() {
+    let out = stdout(&neurotree(&["bench", "--quick", "--agents", "500"]));
+    for measure in [
+        "ns per tick",
+        "ns per node",
+        "state bytes",
+        "ms per frame",
+        "bytes per instance",
+    ] {
+        assert!(out.contains(measure), "{measure} missing from\n{out}");
+    }
+}
