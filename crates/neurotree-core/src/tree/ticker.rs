@@ -110,6 +110,12 @@ impl<'t, C> Ticker<'t, C> {
             self.set_status(id, status);
             return status;
         }
+        self.tick_other(id, def)
+    }
+
+    /// Ticks a node that is not a closure condition and stores what it returned.
+    #[inline(always)]
+    fn tick_other(&mut self, id: NodeId, def: &NodeDef<C>) -> NodeStatus {
         let status = self.dispatch(id, def);
         // A skipped node keeps (or returns to) Idle, though a control marks itself Running
         // before it finds that all its children were skipped.
@@ -142,7 +148,9 @@ impl<'t, C> Ticker<'t, C> {
             }
             return status;
         }
-        self.tick(child.id)
+        // The child list already told us it is no closure condition.
+        let def = self.bp.def(child.id);
+        self.tick_other(child.id, def)
     }
 
     /// `true` when an observer is attached.
