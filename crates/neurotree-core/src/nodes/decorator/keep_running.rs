@@ -4,7 +4,8 @@
 //! |---|---|
 //! | KeepRunningUntilFailure | Success → Running; Failure → Failure. |
 //!
-//! The child is reset after each completion, so it starts afresh on the next tick.
+//! The child is reset after each completion, so it starts afresh on the next tick. A skipped
+//! child leaves the node Running, as in BehaviorTree.CPP.
 
 use crate::blueprint::NodeDef;
 use crate::tree::Ticker;
@@ -23,7 +24,7 @@ pub(crate) fn tick<C>(t: &mut Ticker<'_, C>, id: NodeId, def: &NodeDef<C>) -> No
             t.halt_child(child);
             NodeStatus::Failure
         }
-        other => other,
+        NodeStatus::Running | NodeStatus::Skipped => NodeStatus::Running,
     }
 }
 
@@ -41,5 +42,16 @@ mod tests {
         assert_eq!(lab.tick(&mut tree), Ok(Status::Failure));
         assert_eq!(lab.ticks, [4]);
         assert_eq!(lab.log_of(0), ["start", "start", "running", "start"]);
+    }
+
+    #[test]
+    fn a_skipped_child_keeps_it_running() {
+        let mut lab = Lab::new(&[&[S]]);
+        let mut tree = lab.tree(|b| {
+            b.keep_running_until_failure("k", |k| k.run_once("once", true, |o| o.scripted(0)))
+        });
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Running));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Running));
+        assert_eq!(lab.ticks, [1]);
     }
 }
