@@ -1,8 +1,9 @@
 //! The hot path: one recursive pass over the tree, dispatching on the node kind.
 //!
 //! Nothing here allocates, formats or hashes in the normal course; errors are the exception
-//! (they build a path string once, and end the tick). Observers are reached through a
-//! single `Option` branch per status write.
+//! (they build a path string once, and end the tick). Observers are reached through one
+//! `Option` branch per status write, and not even that in the Sequence and Fallback loops,
+//! which are compiled twice: for observed and for unobserved trees.
 
 use core::mem;
 
@@ -167,7 +168,6 @@ impl<'t, C> Ticker<'t, C> {
         use decorator::{
             cooldown, delay, force, inverter, keep_running, repeat, run_once, subtree, timeout,
         };
-        let slot = self.bp.slot(id);
         match &def.kind {
             NodeKind::ConditionFn(f) => Status::from(f(self.ctx)).into(),
             NodeKind::Sequence => ordered::tick::<C, true, { ordered::PLAIN }>(self, id, def),
@@ -201,7 +201,7 @@ impl<'t, C> Ticker<'t, C> {
             NodeKind::SubTree(_) => subtree::tick(self, id, def),
             NodeKind::AlwaysSuccess => NodeStatus::Success,
             NodeKind::AlwaysFailure => NodeStatus::Failure,
-            NodeKind::Sleep(wait) => leaf::sleep::tick(self, id, slot, *wait),
+            NodeKind::Sleep(wait) => leaf::sleep::tick(self, id, self.bp.slot(id), *wait),
             NodeKind::Condition(c) => {
                 let h = self.handle(id);
                 Status::from(c.check(&h)).into()
