@@ -220,11 +220,18 @@ impl<C> Tree<C> {
         }
     }
 
-    /// Halts every Running node (children before parents) and resets the tree to Idle.
-    /// Stateful actions that were Running get `on_halted`.
+    /// Halts every Running node (children before parents) and resets the whole tree to
+    /// Idle, as BehaviorTree.CPP's `haltTree` does: stateful actions that were Running get
+    /// `on_halted`, and completed statuses a control had left in place (a two-child
+    /// IfThenElse keeps its failed condition's) are cleared too, so the next tick starts
+    /// afresh. RunOnce and Cooldown keep their memory, SequenceWithMemory its place.
     pub fn halt(&mut self, ctx: &mut C) {
         let mut t = self.ticker(ctx);
         t.halt_node(NodeId::ROOT);
+        // Nothing is Running any more, so this only resets what a control left behind.
+        for id in t.bp.ids() {
+            t.halt_node(id);
+        }
     }
 
     /// Time since the tree's clock origin.

@@ -323,12 +323,14 @@ impl<'t, C> Ticker<'t, C> {
             }
             NodeKind::Custom(_) => {
                 let obj = self.bp.slot(id);
-                if let Object::Custom(mut node) = mem::replace(
-                    &mut self.objects[obj],
-                    Object::Custom(alloc::boxed::Box::new(Vacant)),
-                ) {
-                    node.halt(&mut NodeCtx { t: self, id });
-                    self.objects[obj] = Object::Custom(node);
+                if self.status(id) == NodeStatus::Running {
+                    if let Object::Custom(mut node) = mem::replace(
+                        &mut self.objects[obj],
+                        Object::Custom(alloc::boxed::Box::new(Vacant)),
+                    ) {
+                        node.halt(&mut NodeCtx { t: self, id });
+                        self.objects[obj] = Object::Custom(node);
+                    }
                 }
                 self.reset_children(id);
             }
