@@ -11,7 +11,7 @@ use core::time::Duration;
 
 use super::{
     Blueprint, BuildError, BuildErrorKind, Child, CustomSpec, NodeDef, NodeId, NodeKind, NodeMeta,
-    ParallelPolicy, SubTreeScope, DEFAULT_MAX_DEPTH,
+    ParallelPolicy, Port, SubTreeScope, DEFAULT_MAX_DEPTH,
 };
 use crate::blackboard::ScopeId;
 use crate::nodes::leaf::{Action, Condition, StatefulAction};
@@ -23,6 +23,7 @@ struct Pending<C> {
     parent: Option<u32>,
     children: Vec<u32>,
     depth: u32,
+    ports: Vec<Port>,
 }
 
 /// Builds a [`Blueprint`].
@@ -165,6 +166,7 @@ impl<C> Builder<C> {
             parent,
             children: Vec::new(),
             depth,
+            ports: Vec::new(),
         });
         if let Some(p) = parent {
             self.nodes[p as usize].children.push(id);
@@ -249,6 +251,18 @@ impl<C> Builder<C> {
         Ok(())
     }
 
+    /// Binds ports of the node added last (a leaf just added, or a control just opened).
+    pub fn ports(mut self, ports: impl IntoIterator<Item = Port>) -> Self {
+        if self.ignored > 0 || self.error.is_some() {
+            return self;
+        }
+        match self.nodes.last_mut() {
+            Some(node) => node.ports.extend(ports),
+            None => self.fail(None, BuildErrorKind::Empty),
+        }
+        self
+    }
+
     /// Adds a node with children added by `children`.
     pub fn node(self, kind: NodeKind<C>, name: &str, children: impl FnOnce(Self) -> Self) -> Self {
         children(self.open(kind, name)).close()
@@ -330,6 +344,7 @@ impl<C> Builder<C> {
                 name: p.name,
                 parent: p.parent.map(NodeId),
                 depth: p.depth,
+                ports: p.ports,
             });
         }
         let nodes = nodes.into_boxed_slice();

@@ -8,6 +8,7 @@
 pub(crate) mod builder;
 mod error;
 mod kind;
+mod port;
 
 pub use builder::Builder;
 pub use error::{BuildError, BuildErrorKind};
@@ -15,6 +16,7 @@ pub use kind::{
     ActionFn, Arity, Category, ConditionFn, CustomFactory, CustomSpec, NodeKind, ParallelPolicy,
     StatefulFactory, SubTreeScope,
 };
+pub use port::{FromPortStr, Port, PortError, PortValue};
 
 use alloc::boxed::Box;
 use alloc::string::String;
@@ -89,6 +91,7 @@ pub(crate) struct NodeMeta {
     pub(crate) name: String,
     pub(crate) parent: Option<NodeId>,
     pub(crate) depth: u32,
+    pub(crate) ports: Vec<Port>,
 }
 
 /// An immutable, validated behavior tree, shared by its instances through `Arc`.
@@ -188,6 +191,11 @@ impl<C> Blueprint<C> {
         debug_assert!(id.index() < self.nodes.len());
         // SAFETY: the engine only handles ids of this blueprint (see `Ticker::status`).
         unsafe { self.nodes.get_unchecked(id.index()) }
+    }
+
+    /// The node's ports and their bindings.
+    pub fn ports(&self, id: NodeId) -> &[Port] {
+        &self.meta[id.index()].ports
     }
 
     /// The node's parent, `None` for the root.

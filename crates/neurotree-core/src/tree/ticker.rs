@@ -266,6 +266,7 @@ impl<'t, C> Ticker<'t, C> {
             clock: self.clock,
             node: id,
             name: &bp.meta[id.index()].name,
+            ports: &bp.meta[id.index()].ports,
         };
         (object, handle)
     }

@@ -16,7 +16,11 @@ pub mod sleep;
 
 use core::time::Duration;
 
+use alloc::string::String;
+use core::any::Any;
+
 use crate::blackboard::{Blackboard, BlackboardError, ScopeId};
+use crate::blueprint::{FromPortStr, Port, PortError, PortValue};
 use crate::{Clock, NodeId, Status};
 
 /// What a leaf sees while it runs: the user's context, the blackboard scope of its subtree,
@@ -28,6 +32,7 @@ pub struct Handle<'a, C> {
     pub(crate) clock: &'a dyn Clock,
     pub(crate) node: NodeId,
     pub(crate) name: &'a str,
+    pub(crate) ports: &'a [Port],
 }
 
 impl<'a, C> Handle<'a, C> {
@@ -59,12 +64,12 @@ impl<'a, C> Handle<'a, C> {
     }
 
     /// Reads `key` in this node's scope (`@key` reads the root scope).
-    pub fn get<T: core::any::Any + Clone>(&self, key: &str) -> Result<T, BlackboardError> {
+    pub fn get<T: Any + Clone>(&self, key: &str) -> Result<T, BlackboardError> {
         self.blackboard.get_in(self.scope, key)
     }
 
     /// Writes `key` in this node's scope, stamped with the clock's time.
-    pub fn set<T: core::any::Any + Send + Sync>(
+    pub fn set<T: Any + Send + Sync>(
         &mut self,
         key: &str,
         value: T,
@@ -76,6 +81,69 @@ impl<'a, C> Handle<'a, C> {
     /// The tree's clock reading.
     pub fn now(&self) -> Duration {
         self.clock.now()
+    }
+
+    /// Reads input port `port`: its literal text converted to `T`, or the blackboard entry
+    /// it is bound to (a text entry is converted too, as BehaviorTree.CPP does).
+    pub fn input<T: FromPortStr + Any + Clone>(&self, port: &str) -> Result<T, PortError> {
+        let binding = self.port(port)?;
+        let convert = |text: &str| {
+            T::from_port_str(text).map_err(|()| PortError::Convert {
+                port: String::from(port),
+                text: String::from(text),
+                type_name: core::any::type_name::<T>(),
+            })
+        };
+        match &binding.value {
+            PortValue::Literal(text) => convert(text),
+            PortValue::Entry(key) => match self.blackboard.get_ref_in::<T>(self.scope, key) {
+                Ok(value) => Ok(value.clone()),
+                Err(source @ BlackboardError::WrongType { .. }) => {
+                    match self.blackboard.get_ref_in::<String>(self.scope, key) {
+                        Ok(text) => convert(text),
+                        Err(_) => Err(PortError::Blackboard {
+                            port: String::from(port),
+                            source,
+                        }),
+                    }
+                }
+                Err(source) => Err(PortError::Blackboard {
+                    port: String::from(port),
+                    source,
+                }),
+            },
+        }
+    }
+
+    /// Writes output port `port`: the blackboard entry it is bound to, stamped with the
+    /// clock's time.
+    pub fn output<T: Any + Send + Sync>(&mut self, port: &str, value: T) -> Result<(), PortError> {
+        let PortValue::Entry(key) = &self.port(port)?.value else {
+            return Err(PortError::NotAnEntry {
+                port: String::from(port),
+            });
+        };
+        let now = self.clock.now();
+        self.blackboard
+            .set_in(self.scope, key, value, now)
+            .map_err(|source| PortError::Blackboard {
+                port: String::from(port),
+                source,
+            })
+    }
+
+    /// The node's ports and their bindings.
+    pub fn ports(&self) -> &[Port] {
+        self.ports
+    }
+
+    fn port(&self, port: &str) -> Result<&'a Port, PortError> {
+        self.ports
+            .iter()
+            .find(|p| p.name == port)
+            .ok_or_else(|| PortError::NoSuchPort {
+                port: String::from(port),
+            })
     }
 
     /// The node being ticked.
@@ -213,5 +281,56 @@ mod tests {
         assert_eq!(lab.tick(&mut tree), Ok(Status::Failure));
         assert_eq!(lab.tick(&mut tree), Ok(Status::Failure));
         assert_eq!(lab.ticks, [1, 0]);
+    }
+
+    /// Reads `speed` (a literal) and `goal` (an entry), writes `reached` (an entry).
+    struct MoveTo;
+    impl Action<u32> for MoveTo {
+        fn tick(&self, h: &mut Handle<'_, u32>) -> Status {
+            let speed: f64 = h.input("speed").unwrap();
+            let goal: Vec<i32> = h.input("goal").unwrap();
+            *h.ctx_mut() = (speed * 10.0) as u32 + goal.len() as u32;
+            h.output("reached", true).unwrap();
+            // Errors name the port and say what is wrong.
+            assert_eq!(
+                h.input::<u8>("nope"),
+                Err(PortError::NoSuchPort {
+                    port: "nope".into()
+                })
+            );
+            assert!(matches!(
+                h.input::<u8>("speed"),
+                Err(PortError::Convert { text, .. }) if text == "0.5"
+            ));
+            assert!(matches!(
+                h.output("speed", 1_u8),
+                Err(PortError::NotAnEntry { .. })
+            ));
+            Status::Success
+        }
+    }
+
+    #[test]
+    fn ports_read_literals_and_entries_and_write_entries() {
+        use crate::Port;
+        let bp = Builder::<u32>::new()
+            .action_node("move", MoveTo)
+            .ports([
+                Port::literal("speed", "0.5"),
+                Port::entry("goal", "target"),
+                Port::entry("reached", "@done"),
+            ])
+            .build_shared()
+            .unwrap();
+        assert_eq!(bp.ports(NodeId(0)).len(), 3);
+        let mut tree = Tree::with_clock(bp, ManualClock::new());
+        // A text entry converts on read, as BehaviorTree.CPP's string entries do.
+        tree.blackboard_mut()
+            .set("target", String::from("1;2;3"))
+            .unwrap();
+        let mut n = 0;
+        assert_eq!(tree.tick_once(&mut n), Ok(Status::Success));
+        assert_eq!(n, 8);
+        assert_eq!(tree.blackboard().get::<bool>("done"), Ok(true));
     }
 }
