@@ -1,10 +1,22 @@
 //! Deep trees: the depth limit is enforced when building, and within it building, ticking,
 //! halting and dropping never overflow a small (2 MiB) stack.
 
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::Arc;
+
 use neurotree_core::{
-    BuildErrorKind, Builder, Handle, ManualClock, NodeKind, StatefulAction, Status, Tree,
-    DEFAULT_MAX_DEPTH,
+    BuildErrorKind, Builder, Handle, ManualClock, NodeKind, NodeStatus, Observer, StatefulAction,
+    Status, StatusChange, Tree, DEFAULT_MAX_DEPTH,
 };
+
+/// Counts status changes.
+struct CountChanges(Arc<AtomicUsize>);
+
+impl Observer for CountChanges {
+    fn on_status_change(&mut self, _c: StatusChange) {
+        self.0.fetch_add(1, Ordering::Relaxed);
+    }
+}
 
 /// Runs until halted; counts halts in the context.
 struct Forever;
@@ -60,23 +72,50 @@ fn a_chain_at_the_limit_builds_ticks_halts_and_drops() {
         let mut halts = 0;
         for _ in 0..3 {
             assert_eq!(tree.tick_once(&mut halts), Ok(Status::Running));
+            assert_eq!(tree.tick_exactly_once(&mut halts), Ok(Status::Running));
         }
+        // Every level is Running down to the leaf; the halt walks the whole chain.
+        assert!(tree.statuses().iter().all(|s| *s == NodeStatus::Running));
         tree.halt(&mut halts);
         assert_eq!(halts, 1);
+        assert!(tree.statuses().iter().all(|s| *s == NodeStatus::Idle));
         assert_eq!(tree.tick_once(&mut halts), Ok(Status::Running));
         drop(tree);
     });
 }
 
 #[test]
+fn a_chain_at_the_limit_ticks_and_halts_observed() {
+    // The observed code paths (a status write reports to the observer) use their own frames.
+    on_small_stack(|| {
+        let bp = chain(DEFAULT_MAX_DEPTH).build_shared().unwrap();
+        let mut tree = Tree::with_clock(bp, ManualClock::new());
+        let changes = Arc::new(AtomicUsize::new(0));
+        tree.set_observer(CountChanges(Arc::clone(&changes)));
+        let mut halts = 0;
+        assert_eq!(tree.tick_once(&mut halts), Ok(Status::Running));
+        // Each node went Idle -> Running once.
+        assert_eq!(changes.load(Ordering::Relaxed), DEFAULT_MAX_DEPTH as usize);
+        tree.halt(&mut halts);
+        assert_eq!(halts, 1);
+        assert_eq!(
+            changes.load(Ordering::Relaxed),
+            2 * DEFAULT_MAX_DEPTH as usize
+        );
+    });
+}
+
+#[test]
 fn one_level_more_is_rejected() {
-    let e = chain(DEFAULT_MAX_DEPTH + 1).build().unwrap_err();
-    assert_eq!(
-        e.kind,
-        BuildErrorKind::TooDeep {
-            limit: DEFAULT_MAX_DEPTH
-        }
-    );
+    on_small_stack(|| {
+        let e = chain(DEFAULT_MAX_DEPTH + 1).build().unwrap_err();
+        assert_eq!(
+            e.kind,
+            BuildErrorKind::TooDeep {
+                limit: DEFAULT_MAX_DEPTH
+            }
+        );
+    });
 }
 
 #[test]
@@ -113,6 +152,30 @@ fn a_wide_tree_builds_and_ticks() {
         let mut n = 0;
         assert_eq!(tree.tick_once(&mut n), Ok(Status::Success));
         assert_eq!(n, 100_000);
+        assert_eq!(tree.tick_exactly_once(&mut n), Ok(Status::Success));
+        assert_eq!(n, 200_000);
+        drop(tree);
+    });
+}
+
+#[test]
+fn a_wide_tree_halts_its_running_children() {
+    on_small_stack(|| {
+        let bp = Builder::<u32>::new()
+            .parallel_all("wide", 1, |mut p| {
+                for _ in 0..100_000 {
+                    p = p.stateful("run", || Forever);
+                }
+                p
+            })
+            .build_shared()
+            .unwrap();
+        let mut tree = Tree::with_clock(bp, ManualClock::new());
+        let mut halts = 0;
+        assert_eq!(tree.tick_once(&mut halts), Ok(Status::Running));
+        tree.halt(&mut halts);
+        assert_eq!(halts, 100_000);
+        assert!(tree.statuses().iter().all(|s| *s == NodeStatus::Idle));
     });
 }
 

@@ -3,13 +3,13 @@
 
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
-use std::sync::Arc;
+use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
 use neurotree::bench_trees::{agent_tree, tree1111, Agent};
 use neurotree::{
     Action, Arity, Builder, Condition, CustomNode, CustomSpec, Handle, ManualClock, NodeCtx,
-    NodeStatus, ParallelPolicy, StatefulAction, Status, SubTreeScope, Tree,
+    NodeStatus, Observer, ParallelPolicy, StatefulAction, Status, StatusChange, SubTreeScope, Tree,
 };
 
 struct Counting;
@@ -226,6 +226,7 @@ fn every_node() -> Arc<neurotree::Blueprint<World>> {
             .keep_running_until_failure("krf", |k| k.condition_node("even", Even))
             .delay("delay", ms(20), |d| d.always_success("x"))
             .timeout("timeout", ms(25), |t| t.stateful("walk", Walk::default))
+            .timeout("timeout_fires", ms(25), |t| t.sleep("nap", ms(40)))
             .cooldown("cooldown", ms(40), |c| c.always_success("x"))
             .run_once("once", true, |o| o.always_success("x"))
             .subtree("sub", scope, |s| s.action_node("count_obj", Count))
@@ -272,4 +273,76 @@ fn every_node_kind_ticks_and_halts_without_allocating() {
         world.custom
     );
     assert!(tree.blackboard().info("count").unwrap().sequence > 50);
+}
+
+/// Counts, per node, the changes into each status. Preallocated: observing allocates nothing.
+#[derive(Clone)]
+struct Tally(Arc<Mutex<Vec<[u32; 5]>>>);
+
+impl Observer for Tally {
+    fn on_status_change(&mut self, c: StatusChange) {
+        self.0.lock().unwrap()[c.node.index()][c.to as usize] += 1;
+    }
+}
+
+/// The same run with an observer attached (the controls' observed loops are compiled apart),
+/// and proof that the run exercised the nodes: every node was ticked, the timers fired.
+#[test]
+fn every_node_kind_observed_without_allocating() {
+    let clock = ManualClock::new();
+    let bp = every_node();
+    let tally = Tally(Arc::new(Mutex::new(vec![[0; 5]; bp.len()])));
+    let mut tree = Tree::with_clock(Arc::clone(&bp), clock.clone());
+    tree.set_observer(tally.clone());
+    let mut world = World::default();
+    for _ in 0..5 {
+        clock.advance(Duration::from_millis(10));
+        tree.tick_once(&mut world).unwrap();
+    }
+    let n = allocations(|| {
+        for i in 0..200 {
+            clock.advance(Duration::from_millis(10));
+            let s = if i % 2 == 0 {
+                tree.tick_once(&mut world)
+            } else {
+                tree.tick_exactly_once(&mut world)
+            };
+            assert!(s.is_ok());
+            if i % 37 == 0 {
+                tree.halt(&mut world);
+            }
+        }
+    });
+    assert_eq!(n, 0);
+
+    let seen = tally.0.lock().unwrap();
+    let count = |path: &str, to: NodeStatus| {
+        let id = bp.find(path).unwrap_or_else(|| panic!("no node {path}"));
+        seen[id.index()][to as usize]
+    };
+    for id in bp.ids() {
+        let [_, running, success, failure, _] = seen[id.index()];
+        assert!(
+            running + success + failure > 0,
+            "{} was never ticked",
+            bp.path(id)
+        );
+    }
+    // Delay waits (Running) then lets its child through; a Timeout of 25 ms fires on a
+    // 40 ms nap and halts it; Cooldown blocks (Failure) between successes; naps end.
+    assert!(count("root/delay", NodeStatus::Running) > 5);
+    assert!(count("root/delay", NodeStatus::Success) > 5);
+    assert!(count("root/timeout/walk", NodeStatus::Success) > 5);
+    assert!(count("root/timeout_fires", NodeStatus::Failure) > 5);
+    assert_eq!(count("root/timeout_fires", NodeStatus::Success), 0);
+    assert!(count("root/timeout_fires/nap", NodeStatus::Running) > 5);
+    assert_eq!(count("root/timeout_fires/nap", NodeStatus::Success), 0);
+    assert!(count("root/cooldown", NodeStatus::Success) > 2);
+    assert!(count("root/cooldown", NodeStatus::Failure) > 2);
+    assert!(count("root/require_one/nap", NodeStatus::Running) > 5);
+    assert!(count("root/all/nap", NodeStatus::Success) > 5);
+    // Stateful walks complete as well as being halted.
+    assert!(count("root/seq/walk", NodeStatus::Success) > 5);
+    assert_eq!(count("root/once", NodeStatus::Success), 1);
+    assert!(world.halts > 10, "{} halts", world.halts);
 }

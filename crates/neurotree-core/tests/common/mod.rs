@@ -1,0 +1,375 @@
+//! Random trees for the property tests: a plain description ([`Spec`]), a proptest strategy
+//! that generates it, the scripted leaves the engine runs, and the engine blueprint built from
+//! a description.
+//!
+//! Nodes are numbered in pre-order, as the builder numbers them, so node `i` of a description
+//! is `NodeId(i)` of its blueprint. Leaf `i` is named `L{i}` and plays `scripts[i]`: its
+//! k-th call (on_start, on_running or a sync tick) returns the k-th outcome, and the last
+//! outcome repeats.
+
+// Each test file uses its own part of this module.
+#![allow(dead_code)]
+
+use std::cell::{Cell, RefCell};
+use std::fmt;
+use std::sync::Arc;
+
+use neurotree_core::{Action, Blueprint, Builder, Handle, StatefulAction, Status};
+use proptest::collection::vec;
+use proptest::prelude::*;
+
+/// Control and decorator kinds, with their parameters.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Kind {
+    Sequence,
+    SequenceWithMemory,
+    ReactiveSequence,
+    Fallback,
+    ReactiveFallback,
+    AsyncSequence,
+    AsyncFallback,
+    Parallel { success: i32, failure: i32 },
+    ParallelAll { max_failures: i32 },
+    IfThenElse,
+    WhileDoElse,
+    TryCatch { catch_on_halt: bool },
+    Inverter,
+    ForceSuccess,
+    ForceFailure,
+    Repeat(i32),
+    Retry(i32),
+    KeepRunningUntilFailure,
+    RunOnce { then_skip: bool },
+}
+
+/// Leaf kinds.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LeafKind {
+    /// A `StatefulAction`: on_start / on_running / on_halted.
+    Stateful,
+    /// A sync `Action` object (its script holds Success and Failure only).
+    Sync,
+    /// A closure condition (its script holds Success and Failure only).
+    Cond,
+}
+
+/// A tree description.
+#[derive(Clone, Debug)]
+pub enum Spec {
+    Leaf(LeafKind, Vec<Status>),
+    Node(Kind, Vec<Spec>),
+}
+
+impl Spec {
+    /// Number of nodes.
+    pub fn len(&self) -> usize {
+        match self {
+            Spec::Leaf(..) => 1,
+            Spec::Node(_, children) => 1 + children.iter().map(Spec::len).sum::<usize>(),
+        }
+    }
+
+    /// Nodes in pre-order: (kind or leaf, number of children, script).
+    pub fn flatten(&self) -> Vec<Flat> {
+        let mut out = Vec::new();
+        self.flatten_into(&mut out);
+        out
+    }
+
+    fn flatten_into(&self, out: &mut Vec<Flat>) -> usize {
+        let id = out.len();
+        match self {
+            Spec::Leaf(kind, script) => out.push(Flat {
+                node: FlatKind::Leaf(*kind),
+                children: Vec::new(),
+                script: script.clone(),
+            }),
+            Spec::Node(kind, children) => {
+                out.push(Flat {
+                    node: FlatKind::Node(kind.clone()),
+                    children: Vec::new(),
+                    script: Vec::new(),
+                });
+                let ids: Vec<usize> = children.iter().map(|c| c.flatten_into(out)).collect();
+                out[id].children = ids;
+            }
+        }
+        id
+    }
+}
+
+/// One node of a flattened description.
+#[derive(Clone, Debug)]
+pub struct Flat {
+    pub node: FlatKind,
+    pub children: Vec<usize>,
+    pub script: Vec<Status>,
+}
+
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum FlatKind {
+    Leaf(LeafKind),
+    Node(Kind),
+}
+
+/// What a scripted leaf did.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum What {
+    Start(Status),
+    Running(Status),
+    Halted,
+    /// A sync action or a condition was ticked.
+    Tick(Status),
+}
+
+/// One call of a scripted leaf.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Event {
+    pub leaf: usize,
+    pub what: What,
+}
+
+impl fmt::Display for Event {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let l = self.leaf;
+        match self.what {
+            What::Start(s) => write!(f, "L{l} start -> {s}"),
+            What::Running(s) => write!(f, "L{l} running -> {s}"),
+            What::Halted => write!(f, "L{l} halted"),
+            What::Tick(s) => write!(f, "L{l} tick -> {s}"),
+        }
+    }
+}
+
+/// The context the engine's trees run with: scripts, call counts and the event log.
+///
+/// Interior mutability lets closure conditions (which see `&Ctx`) play their scripts too.
+pub struct Ctx {
+    scripts: Vec<Vec<Status>>,
+    calls: Vec<Cell<usize>>,
+    events: RefCell<Vec<Event>>,
+}
+
+impl Ctx {
+    pub fn new(spec: &Spec) -> Self {
+        let scripts: Vec<Vec<Status>> = spec.flatten().into_iter().map(|f| f.script).collect();
+        Self {
+            calls: scripts.iter().map(|_| Cell::new(0)).collect(),
+            scripts,
+            events: RefCell::new(Vec::new()),
+        }
+    }
+
+    /// The next outcome of leaf `leaf`.
+    fn next(&self, leaf: usize) -> Status {
+        let k = self.calls[leaf].get();
+        self.calls[leaf].set(k + 1);
+        let script = &self.scripts[leaf];
+        script[k.min(script.len() - 1)]
+    }
+
+    fn log(&self, leaf: usize, what: What) {
+        self.events.borrow_mut().push(Event { leaf, what });
+    }
+
+    /// The events logged since the last call.
+    pub fn take_events(&self) -> Vec<Event> {
+        std::mem::take(&mut *self.events.borrow_mut())
+    }
+
+    fn cond(&self, leaf: usize) -> bool {
+        let s = self.next(leaf);
+        self.log(leaf, What::Tick(s));
+        s == Status::Success
+    }
+}
+
+struct Scripted(usize);
+
+impl StatefulAction<Ctx> for Scripted {
+    fn on_start(&mut self, h: &mut Handle<'_, Ctx>) -> Status {
+        let ctx = h.ctx();
+        let s = ctx.next(self.0);
+        ctx.log(self.0, What::Start(s));
+        s
+    }
+    fn on_running(&mut self, h: &mut Handle<'_, Ctx>) -> Status {
+        let ctx = h.ctx();
+        let s = ctx.next(self.0);
+        ctx.log(self.0, What::Running(s));
+        s
+    }
+    fn on_halted(&mut self, h: &mut Handle<'_, Ctx>) {
+        h.ctx().log(self.0, What::Halted);
+    }
+}
+
+struct SyncLeaf(usize);
+
+impl Action<Ctx> for SyncLeaf {
+    fn tick(&self, h: &mut Handle<'_, Ctx>) -> Status {
+        let ctx = h.ctx();
+        let s = ctx.next(self.0);
+        ctx.log(self.0, What::Tick(s));
+        s
+    }
+}
+
+/// The engine blueprint of a description.
+pub fn blueprint(spec: &Spec) -> Arc<Blueprint<Ctx>> {
+    let mut next = 0;
+    let bp = add(Builder::new(), spec, &mut next)
+        .build_shared()
+        .expect("generated trees are valid");
+    assert_eq!(bp.len(), spec.len());
+    bp
+}
+
+fn add(b: Builder<Ctx>, spec: &Spec, next: &mut usize) -> Builder<Ctx> {
+    let id = *next;
+    *next += 1;
+    let name = format!("L{id}");
+    let (kind, children) = match spec {
+        Spec::Leaf(LeafKind::Stateful, _) => return b.stateful(&name, move || Scripted(id)),
+        Spec::Leaf(LeafKind::Sync, _) => return b.action_node(&name, SyncLeaf(id)),
+        Spec::Leaf(LeafKind::Cond, _) => return b.condition(&name, move |c: &Ctx| c.cond(id)),
+        Spec::Node(kind, children) => (kind, children),
+    };
+    let name = format!("N{id}");
+    let kids = |mut b: Builder<Ctx>| {
+        for c in children {
+            b = add(b, c, next);
+        }
+        b
+    };
+    match *kind {
+        Kind::Sequence => b.sequence(&name, kids),
+        Kind::SequenceWithMemory => b.sequence_with_memory(&name, kids),
+        Kind::ReactiveSequence => b.reactive_sequence(&name, kids),
+        Kind::Fallback => b.fallback(&name, kids),
+        Kind::ReactiveFallback => b.reactive_fallback(&name, kids),
+        Kind::AsyncSequence => b.async_sequence(&name, kids),
+        Kind::AsyncFallback => b.async_fallback(&name, kids),
+        Kind::Parallel { success, failure } => b.parallel(&name, success, failure, kids),
+        Kind::ParallelAll { max_failures } => b.parallel_all(&name, max_failures, kids),
+        Kind::IfThenElse => b.if_then_else(&name, kids),
+        Kind::WhileDoElse => b.while_do_else(&name, kids),
+        Kind::TryCatch { catch_on_halt } => b.try_catch(&name, catch_on_halt, kids),
+        Kind::Inverter => b.inverter(&name, kids),
+        Kind::ForceSuccess => b.force_success(&name, kids),
+        Kind::ForceFailure => b.force_failure(&name, kids),
+        Kind::Repeat(n) => b.repeat(&name, n, kids),
+        Kind::Retry(n) => b.retry(&name, n, kids),
+        Kind::KeepRunningUntilFailure => b.keep_running_until_failure(&name, kids),
+        Kind::RunOnce { then_skip } => b.run_once(&name, then_skip, kids),
+    }
+}
+
+/// Resolves a Parallel threshold as BehaviorTree.CPP does: negative `t` is `n + t + 1`,
+/// floored at 0.
+pub fn resolve(t: i32, n: usize) -> usize {
+    if t < 0 {
+        (n as i64 + i64::from(t) + 1).max(0) as usize
+    } else {
+        t as usize
+    }
+}
+
+// ---- strategies ----
+
+fn outcome() -> impl Strategy<Value = Status> {
+    prop_oneof![
+        2 => Just(Status::Success),
+        2 => Just(Status::Failure),
+        3 => Just(Status::Running),
+    ]
+}
+
+fn instant() -> impl Strategy<Value = Status> {
+    prop_oneof![Just(Status::Success), Just(Status::Failure)]
+}
+
+fn leaf() -> impl Strategy<Value = Spec> {
+    prop_oneof![
+        4 => vec(outcome(), 1..5).prop_map(|s| Spec::Leaf(LeafKind::Stateful, s)),
+        1 => vec(instant(), 1..4).prop_map(|s| Spec::Leaf(LeafKind::Sync, s)),
+        1 => vec(instant(), 1..4).prop_map(|s| Spec::Leaf(LeafKind::Cond, s)),
+    ]
+}
+
+fn ordered_kind() -> impl Strategy<Value = Kind> {
+    prop_oneof![
+        Just(Kind::Sequence),
+        Just(Kind::SequenceWithMemory),
+        Just(Kind::ReactiveSequence),
+        Just(Kind::Fallback),
+        Just(Kind::ReactiveFallback),
+        Just(Kind::AsyncSequence),
+        Just(Kind::AsyncFallback),
+    ]
+}
+
+fn decorator_kind(forever: bool) -> impl Strategy<Value = Kind> {
+    let low = if forever { -1 } else { 0 };
+    prop_oneof![
+        Just(Kind::Inverter),
+        Just(Kind::ForceSuccess),
+        Just(Kind::ForceFailure),
+        (low..4).prop_map(Kind::Repeat),
+        (low..4).prop_map(Kind::Retry),
+        Just(Kind::KeepRunningUntilFailure),
+        any::<bool>().prop_map(|then_skip| Kind::RunOnce { then_skip }),
+    ]
+}
+
+/// Random trees of depth at most 4 whose nodes have at most 5 children.
+///
+/// With `forever`, Repeat and RetryUntilSuccessful may get -1 (forever), which can make
+/// `tick_once` loop without end; without it, every `tick_once` terminates.
+pub fn tree(forever: bool) -> impl Strategy<Value = Spec> {
+    leaf().prop_recursive(3, 160, 3, move |inner| {
+        let kids = vec(inner.clone(), 1..=5);
+        prop_oneof![
+            6 => (ordered_kind(), kids.clone()).prop_map(|(k, c)| Spec::Node(k, c)),
+            2 => kids.clone().prop_flat_map(|c| {
+                let n = c.len() as i32;
+                (Just(c), -(n + 1)..=n, -(n + 1)..=n).prop_map(|(c, success, failure)| {
+                    Spec::Node(Kind::Parallel { success, failure }, c)
+                })
+            }),
+            1 => kids.prop_flat_map(|c| {
+                let n = c.len() as i32;
+                (Just(c), -(n + 1)..=n)
+                    .prop_map(|(c, max_failures)| Spec::Node(Kind::ParallelAll { max_failures }, c))
+            }),
+            2 => (
+                prop_oneof![Just(Kind::IfThenElse), Just(Kind::WhileDoElse)],
+                vec(inner.clone(), 2..=3)
+            )
+                .prop_map(|(k, c)| Spec::Node(k, c)),
+            1 => (any::<bool>(), vec(inner.clone(), 2..=4))
+                .prop_map(|(catch_on_halt, c)| Spec::Node(Kind::TryCatch { catch_on_halt }, c)),
+            5 => (decorator_kind(forever), inner).prop_map(|(k, c)| Spec::Node(k, vec![c])),
+        ]
+    })
+}
+
+/// One step of a run.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Op {
+    TickOnce,
+    TickExactlyOnce,
+    Halt,
+}
+
+/// 1 to 12 random steps.
+pub fn ops() -> impl Strategy<Value = Vec<Op>> {
+    vec(
+        prop_oneof![
+            4 => Just(Op::TickOnce),
+            3 => Just(Op::TickExactlyOnce),
+            1 => Just(Op::Halt),
+        ],
+        1..=12,
+    )
+}

@@ -1,0 +1,467 @@
+//! Halting and resetting, as properties of random trees under random ticks and halts:
+//!
+//! (a) a StatefulAction that returned Running ends that run exactly once, by a completion
+//!     (a later Success or Failure) or by one `on_halted`, before it is started again; it is
+//!     stored Running exactly while such a run is open; after `tree.halt()` every node is
+//!     Idle (BT.CPP's `haltTree` resets every node);
+//! (b) halts go children first: when a node goes from Running to Idle, none of its
+//!     descendants is still Running (checked on the observer's own copy of the statuses,
+//!     which must equal the tree's after every step);
+//! (c) after a tick that returns Success or Failure every stored status is Idle, except
+//!     where BehaviorTree.CPP itself leaves a completed status behind.
+//!
+//! The trees are those of `reference_model.rs` without Repeat/Retry(-1), so every
+//! `tick_once` ends.
+
+mod common;
+
+use std::panic::AssertUnwindSafe;
+use std::sync::{Arc, Mutex, Once};
+
+use common::{Ctx, Event, FlatKind, Kind, LeafKind, Op, Spec, What};
+use neurotree_core::{
+    ManualClock, NodeId, NodeKind, NodeStatus, Observer, Status, StatusChange, TickError, Tree,
+};
+use proptest::prelude::*;
+
+use NodeStatus::{Failure, Idle, Running, Success};
+
+/// Passes of one `tick_once` after which the run counts as endless. Some trees yield on every
+/// pass, in BT.CPP too: a node that yields under a Parallel that then completes, inside a
+/// KeepRunningUntilFailure or before a Running sibling in a ReactiveSequence. Such cases are
+/// discarded.
+const MAX_PASSES: usize = 1000;
+
+/// The panic that stops an endless `tick_once`.
+struct Endless;
+
+/// What the observer saw.
+#[derive(Default)]
+struct Seen {
+    /// Passes since the step began.
+    passes: usize,
+    /// The statuses, from the reported changes alone.
+    mirror: Vec<NodeStatus>,
+    /// Node `i`'s descendants are `i + 1 .. end[i]` (pre-order numbering).
+    end: Vec<usize>,
+    /// Broken rules, as text.
+    violations: Vec<String>,
+    /// Running → Idle changes seen.
+    stops: usize,
+}
+
+#[derive(Clone)]
+struct Watch(Arc<Mutex<Seen>>);
+
+impl Observer for Watch {
+    fn on_tick_start(&mut self, _now: std::time::Duration) {
+        let passes = {
+            let mut seen = self.0.lock().unwrap();
+            seen.passes += 1;
+            seen.passes
+        };
+        if passes > MAX_PASSES {
+            std::panic::panic_any(Endless);
+        }
+    }
+
+    fn on_status_change(&mut self, c: StatusChange) {
+        let mut seen = self.0.lock().unwrap();
+        let id = c.node.index();
+        if seen.mirror[id] != c.from {
+            let msg = format!(
+                "node {id}: change reported from {} but it was {}",
+                c.from, seen.mirror[id]
+            );
+            seen.violations.push(msg);
+        }
+        if c.from == Running && c.to == Idle {
+            seen.stops += 1;
+            for d in id + 1..seen.end[id] {
+                if seen.mirror[d] == Running {
+                    let msg = format!("node {id} went Running -> Idle before its descendant {d}");
+                    seen.violations.push(msg);
+                }
+            }
+        }
+        seen.mirror[id] = c.to;
+    }
+}
+
+/// `end[i]`: one past node `i`'s last descendant.
+fn subtree_ends(spec: &Spec) -> Vec<usize> {
+    let flat = spec.flatten();
+    let mut end = vec![0; flat.len()];
+    for id in (0..flat.len()).rev() {
+        end[id] = flat[id].children.last().map_or(id + 1, |&c| end[c]);
+    }
+    end
+}
+
+/// A tree of `spec` with a [`Watch`] attached.
+fn start(spec: &Spec) -> (Tree<Ctx>, Ctx, Arc<Mutex<Seen>>) {
+    quiet_endless_panics();
+    let mut tree = Tree::with_clock(common::blueprint(spec), ManualClock::new());
+    let seen = Arc::new(Mutex::new(Seen {
+        mirror: vec![Idle; spec.len()],
+        end: subtree_ends(spec),
+        ..Seen::default()
+    }));
+    tree.set_observer(Watch(Arc::clone(&seen)));
+    (tree, Ctx::new(spec), seen)
+}
+
+/// Runs one step: `None` for a halt, else the tick's result. `Err` (the case is discarded)
+/// when a `tick_once` does not end.
+fn step(
+    tree: &mut Tree<Ctx>,
+    ctx: &mut Ctx,
+    seen: &Mutex<Seen>,
+    op: Op,
+) -> Result<Option<Result<Status, TickError>>, TestCaseError> {
+    seen.lock().unwrap().passes = 0;
+    let run = std::panic::catch_unwind(AssertUnwindSafe(|| match op {
+        Op::TickOnce => Some(tree.tick_once(ctx)),
+        Op::TickExactlyOnce => Some(tree.tick_exactly_once(ctx)),
+        Op::Halt => {
+            tree.halt(ctx);
+            None
+        }
+    }));
+    match run {
+        Ok(result) => {
+            // Scripted leaves never break a contract; a RunOnce root may be Skipped.
+            if let Some(Err(e)) = &result {
+                prop_assert_eq!(e, &TickError::RootSkipped);
+            }
+            Ok(result)
+        }
+        Err(payload) if payload.is::<Endless>() => Err(TestCaseError::reject("endless tick_once")),
+        Err(payload) => std::panic::resume_unwind(payload),
+    }
+}
+
+/// Keeps the panics that stop endless runs out of the test output.
+fn quiet_endless_panics() {
+    static ONCE: Once = Once::new();
+    ONCE.call_once(|| {
+        let previous = std::panic::take_hook();
+        std::panic::set_hook(Box::new(move |info| {
+            if !info.payload().is::<Endless>() {
+                previous(info);
+            }
+        }));
+    });
+}
+
+/// Follows each stateful leaf's runs through its calls: `open[l]` while a run is open.
+fn follow(open: &mut [bool], events: &[Event]) -> Result<(), String> {
+    for e in events {
+        let l = e.leaf;
+        match e.what {
+            What::Start(s) => {
+                if open[l] {
+                    return Err(format!("{e}: started again while its run was open"));
+                }
+                open[l] = s == Status::Running;
+            }
+            What::Running(s) => {
+                if !open[l] {
+                    return Err(format!("{e}: on_running without an open run"));
+                }
+                open[l] = s == Status::Running;
+            }
+            What::Halted => {
+                if !open[l] {
+                    return Err(format!("{e}: halted without an open run"));
+                }
+                open[l] = false;
+            }
+            What::Tick(_) => {}
+        }
+    }
+    Ok(())
+}
+
+fn stateful_leaves(spec: &Spec) -> Vec<usize> {
+    spec.flatten()
+        .iter()
+        .enumerate()
+        .filter(|(_, f)| f.node == FlatKind::Leaf(LeafKind::Stateful))
+        .map(|(i, _)| i)
+        .collect()
+}
+
+fn check_lifecycle(spec: &Spec, ops: &[Op]) -> Result<(), TestCaseError> {
+    let (mut tree, mut ctx, seen) = start(spec);
+    let leaves = stateful_leaves(spec);
+    let mut open = vec![false; spec.len()];
+    let all = ops.iter().copied().chain([Op::Halt]);
+    for (i, op) in all.enumerate() {
+        step(&mut tree, &mut ctx, &seen, op)?;
+        let events = ctx.take_events();
+        if let Err(e) = follow(&mut open, &events) {
+            return Err(TestCaseError::fail(format!("step {i} ({op:?}): {e}")));
+        }
+        for &l in &leaves {
+            prop_assert_eq!(
+                tree.status(NodeId(l as u32)) == Running,
+                open[l],
+                "step {} ({:?}): leaf L{} stored {} with its run {}",
+                i,
+                op,
+                l,
+                tree.status(NodeId(l as u32)),
+                if open[l] { "open" } else { "closed" }
+            );
+        }
+        if op == Op::Halt {
+            prop_assert!(
+                tree.statuses().iter().all(|s| *s == Idle),
+                "step {} (halt): not all Idle: {:?}",
+                i,
+                tree.statuses()
+            );
+        }
+    }
+    prop_assert!(
+        open.iter().all(|o| !o),
+        "a run is open after the final halt"
+    );
+    Ok(())
+}
+
+fn check_halt_order(spec: &Spec, ops: &[Op]) -> Result<(), TestCaseError> {
+    let (mut tree, mut ctx, seen) = start(spec);
+    let all = ops.iter().copied().chain([Op::Halt]);
+    for (i, op) in all.enumerate() {
+        step(&mut tree, &mut ctx, &seen, op)?;
+        let seen = seen.lock().unwrap();
+        prop_assert!(
+            seen.violations.is_empty(),
+            "step {} ({:?}): {:?}",
+            i,
+            op,
+            seen.violations
+        );
+        prop_assert_eq!(
+            &seen.mirror[..],
+            tree.statuses(),
+            "step {} ({:?}): the observer missed a change",
+            i,
+            op
+        );
+    }
+    Ok(())
+}
+
+/// Where BehaviorTree.CPP leaves a completed status when the root completes: the earlier
+/// children of a SequenceWithMemory that failed (it keeps its place: Success), and the
+/// condition of a two-child IfThenElse that failed (returned without a reset: Failure).
+fn may_stay(tree: &Tree<Ctx>, id: NodeId) -> Option<NodeStatus> {
+    let bp = tree.blueprint();
+    let parent = bp.parent(id)?;
+    match bp.kind(parent) {
+        NodeKind::SequenceWithMemory => Some(Success),
+        NodeKind::IfThenElse if bp.children(parent).len() == 2 && bp.children(parent)[0] == id => {
+            Some(Failure)
+        }
+        _ => None,
+    }
+}
+
+fn check_reset(spec: &Spec, ops: &[Op]) -> Result<(), TestCaseError> {
+    let (mut tree, mut ctx, seen) = start(spec);
+    for (i, &op) in ops.iter().enumerate() {
+        let result = step(&mut tree, &mut ctx, &seen, op)?;
+        if !matches!(result, Some(Ok(Status::Success | Status::Failure))) {
+            continue;
+        }
+        for id in tree.blueprint().ids() {
+            let s = tree.status(id);
+            let allowed = may_stay(&tree, id);
+            prop_assert!(
+                s == Idle || Some(s) == allowed,
+                "step {} ({:?}) returned {:?}: node {} is {}",
+                i,
+                op,
+                result,
+                id.0,
+                s
+            );
+        }
+    }
+    Ok(())
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig {
+        cases: 384,
+        failure_persistence: None,
+        ..ProptestConfig::default()
+    })]
+
+    #[test]
+    fn a_running_stateful_action_completes_or_is_halted_once(
+        spec in common::tree(false),
+        ops in common::ops(),
+    ) {
+        check_lifecycle(&spec, &ops)?;
+    }
+
+    #[test]
+    fn halts_go_children_first(spec in common::tree(false), ops in common::ops()) {
+        check_halt_order(&spec, &ops)?;
+    }
+
+    #[test]
+    fn a_completed_tick_leaves_every_node_idle(
+        spec in common::tree(false),
+        ops in common::ops(),
+    ) {
+        check_reset(&spec, &ops)?;
+    }
+}
+
+// ---- fixed cases ----
+
+const S: Status = Status::Success;
+const F: Status = Status::Failure;
+const R: Status = Status::Running;
+
+fn leaf(script: &[Status]) -> Spec {
+    Spec::Leaf(LeafKind::Stateful, script.to_vec())
+}
+
+/// The checks are not vacuous: a halt through four levels is seen children first.
+#[test]
+fn a_deep_halt_is_seen_children_first() {
+    // Parallel(Sequence(Inverter(L3)), ForceSuccess(L5)), both leaves running.
+    let spec = Spec::Node(
+        Kind::Parallel {
+            success: -1,
+            failure: 1,
+        },
+        vec![
+            Spec::Node(
+                Kind::Sequence,
+                vec![Spec::Node(Kind::Inverter, vec![leaf(&[R])])],
+            ),
+            Spec::Node(Kind::ForceSuccess, vec![leaf(&[R])]),
+        ],
+    );
+    let (mut tree, mut ctx, seen) = start(&spec);
+    assert_eq!(tree.tick_once(&mut ctx), Ok(Status::Running));
+    tree.halt(&mut ctx);
+    let seen = seen.lock().unwrap();
+    assert!(seen.violations.is_empty(), "{:?}", seen.violations);
+    assert_eq!(seen.stops, 6);
+    assert!(tree.statuses().iter().all(|s| *s == Idle));
+    let events: Vec<String> = ctx.take_events().iter().map(ToString::to_string).collect();
+    assert_eq!(
+        events,
+        [
+            "L3 start -> RUNNING",
+            "L5 start -> RUNNING",
+            "L3 halted",
+            "L5 halted"
+        ]
+    );
+}
+
+/// The guard against endless runs works, on a tree that yields on every pass in BT.CPP too:
+/// the AsyncSequence yields, the Parallel then succeeds (halting it) and
+/// KeepRunningUntilFailure turns that success into Running, so the wake-up never ends.
+#[test]
+fn an_endless_tick_once_is_recognised() {
+    let spec = Spec::Node(
+        Kind::KeepRunningUntilFailure,
+        vec![Spec::Node(
+            Kind::Parallel {
+                success: 1,
+                failure: -1,
+            },
+            vec![
+                Spec::Node(Kind::AsyncSequence, vec![leaf(&[S]), leaf(&[S])]),
+                Spec::Leaf(LeafKind::Sync, vec![S]),
+            ],
+        )],
+    );
+    let (mut tree, mut ctx, seen) = start(&spec);
+    assert!(step(&mut tree, &mut ctx, &seen, Op::TickOnce).is_err());
+    assert_eq!(seen.lock().unwrap().passes, MAX_PASSES + 1);
+    // One pass at a time, it is an ordinary Running tree.
+    let (mut tree, mut ctx, seen) = start(&spec);
+    let r = step(&mut tree, &mut ctx, &seen, Op::TickExactlyOnce).unwrap();
+    assert_eq!(r, Some(Ok(Status::Running)));
+    let events: Vec<String> = ctx.take_events().iter().map(ToString::to_string).collect();
+    assert_eq!(events, ["L3 start -> SUCCESS", "L5 tick -> SUCCESS"]);
+}
+
+#[test]
+fn lifecycle_checker_rejects_a_restart_and_a_double_halt() {
+    let mut open = vec![false; 2];
+    let ev = |what| Event { leaf: 1, what };
+    assert!(follow(&mut open, &[ev(What::Start(R)), ev(What::Start(R))]).is_err());
+    let mut open = vec![false; 2];
+    assert!(follow(
+        &mut open,
+        &[ev(What::Start(R)), ev(What::Halted), ev(What::Halted)]
+    )
+    .is_err());
+    let mut open = vec![false; 2];
+    assert!(follow(&mut open, &[ev(What::Start(S)), ev(What::Running(F))]).is_err());
+    let mut open = vec![false; 2];
+    follow(
+        &mut open,
+        &[
+            ev(What::Start(R)),
+            ev(What::Running(S)),
+            ev(What::Start(R)),
+            ev(What::Halted),
+        ],
+    )
+    .unwrap();
+    assert!(!open[1]);
+}
+
+/// BehaviorTree.CPP's `Tree::haltTree()` halts the root and then calls `haltNode()` on every
+/// node ("just in case"), so every stored status is Idle afterwards, including completed
+/// statuses that a control left behind; a StatefulAction reset that way is started afresh on
+/// the next tick.
+#[test]
+fn tree_halt_resets_every_node_as_bt_cpp_halt_tree_does() {
+    // Sequence(IfThenElse(L2, L3), L4). The two-child IfThenElse fails with its condition
+    // and, as in BT.CPP, does not reset it; the Sequence then resets only the IfThenElse.
+    let spec = Spec::Node(
+        Kind::Sequence,
+        vec![
+            Spec::Node(Kind::IfThenElse, vec![leaf(&[F, S]), leaf(&[S])]),
+            leaf(&[S]),
+        ],
+    );
+    let (mut tree, mut ctx, _) = start(&spec);
+    assert_eq!(tree.tick_once(&mut ctx), Ok(Status::Failure));
+    assert_eq!(tree.statuses(), [Idle, Idle, Failure, Idle, Idle]);
+    // Without a halt the condition's stored Failure is returned again, uncalled (BT.CPP too).
+    assert_eq!(tree.tick_once(&mut ctx), Ok(Status::Failure));
+    let events: Vec<String> = ctx.take_events().iter().map(ToString::to_string).collect();
+    assert_eq!(events, ["L2 start -> FAILURE"]);
+
+    tree.halt(&mut ctx);
+    assert_eq!(
+        tree.statuses(),
+        [Idle, Idle, Idle, Idle, Idle],
+        "Tree::halt left a completed status behind"
+    );
+    assert_eq!(tree.tick_once(&mut ctx), Ok(Status::Success));
+    let events: Vec<String> = ctx.take_events().iter().map(ToString::to_string).collect();
+    assert_eq!(
+        events,
+        [
+            "L2 start -> SUCCESS",
+            "L3 start -> SUCCESS",
+            "L4 start -> SUCCESS"
+        ]
+    );
+}
