@@ -11,6 +11,11 @@
 //!   after a child that completed within the tick).
 //!
 //! A root that completes is reset to Idle, so the next tick starts afresh.
+//!
+//! A wake-up request counts only within the call that received it. (BehaviorTree.CPP keeps a
+//! request made during `tickExactlyOnce`, or during a pass whose root completed, pending
+//! until the next `tickOnce`, which then runs one extra pass; NeuroTree drops it, so the work
+//! of one call never leaks into the next.)
 
 mod error;
 pub(crate) mod ticker;
