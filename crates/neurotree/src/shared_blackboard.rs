@@ -10,9 +10,13 @@ use std::any::Any;
 use std::sync::{Arc, RwLock, RwLockReadGuard, RwLockWriteGuard};
 use std::time::Duration;
 
-use neurotree_core::{Blackboard, BlackboardError, ScopeId};
+use neurotree_core::{Blackboard, BlackboardError, EntryInfo, ScopeId};
 
-/// A [`Blackboard`] behind a lock, cheap to clone and safe to send to other threads.
+/// A [`Blackboard`] behind a lock, cheap to clone and safe to send to other threads. Every
+/// clone is a handle to the same entries.
+///
+/// Each method takes the lock for one operation; to read or write several entries as one
+/// consistent step, hold a guard from [`read`](Self::read) or [`write`](Self::write).
 ///
 /// ```
 /// use neurotree::SharedBlackboard;
@@ -23,6 +27,7 @@ use neurotree_core::{Blackboard, BlackboardError, ScopeId};
 ///     .join()
 ///     .unwrap();
 /// assert_eq!(bb.get::<(f64, f64)>("goal"), Ok((3.0, 4.0)));
+/// assert_eq!(bb.info("goal").map(|i| i.sequence), Some(1));
 /// ```
 #[derive(Clone, Default, Debug)]
 pub struct SharedBlackboard {
@@ -35,14 +40,15 @@ impl SharedBlackboard {
         Self::default()
     }
 
-    /// Read access to the whole blackboard (all scopes).
+    /// Read access to the whole blackboard (all scopes), held until the guard is dropped.
     pub fn read(&self) -> RwLockReadGuard<'_, Blackboard> {
-        // A writer that panicked left the map consistent (each write is one assignment), so
-        // a poisoned lock is still safe to use.
+        // No blackboard operation can be interrupted half-way by a panic, so the data behind
+        // a lock poisoned by a panicking holder is still a valid blackboard: keep going
+        // rather than spreading the panic to every other thread.
         self.inner.read().unwrap_or_else(|e| e.into_inner())
     }
 
-    /// Write access to the whole blackboard.
+    /// Write access to the whole blackboard, held until the guard is dropped.
     pub fn write(&self) -> RwLockWriteGuard<'_, Blackboard> {
         self.inner.write().unwrap_or_else(|e| e.into_inner())
     }
@@ -52,7 +58,7 @@ impl SharedBlackboard {
         self.read().get(key)
     }
 
-    /// Writes `key` in the root scope.
+    /// Writes `key` in the root scope (see [`Blackboard::set`]).
     pub fn set<T: Any + Send + Sync>(&self, key: &str, value: T) -> Result<(), BlackboardError> {
         self.write().set(key, value)
     }
@@ -62,7 +68,7 @@ impl SharedBlackboard {
         self.read().get_in(scope, key)
     }
 
-    /// Writes `key` as seen from `scope`, with the given stamp.
+    /// Writes `key` as seen from `scope`, with the given stamp (see [`Blackboard::set_in`]).
     pub fn set_in<T: Any + Send + Sync>(
         &self,
         scope: ScopeId,
@@ -71,6 +77,12 @@ impl SharedBlackboard {
         stamp: Duration,
     ) -> Result<(), BlackboardError> {
         self.write().set_in(scope, key, value, stamp)
+    }
+
+    /// Sequence number, stamp and type of `key` in the root scope: compare sequence numbers
+    /// to tell whether another thread wrote the entry since you last looked.
+    pub fn info(&self, key: &str) -> Option<EntryInfo> {
+        self.read().info(key)
     }
 }
 
@@ -87,10 +99,15 @@ mod tests {
     use super::*;
 
     #[test]
-    fn two_threads_see_every_write() {
-        const WRITES: u64 = 1000;
+    fn handles_can_be_sent_and_shared() {
+        fn send_sync<T: Send + Sync + 'static>() {}
+        send_sync::<SharedBlackboard>();
+    }
+
+    #[test]
+    fn a_reader_thread_sees_every_write_of_a_writer_thread_in_order() {
+        const WRITES: u64 = 2000;
         let bb = SharedBlackboard::new();
-        bb.set("n", 0_u64).unwrap();
         let writer = bb.clone();
         let reader = bb.clone();
         let w = std::thread::spawn(move || {
@@ -99,41 +116,78 @@ mod tests {
             }
         });
         let r = std::thread::spawn(move || {
-            // Values only grow, whatever interleaving the threads get.
             let mut last = 0;
-            for _ in 0..WRITES {
-                let now = reader.get::<u64>("n").unwrap();
-                assert!(now >= last);
-                last = now;
+            let mut looks = 0_u64;
+            while last < WRITES {
+                let guard = reader.read();
+                match guard.get::<u64>("n") {
+                    Ok(now) => {
+                        // Value and sequence number change under the same lock, so the
+                        // i-th write is seen whole: value i, sequence i.
+                        assert_eq!(guard.info("n").map(|i| i.sequence), Some(now));
+                        assert!(now >= last, "went back from {last} to {now}");
+                        last = now;
+                    }
+                    Err(e) => assert_eq!(e, BlackboardError::NotFound { key: "n".into() }),
+                }
+                drop(guard);
+                looks += 1;
+                if looks % 64 == 0 {
+                    std::thread::yield_now();
+                }
             }
+            last
         });
         w.join().unwrap();
-        r.join().unwrap();
+        assert_eq!(r.join().unwrap(), WRITES);
         assert_eq!(bb.get::<u64>("n"), Ok(WRITES));
-        // One first write plus WRITES updates.
-        assert_eq!(bb.read().info("n").unwrap().sequence, WRITES + 1);
+        assert_eq!(bb.info("n").map(|i| i.sequence), Some(WRITES));
     }
 
     #[test]
     fn a_poisoned_lock_still_works() {
         let bb = SharedBlackboard::new();
+        bb.set("k", 1_u8).unwrap();
         let clone = bb.clone();
-        let _ = std::thread::spawn(move || {
-            let _guard = clone.write();
+        let panicked = std::thread::spawn(move || {
+            let mut guard = clone.write();
+            guard.set("k", 2_u8).unwrap();
             panic!("a writer fails while holding the lock");
         })
         .join();
-        bb.set("k", 1_u8).unwrap();
-        assert_eq!(bb.get::<u8>("k"), Ok(1));
+        assert!(panicked.is_err());
+        assert!(bb.inner.is_poisoned());
+        assert_eq!(bb.get::<u8>("k"), Ok(2));
+        bb.set("k", 3_u8).unwrap();
+        assert_eq!(bb.get::<u8>("k"), Ok(3));
+        assert_eq!(bb.info("k").map(|i| i.sequence), Some(3));
     }
 
     #[test]
-    fn wrong_types_are_errors_across_threads_too() {
-        let bb = SharedBlackboard::from(Blackboard::new());
-        bb.set("k", 1_u8).unwrap();
-        assert!(matches!(
-            bb.get::<i64>("k"),
-            Err(BlackboardError::WrongType { .. })
-        ));
+    fn scoped_access_goes_through_the_handle() {
+        let mut inner = Blackboard::new();
+        let sub = inner.add_scope(ScopeId::ROOT, false);
+        inner.remap(sub, "goal", "target");
+        let bb = SharedBlackboard::from(inner);
+        bb.set_in(sub, "goal", 5_i32, Duration::from_secs(2))
+            .unwrap();
+        assert_eq!(bb.get::<i32>("target"), Ok(5));
+        assert_eq!(bb.get_in::<i32>(sub, "goal"), Ok(5));
+        assert_eq!(
+            bb.info("target").map(|i| i.stamp),
+            Some(Duration::from_secs(2))
+        );
+        assert_eq!(
+            bb.get::<i64>("target"),
+            Err(BlackboardError::WrongType {
+                key: "target".into(),
+                expected: "i64",
+                found: "i32",
+            })
+        );
+        assert_eq!(
+            bb.get_in::<i32>(ScopeId(9), "goal"),
+            Err(BlackboardError::NoSuchScope { scope: 9 })
+        );
     }
 }

@@ -1,41 +1,86 @@
-//! The blackboard: typed entries that nodes share.
+//! The blackboard: typed entries that the nodes of a tree share.
 //!
-//! A blackboard is a key-value store through which leaves exchange data (a goal pose, the
-//! last sensor reading, a retry budget) without knowing about each other. Each entry holds a
-//! value of one Rust type, fixed by its first write, with a sequence number that grows by one
-//! on every write and the time of the last write, so that nodes can tell whether an entry
-//! changed since they last looked.
+//! Behaviors in a tree should not know about each other, yet they must exchange data: a
+//! detector finds an object, a planner turns it into a goal pose, a navigator drives there.
+//! The blackboard is the shared notebook through which they do it. A node writes an entry
+//! under a key; any node that knows the key reads it. In BehaviorTree.CPP XML, the ports of a
+//! node name these keys (`goal="{target_pose}"`), so a tree wires its leaves together
+//! without any of them changing.
 //!
-//! Entries live in **scopes**. The root scope belongs to the tree; every SubTree opens a child
-//! scope so that its keys do not collide with the rest of the tree. A child scope reaches its
-//! parent in three ways, as in BehaviorTree.CPP:
-//! - a **remap** makes a child key an alias of a parent key (`goal` → `target_pose`);
-//! - **autoremap** lets every key the child does not define resolve in the parent, except
-//!   keys starting with `_`, which stay private to the scope;
-//! - a key starting with **`@`** always addresses the root scope, from anywhere.
+//! # Entries
 //!
-//! Reads of a missing key or of the wrong type return a [`BlackboardError`]; nothing panics.
-//! Reads never allocate, and neither does a write to an existing entry: the value is
-//! replaced in place.
+//! An entry holds one Rust value. Its type is fixed by its first write: writing a value of
+//! another type later is an error ([`BlackboardError::WrongType`]), as is reading it as
+//! another type, so a typo in a port cannot silently turn a pose into a string. (Loaders that
+//! must retype an entry, for example to turn a text literal into the type a port declares,
+//! use [`Blackboard::replace_in`].)
+//!
+//! Each entry also carries an [`EntryInfo`]: a sequence number that grows by exactly one on
+//! every write, and the time stamp of the last write. Nodes such as `WasEntryUpdated` and
+//! `WaitValueUpdate` compare sequence numbers to tell whether anything was written since they
+//! last looked, even when the same value was written again.
+//!
+//! # Scopes and remapping
+//!
+//! Entries live in **scopes**. The root scope ([`ScopeId::ROOT`]) belongs to the tree; each
+//! SubTree opens a child scope so that its keys do not collide with those of the rest of the
+//! tree, the way a function's locals do not collide with its caller's. A child scope reaches
+//! its parent in three ways, as in BehaviorTree.CPP:
+//!
+//! - a **remap** makes a child key an alias of a parent key: with `goal` remapped to
+//!   `target_pose`, the subtree reads and writes the parent's `target_pose` when it says
+//!   `goal`. The parent may itself remap that key further up.
+//! - **autoremap** makes every key the child does not store itself resolve in the parent,
+//!   except keys starting with `_`, which stay private to the scope. A write of a key that
+//!   exists nowhere creates it as high as autoremap reaches, so that child and parent share it.
+//! - a key starting with **`@`** always addresses the root scope, from any depth: `@battery`
+//!   is the root's `battery`.
+//!
+//! # Costs and failures
+//!
+//! Reads never allocate, and neither does a write to an existing entry of the same type: the
+//! value is replaced in place. Only the first write of a key allocates (the key and the boxed
+//! value). A missing key, a wrong type or an unknown scope is a [`BlackboardError`]; nothing
+//! panics. Building the error allocates its key, so code that probes for an entry on every
+//! tick should use [`contains_in`](Blackboard::contains_in) or
+//! [`info_in`](Blackboard::info_in), which never do.
+//!
+//! # Example
 //!
 //! ```
-//! use neurotree_core::{Blackboard, BlackboardError, ScopeId};
 //! use core::time::Duration;
+//! use neurotree_core::{Blackboard, BlackboardError, ScopeId};
 //!
 //! let mut bb = Blackboard::new();
 //! bb.set("battery", 87.5_f64).unwrap();
 //! assert_eq!(bb.get::<f64>("battery"), Ok(87.5));
-//! assert!(matches!(bb.get::<i32>("battery"), Err(BlackboardError::WrongType { .. })));
+//! assert_eq!(
+//!     bb.get::<i32>("battery"),
+//!     Err(BlackboardError::WrongType {
+//!         key: "battery".into(),
+//!         expected: "i32",
+//!         found: "f64",
+//!     })
+//! );
 //!
-//! // A subtree scope that calls the parent's `battery` its `level`.
+//! // A subtree scope that calls the root's `battery` its `level`.
 //! let sub = bb.add_scope(ScopeId::ROOT, false);
 //! bb.remap(sub, "level", "battery");
 //! bb.set_in(sub, "level", 42.0_f64, Duration::from_secs(1)).unwrap();
 //! assert_eq!(bb.get::<f64>("battery"), Ok(42.0));
 //! assert_eq!(bb.info("battery").unwrap().sequence, 2);
+//!
+//! // `@` reaches the root from anywhere; other keys stay in the subtree.
+//! bb.set_in(sub, "@mode", "docking", Duration::from_secs(2)).unwrap();
+//! bb.set_in(sub, "retries", 3_u8, Duration::from_secs(2)).unwrap();
+//! assert_eq!(bb.get::<&str>("mode"), Ok("docking"));
+//! assert!(!bb.contains("retries"));
+//! assert_eq!(bb.keys().collect::<Vec<_>>(), ["battery", "mode"]);
 //! ```
 
-use alloc::boxed::Box;
+mod error;
+mod scope;
+
 use alloc::collections::BTreeMap;
 use alloc::string::String;
 use alloc::vec::Vec;
@@ -43,12 +88,16 @@ use core::any::{type_name, Any};
 use core::fmt;
 use core::time::Duration;
 
-/// Index of a scope in a [`Blackboard`]; [`ScopeId::ROOT`] is the tree's own.
+pub use error::BlackboardError;
+use scope::{resolve, Entries, Entry, Links};
+
+/// Index of a scope in a [`Blackboard`], in creation order; [`ScopeId::ROOT`] is the tree's
+/// own.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Default)]
 pub struct ScopeId(pub u32);
 
 impl ScopeId {
-    /// The root scope.
+    /// The root scope, which every blackboard has.
     pub const ROOT: ScopeId = ScopeId(0);
 }
 
@@ -59,191 +108,105 @@ pub struct EntryInfo {
     pub sequence: u64,
     /// The time of the last write, as given by the writer (a node writes its tree's clock).
     pub stamp: Duration,
-    /// The Rust type of the value.
+    /// The Rust type of the value, as [`core::any::type_name`] spells it.
     pub type_name: &'static str,
-}
-
-/// Why a blackboard access failed.
-#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
-pub enum BlackboardError {
-    /// No entry under this key.
-    #[error("no blackboard entry `{key}`: write it before reading it, or remap the key")]
-    NotFound {
-        /// The key as asked.
-        key: String,
-    },
-    /// The entry holds another type.
-    #[error("blackboard entry `{key}` holds a {found}, not a {expected}")]
-    WrongType {
-        /// The key as asked.
-        key: String,
-        /// The type asked for.
-        expected: &'static str,
-        /// The type the entry holds.
-        found: &'static str,
-    },
-    /// The scope does not exist in this blackboard.
-    #[error("blackboard scope {scope} does not exist")]
-    NoSuchScope {
-        /// The scope asked for.
-        scope: u32,
-    },
-}
-
-struct Entry {
-    value: Box<dyn Any + Send + Sync>,
-    info: EntryInfo,
-}
-
-#[derive(Default)]
-struct Scope {
-    parent: Option<ScopeId>,
-    autoremap: bool,
-    /// Entries by slot; a removed entry leaves `None`.
-    slots: Vec<Option<Entry>>,
-    /// Key → slot, sorted by key.
-    index: BTreeMap<String, usize>,
-    /// Child key → parent key.
-    remap: BTreeMap<String, String>,
-}
-
-/// Where a key resolved.
-enum Found<'a> {
-    /// An existing entry: scope and slot.
-    Entry(usize, usize),
-    /// No entry: the scope and key under which a write would create it.
-    Absent(usize, &'a str),
-}
-
-/// Where a write goes.
-enum Target {
-    /// An existing entry: scope and slot.
-    Entry(usize, usize),
-    /// A new entry: scope and key.
-    New(usize, String),
 }
 
 /// Typed, scoped entries shared by the nodes of a tree (see the [module docs](self)).
 #[derive(Default)]
 pub struct Blackboard {
-    /// Scope `i` is `scopes[i]`; the root is created on first use so `new` allocates nothing.
-    scopes: Vec<Scope>,
-    /// The latest stamp written, for the root-scope shorthands that take none.
+    /// `links[i]` belongs to scope `i + 1`; the root has no links.
+    links: Vec<Links>,
+    /// `entries[i]` belongs to scope `i`. Grown on demand, so that `new` allocates nothing
+    /// and a tree that never writes its blackboard never pays for it.
+    entries: Vec<Entries>,
+    /// The latest stamp written, for the shorthands that take none.
     last_stamp: Duration,
 }
 
+/// The entries of scope `s`, created if the vector has not grown that far yet. A free
+/// function, so that it can run while a key resolved from `links` is still borrowed.
+fn entries_mut(entries: &mut Vec<Entries>, s: usize) -> &mut Entries {
+    if entries.len() <= s {
+        entries.resize_with(s + 1, BTreeMap::new);
+    }
+    &mut entries[s]
+}
+
 impl Blackboard {
-    /// An empty blackboard with only its root scope.
+    /// An empty blackboard with only its root scope. Allocates nothing.
     pub const fn new() -> Self {
         Self {
-            scopes: Vec::new(),
+            links: Vec::new(),
+            entries: Vec::new(),
             last_stamp: Duration::ZERO,
         }
     }
 
-    fn ensure_root(&mut self) {
-        if self.scopes.is_empty() {
-            self.scopes.push(Scope::default());
-        }
-    }
-
-    /// Opens a child scope of `parent`; with `autoremap`, keys it does not define resolve in
-    /// the parent (except `_private` ones).
+    /// Opens a child scope of `parent` and returns it; with `autoremap`, keys the child does
+    /// not store resolve in the parent (except `_private` ones).
     ///
-    /// A parent that does not exist is taken to be the root, so that every scope's parent is
-    /// an earlier scope and key resolution always ends.
+    /// A parent that does not exist is taken to be the root. Every scope's parent is thus an
+    /// earlier scope, which is what guarantees that resolving a key always ends.
     pub fn add_scope(&mut self, parent: ScopeId, autoremap: bool) -> ScopeId {
-        self.ensure_root();
-        let parent = if (parent.0 as usize) < self.scopes.len() {
+        let parent = if parent.0 as usize <= self.links.len() {
             parent
         } else {
             ScopeId::ROOT
         };
-        self.scopes.push(Scope {
-            parent: Some(parent),
+        self.links.push(Links {
+            parent,
             autoremap,
-            ..Scope::default()
+            remap: BTreeMap::new(),
         });
-        ScopeId(self.scopes.len() as u32 - 1)
+        ScopeId(u32::try_from(self.links.len()).unwrap_or(u32::MAX))
     }
 
-    /// In `scope`, makes `child_key` an alias of `parent_key` in the parent scope (which may
-    /// itself remap it further; `@key` targets the root). The root scope has no parent, so
-    /// remapping it does nothing.
+    /// In `scope`, makes `child_key` an alias of `parent_key` in the parent scope. The parent
+    /// may remap that key further; a `parent_key` starting with `@` names a root key.
+    ///
+    /// Remapping a key again replaces its target. The root (which has no parent) and unknown
+    /// scopes are left unchanged.
     pub fn remap(&mut self, scope: ScopeId, child_key: &str, parent_key: &str) {
-        if let Some(s) = self.scopes.get_mut(scope.0 as usize) {
-            if s.parent.is_some() {
-                s.remap
-                    .insert(String::from(child_key), String::from(parent_key));
-            }
+        let Some(i) = (scope.0 as usize).checked_sub(1) else {
+            return;
+        };
+        if let Some(l) = self.links.get_mut(i) {
+            l.remap
+                .insert(String::from(child_key), String::from(parent_key));
         }
     }
 
     /// The parent of a scope; `None` for the root or an unknown scope.
     pub fn parent(&self, scope: ScopeId) -> Option<ScopeId> {
-        self.scopes.get(scope.0 as usize).and_then(|s| s.parent)
+        let i = (scope.0 as usize).checked_sub(1)?;
+        self.links.get(i).map(|l| l.parent)
     }
 
     /// Number of scopes, the root included.
     pub fn scope_count(&self) -> usize {
-        self.scopes.len().max(1)
+        self.links.len() + 1
     }
 
-    /// Follows `@`, remaps and autoremap from `scope` to where `key` lives, or to where a
-    /// write would create it.
-    fn resolve<'a>(&'a self, scope: ScopeId, key: &'a str) -> Result<Found<'a>, BlackboardError> {
-        if scope != ScopeId::ROOT && scope.0 as usize >= self.scopes.len() {
-            return Err(BlackboardError::NoSuchScope { scope: scope.0 });
-        }
-        let (mut at, mut key) = match key.strip_prefix('@') {
-            Some(rooted) => (0, rooted),
-            None => (scope.0 as usize, key),
-        };
-        // Every step moves to an earlier scope (see `add_scope`), so this ends.
-        loop {
-            let Some(s) = self.scopes.get(at) else {
-                // Only the lazily created root can be missing.
-                return Ok(Found::Absent(0, key));
-            };
-            if let Some(target) = s.remap.get(key) {
-                match target.strip_prefix('@') {
-                    Some(rooted) => {
-                        at = 0;
-                        key = rooted;
-                    }
-                    // A scope with a remap has a parent: `remap` skips the root.
-                    None => {
-                        at = s.parent.map_or(0, |p| p.0 as usize);
-                        key = target;
-                    }
-                }
-                continue;
-            }
-            if let Some(&slot) = s.index.get(key) {
-                return Ok(Found::Entry(at, slot));
-            }
-            match s.parent {
-                Some(p) if s.autoremap && !key.starts_with('_') => at = p.0 as usize,
-                _ => return Ok(Found::Absent(at, key)),
-            }
-        }
+    /// The entry `key` resolves to from `scope`, if any.
+    fn entry(&self, scope: ScopeId, key: &str) -> Option<&Entry> {
+        let (s, k) = resolve(&self.links, &self.entries, scope, key)?;
+        self.entries.get(s)?.get(k)
     }
 
-    /// `resolve` for a write: the key's name is owned, so that the blackboard can then be
-    /// changed (only a first write, which creates the entry, allocates).
-    fn resolve_for_write(&self, scope: ScopeId, key: &str) -> Result<Target, BlackboardError> {
-        Ok(match self.resolve(scope, key)? {
-            Found::Entry(s, slot) => Target::Entry(s, slot),
-            Found::Absent(s, name) => Target::New(s, String::from(name)),
-        })
+    /// [`entry`](Self::entry), with the reason when there is none.
+    fn entry_or_err(&self, scope: ScopeId, key: &str) -> Result<&Entry, BlackboardError> {
+        self.entry(scope, key)
+            .ok_or_else(|| self.missing(scope, key))
     }
 
-    fn entry_in(&self, scope: ScopeId, key: &str) -> Result<&Entry, BlackboardError> {
-        match self.resolve(scope, key)? {
-            Found::Entry(s, slot) => self.scopes[s].slots[slot]
-                .as_ref()
-                .ok_or_else(|| not_found(key)),
-            Found::Absent(..) => Err(not_found(key)),
+    fn missing(&self, scope: ScopeId, key: &str) -> BlackboardError {
+        if scope.0 as usize > self.links.len() {
+            BlackboardError::NoSuchScope { scope: scope.0 }
+        } else {
+            BlackboardError::NotFound {
+                key: String::from(key),
+            }
         }
     }
 
@@ -254,28 +217,27 @@ impl Blackboard {
 
     /// Borrows `key` as seen from `scope`.
     pub fn get_ref_in<T: Any>(&self, scope: ScopeId, key: &str) -> Result<&T, BlackboardError> {
-        let entry = self.entry_in(scope, key)?;
+        let entry = self.entry_or_err(scope, key)?;
         entry
             .value
             .downcast_ref::<T>()
-            .ok_or_else(|| BlackboardError::WrongType {
-                key: String::from(key),
-                expected: type_name::<T>(),
-                found: entry.info.type_name,
-            })
+            .ok_or_else(|| wrong_type::<T>(key, entry))
     }
 
-    /// Borrows `key` as seen from `scope`, whatever its type.
+    /// Borrows `key` as seen from `scope`, whatever its type (for loggers and for code that
+    /// tries several types).
     pub fn get_any_in(&self, scope: ScopeId, key: &str) -> Option<&(dyn Any + Send + Sync)> {
-        self.entry_in(scope, key).ok().map(|e| &*e.value)
+        self.entry(scope, key).map(|e| &*e.value)
     }
 
-    /// Writes `key` as seen from `scope` (a remapped key writes the parent's entry).
+    /// Writes `key` as seen from `scope`, stamped `stamp`.
     ///
-    /// An existing entry of the same type is overwritten in place, without allocating; an
-    /// entry of another type is left alone and [`BlackboardError::WrongType`] returned, since
-    /// an entry's type is fixed by its first write. Every write bumps the entry's sequence
-    /// number and sets its stamp.
+    /// The write lands where the key resolves (see the [module docs](self)): a remapped key
+    /// writes the parent's entry; a key that exists nowhere is created as high as autoremap
+    /// reaches. An existing entry of the same type is overwritten in place, without
+    /// allocating; one of another type is left unchanged and
+    /// [`BlackboardError::WrongType`] returned. Every write bumps the entry's sequence number
+    /// by one and sets its stamp.
     pub fn set_in<T: Any + Send + Sync>(
         &mut self,
         scope: ScopeId,
@@ -283,36 +245,29 @@ impl Blackboard {
         value: T,
         stamp: Duration,
     ) -> Result<(), BlackboardError> {
-        let found = self.resolve_for_write(scope, key)?;
-        self.last_stamp = self.last_stamp.max(stamp);
-        match found {
-            Target::Entry(s, slot) => {
-                let Some(entry) = self.scopes[s].slots[slot].as_mut() else {
-                    return Err(not_found(key));
+        let Some((s, k)) = resolve(&self.links, &self.entries, scope, key) else {
+            return Err(BlackboardError::NoSuchScope { scope: scope.0 });
+        };
+        let entries = entries_mut(&mut self.entries, s);
+        match entries.get_mut(k) {
+            Some(entry) => {
+                let Some(slot) = entry.value.downcast_mut::<T>() else {
+                    return Err(wrong_type::<T>(key, entry));
                 };
-                match entry.value.downcast_mut::<T>() {
-                    Some(v) => {
-                        *v = value;
-                        entry.info.sequence += 1;
-                        entry.info.stamp = stamp;
-                        Ok(())
-                    }
-                    None => Err(BlackboardError::WrongType {
-                        key: String::from(key),
-                        expected: type_name::<T>(),
-                        found: entry.info.type_name,
-                    }),
-                }
+                *slot = value;
+                entry.touch(stamp);
             }
-            Target::New(s, name) => {
-                self.insert(s, name, Box::new(value), type_name::<T>(), 1, stamp);
-                Ok(())
+            None => {
+                entries.insert(String::from(k), Entry::new(value, stamp));
             }
         }
+        self.last_stamp = self.last_stamp.max(stamp);
+        Ok(())
     }
 
-    /// Writes `key` as seen from `scope` whatever the type it held, e.g. to turn a text
-    /// literal into the type a port declares. The sequence number still grows by one.
+    /// Writes `key` as seen from `scope` whatever type its entry held, and fixes the entry's
+    /// type to `T` from now on; the sequence number still grows by one. For loaders that turn
+    /// a text entry into the type a port declares. An unknown scope is ignored.
     pub fn replace_in<T: Any + Send + Sync>(
         &mut self,
         scope: ScopeId,
@@ -320,72 +275,51 @@ impl Blackboard {
         value: T,
         stamp: Duration,
     ) {
-        let Ok(found) = self.resolve_for_write(scope, key) else {
+        let Some((s, k)) = resolve(&self.links, &self.entries, scope, key) else {
             return;
         };
-        self.last_stamp = self.last_stamp.max(stamp);
-        match found {
-            Target::Entry(s, slot) => {
-                if let Some(entry) = self.scopes[s].slots[slot].as_mut() {
-                    entry.value = Box::new(value);
-                    entry.info.type_name = type_name::<T>();
-                    entry.info.sequence += 1;
-                    entry.info.stamp = stamp;
-                }
+        let entries = entries_mut(&mut self.entries, s);
+        match entries.get_mut(k) {
+            Some(entry) => {
+                let sequence = entry.info.sequence;
+                *entry = Entry::new(value, stamp);
+                entry.info.sequence = sequence.wrapping_add(1);
             }
-            Target::New(s, name) => {
-                self.insert(s, name, Box::new(value), type_name::<T>(), 1, stamp)
+            None => {
+                entries.insert(String::from(k), Entry::new(value, stamp));
             }
         }
+        self.last_stamp = self.last_stamp.max(stamp);
     }
 
-    fn insert(
-        &mut self,
-        scope: usize,
-        key: String,
-        value: Box<dyn Any + Send + Sync>,
-        type_name: &'static str,
-        sequence: u64,
-        stamp: Duration,
-    ) {
-        self.ensure_root();
-        let s = &mut self.scopes[scope];
-        let info = EntryInfo {
-            sequence,
-            stamp,
-            type_name,
-        };
-        s.index.insert(key, s.slots.len());
-        s.slots.push(Some(Entry { value, info }));
-    }
-
-    /// Removes `key` as seen from `scope`; `true` if there was an entry.
+    /// Removes the entry `key` resolves to from `scope` (a remapped key removes the parent's
+    /// entry); `true` if there was one. Remaps stay.
     pub fn unset_in(&mut self, scope: ScopeId, key: &str) -> bool {
-        let Ok(Found::Entry(s, slot)) = self.resolve(scope, key) else {
+        let Some((s, k)) = resolve(&self.links, &self.entries, scope, key) else {
             return false;
         };
-        let scope = &mut self.scopes[s];
-        scope.slots[slot] = None;
-        scope.index.retain(|_, v| *v != slot);
-        true
+        self.entries
+            .get_mut(s)
+            .is_some_and(|e| e.remove(k).is_some())
     }
 
     /// `true` if `key` resolves to an entry from `scope`.
     pub fn contains_in(&self, scope: ScopeId, key: &str) -> bool {
-        self.entry_in(scope, key).is_ok()
+        self.entry(scope, key).is_some()
     }
 
-    /// Sequence number, stamp and type of `key` as seen from `scope`.
+    /// Sequence number, stamp and type of the entry `key` resolves to from `scope`.
     pub fn info_in(&self, scope: ScopeId, key: &str) -> Option<EntryInfo> {
-        self.entry_in(scope, key).ok().map(|e| e.info)
+        self.entry(scope, key).map(|e| e.info)
     }
 
-    /// The keys stored in `scope` itself (not those it remaps), sorted.
+    /// The keys stored in `scope` itself (not those it remaps or reaches by autoremap),
+    /// sorted.
     pub fn keys_in(&self, scope: ScopeId) -> impl Iterator<Item = &str> + '_ {
-        self.scopes
+        self.entries
             .get(scope.0 as usize)
             .into_iter()
-            .flat_map(|s| s.index.keys().map(String::as_str))
+            .flat_map(|e| e.keys().map(String::as_str))
     }
 
     /// Reads a copy of `key` in the root scope.
@@ -398,8 +332,9 @@ impl Blackboard {
         self.get_ref_in(ScopeId::ROOT, key)
     }
 
-    /// Writes `key` in the root scope, stamped with the latest stamp this blackboard saw
-    /// (trees stamp their writes with their clock; use [`set_in`](Self::set_in) to choose).
+    /// Writes `key` in the root scope, stamped with the latest stamp this blackboard has
+    /// seen (trees stamp their writes with their clock; use [`set_in`](Self::set_in) to
+    /// choose the stamp).
     pub fn set<T: Any + Send + Sync>(
         &mut self,
         key: &str,
@@ -429,33 +364,47 @@ impl Blackboard {
         self.keys_in(ScopeId::ROOT)
     }
 
-    /// Removes every entry of every scope; scopes and remaps stay.
+    /// Removes every entry of every scope; the scopes and their remaps stay, so a tree can
+    /// start a new run on the same wiring.
     pub fn clear(&mut self) {
-        for s in &mut self.scopes {
-            s.slots.clear();
-            s.index.clear();
+        for e in &mut self.entries {
+            e.clear();
         }
     }
 }
 
-fn not_found(key: &str) -> BlackboardError {
-    BlackboardError::NotFound {
+fn wrong_type<T: Any>(key: &str, entry: &Entry) -> BlackboardError {
+    BlackboardError::WrongType {
         key: String::from(key),
+        expected: type_name::<T>(),
+        found: entry.info.type_name,
     }
 }
 
+/// Prints each scope's entries (key, type and sequence number) and remaps, not the values,
+/// which need not be `Debug`.
 impl fmt::Debug for Blackboard {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let mut map = f.debug_map();
-        for (i, s) in self.scopes.iter().enumerate() {
-            for (key, &slot) in &s.index {
-                if let Some(e) = &s.slots[slot] {
+        struct ScopeView<'a>(Option<&'a Entries>, Option<&'a Links>);
+        impl fmt::Debug for ScopeView<'_> {
+            fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+                let mut map = f.debug_map();
+                for (key, e) in self.0.into_iter().flatten() {
                     map.entry(
-                        &format_args!("{i}:{key}"),
+                        key,
                         &format_args!("{} #{}", e.info.type_name, e.info.sequence),
                     );
                 }
+                for (child, parent) in self.1.into_iter().flat_map(|l| &l.remap) {
+                    map.entry(child, &format_args!("-> {parent:?}"));
+                }
+                map.finish()
             }
+        }
+        let mut map = f.debug_map();
+        for s in 0..self.scope_count() {
+            let links = s.checked_sub(1).map(|i| &self.links[i]);
+            map.entry(&s, &ScopeView(self.entries.get(s), links));
         }
         map.finish()
     }

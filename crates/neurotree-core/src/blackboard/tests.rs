@@ -33,7 +33,11 @@ fn wrong_type_reads_and_writes_are_errors() {
             found: "i64"
         }
     );
-    assert_eq!(e.to_string(), "blackboard entry `n` holds a i64, not a f64");
+    assert_eq!(
+        e.to_string(),
+        "blackboard entry `n` holds a `i64`, not a `f64`: an entry's type is fixed by its \
+         first write, so use `i64`, or unset the entry before writing another type"
+    );
     assert!(matches!(
         bb.set("n", 1.5_f64),
         Err(BlackboardError::WrongType {
@@ -166,7 +170,97 @@ fn unknown_scopes_are_errors() {
 fn new_is_empty_and_debug_lists_entries() {
     let mut bb = Blackboard::new();
     assert_eq!(bb.scope_count(), 1);
-    assert_eq!(alloc::format!("{bb:?}"), "{}");
+    assert_eq!(alloc::format!("{bb:?}"), "{0: {}}");
     bb.set("k", vec![1_u8]).unwrap();
-    assert!(alloc::format!("{bb:?}").contains("0:k"));
+    bb.set("k", vec![2_u8]).unwrap();
+    let sub = bb.add_scope(ScopeId::ROOT, false);
+    bb.remap(sub, "alias", "k");
+    assert_eq!(
+        alloc::format!("{bb:?}"),
+        r#"{0: {"k": alloc::vec::Vec<u8> #2}, 1: {"alias": -> "k"}}"#
+    );
+}
+
+#[test]
+fn set_and_unset_cycles_do_not_grow_the_store() {
+    let mut bb = Blackboard::new();
+    let sub = bb.add_scope(ScopeId::ROOT, false);
+    for i in 0..1000_u32 {
+        bb.set_in(sub, "k", i, T1).unwrap();
+        assert!(bb.unset_in(sub, "k"));
+    }
+    bb.set_in(sub, "k", 7_u32, T1).unwrap();
+    assert_eq!(bb.entries.iter().map(BTreeMap::len).sum::<usize>(), 1);
+    // A key created again starts a new life: its sequence restarts at 1.
+    assert_eq!(bb.info_in(sub, "k").map(|i| i.sequence), Some(1));
+}
+
+#[test]
+fn unset_through_a_remap_removes_the_parent_entry() {
+    let mut bb = Blackboard::new();
+    bb.set("target", 1_i32).unwrap();
+    let sub = bb.add_scope(ScopeId::ROOT, false);
+    bb.remap(sub, "goal", "target");
+    assert!(bb.unset_in(sub, "goal"));
+    assert!(!bb.contains("target"));
+    assert!(!bb.unset_in(sub, "goal"));
+    assert!(!bb.unset_in(ScopeId(9), "goal"));
+    // The remap itself stays.
+    bb.set_in(sub, "goal", 2_i32, T2).unwrap();
+    assert_eq!(bb.get::<i32>("target"), Ok(2));
+}
+
+#[test]
+fn autoremap_creates_missing_keys_as_high_as_it_reaches() {
+    let mut bb = Blackboard::new();
+    let plain = bb.add_scope(ScopeId::ROOT, false);
+    let auto1 = bb.add_scope(plain, true);
+    let auto2 = bb.add_scope(auto1, true);
+    bb.set_in(auto2, "k", 1_u8, T1).unwrap();
+    // Autoremap stops at `plain`, which does not autoremap into the root.
+    assert_eq!(bb.keys_in(plain).collect::<Vec<_>>(), ["k"]);
+    assert_eq!(bb.keys_in(auto1).count(), 0);
+    assert_eq!(bb.keys_in(auto2).count(), 0);
+    assert!(!bb.contains("k"));
+    // All three see the same entry.
+    bb.set_in(plain, "k", 2_u8, T2).unwrap();
+    assert_eq!(bb.get_in::<u8>(auto2, "k"), Ok(2));
+    assert_eq!(bb.info_in(auto1, "k").map(|i| i.sequence), Some(2));
+}
+
+#[test]
+fn same_named_keys_in_unlinked_scopes_are_distinct() {
+    let mut bb = Blackboard::new();
+    let auto = bb.add_scope(ScopeId::ROOT, true);
+    let plain = bb.add_scope(ScopeId::ROOT, false);
+    bb.set("k", 1_i32).unwrap();
+    bb.set("_p", 1_i32).unwrap();
+    bb.set_in(plain, "k", 5_i32, T1).unwrap();
+    bb.set_in(auto, "_p", 6_i32, T1).unwrap();
+    assert_eq!(bb.get::<i32>("k"), Ok(1));
+    assert_eq!(bb.get::<i32>("_p"), Ok(1));
+    assert_eq!(bb.get_in::<i32>(plain, "k"), Ok(5));
+    assert_eq!(bb.get_in::<i32>(auto, "_p"), Ok(6));
+    assert_eq!(bb.get_in::<i32>(auto, "k"), Ok(1));
+}
+
+#[test]
+fn get_any_sees_every_type_and_nothing_else() {
+    let mut bb = Blackboard::new();
+    bb.set("n", 4_u16).unwrap();
+    let any = bb.get_any_in(ScopeId::ROOT, "n").unwrap();
+    assert_eq!(any.downcast_ref::<u16>(), Some(&4));
+    assert!(bb.get_any_in(ScopeId::ROOT, "m").is_none());
+    assert!(bb.get_any_in(ScopeId(3), "n").is_none());
+}
+
+#[test]
+fn the_shorthand_set_reuses_the_latest_stamp() {
+    let mut bb = Blackboard::new();
+    bb.set("a", 1_u8).unwrap();
+    assert_eq!(bb.info("a").unwrap().stamp, Duration::ZERO);
+    bb.set_in(ScopeId::ROOT, "b", 1_u8, T2).unwrap();
+    bb.set_in(ScopeId::ROOT, "c", 1_u8, T1).unwrap();
+    bb.set("a", 2_u8).unwrap();
+    assert_eq!(bb.info("a").unwrap().stamp, T2);
 }
