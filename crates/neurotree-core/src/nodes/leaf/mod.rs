@@ -96,22 +96,35 @@ impl<'a, C> Handle<'a, C> {
         };
         match &binding.value {
             PortValue::Literal(text) => convert(text),
-            PortValue::Entry(key) => match self.blackboard.get_ref_in::<T>(self.scope, key) {
-                Ok(value) => Ok(value.clone()),
-                Err(source @ BlackboardError::WrongType { .. }) => {
-                    match self.blackboard.get_ref_in::<String>(self.scope, key) {
-                        Ok(text) => convert(text),
-                        Err(_) => Err(PortError::Blackboard {
-                            port: String::from(port),
-                            source,
+            PortValue::Entry(key) => {
+                // Typed first, then text; probing with `get_any_in` builds no error (and so
+                // allocates nothing) on the way.
+                let Some(any) = self.blackboard.get_any_in(self.scope, key) else {
+                    let source = self.blackboard.get_ref_in::<T>(self.scope, key).err();
+                    return Err(PortError::Blackboard {
+                        port: String::from(port),
+                        source: source.unwrap_or(BlackboardError::NotFound {
+                            key: String::from(key.as_str()),
                         }),
-                    }
+                    });
+                };
+                if let Some(value) = any.downcast_ref::<T>() {
+                    return Ok(value.clone());
                 }
-                Err(source) => Err(PortError::Blackboard {
+                if let Some(text) = any.downcast_ref::<String>() {
+                    return convert(text);
+                }
+                Err(PortError::Blackboard {
                     port: String::from(port),
-                    source,
-                }),
-            },
+                    source: self
+                        .blackboard
+                        .get_ref_in::<T>(self.scope, key)
+                        .err()
+                        .unwrap_or(BlackboardError::NotFound {
+                            key: String::from(key.as_str()),
+                        }),
+                })
+            }
         }
     }
 
