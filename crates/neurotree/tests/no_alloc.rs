@@ -175,6 +175,7 @@ fn every_node() -> Arc<neurotree::Blueprint<World>> {
     let scope = SubTreeScope {
         remap: vec![("inner_count".into(), "count".into())],
         autoremap: true,
+        values: vec![],
     };
     Builder::<World>::new()
         .parallel_all("root", -1, |p| {

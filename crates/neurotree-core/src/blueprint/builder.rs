@@ -715,6 +715,7 @@ mod tests {
         let scope = SubTreeScope {
             remap: alloc::vec![("goal".into(), "target".into())],
             autoremap: false,
+            values: Vec::new(),
         };
         let bp = Builder::<()>::new()
             .sequence("root", |s| {

@@ -100,6 +100,9 @@ pub struct SubTreeScope {
     pub remap: Vec<(String, String)>,
     /// Keys the child does not define resolve in the parent (except `_private` ones).
     pub autoremap: bool,
+    /// `(child_key, text)`: entries the child scope starts with, as text (a literal port
+    /// of a SubTree in XML); readers convert them to their type.
+    pub values: Vec<(String, String)>,
 }
 
 /// A user-defined control or decorator: its arity, its type name and how to make it.

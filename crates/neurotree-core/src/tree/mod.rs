@@ -68,6 +68,9 @@ impl<C> Tree<C> {
             for (child_key, parent_key) in &scope.remap {
                 blackboard.remap(id, child_key, parent_key);
             }
+            for (child_key, text) in &scope.values {
+                blackboard.replace_in(id, child_key, text.clone(), Duration::ZERO);
+            }
         }
         Self {
             statuses: vec![NodeStatus::Idle; blueprint.len()].into_boxed_slice(),

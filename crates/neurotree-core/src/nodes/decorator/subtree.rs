@@ -41,6 +41,7 @@ mod tests {
         let scope = SubTreeScope {
             remap: vec![("goal".into(), "target".into())],
             autoremap: false,
+            values: vec![],
         };
         let mut lab = Lab::new(&[]);
         let mut tree = lab.tree(|b| {
@@ -58,5 +59,22 @@ mod tests {
         assert!(!tree.blackboard().contains("local"));
         let inner = tree.subtree_scope(NodeId(1)).unwrap();
         assert_eq!(tree.blackboard().get_in::<i64>(inner, "local"), Ok(1));
+    }
+
+    #[test]
+    fn literal_values_seed_the_child_scope() {
+        let scope = SubTreeScope {
+            remap: vec![],
+            autoremap: false,
+            values: vec![("speed".into(), "0.5".into())],
+        };
+        let mut lab = Lab::new(&[]);
+        let tree = lab.tree(|b| b.subtree("sub", scope, |t| t.always_success("x")));
+        let inner = tree.subtree_scope(NodeId(0)).unwrap();
+        assert_eq!(
+            tree.blackboard().get_in::<String>(inner, "speed"),
+            Ok(String::from("0.5"))
+        );
+        assert!(!tree.blackboard().contains("speed"));
     }
 }
