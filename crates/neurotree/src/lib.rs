@@ -10,7 +10,12 @@ pub use neurotree_core::*;
 
 pub mod bench_trees;
 mod readme;
+pub mod registry;
 pub mod render;
+pub mod script;
 mod shared_blackboard;
+pub mod xml;
 
+pub use registry::{PortDirection, PortSpec, Registry, RegistryError};
 pub use shared_blackboard::SharedBlackboard;
+pub use xml::{LoadError, XmlLoader};

@@ -71,7 +71,8 @@ pub enum Arity {
 }
 
 impl Arity {
-    pub(crate) fn accepts(self, n: u32) -> bool {
+    /// `true` if a node of this arity may have `n` children.
+    pub fn accepts(self, n: u32) -> bool {
         match self {
             Arity::Leaf => n == 0,
             Arity::One => n == 1,

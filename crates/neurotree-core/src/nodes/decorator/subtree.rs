@@ -68,7 +68,7 @@ mod tests {
             autoremap: false,
             values: vec![("speed".into(), "0.5".into())],
         };
-        let mut lab = Lab::new(&[]);
+        let lab = Lab::new(&[]);
         let tree = lab.tree(|b| b.subtree("sub", scope, |t| t.always_success("x")));
         let inner = tree.subtree_scope(NodeId(0)).unwrap();
         assert_eq!(

@@ -1,0 +1,518 @@
+//! The registry (the seeds' factory): node types by name, with their ports.
+//!
+//! A BehaviorTree.CPP file names node types (`<MoveBase goal="{target}"/>`); the registry
+//! says what each name is. It starts with every built-in node of the engine under its
+//! BehaviorTree.CPP name, and the user adds leaves: a stateful action, a sync action or a
+//! condition, each with the ports it reads and writes. Port declarations let the loader
+//! reject an unknown attribute or a literal that does not convert, before anything runs.
+
+use std::collections::BTreeMap;
+use std::fmt;
+use std::sync::Arc;
+
+use neurotree_core::{
+    Category, FromPortStr, Handle, NodeKind, ParallelPolicy, StatefulAction, Status,
+};
+
+/// Which way a port carries data.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PortDirection {
+    /// Read by the node.
+    Input,
+    /// Written by the node.
+    Output,
+    /// Both.
+    InOut,
+}
+
+impl PortDirection {
+    /// The element name BehaviorTree.CPP's `TreeNodesModel` uses.
+    pub fn model_tag(self) -> &'static str {
+        match self {
+            PortDirection::Input => "input_port",
+            PortDirection::Output => "output_port",
+            PortDirection::InOut => "inout_port",
+        }
+    }
+}
+
+/// A declared port: name, direction, type, default and description.
+#[derive(Clone)]
+pub struct PortSpec {
+    /// The attribute name.
+    pub name: String,
+    /// Which way it carries data.
+    pub direction: PortDirection,
+    /// The Rust type it converts to.
+    pub type_name: &'static str,
+    /// Text used when the attribute is absent.
+    pub default: Option<String>,
+    /// What it is for.
+    pub description: String,
+    /// `true` if a literal converts to the port's type.
+    check: Option<fn(&str) -> bool>,
+}
+
+impl PortSpec {
+    /// An input port of type `T`.
+    pub fn input<T: FromPortStr + 'static>(name: &str) -> Self {
+        Self::new::<T>(name, PortDirection::Input)
+    }
+
+    /// An output port of type `T`.
+    pub fn output<T: 'static>(name: &str) -> Self {
+        Self {
+            name: name.to_string(),
+            direction: PortDirection::Output,
+            type_name: std::any::type_name::<T>(),
+            default: None,
+            description: String::new(),
+            check: None,
+        }
+    }
+
+    /// A port read and written, of type `T`.
+    pub fn inout<T: FromPortStr + 'static>(name: &str) -> Self {
+        Self::new::<T>(name, PortDirection::InOut)
+    }
+
+    fn new<T: FromPortStr + 'static>(name: &str, direction: PortDirection) -> Self {
+        Self {
+            name: name.to_string(),
+            direction,
+            type_name: std::any::type_name::<T>(),
+            default: None,
+            description: String::new(),
+            check: Some(|text| T::from_port_str(text).is_ok()),
+        }
+    }
+
+    /// With a default value (as text).
+    pub fn default_value(mut self, text: &str) -> Self {
+        self.default = Some(text.to_string());
+        self
+    }
+
+    /// With a description.
+    pub fn describe(mut self, text: &str) -> Self {
+        self.description = text.to_string();
+        self
+    }
+
+    /// `true` if `text` converts to the port's type (always for types without a check).
+    pub fn accepts(&self, text: &str) -> bool {
+        self.check.map_or(true, |check| check(text))
+    }
+}
+
+impl fmt::Debug for PortSpec {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("PortSpec")
+            .field("name", &self.name)
+            .field("direction", &self.direction)
+            .field("type_name", &self.type_name)
+            .field("default", &self.default)
+            .finish()
+    }
+}
+
+/// The built-in nodes the loader knows how to build from their ports.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum BuiltIn {
+    Sequence,
+    SequenceWithMemory,
+    ReactiveSequence,
+    Fallback,
+    ReactiveFallback,
+    AsyncSequence,
+    AsyncFallback,
+    Parallel,
+    ParallelAll,
+    IfThenElse,
+    WhileDoElse,
+    TryCatch,
+    Inverter,
+    ForceSuccess,
+    ForceFailure,
+    Repeat,
+    RetryUntilSuccessful,
+    KeepRunningUntilFailure,
+    Delay,
+    Timeout,
+    Cooldown,
+    RunOnce,
+    AlwaysSuccess,
+    AlwaysFailure,
+    Sleep,
+}
+
+/// Makes the per-node part of a leaf.
+pub(crate) type LeafMaker<C> = Arc<dyn Fn() -> NodeKind<C> + Send + Sync>;
+
+/// How a registered type becomes a node.
+#[derive(Clone)]
+pub(crate) enum Make<C> {
+    BuiltIn(BuiltIn),
+    Leaf(LeafMaker<C>),
+}
+
+/// A registered node type.
+#[derive(Clone)]
+pub struct NodeType<C> {
+    /// The XML name.
+    pub name: String,
+    /// Its family.
+    pub category: Category,
+    /// Its ports.
+    pub ports: Vec<PortSpec>,
+    /// What it does.
+    pub description: String,
+    pub(crate) make: Make<C>,
+}
+
+impl<C> NodeType<C> {
+    /// The port named `name`.
+    pub fn port(&self, name: &str) -> Option<&PortSpec> {
+        self.ports.iter().find(|p| p.name == name)
+    }
+}
+
+/// Why a registration was refused.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum RegistryError {
+    /// The name is taken.
+    #[error("a node type named `{0}` is already registered; pick another name")]
+    Duplicate(String),
+}
+
+/// Node types by name: the built-ins, and the user's leaves.
+pub struct Registry<C> {
+    types: BTreeMap<String, NodeType<C>>,
+}
+
+impl<C: 'static> Default for Registry<C> {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl<C: 'static> Registry<C> {
+    /// A registry holding every built-in node under its BehaviorTree.CPP name.
+    pub fn new() -> Self {
+        let mut r = Self {
+            types: BTreeMap::new(),
+        };
+        for (name, category, built_in, ports) in built_ins() {
+            let t = NodeType {
+                name: name.to_string(),
+                category,
+                ports,
+                description: String::new(),
+                make: Make::BuiltIn(built_in),
+            };
+            r.types.insert(name.to_string(), t);
+        }
+        r
+    }
+
+    fn insert(&mut self, t: NodeType<C>) -> Result<(), RegistryError> {
+        if self.types.contains_key(&t.name) {
+            return Err(RegistryError::Duplicate(t.name));
+        }
+        self.types.insert(t.name.clone(), t);
+        Ok(())
+    }
+
+    /// Registers a stateful action: `make` builds one object per tree instance.
+    pub fn register_stateful<S, F>(
+        &mut self,
+        name: &str,
+        ports: Vec<PortSpec>,
+        make: F,
+    ) -> Result<(), RegistryError>
+    where
+        S: StatefulAction<C> + 'static,
+        F: Fn() -> S + Send + Sync + 'static,
+    {
+        let make = Arc::new(make);
+        let leaf: LeafMaker<C> = Arc::new(move || {
+            let make = Arc::clone(&make);
+            NodeKind::Stateful(Box::new(move || -> Box<dyn StatefulAction<C>> {
+                Box::new(make())
+            }))
+        });
+        self.insert(NodeType {
+            name: name.to_string(),
+            category: Category::Action,
+            ports,
+            description: String::new(),
+            make: Make::Leaf(leaf),
+        })
+    }
+
+    /// Registers a sync action: it completes within the tick.
+    pub fn register_action<F>(
+        &mut self,
+        name: &str,
+        ports: Vec<PortSpec>,
+        f: F,
+    ) -> Result<(), RegistryError>
+    where
+        F: Fn(&mut Handle<'_, C>) -> Status + Send + Sync + 'static,
+    {
+        let f = Arc::new(f);
+        let leaf: LeafMaker<C> =
+            Arc::new(move || NodeKind::Action(Box::new(SharedAction(Arc::clone(&f)))));
+        self.insert(NodeType {
+            name: name.to_string(),
+            category: Category::Action,
+            ports,
+            description: String::new(),
+            make: Make::Leaf(leaf),
+        })
+    }
+
+    /// Registers a condition: Success or Failure, never Running.
+    pub fn register_condition<F>(
+        &mut self,
+        name: &str,
+        ports: Vec<PortSpec>,
+        f: F,
+    ) -> Result<(), RegistryError>
+    where
+        F: Fn(&Handle<'_, C>) -> bool + Send + Sync + 'static,
+    {
+        let f = Arc::new(f);
+        let leaf: LeafMaker<C> =
+            Arc::new(move || NodeKind::Condition(Box::new(SharedCondition(Arc::clone(&f)))));
+        self.insert(NodeType {
+            name: name.to_string(),
+            category: Category::Condition,
+            ports,
+            description: String::new(),
+            make: Make::Leaf(leaf),
+        })
+    }
+
+    /// Adds a description to a registered type (shown in the `TreeNodesModel`).
+    pub fn describe(&mut self, name: &str, description: &str) {
+        if let Some(t) = self.types.get_mut(name) {
+            t.description = description.to_string();
+        }
+    }
+
+    /// The type registered as `name`.
+    pub fn get(&self, name: &str) -> Option<&NodeType<C>> {
+        self.types.get(name)
+    }
+
+    /// Every registered type, by name.
+    pub fn types(&self) -> impl Iterator<Item = &NodeType<C>> {
+        self.types.values()
+    }
+
+    /// The registered name closest to `name`, to suggest when `name` is unknown.
+    pub fn closest(&self, name: &str) -> Option<&str> {
+        self.types
+            .keys()
+            .map(|k| (strsim::damerau_levenshtein(name, k), k))
+            .filter(|(d, k)| *d <= k.len().max(3) / 2)
+            .min()
+            .map(|(_, k)| k.as_str())
+    }
+}
+
+struct SharedAction<F>(Arc<F>);
+
+impl<C, F> neurotree_core::Action<C> for SharedAction<F>
+where
+    F: Fn(&mut Handle<'_, C>) -> Status + Send + Sync,
+{
+    fn tick(&self, h: &mut Handle<'_, C>) -> Status {
+        (self.0)(h)
+    }
+}
+
+struct SharedCondition<F>(Arc<F>);
+
+impl<C, F> neurotree_core::Condition<C> for SharedCondition<F>
+where
+    F: Fn(&Handle<'_, C>) -> bool + Send + Sync,
+{
+    fn check(&self, h: &Handle<'_, C>) -> bool {
+        (self.0)(h)
+    }
+}
+
+/// The built-in nodes, their families and their ports, as BehaviorTree.CPP declares them.
+fn built_ins() -> Vec<(&'static str, Category, BuiltIn, Vec<PortSpec>)> {
+    use BuiltIn as B;
+    use Category::{Action, Control, Decorator};
+    let ms = |name: &str| vec![PortSpec::input::<u64>(name)];
+    vec![
+        ("Sequence", Control, B::Sequence, vec![]),
+        ("SequenceWithMemory", Control, B::SequenceWithMemory, vec![]),
+        ("ReactiveSequence", Control, B::ReactiveSequence, vec![]),
+        ("Fallback", Control, B::Fallback, vec![]),
+        ("ReactiveFallback", Control, B::ReactiveFallback, vec![]),
+        ("AsyncSequence", Control, B::AsyncSequence, vec![]),
+        ("AsyncFallback", Control, B::AsyncFallback, vec![]),
+        (
+            "Parallel",
+            Control,
+            B::Parallel,
+            vec![
+                PortSpec::input::<i32>("success_count").default_value("-1"),
+                PortSpec::input::<i32>("failure_count").default_value("1"),
+            ],
+        ),
+        (
+            "ParallelAll",
+            Control,
+            B::ParallelAll,
+            vec![PortSpec::input::<i32>("max_failures").default_value("1")],
+        ),
+        ("IfThenElse", Control, B::IfThenElse, vec![]),
+        ("WhileDoElse", Control, B::WhileDoElse, vec![]),
+        (
+            "TryCatch",
+            Control,
+            B::TryCatch,
+            vec![PortSpec::input::<bool>("catch_on_halt").default_value("false")],
+        ),
+        ("Inverter", Decorator, B::Inverter, vec![]),
+        ("ForceSuccess", Decorator, B::ForceSuccess, vec![]),
+        ("ForceFailure", Decorator, B::ForceFailure, vec![]),
+        (
+            "Repeat",
+            Decorator,
+            B::Repeat,
+            vec![PortSpec::input::<i32>("num_cycles")],
+        ),
+        (
+            "RetryUntilSuccessful",
+            Decorator,
+            B::RetryUntilSuccessful,
+            vec![PortSpec::input::<i32>("num_attempts")],
+        ),
+        (
+            "KeepRunningUntilFailure",
+            Decorator,
+            B::KeepRunningUntilFailure,
+            vec![],
+        ),
+        ("Delay", Decorator, B::Delay, ms("delay_msec")),
+        ("Timeout", Decorator, B::Timeout, ms("msec")),
+        ("Cooldown", Decorator, B::Cooldown, ms("cooldown_msec")),
+        (
+            "RunOnce",
+            Decorator,
+            B::RunOnce,
+            vec![PortSpec::input::<bool>("then_skip").default_value("true")],
+        ),
+        ("AlwaysSuccess", Action, B::AlwaysSuccess, vec![]),
+        ("AlwaysFailure", Action, B::AlwaysFailure, vec![]),
+        ("Sleep", Action, B::Sleep, ms("msec")),
+    ]
+}
+
+/// The kind of a built-in node from its ports' values (already checked to convert).
+pub(crate) fn built_in_kind<C>(
+    b: BuiltIn,
+    port: impl Fn(&str) -> Option<String>,
+) -> Result<NodeKind<C>, String> {
+    use std::time::Duration;
+    fn num<T: FromPortStr>(name: &str, text: Option<String>) -> Result<T, String> {
+        let text = text.ok_or_else(|| format!("missing port `{name}`"))?;
+        T::from_port_str(&text).map_err(|()| format!("port `{name}`: cannot read `{text}`"))
+    }
+    let ms = |name: &str| num::<u64>(name, port(name)).map(Duration::from_millis);
+    Ok(match b {
+        BuiltIn::Sequence => NodeKind::Sequence,
+        BuiltIn::SequenceWithMemory => NodeKind::SequenceWithMemory,
+        BuiltIn::ReactiveSequence => NodeKind::ReactiveSequence,
+        BuiltIn::Fallback => NodeKind::Fallback,
+        BuiltIn::ReactiveFallback => NodeKind::ReactiveFallback,
+        BuiltIn::AsyncSequence => NodeKind::AsyncSequence,
+        BuiltIn::AsyncFallback => NodeKind::AsyncFallback,
+        BuiltIn::Parallel => NodeKind::Parallel(ParallelPolicy::Thresholds {
+            success: num("success_count", port("success_count"))?,
+            failure: num("failure_count", port("failure_count"))?,
+        }),
+        BuiltIn::ParallelAll => NodeKind::ParallelAll {
+            max_failures: num("max_failures", port("max_failures"))?,
+        },
+        BuiltIn::IfThenElse => NodeKind::IfThenElse,
+        BuiltIn::WhileDoElse => NodeKind::WhileDoElse,
+        BuiltIn::TryCatch => NodeKind::TryCatch {
+            catch_on_halt: num("catch_on_halt", port("catch_on_halt"))?,
+        },
+        BuiltIn::Inverter => NodeKind::Inverter,
+        BuiltIn::ForceSuccess => NodeKind::ForceSuccess,
+        BuiltIn::ForceFailure => NodeKind::ForceFailure,
+        BuiltIn::Repeat => NodeKind::Repeat {
+            num_cycles: num("num_cycles", port("num_cycles"))?,
+        },
+        BuiltIn::RetryUntilSuccessful => NodeKind::RetryUntilSuccessful {
+            num_attempts: num("num_attempts", port("num_attempts"))?,
+        },
+        BuiltIn::KeepRunningUntilFailure => NodeKind::KeepRunningUntilFailure,
+        BuiltIn::Delay => NodeKind::Delay(ms("delay_msec")?),
+        BuiltIn::Timeout => NodeKind::Timeout(ms("msec")?),
+        BuiltIn::Cooldown => NodeKind::Cooldown(ms("cooldown_msec")?),
+        BuiltIn::RunOnce => NodeKind::RunOnce {
+            then_skip: num("then_skip", port("then_skip"))?,
+        },
+        BuiltIn::AlwaysSuccess => NodeKind::AlwaysSuccess,
+        BuiltIn::AlwaysFailure => NodeKind::AlwaysFailure,
+        BuiltIn::Sleep => NodeKind::Sleep(ms("msec")?),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn built_ins_are_registered_with_their_ports() {
+        let r = Registry::<()>::new();
+        let repeat = r.get("Repeat").unwrap();
+        assert_eq!(repeat.category, Category::Decorator);
+        assert_eq!(repeat.ports[0].name, "num_cycles");
+        assert!(repeat.ports[0].accepts("3"));
+        assert!(!repeat.ports[0].accepts("three"));
+        assert_eq!(r.get("Parallel").unwrap().ports.len(), 2);
+        assert!(r.get("MoveBase").is_none());
+    }
+
+    #[test]
+    fn registering_a_name_twice_is_an_error() {
+        let mut r = Registry::<()>::new();
+        r.register_condition("IsOpen", vec![], |_| true).unwrap();
+        assert_eq!(
+            r.register_action("IsOpen", vec![], |_| Status::Success),
+            Err(RegistryError::Duplicate("IsOpen".into()))
+        );
+        assert_eq!(
+            r.register_condition("Sequence", vec![], |_| true),
+            Err(RegistryError::Duplicate("Sequence".into()))
+        );
+    }
+
+    #[test]
+    fn unknown_names_get_a_suggestion() {
+        let r = Registry::<()>::new();
+        assert_eq!(r.closest("Sequense"), Some("Sequence"));
+        assert_eq!(r.closest("Inverted"), Some("Inverter"));
+        assert_eq!(r.closest("qqqqqqqqqqqqqqq"), None);
+    }
+
+    #[test]
+    fn built_in_kinds_read_their_ports() {
+        let kind =
+            built_in_kind::<()>(BuiltIn::Repeat, |p| (p == "num_cycles").then(|| "3".into()));
+        assert!(matches!(kind, Ok(NodeKind::Repeat { num_cycles: 3 })));
+        let missing = built_in_kind::<()>(BuiltIn::Timeout, |_| None);
+        assert_eq!(missing.err().as_deref(), Some("missing port `msec`"));
+    }
+}

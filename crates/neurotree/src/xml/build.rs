@@ -1,0 +1,268 @@
+//! From loaded XML elements to a blueprint: node names through the registry, ports checked,
+//! subtrees expanded into blackboard scopes.
+
+use neurotree_core::{
+    Blueprint, Builder, NodeKind, Port, PortValue, SubTreeScope, DEFAULT_MAX_DEPTH,
+};
+
+use super::source::Element;
+use super::{LoadError, XmlLoader};
+use crate::registry::{built_in_kind, Make, NodeType};
+
+/// The elements that name their type in an `ID` attribute (BehaviorTree.CPP's explicit form).
+const EXPLICIT: [&str; 4] = ["Action", "Condition", "Control", "Decorator"];
+
+struct Expansion<'a, 'r, C> {
+    loader: &'a XmlLoader<'r, C>,
+    /// The subtree IDs being expanded, outermost first, to find cycles.
+    stack: Vec<String>,
+}
+
+pub(super) fn build<C: 'static>(
+    loader: &XmlLoader<'_, C>,
+    id: &str,
+    tree: &Element,
+) -> Result<Blueprint<C>, LoadError> {
+    let mut x = Expansion {
+        loader,
+        stack: vec![id.to_string()],
+    };
+    let b = x.node(Builder::new(), &tree.children[0], 1)?;
+    // Checks the loader could not make on one element (thresholds against the number of
+    // children) come back from the builder with the node's path.
+    b.build().map_err(|e| tree.error(e.to_string()))
+}
+
+/// A port's binding from its attribute text: `{key}` (or `{@key}`) is an entry, `{=}` and
+/// `=` the entry named like the port, anything else literal text.
+fn binding(port: &str, text: &str) -> PortValue {
+    let t = text.trim();
+    if t == "=" || t == "{=}" {
+        return PortValue::Entry(port.to_string());
+    }
+    match t.strip_prefix('{').and_then(|r| r.strip_suffix('}')) {
+        Some(key) if !key.is_empty() && !key.contains(['{', '}']) => {
+            PortValue::Entry(key.to_string())
+        }
+        _ => PortValue::Literal(text.to_string()),
+    }
+}
+
+impl<C: 'static> Expansion<'_, '_, C> {
+    fn node(&mut self, b: Builder<C>, el: &Element, depth: u32) -> Result<Builder<C>, LoadError> {
+        if depth > DEFAULT_MAX_DEPTH {
+            return Err(el.error(format!(
+                "the tree nests deeper than {DEFAULT_MAX_DEPTH} levels (subtrees included); flatten it"
+            )));
+        }
+        if el.tag == "SubTree" {
+            return self.subtree(b, el, depth);
+        }
+        let explicit = EXPLICIT.contains(&el.tag.as_str());
+        let type_name = if explicit {
+            el.attr("ID").ok_or_else(|| {
+                el.error(format!(
+                    "<{}> needs an ID attribute naming the node type",
+                    el.tag
+                ))
+            })?
+        } else {
+            el.tag.as_str()
+        };
+        let name = el.attr("name").unwrap_or(type_name);
+        if let Some((key, _)) = el.attrs.iter().find(|(k, _)| k.starts_with('_')) {
+            return Err(el.error(format!(
+                "`{key}`: pre- and post-conditions are not supported yet; remove the attribute"
+            )));
+        }
+        let Some(node_type) = self.loader.registry.get(type_name) else {
+            if self.loader.mock_unknown && el.children.is_empty() {
+                return Ok(b.leaf(NodeKind::AlwaysSuccess, name));
+            }
+            let hint = match self.loader.registry.closest(type_name) {
+                Some(close) => format!("did you mean `{close}`? "),
+                None => String::new(),
+            };
+            return Err(el.error(format!(
+                "unknown node type `{type_name}`; {hint}register it in the Registry before loading"
+            )));
+        };
+        let ports = self.check_ports(el, node_type, explicit)?;
+        match &node_type.make {
+            Make::BuiltIn(built_in) => {
+                let text_of = |port: &str| match ports.iter().find(|p| p.name == port) {
+                    Some(Port {
+                        value: PortValue::Literal(text),
+                        ..
+                    }) => Some(text.clone()),
+                    _ => None,
+                };
+                if let Some(p) = ports
+                    .iter()
+                    .find(|p| matches!(p.value, PortValue::Entry(_)))
+                {
+                    return Err(el.error(format!(
+                        "port `{}` of `{type_name}` must be a literal here, not a blackboard entry",
+                        p.name
+                    )));
+                }
+                let kind = built_in_kind::<C>(*built_in, text_of).map_err(|m| el.error(m))?;
+                let arity = kind.arity();
+                if !arity.accepts(el.children.len() as u32) {
+                    return Err(el.error(format!(
+                        "`{type_name}` takes {arity}, found {}",
+                        el.children.len()
+                    )));
+                }
+                let mut b = b.open(kind, name);
+                for child in &el.children {
+                    b = self.node(b, child, depth + 1)?;
+                }
+                Ok(b.close())
+            }
+            Make::Leaf(make) => {
+                if !el.children.is_empty() {
+                    return Err(el.error(format!(
+                        "`{type_name}` is a leaf and takes no children, found {}",
+                        el.children.len()
+                    )));
+                }
+                Ok(b.leaf(make(), name).ports(ports))
+            }
+        }
+    }
+
+    /// The node's port bindings: every attribute a declared port, every literal convertible,
+    /// absent ports with defaults filled in.
+    fn check_ports(
+        &self,
+        el: &Element,
+        node_type: &NodeType<C>,
+        explicit: bool,
+    ) -> Result<Vec<Port>, LoadError> {
+        let mut ports = Vec::new();
+        for (key, text) in &el.attrs {
+            if key == "name" || (explicit && key == "ID") {
+                continue;
+            }
+            let Some(spec) = node_type.port(key) else {
+                let valid: Vec<&str> = node_type.ports.iter().map(|p| p.name.as_str()).collect();
+                let listed = if valid.is_empty() {
+                    "it has no ports".to_string()
+                } else {
+                    format!("its ports are: {}", valid.join(", "))
+                };
+                return Err(el.error(format!(
+                    "unknown port `{key}` on `{}`; {listed}",
+                    node_type.name
+                )));
+            };
+            let value = binding(key, text);
+            if let PortValue::Literal(text) = &value {
+                if !spec.accepts(text) {
+                    return Err(el.error(format!(
+                        "port `{key}` of `{}`: cannot read `{text}` as {}",
+                        node_type.name, spec.type_name
+                    )));
+                }
+            }
+            ports.push(Port {
+                name: key.clone(),
+                value,
+            });
+        }
+        for spec in &node_type.ports {
+            if let Some(default) = &spec.default {
+                if ports.iter().all(|p| p.name != spec.name) {
+                    ports.push(Port {
+                        name: spec.name.clone(),
+                        value: binding(&spec.name, default),
+                    });
+                }
+            }
+        }
+        Ok(ports)
+    }
+
+    fn subtree(
+        &mut self,
+        b: Builder<C>,
+        el: &Element,
+        depth: u32,
+    ) -> Result<Builder<C>, LoadError> {
+        let id = el
+            .attr("ID")
+            .ok_or_else(|| el.error("<SubTree> needs an ID attribute naming the tree"))?;
+        let Some(tree) = self.loader.trees.get(id) else {
+            let known: Vec<&str> = self.loader.tree_ids().collect();
+            return Err(el.error(format!(
+                "no tree with ID `{id}` is loaded; loaded trees: {}",
+                known.join(", ")
+            )));
+        };
+        if let Some(at) = self.stack.iter().position(|s| s == id) {
+            let mut cycle = self.stack[at..].to_vec();
+            cycle.push(id.to_string());
+            return Err(el.error(format!(
+                "subtree cycle: {}; a tree cannot contain itself",
+                cycle.join(" -> ")
+            )));
+        }
+        let mut scope = SubTreeScope::default();
+        for (key, text) in &el.attrs {
+            match key.as_str() {
+                "ID" | "name" => {}
+                "_autoremap" => {
+                    scope.autoremap = match text.trim() {
+                        "true" | "TRUE" | "True" | "1" => true,
+                        "false" | "FALSE" | "False" | "0" => false,
+                        other => {
+                            return Err(el
+                                .error(format!("_autoremap must be true or false, not `{other}`")))
+                        }
+                    }
+                }
+                k if k.starts_with('_') => return Err(el.error(format!(
+                    "`{k}`: pre- and post-conditions are not supported yet; remove the attribute"
+                ))),
+                _ => match binding(key, text) {
+                    PortValue::Entry(parent_key) => scope.remap.push((key.clone(), parent_key)),
+                    PortValue::Literal(text) => scope.values.push((key.clone(), text)),
+                },
+            }
+        }
+        let name = el.attr("name").unwrap_or(id);
+        self.stack.push(id.to_string());
+        let b = self
+            .node(
+                b.open(NodeKind::SubTree(Box::new(scope)), name),
+                &tree.children[0],
+                depth + 1,
+            )
+            .map(Builder::close);
+        self.stack.pop();
+        b
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::binding;
+    use neurotree_core::PortValue;
+
+    #[test]
+    fn bindings() {
+        assert_eq!(
+            binding("goal", "{target}"),
+            PortValue::Entry("target".into())
+        );
+        assert_eq!(
+            binding("goal", "{@target}"),
+            PortValue::Entry("@target".into())
+        );
+        assert_eq!(binding("goal", "{=}"), PortValue::Entry("goal".into()));
+        assert_eq!(binding("goal", "="), PortValue::Entry("goal".into()));
+        assert_eq!(binding("goal", "1;2;3"), PortValue::Literal("1;2;3".into()));
+        assert_eq!(binding("goal", "{}"), PortValue::Literal("{}".into()));
+    }
+}

@@ -1,0 +1,281 @@
+//! Loading BehaviorTree.CPP XML: what loads, how it runs, and how bad files are reported.
+
+use std::path::{Path, PathBuf};
+
+use neurotree::{LoadError, ManualClock, NodeId, PortSpec, Registry, Status, Tree, XmlLoader};
+
+fn shared() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared")
+}
+
+/// The registry of these tests: a counter context and a few leaves.
+fn registry() -> Registry<Vec<String>> {
+    let mut r = Registry::<Vec<String>>::new();
+    r.register_condition("Succ", vec![], |_| true).unwrap();
+    r.register_condition("Fail", vec![], |_| false).unwrap();
+    r.register_action(
+        "Say",
+        vec![PortSpec::input::<String>("message")],
+        |h| match h.input::<String>("message") {
+            Ok(m) => {
+                h.ctx_mut().push(m);
+                Status::Success
+            }
+            Err(e) => {
+                h.ctx_mut().push(e.to_string());
+                Status::Failure
+            }
+        },
+    )
+    .unwrap();
+    r.register_action(
+        "Produce",
+        vec![
+            PortSpec::input::<i64>("value").default_value("7"),
+            PortSpec::output::<i64>("out"),
+        ],
+        |h| {
+            let v: i64 = h.input("value").unwrap_or(-1);
+            h.output("out", v)
+                .map_or(Status::Failure, |_| Status::Success)
+        },
+    )
+    .unwrap();
+    r
+}
+
+fn load(text: &str) -> Result<neurotree::Blueprint<Vec<String>>, LoadError> {
+    let r = registry();
+    let mut loader = XmlLoader::new(&r);
+    loader.load_str(text, "test.xml")?;
+    loader.build_main()
+}
+
+fn error(text: &str) -> LoadError {
+    match load(text) {
+        Err(e) => e,
+        Ok(_) => panic!("expected a load error"),
+    }
+}
+
+#[test]
+fn tree1111_loads_and_ticks() {
+    let r = registry();
+    let mut loader = XmlLoader::new(&r);
+    loader
+        .load_file(shared().join("bench/tree1111.xml"))
+        .unwrap();
+    let bp = loader.build_main().unwrap();
+    assert_eq!(bp.len(), 1111);
+    let mut tree = Tree::with_clock(bp.into(), ManualClock::new());
+    assert_eq!(tree.tick_once(&mut Vec::new()), Ok(Status::Success));
+}
+
+#[test]
+fn built_ins_ports_and_subtree_remapping_run() {
+    let bp = load(
+        r#"<root BTCPP_format="4" main_tree_to_execute="Main">
+          <BehaviorTree ID="Main">
+            <Sequence name="main_seq">
+              <Produce out="{x}"/>
+              <Repeat num_cycles="2"><Say message="tick"/></Repeat>
+              <SubTree ID="Child" num="{x}" greeting="hello" result="{child_out}"/>
+            </Sequence>
+          </BehaviorTree>
+          <BehaviorTree ID="Child">
+            <Sequence>
+              <Say message="{greeting}"/>
+              <Produce value="{num}" out="{result}"/>
+              <Produce value="{missing}" out="{local}"/>
+            </Sequence>
+          </BehaviorTree>
+        </root>"#,
+    )
+    .unwrap();
+    assert_eq!(bp.name(NodeId(0)), "main_seq");
+    let mut tree = Tree::with_clock(bp.into(), ManualClock::new());
+    let mut said = Vec::new();
+    assert_eq!(tree.tick_once(&mut said), Ok(Status::Success));
+    // A literal subtree port arrives as text; the remapped `num` is the parent's i64 `x`
+    // (7, Produce's default), written back through `result` to the parent's `child_out`.
+    assert_eq!(said, ["tick", "tick", "hello"]);
+    let bb = tree.blackboard();
+    assert_eq!(bb.get::<i64>("x"), Ok(7));
+    assert_eq!(bb.get::<i64>("child_out"), Ok(7));
+    // `missing` is read from nowhere (-1) and `local` stays in the child's scope.
+    assert!(!bb.contains("local"));
+}
+
+#[test]
+fn explicit_form_and_names() {
+    let bp = load(
+        r#"<root main_tree_to_execute="T">
+          <BehaviorTree ID="T">
+            <Control ID="Fallback" name="choose">
+              <Condition ID="Fail" name="never"/>
+              <Action ID="Say" message="ok"/>
+            </Control>
+          </BehaviorTree>
+        </root>"#,
+    )
+    .unwrap();
+    assert_eq!(bp.path(NodeId(1)), "choose/never");
+    let mut tree = Tree::with_clock(bp.into(), ManualClock::new());
+    let mut said = Vec::new();
+    assert_eq!(tree.tick_once(&mut said), Ok(Status::Success));
+    assert_eq!(said, ["ok"]);
+}
+
+#[test]
+fn a_single_unnamed_tree_is_the_main_tree() {
+    let bp = load(r#"<root><BehaviorTree><Say message="hi"/></BehaviorTree></root>"#).unwrap();
+    assert_eq!(bp.len(), 1);
+    let r = registry();
+    let mut loader = XmlLoader::new(&r);
+    loader
+        .load_str(
+            r#"<root><BehaviorTree><Succ/></BehaviorTree></root>"#,
+            "a.xml",
+        )
+        .unwrap();
+    assert_eq!(loader.main_tree(), Some("BehaviorTree_0"));
+}
+
+#[test]
+fn unknown_node_suggests_the_closest_name() {
+    let e = error(
+        "<root main_tree_to_execute=\"T\">\n<BehaviorTree ID=\"T\">\n  <Sequense/>\n</BehaviorTree>\n</root>",
+    );
+    assert_eq!((e.file.as_str(), e.line, e.col), ("test.xml", 3, 3));
+    assert!(e.message.contains("unknown node type `Sequense`"), "{e}");
+    assert!(e.message.contains("did you mean `Sequence`?"), "{e}");
+    assert!(e.to_string().starts_with("test.xml:3:3: error: "), "{e}");
+}
+
+#[test]
+fn unknown_port_lists_the_valid_ones() {
+    let e = error(
+        r#"<root main_tree_to_execute="T"><BehaviorTree ID="T"><Produce valu="3"/></BehaviorTree></root>"#,
+    );
+    assert!(
+        e.message.contains("unknown port `valu` on `Produce`"),
+        "{e}"
+    );
+    assert!(e.message.contains("its ports are: value, out"), "{e}");
+}
+
+#[test]
+fn literals_are_converted_at_load_time() {
+    let e = error(
+        r#"<root main_tree_to_execute="T"><BehaviorTree ID="T"><Repeat num_cycles="many"><Succ/></Repeat></BehaviorTree></root>"#,
+    );
+    assert!(e.message.contains("cannot read `many` as i32"), "{e}");
+    let e = error(
+        r#"<root main_tree_to_execute="T"><BehaviorTree ID="T"><Produce value="x"/></BehaviorTree></root>"#,
+    );
+    assert!(e.message.contains("port `value` of `Produce`"), "{e}");
+}
+
+#[test]
+fn child_counts_are_checked_where_they_are_written() {
+    let e = error(
+        "<root main_tree_to_execute=\"T\">\n<BehaviorTree ID=\"T\">\n<Inverter>\n<Succ/><Succ/>\n</Inverter>\n</BehaviorTree></root>",
+    );
+    assert_eq!(e.line, 3);
+    assert!(
+        e.message
+            .contains("`Inverter` takes exactly 1 child, found 2"),
+        "{e}"
+    );
+    let e = error(
+        r#"<root main_tree_to_execute="T"><BehaviorTree ID="T"><Succ><Fail/></Succ></BehaviorTree></root>"#,
+    );
+    assert!(e.message.contains("is a leaf and takes no children"), "{e}");
+}
+
+#[test]
+fn tree_level_errors() {
+    let e = error(
+        r#"<root><BehaviorTree ID="A"><Succ/></BehaviorTree><BehaviorTree ID="A"><Succ/></BehaviorTree></root>"#,
+    );
+    assert!(e.message.contains("`A` is already loaded"), "{e}");
+    let e = error(
+        r#"<root><BehaviorTree ID="A"><Succ/></BehaviorTree><BehaviorTree ID="B"><Succ/></BehaviorTree></root>"#,
+    );
+    assert!(e.message.contains("no main tree"), "{e}");
+    let e = error(
+        r#"<root main_tree_to_execute="A">
+             <BehaviorTree ID="A"><SubTree ID="B"/></BehaviorTree>
+             <BehaviorTree ID="B"><Sequence><SubTree ID="A"/></Sequence></BehaviorTree>
+           </root>"#,
+    );
+    assert!(e.message.contains("subtree cycle: A -> B -> A"), "{e}");
+    let e = error(
+        r#"<root main_tree_to_execute="A"><BehaviorTree ID="A"><SubTree ID="Nope"/></BehaviorTree></root>"#,
+    );
+    assert!(e.message.contains("no tree with ID `Nope`"), "{e}");
+    let e = error(r#"<tree/>"#);
+    assert!(e.message.contains("starts with <root"), "{e}");
+}
+
+#[test]
+fn malformed_xml_is_an_error_with_a_position() {
+    let e = error("<root>\n<BehaviorTree ID=\"T\">\n<Succ>\n</BehaviorTree>\n</root>");
+    assert_eq!(e.line, 4);
+    assert!(e.message.starts_with("malformed XML"), "{e}");
+}
+
+#[test]
+fn bare_ampersands_in_attributes_load() {
+    let bp = load(
+        r#"<root main_tree_to_execute="T"><BehaviorTree ID="T"><Say message="a && b"/></BehaviorTree></root>"#,
+    )
+    .unwrap();
+    let mut tree = Tree::with_clock(bp.into(), ManualClock::new());
+    let mut said = Vec::new();
+    assert_eq!(tree.tick_once(&mut said), Ok(Status::Success));
+    assert_eq!(said, ["a && b"]);
+}
+
+#[test]
+fn includes_follow_relative_paths_and_stay_in_the_base_directory() {
+    let trees = shared().join("corpus/btcpp/files/tests/trees");
+    let r = registry();
+    let mut loader = XmlLoader::new(&r).mock_unknown(true);
+    loader
+        .load_file(trees.join("parent_include_child_include_child.xml"))
+        .unwrap();
+    assert!(loader.tree_ids().count() >= 2, "{loader:?}");
+    // child/child_include_parent.xml includes ../ : outside its own directory.
+    let mut confined = XmlLoader::new(&r).mock_unknown(true);
+    let e = confined
+        .load_file(trees.join("child/child_include_parent.xml"))
+        .unwrap_err();
+    assert!(e.message.contains("outside the base directory"), "{e}");
+    // With the base widened it loads.
+    let mut widened = XmlLoader::new(&r).mock_unknown(true).base_dir(&trees);
+    widened
+        .load_file(trees.join("child/child_include_parent.xml"))
+        .unwrap();
+}
+
+#[test]
+fn missing_include_is_reported_at_the_include() {
+    let dir = std::env::temp_dir().join(format!("neurotree-include-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("main.xml");
+    std::fs::write(&file, "<root>\n  <include path=\"nope.xml\"/>\n</root>\n").unwrap();
+    let r = registry();
+    let e = XmlLoader::new(&r).load_file(&file).unwrap_err();
+    assert_eq!(e.line, 2);
+    assert!(e.message.contains("not found"), "{e}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn pre_and_post_conditions_are_refused_clearly() {
+    let e = error(
+        r#"<root main_tree_to_execute="T"><BehaviorTree ID="T"><Succ _skipIf="x"/></BehaviorTree></root>"#,
+    );
+    assert!(e.message.contains("`_skipIf`"), "{e}");
+}
