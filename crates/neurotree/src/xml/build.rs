@@ -222,9 +222,11 @@ impl<C: 'static> Expansion<'_, '_, C> {
                         }
                     }
                 }
-                k if k.starts_with('_') => return Err(el.error(format!(
+                k if k.starts_with('_') => {
+                    return Err(el.error(format!(
                     "`{k}`: pre- and post-conditions are not supported yet; remove the attribute"
-                ))),
+                )))
+                }
                 _ => match binding(key, text) {
                     PortValue::Entry(parent_key) => scope.remap.push((key.clone(), parent_key)),
                     PortValue::Literal(text) => scope.values.push((key.clone(), text)),
