@@ -60,5 +60,30 @@ fn many_agents(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, tick_tree1111, many_agents);
+/// From XML text to a tickable instance: parse, check, build the blueprint, instantiate.
+fn load_tree1111(c: &mut Criterion) {
+    let path =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/bench/tree1111.xml");
+    let Ok(text) = std::fs::read_to_string(&path) else {
+        eprintln!("skipping load/tree1111: {} not found", path.display());
+        return;
+    };
+    let mut registry = neurotree::Registry::<()>::new();
+    registry
+        .register_condition("Succ", vec![], |_| true)
+        .unwrap();
+    registry
+        .register_condition("Fail", vec![], |_| false)
+        .unwrap();
+    c.bench_function("load/tree1111", |b| {
+        b.iter(|| {
+            let mut loader = neurotree::XmlLoader::new(&registry);
+            loader.load_str(black_box(&text), "tree1111.xml").unwrap();
+            let bp = loader.build_main().unwrap();
+            Tree::with_clock(std::sync::Arc::new(bp), ManualClock::new())
+        })
+    });
+}
+
+criterion_group!(benches, tick_tree1111, many_agents, load_tree1111);
 criterion_main!(benches);

@@ -67,20 +67,36 @@ fn make_strict(text: &str) -> (String, Vec<usize>) {
     (out, inserted)
 }
 
-/// Line and column (1-based, in characters) of byte `offset` in `text`.
-fn line_col(text: &str, offset: usize) -> (u32, u32) {
-    let before = &text[..offset.min(text.len())];
-    let line = before.matches('\n').count() as u32 + 1;
-    let line_start = before.rfind('\n').map_or(0, |i| i + 1);
-    let col = before[line_start..].chars().count() as u32 + 1;
-    (line, col)
+/// Finds lines and columns of byte offsets in one text, in logarithmic time per query.
+struct Lines<'a> {
+    text: &'a str,
+    /// Byte offset of the start of each line.
+    starts: Vec<usize>,
+}
+
+impl<'a> Lines<'a> {
+    fn new(text: &'a str) -> Self {
+        let starts = std::iter::once(0)
+            .chain(text.match_indices('\n').map(|(i, _)| i + 1))
+            .collect();
+        Self { text, starts }
+    }
+
+    /// Line and column (1-based, the column in characters) of byte `offset`.
+    fn line_col(&self, offset: usize) -> (u32, u32) {
+        let offset = offset.min(self.text.len());
+        let line = self.starts.partition_point(|&s| s <= offset) - 1;
+        let col = self.text[self.starts[line]..offset].chars().count();
+        (line as u32 + 1, col as u32 + 1)
+    }
 }
 
 /// Parses `text` (from `file`) into its root element.
 pub(crate) fn parse(text: &str, file: &str) -> Result<Element, LoadError> {
     let (strict, inserted) = make_strict(text);
-    // A strict-text offset, back in the original text.
-    let original = |offset: usize| offset - 4 * inserted.iter().filter(|&&i| i < offset).count();
+    let lines = Lines::new(text);
+    // A strict-text offset, back in the original text (`inserted` is sorted).
+    let original = |offset: usize| offset - 4 * inserted.partition_point(|&i| i < offset);
     let file: Arc<str> = Arc::from(file);
     let options = roxmltree::ParsingOptions {
         allow_dtd: false,
@@ -102,7 +118,7 @@ pub(crate) fn parse(text: &str, file: &str) -> Result<Element, LoadError> {
                         .nth(pos.col.saturating_sub(1) as usize)
                         .map_or(l.len(), |(b, _)| b)
                 });
-        let (line, col) = line_col(text, original(offset));
+        let (line, col) = lines.line_col(original(offset));
         LoadError {
             file: file.to_string(),
             line,
@@ -113,7 +129,7 @@ pub(crate) fn parse(text: &str, file: &str) -> Result<Element, LoadError> {
     // Iterative conversion: the document may be deep, and building must not recurse on it.
     let root = doc.root_element();
     let convert = |node: roxmltree::Node<'_, '_>| {
-        let (line, col) = line_col(text, original(node.range().start));
+        let (line, col) = lines.line_col(original(node.range().start));
         Element {
             tag: node.tag_name().name().to_string(),
             attrs: node
