@@ -154,6 +154,8 @@ pub(crate) type LeafMaker<C> = Arc<dyn Fn() -> NodeKind<C> + Send + Sync>;
 pub(crate) enum Make<C> {
     BuiltIn(BuiltIn),
     Leaf(LeafMaker<C>),
+    /// Known only from a `TreeNodesModel`: enough to validate a tree, not to run it.
+    Model,
 }
 
 /// A registered node type.
@@ -294,6 +296,69 @@ impl<C: 'static> Registry<C> {
         })
     }
 
+    /// Declares the node types of a `TreeNodesModel` (the section Groot2 and Nav2 ship)
+    /// that are not registered yet, with their ports. Such types let a tree be validated
+    /// (see [`XmlLoader::validate`](crate::XmlLoader::validate)) but not run. Returns how
+    /// many types were added.
+    pub fn add_model_str(&mut self, text: &str, file: &str) -> Result<usize, crate::LoadError> {
+        let root = crate::xml::parse_model_root(text, file)?;
+        let mut added = 0;
+        for model in root.children.iter().filter(|c| c.tag == "TreeNodesModel") {
+            for node in &model.children {
+                let category = match node.tag.as_str() {
+                    "Action" => Category::Action,
+                    "Condition" => Category::Condition,
+                    "Control" => Category::Control,
+                    "Decorator" => Category::Decorator,
+                    "SubTree" => continue,
+                    other => {
+                        return Err(node.error(format!(
+                            "unexpected <{other}> in <TreeNodesModel>; expected Action, Condition, Control, Decorator or SubTree"
+                        )))
+                    }
+                };
+                let Some(id) = node.attr("ID") else {
+                    return Err(node.error(format!("<{}> in a model needs an ID", node.tag)));
+                };
+                if self.types.contains_key(id) {
+                    continue;
+                }
+                let mut ports = Vec::new();
+                for port in &node.children {
+                    let direction = match port.tag.as_str() {
+                        "input_port" => PortDirection::Input,
+                        "output_port" => PortDirection::Output,
+                        "inout_port" => PortDirection::InOut,
+                        _ => continue,
+                    };
+                    let Some(name) = port.attr("name") else {
+                        return Err(port.error("a port in a model needs a name"));
+                    };
+                    ports.push(PortSpec {
+                        name: name.to_string(),
+                        direction,
+                        type_name: model_type_name(port.attr("type")),
+                        default: port.attr("default").map(str::to_string),
+                        description: port.text.clone(),
+                        check: model_type_check(port.attr("type")),
+                    });
+                }
+                self.types.insert(
+                    id.to_string(),
+                    NodeType {
+                        name: id.to_string(),
+                        category,
+                        ports,
+                        description: String::new(),
+                        make: Make::Model,
+                    },
+                );
+                added += 1;
+            }
+        }
+        Ok(added)
+    }
+
     /// Adds a description to a registered type (shown in the `TreeNodesModel`).
     pub fn describe(&mut self, name: &str, description: &str) {
         if let Some(t) = self.types.get_mut(name) {
@@ -319,6 +384,31 @@ impl<C: 'static> Registry<C> {
             .filter(|(d, k)| *d <= k.len().max(3) / 2)
             .min()
             .map(|(_, k)| k.as_str())
+    }
+}
+
+/// The Rust type a model's type name converts to, for messages.
+fn model_type_name(t: Option<&str>) -> &'static str {
+    match t.map(str::trim) {
+        Some("double" | "float") => "f64",
+        Some("bool") => "bool",
+        Some("int" | "int8" | "int16" | "int32" | "int64" | "long") => "i64",
+        Some("unsigned int" | "unsigned" | "uint8" | "uint16" | "uint32" | "uint64" | "size_t") => {
+            "u64"
+        }
+        Some("std::string" | "string") => "String",
+        _ => "text",
+    }
+}
+
+/// How a model's literal is checked: numbers and booleans are, other types are taken as given.
+fn model_type_check(t: Option<&str>) -> Option<fn(&str) -> bool> {
+    match model_type_name(t) {
+        "f64" => Some(|s| f64::from_port_str(s).is_ok()),
+        "bool" => Some(|s| bool::from_port_str(s).is_ok()),
+        "i64" => Some(|s| i64::from_port_str(s).is_ok()),
+        "u64" => Some(|s| u64::from_port_str(s).is_ok()),
+        _ => None,
     }
 }
 

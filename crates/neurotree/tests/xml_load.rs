@@ -279,3 +279,66 @@ fn pre_and_post_conditions_are_refused_clearly() {
     );
     assert!(e.message.contains("`_skipIf`"), "{e}");
 }
+
+#[test]
+fn nav2_trees_validate_against_their_model() {
+    let nav2 = shared().join("corpus/nav2");
+    let mut r = Registry::<()>::new();
+    let model = std::fs::read_to_string(nav2.join("nav2_tree_nodes.xml")).unwrap();
+    let added = r.add_model_str(&model, "nav2_tree_nodes.xml").unwrap();
+    assert!(added > 70, "{added} node types from the model");
+    let mut checked = 0;
+    let mut files: Vec<_> = std::fs::read_dir(&nav2)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.file_name().unwrap() != "nav2_tree_nodes.xml")
+        .collect();
+    files.sort();
+    for file in files {
+        let mut loader = XmlLoader::new(&r);
+        loader.load_file(&file).unwrap();
+        let ids: Vec<String> = loader.tree_ids().map(String::from).collect();
+        for id in ids {
+            match loader.validate(&id) {
+                Ok(()) => checked += 1,
+                // This example writes `<inverter>`, which BehaviorTree.CPP's case-sensitive
+                // factory rejects too; the error says what was meant.
+                Err(e) if file.ends_with("opennav_docking_bt__application_example.xml") => {
+                    assert_eq!(e.line, 22);
+                    assert!(e.message.contains("did you mean `Inverter`?"), "{e}");
+                }
+                Err(e) => panic!("{}: {e}", file.display()),
+            }
+        }
+        // A model describes; it does not run.
+        if let Some(main) = loader.main_tree() {
+            let e = loader.build(main).unwrap_err();
+            assert!(
+                e.message.contains("only described by a model") || e.message.contains("inverter"),
+                "{e}"
+            );
+        }
+    }
+    assert_eq!(checked, 15, "trees validated");
+}
+
+#[test]
+fn model_ports_are_checked_too() {
+    let mut r = Registry::<()>::new();
+    r.add_model_str(
+        r#"<root><TreeNodesModel>
+             <Action ID="Spin"><input_port name="spin_dist" type="double" default="1.57"/></Action>
+           </TreeNodesModel></root>"#,
+        "model.xml",
+    )
+    .unwrap();
+    let mut loader = XmlLoader::new(&r);
+    loader
+        .load_str(
+            r#"<root main_tree_to_execute="T"><BehaviorTree ID="T"><Spin spin_dist="far"/></BehaviorTree></root>"#,
+            "t.xml",
+        )
+        .unwrap();
+    let e = loader.validate("T").unwrap_err();
+    assert!(e.message.contains("cannot read `far` as f64"), "{e}");
+}

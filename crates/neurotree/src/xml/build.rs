@@ -2,7 +2,7 @@
 //! subtrees expanded into blackboard scopes.
 
 use neurotree_core::{
-    Blueprint, Builder, NodeKind, Port, PortValue, SubTreeScope, DEFAULT_MAX_DEPTH,
+    Blueprint, Builder, Category, NodeKind, Port, PortValue, SubTreeScope, DEFAULT_MAX_DEPTH,
 };
 
 use super::source::Element;
@@ -14,6 +14,8 @@ const EXPLICIT: [&str; 4] = ["Action", "Condition", "Control", "Decorator"];
 
 struct Expansion<'a, 'r, C> {
     loader: &'a XmlLoader<'r, C>,
+    /// Validating only: model-only types become placeholders of their family.
+    validate: bool,
     /// The subtree IDs being expanded, outermost first, to find cycles.
     stack: Vec<String>,
 }
@@ -22,9 +24,11 @@ pub(super) fn build<C: 'static>(
     loader: &XmlLoader<'_, C>,
     id: &str,
     tree: &Element,
+    validate: bool,
 ) -> Result<Blueprint<C>, LoadError> {
     let mut x = Expansion {
         loader,
+        validate,
         stack: vec![id.to_string()],
     };
     let b = x.node(Builder::new(), &tree.children[0], 1)?;
@@ -115,6 +119,29 @@ impl<C: 'static> Expansion<'_, '_, C> {
                     )));
                 }
                 let mut b = b.open(kind, name);
+                for child in &el.children {
+                    b = self.node(b, child, depth + 1)?;
+                }
+                Ok(b.close())
+            }
+            Make::Model if !self.validate => Err(el.error(format!(
+                "`{type_name}` is only described by a model; register an implementation to run it"
+            ))),
+            Make::Model => {
+                // A placeholder of the same family, so that the structure is checked.
+                let kind = match node_type.category {
+                    Category::Control => NodeKind::Sequence,
+                    Category::Decorator => NodeKind::Inverter,
+                    _ => NodeKind::AlwaysSuccess,
+                };
+                if !kind.arity().accepts(el.children.len() as u32) {
+                    return Err(el.error(format!(
+                        "`{type_name}` takes {}, found {}",
+                        kind.arity(),
+                        el.children.len()
+                    )));
+                }
+                let mut b = b.open(kind, name).ports(ports);
                 for child in &el.children {
                     b = self.node(b, child, depth + 1)?;
                 }

@@ -32,6 +32,11 @@
 mod build;
 mod source;
 
+/// Parses a file that holds a `TreeNodesModel` (for [`Registry::add_model_str`]).
+pub(crate) fn parse_model_root(text: &str, file: &str) -> Result<Element, LoadError> {
+    source::parse(text, file)
+}
+
 use std::collections::BTreeMap;
 use std::fmt;
 use std::path::{Path, PathBuf};
@@ -257,7 +262,16 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
                 format!("no tree with ID `{id}`; loaded trees: {}", known.join(", ")),
             ));
         };
-        build::build(self, id, tree)
+        build::build(self, id, tree, false)
+    }
+
+    /// Checks the tree named `id` as [`build`](Self::build) does, also accepting node types
+    /// known only from a `TreeNodesModel` (which cannot run).
+    pub fn validate(&self, id: &str) -> Result<(), LoadError> {
+        let Some(tree) = self.trees.get(id) else {
+            return Err(LoadError::at_file("", format!("no tree with ID `{id}`")));
+        };
+        build::build(self, id, tree, true).map(drop)
     }
 
     /// Builds the main tree (see [`main_tree`](Self::main_tree)).

@@ -13,6 +13,8 @@ use super::LoadError;
 #[derive(Debug, Clone)]
 pub(crate) struct Element {
     pub(crate) tag: String,
+    /// The element's own text (a port description in a model).
+    pub(crate) text: String,
     pub(crate) attrs: Vec<(String, String)>,
     pub(crate) children: Vec<Element>,
     pub(crate) file: Arc<str>,
@@ -132,6 +134,7 @@ pub(crate) fn parse(text: &str, file: &str) -> Result<Element, LoadError> {
         let (line, col) = lines.line_col(original(node.range().start));
         Element {
             tag: node.tag_name().name().to_string(),
+            text: node.text().map(str::trim).unwrap_or_default().to_string(),
             attrs: node
                 .attributes()
                 .map(|a| (a.name().to_string(), a.value().to_string()))
