@@ -12,6 +12,7 @@ pub mod bench_trees;
 mod readme;
 pub mod registry;
 pub mod render;
+pub mod script;
 mod shared_blackboard;
 pub mod xml;
 
