@@ -146,8 +146,10 @@ pub(crate) enum BuiltIn {
     Sleep,
 }
 
-/// Makes the per-node part of a leaf.
-pub(crate) type LeafMaker<C> = Arc<dyn Fn() -> NodeKind<C> + Send + Sync>;
+/// Makes the per-node part of a leaf from its port bindings (most leaves ignore them; a
+/// Script node parses its `code` here, at load time).
+pub(crate) type LeafMaker<C> =
+    Arc<dyn Fn(&[neurotree_core::Port]) -> Result<NodeKind<C>, String> + Send + Sync>;
 
 /// How a registered type becomes a node.
 #[derive(Clone)]
@@ -214,7 +216,28 @@ impl<C: 'static> Registry<C> {
             };
             r.types.insert(name.to_string(), t);
         }
+        crate::script_nodes::register(&mut r);
         r
+    }
+
+    /// Registers a leaf whose node is made from its port bindings at load time.
+    pub(crate) fn register_leaf(
+        &mut self,
+        name: &str,
+        category: Category,
+        ports: Vec<PortSpec>,
+        make: LeafMaker<C>,
+    ) {
+        self.types.insert(
+            name.to_string(),
+            NodeType {
+                name: name.to_string(),
+                category,
+                ports,
+                description: String::new(),
+                make: Make::Leaf(make),
+            },
+        );
     }
 
     fn insert(&mut self, t: NodeType<C>) -> Result<(), RegistryError> {
@@ -237,11 +260,11 @@ impl<C: 'static> Registry<C> {
         F: Fn() -> S + Send + Sync + 'static,
     {
         let make = Arc::new(make);
-        let leaf: LeafMaker<C> = Arc::new(move || {
+        let leaf: LeafMaker<C> = Arc::new(move |_| {
             let make = Arc::clone(&make);
-            NodeKind::Stateful(Box::new(move || -> Box<dyn StatefulAction<C>> {
-                Box::new(make())
-            }))
+            Ok(NodeKind::Stateful(Box::new(
+                move || -> Box<dyn StatefulAction<C>> { Box::new(make()) },
+            )))
         });
         self.insert(NodeType {
             name: name.to_string(),
@@ -264,7 +287,7 @@ impl<C: 'static> Registry<C> {
     {
         let f = Arc::new(f);
         let leaf: LeafMaker<C> =
-            Arc::new(move || NodeKind::Action(Box::new(SharedAction(Arc::clone(&f)))));
+            Arc::new(move |_| Ok(NodeKind::Action(Box::new(SharedAction(Arc::clone(&f))))));
         self.insert(NodeType {
             name: name.to_string(),
             category: Category::Action,
@@ -285,8 +308,11 @@ impl<C: 'static> Registry<C> {
         F: Fn(&Handle<'_, C>) -> bool + Send + Sync + 'static,
     {
         let f = Arc::new(f);
-        let leaf: LeafMaker<C> =
-            Arc::new(move || NodeKind::Condition(Box::new(SharedCondition(Arc::clone(&f)))));
+        let leaf: LeafMaker<C> = Arc::new(move |_| {
+            Ok(NodeKind::Condition(Box::new(SharedCondition(Arc::clone(
+                &f,
+            )))))
+        });
         self.insert(NodeType {
             name: name.to_string(),
             category: Category::Condition,

@@ -342,3 +342,39 @@ fn model_ports_are_checked_too() {
     let e = loader.validate("T").unwrap_err();
     assert!(e.message.contains("cannot read `far` as f64"), "{e}");
 }
+
+#[test]
+fn script_nodes_run_against_the_blackboard() {
+    let bp = load(
+        r#"<root main_tree_to_execute="T"><BehaviorTree ID="T">
+             <Sequence>
+               <Script code="count := 0; label := 'start'"/>
+               <Repeat num_cycles="3"><Script code="count += 1"/></Repeat>
+               <ScriptCondition code="count == 3 && label == 'start'"/>
+               <SetBlackboard value="42" output_key="answer"/>
+               <UnsetBlackboard key="label"/>
+               <Fallback>
+                 <ScriptCondition code="count > 5"/>
+                 <Say message="{answer}"/>
+               </Fallback>
+             </Sequence>
+           </BehaviorTree></root>"#,
+    )
+    .unwrap();
+    let mut tree = Tree::with_clock(bp.into(), ManualClock::new());
+    let mut said = Vec::new();
+    assert_eq!(tree.tick_once(&mut said), Ok(Status::Success));
+    assert_eq!(said, ["42"]);
+    let bb = tree.blackboard();
+    assert_eq!(bb.get::<i64>("count"), Ok(3));
+    assert!(!bb.contains("label"));
+}
+
+#[test]
+fn script_syntax_errors_are_load_errors() {
+    let e = error(
+        "<root main_tree_to_execute=\"T\"><BehaviorTree ID=\"T\">\n  <Script code=\"a := (1 + 2\"/>\n</BehaviorTree></root>",
+    );
+    assert_eq!(e.line, 2);
+    assert!(e.message.contains("in script `a := (1 + 2`"), "{e}");
+}

@@ -154,7 +154,8 @@ impl<C: 'static> Expansion<'_, '_, C> {
                         el.children.len()
                     )));
                 }
-                Ok(b.leaf(make(), name).ports(ports))
+                let kind = make(&ports).map_err(|m| el.error(m))?;
+                Ok(b.leaf(kind, name).ports(ports))
             }
         }
     }

@@ -1,0 +1,152 @@
+//! The built-in leaves that work on the blackboard: Script, ScriptCondition, SetBlackboard
+//! and UnsetBlackboard.
+//!
+//! | node | semantics |
+//! |---|---|
+//! | Script(code) | Runs the script (parsed when the tree is loaded); Success. A script that fails at run time (an unknown key, a type mismatch) makes the node fail. |
+//! | ScriptCondition(code) | Success if the script's value is true (a non-zero number counts as true), else Failure. |
+//! | SetBlackboard(value, output_key) | Writes `value` (text, converted by whoever reads it) to the entry named by `output_key`; Success. |
+//! | UnsetBlackboard(key) | Removes the entry named by `key`; Success. |
+
+use std::sync::Arc;
+
+use neurotree_core::{Action, Category, Handle, NodeKind, Port, PortValue, Status};
+
+use crate::registry::{PortSpec, Registry};
+use crate::script::{Enums, Script, ScriptEnv, Value};
+
+/// The enum table of scripts loaded from XML (none are registered yet).
+static NO_ENUMS: Enums = Enums::new();
+
+/// The literal text of port `name`, or why it is missing.
+fn literal<'a>(ports: &'a [Port], name: &str) -> Result<&'a str, String> {
+    match ports.iter().find(|p| p.name == name).map(|p| &p.value) {
+        Some(PortValue::Literal(text)) => Ok(text),
+        Some(PortValue::Entry(_)) => Err(format!("port `{name}` must be literal text here")),
+        None => Err(format!("missing port `{name}`")),
+    }
+}
+
+/// A parsed script run as an action (`condition: false`) or a condition.
+struct ScriptNode {
+    script: Script,
+    condition: bool,
+}
+
+impl<C> Action<C> for ScriptNode {
+    fn tick(&self, h: &mut Handle<'_, C>) -> Status {
+        let scope = h.scope();
+        let stamp = h.now();
+        let mut env = ScriptEnv {
+            blackboard: h.blackboard_mut(),
+            scope,
+            enums: &NO_ENUMS,
+            stamp,
+        };
+        match self.script.eval(&mut env) {
+            Ok(value) if self.condition => Status::from(truthy(&value)),
+            Ok(_) => Status::Success,
+            Err(_) => Status::Failure,
+        }
+    }
+}
+
+fn truthy(value: &Value) -> bool {
+    match value {
+        Value::Bool(b) => *b,
+        Value::Int(n) => *n != 0,
+        Value::Real(r) => *r != 0.0,
+        Value::Str(_) | Value::Empty => false,
+    }
+}
+
+struct SetBlackboard {
+    key: String,
+}
+
+impl<C> Action<C> for SetBlackboard {
+    fn tick(&self, h: &mut Handle<'_, C>) -> Status {
+        let Ok(value) = h.input::<String>("value") else {
+            return Status::Failure;
+        };
+        let (scope, stamp) = (h.scope(), h.now());
+        h.blackboard_mut()
+            .replace_in(scope, &self.key, value, stamp);
+        Status::Success
+    }
+}
+
+struct UnsetBlackboard {
+    key: String,
+}
+
+impl<C> Action<C> for UnsetBlackboard {
+    fn tick(&self, h: &mut Handle<'_, C>) -> Status {
+        let scope = h.scope();
+        h.blackboard_mut().unset_in(scope, &self.key);
+        Status::Success
+    }
+}
+
+/// The entry named by port `name`: written as plain text (`key`) or as `{key}`.
+fn key_of(ports: &[Port], name: &str) -> Result<String, String> {
+    match ports.iter().find(|p| p.name == name).map(|p| &p.value) {
+        Some(PortValue::Literal(key) | PortValue::Entry(key)) => Ok(key.clone()),
+        None => Err(format!("missing port `{name}`")),
+    }
+}
+
+fn parse(ports: &[Port]) -> Result<Script, String> {
+    let code = literal(ports, "code")?;
+    Script::parse(code).map_err(|e| format!("in script `{code}`: {e}"))
+}
+
+/// Adds the four nodes to `registry`.
+pub(crate) fn register<C: 'static>(registry: &mut Registry<C>) {
+    let code = || vec![PortSpec::input::<String>("code")];
+    registry.register_leaf(
+        "Script",
+        Category::Action,
+        code(),
+        Arc::new(|ports| {
+            let script = parse(ports)?;
+            Ok(NodeKind::Action(Box::new(ScriptNode {
+                script,
+                condition: false,
+            })))
+        }),
+    );
+    registry.register_leaf(
+        "ScriptCondition",
+        Category::Condition,
+        code(),
+        Arc::new(|ports| {
+            let script = parse(ports)?;
+            Ok(NodeKind::Action(Box::new(ScriptNode {
+                script,
+                condition: true,
+            })))
+        }),
+    );
+    registry.register_leaf(
+        "SetBlackboard",
+        Category::Action,
+        vec![
+            PortSpec::input::<String>("value"),
+            PortSpec::input::<String>("output_key"),
+        ],
+        Arc::new(|ports| {
+            let key = key_of(ports, "output_key")?;
+            Ok(NodeKind::Action(Box::new(SetBlackboard { key })))
+        }),
+    );
+    registry.register_leaf(
+        "UnsetBlackboard",
+        Category::Action,
+        vec![PortSpec::input::<String>("key")],
+        Arc::new(|ports| {
+            let key = key_of(ports, "key")?;
+            Ok(NodeKind::Action(Box::new(UnsetBlackboard { key })))
+        }),
+    );
+}
