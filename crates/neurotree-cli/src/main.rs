@@ -2,8 +2,10 @@
 //!
 //! - `neurotree demo`: a simulated robot patrols a corridor; its tree is drawn every tick.
 //! - `neurotree bench`: quick measurements of tick cost and of many agents per frame.
+//! - `neurotree check`: validate BehaviorTree.CPP XML files against the node models.
 
 mod bench;
+mod check;
 mod demo;
 
 use std::io::{self, IsTerminal, Write};
@@ -26,6 +28,18 @@ enum Command {
     Demo(DemoArgs),
     /// Measure tick cost (tree1111) and a frame of many agents, in-process.
     Bench(BenchArgs),
+    /// Validate BehaviorTree.CPP XML files: structure, node names, ports, literals.
+    Check(CheckArgs),
+}
+
+#[derive(Args, Debug)]
+struct CheckArgs {
+    /// The files to check.
+    #[arg(required = true)]
+    files: Vec<std::path::PathBuf>,
+    /// A file whose `TreeNodesModel` declares node types the files use (repeatable).
+    #[arg(long = "model")]
+    models: Vec<std::path::PathBuf>,
 }
 
 #[derive(Args, Debug)]
@@ -79,6 +93,16 @@ fn main() -> ExitCode {
                 agents: args.agents,
             };
             bench::run(&opts, args.json, &mut out)
+        }
+        Command::Check(args) => {
+            return match check::run(&args.files, &args.models, &mut io::stderr()) {
+                Ok(true) => ExitCode::SUCCESS,
+                Ok(false) => ExitCode::FAILURE,
+                Err(e) => {
+                    eprintln!("neurotree: {e}");
+                    ExitCode::FAILURE
+                }
+            };
         }
     };
     match result {

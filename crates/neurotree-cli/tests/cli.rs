@@ -114,3 +114,57 @@ fn bench_table_names_every_measure() {
         assert!(out.contains(measure), "{measure} missing from\n{out}");
     }
 }
+
+fn shared() -> std::path::PathBuf {
+    std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared")
+}
+
+#[test]
+fn check_accepts_a_nav2_tree_with_its_model() {
+    let nav2 = shared().join("corpus/nav2");
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_neurotree"))
+        .arg("check")
+        .arg(nav2.join("navigate_to_pose_w_replanning_and_recovery.xml"))
+        .arg("--model")
+        .arg(nav2.join("nav2_tree_nodes.xml"))
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(out.stderr.is_empty());
+}
+
+#[test]
+fn check_reports_errors_with_positions_and_fails() {
+    let dir = std::env::temp_dir().join(format!("neurotree-check-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("bad.xml");
+    std::fs::write(
+        &file,
+        "<root main_tree_to_execute=\"T\">\n<BehaviorTree ID=\"T\">\n  <Sequense/>\n</BehaviorTree>\n</root>\n",
+    )
+    .unwrap();
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_neurotree"))
+        .arg("check")
+        .arg(&file)
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr
+            .contains("bad.xml:3:3: error: unknown node type `Sequense`; did you mean `Sequence`?"),
+        "{stderr}"
+    );
+    // Without the model, the Nav2 tree's own nodes are unknown.
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_neurotree"))
+        .arg("check")
+        .arg(shared().join("corpus/nav2/navigate_to_pose_w_replanning_and_recovery.xml"))
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
