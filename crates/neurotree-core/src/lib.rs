@@ -72,6 +72,7 @@ pub use blueprint::{
 pub use clock::SystemClock;
 pub use clock::{Clock, ManualClock};
 pub use nodes::custom::{CustomNode, NodeCtx};
+pub use nodes::hooks::NodeHooks;
 pub use nodes::leaf::{Action, Condition, Handle, StatefulAction};
 pub use observer::{Observer, StatusChange};
 pub use status::{NodeStatus, Status};

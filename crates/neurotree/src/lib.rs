@@ -13,6 +13,7 @@ mod readme;
 pub mod registry;
 pub mod render;
 pub mod script;
+mod script_hooks;
 mod script_nodes;
 mod shared_blackboard;
 pub mod xml;

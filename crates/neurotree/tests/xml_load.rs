@@ -273,11 +273,92 @@ fn missing_include_is_reported_at_the_include() {
 }
 
 #[test]
-fn pre_and_post_conditions_are_refused_clearly() {
+fn preconditions_skip_succeed_and_fail_nodes() {
+    let bp = load(
+        r#"<root main_tree_to_execute="T"><BehaviorTree ID="T">
+             <Sequence>
+               <Script code="x := 1"/>
+               <Say message="skipped" _skipIf="x == 1"/>
+               <Fail _successIf="x == 1"/>
+               <Say message="said" _failureIf="y == 2"/>
+               <Say message="not while" _while="x > 5"/>
+             </Sequence>
+           </BehaviorTree></root>"#,
+    )
+    .unwrap();
+    let mut tree = Tree::with_clock(bp.into(), ManualClock::new());
+    let mut said = Vec::new();
+    assert_eq!(tree.tick_once(&mut said), Ok(Status::Success));
+    assert_eq!(said, ["said"]);
+    // `y` was missing, so `_failureIf` did not hold; now it does, and the Sequence fails
+    // at that node without ticking it.
+    tree.blackboard_mut().set("y", 2_i64).unwrap();
+    assert_eq!(tree.tick_once(&mut said), Ok(Status::Failure));
+    assert_eq!(said, ["said"]);
+}
+
+#[test]
+fn postconditions_run_after_completion_and_halt() {
+    let mut r = registry();
+    r.register_stateful("Wait3", vec![], || Wait3(0)).unwrap();
+    let mut loader = XmlLoader::new(&r);
+    loader
+        .load_str(
+            r#"<root main_tree_to_execute="T"><BehaviorTree ID="T">
+                 <Sequence>
+                   <Succ _onSuccess="ok := 1" _onFailure="ok := 0" _post="posts := 1"/>
+                   <Wait3 _while="go" _onHalted="halted := true"/>
+                 </Sequence>
+               </BehaviorTree></root>"#,
+            "t.xml",
+        )
+        .unwrap();
+    let mut tree = Tree::with_clock(loader.build_main().unwrap().into(), ManualClock::new());
+    tree.blackboard_mut().set("go", true).unwrap();
+    let mut ctx = Vec::new();
+    assert_eq!(tree.tick_once(&mut ctx), Ok(Status::Running));
+    assert_eq!(tree.blackboard().get::<i64>("ok"), Ok(1));
+    assert_eq!(tree.blackboard().get::<i64>("posts"), Ok(1));
+    assert!(!tree.blackboard().contains("halted"));
+    // `_while` turns false while Wait3 runs: it is halted and skipped, and the Sequence,
+    // whose other child succeeded on the first tick, succeeds.
+    tree.blackboard_mut().set("go", false).unwrap();
+    assert_eq!(tree.tick_once(&mut ctx), Ok(Status::Success));
+    assert_eq!(tree.blackboard().get::<bool>("halted"), Ok(true));
+    assert_eq!(ctx, ["Wait3 halted"]);
+}
+
+/// Runs for three ticks; records its halts in the context.
+struct Wait3(u8);
+
+impl neurotree::StatefulAction<Vec<String>> for Wait3 {
+    fn on_start(&mut self, _h: &mut neurotree::Handle<'_, Vec<String>>) -> Status {
+        self.0 = 0;
+        Status::Running
+    }
+    fn on_running(&mut self, _h: &mut neurotree::Handle<'_, Vec<String>>) -> Status {
+        self.0 += 1;
+        if self.0 >= 3 {
+            Status::Success
+        } else {
+            Status::Running
+        }
+    }
+    fn on_halted(&mut self, h: &mut neurotree::Handle<'_, Vec<String>>) {
+        h.ctx_mut().push("Wait3 halted".into());
+    }
+}
+
+#[test]
+fn bad_condition_attributes_are_load_errors() {
     let e = error(
-        r#"<root main_tree_to_execute="T"><BehaviorTree ID="T"><Succ _skipIf="x"/></BehaviorTree></root>"#,
+        r#"<root main_tree_to_execute="T"><BehaviorTree ID="T"><Succ _skipIf="x =="/></BehaviorTree></root>"#,
     );
-    assert!(e.message.contains("`_skipIf`"), "{e}");
+    assert!(e.message.contains("in `_skipIf` script `x ==`"), "{e}");
+    let e = error(
+        r#"<root main_tree_to_execute="T"><BehaviorTree ID="T"><Succ _skip="x"/></BehaviorTree></root>"#,
+    );
+    assert!(e.message.contains("unknown attribute `_skip`"), "{e}");
 }
 
 #[test]

@@ -14,6 +14,7 @@ use super::{
     ParallelPolicy, Port, SubTreeScope, DEFAULT_MAX_DEPTH,
 };
 use crate::blackboard::ScopeId;
+use crate::nodes::hooks::NodeHooks;
 use crate::nodes::leaf::{Action, Condition, StatefulAction};
 use crate::Status;
 
@@ -24,6 +25,7 @@ struct Pending<C> {
     children: Vec<u32>,
     depth: u32,
     ports: Vec<Port>,
+    hooks: Option<Box<dyn NodeHooks<C>>>,
 }
 
 /// Builds a [`Blueprint`].
@@ -167,6 +169,7 @@ impl<C> Builder<C> {
             children: Vec::new(),
             depth,
             ports: Vec::new(),
+            hooks: None,
         });
         if let Some(p) = parent {
             self.nodes[p as usize].children.push(id);
@@ -263,6 +266,18 @@ impl<C> Builder<C> {
         self
     }
 
+    /// Attaches pre- and post-conditions to the node added last.
+    pub fn hooks(mut self, hooks: impl NodeHooks<C> + 'static) -> Self {
+        if self.ignored > 0 || self.error.is_some() {
+            return self;
+        }
+        match self.nodes.last_mut() {
+            Some(node) => node.hooks = Some(Box::new(hooks)),
+            None => self.fail(None, BuildErrorKind::Empty),
+        }
+        self
+    }
+
     /// Adds a node with children added by `children`.
     pub fn node(self, kind: NodeKind<C>, name: &str, children: impl FnOnce(Self) -> Self) -> Self {
         children(self.open(kind, name)).close()
@@ -302,6 +317,7 @@ impl<C> Builder<C> {
         let count = self.nodes.len();
         let mut nodes = Vec::with_capacity(count);
         let mut slots = Vec::with_capacity(count);
+        let mut hooks = Vec::with_capacity(count);
         let mut node_scopes = Vec::with_capacity(count);
         let mut meta = Vec::with_capacity(count);
         let mut children = Vec::with_capacity(count.saturating_sub(1));
@@ -330,13 +346,15 @@ impl<C> Builder<C> {
                 }
                 _ => 0,
             };
-            let own_slots = p.kind.aux_slots();
+            let kind = p.kind;
+            hooks.push(p.hooks);
+            let own_slots = kind.aux_slots();
             slots.push(if own_slots > 0 { aux } else { object });
             node_scopes.push(scope);
             nodes.push(NodeDef {
                 first_child: children.len() as u32,
                 child_count: p.children.len() as u32,
-                kind: p.kind,
+                kind,
             });
             aux += own_slots;
             children.extend(p.children.into_iter().map(NodeId));
@@ -352,8 +370,9 @@ impl<C> Builder<C> {
             .iter()
             .map(|&id| Child {
                 id,
-                condition: match &nodes[id.index()].kind {
-                    NodeKind::ConditionFn(f) => Some(NonNull::from(&**f)),
+                // A hooked condition takes the general path, which runs its hooks.
+                condition: match (&nodes[id.index()].kind, &hooks[id.index()]) {
+                    (NodeKind::ConditionFn(f), None) => Some(NonNull::from(&**f)),
                     _ => None,
                 },
             })
@@ -363,6 +382,7 @@ impl<C> Builder<C> {
             nodes,
             children: children.into_boxed_slice(),
             slots: slots.into_boxed_slice(),
+            hooks: hooks.into_boxed_slice(),
             node_scopes: node_scopes.into_boxed_slice(),
             meta: meta.into_boxed_slice(),
             scopes: scopes.into_boxed_slice(),

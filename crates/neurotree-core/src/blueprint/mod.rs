@@ -25,6 +25,7 @@ use core::fmt;
 use core::ptr::NonNull;
 
 use crate::blackboard::ScopeId;
+use crate::nodes::hooks::NodeHooks;
 
 /// The deepest tree a blueprint accepts unless told otherwise (BehaviorTree.CPP uses 256).
 pub const DEFAULT_MAX_DEPTH: u32 = 256;
@@ -123,6 +124,8 @@ pub struct Blueprint<C> {
     /// Per node: the blackboard scope it reads and writes.
     pub(crate) node_scopes: Box<[ScopeId]>,
     pub(crate) meta: Box<[NodeMeta]>,
+    /// Per node: its pre- and post-conditions, if any.
+    pub(crate) hooks: Box<[Option<Box<dyn NodeHooks<C>>>]>,
     /// Subtree scopes in creation order: scope `i + 1` is `scopes[i]`, opened by a SubTree.
     pub(crate) scopes: Box<[(ScopeId, SubTreeScope)]>,
     pub(crate) aux_slots: u32,
@@ -191,6 +194,12 @@ impl<C> Blueprint<C> {
         debug_assert!(id.index() < self.nodes.len());
         // SAFETY: the engine only handles ids of this blueprint (see `Ticker::status`).
         unsafe { self.nodes.get_unchecked(id.index()) }
+    }
+
+    /// The node's pre- and post-conditions.
+    #[inline]
+    pub(crate) fn hooks(&self, id: NodeId) -> Option<&dyn NodeHooks<C>> {
+        self.hooks[id.index()].as_deref()
     }
 
     /// The node's ports and their bindings.

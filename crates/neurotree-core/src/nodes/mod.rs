@@ -3,9 +3,11 @@
 //! - [`control`]: nodes with children that decide which to tick;
 //! - [`decorator`]: nodes with one child that change its outcome or its timing;
 //! - [`leaf`]: conditions, actions and the built-in leaves;
-//! - [`custom`]: the door for user-defined controls and decorators.
+//! - [`custom`]: the door for user-defined controls and decorators;
+//! - [`hooks`]: pre- and post-conditions around any node.
 
 pub mod control;
 pub mod custom;
 pub mod decorator;
+pub mod hooks;
 pub mod leaf;

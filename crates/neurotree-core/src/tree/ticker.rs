@@ -102,7 +102,7 @@ impl<'t, C> Ticker<'t, C> {
     #[inline(always)]
     pub(crate) fn tick(&mut self, id: NodeId) -> NodeStatus {
         let def = self.bp.def(id);
-        if let NodeKind::ConditionFn(f) = &def.kind {
+        if let (NodeKind::ConditionFn(f), None) = (&def.kind, self.bp.hooks(id)) {
             let status = if f(self.ctx) {
                 NodeStatus::Success
             } else {
@@ -117,7 +117,10 @@ impl<'t, C> Ticker<'t, C> {
     /// Ticks a node that is not a closure condition and stores what it returned.
     #[inline(always)]
     fn tick_other(&mut self, id: NodeId, def: &NodeDef<C>) -> NodeStatus {
-        let status = self.dispatch(id, def);
+        let status = match self.bp.hooks(id) {
+            None => self.dispatch(id, def),
+            Some(hooks) => self.tick_hooked(id, def, hooks),
+        };
         // A skipped node keeps (or returns to) Idle, though a control marks itself Running
         // before it finds that all its children were skipped.
         let stored = if status == NodeStatus::Skipped {
@@ -126,6 +129,30 @@ impl<'t, C> Ticker<'t, C> {
             status
         };
         self.set_status(id, stored);
+        status
+    }
+
+    /// Ticks a node with pre- and post-conditions (see [`crate::nodes::hooks`]).
+    #[inline(never)]
+    fn tick_hooked(
+        &mut self,
+        id: NodeId,
+        def: &NodeDef<C>,
+        hooks: &dyn crate::nodes::hooks::NodeHooks<C>,
+    ) -> NodeStatus {
+        let stored = self.status(id);
+        let before = hooks.before(&mut self.handle(id), stored);
+        let status = match before {
+            Some(NodeStatus::Skipped) if stored == NodeStatus::Running => {
+                self.halt_node(id);
+                NodeStatus::Skipped
+            }
+            Some(decided) => decided,
+            None => self.dispatch(id, def),
+        };
+        if status.is_completed() {
+            hooks.after(&mut self.handle(id), status);
+        }
         status
     }
 
@@ -356,7 +383,13 @@ impl<'t, C> Ticker<'t, C> {
             // SequenceWithMemory keeps its place, Cooldown its timer, RunOnce its memory.
             _ => self.reset_children(id),
         }
+        let was_running = self.status(id) == NodeStatus::Running;
         self.set_status(id, NodeStatus::Idle);
+        if was_running {
+            if let Some(hooks) = self.bp.hooks(id) {
+                hooks.halted(&mut self.handle(id));
+            }
+        }
     }
 
     /// BehaviorTree.CPP's `haltChild`: halt if Running, then reset to Idle.

@@ -8,6 +8,8 @@ use neurotree_core::{
 use super::source::Element;
 use super::{LoadError, XmlLoader};
 use crate::registry::{built_in_kind, Make, NodeType};
+use crate::script::Script;
+use crate::script_hooks::{ScriptHooks, ATTRIBUTES};
 
 /// The elements that name their type in an `ID` attribute (BehaviorTree.CPP's explicit form).
 const EXPLICIT: [&str; 4] = ["Action", "Condition", "Control", "Decorator"];
@@ -35,6 +37,33 @@ pub(super) fn build<C: 'static>(
     // Checks the loader could not make on one element (thresholds against the number of
     // children) come back from the builder with the node's path.
     b.build().map_err(|e| tree.error(e.to_string()))
+}
+
+/// The node's pre- and post-condition scripts, parsed; `None` if it has none.
+fn conditions(el: &Element) -> Result<Option<ScriptHooks>, LoadError> {
+    let mut hooks: Option<ScriptHooks> = None;
+    for (key, code) in &el.attrs {
+        if ATTRIBUTES.contains(&key.as_str()) {
+            let script = Script::parse(code)
+                .map_err(|e| el.error(format!("in `{key}` script `{code}`: {e}")))?;
+            hooks
+                .get_or_insert_with(ScriptHooks::default)
+                .set(key, script);
+        } else if key.starts_with('_') && key != "_autoremap" {
+            return Err(el.error(format!(
+                "unknown attribute `{key}`; names starting with `_` are reserved for {}",
+                ATTRIBUTES.join(", ")
+            )));
+        }
+    }
+    Ok(hooks)
+}
+
+fn with_hooks<C: 'static>(b: Builder<C>, hooks: Option<ScriptHooks>) -> Builder<C> {
+    match hooks {
+        Some(h) => b.hooks(h),
+        None => b,
+    }
 }
 
 /// A port's binding from its attribute text: `{key}` (or `{@key}`) is an entry, `{=}` and
@@ -74,14 +103,10 @@ impl<C: 'static> Expansion<'_, '_, C> {
             el.tag.as_str()
         };
         let name = el.attr("name").unwrap_or(type_name);
-        if let Some((key, _)) = el.attrs.iter().find(|(k, _)| k.starts_with('_')) {
-            return Err(el.error(format!(
-                "`{key}`: pre- and post-conditions are not supported yet; remove the attribute"
-            )));
-        }
+        let hooks = conditions(el)?;
         let Some(node_type) = self.loader.registry.get(type_name) else {
             if self.loader.mock_unknown && el.children.is_empty() {
-                return Ok(b.leaf(NodeKind::AlwaysSuccess, name));
+                return Ok(with_hooks(b.leaf(NodeKind::AlwaysSuccess, name), hooks));
             }
             let hint = match self.loader.registry.closest(type_name) {
                 Some(close) => format!("did you mean `{close}`? "),
@@ -118,7 +143,7 @@ impl<C: 'static> Expansion<'_, '_, C> {
                         el.children.len()
                     )));
                 }
-                let mut b = b.open(kind, name);
+                let mut b = with_hooks(b.open(kind, name), hooks);
                 for child in &el.children {
                     b = self.node(b, child, depth + 1)?;
                 }
@@ -141,7 +166,7 @@ impl<C: 'static> Expansion<'_, '_, C> {
                         el.children.len()
                     )));
                 }
-                let mut b = b.open(kind, name).ports(ports);
+                let mut b = with_hooks(b.open(kind, name).ports(ports), hooks);
                 for child in &el.children {
                     b = self.node(b, child, depth + 1)?;
                 }
@@ -155,7 +180,7 @@ impl<C: 'static> Expansion<'_, '_, C> {
                     )));
                 }
                 let kind = make(&ports).map_err(|m| el.error(m))?;
-                Ok(b.leaf(kind, name).ports(ports))
+                Ok(with_hooks(b.leaf(kind, name).ports(ports), hooks))
             }
         }
     }
@@ -170,7 +195,7 @@ impl<C: 'static> Expansion<'_, '_, C> {
     ) -> Result<Vec<Port>, LoadError> {
         let mut ports = Vec::new();
         for (key, text) in &el.attrs {
-            if key == "name" || (explicit && key == "ID") {
+            if key == "name" || (explicit && key == "ID") || ATTRIBUTES.contains(&key.as_str()) {
                 continue;
             }
             let Some(spec) = node_type.port(key) else {

@@ -1,0 +1,29 @@
+//! Pre- and post-conditions: scripts BehaviorTree.CPP attaches to any node with the
+//! `_failureIf`, `_successIf`, `_skipIf`, `_while`, `_onSuccess`, `_onFailure`, `_post` and
+//! `_onHalted` attributes.
+//!
+//! | step | semantics |
+//! |---|---|
+//! | before the tick | Checked only while the node is Idle, in this order: `_failureIf` true → Failure, `_successIf` true → Success, `_skipIf` true → Skipped, `_while` false → Skipped; the node's own tick is then not called. While the node is Running, only `_while` is checked: false halts the node and returns Skipped. |
+//! | after the tick | On Success `_onSuccess`, on Failure `_onFailure`, then `_post` on either (also when a precondition decided the status). |
+//! | after a halt | `_onHalted`, when a Running node is halted. |
+//!
+//! The engine calls a [`NodeHooks`] object at these points; the `neurotree` crate implements
+//! it with its script language. A node without hooks pays nothing.
+
+use crate::nodes::leaf::Handle;
+use crate::NodeStatus;
+
+/// What runs around a node's tick (see the [module docs](self)).
+pub trait NodeHooks<C>: Send + Sync {
+    /// Before the tick. `stored` is the node's stored status (Idle or Running). Return the
+    /// status that replaces the tick, or `None` to tick the node. Returning Skipped while
+    /// `stored` is Running halts the node.
+    fn before(&self, h: &mut Handle<'_, C>, stored: NodeStatus) -> Option<NodeStatus>;
+
+    /// After a tick (or a precondition) that completed with `status` (Success or Failure).
+    fn after(&self, _h: &mut Handle<'_, C>, _status: NodeStatus) {}
+
+    /// After the node was halted while Running.
+    fn halted(&self, _h: &mut Handle<'_, C>) {}
+}
