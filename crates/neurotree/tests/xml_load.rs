@@ -459,3 +459,27 @@ fn script_syntax_errors_are_load_errors() {
     assert_eq!(e.line, 2);
     assert!(e.message.contains("in script `a := (1 + 2`"), "{e}");
 }
+
+#[test]
+fn subtrees_take_conditions_too() {
+    let bp = load(
+        r#"<root main_tree_to_execute="Main">
+             <BehaviorTree ID="Main">
+               <Sequence>
+                 <SubTree ID="Talk" _skipIf="quiet" _onSuccess="talked := true"/>
+                 <Say message="after"/>
+               </Sequence>
+             </BehaviorTree>
+             <BehaviorTree ID="Talk"><Say message="hello"/></BehaviorTree>
+           </root>"#,
+    )
+    .unwrap();
+    let mut tree = Tree::with_clock(bp.into(), ManualClock::new());
+    let mut said = Vec::new();
+    tree.blackboard_mut().set("quiet", false).unwrap();
+    assert_eq!(tree.tick_once(&mut said), Ok(Status::Success));
+    assert_eq!(tree.blackboard().get::<bool>("talked"), Ok(true));
+    tree.blackboard_mut().set("quiet", true).unwrap();
+    assert_eq!(tree.tick_once(&mut said), Ok(Status::Success));
+    assert_eq!(said, ["hello", "after", "after"]);
+}

@@ -275,10 +275,11 @@ impl<C: 'static> Expansion<'_, '_, C> {
                         }
                     }
                 }
+                k if ATTRIBUTES.contains(&k) => {}
                 k if k.starts_with('_') => {
                     return Err(el.error(format!(
-                    "`{k}`: pre- and post-conditions are not supported yet; remove the attribute"
-                )))
+                        "unknown attribute `{k}` on <SubTree>; names starting with `_` are reserved"
+                    )))
                 }
                 _ => match binding(key, text) {
                     PortValue::Entry(parent_key) => scope.remap.push((key.clone(), parent_key)),
@@ -287,13 +288,11 @@ impl<C: 'static> Expansion<'_, '_, C> {
             }
         }
         let name = el.attr("name").unwrap_or(id);
+        let hooks = conditions(el)?;
         self.stack.push(id.to_string());
+        let opened = with_hooks(b.open(NodeKind::SubTree(Box::new(scope)), name), hooks);
         let b = self
-            .node(
-                b.open(NodeKind::SubTree(Box::new(scope)), name),
-                &tree.children[0],
-                depth + 1,
-            )
+            .node(opened, &tree.children[0], depth + 1)
             .map(Builder::close);
         self.stack.pop();
         b
