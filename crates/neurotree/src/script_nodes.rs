@@ -7,10 +7,14 @@
 //! | ScriptCondition(code) | Success if the script's value is true (a non-zero number counts as true), else Failure. |
 //! | SetBlackboard(value, output_key) | Writes `value` (text, converted by whoever reads it) to the entry named by `output_key`; Success. |
 //! | UnsetBlackboard(key) | Removes the entry named by `key`; Success. |
+//! | Precondition(if, else=FAILURE) | A decorator: evaluates `if` only while its child is not Running; false → the `else` status without ticking the child; true → ticks the child until it completes. (BehaviorTree.CPP forgets, on halt, that the child was running; here a halt clears it.) |
 
 use std::sync::Arc;
 
-use neurotree_core::{Action, Category, Handle, NodeKind, Port, PortValue, Status};
+use neurotree_core::{
+    Action, Arity, Category, CustomNode, CustomSpec, Handle, NodeCtx, NodeKind, NodeStatus, Port,
+    PortValue, Status,
+};
 
 use crate::registry::{PortSpec, Registry};
 use crate::script::{Enums, Script, ScriptEnv, Value};
@@ -101,7 +105,55 @@ fn parse(ports: &[Port]) -> Result<Script, String> {
     Script::parse(code).map_err(|e| format!("in script `{code}`: {e}"))
 }
 
-/// Adds the four nodes to `registry`.
+/// BehaviorTree.CPP's Precondition decorator (see the module table).
+struct Precondition {
+    script: Script,
+    otherwise: NodeStatus,
+    child_running: bool,
+}
+
+impl<C> CustomNode<C> for Precondition {
+    fn tick(&mut self, node: &mut NodeCtx<'_, '_, C>) -> NodeStatus {
+        if !self.child_running {
+            let (scope, stamp) = (node.scope(), node.now());
+            let mut env = ScriptEnv {
+                blackboard: node.blackboard(),
+                scope,
+                enums: &NO_ENUMS,
+                stamp,
+            };
+            let holds = matches!(self.script.eval(&mut env), Ok(v) if truthy(&v));
+            if !holds {
+                return self.otherwise;
+            }
+        }
+        let status = node.tick_child(0);
+        self.child_running = status == NodeStatus::Running;
+        if status.is_completed() {
+            node.reset_children();
+        }
+        status
+    }
+
+    fn halt(&mut self, _node: &mut NodeCtx<'_, '_, C>) {
+        self.child_running = false;
+    }
+}
+
+/// A status written in XML (`SUCCESS`, `FAILURE`, `RUNNING`, `SKIPPED`).
+fn status_of(text: &str) -> Result<NodeStatus, String> {
+    match text.trim() {
+        "SUCCESS" => Ok(NodeStatus::Success),
+        "FAILURE" => Ok(NodeStatus::Failure),
+        "RUNNING" => Ok(NodeStatus::Running),
+        "SKIPPED" => Ok(NodeStatus::Skipped),
+        other => Err(format!(
+            "`{other}` is not a status; write SUCCESS, FAILURE, RUNNING or SKIPPED"
+        )),
+    }
+}
+
+/// Adds the nodes of this module to `registry`.
 pub(crate) fn register<C: 'static>(registry: &mut Registry<C>) {
     let code = || vec![PortSpec::input::<String>("code")];
     registry.register_leaf(
@@ -138,6 +190,30 @@ pub(crate) fn register<C: 'static>(registry: &mut Registry<C>) {
         Arc::new(|ports| {
             let key = key_of(ports, "output_key")?;
             Ok(NodeKind::Action(Box::new(SetBlackboard { key })))
+        }),
+    );
+    registry.register_leaf(
+        "Precondition",
+        Category::Decorator,
+        vec![
+            PortSpec::input::<String>("if"),
+            PortSpec::input::<String>("else").default_value("FAILURE"),
+        ],
+        Arc::new(|ports| {
+            let code = literal(ports, "if")?;
+            let script = Script::parse(code).map_err(|e| format!("in script `{code}`: {e}"))?;
+            let otherwise = status_of(literal(ports, "else")?)?;
+            Ok(NodeKind::Custom(Box::new(CustomSpec {
+                type_name: "Precondition".into(),
+                arity: Arity::One,
+                factory: Box::new(move || {
+                    Box::new(Precondition {
+                        script: script.clone(),
+                        otherwise,
+                        child_running: false,
+                    })
+                }),
+            })))
         }),
     );
     registry.register_leaf(

@@ -483,3 +483,46 @@ fn subtrees_take_conditions_too() {
     assert_eq!(tree.tick_once(&mut said), Ok(Status::Success));
     assert_eq!(said, ["hello", "after", "after"]);
 }
+
+#[test]
+fn precondition_checks_its_script_only_before_the_child_runs() {
+    let mut r = registry();
+    r.register_stateful("Wait3", vec![], || Wait3(0)).unwrap();
+    let mut loader = XmlLoader::new(&r);
+    loader
+        .load_str(
+            r#"<root main_tree_to_execute="T"><BehaviorTree ID="T">
+                 <Precondition if="door == 'open'" else="SKIPPED"><Wait3/></Precondition>
+               </BehaviorTree></root>"#,
+            "t.xml",
+        )
+        .unwrap();
+    let mut tree = Tree::with_clock(loader.build_main().unwrap().into(), ManualClock::new());
+    let mut ctx = Vec::new();
+    tree.blackboard_mut()
+        .set("door", String::from("closed"))
+        .unwrap();
+    assert_eq!(
+        tree.tick_once(&mut ctx),
+        Err(neurotree::TickError::RootSkipped)
+    );
+    tree.blackboard_mut()
+        .set("door", String::from("open"))
+        .unwrap();
+    assert_eq!(tree.tick_once(&mut ctx), Ok(Status::Running));
+    // Closing the door does not stop a child that already runs.
+    tree.blackboard_mut()
+        .set("door", String::from("closed"))
+        .unwrap();
+    assert_eq!(tree.tick_once(&mut ctx), Ok(Status::Running));
+    assert_eq!(tree.tick_once(&mut ctx), Ok(Status::Running));
+    assert_eq!(tree.tick_once(&mut ctx), Ok(Status::Success));
+    assert_eq!(
+        tree.tick_once(&mut ctx),
+        Err(neurotree::TickError::RootSkipped)
+    );
+    let e = error(
+        r#"<root main_tree_to_execute="T"><BehaviorTree ID="T"><Precondition if="1" else="MAYBE"><Succ/></Precondition></BehaviorTree></root>"#,
+    );
+    assert!(e.message.contains("`MAYBE` is not a status"), "{e}");
+}

@@ -117,6 +117,16 @@ impl<C> NodeCtx<'_, '_, C> {
         self.t.bb
     }
 
+    /// The blackboard scope the node reads and writes (its subtree's).
+    pub fn scope(&self) -> crate::ScopeId {
+        self.t.bp.scope(self.id)
+    }
+
+    /// The node's ports and their bindings.
+    pub fn ports(&self) -> &[crate::Port] {
+        self.t.bp.ports(self.id)
+    }
+
     /// The tree's clock reading.
     pub fn now(&self) -> Duration {
         self.t.clock.now()

@@ -2,7 +2,7 @@
 //! subtrees expanded into blackboard scopes.
 
 use neurotree_core::{
-    Blueprint, Builder, Category, NodeKind, Port, PortValue, SubTreeScope, DEFAULT_MAX_DEPTH,
+    Arity, Blueprint, Builder, Category, NodeKind, Port, PortValue, SubTreeScope, DEFAULT_MAX_DEPTH,
 };
 
 use super::source::Element;
@@ -173,14 +173,23 @@ impl<C: 'static> Expansion<'_, '_, C> {
                 Ok(b.close())
             }
             Make::Leaf(make) => {
-                if !el.children.is_empty() {
-                    return Err(el.error(format!(
-                        "`{type_name}` is a leaf and takes no children, found {}",
-                        el.children.len()
-                    )));
-                }
                 let kind = make(&ports).map_err(|m| el.error(m))?;
-                Ok(with_hooks(b.leaf(kind, name).ports(ports), hooks))
+                let arity = kind.arity();
+                if !arity.accepts(el.children.len() as u32) {
+                    let what = if arity == Arity::Leaf {
+                        "is a leaf and takes no children".to_string()
+                    } else {
+                        format!("takes {arity}")
+                    };
+                    return Err(
+                        el.error(format!("`{type_name}` {what}, found {}", el.children.len()))
+                    );
+                }
+                let mut b = with_hooks(b.open(kind, name).ports(ports), hooks);
+                for child in &el.children {
+                    b = self.node(b, child, depth + 1)?;
+                }
+                Ok(b.close())
             }
         }
     }
