@@ -526,3 +526,43 @@ fn precondition_checks_its_script_only_before_the_child_runs() {
     );
     assert!(e.message.contains("`MAYBE` is not a status"), "{e}");
 }
+
+#[test]
+fn the_subtree_remapping_tutorial_runs() {
+    // BehaviorTree.CPP's tutorial 06 as shipped, with its two leaves registered. Its scripts
+    // assign with `=`, which works because every entry a port names exists from the start.
+    let file = shared().join("corpus/btcpp/examples/examples__t06_subtree_port_remapping__01.xml");
+    let mut r = Registry::<Vec<String>>::new();
+    r.register_action(
+        "SaySomething",
+        vec![PortSpec::input::<String>("message")],
+        |h| {
+            let m = h
+                .input::<String>("message")
+                .unwrap_or_else(|e| e.to_string());
+            h.ctx_mut().push(m);
+            Status::Success
+        },
+    )
+    .unwrap();
+    r.register_action(
+        "MoveBase",
+        vec![PortSpec::input::<String>("goal")],
+        |h| match h.input::<Vec<f64>>("goal") {
+            Ok(goal) if goal == [1.0, 2.0, 3.0] => Status::Success,
+            _ => Status::Failure,
+        },
+    )
+    .unwrap();
+    let mut loader = XmlLoader::new(&r);
+    loader.load_file(&file).unwrap();
+    let bp = loader.build("MainTree").unwrap();
+    let mut tree = Tree::with_clock(bp.into(), ManualClock::new());
+    let mut said = Vec::new();
+    assert_eq!(tree.tick_once(&mut said), Ok(Status::Success));
+    assert_eq!(said, ["goal reached"]);
+    assert_eq!(
+        tree.blackboard().get::<String>("move_result"),
+        Ok("goal reached".to_string())
+    );
+}

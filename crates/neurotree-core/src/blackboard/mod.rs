@@ -210,6 +210,23 @@ impl Blackboard {
         }
     }
 
+    /// Declares `key` as seen from `scope` without writing it, as BehaviorTree.CPP does for
+    /// every entry a port names: the entry then exists (for [`contains_in`](Self::contains_in)
+    /// and a script's `=`), reads fail until the first write, and the first write of any
+    /// type fixes the entry's type. An existing entry is left as it is.
+    pub fn declare_in(&mut self, scope: ScopeId, key: &str) {
+        let Some((s, k)) = resolve(&self.links, &self.entries, scope, key) else {
+            return;
+        };
+        let entries = entries_mut(&mut self.entries, s);
+        if !entries.contains_key(k) {
+            let mut entry = Entry::new(Unwritten, Duration::ZERO);
+            entry.info.sequence = 0;
+            entry.info.type_name = "(not written yet)";
+            entries.insert(String::from(k), entry);
+        }
+    }
+
     /// Reads a copy of `key` as seen from `scope`.
     pub fn get_in<T: Any + Clone>(&self, scope: ScopeId, key: &str) -> Result<T, BlackboardError> {
         self.get_ref_in::<T>(scope, key).cloned()
@@ -218,6 +235,9 @@ impl Blackboard {
     /// Borrows `key` as seen from `scope`.
     pub fn get_ref_in<T: Any>(&self, scope: ScopeId, key: &str) -> Result<&T, BlackboardError> {
         let entry = self.entry_or_err(scope, key)?;
+        if entry.value.is::<Unwritten>() {
+            return Err(self.missing(scope, key));
+        }
         entry
             .value
             .downcast_ref::<T>()
@@ -227,7 +247,9 @@ impl Blackboard {
     /// Borrows `key` as seen from `scope`, whatever its type (for loggers and for code that
     /// tries several types).
     pub fn get_any_in(&self, scope: ScopeId, key: &str) -> Option<&(dyn Any + Send + Sync)> {
-        self.entry(scope, key).map(|e| &*e.value)
+        self.entry(scope, key)
+            .filter(|e| !e.value.is::<Unwritten>())
+            .map(|e| &*e.value)
     }
 
     /// Writes `key` as seen from `scope`, stamped `stamp`.
@@ -250,6 +272,7 @@ impl Blackboard {
         };
         let entries = entries_mut(&mut self.entries, s);
         match entries.get_mut(k) {
+            Some(entry) if entry.value.is::<Unwritten>() => *entry = Entry::new(value, stamp),
             Some(entry) => {
                 let Some(slot) = entry.value.downcast_mut::<T>() else {
                     return Err(wrong_type::<T>(key, entry));
@@ -372,6 +395,9 @@ impl Blackboard {
         }
     }
 }
+
+/// The value of a declared entry that nothing has written yet.
+struct Unwritten;
 
 fn wrong_type<T: Any>(key: &str, entry: &Entry) -> BlackboardError {
     BlackboardError::WrongType {

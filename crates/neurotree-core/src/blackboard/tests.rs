@@ -264,3 +264,26 @@ fn the_shorthand_set_reuses_the_latest_stamp() {
     bb.set("a", 2_u8).unwrap();
     assert_eq!(bb.info("a").unwrap().stamp, T2);
 }
+
+#[test]
+fn declared_entries_exist_but_read_only_after_a_write() {
+    let mut bb = Blackboard::new();
+    let sub = bb.add_scope(ScopeId::ROOT, false);
+    bb.remap(sub, "goal", "target");
+    bb.declare_in(sub, "goal");
+    assert!(bb.contains("target"));
+    assert_eq!(bb.info("target").unwrap().sequence, 0);
+    assert!(matches!(
+        bb.get::<i32>("target"),
+        Err(BlackboardError::NotFound { .. })
+    ));
+    assert!(bb.get_any_in(sub, "goal").is_none());
+    // The first write, of any type, fixes the type.
+    bb.set_in(sub, "goal", 1.5_f64, T1).unwrap();
+    assert_eq!(bb.get::<f64>("target"), Ok(1.5));
+    assert_eq!(bb.info("target").unwrap().sequence, 1);
+    assert!(bb.set("target", 1_i32).is_err());
+    // Declaring an existing entry changes nothing.
+    bb.declare_in(ScopeId::ROOT, "target");
+    assert_eq!(bb.get::<f64>("target"), Ok(1.5));
+}

@@ -72,6 +72,14 @@ impl<C> Tree<C> {
                 blackboard.replace_in(id, child_key, text.clone(), Duration::ZERO);
             }
         }
+        // As in BehaviorTree.CPP, every entry a port names exists from the start.
+        for id in blueprint.ids() {
+            for port in blueprint.ports(id) {
+                if let crate::PortValue::Entry(key) = &port.value {
+                    blackboard.declare_in(blueprint.scope(id), key);
+                }
+            }
+        }
         Self {
             statuses: vec![NodeStatus::Idle; blueprint.len()].into_boxed_slice(),
             aux: vec![0; blueprint.aux_slots as usize].into_boxed_slice(),
