@@ -220,6 +220,40 @@ impl<C: 'static> Registry<C> {
         r
     }
 
+    /// Registers a user control or decorator (a [`CustomNode`](neurotree_core::CustomNode)):
+    /// `make` builds one object per tree instance; `arity` says how many children it takes.
+    pub fn register_custom<F>(
+        &mut self,
+        name: &str,
+        arity: neurotree_core::Arity,
+        ports: Vec<PortSpec>,
+        make: F,
+    ) -> Result<(), RegistryError>
+    where
+        F: Fn() -> Box<dyn neurotree_core::CustomNode<C>> + Send + Sync + 'static,
+    {
+        if self.types.contains_key(name) {
+            return Err(RegistryError::Duplicate(name.to_string()));
+        }
+        let make = Arc::new(make);
+        let type_name = name.to_string();
+        let category = match arity {
+            neurotree_core::Arity::One => Category::Decorator,
+            neurotree_core::Arity::Leaf => Category::Action,
+            _ => Category::Control,
+        };
+        let leaf: LeafMaker<C> = Arc::new(move |_| {
+            let make = Arc::clone(&make);
+            Ok(NodeKind::Custom(Box::new(neurotree_core::CustomSpec {
+                type_name: type_name.clone(),
+                arity,
+                factory: Box::new(move || make()),
+            })))
+        });
+        self.register_leaf(name, category, ports, leaf);
+        Ok(())
+    }
+
     /// Registers a leaf whose node is made from its port bindings at load time.
     pub(crate) fn register_leaf(
         &mut self,
