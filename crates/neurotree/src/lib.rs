@@ -9,6 +9,7 @@
 pub use neurotree_core::*;
 
 pub mod bench_trees;
+mod loop_nodes;
 mod readme;
 pub mod registry;
 pub mod render;

@@ -217,6 +217,7 @@ impl<C: 'static> Registry<C> {
             r.types.insert(name.to_string(), t);
         }
         crate::script_nodes::register(&mut r);
+        crate::loop_nodes::register(&mut r);
         r
     }
 

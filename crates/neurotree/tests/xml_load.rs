@@ -566,3 +566,42 @@ fn the_subtree_remapping_tutorial_runs() {
         Ok("goal reached".to_string())
     );
 }
+
+#[test]
+fn loops_run_the_child_once_per_element() {
+    let bp = load(
+        r#"<root main_tree_to_execute="T"><BehaviorTree ID="T">
+             <Sequence>
+               <LoopInt queue="1;2;3" value="{n}">
+                 <Script code="sum := sum + n"/>
+               </LoopInt>
+               <LoopString queue="{words}" value="{w}">
+                 <Say message="{w}"/>
+               </LoopString>
+             </Sequence>
+           </BehaviorTree></root>"#,
+    )
+    .unwrap();
+    let mut tree = Tree::with_clock(bp.into(), ManualClock::new());
+    tree.blackboard_mut().set("sum", 0_i64).unwrap();
+    tree.blackboard_mut()
+        .set("words", vec!["a".to_string(), "b".to_string()])
+        .unwrap();
+    let mut said = Vec::new();
+    // One element per tick: 3 ints, then 2 words, then both queues are empty.
+    let mut ticks = 0;
+    while tree.tick_once(&mut said) == Ok(Status::Running) {
+        ticks += 1;
+        assert!(ticks < 20);
+    }
+    assert_eq!(ticks, 5);
+    assert_eq!(tree.blackboard().get::<i64>("sum"), Ok(6));
+    assert_eq!(said, ["a", "b"]);
+    // The entry queue was consumed; the literal one starts over.
+    assert_eq!(
+        tree.blackboard().get::<Vec<String>>("words"),
+        Ok(Vec::new())
+    );
+    assert_eq!(tree.tick_once(&mut said), Ok(Status::Running));
+    assert_eq!(tree.blackboard().get::<i64>("sum"), Ok(7));
+}
