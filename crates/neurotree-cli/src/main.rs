@@ -3,10 +3,12 @@
 //! - `neurotree demo`: a simulated robot patrols a corridor; its tree is drawn every tick.
 //! - `neurotree bench`: quick measurements of tick cost and of many agents per frame.
 //! - `neurotree check`: validate BehaviorTree.CPP XML files against the node models.
+//! - `neurotree run`: dry-run a BehaviorTree.CPP file with mock leaves, as JSON lines.
 
 mod bench;
 mod check;
 mod demo;
+mod run;
 
 use std::io::{self, IsTerminal, Write};
 use std::process::ExitCode;
@@ -30,6 +32,46 @@ enum Command {
     Bench(BenchArgs),
     /// Validate BehaviorTree.CPP XML files: structure, node names, ports, literals.
     Check(CheckArgs),
+    /// Tick a BehaviorTree.CPP file with mock leaves and print each tick as JSON.
+    Run(RunArgs),
+}
+
+#[derive(Args, Debug)]
+struct RunArgs {
+    /// The file to run.
+    file: std::path::PathBuf,
+    /// The tree to run (default: main_tree_to_execute, or the only tree).
+    #[arg(long)]
+    tree: Option<String>,
+    /// NAME=OUTCOMES: replace nodes named NAME (else of type NAME) by a mock playing
+    /// OUTCOMES, a comma list of SUCCESS, FAILURE, RUNNING, each optionally `*k`.
+    #[arg(long = "mock", value_parser = key_value)]
+    mocks: Vec<(String, String)>,
+    /// Mock every unregistered leaf with SUCCESS.
+    #[arg(long)]
+    mock_unknown: bool,
+    /// KEY=VALUE written to the root blackboard first (integer, else float, else
+    /// true/false, else text).
+    #[arg(long = "set", value_parser = key_value)]
+    sets: Vec<(String, String)>,
+    /// Stop after this many ticks.
+    #[arg(long, default_value_t = 100)]
+    max_ticks: u32,
+    /// `once` re-ticks while a node asks to be woken; `exactly-once` does not.
+    #[arg(long, default_value = "once", value_parser = ["once", "exactly-once"])]
+    tick: String,
+    /// Milliseconds the manual clock advances before every tick.
+    #[arg(long, default_value_t = 100)]
+    step_ms: u64,
+    /// Also print every status change.
+    #[arg(long)]
+    trace: bool,
+}
+
+fn key_value(text: &str) -> Result<(String, String), String> {
+    text.split_once('=')
+        .map(|(k, v)| (k.to_string(), v.to_string()))
+        .ok_or_else(|| format!("`{text}` should be NAME=VALUE"))
 }
 
 #[derive(Args, Debug)]
@@ -93,6 +135,27 @@ fn main() -> ExitCode {
                 agents: args.agents,
             };
             bench::run(&opts, args.json, &mut out)
+        }
+        Command::Run(args) => {
+            let opts = run::RunOptions {
+                tree: args.tree,
+                mocks: args.mocks,
+                mock_unknown: args.mock_unknown,
+                sets: args.sets,
+                max_ticks: args.max_ticks,
+                exactly_once: args.tick == "exactly-once",
+                step: Duration::from_millis(args.step_ms),
+                trace: args.trace,
+            };
+            return match run::run(&args.file, &opts, &mut out, &mut io::stderr()) {
+                Ok(true) => ExitCode::SUCCESS,
+                Ok(false) => ExitCode::FAILURE,
+                Err(e) if e.kind() == io::ErrorKind::BrokenPipe => ExitCode::SUCCESS,
+                Err(e) => {
+                    eprintln!("neurotree: {e}");
+                    ExitCode::FAILURE
+                }
+            };
         }
         Command::Check(args) => {
             return match check::run(&args.files, &args.models, &mut io::stderr()) {

@@ -168,3 +168,130 @@ fn check_reports_errors_with_positions_and_fails() {
     assert_eq!(out.status.code(), Some(1));
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+fn write_tree(name: &str, xml: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("neurotree-run-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join(name);
+    std::fs::write(&file, xml).unwrap();
+    file
+}
+
+fn run_cli(args: &[&str]) -> (Option<i32>, String, String) {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_neurotree"))
+        .args(args)
+        .output()
+        .unwrap();
+    (
+        out.status.code(),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+const GUARDED_MOVE: &str = r#"<root BTCPP_format="4" main_tree_to_execute="Main">
+  <BehaviorTree ID="Main">
+    <Sequence>
+      <Script code="count := 0"/>
+      <ReactiveSequence>
+        <IsReady/>
+        <MoveBase name="move" goal="{goal}"/>
+      </ReactiveSequence>
+      <Script code="count += 1"/>
+    </Sequence>
+  </BehaviorTree>
+</root>"#;
+
+#[test]
+fn run_prints_a_line_per_tick_and_a_summary() {
+    let file = write_tree("guarded.xml", GUARDED_MOVE);
+    let (code, out, err) = run_cli(&[
+        "run",
+        file.to_str().unwrap(),
+        "--mock",
+        "IsReady=SUCCESS",
+        "--mock",
+        "move=RUNNING*2,SUCCESS",
+        "--set",
+        "goal=3",
+    ]);
+    assert_eq!(code, Some(0), "{err}");
+    let lines: Vec<&str> = out.lines().collect();
+    assert_eq!(
+        lines[..3],
+        [
+            r#"{"tick":1,"status":"RUNNING"}"#,
+            r#"{"tick":2,"status":"RUNNING"}"#,
+            r#"{"tick":3,"status":"SUCCESS"}"#,
+        ]
+    );
+    assert_eq!(
+        lines[3],
+        r#"{"summary":{"ticks":3,"status":"SUCCESS","nodes":{"IsReady":{"ticks":3,"halts":0},"ReactiveSequence":{"ticks":3,"halts":0},"Script":{"ticks":2,"halts":0},"Sequence":{"ticks":3,"halts":0},"move":{"ticks":3,"halts":0}},"blackboard":{"count":1,"goal":3}}}"#
+    );
+}
+
+#[test]
+fn run_counts_halts_and_traces_changes() {
+    let file = write_tree("flip.xml", GUARDED_MOVE);
+    let (code, out, _) = run_cli(&[
+        "run",
+        file.to_str().unwrap(),
+        "--mock",
+        "IsReady=SUCCESS,FAILURE",
+        "--mock",
+        "move=RUNNING",
+        "--trace",
+        "--tick",
+        "exactly-once",
+    ]);
+    assert_eq!(code, Some(0));
+    assert!(
+        out.contains(
+            r#"{"tick":2,"node":"Sequence/ReactiveSequence/move","from":"RUNNING","to":"IDLE"}"#
+        ),
+        "{out}"
+    );
+    let summary = out.lines().last().unwrap();
+    assert!(
+        summary.contains(r#""move":{"ticks":1,"halts":1}"#),
+        "{summary}"
+    );
+    assert!(summary.contains(r#""status":"FAILURE""#), "{summary}");
+}
+
+#[test]
+fn run_reports_load_errors_and_exits_1() {
+    let file = write_tree("unknown.xml", GUARDED_MOVE);
+    let (code, out, err) = run_cli(&["run", file.to_str().unwrap()]);
+    assert_eq!(code, Some(1));
+    assert!(out.is_empty());
+    assert!(
+        err.contains("unknown.xml:6:9: error: unknown node type `IsReady`"),
+        "{err}"
+    );
+    let (code, _, err) = run_cli(&["run", file.to_str().unwrap(), "--mock", "IsReady=MAYBE"]);
+    assert_eq!(code, Some(1));
+    assert!(err.contains("`MAYBE` is not an outcome"), "{err}");
+}
+
+#[test]
+fn run_mock_unknown_and_max_ticks() {
+    let file = write_tree("unknown2.xml", GUARDED_MOVE);
+    let (code, out, _) = run_cli(&[
+        "run",
+        file.to_str().unwrap(),
+        "--mock-unknown",
+        "--mock",
+        "move=RUNNING",
+        "--max-ticks",
+        "4",
+    ]);
+    assert_eq!(code, Some(0));
+    assert_eq!(out.lines().count(), 5);
+    assert!(out
+        .lines()
+        .last()
+        .unwrap()
+        .contains(r#""ticks":4,"status":"RUNNING""#));
+}

@@ -32,6 +32,9 @@ pub trait Observer: Send {
     /// A node's stored status changed.
     fn on_status_change(&mut self, _change: StatusChange) {}
 
+    /// A node's own tick is about to run (not called when a precondition decides instead).
+    fn on_node_tick(&mut self, _node: NodeId) {}
+
     /// A root tick ended with `status`.
     fn on_tick_end(&mut self, _status: NodeStatus, _now: Duration) {}
 }
@@ -45,6 +48,10 @@ impl<A: Observer, B: Observer> Observer for (A, B) {
     fn on_status_change(&mut self, change: StatusChange) {
         self.0.on_status_change(change);
         self.1.on_status_change(change);
+    }
+    fn on_node_tick(&mut self, node: NodeId) {
+        self.0.on_node_tick(node);
+        self.1.on_node_tick(node);
     }
     fn on_tick_end(&mut self, status: NodeStatus, now: Duration) {
         self.0.on_tick_end(status, now);
@@ -62,6 +69,11 @@ impl Observer for alloc::vec::Vec<alloc::boxed::Box<dyn Observer>> {
     fn on_status_change(&mut self, change: StatusChange) {
         for o in self.iter_mut() {
             o.on_status_change(change);
+        }
+    }
+    fn on_node_tick(&mut self, node: NodeId) {
+        for o in self.iter_mut() {
+            o.on_node_tick(node);
         }
     }
     fn on_tick_end(&mut self, status: NodeStatus, now: Duration) {

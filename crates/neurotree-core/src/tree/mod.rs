@@ -334,6 +334,26 @@ mod tests {
     }
 
     #[test]
+    fn observer_counts_each_nodes_own_ticks() {
+        #[derive(Clone, Default)]
+        struct Ticks(StdArc<Mutex<Vec<u32>>>);
+        impl Observer for Ticks {
+            fn on_node_tick(&mut self, node: NodeId) {
+                self.0.lock().unwrap().push(node.0);
+            }
+        }
+        let mut lab = Lab::new(&[&[S], &[R, S]]);
+        let mut tree = lab.tree(|b| {
+            b.sequence("seq", |s| s.scripted(0).scripted(1).condition("c", |_: &Lab| true))
+        });
+        let ticks = Ticks::default();
+        tree.set_observer(ticks.clone());
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Running));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Success));
+        assert_eq!(*ticks.0.lock().unwrap(), [0, 1, 2, 0, 2, 3]);
+    }
+
+    #[test]
     fn halt_goes_children_first() {
         let mut lab = Lab::new(&[&[R], &[R]]);
         let mut tree = lab.tree(|b| {

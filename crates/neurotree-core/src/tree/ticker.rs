@@ -103,6 +103,7 @@ impl<'t, C> Ticker<'t, C> {
     pub(crate) fn tick(&mut self, id: NodeId) -> NodeStatus {
         let def = self.bp.def(id);
         if let (NodeKind::ConditionFn(f), None) = (&def.kind, self.bp.hooks(id)) {
+            self.note_tick(id);
             let status = if f(self.ctx) {
                 NodeStatus::Success
             } else {
@@ -118,7 +119,10 @@ impl<'t, C> Ticker<'t, C> {
     #[inline(always)]
     fn tick_other(&mut self, id: NodeId, def: &NodeDef<C>) -> NodeStatus {
         let status = match self.bp.hooks(id) {
-            None => self.dispatch(id, def),
+            None => {
+                self.note_tick(id);
+                self.dispatch(id, def)
+            }
             Some(hooks) => self.tick_hooked(id, def, hooks),
         };
         // A skipped node keeps (or returns to) Idle, though a control marks itself Running
@@ -148,7 +152,10 @@ impl<'t, C> Ticker<'t, C> {
                 NodeStatus::Skipped
             }
             Some(decided) => decided,
-            None => self.dispatch(id, def),
+            None => {
+                self.note_tick(id);
+                self.dispatch(id, def)
+            }
         };
         if status.is_completed() {
             hooks.after(&mut self.handle(id), status);
@@ -164,6 +171,9 @@ impl<'t, C> Ticker<'t, C> {
     #[inline(always)]
     pub(crate) fn tick_child<const OBSERVED: bool>(&mut self, child: &Child<C>) -> NodeStatus {
         if let Some(f) = child.condition() {
+            if OBSERVED {
+                self.note_tick(child.id);
+            }
             let status = if f(self.ctx) {
                 NodeStatus::Success
             } else {
@@ -179,6 +189,14 @@ impl<'t, C> Ticker<'t, C> {
         // The child list already told us it is no closure condition.
         let def = self.bp.def(child.id);
         self.tick_other(child.id, def)
+    }
+
+    /// Tells the observer that a node's own tick runs.
+    #[inline(always)]
+    fn note_tick(&mut self, id: NodeId) {
+        if let Some(observer) = self.observer.as_deref_mut() {
+            observer.on_node_tick(id);
+        }
     }
 
     /// `true` when an observer is attached.

@@ -5,6 +5,7 @@ use neurotree_core::{
     Arity, Blueprint, Builder, Category, NodeKind, Port, PortValue, SubTreeScope, DEFAULT_MAX_DEPTH,
 };
 
+use super::mock;
 use super::source::Element;
 use super::{LoadError, XmlLoader};
 use crate::registry::{built_in_kind, Make, NodeType};
@@ -104,6 +105,9 @@ impl<C: 'static> Expansion<'_, '_, C> {
         };
         let name = el.attr("name").unwrap_or(type_name);
         let hooks = conditions(el)?;
+        if let Some(outcomes) = self.loader.mocks.get(name) {
+            return Ok(with_hooks(b.leaf(mock::mock_kind(outcomes), name), hooks));
+        }
         let Some(node_type) = self.loader.registry.get(type_name) else {
             if self.loader.mock_unknown && el.children.is_empty() {
                 return Ok(with_hooks(b.leaf(NodeKind::AlwaysSuccess, name), hooks));

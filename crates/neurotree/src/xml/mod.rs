@@ -30,7 +30,10 @@
 //! ```
 
 mod build;
+mod mock;
 mod source;
+
+pub use mock::parse_outcomes;
 
 /// Parses a file that holds a `TreeNodesModel` (for [`Registry::add_model_str`]).
 pub(crate) fn parse_model_root(text: &str, file: &str) -> Result<Element, LoadError> {
@@ -82,6 +85,8 @@ pub struct XmlLoader<'r, C> {
     loading: Vec<PathBuf>,
     /// Trees loaded without an ID so far.
     unnamed_trees: usize,
+    /// Node name (or type) → the outcomes of the mock that replaces it.
+    mocks: BTreeMap<String, Vec<neurotree_core::Status>>,
 }
 
 impl<C> fmt::Debug for XmlLoader<'_, C> {
@@ -104,6 +109,7 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
             mock_unknown: false,
             loading: Vec::new(),
             unnamed_trees: 0,
+            mocks: BTreeMap::new(),
         }
     }
 
@@ -117,6 +123,13 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
     /// Turns every unregistered leaf into a mock that succeeds, for dry runs.
     pub fn mock_unknown(mut self, yes: bool) -> Self {
         self.mock_unknown = yes;
+        self
+    }
+
+    /// Replaces every node whose `name` (or, without one, its type) is `name` by a leaf that
+    /// returns `outcomes` one per tick, then the last one forever, for dry runs.
+    pub fn mock(mut self, name: &str, outcomes: Vec<neurotree_core::Status>) -> Self {
+        self.mocks.insert(name.to_string(), outcomes);
         self
     }
 
