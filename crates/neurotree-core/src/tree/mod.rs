@@ -344,7 +344,9 @@ mod tests {
         }
         let mut lab = Lab::new(&[&[S], &[R, S]]);
         let mut tree = lab.tree(|b| {
-            b.sequence("seq", |s| s.scripted(0).scripted(1).condition("c", |_: &Lab| true))
+            b.sequence("seq", |s| {
+                s.scripted(0).scripted(1).condition("c", |_: &Lab| true)
+            })
         });
         let ticks = Ticks::default();
         tree.set_observer(ticks.clone());
