@@ -9,6 +9,7 @@
 pub use neurotree_core::*;
 
 pub mod bench_trees;
+mod entry_nodes;
 mod loop_nodes;
 mod readme;
 pub mod registry;

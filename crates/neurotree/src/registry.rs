@@ -218,6 +218,7 @@ impl<C: 'static> Registry<C> {
         }
         crate::script_nodes::register(&mut r);
         crate::loop_nodes::register(&mut r);
+        crate::entry_nodes::register(&mut r);
         r
     }
 

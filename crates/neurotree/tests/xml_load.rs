@@ -605,3 +605,51 @@ fn loops_run_the_child_once_per_element() {
     assert_eq!(tree.tick_once(&mut said), Ok(Status::Running));
     assert_eq!(tree.blackboard().get::<i64>("sum"), Ok(7));
 }
+
+#[test]
+fn entry_watchers_see_writes() {
+    let bp = load(
+        r#"<root main_tree_to_execute="T"><BehaviorTree ID="T">
+             <Sequence>
+               <Fallback>
+                 <WasEntryUpdated entry="goal"/>
+                 <Say message="no new goal"/>
+               </Fallback>
+               <SkipUnlessUpdated entry="{goal}"><Say message="new goal"/></SkipUnlessUpdated>
+             </Sequence>
+           </BehaviorTree></root>"#,
+    )
+    .unwrap();
+    let mut tree = Tree::with_clock(bp.into(), ManualClock::new());
+    let mut said = Vec::new();
+    tree.blackboard_mut().set("goal", 1_i64).unwrap();
+    assert_eq!(tree.tick_once(&mut said), Ok(Status::Success));
+    assert_eq!(said, ["new goal"]);
+    said.clear();
+    assert_eq!(tree.tick_once(&mut said), Ok(Status::Success));
+    assert_eq!(said, ["no new goal"]);
+    said.clear();
+    // The same value written again is a write.
+    tree.blackboard_mut().set("goal", 1_i64).unwrap();
+    assert_eq!(tree.tick_once(&mut said), Ok(Status::Success));
+    assert_eq!(said, ["new goal"]);
+}
+
+#[test]
+fn wait_value_update_runs_until_a_write() {
+    let bp = load(
+        r#"<root main_tree_to_execute="T"><BehaviorTree ID="T">
+             <WaitValueUpdate entry="ping"><Say message="pong"/></WaitValueUpdate>
+           </BehaviorTree></root>"#,
+    )
+    .unwrap();
+    let mut tree = Tree::with_clock(bp.into(), ManualClock::new());
+    let mut said = Vec::new();
+    tree.blackboard_mut().set("ping", true).unwrap();
+    assert_eq!(tree.tick_once(&mut said), Ok(Status::Success));
+    assert_eq!(tree.tick_once(&mut said), Ok(Status::Running));
+    assert_eq!(tree.tick_once(&mut said), Ok(Status::Running));
+    tree.blackboard_mut().set("ping", true).unwrap();
+    assert_eq!(tree.tick_once(&mut said), Ok(Status::Success));
+    assert_eq!(said, ["pong", "pong"]);
+}
