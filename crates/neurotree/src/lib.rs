@@ -18,6 +18,7 @@ pub mod script;
 mod script_hooks;
 mod script_nodes;
 mod shared_blackboard;
+mod switch_node;
 pub mod xml;
 
 pub use registry::{PortDirection, PortSpec, Registry, RegistryError};

@@ -219,6 +219,7 @@ impl<C: 'static> Registry<C> {
         crate::script_nodes::register(&mut r);
         crate::loop_nodes::register(&mut r);
         crate::entry_nodes::register(&mut r);
+        crate::switch_node::register(&mut r);
         r
     }
 

@@ -653,3 +653,62 @@ fn wait_value_update_runs_until_a_write() {
     assert_eq!(tree.tick_once(&mut said), Ok(Status::Success));
     assert_eq!(said, ["pong", "pong"]);
 }
+
+#[test]
+fn switch_picks_a_branch_and_halts_the_previous_one() {
+    let mut r = registry();
+    r.register_stateful("Wait3", vec![], || Wait3(0)).unwrap();
+    let mut loader = XmlLoader::new(&r);
+    loader
+        .load_str(
+            r#"<root main_tree_to_execute="T"><BehaviorTree ID="T">
+                 <Switch3 variable="{mode}" case_1="walk" case_2="2" case_3="{fly}">
+                   <Wait3/>
+                   <Say message="two"/>
+                   <Say message="flying"/>
+                   <Say message="default"/>
+                 </Switch3>
+               </BehaviorTree></root>"#,
+            "t.xml",
+        )
+        .unwrap();
+    let mut tree = Tree::with_clock(loader.build_main().unwrap().into(), ManualClock::new());
+    let mut said = Vec::new();
+    let bb = tree.blackboard_mut();
+    bb.set("mode", String::from("walk")).unwrap();
+    bb.set("fly", 7.0_f64).unwrap();
+    assert_eq!(tree.tick_once(&mut said), Ok(Status::Running));
+    // An integer entry matches the text case "2"; the running Wait3 is halted.
+    tree.blackboard_mut().replace_in(
+        neurotree::ScopeId::ROOT,
+        "mode",
+        2_i64,
+        std::time::Duration::ZERO,
+    );
+    assert_eq!(tree.tick_once(&mut said), Ok(Status::Success));
+    assert_eq!(said, ["Wait3 halted", "two"]);
+    // Text "7" matches the real entry 7.0; then nothing matches: the default.
+    tree.blackboard_mut().replace_in(
+        neurotree::ScopeId::ROOT,
+        "mode",
+        String::from("7"),
+        std::time::Duration::ZERO,
+    );
+    assert_eq!(tree.tick_once(&mut said), Ok(Status::Success));
+    tree.blackboard_mut().replace_in(
+        neurotree::ScopeId::ROOT,
+        "mode",
+        String::from("swim"),
+        std::time::Duration::ZERO,
+    );
+    assert_eq!(tree.tick_once(&mut said), Ok(Status::Success));
+    assert_eq!(said, ["Wait3 halted", "two", "flying", "default"]);
+    let e = error(
+        r#"<root main_tree_to_execute="T"><BehaviorTree ID="T"><Switch2 variable="a" case_1="a"><Succ/></Switch2></BehaviorTree></root>"#,
+    );
+    assert!(
+        e.message
+            .contains("`Switch2` takes exactly 3 children, found 1"),
+        "{e}"
+    );
+}

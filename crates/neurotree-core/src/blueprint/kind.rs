@@ -87,6 +87,7 @@ impl fmt::Display for Arity {
         match self {
             Arity::Leaf => f.write_str("no children"),
             Arity::One => f.write_str("exactly 1 child"),
+            Arity::Range { min, max } if min == max => write!(f, "exactly {min} children"),
             Arity::Range { min, max } => write!(f, "{min} to {max} children"),
             Arity::AtLeast(1) => f.write_str("at least 1 child"),
             Arity::AtLeast(n) => write!(f, "at least {n} children"),
