@@ -172,6 +172,8 @@ pub struct NodeType<C> {
     /// What it does.
     pub description: String,
     pub(crate) make: Make<C>,
+    /// Registered by [`Registry::new`], so not written into a `TreeNodesModel`.
+    pub(crate) builtin: bool,
 }
 
 impl<C> NodeType<C> {
@@ -213,6 +215,7 @@ impl<C: 'static> Registry<C> {
                 ports,
                 description: String::new(),
                 make: Make::BuiltIn(built_in),
+                builtin: true,
             };
             r.types.insert(name.to_string(), t);
         }
@@ -220,6 +223,9 @@ impl<C: 'static> Registry<C> {
         crate::loop_nodes::register(&mut r);
         crate::entry_nodes::register(&mut r);
         crate::switch_node::register(&mut r);
+        for t in r.types.values_mut() {
+            t.builtin = true;
+        }
         r
     }
 
@@ -273,6 +279,7 @@ impl<C: 'static> Registry<C> {
                 ports,
                 description: String::new(),
                 make: Make::Leaf(make),
+                builtin: false,
             },
         );
     }
@@ -309,6 +316,7 @@ impl<C: 'static> Registry<C> {
             ports,
             description: String::new(),
             make: Make::Leaf(leaf),
+            builtin: false,
         })
     }
 
@@ -331,6 +339,7 @@ impl<C: 'static> Registry<C> {
             ports,
             description: String::new(),
             make: Make::Leaf(leaf),
+            builtin: false,
         })
     }
 
@@ -356,6 +365,7 @@ impl<C: 'static> Registry<C> {
             ports,
             description: String::new(),
             make: Make::Leaf(leaf),
+            builtin: false,
         })
     }
 
@@ -414,12 +424,60 @@ impl<C: 'static> Registry<C> {
                         ports,
                         description: String::new(),
                         make: Make::Model,
+                        builtin: false,
                     },
                 );
                 added += 1;
             }
         }
         Ok(added)
+    }
+
+    /// The `TreeNodesModel` of the registered types that are not built in, as a BehaviorTree.CPP
+    /// format-4 document: what Groot2 reads to know the user's nodes and their ports.
+    pub fn tree_nodes_model(&self) -> String {
+        let mut out = String::from("<root BTCPP_format=\"4\">\n  <TreeNodesModel>\n");
+        for t in self.types.values() {
+            if t.builtin {
+                continue;
+            }
+            let tag = t.category.as_str();
+            out.push_str(&format!("    <{tag} ID=\"{}\"", escape(&t.name)));
+            if t.ports.is_empty() && t.description.is_empty() {
+                out.push_str("/>\n");
+                continue;
+            }
+            out.push_str(">\n");
+            for p in &t.ports {
+                out.push_str(&format!(
+                    "      <{} name=\"{}\" type=\"{}\"",
+                    p.direction.model_tag(),
+                    escape(&p.name),
+                    escape(p.type_name)
+                ));
+                if let Some(d) = &p.default {
+                    out.push_str(&format!(" default=\"{}\"", escape(d)));
+                }
+                if p.description.is_empty() {
+                    out.push_str("/>\n");
+                } else {
+                    out.push_str(&format!(
+                        ">{}</{}>\n",
+                        escape(&p.description),
+                        p.direction.model_tag()
+                    ));
+                }
+            }
+            if !t.description.is_empty() {
+                out.push_str(&format!(
+                    "      <description>{}</description>\n",
+                    escape(&t.description)
+                ));
+            }
+            out.push_str(&format!("    </{tag}>\n"));
+        }
+        out.push_str("  </TreeNodesModel>\n</root>\n");
+        out
     }
 
     /// Adds a description to a registered type (shown in the `TreeNodesModel`).
@@ -450,6 +508,22 @@ impl<C: 'static> Registry<C> {
     }
 }
 
+/// Text made safe for an XML attribute or element.
+fn escape(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    for c in text.chars() {
+        match c {
+            '&' => out.push_str("&amp;"),
+            '<' => out.push_str("&lt;"),
+            '>' => out.push_str("&gt;"),
+            '"' => out.push_str("&quot;"),
+            '\'' => out.push_str("&apos;"),
+            c => out.push(c),
+        }
+    }
+    out
+}
+
 /// The Rust type a model's type name converts to, for messages.
 fn model_type_name(t: Option<&str>) -> &'static str {
     match t.map(str::trim) {
@@ -459,7 +533,10 @@ fn model_type_name(t: Option<&str>) -> &'static str {
         Some("unsigned int" | "unsigned" | "uint8" | "uint16" | "uint32" | "uint64" | "size_t") => {
             "u64"
         }
-        Some("std::string" | "string") => "String",
+        Some("std::string" | "string" | "alloc::string::String") => "String",
+        Some("f64" | "f32") => "f64",
+        Some("i8" | "i16" | "i32" | "i64" | "isize") => "i64",
+        Some("u8" | "u16" | "u32" | "u64" | "usize") => "u64",
         _ => "text",
     }
 }
@@ -650,6 +727,39 @@ mod tests {
             r.register_condition("Sequence", vec![], |_| true),
             Err(RegistryError::Duplicate("Sequence".into()))
         );
+    }
+
+    #[test]
+    fn the_model_lists_user_types_and_reads_back() {
+        let mut r = Registry::<()>::new();
+        r.register_action(
+            "MoveTo",
+            vec![
+                PortSpec::input::<f64>("speed")
+                    .default_value("0.5")
+                    .describe("metres per second, < 2"),
+                PortSpec::output::<String>("result"),
+            ],
+            |_| Status::Success,
+        )
+        .unwrap();
+        r.register_condition("IsReady", vec![], |_| true).unwrap();
+        r.describe("IsReady", "the robot can move");
+        let model = r.tree_nodes_model();
+        assert!(model.contains(r#"<Action ID="MoveTo">"#), "{model}");
+        assert!(model.contains(
+            r#"<input_port name="speed" type="f64" default="0.5">metres per second, &lt; 2</input_port>"#
+        ), "{model}");
+        assert!(model.contains(r#"<Condition ID="IsReady">"#), "{model}");
+        assert!(!model.contains("Sequence"), "{model}");
+        assert!(!model.contains("Script"), "{model}");
+        let mut back = Registry::<()>::new();
+        assert_eq!(back.add_model_str(&model, "model.xml").unwrap(), 2);
+        let move_to = back.get("MoveTo").unwrap();
+        assert_eq!(move_to.ports.len(), 2);
+        assert_eq!(move_to.ports[0].default.as_deref(), Some("0.5"));
+        assert!(!move_to.ports[0].accepts("fast"));
+        assert_eq!(move_to.ports[1].direction, PortDirection::Output);
     }
 
     #[test]
