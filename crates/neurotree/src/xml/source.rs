@@ -93,6 +93,10 @@ impl<'a> Lines<'a> {
     }
 }
 
+/// The deepest element nesting read: far beyond any tree's depth limit, and low enough that
+/// the element tree can be dropped (recursively) on any thread's stack.
+const MAX_NESTING: usize = 1024;
+
 /// Parses `text` (from `file`) into its root element.
 pub(crate) fn parse(text: &str, file: &str) -> Result<Element, LoadError> {
     let (strict, inserted) = make_strict(text);
@@ -156,6 +160,17 @@ pub(crate) fn parse(text: &str, file: &str) -> Result<Element, LoadError> {
         let next = pending.last_mut().and_then(Iterator::next);
         match next {
             Some(child) => {
+                if stack.len() >= MAX_NESTING {
+                    let (line, col) = lines.line_col(original(child.range().start));
+                    return Err(LoadError {
+                        file: file.to_string(),
+                        line,
+                        col,
+                        message: format!(
+                            "elements nest deeper than {MAX_NESTING} levels; no behavior tree is that deep"
+                        ),
+                    });
+                }
                 pending.push(
                     child
                         .children()
