@@ -82,16 +82,41 @@ fn binding(port: &str, text: &str) -> PortValue {
     }
 }
 
-impl<C: 'static> Expansion<'_, '_, C> {
+impl<'a, C: 'static> Expansion<'a, '_, C> {
+    /// Adds `el` and, below it, its children. Kept small: it recurses once per level, so all
+    /// the per-element work is in [`open`](Self::open), which does not.
     fn node(&mut self, b: Builder<C>, el: &Element, depth: u32) -> Result<Builder<C>, LoadError> {
         if depth > DEFAULT_MAX_DEPTH {
-            return Err(el.error(format!(
-                "the tree nests deeper than {DEFAULT_MAX_DEPTH} levels (subtrees included); flatten it"
-            )));
+            return Err(self.too_deep(el));
         }
         if el.tag == "SubTree" {
-            return self.subtree(b, el, depth);
+            let (b, tree) = self.open_subtree(b, el)?;
+            let b = self
+                .node(b, &tree.children[0], depth + 1)
+                .map(Builder::close);
+            self.stack.pop();
+            return b;
         }
+        let (mut b, descend) = self.open(b, el)?;
+        if descend {
+            for child in &el.children {
+                b = self.node(b, child, depth + 1)?;
+            }
+        }
+        Ok(b.close())
+    }
+
+    #[inline(never)]
+    fn too_deep(&self, el: &Element) -> LoadError {
+        el.error(format!(
+            "the tree nests deeper than {DEFAULT_MAX_DEPTH} levels (subtrees included); flatten it"
+        ))
+    }
+
+    /// Checks `el` and opens its node; `false` if its children are not to be added (a mock
+    /// replaces a node and what is below it).
+    #[inline(never)]
+    fn open(&mut self, b: Builder<C>, el: &Element) -> Result<(Builder<C>, bool), LoadError> {
         let explicit = EXPLICIT.contains(&el.tag.as_str());
         let type_name = if explicit {
             el.attr("ID").ok_or_else(|| {
@@ -106,11 +131,17 @@ impl<C: 'static> Expansion<'_, '_, C> {
         let name = el.attr("name").unwrap_or(type_name);
         let hooks = conditions(el)?;
         if let Some(outcomes) = self.loader.mocks.get(name) {
-            return Ok(with_hooks(b.leaf(mock::mock_kind(outcomes), name), hooks));
+            return Ok((
+                with_hooks(b.open(mock::mock_kind(outcomes), name), hooks),
+                false,
+            ));
         }
         let Some(node_type) = self.loader.registry.get(type_name) else {
             if self.loader.mock_unknown && el.children.is_empty() {
-                return Ok(with_hooks(b.leaf(NodeKind::AlwaysSuccess, name), hooks));
+                return Ok((
+                    with_hooks(b.open(NodeKind::AlwaysSuccess, name), hooks),
+                    false,
+                ));
             }
             let hint = match self.loader.registry.closest(type_name) {
                 Some(close) => format!("did you mean `{close}`? "),
@@ -147,11 +178,7 @@ impl<C: 'static> Expansion<'_, '_, C> {
                         el.children.len()
                     )));
                 }
-                let mut b = with_hooks(b.open(kind, name), hooks);
-                for child in &el.children {
-                    b = self.node(b, child, depth + 1)?;
-                }
-                Ok(b.close())
+                Ok((with_hooks(b.open(kind, name), hooks), true))
             }
             Make::Model if !self.validate => Err(el.error(format!(
                 "`{type_name}` is only described by a model; register an implementation to run it"
@@ -170,11 +197,7 @@ impl<C: 'static> Expansion<'_, '_, C> {
                         el.children.len()
                     )));
                 }
-                let mut b = with_hooks(b.open(kind, name).ports(ports), hooks);
-                for child in &el.children {
-                    b = self.node(b, child, depth + 1)?;
-                }
-                Ok(b.close())
+                Ok((with_hooks(b.open(kind, name).ports(ports), hooks), true))
             }
             Make::Leaf(make) => {
                 let kind = make(&ports).map_err(|m| el.error(m))?;
@@ -189,11 +212,7 @@ impl<C: 'static> Expansion<'_, '_, C> {
                         el.error(format!("`{type_name}` {what}, found {}", el.children.len()))
                     );
                 }
-                let mut b = with_hooks(b.open(kind, name).ports(ports), hooks);
-                for child in &el.children {
-                    b = self.node(b, child, depth + 1)?;
-                }
-                Ok(b.close())
+                Ok((with_hooks(b.open(kind, name).ports(ports), hooks), true))
             }
         }
     }
@@ -250,12 +269,14 @@ impl<C: 'static> Expansion<'_, '_, C> {
         Ok(ports)
     }
 
-    fn subtree(
+    /// Checks a `<SubTree>`, opens its node with the child's scope and returns the tree to
+    /// expand below it; the caller pops `stack` when done.
+    #[inline(never)]
+    fn open_subtree(
         &mut self,
         b: Builder<C>,
         el: &Element,
-        depth: u32,
-    ) -> Result<Builder<C>, LoadError> {
+    ) -> Result<(Builder<C>, &'a Element), LoadError> {
         let id = el
             .attr("ID")
             .ok_or_else(|| el.error("<SubTree> needs an ID attribute naming the tree"))?;
@@ -304,11 +325,7 @@ impl<C: 'static> Expansion<'_, '_, C> {
         let hooks = conditions(el)?;
         self.stack.push(id.to_string());
         let opened = with_hooks(b.open(NodeKind::SubTree(Box::new(scope)), name), hooks);
-        let b = self
-            .node(opened, &tree.children[0], depth + 1)
-            .map(Builder::close);
-        self.stack.pop();
-        b
+        Ok((opened, tree))
     }
 }
 
