@@ -121,6 +121,29 @@ impl NodeStatus {
     }
 }
 
+/// Reads the upper-case names BehaviorTree.CPP writes (`SUCCESS`, `FAILURE`, `RUNNING`).
+impl core::str::FromStr for Status {
+    type Err = ();
+    fn from_str(text: &str) -> Result<Self, ()> {
+        text.parse::<NodeStatus>()?.to_status().ok_or(())
+    }
+}
+
+/// Reads the upper-case names [`NodeStatus::as_str`] writes.
+impl core::str::FromStr for NodeStatus {
+    type Err = ();
+    fn from_str(text: &str) -> Result<Self, ()> {
+        match text {
+            "IDLE" => Ok(NodeStatus::Idle),
+            "RUNNING" => Ok(NodeStatus::Running),
+            "SUCCESS" => Ok(NodeStatus::Success),
+            "FAILURE" => Ok(NodeStatus::Failure),
+            "SKIPPED" => Ok(NodeStatus::Skipped),
+            _ => Err(()),
+        }
+    }
+}
+
 impl From<Status> for NodeStatus {
     #[inline]
     fn from(s: Status) -> Self {
@@ -158,6 +181,10 @@ mod tests {
         assert!(!NodeStatus::Running.is_completed());
         assert!(NodeStatus::Failure.is_completed());
         assert_eq!(Status::Running.to_string(), "RUNNING");
+        assert_eq!("FAILURE".parse::<Status>(), Ok(Status::Failure));
+        assert_eq!("SKIPPED".parse::<Status>(), Err(()));
+        assert_eq!("SKIPPED".parse::<NodeStatus>(), Ok(NodeStatus::Skipped));
+        assert_eq!("success".parse::<NodeStatus>(), Err(()));
         assert_eq!(NodeStatus::Skipped.to_string(), "SKIPPED");
     }
 }

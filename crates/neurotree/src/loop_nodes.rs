@@ -98,12 +98,12 @@ where
 }
 
 fn status_of(text: &str) -> Result<NodeStatus, String> {
-    match text.trim() {
-        "SUCCESS" => Ok(NodeStatus::Success),
-        "FAILURE" => Ok(NodeStatus::Failure),
-        "SKIPPED" => Ok(NodeStatus::Skipped),
-        other => Err(format!(
-            "`{other}` is not a status for if_empty; write SUCCESS, FAILURE or SKIPPED"
+    match text.trim().parse::<NodeStatus>() {
+        Ok(status @ (NodeStatus::Success | NodeStatus::Failure | NodeStatus::Skipped)) => {
+            Ok(status)
+        }
+        _ => Err(format!(
+            "`{text}` is not a status for if_empty; write SUCCESS, FAILURE or SKIPPED"
         )),
     }
 }

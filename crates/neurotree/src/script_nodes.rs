@@ -142,14 +142,11 @@ impl<C> CustomNode<C> for Precondition {
 
 /// A status written in XML (`SUCCESS`, `FAILURE`, `RUNNING`, `SKIPPED`).
 fn status_of(text: &str) -> Result<NodeStatus, String> {
-    match text.trim() {
-        "SUCCESS" => Ok(NodeStatus::Success),
-        "FAILURE" => Ok(NodeStatus::Failure),
-        "RUNNING" => Ok(NodeStatus::Running),
-        "SKIPPED" => Ok(NodeStatus::Skipped),
-        other => Err(format!(
-            "`{other}` is not a status; write SUCCESS, FAILURE, RUNNING or SKIPPED"
+    match text.trim().parse::<NodeStatus>() {
+        Ok(NodeStatus::Idle) | Err(()) => Err(format!(
+            "`{text}` is not a status; write SUCCESS, FAILURE, RUNNING or SKIPPED"
         )),
+        Ok(status) => Ok(status),
     }
 }
 

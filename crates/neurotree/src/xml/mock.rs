@@ -47,16 +47,9 @@ pub fn parse_outcomes(text: &str) -> Result<Vec<Status>, String> {
             ),
             None => (item.trim(), 1),
         };
-        let status = match word {
-            "SUCCESS" => Status::Success,
-            "FAILURE" => Status::Failure,
-            "RUNNING" => Status::Running,
-            other => {
-                return Err(format!(
-                    "`{other}` is not an outcome; write SUCCESS, FAILURE or RUNNING"
-                ))
-            }
-        };
+        let status = word.parse::<Status>().map_err(|()| {
+            format!("`{word}` is not an outcome; write SUCCESS, FAILURE or RUNNING")
+        })?;
         out.extend(std::iter::repeat(status).take(times));
     }
     if out.is_empty() {
