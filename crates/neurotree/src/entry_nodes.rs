@@ -80,26 +80,29 @@ fn register_watch<C: 'static>(
         None => (Category::Condition, Arity::Leaf),
         Some(_) => (Category::Decorator, Arity::One),
     };
-    registry.register_leaf(
-        name,
-        category,
-        vec![PortSpec::input::<String>("entry")],
-        Arc::new(move |ports| {
-            let key = entry_key(ports)?;
-            Ok(NodeKind::Custom(Box::new(CustomSpec {
-                type_name: name.into(),
-                arity,
-                factory: Box::new(move || {
-                    Box::new(Watch {
-                        key: key.clone(),
-                        seen: 0,
-                        not_updated,
-                        child_running: false,
-                    })
-                }),
-            })))
-        }),
-    );
+    registry
+        .register_leaf(
+            name,
+            category,
+            vec![PortSpec::input::<String>("entry")],
+            Arc::new(move |ports| {
+                let key = entry_key(ports)?;
+                Ok(NodeKind::Custom(Box::new(CustomSpec {
+                    type_name: name.into(),
+                    arity,
+                    factory: Box::new(move || {
+                        Box::new(Watch {
+                            key: key.clone(),
+                            seen: 0,
+                            not_updated,
+                            child_running: false,
+                        })
+                    }),
+                })))
+            }),
+        )
+        // Registry::new registers each built-in name once.
+        .expect("built-in node names are distinct");
 }
 
 /// Adds the three nodes to `registry`.

@@ -112,18 +112,18 @@ fn register_loop<C: 'static, T>(registry: &mut Registry<C>, name: &'static str)
 where
     T: FromPortStr + Clone + Send + Sync + 'static,
 {
-    registry.register_leaf(
-        name,
-        Category::Decorator,
-        vec![
-            PortSpec::input::<String>("queue"),
-            PortSpec::output::<T>("value"),
-            PortSpec::input::<String>("if_empty").default_value("SUCCESS"),
-        ],
-        Arc::new(move |ports: &[Port]| {
-            let value_of = |n: &str| ports.iter().find(|p| p.name == n).map(|p| &p.value);
-            let (literal, queue_key) =
-                match value_of("queue") {
+    registry
+        .register_leaf(
+            name,
+            Category::Decorator,
+            vec![
+                PortSpec::input::<String>("queue"),
+                PortSpec::output::<T>("value"),
+                PortSpec::input::<String>("if_empty").default_value("SUCCESS"),
+            ],
+            Arc::new(move |ports: &[Port]| {
+                let value_of = |n: &str| ports.iter().find(|p| p.name == n).map(|p| &p.value);
+                let (literal, queue_key) = match value_of("queue") {
                     Some(PortValue::Literal(text)) => (
                         Some(Vec::<T>::from_port_str(text).map_err(|()| {
                             format!("port `queue` of `{name}`: cannot read `{text}`")
@@ -133,31 +133,33 @@ where
                     Some(PortValue::Entry(key)) => (None, Some(key.clone())),
                     None => return Err(format!("missing port `queue` of `{name}`")),
                 };
-            let value_key = match value_of("value") {
-                Some(PortValue::Entry(key)) => Some(key.clone()),
-                _ => None,
-            };
-            let if_empty = match value_of("if_empty") {
-                Some(PortValue::Literal(text)) => status_of(text)?,
-                _ => NodeStatus::Success,
-            };
-            Ok(NodeKind::Custom(Box::new(CustomSpec {
-                type_name: name.into(),
-                arity: Arity::One,
-                factory: Box::new(move || {
-                    Box::new(Loop::<T> {
-                        literal: literal.clone(),
-                        queue_key: queue_key.clone(),
-                        value_key: value_key.clone(),
-                        if_empty,
-                        current: VecDeque::new(),
-                        started: false,
-                        child_running: false,
-                    })
-                }),
-            })))
-        }),
-    );
+                let value_key = match value_of("value") {
+                    Some(PortValue::Entry(key)) => Some(key.clone()),
+                    _ => None,
+                };
+                let if_empty = match value_of("if_empty") {
+                    Some(PortValue::Literal(text)) => status_of(text)?,
+                    _ => NodeStatus::Success,
+                };
+                Ok(NodeKind::Custom(Box::new(CustomSpec {
+                    type_name: name.into(),
+                    arity: Arity::One,
+                    factory: Box::new(move || {
+                        Box::new(Loop::<T> {
+                            literal: literal.clone(),
+                            queue_key: queue_key.clone(),
+                            value_key: value_key.clone(),
+                            if_empty,
+                            current: VecDeque::new(),
+                            started: false,
+                            child_running: false,
+                        })
+                    }),
+                })))
+            }),
+        )
+        // Registry::new registers each built-in name once.
+        .expect("built-in node names are distinct");
 }
 
 /// Adds the four loops to `registry`.

@@ -241,9 +241,6 @@ impl<C: 'static> Registry<C> {
     where
         F: Fn() -> Box<dyn neurotree_core::CustomNode<C>> + Send + Sync + 'static,
     {
-        if self.types.contains_key(name) {
-            return Err(RegistryError::Duplicate(name.to_string()));
-        }
         let make = Arc::new(make);
         let type_name = name.to_string();
         let category = match arity {
@@ -259,36 +256,29 @@ impl<C: 'static> Registry<C> {
                 factory: Box::new(move || make()),
             })))
         });
-        self.register_leaf(name, category, ports, leaf);
-        Ok(())
+        self.register_leaf(name, category, ports, leaf)
     }
 
-    /// Registers a leaf whose node is made from its port bindings at load time.
+    /// Registers a node type made from its port bindings at load time; refuses a taken name.
     pub(crate) fn register_leaf(
         &mut self,
         name: &str,
         category: Category,
         ports: Vec<PortSpec>,
         make: LeafMaker<C>,
-    ) {
-        self.types.insert(
-            name.to_string(),
-            NodeType {
-                name: name.to_string(),
-                category,
-                ports,
-                description: String::new(),
-                make: Make::Leaf(make),
-                builtin: false,
-            },
-        );
-    }
-
-    fn insert(&mut self, t: NodeType<C>) -> Result<(), RegistryError> {
-        if self.types.contains_key(&t.name) {
-            return Err(RegistryError::Duplicate(t.name));
+    ) -> Result<(), RegistryError> {
+        if self.types.contains_key(name) {
+            return Err(RegistryError::Duplicate(name.to_string()));
         }
-        self.types.insert(t.name.clone(), t);
+        let t = NodeType {
+            name: name.to_string(),
+            category,
+            ports,
+            description: String::new(),
+            make: Make::Leaf(make),
+            builtin: false,
+        };
+        self.types.insert(name.to_string(), t);
         Ok(())
     }
 
@@ -310,14 +300,7 @@ impl<C: 'static> Registry<C> {
                 move || -> Box<dyn StatefulAction<C>> { Box::new(make()) },
             )))
         });
-        self.insert(NodeType {
-            name: name.to_string(),
-            category: Category::Action,
-            ports,
-            description: String::new(),
-            make: Make::Leaf(leaf),
-            builtin: false,
-        })
+        self.register_leaf(name, Category::Action, ports, leaf)
     }
 
     /// Registers a sync action: it completes within the tick.
@@ -333,14 +316,7 @@ impl<C: 'static> Registry<C> {
         let f = Arc::new(f);
         let leaf: LeafMaker<C> =
             Arc::new(move |_| Ok(NodeKind::Action(Box::new(SharedAction(Arc::clone(&f))))));
-        self.insert(NodeType {
-            name: name.to_string(),
-            category: Category::Action,
-            ports,
-            description: String::new(),
-            make: Make::Leaf(leaf),
-            builtin: false,
-        })
+        self.register_leaf(name, Category::Action, ports, leaf)
     }
 
     /// Registers a condition: Success or Failure, never Running.
@@ -359,14 +335,7 @@ impl<C: 'static> Registry<C> {
                 &f,
             )))))
         });
-        self.insert(NodeType {
-            name: name.to_string(),
-            category: Category::Condition,
-            ports,
-            description: String::new(),
-            make: Make::Leaf(leaf),
-            builtin: false,
-        })
+        self.register_leaf(name, Category::Condition, ports, leaf)
     }
 
     /// Declares the node types of a `TreeNodesModel` (the section Groot2 and Nav2 ship)

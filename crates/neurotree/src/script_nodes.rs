@@ -153,73 +153,88 @@ fn status_of(text: &str) -> Result<NodeStatus, String> {
 /// Adds the nodes of this module to `registry`.
 pub(crate) fn register<C: 'static>(registry: &mut Registry<C>) {
     let code = || vec![PortSpec::input::<String>("code")];
-    registry.register_leaf(
-        "Script",
-        Category::Action,
-        code(),
-        Arc::new(|ports| {
-            let script = parse(ports)?;
-            Ok(NodeKind::Action(Box::new(ScriptNode {
-                script,
-                condition: false,
-            })))
-        }),
-    );
-    registry.register_leaf(
-        "ScriptCondition",
-        Category::Condition,
-        code(),
-        Arc::new(|ports| {
-            let script = parse(ports)?;
-            Ok(NodeKind::Action(Box::new(ScriptNode {
-                script,
-                condition: true,
-            })))
-        }),
-    );
-    registry.register_leaf(
-        "SetBlackboard",
-        Category::Action,
-        vec![
-            PortSpec::input::<String>("value"),
-            PortSpec::input::<String>("output_key"),
-        ],
-        Arc::new(|ports| {
-            let key = key_of(ports, "output_key")?;
-            Ok(NodeKind::Action(Box::new(SetBlackboard { key })))
-        }),
-    );
-    registry.register_leaf(
-        "Precondition",
-        Category::Decorator,
-        vec![
-            PortSpec::input::<String>("if"),
-            PortSpec::input::<String>("else").default_value("FAILURE"),
-        ],
-        Arc::new(|ports| {
-            let code = literal(ports, "if")?;
-            let script = Script::parse(code).map_err(|e| format!("in script `{code}`: {e}"))?;
-            let otherwise = status_of(literal(ports, "else")?)?;
-            Ok(NodeKind::Custom(Box::new(CustomSpec {
-                type_name: "Precondition".into(),
-                arity: Arity::One,
-                factory: Box::new(move || {
-                    Box::new(Precondition {
-                        script: script.clone(),
-                        otherwise,
-                        child_running: false,
-                    })
-                }),
-            })))
-        }),
-    );
-    registry.register_leaf(
-        "UnsetBlackboard",
-        Category::Action,
-        vec![PortSpec::input::<String>("key")],
-        Arc::new(|ports| {
-            let key = key_of(ports, "key")?;
-            Ok(NodeKind::Action(Box::new(UnsetBlackboard { key })))
-        }),
-    );
+    registry
+        .register_leaf(
+            "Script",
+            Category::Action,
+            code(),
+            Arc::new(|ports| {
+                let script = parse(ports)?;
+                Ok(NodeKind::Action(Box::new(ScriptNode {
+                    script,
+                    condition: false,
+                })))
+            }),
+        )
+        // Registry::new registers each built-in name once.
+        .expect("built-in node names are distinct");
+    registry
+        .register_leaf(
+            "ScriptCondition",
+            Category::Condition,
+            code(),
+            Arc::new(|ports| {
+                let script = parse(ports)?;
+                Ok(NodeKind::Action(Box::new(ScriptNode {
+                    script,
+                    condition: true,
+                })))
+            }),
+        )
+        // Registry::new registers each built-in name once.
+        .expect("built-in node names are distinct");
+    registry
+        .register_leaf(
+            "SetBlackboard",
+            Category::Action,
+            vec![
+                PortSpec::input::<String>("value"),
+                PortSpec::input::<String>("output_key"),
+            ],
+            Arc::new(|ports| {
+                let key = key_of(ports, "output_key")?;
+                Ok(NodeKind::Action(Box::new(SetBlackboard { key })))
+            }),
+        )
+        // Registry::new registers each built-in name once.
+        .expect("built-in node names are distinct");
+    registry
+        .register_leaf(
+            "Precondition",
+            Category::Decorator,
+            vec![
+                PortSpec::input::<String>("if"),
+                PortSpec::input::<String>("else").default_value("FAILURE"),
+            ],
+            Arc::new(|ports| {
+                let code = literal(ports, "if")?;
+                let script = Script::parse(code).map_err(|e| format!("in script `{code}`: {e}"))?;
+                let otherwise = status_of(literal(ports, "else")?)?;
+                Ok(NodeKind::Custom(Box::new(CustomSpec {
+                    type_name: "Precondition".into(),
+                    arity: Arity::One,
+                    factory: Box::new(move || {
+                        Box::new(Precondition {
+                            script: script.clone(),
+                            otherwise,
+                            child_running: false,
+                        })
+                    }),
+                })))
+            }),
+        )
+        // Registry::new registers each built-in name once.
+        .expect("built-in node names are distinct");
+    registry
+        .register_leaf(
+            "UnsetBlackboard",
+            Category::Action,
+            vec![PortSpec::input::<String>("key")],
+            Arc::new(|ports| {
+                let key = key_of(ports, "key")?;
+                Ok(NodeKind::Action(Box::new(UnsetBlackboard { key })))
+            }),
+        )
+        // Registry::new registers each built-in name once.
+        .expect("built-in node names are distinct");
 }

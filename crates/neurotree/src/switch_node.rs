@@ -148,30 +148,33 @@ pub(crate) fn register<C: 'static>(registry: &mut Registry<C>) {
         let mut ports = vec![PortSpec::input::<String>("variable")];
         ports.extend((1..=n).map(|i| PortSpec::input::<String>(&format!("case_{i}"))));
         let type_name = name.clone();
-        registry.register_leaf(
-            &name,
-            Category::Control,
-            ports,
-            Arc::new(move |ports| {
-                let variable = source(ports, "variable");
-                let cases: Vec<Option<Source>> = (1..=n)
-                    .map(|i| source(ports, &format!("case_{i}")))
-                    .collect();
-                Ok(NodeKind::Custom(Box::new(CustomSpec {
-                    type_name: type_name.clone(),
-                    arity: Arity::Range {
-                        min: n as u32 + 1,
-                        max: n as u32 + 1,
-                    },
-                    factory: Box::new(move || {
-                        Box::new(Switch {
-                            variable: variable.clone(),
-                            cases: cases.clone(),
-                            running: None,
-                        })
-                    }),
-                })))
-            }),
-        );
+        registry
+            .register_leaf(
+                &name,
+                Category::Control,
+                ports,
+                Arc::new(move |ports| {
+                    let variable = source(ports, "variable");
+                    let cases: Vec<Option<Source>> = (1..=n)
+                        .map(|i| source(ports, &format!("case_{i}")))
+                        .collect();
+                    Ok(NodeKind::Custom(Box::new(CustomSpec {
+                        type_name: type_name.clone(),
+                        arity: Arity::Range {
+                            min: n as u32 + 1,
+                            max: n as u32 + 1,
+                        },
+                        factory: Box::new(move || {
+                            Box::new(Switch {
+                                variable: variable.clone(),
+                                cases: cases.clone(),
+                                running: None,
+                            })
+                        }),
+                    })))
+                }),
+            )
+            // Registry::new registers each built-in name once.
+            .expect("built-in node names are distinct");
     }
 }

@@ -89,17 +89,21 @@ proptest! {
     }
 }
 
+/// A tree of `depth` nested Inverters over one leaf.
+fn chain_of_inverters(depth: usize) -> String {
+    format!(
+        "<root main_tree_to_execute=\"T\"><BehaviorTree ID=\"T\">{}<AlwaysSuccess/>{}</BehaviorTree></root>",
+        "<Inverter>".repeat(depth),
+        "</Inverter>".repeat(depth)
+    )
+}
+
 #[test]
 fn very_deep_nesting_is_an_error_not_a_crash() {
     std::thread::Builder::new()
         .stack_size(2 * 1024 * 1024)
         .spawn(|| {
-            let depth = 100_000;
-            let text = format!(
-                "<root main_tree_to_execute=\"T\"><BehaviorTree ID=\"T\">{}<AlwaysSuccess/>{}</BehaviorTree></root>",
-                "<Inverter>".repeat(depth),
-                "</Inverter>".repeat(depth)
-            );
+            let text = chain_of_inverters(100_000);
             let registry = Registry::<()>::new();
             let mut loader = XmlLoader::new(&registry);
             let result = loader
@@ -119,12 +123,7 @@ fn nesting_past_the_tree_depth_limit_is_refused_when_building() {
     std::thread::Builder::new()
         .stack_size(2 * 1024 * 1024)
         .spawn(|| {
-            let depth = 600;
-            let text = format!(
-                "<root main_tree_to_execute=\"T\"><BehaviorTree ID=\"T\">{}<AlwaysSuccess/>{}</BehaviorTree></root>",
-                "<Inverter>".repeat(depth),
-                "</Inverter>".repeat(depth)
-            );
+            let text = chain_of_inverters(600);
             let registry = Registry::<()>::new();
             let mut loader = XmlLoader::new(&registry);
             loader.load_str(&text, "deep.xml").unwrap();

@@ -195,30 +195,35 @@ fn every_node() -> Arc<neurotree::Blueprint<World>> {
         .unwrap()
 }
 
+/// Warms the tree up (the first ticks create the blackboard entries), then counts the
+/// allocations of 200 ticks mixing `tick_once`, `tick_exactly_once` and halts, 10 ms apart.
+fn run_every_node(tree: &mut Tree<World>, clock: &ManualClock, world: &mut World) -> usize {
+    for _ in 0..5 {
+        clock.advance(Duration::from_millis(10));
+        tree.tick_once(world).unwrap();
+    }
+    allocations(|| {
+        for i in 0..200 {
+            clock.advance(Duration::from_millis(10));
+            let s = if i % 2 == 0 {
+                tree.tick_once(world)
+            } else {
+                tree.tick_exactly_once(world)
+            };
+            assert!(s.is_ok());
+            if i % 37 == 0 {
+                tree.halt(world);
+            }
+        }
+    })
+}
+
 #[test]
 fn every_node_kind_ticks_and_halts_without_allocating() {
     let clock = ManualClock::new();
     let mut tree = Tree::with_clock(every_node(), clock.clone());
     let mut world = World::default();
-    // Warm up: the first ticks create the blackboard entries.
-    for _ in 0..5 {
-        clock.advance(Duration::from_millis(10));
-        tree.tick_once(&mut world).unwrap();
-    }
-    let n = allocations(|| {
-        for i in 0..200 {
-            clock.advance(Duration::from_millis(10));
-            let s = if i % 2 == 0 {
-                tree.tick_once(&mut world)
-            } else {
-                tree.tick_exactly_once(&mut world)
-            };
-            assert!(s.is_ok());
-            if i % 37 == 0 {
-                tree.halt(&mut world);
-            }
-        }
-    });
+    let n = run_every_node(&mut tree, &clock, &mut world);
     assert_eq!(n, 0);
     // The run did real work: actions ran, running nodes were halted, the root's last child
     // (the custom node) was reached, and blackboard entries were rewritten in place.
@@ -252,24 +257,7 @@ fn every_node_kind_observed_without_allocating() {
     let mut tree = Tree::with_clock(Arc::clone(&bp), clock.clone());
     tree.set_observer(tally.clone());
     let mut world = World::default();
-    for _ in 0..5 {
-        clock.advance(Duration::from_millis(10));
-        tree.tick_once(&mut world).unwrap();
-    }
-    let n = allocations(|| {
-        for i in 0..200 {
-            clock.advance(Duration::from_millis(10));
-            let s = if i % 2 == 0 {
-                tree.tick_once(&mut world)
-            } else {
-                tree.tick_exactly_once(&mut world)
-            };
-            assert!(s.is_ok());
-            if i % 37 == 0 {
-                tree.halt(&mut world);
-            }
-        }
-    });
+    let n = run_every_node(&mut tree, &clock, &mut world);
     assert_eq!(n, 0);
 
     let seen = tally.0.lock().unwrap();
