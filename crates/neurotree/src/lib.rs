@@ -14,6 +14,7 @@ mod loop_nodes;
 mod readme;
 pub mod registry;
 pub mod render;
+pub mod robotics;
 pub mod script;
 mod script_hooks;
 mod script_nodes;

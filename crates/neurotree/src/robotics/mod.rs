@@ -1,0 +1,74 @@
+//! Robotics building blocks: poses, and (in submodules) sensors and navigation.
+//!
+//! Everything here is plain data and traits, so the same nodes drive a real robot or the
+//! simulated one.
+
+use core::fmt;
+
+use neurotree_core::FromPortStr;
+
+/// A position and heading in the plane: metres and radians, as Nav2's 2D poses are.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Pose2D {
+    /// Metres along x.
+    pub x: f64,
+    /// Metres along y.
+    pub y: f64,
+    /// Heading in radians, counter-clockwise from +x.
+    pub theta: f64,
+}
+
+impl Pose2D {
+    /// A pose at `(x, y)` facing `theta`.
+    pub const fn new(x: f64, y: f64, theta: f64) -> Self {
+        Pose2D { x, y, theta }
+    }
+
+    /// Straight-line distance between the two positions, ignoring heading.
+    pub fn distance(&self, other: &Pose2D) -> f64 {
+        (self.x - other.x).hypot(self.y - other.y)
+    }
+}
+
+/// Port text is `x;y` or `x;y;theta`, the `;`-separated form BT.CPP uses for compound values.
+impl FromPortStr for Pose2D {
+    fn from_port_str(text: &str) -> Result<Self, ()> {
+        let mut parts = text.split(';').map(|p| p.trim().parse::<f64>());
+        let x = parts.next().ok_or(())?.map_err(|_| ())?;
+        let y = parts.next().ok_or(())?.map_err(|_| ())?;
+        let theta = match parts.next() {
+            Some(t) => t.map_err(|_| ())?,
+            None => 0.0,
+        };
+        if parts.next().is_some() {
+            return Err(());
+        }
+        Ok(Pose2D { x, y, theta })
+    }
+}
+
+/// Writes the form [`FromPortStr`] reads back.
+impl fmt::Display for Pose2D {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{};{};{}", self.x, self.y, self.theta)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn pose_reads_two_or_three_fields_and_round_trips() {
+        assert_eq!(
+            Pose2D::from_port_str("1.5; -2"),
+            Ok(Pose2D::new(1.5, -2.0, 0.0))
+        );
+        let p = Pose2D::new(3.0, 4.0, 0.5);
+        assert_eq!(Pose2D::from_port_str(&p.to_string()), Ok(p));
+        assert_eq!(Pose2D::from_port_str("1"), Err(()));
+        assert_eq!(Pose2D::from_port_str("1;2;3;4"), Err(()));
+        assert_eq!(Pose2D::from_port_str("a;2"), Err(()));
+        assert_eq!(Pose2D::new(0.0, 0.0, 0.0).distance(&p), 5.0);
+    }
+}
