@@ -405,9 +405,18 @@ impl<C: 'static> Registry<C> {
     /// The `TreeNodesModel` of the registered types that are not built in, as a BehaviorTree.CPP
     /// format-4 document: what Groot2 reads to know the user's nodes and their ports.
     pub fn tree_nodes_model(&self) -> String {
-        let mut out = String::from("<root BTCPP_format=\"4\">\n  <TreeNodesModel>\n");
+        let mut out = String::from("<root BTCPP_format=\"4\">\n");
+        self.write_models(&mut out, false);
+        out.push_str("</root>\n");
+        out
+    }
+
+    /// Writes the `<TreeNodesModel>` element, indented one level, with the built-in types too
+    /// when `builtins` is set.
+    pub(crate) fn write_models(&self, out: &mut String, builtins: bool) {
+        out.push_str("  <TreeNodesModel>\n");
         for t in self.types.values() {
-            if t.builtin {
+            if t.builtin && !builtins {
                 continue;
             }
             let tag = t.category.as_str();
@@ -445,8 +454,7 @@ impl<C: 'static> Registry<C> {
             }
             out.push_str(&format!("    </{tag}>\n"));
         }
-        out.push_str("  </TreeNodesModel>\n</root>\n");
-        out
+        out.push_str("  </TreeNodesModel>\n");
     }
 
     /// Adds a description to a registered type (shown in the `TreeNodesModel`).
@@ -477,8 +485,9 @@ impl<C: 'static> Registry<C> {
     }
 }
 
-/// Text made safe for an XML attribute or element.
-fn escape(text: &str) -> String {
+/// `text` with XML's special characters as entities; line breaks and tabs too, because an
+/// attribute value read back would otherwise have them turned into spaces.
+pub(crate) fn escape(text: &str) -> String {
     let mut out = String::with_capacity(text.len());
     for c in text.chars() {
         match c {
@@ -487,6 +496,9 @@ fn escape(text: &str) -> String {
             '>' => out.push_str("&gt;"),
             '"' => out.push_str("&quot;"),
             '\'' => out.push_str("&apos;"),
+            '\n' => out.push_str("&#10;"),
+            '\r' => out.push_str("&#13;"),
+            '\t' => out.push_str("&#9;"),
             c => out.push(c),
         }
     }
@@ -668,9 +680,75 @@ pub(crate) fn built_in_kind<C>(
     })
 }
 
+/// The ports a built-in kind was made from, as [`built_in_kind`] reads them back: what a
+/// saved file writes for the node. `children` resolves the Parallel shorthands the builder
+/// offers into BehaviorTree.CPP's thresholds.
+pub(crate) fn built_in_ports<C>(
+    kind: &NodeKind<C>,
+    children: usize,
+) -> Vec<(&'static str, String)> {
+    let ms = |d: &std::time::Duration| d.as_millis().to_string();
+    match kind {
+        NodeKind::Parallel(policy) => {
+            let n = children as i32;
+            let (success, failure) = match *policy {
+                ParallelPolicy::Thresholds { success, failure } => (success, failure),
+                ParallelPolicy::RequireAll => (-1, 1),
+                ParallelPolicy::RequireOne => (1, -1),
+                ParallelPolicy::RequireCount(m) => (m as i32, n - m as i32 + 1),
+            };
+            vec![
+                ("success_count", success.to_string()),
+                ("failure_count", failure.to_string()),
+            ]
+        }
+        NodeKind::ParallelAll { max_failures } => vec![("max_failures", max_failures.to_string())],
+        NodeKind::TryCatch { catch_on_halt } => vec![("catch_on_halt", catch_on_halt.to_string())],
+        NodeKind::Repeat { num_cycles } => vec![("num_cycles", num_cycles.to_string())],
+        NodeKind::RetryUntilSuccessful { num_attempts } => {
+            vec![("num_attempts", num_attempts.to_string())]
+        }
+        NodeKind::Delay(d) => vec![("delay_msec", ms(d))],
+        NodeKind::Timeout(d) | NodeKind::Sleep(d) => vec![("msec", ms(d))],
+        NodeKind::Cooldown(d) => vec![("cooldown_msec", ms(d))],
+        NodeKind::RunOnce { then_skip } => vec![("then_skip", then_skip.to_string())],
+        _ => Vec::new(),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn built_in_ports_read_back_into_the_same_kind() {
+        let r = Registry::<()>::new();
+        for t in r.types() {
+            let Make::BuiltIn(b) = t.make else { continue };
+            // Every port at a value other than the smallest, so a swapped pair would show.
+            let kind = built_in_kind::<()>(b, |p| {
+                Some(match p {
+                    "success_count" => "2".into(),
+                    "failure_count" => "-1".into(),
+                    "catch_on_halt" | "then_skip" => "true".into(),
+                    _ => "7".into(),
+                })
+            })
+            .unwrap();
+            let ports = built_in_ports(&kind, 3);
+            let again = built_in_kind::<()>(b, |p| {
+                ports.iter().find(|(n, _)| *n == p).map(|(_, v)| v.clone())
+            })
+            .unwrap();
+            assert_eq!(format!("{again:?}"), format!("{kind:?}"), "{}", t.name);
+            assert_eq!(ports.len(), t.ports.len(), "{}", t.name);
+        }
+        let count = NodeKind::<()>::Parallel(ParallelPolicy::RequireCount(2));
+        assert_eq!(
+            built_in_ports(&count, 5),
+            [("success_count", "2".into()), ("failure_count", "4".into())]
+        );
+    }
 
     #[test]
     fn built_ins_are_registered_with_their_ports() {

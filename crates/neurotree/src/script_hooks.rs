@@ -74,7 +74,31 @@ fn holds<C>(script: &Option<Script>, h: &mut Handle<'_, C>) -> Option<bool> {
     })
 }
 
+impl ScriptHooks {
+    /// The scripts with their attribute names, in [`ATTRIBUTES`] order.
+    fn scripts(&self) -> [(&'static str, &Option<Script>); 8] {
+        [
+            ("_failureIf", &self.failure_if),
+            ("_successIf", &self.success_if),
+            ("_skipIf", &self.skip_if),
+            ("_while", &self.while_true),
+            ("_onSuccess", &self.on_success),
+            ("_onFailure", &self.on_failure),
+            ("_post", &self.post),
+            ("_onHalted", &self.on_halted),
+        ]
+    }
+}
+
 impl<C> NodeHooks<C> for ScriptHooks {
+    fn attributes(&self, f: &mut dyn FnMut(&str, &str)) {
+        for (name, script) in self.scripts() {
+            if let Some(script) = script {
+                f(name, script.source());
+            }
+        }
+    }
+
     fn before(&self, h: &mut Handle<'_, C>, stored: NodeStatus) -> Option<NodeStatus> {
         if stored == NodeStatus::Running {
             return match holds(&self.while_true, h) {

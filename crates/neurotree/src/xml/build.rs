@@ -131,17 +131,13 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
         let name = el.attr("name").unwrap_or(type_name);
         let hooks = conditions(el)?;
         if let Some(outcomes) = self.loader.mocks.get(name) {
-            return Ok((
-                with_hooks(b.open(mock::mock_kind(outcomes), name), hooks),
-                false,
-            ));
+            let b = b.open(mock::mock_kind(outcomes), name).type_id(type_name);
+            return Ok((with_hooks(b, hooks), false));
         }
         let Some(node_type) = self.loader.registry.get(type_name) else {
             if self.loader.mock_unknown && el.children.is_empty() {
-                return Ok((
-                    with_hooks(b.open(NodeKind::AlwaysSuccess, name), hooks),
-                    false,
-                ));
+                let b = b.open(NodeKind::AlwaysSuccess, name).type_id(type_name);
+                return Ok((with_hooks(b, hooks), false));
             }
             let hint = match self.loader.registry.closest(type_name) {
                 Some(close) => format!("did you mean `{close}`? "),
@@ -197,7 +193,8 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
                         el.children.len()
                     )));
                 }
-                Ok((with_hooks(b.open(kind, name).ports(ports), hooks), true))
+                let b = b.open(kind, name).type_id(type_name).ports(ports);
+                Ok((with_hooks(b, hooks), true))
             }
             Make::Leaf(make) => {
                 let kind = make(&ports).map_err(|m| el.error(m))?;
@@ -212,7 +209,8 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
                         el.error(format!("`{type_name}` {what}, found {}", el.children.len()))
                     );
                 }
-                Ok((with_hooks(b.open(kind, name).ports(ports), hooks), true))
+                let b = b.open(kind, name).type_id(type_name).ports(ports);
+                Ok((with_hooks(b, hooks), true))
             }
         }
     }
@@ -324,7 +322,8 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
         let name = el.attr("name").unwrap_or(id);
         let hooks = conditions(el)?;
         self.stack.push(id.to_string());
-        let opened = with_hooks(b.open(NodeKind::SubTree(Box::new(scope)), name), hooks);
+        let opened = b.open(NodeKind::SubTree(Box::new(scope)), name).type_id(id);
+        let opened = with_hooks(opened, hooks);
         Ok((opened, tree))
     }
 }
