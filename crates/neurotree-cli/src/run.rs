@@ -93,25 +93,6 @@ fn set_value(bb: &mut neurotree::Blackboard, key: &str, text: &str) {
     }
 }
 
-/// A blackboard value as JSON (types it does not know print as their type name).
-fn json_of(bb: &neurotree::Blackboard, key: &str) -> Value {
-    let Some(any) = bb.get_any_in(neurotree::ScopeId::ROOT, key) else {
-        return Value::Null;
-    };
-    if let Some(v) = any.downcast_ref::<i64>() {
-        json!(v)
-    } else if let Some(v) = any.downcast_ref::<f64>() {
-        json!(v)
-    } else if let Some(v) = any.downcast_ref::<bool>() {
-        json!(v)
-    } else if let Some(v) = any.downcast_ref::<String>() {
-        json!(v)
-    } else {
-        let type_name = bb.info(key).map_or("unknown", |i| i.type_name);
-        json!(format!("<{type_name}>"))
-    }
-}
-
 fn load(file: &Path, opts: &RunOptions) -> Result<Blueprint<()>, String> {
     let mut registry = Registry::<()>::new();
     if let Ok(text) = std::fs::read_to_string(file) {
@@ -203,9 +184,8 @@ pub fn run(
         .into_iter()
         .map(|(name, (t, h))| (name, json!({ "ticks": t, "halts": h })))
         .collect();
-    let bb = tree.blackboard();
-    let blackboard: Map<String, Value> =
-        bb.keys().map(|k| (k.to_string(), json_of(bb, k))).collect();
+    let blackboard =
+        neurotree::blackboard_json::scope_json(tree.blackboard(), neurotree::ScopeId::ROOT);
     let summary = json!({ "summary": {
         "ticks": ticks,
         "status": status,

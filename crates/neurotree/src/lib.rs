@@ -9,6 +9,7 @@
 pub use neurotree_core::*;
 
 pub mod bench_trees;
+pub mod blackboard_json;
 mod entry_nodes;
 mod json_port;
 mod loop_nodes;
