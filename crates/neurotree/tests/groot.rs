@@ -433,3 +433,47 @@ fn observing_allocates_nothing_even_while_recording() {
     assert_eq!(kept.len(), 1000);
     assert_eq!(kept.last(), Some(&at(20_000_000, 5, Running)));
 }
+
+#[test]
+fn the_model_names_every_type_of_the_tree() {
+    // Mocks of unknown nodes, which the registry does not know either.
+    let registry = Registry::<()>::new();
+    let mut loader = XmlLoader::new(&registry).mock_unknown(true);
+    loader
+        .load_str(
+            r#"<root BTCPP_format="4"><BehaviorTree ID="Nav">
+                <Sequence><ComputePath/><IsNear/><ComputePath name="again"/></Sequence>
+              </BehaviorTree></root>"#,
+            "nav.xml",
+        )
+        .unwrap();
+    let monitor = Groot2Monitor::new(&loader.build_main().unwrap(), &registry, "Nav");
+    assert!(
+        monitor.tree_xml().ends_with(
+            "    <Action ID=\"ComputePath\"/>\n    <Action ID=\"IsNear\"/>\n  </TreeNodesModel>\n</root>\n"
+        ),
+        "{}",
+        monitor.tree_xml()
+    );
+
+    // Leaves made from closures, written as `<Condition ID="their name"/>`.
+    let blueprint = neurotree::Blueprint::<()>::builder()
+        .sequence("main", |s| {
+            s.condition("battery_ok", |_: &()| true)
+                .action("beep", |_: &mut ()| Status::Success)
+        })
+        .build()
+        .unwrap();
+    let monitor = Groot2Monitor::new(&blueprint, &registry, "Main");
+    let xml = monitor.tree_xml();
+    assert!(
+        xml.contains(r#"<Condition ID="battery_ok" _uid="2"/>"#),
+        "{xml}"
+    );
+    assert!(
+        xml.ends_with(
+            "    <Condition ID=\"battery_ok\"/>\n    <Action ID=\"beep\"/>\n  </TreeNodesModel>\n</root>\n"
+        ),
+        "{xml}"
+    );
+}

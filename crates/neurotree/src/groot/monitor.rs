@@ -8,13 +8,13 @@ use std::sync::{Arc, Mutex, MutexGuard};
 use std::time::Duration;
 
 use neurotree_core::{
-    Blueprint, NodeId, NodeKind, NodeStatus, Observer, ScopeId, StatusChange, Tree,
+    Blueprint, Category, NodeId, NodeKind, NodeStatus, Observer, ScopeId, StatusChange, Tree,
 };
 use serde_json::Value;
 
 use super::protocol::{status_byte, status_record, Transition};
 use crate::blackboard_json::scope_json;
-use crate::registry::Registry;
+use crate::registry::{escape, Registry};
 use crate::xml::{write_xml, SaveOptions};
 
 /// Transitions kept while recording, as BehaviorTree.CPP keeps: the oldest go first.
@@ -68,7 +68,7 @@ impl Groot2Monitor {
         registry: &Registry<C>,
         tree_id: &str,
     ) -> Self {
-        let xml = write_xml(
+        let mut xml = write_xml(
             blueprint,
             registry,
             &SaveOptions {
@@ -78,6 +78,7 @@ impl Groot2Monitor {
                 builtin_models: true,
             },
         );
+        add_unregistered_models(&mut xml, blueprint, registry);
         let covered = blueprint.len().min(usize::from(u16::MAX));
         let mut statuses = Vec::with_capacity(covered * 3);
         for uid in 1..=covered {
@@ -183,6 +184,52 @@ impl Observer for Groot2Monitor {
 
     fn on_tick_end(&mut self, _status: NodeStatus, now: Duration) {
         self.state().latest = now;
+    }
+}
+
+/// Adds to the `TreeNodesModel` of `xml` the types of `blueprint` that `registry` does not
+/// know (mocks of unknown nodes, leaves made from closures), so that a client finds a model
+/// for every element of the tree, as it would in BehaviorTree.CPP, where every node is
+/// registered.
+fn add_unregistered_models<C: 'static>(
+    xml: &mut String,
+    blueprint: &Blueprint<C>,
+    registry: &Registry<C>,
+) {
+    let mut models = String::new();
+    let mut seen: Vec<&str> = Vec::new();
+    for id in blueprint.ids() {
+        let kind = blueprint.kind(id);
+        if matches!(kind, NodeKind::SubTree(_)) {
+            continue;
+        }
+        // As the XML names it: a builder's leaf by its name, anything else by its type.
+        let type_id = blueprint.type_id(id);
+        let leaf = matches!(
+            kind,
+            NodeKind::ActionFn(_)
+                | NodeKind::Action(_)
+                | NodeKind::ConditionFn(_)
+                | NodeKind::Condition(_)
+                | NodeKind::Stateful(_)
+        );
+        let name = if leaf && type_id == kind.type_name() {
+            blueprint.name(id)
+        } else {
+            type_id
+        };
+        if registry.get(name).is_some() || seen.contains(&name) {
+            continue;
+        }
+        seen.push(name);
+        let tag = match kind.category() {
+            Category::SubTree => Category::Action.as_str(),
+            category => category.as_str(),
+        };
+        models.push_str(&format!("    <{tag} ID=\"{}\"/>\n", escape(name)));
+    }
+    if let Some(end) = xml.rfind("  </TreeNodesModel>") {
+        xml.insert_str(end, &models);
     }
 }
 
