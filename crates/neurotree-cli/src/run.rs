@@ -3,6 +3,7 @@
 //! Each tick prints one JSON line `{"tick":1,"status":"RUNNING"}` (with `--trace`, also one
 //! line per status change), and the run ends with a summary line: ticks, final status,
 //! per-node tick and halt counts (summed over nodes sharing a name) and the root blackboard.
+//! With `--groot PORT`, the run is also served to Groot2 (see `groot.rs`).
 
 use std::collections::BTreeMap;
 use std::io::{self, Write};
@@ -15,6 +16,8 @@ use neurotree::{
     TickError, Tree, XmlLoader,
 };
 use serde_json::{json, Map, Value};
+
+use crate::groot::Served;
 
 /// What `neurotree run` was asked to do.
 pub struct RunOptions {
@@ -34,6 +37,8 @@ pub struct RunOptions {
     pub step: Duration,
     /// Print every status change.
     pub trace: bool,
+    /// Serve the run to Groot2 (`--groot`).
+    pub groot: Option<crate::groot::GrootOptions>,
 }
 
 #[derive(Default)]
@@ -93,7 +98,8 @@ fn set_value(bb: &mut neurotree::Blackboard, key: &str, text: &str) {
     }
 }
 
-fn load(file: &Path, opts: &RunOptions) -> Result<Blueprint<()>, String> {
+/// The tree to run, the registry it was loaded with, and its ID.
+fn load(file: &Path, opts: &RunOptions) -> Result<(Blueprint<()>, Registry<()>, String), String> {
     let mut registry = Registry::<()>::new();
     if let Ok(text) = std::fs::read_to_string(file) {
         registry
@@ -107,11 +113,18 @@ fn load(file: &Path, opts: &RunOptions) -> Result<Blueprint<()>, String> {
         loader = loader.mock(name, outcomes);
     }
     loader.load_file(file).map_err(|e| e.to_string())?;
-    match &opts.tree {
+    let tree_id = opts
+        .tree
+        .as_deref()
+        .or_else(|| loader.main_tree())
+        .unwrap_or("MainTree")
+        .to_string();
+    let blueprint = match &opts.tree {
         Some(id) => loader.build(id),
         None => loader.build_main(),
     }
-    .map_err(|e| e.to_string())
+    .map_err(|e| e.to_string())?;
+    Ok((blueprint, registry, tree_id))
 }
 
 /// Runs `file`; `Ok(false)` if it did not load (the error is on `err`).
@@ -121,12 +134,25 @@ pub fn run(
     out: &mut impl Write,
     err: &mut impl Write,
 ) -> io::Result<bool> {
-    let blueprint = match load(file, opts) {
-        Ok(bp) => Arc::new(bp),
+    let (blueprint, registry, tree_id) = match load(file, opts) {
+        Ok((bp, registry, tree_id)) => (Arc::new(bp), registry, tree_id),
         Err(e) => {
             writeln!(err, "{e}")?;
             return Ok(false);
         }
+    };
+    let groot = match &opts.groot {
+        Some(g) => match Served::start(&blueprint, &registry, &tree_id, g) {
+            Ok(served) => {
+                served.announce(err)?;
+                Some(served)
+            }
+            Err(e) => {
+                writeln!(err, "{e}")?;
+                return Ok(false);
+            }
+        },
+        None => None,
     };
     let clock = ManualClock::new();
     let mut tree = Tree::with_clock(Arc::clone(&blueprint), clock.clone());
@@ -141,7 +167,14 @@ pub fn run(
         paths: blueprint.ids().map(|id| blueprint.path(id)).collect(),
         ..Record::default()
     }));
-    tree.set_observer(Recorder(Arc::clone(&record)));
+    let recorder = Recorder(Arc::clone(&record));
+    match &groot {
+        Some(served) => {
+            served.publish(&tree);
+            tree.set_observer((recorder, served.monitor()))
+        }
+        None => tree.set_observer(recorder),
+    };
     let mut status = "IDLE";
     let mut ticks = 0;
     while ticks < opts.max_ticks {
@@ -169,6 +202,9 @@ pub fn run(
             }
         }
         writeln!(out, "{line}")?;
+        if let Some(served) = &groot {
+            served.after_tick(&tree);
+        }
         if matches!(result, Ok(Status::Success | Status::Failure) | Err(_)) {
             break;
         }
@@ -193,5 +229,9 @@ pub fn run(
         "blackboard": blackboard,
     }});
     writeln!(out, "{summary}")?;
+    if let Some(served) = groot {
+        out.flush()?;
+        served.linger(err)?;
+    }
     Ok(true)
 }
