@@ -23,6 +23,9 @@
 //! under a ReactiveFallback, the "emergency handler checked first" pattern, so that pressing
 //! the button halts a move in progress within one tick.
 //!
+//! The moves and the charge are [`StatefulAction`]s (the seeds' AsyncAction: start, update,
+//! stop) that run one step per tick; a halt reaches them through `on_halted`.
+//!
 //! The tree is built twice, with the fluent builder ([`patrol_tree`]) and with the `tree!`
 //! macro ([`patrol_tree_from_macro`]); the two are the same tree. The robot's world runs
 //! on a [`ManualClock`], so every run is the same.
@@ -48,9 +51,10 @@ pub const WAYPOINTS: [Cell; 4] = [(4, 0), (4, 4), (0, 4), (0, 0)];
 pub const CHARGER: Cell = (0, 0);
 /// Battery (percent) at or below which the robot stops patrolling: the seeds' `battery > 0.2`.
 pub const LOW_BATTERY: u32 = 20;
-/// Battery (percent) one cell of motion costs; the farthest corner is 8 cells from the
-/// charger, so a robot that starts a return above `LOW_BATTERY` always gets there.
-pub const MOVE_COST: u32 = 2;
+/// Battery (percent) one cell of motion costs. A leg (4 cells) costs 4%, so a robot that
+/// finds its battery low after a leg still has more than 16%, enough for the 8 cells from
+/// the farthest corner to the charger.
+pub const MOVE_COST: u32 = 1;
 /// Battery (percent) one tick on the charger adds.
 pub const CHARGE_RATE: u32 = 20;
 /// Simulated time between two ticks.
@@ -81,7 +85,7 @@ pub fn scenarios() -> [(&'static str, Scenario); 3] {
         (
             "low-battery",
             Scenario {
-                battery: 36,
+                battery: 28,
                 ..normal.clone()
             },
         ),

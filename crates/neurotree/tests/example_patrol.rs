@@ -29,7 +29,7 @@ const ALL_CORNERS: [(i32, i32); 4] = [(4, 0), (4, 4), (0, 4), (0, 0)];
 #[test]
 fn normal_patrol_visits_every_corner_without_charging() {
     let (outcome, _) = run_logged(&scenario("normal"));
-    // Four legs of four cells, one cell per tick, 2% per cell; a scan before each leg.
+    // Four legs of four cells, one cell per tick, 1% per cell; a scan before each leg.
     assert_eq!(
         outcome,
         Outcome {
@@ -41,7 +41,7 @@ fn normal_patrol_visits_every_corner_without_charging() {
             halted: vec![],
             emergency_stopped: false,
             position: (0, 0),
-            battery: 68,
+            battery: 84,
         }
     );
 }
@@ -49,8 +49,8 @@ fn normal_patrol_visits_every_corner_without_charging() {
 #[test]
 fn low_battery_returns_to_charge_then_resumes_the_patrol() {
     let (outcome, log) = run_logged(&scenario("low-battery"));
-    // 36% -> two legs (ticks 1-8) leave 20%, not above the threshold; 8 cells home (ticks
-    // 9-16) leave 4%; charging 20% per tick fills up on tick 20; two more legs (21-28).
+    // 28% -> two legs (ticks 1-8) leave 20%, not above the threshold; 8 cells home (ticks
+    // 9-16) leave 12%; charging 20% per tick fills up on tick 20; two more legs (21-28).
     assert_eq!(
         outcome,
         Outcome {
@@ -62,7 +62,7 @@ fn low_battery_returns_to_charge_then_resumes_the_patrol() {
             halted: vec![],
             emergency_stopped: false,
             position: (0, 0),
-            battery: 84,
+            battery: 92,
         }
     );
     let charging_starts: Vec<&String> = log.iter().filter(|l| l.contains("docked")).collect();
@@ -86,7 +86,7 @@ fn emergency_stop_halts_the_running_move_exactly_once() {
             halted: vec!["move_patrol".to_string()],
             emergency_stopped: true,
             position: (4, 2),
-            battery: 88,
+            battery: 94,
         }
     );
     let halts: Vec<&String> = log.iter().filter(|l| l.contains("halted")).collect();
@@ -100,7 +100,7 @@ fn emergency_stop_while_charging_halts_the_charge() {
         ..scenario("low-battery")
     };
     let (outcome, _) = run_logged(&s);
-    // Charging began on tick 16 (24%, 44%, 64%); the stop comes before tick 19.
+    // Charging began on tick 16 (32%, 52%, 72%); the stop comes before tick 19.
     assert_eq!(
         outcome,
         Outcome {
@@ -112,9 +112,24 @@ fn emergency_stop_while_charging_halts_the_charge() {
             halted: vec!["charge_battery".to_string()],
             emergency_stopped: true,
             position: (0, 0),
-            battery: 64,
+            battery: 72,
         }
     );
+}
+
+#[test]
+fn from_any_battery_level_the_robot_gets_home_and_patrols() {
+    for battery in 0..=100 {
+        let s = Scenario {
+            battery,
+            legs: 8,
+            estop_at: None,
+        };
+        let (outcome, _) = run_logged(&s);
+        assert_eq!(outcome.status, Status::Success, "battery {battery}");
+        assert_eq!(outcome.visited.len(), 8, "battery {battery}");
+        assert!(outcome.halted.is_empty(), "battery {battery}");
+    }
 }
 
 #[test]
