@@ -108,8 +108,8 @@ pub fn scenarios() -> [(&'static str, Scenario); 5] {
 /// A level of the escalation.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
 pub enum Recovery {
-    /// No recovery was needed.
-    None,
+    /// Normal navigation sufficed.
+    Normal,
     /// The costmap was cleared.
     ClearCostmap,
     /// The rover backed up.
@@ -171,7 +171,7 @@ impl Rover {
             help_called_at: None,
             helper_present: false,
             attempts: 0,
-            level: Recovery::None,
+            level: Recovery::Normal,
             costmap_clears: 0,
             backups: 0,
             help_calls: 0,
@@ -194,7 +194,7 @@ impl Rover {
     fn recovered(&mut self, level: Recovery) {
         self.level = self.level.max(level);
         match level {
-            Recovery::None => {}
+            Recovery::Normal => {}
             Recovery::ClearCostmap => self.costmap_clears += 1,
             Recovery::BackUp => self.backups += 1,
             Recovery::AskForHelp => self.help_calls += 1,

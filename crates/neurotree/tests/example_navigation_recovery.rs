@@ -22,7 +22,7 @@ fn reached_in(ticks: u32) -> Outcome {
     Outcome {
         status: Status::Success,
         ticks,
-        level: Recovery::None,
+        level: Recovery::Normal,
         attempts: 1,
         costmap_clears: 0,
         backups: 0,
