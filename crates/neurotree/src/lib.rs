@@ -15,6 +15,7 @@ mod readme;
 pub mod registry;
 pub mod render;
 pub mod robotics;
+pub mod runtime;
 pub mod script;
 mod script_hooks;
 mod script_nodes;
@@ -23,5 +24,6 @@ mod switch_node;
 pub mod xml;
 
 pub use registry::{PortDirection, PortSpec, Registry, RegistryError};
+pub use runtime::{FixedRate, StopFlag};
 pub use shared_blackboard::SharedBlackboard;
 pub use xml::{LoadError, XmlLoader};
