@@ -475,7 +475,6 @@ pub async fn run(config: MissionConfig) -> Outcome {
     drone.outcome(status, ticks, mission.failsafe)
 }
 
-#[cfg_attr(test, allow(dead_code))]
 #[tokio::main(flavor = "current_thread", start_paused = true)]
 async fn main() {
     let low_battery = std::env::args().any(|a| a == "--low-battery");

@@ -48,8 +48,9 @@ pub struct Tree<C> {
     blackboard: Blackboard,
     clock: Arc<dyn Clock>,
     observer: Option<Box<dyn Observer>>,
-    /// Made when the blueprint has async actions, or when a runner asks for the signal.
-    wake: Option<TreeWake>,
+    /// Made when the blueprint has async actions, or when a runner asks for the signal;
+    /// boxed, so that the many trees without async actions pay one pointer for it.
+    wake: Option<Box<TreeWake>>,
 }
 
 impl<C> Tree<C> {
@@ -68,7 +69,7 @@ impl<C> Tree<C> {
                 NodeKind::Custom(spec) => objects.push(Object::Custom((spec.factory)())),
                 NodeKind::Async(_) => {
                     objects.push(Object::Async(None));
-                    wake.get_or_insert_with(TreeWake::new);
+                    wake.get_or_insert_with(|| Box::new(TreeWake::new()));
                 }
                 _ => {}
             }
@@ -170,7 +171,10 @@ impl<C> Tree<C> {
     /// that ticks early on a wake rather than waiting for its next period. Made on first
     /// use when the blueprint has no async action (such a tree never sets it).
     pub fn wake_signal(&mut self) -> &WakeSignal {
-        &self.wake.get_or_insert_with(TreeWake::new).signal
+        &self
+            .wake
+            .get_or_insert_with(|| Box::new(TreeWake::new()))
+            .signal
     }
 
     /// Bytes this instance keeps on the heap for node state (statuses, slots, object

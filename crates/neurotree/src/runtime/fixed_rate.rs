@@ -15,7 +15,7 @@
 //! ```
 //! use std::time::Duration;
 //! use neurotree::runtime::{FixedRate, Finish, ManualPacer};
-//! use neurotree::{Blueprint, ManualClock, Status, Tree};
+//! use neurotree::{Blueprint, Clock, ManualClock, Status, Tree};
 //!
 //! // Three ticks of work, 4 ms each, at 100 Hz.
 //! let clock = ManualClock::new();
@@ -40,7 +40,6 @@
 //! assert_eq!(report.finish, Finish::Completed(Status::Success));
 //! assert_eq!((report.ticks, report.overruns), (3, 0));
 //! assert_eq!(clock.now(), Duration::from_millis(24));
-//! # use neurotree::Clock;
 //! ```
 
 use std::sync::atomic::{AtomicBool, Ordering};

@@ -13,7 +13,6 @@
 //! use neurotree::runtime::tokio::{spawn_abort_on_drop, tick_until_done, TokioClock};
 //! use neurotree::{Blueprint, Status, Tree};
 //!
-//! #[derive(Default)]
 //! struct Drone { battery_pct: f32 }
 //!
 //! # #[tokio::main(flavor = "current_thread", start_paused = true)]
