@@ -209,14 +209,14 @@ impl Drone {
         s.landed = Some(Instant::now());
     }
 
-    /// Moves up to `step` metres toward `target`; `true` once there.
-    fn move_toward(&self, target: Point, step: f64) -> bool {
+    /// Moves up to `step` metres toward `target`.
+    fn move_toward(&self, target: Point, step: f64) {
         let mut s = self.state();
         let d = s.pos.distance(target);
         // Within a step (and a rounding error) the drone arrives exactly.
         if d <= step + 1e-9 {
             s.pos = target;
-            return true;
+            return;
         }
         let k = step / d;
         s.pos = Point::new(
@@ -224,7 +224,6 @@ impl Drone {
             s.pos.y + (target.y - s.pos.y) * k,
             s.pos.z + (target.z - s.pos.z) * k,
         );
-        false
     }
 
     fn outcome(&self, status: Status, ticks: u64, failsafe: bool) -> Outcome {
