@@ -16,6 +16,7 @@ mod readme;
 pub mod registry;
 pub mod render;
 pub mod robotics;
+pub mod runtime;
 pub mod script;
 mod script_hooks;
 mod script_nodes;
@@ -25,5 +26,6 @@ pub mod xml;
 
 pub use json_port::Json;
 pub use registry::{PortDirection, PortSpec, Registry, RegistryError};
+pub use runtime::{FixedRate, StopFlag};
 pub use shared_blackboard::SharedBlackboard;
 pub use xml::{LoadError, XmlLoader};

@@ -5,6 +5,7 @@
 //! | [`Condition`] / closure `Fn(&C) -> bool` | never | no | Success or Failure |
 //! | [`Action`] / closure `Fn(&mut C) -> Status` | never | no | Success or Failure in one tick; returning Running is reported as a [`TickError`](crate::TickError) |
 //! | [`StatefulAction`] | yes | yes | `on_start` on the tick from Idle, `on_running` on later ticks, `on_halted` when halted while Running |
+//! | [`AsyncAction`] / closure returning a future ([async_action]) | yes | a future per run | the future is made on the tick from Idle, polled once per tick (Pending → Running), dropped on completion or halt |
 //! | [AlwaysSuccess / AlwaysFailure](always) | never | no | as their names |
 //! | [Sleep](sleep) | yes | state slot | Running until the duration has passed on the tree's clock |
 //!
@@ -12,7 +13,10 @@
 //! are created per instance. That keeps an instance of a large tree within a few kilobytes.
 
 pub mod always;
+pub mod async_action;
 pub mod sleep;
+
+pub use async_action::{ActionFuture, AsyncAction};
 
 use core::time::Duration;
 
