@@ -11,6 +11,7 @@ pub use neurotree_core::*;
 pub mod bench_trees;
 mod entry_nodes;
 mod loop_nodes;
+pub mod nav2;
 mod readme;
 pub mod registry;
 pub mod render;
