@@ -193,6 +193,43 @@ fn halting_a_navigator_halts_the_running_leaf_once() {
     assert_eq!(robot.ticks(&LEAVES), [1, 2, 3, 0, 0]);
 }
 
+#[test]
+fn misuse_is_reported_when_loading() {
+    let registry = registry();
+    let error = |body: &str| {
+        let text =
+            format!(r#"<root BTCPP_format="4"><BehaviorTree ID="T">{body}</BehaviorTree></root>"#);
+        let mut loader = XmlLoader::new(&registry);
+        loader.load_str(&text, "bad.xml").unwrap();
+        match loader.build("T") {
+            Err(e) => e.message,
+            Ok(_) => panic!("expected an error for {body}"),
+        }
+    };
+    assert_eq!(
+        error(r#"<RecoveryNode><Step name="a"/></RecoveryNode>"#),
+        "`RecoveryNode` takes exactly 2 children, found 1"
+    );
+    assert_eq!(
+        error(r#"<RateController><Step name="a"/><Step name="b"/></RateController>"#),
+        "`RateController` takes exactly 1 child, found 2"
+    );
+    assert_eq!(
+        error(r#"<GoalUpdated><Step name="a"/></GoalUpdated>"#),
+        "`GoalUpdated` is a leaf and takes no children, found 1"
+    );
+    assert!(
+        error(r#"<RateController hz="fast"><Step name="a"/></RateController>"#)
+            .starts_with("port `hz` of `RateController`: cannot read `fast`")
+    );
+    assert!(
+        error(r#"<RoundRobin wrap="true"><Step name="a"/></RoundRobin>"#)
+            .starts_with("unknown port `wrap` on `RoundRobin`; its ports are: wrap_around")
+    );
+    assert!(error(r#"<GoalUpdated goal="north"/>"#)
+        .starts_with("port `goal` of `GoalUpdated`: cannot read `north`"));
+}
+
 /// The XML files of the Nav2 corpus.
 fn corpus_files() -> Vec<PathBuf> {
     let mut files: Vec<PathBuf> = std::fs::read_dir(nav2_corpus())
