@@ -181,6 +181,17 @@ mod tests {
     }
 
     #[test]
+    fn an_earlier_child_still_running_when_the_last_succeeds_is_halted() {
+        let mut lab = Lab::new(&[&[S, R], &[R, S]]);
+        let mut tree = lab.tree(|b| pipeline(b, |p| p.skippable(0).scripted(1)));
+        assert_eq!(lab.tick(&mut tree), R);
+        assert_eq!(lab.tick(&mut tree), S);
+        assert_eq!(lab.ticks, [2, 2]);
+        assert_eq!(lab.halts, [1, 0]);
+        assert!(tree.statuses().iter().all(|s| *s == NodeStatus::Idle));
+    }
+
+    #[test]
     fn skipped_children_are_passed_and_all_skipped_is_skipped() {
         let mut lab = Lab::new(&[&[K], &[S], &[K]]);
         let mut tree = lab.tree(|b| pipeline(b, |p| p.skippable(0).scripted(1).skippable(2)));
