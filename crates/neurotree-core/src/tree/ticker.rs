@@ -346,8 +346,13 @@ impl<'t, C> Ticker<'t, C> {
             return NodeStatus::Failure;
         };
         let mut node = node;
+        let previous = self.status(id);
         self.set_status(id, NodeStatus::Running);
-        let status = node.tick(&mut NodeCtx { t: self, id });
+        let status = node.tick(&mut NodeCtx {
+            t: self,
+            id,
+            previous,
+        });
         self.objects[slot] = Object::Custom(node);
         if status == NodeStatus::Idle {
             if self.fault.is_none() {
@@ -382,7 +387,11 @@ impl<'t, C> Ticker<'t, C> {
                         &mut self.objects[obj],
                         Object::Custom(alloc::boxed::Box::new(Vacant)),
                     ) {
-                        node.halt(&mut NodeCtx { t: self, id });
+                        node.halt(&mut NodeCtx {
+                            t: self,
+                            id,
+                            previous: NodeStatus::Running,
+                        });
                         self.objects[obj] = Object::Custom(node);
                     }
                 }
