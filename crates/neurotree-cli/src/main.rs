@@ -71,6 +71,9 @@ struct RunArgs {
     /// Also print every status change.
     #[arg(long)]
     trace: bool,
+    /// After each tick, draw the tree with the statuses of that tick on standard error.
+    #[arg(long)]
+    view: bool,
 }
 
 #[derive(Args, Debug)]
@@ -178,6 +181,7 @@ fn main() -> ExitCode {
                 exactly_once: args.tick == "exactly-once",
                 step: Duration::from_millis(args.step_ms),
                 trace: args.trace,
+                view: args.view,
             };
             return match run::run(&args.file, &opts, &mut out, &mut io::stderr()) {
                 Ok(true) => ExitCode::SUCCESS,

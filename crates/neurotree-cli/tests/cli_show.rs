@@ -1,4 +1,4 @@
-//! `neurotree show`, run as a user runs it.
+//! `neurotree show` and `neurotree run --view`, run as a user runs them.
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
@@ -317,4 +317,51 @@ fn show_reports_bad_input_with_its_place_and_exit_code_1() {
     let out = neurotree(&["show", arg(&door), "--tick", "1"]);
     assert_eq!(out.status.code(), Some(2));
     assert!(text(&out.stderr).contains("--trace"));
+}
+
+#[test]
+fn run_view_draws_each_tick_on_stderr_and_keeps_stdout_json() {
+    let dir = tempfile::tempdir().unwrap();
+    let door = file(&dir, "door.xml", DOOR);
+    let out = neurotree(&[
+        "run",
+        arg(&door),
+        "--mock-unknown",
+        "--mock",
+        "PassThroughDoor=RUNNING,SUCCESS",
+        "--view",
+    ]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let stdout = text(&out.stdout);
+    assert_eq!(
+        stdout.lines().count(),
+        3,
+        "two ticks and the summary: {stdout}"
+    );
+    assert!(stdout
+        .lines()
+        .all(|l| l.starts_with('{') && l.ends_with('}')));
+    assert_eq!(
+        text(&out.stderr),
+        "tick 1: RUNNING\n\
+         [R] enter (Sequence)\n\
+         ├── [✓] open it (Fallback)\n\
+         │   ├── [✗] Inverter\n\
+         │   │   └── [✓] IsDoorClosed (AlwaysSuccess)\n\
+         │   └── [✓] Force (SubTree)\n\
+         │       └── [✓] RetryUntilSuccessful\n\
+         │           └── [✓] PickLock (AlwaysSuccess)\n\
+         └── [R] PassThroughDoor (Mock)\n\
+         \n\
+         tick 2: SUCCESS\n\
+         [✓] enter (Sequence)\n\
+         ├── [✓] open it (Fallback)\n\
+         │   ├── [ ] Inverter\n\
+         │   │   └── [ ] IsDoorClosed (AlwaysSuccess)\n\
+         │   └── [ ] Force (SubTree)\n\
+         │       └── [ ] RetryUntilSuccessful\n\
+         │           └── [ ] PickLock (AlwaysSuccess)\n\
+         └── [✓] PassThroughDoor (Mock)\n\
+         \n"
+    );
 }
