@@ -1,24 +1,6 @@
-//! What the picture formats agree on: one shape per family of node, one colour per status,
-//! and the label of each node.
-//!
-//! | family | shape | glyph |
-//! |---|---|---|
-//! | Sequence (all variants) | box | `→` |
-//! | Fallback (all variants) | box | `?` |
-//! | Parallel, ParallelAll | box | `⇉` |
-//! | other controls | box | |
-//! | decorator | hexagon | |
-//! | condition | ellipse (pill) | |
-//! | action | rounded box | |
-//! | subtree | box with a double border | |
-//!
-//! | status | fill | border |
-//! |---|---|---|
-//! | success | green | dark green |
-//! | failure | red | dark red |
-//! | running | amber | dark amber |
-//! | idle | grey | grey |
-//! | skipped | light grey | grey, dashed |
+//! What the picture formats agree on: the shape of each family of node, the colours of
+//! each status (both tabled in [`render`](super)), and the label of each node. Keeping them
+//! here means a picture in one format reads like one in another.
 
 use std::borrow::Cow;
 
