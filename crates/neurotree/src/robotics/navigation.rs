@@ -13,6 +13,33 @@
 //!
 //! `path` is an optional output: each new plan is written to it, for loggers and for other
 //! nodes.
+//!
+//! ```
+//! use neurotree::robotics::{Pose2D, RoboticsBuilder};
+//! use neurotree::sim::GridWorld;
+//! use neurotree::{Blueprint, Status, Tree};
+//! use std::time::Duration;
+//!
+//! // One row of five 1 m cells; beyond the edge is wall.
+//! let mut world = GridWorld::parse("R....", 1.0).unwrap();
+//! let blueprint = Blueprint::<GridWorld>::builder()
+//!     .navigate("go", "goal", 0.1, |w: &mut GridWorld| w)
+//!     .build_shared()
+//!     .unwrap();
+//! let mut tree = Tree::with_clock(blueprint, world.clock());
+//! tree.blackboard_mut().set("goal", Pose2D::new(4.5, 0.5, 0.0)).unwrap();
+//! let mut ticks = 0;
+//! let status = loop {
+//!     ticks += 1;
+//!     match tree.tick_once(&mut world).unwrap() {
+//!         Status::Running => world.step(Duration::from_millis(500)),
+//!         done => break done,
+//!     };
+//! };
+//! assert_eq!(status, Status::Success);
+//! assert_eq!(world.robot(), Pose2D::new(4.5, 0.5, 0.0));
+//! assert_eq!(ticks, 9); // 4 m at 1 m/s in 0.5 s steps, then the tick that sees it
+//! ```
 
 use std::fmt;
 use std::sync::Arc;
