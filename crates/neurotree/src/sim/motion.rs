@@ -93,7 +93,7 @@ impl GridWorld {
     pub fn follow(&mut self, path: Path, speed: f64) {
         self.command(Command::Follow {
             path,
-            speed: speed.abs(),
+            speed: finite(speed).abs(),
             next: 0,
         });
     }
@@ -102,8 +102,8 @@ impl GridWorld {
     /// `rate` radians per second.
     pub fn spin(&mut self, angle: f64, rate: f64) {
         self.command(Command::Spin {
-            left: angle,
-            rate: rate.abs(),
+            left: finite(angle),
+            rate: finite(rate).abs(),
         });
     }
 
@@ -111,8 +111,8 @@ impl GridWorld {
     /// metres per second.
     pub fn back_up(&mut self, distance: f64, speed: f64) {
         self.command(Command::BackUp {
-            left: distance.abs(),
-            speed: speed.abs(),
+            left: finite(distance).abs(),
+            speed: finite(speed).abs(),
         });
     }
 
@@ -150,8 +150,9 @@ impl GridWorld {
         }
     }
 
-    /// Runs the command for `seconds`; returns `true` if the robot moved or turned.
-    pub(super) fn advance_motion(&mut self, seconds: f64) -> bool {
+    /// Runs the command for `dt`; returns `true` if the robot moved or turned.
+    pub(super) fn advance_motion(&mut self, dt: Duration) -> bool {
+        let seconds = dt.as_secs_f64();
         if self.motion.status != MotionStatus::Active {
             return false;
         }
@@ -162,7 +163,7 @@ impl GridWorld {
             Command::Spin { left, rate } => self.turn(left, *rate * seconds),
             Command::BackUp { left, speed } => self.reverse(left, *speed * seconds),
             Command::Wait { left } => {
-                *left = left.saturating_sub(Duration::from_secs_f64(seconds));
+                *left = left.saturating_sub(dt);
                 (done_if(left.is_zero()), false)
             }
         };
@@ -263,6 +264,15 @@ impl GridWorld {
         self.battery.drain(step, 0.0);
         *left -= step;
         (done_if(*left <= 0.0), step > 0.0)
+    }
+}
+
+/// `value`, or 0 for NaN and infinities, so that a bad command moves nothing.
+fn finite(value: f64) -> f64 {
+    if value.is_finite() {
+        value
+    } else {
+        0.0
     }
 }
 
@@ -388,6 +398,19 @@ mod tests {
         assert_eq!(w.robot(), Pose2D::new(0.0, 0.5, 0.0));
         assert_eq!(w.step(HALF), MotionStatus::Blocked(Cell::new(0, 0)));
         assert_eq!(w.robot(), Pose2D::new(0.0, 0.5, 0.0));
+    }
+
+    #[test]
+    fn commands_with_nan_or_infinite_numbers_move_nothing() {
+        let mut w = corridor();
+        w.follow(straight(&w, 4.5), f64::NAN);
+        w.step(HALF);
+        w.spin(f64::INFINITY, 1.0);
+        assert_eq!(w.step(HALF), Done);
+        w.back_up(1.0, f64::NEG_INFINITY);
+        w.step(Duration::MAX);
+        assert_eq!(w.robot(), Pose2D::new(0.5, 0.5, 0.0));
+        assert_eq!(w.distance_travelled(), 0.0);
     }
 
     #[test]

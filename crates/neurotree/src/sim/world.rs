@@ -305,12 +305,11 @@ impl GridWorld {
     /// the sensors take a sample. Returns the motion's status after the step.
     pub fn step(&mut self, dt: Duration) -> super::MotionStatus {
         self.clock.advance(dt);
-        let seconds = dt.as_secs_f64();
-        let moved = self.advance_motion(seconds);
+        let moved = self.advance_motion(dt);
         self.charging =
             !moved && self.charger == Some(self.robot_cell()) && self.battery.level() < 100.0;
         if self.charging {
-            self.battery.charge(seconds);
+            self.battery.charge(dt.as_secs_f64());
         }
         self.refresh();
         self.motion_status()
@@ -331,9 +330,9 @@ impl GridWorld {
             timed: &self.timed,
             now: self.clock.now(),
         };
-        let reach = (self.sensing_radius / self.map.resolution())
-            .ceil()
-            .max(0.0) as i32;
+        // No farther than the map is wide: a huge radius must not mean a huge loop.
+        let cells = (self.sensing_radius / self.map.resolution()).ceil();
+        let reach = cells.clamp(0.0, f64::from(self.map.width().max(self.map.height()))) as i32;
         let here = self.map.cell_at(&self.robot).unwrap_or(Cell::new(0, 0));
         for dy in -reach..=reach {
             for dx in -reach..=reach {
