@@ -22,6 +22,7 @@ pub mod script;
 mod script_hooks;
 mod script_nodes;
 mod shared_blackboard;
+pub mod sim;
 mod switch_node;
 pub mod xml;
 
