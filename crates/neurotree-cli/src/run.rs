@@ -3,6 +3,8 @@
 //! Each tick prints one JSON line `{"tick":1,"status":"RUNNING"}` (with `--trace`, also one
 //! line per status change), and the run ends with a summary line: ticks, final status,
 //! per-node tick and halt counts (summed over nodes sharing a name) and the root blackboard.
+//! With `--view`, the tree is also drawn after every tick, with that tick's statuses, on
+//! standard error.
 //! With `--groot PORT`, the run is also served to Groot2 (see `groot.rs`).
 
 use std::collections::BTreeMap;
@@ -11,6 +13,7 @@ use std::path::Path;
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
+use neurotree::render::LastTickStatuses;
 use neurotree::{
     Blueprint, ManualClock, NodeId, NodeStatus, Observer, Registry, Status, StatusChange,
     TickError, Tree, XmlLoader,
@@ -37,6 +40,8 @@ pub struct RunOptions {
     pub step: Duration,
     /// Print every status change.
     pub trace: bool,
+    /// Draw the tree with each tick's statuses on the error stream.
+    pub view: bool,
     /// Serve the run to Groot2 (`--groot`).
     pub groot: Option<crate::groot::GrootOptions>,
 }
@@ -168,13 +173,16 @@ pub fn run(
         ..Record::default()
     }));
     let recorder = Recorder(Arc::clone(&record));
-    match &groot {
-        Some(served) => {
-            served.publish(&tree);
-            tree.set_observer((recorder, served.monitor()))
-        }
-        None => tree.set_observer(recorder),
-    };
+    let view = opts.view.then(LastTickStatuses::new);
+    let mut observers: Vec<Box<dyn Observer>> = vec![Box::new(recorder)];
+    if let Some(seen) = &view {
+        observers.push(Box::new(seen.clone()));
+    }
+    if let Some(served) = &groot {
+        served.publish(&tree);
+        observers.push(Box::new(served.monitor()));
+    }
+    tree.set_observer(observers);
     let mut status = "IDLE";
     let mut ticks = 0;
     while ticks < opts.max_ticks {
@@ -202,6 +210,13 @@ pub fn run(
             }
         }
         writeln!(out, "{line}")?;
+        if let Some(seen) = &view {
+            writeln!(
+                err,
+                "tick {ticks}: {status}\n{}",
+                seen.render(&blueprint, true)
+            )?;
+        }
         if let Some(served) = &groot {
             served.after_tick(&tree);
         }
