@@ -25,12 +25,11 @@ pub(crate) const MAX_TRANSITIONS: usize = 1000;
 ///
 /// Clones share one state, so the clone given to [`Tree::set_observer`] and the one that
 /// serves see the same tree.
-#[derive(Clone, Debug)]
+#[derive(Clone)]
 pub struct Groot2Monitor {
     pub(crate) shared: Arc<Shared>,
 }
 
-#[derive(Debug)]
 pub(crate) struct Shared {
     pub(crate) xml: String,
     pub(crate) uuid: [u8; 16],
@@ -40,7 +39,6 @@ pub(crate) struct Shared {
     pub(crate) state: Mutex<State>,
 }
 
-#[derive(Debug)]
 pub(crate) struct State {
     /// A status reply, kept up to date in place: 3 bytes per node, uid then status byte.
     pub(crate) statuses: Vec<u8>,
@@ -154,6 +152,15 @@ impl Groot2Monitor {
     }
 }
 
+impl std::fmt::Debug for Groot2Monitor {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Groot2Monitor")
+            .field("main_tree", &self.shared.main_tree)
+            .field("tree_uuid", &self.shared.uuid)
+            .finish_non_exhaustive()
+    }
+}
+
 impl Observer for Groot2Monitor {
     fn on_tick_start(&mut self, now: Duration) {
         self.state().latest = now;
@@ -162,7 +169,12 @@ impl Observer for Groot2Monitor {
     fn on_status_change(&mut self, change: StatusChange) {
         let mut state = self.state();
         state.latest = change.at;
-        let Ok(uid) = u16::try_from(change.node.0 + 1) else {
+        let Some(uid) = change
+            .node
+            .0
+            .checked_add(1)
+            .and_then(|uid| u16::try_from(uid).ok())
+        else {
             return;
         };
         let at = change.node.index() * 3 + 2;
