@@ -138,7 +138,7 @@ pub(crate) fn node_views<'a, C>(
     bp.ids()
         .map(|id| {
             let name = bp.name(id);
-            let type_name = bp.kind(id).type_name();
+            let type_name = super::text::type_label(bp, id);
             NodeView {
                 id,
                 shape: Shape::of(bp.kind(id)),

@@ -40,7 +40,7 @@ pub fn render_statuses<C>(bp: &Blueprint<C>, statuses: &[NodeStatus], unicode: b
         out.push(' ');
         let name = bp.name(id);
         out.push_str(name);
-        let type_name = bp.kind(id).type_name();
+        let type_name = type_label(bp, id);
         if type_name != name {
             // Writing into a String cannot fail.
             let _ = write!(out, " ({type_name})");
@@ -48,6 +48,18 @@ pub fn render_statuses<C>(bp: &Blueprint<C>, statuses: &[NodeStatus], unicode: b
         out.push('\n');
     }
     out
+}
+
+/// What a node's label shows after its name: its registered type (`MoveTo`) when the name
+/// is something else, else its kind (`Condition`, `SubTree`), so that a node named after its
+/// type still says what it is.
+pub(crate) fn type_label<C>(bp: &Blueprint<C>, id: neurotree_core::NodeId) -> &str {
+    let type_id = bp.type_id(id);
+    if type_id != bp.name(id) {
+        type_id
+    } else {
+        bp.kind(id).type_name()
+    }
 }
 
 /// The characters of one style of drawing.
