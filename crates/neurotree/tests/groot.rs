@@ -409,7 +409,7 @@ fn a_taken_port_is_an_error() {
         .unwrap_err();
     assert!(
         err.to_string().starts_with(&format!(
-            "cannot bind the Groot2 REP socket to tcp://127.0.0.1:{taken}: "
+            "cannot bind the Groot2 request socket to tcp://127.0.0.1:{taken}: "
         )),
         "{err}"
     );
@@ -476,4 +476,61 @@ fn the_model_names_every_type_of_the_tree() {
         ),
         "{xml}"
     );
+}
+
+/// The start of a ZeroMQ 3.0 connection from a REQ socket: greeting (NULL mechanism, as a
+/// client) and the READY command.
+fn zmtp_handshake() -> Vec<u8> {
+    let mut out = vec![0xff, 0, 0, 0, 0, 0, 0, 0, 1, 0x7f, 3, 0];
+    let mut mechanism = b"NULL".to_vec();
+    mechanism.resize(20, 0);
+    out.extend_from_slice(&mechanism);
+    out.resize(64, 0);
+    let mut ready = vec![5];
+    ready.extend_from_slice(b"READY");
+    ready.push(11);
+    ready.extend_from_slice(b"Socket-Type");
+    ready.extend_from_slice(&3_u32.to_be_bytes());
+    ready.extend_from_slice(b"REQ");
+    out.extend_from_slice(&[0x04, ready.len() as u8]);
+    out.extend_from_slice(&ready);
+    out
+}
+
+#[test]
+fn bad_bytes_and_broken_peers_do_not_stop_the_server() {
+    use std::io::{Read, Write};
+    use std::net::TcpStream;
+
+    let fx = fixture();
+    let port = fx.server.port();
+    let status = [2, b'S', 1, 0, 0, 0];
+
+    // Not ZeroMQ at all.
+    let mut http = TcpStream::connect((Ipv4Addr::LOCALHOST, port)).unwrap();
+    http.write_all(b"GET / HTTP/1.1\r\nHost: x\r\n\r\n")
+        .unwrap();
+
+    // A peer that shakes hands, then sends a command frame whose name runs past its end,
+    // which the ZeroMQ crate's decoder does not check.
+    let mut broken = TcpStream::connect((Ipv4Addr::LOCALHOST, port)).unwrap();
+    broken.set_read_timeout(Some(TIMEOUT)).unwrap();
+    broken.write_all(&zmtp_handshake()).unwrap();
+    let mut greeting = [0; 64];
+    broken.read_exact(&mut greeting).unwrap();
+    assert_eq!(greeting[0], 0xff);
+    broken.write_all(&[0x04, 1, 0xff]).unwrap();
+
+    // A request sent without the REQ envelope, then a peer gone in the middle of a request.
+    let mut cut = TcpStream::connect((Ipv4Addr::LOCALHOST, port)).unwrap();
+    cut.write_all(&zmtp_handshake()).unwrap();
+    cut.write_all(&[0x00, 6, 2, b'S', 1, 0, 0, 0]).unwrap();
+    cut.write_all(&[0x01, 0, 0x00, 6]).unwrap();
+    drop(cut);
+
+    let mut client = Client::connect(port);
+    assert_eq!(client.request(&[&status])[0], header(&fx, status));
+    drop((http, broken));
+    let mut again = Client::connect(port);
+    assert_eq!(again.request(&[&status])[0], header(&fx, status));
 }

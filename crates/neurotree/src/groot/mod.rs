@@ -9,8 +9,8 @@
 //! 2. the runner calls [`Groot2Monitor::publish_blackboard`] between ticks, since the
 //!    blackboard cannot be read while the tree ticks: clients see the entries as of the
 //!    latest call;
-//! 3. [`Groot2Monitor::serve`] answers requests from a background thread, on a ZeroMQ REP
-//!    socket on the given port (Groot2's default is 1667), with a PUB socket on the next
+//! 3. [`Groot2Monitor::serve`] answers requests from a background thread, to ZeroMQ REQ
+//!    clients on the given port (Groot2's default is 1667), with a PUB socket on the next
 //!    port, as BehaviorTree.CPP binds them. Dropping the [`Groot2Server`] stops it.
 //!
 //! The protocol is BehaviorTree.CPP's version 2 ([`protocol`]); the table of

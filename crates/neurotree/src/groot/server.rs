@@ -1,12 +1,19 @@
-//! The network side: a background thread with a small tokio runtime, a ZeroMQ REP socket for
+//! The network side: a background thread with a small tokio runtime, a ZeroMQ socket for
 //! requests and a PUB socket on the next port, as BehaviorTree.CPP binds them.
+//!
+//! Requests arrive on a ROUTER socket that answers as a REP socket would (the reply goes
+//! back with the request's envelope), because the `zeromq` crate's ROUTER lets a peer whose
+//! connection fails go, where its REP stops at a `todo!()`. A panic in the crate's decoder
+//! on bytes that are not ZeroMQ is caught, and costs only that peer its connection.
 
 use std::net::{IpAddr, Ipv4Addr};
+use std::panic::AssertUnwindSafe;
 use std::sync::mpsc;
 use std::thread::JoinHandle;
 
+use futures_util::FutureExt;
 use tokio::sync::oneshot;
-use zeromq::{Endpoint, PubSocket, RepSocket, Socket, SocketRecv, SocketSend, ZmqMessage};
+use zeromq::{Endpoint, PubSocket, RouterSocket, Socket, SocketRecv, SocketSend, ZmqMessage};
 
 use super::monitor::Groot2Monitor;
 
@@ -16,7 +23,7 @@ pub enum GrootError {
     /// A socket could not be bound (the port is taken, or the address is not local).
     #[error("cannot bind the Groot2 {socket} socket to {address}: {reason}")]
     Bind {
-        /// `REP` (requests) or `PUB` (notifications).
+        /// `request` or `publisher` (notifications).
         socket: &'static str,
         /// The endpoint asked for.
         address: String,
@@ -99,7 +106,7 @@ impl Groot2Monitor {
 }
 
 impl Groot2Server {
-    /// The request (REP) port; notifications (PUB) are on the next one.
+    /// The request port; notifications (PUB) are on the next one.
     pub fn port(&self) -> u16 {
         self.port
     }
@@ -126,7 +133,7 @@ impl Drop for Groot2Server {
 }
 
 struct Sockets {
-    rep: RepSocket,
+    requests: RouterSocket,
     // Kept open for clients that subscribe, though breakpoints, which it would announce,
     // are not supported.
     publisher: PubSocket,
@@ -136,30 +143,30 @@ struct Sockets {
 async fn bind(ip: IpAddr, port: u16) -> Result<Sockets, GrootError> {
     if port != 0 {
         let next = port.checked_add(1).ok_or(GrootError::NoNextPort(port))?;
-        let (rep, port) = bind_rep(ip, port).await?;
+        let (requests, port) = bind_requests(ip, port).await?;
         let publisher = bind_pub(ip, next).await?;
         return Ok(Sockets {
-            rep,
+            requests,
             publisher,
             port,
         });
     }
     let mut last = GrootError::NoNextPort(u16::MAX);
     for _ in 0..PORT_PAIR_ATTEMPTS {
-        let (rep, port) = bind_rep(ip, 0).await?;
+        let (requests, port) = bind_requests(ip, 0).await?;
         let Some(next) = port.checked_add(1) else {
             continue;
         };
         match bind_pub(ip, next).await {
             Ok(publisher) => {
                 return Ok(Sockets {
-                    rep,
+                    requests,
                     publisher,
                     port,
                 })
             }
             Err(e) => {
-                let _ = rep.close().await;
+                let _ = requests.close().await;
                 last = e;
             }
         }
@@ -174,14 +181,14 @@ fn endpoint(ip: IpAddr, port: u16) -> String {
     }
 }
 
-async fn bind_rep(ip: IpAddr, port: u16) -> Result<(RepSocket, u16), GrootError> {
+async fn bind_requests(ip: IpAddr, port: u16) -> Result<(RouterSocket, u16), GrootError> {
     let address = endpoint(ip, port);
-    let mut rep = RepSocket::new();
-    match rep.bind(&address).await {
-        Ok(Endpoint::Tcp(_, bound)) => Ok((rep, bound)),
-        Ok(_) => Ok((rep, port)),
+    let mut requests = RouterSocket::new();
+    match requests.bind(&address).await {
+        Ok(Endpoint::Tcp(_, bound)) => Ok((requests, bound)),
+        Ok(_) => Ok((requests, port)),
         Err(e) => Err(GrootError::Bind {
-            socket: "REP",
+            socket: "request",
             address,
             reason: e.to_string(),
         }),
@@ -194,7 +201,7 @@ async fn bind_pub(ip: IpAddr, port: u16) -> Result<PubSocket, GrootError> {
     match publisher.bind(&address).await {
         Ok(_) => Ok(publisher),
         Err(e) => Err(GrootError::Bind {
-            socket: "PUB",
+            socket: "publisher",
             address,
             reason: e.to_string(),
         }),
@@ -205,28 +212,37 @@ impl Sockets {
     /// Answers requests until told to stop (or until the [`Groot2Server`] is gone).
     async fn serve(mut self, monitor: &Groot2Monitor, mut stop: oneshot::Receiver<()>) {
         loop {
-            let request = tokio::select! {
+            let received = tokio::select! {
                 _ = &mut stop => break,
-                request = self.rep.recv() => request,
+                received = AssertUnwindSafe(self.requests.recv()).catch_unwind() => received,
             };
-            // A client that vanished mid-request, or sent a message without the REQ
-            // envelope: nothing to answer, and the next client is still served.
-            let Ok(request) = request else { continue };
-            let mut reply = ZmqMessage::from(Vec::new());
-            let mut frames = monitor.answer(&request.into_vec()).into_iter();
-            if let Some(first) = frames.next() {
-                reply = ZmqMessage::from(first);
-            }
-            for frame in frames {
-                reply.push_back(frame.into());
-            }
+            // A panic is the decoder's, on a peer's bad bytes: that peer's stream was taken
+            // out of the queue, the others are still served.
+            let Ok(Ok(message)) = received else { continue };
+            let Some(reply) = reply_to(monitor, message) else {
+                continue;
+            };
             tokio::select! {
                 _ = &mut stop => break,
                 // A client gone before its reply needs none.
-                _ = self.rep.send(reply) => {}
+                _ = self.requests.send(reply) => {}
             }
         }
-        let _ = self.rep.close().await;
+        let _ = self.requests.close().await;
         let _ = self.publisher.close().await;
     }
+}
+
+/// The reply to a message from the ROUTER socket: its routing id and the REQ envelope, up to
+/// the empty delimiter frame, then the answer. A message without a delimiter did not come
+/// from a REQ socket, and gets no reply, as a REP socket would drop it.
+fn reply_to(monitor: &Groot2Monitor, message: ZmqMessage) -> Option<ZmqMessage> {
+    let mut frames = message.into_vec();
+    let delimiter = 1 + frames.iter().skip(1).position(|f| f.is_empty())?;
+    let request = frames.split_off(delimiter + 1);
+    let mut reply = ZmqMessage::try_from(frames).ok()?;
+    for frame in monitor.answer(&request) {
+        reply.push_back(frame.into());
+    }
+    Some(reply)
 }
