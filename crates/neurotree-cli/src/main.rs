@@ -9,6 +9,7 @@
 mod bench;
 mod check;
 mod demo;
+mod groot;
 mod run;
 mod show;
 
@@ -71,6 +72,17 @@ struct RunArgs {
     /// Also print every status change.
     #[arg(long)]
     trace: bool,
+    /// Serve the run to Groot2 on PORT (requests; PORT+1 publishes), as BehaviorTree.CPP's
+    /// Groot2Publisher does; 0 picks free ports and says which on stderr.
+    #[arg(long, value_name = "PORT")]
+    groot: Option<u16>,
+    /// Seconds to keep serving Groot2 once the run ended.
+    #[arg(long, value_name = "SECS", default_value = "5", value_parser = seconds, requires = "groot")]
+    groot_linger: Duration,
+    /// Milliseconds of wall time each tick waits while serving Groot2, so that a client
+    /// sees the run unfold (the manual clock, and so the results, are the same).
+    #[arg(long, value_name = "MS", default_value_t = 0, requires = "groot")]
+    groot_pace_ms: u64,
     /// After each tick, draw the tree with the statuses of that tick on standard error.
     #[arg(long)]
     view: bool,
@@ -107,6 +119,14 @@ fn key_value(text: &str) -> Result<(String, String), String> {
     text.split_once('=')
         .map(|(k, v)| (k.to_string(), v.to_string()))
         .ok_or_else(|| format!("`{text}` should be NAME=VALUE"))
+}
+
+/// A number of seconds, fractions allowed.
+fn seconds(text: &str) -> Result<Duration, String> {
+    text.parse::<f64>()
+        .ok()
+        .and_then(|s| Duration::try_from_secs_f64(s).ok())
+        .ok_or_else(|| format!("`{text}` should be a number of seconds, 0 or more"))
 }
 
 #[derive(Args, Debug)]
@@ -181,6 +201,11 @@ fn main() -> ExitCode {
                 exactly_once: args.tick == "exactly-once",
                 step: Duration::from_millis(args.step_ms),
                 trace: args.trace,
+                groot: args.groot.map(|port| groot::GrootOptions {
+                    port,
+                    linger: args.groot_linger,
+                    pace: Duration::from_millis(args.groot_pace_ms),
+                }),
                 view: args.view,
             };
             return match run::run(&args.file, &opts, &mut out, &mut io::stderr()) {

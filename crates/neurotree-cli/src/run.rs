@@ -5,6 +5,7 @@
 //! per-node tick and halt counts (summed over nodes sharing a name) and the root blackboard.
 //! With `--view`, the tree is also drawn after every tick, with that tick's statuses, on
 //! standard error.
+//! With `--groot PORT`, the run is also served to Groot2 (see `groot.rs`).
 
 use std::collections::BTreeMap;
 use std::io::{self, Write};
@@ -18,6 +19,8 @@ use neurotree::{
     TickError, Tree, XmlLoader,
 };
 use serde_json::{json, Map, Value};
+
+use crate::groot::Served;
 
 /// What `neurotree run` was asked to do.
 pub struct RunOptions {
@@ -39,6 +42,8 @@ pub struct RunOptions {
     pub trace: bool,
     /// Draw the tree with each tick's statuses on the error stream.
     pub view: bool,
+    /// Serve the run to Groot2 (`--groot`).
+    pub groot: Option<crate::groot::GrootOptions>,
 }
 
 #[derive(Default)]
@@ -98,27 +103,12 @@ fn set_value(bb: &mut neurotree::Blackboard, key: &str, text: &str) {
     }
 }
 
-/// A blackboard value as JSON (types it does not know print as their type name).
-fn json_of(bb: &neurotree::Blackboard, key: &str) -> Value {
-    let Some(any) = bb.get_any_in(neurotree::ScopeId::ROOT, key) else {
-        return Value::Null;
-    };
-    if let Some(v) = any.downcast_ref::<i64>() {
-        json!(v)
-    } else if let Some(v) = any.downcast_ref::<f64>() {
-        json!(v)
-    } else if let Some(v) = any.downcast_ref::<bool>() {
-        json!(v)
-    } else if let Some(v) = any.downcast_ref::<String>() {
-        json!(v)
-    } else {
-        let type_name = bb.info(key).map_or("unknown", |i| i.type_name);
-        json!(format!("<{type_name}>"))
-    }
-}
-
-fn load(file: &Path, opts: &RunOptions) -> Result<Blueprint<()>, String> {
+/// The tree to run, the registry it was loaded with, and its ID.
+fn load(file: &Path, opts: &RunOptions) -> Result<(Blueprint<()>, Registry<()>, String), String> {
     let mut registry = Registry::<()>::new();
+    // Nav2's navigators are built on its own control nodes: with them, its files run as
+    // they are, their actions mocked.
+    neurotree::nav2::register_controls(&mut registry).map_err(|e| e.to_string())?;
     if let Ok(text) = std::fs::read_to_string(file) {
         registry
             .add_model_str(&text, &file.display().to_string())
@@ -131,11 +121,18 @@ fn load(file: &Path, opts: &RunOptions) -> Result<Blueprint<()>, String> {
         loader = loader.mock(name, outcomes);
     }
     loader.load_file(file).map_err(|e| e.to_string())?;
-    match &opts.tree {
+    let tree_id = opts
+        .tree
+        .as_deref()
+        .or_else(|| loader.main_tree())
+        .unwrap_or("MainTree")
+        .to_string();
+    let blueprint = match &opts.tree {
         Some(id) => loader.build(id),
         None => loader.build_main(),
     }
-    .map_err(|e| e.to_string())
+    .map_err(|e| e.to_string())?;
+    Ok((blueprint, registry, tree_id))
 }
 
 /// Runs `file`; `Ok(false)` if it did not load (the error is on `err`).
@@ -145,12 +142,25 @@ pub fn run(
     out: &mut impl Write,
     err: &mut impl Write,
 ) -> io::Result<bool> {
-    let blueprint = match load(file, opts) {
-        Ok(bp) => Arc::new(bp),
+    let (blueprint, registry, tree_id) = match load(file, opts) {
+        Ok((bp, registry, tree_id)) => (Arc::new(bp), registry, tree_id),
         Err(e) => {
             writeln!(err, "{e}")?;
             return Ok(false);
         }
+    };
+    let groot = match &opts.groot {
+        Some(g) => match Served::start(&blueprint, &registry, &tree_id, g) {
+            Ok(served) => {
+                served.announce(err)?;
+                Some(served)
+            }
+            Err(e) => {
+                writeln!(err, "{e}")?;
+                return Ok(false);
+            }
+        },
+        None => None,
     };
     let clock = ManualClock::new();
     let mut tree = Tree::with_clock(Arc::clone(&blueprint), clock.clone());
@@ -167,10 +177,15 @@ pub fn run(
     }));
     let recorder = Recorder(Arc::clone(&record));
     let view = opts.view.then(LastTickStatuses::new);
-    match &view {
-        Some(seen) => tree.set_observer((recorder, seen.clone())),
-        None => tree.set_observer(recorder),
-    };
+    let mut observers: Vec<Box<dyn Observer>> = vec![Box::new(recorder)];
+    if let Some(seen) = &view {
+        observers.push(Box::new(seen.clone()));
+    }
+    if let Some(served) = &groot {
+        served.publish(&tree);
+        observers.push(Box::new(served.monitor()));
+    }
+    tree.set_observer(observers);
     let mut status = "IDLE";
     let mut ticks = 0;
     while ticks < opts.max_ticks {
@@ -205,6 +220,9 @@ pub fn run(
                 seen.render(&blueprint, true)
             )?;
         }
+        if let Some(served) = &groot {
+            served.after_tick(&tree);
+        }
         if matches!(result, Ok(Status::Success | Status::Failure) | Err(_)) {
             break;
         }
@@ -220,9 +238,8 @@ pub fn run(
         .into_iter()
         .map(|(name, (t, h))| (name, json!({ "ticks": t, "halts": h })))
         .collect();
-    let bb = tree.blackboard();
-    let blackboard: Map<String, Value> =
-        bb.keys().map(|k| (k.to_string(), json_of(bb, k))).collect();
+    let blackboard =
+        neurotree::blackboard_json::scope_json(tree.blackboard(), neurotree::ScopeId::ROOT);
     let summary = json!({ "summary": {
         "ticks": ticks,
         "status": status,
@@ -230,5 +247,9 @@ pub fn run(
         "blackboard": blackboard,
     }});
     writeln!(out, "{summary}")?;
+    if let Some(served) = groot {
+        out.flush()?;
+        served.linger(err)?;
+    }
     Ok(true)
 }

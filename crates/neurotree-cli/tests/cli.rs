@@ -295,3 +295,23 @@ fn run_mock_unknown_and_max_ticks() {
         .unwrap()
         .contains(r#""ticks":4,"status":"RUNNING""#));
 }
+
+#[test]
+fn run_knows_nav2_control_nodes() {
+    // RecoveryNode, PipelineSequence, RateController, RoundRobin and the goal nodes; the
+    // Nav2 actions and conditions are mocked.
+    let file = shared().join("corpus/nav2/navigate_to_pose_w_replanning_and_recovery.xml");
+    let (code, out, err) = run_cli(&[
+        "run",
+        file.to_str().unwrap(),
+        "--mock-unknown",
+        "--set",
+        "goal=1;2;0",
+    ]);
+    assert_eq!(code, Some(0), "{err}");
+    assert_eq!(out.lines().next(), Some(r#"{"tick":1,"status":"SUCCESS"}"#));
+    assert!(
+        out.contains(r#""NavigateRecovery":{"ticks":1,"halts":0}"#),
+        "{out}"
+    );
+}

@@ -9,7 +9,10 @@
 pub use neurotree_core::*;
 
 pub mod bench_trees;
+pub mod blackboard_json;
 mod entry_nodes;
+#[cfg(feature = "groot")]
+pub mod groot;
 mod json_port;
 mod loop_nodes;
 pub mod nav2;

@@ -133,6 +133,54 @@ fn uids_follow_node_ids_and_each_subtree_instance_gets_its_own_tree() {
     assert!(!xml.contains("TreeNodesModel"), "{xml}");
 }
 
+#[test]
+fn subtree_instances_come_out_depth_first_as_behaviortree_cpp_writes_them() {
+    let registry = registry();
+    let bp = load(
+        &registry,
+        r#"<root BTCPP_format="4">
+          <BehaviorTree ID="Main">
+            <Sequence><SubTree ID="A" name="a"/><SubTree ID="X" name="x_in_main"/></Sequence>
+          </BehaviorTree>
+          <BehaviorTree ID="A">
+            <Sequence><SubTree ID="X" name="x_in_a"/><AlwaysSuccess/></Sequence>
+          </BehaviorTree>
+          <BehaviorTree ID="X"><AlwaysFailure/></BehaviorTree>
+        </root>"#,
+        "Main",
+    );
+    let uids = SaveOptions {
+        uids: true,
+        models: false,
+        ..SaveOptions::default()
+    };
+    let xml = write_xml(&bp, &registry, &uids);
+    // Each instance right after the tree that opens it, so that a reader taking the trees
+    // of one ID in turn while walking the tree pairs each SubTree with its own.
+    let trees: Vec<&str> = xml
+        .lines()
+        .filter(|l| l.trim_start().starts_with("<BehaviorTree"))
+        .map(str::trim)
+        .collect();
+    assert_eq!(
+        trees,
+        [
+            r#"<BehaviorTree ID="MainTree">"#,
+            r#"<BehaviorTree ID="A" _fullpath="Sequence/a">"#,
+            r#"<BehaviorTree ID="X" _fullpath="Sequence/a/Sequence/x_in_a">"#,
+            r#"<BehaviorTree ID="X" _fullpath="Sequence/x_in_main">"#,
+        ],
+        "{xml}"
+    );
+    // Without uids, each ID once, depth-first too.
+    let plain = write_xml(&bp, &registry, &SaveOptions::default());
+    let ids: Vec<&str> = plain
+        .lines()
+        .filter_map(|l| l.trim().strip_prefix("<BehaviorTree ID=\""))
+        .collect();
+    assert_eq!(ids, [r#"MainTree">"#, r#"A">"#, r#"X">"#], "{plain}");
+}
+
 /// The `_uid` values in document order of their elements' node ids: the main tree first,
 /// then each subtree instance.
 fn roxmltree_free_uids(xml: &str) -> Vec<u32> {

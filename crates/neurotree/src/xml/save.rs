@@ -124,7 +124,10 @@ struct Writer<'a, C> {
     ends: &'a [u32],
     opts: &'a SaveOptions,
     out: String,
-    /// `(root of the tree, SubTree node that opens it)`, still to write.
+    /// `(root of the tree, SubTree node that opens it)`, still to write: a stack whose top is
+    /// the first subtree met in the latest tree written, so that trees come out depth-first
+    /// in the order they are met, as BehaviorTree.CPP writes its subtree instances (a viewer
+    /// that pairs repeated instances of one ID with successive `<BehaviorTree>`s relies on it).
     pending: Vec<(NodeId, NodeId)>,
     /// Tree IDs already written (without uids each is written once).
     written: Vec<String>,
@@ -142,6 +145,7 @@ impl<C> Writer<'_, C> {
         }
         self.out.push_str(">\n");
         let mut open: Vec<(NodeId, String)> = Vec::new();
+        let mut met: Vec<(NodeId, NodeId)> = Vec::new();
         let mut at = root.0;
         let end = self.ends[root.index()];
         while at < end {
@@ -157,9 +161,7 @@ impl<C> Writer<'_, C> {
             let depth = open.len() + 2;
             let tag = self.element(node, depth);
             if let NodeKind::SubTree(_) = self.bp.kind(node) {
-                let child = NodeId(at + 1);
-                // Queued in reverse so that trees come out in the order they are met.
-                self.pending.insert(0, (child, node));
+                met.push((NodeId(at + 1), node));
                 at = self.ends[node.index()];
                 continue;
             }
@@ -173,6 +175,7 @@ impl<C> Writer<'_, C> {
             self.out.push_str(&format!("{indent}</{tag}>\n"));
         }
         self.out.push_str("  </BehaviorTree>\n");
+        self.pending.extend(met.into_iter().rev());
     }
 
     /// Writes the node's start tag (self-closed when it has no children written below it)

@@ -1,0 +1,88 @@
+//! Blackboard entries as JSON, for the tools that show a blackboard to a person or a program
+//! (the `neurotree run` summary, the Groot2 monitor).
+//!
+//! Entries hold arbitrary Rust values, so only the types that scripts, `--set` and the XML
+//! loader write are converted to their JSON value: `i64`, `f64`, `bool` and `String`. Any
+//! other type shows as its type name in angle brackets (`"<my_robot::Pose>"`), which tells
+//! the reader that the entry exists and what it holds; an entry that a port declared but
+//! nothing wrote yet is `null`.
+//!
+//! ```
+//! use neurotree::blackboard_json::scope_json;
+//! use neurotree::{Blackboard, ScopeId};
+//!
+//! let mut bb = Blackboard::new();
+//! bb.set("count", 3_i64).unwrap();
+//! bb.set("mode", "docking".to_string()).unwrap();
+//! bb.set("raw", 7_u8).unwrap();
+//! assert_eq!(
+//!     serde_json::Value::Object(scope_json(&bb, ScopeId::ROOT)).to_string(),
+//!     r#"{"count":3,"mode":"docking","raw":"<u8>"}"#
+//! );
+//! ```
+
+use neurotree_core::{Blackboard, ScopeId};
+use serde_json::{json, Map, Value};
+
+/// The value `key` resolves to from `scope`, as JSON (see the [module docs](self)).
+pub fn entry_json(bb: &Blackboard, scope: ScopeId, key: &str) -> Value {
+    let Some(any) = bb.get_any_in(scope, key) else {
+        return Value::Null;
+    };
+    if let Some(v) = any.downcast_ref::<i64>() {
+        json!(v)
+    } else if let Some(v) = any.downcast_ref::<f64>() {
+        json!(v)
+    } else if let Some(v) = any.downcast_ref::<bool>() {
+        json!(v)
+    } else if let Some(v) = any.downcast_ref::<String>() {
+        json!(v)
+    } else {
+        let type_name = bb.info_in(scope, key).map_or("unknown", |i| i.type_name);
+        json!(format!("<{type_name}>"))
+    }
+}
+
+/// Every entry stored in `scope` itself (not those it reaches through remapping), by key.
+pub fn scope_json(bb: &Blackboard, scope: ScopeId) -> Map<String, Value> {
+    bb.keys_in(scope)
+        .map(|k| (k.to_string(), entry_json(bb, scope, k)))
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use core::time::Duration;
+
+    #[test]
+    fn known_types_are_values_and_others_their_type_name() {
+        let mut bb = Blackboard::new();
+        bb.set("i", -4_i64).unwrap();
+        bb.set("f", 2.5_f64).unwrap();
+        bb.set("b", true).unwrap();
+        bb.set("s", "text".to_string()).unwrap();
+        bb.set("u", 9_u32).unwrap();
+        bb.declare_in(ScopeId::ROOT, "later");
+        let root = ScopeId::ROOT;
+        assert_eq!(entry_json(&bb, root, "i"), json!(-4));
+        assert_eq!(entry_json(&bb, root, "f"), json!(2.5));
+        assert_eq!(entry_json(&bb, root, "b"), json!(true));
+        assert_eq!(entry_json(&bb, root, "s"), json!("text"));
+        assert_eq!(entry_json(&bb, root, "u"), json!("<u32>"));
+        assert_eq!(entry_json(&bb, root, "later"), Value::Null);
+        assert_eq!(entry_json(&bb, root, "missing"), Value::Null);
+    }
+
+    #[test]
+    fn a_scope_lists_its_own_entries_only() {
+        let mut bb = Blackboard::new();
+        bb.set("goal", 1_i64).unwrap();
+        let sub = bb.add_scope(ScopeId::ROOT, false);
+        bb.remap(sub, "target", "goal");
+        bb.set_in(sub, "local", 2_i64, Duration::ZERO).unwrap();
+        let keys: Vec<String> = scope_json(&bb, sub).keys().cloned().collect();
+        assert_eq!(keys, ["local"]);
+        assert_eq!(scope_json(&bb, ScopeId::ROOT)["goal"], json!(1));
+    }
+}
