@@ -251,6 +251,21 @@ impl<C> Blueprint<C> {
         out
     }
 
+    /// Every node's [`path`](Self::path), indexed by [`NodeId`]: what loggers keep to name
+    /// nodes without holding the blueprint. One pass, each path built on its parent's.
+    pub fn paths(&self) -> Vec<String> {
+        let mut out: Vec<String> = Vec::with_capacity(self.len());
+        for id in self.ids() {
+            let path = match self.parent(id) {
+                // Pre-order: the parent's path is already in `out`.
+                Some(parent) => alloc::format!("{}/{}", out[parent.index()], self.name(id)),
+                None => String::from(self.name(id)),
+            };
+            out.push(path);
+        }
+        out
+    }
+
     /// The first node, in pre-order, whose path is `path`.
     pub fn find(&self, path: &str) -> Option<NodeId> {
         self.ids().find(|id| self.path(*id) == path)

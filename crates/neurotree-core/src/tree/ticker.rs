@@ -127,12 +127,12 @@ impl<'t, C> Ticker<'t, C> {
         };
         // A skipped node keeps (or returns to) Idle, though a control marks itself Running
         // before it finds that all its children were skipped.
-        let stored = if status == NodeStatus::Skipped {
-            NodeStatus::Idle
+        if status == NodeStatus::Skipped {
+            self.set_status(id, NodeStatus::Idle);
+            self.note_skip(id);
         } else {
-            status
-        };
-        self.set_status(id, stored);
+            self.set_status(id, status);
+        }
         status
     }
 
@@ -196,6 +196,15 @@ impl<'t, C> Ticker<'t, C> {
     fn note_tick(&mut self, id: NodeId) {
         if let Some(observer) = self.observer.as_deref_mut() {
             observer.on_node_tick(id);
+        }
+    }
+
+    /// Tells the observer that a node returned Skipped.
+    #[cold]
+    #[inline(never)]
+    fn note_skip(&mut self, id: NodeId) {
+        if let Some(observer) = self.observer.as_deref_mut() {
+            observer.on_node_skipped(id);
         }
     }
 
