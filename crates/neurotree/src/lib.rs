@@ -10,6 +10,7 @@ pub use neurotree_core::*;
 
 pub mod bench_trees;
 mod entry_nodes;
+mod json_port;
 mod loop_nodes;
 mod readme;
 pub mod registry;
@@ -22,6 +23,7 @@ mod shared_blackboard;
 mod switch_node;
 pub mod xml;
 
+pub use json_port::Json;
 pub use registry::{PortDirection, PortSpec, Registry, RegistryError};
 pub use shared_blackboard::SharedBlackboard;
 pub use xml::{LoadError, XmlLoader};

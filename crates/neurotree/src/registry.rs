@@ -10,6 +10,8 @@ use std::collections::BTreeMap;
 use std::fmt;
 use std::sync::Arc;
 
+use crate::script::Enums;
+
 use neurotree_core::{
     Category, FromPortStr, Handle, NodeKind, ParallelPolicy, StatefulAction, Status,
 };
@@ -147,9 +149,10 @@ pub(crate) enum BuiltIn {
 }
 
 /// Makes the per-node part of a leaf from its port bindings (most leaves ignore them; a
-/// Script node parses its `code` here, at load time).
+/// Script node parses its `code` here, at load time) and the registry's enums (which its
+/// scripts name).
 pub(crate) type LeafMaker<C> =
-    Arc<dyn Fn(&[neurotree_core::Port]) -> Result<NodeKind<C>, String> + Send + Sync>;
+    Arc<dyn Fn(&[neurotree_core::Port], &Arc<Enums>) -> Result<NodeKind<C>, String> + Send + Sync>;
 
 /// How a registered type becomes a node.
 #[derive(Clone)]
@@ -189,11 +192,24 @@ pub enum RegistryError {
     /// The name is taken.
     #[error("a node type named `{0}` is already registered; pick another name")]
     Duplicate(String),
+    /// An enum name was defined again with another value.
+    #[error("the enum name `{name}` is already {old}; it cannot also be {new}")]
+    EnumRedefined {
+        /// The name.
+        name: String,
+        /// Its value.
+        old: i64,
+        /// The value refused.
+        new: i64,
+    },
 }
 
-/// Node types by name: the built-ins, and the user's leaves.
+/// Node types by name: the built-ins, and the user's leaves; and the enum names that
+/// scripts and port values may use.
 pub struct Registry<C> {
     types: BTreeMap<String, NodeType<C>>,
+    /// Shared with the script nodes made from this registry, which look names up at run time.
+    enums: Arc<Enums>,
 }
 
 impl<C: 'static> Default for Registry<C> {
@@ -207,6 +223,7 @@ impl<C: 'static> Registry<C> {
     pub fn new() -> Self {
         let mut r = Self {
             types: BTreeMap::new(),
+            enums: Arc::new(Enums::new()),
         };
         for (name, category, built_in, ports) in built_ins() {
             let t = NodeType {
@@ -248,7 +265,7 @@ impl<C: 'static> Registry<C> {
             neurotree_core::Arity::Leaf => Category::Action,
             _ => Category::Control,
         };
-        let leaf: LeafMaker<C> = Arc::new(move |_| {
+        let leaf: LeafMaker<C> = Arc::new(move |_, _| {
             let make = Arc::clone(&make);
             Ok(NodeKind::Custom(Box::new(neurotree_core::CustomSpec {
                 type_name: type_name.clone(),
@@ -294,7 +311,7 @@ impl<C: 'static> Registry<C> {
         F: Fn() -> S + Send + Sync + 'static,
     {
         let make = Arc::new(make);
-        let leaf: LeafMaker<C> = Arc::new(move |_| {
+        let leaf: LeafMaker<C> = Arc::new(move |_, _| {
             let make = Arc::clone(&make);
             Ok(NodeKind::Stateful(Box::new(
                 move || -> Box<dyn StatefulAction<C>> { Box::new(make()) },
@@ -315,7 +332,7 @@ impl<C: 'static> Registry<C> {
     {
         let f = Arc::new(f);
         let leaf: LeafMaker<C> =
-            Arc::new(move |_| Ok(NodeKind::Action(Box::new(SharedAction(Arc::clone(&f))))));
+            Arc::new(move |_, _| Ok(NodeKind::Action(Box::new(SharedAction(Arc::clone(&f))))));
         self.register_leaf(name, Category::Action, ports, leaf)
     }
 
@@ -330,7 +347,7 @@ impl<C: 'static> Registry<C> {
         F: Fn(&Handle<'_, C>) -> bool + Send + Sync + 'static,
     {
         let f = Arc::new(f);
-        let leaf: LeafMaker<C> = Arc::new(move |_| {
+        let leaf: LeafMaker<C> = Arc::new(move |_, _| {
             Ok(NodeKind::Condition(Box::new(SharedCondition(Arc::clone(
                 &f,
             )))))
@@ -405,9 +422,18 @@ impl<C: 'static> Registry<C> {
     /// The `TreeNodesModel` of the registered types that are not built in, as a BehaviorTree.CPP
     /// format-4 document: what Groot2 reads to know the user's nodes and their ports.
     pub fn tree_nodes_model(&self) -> String {
-        let mut out = String::from("<root BTCPP_format=\"4\">\n  <TreeNodesModel>\n");
+        let mut out = String::from("<root BTCPP_format=\"4\">\n");
+        self.write_models(&mut out, false);
+        out.push_str("</root>\n");
+        out
+    }
+
+    /// Writes the `<TreeNodesModel>` element, indented one level, with the built-in types too
+    /// when `builtins` is set.
+    pub(crate) fn write_models(&self, out: &mut String, builtins: bool) {
+        out.push_str("  <TreeNodesModel>\n");
         for t in self.types.values() {
-            if t.builtin {
+            if t.builtin && !builtins {
                 continue;
             }
             let tag = t.category.as_str();
@@ -445,8 +471,59 @@ impl<C: 'static> Registry<C> {
             }
             out.push_str(&format!("    </{tag}>\n"));
         }
-        out.push_str("  </TreeNodesModel>\n</root>\n");
-        out
+        out.push_str("  </TreeNodesModel>\n");
+    }
+
+    /// Defines the enum name `name` as `value`, as BehaviorTree.CPP's
+    /// `registerScriptingEnum` does: scripts may write `state == DOCKING`, and a literal port
+    /// value `DOCKING` reads as the number wherever the port wants a number. Trees loaded
+    /// afterwards see it. Redefining a name with another value is an error.
+    ///
+    /// ```
+    /// use neurotree::{Registry, XmlLoader, ManualClock, Status, Tree};
+    ///
+    /// let mut registry = Registry::<()>::new();
+    /// registry.register_enums([("IDLE", 0), ("DOCKING", 2)]).unwrap();
+    /// let mut loader = XmlLoader::new(&registry);
+    /// loader.load_str(r#"<root BTCPP_format="4"><BehaviorTree ID="Main">
+    ///     <Sequence>
+    ///       <Script code="state := DOCKING"/>
+    ///       <ScriptCondition code="state == DOCKING &amp;&amp; state != IDLE"/>
+    ///       <Repeat num_cycles="DOCKING"><AlwaysSuccess/></Repeat>
+    ///     </Sequence>
+    ///   </BehaviorTree></root>"#, "enums.xml").unwrap();
+    /// let mut tree = Tree::with_clock(loader.build_main().unwrap().into(), ManualClock::new());
+    /// assert_eq!(tree.tick_once(&mut ()), Ok(Status::Success));
+    /// assert_eq!(tree.blackboard().get::<i64>("state"), Ok(2));
+    /// ```
+    pub fn register_enum(&mut self, name: &str, value: i64) -> Result<(), RegistryError> {
+        match self.enums.get(name) {
+            Some(old) if old != value => Err(RegistryError::EnumRedefined {
+                name: name.to_string(),
+                old,
+                new: value,
+            }),
+            Some(_) => Ok(()),
+            None => {
+                Arc::make_mut(&mut self.enums).insert(name, value);
+                Ok(())
+            }
+        }
+    }
+
+    /// Defines several enum names (see [`register_enum`](Self::register_enum)).
+    pub fn register_enums<'n>(
+        &mut self,
+        values: impl IntoIterator<Item = (&'n str, i64)>,
+    ) -> Result<(), RegistryError> {
+        values
+            .into_iter()
+            .try_for_each(|(name, value)| self.register_enum(name, value))
+    }
+
+    /// The enum names defined so far.
+    pub fn enums(&self) -> &Arc<Enums> {
+        &self.enums
     }
 
     /// Adds a description to a registered type (shown in the `TreeNodesModel`).
@@ -477,8 +554,9 @@ impl<C: 'static> Registry<C> {
     }
 }
 
-/// Text made safe for an XML attribute or element.
-fn escape(text: &str) -> String {
+/// `text` with XML's special characters as entities; line breaks and tabs too, because an
+/// attribute value read back would otherwise have them turned into spaces.
+pub(crate) fn escape(text: &str) -> String {
     let mut out = String::with_capacity(text.len());
     for c in text.chars() {
         match c {
@@ -487,6 +565,9 @@ fn escape(text: &str) -> String {
             '>' => out.push_str("&gt;"),
             '"' => out.push_str("&quot;"),
             '\'' => out.push_str("&apos;"),
+            '\n' => out.push_str("&#10;"),
+            '\r' => out.push_str("&#13;"),
+            '\t' => out.push_str("&#9;"),
             c => out.push(c),
         }
     }
@@ -668,9 +749,75 @@ pub(crate) fn built_in_kind<C>(
     })
 }
 
+/// The ports a built-in kind was made from, as [`built_in_kind`] reads them back: what a
+/// saved file writes for the node. `children` resolves the Parallel shorthands the builder
+/// offers into BehaviorTree.CPP's thresholds.
+pub(crate) fn built_in_ports<C>(
+    kind: &NodeKind<C>,
+    children: usize,
+) -> Vec<(&'static str, String)> {
+    let ms = |d: &std::time::Duration| d.as_millis().to_string();
+    match kind {
+        NodeKind::Parallel(policy) => {
+            let n = children as i32;
+            let (success, failure) = match *policy {
+                ParallelPolicy::Thresholds { success, failure } => (success, failure),
+                ParallelPolicy::RequireAll => (-1, 1),
+                ParallelPolicy::RequireOne => (1, -1),
+                ParallelPolicy::RequireCount(m) => (m as i32, n - m as i32 + 1),
+            };
+            vec![
+                ("success_count", success.to_string()),
+                ("failure_count", failure.to_string()),
+            ]
+        }
+        NodeKind::ParallelAll { max_failures } => vec![("max_failures", max_failures.to_string())],
+        NodeKind::TryCatch { catch_on_halt } => vec![("catch_on_halt", catch_on_halt.to_string())],
+        NodeKind::Repeat { num_cycles } => vec![("num_cycles", num_cycles.to_string())],
+        NodeKind::RetryUntilSuccessful { num_attempts } => {
+            vec![("num_attempts", num_attempts.to_string())]
+        }
+        NodeKind::Delay(d) => vec![("delay_msec", ms(d))],
+        NodeKind::Timeout(d) | NodeKind::Sleep(d) => vec![("msec", ms(d))],
+        NodeKind::Cooldown(d) => vec![("cooldown_msec", ms(d))],
+        NodeKind::RunOnce { then_skip } => vec![("then_skip", then_skip.to_string())],
+        _ => Vec::new(),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn built_in_ports_read_back_into_the_same_kind() {
+        let r = Registry::<()>::new();
+        for t in r.types() {
+            let Make::BuiltIn(b) = t.make else { continue };
+            // Every port at a value other than the smallest, so a swapped pair would show.
+            let kind = built_in_kind::<()>(b, |p| {
+                Some(match p {
+                    "success_count" => "2".into(),
+                    "failure_count" => "-1".into(),
+                    "catch_on_halt" | "then_skip" => "true".into(),
+                    _ => "7".into(),
+                })
+            })
+            .unwrap();
+            let ports = built_in_ports(&kind, 3);
+            let again = built_in_kind::<()>(b, |p| {
+                ports.iter().find(|(n, _)| *n == p).map(|(_, v)| v.clone())
+            })
+            .unwrap();
+            assert_eq!(format!("{again:?}"), format!("{kind:?}"), "{}", t.name);
+            assert_eq!(ports.len(), t.ports.len(), "{}", t.name);
+        }
+        let count = NodeKind::<()>::Parallel(ParallelPolicy::RequireCount(2));
+        assert_eq!(
+            built_in_ports(&count, 5),
+            [("success_count", "2".into()), ("failure_count", "4".into())]
+        );
+    }
 
     #[test]
     fn built_ins_are_registered_with_their_ports() {

@@ -25,6 +25,7 @@ struct Pending<C> {
     children: Vec<u32>,
     depth: u32,
     ports: Vec<Port>,
+    type_id: Option<String>,
     hooks: Option<Box<dyn NodeHooks<C>>>,
 }
 
@@ -169,6 +170,7 @@ impl<C> Builder<C> {
             children: Vec::new(),
             depth,
             ports: Vec::new(),
+            type_id: None,
             hooks: None,
         });
         if let Some(p) = parent {
@@ -261,6 +263,20 @@ impl<C> Builder<C> {
         }
         match self.nodes.last_mut() {
             Some(node) => node.ports.extend(ports),
+            None => self.fail(None, BuildErrorKind::Empty),
+        }
+        self
+    }
+
+    /// Records the registered type name of the node added last (`MoveBase` for a leaf the
+    /// registry made, a tree ID for a SubTree), which its kind alone does not tell: it is what
+    /// [`Blueprint::type_id`] returns and what a saved XML file names the node by.
+    pub fn type_id(mut self, type_id: &str) -> Self {
+        if self.ignored > 0 || self.error.is_some() {
+            return self;
+        }
+        match self.nodes.last_mut() {
+            Some(node) => node.type_id = Some(String::from(type_id)),
             None => self.fail(None, BuildErrorKind::Empty),
         }
         self
@@ -363,6 +379,7 @@ impl<C> Builder<C> {
                 parent: p.parent.map(NodeId),
                 depth: p.depth,
                 ports: p.ports,
+                type_id: p.type_id,
             });
         }
         let nodes = nodes.into_boxed_slice();

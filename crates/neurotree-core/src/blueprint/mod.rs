@@ -93,6 +93,7 @@ pub(crate) struct NodeMeta {
     pub(crate) parent: Option<NodeId>,
     pub(crate) depth: u32,
     pub(crate) ports: Vec<Port>,
+    pub(crate) type_id: Option<String>,
 }
 
 /// An immutable, validated behavior tree, shared by its instances through `Arc`.
@@ -162,6 +163,21 @@ impl<C> Blueprint<C> {
     /// The node's name (its kind's type name when it was given none).
     pub fn name(&self, id: NodeId) -> &str {
         &self.meta[id.index()].name
+    }
+
+    /// The node's type as a file names it: the registered name it was made from (see
+    /// [`Builder::type_id`]), else its kind's [type name](NodeKind::type_name).
+    pub fn type_id(&self, id: NodeId) -> &str {
+        let meta = &self.meta[id.index()];
+        match &meta.type_id {
+            Some(t) => t,
+            None => self.kind(id).type_name(),
+        }
+    }
+
+    /// The node's pre- and post-conditions, if it has any.
+    pub fn node_hooks(&self, id: NodeId) -> Option<&dyn NodeHooks<C>> {
+        self.hooks(id)
     }
 
     /// The node's children, in order.

@@ -26,4 +26,8 @@ pub trait NodeHooks<C>: Send + Sync {
 
     /// After the node was halted while Running.
     fn halted(&self, _h: &mut Handle<'_, C>) {}
+
+    /// Calls `f` with each hook as the attribute a file writes it as (`_skipIf`, its
+    /// script), so a saved tree keeps its hooks. Hooks with no textual form write nothing.
+    fn attributes(&self, _f: &mut dyn FnMut(&str, &str)) {}
 }

@@ -321,6 +321,8 @@ impl<'t, C> Ticker<'t, C> {
             node: id,
             name: &bp.meta[id.index()].name,
             ports: &bp.meta[id.index()].ports,
+            bp,
+            fault: &mut self.fault,
         };
         (object, handle)
     }

@@ -1,6 +1,8 @@
 //! From loaded XML elements to a blueprint: node names through the registry, ports checked,
 //! subtrees expanded into blackboard scopes.
 
+use std::sync::Arc;
+
 use neurotree_core::{
     Arity, Blueprint, Builder, Category, NodeKind, Port, PortValue, SubTreeScope, DEFAULT_MAX_DEPTH,
 };
@@ -9,7 +11,7 @@ use super::mock;
 use super::source::Element;
 use super::{LoadError, XmlLoader};
 use crate::registry::{built_in_kind, Make, NodeType};
-use crate::script::Script;
+use crate::script::{Enums, Script};
 use crate::script_hooks::{ScriptHooks, ATTRIBUTES};
 
 /// The elements that name their type in an `ID` attribute (BehaviorTree.CPP's explicit form).
@@ -41,14 +43,17 @@ pub(super) fn build<C: 'static>(
 }
 
 /// The node's pre- and post-condition scripts, parsed; `None` if it has none.
-fn conditions(el: &Element) -> Result<Option<ScriptHooks>, LoadError> {
+fn conditions(el: &Element, enums: &Arc<Enums>) -> Result<Option<ScriptHooks>, LoadError> {
     let mut hooks: Option<ScriptHooks> = None;
     for (key, code) in &el.attrs {
         if ATTRIBUTES.contains(&key.as_str()) {
             let script = Script::parse(code)
                 .map_err(|e| el.error(format!("in `{key}` script `{code}`: {e}")))?;
             hooks
-                .get_or_insert_with(ScriptHooks::default)
+                .get_or_insert_with(|| ScriptHooks {
+                    enums: Arc::clone(enums),
+                    ..ScriptHooks::default()
+                })
                 .set(key, script);
         } else if key.starts_with('_') && key != "_autoremap" {
             return Err(el.error(format!(
@@ -129,19 +134,15 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
             el.tag.as_str()
         };
         let name = el.attr("name").unwrap_or(type_name);
-        let hooks = conditions(el)?;
+        let hooks = conditions(el, self.loader.registry.enums())?;
         if let Some(outcomes) = self.loader.mocks.get(name) {
-            return Ok((
-                with_hooks(b.open(mock::mock_kind(outcomes), name), hooks),
-                false,
-            ));
+            let b = b.open(mock::mock_kind(outcomes), name).type_id(type_name);
+            return Ok((with_hooks(b, hooks), false));
         }
         let Some(node_type) = self.loader.registry.get(type_name) else {
             if self.loader.mock_unknown && el.children.is_empty() {
-                return Ok((
-                    with_hooks(b.open(NodeKind::AlwaysSuccess, name), hooks),
-                    false,
-                ));
+                let b = b.open(NodeKind::AlwaysSuccess, name).type_id(type_name);
+                return Ok((with_hooks(b, hooks), false));
             }
             let hint = match self.loader.registry.closest(type_name) {
                 Some(close) => format!("did you mean `{close}`? "),
@@ -197,10 +198,11 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
                         el.children.len()
                     )));
                 }
-                Ok((with_hooks(b.open(kind, name).ports(ports), hooks), true))
+                let b = b.open(kind, name).type_id(type_name).ports(ports);
+                Ok((with_hooks(b, hooks), true))
             }
             Make::Leaf(make) => {
-                let kind = make(&ports).map_err(|m| el.error(m))?;
+                let kind = make(&ports, self.loader.registry.enums()).map_err(|m| el.error(m))?;
                 let arity = kind.arity();
                 if !arity.accepts(el.children.len() as u32) {
                     let what = if arity == Arity::Leaf {
@@ -212,7 +214,8 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
                         el.error(format!("`{type_name}` {what}, found {}", el.children.len()))
                     );
                 }
-                Ok((with_hooks(b.open(kind, name).ports(ports), hooks), true))
+                let b = b.open(kind, name).type_id(type_name).ports(ports);
+                Ok((with_hooks(b, hooks), true))
             }
         }
     }
@@ -242,8 +245,14 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
                     node_type.name
                 )));
             };
-            let value = binding(key, text);
-            if let PortValue::Literal(text) = &value {
+            let mut value = binding(key, text);
+            if let PortValue::Literal(text) = &mut value {
+                // A registered enum name stands for its number where a number is wanted.
+                if let Some(n) = self.loader.registry.enums().get(text.trim()) {
+                    if !spec.accepts(text) && spec.accepts(&n.to_string()) {
+                        *text = n.to_string();
+                    }
+                }
                 if !spec.accepts(text) {
                     return Err(el.error(format!(
                         "port `{key}` of `{}`: cannot read `{text}` as {}",
@@ -322,9 +331,10 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
             }
         }
         let name = el.attr("name").unwrap_or(id);
-        let hooks = conditions(el)?;
+        let hooks = conditions(el, self.loader.registry.enums())?;
         self.stack.push(id.to_string());
-        let opened = with_hooks(b.open(NodeKind::SubTree(Box::new(scope)), name), hooks);
+        let opened = b.open(NodeKind::SubTree(Box::new(scope)), name).type_id(id);
+        let opened = with_hooks(opened, hooks);
         Ok((opened, tree))
     }
 }

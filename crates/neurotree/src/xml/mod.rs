@@ -31,9 +31,11 @@
 
 mod build;
 mod mock;
+mod save;
 mod source;
 
 pub use mock::parse_outcomes;
+pub use save::{write_xml, SaveOptions};
 
 /// Parses a file that holds a `TreeNodesModel` (for [`Registry::add_model_str`]).
 pub(crate) fn parse_model_root(text: &str, file: &str) -> Result<Element, LoadError> {

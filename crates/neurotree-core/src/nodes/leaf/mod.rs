@@ -33,6 +33,9 @@ pub struct Handle<'a, C> {
     pub(crate) node: NodeId,
     pub(crate) name: &'a str,
     pub(crate) ports: &'a [Port],
+    /// For [`fail`](Handle::fail): the blueprint names the node in the error.
+    pub(crate) bp: &'a crate::Blueprint<C>,
+    pub(crate) fault: &'a mut Option<crate::TickError>,
 }
 
 impl<'a, C> Handle<'a, C> {
@@ -167,6 +170,19 @@ impl<'a, C> Handle<'a, C> {
     /// The node's name.
     pub fn name(&self) -> &str {
         self.name
+    }
+
+    /// Reports a runtime error, as BehaviorTree.CPP's nodes throw one: the tick ends with
+    /// [`TickError::Node`](crate::TickError::Node) (the first error of a tick wins) after the
+    /// tree is halted. Return Failure after calling it.
+    pub fn fail(&mut self, message: impl Into<String>) {
+        if self.fault.is_none() {
+            *self.fault = Some(crate::TickError::Node {
+                node: self.node,
+                path: self.bp.path(self.node),
+                message: message.into(),
+            });
+        }
     }
 }
 
