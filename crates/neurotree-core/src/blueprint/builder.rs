@@ -628,6 +628,7 @@ mod tests {
             bp.paths(),
             ["root", "root/f", "root/f/a", "root/f/b", "root/c"]
         );
+        assert_eq!(bp.subtree_ends(), [5, 4, 3, 4, 5]);
         assert_eq!(bp.depth(NodeId(3)), 3);
         assert_eq!(bp.find("root/c"), Some(NodeId(4)));
     }

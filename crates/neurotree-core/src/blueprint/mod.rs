@@ -282,6 +282,21 @@ impl<C> Blueprint<C> {
         out
     }
 
+    /// Per node, the id one past its last descendant: since ids are in pre-order, a node's
+    /// subtree is the id range `id..ends[id]`.
+    pub fn subtree_ends(&self) -> Vec<u32> {
+        let mut ends: Vec<u32> = (1..=self.len() as u32).collect();
+        // Children come after their parent, so walking backwards finishes them first.
+        for id in (0..self.len() as u32).rev().map(NodeId) {
+            if let Some(parent) = self.parent(id) {
+                let end = ends[id.index()];
+                let p = &mut ends[parent.index()];
+                *p = (*p).max(end);
+            }
+        }
+        ends
+    }
+
     /// The first node, in pre-order, whose path is `path`.
     pub fn find(&self, path: &str) -> Option<NodeId> {
         self.ids().find(|id| self.path(*id) == path)
