@@ -12,6 +12,7 @@ pub mod bench_trees;
 mod entry_nodes;
 mod json_port;
 mod loop_nodes;
+pub mod observe;
 mod readme;
 pub mod registry;
 pub mod render;
