@@ -66,6 +66,8 @@ struct RunArgs {
     /// Also print every status change.
     #[arg(long)]
     trace: bool,
+    #[command(flatten)]
+    observe: run::ObserveArgs,
 }
 
 fn key_value(text: &str) -> Result<(String, String), String> {
@@ -146,6 +148,7 @@ fn main() -> ExitCode {
                 exactly_once: args.tick == "exactly-once",
                 step: Duration::from_millis(args.step_ms),
                 trace: args.trace,
+                observe: args.observe,
             };
             return match run::run(&args.file, &opts, &mut out, &mut io::stderr()) {
                 Ok(true) => ExitCode::SUCCESS,

@@ -3,13 +3,18 @@
 //! Each tick prints one JSON line `{"tick":1,"status":"RUNNING"}` (with `--trace`, also one
 //! line per status change), and the run ends with a summary line: ticks, final status,
 //! per-node tick and halt counts (summed over nodes sharing a name) and the root blackboard.
+//!
+//! The loggers of `neurotree::observe` can watch the run too ([`ObserveArgs`]); they write
+//! to stderr or to files, so stdout keeps only the lines above.
 
 use std::collections::BTreeMap;
-use std::io::{self, Write};
-use std::path::Path;
+use std::fs::File;
+use std::io::{self, BufWriter, Write};
+use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
+use neurotree::observe::{BtlogWriter, ConsoleLogger, JsonlTrace, SqliteLogger, Statistics};
 use neurotree::{
     Blueprint, ManualClock, NodeId, NodeStatus, Observer, Registry, Status, StatusChange,
     TickError, Tree, XmlLoader,
@@ -34,6 +39,8 @@ pub struct RunOptions {
     pub step: Duration,
     /// Print every status change.
     pub trace: bool,
+    /// Loggers watching the run.
+    pub observe: ObserveArgs,
 }
 
 #[derive(Default)]
@@ -112,7 +119,8 @@ fn json_of(bb: &neurotree::Blackboard, key: &str) -> Value {
     }
 }
 
-fn load(file: &Path, opts: &RunOptions) -> Result<Blueprint<()>, String> {
+/// The tree to run, and the registry that describes its node types.
+fn load(file: &Path, opts: &RunOptions) -> Result<(Blueprint<()>, Registry<()>), String> {
     let mut registry = Registry::<()>::new();
     if let Ok(text) = std::fs::read_to_string(file) {
         registry
@@ -126,22 +134,24 @@ fn load(file: &Path, opts: &RunOptions) -> Result<Blueprint<()>, String> {
         loader = loader.mock(name, outcomes);
     }
     loader.load_file(file).map_err(|e| e.to_string())?;
-    match &opts.tree {
+    let blueprint = match &opts.tree {
         Some(id) => loader.build(id),
         None => loader.build_main(),
     }
-    .map_err(|e| e.to_string())
+    .map_err(|e| e.to_string())?;
+    Ok((blueprint, registry))
 }
 
-/// Runs `file`; `Ok(false)` if it did not load (the error is on `err`).
+/// Runs `file`; `Ok(false)` if it did not load or a logger could not write (the error is
+/// on `err`).
 pub fn run(
     file: &Path,
     opts: &RunOptions,
     out: &mut impl Write,
     err: &mut impl Write,
 ) -> io::Result<bool> {
-    let blueprint = match load(file, opts) {
-        Ok(bp) => Arc::new(bp),
+    let (blueprint, registry) = match load(file, opts) {
+        Ok((bp, registry)) => (Arc::new(bp), registry),
         Err(e) => {
             writeln!(err, "{e}")?;
             return Ok(false);
@@ -157,10 +167,17 @@ pub fn run(
         ticks: vec![0; n],
         halts: vec![0; n],
         tracing: opts.trace,
-        paths: blueprint.ids().map(|id| blueprint.path(id)).collect(),
+        paths: blueprint.paths(),
         ..Record::default()
     }));
-    tree.set_observer(Recorder(Arc::clone(&record)));
+    let (watchers, outputs) = match observers(&opts.observe, &tree, &registry) {
+        Ok(attached) => attached,
+        Err(e) => {
+            writeln!(err, "neurotree: {e}")?;
+            return Ok(false);
+        }
+    };
+    tree.set_observer((Recorder(Arc::clone(&record)), watchers));
     let mut status = "IDLE";
     let mut ticks = 0;
     while ticks < opts.max_ticks {
@@ -213,5 +230,105 @@ pub fn run(
         "blackboard": blackboard,
     }});
     writeln!(out, "{summary}")?;
-    Ok(true)
+    outputs.finish(err)
+}
+
+/// The loggers that watch a run (`neurotree run --log --jsonl FILE ...`).
+#[derive(clap::Args, Debug, Default)]
+pub struct ObserveArgs {
+    /// Print every status change on stderr (`[time] path FROM -> TO`, coloured on a
+    /// terminal).
+    #[arg(long)]
+    pub log: bool,
+    /// Write every status change and tick as a JSON line to FILE.
+    #[arg(long, value_name = "FILE")]
+    pub jsonl: Option<PathBuf>,
+    /// Print per-node statistics (ticks, successes, failures, skips, halts, time Running)
+    /// on stderr at the end.
+    #[arg(long)]
+    pub stats: bool,
+    /// Write a BehaviorTree.CPP `.btlog` to FILE, for Groot2 to replay.
+    #[arg(long, value_name = "FILE")]
+    pub btlog: Option<PathBuf>,
+    /// Log into the SQLite database FILE with BehaviorTree.CPP's schema, replacing the runs
+    /// it held.
+    #[arg(long, value_name = "FILE")]
+    pub sqlite: Option<PathBuf>,
+}
+
+/// The handles of the loggers that write somewhere, to flush and report at the end.
+#[derive(Default)]
+struct Outputs {
+    jsonl: Option<(PathBuf, JsonlTrace<BufWriter<File>>)>,
+    btlog: Option<(PathBuf, BtlogWriter<BufWriter<File>>)>,
+    sqlite: Option<(PathBuf, SqliteLogger)>,
+    stats: Option<Statistics>,
+}
+
+/// Makes the loggers `args` asks for: the observers to attach, and their handles.
+fn observers(
+    args: &ObserveArgs,
+    tree: &Tree<()>,
+    registry: &Registry<()>,
+) -> Result<(Vec<Box<dyn Observer>>, Outputs), String> {
+    let bp = tree.blueprint();
+    let mut attached: Vec<Box<dyn Observer>> = Vec::new();
+    let mut outputs = Outputs::default();
+    if args.log {
+        attached.push(Box::new(ConsoleLogger::stderr(bp)));
+    }
+    if let Some(path) = &args.jsonl {
+        let file = File::create(path).map_err(|e| format!("--jsonl {}: {e}", path.display()))?;
+        let trace = JsonlTrace::new(bp, BufWriter::new(file));
+        attached.push(Box::new(trace.clone()));
+        outputs.jsonl = Some((path.clone(), trace));
+    }
+    if let Some(path) = &args.btlog {
+        let log = BtlogWriter::create(path, tree, registry)
+            .map_err(|e| format!("--btlog {}: {e}", path.display()))?;
+        attached.push(Box::new(log.clone()));
+        outputs.btlog = Some((path.clone(), log));
+    }
+    if let Some(path) = &args.sqlite {
+        let log = SqliteLogger::open(path, tree, registry, false)
+            .map_err(|e| format!("--sqlite {}: {e}", path.display()))?;
+        attached.push(Box::new(log.clone()));
+        outputs.sqlite = Some((path.clone(), log));
+    }
+    if args.stats {
+        let stats = Statistics::new(bp);
+        attached.push(Box::new(stats.clone()));
+        outputs.stats = Some(stats);
+    }
+    Ok((attached, outputs))
+}
+
+impl Outputs {
+    /// Flushes the files and prints the statistics; `Ok(false)` if a file could not be
+    /// written (the error is on `err`).
+    fn finish(self, err: &mut impl Write) -> io::Result<bool> {
+        let mut failures = Vec::new();
+        if let Some((path, trace)) = &self.jsonl {
+            if let Err(e) = trace.flush() {
+                failures.push(format!("--jsonl {}: {e}", path.display()));
+            }
+        }
+        if let Some((path, log)) = &self.btlog {
+            if let Err(e) = log.flush() {
+                failures.push(format!("--btlog {}: {e}", path.display()));
+            }
+        }
+        if let Some((path, log)) = &self.sqlite {
+            if let Err(e) = log.flush() {
+                failures.push(format!("--sqlite {}: {e}", path.display()));
+            }
+        }
+        if let Some(stats) = &self.stats {
+            write!(err, "{stats}")?;
+        }
+        for failure in &failures {
+            writeln!(err, "neurotree: {failure}")?;
+        }
+        Ok(failures.is_empty())
+    }
 }
