@@ -25,8 +25,9 @@ use super::{lock, micros, Sink};
 /// | `from`, `to` | the statuses, as BehaviorTree.CPP names them (`IDLE`, `RUNNING`, `SUCCESS`, `FAILURE`) |
 /// | `status` | what the root returned, on the line that ends a tick (`SKIPPED` too) |
 ///
-/// `tick`, `node`, `from`, `to` and `status` are those of `neurotree run --trace`. Keys come
-/// in the order above. A handle: clones share the writer; give it a `BufWriter` for a file.
+/// `tick`, `node`, `from`, `to` and `status` mean what they mean in the lines of
+/// `neurotree run --trace` (whose `tick` counts calls rather than passes, the same unless a
+/// node asks to be woken). Keys come in the order above. A handle: clones share the writer; give it a `BufWriter` for a file.
 pub struct JsonlTrace<W> {
     state: Arc<Mutex<Jsonl<W>>>,
 }
