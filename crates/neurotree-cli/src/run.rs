@@ -3,6 +3,8 @@
 //! Each tick prints one JSON line `{"tick":1,"status":"RUNNING"}` (with `--trace`, also one
 //! line per status change), and the run ends with a summary line: ticks, final status,
 //! per-node tick and halt counts (summed over nodes sharing a name) and the root blackboard.
+//! With `--view`, the tree is also drawn after every tick, with that tick's statuses, on
+//! standard error.
 //!
 //! The loggers of `neurotree::observe` can watch the run too ([`ObserveArgs`]); they write
 //! to stderr or to files, so stdout keeps only the lines above.
@@ -15,6 +17,7 @@ use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
 use neurotree::observe::{BtlogWriter, ConsoleLogger, JsonlTrace, SqliteLogger, Statistics};
+use neurotree::render::LastTickStatuses;
 use neurotree::{
     Blueprint, ManualClock, NodeId, NodeStatus, Observer, Registry, Status, StatusChange,
     TickError, Tree, XmlLoader,
@@ -39,6 +42,8 @@ pub struct RunOptions {
     pub step: Duration,
     /// Print every status change.
     pub trace: bool,
+    /// Draw the tree with each tick's statuses on the error stream.
+    pub view: bool,
     /// Loggers watching the run.
     pub observe: ObserveArgs,
 }
@@ -170,13 +175,17 @@ pub fn run(
         paths: blueprint.paths(),
         ..Record::default()
     }));
-    let (watchers, outputs) = match observers(&opts.observe, &tree, &registry) {
+    let (mut watchers, outputs) = match observers(&opts.observe, &tree, &registry) {
         Ok(attached) => attached,
         Err(e) => {
             writeln!(err, "neurotree: {e}")?;
             return Ok(false);
         }
     };
+    let view = opts.view.then(LastTickStatuses::new);
+    if let Some(seen) = &view {
+        watchers.push(Box::new(seen.clone()));
+    }
     tree.set_observer((Recorder(Arc::clone(&record)), watchers));
     let mut status = "IDLE";
     let mut ticks = 0;
@@ -205,6 +214,13 @@ pub fn run(
             }
         }
         writeln!(out, "{line}")?;
+        if let Some(seen) = &view {
+            writeln!(
+                err,
+                "tick {ticks}: {status}\n{}",
+                seen.render(&blueprint, true)
+            )?;
+        }
         if matches!(result, Ok(Status::Success | Status::Failure) | Err(_)) {
             break;
         }

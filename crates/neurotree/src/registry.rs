@@ -2,12 +2,13 @@
 //!
 //! A BehaviorTree.CPP file names node types (`<MoveBase goal="{target}"/>`); the registry
 //! says what each name is. It starts with every built-in node of the engine under its
-//! BehaviorTree.CPP name, and the user adds leaves: a stateful action, a sync action or a
-//! condition, each with the ports it reads and writes. Port declarations let the loader
+//! BehaviorTree.CPP name, and the user adds leaves: a stateful action, an async action, a
+//! sync action or a condition, each with the ports it reads and writes. Port declarations let the loader
 //! reject an unknown attribute or a literal that does not convert, before anything runs.
 
 use std::collections::BTreeMap;
 use std::fmt;
+use std::future::Future;
 use std::sync::Arc;
 
 use crate::script::Enums;
@@ -320,6 +321,51 @@ impl<C: 'static> Registry<C> {
         self.register_leaf(name, Category::Action, ports, leaf)
     }
 
+    /// Registers an [async action](neurotree_core::nodes::leaf::async_action): on each start,
+    /// `start` reads what it needs from the handle (its ports, the blackboard, the context)
+    /// and returns the future that does the work, polled once per tick and dropped when the
+    /// node is halted.
+    ///
+    /// ```
+    /// use std::sync::Arc;
+    /// use neurotree::{ManualClock, PortSpec, Registry, Status, Tree, XmlLoader};
+    ///
+    /// let mut registry = Registry::<()>::new();
+    /// registry
+    ///     .register_async("CheckAltitude", vec![PortSpec::input::<f64>("min")], |h| {
+    ///         let min: f64 = h.input("min").unwrap_or(f64::INFINITY);
+    ///         async move { if 12.5 >= min { Status::Success } else { Status::Failure } }
+    ///     })
+    ///     .unwrap();
+    /// let mut loader = XmlLoader::new(&registry);
+    /// loader
+    ///     .load_str(
+    ///         r#"<root BTCPP_format="4"><BehaviorTree ID="main">
+    ///              <CheckAltitude min="10"/>
+    ///            </BehaviorTree></root>"#,
+    ///         "main.xml",
+    ///     )
+    ///     .unwrap();
+    /// let blueprint = Arc::new(loader.build_main().unwrap());
+    /// let mut tree = Tree::with_clock(blueprint, ManualClock::new());
+    /// assert_eq!(tree.tick_once(&mut ()), Ok(Status::Success));
+    /// ```
+    pub fn register_async<F, Fut>(
+        &mut self,
+        name: &str,
+        ports: Vec<PortSpec>,
+        start: F,
+    ) -> Result<(), RegistryError>
+    where
+        F: Fn(&mut Handle<'_, C>) -> Fut + Send + Sync + 'static,
+        Fut: Future<Output = Status> + Send + 'static,
+    {
+        let start = Arc::new(start);
+        let leaf: LeafMaker<C> =
+            Arc::new(move |_, _| Ok(NodeKind::Async(Box::new(SharedAsync(Arc::clone(&start))))));
+        self.register_leaf(name, Category::Action, ports, leaf)
+    }
+
     /// Registers a sync action: it completes within the tick.
     pub fn register_action<F>(
         &mut self,
@@ -610,6 +656,18 @@ where
 {
     fn tick(&self, h: &mut Handle<'_, C>) -> Status {
         (self.0)(h)
+    }
+}
+
+struct SharedAsync<F>(Arc<F>);
+
+impl<C, F, Fut> neurotree_core::AsyncAction<C> for SharedAsync<F>
+where
+    F: Fn(&mut Handle<'_, C>) -> Fut + Send + Sync,
+    Fut: Future<Output = Status> + Send + 'static,
+{
+    fn start(&self, h: &mut Handle<'_, C>) -> neurotree_core::ActionFuture {
+        Box::pin((self.0)(h))
     }
 }
 
