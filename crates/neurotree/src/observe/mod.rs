@@ -1,6 +1,7 @@
-//! Seeing what a tree does: loggers and statistics built on the one [`Observer`] hook.
+//! Seeing what a tree does: loggers and statistics built on the one [`Observer`](crate::Observer)
+//! hook.
 //!
-//! Each of these is an [`Observer`] to attach with [`Tree::set_observer`](crate::Tree);
+//! Each of these is an observer to attach with [`Tree::set_observer`](crate::Tree);
 //! to use several at once, attach a tuple `(a, b)` or a `Vec<Box<dyn Observer>>`.
 //!
 //! | observer | what it gives | for |

@@ -1,35 +1,5 @@
-//! BehaviorTree.CPP's `.btlog` files (its `FileLogger2`), which Groot2 replays.
-//!
-//! The layout, all integers little-endian:
-//!
-//! | bytes | what |
-//! |---|---|
-//! | 18 | the magic `BTCPP4-FileLogger2` (no terminator) |
-//! | 1 | the protocol, 1 |
-//! | 4 | `i32`: length N of the tree XML |
-//! | N | the tree XML, with a `_uid` on every node and a `TreeNodesModel` |
-//! | 8 | `i64`: the first timestamp, microseconds since the Unix epoch |
-//! | 9 each | one record per status change, to the end of the file |
-//!
-//! A record is a 48-bit offset in microseconds from the first timestamp, the node's `u16`
-//! uid, and its new status as a byte in BehaviorTree.CPP's numbering (IDLE 0, RUNNING 1,
-//! SUCCESS 2, FAILURE 3, SKIPPED 4).
-//!
-//! As in BehaviorTree.CPP:
-//! - uids count nodes from 1 in depth-first creation order, subtrees' nodes in place after
-//!   their SubTree node, which is NeuroTree's pre-order: a node's uid is its
-//!   [`NodeId`](crate::NodeId) plus one (the XML says so with its `_uid` attributes);
-//! - every change is recorded, those to Idle included, and only changes: there is no
-//!   opening record of all-Idle statuses, and a Skipped node (which stays Idle) writes
-//!   nothing;
-//! - the file is a plain stream of records: BehaviorTree.CPP hands them to a writer thread
-//!   that writes them in batches, which changes nothing in the file. Here they go to the
-//!   writer given, so give a file a `BufWriter` ([`BtlogWriter::create`] does).
-//!
-//! Offsets are taken on the tree's clock from the moment the writer was made, so a run on a
-//! [`ManualClock`](crate::ManualClock) writes the same records every time; the first
-//! timestamp is the wall-clock time then (or the one given to
-//! [`BtlogWriter::with_start`]).
+//! BehaviorTree.CPP's `.btlog` files (its `FileLogger2`), which Groot2 replays: the
+//! writer here, the reader in `read`.
 
 mod read;
 
@@ -50,7 +20,7 @@ use crate::Registry;
 /// The first bytes of every `.btlog` file.
 pub const BTLOG_MAGIC: &[u8; 18] = b"BTCPP4-FileLogger2";
 
-/// The protocol byte after the magic: the record layout described in the module docs.
+/// The protocol byte after the magic: the record layout [`BtlogWriter`] describes.
 pub const BTLOG_PROTOCOL: u8 = 1;
 
 /// Bytes per record: 6 of offset, 2 of uid, 1 of status.
@@ -79,12 +49,43 @@ pub enum BtlogError {
     },
 }
 
-/// Writes a `.btlog` (BehaviorTree.CPP's `FileLogger2` format, see the
-/// [module docs](self)) that Groot2 replays and [`read_btlog`] reads back.
+/// Writes a `.btlog`, BehaviorTree.CPP's `FileLogger2` format, that Groot2 replays and
+/// [`read_btlog`] reads back.
 ///
 /// The header is written when the writer is made; then every status change of the tree it
 /// is attached to adds a record. A handle: clones share the writer. Call
 /// [`flush`](Self::flush) at the end to learn whether every write succeeded.
+///
+/// The layout, all integers little-endian:
+///
+/// | bytes | what |
+/// |---|---|
+/// | 18 | the magic `BTCPP4-FileLogger2` (no terminator) |
+/// | 1 | the protocol, 1 |
+/// | 4 | `i32`: length N of the tree XML |
+/// | N | the tree XML, with a `_uid` on every node and a `TreeNodesModel` |
+/// | 8 | `i64`: the first timestamp, microseconds since the Unix epoch |
+/// | 9 each | one record per status change, to the end of the file |
+///
+/// A record is a 48-bit offset in microseconds from the first timestamp, the node's `u16`
+/// uid, and its new status as a byte in BehaviorTree.CPP's numbering (IDLE 0, RUNNING 1,
+/// SUCCESS 2, FAILURE 3, SKIPPED 4).
+///
+/// As in BehaviorTree.CPP:
+/// - uids count nodes from 1 in depth-first creation order, subtrees' nodes in place after
+///   their SubTree node, which is NeuroTree's pre-order: a node's uid is its
+///   [`NodeId`](crate::NodeId) plus one (the XML says so with its `_uid` attributes);
+/// - every change is recorded, those to Idle included, and only changes: there is no
+///   opening record of all-Idle statuses, and a Skipped node (which stays Idle) writes
+///   nothing;
+/// - the file is a plain stream of records: BehaviorTree.CPP hands them to a writer thread
+///   that writes them in batches, which changes nothing in the file. Here they go to the
+///   writer given, so give a file a `BufWriter` ([`create`](Self::create) does).
+///
+/// Offsets are taken on the tree's clock from the moment the writer was made, so a run on a
+/// [`ManualClock`](crate::ManualClock) writes the same records every time; the first
+/// timestamp is the wall-clock time then (or the one given to
+/// [`with_start`](Self::with_start)).
 ///
 /// ```
 /// use neurotree::observe::{read_btlog, BtlogWriter};
