@@ -86,6 +86,8 @@ struct RunArgs {
     /// After each tick, draw the tree with the statuses of that tick on standard error.
     #[arg(long)]
     view: bool,
+    #[command(flatten)]
+    observe: run::ObserveArgs,
 }
 
 #[derive(Args, Debug)]
@@ -207,6 +209,7 @@ fn main() -> ExitCode {
                     pace: Duration::from_millis(args.groot_pace_ms),
                 }),
                 view: args.view,
+                observe: args.observe,
             };
             return match run::run(&args.file, &opts, &mut out, &mut io::stderr()) {
                 Ok(true) => ExitCode::SUCCESS,

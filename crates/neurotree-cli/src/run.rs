@@ -6,13 +6,18 @@
 //! With `--view`, the tree is also drawn after every tick, with that tick's statuses, on
 //! standard error.
 //! With `--groot PORT`, the run is also served to Groot2 (see `groot.rs`).
+//!
+//! The loggers of `neurotree::observe` can watch the run too ([`ObserveArgs`]); they write
+//! to stderr or to files, so stdout keeps only the lines above.
 
 use std::collections::BTreeMap;
-use std::io::{self, Write};
-use std::path::Path;
+use std::fs::File;
+use std::io::{self, BufWriter, Write};
+use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
+use neurotree::observe::{BtlogWriter, ConsoleLogger, JsonlTrace, SqliteLogger, Statistics};
 use neurotree::render::LastTickStatuses;
 use neurotree::{
     Blueprint, ManualClock, NodeId, NodeStatus, Observer, Registry, Status, StatusChange,
@@ -44,6 +49,8 @@ pub struct RunOptions {
     pub view: bool,
     /// Serve the run to Groot2 (`--groot`).
     pub groot: Option<crate::groot::GrootOptions>,
+    /// Loggers watching the run.
+    pub observe: ObserveArgs,
 }
 
 #[derive(Default)]
@@ -135,7 +142,8 @@ fn load(file: &Path, opts: &RunOptions) -> Result<(Blueprint<()>, Registry<()>, 
     Ok((blueprint, registry, tree_id))
 }
 
-/// Runs `file`; `Ok(false)` if it did not load (the error is on `err`).
+/// Runs `file`; `Ok(false)` if it did not load or a logger could not write (the error is
+/// on `err`).
 pub fn run(
     file: &Path,
     opts: &RunOptions,
@@ -172,12 +180,17 @@ pub fn run(
         ticks: vec![0; n],
         halts: vec![0; n],
         tracing: opts.trace,
-        paths: blueprint.ids().map(|id| blueprint.path(id)).collect(),
+        paths: blueprint.paths(),
         ..Record::default()
     }));
-    let recorder = Recorder(Arc::clone(&record));
+    let (mut observers, outputs) = match observers(&opts.observe, &tree, &registry) {
+        Ok(attached) => attached,
+        Err(e) => {
+            writeln!(err, "neurotree: {e}")?;
+            return Ok(false);
+        }
+    };
     let view = opts.view.then(LastTickStatuses::new);
-    let mut observers: Vec<Box<dyn Observer>> = vec![Box::new(recorder)];
     if let Some(seen) = &view {
         observers.push(Box::new(seen.clone()));
     }
@@ -185,7 +198,7 @@ pub fn run(
         served.publish(&tree);
         observers.push(Box::new(served.monitor()));
     }
-    tree.set_observer(observers);
+    tree.set_observer((Recorder(Arc::clone(&record)), observers));
     let mut status = "IDLE";
     let mut ticks = 0;
     while ticks < opts.max_ticks {
@@ -247,9 +260,110 @@ pub fn run(
         "blackboard": blackboard,
     }});
     writeln!(out, "{summary}")?;
+    let written = outputs.finish(err)?;
     if let Some(served) = groot {
         out.flush()?;
         served.linger(err)?;
     }
-    Ok(true)
+    Ok(written)
+}
+
+/// The loggers that watch a run (`neurotree run --log --jsonl FILE ...`).
+#[derive(clap::Args, Debug, Default)]
+pub struct ObserveArgs {
+    /// Print every status change on stderr (`[time] path FROM -> TO`, coloured on a
+    /// terminal).
+    #[arg(long)]
+    pub log: bool,
+    /// Write every status change and tick as a JSON line to FILE.
+    #[arg(long, value_name = "FILE")]
+    pub jsonl: Option<PathBuf>,
+    /// Print per-node statistics (ticks, successes, failures, skips, halts, time Running)
+    /// on stderr at the end.
+    #[arg(long)]
+    pub stats: bool,
+    /// Write a BehaviorTree.CPP `.btlog` to FILE, for Groot2 to replay.
+    #[arg(long, value_name = "FILE")]
+    pub btlog: Option<PathBuf>,
+    /// Log into the SQLite database FILE with BehaviorTree.CPP's schema, replacing the runs
+    /// it held.
+    #[arg(long, value_name = "FILE")]
+    pub sqlite: Option<PathBuf>,
+}
+
+/// The handles of the loggers that write somewhere, to flush and report at the end.
+#[derive(Default)]
+struct Outputs {
+    jsonl: Option<(PathBuf, JsonlTrace<BufWriter<File>>)>,
+    btlog: Option<(PathBuf, BtlogWriter<BufWriter<File>>)>,
+    sqlite: Option<(PathBuf, SqliteLogger)>,
+    stats: Option<Statistics>,
+}
+
+/// Makes the loggers `args` asks for: the observers to attach, and their handles.
+fn observers(
+    args: &ObserveArgs,
+    tree: &Tree<()>,
+    registry: &Registry<()>,
+) -> Result<(Vec<Box<dyn Observer>>, Outputs), String> {
+    let bp = tree.blueprint();
+    let mut attached: Vec<Box<dyn Observer>> = Vec::new();
+    let mut outputs = Outputs::default();
+    if args.log {
+        attached.push(Box::new(ConsoleLogger::stderr(bp)));
+    }
+    if let Some(path) = &args.jsonl {
+        let file = File::create(path).map_err(|e| format!("--jsonl {}: {e}", path.display()))?;
+        let trace = JsonlTrace::new(bp, BufWriter::new(file));
+        attached.push(Box::new(trace.clone()));
+        outputs.jsonl = Some((path.clone(), trace));
+    }
+    if let Some(path) = &args.btlog {
+        let log = BtlogWriter::create(path, tree, registry)
+            .map_err(|e| format!("--btlog {}: {e}", path.display()))?;
+        attached.push(Box::new(log.clone()));
+        outputs.btlog = Some((path.clone(), log));
+    }
+    if let Some(path) = &args.sqlite {
+        let log = SqliteLogger::open(path, tree, registry, false)
+            .map_err(|e| format!("--sqlite {}: {e}", path.display()))?;
+        attached.push(Box::new(log.clone()));
+        outputs.sqlite = Some((path.clone(), log));
+    }
+    if args.stats {
+        let stats = Statistics::new(bp);
+        attached.push(Box::new(stats.clone()));
+        outputs.stats = Some(stats);
+    }
+    Ok((attached, outputs))
+}
+
+impl Outputs {
+    /// Flushes the files and prints the statistics; `Ok(false)` if a file could not be
+    /// written (the error is on `err`).
+    fn finish(self, err: &mut impl Write) -> io::Result<bool> {
+        let mut failures = Vec::new();
+        if let Some((path, trace)) = &self.jsonl {
+            if let Err(e) = trace.flush() {
+                failures.push(format!("--jsonl {}: {e}", path.display()));
+            }
+        }
+        if let Some((path, log)) = &self.btlog {
+            if let Err(e) = log.flush() {
+                failures.push(format!("--btlog {}: {e}", path.display()));
+            }
+        }
+        if let Some((path, log)) = &self.sqlite {
+            if let Err(e) = log.flush() {
+                failures.push(format!("--sqlite {}: {e}", path.display()));
+            }
+        }
+        if let Some(stats) = &self.stats {
+            write!(err, "{stats}")?;
+        }
+        for failure in &failures {
+            writeln!(err, "neurotree: {failure}")?;
+        }
+        Ok(failures.is_empty())
+    }
 }

@@ -35,6 +35,12 @@ pub trait Observer: Send {
     /// A node's own tick is about to run (not called when a precondition decides instead).
     fn on_node_tick(&mut self, _node: NodeId) {}
 
+    /// A node returned Skipped: a precondition (`_skipIf`, a false `_while`) or the node
+    /// itself (RunOnce after its run, a control whose children were all skipped) chose not
+    /// to run. A skipped node keeps, or returns to, Idle, so no status change tells of it;
+    /// this is called after its status was stored.
+    fn on_node_skipped(&mut self, _node: NodeId) {}
+
     /// A root tick ended with `status`.
     fn on_tick_end(&mut self, _status: NodeStatus, _now: Duration) {}
 }
@@ -52,6 +58,10 @@ impl<A: Observer, B: Observer> Observer for (A, B) {
     fn on_node_tick(&mut self, node: NodeId) {
         self.0.on_node_tick(node);
         self.1.on_node_tick(node);
+    }
+    fn on_node_skipped(&mut self, node: NodeId) {
+        self.0.on_node_skipped(node);
+        self.1.on_node_skipped(node);
     }
     fn on_tick_end(&mut self, status: NodeStatus, now: Duration) {
         self.0.on_tick_end(status, now);
@@ -74,6 +84,11 @@ impl Observer for alloc::vec::Vec<alloc::boxed::Box<dyn Observer>> {
     fn on_node_tick(&mut self, node: NodeId) {
         for o in self.iter_mut() {
             o.on_node_tick(node);
+        }
+    }
+    fn on_node_skipped(&mut self, node: NodeId) {
+        for o in self.iter_mut() {
+            o.on_node_skipped(node);
         }
     }
     fn on_tick_end(&mut self, status: NodeStatus, now: Duration) {

@@ -16,6 +16,7 @@ pub mod groot;
 mod json_port;
 mod loop_nodes;
 pub mod nav2;
+pub mod observe;
 mod readme;
 pub mod registry;
 pub mod render;

@@ -655,6 +655,11 @@ mod tests {
         assert_eq!(bp.children(NodeId(1)), &[NodeId(2), NodeId(3)]);
         assert_eq!(bp.parent(NodeId(3)), Some(NodeId(1)));
         assert_eq!(bp.path(NodeId(3)), "root/f/b");
+        assert_eq!(
+            bp.paths(),
+            ["root", "root/f", "root/f/a", "root/f/b", "root/c"]
+        );
+        assert_eq!(bp.subtree_ends(), [5, 4, 3, 4, 5]);
         assert_eq!(bp.depth(NodeId(3)), 3);
         assert_eq!(bp.find("root/c"), Some(NodeId(4)));
     }

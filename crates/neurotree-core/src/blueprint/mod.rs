@@ -267,6 +267,36 @@ impl<C> Blueprint<C> {
         out
     }
 
+    /// Every node's [`path`](Self::path), indexed by [`NodeId`]: what loggers keep to name
+    /// nodes without holding the blueprint. One pass, each path built on its parent's.
+    pub fn paths(&self) -> Vec<String> {
+        let mut out: Vec<String> = Vec::with_capacity(self.len());
+        for id in self.ids() {
+            let path = match self.parent(id) {
+                // Pre-order: the parent's path is already in `out`.
+                Some(parent) => alloc::format!("{}/{}", out[parent.index()], self.name(id)),
+                None => String::from(self.name(id)),
+            };
+            out.push(path);
+        }
+        out
+    }
+
+    /// Per node, the id one past its last descendant: since ids are in pre-order, a node's
+    /// subtree is the id range `id..ends[id]`.
+    pub fn subtree_ends(&self) -> Vec<u32> {
+        let mut ends: Vec<u32> = (1..=self.len() as u32).collect();
+        // Children come after their parent, so walking backwards finishes them first.
+        for id in (0..self.len() as u32).rev().map(NodeId) {
+            if let Some(parent) = self.parent(id) {
+                let end = ends[id.index()];
+                let p = &mut ends[parent.index()];
+                *p = (*p).max(end);
+            }
+        }
+        ends
+    }
+
     /// The first node, in pre-order, whose path is `path`.
     pub fn find(&self, path: &str) -> Option<NodeId> {
         self.ids().find(|id| self.path(*id) == path)

@@ -334,6 +334,9 @@ mod tests {
                 .unwrap()
                 .push(format!("{} {}->{}", c.node.0, c.from, c.to));
         }
+        fn on_node_skipped(&mut self, node: NodeId) {
+            self.0.lock().unwrap().push(format!("skip {}", node.0));
+        }
         fn on_tick_end(&mut self, status: NodeStatus, _now: Duration) {
             self.0.lock().unwrap().push(format!("end {status}"));
         }
@@ -367,6 +370,56 @@ mod tests {
                 "0 RUNNING->SUCCESS",
                 "0 SUCCESS->IDLE",
                 "end SUCCESS"
+            ]
+        );
+    }
+
+    #[test]
+    fn observer_hears_of_skips_after_the_stored_status() {
+        let (mut tree, _) = build(|b| {
+            b.sequence("seq", |s| {
+                s.run_once("once", true, |o| o.always_success("a"))
+                    .always_success("b")
+            })
+        });
+        let rec = Recorder::default();
+        assert_eq!(tick(&mut tree), Ok(Status::Success));
+        tree.set_observer(rec.clone());
+        // The spent RunOnce stays Idle, so only the skip event tells of it.
+        assert_eq!(tick(&mut tree), Ok(Status::Success));
+        assert_eq!(
+            rec.take(),
+            [
+                "tick",
+                "0 IDLE->RUNNING",
+                "skip 1",
+                "3 IDLE->SUCCESS",
+                "3 SUCCESS->IDLE",
+                "0 RUNNING->SUCCESS",
+                "0 SUCCESS->IDLE",
+                "end SUCCESS"
+            ]
+        );
+
+        // A control whose only child is skipped marked itself Running first: its return
+        // to Idle comes before its own skip.
+        let (mut tree, _) = build(|b| {
+            b.sequence("seq", |s| {
+                s.run_once("once", true, |o| o.always_success("a"))
+            })
+        });
+        assert_eq!(tick(&mut tree), Ok(Status::Success));
+        tree.set_observer(rec.clone());
+        assert_eq!(tick(&mut tree), Err(TickError::RootSkipped));
+        assert_eq!(
+            rec.take(),
+            [
+                "tick",
+                "0 IDLE->RUNNING",
+                "skip 1",
+                "0 RUNNING->IDLE",
+                "skip 0",
+                "end SKIPPED"
             ]
         );
     }

@@ -129,15 +129,37 @@ impl<'t, C> Ticker<'t, C> {
             }
             Some(hooks) => self.tick_hooked(id, def, hooks),
         };
-        // A skipped node keeps (or returns to) Idle, though a control marks itself Running
-        // before it finds that all its children were skipped.
-        let stored = if status == NodeStatus::Skipped {
-            NodeStatus::Idle
-        } else {
-            status
-        };
-        self.set_status(id, stored);
+        self.store_result(id, status);
         status
+    }
+
+    /// Stores what a node returned. A skipped node keeps (or returns to) Idle, though a
+    /// control marks itself Running before it finds that all its children were skipped.
+    #[inline(always)]
+    fn store_result(&mut self, id: NodeId, status: NodeStatus) {
+        if self.observer.is_some() {
+            self.store_result_observed(id, status);
+        } else {
+            *self.status_mut(id) = if status == NodeStatus::Skipped {
+                NodeStatus::Idle
+            } else {
+                status
+            };
+        }
+    }
+
+    /// As [`store_result`](Self::store_result), telling the observer of the change and of
+    /// a skip, which changes no stored status.
+    #[inline(never)]
+    fn store_result_observed(&mut self, id: NodeId, status: NodeStatus) {
+        if status == NodeStatus::Skipped {
+            self.set_status_observed(id, NodeStatus::Idle);
+            if let Some(observer) = self.observer.as_deref_mut() {
+                observer.on_node_skipped(id);
+            }
+        } else {
+            self.set_status_observed(id, status);
+        }
     }
 
     /// Ticks a node with pre- and post-conditions (see [`crate::nodes::hooks`]).

@@ -73,7 +73,7 @@ pub fn write_xml<C: 'static>(
     registry: &Registry<C>,
     opts: &SaveOptions,
 ) -> String {
-    let ends = subtree_ends(blueprint);
+    let ends = blueprint.subtree_ends();
     let mut w = Writer {
         bp: blueprint,
         ends: &ends,
@@ -103,20 +103,6 @@ pub fn write_xml<C: 'static>(
     }
     w.out.push_str("</root>\n");
     w.out
-}
-
-/// Per node, the id one past its last descendant: a node's subtree is the id range
-/// `id..ends[id]`, since ids are in pre-order.
-fn subtree_ends<C>(bp: &Blueprint<C>) -> Vec<u32> {
-    let mut ends: Vec<u32> = (1..=bp.len() as u32).collect();
-    for id in (0..bp.len() as u32).rev().map(NodeId) {
-        if let Some(parent) = bp.parent(id) {
-            let end = ends[id.index()];
-            let p = &mut ends[parent.index()];
-            *p = (*p).max(end);
-        }
-    }
-    ends
 }
 
 struct Writer<'a, C> {
