@@ -31,7 +31,7 @@
 
 mod build;
 mod mock;
-mod save;
+pub mod save;
 mod source;
 
 pub use mock::parse_outcomes;

@@ -48,7 +48,7 @@ impl Default for SaveOptions {
     }
 }
 
-/// Writes `blueprint` as a format-4 document (see the [module docs](self)).
+/// Writes `blueprint` as a format-4 document (see the [`save`](crate::xml::save) module).
 ///
 /// ```
 /// use neurotree::xml::{write_xml, SaveOptions, XmlLoader};
