@@ -15,6 +15,10 @@ $neurotree run "$crossdoor" --tree MainTree --mock-unknown \
 $neurotree show "$crossdoor" --tree MainTree --model "$images/crossdoor_nodes.xml" \
   --trace "$images/crossdoor.trace.jsonl" -o "$images/crossdoor.svg"
 
-# The Nav2 navigator that replans at 1 Hz and recovers, its node types from Nav2's model.
-$neurotree show "$corpus/nav2/navigate_to_pose_w_replanning_and_recovery.xml" \
-  --model "$corpus/nav2/nav2_tree_nodes.xml" -o "$images/navigate_to_pose.svg"
+# The Nav2 navigator that replans at 1 Hz and recovers, its node types from Nav2's model,
+# after two ticks of a dry run in which following the path is under way.
+nav2=$corpus/nav2/navigate_to_pose_w_replanning_and_recovery.xml
+$neurotree run "$nav2" --mock-unknown --mock FollowPath=RUNNING --set "goal=3;4;0" \
+  --max-ticks 2 --trace > "$images/navigate_to_pose.trace.jsonl"
+$neurotree show "$nav2" --model "$corpus/nav2/nav2_tree_nodes.xml" \
+  --trace "$images/navigate_to_pose.trace.jsonl" -o "$images/navigate_to_pose.svg"
