@@ -26,7 +26,7 @@ struct Expansion<'a, 'r, C> {
 pub(super) fn build<C: 'static>(
     loader: &XmlLoader<'_, C>,
     id: &str,
-    tree: &Element,
+    tree: Element<'_>,
     validate: bool,
 ) -> Result<Blueprint<C>, LoadError> {
     let mut x = Expansion {
@@ -34,17 +34,25 @@ pub(super) fn build<C: 'static>(
         validate,
         stack: vec![id.to_string()],
     };
-    let b = x.node(Builder::new(), &tree.children[0], 1)?;
+    let b = x.node(Builder::new(), only_child(tree), 1)?;
     // Checks the loader could not make on one element (thresholds against the number of
     // children) come back from the builder with the node's path.
     b.build().map_err(|e| tree.error(e.to_string()))
 }
 
+/// The root node of a `<BehaviorTree>`.
+fn only_child(tree: Element<'_>) -> Element<'_> {
+    // The loader keeps only trees with exactly one child element.
+    tree.children()
+        .next()
+        .expect("a loaded <BehaviorTree> has one child element")
+}
+
 /// The node's pre- and post-condition scripts, parsed; `None` if it has none.
-fn conditions(el: &Element) -> Result<Option<ScriptHooks>, LoadError> {
+fn conditions(el: Element<'_>) -> Result<Option<ScriptHooks>, LoadError> {
     let mut hooks: Option<ScriptHooks> = None;
-    for (key, code) in &el.attrs {
-        if ATTRIBUTES.contains(&key.as_str()) {
+    for (key, code) in el.attrs() {
+        if ATTRIBUTES.contains(&key) {
             let script = Script::parse(code)
                 .map_err(|e| el.error(format!("in `{key}` script `{code}`: {e}")))?;
             hooks
@@ -85,21 +93,26 @@ fn binding(port: &str, text: &str) -> PortValue {
 impl<'a, C: 'static> Expansion<'a, '_, C> {
     /// Adds `el` and, below it, its children. Kept small: it recurses once per level, so all
     /// the per-element work is in [`open`](Self::open), which does not.
-    fn node(&mut self, b: Builder<C>, el: &Element, depth: u32) -> Result<Builder<C>, LoadError> {
+    fn node(
+        &mut self,
+        b: Builder<C>,
+        el: Element<'a>,
+        depth: u32,
+    ) -> Result<Builder<C>, LoadError> {
         if depth > DEFAULT_MAX_DEPTH {
             return Err(self.too_deep(el));
         }
-        if el.tag == "SubTree" {
+        if el.tag() == "SubTree" {
             let (b, tree) = self.open_subtree(b, el)?;
             let b = self
-                .node(b, &tree.children[0], depth + 1)
+                .node(b, only_child(tree), depth + 1)
                 .map(Builder::close);
             self.stack.pop();
             return b;
         }
         let (mut b, descend) = self.open(b, el)?;
         if descend {
-            for child in &el.children {
+            for child in el.children() {
                 b = self.node(b, child, depth + 1)?;
             }
         }
@@ -107,7 +120,7 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
     }
 
     #[inline(never)]
-    fn too_deep(&self, el: &Element) -> LoadError {
+    fn too_deep(&self, el: Element<'_>) -> LoadError {
         el.error(format!(
             "the tree nests deeper than {DEFAULT_MAX_DEPTH} levels (subtrees included); flatten it"
         ))
@@ -116,17 +129,17 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
     /// Checks `el` and opens its node; `false` if its children are not to be added (a mock
     /// replaces a node and what is below it).
     #[inline(never)]
-    fn open(&mut self, b: Builder<C>, el: &Element) -> Result<(Builder<C>, bool), LoadError> {
-        let explicit = EXPLICIT.contains(&el.tag.as_str());
+    fn open(&mut self, b: Builder<C>, el: Element<'a>) -> Result<(Builder<C>, bool), LoadError> {
+        let tag = el.tag();
+        let explicit = EXPLICIT.contains(&tag);
         let type_name = if explicit {
             el.attr("ID").ok_or_else(|| {
                 el.error(format!(
-                    "<{}> needs an ID attribute naming the node type",
-                    el.tag
+                    "<{tag}> needs an ID attribute naming the node type"
                 ))
             })?
         } else {
-            el.tag.as_str()
+            tag
         };
         let name = el.attr("name").unwrap_or(type_name);
         let hooks = conditions(el)?;
@@ -135,7 +148,7 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
             return Ok((with_hooks(b, hooks), false));
         }
         let Some(node_type) = self.loader.registry.get(type_name) else {
-            if self.loader.mock_unknown && el.children.is_empty() {
+            if self.loader.mock_unknown && el.child_count() == 0 {
                 let b = b.open(NodeKind::AlwaysSuccess, name).type_id(type_name);
                 return Ok((with_hooks(b, hooks), false));
             }
@@ -168,10 +181,10 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
                 }
                 let kind = built_in_kind::<C>(*built_in, text_of).map_err(|m| el.error(m))?;
                 let arity = kind.arity();
-                if !arity.accepts(el.children.len() as u32) {
+                if !arity.accepts(el.child_count() as u32) {
                     return Err(el.error(format!(
                         "`{type_name}` takes {arity}, found {}",
-                        el.children.len()
+                        el.child_count()
                     )));
                 }
                 Ok((with_hooks(b.open(kind, name), hooks), true))
@@ -186,11 +199,11 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
                     Category::Decorator => NodeKind::Inverter,
                     _ => NodeKind::AlwaysSuccess,
                 };
-                if !kind.arity().accepts(el.children.len() as u32) {
+                if !kind.arity().accepts(el.child_count() as u32) {
                     return Err(el.error(format!(
                         "`{type_name}` takes {}, found {}",
                         kind.arity(),
-                        el.children.len()
+                        el.child_count()
                     )));
                 }
                 let b = b.open(kind, name).type_id(type_name).ports(ports);
@@ -199,14 +212,14 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
             Make::Leaf(make) => {
                 let kind = make(&ports).map_err(|m| el.error(m))?;
                 let arity = kind.arity();
-                if !arity.accepts(el.children.len() as u32) {
+                if !arity.accepts(el.child_count() as u32) {
                     let what = if arity == Arity::Leaf {
                         "is a leaf and takes no children".to_string()
                     } else {
                         format!("takes {arity}")
                     };
                     return Err(
-                        el.error(format!("`{type_name}` {what}, found {}", el.children.len()))
+                        el.error(format!("`{type_name}` {what}, found {}", el.child_count()))
                     );
                 }
                 let b = b.open(kind, name).type_id(type_name).ports(ports);
@@ -219,13 +232,13 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
     /// absent ports with defaults filled in.
     fn check_ports(
         &self,
-        el: &Element,
+        el: Element<'_>,
         node_type: &NodeType<C>,
         explicit: bool,
     ) -> Result<Vec<Port>, LoadError> {
         let mut ports = Vec::new();
-        for (key, text) in &el.attrs {
-            if key == "name" || (explicit && key == "ID") || ATTRIBUTES.contains(&key.as_str()) {
+        for (key, text) in el.attrs() {
+            if key == "name" || (explicit && key == "ID") || ATTRIBUTES.contains(&key) {
                 continue;
             }
             let Some(spec) = node_type.port(key) else {
@@ -250,7 +263,7 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
                 }
             }
             ports.push(Port {
-                name: key.clone(),
+                name: key.to_string(),
                 value,
             });
         }
@@ -273,12 +286,12 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
     fn open_subtree(
         &mut self,
         b: Builder<C>,
-        el: &Element,
-    ) -> Result<(Builder<C>, &'a Element), LoadError> {
+        el: Element<'a>,
+    ) -> Result<(Builder<C>, Element<'a>), LoadError> {
         let id = el
             .attr("ID")
             .ok_or_else(|| el.error("<SubTree> needs an ID attribute naming the tree"))?;
-        let Some(tree) = self.loader.trees.get(id) else {
+        let Some(tree) = self.loader.tree(id) else {
             let known: Vec<&str> = self.loader.tree_ids().collect();
             return Err(el.error(format!(
                 "no tree with ID `{id}` is loaded; loaded trees: {}",
@@ -294,8 +307,8 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
             )));
         }
         let mut scope = SubTreeScope::default();
-        for (key, text) in &el.attrs {
-            match key.as_str() {
+        for (key, text) in el.attrs() {
+            match key {
                 "ID" | "name" => {}
                 "_autoremap" => {
                     scope.autoremap = match text.trim() {
@@ -314,8 +327,8 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
                     )))
                 }
                 _ => match binding(key, text) {
-                    PortValue::Entry(parent_key) => scope.remap.push((key.clone(), parent_key)),
-                    PortValue::Literal(text) => scope.values.push((key.clone(), text)),
+                    PortValue::Entry(parent_key) => scope.remap.push((key.to_string(), parent_key)),
+                    PortValue::Literal(text) => scope.values.push((key.to_string(), text)),
                 },
             }
         }
