@@ -10,22 +10,25 @@ use core::ptr::NonNull;
 use core::time::Duration;
 
 use super::{
-    Blueprint, BuildError, BuildErrorKind, Child, CustomSpec, NodeDef, NodeId, NodeKind, NodeMeta,
-    ParallelPolicy, Port, SubTreeScope, DEFAULT_MAX_DEPTH,
+    Blueprint, BuildError, BuildErrorKind, Child, CustomSpec, NameSpan, NodeDef, NodeId, NodeKind,
+    NodeMeta, ParallelPolicy, Port, SubTreeScope, DEFAULT_MAX_DEPTH,
 };
 use crate::blackboard::ScopeId;
 use crate::nodes::hooks::NodeHooks;
 use crate::nodes::leaf::{Action, Condition, StatefulAction};
 use crate::Status;
 
+/// A node being built. Its children are not listed: each knows its parent, and `finish`
+/// lays the lists out, so that a node costs no allocation of its own.
 struct Pending<C> {
     kind: NodeKind<C>,
-    name: String,
+    /// In `Builder::names`.
+    name: NameSpan,
     parent: Option<u32>,
-    children: Vec<u32>,
+    child_count: u32,
     depth: u32,
     ports: Vec<Port>,
-    type_id: Option<String>,
+    type_id: Option<NameSpan>,
     hooks: Option<Box<dyn NodeHooks<C>>>,
 }
 
@@ -58,6 +61,8 @@ struct Pending<C> {
 /// ```
 pub struct Builder<C> {
     nodes: Vec<Pending<C>>,
+    /// The text of every node's name and type id.
+    names: String,
     open: Vec<u32>,
     error: Option<BuildError>,
     /// Opens seen after an error, so their closes balance without storing nodes.
@@ -76,6 +81,7 @@ impl<C> Builder<C> {
     pub fn new() -> Self {
         Self {
             nodes: Vec::new(),
+            names: String::new(),
             open: Vec::new(),
             error: None,
             ignored: 0,
@@ -124,7 +130,8 @@ impl<C> Builder<C> {
             if k > 0 {
                 out.push('/');
             }
-            out.push_str(&self.nodes[*n as usize].name);
+            let name = self.nodes[*n as usize].name;
+            out.push_str(&self.names[name.start..name.end]);
         }
         out
     }
@@ -158,26 +165,35 @@ impl<C> Builder<C> {
             return self;
         }
         let id = self.nodes.len() as u32;
-        let name = if name.is_empty() {
-            String::from(kind.type_name())
+        let name = self.push_name(if name.is_empty() {
+            kind.type_name()
         } else {
-            String::from(name)
-        };
+            name
+        });
         self.nodes.push(Pending {
             kind,
             name,
             parent,
-            children: Vec::new(),
+            child_count: 0,
             depth,
             ports: Vec::new(),
             type_id: None,
             hooks: None,
         });
         if let Some(p) = parent {
-            self.nodes[p as usize].children.push(id);
+            self.nodes[p as usize].child_count += 1;
         }
         self.open.push(id);
         self
+    }
+
+    fn push_name(&mut self, name: &str) -> NameSpan {
+        let start = self.names.len();
+        self.names.push_str(name);
+        NameSpan {
+            start,
+            end: self.names.len(),
+        }
     }
 
     /// Ends the node opened last and checks its number of children.
@@ -199,7 +215,7 @@ impl<C> Builder<C> {
     /// Checks the closed node's children and resolves thresholds that depend on their number.
     fn validate(&mut self, id: u32) -> Result<(), BuildErrorKind> {
         let node = &mut self.nodes[id as usize];
-        let n = node.children.len() as u32;
+        let n = node.child_count;
         let arity = node.kind.arity();
         if !arity.accepts(n) {
             return Err(BuildErrorKind::ChildCount {
@@ -275,9 +291,18 @@ impl<C> Builder<C> {
         if self.ignored > 0 || self.error.is_some() {
             return self;
         }
-        match self.nodes.last_mut() {
-            Some(node) => node.type_id = Some(String::from(type_id)),
-            None => self.fail(None, BuildErrorKind::Empty),
+        let Some(name) = self.nodes.last().map(|node| node.name) else {
+            self.fail(None, BuildErrorKind::Empty);
+            return self;
+        };
+        // Usually the node is named after its type: the name's text serves for both.
+        let span = if &self.names[name.start..name.end] == type_id {
+            name
+        } else {
+            self.push_name(type_id)
+        };
+        if let Some(node) = self.nodes.last_mut() {
+            node.type_id = Some(span);
         }
         self
     }
@@ -336,13 +361,27 @@ impl<C> Builder<C> {
         let mut hooks = Vec::with_capacity(count);
         let mut node_scopes = Vec::with_capacity(count);
         let mut meta = Vec::with_capacity(count);
-        let mut children = Vec::with_capacity(count.saturating_sub(1));
+        // Every node but the root is the child of one node; a node's children are laid out
+        // together, in order, after those of the nodes before it.
+        let mut children = alloc::vec![NodeId::ROOT; count.saturating_sub(1)];
+        // Per node: where its next child goes in `children`.
+        let mut next_child: Vec<u32> = Vec::with_capacity(count);
+        let mut laid_out = 0u32;
         let mut scopes: Vec<(ScopeId, SubTreeScope)> = Vec::new();
         // The scope each node's children use: a SubTree opens a new one.
         let mut child_scope: Vec<ScopeId> = Vec::with_capacity(count);
         let mut aux = 0u32;
         let mut objects = 0u32;
-        for p in self.nodes {
+        for (id, p) in self.nodes.into_iter().enumerate() {
+            next_child.push(laid_out);
+            let first_child = laid_out;
+            laid_out += p.child_count;
+            if let Some(parent) = p.parent {
+                // Pre-order: the parent came first, and its earlier children before this one.
+                let slot = &mut next_child[parent as usize];
+                children[*slot as usize] = NodeId(id as u32);
+                *slot += 1;
+            }
             let scope = match p.parent {
                 Some(parent) => child_scope[parent as usize],
                 None => ScopeId::ROOT,
@@ -368,12 +407,11 @@ impl<C> Builder<C> {
             slots.push(if own_slots > 0 { aux } else { object });
             node_scopes.push(scope);
             nodes.push(NodeDef {
-                first_child: children.len() as u32,
-                child_count: p.children.len() as u32,
+                first_child,
+                child_count: p.child_count,
                 kind,
             });
             aux += own_slots;
-            children.extend(p.children.into_iter().map(NodeId));
             meta.push(NodeMeta {
                 name: p.name,
                 parent: p.parent.map(NodeId),
@@ -402,6 +440,7 @@ impl<C> Builder<C> {
             hooks: hooks.into_boxed_slice(),
             node_scopes: node_scopes.into_boxed_slice(),
             meta: meta.into_boxed_slice(),
+            names: self.names,
             scopes: scopes.into_boxed_slice(),
             aux_slots: aux,
             objects,
