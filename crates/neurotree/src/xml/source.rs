@@ -422,19 +422,26 @@ fn quick(text: &str, file: &str) -> Option<Document> {
 fn markup_count(b: &[u8]) -> Option<(usize, usize)> {
     let mut tags = 0;
     let mut equals = 0;
-    let mut control = false;
     let mut ef = false;
-    // In chunks, without early exits inside, so that the loop is vectorized.
-    for chunk in b.chunks(64) {
+    // In chunks small enough for byte counters, with neither branches nor early exits
+    // inside, so that the loop is vectorized.
+    for chunk in b.chunks(128) {
+        let (mut lt, mut eq, mut control, mut high) = (0u8, 0u8, 0u8, 0u8);
         for &c in chunk {
-            tags += usize::from(c == b'<');
-            equals += usize::from(c == b'=');
-            control |= c < 0x20 && c != b'\t' && c != b'\n' && c != b'\r';
-            ef |= c == 0xEF;
+            lt += u8::from(c == b'<');
+            eq += u8::from(c == b'=');
+            control |= u8::from(c < 0x20)
+                & u8::from(c != b'\t')
+                & u8::from(c != b'\n')
+                & u8::from(c != b'\r');
+            high |= u8::from(c == 0xEF);
         }
-        if control {
+        if control != 0 {
             return None;
         }
+        tags += usize::from(lt);
+        equals += usize::from(eq);
+        ef |= high != 0;
     }
     // U+FFFE and U+FFFF are EF BF BE and EF BF BF.
     let non_char = ef
@@ -572,17 +579,28 @@ impl<'t> Quick<'t> {
                 }
             }
             let start = pos;
-            pos += b[pos..].iter().position(|&c| c == b'<')?;
+            // Mostly indentation: short, and scanned in one go.
+            let (mut closes, mut amps) = (false, false);
+            loop {
+                match *b.get(pos)? {
+                    b'<' => break,
+                    c => {
+                        closes |= c == b'>';
+                        amps |= c == b'&';
+                    }
+                }
+                pos += 1;
+            }
             if pos > start {
                 let text = &b[start..pos];
                 // XML forbids `]]>` in text.
-                if text.contains(&b'>') && text.windows(3).any(|w| w == b"]]>") {
+                if closes && text.windows(3).any(|w| w == b"]]>") {
                     return None;
                 }
                 match fresh {
                     Some(id) => self.doc.nodes[id].text = self.element_text(start, pos)?,
                     // Not kept, but an unknown entity in it is an error all the same.
-                    None if text.contains(&b'&') => {
+                    None if amps => {
                         let mut rest = text;
                         while let Some(amp) = rest.iter().position(|&c| c == b'&') {
                             rest = &rest[amp + 1..];
