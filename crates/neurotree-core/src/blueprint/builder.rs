@@ -60,6 +60,13 @@ struct Pending<C> {
 /// assert_eq!(blueprint.path(blueprint.find("root/work/limit/patrol").unwrap()), "root/work/limit/patrol");
 /// ```
 pub struct Builder<C> {
+    /// Boxed: the fluent methods take and return the builder by value, which then moves a
+    /// pointer rather than the whole state.
+    s: Box<State<C>>,
+}
+
+/// What a [`Builder`] has gathered so far.
+struct State<C> {
     nodes: Vec<Pending<C>>,
     /// The text of every node's name and type id.
     names: String,
@@ -80,26 +87,180 @@ impl<C> Builder<C> {
     /// An empty builder with the default depth limit.
     pub fn new() -> Self {
         Self {
-            nodes: Vec::new(),
-            names: String::new(),
-            open: Vec::new(),
-            error: None,
-            ignored: 0,
-            max_depth: DEFAULT_MAX_DEPTH,
+            s: Box::new(State {
+                nodes: Vec::new(),
+                names: String::new(),
+                open: Vec::new(),
+                error: None,
+                ignored: 0,
+                max_depth: DEFAULT_MAX_DEPTH,
+            }),
         }
     }
 
     /// Sets the deepest tree accepted (the root is at depth 1).
     pub fn max_depth(mut self, limit: u32) -> Self {
-        self.max_depth = limit;
+        self.s.max_depth = limit;
         self
     }
 
     /// `true` once a validation error has been recorded.
     pub fn has_error(&self) -> bool {
-        self.error.is_some()
+        self.s.error.is_some()
     }
 
+    /// Starts a node; the nodes added until the matching [`close`](Self::close) are its children.
+    pub fn open(mut self, kind: NodeKind<C>, name: &str) -> Self {
+        if self.s.error.is_some() {
+            self.s.ignored += 1;
+            return self;
+        }
+        let parent = self.s.open.last().copied();
+        if parent.is_none() && !self.s.nodes.is_empty() {
+            self.s.fail(Some(0), BuildErrorKind::SecondRoot);
+            self.s.ignored += 1;
+            return self;
+        }
+        let depth = self.s.open.len() as u32 + 1;
+        if depth > self.s.max_depth {
+            self.s.fail(
+                parent,
+                BuildErrorKind::TooDeep {
+                    limit: self.s.max_depth,
+                },
+            );
+            self.s.ignored += 1;
+            return self;
+        }
+        if self.s.nodes.len() >= u32::MAX as usize {
+            self.s
+                .fail(parent, BuildErrorKind::TooManyNodes { max: u32::MAX });
+            self.s.ignored += 1;
+            return self;
+        }
+        let id = self.s.nodes.len() as u32;
+        let name = self.s.push_name(if name.is_empty() {
+            kind.type_name()
+        } else {
+            name
+        });
+        self.s.nodes.push(Pending {
+            kind,
+            name,
+            parent,
+            child_count: 0,
+            depth,
+            ports: Vec::new(),
+            type_id: None,
+            hooks: None,
+        });
+        if let Some(p) = parent {
+            self.s.nodes[p as usize].child_count += 1;
+        }
+        self.s.open.push(id);
+        self
+    }
+
+    /// Ends the node opened last and checks its number of children.
+    pub fn close(mut self) -> Self {
+        if self.s.ignored > 0 {
+            self.s.ignored -= 1;
+            return self;
+        }
+        let Some(id) = self.s.open.pop() else {
+            self.s.fail(None, BuildErrorKind::UnbalancedClose);
+            return self;
+        };
+        if let Err(kind) = self.s.validate(id) {
+            self.s.fail(Some(id), kind);
+        }
+        self
+    }
+
+    /// Binds ports of the node added last (a leaf just added, or a control just opened).
+    pub fn ports(mut self, ports: impl IntoIterator<Item = Port>) -> Self {
+        if self.s.ignored > 0 || self.s.error.is_some() {
+            return self;
+        }
+        match self.s.nodes.last_mut() {
+            Some(node) => node.ports.extend(ports),
+            None => self.s.fail(None, BuildErrorKind::Empty),
+        }
+        self
+    }
+
+    /// Records the registered type name of the node added last (`MoveBase` for a leaf the
+    /// registry made, a tree ID for a SubTree), which its kind alone does not tell: it is what
+    /// [`Blueprint::type_id`] returns and what a saved XML file names the node by.
+    pub fn type_id(mut self, type_id: &str) -> Self {
+        if self.s.ignored > 0 || self.s.error.is_some() {
+            return self;
+        }
+        let Some(name) = self.s.nodes.last().map(|node| node.name) else {
+            self.s.fail(None, BuildErrorKind::Empty);
+            return self;
+        };
+        // Usually the node is named after its type: the name's text serves for both.
+        let span = if &self.s.names[name.start..name.end] == type_id {
+            name
+        } else {
+            self.s.push_name(type_id)
+        };
+        if let Some(node) = self.s.nodes.last_mut() {
+            node.type_id = Some(span);
+        }
+        self
+    }
+
+    /// Attaches pre- and post-conditions to the node added last.
+    pub fn hooks(mut self, hooks: impl NodeHooks<C> + 'static) -> Self {
+        if self.s.ignored > 0 || self.s.error.is_some() {
+            return self;
+        }
+        match self.s.nodes.last_mut() {
+            Some(node) => node.hooks = Some(Box::new(hooks)),
+            None => self.s.fail(None, BuildErrorKind::Empty),
+        }
+        self
+    }
+
+    /// Adds a node with children added by `children`.
+    pub fn node(self, kind: NodeKind<C>, name: &str, children: impl FnOnce(Self) -> Self) -> Self {
+        children(self.open(kind, name)).close()
+    }
+
+    /// Adds a node without children.
+    pub fn leaf(self, kind: NodeKind<C>, name: &str) -> Self {
+        self.open(kind, name).close()
+    }
+
+    /// Finishes and validates the blueprint.
+    pub fn build(mut self) -> Result<Blueprint<C>, BuildError> {
+        if let Some(e) = self.s.error.take() {
+            return Err(e);
+        }
+        if !self.s.open.is_empty() {
+            let at = self.s.open.last().copied();
+            let open = self.s.open.len();
+            self.s.fail(at, BuildErrorKind::Unclosed { open });
+            return Err(self.s.error.take().expect("fail() just stored an error"));
+        }
+        if self.s.nodes.is_empty() {
+            return Err(BuildError {
+                path: String::new(),
+                kind: BuildErrorKind::Empty,
+            });
+        }
+        Ok((*self.s).finish())
+    }
+
+    /// Finishes the blueprint and wraps it in an `Arc`, ready to instantiate.
+    pub fn build_shared(self) -> Result<Arc<Blueprint<C>>, BuildError> {
+        self.build().map(Arc::new)
+    }
+}
+
+impl<C> State<C> {
     fn fail(&mut self, at: Option<u32>, kind: BuildErrorKind) {
         if self.error.is_none() {
             let path = at.map(|i| self.pending_path(i)).unwrap_or_default();
@@ -136,57 +297,6 @@ impl<C> Builder<C> {
         out
     }
 
-    /// Starts a node; the nodes added until the matching [`close`](Self::close) are its children.
-    pub fn open(mut self, kind: NodeKind<C>, name: &str) -> Self {
-        if self.error.is_some() {
-            self.ignored += 1;
-            return self;
-        }
-        let parent = self.open.last().copied();
-        if parent.is_none() && !self.nodes.is_empty() {
-            self.fail(Some(0), BuildErrorKind::SecondRoot);
-            self.ignored += 1;
-            return self;
-        }
-        let depth = self.open.len() as u32 + 1;
-        if depth > self.max_depth {
-            self.fail(
-                parent,
-                BuildErrorKind::TooDeep {
-                    limit: self.max_depth,
-                },
-            );
-            self.ignored += 1;
-            return self;
-        }
-        if self.nodes.len() >= u32::MAX as usize {
-            self.fail(parent, BuildErrorKind::TooManyNodes { max: u32::MAX });
-            self.ignored += 1;
-            return self;
-        }
-        let id = self.nodes.len() as u32;
-        let name = self.push_name(if name.is_empty() {
-            kind.type_name()
-        } else {
-            name
-        });
-        self.nodes.push(Pending {
-            kind,
-            name,
-            parent,
-            child_count: 0,
-            depth,
-            ports: Vec::new(),
-            type_id: None,
-            hooks: None,
-        });
-        if let Some(p) = parent {
-            self.nodes[p as usize].child_count += 1;
-        }
-        self.open.push(id);
-        self
-    }
-
     fn push_name(&mut self, name: &str) -> NameSpan {
         let start = self.names.len();
         self.names.push_str(name);
@@ -194,22 +304,6 @@ impl<C> Builder<C> {
             start,
             end: self.names.len(),
         }
-    }
-
-    /// Ends the node opened last and checks its number of children.
-    pub fn close(mut self) -> Self {
-        if self.ignored > 0 {
-            self.ignored -= 1;
-            return self;
-        }
-        let Some(id) = self.open.pop() else {
-            self.fail(None, BuildErrorKind::UnbalancedClose);
-            return self;
-        };
-        if let Err(kind) = self.validate(id) {
-            self.fail(Some(id), kind);
-        }
-        self
     }
 
     /// Checks the closed node's children and resolves thresholds that depend on their number.
@@ -270,88 +364,6 @@ impl<C> Builder<C> {
             _ => {}
         }
         Ok(())
-    }
-
-    /// Binds ports of the node added last (a leaf just added, or a control just opened).
-    pub fn ports(mut self, ports: impl IntoIterator<Item = Port>) -> Self {
-        if self.ignored > 0 || self.error.is_some() {
-            return self;
-        }
-        match self.nodes.last_mut() {
-            Some(node) => node.ports.extend(ports),
-            None => self.fail(None, BuildErrorKind::Empty),
-        }
-        self
-    }
-
-    /// Records the registered type name of the node added last (`MoveBase` for a leaf the
-    /// registry made, a tree ID for a SubTree), which its kind alone does not tell: it is what
-    /// [`Blueprint::type_id`] returns and what a saved XML file names the node by.
-    pub fn type_id(mut self, type_id: &str) -> Self {
-        if self.ignored > 0 || self.error.is_some() {
-            return self;
-        }
-        let Some(name) = self.nodes.last().map(|node| node.name) else {
-            self.fail(None, BuildErrorKind::Empty);
-            return self;
-        };
-        // Usually the node is named after its type: the name's text serves for both.
-        let span = if &self.names[name.start..name.end] == type_id {
-            name
-        } else {
-            self.push_name(type_id)
-        };
-        if let Some(node) = self.nodes.last_mut() {
-            node.type_id = Some(span);
-        }
-        self
-    }
-
-    /// Attaches pre- and post-conditions to the node added last.
-    pub fn hooks(mut self, hooks: impl NodeHooks<C> + 'static) -> Self {
-        if self.ignored > 0 || self.error.is_some() {
-            return self;
-        }
-        match self.nodes.last_mut() {
-            Some(node) => node.hooks = Some(Box::new(hooks)),
-            None => self.fail(None, BuildErrorKind::Empty),
-        }
-        self
-    }
-
-    /// Adds a node with children added by `children`.
-    pub fn node(self, kind: NodeKind<C>, name: &str, children: impl FnOnce(Self) -> Self) -> Self {
-        children(self.open(kind, name)).close()
-    }
-
-    /// Adds a node without children.
-    pub fn leaf(self, kind: NodeKind<C>, name: &str) -> Self {
-        self.open(kind, name).close()
-    }
-
-    /// Finishes and validates the blueprint.
-    pub fn build(mut self) -> Result<Blueprint<C>, BuildError> {
-        if let Some(e) = self.error.take() {
-            return Err(e);
-        }
-        if !self.open.is_empty() {
-            let at = self.open.last().copied();
-            let open = self.open.len();
-            self.fail(at, BuildErrorKind::Unclosed { open });
-            return Err(self.error.take().expect("fail() just stored an error"));
-        }
-        if self.nodes.is_empty() {
-            return Err(BuildError {
-                path: String::new(),
-                kind: BuildErrorKind::Empty,
-            });
-        }
-        Ok(self.finish())
-    }
-
-    /// Finishes the blueprint and wraps it in an `Arc`, ready to instantiate.
-    pub fn build_shared(self) -> Result<Arc<Blueprint<C>>, BuildError> {
-        self.build().map(Arc::new)
     }
 
     fn finish(self) -> Blueprint<C> {
