@@ -21,7 +21,13 @@ struct Expansion<'a, 'r, C> {
     validate: bool,
     /// The subtree IDs being expanded, outermost first, to find cycles.
     stack: Vec<String>,
+    /// Type names resolved lately, by a hash of the name: a tree names few types many times,
+    /// and a registry look-up compares the name with several others.
+    resolved: [Option<(&'a str, &'a NodeType<C>)>; RESOLVED],
 }
+
+/// Slots of [`Expansion::resolved`] (a power of two).
+const RESOLVED: usize = 16;
 
 pub(super) fn build<C: 'static>(
     loader: &XmlLoader<'_, C>,
@@ -33,6 +39,7 @@ pub(super) fn build<C: 'static>(
         loader,
         validate,
         stack: vec![id.to_string()],
+        resolved: [None; RESOLVED],
     };
     let b = x.node(Builder::new(), only_child(tree), 1)?;
     // Checks the loader could not make on one element (thresholds against the number of
@@ -147,7 +154,7 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
             let b = b.open(mock::mock_kind(outcomes), name).type_id(type_name);
             return Ok((with_hooks(b, hooks), false));
         }
-        let Some(node_type) = self.loader.registry.get(type_name) else {
+        let Some(node_type) = self.node_type(type_name) else {
             if self.loader.mock_unknown && el.child_count() == 0 {
                 let b = b.open(NodeKind::AlwaysSuccess, name).type_id(type_name);
                 return Ok((with_hooks(b, hooks), false));
@@ -224,6 +231,23 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
                 }
                 let b = b.open(kind, name).type_id(type_name).ports(ports);
                 Ok((with_hooks(b, hooks), true))
+            }
+        }
+    }
+
+    /// The registered type named `name`.
+    fn node_type(&mut self, name: &'a str) -> Option<&'a NodeType<C>> {
+        let b = name.as_bytes();
+        let hash = b.len() * 31
+            + usize::from(b.first().copied().unwrap_or(0)) * 7
+            + usize::from(b.last().copied().unwrap_or(0));
+        let slot = &mut self.resolved[hash % RESOLVED];
+        match *slot {
+            Some((known, node_type)) if known == name => Some(node_type),
+            _ => {
+                let node_type = self.loader.registry.get(name)?;
+                *slot = Some((name, node_type));
+                Some(node_type)
             }
         }
     }
