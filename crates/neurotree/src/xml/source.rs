@@ -450,6 +450,48 @@ fn markup_count(b: &[u8]) -> Option<(usize, usize)> {
     (!non_char).then_some((tags, equals))
 }
 
+/// The bytes of `x` that are zero, as their top bits (exact up to the lowest zero byte,
+/// which is all the callers use).
+fn zero_bytes(x: u64) -> u64 {
+    const LOW: u64 = 0x0101_0101_0101_0101;
+    x.wrapping_sub(LOW) & !x & (LOW << 7)
+}
+
+/// `c` in every byte.
+const fn splat(c: u8) -> u64 {
+    0x0101_0101_0101_0101 * c as u64
+}
+
+/// The end of the text at `pos` (the next `<`), and whether the text may hold a `>` or `&`
+/// (never `false` when it does); `None` at the end of the input.
+fn text_end(b: &[u8], mut pos: usize) -> Option<(usize, bool)> {
+    let mut marks = false;
+    // Eight bytes at a time: text between tags is mostly indentation.
+    while let Some(chunk) = b.get(pos..pos + 8) {
+        let mut word = [0; 8];
+        word.copy_from_slice(chunk);
+        let x = u64::from_le_bytes(word);
+        let lt = zero_bytes(x ^ splat(b'<'));
+        let other = zero_bytes(x ^ splat(b'>')) | zero_bytes(x ^ splat(b'&'));
+        if lt != 0 {
+            let at = (lt.trailing_zeros() / 8) as usize;
+            // Only the lowest bit of each mask is exact; any bit below the `<` means a real
+            // `>` or `&` before it.
+            marks |= other & ((1u64 << (at * 8)) - 1) != 0;
+            return Some((pos + at, marks));
+        }
+        marks |= other != 0;
+        pos += 8;
+    }
+    loop {
+        match *b.get(pos)? {
+            b'<' => return Some((pos, marks)),
+            c => marks |= c == b'>' || c == b'&',
+        }
+        pos += 1;
+    }
+}
+
 /// Skips XML white space; whether there was any.
 fn skip_spaces(b: &[u8], pos: &mut usize) -> bool {
     let start = *pos;
@@ -579,28 +621,18 @@ impl<'t> Quick<'t> {
                 }
             }
             let start = pos;
-            // Mostly indentation: short, and scanned in one go.
-            let (mut closes, mut amps) = (false, false);
-            loop {
-                match *b.get(pos)? {
-                    b'<' => break,
-                    c => {
-                        closes |= c == b'>';
-                        amps |= c == b'&';
-                    }
-                }
-                pos += 1;
-            }
+            let marks;
+            (pos, marks) = text_end(b, pos)?;
             if pos > start {
                 let text = &b[start..pos];
                 // XML forbids `]]>` in text.
-                if closes && text.windows(3).any(|w| w == b"]]>") {
+                if marks && text.windows(3).any(|w| w == b"]]>") {
                     return None;
                 }
                 match fresh {
                     Some(id) => self.doc.nodes[id].text = self.element_text(start, pos)?,
                     // Not kept, but an unknown entity in it is an error all the same.
-                    None if amps => {
+                    None if marks => {
                         let mut rest = text;
                         while let Some(amp) = rest.iter().position(|&c| c == b'&') {
                             rest = &rest[amp + 1..];
@@ -822,6 +854,23 @@ mod tests {
         assert_eq!(e.line, 3);
         assert!(e.message.starts_with("malformed XML"), "{}", e.message);
         assert!(e.to_string().starts_with("bad.xml:3:"), "{e}");
+    }
+
+    #[test]
+    fn text_ends_at_the_first_lt_and_sees_marks_before_it() {
+        for (text, expected) in [
+            ("<", Some((0, false))),
+            ("        <", Some((8, false))),
+            ("   &    x<", Some((9, true))),
+            ("0123456>89<", Some((10, true))),
+            ("0123<567>9abcdef<", Some((4, false))),
+            ("0123&<67", Some((5, true))),
+            ("0<234567", Some((1, false))),
+            ("0123456789ab>", None),
+            ("", None),
+        ] {
+            assert_eq!(text_end(text.as_bytes(), 0), expected, "{text:?}");
+        }
     }
 
     /// Everything a document says, element by element, with positions.
