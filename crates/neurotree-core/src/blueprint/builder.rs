@@ -65,9 +65,78 @@ pub struct Builder<C> {
     s: Box<State<C>>,
 }
 
+/// Nodes per chunk of [`Chunks`].
+const CHUNK: usize = 128;
+
+/// A list in chunks of [`CHUNK`] items: growing it never moves what it holds, and none of
+/// its allocations is large (an allocator copies, and sorts its free lists, around large
+/// blocks).
+struct Chunks<T> {
+    chunks: Vec<Vec<T>>,
+}
+
+impl<T> Chunks<T> {
+    fn new() -> Self {
+        Self { chunks: Vec::new() }
+    }
+
+    fn len(&self) -> usize {
+        match self.chunks.last() {
+            Some(last) => (self.chunks.len() - 1) * CHUNK + last.len(),
+            None => 0,
+        }
+    }
+
+    fn is_empty(&self) -> bool {
+        self.chunks.is_empty()
+    }
+
+    fn push(&mut self, item: T) {
+        match self.chunks.last_mut() {
+            Some(last) if last.len() < CHUNK => last.push(item),
+            _ => {
+                let mut chunk = Vec::with_capacity(CHUNK);
+                chunk.push(item);
+                self.chunks.push(chunk);
+            }
+        }
+    }
+
+    fn last(&self) -> Option<&T> {
+        self.chunks.last().and_then(|c| c.last())
+    }
+
+    fn last_mut(&mut self) -> Option<&mut T> {
+        self.chunks.last_mut().and_then(|c| c.last_mut())
+    }
+}
+
+impl<T> core::ops::Index<usize> for Chunks<T> {
+    type Output = T;
+
+    fn index(&self, i: usize) -> &T {
+        &self.chunks[i / CHUNK][i % CHUNK]
+    }
+}
+
+impl<T> core::ops::IndexMut<usize> for Chunks<T> {
+    fn index_mut(&mut self, i: usize) -> &mut T {
+        &mut self.chunks[i / CHUNK][i % CHUNK]
+    }
+}
+
+impl<T> IntoIterator for Chunks<T> {
+    type Item = T;
+    type IntoIter = core::iter::Flatten<alloc::vec::IntoIter<Vec<T>>>;
+
+    fn into_iter(self) -> Self::IntoIter {
+        self.chunks.into_iter().flatten()
+    }
+}
+
 /// What a [`Builder`] has gathered so far.
 struct State<C> {
-    nodes: Vec<Pending<C>>,
+    nodes: Chunks<Pending<C>>,
     /// The text of every node's name and type id.
     names: String,
     open: Vec<u32>,
@@ -88,7 +157,7 @@ impl<C> Builder<C> {
     pub fn new() -> Self {
         Self {
             s: Box::new(State {
-                nodes: Vec::new(),
+                nodes: Chunks::new(),
                 names: String::new(),
                 open: Vec::new(),
                 error: None,
@@ -201,7 +270,11 @@ impl<C> Builder<C> {
             return self;
         };
         // Usually the node is named after its type: the name's text serves for both.
-        let span = if &self.s.names[name.start..name.end] == type_id {
+        let text = &self.s.names.as_bytes()[name.start..name.end];
+        // Compared inline: names are short, and `==` would call `memcmp`.
+        let same =
+            text.len() == type_id.len() && text.iter().zip(type_id.bytes()).all(|(a, b)| *a == b);
+        let span = if same {
             name
         } else {
             self.s.push_name(type_id)
