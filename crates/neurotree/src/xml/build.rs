@@ -47,6 +47,11 @@ pub(super) fn build<C: 'static>(
     b.build().map_err(|e| tree.error(e.to_string()))
 }
 
+/// `a == b`, for short names: inline, where `==` calls `memcmp`.
+fn same(a: &str, b: &str) -> bool {
+    a.len() == b.len() && a.bytes().zip(b.bytes()).all(|(x, y)| x == y)
+}
+
 /// The root node of a `<BehaviorTree>`.
 fn only_child(tree: Element<'_>) -> Element<'_> {
     // The loader keeps only trees with exactly one child element.
@@ -56,15 +61,16 @@ fn only_child(tree: Element<'_>) -> Element<'_> {
 }
 
 /// The node's pre- and post-condition scripts, parsed; `None` if it has none.
-fn conditions(el: Element<'_>) -> Result<Option<ScriptHooks>, LoadError> {
-    let mut hooks: Option<ScriptHooks> = None;
+///
+/// Boxed: most nodes have none, and an empty `Option<ScriptHooks>` would still be copied
+/// whole at every move.
+fn conditions(el: Element<'_>) -> Result<Option<Box<ScriptHooks>>, LoadError> {
+    let mut hooks: Option<Box<ScriptHooks>> = None;
     for (key, code) in el.attrs() {
         if ATTRIBUTES.contains(&key) {
             let script = Script::parse(code)
                 .map_err(|e| el.error(format!("in `{key}` script `{code}`: {e}")))?;
-            hooks
-                .get_or_insert_with(ScriptHooks::default)
-                .set(key, script);
+            hooks.get_or_insert_with(Box::default).set(key, script);
         } else if key.starts_with('_') && key != "_autoremap" {
             return Err(el.error(format!(
                 "unknown attribute `{key}`; names starting with `_` are reserved for {}",
@@ -75,9 +81,18 @@ fn conditions(el: Element<'_>) -> Result<Option<ScriptHooks>, LoadError> {
     Ok(hooks)
 }
 
-fn with_hooks<C: 'static>(b: Builder<C>, hooks: Option<ScriptHooks>) -> Builder<C> {
+/// Binds `ports` to the node added last, if there are any.
+fn with_ports<C>(b: Builder<C>, ports: Vec<Port>) -> Builder<C> {
+    if ports.is_empty() {
+        b
+    } else {
+        b.ports(ports)
+    }
+}
+
+fn with_hooks<C: 'static>(b: Builder<C>, hooks: Option<Box<ScriptHooks>>) -> Builder<C> {
     match hooks {
-        Some(h) => b.hooks(h),
+        Some(h) => b.hooks(*h),
         None => b,
     }
 }
@@ -148,8 +163,12 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
         } else {
             tag
         };
-        let name = el.attr("name").unwrap_or(type_name);
-        let hooks = conditions(el)?;
+        // Most elements have no attributes: nothing to look up.
+        let (name, hooks) = if el.has_attrs() {
+            (el.attr("name").unwrap_or(type_name), conditions(el)?)
+        } else {
+            (type_name, None)
+        };
         if let Some(outcomes) = self.loader.mocks.get(name) {
             let b = b.open(mock::mock_kind(outcomes), name).type_id(type_name);
             return Ok((with_hooks(b, hooks), false));
@@ -213,7 +232,7 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
                         el.child_count()
                     )));
                 }
-                let b = b.open(kind, name).type_id(type_name).ports(ports);
+                let b = with_ports(b.open(kind, name).type_id(type_name), ports);
                 Ok((with_hooks(b, hooks), true))
             }
             Make::Leaf(make) => {
@@ -229,7 +248,7 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
                         el.error(format!("`{type_name}` {what}, found {}", el.child_count()))
                     );
                 }
-                let b = b.open(kind, name).type_id(type_name).ports(ports);
+                let b = with_ports(b.open(kind, name).type_id(type_name), ports);
                 Ok((with_hooks(b, hooks), true))
             }
         }
@@ -243,7 +262,7 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
             + usize::from(b.last().copied().unwrap_or(0));
         let slot = &mut self.resolved[hash % RESOLVED];
         match *slot {
-            Some((known, node_type)) if known == name => Some(node_type),
+            Some((known, node_type)) if same(known, name) => Some(node_type),
             _ => {
                 let node_type = self.loader.registry.get(name)?;
                 *slot = Some((name, node_type));

@@ -150,6 +150,12 @@ impl<'d> Element<'d> {
             .map(move |&(k, v)| (doc.str(k), doc.str(v)))
     }
 
+    /// Whether it has attributes.
+    pub(crate) fn has_attrs(&self) -> bool {
+        let span = self.node().attrs;
+        span.start < span.end
+    }
+
     /// The value of attribute `name`.
     pub(crate) fn attr(&self, name: &str) -> Option<&'d str> {
         self.attrs().find(|(k, _)| *k == name).map(|(_, v)| v)
@@ -501,6 +507,18 @@ fn skip_spaces(b: &[u8], pos: &mut usize) -> bool {
     *pos > start
 }
 
+/// The bytes that go on an ASCII name.
+const NAME_BYTES: [bool; 256] = {
+    let mut table = [false; 256];
+    let mut i = 0;
+    while i < 256 {
+        let c = i as u8;
+        table[i] = c.is_ascii_alphanumeric() || c == b'_' || c == b'-' || c == b'.';
+        i += 1;
+    }
+    table
+};
+
 /// The end of the ASCII name at `start`; `None` if there is none, or if it goes on with a
 /// `:` (a namespace prefix) or a non-ASCII character.
 fn name_end(b: &[u8], start: usize) -> Option<usize> {
@@ -510,7 +528,7 @@ fn name_end(b: &[u8], start: usize) -> Option<usize> {
     }
     let mut pos = start + 1;
     while let Some(&c) = b.get(pos) {
-        if c.is_ascii_alphanumeric() || matches!(c, b'_' | b'-' | b'.') {
+        if NAME_BYTES[usize::from(c)] {
             pos += 1;
         } else if c == b':' || !c.is_ascii() {
             return None;
