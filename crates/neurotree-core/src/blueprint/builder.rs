@@ -125,15 +125,6 @@ impl<T> core::ops::IndexMut<usize> for Chunks<T> {
     }
 }
 
-impl<T> IntoIterator for Chunks<T> {
-    type Item = T;
-    type IntoIter = core::iter::Flatten<alloc::vec::IntoIter<Vec<T>>>;
-
-    fn into_iter(self) -> Self::IntoIter {
-        self.chunks.into_iter().flatten()
-    }
-}
-
 /// What a [`Builder`] has gathered so far.
 struct State<C> {
     nodes: Chunks<Pending<C>>,
@@ -457,14 +448,14 @@ impl<C> State<C> {
         let mut child_scope: Vec<ScopeId> = Vec::with_capacity(count);
         let mut aux = 0u32;
         let mut objects = 0u32;
-        for (id, p) in self.nodes.into_iter().enumerate() {
+        let mut add = |id: u32, p: Pending<C>| {
             next_child.push(laid_out);
             let first_child = laid_out;
             laid_out += p.child_count;
             if let Some(parent) = p.parent {
                 // Pre-order: the parent came first, and its earlier children before this one.
                 let slot = &mut next_child[parent as usize];
-                children[*slot as usize] = NodeId(id as u32);
+                children[*slot as usize] = NodeId(id);
                 *slot += 1;
             }
             let scope = match p.parent {
@@ -504,6 +495,14 @@ impl<C> State<C> {
                 ports: p.ports,
                 type_id: p.type_id,
             });
+        };
+        // Chunk by chunk: a flattening iterator would cost more per node than `add`.
+        let mut id = 0;
+        for chunk in self.nodes.chunks {
+            for p in chunk {
+                add(id, p);
+                id += 1;
+            }
         }
         let nodes = nodes.into_boxed_slice();
         let hot_children = children

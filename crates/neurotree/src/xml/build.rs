@@ -82,6 +82,7 @@ fn conditions(el: Element<'_>) -> Result<Option<Box<ScriptHooks>>, LoadError> {
 }
 
 /// Binds `ports` to the node added last, if there are any.
+#[inline]
 fn with_ports<C>(b: Builder<C>, ports: Vec<Port>) -> Builder<C> {
     if ports.is_empty() {
         b
@@ -90,6 +91,7 @@ fn with_ports<C>(b: Builder<C>, ports: Vec<Port>) -> Builder<C> {
     }
 }
 
+#[inline]
 fn with_hooks<C: 'static>(b: Builder<C>, hooks: Option<Box<ScriptHooks>>) -> Builder<C> {
     match hooks {
         Some(h) => b.hooks(*h),
