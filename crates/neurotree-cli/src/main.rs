@@ -4,11 +4,13 @@
 //! - `neurotree bench`: quick measurements of tick cost and of many agents per frame.
 //! - `neurotree check`: validate BehaviorTree.CPP XML files against the node models.
 //! - `neurotree run`: dry-run a BehaviorTree.CPP file with mock leaves, as JSON lines.
+//! - `neurotree show`: draw a BehaviorTree.CPP file's tree as text, DOT, Mermaid or SVG.
 
 mod bench;
 mod check;
 mod demo;
 mod run;
+mod show;
 
 use std::io::{self, IsTerminal, Write};
 use std::process::ExitCode;
@@ -34,6 +36,9 @@ enum Command {
     Check(CheckArgs),
     /// Tick a BehaviorTree.CPP file with mock leaves and print each tick as JSON.
     Run(RunArgs),
+    /// Draw a BehaviorTree.CPP file's tree as text, Graphviz DOT, Mermaid or SVG, with the
+    /// statuses of a `run --trace` if given one.
+    Show(ShowArgs),
 }
 
 #[derive(Args, Debug)]
@@ -66,6 +71,36 @@ struct RunArgs {
     /// Also print every status change.
     #[arg(long)]
     trace: bool,
+    /// After each tick, draw the tree with the statuses of that tick on standard error.
+    #[arg(long)]
+    view: bool,
+}
+
+#[derive(Args, Debug)]
+struct ShowArgs {
+    /// The file to draw.
+    file: std::path::PathBuf,
+    /// The tree to draw (default: main_tree_to_execute, or the only tree).
+    #[arg(long)]
+    tree: Option<String>,
+    /// ascii, unicode, dot, mermaid or svg (default: from the extension of --output, else
+    /// unicode).
+    #[arg(long, short = 'f')]
+    format: Option<neurotree::render::Format>,
+    /// Write the picture to this file instead of standard output.
+    #[arg(long, short = 'o')]
+    output: Option<std::path::PathBuf>,
+    /// A file whose `TreeNodesModel` declares node types the file uses (repeatable); they
+    /// are drawn with their type names, without an implementation.
+    #[arg(long = "model")]
+    models: Vec<std::path::PathBuf>,
+    /// The JSON lines of `neurotree run --trace`: colour each node with the last status it
+    /// reached.
+    #[arg(long)]
+    trace: Option<std::path::PathBuf>,
+    /// With --trace: the statuses of this tick instead (the last each node reached in it).
+    #[arg(long, requires = "trace")]
+    tick: Option<u32>,
 }
 
 fn key_value(text: &str) -> Result<(String, String), String> {
@@ -146,8 +181,28 @@ fn main() -> ExitCode {
                 exactly_once: args.tick == "exactly-once",
                 step: Duration::from_millis(args.step_ms),
                 trace: args.trace,
+                view: args.view,
             };
             return match run::run(&args.file, &opts, &mut out, &mut io::stderr()) {
+                Ok(true) => ExitCode::SUCCESS,
+                Ok(false) => ExitCode::FAILURE,
+                Err(e) if e.kind() == io::ErrorKind::BrokenPipe => ExitCode::SUCCESS,
+                Err(e) => {
+                    eprintln!("neurotree: {e}");
+                    ExitCode::FAILURE
+                }
+            };
+        }
+        Command::Show(args) => {
+            let opts = show::ShowOptions {
+                tree: args.tree,
+                format: args.format,
+                output: args.output,
+                models: args.models,
+                trace: args.trace,
+                tick: args.tick,
+            };
+            return match show::run(&args.file, &opts, &mut out, &mut io::stderr()) {
                 Ok(true) => ExitCode::SUCCESS,
                 Ok(false) => ExitCode::FAILURE,
                 Err(e) if e.kind() == io::ErrorKind::BrokenPipe => ExitCode::SUCCESS,

@@ -3,6 +3,8 @@
 //! Each tick prints one JSON line `{"tick":1,"status":"RUNNING"}` (with `--trace`, also one
 //! line per status change), and the run ends with a summary line: ticks, final status,
 //! per-node tick and halt counts (summed over nodes sharing a name) and the root blackboard.
+//! With `--view`, the tree is also drawn after every tick, with that tick's statuses, on
+//! standard error.
 
 use std::collections::BTreeMap;
 use std::io::{self, Write};
@@ -10,6 +12,7 @@ use std::path::Path;
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
+use neurotree::render::LastTickStatuses;
 use neurotree::{
     Blueprint, ManualClock, NodeId, NodeStatus, Observer, Registry, Status, StatusChange,
     TickError, Tree, XmlLoader,
@@ -34,6 +37,8 @@ pub struct RunOptions {
     pub step: Duration,
     /// Print every status change.
     pub trace: bool,
+    /// Draw the tree with each tick's statuses on the error stream.
+    pub view: bool,
 }
 
 #[derive(Default)]
@@ -160,7 +165,12 @@ pub fn run(
         paths: blueprint.ids().map(|id| blueprint.path(id)).collect(),
         ..Record::default()
     }));
-    tree.set_observer(Recorder(Arc::clone(&record)));
+    let recorder = Recorder(Arc::clone(&record));
+    let view = opts.view.then(LastTickStatuses::new);
+    match &view {
+        Some(seen) => tree.set_observer((recorder, seen.clone())),
+        None => tree.set_observer(recorder),
+    };
     let mut status = "IDLE";
     let mut ticks = 0;
     while ticks < opts.max_ticks {
@@ -188,6 +198,13 @@ pub fn run(
             }
         }
         writeln!(out, "{line}")?;
+        if let Some(seen) = &view {
+            writeln!(
+                err,
+                "tick {ticks}: {status}\n{}",
+                seen.render(&blueprint, true)
+            )?;
+        }
         if matches!(result, Ok(Status::Success | Status::Failure) | Err(_)) {
             break;
         }

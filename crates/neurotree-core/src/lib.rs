@@ -9,8 +9,10 @@
 //!   shared through `Arc`.
 //! - A [`Tree`] is one running instance: a status byte per node and a few state slots,
 //!   nothing more. Ticking it never allocates.
-//! - Leaves are closures or traits ([`Condition`], [`Action`], [`StatefulAction`]) that
-//!   receive the user's own context `C`, so they reach the robot or the game world directly.
+//! - Leaves are closures or traits ([`Condition`], [`Action`], [`StatefulAction`],
+//!   [`AsyncAction`]) that receive the user's own context `C`, so they reach the robot or
+//!   the game world directly. An async action runs a Rust future, polled once per tick and
+//!   dropped on halt, with no runtime required.
 //! - Time-based nodes read only the tree's [`Clock`]; with a [`ManualClock`] every run is
 //!   deterministic.
 //! - An [`Observer`] sees every status change; loggers and live views are built on it.
@@ -73,7 +75,7 @@ pub use clock::SystemClock;
 pub use clock::{Clock, ManualClock};
 pub use nodes::custom::{CustomNode, NodeCtx};
 pub use nodes::hooks::NodeHooks;
-pub use nodes::leaf::{Action, Condition, Handle, StatefulAction};
+pub use nodes::leaf::{Action, ActionFuture, AsyncAction, Condition, Handle, StatefulAction};
 pub use observer::{Observer, StatusChange};
 pub use status::{NodeStatus, Status};
-pub use tree::{TickError, Tree};
+pub use tree::{TickError, Tree, WakeSignal, Woken};

@@ -85,7 +85,7 @@ fn register_watch<C: 'static>(
             name,
             category,
             vec![PortSpec::input::<String>("entry")],
-            Arc::new(move |ports| {
+            Arc::new(move |ports, _| {
                 let key = entry_key(ports)?;
                 Ok(NodeKind::Custom(Box::new(CustomSpec {
                     type_name: name.into(),

@@ -121,7 +121,7 @@ where
                 PortSpec::output::<T>("value"),
                 PortSpec::input::<String>("if_empty").default_value("SUCCESS"),
             ],
-            Arc::new(move |ports: &[Port]| {
+            Arc::new(move |ports: &[Port], _| {
                 let value_of = |n: &str| ports.iter().find(|p| p.name == n).map(|p| &p.value);
                 let (literal, queue_key) = match value_of("queue") {
                     Some(PortValue::Literal(text)) => (

@@ -2,13 +2,16 @@
 //!
 //! A BehaviorTree.CPP file names node types (`<MoveBase goal="{target}"/>`); the registry
 //! says what each name is. It starts with every built-in node of the engine under its
-//! BehaviorTree.CPP name, and the user adds leaves: a stateful action, a sync action or a
-//! condition, each with the ports it reads and writes. Port declarations let the loader
+//! BehaviorTree.CPP name, and the user adds leaves: a stateful action, an async action, a
+//! sync action or a condition, each with the ports it reads and writes. Port declarations let the loader
 //! reject an unknown attribute or a literal that does not convert, before anything runs.
 
 use std::collections::BTreeMap;
 use std::fmt;
+use std::future::Future;
 use std::sync::Arc;
+
+use crate::script::Enums;
 
 use neurotree_core::{
     Category, FromPortStr, Handle, NodeKind, ParallelPolicy, StatefulAction, Status,
@@ -147,9 +150,10 @@ pub(crate) enum BuiltIn {
 }
 
 /// Makes the per-node part of a leaf from its port bindings (most leaves ignore them; a
-/// Script node parses its `code` here, at load time).
+/// Script node parses its `code` here, at load time) and the registry's enums (which its
+/// scripts name).
 pub(crate) type LeafMaker<C> =
-    Arc<dyn Fn(&[neurotree_core::Port]) -> Result<NodeKind<C>, String> + Send + Sync>;
+    Arc<dyn Fn(&[neurotree_core::Port], &Arc<Enums>) -> Result<NodeKind<C>, String> + Send + Sync>;
 
 /// How a registered type becomes a node.
 #[derive(Clone)]
@@ -189,11 +193,24 @@ pub enum RegistryError {
     /// The name is taken.
     #[error("a node type named `{0}` is already registered; pick another name")]
     Duplicate(String),
+    /// An enum name was defined again with another value.
+    #[error("the enum name `{name}` is already {old}; it cannot also be {new}")]
+    EnumRedefined {
+        /// The name.
+        name: String,
+        /// Its value.
+        old: i64,
+        /// The value refused.
+        new: i64,
+    },
 }
 
-/// Node types by name: the built-ins, and the user's leaves.
+/// Node types by name: the built-ins, and the user's leaves; and the enum names that
+/// scripts and port values may use.
 pub struct Registry<C> {
     types: BTreeMap<String, NodeType<C>>,
+    /// Shared with the script nodes made from this registry, which look names up at run time.
+    enums: Arc<Enums>,
 }
 
 impl<C: 'static> Default for Registry<C> {
@@ -207,6 +224,7 @@ impl<C: 'static> Registry<C> {
     pub fn new() -> Self {
         let mut r = Self {
             types: BTreeMap::new(),
+            enums: Arc::new(Enums::new()),
         };
         for (name, category, built_in, ports) in built_ins() {
             let t = NodeType {
@@ -248,7 +266,7 @@ impl<C: 'static> Registry<C> {
             neurotree_core::Arity::Leaf => Category::Action,
             _ => Category::Control,
         };
-        let leaf: LeafMaker<C> = Arc::new(move |_| {
+        let leaf: LeafMaker<C> = Arc::new(move |_, _| {
             let make = Arc::clone(&make);
             Ok(NodeKind::Custom(Box::new(neurotree_core::CustomSpec {
                 type_name: type_name.clone(),
@@ -294,12 +312,57 @@ impl<C: 'static> Registry<C> {
         F: Fn() -> S + Send + Sync + 'static,
     {
         let make = Arc::new(make);
-        let leaf: LeafMaker<C> = Arc::new(move |_| {
+        let leaf: LeafMaker<C> = Arc::new(move |_, _| {
             let make = Arc::clone(&make);
             Ok(NodeKind::Stateful(Box::new(
                 move || -> Box<dyn StatefulAction<C>> { Box::new(make()) },
             )))
         });
+        self.register_leaf(name, Category::Action, ports, leaf)
+    }
+
+    /// Registers an [async action](neurotree_core::nodes::leaf::async_action): on each start,
+    /// `start` reads what it needs from the handle (its ports, the blackboard, the context)
+    /// and returns the future that does the work, polled once per tick and dropped when the
+    /// node is halted.
+    ///
+    /// ```
+    /// use std::sync::Arc;
+    /// use neurotree::{ManualClock, PortSpec, Registry, Status, Tree, XmlLoader};
+    ///
+    /// let mut registry = Registry::<()>::new();
+    /// registry
+    ///     .register_async("CheckAltitude", vec![PortSpec::input::<f64>("min")], |h| {
+    ///         let min: f64 = h.input("min").unwrap_or(f64::INFINITY);
+    ///         async move { if 12.5 >= min { Status::Success } else { Status::Failure } }
+    ///     })
+    ///     .unwrap();
+    /// let mut loader = XmlLoader::new(&registry);
+    /// loader
+    ///     .load_str(
+    ///         r#"<root BTCPP_format="4"><BehaviorTree ID="main">
+    ///              <CheckAltitude min="10"/>
+    ///            </BehaviorTree></root>"#,
+    ///         "main.xml",
+    ///     )
+    ///     .unwrap();
+    /// let blueprint = Arc::new(loader.build_main().unwrap());
+    /// let mut tree = Tree::with_clock(blueprint, ManualClock::new());
+    /// assert_eq!(tree.tick_once(&mut ()), Ok(Status::Success));
+    /// ```
+    pub fn register_async<F, Fut>(
+        &mut self,
+        name: &str,
+        ports: Vec<PortSpec>,
+        start: F,
+    ) -> Result<(), RegistryError>
+    where
+        F: Fn(&mut Handle<'_, C>) -> Fut + Send + Sync + 'static,
+        Fut: Future<Output = Status> + Send + 'static,
+    {
+        let start = Arc::new(start);
+        let leaf: LeafMaker<C> =
+            Arc::new(move |_, _| Ok(NodeKind::Async(Box::new(SharedAsync(Arc::clone(&start))))));
         self.register_leaf(name, Category::Action, ports, leaf)
     }
 
@@ -315,7 +378,7 @@ impl<C: 'static> Registry<C> {
     {
         let f = Arc::new(f);
         let leaf: LeafMaker<C> =
-            Arc::new(move |_| Ok(NodeKind::Action(Box::new(SharedAction(Arc::clone(&f))))));
+            Arc::new(move |_, _| Ok(NodeKind::Action(Box::new(SharedAction(Arc::clone(&f))))));
         self.register_leaf(name, Category::Action, ports, leaf)
     }
 
@@ -330,7 +393,7 @@ impl<C: 'static> Registry<C> {
         F: Fn(&Handle<'_, C>) -> bool + Send + Sync + 'static,
     {
         let f = Arc::new(f);
-        let leaf: LeafMaker<C> = Arc::new(move |_| {
+        let leaf: LeafMaker<C> = Arc::new(move |_, _| {
             Ok(NodeKind::Condition(Box::new(SharedCondition(Arc::clone(
                 &f,
             )))))
@@ -461,6 +524,58 @@ impl<C: 'static> Registry<C> {
         out.push_str("  </TreeNodesModel>\n");
     }
 
+    /// Defines the enum name `name` as `value`, as BehaviorTree.CPP's
+    /// `registerScriptingEnum` does: scripts may write `state == DOCKING`, and a literal port
+    /// value `DOCKING` reads as the number wherever the port wants a number. Trees loaded
+    /// afterwards see it. Redefining a name with another value is an error.
+    ///
+    /// ```
+    /// use neurotree::{Registry, XmlLoader, ManualClock, Status, Tree};
+    ///
+    /// let mut registry = Registry::<()>::new();
+    /// registry.register_enums([("IDLE", 0), ("DOCKING", 2)]).unwrap();
+    /// let mut loader = XmlLoader::new(&registry);
+    /// loader.load_str(r#"<root BTCPP_format="4"><BehaviorTree ID="Main">
+    ///     <Sequence>
+    ///       <Script code="state := DOCKING"/>
+    ///       <ScriptCondition code="state == DOCKING &amp;&amp; state != IDLE"/>
+    ///       <Repeat num_cycles="DOCKING"><AlwaysSuccess/></Repeat>
+    ///     </Sequence>
+    ///   </BehaviorTree></root>"#, "enums.xml").unwrap();
+    /// let mut tree = Tree::with_clock(loader.build_main().unwrap().into(), ManualClock::new());
+    /// assert_eq!(tree.tick_once(&mut ()), Ok(Status::Success));
+    /// assert_eq!(tree.blackboard().get::<i64>("state"), Ok(2));
+    /// ```
+    pub fn register_enum(&mut self, name: &str, value: i64) -> Result<(), RegistryError> {
+        match self.enums.get(name) {
+            Some(old) if old != value => Err(RegistryError::EnumRedefined {
+                name: name.to_string(),
+                old,
+                new: value,
+            }),
+            Some(_) => Ok(()),
+            None => {
+                Arc::make_mut(&mut self.enums).insert(name, value);
+                Ok(())
+            }
+        }
+    }
+
+    /// Defines several enum names (see [`register_enum`](Self::register_enum)).
+    pub fn register_enums<'n>(
+        &mut self,
+        values: impl IntoIterator<Item = (&'n str, i64)>,
+    ) -> Result<(), RegistryError> {
+        values
+            .into_iter()
+            .try_for_each(|(name, value)| self.register_enum(name, value))
+    }
+
+    /// The enum names defined so far.
+    pub fn enums(&self) -> &Arc<Enums> {
+        &self.enums
+    }
+
     /// Adds a description to a registered type (shown in the `TreeNodesModel`).
     pub fn describe(&mut self, name: &str, description: &str) {
         if let Some(t) = self.types.get_mut(name) {
@@ -545,6 +660,18 @@ where
 {
     fn tick(&self, h: &mut Handle<'_, C>) -> Status {
         (self.0)(h)
+    }
+}
+
+struct SharedAsync<F>(Arc<F>);
+
+impl<C, F, Fut> neurotree_core::AsyncAction<C> for SharedAsync<F>
+where
+    F: Fn(&mut Handle<'_, C>) -> Fut + Send + Sync,
+    Fut: Future<Output = Status> + Send + 'static,
+{
+    fn start(&self, h: &mut Handle<'_, C>) -> neurotree_core::ActionFuture {
+        Box::pin((self.0)(h))
     }
 }
 

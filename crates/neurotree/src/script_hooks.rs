@@ -2,14 +2,15 @@
 //! `_successIf`, `_skipIf`, `_while`, `_onSuccess`, `_onFailure`, `_post` and `_onHalted`
 //! attributes. The engine's [`NodeHooks`] says when each runs; this module runs them.
 //!
-//! A condition script whose evaluation fails (an unknown key, a type mismatch) counts as
-//! false.
+//! A script whose evaluation fails (an unknown key, a type mismatch) is an error of the tick
+//! ([`TickError::Node`](neurotree_core::TickError::Node)), as BehaviorTree.CPP throws one; a
+//! failed condition script decides nothing.
+
+use std::sync::Arc;
 
 use neurotree_core::{Handle, NodeHooks, NodeStatus};
 
 use crate::script::{Enums, Script, ScriptEnv, Value};
-
-static NO_ENUMS: Enums = Enums::new();
 
 /// The attribute names, in the order BehaviorTree.CPP checks them.
 pub(crate) const ATTRIBUTES: [&str; 8] = [
@@ -34,6 +35,8 @@ pub(crate) struct ScriptHooks {
     pub(crate) on_failure: Option<Script>,
     pub(crate) post: Option<Script>,
     pub(crate) on_halted: Option<Script>,
+    /// The registry's enum names, which the scripts may use.
+    pub(crate) enums: Arc<Enums>,
 }
 
 impl ScriptHooks {
@@ -53,25 +56,23 @@ impl ScriptHooks {
     }
 }
 
-fn run<C>(script: &Script, h: &mut Handle<'_, C>) -> Option<Value> {
+/// Runs `script`; a failure is reported as the tick's error and gives `None`.
+fn run<C>(script: &Script, enums: &Enums, h: &mut Handle<'_, C>) -> Option<Value> {
     let scope = h.scope();
     let stamp = h.now();
     let mut env = ScriptEnv {
         blackboard: h.blackboard_mut(),
         scope,
-        enums: &NO_ENUMS,
+        enums,
         stamp,
     };
-    script.eval(&mut env).ok()
-}
-
-fn holds<C>(script: &Option<Script>, h: &mut Handle<'_, C>) -> Option<bool> {
-    script.as_ref().map(|s| match run(s, h) {
-        Some(Value::Bool(b)) => b,
-        Some(Value::Int(n)) => n != 0,
-        Some(Value::Real(r)) => r != 0.0,
-        _ => false,
-    })
+    match script.eval(&mut env) {
+        Ok(value) => Some(value),
+        Err(e) => {
+            h.fail(format!("script `{}`: {e}", script.source()));
+            None
+        }
+    }
 }
 
 impl ScriptHooks {
@@ -90,6 +91,40 @@ impl ScriptHooks {
     }
 }
 
+impl ScriptHooks {
+    /// Whether the condition script holds: `Ok(None)` if there is none, `Err` if it failed to
+    /// run (the error is already reported).
+    fn holds<C>(&self, script: &Option<Script>, h: &mut Handle<'_, C>) -> Result<Option<bool>, ()> {
+        let Some(script) = script else {
+            return Ok(None);
+        };
+        let value = run(script, &self.enums, h).ok_or(())?;
+        Ok(Some(match value {
+            Value::Bool(b) => b,
+            Value::Int(n) => n != 0,
+            Value::Real(r) => r != 0.0,
+            _ => false,
+        }))
+    }
+
+    /// The decision of the checks made while the node is Idle, in BehaviorTree.CPP's order.
+    fn decide<C>(&self, h: &mut Handle<'_, C>) -> Result<Option<NodeStatus>, ()> {
+        if self.holds(&self.failure_if, h)? == Some(true) {
+            return Ok(Some(NodeStatus::Failure));
+        }
+        if self.holds(&self.success_if, h)? == Some(true) {
+            return Ok(Some(NodeStatus::Success));
+        }
+        if self.holds(&self.skip_if, h)? == Some(true) {
+            return Ok(Some(NodeStatus::Skipped));
+        }
+        if self.holds(&self.while_true, h)? == Some(false) {
+            return Ok(Some(NodeStatus::Skipped));
+        }
+        Ok(None)
+    }
+}
+
 impl<C> NodeHooks<C> for ScriptHooks {
     fn attributes(&self, f: &mut dyn FnMut(&str, &str)) {
         for (name, script) in self.scripts() {
@@ -100,25 +135,15 @@ impl<C> NodeHooks<C> for ScriptHooks {
     }
 
     fn before(&self, h: &mut Handle<'_, C>, stored: NodeStatus) -> Option<NodeStatus> {
+        // A script that failed to run has made the tick an error; the node does not run.
         if stored == NodeStatus::Running {
-            return match holds(&self.while_true, h) {
-                Some(false) => Some(NodeStatus::Skipped),
-                _ => None,
+            return match self.holds(&self.while_true, h) {
+                Ok(Some(false)) => Some(NodeStatus::Skipped),
+                Ok(_) => None,
+                Err(()) => Some(NodeStatus::Failure),
             };
         }
-        if holds(&self.failure_if, h) == Some(true) {
-            return Some(NodeStatus::Failure);
-        }
-        if holds(&self.success_if, h) == Some(true) {
-            return Some(NodeStatus::Success);
-        }
-        if holds(&self.skip_if, h) == Some(true) {
-            return Some(NodeStatus::Skipped);
-        }
-        if holds(&self.while_true, h) == Some(false) {
-            return Some(NodeStatus::Skipped);
-        }
-        None
+        self.decide(h).unwrap_or(Some(NodeStatus::Failure))
     }
 
     fn after(&self, h: &mut Handle<'_, C>, status: NodeStatus) {
@@ -127,13 +152,13 @@ impl<C> NodeHooks<C> for ScriptHooks {
             _ => &self.on_failure,
         };
         for script in [first, &self.post].into_iter().flatten() {
-            run(script, h);
+            run(script, &self.enums, h);
         }
     }
 
     fn halted(&self, h: &mut Handle<'_, C>) {
         if let Some(script) = &self.on_halted {
-            run(script, h);
+            run(script, &self.enums, h);
         }
     }
 }

@@ -3,7 +3,7 @@
 //!
 //! | node | semantics |
 //! |---|---|
-//! | Script(code) | Runs the script (parsed when the tree is loaded); Success. A script that fails at run time (an unknown key, a type mismatch) makes the node fail. |
+//! | Script(code) | Runs the script (parsed when the tree is loaded); Success. A script that fails at run time (an unknown key, a type mismatch) is an error of the tick ([`TickError::Node`](neurotree_core::TickError::Node)), as BehaviorTree.CPP throws one. |
 //! | ScriptCondition(code) | Success if the script's value is true (a non-zero number counts as true), else Failure. |
 //! | SetBlackboard(value, output_key) | Writes `value` (text, converted by whoever reads it) to the entry named by `output_key`; Success. |
 //! | UnsetBlackboard(key) | Removes the entry named by `key`; Success. |
@@ -19,9 +19,6 @@ use neurotree_core::{
 use crate::registry::{PortSpec, Registry};
 use crate::script::{Enums, Script, ScriptEnv, Value};
 
-/// The enum table of scripts loaded from XML (none are registered yet).
-static NO_ENUMS: Enums = Enums::new();
-
 /// The literal text of port `name`, or why it is missing.
 fn literal<'a>(ports: &'a [Port], name: &str) -> Result<&'a str, String> {
     match ports.iter().find(|p| p.name == name).map(|p| &p.value) {
@@ -35,6 +32,7 @@ fn literal<'a>(ports: &'a [Port], name: &str) -> Result<&'a str, String> {
 struct ScriptNode {
     script: Script,
     condition: bool,
+    enums: Arc<Enums>,
 }
 
 impl<C> Action<C> for ScriptNode {
@@ -44,13 +42,16 @@ impl<C> Action<C> for ScriptNode {
         let mut env = ScriptEnv {
             blackboard: h.blackboard_mut(),
             scope,
-            enums: &NO_ENUMS,
+            enums: &self.enums,
             stamp,
         };
         match self.script.eval(&mut env) {
             Ok(value) if self.condition => Status::from(truthy(&value)),
             Ok(_) => Status::Success,
-            Err(_) => Status::Failure,
+            Err(e) => {
+                h.fail(format!("script `{}`: {e}", self.script.source()));
+                Status::Failure
+            }
         }
     }
 }
@@ -108,6 +109,7 @@ fn parse(ports: &[Port]) -> Result<Script, String> {
 /// BehaviorTree.CPP's Precondition decorator (see the module table).
 struct Precondition {
     script: Script,
+    enums: Arc<Enums>,
     otherwise: NodeStatus,
     child_running: bool,
 }
@@ -119,10 +121,16 @@ impl<C> CustomNode<C> for Precondition {
             let mut env = ScriptEnv {
                 blackboard: node.blackboard(),
                 scope,
-                enums: &NO_ENUMS,
+                enums: &self.enums,
                 stamp,
             };
-            let holds = matches!(self.script.eval(&mut env), Ok(v) if truthy(&v));
+            let holds = match self.script.eval(&mut env) {
+                Ok(v) => truthy(&v),
+                Err(e) => {
+                    node.fail(format!("script `{}`: {e}", self.script.source()));
+                    return NodeStatus::Failure;
+                }
+            };
             if !holds {
                 return self.otherwise;
             }
@@ -158,11 +166,12 @@ pub(crate) fn register<C: 'static>(registry: &mut Registry<C>) {
             "Script",
             Category::Action,
             code(),
-            Arc::new(|ports| {
+            Arc::new(|ports, enums| {
                 let script = parse(ports)?;
                 Ok(NodeKind::Action(Box::new(ScriptNode {
                     script,
                     condition: false,
+                    enums: Arc::clone(enums),
                 })))
             }),
         )
@@ -173,11 +182,12 @@ pub(crate) fn register<C: 'static>(registry: &mut Registry<C>) {
             "ScriptCondition",
             Category::Condition,
             code(),
-            Arc::new(|ports| {
+            Arc::new(|ports, enums| {
                 let script = parse(ports)?;
                 Ok(NodeKind::Action(Box::new(ScriptNode {
                     script,
                     condition: true,
+                    enums: Arc::clone(enums),
                 })))
             }),
         )
@@ -191,7 +201,7 @@ pub(crate) fn register<C: 'static>(registry: &mut Registry<C>) {
                 PortSpec::input::<String>("value"),
                 PortSpec::input::<String>("output_key"),
             ],
-            Arc::new(|ports| {
+            Arc::new(|ports, _| {
                 let key = key_of(ports, "output_key")?;
                 Ok(NodeKind::Action(Box::new(SetBlackboard { key })))
             }),
@@ -206,7 +216,8 @@ pub(crate) fn register<C: 'static>(registry: &mut Registry<C>) {
                 PortSpec::input::<String>("if"),
                 PortSpec::input::<String>("else").default_value("FAILURE"),
             ],
-            Arc::new(|ports| {
+            Arc::new(|ports, enums| {
+                let enums = Arc::clone(enums);
                 let code = literal(ports, "if")?;
                 let script = Script::parse(code).map_err(|e| format!("in script `{code}`: {e}"))?;
                 let otherwise = status_of(literal(ports, "else")?)?;
@@ -216,6 +227,7 @@ pub(crate) fn register<C: 'static>(registry: &mut Registry<C>) {
                     factory: Box::new(move || {
                         Box::new(Precondition {
                             script: script.clone(),
+                            enums: Arc::clone(&enums),
                             otherwise,
                             child_running: false,
                         })
@@ -230,7 +242,7 @@ pub(crate) fn register<C: 'static>(registry: &mut Registry<C>) {
             "UnsetBlackboard",
             Category::Action,
             vec![PortSpec::input::<String>("key")],
-            Arc::new(|ports| {
+            Arc::new(|ports, _| {
                 let key = key_of(ports, "key")?;
                 Ok(NodeKind::Action(Box::new(UnsetBlackboard { key })))
             }),

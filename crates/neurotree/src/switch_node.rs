@@ -153,7 +153,7 @@ pub(crate) fn register<C: 'static>(registry: &mut Registry<C>) {
                 &name,
                 Category::Control,
                 ports,
-                Arc::new(move |ports| {
+                Arc::new(move |ports, _| {
                     let variable = source(ports, "variable");
                     let cases: Vec<Option<Source>> = (1..=n)
                         .map(|i| source(ports, &format!("case_{i}")))

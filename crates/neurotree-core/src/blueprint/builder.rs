@@ -6,6 +6,7 @@ use alloc::boxed::Box;
 use alloc::string::String;
 use alloc::sync::Arc;
 use alloc::vec::Vec;
+use core::future::Future;
 use core::ptr::NonNull;
 use core::time::Duration;
 
@@ -15,7 +16,8 @@ use super::{
 };
 use crate::blackboard::ScopeId;
 use crate::nodes::hooks::NodeHooks;
-use crate::nodes::leaf::{Action, Condition, StatefulAction};
+use crate::nodes::leaf::async_action::AsyncFn;
+use crate::nodes::leaf::{Action, AsyncAction, Condition, StatefulAction};
 use crate::Status;
 
 /// A node being built. Its children are not listed: each knows its parent, and `finish`
@@ -471,7 +473,7 @@ impl<C> State<C> {
             };
             child_scope.push(own_child_scope);
             let object = match p.kind {
-                NodeKind::Stateful(_) | NodeKind::Custom(_) => {
+                NodeKind::Stateful(_) | NodeKind::Custom(_) | NodeKind::Async(_) => {
                     objects += 1;
                     objects - 1
                 }
@@ -707,6 +709,35 @@ impl<C> Builder<C> {
     {
         let factory = move || -> Box<dyn StatefulAction<C>> { Box::new(make()) };
         self.leaf(NodeKind::Stateful(Box::new(factory)), name)
+    }
+    /// An [async action](crate::nodes::leaf::async_action): on each start, `start` reads
+    /// what it needs from the handle and returns the future that does the work; the future
+    /// is polled once per tick and dropped when the node is halted. Each start allocates
+    /// once, to box the future.
+    ///
+    /// ```
+    /// use neurotree_core::{Blueprint, ManualClock, Status, Tree};
+    ///
+    /// let blueprint = Blueprint::<u32>::builder()
+    ///     .async_action("double", |h| {
+    ///         let n = *h.ctx();
+    ///         async move { if n * 2 > 5 { Status::Success } else { Status::Failure } }
+    ///     })
+    ///     .build_shared()
+    ///     .unwrap();
+    /// let mut tree = Tree::with_clock(blueprint, ManualClock::new());
+    /// assert_eq!(tree.tick_once(&mut 3), Ok(Status::Success));
+    /// ```
+    pub fn async_action<F, Fut>(self, name: &str, start: F) -> Self
+    where
+        F: Fn(&mut crate::Handle<'_, C>) -> Fut + Send + Sync + 'static,
+        Fut: Future<Output = Status> + Send + 'static,
+    {
+        self.async_action_node(name, AsyncFn(start))
+    }
+    /// An async action from an [`AsyncAction`] object.
+    pub fn async_action_node(self, name: &str, a: impl AsyncAction<C> + 'static) -> Self {
+        self.leaf(NodeKind::Async(Box::new(a)), name)
     }
     /// A user-defined control or decorator.
     pub fn custom(

@@ -8,7 +8,7 @@ use core::fmt;
 use core::time::Duration;
 
 use crate::nodes::custom::CustomNode;
-use crate::nodes::leaf::{Action, Condition, StatefulAction};
+use crate::nodes::leaf::{Action, AsyncAction, Condition, StatefulAction};
 use crate::Status;
 
 /// A closure condition: a pure function of the user's context.
@@ -202,6 +202,8 @@ pub enum NodeKind<C> {
     Action(Box<dyn Action<C>>),
     /// A [`StatefulAction`], one object per instance.
     Stateful(StatefulFactory<C>),
+    /// An [`AsyncAction`], shared by all instances; each instance keeps its running future.
+    Async(Box<dyn AsyncAction<C>>),
     /// A user control or decorator, one object per instance.
     Custom(Box<CustomSpec<C>>),
 }
@@ -239,6 +241,7 @@ impl<C> NodeKind<C> {
             NodeKind::ConditionFn(_) | NodeKind::Condition(_) => "Condition",
             NodeKind::ActionFn(_) | NodeKind::Action(_) => "Action",
             NodeKind::Stateful(_) => "StatefulAction",
+            NodeKind::Async(_) => "AsyncAction",
             NodeKind::Custom(spec) => &spec.type_name,
         }
     }
@@ -291,14 +294,19 @@ impl<C> NodeKind<C> {
             | NodeKind::Condition(_)
             | NodeKind::ActionFn(_)
             | NodeKind::Action(_)
-            | NodeKind::Stateful(_) => Arity::Leaf,
+            | NodeKind::Stateful(_)
+            | NodeKind::Async(_) => Arity::Leaf,
             NodeKind::Custom(spec) => spec.arity,
         }
     }
 
-    /// `true` for kinds with a per-instance object (stateful leaves, custom nodes).
+    /// `true` for kinds with a per-instance object (stateful leaves, custom nodes, the
+    /// running future of an async action).
     pub(crate) fn has_object(&self) -> bool {
-        matches!(self, NodeKind::Stateful(_) | NodeKind::Custom(_))
+        matches!(
+            self,
+            NodeKind::Stateful(_) | NodeKind::Custom(_) | NodeKind::Async(_)
+        )
     }
 
     /// Per-instance state slots (`u64`) the kind needs: a cursor, a counter or a time.

@@ -7,11 +7,13 @@
 //! nodes too.
 
 use alloc::string::String;
+use core::any::Any;
 use core::time::Duration;
 
 use crate::blackboard::Blackboard;
+use crate::nodes::leaf::read_input;
 use crate::tree::Ticker;
-use crate::{NodeId, NodeStatus};
+use crate::{FromPortStr, NodeId, NodeStatus, PortError};
 
 /// A control or decorator written by the user.
 ///
@@ -63,12 +65,24 @@ pub trait CustomNode<C>: Send {
 pub struct NodeCtx<'a, 't, C> {
     pub(crate) t: &'a mut Ticker<'t, C>,
     pub(crate) id: NodeId,
+    /// The node's stored status when the call began (the engine marks it Running before
+    /// calling `tick`, so the node could not see it otherwise).
+    pub(crate) previous: NodeStatus,
 }
 
-impl<C> NodeCtx<'_, '_, C> {
+impl<'t, C> NodeCtx<'_, 't, C> {
     /// The node's id.
     pub fn id(&self) -> NodeId {
         self.id
+    }
+
+    /// The node's stored status before this tick: `Idle` on a tick that starts a run (the
+    /// first, or the first after its parent reset or halted it), `Running` while it runs,
+    /// or the Success or Failure it returned and its parent has not reset yet. This is what
+    /// a BehaviorTree.CPP node reads as `status()` at the top of its `tick`. In
+    /// [`CustomNode::halt`] it is `Running`.
+    pub fn previous_status(&self) -> NodeStatus {
+        self.previous
     }
 
     /// Number of children.
@@ -122,9 +136,18 @@ impl<C> NodeCtx<'_, '_, C> {
         self.t.bp.scope(self.id)
     }
 
-    /// The node's ports and their bindings.
-    pub fn ports(&self) -> &[crate::Port] {
-        self.t.bp.ports(self.id)
+    /// The node's ports and their bindings. They belong to the blueprint, so they may be
+    /// held while the blackboard is borrowed.
+    pub fn ports(&self) -> &'t [crate::Port] {
+        let bp: &'t crate::Blueprint<C> = self.t.bp;
+        bp.ports(self.id)
+    }
+
+    /// Reads input port `port`, as [`Handle::input`](crate::Handle::input) does: its literal
+    /// text converted to `T`, or the blackboard entry it is bound to.
+    pub fn input<T: FromPortStr + Any + Clone>(&self, port: &str) -> Result<T, PortError> {
+        let scope = self.scope();
+        read_input(self.t.bb, scope, self.ports(), port)
     }
 
     /// The tree's clock reading.
@@ -148,5 +171,98 @@ impl<C> CustomNode<C> for Vacant {
         // Only reachable if a custom node's tick re-enters itself, which the tree's shape
         // forbids; failing is the safe answer.
         NodeStatus::Failure
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::testing::*;
+    use crate::{Arity, CustomSpec, Port};
+    use alloc::boxed::Box;
+    use std::sync::Mutex;
+
+    /// What a [`Probe`] saw per call: the call, its previous status, its `limit` port.
+    type Log = Arc<Mutex<Vec<(&'static str, NodeStatus, Option<u32>)>>>;
+
+    /// A decorator that records the status it had before each call, and the `limit` port.
+    struct Probe(Log);
+
+    impl CustomNode<Lab> for Probe {
+        fn tick(&mut self, node: &mut NodeCtx<'_, '_, Lab>) -> NodeStatus {
+            let limit = node.input::<u32>("limit").ok();
+            self.0
+                .lock()
+                .unwrap()
+                .push(("tick", node.previous_status(), limit));
+            let status = node.tick_child(0);
+            if status.is_completed() {
+                node.reset_children();
+            }
+            status
+        }
+        fn halt(&mut self, node: &mut NodeCtx<'_, '_, Lab>) {
+            self.0
+                .lock()
+                .unwrap()
+                .push(("halt", node.previous_status(), None));
+        }
+    }
+
+    fn probe(log: &Log) -> CustomSpec<Lab> {
+        let log = Arc::clone(log);
+        CustomSpec {
+            type_name: "Probe".into(),
+            arity: Arity::One,
+            factory: Box::new(move || Box::new(Probe(Arc::clone(&log)))),
+        }
+    }
+
+    fn seen(log: &Log) -> Vec<(&'static str, NodeStatus)> {
+        log.lock().unwrap().drain(..).map(|e| (e.0, e.1)).collect()
+    }
+
+    #[test]
+    fn a_custom_node_sees_its_status_from_before_the_tick() {
+        use NodeStatus::{Failure as Fail, Idle, Running as Run};
+        let log = Arc::new(Mutex::new(Vec::new()));
+        // A run from Idle, a tick while Running, and after the root's reset a new run.
+        let mut lab = Lab::new(&[&[R, S, R]]);
+        let mut tree = lab.tree(|b| b.custom("p", probe(&log), |c| c.scripted(0)));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Running));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Success));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Running));
+        lab.halt(&mut tree);
+        assert_eq!(
+            seen(&log),
+            [("tick", Idle), ("tick", Run), ("tick", Idle), ("halt", Run)]
+        );
+        // IfThenElse with two children leaves its failed condition un-reset: the next tick
+        // finds the condition's Failure still stored.
+        let mut lab = Lab::new(&[&[F], &[S]]);
+        let mut tree = lab.tree(|b| {
+            b.if_then_else("ite", |i| {
+                i.custom("q", probe(&log), |c| c.check(0)).scripted(1)
+            })
+        });
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Failure));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Failure));
+        assert_eq!(seen(&log), [("tick", Idle), ("tick", Fail)]);
+    }
+
+    #[test]
+    fn a_custom_node_reads_its_ports() {
+        let log = Arc::new(Mutex::new(Vec::new()));
+        let mut lab = Lab::new(&[&[S]]);
+        let mut tree = lab.tree(|b| {
+            b.custom("p", probe(&log), |c| {
+                c.ports([Port::entry("limit", "max")]).scripted(0)
+            })
+        });
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Success));
+        tree.blackboard_mut().set("max", 7_u32).unwrap();
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Success));
+        let limits: Vec<Option<u32>> = log.lock().unwrap().iter().map(|e| e.2).collect();
+        assert_eq!(limits, [None, Some(7)]);
     }
 }

@@ -8,7 +8,8 @@
 //! - [`Tree::tick_exactly_once`]: one pass of the root;
 //! - [`Tree::tick_once`]: a pass, repeated at once while a node yielded and asked to be
 //!   woken (Repeat, RetryUntilSuccessful, SequenceWithMemory and the Async composites do so
-//!   after a child that completed within the tick).
+//!   after a child that completed within the tick), or the future of an async action woke
+//!   during the pass (see [`WakeSignal`]).
 //!
 //! A root that completes is reset to Idle, so the next tick starts afresh.
 //!
@@ -19,9 +20,11 @@
 
 mod error;
 pub(crate) mod ticker;
+mod wake;
 
 pub use error::TickError;
 pub(crate) use ticker::Ticker;
+pub use wake::{WakeSignal, Woken};
 
 use alloc::boxed::Box;
 use alloc::sync::Arc;
@@ -34,6 +37,7 @@ use crate::blueprint::{Blueprint, NodeKind};
 use crate::observer::Observer;
 use crate::{Clock, NodeId, NodeStatus, Status};
 use ticker::Object;
+use wake::TreeWake;
 
 /// A running instance of a [`Blueprint`], ticked with a user context `C`.
 pub struct Tree<C> {
@@ -44,6 +48,9 @@ pub struct Tree<C> {
     blackboard: Blackboard,
     clock: Arc<dyn Clock>,
     observer: Option<Box<dyn Observer>>,
+    /// Made when the blueprint has async actions, or when a runner asks for the signal;
+    /// boxed, so that the many trees without async actions pay one pointer for it.
+    wake: Option<Box<TreeWake>>,
 }
 
 impl<C> Tree<C> {
@@ -55,10 +62,15 @@ impl<C> Tree<C> {
     /// A fresh instance sharing `clock` with other trees.
     pub fn with_shared_clock(blueprint: Arc<Blueprint<C>>, clock: Arc<dyn Clock>) -> Self {
         let mut objects = Vec::with_capacity(blueprint.objects as usize);
+        let mut wake = None;
         for def in blueprint.nodes.iter() {
             match &def.kind {
                 NodeKind::Stateful(make) => objects.push(Object::Stateful(make())),
                 NodeKind::Custom(spec) => objects.push(Object::Custom((spec.factory)())),
+                NodeKind::Async(_) => {
+                    objects.push(Object::Async(None));
+                    wake.get_or_insert_with(|| Box::new(TreeWake::new()));
+                }
                 _ => {}
             }
         }
@@ -87,6 +99,7 @@ impl<C> Tree<C> {
             blackboard,
             clock,
             observer: None,
+            wake,
             blueprint,
         }
     }
@@ -154,6 +167,16 @@ impl<C> Tree<C> {
         self.observer.as_deref_mut()
     }
 
+    /// The signal the futures of the tree's async actions set when they wake, for a runner
+    /// that ticks early on a wake rather than waiting for its next period. Made on first
+    /// use when the blueprint has no async action (such a tree never sets it).
+    pub fn wake_signal(&mut self) -> &WakeSignal {
+        &self
+            .wake
+            .get_or_insert_with(|| Box::new(TreeWake::new()))
+            .signal
+    }
+
     /// Bytes this instance keeps on the heap for node state (statuses, slots, object
     /// pointers), not counting the stateful leaves' own objects or blackboard entries.
     pub fn state_bytes(&self) -> usize {
@@ -176,12 +199,24 @@ impl<C> Tree<C> {
                 None => None,
             },
             wake: false,
+            waker: self.wake.as_ref().map(|w| &w.waker),
             fault: None,
         }
     }
 
-    /// One pass of the root: returns its status and whether a node asked to be woken.
+    /// One pass of the root: returns its status and whether a node asked to be woken or a
+    /// future woke during the pass.
     fn pass(&mut self, ctx: &mut C) -> Result<(NodeStatus, bool), TickError> {
+        // The pass polls every future still running, so earlier wakes are answered by it.
+        if let Some(w) = &self.wake {
+            w.signal.take();
+        }
+        let (status, asked) = self.pass_inner(ctx)?;
+        let woken = self.wake.as_ref().is_some_and(|w| w.signal.is_woken());
+        Ok((status, asked || woken))
+    }
+
+    fn pass_inner(&mut self, ctx: &mut C) -> Result<(NodeStatus, bool), TickError> {
         let mut t = self.ticker(ctx);
         if let Some(o) = t.observer.as_deref_mut() {
             o.on_tick_start(t.clock.now());
@@ -200,13 +235,16 @@ impl<C> Tree<C> {
         Ok((status, t.wake))
     }
 
-    /// Ticks the root exactly once, ignoring wake-up requests.
+    /// Ticks the root exactly once, ignoring wake-up requests. A future that woke during the
+    /// pass leaves the [`wake_signal`](Self::wake_signal) set, for a runner to tick again soon.
     pub fn tick_exactly_once(&mut self, ctx: &mut C) -> Result<Status, TickError> {
         let (status, _) = self.pass(ctx)?;
         to_result(status)
     }
 
-    /// Ticks the root, and again at once while it is Running and a node asked to be woken.
+    /// Ticks the root, and again at once while it is Running and a node asked to be woken or
+    /// the future of an async action woke during the pass (a future that wakes itself on
+    /// every poll therefore keeps this call ticking until it completes).
     pub fn tick_once(&mut self, ctx: &mut C) -> Result<Status, TickError> {
         loop {
             let (status, wake) = self.pass(ctx)?;

@@ -11,7 +11,7 @@ use crate::blackboard::Blackboard;
 use crate::blueprint::{Blueprint, Child, NodeDef, NodeKind};
 use crate::clock::duration_to_nanos;
 use crate::nodes::custom::{CustomNode, NodeCtx, Vacant};
-use crate::nodes::leaf::{Handle, StatefulAction};
+use crate::nodes::leaf::{ActionFuture, Handle, StatefulAction};
 use crate::nodes::{control, decorator, leaf};
 use crate::observer::{Observer, StatusChange};
 use crate::{Clock, NodeId, NodeStatus, Status, TickError};
@@ -20,6 +20,8 @@ use crate::{Clock, NodeId, NodeStatus, Status, TickError};
 pub(crate) enum Object<C> {
     Stateful(alloc::boxed::Box<dyn StatefulAction<C>>),
     Custom(alloc::boxed::Box<dyn CustomNode<C>>),
+    /// The running future of an async action, `None` between runs.
+    Async(Option<ActionFuture>),
 }
 
 /// Everything one pass needs, borrowed from the [`Tree`](crate::Tree) for its duration.
@@ -34,6 +36,8 @@ pub(crate) struct Ticker<'t, C> {
     pub(crate) observer: Option<&'t mut dyn Observer>,
     /// A node yielded and asked to be ticked again at once.
     pub(crate) wake: bool,
+    /// The waker async actions poll with; the tree has one when its blueprint has them.
+    pub(crate) waker: Option<&'t core::task::Waker>,
     /// The first error of this pass.
     pub(crate) fault: Option<TickError>,
 }
@@ -261,13 +265,14 @@ impl<'t, C> Ticker<'t, C> {
                 self.sync_result(id, s, "Action")
             }
             NodeKind::Stateful(_) => self.tick_stateful(id),
+            NodeKind::Async(action) => leaf::async_action::tick(self, id, &**action),
             NodeKind::Custom(_) => self.tick_custom(id),
         }
     }
 
     /// A sync leaf's result; Running breaks its contract and ends the tick with an error.
     #[inline]
-    fn sync_result(&mut self, id: NodeId, s: Status, kind: &'static str) -> NodeStatus {
+    pub(crate) fn sync_result(&mut self, id: NodeId, s: Status, kind: &'static str) -> NodeStatus {
         if s == Status::Running {
             if self.fault.is_none() {
                 self.fault = Some(TickError::LeafRunning {
@@ -297,7 +302,7 @@ impl<'t, C> Ticker<'t, C> {
     }
 
     /// The node's per-instance object and a handle for it, borrowed side by side.
-    fn split(&mut self, id: NodeId) -> (Option<&mut Object<C>>, Handle<'_, C>) {
+    pub(crate) fn split(&mut self, id: NodeId) -> (Option<&mut Object<C>>, Handle<'_, C>) {
         let bp = self.bp;
         let object = if bp.nodes[id.index()].kind.has_object() {
             self.objects.get_mut(bp.slot(id))
@@ -312,6 +317,8 @@ impl<'t, C> Ticker<'t, C> {
             node: id,
             name: bp.name(id),
             ports: &bp.meta[id.index()].ports,
+            bp,
+            fault: &mut self.fault,
         };
         (object, handle)
     }
@@ -339,8 +346,13 @@ impl<'t, C> Ticker<'t, C> {
             return NodeStatus::Failure;
         };
         let mut node = node;
+        let previous = self.status(id);
         self.set_status(id, NodeStatus::Running);
-        let status = node.tick(&mut NodeCtx { t: self, id });
+        let status = node.tick(&mut NodeCtx {
+            t: self,
+            id,
+            previous,
+        });
         self.objects[slot] = Object::Custom(node);
         if status == NodeStatus::Idle {
             if self.fault.is_none() {
@@ -367,6 +379,7 @@ impl<'t, C> Ticker<'t, C> {
                     }
                 }
             }
+            NodeKind::Async(_) => leaf::async_action::halt(self, id),
             NodeKind::Custom(_) => {
                 let obj = self.bp.slot(id);
                 if self.status(id) == NodeStatus::Running {
@@ -374,7 +387,11 @@ impl<'t, C> Ticker<'t, C> {
                         &mut self.objects[obj],
                         Object::Custom(alloc::boxed::Box::new(Vacant)),
                     ) {
-                        node.halt(&mut NodeCtx { t: self, id });
+                        node.halt(&mut NodeCtx {
+                            t: self,
+                            id,
+                            previous: NodeStatus::Running,
+                        });
                         self.objects[obj] = Object::Custom(node);
                     }
                 }

@@ -1,11 +1,72 @@
-//! Robotics building blocks: poses, and (in submodules) sensors and navigation.
+//! Robotics building blocks: poses, sensor nodes and navigation.
+//!
+//! - [`sensor`]: the [`SensorReader`] trait and the sensor node (read, check quality,
+//!   publish on the blackboard);
+//! - [`navigation`]: the [`MotionPlanner`] trait and the navigation node (plan, follow,
+//!   replan when blocked, stop when halted), with [`Path`] and [`Obstacle`].
 //!
 //! Everything here is plain data and traits, so the same nodes drive a real robot or the
-//! simulated one.
+//! simulated one of [`sim`](crate::sim). Nodes reach the robot through the user's context:
+//! each takes an accessor that finds its sensor or planner in it. They are added to a tree
+//! with the [`RoboticsBuilder`] methods, or registered for XML with [`register_sensor`] and
+//! [`register_navigation`].
+
+pub mod navigation;
+pub mod sensor;
 
 use core::fmt;
 
-use neurotree_core::FromPortStr;
+use neurotree_core::{Builder, FromPortStr, NodeKind, Port};
+
+pub use navigation::{
+    register_navigation, MotionPlanner, NavigationError, NavigationNode, Obstacle, Path, Progress,
+};
+pub use sensor::{register_sensor, SensorData, SensorError, SensorNode, SensorReader, SensorValue};
+
+/// Adds the robotics nodes to a [`Builder`], with their ports bound.
+///
+/// Further ports (a navigation node's `obstacles`, `current_pose` or `path`) can be bound with
+/// [`Builder::ports`] right after.
+pub trait RoboticsBuilder<C>: Sized {
+    /// A [sensor node](sensor) that writes each reading of quality `min_quality` or better to
+    /// the entry `key`.
+    fn sensor<F>(self, name: &str, key: &str, min_quality: f64, access: F) -> Self
+    where
+        F: Fn(&mut C) -> &mut dyn SensorReader,
+        F: Send + Sync + 'static;
+
+    /// A [navigation node](navigation) that drives to the pose in the entry `goal_key` and
+    /// succeeds within `tolerance` metres of it.
+    fn navigate<F>(self, name: &str, goal_key: &str, tolerance: f64, access: F) -> Self
+    where
+        F: Fn(&mut C) -> &mut dyn MotionPlanner,
+        F: Send + Sync + 'static;
+}
+
+impl<C: 'static> RoboticsBuilder<C> for Builder<C> {
+    fn sensor<F>(self, name: &str, key: &str, min_quality: f64, access: F) -> Self
+    where
+        F: Fn(&mut C) -> &mut dyn SensorReader,
+        F: Send + Sync + 'static,
+    {
+        let node = SensorNode::new(access);
+        self.leaf(NodeKind::Action(Box::new(node)), name).ports([
+            Port::entry("output", key),
+            Port::literal("min_quality", &min_quality.to_string()),
+        ])
+    }
+
+    fn navigate<F>(self, name: &str, goal_key: &str, tolerance: f64, access: F) -> Self
+    where
+        F: Fn(&mut C) -> &mut dyn MotionPlanner,
+        F: Send + Sync + 'static,
+    {
+        self.stateful(name, NavigationNode::factory(access)).ports([
+            Port::entry("goal", goal_key),
+            Port::literal("goal_tolerance", &tolerance.to_string()),
+        ])
+    }
+}
 
 /// A position and heading in the plane: metres and radians, as Nav2's 2D poses are.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]

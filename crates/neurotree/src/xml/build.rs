@@ -1,6 +1,8 @@
 //! From loaded XML elements to a blueprint: node names through the registry, ports checked,
 //! subtrees expanded into blackboard scopes.
 
+use std::sync::Arc;
+
 use neurotree_core::{
     Arity, Blueprint, Builder, Category, NodeKind, Port, PortValue, SubTreeScope, DEFAULT_MAX_DEPTH,
 };
@@ -9,7 +11,7 @@ use super::mock;
 use super::source::Element;
 use super::{LoadError, XmlLoader};
 use crate::registry::{built_in_kind, Make, NodeType};
-use crate::script::Script;
+use crate::script::{Enums, Script};
 use crate::script_hooks::{ScriptHooks, ATTRIBUTES};
 
 /// The elements that name their type in an `ID` attribute (BehaviorTree.CPP's explicit form).
@@ -64,13 +66,20 @@ fn only_child(tree: Element<'_>) -> Element<'_> {
 ///
 /// Boxed: most nodes have none, and an empty `Option<ScriptHooks>` would still be copied
 /// whole at every move.
-fn conditions(el: Element<'_>) -> Result<Option<Box<ScriptHooks>>, LoadError> {
+fn conditions(el: Element<'_>, enums: &Arc<Enums>) -> Result<Option<Box<ScriptHooks>>, LoadError> {
     let mut hooks: Option<Box<ScriptHooks>> = None;
     for (key, code) in el.attrs() {
         if ATTRIBUTES.contains(&key) {
             let script = Script::parse(code)
                 .map_err(|e| el.error(format!("in `{key}` script `{code}`: {e}")))?;
-            hooks.get_or_insert_with(Box::default).set(key, script);
+            hooks
+                .get_or_insert_with(|| {
+                    Box::new(ScriptHooks {
+                        enums: Arc::clone(enums),
+                        ..ScriptHooks::default()
+                    })
+                })
+                .set(key, script);
         } else if key.starts_with('_') && key != "_autoremap" {
             return Err(el.error(format!(
                 "unknown attribute `{key}`; names starting with `_` are reserved for {}",
@@ -167,7 +176,8 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
         };
         // Most elements have no attributes: nothing to look up.
         let (name, hooks) = if el.has_attrs() {
-            (el.attr("name").unwrap_or(type_name), conditions(el)?)
+            let enums = self.loader.registry.enums();
+            (el.attr("name").unwrap_or(type_name), conditions(el, enums)?)
         } else {
             (type_name, None)
         };
@@ -238,7 +248,7 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
                 Ok((with_hooks(b, hooks), true))
             }
             Make::Leaf(make) => {
-                let kind = make(&ports).map_err(|m| el.error(m))?;
+                let kind = make(&ports, self.loader.registry.enums()).map_err(|m| el.error(m))?;
                 let arity = kind.arity();
                 if !arity.accepts(el.child_count() as u32) {
                     let what = if arity == Arity::Leaf {
@@ -298,8 +308,14 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
                     node_type.name
                 )));
             };
-            let value = binding(key, text);
-            if let PortValue::Literal(text) = &value {
+            let mut value = binding(key, text);
+            if let PortValue::Literal(text) = &mut value {
+                // A registered enum name stands for its number where a number is wanted.
+                if let Some(n) = self.loader.registry.enums().get(text.trim()) {
+                    if !spec.accepts(text) && spec.accepts(&n.to_string()) {
+                        *text = n.to_string();
+                    }
+                }
                 if !spec.accepts(text) {
                     return Err(el.error(format!(
                         "port `{key}` of `{}`: cannot read `{text}` as {}",
@@ -378,7 +394,7 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
             }
         }
         let name = el.attr("name").unwrap_or(id);
-        let hooks = conditions(el)?;
+        let hooks = conditions(el, self.loader.registry.enums())?;
         self.stack.push(id.to_string());
         let opened = b.open(NodeKind::SubTree(Box::new(scope)), name).type_id(id);
         let opened = with_hooks(opened, hooks);

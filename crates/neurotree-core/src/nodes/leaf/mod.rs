@@ -5,6 +5,7 @@
 //! | [`Condition`] / closure `Fn(&C) -> bool` | never | no | Success or Failure |
 //! | [`Action`] / closure `Fn(&mut C) -> Status` | never | no | Success or Failure in one tick; returning Running is reported as a [`TickError`](crate::TickError) |
 //! | [`StatefulAction`] | yes | yes | `on_start` on the tick from Idle, `on_running` on later ticks, `on_halted` when halted while Running |
+//! | [`AsyncAction`] / closure returning a future ([async_action]) | yes | a future per run | the future is made on the tick from Idle, polled once per tick (Pending → Running), dropped on completion or halt |
 //! | [AlwaysSuccess / AlwaysFailure](always) | never | no | as their names |
 //! | [Sleep](sleep) | yes | state slot | Running until the duration has passed on the tree's clock |
 //!
@@ -12,7 +13,10 @@
 //! are created per instance. That keeps an instance of a large tree within a few kilobytes.
 
 pub mod always;
+pub mod async_action;
 pub mod sleep;
+
+pub use async_action::{ActionFuture, AsyncAction};
 
 use core::time::Duration;
 
@@ -33,6 +37,9 @@ pub struct Handle<'a, C> {
     pub(crate) node: NodeId,
     pub(crate) name: &'a str,
     pub(crate) ports: &'a [Port],
+    /// For [`fail`](Handle::fail): the blueprint names the node in the error.
+    pub(crate) bp: &'a crate::Blueprint<C>,
+    pub(crate) fault: &'a mut Option<crate::TickError>,
 }
 
 impl<'a, C> Handle<'a, C> {
@@ -86,46 +93,7 @@ impl<'a, C> Handle<'a, C> {
     /// Reads input port `port`: its literal text converted to `T`, or the blackboard entry
     /// it is bound to (a text entry is converted too, as BehaviorTree.CPP does).
     pub fn input<T: FromPortStr + Any + Clone>(&self, port: &str) -> Result<T, PortError> {
-        let binding = self.port(port)?;
-        let convert = |text: &str| {
-            T::from_port_str(text).map_err(|()| PortError::Convert {
-                port: String::from(port),
-                text: String::from(text),
-                type_name: core::any::type_name::<T>(),
-            })
-        };
-        match &binding.value {
-            PortValue::Literal(text) => convert(text),
-            PortValue::Entry(key) => {
-                // Typed first, then text; probing with `get_any_in` builds no error (and so
-                // allocates nothing) on the way.
-                let Some(any) = self.blackboard.get_any_in(self.scope, key) else {
-                    let source = self.blackboard.get_ref_in::<T>(self.scope, key).err();
-                    return Err(PortError::Blackboard {
-                        port: String::from(port),
-                        source: source.unwrap_or(BlackboardError::NotFound {
-                            key: String::from(key.as_str()),
-                        }),
-                    });
-                };
-                if let Some(value) = any.downcast_ref::<T>() {
-                    return Ok(value.clone());
-                }
-                if let Some(text) = any.downcast_ref::<String>() {
-                    return convert(text);
-                }
-                Err(PortError::Blackboard {
-                    port: String::from(port),
-                    source: self
-                        .blackboard
-                        .get_ref_in::<T>(self.scope, key)
-                        .err()
-                        .unwrap_or(BlackboardError::NotFound {
-                            key: String::from(key.as_str()),
-                        }),
-                })
-            }
-        }
+        read_input(self.blackboard, self.scope, self.ports, port)
     }
 
     /// Writes output port `port`: the blackboard entry it is bound to, stamped with the
@@ -151,12 +119,7 @@ impl<'a, C> Handle<'a, C> {
     }
 
     fn port(&self, port: &str) -> Result<&'a Port, PortError> {
-        self.ports
-            .iter()
-            .find(|p| p.name == port)
-            .ok_or_else(|| PortError::NoSuchPort {
-                port: String::from(port),
-            })
+        find_port(self.ports, port)
     }
 
     /// The node being ticked.
@@ -167,6 +130,78 @@ impl<'a, C> Handle<'a, C> {
     /// The node's name.
     pub fn name(&self) -> &str {
         self.name
+    }
+
+    /// Reports a runtime error, as BehaviorTree.CPP's nodes throw one: the tick ends with
+    /// [`TickError::Node`](crate::TickError::Node) (the first error of a tick wins) after the
+    /// tree is halted. Return Failure after calling it.
+    pub fn fail(&mut self, message: impl Into<String>) {
+        if self.fault.is_none() {
+            *self.fault = Some(crate::TickError::Node {
+                node: self.node,
+                path: self.bp.path(self.node),
+                message: message.into(),
+            });
+        }
+    }
+}
+
+/// The binding of port `port` among `ports`.
+pub(crate) fn find_port<'p>(ports: &'p [Port], port: &str) -> Result<&'p Port, PortError> {
+    ports
+        .iter()
+        .find(|p| p.name == port)
+        .ok_or_else(|| PortError::NoSuchPort {
+            port: String::from(port),
+        })
+}
+
+/// Reads input port `port` of a node whose bindings are `ports` and whose scope is `scope`:
+/// its literal text converted to `T`, or the blackboard entry it is bound to (a text entry is
+/// converted too, as BehaviorTree.CPP does). Leaves and custom nodes read ports through it.
+pub(crate) fn read_input<T: FromPortStr + Any + Clone>(
+    blackboard: &Blackboard,
+    scope: ScopeId,
+    ports: &[Port],
+    port: &str,
+) -> Result<T, PortError> {
+    let binding = find_port(ports, port)?;
+    let convert = |text: &str| {
+        T::from_port_str(text).map_err(|()| PortError::Convert {
+            port: String::from(port),
+            text: String::from(text),
+            type_name: core::any::type_name::<T>(),
+        })
+    };
+    match &binding.value {
+        PortValue::Literal(text) => convert(text),
+        PortValue::Entry(key) => {
+            // Typed first, then text; probing with `get_any_in` builds no error (and so
+            // allocates nothing) on the way.
+            let Some(any) = blackboard.get_any_in(scope, key) else {
+                let source = blackboard.get_ref_in::<T>(scope, key).err();
+                return Err(PortError::Blackboard {
+                    port: String::from(port),
+                    source: source.unwrap_or(BlackboardError::NotFound {
+                        key: String::from(key.as_str()),
+                    }),
+                });
+            };
+            if let Some(value) = any.downcast_ref::<T>() {
+                return Ok(value.clone());
+            }
+            if let Some(text) = any.downcast_ref::<String>() {
+                return convert(text);
+            }
+            Err(PortError::Blackboard {
+                port: String::from(port),
+                source: blackboard.get_ref_in::<T>(scope, key).err().unwrap_or(
+                    BlackboardError::NotFound {
+                        key: String::from(key.as_str()),
+                    },
+                ),
+            })
+        }
     }
 }
 

@@ -1,0 +1,444 @@
+//! `neurotree show`: draw a BehaviorTree.CPP file's tree as text, Graphviz DOT, Mermaid or
+//! SVG, optionally with the statuses of a run.
+//!
+//! The file loads as `neurotree run` loads it, with every unregistered leaf mocked, so any
+//! file can be drawn. Node types that a `TreeNodesModel` declares (in the file itself or in
+//! a `--model` file, such as Nav2's `nav2_tree_nodes.xml`) are drawn with stand-ins of their
+//! family that keep their type name and ports; they are never ticked.
+//!
+//! With `--trace`, the JSON lines that `neurotree run --trace` prints give each node the
+//! last status it reached during the run (a halt sets it back to Idle); with `--tick N`,
+//! the last status each reached during tick N, or, for a node that tick did not change,
+//! the status it had when the tick began. (The trace does not show where a tick re-ran the
+//! root at once, so a node the live view of `run --view` cleared for the last of those
+//! passes still shows what it did in the earlier ones.) Nodes that share a path are told
+//! apart by their statuses. Every error is printed as `path:line:col: error: message`.
+
+use std::collections::{BTreeSet, HashMap};
+use std::fs;
+use std::io::{self, Write};
+use std::path::{Path, PathBuf};
+use std::time::Duration;
+
+use neurotree::render::{Format, LastTickStatuses};
+use neurotree::{
+    Arity, Blueprint, Category, CustomNode, LoadError, NodeCtx, NodeId, NodeStatus, Observer,
+    Registry, StatusChange, XmlLoader,
+};
+use serde_json::Value;
+
+/// What `neurotree show` was asked to do.
+pub struct ShowOptions {
+    /// The tree to draw (default: the file's main tree).
+    pub tree: Option<String>,
+    /// The picture format (default: from the output's extension, else unicode).
+    pub format: Option<Format>,
+    /// Where to write the picture (default: standard output).
+    pub output: Option<PathBuf>,
+    /// Files whose `TreeNodesModel` declares node types.
+    pub models: Vec<PathBuf>,
+    /// JSON lines of `neurotree run --trace`.
+    pub trace: Option<PathBuf>,
+    /// Show the statuses of this tick of the trace.
+    pub tick: Option<u32>,
+}
+
+/// Draws `file`; `Ok(false)` if it could not (the error is on `err`).
+pub fn run(
+    file: &Path,
+    opts: &ShowOptions,
+    out: &mut impl Write,
+    err: &mut impl Write,
+) -> io::Result<bool> {
+    let picture = load(file, opts).and_then(|(bp, tree_id)| {
+        let statuses = match &opts.trace {
+            Some(trace) => Some(trace_statuses(trace, &bp, &tree_id, opts.tick)?),
+            None => None,
+        };
+        Ok(format_of(opts).render(&bp, statuses.as_deref()))
+    });
+    let picture = match picture {
+        Ok(picture) => picture,
+        Err(e) => {
+            writeln!(err, "{e}")?;
+            return Ok(false);
+        }
+    };
+    match &opts.output {
+        Some(path) => {
+            if let Err(e) = fs::write(path, picture) {
+                writeln!(
+                    err,
+                    "{}: error: cannot write the picture: {e}",
+                    path.display()
+                )?;
+                return Ok(false);
+            }
+        }
+        None => out.write_all(picture.as_bytes())?,
+    }
+    Ok(true)
+}
+
+fn format_of(opts: &ShowOptions) -> Format {
+    opts.format
+        .or_else(|| {
+            let ext = opts.output.as_ref()?.extension()?.to_str()?;
+            Format::from_extension(ext)
+        })
+        .unwrap_or(Format::Unicode)
+}
+
+/// The blueprint to draw and its tree ID.
+fn load(file: &Path, opts: &ShowOptions) -> Result<(Blueprint<()>, String), LoadError> {
+    let shown = file.display().to_string();
+    let text = fs::read_to_string(file)
+        .map_err(|e| at_start(&shown, format!("cannot read the file: {e}")))?;
+    let registry = registry_with_stand_ins(&text, &shown, &opts.models)?;
+    let mut loader = XmlLoader::new(&registry).mock_unknown(true);
+    loader.load_file(file)?;
+    let id = match (&opts.tree, loader.main_tree()) {
+        (Some(id), _) => id.clone(),
+        (None, Some(main)) => main.to_string(),
+        (None, None) => {
+            let ids: Vec<&str> = loader.tree_ids().collect();
+            let message = if ids.is_empty() {
+                "the file has no <BehaviorTree>; there is nothing to draw".to_string()
+            } else {
+                format!(
+                    "the file has {} trees ({}) and no main_tree_to_execute; pick one with --tree",
+                    ids.len(),
+                    ids.join(", ")
+                )
+            };
+            return Err(at_start(&shown, message));
+        }
+    };
+    let bp = loader.build(&id).map_err(|mut e| {
+        // Errors about the file as a whole (an unknown tree ID) name no file.
+        if e.file.is_empty() {
+            e.file = shown.clone();
+        }
+        if e.message.starts_with("unknown node type") {
+            e.message
+                .push_str(", or declare it in a TreeNodesModel given with --model to draw it");
+        }
+        e
+    })?;
+    Ok((bp, id))
+}
+
+fn at_start(file: &str, message: String) -> LoadError {
+    LoadError {
+        file: file.to_string(),
+        line: 1,
+        col: 1,
+        message,
+    }
+}
+
+/// The built-in nodes, and a stand-in for every node type a model declares: the file's
+/// own `TreeNodesModel` (`text`) and those of the `models` files.
+fn registry_with_stand_ins(
+    text: &str,
+    file: &str,
+    models: &[PathBuf],
+) -> Result<Registry<()>, LoadError> {
+    let mut declared = Registry::<()>::new();
+    let built_in: BTreeSet<String> = declared.types().map(|t| t.name.clone()).collect();
+    for model in models {
+        let shown = model.display().to_string();
+        let model_text = fs::read_to_string(model)
+            .map_err(|e| at_start(&shown, format!("cannot read the model file: {e}")))?;
+        declared.add_model_str(&model_text, &shown)?;
+    }
+    declared.add_model_str(text, file)?;
+    let mut registry = Registry::<()>::new();
+    for t in declared.types().filter(|t| !built_in.contains(&t.name)) {
+        let ports = t.ports.clone();
+        let stand_in = || -> Box<dyn CustomNode<()>> { Box::new(StandIn) };
+        let registered = match t.category {
+            Category::Condition => registry.register_condition(&t.name, ports, |_| true),
+            Category::Control => {
+                registry.register_custom(&t.name, Arity::AtLeast(0), ports, stand_in)
+            }
+            Category::Decorator => registry.register_custom(&t.name, Arity::One, ports, stand_in),
+            Category::Action | Category::SubTree => {
+                registry.register_custom(&t.name, Arity::Leaf, ports, stand_in)
+            }
+        };
+        // The names are unique (they come from one registry) and none is built in, so
+        // the fresh registry has none of them yet.
+        debug_assert!(registered.is_ok(), "{} registered twice", t.name);
+    }
+    Ok(registry)
+}
+
+/// Stands in for a node type known only from a model: `show` draws it and never ticks it.
+struct StandIn;
+
+impl CustomNode<()> for StandIn {
+    fn tick(&mut self, _node: &mut NodeCtx<'_, '_, ()>) -> NodeStatus {
+        NodeStatus::Failure
+    }
+}
+
+/// One status change read from a trace line.
+struct Change {
+    line: u32,
+    col: u32,
+    tick: u64,
+    path: String,
+    from: NodeStatus,
+    to: NodeStatus,
+}
+
+/// The statuses the trace at `path` shows; see [`statuses_from_trace`].
+fn trace_statuses(
+    path: &Path,
+    bp: &Blueprint<()>,
+    tree_id: &str,
+    tick: Option<u32>,
+) -> Result<Vec<NodeStatus>, LoadError> {
+    let shown = path.display().to_string();
+    let text = fs::read_to_string(path)
+        .map_err(|e| at_start(&shown, format!("cannot read the trace: {e}")))?;
+    statuses_from_trace(&text, &shown, bp, tree_id, tick)
+}
+
+/// The status of every node of `bp` that a trace (`text`, read from `file`) shows: the last
+/// each reached or, with `tick`, the last each reached in that tick (the one stored when it
+/// began, for a node the tick did not change).
+fn statuses_from_trace(
+    text: &str,
+    file: &str,
+    bp: &Blueprint<()>,
+    tree_id: &str,
+    tick: Option<u32>,
+) -> Result<Vec<NodeStatus>, LoadError> {
+    let shown = file.to_string();
+    let (changes, last_tick) = parse_trace(text, &shown)?;
+    let mut by_path: HashMap<String, Vec<NodeId>> = HashMap::new();
+    for id in bp.ids() {
+        by_path.entry(bp.path(id)).or_default().push(id);
+    }
+    // A mirror of the stored statuses, to tell apart nodes that share a path.
+    let mut stored = vec![NodeStatus::Idle; bp.len()];
+    let mut record = LastTickStatuses::new();
+    let mut current = None;
+    for change in &changes {
+        if tick.is_some_and(|n| change.tick > u64::from(n)) {
+            break;
+        }
+        let Some(candidates) = by_path.get(&change.path) else {
+            return Err(LoadError {
+                file: shown,
+                line: change.line,
+                col: change.col,
+                message: format!(
+                    "node `{}` is not in tree `{tree_id}`; was the trace made from another tree?",
+                    change.path
+                ),
+            });
+        };
+        // Siblings may share a name; the one that changes is the first whose status is
+        // the change's `from` (BehaviorTree.CPP ticks, resets and halts in child order).
+        let node = candidates
+            .iter()
+            .copied()
+            .find(|id| stored[id.index()] == change.from)
+            .unwrap_or(candidates[0]);
+        stored[node.index()] = change.to;
+        if tick.is_some() && current != Some(change.tick) {
+            record.on_tick_start(Duration::ZERO);
+            current = Some(change.tick);
+        }
+        record.on_status_change(StatusChange {
+            node,
+            from: change.from,
+            to: change.to,
+            at: Duration::ZERO,
+        });
+    }
+    if let Some(n) = tick {
+        if u64::from(n) > last_tick || n == 0 {
+            return Err(at_start(
+                &shown,
+                format!("--tick {n} is not a tick of this trace, which has ticks 1 to {last_tick}"),
+            ));
+        }
+        // Tick N changed nothing: the view then showed what was stored when it started.
+        if current != Some(u64::from(n)) {
+            record.on_tick_start(Duration::ZERO);
+        }
+    }
+    let mut statuses = record.statuses();
+    statuses.resize(bp.len(), NodeStatus::Idle);
+    Ok(statuses)
+}
+
+/// The status changes of a trace, in order, and the last tick it mentions.
+fn parse_trace(text: &str, file: &str) -> Result<(Vec<Change>, u64), LoadError> {
+    let mut changes = Vec::new();
+    let mut last_tick = 0;
+    for (i, line) in text.lines().enumerate() {
+        let line_no = u32::try_from(i + 1).unwrap_or(u32::MAX);
+        if line.trim().is_empty() {
+            continue;
+        }
+        let error = |col: usize, message: String| LoadError {
+            file: file.to_string(),
+            line: line_no,
+            col: u32::try_from(col).unwrap_or(u32::MAX),
+            message,
+        };
+        let key_col = |key: &str| line.find(&format!("\"{key}\"")).map_or(1, |at| at + 1);
+        let value: Value = serde_json::from_str(line)
+            .map_err(|e| error(e.column().max(1), format!("not a JSON trace line: {e}")))?;
+        let Some(object) = value.as_object() else {
+            return Err(error(1, "a trace line is a JSON object".into()));
+        };
+        if object.contains_key("summary") {
+            continue;
+        }
+        let Some(tick) = object.get("tick").and_then(Value::as_u64) else {
+            return Err(error(
+                key_col("tick"),
+                "a trace line needs a `tick` number; is this the output of `neurotree run --trace`?"
+                    .into(),
+            ));
+        };
+        last_tick = last_tick.max(tick);
+        let Some(node) = object.get("node") else {
+            // A tick's own line, `{"tick":N,"status":..}`.
+            continue;
+        };
+        let Some(path) = node.as_str() else {
+            return Err(error(key_col("node"), "`node` must be a string".into()));
+        };
+        let status = |key: &str| -> Result<NodeStatus, LoadError> {
+            let text = object.get(key).and_then(Value::as_str).unwrap_or("");
+            text.parse().map_err(|()| {
+                error(
+                    key_col(key),
+                    format!(
+                        "`{key}` must be IDLE, RUNNING, SUCCESS, FAILURE or SKIPPED, not `{text}`"
+                    ),
+                )
+            })
+        };
+        changes.push(Change {
+            line: line_no,
+            col: u32::try_from(key_col("node")).unwrap_or(u32::MAX),
+            tick,
+            path: path.to_string(),
+            from: status("from")?,
+            to: status("to")?,
+        });
+    }
+    Ok((changes, last_tick))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use neurotree::Status;
+
+    fn blueprint() -> Blueprint<()> {
+        Blueprint::<()>::builder()
+            .sequence("root", |s| {
+                s.action("step", |_: &mut ()| Status::Success)
+                    .action("step", |_: &mut ()| Status::Success)
+                    .action("last", |_: &mut ()| Status::Success)
+            })
+            .build()
+            .unwrap()
+    }
+
+    fn statuses(trace: &str, tick: Option<u32>) -> Result<Vec<NodeStatus>, LoadError> {
+        statuses_from_trace(trace, "trace", &blueprint(), "Main", tick)
+    }
+
+    const TRACE: &str = r#"{"tick":1,"node":"root","from":"IDLE","to":"RUNNING"}
+{"tick":1,"node":"root/step","from":"IDLE","to":"SUCCESS"}
+{"tick":1,"node":"root/step","from":"IDLE","to":"SUCCESS"}
+{"tick":1,"node":"root/last","from":"IDLE","to":"RUNNING"}
+{"tick":1,"status":"RUNNING"}
+{"tick":2,"status":"RUNNING"}
+{"tick":3,"node":"root/last","from":"RUNNING","to":"FAILURE"}
+{"tick":3,"node":"root/step","from":"SUCCESS","to":"IDLE"}
+{"tick":3,"node":"root/step","from":"SUCCESS","to":"IDLE"}
+{"tick":3,"node":"root/last","from":"FAILURE","to":"IDLE"}
+{"tick":3,"node":"root","from":"RUNNING","to":"FAILURE"}
+{"tick":3,"node":"root","from":"FAILURE","to":"IDLE"}
+{"tick":3,"status":"FAILURE"}
+{"summary":{"ticks":3,"status":"FAILURE"}}
+"#;
+
+    #[test]
+    fn the_whole_trace_gives_the_last_status_each_node_reached() {
+        use NodeStatus::*;
+        // Both nodes named `step` are found, one per change, though they share a path.
+        assert_eq!(
+            statuses(TRACE, None),
+            Ok(vec![Failure, Success, Success, Failure])
+        );
+    }
+
+    #[test]
+    fn a_tick_gives_the_last_status_each_node_reached_in_it() {
+        use NodeStatus::*;
+        assert_eq!(
+            statuses(TRACE, Some(1)),
+            Ok(vec![Running, Success, Success, Running])
+        );
+        // Nothing changed in tick 2: what was stored when it started.
+        assert_eq!(
+            statuses(TRACE, Some(2)),
+            Ok(vec![Running, Success, Success, Running])
+        );
+        assert_eq!(
+            statuses(TRACE, Some(3)),
+            Ok(vec![Failure, Success, Success, Failure])
+        );
+        let past = statuses(TRACE, Some(4)).unwrap_err();
+        assert_eq!(
+            past.to_string(),
+            "trace:1:1: error: --tick 4 is not a tick of this trace, which has ticks 1 to 3"
+        );
+    }
+
+    #[test]
+    fn bad_lines_are_errors_with_their_place() {
+        let err = statuses(
+            "{\"tick\":1,\"node\":\"root\",\"from\":\"IDLE\",\"to\":\"RUNNING\"}\n{\"tick\":",
+            None,
+        )
+        .unwrap_err();
+        assert_eq!((err.line, err.col), (2, 8));
+        assert!(err.message.starts_with("not a JSON trace line"), "{err}");
+
+        let err = statuses(
+            r#"{"tick":1,"node":"root/elsewhere","from":"IDLE","to":"RUNNING"}"#,
+            None,
+        )
+        .unwrap_err();
+        assert_eq!(
+            err.to_string(),
+            "trace:1:11: error: node `root/elsewhere` is not in tree `Main`; was the trace made from another tree?"
+        );
+
+        let err = statuses(
+            r#"{"tick":1,"node":"root","from":"IDLE","to":"DONE"}"#,
+            None,
+        )
+        .unwrap_err();
+        assert_eq!((err.line, err.col), (1, 39));
+        assert!(err.message.contains("not `DONE`"), "{err}");
+
+        let err = statuses("[1, 2]", None).unwrap_err();
+        assert_eq!(err.message, "a trace line is a JSON object");
+        let err = statuses(r#"{"node":"root"}"#, None).unwrap_err();
+        assert!(err.message.contains("needs a `tick` number"), "{err}");
+    }
+}

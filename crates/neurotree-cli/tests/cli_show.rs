@@ -1,0 +1,367 @@
+//! `neurotree show` and `neurotree run --view`, run as a user runs them.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+/// A tree with a subtree, a decorator and leaves the loader mocks.
+const DOOR: &str = r#"<root BTCPP_format="4" main_tree_to_execute="Door">
+  <BehaviorTree ID="Door">
+    <Sequence name="enter">
+      <Fallback name="open it">
+        <Inverter>
+          <IsDoorClosed/>
+        </Inverter>
+        <SubTree ID="Force"/>
+      </Fallback>
+      <PassThroughDoor/>
+    </Sequence>
+  </BehaviorTree>
+  <BehaviorTree ID="Force">
+    <RetryUntilSuccessful num_attempts="3">
+      <PickLock/>
+    </RetryUntilSuccessful>
+  </BehaviorTree>
+</root>
+"#;
+
+const DOOR_NODES: usize = 8;
+
+fn neurotree(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_neurotree"))
+        .args(args)
+        .output()
+        .expect("the neurotree binary runs")
+}
+
+fn text(bytes: &[u8]) -> String {
+    String::from_utf8(bytes.to_vec()).expect("the output is UTF-8")
+}
+
+/// A file `name` holding `contents` in a fresh directory.
+fn file(dir: &tempfile::TempDir, name: &str, contents: &str) -> PathBuf {
+    let path = dir.path().join(name);
+    std::fs::write(&path, contents).expect("the temporary file is written");
+    path
+}
+
+fn arg(path: &Path) -> &str {
+    path.to_str().expect("temporary paths are UTF-8")
+}
+
+/// Runs `show` and returns its standard output, asserting that it succeeded.
+fn show(args: &[&str]) -> String {
+    let mut all = vec!["show"];
+    all.extend_from_slice(args);
+    let out = neurotree(&all);
+    assert!(
+        out.status.success(),
+        "neurotree {all:?} failed: {}",
+        text(&out.stderr)
+    );
+    assert!(out.stderr.is_empty(), "{}", text(&out.stderr));
+    text(&out.stdout)
+}
+
+#[test]
+fn show_draws_the_tree_in_each_format() {
+    let dir = tempfile::tempdir().unwrap();
+    let door = file(&dir, "door.xml", DOOR);
+    let door = arg(&door);
+    let unicode = "[ ] enter (Sequence)\n\
+                   ├── [ ] open it (Fallback)\n\
+                   │   ├── [ ] Inverter\n\
+                   │   │   └── [ ] IsDoorClosed (AlwaysSuccess)\n\
+                   │   └── [ ] Force (SubTree)\n\
+                   │       └── [ ] RetryUntilSuccessful\n\
+                   │           └── [ ] PickLock (AlwaysSuccess)\n\
+                   └── [ ] PassThroughDoor (AlwaysSuccess)\n";
+    assert_eq!(show(&[door]), unicode, "unicode is the default");
+    assert_eq!(show(&[door, "--format", "unicode"]), unicode);
+    assert_eq!(
+        show(&[door, "-f", "ascii"]),
+        "[ ] enter (Sequence)\n\
+         +-- [ ] open it (Fallback)\n\
+         |   +-- [ ] Inverter\n\
+         |   |   \\-- [ ] IsDoorClosed (AlwaysSuccess)\n\
+         |   \\-- [ ] Force (SubTree)\n\
+         |       \\-- [ ] RetryUntilSuccessful\n\
+         |           \\-- [ ] PickLock (AlwaysSuccess)\n\
+         \\-- [ ] PassThroughDoor (AlwaysSuccess)\n"
+    );
+
+    let dot = show(&[door, "--format", "dot"]);
+    assert!(dot.starts_with("digraph behavior_tree {\n"));
+    assert!(dot.ends_with("}\n"));
+    assert_eq!(dot.matches(" [label=").count(), DOOR_NODES);
+    assert_eq!(dot.matches(" -> ").count(), DOOR_NODES - 1);
+    assert!(dot.contains("n4 [label=\"Force\\nSubTree\", shape=box, peripheries=2];"));
+
+    let mermaid = show(&[door, "--format", "mermaid"]);
+    assert!(mermaid.starts_with("flowchart TD\n"));
+    assert_eq!(mermaid.matches(" --> ").count(), DOOR_NODES - 1);
+    assert!(mermaid.contains("    n2{{\"Inverter\"}}\n"));
+    assert!(
+        !mermaid.contains("classDef"),
+        "no statuses, no status colours"
+    );
+
+    let svg = show(&[door, "--format", "svg"]);
+    assert!(svg.starts_with("<svg xmlns=\"http://www.w3.org/2000/svg\""));
+    assert!(svg.ends_with("</svg>\n"));
+    assert_eq!(svg.matches("<g id=\"n").count(), DOOR_NODES);
+    assert!(svg.contains("<g id=\"n4\" class=\"node subtree\">"));
+}
+
+#[test]
+fn show_picks_a_tree_and_writes_to_a_file_in_the_format_of_its_extension() {
+    let dir = tempfile::tempdir().unwrap();
+    let door = file(&dir, "door.xml", DOOR);
+    let door = arg(&door);
+    assert_eq!(
+        show(&[door, "--tree", "Force"]),
+        "[ ] RetryUntilSuccessful\n└── [ ] PickLock (AlwaysSuccess)\n"
+    );
+
+    let svg = dir.path().join("door.svg");
+    assert_eq!(
+        show(&[door, "-o", arg(&svg)]),
+        "",
+        "nothing on standard output"
+    );
+    let written = std::fs::read_to_string(&svg).unwrap();
+    assert!(written.starts_with("<svg ") && written.ends_with("</svg>\n"));
+    assert_eq!(written, show(&[door, "--format", "svg"]));
+
+    let chart = dir.path().join("door.mmd");
+    show(&[door, "--output", arg(&chart)]);
+    assert!(std::fs::read_to_string(&chart)
+        .unwrap()
+        .starts_with("flowchart TD\n"));
+
+    // An explicit format wins over the extension.
+    let txt = dir.path().join("door.svg.txt");
+    show(&[door, "-o", arg(&txt), "--format", "dot"]);
+    assert!(std::fs::read_to_string(&txt)
+        .unwrap()
+        .starts_with("digraph"));
+}
+
+#[test]
+fn show_colours_each_node_with_the_statuses_of_a_run_trace() {
+    let dir = tempfile::tempdir().unwrap();
+    let door = file(&dir, "door.xml", DOOR);
+    let run = neurotree(&[
+        "run",
+        arg(&door),
+        "--mock-unknown",
+        "--mock",
+        "IsDoorClosed=SUCCESS",
+        "--mock",
+        "PickLock=FAILURE,SUCCESS",
+        "--mock",
+        "PassThroughDoor=RUNNING,RUNNING,FAILURE",
+        "--trace",
+    ]);
+    assert!(run.status.success(), "{}", text(&run.stderr));
+    let trace = file(&dir, "door.jsonl", &text(&run.stdout));
+    let trace = arg(&trace);
+    let door = arg(&door);
+
+    // At the end the door would not let us through: every node shows its last status.
+    // (`show` knows nothing of the run's mocks: its leaves are the loader's own.)
+    assert_eq!(
+        show(&[door, "--trace", trace]),
+        "[✗] enter (Sequence)\n\
+         ├── [✓] open it (Fallback)\n\
+         │   ├── [✗] Inverter\n\
+         │   │   └── [✓] IsDoorClosed (AlwaysSuccess)\n\
+         │   └── [✓] Force (SubTree)\n\
+         │       └── [✓] RetryUntilSuccessful\n\
+         │           └── [✓] PickLock (AlwaysSuccess)\n\
+         └── [✗] PassThroughDoor (AlwaysSuccess)\n"
+    );
+    // In tick 2 only the door was ticked; the rest shows what the sequence had kept.
+    assert_eq!(
+        show(&[door, "--trace", trace, "--tick", "2", "--format", "ascii"]),
+        "[R] enter (Sequence)\n\
+         +-- [S] open it (Fallback)\n\
+         |   +-- [ ] Inverter\n\
+         |   |   \\-- [ ] IsDoorClosed (AlwaysSuccess)\n\
+         |   \\-- [ ] Force (SubTree)\n\
+         |       \\-- [ ] RetryUntilSuccessful\n\
+         |           \\-- [ ] PickLock (AlwaysSuccess)\n\
+         \\-- [R] PassThroughDoor (AlwaysSuccess)\n"
+    );
+    let svg = show(&[door, "--trace", trace, "--format", "svg"]);
+    assert!(svg.contains("<g id=\"n0\" class=\"node control failure\">"));
+    assert!(svg.contains("<g id=\"n6\" class=\"node action success\">"));
+    assert!(svg.contains("<g class=\"legend\">"));
+    let mermaid = show(&[door, "--trace", trace, "--format", "mermaid"]);
+    assert!(
+        mermaid.contains("    class n0,n2,n7 failure;\n"),
+        "{mermaid}"
+    );
+}
+
+#[test]
+fn show_draws_node_types_that_a_model_declares() {
+    let dir = tempfile::tempdir().unwrap();
+    let nav = file(
+        &dir,
+        "nav.xml",
+        r#"<root BTCPP_format="4">
+  <BehaviorTree ID="Nav">
+    <RecoveryNode number_of_retries="2" name="navigate">
+      <FollowPath path="{path}"/>
+      <GoalUpdated/>
+    </RecoveryNode>
+  </BehaviorTree>
+</root>"#,
+    );
+    let model = file(
+        &dir,
+        "model.xml",
+        r#"<root BTCPP_format="4">
+  <TreeNodesModel>
+    <Control ID="RecoveryNode"><input_port name="number_of_retries" type="int"/></Control>
+    <Action ID="FollowPath"><input_port name="path"/></Action>
+    <Condition ID="GoalUpdated"/>
+  </TreeNodesModel>
+</root>"#,
+    );
+    assert_eq!(
+        show(&[arg(&nav), "--model", arg(&model)]),
+        "[ ] navigate (RecoveryNode)\n\
+         ├── [ ] FollowPath\n\
+         └── [ ] GoalUpdated (Condition)\n"
+    );
+    // Without the model, a control the registry does not know cannot be mocked.
+    let out = neurotree(&["show", arg(&nav)]);
+    assert_eq!(out.status.code(), Some(1));
+    assert_eq!(
+        text(&out.stderr),
+        format!(
+            "{}:3:5: error: unknown node type `RecoveryNode`; register it in the Registry before \
+             loading, or declare it in a TreeNodesModel given with --model to draw it\n",
+            arg(&nav)
+        )
+    );
+}
+
+#[test]
+fn show_reports_bad_input_with_its_place_and_exit_code_1() {
+    let dir = tempfile::tempdir().unwrap();
+    let door = file(&dir, "door.xml", DOOR);
+    let broken = file(&dir, "broken.xml", "<root BTCPP_format=\"4\">\n  <BehaviorTree ID=\"A\">\n    <Sequence>\n  </BehaviorTree>\n</root>\n");
+    let trace = file(
+        &dir,
+        "bad.jsonl",
+        "{\"tick\":1,\"node\":\"enter\",\"from\":\"IDLE\",\"to\":\"RUNNING\"}\n{\"tick\":1,\"node\":\"somewhere/else\",\"from\":\"IDLE\",\"to\":\"RUNNING\"}\n",
+    );
+    let failing = |args: &[&str]| {
+        let out = neurotree(args);
+        assert_eq!(out.status.code(), Some(1), "{args:?}");
+        assert!(out.stdout.is_empty());
+        text(&out.stderr)
+    };
+
+    let err = failing(&["show", arg(&broken)]);
+    assert!(
+        err.starts_with(&format!("{}:4:", arg(&broken))) && err.contains(": error: "),
+        "{err}"
+    );
+    let missing = dir.path().join("missing.xml");
+    let err = failing(&["show", arg(&missing)]);
+    assert!(
+        err.starts_with(&format!(
+            "{}:1:1: error: cannot read the file",
+            arg(&missing)
+        )),
+        "{err}"
+    );
+    assert_eq!(
+        failing(&["show", arg(&door), "--tree", "Nope"]),
+        format!(
+            "{}:1:1: error: no tree with ID `Nope`; loaded trees: Door, Force\n",
+            arg(&door)
+        )
+    );
+    assert_eq!(
+        failing(&["show", arg(&door), "--trace", arg(&trace)]),
+        format!(
+            "{}:2:11: error: node `somewhere/else` is not in tree `Door`; was the trace made from another tree?\n",
+            arg(&trace)
+        )
+    );
+    let not_json = file(&dir, "notes.txt", "tick one\n");
+    let err = failing(&["show", arg(&door), "--trace", arg(&not_json)]);
+    assert!(
+        err.starts_with(&format!(
+            "{}:1:2: error: not a JSON trace line",
+            arg(&not_json)
+        )),
+        "{err}"
+    );
+    let err = failing(&[
+        "show",
+        arg(&door),
+        "-o",
+        arg(&dir.path().join("no/such/dir.svg")),
+    ]);
+    assert!(err.contains(": error: cannot write the picture"), "{err}");
+
+    // Command-line mistakes are clap's usage errors (exit code 2).
+    let out = neurotree(&["show", arg(&door), "--format", "png"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(text(&out.stderr).contains("unknown picture format `png`"));
+    let out = neurotree(&["show", arg(&door), "--tick", "1"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(text(&out.stderr).contains("--trace"));
+}
+
+#[test]
+fn run_view_draws_each_tick_on_stderr_and_keeps_stdout_json() {
+    let dir = tempfile::tempdir().unwrap();
+    let door = file(&dir, "door.xml", DOOR);
+    let out = neurotree(&[
+        "run",
+        arg(&door),
+        "--mock-unknown",
+        "--mock",
+        "PassThroughDoor=RUNNING,SUCCESS",
+        "--view",
+    ]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let stdout = text(&out.stdout);
+    assert_eq!(
+        stdout.lines().count(),
+        3,
+        "two ticks and the summary: {stdout}"
+    );
+    assert!(stdout
+        .lines()
+        .all(|l| l.starts_with('{') && l.ends_with('}')));
+    assert_eq!(
+        text(&out.stderr),
+        "tick 1: RUNNING\n\
+         [R] enter (Sequence)\n\
+         ├── [✓] open it (Fallback)\n\
+         │   ├── [✗] Inverter\n\
+         │   │   └── [✓] IsDoorClosed (AlwaysSuccess)\n\
+         │   └── [✓] Force (SubTree)\n\
+         │       └── [✓] RetryUntilSuccessful\n\
+         │           └── [✓] PickLock (AlwaysSuccess)\n\
+         └── [R] PassThroughDoor (Mock)\n\
+         \n\
+         tick 2: SUCCESS\n\
+         [✓] enter (Sequence)\n\
+         ├── [✓] open it (Fallback)\n\
+         │   ├── [ ] Inverter\n\
+         │   │   └── [ ] IsDoorClosed (AlwaysSuccess)\n\
+         │   └── [ ] Force (SubTree)\n\
+         │       └── [ ] RetryUntilSuccessful\n\
+         │           └── [ ] PickLock (AlwaysSuccess)\n\
+         └── [✓] PassThroughDoor (Mock)\n\
+         \n"
+    );
+}

@@ -1,0 +1,415 @@
+//! SVG drawn by NeuroTree itself: a tidy tree of shapes, no Graphviz needed.
+//!
+//! Each node is a box sized to its label, with the shape of its family and, when statuses
+//! are given, the colours of its status and a badge (`✓`, `✗`, `▶`, `–`); see the tables in
+//! [`render`](super). The boxes are placed by [`layout::tidy`](super::layout::tidy) and
+//! joined parent to children by right-angled lines. Each node is a group with the id `n`
+//! followed by its [`NodeId`](neurotree_core::NodeId), the classes of its family and
+//! status, and a `<title>` (its path, type and status) that viewers show on hover. A legend
+//! of the colours closes a picture drawn with statuses.
+//!
+//! The output is plain XML with every text escaped and numbers rounded to a tenth, so the
+//! same tree and statuses give the same bytes.
+
+use std::fmt::Write as _;
+
+use neurotree_core::{Blueprint, NodeStatus};
+
+use super::layout::{tidy, Layout, Placed, Size, Spacing};
+use super::style::{node_views, paint, status_word, NodeView, Paint, Shape, STATUSES};
+use super::text_width::text_width;
+
+const MARGIN: f64 = 16.0;
+const NODE_HEIGHT: f64 = 40.0;
+const NAME_SIZE: f64 = 12.0;
+const TYPE_SIZE: f64 = 10.0;
+const GLYPH_SIZE: f64 = 15.0;
+/// Width of the compartment holding a control's glyph.
+const GLYPH_WIDTH: f64 = 22.0;
+const PADDING: f64 = 10.0;
+/// How far a decorator's points reach beyond its text.
+const SLANT: f64 = 10.0;
+const MIN_WIDTH: f64 = 44.0;
+const BADGE_RADIUS: f64 = 7.0;
+const LEGEND_HEIGHT: f64 = 28.0;
+const FONTS: &str = "Helvetica, Arial, 'DejaVu Sans', sans-serif";
+const EDGE_COLOUR: &str = "#adb5bd";
+
+/// The tree `bp` as a standalone SVG document; with `statuses` (by node id, Idle past the
+/// end) each node is coloured by its status and a legend is added.
+///
+/// ```
+/// use neurotree::render::render_svg;
+/// use neurotree::{Blueprint, NodeStatus, Status};
+///
+/// let bp = Blueprint::<()>::builder()
+///     .sequence("go", |s| s.action("step", |_: &mut ()| Status::Success))
+///     .build()
+///     .unwrap();
+/// let svg = render_svg(&bp, Some(&[NodeStatus::Running, NodeStatus::Success]));
+/// assert!(svg.starts_with("<svg xmlns=\"http://www.w3.org/2000/svg\""));
+/// assert!(svg.contains("class=\"node action success\""));
+/// ```
+pub fn render_svg<C>(bp: &Blueprint<C>, statuses: Option<&[NodeStatus]>) -> String {
+    let views = node_views(bp, statuses);
+    let sizes: Vec<Size> = views.iter().map(box_size).collect();
+    let children: Vec<Vec<usize>> = bp
+        .ids()
+        .map(|id| bp.children(id).iter().map(|c| c.index()).collect())
+        .collect();
+    // A blueprint is a tree rooted at node 0 with finite sizes, so the layout cannot fail;
+    // an empty picture stands in should that ever change.
+    let layout = tidy(&children, &sizes, Spacing::default()).unwrap_or_else(|_| Layout {
+        nodes: Vec::new(),
+        width: 0.0,
+        height: 0.0,
+    });
+    let legend_width = if statuses.is_some() {
+        legend_width()
+    } else {
+        0.0
+    };
+    let width = layout.width.max(legend_width) + 2.0 * MARGIN;
+    let mut height = layout.height + 2.0 * MARGIN;
+    if statuses.is_some() {
+        height += LEGEND_HEIGHT;
+    }
+    let mut out = String::new();
+    // Writing into a String cannot fail, here and below.
+    let _ = writeln!(
+        out,
+        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{w}\" height=\"{h}\" \
+         viewBox=\"0 0 {w} {h}\" font-family=\"{FONTS}\">",
+        w = num(width),
+        h = num(height),
+    );
+    let _ = writeln!(
+        out,
+        "<rect class=\"background\" width=\"100%\" height=\"100%\" fill=\"#ffffff\"/>"
+    );
+    let placed: Vec<Placed> = layout
+        .nodes
+        .iter()
+        .map(|p| Placed {
+            x: p.x + MARGIN,
+            y: p.y + MARGIN,
+            size: p.size,
+        })
+        .collect();
+    edges(&mut out, &placed, &children);
+    out.push_str("<g class=\"nodes\">\n");
+    for (view, p) in views.iter().zip(&placed) {
+        node(&mut out, bp, view, p);
+    }
+    out.push_str("</g>\n");
+    if statuses.is_some() {
+        legend(&mut out, MARGIN, height - MARGIN - LEGEND_HEIGHT / 2.0);
+    }
+    out.push_str("</svg>\n");
+    out
+}
+
+/// Right-angled lines from each parent's bottom to its children's tops, bending halfway
+/// between the rows, where no box is.
+fn edges(out: &mut String, nodes: &[Placed], children: &[Vec<usize>]) {
+    let _ = writeln!(
+        out,
+        "<g class=\"edges\" fill=\"none\" stroke=\"{EDGE_COLOUR}\" stroke-width=\"1.5\">"
+    );
+    for (parent, kids) in nodes.iter().zip(children) {
+        let Some(&first) = kids.first() else {
+            continue;
+        };
+        let bend = parent.bottom() + (nodes[first].y - parent.bottom()) / 2.0;
+        for &c in kids {
+            let child = &nodes[c];
+            let _ = writeln!(
+                out,
+                "<path d=\"M{} {}V{}H{}V{}\"/>",
+                num(parent.x),
+                num(parent.bottom()),
+                num(bend),
+                num(child.x),
+                num(child.y)
+            );
+        }
+    }
+    out.push_str("</g>\n");
+}
+
+/// The box a node needs for its label and shape.
+fn box_size(view: &NodeView<'_>) -> Size {
+    let name = text_width(&view.name, NAME_SIZE, true);
+    let type_name = view
+        .type_name
+        .as_deref()
+        .map_or(0.0, |t| text_width(t, TYPE_SIZE, false));
+    let mut width = name.max(type_name) + 2.0 * PADDING;
+    width += match view.shape {
+        Shape::Sequence | Shape::Fallback | Shape::Parallel => GLYPH_WIDTH,
+        Shape::Decorator => 2.0 * SLANT,
+        Shape::Condition => NODE_HEIGHT / 2.0,
+        Shape::SubTree => 6.0,
+        Shape::Control | Shape::Action => 0.0,
+    };
+    Size::new(width.max(MIN_WIDTH).ceil(), NODE_HEIGHT)
+}
+
+fn node<C>(out: &mut String, bp: &Blueprint<C>, view: &NodeView<'_>, p: &Placed) {
+    let paint = paint(view.status);
+    let _ = write!(
+        out,
+        "<g id=\"n{}\" class=\"node {}",
+        view.id.0,
+        view.shape.family()
+    );
+    if let Some(status) = view.status {
+        let _ = write!(out, " {}", status_word(status));
+    }
+    out.push_str("\">");
+    let mut title = super::style::printable(&bp.path(view.id)).into_owned();
+    if let Some(type_name) = &view.type_name {
+        let _ = write!(title, " ({type_name})");
+    }
+    if let Some(status) = view.status {
+        let _ = write!(title, ": {}", status.as_str());
+    }
+    let _ = write!(out, "<title>{}</title>", escape(&title));
+    let (left, right) = outline(out, view.shape, p, paint);
+    labels(out, view, p, (left + right) / 2.0);
+    if let Some(mark) = view.status.and_then(badge_mark) {
+        badge(out, mark, view.shape, p, paint);
+    }
+    out.push_str("</g>\n");
+}
+
+/// Draws the node's shape (and a control's glyph); returns the horizontal span left for
+/// the label.
+fn outline(out: &mut String, shape: Shape, p: &Placed, paint: Paint) -> (f64, f64) {
+    let style = format!(
+        "fill=\"{}\" stroke=\"{}\" stroke-width=\"1.5\"{}",
+        paint.fill,
+        paint.stroke,
+        if paint.dashed {
+            " stroke-dasharray=\"4 3\""
+        } else {
+            ""
+        }
+    );
+    let (l, t, w, h) = (p.left(), p.y, p.size.width, p.size.height);
+    match shape {
+        Shape::Decorator => {
+            let points = [
+                (l, p.middle()),
+                (l + SLANT, t),
+                (l + w - SLANT, t),
+                (l + w, p.middle()),
+                (l + w - SLANT, t + h),
+                (l + SLANT, t + h),
+            ]
+            .map(|(x, y)| format!("{},{}", num(x), num(y)))
+            .join(" ");
+            let _ = write!(out, "<polygon points=\"{points}\" {style}/>");
+        }
+        // Keep the label off the round ends.
+        Shape::Condition => {
+            rect(out, p, h / 2.0, &style);
+            return (l + h / 4.0, l + w - h / 4.0);
+        }
+        Shape::Action => rect(out, p, 8.0, &style),
+        Shape::SubTree => {
+            rect(out, p, 2.0, &style);
+            let inner = Placed {
+                x: p.x,
+                y: t + 3.0,
+                size: Size::new(w - 6.0, h - 6.0),
+            };
+            let inner_style = format!(
+                "fill=\"none\" stroke=\"{}\" stroke-width=\"1\"",
+                paint.stroke
+            );
+            rect(out, &inner, 1.0, &inner_style);
+        }
+        Shape::Sequence | Shape::Fallback | Shape::Parallel | Shape::Control => {
+            rect(out, p, 2.0, &style);
+        }
+    }
+    let Some(glyph) = shape.glyph() else {
+        return (l, l + w);
+    };
+    let _ = write!(
+        out,
+        "<line x1=\"{x}\" y1=\"{}\" x2=\"{x}\" y2=\"{}\" stroke=\"{}\" stroke-width=\"1\"/>\
+         <text x=\"{}\" y=\"{}\" font-size=\"{GLYPH_SIZE}\" font-weight=\"bold\" \
+         text-anchor=\"middle\" fill=\"#343a40\">{}</text>",
+        num(t),
+        num(t + h),
+        paint.stroke,
+        num(l + GLYPH_WIDTH / 2.0),
+        num(p.middle() + GLYPH_SIZE * 0.35),
+        escape(glyph),
+        x = num(l + GLYPH_WIDTH),
+    );
+    (l + GLYPH_WIDTH, l + w)
+}
+
+/// The name in bold, over the type name when the two differ, centred on `centre`.
+fn labels(out: &mut String, view: &NodeView<'_>, p: &Placed, centre: f64) {
+    let centre = num(centre);
+    let name_y = match view.type_name {
+        Some(_) => p.y + 17.0,
+        None => p.middle() + NAME_SIZE * 0.35,
+    };
+    let _ = write!(
+        out,
+        "<text x=\"{centre}\" y=\"{}\" font-size=\"{NAME_SIZE}\" font-weight=\"bold\" \
+         text-anchor=\"middle\" fill=\"#212529\">{}</text>",
+        num(name_y),
+        escape(&view.name)
+    );
+    if let Some(type_name) = &view.type_name {
+        let _ = write!(
+            out,
+            "<text x=\"{centre}\" y=\"{}\" font-size=\"{TYPE_SIZE}\" text-anchor=\"middle\" \
+             fill=\"#495057\">{}</text>",
+            num(p.y + 31.0),
+            escape(type_name)
+        );
+    }
+}
+
+/// A disc with the status mark on the top edge, near the right end where the shape has
+/// an edge to sit on.
+fn badge(out: &mut String, mark: &str, shape: Shape, p: &Placed, paint: Paint) {
+    let inset = match shape {
+        Shape::Condition => p.size.height / 2.0,
+        Shape::Decorator => SLANT + 4.0,
+        _ => 12.0,
+    };
+    let (cx, cy) = (p.right() - inset, p.y);
+    let _ = write!(
+        out,
+        "<circle cx=\"{}\" cy=\"{}\" r=\"{BADGE_RADIUS}\" fill=\"{}\"/>\
+         <text x=\"{}\" y=\"{}\" font-size=\"9\" font-weight=\"bold\" text-anchor=\"middle\" \
+         fill=\"#ffffff\">{mark}</text>",
+        num(cx),
+        num(cy),
+        paint.stroke,
+        num(cx),
+        num(cy + 3.2),
+    );
+}
+
+fn rect(out: &mut String, p: &Placed, radius: f64, paint: &str) {
+    let _ = write!(
+        out,
+        "<rect x=\"{}\" y=\"{}\" width=\"{}\" height=\"{}\" rx=\"{}\" {paint}/>",
+        num(p.left()),
+        num(p.y),
+        num(p.size.width),
+        num(p.size.height),
+        num(radius)
+    );
+}
+
+/// The mark on a node's badge; Idle nodes have none.
+fn badge_mark(status: NodeStatus) -> Option<&'static str> {
+    match status {
+        NodeStatus::Success => Some("✓"),
+        NodeStatus::Failure => Some("✗"),
+        NodeStatus::Running => Some("▶"),
+        NodeStatus::Skipped => Some("–"),
+        NodeStatus::Idle => None,
+    }
+}
+
+const SWATCH: f64 = 12.0;
+const LEGEND_GAP: f64 = 16.0;
+const LEGEND_SIZE: f64 = 11.0;
+
+fn legend_width() -> f64 {
+    STATUSES
+        .iter()
+        .map(|s| SWATCH + 5.0 + text_width(status_word(*s), LEGEND_SIZE, false) + LEGEND_GAP)
+        .sum::<f64>()
+        - LEGEND_GAP
+}
+
+fn legend(out: &mut String, left: f64, middle: f64) {
+    out.push_str("<g class=\"legend\">");
+    let mut x = left;
+    for status in STATUSES {
+        let paint = paint(Some(status));
+        let word = status_word(status);
+        let _ = write!(
+            out,
+            "<rect x=\"{}\" y=\"{}\" width=\"{SWATCH}\" height=\"{SWATCH}\" rx=\"2\" fill=\"{}\" \
+             stroke=\"{}\"{}/><text x=\"{}\" y=\"{}\" font-size=\"{LEGEND_SIZE}\" \
+             fill=\"#495057\">{word}</text>",
+            num(x),
+            num(middle - SWATCH / 2.0),
+            paint.fill,
+            paint.stroke,
+            if paint.dashed {
+                " stroke-dasharray=\"3 2\""
+            } else {
+                ""
+            },
+            num(x + SWATCH + 5.0),
+            num(middle + LEGEND_SIZE * 0.35),
+        );
+        x += SWATCH + 5.0 + text_width(word, LEGEND_SIZE, false) + LEGEND_GAP;
+    }
+    out.push_str("</g>\n");
+}
+
+/// A coordinate rounded to a tenth, without a trailing `.0`: short, and the same bytes for
+/// the same value.
+fn num(v: f64) -> String {
+    let tenths = (v * 10.0).round();
+    // Rounding can leave -0, which should print as 0.
+    let tenths = if tenths == 0.0 { 0.0 } else { tenths };
+    if tenths % 10.0 == 0.0 {
+        format!("{}", tenths / 10.0)
+    } else {
+        format!("{:.1}", tenths / 10.0)
+    }
+}
+
+/// Text for XML character data and double- or single-quoted attributes.
+fn escape(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    for c in text.chars() {
+        match c {
+            '&' => out.push_str("&amp;"),
+            '<' => out.push_str("&lt;"),
+            '>' => out.push_str("&gt;"),
+            '"' => out.push_str("&quot;"),
+            '\'' => out.push_str("&apos;"),
+            c => out.push(c),
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn numbers_are_short_and_stable() {
+        assert_eq!(num(3.0), "3");
+        assert_eq!(num(3.04), "3");
+        assert_eq!(num(3.06), "3.1");
+        assert_eq!(num(-0.01), "0");
+        assert_eq!(num(120.25), "120.3");
+    }
+
+    #[test]
+    fn markup_characters_are_escaped() {
+        assert_eq!(
+            escape(r#"<a & 'b' "c">"#),
+            "&lt;a &amp; &apos;b&apos; &quot;c&quot;&gt;"
+        );
+    }
+}

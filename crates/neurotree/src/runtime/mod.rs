@@ -1,0 +1,19 @@
+//! Running a tree in time: the loops that decide when to tick.
+//!
+//! A [`Tree`](crate::Tree) ticks when told to; a robot or a game needs a loop that tells it.
+//!
+//! | loop | ticks | for |
+//! |---|---|---|
+//! | [`FixedRate`] | at the start of every period, on a thread; reports overruns | real-time control loops (the seeds' "tick, then sleep until the next interval") |
+//! | `tokio::tick_until_done` (feature `tokio`) | every period, or at once when an async action's future wakes | trees whose actions await timers, tasks and I/O on tokio |
+//!
+//! Both stop when the root completes. Stopping them early halts the tree, so every running
+//! action ends with its halt.
+
+mod fixed_rate;
+#[cfg(feature = "tokio")]
+pub mod tokio;
+
+pub use fixed_rate::{
+    Finish, FixedRate, ManualPacer, Pacer, RunReport, StopFlag, SystemPacer, TickStats,
+};
