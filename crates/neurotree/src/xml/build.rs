@@ -29,7 +29,7 @@ struct Expansion<'a, 'r, C> {
 }
 
 /// Slots of [`Expansion::resolved`] (a power of two).
-const RESOLVED: usize = 16;
+const RESOLVED: usize = 32;
 
 pub(super) fn build<C: 'static>(
     loader: &XmlLoader<'_, C>,
@@ -91,7 +91,7 @@ fn conditions(el: Element<'_>, enums: &Arc<Enums>) -> Result<Option<Box<ScriptHo
 }
 
 /// Binds `ports` to the node added last, if there are any.
-#[inline]
+#[inline(always)]
 fn with_ports<C>(b: Builder<C>, ports: Vec<Port>) -> Builder<C> {
     if ports.is_empty() {
         b
@@ -100,7 +100,7 @@ fn with_ports<C>(b: Builder<C>, ports: Vec<Port>) -> Builder<C> {
     }
 }
 
-#[inline]
+#[inline(always)]
 fn with_hooks<C: 'static>(b: Builder<C>, hooks: Option<Box<ScriptHooks>>) -> Builder<C> {
     match hooks {
         Some(h) => b.hooks(*h),
@@ -269,10 +269,16 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
     /// The registered type named `name`.
     fn node_type(&mut self, name: &'a str) -> Option<&'a NodeType<C>> {
         let b = name.as_bytes();
-        let hash = b.len() * 31
-            + usize::from(b.first().copied().unwrap_or(0)) * 7
-            + usize::from(b.last().copied().unwrap_or(0));
-        let slot = &mut self.resolved[hash % RESOLVED];
+        // Length, first four and last bytes, mixed by a multiplication whose top bits
+        // depend on all of them (Fibonacci hashing).
+        let mut head = [0u8; 4];
+        let n = b.len().min(4);
+        head[..n].copy_from_slice(&b[..n]);
+        let key = b.len() as u64
+            ^ u64::from(u32::from_le_bytes(head)) << 16
+            ^ u64::from(b.last().copied().unwrap_or(0)) << 48;
+        let hash = key.wrapping_mul(0x9E37_79B9_7F4A_7C15) >> 59;
+        let slot = &mut self.resolved[hash as usize % RESOLVED];
         match *slot {
             Some((known, node_type)) if same(known, name) => Some(node_type),
             _ => {
