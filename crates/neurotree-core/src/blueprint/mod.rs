@@ -173,7 +173,11 @@ impl<C> Blueprint<C> {
     /// The node's name (its kind's type name when it was given none).
     pub fn name(&self, id: NodeId) -> &str {
         let span = self.meta[id.index()].name;
-        &self.names[span.start..span.end]
+        debug_assert!(self.names.get(span.start..span.end).is_some());
+        // SAFETY: the builder recorded `span` around a whole `&str` it had just appended to
+        // `names`, so both ends are char boundaries within it, and `names` does not change
+        // once built. Unchecked because every tick of a leaf with a handle reads the name.
+        unsafe { self.names.get_unchecked(span.start..span.end) }
     }
 
     /// The node's type as a file names it: the registered name it was made from (see
