@@ -100,6 +100,7 @@ fn with_ports<C>(b: Builder<C>, ports: Vec<Port>) -> Builder<C> {
     }
 }
 
+/// Attaches `hooks` to the node added last, if there are any.
 #[inline(always)]
 fn with_hooks<C: 'static>(b: Builder<C>, hooks: Option<Box<ScriptHooks>>) -> Builder<C> {
     match hooks {
