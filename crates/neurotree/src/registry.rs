@@ -406,11 +406,15 @@ impl<C: 'static> Registry<C> {
     /// (see [`XmlLoader::validate`](crate::XmlLoader::validate)) but not run. Returns how
     /// many types were added.
     pub fn add_model_str(&mut self, text: &str, file: &str) -> Result<usize, crate::LoadError> {
-        let root = crate::xml::parse_model_root(text, file)?;
+        let doc = crate::xml::parse_model(text, file)?;
         let mut added = 0;
-        for model in root.children.iter().filter(|c| c.tag == "TreeNodesModel") {
-            for node in &model.children {
-                let category = match node.tag.as_str() {
+        for model in doc
+            .root()
+            .children()
+            .filter(|c| c.tag() == "TreeNodesModel")
+        {
+            for node in model.children() {
+                let category = match node.tag() {
                     "Action" => Category::Action,
                     "Condition" => Category::Condition,
                     "Control" => Category::Control,
@@ -423,14 +427,14 @@ impl<C: 'static> Registry<C> {
                     }
                 };
                 let Some(id) = node.attr("ID") else {
-                    return Err(node.error(format!("<{}> in a model needs an ID", node.tag)));
+                    return Err(node.error(format!("<{}> in a model needs an ID", node.tag())));
                 };
                 if self.types.contains_key(id) {
                     continue;
                 }
                 let mut ports = Vec::new();
-                for port in &node.children {
-                    let direction = match port.tag.as_str() {
+                for port in node.children() {
+                    let direction = match port.tag() {
                         "input_port" => PortDirection::Input,
                         "output_port" => PortDirection::Output,
                         "inout_port" => PortDirection::InOut,
@@ -444,7 +448,7 @@ impl<C: 'static> Registry<C> {
                         direction,
                         type_name: model_type_name(port.attr("type")),
                         default: port.attr("default").map(str::to_string),
-                        description: port.text.clone(),
+                        description: port.text().to_string(),
                         check: model_type_check(port.attr("type")),
                     });
                 }

@@ -11,8 +11,8 @@ use core::ptr::NonNull;
 use core::time::Duration;
 
 use super::{
-    Blueprint, BuildError, BuildErrorKind, Child, CustomSpec, NodeDef, NodeId, NodeKind, NodeMeta,
-    ParallelPolicy, Port, SubTreeScope, DEFAULT_MAX_DEPTH,
+    Blueprint, BuildError, BuildErrorKind, Child, CustomSpec, NameSpan, NodeDef, NodeId, NodeKind,
+    NodeMeta, ParallelPolicy, Port, SubTreeScope, DEFAULT_MAX_DEPTH,
 };
 use crate::blackboard::ScopeId;
 use crate::nodes::hooks::NodeHooks;
@@ -20,14 +20,17 @@ use crate::nodes::leaf::async_action::AsyncFn;
 use crate::nodes::leaf::{Action, AsyncAction, Condition, StatefulAction};
 use crate::Status;
 
+/// A node being built. Its children are not listed: each knows its parent, and `finish`
+/// lays the lists out, so that a node costs no allocation of its own.
 struct Pending<C> {
     kind: NodeKind<C>,
-    name: String,
+    /// In `Builder::names`.
+    name: NameSpan,
     parent: Option<u32>,
-    children: Vec<u32>,
+    child_count: u32,
     depth: u32,
     ports: Vec<Port>,
-    type_id: Option<String>,
+    type_id: Option<NameSpan>,
     hooks: Option<Box<dyn NodeHooks<C>>>,
 }
 
@@ -59,7 +62,76 @@ struct Pending<C> {
 /// assert_eq!(blueprint.path(blueprint.find("root/work/limit/patrol").unwrap()), "root/work/limit/patrol");
 /// ```
 pub struct Builder<C> {
-    nodes: Vec<Pending<C>>,
+    /// Boxed: the fluent methods take and return the builder by value, which then moves a
+    /// pointer rather than the whole state.
+    s: Box<State<C>>,
+}
+
+/// Nodes per chunk of [`Chunks`].
+const CHUNK: usize = 128;
+
+/// A list in chunks of [`CHUNK`] items: growing it never moves what it holds, and none of
+/// its allocations is large (an allocator copies, and sorts its free lists, around large
+/// blocks).
+struct Chunks<T> {
+    chunks: Vec<Vec<T>>,
+}
+
+impl<T> Chunks<T> {
+    fn new() -> Self {
+        Self { chunks: Vec::new() }
+    }
+
+    fn len(&self) -> usize {
+        match self.chunks.last() {
+            Some(last) => (self.chunks.len() - 1) * CHUNK + last.len(),
+            None => 0,
+        }
+    }
+
+    fn is_empty(&self) -> bool {
+        self.chunks.is_empty()
+    }
+
+    fn push(&mut self, item: T) {
+        match self.chunks.last_mut() {
+            Some(last) if last.len() < CHUNK => last.push(item),
+            _ => {
+                let mut chunk = Vec::with_capacity(CHUNK);
+                chunk.push(item);
+                self.chunks.push(chunk);
+            }
+        }
+    }
+
+    fn last(&self) -> Option<&T> {
+        self.chunks.last().and_then(|c| c.last())
+    }
+
+    fn last_mut(&mut self) -> Option<&mut T> {
+        self.chunks.last_mut().and_then(|c| c.last_mut())
+    }
+}
+
+impl<T> core::ops::Index<usize> for Chunks<T> {
+    type Output = T;
+
+    fn index(&self, i: usize) -> &T {
+        &self.chunks[i / CHUNK][i % CHUNK]
+    }
+}
+
+impl<T> core::ops::IndexMut<usize> for Chunks<T> {
+    fn index_mut(&mut self, i: usize) -> &mut T {
+        &mut self.chunks[i / CHUNK][i % CHUNK]
+    }
+}
+
+/// What a [`Builder`] has gathered so far.
+struct State<C> {
+    nodes: Chunks<Pending<C>>,
+    /// The text of every node's name and type id.
+    names: String,
     open: Vec<u32>,
     error: Option<BuildError>,
     /// Opens seen after an error, so their closes balance without storing nodes.
@@ -77,25 +149,184 @@ impl<C> Builder<C> {
     /// An empty builder with the default depth limit.
     pub fn new() -> Self {
         Self {
-            nodes: Vec::new(),
-            open: Vec::new(),
-            error: None,
-            ignored: 0,
-            max_depth: DEFAULT_MAX_DEPTH,
+            s: Box::new(State {
+                nodes: Chunks::new(),
+                names: String::new(),
+                open: Vec::new(),
+                error: None,
+                ignored: 0,
+                max_depth: DEFAULT_MAX_DEPTH,
+            }),
         }
     }
 
     /// Sets the deepest tree accepted (the root is at depth 1).
     pub fn max_depth(mut self, limit: u32) -> Self {
-        self.max_depth = limit;
+        self.s.max_depth = limit;
         self
     }
 
     /// `true` once a validation error has been recorded.
     pub fn has_error(&self) -> bool {
-        self.error.is_some()
+        self.s.error.is_some()
     }
 
+    /// Starts a node; the nodes added until the matching [`close`](Self::close) are its children.
+    pub fn open(mut self, kind: NodeKind<C>, name: &str) -> Self {
+        if self.s.error.is_some() {
+            self.s.ignored += 1;
+            return self;
+        }
+        let parent = self.s.open.last().copied();
+        if parent.is_none() && !self.s.nodes.is_empty() {
+            self.s.fail(Some(0), BuildErrorKind::SecondRoot);
+            self.s.ignored += 1;
+            return self;
+        }
+        let depth = self.s.open.len() as u32 + 1;
+        if depth > self.s.max_depth {
+            self.s.fail(
+                parent,
+                BuildErrorKind::TooDeep {
+                    limit: self.s.max_depth,
+                },
+            );
+            self.s.ignored += 1;
+            return self;
+        }
+        if self.s.nodes.len() >= u32::MAX as usize {
+            self.s
+                .fail(parent, BuildErrorKind::TooManyNodes { max: u32::MAX });
+            self.s.ignored += 1;
+            return self;
+        }
+        let id = self.s.nodes.len() as u32;
+        let name = self.s.push_name(if name.is_empty() {
+            kind.type_name()
+        } else {
+            name
+        });
+        self.s.nodes.push(Pending {
+            kind,
+            name,
+            parent,
+            child_count: 0,
+            depth,
+            ports: Vec::new(),
+            type_id: None,
+            hooks: None,
+        });
+        if let Some(p) = parent {
+            self.s.nodes[p as usize].child_count += 1;
+        }
+        self.s.open.push(id);
+        self
+    }
+
+    /// Ends the node opened last and checks its number of children.
+    pub fn close(mut self) -> Self {
+        if self.s.ignored > 0 {
+            self.s.ignored -= 1;
+            return self;
+        }
+        let Some(id) = self.s.open.pop() else {
+            self.s.fail(None, BuildErrorKind::UnbalancedClose);
+            return self;
+        };
+        if let Err(kind) = self.s.validate(id) {
+            self.s.fail(Some(id), kind);
+        }
+        self
+    }
+
+    /// Binds ports of the node added last (a leaf just added, or a control just opened).
+    pub fn ports(mut self, ports: impl IntoIterator<Item = Port>) -> Self {
+        if self.s.ignored > 0 || self.s.error.is_some() {
+            return self;
+        }
+        match self.s.nodes.last_mut() {
+            Some(node) => node.ports.extend(ports),
+            None => self.s.fail(None, BuildErrorKind::Empty),
+        }
+        self
+    }
+
+    /// Records the registered type name of the node added last (`MoveBase` for a leaf the
+    /// registry made, a tree ID for a SubTree), which its kind alone does not tell: it is what
+    /// [`Blueprint::type_id`] returns and what a saved XML file names the node by.
+    pub fn type_id(mut self, type_id: &str) -> Self {
+        if self.s.ignored > 0 || self.s.error.is_some() {
+            return self;
+        }
+        let Some(name) = self.s.nodes.last().map(|node| node.name) else {
+            self.s.fail(None, BuildErrorKind::Empty);
+            return self;
+        };
+        // Usually the node is named after its type: the name's text serves for both.
+        let text = &self.s.names.as_bytes()[name.start..name.end];
+        // Compared inline: names are short, and `==` would call `memcmp`.
+        let same =
+            text.len() == type_id.len() && text.iter().zip(type_id.bytes()).all(|(a, b)| *a == b);
+        let span = if same {
+            name
+        } else {
+            self.s.push_name(type_id)
+        };
+        if let Some(node) = self.s.nodes.last_mut() {
+            node.type_id = Some(span);
+        }
+        self
+    }
+
+    /// Attaches pre- and post-conditions to the node added last.
+    pub fn hooks(mut self, hooks: impl NodeHooks<C> + 'static) -> Self {
+        if self.s.ignored > 0 || self.s.error.is_some() {
+            return self;
+        }
+        match self.s.nodes.last_mut() {
+            Some(node) => node.hooks = Some(Box::new(hooks)),
+            None => self.s.fail(None, BuildErrorKind::Empty),
+        }
+        self
+    }
+
+    /// Adds a node with children added by `children`.
+    pub fn node(self, kind: NodeKind<C>, name: &str, children: impl FnOnce(Self) -> Self) -> Self {
+        children(self.open(kind, name)).close()
+    }
+
+    /// Adds a node without children.
+    pub fn leaf(self, kind: NodeKind<C>, name: &str) -> Self {
+        self.open(kind, name).close()
+    }
+
+    /// Finishes and validates the blueprint.
+    pub fn build(mut self) -> Result<Blueprint<C>, BuildError> {
+        if let Some(e) = self.s.error.take() {
+            return Err(e);
+        }
+        if !self.s.open.is_empty() {
+            let at = self.s.open.last().copied();
+            let open = self.s.open.len();
+            self.s.fail(at, BuildErrorKind::Unclosed { open });
+            return Err(self.s.error.take().expect("fail() just stored an error"));
+        }
+        if self.s.nodes.is_empty() {
+            return Err(BuildError {
+                path: String::new(),
+                kind: BuildErrorKind::Empty,
+            });
+        }
+        Ok((*self.s).finish())
+    }
+
+    /// Finishes the blueprint and wraps it in an `Arc`, ready to instantiate.
+    pub fn build_shared(self) -> Result<Arc<Blueprint<C>>, BuildError> {
+        self.build().map(Arc::new)
+    }
+}
+
+impl<C> State<C> {
     fn fail(&mut self, at: Option<u32>, kind: BuildErrorKind) {
         if self.error.is_none() {
             let path = at.map(|i| self.pending_path(i)).unwrap_or_default();
@@ -126,82 +357,25 @@ impl<C> Builder<C> {
             if k > 0 {
                 out.push('/');
             }
-            out.push_str(&self.nodes[*n as usize].name);
+            let name = self.nodes[*n as usize].name;
+            out.push_str(&self.names[name.start..name.end]);
         }
         out
     }
 
-    /// Starts a node; the nodes added until the matching [`close`](Self::close) are its children.
-    pub fn open(mut self, kind: NodeKind<C>, name: &str) -> Self {
-        if self.error.is_some() {
-            self.ignored += 1;
-            return self;
+    fn push_name(&mut self, name: &str) -> NameSpan {
+        let start = self.names.len();
+        self.names.push_str(name);
+        NameSpan {
+            start,
+            end: self.names.len(),
         }
-        let parent = self.open.last().copied();
-        if parent.is_none() && !self.nodes.is_empty() {
-            self.fail(Some(0), BuildErrorKind::SecondRoot);
-            self.ignored += 1;
-            return self;
-        }
-        let depth = self.open.len() as u32 + 1;
-        if depth > self.max_depth {
-            self.fail(
-                parent,
-                BuildErrorKind::TooDeep {
-                    limit: self.max_depth,
-                },
-            );
-            self.ignored += 1;
-            return self;
-        }
-        if self.nodes.len() >= u32::MAX as usize {
-            self.fail(parent, BuildErrorKind::TooManyNodes { max: u32::MAX });
-            self.ignored += 1;
-            return self;
-        }
-        let id = self.nodes.len() as u32;
-        let name = if name.is_empty() {
-            String::from(kind.type_name())
-        } else {
-            String::from(name)
-        };
-        self.nodes.push(Pending {
-            kind,
-            name,
-            parent,
-            children: Vec::new(),
-            depth,
-            ports: Vec::new(),
-            type_id: None,
-            hooks: None,
-        });
-        if let Some(p) = parent {
-            self.nodes[p as usize].children.push(id);
-        }
-        self.open.push(id);
-        self
-    }
-
-    /// Ends the node opened last and checks its number of children.
-    pub fn close(mut self) -> Self {
-        if self.ignored > 0 {
-            self.ignored -= 1;
-            return self;
-        }
-        let Some(id) = self.open.pop() else {
-            self.fail(None, BuildErrorKind::UnbalancedClose);
-            return self;
-        };
-        if let Err(kind) = self.validate(id) {
-            self.fail(Some(id), kind);
-        }
-        self
     }
 
     /// Checks the closed node's children and resolves thresholds that depend on their number.
     fn validate(&mut self, id: u32) -> Result<(), BuildErrorKind> {
         let node = &mut self.nodes[id as usize];
-        let n = node.children.len() as u32;
+        let n = node.child_count;
         let arity = node.kind.arity();
         if !arity.accepts(n) {
             return Err(BuildErrorKind::ChildCount {
@@ -258,79 +432,6 @@ impl<C> Builder<C> {
         Ok(())
     }
 
-    /// Binds ports of the node added last (a leaf just added, or a control just opened).
-    pub fn ports(mut self, ports: impl IntoIterator<Item = Port>) -> Self {
-        if self.ignored > 0 || self.error.is_some() {
-            return self;
-        }
-        match self.nodes.last_mut() {
-            Some(node) => node.ports.extend(ports),
-            None => self.fail(None, BuildErrorKind::Empty),
-        }
-        self
-    }
-
-    /// Records the registered type name of the node added last (`MoveBase` for a leaf the
-    /// registry made, a tree ID for a SubTree), which its kind alone does not tell: it is what
-    /// [`Blueprint::type_id`] returns and what a saved XML file names the node by.
-    pub fn type_id(mut self, type_id: &str) -> Self {
-        if self.ignored > 0 || self.error.is_some() {
-            return self;
-        }
-        match self.nodes.last_mut() {
-            Some(node) => node.type_id = Some(String::from(type_id)),
-            None => self.fail(None, BuildErrorKind::Empty),
-        }
-        self
-    }
-
-    /// Attaches pre- and post-conditions to the node added last.
-    pub fn hooks(mut self, hooks: impl NodeHooks<C> + 'static) -> Self {
-        if self.ignored > 0 || self.error.is_some() {
-            return self;
-        }
-        match self.nodes.last_mut() {
-            Some(node) => node.hooks = Some(Box::new(hooks)),
-            None => self.fail(None, BuildErrorKind::Empty),
-        }
-        self
-    }
-
-    /// Adds a node with children added by `children`.
-    pub fn node(self, kind: NodeKind<C>, name: &str, children: impl FnOnce(Self) -> Self) -> Self {
-        children(self.open(kind, name)).close()
-    }
-
-    /// Adds a node without children.
-    pub fn leaf(self, kind: NodeKind<C>, name: &str) -> Self {
-        self.open(kind, name).close()
-    }
-
-    /// Finishes and validates the blueprint.
-    pub fn build(mut self) -> Result<Blueprint<C>, BuildError> {
-        if let Some(e) = self.error.take() {
-            return Err(e);
-        }
-        if !self.open.is_empty() {
-            let at = self.open.last().copied();
-            let open = self.open.len();
-            self.fail(at, BuildErrorKind::Unclosed { open });
-            return Err(self.error.take().expect("fail() just stored an error"));
-        }
-        if self.nodes.is_empty() {
-            return Err(BuildError {
-                path: String::new(),
-                kind: BuildErrorKind::Empty,
-            });
-        }
-        Ok(self.finish())
-    }
-
-    /// Finishes the blueprint and wraps it in an `Arc`, ready to instantiate.
-    pub fn build_shared(self) -> Result<Arc<Blueprint<C>>, BuildError> {
-        self.build().map(Arc::new)
-    }
-
     fn finish(self) -> Blueprint<C> {
         let count = self.nodes.len();
         let mut nodes = Vec::with_capacity(count);
@@ -338,13 +439,27 @@ impl<C> Builder<C> {
         let mut hooks = Vec::with_capacity(count);
         let mut node_scopes = Vec::with_capacity(count);
         let mut meta = Vec::with_capacity(count);
-        let mut children = Vec::with_capacity(count.saturating_sub(1));
+        // Every node but the root is the child of one node; a node's children are laid out
+        // together, in order, after those of the nodes before it.
+        let mut children = alloc::vec![NodeId::ROOT; count.saturating_sub(1)];
+        // Per node: where its next child goes in `children`.
+        let mut next_child: Vec<u32> = Vec::with_capacity(count);
+        let mut laid_out = 0u32;
         let mut scopes: Vec<(ScopeId, SubTreeScope)> = Vec::new();
         // The scope each node's children use: a SubTree opens a new one.
         let mut child_scope: Vec<ScopeId> = Vec::with_capacity(count);
         let mut aux = 0u32;
         let mut objects = 0u32;
-        for p in self.nodes {
+        let mut add = |id: u32, p: Pending<C>| {
+            next_child.push(laid_out);
+            let first_child = laid_out;
+            laid_out += p.child_count;
+            if let Some(parent) = p.parent {
+                // Pre-order: the parent came first, and its earlier children before this one.
+                let slot = &mut next_child[parent as usize];
+                children[*slot as usize] = NodeId(id);
+                *slot += 1;
+            }
             let scope = match p.parent {
                 Some(parent) => child_scope[parent as usize],
                 None => ScopeId::ROOT,
@@ -370,12 +485,11 @@ impl<C> Builder<C> {
             slots.push(if own_slots > 0 { aux } else { object });
             node_scopes.push(scope);
             nodes.push(NodeDef {
-                first_child: children.len() as u32,
-                child_count: p.children.len() as u32,
+                first_child,
+                child_count: p.child_count,
                 kind,
             });
             aux += own_slots;
-            children.extend(p.children.into_iter().map(NodeId));
             meta.push(NodeMeta {
                 name: p.name,
                 parent: p.parent.map(NodeId),
@@ -383,6 +497,14 @@ impl<C> Builder<C> {
                 ports: p.ports,
                 type_id: p.type_id,
             });
+        };
+        // Chunk by chunk: a flattening iterator would cost more per node than `add`.
+        let mut id = 0;
+        for chunk in self.nodes.chunks {
+            for p in chunk {
+                add(id, p);
+                id += 1;
+            }
         }
         let nodes = nodes.into_boxed_slice();
         let hot_children = children
@@ -404,6 +526,7 @@ impl<C> Builder<C> {
             hooks: hooks.into_boxed_slice(),
             node_scopes: node_scopes.into_boxed_slice(),
             meta: meta.into_boxed_slice(),
+            names: self.names,
             scopes: scopes.into_boxed_slice(),
             aux_slots: aux,
             objects,

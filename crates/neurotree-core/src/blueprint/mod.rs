@@ -87,13 +87,21 @@ unsafe impl<C> Send for Child<C> {}
 // SAFETY: as above.
 unsafe impl<C> Sync for Child<C> {}
 
+/// Where a name is in [`Blueprint::names`]: all the names of a blueprint share one buffer,
+/// so that building one allocates per blueprint, not per node.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub(crate) struct NameSpan {
+    pub(crate) start: usize,
+    pub(crate) end: usize,
+}
+
 /// What only tools read: names, parents, depths.
 pub(crate) struct NodeMeta {
-    pub(crate) name: String,
+    pub(crate) name: NameSpan,
     pub(crate) parent: Option<NodeId>,
     pub(crate) depth: u32,
     pub(crate) ports: Vec<Port>,
-    pub(crate) type_id: Option<String>,
+    pub(crate) type_id: Option<NameSpan>,
 }
 
 /// An immutable, validated behavior tree, shared by its instances through `Arc`.
@@ -125,6 +133,8 @@ pub struct Blueprint<C> {
     /// Per node: the blackboard scope it reads and writes.
     pub(crate) node_scopes: Box<[ScopeId]>,
     pub(crate) meta: Box<[NodeMeta]>,
+    /// The text of every name in `meta`.
+    pub(crate) names: String,
     /// Per node: its pre- and post-conditions, if any.
     pub(crate) hooks: Box<[Option<Box<dyn NodeHooks<C>>>]>,
     /// Subtree scopes in creation order: scope `i + 1` is `scopes[i]`, opened by a SubTree.
@@ -162,15 +172,20 @@ impl<C> Blueprint<C> {
 
     /// The node's name (its kind's type name when it was given none).
     pub fn name(&self, id: NodeId) -> &str {
-        &self.meta[id.index()].name
+        let span = self.meta[id.index()].name;
+        debug_assert!(self.names.get(span.start..span.end).is_some());
+        // SAFETY: the builder recorded `span` around a whole `&str` it had just appended to
+        // `names`, so both ends are char boundaries within it, and `names` does not change
+        // once built. Unchecked because every tick of a leaf with a handle reads the name.
+        unsafe { self.names.get_unchecked(span.start..span.end) }
     }
 
     /// The node's type as a file names it: the registered name it was made from (see
     /// [`Builder::type_id`]), else its kind's [type name](NodeKind::type_name).
     pub fn type_id(&self, id: NodeId) -> &str {
         let meta = &self.meta[id.index()];
-        match &meta.type_id {
-            Some(t) => t,
+        match meta.type_id {
+            Some(span) => &self.names[span.start..span.end],
             None => self.kind(id).type_name(),
         }
     }

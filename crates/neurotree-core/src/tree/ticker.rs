@@ -337,7 +337,7 @@ impl<'t, C> Ticker<'t, C> {
             scope: bp.scope(id),
             clock: self.clock,
             node: id,
-            name: &bp.meta[id.index()].name,
+            name: bp.name(id),
             ports: &bp.meta[id.index()].ports,
             bp,
             fault: &mut self.fault,

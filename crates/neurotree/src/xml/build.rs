@@ -23,36 +23,61 @@ struct Expansion<'a, 'r, C> {
     validate: bool,
     /// The subtree IDs being expanded, outermost first, to find cycles.
     stack: Vec<String>,
+    /// Type names resolved lately, by a hash of the name: a tree names few types many times,
+    /// and a registry look-up compares the name with several others.
+    resolved: [Option<(&'a str, &'a NodeType<C>)>; RESOLVED],
 }
+
+/// Slots of [`Expansion::resolved`] (a power of two).
+const RESOLVED: usize = 32;
 
 pub(super) fn build<C: 'static>(
     loader: &XmlLoader<'_, C>,
     id: &str,
-    tree: &Element,
+    tree: Element<'_>,
     validate: bool,
 ) -> Result<Blueprint<C>, LoadError> {
     let mut x = Expansion {
         loader,
         validate,
         stack: vec![id.to_string()],
+        resolved: [None; RESOLVED],
     };
-    let b = x.node(Builder::new(), &tree.children[0], 1)?;
+    let b = x.node(Builder::new(), only_child(tree), 1)?;
     // Checks the loader could not make on one element (thresholds against the number of
     // children) come back from the builder with the node's path.
     b.build().map_err(|e| tree.error(e.to_string()))
 }
 
+/// `a == b`, for short names: inline, where `==` calls `memcmp`.
+fn same(a: &str, b: &str) -> bool {
+    a.len() == b.len() && a.bytes().zip(b.bytes()).all(|(x, y)| x == y)
+}
+
+/// The root node of a `<BehaviorTree>`.
+fn only_child(tree: Element<'_>) -> Element<'_> {
+    // The loader keeps only trees with exactly one child element.
+    tree.children()
+        .next()
+        .expect("a loaded <BehaviorTree> has one child element")
+}
+
 /// The node's pre- and post-condition scripts, parsed; `None` if it has none.
-fn conditions(el: &Element, enums: &Arc<Enums>) -> Result<Option<ScriptHooks>, LoadError> {
-    let mut hooks: Option<ScriptHooks> = None;
-    for (key, code) in &el.attrs {
-        if ATTRIBUTES.contains(&key.as_str()) {
+///
+/// Boxed: most nodes have none, and an empty `Option<ScriptHooks>` would still be copied
+/// whole at every move.
+fn conditions(el: Element<'_>, enums: &Arc<Enums>) -> Result<Option<Box<ScriptHooks>>, LoadError> {
+    let mut hooks: Option<Box<ScriptHooks>> = None;
+    for (key, code) in el.attrs() {
+        if ATTRIBUTES.contains(&key) {
             let script = Script::parse(code)
                 .map_err(|e| el.error(format!("in `{key}` script `{code}`: {e}")))?;
             hooks
-                .get_or_insert_with(|| ScriptHooks {
-                    enums: Arc::clone(enums),
-                    ..ScriptHooks::default()
+                .get_or_insert_with(|| {
+                    Box::new(ScriptHooks {
+                        enums: Arc::clone(enums),
+                        ..ScriptHooks::default()
+                    })
                 })
                 .set(key, script);
         } else if key.starts_with('_') && key != "_autoremap" {
@@ -65,9 +90,21 @@ fn conditions(el: &Element, enums: &Arc<Enums>) -> Result<Option<ScriptHooks>, L
     Ok(hooks)
 }
 
-fn with_hooks<C: 'static>(b: Builder<C>, hooks: Option<ScriptHooks>) -> Builder<C> {
+/// Binds `ports` to the node added last, if there are any.
+#[inline(always)]
+fn with_ports<C>(b: Builder<C>, ports: Vec<Port>) -> Builder<C> {
+    if ports.is_empty() {
+        b
+    } else {
+        b.ports(ports)
+    }
+}
+
+/// Attaches `hooks` to the node added last, if there are any.
+#[inline(always)]
+fn with_hooks<C: 'static>(b: Builder<C>, hooks: Option<Box<ScriptHooks>>) -> Builder<C> {
     match hooks {
-        Some(h) => b.hooks(h),
+        Some(h) => b.hooks(*h),
         None => b,
     }
 }
@@ -90,21 +127,26 @@ fn binding(port: &str, text: &str) -> PortValue {
 impl<'a, C: 'static> Expansion<'a, '_, C> {
     /// Adds `el` and, below it, its children. Kept small: it recurses once per level, so all
     /// the per-element work is in [`open`](Self::open), which does not.
-    fn node(&mut self, b: Builder<C>, el: &Element, depth: u32) -> Result<Builder<C>, LoadError> {
+    fn node(
+        &mut self,
+        b: Builder<C>,
+        el: Element<'a>,
+        depth: u32,
+    ) -> Result<Builder<C>, LoadError> {
         if depth > DEFAULT_MAX_DEPTH {
             return Err(self.too_deep(el));
         }
-        if el.tag == "SubTree" {
+        if el.tag() == "SubTree" {
             let (b, tree) = self.open_subtree(b, el)?;
             let b = self
-                .node(b, &tree.children[0], depth + 1)
+                .node(b, only_child(tree), depth + 1)
                 .map(Builder::close);
             self.stack.pop();
             return b;
         }
         let (mut b, descend) = self.open(b, el)?;
         if descend {
-            for child in &el.children {
+            for child in el.children() {
                 b = self.node(b, child, depth + 1)?;
             }
         }
@@ -112,7 +154,7 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
     }
 
     #[inline(never)]
-    fn too_deep(&self, el: &Element) -> LoadError {
+    fn too_deep(&self, el: Element<'_>) -> LoadError {
         el.error(format!(
             "the tree nests deeper than {DEFAULT_MAX_DEPTH} levels (subtrees included); flatten it"
         ))
@@ -121,26 +163,31 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
     /// Checks `el` and opens its node; `false` if its children are not to be added (a mock
     /// replaces a node and what is below it).
     #[inline(never)]
-    fn open(&mut self, b: Builder<C>, el: &Element) -> Result<(Builder<C>, bool), LoadError> {
-        let explicit = EXPLICIT.contains(&el.tag.as_str());
+    fn open(&mut self, b: Builder<C>, el: Element<'a>) -> Result<(Builder<C>, bool), LoadError> {
+        let tag = el.tag();
+        let explicit = EXPLICIT.contains(&tag);
         let type_name = if explicit {
             el.attr("ID").ok_or_else(|| {
                 el.error(format!(
-                    "<{}> needs an ID attribute naming the node type",
-                    el.tag
+                    "<{tag}> needs an ID attribute naming the node type"
                 ))
             })?
         } else {
-            el.tag.as_str()
+            tag
         };
-        let name = el.attr("name").unwrap_or(type_name);
-        let hooks = conditions(el, self.loader.registry.enums())?;
+        // Most elements have no attributes: nothing to look up.
+        let (name, hooks) = if el.has_attrs() {
+            let enums = self.loader.registry.enums();
+            (el.attr("name").unwrap_or(type_name), conditions(el, enums)?)
+        } else {
+            (type_name, None)
+        };
         if let Some(outcomes) = self.loader.mocks.get(name) {
             let b = b.open(mock::mock_kind(outcomes), name).type_id(type_name);
             return Ok((with_hooks(b, hooks), false));
         }
-        let Some(node_type) = self.loader.registry.get(type_name) else {
-            if self.loader.mock_unknown && el.children.is_empty() {
+        let Some(node_type) = self.node_type(type_name) else {
+            if self.loader.mock_unknown && el.child_count() == 0 {
                 let b = b.open(NodeKind::AlwaysSuccess, name).type_id(type_name);
                 return Ok((with_hooks(b, hooks), false));
             }
@@ -173,10 +220,10 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
                 }
                 let kind = built_in_kind::<C>(*built_in, text_of).map_err(|m| el.error(m))?;
                 let arity = kind.arity();
-                if !arity.accepts(el.children.len() as u32) {
+                if !arity.accepts(el.child_count() as u32) {
                     return Err(el.error(format!(
                         "`{type_name}` takes {arity}, found {}",
-                        el.children.len()
+                        el.child_count()
                     )));
                 }
                 Ok((with_hooks(b.open(kind, name), hooks), true))
@@ -191,31 +238,54 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
                     Category::Decorator => NodeKind::Inverter,
                     _ => NodeKind::AlwaysSuccess,
                 };
-                if !kind.arity().accepts(el.children.len() as u32) {
+                if !kind.arity().accepts(el.child_count() as u32) {
                     return Err(el.error(format!(
                         "`{type_name}` takes {}, found {}",
                         kind.arity(),
-                        el.children.len()
+                        el.child_count()
                     )));
                 }
-                let b = b.open(kind, name).type_id(type_name).ports(ports);
+                let b = with_ports(b.open(kind, name).type_id(type_name), ports);
                 Ok((with_hooks(b, hooks), true))
             }
             Make::Leaf(make) => {
                 let kind = make(&ports, self.loader.registry.enums()).map_err(|m| el.error(m))?;
                 let arity = kind.arity();
-                if !arity.accepts(el.children.len() as u32) {
+                if !arity.accepts(el.child_count() as u32) {
                     let what = if arity == Arity::Leaf {
                         "is a leaf and takes no children".to_string()
                     } else {
                         format!("takes {arity}")
                     };
                     return Err(
-                        el.error(format!("`{type_name}` {what}, found {}", el.children.len()))
+                        el.error(format!("`{type_name}` {what}, found {}", el.child_count()))
                     );
                 }
-                let b = b.open(kind, name).type_id(type_name).ports(ports);
+                let b = with_ports(b.open(kind, name).type_id(type_name), ports);
                 Ok((with_hooks(b, hooks), true))
+            }
+        }
+    }
+
+    /// The registered type named `name`.
+    fn node_type(&mut self, name: &'a str) -> Option<&'a NodeType<C>> {
+        let b = name.as_bytes();
+        // Length, first four and last bytes, mixed by a multiplication whose top bits
+        // depend on all of them (Fibonacci hashing).
+        let mut head = [0u8; 4];
+        let n = b.len().min(4);
+        head[..n].copy_from_slice(&b[..n]);
+        let key = b.len() as u64
+            ^ u64::from(u32::from_le_bytes(head)) << 16
+            ^ u64::from(b.last().copied().unwrap_or(0)) << 48;
+        let hash = key.wrapping_mul(0x9E37_79B9_7F4A_7C15) >> 59;
+        let slot = &mut self.resolved[hash as usize % RESOLVED];
+        match *slot {
+            Some((known, node_type)) if same(known, name) => Some(node_type),
+            _ => {
+                let node_type = self.loader.registry.get(name)?;
+                *slot = Some((name, node_type));
+                Some(node_type)
             }
         }
     }
@@ -224,13 +294,13 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
     /// absent ports with defaults filled in.
     fn check_ports(
         &self,
-        el: &Element,
+        el: Element<'_>,
         node_type: &NodeType<C>,
         explicit: bool,
     ) -> Result<Vec<Port>, LoadError> {
         let mut ports = Vec::new();
-        for (key, text) in &el.attrs {
-            if key == "name" || (explicit && key == "ID") || ATTRIBUTES.contains(&key.as_str()) {
+        for (key, text) in el.attrs() {
+            if key == "name" || (explicit && key == "ID") || ATTRIBUTES.contains(&key) {
                 continue;
             }
             let Some(spec) = node_type.port(key) else {
@@ -261,7 +331,7 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
                 }
             }
             ports.push(Port {
-                name: key.clone(),
+                name: key.to_string(),
                 value,
             });
         }
@@ -284,12 +354,12 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
     fn open_subtree(
         &mut self,
         b: Builder<C>,
-        el: &Element,
-    ) -> Result<(Builder<C>, &'a Element), LoadError> {
+        el: Element<'a>,
+    ) -> Result<(Builder<C>, Element<'a>), LoadError> {
         let id = el
             .attr("ID")
             .ok_or_else(|| el.error("<SubTree> needs an ID attribute naming the tree"))?;
-        let Some(tree) = self.loader.trees.get(id) else {
+        let Some(tree) = self.loader.tree(id) else {
             let known: Vec<&str> = self.loader.tree_ids().collect();
             return Err(el.error(format!(
                 "no tree with ID `{id}` is loaded; loaded trees: {}",
@@ -305,8 +375,8 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
             )));
         }
         let mut scope = SubTreeScope::default();
-        for (key, text) in &el.attrs {
-            match key.as_str() {
+        for (key, text) in el.attrs() {
+            match key {
                 "ID" | "name" => {}
                 "_autoremap" => {
                     scope.autoremap = match text.trim() {
@@ -325,8 +395,8 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
                     )))
                 }
                 _ => match binding(key, text) {
-                    PortValue::Entry(parent_key) => scope.remap.push((key.clone(), parent_key)),
-                    PortValue::Literal(text) => scope.values.push((key.clone(), text)),
+                    PortValue::Entry(parent_key) => scope.remap.push((key.to_string(), parent_key)),
+                    PortValue::Literal(text) => scope.values.push((key.to_string(), text)),
                 },
             }
         }

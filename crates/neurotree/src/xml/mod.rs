@@ -38,7 +38,7 @@ pub use mock::parse_outcomes;
 pub use save::{write_xml, SaveOptions};
 
 /// Parses a file that holds a `TreeNodesModel` (for [`Registry::add_model_str`]).
-pub(crate) fn parse_model_root(text: &str, file: &str) -> Result<Element, LoadError> {
+pub(crate) fn parse_model(text: &str, file: &str) -> Result<Document, LoadError> {
     source::parse(text, file)
 }
 
@@ -49,7 +49,7 @@ use std::path::{Path, PathBuf};
 use neurotree_core::Blueprint;
 
 use crate::registry::Registry;
-use source::Element;
+pub(crate) use source::{Document, Element};
 
 /// A file that could not be loaded or a tree that could not be built, with its place.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
@@ -76,10 +76,19 @@ impl LoadError {
     }
 }
 
+/// Where a loaded `<BehaviorTree>` is: its document and its element there.
+#[derive(Clone, Copy, Debug)]
+struct TreeAt {
+    doc: usize,
+    element: usize,
+}
+
 /// Loads BehaviorTree.CPP XML files and builds blueprints from their trees.
 pub struct XmlLoader<'r, C> {
     registry: &'r Registry<C>,
-    trees: BTreeMap<String, Element>,
+    /// Every file loaded, kept whole: the trees point into them.
+    docs: Vec<Document>,
+    trees: BTreeMap<String, TreeAt>,
     main: Option<String>,
     base_dir: Option<PathBuf>,
     mock_unknown: bool,
@@ -105,6 +114,7 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
     pub fn new(registry: &'r Registry<C>) -> Self {
         Self {
             registry,
+            docs: Vec::new(),
             trees: BTreeMap::new(),
             main: None,
             base_dir: None,
@@ -181,11 +191,25 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
         result
     }
 
-    fn take_root(&mut self, root: Element, dir: Option<&Path>) -> Result<(), LoadError> {
-        if root.tag != "root" {
+    fn take_root(&mut self, doc: Document, dir: Option<&Path>) -> Result<(), LoadError> {
+        let at = self.docs.len();
+        self.docs.push(doc);
+        let trees = self.trees.len();
+        let result = self.take_children(at, dir);
+        // A document none of whose trees was kept is not needed (unless an include came
+        // after it, which is kept with it).
+        if result.is_err() && self.trees.len() == trees && self.docs.len() == at + 1 {
+            self.docs.pop();
+        }
+        result
+    }
+
+    fn take_children(&mut self, at: usize, dir: Option<&Path>) -> Result<(), LoadError> {
+        let root = self.docs[at].root();
+        if root.tag() != "root" {
             return Err(root.error(format!(
                 "the document element is <{}>; a BehaviorTree.CPP file starts with <root BTCPP_format=\"4\">",
-                root.tag
+                root.tag()
             )));
         }
         if let Some(format) = root.attr("BTCPP_format") {
@@ -198,8 +222,11 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
         if let Some(main) = root.attr("main_tree_to_execute") {
             self.main = Some(main.to_string());
         }
-        for child in root.children {
-            match child.tag.as_str() {
+        // By number: an include loads more documents into `docs` while these are walked.
+        let children: Vec<usize> = root.children().map(|c| c.id()).collect();
+        for element in children {
+            let child = self.docs[at].element(element);
+            match child.tag() {
                 "BehaviorTree" => {
                     // BehaviorTree.CPP names an unnamed tree `BehaviorTree_<n>`.
                     let id = match child.attr("ID") {
@@ -214,15 +241,15 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
                             "a tree with ID `{id}` is already loaded; tree IDs must be unique"
                         )));
                     }
-                    if child.children.len() != 1 {
+                    if child.child_count() != 1 {
                         return Err(child.error(format!(
                             "<BehaviorTree ID=\"{id}\"> must hold exactly one root node, found {}",
-                            child.children.len()
+                            child.child_count()
                         )));
                     }
-                    self.trees.insert(id, child);
+                    self.trees.insert(id, TreeAt { doc: at, element });
                 }
-                "include" => self.include(&child, dir)?,
+                "include" => self.include(at, element, dir)?,
                 // Models describe nodes for editors; the registry is the loader's model.
                 "TreeNodesModel" => {}
                 other => {
@@ -235,7 +262,8 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
         Ok(())
     }
 
-    fn include(&mut self, el: &Element, dir: Option<&Path>) -> Result<(), LoadError> {
+    fn include(&mut self, doc: usize, element: usize, dir: Option<&Path>) -> Result<(), LoadError> {
+        let el = self.docs[doc].element(element);
         let Some(path) = el.attr("path") else {
             return Err(el.error("<include> needs a path attribute"));
         };
@@ -261,6 +289,7 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
         }
         self.load_file(&target).map_err(|inner| {
             if inner.file == target.display().to_string() && inner.line == 1 && inner.col == 1 {
+                let el = self.docs[doc].element(element);
                 el.error(format!("in included file: {}", inner.message))
             } else {
                 inner
@@ -270,7 +299,7 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
 
     /// Builds the tree named `id` (its subtrees expanded).
     pub fn build(&self, id: &str) -> Result<Blueprint<C>, LoadError> {
-        let Some(tree) = self.trees.get(id) else {
+        let Some(tree) = self.tree(id) else {
             let known: Vec<&str> = self.tree_ids().collect();
             return Err(LoadError::at_file(
                 "",
@@ -283,10 +312,16 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
     /// Checks the tree named `id` as [`build`](Self::build) does, also accepting node types
     /// known only from a `TreeNodesModel` (which cannot run).
     pub fn validate(&self, id: &str) -> Result<(), LoadError> {
-        let Some(tree) = self.trees.get(id) else {
+        let Some(tree) = self.tree(id) else {
             return Err(LoadError::at_file("", format!("no tree with ID `{id}`")));
         };
         build::build(self, id, tree, true).map(drop)
+    }
+
+    /// The `<BehaviorTree>` element of the tree named `id`.
+    fn tree(&self, id: &str) -> Option<Element<'_>> {
+        let at = self.trees.get(id)?;
+        Some(self.docs[at.doc].element(at.element))
     }
 
     /// Builds the main tree (see [`main_tree`](Self::main_tree)).
