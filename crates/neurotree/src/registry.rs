@@ -205,10 +205,15 @@ pub enum RegistryError {
     },
 }
 
-/// Node types by name: the built-ins, and the user's leaves; and the enum names that
-/// scripts and port values may use.
+/// Adds the nodes of a subtree made in Rust below an open SubTree node.
+pub(crate) type SubtreeMaker<C> =
+    Arc<dyn Fn(neurotree_core::Builder<C>) -> neurotree_core::Builder<C> + Send + Sync>;
+
+/// Node types by name: the built-ins, and the user's leaves; the subtrees made with the
+/// builder; and the enum names that scripts and port values may use.
 pub struct Registry<C> {
     types: BTreeMap<String, NodeType<C>>,
+    subtrees: BTreeMap<String, SubtreeMaker<C>>,
     /// Shared with the script nodes made from this registry, which look names up at run time.
     enums: Arc<Enums>,
 }
@@ -224,6 +229,7 @@ impl<C: 'static> Registry<C> {
     pub fn new() -> Self {
         let mut r = Self {
             types: BTreeMap::new(),
+            subtrees: BTreeMap::new(),
             enums: Arc::new(Enums::new()),
         };
         for (name, category, built_in, ports) in built_ins() {
@@ -522,6 +528,50 @@ impl<C: 'static> Registry<C> {
             out.push_str(&format!("    </{tag}>\n"));
         }
         out.push_str("  </TreeNodesModel>\n");
+    }
+
+    /// Registers a subtree made with the builder under a tree ID, so that XML files can use
+    /// it as `<SubTree ID="name"/>` (with remapping, like any subtree) without a
+    /// `<BehaviorTree>` of that ID. `add` receives the builder with the SubTree node open and
+    /// adds its one child. A tree loaded from XML with the same ID takes precedence.
+    ///
+    /// ```
+    /// use neurotree::{ManualClock, Registry, Status, Tree, XmlLoader};
+    ///
+    /// let mut registry = Registry::<u32>::new();
+    /// registry
+    ///     .register_subtree("Count", |b| {
+    ///         b.repeat("thrice", 3, |r| r.action("inc", |n: &mut u32| { *n += 1; Status::Success }))
+    ///     })
+    ///     .unwrap();
+    /// let mut loader = XmlLoader::new(&registry);
+    /// loader.load_str(r#"<root BTCPP_format="4"><BehaviorTree ID="Main">
+    ///     <Sequence><SubTree ID="Count"/><SubTree ID="Count" name="again"/></Sequence>
+    ///   </BehaviorTree></root>"#, "main.xml").unwrap();
+    /// let mut tree = Tree::with_clock(loader.build_main().unwrap().into(), ManualClock::new());
+    /// let mut n = 0;
+    /// assert_eq!(tree.tick_once(&mut n), Ok(Status::Success));
+    /// assert_eq!(n, 6);
+    /// ```
+    pub fn register_subtree<F>(&mut self, name: &str, add: F) -> Result<(), RegistryError>
+    where
+        F: Fn(neurotree_core::Builder<C>) -> neurotree_core::Builder<C> + Send + Sync + 'static,
+    {
+        if self.subtrees.contains_key(name) {
+            return Err(RegistryError::Duplicate(name.to_string()));
+        }
+        self.subtrees.insert(name.to_string(), Arc::new(add));
+        Ok(())
+    }
+
+    /// The subtree registered as `name`, if any.
+    pub(crate) fn subtree(&self, name: &str) -> Option<&SubtreeMaker<C>> {
+        self.subtrees.get(name)
+    }
+
+    /// The IDs of the subtrees made with the builder.
+    pub fn subtree_ids(&self) -> impl Iterator<Item = &str> {
+        self.subtrees.keys().map(String::as_str)
     }
 
     /// Defines the enum name `name` as `value`, as BehaviorTree.CPP's

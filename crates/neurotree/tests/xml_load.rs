@@ -812,3 +812,61 @@ fn scripts_that_fail_at_run_time_are_tick_errors() {
             .all(|s| *s == neurotree::NodeStatus::Idle));
     }
 }
+
+#[test]
+fn subtrees_made_with_the_builder_are_used_by_id_with_remapping() {
+    let mut r = registry();
+    r.register_subtree("Announce", |b| {
+        b.action("say", |log: &mut Vec<String>| {
+            log.push("announced".into());
+            Status::Success
+        })
+    })
+    .unwrap();
+    r.register_subtree("Echo", |b| b.sequence("echo", |s| s.always_success("ok")))
+        .unwrap();
+    assert!(r.register_subtree("Echo", |b| b).is_err());
+    let mut loader = XmlLoader::new(&r);
+    loader
+        .load_str(
+            r#"<root main_tree_to_execute="T">
+                 <BehaviorTree ID="T">
+                   <Sequence>
+                     <SubTree ID="Announce" message="{msg}"/>
+                     <SubTree ID="Echo"/>
+                   </Sequence>
+                 </BehaviorTree>
+                 <BehaviorTree ID="Echo"><Say message="from the file"/></BehaviorTree>
+               </root>"#,
+            "test.xml",
+        )
+        .unwrap();
+    let bp = loader.build_main().unwrap();
+    let mut tree = Tree::with_clock(bp.into(), ManualClock::new());
+    let mut said = Vec::new();
+    assert_eq!(tree.tick_once(&mut said), Ok(Status::Success));
+    // The registered one where no file defines the ID; the file's tree where one does.
+    assert_eq!(said, ["announced", "from the file"]);
+    let saved = neurotree::xml::write_xml(
+        tree.blueprint(),
+        &r,
+        &neurotree::xml::SaveOptions::default(),
+    );
+    assert!(
+        saved.contains(r#"<SubTree ID="Announce" message="{msg}"/>"#),
+        "{saved}"
+    );
+    assert!(
+        !saved.contains(r#"<BehaviorTree ID="Announce">"#),
+        "{saved}"
+    );
+    assert!(saved.contains(r#"<BehaviorTree ID="Echo">"#), "{saved}");
+    let e = error(
+        r#"<root main_tree_to_execute="T"><BehaviorTree ID="T"><SubTree ID="Nope"/></BehaviorTree></root>"#,
+    );
+    assert!(
+        e.message
+            .contains("no tree with ID `Nope` is loaded or registered"),
+        "{e}"
+    );
+}

@@ -137,10 +137,13 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
             return Err(self.too_deep(el));
         }
         if el.tag() == "SubTree" {
-            let (b, tree) = self.open_subtree(b, el)?;
-            let b = self
-                .node(b, only_child(tree), depth + 1)
-                .map(Builder::close);
+            let (b, body) = self.open_subtree(b, el)?;
+            let b = match body {
+                Body::Xml(tree) => self.node(b, only_child(tree), depth + 1),
+                // The builder checks its depth and its child count itself.
+                Body::Built(add) => Ok(add(b)),
+            }
+            .map(Builder::close);
             self.stack.pop();
             return b;
         }
@@ -355,16 +358,26 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
         &mut self,
         b: Builder<C>,
         el: Element<'a>,
-    ) -> Result<(Builder<C>, Element<'a>), LoadError> {
+    ) -> Result<(Builder<C>, Body<'a, C>), LoadError> {
         let id = el
             .attr("ID")
             .ok_or_else(|| el.error("<SubTree> needs an ID attribute naming the tree"))?;
-        let Some(tree) = self.loader.tree(id) else {
-            let known: Vec<&str> = self.loader.tree_ids().collect();
-            return Err(el.error(format!(
-                "no tree with ID `{id}` is loaded; loaded trees: {}",
-                known.join(", ")
-            )));
+        let body = match self.loader.tree(id) {
+            Some(tree) => Body::Xml(tree),
+            None => match self.loader.registry.subtree(id) {
+                Some(add) => Body::Built(add),
+                None => {
+                    let known: Vec<&str> = self
+                        .loader
+                        .tree_ids()
+                        .chain(self.loader.registry.subtree_ids())
+                        .collect();
+                    return Err(el.error(format!(
+                        "no tree with ID `{id}` is loaded or registered; known trees: {}",
+                        known.join(", ")
+                    )));
+                }
+            },
         };
         if let Some(at) = self.stack.iter().position(|s| s == id) {
             let mut cycle = self.stack[at..].to_vec();
@@ -405,8 +418,14 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
         self.stack.push(id.to_string());
         let opened = b.open(NodeKind::SubTree(Box::new(scope)), name).type_id(id);
         let opened = with_hooks(opened, hooks);
-        Ok((opened, tree))
+        Ok((opened, body))
     }
+}
+
+/// What a SubTree expands into: a loaded `<BehaviorTree>`, or a subtree made with the builder.
+enum Body<'a, C> {
+    Xml(Element<'a>),
+    Built(&'a crate::registry::SubtreeMaker<C>),
 }
 
 #[cfg(test)]

@@ -90,7 +90,11 @@ pub fn write_xml<C: 'static>(
     while let Some((id, subtree)) = w.pending.pop() {
         let tree_id = blueprint.type_id(subtree).to_string();
         if !opts.uids {
-            if w.written.contains(&tree_id) {
+            // A subtree registered in Rust whose leaves have no file form is named, not
+            // written; the registry supplies it again on loading.
+            let from_rust = registry.subtree(&tree_id).is_some()
+                && (id.0..ends[subtree.index()]).any(|n| no_file_form(blueprint, NodeId(n)));
+            if w.written.contains(&tree_id) || from_rust {
                 continue;
             }
             w.written.push(tree_id.clone());
@@ -172,14 +176,7 @@ impl<C> Writer<'_, C> {
         let name = bp.name(id);
         let type_id = bp.type_id(id);
         let mut attrs: Vec<(String, String)> = Vec::new();
-        let generic = matches!(
-            kind,
-            NodeKind::ActionFn(_)
-                | NodeKind::Action(_)
-                | NodeKind::ConditionFn(_)
-                | NodeKind::Condition(_)
-                | NodeKind::Stateful(_)
-        ) && type_id == kind.type_name();
+        let generic = no_file_form(bp, id);
         let tag = if let NodeKind::SubTree(scope) = kind {
             let tree_id = if type_id == kind.type_name() {
                 name
@@ -246,6 +243,20 @@ impl<C> Writer<'_, C> {
             None
         }
     }
+}
+
+/// A leaf made from a closure or an object with the builder: no registered type names it.
+fn no_file_form<C>(bp: &Blueprint<C>, id: NodeId) -> bool {
+    let kind = bp.kind(id);
+    matches!(
+        kind,
+        NodeKind::ActionFn(_)
+            | NodeKind::Action(_)
+            | NodeKind::ConditionFn(_)
+            | NodeKind::Condition(_)
+            | NodeKind::Stateful(_)
+            | NodeKind::Async(_)
+    ) && bp.type_id(id) == kind.type_name()
 }
 
 /// The explicit-form element of a node's family.
