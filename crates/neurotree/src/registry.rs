@@ -382,9 +382,9 @@ impl<C: 'static> Registry<C> {
     where
         F: Fn(&mut Handle<'_, C>) -> Status + Send + Sync + 'static,
     {
-        let f = Arc::new(f);
-        let leaf: LeafMaker<C> =
-            Arc::new(move |_, _| Ok(NodeKind::Action(Box::new(SharedAction(Arc::clone(&f))))));
+        // One object shared by every node of this type: making a node allocates nothing.
+        let action: Arc<dyn neurotree_core::Action<C>> = Arc::new(SharedAction(f));
+        let leaf: LeafMaker<C> = Arc::new(move |_, _| Ok(NodeKind::Action(Arc::clone(&action))));
         self.register_leaf(name, Category::Action, ports, leaf)
     }
 
@@ -398,12 +398,10 @@ impl<C: 'static> Registry<C> {
     where
         F: Fn(&Handle<'_, C>) -> bool + Send + Sync + 'static,
     {
-        let f = Arc::new(f);
-        let leaf: LeafMaker<C> = Arc::new(move |_, _| {
-            Ok(NodeKind::Condition(Box::new(SharedCondition(Arc::clone(
-                &f,
-            )))))
-        });
+        // One object shared by every node of this type: making a node allocates nothing.
+        let condition: Arc<dyn neurotree_core::Condition<C>> = Arc::new(SharedCondition(f));
+        let leaf: LeafMaker<C> =
+            Arc::new(move |_, _| Ok(NodeKind::Condition(Arc::clone(&condition))));
         self.register_leaf(name, Category::Condition, ports, leaf)
     }
 
@@ -702,7 +700,7 @@ fn model_type_check(t: Option<&str>) -> Option<fn(&str) -> bool> {
     }
 }
 
-struct SharedAction<F>(Arc<F>);
+struct SharedAction<F>(F);
 
 impl<C, F> neurotree_core::Action<C> for SharedAction<F>
 where
@@ -725,7 +723,7 @@ where
     }
 }
 
-struct SharedCondition<F>(Arc<F>);
+struct SharedCondition<F>(F);
 
 impl<C, F> neurotree_core::Condition<C> for SharedCondition<F>
 where

@@ -168,7 +168,7 @@ pub(crate) fn register<C: 'static>(registry: &mut Registry<C>) {
             code(),
             Arc::new(|ports, enums| {
                 let script = parse(ports)?;
-                Ok(NodeKind::Action(Box::new(ScriptNode {
+                Ok(NodeKind::Action(Arc::new(ScriptNode {
                     script,
                     condition: false,
                     enums: Arc::clone(enums),
@@ -184,7 +184,7 @@ pub(crate) fn register<C: 'static>(registry: &mut Registry<C>) {
             code(),
             Arc::new(|ports, enums| {
                 let script = parse(ports)?;
-                Ok(NodeKind::Action(Box::new(ScriptNode {
+                Ok(NodeKind::Action(Arc::new(ScriptNode {
                     script,
                     condition: true,
                     enums: Arc::clone(enums),
@@ -203,7 +203,7 @@ pub(crate) fn register<C: 'static>(registry: &mut Registry<C>) {
             ],
             Arc::new(|ports, _| {
                 let key = key_of(ports, "output_key")?;
-                Ok(NodeKind::Action(Box::new(SetBlackboard { key })))
+                Ok(NodeKind::Action(Arc::new(SetBlackboard { key })))
             }),
         )
         // Registry::new registers each built-in name once.
@@ -244,7 +244,7 @@ pub(crate) fn register<C: 'static>(registry: &mut Registry<C>) {
             vec![PortSpec::input::<String>("key")],
             Arc::new(|ports, _| {
                 let key = key_of(ports, "key")?;
-                Ok(NodeKind::Action(Box::new(UnsetBlackboard { key })))
+                Ok(NodeKind::Action(Arc::new(UnsetBlackboard { key })))
             }),
         )
         // Registry::new registers each built-in name once.

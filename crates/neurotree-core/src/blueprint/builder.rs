@@ -691,7 +691,7 @@ impl<C> Builder<C> {
     }
     /// A condition from a [`Condition`] object.
     pub fn condition_node(self, name: &str, c: impl Condition<C> + 'static) -> Self {
-        self.leaf(NodeKind::Condition(Box::new(c)), name)
+        self.leaf(NodeKind::Condition(alloc::sync::Arc::new(c)), name)
     }
     /// A sync action from a closure of the context.
     pub fn action(self, name: &str, f: impl Fn(&mut C) -> Status + Send + Sync + 'static) -> Self {
@@ -699,7 +699,7 @@ impl<C> Builder<C> {
     }
     /// A sync action from an [`Action`] object.
     pub fn action_node(self, name: &str, a: impl Action<C> + 'static) -> Self {
-        self.leaf(NodeKind::Action(Box::new(a)), name)
+        self.leaf(NodeKind::Action(alloc::sync::Arc::new(a)), name)
     }
     /// A stateful action: `make` builds one object per tree instance.
     pub fn stateful<S, F>(self, name: &str, make: F) -> Self

@@ -3,6 +3,7 @@
 
 use alloc::boxed::Box;
 use alloc::string::String;
+use alloc::sync::Arc;
 use alloc::vec::Vec;
 use core::fmt;
 use core::time::Duration;
@@ -195,11 +196,11 @@ pub enum NodeKind<C> {
     /// A closure of the context that never runs.
     ConditionFn(ConditionFn<C>),
     /// A [`Condition`] object, shared by all instances.
-    Condition(Box<dyn Condition<C>>),
+    Condition(Arc<dyn Condition<C>>),
     /// A closure sync action.
     ActionFn(ActionFn<C>),
     /// An [`Action`] object, shared by all instances.
-    Action(Box<dyn Action<C>>),
+    Action(Arc<dyn Action<C>>),
     /// A [`StatefulAction`], one object per instance.
     Stateful(StatefulFactory<C>),
     /// An [`AsyncAction`], shared by all instances; each instance keeps its running future.

@@ -50,10 +50,11 @@ impl<C: 'static> RoboticsBuilder<C> for Builder<C> {
         F: Send + Sync + 'static,
     {
         let node = SensorNode::new(access);
-        self.leaf(NodeKind::Action(Box::new(node)), name).ports([
-            Port::entry("output", key),
-            Port::literal("min_quality", &min_quality.to_string()),
-        ])
+        self.leaf(NodeKind::Action(std::sync::Arc::new(node)), name)
+            .ports([
+                Port::entry("output", key),
+                Port::literal("min_quality", &min_quality.to_string()),
+            ])
     }
 
     fn navigate<F>(self, name: &str, goal_key: &str, tolerance: f64, access: F) -> Self
