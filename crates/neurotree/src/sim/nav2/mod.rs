@@ -40,7 +40,8 @@
 //!
 //! [`Nav2Sim::replans`] counts the plans that replaced a different one, and a
 //! [`RecoveryCounter`] attached to the tree counts the runs of each recovery branch, for a
-//! summary of what the navigator went through.
+//! summary of what the navigator went through. [`DemoRun`] puts it all together: the
+//! warehouse of `neurotree demo`, the Nav2 navigator, the frames and the summary.
 //!
 //! ```
 //! use neurotree::robotics::Pose2D;
@@ -83,11 +84,14 @@ mod behaviors;
 pub mod codes;
 mod controller;
 mod costmaps;
+mod demo;
+mod frame;
 mod path_checks;
 mod planner;
 mod ports;
 mod recoveries;
 mod recovery_help;
+mod scenario;
 mod selectors;
 #[cfg(test)]
 mod testing;
@@ -96,7 +100,10 @@ use std::sync::{Arc, Mutex, MutexGuard};
 use std::time::Duration;
 
 pub use controller::TrackingFeedback;
+pub use demo::{DemoConfig, DemoError, DemoRun, DemoSummary, NAVIGATE_TO_POSE_XML};
+pub use frame::Layout;
 pub use recoveries::RecoveryCounter;
+pub use scenario::{Scenario, DEFAULT_GOAL, WAREHOUSE};
 
 use super::{GridWorld, MotionStatus};
 use crate::{Registry, RegistryError};
