@@ -9,6 +9,7 @@
 mod bench;
 mod check;
 mod demo;
+mod registry;
 mod run;
 mod show;
 

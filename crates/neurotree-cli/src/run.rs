@@ -14,8 +14,8 @@ use std::time::Duration;
 
 use neurotree::render::LastTickStatuses;
 use neurotree::{
-    Blueprint, ManualClock, NodeId, NodeStatus, Observer, Registry, Status, StatusChange,
-    TickError, Tree, XmlLoader,
+    Blueprint, ManualClock, NodeId, NodeStatus, Observer, Status, StatusChange, TickError, Tree,
+    XmlLoader,
 };
 use serde_json::{json, Map, Value};
 
@@ -118,7 +118,7 @@ fn json_of(bb: &neurotree::Blackboard, key: &str) -> Value {
 }
 
 fn load(file: &Path, opts: &RunOptions) -> Result<Blueprint<()>, String> {
-    let mut registry = Registry::<()>::new();
+    let mut registry = crate::registry::with_nav2_controls::<()>();
     if let Ok(text) = std::fs::read_to_string(file) {
         registry
             .add_model_str(&text, &file.display().to_string())

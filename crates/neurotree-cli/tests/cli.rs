@@ -295,3 +295,50 @@ fn run_mock_unknown_and_max_ticks() {
         .unwrap()
         .contains(r#""ticks":4,"status":"RUNNING""#));
 }
+
+fn nav2_navigator() -> std::path::PathBuf {
+    std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../trees/nav2/navigate_to_pose_w_replanning_and_recovery.xml")
+}
+
+#[test]
+fn run_knows_nav2_controls_so_nav2_files_run_with_mock_leaves() {
+    let nav2 = nav2_navigator();
+    let (code, out, err) = run_cli(&["run", nav2.to_str().unwrap(), "--mock-unknown"]);
+    assert_eq!(code, Some(0), "{err}");
+    let lines: Vec<&str> = out.lines().collect();
+    assert_eq!(lines[0], r#"{"tick":1,"status":"SUCCESS"}"#);
+    assert!(
+        lines[1].contains(r#""NavigateRecovery":{"ticks":1,"halts":0}"#),
+        "{}",
+        lines[1]
+    );
+    assert!(lines[1].contains(r#""RateController":{"ticks":1,"halts":0}"#));
+    // The leaves still need mocks (or the simulation of `neurotree demo`).
+    let (code, _, err) = run_cli(&["run", nav2.to_str().unwrap()]);
+    assert_eq!(code, Some(1));
+    assert!(
+        err.contains("unknown node type `ProgressCheckerSelector`"),
+        "{err}"
+    );
+}
+
+#[test]
+fn check_and_show_know_nav2_controls() {
+    let nav2 = nav2_navigator();
+    let model = nav2.with_file_name("nav2_tree_nodes.xml");
+    let (code, _, err) = run_cli(&[
+        "check",
+        nav2.to_str().unwrap(),
+        "--model",
+        model.to_str().unwrap(),
+    ]);
+    assert_eq!((code, err.as_str()), (Some(0), ""));
+    let (code, out, err) = run_cli(&["show", nav2.to_str().unwrap(), "--format", "ascii"]);
+    assert_eq!(code, Some(0), "{err}");
+    assert!(
+        out.starts_with("[ ] NavigateRecovery (RecoveryNode)\n"),
+        "{out}"
+    );
+    assert!(out.contains("[ ] RecoveryActions (RoundRobin)"), "{out}");
+}
