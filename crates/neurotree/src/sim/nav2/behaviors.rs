@@ -143,8 +143,7 @@ impl Behavior {
             }
         };
         self.started = h.now();
-        let sim = h.ctx_mut().nav2_mut();
-        let spin_rate = sim.params.spin_rate;
+        let spin_rate = h.ctx().nav2().params.spin_rate;
         match self.kind {
             Kind::Spin => {
                 let angle: f64 = ports::or(h, "spin_dist", 1.57).map_err(read)?;

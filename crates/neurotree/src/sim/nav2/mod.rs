@@ -22,7 +22,7 @@
 //! | WouldAControllerRecoveryHelp(error_code, error_codes_to_check?) | Condition: `error_code` is UNKNOWN 100, PATIENCE_EXCEEDED 104, FAILED_TO_MAKE_PROGRESS 105 or NO_VALID_CONTROL 106 (or one of `error_codes_to_check`). |
 //! | Spin(spin_dist=1.57, time_allowance=10) | Stateful action: turns on the spot by `spin_dist` radians at the spin rate. Success when turned; Failure TIMEOUT 701 past the time allowance, UNKNOWN 700 with an empty battery. Halt stops the motion. |
 //! | Wait(wait_duration=1.0) | Stateful action: stands still for `wait_duration` seconds. Success; halt stops the wait. |
-//! | BackUp(backup_dist=0.15, backup_speed=0.025, time_allowance=10) | Stateful action: drives backwards `backup_dist` metres at `backup_speed`. Success; Failure COLLISION_AHEAD 714 against a wall or an obstacle, TIMEOUT 711 past the time allowance, INVALID_INPUT 713 for a zero speed or signs that differ. Halt stops the motion. |
+//! | BackUp(backup_dist=0.15, backup_speed=0.025, time_allowance=10) | Stateful action: drives backwards `backup_dist` metres at `backup_speed`. Success; Failure COLLISION_AHEAD 714 against a wall or an obstacle, TIMEOUT 711 past the time allowance, INVALID_INPUT 713 for a zero speed or a number that is not finite. Halt stops the motion. |
 //!
 //! Ports that only make sense on a ROS system (server names, timeouts, frames, plugin ids,
 //! footprints) are declared, so that files using them load, and read nowhere.
