@@ -1,18 +1,19 @@
 //! `neurotree check`: validate BehaviorTree.CPP files without running them.
 //!
-//! Node types come from the built-ins, from the `TreeNodesModel` of every `--model` file
-//! and from the `TreeNodesModel` sections of the checked files themselves. Each file is
+//! Node types come from the built-ins and Nav2's control nodes, from the `TreeNodesModel`
+//! of every `--model` file and from the `TreeNodesModel` sections of the checked files
+//! themselves. Each file is
 //! loaded (following its includes) and every tree in it is checked: structure, node names,
 //! ports and literal conversions. Errors are printed as `path:line:col: error: message`.
 
 use std::io::{self, Write};
 use std::path::PathBuf;
 
-use neurotree::{LoadError, Registry, XmlLoader};
+use neurotree::{LoadError, XmlLoader};
 
 /// Checks `files` against the built-ins and the `models`; returns `true` if all are valid.
 pub fn run(files: &[PathBuf], models: &[PathBuf], err: &mut impl Write) -> io::Result<bool> {
-    let mut registry = Registry::<()>::new();
+    let mut registry = crate::registry::with_nav2_controls::<()>();
     let mut errors = Vec::new();
     for path in models.iter().chain(files) {
         match std::fs::read_to_string(path) {

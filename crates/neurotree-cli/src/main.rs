@@ -1,6 +1,6 @@
 //! The `neurotree` command.
 //!
-//! - `neurotree demo`: a simulated robot patrols a corridor; its tree is drawn every tick.
+//! - `neurotree demo`: Nav2's navigator drives a simulated robot; world and tree drawn live.
 //! - `neurotree bench`: quick measurements of tick cost and of many agents per frame.
 //! - `neurotree check`: validate BehaviorTree.CPP XML files against the node models.
 //! - `neurotree run`: dry-run a BehaviorTree.CPP file with mock leaves, as JSON lines.
@@ -10,6 +10,7 @@ mod bench;
 mod check;
 mod demo;
 mod groot;
+mod registry;
 mod run;
 mod show;
 
@@ -29,7 +30,8 @@ struct Cli {
 
 #[derive(Subcommand, Debug)]
 enum Command {
-    /// Run a simulated robot on a corridor and draw its tree with the statuses of each tick.
+    /// Run Nav2's navigator tree on a simulated robot in a warehouse, drawing the world and
+    /// the tree's statuses as it goes, then a summary.
     Demo(DemoArgs),
     /// Measure tick cost (tree1111) and a frame of many agents, in-process.
     Bench(BenchArgs),
@@ -143,19 +145,51 @@ struct CheckArgs {
 
 #[derive(Args, Debug)]
 struct DemoArgs {
-    /// Stop after this many ticks if the patrol has not ended.
-    #[arg(long, default_value_t = 200)]
-    ticks: u32,
-    /// Milliseconds between frames when animating.
-    #[arg(long, default_value_t = 150)]
-    speed_ms: u64,
-    /// Print every frame one after the other, without redrawing or pausing (the default
-    /// when the output is not a terminal).
+    /// A BehaviorTree.CPP file to run instead of Nav2's navigator; it may use Nav2's control
+    /// nodes and the simulated Nav2 leaves (ComputePathToPose, FollowPath, Spin, ...).
+    #[arg(long, value_name = "FILE")]
+    tree: Option<std::path::PathBuf>,
+    /// Where to send the robot, in metres from the map's lower left corner (1 m cells).
+    #[arg(long, value_name = "X,Y", value_parser = parse_goal, default_value = "36.5,1.5")]
+    goal: neurotree::robotics::Pose2D,
+    /// Picks the obstacle that steps onto the robot's path, and whether it leaves again.
+    #[arg(long, default_value_t = 0)]
+    seed: u64,
+    /// Simulated seconds per second of watching; 0 does not wait.
+    #[arg(long, default_value_t = 3.0, value_parser = parse_speed)]
+    speed: f64,
+    /// Do not wait between frames (the same as --speed 0).
     #[arg(long)]
-    no_animation: bool,
+    fast: bool,
+    /// Draw every Nth tick (and every tick in which more happens than routine planning)
+    /// [default: 2 on a terminal, else 10: one frame per simulated second]
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
+    every: Option<u32>,
     /// Draw the tree with ascii characters instead of unicode box drawing.
     #[arg(long)]
     ascii: bool,
+    /// Stop after this many ticks (of 100 ms) if the navigator has not finished.
+    #[arg(long, default_value_t = 3000)]
+    max_ticks: u32,
+}
+
+/// `X,Y` in metres.
+fn parse_goal(text: &str) -> Result<neurotree::robotics::Pose2D, String> {
+    let numbers: Result<Vec<f64>, _> = text.split(',').map(|n| n.trim().parse::<f64>()).collect();
+    match numbers.as_deref() {
+        Ok([x, y]) if x.is_finite() && y.is_finite() => {
+            Ok(neurotree::robotics::Pose2D::new(*x, *y, 0.0))
+        }
+        _ => Err(format!("`{text}` should be two numbers X,Y (metres)")),
+    }
+}
+
+/// A speed: a number, zero or more.
+fn parse_speed(text: &str) -> Result<f64, String> {
+    match text.trim().parse::<f64>() {
+        Ok(speed) if speed >= 0.0 && speed.is_finite() => Ok(speed),
+        _ => Err(format!("`{text}` should be a number of 0 or more")),
+    }
 }
 
 #[derive(Args, Debug)]
@@ -179,12 +213,30 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Demo(args) => {
             let opts = demo::DemoOptions {
-                max_ticks: args.ticks,
-                frame_pause: Duration::from_millis(args.speed_ms),
-                animate: animate_allowed && !args.no_animation,
-                unicode: !args.ascii,
+                config: neurotree::sim::nav2::DemoConfig {
+                    tree: args.tree,
+                    goal: args.goal,
+                    seed: args.seed,
+                    max_ticks: args.max_ticks,
+                    unicode: !args.ascii,
+                    ..Default::default()
+                },
+                speed: (!args.fast && args.speed > 0.0).then_some(args.speed),
+                every: args.every.unwrap_or(if animate_allowed { 2 } else { 10 }),
+                terminal: animate_allowed
+                    .then(terminal_size::terminal_size)
+                    .flatten()
+                    .map(|(w, h)| (usize::from(w.0), usize::from(h.0))),
             };
-            demo::run(&opts, &mut out).map(|_| ())
+            return match demo::run(&opts, &mut out, &mut io::stderr()) {
+                Ok(true) => ExitCode::SUCCESS,
+                Ok(false) => ExitCode::FAILURE,
+                Err(e) if e.kind() == io::ErrorKind::BrokenPipe => ExitCode::SUCCESS,
+                Err(e) => {
+                    eprintln!("neurotree: {e}");
+                    ExitCode::FAILURE
+                }
+            };
         }
         Command::Bench(args) => {
             let opts = bench::BenchOptions {

@@ -112,10 +112,7 @@ fn set_value(bb: &mut neurotree::Blackboard, key: &str, text: &str) {
 
 /// The tree to run, the registry it was loaded with, and its ID.
 fn load(file: &Path, opts: &RunOptions) -> Result<(Blueprint<()>, Registry<()>, String), String> {
-    let mut registry = Registry::<()>::new();
-    // Nav2's navigators are built on its own control nodes: with them, its files run as
-    // they are, their actions mocked.
-    neurotree::nav2::register_controls(&mut registry).map_err(|e| e.to_string())?;
+    let mut registry = crate::registry::with_nav2_controls::<()>();
     if let Ok(text) = std::fs::read_to_string(file) {
         registry
             .add_model_str(&text, &file.display().to_string())

@@ -137,14 +137,14 @@ fn at_start(file: &str, message: String) -> LoadError {
     }
 }
 
-/// The built-in nodes, and a stand-in for every node type a model declares: the file's
-/// own `TreeNodesModel` (`text`) and those of the `models` files.
+/// The built-in nodes and Nav2's control nodes, and a stand-in for every other node type a
+/// model declares: the file's own `TreeNodesModel` (`text`) and those of the `models` files.
 fn registry_with_stand_ins(
     text: &str,
     file: &str,
     models: &[PathBuf],
 ) -> Result<Registry<()>, LoadError> {
-    let mut declared = Registry::<()>::new();
+    let mut declared = crate::registry::with_nav2_controls::<()>();
     let built_in: BTreeSet<String> = declared.types().map(|t| t.name.clone()).collect();
     for model in models {
         let shown = model.display().to_string();
@@ -153,7 +153,7 @@ fn registry_with_stand_ins(
         declared.add_model_str(&model_text, &shown)?;
     }
     declared.add_model_str(text, file)?;
-    let mut registry = Registry::<()>::new();
+    let mut registry = crate::registry::with_nav2_controls::<()>();
     for t in declared.types().filter(|t| !built_in.contains(&t.name)) {
         let ports = t.ports.clone();
         let stand_in = || -> Box<dyn CustomNode<()>> { Box::new(StandIn) };

@@ -19,38 +19,145 @@ fn stdout(output: &Output) -> String {
     String::from_utf8(output.stdout.clone()).expect("the output is UTF-8")
 }
 
-#[test]
-fn demo_completes_the_patrol_deterministically() {
-    let first = stdout(&neurotree(&["demo", "--no-animation"]));
-    let summary = first
-        .split("Summary\n")
-        .nth(1)
+/// The lines from `Summary` on.
+fn summary(out: &str) -> &str {
+    let at = out
+        .rfind("Summary\n")
         .expect("the demo ends with a summary");
-    assert_eq!(
-        summary,
-        "  ticks      41\n\
-         \x20 outcome    SUCCESS\n\
-         \x20 waypoints  3 of 3\n\
-         \x20 distance   27 cells\n\
-         \x20 charges    1\n\
-         \x20 halts      3\n"
-    );
-    // Every tick drew a frame with the tree, and nothing tried to move the cursor.
-    assert_eq!(first.matches("\ntick ").count() + 1, 41);
-    assert!(first.contains("└── [R] leg (Sequence)"));
-    assert!(!first.contains('\x1b'));
-
-    let second = stdout(&neurotree(&["demo", "--no-animation"]));
-    assert_eq!(first, second);
+    &out[at..]
 }
 
 #[test]
-fn piped_demo_does_not_animate_and_can_stop_early() {
-    // The output is a pipe, so even without --no-animation nothing is redrawn.
-    let out = stdout(&neurotree(&["demo", "--ticks", "3", "--ascii"]));
-    assert!(!out.contains('\x1b'));
-    assert!(out.contains("\\-- [R] leg (Sequence)"));
-    assert!(out.contains("  ticks      3\n  outcome    RUNNING\n"));
+fn demo_drives_nav2s_navigator_to_the_goal_deterministically() {
+    let first = stdout(&neurotree(&["demo", "--fast"]));
+    assert_eq!(
+        summary(&first),
+        "Summary\n\
+         \x20 outcome     SUCCESS\n\
+         \x20 ticks       430\n\
+         \x20 time        42.9 s\n\
+         \x20 distance    40.90 m\n\
+         \x20 replans     38\n\
+         \x20 recoveries  4 (FollowPath recovery 2, ClearingActions 1, Spin 1)\n\
+         \x20 robot       (36.35, 1.50), 0.15 m from the goal (36.50, 1.50)\n\n"
+    );
+    assert!(first.starts_with("NeuroTree demo: Nav2's navigator drives a simulated robot\n"));
+    // Piped: one frame per simulated second (and each tick where something happened),
+    // one after another, plain text.
+    assert!(!first.contains('\x1b'));
+    let frames = first.matches("\ntick ").count();
+    assert_eq!(frames, 49);
+    assert!(first.contains("\ntick 430   t =  42.9 s   SUCCESS\n"));
+    assert!(first.contains("  > recovery: Spin\n"));
+    assert!(first.contains("├── [R] NavigateWithReplanning (PipelineSequence)"));
+    assert_eq!(first, stdout(&neurotree(&["demo", "--fast"])));
+}
+
+#[test]
+fn demo_options_pick_the_frames_the_seed_and_the_drawing() {
+    let every = stdout(&neurotree(&[
+        "demo", "--speed", "0", "--every", "100", "--ascii",
+    ]));
+    // Ticks 1, 101, 201, 301, 401, the last, and those where more happened than planning:
+    // the obstacle, the failures and recoveries (232 to 235), the spin done (251), the
+    // obstacle gone (262).
+    let ticks: Vec<&str> = every
+        .lines()
+        .filter(|l| l.starts_with("tick "))
+        .map(|l| l.split_whitespace().nth(1).unwrap_or(""))
+        .collect();
+    assert_eq!(
+        ticks,
+        ["1", "101", "201", "232", "233", "234", "235", "251", "262", "301", "401", "430"]
+    );
+    assert!(every.contains("+-- [S] ProgressCheckerSelector (Action)"));
+    assert!(!every.contains('✓'));
+    assert_eq!(
+        summary(&every),
+        summary(&stdout(&neurotree(&["demo", "--fast"])))
+    );
+
+    let seeded = stdout(&neurotree(&["demo", "--fast", "--seed", "2"]));
+    assert!(seeded.contains("seed      2: an obstacle steps into cell (9, 10)"));
+    assert!(summary(&seeded).contains("  recoveries  1 (FollowPath recovery 1)\n"));
+}
+
+#[test]
+fn demo_to_an_unreachable_goal_fails_with_a_summary() {
+    // Inside a wall.
+    let out = stdout(&neurotree(&["demo", "--fast", "--goal", "0.5,0.5"]));
+    assert_eq!(
+        summary(&out),
+        "Summary\n\
+         \x20 outcome     FAILURE\n\
+         \x20 ticks       1\n\
+         \x20 time        0.0 s\n\
+         \x20 distance    0.00 m\n\
+         \x20 replans     0\n\
+         \x20 recoveries  1 (ComputePathToPose recovery 1)\n\
+         \x20 robot       (1.50, 13.50), 13.04 m from the goal (0.50, 0.50)\n\n"
+    );
+    assert!(out.contains(
+        "  > ComputePathToPose failed: (0.50, 0.50) is in blocked cell (0, 0) (error 206)\n"
+    ));
+    let (code, _, err) = run_cli(&["demo", "--fast", "--goal", "here"]);
+    assert_eq!(code, Some(2));
+    assert!(
+        err.contains("`here` should be two numbers X,Y (metres)"),
+        "{err}"
+    );
+}
+
+#[test]
+fn demo_with_a_bad_tree_file_reports_where_and_exits_1() {
+    let file = write_tree(
+        "bad_demo.xml",
+        "<root BTCPP_format=\"4\">\n<BehaviorTree ID=\"T\">\n  <FollowPth path=\"{path}\"/>\n</BehaviorTree>\n</root>\n",
+    );
+    let (code, out, err) = run_cli(&["demo", "--fast", "--tree", file.to_str().unwrap()]);
+    assert_eq!(code, Some(1));
+    assert!(out.is_empty(), "{out}");
+    assert_eq!(
+        err,
+        format!(
+            "{}:3:3: error: unknown node type `FollowPth`; did you mean `FollowPath`? register it in the Registry before loading\n",
+            file.display()
+        )
+    );
+    let (code, _, err) = run_cli(&["demo", "--fast", "--tree", "/nonexistent/tree.xml"]);
+    assert_eq!(code, Some(1));
+    assert!(
+        err.starts_with("/nonexistent/tree.xml:1:1: error: cannot open the file"),
+        "{err}"
+    );
+}
+
+#[test]
+fn demo_runs_another_tree_with_nav2_nodes() {
+    let file = write_tree(
+        "plan_and_go.xml",
+        r#"<root BTCPP_format="4">
+  <BehaviorTree ID="PlanAndGo">
+    <PipelineSequence>
+      <RateController hz="2.0">
+        <ComputePathToPose goal="{goal}" path="{path}" error_code_id="{code}"/>
+      </RateController>
+      <FollowPath path="{path}"/>
+    </PipelineSequence>
+  </BehaviorTree>
+</root>"#,
+    );
+    let out = stdout(&neurotree(&[
+        "demo",
+        "--fast",
+        "--seed",
+        "4",
+        "--tree",
+        file.to_str().unwrap(),
+    ]));
+    let summary = summary(&out);
+    assert!(summary.contains("  outcome     SUCCESS\n"), "{summary}");
+    assert!(summary.contains("  recoveries  0\n"), "{summary}");
 }
 
 /// The value of `"key":` in a one-line JSON object of numbers and strings.
@@ -296,22 +403,49 @@ fn run_mock_unknown_and_max_ticks() {
         .contains(r#""ticks":4,"status":"RUNNING""#));
 }
 
+fn nav2_navigator() -> std::path::PathBuf {
+    std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../trees/nav2/navigate_to_pose_w_replanning_and_recovery.xml")
+}
+
 #[test]
-fn run_knows_nav2_control_nodes() {
-    // RecoveryNode, PipelineSequence, RateController, RoundRobin and the goal nodes; the
-    // Nav2 actions and conditions are mocked.
-    let file = shared().join("corpus/nav2/navigate_to_pose_w_replanning_and_recovery.xml");
-    let (code, out, err) = run_cli(&[
-        "run",
-        file.to_str().unwrap(),
-        "--mock-unknown",
-        "--set",
-        "goal=1;2;0",
-    ]);
+fn run_knows_nav2_controls_so_nav2_files_run_with_mock_leaves() {
+    let nav2 = nav2_navigator();
+    let (code, out, err) = run_cli(&["run", nav2.to_str().unwrap(), "--mock-unknown"]);
     assert_eq!(code, Some(0), "{err}");
-    assert_eq!(out.lines().next(), Some(r#"{"tick":1,"status":"SUCCESS"}"#));
+    let lines: Vec<&str> = out.lines().collect();
+    assert_eq!(lines[0], r#"{"tick":1,"status":"SUCCESS"}"#);
     assert!(
-        out.contains(r#""NavigateRecovery":{"ticks":1,"halts":0}"#),
+        lines[1].contains(r#""NavigateRecovery":{"ticks":1,"halts":0}"#),
+        "{}",
+        lines[1]
+    );
+    assert!(lines[1].contains(r#""RateController":{"ticks":1,"halts":0}"#));
+    // The leaves still need mocks (or the simulation of `neurotree demo`).
+    let (code, _, err) = run_cli(&["run", nav2.to_str().unwrap()]);
+    assert_eq!(code, Some(1));
+    assert!(
+        err.contains("unknown node type `ProgressCheckerSelector`"),
+        "{err}"
+    );
+}
+
+#[test]
+fn check_and_show_know_nav2_controls() {
+    let nav2 = nav2_navigator();
+    let model = nav2.with_file_name("nav2_tree_nodes.xml");
+    let (code, _, err) = run_cli(&[
+        "check",
+        nav2.to_str().unwrap(),
+        "--model",
+        model.to_str().unwrap(),
+    ]);
+    assert_eq!((code, err.as_str()), (Some(0), ""));
+    let (code, out, err) = run_cli(&["show", nav2.to_str().unwrap(), "--format", "ascii"]);
+    assert_eq!(code, Some(0), "{err}");
+    assert!(
+        out.starts_with("[ ] NavigateRecovery (RecoveryNode)\n"),
         "{out}"
     );
+    assert!(out.contains("[ ] RecoveryActions (RoundRobin)"), "{out}");
 }

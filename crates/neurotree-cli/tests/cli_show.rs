@@ -229,21 +229,35 @@ fn show_draws_node_types_that_a_model_declares() {
   </TreeNodesModel>
 </root>"#,
     );
+    // GoalUpdated and RecoveryNode are Nav2's own nodes, which `show` knows; FollowPath
+    // is drawn from the model.
     assert_eq!(
         show(&[arg(&nav), "--model", arg(&model)]),
         "[ ] navigate (RecoveryNode)\n\
          ├── [ ] FollowPath\n\
-         └── [ ] GoalUpdated (Condition)\n"
+         └── [ ] GoalUpdated\n"
     );
-    // Without the model, a control the registry does not know cannot be mocked.
-    let out = neurotree(&["show", arg(&nav)]);
+    // Without the model, FollowPath is an unknown leaf, mocked as `run` mocks it.
+    assert_eq!(
+        show(&[arg(&nav)]),
+        "[ ] navigate (RecoveryNode)\n\
+         ├── [ ] FollowPath (AlwaysSuccess)\n\
+         └── [ ] GoalUpdated\n"
+    );
+    // A control the registry does not know cannot be mocked.
+    let juggle = file(
+        &dir,
+        "juggle.xml",
+        "<root BTCPP_format=\"4\">\n  <BehaviorTree ID=\"J\">\n    <Juggle>\n      <FollowPath/>\n    </Juggle>\n  </BehaviorTree>\n</root>\n",
+    );
+    let out = neurotree(&["show", arg(&juggle)]);
     assert_eq!(out.status.code(), Some(1));
     assert_eq!(
         text(&out.stderr),
         format!(
-            "{}:3:5: error: unknown node type `RecoveryNode`; register it in the Registry before \
+            "{}:3:5: error: unknown node type `Juggle`; register it in the Registry before \
              loading, or declare it in a TreeNodesModel given with --model to draw it\n",
-            arg(&nav)
+            arg(&juggle)
         )
     );
 }

@@ -54,6 +54,7 @@ mod battery;
 mod costmap;
 mod grid;
 pub mod motion;
+pub mod nav2;
 mod obstacle;
 mod planner;
 pub mod render;

@@ -16,6 +16,7 @@ use std::fmt::Write as _;
 
 use super::grid::Cell;
 use super::world::GridWorld;
+use crate::robotics::Pose2D;
 
 /// The glyphs, for a legend under a rendering.
 pub const LEGEND: &str =
@@ -24,10 +25,17 @@ pub const LEGEND: &str =
 impl GridWorld {
     /// The world as text: see the [module documentation](self).
     pub fn render(&self) -> String {
-        let map = self.map();
         let ahead = self.path_ahead();
-        let goal = ahead.last().and_then(|p| map.cell_at(p));
-        let path: Vec<Cell> = ahead.iter().filter_map(|p| map.cell_at(p)).collect();
+        self.render_with(ahead, ahead.last().copied())
+    }
+
+    /// The world as text with `path` drawn as the path and `goal` as the goal, instead of
+    /// the path being followed: for views that show a plan while the robot does something
+    /// else (spins, waits, stands blocked).
+    pub fn render_with(&self, path: &[Pose2D], goal: Option<Pose2D>) -> String {
+        let map = self.map();
+        let goal = goal.and_then(|p| map.cell_at(&p));
+        let path: Vec<Cell> = path.iter().filter_map(|p| map.cell_at(p)).collect();
         let truth = self.truth();
         let costmap = self.costmap(super::CostmapLayer::Global);
         let robot = self.robot();
@@ -108,5 +116,25 @@ mod tests {
              #.x.**G.#\n\
              #########\n"
         );
+    }
+
+    #[test]
+    fn a_plan_and_a_goal_are_drawn_while_the_robot_stands() {
+        let w = GridWorld::parse(
+            "
+            #######
+            #R....#
+            #######",
+            1.0,
+        )
+        .unwrap();
+        let plan = [Pose2D::new(2.5, 1.5, 0.0), Pose2D::new(3.5, 1.5, 0.0)];
+        let frame = w.render_with(&plan, Some(Pose2D::new(5.5, 1.5, 0.0)));
+        assert_eq!(
+            frame.lines().skip(1).collect::<Vec<_>>(),
+            ["#######", "#R**.G#", "#######"]
+        );
+        // Not following anything, the plain rendering shows neither.
+        assert_eq!(w.render().lines().nth(2), Some("#R....#"));
     }
 }

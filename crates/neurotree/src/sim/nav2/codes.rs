@@ -1,0 +1,80 @@
+//! Nav2's error codes, as its action definitions number them (`nav2_msgs/action/*.action`),
+//! so that the `error_code_id` outputs mean what a Nav2 tree expects and the
+//! `WouldA*RecoveryHelp` conditions match them. 0 is "no error" everywhere.
+
+/// No error: what every successful run writes.
+pub const NONE: u16 = 0;
+
+/// The planner server (ComputePathToPose).
+pub mod compute_path {
+    /// A failure of no other kind.
+    pub const UNKNOWN: u16 = 200;
+    /// The planner id names no planner.
+    pub const INVALID_PLANNER: u16 = 201;
+    /// The start pose lies outside the map.
+    pub const START_OUTSIDE_MAP: u16 = 203;
+    /// The goal lies outside the map.
+    pub const GOAL_OUTSIDE_MAP: u16 = 204;
+    /// The start cell is blocked.
+    pub const START_OCCUPIED: u16 = 205;
+    /// The goal cell is blocked.
+    pub const GOAL_OCCUPIED: u16 = 206;
+    /// Planning took too long.
+    pub const TIMEOUT: u16 = 207;
+    /// No route exists.
+    pub const NO_VALID_PATH: u16 = 208;
+}
+
+/// The controller server (FollowPath).
+pub mod follow_path {
+    /// A failure of no other kind.
+    pub const UNKNOWN: u16 = 100;
+    /// The controller id names no controller.
+    pub const INVALID_CONTROLLER: u16 = 101;
+    /// The path is missing or empty.
+    pub const INVALID_PATH: u16 = 103;
+    /// The controller gave up waiting.
+    pub const PATIENCE_EXCEEDED: u16 = 104;
+    /// The robot did not move as commanded.
+    pub const FAILED_TO_MAKE_PROGRESS: u16 = 105;
+    /// No collision-free command exists: something is in the way.
+    pub const NO_VALID_CONTROL: u16 = 106;
+}
+
+/// The spin behavior.
+pub mod spin {
+    /// A failure of no other kind.
+    pub const UNKNOWN: u16 = 700;
+    /// The time allowance ran out.
+    pub const TIMEOUT: u16 = 701;
+    /// Turning would hit something.
+    pub const COLLISION_AHEAD: u16 = 703;
+}
+
+/// The back-up behavior.
+pub mod back_up {
+    /// A failure of no other kind.
+    pub const UNKNOWN: u16 = 710;
+    /// The time allowance ran out.
+    pub const TIMEOUT: u16 = 711;
+    /// The distance and the speed make no motion (a zero speed, or signs that differ).
+    pub const INVALID_INPUT: u16 = 713;
+    /// Backing up would hit something.
+    pub const COLLISION_AHEAD: u16 = 714;
+}
+
+/// The codes for which WouldAPlannerRecoveryHelp succeeds: clearing the global costmap may
+/// let the planner find a path.
+pub const PLANNER_RECOVERABLE: [u16; 3] = [
+    compute_path::UNKNOWN,
+    compute_path::NO_VALID_PATH,
+    compute_path::TIMEOUT,
+];
+
+/// The codes for which WouldAControllerRecoveryHelp succeeds.
+pub const CONTROLLER_RECOVERABLE: [u16; 4] = [
+    follow_path::UNKNOWN,
+    follow_path::PATIENCE_EXCEEDED,
+    follow_path::FAILED_TO_MAKE_PROGRESS,
+    follow_path::NO_VALID_CONTROL,
+];
