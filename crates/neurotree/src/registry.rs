@@ -631,6 +631,20 @@ impl<C: 'static> Registry<C> {
         }
     }
 
+    /// The built-in type whose name is `name` but for letter case (`inverter`), if exactly
+    /// one is. Files written for Nav2 use such spellings; BehaviorTree.CPP would refuse them,
+    /// but what they mean is not in doubt.
+    pub(crate) fn builtin_ignoring_case(&self, name: &str) -> Option<&NodeType<C>> {
+        let mut found = self
+            .types
+            .values()
+            .filter(|t| t.builtin && t.name.eq_ignore_ascii_case(name));
+        match (found.next(), found.next()) {
+            (Some(t), None) => Some(t),
+            _ => None,
+        }
+    }
+
     /// The type registered as `name`.
     pub fn get(&self, name: &str) -> Option<&NodeType<C>> {
         self.types.get(name)

@@ -286,7 +286,10 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
         match *slot {
             Some((known, node_type)) if same(known, name) => Some(node_type),
             _ => {
-                let node_type = self.loader.registry.get(name)?;
+                let registry = self.loader.registry;
+                let node_type = registry
+                    .get(name)
+                    .or_else(|| registry.builtin_ignoring_case(name))?;
                 *slot = Some((name, node_type));
                 Some(node_type)
             }
