@@ -217,15 +217,7 @@ fn add_unregistered_models<C: 'static>(
         }
         // As the XML names it: a builder's leaf by its name, anything else by its type.
         let type_id = blueprint.type_id(id);
-        let leaf = matches!(
-            kind,
-            NodeKind::ActionFn(_)
-                | NodeKind::Action(_)
-                | NodeKind::ConditionFn(_)
-                | NodeKind::Condition(_)
-                | NodeKind::Stateful(_)
-        );
-        let name = if leaf && type_id == kind.type_name() {
+        let name = if crate::xml::save::no_file_form(blueprint, id) {
             blueprint.name(id)
         } else {
             type_id

@@ -246,7 +246,7 @@ impl<C> Writer<'_, C> {
 }
 
 /// A leaf made from a closure or an object with the builder: no registered type names it.
-fn no_file_form<C>(bp: &Blueprint<C>, id: NodeId) -> bool {
+pub(crate) fn no_file_form<C>(bp: &Blueprint<C>, id: NodeId) -> bool {
     let kind = bp.kind(id);
     matches!(
         kind,
