@@ -12,6 +12,7 @@ use zeromq::{ReqSocket, Socket, SocketRecv, SocketSend, ZmqMessage};
 /// Long enough for a loaded machine; nothing waits this long when all goes well.
 const TIMEOUT: Duration = Duration::from_secs(60);
 
+/// Writes `xml` to a file of this process; each test names its own, since tests run at once.
 fn write_tree(name: &str, xml: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("neurotree-groot-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
@@ -131,7 +132,7 @@ fn request(port: u16, frames: &[&[u8]]) -> Vec<Vec<u8>> {
 
 #[test]
 fn serving_groot_leaves_the_output_unchanged() {
-    let file = write_tree("move.xml", MOVE);
+    let file = write_tree("serving.xml", MOVE);
     let args = [
         "run",
         file.to_str().unwrap(),
@@ -164,7 +165,7 @@ fn serving_groot_leaves_the_output_unchanged() {
 
 #[test]
 fn linger_needs_groot() {
-    let file = write_tree("move.xml", MOVE);
+    let file = write_tree("linger.xml", MOVE);
     let out = Command::new(env!("CARGO_BIN_EXE_neurotree"))
         .args(["run", file.to_str().unwrap(), "--groot-linger", "1"])
         .output()
@@ -175,7 +176,7 @@ fn linger_needs_groot() {
 
 #[test]
 fn a_client_finds_the_last_statuses_and_blackboard_after_the_run() {
-    let file = write_tree("move.xml", MOVE);
+    let file = write_tree("client.xml", MOVE);
     let run = Serving::start(
         &[
             "run",
