@@ -228,22 +228,15 @@ fn main() -> ExitCode {
                     .flatten()
                     .map(|(w, h)| (usize::from(w.0), usize::from(h.0))),
             };
-            return match demo::run(&opts, &mut out, &mut io::stderr()) {
-                Ok(true) => ExitCode::SUCCESS,
-                Ok(false) => ExitCode::FAILURE,
-                Err(e) if e.kind() == io::ErrorKind::BrokenPipe => ExitCode::SUCCESS,
-                Err(e) => {
-                    eprintln!("neurotree: {e}");
-                    ExitCode::FAILURE
-                }
-            };
+            demo::run(&opts, &mut out, &mut io::stderr())
         }
         Command::Bench(args) => {
             let opts = bench::BenchOptions {
                 quick: args.quick,
                 agents: args.agents,
             };
-            bench::run(&opts, args.json, &mut out)
+            // A benchmark that ran has nothing to fail on.
+            bench::run(&opts, args.json, &mut out).map(|()| true)
         }
         Command::Run(args) => {
             let opts = run::RunOptions {
@@ -263,15 +256,7 @@ fn main() -> ExitCode {
                 view: args.view,
                 observe: args.observe,
             };
-            return match run::run(&args.file, &opts, &mut out, &mut io::stderr()) {
-                Ok(true) => ExitCode::SUCCESS,
-                Ok(false) => ExitCode::FAILURE,
-                Err(e) if e.kind() == io::ErrorKind::BrokenPipe => ExitCode::SUCCESS,
-                Err(e) => {
-                    eprintln!("neurotree: {e}");
-                    ExitCode::FAILURE
-                }
-            };
+            run::run(&args.file, &opts, &mut out, &mut io::stderr())
         }
         Command::Show(args) => {
             let opts = show::ShowOptions {
@@ -282,29 +267,14 @@ fn main() -> ExitCode {
                 trace: args.trace,
                 tick: args.tick,
             };
-            return match show::run(&args.file, &opts, &mut out, &mut io::stderr()) {
-                Ok(true) => ExitCode::SUCCESS,
-                Ok(false) => ExitCode::FAILURE,
-                Err(e) if e.kind() == io::ErrorKind::BrokenPipe => ExitCode::SUCCESS,
-                Err(e) => {
-                    eprintln!("neurotree: {e}");
-                    ExitCode::FAILURE
-                }
-            };
+            show::run(&args.file, &opts, &mut out, &mut io::stderr())
         }
-        Command::Check(args) => {
-            return match check::run(&args.files, &args.models, &mut io::stderr()) {
-                Ok(true) => ExitCode::SUCCESS,
-                Ok(false) => ExitCode::FAILURE,
-                Err(e) => {
-                    eprintln!("neurotree: {e}");
-                    ExitCode::FAILURE
-                }
-            };
-        }
+        Command::Check(args) => check::run(&args.files, &args.models, &mut io::stderr()),
     };
     match result {
-        Ok(()) => ExitCode::SUCCESS,
+        Ok(true) => ExitCode::SUCCESS,
+        // The command has already said why (a load error, an invalid file).
+        Ok(false) => ExitCode::FAILURE,
         // The reader went away (`neurotree demo | head`): nothing left to tell.
         Err(e) if e.kind() == io::ErrorKind::BrokenPipe => ExitCode::SUCCESS,
         Err(e) => {
