@@ -14,7 +14,8 @@ use serde_json::Value;
 
 use super::protocol::{status_byte, status_record, Transition};
 use crate::blackboard_json::scope_json;
-use crate::registry::{escape, Registry};
+use crate::registry::Registry;
+use crate::xml::escape;
 use crate::xml::{write_xml, SaveOptions};
 
 /// Transitions kept while recording, as BehaviorTree.CPP keeps: the oldest go first.

@@ -18,6 +18,7 @@ use neurotree_core::{Blueprint, NodeStatus};
 use super::layout::{tidy, Layout, Placed, Size, Spacing};
 use super::style::{node_views, paint, status_word, NodeView, Paint, Shape, STATUSES};
 use super::text_width::text_width;
+use crate::xml::escape;
 
 const MARGIN: f64 = 16.0;
 const NODE_HEIGHT: f64 = 40.0;
@@ -374,22 +375,6 @@ fn num(v: f64) -> String {
     } else {
         format!("{:.1}", tenths / 10.0)
     }
-}
-
-/// Text for XML character data and double- or single-quoted attributes.
-fn escape(text: &str) -> String {
-    let mut out = String::with_capacity(text.len());
-    for c in text.chars() {
-        match c {
-            '&' => out.push_str("&amp;"),
-            '<' => out.push_str("&lt;"),
-            '>' => out.push_str("&gt;"),
-            '"' => out.push_str("&quot;"),
-            '\'' => out.push_str("&apos;"),
-            c => out.push(c),
-        }
-    }
-    out
 }
 
 #[cfg(test)]

@@ -21,7 +21,8 @@
 
 use neurotree_core::{Blueprint, NodeId, NodeKind, PortValue};
 
-use crate::registry::{built_in_ports, escape, Registry};
+use super::escape;
+use crate::registry::{built_in_ports, Registry};
 
 /// What [`write_xml`] writes besides the tree.
 #[derive(Clone, Debug, PartialEq, Eq)]
