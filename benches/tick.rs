@@ -63,7 +63,7 @@ fn many_agents(c: &mut Criterion) {
 /// From XML text to a tickable instance: parse, check, build the blueprint, instantiate.
 fn load_tree1111(c: &mut Criterion) {
     let path =
-        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/bench/tree1111.xml");
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../corpus/bench/tree1111.xml");
     let Ok(text) = std::fs::read_to_string(&path) else {
         eprintln!("skipping load/tree1111: {} not found", path.display());
         return;

@@ -7,7 +7,7 @@ Python is entered once per tick (the `tick_exactly_once()` call), not once per
 node, and that call overhead is amortized over the 1111 nodes.
 
 Usage: btcpp_tree1111.py [TREE_XML] [--ticks N] [--warmup N]
-TREE_XML defaults to $TREE1111, then to ../../../shared/bench/tree1111.xml
+TREE_XML defaults to $TREE1111, then to the repository's corpus/bench/tree1111.xml
 relative to this file.
 
 Prints one JSON line:
@@ -24,7 +24,7 @@ import xml.etree.ElementTree as ET
 import behaviortreepy as bt
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-DEFAULT_TREE = os.path.normpath(os.path.join(HERE, "..", "..", "..", "shared", "bench", "tree1111.xml"))
+DEFAULT_TREE = os.path.normpath(os.path.join(HERE, "..", "..", "corpus", "bench", "tree1111.xml"))
 
 
 def count_nodes(xml_text: str) -> int:

@@ -20,7 +20,7 @@ node goes through initialise()/update()/stop() and Python generators, so this
 measures pure-Python per-node overhead.
 
 Usage: pytrees_tree1111.py [TREE_XML] [--ticks N] [--warmup N]
-TREE_XML defaults to $TREE1111, then to ../../../shared/bench/tree1111.xml
+TREE_XML defaults to $TREE1111, then to the repository's corpus/bench/tree1111.xml
 relative to this file.
 
 Prints one JSON line:
@@ -37,7 +37,7 @@ import xml.etree.ElementTree as ET
 import py_trees
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-DEFAULT_TREE = os.path.normpath(os.path.join(HERE, "..", "..", "..", "shared", "bench", "tree1111.xml"))
+DEFAULT_TREE = os.path.normpath(os.path.join(HERE, "..", "..", "corpus", "bench", "tree1111.xml"))
 
 
 def build(elem: ET.Element, counter: list) -> py_trees.behaviour.Behaviour:

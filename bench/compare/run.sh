@@ -6,7 +6,7 @@
 # Environment:
 #   TREE1111=path      tree to use (absolute, relative to the current directory,
 #                      or relative to the repository root);
-#                      default: <repo>/../shared/bench/tree1111.xml
+#                      default: <repo>/corpus/bench/tree1111.xml
 #   BTCPP_TICKS=N      timed ticks for BehaviorTree.CPP   (default 5000)
 #   PYTREES_TICKS=N    timed ticks for py_trees           (default 200)
 #   BONSAI_TICKS=N     timed ticks for bonsai-bt          (default 20000)
@@ -30,7 +30,7 @@ resolve_tree() {
   fi
   return 1
 }
-TREE_ARG="${TREE1111:-../shared/bench/tree1111.xml}"
+TREE_ARG="${TREE1111:-corpus/bench/tree1111.xml}"
 if ! TREE="$(resolve_tree "$TREE_ARG")"; then
   echo "run.sh: tree not found: $TREE_ARG (looked in $PWD and $REPO)" >&2
   exit 2

@@ -1,8 +1,8 @@
 #!/bin/sh
 # Draws the pictures in this folder again with the `neurotree` binary of this workspace.
-# Run from the repository root; the trees come from the shared corpus beside it.
+# Run from the repository root; the trees come from its corpus/ folder.
 set -eu
-corpus=${CORPUS:-../shared/corpus}
+corpus=corpus
 images=docs/images
 neurotree="cargo run --quiet -p neurotree-cli --"
 

@@ -222,13 +222,13 @@ fn bench_table_names_every_measure() {
     }
 }
 
-fn shared() -> std::path::PathBuf {
-    std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared")
-}
+#[path = "../../neurotree/tests/support/corpus.rs"]
+mod corpus_dir;
+use corpus_dir::corpus;
 
 #[test]
 fn check_accepts_a_nav2_tree_with_its_model() {
-    let nav2 = shared().join("corpus/nav2");
+    let nav2 = corpus("nav2");
     let out = std::process::Command::new(env!("CARGO_BIN_EXE_neurotree"))
         .arg("check")
         .arg(nav2.join("navigate_to_pose_w_replanning_and_recovery.xml"))
@@ -269,7 +269,9 @@ fn check_reports_errors_with_positions_and_fails() {
     // Without the model, the Nav2 tree's own nodes are unknown.
     let out = std::process::Command::new(env!("CARGO_BIN_EXE_neurotree"))
         .arg("check")
-        .arg(shared().join("corpus/nav2/navigate_to_pose_w_replanning_and_recovery.xml"))
+        .arg(corpus(
+            "nav2/navigate_to_pose_w_replanning_and_recovery.xml",
+        ))
         .output()
         .unwrap();
     assert_eq!(out.status.code(), Some(1));
@@ -404,8 +406,7 @@ fn run_mock_unknown_and_max_ticks() {
 }
 
 fn nav2_navigator() -> std::path::PathBuf {
-    std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../trees/nav2/navigate_to_pose_w_replanning_and_recovery.xml")
+    corpus("nav2/navigate_to_pose_w_replanning_and_recovery.xml")
 }
 
 #[test]

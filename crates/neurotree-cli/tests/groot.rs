@@ -21,9 +21,9 @@ fn write_tree(name: &str, xml: &str) -> PathBuf {
     file
 }
 
-fn shared() -> PathBuf {
-    std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared")
-}
+#[path = "../../neurotree/tests/support/corpus.rs"]
+mod corpus_dir;
+use corpus_dir::corpus;
 
 const MOVE: &str = r#"<root BTCPP_format="4" main_tree_to_execute="Main">
   <BehaviorTree ID="Main">
@@ -248,7 +248,7 @@ fn btview_shows_the_tree_its_statuses_and_its_blackboard() {
         println!("note: btview is not on PATH (pip install btview==0.2.0); skipping");
         return;
     };
-    let file = shared().join("corpus/nav2/navigate_to_pose_w_bounds_check.xml");
+    let file = corpus("nav2/navigate_to_pose_w_bounds_check.xml");
     let run = Serving::start(
         &[
             "run",

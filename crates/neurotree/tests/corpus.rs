@@ -1,4 +1,4 @@
-//! The trees written elsewhere (`shared/corpus/btcpp`): every file is loaded, with mock
+//! The trees written elsewhere (`corpus/btcpp`): every file is loaded, with mock
 //! leaves for the node types no test registers and stand-ins for the two custom controls.
 //! The files that do not load yet are listed with the reason, so that a change in either
 //! direction shows. Every tree that loads is also saved and loaded back.
@@ -13,8 +13,11 @@ use neurotree::{Arity, Blueprint, CustomNode, NodeCtx, NodeStatus, PortSpec, Reg
 mod support;
 use support::signature;
 
+#[path = "support/corpus.rs"]
+mod corpus_dir;
+
 fn corpus() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/corpus/btcpp")
+    corpus_dir::corpus("btcpp")
 }
 
 fn xml_files(dir: &Path) -> Vec<PathBuf> {

@@ -6,6 +6,9 @@ use std::path::{Path, PathBuf};
 use neurotree::{Registry, XmlLoader};
 use proptest::prelude::*;
 
+#[path = "support/corpus.rs"]
+mod corpus_dir;
+
 fn corpus_texts() -> Vec<String> {
     fn walk(dir: &Path, out: &mut Vec<PathBuf>) {
         for entry in std::fs::read_dir(dir).unwrap() {
@@ -18,14 +21,12 @@ fn corpus_texts() -> Vec<String> {
         }
     }
     let mut files = Vec::new();
-    walk(
-        &Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/corpus"),
-        &mut files,
-    );
+    walk(&corpus_dir::corpus(""), &mut files);
     files.sort();
+    assert!(files.len() >= 60, "only {} corpus files found", files.len());
     files
         .iter()
-        .filter_map(|f| std::fs::read_to_string(f).ok())
+        .map(|f| std::fs::read_to_string(f).unwrap_or_else(|e| panic!("{}: {e}", f.display())))
         .collect()
 }
 

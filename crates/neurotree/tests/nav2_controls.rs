@@ -17,8 +17,11 @@ use counting_alloc::allocations;
 
 use Status::{Failure as F, Running as R, Success as S};
 
+#[path = "support/corpus.rs"]
+mod corpus_dir;
+
 fn nav2_corpus() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/corpus/nav2")
+    corpus_dir::corpus("nav2")
 }
 
 /// The context of these tests: each [`Step`] leaf plays the outcomes scripted under its node

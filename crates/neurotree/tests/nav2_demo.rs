@@ -16,18 +16,11 @@ const NAVIGATOR: &str = "navigate_to_pose_w_replanning_and_recovery.xml";
 fn the_embedded_navigator_is_the_file_in_the_repository() {
     let file = std::fs::read_to_string(
         PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-            .join("../../trees/nav2")
+            .join("../../corpus/nav2")
             .join(NAVIGATOR),
     )
     .unwrap();
     assert_eq!(file, NAVIGATE_TO_POSE_XML);
-    // And Nav2's own, where the shared corpus is at hand.
-    let corpus = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("../../../shared/corpus/nav2")
-        .join(NAVIGATOR);
-    if let Ok(original) = std::fs::read(corpus) {
-        assert_eq!(file.as_bytes(), original);
-    }
 }
 
 fn demo(config: DemoConfig) -> DemoRun {
@@ -160,7 +153,7 @@ fn the_first_frame_shows_the_plan_the_goal_and_the_statuses() {
         .contains("\n\\-- [ ] Sequence\n"));
     assert!(run.intro().starts_with(
         "NeuroTree demo: Nav2's navigator drives a simulated robot\n\
-         tree      trees/nav2/navigate_to_pose_w_replanning_and_recovery.xml\n\
+         tree      corpus/nav2/navigate_to_pose_w_replanning_and_recovery.xml\n\
          goal      (36.50, 1.50) m\n\
          seed      0: an obstacle steps into cell (22, 5) at 23.1 s, until 26.1 s\n"
     ));

@@ -11,7 +11,7 @@ use neurotree::sim::{Cell, GridWorld, TimedObstacle};
 use neurotree::{nav2, PortDirection, Registry, Status, Tree, XmlLoader};
 
 fn trees_dir() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../trees/nav2")
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../corpus/nav2")
 }
 
 const NAVIGATOR: &str = "navigate_to_pose_w_replanning_and_recovery.xml";

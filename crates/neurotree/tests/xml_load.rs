@@ -1,14 +1,12 @@
 //! Loading BehaviorTree.CPP XML: what loads, how it runs, and how bad files are reported.
 
-use std::path::{Path, PathBuf};
-
 use neurotree::{
     LoadError, ManualClock, NodeId, PortSpec, Registry, Status, TickError, Tree, XmlLoader,
 };
 
-fn shared() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared")
-}
+#[path = "support/corpus.rs"]
+mod corpus_dir;
+use corpus_dir::corpus;
 
 /// The registry of these tests: a counter context and a few leaves.
 fn registry() -> Registry<Vec<String>> {
@@ -64,9 +62,7 @@ fn error(text: &str) -> LoadError {
 fn tree1111_loads_and_ticks() {
     let r = registry();
     let mut loader = XmlLoader::new(&r);
-    loader
-        .load_file(shared().join("bench/tree1111.xml"))
-        .unwrap();
+    loader.load_file(corpus("bench/tree1111.xml")).unwrap();
     let bp = loader.build_main().unwrap();
     assert_eq!(bp.len(), 1111);
     let mut tree = Tree::with_clock(bp.into(), ManualClock::new());
@@ -241,7 +237,7 @@ fn bare_ampersands_in_attributes_load() {
 
 #[test]
 fn includes_follow_relative_paths_and_stay_in_the_base_directory() {
-    let trees = shared().join("corpus/btcpp/files/tests/trees");
+    let trees = corpus("btcpp/files/tests/trees");
     let r = registry();
     let mut loader = XmlLoader::new(&r).mock_unknown(true);
     loader
@@ -374,7 +370,7 @@ fn bad_condition_attributes_are_load_errors() {
 
 #[test]
 fn nav2_trees_validate_against_their_model() {
-    let nav2 = shared().join("corpus/nav2");
+    let nav2 = corpus("nav2");
     let mut r = Registry::<()>::new();
     let model = std::fs::read_to_string(nav2.join("nav2_tree_nodes.xml")).unwrap();
     let added = r.add_model_str(&model, "nav2_tree_nodes.xml").unwrap();
@@ -383,6 +379,7 @@ fn nav2_trees_validate_against_their_model() {
     let mut files: Vec<_> = std::fs::read_dir(&nav2)
         .unwrap()
         .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "xml"))
         .filter(|p| p.file_name().unwrap() != "nav2_tree_nodes.xml")
         .collect();
     files.sort();
@@ -535,7 +532,7 @@ fn precondition_checks_its_script_only_before_the_child_runs() {
 fn the_subtree_remapping_tutorial_runs() {
     // BehaviorTree.CPP's tutorial 06 as shipped, with its two leaves registered. Its scripts
     // assign with `=`, which works because every entry a port names exists from the start.
-    let file = shared().join("corpus/btcpp/examples/examples__t06_subtree_port_remapping__01.xml");
+    let file = corpus("btcpp/examples/examples__t06_subtree_port_remapping__01.xml");
     let mut r = Registry::<Vec<String>>::new();
     r.register_action(
         "SaySomething",

@@ -28,8 +28,7 @@
 //!   `reset_bt()` is reported on stderr.
 //!
 //! Usage: bonsai-tree1111 [TREE_XML] [TICKS]
-//! (TREE_XML defaults to $TREE1111, then to ../../../../shared/bench/tree1111.xml
-//! relative to this crate.)
+//! (TREE_XML defaults to $TREE1111, then to the repository's corpus/bench/tree1111.xml.)
 
 use std::hint::black_box;
 use std::time::{Duration, Instant};
@@ -197,7 +196,7 @@ fn main() {
         .unwrap_or_else(|| {
             concat!(
                 env!("CARGO_MANIFEST_DIR"),
-                "/../../../../shared/bench/tree1111.xml"
+                "/../../../corpus/bench/tree1111.xml"
             )
             .to_string()
         });
