@@ -15,8 +15,8 @@ use std::io::{self, Write};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use neurotree::bench_trees::{agent_tree, tree1111, Agent, TREE1111_NODES_PER_TICK};
 use neurotree::{Clock, ManualClock, Status, Tree};
+use neurotree_bench::{agent_tree, tree1111, Agent, TREE1111_NODES_PER_TICK};
 
 /// How the benchmarks run.
 #[derive(Clone, Debug)]

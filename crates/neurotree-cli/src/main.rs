@@ -8,7 +8,7 @@
 
 mod bench;
 mod check;
-mod demo;
+
 mod groot;
 mod registry;
 mod run;
@@ -19,6 +19,7 @@ use std::process::ExitCode;
 use std::time::Duration;
 
 use clap::{Args, Parser, Subcommand};
+use neurotree_cli::demo;
 
 /// Behavior trees for robots and game AI.
 #[derive(Parser, Debug)]
@@ -213,7 +214,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Demo(args) => {
             let opts = demo::DemoOptions {
-                config: neurotree::sim::nav2::DemoConfig {
+                config: demo::DemoConfig {
                     tree: args.tree,
                     goal: args.goal,
                     seed: args.seed,

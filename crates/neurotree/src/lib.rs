@@ -1,37 +1,23 @@
 //! # NeuroTree
 //!
 //! Behavior trees for robots and game AI, with the semantics of BehaviorTree.CPP v4.
-//! This crate is the `std` facade: it re-exports everything of [`neurotree_core`] and adds
-//! what needs the standard library, such as the thread-safe [`SharedBlackboard`].
+//!
+//! This crate is the one to depend on. It re-exports the `no_std` engine
+//! ([`neurotree_core`]) and the BehaviorTree.CPP-compatible toolkit ([`neurotree_toolkit`]:
+//! registry, XML, scripts, observers, pictures, runners) at its root, and the optional
+//! crates behind features, each under its own path.
 
 #![warn(missing_docs)]
 
-pub use neurotree_core::*;
+pub use neurotree_toolkit::*;
 
-pub mod bench_trees;
-pub mod blackboard_json;
-mod entry_nodes;
 #[cfg(feature = "groot")]
-pub mod groot;
-mod json_port;
-mod loop_nodes;
-pub mod nav2;
-pub mod observe;
-mod readme;
-pub mod registry;
-pub mod render;
-pub mod robotics;
-pub mod runtime;
-pub mod script;
-mod script_hooks;
-mod script_nodes;
-mod shared_blackboard;
-pub mod sim;
-mod switch_node;
-pub mod xml;
+pub use neurotree_groot as groot;
+#[cfg(feature = "nav2")]
+pub use neurotree_nav2 as nav2;
+#[cfg(feature = "nav2")]
+pub use neurotree_nav2::robotics;
+#[cfg(feature = "sim")]
+pub use neurotree_sim as sim;
 
-pub use json_port::Json;
-pub use registry::{PortDirection, PortSpec, Registry, RegistryError};
-pub use runtime::{FixedRate, StopFlag};
-pub use shared_blackboard::SharedBlackboard;
-pub use xml::{LoadError, XmlLoader};
+mod readme;

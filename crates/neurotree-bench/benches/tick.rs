@@ -1,0 +1,89 @@
+//! Tick benchmarks: tree1111 (BehaviorTree.CPP's benchmark shape) and many agents.
+//!
+//! `cargo bench -p neurotree --bench tick`
+
+use std::hint::black_box;
+use std::time::Duration;
+
+use criterion::{criterion_group, criterion_main, BatchSize, Criterion, Throughput};
+use neurotree::{ManualClock, Status, Tree};
+use neurotree_bench::{agent_tree, tree1111, Agent, TREE1111_NODES_PER_TICK};
+
+fn tick_tree1111(c: &mut Criterion) {
+    let mut group = c.benchmark_group("tree1111");
+    group.throughput(Throughput::Elements(TREE1111_NODES_PER_TICK as u64));
+    let mut tree = Tree::with_clock(tree1111::<()>(), ManualClock::new());
+    group.bench_function("tick_once", |b| {
+        b.iter(|| {
+            let s = tree.tick_once(black_box(&mut ()));
+            debug_assert_eq!(s, Ok(Status::Success));
+            s
+        })
+    });
+    group.finish();
+}
+
+fn many_agents(c: &mut Criterion) {
+    const AGENTS: usize = 100_000;
+    let blueprint = agent_tree();
+    let clock = ManualClock::new();
+    let shared: std::sync::Arc<dyn neurotree::Clock> = std::sync::Arc::new(clock.clone());
+    let mut group = c.benchmark_group("many_agents");
+    group
+        .sample_size(20)
+        .measurement_time(Duration::from_secs(8));
+    group.throughput(Throughput::Elements(AGENTS as u64));
+    group.bench_function("instantiate_100k", |b| {
+        b.iter_batched(
+            || (),
+            |_| {
+                (0..AGENTS)
+                    .map(|_| Tree::with_shared_clock(blueprint.clone(), shared.clone()))
+                    .collect::<Vec<_>>()
+            },
+            BatchSize::PerIteration,
+        )
+    });
+    let mut trees: Vec<Tree<Agent>> = (0..AGENTS)
+        .map(|_| Tree::with_shared_clock(blueprint.clone(), shared.clone()))
+        .collect();
+    let mut agents: Vec<Agent> = (0..AGENTS as u32).map(Agent::new).collect();
+    // One pass per agent per frame (`tick_exactly_once`), as a game loop ticks its agents.
+    group.bench_function("frame_100k", |b| {
+        b.iter(|| {
+            clock.advance(Duration::from_millis(16));
+            for (tree, agent) in trees.iter_mut().zip(agents.iter_mut()) {
+                let _ = black_box(tree.tick_exactly_once(agent));
+            }
+        })
+    });
+    group.finish();
+}
+
+/// From XML text to a tickable instance: parse, check, build the blueprint, instantiate.
+fn load_tree1111(c: &mut Criterion) {
+    let path =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../corpus/bench/tree1111.xml");
+    let Ok(text) = std::fs::read_to_string(&path) else {
+        eprintln!("skipping load/tree1111: {} not found", path.display());
+        return;
+    };
+    let mut registry = neurotree::Registry::<()>::new();
+    registry
+        .register_condition("Succ", vec![], |_| true)
+        .unwrap();
+    registry
+        .register_condition("Fail", vec![], |_| false)
+        .unwrap();
+    c.bench_function("load/tree1111", |b| {
+        b.iter(|| {
+            let mut loader = neurotree::XmlLoader::new(&registry);
+            loader.load_str(black_box(&text), "tree1111.xml").unwrap();
+            let bp = loader.build_main().unwrap();
+            Tree::with_clock(std::sync::Arc::new(bp), ManualClock::new())
+        })
+    });
+}
+
+criterion_group!(benches, tick_tree1111, many_agents, load_tree1111);
+criterion_main!(benches);

@@ -1,0 +1,244 @@
+//! The reference trees that NeuroTree's benchmarks and allocation tests tick.
+//!
+//! They are public so that anyone can reproduce the figures in `BENCHMARKS.md` from their own
+//! code, and compare with other libraries on the same shapes.
+
+use std::sync::Arc;
+
+use neurotree::{Blueprint, Builder, ParallelPolicy, Status};
+
+/// Nodes a tick of [`tree1111`] visits: 1 root, 10 fallbacks, 100 sequences, 1000 leaves.
+pub const TREE1111_NODES_PER_TICK: usize = 1111;
+
+/// The shape of `tree1111.xml` (the benchmark tree shared with BehaviorTree.CPP): a root
+/// Sequence of 10 Fallbacks, each of 10 Sequences of 10 condition leaves. In each Fallback
+/// the first nine Sequences end with a failing leaf and the tenth succeeds, so one tick
+/// visits every node and the root succeeds.
+pub fn tree1111<C: 'static>() -> Arc<Blueprint<C>> {
+    let mut b = Builder::<C>::new().open(neurotree::NodeKind::Sequence, "root");
+    for f in 0..10 {
+        b = b.fallback(&format!("fallback_{f}"), |mut fb| {
+            for s in 0..10 {
+                fb = fb.sequence(&format!("sequence_{f}_{s}"), |mut seq| {
+                    for leaf in 0..10 {
+                        let fail = s < 9 && leaf == 9;
+                        seq = if fail {
+                            seq.condition("Fail", |_: &C| false)
+                        } else {
+                            seq.condition("Succ", |_: &C| true)
+                        };
+                    }
+                    seq
+                });
+            }
+            fb
+        });
+    }
+    b.close().build_shared().expect("tree1111 is a valid tree")
+}
+
+/// The "agent" of the many-agents benchmark: a 50-node game-AI tree over [`Agent`] that
+/// uses every family of node (reactive checks, memory sequences, a parallel, decorators and a
+/// stateful action), so that an instance carries realistic per-node state.
+pub fn agent_tree() -> Arc<Blueprint<Agent>> {
+    use std::time::Duration;
+    Builder::<Agent>::new()
+        .reactive_fallback("agent", |root| {
+            root.sequence("flee", |s| {
+                s.condition("threatened", |a: &Agent| a.threat > 70)
+                    .condition("can_run", |a: &Agent| a.stamina > 10)
+                    .action("run_away", |a: &mut Agent| {
+                        a.x -= 2;
+                        a.stamina -= 1;
+                        Status::Success
+                    })
+            })
+            .reactive_sequence("fight", |s| {
+                s.condition("enemy_near", |a: &Agent| a.threat > 30)
+                    .inverter("not_wounded", |i| {
+                        i.condition("wounded", |a: &Agent| a.health < 20)
+                    })
+                    .parallel_policy("attack", ParallelPolicy::RequireOne, |p| {
+                        p.action("strike", |a: &mut Agent| {
+                            a.threat = a.threat.saturating_sub(3);
+                            Status::from(a.threat < 40)
+                        })
+                        .stateful("dodge", Dodge::default)
+                        .force_failure("taunt", |f| {
+                            f.action("shout", |_: &mut Agent| Status::Success)
+                        })
+                    })
+            })
+            .sequence_with_memory("forage", |s| {
+                s.condition("hungry", |a: &Agent| a.food < 50)
+                    .fallback("find_food", |f| {
+                        f.condition("food_here", |a: &Agent| a.x % 7 == 0)
+                            .retry("search", 3, |r| {
+                                r.action("step", |a: &mut Agent| {
+                                    a.x += 1;
+                                    Status::from(a.x % 7 == 0)
+                                })
+                            })
+                    })
+                    .action("eat", |a: &mut Agent| {
+                        a.food += 20;
+                        Status::Success
+                    })
+            })
+            .sequence("socialize", |s| {
+                s.condition("friend_near", |a: &Agent| a.threat < 10)
+                    .run_once("introduce", true, |r| {
+                        r.action("wave", |_: &mut Agent| Status::Success)
+                    })
+                    .delay("pause", Duration::from_millis(100), |d| {
+                        d.action("chat", |a: &mut Agent| {
+                            a.threat += 1;
+                            Status::Success
+                        })
+                    })
+                    .parallel_all("share", 1, |p| {
+                        p.action("give", |a: &mut Agent| {
+                            a.food = a.food.saturating_sub(5);
+                            Status::Success
+                        })
+                        .action("take", |a: &mut Agent| {
+                            a.food += 5;
+                            Status::Success
+                        })
+                        .sleep("linger", Duration::from_millis(50))
+                    })
+            })
+            .sequence("patrol", |s| {
+                s.fallback("waypoint", |f| {
+                    f.condition("at_a", |a: &Agent| a.x == 0)
+                        .condition("at_b", |a: &Agent| a.x == 10)
+                        .force_success("walk", |w| {
+                            w.action("walk", |a: &mut Agent| {
+                                a.x = (a.x + 1) % 11;
+                                Status::Success
+                            })
+                        })
+                })
+                .cooldown("look_around_cd", Duration::from_millis(500), |c| {
+                    c.action("look_around", |a: &mut Agent| {
+                        a.threat = (a.threat + 13) % 100;
+                        Status::Success
+                    })
+                })
+                .timeout("rest_limit", Duration::from_secs(2), |t| {
+                    t.if_then_else("rest_if_tired", |i| {
+                        i.condition("tired", |a: &Agent| a.stamina < 30)
+                            .action("rest", |a: &mut Agent| {
+                                a.stamina += 5;
+                                Status::Success
+                            })
+                            .always_success("not_tired")
+                    })
+                })
+                .repeat("breathe", 2, |r| r.always_success("breath"))
+                .action("age", |a: &mut Agent| {
+                    a.food = a.food.saturating_sub(1);
+                    a.health = (a.health + 1).min(100);
+                    Status::Success
+                })
+                .keep_running_until_failure("idle", |k| {
+                    k.inverter("idle_once", |i| i.always_success("done"))
+                })
+            })
+        })
+        .build_shared()
+        .expect("the agent tree is a valid tree")
+}
+
+/// The world state of one agent in [`agent_tree`].
+#[derive(Clone, Debug)]
+pub struct Agent {
+    /// Position on a line.
+    pub x: i32,
+    /// 0..100: how dangerous the surroundings are.
+    pub threat: u32,
+    /// 0..100.
+    pub health: u32,
+    /// 0..100.
+    pub stamina: u32,
+    /// 0..100.
+    pub food: u32,
+}
+
+impl Agent {
+    /// A varied starting state, so that agents take different branches.
+    pub fn new(seed: u32) -> Self {
+        Self {
+            x: (seed % 11) as i32,
+            threat: seed.wrapping_mul(37) % 100,
+            health: 20 + seed % 80,
+            stamina: 10 + seed % 90,
+            food: seed.wrapping_mul(13) % 100,
+        }
+    }
+}
+
+/// A dodge that takes two ticks.
+#[derive(Default)]
+struct Dodge {
+    ticks: u8,
+}
+
+impl neurotree::StatefulAction<Agent> for Dodge {
+    fn on_start(&mut self, _h: &mut neurotree::Handle<'_, Agent>) -> Status {
+        self.ticks = 0;
+        Status::Running
+    }
+    fn on_running(&mut self, h: &mut neurotree::Handle<'_, Agent>) -> Status {
+        self.ticks += 1;
+        if self.ticks >= 2 {
+            h.ctx_mut().stamina = h.ctx().stamina.saturating_sub(1);
+            Status::Success
+        } else {
+            Status::Running
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use neurotree::{ManualClock, Tree};
+
+    #[test]
+    fn tree1111_visits_every_node_and_succeeds() {
+        let bp = tree1111::<()>();
+        assert_eq!(bp.len(), TREE1111_NODES_PER_TICK);
+        use std::sync::atomic::{AtomicUsize, Ordering};
+        struct Count(Arc<AtomicUsize>);
+        impl neurotree::Observer for Count {
+            fn on_status_change(&mut self, c: neurotree::StatusChange) {
+                if c.from == neurotree::NodeStatus::Idle {
+                    self.0.fetch_add(1, Ordering::Relaxed);
+                }
+            }
+        }
+        let left_idle = Arc::new(AtomicUsize::new(0));
+        let mut tree = Tree::with_clock(bp, ManualClock::new());
+        tree.set_observer(Count(Arc::clone(&left_idle)));
+        assert_eq!(tree.tick_once(&mut ()), Ok(Status::Success));
+        // Every node left Idle exactly once during the tick.
+        assert_eq!(left_idle.load(Ordering::Relaxed), TREE1111_NODES_PER_TICK);
+        assert_eq!(tree.tick_once(&mut ()), Ok(Status::Success));
+        assert_eq!(
+            left_idle.load(Ordering::Relaxed),
+            2 * TREE1111_NODES_PER_TICK
+        );
+    }
+
+    #[test]
+    fn agent_tree_has_fifty_nodes_and_runs() {
+        let bp = agent_tree();
+        assert_eq!(bp.len(), 50);
+        let mut tree = Tree::with_clock(bp, ManualClock::new());
+        let mut agent = Agent::new(7);
+        for _ in 0..100 {
+            assert!(tree.tick_once(&mut agent).is_ok());
+        }
+    }
+}

@@ -1,0 +1,424 @@
+//! The demo: Nav2's navigator, unchanged, driving the simulated robot across a warehouse.
+//!
+//! A [`DemoRun`] loads the tree (Nav2's `navigate_to_pose_w_replanning_and_recovery.xml`
+//! by default, or any BehaviorTree.CPP file that uses these nodes), builds the
+//! [`Scenario`] of a seed, and then ticks: each [`tick`](DemoRun::tick) steps the world by
+//! one period, ticks the tree once, and records what happened for a
+//! [`frame`](DemoRun::frame). When the tree completes, [`summary`](DemoRun::summary) says
+//! how it went. Nothing reads the wall clock, so a run is the same every time; pacing the
+//! frames is the caller's business.
+
+use std::fmt;
+use std::path::PathBuf;
+use std::sync::Arc;
+use std::time::Duration;
+
+use neurotree::{BlackboardError, Status, Tree};
+
+use super::frame::{Layout, Parts};
+use super::scenario::{Scenario, DEFAULT_GOAL};
+use neurotree::render::LastTickStatuses;
+use neurotree::robotics::{Path, Pose2D};
+use neurotree::sim::nav2::{register_nav2_leaves, EventLog, Nav2Params, Nav2Sim, RecoveryCounter};
+use neurotree::sim::{MapError, LEGEND};
+use neurotree::{nav2, LoadError, Registry, RegistryError, XmlLoader};
+
+/// Nav2's NavigateToPose navigator with replanning and recovery, as Nav2 ships it: the
+/// tree the demo runs unless given another.
+pub const NAVIGATE_TO_POSE_XML: &str =
+    include_str!("../../../../corpus/nav2/navigate_to_pose_w_replanning_and_recovery.xml");
+
+/// The name [`NAVIGATE_TO_POSE_XML`] goes by in messages: its place in the repository.
+const NAVIGATE_TO_POSE_FILE: &str = "corpus/nav2/navigate_to_pose_w_replanning_and_recovery.xml";
+
+/// What to run.
+#[derive(Clone, Debug, PartialEq)]
+pub struct DemoConfig {
+    /// A BehaviorTree.CPP file to run instead of Nav2's navigator.
+    pub tree: Option<PathBuf>,
+    /// Where the robot is sent, in metres (1 m cells, origin at the lower left corner).
+    pub goal: Pose2D,
+    /// Picks the obstacle: see [`Scenario::new`].
+    pub seed: u64,
+    /// Ticks after which the run stops, unfinished.
+    pub max_ticks: u32,
+    /// Draw the tree with unicode box lines and marks rather than ASCII.
+    pub unicode: bool,
+    /// How the simulated servers behave.
+    pub params: Nav2Params,
+}
+
+impl Default for DemoConfig {
+    /// Nav2's navigator, the far corner of the store, seed 0, at most 3000 ticks (five
+    /// simulated minutes), unicode.
+    fn default() -> Self {
+        Self {
+            tree: None,
+            goal: DEFAULT_GOAL,
+            seed: 0,
+            max_ticks: 3000,
+            unicode: true,
+            params: Nav2Params::default(),
+        }
+    }
+}
+
+/// Why a demo could not start.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum DemoError {
+    /// The tree did not load; the message reads `file:line:col: error: …`.
+    #[error(transparent)]
+    Load(#[from] LoadError),
+    /// The warehouse map did not parse (a bug in this module).
+    #[error("the demo's map: {0}")]
+    Map(#[from] MapError),
+    /// A node type of the demo was registered twice (a bug in this module).
+    #[error("registering the demo's nodes: {0}")]
+    Registry(#[from] RegistryError),
+    /// The tree's root blackboard would not take the goal.
+    #[error("cannot give the tree its goal: {0}")]
+    Goal(#[from] BlackboardError),
+}
+
+/// How a run went.
+#[derive(Clone, Debug, PartialEq)]
+pub struct DemoSummary {
+    /// The tree's last status: Running if it was stopped unfinished.
+    pub outcome: Status,
+    /// Ticks of the tree.
+    pub ticks: u32,
+    /// Simulated time at the last tick.
+    pub time: Duration,
+    /// Metres the robot drove.
+    pub distance: f64,
+    /// Plans that replaced a different one ([`Nav2Sim::replans`]).
+    pub replans: u32,
+    /// Runs of the recovery branches, all together ([`RecoveryCounter`]).
+    pub recoveries: u32,
+    /// Runs of each recovery branch that ran, in tree order.
+    pub recovery_runs: Vec<(String, u32)>,
+    /// Where the robot ended, and where it was sent.
+    pub pose: Pose2D,
+    /// Where it was sent.
+    pub goal: Pose2D,
+    /// The error a tick ended with, if one did.
+    pub error: Option<String>,
+}
+
+impl fmt::Display for DemoSummary {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        writeln!(f, "Summary")?;
+        writeln!(f, "  outcome     {}", self.outcome)?;
+        writeln!(f, "  ticks       {}", self.ticks)?;
+        writeln!(f, "  time        {:.1} s", self.time.as_secs_f64())?;
+        writeln!(f, "  distance    {:.2} m", self.distance)?;
+        writeln!(f, "  replans     {}", self.replans)?;
+        write!(f, "  recoveries  {}", self.recoveries)?;
+        if self.recoveries > 0 {
+            let runs: Vec<String> = self
+                .recovery_runs
+                .iter()
+                .filter(|(_, n)| *n > 0)
+                .map(|(label, n)| format!("{label} {n}"))
+                .collect();
+            write!(f, " ({})", runs.join(", "))?;
+        }
+        writeln!(f)?;
+        writeln!(
+            f,
+            "  robot       ({:.2}, {:.2}), {:.2} m from the goal ({:.2}, {:.2})",
+            self.pose.x,
+            self.pose.y,
+            self.pose.distance(&self.goal),
+            self.goal.x,
+            self.goal.y
+        )?;
+        if let Some(error) = &self.error {
+            writeln!(f, "  error       {error}")?;
+        }
+        Ok(())
+    }
+}
+
+/// A demo under way: Nav2's navigator (or another tree) on the [`Scenario`] of a seed.
+///
+/// Each [`tick`](Self::tick) steps the world by one period (from the second tick on) and
+/// ticks the tree once; [`frame`](Self::frame) draws the last tick, [`notes`](Self::notes)
+/// say what happened in it, and [`summary`](Self::summary) how the run went. Nothing reads
+/// the wall clock: the same configuration gives the same run, frame for frame.
+///
+/// ```
+/// use neurotree_cli::demo::{DemoConfig, DemoRun};
+/// use neurotree::Status;
+///
+/// let mut run = DemoRun::new(&DemoConfig::default()).unwrap();
+/// let summary = run.run_to_end();
+/// assert_eq!(summary.outcome, Status::Success);
+/// assert_eq!((summary.replans, summary.recoveries), (38, 4));
+/// ```
+pub struct DemoRun {
+    sim: Nav2Sim,
+    tree: Tree<Nav2Sim>,
+    seen: LastTickStatuses,
+    recoveries: RecoveryCounter,
+    scenario: Scenario,
+    log: EventLog,
+    tree_file: String,
+    unicode: bool,
+    max_ticks: u32,
+    ticks: u32,
+    status: Status,
+    error: Option<String>,
+    /// What happened in the last tick.
+    notes: Vec<String>,
+    /// Plans made in the last tick.
+    plans_in_tick: u32,
+}
+
+impl DemoRun {
+    /// Loads the tree and sets the scene.
+    pub fn new(config: &DemoConfig) -> Result<Self, DemoError> {
+        let mut registry = Registry::<Nav2Sim>::new();
+        nav2::register_controls(&mut registry)?;
+        register_nav2_leaves(&mut registry)?;
+        let mut loader = XmlLoader::new(&registry);
+        let tree_file = match &config.tree {
+            Some(path) => {
+                loader.load_file(path)?;
+                path.display().to_string()
+            }
+            None => {
+                loader.load_str(NAVIGATE_TO_POSE_XML, NAVIGATE_TO_POSE_FILE)?;
+                NAVIGATE_TO_POSE_FILE.to_string()
+            }
+        };
+        let blueprint = Arc::new(loader.build_main()?);
+        let scenario = Scenario::new(config.seed, config.goal, &config.params)?;
+        let log = EventLog::new();
+        let sim = Nav2Sim::new(scenario.world()?)
+            .with_params(config.params)
+            .with_log(log.clone());
+        let mut tree = Tree::with_clock(Arc::clone(&blueprint), sim.world.clock());
+        tree.blackboard_mut().set("goal", config.goal)?;
+        let seen = LastTickStatuses::new();
+        let recoveries = RecoveryCounter::new(&blueprint).with_log(log.clone());
+        tree.set_observer((seen.clone(), recoveries.clone()));
+        Ok(Self {
+            sim,
+            tree,
+            seen,
+            recoveries,
+            scenario,
+            log,
+            tree_file,
+            unicode: config.unicode,
+            max_ticks: config.max_ticks,
+            ticks: 0,
+            status: Status::Running,
+            error: None,
+            notes: Vec::new(),
+            plans_in_tick: 0,
+        })
+    }
+
+    /// `true` once the tree has completed or the tick limit is reached.
+    pub fn is_over(&self) -> bool {
+        self.status != Status::Running || self.ticks >= self.max_ticks
+    }
+
+    /// Ticks the tree once (after stepping the world by one period, from the second tick
+    /// on); returns its status. Does nothing once the run [is over](Self::is_over).
+    pub fn tick(&mut self) -> Status {
+        if self.is_over() {
+            return self.status;
+        }
+        if self.ticks > 0 {
+            let before = self.present_obstacles();
+            self.sim.step();
+            self.note_obstacles(&before);
+        }
+        self.ticks += 1;
+        let plans = self.sim.plans();
+        self.status = match self.tree.tick_once(&mut self.sim) {
+            Ok(status) => status,
+            Err(error) => {
+                self.log.push(format!("the tick failed: {error}"));
+                self.error = Some(error.to_string());
+                Status::Failure
+            }
+        };
+        self.notes = self.log.take();
+        self.plans_in_tick = self.sim.plans() - plans;
+        self.status
+    }
+
+    /// Runs to the end without drawing; the summary.
+    pub fn run_to_end(&mut self) -> DemoSummary {
+        while !self.is_over() {
+            self.tick();
+        }
+        self.summary()
+    }
+
+    /// Ticks so far.
+    pub fn ticks(&self) -> u32 {
+        self.ticks
+    }
+
+    /// The simulation: the world and the counters.
+    pub fn sim(&self) -> &Nav2Sim {
+        &self.sim
+    }
+
+    /// The scenario being run.
+    pub fn scenario(&self) -> &Scenario {
+        &self.scenario
+    }
+
+    /// What happened in the last tick, one line each: obstacles coming and going, plans,
+    /// failures, recoveries.
+    pub fn notes(&self) -> &[String] {
+        &self.notes
+    }
+
+    /// `true` if more happened in the last tick than the navigator's routine planning: an
+    /// obstacle came or went, a node failed, a recovery ran, a behavior ended, or the run
+    /// ended. A view that skips frames still shows these.
+    pub fn is_eventful(&self) -> bool {
+        // Each plan writes one note; any other note is news.
+        self.notes.len() > self.plans_in_tick as usize || self.is_over()
+    }
+
+    fn present_obstacles(&self) -> Vec<bool> {
+        let world = &self.sim.world;
+        world
+            .timed_obstacles()
+            .iter()
+            .map(|o| o.is_present(world.now()))
+            .collect()
+    }
+
+    fn note_obstacles(&self, before: &[bool]) {
+        let now = self.present_obstacles();
+        for ((obstacle, was), is) in self.sim.world.timed_obstacles().iter().zip(before).zip(now) {
+            match (was, is) {
+                (false, true) => self
+                    .log
+                    .push(format!("an obstacle appears in cell {}", obstacle.cell)),
+                (true, false) => self
+                    .log
+                    .push(format!("the obstacle in cell {} is gone", obstacle.cell)),
+                _ => {}
+            }
+        }
+    }
+
+    /// What the demo is about, to show before the first frame: the tree, the goal, the
+    /// obstacle, the legend.
+    pub fn intro(&self) -> String {
+        let goal = self.scenario.goal;
+        let (success, failure) = if self.unicode {
+            ("[✓]", "[✗]")
+        } else {
+            ("[S]", "[F]")
+        };
+        let obstacle = match self.scenario.obstacle {
+            Some(o) => {
+                let stays = match o.vanishes {
+                    Some(gone) => format!("until {:.1} s", gone.as_secs_f64()),
+                    None => "for good".to_string(),
+                };
+                format!(
+                    "an obstacle steps into cell {} at {:.1} s, {stays}",
+                    o.cell,
+                    o.appears.as_secs_f64()
+                )
+            }
+            None => "no obstacle (the goal cannot be reached)".to_string(),
+        };
+        format!(
+            "NeuroTree demo: Nav2's navigator drives a simulated robot\n\
+             tree      {}\n\
+             goal      ({:.2}, {:.2}) m\n\
+             seed      {}: {obstacle}\n\
+             map       {LEGEND}\n\
+             statuses  [R] running  {success} success  {failure} failure  [ ] idle\n",
+            self.tree_file, goal.x, goal.y, self.scenario.seed,
+        )
+    }
+
+    /// The frame of the last tick: the tick, the time, the outcome so far, the world
+    /// with the current plan and the goal, the tree with the statuses of the tick, and
+    /// what happened.
+    pub fn frame(&self, layout: Layout) -> String {
+        let world = &self.sim.world;
+        let robot = world.robot();
+        let plan = self.plan_ahead();
+        let rendered = world.render_with(&plan, Some(self.scenario.goal));
+        // The world's own status line is wider than the map; the head says it shorter.
+        let map = rendered.split_once('\n').map_or("", |(_, map)| map);
+        let recoveries = self.recoveries.total();
+        // Each line no wider than the map, for the side-by-side layout.
+        let head = [
+            format!(
+                "tick {:<4}  t = {:5.1} s   {}",
+                self.ticks,
+                world.now().as_secs_f64(),
+                self.status
+            ),
+            format!(
+                "robot ({:.2}, {:.2})  heading {}°",
+                robot.x,
+                robot.y,
+                // + 0.0 turns -0 into 0, which prints without a sign.
+                robot.theta.to_degrees().round() + 0.0,
+            ),
+            format!("motion {}", world.motion_status()),
+            format!(
+                "{:.1} m   {} replans   {} recover{}",
+                world.distance_travelled(),
+                self.sim.replans(),
+                recoveries,
+                if recoveries == 1 { "y" } else { "ies" }
+            ),
+        ];
+        let tree = self.seen.render(self.tree.blueprint(), self.unicode);
+        Parts {
+            head: &head,
+            map,
+            tree: &tree,
+            notes: &self.notes,
+        }
+        .compose(layout)
+    }
+
+    /// The latest plan from the pose nearest the robot on: the root's `path` entry, or the
+    /// path the robot follows when the tree keeps no such entry.
+    fn plan_ahead(&self) -> Vec<Pose2D> {
+        let world = &self.sim.world;
+        match self.tree.blackboard().get_ref::<Path>("path") {
+            Ok(path) => {
+                let from = path.closest_index(&world.robot()).unwrap_or(0);
+                path.poses[from..].to_vec()
+            }
+            Err(_) => world.path_ahead().to_vec(),
+        }
+    }
+
+    /// How the run went so far.
+    pub fn summary(&self) -> DemoSummary {
+        let world = &self.sim.world;
+        DemoSummary {
+            outcome: self.status,
+            ticks: self.ticks,
+            time: world.now(),
+            distance: world.distance_travelled(),
+            replans: self.sim.replans(),
+            recoveries: self.recoveries.total(),
+            recovery_runs: self.recoveries.branches(),
+            pose: world.robot(),
+            goal: self.scenario.goal,
+            error: self.error.clone(),
+        }
+    }
+}

@@ -1,0 +1,9 @@
+//! The library half of the `neurotree` command: the scenario that `neurotree demo` runs,
+//! kept here (not in the `neurotree` library) because it is a show, not a building block.
+//!
+//! [`demo::DemoRun`] is Nav2's navigator, unchanged, driving the simulated robot of
+//! `neurotree::sim` across a warehouse; the binary paces and draws it.
+
+#![warn(missing_docs)]
+
+pub mod demo;

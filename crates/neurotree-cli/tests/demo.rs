@@ -1,0 +1,293 @@
+//! `neurotree demo`'s engine: the default run, its frames, other goals, seeds and trees.
+
+use std::path::PathBuf;
+use std::time::Duration;
+
+use neurotree::robotics::Pose2D;
+use neurotree::sim::{Cell, TimedObstacle};
+use neurotree::Status;
+use neurotree_cli::demo::{
+    DemoConfig, DemoError, DemoRun, DemoSummary, Layout, DEFAULT_GOAL, NAVIGATE_TO_POSE_XML,
+};
+
+const NAVIGATOR: &str = "navigate_to_pose_w_replanning_and_recovery.xml";
+
+#[test]
+fn the_embedded_navigator_is_the_file_in_the_repository() {
+    let file = std::fs::read_to_string(
+        PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+            .join("../../corpus/nav2")
+            .join(NAVIGATOR),
+    )
+    .unwrap();
+    assert_eq!(file, NAVIGATE_TO_POSE_XML);
+}
+
+fn demo(config: DemoConfig) -> DemoRun {
+    DemoRun::new(&config).unwrap()
+}
+
+fn runs(list: &[(&str, u32)]) -> Vec<(String, u32)> {
+    list.iter().map(|(l, n)| (l.to_string(), *n)).collect()
+}
+
+#[test]
+fn the_default_run_meets_the_obstacle_recovers_and_arrives() {
+    let mut run = demo(DemoConfig::default());
+    assert_eq!(
+        run.scenario().obstacle,
+        Some(
+            TimedObstacle::new(Cell::new(22, 5), Duration::from_millis(23_050))
+                .until(Duration::from_millis(26_050))
+        )
+    );
+    let summary = run.run_to_end();
+    let distance = summary.distance;
+    let pose = summary.pose;
+    assert!((distance - 40.9).abs() < 0.005, "{distance}");
+    assert!(pose.distance(&DEFAULT_GOAL) <= 0.25, "{pose:?}");
+    assert_eq!(
+        summary,
+        DemoSummary {
+            outcome: Status::Success,
+            ticks: 430,
+            time: Duration::from_millis(42_900),
+            distance,
+            replans: 38,
+            recoveries: 4,
+            recovery_runs: runs(&[
+                ("ComputePathToPose recovery", 0),
+                ("FollowPath recovery", 2),
+                ("ClearingActions", 1),
+                ("Spin", 1),
+                ("Wait", 0),
+                ("BackUp", 0),
+            ]),
+            pose,
+            goal: DEFAULT_GOAL,
+            error: None,
+        }
+    );
+    assert_eq!(
+        summary.to_string(),
+        "Summary\n  \
+         outcome     SUCCESS\n  \
+         ticks       430\n  \
+         time        42.9 s\n  \
+         distance    40.90 m\n  \
+         replans     38\n  \
+         recoveries  4 (FollowPath recovery 2, ClearingActions 1, Spin 1)\n  \
+         robot       (36.35, 1.50), 0.15 m from the goal (36.50, 1.50)\n"
+    );
+    // Over: more ticks change nothing.
+    assert_eq!(run.tick(), Status::Success);
+    assert_eq!(run.ticks(), 430);
+}
+
+#[test]
+fn every_frame_is_the_same_on_every_run() {
+    let frames = |layout| {
+        let mut run = demo(DemoConfig::default());
+        let mut frames = Vec::new();
+        while !run.is_over() {
+            run.tick();
+            frames.push(run.frame(layout));
+        }
+        frames
+    };
+    let stacked = frames(Layout::Stacked);
+    assert_eq!(stacked.len(), 430);
+    assert_eq!(stacked, frames(Layout::Stacked));
+    // Plain text: no escape sequences, no tabs.
+    assert!(stacked.iter().all(|f| !f.contains(['\x1b', '\t'])));
+    // The tree of the side-by-side layout starts in the same column on every line.
+    for frame in frames(Layout::SideBySide).iter().step_by(37) {
+        for line in frame.lines().take(20) {
+            assert_eq!(line.chars().nth(42), Some(' '), "{line}");
+            assert_ne!(line.chars().nth(43), Some(' '), "{line}");
+        }
+    }
+}
+
+#[test]
+fn the_first_frame_shows_the_plan_the_goal_and_the_statuses() {
+    let mut run = demo(DemoConfig::default());
+    run.tick();
+    let frame = run.frame(Layout::Stacked);
+    let top: Vec<&str> = frame.lines().take(22).collect();
+    assert_eq!(
+        top,
+        [
+            "tick 1     t =   0.0 s   RUNNING",
+            "robot (1.50, 13.50)  heading 0°",
+            "motion moving",
+            "0.0 m   0 replans   0 recoveries",
+            "",
+            "########################################",
+            "#R.........#...........................#",
+            "#.*........#.....................##....#",
+            "#..******..#.....######..........##....#",
+            "#....###.*.#...........................#",
+            "#....###..***..........................#",
+            "#..........#.*....######...............#",
+            "#..........#..*........................#",
+            "#..........#...*.............######....#",
+            "#....###...#....********...............#",
+            "#....###...#.....######.*****..........#",
+            "#..........................#.*.........#",
+            "#..........#...............#..*........#",
+            "#..........#...............#...*****G..#",
+            "########################################",
+            "  > ComputePathToPose: a path of 36 poses, 40.0 m",
+            "",
+        ]
+    );
+    assert!(frame.contains("\n│   └── [R] FollowPath (RecoveryNode)\n"));
+    assert!(frame.contains("\n│       ├── [R] FollowPath (StatefulAction)\n"));
+    let ascii = demo(DemoConfig {
+        unicode: false,
+        ..DemoConfig::default()
+    });
+    assert!(ascii
+        .frame(Layout::Stacked)
+        .contains("\n\\-- [ ] Sequence\n"));
+    assert!(run.intro().starts_with(
+        "NeuroTree demo: Nav2's navigator drives a simulated robot\n\
+         tree      corpus/nav2/navigate_to_pose_w_replanning_and_recovery.xml\n\
+         goal      (36.50, 1.50) m\n\
+         seed      0: an obstacle steps into cell (22, 5) at 23.1 s, until 26.1 s\n"
+    ));
+}
+
+#[test]
+fn the_story_is_told_in_the_notes() {
+    let mut run = demo(DemoConfig::default());
+    let mut notes = Vec::new();
+    while !run.is_over() {
+        run.tick();
+        notes.extend(run.notes().iter().cloned());
+    }
+    let blocked = "FollowPath failed: blocked by an obstacle in cell (22, 5) (error 106)";
+    let told: Vec<&str> = notes
+        .iter()
+        .map(String::as_str)
+        .filter(|n| !n.starts_with("ComputePathToPose: "))
+        .collect();
+    assert_eq!(
+        told,
+        [
+            "an obstacle appears in cell (22, 5)",
+            blocked,
+            "recovery: FollowPath recovery",
+            "ClearLocalCostmap-Context: cleared the local costmap",
+            blocked,
+            "recovery: ClearingActions",
+            "ClearLocalCostmap-Subtree: cleared the local costmap",
+            "ClearGlobalCostmap-Subtree: cleared the global costmap",
+            blocked,
+            "recovery: FollowPath recovery",
+            "ClearLocalCostmap-Context: cleared the local costmap",
+            blocked,
+            "recovery: Spin",
+            "Spin: done",
+            "the obstacle in cell (22, 5) is gone",
+        ]
+    );
+}
+
+#[test]
+fn an_unreachable_goal_fails_at_once() {
+    for goal in [Pose2D::new(0.5, 0.5, 0.0), Pose2D::new(80.0, 3.0, 0.0)] {
+        let mut run = demo(DemoConfig {
+            goal,
+            ..DemoConfig::default()
+        });
+        assert_eq!(run.scenario().obstacle, None);
+        let summary = run.run_to_end();
+        assert_eq!(
+            (summary.outcome, summary.ticks, summary.recoveries),
+            (Status::Failure, 1, 1)
+        );
+        assert_eq!(summary.distance, 0.0);
+        assert!(summary.to_string().contains("  outcome     FAILURE\n"));
+    }
+}
+
+#[test]
+fn seeds_vary_the_obstacle() {
+    let outcomes: Vec<(Cell, u32, u32, u32)> = (1..5)
+        .map(|seed| {
+            let mut run = demo(DemoConfig {
+                seed,
+                ..DemoConfig::default()
+            });
+            let cell = run.scenario().obstacle.map(|o| o.cell).unwrap();
+            let s = run.run_to_end();
+            assert_eq!(s.outcome, Status::Success, "seed {seed}");
+            (cell, s.ticks, s.replans, s.recoveries)
+        })
+        .collect();
+    assert_eq!(
+        outcomes,
+        [
+            (Cell::new(24, 4), 416, 37, 4),
+            (Cell::new(9, 10), 410, 37, 1),
+            (Cell::new(22, 5), 430, 38, 4),
+            (Cell::new(7, 11), 418, 38, 1),
+        ]
+    );
+}
+
+#[test]
+fn another_tree_file_drives_the_same_world() {
+    let dir = std::env::temp_dir().join(format!("neurotree-nav2-demo-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let simple = dir.join("simple.xml");
+    std::fs::write(
+        &simple,
+        r#"<root BTCPP_format="4">
+  <BehaviorTree ID="Simple">
+    <Sequence>
+      <ComputePathToPose goal="{goal}" path="{path}"/>
+      <FollowPath path="{path}"/>
+    </Sequence>
+  </BehaviorTree>
+</root>"#,
+    )
+    .unwrap();
+    let mut run = demo(DemoConfig {
+        tree: Some(simple.clone()),
+        seed: 2,
+        ..DemoConfig::default()
+    });
+    // Planned once, it drives into the obstacle and gives up.
+    let summary = run.run_to_end();
+    assert_eq!(
+        (summary.outcome, summary.replans, summary.recoveries),
+        (Status::Failure, 0, 0)
+    );
+    assert!(run
+        .intro()
+        .contains(&format!("tree      {}\n", simple.display())));
+
+    let broken = dir.join("broken.xml");
+    std::fs::write(
+        &broken,
+        "<root BTCPP_format=\"4\">\n<BehaviorTree ID=\"T\">\n  <Spin spin_dist=\"far\"/>\n</BehaviorTree>\n</root>\n",
+    )
+    .unwrap();
+    let Err(DemoError::Load(error)) = DemoRun::new(&DemoConfig {
+        tree: Some(broken.clone()),
+        ..DemoConfig::default()
+    }) else {
+        panic!("a bad literal is a load error");
+    };
+    assert_eq!((error.line, error.col), (3, 3));
+    assert!(
+        error
+            .to_string()
+            .starts_with(&format!("{}:3:3: error: ", broken.display())),
+        "{error}"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -1,0 +1,287 @@
+//! # NeuroTree for robots and Nav2
+//!
+//! [`robotics`]: the building blocks of a robot's tree (poses and paths, a sensor node, a
+//! navigation node over a [`MotionPlanner`](robotics::MotionPlanner)); and ROS 2 Nav2's
+//! control and decorator nodes, so that Nav2's navigator trees load and run.
+//!
+//! # Nav2's nodes
+//!
+//! Nav2 (`nav2_behavior_tree`) adds its own nodes to BehaviorTree.CPP. Its navigators are
+//! built from the few below: a [`PipelineSequence`] that keeps planning and following a path
+//! at once, a [`RateController`] that replans at a fixed rate, [`RecoveryNode`]s that retry
+//! an action after a recovery, a [`RoundRobin`] that takes turns among recoveries, and three
+//! nodes that notice a new goal. [`register_controls`] adds all seven to a [`Registry`] under
+//! their Nav2 names, with Nav2's ports and defaults; each type also has a `spec()` for the
+//! [`Builder`](crate::Builder).
+//!
+//! | node | semantics |
+//! |---|---|
+//! | [PipelineSequence] | Every tick, tick children from the first. Failure: halt all, Failure. Success or Skipped: go on. Running: if this child is at or past the furthest child that has run so far, remember it and return Running; an earlier child still Running is passed over (it keeps running "in the pipeline"). All done: halt all, reset, Success (Skipped if all were skipped). |
+//! | [RecoveryNode(number_of_retries=1)](RecoveryNode) | Exactly 2 children: action, recovery. Action Success: halt recovery, reset, Success. Action Running: Running. Action Failure: if retries < N, halt action and tick recovery in the same tick; else reset, Failure. Recovery Success: retries+1, tick the action again in the same tick; Running: Running; Failure: reset, Failure; Skipped: Failure (not counted as a retry). Action Skipped: Skipped. |
+//! | [RoundRobin(wrap_around=false)](RoundRobin) | Starting at the stored child, tick; a child that completes advances the index (wrapping to 0 if wrap_around, else stopping at the end). Success: halt the others, Success; the next tick starts at the child after it. Running: Running. Failure: try the next; when every child has failed since the last success (or the end is reached without wrap-around): reset, Failure. Halt resets the index. |
+//! | [RateController(hz=10)](RateController) | On the tick from Idle, start a period timer and tick the child at once. Later: tick the child if it is Running or the period has elapsed since the last child Success; otherwise return Running without ticking it. Child Success restarts the timer. |
+//! | [GoalUpdated(goal, goals)](GoalUpdated) | A condition. On the tick from Idle: remember the goals, Failure. Later: Success if `goal` or `goals` differs from what it remembered (and remember the new ones), else Failure. |
+//! | [GlobalUpdatedGoal(goal, goals)](GlobalUpdatedGoal) | A condition. On its first tick ever: remember the goals, Success. Later (whatever its parents did meanwhile): Success if `goal` or `goals` differs from what it remembered (and remember the new ones), else Failure. |
+//! | [GoalUpdatedController(goal, goals)](GoalUpdatedController) | On the tick from Idle: remember the goals and tick the child. Later: tick the child if it is Running or `goal` or `goals` changed since the last look; otherwise return Running without ticking it. |
+//!
+//! # Goals
+//!
+//! The goal nodes read `goal` as a [`Pose2D`] and `goals` as a `Vec<Pose2D>`, as Nav2 reads
+//! them: the port if it is given and readable, else the blackboard entry of the port's own
+//! name. A goal that can be read nowhere counts as Nav2's empty value (the origin, no goals)
+//! when it is compared, and leaves the remembered value as it was when the node remembers.
+//! Values are compared, not writes: writing the same pose again is no update (a `Pose2D` has
+//! no time stamp, unlike Nav2's `PoseStamped`). An entry holding a value of another type is
+//! an error of the tick. A text entry or literal is converted; `goals` as text is a
+//! `;`-separated list of poses that are themselves `;`-separated, so only an empty list
+//! reads from text.
+//!
+//! Like Nav2's, these nodes see "the tick from Idle" through their stored status
+//! ([`NodeCtx::previous_status`](crate::NodeCtx::previous_status)). So a GoalUpdated placed
+//! first in a ReactiveFallback whose next child keeps running is reset to Idle on every tick
+//! (the reactive node resets its other children), and never reports an update: that is
+//! what Nav2 does on BehaviorTree.CPP 4 too. GlobalUpdatedGoal, which remembers across
+//! resets, is the node for such places.
+//!
+//! ```
+//! use neurotree::robotics::Pose2D;
+//! use neurotree::{nav2, ManualClock, Registry, Status, Tree, XmlLoader};
+//!
+//! let mut registry = Registry::<u32>::new();
+//! nav2::register_controls(&mut registry).unwrap();
+//! registry
+//!     .register_action("Plan", vec![], |h| { *h.ctx_mut() += 1; Status::Success })
+//!     .unwrap();
+//! let mut loader = XmlLoader::new(&registry);
+//! loader.load_str(r#"
+//!     <root BTCPP_format="4">
+//!       <BehaviorTree ID="Navigate">
+//!         <PipelineSequence>
+//!           <GoalUpdatedController><Plan/></GoalUpdatedController>
+//!           <KeepRunningUntilFailure><AlwaysSuccess/></KeepRunningUntilFailure>
+//!         </PipelineSequence>
+//!       </BehaviorTree>
+//!     </root>"#, "navigate.xml").unwrap();
+//! let mut tree = Tree::with_clock(loader.build_main().unwrap().into(), ManualClock::new());
+//! tree.blackboard_mut().set("goal", Pose2D::new(1.0, 2.0, 0.0)).unwrap();
+//! let mut plans = 0;
+//! assert_eq!(tree.tick_once(&mut plans), Ok(Status::Running));
+//! assert_eq!(tree.tick_once(&mut plans), Ok(Status::Running));
+//! assert_eq!(plans, 1);
+//! // A new goal: planned again, while the second child keeps running.
+//! tree.blackboard_mut().set("goal", Pose2D::new(4.0, 2.0, 0.0)).unwrap();
+//! assert_eq!(tree.tick_once(&mut plans), Ok(Status::Running));
+//! assert_eq!(plans, 2);
+//! ```
+
+#![warn(missing_docs)]
+
+mod global_updated_goal;
+mod goal_updated;
+mod goal_updated_controller;
+mod goals;
+mod pipeline_sequence;
+mod rate_controller;
+mod recovery_node;
+pub mod robotics;
+mod round_robin;
+#[cfg(test)]
+mod testing;
+
+use std::any::Any;
+
+pub use global_updated_goal::GlobalUpdatedGoal;
+pub use goal_updated::GoalUpdated;
+pub use goal_updated_controller::GoalUpdatedController;
+pub use pipeline_sequence::PipelineSequence;
+pub use rate_controller::RateController;
+pub use recovery_node::RecoveryNode;
+pub use round_robin::RoundRobin;
+
+use neurotree_core::{Arity, Category, CustomSpec, FromPortStr, NodeCtx};
+
+use crate::robotics::Pose2D;
+use neurotree_toolkit::{PortSpec, Registry, RegistryError};
+
+/// Registers PipelineSequence, RecoveryNode, RoundRobin, RateController, GoalUpdated,
+/// GlobalUpdatedGoal and GoalUpdatedController under their Nav2 names, with Nav2's ports and
+/// defaults. Fails if one of the names is taken (nothing after it is registered then).
+pub fn register_controls<C: 'static>(registry: &mut Registry<C>) -> Result<(), RegistryError> {
+    registry.register_custom("PipelineSequence", Arity::AtLeast(1), vec![], || {
+        Box::new(PipelineSequence::default())
+    })?;
+    registry.register_custom(
+        "RecoveryNode",
+        Arity::Range { min: 2, max: 2 },
+        vec![PortSpec::input::<i32>("number_of_retries")
+            .default_value("1")
+            .describe("How many times the recovery may run before the node fails.")],
+        || Box::new(RecoveryNode::default()),
+    )?;
+    registry.register_custom(
+        "RoundRobin",
+        Arity::AtLeast(1),
+        vec![PortSpec::input::<bool>("wrap_around")
+            .default_value("false")
+            .describe("Start again at the first child after the last one, instead of failing.")],
+        || Box::new(RoundRobin::default()),
+    )?;
+    registry.register_custom(
+        "RateController",
+        Arity::One,
+        vec![PortSpec::input::<f64>("hz")
+            .default_value("10.0")
+            .describe("How many times per second the child may start again.")],
+        || Box::new(RateController::default()),
+    )?;
+    registry.register_custom("GoalUpdatedController", Arity::One, goal_ports(), || {
+        Box::new(GoalUpdatedController::default())
+    })?;
+    register_condition(registry, "GoalUpdated", GoalUpdated::spec)?;
+    register_condition(registry, "GlobalUpdatedGoal", GlobalUpdatedGoal::spec)?;
+    registry.describe(
+        "PipelineSequence",
+        "Ticks its children from the first every tick; earlier children keep running.",
+    );
+    registry.describe(
+        "RecoveryNode",
+        "Runs the first child; when it fails, runs the second, then the first again.",
+    );
+    registry.describe(
+        "RoundRobin",
+        "Ticks one child per use, the next one each time; fails when all have failed.",
+    );
+    registry.describe(
+        "RateController",
+        "Ticks its child at most `hz` times per second, and on while it runs.",
+    );
+    registry.describe(
+        "GoalUpdated",
+        "Succeeds when the goal changed since its last look in this run.",
+    );
+    registry.describe(
+        "GlobalUpdatedGoal",
+        "Succeeds on its first tick, then when the goal changed since its last look.",
+    );
+    registry.describe(
+        "GoalUpdatedController",
+        "Ticks its child on a new goal, and on while it runs.",
+    );
+    Ok(())
+}
+
+/// A goal condition: a custom leaf (it keeps the goals it saw), listed as a Condition.
+fn register_condition<C: 'static>(
+    registry: &mut Registry<C>,
+    name: &str,
+    spec: fn() -> CustomSpec<C>,
+) -> Result<(), RegistryError> {
+    let make = move || (spec().factory)();
+    registry.register_custom_as(name, Category::Condition, Arity::Leaf, goal_ports(), make)
+}
+
+/// The ports of the three goal nodes.
+fn goal_ports() -> Vec<PortSpec> {
+    vec![
+        PortSpec::input::<Pose2D>("goal")
+            .describe("The goal to watch; the `goal` entry when not given."),
+        PortSpec::input::<Vec<Pose2D>>("goals")
+            .describe("The goals to watch; the `goals` entry when not given."),
+    ]
+}
+
+/// Reads port `port`, or `default` when the node has no such port (the XML loader fills in
+/// declared defaults, but a tree built in Rust may leave the port out). A port that cannot
+/// be read is reported through [`NodeCtx::fail`] and gives `None`; the node then fails.
+fn port_or<C, T: FromPortStr + Any + Clone>(
+    node: &mut NodeCtx<'_, '_, C>,
+    port: &str,
+    default: T,
+) -> Option<T> {
+    // Checked first so that a missing port costs no error value on every tick.
+    if !node.ports().iter().any(|p| p.name == port) {
+        return Some(default);
+    }
+    match node.input(port) {
+        Ok(value) => Some(value),
+        Err(e) => {
+            node.fail(e.to_string());
+            None
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use neurotree_toolkit::Status;
+
+    #[test]
+    fn registers_all_seven_with_their_families_and_ports() {
+        let mut r = Registry::<()>::new();
+        register_controls(&mut r).unwrap();
+        let family = |name: &str| r.get(name).unwrap().category;
+        assert_eq!(family("PipelineSequence"), Category::Control);
+        assert_eq!(family("RecoveryNode"), Category::Control);
+        assert_eq!(family("RoundRobin"), Category::Control);
+        assert_eq!(family("RateController"), Category::Decorator);
+        assert_eq!(family("GoalUpdatedController"), Category::Decorator);
+        assert_eq!(family("GoalUpdated"), Category::Condition);
+        assert_eq!(family("GlobalUpdatedGoal"), Category::Condition);
+        let default =
+            |name: &str, port: &str| r.get(name).unwrap().port(port).unwrap().default.clone();
+        assert_eq!(
+            default("RecoveryNode", "number_of_retries").as_deref(),
+            Some("1")
+        );
+        assert_eq!(
+            default("RoundRobin", "wrap_around").as_deref(),
+            Some("false")
+        );
+        assert_eq!(default("RateController", "hz").as_deref(), Some("10.0"));
+        for name in ["GoalUpdated", "GlobalUpdatedGoal", "GoalUpdatedController"] {
+            let t = r.get(name).unwrap();
+            let ports: Vec<&str> = t.ports.iter().map(|p| p.name.as_str()).collect();
+            assert_eq!(ports, ["goal", "goals"], "{name}");
+            assert!(t.ports.iter().all(|p| p.default.is_none()), "{name}");
+        }
+        assert!(r.get("PipelineSequence").unwrap().ports.is_empty());
+        // Literals are checked against the port types.
+        assert!(!r.get("RateController").unwrap().ports[0].accepts("fast"));
+        assert!(r.get("GoalUpdated").unwrap().ports[0].accepts("1;2;0.5"));
+    }
+
+    #[test]
+    fn registering_twice_is_refused() {
+        let mut r = Registry::<()>::new();
+        r.register_action("RoundRobin", vec![], |_| Status::Success)
+            .unwrap();
+        assert_eq!(
+            register_controls(&mut r),
+            Err(RegistryError::Duplicate("RoundRobin".into()))
+        );
+        let mut again = Registry::<()>::new();
+        register_controls(&mut again).unwrap();
+        assert_eq!(
+            register_controls(&mut again),
+            Err(RegistryError::Duplicate("PipelineSequence".into()))
+        );
+    }
+
+    #[test]
+    fn the_model_lists_them_for_groot() {
+        let mut r = Registry::<()>::new();
+        register_controls(&mut r).unwrap();
+        let model = r.tree_nodes_model();
+        assert!(model.contains(r#"<Control ID="RecoveryNode">"#), "{model}");
+        assert!(model.contains(r#"<Condition ID="GoalUpdated">"#), "{model}");
+        assert!(
+            model.contains(r#"<Decorator ID="RateController">"#),
+            "{model}"
+        );
+        assert!(
+            model.contains(r#"<input_port name="hz" type="f64" default="10.0">"#),
+            "{model}"
+        );
+    }
+}

@@ -1,0 +1,286 @@
+//! ROS 2 Nav2's leaf nodes on the grid world, so that Nav2's navigator files run unchanged
+//! on a simulated robot.
+//!
+//! Nav2's behavior trees (`navigate_to_pose_w_replanning_and_recovery.xml` and its kin) are
+//! made of the [control nodes](neurotree_nav2) and of leaves that call Nav2's servers: the
+//! planner, the controller, the costmaps, the recovery behaviors. Here each of those leaves
+//! drives a [`GridWorld`] instead, with the ports `nav2_tree_nodes.xml` declares (names,
+//! directions, defaults), so a Nav2 file loads as it is and also passes a check against
+//! Nav2's own model. [`register_nav2_leaves`] adds them to a [`Registry`] whose context
+//! gives access to a [`Nav2Sim`] (see [`Nav2Context`]).
+//!
+//! | node | semantics |
+//! |---|---|
+//! | ComputePathToPose(goal, start?, use_start?, viapoints?, planner_id) → path, error_code_id, error_msg | Sync action. A* on the global costmap from `start` (the robot when absent, or when `use_start` is false) through `viapoints` to `goal`. Success: writes `path` and error code 0. Failure: writes an empty `path` and the planner's error code: START_OUTSIDE_MAP 203, GOAL_OUTSIDE_MAP 204, GOAL_OCCUPIED 206, NO_VALID_PATH 208 (UNKNOWN 200 for an unreadable goal). |
+//! | FollowPath(path, controller_id, …) → tracking_feedback, error_code_id, error_msg | Stateful action on the world's follow motion. Every tick it reads the *current* `path`: a new path is followed from where the robot is (Nav2's controller takes new paths while it runs). Success (motion stopped, error 0) once the robot is within the goal tolerance of the path's end. Failure: INVALID_PATH 103 (no or empty path), NO_VALID_CONTROL 106 (blocked by an obstacle), FAILED_TO_MAKE_PROGRESS 105 (battery empty). Else Running. Halt stops the motion. |
+//! | ProgressCheckerSelector, GoalCheckerSelector, PathHandlerSelector, ControllerSelector, PlannerSelector | Sync actions: write `default_*` to `selected_*`, Success; Failure without a default. |
+//! | IsGoalNearby(path, proximity_threshold=1.0, max_robot_pose_search_dist=-1) | Condition: the path length from the pose nearest the robot to the end is below the threshold. The search for the nearest pose starts where the last one was found on the same path and spans `max_robot_pose_search_dist` metres of it (the whole path when negative). Empty path: Failure. |
+//! | TruncatePathLocal(input_path, distance_forward=8, distance_backward=4, pose?, angular_distance_weight=0, max_robot_pose_search_dist=inf) → output_path | Sync action: the part of the path from `distance_backward` metres before the pose nearest the robot (or `pose`) to `distance_forward` metres after it (to the end when negative). Success. |
+//! | ValidatePath(path, max_lookahead_distance=-1, stop_at_first_collision=true) → collision_poses | Sync action: Success if no pose of the path (within the lookahead from the pose nearest the robot, when positive) lies on a cell the global costmap holds blocked; else Failure, listing the poses in collision. Empty path: Failure. |
+//! | ClearEntireCostmap(service_name) | Sync action: forgets the sensed obstacles of the global costmap (a service name containing `global_costmap`) or the local one (`local_costmap`); Success. Any other name: Failure. |
+//! | WouldAPlannerRecoveryHelp(error_code, error_codes_to_check?) | Condition: `error_code` is UNKNOWN 200, NO_VALID_PATH 208 or TIMEOUT 207 (or one of `error_codes_to_check` when given). No such entry yet: code 0. |
+//! | WouldAControllerRecoveryHelp(error_code, error_codes_to_check?) | Condition: `error_code` is UNKNOWN 100, PATIENCE_EXCEEDED 104, FAILED_TO_MAKE_PROGRESS 105 or NO_VALID_CONTROL 106 (or one of `error_codes_to_check`). |
+//! | Spin(spin_dist=1.57, time_allowance=10) | Stateful action: turns on the spot by `spin_dist` radians at the spin rate. Success when turned; Failure TIMEOUT 701 past the time allowance, UNKNOWN 700 with an empty battery. Halt stops the motion. |
+//! | Wait(wait_duration=1.0) | Stateful action: stands still for `wait_duration` seconds. Success; halt stops the wait. |
+//! | BackUp(backup_dist=0.15, backup_speed=0.025, time_allowance=10) | Stateful action: drives backwards `backup_dist` metres at `backup_speed`. Success; Failure COLLISION_AHEAD 714 against a wall or an obstacle, TIMEOUT 711 past the time allowance, INVALID_INPUT 713 for a zero speed or a number that is not finite. Halt stops the motion. |
+//!
+//! Ports that only make sense on a ROS system (server names, timeouts, frames, plugin ids,
+//! footprints) are declared, so that files using them load, and read nowhere.
+//!
+//! # Time
+//!
+//! The leaves command the world's motions and read their outcome; they never move time
+//! themselves. Whoever runs the tree ticks it and then steps the world by the tick's
+//! period ([`Nav2Sim::step`]), as Nav2's servers run beside the navigator: a motion
+//! started in one tick has moved by one period at the next. The world's clock is the
+//! tree's clock ([`GridWorld::clock`]), so Nav2's RateController and the behaviors' time
+//! allowances run on simulated time, and every run is the same.
+//!
+//! # Counting
+//!
+//! [`Nav2Sim::replans`] counts the plans that replaced a different one, and a
+//! [`RecoveryCounter`] attached to the tree counts the runs of each recovery branch, for a
+//! summary of what the navigator went through. [`DemoRun`] puts it all together: the
+//! warehouse of `neurotree demo`, the Nav2 navigator, the frames and the summary.
+//!
+//! ```
+//! use neurotree::robotics::Pose2D;
+//! use neurotree::sim::nav2::{register_nav2_leaves, Nav2Sim};
+//! use neurotree::sim::GridWorld;
+//! use neurotree::{nav2, Registry, Status, Tree, XmlLoader};
+//!
+//! let mut registry = Registry::<Nav2Sim>::new();
+//! nav2::register_controls(&mut registry).unwrap();
+//! register_nav2_leaves(&mut registry).unwrap();
+//! let mut loader = XmlLoader::new(&registry);
+//! loader.load_str(r#"
+//!     <root BTCPP_format="4">
+//!       <BehaviorTree ID="Go">
+//!         <PipelineSequence>
+//!           <RateController hz="1.0">
+//!             <ComputePathToPose goal="{goal}" path="{path}"/>
+//!           </RateController>
+//!           <FollowPath path="{path}"/>
+//!         </PipelineSequence>
+//!       </BehaviorTree>
+//!     </root>"#, "go.xml").unwrap();
+//!
+//! let mut sim = Nav2Sim::new(GridWorld::parse("R....", 1.0).unwrap());
+//! let mut tree = Tree::with_clock(loader.build_main().unwrap().into(), sim.world.clock());
+//! tree.blackboard_mut().set("goal", Pose2D::new(4.5, 0.5, 0.0)).unwrap();
+//! let mut ticks = 1;
+//! while tree.tick_once(&mut sim).unwrap() == Status::Running {
+//!     sim.step();
+//!     ticks += 1;
+//! }
+//! // 3.75 m at 1 m/s, in 0.1 s steps, and the tick that sees it within 0.25 m.
+//! assert_eq!(ticks, 39);
+//! assert!(sim.world.robot().distance(&Pose2D::new(4.5, 0.5, 0.0)) <= 0.25);
+//! // Replanned every second from where the robot was: three times.
+//! assert_eq!((sim.plans(), sim.replans()), (4, 3));
+//! ```
+
+mod behaviors;
+pub mod codes;
+mod controller;
+mod costmaps;
+mod path_checks;
+mod planner;
+mod ports;
+mod recoveries;
+mod recovery_help;
+mod selectors;
+#[cfg(test)]
+mod testing;
+
+use std::sync::{Arc, Mutex, MutexGuard};
+use std::time::Duration;
+
+pub use controller::TrackingFeedback;
+pub use recoveries::RecoveryCounter;
+
+use super::{GridWorld, MotionStatus};
+use neurotree_toolkit::{Registry, RegistryError};
+
+/// How the simulated Nav2 servers behave.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Nav2Params {
+    /// The controller's speed along a path, in metres per second.
+    pub speed: f64,
+    /// The spin behavior's turn rate, in radians per second.
+    pub spin_rate: f64,
+    /// How close to a path's end counts as arrived, in metres (the goal checker's
+    /// `xy_goal_tolerance`).
+    pub goal_tolerance: f64,
+    /// Simulated time per tick: how far [`Nav2Sim::step`] moves the world.
+    pub period: Duration,
+}
+
+impl Default for Nav2Params {
+    /// 1 m/s, 1 rad/s, Nav2's goal tolerance of 0.25 m, a tick every 100 ms.
+    fn default() -> Self {
+        Self {
+            speed: 1.0,
+            spin_rate: 1.0,
+            goal_tolerance: 0.25,
+            period: Duration::from_millis(100),
+        }
+    }
+}
+
+/// The context the Nav2 leaves work on: the world, the servers' parameters, what they
+/// counted, and (if asked) a log of what they did.
+#[derive(Debug)]
+pub struct Nav2Sim {
+    /// The simulated robot and its surroundings.
+    pub world: GridWorld,
+    /// How the simulated servers behave.
+    pub params: Nav2Params,
+    plans: u32,
+    replans: u32,
+    log: Option<EventLog>,
+}
+
+impl Nav2Sim {
+    /// The servers of Nav2 on `world`, with the default [`Nav2Params`].
+    pub fn new(world: GridWorld) -> Self {
+        Self {
+            world,
+            params: Nav2Params::default(),
+            plans: 0,
+            replans: 0,
+            log: None,
+        }
+    }
+
+    /// With `params` instead of the defaults.
+    pub fn with_params(mut self, params: Nav2Params) -> Self {
+        self.params = params;
+        self
+    }
+
+    /// Writing what the leaves do to `log` (one line per plan, failure, clearing or
+    /// behavior), for a live view. Off by default, so that a long run does not grow a log
+    /// nobody reads.
+    pub fn with_log(mut self, log: EventLog) -> Self {
+        self.log = Some(log);
+        self
+    }
+
+    /// Moves the world on by one period ([`Nav2Params::period`]); see [`GridWorld::step`].
+    pub fn step(&mut self) -> MotionStatus {
+        self.world.step(self.params.period)
+    }
+
+    /// Paths ComputePathToPose produced.
+    pub fn plans(&self) -> u32 {
+        self.plans
+    }
+
+    /// Paths ComputePathToPose produced that replaced a different path: every plan after
+    /// the first one, except those identical to the path they replaced.
+    pub fn replans(&self) -> u32 {
+        self.replans
+    }
+
+    /// Records a plan; `replaced` says it differs from the path it replaced.
+    pub(super) fn count_plan(&mut self, replaced: bool) {
+        if self.plans > 0 && replaced {
+            self.replans += 1;
+        }
+        self.plans += 1;
+    }
+
+    /// Adds a line to the log, if it is on; `line` is only called then.
+    pub(super) fn note(&mut self, line: impl FnOnce() -> String) {
+        if let Some(log) = &self.log {
+            log.push(line());
+        }
+    }
+}
+
+/// Lines of what happened, in order, written by the leaves ([`Nav2Sim::with_log`]) and by
+/// a [`RecoveryCounter`] ([`RecoveryCounter::with_log`]) and read by a view. Clones share
+/// the lines.
+#[derive(Clone, Debug, Default)]
+pub struct EventLog {
+    lines: Arc<Mutex<Vec<String>>>,
+}
+
+impl EventLog {
+    /// An empty log.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Adds a line.
+    pub fn push(&self, line: String) {
+        self.lock().push(line);
+    }
+
+    /// The lines written since the last call.
+    pub fn take(&self) -> Vec<String> {
+        std::mem::take(&mut *self.lock())
+    }
+
+    fn lock(&self) -> MutexGuard<'_, Vec<String>> {
+        // Whole lines only: still readable if a writer panicked.
+        self.lines.lock().unwrap_or_else(|e| e.into_inner())
+    }
+}
+
+/// Gives the Nav2 leaves their [`Nav2Sim`]: implemented by `Nav2Sim` itself, and by any
+/// context that holds one (a game or a test harness with more in it).
+pub trait Nav2Context: 'static {
+    /// The simulation, to read.
+    fn nav2(&self) -> &Nav2Sim;
+    /// The simulation, to command.
+    fn nav2_mut(&mut self) -> &mut Nav2Sim;
+}
+
+impl Nav2Context for Nav2Sim {
+    fn nav2(&self) -> &Nav2Sim {
+        self
+    }
+    fn nav2_mut(&mut self) -> &mut Nav2Sim {
+        self
+    }
+}
+
+/// Registers every Nav2 leaf that `navigate_to_pose_w_replanning_and_recovery.xml` uses,
+/// under its Nav2 name with the ports of `nav2_tree_nodes.xml`: ComputePathToPose,
+/// FollowPath, the five selectors, IsGoalNearby, TruncatePathLocal, ValidatePath,
+/// ClearEntireCostmap, WouldAPlannerRecoveryHelp, WouldAControllerRecoveryHelp, Spin, Wait
+/// and BackUp. The control nodes come from [`nav2::register_controls`](neurotree_nav2::register_controls).
+/// Fails if one of the names is taken.
+pub fn register_nav2_leaves<C: Nav2Context>(
+    registry: &mut Registry<C>,
+) -> Result<(), RegistryError> {
+    planner::register(registry)?;
+    controller::register(registry)?;
+    selectors::register(registry)?;
+    path_checks::register(registry)?;
+    costmaps::register(registry)?;
+    recovery_help::register(registry)?;
+    behaviors::register(registry)
+}
+
+/// The names [`register_nav2_leaves`] registers, in its order.
+pub const LEAVES: [&str; 16] = [
+    "ComputePathToPose",
+    "FollowPath",
+    "ProgressCheckerSelector",
+    "GoalCheckerSelector",
+    "PathHandlerSelector",
+    "ControllerSelector",
+    "PlannerSelector",
+    "IsGoalNearby",
+    "TruncatePathLocal",
+    "ValidatePath",
+    "ClearEntireCostmap",
+    "WouldAPlannerRecoveryHelp",
+    "WouldAControllerRecoveryHelp",
+    "Spin",
+    "Wait",
+    "BackUp",
+];

@@ -1,0 +1,31 @@
+//! # NeuroTree toolkit
+//!
+//! The BehaviorTree.CPP-compatible layer of NeuroTree, on top of the `no_std` engine
+//! [`neurotree_core`] (re-exported here whole): the node [`Registry`], the XML loader and
+//! writer ([`xml`]), the [`script`] language, the built-in nodes that need `std`
+//! ([`nodes`]), observers and loggers ([`observe`]), pictures ([`render`]) and runners
+//! ([`runtime`]).
+//!
+//! Most users depend on the `neurotree` crate, which re-exports all of this under the same
+//! paths, and adds robotics, the simulator and the Groot2 monitor behind features.
+
+#![warn(missing_docs)]
+
+pub use neurotree_core::*;
+
+pub mod blackboard_json;
+mod json_port;
+pub mod nodes;
+pub mod observe;
+pub mod registry;
+pub mod render;
+pub mod runtime;
+pub mod script;
+mod shared_blackboard;
+pub mod xml;
+
+pub use json_port::Json;
+pub use registry::{PortDirection, PortSpec, Registry, RegistryError};
+pub use runtime::{FixedRate, StopFlag};
+pub use shared_blackboard::SharedBlackboard;
+pub use xml::{LoadError, XmlLoader};

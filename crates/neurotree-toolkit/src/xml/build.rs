@@ -1,0 +1,454 @@
+//! From loaded XML elements to a blueprint: node names through the registry, ports checked,
+//! subtrees expanded into blackboard scopes.
+
+use std::sync::Arc;
+
+use neurotree_core::{
+    Arity, Blueprint, Builder, Category, NodeKind, Port, PortValue, SubTreeScope, DEFAULT_MAX_DEPTH,
+};
+
+use super::mock;
+use super::source::Element;
+use super::{LoadError, XmlLoader};
+use crate::nodes::hooks::{ScriptHooks, ATTRIBUTES};
+use crate::registry::{built_in_kind, Make, NodeType};
+use crate::script::{Enums, Script};
+
+/// The elements that name their type in an `ID` attribute (BehaviorTree.CPP's explicit form).
+const EXPLICIT: [&str; 4] = ["Action", "Condition", "Control", "Decorator"];
+
+struct Expansion<'a, 'r, C> {
+    loader: &'a XmlLoader<'r, C>,
+    /// Validating only: model-only types become placeholders of their family.
+    validate: bool,
+    /// The subtree IDs being expanded, outermost first, to find cycles.
+    stack: Vec<String>,
+    /// Type names resolved lately, by a hash of the name: a tree names few types many times,
+    /// and a registry look-up compares the name with several others.
+    resolved: [Option<(&'a str, &'a NodeType<C>)>; RESOLVED],
+}
+
+/// Slots of [`Expansion::resolved`] (a power of two).
+const RESOLVED: usize = 32;
+
+pub(super) fn build<C: 'static>(
+    loader: &XmlLoader<'_, C>,
+    id: &str,
+    tree: Element<'_>,
+    validate: bool,
+) -> Result<Blueprint<C>, LoadError> {
+    let mut x = Expansion {
+        loader,
+        validate,
+        stack: vec![id.to_string()],
+        resolved: [None; RESOLVED],
+    };
+    let b = x.node(Builder::new(), only_child(tree), 1)?;
+    // Checks the loader could not make on one element (thresholds against the number of
+    // children) come back from the builder with the node's path.
+    b.build().map_err(|e| tree.error(e.to_string()))
+}
+
+/// `a == b`, for short names: inline, where `==` calls `memcmp`.
+fn same(a: &str, b: &str) -> bool {
+    a.len() == b.len() && a.bytes().zip(b.bytes()).all(|(x, y)| x == y)
+}
+
+/// The root node of a `<BehaviorTree>`.
+fn only_child(tree: Element<'_>) -> Element<'_> {
+    // The loader keeps only trees with exactly one child element.
+    tree.children()
+        .next()
+        .expect("a loaded <BehaviorTree> has one child element")
+}
+
+/// The node's pre- and post-condition scripts, parsed; `None` if it has none.
+///
+/// Boxed: most nodes have none, and an empty `Option<ScriptHooks>` would still be copied
+/// whole at every move.
+fn conditions(el: Element<'_>, enums: &Arc<Enums>) -> Result<Option<Box<ScriptHooks>>, LoadError> {
+    let mut hooks: Option<Box<ScriptHooks>> = None;
+    for (key, code) in el.attrs() {
+        if ATTRIBUTES.contains(&key) {
+            let script = Script::parse(code)
+                .map_err(|e| el.error(format!("in `{key}` script `{code}`: {e}")))?;
+            hooks
+                .get_or_insert_with(|| {
+                    Box::new(ScriptHooks {
+                        enums: Arc::clone(enums),
+                        ..ScriptHooks::default()
+                    })
+                })
+                .set(key, script);
+        } else if key.starts_with('_') && key != "_autoremap" {
+            return Err(el.error(format!(
+                "unknown attribute `{key}`; names starting with `_` are reserved for {}",
+                ATTRIBUTES.join(", ")
+            )));
+        }
+    }
+    Ok(hooks)
+}
+
+/// Binds `ports` to the node added last, if there are any.
+#[inline(always)]
+fn with_ports<C>(b: Builder<C>, ports: Vec<Port>) -> Builder<C> {
+    if ports.is_empty() {
+        b
+    } else {
+        b.ports(ports)
+    }
+}
+
+/// Attaches `hooks` to the node added last, if there are any.
+#[inline(always)]
+fn with_hooks<C: 'static>(b: Builder<C>, hooks: Option<Box<ScriptHooks>>) -> Builder<C> {
+    match hooks {
+        Some(h) => b.hooks(*h),
+        None => b,
+    }
+}
+
+/// A port's binding from its attribute text: `{key}` (or `{@key}`) is an entry, `{=}` and
+/// `=` the entry named like the port, anything else literal text.
+fn binding(port: &str, text: &str) -> PortValue {
+    let t = text.trim();
+    if t == "=" || t == "{=}" {
+        return PortValue::Entry(port.to_string());
+    }
+    match t.strip_prefix('{').and_then(|r| r.strip_suffix('}')) {
+        Some(key) if !key.is_empty() && !key.contains(['{', '}']) => {
+            PortValue::Entry(key.to_string())
+        }
+        _ => PortValue::Literal(text.to_string()),
+    }
+}
+
+impl<'a, C: 'static> Expansion<'a, '_, C> {
+    /// Adds `el` and, below it, its children. Kept small: it recurses once per level, so all
+    /// the per-element work is in [`open`](Self::open), which does not.
+    fn node(
+        &mut self,
+        b: Builder<C>,
+        el: Element<'a>,
+        depth: u32,
+    ) -> Result<Builder<C>, LoadError> {
+        if depth > DEFAULT_MAX_DEPTH {
+            return Err(self.too_deep(el));
+        }
+        if el.tag() == "SubTree" {
+            let (b, body) = self.open_subtree(b, el)?;
+            let b = match body {
+                Body::Xml(tree) => self.node(b, only_child(tree), depth + 1),
+                // The builder checks its depth and its child count itself.
+                Body::Built(add) => Ok(add(b)),
+            }
+            .map(Builder::close);
+            self.stack.pop();
+            return b;
+        }
+        let (mut b, descend) = self.open(b, el)?;
+        if descend {
+            for child in el.children() {
+                b = self.node(b, child, depth + 1)?;
+            }
+        }
+        Ok(b.close())
+    }
+
+    #[inline(never)]
+    fn too_deep(&self, el: Element<'_>) -> LoadError {
+        el.error(format!(
+            "the tree nests deeper than {DEFAULT_MAX_DEPTH} levels (subtrees included); flatten it"
+        ))
+    }
+
+    /// Checks `el` and opens its node; `false` if its children are not to be added (a mock
+    /// replaces a node and what is below it).
+    #[inline(never)]
+    fn open(&mut self, b: Builder<C>, el: Element<'a>) -> Result<(Builder<C>, bool), LoadError> {
+        let tag = el.tag();
+        let explicit = EXPLICIT.contains(&tag);
+        let type_name = if explicit {
+            el.attr("ID").ok_or_else(|| {
+                el.error(format!(
+                    "<{tag}> needs an ID attribute naming the node type"
+                ))
+            })?
+        } else {
+            tag
+        };
+        // Most elements have no attributes: nothing to look up.
+        let (name, hooks) = if el.has_attrs() {
+            let enums = self.loader.registry.enums();
+            (el.attr("name").unwrap_or(type_name), conditions(el, enums)?)
+        } else {
+            (type_name, None)
+        };
+        if let Some(outcomes) = self.loader.mocks.get(name) {
+            let b = b.open(mock::mock_kind(outcomes), name).type_id(type_name);
+            return Ok((with_hooks(b, hooks), false));
+        }
+        let Some(node_type) = self.node_type(type_name) else {
+            if self.loader.mock_unknown && el.child_count() == 0 {
+                let b = b.open(NodeKind::AlwaysSuccess, name).type_id(type_name);
+                return Ok((with_hooks(b, hooks), false));
+            }
+            let hint = match self.loader.registry.closest(type_name) {
+                Some(close) => format!("did you mean `{close}`? "),
+                None => String::new(),
+            };
+            return Err(el.error(format!(
+                "unknown node type `{type_name}`; {hint}register it in the Registry before loading"
+            )));
+        };
+        let ports = self.check_ports(el, node_type, explicit)?;
+        match &node_type.make {
+            Make::BuiltIn(built_in) => {
+                let text_of = |port: &str| match ports.iter().find(|p| p.name == port) {
+                    Some(Port {
+                        value: PortValue::Literal(text),
+                        ..
+                    }) => Some(text.clone()),
+                    _ => None,
+                };
+                if let Some(p) = ports
+                    .iter()
+                    .find(|p| matches!(p.value, PortValue::Entry(_)))
+                {
+                    return Err(el.error(format!(
+                        "port `{}` of `{type_name}` must be a literal here, not a blackboard entry",
+                        p.name
+                    )));
+                }
+                let kind = built_in_kind::<C>(*built_in, text_of).map_err(|m| el.error(m))?;
+                let arity = kind.arity();
+                if !arity.accepts(el.child_count() as u32) {
+                    return Err(el.error(format!(
+                        "`{type_name}` takes {arity}, found {}",
+                        el.child_count()
+                    )));
+                }
+                Ok((with_hooks(b.open(kind, name), hooks), true))
+            }
+            Make::Model if !self.validate => Err(el.error(format!(
+                "`{type_name}` is only described by a model; register an implementation to run it"
+            ))),
+            Make::Model => {
+                // A placeholder of the same family, so that the structure is checked.
+                let kind = match node_type.category {
+                    Category::Control => NodeKind::Sequence,
+                    Category::Decorator => NodeKind::Inverter,
+                    _ => NodeKind::AlwaysSuccess,
+                };
+                if !kind.arity().accepts(el.child_count() as u32) {
+                    return Err(el.error(format!(
+                        "`{type_name}` takes {}, found {}",
+                        kind.arity(),
+                        el.child_count()
+                    )));
+                }
+                let b = with_ports(b.open(kind, name).type_id(type_name), ports);
+                Ok((with_hooks(b, hooks), true))
+            }
+            Make::Leaf(make) => {
+                let kind = make(&ports, self.loader.registry.enums()).map_err(|m| el.error(m))?;
+                let arity = kind.arity();
+                if !arity.accepts(el.child_count() as u32) {
+                    let what = if arity == Arity::Leaf {
+                        "is a leaf and takes no children".to_string()
+                    } else {
+                        format!("takes {arity}")
+                    };
+                    return Err(
+                        el.error(format!("`{type_name}` {what}, found {}", el.child_count()))
+                    );
+                }
+                let b = with_ports(b.open(kind, name).type_id(type_name), ports);
+                Ok((with_hooks(b, hooks), true))
+            }
+        }
+    }
+
+    /// The registered type named `name`.
+    fn node_type(&mut self, name: &'a str) -> Option<&'a NodeType<C>> {
+        let b = name.as_bytes();
+        // Length, first four and last bytes, mixed by a multiplication whose top bits
+        // depend on all of them (Fibonacci hashing).
+        let mut head = [0u8; 4];
+        let n = b.len().min(4);
+        head[..n].copy_from_slice(&b[..n]);
+        let key = b.len() as u64
+            ^ u64::from(u32::from_le_bytes(head)) << 16
+            ^ u64::from(b.last().copied().unwrap_or(0)) << 48;
+        let hash = key.wrapping_mul(0x9E37_79B9_7F4A_7C15) >> 59;
+        let slot = &mut self.resolved[hash as usize % RESOLVED];
+        match *slot {
+            Some((known, node_type)) if same(known, name) => Some(node_type),
+            _ => {
+                let registry = self.loader.registry;
+                let node_type = registry
+                    .get(name)
+                    .or_else(|| registry.builtin_ignoring_case(name))?;
+                *slot = Some((name, node_type));
+                Some(node_type)
+            }
+        }
+    }
+
+    /// The node's port bindings: every attribute a declared port, every literal convertible,
+    /// absent ports with defaults filled in.
+    fn check_ports(
+        &self,
+        el: Element<'_>,
+        node_type: &NodeType<C>,
+        explicit: bool,
+    ) -> Result<Vec<Port>, LoadError> {
+        let mut ports = Vec::new();
+        for (key, text) in el.attrs() {
+            if key == "name" || (explicit && key == "ID") || ATTRIBUTES.contains(&key) {
+                continue;
+            }
+            let Some(spec) = node_type.port(key) else {
+                let valid: Vec<&str> = node_type.ports.iter().map(|p| p.name.as_str()).collect();
+                let listed = if valid.is_empty() {
+                    "it has no ports".to_string()
+                } else {
+                    format!("its ports are: {}", valid.join(", "))
+                };
+                return Err(el.error(format!(
+                    "unknown port `{key}` on `{}`; {listed}",
+                    node_type.name
+                )));
+            };
+            let mut value = binding(key, text);
+            if let PortValue::Literal(text) = &mut value {
+                // A registered enum name stands for its number where a number is wanted.
+                if let Some(n) = self.loader.registry.enums().get(text.trim()) {
+                    if !spec.accepts(text) && spec.accepts(&n.to_string()) {
+                        *text = n.to_string();
+                    }
+                }
+                if !spec.accepts(text) {
+                    return Err(el.error(format!(
+                        "port `{key}` of `{}`: cannot read `{text}` as {}",
+                        node_type.name, spec.type_name
+                    )));
+                }
+            }
+            ports.push(Port {
+                name: key.to_string(),
+                value,
+            });
+        }
+        for spec in &node_type.ports {
+            if let Some(default) = &spec.default {
+                if ports.iter().all(|p| p.name != spec.name) {
+                    ports.push(Port {
+                        name: spec.name.clone(),
+                        value: binding(&spec.name, default),
+                    });
+                }
+            }
+        }
+        Ok(ports)
+    }
+
+    /// Checks a `<SubTree>`, opens its node with the child's scope and returns the tree to
+    /// expand below it; the caller pops `stack` when done.
+    #[inline(never)]
+    fn open_subtree(
+        &mut self,
+        b: Builder<C>,
+        el: Element<'a>,
+    ) -> Result<(Builder<C>, Body<'a, C>), LoadError> {
+        let id = el
+            .attr("ID")
+            .ok_or_else(|| el.error("<SubTree> needs an ID attribute naming the tree"))?;
+        let body = match self.loader.tree(id) {
+            Some(tree) => Body::Xml(tree),
+            None => match self.loader.registry.subtree(id) {
+                Some(add) => Body::Built(add),
+                None => {
+                    let known: Vec<&str> = self
+                        .loader
+                        .tree_ids()
+                        .chain(self.loader.registry.subtree_ids())
+                        .collect();
+                    return Err(el.error(format!(
+                        "no tree with ID `{id}` is loaded or registered; known trees: {}",
+                        known.join(", ")
+                    )));
+                }
+            },
+        };
+        if let Some(at) = self.stack.iter().position(|s| s == id) {
+            let mut cycle = self.stack[at..].to_vec();
+            cycle.push(id.to_string());
+            return Err(el.error(format!(
+                "subtree cycle: {}; a tree cannot contain itself",
+                cycle.join(" -> ")
+            )));
+        }
+        let mut scope = SubTreeScope::default();
+        for (key, text) in el.attrs() {
+            match key {
+                "ID" | "name" => {}
+                "_autoremap" => {
+                    scope.autoremap = match text.trim() {
+                        "true" | "TRUE" | "True" | "1" => true,
+                        "false" | "FALSE" | "False" | "0" => false,
+                        other => {
+                            return Err(el
+                                .error(format!("_autoremap must be true or false, not `{other}`")))
+                        }
+                    }
+                }
+                k if ATTRIBUTES.contains(&k) => {}
+                k if k.starts_with('_') => {
+                    return Err(el.error(format!(
+                        "unknown attribute `{k}` on <SubTree>; names starting with `_` are reserved"
+                    )))
+                }
+                _ => match binding(key, text) {
+                    PortValue::Entry(parent_key) => scope.remap.push((key.to_string(), parent_key)),
+                    PortValue::Literal(text) => scope.values.push((key.to_string(), text)),
+                },
+            }
+        }
+        let name = el.attr("name").unwrap_or(id);
+        let hooks = conditions(el, self.loader.registry.enums())?;
+        self.stack.push(id.to_string());
+        let opened = b.open(NodeKind::SubTree(Box::new(scope)), name).type_id(id);
+        let opened = with_hooks(opened, hooks);
+        Ok((opened, body))
+    }
+}
+
+/// What a SubTree expands into: a loaded `<BehaviorTree>`, or a subtree made with the builder.
+enum Body<'a, C> {
+    Xml(Element<'a>),
+    Built(&'a crate::registry::SubtreeMaker<C>),
+}
+
+#[cfg(test)]
+mod tests {
+    use super::binding;
+    use neurotree_core::PortValue;
+
+    #[test]
+    fn bindings() {
+        assert_eq!(
+            binding("goal", "{target}"),
+            PortValue::Entry("target".into())
+        );
+        assert_eq!(
+            binding("goal", "{@target}"),
+            PortValue::Entry("@target".into())
+        );
+        assert_eq!(binding("goal", "{=}"), PortValue::Entry("goal".into()));
+        assert_eq!(binding("goal", "="), PortValue::Entry("goal".into()));
+        assert_eq!(binding("goal", "1;2;3"), PortValue::Literal("1;2;3".into()));
+        assert_eq!(binding("goal", "{}"), PortValue::Literal("{}".into()));
+    }
+}

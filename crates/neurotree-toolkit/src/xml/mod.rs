@@ -1,0 +1,358 @@
+//! BehaviorTree.CPP XML (format 4): load the trees that Groot2 and ROS 2 Nav2 write.
+//!
+//! An [`XmlLoader`] reads one or more files (following `<include path>`), collects their
+//! `<BehaviorTree ID>`s, and builds a [`Blueprint`] of one of them, expanding `<SubTree>`s
+//! into blackboard scopes. Node names resolve through a [`Registry`]: the built-in nodes, and
+//! the leaves the user registered with their ports. Everything is checked while building —
+//! unknown nodes (with the closest registered name), unknown ports (with the valid ones),
+//! literals that do not convert, child counts, subtree cycles, nesting depth — and every
+//! error names the file, line and column: `path:line:col: error: message`.
+//!
+//! ```
+//! use neurotree::xml::XmlLoader;
+//! use neurotree::{ManualClock, Registry, Status, Tree};
+//!
+//! let mut registry = Registry::<u32>::new();
+//! registry
+//!     .register_action("Count", vec![], |h| { *h.ctx_mut() += 1; Status::Success })
+//!     .unwrap();
+//! let mut loader = XmlLoader::new(&registry);
+//! loader.load_str(r#"
+//!     <root BTCPP_format="4" main_tree_to_execute="Main">
+//!       <BehaviorTree ID="Main">
+//!         <Repeat num_cycles="3"><Count/></Repeat>
+//!       </BehaviorTree>
+//!     </root>"#, "inline.xml").unwrap();
+//! let mut tree = Tree::with_clock(loader.build_main().unwrap().into(), ManualClock::new());
+//! let mut n = 0;
+//! assert_eq!(tree.tick_once(&mut n), Ok(Status::Success));
+//! assert_eq!(n, 3);
+//! ```
+
+mod build;
+mod mock;
+pub mod save;
+mod source;
+
+pub use mock::parse_outcomes;
+pub use save::{write_xml, SaveOptions};
+
+/// Parses a file that holds a `TreeNodesModel` (for [`Registry::add_model_str`]).
+pub(crate) fn parse_model(text: &str, file: &str) -> Result<Document, LoadError> {
+    source::parse(text, file)
+}
+
+use std::collections::BTreeMap;
+use std::fmt;
+use std::path::{Path, PathBuf};
+
+use neurotree_core::Blueprint;
+
+use crate::registry::Registry;
+pub(crate) use source::{Document, Element};
+
+/// `text` with XML's special characters as entities; line breaks and tabs too, because an
+/// attribute value read back would otherwise have them turned into spaces.
+pub fn escape(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    for c in text.chars() {
+        match c {
+            '&' => out.push_str("&amp;"),
+            '<' => out.push_str("&lt;"),
+            '>' => out.push_str("&gt;"),
+            '"' => out.push_str("&quot;"),
+            '\'' => out.push_str("&apos;"),
+            '\n' => out.push_str("&#10;"),
+            '\r' => out.push_str("&#13;"),
+            '\t' => out.push_str("&#9;"),
+            c => out.push(c),
+        }
+    }
+    out
+}
+
+/// A file that could not be loaded or a tree that could not be built, with its place.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("{file}:{line}:{col}: error: {message}")]
+pub struct LoadError {
+    /// The file (as given to the loader).
+    pub file: String,
+    /// 1-based line.
+    pub line: u32,
+    /// 1-based column.
+    pub col: u32,
+    /// What is wrong and what to do.
+    pub message: String,
+}
+
+impl LoadError {
+    fn at_file(file: &str, message: impl Into<String>) -> Self {
+        Self {
+            file: file.to_string(),
+            line: 1,
+            col: 1,
+            message: message.into(),
+        }
+    }
+}
+
+/// Where a loaded `<BehaviorTree>` is: its document and its element there.
+#[derive(Clone, Copy, Debug)]
+struct TreeAt {
+    doc: usize,
+    element: usize,
+}
+
+/// Loads BehaviorTree.CPP XML files and builds blueprints from their trees.
+pub struct XmlLoader<'r, C> {
+    registry: &'r Registry<C>,
+    /// Every file loaded, kept whole: the trees point into them.
+    docs: Vec<Document>,
+    trees: BTreeMap<String, TreeAt>,
+    main: Option<String>,
+    base_dir: Option<PathBuf>,
+    mock_unknown: bool,
+    /// Files being loaded, to stop include cycles.
+    loading: Vec<PathBuf>,
+    /// Trees loaded without an ID so far.
+    unnamed_trees: usize,
+    /// Node name (or type) → the outcomes of the mock that replaces it.
+    mocks: BTreeMap<String, Vec<neurotree_core::Status>>,
+}
+
+impl<C> fmt::Debug for XmlLoader<'_, C> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("XmlLoader")
+            .field("trees", &self.trees.keys().collect::<Vec<_>>())
+            .field("main", &self.main)
+            .finish_non_exhaustive()
+    }
+}
+
+impl<'r, C: 'static> XmlLoader<'r, C> {
+    /// A loader resolving node names through `registry`.
+    pub fn new(registry: &'r Registry<C>) -> Self {
+        Self {
+            registry,
+            docs: Vec::new(),
+            trees: BTreeMap::new(),
+            main: None,
+            base_dir: None,
+            mock_unknown: false,
+            loading: Vec::new(),
+            unnamed_trees: 0,
+            mocks: BTreeMap::new(),
+        }
+    }
+
+    /// Confines `<include>`s to files under `dir`; an include that leaves it is an error.
+    /// Without it, includes are confined to the directory of the first file loaded.
+    pub fn base_dir(mut self, dir: impl Into<PathBuf>) -> Self {
+        self.base_dir = Some(dir.into());
+        self
+    }
+
+    /// Turns every unregistered leaf into a mock that succeeds, for dry runs.
+    pub fn mock_unknown(mut self, yes: bool) -> Self {
+        self.mock_unknown = yes;
+        self
+    }
+
+    /// Replaces every node whose `name` (or, without one, its type) is `name` by a leaf that
+    /// returns `outcomes` one per tick, then the last one forever, for dry runs.
+    pub fn mock(mut self, name: &str, outcomes: Vec<neurotree_core::Status>) -> Self {
+        self.mocks.insert(name.to_string(), outcomes);
+        self
+    }
+
+    /// The IDs of the trees loaded so far.
+    pub fn tree_ids(&self) -> impl Iterator<Item = &str> {
+        self.trees.keys().map(String::as_str)
+    }
+
+    /// The tree to execute: `main_tree_to_execute`, or the only tree loaded.
+    pub fn main_tree(&self) -> Option<&str> {
+        match &self.main {
+            Some(m) => Some(m),
+            None if self.trees.len() == 1 => self.trees.keys().next().map(String::as_str),
+            None => None,
+        }
+    }
+
+    /// Loads XML text; `file` names it in errors and anchors relative includes.
+    pub fn load_str(&mut self, text: &str, file: &str) -> Result<(), LoadError> {
+        let root = source::parse(text, file)?;
+        let dir = Path::new(file).parent().map(Path::to_path_buf);
+        self.take_root(root, dir.as_deref())
+    }
+
+    /// Loads an XML file and the files it includes.
+    pub fn load_file(&mut self, path: impl AsRef<Path>) -> Result<(), LoadError> {
+        let path = path.as_ref();
+        let shown = path.display().to_string();
+        let canonical = path
+            .canonicalize()
+            .map_err(|e| LoadError::at_file(&shown, format!("cannot open the file: {e}")))?;
+        if self.base_dir.is_none() {
+            self.base_dir = canonical.parent().map(Path::to_path_buf);
+        }
+        if self.loading.contains(&canonical) {
+            return Err(LoadError::at_file(
+                &shown,
+                "this file includes itself (through its includes); remove the cycle",
+            ));
+        }
+        let text = std::fs::read_to_string(&canonical)
+            .map_err(|e| LoadError::at_file(&shown, format!("cannot read the file: {e}")))?;
+        self.loading.push(canonical.clone());
+        let root = source::parse(&text, &shown);
+        let result = root.and_then(|root| self.take_root(root, canonical.parent()));
+        self.loading.pop();
+        result
+    }
+
+    fn take_root(&mut self, doc: Document, dir: Option<&Path>) -> Result<(), LoadError> {
+        let at = self.docs.len();
+        self.docs.push(doc);
+        let trees = self.trees.len();
+        let result = self.take_children(at, dir);
+        // A document none of whose trees was kept is not needed (unless an include came
+        // after it, which is kept with it).
+        if result.is_err() && self.trees.len() == trees && self.docs.len() == at + 1 {
+            self.docs.pop();
+        }
+        result
+    }
+
+    fn take_children(&mut self, at: usize, dir: Option<&Path>) -> Result<(), LoadError> {
+        let root = self.docs[at].root();
+        if root.tag() != "root" {
+            return Err(root.error(format!(
+                "the document element is <{}>; a BehaviorTree.CPP file starts with <root BTCPP_format=\"4\">",
+                root.tag()
+            )));
+        }
+        if let Some(format) = root.attr("BTCPP_format") {
+            if format != "4" && format != "3" {
+                return Err(root.error(format!(
+                    "BTCPP_format=\"{format}\" is not supported; use format 4"
+                )));
+            }
+        }
+        if let Some(main) = root.attr("main_tree_to_execute") {
+            self.main = Some(main.to_string());
+        }
+        // By number: an include loads more documents into `docs` while these are walked.
+        let children: Vec<usize> = root.children().map(|c| c.id()).collect();
+        for element in children {
+            let child = self.docs[at].element(element);
+            match child.tag() {
+                "BehaviorTree" => {
+                    // BehaviorTree.CPP names an unnamed tree `BehaviorTree_<n>`.
+                    let id = match child.attr("ID") {
+                        Some(id) => id.to_string(),
+                        None => format!("BehaviorTree_{}", self.unnamed_trees),
+                    };
+                    if child.attr("ID").is_none() {
+                        self.unnamed_trees += 1;
+                    }
+                    if self.trees.contains_key(&id) {
+                        return Err(child.error(format!(
+                            "a tree with ID `{id}` is already loaded; tree IDs must be unique"
+                        )));
+                    }
+                    if child.child_count() != 1 {
+                        return Err(child.error(format!(
+                            "<BehaviorTree ID=\"{id}\"> must hold exactly one root node, found {}",
+                            child.child_count()
+                        )));
+                    }
+                    self.trees.insert(id, TreeAt { doc: at, element });
+                }
+                "include" => self.include(at, element, dir)?,
+                // Models describe nodes for editors; the registry is the loader's model.
+                "TreeNodesModel" => {}
+                other => {
+                    return Err(child.error(format!(
+                        "unexpected <{other}> under <root>; expected <BehaviorTree>, <include> or <TreeNodesModel>"
+                    )))
+                }
+            }
+        }
+        Ok(())
+    }
+
+    fn include(&mut self, doc: usize, element: usize, dir: Option<&Path>) -> Result<(), LoadError> {
+        let el = self.docs[doc].element(element);
+        let Some(path) = el.attr("path") else {
+            return Err(el.error("<include> needs a path attribute"));
+        };
+        let Some(dir) = dir else {
+            return Err(el.error("<include> in text loaded without a file; load it with load_file"));
+        };
+        let target = dir.join(path);
+        let canonical = target.canonicalize().map_err(|e| {
+            el.error(format!(
+                "included file `{}` not found: {e}",
+                target.display()
+            ))
+        })?;
+        if let Some(base) = &self.base_dir {
+            let base = base.canonicalize().unwrap_or_else(|_| base.clone());
+            if !canonical.starts_with(&base) {
+                return Err(el.error(format!(
+                    "included file `{}` is outside the base directory `{}`; move it inside or widen the base with XmlLoader::base_dir",
+                    target.display(),
+                    base.display()
+                )));
+            }
+        }
+        self.load_file(&target).map_err(|inner| {
+            if inner.file == target.display().to_string() && inner.line == 1 && inner.col == 1 {
+                let el = self.docs[doc].element(element);
+                el.error(format!("in included file: {}", inner.message))
+            } else {
+                inner
+            }
+        })
+    }
+
+    /// Builds the tree named `id` (its subtrees expanded).
+    pub fn build(&self, id: &str) -> Result<Blueprint<C>, LoadError> {
+        let Some(tree) = self.tree(id) else {
+            let known: Vec<&str> = self.tree_ids().collect();
+            return Err(LoadError::at_file(
+                "",
+                format!("no tree with ID `{id}`; loaded trees: {}", known.join(", ")),
+            ));
+        };
+        build::build(self, id, tree, false)
+    }
+
+    /// Checks the tree named `id` as [`build`](Self::build) does, also accepting node types
+    /// known only from a `TreeNodesModel` (which cannot run).
+    pub fn validate(&self, id: &str) -> Result<(), LoadError> {
+        let Some(tree) = self.tree(id) else {
+            return Err(LoadError::at_file("", format!("no tree with ID `{id}`")));
+        };
+        build::build(self, id, tree, true).map(drop)
+    }
+
+    /// The `<BehaviorTree>` element of the tree named `id`.
+    fn tree(&self, id: &str) -> Option<Element<'_>> {
+        let at = self.trees.get(id)?;
+        Some(self.docs[at.doc].element(at.element))
+    }
+
+    /// Builds the main tree (see [`main_tree`](Self::main_tree)).
+    pub fn build_main(&self) -> Result<Blueprint<C>, LoadError> {
+        let Some(main) = self.main_tree() else {
+            return Err(LoadError::at_file(
+                "",
+                "no main tree: set main_tree_to_execute on <root>, or name the tree to build",
+            ));
+        };
+        let main = main.to_string();
+        self.build(&main)
+    }
+}
