@@ -3,7 +3,7 @@
 //! logging itself is measured. Throughput is in status changes, so time per element is
 //! the cost of one change (the tick itself included: compare with `no_observer`).
 //!
-//! `cargo bench -p neurotree --bench observe`
+//! `cargo bench -p neurotree-bench --bench observe`
 
 use std::hint::black_box;
 use std::io;

@@ -1,6 +1,6 @@
 //! Tick benchmarks: tree1111 (BehaviorTree.CPP's benchmark shape) and many agents.
 //!
-//! `cargo bench -p neurotree --bench tick`
+//! `cargo bench -p neurotree-bench --bench tick`
 
 use std::hint::black_box;
 use std::time::Duration;

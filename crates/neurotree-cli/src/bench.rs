@@ -8,7 +8,7 @@
 //!   instance.
 //!
 //! These are wall-clock figures from [`Instant`], good for a first look on a new machine;
-//! the criterion benchmarks (`cargo bench -p neurotree --bench tick`) are the careful ones.
+//! the criterion benchmarks (`cargo bench -p neurotree-bench --bench tick`) are the careful ones.
 
 use std::hint::black_box;
 use std::io::{self, Write};

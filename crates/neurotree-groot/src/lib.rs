@@ -17,7 +17,7 @@
 //! [`Groot2Monitor::answer`] lists what each request receives. Breakpoints and node
 //! replacement hooks are not supported: requests to set them get an error reply.
 //!
-//! Times: a transition is stamped with the tree's clock (so a [`ManualClock`](crate::ManualClock) gives
+//! Times: a transition is stamped with the tree's clock (so a [`ManualClock`](neurotree_toolkit::ManualClock) gives
 //! reproducible recordings), relative to the latest time the monitor had seen when the
 //! client started recording.
 //!

@@ -32,7 +32,7 @@ impl Default for GlobalUpdatedGoal {
 }
 
 impl GlobalUpdatedGoal {
-    /// The node kind for a [`Builder`](crate::Builder), a leaf:
+    /// The node kind for a [`Builder`](neurotree_toolkit::Builder), a leaf:
     /// `builder.custom("new_goal", GlobalUpdatedGoal::spec(), |c| c)`.
     pub fn spec<C>() -> CustomSpec<C> {
         CustomSpec {

@@ -23,7 +23,7 @@ pub struct GoalUpdated {
 }
 
 impl GoalUpdated {
-    /// The node kind for a [`Builder`](crate::Builder), a leaf:
+    /// The node kind for a [`Builder`](neurotree_toolkit::Builder), a leaf:
     /// `builder.custom("new_goal", GoalUpdated::spec(), |c| c)`.
     pub fn spec<C>() -> CustomSpec<C> {
         CustomSpec {

@@ -23,7 +23,7 @@ pub struct GoalUpdatedController {
 }
 
 impl GoalUpdatedController {
-    /// The node kind for a [`Builder`](crate::Builder):
+    /// The node kind for a [`Builder`](neurotree_toolkit::Builder):
     /// `builder.custom("plan_once_per_goal", GoalUpdatedController::spec(), |c| ...)`.
     pub fn spec<C>() -> CustomSpec<C> {
         CustomSpec {

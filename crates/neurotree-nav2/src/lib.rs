@@ -12,7 +12,7 @@
 //! an action after a recovery, a [`RoundRobin`] that takes turns among recoveries, and three
 //! nodes that notice a new goal. [`register_controls`] adds all seven to a [`Registry`] under
 //! their Nav2 names, with Nav2's ports and defaults; each type also has a `spec()` for the
-//! [`Builder`](crate::Builder).
+//! [`Builder`](neurotree_toolkit::Builder).
 //!
 //! | node | semantics |
 //! |---|---|

@@ -19,7 +19,7 @@ pub struct PipelineSequence {
 }
 
 impl PipelineSequence {
-    /// The node kind for a [`Builder`](crate::Builder):
+    /// The node kind for a [`Builder`](neurotree_toolkit::Builder):
     /// `builder.custom("navigate", PipelineSequence::spec(), |c| ...)`.
     pub fn spec<C>() -> CustomSpec<C> {
         CustomSpec {

@@ -12,7 +12,7 @@ use super::port_or;
 /// |---|---|
 /// | RateController(hz=10) | On the tick from Idle, start a period timer and tick the child at once. Later: tick the child if it is Running or the period has elapsed since the last child Success; otherwise return Running without ticking it. Child Success restarts the timer. |
 ///
-/// The period is `1/hz` seconds on the tree's [`Clock`](crate::Clock), read from `hz` on
+/// The period is `1/hz` seconds on the tree's [`Clock`](neurotree_toolkit::Clock), read from `hz` on
 /// the tick from Idle. The child's status passes through, and a completed child is reset, so
 /// that the next period starts it afresh. As in Nav2, `hz = 0` makes the period endless (the
 /// child runs once per run of the node) and a negative `hz` makes it always elapsed.
@@ -32,7 +32,7 @@ pub struct RateController {
 }
 
 impl RateController {
-    /// The node kind for a [`Builder`](crate::Builder); bind `hz` with `.ports(..)` first
+    /// The node kind for a [`Builder`](neurotree_toolkit::Builder); bind `hz` with `.ports(..)` first
     /// thing in the child closure (10 when left out).
     pub fn spec<C>() -> CustomSpec<C> {
         CustomSpec {

@@ -26,7 +26,7 @@ pub struct RecoveryNode {
 }
 
 impl RecoveryNode {
-    /// The node kind for a [`Builder`](crate::Builder); bind `number_of_retries` with
+    /// The node kind for a [`Builder`](neurotree_toolkit::Builder); bind `number_of_retries` with
     /// `.ports(..)` first thing in the children closure (1 when left out).
     pub fn spec<C>() -> CustomSpec<C> {
         CustomSpec {

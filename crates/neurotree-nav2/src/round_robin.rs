@@ -25,7 +25,7 @@ pub struct RoundRobin {
 }
 
 impl RoundRobin {
-    /// The node kind for a [`Builder`](crate::Builder); bind `wrap_around` with `.ports(..)`
+    /// The node kind for a [`Builder`](neurotree_toolkit::Builder); bind `wrap_around` with `.ports(..)`
     /// first thing in the children closure (false when left out).
     pub fn spec<C>() -> CustomSpec<C> {
         CustomSpec {

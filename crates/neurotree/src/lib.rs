@@ -1,11 +1,115 @@
 //! # NeuroTree
 //!
-//! Behavior trees for robots and game AI, with the semantics of BehaviorTree.CPP v4.
+//! Behavior trees for robots and game AI. Nodes behave as BehaviorTree.CPP 4's do, tick for
+//! tick and halt for halt, so its XML files (hand-written, saved by Groot2, shipped with
+//! Nav2) run unchanged. A tree is built once as an immutable [`Blueprint`] and shared by any
+//! number of [`Tree`] instances, whose ticks never allocate; time comes from a [`Clock`] you
+//! choose, so runs can be deterministic.
 //!
-//! This crate is the one to depend on. It re-exports the `no_std` engine
-//! ([`neurotree_core`]) and the BehaviorTree.CPP-compatible toolkit ([`neurotree_toolkit`]:
-//! registry, XML, scripts, observers, pictures, runners) at its root, and the optional
-//! crates behind features, each under its own path.
+//! # Quick start
+//!
+//! A tree from the builder: leaves are closures over your own context type, which every
+//! tick receives by `&mut`.
+//!
+//! ```
+//! use std::sync::Arc;
+//! use neurotree::{Blueprint, ManualClock, Status, Tree};
+//!
+//! struct Robot { battery: u32 }
+//!
+//! let blueprint = Blueprint::<Robot>::builder()
+//!     .fallback("root", |f| {
+//!         f.condition("battery_ok", |r: &Robot| r.battery > 20)
+//!             .action("charge", |r: &mut Robot| {
+//!                 r.battery = 100;
+//!                 Status::Success
+//!             })
+//!     })
+//!     .build_shared()
+//!     .expect("a valid tree");
+//!
+//! let mut tree = Tree::with_clock(Arc::clone(&blueprint), ManualClock::new());
+//! let mut robot = Robot { battery: 10 };
+//! assert_eq!(tree.tick_once(&mut robot), Ok(Status::Success));
+//! assert_eq!(robot.battery, 100);
+//! ```
+//!
+//! The same from BehaviorTree.CPP XML: register your leaves, with the ports they read, in a
+//! [`Registry`]; the built-in nodes are already in it. An [`XmlLoader`] checks every node,
+//! port and literal while loading, and reports errors as `file:line:col: error: ...`.
+//!
+//! ```
+//! use neurotree::{ManualClock, PortSpec, Registry, Status, Tree, XmlLoader};
+//!
+//! let mut registry = Registry::<Vec<String>>::new();
+//! registry
+//!     .register_action("Say", vec![PortSpec::input::<String>("message")], |h| {
+//!         let message = h.input::<String>("message").unwrap_or_default();
+//!         h.ctx_mut().push(message);
+//!         Status::Success
+//!     })
+//!     .unwrap();
+//!
+//! let mut loader = XmlLoader::new(&registry);
+//! loader
+//!     .load_str(
+//!         r#"<root BTCPP_format="4" main_tree_to_execute="Main">
+//!              <BehaviorTree ID="Main">
+//!                <Repeat num_cycles="2">
+//!                  <Say message="hello"/>
+//!                </Repeat>
+//!              </BehaviorTree>
+//!            </root>"#,
+//!         "main.xml",
+//!     )
+//!     .unwrap();
+//! let mut tree = Tree::with_clock(loader.build_main().unwrap().into(), ManualClock::new());
+//!
+//! // Run it: tick until the root is no longer Running.
+//! let mut said = Vec::new();
+//! while tree.tick_once(&mut said).unwrap() == Status::Running {}
+//! assert_eq!(said, ["hello", "hello"]);
+//! ```
+//!
+//! For a robot, tick at a fixed rate with [`runtime::FixedRate`] or, with the `tokio`
+//! feature, `runtime::tokio::tick_until_done`; [`Tree::tick_while_running`] ticks on the
+//! tree's own clock.
+//!
+//! # Map
+//!
+//! | where | what |
+//! |---|---|
+//! | the root | [`Blueprint`], [`Builder`], [`tree!`], [`Tree`], [`Status`], the leaf traits ([`Condition`], [`Action`], [`StatefulAction`], [`AsyncAction`], [`CustomNode`]), [`Clock`]s, [`Observer`], [`Blackboard`] and [`SharedBlackboard`], [`Registry`], [`XmlLoader`] |
+//! | [`nodes`] | the node catalog: every built-in node, one module each, with its semantics, ports and tests (the core's controls, decorators and leaves; [`nodes::script`], [`nodes::switch`], [`nodes::loops`], [`nodes::entry`] need `std`) |
+//! | [`xml`] | loading and saving BehaviorTree.CPP format 4, `TreeNodesModel`s, mocks |
+//! | [`script`] | BehaviorTree.CPP's script language, for `Script`, `Precondition` and `_skipIf`-style attributes |
+//! | [`observe`] | loggers on the observer hook: console, JSON lines, statistics, `.btlog`, SQLite, `tracing` |
+//! | [`render`] | pictures of a tree: text, Graphviz DOT, Mermaid, SVG, with statuses |
+//! | [`runtime`] | runners: a fixed-rate loop, and tokio helpers |
+//! | `robotics`, `nav2` | (feature `nav2`) sensor and navigation nodes over your robot; Nav2's control nodes |
+//! | `sim` | (feature `sim`) a deterministic grid world and Nav2's leaves simulated on it |
+//! | `groot` | (feature `groot`) a Groot2 monitor server |
+//!
+//! # Crate features
+//!
+//! None is on by default: the default build is the engine, the registry, XML, scripts,
+//! observers and pictures.
+//!
+//! | feature | brings | dependencies it adds |
+//! |---|---|---|
+//! | `nav2` | `neurotree::robotics` and `neurotree::nav2` (crate `neurotree-nav2`) | none beyond the crate |
+//! | `sim` | `neurotree::sim` (crate `neurotree-sim`); turns on `nav2` | `pathfinding`, `fastrand` |
+//! | `groot` | `neurotree::groot` (crate `neurotree-groot`) | `zeromq`, `tokio`, `rmp-serde` |
+//! | `tokio` | `runtime::tokio`: a runner, a clock on tokio's time, tasks aborted by a halt | `tokio`, `tokio-util` |
+//! | `sqlite` | `observe::SqliteLogger` | `rusqlite` (SQLite bundled) |
+//! | `tracing` | `observe::TracingObserver` | `tracing` |
+//!
+//! # Crates
+//!
+//! This crate re-exports the others; depend on it alone. [`neurotree_core`] is the `no_std`
+//! engine (for a microcontroller, depend on it directly with `default-features = false`);
+//! [`neurotree_toolkit`] is the BehaviorTree.CPP-compatible layer this crate puts at its
+//! root; the optional crates come in through the features above.
 
 #![warn(missing_docs)]
 

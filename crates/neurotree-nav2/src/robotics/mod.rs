@@ -6,7 +6,7 @@
 //!   replan when blocked, stop when halted), with [`Path`] and [`Obstacle`].
 //!
 //! Everything here is plain data and traits, so the same nodes drive a real robot or the
-//! simulated one of [`sim`](crate::sim). Nodes reach the robot through the user's context:
+//! simulated one of `neurotree::sim`. Nodes reach the robot through the user's context:
 //! each takes an accessor that finds its sensor or planner in it. They are added to a tree
 //! with the [`RoboticsBuilder`] methods, or registered for XML with [`register_sensor`] and
 //! [`register_navigation`].

@@ -5,7 +5,7 @@
 //! | SensorNode(output, min_quality=0) | Sensor unavailable → Failure (the sensor is not read); read error → Failure; reading quality below `min_quality` → Failure; else the reading is written to the `output` entry → Success. Never Running. |
 //!
 //! A sensor is anything that implements [`SensorReader`]: a driver for a real device, or one
-//! of the simulated sensors of [`sim`](crate::sim).
+//! of the simulated sensors of `neurotree::sim`.
 //!
 //! # Where the sensor lives
 //!

@@ -40,8 +40,8 @@
 //!
 //! [`Nav2Sim::replans`] counts the plans that replaced a different one, and a
 //! [`RecoveryCounter`] attached to the tree counts the runs of each recovery branch, for a
-//! summary of what the navigator went through. [`DemoRun`] puts it all together: the
-//! warehouse of `neurotree demo`, the Nav2 navigator, the frames and the summary.
+//! summary of what the navigator went through. `neurotree demo` puts it all together (its
+//! scenario is `neurotree_cli::demo::DemoRun`): a warehouse, the Nav2 navigator, frames, a summary.
 //!
 //! ```
 //! use neurotree::robotics::Pose2D;

@@ -6,9 +6,11 @@
 //! ([`TickError::Node`](neurotree_core::TickError::Node)), as BehaviorTree.CPP throws one; a
 //! failed condition script decides nothing.
 
+pub use neurotree_core::nodes::hooks::NodeHooks;
+
 use std::sync::Arc;
 
-use neurotree_core::{Handle, NodeHooks, NodeStatus};
+use neurotree_core::{Handle, NodeStatus};
 
 use crate::script::{Enums, Script, ScriptEnv, Value};
 
