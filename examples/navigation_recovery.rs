@@ -1,7 +1,8 @@
-//! Navigation with recovery: the textbook's escalation, loaded from BehaviorTree.CPP XML.
+//! Navigation with recovery: escalating recoveries, loaded from BehaviorTree.CPP XML.
 //!
 //! A rover drives to a goal. When the drive fails, it tries ever stronger recoveries, each
-//! followed by a new attempt (Colledanchise & Ögren; the seeds' "Navigation with Recovery"):
+//! followed by a new attempt, as in Colledanchise & Ögren's *Behavior Trees in Robotics and
+//! AI*:
 //!
 //! 1. normal navigation;
 //! 2. clear the costmap, wait for the sensors to refill it, and retry;

@@ -1,4 +1,4 @@
-//! Patrol: the seeds' `RobotPatrolBehavior`, driving a small simulated robot.
+//! Patrol: a battery-aware patrol with an emergency stop, driving a small simulated robot.
 //!
 //! The robot patrols the four corners of a room, scanning before each leg. When its battery
 //! is low it drives back to the charger and charges until full; an emergency stop, pressed
@@ -9,7 +9,7 @@
 //! ├── emergency (Sequence)
 //! │   ├── estop_pressed (Condition)
 //! │   └── emergency_stop (Action)
-//! └── main_patrol (Fallback)            the seeds' tree
+//! └── main_patrol (Fallback)            patrol while the battery lasts, else recharge
 //!     ├── normal_operation (Sequence)
 //!     │   ├── battery_ok (Condition)
 //!     │   ├── scan_area (Action)
@@ -19,12 +19,12 @@
 //!         └── charge_battery (StatefulAction)
 //! ```
 //!
-//! The seeds put `emergency_stop` last, as the fallback of last resort; here it comes first
-//! under a ReactiveFallback, the "emergency handler checked first" pattern, so that pressing
-//! the button halts a move in progress within one tick.
+//! A patrol tree often puts `emergency_stop` last, as the fallback of last resort; here it
+//! comes first under a ReactiveFallback, the "emergency handler checked first" pattern, so
+//! that pressing the button halts a move in progress within one tick.
 //!
-//! The moves and the charge are [`StatefulAction`]s (the seeds' AsyncAction: start, update,
-//! stop) that run one step per tick; a halt reaches them through `on_halted`.
+//! The moves and the charge are [`StatefulAction`]s (started once, updated on later ticks,
+//! stopped when halted) that run one step per tick; a halt reaches them through `on_halted`.
 //!
 //! The tree is built twice, with the fluent builder ([`patrol_tree`]) and with the `tree!`
 //! macro ([`patrol_tree_from_macro`]); the two are the same tree. The robot's world runs
@@ -49,7 +49,7 @@ pub type Cell = (i32, i32);
 pub const WAYPOINTS: [Cell; 4] = [(4, 0), (4, 4), (0, 4), (0, 0)];
 /// Where the charger stands (and the robot starts).
 pub const CHARGER: Cell = (0, 0);
-/// Battery (percent) at or below which the robot stops patrolling: the seeds' `battery > 0.2`.
+/// Battery (percent) at or below which the robot stops patrolling: `battery_ok` holds above it.
 pub const LOW_BATTERY: u32 = 20;
 /// Battery (percent) one cell of motion costs. A leg (4 cells) costs 4%, so a robot that
 /// finds its battery low after a leg still has more than 16%, enough for the 8 cells from

@@ -1,11 +1,12 @@
-//! Pick and place: the textbook's tree, with actions that take several ticks.
+//! Pick and place: Colledanchise & Ögren's tree, with actions that take several ticks.
 //!
 //! A gantry robot on a rail must find an object, move over it, grasp it, carry it to the
-//! place spot and put it down. The tree is Colledanchise & Ögren's: a goal check, then a
-//! ReactiveSequence of "condition, or the action that makes it true" pairs. Because the
-//! sequence is reactive, every tick re-checks the conditions of the steps already done: if
-//! the object slips out of the gripper on the way, the move is halted and the robot grasps
-//! it again where it fell.
+//! place spot and put it down. The tree is the pick-and-place example of Colledanchise &
+//! Ögren's *Behavior Trees in Robotics and AI*: a goal check, then a ReactiveSequence of
+//! "condition, or the action that makes it true" pairs. Because the sequence is reactive,
+//! every tick re-checks the conditions of the steps already done: if the object slips out
+//! of the gripper on the way, the move is halted and the robot grasps it again where it
+//! fell.
 //!
 //! ```text
 //! pick_and_place (Fallback)

@@ -1,4 +1,5 @@
-//! Sensor fusion while navigating: the seeds' robotics example, on the simulated grid world.
+//! Sensor fusion while navigating: lidar and camera fused beside a navigation action, on the
+//! simulated grid world.
 //!
 //! ```text
 //! Parallel main_loop (success 1, failure 1)
@@ -143,7 +144,7 @@ impl Action<Robot> for Fuse {
     }
 }
 
-/// The seeds' tree, with the grid world's sensors and planner.
+/// The tree drawn at the top of this file, with the grid world's sensors and planner.
 fn blueprint() -> std::sync::Arc<Blueprint<Robot>> {
     Blueprint::<Robot>::builder()
         .parallel("main_loop", 1, 1, |p| {

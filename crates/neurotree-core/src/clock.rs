@@ -4,6 +4,10 @@
 //! nothing else: no timer threads, no sleeping. A [`ManualClock`] therefore makes a run fully
 //! deterministic (tests, simulation, replay), while [`SystemClock`] (feature `std`) follows
 //! the wall of monotonic time.
+//!
+//! A loop that ticks every period lets the period pass with [`Clock::wait`], so the wait
+//! happens on the same time the nodes read: a manual clock moves forward at once, a system
+//! clock sleeps the thread.
 
 use alloc::sync::Arc;
 use core::sync::atomic::{AtomicU64, Ordering};
@@ -16,6 +20,31 @@ use core::time::Duration;
 pub trait Clock: Send + Sync {
     /// The current time since the clock's origin.
     fn now(&self) -> Duration;
+
+    /// Lets `period` pass on this clock: returns once `now` reads at least `period` later
+    /// than when called. [`Tree::tick_while_running`](crate::Tree::tick_while_running) waits
+    /// with it between ticks.
+    ///
+    /// The default suits a clock that moves by itself (wall time, a simulator's time kept by
+    /// another thread): it reads `now` until the period is over, sleeping the thread for the
+    /// time still left between readings with feature `std`, spinning without it. A clock
+    /// that moves only when told, as [`ManualClock`] does, must override it, or the wait
+    /// never ends.
+    fn wait(&self, period: Duration) {
+        let until = self.now().saturating_add(period);
+        loop {
+            let now = self.now();
+            if now >= until {
+                return;
+            }
+            // Sleeping for the time left on this clock is exact for wall time and wakes
+            // again, without harm, for a clock that runs slower.
+            #[cfg(feature = "std")]
+            std::thread::sleep(until - now);
+            #[cfg(not(feature = "std"))]
+            core::hint::spin_loop();
+        }
+    }
 }
 
 /// A clock that moves only when told to; clones share the same time.
@@ -56,6 +85,12 @@ impl Clock for ManualClock {
     fn now(&self) -> Duration {
         Duration::from_nanos(self.nanos.load(Ordering::Relaxed))
     }
+
+    /// Advances the clock by `period` and returns at once: nobody else would move it, and
+    /// a simulated period should cost no real time.
+    fn wait(&self, period: Duration) {
+        self.advance(period);
+    }
 }
 
 /// Monotonic time from `std::time::Instant`, with its origin at the clock's creation.
@@ -86,6 +121,11 @@ impl Default for SystemClock {
 impl Clock for SystemClock {
     fn now(&self) -> Duration {
         self.origin.elapsed()
+    }
+
+    /// Sleeps the thread for `period`.
+    fn wait(&self, period: Duration) {
+        std::thread::sleep(period);
     }
 }
 
@@ -127,6 +167,36 @@ mod tests {
         assert_eq!(a.now(), Duration::from_millis(12));
         a.set(Duration::from_secs(1));
         assert_eq!(b.now(), Duration::from_secs(1));
+    }
+
+    #[test]
+    fn waiting_on_a_manual_clock_advances_it_by_the_period() {
+        let clock = ManualClock::new();
+        let seen_by_tree = clock.clone();
+        clock.wait(Duration::from_millis(100));
+        clock.wait(Duration::from_millis(100));
+        assert_eq!(seen_by_tree.now(), Duration::from_millis(200));
+    }
+
+    /// A clock that moves by itself: every reading is one millisecond after the last.
+    #[derive(Default)]
+    struct Stepping(AtomicU64);
+
+    impl Clock for Stepping {
+        fn now(&self) -> Duration {
+            Duration::from_millis(self.0.fetch_add(1, Ordering::Relaxed))
+        }
+    }
+
+    #[test]
+    fn default_wait_returns_once_the_clock_has_moved_by_the_period() {
+        let clock = Stepping::default();
+        // Reads 0 to fix the end at 5 ms, then 1, 2, 3, 4 (waiting) and 5 (done).
+        clock.wait(Duration::from_millis(5));
+        assert_eq!(clock.now(), Duration::from_millis(6));
+        // A zero period reads the clock twice and does not wait.
+        clock.wait(Duration::ZERO);
+        assert_eq!(clock.now(), Duration::from_millis(9));
     }
 
     #[test]

@@ -1,12 +1,12 @@
 //! The engine against a reference interpreter, on random trees and random tick sequences.
 //!
-//! The interpreter below is written plainly from SEMANTICS.md and BehaviorTree.CPP 4.10's
-//! node sources: a recursive walk over a tree of nodes, each with its stored status and its
+//! The interpreter below is written plainly from the semantics tables of the node catalog
+//! (`neurotree_core::nodes`) and BehaviorTree.CPP 4.10's node sources: a recursive walk over a tree of nodes, each with its stored status and its
 //! own state (cursor, skipped count, counters, completed lists, ...), as BT.CPP keeps them.
 //! It shares nothing with the engine but the scripted leaves' descriptions.
 //!
 //! Rules it mirrors:
-//! - `execute` stores what a node returned; a Skipped node is stored as Idle (SEMANTICS.md).
+//! - `execute` stores what a node returned; a Skipped node is stored as Idle.
 //! - `halt_child` (BT.CPP `haltChild`): halt the child if Running, then reset it to Idle; a
 //!   halt resets a node's children (children first) before the node itself. `Tree::halt` is
 //!   BT.CPP's `haltTree`: the root's halt, then `haltNode` on every node.
@@ -16,7 +16,7 @@
 //!   the pass, and only while work remains; `tick_once` repeats the pass while the root is
 //!   Running and a node asked to be woken during that pass.
 //! - Where BT.CPP throws (a Skipped condition in IfThenElse / WhileDoElse), the node returns
-//!   Skipped, SEMANTICS.md's rule for a node whose children were all skipped.
+//!   Skipped, as a node whose children were all skipped does.
 //!
 //! Each step compares the root's result, every leaf call in order and every stored status.
 

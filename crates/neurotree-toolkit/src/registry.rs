@@ -1,4 +1,4 @@
-//! The registry (the seeds' factory): node types by name, with their ports.
+//! The registry (BehaviorTree.CPP's factory): node types by name, with their ports.
 //!
 //! A BehaviorTree.CPP file names node types (`<MoveBase goal="{target}"/>`); the registry
 //! says what each name is. It starts with every built-in node of the engine under its

@@ -122,7 +122,7 @@ fn every_run_is_the_same() {
 }
 
 #[test]
-fn the_tree_is_the_textbooks() {
+fn the_tree_is_a_goal_check_over_a_reactive_sequence_of_steps() {
     let bp = pick_and_place_tree();
     assert_eq!(bp.len(), 17);
     let kind = |path: &str| bp.kind(bp.find(path).unwrap()).type_name().to_string();

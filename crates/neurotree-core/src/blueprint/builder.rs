@@ -544,7 +544,8 @@ pub(crate) fn resolve_threshold(t: i32, n: u32) -> i64 {
     }
 }
 
-/// One method per built-in node, in the order of `SEMANTICS.md`.
+/// One method per built-in node: the controls, then the decorators, then the leaves, in the
+/// order of the [node catalog](crate::nodes).
 impl<C> Builder<C> {
     /// A [Sequence](crate::nodes::control::sequence).
     pub fn sequence(self, name: &str, children: impl FnOnce(Self) -> Self) -> Self {
@@ -558,11 +559,12 @@ impl<C> Builder<C> {
     pub fn reactive_sequence(self, name: &str, children: impl FnOnce(Self) -> Self) -> Self {
         self.node(NodeKind::ReactiveSequence, name, children)
     }
-    /// A [Fallback](crate::nodes::control::fallback) (the textbook's Selector).
+    /// A [Fallback](crate::nodes::control::fallback) (Colledanchise & Ögren's Selector).
     pub fn fallback(self, name: &str, children: impl FnOnce(Self) -> Self) -> Self {
         self.node(NodeKind::Fallback, name, children)
     }
-    /// The seeds' name for a [Fallback](Self::fallback).
+    /// A [Fallback](Self::fallback), under the name Colledanchise & Ögren and many libraries
+    /// give it.
     pub fn selector(self, name: &str, children: impl FnOnce(Self) -> Self) -> Self {
         self.fallback(name, children)
     }
@@ -589,7 +591,8 @@ impl<C> Builder<C> {
         let policy = ParallelPolicy::Thresholds { success, failure };
         self.node(NodeKind::Parallel(policy), name, children)
     }
-    /// A [Parallel](crate::nodes::control::parallel) with one of the seeds' policies.
+    /// A [Parallel](crate::nodes::control::parallel) with a [`ParallelPolicy`]: thresholds, or
+    /// one of the shorthands `RequireAll`, `RequireOne`, `RequireCount(M)`.
     pub fn parallel_policy(
         self,
         name: &str,

@@ -24,7 +24,8 @@ pub type CustomFactory<C> = Box<dyn Fn() -> Box<dyn CustomNode<C>> + Send + Sync
 /// How a Parallel node decides, before its number of children is known.
 ///
 /// Thresholds follow BehaviorTree.CPP: a negative threshold `t` means `N + t + 1`, so `-1`
-/// means "all children". The seeds' policies are shorthands resolved when the node closes.
+/// means "all children". `RequireAll`, `RequireOne` and `RequireCount` are shorthands for
+/// thresholds, resolved when the node closes and its number of children is known.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum ParallelPolicy {
     /// Success once `success` children succeeded; Failure once `failure` failed or success

@@ -255,8 +255,33 @@ impl<C> Tree<C> {
         }
     }
 
-    /// Ticks with [`tick_once`](Self::tick_once) every `period` (sleeping between ticks) until
-    /// the root completes.
+    /// Ticks with [`tick_once`](Self::tick_once) until the root completes, letting `period`
+    /// pass on the tree's clock between ticks with [`Clock::wait`]: a [`SystemClock`]
+    /// sleeps the thread, a [`ManualClock`] advances by `period` at once, so a run on a
+    /// manual clock is as fast as the ticks and its time-based nodes still complete.
+    ///
+    /// The next tick starts when the wait is over, so the time a tick takes adds to the
+    /// period; for a steady rate, use `neurotree::runtime::FixedRate`. With a zero
+    /// period a manual clock never moves, and a tree waiting on time never completes.
+    ///
+    /// ```
+    /// use core::time::Duration;
+    /// use neurotree_core::{Blueprint, Clock, ManualClock, Status, Tree};
+    ///
+    /// let blueprint = Blueprint::<()>::builder()
+    ///     .sleep("nap", Duration::from_millis(300))
+    ///     .build_shared()
+    ///     .unwrap();
+    /// let clock = ManualClock::new();
+    /// let mut tree = Tree::with_clock(blueprint, clock.clone());
+    /// // Ticks at 0, 100, 200 and 300 ms, returning at once.
+    /// let status = tree.tick_while_running(&mut (), Duration::from_millis(100));
+    /// assert_eq!(status, Ok(Status::Success));
+    /// assert_eq!(clock.now(), Duration::from_millis(300));
+    /// ```
+    ///
+    /// [`SystemClock`]: crate::SystemClock
+    /// [`ManualClock`]: crate::ManualClock
     #[cfg(feature = "std")]
     pub fn tick_while_running(
         &mut self,
@@ -268,9 +293,7 @@ impl<C> Tree<C> {
             if status != Status::Running {
                 return Ok(status);
             }
-            if !period.is_zero() {
-                std::thread::sleep(period);
-            }
+            self.clock.wait(period);
         }
     }
 
@@ -311,6 +334,7 @@ impl<C> core::fmt::Debug for Tree<C> {
 mod tests {
     use crate::observer::{Observer, StatusChange};
     use crate::testing::*;
+    use crate::Clock;
     use crate::NodeStatus::{Idle, Running as Run, Success as Ok_};
     use std::sync::{Arc as StdArc, Mutex};
 
@@ -549,6 +573,44 @@ mod tests {
             Ok(Status::Success)
         );
         assert_eq!(lab.ticks, [3]);
+    }
+
+    /// Runs `work` on its own thread and returns its result, failing the test if it takes
+    /// longer than five seconds (a hang would otherwise stall the whole test run).
+    #[cfg(feature = "std")]
+    fn within_five_seconds<T: Send + 'static>(work: impl FnOnce() -> T + Send + 'static) -> T {
+        let (done, result) = std::sync::mpsc::channel();
+        std::thread::spawn(move || {
+            // The receiver is gone only if the watchdog already failed the test.
+            let _ = done.send(work());
+        });
+        result
+            .recv_timeout(std::time::Duration::from_secs(5))
+            .expect("the work did not finish within 5 s")
+    }
+
+    #[cfg(feature = "std")]
+    #[test]
+    fn tick_while_running_lets_the_period_pass_on_a_manual_clock() {
+        /// The clock's time at the start of every pass of the root.
+        #[derive(Clone, Default)]
+        struct TickTimes(StdArc<Mutex<Vec<Duration>>>);
+        impl Observer for TickTimes {
+            fn on_tick_start(&mut self, now: Duration) {
+                self.0.lock().unwrap().push(now);
+            }
+        }
+
+        let (mut tree, clock) = build(|b| b.sleep("nap", ms(300)));
+        let times = TickTimes::default();
+        tree.set_observer(times.clone());
+        let status = within_five_seconds(move || tree.tick_while_running(&mut (), ms(100)));
+
+        assert_eq!(status, Ok(Status::Success));
+        // Sleep starts at 0 and is still Running at 100 and 200 ms; at 300 ms it is done.
+        assert_eq!(*times.0.lock().unwrap(), [ms(0), ms(100), ms(200), ms(300)]);
+        // No wait after the last tick: the clock stops where the root completed.
+        assert_eq!(clock.now(), ms(300));
     }
 
     #[test]

@@ -210,7 +210,8 @@ pub enum Progress {
     Finished,
 }
 
-/// Plans routes and moves the robot along them (the seeds' MotionPlanner).
+/// Plans routes and moves the robot along them: the robot's motion planner, as the
+/// navigation node sees it.
 pub trait MotionPlanner {
     /// A collision-free path from `start` to `goal`, keeping clear of `obstacles` as well as
     /// of whatever the planner knows itself.

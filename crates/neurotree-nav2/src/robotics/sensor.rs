@@ -15,7 +15,7 @@
 //! rest of the program (a driver thread's buffer, a logger, the simulator that produces its
 //! samples) reaches it too, and one blueprint serves many robots, each with its own sensors.
 //! The node therefore keeps no state and is a plain [`Action`], shared by every instance of
-//! the blueprint; the seeds' "sensors don't maintain state" holds by construction.
+//! the blueprint: a sensor node keeps no state of its own by construction.
 //!
 //! ```
 //! use std::time::Duration;
@@ -234,7 +234,7 @@ impl<C> SensorNode<C> {
 
 impl<C> Action<C> for SensorNode<C> {
     fn tick(&self, h: &mut Handle<'_, C>) -> Status {
-        // An absent `min_quality` port means no threshold, as the seeds' default of 0.
+        // An absent `min_quality` port means no threshold: the port's default is 0.
         let min_quality = match h.input::<f64>("min_quality") {
             Ok(q) => q,
             Err(neurotree_core::PortError::NoSuchPort { .. }) => 0.0,

@@ -4,7 +4,7 @@
 //!
 //! | loop | ticks | for |
 //! |---|---|---|
-//! | [`FixedRate`] | at the start of every period, on a thread; reports overruns | real-time control loops (the seeds' "tick, then sleep until the next interval") |
+//! | [`FixedRate`] | at the start of every period, on a thread; reports overruns | real-time control loops that tick, then sleep until the next interval |
 //! | `tokio::tick_until_done` (feature `tokio`) | every period, or at once when an async action's future wakes | trees whose actions await timers, tasks and I/O on tokio |
 //!
 //! Both stop when the root completes. Stopping them early halts the tree, so every running

@@ -79,6 +79,16 @@ impl Clock for TokioClock {
     fn now(&self) -> Duration {
         self.origin.elapsed()
     }
+
+    /// Sleeps the thread for `period`, which is right while tokio's time follows real time.
+    ///
+    /// Blocking code cannot move paused time (`tokio::time::advance` is async), so under
+    /// `tokio::time::pause()` this clock reads the same after the wait. Tick a tree on
+    /// tokio's time with [`tick_until_done`], which awaits the period instead;
+    /// [`Tree::tick_while_running`] would also block the runtime's thread.
+    fn wait(&self, period: Duration) {
+        std::thread::sleep(period);
+    }
 }
 
 /// How a [`tick_until_done`] run went.

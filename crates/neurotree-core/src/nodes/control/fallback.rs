@@ -1,4 +1,4 @@
-//! Fallback (the textbook's Selector) and AsyncFallback: try children in order until one
+//! Fallback (Colledanchise & Ögren's Selector) and AsyncFallback: try children in order until one
 //! succeeds.
 //!
 //! | node | semantics |

@@ -4,10 +4,10 @@
 //! |---|---|
 //! | Parallel(success_count, failure_count) | Defaults -1 and 1; a negative threshold t means N+t+1 (so -1 = all). Tick only children not yet completed, checking thresholds after each. Success when successes ≥ S; Failure when N − failures < S or failures ≥ F; then halt the Running children and reset. Otherwise Running. A threshold larger than N is a load-time error. |
 //!
-//! The seeds' policies are constructors over the same node: `RequireAll` = (-1, 1),
-//! `RequireOne` = (1, -1), `RequireCount(M)` = (M, N−M+1). The textbook's Parallel
-//! (Colledanchise & Ögren, Algorithm 3: Success if ≥ M succeed, Failure if > N−M fail) is
-//! `RequireCount(M)`.
+//! The [`ParallelPolicy`] shorthands are constructors over the same node: `RequireAll` =
+//! (-1, 1), `RequireOne` = (1, -1), `RequireCount(M)` = (M, N−M+1). Colledanchise &
+//! Ögren's Parallel (*Behavior Trees in Robotics and AI*, Algorithm 3: Success if ≥ M
+//! succeed, Failure if > N−M fail) is `RequireCount(M)`.
 //!
 //! Which children completed is read from their stored statuses, so the node keeps no list of
 //! its own. Skipped children count toward success only when the success threshold is
@@ -144,7 +144,7 @@ mod tests {
     }
 
     #[test]
-    fn require_count_is_the_textbook_parallel() {
+    fn require_count_is_colledanchise_and_ogrens_parallel() {
         // M = 2 of 3: fails once more than N - M = 1 children failed.
         let mut lab = Lab::new(&[&[F], &[R, R], &[R, F]]);
         let mut tree = lab.tree(|b| {

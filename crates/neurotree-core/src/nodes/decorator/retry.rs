@@ -4,8 +4,8 @@
 //! |---|---|
 //! | RetryUntilSuccessful(num_attempts) | Mirror of Repeat on Failure. 0 attempts → Failure with no tick. |
 //!
-//! The seeds' Retry returns Running between attempts; the textbook's retries within one tick.
-//! Both are this node: under [`Tree::tick_exactly_once`](crate::Tree::tick_exactly_once) an
+//! Some behavior-tree libraries return Running between attempts, others (Colledanchise &
+//! Ögren's) retry within one tick. Both are this node: under [`Tree::tick_exactly_once`](crate::Tree::tick_exactly_once) an
 //! instant failure yields Running, under [`Tree::tick_once`](crate::Tree::tick_once) the
 //! attempts follow each other in the same call. `-1` retries forever. Halt resets the count.
 
@@ -32,7 +32,7 @@ mod tests {
     }
 
     #[test]
-    fn seeds_retry_is_running_between_attempts() {
+    fn one_pass_per_call_is_running_between_attempts() {
         let mut lab = Lab::new(&[&[F, F, S]]);
         let mut tree = lab.tree(|b| b.retry("r", 5, |r| r.scripted(0)));
         assert_eq!(lab.tick_exactly_once(&mut tree), Ok(Status::Running));

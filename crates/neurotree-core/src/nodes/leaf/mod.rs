@@ -228,8 +228,8 @@ pub trait Action<C>: Send + Sync {
     fn tick(&self, h: &mut Handle<'_, C>) -> Status;
 }
 
-/// An action that runs over several ticks, with per-instance state (the seeds' AsyncAction:
-/// start, update, stop).
+/// An action that runs over several ticks, with per-instance state: started once, updated on
+/// every later tick while Running, told when it is halted.
 ///
 /// ```
 /// use neurotree_core::{Handle, StatefulAction, Status};
