@@ -31,6 +31,7 @@
 
 mod build;
 mod mock;
+mod model;
 pub mod save;
 mod source;
 

@@ -1,0 +1,431 @@
+//! The registry (BehaviorTree.CPP's factory): node types by name, with their ports.
+//!
+//! A BehaviorTree.CPP file names node types (`<MoveBase goal="{target}"/>`); the registry
+//! says what each name is. It starts with every built-in node of the engine under its
+//! BehaviorTree.CPP name, and the user adds leaves: a stateful action, an async action, a
+//! sync action or a condition, each with the ports it reads and writes. Port declarations
+//! let the loader reject an unknown attribute or a literal that does not convert, before
+//! anything runs.
+//!
+//! Here: registration; [`ports`] declares ports; `builtins` lists the engine's nodes;
+//! `enums` holds the names scripts read as numbers; `suggest` finds what a misspelt name
+//! meant. Reading and writing a `TreeNodesModel` is the XML side's business
+//! (`xml::model`), so that the registry does not depend on the loader that depends on it.
+
+use std::collections::BTreeMap;
+use std::future::Future;
+use std::sync::Arc;
+
+use crate::script::Enums;
+
+use neurotree_core::{Category, Handle, NodeKind, StatefulAction, Status};
+
+mod builtins;
+mod enums;
+pub mod ports;
+mod suggest;
+
+pub(crate) use builtins::{built_in_kind, built_in_ports, built_ins, BuiltIn};
+pub use ports::{PortDirection, PortSpec};
+
+/// Makes the per-node part of a leaf from its port bindings (most leaves ignore them; a
+/// Script node parses its `code` here, at load time) and the registry's enums (which its
+/// scripts name).
+pub(crate) type LeafMaker<C> =
+    Arc<dyn Fn(&[neurotree_core::Port], &Arc<Enums>) -> Result<NodeKind<C>, String> + Send + Sync>;
+
+/// How a registered type becomes a node.
+#[derive(Clone)]
+pub(crate) enum Make<C> {
+    BuiltIn(BuiltIn),
+    Leaf(LeafMaker<C>),
+    /// Known only from a `TreeNodesModel`: enough to validate a tree, not to run it.
+    Model,
+}
+
+/// A registered node type.
+#[derive(Clone)]
+pub struct NodeType<C> {
+    /// The XML name.
+    pub name: String,
+    /// Its family.
+    pub category: Category,
+    /// Its ports.
+    pub ports: Vec<PortSpec>,
+    /// What it does.
+    pub description: String,
+    pub(crate) make: Make<C>,
+    /// Registered by [`Registry::new`], so not written into a `TreeNodesModel`.
+    pub(crate) builtin: bool,
+}
+
+impl<C> NodeType<C> {
+    /// The port named `name`.
+    pub fn port(&self, name: &str) -> Option<&PortSpec> {
+        self.ports.iter().find(|p| p.name == name)
+    }
+}
+
+/// Why a registration was refused.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum RegistryError {
+    /// The name is taken.
+    #[error("a node type named `{0}` is already registered; pick another name")]
+    Duplicate(String),
+    /// An enum name was defined again with another value.
+    #[error("the enum name `{name}` is already {old}; it cannot also be {new}")]
+    EnumRedefined {
+        /// The name.
+        name: String,
+        /// Its value.
+        old: i64,
+        /// The value refused.
+        new: i64,
+    },
+}
+
+/// Adds the nodes of a subtree made in Rust below an open SubTree node.
+pub(crate) type SubtreeMaker<C> =
+    Arc<dyn Fn(neurotree_core::Builder<C>) -> neurotree_core::Builder<C> + Send + Sync>;
+
+/// Node types by name: the built-ins, and the user's leaves; the subtrees made with the
+/// builder; and the enum names that scripts and port values may use.
+pub struct Registry<C> {
+    pub(crate) types: BTreeMap<String, NodeType<C>>,
+    subtrees: BTreeMap<String, SubtreeMaker<C>>,
+    /// Shared with the script nodes made from this registry, which look names up at run time.
+    enums: Arc<Enums>,
+}
+
+impl<C: 'static> Default for Registry<C> {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl<C: 'static> Registry<C> {
+    /// A registry holding every built-in node under its BehaviorTree.CPP name.
+    pub fn new() -> Self {
+        let mut r = Self {
+            types: BTreeMap::new(),
+            subtrees: BTreeMap::new(),
+            enums: Arc::new(Enums::new()),
+        };
+        for (name, category, built_in, ports) in built_ins() {
+            let t = NodeType {
+                name: name.to_string(),
+                category,
+                ports,
+                description: String::new(),
+                make: Make::BuiltIn(built_in),
+                builtin: true,
+            };
+            r.types.insert(name.to_string(), t);
+        }
+        crate::nodes::script::register(&mut r);
+        crate::nodes::loops::register(&mut r);
+        crate::nodes::entry::register(&mut r);
+        crate::nodes::switch::register(&mut r);
+        for t in r.types.values_mut() {
+            t.builtin = true;
+        }
+        r
+    }
+
+    /// Registers a user control or decorator (a [`CustomNode`](neurotree_core::CustomNode)):
+    /// `make` builds one object per tree instance; `arity` says how many children it takes.
+    pub fn register_custom<F>(
+        &mut self,
+        name: &str,
+        arity: neurotree_core::Arity,
+        ports: Vec<PortSpec>,
+        make: F,
+    ) -> Result<(), RegistryError>
+    where
+        F: Fn() -> Box<dyn neurotree_core::CustomNode<C>> + Send + Sync + 'static,
+    {
+        let category = match arity {
+            neurotree_core::Arity::One => Category::Decorator,
+            neurotree_core::Arity::Leaf => Category::Action,
+            _ => Category::Control,
+        };
+        self.register_custom_as(name, category, arity, ports, make)
+    }
+
+    /// As [`register_custom`](Self::register_custom), listed under `category` in models,
+    /// pictures and Groot2: a leaf that keeps state between ticks may be a Condition.
+    pub fn register_custom_as<F>(
+        &mut self,
+        name: &str,
+        category: Category,
+        arity: neurotree_core::Arity,
+        ports: Vec<PortSpec>,
+        make: F,
+    ) -> Result<(), RegistryError>
+    where
+        F: Fn() -> Box<dyn neurotree_core::CustomNode<C>> + Send + Sync + 'static,
+    {
+        let make = Arc::new(make);
+        let type_name = name.to_string();
+        let leaf: LeafMaker<C> = Arc::new(move |_, _| {
+            let make = Arc::clone(&make);
+            Ok(NodeKind::Custom(Box::new(neurotree_core::CustomSpec {
+                type_name: type_name.clone(),
+                arity,
+                factory: Box::new(move || make()),
+            })))
+        });
+        self.register_leaf(name, category, ports, leaf)
+    }
+
+    /// Registers a node type made from its port bindings at load time; refuses a taken name.
+    pub(crate) fn register_leaf(
+        &mut self,
+        name: &str,
+        category: Category,
+        ports: Vec<PortSpec>,
+        make: LeafMaker<C>,
+    ) -> Result<(), RegistryError> {
+        if self.types.contains_key(name) {
+            return Err(RegistryError::Duplicate(name.to_string()));
+        }
+        let t = NodeType {
+            name: name.to_string(),
+            category,
+            ports,
+            description: String::new(),
+            make: Make::Leaf(make),
+            builtin: false,
+        };
+        self.types.insert(name.to_string(), t);
+        Ok(())
+    }
+
+    /// Registers a stateful action: `make` builds one object per tree instance.
+    pub fn register_stateful<S, F>(
+        &mut self,
+        name: &str,
+        ports: Vec<PortSpec>,
+        make: F,
+    ) -> Result<(), RegistryError>
+    where
+        S: StatefulAction<C> + 'static,
+        F: Fn() -> S + Send + Sync + 'static,
+    {
+        self.register_stateful_as(name, Category::Action, ports, make)
+    }
+
+    /// As [`register_stateful`](Self::register_stateful), listed under `category`: a leaf
+    /// that completes within its tick but remembers between ticks may be a Condition.
+    pub fn register_stateful_as<S, F>(
+        &mut self,
+        name: &str,
+        category: Category,
+        ports: Vec<PortSpec>,
+        make: F,
+    ) -> Result<(), RegistryError>
+    where
+        S: StatefulAction<C> + 'static,
+        F: Fn() -> S + Send + Sync + 'static,
+    {
+        let make = Arc::new(make);
+        let leaf: LeafMaker<C> = Arc::new(move |_, _| {
+            let make = Arc::clone(&make);
+            Ok(NodeKind::Stateful(Box::new(
+                move || -> Box<dyn StatefulAction<C>> { Box::new(make()) },
+            )))
+        });
+        self.register_leaf(name, category, ports, leaf)
+    }
+
+    /// Registers an [async action](neurotree_core::nodes::leaf::async_action): on each start,
+    /// `start` reads what it needs from the handle (its ports, the blackboard, the context)
+    /// and returns the future that does the work, polled once per tick and dropped when the
+    /// node is halted.
+    ///
+    /// ```
+    /// use std::sync::Arc;
+    /// use neurotree::{ManualClock, PortSpec, Registry, Status, Tree, XmlLoader};
+    ///
+    /// let mut registry = Registry::<()>::new();
+    /// registry
+    ///     .register_async("CheckAltitude", vec![PortSpec::input::<f64>("min")], |h| {
+    ///         let min: f64 = h.input("min").unwrap_or(f64::INFINITY);
+    ///         async move { if 12.5 >= min { Status::Success } else { Status::Failure } }
+    ///     })
+    ///     .unwrap();
+    /// let mut loader = XmlLoader::new(&registry);
+    /// loader
+    ///     .load_str(
+    ///         r#"<root BTCPP_format="4"><BehaviorTree ID="main">
+    ///              <CheckAltitude min="10"/>
+    ///            </BehaviorTree></root>"#,
+    ///         "main.xml",
+    ///     )
+    ///     .unwrap();
+    /// let blueprint = Arc::new(loader.build_main().unwrap());
+    /// let mut tree = Tree::with_clock(blueprint, ManualClock::new());
+    /// assert_eq!(tree.tick_once(&mut ()), Ok(Status::Success));
+    /// ```
+    pub fn register_async<F, Fut>(
+        &mut self,
+        name: &str,
+        ports: Vec<PortSpec>,
+        start: F,
+    ) -> Result<(), RegistryError>
+    where
+        F: Fn(&mut Handle<'_, C>) -> Fut + Send + Sync + 'static,
+        Fut: Future<Output = Status> + Send + 'static,
+    {
+        let start = Arc::new(start);
+        let leaf: LeafMaker<C> =
+            Arc::new(move |_, _| Ok(NodeKind::Async(Box::new(SharedAsync(Arc::clone(&start))))));
+        self.register_leaf(name, Category::Action, ports, leaf)
+    }
+
+    /// Registers a sync action: it completes within the tick.
+    pub fn register_action<F>(
+        &mut self,
+        name: &str,
+        ports: Vec<PortSpec>,
+        f: F,
+    ) -> Result<(), RegistryError>
+    where
+        F: Fn(&mut Handle<'_, C>) -> Status + Send + Sync + 'static,
+    {
+        // One object shared by every node of this type: making a node allocates nothing.
+        let action: Arc<dyn neurotree_core::Action<C>> = Arc::new(SharedAction(f));
+        let leaf: LeafMaker<C> = Arc::new(move |_, _| Ok(NodeKind::Action(Arc::clone(&action))));
+        self.register_leaf(name, Category::Action, ports, leaf)
+    }
+
+    /// Registers a condition: Success or Failure, never Running.
+    pub fn register_condition<F>(
+        &mut self,
+        name: &str,
+        ports: Vec<PortSpec>,
+        f: F,
+    ) -> Result<(), RegistryError>
+    where
+        F: Fn(&Handle<'_, C>) -> bool + Send + Sync + 'static,
+    {
+        // One object shared by every node of this type: making a node allocates nothing.
+        let condition: Arc<dyn neurotree_core::Condition<C>> = Arc::new(SharedCondition(f));
+        let leaf: LeafMaker<C> =
+            Arc::new(move |_, _| Ok(NodeKind::Condition(Arc::clone(&condition))));
+        self.register_leaf(name, Category::Condition, ports, leaf)
+    }
+
+    /// Registers a subtree made with the builder under a tree ID, so that XML files can use
+    /// it as `<SubTree ID="name"/>` (with remapping, like any subtree) without a
+    /// `<BehaviorTree>` of that ID. `add` receives the builder with the SubTree node open and
+    /// adds its one child. A tree loaded from XML with the same ID takes precedence.
+    ///
+    /// ```
+    /// use neurotree::{ManualClock, Registry, Status, Tree, XmlLoader};
+    ///
+    /// let mut registry = Registry::<u32>::new();
+    /// registry
+    ///     .register_subtree("Count", |b| {
+    ///         b.repeat("thrice", 3, |r| r.action("inc", |n: &mut u32| { *n += 1; Status::Success }))
+    ///     })
+    ///     .unwrap();
+    /// let mut loader = XmlLoader::new(&registry);
+    /// loader.load_str(r#"<root BTCPP_format="4"><BehaviorTree ID="Main">
+    ///     <Sequence><SubTree ID="Count"/><SubTree ID="Count" name="again"/></Sequence>
+    ///   </BehaviorTree></root>"#, "main.xml").unwrap();
+    /// let mut tree = Tree::with_clock(loader.build_main().unwrap().into(), ManualClock::new());
+    /// let mut n = 0;
+    /// assert_eq!(tree.tick_once(&mut n), Ok(Status::Success));
+    /// assert_eq!(n, 6);
+    /// ```
+    pub fn register_subtree<F>(&mut self, name: &str, add: F) -> Result<(), RegistryError>
+    where
+        F: Fn(neurotree_core::Builder<C>) -> neurotree_core::Builder<C> + Send + Sync + 'static,
+    {
+        if self.subtrees.contains_key(name) {
+            return Err(RegistryError::Duplicate(name.to_string()));
+        }
+        self.subtrees.insert(name.to_string(), Arc::new(add));
+        Ok(())
+    }
+
+    /// The subtree registered as `name`, if any.
+    pub(crate) fn subtree(&self, name: &str) -> Option<&SubtreeMaker<C>> {
+        self.subtrees.get(name)
+    }
+
+    /// The IDs of the subtrees made with the builder.
+    pub fn subtree_ids(&self) -> impl Iterator<Item = &str> {
+        self.subtrees.keys().map(String::as_str)
+    }
+
+    /// Adds a description to a registered type (shown in the `TreeNodesModel`).
+    pub fn describe(&mut self, name: &str, description: &str) {
+        if let Some(t) = self.types.get_mut(name) {
+            t.description = description.to_string();
+        }
+    }
+
+    /// The type registered as `name`.
+    pub fn get(&self, name: &str) -> Option<&NodeType<C>> {
+        self.types.get(name)
+    }
+
+    /// Every registered type, by name.
+    pub fn types(&self) -> impl Iterator<Item = &NodeType<C>> {
+        self.types.values()
+    }
+}
+
+struct SharedAction<F>(F);
+
+impl<C, F> neurotree_core::Action<C> for SharedAction<F>
+where
+    F: Fn(&mut Handle<'_, C>) -> Status + Send + Sync,
+{
+    fn tick(&self, h: &mut Handle<'_, C>) -> Status {
+        (self.0)(h)
+    }
+}
+
+struct SharedAsync<F>(Arc<F>);
+
+impl<C, F, Fut> neurotree_core::AsyncAction<C> for SharedAsync<F>
+where
+    F: Fn(&mut Handle<'_, C>) -> Fut + Send + Sync,
+    Fut: Future<Output = Status> + Send + 'static,
+{
+    fn start(&self, h: &mut Handle<'_, C>) -> neurotree_core::ActionFuture {
+        Box::pin((self.0)(h))
+    }
+}
+
+struct SharedCondition<F>(F);
+
+impl<C, F> neurotree_core::Condition<C> for SharedCondition<F>
+where
+    F: Fn(&Handle<'_, C>) -> bool + Send + Sync,
+{
+    fn check(&self, h: &Handle<'_, C>) -> bool {
+        (self.0)(h)
+    }
+}
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn registering_a_name_twice_is_an_error() {
+        let mut r = Registry::<()>::new();
+        r.register_condition("IsOpen", vec![], |_| true).unwrap();
+        assert_eq!(
+            r.register_action("IsOpen", vec![], |_| Status::Success),
+            Err(RegistryError::Duplicate("IsOpen".into()))
+        );
+        assert_eq!(
+            r.register_condition("Sequence", vec![], |_| true),
+            Err(RegistryError::Duplicate("Sequence".into()))
+        );
+    }
+}
