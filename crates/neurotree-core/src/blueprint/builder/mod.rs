@@ -6,19 +6,19 @@ use alloc::boxed::Box;
 use alloc::string::String;
 use alloc::sync::Arc;
 use alloc::vec::Vec;
-use core::future::Future;
 use core::ptr::NonNull;
-use core::time::Duration;
 
 use super::{
-    Blueprint, BuildError, BuildErrorKind, Child, CustomSpec, NameSpan, NodeDef, NodeId, NodeKind,
-    NodeMeta, ParallelPolicy, Port, SubTreeScope, DEFAULT_MAX_DEPTH,
+    Blueprint, BuildError, BuildErrorKind, Child, NameSpan, NodeDef, NodeId, NodeKind, NodeMeta,
+    ParallelPolicy, Port, SubTreeScope, DEFAULT_MAX_DEPTH,
 };
 use crate::blackboard::ScopeId;
 use crate::nodes::hooks::NodeHooks;
-use crate::nodes::leaf::async_action::AsyncFn;
-use crate::nodes::leaf::{Action, AsyncAction, Condition, StatefulAction};
-use crate::Status;
+
+mod chunks;
+mod fluent;
+
+use chunks::Chunks;
 
 /// A node being built. Its children are not listed: each knows its parent, and `finish`
 /// lays the lists out, so that a node costs no allocation of its own.
@@ -65,66 +65,6 @@ pub struct Builder<C> {
     /// Boxed: the fluent methods take and return the builder by value, which then moves a
     /// pointer rather than the whole state.
     s: Box<State<C>>,
-}
-
-/// Nodes per chunk of [`Chunks`].
-const CHUNK: usize = 128;
-
-/// A list in chunks of [`CHUNK`] items: growing it never moves what it holds, and none of
-/// its allocations is large (an allocator copies, and sorts its free lists, around large
-/// blocks).
-struct Chunks<T> {
-    chunks: Vec<Vec<T>>,
-}
-
-impl<T> Chunks<T> {
-    fn new() -> Self {
-        Self { chunks: Vec::new() }
-    }
-
-    fn len(&self) -> usize {
-        match self.chunks.last() {
-            Some(last) => (self.chunks.len() - 1) * CHUNK + last.len(),
-            None => 0,
-        }
-    }
-
-    fn is_empty(&self) -> bool {
-        self.chunks.is_empty()
-    }
-
-    fn push(&mut self, item: T) {
-        match self.chunks.last_mut() {
-            Some(last) if last.len() < CHUNK => last.push(item),
-            _ => {
-                let mut chunk = Vec::with_capacity(CHUNK);
-                chunk.push(item);
-                self.chunks.push(chunk);
-            }
-        }
-    }
-
-    fn last(&self) -> Option<&T> {
-        self.chunks.last().and_then(|c| c.last())
-    }
-
-    fn last_mut(&mut self) -> Option<&mut T> {
-        self.chunks.last_mut().and_then(|c| c.last_mut())
-    }
-}
-
-impl<T> core::ops::Index<usize> for Chunks<T> {
-    type Output = T;
-
-    fn index(&self, i: usize) -> &T {
-        &self.chunks[i / CHUNK][i % CHUNK]
-    }
-}
-
-impl<T> core::ops::IndexMut<usize> for Chunks<T> {
-    fn index_mut(&mut self, i: usize) -> &mut T {
-        &mut self.chunks[i / CHUNK][i % CHUNK]
-    }
 }
 
 /// What a [`Builder`] has gathered so far.
@@ -541,215 +481,6 @@ pub(crate) fn resolve_threshold(t: i32, n: u32) -> i64 {
         (i64::from(n) + i64::from(t) + 1).max(0)
     } else {
         i64::from(t)
-    }
-}
-
-/// One method per built-in node: the controls, then the decorators, then the leaves, in the
-/// order of the [node catalog](crate::nodes).
-impl<C> Builder<C> {
-    /// A [Sequence](crate::nodes::control::sequence).
-    pub fn sequence(self, name: &str, children: impl FnOnce(Self) -> Self) -> Self {
-        self.node(NodeKind::Sequence, name, children)
-    }
-    /// A [SequenceWithMemory](crate::nodes::control::sequence).
-    pub fn sequence_with_memory(self, name: &str, children: impl FnOnce(Self) -> Self) -> Self {
-        self.node(NodeKind::SequenceWithMemory, name, children)
-    }
-    /// A [ReactiveSequence](crate::nodes::control::reactive).
-    pub fn reactive_sequence(self, name: &str, children: impl FnOnce(Self) -> Self) -> Self {
-        self.node(NodeKind::ReactiveSequence, name, children)
-    }
-    /// A [Fallback](crate::nodes::control::fallback) (Colledanchise & Ögren's Selector).
-    pub fn fallback(self, name: &str, children: impl FnOnce(Self) -> Self) -> Self {
-        self.node(NodeKind::Fallback, name, children)
-    }
-    /// A [Fallback](Self::fallback), under the name Colledanchise & Ögren and many libraries
-    /// give it.
-    pub fn selector(self, name: &str, children: impl FnOnce(Self) -> Self) -> Self {
-        self.fallback(name, children)
-    }
-    /// A [ReactiveFallback](crate::nodes::control::reactive).
-    pub fn reactive_fallback(self, name: &str, children: impl FnOnce(Self) -> Self) -> Self {
-        self.node(NodeKind::ReactiveFallback, name, children)
-    }
-    /// An [AsyncSequence](crate::nodes::control::sequence).
-    pub fn async_sequence(self, name: &str, children: impl FnOnce(Self) -> Self) -> Self {
-        self.node(NodeKind::AsyncSequence, name, children)
-    }
-    /// An [AsyncFallback](crate::nodes::control::fallback).
-    pub fn async_fallback(self, name: &str, children: impl FnOnce(Self) -> Self) -> Self {
-        self.node(NodeKind::AsyncFallback, name, children)
-    }
-    /// A [Parallel](crate::nodes::control::parallel) with BehaviorTree.CPP's thresholds.
-    pub fn parallel(
-        self,
-        name: &str,
-        success: i32,
-        failure: i32,
-        children: impl FnOnce(Self) -> Self,
-    ) -> Self {
-        let policy = ParallelPolicy::Thresholds { success, failure };
-        self.node(NodeKind::Parallel(policy), name, children)
-    }
-    /// A [Parallel](crate::nodes::control::parallel) with a [`ParallelPolicy`]: thresholds, or
-    /// one of the shorthands `RequireAll`, `RequireOne`, `RequireCount(M)`.
-    pub fn parallel_policy(
-        self,
-        name: &str,
-        policy: ParallelPolicy,
-        children: impl FnOnce(Self) -> Self,
-    ) -> Self {
-        self.node(NodeKind::Parallel(policy), name, children)
-    }
-    /// A [ParallelAll](crate::nodes::control::parallel_all).
-    pub fn parallel_all(
-        self,
-        name: &str,
-        max_failures: i32,
-        children: impl FnOnce(Self) -> Self,
-    ) -> Self {
-        self.node(NodeKind::ParallelAll { max_failures }, name, children)
-    }
-    /// An [IfThenElse](crate::nodes::control::if_then_else).
-    pub fn if_then_else(self, name: &str, children: impl FnOnce(Self) -> Self) -> Self {
-        self.node(NodeKind::IfThenElse, name, children)
-    }
-    /// A [WhileDoElse](crate::nodes::control::while_do_else).
-    pub fn while_do_else(self, name: &str, children: impl FnOnce(Self) -> Self) -> Self {
-        self.node(NodeKind::WhileDoElse, name, children)
-    }
-    /// A [TryCatch](crate::nodes::control::try_catch).
-    pub fn try_catch(
-        self,
-        name: &str,
-        catch_on_halt: bool,
-        children: impl FnOnce(Self) -> Self,
-    ) -> Self {
-        self.node(NodeKind::TryCatch { catch_on_halt }, name, children)
-    }
-    /// An [Inverter](crate::nodes::decorator::inverter).
-    pub fn inverter(self, name: &str, child: impl FnOnce(Self) -> Self) -> Self {
-        self.node(NodeKind::Inverter, name, child)
-    }
-    /// A [ForceSuccess](crate::nodes::decorator::force).
-    pub fn force_success(self, name: &str, child: impl FnOnce(Self) -> Self) -> Self {
-        self.node(NodeKind::ForceSuccess, name, child)
-    }
-    /// A [ForceFailure](crate::nodes::decorator::force).
-    pub fn force_failure(self, name: &str, child: impl FnOnce(Self) -> Self) -> Self {
-        self.node(NodeKind::ForceFailure, name, child)
-    }
-    /// A [Repeat](crate::nodes::decorator::repeat); `-1` repeats forever.
-    pub fn repeat(self, name: &str, num_cycles: i32, child: impl FnOnce(Self) -> Self) -> Self {
-        self.node(NodeKind::Repeat { num_cycles }, name, child)
-    }
-    /// A [RetryUntilSuccessful](crate::nodes::decorator::retry); `-1` retries forever.
-    pub fn retry(self, name: &str, num_attempts: i32, child: impl FnOnce(Self) -> Self) -> Self {
-        self.node(NodeKind::RetryUntilSuccessful { num_attempts }, name, child)
-    }
-    /// A [KeepRunningUntilFailure](crate::nodes::decorator::keep_running).
-    pub fn keep_running_until_failure(self, name: &str, child: impl FnOnce(Self) -> Self) -> Self {
-        self.node(NodeKind::KeepRunningUntilFailure, name, child)
-    }
-    /// A [Delay](crate::nodes::decorator::delay).
-    pub fn delay(self, name: &str, delay: Duration, child: impl FnOnce(Self) -> Self) -> Self {
-        self.node(NodeKind::Delay(delay), name, child)
-    }
-    /// A [Timeout](crate::nodes::decorator::timeout).
-    pub fn timeout(self, name: &str, limit: Duration, child: impl FnOnce(Self) -> Self) -> Self {
-        self.node(NodeKind::Timeout(limit), name, child)
-    }
-    /// A [Cooldown](crate::nodes::decorator::cooldown).
-    pub fn cooldown(self, name: &str, period: Duration, child: impl FnOnce(Self) -> Self) -> Self {
-        self.node(NodeKind::Cooldown(period), name, child)
-    }
-    /// A [RunOnce](crate::nodes::decorator::run_once).
-    pub fn run_once(self, name: &str, then_skip: bool, child: impl FnOnce(Self) -> Self) -> Self {
-        self.node(NodeKind::RunOnce { then_skip }, name, child)
-    }
-    /// A [SubTree](crate::nodes::decorator::subtree): its child sees its own blackboard scope.
-    pub fn subtree(
-        self,
-        name: &str,
-        scope: SubTreeScope,
-        child: impl FnOnce(Self) -> Self,
-    ) -> Self {
-        self.node(NodeKind::SubTree(Box::new(scope)), name, child)
-    }
-    /// An [AlwaysSuccess](crate::nodes::leaf::always) leaf.
-    pub fn always_success(self, name: &str) -> Self {
-        self.leaf(NodeKind::AlwaysSuccess, name)
-    }
-    /// An [AlwaysFailure](crate::nodes::leaf::always) leaf.
-    pub fn always_failure(self, name: &str) -> Self {
-        self.leaf(NodeKind::AlwaysFailure, name)
-    }
-    /// A [Sleep](crate::nodes::leaf::sleep) leaf.
-    pub fn sleep(self, name: &str, duration: Duration) -> Self {
-        self.leaf(NodeKind::Sleep(duration), name)
-    }
-    /// A condition from a closure of the context.
-    pub fn condition(self, name: &str, f: impl Fn(&C) -> bool + Send + Sync + 'static) -> Self {
-        self.leaf(NodeKind::ConditionFn(Box::new(f)), name)
-    }
-    /// A condition from a [`Condition`] object.
-    pub fn condition_node(self, name: &str, c: impl Condition<C> + 'static) -> Self {
-        self.leaf(NodeKind::Condition(alloc::sync::Arc::new(c)), name)
-    }
-    /// A sync action from a closure of the context.
-    pub fn action(self, name: &str, f: impl Fn(&mut C) -> Status + Send + Sync + 'static) -> Self {
-        self.leaf(NodeKind::ActionFn(Box::new(f)), name)
-    }
-    /// A sync action from an [`Action`] object.
-    pub fn action_node(self, name: &str, a: impl Action<C> + 'static) -> Self {
-        self.leaf(NodeKind::Action(alloc::sync::Arc::new(a)), name)
-    }
-    /// A stateful action: `make` builds one object per tree instance.
-    pub fn stateful<S, F>(self, name: &str, make: F) -> Self
-    where
-        S: StatefulAction<C> + 'static,
-        F: Fn() -> S + Send + Sync + 'static,
-    {
-        let factory = move || -> Box<dyn StatefulAction<C>> { Box::new(make()) };
-        self.leaf(NodeKind::Stateful(Box::new(factory)), name)
-    }
-    /// An [async action](crate::nodes::leaf::async_action): on each start, `start` reads
-    /// what it needs from the handle and returns the future that does the work; the future
-    /// is polled once per tick and dropped when the node is halted. Each start allocates
-    /// once, to box the future.
-    ///
-    /// ```
-    /// use neurotree_core::{Blueprint, ManualClock, Status, Tree};
-    ///
-    /// let blueprint = Blueprint::<u32>::builder()
-    ///     .async_action("double", |h| {
-    ///         let n = *h.ctx();
-    ///         async move { if n * 2 > 5 { Status::Success } else { Status::Failure } }
-    ///     })
-    ///     .build_shared()
-    ///     .unwrap();
-    /// let mut tree = Tree::with_clock(blueprint, ManualClock::new());
-    /// assert_eq!(tree.tick_once(&mut 3), Ok(Status::Success));
-    /// ```
-    pub fn async_action<F, Fut>(self, name: &str, start: F) -> Self
-    where
-        F: Fn(&mut crate::Handle<'_, C>) -> Fut + Send + Sync + 'static,
-        Fut: Future<Output = Status> + Send + 'static,
-    {
-        self.async_action_node(name, AsyncFn(start))
-    }
-    /// An async action from an [`AsyncAction`] object.
-    pub fn async_action_node(self, name: &str, a: impl AsyncAction<C> + 'static) -> Self {
-        self.leaf(NodeKind::Async(Box::new(a)), name)
-    }
-    /// A user-defined control or decorator.
-    pub fn custom(
-        self,
-        name: &str,
-        spec: CustomSpec<C>,
-        children: impl FnOnce(Self) -> Self,
-    ) -> Self {
-        self.node(NodeKind::Custom(Box::new(spec)), name, children)
     }
 }
 
