@@ -69,10 +69,17 @@ impl ManualClock {
         Self::default()
     }
 
-    /// Moves the time forward by `by`.
+    /// Moves the time forward by `by`. Time saturates at the largest moment a clock holds
+    /// (about 584 years) rather than wrapping round to zero, which would run time backwards
+    /// and keep a Timeout from ever firing.
     pub fn advance(&self, by: Duration) {
-        self.nanos
-            .fetch_add(duration_to_nanos(by), Ordering::Relaxed);
+        let by = duration_to_nanos(by);
+        // `fetch_update` with a closure that always returns `Some` cannot fail.
+        let _ = self
+            .nanos
+            .fetch_update(Ordering::Relaxed, Ordering::Relaxed, |now| {
+                Some(now.saturating_add(by))
+            });
     }
 
     /// Sets the time; it may move backwards, which time-based nodes treat as "no time passed".
@@ -157,6 +164,17 @@ pub(crate) mod moment {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_manual_clock_saturates_instead_of_wrapping() {
+        let clock = ManualClock::new();
+        clock.advance(Duration::from_secs(1));
+        clock.advance(Duration::MAX);
+        let end = Duration::from_nanos(u64::MAX);
+        assert_eq!(clock.now(), end);
+        clock.advance(Duration::from_millis(1));
+        assert_eq!(clock.now(), end, "time never runs backwards");
+    }
 
     #[test]
     fn manual_clock_is_shared_by_clones() {

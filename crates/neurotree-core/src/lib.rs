@@ -78,4 +78,4 @@ pub use nodes::hooks::NodeHooks;
 pub use nodes::leaf::{Action, ActionFuture, AsyncAction, Condition, Handle, StatefulAction};
 pub use observer::{Observer, StatusChange};
 pub use status::{NodeStatus, Status};
-pub use tree::{TickError, Tree, WakeSignal, Woken};
+pub use tree::{TickError, Tree, WakeSignal, Woken, DEFAULT_MAX_PASSES};

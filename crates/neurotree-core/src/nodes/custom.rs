@@ -118,7 +118,7 @@ impl<'t, C> NodeCtx<'_, 't, C> {
 
     /// Asks `tick_once` to tick the tree again at once (after yielding Running).
     pub fn request_wake_up(&mut self) {
-        self.t.wake = true;
+        self.t.wake = Some(self.id);
     }
 
     /// The user's context.

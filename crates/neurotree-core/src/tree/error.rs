@@ -31,6 +31,17 @@ pub enum TickError {
         /// Its path in the tree.
         path: String,
     },
+    /// [`Tree::tick_once`](crate::Tree::tick_once) made its most passes and a node still
+    /// asked for another; the tree was halted.
+    #[error("{path} asked for another pass of the tree {passes} times in one tick; the tree was halted (a Repeat of -1 over a child that completes at once never stops; raise the limit with Tree::set_max_passes if the loop is meant)")]
+    TooManyPasses {
+        /// The node that asked last, or `None` for the future of an async action.
+        node: Option<NodeId>,
+        /// Its path in the tree.
+        path: String,
+        /// The passes made.
+        passes: u32,
+    },
     /// A node reported an error of its own.
     #[error("{path} ({node}): {message}")]
     Node {

@@ -51,6 +51,23 @@ pub struct Tree<C> {
     /// Made when the blueprint has async actions, or when a runner asks for the signal;
     /// boxed, so that the many trees without async actions pay one pointer for it.
     wake: Option<Box<TreeWake>>,
+    /// The most passes one [`tick_once`](Self::tick_once) makes.
+    max_passes: u32,
+    /// The passes the last `tick_once` made.
+    last_passes: u32,
+}
+
+/// Passes one [`Tree::tick_once`] makes at most, unless [`Tree::set_max_passes`] says
+/// otherwise: enough for a `Repeat` of a million quick cycles, finite for one of `-1`.
+pub const DEFAULT_MAX_PASSES: u32 = 1_000_000;
+
+/// Who asked for another pass of the root.
+#[derive(Clone, Copy)]
+enum Waker {
+    /// A node that yielded (a Repeat between cycles, an async Sequence between children).
+    Node(NodeId),
+    /// The future of an async action.
+    Future,
 }
 
 impl<C> Tree<C> {
@@ -100,6 +117,8 @@ impl<C> Tree<C> {
             clock,
             observer: None,
             wake,
+            max_passes: DEFAULT_MAX_PASSES,
+            last_passes: 0,
             blueprint,
         }
     }
@@ -198,25 +217,29 @@ impl<C> Tree<C> {
                 Some(o) => Some(o),
                 None => None,
             },
-            wake: false,
+            wake: None,
             waker: self.wake.as_ref().map(|w| &w.waker),
             fault: None,
         }
     }
 
-    /// One pass of the root: returns its status and whether a node asked to be woken or a
-    /// future woke during the pass.
-    fn pass(&mut self, ctx: &mut C) -> Result<(NodeStatus, bool), TickError> {
+    /// One pass of the root: returns its status and who, if anyone, asked for another pass
+    /// (a node that yielded, or a future that woke during the pass).
+    fn pass(&mut self, ctx: &mut C) -> Result<(NodeStatus, Option<Waker>), TickError> {
         // The pass polls every future still running, so earlier wakes are answered by it.
         if let Some(w) = &self.wake {
             w.signal.take();
         }
         let (status, asked) = self.pass_inner(ctx)?;
         let woken = self.wake.as_ref().is_some_and(|w| w.signal.is_woken());
-        Ok((status, asked || woken))
+        let waker = match asked {
+            Some(node) => Some(Waker::Node(node)),
+            None => woken.then_some(Waker::Future),
+        };
+        Ok((status, waker))
     }
 
-    fn pass_inner(&mut self, ctx: &mut C) -> Result<(NodeStatus, bool), TickError> {
+    fn pass_inner(&mut self, ctx: &mut C) -> Result<(NodeStatus, Option<NodeId>), TickError> {
         let mut t = self.ticker(ctx);
         if let Some(o) = t.observer.as_deref_mut() {
             o.on_tick_start(t.clock.now());
@@ -245,13 +268,53 @@ impl<C> Tree<C> {
     /// Ticks the root, and again at once while it is Running and a node asked to be woken or
     /// the future of an async action woke during the pass (a future that wakes itself on
     /// every poll therefore keeps this call ticking until it completes).
+    ///
+    /// The passes are bounded ([`set_max_passes`](Self::set_max_passes), by default
+    /// [`DEFAULT_MAX_PASSES`]): a `Repeat` of `-1` over a child that succeeds at once would
+    /// otherwise never return. Past the bound the tree is halted and the error
+    /// [`TickError::TooManyPasses`] names the node that kept asking.
     pub fn tick_once(&mut self, ctx: &mut C) -> Result<Status, TickError> {
+        self.last_passes = 0;
         loop {
-            let (status, wake) = self.pass(ctx)?;
-            if status == NodeStatus::Running && wake {
-                continue;
+            let (status, waker) = self.pass(ctx)?;
+            self.last_passes += 1;
+            match waker {
+                Some(waker) if status == NodeStatus::Running => {
+                    if self.last_passes >= self.max_passes {
+                        return Err(self.too_many_passes(ctx, waker));
+                    }
+                }
+                _ => return to_result(status),
             }
-            return to_result(status);
+        }
+    }
+
+    /// Sets the most passes one [`tick_once`](Self::tick_once) makes (at least 1).
+    pub fn set_max_passes(&mut self, passes: u32) {
+        self.max_passes = passes.max(1);
+    }
+
+    /// How many passes of the root the last [`tick_once`](Self::tick_once) made: 1 unless
+    /// a node yielded or a future woke. A runner that budgets ticks counts these.
+    pub fn last_passes(&self) -> u32 {
+        self.last_passes
+    }
+
+    /// Halts the tree and names who kept asking for passes.
+    #[cold]
+    fn too_many_passes(&mut self, ctx: &mut C, waker: Waker) -> TickError {
+        self.halt(ctx);
+        let (node, path) = match waker {
+            Waker::Node(id) => (Some(id), self.blueprint.path(id)),
+            Waker::Future => (
+                None,
+                alloc::string::String::from("the future of an async action"),
+            ),
+        };
+        TickError::TooManyPasses {
+            node,
+            path,
+            passes: self.last_passes,
         }
     }
 
@@ -332,6 +395,8 @@ impl<C> core::fmt::Debug for Tree<C> {
 
 #[cfg(test)]
 mod tests {
+    use super::DEFAULT_MAX_PASSES;
+    use crate::blueprint::Blueprint;
     use crate::observer::{Observer, StatusChange};
     use crate::testing::*;
     use crate::Clock;
@@ -468,6 +533,56 @@ mod tests {
         assert_eq!(lab.tick(&mut tree), Ok(Status::Running));
         assert_eq!(lab.tick(&mut tree), Ok(Status::Success));
         assert_eq!(*ticks.0.lock().unwrap(), [0, 1, 2, 0, 2, 3]);
+    }
+
+    #[test]
+    fn passes_of_one_tick_are_bounded_and_name_the_node_that_kept_asking() {
+        let bp = Blueprint::<()>::builder()
+            .repeat("forever", -1, |r| r.always_success("quick"))
+            .build_shared()
+            .unwrap();
+        let mut tree = Tree::with_clock(bp, ManualClock::new());
+        tree.set_max_passes(50);
+        let err = tree.tick_once(&mut ()).unwrap_err();
+        assert_eq!(
+            err,
+            TickError::TooManyPasses {
+                node: Some(NodeId::ROOT),
+                path: "forever".into(),
+                passes: 50
+            }
+        );
+        assert_eq!(tree.last_passes(), 50);
+        // Halted: the next tick starts afresh and is bounded the same way.
+        assert!(tree.statuses().iter().all(|s| *s == Idle));
+        assert!(matches!(
+            tree.tick_once(&mut ()),
+            Err(TickError::TooManyPasses { passes: 50, .. })
+        ));
+        // The default bound ends it too.
+        tree.set_max_passes(DEFAULT_MAX_PASSES);
+        assert!(matches!(
+            tree.tick_once(&mut ()),
+            Err(TickError::TooManyPasses {
+                passes: DEFAULT_MAX_PASSES,
+                ..
+            })
+        ));
+    }
+
+    #[test]
+    fn a_finite_repeat_counts_its_passes() {
+        let bp = Blueprint::<()>::builder()
+            .repeat("five", 5, |r| r.always_success("quick"))
+            .build_shared()
+            .unwrap();
+        let mut tree = Tree::with_clock(bp, ManualClock::new());
+        assert_eq!(tree.tick_once(&mut ()), Ok(Status::Success));
+        assert_eq!(tree.last_passes(), 5);
+        assert_eq!(tree.tick_exactly_once(&mut ()), Ok(Status::Running));
+        tree.set_max_passes(4);
+        assert_eq!(tree.tick_once(&mut ()), Ok(Status::Success));
+        assert_eq!(tree.last_passes(), 4);
     }
 
     #[test]

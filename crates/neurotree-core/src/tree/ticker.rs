@@ -34,8 +34,8 @@ pub(crate) struct Ticker<'t, C> {
     pub(crate) bb: &'t mut Blackboard,
     pub(crate) clock: &'t dyn Clock,
     pub(crate) observer: Option<&'t mut dyn Observer>,
-    /// A node yielded and asked to be ticked again at once.
-    pub(crate) wake: bool,
+    /// The node that yielded and asked to be ticked again at once (the last, if several).
+    pub(crate) wake: Option<NodeId>,
     /// The waker async actions poll with; the tree has one when its blueprint has them.
     pub(crate) waker: Option<&'t core::task::Waker>,
     /// The first error of this pass.

@@ -66,7 +66,7 @@ fn run<C, const SEQUENCE: bool, const FLAVOR: Flavor, const OBSERVED: bool>(
         if status == go_on {
             cursor += 1;
             if FLAVOR != PLAIN && prev == NodeStatus::Idle && cursor < n {
-                t.wake = true;
+                t.wake = Some(id);
                 t.aux[slot] = pack(cursor, skipped);
                 return NodeStatus::Running;
             }

@@ -51,7 +51,7 @@ pub(crate) fn tick<C, const REPEAT: bool>(
         }
         t.aux[slot] += 1;
         if prev == NodeStatus::Idle && more(t.aux[slot]) {
-            t.wake = true;
+            t.wake = Some(id);
             return NodeStatus::Running;
         }
     }
