@@ -37,6 +37,7 @@ fn numeric_scripts_do_not_allocate() {
                 scope: ScopeId::ROOT,
                 enums: &enums,
                 stamp: Duration::from_millis(i),
+                max_string_len: neurotree::script::DEFAULT_MAX_STRING_LEN,
             };
             let v = script.eval(&mut env).unwrap();
             results[usize::from(i >= 10)] = v;
@@ -82,6 +83,7 @@ fn every_numeric_operator_is_allocation_free() {
                 scope: child,
                 enums: &enums,
                 stamp: Duration::ZERO,
+                max_string_len: neurotree::script::DEFAULT_MAX_STRING_LEN,
             };
             assert_eq!(script.eval(&mut env), Ok(Value::Int(1)));
         }

@@ -67,11 +67,12 @@ fn run<C>(script: &Script, enums: &Enums, h: &mut Handle<'_, C>) -> Option<Value
         scope,
         enums,
         stamp,
+        max_string_len: crate::script::DEFAULT_MAX_STRING_LEN,
     };
     match script.eval(&mut env) {
         Ok(value) => Some(value),
         Err(e) => {
-            h.fail(format!("script `{}`: {e}", script.source()));
+            h.fail(format!("script `{}`: {e}", e.excerpt(script.source())));
             None
         }
     }

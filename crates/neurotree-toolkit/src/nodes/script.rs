@@ -44,12 +44,13 @@ impl<C> Action<C> for ScriptNode {
             scope,
             enums: &self.enums,
             stamp,
+            max_string_len: crate::script::DEFAULT_MAX_STRING_LEN,
         };
         match self.script.eval(&mut env) {
             Ok(value) if self.condition => Status::from(truthy(&value)),
             Ok(_) => Status::Success,
             Err(e) => {
-                h.fail(format!("script `{}`: {e}", self.script.source()));
+                h.fail(format!("script `{}`: {e}", e.excerpt(self.script.source())));
                 Status::Failure
             }
         }
@@ -103,7 +104,7 @@ fn key_of(ports: &[Port], name: &str) -> Result<String, String> {
 
 fn parse(ports: &[Port]) -> Result<Script, String> {
     let code = literal(ports, "code")?;
-    Script::parse(code).map_err(|e| format!("in script `{code}`: {e}"))
+    Script::parse(code).map_err(|e| format!("in script `{}`: {e}", e.excerpt(code)))
 }
 
 /// BehaviorTree.CPP's Precondition decorator (see the module table).
@@ -123,11 +124,12 @@ impl<C> CustomNode<C> for Precondition {
                 scope,
                 enums: &self.enums,
                 stamp,
+                max_string_len: crate::script::DEFAULT_MAX_STRING_LEN,
             };
             let holds = match self.script.eval(&mut env) {
                 Ok(v) => truthy(&v),
                 Err(e) => {
-                    node.fail(format!("script `{}`: {e}", self.script.source()));
+                    node.fail(format!("script `{}`: {e}", e.excerpt(self.script.source())));
                     return NodeStatus::Failure;
                 }
             };
@@ -219,7 +221,8 @@ pub(crate) fn register<C: 'static>(registry: &mut Registry<C>) {
             Arc::new(|ports, enums| {
                 let enums = Arc::clone(enums);
                 let code = literal(ports, "if")?;
-                let script = Script::parse(code).map_err(|e| format!("in script `{code}`: {e}"))?;
+                let script = Script::parse(code)
+                    .map_err(|e| format!("in script `{}`: {e}", e.excerpt(code)))?;
                 let otherwise = status_of(literal(ports, "else")?)?;
                 Ok(NodeKind::Custom(Box::new(CustomSpec {
                     type_name: "Precondition".into(),

@@ -114,6 +114,15 @@ pub enum ScriptErrorKind {
     /// Integer arithmetic overflowed `i64`.
     #[error("integer overflow in `{0}`")]
     Overflow(&'static str),
+    /// A string would grow past the environment's limit
+    /// ([`ScriptEnv::max_string_len`](super::ScriptEnv::max_string_len)).
+    #[error("a string of {len} bytes is longer than the {max} bytes a script string may hold")]
+    StringTooLong {
+        /// The length the string would have had.
+        len: usize,
+        /// The limit.
+        max: usize,
+    },
     /// An assignment to a name that the enum table defines.
     #[error("`{0}` is an enum value and cannot be assigned")]
     AssignToEnum(String),
@@ -171,12 +180,16 @@ impl ScriptError {
         let line_end = source[offset..]
             .find('\n')
             .map_or(source.len(), |i| offset + i);
-        let text = source[line_start..line_end].trim_end_matches('\r');
+        let line = source[line_start..line_end].trim_end_matches('\r');
+        let text = excerpt(line, offset - line_start);
+        // Characters of the line the excerpt leaves out before the error (its `…` takes one
+        // column, which the caret line gives back below).
+        let cut = window(line, offset - line_start).0;
         let number = self.line.to_string();
         let pad = " ".repeat(number.len());
-        let mut caret = String::new();
+        let mut caret = String::from(if cut > 0 { " " } else { "" });
         // Keep tabs so that the caret lines up with the text above it.
-        for c in source[line_start..offset].chars() {
+        for c in source[line_start..offset].chars().skip(cut) {
             caret.push(if c == '\t' { '\t' } else { ' ' });
         }
         caret.push('^');
@@ -184,6 +197,45 @@ impl ScriptError {
         let _ = write!(out, "{self}\n{pad} |\n{number} | {text}\n{pad} | {caret}");
         out
     }
+}
+
+impl ScriptError {
+    /// The part of `source` to quote in a message about this error: the whole script when
+    /// it is short, else [`EXCERPT_CHARS`] characters around the error, with `…` where
+    /// text was left out, so that a long script does not fill the message.
+    pub fn excerpt<'s>(&self, source: &'s str) -> std::borrow::Cow<'s, str> {
+        excerpt(source, self.offset)
+    }
+}
+
+/// How many characters of a script a message quotes at most.
+pub const EXCERPT_CHARS: usize = 60;
+
+/// `source`, or a window of [`EXCERPT_CHARS`] characters of it around byte `offset`.
+pub(crate) fn excerpt(source: &str, offset: usize) -> std::borrow::Cow<'_, str> {
+    let (start, end) = window(source, offset);
+    if start == 0 && end == usize::MAX {
+        return source.into();
+    }
+    let kept: String = source.chars().skip(start).take(EXCERPT_CHARS).collect();
+    let before = if start > 0 { "…" } else { "" };
+    let after = if end != usize::MAX { "…" } else { "" };
+    format!("{before}{kept}{after}").into()
+}
+
+/// The characters of `source` an excerpt around byte `offset` keeps: from the first, to
+/// the one past the last (`usize::MAX`: to the end).
+fn window(source: &str, offset: usize) -> (usize, usize) {
+    let total = source.chars().count();
+    if total <= EXCERPT_CHARS {
+        return (0, usize::MAX);
+    }
+    let at = source[..clamp_to_char(source, offset)].chars().count();
+    let start = at
+        .saturating_sub(EXCERPT_CHARS / 2)
+        .min(total - EXCERPT_CHARS);
+    let end = start + EXCERPT_CHARS;
+    (start, if end >= total { usize::MAX } else { end })
 }
 
 /// `offset`, moved back to a character boundary and into `source`.

@@ -64,7 +64,7 @@ fn binary<'s>(
     // Both sides, always: `&&` and `||` do not short-circuit.
     let l = eval(l, env)?;
     let r = eval(r, env)?;
-    ops::binary(op, l, r).map_err(|k| (k, at))
+    ops::binary(op, l, r, env.max_string_len).map_err(|k| (k, at))
 }
 
 #[inline(never)]
@@ -124,7 +124,7 @@ fn assign<'s>(
         AssignOp::Compound(bin) => {
             // Read after evaluating the value, which may itself have written the entry.
             let current = load(env.blackboard, env.scope, key).map_err(|k| (k, key_at))?;
-            ops::binary(bin, current, v).map_err(|k| (k, op_at))?
+            ops::binary(bin, current, v, env.max_string_len).map_err(|k| (k, op_at))?
         }
     };
     store(env.blackboard, env.scope, key, v, env.stamp).map_err(|k| (k, key_at))

@@ -22,6 +22,7 @@
 //!     scope: ScopeId::ROOT,
 //!     enums: &enums,
 //!     stamp: Duration::from_millis(10),
+//!     max_string_len: 1 << 20,
 //! };
 //! // The value of a script is the value of its last expression.
 //! assert_eq!(script.eval(&mut env), Ok(Value::Int(20)));
@@ -135,7 +136,7 @@ use std::time::Duration;
 
 use neurotree_core::{Blackboard, BlackboardError, ScopeId};
 
-pub use error::{ScriptError, ScriptErrorKind};
+pub use error::{ScriptError, ScriptErrorKind, EXCERPT_CHARS};
 pub use value::Value;
 
 /// A parsed script: immutable, cheap to clone (clones share the parsed program), `Send`
@@ -203,7 +204,14 @@ pub struct ScriptEnv<'a> {
     pub enums: &'a Enums,
     /// The stamp of every write (normally the tree's clock).
     pub stamp: Duration,
+    /// The longest string, in bytes, that `+` or `..` may make: past it the script fails
+    /// with [`ScriptErrorKind::StringTooLong`] instead of doubling a string until memory
+    /// runs out. [`DEFAULT_MAX_STRING_LEN`] unless set.
+    pub max_string_len: usize,
 }
+
+/// The longest string a script makes unless its [`ScriptEnv`] says otherwise: 1 MiB.
+pub const DEFAULT_MAX_STRING_LEN: usize = 1 << 20;
 
 /// The table [`ScriptEnv::new`] uses.
 static NO_ENUMS: Enums = Enums::new();
@@ -216,6 +224,7 @@ impl<'a> ScriptEnv<'a> {
             scope: ScopeId::ROOT,
             enums: &NO_ENUMS,
             stamp: Duration::ZERO,
+            max_string_len: DEFAULT_MAX_STRING_LEN,
         }
     }
 }

@@ -75,8 +75,19 @@ pub(crate) fn unary<'s>(op: UnOp, v: Val<'s>) -> Result<Val<'s>, ScriptErrorKind
     }
 }
 
-/// `l op r`.
-pub(crate) fn binary<'s>(op: BinOp, l: Val<'s>, r: Val<'s>) -> Result<Val<'s>, ScriptErrorKind> {
+/// `l op r`; a string result longer than `max_string` bytes is an error.
+pub(crate) fn binary<'s>(
+    op: BinOp,
+    l: Val<'s>,
+    r: Val<'s>,
+    max_string: usize,
+) -> Result<Val<'s>, ScriptErrorKind> {
+    // Checked before joining two strings, so that the long one is never made; a number
+    // adds at most a few dozen bytes, checked after.
+    let too_long = |len: usize| ScriptErrorKind::StringTooLong {
+        len,
+        max: max_string,
+    };
     let err = |l: &Val<'_>, r: &Val<'_>, hint: &'static str| ScriptErrorKind::BinaryType {
         op: op.symbol(),
         left: l.type_name(),
@@ -91,6 +102,10 @@ pub(crate) fn binary<'s>(op: BinOp, l: Val<'s>, r: Val<'s>) -> Result<Val<'s>, S
             match (op, l, r) {
                 // As in BehaviorTree.CPP, `+` also joins two strings.
                 (BinOp::Add, Val::Str(a), Val::Str(b)) => {
+                    let len = a.len().saturating_add(b.len());
+                    if len > max_string {
+                        return Err(too_long(len));
+                    }
                     Ok(Val::Str(Cow::Owned(a.into_owned() + &b)))
                 }
                 (BinOp::Add, l, r) => Err(err(&l, &r, ": use `..` to join a string and a number")),
@@ -98,7 +113,16 @@ pub(crate) fn binary<'s>(op: BinOp, l: Val<'s>, r: Val<'s>) -> Result<Val<'s>, S
             }
         }
         BinOp::Concat => match (&l, &r) {
-            (Val::Str(_), _) | (_, Val::Str(_)) => Ok(Val::Str(Cow::Owned(concat(l, &r)))),
+            (Val::Str(a), Val::Str(b)) if a.len().saturating_add(b.len()) > max_string => {
+                Err(too_long(a.len().saturating_add(b.len())))
+            }
+            (Val::Str(_), _) | (_, Val::Str(_)) => {
+                let joined = concat(l, &r);
+                if joined.len() > max_string {
+                    return Err(too_long(joined.len()));
+                }
+                Ok(Val::Str(Cow::Owned(joined)))
+            }
             _ => Err(err(&l, &r, ": `..` needs at least one string operand")),
         },
         BinOp::BitAnd | BinOp::BitOr | BinOp::BitXor => match (Num::of(&l), Num::of(&r)) {

@@ -14,6 +14,7 @@ pub(super) fn run_with(
         scope: ScopeId::ROOT,
         enums,
         stamp: Duration::from_millis(7),
+        max_string_len: super::DEFAULT_MAX_STRING_LEN,
     })
 }
 
@@ -249,6 +250,7 @@ fn root_keys_from_a_child_scope() {
         scope: child,
         enums: &enums,
         stamp: Duration::ZERO,
+        max_string_len: super::DEFAULT_MAX_STRING_LEN,
     };
     let script = Script::parse("@x + x").unwrap();
     assert_eq!(script.eval(&mut env), Ok(int(101)));

@@ -127,6 +127,73 @@ fn render_shows_the_line_and_a_caret() {
 }
 
 #[test]
+fn strings_stop_growing_at_the_limit() {
+    // Forty doublings would make a string of 2^41 bytes.
+    let src = format!("s := 'ab'; {}", "s = s .. s; ".repeat(40));
+    let mut bb = Blackboard::new();
+    let e = run(&src, &mut bb).unwrap_err();
+    assert_eq!(
+        e.kind,
+        ScriptErrorKind::StringTooLong {
+            len: 2 << 20,
+            max: DEFAULT_MAX_STRING_LEN
+        }
+    );
+    // The 19th doubling made 1 MiB, the most that fits; the error points at the 20th `..`.
+    assert_eq!(bb.get::<String>("s").unwrap().len(), 1 << 20);
+    assert_eq!(e.offset, src.match_indices("..").nth(19).unwrap().0);
+    // A smaller limit, for `+` of two strings too.
+    let enums = Enums::new();
+    let mut env = ScriptEnv::new(&mut bb);
+    env.enums = &enums;
+    env.max_string_len = 8;
+    let e = Script::parse("t := 'abcd' + 'efghi'")
+        .unwrap()
+        .eval(&mut env)
+        .unwrap_err();
+    assert_eq!(e.kind, ScriptErrorKind::StringTooLong { len: 9, max: 8 });
+    assert_eq!(at(&e), (12, 1, 13));
+    let e = Script::parse("t := 'abcdefg' .. 12")
+        .unwrap()
+        .eval(&mut env)
+        .unwrap_err();
+    assert_eq!(e.kind, ScriptErrorKind::StringTooLong { len: 9, max: 8 });
+    assert_eq!(
+        Script::parse("t := 'abcd' .. 'efgh'")
+            .unwrap()
+            .eval(&mut env),
+        Ok(Value::Str("abcdefgh".into()))
+    );
+}
+
+#[test]
+fn a_long_script_is_quoted_in_part() {
+    let src = format!(
+        "{}nope + 1; {}",
+        "a := 1; ".repeat(50),
+        "b := 2; ".repeat(50)
+    );
+    let e = run(&src, &mut Blackboard::new()).unwrap_err();
+    let quoted = e.excerpt(&src);
+    assert_eq!(quoted.chars().count(), EXCERPT_CHARS + 2, "{quoted}");
+    assert!(quoted.starts_with('…') && quoted.ends_with('…'), "{quoted}");
+    assert!(quoted.contains("nope + 1"), "{quoted}");
+    // The rendered line is cut the same way, the caret still under `nope`.
+    let rendered = e.render(&src);
+    let lines: Vec<&str> = rendered.lines().collect();
+    let text = lines[2].strip_prefix("1 | ").unwrap();
+    let caret = lines[3].strip_prefix("  | ").unwrap();
+    assert_eq!(text, quoted);
+    let column = caret.chars().count() - 1;
+    assert_eq!(
+        text.chars().skip(column).take(4).collect::<String>(),
+        "nope"
+    );
+    // A short script is quoted whole.
+    assert_eq!(e.excerpt("x := 1"), "x := 1");
+}
+
+#[test]
 fn runtime_error_positions_and_messages() {
     let mut bb = Blackboard::new();
     let e = run("x := 1;\ny = 2", &mut bb).unwrap_err();
@@ -223,6 +290,7 @@ fn unknown_scope_is_an_error() {
         scope: ScopeId(3),
         enums: &enums,
         stamp: Duration::ZERO,
+        max_string_len: super::DEFAULT_MAX_STRING_LEN,
     };
     let e = Script::parse("x := 1").unwrap().eval(&mut env).unwrap_err();
     assert_eq!(
@@ -283,6 +351,7 @@ fn eval_anything(src: &str) {
                 scope,
                 enums: &enums,
                 stamp: Duration::ZERO,
+                max_string_len: super::DEFAULT_MAX_STRING_LEN,
             };
             if let Err(e) = script.eval(&mut env) {
                 assert!(e.offset <= src.len());
