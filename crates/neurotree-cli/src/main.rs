@@ -73,8 +73,9 @@ struct RunArgs {
     /// tree, else the only tree no other tree uses).
     #[arg(long)]
     tree: Option<String>,
-    /// NAME=OUTCOMES: replace nodes named NAME (else of type NAME) by a mock playing
-    /// OUTCOMES, a comma list of SUCCESS, FAILURE, RUNNING, each optionally `*k`.
+    /// NAME=OUTCOMES: replace the leaves named NAME (else of type NAME) by a mock playing
+    /// OUTCOMES, a comma list of SUCCESS, FAILURE, RUNNING, each optionally `*k`. Controls
+    /// and decorators are not mocked: a NAME only they have is an error.
     #[arg(long = "mock", value_parser = key_value)]
     mocks: Vec<(String, String)>,
     /// Mock with SUCCESS every leaf without an implementation: unregistered, or known only

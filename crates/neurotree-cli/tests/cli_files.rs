@@ -297,7 +297,7 @@ fn mocking_a_control_or_a_decorator_is_an_error() {
         (
             Some(1),
             "",
-            format!("{f}:3:5: error: `Sequence` is a Control (`Sequence`); a mock replaces only a leaf (an Action or a Condition)\n")
+            format!("{f}:3:5: error: `Sequence` is a Control (`Sequence`) and no leaf is named so; a mock replaces only a leaf (an Action or a Condition)\n")
         )
     );
     let f = file(
@@ -310,7 +310,7 @@ fn mocking_a_control_or_a_decorator_is_an_error() {
         (code, err),
         (
             Some(1),
-            format!("{f}:3:5: error: `Ordered` is a Control (`Ordered`); a mock replaces only a leaf (an Action or a Condition)\n")
+            format!("{f}:3:5: error: `Ordered` is a Control (`Ordered`) and no leaf is named so; a mock replaces only a leaf (an Action or a Condition)\n")
         )
     );
 }

@@ -1005,8 +1005,8 @@ fn a_mock_of_a_control_or_decorator_is_an_error() {
     let r = registry();
     let tree = r#"<root main_tree_to_execute="T"><BehaviorTree ID="T"><Sequence name="steps"><Inverter><Succ/></Inverter></Sequence></BehaviorTree></root>"#;
     for (name, expected) in [
-        ("steps", "`steps` is a Control (`Sequence`); a mock replaces only a leaf (an Action or a Condition)"),
-        ("Inverter", "`Inverter` is a Decorator (`Inverter`); a mock replaces only a leaf (an Action or a Condition)"),
+        ("steps", "`steps` is a Control (`Sequence`) and no leaf is named so; a mock replaces only a leaf (an Action or a Condition)"),
+        ("Inverter", "`Inverter` is a Decorator (`Inverter`) and no leaf is named so; a mock replaces only a leaf (an Action or a Condition)"),
     ] {
         let mut loader = XmlLoader::new(&r).mock(name, vec![Status::Success]);
         loader.load_str(tree, "t.xml").unwrap();
@@ -1016,4 +1016,13 @@ fn a_mock_of_a_control_or_decorator_is_an_error() {
     loader.load_str(tree, "t.xml").unwrap();
     let mut run = Tree::with_clock(loader.build_main().unwrap().into(), ManualClock::new());
     assert_eq!(run.tick_once(&mut Vec::new()), Ok(Status::Success));
+    // A name that a control and a leaf share (Nav2's RecoveryNode `FollowPath` around the
+    // action FollowPath) mocks the leaf and keeps the control.
+    let shared = r#"<root main_tree_to_execute="T"><BehaviorTree ID="T"><Sequence name="Succ"><Succ/></Sequence></BehaviorTree></root>"#;
+    let mut loader = XmlLoader::new(&r).mock("Succ", vec![Status::Failure]);
+    loader.load_str(shared, "t.xml").unwrap();
+    let bp = loader.build_main().unwrap();
+    assert_eq!(bp.len(), 2);
+    let mut run = Tree::with_clock(bp.into(), ManualClock::new());
+    assert_eq!(run.tick_once(&mut Vec::new()), Ok(Status::Failure));
 }

@@ -33,6 +33,11 @@ struct Expansion<'a, 'r, C> {
     /// The element whose node the builder refused when it closed (a threshold above the
     /// number of children): where its error points.
     refused: Option<Element<'a>>,
+    /// The names of the mocks that replaced a leaf.
+    mocked: Vec<&'a str>,
+    /// The names of the mocks that matched a control or decorator, which mocks do not
+    /// replace, with the error to give if the mock replaced no leaf either.
+    not_mocked: Vec<(&'a str, LoadError)>,
 }
 
 /// What an element turns into: the node to open, and whether its children follow it.
@@ -109,12 +114,21 @@ impl<'a, 'r, C: 'static> Expansion<'a, 'r, C> {
             errors: Vec::new(),
             limit,
             refused: None,
+            mocked: Vec::new(),
+            not_mocked: Vec::new(),
         }
     }
 
     /// Expands the `<BehaviorTree>` `tree` and builds its blueprint.
     fn expand(&mut self, tree: Element<'a>) -> Result<Blueprint<C>, LoadError> {
         let b = self.node(Builder::new(), only_child(tree), 1)?;
+        if let Some((_, error)) = self
+            .not_mocked
+            .iter()
+            .find(|(n, _)| !self.mocked.contains(n))
+        {
+            return Err(error.clone());
+        }
         // Checks the loader could not make on one element (thresholds against the number
         // of children) come back from the builder; they point at the element it refused,
         // whose position names the node, so the node's path is left out.
@@ -315,15 +329,23 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
         let node_type = self.node_type(type_name);
         if let Some(outcomes) = self.loader.mocks.get(name) {
             let family = node_type.map(|t| t.category);
-            if el.child_count() > 0
-                || matches!(family, Some(Category::Control | Category::Decorator))
+            if el.child_count() == 0
+                && !matches!(family, Some(Category::Control | Category::Decorator))
             {
-                let family = family.map_or("node with children", Category::as_str);
-                return Err(el.error(format!(
-                    "`{name}` is a {family} (`{type_name}`); a mock replaces only a leaf (an Action or a Condition)"
-                )));
+                if !self.mocked.contains(&name) {
+                    self.mocked.push(name);
+                }
+                return Ok(stand_in(mock::mock_kind(outcomes), hooks));
             }
-            return Ok(stand_in(mock::mock_kind(outcomes), hooks));
+            // Not a leaf: it stays. A mock named after it that replaces no leaf either is
+            // a mistake, found once the tree is expanded.
+            if self.not_mocked.iter().all(|(n, _)| *n != name) {
+                let family = family.map_or("node with children", Category::as_str);
+                let error = el.error(format!(
+                    "`{name}` is a {family} (`{type_name}`) and no leaf is named so; a mock replaces only a leaf (an Action or a Condition)"
+                ));
+                self.not_mocked.push((name, error));
+            }
         }
         let Some(node_type) = node_type else {
             if self.loader.mock_unknown && el.child_count() == 0 {
@@ -380,6 +402,12 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
                 return Ok(stand_in(NodeKind::AlwaysSuccess, hooks));
             }
             Make::Model if !self.validate => {
+                // Asked to mock it: say why that cannot be, the closer mistake.
+                if let Some((_, e)) = self.not_mocked.iter().find(|(n, _)| *n == name) {
+                    if !self.mocked.contains(&name) {
+                        return Err(e.clone());
+                    }
+                }
                 let leaf = matches!(node_type.category, Category::Action | Category::Condition);
                 let mocked = if leaf {
                     ", or mock it (XmlLoader::mock_unknown)"

@@ -158,8 +158,10 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
         self
     }
 
-    /// Replaces every node whose `name` (or, without one, its type) is `name` by a leaf that
-    /// returns `outcomes` one per tick, then the last one forever, for dry runs.
+    /// Replaces every leaf (Action or Condition) whose `name` (or, without one, its type) is
+    /// `name` by a leaf that returns `outcomes` one per tick, then the last one forever, for
+    /// dry runs. A control or decorator of that name stays; if no leaf of the tree built is
+    /// named so, building it fails.
     pub fn mock(mut self, name: &str, outcomes: Vec<neurotree_core::Status>) -> Self {
         self.mocks.insert(name.to_string(), outcomes);
         self
