@@ -416,3 +416,24 @@ fn the_summary_keeps_nodes_that_share_a_name_apart_by_path() {
         )
     );
 }
+
+#[test]
+fn a_mock_named_like_a_control_and_a_leaf_mocks_the_leaf() {
+    // Nav2's navigator: a RecoveryNode named FollowPath around the action FollowPath.
+    let nav2 = corpus("nav2/navigate_to_pose_w_replanning_and_recovery.xml");
+    let (code, out, err) = neurotree(&[
+        "run",
+        nav2.to_str().unwrap(),
+        "--mock-unknown",
+        "--mock",
+        "FollowPath=RUNNING",
+        "--max-ticks",
+        "2",
+    ]);
+    assert_eq!(code, Some(3), "{err}");
+    let line = summary(&out);
+    assert!(
+        line.contains(r#""NavigateRecovery/NavigateWithReplanning/FollowPath":[{"ticks":2,"halts":0}],"NavigateRecovery/NavigateWithReplanning/FollowPath/FollowPath":[{"ticks":2,"halts":0}]"#),
+        "{line}"
+    );
+}
