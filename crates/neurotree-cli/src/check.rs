@@ -2,47 +2,140 @@
 //!
 //! Node types come from the built-ins and Nav2's control nodes, from the `TreeNodesModel`
 //! of every `--model` file and from the `TreeNodesModel` sections of the checked files
-//! themselves. Each file is
-//! loaded (following its includes) and every tree in it is checked: structure, node names,
-//! ports and literal conversions. Errors are printed as `path:line:col: error: message`.
+//! themselves. Each file is loaded on its own (following its includes), with the files
+//! given after or before it that define trees it uses but does not have (as `run a.xml
+//! b.xml` would load them), and every tree of it is checked: structure, node names, ports
+//! and literal conversions.
+//!
+//! Every error found is reported, up to [`LIMIT`] per file, as
+//! `path:line:col: error: message` on stderr; a valid file gets `path: ok (N trees)` on
+//! stdout. A subtree's error is reported once, though each tree that uses it meets it.
 
+use std::collections::BTreeSet;
 use std::io::{self, Write};
 use std::path::PathBuf;
 
-use neurotree::{LoadError, XmlLoader};
+use neurotree::{LoadError, Registry, XmlLoader};
+
+use crate::files;
+
+/// The most errors reported for one file: past that, the rest are mostly consequences.
+pub const LIMIT: usize = 20;
 
 /// Checks `files` against the built-ins and the `models`; returns `true` if all are valid.
-pub fn run(files: &[PathBuf], models: &[PathBuf], err: &mut impl Write) -> io::Result<bool> {
+pub fn run(
+    files: &[PathBuf],
+    models: &[PathBuf],
+    out: &mut impl Write,
+    err: &mut impl Write,
+) -> io::Result<bool> {
     let mut registry = crate::registry::with_nav2_controls::<()>();
-    let mut errors = Vec::new();
-    for path in models.iter().chain(files) {
+    let mut refused = Vec::new();
+    for path in models {
         match std::fs::read_to_string(path) {
             Ok(text) => {
-                if let Err(e) = registry.add_model_str(&text, &path.display().to_string()) {
-                    errors.push(e);
+                if let Err(e) = registry.add_model_str(&text, &files::shown(path)) {
+                    refused.push(e);
                 }
             }
-            Err(e) => errors.push(LoadError {
-                file: path.display().to_string(),
-                line: 1,
-                col: 1,
-                message: format!("cannot read the file: {e}"),
-            }),
+            Err(e) => refused.push(files::at_start(
+                &files::shown(path),
+                format!("cannot read the model file: {e}"),
+            )),
         }
     }
-    if errors.is_empty() {
-        for file in files {
-            let mut loader = XmlLoader::new(&registry);
-            if let Err(e) = loader.load_file(file) {
-                errors.push(e);
-                continue;
+    if let Err(e) = files::add_models(&mut registry, files) {
+        refused.push(e);
+    }
+    if !refused.is_empty() {
+        for e in &refused {
+            writeln!(err, "{e}")?;
+        }
+        return Ok(false);
+    }
+    let mut reported = BTreeSet::new();
+    let mut valid = true;
+    let mut unknown_nodes = false;
+    for at in 0..files.len() {
+        let shown = files::shown(&files[at]);
+        match check_file(&registry, files, at) {
+            Ok(1) => writeln!(out, "{shown}: ok (1 tree)")?,
+            Ok(trees) => writeln!(out, "{shown}: ok ({trees} trees)")?,
+            Err(errors) => {
+                valid = false;
+                for e in &errors {
+                    unknown_nodes |= e.message.starts_with(files::UNKNOWN_NODE);
+                    if reported.insert(e.to_string()) {
+                        writeln!(err, "{e}")?;
+                    }
+                }
+                if errors.len() >= LIMIT {
+                    writeln!(
+                        err,
+                        "{shown}: note: only the first {LIMIT} errors are shown"
+                    )?;
+                }
             }
-            let ids: Vec<String> = loader.tree_ids().map(String::from).collect();
-            errors.extend(ids.iter().filter_map(|id| loader.validate(id).err()));
         }
     }
-    for e in &errors {
-        writeln!(err, "{e}")?;
+    if unknown_nodes {
+        writeln!(
+            err,
+            "hint: declare the node types the files use in a TreeNodesModel and give it with \
+             --model FILE (`neurotree run` can mock leaves with --mock-unknown)"
+        )?;
     }
-    Ok(errors.is_empty())
+    Ok(valid)
+}
+
+/// Checks every tree of `files[at]`: how many trees it has, or up to [`LIMIT`] errors,
+/// each once.
+fn check_file(
+    registry: &Registry<()>,
+    files: &[PathBuf],
+    at: usize,
+) -> Result<usize, Vec<LoadError>> {
+    let mut loader = XmlLoader::new(registry);
+    loader.load_file(&files[at]).map_err(|e| vec![e])?;
+    let own: Vec<String> = loader.tree_ids().map(String::from).collect();
+    lend(registry, &mut loader, files, at);
+    let mut seen = BTreeSet::new();
+    let errors: Vec<LoadError> = own
+        .iter()
+        .flat_map(|id| loader.validate_all(id, LIMIT))
+        .filter(|e| seen.insert(e.to_string()))
+        .take(LIMIT)
+        .collect();
+    if errors.is_empty() {
+        Ok(own.len())
+    } else {
+        Err(errors)
+    }
+}
+
+/// Loads into `loader` each of the other `files` that defines a tree the loaded trees use
+/// but the loader does not have, as running the files together would.
+fn lend(registry: &Registry<()>, loader: &mut XmlLoader<'_, ()>, files: &[PathBuf], at: usize) {
+    for (other, file) in files.iter().enumerate() {
+        let missing: Vec<String> = loader
+            .unresolved_subtrees()
+            .into_iter()
+            .map(String::from)
+            .collect();
+        if missing.is_empty() {
+            return;
+        }
+        if other == at {
+            continue;
+        }
+        let mut probe = XmlLoader::new(registry);
+        // A file that does not load is reported when it is checked itself.
+        if probe.load_file(file).is_ok()
+            && probe.tree_ids().any(|id| missing.iter().any(|m| m == id))
+        {
+            // Its error, if it has one (a tree ID this file also uses), is its own: the
+            // trees loaded before it stay, and a tree still missing is reported where used.
+            let _ = loader.load_file(file);
+        }
+    }
 }

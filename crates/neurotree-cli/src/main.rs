@@ -8,7 +8,7 @@
 
 mod bench;
 mod check;
-
+mod files;
 mod groot;
 mod registry;
 mod run;
@@ -39,24 +39,47 @@ enum Command {
     /// Validate BehaviorTree.CPP XML files: structure, node names, ports, literals.
     Check(CheckArgs),
     /// Tick a BehaviorTree.CPP file with mock leaves and print each tick as JSON.
+    #[command(after_help = RUN_AFTER_HELP)]
     Run(RunArgs),
     /// Draw a BehaviorTree.CPP file's tree as text, Graphviz DOT, Mermaid or SVG, with the
     /// statuses of a `run --trace` if given one.
     Show(ShowArgs),
 }
 
+/// What `neurotree run --help` says after the options.
+const RUN_AFTER_HELP: &str = "\
+Several files load together, as BehaviorTree.CPP's registerBehaviorTreeFromFile loads each:
+`neurotree run main.xml subtrees.xml` runs a tree that uses the trees of another file. The
+tree run is --tree, else the main_tree_to_execute of the first file, else the only tree,
+else the only tree that no other tree uses (said on stderr).
+
+The last line is the summary: ticks, final status, per-node ticks and halts in `nodes`
+(keyed by node name, nodes sharing a name summed) and in `paths` (keyed by the node's path
+from the root, a list with one entry per node of that path, in tree order), and the root
+blackboard.
+
+Exit status:
+  0  the root ended SUCCESS
+  1  the files did not load (or a log could not be written)
+  2  the root ended FAILURE or SKIPPED, or a tick failed with an error
+  3  --max-ticks stopped the run while it was RUNNING";
+
 #[derive(Args, Debug)]
 struct RunArgs {
-    /// The file to run.
-    file: std::path::PathBuf,
-    /// The tree to run (default: main_tree_to_execute, or the only tree).
+    /// The file to run, then any files with trees it uses (all loaded into one loader).
+    #[arg(required = true, value_name = "FILE")]
+    files: Vec<std::path::PathBuf>,
+    /// The tree to run (default: main_tree_to_execute of the first file, else the only
+    /// tree, else the only tree no other tree uses).
     #[arg(long)]
     tree: Option<String>,
-    /// NAME=OUTCOMES: replace nodes named NAME (else of type NAME) by a mock playing
-    /// OUTCOMES, a comma list of SUCCESS, FAILURE, RUNNING, each optionally `*k`.
+    /// NAME=OUTCOMES: replace the leaves named NAME (else of type NAME) by a mock playing
+    /// OUTCOMES, a comma list of SUCCESS, FAILURE, RUNNING, each optionally `*k`. Controls
+    /// and decorators are not mocked: a NAME only they have is an error.
     #[arg(long = "mock", value_parser = key_value)]
     mocks: Vec<(String, String)>,
-    /// Mock every unregistered leaf with SUCCESS.
+    /// Mock with SUCCESS every leaf without an implementation: unregistered, or known only
+    /// from a `TreeNodesModel`. Mocks replace leaves only (Actions, Conditions).
     #[arg(long)]
     mock_unknown: bool,
     /// KEY=VALUE written to the root blackboard first (integer, else float, else
@@ -95,9 +118,11 @@ struct RunArgs {
 
 #[derive(Args, Debug)]
 struct ShowArgs {
-    /// The file to draw.
-    file: std::path::PathBuf,
-    /// The tree to draw (default: main_tree_to_execute, or the only tree).
+    /// The file to draw, then any files with trees it uses (all loaded into one loader).
+    #[arg(required = true, value_name = "FILE")]
+    files: Vec<std::path::PathBuf>,
+    /// The tree to draw (default: main_tree_to_execute of the first file, else the only
+    /// tree, else the only tree no other tree uses).
     #[arg(long)]
     tree: Option<String>,
     /// ascii, unicode, dot, mermaid or svg (default: from the extension of --output, else
@@ -136,7 +161,8 @@ fn seconds(text: &str) -> Result<Duration, String> {
 
 #[derive(Args, Debug)]
 struct CheckArgs {
-    /// The files to check.
+    /// The files to check, each with the trees it uses from the others; every error is
+    /// reported (up to 20 per file), and each valid file gets `FILE: ok (N trees)` on stdout.
     #[arg(required = true)]
     files: Vec<std::path::PathBuf>,
     /// A file whose `TreeNodesModel` declares node types the files use (repeatable).
@@ -206,6 +232,30 @@ struct BenchArgs {
     agents: usize,
 }
 
+/// How a command ended, which [`main`] turns into the exit status.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Outcome {
+    /// It did what was asked; a run ended SUCCESS (0).
+    Done,
+    /// It could not: a file did not load or was invalid, an output could not be written (1).
+    Refused,
+    /// A run ended FAILURE or SKIPPED, or a tick failed with an error (2).
+    RunFailed,
+    /// `--max-ticks` stopped a run that was still RUNNING (3).
+    Stopped,
+}
+
+impl From<bool> for Outcome {
+    /// `true` for a command that did what was asked.
+    fn from(done: bool) -> Self {
+        if done {
+            Outcome::Done
+        } else {
+            Outcome::Refused
+        }
+    }
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let stdout = io::stdout();
@@ -229,7 +279,7 @@ fn main() -> ExitCode {
                     .flatten()
                     .map(|(w, h)| (usize::from(w.0), usize::from(h.0))),
             };
-            demo::run(&opts, &mut out, &mut io::stderr())
+            demo::run(&opts, &mut out, &mut io::stderr()).map(Outcome::from)
         }
         Command::Bench(args) => {
             let opts = bench::BenchOptions {
@@ -237,7 +287,7 @@ fn main() -> ExitCode {
                 agents: args.agents,
             };
             // A benchmark that ran has nothing to fail on.
-            bench::run(&opts, args.json, &mut out).map(|()| true)
+            bench::run(&opts, args.json, &mut out).map(|()| Outcome::Done)
         }
         Command::Run(args) => {
             let opts = run::RunOptions {
@@ -257,7 +307,7 @@ fn main() -> ExitCode {
                 view: args.view,
                 observe: args.observe,
             };
-            run::run(&args.file, &opts, &mut out, &mut io::stderr())
+            run::run(&args.files, &opts, &mut out, &mut io::stderr())
         }
         Command::Show(args) => {
             let opts = show::ShowOptions {
@@ -268,14 +318,18 @@ fn main() -> ExitCode {
                 trace: args.trace,
                 tick: args.tick,
             };
-            show::run(&args.file, &opts, &mut out, &mut io::stderr())
+            show::run(&args.files, &opts, &mut out, &mut io::stderr()).map(Outcome::from)
         }
-        Command::Check(args) => check::run(&args.files, &args.models, &mut io::stderr()),
+        Command::Check(args) => {
+            check::run(&args.files, &args.models, &mut out, &mut io::stderr()).map(Outcome::from)
+        }
     };
     match result {
-        Ok(true) => ExitCode::SUCCESS,
+        Ok(Outcome::Done) => ExitCode::SUCCESS,
         // The command has already said why (a load error, an invalid file).
-        Ok(false) => ExitCode::FAILURE,
+        Ok(Outcome::Refused) => ExitCode::FAILURE,
+        Ok(Outcome::RunFailed) => ExitCode::from(2),
+        Ok(Outcome::Stopped) => ExitCode::from(3),
         // The reader went away (`neurotree demo | head`): nothing left to tell.
         Err(e) if e.kind() == io::ErrorKind::BrokenPipe => ExitCode::SUCCESS,
         Err(e) => {

@@ -1,8 +1,11 @@
 //! `neurotree run`: dry-run a BehaviorTree.CPP file with mocks and print what happened.
 //!
-//! Each tick prints one JSON line `{"tick":1,"status":"RUNNING"}` (with `--trace`, also one
-//! line per status change), and the run ends with a summary line: ticks, final status,
-//! per-node tick and halt counts (summed over nodes sharing a name) and the root blackboard.
+//! The files load together and the tree to run is picked as `files.rs` says. Each tick
+//! prints one JSON line `{"tick":1,"status":"RUNNING"}` (with `--trace`, also one line per
+//! status change), and the run ends with a summary line: ticks, final status, per-node tick
+//! and halt counts by name in `nodes` (summed over nodes sharing a name, as other tools read
+//! it) and by path in `paths` (the paths of [`Blueprint::paths`], one entry per node), and
+//! the root blackboard. How the run ended is the exit status (see [`Outcome`]).
 //! With `--view`, the tree is also drawn after every tick, with that tick's statuses, on
 //! standard error.
 //! With `--groot PORT`, the run is also served to Groot2 (see `groot.rs`).
@@ -13,7 +16,7 @@
 use std::collections::BTreeMap;
 use std::fs::File;
 use std::io::{self, BufWriter, Write};
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
@@ -25,7 +28,9 @@ use neurotree::{
 };
 use serde_json::{json, Map, Value};
 
+use crate::files;
 use crate::groot::Served;
+use crate::Outcome;
 
 /// What `neurotree run` was asked to do.
 pub struct RunOptions {
@@ -110,48 +115,60 @@ fn set_value(bb: &mut neurotree::Blackboard, key: &str, text: &str) {
     }
 }
 
-/// The tree to run, the registry it was loaded with, and its ID.
-fn load(file: &Path, opts: &RunOptions) -> Result<(Blueprint<()>, Registry<()>, String), String> {
+/// The tree to run, the registry it was loaded with, and which tree it is.
+fn load(
+    files: &[PathBuf],
+    opts: &RunOptions,
+) -> Result<(Blueprint<()>, Registry<()>, files::Picked), String> {
     let mut registry = crate::registry::with_nav2_controls::<()>();
-    if let Ok(text) = std::fs::read_to_string(file) {
-        registry
-            .add_model_str(&text, &file.display().to_string())
-            .map_err(|e| e.to_string())?;
-    }
+    files::add_models(&mut registry, files).map_err(|e| e.to_string())?;
     let mut loader = XmlLoader::new(&registry).mock_unknown(opts.mock_unknown);
     for (name, outcomes) in &opts.mocks {
         let outcomes = neurotree::xml::parse_outcomes(outcomes)
             .map_err(|e| format!("--mock {name}={outcomes}: {e}"))?;
         loader = loader.mock(name, outcomes);
     }
-    loader.load_file(file).map_err(|e| e.to_string())?;
-    let tree_id = opts
-        .tree
-        .as_deref()
-        .or_else(|| loader.main_tree())
-        .unwrap_or("MainTree")
-        .to_string();
-    let blueprint = match &opts.tree {
-        Some(id) => loader.build(id),
-        None => loader.build_main(),
+    // Clap asks for at least one file.
+    let first = files.first().map(|f| files::shown(f)).unwrap_or_default();
+    let built = files::load_all(&mut loader, files)
+        .and_then(|()| files::pick_tree(&loader, opts.tree.as_deref(), &first))
+        .and_then(|picked| {
+            let blueprint = loader.build(&picked.id).map_err(|mut e| {
+                // An error about the files as a whole (a main tree that is not there)
+                // names no file.
+                if e.file.is_empty() {
+                    e.file.clone_from(&first);
+                }
+                e
+            })?;
+            Ok((blueprint, picked))
+        });
+    match built {
+        Ok((blueprint, picked)) => Ok((blueprint, registry, picked)),
+        Err(e) if e.message.starts_with(files::UNKNOWN_NODE) => Err(format!(
+            "{e}\nhint: mock the leaves without an implementation with --mock-unknown, or \
+             one with --mock NAME=OUTCOMES"
+        )),
+        Err(e) => Err(e.to_string()),
     }
-    .map_err(|e| e.to_string())?;
-    Ok((blueprint, registry, tree_id))
 }
 
-/// Runs `file`; `Ok(false)` if it did not load or a logger could not write (the error is
-/// on `err`).
+/// Runs the tree of `files`; how the run ended, or [`Outcome::Refused`] if the files did
+/// not load or a logger could not write (the error is on `err`).
 pub fn run(
-    file: &Path,
+    files: &[PathBuf],
     opts: &RunOptions,
     out: &mut impl Write,
     err: &mut impl Write,
-) -> io::Result<bool> {
-    let (blueprint, registry, tree_id) = match load(file, opts) {
-        Ok((bp, registry, tree_id)) => (Arc::new(bp), registry, tree_id),
+) -> io::Result<Outcome> {
+    let (blueprint, registry, tree_id) = match load(files, opts) {
+        Ok((bp, registry, picked)) => {
+            picked.note("running", err)?;
+            (Arc::new(bp), registry, picked.id)
+        }
         Err(e) => {
             writeln!(err, "{e}")?;
-            return Ok(false);
+            return Ok(Outcome::Refused);
         }
     };
     let groot = match &opts.groot {
@@ -162,7 +179,7 @@ pub fn run(
             }
             Err(e) => {
                 writeln!(err, "{e}")?;
-                return Ok(false);
+                return Ok(Outcome::Refused);
             }
         },
         None => None,
@@ -184,7 +201,7 @@ pub fn run(
         Ok(attached) => attached,
         Err(e) => {
             writeln!(err, "neurotree: {e}")?;
-            return Ok(false);
+            return Ok(Outcome::Refused);
         }
     };
     let view = opts.view.then(LastTickStatuses::new);
@@ -238,11 +255,18 @@ pub fn run(
         }
     }
     let r = record.lock().unwrap_or_else(|e| e.into_inner());
+    let counts = |id: NodeId| json!({ "ticks": r.ticks[id.index()], "halts": r.halts[id.index()] });
     let mut nodes: BTreeMap<String, (u32, u32)> = BTreeMap::new();
+    // Siblings of the same name share a path: each keeps its own entry, in tree order.
+    let mut paths: BTreeMap<&str, Vec<Value>> = BTreeMap::new();
     for id in blueprint.ids() {
         let entry = nodes.entry(blueprint.name(id).to_string()).or_default();
         entry.0 += r.ticks[id.index()];
         entry.1 += r.halts[id.index()];
+        paths
+            .entry(&r.paths[id.index()])
+            .or_default()
+            .push(counts(id));
     }
     let nodes: Map<String, Value> = nodes
         .into_iter()
@@ -254,6 +278,7 @@ pub fn run(
         "ticks": ticks,
         "status": status,
         "nodes": nodes,
+        "paths": paths,
         "blackboard": blackboard,
     }});
     writeln!(out, "{summary}")?;
@@ -262,7 +287,12 @@ pub fn run(
         out.flush()?;
         served.linger(err)?;
     }
-    Ok(written)
+    Ok(match status {
+        _ if !written => Outcome::Refused,
+        "SUCCESS" => Outcome::Done,
+        "RUNNING" | "IDLE" => Outcome::Stopped,
+        _ => Outcome::RunFailed,
+    })
 }
 
 /// The loggers that watch a run (`neurotree run --log --jsonl FILE ...`).

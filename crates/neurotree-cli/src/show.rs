@@ -27,6 +27,8 @@ use neurotree::{
 };
 use serde_json::Value;
 
+use crate::files::{self, at_start, Picked};
+
 /// What `neurotree show` was asked to do.
 pub struct ShowOptions {
     /// The tree to draw (default: the file's main tree).
@@ -43,14 +45,19 @@ pub struct ShowOptions {
     pub tick: Option<u32>,
 }
 
-/// Draws `file`; `Ok(false)` if it could not (the error is on `err`).
+/// Draws the tree of `files`; `Ok(false)` if it could not (the error is on `err`).
 pub fn run(
-    file: &Path,
+    files: &[PathBuf],
     opts: &ShowOptions,
     out: &mut impl Write,
     err: &mut impl Write,
 ) -> io::Result<bool> {
-    let picture = load(file, opts).and_then(|(bp, tree_id)| {
+    let loaded = load(files, opts);
+    if let Ok((_, picked)) = &loaded {
+        picked.note("drawing", err)?;
+    }
+    let picture = loaded.and_then(|(bp, picked)| {
+        let tree_id = picked.id;
         let statuses = match &opts.trace {
             Some(trace) => Some(trace_statuses(trace, &bp, &tree_id, opts.tick)?),
             None => None,
@@ -89,59 +96,32 @@ fn format_of(opts: &ShowOptions) -> Format {
         .unwrap_or(Format::Unicode)
 }
 
-/// The blueprint to draw and its tree ID.
-fn load(file: &Path, opts: &ShowOptions) -> Result<(Blueprint<()>, String), LoadError> {
-    let shown = file.display().to_string();
-    let text = fs::read_to_string(file)
-        .map_err(|e| at_start(&shown, format!("cannot read the file: {e}")))?;
-    let registry = registry_with_stand_ins(&text, &shown, &opts.models)?;
+/// The blueprint to draw and the tree it is.
+fn load(files: &[PathBuf], opts: &ShowOptions) -> Result<(Blueprint<()>, Picked), LoadError> {
+    let registry = registry_with_stand_ins(files, &opts.models)?;
     let mut loader = XmlLoader::new(&registry).mock_unknown(true);
-    loader.load_file(file)?;
-    let id = match (&opts.tree, loader.main_tree()) {
-        (Some(id), _) => id.clone(),
-        (None, Some(main)) => main.to_string(),
-        (None, None) => {
-            let ids: Vec<&str> = loader.tree_ids().collect();
-            let message = if ids.is_empty() {
-                "the file has no <BehaviorTree>; there is nothing to draw".to_string()
-            } else {
-                format!(
-                    "the file has {} trees ({}) and no main_tree_to_execute; pick one with --tree",
-                    ids.len(),
-                    ids.join(", ")
-                )
-            };
-            return Err(at_start(&shown, message));
-        }
-    };
-    let bp = loader.build(&id).map_err(|mut e| {
-        // Errors about the file as a whole (an unknown tree ID) name no file.
+    files::load_all(&mut loader, files)?;
+    // Clap asks for at least one file.
+    let first = files.first().map(|f| files::shown(f)).unwrap_or_default();
+    let picked = files::pick_tree(&loader, opts.tree.as_deref(), &first)?;
+    let bp = loader.build(&picked.id).map_err(|mut e| {
+        // Errors about the files as a whole (a main tree that is not there) name no file.
         if e.file.is_empty() {
-            e.file = shown.clone();
+            e.file.clone_from(&first);
         }
-        if e.message.starts_with("unknown node type") {
+        if e.message.starts_with(files::UNKNOWN_NODE) {
             e.message
                 .push_str(", or declare it in a TreeNodesModel given with --model to draw it");
         }
         e
     })?;
-    Ok((bp, id))
-}
-
-fn at_start(file: &str, message: String) -> LoadError {
-    LoadError {
-        file: file.to_string(),
-        line: 1,
-        col: 1,
-        message,
-    }
+    Ok((bp, picked))
 }
 
 /// The built-in nodes and Nav2's control nodes, and a stand-in for every other node type a
-/// model declares: the file's own `TreeNodesModel` (`text`) and those of the `models` files.
+/// model declares: the `TreeNodesModel`s of the `files` drawn and of the `models` files.
 fn registry_with_stand_ins(
-    text: &str,
-    file: &str,
+    files: &[PathBuf],
     models: &[PathBuf],
 ) -> Result<Registry<()>, LoadError> {
     let mut declared = crate::registry::with_nav2_controls::<()>();
@@ -152,7 +132,7 @@ fn registry_with_stand_ins(
             .map_err(|e| at_start(&shown, format!("cannot read the model file: {e}")))?;
         declared.add_model_str(&model_text, &shown)?;
     }
-    declared.add_model_str(text, file)?;
+    files::add_models(&mut declared, files)?;
     let mut registry = crate::registry::with_nav2_controls::<()>();
     for t in declared.types().filter(|t| !built_in.contains(&t.name)) {
         let ports = t.ports.clone();

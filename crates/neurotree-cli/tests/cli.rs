@@ -336,7 +336,11 @@ fn run_prints_a_line_per_tick_and_a_summary() {
     );
     assert_eq!(
         lines[3],
-        r#"{"summary":{"ticks":3,"status":"SUCCESS","nodes":{"IsReady":{"ticks":3,"halts":0},"ReactiveSequence":{"ticks":3,"halts":0},"Script":{"ticks":2,"halts":0},"Sequence":{"ticks":3,"halts":0},"move":{"ticks":3,"halts":0}},"blackboard":{"count":1,"goal":3}}}"#
+        concat!(
+            r#"{"summary":{"ticks":3,"status":"SUCCESS","nodes":{"IsReady":{"ticks":3,"halts":0},"ReactiveSequence":{"ticks":3,"halts":0},"Script":{"ticks":2,"halts":0},"Sequence":{"ticks":3,"halts":0},"move":{"ticks":3,"halts":0}},"#,
+            r#""paths":{"Sequence":[{"ticks":3,"halts":0}],"Sequence/ReactiveSequence":[{"ticks":3,"halts":0}],"Sequence/ReactiveSequence/IsReady":[{"ticks":3,"halts":0}],"Sequence/ReactiveSequence/move":[{"ticks":3,"halts":0}],"Sequence/Script":[{"ticks":1,"halts":0},{"ticks":1,"halts":0}]},"#,
+            r#""blackboard":{"count":1,"goal":3}}}"#
+        )
     );
 }
 
@@ -354,7 +358,8 @@ fn run_counts_halts_and_traces_changes() {
         "--tick",
         "exactly-once",
     ]);
-    assert_eq!(code, Some(0));
+    // The run ended FAILURE.
+    assert_eq!(code, Some(2));
     assert!(
         out.contains(
             r#"{"tick":2,"node":"Sequence/ReactiveSequence/move","from":"RUNNING","to":"IDLE"}"#
@@ -396,7 +401,8 @@ fn run_mock_unknown_and_max_ticks() {
         "--max-ticks",
         "4",
     ]);
-    assert_eq!(code, Some(0));
+    // Stopped while RUNNING.
+    assert_eq!(code, Some(3));
     assert_eq!(out.lines().count(), 5);
     assert!(out
         .lines()

@@ -18,10 +18,10 @@ const GUARD: &str = r#"<root BTCPP_format="4" main_tree_to_execute="Main">
   </BehaviorTree>
 </root>"#;
 
-/// What plain stdout shows, with or without loggers.
+/// What plain stdout shows, with or without loggers. The run ends FAILURE: exit status 2.
 const STDOUT: &str = r#"{"tick":1,"status":"RUNNING"}
 {"tick":2,"status":"FAILURE"}
-{"summary":{"ticks":2,"status":"FAILURE","nodes":{"IsReady":{"ticks":2,"halts":0},"guard":{"ticks":2,"halts":0},"move":{"ticks":1,"halts":1}},"blackboard":{}}}
+{"summary":{"ticks":2,"status":"FAILURE","nodes":{"IsReady":{"ticks":2,"halts":0},"guard":{"ticks":2,"halts":0},"move":{"ticks":1,"halts":1}},"paths":{"guard":[{"ticks":2,"halts":0}],"guard/IsReady":[{"ticks":2,"halts":0}],"guard/move":[{"ticks":1,"halts":1}]},"blackboard":{}}}
 "#;
 
 /// The run's status changes (the mock condition reports Running before its outcome).
@@ -77,11 +77,11 @@ fn run(dir: &Path, extra: &[&str], env: &[(&str, &str)]) -> Run {
 fn log_prints_plain_changes_on_stderr_and_stdout_is_unchanged() {
     let dir = tempfile::tempdir().unwrap();
     let plain = run(dir.path(), &[], &[]);
-    assert_eq!((plain.code, plain.stdout.as_str()), (Some(0), STDOUT));
+    assert_eq!((plain.code, plain.stdout.as_str()), (Some(2), STDOUT));
     assert_eq!(plain.stderr, "");
 
     let logged = run(dir.path(), &["--log"], &[]);
-    assert_eq!((logged.code, logged.stdout.as_str()), (Some(0), STDOUT));
+    assert_eq!((logged.code, logged.stdout.as_str()), (Some(2), STDOUT));
     assert_eq!(logged.stderr.lines().collect::<Vec<_>>(), CHANGES);
 }
 
@@ -89,7 +89,7 @@ fn log_prints_plain_changes_on_stderr_and_stdout_is_unchanged() {
 fn log_is_coloured_when_forced() {
     let dir = tempfile::tempdir().unwrap();
     let r = run(dir.path(), &["--log"], &[("CLICOLOR_FORCE", "1")]);
-    assert_eq!(r.code, Some(0));
+    assert_eq!(r.code, Some(2));
     let first = r.stderr.lines().next().unwrap();
     assert_eq!(
         first,
@@ -105,7 +105,7 @@ fn jsonl_writes_changes_and_ticks_to_the_file() {
     let r = run(dir.path(), &["--jsonl", file.to_str().unwrap()], &[]);
     assert_eq!(
         (r.code, r.stdout.as_str(), r.stderr.as_str()),
-        (Some(0), STDOUT, "")
+        (Some(2), STDOUT, "")
     );
     let text = std::fs::read_to_string(&file).unwrap();
     let lines: Vec<&str> = text.lines().collect();
@@ -132,7 +132,7 @@ fn jsonl_writes_changes_and_ticks_to_the_file() {
 fn stats_prints_a_table_on_stderr_at_the_end() {
     let dir = tempfile::tempdir().unwrap();
     let r = run(dir.path(), &["--stats"], &[]);
-    assert_eq!((r.code, r.stdout.as_str()), (Some(0), STDOUT));
+    assert_eq!((r.code, r.stdout.as_str()), (Some(2), STDOUT));
     assert_eq!(
         r.stderr,
         "node           ticks  successes  failures  skips  halts  running\n\
@@ -149,7 +149,7 @@ fn btlog_writes_a_log_that_reads_back() {
     let r = run(dir.path(), &["--btlog", file.to_str().unwrap()], &[]);
     assert_eq!(
         (r.code, r.stdout.as_str(), r.stderr.as_str()),
-        (Some(0), STDOUT, "")
+        (Some(2), STDOUT, "")
     );
     let log = read_btlog_file(&file).unwrap();
     let records: Vec<(u64, u16, NodeStatus)> = log
@@ -186,7 +186,7 @@ fn sqlite_writes_bt_cpps_tables() {
         let r = run(dir.path(), &["--sqlite", file.to_str().unwrap()], &[]);
         assert_eq!(
             (r.code, r.stdout.as_str(), r.stderr.as_str()),
-            (Some(0), STDOUT, "")
+            (Some(2), STDOUT, "")
         );
     }
     let db = rusqlite::Connection::open(&file).unwrap();

@@ -162,7 +162,8 @@ fn show_colours_each_node_with_the_statuses_of_a_run_trace() {
         "PassThroughDoor=RUNNING,RUNNING,FAILURE",
         "--trace",
     ]);
-    assert!(run.status.success(), "{}", text(&run.stderr));
+    // The run ends FAILURE.
+    assert_eq!(run.status.code(), Some(2), "{}", text(&run.stderr));
     let trace = file(&dir, "door.jsonl", &text(&run.stdout));
     let trace = arg(&trace);
     let door = arg(&door);
@@ -288,7 +289,7 @@ fn show_reports_bad_input_with_its_place_and_exit_code_1() {
     let err = failing(&["show", arg(&missing)]);
     assert!(
         err.starts_with(&format!(
-            "{}:1:1: error: cannot read the file",
+            "{}:1:1: error: cannot open the file",
             arg(&missing)
         )),
         "{err}"
@@ -296,7 +297,7 @@ fn show_reports_bad_input_with_its_place_and_exit_code_1() {
     assert_eq!(
         failing(&["show", arg(&door), "--tree", "Nope"]),
         format!(
-            "{}:1:1: error: no tree with ID `Nope`; loaded trees: Door, Force\n",
+            "{}:1:1: error: --tree Nope: no tree with that ID is loaded; the trees are: Door, Force\n",
             arg(&door)
         )
     );

@@ -882,3 +882,147 @@ fn a_built_in_spelt_in_another_case_is_that_built_in() {
         "{e}"
     );
 }
+
+#[test]
+fn the_main_tree_is_the_first_files_and_a_later_file_does_not_change_it() {
+    let r = registry();
+    let mut loader = XmlLoader::new(&r);
+    loader
+        .load_str(
+            r#"<root main_tree_to_execute="Main"><BehaviorTree ID="Main"><SubTree ID="Sub"/></BehaviorTree></root>"#,
+            "main.xml",
+        )
+        .unwrap();
+    loader
+        .load_str(
+            r#"<root main_tree_to_execute="Sub"><BehaviorTree ID="Sub"><Succ/></BehaviorTree></root>"#,
+            "sub.xml",
+        )
+        .unwrap();
+    assert_eq!(loader.main_tree(), Some("Main"));
+    // Nor does a later file name one when the first did not.
+    let mut loader = XmlLoader::new(&r);
+    let trees = r#"<root><BehaviorTree ID="A"><Succ/></BehaviorTree><BehaviorTree ID="B"><Succ/></BehaviorTree></root>"#;
+    loader.load_str(trees, "first.xml").unwrap();
+    loader
+        .load_str(
+            r#"<root main_tree_to_execute="C"><BehaviorTree ID="C"><Succ/></BehaviorTree></root>"#,
+            "second.xml",
+        )
+        .unwrap();
+    assert_eq!(loader.main_tree(), None);
+}
+
+#[test]
+fn the_trees_no_subtree_names_are_the_candidates_to_start_from() {
+    let r = registry();
+    let mut loader = XmlLoader::new(&r);
+    loader
+        .load_str(
+            r#"<root>
+                 <BehaviorTree ID="Leaf"><Succ/></BehaviorTree>
+                 <BehaviorTree ID="Mid"><Sequence><SubTree ID="Leaf"/><SubTree ID="Elsewhere"/></Sequence></BehaviorTree>
+                 <BehaviorTree ID="Top"><SubTree ID="Mid"/></BehaviorTree>
+               </root>"#,
+            "trees.xml",
+        )
+        .unwrap();
+    assert_eq!(loader.main_tree(), None);
+    assert_eq!(loader.unreferenced_trees(), ["Top"]);
+    assert_eq!(loader.unresolved_subtrees(), ["Elsewhere"]);
+}
+
+#[test]
+fn a_threshold_error_points_at_the_node_and_names_it_once() {
+    let e = error(
+        "<root main_tree_to_execute=\"T\">\n  <BehaviorTree ID=\"T\">\n    <Sequence>\n      <Parallel success_count=\"3\">\n        <Succ/>\n        <Succ/>\n      </Parallel>\n    </Sequence>\n  </BehaviorTree>\n</root>",
+    );
+    assert_eq!(
+        e.to_string(),
+        "test.xml:4:7: error: Parallel: success threshold 3 needs at least 3 children, found 2"
+    );
+}
+
+#[test]
+fn validate_all_reports_every_error_of_a_tree_in_document_order() {
+    let r = registry();
+    let mut loader = XmlLoader::new(&r);
+    loader
+        .load_str(
+            "<root>\n<BehaviorTree ID=\"T\">\n<Sequence>\n  <Sequense/>\n  <Fallback>\n    <Produce valu=\"3\"/>\n    <Parallel success_count=\"2\"><Succ/></Parallel>\n  </Fallback>\n  <Inverter><Succ/><Succ/></Inverter>\n  <Jump/>\n</Sequence>\n</BehaviorTree>\n</root>",
+            "many.xml",
+        )
+        .unwrap();
+    let errors: Vec<String> = loader
+        .validate_all("T", 20)
+        .iter()
+        .map(ToString::to_string)
+        .collect();
+    assert_eq!(
+        errors,
+        [
+            "many.xml:4:3: error: unknown node type `Sequense`; did you mean `Sequence`? register it in the Registry before loading",
+            "many.xml:6:5: error: unknown port `valu` on `Produce`; its ports are: value, out",
+            "many.xml:9:3: error: `Inverter` takes exactly 1 child, found 2",
+            "many.xml:10:3: error: unknown node type `Jump`; register it in the Registry before loading",
+            "many.xml:7:5: error: Parallel: success threshold 2 needs at least 2 children, found 1",
+        ]
+    );
+    // The limit is kept; `validate` still stops at the first.
+    assert_eq!(loader.validate_all("T", 2).len(), 2);
+    assert_eq!(loader.validate("T").unwrap_err().to_string(), errors[0]);
+}
+
+#[test]
+fn mock_unknown_mocks_leaves_only_a_model_describes() {
+    let mut r = Registry::<()>::new();
+    r.add_model_str(
+        r#"<root><TreeNodesModel>
+             <Action ID="Dock"/>
+             <Control ID="Pick"/>
+           </TreeNodesModel></root>"#,
+        "model.xml",
+    )
+    .unwrap();
+    let tree = r#"<root><BehaviorTree ID="T"><Sequence><Dock/></Sequence></BehaviorTree></root>"#;
+    let mut loader = XmlLoader::new(&r).mock_unknown(true);
+    loader.load_str(tree, "t.xml").unwrap();
+    let mut run = Tree::with_clock(loader.build("T").unwrap().into(), ManualClock::new());
+    assert_eq!(run.tick_once(&mut ()), Ok(Status::Success));
+    // A control only a model describes is not a leaf: it still cannot run.
+    let tree = r#"<root><BehaviorTree ID="T"><Pick><Dock/></Pick></BehaviorTree></root>"#;
+    let mut loader = XmlLoader::new(&r).mock_unknown(true);
+    loader.load_str(tree, "t.xml").unwrap();
+    let e = loader.build("T").unwrap_err();
+    assert_eq!(
+        e.message,
+        "`Pick` is only described by a model; register an implementation to run it; mocks replace only leaves"
+    );
+}
+
+#[test]
+fn a_mock_of_a_control_or_decorator_is_an_error() {
+    let r = registry();
+    let tree = r#"<root main_tree_to_execute="T"><BehaviorTree ID="T"><Sequence name="steps"><Inverter><Succ/></Inverter></Sequence></BehaviorTree></root>"#;
+    for (name, expected) in [
+        ("steps", "`steps` is a Control (`Sequence`) and no leaf is named so; a mock replaces only a leaf (an Action or a Condition)"),
+        ("Inverter", "`Inverter` is a Decorator (`Inverter`) and no leaf is named so; a mock replaces only a leaf (an Action or a Condition)"),
+    ] {
+        let mut loader = XmlLoader::new(&r).mock(name, vec![Status::Success]);
+        loader.load_str(tree, "t.xml").unwrap();
+        assert_eq!(loader.build_main().unwrap_err().message, expected);
+    }
+    let mut loader = XmlLoader::new(&r).mock("Succ", vec![Status::Failure]);
+    loader.load_str(tree, "t.xml").unwrap();
+    let mut run = Tree::with_clock(loader.build_main().unwrap().into(), ManualClock::new());
+    assert_eq!(run.tick_once(&mut Vec::new()), Ok(Status::Success));
+    // A name that a control and a leaf share (Nav2's RecoveryNode `FollowPath` around the
+    // action FollowPath) mocks the leaf and keeps the control.
+    let shared = r#"<root main_tree_to_execute="T"><BehaviorTree ID="T"><Sequence name="Succ"><Succ/></Sequence></BehaviorTree></root>"#;
+    let mut loader = XmlLoader::new(&r).mock("Succ", vec![Status::Failure]);
+    loader.load_str(shared, "t.xml").unwrap();
+    let bp = loader.build_main().unwrap();
+    assert_eq!(bp.len(), 2);
+    let mut run = Tree::with_clock(bp.into(), ManualClock::new());
+    assert_eq!(run.tick_once(&mut Vec::new()), Ok(Status::Failure));
+}

@@ -26,6 +26,54 @@ struct Expansion<'a, 'r, C> {
     /// Type names resolved lately, by a hash of the name: a tree names few types many times,
     /// and a registry look-up compares the name with several others.
     resolved: [Option<(&'a str, &'a NodeType<C>)>; RESOLVED],
+    /// The errors met so far when collecting them ([`validate_all`]); empty otherwise.
+    errors: Vec<LoadError>,
+    /// How many errors to collect before giving up; 0 or 1 stops at the first.
+    limit: usize,
+    /// The element whose node the builder refused when it closed (a threshold above the
+    /// number of children): where its error points.
+    refused: Option<Element<'a>>,
+    /// The names of the mocks that replaced a leaf.
+    mocked: Vec<&'a str>,
+    /// The names of the mocks that matched a control or decorator, which mocks do not
+    /// replace, with the error to give if the mock replaced no leaf either.
+    not_mocked: Vec<(&'a str, LoadError)>,
+}
+
+/// What an element turns into: the node to open, and whether its children follow it.
+struct Opened<'a, C> {
+    kind: NodeKind<C>,
+    name: &'a str,
+    /// The registered type name, where the kind alone does not tell it.
+    type_id: Option<&'a str>,
+    ports: Vec<Port>,
+    hooks: Option<Box<ScriptHooks>>,
+    /// `false` for a mock, which replaces the node and what is below it.
+    descend: bool,
+}
+
+impl<'a, C: 'static> Opened<'a, C> {
+    /// A node of `kind` named `name` with nothing else attached.
+    fn plain(kind: NodeKind<C>, name: &'a str) -> Self {
+        Self {
+            kind,
+            name,
+            type_id: None,
+            ports: Vec::new(),
+            hooks: None,
+            descend: true,
+        }
+    }
+
+    /// Opens the node in `b`; the caller adds its children and closes it.
+    fn add(self, b: Builder<C>) -> Builder<C> {
+        let b = b.open(self.kind, self.name);
+        let b = match self.type_id {
+            Some(type_id) => b.type_id(type_id),
+            None => b,
+        };
+        with_hooks(with_ports(b, self.ports), self.hooks)
+    }
 }
 
 /// Slots of [`Expansion::resolved`] (a power of two).
@@ -37,16 +85,77 @@ pub(super) fn build<C: 'static>(
     tree: Element<'_>,
     validate: bool,
 ) -> Result<Blueprint<C>, LoadError> {
-    let mut x = Expansion {
-        loader,
-        validate,
-        stack: vec![id.to_string()],
-        resolved: [None; RESOLVED],
-    };
-    let b = x.node(Builder::new(), only_child(tree), 1)?;
-    // Checks the loader could not make on one element (thresholds against the number of
-    // children) come back from the builder with the node's path.
-    b.build().map_err(|e| tree.error(e.to_string()))
+    Expansion::new(loader, id, validate, 0).expand(tree)
+}
+
+/// Checks the tree as [`build`] does when validating, going on past an element in error
+/// (in its place, a stand-in with its children) to report up to `limit` errors.
+pub(super) fn validate_all<C: 'static>(
+    loader: &XmlLoader<'_, C>,
+    id: &str,
+    tree: Element<'_>,
+    limit: usize,
+) -> Vec<LoadError> {
+    let mut x = Expansion::new(loader, id, true, limit);
+    let last = x.expand(tree).err();
+    let mut errors = x.errors;
+    errors.extend(last);
+    errors.truncate(limit.max(1));
+    errors
+}
+
+impl<'a, 'r, C: 'static> Expansion<'a, 'r, C> {
+    fn new(loader: &'a XmlLoader<'r, C>, id: &str, validate: bool, limit: usize) -> Self {
+        Self {
+            loader,
+            validate,
+            stack: vec![id.to_string()],
+            resolved: [None; RESOLVED],
+            errors: Vec::new(),
+            limit,
+            refused: None,
+            mocked: Vec::new(),
+            not_mocked: Vec::new(),
+        }
+    }
+
+    /// Expands the `<BehaviorTree>` `tree` and builds its blueprint.
+    fn expand(&mut self, tree: Element<'a>) -> Result<Blueprint<C>, LoadError> {
+        let b = self.node(Builder::new(), only_child(tree), 1)?;
+        if let Some((_, error)) = self
+            .not_mocked
+            .iter()
+            .find(|(n, _)| !self.mocked.contains(n))
+        {
+            return Err(error.clone());
+        }
+        // Checks the loader could not make on one element (thresholds against the number
+        // of children) come back from the builder; they point at the element it refused,
+        // whose position names the node, so the node's path is left out.
+        b.build().map_err(|e| match self.refused {
+            Some(el) => el.error(e.kind.to_string()),
+            None => tree.error(e.to_string()),
+        })
+    }
+
+    /// Keeps `error` if errors are being collected and there is room for more; else gives
+    /// it back.
+    fn keep(&mut self, error: LoadError) -> Result<(), LoadError> {
+        if self.errors.len() + 1 >= self.limit {
+            return Err(error);
+        }
+        self.errors.push(error);
+        Ok(())
+    }
+
+    /// Closes the node of `el`, noting `el` if the builder refuses it.
+    fn close(&mut self, b: Builder<C>, el: Element<'a>) -> Builder<C> {
+        let b = b.close();
+        if self.refused.is_none() && b.has_error() {
+            self.refused = Some(el);
+        }
+        b
+    }
 }
 
 /// `a == b`, for short names: inline, where `==` calls `memcmp`.
@@ -137,23 +246,46 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
             return Err(self.too_deep(el));
         }
         if el.tag() == "SubTree" {
-            let (b, body) = self.open_subtree(b, el)?;
+            let (opened, body) = match self.open_subtree(el) {
+                Ok(subtree) => subtree,
+                Err(e) => {
+                    self.keep(e)?;
+                    let b = Opened::plain(NodeKind::AlwaysSuccess, el.tag()).add(b);
+                    return Ok(self.close(b, el));
+                }
+            };
+            let b = opened.add(b);
             let b = match body {
                 Body::Xml(tree) => self.node(b, only_child(tree), depth + 1),
                 // The builder checks its depth and its child count itself.
                 Body::Built(add) => Ok(add(b)),
             }
-            .map(Builder::close);
+            .map(|b| self.close(b, el));
             self.stack.pop();
             return b;
         }
-        let (mut b, descend) = self.open(b, el)?;
+        let opened = match self.open(el) {
+            Ok(opened) => opened,
+            Err(e) => {
+                self.keep(e)?;
+                // Of a family that accepts its children, so that they are checked too and
+                // the builder finds nothing more to say about it.
+                let kind = if el.child_count() == 0 {
+                    NodeKind::AlwaysSuccess
+                } else {
+                    NodeKind::Sequence
+                };
+                Opened::plain(kind, el.tag())
+            }
+        };
+        let descend = opened.descend;
+        let mut b = opened.add(b);
         if descend {
             for child in el.children() {
                 b = self.node(b, child, depth + 1)?;
             }
         }
-        Ok(b.close())
+        Ok(self.close(b, el))
     }
 
     #[inline(never)]
@@ -163,10 +295,9 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
         ))
     }
 
-    /// Checks `el` and opens its node; `false` if its children are not to be added (a mock
-    /// replaces a node and what is below it).
+    /// Checks `el` and says what node it opens.
     #[inline(never)]
-    fn open(&mut self, b: Builder<C>, el: Element<'a>) -> Result<(Builder<C>, bool), LoadError> {
+    fn open(&mut self, el: Element<'a>) -> Result<Opened<'a, C>, LoadError> {
         let tag = el.tag();
         let explicit = EXPLICIT.contains(&tag);
         let type_name = if explicit {
@@ -185,14 +316,40 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
         } else {
             (type_name, None)
         };
+        // A leaf standing in for the node, which has no children: a mock, or an unknown
+        // leaf mocked with SUCCESS.
+        let stand_in = |kind, hooks| Opened {
+            kind,
+            name,
+            type_id: Some(type_name),
+            ports: Vec::new(),
+            hooks,
+            descend: false,
+        };
+        let node_type = self.node_type(type_name);
         if let Some(outcomes) = self.loader.mocks.get(name) {
-            let b = b.open(mock::mock_kind(outcomes), name).type_id(type_name);
-            return Ok((with_hooks(b, hooks), false));
+            let family = node_type.map(|t| t.category);
+            if el.child_count() == 0
+                && !matches!(family, Some(Category::Control | Category::Decorator))
+            {
+                if !self.mocked.contains(&name) {
+                    self.mocked.push(name);
+                }
+                return Ok(stand_in(mock::mock_kind(outcomes), hooks));
+            }
+            // Not a leaf: it stays. A mock named after it that replaces no leaf either is
+            // a mistake, found once the tree is expanded.
+            if self.not_mocked.iter().all(|(n, _)| *n != name) {
+                let family = family.map_or("node with children", Category::as_str);
+                let error = el.error(format!(
+                    "`{name}` is a {family} (`{type_name}`) and no leaf is named so; a mock replaces only a leaf (an Action or a Condition)"
+                ));
+                self.not_mocked.push((name, error));
+            }
         }
-        let Some(node_type) = self.node_type(type_name) else {
+        let Some(node_type) = node_type else {
             if self.loader.mock_unknown && el.child_count() == 0 {
-                let b = b.open(NodeKind::AlwaysSuccess, name).type_id(type_name);
-                return Ok((with_hooks(b, hooks), false));
+                return Ok(stand_in(NodeKind::AlwaysSuccess, hooks));
             }
             let hint = match self.loader.registry.closest(type_name) {
                 Some(close) => format!("did you mean `{close}`? "),
@@ -203,7 +360,7 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
             )));
         };
         let ports = self.check_ports(el, node_type, explicit)?;
-        match &node_type.make {
+        let kind = match &node_type.make {
             Make::BuiltIn(built_in) => {
                 let text_of = |port: &str| match ports.iter().find(|p| p.name == port) {
                     Some(Port {
@@ -229,11 +386,38 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
                         el.child_count()
                     )));
                 }
-                Ok((with_hooks(b.open(kind, name), hooks), true))
+                // A built-in node is known by its kind and reads its ports at load time.
+                return Ok(Opened {
+                    hooks,
+                    ..Opened::plain(kind, name)
+                });
             }
-            Make::Model if !self.validate => Err(el.error(format!(
-                "`{type_name}` is only described by a model; register an implementation to run it"
-            ))),
+            // A dry run: a leaf only a model describes plays SUCCESS like an unknown one.
+            Make::Model
+                if !self.validate
+                    && self.loader.mock_unknown
+                    && el.child_count() == 0
+                    && matches!(node_type.category, Category::Action | Category::Condition) =>
+            {
+                return Ok(stand_in(NodeKind::AlwaysSuccess, hooks));
+            }
+            Make::Model if !self.validate => {
+                // Asked to mock it: say why that cannot be, the closer mistake.
+                if let Some((_, e)) = self.not_mocked.iter().find(|(n, _)| *n == name) {
+                    if !self.mocked.contains(&name) {
+                        return Err(e.clone());
+                    }
+                }
+                let leaf = matches!(node_type.category, Category::Action | Category::Condition);
+                let mocked = if leaf {
+                    ", or mock it (XmlLoader::mock_unknown)"
+                } else {
+                    "; mocks replace only leaves"
+                };
+                return Err(el.error(format!(
+                    "`{type_name}` is only described by a model; register an implementation to run it{mocked}"
+                )));
+            }
             Make::Model => {
                 // A placeholder of the same family, so that the structure is checked.
                 let kind = match node_type.category {
@@ -248,8 +432,7 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
                         el.child_count()
                     )));
                 }
-                let b = with_ports(b.open(kind, name).type_id(type_name), ports);
-                Ok((with_hooks(b, hooks), true))
+                kind
             }
             Make::Leaf(make) => {
                 let kind = make(&ports, self.loader.registry.enums()).map_err(|m| el.error(m))?;
@@ -264,10 +447,17 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
                         el.error(format!("`{type_name}` {what}, found {}", el.child_count()))
                     );
                 }
-                let b = with_ports(b.open(kind, name).type_id(type_name), ports);
-                Ok((with_hooks(b, hooks), true))
+                kind
             }
-        }
+        };
+        Ok(Opened {
+            kind,
+            name,
+            type_id: Some(type_name),
+            ports,
+            hooks,
+            descend: true,
+        })
     }
 
     /// The registered type named `name`.
@@ -354,14 +544,10 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
         Ok(ports)
     }
 
-    /// Checks a `<SubTree>`, opens its node with the child's scope and returns the tree to
-    /// expand below it; the caller pops `stack` when done.
+    /// Checks a `<SubTree>`: its node, with the child's scope, and the tree to expand below
+    /// it; the caller pops `stack` when done.
     #[inline(never)]
-    fn open_subtree(
-        &mut self,
-        b: Builder<C>,
-        el: Element<'a>,
-    ) -> Result<(Builder<C>, Body<'a, C>), LoadError> {
+    fn open_subtree(&mut self, el: Element<'a>) -> Result<(Opened<'a, C>, Body<'a, C>), LoadError> {
         let id = el
             .attr("ID")
             .ok_or_else(|| el.error("<SubTree> needs an ID attribute naming the tree"))?;
@@ -419,8 +605,11 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
         let name = el.attr("name").unwrap_or(id);
         let hooks = conditions(el, self.loader.registry.enums())?;
         self.stack.push(id.to_string());
-        let opened = b.open(NodeKind::SubTree(Box::new(scope)), name).type_id(id);
-        let opened = with_hooks(opened, hooks);
+        let opened = Opened {
+            type_id: Some(id),
+            hooks,
+            ..Opened::plain(NodeKind::SubTree(Box::new(scope)), name)
+        };
         Ok((opened, body))
     }
 }

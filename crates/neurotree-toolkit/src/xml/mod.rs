@@ -43,7 +43,7 @@ pub(crate) fn parse_model(text: &str, file: &str) -> Result<Document, LoadError>
     source::parse(text, file)
 }
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 use std::fmt;
 use std::path::{Path, PathBuf};
 
@@ -159,8 +159,10 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
         self
     }
 
-    /// Replaces every node whose `name` (or, without one, its type) is `name` by a leaf that
-    /// returns `outcomes` one per tick, then the last one forever, for dry runs.
+    /// Replaces every leaf (Action or Condition) whose `name` (or, without one, its type) is
+    /// `name` by a leaf that returns `outcomes` one per tick, then the last one forever, for
+    /// dry runs. A control or decorator of that name stays; if no leaf of the tree built is
+    /// named so, building it fails.
     pub fn mock(mut self, name: &str, outcomes: Vec<neurotree_core::Status>) -> Self {
         self.mocks.insert(name.to_string(), outcomes);
         self
@@ -171,7 +173,8 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
         self.trees.keys().map(String::as_str)
     }
 
-    /// The tree to execute: `main_tree_to_execute`, or the only tree loaded.
+    /// The tree to execute: the `main_tree_to_execute` of the first file loaded, or the only
+    /// tree loaded.
     pub fn main_tree(&self) -> Option<&str> {
         match &self.main {
             Some(m) => Some(m),
@@ -240,8 +243,10 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
                 )));
             }
         }
-        if let Some(main) = root.attr("main_tree_to_execute") {
-            self.main = Some(main.to_string());
+        // BehaviorTree.CPP executes the main tree of the first document opened: a file
+        // loaded or included later does not change it.
+        if at == 0 {
+            self.main = root.attr("main_tree_to_execute").map(String::from);
         }
         // By number: an include loads more documents into `docs` while these are walked.
         let children: Vec<usize> = root.children().map(|c| c.id()).collect();
@@ -337,6 +342,43 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
             return Err(LoadError::at_file("", format!("no tree with ID `{id}`")));
         };
         build::build(self, id, tree, true).map(drop)
+    }
+
+    /// Checks the tree named `id` as [`validate`](Self::validate) does, but goes on past a
+    /// node in error to report up to `limit` errors (at least one): the elements' errors in
+    /// document order, then a child count or threshold the builder refused; empty if the tree
+    /// is valid. A subtree's errors are reported with each tree that uses it.
+    pub fn validate_all(&self, id: &str, limit: usize) -> Vec<LoadError> {
+        let Some(tree) = self.tree(id) else {
+            return vec![LoadError::at_file("", format!("no tree with ID `{id}`"))];
+        };
+        build::validate_all(self, id, tree, limit)
+    }
+
+    /// The IDs that the `<SubTree>`s of the loaded trees name.
+    fn subtree_references(&self) -> BTreeSet<&str> {
+        self.trees
+            .values()
+            .flat_map(|at| self.docs[at.doc].element(at.element).descendants())
+            .filter(|el| el.tag() == "SubTree")
+            .filter_map(|el| el.attr("ID"))
+            .collect()
+    }
+
+    /// The loaded trees that no `<SubTree>` of a loaded tree names, in ID order: where a
+    /// file without `main_tree_to_execute` can start, if there is exactly one.
+    pub fn unreferenced_trees(&self) -> Vec<&str> {
+        let used = self.subtree_references();
+        self.tree_ids().filter(|id| !used.contains(id)).collect()
+    }
+
+    /// The tree IDs that a `<SubTree>` names but that are neither loaded nor registered as
+    /// subtrees, in ID order: what the loaded files need from other files.
+    pub fn unresolved_subtrees(&self) -> Vec<&str> {
+        self.subtree_references()
+            .into_iter()
+            .filter(|id| !self.trees.contains_key(*id) && self.registry.subtree(id).is_none())
+            .collect()
     }
 
     /// The `<BehaviorTree>` element of the tree named `id`.

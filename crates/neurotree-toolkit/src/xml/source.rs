@@ -175,6 +175,13 @@ impl<'d> Element<'d> {
         }
     }
 
+    /// Every element inside it, in document order.
+    pub(crate) fn descendants(&self) -> impl Iterator<Item = Element<'d>> + 'd {
+        let doc = self.doc;
+        // Elements are stored in document order: its descendants are the ones up to `end`.
+        (self.id + 1..self.node().end).map(move |id| doc.element(id))
+    }
+
     /// Its line and column (1-based, the column in characters).
     #[cfg(test)]
     pub(crate) fn line_col(&self) -> (u32, u32) {
