@@ -163,17 +163,6 @@ impl<'t, C> NodeCtx<'_, 't, C> {
     }
 }
 
-/// Stands in for a custom node while it is being ticked, so the node can borrow the engine.
-pub(crate) struct Vacant;
-
-impl<C> CustomNode<C> for Vacant {
-    fn tick(&mut self, _node: &mut NodeCtx<'_, '_, C>) -> NodeStatus {
-        // Only reachable if a custom node's tick re-enters itself, which the tree's shape
-        // forbids; failing is the safe answer.
-        NodeStatus::Failure
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -42,6 +42,17 @@ pub enum TickError {
         /// The passes made.
         passes: u32,
     },
+    /// User code in a node panicked (a leaf, a custom node, a hook, or an `on_halted`). The
+    /// tree caught it, halted every Running node and is ready for the next tick.
+    #[error("{path} ({node}) panicked: {message}")]
+    Panicked {
+        /// The node the panic came from.
+        node: NodeId,
+        /// Its path in the tree.
+        path: String,
+        /// The panic's message.
+        message: String,
+    },
     /// A node reported an error of its own.
     #[error("{path} ({node}): {message}")]
     Node {

@@ -220,6 +220,7 @@ impl<C> Tree<C> {
             wake: None,
             waker: self.wake.as_ref().map(|w| &w.waker),
             fault: None,
+            current: NodeId::ROOT,
         }
     }
 
@@ -244,7 +245,10 @@ impl<C> Tree<C> {
         if let Some(o) = t.observer.as_deref_mut() {
             o.on_tick_start(t.clock.now());
         }
-        let status = t.tick(NodeId::ROOT);
+        let status = match tick_root(&mut t) {
+            Ok(status) => status,
+            Err(panicked) => return Err(recover(&mut t, panicked)),
+        };
         if status.is_completed() {
             t.set_status(NodeId::ROOT, NodeStatus::Idle);
         }
@@ -378,6 +382,46 @@ impl<C> Tree<C> {
     pub fn now(&self) -> Duration {
         self.clock.now()
     }
+}
+
+/// Ticks the root; with `std`, a panic in user code is caught and becomes
+/// [`TickError::Panicked`], naming the node it came from.
+#[cfg(feature = "std")]
+fn tick_root<C>(t: &mut ticker::Ticker<'_, C>) -> Result<NodeStatus, TickError> {
+    std::panic::catch_unwind(core::panic::AssertUnwindSafe(|| t.tick(NodeId::ROOT))).map_err(
+        |payload| TickError::Panicked {
+            node: t.current,
+            path: t.bp.path(t.current),
+            message: ticker::panic_message(&*payload),
+        },
+    )
+}
+
+/// Without `std` there is no catching a panic: it leaves `tick_once` as it found the tree
+/// (nodes Running, counts half-updated). Call [`Tree::halt`] before ticking it again.
+#[cfg(not(feature = "std"))]
+fn tick_root<C>(t: &mut ticker::Ticker<'_, C>) -> Result<NodeStatus, TickError> {
+    Ok(t.tick(NodeId::ROOT))
+}
+
+/// After a panic: halt every Running node (each Running stateful action gets its one
+/// `on_halted`), reset the rest, put back what the panic destroyed, and end the tick for
+/// the observer, so that the next tick starts afresh.
+#[cfg_attr(not(feature = "std"), allow(dead_code))]
+#[cold]
+fn recover<C>(t: &mut ticker::Ticker<'_, C>, panicked: TickError) -> TickError {
+    #[cfg(feature = "std")]
+    t.replace_vacant_objects();
+    t.halt_node(NodeId::ROOT);
+    for id in t.bp.ids() {
+        t.halt_node(id);
+    }
+    if let Some(o) = t.observer.as_deref_mut() {
+        o.on_tick_end(NodeStatus::Idle, t.clock.now());
+    }
+    // A panic while halting is already in the halt's own error; the first panic is news.
+    t.fault = None;
+    panicked
 }
 
 fn to_result(status: NodeStatus) -> Result<Status, TickError> {

@@ -10,7 +10,7 @@ use core::mem;
 use crate::blackboard::Blackboard;
 use crate::blueprint::{Blueprint, Child, NodeDef, NodeKind};
 use crate::clock::duration_to_nanos;
-use crate::nodes::custom::{CustomNode, NodeCtx, Vacant};
+use crate::nodes::custom::{CustomNode, NodeCtx};
 use crate::nodes::leaf::{ActionFuture, Handle, StatefulAction};
 use crate::nodes::{control, decorator, leaf};
 use crate::observer::{Observer, StatusChange};
@@ -22,6 +22,9 @@ pub(crate) enum Object<C> {
     Custom(alloc::boxed::Box<dyn CustomNode<C>>),
     /// The running future of an async action, `None` between runs.
     Async(Option<ActionFuture>),
+    /// A custom node's slot while its object is out ticking or halting (it needs the
+    /// ticker, which holds the slot); left so only if that code panicked.
+    Vacant,
 }
 
 /// Everything one pass needs, borrowed from the [`Tree`](crate::Tree) for its duration.
@@ -40,6 +43,8 @@ pub(crate) struct Ticker<'t, C> {
     pub(crate) waker: Option<&'t core::task::Waker>,
     /// The first error of this pass.
     pub(crate) fault: Option<TickError>,
+    /// The node ticked or halted last: if user code panics, the one it panicked in.
+    pub(crate) current: NodeId,
 }
 
 impl<'t, C> Ticker<'t, C> {
@@ -107,6 +112,7 @@ impl<'t, C> Ticker<'t, C> {
     pub(crate) fn tick(&mut self, id: NodeId) -> NodeStatus {
         let def = self.bp.def(id);
         if let (NodeKind::ConditionFn(f), None) = (&def.kind, self.bp.hooks(id)) {
+            self.current = id;
             self.note_tick(id);
             let status = if f(self.ctx) {
                 NodeStatus::Success
@@ -122,6 +128,7 @@ impl<'t, C> Ticker<'t, C> {
     /// Ticks a node that is not a closure condition and stores what it returned.
     #[inline(always)]
     fn tick_other(&mut self, id: NodeId, def: &NodeDef<C>) -> NodeStatus {
+        self.current = id;
         let status = match self.bp.hooks(id) {
             None => {
                 self.note_tick(id);
@@ -197,6 +204,7 @@ impl<'t, C> Ticker<'t, C> {
     #[inline(always)]
     pub(crate) fn tick_child<const OBSERVED: bool>(&mut self, child: &Child<C>) -> NodeStatus {
         if let Some(f) = child.condition() {
+            self.current = child.id;
             if OBSERVED {
                 self.note_tick(child.id);
             }
@@ -361,10 +369,7 @@ impl<'t, C> Ticker<'t, C> {
 
     fn tick_custom(&mut self, id: NodeId) -> NodeStatus {
         let slot = self.bp.slot(id);
-        let Object::Custom(node) = mem::replace(
-            &mut self.objects[slot],
-            Object::Custom(alloc::boxed::Box::new(Vacant)),
-        ) else {
+        let Object::Custom(node) = mem::replace(&mut self.objects[slot], Object::Vacant) else {
             return NodeStatus::Failure;
         };
         let mut node = node;
@@ -389,6 +394,10 @@ impl<'t, C> Ticker<'t, C> {
     }
 
     /// Halts a node (its Running descendants first) and resets it to Idle.
+    ///
+    /// With `std`, a panic in user code that halts (`on_halted`, a custom node's `halt`, a
+    /// future's `Drop`) is caught: that node is skipped, the halt goes on, and the panic
+    /// becomes the pass's error.
     pub(crate) fn halt_node(&mut self, id: NodeId) {
         let bp = self.bp;
         let def = bp.def(id);
@@ -396,23 +405,31 @@ impl<'t, C> Ticker<'t, C> {
         match &def.kind {
             NodeKind::Stateful(_) => {
                 if self.status(id) == NodeStatus::Running {
-                    if let (Some(Object::Stateful(action)), mut h) = self.split(id) {
-                        action.on_halted(&mut h);
-                    }
+                    self.current = id;
+                    contain(self, id, |t| {
+                        if let (Some(Object::Stateful(action)), mut h) = t.split(id) {
+                            action.on_halted(&mut h);
+                        }
+                    });
                 }
             }
-            NodeKind::Async(_) => leaf::async_action::halt(self, id),
+            NodeKind::Async(_) => {
+                self.current = id;
+                contain(self, id, |t| leaf::async_action::halt(t, id));
+            }
             NodeKind::Custom(_) => {
                 let obj = self.bp.slot(id);
                 if self.status(id) == NodeStatus::Running {
-                    if let Object::Custom(mut node) = mem::replace(
-                        &mut self.objects[obj],
-                        Object::Custom(alloc::boxed::Box::new(Vacant)),
-                    ) {
-                        node.halt(&mut NodeCtx {
-                            t: self,
-                            id,
-                            previous: NodeStatus::Running,
+                    self.current = id;
+                    if let Object::Custom(mut node) =
+                        mem::replace(&mut self.objects[obj], Object::Vacant)
+                    {
+                        contain(self, id, |t| {
+                            node.halt(&mut NodeCtx {
+                                t,
+                                id,
+                                previous: NodeStatus::Running,
+                            });
                         });
                         self.objects[obj] = Object::Custom(node);
                     }
@@ -445,6 +462,20 @@ impl<'t, C> Ticker<'t, C> {
         if was_running {
             if let Some(hooks) = self.bp.hooks(id) {
                 hooks.halted(&mut self.handle(id));
+            }
+        }
+    }
+
+    /// Puts back the objects of custom nodes that a panic left vacant (the object was out
+    /// of its slot while it ran), made anew by their factories.
+    #[cfg(feature = "std")]
+    pub(crate) fn replace_vacant_objects(&mut self) {
+        for id in self.bp.ids() {
+            if let NodeKind::Custom(spec) = &self.bp.def(id).kind {
+                let slot = self.bp.slot(id);
+                if matches!(self.objects[slot], Object::Vacant) {
+                    self.objects[slot] = Object::Custom((spec.factory)());
+                }
             }
         }
     }
@@ -497,5 +528,38 @@ impl<'t, C> Ticker<'t, C> {
             let child = self.child(def, i);
             self.halt_child(child);
         }
+    }
+}
+
+/// Runs `halt` (user code that halts node `id`); with `std`, a panic in it is caught and
+/// recorded as the pass's error, so that the rest of the tree is still halted.
+#[cfg(feature = "std")]
+fn contain<'t, C>(t: &mut Ticker<'t, C>, id: NodeId, halt: impl FnOnce(&mut Ticker<'t, C>)) {
+    let caught = std::panic::catch_unwind(core::panic::AssertUnwindSafe(|| halt(&mut *t)));
+    if let Err(payload) = caught {
+        if t.fault.is_none() {
+            t.fault = Some(TickError::Panicked {
+                node: id,
+                path: t.bp.path(id),
+                message: panic_message(&*payload),
+            });
+        }
+    }
+}
+
+#[cfg(not(feature = "std"))]
+fn contain<'t, C>(t: &mut Ticker<'t, C>, _id: NodeId, halt: impl FnOnce(&mut Ticker<'t, C>)) {
+    halt(t);
+}
+
+/// The text a panic was raised with, if it was text.
+#[cfg(feature = "std")]
+pub(crate) fn panic_message(payload: &(dyn core::any::Any + Send)) -> alloc::string::String {
+    if let Some(s) = payload.downcast_ref::<&str>() {
+        (*s).into()
+    } else if let Some(s) = payload.downcast_ref::<alloc::string::String>() {
+        s.clone()
+    } else {
+        "a panic without a message".into()
     }
 }
