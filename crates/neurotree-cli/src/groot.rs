@@ -7,15 +7,18 @@
 //! manual clock, and so every result, is the same either way.
 
 use std::io::{self, Write};
+use std::net::IpAddr;
 use std::time::Duration;
 
 use neurotree::groot::{Groot2Monitor, Groot2Server, GrootError};
 use neurotree::{Blueprint, Registry, Tree};
 
-/// What `--groot`, `--groot-linger` and `--groot-pace-ms` asked for.
+/// What `--groot`, `--groot-bind`, `--groot-linger` and `--groot-pace-ms` asked for.
 pub struct GrootOptions {
     /// The request port; notifications go to the next one. 0 picks a free pair.
     pub port: u16,
+    /// The address to listen on: loopback unless widened.
+    pub bind: IpAddr,
     /// How long to keep serving once the run ended.
     pub linger: Duration,
     /// Wall time each tick waits, so that a client can follow.
@@ -39,7 +42,7 @@ impl Served {
         opts: &GrootOptions,
     ) -> Result<Served, GrootError> {
         let monitor = Groot2Monitor::new(blueprint, registry, tree_id);
-        let server = monitor.serve(opts.port)?;
+        let server = monitor.serve_on(opts.bind, opts.port)?;
         Ok(Served {
             monitor,
             server,
@@ -50,11 +53,11 @@ impl Served {
 
     /// Tells on `err` where clients connect (the port chosen, when asked for any).
     pub fn announce(&self, err: &mut impl Write) -> io::Result<()> {
-        let port = self.server.port();
+        let address = self.server.local_addr();
         writeln!(
             err,
-            "neurotree: Groot2 monitor on tcp://0.0.0.0:{port} (publisher on port {})",
-            u32::from(port) + 1
+            "neurotree: Groot2 monitor on tcp://{address} (publisher on port {})",
+            u32::from(address.port()) + 1
         )
     }
 

@@ -102,6 +102,15 @@ struct RunArgs {
     /// Groot2Publisher does; 0 picks free ports and says which on stderr.
     #[arg(long, value_name = "PORT")]
     groot: Option<u16>,
+    /// Address the Groot2 server listens on: 127.0.0.1 keeps it to this machine; 0.0.0.0
+    /// opens it to every network the machine is on.
+    #[arg(
+        long,
+        value_name = "ADDR",
+        default_value = "127.0.0.1",
+        requires = "groot"
+    )]
+    groot_bind: std::net::IpAddr,
     /// Seconds to keep serving Groot2 once the run ended.
     #[arg(long, value_name = "SECS", default_value = "5", value_parser = seconds, requires = "groot")]
     groot_linger: Duration,
@@ -301,6 +310,7 @@ fn main() -> ExitCode {
                 trace: args.trace,
                 groot: args.groot.map(|port| groot::GrootOptions {
                     port,
+                    bind: args.groot_bind,
                     linger: args.groot_linger,
                     pace: Duration::from_millis(args.groot_pace_ms),
                 }),

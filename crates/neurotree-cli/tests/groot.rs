@@ -65,14 +65,14 @@ impl Serving {
             .recv_timeout(TIMEOUT)
             .expect("neurotree says where it serves");
         let port = first
-            .strip_prefix("neurotree: Groot2 monitor on tcp://0.0.0.0:")
+            .strip_prefix("neurotree: Groot2 monitor on tcp://127.0.0.1:")
             .and_then(|rest| rest.split(' ').next())
             .and_then(|p| p.parse().ok())
             .unwrap_or_else(|| panic!("unexpected first line on stderr: {first}"));
         assert_eq!(
             first,
             format!(
-                "neurotree: Groot2 monitor on tcp://0.0.0.0:{port} (publisher on port {})",
+                "neurotree: Groot2 monitor on tcp://127.0.0.1:{port} (publisher on port {})",
                 port + 1
             )
         );
@@ -157,7 +157,7 @@ fn serving_groot_leaves_the_output_unchanged() {
     );
     let err = String::from_utf8_lossy(&served.stderr);
     assert!(
-        err.starts_with("neurotree: Groot2 monitor on tcp://0.0.0.0:"),
+        err.starts_with("neurotree: Groot2 monitor on tcp://127.0.0.1:"),
         "{err}"
     );
     assert_eq!(err.lines().count(), 1, "{err}");
@@ -170,6 +170,39 @@ fn linger_needs_groot() {
         .args(["run", file.to_str().unwrap(), "--groot-linger", "1"])
         .output()
         .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--groot <PORT>"));
+}
+
+#[test]
+fn groot_bind_takes_an_address_and_needs_groot() {
+    let file = write_tree("bind.xml", MOVE);
+    let run = |extra: &[&str]| {
+        Command::new(env!("CARGO_BIN_EXE_neurotree"))
+            .args(["run", file.to_str().unwrap(), "--mock", "move=SUCCESS"])
+            .args(extra)
+            .output()
+            .unwrap()
+    };
+    let out = run(&[
+        "--groot",
+        "0",
+        "--groot-linger",
+        "0",
+        "--groot-bind",
+        "127.0.0.1",
+    ]);
+    assert!(out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.starts_with("neurotree: Groot2 monitor on tcp://127.0.0.1:"),
+        "{err}"
+    );
+    // A host name is not an address; and without `--groot` there is nothing to bind.
+    let out = run(&["--groot", "0", "--groot-bind", "localhost"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--groot-bind <ADDR>"));
+    let out = run(&["--groot-bind", "127.0.0.1"]);
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("--groot <PORT>"));
 }

@@ -13,6 +13,12 @@
 //!    clients on the given port (Groot2's default is 1667), with a PUB socket on the next
 //!    port, as BehaviorTree.CPP binds them. Dropping the [`Groot2Server`] stops it.
 //!
+//! The server listens on `127.0.0.1` unless [`Groot2Options::bind`] says otherwise, and
+//! treats its peers as untrusted: it speaks ZeroMQ's wire protocol (ZMTP 3) itself, checks
+//! every frame's claimed length against [`Groot2Options::max_message_bytes`] before reading
+//! it, and drops a peer that does not read its replies within
+//! [`Groot2Options::send_timeout`], each peer being served apart from the others.
+//!
 //! The protocol is BehaviorTree.CPP's version 2 ([`protocol`]); the table of
 //! [`Groot2Monitor::answer`] lists what each request receives. Breakpoints and node
 //! replacement hooks are not supported: requests to set them get an error reply.
@@ -65,9 +71,11 @@
 //! ```
 
 mod monitor;
+mod peer;
 pub mod protocol;
 mod requests;
 mod server;
+mod zmtp;
 
 pub use monitor::Groot2Monitor;
-pub use server::{Groot2Server, GrootError};
+pub use server::{Groot2Options, Groot2Server, GrootError};

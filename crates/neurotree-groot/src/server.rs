@@ -1,21 +1,23 @@
-//! The network side: a background thread with a small tokio runtime, a ZeroMQ socket for
-//! requests and a PUB socket on the next port, as BehaviorTree.CPP binds them.
+//! The network side: a background thread with a small tokio runtime, a listener for
+//! requests and one for the publisher on the next port, as BehaviorTree.CPP binds them.
 //!
-//! Requests arrive on a ROUTER socket that answers as a REP socket would (the reply goes
-//! back with the request's envelope), because the `zeromq` crate's ROUTER lets a peer whose
-//! connection fails go, where its REP stops at a `todo!()`. A panic in the crate's decoder
-//! on bytes that are not ZeroMQ is caught, and costs only that peer its connection.
+//! Each connection is served by a task of its own ([`peer`](super::peer)) speaking ZMTP 3
+//! through this crate's [`zmtp`](super::zmtp), under the limits of [`Groot2Options`]: a peer
+//! that claims too long a message, stalls the handshake, or does not read its replies is
+//! dropped, and costs the others nothing. The monitor's state is read under its lock for
+//! each answer and never waits for the network, so neither does the tree's tick.
 
-use std::net::{IpAddr, Ipv4Addr};
-use std::panic::AssertUnwindSafe;
+use std::net::{IpAddr, Ipv4Addr, SocketAddr};
 use std::sync::mpsc;
+use std::sync::Arc;
 use std::thread::JoinHandle;
+use std::time::Duration;
 
-use futures_util::FutureExt;
-use tokio::sync::oneshot;
-use zeromq::{Endpoint, PubSocket, RouterSocket, Socket, SocketRecv, SocketSend, ZmqMessage};
+use tokio::net::TcpListener;
+use tokio::sync::{oneshot, Semaphore};
 
 use super::monitor::Groot2Monitor;
+use super::peer::{serve_peer, Limits, Role};
 
 /// Why a monitor could not be served.
 #[derive(Debug, thiserror::Error)]
@@ -38,10 +40,97 @@ pub enum GrootError {
     Start(#[from] std::io::Error),
 }
 
+/// Where a Groot2 server listens and how far it trusts its peers, for
+/// [`Groot2Monitor::serve_with`].
+///
+/// The defaults keep the server to this machine and bound what any one peer can cost:
+///
+/// ```
+/// use std::net::{IpAddr, Ipv4Addr};
+/// use std::time::Duration;
+/// use neurotree::groot::Groot2Options;
+///
+/// let options = Groot2Options::new()
+///     .bind(IpAddr::V4(Ipv4Addr::UNSPECIFIED))
+///     .send_timeout(Duration::from_secs(2));
+/// assert_eq!(options.bind_address(), IpAddr::V4(Ipv4Addr::UNSPECIFIED));
+/// assert_eq!(Groot2Options::default().bind_address(), IpAddr::V4(Ipv4Addr::LOCALHOST));
+/// ```
+#[derive(Clone, Debug)]
+pub struct Groot2Options {
+    bind: IpAddr,
+    limits: Limits,
+    max_peers: usize,
+}
+
+impl Default for Groot2Options {
+    fn default() -> Self {
+        Groot2Options {
+            bind: IpAddr::V4(Ipv4Addr::LOCALHOST),
+            limits: Limits {
+                // Groot2's requests are a few bytes to a few kilobytes (hook JSON, blackboard
+                // names); 4 MiB leaves room and still bounds each peer.
+                max_message_bytes: 4 << 20,
+                send_timeout: Duration::from_secs(5),
+                handshake_timeout: Duration::from_secs(5),
+            },
+            max_peers: 64,
+        }
+    }
+}
+
+impl Groot2Options {
+    /// The defaults: loopback only, 4 MiB per message, 5 s to send a reply or finish the
+    /// handshake, 64 connections.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// The address to listen on: `127.0.0.1` (the default) keeps the server to this
+    /// machine; `0.0.0.0` opens it to every network the machine is on.
+    pub fn bind(mut self, ip: IpAddr) -> Self {
+        self.bind = ip;
+        self
+    }
+
+    /// The address the server will listen on.
+    pub fn bind_address(&self) -> IpAddr {
+        self.bind
+    }
+
+    /// The most bytes a peer's message (or command) may take, its frames together, each
+    /// counted with a small fixed cost besides its length. A frame header that claims more
+    /// closes that connection before any of the frame is read or allocated.
+    pub fn max_message_bytes(mut self, bytes: usize) -> Self {
+        self.limits.max_message_bytes = bytes;
+        self
+    }
+
+    /// How long a reply may take to be written: a peer that does not read its replies is
+    /// dropped after that long, while the others go on being answered.
+    pub fn send_timeout(mut self, timeout: Duration) -> Self {
+        self.limits.send_timeout = timeout;
+        self
+    }
+
+    /// How long a new connection may take to greet and say READY before it is dropped.
+    pub fn handshake_timeout(mut self, timeout: Duration) -> Self {
+        self.limits.handshake_timeout = timeout;
+        self
+    }
+
+    /// How many connections, on both ports together, are served at once; connections past
+    /// that are closed as soon as they are accepted.
+    pub fn max_peers(mut self, peers: usize) -> Self {
+        self.max_peers = peers;
+        self
+    }
+}
+
 /// A running Groot2 server, made by [`Groot2Monitor::serve`]; it stops when dropped.
 #[derive(Debug)]
 pub struct Groot2Server {
-    port: u16,
+    address: SocketAddr,
     stop: Option<oneshot::Sender<()>>,
     thread: Option<JoinHandle<()>>,
 }
@@ -49,23 +138,39 @@ pub struct Groot2Server {
 /// Attempts at finding two free neighbouring ports when asked for any port.
 const PORT_PAIR_ATTEMPTS: usize = 32;
 
+/// How long to wait after a failed accept (out of file descriptors, say) before the next,
+/// so that the failure does not spin the thread.
+const ACCEPT_BACKOFF: Duration = Duration::from_millis(50);
+
 impl Groot2Monitor {
-    /// Serves this monitor on all IPv4 interfaces: requests on `port`, notifications on
-    /// `port + 1`, as BehaviorTree.CPP's `Groot2Publisher(tree, port)` does (Groot2's
-    /// default is 1667). Port 0 picks a free pair; [`Groot2Server::port`] tells which.
+    /// Serves this monitor on the loopback address with the default
+    /// [`Groot2Options`]: requests on `port`, notifications on `port + 1`, as
+    /// BehaviorTree.CPP's `Groot2Publisher(tree, port)` does (Groot2's default is 1667).
+    /// Port 0 picks a free pair; [`Groot2Server::port`] tells which.
     pub fn serve(&self, port: u16) -> Result<Groot2Server, GrootError> {
-        self.serve_on(IpAddr::V4(Ipv4Addr::UNSPECIFIED), port)
+        self.serve_with(port, &Groot2Options::default())
     }
 
-    /// Serves this monitor on one address (`127.0.0.1` keeps it to this machine).
+    /// Serves this monitor on one address (`0.0.0.0` opens it to the network), with the
+    /// default limits.
+    pub fn serve_on(&self, ip: IpAddr, port: u16) -> Result<Groot2Server, GrootError> {
+        self.serve_with(port, &Groot2Options::new().bind(ip))
+    }
+
+    /// Serves this monitor as `options` say.
     ///
-    /// Returns once both sockets are bound. Requests are answered on a thread of the
+    /// Returns once both listeners are bound. Requests are answered on a thread of the
     /// server's own, which reads the monitor's state under its lock and never waits for
     /// the tree, so the tree's ticks never wait for the network.
-    pub fn serve_on(&self, ip: IpAddr, port: u16) -> Result<Groot2Server, GrootError> {
+    pub fn serve_with(
+        &self,
+        port: u16,
+        options: &Groot2Options,
+    ) -> Result<Groot2Server, GrootError> {
         let (ready_tx, ready_rx) = mpsc::channel();
         let (stop_tx, stop_rx) = oneshot::channel();
         let monitor = self.clone();
+        let options = options.clone();
         let thread = std::thread::Builder::new()
             .name("groot2-server".into())
             .spawn(move || {
@@ -79,11 +184,14 @@ impl Groot2Monitor {
                         return;
                     }
                 };
+                // Dropping the runtime when this returns drops every connection's task, and
+                // with it the connection.
                 runtime.block_on(async move {
-                    match bind(ip, port).await {
-                        Ok(sockets) => {
-                            let _ = ready_tx.send(Ok(sockets.port));
-                            sockets.serve(&monitor, stop_rx).await;
+                    match bind(options.bind, port).await {
+                        Ok(listeners) => {
+                            let _ = ready_tx
+                                .send(listeners.requests.local_addr().map_err(GrootError::Start));
+                            listeners.serve(monitor, &options, stop_rx).await;
                         }
                         Err(e) => {
                             let _ = ready_tx.send(Err(e));
@@ -96,9 +204,9 @@ impl Groot2Monitor {
                 "the server thread ended before binding",
             ))
         };
-        let port = ready_rx.recv().map_err(|_| ended())??;
+        let address = ready_rx.recv().map_err(|_| ended())??;
         Ok(Groot2Server {
-            port,
+            address,
             stop: Some(stop_tx),
             thread: Some(thread),
         })
@@ -108,7 +216,12 @@ impl Groot2Monitor {
 impl Groot2Server {
     /// The request port; notifications (PUB) are on the next one.
     pub fn port(&self) -> u16 {
-        self.port
+        self.address.port()
+    }
+
+    /// The address requests are served on, as bound (`127.0.0.1` unless asked otherwise).
+    pub fn local_addr(&self) -> SocketAddr {
+        self.address
     }
 
     /// Stops serving and waits for the server thread to end.
@@ -132,117 +245,105 @@ impl Drop for Groot2Server {
     }
 }
 
-struct Sockets {
-    requests: RouterSocket,
+struct Listeners {
+    requests: TcpListener,
     // Kept open for clients that subscribe, though breakpoints, which it would announce,
     // are not supported.
-    publisher: PubSocket,
-    port: u16,
+    publisher: TcpListener,
 }
 
-async fn bind(ip: IpAddr, port: u16) -> Result<Sockets, GrootError> {
+async fn bind(ip: IpAddr, port: u16) -> Result<Listeners, GrootError> {
     if port != 0 {
         let next = port.checked_add(1).ok_or(GrootError::NoNextPort(port))?;
-        let (requests, port) = bind_requests(ip, port).await?;
-        let publisher = bind_pub(ip, next).await?;
-        return Ok(Sockets {
+        let requests = bind_one("request", ip, port).await?;
+        let publisher = bind_one("publisher", ip, next).await?;
+        return Ok(Listeners {
             requests,
             publisher,
-            port,
         });
     }
     let mut last = GrootError::NoNextPort(u16::MAX);
     for _ in 0..PORT_PAIR_ATTEMPTS {
-        let (requests, port) = bind_requests(ip, 0).await?;
-        let Some(next) = port.checked_add(1) else {
+        let requests = bind_one("request", ip, 0).await?;
+        let bound = requests.local_addr().map_err(GrootError::Start)?.port();
+        let Some(next) = bound.checked_add(1) else {
             continue;
         };
-        match bind_pub(ip, next).await {
+        match bind_one("publisher", ip, next).await {
             Ok(publisher) => {
-                return Ok(Sockets {
+                return Ok(Listeners {
                     requests,
                     publisher,
-                    port,
                 })
             }
-            Err(e) => {
-                let _ = requests.close().await;
-                last = e;
-            }
+            Err(e) => last = e,
         }
     }
     Err(last)
 }
 
+async fn bind_one(socket: &'static str, ip: IpAddr, port: u16) -> Result<TcpListener, GrootError> {
+    TcpListener::bind((ip, port))
+        .await
+        .map_err(|e| GrootError::Bind {
+            socket,
+            address: endpoint(ip, port),
+            reason: e.to_string(),
+        })
+}
+
+/// The address as ZeroMQ writes it, for messages.
 fn endpoint(ip: IpAddr, port: u16) -> String {
-    match ip {
-        IpAddr::V4(ip) => format!("tcp://{ip}:{port}"),
-        IpAddr::V6(ip) => format!("tcp://[{ip}]:{port}"),
-    }
+    format!("tcp://{}", SocketAddr::new(ip, port))
 }
 
-async fn bind_requests(ip: IpAddr, port: u16) -> Result<(RouterSocket, u16), GrootError> {
-    let address = endpoint(ip, port);
-    let mut requests = RouterSocket::new();
-    match requests.bind(&address).await {
-        Ok(Endpoint::Tcp(_, bound)) => Ok((requests, bound)),
-        Ok(_) => Ok((requests, port)),
-        Err(e) => Err(GrootError::Bind {
-            socket: "request",
-            address,
-            reason: e.to_string(),
-        }),
-    }
-}
-
-async fn bind_pub(ip: IpAddr, port: u16) -> Result<PubSocket, GrootError> {
-    let address = endpoint(ip, port);
-    let mut publisher = PubSocket::new();
-    match publisher.bind(&address).await {
-        Ok(_) => Ok(publisher),
-        Err(e) => Err(GrootError::Bind {
-            socket: "publisher",
-            address,
-            reason: e.to_string(),
-        }),
-    }
-}
-
-impl Sockets {
-    /// Answers requests until told to stop (or until the [`Groot2Server`] is gone).
-    async fn serve(mut self, monitor: &Groot2Monitor, mut stop: oneshot::Receiver<()>) {
-        loop {
-            let received = tokio::select! {
-                _ = &mut stop => break,
-                received = AssertUnwindSafe(self.requests.recv()).catch_unwind() => received,
-            };
-            // A panic is the decoder's, on a peer's bad bytes: that peer's stream was taken
-            // out of the queue, the others are still served.
-            let Ok(Ok(message)) = received else { continue };
-            let Some(reply) = reply_to(monitor, message) else {
-                continue;
-            };
-            tokio::select! {
-                _ = &mut stop => break,
-                // A client gone before its reply needs none.
-                _ = self.requests.send(reply) => {}
-            }
+impl Listeners {
+    /// Accepts connections on both ports until told to stop (or until the
+    /// [`Groot2Server`] is gone).
+    async fn serve(
+        self,
+        monitor: Groot2Monitor,
+        options: &Groot2Options,
+        stop: oneshot::Receiver<()>,
+    ) {
+        let peers = Arc::new(Semaphore::new(options.max_peers));
+        let requests = accept(self.requests, Role::Requests, &monitor, options, &peers);
+        let publisher = accept(self.publisher, Role::Publisher, &monitor, options, &peers);
+        tokio::select! {
+            _ = stop => {}
+            _ = requests => {}
+            _ = publisher => {}
         }
-        let _ = self.requests.close().await;
-        let _ = self.publisher.close().await;
     }
 }
 
-/// The reply to a message from the ROUTER socket: its routing id and the REQ envelope, up to
-/// the empty delimiter frame, then the answer. A message without a delimiter did not come
-/// from a REQ socket, and gets no reply, as a REP socket would drop it.
-fn reply_to(monitor: &Groot2Monitor, message: ZmqMessage) -> Option<ZmqMessage> {
-    let mut frames = message.into_vec();
-    let delimiter = 1 + frames.iter().skip(1).position(|f| f.is_empty())?;
-    let request = frames.split_off(delimiter + 1);
-    let mut reply = ZmqMessage::try_from(frames).ok()?;
-    for frame in monitor.answer(&request) {
-        reply.push_back(frame.into());
+/// Gives each connection to `listener` a task of its own while there is room for it.
+async fn accept(
+    listener: TcpListener,
+    role: Role,
+    monitor: &Groot2Monitor,
+    options: &Groot2Options,
+    peers: &Arc<Semaphore>,
+) {
+    loop {
+        let stream = match listener.accept().await {
+            Ok((stream, _)) => stream,
+            Err(_) => {
+                tokio::time::sleep(ACCEPT_BACKOFF).await;
+                continue;
+            }
+        };
+        // Past the limit the connection is dropped, which closes it.
+        let Ok(permit) = peers.clone().try_acquire_owned() else {
+            continue;
+        };
+        let monitor = monitor.clone();
+        let limits = options.limits;
+        tokio::spawn(async move {
+            // Whatever rule the peer broke, the answer is the same: its connection closes
+            // when the stream is dropped here.
+            let _ = serve_peer(stream, role, &monitor, limits).await;
+            drop(permit);
+        });
     }
-    Some(reply)
 }

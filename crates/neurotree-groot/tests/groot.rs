@@ -511,7 +511,7 @@ fn bad_bytes_and_broken_peers_do_not_stop_the_server() {
         .unwrap();
 
     // A peer that shakes hands, then sends a command frame whose name runs past its end,
-    // which the ZeroMQ crate's decoder does not check.
+    // which the decoder must check rather than trust.
     let mut broken = TcpStream::connect((Ipv4Addr::LOCALHOST, port)).unwrap();
     broken.set_read_timeout(Some(TIMEOUT)).unwrap();
     broken.write_all(&zmtp_handshake()).unwrap();

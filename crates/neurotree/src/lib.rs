@@ -99,7 +99,7 @@
 //! |---|---|---|
 //! | `nav2` | `neurotree::robotics` and `neurotree::nav2` (crate `neurotree-nav2`) | none beyond the crate |
 //! | `sim` | `neurotree::sim` (crate `neurotree-sim`); turns on `nav2` | `pathfinding`, `fastrand` |
-//! | `groot` | `neurotree::groot` (crate `neurotree-groot`) | `zeromq`, `tokio`, `rmp-serde` |
+//! | `groot` | `neurotree::groot` (crate `neurotree-groot`) | `tokio`, `rmp-serde` |
 //! | `tokio` | `runtime::tokio`: a runner, a clock on tokio's time, tasks aborted by a halt | `tokio`, `tokio-util` |
 //! | `sqlite` | `observe::SqliteLogger` | `rusqlite` (SQLite bundled) |
 //! | `tracing` | `observe::TracingObserver` | `tracing` |
