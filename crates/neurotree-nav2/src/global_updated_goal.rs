@@ -8,9 +8,11 @@ use super::goals::SeenGoals;
 /// GlobalUpdatedGoal: a condition that succeeds when the goal changed since it last looked,
 /// however its parents reset it in between.
 ///
-/// | node | semantics |
-/// |---|---|
-/// | GlobalUpdatedGoal(goal, goals) | A condition. On its first tick ever: remember the goals, Success. Later (whatever its parents did meanwhile): Success if `goal` or `goals` differs from what it remembered (and remember the new ones), else Failure. |
+/// A condition, with ports `goal` and `goals`.
+///
+/// - On its first tick ever: remember the goals, Success.
+/// - Later (whatever its parents did meanwhile): Success if `goal` or `goals` differs from what
+///   it remembered (and remember the new ones), else Failure.
 ///
 /// Its memory lives as long as the tree instance: neither a reset nor a halt of the tree
 /// clears it. Nav2 puts it under an Inverter in "is a new path needed?" checks, so that the

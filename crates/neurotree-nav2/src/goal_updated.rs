@@ -6,9 +6,11 @@ use super::goals::SeenGoals;
 
 /// GoalUpdated: a condition that succeeds when the goal changed while its parent ran.
 ///
-/// | node | semantics |
-/// |---|---|
-/// | GoalUpdated(goal, goals) | A condition. On the tick from Idle: remember the goals, Failure. Later: Success if `goal` or `goals` differs from what it remembered (and remember the new ones), else Failure. |
+/// A condition, with ports `goal` and `goals`.
+///
+/// - On the tick from Idle: remember the goals, Failure.
+/// - Later: Success if `goal` or `goals` differs from what it remembered (and remember the new
+///   ones), else Failure.
 ///
 /// "Later" means a tick that finds the condition's last result still stored: its parent has
 /// not reset it since. A WhileDoElse keeps its condition's result while a branch runs, so

@@ -6,9 +6,11 @@ use super::goals::SeenGoals;
 
 /// GoalUpdatedController: start the child again only for a new goal.
 ///
-/// | node | semantics |
-/// |---|---|
-/// | GoalUpdatedController(goal, goals) | On the tick from Idle: remember the goals and tick the child. Later: tick the child if it is Running or `goal` or `goals` changed since the last look; otherwise return Running without ticking it. |
+/// Ports `goal` and `goals`.
+///
+/// - On the tick from Idle: remember the goals and tick the child.
+/// - Later: tick the child if it is Running or `goal` or `goals` changed since the last look;
+///   otherwise return Running without ticking it.
 ///
 /// The child's status passes through, and a completed child is reset, so that the next new
 /// goal starts it afresh. As with the RateController, "later" needs a parent that keeps the

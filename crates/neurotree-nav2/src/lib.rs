@@ -14,15 +14,15 @@
 //! their Nav2 names, with Nav2's ports and defaults; each type also has a `spec()` for the
 //! [`Builder`](neurotree_toolkit::Builder).
 //!
-//! | node | semantics |
+//! | node | in short |
 //! |---|---|
-//! | [PipelineSequence] | Every tick, tick children from the first. Failure: halt all, Failure. Success or Skipped: go on. Running: if this child is at or past the furthest child that has run so far, remember it and return Running; an earlier child still Running is passed over (it keeps running "in the pipeline"). All done: halt all, reset, Success (Skipped if all were skipped). |
-//! | [RecoveryNode(number_of_retries=1)](RecoveryNode) | Exactly 2 children: action, recovery. Action Success: halt recovery, reset, Success. Action Running: Running. Action Failure: if retries < N, halt action and tick recovery in the same tick; else reset, Failure. Recovery Success: retries+1, tick the action again in the same tick; Running: Running; Failure: reset, Failure; Skipped: Failure (not counted as a retry). Action Skipped: Skipped. |
-//! | [RoundRobin(wrap_around=false)](RoundRobin) | Starting at the stored child, tick; a child that completes advances the index (wrapping to 0 if wrap_around, else stopping at the end). Success: halt the others, Success; the next tick starts at the child after it. Running: Running. Failure: try the next; when every child has failed since the last success (or the end is reached without wrap-around): reset, Failure. Halt resets the index. |
-//! | [RateController(hz=10)](RateController) | On the tick from Idle, start a period timer and tick the child at once. Later: tick the child if it is Running or the period has elapsed since the last child Success; otherwise return Running without ticking it. Child Success restarts the timer. |
-//! | [GoalUpdated(goal, goals)](GoalUpdated) | A condition. On the tick from Idle: remember the goals, Failure. Later: Success if `goal` or `goals` differs from what it remembered (and remember the new ones), else Failure. |
-//! | [GlobalUpdatedGoal(goal, goals)](GlobalUpdatedGoal) | A condition. On its first tick ever: remember the goals, Success. Later (whatever its parents did meanwhile): Success if `goal` or `goals` differs from what it remembered (and remember the new ones), else Failure. |
-//! | [GoalUpdatedController(goal, goals)](GoalUpdatedController) | On the tick from Idle: remember the goals and tick the child. Later: tick the child if it is Running or `goal` or `goals` changed since the last look; otherwise return Running without ticking it. |
+//! | [PipelineSequence] | a sequence whose earlier children keep running |
+//! | [RecoveryNode] | run an action; when it fails, a recovery, then the action again |
+//! | [RoundRobin] | each use of the node runs the next child |
+//! | [RateController] | start the child again at most `hz` times per second |
+//! | [GoalUpdated] | a condition: the goal changed while its parent ran |
+//! | [GlobalUpdatedGoal] | a condition: the goal changed since it last looked |
+//! | [GoalUpdatedController] | start the child again only for a new goal |
 //!
 //! # Goals
 //!

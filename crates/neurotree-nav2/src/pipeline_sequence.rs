@@ -4,9 +4,14 @@ use neurotree_core::{Arity, CustomNode, CustomSpec, NodeCtx, NodeStatus};
 
 /// PipelineSequence: a sequence whose earlier children keep running while later ones start.
 ///
-/// | node | semantics |
-/// |---|---|
-/// | PipelineSequence | Every tick, tick children from the first. Failure: halt all, Failure. Success or Skipped: go on. Running: if this child is at or past the furthest child that has run so far, remember it and return Running; an earlier child still Running is passed over (it keeps running "in the pipeline"). All done: halt all, reset, Success (Skipped if all were skipped). |
+/// Every tick, tick children from the first.
+///
+/// - Failure: halt all, Failure.
+/// - Success or Skipped: go on.
+/// - Running: if this child is at or past the furthest child that has run so far, remember it
+///   and return Running; an earlier child still Running is passed over (it keeps running "in
+///   the pipeline").
+/// - All done: halt all, reset, Success (Skipped if all were skipped).
 ///
 /// Nav2 uses it to plan and follow at once: `PipelineSequence(RateController(Plan), Follow)`
 /// re-ticks the planner's branch every tick and, once a first path exists, follows it while

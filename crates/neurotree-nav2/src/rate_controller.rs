@@ -8,14 +8,18 @@ use super::port_or;
 
 /// RateController: let the child start again at most `hz` times per second.
 ///
-/// | node | semantics |
-/// |---|---|
-/// | RateController(hz=10) | On the tick from Idle, start a period timer and tick the child at once. Later: tick the child if it is Running or the period has elapsed since the last child Success; otherwise return Running without ticking it. Child Success restarts the timer. |
+/// Port `hz` (default 10).
 ///
-/// The period is `1/hz` seconds on the tree's [`Clock`](neurotree_toolkit::Clock), read from `hz` on
-/// the tick from Idle. The child's status passes through, and a completed child is reset, so
-/// that the next period starts it afresh. As in Nav2, `hz = 0` makes the period endless (the
-/// child runs once per run of the node) and a negative `hz` makes it always elapsed.
+/// - On the tick from Idle, start a period timer and tick the child at once.
+/// - Later: tick the child if it is Running or the period has elapsed since the last child
+///   Success; otherwise return Running without ticking it.
+/// - Child Success restarts the timer.
+///
+/// The period is `1/hz` seconds on the tree's [`Clock`](neurotree_toolkit::Clock), read from
+/// `hz` on the tick from Idle. The child's status passes through, and a completed child is
+/// reset, so that the next period starts it afresh. As in Nav2, `hz = 0` makes the period
+/// endless (the child runs once per run of the node) and a negative `hz` makes it always
+/// elapsed.
 ///
 /// "Later" needs a parent that keeps the completed node as it is: a PipelineSequence does,
 /// which is how Nav2 replans at a fixed rate while the path is followed. A parent that resets
@@ -32,8 +36,8 @@ pub struct RateController {
 }
 
 impl RateController {
-    /// The node kind for a [`Builder`](neurotree_toolkit::Builder); bind `hz` with `.ports(..)` first
-    /// thing in the child closure (10 when left out).
+    /// The node kind for a [`Builder`](neurotree_toolkit::Builder); bind `hz` with `.ports(..)`
+    /// first thing in the child closure (10 when left out).
     pub fn spec<C>() -> CustomSpec<C> {
         CustomSpec {
             type_name: "RateController".into(),

@@ -9,9 +9,15 @@ const RECOVERY: usize = 1;
 
 /// RecoveryNode: run an action; when it fails, run a recovery and try the action again.
 ///
-/// | node | semantics |
-/// |---|---|
-/// | RecoveryNode(number_of_retries=1) | Exactly 2 children: action, recovery. Action Success: halt recovery, reset, Success. Action Running: Running. Action Failure: if retries < N, halt action and tick recovery in the same tick; else reset, Failure. Recovery Success: retries+1, tick the action again in the same tick; Running: Running; Failure: reset, Failure; Skipped: Failure (not counted as a retry). Action Skipped: Skipped. |
+/// Port `number_of_retries` (N, default 1). Exactly 2 children: action, recovery.
+///
+/// - Action Success: halt recovery, reset, Success.
+/// - Action Running: Running.
+/// - Action Failure: if retries < N, halt action and tick recovery in the same tick; else
+///   reset, Failure.
+/// - Recovery Success: retries+1, tick the action again in the same tick; Running: Running;
+///   Failure: reset, Failure; Skipped: Failure (not counted as a retry).
+/// - Action Skipped: Skipped.
 ///
 /// "Reset" clears the retry count and halts and resets both children; a skipped action
 /// resets the node too, since a node that returns Skipped is Idle again. A negative

@@ -6,9 +6,14 @@ use super::port_or;
 
 /// RoundRobin: each use of the node runs the next child, so that recoveries take turns.
 ///
-/// | node | semantics |
-/// |---|---|
-/// | RoundRobin(wrap_around=false) | Starting at the stored child, tick; a child that completes advances the index (wrapping to 0 if wrap_around, else stopping at the end). Success: halt the others, Success; the next tick starts at the child after it. Running: Running. Failure: try the next; when every child has failed since the last success (or the end is reached without wrap-around): reset, Failure. Halt resets the index. |
+/// Port `wrap_around` (default false). Starting at the stored child, tick; a child that
+/// completes advances the index (wrapping to 0 if wrap_around, else stopping at the end).
+///
+/// - Success: halt the others, Success; the next tick starts at the child after it.
+/// - Running: Running.
+/// - Failure: try the next; when every child has failed since the last success (or the end is
+///   reached without wrap-around): reset, Failure.
+/// - Halt resets the index.
 ///
 /// The index survives the node's completion: a parent that resets the node after a Success
 /// does not halt it, so the next use starts at the next child. That is what makes Nav2's
@@ -25,8 +30,8 @@ pub struct RoundRobin {
 }
 
 impl RoundRobin {
-    /// The node kind for a [`Builder`](neurotree_toolkit::Builder); bind `wrap_around` with `.ports(..)`
-    /// first thing in the children closure (false when left out).
+    /// The node kind for a [`Builder`](neurotree_toolkit::Builder); bind `wrap_around` with
+    /// `.ports(..)` first thing in the children closure (false when left out).
     pub fn spec<C>() -> CustomSpec<C> {
         CustomSpec {
             type_name: "RoundRobin".into(),

@@ -17,8 +17,8 @@
 //!
 //! The world is a [`MotionPlanner`](neurotree_nav2::robotics::MotionPlanner) (A* on the global
 //! costmap, via the `pathfinding` crate), and its sensors are
-//! [`SensorReader`](neurotree_nav2::robotics::SensorReader)s, so the robotics nodes drive it as they
-//! would a robot. [`GridWorld::render`] draws it as plain text.
+//! [`SensorReader`](neurotree_nav2::robotics::SensorReader)s, so the robotics nodes drive it as
+//! they would a robot. [`GridWorld::render`] draws it as plain text.
 //!
 //! ```
 //! use std::time::Duration;

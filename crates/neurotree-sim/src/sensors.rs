@@ -1,16 +1,21 @@
 //! The simulated sensors: a lidar, a camera and a battery gauge.
 //!
-//! Each is a [`SensorReader`], so the [sensor node](neurotree_nav2::robotics::sensor) reads it as it
-//! would a real device. The world samples every sensor at the end of each
-//! [`step`](super::GridWorld::step), the way a driver keeps the latest message of a device
-//! that publishes at its own rate; a read returns that sample. Noise comes from a seeded
-//! generator ([`GridWorld::with_seed`](super::GridWorld::with_seed)), so runs repeat exactly.
+//! Each is a [`SensorReader`], so the [sensor node](neurotree_nav2::robotics::sensor) reads it
+//! as it would a real device. The world samples every sensor at the end of each
+//! [`step`](super::GridWorld::step), the way a driver keeps the latest message of a device that
+//! publishes at its own rate; a read returns that sample. Noise comes from a seeded generator
+//! ([`GridWorld::with_seed`](super::GridWorld::with_seed)), so runs repeat exactly.
 //!
 //! | sensor | values | quality |
 //! |---|---|---|
-//! | [`Lidar`] | `ranges` (metres, one per beam, counter-clockwise from the heading), `min_range`, `hits` (centres of the cells the beams hit) | fixed, 1.0 unless set |
-//! | [`Camera`] | `objects` (centres of the obstacles in view, nearest first), `count`, `nearest` (metres; the range if none) | `base` minus a random share of `jitter` per frame |
+//! | [`Lidar`] | `ranges`, `min_range`, `hits` | fixed, 1.0 unless set |
+//! | [`Camera`] | `objects`, `count`, `nearest` | `base` minus a random share of `jitter` |
 //! | [`BatterySensor`] | `level` (percent), `charging` | 1.0 |
+//!
+//! - The lidar's `ranges` are in metres, one per beam, counter-clockwise from the heading;
+//!   `hits` are the centres of the cells the beams hit.
+//! - The camera's `objects` are the centres of the obstacles in view, nearest first; `nearest`
+//!   is in metres (the range if none). Its quality is drawn afresh per frame.
 //!
 //! The camera sees obstacles, not walls, as an object detector would; neither sensor sees
 //! through walls' cells, but the camera ignores occlusion between obstacles.

@@ -79,16 +79,29 @@
 //!
 //! | where | what |
 //! |---|---|
-//! | the root | [`Blueprint`], [`Builder`], [`tree!`], [`Tree`], [`Status`], the leaf traits ([`Condition`], [`Action`], [`StatefulAction`], [`AsyncAction`], [`CustomNode`]), [`Clock`]s, [`Observer`], [`Blackboard`] and [`SharedBlackboard`], [`Registry`], [`XmlLoader`] |
-//! | [`nodes`] | the node catalog: every built-in node, one module each, with its semantics, ports and tests (the core's controls, decorators and leaves; [`nodes::script`], [`nodes::switch`], [`nodes::loops`], [`nodes::entry`] need `std`) |
+//! | the root | the types you build and run trees with (below) |
+//! | [`nodes`] | the node catalog: every built-in node, one module each |
 //! | [`xml`] | loading and saving BehaviorTree.CPP format 4, `TreeNodesModel`s, mocks |
-//! | [`script`] | BehaviorTree.CPP's script language, for `Script`, `Precondition` and `_skipIf`-style attributes |
-//! | [`observe`] | loggers on the observer hook: console, JSON lines, statistics, `.btlog`, SQLite, `tracing` |
+//! | [`script`] | BehaviorTree.CPP's script language |
+//! | [`observe`] | loggers on the observer hook |
 //! | [`render`] | pictures of a tree: text, Graphviz DOT, Mermaid, SVG, with statuses |
 //! | [`runtime`] | runners: a fixed-rate loop, and tokio helpers |
-//! | `robotics`, `nav2` | (feature `nav2`) sensor and navigation nodes over your robot; Nav2's control nodes |
+//! | `robotics`, `nav2` | (feature `nav2`) robot nodes; Nav2's control nodes |
 //! | `sim` | (feature `sim`) a deterministic grid world and Nav2's leaves simulated on it |
 //! | `groot` | (feature `groot`) a Groot2 monitor server |
+//!
+//! - The root has [`Blueprint`], [`Builder`], [`tree!`], [`Tree`], [`Status`], the leaf traits
+//!   ([`Condition`], [`Action`], [`StatefulAction`], [`AsyncAction`], [`CustomNode`]),
+//!   [`Clock`]s, [`Observer`], [`Blackboard`] and [`SharedBlackboard`], [`Registry`],
+//!   [`XmlLoader`].
+//! - [`nodes`] gives each node its semantics, ports and tests: the core's controls, decorators
+//!   and leaves; [`nodes::script`], [`nodes::switch`], [`nodes::loops`], [`nodes::entry`] need
+//!   `std`.
+//! - [`script`] is for `Script`, `Precondition` and `_skipIf`-style attributes.
+//! - [`observe`] has loggers for the console, JSON lines, statistics, `.btlog`, SQLite and
+//!   `tracing`.
+//! - `robotics` and `nav2` hold sensor and navigation nodes over your robot, and Nav2's control
+//!   nodes.
 //!
 //! # Crate features
 //!
@@ -97,12 +110,16 @@
 //!
 //! | feature | brings | dependencies it adds |
 //! |---|---|---|
-//! | `nav2` | `neurotree::robotics` and `neurotree::nav2` (crate `neurotree-nav2`) | none beyond the crate |
-//! | `sim` | `neurotree::sim` (crate `neurotree-sim`); turns on `nav2` | `pathfinding`, `fastrand` |
-//! | `groot` | `neurotree::groot` (crate `neurotree-groot`) | `tokio`, `rmp-serde` |
-//! | `tokio` | `runtime::tokio`: a runner, a clock on tokio's time, tasks aborted by a halt | `tokio`, `tokio-util` |
+//! | `nav2` | `neurotree::robotics`, `neurotree::nav2` | none beyond the crate |
+//! | `sim` | `neurotree::sim`; turns on `nav2` | `pathfinding`, `fastrand` |
+//! | `groot` | `neurotree::groot` | `tokio`, `rmp-serde` |
+//! | `tokio` | `runtime::tokio` | `tokio`, `tokio-util` |
 //! | `sqlite` | `observe::SqliteLogger` | `rusqlite` (SQLite bundled) |
 //! | `tracing` | `observe::TracingObserver` | `tracing` |
+//!
+//! The crates behind them: `neurotree-nav2` for `nav2`, `neurotree-sim` for `sim`,
+//! `neurotree-groot` for `groot`. `runtime::tokio` is a runner, a clock on tokio's time, and
+//! tasks aborted by a halt.
 //!
 //! # Crates
 //!

@@ -2,11 +2,13 @@
 //! `_failureIf`, `_successIf`, `_skipIf`, `_while`, `_onSuccess`, `_onFailure`, `_post` and
 //! `_onHalted` attributes.
 //!
-//! | step | semantics |
-//! |---|---|
-//! | before the tick | Checked only while the node is Idle, in this order: `_failureIf` true → Failure, `_successIf` true → Success, `_skipIf` true → Skipped, `_while` false → Skipped; the node's own tick is then not called. While the node is Running, only `_while` is checked: false halts the node and returns Skipped. |
-//! | after the tick | On Success `_onSuccess`, on Failure `_onFailure`, then `_post` on either (also when a precondition decided the status). |
-//! | after a halt | `_onHalted`, when a Running node is halted. |
+//! - **Before the tick**: checked only while the node is Idle, in this order:
+//!   `_failureIf` true → Failure, `_successIf` true → Success, `_skipIf` true → Skipped,
+//!   `_while` false → Skipped; the node's own tick is then not called. While the node is
+//!   Running, only `_while` is checked: false halts the node and returns Skipped.
+//! - **After the tick**: on Success `_onSuccess`, on Failure `_onFailure`, then `_post` on
+//!   either (also when a precondition decided the status).
+//! - **After a halt**: `_onHalted`, when a Running node is halted.
 //!
 //! The engine calls a [`NodeHooks`] object at these points; the `neurotree` crate implements
 //! it with its script language. A node without hooks pays nothing.

@@ -1,8 +1,19 @@
 //! Navigation: a [`MotionPlanner`] trait and the node that drives it to a goal.
 //!
-//! | node | semantics |
-//! |---|---|
-//! | NavigationNode(goal, current_pose?, obstacles?, goal_tolerance=0.1, path?) | First tick: already within `goal_tolerance` of `goal` → Success; else plan from `current_pose` (the planner's pose when the port is absent) to `goal` around `obstacles`; no plan → Failure; else start executing → Running. Later ticks: the rest of the path blocked (or the planner reports it blocked) → plan again at once, from the planner's pose (no plan → stop, Failure); execution failed → stop, Failure; within `goal_tolerance` → Success (a motion still under way is stopped first); execution finished elsewhere → Failure; else Running. Halted while Running → the motion is stopped exactly once. |
+//! [`NavigationNode`] has the ports `goal`, `current_pose` (optional), `obstacles` (optional),
+//! `goal_tolerance` (default 0.1) and `path` (optional).
+//!
+//! - First tick: already within `goal_tolerance` of `goal` → Success; else plan from
+//!   `current_pose` (the planner's pose when the port is absent) to `goal` around
+//!   `obstacles`; no plan → Failure; else start executing → Running.
+//! - Later ticks:
+//!   - the rest of the path blocked (or the planner reports it blocked) → plan again at once,
+//!     from the planner's pose (no plan → stop, Failure);
+//!   - execution failed → stop, Failure;
+//!   - within `goal_tolerance` → Success (a motion still under way is stopped first);
+//!   - execution finished elsewhere → Failure;
+//!   - else Running.
+//! - Halted while Running → the motion is stopped exactly once.
 //!
 //! The node keeps its state (the path, whether it is planning or executing) per tree
 //! instance; the planner is reached through the user's context, like a

@@ -1,8 +1,11 @@
 //! Sensor nodes: read a sensor, check the reading's quality, publish it on the blackboard.
 //!
-//! | node | semantics |
-//! |---|---|
-//! | SensorNode(output, min_quality=0) | Sensor unavailable → Failure (the sensor is not read); read error → Failure; reading quality below `min_quality` → Failure; else the reading is written to the `output` entry → Success. Never Running. |
+//! [`SensorNode`] has the ports `output` and `min_quality` (default 0). Never Running.
+//!
+//! - Sensor unavailable → Failure (the sensor is not read).
+//! - Read error → Failure.
+//! - Reading quality below `min_quality` → Failure.
+//! - Else the reading is written to the `output` entry → Success.
 //!
 //! A sensor is anything that implements [`SensorReader`]: a driver for a real device, or one
 //! of the simulated sensors of `neurotree::sim`.

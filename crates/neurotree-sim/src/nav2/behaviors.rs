@@ -1,10 +1,17 @@
 //! Spin, Wait and BackUp: Nav2's recovery behaviors, as the world's motions.
 //!
-//! | node | semantics |
-//! |---|---|
-//! | Spin(spin_dist=1.57, time_allowance=10) | Stateful action: turns on the spot by `spin_dist` radians at the spin rate. Success when turned; Failure TIMEOUT 701 past the time allowance, UNKNOWN 700 with an empty battery. Halt stops the motion. |
-//! | Wait(wait_duration=1.0) | Stateful action: stands still for `wait_duration` seconds. Success; halt stops the wait. |
-//! | BackUp(backup_dist=0.15, backup_speed=0.025, time_allowance=10) | Stateful action: drives backwards `backup_dist` metres at `backup_speed`. Success; Failure COLLISION_AHEAD 714 against a wall or an obstacle, TIMEOUT 711 past the time allowance, INVALID_INPUT 713 for a zero speed or a number that is not finite. Halt stops the motion. |
+//! All three are stateful actions.
+//!
+//! - **Spin**, ports `spin_dist` (default 1.57) and `time_allowance` (default 10): turns on the
+//!   spot by `spin_dist` radians at the spin rate. Success when turned; Failure TIMEOUT 701
+//!   past the time allowance, UNKNOWN 700 with an empty battery. Halt stops the motion.
+//! - **Wait**, port `wait_duration` (default 1.0): stands still for `wait_duration` seconds.
+//!   Success; halt stops the wait.
+//! - **BackUp**, ports `backup_dist` (default 0.15), `backup_speed` (default 0.025) and
+//!   `time_allowance` (default 10): drives backwards `backup_dist` metres at `backup_speed`.
+//!   Success; Failure COLLISION_AHEAD 714 against a wall or an obstacle, TIMEOUT 711 past the
+//!   time allowance, INVALID_INPUT 713 for a zero speed or a number that is not finite. Halt
+//!   stops the motion.
 //!
 //! Each starts its motion on the tick from Idle (Running) and reads the motion's outcome
 //! on later ticks, after the world has stepped. A motion that ends without the node's doing

@@ -1,8 +1,16 @@
 //! FollowPath: the controller server, as the world's follow motion.
 //!
-//! | node | semantics |
-//! |---|---|
-//! | FollowPath(path, controller_id, …) → tracking_feedback, error_code_id, error_msg | Stateful action on the world's follow motion. Every tick it reads the *current* `path`: a new path is followed from where the robot is (Nav2's controller takes new paths while it runs). Success (motion stopped, error 0) once the robot is within the goal tolerance of the path's end. Failure: INVALID_PATH 103 (no or empty path), NO_VALID_CONTROL 106 (blocked by an obstacle), FAILED_TO_MAKE_PROGRESS 105 (battery empty). Else Running. Halt stops the motion. |
+//! Stateful action on the world's follow motion. Ports: `path`, `controller_id`, …; outputs
+//! `tracking_feedback`, `error_code_id`, `error_msg`.
+//!
+//! - Every tick it reads the *current* `path`: a new path is followed from where the robot is
+//!   (Nav2's controller takes new paths while it runs).
+//! - Success (motion stopped, error 0) once the robot is within the goal tolerance of the
+//!   path's end.
+//! - Failure: INVALID_PATH 103 (no or empty path), NO_VALID_CONTROL 106 (blocked by an
+//!   obstacle), FAILED_TO_MAKE_PROGRESS 105 (battery empty).
+//! - Else Running.
+//! - Halt stops the motion.
 //!
 //! In Nav2's navigator the controller keeps running while a RateController replans beside
 //! it in a PipelineSequence; each new plan reaches the controller as a new goal, which it

@@ -1,8 +1,8 @@
 //! ClearEntireCostmap: the costmaps' clearing service.
 //!
-//! | node | semantics |
-//! |---|---|
-//! | ClearEntireCostmap(service_name) | Sync action: forgets the sensed obstacles of the global costmap (a service name containing `global_costmap`) or the local one (`local_costmap`); Success. Any other name: Failure. |
+//! Sync action with the port `service_name`: forgets the sensed obstacles of the global
+//! costmap (a service name containing `global_costmap`) or the local one (`local_costmap`);
+//! Success. Any other name: Failure.
 //!
 //! Nav2 names the costmap by the service that clears it
 //! (`global_costmap/clear_entirely_global_costmap`); the walls of the map stay, and an

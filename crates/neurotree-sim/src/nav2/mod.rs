@@ -9,20 +9,28 @@
 //! Nav2's own model. [`register_nav2_leaves`] adds them to a [`Registry`] whose context
 //! gives access to a [`Nav2Sim`] (see [`Nav2Context`]).
 //!
-//! | node | semantics |
+//! | node | in short |
 //! |---|---|
-//! | ComputePathToPose(goal, start?, use_start?, viapoints?, planner_id) → path, error_code_id, error_msg | Sync action. A* on the global costmap from `start` (the robot when absent, or when `use_start` is false) through `viapoints` to `goal`. Success: writes `path` and error code 0. Failure: writes an empty `path` and the planner's error code: START_OUTSIDE_MAP 203, GOAL_OUTSIDE_MAP 204, GOAL_OCCUPIED 206, NO_VALID_PATH 208 (UNKNOWN 200 for an unreadable goal). |
-//! | FollowPath(path, controller_id, …) → tracking_feedback, error_code_id, error_msg | Stateful action on the world's follow motion. Every tick it reads the *current* `path`: a new path is followed from where the robot is (Nav2's controller takes new paths while it runs). Success (motion stopped, error 0) once the robot is within the goal tolerance of the path's end. Failure: INVALID_PATH 103 (no or empty path), NO_VALID_CONTROL 106 (blocked by an obstacle), FAILED_TO_MAKE_PROGRESS 105 (battery empty). Else Running. Halt stops the motion. |
-//! | ProgressCheckerSelector, GoalCheckerSelector, PathHandlerSelector, ControllerSelector, PlannerSelector | Sync actions: write `default_*` to `selected_*`, Success; Failure without a default. |
-//! | IsGoalNearby(path, proximity_threshold=1.0, max_robot_pose_search_dist=-1) | Condition: the path length from the pose nearest the robot to the end is below the threshold. The search for the nearest pose starts where the last one was found on the same path and spans `max_robot_pose_search_dist` metres of it (the whole path when negative). Empty path: Failure. |
-//! | TruncatePathLocal(input_path, distance_forward=8, distance_backward=4, pose?, angular_distance_weight=0, max_robot_pose_search_dist=inf) → output_path | Sync action: the part of the path from `distance_backward` metres before the pose nearest the robot (or `pose`) to `distance_forward` metres after it (to the end when negative). Success. |
-//! | ValidatePath(path, max_lookahead_distance=-1, stop_at_first_collision=true) → collision_poses | Sync action: Success if no pose of the path (within the lookahead from the pose nearest the robot, when positive) lies on a cell the global costmap holds blocked; else Failure, listing the poses in collision. Empty path: Failure. |
-//! | ClearEntireCostmap(service_name) | Sync action: forgets the sensed obstacles of the global costmap (a service name containing `global_costmap`) or the local one (`local_costmap`); Success. Any other name: Failure. |
-//! | WouldAPlannerRecoveryHelp(error_code, error_codes_to_check?) | Condition: `error_code` is UNKNOWN 200, NO_VALID_PATH 208 or TIMEOUT 207 (or one of `error_codes_to_check` when given). No such entry yet: code 0. |
-//! | WouldAControllerRecoveryHelp(error_code, error_codes_to_check?) | Condition: `error_code` is UNKNOWN 100, PATIENCE_EXCEEDED 104, FAILED_TO_MAKE_PROGRESS 105 or NO_VALID_CONTROL 106 (or one of `error_codes_to_check`). |
-//! | Spin(spin_dist=1.57, time_allowance=10) | Stateful action: turns on the spot by `spin_dist` radians at the spin rate. Success when turned; Failure TIMEOUT 701 past the time allowance, UNKNOWN 700 with an empty battery. Halt stops the motion. |
-//! | Wait(wait_duration=1.0) | Stateful action: stands still for `wait_duration` seconds. Success; halt stops the wait. |
-//! | BackUp(backup_dist=0.15, backup_speed=0.025, time_allowance=10) | Stateful action: drives backwards `backup_dist` metres at `backup_speed`. Success; Failure COLLISION_AHEAD 714 against a wall or an obstacle, TIMEOUT 711 past the time allowance, INVALID_INPUT 713 for a zero speed or a number that is not finite. Halt stops the motion. |
+//! | ComputePathToPose | the planner: A* on the global costmap |
+//! | FollowPath | the controller: follow the current path |
+//! | PlannerSelector | pick the default planner |
+//! | ControllerSelector | pick the default controller |
+//! | GoalCheckerSelector | pick the default goal checker |
+//! | ProgressCheckerSelector | pick the default progress checker |
+//! | PathHandlerSelector | pick the default path handler |
+//! | IsGoalNearby | is the end of the path near? |
+//! | TruncatePathLocal | the part of the path around the robot |
+//! | ValidatePath | is the path still free? |
+//! | ClearEntireCostmap | forget the sensed obstacles of a costmap |
+//! | WouldAPlannerRecoveryHelp | can a recovery fix the planner's error? |
+//! | WouldAControllerRecoveryHelp | can a recovery fix the controller's error? |
+//! | Spin | turn on the spot |
+//! | Wait | stand still |
+//! | BackUp | drive backwards |
+//!
+//! Each node's ports, defaults, outcomes and error codes are told in its own file: `planner.rs`,
+//! `controller.rs`, `selectors.rs`, `path_checks.rs`, `costmaps.rs`, `recovery_help.rs` and
+//! `behaviors.rs` (Spin, Wait, BackUp).
 //!
 //! Ports that only make sense on a ROS system (server names, timeouts, frames, plugin ids,
 //! footprints) are declared, so that files using them load, and read nowhere.
@@ -247,12 +255,12 @@ impl Nav2Context for Nav2Sim {
     }
 }
 
-/// Registers every Nav2 leaf that `navigate_to_pose_w_replanning_and_recovery.xml` uses,
-/// under its Nav2 name with the ports of `nav2_tree_nodes.xml`: ComputePathToPose,
-/// FollowPath, the five selectors, IsGoalNearby, TruncatePathLocal, ValidatePath,
-/// ClearEntireCostmap, WouldAPlannerRecoveryHelp, WouldAControllerRecoveryHelp, Spin, Wait
-/// and BackUp. The control nodes come from [`nav2::register_controls`](neurotree_nav2::register_controls).
-/// Fails if one of the names is taken.
+/// Registers every Nav2 leaf that `navigate_to_pose_w_replanning_and_recovery.xml` uses, under
+/// its Nav2 name with the ports of `nav2_tree_nodes.xml`: ComputePathToPose, FollowPath, the
+/// five selectors, IsGoalNearby, TruncatePathLocal, ValidatePath, ClearEntireCostmap,
+/// WouldAPlannerRecoveryHelp, WouldAControllerRecoveryHelp, Spin, Wait and BackUp. The control
+/// nodes come from [`nav2::register_controls`](neurotree_nav2::register_controls). Fails if one
+/// of the names is taken.
 pub fn register_nav2_leaves<C: Nav2Context>(
     registry: &mut Registry<C>,
 ) -> Result<(), RegistryError> {

@@ -1,11 +1,25 @@
 //! The checks on the current path that decide whether the navigator plans again:
 //! IsGoalNearby, TruncatePathLocal and ValidatePath.
 //!
-//! | node | semantics |
-//! |---|---|
-//! | IsGoalNearby(path, proximity_threshold=1.0, max_robot_pose_search_dist=-1) | Condition: the path length from the pose nearest the robot to the end is below the threshold. The search for the nearest pose starts where the last one was found on the same path and spans `max_robot_pose_search_dist` metres of it (the whole path when negative). Empty path: Failure. |
-//! | TruncatePathLocal(input_path, distance_forward=8, distance_backward=4, pose?, angular_distance_weight=0, max_robot_pose_search_dist=inf) → output_path | Sync action: the part of the path from `distance_backward` metres before the pose nearest the robot (or `pose`) to `distance_forward` metres after it (to the end when negative). Success. |
-//! | ValidatePath(path, max_lookahead_distance=-1, stop_at_first_collision=true) → collision_poses | Sync action: Success if no pose of the path (within the lookahead from the pose nearest the robot, when positive) lies on a cell the global costmap holds blocked; else Failure, listing the poses in collision. Empty path: Failure. |
+//! - **IsGoalNearby**: a condition. Ports: `path`, `proximity_threshold` (default 1.0),
+//!   `max_robot_pose_search_dist` (default -1).
+//!   - Success when the path length from the pose nearest the robot to the end is below the
+//!     threshold.
+//!   - The search for the nearest pose starts where the last one was found on the same path
+//!     and spans `max_robot_pose_search_dist` metres of it (the whole path when negative).
+//!   - Empty path: Failure.
+//! - **TruncatePathLocal**: a sync action. Ports: `input_path`, `distance_forward` (default
+//!   8), `distance_backward` (default 4), `pose` (optional), `angular_distance_weight`
+//!   (default 0), `max_robot_pose_search_dist` (default inf); output `output_path`.
+//!   - Writes the part of the path from `distance_backward` metres before the pose nearest
+//!     the robot (or `pose`) to `distance_forward` metres after it (to the end when
+//!     negative). Success.
+//! - **ValidatePath**: a sync action. Ports: `path`, `max_lookahead_distance` (default -1),
+//!   `stop_at_first_collision` (default true); output `collision_poses`.
+//!   - Success if no pose of the path (within the lookahead from the pose nearest the robot,
+//!     when positive) lies on a cell the global costmap holds blocked; else Failure, listing
+//!     the poses in collision.
+//!   - Empty path: Failure.
 //!
 //! Nav2's navigator keeps a path while the goal is near and the rest of the path is still
 //! free: these three say so. The nearest-pose search of IsGoalNearby and TruncatePathLocal

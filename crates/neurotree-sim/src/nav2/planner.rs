@@ -1,8 +1,14 @@
 //! ComputePathToPose: the planner server, as A* on the global costmap.
 //!
-//! | node | semantics |
-//! |---|---|
-//! | ComputePathToPose(goal, start?, use_start?, viapoints?, planner_id) → path, error_code_id, error_msg | Sync action. A* on the global costmap from `start` (the robot when absent, or when `use_start` is false) through `viapoints` to `goal`. Success: writes `path` and error code 0. Failure: writes an empty `path` and the planner's error code: START_OUTSIDE_MAP 203, GOAL_OUTSIDE_MAP 204, GOAL_OCCUPIED 206, NO_VALID_PATH 208 (UNKNOWN 200 for an unreadable goal). |
+//! Sync action. Ports: `goal`, `start` (optional), `use_start` (optional), `viapoints`
+//! (optional), `planner_id`; outputs `path`, `error_code_id`, `error_msg`.
+//!
+//! - A* on the global costmap from `start` (the robot when absent, or when `use_start` is
+//!   false) through `viapoints` to `goal`.
+//! - Success: writes `path` and error code 0.
+//! - Failure: writes an empty `path` and the planner's error code: START_OUTSIDE_MAP 203,
+//!   GOAL_OUTSIDE_MAP 204, GOAL_OCCUPIED 206, NO_VALID_PATH 208 (UNKNOWN 200 for an
+//!   unreadable goal).
 //!
 //! Nav2's planner runs as an action server, so its node is Running for a while; the grid
 //! planner answers within the tick, so the node completes at once, which keeps the tick

@@ -1,10 +1,12 @@
 //! WouldAPlannerRecoveryHelp and WouldAControllerRecoveryHelp: is the last error one that a
 //! recovery can fix?
 //!
-//! | node | semantics |
-//! |---|---|
-//! | WouldAPlannerRecoveryHelp(error_code, error_codes_to_check?) | Condition: `error_code` is UNKNOWN 200, NO_VALID_PATH 208 or TIMEOUT 207 (or one of `error_codes_to_check` when given). No such entry yet: code 0. |
-//! | WouldAControllerRecoveryHelp(error_code, error_codes_to_check?) | Condition: `error_code` is UNKNOWN 100, PATIENCE_EXCEEDED 104, FAILED_TO_MAKE_PROGRESS 105 or NO_VALID_CONTROL 106 (or one of `error_codes_to_check`). |
+//! Both are conditions with the ports `error_code` and `error_codes_to_check` (optional).
+//!
+//! - **WouldAPlannerRecoveryHelp**: `error_code` is UNKNOWN 200, NO_VALID_PATH 208 or
+//!   TIMEOUT 207 (or one of `error_codes_to_check` when given). No such entry yet: code 0.
+//! - **WouldAControllerRecoveryHelp**: `error_code` is UNKNOWN 100, PATIENCE_EXCEEDED 104,
+//!   FAILED_TO_MAKE_PROGRESS 105 or NO_VALID_CONTROL 106 (or one of `error_codes_to_check`).
 //!
 //! These are Nav2's AreErrorCodesPresent with the codes its documentation lists. Nav2's
 //! navigator writes 0 to every error code entry when a navigation starts; here an entry

@@ -1,9 +1,9 @@
 //! The five selectors: which planner, controller, goal checker, progress checker and path
 //! handler the navigator uses.
 //!
-//! | node | semantics |
-//! |---|---|
-//! | ProgressCheckerSelector, GoalCheckerSelector, PathHandlerSelector, ControllerSelector, PlannerSelector | Sync actions: write `default_*` to `selected_*`, Success; Failure without a default. |
+//! ProgressCheckerSelector, GoalCheckerSelector, PathHandlerSelector, ControllerSelector and
+//! PlannerSelector are sync actions: write `default_*` to `selected_*`, Success; Failure
+//! without a default.
 //!
 //! In Nav2 a selector listens on `topic_name` for a message that switches plugins at run
 //! time and writes the last one chosen, the default until a message comes. The simulation

@@ -1,11 +1,12 @@
 //! Nodes that watch a blackboard entry for writes: WasEntryUpdated, SkipUnlessUpdated and
 //! WaitValueUpdate.
 //!
-//! | node | semantics |
-//! |---|---|
-//! | WasEntryUpdated(entry) | Success if the entry was written since this node last looked (its sequence number changed), else Failure; Failure if there is no such entry. |
-//! | SkipUnlessUpdated(entry) | A decorator: ticks the child if the entry was written since it last looked, else Skipped; a Running child is ticked on without looking. |
-//! | WaitValueUpdate(entry) | As SkipUnlessUpdated, but Running instead of Skipped: it waits for a write. |
+//! - **WasEntryUpdated(entry)**: Success if the entry was written since this node last looked
+//!   (its sequence number changed), else Failure; Failure if there is no such entry.
+//! - **SkipUnlessUpdated(entry)**: a decorator: ticks the child if the entry was written since
+//!   it last looked, else Skipped; a Running child is ticked on without looking.
+//! - **WaitValueUpdate(entry)**: as SkipUnlessUpdated, but Running instead of Skipped: it waits
+//!   for a write.
 //!
 //! A write of the same value counts: the sequence number grows on every write.
 

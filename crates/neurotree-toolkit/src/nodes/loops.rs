@@ -1,8 +1,11 @@
 //! LoopInt, LoopDouble, LoopString and LoopBool: run the child once per element of a queue.
 //!
-//! | node | semantics |
-//! |---|---|
-//! | LoopInt/LoopDouble/LoopString/LoopBool(queue, value, if_empty=SUCCESS) | While the child is not Running, pop the next element of `queue` into the `value` entry; if there is none, return `if_empty`. Tick the child: Failure → Failure; otherwise Running (the next element comes on the next tick). |
+//! Each takes the ports `queue`, `value` and `if_empty` (default SUCCESS).
+//!
+//! - While the child is not Running, pop the next element of `queue` into the `value` entry; if
+//!   there is none, return `if_empty`.
+//! - Tick the child: Failure → Failure; otherwise Running (the next element comes on the next
+//!   tick).
 //!
 //! `queue` is a literal `;`-separated list (copied afresh for each run) or a blackboard entry
 //! holding a `Vec` of the element type or such a list as text; an entry is consumed: each

@@ -1,13 +1,18 @@
 //! The built-in leaves that work on the blackboard: Script, ScriptCondition, SetBlackboard
 //! and UnsetBlackboard.
 //!
-//! | node | semantics |
-//! |---|---|
-//! | Script(code) | Runs the script (parsed when the tree is loaded); Success. A script that fails at run time (an unknown key, a type mismatch) is an error of the tick ([`TickError::Node`](neurotree_core::TickError::Node)), as BehaviorTree.CPP throws one. |
-//! | ScriptCondition(code) | Success if the script's value is true (a non-zero number counts as true), else Failure. |
-//! | SetBlackboard(value, output_key) | Writes `value` (text, converted by whoever reads it) to the entry named by `output_key`; Success. |
-//! | UnsetBlackboard(key) | Removes the entry named by `key`; Success. |
-//! | Precondition(if, else=FAILURE) | A decorator: evaluates `if` only while its child is not Running; false → the `else` status without ticking the child; true → ticks the child until it completes. (BehaviorTree.CPP forgets, on halt, that the child was running; here a halt clears it.) |
+//! - **Script(code)**: runs the script (parsed when the tree is loaded); Success. A script that
+//!   fails at run time (an unknown key, a type mismatch) is an error of the tick
+//!   ([`TickError::Node`](neurotree_core::TickError::Node)), as BehaviorTree.CPP throws one.
+//! - **ScriptCondition(code)**: Success if the script's value is true (a non-zero number counts
+//!   as true), else Failure.
+//! - **SetBlackboard(value, output_key)**: writes `value` (text, converted by whoever reads it)
+//!   to the entry named by `output_key`; Success.
+//! - **UnsetBlackboard(key)**: removes the entry named by `key`; Success.
+//! - **Precondition(if, else=FAILURE)**: a decorator: evaluates `if` only while its child is not
+//!   Running; false → the `else` status without ticking the child; true → ticks the child until
+//!   it completes. (BehaviorTree.CPP forgets, on halt, that the child was running; here a halt
+//!   clears it.)
 
 use std::sync::Arc;
 
@@ -107,7 +112,7 @@ fn parse(ports: &[Port]) -> Result<Script, String> {
     Script::parse(code).map_err(|e| format!("in script `{}`: {e}", e.excerpt(code)))
 }
 
-/// BehaviorTree.CPP's Precondition decorator (see the module table).
+/// BehaviorTree.CPP's Precondition decorator (see the module doc).
 struct Precondition {
     script: Script,
     enums: Arc<Enums>,

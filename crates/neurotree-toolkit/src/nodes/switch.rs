@@ -1,8 +1,7 @@
 //! Switch2 … Switch6: pick a child by the value of a variable.
 //!
-//! | node | semantics |
-//! |---|---|
-//! | Switch2..Switch6 | Ports `variable`, `case_1..N`; last child is the default. Re-evaluated every tick (string equality, then integer, then float); a change of match halts the previous branch. |
+//! Ports `variable`, `case_1..N`; last child is the default. Re-evaluated every tick (string
+//! equality, then integer, then float); a change of match halts the previous branch.
 //!
 //! `variable` and the cases are literal text or blackboard entries (of text, integer, real or
 //! boolean type). Comparing them allocates nothing.

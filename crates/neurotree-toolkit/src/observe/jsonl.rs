@@ -18,16 +18,21 @@ use super::{lock, micros, Sink};
 ///
 /// | field | meaning |
 /// |---|---|
-/// | `tick` | the root pass the line belongs to, from 1; [`Tree::tick_once`](crate::Tree::tick_once) makes several passes when a node asks to be woken, and changes made between ticks (by [`Tree::halt`](crate::Tree::halt)) carry the number of the last pass |
+/// | `tick` | the root pass the line belongs to, from 1 |
 /// | `time_us` | the tree's clock, in microseconds |
 /// | `id` | the node's [`NodeId`](crate::NodeId) |
 /// | `node` | the node's path |
-/// | `from`, `to` | the statuses, as BehaviorTree.CPP names them (`IDLE`, `RUNNING`, `SUCCESS`, `FAILURE`) |
+/// | `from`, `to` | the statuses, as BehaviorTree.CPP names them |
 /// | `status` | what the root returned, on the line that ends a tick (`SKIPPED` too) |
+///
+/// [`Tree::tick_once`](crate::Tree::tick_once) makes several passes when a node asks to be
+/// woken, and changes made between ticks (by [`Tree::halt`](crate::Tree::halt)) carry the
+/// number of the last pass. The statuses are named `IDLE`, `RUNNING`, `SUCCESS`, `FAILURE`.
 ///
 /// `tick`, `node`, `from`, `to` and `status` mean what they mean in the lines of
 /// `neurotree run --trace` (whose `tick` counts calls rather than passes, the same unless a
-/// node asks to be woken). Keys come in the order above. A handle: clones share the writer; give it a `BufWriter` for a file.
+/// node asks to be woken). Keys come in the order above. A handle: clones share the writer;
+/// give it a `BufWriter` for a file.
 pub struct JsonlTrace<W> {
     state: Arc<Mutex<Jsonl<W>>>,
 }

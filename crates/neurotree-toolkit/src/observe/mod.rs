@@ -6,12 +6,21 @@
 //!
 //! | observer | what it gives | for |
 //! |---|---|---|
-//! | [`ConsoleLogger`] | `[0.100s] root/move IDLE -> RUNNING`, coloured on a terminal | watching a run |
-//! | [`JsonlTrace`] | one JSON line per status change and per tick | scripts, diffs between runs |
-//! | [`Statistics`] | ticks, successes, failures, skips, halts and time Running per node | finding the busy or failing nodes |
-//! | [`BtlogWriter`] | BehaviorTree.CPP's `.btlog` (FileLogger2) file; [`read_btlog`] reads it back | replay in Groot2 |
-//! | `SqliteLogger` (feature `sqlite`) | BehaviorTree.CPP's SQLite schema | querying a run with SQL |
-//! | `TracingObserver` (feature `tracing`) | `tracing` events | an application that already collects `tracing` |
+//! | [`ConsoleLogger`] | a line per status change | watching a run |
+//! | [`JsonlTrace`] | JSON lines | scripts, diffs between runs |
+//! | [`Statistics`] | counts and times per node | finding the busy or failing nodes |
+//! | [`BtlogWriter`] | a `.btlog` file | replay in Groot2 |
+//! | `SqliteLogger` (feature `sqlite`) | a SQLite database | querying a run with SQL |
+//! | `TracingObserver` (feature `tracing`) | `tracing` events | applications using `tracing` |
+//!
+//! - [`ConsoleLogger`] prints `[0.100s] root/move IDLE -> RUNNING`, coloured on a terminal.
+//! - [`JsonlTrace`] writes one JSON line per status change and per tick.
+//! - [`Statistics`] counts ticks, successes, failures, skips, halts and time Running per node.
+//! - [`BtlogWriter`] writes BehaviorTree.CPP's `.btlog` (FileLogger2) file; [`read_btlog`]
+//!   reads it back.
+//! - `SqliteLogger` writes BehaviorTree.CPP's SQLite schema.
+//! - `TracingObserver` emits `tracing` events, for an application that already collects
+//!   `tracing`.
 //!
 //! They name nodes by their [`path`](crate::Blueprint::path) (`root/patrol/move`) and take
 //! their times from the tree's clock, so a run on a [`ManualClock`](crate::ManualClock)

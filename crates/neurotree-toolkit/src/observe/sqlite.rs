@@ -45,8 +45,10 @@ pub enum SqliteLogError {
 /// | table | rows |
 /// |---|---|
 /// | `Definitions(session_id, date, xml_tree)` | one per logger: the tree as XML with `_uid`s |
-/// | `Nodes(session_id, fullpath, uid)` | one per node: its path and uid (its [`NodeId`](crate::NodeId) plus one) |
+/// | `Nodes(session_id, fullpath, uid)` | one per node: its path and uid |
 /// | `Transitions(timestamp, session_id, uid, duration, state, metadata)` | one per status change |
+///
+/// A node's `uid` is its [`NodeId`](crate::NodeId) plus one.
 ///
 /// As BehaviorTree.CPP does:
 /// - `timestamp` is in microseconds since the Unix epoch, and is the table's key, so a

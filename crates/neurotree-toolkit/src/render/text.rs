@@ -14,9 +14,9 @@ pub fn render_unicode<C>(tree: &Tree<C>) -> String {
     render_statuses(tree.blueprint(), tree.statuses(), true)
 }
 
-/// Draws the nodes of `bp` with the given statuses, indexed by [`NodeId`](neurotree_core::NodeId) (nodes beyond the
-/// end of `statuses` are drawn Idle). `unicode` picks the character set; every line, the
-/// last included, ends with `\n`.
+/// Draws the nodes of `bp` with the given statuses, indexed by
+/// [`NodeId`](neurotree_core::NodeId) (nodes beyond the end of `statuses` are drawn Idle).
+/// `unicode` picks the character set; every line, the last included, ends with `\n`.
 pub fn render_statuses<C>(bp: &Blueprint<C>, statuses: &[NodeStatus], unicode: bool) -> String {
     let glyphs = if unicode { &UNICODE } else { &ASCII };
     let mut out = String::new();

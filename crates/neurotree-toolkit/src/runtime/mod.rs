@@ -4,8 +4,13 @@
 //!
 //! | loop | ticks | for |
 //! |---|---|---|
-//! | [`FixedRate`] | at the start of every period, on a thread; reports overruns | real-time control loops that tick, then sleep until the next interval |
-//! | `tokio::tick_until_done` (feature `tokio`) | every period, or at once when an async action's future wakes | trees whose actions await timers, tasks and I/O on tokio |
+//! | [`FixedRate`] | every period, on a thread | real-time control loops |
+//! | `tokio::tick_until_done` (feature `tokio`) | each period or on a wake | actions on tokio |
+//!
+//! - [`FixedRate`] ticks at the start of every period, on a thread, and reports overruns; it is
+//!   for real-time control loops that tick, then sleep until the next interval.
+//! - `tokio::tick_until_done` ticks every period, or at once when an async action's future
+//!   wakes; it is for trees whose actions await timers, tasks and I/O on tokio.
 //!
 //! Both stop when the root completes. Stopping them early halts the tree, so every running
 //! action ends with its halt.

@@ -1,10 +1,14 @@
 //! Fallback (Colledanchise & Ögren's Selector) and AsyncFallback: try children in order until one
 //! succeeds.
 //!
-//! | node | semantics |
-//! |---|---|
-//! | Fallback (Selector) | Mirror of Sequence: resume at the stored child index. Child Success: halt/reset children, index 0, Success. Failure: move on. Running: Running. All failed: reset, Failure. |
-//! | AsyncFallback | As Fallback, but yields (Running + wake-up) after each child that failed from Idle within this tick, while children remain. |
+//! - **Fallback** (Selector): mirror of [Sequence](super::sequence): resume at the stored child
+//!   index.
+//!   - Child Success: halt/reset children, index 0, Success.
+//!   - Failure: move on.
+//!   - Running: Running.
+//!   - All failed: reset, Failure.
+//! - **AsyncFallback**: as Fallback, but yields (Running + wake-up) after each child that failed
+//!   from Idle within this tick, while children remain.
 //!
 //! Skipped children count as absent; if all were skipped, the node is Skipped.
 

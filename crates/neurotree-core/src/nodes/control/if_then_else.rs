@@ -1,8 +1,7 @@
 //! IfThenElse: pick a branch by a condition, and stay on it until it completes.
 //!
-//! | node | semantics |
-//! |---|---|
-//! | IfThenElse | 2 or 3 children. Condition ticked once; the chosen branch is kept until it completes. Condition Failure with 2 children → Failure. |
+//! IfThenElse takes 2 or 3 children. Condition ticked once; the chosen branch is kept until it
+//! completes. Condition Failure with 2 children → Failure.
 //!
 //! The condition is ticked only when no branch is in progress; a Running condition makes the
 //! node Running. Unlike [WhileDoElse](super::while_do_else), a branch in progress is not

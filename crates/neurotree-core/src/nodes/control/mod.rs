@@ -1,15 +1,35 @@
 //! Control nodes: they tick their children and combine the results.
 //!
-//! | node | memory | re-checks earlier children | yields |
-//! |---|---|---|---|
-//! | [Sequence](sequence) / [Fallback](fallback) | resume at the running child | no | no |
-//! | [SequenceWithMemory](sequence) | keeps its place even after a failure or a halt | no | after each child success |
-//! | [AsyncSequence](sequence) / [AsyncFallback](fallback) | as Sequence / Fallback | no | after each child that completed at once |
-//! | [ReactiveSequence / ReactiveFallback](reactive) | none | every tick | no |
-//! | [Parallel](parallel) / [ParallelAll](parallel_all) | completed children | no | no |
-//! | [IfThenElse](if_then_else) | the chosen branch | no | no |
-//! | [WhileDoElse](while_do_else) | none | the condition, every tick | no |
-//! | [TryCatch](try_catch) | as Sequence, then the catch child | no | no |
+//! | node | in short |
+//! |---|---|
+//! | [Sequence](sequence) | all children in order, until one fails |
+//! | [SequenceWithMemory](sequence) | a Sequence that keeps its place |
+//! | [AsyncSequence](sequence) | a Sequence that yields between children |
+//! | [Fallback](fallback) | children in order, until one succeeds |
+//! | [AsyncFallback](fallback) | a Fallback that yields between children |
+//! | [ReactiveSequence](reactive) | a Sequence re-checked from the first child |
+//! | [ReactiveFallback](reactive) | a Fallback re-checked from the first child |
+//! | [Parallel](parallel) | every child; decide by thresholds |
+//! | [ParallelAll](parallel_all) | every child to completion; count failures |
+//! | [IfThenElse](if_then_else) | pick a branch by a condition |
+//! | [WhileDoElse](while_do_else) | a branch by a condition re-checked every tick |
+//! | [TryCatch](try_catch) | a Sequence with a catch child |
+//!
+//! They differ in what they remember between ticks, whether they re-check earlier children,
+//! and whether they yield:
+//!
+//! - Sequence / Fallback resume at the running child.
+//! - SequenceWithMemory keeps its place even after a failure or a halt, and yields after each
+//!   child success.
+//! - AsyncSequence / AsyncFallback remember as Sequence / Fallback, and yield after each child
+//!   that completed at once.
+//! - ReactiveSequence / ReactiveFallback remember nothing and re-check every child every tick.
+//! - Parallel / ParallelAll remember the completed children.
+//! - IfThenElse remembers the chosen branch.
+//! - WhileDoElse remembers nothing and re-checks the condition every tick.
+//! - TryCatch remembers as Sequence, then the catch child.
+//!
+//! No other control yields, and no other re-checks earlier children.
 //!
 //! Every control marks itself Running before ticking its children, resets all its children
 //! to Idle when it completes, and halts Running children it stops ticking before it returns.

@@ -1,8 +1,13 @@
 //! Parallel: tick every child, decide by thresholds.
 //!
-//! | node | semantics |
-//! |---|---|
-//! | Parallel(success_count, failure_count) | Defaults -1 and 1; a negative threshold t means N+t+1 (so -1 = all). Tick only children not yet completed, checking thresholds after each. Success when successes ≥ S; Failure when N − failures < S or failures ≥ F; then halt the Running children and reset. Otherwise Running. A threshold larger than N is a load-time error. |
+//! `Parallel(success_count, failure_count)`, with S = success_count, F = failure_count and N
+//! the number of children:
+//!
+//! - Defaults -1 and 1; a negative threshold t means N+t+1 (so -1 = all).
+//! - Tick only children not yet completed, checking thresholds after each.
+//! - Success when successes ≥ S; Failure when N − failures < S or failures ≥ F; then halt the
+//!   Running children and reset. Otherwise Running.
+//! - A threshold larger than N is a load-time error.
 //!
 //! The [`ParallelPolicy`] shorthands are constructors over the same node: `RequireAll` =
 //! (-1, 1), `RequireOne` = (1, -1), `RequireCount(M)` = (M, N−M+1). Colledanchise &

@@ -1,8 +1,7 @@
 //! ParallelAll: run every child to completion, then judge by the number of failures.
 //!
-//! | node | semantics |
-//! |---|---|
-//! | ParallelAll(max_failures) | Tick every child until all completed; Failure if failures ≥ max_failures, else Success. |
+//! `ParallelAll(max_failures)`: tick every child until all completed; Failure if failures ≥
+//! max_failures, else Success.
 //!
 //! `max_failures` defaults to 1 in BehaviorTree.CPP; a negative value t means N+t+1. Completed
 //! children are not ticked again; skipped children count as completed for the end of the run

@@ -1,9 +1,11 @@
 //! ReactiveSequence and ReactiveFallback: re-check every child from the first, every tick.
 //!
-//! | node | semantics |
-//! |---|---|
-//! | ReactiveSequence | Restart at child 0 every tick. A child Running: halt (and reset) every other child, return Running. Failure: halt/reset all, Failure. All succeeded: reset, Success. |
-//! | ReactiveFallback | Mirror of ReactiveSequence: Success ends it, Failure moves on, all failed → Failure. |
+//! - **ReactiveSequence**: restart at child 0 every tick.
+//!   - A child Running: halt (and reset) every other child, return Running.
+//!   - Failure: halt/reset all, Failure.
+//!   - All succeeded: reset, Success.
+//! - **ReactiveFallback**: mirror of ReactiveSequence: Success ends it, Failure moves on, all
+//!   failed → Failure.
 //!
 //! This is what makes a tree reactive: a condition placed before a long action is checked on
 //! every tick, and when it flips, the running action is halted in the same tick. A skipped

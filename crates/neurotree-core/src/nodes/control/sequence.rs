@@ -1,10 +1,13 @@
 //! Sequence, SequenceWithMemory and AsyncSequence: do all children, in order.
 //!
-//! | node | semantics |
-//! |---|---|
-//! | Sequence | Resume at the stored child index (earlier successes are not re-ticked). Child Failure: halt/reset children, index 0, Failure. Running: Running. All succeeded: reset, Success. |
-//! | SequenceWithMemory | As Sequence, but a Failure keeps the index (the failed child is retried next tick) and halt keeps it too; yields after each child success. |
-//! | AsyncSequence | As Sequence, but yields (Running + wake-up) after each child that completes. |
+//! - **Sequence**: resume at the stored child index (earlier successes are not re-ticked).
+//!   - Child Failure: halt/reset children, index 0, Failure.
+//!   - Running: Running.
+//!   - All succeeded: reset, Success.
+//! - **SequenceWithMemory**: as Sequence, but a Failure keeps the index (the failed child is
+//!   retried next tick) and halt keeps it too; yields after each child success.
+//! - **AsyncSequence**: as Sequence, but yields (Running + wake-up) after each child that
+//!   completes.
 //!
 //! "Yields" follows BehaviorTree.CPP: only after a child that went from Idle to Success within
 //! this tick, and only when children remain; [`Tree::tick_once`](crate::Tree::tick_once) then

@@ -1,8 +1,7 @@
 //! TryCatch: a Sequence with a clean-up child that runs when it fails.
 //!
-//! | node | semantics |
-//! |---|---|
-//! | TryCatch(catch_on_halt) | Children 0..N-2 as a Sequence; on Failure tick the last child (the catch) and return Failure whatever it returns. |
+//! `TryCatch(catch_on_halt)`: children 0..N-2 as a Sequence; on Failure tick the last child
+//! (the catch) and return Failure whatever it returns.
 //!
 //! On a failure in the try block, every child is halted and reset, then the catch child is
 //! ticked in the same tick; while it runs, the node is Running. With `catch_on_halt`, halting

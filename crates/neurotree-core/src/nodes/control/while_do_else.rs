@@ -1,8 +1,7 @@
 //! WhileDoElse: re-check a condition every tick and run the matching branch.
 //!
-//! | node | semantics |
-//! |---|---|
-//! | WhileDoElse | Condition re-ticked every tick; Success halts "else" and ticks "do"; Failure halts "do" and ticks "else" (2 children → Failure). |
+//! The condition is re-ticked every tick; Success halts "else" and ticks "do"; Failure halts
+//! "do" and ticks "else" (2 children → Failure).
 //!
 //! A branch that completes resets the node, so the next tick checks the condition afresh.
 

@@ -1,9 +1,8 @@
 //! Cooldown(duration), a NeuroTree node (BehaviorTree.CPP has none): after the child
 //! completes, rest for a while.
 //!
-//! | node | semantics |
-//! |---|---|
-//! | Cooldown(duration) (NeuroTree only) | After the child completes, return Failure without ticking it until the duration has passed. Halt does not clear the cooldown. |
+//! After the child completes, return Failure without ticking it until the duration has passed.
+//! Halt does not clear the cooldown.
 //!
 //! The rest starts at the clock reading of the tick on which the child completed, whatever
 //! its outcome; a Running child is not limited.

@@ -1,8 +1,6 @@
 //! Delay(delay_msec): wait on the clock, then tick the child.
 //!
-//! | node | semantics |
-//! |---|---|
-//! | Delay(delay_msec) | Running until the delay has passed on the tree's clock, then tick the child. |
+//! Running until the delay has passed on the tree's clock, then tick the child.
 //!
 //! The wait starts on the tick that finds the node not started; once it has passed, the
 //! child is ticked on every tick until it completes, which ends the Delay (the next run waits

@@ -1,8 +1,7 @@
 //! ForceSuccess and ForceFailure: a completed child becomes a fixed outcome.
 //!
-//! | node | semantics |
-//! |---|---|
-//! | ForceSuccess / ForceFailure | A completed child becomes the forced status; Running passes. |
+//! A completed child becomes the forced status (Success for ForceSuccess, Failure for
+//! ForceFailure); Running passes.
 
 use crate::blueprint::NodeDef;
 use crate::tree::Ticker;

@@ -1,8 +1,6 @@
 //! Inverter: swap Success and Failure.
 //!
-//! | node | semantics |
-//! |---|---|
-//! | Inverter | Swap Success/Failure; Running passes. |
+//! Swap Success/Failure; Running passes.
 //!
 //! A completed child is reset; Running and Skipped pass through unchanged.
 

@@ -1,8 +1,6 @@
 //! KeepRunningUntilFailure: keep a succeeding child going.
 //!
-//! | node | semantics |
-//! |---|---|
-//! | KeepRunningUntilFailure | Success → Running; Failure → Failure. |
+//! Success → Running; Failure → Failure.
 //!
 //! The child is reset after each completion, so it starts afresh on the next tick. A skipped
 //! child leaves the node Running, as in BehaviorTree.CPP.

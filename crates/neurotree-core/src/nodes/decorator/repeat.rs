@@ -1,8 +1,8 @@
 //! Repeat(num_cycles): run a succeeding child again, `num_cycles` times.
 //!
-//! | node | semantics |
-//! |---|---|
-//! | Repeat(num_cycles) | Child Success: count, yield Running until num_cycles reached (−1 forever) → Success. Child Failure → Failure, count reset. 0 cycles → Success with no tick. |
+//! - Child Success: count, yield Running until num_cycles reached (−1 forever) → Success.
+//! - Child Failure → Failure, count reset.
+//! - 0 cycles → Success with no tick.
 //!
 //! The yield follows BehaviorTree.CPP: after a child that succeeded from Idle within this
 //! tick, the node returns Running and asks to be woken, so

@@ -1,13 +1,12 @@
 //! RetryUntilSuccessful(num_attempts): try a failing child again, up to `num_attempts` times.
 //!
-//! | node | semantics |
-//! |---|---|
-//! | RetryUntilSuccessful(num_attempts) | Mirror of Repeat on Failure. 0 attempts → Failure with no tick. |
+//! Mirror of [Repeat](super::repeat) on Failure. 0 attempts → Failure with no tick.
 //!
-//! Some behavior-tree libraries return Running between attempts, others (Colledanchise &
-//! Ögren's) retry within one tick. Both are this node: under [`Tree::tick_exactly_once`](crate::Tree::tick_exactly_once) an
-//! instant failure yields Running, under [`Tree::tick_once`](crate::Tree::tick_once) the
-//! attempts follow each other in the same call. `-1` retries forever. Halt resets the count.
+//! Some behavior-tree libraries return Running between attempts, others (Colledanchise & Ögren's)
+//! retry within one tick. Both are this node: under
+//! [`Tree::tick_exactly_once`](crate::Tree::tick_exactly_once) an instant failure yields Running,
+//! under [`Tree::tick_once`](crate::Tree::tick_once) the attempts follow each other in the same
+//! call. `-1` retries forever. Halt resets the count.
 
 // The loop is Repeat's, mirrored: see `repeat::tick`.
 

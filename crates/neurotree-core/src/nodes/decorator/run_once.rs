@@ -1,8 +1,7 @@
 //! RunOnce(then_skip): run the child to completion once in the tree's life.
 //!
-//! | node | semantics |
-//! |---|---|
-//! | RunOnce(then_skip=true) | After the first completion return Skipped forever (or the cached status). |
+//! `then_skip` defaults to true. After the first completion return Skipped forever (or the
+//! cached status).
 //!
 //! Halts and resets do not make it forget; a new tree instance starts afresh.
 

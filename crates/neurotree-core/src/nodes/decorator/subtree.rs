@@ -1,8 +1,6 @@
 //! SubTree: a child tree with its own blackboard scope.
 //!
-//! | node | semantics |
-//! |---|---|
-//! | SubTree | Own blackboard scope with remapping; passes the child's status. |
+//! Own blackboard scope with remapping; passes the child's status.
 //!
 //! The scope is created with the tree instance from the blueprint's
 //! [`SubTreeScope`](crate::SubTreeScope): remapped keys alias the parent's entries, and with

@@ -1,8 +1,7 @@
 //! Timeout(msec): fail and halt the child when it runs too long.
 //!
-//! | node | semantics |
-//! |---|---|
-//! | Timeout(msec) | Start timing on the first tick from Idle; at a tick where the time is up, halt the child and return Failure. Deterministic: reads the clock, no timer thread. |
+//! Start timing on the first tick from Idle; at a tick where the time is up, halt the child and
+//! return Failure. Deterministic: reads the clock, no timer thread.
 //!
 //! The time is checked before the child is ticked, and only a Running child is timed out
 //! (as BehaviorTree.CPP's timer only halts a Running child). A child that completes in time

@@ -1,9 +1,7 @@
 //! AlwaysSuccess and AlwaysFailure: leaves with a fixed outcome, for stubs and tests.
 //!
-//! | node | semantics |
-//! |---|---|
-//! | AlwaysSuccess | Success, every tick |
-//! | AlwaysFailure | Failure, every tick |
+//! - **AlwaysSuccess**: Success, every tick.
+//! - **AlwaysFailure**: Failure, every tick.
 
 #[cfg(test)]
 mod tests {

@@ -1,14 +1,21 @@
 //! Async actions: a Rust future per run of the node.
 //!
-//! | node | semantics |
-//! |---|---|
-//! | async action | On the tick that finds it Idle, its start function reads what it needs from the [`Handle`] (ports, blackboard, context) and returns a future, which is polled at once and then once per tick while the node is Running: Pending → Running, Ready(status) → that status, and the future is dropped. Halted while Running: the future is dropped, exactly once, and never polled again. |
+//! On the tick that finds an async action Idle, its start function reads what it needs from the
+//! [`Handle`] (ports, blackboard, context) and returns a future, which is polled at once and
+//! then once per tick while the node is Running:
 //!
-//! This is the classic start/update/stop action written as Rust writes long work: starting
-//! is the start function, each update is a poll, stopping is the future's drop. Work that waits (a timer, a
-//! reply, a task on another thread) is an `async` block; cancelling it is dropping it, so
-//! cleanup lives in `Drop` (a guard, an abort-on-drop task handle). When stopping needs the
-//! context, use a [`StatefulAction`](super::StatefulAction) instead.
+//! - Pending → Running.
+//! - Ready(status) → that status, and the future is dropped.
+//! - Halted while Running: the future is dropped, exactly once, and never polled again.
+//!
+//! In short: the future is made on the tick from Idle, polled once per tick (Pending →
+//! Running), dropped on completion or halt.
+//!
+//! This is the classic start/update/stop action written as Rust writes long work: starting is the
+//! start function, each update is a poll, stopping is the future's drop. Work that waits (a timer,
+//! a reply, a task on another thread) is an `async` block; cancelling it is dropping it, so cleanup
+//! lives in `Drop` (a guard, an abort-on-drop task handle). When stopping needs the context, use a
+//! [`StatefulAction`](super::StatefulAction) instead.
 //!
 //! The future outlives the tick, so it cannot borrow the context or the blackboard: it is
 //! `Send + 'static` and owns what it needs (copied values, `Arc`s, channel ends) taken

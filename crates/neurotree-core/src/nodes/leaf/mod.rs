@@ -1,13 +1,18 @@
 //! Leaves: the nodes that do the work.
 //!
-//! | kind | runs | per instance | semantics |
-//! |---|---|---|---|
-//! | [`Condition`] / closure `Fn(&C) -> bool` | never | no | Success or Failure |
-//! | [`Action`] / closure `Fn(&mut C) -> Status` | never | no | Success or Failure in one tick; returning Running is reported as a [`TickError`](crate::TickError) |
-//! | [`StatefulAction`] | yes | yes | `on_start` on the tick from Idle, `on_running` on later ticks, `on_halted` when halted while Running |
-//! | [`AsyncAction`] / closure returning a future ([async_action]) | yes | a future per run | the future is made on the tick from Idle, polled once per tick (Pending → Running), dropped on completion or halt |
-//! | [AlwaysSuccess / AlwaysFailure](always) | never | no | as their names |
-//! | [Sleep](sleep) | yes | state slot | Running until the duration has passed on the tree's clock |
+//! | kind | in short |
+//! |---|---|
+//! | [`Condition`] / closure `Fn(&C) -> bool` | Success or Failure |
+//! | [`Action`] / closure `Fn(&mut C) -> Status` | Success or Failure in one tick |
+//! | [`StatefulAction`] | started, updated and halted over several ticks |
+//! | [`AsyncAction`] / closure returning a future ([async_action]) | a future per run |
+//! | [AlwaysSuccess / AlwaysFailure](always) | as their names |
+//! | [Sleep](sleep) | Running until the duration has passed on the tree's clock |
+//!
+//! Conditions, actions and AlwaysSuccess / AlwaysFailure never run (they complete within the
+//! tick) and have nothing per instance. StatefulAction, AsyncAction and Sleep run; per
+//! instance, a StatefulAction has its object, an AsyncAction a future per run, a Sleep a state
+//! slot.
 //!
 //! Stateless leaves belong to the blueprint and serve every instance; only stateful leaves
 //! are created per instance. That keeps an instance of a large tree within a few kilobytes.
@@ -223,6 +228,9 @@ pub trait Condition<C>: Send + Sync {
 }
 
 /// A synchronous action: it completes within the tick; one object serves every instance.
+///
+/// Success or Failure in one tick; returning Running is reported as a
+/// [`TickError`](crate::TickError).
 pub trait Action<C>: Send + Sync {
     /// Success or Failure; Running is a contract violation reported by the tick.
     fn tick(&self, h: &mut Handle<'_, C>) -> Status;
@@ -230,6 +238,9 @@ pub trait Action<C>: Send + Sync {
 
 /// An action that runs over several ticks, with per-instance state: started once, updated on
 /// every later tick while Running, told when it is halted.
+///
+/// `on_start` on the tick from Idle, `on_running` on later ticks, `on_halted` when halted
+/// while Running.
 ///
 /// ```
 /// use neurotree_core::{Handle, StatefulAction, Status};

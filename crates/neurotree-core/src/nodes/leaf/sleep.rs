@@ -1,8 +1,9 @@
-//! Sleep(msec): a stateful leaf on the tree's clock.
+//! Sleep(msec): a stateful leaf on the tree's clock, its start time kept in a state slot.
 //!
-//! | node | semantics |
-//! |---|---|
-//! | Sleep(msec) | On the tick from Idle: Success at once if `msec` is 0, else note the time and return Running. Later ticks: Success once `msec` has passed, else Running. Halt forgets the start. |
+//! - On the tick from Idle: Success at once if `msec` is 0, else note the time and return
+//!   Running.
+//! - Later ticks: Success once `msec` has passed, else Running.
+//! - Halt forgets the start.
 //!
 //! It reads only the clock, so it is deterministic under a [`ManualClock`](crate::ManualClock).
 
