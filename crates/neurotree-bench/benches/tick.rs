@@ -7,19 +7,29 @@ use std::time::Duration;
 
 use criterion::{criterion_group, criterion_main, BatchSize, Criterion, Throughput};
 use neurotree::{ManualClock, Status, Tree};
-use neurotree_bench::{agent_tree, tree1111, Agent, TREE1111_NODES_PER_TICK};
+use neurotree_bench::{
+    agent_tree, tree1111, tree1111_registry, tree1111_xml, Agent, TREE1111_NODES_PER_TICK,
+    TREE1111_XML,
+};
 
+/// tree1111 built with the builder (closure conditions), then loaded from XML (registered
+/// conditions), as users run it.
 fn tick_tree1111(c: &mut Criterion) {
     let mut group = c.benchmark_group("tree1111");
     group.throughput(Throughput::Elements(TREE1111_NODES_PER_TICK as u64));
-    let mut tree = Tree::with_clock(tree1111::<()>(), ManualClock::new());
-    group.bench_function("tick_once", |b| {
-        b.iter(|| {
-            let s = tree.tick_once(black_box(&mut ()));
-            debug_assert_eq!(s, Ok(Status::Success));
-            s
-        })
-    });
+    for (name, blueprint) in [
+        ("tick_once", tree1111::<()>()),
+        ("xml/tick_once", tree1111_xml()),
+    ] {
+        let mut tree = Tree::with_clock(blueprint, ManualClock::new());
+        group.bench_function(name, |b| {
+            b.iter(|| {
+                let s = tree.tick_once(black_box(&mut ()));
+                debug_assert_eq!(s, Ok(Status::Success));
+                s
+            })
+        });
+    }
     group.finish();
 }
 
@@ -62,23 +72,13 @@ fn many_agents(c: &mut Criterion) {
 
 /// From XML text to a tickable instance: parse, check, build the blueprint, instantiate.
 fn load_tree1111(c: &mut Criterion) {
-    let path =
-        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../corpus/bench/tree1111.xml");
-    let Ok(text) = std::fs::read_to_string(&path) else {
-        eprintln!("skipping load/tree1111: {} not found", path.display());
-        return;
-    };
-    let mut registry = neurotree::Registry::<()>::new();
-    registry
-        .register_condition("Succ", vec![], |_| true)
-        .unwrap();
-    registry
-        .register_condition("Fail", vec![], |_| false)
-        .unwrap();
+    let registry = tree1111_registry::<()>();
     c.bench_function("load/tree1111", |b| {
         b.iter(|| {
             let mut loader = neurotree::XmlLoader::new(&registry);
-            loader.load_str(black_box(&text), "tree1111.xml").unwrap();
+            loader
+                .load_str(black_box(TREE1111_XML), "tree1111.xml")
+                .unwrap();
             let bp = loader.build_main().unwrap();
             Tree::with_clock(std::sync::Arc::new(bp), ManualClock::new())
         })

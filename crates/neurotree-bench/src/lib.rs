@@ -37,6 +37,32 @@ pub fn tree1111<C: 'static>() -> Arc<Blueprint<C>> {
     b.close().build_shared().expect("tree1111 is a valid tree")
 }
 
+/// `tree1111.xml` as BehaviorTree.CPP's benchmark ships it (from this repository's corpus).
+pub const TREE1111_XML: &str = include_str!("../../../corpus/bench/tree1111.xml");
+
+/// The registry that runs [`TREE1111_XML`]: its `Succ` and `Fail` leaves as registered
+/// conditions, as a user would register them.
+pub fn tree1111_registry<C: 'static>() -> neurotree::Registry<C> {
+    let mut registry = neurotree::Registry::new();
+    registry
+        .register_condition("Succ", vec![], |_| true)
+        .expect("a fresh registry has no Succ");
+    registry
+        .register_condition("Fail", vec![], |_| false)
+        .expect("a fresh registry has no Fail");
+    registry
+}
+
+/// [`tree1111`] as users run it: loaded from [`TREE1111_XML`] with [`tree1111_registry`].
+pub fn tree1111_xml<C: 'static>() -> Arc<Blueprint<C>> {
+    let registry = tree1111_registry::<C>();
+    let mut loader = neurotree::XmlLoader::new(&registry);
+    loader
+        .load_str(TREE1111_XML, "tree1111.xml")
+        .expect("tree1111.xml loads");
+    Arc::new(loader.build_main().expect("tree1111.xml builds"))
+}
+
 /// The "agent" of the many-agents benchmark: a 50-node game-AI tree over [`Agent`] that
 /// uses every family of node (reactive checks, memory sequences, a parallel, decorators and a
 /// stateful action), so that an instance carries realistic per-node state.

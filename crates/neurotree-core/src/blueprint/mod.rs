@@ -26,6 +26,7 @@ use core::ptr::NonNull;
 
 use crate::blackboard::ScopeId;
 use crate::nodes::hooks::NodeHooks;
+use crate::nodes::leaf::Condition;
 
 /// The deepest tree a blueprint accepts unless told otherwise (BehaviorTree.CPP uses 256).
 pub const DEFAULT_MAX_DEPTH: u32 = 256;
@@ -59,25 +60,84 @@ pub(crate) struct NodeDef<C> {
     pub(crate) child_count: u32,
 }
 
-/// A child as its parent's loop sees it: its id and, for a closure condition (the most
-/// common leaf), the closure itself, so that ticking it needs no look-up of its definition.
+/// A child as its parent's loop sees it: its id and, for a condition without hooks (the
+/// most common leaf, from the builder or from XML), the condition itself, so that ticking
+/// it needs no look-up of its definition and no call through the dispatcher.
 pub(crate) struct Child<C> {
     pub(crate) id: NodeId,
-    /// Points into the `ConditionFn` box owned by this blueprint's `nodes`.
-    condition: Option<NonNull<ConditionDyn<C>>>,
+    /// Which field of `leaf` is set. Beside the id, it costs no space: the record is as
+    /// large as the id and one wide pointer need anyway.
+    fast: Fast,
+    leaf: FastLeaf<C>,
+}
+
+/// What [`Child::leaf`] holds.
+#[derive(Clone, Copy, PartialEq, Eq)]
+#[repr(u32)]
+enum Fast {
+    /// First, so that the hottest test is a test for zero.
+    Closure,
+    None,
+    Condition,
+}
+
+/// The condition a [`Child`] calls directly: points into the `ConditionFn` box or at the
+/// `Condition` object (shared by `Arc`) owned by this blueprint's `nodes`.
+#[derive(Clone, Copy)]
+union FastLeaf<C> {
+    none: (),
+    closure: NonNull<ConditionDyn<C>>,
+    condition: NonNull<dyn Condition<C>>,
 }
 
 /// The closure behind a [`ConditionFn`].
 type ConditionDyn<C> = dyn Fn(&C) -> bool + Send + Sync;
 
 impl<C> Child<C> {
-    /// The child's closure condition, if it is one.
+    /// A child of kind `kind`; `hooked` when it has pre- or post-conditions.
+    pub(crate) fn new(id: NodeId, kind: &NodeKind<C>, hooked: bool) -> Self {
+        let (fast, leaf) = match (kind, hooked) {
+            (NodeKind::ConditionFn(f), false) => (
+                Fast::Closure,
+                FastLeaf {
+                    closure: NonNull::from(&**f),
+                },
+            ),
+            (NodeKind::Condition(c), false) => (
+                Fast::Condition,
+                FastLeaf {
+                    condition: NonNull::from(&**c),
+                },
+            ),
+            _ => (Fast::None, FastLeaf { none: () }),
+        };
+        Self { id, fast, leaf }
+    }
+
+    /// The child's closure condition (from the builder), if it is one without hooks.
     #[inline(always)]
-    pub(crate) fn condition(&self) -> Option<&ConditionDyn<C>> {
-        // SAFETY: the pointer was taken from a `Box` in `Blueprint::nodes` of the blueprint
-        // that owns this `Child`; the blueprint is immutable once built, so the box is
-        // neither dropped nor mutated while `self` (borrowed from the blueprint) lives.
-        self.condition.map(|f| unsafe { f.as_ref() })
+    pub(crate) fn closure(&self) -> Option<&ConditionDyn<C>> {
+        // SAFETY: `fast` says which field `new` set. The pointer was taken from a `Box` in
+        // `Blueprint::nodes` of the blueprint that owns this `Child`; the blueprint is
+        // immutable once built, so the box is neither dropped nor mutated while `self`
+        // (borrowed from the blueprint) lives.
+        if self.fast == Fast::Closure {
+            Some(unsafe { &*self.leaf.closure.as_ptr() })
+        } else {
+            None
+        }
+    }
+
+    /// The child's `Condition` object (a registered condition from XML, or the builder's
+    /// `condition_node`), if it is one without hooks.
+    #[inline(always)]
+    pub(crate) fn condition_object(&self) -> Option<&dyn Condition<C>> {
+        // SAFETY: as in `closure`; the object is held by an `Arc` in `Blueprint::nodes`.
+        if self.fast == Fast::Condition {
+            Some(unsafe { &*self.leaf.condition.as_ptr() })
+        } else {
+            None
+        }
     }
 }
 

@@ -6,7 +6,6 @@ use alloc::boxed::Box;
 use alloc::string::String;
 use alloc::sync::Arc;
 use alloc::vec::Vec;
-use core::ptr::NonNull;
 
 use super::{
     Blueprint, BuildError, BuildErrorKind, Child, NameSpan, NodeDef, NodeId, NodeKind, NodeMeta,
@@ -449,14 +448,8 @@ impl<C> State<C> {
         let nodes = nodes.into_boxed_slice();
         let hot_children = children
             .iter()
-            .map(|&id| Child {
-                id,
-                // A hooked condition takes the general path, which runs its hooks.
-                condition: match (&nodes[id.index()].kind, &hooks[id.index()]) {
-                    (NodeKind::ConditionFn(f), None) => Some(NonNull::from(&**f)),
-                    _ => None,
-                },
-            })
+            // A hooked condition takes the general path, which runs its hooks.
+            .map(|&id| Child::new(id, &nodes[id.index()].kind, hooks[id.index()].is_some()))
             .collect();
         Blueprint {
             hot_children,

@@ -34,15 +34,16 @@ use crate::{Clock, NodeId, Status};
 
 /// What a leaf sees while it runs: the user's context, the blackboard scope of its subtree,
 /// the tree's clock and its own identity.
+///
+/// A handle is made for every call of a leaf, so it holds only what the engine has at hand
+/// (references and the node's id); the node's scope, name and ports are looked up in the
+/// blueprint when asked for, which most leaves never do.
 pub struct Handle<'a, C> {
     pub(crate) ctx: &'a mut C,
     pub(crate) blackboard: &'a mut Blackboard,
-    pub(crate) scope: ScopeId,
     pub(crate) clock: &'a dyn Clock,
     pub(crate) node: NodeId,
-    pub(crate) name: &'a str,
-    pub(crate) ports: &'a [Port],
-    /// For [`fail`](Handle::fail): the blueprint names the node in the error.
+    /// Where the node's scope, name and ports are, and who names it in an error.
     pub(crate) bp: &'a crate::Blueprint<C>,
     pub(crate) fault: &'a mut Option<crate::TickError>,
 }
@@ -72,12 +73,12 @@ impl<'a, C> Handle<'a, C> {
 
     /// The scope this node reads and writes (its subtree's).
     pub fn scope(&self) -> ScopeId {
-        self.scope
+        self.bp.scope(self.node)
     }
 
     /// Reads `key` in this node's scope (`@key` reads the root scope).
     pub fn get<T: Any + Clone>(&self, key: &str) -> Result<T, BlackboardError> {
-        self.blackboard.get_in(self.scope, key)
+        self.blackboard.get_in(self.scope(), key)
     }
 
     /// Writes `key` in this node's scope, stamped with the clock's time.
@@ -87,7 +88,8 @@ impl<'a, C> Handle<'a, C> {
         value: T,
     ) -> Result<(), BlackboardError> {
         let now = self.clock.now();
-        self.blackboard.set_in(self.scope, key, value, now)
+        let scope = self.scope();
+        self.blackboard.set_in(scope, key, value, now)
     }
 
     /// The tree's clock reading.
@@ -98,20 +100,21 @@ impl<'a, C> Handle<'a, C> {
     /// Reads input port `port`: its literal text converted to `T`, or the blackboard entry
     /// it is bound to (a text entry is converted too, as BehaviorTree.CPP does).
     pub fn input<T: FromPortStr + Any + Clone>(&self, port: &str) -> Result<T, PortError> {
-        read_input(self.blackboard, self.scope, self.ports, port)
+        read_input(self.blackboard, self.scope(), self.ports(), port)
     }
 
     /// Writes output port `port`: the blackboard entry it is bound to, stamped with the
     /// clock's time.
     pub fn output<T: Any + Send + Sync>(&mut self, port: &str, value: T) -> Result<(), PortError> {
-        let PortValue::Entry(key) = &self.port(port)?.value else {
+        let bp = self.bp;
+        let PortValue::Entry(key) = &find_port(bp.ports(self.node), port)?.value else {
             return Err(PortError::NotAnEntry {
                 port: String::from(port),
             });
         };
         let now = self.clock.now();
         self.blackboard
-            .set_in(self.scope, key, value, now)
+            .set_in(bp.scope(self.node), key, value, now)
             .map_err(|source| PortError::Blackboard {
                 port: String::from(port),
                 source,
@@ -119,12 +122,8 @@ impl<'a, C> Handle<'a, C> {
     }
 
     /// The node's ports and their bindings.
-    pub fn ports(&self) -> &[Port] {
-        self.ports
-    }
-
-    fn port(&self, port: &str) -> Result<&'a Port, PortError> {
-        find_port(self.ports, port)
+    pub fn ports(&self) -> &'a [Port] {
+        self.bp.ports(self.node)
     }
 
     /// The node being ticked.
@@ -133,8 +132,8 @@ impl<'a, C> Handle<'a, C> {
     }
 
     /// The node's name.
-    pub fn name(&self) -> &str {
-        self.name
+    pub fn name(&self) -> &'a str {
+        self.bp.name(self.node)
     }
 
     /// Reports a runtime error, as BehaviorTree.CPP's nodes throw one: the tick ends with
@@ -312,6 +311,69 @@ mod tests {
         assert_eq!(tree.tick_once(&mut ctx), Ok(Status::Success));
         assert_eq!(ctx.0, 20);
         assert_eq!(ctx.1, ["#2 bump 7ms", "#2 bump 7ms"]);
+    }
+
+    /// Reads a port and its scope, to show what the handle of a directly called condition
+    /// looks up when asked.
+    struct Named;
+    impl Condition<(u32, Vec<String>)> for Named {
+        fn check(&self, h: &Handle<'_, (u32, Vec<String>)>) -> bool {
+            h.input::<u32>("limit") == Ok(h.ctx().0) && h.name() == "named"
+        }
+    }
+
+    /// Notes each node's own tick and each status change.
+    #[derive(Clone, Default)]
+    struct Seen(std::sync::Arc<std::sync::Mutex<Vec<String>>>);
+    impl crate::Observer for Seen {
+        fn on_node_tick(&mut self, node: NodeId) {
+            self.0.lock().unwrap().push(format!("tick {node}"));
+        }
+        fn on_status_change(&mut self, c: crate::StatusChange) {
+            let line = format!("{} {}->{}", c.node, c.from, c.to);
+            self.0.lock().unwrap().push(line);
+        }
+    }
+
+    #[test]
+    fn a_condition_object_called_from_its_parent_is_ticked_and_seen_like_any_node() {
+        let bp = Builder::<(u32, Vec<String>)>::new()
+            .sequence("root", |s| {
+                s.condition_node("high", Above(15))
+                    .condition_node("named", Named)
+                    .ports([Port::literal("limit", "20")])
+            })
+            .build_shared()
+            .unwrap();
+        let mut tree = Tree::with_clock(bp, ManualClock::new());
+        let seen = Seen::default();
+        tree.set_observer(seen.clone());
+        let mut ctx = (20, Vec::new());
+        assert_eq!(tree.tick_once(&mut ctx), Ok(Status::Success));
+        ctx.0 = 10;
+        assert_eq!(tree.tick_once(&mut ctx), Ok(Status::Failure));
+        assert_eq!(
+            *seen.0.lock().unwrap(),
+            [
+                "tick #0",
+                "#0 IDLE->RUNNING",
+                "tick #1",
+                "#1 IDLE->SUCCESS",
+                "tick #2",
+                "#2 IDLE->SUCCESS",
+                "#1 SUCCESS->IDLE",
+                "#2 SUCCESS->IDLE",
+                "#0 RUNNING->SUCCESS",
+                "#0 SUCCESS->IDLE",
+                "tick #0",
+                "#0 IDLE->RUNNING",
+                "tick #1",
+                "#1 IDLE->FAILURE",
+                "#1 FAILURE->IDLE",
+                "#0 RUNNING->FAILURE",
+                "#0 FAILURE->IDLE",
+            ]
+        );
     }
 
     #[test]
