@@ -35,7 +35,7 @@ mod model;
 pub mod save;
 mod source;
 
-pub use mock::parse_outcomes;
+pub use mock::{parse_outcomes, Outcomes};
 pub use save::{write_xml, SaveOptions};
 
 /// Parses a file that holds a `TreeNodesModel` (for [`Registry::add_model_str`]).
@@ -118,7 +118,7 @@ pub struct XmlLoader<'r, C> {
     /// Trees loaded without an ID so far.
     unnamed_trees: usize,
     /// Node name (or type) → the outcomes of the mock that replaces it.
-    mocks: BTreeMap<String, Vec<neurotree_core::Status>>,
+    mocks: BTreeMap<String, Outcomes>,
 }
 
 impl<C> fmt::Debug for XmlLoader<'_, C> {
@@ -160,11 +160,12 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
     }
 
     /// Replaces every leaf (Action or Condition) whose `name` (or, without one, its type) is
-    /// `name` by a leaf that returns `outcomes` one per tick, then the last one forever, for
-    /// dry runs. A control or decorator of that name stays; if no leaf of the tree built is
-    /// named so, building it fails.
-    pub fn mock(mut self, name: &str, outcomes: Vec<neurotree_core::Status>) -> Self {
-        self.mocks.insert(name.to_string(), outcomes);
+    /// `name` by a leaf that returns `outcomes` one per tick (a `Vec<Status>`, or the runs
+    /// [`parse_outcomes`] reads), then the last one forever, for dry runs. A control or
+    /// decorator of that name stays; if no leaf of the tree built is named so, building it
+    /// fails.
+    pub fn mock(mut self, name: &str, outcomes: impl Into<Outcomes>) -> Self {
+        self.mocks.insert(name.to_string(), outcomes.into());
         self
     }
 
