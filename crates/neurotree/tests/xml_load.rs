@@ -369,6 +369,19 @@ fn bad_condition_attributes_are_load_errors() {
 }
 
 #[test]
+fn a_long_condition_script_is_quoted_by_a_window_around_its_error() {
+    // 10,000 characters of assignments, the last of which lacks its value.
+    let script = format!("  {}y := )", "x := 1; ".repeat(1_249));
+    assert_eq!(script.len(), 10_000);
+    let e = error(&format!(
+        r#"<root main_tree_to_execute="T"><BehaviorTree ID="T"><Succ _skipIf="{script}"/></BehaviorTree></root>"#
+    ));
+    assert!(e.message.starts_with("in `_skipIf` script `…"), "{e}");
+    assert!(e.message.contains("x := 1; y := )`"), "{e}");
+    assert!(e.message.chars().count() < 200, "{} characters: {e}", e.message.len());
+}
+
+#[test]
 fn nav2_trees_validate_against_their_model() {
     let nav2 = corpus("nav2");
     let mut r = Registry::<()>::new();

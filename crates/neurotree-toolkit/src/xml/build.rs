@@ -180,7 +180,8 @@ fn conditions(el: Element<'_>, enums: &Arc<Enums>) -> Result<Option<Box<ScriptHo
     for (key, code) in el.attrs() {
         if ATTRIBUTES.contains(&key) {
             let script = Script::parse(code)
-                .map_err(|e| el.error(format!("in `{key}` script `{code}`: {e}")))?;
+                // A window of the script, not all of it: a script may be kilobytes long.
+                .map_err(|e| el.error(format!("in `{key}` script `{}`: {e}", e.excerpt(code))))?;
             hooks
                 .get_or_insert_with(|| {
                     Box::new(ScriptHooks {
