@@ -1039,3 +1039,87 @@ fn a_mock_of_a_control_or_decorator_is_an_error() {
     let mut run = Tree::with_clock(bp.into(), ManualClock::new());
     assert_eq!(run.tick_once(&mut Vec::new()), Ok(Status::Failure));
 }
+
+/// A file of `levels` trees `T0`..`T{levels-1}`, one a line after `<root>`, each using the
+/// next one twice, and a leaf `T{levels}`: 2 KB that would expand to 2^(levels+2) nodes.
+fn doubling_subtrees(levels: usize) -> String {
+    let mut xml = String::from("<root BTCPP_format=\"4\" main_tree_to_execute=\"T0\">\n");
+    for i in 0..levels {
+        let next = i + 1;
+        xml.push_str(&format!(
+            "<BehaviorTree ID=\"T{i}\"><Sequence><SubTree ID=\"T{next}\"/><SubTree ID=\"T{next}\"/></Sequence></BehaviorTree>\n"
+        ));
+    }
+    xml.push_str(&format!(
+        "<BehaviorTree ID=\"T{levels}\"><AlwaysSuccess/></BehaviorTree>\n</root>\n"
+    ));
+    xml
+}
+
+/// The nodes tree `T1` of [`doubling_subtrees`] expands to: each level is a Sequence and two
+/// SubTree nodes over two copies of the next, so `3 + 2 * next`, from 1 for the leaf.
+fn doubling_size(levels: u32) -> u64 {
+    (1u64 << (levels + 1)) - 3
+}
+
+#[test]
+fn subtrees_using_each_other_twice_over_are_refused_at_the_first_subtree() {
+    let r = registry();
+    for levels in [24, 30] {
+        let xml = doubling_subtrees(levels);
+        assert!(xml.len() < 3_200, "{} bytes", xml.len());
+        let mut loader = XmlLoader::new(&r);
+        loader.load_str(&xml, "doubling.xml").unwrap();
+        let expected = format!(
+            "doubling.xml:2:33: error: the tree expands past the limit of 2000000 nodes here: \
+             SubTree `T1` adds {} nodes to the 2 counted so far (each use of a subtree is a \
+             copy of it); raise the limit with XmlLoader::max_nodes if the tree is meant to be \
+             this big",
+            doubling_size(levels as u32)
+        );
+        let built = loader.build_main().unwrap_err();
+        assert_eq!(built.to_string(), expected);
+        assert_eq!(loader.validate("T0").unwrap_err().to_string(), expected);
+        // Validating every error goes past the first SubTree to the second, and expands
+        // neither.
+        let all = loader.validate_all("T0", 20);
+        assert_eq!(all.len(), 2, "{all:?}");
+        assert_eq!(all[0].to_string(), expected);
+        assert_eq!((all[1].line, all[1].col), (2, 51));
+    }
+}
+
+#[test]
+fn the_node_budget_counts_expanded_subtrees_exactly() {
+    let r = registry();
+    let xml = doubling_subtrees(4);
+    // T0 is a Sequence and two SubTree nodes over two copies of T1.
+    let size = 3 + 2 * doubling_size(4) as usize;
+    assert_eq!(size, 61);
+    let mut loader = XmlLoader::new(&r).max_nodes(size);
+    loader.load_str(&xml, "doubling.xml").unwrap();
+    assert_eq!(loader.build_main().unwrap().len(), size);
+    let mut loader = XmlLoader::new(&r).max_nodes(size - 1);
+    loader.load_str(&xml, "doubling.xml").unwrap();
+    let e = loader.build_main().unwrap_err();
+    assert_eq!((e.line, e.col), (2, 51));
+    assert!(
+        e.message.starts_with(&format!(
+            "the tree expands past the limit of {} nodes here: SubTree `T1` adds 29 nodes to the 32 counted so far",
+            size - 1
+        )),
+        "{e}"
+    );
+    // A tree's own elements count too: the sixth node of five is refused where it is.
+    let mut loader = XmlLoader::new(&r).max_nodes(5);
+    loader
+        .load_str(
+            "<root main_tree_to_execute=\"T\"><BehaviorTree ID=\"T\"><Sequence>\n<Succ/><Succ/><Succ/><Succ/><Succ/></Sequence></BehaviorTree></root>",
+            "wide.xml",
+        )
+        .unwrap();
+    assert_eq!(
+        loader.build_main().unwrap_err().to_string(),
+        "wide.xml:2:29: error: the tree expands past the limit of 5 nodes here; raise the limit with XmlLoader::max_nodes if the tree is meant to be this big"
+    );
+}

@@ -35,7 +35,14 @@ mod model;
 pub mod save;
 mod source;
 
+pub use build::TOO_MANY_NODES;
 pub use mock::{parse_outcomes, Outcomes};
+
+/// The most nodes a tree built by an [`XmlLoader`] may have, its subtrees expanded, unless
+/// [`XmlLoader::max_nodes`] says otherwise: far more than any real tree, and few enough
+/// that a file whose subtrees use each other many times over is refused before it takes
+/// gigabytes.
+pub const DEFAULT_MAX_NODES: usize = 2_000_000;
 pub use save::{write_xml, SaveOptions};
 
 /// Parses a file that holds a `TreeNodesModel` (for [`Registry::add_model_str`]).
@@ -119,6 +126,8 @@ pub struct XmlLoader<'r, C> {
     unnamed_trees: usize,
     /// Node name (or type) → the outcomes of the mock that replaces it.
     mocks: BTreeMap<String, Outcomes>,
+    /// The most nodes a built tree may have, subtrees expanded.
+    max_nodes: usize,
 }
 
 impl<C> fmt::Debug for XmlLoader<'_, C> {
@@ -143,7 +152,16 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
             loading: Vec::new(),
             unnamed_trees: 0,
             mocks: BTreeMap::new(),
+            max_nodes: DEFAULT_MAX_NODES,
         }
+    }
+
+    /// Sets the most nodes a tree built (or validated) may have once its subtrees are
+    /// expanded, [`DEFAULT_MAX_NODES`] by default. A SubTree whose expansion would go past
+    /// it is an error at that SubTree, found before anything of it is built.
+    pub fn max_nodes(mut self, nodes: usize) -> Self {
+        self.max_nodes = nodes;
+        self
     }
 
     /// Confines `<include>`s to files under `dir`; an include that leaves it is an error.
