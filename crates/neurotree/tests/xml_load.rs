@@ -378,7 +378,11 @@ fn a_long_condition_script_is_quoted_by_a_window_around_its_error() {
     ));
     assert!(e.message.starts_with("in `_skipIf` script `…"), "{e}");
     assert!(e.message.contains("x := 1; y := )`"), "{e}");
-    assert!(e.message.chars().count() < 200, "{} characters: {e}", e.message.len());
+    assert!(
+        e.message.chars().count() < 200,
+        "{} characters: {e}",
+        e.message.len()
+    );
 }
 
 #[test]
@@ -1122,4 +1126,118 @@ fn the_node_budget_counts_expanded_subtrees_exactly() {
         loader.build_main().unwrap_err().to_string(),
         "wide.xml:2:29: error: the tree expands past the limit of 5 nodes here; raise the limit with XmlLoader::max_nodes if the tree is meant to be this big"
     );
+}
+
+/// Loads `path` on another thread: the result, or `None` if it took more than ten
+/// seconds (a load blocked on a FIFO), so that a regression fails instead of hanging.
+fn load_on_a_thread(path: &std::path::Path, base: &str) -> Option<Result<(), LoadError>> {
+    let (send, receive) = std::sync::mpsc::channel();
+    let path = path.to_path_buf();
+    let base = base.to_string();
+    std::thread::spawn(move || {
+        let r = registry();
+        let mut loader = XmlLoader::new(&r).base_dir(base);
+        let _ = send.send(loader.load_file(&path));
+    });
+    receive
+        .recv_timeout(std::time::Duration::from_secs(10))
+        .ok()
+}
+
+#[test]
+fn a_device_is_refused_as_a_file_and_as_an_include() {
+    if !std::path::Path::new("/dev/zero").exists() {
+        println!("note: no /dev/zero here; skipped");
+        return;
+    }
+    let e = load_on_a_thread("/dev/zero".as_ref(), "/")
+        .expect("loading /dev/zero returns")
+        .unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "/dev/zero:1:1: error: not a regular file but a character device; give the path of a tree file"
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let main = dir.path().join("main.xml");
+    std::fs::write(&main, "<root>\n  <include path=\"/dev/zero\"/>\n</root>\n").unwrap();
+    let e = load_on_a_thread(&main, "/")
+        .expect("including /dev/zero returns")
+        .unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        format!(
+            "{}:2:3: error: in included file `/dev/zero`: not a regular file but a character device; give the path of a tree file",
+            main.display()
+        )
+    );
+}
+
+#[test]
+fn a_fifo_is_refused_as_a_file_and_as_an_include_without_blocking() {
+    let dir = tempfile::tempdir().unwrap();
+    let fifo = dir.path().join("pipe.xml");
+    match std::process::Command::new("mkfifo").arg(&fifo).status() {
+        Ok(status) if status.success() => {}
+        other => {
+            println!("note: mkfifo did not make a FIFO ({other:?}); skipped");
+            return;
+        }
+    }
+    let base = dir.path().display().to_string();
+    let main = dir.path().join("main.xml");
+    std::fs::write(&main, "<root>\n  <include path=\"pipe.xml\"/>\n</root>\n").unwrap();
+    let loaded = [
+        load_on_a_thread(&fifo, &base),
+        load_on_a_thread(&main, &base),
+    ];
+    if loaded.iter().any(Option::is_none) {
+        // Unblock the loads left waiting for a writer before failing.
+        drop(std::fs::OpenOptions::new().write(true).open(&fifo));
+        drop(std::fs::OpenOptions::new().write(true).open(&fifo));
+        panic!("loading a FIFO blocked");
+    }
+    let [Some(Err(direct)), Some(Err(included))] = loaded else {
+        panic!("a FIFO loaded: {loaded:?}");
+    };
+    assert_eq!(
+        direct.to_string(),
+        format!(
+            "{}:1:1: error: not a regular file but a FIFO; give the path of a tree file",
+            fifo.display()
+        )
+    );
+    assert_eq!(
+        included.to_string(),
+        format!(
+            "{}:2:3: error: in included file `{}`: not a regular file but a FIFO; give the path of a tree file",
+            main.display(),
+            fifo.display()
+        )
+    );
+}
+
+#[test]
+fn a_file_over_the_size_limit_is_refused_and_one_at_it_loads() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("tree.xml");
+    let xml =
+        "<root main_tree_to_execute=\"T\"><BehaviorTree ID=\"T\"><Succ/></BehaviorTree></root>";
+    std::fs::write(&file, xml).unwrap();
+    let size = xml.len() as u64;
+    let r = registry();
+    let e = XmlLoader::new(&r)
+        .max_file_bytes(size - 1)
+        .load_file(&file)
+        .unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        format!(
+            "{}:1:1: error: the file is {size} bytes, more than the limit of {}; raise the limit (XmlLoader::max_file_bytes) if the file is meant to be this big",
+            file.display(),
+            size - 1
+        )
+    );
+    let mut loader = XmlLoader::new(&r).max_file_bytes(size);
+    loader.load_file(&file).unwrap();
+    assert_eq!(loader.build_main().unwrap().len(), 1);
 }

@@ -30,20 +30,22 @@
 //! ```
 
 mod build;
+mod file;
 mod mock;
 mod model;
 pub mod save;
 mod source;
 
 pub use build::TOO_MANY_NODES;
+pub use file::{read_file, DEFAULT_MAX_FILE_BYTES};
 pub use mock::{parse_outcomes, Outcomes};
+pub use save::{write_xml, SaveOptions};
 
 /// The most nodes a tree built by an [`XmlLoader`] may have, its subtrees expanded, unless
 /// [`XmlLoader::max_nodes`] says otherwise: far more than any real tree, and few enough
 /// that a file whose subtrees use each other many times over is refused before it takes
 /// gigabytes.
 pub const DEFAULT_MAX_NODES: usize = 2_000_000;
-pub use save::{write_xml, SaveOptions};
 
 /// Parses a file that holds a `TreeNodesModel` (for [`Registry::add_model_str`]).
 pub(crate) fn parse_model(text: &str, file: &str) -> Result<Document, LoadError> {
@@ -128,6 +130,8 @@ pub struct XmlLoader<'r, C> {
     mocks: BTreeMap<String, Outcomes>,
     /// The most nodes a built tree may have, subtrees expanded.
     max_nodes: usize,
+    /// The largest file read, in bytes.
+    max_file_bytes: u64,
 }
 
 impl<C> fmt::Debug for XmlLoader<'_, C> {
@@ -153,6 +157,7 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
             unnamed_trees: 0,
             mocks: BTreeMap::new(),
             max_nodes: DEFAULT_MAX_NODES,
+            max_file_bytes: DEFAULT_MAX_FILE_BYTES,
         }
     }
 
@@ -161,6 +166,13 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
     /// it is an error at that SubTree, found before anything of it is built.
     pub fn max_nodes(mut self, nodes: usize) -> Self {
         self.max_nodes = nodes;
+        self
+    }
+
+    /// Sets the largest file (tree file or include) read, in bytes,
+    /// [`DEFAULT_MAX_FILE_BYTES`] by default; a larger one is an error naming it.
+    pub fn max_file_bytes(mut self, bytes: u64) -> Self {
+        self.max_file_bytes = bytes;
         self
     }
 
@@ -209,7 +221,8 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
         self.take_root(root, dir.as_deref())
     }
 
-    /// Loads an XML file and the files it includes.
+    /// Loads an XML file and the files it includes. Only regular files are read (a FIFO or a
+    /// device is an error naming it), up to [`max_file_bytes`](Self::max_file_bytes) each.
     pub fn load_file(&mut self, path: impl AsRef<Path>) -> Result<(), LoadError> {
         let path = path.as_ref();
         let shown = path.display().to_string();
@@ -225,8 +238,10 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
                 "this file includes itself (through its includes); remove the cycle",
             ));
         }
-        let text = std::fs::read_to_string(&canonical)
-            .map_err(|e| LoadError::at_file(&shown, format!("cannot read the file: {e}")))?;
+        let text = file::read_file(&canonical, self.max_file_bytes).map_err(|mut e| {
+            e.file.clone_from(&shown);
+            e
+        })?;
         self.loading.push(canonical.clone());
         let root = source::parse(&text, &shown);
         let result = root.and_then(|root| self.take_root(root, canonical.parent()));
@@ -335,7 +350,11 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
         self.load_file(&target).map_err(|inner| {
             if inner.file == target.display().to_string() && inner.line == 1 && inner.col == 1 {
                 let el = self.docs[doc].element(element);
-                el.error(format!("in included file: {}", inner.message))
+                el.error(format!(
+                    "in included file `{}`: {}",
+                    target.display(),
+                    inner.message
+                ))
             } else {
                 inner
             }
