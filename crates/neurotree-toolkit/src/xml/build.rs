@@ -1,13 +1,13 @@
 //! From loaded XML elements to a blueprint: node names through the registry, ports checked,
 //! subtrees expanded into blackboard scopes.
 
-use std::collections::BTreeMap;
 use std::sync::Arc;
 
 use neurotree_core::{
     Arity, Blueprint, Builder, Category, NodeKind, Port, PortValue, SubTreeScope, DEFAULT_MAX_DEPTH,
 };
 
+use super::budget;
 use super::mock;
 use super::source::Element;
 use super::{LoadError, XmlLoader};
@@ -41,19 +41,6 @@ struct Expansion<'a, 'r, C> {
     not_mocked: Vec<(&'a str, LoadError)>,
     /// Nodes opened so far, subtrees expanded: at most the loader's `max_nodes`.
     nodes: usize,
-    /// How many nodes each loaded tree expands to, as far as worked out (see
-    /// [`Expansion::expanded_size`]).
-    sizes: BTreeMap<&'a str, Size>,
-}
-
-/// What [`Expansion::expanded_size`] knows of a tree's size.
-#[derive(Clone, Copy)]
-enum Size {
-    /// Being worked out: a SubTree that meets it again is a cycle, which the expansion
-    /// reports; it counts for nothing meanwhile.
-    Counting,
-    /// Its nodes, subtrees expanded (saturating at `u64::MAX`).
-    Known(u64),
 }
 
 /// What an element turns into: the node to open, and whether its children follow it.
@@ -133,12 +120,21 @@ impl<'a, 'r, C: 'static> Expansion<'a, 'r, C> {
             mocked: Vec::new(),
             not_mocked: Vec::new(),
             nodes: 0,
-            sizes: BTreeMap::new(),
         }
     }
 
     /// Expands the `<BehaviorTree>` `tree` and builds its blueprint.
     fn expand(&mut self, tree: Element<'a>) -> Result<Blueprint<C>, LoadError> {
+        // A tree too big is refused before anything of it is built, at the SubTrees where
+        // it crosses the budget: each use of a subtree is a copy, so a few trees using the
+        // next one twice each would make millions of nodes.
+        if budget::expanded_size(self.loader, &self.stack[0]) > self.loader.max_nodes as u64 {
+            let mut errors = budget::crossings(self.loader, tree, self.limit.max(1));
+            if let Some(last) = errors.pop() {
+                self.errors.extend(errors);
+                return Err(last);
+            }
+        }
         let b = self.node(Builder::new(), only_child(tree), 1)?;
         if let Some((_, error)) = self
             .not_mocked
@@ -182,7 +178,7 @@ fn same(a: &str, b: &str) -> bool {
 }
 
 /// The root node of a `<BehaviorTree>`.
-fn only_child(tree: Element<'_>) -> Element<'_> {
+pub(super) fn only_child(tree: Element<'_>) -> Element<'_> {
     // The loader keeps only trees with exactly one child element.
     tree.children()
         .next()
@@ -264,11 +260,10 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
         if depth > DEFAULT_MAX_DEPTH {
             return Err(self.too_deep(el));
         }
-        // The backstop of the budget: SubTrees are refused before they expand past it (in
-        // `open_subtree`), but a tree's own elements, and subtrees the registry builds,
-        // are only counted here.
+        // The backstop of the budget, which `expand` checked before building: subtrees
+        // the registry builds count for one node there.
         if self.nodes >= self.loader.max_nodes {
-            return Err(self.too_many_nodes(el));
+            return Err(budget::too_many_nodes(el, self.loader.max_nodes));
         }
         self.nodes += 1;
         if el.tag() == "SubTree" {
@@ -318,14 +313,6 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
     fn too_deep(&self, el: Element<'_>) -> LoadError {
         el.error(format!(
             "the tree nests deeper than {DEFAULT_MAX_DEPTH} levels (subtrees included); flatten it"
-        ))
-    }
-
-    #[inline(never)]
-    fn too_many_nodes(&self, el: Element<'_>) -> LoadError {
-        let max = self.loader.max_nodes;
-        el.error(format!(
-            "{TOO_MANY_NODES} {max} nodes here; raise the limit with XmlLoader::max_nodes if the tree is meant to be this big"
         ))
     }
 
@@ -610,19 +597,6 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
                 cycle.join(" -> ")
             )));
         }
-        if let Body::Xml(_) = body {
-            // Refused before expanding: each use of a subtree is a copy, so a few trees
-            // using the next one twice each would make millions of nodes.
-            let size = self.expanded_size(id);
-            let total = size.saturating_add(self.nodes as u64);
-            let max = self.loader.max_nodes;
-            if total > max as u64 {
-                return Err(el.error(format!(
-                    "{TOO_MANY_NODES} {max} nodes here: SubTree `{id}` adds {size} nodes to the {} counted so far (each use of a subtree is a copy of it); raise the limit with XmlLoader::max_nodes if the tree is meant to be this big",
-                    self.nodes
-                )));
-            }
-        }
         let mut scope = SubTreeScope::default();
         for (key, text) in el.attrs() {
             match key {
@@ -659,80 +633,6 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
         };
         Ok((opened, body))
     }
-}
-
-impl<'a, C: 'static> Expansion<'a, '_, C> {
-    /// How many nodes the loaded tree `id` expands to, its subtrees expanded; worked out
-    /// once per tree (without recursion: subtrees may chain thousands deep), from the sizes
-    /// of the trees it uses. A subtree the registry builds counts for its SubTree node
-    /// only; a cycle counts for nothing (the expansion reports it).
-    fn expanded_size(&mut self, id: &'a str) -> u64 {
-        // `(tree, whether the trees it uses are counted)`.
-        let mut todo = vec![(id, false)];
-        while let Some((at, below_counted)) = todo.pop() {
-            let Some(tree) = self.loader.tree(at) else {
-                continue;
-            };
-            match (self.sizes.get(at), below_counted) {
-                (None, false) => {
-                    self.sizes.insert(at, Size::Counting);
-                    todo.push((at, true));
-                    for used in subtree_uses(tree) {
-                        if !self.sizes.contains_key(used) {
-                            todo.push((used, false));
-                        }
-                    }
-                }
-                (Some(Size::Counting), true) => {
-                    let size = subtree_uses_and_nodes(tree, |used| match self.sizes.get(used) {
-                        Some(Size::Known(n)) => *n,
-                        _ => 0,
-                    });
-                    self.sizes.insert(at, Size::Known(size));
-                }
-                // Counted already, or met again in a cycle.
-                _ => {}
-            }
-        }
-        match self.sizes.get(id) {
-            Some(Size::Known(n)) => *n,
-            _ => 0,
-        }
-    }
-}
-
-/// The start of the message of a tree refused for its size, which a command may follow
-/// with a hint of its own.
-pub const TOO_MANY_NODES: &str = "the tree expands past the limit of";
-
-/// The IDs that the `<SubTree>`s of the `<BehaviorTree>` `tree` name (once per use).
-fn subtree_uses<'a>(tree: Element<'a>) -> Vec<&'a str> {
-    let mut uses = Vec::new();
-    subtree_uses_and_nodes(tree, |id| {
-        uses.push(id);
-        0
-    });
-    uses
-}
-
-/// The nodes of the `<BehaviorTree>` `tree`, each `<SubTree>` counted as itself and the
-/// nodes `used` says its ID expands to; `used` sees every SubTree's ID in turn.
-fn subtree_uses_and_nodes<'a>(tree: Element<'a>, mut used: impl FnMut(&'a str) -> u64) -> u64 {
-    let mut nodes = 0u64;
-    // Without recursion: the elements may nest a thousand deep.
-    let mut todo = vec![only_child(tree)];
-    while let Some(el) = todo.pop() {
-        nodes = nodes.saturating_add(1);
-        if el.tag() == "SubTree" {
-            // Its children, if it has any, are not expanded.
-            if let Some(id) = el.attr("ID") {
-                nodes = nodes.saturating_add(used(id));
-            }
-        } else {
-            todo.extend(el.children());
-        }
-    }
-    nodes
 }
 
 /// What a SubTree expands into: a loaded `<BehaviorTree>`, or a subtree made with the builder.

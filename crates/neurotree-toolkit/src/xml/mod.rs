@@ -29,6 +29,7 @@
 //! assert_eq!(n, 3);
 //! ```
 
+mod budget;
 mod build;
 mod file;
 mod mock;
@@ -36,7 +37,7 @@ mod model;
 pub mod save;
 mod source;
 
-pub use build::TOO_MANY_NODES;
+pub use budget::TOO_MANY_NODES;
 pub use file::{read_file, DEFAULT_MAX_FILE_BYTES};
 pub use mock::{parse_outcomes, Outcomes};
 pub use save::{write_xml, SaveOptions};
@@ -132,6 +133,10 @@ pub struct XmlLoader<'r, C> {
     max_nodes: usize,
     /// The largest file read, in bytes.
     max_file_bytes: u64,
+    /// How many nodes each loaded tree expands to, as far as worked out (see
+    /// `budget.rs`); emptied when a file is loaded. Behind a lock because building
+    /// borrows the loader shared, and the loader may be shared across threads.
+    sizes: std::sync::Mutex<BTreeMap<String, u64>>,
 }
 
 impl<C> fmt::Debug for XmlLoader<'_, C> {
@@ -158,6 +163,7 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
             mocks: BTreeMap::new(),
             max_nodes: DEFAULT_MAX_NODES,
             max_file_bytes: DEFAULT_MAX_FILE_BYTES,
+            sizes: std::sync::Mutex::default(),
         }
     }
 
@@ -250,6 +256,11 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
     }
 
     fn take_root(&mut self, doc: Document, dir: Option<&Path>) -> Result<(), LoadError> {
+        // The trees this file brings change what the SubTrees of the others expand to.
+        self.sizes
+            .get_mut()
+            .unwrap_or_else(std::sync::PoisonError::into_inner)
+            .clear();
         let at = self.docs.len();
         self.docs.push(doc);
         let trees = self.trees.len();
