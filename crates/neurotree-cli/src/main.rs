@@ -114,6 +114,17 @@ struct RunArgs {
     view: bool,
     #[command(flatten)]
     observe: run::ObserveArgs,
+    #[command(flatten)]
+    limits: LoadLimits,
+}
+
+/// The bounds on what loading a file may build, shared by `run`, `check` and `show`.
+#[derive(Args, Debug)]
+struct LoadLimits {
+    /// The most nodes a tree may have once its subtrees are expanded (each use of a
+    /// subtree is a copy); a file past it is refused at the SubTree that crosses it.
+    #[arg(long, value_name = "N", default_value_t = neurotree::xml::DEFAULT_MAX_NODES)]
+    max_nodes: usize,
 }
 
 #[derive(Args, Debug)]
@@ -143,6 +154,8 @@ struct ShowArgs {
     /// With --trace: the statuses of this tick instead (the last each node reached in it).
     #[arg(long, requires = "trace")]
     tick: Option<u32>,
+    #[command(flatten)]
+    limits: LoadLimits,
 }
 
 fn key_value(text: &str) -> Result<(String, String), String> {
@@ -168,6 +181,8 @@ struct CheckArgs {
     /// A file whose `TreeNodesModel` declares node types the files use (repeatable).
     #[arg(long = "model")]
     models: Vec<std::path::PathBuf>,
+    #[command(flatten)]
+    limits: LoadLimits,
 }
 
 #[derive(Args, Debug)]
@@ -306,6 +321,7 @@ fn main() -> ExitCode {
                 }),
                 view: args.view,
                 observe: args.observe,
+                max_nodes: args.limits.max_nodes,
             };
             run::run(&args.files, &opts, &mut out, &mut io::stderr())
         }
@@ -317,11 +333,16 @@ fn main() -> ExitCode {
                 models: args.models,
                 trace: args.trace,
                 tick: args.tick,
+                max_nodes: args.limits.max_nodes,
             };
             show::run(&args.files, &opts, &mut out, &mut io::stderr()).map(Outcome::from)
         }
         Command::Check(args) => {
-            check::run(&args.files, &args.models, &mut out, &mut io::stderr()).map(Outcome::from)
+            let opts = check::CheckOptions {
+                models: args.models,
+                max_nodes: args.limits.max_nodes,
+            };
+            check::run(&args.files, &opts, &mut out, &mut io::stderr()).map(Outcome::from)
         }
     };
     match result {

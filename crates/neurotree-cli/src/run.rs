@@ -56,6 +56,8 @@ pub struct RunOptions {
     pub groot: Option<crate::groot::GrootOptions>,
     /// Loggers watching the run.
     pub observe: ObserveArgs,
+    /// The most nodes the tree may have, subtrees expanded.
+    pub max_nodes: usize,
 }
 
 #[derive(Default)]
@@ -122,7 +124,9 @@ fn load(
 ) -> Result<(Blueprint<()>, Registry<()>, files::Picked), String> {
     let mut registry = crate::registry::with_nav2_controls::<()>();
     files::add_models(&mut registry, files).map_err(|e| e.to_string())?;
-    let mut loader = XmlLoader::new(&registry).mock_unknown(opts.mock_unknown);
+    let mut loader = XmlLoader::new(&registry)
+        .mock_unknown(opts.mock_unknown)
+        .max_nodes(opts.max_nodes);
     for (name, outcomes) in &opts.mocks {
         let outcomes = neurotree::xml::parse_outcomes(outcomes)
             .map_err(|e| format!("--mock {name}={outcomes}: {e}"))?;
@@ -149,6 +153,9 @@ fn load(
             "{e}\nhint: mock the leaves without an implementation with --mock-unknown, or \
              one with --mock NAME=OUTCOMES"
         )),
+        Err(e) if e.message.starts_with(neurotree::xml::TOO_MANY_NODES) => {
+            Err(format!("{e}\n{}", files::MAX_NODES_HINT))
+        }
         Err(e) => Err(e.to_string()),
     }
 }
