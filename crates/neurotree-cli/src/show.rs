@@ -9,10 +9,10 @@
 //! With `--trace`, the JSON lines that `neurotree run --trace` prints give each node the
 //! last status it reached during the run (a halt sets it back to Idle); with `--tick N`,
 //! the last status each reached during tick N, or, for a node that tick did not change,
-//! the status it had when the tick began. (The trace does not show where a tick re-ran the
-//! root at once, so a node the live view of `run --view` cleared for the last of those
-//! passes still shows what it did in the earlier ones.) Nodes that share a path are told
-//! apart by their statuses. Every error is printed as `path:line:col: error: message`.
+//! the status it had when the tick began. (The trace numbers ticks by pass of the root, as
+//! `run --max-ticks` counts them: a tick that re-ran the root at once for a node that asked
+//! to be woken has one number per pass.) Nodes that share a path are told apart by their
+//! statuses. Every error is printed as `path:line:col: error: message`.
 
 use std::collections::{BTreeSet, HashMap};
 use std::fs;

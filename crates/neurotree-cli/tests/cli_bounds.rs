@@ -51,6 +51,77 @@ fn file(dir: &Path, name: &str, text: &str) -> String {
     path.to_str().unwrap().to_string()
 }
 
+const REPEAT_FOREVER: &str = r#"<root BTCPP_format="4" main_tree_to_execute="Main">
+  <BehaviorTree ID="Main">
+    <Repeat num_cycles="-1"><AlwaysSuccess/></Repeat>
+  </BehaviorTree>
+</root>"#;
+
+#[test]
+fn max_ticks_counts_every_pass_of_the_root_including_wake_ups() {
+    let dir = tempfile::tempdir().unwrap();
+    let tree = file(dir.path(), "forever.xml", REPEAT_FOREVER);
+    // The Repeat asks for a pass at once after each cycle: one `tick_once` would spin.
+    let (code, out, err) = neurotree(&["run", &tree, "--max-ticks", "3"]);
+    assert_eq!(code, Some(3), "{err}");
+    assert_eq!(
+        out,
+        concat!(
+            r#"{"tick":3,"status":"RUNNING"}"#,
+            "\n",
+            r#"{"summary":{"ticks":3,"status":"RUNNING","nodes":{"AlwaysSuccess":{"ticks":3,"halts":0},"Repeat":{"ticks":3,"halts":1}},"paths":{"Repeat":[{"ticks":3,"halts":1}],"Repeat/AlwaysSuccess":[{"ticks":3,"halts":0}]},"blackboard":{}}}"#,
+            "\n"
+        )
+    );
+    assert_eq!(err, "");
+    // Ticked exactly once each time, the same three passes are three ticks.
+    let (code, out, _) = neurotree(&["run", &tree, "--max-ticks", "3", "--tick", "exactly-once"]);
+    assert_eq!(code, Some(3));
+    let ticks: Vec<&str> = out.lines().take(3).collect();
+    assert_eq!(
+        ticks,
+        [
+            r#"{"tick":1,"status":"RUNNING"}"#,
+            r#"{"tick":2,"status":"RUNNING"}"#,
+            r#"{"tick":3,"status":"RUNNING"}"#,
+        ]
+    );
+    // The trace numbers the changes by pass.
+    let (code, out, _) = neurotree(&["run", &tree, "--max-ticks", "2", "--trace"]);
+    assert_eq!(code, Some(3));
+    let lines: Vec<&str> = out.lines().collect();
+    assert_eq!(
+        lines[..6],
+        [
+            r#"{"tick":1,"node":"Repeat","from":"IDLE","to":"RUNNING"}"#,
+            r#"{"tick":1,"node":"Repeat/AlwaysSuccess","from":"IDLE","to":"SUCCESS"}"#,
+            r#"{"tick":1,"node":"Repeat/AlwaysSuccess","from":"SUCCESS","to":"IDLE"}"#,
+            r#"{"tick":2,"node":"Repeat/AlwaysSuccess","from":"IDLE","to":"SUCCESS"}"#,
+            r#"{"tick":2,"node":"Repeat/AlwaysSuccess","from":"SUCCESS","to":"IDLE"}"#,
+            r#"{"tick":2,"node":"Repeat","from":"RUNNING","to":"IDLE"}"#,
+        ]
+    );
+    assert_eq!(lines[6], r#"{"tick":2,"status":"RUNNING"}"#);
+}
+
+#[test]
+fn a_step_past_a_day_is_refused_before_running() {
+    let dir = tempfile::tempdir().unwrap();
+    let tree = file(dir.path(), "forever.xml", REPEAT_FOREVER);
+    let (code, out, err) = neurotree(&["run", &tree, "--step-ms", "18446744073709551615"]);
+    assert_eq!(code, Some(2), "{err}");
+    assert_eq!(out, "");
+    assert!(
+        err.starts_with(
+            "error: invalid value '18446744073709551615' for '--step-ms <STEP_MS>': \
+             18446744073709551615 is not in 0..=86400000"
+        ),
+        "{err}"
+    );
+    let (code, _, err) = neurotree(&["run", &tree, "--step-ms", "86400000", "--max-ticks", "1"]);
+    assert_eq!(code, Some(3), "{err}");
+}
+
 const ONE_ACTION: &str = r#"<root BTCPP_format="4" main_tree_to_execute="Main">
   <BehaviorTree ID="Main">
     <Sequence><Action ID="Move"/></Sequence>
