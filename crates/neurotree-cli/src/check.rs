@@ -22,26 +22,31 @@ use crate::files;
 /// The most errors reported for one file: past that, the rest are mostly consequences.
 pub const LIMIT: usize = 20;
 
-/// Checks `files` against the built-ins and the `models`; returns `true` if all are valid.
+/// What `neurotree check` was asked to do, besides the files to check.
+pub struct CheckOptions {
+    /// Files whose `TreeNodesModel` declares node types.
+    pub models: Vec<PathBuf>,
+    /// The most nodes a tree may have, subtrees expanded.
+    pub max_nodes: usize,
+}
+
+/// Checks `files` against the built-ins and the models; returns `true` if all are valid.
 pub fn run(
     files: &[PathBuf],
-    models: &[PathBuf],
+    opts: &CheckOptions,
     out: &mut impl Write,
     err: &mut impl Write,
 ) -> io::Result<bool> {
     let mut registry = crate::registry::with_nav2_controls::<()>();
     let mut refused = Vec::new();
-    for path in models {
-        match std::fs::read_to_string(path) {
+    for path in &opts.models {
+        match files::read(path) {
             Ok(text) => {
                 if let Err(e) = registry.add_model_str(&text, &files::shown(path)) {
                     refused.push(e);
                 }
             }
-            Err(e) => refused.push(files::at_start(
-                &files::shown(path),
-                format!("cannot read the model file: {e}"),
-            )),
+            Err(e) => refused.push(e),
         }
     }
     if let Err(e) = files::add_models(&mut registry, files) {
@@ -56,15 +61,17 @@ pub fn run(
     let mut reported = BTreeSet::new();
     let mut valid = true;
     let mut unknown_nodes = false;
+    let mut too_many_nodes = false;
     for at in 0..files.len() {
         let shown = files::shown(&files[at]);
-        match check_file(&registry, files, at) {
+        match check_file(&registry, files, at, opts.max_nodes) {
             Ok(1) => writeln!(out, "{shown}: ok (1 tree)")?,
             Ok(trees) => writeln!(out, "{shown}: ok ({trees} trees)")?,
             Err(errors) => {
                 valid = false;
                 for e in &errors {
                     unknown_nodes |= e.message.starts_with(files::UNKNOWN_NODE);
+                    too_many_nodes |= e.message.starts_with(neurotree::xml::TOO_MANY_NODES);
                     if reported.insert(e.to_string()) {
                         writeln!(err, "{e}")?;
                     }
@@ -85,6 +92,9 @@ pub fn run(
              --model FILE (`neurotree run` can mock leaves with --mock-unknown)"
         )?;
     }
+    if too_many_nodes {
+        writeln!(err, "{}", files::MAX_NODES_HINT)?;
+    }
     Ok(valid)
 }
 
@@ -94,8 +104,9 @@ fn check_file(
     registry: &Registry<()>,
     files: &[PathBuf],
     at: usize,
+    max_nodes: usize,
 ) -> Result<usize, Vec<LoadError>> {
-    let mut loader = XmlLoader::new(registry);
+    let mut loader = XmlLoader::new(registry).max_nodes(max_nodes);
     loader.load_file(&files[at]).map_err(|e| vec![e])?;
     let own: Vec<String> = loader.tree_ids().map(String::from).collect();
     lend(registry, &mut loader, files, at);

@@ -16,6 +16,18 @@ use neurotree::{LoadError, Registry, XmlLoader};
 /// The first line of an unknown node type's error, as the loader writes it.
 pub const UNKNOWN_NODE: &str = "unknown node type";
 
+/// What to add after an error whose message starts with
+/// [`TOO_MANY_NODES`](neurotree::xml::TOO_MANY_NODES): the flag that raises the limit.
+pub const MAX_NODES_HINT: &str =
+    "hint: if the tree is meant to be this big, raise the limit with --max-nodes N";
+
+/// The text of the tree or model file `file`: a regular file of at most
+/// [`DEFAULT_MAX_FILE_BYTES`](neurotree::xml::DEFAULT_MAX_FILE_BYTES), as the loader reads
+/// them (a FIFO would block, `/dev/zero` never end).
+pub fn read(file: &Path) -> Result<String, LoadError> {
+    neurotree::xml::read_file(file, neurotree::xml::DEFAULT_MAX_FILE_BYTES)
+}
+
 /// Declares in `registry` the node types of the `TreeNodesModel` of every one of `files`
 /// that can be read (one that cannot is reported when it is loaded).
 pub fn add_models<C: 'static>(
@@ -23,7 +35,7 @@ pub fn add_models<C: 'static>(
     files: &[PathBuf],
 ) -> Result<(), LoadError> {
     for file in files {
-        if let Ok(text) = std::fs::read_to_string(file) {
+        if let Ok(text) = read(file) {
             registry.add_model_str(&text, &file.display().to_string())?;
         }
     }

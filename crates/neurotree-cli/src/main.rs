@@ -53,6 +53,10 @@ Several files load together, as BehaviorTree.CPP's registerBehaviorTreeFromFile 
 tree run is --tree, else the main_tree_to_execute of the first file, else the only tree,
 else the only tree that no other tree uses (said on stderr).
 
+Ticks count passes of the root: with `--tick once`, a tick that passes again at once for a
+node that asks to be woken (a Repeat, a Retry) counts each pass, and its line carries the
+number of its last pass.
+
 The last line is the summary: ticks, final status, per-node ticks and halts in `nodes`
 (keyed by node name, nodes sharing a name summed) and in `paths` (keyed by the node's path
 from the root, a list with one entry per node of that path, in tree order), and the root
@@ -86,14 +90,16 @@ struct RunArgs {
     /// true/false, else text).
     #[arg(long = "set", value_parser = key_value)]
     sets: Vec<(String, String)>,
-    /// Stop after this many ticks.
+    /// Stop after this many ticks; every pass of the root counts, including the passes
+    /// `--tick once` makes at once for a node that asks to be woken.
     #[arg(long, default_value_t = 100)]
     max_ticks: u32,
     /// `once` re-ticks while a node asks to be woken; `exactly-once` does not.
     #[arg(long, default_value = "once", value_parser = ["once", "exactly-once"])]
     tick: String,
-    /// Milliseconds the manual clock advances before every tick.
-    #[arg(long, default_value_t = 100)]
+    /// Milliseconds the manual clock advances before every tick (at most a day: the clock
+    /// must not run to its end).
+    #[arg(long, default_value_t = 100, value_parser = clap::value_parser!(u64).range(0..=MAX_STEP_MS))]
     step_ms: u64,
     /// Also print every status change.
     #[arg(long)]
@@ -123,6 +129,20 @@ struct RunArgs {
     view: bool,
     #[command(flatten)]
     observe: run::ObserveArgs,
+    #[command(flatten)]
+    limits: LoadLimits,
+}
+
+/// The longest `--step-ms`: a day, in milliseconds.
+const MAX_STEP_MS: u64 = 24 * 60 * 60 * 1000;
+
+/// The bounds on what loading a file may build, shared by `run`, `check` and `show`.
+#[derive(Args, Debug)]
+struct LoadLimits {
+    /// The most nodes a tree may have once its subtrees are expanded (each use of a
+    /// subtree is a copy); a file past it is refused at the SubTree that crosses it.
+    #[arg(long, value_name = "N", default_value_t = neurotree::xml::DEFAULT_MAX_NODES)]
+    max_nodes: usize,
 }
 
 #[derive(Args, Debug)]
@@ -152,6 +172,8 @@ struct ShowArgs {
     /// With --trace: the statuses of this tick instead (the last each node reached in it).
     #[arg(long, requires = "trace")]
     tick: Option<u32>,
+    #[command(flatten)]
+    limits: LoadLimits,
 }
 
 fn key_value(text: &str) -> Result<(String, String), String> {
@@ -177,6 +199,8 @@ struct CheckArgs {
     /// A file whose `TreeNodesModel` declares node types the files use (repeatable).
     #[arg(long = "model")]
     models: Vec<std::path::PathBuf>,
+    #[command(flatten)]
+    limits: LoadLimits,
 }
 
 #[derive(Args, Debug)]
@@ -316,6 +340,7 @@ fn main() -> ExitCode {
                 }),
                 view: args.view,
                 observe: args.observe,
+                max_nodes: args.limits.max_nodes,
             };
             run::run(&args.files, &opts, &mut out, &mut io::stderr())
         }
@@ -327,11 +352,16 @@ fn main() -> ExitCode {
                 models: args.models,
                 trace: args.trace,
                 tick: args.tick,
+                max_nodes: args.limits.max_nodes,
             };
             show::run(&args.files, &opts, &mut out, &mut io::stderr()).map(Outcome::from)
         }
         Command::Check(args) => {
-            check::run(&args.files, &args.models, &mut out, &mut io::stderr()).map(Outcome::from)
+            let opts = check::CheckOptions {
+                models: args.models,
+                max_nodes: args.limits.max_nodes,
+            };
+            check::run(&args.files, &opts, &mut out, &mut io::stderr()).map(Outcome::from)
         }
     };
     match result {

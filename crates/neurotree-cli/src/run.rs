@@ -2,10 +2,12 @@
 //!
 //! The files load together and the tree to run is picked as `files.rs` says. Each tick
 //! prints one JSON line `{"tick":1,"status":"RUNNING"}` (with `--trace`, also one line per
-//! status change), and the run ends with a summary line: ticks, final status, per-node tick
-//! and halt counts by name in `nodes` (summed over nodes sharing a name, as other tools read
-//! it) and by path in `paths` (the paths of [`Blueprint::paths`], one entry per node), and
-//! the root blackboard. How the run ended is the exit status (see [`Outcome`]).
+//! status change). Ticks count passes of the root: a `tick_once` that passes again at once
+//! for a node that asks to be woken counts each pass, toward `--max-ticks` too, and its
+//! line carries the number of its last pass. The run ends with a summary line: ticks,
+//! final status, per-node tick and halt counts by name in `nodes` (summed over nodes
+//! sharing a name, as other tools read it) and by path in `paths` (the paths of
+//! [`Blueprint::paths`], one entry per node), and the root blackboard. How the run ended is the exit status (see [`Outcome`]).
 //! With `--view`, the tree is also drawn after every tick, with that tick's statuses, on
 //! standard error.
 //! With `--groot PORT`, the run is also served to Groot2 (see `groot.rs`).
@@ -42,7 +44,7 @@ pub struct RunOptions {
     pub mock_unknown: bool,
     /// `(key, value)` pairs written to the root blackboard first.
     pub sets: Vec<(String, String)>,
-    /// Stop after this many ticks.
+    /// Stop after this many ticks, counting every pass of the root.
     pub max_ticks: u32,
     /// `tick_exactly_once` instead of `tick_once`.
     pub exactly_once: bool,
@@ -56,10 +58,14 @@ pub struct RunOptions {
     pub groot: Option<crate::groot::GrootOptions>,
     /// Loggers watching the run.
     pub observe: ObserveArgs,
+    /// The most nodes the tree may have, subtrees expanded.
+    pub max_nodes: usize,
 }
 
 #[derive(Default)]
 struct Record {
+    /// The pass of the root under way, counted from 1 (a tick of `tick_once` may make
+    /// several).
     tick: u32,
     ticks: Vec<u32>,
     halts: Vec<u32>,
@@ -72,6 +78,10 @@ struct Record {
 struct Recorder(Arc<Mutex<Record>>);
 
 impl Observer for Recorder {
+    fn on_tick_start(&mut self, _now: Duration) {
+        let mut r = self.0.lock().unwrap_or_else(|e| e.into_inner());
+        r.tick += 1;
+    }
     fn on_node_tick(&mut self, node: NodeId) {
         let mut r = self.0.lock().unwrap_or_else(|e| e.into_inner());
         r.ticks[node.index()] += 1;
@@ -122,7 +132,9 @@ fn load(
 ) -> Result<(Blueprint<()>, Registry<()>, files::Picked), String> {
     let mut registry = crate::registry::with_nav2_controls::<()>();
     files::add_models(&mut registry, files).map_err(|e| e.to_string())?;
-    let mut loader = XmlLoader::new(&registry).mock_unknown(opts.mock_unknown);
+    let mut loader = XmlLoader::new(&registry)
+        .mock_unknown(opts.mock_unknown)
+        .max_nodes(opts.max_nodes);
     for (name, outcomes) in &opts.mocks {
         let outcomes = neurotree::xml::parse_outcomes(outcomes)
             .map_err(|e| format!("--mock {name}={outcomes}: {e}"))?;
@@ -149,6 +161,9 @@ fn load(
             "{e}\nhint: mock the leaves without an implementation with --mock-unknown, or \
              one with --mock NAME=OUTCOMES"
         )),
+        Err(e) if e.message.starts_with(neurotree::xml::TOO_MANY_NODES) => {
+            Err(format!("{e}\n{}", files::MAX_NODES_HINT))
+        }
         Err(e) => Err(e.to_string()),
     }
 }
@@ -214,17 +229,31 @@ pub fn run(
     }
     tree.set_observer((Recorder(Arc::clone(&record)), observers));
     let mut status = "IDLE";
-    let mut ticks = 0;
+    // Passes of the root so far: `tick_once` passes again at once for a node that asks to
+    // be woken, and each of those counts toward `--max-ticks` (a `Repeat` of -1 over a
+    // child that succeeds at once would otherwise spin within one tick).
+    let mut ticks: u32 = 0;
     while ticks < opts.max_ticks {
-        ticks += 1;
-        record.lock().unwrap_or_else(|e| e.into_inner()).tick = ticks;
+        let left = opts.max_ticks - ticks;
+        tree.set_max_passes(left);
         clock.advance(opts.step);
         let result = if opts.exactly_once {
             tree.tick_exactly_once(&mut ())
         } else {
             tree.tick_once(&mut ())
         };
+        // A pass that failed with an error is not in `last_passes`, but it was made.
+        let passes = if opts.exactly_once {
+            1
+        } else {
+            tree.last_passes().max(1)
+        };
+        ticks = ticks.saturating_add(passes).min(opts.max_ticks);
+        // Out of passes because the ticks ran out: stopped as a run still RUNNING is.
+        let stopped =
+            matches!(&result, Err(TickError::TooManyPasses { passes, .. }) if *passes >= left);
         status = match &result {
+            _ if stopped => "RUNNING",
             Ok(s) => s.as_str(),
             Err(TickError::RootSkipped) => "SKIPPED",
             Err(_) => "ERROR",
@@ -235,7 +264,7 @@ pub fn run(
         }
         let mut line = json!({ "tick": ticks, "status": status });
         if let Err(e) = &result {
-            if !matches!(e, TickError::RootSkipped) {
+            if !stopped && !matches!(e, TickError::RootSkipped) {
                 line["error"] = json!(e.to_string());
             }
         }

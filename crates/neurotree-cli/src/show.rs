@@ -9,10 +9,10 @@
 //! With `--trace`, the JSON lines that `neurotree run --trace` prints give each node the
 //! last status it reached during the run (a halt sets it back to Idle); with `--tick N`,
 //! the last status each reached during tick N, or, for a node that tick did not change,
-//! the status it had when the tick began. (The trace does not show where a tick re-ran the
-//! root at once, so a node the live view of `run --view` cleared for the last of those
-//! passes still shows what it did in the earlier ones.) Nodes that share a path are told
-//! apart by their statuses. Every error is printed as `path:line:col: error: message`.
+//! the status it had when the tick began. (The trace numbers ticks by pass of the root, as
+//! `run --max-ticks` counts them: a tick that re-ran the root at once for a node that asked
+//! to be woken has one number per pass.) Nodes that share a path are told apart by their
+//! statuses. Every error is printed as `path:line:col: error: message`.
 
 use std::collections::{BTreeSet, HashMap};
 use std::fs;
@@ -43,6 +43,8 @@ pub struct ShowOptions {
     pub trace: Option<PathBuf>,
     /// Show the statuses of this tick of the trace.
     pub tick: Option<u32>,
+    /// The most nodes the tree may have, subtrees expanded.
+    pub max_nodes: usize,
 }
 
 /// Draws the tree of `files`; `Ok(false)` if it could not (the error is on `err`).
@@ -99,7 +101,9 @@ fn format_of(opts: &ShowOptions) -> Format {
 /// The blueprint to draw and the tree it is.
 fn load(files: &[PathBuf], opts: &ShowOptions) -> Result<(Blueprint<()>, Picked), LoadError> {
     let registry = registry_with_stand_ins(files, &opts.models)?;
-    let mut loader = XmlLoader::new(&registry).mock_unknown(true);
+    let mut loader = XmlLoader::new(&registry)
+        .mock_unknown(true)
+        .max_nodes(opts.max_nodes);
     files::load_all(&mut loader, files)?;
     // Clap asks for at least one file.
     let first = files.first().map(|f| files::shown(f)).unwrap_or_default();
@@ -112,6 +116,9 @@ fn load(files: &[PathBuf], opts: &ShowOptions) -> Result<(Blueprint<()>, Picked)
         if e.message.starts_with(files::UNKNOWN_NODE) {
             e.message
                 .push_str(", or declare it in a TreeNodesModel given with --model to draw it");
+        }
+        if e.message.starts_with(neurotree::xml::TOO_MANY_NODES) {
+            e.message = format!("{}\n{}", e.message, files::MAX_NODES_HINT);
         }
         e
     })?;
@@ -128,8 +135,7 @@ fn registry_with_stand_ins(
     let built_in: BTreeSet<String> = declared.types().map(|t| t.name.clone()).collect();
     for model in models {
         let shown = model.display().to_string();
-        let model_text = fs::read_to_string(model)
-            .map_err(|e| at_start(&shown, format!("cannot read the model file: {e}")))?;
+        let model_text = files::read(model)?;
         declared.add_model_str(&model_text, &shown)?;
     }
     files::add_models(&mut declared, files)?;
@@ -181,9 +187,33 @@ fn trace_statuses(
     tick: Option<u32>,
 ) -> Result<Vec<NodeStatus>, LoadError> {
     let shown = path.display().to_string();
-    let text = fs::read_to_string(path)
-        .map_err(|e| at_start(&shown, format!("cannot read the trace: {e}")))?;
+    let text = read_trace(path).map_err(|e| at_start(&shown, e))?;
     statuses_from_trace(&text, &shown, bp, tree_id, tick)
+}
+
+/// The largest trace read: a long run with `--trace` writes a few megabytes.
+const MAX_TRACE_BYTES: u64 = 256 << 20;
+
+/// The text of the trace at `path`, read up to [`MAX_TRACE_BYTES`]. A pipe is welcome
+/// (`show --trace <(neurotree run --trace ...)`), so the kind of file is not checked.
+fn read_trace(path: &Path) -> Result<String, String> {
+    use std::io::Read;
+    let file = fs::File::open(path).map_err(|e| format!("cannot read the trace: {e}"))?;
+    let mut bytes = Vec::new();
+    file.take(MAX_TRACE_BYTES + 1)
+        .read_to_end(&mut bytes)
+        .map_err(|e| format!("cannot read the trace: {e}"))?;
+    if bytes.len() as u64 > MAX_TRACE_BYTES {
+        return Err(format!(
+            "the trace is more than {MAX_TRACE_BYTES} bytes; give the trace of a shorter run"
+        ));
+    }
+    String::from_utf8(bytes).map_err(|e| {
+        format!(
+            "cannot read the trace: it is not UTF-8 text (at byte {})",
+            e.utf8_error().valid_up_to()
+        )
+    })
 }
 
 /// The status of every node of `bp` that a trace (`text`, read from `file`) shows: the last

@@ -181,9 +181,11 @@ fn show_colours_each_node_with_the_statuses_of_a_run_trace() {
          │           └── [✓] PickLock (AlwaysSuccess)\n\
          └── [✗] PassThroughDoor (AlwaysSuccess)\n"
     );
-    // In tick 2 only the door was ticked; the rest shows what the sequence had kept.
+    // Ticks count passes of the root: the first tick made two, the retry of PickLock
+    // passing again at once. In tick 3 only the door was ticked; the rest shows what the
+    // sequence had kept.
     assert_eq!(
-        show(&[door, "--trace", trace, "--tick", "2", "--format", "ascii"]),
+        show(&[door, "--trace", trace, "--tick", "3", "--format", "ascii"]),
         "[R] enter (Sequence)\n\
          +-- [S] open it (Fallback)\n\
          |   +-- [ ] Inverter\n\

@@ -7,6 +7,7 @@ use neurotree_core::{
     Arity, Blueprint, Builder, Category, NodeKind, Port, PortValue, SubTreeScope, DEFAULT_MAX_DEPTH,
 };
 
+use super::budget;
 use super::mock;
 use super::source::Element;
 use super::{LoadError, XmlLoader};
@@ -38,6 +39,8 @@ struct Expansion<'a, 'r, C> {
     /// The names of the mocks that matched a control or decorator, which mocks do not
     /// replace, with the error to give if the mock replaced no leaf either.
     not_mocked: Vec<(&'a str, LoadError)>,
+    /// Nodes opened so far, subtrees expanded: at most the loader's `max_nodes`.
+    nodes: usize,
 }
 
 /// What an element turns into: the node to open, and whether its children follow it.
@@ -116,11 +119,22 @@ impl<'a, 'r, C: 'static> Expansion<'a, 'r, C> {
             refused: None,
             mocked: Vec::new(),
             not_mocked: Vec::new(),
+            nodes: 0,
         }
     }
 
     /// Expands the `<BehaviorTree>` `tree` and builds its blueprint.
     fn expand(&mut self, tree: Element<'a>) -> Result<Blueprint<C>, LoadError> {
+        // A tree too big is refused before anything of it is built, at the SubTrees where
+        // it crosses the budget: each use of a subtree is a copy, so a few trees using the
+        // next one twice each would make millions of nodes.
+        if budget::expanded_size(self.loader, &self.stack[0]) > self.loader.max_nodes as u64 {
+            let mut errors = budget::crossings(self.loader, tree, self.limit.max(1));
+            if let Some(last) = errors.pop() {
+                self.errors.extend(errors);
+                return Err(last);
+            }
+        }
         let b = self.node(Builder::new(), only_child(tree), 1)?;
         if let Some((_, error)) = self
             .not_mocked
@@ -164,7 +178,7 @@ fn same(a: &str, b: &str) -> bool {
 }
 
 /// The root node of a `<BehaviorTree>`.
-fn only_child(tree: Element<'_>) -> Element<'_> {
+pub(super) fn only_child(tree: Element<'_>) -> Element<'_> {
     // The loader keeps only trees with exactly one child element.
     tree.children()
         .next()
@@ -180,7 +194,8 @@ fn conditions(el: Element<'_>, enums: &Arc<Enums>) -> Result<Option<Box<ScriptHo
     for (key, code) in el.attrs() {
         if ATTRIBUTES.contains(&key) {
             let script = Script::parse(code)
-                .map_err(|e| el.error(format!("in `{key}` script `{code}`: {e}")))?;
+                // A window of the script, not all of it: a script may be kilobytes long.
+                .map_err(|e| el.error(format!("in `{key}` script `{}`: {e}", e.excerpt(code))))?;
             hooks
                 .get_or_insert_with(|| {
                     Box::new(ScriptHooks {
@@ -245,6 +260,12 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
         if depth > DEFAULT_MAX_DEPTH {
             return Err(self.too_deep(el));
         }
+        // The backstop of the budget, which `expand` checked before building: subtrees
+        // the registry builds count for one node there.
+        if self.nodes >= self.loader.max_nodes {
+            return Err(budget::too_many_nodes(el, self.loader.max_nodes));
+        }
+        self.nodes += 1;
         if el.tag() == "SubTree" {
             let (opened, body) = match self.open_subtree(el) {
                 Ok(subtree) => subtree,

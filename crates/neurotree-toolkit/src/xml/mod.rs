@@ -29,14 +29,24 @@
 //! assert_eq!(n, 3);
 //! ```
 
+mod budget;
 mod build;
+mod file;
 mod mock;
 mod model;
 pub mod save;
 mod source;
 
-pub use mock::parse_outcomes;
+pub use budget::TOO_MANY_NODES;
+pub use file::{read_file, DEFAULT_MAX_FILE_BYTES};
+pub use mock::{parse_outcomes, Outcomes};
 pub use save::{write_xml, SaveOptions};
+
+/// The most nodes a tree built by an [`XmlLoader`] may have, its subtrees expanded, unless
+/// [`XmlLoader::max_nodes`] says otherwise: far more than any real tree, and few enough
+/// that a file whose subtrees use each other many times over is refused before it takes
+/// gigabytes.
+pub const DEFAULT_MAX_NODES: usize = 2_000_000;
 
 /// Parses a file that holds a `TreeNodesModel` (for [`Registry::add_model_str`]).
 pub(crate) fn parse_model(text: &str, file: &str) -> Result<Document, LoadError> {
@@ -118,7 +128,15 @@ pub struct XmlLoader<'r, C> {
     /// Trees loaded without an ID so far.
     unnamed_trees: usize,
     /// Node name (or type) → the outcomes of the mock that replaces it.
-    mocks: BTreeMap<String, Vec<neurotree_core::Status>>,
+    mocks: BTreeMap<String, Outcomes>,
+    /// The most nodes a built tree may have, subtrees expanded.
+    max_nodes: usize,
+    /// The largest file read, in bytes.
+    max_file_bytes: u64,
+    /// How many nodes each loaded tree expands to, as far as worked out (see
+    /// `budget.rs`); emptied when a file is loaded. Behind a lock because building
+    /// borrows the loader shared, and the loader may be shared across threads.
+    sizes: std::sync::Mutex<BTreeMap<String, u64>>,
 }
 
 impl<C> fmt::Debug for XmlLoader<'_, C> {
@@ -143,7 +161,25 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
             loading: Vec::new(),
             unnamed_trees: 0,
             mocks: BTreeMap::new(),
+            max_nodes: DEFAULT_MAX_NODES,
+            max_file_bytes: DEFAULT_MAX_FILE_BYTES,
+            sizes: std::sync::Mutex::default(),
         }
+    }
+
+    /// Sets the most nodes a tree built (or validated) may have once its subtrees are
+    /// expanded, [`DEFAULT_MAX_NODES`] by default. A SubTree whose expansion would go past
+    /// it is an error at that SubTree, found before anything of it is built.
+    pub fn max_nodes(mut self, nodes: usize) -> Self {
+        self.max_nodes = nodes;
+        self
+    }
+
+    /// Sets the largest file (tree file or include) read, in bytes,
+    /// [`DEFAULT_MAX_FILE_BYTES`] by default; a larger one is an error naming it.
+    pub fn max_file_bytes(mut self, bytes: u64) -> Self {
+        self.max_file_bytes = bytes;
+        self
     }
 
     /// Confines `<include>`s to files under `dir`; an include that leaves it is an error.
@@ -160,11 +196,12 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
     }
 
     /// Replaces every leaf (Action or Condition) whose `name` (or, without one, its type) is
-    /// `name` by a leaf that returns `outcomes` one per tick, then the last one forever, for
-    /// dry runs. A control or decorator of that name stays; if no leaf of the tree built is
-    /// named so, building it fails.
-    pub fn mock(mut self, name: &str, outcomes: Vec<neurotree_core::Status>) -> Self {
-        self.mocks.insert(name.to_string(), outcomes);
+    /// `name` by a leaf that returns `outcomes` one per tick (a `Vec<Status>`, or the runs
+    /// [`parse_outcomes`] reads), then the last one forever, for dry runs. A control or
+    /// decorator of that name stays; if no leaf of the tree built is named so, building it
+    /// fails.
+    pub fn mock(mut self, name: &str, outcomes: impl Into<Outcomes>) -> Self {
+        self.mocks.insert(name.to_string(), outcomes.into());
         self
     }
 
@@ -190,7 +227,8 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
         self.take_root(root, dir.as_deref())
     }
 
-    /// Loads an XML file and the files it includes.
+    /// Loads an XML file and the files it includes. Only regular files are read (a FIFO or a
+    /// device is an error naming it), up to [`max_file_bytes`](Self::max_file_bytes) each.
     pub fn load_file(&mut self, path: impl AsRef<Path>) -> Result<(), LoadError> {
         let path = path.as_ref();
         let shown = path.display().to_string();
@@ -206,8 +244,10 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
                 "this file includes itself (through its includes); remove the cycle",
             ));
         }
-        let text = std::fs::read_to_string(&canonical)
-            .map_err(|e| LoadError::at_file(&shown, format!("cannot read the file: {e}")))?;
+        let text = file::read_file(&canonical, self.max_file_bytes).map_err(|mut e| {
+            e.file.clone_from(&shown);
+            e
+        })?;
         self.loading.push(canonical.clone());
         let root = source::parse(&text, &shown);
         let result = root.and_then(|root| self.take_root(root, canonical.parent()));
@@ -216,6 +256,11 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
     }
 
     fn take_root(&mut self, doc: Document, dir: Option<&Path>) -> Result<(), LoadError> {
+        // The trees this file brings change what the SubTrees of the others expand to.
+        self.sizes
+            .get_mut()
+            .unwrap_or_else(std::sync::PoisonError::into_inner)
+            .clear();
         let at = self.docs.len();
         self.docs.push(doc);
         let trees = self.trees.len();
@@ -316,7 +361,11 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
         self.load_file(&target).map_err(|inner| {
             if inner.file == target.display().to_string() && inner.line == 1 && inner.col == 1 {
                 let el = self.docs[doc].element(element);
-                el.error(format!("in included file: {}", inner.message))
+                el.error(format!(
+                    "in included file `{}`: {}",
+                    target.display(),
+                    inner.message
+                ))
             } else {
                 inner
             }
