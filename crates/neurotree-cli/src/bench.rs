@@ -2,7 +2,8 @@
 //!
 //! - `tree1111`: one instance of BehaviorTree.CPP's benchmark shape (1,111 nodes, every
 //!   node visited per tick), ticked in a loop: nanoseconds per tick and per visited node,
-//!   and the bytes of per-instance state.
+//!   and the bytes of per-instance state. Built with the builder (closure conditions), and
+//!   as `tree1111_xml` loaded from `tree1111.xml` (registered conditions).
 //! - `many_agents`: many instances of the 50-node agent tree sharing one blueprint and one
 //!   manual clock, each ticked once per frame: milliseconds per frame and bytes per
 //!   instance.
@@ -15,8 +16,8 @@ use std::io::{self, Write};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use neurotree::{Clock, ManualClock, Status, Tree};
-use neurotree_bench::{agent_tree, tree1111, Agent, TREE1111_NODES_PER_TICK};
+use neurotree::{Blueprint, Clock, ManualClock, Status, Tree};
+use neurotree_bench::{agent_tree, tree1111, tree1111_xml, Agent, TREE1111_NODES_PER_TICK};
 
 /// How the benchmarks run.
 #[derive(Clone, Debug)]
@@ -30,6 +31,8 @@ pub struct BenchOptions {
 /// Result of the tree1111 benchmark.
 #[derive(Clone, Debug)]
 pub struct Tree1111Result {
+    /// `tree1111` (builder) or `tree1111_xml` (loaded from XML).
+    pub name: &'static str,
     /// Ticks timed.
     pub ticks: u64,
     /// Mean nanoseconds per tick.
@@ -55,14 +58,19 @@ pub struct ManyAgentsResult {
     pub bytes_per_instance: usize,
 }
 
-/// Ticks tree1111 for about a second (a fifth with `quick`) after a warm-up.
-pub fn tree1111_bench(opts: &BenchOptions) -> Tree1111Result {
+/// Ticks tree1111 (`blueprint`, reported as `name`) for about a second (a fifth with
+/// `quick`) after a warm-up.
+pub fn tree1111_bench(
+    opts: &BenchOptions,
+    name: &'static str,
+    blueprint: Arc<Blueprint<()>>,
+) -> Tree1111Result {
     let target = if opts.quick {
         Duration::from_millis(200)
     } else {
         Duration::from_secs(1)
     };
-    let mut tree = Tree::with_clock(tree1111::<()>(), ManualClock::new());
+    let mut tree = Tree::with_clock(blueprint, ManualClock::new());
     let mut tick = |n: u64| {
         for _ in 0..n {
             let status = black_box(tree.tick_once(black_box(&mut ())));
@@ -89,6 +97,7 @@ pub fn tree1111_bench(opts: &BenchOptions) -> Tree1111Result {
     let elapsed = start.elapsed();
     let ns_per_tick = elapsed.as_nanos() as f64 / ticks as f64;
     Tree1111Result {
+        name,
         ticks,
         ns_per_tick,
         nodes_per_tick: TREE1111_NODES_PER_TICK,
@@ -136,18 +145,22 @@ pub fn many_agents_bench(opts: &BenchOptions) -> ManyAgentsResult {
 
 /// Runs both benchmarks and writes a table, or one JSON object per line with `json`.
 pub fn run(opts: &BenchOptions, json: bool, out: &mut impl Write) -> io::Result<()> {
-    let t = tree1111_bench(opts);
-    if json {
-        writeln!(out, "{}", tree1111_json(&t))?;
-    } else {
+    if !json {
         writeln!(out, "{:<12} {:<20} {:>14}", "benchmark", "measure", "value")?;
-        row(out, "tree1111", "ticks", t.ticks.to_string())?;
-        row(out, "", "ns per tick", format!("{:.1}", t.ns_per_tick))?;
-        row(out, "", "nodes per tick", t.nodes_per_tick.to_string())?;
-        row(out, "", "ns per node", format!("{:.3}", t.ns_per_node))?;
-        row(out, "", "state bytes", t.state_bytes.to_string())?;
     }
-    out.flush()?;
+    for (name, blueprint) in [("tree1111", tree1111()), ("tree1111_xml", tree1111_xml())] {
+        let t = tree1111_bench(opts, name, blueprint);
+        if json {
+            writeln!(out, "{}", tree1111_json(&t))?;
+        } else {
+            row(out, name, "ticks", t.ticks.to_string())?;
+            row(out, "", "ns per tick", format!("{:.1}", t.ns_per_tick))?;
+            row(out, "", "nodes per tick", t.nodes_per_tick.to_string())?;
+            row(out, "", "ns per node", format!("{:.3}", t.ns_per_node))?;
+            row(out, "", "state bytes", t.state_bytes.to_string())?;
+        }
+        out.flush()?;
+    }
     let m = many_agents_bench(opts);
     if json {
         writeln!(out, "{}", many_agents_json(&m))?;
@@ -171,8 +184,8 @@ fn row(out: &mut impl Write, bench: &str, measure: &str, value: String) -> io::R
 
 fn tree1111_json(t: &Tree1111Result) -> String {
     format!(
-        r#"{{"name":"tree1111","ticks":{},"ns_per_tick":{:.3},"nodes_per_tick":{},"ns_per_node":{:.4},"state_bytes":{}}}"#,
-        t.ticks, t.ns_per_tick, t.nodes_per_tick, t.ns_per_node, t.state_bytes
+        r#"{{"name":"{}","ticks":{},"ns_per_tick":{:.3},"nodes_per_tick":{},"ns_per_node":{:.4},"state_bytes":{}}}"#,
+        t.name, t.ticks, t.ns_per_tick, t.nodes_per_tick, t.ns_per_node, t.state_bytes
     )
 }
 
@@ -190,6 +203,7 @@ mod tests {
     #[test]
     fn json_lines_have_the_documented_shape() {
         let t = Tree1111Result {
+            name: "tree1111",
             ticks: 1000,
             ns_per_tick: 812.5,
             nodes_per_tick: 1111,

@@ -186,21 +186,23 @@ fn bench_json_prints_one_line_per_benchmark() {
         "bench", "--json", "--quick", "--agents", "1000",
     ]));
     let lines: Vec<&str> = out.lines().collect();
-    assert_eq!(lines.len(), 2, "{out}");
+    assert_eq!(lines.len(), 3, "{out}");
     for line in &lines {
         assert!(line.starts_with('{') && line.ends_with('}'), "{line}");
     }
 
-    let tree = lines[0];
-    assert_eq!(field(tree, "name"), "\"tree1111\"");
-    assert_eq!(field(tree, "nodes_per_tick"), "1111");
-    for key in ["ticks", "ns_per_tick", "ns_per_node", "state_bytes"] {
-        positive(tree, key);
+    // The builder's tree, then the same loaded from tree1111.xml.
+    for (tree, name) in lines[..2].iter().zip(["\"tree1111\"", "\"tree1111_xml\""]) {
+        assert_eq!(field(tree, "name"), name);
+        assert_eq!(field(tree, "nodes_per_tick"), "1111");
+        for key in ["ticks", "ns_per_tick", "ns_per_node", "state_bytes"] {
+            positive(tree, key);
+        }
+        let per_node = positive(tree, "ns_per_tick") / 1111.0;
+        assert!((positive(tree, "ns_per_node") - per_node).abs() <= per_node * 0.01);
     }
-    let per_node = positive(tree, "ns_per_tick") / 1111.0;
-    assert!((positive(tree, "ns_per_node") - per_node).abs() <= per_node * 0.01);
 
-    let agents = lines[1];
+    let agents = lines[2];
     assert_eq!(field(agents, "name"), "\"many_agents\"");
     assert_eq!(field(agents, "agents"), "1000");
     for key in ["frames", "ms_per_frame", "bytes_per_instance"] {
@@ -211,6 +213,7 @@ fn bench_json_prints_one_line_per_benchmark() {
 #[test]
 fn bench_table_names_every_measure() {
     let out = stdout(&neurotree(&["bench", "--quick", "--agents", "500"]));
+    assert!(out.contains("tree1111_xml"), "{out}");
     for measure in [
         "ns per tick",
         "ns per node",
