@@ -1,17 +1,9 @@
 //! A run in an SQLite database with BehaviorTree.CPP's `SqliteLogger` schema, to query with
 //! SQL.
 //!
-//! The logger buffers status changes and writes them in batches, one transaction each,
-//! because a commit costs far more than a row: at one commit per tick the Nav2 navigator
-//! spent some 280 µs per tick in SQLite. A batch closes at the end of the tick that makes
-//! it [`max_changes`](SqliteLogger::batch) changes long or that ends
-//! [`max_interval`](SqliteLogger::batch) (on the tree's clock) after the last commit,
-//! whichever comes first, so a batch holds whole ticks. The database is in WAL mode with
-//! `synchronous=NORMAL`: a commit appends to the write-ahead log without waiting for the
-//! disk, and is kept if the process is killed (the log is in the operating system's hands
-//! once written); only a power cut or a crash of the system may lose the last batches,
-//! never leave the file corrupt. For a log of a run that is the right trade: `FULL` would
-//! wait for the disk at every batch.
+//! Rows are written in batches because a commit costs far more than a row: at one commit
+//! per tick the Nav2 navigator spent 120 to 280 µs per tick in SQLite, depending on the
+//! disk, where it now spends about 2 (`BENCHMARKS.md`).
 
 use std::path::Path;
 use std::sync::{Arc, Mutex};
@@ -74,12 +66,21 @@ pub enum SqliteLogError {
 /// the tree's clock, so a run on a [`ManualClock`](crate::ManualClock) logs the same times
 /// relative to its start.
 ///
-/// Rows are written in batches (see [`batch`](Self::batch); by default
-/// [`DEFAULT_MAX_CHANGES`](Self::DEFAULT_MAX_CHANGES) changes or
-/// [`DEFAULT_MAX_INTERVAL`](Self::DEFAULT_MAX_INTERVAL) of the tree's clock), each in one
-/// transaction: a run that is killed keeps every batch committed before. The rest is
-/// written by [`flush`](Self::flush) or when the last handle is dropped; changes made
-/// between ticks (by [`Tree::halt`]) wait for the next tick's end, or for these.
+/// Rows are written in batches, each in one transaction: a batch closes at the end of the
+/// tick that makes it [`DEFAULT_MAX_CHANGES`](Self::DEFAULT_MAX_CHANGES) changes long or
+/// that ends [`DEFAULT_MAX_INTERVAL`](Self::DEFAULT_MAX_INTERVAL) of the tree's clock after
+/// the last commit, whichever comes first (other figures with [`batch`](Self::batch)), so
+/// a batch holds whole ticks and a run that is killed keeps every batch committed before.
+/// The rest is written by [`flush`](Self::flush) or when the last handle is dropped;
+/// changes made between ticks (by [`Tree::halt`]) wait for the next tick's end, or for
+/// these.
+///
+/// The database is put in WAL mode with `synchronous=NORMAL`: a commit appends to the
+/// write-ahead log without waiting for the disk, and is kept if the process is killed (what
+/// it wrote is in the operating system's hands); only a power cut or a crash of the system
+/// may lose the last batches, and neither leaves the file corrupt. For the log of a run
+/// that is the right trade: `FULL` would wait for the disk at every batch. Readers may
+/// query the file while the run goes on.
 pub struct SqliteLogger {
     state: Arc<Mutex<Db>>,
 }
@@ -123,7 +124,7 @@ struct Transition {
 
 impl SqliteLogger {
     /// The changes after which a batch is written, unless [`batch`](Self::batch) says
-    /// otherwise: some 100 ticks of Nav2's navigator, 32 KiB of rows in memory.
+    /// otherwise: some 450 ticks of Nav2's navigator, 32 KiB of rows in memory.
     pub const DEFAULT_MAX_CHANGES: usize = 1024;
 
     /// The time on the tree's clock after which a batch is written, unless
@@ -144,7 +145,8 @@ impl SqliteLogger {
     }
 
     /// Starts a session in `conn` (a file or an in-memory database), timestamped from
-    /// `start`.
+    /// `start`. A file is switched to WAL mode with `synchronous=NORMAL` (see
+    /// [`SqliteLogger`]), which stays with the file.
     pub fn with_connection<C: 'static>(
         mut conn: Connection,
         tree: &Tree<C>,
