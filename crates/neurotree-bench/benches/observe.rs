@@ -3,16 +3,24 @@
 //! logging itself is measured. Throughput is in status changes, so time per element is
 //! the cost of one change (the tick itself included: compare with `no_observer`).
 //!
+//! The `nav2_*` benchmarks tick Nav2's navigator (`corpus/nav2/`, leaves mocked as
+//! `neurotree run --mock-unknown --mock FollowPath=RUNNING` mocks them, the clock stepping
+//! 100 ms a tick as the CLI's does) bare and with a `SqliteLogger` writing to a file: its
+//! time per tick is what `--sqlite` adds to a tick.
+//!
 //! `cargo bench -p neurotree-bench --bench observe`
 
 use std::hint::black_box;
 use std::io;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Arc;
+use std::time::Duration;
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
-use neurotree::observe::{BtlogWriter, ConsoleLogger, JsonlTrace, Statistics};
-use neurotree::{Blueprint, ManualClock, Observer, Registry, Status, StatusChange, Tree};
+use neurotree::observe::{BtlogWriter, ConsoleLogger, JsonlTrace, SqliteLogger, Statistics};
+use neurotree::{
+    Blueprint, ManualClock, Observer, Registry, Status, StatusChange, Tree, XmlLoader,
+};
 
 /// A sequence of ten leaves that all succeed: each tick, the sequence goes Idle, Running,
 /// Success, Idle and each leaf Idle, Success, Idle.
@@ -91,5 +99,80 @@ fn observers(c: &mut Criterion) {
     });
 }
 
-criterion_group!(benches, observers);
+const NAV2_NAVIGATOR: &str = include_str!(concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/../../corpus/nav2/navigate_to_pose_w_replanning_and_recovery.xml"
+));
+
+/// Nav2's navigator with its leaves mocked (FollowPath running, the rest succeeding), the
+/// registry that built it, and its clock.
+fn nav2_navigator() -> (Tree<()>, Registry<()>, ManualClock) {
+    let mut registry = Registry::new();
+    neurotree::nav2::register_controls(&mut registry).expect("a fresh registry");
+    let mut loader = XmlLoader::new(&registry)
+        .mock_unknown(true)
+        .mock("FollowPath", vec![Status::Running]);
+    loader
+        .load_str(
+            NAV2_NAVIGATOR,
+            "navigate_to_pose_w_replanning_and_recovery.xml",
+        )
+        .expect("the corpus file loads");
+    let blueprint = loader.build_main().expect("the navigator builds");
+    drop(loader);
+    let clock = ManualClock::new();
+    let tree = Tree::with_clock(Arc::new(blueprint), clock.clone());
+    (tree, registry, clock)
+}
+
+fn nav2(c: &mut Criterion) {
+    let mut group = c.benchmark_group("observe");
+    let step = Duration::from_millis(100);
+    let (mut tree, _, clock) = nav2_navigator();
+    group.bench_function("nav2_no_observer", |b| {
+        b.iter(|| {
+            clock.advance(step);
+            black_box(tree.tick_once(black_box(&mut ())))
+        })
+    });
+
+    let dir = tempfile::tempdir().expect("a temporary directory");
+    // The defaults write every 10 ticks here, when 1 s of the clock has passed; by the count
+    // of changes alone, every 1024 changes (some 450 ticks); every tick, as before batches.
+    let batches = [
+        ("nav2_sqlite", None),
+        (
+            "nav2_sqlite_1024_changes",
+            Some((SqliteLogger::DEFAULT_MAX_CHANGES, Duration::MAX)),
+        ),
+        (
+            "nav2_sqlite_commit_every_tick",
+            Some((1, SqliteLogger::DEFAULT_MAX_INTERVAL)),
+        ),
+    ];
+    for (name, batch) in batches {
+        let (mut tree, registry, clock) = nav2_navigator();
+        let mut log = SqliteLogger::open(
+            dir.path().join(format!("{name}.db3")),
+            &tree,
+            &registry,
+            false,
+        )
+        .expect("a database in the temporary directory");
+        if let Some((max_changes, max_interval)) = batch {
+            log = log.batch(max_changes, max_interval);
+        }
+        tree.set_observer(log.clone());
+        group.bench_function(name, |b| {
+            b.iter(|| {
+                clock.advance(step);
+                black_box(tree.tick_once(black_box(&mut ())))
+            })
+        });
+        log.flush().expect("the batches are written");
+    }
+    group.finish();
+}
+
+criterion_group!(benches, observers, nav2);
 criterion_main!(benches);

@@ -342,7 +342,8 @@ pub struct ObserveArgs {
     #[arg(long, value_name = "FILE")]
     pub btlog: Option<PathBuf>,
     /// Log into the SQLite database FILE with BehaviorTree.CPP's schema, replacing the runs
-    /// it held.
+    /// it held. Rows are committed every 1,024 status changes or 1 s of the run's clock, so
+    /// a run that is killed keeps all but its last batch.
     #[arg(long, value_name = "FILE")]
     pub sqlite: Option<PathBuf>,
 }

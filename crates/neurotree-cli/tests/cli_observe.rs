@@ -231,3 +231,77 @@ fn an_output_that_cannot_be_created_is_an_error_before_the_run() {
     assert!(r.stderr.starts_with("neurotree: --jsonl "), "{}", r.stderr);
     assert!(r.stderr.contains("run.jsonl"), "{}", r.stderr);
 }
+
+#[test]
+fn a_killed_sqlite_run_keeps_the_batches_it_committed() {
+    use std::os::unix::process::ExitStatusExt;
+    use std::time::{Duration, Instant};
+
+    let dir = tempfile::tempdir().unwrap();
+    let tree = dir.path().join("guard.xml");
+    std::fs::write(&tree, GUARD).unwrap();
+    let file = dir.path().join("killed.db3");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_neurotree"))
+        .arg("run")
+        .arg(&tree)
+        .args(["--mock", "IsReady=SUCCESS", "--mock", "move=RUNNING"])
+        .args(["--max-ticks", "4000000000", "--sqlite"])
+        .arg(&file)
+        .stdout(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    let count = |db: &rusqlite::Connection| -> i64 {
+        db.query_row("SELECT COUNT(*) FROM Transitions", [], |r| r.get(0))
+            .unwrap_or(0)
+    };
+    let deadline = Instant::now() + Duration::from_secs(60);
+    loop {
+        assert!(Instant::now() < deadline, "the run wrote too little");
+        std::thread::sleep(Duration::from_millis(20));
+        if let Ok(db) = rusqlite::Connection::open(&file) {
+            if count(&db) >= 3_000 {
+                break;
+            }
+        }
+    }
+    child.kill().unwrap();
+    assert_eq!(child.wait().unwrap().signal(), Some(9));
+
+    // Batches close at tick ends, every 1 s of the clock: 10 ticks of 100 ms. The first
+    // tick makes 5 changes (guard and move start, IsReady runs and succeeds), each other 3.
+    let db = rusqlite::Connection::open(&file).unwrap();
+    let rows = count(&db);
+    assert_eq!((rows - 32) % 30, 0, "{rows} rows: not whole batches");
+    let mut query = db
+        .prepare(
+            "SELECT t.timestamp, n.fullpath, t.state FROM Transitions t
+             JOIN Nodes n USING (session_id, uid) ORDER BY t.timestamp",
+        )
+        .unwrap();
+    let all: Vec<(i64, String, i64)> = query
+        .query_map([], |r| Ok((r.get(0)?, r.get(1)?, r.get(2)?)))
+        .unwrap()
+        .map(Result::unwrap)
+        .collect();
+    assert_eq!(all.len() as i64, rows, "every row names a node");
+    for (tick, rows) in all[5..].chunks(3).enumerate() {
+        let states: Vec<(&str, i64)> = rows.iter().map(|r| (r.1.as_str(), r.2)).collect();
+        assert_eq!(
+            states,
+            [
+                ("guard/IsReady", 1),
+                ("guard/IsReady", 2),
+                ("guard/IsReady", 0)
+            ],
+            "tick {}",
+            tick + 2
+        );
+        // 100 ms after the tick before (plus the microsecond that keeps keys apart).
+        let since_first = rows[0].0 - all[0].0;
+        assert!(
+            (since_first - (tick as i64 + 1) * 100_000).abs() < 10,
+            "tick {}",
+            tick + 2
+        );
+    }
+}

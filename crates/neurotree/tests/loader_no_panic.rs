@@ -1,49 +1,16 @@
-//! Whatever bytes it is given, the loader answers with a tree or an error, never a panic:
-//! arbitrary text, and real corpus files cut, spliced and corrupted at random.
-
-use std::path::{Path, PathBuf};
+//! Whatever bytes it is given, the loader answers with a tree or an error pointing into
+//! them, never a panic: arbitrary text, and real corpus files cut, spliced and corrupted at
+//! random. `tests/fuzz.rs` runs the same target on many more mutated corpus files.
 
 use neurotree::{Registry, XmlLoader};
 use proptest::prelude::*;
 
 #[path = "support/corpus.rs"]
 mod corpus_dir;
+#[path = "support/load_all.rs"]
+mod load_all;
 
-fn corpus_texts() -> Vec<String> {
-    fn walk(dir: &Path, out: &mut Vec<PathBuf>) {
-        for entry in std::fs::read_dir(dir).unwrap() {
-            let path = entry.unwrap().path();
-            if path.is_dir() {
-                walk(&path, out);
-            } else if path.extension().is_some_and(|e| e == "xml") {
-                out.push(path);
-            }
-        }
-    }
-    let mut files = Vec::new();
-    walk(&corpus_dir::corpus(""), &mut files);
-    files.sort();
-    assert!(files.len() >= 60, "only {} corpus files found", files.len());
-    files
-        .iter()
-        .map(|f| std::fs::read_to_string(f).unwrap_or_else(|e| panic!("{}: {e}", f.display())))
-        .collect()
-}
-
-/// Loads `text` and builds (or, for model-only types, validates) every tree in it.
-fn try_load(text: &str) {
-    let registry = Registry::<()>::new();
-    let mut loader = XmlLoader::new(&registry).mock_unknown(true);
-    if loader.load_str(text, "fuzz.xml").is_ok() {
-        let ids: Vec<String> = loader.tree_ids().map(String::from).collect();
-        for id in ids {
-            let _ = loader.build(&id);
-            let _ = loader.validate(&id);
-        }
-    }
-    let mut with_model = Registry::<()>::new();
-    let _ = with_model.add_model_str(text, "fuzz.xml");
-}
+use load_all::{corpus_texts, load_everything as try_load};
 
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(256))]

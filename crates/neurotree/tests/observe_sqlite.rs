@@ -1,11 +1,15 @@
 //! The SQLite logger: BehaviorTree.CPP's tables, filled as its SqliteLogger fills them,
-//! read back with plain SQL.
+//! read back with plain SQL; rows written in batches, and a killed run keeping the batches
+//! it committed.
 
 #![cfg(feature = "sqlite")]
 
 #[path = "support/patrol.rs"]
 mod patrol;
 
+use std::io::BufRead;
+use std::path::Path;
+use std::process::{Command, Stdio};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, UNIX_EPOCH};
 
@@ -198,7 +202,7 @@ impl StatefulAction<()> for Forever {
 }
 
 #[test]
-fn rows_are_written_at_the_end_of_each_tick() {
+fn with_a_batch_of_one_rows_are_written_at_the_end_of_each_tick() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("run.db3");
     let count = |db: &Connection| -> i64 {
@@ -224,7 +228,9 @@ fn rows_are_written_at_the_end_of_each_tick() {
         .build_shared()
         .unwrap();
     let mut tree = Tree::with_clock(blueprint, ManualClock::new());
-    let log = SqliteLogger::open(&path, &tree, &Registry::new(), false).unwrap();
+    let log = SqliteLogger::open(&path, &tree, &Registry::new(), false)
+        .unwrap()
+        .batch(1, Duration::MAX);
     tree.set_observer(log.clone());
     assert_eq!(tree.tick_once(&mut ()), Ok(Status::Running));
     assert_eq!(tree.tick_once(&mut ()), Ok(Status::Running));
@@ -239,4 +245,182 @@ fn rows_are_written_at_the_end_of_each_tick() {
     assert_eq!(count(&db), 6);
     log.flush().unwrap();
     assert_eq!(count(&db), 8);
+}
+
+/// A Sequence of ten leaves that succeed: 23 status changes per tick (the sequence Idle,
+/// Running, Success, Idle; each leaf Idle, Success, Idle).
+fn ten_successes(clock: &ManualClock) -> Tree<()> {
+    let blueprint = neurotree::Blueprint::<()>::builder()
+        .sequence("all", |mut s| {
+            for i in 0..10 {
+                s = s.always_success(&format!("leaf{i}"));
+            }
+            s
+        })
+        .build_shared()
+        .unwrap();
+    Tree::with_clock(blueprint, clock.clone())
+}
+
+const CHANGES_PER_TICK: i64 = 23;
+
+fn count_rows(path: &Path) -> i64 {
+    let db = Connection::open(path).unwrap();
+    db.query_row("SELECT COUNT(*) FROM Transitions", [], |r| r.get(0))
+        .unwrap()
+}
+
+/// Ticks `tree` once, its manual clock `step` further first.
+fn tick_after(tree: &mut Tree<()>, clock: &ManualClock, step: Duration) {
+    clock.advance(step);
+    assert_eq!(tree.tick_once(&mut ()), Ok(Status::Success));
+}
+
+#[test]
+fn a_batch_is_written_at_the_end_of_the_tick_that_fills_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("run.db3");
+    let clock = ManualClock::new();
+    let mut tree = ten_successes(&clock);
+    let log = SqliteLogger::open(&path, &tree, &Registry::new(), false)
+        .unwrap()
+        .batch(50, Duration::MAX);
+    tree.set_observer(log.clone());
+    // 23 and 46 changes wait; the third tick brings 69 >= 50, all written.
+    let mut seen = Vec::new();
+    for _ in 0..6 {
+        tick_after(&mut tree, &clock, Duration::from_millis(100));
+        seen.push(count_rows(&path));
+    }
+    assert_eq!(seen, [0, 0, 69, 69, 69, 138]);
+}
+
+#[test]
+fn a_batch_is_written_at_the_end_of_the_tick_that_ends_its_interval() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("run.db3");
+    let clock = ManualClock::new();
+    let mut tree = ten_successes(&clock);
+    let log = SqliteLogger::open(&path, &tree, &Registry::new(), false)
+        .unwrap()
+        .batch(10_000, Duration::from_millis(250));
+    tree.set_observer(log.clone());
+    // Ticks at 100, 200, 300 ms: the one at 300 ends 250 ms after the start and writes;
+    // then the one at 600 ms, 300 ms after that write.
+    let mut seen = Vec::new();
+    for _ in 0..6 {
+        tick_after(&mut tree, &clock, Duration::from_millis(100));
+        seen.push(count_rows(&path));
+    }
+    assert_eq!(seen, [0, 0, 69, 69, 69, 138]);
+}
+
+#[test]
+fn flush_and_the_last_drop_write_the_rest() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("run.db3");
+    let clock = ManualClock::new();
+    let mut tree = ten_successes(&clock);
+    let log = SqliteLogger::open(&path, &tree, &Registry::new(), false)
+        .unwrap()
+        .batch(10_000, Duration::MAX);
+    tree.set_observer(log.clone());
+    for _ in 0..5 {
+        tick_after(&mut tree, &clock, Duration::from_millis(100));
+    }
+    assert_eq!(count_rows(&path), 0);
+    log.flush().unwrap();
+    assert_eq!(count_rows(&path), 5 * CHANGES_PER_TICK);
+    for _ in 0..2 {
+        tick_after(&mut tree, &clock, Duration::from_millis(100));
+    }
+    assert_eq!(count_rows(&path), 5 * CHANGES_PER_TICK);
+    // The tree holds one handle: dropping ours writes nothing yet, dropping the last does.
+    drop(log);
+    assert_eq!(count_rows(&path), 5 * CHANGES_PER_TICK);
+    drop(tree);
+    assert_eq!(count_rows(&path), 7 * CHANGES_PER_TICK);
+
+    let db = Connection::open(&path).unwrap();
+    let mode: String = db
+        .query_row("PRAGMA journal_mode", [], |r| r.get(0))
+        .unwrap();
+    assert_eq!(mode, "wal");
+}
+
+/// The environment variable that makes [`killed_writer`] write to the database it names.
+const CHILD_DB: &str = "NEUROTREE_TEST_SQLITE_CHILD_DB";
+
+/// Logs `ticks` ticks of a [`ten_successes`] tree, 1 ms apart, into `path` in batches of ten
+/// ticks; returns the tree, which holds the logger.
+fn log_ticks(path: &Path, ticks: usize) -> Tree<()> {
+    let clock = ManualClock::new();
+    let mut tree = ten_successes(&clock);
+    let start = UNIX_EPOCH + Duration::from_micros(START_US as u64);
+    let conn = Connection::open(path).unwrap();
+    let log = SqliteLogger::with_connection(conn, &tree, &Registry::new(), false, start)
+        .unwrap()
+        .batch(10 * CHANGES_PER_TICK as usize, Duration::MAX);
+    tree.set_observer(log);
+    for _ in 0..ticks {
+        tick_after(&mut tree, &clock, Duration::from_millis(1));
+    }
+    tree
+}
+
+/// Run by [`a_killed_run_keeps_its_committed_batches`] in a child process: 35 ticks in
+/// batches of 10, so 3 batches committed and 5 ticks waiting, then "ready" and a wait to
+/// be killed.
+#[test]
+#[ignore = "the child process of a_killed_run_keeps_its_committed_batches"]
+fn killed_writer() {
+    let Some(path) = std::env::var_os(CHILD_DB) else {
+        return;
+    };
+    let _tree = log_ticks(Path::new(&path), 35);
+    println!("ready");
+    // Killed long before; a bound so that a child whose parent died goes away too.
+    std::thread::sleep(Duration::from_secs(60));
+}
+
+#[test]
+fn a_killed_run_keeps_its_committed_batches() {
+    use std::os::unix::process::ExitStatusExt;
+
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("killed.db3");
+    let mut child = Command::new(std::env::current_exe().unwrap())
+        .args(["--ignored", "--exact", "killed_writer", "--nocapture"])
+        .env(CHILD_DB, &path)
+        .stdout(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let stdout = std::io::BufReader::new(child.stdout.take().unwrap());
+    let ready = stdout
+        .lines()
+        .map(Result::unwrap)
+        .any(|line| line == "ready");
+    assert!(ready, "the child ended without logging its ticks");
+    child.kill().unwrap();
+    let status = child.wait().unwrap();
+    assert_eq!(status.signal(), Some(9), "{status}");
+
+    // The same 30 ticks logged to the end, to compare with.
+    let reference = dir.path().join("reference.db3");
+    drop(log_ticks(&reference, 30));
+    let expected = transitions(&Connection::open(&reference).unwrap(), 1);
+    assert_eq!(expected.len(), 30 * CHANGES_PER_TICK as usize);
+
+    let db = Connection::open(&path).unwrap();
+    assert_eq!(transitions(&db, 1), expected);
+    let nodes: i64 = db
+        .query_row("SELECT COUNT(*) FROM Nodes WHERE session_id = 1", [], |r| {
+            r.get(0)
+        })
+        .unwrap();
+    assert_eq!(nodes, 11);
+    let check: String = db
+        .query_row("PRAGMA integrity_check", [], |r| r.get(0))
+        .unwrap();
+    assert_eq!(check, "ok");
 }
