@@ -78,7 +78,7 @@ impl Parser<'_> {
         &self.src[t.start..t.end]
     }
 
-    /// "expected `what`, found <current token>", at the current token.
+    /// "expected `what`, found `<current token>`", at the current token.
     fn expected(&self, what: &'static str) -> Located {
         let t = self.token();
         let found = match t.kind {
