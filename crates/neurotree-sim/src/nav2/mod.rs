@@ -28,9 +28,9 @@
 //! | Wait | stand still |
 //! | BackUp | drive backwards |
 //!
-//! Each node's ports, defaults, outcomes and error codes are told in its own file: `planner.rs`,
-//! `controller.rs`, `selectors.rs`, `path_checks.rs`, `costmaps.rs`, `recovery_help.rs` and
-//! `behaviors.rs` (Spin, Wait, BackUp).
+//! Each node's ports, defaults, outcomes and error codes are told in its own module:
+//! [`planner`], [`controller`], [`selectors`], [`path_checks`], [`costmaps`],
+//! [`recovery_help`] and [`behaviors`] (Spin, Wait, BackUp).
 //!
 //! Ports that only make sense on a ROS system (server names, timeouts, frames, plugin ids,
 //! footprints) are declared, so that files using them load, and read nowhere.
@@ -88,16 +88,16 @@
 //! assert_eq!((sim.plans(), sim.replans()), (4, 3));
 //! ```
 
-mod behaviors;
+pub mod behaviors;
 pub mod codes;
-mod controller;
-mod costmaps;
-mod path_checks;
-mod planner;
+pub mod controller;
+pub mod costmaps;
+pub mod path_checks;
+pub mod planner;
 mod ports;
 mod recoveries;
-mod recovery_help;
-mod selectors;
+pub mod recovery_help;
+pub mod selectors;
 #[cfg(test)]
 mod testing;
 
