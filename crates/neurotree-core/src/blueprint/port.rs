@@ -8,8 +8,9 @@
 //! through [`Handle::input`](crate::Handle::input) and
 //! [`Handle::output`](crate::Handle::output).
 
-use alloc::string::String;
+use alloc::string::{String, ToString};
 use alloc::vec::Vec;
+use core::any::Any;
 use core::str::FromStr;
 
 use crate::blackboard::BlackboardError;
@@ -75,6 +76,17 @@ pub enum PortError {
         /// The port.
         port: String,
     },
+    /// The entry holds a number (or bool) of another type that does not fit the type asked
+    /// for: out of range, or a real with a fraction where an integer is wanted.
+    #[error("port `{port}`: the entry's value {value} does not fit {type_name}")]
+    OutOfRange {
+        /// The port.
+        port: String,
+        /// The value, printed.
+        value: String,
+        /// The type asked for.
+        type_name: &'static str,
+    },
     /// The bound entry could not be read or written.
     #[error("port `{port}`: {source}")]
     Blackboard {
@@ -93,19 +105,130 @@ pub enum PortError {
 pub trait FromPortStr: Sized {
     /// Converts `text`, or says why not (the message names no port; the caller adds it).
     fn from_port_str(text: &str) -> Result<Self, ()>;
+
+    /// Converts a blackboard entry's value of another type, as BehaviorTree.CPP's `Any`
+    /// converts: `None` if this type does not convert from that one, `Err` with the value
+    /// printed if it does but the value does not fit. The numbers and `bool` convert among
+    /// themselves (see [`Number`]); other types convert from nothing but text.
+    fn from_other(_value: &dyn Any) -> Option<Result<Self, String>> {
+        None
+    }
 }
 
-macro_rules! from_port_str_by_parse {
+/// A number or boolean held by a blackboard entry of any of Rust's number types, as one
+/// value that converts to each of them: integers between widths and signedness with a range
+/// check, integers to reals when exact, reals to integers when whole and in range, and
+/// `bool` to and from 0 and 1, as BehaviorTree.CPP's `Any` does. Nothing wraps.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Number {
+    /// Any integer type.
+    Int(i128),
+    /// `f32` or `f64`.
+    Real(f64),
+    /// `bool`.
+    Bool(bool),
+}
+
+impl Number {
+    /// The number `value` holds, if its type is one of Rust's numbers or `bool`.
+    pub fn of(value: &dyn Any) -> Option<Number> {
+        macro_rules! int {
+            ($($t:ty),*) => {$(
+                if let Some(v) = value.downcast_ref::<$t>() {
+                    return Some(Number::Int(*v as i128));
+                }
+            )*};
+        }
+        int!(i64, i32, u32, u64, usize, isize, i8, i16, u8, u16, i128);
+        if let Some(v) = value.downcast_ref::<u128>() {
+            return Some(Number::Int(i128::try_from(*v).unwrap_or(i128::MAX)));
+        }
+        if let Some(v) = value.downcast_ref::<f64>() {
+            return Some(Number::Real(*v));
+        }
+        if let Some(v) = value.downcast_ref::<f32>() {
+            return Some(Number::Real(f64::from(*v)));
+        }
+        value.downcast_ref::<bool>().map(|b| Number::Bool(*b))
+    }
+
+    /// As an integer: reals only when whole, `bool` as 0 or 1.
+    fn integer(self) -> Option<i128> {
+        match self {
+            Number::Int(i) => Some(i),
+            // Within ±2^127 the cast is exact for a whole real.
+            Number::Real(r) if r.fract() == 0.0 && r.abs() < 1.7e38 => Some(r as i128),
+            Number::Real(_) => None,
+            Number::Bool(b) => Some(i128::from(b)),
+        }
+    }
+
+    /// As a real: integers only when exact (within ±2^53).
+    fn real(self) -> Option<f64> {
+        match self {
+            Number::Int(i) if i.unsigned_abs() <= 1 << 53 => Some(i as f64),
+            Number::Int(_) => None,
+            Number::Real(r) => Some(r),
+            Number::Bool(b) => Some(f64::from(u8::from(b))),
+        }
+    }
+}
+
+impl core::fmt::Display for Number {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            Number::Int(i) => write!(f, "{i}"),
+            // Debug: short exponents for very large or small reals.
+            Number::Real(r) => write!(f, "{r:?}"),
+            Number::Bool(b) => write!(f, "{b}"),
+        }
+    }
+}
+
+macro_rules! from_port_str_integer {
     ($($t:ty),*) => {$(
         impl FromPortStr for $t {
             fn from_port_str(text: &str) -> Result<Self, ()> {
                 <$t>::from_str(text.trim()).map_err(|_| ())
             }
+
+            fn from_other(value: &dyn Any) -> Option<Result<Self, String>> {
+                let n = Number::of(value)?;
+                Some(n.integer().and_then(|i| <$t>::try_from(i).ok()).ok_or_else(|| n.to_string()))
+            }
         }
     )*};
 }
 
-from_port_str_by_parse!(i8, i16, i32, i64, i128, isize, u8, u16, u32, u64, u128, usize, f32, f64);
+from_port_str_integer!(i8, i16, i32, i64, i128, isize, u8, u16, u32, u64, u128, usize);
+
+impl FromPortStr for f64 {
+    fn from_port_str(text: &str) -> Result<Self, ()> {
+        f64::from_str(text.trim()).map_err(|_| ())
+    }
+
+    fn from_other(value: &dyn Any) -> Option<Result<Self, String>> {
+        let n = Number::of(value)?;
+        Some(n.real().ok_or_else(|| n.to_string()))
+    }
+}
+
+impl FromPortStr for f32 {
+    fn from_port_str(text: &str) -> Result<Self, ()> {
+        f32::from_str(text.trim()).map_err(|_| ())
+    }
+
+    fn from_other(value: &dyn Any) -> Option<Result<Self, String>> {
+        let n = Number::of(value)?;
+        let fits = |r: f64| !r.is_finite() || r.abs() <= f64::from(f32::MAX);
+        Some(
+            n.real()
+                .filter(|r| fits(*r))
+                .map(|r| r as f32)
+                .ok_or_else(|| n.to_string()),
+        )
+    }
+}
 
 impl FromPortStr for bool {
     fn from_port_str(text: &str) -> Result<Self, ()> {
@@ -116,6 +239,15 @@ impl FromPortStr for bool {
             t if t.eq_ignore_ascii_case("false") => Ok(false),
             _ => Err(()),
         }
+    }
+
+    fn from_other(value: &dyn Any) -> Option<Result<Self, String>> {
+        let n = Number::of(value)?;
+        Some(match n.integer() {
+            Some(0) => Ok(false),
+            Some(1) => Ok(true),
+            _ => Err(n.to_string()),
+        })
     }
 }
 
@@ -153,5 +285,33 @@ mod tests {
         assert_eq!(Vec::<i32>::from_port_str("1;2;3"), Ok(vec![1, 2, 3]));
         assert_eq!(Vec::<i32>::from_port_str(""), Ok(vec![]));
         assert_eq!(Vec::<i32>::from_port_str("1;x"), Err(()));
+    }
+
+    #[test]
+    fn entries_of_other_number_types_convert_as_any_does() {
+        let from = |v: &dyn Any| i32::from_other(v);
+        assert_eq!(from(&3_i64), Some(Ok(3)));
+        assert_eq!(from(&3_u8), Some(Ok(3)));
+        assert_eq!(from(&true), Some(Ok(1)));
+        assert_eq!(from(&4.0_f64), Some(Ok(4)));
+        // Never a wrap or a truncation: out of range and fractions are errors.
+        assert_eq!(from(&3_000_000_000_i64), Some(Err("3000000000".into())));
+        assert_eq!(from(&4.5_f64), Some(Err("4.5".into())));
+        assert_eq!(u32::from_other(&-1_i64), Some(Err("-1".into())));
+        assert_eq!(usize::from_other(&7_i64), Some(Ok(7)));
+        // Integers to reals when exact, reals to f32 within range.
+        assert_eq!(f64::from_other(&3_i64), Some(Ok(3.0)));
+        assert_eq!(
+            f64::from_other(&(1_i64 << 60)),
+            Some(Err("1152921504606846976".into()))
+        );
+        assert_eq!(f32::from_other(&0.5_f64), Some(Ok(0.5)));
+        assert_eq!(f32::from_other(&1e300_f64), Some(Err("1e300".into())));
+        // bool from 0 and 1 only.
+        assert_eq!(bool::from_other(&1_i64), Some(Ok(true)));
+        assert_eq!(bool::from_other(&2_i64), Some(Err("2".into())));
+        // Types that are no number convert from nothing but text.
+        assert_eq!(i32::from_other(&String::from("3")), None);
+        assert_eq!(String::from_other(&3_i64), None);
     }
 }

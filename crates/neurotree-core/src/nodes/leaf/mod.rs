@@ -197,6 +197,13 @@ pub(crate) fn read_input<T: FromPortStr + Any + Clone>(
             if let Some(text) = any.downcast_ref::<String>() {
                 return convert(text);
             }
+            if let Some(converted) = T::from_other(any) {
+                return converted.map_err(|value| PortError::OutOfRange {
+                    port: String::from(port),
+                    value,
+                    type_name: core::any::type_name::<T>(),
+                });
+            }
             Err(PortError::Blackboard {
                 port: String::from(port),
                 source: blackboard.get_ref_in::<T>(scope, key).err().unwrap_or(
