@@ -53,7 +53,13 @@ import behaviortreepy as bt
 CALL_BUDGET = 5000
 S = bt.NodeStatus
 OUTCOME = {"S": S.SUCCESS, "F": S.FAILURE, "R": S.RUNNING}
-NAME = {S.SUCCESS: "SUCCESS", S.FAILURE: "FAILURE", S.RUNNING: "RUNNING", S.IDLE: "IDLE"}
+NAME = {
+    S.SUCCESS: "SUCCESS",
+    S.FAILURE: "FAILURE",
+    S.RUNNING: "RUNNING",
+    S.IDLE: "IDLE",
+    S.SKIPPED: "SKIPPED",
+}
 ANSI = re.compile(r"\x1b\[[0-9;]*m")
 LINE = re.compile(r"^\[[^\]]*\]: (\S+)\s+(\w+) -> (\w+)$")
 
