@@ -165,12 +165,12 @@ pub enum NodeKind<C> {
     ForceFailure,
     /// Repeats a succeeding child.
     Repeat {
-        /// Cycles to run; -1 forever.
+        /// Cycles to run; -1 forever, another negative value none.
         num_cycles: i32,
     },
     /// Retries a failing child.
     RetryUntilSuccessful {
-        /// Attempts to make; -1 forever.
+        /// Attempts to make; -1 forever, another negative value none.
         num_attempts: i32,
     },
     /// Success becomes Running; Failure ends it.
