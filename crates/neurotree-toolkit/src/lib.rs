@@ -22,6 +22,8 @@ pub mod render;
 pub mod runtime;
 pub mod script;
 mod shared_blackboard;
+#[cfg(test)]
+mod testing;
 pub mod xml;
 
 pub use json_port::Json;

@@ -598,10 +598,10 @@ fn loops_run_the_child_once_per_element() {
     assert_eq!(ticks, 5);
     assert_eq!(tree.blackboard().get::<i64>("sum"), Ok(6));
     assert_eq!(said, ["a", "b"]);
-    // The entry queue was consumed; the literal one starts over.
+    // A Vec entry is copied for the run and left as it was; the literal one starts over.
     assert_eq!(
         tree.blackboard().get::<Vec<String>>("words"),
-        Ok(Vec::new())
+        Ok(vec!["a".to_string(), "b".to_string()])
     );
     assert_eq!(tree.tick_once(&mut said), Ok(Status::Running));
     assert_eq!(tree.blackboard().get::<i64>("sum"), Ok(7));
