@@ -82,8 +82,17 @@ impl Lab {
 
     /// A tree of the main tree of `xml`.
     pub(crate) fn load(&self, xml: &str) -> Result<Tree<Lab>, crate::LoadError> {
-        let registry = self.registry();
-        let mut loader = XmlLoader::new(&registry);
+        self.load_with(&self.registry(), xml)
+    }
+
+    /// A tree of the main tree of `xml`, its nodes from `registry` (which
+    /// [`registry`](Self::registry) made, then the test added to).
+    pub(crate) fn load_with(
+        &self,
+        registry: &Registry<Lab>,
+        xml: &str,
+    ) -> Result<Tree<Lab>, crate::LoadError> {
+        let mut loader = XmlLoader::new(registry);
         loader.load_str(xml, "test.xml")?;
         let bp = loader.build_main()?;
         Ok(Tree::with_clock(bp.into(), self.clock.clone()))
