@@ -15,7 +15,7 @@ use crate::registry::{built_in_kind, Make, NodeType};
 use crate::script::{Enums, Script};
 
 /// The elements that name their type in an `ID` attribute (BehaviorTree.CPP's explicit form).
-const EXPLICIT: [&str; 4] = ["Action", "Condition", "Control", "Decorator"];
+pub(super) const EXPLICIT: [&str; 4] = ["Action", "Condition", "Control", "Decorator"];
 
 struct Expansion<'a, 'r, C> {
     loader: &'a XmlLoader<'r, C>,
@@ -479,7 +479,7 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
                 let registry = self.loader.registry;
                 let node_type = registry
                     .get(name)
-                    .or_else(|| registry.builtin_ignoring_case(name))?;
+                    .or_else(|| registry.alias(name).map(|(_, t)| t))?;
                 *slot = Some((name, node_type));
                 Some(node_type)
             }

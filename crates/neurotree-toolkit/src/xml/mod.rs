@@ -86,6 +86,21 @@ pub struct LoadError {
     pub message: String,
 }
 
+/// Something a file does that loads but should change, with its place: a deprecated or
+/// misspelt node name that loads as the built-in it stands for.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("{file}:{line}:{col}: warning: {message}")]
+pub struct LoadWarning {
+    /// The file (as given to the loader).
+    pub file: String,
+    /// 1-based line.
+    pub line: u32,
+    /// 1-based column.
+    pub col: u32,
+    /// What to change.
+    pub message: String,
+}
+
 impl LoadError {
     fn at_file(file: &str, message: impl Into<String>) -> Self {
         Self {
@@ -119,6 +134,8 @@ pub struct XmlLoader<'r, C> {
     unnamed_trees: usize,
     /// Node name (or type) → the outcomes of the mock that replaces it.
     mocks: BTreeMap<String, Vec<neurotree_core::Status>>,
+    /// What the files loaded so far should change, in load order.
+    warnings: Vec<LoadWarning>,
 }
 
 impl<C> fmt::Debug for XmlLoader<'_, C> {
@@ -143,6 +160,7 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
             loading: Vec::new(),
             unnamed_trees: 0,
             mocks: BTreeMap::new(),
+            warnings: Vec::new(),
         }
     }
 
@@ -166,6 +184,12 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
     pub fn mock(mut self, name: &str, outcomes: Vec<neurotree_core::Status>) -> Self {
         self.mocks.insert(name.to_string(), outcomes);
         self
+    }
+
+    /// The warnings of the files loaded so far, in load order: each use of an alias
+    /// (a deprecated or misspelt built-in name that loads as the one it stands for).
+    pub fn warnings(&self) -> &[LoadWarning] {
+        &self.warnings
     }
 
     /// The IDs of the trees loaded so far.
@@ -274,6 +298,7 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
                         )));
                     }
                     self.trees.insert(id, TreeAt { doc: at, element });
+                    self.warn_aliases(at, element);
                 }
                 "include" => self.include(at, element, dir)?,
                 // Models describe nodes for editors; the registry is the loader's model.
@@ -286,6 +311,21 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
             }
         }
         Ok(())
+    }
+
+    /// Warns of each element of tree `element` that names its type by an alias.
+    fn warn_aliases(&mut self, doc: usize, element: usize) {
+        let tree = self.docs[doc].element(element);
+        for el in tree.descendants() {
+            let type_name = if build::EXPLICIT.contains(&el.tag()) {
+                el.attr("ID").unwrap_or("")
+            } else {
+                el.tag()
+            };
+            if let Some((alias, _)) = self.registry.alias(type_name) {
+                self.warnings.push(el.warning(alias.warning()));
+            }
+        }
     }
 
     fn include(&mut self, doc: usize, element: usize, dir: Option<&Path>) -> Result<(), LoadError> {

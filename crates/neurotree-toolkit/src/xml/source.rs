@@ -15,7 +15,7 @@
 //! position, are the complete reader's; the quick one only has to agree with it on the
 //! documents it accepts, which a property test checks.
 
-use super::LoadError;
+use super::{LoadError, LoadWarning};
 
 /// A range of bytes of [`Document::buf`], or of indices into one of its arrays.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -191,6 +191,17 @@ impl<'d> Element<'d> {
     /// An error located at this element.
     pub(crate) fn error(&self, message: impl Into<String>) -> LoadError {
         self.doc.error_at(self.node().offset, message.into())
+    }
+
+    /// A warning located at this element.
+    pub(crate) fn warning(&self, message: impl Into<String>) -> LoadWarning {
+        let e = self.error(message);
+        LoadWarning {
+            file: e.file,
+            line: e.line,
+            col: e.col,
+            message: e.message,
+        }
     }
 }
 
