@@ -373,8 +373,9 @@ impl<'t, C> Ticker<'t, C> {
             return NodeStatus::Failure;
         };
         let mut node = node;
+        // Not marked Running first: a custom leaf goes Idle → result, as in BehaviorTree.CPP;
+        // a node that wants the mark sets it (`NodeCtx::set_running`), as BT.CPP's do.
         let previous = self.status(id);
-        self.set_status(id, NodeStatus::Running);
         let status = node.tick(&mut NodeCtx {
             t: self,
             id,

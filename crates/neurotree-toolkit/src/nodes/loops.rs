@@ -170,6 +170,10 @@ where
             };
             self.write_value(node, value);
         }
+        // As LoopNode's `setStatus(RUNNING)` on a run's first element.
+        if node.previous_status() == NodeStatus::Idle {
+            node.set_running();
+        }
         let status = node.tick_child(0);
         self.child_running = status == NodeStatus::Running;
         if status.is_completed() {
