@@ -319,6 +319,8 @@ impl<C> NodeKind<C> {
             | NodeKind::Fallback
             | NodeKind::AsyncSequence
             | NodeKind::AsyncFallback
+            | NodeKind::ReactiveSequence
+            | NodeKind::ReactiveFallback
             | NodeKind::IfThenElse
             | NodeKind::TryCatch { .. }
             | NodeKind::Repeat { .. }

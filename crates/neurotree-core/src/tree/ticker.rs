@@ -45,6 +45,8 @@ pub(crate) struct Ticker<'t, C> {
     pub(crate) fault: Option<TickError>,
     /// The node ticked or halted last: if user code panics, the one it panicked in.
     pub(crate) current: NodeId,
+    /// A reactive control's second Running child is an error (BT.CPP's `EnableException`).
+    pub(crate) reject_multiple_running: bool,
 }
 
 impl<'t, C> Ticker<'t, C> {
@@ -448,6 +450,8 @@ impl<'t, C> Ticker<'t, C> {
                 control::try_catch::halt(self, id, def, *catch_on_halt);
             }
             NodeKind::IfThenElse
+            | NodeKind::ReactiveSequence
+            | NodeKind::ReactiveFallback
             | NodeKind::Repeat { .. }
             | NodeKind::RetryUntilSuccessful { .. }
             | NodeKind::Delay(_)
