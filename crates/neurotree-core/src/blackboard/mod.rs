@@ -367,6 +367,34 @@ impl Blackboard {
         self.entry(scope, key).is_some_and(|e| e.untyped)
     }
 
+    /// Writes `key` in `scope` itself, whatever type its entry there held, without
+    /// following a remap or autoremap: what a SubTree's literal port sets, which
+    /// BehaviorTree.CPP writes with autoremapping turned off, so that it never lands in the
+    /// parent. An unknown scope is ignored.
+    pub fn replace_own_in<T: Any + Send + Sync>(
+        &mut self,
+        scope: ScopeId,
+        key: &str,
+        value: T,
+        stamp: Duration,
+    ) {
+        if scope.0 as usize > self.links.len() {
+            return;
+        }
+        let entries = entries_mut(&mut self.entries, scope.0 as usize);
+        match entries.get_mut(key) {
+            Some(entry) => {
+                let sequence = entry.info.sequence;
+                *entry = Entry::new(value, stamp);
+                entry.info.sequence = sequence.wrapping_add(1);
+            }
+            None => {
+                entries.insert(String::from(key), Entry::new(value, stamp));
+            }
+        }
+        self.last_stamp = self.last_stamp.max(stamp);
+    }
+
     /// Removes the entry `key` resolves to from `scope` (a remapped key removes the parent's
     /// entry); `true` if there was one. Remaps stay.
     pub fn unset_in(&mut self, scope: ScopeId, key: &str) -> bool {

@@ -105,7 +105,8 @@ pub struct SubTreeScope {
     /// Keys the child does not define resolve in the parent (except `_private` ones).
     pub autoremap: bool,
     /// `(child_key, text)`: entries the child scope starts with, as text (a literal port
-    /// of a SubTree in XML); readers convert them to their type.
+    /// of a SubTree in XML); readers convert them to their type. Always stored in the child
+    /// scope itself, never through `autoremap` in the parent.
     pub values: Vec<(String, String)>,
 }
 

@@ -100,8 +100,9 @@ impl<C> Tree<C> {
             for (child_key, parent_key) in &scope.remap {
                 blackboard.remap(id, child_key, parent_key);
             }
+            // The subtree's own entries: never written through autoremap into the parent.
             for (child_key, text) in &scope.values {
-                blackboard.replace_in(id, child_key, text.clone(), Duration::ZERO);
+                blackboard.replace_own_in(id, child_key, text.clone(), Duration::ZERO);
             }
         }
         // As in BehaviorTree.CPP, every entry a port names exists from the start.
