@@ -109,8 +109,4 @@ impl Lab {
     pub(crate) fn tick(&mut self, tree: &mut Tree<Lab>) -> Result<Status, TickError> {
         tree.tick_once(self)
     }
-
-    pub(crate) fn tick_exactly_once(&mut self, tree: &mut Tree<Lab>) -> Result<Status, TickError> {
-        tree.tick_exactly_once(self)
-    }
 }

@@ -345,7 +345,8 @@ mod tests {
         // reals with six decimals ("0.000000" for 4e-7, which is then 0, not 4e-7).
         let mut lab = Lab::new(&[&[S], &[S], &[S]]);
         let mut tree = lab.tree(&switch("{v}", "{c}"));
-        let cases: [(&dyn Fn(&mut Tree<Lab>), usize); 7] = [
+        type Write<'a> = &'a dyn Fn(&mut Tree<Lab>);
+        let cases: [(Write<'_>, usize); 7] = [
             (&|t| set(t, 3.5_f64, "3.5"), 0),
             (&|t| set(t, 2.0_f64, "2"), 0),
             (&|t| set(t, true, "1"), 0),
