@@ -15,7 +15,7 @@ use std::collections::BTreeSet;
 use std::io::{self, Write};
 use std::path::PathBuf;
 
-use neurotree::{LoadError, Registry, XmlLoader};
+use neurotree::{LoadError, LoadWarning, Registry, XmlLoader};
 
 use crate::files;
 
@@ -64,7 +64,13 @@ pub fn run(
     let mut too_many_nodes = false;
     for at in 0..files.len() {
         let shown = files::shown(&files[at]);
-        match check_file(&registry, files, at, opts.max_nodes) {
+        let (warnings, checked) = check_file(&registry, files, at, opts.max_nodes);
+        for w in &warnings {
+            if reported.insert(w.to_string()) {
+                writeln!(err, "{w}")?;
+            }
+        }
+        match checked {
             Ok(1) => writeln!(out, "{shown}: ok (1 tree)")?,
             Ok(trees) => writeln!(out, "{shown}: ok ({trees} trees)")?,
             Err(errors) => {
@@ -98,18 +104,33 @@ pub fn run(
     Ok(valid)
 }
 
-/// Checks every tree of `files[at]`: how many trees it has, or up to [`LIMIT`] errors,
-/// each once.
+/// Checks every tree of `files[at]`: the loader's warnings, and how many trees it has or up
+/// to [`LIMIT`] errors, each once.
 fn check_file(
     registry: &Registry<()>,
     files: &[PathBuf],
     at: usize,
     max_nodes: usize,
-) -> Result<usize, Vec<LoadError>> {
+) -> (Vec<LoadWarning>, Result<usize, Vec<LoadError>>) {
     let mut loader = XmlLoader::new(registry).max_nodes(max_nodes);
-    loader.load_file(&files[at]).map_err(|e| vec![e])?;
+    let loaded = loader.load_file(&files[at]);
+    let warnings = loader.warnings().to_vec();
+    if let Err(e) = loaded {
+        return (warnings, Err(vec![e]));
+    }
+    (warnings, check_trees(registry, &mut loader, files, at))
+}
+
+/// Checks the trees `loader` loaded from `files[at]`, with the other files lending the
+/// subtrees they use.
+fn check_trees(
+    registry: &Registry<()>,
+    loader: &mut XmlLoader<'_, ()>,
+    files: &[PathBuf],
+    at: usize,
+) -> Result<usize, Vec<LoadError>> {
     let own: Vec<String> = loader.tree_ids().map(String::from).collect();
-    lend(registry, &mut loader, files, at);
+    lend(registry, loader, files, at);
     let mut seen = BTreeSet::new();
     let errors: Vec<LoadError> = own
         .iter()

@@ -25,8 +25,8 @@ use std::time::Duration;
 use neurotree::observe::{BtlogWriter, ConsoleLogger, JsonlTrace, SqliteLogger, Statistics};
 use neurotree::render::LastTickStatuses;
 use neurotree::{
-    Blueprint, ManualClock, NodeId, NodeStatus, Observer, Registry, Status, StatusChange,
-    TickError, Tree, XmlLoader,
+    Blueprint, LoadWarning, ManualClock, NodeId, NodeStatus, Observer, Registry, Status,
+    StatusChange, TickError, Tree, XmlLoader,
 };
 use serde_json::{json, Map, Value};
 
@@ -126,9 +126,12 @@ fn set_value(bb: &mut neurotree::Blackboard, key: &str, text: &str) {
 }
 
 /// The tree to run, the registry it was loaded with, and which tree it is.
+/// The loader's warnings (deprecated or misspelt names) go to `warnings`, whether or not the
+/// tree then builds.
 fn load(
     files: &[PathBuf],
     opts: &RunOptions,
+    warnings: &mut Vec<LoadWarning>,
 ) -> Result<(Blueprint<()>, Registry<()>, files::Picked), String> {
     let mut registry = crate::registry::with_nav2_controls::<()>();
     files::add_models(&mut registry, files).map_err(|e| e.to_string())?;
@@ -142,7 +145,9 @@ fn load(
     }
     // Clap asks for at least one file.
     let first = files.first().map(|f| files::shown(f)).unwrap_or_default();
-    let built = files::load_all(&mut loader, files)
+    let loaded = files::load_all(&mut loader, files);
+    warnings.extend_from_slice(loader.warnings());
+    let built = loaded
         .and_then(|()| files::pick_tree(&loader, opts.tree.as_deref(), &first))
         .and_then(|picked| {
             let blueprint = loader.build(&picked.id).map_err(|mut e| {
@@ -176,7 +181,12 @@ pub fn run(
     out: &mut impl Write,
     err: &mut impl Write,
 ) -> io::Result<Outcome> {
-    let (blueprint, registry, tree_id) = match load(files, opts) {
+    let mut warnings = Vec::new();
+    let loaded = load(files, opts, &mut warnings);
+    for w in &warnings {
+        writeln!(err, "{w}")?;
+    }
+    let (blueprint, registry, tree_id) = match loaded {
         Ok((bp, registry, picked)) => {
             picked.note("running", err)?;
             (Arc::new(bp), registry, picked.id)

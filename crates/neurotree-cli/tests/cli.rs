@@ -459,3 +459,34 @@ fn check_and_show_know_nav2_controls() {
     );
     assert!(out.contains("[ ] RecoveryActions (RoundRobin)"), "{out}");
 }
+
+#[test]
+fn check_and_run_print_the_loaders_warnings_on_stderr() {
+    let file = write_tree(
+        "old_names.xml",
+        "<root BTCPP_format=\"4\" main_tree_to_execute=\"Main\">\n  <BehaviorTree ID=\"Main\">\n    <SequenceStar>\n      <inverter><AlwaysFailure/></inverter>\n    </SequenceStar>\n  </BehaviorTree>\n</root>",
+    );
+    let shown = file.display().to_string();
+    let (code, out, err) = run_cli(&["check", &shown]);
+    assert_eq!(code, Some(0), "{err}");
+    assert!(out.contains("ok (1 tree)"), "{out}");
+    let warnings: Vec<&str> = err.lines().collect();
+    assert_eq!(warnings.len(), 2, "{err}");
+    assert!(
+        warnings[0].starts_with(&format!(
+            "{shown}:3:5: warning: `SequenceStar` is deprecated"
+        )),
+        "{err}"
+    );
+    assert!(
+        warnings[1].starts_with(&format!(
+            "{shown}:4:7: warning: `inverter` is not a BehaviorTree.CPP name"
+        )),
+        "{err}"
+    );
+    let (code, out, err) = run_cli(&["run", &shown]);
+    assert_eq!(code, Some(0), "{err}");
+    assert!(out.contains(r#""status":"SUCCESS""#), "{out}");
+    assert_eq!(err.lines().count(), 2, "{err}");
+    assert!(err.contains(":3:5: warning: `SequenceStar`"), "{err}");
+}

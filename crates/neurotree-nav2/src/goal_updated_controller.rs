@@ -55,6 +55,8 @@ impl<C> CustomNode<C> for GoalUpdatedController {
             node.reset_children();
             return NodeStatus::Failure;
         }
+        // Nav2's `setStatus(RUNNING)` before the child ticks.
+        node.set_running();
         if !(self.pending || node.child_status(0) == NodeStatus::Running) {
             return NodeStatus::Running;
         }

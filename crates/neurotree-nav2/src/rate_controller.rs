@@ -69,6 +69,8 @@ impl<C> CustomNode<C> for RateController {
             self.since = node.now();
             self.first = true;
         }
+        // Nav2's `setStatus(RUNNING)` before the child ticks.
+        node.set_running();
         let elapsed = node.now().saturating_sub(self.since);
         let due = self.period.is_some_and(|period| elapsed >= period);
         if !(self.first || due || node.child_status(0) == NodeStatus::Running) {

@@ -55,6 +55,8 @@ impl<C> CustomNode<C> for RecoveryNode {
         let Some(max_retries) = port_or(node, "number_of_retries", 1_i32) else {
             return self.finish(node, NodeStatus::Failure);
         };
+        // Nav2's `setStatus(RUNNING)` before the children tick.
+        node.set_running();
         while self.retries <= max_retries {
             if self.current == ACTION {
                 match node.tick_child(ACTION) {

@@ -53,6 +53,8 @@ impl<C> CustomNode<C> for RoundRobin {
             self.restart();
             return NodeStatus::Failure;
         };
+        // Nav2's `setStatus(RUNNING)` before the children tick.
+        node.set_running();
         let count = node.child_count();
         let mut skipped = 0;
         while self.failed + skipped < count && self.next < count {

@@ -22,10 +22,12 @@ pub mod render;
 pub mod runtime;
 pub mod script;
 mod shared_blackboard;
+#[cfg(test)]
+mod testing;
 pub mod xml;
 
 pub use json_port::Json;
 pub use registry::{PortDirection, PortSpec, Registry, RegistryError};
 pub use runtime::{FixedRate, StopFlag};
 pub use shared_blackboard::SharedBlackboard;
-pub use xml::{LoadError, XmlLoader};
+pub use xml::{LoadError, LoadWarning, XmlLoader};

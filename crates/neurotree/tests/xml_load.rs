@@ -615,10 +615,10 @@ fn loops_run_the_child_once_per_element() {
     assert_eq!(ticks, 5);
     assert_eq!(tree.blackboard().get::<i64>("sum"), Ok(6));
     assert_eq!(said, ["a", "b"]);
-    // The entry queue was consumed; the literal one starts over.
+    // A Vec entry is copied for the run and left as it was; the literal one starts over.
     assert_eq!(
         tree.blackboard().get::<Vec<String>>("words"),
-        Ok(Vec::new())
+        Ok(vec!["a".to_string(), "b".to_string()])
     );
     assert_eq!(tree.tick_once(&mut said), Ok(Status::Running));
     assert_eq!(tree.blackboard().get::<i64>("sum"), Ok(7));
@@ -879,23 +879,76 @@ fn subtrees_made_with_the_builder_are_used_by_id_with_remapping() {
 }
 
 #[test]
-fn a_built_in_spelt_in_another_case_is_that_built_in() {
-    let bp = load(
-        r#"<root main_tree_to_execute="T"><BehaviorTree ID="T">
-             <inverter><Fail/></inverter>
-           </BehaviorTree></root>"#,
-    )
-    .unwrap();
+fn built_in_names_are_case_sensitive_but_for_a_documented_alias() {
+    // `<inverter>` (Nav2's docking example writes it) is in the alias list: it loads as
+    // Inverter, with a warning saying BehaviorTree.CPP would refuse it.
+    let r = registry();
+    let mut loader = XmlLoader::new(&r);
+    loader
+        .load_str(
+            "<root main_tree_to_execute=\"T\"><BehaviorTree ID=\"T\">\n  <inverter><Fail/></inverter>\n</BehaviorTree></root>",
+            "test.xml",
+        )
+        .unwrap();
+    let bp = loader.build_main().unwrap();
     assert_eq!(format!("{:?}", bp.kind(NodeId(0))), "Inverter");
+    let warnings: Vec<String> = loader.warnings().iter().map(|w| w.to_string()).collect();
+    assert_eq!(warnings.len(), 1, "{warnings:?}");
+    assert!(
+        warnings[0].starts_with("test.xml:2:3: warning: `inverter` is not a BehaviorTree.CPP name"),
+        "{warnings:?}"
+    );
     let mut tree = Tree::with_clock(bp.into(), ManualClock::new());
     assert_eq!(tree.tick_once(&mut Vec::new()), Ok(Status::Success));
-    // Only built-ins: the user's own names stay exact.
+    // Any other spelling in another case is unknown, as in BehaviorTree.CPP.
+    for (written, meant) in [("forceSuccess", "ForceSuccess"), ("INVERTER", "Inverter")] {
+        let e = error(&format!(
+            r#"<root main_tree_to_execute="T"><BehaviorTree ID="T"><{written}><Fail/></{written}></BehaviorTree></root>"#
+        ));
+        assert!(
+            e.message.contains(&format!(
+                "unknown node type `{written}`; did you mean `{meant}`?"
+            )),
+            "{e}"
+        );
+    }
     let e = error(
         r#"<root main_tree_to_execute="T"><BehaviorTree ID="T"><say message="x"/></BehaviorTree></root>"#,
     );
     assert!(
         e.message
             .contains("unknown node type `say`; did you mean `Say`?"),
+        "{e}"
+    );
+}
+
+#[test]
+fn sequence_star_loads_as_sequence_with_memory_with_a_deprecation_warning() {
+    let r = registry();
+    let mut loader = XmlLoader::new(&r);
+    loader
+        .load_str(
+            "<root main_tree_to_execute=\"T\">\n<BehaviorTree ID=\"T\">\n  <SequenceStar><Succ/><Fail/></SequenceStar>\n</BehaviorTree></root>",
+            "old.xml",
+        )
+        .unwrap();
+    let bp = loader.build_main().unwrap();
+    assert_eq!(format!("{:?}", bp.kind(NodeId(0))), "SequenceWithMemory");
+    let warnings: Vec<String> = loader.warnings().iter().map(|w| w.to_string()).collect();
+    assert_eq!(
+        warnings,
+        ["old.xml:3:3: warning: `SequenceStar` is deprecated (BehaviorTree.CPP 3's name); it loads as `SequenceWithMemory`, write that"]
+    );
+    // SequenceWithMemory keeps its place: the failed child is retried, the first is not.
+    let mut tree = Tree::with_clock(bp.into(), ManualClock::new());
+    assert_eq!(tree.tick_once(&mut Vec::new()), Ok(Status::Failure));
+    // A misspelling of it points to the v4 name.
+    let e = error(
+        r#"<root main_tree_to_execute="T"><BehaviorTree ID="T"><SequenceStr><Succ/></SequenceStr></BehaviorTree></root>"#,
+    );
+    assert!(
+        e.message
+            .contains("unknown node type `SequenceStr`; did you mean `SequenceWithMemory`?"),
         "{e}"
     );
 }

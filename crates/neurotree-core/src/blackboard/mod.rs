@@ -13,7 +13,9 @@
 //! another type later is an error ([`BlackboardError::WrongType`]), as is reading it as
 //! another type, so a typo in a port cannot silently turn a pose into a string. (Loaders that
 //! must retype an entry, for example to turn a text literal into the type a port declares,
-//! use [`Blackboard::replace_in`].)
+//! use [`Blackboard::replace_in`].) The exception is an entry a script created
+//! ([`Blackboard::set_untyped_in`]): as in BehaviorTree.CPP, no port declared its type, so a
+//! later assignment may give it a value of another type.
 //!
 //! Each entry also carries an [`EntryInfo`]: a sequence number that grows by exactly one on
 //! every write, and the time stamp of the last write. Nodes such as `WasEntryUpdated` and
@@ -310,6 +312,84 @@ impl Blackboard {
             }
             None => {
                 entries.insert(String::from(k), Entry::new(value, stamp));
+            }
+        }
+        self.last_stamp = self.last_stamp.max(stamp);
+    }
+
+    /// Writes `key` as seen from `scope` as a script's assignment does: an entry this call
+    /// creates is *untyped*, as BehaviorTree.CPP's script-created entries are (no port
+    /// declared a type for them), and an untyped entry takes a value of another type, which
+    /// replaces the old one (the sequence number still grows by one). An entry written
+    /// first some other way ([`set_in`](Self::set_in), or declared by a port with
+    /// [`declare_in`](Self::declare_in)) is typed: this then behaves as `set_in`.
+    ///
+    /// Which values of other types an untyped entry should take is the writer's business
+    /// (the script language converts numbers as BehaviorTree.CPP's `Any::copyInto` does).
+    pub fn set_untyped_in<T: Any + Send + Sync>(
+        &mut self,
+        scope: ScopeId,
+        key: &str,
+        value: T,
+        stamp: Duration,
+    ) -> Result<(), BlackboardError> {
+        let Some((s, k)) = resolve(&self.links, &self.entries, scope, key) else {
+            return Err(BlackboardError::NoSuchScope { scope: scope.0 });
+        };
+        let entries = entries_mut(&mut self.entries, s);
+        match entries.get_mut(k) {
+            Some(entry) if entry.untyped => match entry.value.downcast_mut::<T>() {
+                Some(slot) => {
+                    *slot = value;
+                    entry.touch(stamp);
+                }
+                None => {
+                    let sequence = entry.info.sequence;
+                    *entry = Entry::new(value, stamp);
+                    entry.info.sequence = sequence.wrapping_add(1);
+                    entry.untyped = true;
+                }
+            },
+            Some(_) => return self.set_in(scope, key, value, stamp),
+            None => {
+                let mut entry = Entry::new(value, stamp);
+                entry.untyped = true;
+                entries.insert(String::from(k), entry);
+            }
+        }
+        self.last_stamp = self.last_stamp.max(stamp);
+        Ok(())
+    }
+
+    /// `true` if `key` resolves from `scope` to an entry whose type is not fixed (see
+    /// [`set_untyped_in`](Self::set_untyped_in)).
+    pub fn is_untyped_in(&self, scope: ScopeId, key: &str) -> bool {
+        self.entry(scope, key).is_some_and(|e| e.untyped)
+    }
+
+    /// Writes `key` in `scope` itself, whatever type its entry there held, without
+    /// following a remap or autoremap: what a SubTree's literal port sets, which
+    /// BehaviorTree.CPP writes with autoremapping turned off, so that it never lands in the
+    /// parent. An unknown scope is ignored.
+    pub fn replace_own_in<T: Any + Send + Sync>(
+        &mut self,
+        scope: ScopeId,
+        key: &str,
+        value: T,
+        stamp: Duration,
+    ) {
+        if scope.0 as usize > self.links.len() {
+            return;
+        }
+        let entries = entries_mut(&mut self.entries, scope.0 as usize);
+        match entries.get_mut(key) {
+            Some(entry) => {
+                let sequence = entry.info.sequence;
+                *entry = Entry::new(value, stamp);
+                entry.info.sequence = sequence.wrapping_add(1);
+            }
+            None => {
+                entries.insert(String::from(key), Entry::new(value, stamp));
             }
         }
         self.last_stamp = self.last_stamp.max(stamp);

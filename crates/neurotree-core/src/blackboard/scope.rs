@@ -12,6 +12,9 @@ use super::{EntryInfo, ScopeId};
 pub(super) struct Entry {
     pub(super) value: Box<dyn Any + Send + Sync>,
     pub(super) info: EntryInfo,
+    /// Created by [`Blackboard::set_untyped_in`](super::Blackboard::set_untyped_in): its
+    /// type is not fixed, as a BehaviorTree.CPP entry a script created is not.
+    pub(super) untyped: bool,
 }
 
 impl Entry {
@@ -23,6 +26,7 @@ impl Entry {
                 stamp,
                 type_name: core::any::type_name::<T>(),
             },
+            untyped: false,
         }
     }
 

@@ -105,7 +105,8 @@ pub struct SubTreeScope {
     /// Keys the child does not define resolve in the parent (except `_private` ones).
     pub autoremap: bool,
     /// `(child_key, text)`: entries the child scope starts with, as text (a literal port
-    /// of a SubTree in XML); readers convert them to their type.
+    /// of a SubTree in XML); readers convert them to their type. Always stored in the child
+    /// scope itself, never through `autoremap` in the parent.
     pub values: Vec<(String, String)>,
 }
 
@@ -165,12 +166,12 @@ pub enum NodeKind<C> {
     ForceFailure,
     /// Repeats a succeeding child.
     Repeat {
-        /// Cycles to run; -1 forever.
+        /// Cycles to run; -1 forever, another negative value none.
         num_cycles: i32,
     },
     /// Retries a failing child.
     RetryUntilSuccessful {
-        /// Attempts to make; -1 forever.
+        /// Attempts to make; -1 forever, another negative value none.
         num_attempts: i32,
     },
     /// Success becomes Running; Failure ends it.
@@ -319,6 +320,8 @@ impl<C> NodeKind<C> {
             | NodeKind::Fallback
             | NodeKind::AsyncSequence
             | NodeKind::AsyncFallback
+            | NodeKind::ReactiveSequence
+            | NodeKind::ReactiveFallback
             | NodeKind::IfThenElse
             | NodeKind::TryCatch { .. }
             | NodeKind::Repeat { .. }

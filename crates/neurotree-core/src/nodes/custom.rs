@@ -1,10 +1,14 @@
 //! User-defined controls and decorators.
 //!
 //! A [`CustomNode`] decides which children to tick, like the built-in controls do, through a
-//! [`NodeCtx`]. One object is made per tree instance, so it may keep state in `self`. The
-//! engine marks the node Running before calling [`CustomNode::tick`], and after
-//! [`CustomNode::halt`] it halts any child still Running, so the halting rules hold for user
-//! nodes too.
+//! [`NodeCtx`]. One object is made per tree instance, so it may keep state in `self`. After
+//! [`CustomNode::halt`] the engine halts any child still Running, so the halting rules hold
+//! for user nodes too.
+//!
+//! As in BehaviorTree.CPP, the engine stores what `tick` returns and nothing before: a
+//! custom leaf goes from Idle straight to Success in a trace. A control or decorator that,
+//! like BehaviorTree.CPP's own (`setStatus(RUNNING)` at the top of their `tick`), should be
+//! seen Running while its children tick calls [`NodeCtx::set_running`].
 
 use alloc::string::String;
 use core::any::Any;
@@ -65,8 +69,8 @@ pub trait CustomNode<C>: Send {
 pub struct NodeCtx<'a, 't, C> {
     pub(crate) t: &'a mut Ticker<'t, C>,
     pub(crate) id: NodeId,
-    /// The node's stored status when the call began (the engine marks it Running before
-    /// calling `tick`, so the node could not see it otherwise).
+    /// The node's stored status when the call began (kept, as `set_running` changes the
+    /// stored one).
     pub(crate) previous: NodeStatus,
 }
 
@@ -83,6 +87,16 @@ impl<'t, C> NodeCtx<'_, 't, C> {
     /// [`CustomNode::halt`] it is `Running`.
     pub fn previous_status(&self) -> NodeStatus {
         self.previous
+    }
+
+    /// Marks the node Running now, as BehaviorTree.CPP's `setStatus(RUNNING)` does at the
+    /// top of most controls' and decorators' `tick` (Sequence, Repeat, Loop, Nav2's
+    /// RecoveryNode...): an observer then sees the node Running before its children's
+    /// changes. The engine does not do it for you, so that a custom leaf goes straight from
+    /// Idle to its result, as a BehaviorTree.CPP leaf does. What the node returns is stored
+    /// afterwards either way.
+    pub fn set_running(&mut self) {
+        self.t.set_status(self.id, NodeStatus::Running);
     }
 
     /// Number of children.
@@ -253,5 +267,78 @@ mod tests {
         assert_eq!(lab.tick(&mut tree), Ok(Status::Success));
         let limits: Vec<Option<u32>> = log.lock().unwrap().iter().map(|e| e.2).collect();
         assert_eq!(limits, [None, Some(7)]);
+    }
+
+    /// A custom leaf that succeeds; with `mark`, a decorator that marks itself Running (as
+    /// BehaviorTree.CPP's own decorators do) and passes its child's status.
+    struct Plain {
+        mark: bool,
+    }
+
+    impl CustomNode<Lab> for Plain {
+        fn tick(&mut self, node: &mut NodeCtx<'_, '_, Lab>) -> NodeStatus {
+            if !self.mark {
+                return NodeStatus::Success;
+            }
+            node.set_running();
+            let status = node.tick_child(0);
+            if status.is_completed() {
+                node.reset_children();
+            }
+            status
+        }
+    }
+
+    fn plain(mark: bool) -> CustomSpec<Lab> {
+        CustomSpec {
+            type_name: "Plain".into(),
+            arity: if mark { Arity::One } else { Arity::Leaf },
+            factory: Box::new(move || Box::new(Plain { mark })),
+        }
+    }
+
+    /// Records every status change as (node, from, to).
+    struct Changes(Arc<Mutex<Vec<(usize, NodeStatus, NodeStatus)>>>);
+
+    impl crate::Observer for Changes {
+        fn on_status_change(&mut self, c: crate::StatusChange) {
+            self.0.lock().unwrap().push((c.node.index(), c.from, c.to));
+        }
+    }
+
+    #[test]
+    fn the_engine_does_not_mark_a_custom_node_running_before_its_tick() {
+        use NodeStatus::{Idle, Running as Run, Success as Succ};
+        let changes = Arc::new(Mutex::new(Vec::new()));
+        // A custom leaf under a Sequence goes Idle → Success, as a BehaviorTree.CPP leaf.
+        let mut lab = Lab::new(&[]);
+        let mut tree = lab.tree(|b| b.sequence("s", |s| s.custom("leaf", plain(false), |c| c)));
+        tree.set_observer(Changes(Arc::clone(&changes)));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Success));
+        let leaf: Vec<_> = changes
+            .lock()
+            .unwrap()
+            .iter()
+            .filter(|c| c.0 == 1)
+            .copied()
+            .collect();
+        assert_eq!(leaf, [(1, Idle, Succ), (1, Succ, Idle)]);
+        // A node that marks itself Running, as BehaviorTree.CPP's Loop or RecoveryNode do,
+        // shows it before its child's changes.
+        changes.lock().unwrap().clear();
+        let mut lab = Lab::new(&[&[S]]);
+        let mut tree = lab.tree(|b| b.custom("deco", plain(true), |c| c.scripted(0)));
+        tree.set_observer(Changes(Arc::clone(&changes)));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Success));
+        assert_eq!(
+            *changes.lock().unwrap(),
+            [
+                (0, Idle, Run),
+                (1, Idle, Succ),
+                (1, Succ, Idle),
+                (0, Run, Succ),
+                (0, Succ, Idle)
+            ]
+        );
     }
 }

@@ -5,7 +5,9 @@
 //! - **Before the tick**: checked only while the node is Idle, in this order:
 //!   `_failureIf` true → Failure, `_successIf` true → Success, `_skipIf` true → Skipped,
 //!   `_while` false → Skipped; the node's own tick is then not called. While the node is
-//!   Running, only `_while` is checked: false halts the node and returns Skipped.
+//!   Running, only `_while` is checked: false halts the node and returns Skipped. A node
+//!   re-ticked after completing, before its parent reset it, is ticked with no check
+//!   (BehaviorTree.CPP's `checkPreConditions` looks only at Idle, Skipped and Running).
 //! - **After the tick**: on Success `_onSuccess`, on Failure `_onFailure`, then `_post` on
 //!   either (also when a precondition decided the status).
 //! - **After a halt**: `_onHalted`, when a Running node is halted.
@@ -18,8 +20,10 @@ use crate::NodeStatus;
 
 /// What runs around a node's tick (see the [module docs](self)).
 pub trait NodeHooks<C>: Send + Sync {
-    /// Before the tick. `stored` is the node's stored status (Idle or Running). Return the
-    /// status that replaces the tick, or `None` to tick the node. Returning Skipped while
+    /// Before the tick. `stored` is the node's stored status: Idle, Running, or Success or
+    /// Failure when the parent re-ticks a completed child it has not reset (BehaviorTree.CPP
+    /// checks no precondition then). Return the status that replaces the tick, or `None` to
+    /// tick the node. Returning Skipped while
     /// `stored` is Running halts the node.
     fn before(&self, h: &mut Handle<'_, C>, stored: NodeStatus) -> Option<NodeStatus>;
 

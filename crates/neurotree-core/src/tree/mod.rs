@@ -55,6 +55,9 @@ pub struct Tree<C> {
     max_passes: u32,
     /// The passes the last `tick_once` made.
     last_passes: u32,
+    /// A second Running child of a reactive control is an error
+    /// ([`reject_multiple_running`](Self::reject_multiple_running)).
+    reject_multiple_running: bool,
 }
 
 /// Passes one [`Tree::tick_once`] makes at most, unless [`Tree::set_max_passes`] says
@@ -97,8 +100,9 @@ impl<C> Tree<C> {
             for (child_key, parent_key) in &scope.remap {
                 blackboard.remap(id, child_key, parent_key);
             }
+            // The subtree's own entries: never written through autoremap into the parent.
             for (child_key, text) in &scope.values {
-                blackboard.replace_in(id, child_key, text.clone(), Duration::ZERO);
+                blackboard.replace_own_in(id, child_key, text.clone(), Duration::ZERO);
             }
         }
         // As in BehaviorTree.CPP, every entry a port names exists from the start.
@@ -119,6 +123,7 @@ impl<C> Tree<C> {
             wake,
             max_passes: DEFAULT_MAX_PASSES,
             last_passes: 0,
+            reject_multiple_running: false,
             blueprint,
         }
     }
@@ -221,6 +226,7 @@ impl<C> Tree<C> {
             waker: self.wake.as_ref().map(|w| &w.waker),
             fault: None,
             current: NodeId::ROOT,
+            reject_multiple_running: self.reject_multiple_running,
         }
     }
 
@@ -291,6 +297,19 @@ impl<C> Tree<C> {
                 _ => return to_result(status),
             }
         }
+    }
+
+    /// With `true`, a ReactiveSequence or ReactiveFallback whose child returns Running while
+    /// another child returned Running earlier in the same run ends the tick with a
+    /// [`TickError::Node`] naming the control ("only a single child can return Running"),
+    /// as BehaviorTree.CPP does after `ReactiveSequence::EnableException(true)` and
+    /// `ReactiveFallback::EnableException(true)` (one switch here for both, per tree).
+    ///
+    /// Off by default, as in BehaviorTree.CPP 4.10: the later child runs and the earlier one
+    /// is halted. The "earlier child" is the first one that returned Running since the node
+    /// last started from Idle or was halted; the same child returning Running again is fine.
+    pub fn reject_multiple_running(&mut self, reject: bool) {
+        self.reject_multiple_running = reject;
     }
 
     /// Sets the most passes one [`tick_once`](Self::tick_once) makes (at least 1).

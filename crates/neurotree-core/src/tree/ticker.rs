@@ -45,6 +45,8 @@ pub(crate) struct Ticker<'t, C> {
     pub(crate) fault: Option<TickError>,
     /// The node ticked or halted last: if user code panics, the one it panicked in.
     pub(crate) current: NodeId,
+    /// A reactive control's second Running child is an error (BT.CPP's `EnableException`).
+    pub(crate) reject_multiple_running: bool,
 }
 
 impl<'t, C> Ticker<'t, C> {
@@ -402,8 +404,9 @@ impl<'t, C> Ticker<'t, C> {
             return NodeStatus::Failure;
         };
         let mut node = node;
+        // Not marked Running first: a custom leaf goes Idle → result, as in BehaviorTree.CPP;
+        // a node that wants the mark sets it (`NodeCtx::set_running`), as BT.CPP's do.
         let previous = self.status(id);
-        self.set_status(id, NodeStatus::Running);
         let status = node.tick(&mut NodeCtx {
             t: self,
             id,
@@ -476,6 +479,8 @@ impl<'t, C> Ticker<'t, C> {
                 control::try_catch::halt(self, id, def, *catch_on_halt);
             }
             NodeKind::IfThenElse
+            | NodeKind::ReactiveSequence
+            | NodeKind::ReactiveFallback
             | NodeKind::Repeat { .. }
             | NodeKind::RetryUntilSuccessful { .. }
             | NodeKind::Delay(_)

@@ -2,6 +2,14 @@
 //! `_successIf`, `_skipIf`, `_while`, `_onSuccess`, `_onFailure`, `_post` and `_onHalted`
 //! attributes. The engine's [`NodeHooks`] says when each runs; this module runs them.
 //!
+//! As BehaviorTree.CPP's `TreeNode::checkPreConditions`: `_failureIf`, `_successIf`,
+//! `_skipIf` and `_while` are checked in that order only while the node is Idle (or was
+//! skipped), the first that decides wins; while it is Running only `_while` is (false: halt
+//! it, Skipped); a node that completed and was not reset yet by its parent (a two-child
+//! IfThenElse's failed condition, a PipelineSequence's finished child) is ticked with no
+//! check. After a Success or Failure, `_onSuccess` or `_onFailure`, then `_post`;
+//! `_onHalted` after a halt of a Running node.
+//!
 //! A script whose evaluation fails (an unknown key, a type mismatch) is an error of the tick
 //! ([`TickError::Node`](neurotree_core::TickError::Node)), as BehaviorTree.CPP throws one; a
 //! failed condition script decides nothing.
@@ -138,15 +146,20 @@ impl<C> NodeHooks<C> for ScriptHooks {
     }
 
     fn before(&self, h: &mut Handle<'_, C>, stored: NodeStatus) -> Option<NodeStatus> {
+        // As BehaviorTree.CPP's `checkPreConditions`: all four while Idle (or Skipped), only
+        // `_while` while Running, none on a completed node its parent has not reset yet.
         // A script that failed to run has made the tick an error; the node does not run.
-        if stored == NodeStatus::Running {
-            return match self.holds(&self.while_true, h) {
+        match stored {
+            NodeStatus::Idle | NodeStatus::Skipped => {
+                self.decide(h).unwrap_or(Some(NodeStatus::Failure))
+            }
+            NodeStatus::Running => match self.holds(&self.while_true, h) {
                 Ok(Some(false)) => Some(NodeStatus::Skipped),
                 Ok(_) => None,
                 Err(()) => Some(NodeStatus::Failure),
-            };
+            },
+            NodeStatus::Success | NodeStatus::Failure => None,
         }
-        self.decide(h).unwrap_or(Some(NodeStatus::Failure))
     }
 
     fn after(&self, h: &mut Handle<'_, C>, status: NodeStatus) {
@@ -163,5 +176,60 @@ impl<C> NodeHooks<C> for ScriptHooks {
         if let Some(script) = &self.on_halted {
             run(script, &self.enums, h);
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::testing::*;
+
+    /// `Nope`: a sync action that records "nope" and fails.
+    fn lab_with_nope(scripts: &[&[Status]]) -> (Lab, crate::Registry<Lab>) {
+        let lab = Lab::new(scripts);
+        let mut r = lab.registry();
+        r.register_action("Nope", vec![], |h| {
+            h.ctx_mut().said.push("nope".into());
+            Status::Failure
+        })
+        .unwrap();
+        (lab, r)
+    }
+
+    #[test]
+    fn conditions_are_checked_only_while_the_node_is_idle() {
+        // A two-child IfThenElse leaves its failed condition un-reset: on the next tick the
+        // condition is Failure, not Idle, so BehaviorTree.CPP's checkPreConditions skips
+        // `_successIf` and ticks it.
+        let (mut lab, r) = lab_with_nope(&[&[S]]);
+        let xml = r#"<root BTCPP_format="4"><BehaviorTree ID="T">
+              <IfThenElse><Nope _successIf="flag"/><L0/></IfThenElse>
+            </BehaviorTree></root>"#;
+        let mut tree = lab.load_with(&r, xml).unwrap();
+        tree.blackboard_mut().set("flag", false).unwrap();
+        assert_eq!(lab.tick(&mut tree), Ok(F));
+        tree.blackboard_mut().set("flag", true).unwrap();
+        assert_eq!(lab.tick(&mut tree), Ok(F));
+        assert_eq!(lab.said, ["nope", "nope"]);
+        assert_eq!(lab.ticks, [0]);
+        // Once the tree is halted (and so reset), the condition is Idle: `_successIf` decides.
+        tree.halt(&mut lab);
+        assert_eq!(lab.tick(&mut tree), Ok(S));
+        assert_eq!(lab.said, ["nope", "nope"]);
+        assert_eq!(lab.ticks, [1]);
+    }
+
+    #[test]
+    fn skip_if_is_not_checked_while_running() {
+        let mut lab = Lab::new(&[&[R, R, S]]);
+        let mut tree = lab.tree(r#"<L0 _skipIf="skip"/>"#);
+        tree.blackboard_mut().set("skip", false).unwrap();
+        assert_eq!(lab.tick(&mut tree), Ok(R));
+        tree.blackboard_mut().set("skip", true).unwrap();
+        assert_eq!(lab.tick(&mut tree), Ok(R));
+        assert_eq!(lab.tick(&mut tree), Ok(S));
+        assert_eq!((lab.ticks[0], lab.halts[0]), (3, 0));
+        // Idle again: now it is skipped.
+        assert_eq!(lab.tick(&mut tree), Err(TickError::RootSkipped));
+        assert_eq!(lab.ticks, [3]);
     }
 }

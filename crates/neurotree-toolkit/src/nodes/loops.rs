@@ -1,18 +1,32 @@
 //! LoopInt, LoopDouble, LoopString and LoopBool: run the child once per element of a queue.
 //!
-//! Each takes the ports `queue`, `value` and `if_empty` (default SUCCESS).
+//! Each takes the ports `queue`, `value` and `if_empty` (default SUCCESS), as
+//! BehaviorTree.CPP's `LoopNode<T>` (`loop_node.h`) with `T` = `int` (`i32` here), `double`
+//! (`f64`), `std::string` and `bool`.
 //!
-//! - While the child is not Running, pop the next element of `queue` into the `value` entry; if
-//!   there is none, return `if_empty`.
-//! - Tick the child: Failure → Failure; otherwise Running (the next element comes on the next
-//!   tick).
+//! - On a tick from Idle a run starts: a literal queue (`queue="1;2;3"`) is copied for it.
+//! - While the child is not Running, take the next element of the run's queue and write it
+//!   to `value` (an `i32`, `f64`, `String` or `bool` entry); if there is none, return
+//!   `if_empty` (the child is not ticked).
+//! - Tick the child: Failure → Failure; otherwise Running (the next element comes on the
+//!   next tick). A completed child is reset.
 //!
-//! `queue` is a literal `;`-separated list (copied afresh for each run) or a blackboard entry
-//! holding a `Vec` of the element type or such a list as text; an entry is consumed: each
-//! popped element is removed from it, as BehaviorTree.CPP's shared queues are.
+//! A `queue` entry is read when an element is needed:
+//!
+//! - a [`SharedQueue<T>`] is the queue itself, shared: each element taken is gone from it,
+//!   for every holder (BehaviorTree.CPP's `SharedQueue<T>`, a `shared_ptr<deque<T>>`);
+//! - a `Vec<T>`, or text such as `"1;2;3"`, is copied (parsed) once, on the run's first
+//!   read, and the entry is left untouched: a Repeat around the loop runs the list again.
+//!   Anything else (or no entry) is an error naming the node, as BehaviorTree.CPP throws.
+//!
+//! Costs: taking an element and writing `value` allocate nothing. The copy made at a run's
+//! start reuses the node's buffer, so a `Vec` of numbers or booleans is copied without
+//! allocating once the buffer has grown to its length; copying strings, or parsing text,
+//! allocates, once per run and never on the run's other ticks.
 
+use std::any::type_name;
 use std::collections::VecDeque;
-use std::sync::Arc;
+use std::sync::{Arc, Mutex};
 
 use neurotree_core::{
     Arity, Category, CustomNode, CustomSpec, FromPortStr, NodeCtx, NodeKind, NodeStatus, Port,
@@ -21,15 +35,39 @@ use neurotree_core::{
 
 use crate::registry::{PortSpec, Registry};
 
+/// A queue that nodes share through the blackboard: a loop whose `queue` entry holds one
+/// takes its elements out of it (BehaviorTree.CPP's `SharedQueue<T>`).
+///
+/// ```
+/// use std::collections::VecDeque;
+/// use std::sync::{Arc, Mutex};
+/// use neurotree::nodes::loops::SharedQueue;
+///
+/// let waypoints: SharedQueue<f64> = Arc::new(Mutex::new(VecDeque::from([1.0, 2.5])));
+/// let mut bb = neurotree::Blackboard::new();
+/// bb.set("waypoints", Arc::clone(&waypoints)).unwrap();
+/// ```
+pub type SharedQueue<T> = Arc<Mutex<VecDeque<T>>>;
+
+/// Where this run's elements come from (BehaviorTree.CPP's `current_queue_`).
+enum Current<T> {
+    /// Nothing read yet in this run.
+    Unset,
+    /// The node's own copy, in `Loop::copy`.
+    Copy,
+    /// A shared queue entry.
+    Shared(SharedQueue<T>),
+}
+
 /// The per-instance state of a loop over elements of `T`.
 struct Loop<T> {
     literal: Option<Vec<T>>,
     queue_key: Option<String>,
     value_key: Option<String>,
     if_empty: NodeStatus,
-    current: VecDeque<T>,
-    /// A run is under way (a literal queue was copied for it).
-    started: bool,
+    current: Current<T>,
+    /// The run's copy of a literal, `Vec` or text queue; kept between runs for its capacity.
+    copy: VecDeque<T>,
     child_running: bool,
 }
 
@@ -37,27 +75,69 @@ impl<T> Loop<T>
 where
     T: FromPortStr + Clone + Send + Sync + 'static,
 {
-    /// The next element: from the literal run's copy, or taken out of the queue entry.
-    fn pop<C>(&mut self, node: &mut NodeCtx<'_, '_, C>) -> Option<T> {
-        let Some(key) = &self.queue_key else {
-            return self.current.pop_front();
-        };
+    /// Reads the `queue` entry as BehaviorTree.CPP does when an element is needed: a shared
+    /// queue is taken as it is; a `Vec` or text is copied only if this run has no queue
+    /// yet. `Err` with a message if the run has no queue and the entry is none of these.
+    fn read_entry<C>(&mut self, node: &mut NodeCtx<'_, '_, C>, key: &str) -> Result<(), String> {
         let scope = node.scope();
-        let now = node.now();
-        let bb = node.blackboard();
-        let mut items: Vec<T> = match bb.get_in::<Vec<T>>(scope, key) {
-            Ok(items) => items,
-            Err(_) => match bb.get_in::<String>(scope, key) {
-                Ok(text) => Vec::<T>::from_port_str(&text).ok()?,
-                Err(_) => return None,
-            },
-        };
-        if items.is_empty() {
-            return None;
+        let any = node.blackboard().get_any_in(scope, key);
+        if let Some(shared) = any.and_then(|a| a.downcast_ref::<SharedQueue<T>>()) {
+            self.current = Current::Shared(Arc::clone(shared));
+            return Ok(());
         }
-        let first = items.remove(0);
-        bb.replace_in(scope, key, items, now);
-        Some(first)
+        if !matches!(self.current, Current::Unset) {
+            return Ok(());
+        }
+        if let Some(items) = any.and_then(|a| a.downcast_ref::<Vec<T>>()) {
+            self.copy.clear();
+            self.copy.extend(items.iter().cloned());
+        } else if let Some(text) = any.and_then(|a| a.downcast_ref::<String>()) {
+            let items = Vec::<T>::from_port_str(text).map_err(|()| {
+                format!(
+                    "port `queue`: cannot read `{text}` as a list of {}",
+                    type_name::<T>()
+                )
+            })?;
+            self.copy.clear();
+            self.copy.extend(items);
+        } else {
+            return Err(format!(
+                "port `queue` (entry `{key}`) must hold a SharedQueue<{t}>, a Vec<{t}> or text",
+                t = type_name::<T>()
+            ));
+        }
+        self.current = Current::Copy;
+        Ok(())
+    }
+
+    /// Takes the next element of the run's queue.
+    fn pop(&mut self) -> Option<T> {
+        match &self.current {
+            Current::Unset => None,
+            Current::Copy => self.copy.pop_front(),
+            // A poisoned lock only means another holder panicked mid-push or mid-pop; the
+            // deque itself is still a deque.
+            Current::Shared(q) => q.lock().unwrap_or_else(|e| e.into_inner()).pop_front(),
+        }
+    }
+
+    /// Writes `value` to the `value` entry; an entry of another type is retyped, as the
+    /// loop has always written its own type there.
+    fn write_value<C>(&self, node: &mut NodeCtx<'_, '_, C>, value: T) {
+        let Some(key) = &self.value_key else { return };
+        let (scope, now) = (node.scope(), node.now());
+        let bb = node.blackboard();
+        // Checked first so that the usual write (same type) neither builds an error nor
+        // boxes a new entry.
+        let same = bb
+            .info_in(scope, key)
+            .map_or(true, |i| i.sequence == 0 || i.type_name == type_name::<T>());
+        if same {
+            // Cannot fail: the entry is missing, unwritten or of type T.
+            let _ = bb.set_in(scope, key, value, now);
+        } else {
+            bb.replace_in(scope, key, value, now);
+        }
     }
 }
 
@@ -66,21 +146,33 @@ where
     T: FromPortStr + Clone + Send + Sync + 'static,
 {
     fn tick(&mut self, node: &mut NodeCtx<'_, '_, C>) -> NodeStatus {
-        if !self.started {
-            self.started = true;
+        if node.previous_status() == NodeStatus::Idle {
+            self.child_running = false;
+            self.current = Current::Unset;
             if let Some(items) = &self.literal {
-                self.current = items.iter().cloned().collect();
+                self.copy.clear();
+                self.copy.extend(items.iter().cloned());
+                self.current = Current::Copy;
             }
         }
         if !self.child_running {
-            let Some(value) = self.pop(node) else {
-                self.started = false;
+            // Taken out for the call (and put back: no allocation), as it borrows `self`.
+            if let Some(key) = self.queue_key.take() {
+                let read = self.read_entry(node, &key);
+                self.queue_key = Some(key);
+                if let Err(message) = read {
+                    node.fail(message);
+                    return NodeStatus::Failure;
+                }
+            }
+            let Some(value) = self.pop() else {
                 return self.if_empty;
             };
-            if let Some(key) = &self.value_key {
-                let (scope, now) = (node.scope(), node.now());
-                node.blackboard().replace_in(scope, key, value, now);
-            }
+            self.write_value(node, value);
+        }
+        // As LoopNode's `setStatus(RUNNING)` on a run's first element.
+        if node.previous_status() == NodeStatus::Idle {
+            node.set_running();
         }
         let status = node.tick_child(0);
         self.child_running = status == NodeStatus::Running;
@@ -88,7 +180,6 @@ where
             node.reset_children();
         }
         if status == NodeStatus::Failure {
-            self.started = false;
             return NodeStatus::Failure;
         }
         NodeStatus::Running
@@ -96,7 +187,7 @@ where
 
     fn halt(&mut self, _node: &mut NodeCtx<'_, '_, C>) {
         self.child_running = false;
-        self.started = false;
+        self.current = Current::Unset;
     }
 }
 
@@ -153,8 +244,8 @@ where
                             queue_key: queue_key.clone(),
                             value_key: value_key.clone(),
                             if_empty,
-                            current: VecDeque::new(),
-                            started: false,
+                            current: Current::Unset,
+                            copy: VecDeque::new(),
                             child_running: false,
                         })
                     }),
@@ -167,8 +258,127 @@ where
 
 /// Adds the four loops to `registry`.
 pub(crate) fn register<C: 'static>(registry: &mut Registry<C>) {
-    register_loop::<C, i64>(registry, "LoopInt");
+    register_loop::<C, i32>(registry, "LoopInt");
     register_loop::<C, f64>(registry, "LoopDouble");
     register_loop::<C, String>(registry, "LoopString");
     register_loop::<C, bool>(registry, "LoopBool");
+}
+
+#[cfg(test)]
+mod tests {
+    use super::SharedQueue;
+    use crate::testing::*;
+    use neurotree_core::TickError;
+    use std::collections::VecDeque;
+    use std::sync::{Arc, Mutex};
+
+    /// Repeat(2) around a LoopInt over `queue`, whose child adds the value to `sum` and
+    /// ticks L0.
+    const TWICE: &str = r#"<Repeat num_cycles="2">
+          <LoopInt queue="{q}" value="{n}">
+            <Sequence><Script code="sum += n"/><L0/></Sequence>
+          </LoopInt>
+        </Repeat>"#;
+
+    fn run(lab: &mut Lab, tree: &mut neurotree_core::Tree<Lab>) -> Vec<Status> {
+        let mut seen = Vec::new();
+        loop {
+            let s = lab.tick(tree).unwrap();
+            seen.push(s);
+            if s != R || seen.len() > 20 {
+                return seen;
+            }
+        }
+    }
+
+    #[test]
+    fn a_vector_entry_is_copied_once_per_run_and_left_untouched() {
+        let mut lab = Lab::new(&[&[S]]);
+        let mut tree = lab.tree(TWICE);
+        tree.blackboard_mut().set("q", vec![1_i32, 2, 3]).unwrap();
+        tree.blackboard_mut().set("sum", 0_i64).unwrap();
+        // One element per tick; the 4th tick finds the copy empty, so Repeat starts its
+        // second cycle at once (the loop ran over several ticks: no yield) with a new copy.
+        assert_eq!(run(&mut lab, &mut tree), [R, R, R, R, R, R, S]);
+        assert_eq!(lab.ticks, [6]);
+        assert_eq!(lab.halts, [0]);
+        let bb = tree.blackboard();
+        assert_eq!(bb.get::<i64>("sum"), Ok(12));
+        assert_eq!(bb.get::<Vec<i32>>("q"), Ok(vec![1, 2, 3]));
+        // LoopInt writes `int`, as BehaviorTree.CPP's LoopNode<int> does.
+        assert_eq!(bb.get::<i32>("n"), Ok(3));
+    }
+
+    #[test]
+    fn a_text_entry_is_parsed_once_per_run_and_left_untouched() {
+        let mut lab = Lab::new(&[&[S]]);
+        let mut tree = lab.tree(TWICE);
+        tree.blackboard_mut().set("q", "4;5".to_string()).unwrap();
+        tree.blackboard_mut().set("sum", 0_i64).unwrap();
+        assert_eq!(run(&mut lab, &mut tree), [R, R, R, R, S]);
+        assert_eq!(lab.ticks, [4]);
+        assert_eq!(tree.blackboard().get::<i64>("sum"), Ok(18));
+        assert_eq!(tree.blackboard().get::<String>("q"), Ok("4;5".to_string()));
+    }
+
+    #[test]
+    fn a_literal_queue_is_copied_for_each_run() {
+        let mut lab = Lab::new(&[&[S]]);
+        let mut tree = lab.tree(&TWICE.replace("{q}", "1;2"));
+        tree.blackboard_mut().set("sum", 0_i64).unwrap();
+        assert_eq!(run(&mut lab, &mut tree), [R, R, R, R, S]);
+        assert_eq!(lab.ticks, [4]);
+        assert_eq!(tree.blackboard().get::<i64>("sum"), Ok(6));
+    }
+
+    #[test]
+    fn a_shared_queue_entry_is_consumed() {
+        let mut lab = Lab::new(&[&[S]]);
+        let mut tree = lab.tree(TWICE);
+        let queue: SharedQueue<i32> = Arc::new(Mutex::new(VecDeque::from([1, 2])));
+        tree.blackboard_mut().set("q", Arc::clone(&queue)).unwrap();
+        tree.blackboard_mut().set("sum", 0_i64).unwrap();
+        // The second cycle finds the shared queue empty: if_empty (Success) at once.
+        assert_eq!(run(&mut lab, &mut tree), [R, R, S]);
+        assert_eq!(lab.ticks, [2]);
+        assert_eq!(tree.blackboard().get::<i64>("sum"), Ok(3));
+        assert!(queue.lock().unwrap().is_empty());
+        // Refilled from outside, the same entry feeds the next run.
+        queue.lock().unwrap().push_back(7);
+        assert_eq!(run(&mut lab, &mut tree), [R, S]);
+        assert_eq!(tree.blackboard().get::<i64>("sum"), Ok(10));
+    }
+
+    #[test]
+    fn a_running_child_keeps_its_element_and_halt_starts_over() {
+        let mut lab = Lab::new(&[&[R, S, R]]);
+        let mut tree = lab.tree(
+            r#"<LoopString queue="{q}" value="{w}"><Sequence><Say message="{w}"/><L0/></Sequence></LoopString>"#,
+        );
+        tree.blackboard_mut()
+            .set("q", vec!["a".to_string(), "b".to_string()])
+            .unwrap();
+        assert_eq!(lab.tick(&mut tree), Ok(R));
+        assert_eq!(lab.tick(&mut tree), Ok(R));
+        assert_eq!(lab.tick(&mut tree), Ok(R));
+        assert_eq!(lab.said, ["a", "b"]);
+        tree.halt(&mut lab);
+        assert_eq!(lab.halts, [1]);
+        // After the halt, a new run copies the whole list again.
+        assert_eq!(lab.tick(&mut tree), Ok(R));
+        assert_eq!(lab.said, ["a", "b", "a"]);
+    }
+
+    #[test]
+    fn an_entry_that_is_no_queue_is_an_error_naming_the_node() {
+        let mut lab = Lab::new(&[&[S]]);
+        let mut tree =
+            lab.tree(r#"<LoopDouble name="walk" queue="{q}" value="{x}"><L0/></LoopDouble>"#);
+        tree.blackboard_mut().set("q", 3_i64).unwrap();
+        match lab.tick(&mut tree) {
+            Err(TickError::Node { path, .. }) => assert!(path.contains("walk"), "{path}"),
+            other => panic!("expected a node error, got {other:?}"),
+        }
+        assert_eq!(lab.ticks, [0]);
+    }
 }

@@ -9,10 +9,11 @@
 //! - **SetBlackboard(value, output_key)**: writes `value` (text, converted by whoever reads it)
 //!   to the entry named by `output_key`; Success.
 //! - **UnsetBlackboard(key)**: removes the entry named by `key`; Success.
-//! - **Precondition(if, else=FAILURE)**: a decorator: evaluates `if` only while its child is not
-//!   Running; false → the `else` status without ticking the child; true → ticks the child until
-//!   it completes. (BehaviorTree.CPP forgets, on halt, that the child was running; here a halt
-//!   clears it.)
+//! - **Precondition(if, else=FAILURE)**: a decorator: evaluates `if` only when its child has
+//!   not been started; false → the `else` status without ticking the child; true → ticks the
+//!   child, then on later ticks without `if`, until the child completes (Success or Failure;
+//!   a Skipped child is ticked on, as BehaviorTree.CPP's `_children_running` stays set).
+//!   (BehaviorTree.CPP forgets, on halt, that the child was started; here a halt clears it.)
 
 use std::sync::Arc;
 
@@ -142,10 +143,13 @@ impl<C> CustomNode<C> for Precondition {
                 return self.otherwise;
             }
         }
+        // As BehaviorTree.CPP's `_children_running`: set once `if` held, cleared only when
+        // the child completes, so a Skipped child is ticked on without `if` again.
+        self.child_running = true;
         let status = node.tick_child(0);
-        self.child_running = status == NodeStatus::Running;
         if status.is_completed() {
             node.reset_children();
+            self.child_running = false;
         }
         status
     }
@@ -257,4 +261,28 @@ pub(crate) fn register<C: 'static>(registry: &mut Registry<C>) {
         )
         // Registry::new registers each built-in name once.
         .expect("built-in node names are distinct");
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::testing::*;
+
+    #[test]
+    fn precondition_keeps_ticking_a_child_that_returned_skipped() {
+        // BehaviorTree.CPP clears its "children running" flag only when the child completes
+        // (Success or Failure): after a Skipped child, `if` is not evaluated again.
+        let mut lab = Lab::new(&[&[S]]);
+        let mut tree = lab.tree(r#"<Precondition if="go"><L0 _skipIf="skip"/></Precondition>"#);
+        tree.blackboard_mut().set("go", true).unwrap();
+        tree.blackboard_mut().set("skip", true).unwrap();
+        assert_eq!(lab.tick(&mut tree), Err(TickError::RootSkipped));
+        tree.blackboard_mut().set("go", false).unwrap();
+        assert_eq!(lab.tick(&mut tree), Err(TickError::RootSkipped));
+        tree.blackboard_mut().set("skip", false).unwrap();
+        assert_eq!(lab.tick(&mut tree), Ok(S));
+        assert_eq!((lab.ticks[0], lab.halts[0]), (1, 0));
+        // Completed: the flag is cleared, `if` (now false) decides: the `else` status.
+        assert_eq!(lab.tick(&mut tree), Ok(F));
+        assert_eq!(lab.ticks, [1]);
+    }
 }

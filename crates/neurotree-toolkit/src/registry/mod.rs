@@ -9,7 +9,8 @@
 //!
 //! Here: registration; [`ports`] declares ports; `builtins` lists the engine's nodes;
 //! `enums` holds the names scripts read as numbers; `suggest` finds what a misspelt name
-//! meant. Reading and writing a `TreeNodesModel` is the XML side's business
+//! meant; `aliases` lists the few names real files write that BehaviorTree.CPP does not
+//! know (`inverter`, the v3 `SequenceStar`) and what they load as. Reading and writing a `TreeNodesModel` is the XML side's business
 //! (`xml::model`), so that the registry does not depend on the loader that depends on it.
 
 use std::collections::BTreeMap;
@@ -20,6 +21,7 @@ use crate::script::Enums;
 
 use neurotree_core::{Category, Handle, NodeKind, StatefulAction, Status};
 
+mod aliases;
 mod builtins;
 mod enums;
 pub mod ports;

@@ -1,30 +1,26 @@
 //! What an unknown node name probably meant.
 
-use super::{NodeType, Registry};
+use super::aliases::ALIASES;
+use super::Registry;
 
 impl<C: 'static> Registry<C> {
-    /// The built-in type whose name is `name` but for letter case (`inverter`), if exactly
-    /// one is. Files written for Nav2 use such spellings; BehaviorTree.CPP would refuse them,
-    /// but what they mean is not in doubt.
-    pub(crate) fn builtin_ignoring_case(&self, name: &str) -> Option<&NodeType<C>> {
-        let mut found = self
-            .types
-            .values()
-            .filter(|t| t.builtin && t.name.eq_ignore_ascii_case(name));
-        match (found.next(), found.next()) {
-            (Some(t), None) => Some(t),
-            _ => None,
-        }
-    }
-
-    /// The registered name closest to `name`, to suggest when `name` is unknown.
+    /// The registered name closest to `name`, to suggest when `name` is unknown: one that
+    /// differs only in letter case (`INVERTER` → `Inverter`), else the nearest in edits. An
+    /// alias close to it suggests the name it stands for (`SequenceStr` →
+    /// `SequenceWithMemory`).
     pub fn closest(&self, name: &str) -> Option<&str> {
-        self.types
-            .keys()
-            .map(|k| (strsim::damerau_levenshtein(name, k), k))
-            .filter(|(d, k)| *d <= k.len().max(3) / 2)
+        if let Some(k) = self.types.keys().find(|k| k.eq_ignore_ascii_case(name)) {
+            return Some(k);
+        }
+        let names = self.types.keys().map(|k| (k.as_str(), k.as_str()));
+        let aliases = ALIASES.iter().map(|a| (a.name, a.target));
+        names
+            .chain(aliases)
+            .map(|(k, meant)| (strsim::damerau_levenshtein(name, k), k, meant))
+            .filter(|(d, k, _)| *d <= k.len().max(3) / 2)
             .min()
-            .map(|(_, k)| k.as_str())
+            .and_then(|(_, _, meant)| self.types.get_key_value(meant))
+            .map(|(k, _)| k.as_str())
     }
 }
 
@@ -38,5 +34,9 @@ mod tests {
         assert_eq!(r.closest("Sequense"), Some("Sequence"));
         assert_eq!(r.closest("Inverted"), Some("Inverter"));
         assert_eq!(r.closest("qqqqqqqqqqqqqqq"), None);
+        // Through the alias `SequenceStar`, to the name it stands for.
+        assert_eq!(r.closest("SequenceStr"), Some("SequenceWithMemory"));
+        assert_eq!(r.closest("forceSuccess"), Some("ForceSuccess"));
+        assert_eq!(r.closest("INVERTER"), Some("Inverter"));
     }
 }

@@ -420,3 +420,49 @@ fn scripts_are_shareable_and_keep_their_source() {
     assert_eq!(copy.source(), "x := 1");
     assert_eq!(format!("{copy:?}"), "Script(\"x := 1\")");
 }
+
+#[test]
+fn an_entry_a_script_created_takes_another_scalar_type_as_in_bt_cpp() {
+    let mut bb = Blackboard::new();
+    // BehaviorTree.CPP holds `true` as the real 1.0: the number 3 replaces it, as a real.
+    assert_eq!(run("a := true; a := 3; a", &mut bb), Ok(real(3.0)));
+    assert_eq!(bb.get::<f64>("a"), Ok(3.0));
+    assert_eq!(bb.info("a").unwrap().sequence, 2);
+    assert_eq!(run("a = false; a", &mut bb), Ok(real(0.0)));
+    // An integer entry takes a boolean (0 or 1) and a whole real; not 2.5.
+    assert_eq!(run("n := 5; n = true; n", &mut bb), Ok(int(1)));
+    assert_eq!(run("n = 4.0; n", &mut bb), Ok(int(4)));
+    assert!(matches!(
+        run("n = 2.5", &mut bb).unwrap_err().kind,
+        ScriptErrorKind::OutOfRange { .. }
+    ));
+    assert_eq!(bb.get::<i64>("n"), Ok(4));
+    // Text that reads as a number becomes that real (BT.CPP's StringToDouble); other text
+    // is refused.
+    assert_eq!(run("n = '7.5'; n", &mut bb), Ok(real(7.5)));
+    assert_eq!(bb.get::<f64>("n"), Ok(7.5));
+    assert!(matches!(
+        run("n = 'seven'", &mut bb).unwrap_err().kind,
+        ScriptErrorKind::WrongEntryType { .. }
+    ));
+    // A text entry takes text only.
+    assert!(matches!(
+        run("t := 'x'; t = 1", &mut bb).unwrap_err().kind,
+        ScriptErrorKind::WrongEntryType {
+            entry: "String",
+            ..
+        }
+    ));
+    // Typed entries keep refusing: written from Rust, or declared by a port.
+    bb.set("flag", true).unwrap();
+    assert!(matches!(
+        run("flag = 3", &mut bb).unwrap_err().kind,
+        ScriptErrorKind::OutOfRange { .. }
+    ));
+    bb.declare_in(ScopeId::ROOT, "port");
+    assert!(matches!(
+        run("port := true; port = 3", &mut bb).unwrap_err().kind,
+        ScriptErrorKind::OutOfRange { .. }
+    ));
+    assert_eq!(bb.get::<bool>("port"), Ok(true));
+}

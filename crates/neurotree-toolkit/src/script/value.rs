@@ -73,7 +73,11 @@ impl Value {
     /// integers, booleans (as 0 or 1) and reals without a fractional part, if the value
     /// fits; `f64`/`f32` entries accept any number (booleans as 0 or 1); `bool` entries
     /// accept booleans and the numbers 0 and 1; `String` entries accept strings only. A
-    /// missing entry is created as `i64`, `f64`, `bool` or `String`. Writing
+    /// missing entry is created as `i64`, `f64`, `bool` or `String`, *untyped*
+    /// ([`Blackboard::set_untyped_in`]): as in BehaviorTree.CPP, a later assignment may give
+    /// it a number or boolean of another type (an integer entry takes whole numbers and
+    /// booleans, a real or boolean one any number, becoming a real; text that reads as a
+    /// number makes a numeric entry a real), while a text entry takes only text. Writing
     /// [`Value::Empty`] is an error, and nothing is written when an error is returned.
     pub fn store(
         self,
@@ -223,15 +227,20 @@ pub(crate) fn store<'s>(
     stamp: Duration,
 ) -> Result<Val<'s>, ScriptErrorKind> {
     let Some(any) = blackboard.get_any_in(scope, key) else {
+        // Untyped, as BehaviorTree.CPP's script-created entries; an entry a port declared
+        // (present, not written yet) becomes typed.
         match &v {
-            Val::Int(i) => blackboard.set_in(scope, key, *i, stamp)?,
-            Val::Real(r) => blackboard.set_in(scope, key, *r, stamp)?,
-            Val::Bool(b) => blackboard.set_in(scope, key, *b, stamp)?,
-            Val::Str(s) => blackboard.set_in(scope, key, s.clone().into_owned(), stamp)?,
+            Val::Int(i) => blackboard.set_untyped_in(scope, key, *i, stamp)?,
+            Val::Real(r) => blackboard.set_untyped_in(scope, key, *r, stamp)?,
+            Val::Bool(b) => blackboard.set_untyped_in(scope, key, *b, stamp)?,
+            Val::Str(s) => blackboard.set_untyped_in(scope, key, s.clone().into_owned(), stamp)?,
         }
         return Ok(v);
     };
     let any: &dyn Any = any;
+    if blackboard.is_untyped_in(scope, key) {
+        return store_untyped(blackboard, scope, key, v, stamp);
+    }
 
     macro_rules! store_int {
         ($($t:ty),*) => {$(
@@ -284,6 +293,56 @@ pub(crate) fn store<'s>(
         key: key.into(),
         type_name: entry_type_name(blackboard, scope, key),
     })
+}
+
+/// Stores `v` in the untyped entry `key` (one a script created), as BehaviorTree.CPP's
+/// `Any::copyInto` does into an entry that holds a value already: its numbers are either
+/// integers or reals (a script's `true` is the real 1.0), and a number goes into the
+/// entry's kind of number, which may be another Rust type than the entry's (so `a := true;
+/// a := 3` leaves the real 3.0). Text that reads as a number makes a numeric entry that real
+/// (BT.CPP's `StringToDouble`); a text entry takes only text.
+fn store_untyped<'s>(
+    blackboard: &mut Blackboard,
+    scope: ScopeId,
+    key: &str,
+    v: Val<'s>,
+    stamp: Duration,
+) -> Result<Val<'s>, ScriptErrorKind> {
+    let Some(any) = blackboard.get_any_in(scope, key) else {
+        return Err(ScriptErrorKind::UnknownKey { key: key.into() });
+    };
+    if any.is::<String>() {
+        let Val::Str(s) = &v else {
+            return Err(wrong_type(&v, key, "String"));
+        };
+        blackboard.set_untyped_in(scope, key, s.clone().into_owned(), stamp)?;
+        return Ok(v);
+    }
+    let entry = entry_type_name(blackboard, scope, key);
+    // Text into a number: the real it reads as.
+    if let Val::Str(s) = &v {
+        let Ok(x) = s.trim().parse::<f64>() else {
+            return Err(wrong_type(&v, key, entry));
+        };
+        blackboard.set_untyped_in(scope, key, x, stamp)?;
+        return Ok(Val::Real(x));
+    }
+    let integer = any.is::<i64>();
+    if integer {
+        let x: i64 = to_int(&v, key, entry)?;
+        blackboard.set_untyped_in(scope, key, x, stamp)?;
+        return Ok(Val::Int(x));
+    }
+    // A real, or a boolean (which BehaviorTree.CPP holds as a real): the same value stays a
+    // boolean, anything else becomes a real.
+    if let (true, Val::Bool(b)) = (any.is::<bool>(), &v) {
+        let b = *b;
+        blackboard.set_untyped_in(scope, key, b, stamp)?;
+        return Ok(Val::Bool(b));
+    }
+    let x = to_real(&v, key, entry)?;
+    blackboard.set_untyped_in(scope, key, x, stamp)?;
+    Ok(Val::Real(x))
 }
 
 fn wrong_type(v: &Val<'_>, key: &str, entry: &'static str) -> ScriptErrorKind {

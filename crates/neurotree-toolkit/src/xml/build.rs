@@ -16,7 +16,7 @@ use crate::registry::{built_in_kind, Make, NodeType};
 use crate::script::{Enums, Script};
 
 /// The elements that name their type in an `ID` attribute (BehaviorTree.CPP's explicit form).
-const EXPLICIT: [&str; 4] = ["Action", "Condition", "Control", "Decorator"];
+pub(super) const EXPLICIT: [&str; 4] = ["Action", "Condition", "Control", "Decorator"];
 
 struct Expansion<'a, 'r, C> {
     loader: &'a XmlLoader<'r, C>,
@@ -500,7 +500,7 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
                 let registry = self.loader.registry;
                 let node_type = registry
                     .get(name)
-                    .or_else(|| registry.builtin_ignoring_case(name))?;
+                    .or_else(|| registry.alias(name).map(|(_, t)| t))?;
                 *slot = Some((name, node_type));
                 Some(node_type)
             }
@@ -660,5 +660,51 @@ mod tests {
         assert_eq!(binding("goal", "="), PortValue::Entry("goal".into()));
         assert_eq!(binding("goal", "1;2;3"), PortValue::Literal("1;2;3".into()));
         assert_eq!(binding("goal", "{}"), PortValue::Literal("{}".into()));
+    }
+
+    #[test]
+    fn autoremap_never_writes_a_literal_port_into_the_parent() {
+        use crate::testing::*;
+        use neurotree_core::ScopeId;
+        // BehaviorTree.CPP turns autoremapping off while it sets a SubTree's literal ports:
+        // they are the subtree's own entries, whether or not the parent has the key.
+        let mut lab = Lab::new(&[&[S]]);
+        let mut tree = lab
+            .load(
+                r#"<root BTCPP_format="4" main_tree_to_execute="Main">
+                 <BehaviorTree ID="Main">
+                   <Sequence>
+                     <SubTree ID="Child" _autoremap="true" greeting="hello" mood="calm"/>
+                     <Say message="{greeting}"/>
+                     <Say message="{shared}"/>
+                   </Sequence>
+                 </BehaviorTree>
+                 <BehaviorTree ID="Child">
+                   <Sequence>
+                     <Say message="{greeting}"/>
+                     <Say message="{mood}"/>
+                     <Script code="shared := 'from child'"/>
+                     <L0/>
+                   </Sequence>
+                 </BehaviorTree>
+               </root>"#,
+            )
+            .unwrap();
+        tree.blackboard_mut()
+            .set("greeting", "parent's".to_string())
+            .unwrap();
+        assert_eq!(lab.tick(&mut tree), Ok(S));
+        assert_eq!(lab.ticks, [1]);
+        // The child saw its literals; the parent kept its own `greeting` and got no `mood`;
+        // autoremap still shares what the child creates (`shared`).
+        assert_eq!(lab.said, ["hello", "calm", "parent's", "from child"]);
+        let bb = tree.blackboard();
+        assert!(!bb.contains("mood"));
+        assert_eq!(bb.get::<String>("greeting"), Ok("parent's".to_string()));
+        assert_eq!(bb.keys().collect::<Vec<_>>(), ["greeting", "shared"]);
+        assert_eq!(
+            bb.keys_in(ScopeId(1)).collect::<Vec<_>>(),
+            ["greeting", "mood"]
+        );
     }
 }

@@ -96,6 +96,21 @@ pub struct LoadError {
     pub message: String,
 }
 
+/// Something a file does that loads but should change, with its place: a deprecated or
+/// misspelt node name that loads as the built-in it stands for.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("{file}:{line}:{col}: warning: {message}")]
+pub struct LoadWarning {
+    /// The file (as given to the loader).
+    pub file: String,
+    /// 1-based line.
+    pub line: u32,
+    /// 1-based column.
+    pub col: u32,
+    /// What to change.
+    pub message: String,
+}
+
 impl LoadError {
     fn at_file(file: &str, message: impl Into<String>) -> Self {
         Self {
@@ -137,6 +152,8 @@ pub struct XmlLoader<'r, C> {
     /// `budget.rs`); emptied when a file is loaded. Behind a lock because building
     /// borrows the loader shared, and the loader may be shared across threads.
     sizes: std::sync::Mutex<BTreeMap<String, u64>>,
+    /// What the files loaded so far should change, in load order.
+    warnings: Vec<LoadWarning>,
 }
 
 impl<C> fmt::Debug for XmlLoader<'_, C> {
@@ -164,6 +181,7 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
             max_nodes: DEFAULT_MAX_NODES,
             max_file_bytes: DEFAULT_MAX_FILE_BYTES,
             sizes: std::sync::Mutex::default(),
+            warnings: Vec::new(),
         }
     }
 
@@ -203,6 +221,12 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
     pub fn mock(mut self, name: &str, outcomes: impl Into<Outcomes>) -> Self {
         self.mocks.insert(name.to_string(), outcomes.into());
         self
+    }
+
+    /// The warnings of the files loaded so far, in load order: each use of an alias
+    /// (a deprecated or misspelt built-in name that loads as the one it stands for).
+    pub fn warnings(&self) -> &[LoadWarning] {
+        &self.warnings
     }
 
     /// The IDs of the trees loaded so far.
@@ -319,6 +343,7 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
                         )));
                     }
                     self.trees.insert(id, TreeAt { doc: at, element });
+                    self.warn_aliases(at, element);
                 }
                 "include" => self.include(at, element, dir)?,
                 // Models describe nodes for editors; the registry is the loader's model.
@@ -331,6 +356,21 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
             }
         }
         Ok(())
+    }
+
+    /// Warns of each element of tree `element` that names its type by an alias.
+    fn warn_aliases(&mut self, doc: usize, element: usize) {
+        let tree = self.docs[doc].element(element);
+        for el in tree.descendants() {
+            let type_name = if build::EXPLICIT.contains(&el.tag()) {
+                el.attr("ID").unwrap_or("")
+            } else {
+                el.tag()
+            };
+            if let Some((alias, _)) = self.registry.alias(type_name) {
+                self.warnings.push(el.warning(alias.warning()));
+            }
+        }
     }
 
     fn include(&mut self, doc: usize, element: usize, dir: Option<&Path>) -> Result<(), LoadError> {

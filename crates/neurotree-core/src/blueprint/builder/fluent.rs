@@ -106,11 +106,13 @@ impl<C> Builder<C> {
     pub fn force_failure(self, name: &str, child: impl FnOnce(Self) -> Self) -> Self {
         self.node(NodeKind::ForceFailure, name, child)
     }
-    /// A [Repeat](crate::nodes::decorator::repeat); `-1` repeats forever.
+    /// A [Repeat](crate::nodes::decorator::repeat); exactly `-1` repeats forever, another
+    /// negative count runs no cycle.
     pub fn repeat(self, name: &str, num_cycles: i32, child: impl FnOnce(Self) -> Self) -> Self {
         self.node(NodeKind::Repeat { num_cycles }, name, child)
     }
-    /// A [RetryUntilSuccessful](crate::nodes::decorator::retry); `-1` retries forever.
+    /// A [RetryUntilSuccessful](crate::nodes::decorator::retry); exactly `-1` retries forever,
+    /// another negative count makes no attempt.
     pub fn retry(self, name: &str, num_attempts: i32, child: impl FnOnce(Self) -> Self) -> Self {
         self.node(NodeKind::RetryUntilSuccessful { num_attempts }, name, child)
     }

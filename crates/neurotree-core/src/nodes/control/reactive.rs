@@ -10,6 +10,14 @@
 //! This is what makes a tree reactive: a condition placed before a long action is checked on
 //! every tick, and when it flips, the running action is halted in the same tick. A skipped
 //! child is reset so that it can be skipped (or run) afresh next tick; all skipped → Skipped.
+//!
+//! Only one child should run: the node remembers the first child that returned Running since
+//! it started from Idle (or was halted). If another child returns Running later in the run,
+//! BehaviorTree.CPP 4.10 by default lets it (the earlier one is halted, as above); after its
+//! `EnableException(true)` it throws "only a single child can return RUNNING". Here
+//! [`Tree::reject_multiple_running`](crate::Tree::reject_multiple_running) is that switch:
+//! on, the tick ends with a [`TickError::Node`](crate::TickError::Node) naming the control,
+//! after the other children were halted, and the tree is halted.
 
 use crate::blueprint::NodeDef;
 use crate::tree::Ticker;
@@ -29,6 +37,12 @@ pub(crate) fn tick<C>(
     let hot = bp.hot_children_of(def);
     let go_on = NodeStatus::from(goal);
     let mut all_skipped = true;
+    // The first child that returned Running in this run, plus one (0: none yet), as
+    // BehaviorTree.CPP's `running_child_`, forgotten when a run starts and on halt.
+    let slot = bp.slot(id);
+    if t.status(id) == NodeStatus::Idle {
+        t.aux[slot] = 0;
+    }
     t.set_status(id, NodeStatus::Running);
     for (index, hot_child) in hot.iter().enumerate() {
         let child = hot_child.id;
@@ -39,6 +53,12 @@ pub(crate) fn tick<C>(
                 if other != index {
                     t.halt_child(c);
                 }
+            }
+            let running = index as u64 + 1;
+            if t.aux[slot] == 0 {
+                t.aux[slot] = running;
+            } else if t.reject_multiple_running && t.aux[slot] != running {
+                multiple_running(t, id, goal);
             }
             return NodeStatus::Running;
         }
@@ -55,6 +75,23 @@ pub(crate) fn tick<C>(
     } else {
         go_on
     }
+}
+
+/// BehaviorTree.CPP's LogicError for a second Running child, as the tick's error.
+#[cold]
+#[inline(never)]
+fn multiple_running<C>(t: &mut Ticker<'_, C>, id: NodeId, goal: Status) {
+    let kind = if goal == Status::Success {
+        "ReactiveSequence"
+    } else {
+        "ReactiveFallback"
+    };
+    t.fault_node(
+        id,
+        alloc::format!(
+            "[{kind}]: only a single child can return Running (Tree::reject_multiple_running(false) allows it)"
+        ),
+    );
 }
 
 #[cfg(test)]
@@ -112,5 +149,47 @@ mod tests {
         assert_eq!(lab.halts, [0, 0]);
         assert_eq!(tree.status(NodeId(1)), NodeStatus::Idle);
         assert_eq!(tree.status(NodeId(2)), NodeStatus::Running);
+    }
+
+    #[test]
+    fn refusing_a_second_running_child_is_an_error_naming_the_node() {
+        // BehaviorTree.CPP with ReactiveSequence::EnableException(true): child 0 ran, then a
+        // tick later succeeded and child 1 returned Running: "only a single child can return
+        // RUNNING". The tick ends with the error and the tree is halted.
+        let mut lab = Lab::new(&[&[R, S], &[R]]);
+        let mut tree = lab.tree(|b| b.reactive_sequence("rs", |s| s.scripted(0).scripted(1)));
+        tree.reject_multiple_running(true);
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Running));
+        match lab.tick(&mut tree) {
+            Err(TickError::Node { path, message, .. }) => {
+                assert_eq!(path, "rs");
+                assert!(
+                    message.contains("only a single child can return Running"),
+                    "{message}"
+                );
+            }
+            other => panic!("expected a node error, got {other:?}"),
+        }
+        assert_eq!(lab.ticks, [2, 1]);
+        assert_eq!(lab.halts, [0, 1]);
+        assert!(tree.statuses().iter().all(|s| *s == NodeStatus::Idle));
+    }
+
+    #[test]
+    fn refusing_still_lets_the_same_child_run_on_and_a_new_run_pick_another() {
+        let mut lab = Lab::new(&[&[R, R, F, S], &[R]]);
+        let mut tree = lab.tree(|b| b.reactive_fallback("rf", |f| f.scripted(0).scripted(1)));
+        tree.reject_multiple_running(true);
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Running));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Running));
+        // Halted, the node forgets its running child: child 1 may run in the new run.
+        lab.halt(&mut tree);
+        assert_eq!(lab.halts, [1, 0]);
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Running));
+        assert_eq!(lab.ticks, [3, 1]);
+        // The same child Running again is fine; then child 0 succeeds: Success.
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Success));
+        assert_eq!(lab.ticks, [4, 1]);
+        assert_eq!(lab.halts, [1, 1]);
     }
 }

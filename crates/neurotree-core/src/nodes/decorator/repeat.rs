@@ -1,8 +1,10 @@
 //! Repeat(num_cycles): run a succeeding child again, `num_cycles` times.
 //!
-//! - Child Success: count, yield Running until num_cycles reached (−1 forever) → Success.
+//! - Child Success: count, yield Running until num_cycles reached (exactly −1: forever) →
+//!   Success.
 //! - Child Failure → Failure, count reset.
-//! - 0 cycles → Success with no tick.
+//! - 0 cycles, or any negative count other than −1 → Success with no tick (BehaviorTree.CPP's
+//!   loop condition is `count < num_cycles || num_cycles == -1`).
 //!
 //! The yield follows BehaviorTree.CPP: after a child that succeeded from Idle within this
 //! tick, the node returns Running and asks to be woken, so
@@ -17,7 +19,8 @@ use crate::{NodeId, NodeStatus};
 
 /// Repeat (`REPEAT`) or RetryUntilSuccessful (`!REPEAT`): the two mirror each other, one
 /// counting successes and stopping at a failure, the other counting failures and stopping at
-/// a success. `limit` is `num_cycles` or `num_attempts` (negative: forever).
+/// a success. `limit` is `num_cycles` or `num_attempts` (exactly -1: forever; another
+/// negative value: no cycle).
 #[inline(never)]
 pub(crate) fn tick<C, const REPEAT: bool>(
     t: &mut Ticker<'_, C>,
@@ -32,7 +35,9 @@ pub(crate) fn tick<C, const REPEAT: bool>(
     };
     let slot = t.bp.slot(id);
     let child = t.child(def, 0);
-    let more = |count: u64| limit < 0 || count < limit as u64;
+    // BehaviorTree.CPP's `count < n || n == -1`: only -1 is "forever"; any other negative
+    // limit, like 0, allows no cycle at all.
+    let more = |count: u64| limit == -1 || (limit >= 0 && count < limit as u64);
     t.set_status(id, NodeStatus::Running);
     while more(t.aux[slot]) {
         let prev = t.status(child);
@@ -97,6 +102,22 @@ mod tests {
         let mut tree = lab.tree(|b| b.repeat("r", 0, |r| r.scripted(0)));
         assert_eq!(lab.tick(&mut tree), Ok(Status::Success));
         assert_eq!(lab.ticks, [0]);
+    }
+
+    #[test]
+    fn only_minus_one_loops_forever_another_negative_count_succeeds_without_a_tick() {
+        // BehaviorTree.CPP: `repeat_count_ < num_cycles_ || num_cycles_ == -1`.
+        let mut lab = Lab::new(&[&[S]]);
+        let mut tree = lab.tree(|b| b.repeat("r", -2, |r| r.scripted(0)));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Success));
+        assert_eq!(lab.ticks, [0]);
+        assert_eq!(lab.halts, [0]);
+        let mut lab = Lab::new(&[&[S]]);
+        let mut tree = lab.tree(|b| b.repeat("r", -1, |r| r.scripted(0)));
+        for _ in 0..5 {
+            assert_eq!(lab.tick_exactly_once(&mut tree), Ok(Status::Running));
+        }
+        assert_eq!(lab.ticks, [5]);
     }
 
     #[test]

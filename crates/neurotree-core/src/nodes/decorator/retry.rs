@@ -1,12 +1,13 @@
 //! RetryUntilSuccessful(num_attempts): try a failing child again, up to `num_attempts` times.
 //!
-//! Mirror of [Repeat](super::repeat) on Failure. 0 attempts → Failure with no tick.
+//! Mirror of [Repeat](super::repeat) on Failure. 0 attempts, or any negative count other than
+//! −1 → Failure with no tick (BehaviorTree.CPP: `try_count < num_attempts || num_attempts == -1`).
 //!
 //! Some behavior-tree libraries return Running between attempts, others (Colledanchise & Ögren's)
 //! retry within one tick. Both are this node: under
 //! [`Tree::tick_exactly_once`](crate::Tree::tick_exactly_once) an instant failure yields Running,
 //! under [`Tree::tick_once`](crate::Tree::tick_once) the attempts follow each other in the same
-//! call. `-1` retries forever. Halt resets the count.
+//! call. Exactly `-1` retries forever. Halt resets the count.
 
 // The loop is Repeat's, mirrored: see `repeat::tick`.
 
@@ -46,5 +47,21 @@ mod tests {
         let mut tree = lab.tree(|b| b.retry("r", 0, |r| r.scripted(0)));
         assert_eq!(lab.tick(&mut tree), Ok(Status::Failure));
         assert_eq!(lab.ticks, [0]);
+    }
+
+    #[test]
+    fn only_minus_one_retries_forever_another_negative_count_fails_without_a_tick() {
+        // BehaviorTree.CPP: `try_count_ < max_attempts_ || max_attempts_ == -1`.
+        let mut lab = Lab::new(&[&[F]]);
+        let mut tree = lab.tree(|b| b.retry("r", -3, |r| r.scripted(0)));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Failure));
+        assert_eq!(lab.ticks, [0]);
+        let mut lab = Lab::new(&[&[F]]);
+        let mut tree = lab.tree(|b| b.retry("r", -1, |r| r.scripted(0)));
+        for _ in 0..5 {
+            assert_eq!(lab.tick_exactly_once(&mut tree), Ok(Status::Running));
+        }
+        assert_eq!(lab.ticks, [5]);
+        assert_eq!(lab.halts, [0]);
     }
 }

@@ -5,7 +5,10 @@
 //! The scope is created with the tree instance from the blueprint's
 //! [`SubTreeScope`](crate::SubTreeScope): remapped keys alias the parent's entries, and with
 //! `autoremap` every key the child does not define resolves in the parent, except keys
-//! starting with `_`. Keys starting with `@` always address the root scope.
+//! starting with `_`. Keys starting with `@` always address the root scope. A literal port
+//! value (`values`) is an entry of the child scope itself, even with `autoremap`: as
+//! BehaviorTree.CPP, which turns autoremapping off while it sets them, it is never written
+//! into the parent.
 
 use crate::blueprint::NodeDef;
 use crate::tree::Ticker;

@@ -3,6 +3,9 @@
 //! - On the tick from Idle: Success at once if `msec` is 0, else note the time and return
 //!   Running.
 //! - Later ticks: Success once `msec` has passed, else Running.
+//! - Ticked again after completing, before its parent reset it (Nav2's PipelineSequence
+//!   re-ticks its finished children): the status it has, with no new sleep, as
+//!   BehaviorTree.CPP's `StatefulActionNode::tick` does.
 //! - Halt forgets the start.
 //!
 //! It reads only the clock, so it is deterministic under a [`ManualClock`](crate::ManualClock).
@@ -20,12 +23,18 @@ pub(crate) fn tick<C>(
     wait: Duration,
 ) -> NodeStatus {
     let now = t.now_nanos();
-    if t.status(id) != NodeStatus::Running {
-        if wait.is_zero() {
-            return NodeStatus::Success;
+    match t.status(id) {
+        NodeStatus::Running => {}
+        NodeStatus::Idle | NodeStatus::Skipped => {
+            if wait.is_zero() {
+                return NodeStatus::Success;
+            }
+            t.aux[slot] = now;
+            return NodeStatus::Running;
         }
-        t.aux[slot] = now;
-        return NodeStatus::Running;
+        // Completed and not yet reset by its parent: BehaviorTree.CPP's StatefulActionNode
+        // returns the status it has.
+        done => return done,
     }
     if now.saturating_sub(t.aux[slot]) >= duration_to_nanos(wait) {
         NodeStatus::Success
@@ -37,6 +46,9 @@ pub(crate) fn tick<C>(
 #[cfg(test)]
 mod tests {
     use crate::testing::*;
+    use crate::{Arity, CustomNode, CustomSpec, NodeCtx};
+    use alloc::boxed::Box;
+    use std::sync::Mutex;
 
     #[test]
     fn sleeps_on_the_clock() {
@@ -67,5 +79,41 @@ mod tests {
         assert_eq!(tick(&mut tree), Ok(Status::Running));
         clock.advance(ms(20));
         assert_eq!(tick(&mut tree), Ok(Status::Success));
+    }
+
+    /// Ticks its child every tick and never resets it (as Nav2's PipelineSequence leaves
+    /// its finished children); records what the child returned.
+    struct Hold(Arc<Mutex<Vec<NodeStatus>>>);
+
+    impl CustomNode<()> for Hold {
+        fn tick(&mut self, node: &mut NodeCtx<'_, '_, ()>) -> NodeStatus {
+            let status = node.tick_child(0);
+            self.0.lock().unwrap().push(status);
+            NodeStatus::Running
+        }
+    }
+
+    #[test]
+    fn re_ticked_after_completing_it_returns_its_status_until_reset() {
+        // As BehaviorTree.CPP's StatefulActionNode: a completed status is returned as it is,
+        // with no new sleep, until the parent resets it.
+        let seen = Arc::new(Mutex::new(Vec::new()));
+        let log = Arc::clone(&seen);
+        let hold = CustomSpec {
+            type_name: "Hold".into(),
+            arity: Arity::One,
+            factory: Box::new(move || Box::new(Hold(Arc::clone(&log)))),
+        };
+        let (mut tree, clock) = build(|b| b.custom("hold", hold, |h| h.sleep("nap", ms(10))));
+        assert_eq!(tick(&mut tree), Ok(Status::Running));
+        clock.advance(ms(10));
+        assert_eq!(tick(&mut tree), Ok(Status::Running));
+        assert_eq!(tick(&mut tree), Ok(Status::Running));
+        use NodeStatus::{Running as Run, Success as Succ};
+        assert_eq!(*seen.lock().unwrap(), [Run, Succ, Succ]);
+        // Halted (and so reset), it sleeps afresh.
+        tree.halt(&mut ());
+        assert_eq!(tick(&mut tree), Ok(Status::Running));
+        assert_eq!(seen.lock().unwrap().last(), Some(&Run));
     }
 }

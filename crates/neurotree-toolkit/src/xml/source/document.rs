@@ -1,7 +1,7 @@
 //! The document both readers fill: the text kept once, elements in a flat arena of byte
 //! ranges into it, and what the loader asks of an element.
 
-use super::super::LoadError;
+use super::super::{LoadError, LoadWarning};
 
 /// A range of bytes of [`Document::buf`], or of indices into one of its arrays.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -177,6 +177,17 @@ impl<'d> Element<'d> {
     /// An error located at this element.
     pub(crate) fn error(&self, message: impl Into<String>) -> LoadError {
         self.doc.error_at(self.node().offset, message.into())
+    }
+
+    /// A warning located at this element.
+    pub(crate) fn warning(&self, message: impl Into<String>) -> LoadWarning {
+        let e = self.error(message);
+        LoadWarning {
+            file: e.file,
+            line: e.line,
+            col: e.col,
+            message: e.message,
+        }
     }
 }
 
