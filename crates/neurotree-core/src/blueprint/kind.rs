@@ -21,6 +21,33 @@ pub type StatefulFactory<C> = Box<dyn Fn() -> Box<dyn StatefulAction<C>> + Send 
 /// Makes one per-instance object of a user control or decorator.
 pub type CustomFactory<C> = Box<dyn Fn() -> Box<dyn CustomNode<C>> + Send + Sync>;
 
+/// A built-in node's parameter (Repeat's `num_cycles`, Timeout's `msec`, ...): a value
+/// fixed when the tree was built, or read from the node's port of that name each time the
+/// node needs it, as BehaviorTree.CPP's `getInput` does, so that `num_cycles="{n}"` follows
+/// the blackboard entry `n`. A value costs no look-up when the node ticks.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Param<T> {
+    /// A value known when the tree was built (a literal in XML, a number in the builder).
+    Value(T),
+    /// Read from the node's port of the parameter's name (bound to an entry) at each use.
+    Port,
+}
+
+impl<T> From<T> for Param<T> {
+    fn from(value: T) -> Self {
+        Param::Value(value)
+    }
+}
+
+impl<T: fmt::Display> fmt::Display for Param<T> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Param::Value(v) => write!(f, "{v}"),
+            Param::Port => f.write_str("port"),
+        }
+    }
+}
+
 /// How a Parallel node decides, before its number of children is known.
 ///
 /// Thresholds follow BehaviorTree.CPP: a negative threshold `t` means `N + t + 1`, so `-1`
@@ -35,6 +62,15 @@ pub enum ParallelPolicy {
         success: i32,
         /// Failures that end it (negative: counted from the number of children).
         failure: i32,
+    },
+    /// Thresholds of which at least one is read from the node's `success_count` or
+    /// `failure_count` port at each tick, as BehaviorTree.CPP reads them; checked against
+    /// the number of children then rather than when the tree is built.
+    Ports {
+        /// Successes needed (negative: counted from the number of children).
+        success: Param<i32>,
+        /// Failures that end it (negative: counted from the number of children).
+        failure: Param<i32>,
     },
     /// Every child must succeed; the first failure fails the node: `(-1, 1)`.
     RequireAll,
@@ -147,7 +183,7 @@ pub enum NodeKind<C> {
     /// Ticks all children to completion; fails if `max_failures` of them failed.
     ParallelAll {
         /// Failures that make it fail (negative: counted from the number of children).
-        max_failures: i32,
+        max_failures: Param<i32>,
     },
     /// `if` child 0 `then` child 1 `else` child 2.
     IfThenElse,
@@ -156,7 +192,7 @@ pub enum NodeKind<C> {
     /// Children but the last as a Sequence; the last runs on failure.
     TryCatch {
         /// Run the catch child when halted while trying.
-        catch_on_halt: bool,
+        catch_on_halt: Param<bool>,
     },
     /// Swaps Success and Failure.
     Inverter,
@@ -167,25 +203,25 @@ pub enum NodeKind<C> {
     /// Repeats a succeeding child.
     Repeat {
         /// Cycles to run; -1 forever, another negative value none.
-        num_cycles: i32,
+        num_cycles: Param<i32>,
     },
     /// Retries a failing child.
     RetryUntilSuccessful {
         /// Attempts to make; -1 forever, another negative value none.
-        num_attempts: i32,
+        num_attempts: Param<i32>,
     },
     /// Success becomes Running; Failure ends it.
     KeepRunningUntilFailure,
     /// Waits, then ticks the child.
-    Delay(Duration),
+    Delay(Param<Duration>),
     /// Fails and halts the child when it runs too long.
-    Timeout(Duration),
+    Timeout(Param<Duration>),
     /// After the child completes, fails without ticking it for a while.
-    Cooldown(Duration),
+    Cooldown(Param<Duration>),
     /// Runs the child to completion once.
     RunOnce {
         /// After the first completion return Skipped (true) or the cached status (false).
-        then_skip: bool,
+        then_skip: Param<bool>,
     },
     /// Opens a blackboard scope for its child.
     SubTree(Box<SubTreeScope>),
@@ -194,7 +230,7 @@ pub enum NodeKind<C> {
     /// Always Failure.
     AlwaysFailure,
     /// Running until the duration has passed, then Success.
-    Sleep(Duration),
+    Sleep(Param<Duration>),
     /// A closure of the context that never runs.
     ConditionFn(ConditionFn<C>),
     /// A [`Condition`] object, shared by all instances.

@@ -14,7 +14,7 @@ pub use builder::Builder;
 pub use error::{BuildError, BuildErrorKind};
 pub use kind::{
     ActionFn, Arity, Category, ConditionFn, CustomFactory, CustomSpec, NodeKind, ParallelPolicy,
-    StatefulFactory, SubTreeScope,
+    Param, StatefulFactory, SubTreeScope,
 };
 pub use port::{FromPortStr, Number, Port, PortError, PortValue};
 

@@ -5,13 +5,15 @@
 //! `Option` branch per status write, and not even that in the Sequence and Fallback loops,
 //! which are compiled twice: for observed and for unobserved trees.
 
+use core::any::Any;
 use core::mem;
+use core::time::Duration;
 
 use crate::blackboard::Blackboard;
-use crate::blueprint::{Blueprint, Child, NodeDef, NodeKind};
+use crate::blueprint::{Blueprint, Child, FromPortStr, NodeDef, NodeKind, ParallelPolicy, Param};
 use crate::clock::duration_to_nanos;
 use crate::nodes::custom::{CustomNode, NodeCtx};
-use crate::nodes::leaf::{ActionFuture, Handle, StatefulAction};
+use crate::nodes::leaf::{read_input, ActionFuture, Handle, StatefulAction};
 use crate::nodes::{control, decorator, leaf};
 use crate::observer::{Observer, StatusChange};
 use crate::{Clock, NodeId, NodeStatus, Status, TickError};
@@ -284,9 +286,15 @@ impl<'t, C> Ticker<'t, C> {
             NodeKind::AsyncFallback => ordered::tick::<C, false, { ordered::ASYNC }>(self, id, def),
             NodeKind::ReactiveSequence => reactive::tick(self, id, def, Status::Success),
             NodeKind::ReactiveFallback => reactive::tick(self, id, def, Status::Failure),
-            NodeKind::Parallel(policy) => parallel::tick(self, id, def, *policy),
+            NodeKind::Parallel(policy) => match self.thresholds(id, def, *policy) {
+                Some(policy) => parallel::tick(self, id, def, policy),
+                None => NodeStatus::Failure,
+            },
             NodeKind::ParallelAll { max_failures } => {
-                parallel_all::tick(self, id, def, *max_failures)
+                match self.param(id, *max_failures, "max_failures") {
+                    Some(max) => parallel_all::tick(self, id, def, max),
+                    None => NodeStatus::Failure,
+                }
             }
             NodeKind::IfThenElse => if_then_else::tick(self, id, def),
             NodeKind::WhileDoElse => while_do_else::tick(self, id, def),
@@ -294,19 +302,40 @@ impl<'t, C> Ticker<'t, C> {
             NodeKind::Inverter => inverter::tick(self, id, def),
             NodeKind::ForceSuccess => force::tick(self, id, def, NodeStatus::Success),
             NodeKind::ForceFailure => force::tick(self, id, def, NodeStatus::Failure),
-            NodeKind::Repeat { num_cycles } => repeat::tick::<C, true>(self, id, def, *num_cycles),
+            NodeKind::Repeat { num_cycles } => match self.param(id, *num_cycles, "num_cycles") {
+                Some(n) => repeat::tick::<C, true>(self, id, def, n),
+                None => NodeStatus::Failure,
+            },
             NodeKind::RetryUntilSuccessful { num_attempts } => {
-                repeat::tick::<C, false>(self, id, def, *num_attempts)
+                match self.param(id, *num_attempts, "num_attempts") {
+                    Some(n) => repeat::tick::<C, false>(self, id, def, n),
+                    None => NodeStatus::Failure,
+                }
             }
             NodeKind::KeepRunningUntilFailure => keep_running::tick(self, id, def),
-            NodeKind::Delay(wait) => delay::tick(self, id, def, *wait),
-            NodeKind::Timeout(limit) => timeout::tick(self, id, def, *limit),
-            NodeKind::Cooldown(period) => cooldown::tick(self, id, def, *period),
-            NodeKind::RunOnce { then_skip } => run_once::tick(self, id, def, *then_skip),
+            NodeKind::Delay(wait) => match self.millis(id, *wait, "delay_msec") {
+                Some(wait) => delay::tick(self, id, def, wait),
+                None => NodeStatus::Failure,
+            },
+            NodeKind::Timeout(limit) => match self.millis(id, *limit, "msec") {
+                Some(limit) => timeout::tick(self, id, def, limit),
+                None => NodeStatus::Failure,
+            },
+            NodeKind::Cooldown(period) => match self.millis(id, *period, "cooldown_msec") {
+                Some(period) => cooldown::tick(self, id, def, period),
+                None => NodeStatus::Failure,
+            },
+            NodeKind::RunOnce { then_skip } => match self.param(id, *then_skip, "then_skip") {
+                Some(skip) => run_once::tick(self, id, def, skip),
+                None => NodeStatus::Failure,
+            },
             NodeKind::SubTree(_) => subtree::tick(self, id, def),
             NodeKind::AlwaysSuccess => NodeStatus::Success,
             NodeKind::AlwaysFailure => NodeStatus::Failure,
-            NodeKind::Sleep(wait) => leaf::sleep::tick(self, id, self.bp.slot(id), *wait),
+            NodeKind::Sleep(wait) => match self.millis(id, *wait, "msec") {
+                Some(wait) => leaf::sleep::tick(self, id, self.bp.slot(id), wait),
+                None => NodeStatus::Failure,
+            },
             NodeKind::Condition(c) => {
                 let h = self.handle(id);
                 Status::from(c.check(&h)).into()
@@ -340,6 +369,71 @@ impl<'t, C> Ticker<'t, C> {
             return NodeStatus::Failure;
         }
         s.into()
+    }
+
+    /// A built-in node's parameter: its value, or its port read now. An unreadable port is
+    /// the node's error (`None`), as BehaviorTree.CPP's nodes throw when `getInput` fails.
+    #[inline(always)]
+    pub(crate) fn param<T: FromPortStr + Any + Clone>(
+        &mut self,
+        id: NodeId,
+        param: Param<T>,
+        port: &'static str,
+    ) -> Option<T> {
+        match param {
+            Param::Value(value) => Some(value),
+            Param::Port => self.read_port(id, port),
+        }
+    }
+
+    /// A duration parameter, whose port holds milliseconds as in BehaviorTree.CPP.
+    #[inline(always)]
+    pub(crate) fn millis(
+        &mut self,
+        id: NodeId,
+        param: Param<Duration>,
+        port: &'static str,
+    ) -> Option<Duration> {
+        match param {
+            Param::Value(value) => Some(value),
+            Param::Port => self.read_port::<u64>(id, port).map(Duration::from_millis),
+        }
+    }
+
+    /// Reads port `port` of node `id`, converting as BehaviorTree.CPP's `Any` does.
+    #[cold]
+    #[inline(never)]
+    fn read_port<T: FromPortStr + Any + Clone>(&mut self, id: NodeId, port: &str) -> Option<T> {
+        let read = read_input(self.bb, self.bp.scope(id), self.bp.ports(id), port);
+        read.map_err(|e| self.fault_node(id, alloc::string::ToString::to_string(&e)))
+            .ok()
+    }
+
+    /// A Parallel's thresholds, read from its ports if they are bound there, and checked
+    /// against its number of children as BehaviorTree.CPP checks them at each tick.
+    #[inline(always)]
+    fn thresholds(
+        &mut self,
+        id: NodeId,
+        def: &NodeDef<C>,
+        policy: ParallelPolicy,
+    ) -> Option<ParallelPolicy> {
+        let ParallelPolicy::Ports { success, failure } = policy else {
+            return Some(policy);
+        };
+        let success = self.param(id, success, "success_count")?;
+        let failure = self.param(id, failure, "failure_count")?;
+        let n = def.child_count;
+        for (which, t) in [("succeed", success), ("fail", failure)] {
+            if crate::blueprint::builder::resolve_threshold(t, n) > i64::from(n) {
+                let message = alloc::format!(
+                    "its threshold {t} is more than its {n} children: it can never {which}"
+                );
+                self.fault_node(id, message);
+                return None;
+            }
+        }
+        Some(ParallelPolicy::Thresholds { success, failure })
     }
 
     /// Records a node's own error; the first error of a pass wins.
@@ -476,7 +570,9 @@ impl<'t, C> Ticker<'t, C> {
                 self.reset_children(id);
             }
             NodeKind::TryCatch { catch_on_halt } => {
-                control::try_catch::halt(self, id, def, *catch_on_halt);
+                // Read when halted, as BehaviorTree.CPP reads it; unreadable: no catch.
+                let catch = self.param(id, *catch_on_halt, "catch_on_halt");
+                control::try_catch::halt(self, id, def, catch.unwrap_or(false));
             }
             NodeKind::IfThenElse
             | NodeKind::ReactiveSequence

@@ -1,7 +1,7 @@
 //! The built-in node types the engine implements, under their BehaviorTree.CPP names, with
 //! their families and ports; and the conversion between a node kind and its port values.
 
-use neurotree_core::{Category, FromPortStr, NodeKind, ParallelPolicy};
+use neurotree_core::{Category, FromPortStr, NodeKind, ParallelPolicy, Param};
 
 use super::PortSpec;
 
@@ -107,17 +107,46 @@ pub(crate) fn built_ins() -> Vec<(&'static str, Category, BuiltIn, Vec<PortSpec>
     ]
 }
 
-/// The kind of a built-in node from its ports' values (already checked to convert).
+/// What a built-in node's port is bound to, as [`built_in_kind`] needs to know it.
+pub(crate) enum Binding {
+    /// Literal text, read now.
+    Literal(String),
+    /// A blackboard entry, read by the node when it runs.
+    Entry,
+    /// Not given (and no default).
+    Missing,
+}
+
+/// The kind of a built-in node from its ports: a literal is read now (already checked to
+/// convert), a port bound to an entry becomes a [`Param::Port`] the node reads when it runs.
 pub(crate) fn built_in_kind<C>(
     b: BuiltIn,
-    port: impl Fn(&str) -> Option<String>,
+    port: impl Fn(&str) -> Binding,
 ) -> Result<NodeKind<C>, String> {
     use std::time::Duration;
-    fn num<T: FromPortStr>(name: &str, text: Option<String>) -> Result<T, String> {
-        let text = text.ok_or_else(|| format!("missing port `{name}`"))?;
-        T::from_port_str(&text).map_err(|()| format!("port `{name}`: cannot read `{text}`"))
+    let param = |name: &str| -> Result<Param<String>, String> {
+        match port(name) {
+            Binding::Literal(text) => Ok(Param::Value(text)),
+            Binding::Entry => Ok(Param::Port),
+            Binding::Missing => Err(format!("missing port `{name}`")),
+        }
+    };
+    fn read<T: FromPortStr>(name: &str, text: Param<String>) -> Result<Param<T>, String> {
+        match text {
+            Param::Value(text) => T::from_port_str(&text)
+                .map(Param::Value)
+                .map_err(|()| format!("port `{name}`: cannot read `{text}`")),
+            Param::Port => Ok(Param::Port),
+        }
     }
-    let ms = |name: &str| num::<u64>(name, port(name)).map(Duration::from_millis);
+    let num = |name: &str| -> Result<Param<i32>, String> { read(name, param(name)?) };
+    let flag = |name: &str| -> Result<Param<bool>, String> { read(name, param(name)?) };
+    let ms = |name: &str| -> Result<Param<Duration>, String> {
+        Ok(match read::<u64>(name, param(name)?)? {
+            Param::Value(ms) => Param::Value(Duration::from_millis(ms)),
+            Param::Port => Param::Port,
+        })
+    };
     Ok(match b {
         BuiltIn::Sequence => NodeKind::Sequence,
         BuiltIn::SequenceWithMemory => NodeKind::SequenceWithMemory,
@@ -126,33 +155,38 @@ pub(crate) fn built_in_kind<C>(
         BuiltIn::ReactiveFallback => NodeKind::ReactiveFallback,
         BuiltIn::AsyncSequence => NodeKind::AsyncSequence,
         BuiltIn::AsyncFallback => NodeKind::AsyncFallback,
-        BuiltIn::Parallel => NodeKind::Parallel(ParallelPolicy::Thresholds {
-            success: num("success_count", port("success_count"))?,
-            failure: num("failure_count", port("failure_count"))?,
-        }),
+        BuiltIn::Parallel => {
+            let (success, failure) = (num("success_count")?, num("failure_count")?);
+            NodeKind::Parallel(match (success, failure) {
+                (Param::Value(success), Param::Value(failure)) => {
+                    ParallelPolicy::Thresholds { success, failure }
+                }
+                (success, failure) => ParallelPolicy::Ports { success, failure },
+            })
+        }
         BuiltIn::ParallelAll => NodeKind::ParallelAll {
-            max_failures: num("max_failures", port("max_failures"))?,
+            max_failures: num("max_failures")?,
         },
         BuiltIn::IfThenElse => NodeKind::IfThenElse,
         BuiltIn::WhileDoElse => NodeKind::WhileDoElse,
         BuiltIn::TryCatch => NodeKind::TryCatch {
-            catch_on_halt: num("catch_on_halt", port("catch_on_halt"))?,
+            catch_on_halt: flag("catch_on_halt")?,
         },
         BuiltIn::Inverter => NodeKind::Inverter,
         BuiltIn::ForceSuccess => NodeKind::ForceSuccess,
         BuiltIn::ForceFailure => NodeKind::ForceFailure,
         BuiltIn::Repeat => NodeKind::Repeat {
-            num_cycles: num("num_cycles", port("num_cycles"))?,
+            num_cycles: num("num_cycles")?,
         },
         BuiltIn::RetryUntilSuccessful => NodeKind::RetryUntilSuccessful {
-            num_attempts: num("num_attempts", port("num_attempts"))?,
+            num_attempts: num("num_attempts")?,
         },
         BuiltIn::KeepRunningUntilFailure => NodeKind::KeepRunningUntilFailure,
         BuiltIn::Delay => NodeKind::Delay(ms("delay_msec")?),
         BuiltIn::Timeout => NodeKind::Timeout(ms("msec")?),
         BuiltIn::Cooldown => NodeKind::Cooldown(ms("cooldown_msec")?),
         BuiltIn::RunOnce => NodeKind::RunOnce {
-            then_skip: num("then_skip", port("then_skip"))?,
+            then_skip: flag("then_skip")?,
         },
         BuiltIn::AlwaysSuccess => NodeKind::AlwaysSuccess,
         BuiltIn::AlwaysFailure => NodeKind::AlwaysFailure,
@@ -167,33 +201,50 @@ pub(crate) fn built_in_ports<C>(
     kind: &NodeKind<C>,
     children: usize,
 ) -> Vec<(&'static str, String)> {
-    let ms = |d: &std::time::Duration| d.as_millis().to_string();
-    match kind {
+    // A parameter read from a port has no value here: such a node keeps its port
+    // bindings, which the writer writes instead.
+    fn text<T: ToString>(name: &'static str, p: &Param<T>) -> Option<(&'static str, String)> {
+        match p {
+            Param::Value(v) => Some((name, v.to_string())),
+            Param::Port => None,
+        }
+    }
+    let ms = |name: &'static str, d: &Param<std::time::Duration>| match d {
+        Param::Value(d) => Some((name, d.as_millis().to_string())),
+        Param::Port => None,
+    };
+    let ports: Vec<Option<(&'static str, String)>> = match kind {
         NodeKind::Parallel(policy) => {
             let n = children as i32;
             let (success, failure) = match *policy {
-                ParallelPolicy::Thresholds { success, failure } => (success, failure),
-                ParallelPolicy::RequireAll => (-1, 1),
-                ParallelPolicy::RequireOne => (1, -1),
-                ParallelPolicy::RequireCount(m) => (m as i32, n - m as i32 + 1),
+                ParallelPolicy::Thresholds { success, failure } => {
+                    (Param::Value(success), Param::Value(failure))
+                }
+                ParallelPolicy::Ports { success, failure } => (success, failure),
+                ParallelPolicy::RequireAll => (Param::Value(-1), Param::Value(1)),
+                ParallelPolicy::RequireOne => (Param::Value(1), Param::Value(-1)),
+                ParallelPolicy::RequireCount(m) => {
+                    (Param::Value(m as i32), Param::Value(n - m as i32 + 1))
+                }
             };
             vec![
-                ("success_count", success.to_string()),
-                ("failure_count", failure.to_string()),
+                text("success_count", &success),
+                text("failure_count", &failure),
             ]
         }
-        NodeKind::ParallelAll { max_failures } => vec![("max_failures", max_failures.to_string())],
-        NodeKind::TryCatch { catch_on_halt } => vec![("catch_on_halt", catch_on_halt.to_string())],
-        NodeKind::Repeat { num_cycles } => vec![("num_cycles", num_cycles.to_string())],
+        NodeKind::ParallelAll { max_failures } => vec![text("max_failures", max_failures)],
+        NodeKind::TryCatch { catch_on_halt } => vec![text("catch_on_halt", catch_on_halt)],
+        NodeKind::Repeat { num_cycles } => vec![text("num_cycles", num_cycles)],
         NodeKind::RetryUntilSuccessful { num_attempts } => {
-            vec![("num_attempts", num_attempts.to_string())]
+            vec![text("num_attempts", num_attempts)]
         }
-        NodeKind::Delay(d) => vec![("delay_msec", ms(d))],
-        NodeKind::Timeout(d) | NodeKind::Sleep(d) => vec![("msec", ms(d))],
-        NodeKind::Cooldown(d) => vec![("cooldown_msec", ms(d))],
-        NodeKind::RunOnce { then_skip } => vec![("then_skip", then_skip.to_string())],
+        NodeKind::Delay(d) => vec![ms("delay_msec", d)],
+        NodeKind::Timeout(d) | NodeKind::Sleep(d) => vec![ms("msec", d)],
+        NodeKind::Cooldown(d) => vec![ms("cooldown_msec", d)],
+        NodeKind::RunOnce { then_skip } => vec![text("then_skip", then_skip)],
         _ => Vec::new(),
-    }
+    };
+    ports.into_iter().flatten().collect()
 }
 
 #[cfg(test)]
@@ -208,7 +259,7 @@ mod tests {
             let Make::BuiltIn(b) = t.make else { continue };
             // Every port at a value other than the smallest, so a swapped pair would show.
             let kind = built_in_kind::<()>(b, |p| {
-                Some(match p {
+                Binding::Literal(match p {
                     "success_count" => "2".into(),
                     "failure_count" => "-1".into(),
                     "catch_on_halt" | "then_skip" => "true".into(),
@@ -217,8 +268,9 @@ mod tests {
             })
             .unwrap();
             let ports = built_in_ports(&kind, 3);
-            let again = built_in_kind::<()>(b, |p| {
-                ports.iter().find(|(n, _)| *n == p).map(|(_, v)| v.clone())
+            let again = built_in_kind::<()>(b, |p| match ports.iter().find(|(n, _)| *n == p) {
+                Some((_, v)) => Binding::Literal(v.clone()),
+                None => Binding::Missing,
             })
             .unwrap();
             assert_eq!(format!("{again:?}"), format!("{kind:?}"), "{}", t.name);
@@ -245,10 +297,40 @@ mod tests {
 
     #[test]
     fn built_in_kinds_read_their_ports() {
-        let kind =
-            built_in_kind::<()>(BuiltIn::Repeat, |p| (p == "num_cycles").then(|| "3".into()));
-        assert!(matches!(kind, Ok(NodeKind::Repeat { num_cycles: 3 })));
-        let missing = built_in_kind::<()>(BuiltIn::Timeout, |_| None);
+        let literal = |text: &str| {
+            let text = text.to_string();
+            move |p: &str| match p {
+                "num_cycles" => Binding::Literal(text.clone()),
+                _ => Binding::Missing,
+            }
+        };
+        let kind = built_in_kind::<()>(BuiltIn::Repeat, literal("3"));
+        assert!(matches!(
+            kind,
+            Ok(NodeKind::Repeat {
+                num_cycles: Param::Value(3)
+            })
+        ));
+        // An entry is read by the node when it runs; a Parallel with one goes by its ports.
+        let kind = built_in_kind::<()>(BuiltIn::Repeat, |_| Binding::Entry);
+        assert!(matches!(
+            kind,
+            Ok(NodeKind::Repeat {
+                num_cycles: Param::Port
+            })
+        ));
+        let kind = built_in_kind::<()>(BuiltIn::Parallel, |p| match p {
+            "success_count" => Binding::Entry,
+            _ => Binding::Literal("1".into()),
+        });
+        assert!(matches!(
+            kind,
+            Ok(NodeKind::Parallel(ParallelPolicy::Ports {
+                success: Param::Port,
+                failure: Param::Value(1)
+            }))
+        ));
+        let missing = built_in_kind::<()>(BuiltIn::Timeout, |_| Binding::Missing);
         assert_eq!(missing.err().as_deref(), Some("missing port `msec`"));
     }
 }

@@ -27,7 +27,7 @@ mod enums;
 pub mod ports;
 mod suggest;
 
-pub(crate) use builtins::{built_in_kind, built_in_ports, built_ins, BuiltIn};
+pub(crate) use builtins::{built_in_kind, built_in_ports, built_ins, Binding, BuiltIn};
 pub use ports::{PortDirection, PortSpec};
 
 /// Makes the per-node part of a leaf from its port bindings (most leaves ignore them; a

@@ -12,7 +12,7 @@ use super::mock;
 use super::source::Element;
 use super::{LoadError, XmlLoader};
 use crate::nodes::hooks::{ScriptHooks, ATTRIBUTES};
-use crate::registry::{built_in_kind, Make, NodeType};
+use crate::registry::{built_in_kind, Binding, Make, NodeType};
 use crate::script::{Enums, Script};
 
 /// The elements that name their type in an `ID` attribute (BehaviorTree.CPP's explicit form).
@@ -383,23 +383,18 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
         let ports = self.check_ports(el, node_type, explicit)?;
         let kind = match &node_type.make {
             Make::BuiltIn(built_in) => {
-                let text_of = |port: &str| match ports.iter().find(|p| p.name == port) {
+                let binding = |port: &str| match ports.iter().find(|p| p.name == port) {
                     Some(Port {
                         value: PortValue::Literal(text),
                         ..
-                    }) => Some(text.clone()),
-                    _ => None,
+                    }) => Binding::Literal(text.clone()),
+                    Some(_) => Binding::Entry,
+                    None => Binding::Missing,
                 };
-                if let Some(p) = ports
-                    .iter()
-                    .find(|p| matches!(p.value, PortValue::Entry(_)))
-                {
-                    return Err(el.error(format!(
-                        "port `{}` of `{type_name}` must be a literal here, not a blackboard entry",
-                        p.name
-                    )));
-                }
-                let kind = built_in_kind::<C>(*built_in, text_of).map_err(|m| el.error(m))?;
+                let kind = built_in_kind::<C>(*built_in, binding).map_err(|m| el.error(m))?;
+                // A node that reads a port when it runs keeps its bindings; the others are
+                // known by their kind alone.
+                let reads_entries = ports.iter().any(|p| matches!(p.value, PortValue::Entry(_)));
                 let arity = kind.arity();
                 if !arity.accepts(el.child_count() as u32) {
                     return Err(el.error(format!(
@@ -407,9 +402,9 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
                         el.child_count()
                     )));
                 }
-                // A built-in node is known by its kind and reads its ports at load time.
                 return Ok(Opened {
                     hooks,
+                    ports: if reads_entries { ports } else { Vec::new() },
                     ..Opened::plain(kind, name)
                 });
             }

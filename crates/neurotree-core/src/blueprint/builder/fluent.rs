@@ -75,7 +75,13 @@ impl<C> Builder<C> {
         max_failures: i32,
         children: impl FnOnce(Self) -> Self,
     ) -> Self {
-        self.node(NodeKind::ParallelAll { max_failures }, name, children)
+        self.node(
+            NodeKind::ParallelAll {
+                max_failures: max_failures.into(),
+            },
+            name,
+            children,
+        )
     }
     /// An [IfThenElse](crate::nodes::control::if_then_else).
     pub fn if_then_else(self, name: &str, children: impl FnOnce(Self) -> Self) -> Self {
@@ -92,7 +98,13 @@ impl<C> Builder<C> {
         catch_on_halt: bool,
         children: impl FnOnce(Self) -> Self,
     ) -> Self {
-        self.node(NodeKind::TryCatch { catch_on_halt }, name, children)
+        self.node(
+            NodeKind::TryCatch {
+                catch_on_halt: catch_on_halt.into(),
+            },
+            name,
+            children,
+        )
     }
     /// An [Inverter](crate::nodes::decorator::inverter).
     pub fn inverter(self, name: &str, child: impl FnOnce(Self) -> Self) -> Self {
@@ -109,12 +121,24 @@ impl<C> Builder<C> {
     /// A [Repeat](crate::nodes::decorator::repeat); exactly `-1` repeats forever, another
     /// negative count runs no cycle.
     pub fn repeat(self, name: &str, num_cycles: i32, child: impl FnOnce(Self) -> Self) -> Self {
-        self.node(NodeKind::Repeat { num_cycles }, name, child)
+        self.node(
+            NodeKind::Repeat {
+                num_cycles: num_cycles.into(),
+            },
+            name,
+            child,
+        )
     }
     /// A [RetryUntilSuccessful](crate::nodes::decorator::retry); exactly `-1` retries forever,
     /// another negative count makes no attempt.
     pub fn retry(self, name: &str, num_attempts: i32, child: impl FnOnce(Self) -> Self) -> Self {
-        self.node(NodeKind::RetryUntilSuccessful { num_attempts }, name, child)
+        self.node(
+            NodeKind::RetryUntilSuccessful {
+                num_attempts: num_attempts.into(),
+            },
+            name,
+            child,
+        )
     }
     /// A [KeepRunningUntilFailure](crate::nodes::decorator::keep_running).
     pub fn keep_running_until_failure(self, name: &str, child: impl FnOnce(Self) -> Self) -> Self {
@@ -122,19 +146,25 @@ impl<C> Builder<C> {
     }
     /// A [Delay](crate::nodes::decorator::delay).
     pub fn delay(self, name: &str, delay: Duration, child: impl FnOnce(Self) -> Self) -> Self {
-        self.node(NodeKind::Delay(delay), name, child)
+        self.node(NodeKind::Delay(delay.into()), name, child)
     }
     /// A [Timeout](crate::nodes::decorator::timeout).
     pub fn timeout(self, name: &str, limit: Duration, child: impl FnOnce(Self) -> Self) -> Self {
-        self.node(NodeKind::Timeout(limit), name, child)
+        self.node(NodeKind::Timeout(limit.into()), name, child)
     }
     /// A [Cooldown](crate::nodes::decorator::cooldown).
     pub fn cooldown(self, name: &str, period: Duration, child: impl FnOnce(Self) -> Self) -> Self {
-        self.node(NodeKind::Cooldown(period), name, child)
+        self.node(NodeKind::Cooldown(period.into()), name, child)
     }
     /// A [RunOnce](crate::nodes::decorator::run_once).
     pub fn run_once(self, name: &str, then_skip: bool, child: impl FnOnce(Self) -> Self) -> Self {
-        self.node(NodeKind::RunOnce { then_skip }, name, child)
+        self.node(
+            NodeKind::RunOnce {
+                then_skip: then_skip.into(),
+            },
+            name,
+            child,
+        )
     }
     /// A [SubTree](crate::nodes::decorator::subtree): its child sees its own blackboard scope.
     pub fn subtree(
@@ -155,7 +185,7 @@ impl<C> Builder<C> {
     }
     /// A [Sleep](crate::nodes::leaf::sleep) leaf.
     pub fn sleep(self, name: &str, duration: Duration) -> Self {
-        self.leaf(NodeKind::Sleep(duration), name)
+        self.leaf(NodeKind::Sleep(duration.into()), name)
     }
     /// A condition from a closure of the context.
     pub fn condition(self, name: &str, f: impl Fn(&C) -> bool + Send + Sync + 'static) -> Self {

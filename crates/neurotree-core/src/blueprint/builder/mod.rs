@@ -9,7 +9,7 @@ use alloc::vec::Vec;
 
 use super::{
     Blueprint, BuildError, BuildErrorKind, Child, NameSpan, NodeDef, NodeId, NodeKind, NodeMeta,
-    ParallelPolicy, Port, SubTreeScope, DEFAULT_MAX_DEPTH,
+    ParallelPolicy, Param, Port, SubTreeScope, DEFAULT_MAX_DEPTH,
 };
 use crate::blackboard::ScopeId;
 use crate::nodes::hooks::NodeHooks;
@@ -333,6 +333,8 @@ impl<C> State<C> {
             NodeKind::Parallel(policy) => {
                 let (s, f) = match *policy {
                     ParallelPolicy::Thresholds { success, failure } => (success, failure),
+                    // Read at each tick, and checked then.
+                    ParallelPolicy::Ports { .. } => return Ok(()),
                     ParallelPolicy::RequireAll => (-1, 1),
                     ParallelPolicy::RequireOne => (1, -1),
                     ParallelPolicy::RequireCount(m) => {
@@ -354,7 +356,9 @@ impl<C> State<C> {
                     failure: f,
                 };
             }
-            NodeKind::ParallelAll { max_failures } => {
+            NodeKind::ParallelAll {
+                max_failures: Param::Value(max_failures),
+            } => {
                 let f = resolve_threshold(*max_failures, n);
                 if f > i64::from(n) {
                     return Err(BuildErrorKind::Threshold {
@@ -366,6 +370,10 @@ impl<C> State<C> {
                 }
                 *max_failures = f as i32;
             }
+            // Read at each tick; BehaviorTree.CPP checks it then too.
+            NodeKind::ParallelAll {
+                max_failures: Param::Port,
+            } => {}
             _ => {}
         }
         Ok(())
