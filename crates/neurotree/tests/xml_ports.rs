@@ -207,3 +207,44 @@ fn a_saved_tree_keeps_its_entry_bindings() {
     assert_eq!(t.tick_once(&mut ctx), Ok(Status::Success));
     assert_eq!(ctx.steps, 2);
 }
+
+#[test]
+fn precondition_reads_if_and_else_from_entries() {
+    let mut t = tree(&main_tree(
+        r#"<Precondition if="{check}" else="{otherwise}"><Step/></Precondition>"#,
+    ));
+    let bb = t.blackboard_mut();
+    bb.set("check", String::from("go == 1")).unwrap();
+    bb.set("otherwise", String::from("SKIPPED")).unwrap();
+    bb.set("go", 0_i64).unwrap();
+    let mut ctx = Ctx::default();
+    assert_eq!(t.tick_once(&mut ctx), Err(TickError::RootSkipped));
+    t.blackboard_mut().set("go", 1_i64).unwrap();
+    assert_eq!(t.tick_once(&mut ctx), Ok(Status::Success));
+    // A new script in the entry is the one checked next.
+    t.blackboard_mut()
+        .set("check", String::from("go == 2"))
+        .unwrap();
+    t.blackboard_mut()
+        .set("otherwise", String::from("FAILURE"))
+        .unwrap();
+    assert_eq!(t.tick_once(&mut ctx), Ok(Status::Failure));
+    assert_eq!(ctx.steps, 1);
+}
+
+#[test]
+fn a_loops_if_empty_is_read_from_its_entry_when_the_queue_is_empty() {
+    let mut t = tree(&main_tree(
+        r#"<LoopInt queue="" value="{v}" if_empty="{when_empty}"><Step/></LoopInt>"#,
+    ));
+    t.blackboard_mut()
+        .set("when_empty", String::from("FAILURE"))
+        .unwrap();
+    let mut ctx = Ctx::default();
+    assert_eq!(t.tick_once(&mut ctx), Ok(Status::Failure));
+    t.blackboard_mut()
+        .set("when_empty", String::from("SUCCESS"))
+        .unwrap();
+    assert_eq!(t.tick_once(&mut ctx), Ok(Status::Success));
+    assert_eq!(ctx.steps, 0);
+}

@@ -64,7 +64,8 @@ struct Loop<T> {
     literal: Option<Vec<T>>,
     queue_key: Option<String>,
     value_key: Option<String>,
-    if_empty: NodeStatus,
+    /// `None`: bound to an entry, read when the queue is found empty.
+    if_empty: Option<NodeStatus>,
     current: Current<T>,
     /// The run's copy of a literal, `Vec` or text queue; kept between runs for its capacity.
     copy: VecDeque<T>,
@@ -166,7 +167,20 @@ where
                 }
             }
             let Some(value) = self.pop() else {
-                return self.if_empty;
+                return match self.if_empty {
+                    Some(status) => status,
+                    None => match node.input::<String>("if_empty").map(|t| status_of(&t)) {
+                        Ok(Ok(status)) => status,
+                        Ok(Err(message)) => {
+                            node.fail(message);
+                            NodeStatus::Failure
+                        }
+                        Err(e) => {
+                            node.fail(e.to_string());
+                            NodeStatus::Failure
+                        }
+                    },
+                };
             };
             self.write_value(node, value);
         }
@@ -231,9 +245,11 @@ where
                     Some(PortValue::Entry(key)) => Some(key.clone()),
                     _ => None,
                 };
+                // Bound to an entry: read when the queue is found empty (`None`).
                 let if_empty = match value_of("if_empty") {
-                    Some(PortValue::Literal(text)) => status_of(text)?,
-                    _ => NodeStatus::Success,
+                    Some(PortValue::Literal(text)) => Some(status_of(text)?),
+                    Some(PortValue::Entry(_)) => None,
+                    None => Some(NodeStatus::Success),
                 };
                 Ok(NodeKind::Custom(Box::new(CustomSpec {
                     type_name: name.into(),

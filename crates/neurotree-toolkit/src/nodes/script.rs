@@ -115,32 +115,77 @@ fn parse(ports: &[Port]) -> Result<Script, String> {
 
 /// BehaviorTree.CPP's Precondition decorator (see the module doc).
 struct Precondition {
-    script: Script,
+    /// The `if` script, parsed at load from a literal; with `if` bound to an entry, the
+    /// script last read from it, parsed again only when the text changes (as
+    /// BehaviorTree.CPP's `ScriptPrecondition` does).
+    script: Option<Script>,
+    /// `if` is read from the blackboard at each check.
+    script_from_entry: bool,
     enums: Arc<Enums>,
-    otherwise: NodeStatus,
+    /// `else`: `None` when bound to an entry, read when `if` is false.
+    otherwise: Option<NodeStatus>,
     child_running: bool,
+}
+
+impl Precondition {
+    /// The script to check now: the literal's, or the entry's, parsed if it changed.
+    fn script<C>(&mut self, node: &mut NodeCtx<'_, '_, C>) -> Result<&Script, String> {
+        if self.script_from_entry {
+            let code = node.input::<String>("if").map_err(|e| e.to_string())?;
+            if self.script.as_ref().map_or(true, |s| s.source() != code) {
+                let script = Script::parse(&code)
+                    .map_err(|e| format!("in script `{}`: {e}", e.excerpt(&code)))?;
+                self.script = Some(script);
+            }
+        }
+        self.script
+            .as_ref()
+            .ok_or_else(|| String::from("no `if` script"))
+    }
+
+    /// `else`: the literal's status, or the entry's, read now.
+    fn otherwise<C>(&self, node: &mut NodeCtx<'_, '_, C>) -> Result<NodeStatus, String> {
+        match self.otherwise {
+            Some(status) => Ok(status),
+            None => status_of(&node.input::<String>("else").map_err(|e| e.to_string())?),
+        }
+    }
 }
 
 impl<C> CustomNode<C> for Precondition {
     fn tick(&mut self, node: &mut NodeCtx<'_, '_, C>) -> NodeStatus {
         if !self.child_running {
+            let enums = Arc::clone(&self.enums);
+            let script = match self.script(node) {
+                Ok(script) => script.clone(),
+                Err(message) => {
+                    node.fail(message);
+                    return NodeStatus::Failure;
+                }
+            };
             let (scope, stamp) = (node.scope(), node.now());
             let mut env = ScriptEnv {
                 blackboard: node.blackboard(),
                 scope,
-                enums: &self.enums,
+                enums: &enums,
                 stamp,
                 max_string_len: crate::script::DEFAULT_MAX_STRING_LEN,
             };
-            let holds = match self.script.eval(&mut env) {
+            let holds = match script.eval(&mut env) {
                 Ok(v) => truthy(&v),
                 Err(e) => {
-                    node.fail(format!("script `{}`: {e}", e.excerpt(self.script.source())));
+                    node.fail(format!("script `{}`: {e}", e.excerpt(script.source())));
                     return NodeStatus::Failure;
                 }
             };
             if !holds {
-                return self.otherwise;
+                return match self.otherwise(node) {
+                    Ok(status) => status,
+                    Err(message) => {
+                        node.fail(message);
+                        NodeStatus::Failure
+                    }
+                };
             }
         }
         // As BehaviorTree.CPP's `_children_running`: set once `if` held, cleared only when
@@ -229,16 +274,33 @@ pub(crate) fn register<C: 'static>(registry: &mut Registry<C>) {
             ],
             Arc::new(|ports, enums| {
                 let enums = Arc::clone(enums);
-                let code = literal(ports, "if")?;
-                let script = Script::parse(code)
-                    .map_err(|e| format!("in script `{}`: {e}", e.excerpt(code)))?;
-                let otherwise = status_of(literal(ports, "else")?)?;
+                let bound = |name: &str| {
+                    matches!(
+                        ports.iter().find(|p| p.name == name).map(|p| &p.value),
+                        Some(PortValue::Entry(_))
+                    )
+                };
+                let script_from_entry = bound("if");
+                let script = if script_from_entry {
+                    None
+                } else {
+                    let code = literal(ports, "if")?;
+                    let parsed = Script::parse(code)
+                        .map_err(|e| format!("in script `{}`: {e}", e.excerpt(code)))?;
+                    Some(parsed)
+                };
+                let otherwise = if bound("else") {
+                    None
+                } else {
+                    Some(status_of(literal(ports, "else")?)?)
+                };
                 Ok(NodeKind::Custom(Box::new(CustomSpec {
                     type_name: "Precondition".into(),
                     arity: Arity::One,
                     factory: Box::new(move || {
                         Box::new(Precondition {
                             script: script.clone(),
+                            script_from_entry,
                             enums: Arc::clone(&enums),
                             otherwise,
                             child_running: false,
