@@ -290,6 +290,32 @@ impl Blackboard {
         Ok(())
     }
 
+    /// Changes the value of `key` as seen from `scope` in place, if its entry holds a `T`:
+    /// a write (the sequence number grows, the stamp is `stamp`) that reuses what the value
+    /// already owns, such as a `String`'s buffer. `false`, changing nothing, when there is
+    /// no such entry or it holds another type.
+    pub fn modify_in<T: Any + Send + Sync>(
+        &mut self,
+        scope: ScopeId,
+        key: &str,
+        stamp: Duration,
+        change: impl FnOnce(&mut T),
+    ) -> bool {
+        let Some((s, k)) = resolve(&self.links, &self.entries, scope, key) else {
+            return false;
+        };
+        let Some(entry) = entries_mut(&mut self.entries, s).get_mut(k) else {
+            return false;
+        };
+        let Some(value) = entry.value.downcast_mut::<T>() else {
+            return false;
+        };
+        change(value);
+        entry.touch(stamp);
+        self.last_stamp = self.last_stamp.max(stamp);
+        true
+    }
+
     /// Writes `key` as seen from `scope` whatever type its entry held, and fixes the entry's
     /// type to `T` from now on; the sequence number still grows by one. For loaders that turn
     /// a text entry into the type a port declares. An unknown scope is ignored.

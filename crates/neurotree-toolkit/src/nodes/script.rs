@@ -78,10 +78,28 @@ struct SetBlackboard {
 
 impl<C> Action<C> for SetBlackboard {
     fn tick(&self, h: &mut Handle<'_, C>) -> Status {
+        let (scope, stamp) = (h.scope(), h.now());
+        // A literal written into a text entry reuses the entry's buffer: no allocation
+        // once the entry exists.
+        let ports = h.ports();
+        if let Some(PortValue::Literal(text)) =
+            ports.iter().find(|p| p.name == "value").map(|p| &p.value)
+        {
+            let written = h
+                .blackboard_mut()
+                .modify_in::<String>(scope, &self.key, stamp, |s| {
+                    s.clear();
+                    s.push_str(text);
+                });
+            if !written {
+                h.blackboard_mut()
+                    .replace_in(scope, &self.key, text.clone(), stamp);
+            }
+            return Status::Success;
+        }
         let Ok(value) = h.input::<String>("value") else {
             return Status::Failure;
         };
-        let (scope, stamp) = (h.scope(), h.now());
         h.blackboard_mut()
             .replace_in(scope, &self.key, value, stamp);
         Status::Success
