@@ -248,3 +248,52 @@ fn a_loops_if_empty_is_read_from_its_entry_when_the_queue_is_empty() {
     assert_eq!(t.tick_once(&mut ctx), Ok(Status::Success));
     assert_eq!(ctx.steps, 0);
 }
+
+#[test]
+fn a_models_subtree_ports_give_defaults_and_mandatory_ports() {
+    let file = |subtree: &str| {
+        format!(
+            r#"<root BTCPP_format="4" main_tree_to_execute="Main">
+                 <BehaviorTree ID="Main">{subtree}</BehaviorTree>
+                 <BehaviorTree ID="Walk">
+                   <Repeat num_cycles="{{steps}}"><Step/></Repeat>
+                 </BehaviorTree>
+                 <TreeNodesModel>
+                   <SubTree ID="Walk">
+                     <input_port name="steps" default="2"/>
+                     <input_port name="target"/>
+                   </SubTree>
+                 </TreeNodesModel>
+               </root>"#
+        )
+    };
+    let r = registry();
+    // `steps` is left out: the model's default applies; `target` is mandatory.
+    let mut loader = XmlLoader::new(&r);
+    loader
+        .load_str(&file(r#"<SubTree ID="Walk" target="{goal}"/>"#), "walk.xml")
+        .unwrap();
+    let mut t = Tree::with_clock(loader.build_main().unwrap().into(), ManualClock::new());
+    let mut ctx = Ctx::default();
+    assert_eq!(t.tick_once(&mut ctx), Ok(Status::Success));
+    assert_eq!(ctx.steps, 2);
+    let mut loader = XmlLoader::new(&r);
+    loader
+        .load_str(&file(r#"<SubTree ID="Walk"/>"#), "walk.xml")
+        .unwrap();
+    let e = loader.build_main().unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "walk.xml:2:42: error: the TreeNodesModel declares port `target` of SubTree `Walk` \
+         with no default, so it is mandatory; remap it here (target=\"{key}\") or give it a value"
+    );
+    // Autoremapping takes the ports from the parent instead, as in BehaviorTree.CPP.
+    let mut loader = XmlLoader::new(&r);
+    loader
+        .load_str(
+            &file(r#"<SubTree ID="Walk" _autoremap="true"/>"#),
+            "walk.xml",
+        )
+        .unwrap();
+    assert!(loader.build_main().is_ok());
+}

@@ -618,6 +618,26 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
                 },
             }
         }
+        // As BehaviorTree.CPP: a port the model declares and the SubTree leaves out takes
+        // the model's default, or is an error if it has none (unless autoremapping).
+        if let Some(ports) = self.loader.subtree_model(id).filter(|_| !scope.autoremap) {
+            for (port, default) in ports {
+                if el.attr(port).is_some() {
+                    continue;
+                }
+                let Some(default) = default else {
+                    return Err(el.error(format!(
+                        "the TreeNodesModel declares port `{port}` of SubTree `{id}` with no \
+                         default, so it is mandatory; remap it here ({port}=\"{{key}}\") or give \
+                         it a value"
+                    )));
+                };
+                match binding(port, default) {
+                    PortValue::Entry(parent_key) => scope.remap.push((port.clone(), parent_key)),
+                    PortValue::Literal(text) => scope.values.push((port.clone(), text)),
+                }
+            }
+        }
         let name = el.attr("name").unwrap_or(id);
         let hooks = conditions(el, self.loader.registry.enums())?;
         self.stack.push(id.to_string());

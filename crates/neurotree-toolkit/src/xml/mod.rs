@@ -154,6 +154,9 @@ pub struct XmlLoader<'r, C> {
     sizes: std::sync::Mutex<BTreeMap<String, u64>>,
     /// What the files loaded so far should change, in load order.
     warnings: Vec<LoadWarning>,
+    /// The ports the files' `TreeNodesModel`s declare for SubTrees, by tree ID: each
+    /// port's name and default (`None`: mandatory), applied where a SubTree leaves one out.
+    subtree_models: BTreeMap<String, Vec<(String, Option<String>)>>,
 }
 
 impl<C> fmt::Debug for XmlLoader<'_, C> {
@@ -182,6 +185,7 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
             max_file_bytes: DEFAULT_MAX_FILE_BYTES,
             sizes: std::sync::Mutex::default(),
             warnings: Vec::new(),
+            subtree_models: BTreeMap::new(),
         }
     }
 
@@ -346,8 +350,9 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
                     self.warn_aliases(at, element);
                 }
                 "include" => self.include(at, element, dir)?,
-                // Models describe nodes for editors; the registry is the loader's model.
-                "TreeNodesModel" => {}
+                // Models describe nodes for editors, and the registry is the loader's model
+                // of nodes; but a model's SubTree ports are applied as BehaviorTree.CPP does.
+                "TreeNodesModel" => self.read_subtree_models(at, element)?,
                 other => {
                     return Err(child.error(format!(
                         "unexpected <{other}> under <root>; expected <BehaviorTree>, <include> or <TreeNodesModel>"
@@ -356,6 +361,31 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
             }
         }
         Ok(())
+    }
+
+    /// Keeps the ports that the `<SubTree>` entries of model `element` declare.
+    fn read_subtree_models(&mut self, doc: usize, element: usize) -> Result<(), LoadError> {
+        let model = self.docs[doc].element(element);
+        for sub in model.children().filter(|c| c.tag() == "SubTree") {
+            let id = sub
+                .attr("ID")
+                .ok_or_else(|| sub.error("<SubTree> in a TreeNodesModel needs an ID"))?;
+            let ports = sub
+                .children()
+                .filter(|p| p.tag().ends_with("_port"))
+                .filter_map(|p| {
+                    let name = p.attr("name")?;
+                    Some((name.to_string(), p.attr("default").map(String::from)))
+                })
+                .collect();
+            self.subtree_models.insert(id.to_string(), ports);
+        }
+        Ok(())
+    }
+
+    /// The ports a model declares for the SubTree `id`, if one does.
+    fn subtree_model(&self, id: &str) -> Option<&[(String, Option<String>)]> {
+        self.subtree_models.get(id).map(Vec::as_slice)
     }
 
     /// Warns of each element of tree `element` that names its type by an alias.
