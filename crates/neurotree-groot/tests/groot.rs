@@ -11,7 +11,6 @@ use neurotree::groot::{Groot2Monitor, Groot2Server};
 use neurotree::xml::{write_xml, SaveOptions};
 use neurotree::NodeStatus::{Idle, Running, Success};
 use neurotree::{ManualClock, Registry, Status, Tree, XmlLoader};
-use zeromq::{ReqSocket, Socket, SocketRecv, SocketSend, ZmqMessage};
 
 #[path = "../../neurotree-core/tests/support/counting_alloc.rs"]
 mod counting_alloc;
@@ -65,47 +64,19 @@ fn fixture() -> Fixture {
     }
 }
 
-/// A Groot2-like client: one REQ socket, one request at a time.
-struct Client {
-    runtime: tokio::runtime::Runtime,
-    socket: ReqSocket,
-}
+#[path = "support/client.rs"]
+mod client;
+
+/// The shared client, with this file's timeout.
+struct Client(client::Client);
 
 impl Client {
     fn connect(port: u16) -> Client {
-        let runtime = tokio::runtime::Builder::new_current_thread()
-            .enable_all()
-            .build()
-            .unwrap();
-        let socket = runtime.block_on(async {
-            let mut socket = ReqSocket::new();
-            tokio::time::timeout(TIMEOUT, socket.connect(&format!("tcp://127.0.0.1:{port}")))
-                .await
-                .expect("connecting timed out")
-                .unwrap();
-            socket
-        });
-        Client { runtime, socket }
+        Client(client::Client::connect(port, TIMEOUT))
     }
 
     fn request(&mut self, frames: &[&[u8]]) -> Vec<Vec<u8>> {
-        let mut message = ZmqMessage::from(frames[0].to_vec());
-        for frame in &frames[1..] {
-            message.push_back(frame.to_vec().into());
-        }
-        let socket = &mut self.socket;
-        self.runtime.block_on(async {
-            tokio::time::timeout(TIMEOUT, async {
-                socket.send(message).await.unwrap();
-                socket.recv().await.unwrap()
-            })
-            .await
-            .expect("no reply in time")
-            .into_vec()
-            .into_iter()
-            .map(|b| b.to_vec())
-            .collect()
-        })
+        self.0.request_within(frames, TIMEOUT)
     }
 }
 

@@ -10,7 +10,6 @@ use std::time::{Duration, Instant};
 
 use neurotree::groot::{Groot2Monitor, Groot2Options, Groot2Server};
 use neurotree::{Registry, XmlLoader};
-use zeromq::{ReqSocket, Socket, SocketRecv, SocketSend, ZmqMessage};
 
 /// Long enough for a loaded machine; every wait below is bounded by it.
 const TIMEOUT: Duration = Duration::from_secs(20);
@@ -101,47 +100,23 @@ fn closed_by_server(stream: &mut TcpStream, within: Duration) -> usize {
     }
 }
 
-/// A Groot2-like client: a ZeroMQ REQ socket, one request at a time, each answered within
-/// [`PROMPT`] or the test fails.
-struct Client {
-    runtime: tokio::runtime::Runtime,
-    socket: ReqSocket,
-}
+#[path = "support/client.rs"]
+mod client;
+
+/// The shared client; each status request must be answered within [`PROMPT`].
+struct Client(client::Client);
 
 impl Client {
     fn connect(port: u16) -> Client {
-        let runtime = tokio::runtime::Builder::new_current_thread()
-            .enable_all()
-            .build()
-            .unwrap();
-        let socket = runtime.block_on(async {
-            let mut socket = ReqSocket::new();
-            tokio::time::timeout(TIMEOUT, socket.connect(&format!("tcp://127.0.0.1:{port}")))
-                .await
-                .expect("connecting timed out")
-                .unwrap();
-            socket
-        });
-        Client { runtime, socket }
+        Client(client::Client::connect(port, TIMEOUT))
     }
 
     /// The status request's reply header, answered within [`PROMPT`].
     fn status(&mut self) -> Vec<u8> {
-        let socket = &mut self.socket;
         let started = Instant::now();
-        let reply = self.runtime.block_on(async {
-            tokio::time::timeout(PROMPT, async {
-                socket
-                    .send(ZmqMessage::from(vec![2, b'S', 1, 0, 0, 0]))
-                    .await
-                    .unwrap();
-                socket.recv().await.unwrap()
-            })
-            .await
-            .unwrap_or_else(|_| panic!("no reply within {PROMPT:?}"))
-        });
+        let reply = self.0.request_within(&[&[2, b'S', 1, 0, 0, 0]], PROMPT);
         assert!(started.elapsed() <= PROMPT);
-        reply.get(0).unwrap().to_vec()
+        reply[0].clone()
     }
 }
 
