@@ -14,4 +14,4 @@ pub use nodes::{
 };
 /// The ROS 2 client library underneath, for servers and types the nodes do not wrap.
 pub use ros2_client;
-pub use ros_node::{default_qos, Network, RosNode, RosOptions};
+pub use ros_node::{default_qos, Network, RosActionClient, RosActionServer, RosNode, RosOptions};

@@ -59,6 +59,14 @@ impl RosOptions {
     }
 }
 
+/// ros2-client's client of action type `A`.
+pub type RosActionClient<A> =
+    ActionClient<<A as RosAction>::Goal, <A as RosAction>::Result, <A as RosAction>::Feedback>;
+
+/// ros2-client's server of action type `A`.
+pub type RosActionServer<A> =
+    ActionServer<<A as RosAction>::Goal, <A as RosAction>::Result, <A as RosAction>::Feedback>;
+
 /// ROS 2's default QoS for topics and services: reliable, volatile, the last 10 kept.
 pub fn default_qos() -> QosProfile {
     QosProfile::publisher_default()
@@ -205,7 +213,7 @@ impl RosNode {
     pub fn action_client<A: RosAction>(
         &self,
         action: &str,
-    ) -> Result<ActionClient<A::Goal, A::Result, A::Feedback>, Ros2Error> {
+    ) -> Result<RosActionClient<A>, Ros2Error> {
         let name = parse_name(action)?;
         let (package, type_name) = A::TYPE;
         let qos = ActionClientQosPolicies {
@@ -229,7 +237,7 @@ impl RosNode {
     pub fn action_server<A: RosAction>(
         &self,
         action: &str,
-    ) -> Result<ActionServer<A::Goal, A::Result, A::Feedback>, Ros2Error> {
+    ) -> Result<RosActionServer<A>, Ros2Error> {
         let name = parse_name(action)?;
         let (package, type_name) = A::TYPE;
         let qos = ActionServerQosPolicies {

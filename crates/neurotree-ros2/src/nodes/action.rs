@@ -44,11 +44,11 @@ use std::fmt;
 use std::time::{Duration, Instant};
 
 use neurotree_toolkit::{Handle, PortSpec, Registry, RegistryError, StatefulAction, Status};
-use ros2_client::action::{ActionClient, GoalId, GoalStatusEnum};
+use ros2_client::action::{GoalId, GoalStatusEnum};
 use ros2_client::service::RmwRequestId;
 
 use super::{client_ports, deadline, report, ClientPorts, ServerPresence};
-use crate::ros_node::parse_name;
+use crate::ros_node::{parse_name, RosActionClient};
 use crate::{RosAction, RosNode};
 
 type Goal<S, C> = <<S as ActionSpec<C>>::Action as RosAction>::Goal;
@@ -170,7 +170,7 @@ struct Client<A: RosAction> {
     /// The DDS topic the server's goal reader is on: its presence is the server's.
     goal_topic: String,
     presence: ServerPresence,
-    client: ActionClient<A::Goal, A::Result, A::Feedback>,
+    client: RosActionClient<A>,
 }
 
 /// Where a run of the node is.
