@@ -22,9 +22,11 @@ use ros2_client::action::{
 };
 use ros2_client::qos::{Durability, History, WhenFull};
 use ros2_client::service::{Client, Server};
+/// How service requests carry their ids on DDS (see [`RosOptions::service_mapping`]).
+pub use ros2_client::ServiceMapping;
 use ros2_client::{
     ActionTypeName, Context, MessageTypeName, Name, NodeName, NodeOptions, Publisher, QosProfile,
-    ServiceMapping, ServiceTypeName, Subscription,
+    ServiceTypeName, Subscription,
 };
 use rustdds::{DomainParticipant, DomainParticipantBuilder};
 
@@ -41,12 +43,26 @@ pub enum Network {
 }
 
 /// How to start a [`RosNode`].
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug)]
 pub struct RosOptions {
     /// The DDS domain (`ROS_DOMAIN_ID`); 0 by default.
     pub domain_id: u16,
     /// The interfaces used.
     pub network: Network,
+    /// How service and action requests carry their ids: it depends on the peer's
+    /// middleware. `Enhanced` (the default) is `rmw_fastrtps`'s, ROS 2's default;
+    /// `Cyclone` is `rmw_cyclonedds`'s.
+    pub service_mapping: ServiceMapping,
+}
+
+impl Default for RosOptions {
+    fn default() -> Self {
+        Self {
+            domain_id: 0,
+            network: Network::Loopback,
+            service_mapping: ServiceMapping::Enhanced,
+        }
+    }
 }
 
 impl RosOptions {
@@ -54,7 +70,7 @@ impl RosOptions {
     pub fn loopback(domain_id: u16) -> Self {
         Self {
             domain_id,
-            network: Network::Loopback,
+            ..Self::default()
         }
     }
 }
@@ -92,6 +108,7 @@ struct Inner {
     node: Mutex<ros2_client::Node>,
     name: NodeName,
     participant: DomainParticipant,
+    service_mapping: ServiceMapping,
 }
 
 impl RosNode {
@@ -118,6 +135,7 @@ impl RosNode {
                 node: Mutex::new(node),
                 name: node_name,
                 participant,
+                service_mapping: options.service_mapping,
             }),
         })
     }
@@ -182,7 +200,7 @@ impl RosNode {
         let (package, type_name) = S::TYPE;
         self.node()
             .create_client(
-                ServiceMapping::Enhanced,
+                self.inner.service_mapping,
                 &name,
                 &ServiceTypeName::new(package, type_name),
                 default_qos(),
@@ -200,7 +218,7 @@ impl RosNode {
         let (package, type_name) = S::TYPE;
         self.node()
             .create_server(
-                ServiceMapping::Enhanced,
+                self.inner.service_mapping,
                 &name,
                 &ServiceTypeName::new(package, type_name),
                 default_qos(),
@@ -225,7 +243,7 @@ impl RosNode {
         };
         self.node()
             .create_action_client(
-                ServiceMapping::Enhanced,
+                self.inner.service_mapping,
                 &name,
                 &ActionTypeName::new(package, type_name),
                 qos,
@@ -251,7 +269,7 @@ impl RosNode {
         };
         self.node()
             .create_action_server(
-                ServiceMapping::Enhanced,
+                self.inner.service_mapping,
                 &name,
                 &ActionTypeName::new(package, type_name),
                 qos,
