@@ -13,7 +13,7 @@ use neurotree_ros2::msg::nav2_msgs::{Spin, SpinFeedback, SpinGoal, SpinResult};
 use neurotree_ros2::ros2_client::action::{GetResultResponse, GoalStatusEnum, SendGoalResponse};
 use neurotree_ros2::ros2_client::builtin_interfaces::Time;
 use neurotree_ros2::{ActionError, ActionSpec, RosActionNode, RosNode};
-use neurotree_toolkit::{Blueprint, Handle, Port, Status};
+use neurotree_toolkit::{Blueprint, Handle, Port, PortSpec, Status};
 
 /// What the tree saw: feedback received, the failure reported.
 #[derive(Default)]
@@ -27,6 +27,10 @@ struct SpinBy(Arc<Mutex<Seen>>);
 
 impl ActionSpec<()> for SpinBy {
     type Action = Spin;
+
+    fn ports() -> Vec<PortSpec> {
+        vec![PortSpec::input::<f32>("yaw")]
+    }
 
     fn goal(&mut self, h: &mut Handle<'_, ()>) -> Result<SpinGoal, String> {
         let yaw: f32 = h.input("yaw").map_err(|e| e.to_string())?;
@@ -300,4 +304,45 @@ fn halting_a_running_goal_sends_the_server_a_cancel_request() {
         std::thread::sleep(Duration::from_millis(20));
     }
     assert_eq!(server.log.cancels.load(Ordering::SeqCst), 1);
+}
+
+#[test]
+fn registered_for_xml_the_node_has_behaviortree_ros2_ports_and_reports_why_it_failed() {
+    let domain = free_domain();
+    let ros = node("tree", domain.id);
+    let mut registry = neurotree_toolkit::Registry::<()>::new();
+    let seen = Arc::new(Mutex::new(Seen::default()));
+    let shared = Arc::clone(&seen);
+    RosActionNode::register(&mut registry, "Spin", &ros, "spin", move || {
+        SpinBy(Arc::clone(&shared))
+    })
+    .unwrap();
+    let ports = RosActionNode::<(), SpinBy>::ports("spin");
+    let names: Vec<&str> = ports.iter().map(|p| p.name.as_str()).collect();
+    assert_eq!(
+        names,
+        [
+            "yaw",
+            "action_name",
+            "server_timeout",
+            "wait_for_server_timeout",
+            "error_msg"
+        ]
+    );
+    let mut loader = neurotree_toolkit::XmlLoader::new(&registry);
+    let xml = r#"<root BTCPP_format="4"><BehaviorTree ID="T">
+        <Spin action_name="/robot1/spin" yaw="0.5" wait_for_server_timeout="100"
+              server_timeout="500" error_msg="{why}"/>
+      </BehaviorTree></root>"#;
+    loader.load_str(xml, "t.xml").unwrap();
+    let mut tree = neurotree_toolkit::Tree::new(Arc::new(loader.build_main().unwrap()));
+
+    let status = tick_until_done(&mut tree, &mut (), Duration::from_secs(5));
+
+    assert_eq!(status, Status::Failure);
+    let why: String = tree.blackboard().get("why").unwrap();
+    assert!(
+        why.starts_with("action server `/robot1/spin` not found within"),
+        "{why}"
+    );
 }
