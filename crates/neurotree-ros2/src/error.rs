@@ -1,0 +1,33 @@
+//! What can go wrong when the bridge sets up its ROS 2 side.
+
+/// An error of the ROS 2 bridge: making the node, or an endpoint on it.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum Ros2Error {
+    /// The DDS participant or the ROS 2 node could not be made.
+    #[error("cannot start the ROS 2 node `{node}`: {message}")]
+    Node {
+        /// The node's name.
+        node: String,
+        /// RustDDS's or ros2-client's reason.
+        message: String,
+    },
+    /// A topic, service or action name is not a valid ROS 2 name.
+    #[error("`{name}` is not a valid ROS 2 name: {message}")]
+    Name {
+        /// The name given.
+        name: String,
+        /// Why not.
+        message: String,
+    },
+    /// A publisher, subscription, client or server could not be made.
+    #[error("cannot create the {kind} for `{name}`: {message}")]
+    Endpoint {
+        /// `publisher`, `subscription`, `service client`, `action client`, ...
+        kind: &'static str,
+        /// The topic, service or action name.
+        name: String,
+        /// RustDDS's reason.
+        message: String,
+    },
+}

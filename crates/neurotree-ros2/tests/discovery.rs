@@ -1,0 +1,36 @@
+//! Two bridge nodes, each with its own DDS participant, find each other over 127.0.0.1 (the
+//! unicast SPDP of `Network::Loopback`) and exchange a message.
+
+mod common;
+
+use std::time::{Duration, Instant};
+
+use common::{free_domain, node};
+use neurotree_ros2::msg::std_msgs;
+
+#[test]
+fn two_loopback_participants_discover_each_other_and_exchange_a_message() {
+    let domain = free_domain();
+    let talker = node("talker", domain.id);
+    let listener = node("listener", domain.id);
+    let publisher = talker.publisher::<std_msgs::String>("chatter").unwrap();
+    let subscription = listener
+        .subscription::<std_msgs::String>("chatter")
+        .unwrap();
+    let started = Instant::now();
+
+    let mut received = None;
+    while received.is_none() && started.elapsed() < Duration::from_secs(10) {
+        publisher.publish("hello".into()).unwrap();
+        std::thread::sleep(Duration::from_millis(20));
+        received = subscription.take().unwrap().map(|(message, _)| message);
+    }
+
+    assert_eq!(received, Some(std_msgs::String::from("hello")));
+    // Discovery on loopback takes a fraction of a second (about 0.25 s measured).
+    assert!(
+        started.elapsed() < Duration::from_secs(5),
+        "{:?}",
+        started.elapsed()
+    );
+}
