@@ -297,3 +297,28 @@ fn a_models_subtree_ports_give_defaults_and_mandatory_ports() {
         .unwrap();
     assert!(loader.build_main().is_ok());
 }
+
+#[test]
+fn a_number_given_to_a_subtree_is_a_number_its_scripts_add_to() {
+    let r = registry();
+    let mut loader = XmlLoader::new(&r);
+    loader
+        .load_str(
+            r#"<root BTCPP_format="4" main_tree_to_execute="Main">
+                 <BehaviorTree ID="Main"><SubTree ID="Count" n="3" label="x"/></BehaviorTree>
+                 <BehaviorTree ID="Count">
+                   <Sequence>
+                     <Script code="m := n + 1; tag := label .. '!'"/>
+                     <ReadI32 n="{m}"/>
+                     <ReadI32 n="{n}"/>
+                   </Sequence>
+                 </BehaviorTree>
+               </root>"#,
+            "count.xml",
+        )
+        .unwrap();
+    let mut t = Tree::with_clock(loader.build_main().unwrap().into(), ManualClock::new());
+    let mut ctx = Ctx::default();
+    assert_eq!(t.tick_once(&mut ctx), Ok(Status::Success));
+    assert_eq!(ctx.read, [Ok(4), Ok(3)]);
+}

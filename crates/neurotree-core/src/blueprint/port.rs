@@ -255,6 +255,59 @@ impl FromPortStr for String {
     fn from_port_str(text: &str) -> Result<Self, ()> {
         Ok(String::from(text))
     }
+
+    /// A number or boolean entry read as text, as BehaviorTree.CPP's `Any` converts one to
+    /// a string (reals in their shortest form).
+    fn from_other(value: &dyn Any) -> Option<Result<Self, String>> {
+        Number::of(value).map(|n| {
+            Ok(match n {
+                Number::Real(r) => r.to_string(),
+                n => n.to_string(),
+            })
+        })
+    }
+}
+
+/// A SubTree's literal port value as BehaviorTree.CPP 4.10 stores it in the subtree's
+/// blackboard, so that scripts can do arithmetic with it: an integer (as `std::from_chars`
+/// reads one: the whole text, no `+`, no spaces, no `.` or exponent) as an `i32` when it fits,
+/// else an `i64`; else a real, read the same strict way; else the text.
+pub enum Literal {
+    /// Fits `i32`.
+    Int(i32),
+    /// An integer past `i32`.
+    Long(i64),
+    /// A real.
+    Real(f64),
+    /// Anything else.
+    Text(String),
+}
+
+impl Literal {
+    /// Reads `text` as BehaviorTree.CPP types a SubTree's literal.
+    pub fn parse(text: &str) -> Literal {
+        let strict = !text.is_empty()
+            && !text.starts_with('+')
+            && !text.contains(|c: char| c.is_whitespace());
+        if strict && !text.contains(['.', 'e', 'E']) {
+            if let Ok(i) = text.parse::<i64>() {
+                return match i32::try_from(i) {
+                    Ok(i) => Literal::Int(i),
+                    Err(_) => Literal::Long(i),
+                };
+            }
+        }
+        // `from_chars` reads no hexadecimal real and no word but inf and nan.
+        let looks_real = text.trim_start_matches('-').starts_with(|c: char| {
+            c.is_ascii_digit() || c == '.' || c == 'i' || c == 'n' || c == 'I' || c == 'N'
+        });
+        if strict && looks_real {
+            if let Ok(r) = text.parse::<f64>() {
+                return Literal::Real(r);
+            }
+        }
+        Literal::Text(String::from(text))
+    }
 }
 
 impl<T: FromPortStr> FromPortStr for Vec<T> {
@@ -312,6 +365,28 @@ mod tests {
         assert_eq!(bool::from_other(&2_i64), Some(Err("2".into())));
         // Types that are no number convert from nothing but text.
         assert_eq!(i32::from_other(&String::from("3")), None);
-        assert_eq!(String::from_other(&3_i64), None);
+        assert_eq!(Vec::<i32>::from_other(&3_i64), None);
+        // Numbers read as text, as Any converts them to a string.
+        assert_eq!(String::from_other(&3_i64), Some(Ok("3".into())));
+        assert_eq!(String::from_other(&0.5_f64), Some(Ok("0.5".into())));
+    }
+
+    #[test]
+    fn subtree_literals_are_typed_as_bt_cpp_types_them() {
+        let kind = |text: &str| match Literal::parse(text) {
+            Literal::Int(i) => alloc::format!("int {i}"),
+            Literal::Long(i) => alloc::format!("long {i}"),
+            Literal::Real(r) => alloc::format!("real {r}"),
+            Literal::Text(t) => alloc::format!("text {t}"),
+        };
+        assert_eq!(kind("3"), "int 3");
+        assert_eq!(kind("-7"), "int -7");
+        assert_eq!(kind("3000000000"), "long 3000000000");
+        assert_eq!(kind("0.5"), "real 0.5");
+        assert_eq!(kind("1e3"), "real 1000");
+        // What from_chars does not read whole stays text.
+        for text in ["+3", " 3", "3 ", "1;2;3", "2.2;2.4", "0x10", "hello", ""] {
+            assert_eq!(kind(text), alloc::format!("text {text}"), "{text:?}");
+        }
     }
 }

@@ -101,8 +101,23 @@ impl<C> Tree<C> {
                 blackboard.remap(id, child_key, parent_key);
             }
             // The subtree's own entries: never written through autoremap into the parent.
+            // Numbers typed as BehaviorTree.CPP 4.10 types them, so that scripts can
+            // compute with them.
             for (child_key, text) in &scope.values {
-                blackboard.replace_own_in(id, child_key, text.clone(), Duration::ZERO);
+                match crate::blueprint::Literal::parse(text) {
+                    crate::blueprint::Literal::Int(i) => {
+                        blackboard.replace_own_in(id, child_key, i, Duration::ZERO)
+                    }
+                    crate::blueprint::Literal::Long(i) => {
+                        blackboard.replace_own_in(id, child_key, i, Duration::ZERO)
+                    }
+                    crate::blueprint::Literal::Real(r) => {
+                        blackboard.replace_own_in(id, child_key, r, Duration::ZERO)
+                    }
+                    crate::blueprint::Literal::Text(t) => {
+                        blackboard.replace_own_in(id, child_key, t, Duration::ZERO)
+                    }
+                }
             }
         }
         // As in BehaviorTree.CPP, every entry a port names exists from the start.

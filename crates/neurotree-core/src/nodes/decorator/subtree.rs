@@ -64,18 +64,26 @@ mod tests {
 
     #[test]
     fn literal_values_seed_the_child_scope() {
+        // Typed as BehaviorTree.CPP 4.10 types them: numbers as numbers, the rest as text.
         let scope = SubTreeScope {
             remap: vec![],
             autoremap: false,
-            values: vec![("speed".into(), "0.5".into())],
+            values: vec![
+                ("speed".into(), "0.5".into()),
+                ("laps".into(), "3".into()),
+                ("name".into(), "kitchen".into()),
+            ],
         };
         let lab = Lab::new(&[]);
         let tree = lab.tree(|b| b.subtree("sub", scope, |t| t.always_success("x")));
         let inner = tree.subtree_scope(NodeId(0)).unwrap();
+        let bb = tree.blackboard();
+        assert_eq!(bb.get_in::<f64>(inner, "speed"), Ok(0.5));
+        assert_eq!(bb.get_in::<i32>(inner, "laps"), Ok(3));
         assert_eq!(
-            tree.blackboard().get_in::<String>(inner, "speed"),
-            Ok(String::from("0.5"))
+            bb.get_in::<String>(inner, "name"),
+            Ok(String::from("kitchen"))
         );
-        assert!(!tree.blackboard().contains("speed"));
+        assert!(!bb.contains("speed"));
     }
 }
