@@ -298,6 +298,14 @@ impl<C> Tree<C> {
     /// [`DEFAULT_MAX_PASSES`]): a `Repeat` of `-1` over a child that succeeds at once would
     /// otherwise never return. Past the bound the tree is halted and the error
     /// [`TickError::TooManyPasses`] names the node that kept asking.
+    ///
+    /// A panic in user code (a leaf, a custom node, a hook, an observer): with the `std`
+    /// feature it is caught, every Running node is halted (each Running stateful action gets
+    /// its one `on_halted`; a panic inside one skips only that node), the observer hears the
+    /// tick end, and the call returns [`TickError::Panicked`] naming the node; the next tick
+    /// starts afresh. Without `std` nothing can catch it: the panic leaves the tree as it
+    /// found it (nodes Running, counts half-way), so call [`halt`](Self::halt) before
+    /// ticking it again. [`tick_exactly_once`](Self::tick_exactly_once) does the same.
     pub fn tick_once(&mut self, ctx: &mut C) -> Result<Status, TickError> {
         self.last_passes = 0;
         loop {
