@@ -62,10 +62,12 @@ impl Alias {
 impl<C: 'static> Registry<C> {
     /// The alias `name` is, with the type it loads as, unless `name` is registered itself.
     pub(crate) fn alias(&self, name: &str) -> Option<(&'static Alias, &NodeType<C>)> {
+        // The table first: it is asked about every element of every file loaded, and two
+        // comparisons cost less than a search of the registry.
+        let alias = ALIASES.iter().find(|a| a.name == name)?;
         if self.types.contains_key(name) {
             return None;
         }
-        let alias = ALIASES.iter().find(|a| a.name == name)?;
         Some((alias, self.types.get(alias.target)?))
     }
 }
