@@ -77,6 +77,7 @@ pub use clock::{Clock, ManualClock};
 pub use nodes::custom::{CustomNode, NodeCtx};
 pub use nodes::hooks::NodeHooks;
 pub use nodes::leaf::{Action, ActionFuture, AsyncAction, Condition, Handle, StatefulAction};
+pub use nodes::{NodeDecl, PortDecl, PortDirection};
 pub use observer::{Observer, StatusChange};
 pub use status::{NodeStatus, Status};
 pub use tree::{TickError, Tree, WakeSignal, Woken, DEFAULT_MAX_PASSES};

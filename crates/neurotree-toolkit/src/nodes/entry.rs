@@ -13,10 +13,50 @@
 use std::sync::Arc;
 
 use neurotree_core::{
-    Arity, Category, CustomNode, CustomSpec, NodeCtx, NodeKind, NodeStatus, Port, PortValue,
+    Arity, Category, CustomNode, CustomSpec, NodeCtx, NodeDecl, NodeKind, NodeStatus, Port,
+    PortDecl, PortValue,
 };
 
-use crate::registry::{PortSpec, Registry};
+use crate::registry::Registry;
+
+/// WasEntryUpdated's declaration: its BehaviorTree.CPP name, family, children and ports.
+pub const WAS_ENTRY_UPDATED: NodeDecl = NodeDecl {
+    name: "WasEntryUpdated",
+    category: Category::Condition,
+    arity: Arity::Leaf,
+    ports: &[PortDecl::input(
+        "entry",
+        "String",
+        "The entry watched: `key` or `{key}`.",
+    )],
+    summary: "Success if the entry was written since the node last looked, else Failure.",
+};
+
+/// SkipUnlessUpdated's declaration: its BehaviorTree.CPP name, family, children and ports.
+pub const SKIP_UNLESS_UPDATED: NodeDecl = NodeDecl {
+    name: "SkipUnlessUpdated",
+    category: Category::Decorator,
+    arity: Arity::One,
+    ports: &[PortDecl::input(
+        "entry",
+        "String",
+        "The entry watched: `key` or `{key}`.",
+    )],
+    summary: "Ticks the child if the entry was written since the node last looked, else Skipped.",
+};
+
+/// WaitValueUpdate's declaration: its BehaviorTree.CPP name, family, children and ports.
+pub const WAIT_VALUE_UPDATE: NodeDecl = NodeDecl {
+    name: "WaitValueUpdate",
+    category: Category::Decorator,
+    arity: Arity::One,
+    ports: &[PortDecl::input(
+        "entry",
+        "String",
+        "The entry watched: `key` or `{key}`.",
+    )],
+    summary: "Running until the entry is written, then ticks the child.",
+};
 
 /// Per instance: the entry's sequence number when the node last looked.
 struct Watch {
@@ -74,41 +114,32 @@ fn entry_key(ports: &[Port]) -> Result<String, String> {
 
 fn register_watch<C: 'static>(
     registry: &mut Registry<C>,
-    name: &'static str,
+    decl: &'static NodeDecl,
     not_updated: Option<NodeStatus>,
 ) {
-    let (category, arity) = match not_updated {
-        None => (Category::Condition, Arity::Leaf),
-        Some(_) => (Category::Decorator, Arity::One),
-    };
-    registry
-        .register_leaf(
-            name,
-            category,
-            vec![PortSpec::input::<String>("entry")],
-            Arc::new(move |ports, _| {
-                let key = entry_key(ports)?;
-                Ok(NodeKind::Custom(Box::new(CustomSpec {
-                    type_name: name.into(),
-                    arity,
-                    factory: Box::new(move || {
-                        Box::new(Watch {
-                            key: key.clone(),
-                            seen: 0,
-                            not_updated,
-                            child_running: false,
-                        })
-                    }),
-                })))
-            }),
-        )
-        // Registry::new registers each built-in name once.
-        .expect("built-in node names are distinct");
+    registry.register_declared(
+        decl,
+        Arc::new(move |ports, _| {
+            let key = entry_key(ports)?;
+            Ok(NodeKind::Custom(Box::new(CustomSpec {
+                type_name: decl.name.into(),
+                arity: decl.arity,
+                factory: Box::new(move || {
+                    Box::new(Watch {
+                        key: key.clone(),
+                        seen: 0,
+                        not_updated,
+                        child_running: false,
+                    })
+                }),
+            })))
+        }),
+    );
 }
 
 /// Adds the three nodes to `registry`.
 pub(crate) fn register<C: 'static>(registry: &mut Registry<C>) {
-    register_watch(registry, "WasEntryUpdated", None);
-    register_watch(registry, "SkipUnlessUpdated", Some(NodeStatus::Skipped));
-    register_watch(registry, "WaitValueUpdate", Some(NodeStatus::Running));
+    register_watch(registry, &WAS_ENTRY_UPDATED, None);
+    register_watch(registry, &SKIP_UNLESS_UPDATED, Some(NodeStatus::Skipped));
+    register_watch(registry, &WAIT_VALUE_UPDATE, Some(NodeStatus::Running));
 }

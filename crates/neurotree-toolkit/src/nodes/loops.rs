@@ -29,11 +29,111 @@ use std::collections::VecDeque;
 use std::sync::{Arc, Mutex};
 
 use neurotree_core::{
-    Arity, Category, CustomNode, CustomSpec, FromPortStr, NodeCtx, NodeKind, NodeStatus, Port,
-    PortValue,
+    Arity, Category, CustomNode, CustomSpec, FromPortStr, NodeCtx, NodeDecl, NodeKind, NodeStatus,
+    Port, PortDecl, PortDirection, PortValue,
 };
 
-use crate::registry::{PortSpec, Registry};
+use crate::registry::Registry;
+
+/// LoopInt's declaration: its BehaviorTree.CPP name, family, children and ports.
+pub const LOOP_INT: NodeDecl = NodeDecl {
+    name: "LoopInt",
+    category: Category::Decorator,
+    arity: Arity::One,
+    ports: &[
+        PortDecl {
+            direction: PortDirection::InOut,
+            ..PortDecl::input(
+                "queue",
+                "String",
+                "The queue: an entry holding one, or a literal list separated by `;`.",
+            )
+        },
+        PortDecl::output("value", "i32", "The element the child works on."),
+        PortDecl::input(
+            "if_empty",
+            "String",
+            "The status returned when the queue is empty: SUCCESS, FAILURE or SKIPPED.",
+        )
+        .or("SUCCESS"),
+    ],
+    summary: "Runs the child once per element of a queue of integers, written to `value`.",
+};
+
+/// LoopDouble's declaration: its BehaviorTree.CPP name, family, children and ports.
+pub const LOOP_DOUBLE: NodeDecl = NodeDecl {
+    name: "LoopDouble",
+    category: Category::Decorator,
+    arity: Arity::One,
+    ports: &[
+        PortDecl {
+            direction: PortDirection::InOut,
+            ..PortDecl::input(
+                "queue",
+                "String",
+                "The queue: an entry holding one, or a literal list separated by `;`.",
+            )
+        },
+        PortDecl::output("value", "f64", "The element the child works on."),
+        PortDecl::input(
+            "if_empty",
+            "String",
+            "The status returned when the queue is empty: SUCCESS, FAILURE or SKIPPED.",
+        )
+        .or("SUCCESS"),
+    ],
+    summary: "Runs the child once per element of a queue of numbers, written to `value`.",
+};
+
+/// LoopString's declaration: its BehaviorTree.CPP name, family, children and ports.
+pub const LOOP_STRING: NodeDecl = NodeDecl {
+    name: "LoopString",
+    category: Category::Decorator,
+    arity: Arity::One,
+    ports: &[
+        PortDecl {
+            direction: PortDirection::InOut,
+            ..PortDecl::input(
+                "queue",
+                "String",
+                "The queue: an entry holding one, or a literal list separated by `;`.",
+            )
+        },
+        PortDecl::output("value", "String", "The element the child works on."),
+        PortDecl::input(
+            "if_empty",
+            "String",
+            "The status returned when the queue is empty: SUCCESS, FAILURE or SKIPPED.",
+        )
+        .or("SUCCESS"),
+    ],
+    summary: "Runs the child once per element of a queue of strings, written to `value`.",
+};
+
+/// LoopBool's declaration: its BehaviorTree.CPP name, family, children and ports.
+pub const LOOP_BOOL: NodeDecl = NodeDecl {
+    name: "LoopBool",
+    category: Category::Decorator,
+    arity: Arity::One,
+    ports: &[
+        PortDecl {
+            direction: PortDirection::InOut,
+            ..PortDecl::input(
+                "queue",
+                "String",
+                "The queue: an entry holding one, or a literal list separated by `;`.",
+            )
+        },
+        PortDecl::output("value", "bool", "The element the child works on."),
+        PortDecl::input(
+            "if_empty",
+            "String",
+            "The status returned when the queue is empty: SUCCESS, FAILURE or SKIPPED.",
+        )
+        .or("SUCCESS"),
+    ],
+    summary: "Runs the child once per element of a queue of booleans, written to `value`.",
+};
 
 /// A queue that nodes share through the blackboard: a loop whose `queue` entry holds one
 /// takes its elements out of it (BehaviorTree.CPP's `SharedQueue<T>`).
@@ -216,22 +316,17 @@ fn status_of(text: &str) -> Result<NodeStatus, String> {
     }
 }
 
-fn register_loop<C: 'static, T>(registry: &mut Registry<C>, name: &'static str)
+fn register_loop<C: 'static, T>(registry: &mut Registry<C>, decl: &'static NodeDecl)
 where
     T: FromPortStr + Clone + Send + Sync + 'static,
 {
-    registry
-        .register_leaf(
-            name,
-            Category::Decorator,
-            vec![
-                PortSpec::input::<String>("queue"),
-                PortSpec::output::<T>("value"),
-                PortSpec::input::<String>("if_empty").default_value("SUCCESS"),
-            ],
-            Arc::new(move |ports: &[Port], _| {
-                let value_of = |n: &str| ports.iter().find(|p| p.name == n).map(|p| &p.value);
-                let (literal, queue_key) = match value_of("queue") {
+    let name = decl.name;
+    registry.register_declared(
+        decl,
+        Arc::new(move |ports: &[Port], _| {
+            let value_of = |n: &str| ports.iter().find(|p| p.name == n).map(|p| &p.value);
+            let (literal, queue_key) =
+                match value_of("queue") {
                     Some(PortValue::Literal(text)) => (
                         Some(Vec::<T>::from_port_str(text).map_err(|()| {
                             format!("port `queue` of `{name}`: cannot read `{text}`")
@@ -241,43 +336,41 @@ where
                     Some(PortValue::Entry(key)) => (None, Some(key.clone())),
                     None => return Err(format!("missing port `queue` of `{name}`")),
                 };
-                let value_key = match value_of("value") {
-                    Some(PortValue::Entry(key)) => Some(key.clone()),
-                    _ => None,
-                };
-                // Bound to an entry: read when the queue is found empty (`None`).
-                let if_empty = match value_of("if_empty") {
-                    Some(PortValue::Literal(text)) => Some(status_of(text)?),
-                    Some(PortValue::Entry(_)) => None,
-                    None => Some(NodeStatus::Success),
-                };
-                Ok(NodeKind::Custom(Box::new(CustomSpec {
-                    type_name: name.into(),
-                    arity: Arity::One,
-                    factory: Box::new(move || {
-                        Box::new(Loop::<T> {
-                            literal: literal.clone(),
-                            queue_key: queue_key.clone(),
-                            value_key: value_key.clone(),
-                            if_empty,
-                            current: Current::Unset,
-                            copy: VecDeque::new(),
-                            child_running: false,
-                        })
-                    }),
-                })))
-            }),
-        )
-        // Registry::new registers each built-in name once.
-        .expect("built-in node names are distinct");
+            let value_key = match value_of("value") {
+                Some(PortValue::Entry(key)) => Some(key.clone()),
+                _ => None,
+            };
+            // Bound to an entry: read when the queue is found empty (`None`).
+            let if_empty = match value_of("if_empty") {
+                Some(PortValue::Literal(text)) => Some(status_of(text)?),
+                Some(PortValue::Entry(_)) => None,
+                None => Some(NodeStatus::Success),
+            };
+            Ok(NodeKind::Custom(Box::new(CustomSpec {
+                type_name: name.into(),
+                arity: Arity::One,
+                factory: Box::new(move || {
+                    Box::new(Loop::<T> {
+                        literal: literal.clone(),
+                        queue_key: queue_key.clone(),
+                        value_key: value_key.clone(),
+                        if_empty,
+                        current: Current::Unset,
+                        copy: VecDeque::new(),
+                        child_running: false,
+                    })
+                }),
+            })))
+        }),
+    );
 }
 
 /// Adds the four loops to `registry`.
 pub(crate) fn register<C: 'static>(registry: &mut Registry<C>) {
-    register_loop::<C, i32>(registry, "LoopInt");
-    register_loop::<C, f64>(registry, "LoopDouble");
-    register_loop::<C, String>(registry, "LoopString");
-    register_loop::<C, bool>(registry, "LoopBool");
+    register_loop::<C, i32>(registry, &LOOP_INT);
+    register_loop::<C, f64>(registry, &LOOP_DOUBLE);
+    register_loop::<C, String>(registry, &LOOP_STRING);
+    register_loop::<C, bool>(registry, &LOOP_BOOL);
 }
 
 #[cfg(test)]

@@ -18,12 +18,88 @@
 use std::sync::Arc;
 
 use neurotree_core::{
-    Action, Arity, Category, CustomNode, CustomSpec, Handle, NodeCtx, NodeKind, NodeStatus, Port,
-    PortValue, Status,
+    Action, Arity, Category, CustomNode, CustomSpec, Handle, NodeCtx, NodeDecl, NodeKind,
+    NodeStatus, Port, PortDecl, PortDirection, PortValue, Status,
 };
 
-use crate::registry::{PortSpec, Registry};
+use crate::registry::Registry;
 use crate::script::{Enums, Script, ScriptEnv, Value};
+
+/// Script's declaration: its BehaviorTree.CPP name, family, children and ports.
+pub const SCRIPT: NodeDecl = NodeDecl {
+    name: "Script",
+    category: Category::Action,
+    arity: Arity::Leaf,
+    ports: &[PortDecl::input(
+        "code",
+        "String",
+        "The script to run; it is parsed when the tree is loaded.",
+    )],
+    summary: "Runs a script on the blackboard; Success.",
+};
+
+/// ScriptCondition's declaration: its BehaviorTree.CPP name, family, children and ports.
+pub const SCRIPT_CONDITION: NodeDecl = NodeDecl {
+    name: "ScriptCondition",
+    category: Category::Condition,
+    arity: Arity::Leaf,
+    ports: &[PortDecl::input(
+        "code",
+        "String",
+        "The script to evaluate; true (or a non-zero number) gives Success.",
+    )],
+    summary: "Success if the value of a script is true, else Failure.",
+};
+
+/// SetBlackboard's declaration: its BehaviorTree.CPP name, family, children and ports.
+pub const SET_BLACKBOARD: NodeDecl = NodeDecl {
+    name: "SetBlackboard",
+    category: Category::Action,
+    arity: Arity::Leaf,
+    ports: &[
+        PortDecl::input(
+            "value",
+            "String",
+            "The text to write, converted by whoever reads the entry.",
+        ),
+        PortDecl {
+            direction: PortDirection::InOut,
+            ..PortDecl::input("output_key", "String", "The entry written.")
+        },
+    ],
+    summary: "Writes `value` into the entry named by `output_key`; Success.",
+};
+
+/// UnsetBlackboard's declaration: its BehaviorTree.CPP name, family, children and ports.
+pub const UNSET_BLACKBOARD: NodeDecl = NodeDecl {
+    name: "UnsetBlackboard",
+    category: Category::Action,
+    arity: Arity::Leaf,
+    ports: &[PortDecl::input("key", "String", "The entry removed.")],
+    summary: "Removes the entry named by `key`; Success.",
+};
+
+/// Precondition's declaration: its BehaviorTree.CPP name, family, children and ports.
+pub const PRECONDITION: NodeDecl = NodeDecl {
+    name: "Precondition",
+    category: Category::Decorator,
+    arity: Arity::One,
+    ports: &[
+        PortDecl::input(
+            "if",
+            "String",
+            "The script checked before the child starts.",
+        ),
+        PortDecl::input(
+            "else",
+            "String",
+            "The status returned, without ticking the child, when `if` is false.",
+        )
+        .or("FAILURE"),
+    ],
+    summary:
+        "Checks a script before its child starts; false gives the `else` status without ticking it.",
+};
 
 /// The literal text of port `name`, or why it is missing.
 fn literal<'a>(ports: &'a [Port], name: &str) -> Result<&'a str, String> {
@@ -234,113 +310,81 @@ fn status_of(text: &str) -> Result<NodeStatus, String> {
 
 /// Adds the nodes of this module to `registry`.
 pub(crate) fn register<C: 'static>(registry: &mut Registry<C>) {
-    let code = || vec![PortSpec::input::<String>("code")];
-    registry
-        .register_leaf(
-            "Script",
-            Category::Action,
-            code(),
-            Arc::new(|ports, enums| {
-                let script = parse(ports)?;
-                Ok(NodeKind::Action(Arc::new(ScriptNode {
-                    script,
-                    condition: false,
-                    enums: Arc::clone(enums),
-                })))
-            }),
-        )
-        // Registry::new registers each built-in name once.
-        .expect("built-in node names are distinct");
-    registry
-        .register_leaf(
-            "ScriptCondition",
-            Category::Condition,
-            code(),
-            Arc::new(|ports, enums| {
-                let script = parse(ports)?;
-                Ok(NodeKind::Action(Arc::new(ScriptNode {
-                    script,
-                    condition: true,
-                    enums: Arc::clone(enums),
-                })))
-            }),
-        )
-        // Registry::new registers each built-in name once.
-        .expect("built-in node names are distinct");
-    registry
-        .register_leaf(
-            "SetBlackboard",
-            Category::Action,
-            vec![
-                PortSpec::input::<String>("value"),
-                PortSpec::input::<String>("output_key"),
-            ],
-            Arc::new(|ports, _| {
-                let key = key_of(ports, "output_key")?;
-                Ok(NodeKind::Action(Arc::new(SetBlackboard { key })))
-            }),
-        )
-        // Registry::new registers each built-in name once.
-        .expect("built-in node names are distinct");
-    registry
-        .register_leaf(
-            "Precondition",
-            Category::Decorator,
-            vec![
-                PortSpec::input::<String>("if"),
-                PortSpec::input::<String>("else").default_value("FAILURE"),
-            ],
-            Arc::new(|ports, enums| {
-                let enums = Arc::clone(enums);
-                let bound = |name: &str| {
-                    matches!(
-                        ports.iter().find(|p| p.name == name).map(|p| &p.value),
-                        Some(PortValue::Entry(_))
-                    )
-                };
-                let script_from_entry = bound("if");
-                let script = if script_from_entry {
-                    None
-                } else {
-                    let code = literal(ports, "if")?;
-                    let parsed = Script::parse(code)
-                        .map_err(|e| format!("in script `{}`: {e}", e.excerpt(code)))?;
-                    Some(parsed)
-                };
-                let otherwise = if bound("else") {
-                    None
-                } else {
-                    Some(status_of(literal(ports, "else")?)?)
-                };
-                Ok(NodeKind::Custom(Box::new(CustomSpec {
-                    type_name: "Precondition".into(),
-                    arity: Arity::One,
-                    factory: Box::new(move || {
-                        Box::new(Precondition {
-                            script: script.clone(),
-                            script_from_entry,
-                            enums: Arc::clone(&enums),
-                            otherwise,
-                            child_running: false,
-                        })
-                    }),
-                })))
-            }),
-        )
-        // Registry::new registers each built-in name once.
-        .expect("built-in node names are distinct");
-    registry
-        .register_leaf(
-            "UnsetBlackboard",
-            Category::Action,
-            vec![PortSpec::input::<String>("key")],
-            Arc::new(|ports, _| {
-                let key = key_of(ports, "key")?;
-                Ok(NodeKind::Action(Arc::new(UnsetBlackboard { key })))
-            }),
-        )
-        // Registry::new registers each built-in name once.
-        .expect("built-in node names are distinct");
+    registry.register_declared(
+        &SCRIPT,
+        Arc::new(|ports, enums| {
+            let script = parse(ports)?;
+            Ok(NodeKind::Action(Arc::new(ScriptNode {
+                script,
+                condition: false,
+                enums: Arc::clone(enums),
+            })))
+        }),
+    );
+    registry.register_declared(
+        &SCRIPT_CONDITION,
+        Arc::new(|ports, enums| {
+            let script = parse(ports)?;
+            Ok(NodeKind::Action(Arc::new(ScriptNode {
+                script,
+                condition: true,
+                enums: Arc::clone(enums),
+            })))
+        }),
+    );
+    registry.register_declared(
+        &SET_BLACKBOARD,
+        Arc::new(|ports, _| {
+            let key = key_of(ports, "output_key")?;
+            Ok(NodeKind::Action(Arc::new(SetBlackboard { key })))
+        }),
+    );
+    registry.register_declared(
+        &PRECONDITION,
+        Arc::new(|ports, enums| {
+            let enums = Arc::clone(enums);
+            let bound = |name: &str| {
+                matches!(
+                    ports.iter().find(|p| p.name == name).map(|p| &p.value),
+                    Some(PortValue::Entry(_))
+                )
+            };
+            let script_from_entry = bound("if");
+            let script = if script_from_entry {
+                None
+            } else {
+                let code = literal(ports, "if")?;
+                let parsed = Script::parse(code)
+                    .map_err(|e| format!("in script `{}`: {e}", e.excerpt(code)))?;
+                Some(parsed)
+            };
+            let otherwise = if bound("else") {
+                None
+            } else {
+                Some(status_of(literal(ports, "else")?)?)
+            };
+            Ok(NodeKind::Custom(Box::new(CustomSpec {
+                type_name: "Precondition".into(),
+                arity: Arity::One,
+                factory: Box::new(move || {
+                    Box::new(Precondition {
+                        script: script.clone(),
+                        script_from_entry,
+                        enums: Arc::clone(&enums),
+                        otherwise,
+                        child_running: false,
+                    })
+                }),
+            })))
+        }),
+    );
+    registry.register_declared(
+        &UNSET_BLACKBOARD,
+        Arc::new(|ports, _| {
+            let key = key_of(ports, "key")?;
+            Ok(NodeKind::Action(Arc::new(UnsetBlackboard { key })))
+        }),
+    );
 }
 
 #[cfg(test)]

@@ -26,11 +26,11 @@ use std::fmt::{self, Write as _};
 use std::sync::Arc;
 
 use neurotree_core::{
-    Arity, Blackboard, Category, CustomNode, CustomSpec, NodeCtx, NodeKind, NodeStatus, Port,
-    PortValue, ScopeId,
+    Arity, Blackboard, Category, CustomNode, CustomSpec, NodeCtx, NodeDecl, NodeKind, NodeStatus,
+    Port, PortDecl, PortValue, ScopeId,
 };
 
-use crate::registry::{PortSpec, Registry};
+use crate::registry::Registry;
 use crate::script::Enums;
 
 /// A value's text, when it had to be written (a number entry): room for any `f64` with six
@@ -221,43 +221,92 @@ fn source(ports: &[Port], name: &str) -> Option<Source> {
         })
 }
 
+/// Switch's ports: `variable`, then `case_1` … `case_6`; SwitchN takes the first N cases.
+const SWITCH_PORTS: &[PortDecl] = &[
+    PortDecl::input(
+        "variable",
+        "String",
+        "The value compared with the cases: an entry `{key}`, or a literal.",
+    ),
+    PortDecl::input("case_1", "String", "The value that selects child 1."),
+    PortDecl::input("case_2", "String", "The value that selects child 2."),
+    PortDecl::input("case_3", "String", "The value that selects child 3."),
+    PortDecl::input("case_4", "String", "The value that selects child 4."),
+    PortDecl::input("case_5", "String", "The value that selects child 5."),
+    PortDecl::input("case_6", "String", "The value that selects child 6."),
+];
+
+/// Switch2's declaration: its BehaviorTree.CPP name, family, children and ports.
+pub const SWITCH2: NodeDecl = NodeDecl {
+    name: "Switch2",
+    category: Category::Control,
+    arity: Arity::Range { min: 3, max: 3 },
+    ports: SWITCH_PORTS.split_at(3).0,
+    summary: "Ticks the child whose case matches `variable`; none matches: the last child.",
+};
+
+/// Switch3's declaration: its BehaviorTree.CPP name, family, children and ports.
+pub const SWITCH3: NodeDecl = NodeDecl {
+    name: "Switch3",
+    category: Category::Control,
+    arity: Arity::Range { min: 4, max: 4 },
+    ports: SWITCH_PORTS.split_at(4).0,
+    summary: "Ticks the child whose case matches `variable`; none matches: the last child.",
+};
+
+/// Switch4's declaration: its BehaviorTree.CPP name, family, children and ports.
+pub const SWITCH4: NodeDecl = NodeDecl {
+    name: "Switch4",
+    category: Category::Control,
+    arity: Arity::Range { min: 5, max: 5 },
+    ports: SWITCH_PORTS.split_at(5).0,
+    summary: "Ticks the child whose case matches `variable`; none matches: the last child.",
+};
+
+/// Switch5's declaration: its BehaviorTree.CPP name, family, children and ports.
+pub const SWITCH5: NodeDecl = NodeDecl {
+    name: "Switch5",
+    category: Category::Control,
+    arity: Arity::Range { min: 6, max: 6 },
+    ports: SWITCH_PORTS.split_at(6).0,
+    summary: "Ticks the child whose case matches `variable`; none matches: the last child.",
+};
+
+/// Switch6's declaration: its BehaviorTree.CPP name, family, children and ports.
+pub const SWITCH6: NodeDecl = NodeDecl {
+    name: "Switch6",
+    category: Category::Control,
+    arity: Arity::Range { min: 7, max: 7 },
+    ports: SWITCH_PORTS.split_at(7).0,
+    summary: "Ticks the child whose case matches `variable`; none matches: the last child.",
+};
+
 /// Adds Switch2 … Switch6 to `registry`.
 pub(crate) fn register<C: 'static>(registry: &mut Registry<C>) {
-    for n in 2..=6_usize {
-        let name = format!("Switch{n}");
-        let mut ports = vec![PortSpec::input::<String>("variable")];
-        ports.extend((1..=n).map(|i| PortSpec::input::<String>(&format!("case_{i}"))));
-        let type_name = name.clone();
-        registry
-            .register_leaf(
-                &name,
-                Category::Control,
-                ports,
-                Arc::new(move |ports, enums| {
-                    let variable = source(ports, "variable");
-                    let enums = Arc::clone(enums);
-                    let cases: Vec<Option<Source>> = (1..=n)
-                        .map(|i| source(ports, &format!("case_{i}")))
-                        .collect();
-                    Ok(NodeKind::Custom(Box::new(CustomSpec {
-                        type_name: type_name.clone(),
-                        arity: Arity::Range {
-                            min: n as u32 + 1,
-                            max: n as u32 + 1,
-                        },
-                        factory: Box::new(move || {
-                            Box::new(Switch {
-                                variable: variable.clone(),
-                                cases: cases.clone(),
-                                enums: Arc::clone(&enums),
-                                running: None,
-                            })
-                        }),
-                    })))
-                }),
-            )
-            // Registry::new registers each built-in name once.
-            .expect("built-in node names are distinct");
+    for decl in [&SWITCH2, &SWITCH3, &SWITCH4, &SWITCH5, &SWITCH6] {
+        let n = decl.ports.len() - 1;
+        registry.register_declared(
+            decl,
+            Arc::new(move |ports, enums| {
+                let variable = source(ports, "variable");
+                let enums = Arc::clone(enums);
+                let cases: Vec<Option<Source>> = (1..=n)
+                    .map(|i| source(ports, &format!("case_{i}")))
+                    .collect();
+                Ok(NodeKind::Custom(Box::new(CustomSpec {
+                    type_name: decl.name.into(),
+                    arity: decl.arity,
+                    factory: Box::new(move || {
+                        Box::new(Switch {
+                            variable: variable.clone(),
+                            cases: cases.clone(),
+                            enums: Arc::clone(&enums),
+                            running: None,
+                        })
+                    }),
+                })))
+            }),
+        );
     }
 }
 

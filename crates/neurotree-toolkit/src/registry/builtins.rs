@@ -1,9 +1,14 @@
-//! The built-in node types the engine implements, under their BehaviorTree.CPP names, with
-//! their families and ports; and the conversion between a node kind and its port values.
+//! How the engine's built-in nodes are made from their ports, and read back into ports.
+//!
+//! What a built-in is (name, family, children, ports) is its declaration in its own module
+//! ([`neurotree_core::nodes::BUILT_INS`]); the registry is built from those. What is left
+//! here needs the tree's context type: making a [`NodeKind`] from the ports' values
+//! ([`built_in_kind`]) and reading them back for the XML writer ([`built_in_ports`]).
+//! [`BuiltIn`] names the kinds; `built_in_kinds_and_declarations_match` checks that every
+//! declaration has one and every one a declaration.
 
-use neurotree_core::{Category, FromPortStr, NodeKind, ParallelPolicy, Param};
-
-use super::PortSpec;
+use neurotree_core::nodes::{control, decorator, leaf, NodeDecl};
+use neurotree_core::{FromPortStr, NodeKind, ParallelPolicy, Param};
 
 /// The built-in nodes the loader knows how to build from their ports.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -35,76 +40,73 @@ pub(crate) enum BuiltIn {
     Sleep,
 }
 
-/// The built-in nodes, their families and their ports, as BehaviorTree.CPP declares them.
-pub(crate) fn built_ins() -> Vec<(&'static str, Category, BuiltIn, Vec<PortSpec>)> {
-    use BuiltIn as B;
-    use Category::{Action, Control, Decorator};
-    let ms = |name: &str| vec![PortSpec::input::<u64>(name)];
-    vec![
-        ("Sequence", Control, B::Sequence, vec![]),
-        ("SequenceWithMemory", Control, B::SequenceWithMemory, vec![]),
-        ("ReactiveSequence", Control, B::ReactiveSequence, vec![]),
-        ("Fallback", Control, B::Fallback, vec![]),
-        ("ReactiveFallback", Control, B::ReactiveFallback, vec![]),
-        ("AsyncSequence", Control, B::AsyncSequence, vec![]),
-        ("AsyncFallback", Control, B::AsyncFallback, vec![]),
-        (
-            "Parallel",
-            Control,
-            B::Parallel,
-            vec![
-                PortSpec::input::<i32>("success_count").default_value("-1"),
-                PortSpec::input::<i32>("failure_count").default_value("1"),
-            ],
-        ),
-        (
-            "ParallelAll",
-            Control,
-            B::ParallelAll,
-            vec![PortSpec::input::<i32>("max_failures").default_value("1")],
-        ),
-        ("IfThenElse", Control, B::IfThenElse, vec![]),
-        ("WhileDoElse", Control, B::WhileDoElse, vec![]),
-        (
-            "TryCatch",
-            Control,
-            B::TryCatch,
-            vec![PortSpec::input::<bool>("catch_on_halt").default_value("false")],
-        ),
-        ("Inverter", Decorator, B::Inverter, vec![]),
-        ("ForceSuccess", Decorator, B::ForceSuccess, vec![]),
-        ("ForceFailure", Decorator, B::ForceFailure, vec![]),
-        (
-            "Repeat",
-            Decorator,
-            B::Repeat,
-            vec![PortSpec::input::<i32>("num_cycles")],
-        ),
-        (
-            "RetryUntilSuccessful",
-            Decorator,
-            B::RetryUntilSuccessful,
-            vec![PortSpec::input::<i32>("num_attempts")],
-        ),
-        (
-            "KeepRunningUntilFailure",
-            Decorator,
-            B::KeepRunningUntilFailure,
-            vec![],
-        ),
-        ("Delay", Decorator, B::Delay, ms("delay_msec")),
-        ("Timeout", Decorator, B::Timeout, ms("msec")),
-        ("Cooldown", Decorator, B::Cooldown, ms("cooldown_msec")),
-        (
-            "RunOnce",
-            Decorator,
-            B::RunOnce,
-            vec![PortSpec::input::<bool>("then_skip").default_value("true")],
-        ),
-        ("AlwaysSuccess", Action, B::AlwaysSuccess, vec![]),
-        ("AlwaysFailure", Action, B::AlwaysFailure, vec![]),
-        ("Sleep", Action, B::Sleep, ms("msec")),
-    ]
+impl BuiltIn {
+    /// Every built-in kind.
+    pub(crate) const ALL: [BuiltIn; 25] = [
+        BuiltIn::Sequence,
+        BuiltIn::SequenceWithMemory,
+        BuiltIn::ReactiveSequence,
+        BuiltIn::Fallback,
+        BuiltIn::ReactiveFallback,
+        BuiltIn::AsyncSequence,
+        BuiltIn::AsyncFallback,
+        BuiltIn::Parallel,
+        BuiltIn::ParallelAll,
+        BuiltIn::IfThenElse,
+        BuiltIn::WhileDoElse,
+        BuiltIn::TryCatch,
+        BuiltIn::Inverter,
+        BuiltIn::ForceSuccess,
+        BuiltIn::ForceFailure,
+        BuiltIn::Repeat,
+        BuiltIn::RetryUntilSuccessful,
+        BuiltIn::KeepRunningUntilFailure,
+        BuiltIn::Delay,
+        BuiltIn::Timeout,
+        BuiltIn::Cooldown,
+        BuiltIn::RunOnce,
+        BuiltIn::AlwaysSuccess,
+        BuiltIn::AlwaysFailure,
+        BuiltIn::Sleep,
+    ];
+
+    /// The node's declaration, in its module.
+    pub(crate) fn decl(self) -> &'static NodeDecl {
+        match self {
+            BuiltIn::Sequence => &control::sequence::SEQUENCE,
+            BuiltIn::SequenceWithMemory => &control::sequence::SEQUENCE_WITH_MEMORY,
+            BuiltIn::ReactiveSequence => &control::reactive::REACTIVE_SEQUENCE,
+            BuiltIn::Fallback => &control::fallback::FALLBACK,
+            BuiltIn::ReactiveFallback => &control::reactive::REACTIVE_FALLBACK,
+            BuiltIn::AsyncSequence => &control::sequence::ASYNC_SEQUENCE,
+            BuiltIn::AsyncFallback => &control::fallback::ASYNC_FALLBACK,
+            BuiltIn::Parallel => &control::parallel::PARALLEL,
+            BuiltIn::ParallelAll => &control::parallel_all::PARALLEL_ALL,
+            BuiltIn::IfThenElse => &control::if_then_else::IF_THEN_ELSE,
+            BuiltIn::WhileDoElse => &control::while_do_else::WHILE_DO_ELSE,
+            BuiltIn::TryCatch => &control::try_catch::TRY_CATCH,
+            BuiltIn::Inverter => &decorator::inverter::INVERTER,
+            BuiltIn::ForceSuccess => &decorator::force::FORCE_SUCCESS,
+            BuiltIn::ForceFailure => &decorator::force::FORCE_FAILURE,
+            BuiltIn::Repeat => &decorator::repeat::REPEAT,
+            BuiltIn::RetryUntilSuccessful => &decorator::retry::RETRY_UNTIL_SUCCESSFUL,
+            BuiltIn::KeepRunningUntilFailure => {
+                &decorator::keep_running::KEEP_RUNNING_UNTIL_FAILURE
+            }
+            BuiltIn::Delay => &decorator::delay::DELAY,
+            BuiltIn::Timeout => &decorator::timeout::TIMEOUT,
+            BuiltIn::Cooldown => &decorator::cooldown::COOLDOWN,
+            BuiltIn::RunOnce => &decorator::run_once::RUN_ONCE,
+            BuiltIn::AlwaysSuccess => &leaf::always::ALWAYS_SUCCESS,
+            BuiltIn::AlwaysFailure => &leaf::always::ALWAYS_FAILURE,
+            BuiltIn::Sleep => &leaf::sleep::SLEEP,
+        }
+    }
+
+    /// The kind declared as `name`.
+    pub(crate) fn named(name: &str) -> Option<BuiltIn> {
+        BuiltIn::ALL.into_iter().find(|b| b.decl().name == name)
+    }
 }
 
 /// What a built-in node's port is bound to, as [`built_in_kind`] needs to know it.
@@ -195,25 +197,26 @@ pub(crate) fn built_in_kind<C>(
 }
 
 /// The ports a built-in kind was made from, as [`built_in_kind`] reads them back: what a
-/// saved file writes for the node. `children` resolves the Parallel shorthands the builder
-/// offers into BehaviorTree.CPP's thresholds.
+/// saved file writes for the node, named as its declaration names them. `children` resolves
+/// the Parallel shorthands the builder offers into BehaviorTree.CPP's thresholds.
 pub(crate) fn built_in_ports<C>(
     kind: &NodeKind<C>,
     children: usize,
 ) -> Vec<(&'static str, String)> {
     // A parameter read from a port has no value here: such a node keeps its port
     // bindings, which the writer writes instead.
-    fn text<T: ToString>(name: &'static str, p: &Param<T>) -> Option<(&'static str, String)> {
+    fn text<T: ToString>(p: &Param<T>) -> Option<String> {
         match p {
-            Param::Value(v) => Some((name, v.to_string())),
+            Param::Value(v) => Some(v.to_string()),
             Param::Port => None,
         }
     }
-    let ms = |name: &'static str, d: &Param<std::time::Duration>| match d {
-        Param::Value(d) => Some((name, d.as_millis().to_string())),
+    let ms = |d: &Param<std::time::Duration>| match d {
+        Param::Value(d) => Some(d.as_millis().to_string()),
         Param::Port => None,
     };
-    let ports: Vec<Option<(&'static str, String)>> = match kind {
+    // The values in the order of the declared ports.
+    let values: Vec<Option<String>> = match kind {
         NodeKind::Parallel(policy) => {
             let n = children as i32;
             let (success, failure) = match *policy {
@@ -227,24 +230,26 @@ pub(crate) fn built_in_ports<C>(
                     (Param::Value(m as i32), Param::Value(n - m as i32 + 1))
                 }
             };
-            vec![
-                text("success_count", &success),
-                text("failure_count", &failure),
-            ]
+            vec![text(&success), text(&failure)]
         }
-        NodeKind::ParallelAll { max_failures } => vec![text("max_failures", max_failures)],
-        NodeKind::TryCatch { catch_on_halt } => vec![text("catch_on_halt", catch_on_halt)],
-        NodeKind::Repeat { num_cycles } => vec![text("num_cycles", num_cycles)],
-        NodeKind::RetryUntilSuccessful { num_attempts } => {
-            vec![text("num_attempts", num_attempts)]
+        NodeKind::ParallelAll { max_failures } => vec![text(max_failures)],
+        NodeKind::TryCatch { catch_on_halt } => vec![text(catch_on_halt)],
+        NodeKind::Repeat { num_cycles } => vec![text(num_cycles)],
+        NodeKind::RetryUntilSuccessful { num_attempts } => vec![text(num_attempts)],
+        NodeKind::Delay(d) | NodeKind::Timeout(d) | NodeKind::Sleep(d) | NodeKind::Cooldown(d) => {
+            vec![ms(d)]
         }
-        NodeKind::Delay(d) => vec![ms("delay_msec", d)],
-        NodeKind::Timeout(d) | NodeKind::Sleep(d) => vec![ms("msec", d)],
-        NodeKind::Cooldown(d) => vec![ms("cooldown_msec", d)],
-        NodeKind::RunOnce { then_skip } => vec![text("then_skip", then_skip)],
-        _ => Vec::new(),
+        NodeKind::RunOnce { then_skip } => vec![text(then_skip)],
+        _ => return Vec::new(),
     };
-    ports.into_iter().flatten().collect()
+    let Some(built_in) = BuiltIn::named(kind.type_name()) else {
+        return Vec::new();
+    };
+    let names = built_in.decl().ports.iter().map(|p| p.name);
+    names
+        .zip(values)
+        .filter_map(|(name, value)| Some((name, value?)))
+        .collect()
 }
 
 #[cfg(test)]
@@ -253,18 +258,54 @@ mod tests {
     use crate::registry::{Make, Registry};
 
     #[test]
+    fn built_in_kinds_and_declarations_match() {
+        // Every declaration has a kind, and every kind a declaration in the list.
+        for decl in neurotree_core::nodes::BUILT_INS {
+            let b = BuiltIn::named(decl.name);
+            assert!(b.is_some(), "{} is declared but has no BuiltIn", decl.name);
+        }
+        for b in BuiltIn::ALL {
+            let listed = neurotree_core::nodes::BUILT_INS
+                .iter()
+                .any(|d| *d == b.decl());
+            assert!(listed, "{b:?}'s declaration is not in BUILT_INS");
+            // The kind made from the declared ports is what the declaration says.
+            let decl = b.decl();
+            let kind = built_in_kind::<()>(b, |p| match decl.port(p) {
+                Some(port) => Binding::Literal(sample(port).into()),
+                None => Binding::Missing,
+            })
+            .unwrap_or_else(|e| panic!("{}: {e}", decl.name));
+            assert_eq!(kind.type_name(), decl.name);
+            assert_eq!(kind.arity(), decl.arity, "{}", decl.name);
+            assert_eq!(kind.category(), decl.category, "{}", decl.name);
+        }
+    }
+
+    /// A literal of the port's type, other than its default and the smallest value, so
+    /// that a swapped pair of ports would show.
+    fn sample(port: &neurotree_core::PortDecl) -> &'static str {
+        match (port.name, port.type_name) {
+            ("failure_count", _) => "-1",
+            (_, "i32") => "2",
+            (_, "bool") => match port.default {
+                Some("true") => "false",
+                _ => "true",
+            },
+            _ => "7",
+        }
+    }
+
+    #[test]
     fn built_in_ports_read_back_into_the_same_kind() {
         let r = Registry::<()>::new();
         for t in r.types() {
             let Make::BuiltIn(b) = t.make else { continue };
-            // Every port at a value other than the smallest, so a swapped pair would show.
-            let kind = built_in_kind::<()>(b, |p| {
-                Binding::Literal(match p {
-                    "success_count" => "2".into(),
-                    "failure_count" => "-1".into(),
-                    "catch_on_halt" | "then_skip" => "true".into(),
-                    _ => "7".into(),
-                })
+            let decl = b.decl();
+            // Only the declared names are given, so a kind reading another name fails.
+            let kind = built_in_kind::<()>(b, |p| match decl.port(p) {
+                Some(port) => Binding::Literal(sample(port).into()),
+                None => Binding::Missing,
             })
             .unwrap();
             let ports = built_in_ports(&kind, 3);
@@ -274,7 +315,9 @@ mod tests {
             })
             .unwrap();
             assert_eq!(format!("{again:?}"), format!("{kind:?}"), "{}", t.name);
-            assert_eq!(ports.len(), t.ports.len(), "{}", t.name);
+            let names: Vec<&str> = ports.iter().map(|(n, _)| *n).collect();
+            let declared: Vec<&str> = decl.ports.iter().map(|p| p.name).collect();
+            assert_eq!(names, declared, "{}", t.name);
         }
         let count = NodeKind::<()>::Parallel(ParallelPolicy::RequireCount(2));
         assert_eq!(
@@ -287,7 +330,7 @@ mod tests {
     fn built_ins_are_registered_with_their_ports() {
         let r = Registry::<()>::new();
         let repeat = r.get("Repeat").unwrap();
-        assert_eq!(repeat.category, Category::Decorator);
+        assert_eq!(repeat.category, neurotree_core::Category::Decorator);
         assert_eq!(repeat.ports[0].name, "num_cycles");
         assert!(repeat.ports[0].accepts("3"));
         assert!(!repeat.ports[0].accepts("three"));

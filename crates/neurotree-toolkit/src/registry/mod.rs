@@ -7,7 +7,10 @@
 //! let the loader reject an unknown attribute or a literal that does not convert, before
 //! anything runs.
 //!
-//! Here: registration; [`ports`] declares ports; `builtins` lists the engine's nodes;
+//! Here: registration; [`ports`] declares ports; the built-in types come from the nodes'
+//! declarations (`neurotree_core::nodes::BUILT_INS` and
+//! [`STD_BUILT_INS`](crate::nodes::STD_BUILT_INS)), and `builtins` makes the engine's kinds
+//! from their ports;
 //! `enums` holds the names scripts read as numbers; `suggest` finds what a misspelt name
 //! meant; `aliases` lists the few names real files write that BehaviorTree.CPP does not
 //! know (`inverter`, the v3 `SequenceStar`) and what they load as. Reading and writing a `TreeNodesModel` is the XML side's business
@@ -27,7 +30,7 @@ mod enums;
 pub mod ports;
 mod suggest;
 
-pub(crate) use builtins::{built_in_kind, built_in_ports, built_ins, Binding, BuiltIn};
+pub(crate) use builtins::{built_in_kind, built_in_ports, Binding, BuiltIn};
 pub use ports::{PortDirection, PortSpec};
 
 /// Makes the per-node part of a leaf from its port bindings (most leaves ignore them; a
@@ -62,6 +65,18 @@ pub struct NodeType<C> {
 }
 
 impl<C> NodeType<C> {
+    /// A built-in type as its declaration describes it.
+    pub(crate) fn declared(decl: &neurotree_core::NodeDecl, make: Make<C>) -> Self {
+        NodeType {
+            name: decl.name.to_string(),
+            category: decl.category,
+            ports: decl.ports.iter().map(PortSpec::from).collect(),
+            description: decl.summary.to_string(),
+            make,
+            builtin: true,
+        }
+    }
+
     /// The port named `name`.
     pub fn port(&self, name: &str) -> Option<&PortSpec> {
         self.ports.iter().find(|p| p.name == name)
@@ -113,16 +128,13 @@ impl<C: 'static> Registry<C> {
             subtrees: BTreeMap::new(),
             enums: Arc::new(Enums::new()),
         };
-        for (name, category, built_in, ports) in built_ins() {
-            let t = NodeType {
-                name: name.to_string(),
-                category,
-                ports,
-                description: String::new(),
-                make: Make::BuiltIn(built_in),
-                builtin: true,
-            };
-            r.types.insert(name.to_string(), t);
+        for decl in neurotree_core::nodes::BUILT_INS {
+            // Every declaration has a kind: `built_in_kinds_and_declarations_match` walks both.
+            let built_in = BuiltIn::named(decl.name).expect("a built-in kind per declaration");
+            r.types.insert(
+                decl.name.to_string(),
+                NodeType::declared(decl, Make::BuiltIn(built_in)),
+            );
         }
         crate::nodes::script::register(&mut r);
         crate::nodes::loops::register(&mut r);
@@ -178,6 +190,22 @@ impl<C: 'static> Registry<C> {
             })))
         });
         self.register_leaf(name, category, ports, leaf)
+    }
+
+    /// Registers a std built-in node as its declaration describes it, made by `make`.
+    pub(crate) fn register_declared(
+        &mut self,
+        decl: &neurotree_core::NodeDecl,
+        make: LeafMaker<C>,
+    ) {
+        // Each std node registers its own declaration once, in a new registry; the names
+        // are distinct (`declarations_are_registered_once` in `nodes`).
+        let fresh = !self.types.contains_key(decl.name);
+        debug_assert!(fresh, "{} is registered twice", decl.name);
+        self.types.insert(
+            decl.name.to_string(),
+            NodeType::declared(decl, Make::Leaf(make)),
+        );
     }
 
     /// Registers a node type made from its port bindings at load time; refuses a taken name.

@@ -2,29 +2,10 @@
 
 use std::fmt;
 
-use neurotree_core::FromPortStr;
+use neurotree_core::{FromPortStr, PortDecl};
 
-/// Which way a port carries data.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum PortDirection {
-    /// Read by the node.
-    Input,
-    /// Written by the node.
-    Output,
-    /// Both.
-    InOut,
-}
-
-impl PortDirection {
-    /// The element name BehaviorTree.CPP's `TreeNodesModel` uses.
-    pub fn model_tag(self) -> &'static str {
-        match self {
-            PortDirection::Input => "input_port",
-            PortDirection::Output => "output_port",
-            PortDirection::InOut => "inout_port",
-        }
-    }
-}
+/// Which way a port carries data (declared in the core, with the built-in nodes' ports).
+pub use neurotree_core::PortDirection;
 
 /// A declared port: name, direction, type, default and description.
 #[derive(Clone)]
@@ -92,6 +73,39 @@ impl PortSpec {
     /// `true` if `text` converts to the port's type (always for types without a check).
     pub fn accepts(&self, text: &str) -> bool {
         self.check.map_or(true, |check| check(text))
+    }
+}
+
+impl From<&PortDecl> for PortSpec {
+    /// A built-in node's declared port, its literals checked as the declared type converts.
+    fn from(p: &PortDecl) -> Self {
+        Self {
+            name: p.name.to_string(),
+            direction: p.direction,
+            type_name: p.type_name,
+            default: p.default.map(str::to_string),
+            description: p.description.to_string(),
+            // What a node writes is not read from a literal.
+            check: match p.direction {
+                PortDirection::Output => None,
+                _ => literal_check(p.type_name),
+            },
+        }
+    }
+}
+
+/// How a literal of a declared type is checked; `None` for text, read as the node needs it.
+/// The types are those of [`PORT_TYPES`](neurotree_core::nodes::PORT_TYPES).
+pub(crate) fn literal_check(type_name: &str) -> Option<fn(&str) -> bool> {
+    fn converts<T: FromPortStr>(text: &str) -> bool {
+        T::from_port_str(text).is_ok()
+    }
+    match type_name {
+        "i32" => Some(converts::<i32>),
+        "u64" => Some(converts::<u64>),
+        "bool" => Some(converts::<bool>),
+        "f64" => Some(converts::<f64>),
+        _ => None,
     }
 }
 

@@ -141,7 +141,7 @@ fn model_type_name(t: Option<&str>) -> &'static str {
         Some("unsigned int" | "unsigned" | "uint8" | "uint16" | "uint32" | "uint64" | "size_t") => {
             "u64"
         }
-        Some("std::string" | "string" | "alloc::string::String") => "String",
+        Some("std::string" | "string" | "String" | "alloc::string::String") => "String",
         Some("f64" | "f32") => "f64",
         Some("i8" | "i16" | "i32" | "i64" | "isize") => "i64",
         Some("u8" | "u16" | "u32" | "u64" | "usize") => "u64",

@@ -12,6 +12,27 @@
 //!
 //! Skipped children count as absent; if all were skipped, the node is Skipped.
 
+use crate::nodes::decl::NodeDecl;
+use crate::{Arity, Category};
+
+/// Fallback's declaration: its BehaviorTree.CPP name, family, children and ports.
+pub const FALLBACK: NodeDecl = NodeDecl {
+    name: "Fallback",
+    category: Category::Control,
+    arity: Arity::AtLeast(1),
+    ports: &[],
+    summary: "Mirror of Sequence: the first success ends it; all failed: Failure.",
+};
+
+/// AsyncFallback's declaration: its BehaviorTree.CPP name, family, children and ports.
+pub const ASYNC_FALLBACK: NodeDecl = NodeDecl {
+    name: "AsyncFallback",
+    category: Category::Control,
+    arity: Arity::AtLeast(1),
+    ports: &[],
+    summary: "As Fallback, yielding after each child that fails.",
+};
+
 #[cfg(test)]
 mod tests {
     use crate::testing::*;

@@ -11,6 +11,18 @@ use crate::blueprint::NodeDef;
 use crate::tree::Ticker;
 use crate::{NodeId, NodeStatus};
 
+use crate::nodes::decl::NodeDecl;
+use crate::{Arity, Category};
+
+/// IfThenElse's declaration: its BehaviorTree.CPP name, family, children and ports.
+pub const IF_THEN_ELSE: NodeDecl = NodeDecl {
+    name: "IfThenElse",
+    category: Category::Control,
+    arity: Arity::Range { min: 2, max: 3 },
+    ports: &[],
+    summary: "Ticks the condition once, then keeps the chosen branch until it completes; no else branch: Failure.",
+};
+
 #[inline(never)]
 pub(crate) fn tick<C>(t: &mut Ticker<'_, C>, id: NodeId, def: &NodeDef<C>) -> NodeStatus {
     let slot = t.bp.slot(id);

@@ -23,6 +23,21 @@ use crate::blueprint::{NodeDef, ParallelPolicy};
 use crate::tree::Ticker;
 use crate::{NodeId, NodeStatus};
 
+use crate::nodes::decl::{NodeDecl, PortDecl};
+use crate::{Arity, Category};
+
+/// Parallel's declaration: its BehaviorTree.CPP name, family, children and ports.
+pub const PARALLEL: NodeDecl = NodeDecl {
+    name: "Parallel",
+    category: Category::Control,
+    arity: Arity::AtLeast(1),
+    ports: &[
+        PortDecl::input("success_count", "i32", "Successes that make the node succeed; a negative count is taken from the number of children (-1: all of them).").or("-1"),
+        PortDecl::input("failure_count", "i32", "Failures that make the node fail; a negative count is taken from the number of children (-1: all of them).").or("1"),
+    ],
+    summary: "Ticks the children not yet completed; Success at `success_count` successes, Failure at `failure_count` failures or when success became impossible.",
+};
+
 #[inline(never)]
 pub(crate) fn tick<C>(
     t: &mut Ticker<'_, C>,

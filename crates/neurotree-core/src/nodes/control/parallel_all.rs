@@ -11,6 +11,20 @@ use crate::blueprint::NodeDef;
 use crate::tree::Ticker;
 use crate::{NodeId, NodeStatus};
 
+use crate::nodes::decl::{NodeDecl, PortDecl};
+use crate::{Arity, Category};
+
+/// ParallelAll's declaration: its BehaviorTree.CPP name, family, children and ports.
+pub const PARALLEL_ALL: NodeDecl = NodeDecl {
+    name: "ParallelAll",
+    category: Category::Control,
+    arity: Arity::AtLeast(1),
+    ports: &[
+        PortDecl::input("max_failures", "i32", "Once every child completed, the node fails if at least this many failed (negative: counted from the number of children).").or("1"),
+    ],
+    summary: "Ticks every child to completion; Failure if `max_failures` of them failed, else Success.",
+};
+
 #[inline(never)]
 pub(crate) fn tick<C>(
     t: &mut Ticker<'_, C>,

@@ -23,6 +23,27 @@ use crate::blueprint::NodeDef;
 use crate::tree::Ticker;
 use crate::{NodeId, NodeStatus, Status};
 
+use crate::nodes::decl::NodeDecl;
+use crate::{Arity, Category};
+
+/// ReactiveSequence's declaration: its BehaviorTree.CPP name, family, children and ports.
+pub const REACTIVE_SEQUENCE: NodeDecl = NodeDecl {
+    name: "ReactiveSequence",
+    category: Category::Control,
+    arity: Arity::AtLeast(1),
+    ports: &[],
+    summary: "Restarts at child 0 every tick; a Running child halts the other Running children.",
+};
+
+/// ReactiveFallback's declaration: its BehaviorTree.CPP name, family, children and ports.
+pub const REACTIVE_FALLBACK: NodeDecl = NodeDecl {
+    name: "ReactiveFallback",
+    category: Category::Control,
+    arity: Arity::AtLeast(1),
+    ports: &[],
+    summary: "Mirror of ReactiveSequence.",
+};
+
 /// `goal` is the outcome that lets the node move on: Success for the sequence, Failure for
 /// the fallback.
 #[inline(never)]

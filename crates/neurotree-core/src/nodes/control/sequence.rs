@@ -14,6 +14,36 @@
 //! ticks again at once, [`Tree::tick_exactly_once`](crate::Tree::tick_exactly_once) returns
 //! Running. Skipped children count as absent; if all were skipped, the node is Skipped.
 
+use crate::nodes::decl::NodeDecl;
+use crate::{Arity, Category};
+
+/// Sequence's declaration: its BehaviorTree.CPP name, family, children and ports.
+pub const SEQUENCE: NodeDecl = NodeDecl {
+    name: "Sequence",
+    category: Category::Control,
+    arity: Arity::AtLeast(1),
+    ports: &[],
+    summary: "Ticks children in order, resuming at the running one; a failure resets it and fails; all succeeded: Success.",
+};
+
+/// SequenceWithMemory's declaration: its BehaviorTree.CPP name, family, children and ports.
+pub const SEQUENCE_WITH_MEMORY: NodeDecl = NodeDecl {
+    name: "SequenceWithMemory",
+    category: Category::Control,
+    arity: Arity::AtLeast(1),
+    ports: &[],
+    summary: "As Sequence, but a failure or a halt keeps its place: the failed child is retried next tick.",
+};
+
+/// AsyncSequence's declaration: its BehaviorTree.CPP name, family, children and ports.
+pub const ASYNC_SEQUENCE: NodeDecl = NodeDecl {
+    name: "AsyncSequence",
+    category: Category::Control,
+    arity: Arity::AtLeast(1),
+    ports: &[],
+    summary: "As Sequence, but yields (Running, woken at once by `tick_once`) after each child that completes.",
+};
+
 #[cfg(test)]
 mod tests {
     use crate::testing::*;

@@ -11,6 +11,24 @@ use crate::blueprint::NodeDef;
 use crate::tree::Ticker;
 use crate::{NodeId, NodeStatus};
 
+use crate::nodes::decl::{NodeDecl, PortDecl};
+use crate::{Arity, Category};
+
+/// TryCatch's declaration: its BehaviorTree.CPP name, family, children and ports.
+pub const TRY_CATCH: NodeDecl = NodeDecl {
+    name: "TryCatch",
+    category: Category::Control,
+    arity: Arity::AtLeast(2),
+    ports: &[PortDecl::input(
+        "catch_on_halt",
+        "bool",
+        "Also run the catch child when the node is halted while its try block runs.",
+    )
+    .or("false")],
+    summary:
+        "Children but the last as a Sequence; on failure ticks the last (the catch) and fails.",
+};
+
 const IN_CATCH: u64 = 1 << 63;
 
 fn unpack(slot: u64) -> (u32, u32, bool) {

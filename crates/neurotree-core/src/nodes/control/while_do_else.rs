@@ -9,6 +9,18 @@ use crate::blueprint::NodeDef;
 use crate::tree::Ticker;
 use crate::{NodeId, NodeStatus};
 
+use crate::nodes::decl::NodeDecl;
+use crate::{Arity, Category};
+
+/// WhileDoElse's declaration: its BehaviorTree.CPP name, family, children and ports.
+pub const WHILE_DO_ELSE: NodeDecl = NodeDecl {
+    name: "WhileDoElse",
+    category: Category::Control,
+    arity: Arity::Range { min: 2, max: 3 },
+    ports: &[],
+    summary: "Re-ticks the condition every tick; switching branch halts the other one.",
+};
+
 #[inline(never)]
 pub(crate) fn tick<C>(t: &mut Ticker<'_, C>, id: NodeId, def: &NodeDef<C>) -> NodeStatus {
     let three = def.child_count == 3;

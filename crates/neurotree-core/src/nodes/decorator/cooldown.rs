@@ -14,6 +14,20 @@ use crate::clock::{duration_to_nanos, moment};
 use crate::tree::Ticker;
 use crate::{NodeId, NodeStatus};
 
+use crate::nodes::decl::{NodeDecl, PortDecl};
+use crate::{Arity, Category};
+
+/// Cooldown's declaration: its BehaviorTree.CPP name, family, children and ports.
+pub const COOLDOWN: NodeDecl = NodeDecl {
+    name: "Cooldown",
+    category: Category::Decorator,
+    arity: Arity::One,
+    ports: &[
+        PortDecl::input("cooldown_msec", "u64", "Milliseconds after the child completed during which the node fails without ticking it."),
+    ],
+    summary: "After the child completes, fails without ticking it until `cooldown_msec` has passed (a NeuroTree node).",
+};
+
 #[inline(never)]
 pub(crate) fn tick<C>(
     t: &mut Ticker<'_, C>,

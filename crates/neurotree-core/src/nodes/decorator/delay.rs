@@ -13,6 +13,22 @@ use crate::clock::{duration_to_nanos, moment};
 use crate::tree::Ticker;
 use crate::{NodeId, NodeStatus};
 
+use crate::nodes::decl::{NodeDecl, PortDecl};
+use crate::{Arity, Category};
+
+/// Delay's declaration: its BehaviorTree.CPP name, family, children and ports.
+pub const DELAY: NodeDecl = NodeDecl {
+    name: "Delay",
+    category: Category::Decorator,
+    arity: Arity::One,
+    ports: &[PortDecl::input(
+        "delay_msec",
+        "u64",
+        "Milliseconds to wait, on the tree's clock, before the child is first ticked.",
+    )],
+    summary: "Running until `delay_msec` has passed on the tree's clock, then ticks the child.",
+};
+
 #[inline(never)]
 pub(crate) fn tick<C>(
     t: &mut Ticker<'_, C>,

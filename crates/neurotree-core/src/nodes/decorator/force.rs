@@ -7,6 +7,27 @@ use crate::blueprint::NodeDef;
 use crate::tree::Ticker;
 use crate::{NodeId, NodeStatus};
 
+use crate::nodes::decl::NodeDecl;
+use crate::{Arity, Category};
+
+/// ForceSuccess's declaration: its BehaviorTree.CPP name, family, children and ports.
+pub const FORCE_SUCCESS: NodeDecl = NodeDecl {
+    name: "ForceSuccess",
+    category: Category::Decorator,
+    arity: Arity::One,
+    ports: &[],
+    summary: "A completed child becomes Success; Running passes.",
+};
+
+/// ForceFailure's declaration: its BehaviorTree.CPP name, family, children and ports.
+pub const FORCE_FAILURE: NodeDecl = NodeDecl {
+    name: "ForceFailure",
+    category: Category::Decorator,
+    arity: Arity::One,
+    ports: &[],
+    summary: "A completed child becomes Failure; Running passes.",
+};
+
 #[inline(never)]
 pub(crate) fn tick<C>(
     t: &mut Ticker<'_, C>,

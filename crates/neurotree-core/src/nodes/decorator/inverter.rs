@@ -8,6 +8,18 @@ use crate::blueprint::NodeDef;
 use crate::tree::Ticker;
 use crate::{NodeId, NodeStatus};
 
+use crate::nodes::decl::NodeDecl;
+use crate::{Arity, Category};
+
+/// Inverter's declaration: its BehaviorTree.CPP name, family, children and ports.
+pub const INVERTER: NodeDecl = NodeDecl {
+    name: "Inverter",
+    category: Category::Decorator,
+    arity: Arity::One,
+    ports: &[],
+    summary: "Swaps Success and Failure; Running passes.",
+};
+
 #[inline(never)]
 pub(crate) fn tick<C>(t: &mut Ticker<'_, C>, id: NodeId, def: &NodeDef<C>) -> NodeStatus {
     t.set_status(id, NodeStatus::Running);

@@ -9,6 +9,18 @@ use crate::blueprint::NodeDef;
 use crate::tree::Ticker;
 use crate::{NodeId, NodeStatus};
 
+use crate::nodes::decl::NodeDecl;
+use crate::{Arity, Category};
+
+/// KeepRunningUntilFailure's declaration: its BehaviorTree.CPP name, family, children and ports.
+pub const KEEP_RUNNING_UNTIL_FAILURE: NodeDecl = NodeDecl {
+    name: "KeepRunningUntilFailure",
+    category: Category::Decorator,
+    arity: Arity::One,
+    ports: &[],
+    summary: "Child Success becomes Running; Failure ends it.",
+};
+
 #[inline(never)]
 pub(crate) fn tick<C>(t: &mut Ticker<'_, C>, id: NodeId, def: &NodeDef<C>) -> NodeStatus {
     t.set_status(id, NodeStatus::Running);

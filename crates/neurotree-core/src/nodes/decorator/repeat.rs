@@ -17,6 +17,22 @@ use crate::blueprint::NodeDef;
 use crate::tree::Ticker;
 use crate::{NodeId, NodeStatus};
 
+use crate::nodes::decl::{NodeDecl, PortDecl};
+use crate::{Arity, Category};
+
+/// Repeat's declaration: its BehaviorTree.CPP name, family, children and ports.
+pub const REPEAT: NodeDecl = NodeDecl {
+    name: "Repeat",
+    category: Category::Decorator,
+    arity: Arity::One,
+    ports: &[PortDecl::input(
+        "num_cycles",
+        "i32",
+        "How many times a succeeding child runs before the node succeeds; -1 repeats forever.",
+    )],
+    summary: "Runs a succeeding child `num_cycles` times (-1: forever); a failure fails.",
+};
+
 /// Repeat (`REPEAT`) or RetryUntilSuccessful (`!REPEAT`): the two mirror each other, one
 /// counting successes and stopping at a failure, the other counting failures and stopping at
 /// a success. `limit` is `num_cycles` or `num_attempts` (exactly -1: forever; another

@@ -9,6 +9,22 @@
 //! under [`Tree::tick_once`](crate::Tree::tick_once) the attempts follow each other in the same
 //! call. Exactly `-1` retries forever. Halt resets the count.
 
+use crate::nodes::decl::{NodeDecl, PortDecl};
+use crate::{Arity, Category};
+
+/// RetryUntilSuccessful's declaration: its BehaviorTree.CPP name, family, children and ports.
+pub const RETRY_UNTIL_SUCCESSFUL: NodeDecl = NodeDecl {
+    name: "RetryUntilSuccessful",
+    category: Category::Decorator,
+    arity: Arity::One,
+    ports: &[PortDecl::input(
+        "num_attempts",
+        "i32",
+        "How many times a failing child is tried before the node fails; -1 retries forever.",
+    )],
+    summary: "Retries a failing child `num_attempts` times (-1: forever); a success succeeds.",
+};
+
 // The loop is Repeat's, mirrored: see `repeat::tick`.
 
 #[cfg(test)]

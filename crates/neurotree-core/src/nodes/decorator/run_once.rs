@@ -9,6 +9,20 @@ use crate::blueprint::NodeDef;
 use crate::tree::Ticker;
 use crate::{NodeId, NodeStatus};
 
+use crate::nodes::decl::{NodeDecl, PortDecl};
+use crate::{Arity, Category};
+
+/// RunOnce's declaration: its BehaviorTree.CPP name, family, children and ports.
+pub const RUN_ONCE: NodeDecl = NodeDecl {
+    name: "RunOnce",
+    category: Category::Decorator,
+    arity: Arity::One,
+    ports: &[
+        PortDecl::input("then_skip", "bool", "After the first run, return Skipped if true, else the status the child returned that once.").or("true"),
+    ],
+    summary: "Runs the child to completion once; afterwards Skipped (or the first outcome again).",
+};
+
 const SUCCEEDED: u64 = 1;
 const FAILED: u64 = 2;
 

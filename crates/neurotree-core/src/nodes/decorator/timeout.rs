@@ -14,6 +14,22 @@ use crate::clock::{duration_to_nanos, moment};
 use crate::tree::Ticker;
 use crate::{NodeId, NodeStatus};
 
+use crate::nodes::decl::{NodeDecl, PortDecl};
+use crate::{Arity, Category};
+
+/// Timeout's declaration: its BehaviorTree.CPP name, family, children and ports.
+pub const TIMEOUT: NodeDecl = NodeDecl {
+    name: "Timeout",
+    category: Category::Decorator,
+    arity: Arity::One,
+    ports: &[PortDecl::input(
+        "msec",
+        "u64",
+        "Milliseconds the child may run; past them it is halted and the node fails (0: no limit).",
+    )],
+    summary: "Times from the first tick; when `msec` is up, halts the Running child and fails.",
+};
+
 #[inline(never)]
 pub(crate) fn tick<C>(
     t: &mut Ticker<'_, C>,

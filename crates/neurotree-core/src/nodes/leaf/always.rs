@@ -3,6 +3,27 @@
 //! - **AlwaysSuccess**: Success, every tick.
 //! - **AlwaysFailure**: Failure, every tick.
 
+use crate::nodes::decl::NodeDecl;
+use crate::{Arity, Category};
+
+/// AlwaysSuccess's declaration: its BehaviorTree.CPP name, family, children and ports.
+pub const ALWAYS_SUCCESS: NodeDecl = NodeDecl {
+    name: "AlwaysSuccess",
+    category: Category::Action,
+    arity: Arity::Leaf,
+    ports: &[],
+    summary: "Success, every tick.",
+};
+
+/// AlwaysFailure's declaration: its BehaviorTree.CPP name, family, children and ports.
+pub const ALWAYS_FAILURE: NodeDecl = NodeDecl {
+    name: "AlwaysFailure",
+    category: Category::Action,
+    arity: Arity::Leaf,
+    ports: &[],
+    summary: "Failure, every tick.",
+};
+
 #[cfg(test)]
 mod tests {
     use crate::testing::*;

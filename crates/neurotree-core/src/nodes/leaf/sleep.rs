@@ -16,6 +16,22 @@ use crate::clock::duration_to_nanos;
 use crate::tree::Ticker;
 use crate::{NodeId, NodeStatus};
 
+use crate::nodes::decl::{NodeDecl, PortDecl};
+use crate::{Arity, Category};
+
+/// Sleep's declaration: its BehaviorTree.CPP name, family, children and ports.
+pub const SLEEP: NodeDecl = NodeDecl {
+    name: "Sleep",
+    category: Category::Action,
+    arity: Arity::Leaf,
+    ports: &[PortDecl::input(
+        "msec",
+        "u64",
+        "Milliseconds to stay Running, on the tree's clock.",
+    )],
+    summary: "Running until `msec` has passed on the tree's clock, then Success.",
+};
+
 pub(crate) fn tick<C>(
     t: &mut Ticker<'_, C>,
     id: NodeId,
