@@ -70,6 +70,7 @@ fn sim(domain: u16, world: GridWorld) -> (Running, SimStatsHandle) {
         let ros = node("nav2_sim", domain);
         let options = SimOptions {
             time_scale: TIME_SCALE,
+            ..SimOptions::default()
         };
         let mut servers = SimServers::new(&ros, Nav2Sim::new(world), options).unwrap();
         tx.send(servers.stats()).unwrap();

@@ -12,7 +12,8 @@
 //! tree of its own, over the one [`Nav2Sim`]: the servers behave as the simulated leaves do
 //! (the same error codes, tolerances and time allowances). The world steps on its own
 //! clock: every `period / time_scale` of wall time, it moves on by one period
-//! ([`Nav2Params::period`](neurotree_sim::nav2::Nav2Params)). The controller and the
+//! ([`Nav2Params::period`](neurotree_sim::nav2::Nav2Params)), from the first goal on
+//! ([`SimOptions::start_on_first_goal`]). The controller and the
 //! behaviors command the one robot: a goal for one of them aborts the goal another one is
 //! running. A cancel request halts the goal's tree, which stops the robot.
 
@@ -101,12 +102,19 @@ impl SimStatsHandle {
 pub struct SimOptions {
     /// Simulated seconds per wall second: 2.0 runs the world twice as fast as real time.
     pub time_scale: f64,
+    /// Hold the world's clock until the first goal arrives, so that its timed obstacles
+    /// are timed from the start of the navigation, however long the navigator took to
+    /// come up.
+    pub start_on_first_goal: bool,
 }
 
 impl Default for SimOptions {
-    /// Real time.
+    /// Real time, from the first goal.
     fn default() -> Self {
-        Self { time_scale: 1.0 }
+        Self {
+            time_scale: 1.0,
+            start_on_first_goal: true,
+        }
     }
 }
 
@@ -378,6 +386,7 @@ pub struct SimServers {
     poses: Publisher<PoseStamped>,
     stats: SimStatsHandle,
     wall_period: Duration,
+    clock_running: bool,
 }
 
 impl SimServers {
@@ -402,6 +411,7 @@ impl SimServers {
             poses: ros.publisher(ROBOT_POSE_TOPIC)?,
             stats: SimStatsHandle::default(),
             wall_period,
+            clock_running: !options.start_on_first_goal,
             sim,
         };
         servers.record();
@@ -428,7 +438,7 @@ impl SimServers {
     pub fn spin_once(&mut self) -> Result<(), Ros2Error> {
         let sim = &mut self.sim;
         let stats = &self.stats;
-        self.planner.poll(sim, stats)?;
+        let planned = self.planner.poll(sim, stats)?;
         // The controller and the behaviors share the robot: the newest goal has it.
         let moved = [
             self.controller.poll(sim, stats)?,
@@ -436,6 +446,7 @@ impl SimServers {
             self.backup.poll(sim, stats)?,
             self.wait.poll(sim, stats)?,
         ];
+        self.clock_running |= planned || moved.contains(&true);
         if let Some(newest) = moved.iter().rposition(|m| *m) {
             let running = [
                 self.controller.is_running(),
@@ -476,7 +487,9 @@ impl SimServers {
         self.spin.tick(sim, stats);
         self.backup.tick(sim, stats);
         self.wait.tick(sim, stats);
-        sim.step();
+        if self.clock_running {
+            sim.step();
+        }
         // Best effort: the next step publishes again.
         let _ = self.poses.publish(pose_stamped(sim.world.robot()));
         self.record();
