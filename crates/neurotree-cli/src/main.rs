@@ -4,6 +4,8 @@
 //! - `neurotree bench`: quick measurements of tick cost and of many agents per frame.
 //! - `neurotree check`: validate BehaviorTree.CPP XML files against the node models.
 //! - `neurotree run`: dry-run a BehaviorTree.CPP file with mock leaves, as JSON lines.
+//! - `neurotree ros2`: Nav2's navigator and the simulated Nav2 servers as ROS 2 processes
+//!   (feature `ros2`, on by default; Rust 1.88).
 //! - `neurotree show`: draw a BehaviorTree.CPP file's tree as text, DOT, Mermaid or SVG.
 
 mod bench;
@@ -11,6 +13,8 @@ mod check;
 mod files;
 mod groot;
 mod registry;
+#[cfg(feature = "ros2")]
+mod ros2;
 mod run;
 mod show;
 
@@ -44,6 +48,69 @@ enum Command {
     /// Draw a BehaviorTree.CPP file's tree as text, Graphviz DOT, Mermaid or SVG, with the
     /// statuses of a `run --trace` if given one.
     Show(ShowArgs),
+    /// Nav2's navigator and the simulated Nav2 servers as ROS 2 processes on 127.0.0.1.
+    #[cfg(feature = "ros2")]
+    #[command(subcommand)]
+    Ros2(Ros2Command),
+}
+
+#[cfg(feature = "ros2")]
+#[derive(Subcommand, Debug)]
+enum Ros2Command {
+    /// Serve the demo's warehouse as Nav2's planner, controller, behavior and costmap
+    /// servers (compute_path_to_pose, follow_path, spin, backup, wait, clear_entirely_*).
+    Sim {
+        /// Picks the obstacle that steps onto the robot's path (as `neurotree demo`).
+        #[arg(long, default_value_t = 0)]
+        seed: u64,
+        /// The DDS domain (ROS_DOMAIN_ID).
+        #[arg(long, default_value_t = 0)]
+        domain: u16,
+        /// Simulated seconds per wall second.
+        #[arg(long, default_value_t = 1.0, value_parser = parse_positive)]
+        time_scale: f64,
+        /// Stop after this many seconds [default: run until killed].
+        #[arg(long, value_name = "SECS")]
+        duration: Option<u64>,
+    },
+    /// Serve navigate_to_pose: for each goal, tick the tree at 10 Hz with its leaves
+    /// calling Nav2's servers over ROS 2; feedback, result; a cancel halts the tree.
+    Navigator {
+        /// The tree to run [default: Nav2's navigate_to_pose_w_replanning_and_recovery.xml].
+        #[arg(long, value_name = "FILE")]
+        tree: Option<std::path::PathBuf>,
+        /// The DDS domain (ROS_DOMAIN_ID).
+        #[arg(long, default_value_t = 0)]
+        domain: u16,
+        /// Stop after this many seconds [default: run until killed].
+        #[arg(long, value_name = "SECS")]
+        duration: Option<u64>,
+    },
+    /// Start `ros2 sim` and `ros2 navigator` as processes, send the robot across the
+    /// warehouse, print its progress and a summary, stop both.
+    Demo {
+        /// Picks the obstacle that steps onto the robot's path.
+        #[arg(long, default_value_t = 0)]
+        seed: u64,
+        /// The DDS domain (ROS_DOMAIN_ID).
+        #[arg(long, default_value_t = 0)]
+        domain: u16,
+        /// Simulated seconds per wall second.
+        #[arg(long, default_value_t = 4.0, value_parser = parse_positive)]
+        time_scale: f64,
+        /// Give up after this many seconds.
+        #[arg(long, value_name = "SECS", default_value_t = 120)]
+        timeout: u64,
+    },
+}
+
+/// A number above zero.
+#[cfg(feature = "ros2")]
+fn parse_positive(text: &str) -> Result<f64, String> {
+    match text.trim().parse::<f64>() {
+        Ok(x) if x > 0.0 && x.is_finite() => Ok(x),
+        _ => Err(format!("`{text}` should be a number above 0")),
+    }
 }
 
 /// What `neurotree run --help` says after the options.
@@ -314,6 +381,41 @@ fn main() -> ExitCode {
             };
             demo::run(&opts, &mut out, &mut io::stderr()).map(Outcome::from)
         }
+        #[cfg(feature = "ros2")]
+        Command::Ros2(command) => match command {
+            Ros2Command::Sim {
+                seed,
+                domain,
+                time_scale,
+                duration,
+            } => ros2::sim(
+                seed,
+                domain,
+                time_scale,
+                duration.map(Duration::from_secs),
+                &mut out,
+            ),
+            Ros2Command::Navigator {
+                tree,
+                domain,
+                duration,
+            } => ros2::navigator(tree, domain, duration.map(Duration::from_secs), &mut out),
+            Ros2Command::Demo {
+                seed,
+                domain,
+                time_scale,
+                timeout,
+            } => {
+                let options = ros2::DemoOptions {
+                    seed,
+                    domain,
+                    time_scale,
+                    goal: neurotree_cli::demo::DEFAULT_GOAL,
+                    timeout: Duration::from_secs(timeout),
+                };
+                ros2::demo(&options, &mut out)
+            }
+        },
         Command::Bench(args) => {
             let opts = bench::BenchOptions {
                 quick: args.quick,

@@ -30,4 +30,14 @@ pub enum Ros2Error {
         /// RustDDS's reason.
         message: String,
     },
+    /// A server failed to read a request or to answer it.
+    #[error("the {kind} `{name}` failed: {message}")]
+    Serve {
+        /// `action server`, `service server`, ...
+        kind: &'static str,
+        /// The service or action name.
+        name: String,
+        /// What failed, and RustDDS's reason.
+        message: String,
+    },
 }

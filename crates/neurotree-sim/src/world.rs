@@ -203,6 +203,28 @@ impl GridWorld {
         self.robot
     }
 
+    /// Puts the robot at `pose`, as reported by a robot elsewhere: for a world that mirrors
+    /// one it does not drive (a ROS 2 navigator's view of the robot the simulator moves).
+    /// The current motion is dropped and the sensors look around the new pose.
+    pub fn set_robot(&mut self, pose: Pose2D) -> Result<(), MapError> {
+        match self.map.cell_at(&pose) {
+            None => Err(MapError::OutsideMap {
+                what: "robot",
+                pose,
+            }),
+            Some(cell) if self.map.is_wall(cell) => Err(MapError::Blocked {
+                what: "robot",
+                cell,
+            }),
+            Some(_) => {
+                self.robot = pose;
+                self.motion = Motion::default();
+                self.refresh();
+                Ok(())
+            }
+        }
+    }
+
     /// The cell the robot is in.
     pub fn robot_cell(&self) -> Cell {
         // The robot starts on the map and every motion checks its next cell is on it.

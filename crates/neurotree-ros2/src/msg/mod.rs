@@ -7,7 +7,7 @@
 //! | [`std_msgs`] | `Header`, `String`, `Empty` |
 //! | [`geometry_msgs`] | `Point`, `Quaternion`, `Pose`, `PoseStamped`, `Vector3`, `Twist` |
 //! | [`nav_msgs`] | `Path` |
-//! | [`nav2_msgs`] | actions `ComputePathToPose`, `FollowPath`, `Spin`, `BackUp`, `Wait`; service `ClearEntireCostmap` |
+//! | [`nav2_msgs`] | actions `NavigateToPose`, `ComputePathToPose`, `FollowPath`, `Spin`, `BackUp`, `Wait`; service `ClearEntireCostmap` |
 //!
 //! Field order is the wire format: each struct lists the fields of its `.msg` file in order.
 //! A definition with no field (`std_msgs/Empty`, an empty feedback) carries the one byte

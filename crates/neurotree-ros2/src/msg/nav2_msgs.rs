@@ -301,3 +301,54 @@ pub struct ClearEntireCostmapResponse {
 }
 
 parts!(ClearEntireCostmapRequest, ClearEntireCostmapResponse);
+
+action!(
+    /// `nav2_msgs/action/NavigateToPose`: the BT navigator drives the robot to a pose.
+    NavigateToPose: NavigateToPoseGoal, NavigateToPoseResult, NavigateToPoseFeedback
+);
+
+/// The goal of [`NavigateToPose`].
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct NavigateToPoseGoal {
+    /// Where to go.
+    pub pose: PoseStamped,
+    /// A behavior tree file to run instead of the navigator's default; empty for it.
+    pub behavior_tree: String,
+}
+
+/// The result of [`NavigateToPose`].
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct NavigateToPoseResult {
+    /// 0, or one of the constants.
+    pub error_code: u16,
+    /// What went wrong, for people.
+    pub error_msg: String,
+}
+
+impl NavigateToPoseResult {
+    /// No error.
+    pub const NONE: u16 = 0;
+    /// An error without a code of its own (the tree failed).
+    pub const UNKNOWN: u16 = 9000;
+    /// The goal's `behavior_tree` could not be loaded.
+    pub const FAILED_TO_LOAD_BEHAVIOR_TREE: u16 = 9001;
+    /// A transform was missing.
+    pub const TF_ERROR: u16 = 9002;
+    /// Navigation took too long.
+    pub const TIMEOUT: u16 = 9003;
+}
+
+/// The feedback of [`NavigateToPose`].
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct NavigateToPoseFeedback {
+    /// Where the robot is.
+    pub current_pose: PoseStamped,
+    /// How long the navigation has run.
+    pub navigation_time: Duration,
+    /// How long it may still take, at the current speed.
+    pub estimated_time_remaining: Duration,
+    /// Recoveries run so far for this goal.
+    pub number_of_recoveries: i16,
+    /// Metres left along the path.
+    pub distance_remaining: f32,
+}

@@ -273,6 +273,19 @@ pub fn register_nav2_leaves<C: Nav2Context>(
     behaviors::register(registry)
 }
 
+/// Registers the Nav2 leaves that call no server in Nav2 either, or only to read what the
+/// navigator's own view answers: the five selectors, IsGoalNearby, TruncatePathLocal,
+/// ValidatePath, WouldAPlannerRecoveryHelp and WouldAControllerRecoveryHelp. A navigator
+/// whose planner, controller, behaviors and costmaps are served elsewhere (over ROS 2)
+/// registers these and its own clients for the rest. Fails if one of the names is taken.
+pub fn register_nav2_checks<C: Nav2Context>(
+    registry: &mut Registry<C>,
+) -> Result<(), RegistryError> {
+    selectors::register(registry)?;
+    path_checks::register(registry)?;
+    recovery_help::register(registry)
+}
+
 /// The names [`register_nav2_leaves`] registers, in its order.
 pub const LEAVES: [&str; 16] = [
     "ComputePathToPose",

@@ -1,0 +1,521 @@
+//! [`SimServers`]: the grid world served as the Nav2 servers a navigator calls.
+//!
+//! | server | name | what it does on the world |
+//! |---|---|---|
+//! | planner | action `compute_path_to_pose` | A* on the global costmap (the sim's ComputePathToPose) |
+//! | controller | action `follow_path` | follows the path, fails when blocked (the sim's FollowPath) |
+//! | behaviors | actions `spin`, `backup`, `wait` | turn, drive back, stand still (the sim's Spin, BackUp, Wait) |
+//! | costmaps | services `global_costmap/clear_entirely_global_costmap`, `local_costmap/clear_entirely_local_costmap` | forget the sensed obstacles |
+//! | pose | topic [`ROBOT_POSE_TOPIC`] | the robot's pose, each step |
+//!
+//! Each goal runs the in-process leaf of `neurotree_sim::nav2` of the same name, alone in a
+//! tree of its own, over the one [`Nav2Sim`]: the servers behave as the simulated leaves do
+//! (the same error codes, tolerances and time allowances). The world steps on its own
+//! clock: every `period / time_scale` of wall time, it moves on by one period
+//! ([`Nav2Params::period`](neurotree_sim::nav2::Nav2Params)), from the first goal on
+//! ([`SimOptions::start_on_first_goal`]). The controller and the
+//! behaviors command the one robot: a goal for one of them aborts the goal another one is
+//! running. A cancel request halts the goal's tree, which stops the robot.
+
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, Mutex, MutexGuard};
+use std::time::{Duration, Instant};
+
+use neurotree_nav2::robotics::{Path, Pose2D};
+use neurotree_sim::nav2::{register_nav2_leaves, Nav2Sim};
+use neurotree_sim::CostmapLayer;
+use neurotree_toolkit::{Blackboard, Blueprint, Registry, Status, Tree, XmlLoader};
+use ros2_client::action::GoalStatusEnum;
+use ros2_client::service::Server;
+use ros2_client::Publisher;
+
+use super::convert::{path_2d, path_msg, pose_2d, pose_stamped};
+use super::goal_server::{GoalServer, Request};
+use super::navigator::{NavigatorError, ROBOT_POSE_TOPIC};
+use crate::msg::geometry_msgs::PoseStamped;
+use crate::msg::nav2_msgs::{
+    BackUp, BackUpResult, ClearEntireCostmap, ClearEntireCostmapRequest,
+    ClearEntireCostmapResponse, ComputePathToPose, ComputePathToPoseResult, FollowPath,
+    FollowPathFeedback, FollowPathResult, Spin, SpinResult, Wait, WaitResult,
+};
+use crate::{Ros2Error, RosAction, RosNode};
+
+/// The global costmap's clearing service.
+pub const CLEAR_GLOBAL_COSTMAP: &str = "global_costmap/clear_entirely_global_costmap";
+/// The local costmap's clearing service.
+pub const CLEAR_LOCAL_COSTMAP: &str = "local_costmap/clear_entirely_local_costmap";
+
+/// What one action server saw.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct ServerCounts {
+    /// Goals accepted.
+    pub goals: u32,
+    /// Cancel requests for a running goal.
+    pub cancels: u32,
+    /// Goals that succeeded.
+    pub succeeded: u32,
+    /// Goals that aborted (failed, or preempted).
+    pub aborted: u32,
+}
+
+/// What the servers saw, for tests and summaries.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct SimStats {
+    /// `compute_path_to_pose`.
+    pub planner: ServerCounts,
+    /// `follow_path`.
+    pub controller: ServerCounts,
+    /// `spin`.
+    pub spin: ServerCounts,
+    /// `backup`.
+    pub backup: ServerCounts,
+    /// `wait`.
+    pub wait: ServerCounts,
+    /// Costmap clearings served.
+    pub clears: u32,
+    /// Where the robot is.
+    pub robot: Pose2D,
+    /// Simulated time.
+    pub time: Duration,
+    /// Metres the robot drove.
+    pub distance: f64,
+}
+
+/// Shared [`SimStats`]: clones read the same counts.
+#[derive(Clone, Debug, Default)]
+pub struct SimStatsHandle(Arc<Mutex<SimStats>>);
+
+impl SimStatsHandle {
+    /// The counts now.
+    pub fn get(&self) -> SimStats {
+        *self.lock()
+    }
+
+    fn lock(&self) -> MutexGuard<'_, SimStats> {
+        // Plain counters: still meaningful after a panic elsewhere.
+        self.0.lock().unwrap_or_else(|e| e.into_inner())
+    }
+}
+
+/// How the servers run.
+#[derive(Clone, Copy, Debug)]
+pub struct SimOptions {
+    /// Simulated seconds per wall second: 2.0 runs the world twice as fast as real time.
+    pub time_scale: f64,
+    /// Hold the world's clock until the first goal arrives, so that its timed obstacles
+    /// are timed from the start of the navigation, however long the navigator took to
+    /// come up.
+    pub start_on_first_goal: bool,
+}
+
+impl Default for SimOptions {
+    /// Real time, from the first goal.
+    fn default() -> Self {
+        Self {
+            time_scale: 1.0,
+            start_on_first_goal: true,
+        }
+    }
+}
+
+/// An action whose goals the sim runs with its leaf of the same name.
+trait SimAction: RosAction
+where
+    Self::Result: Default,
+{
+    /// The one-node tree: the leaf with its ports on blackboard entries.
+    const XML: &'static str;
+    /// The goal's fields to the blackboard.
+    fn put(goal: &Self::Goal, bb: &mut Blackboard);
+    /// The result, from the blackboard after the leaf ended.
+    fn result(bb: &Blackboard, code: u16, message: String, elapsed: Duration) -> Self::Result;
+    /// Feedback after a Running tick.
+    fn feedback(_bb: &Blackboard, _sim: &Nav2Sim) -> Option<Self::Feedback> {
+        None
+    }
+    /// Which counts of [`SimStats`] are this server's.
+    fn counts(stats: &mut SimStats) -> &mut ServerCounts;
+}
+
+// The entries are written before the tree first ticks: set fails only for a type that
+// an entry already has with another type, which a fresh tree does not.
+
+impl SimAction for ComputePathToPose {
+    const XML: &'static str = r#"<ComputePathToPose goal="{goal}" start="{start}" planner_id="{planner_id}" path="{path}" error_code_id="{error_code}" error_msg="{error_msg}"/>"#;
+    fn put(goal: &Self::Goal, bb: &mut Blackboard) {
+        let _ = bb.set("goal", pose_2d(&goal.goal));
+        if goal.use_start {
+            let _ = bb.set("start", pose_2d(&goal.start));
+        }
+        let _ = bb.set("planner_id", goal.planner_id.clone());
+    }
+    fn result(bb: &Blackboard, code: u16, message: String, elapsed: Duration) -> Self::Result {
+        ComputePathToPoseResult {
+            path: path_msg(&bb.get::<Path>("path").unwrap_or_default()),
+            planning_time: elapsed.into(),
+            error_code: code,
+            error_msg: message,
+        }
+    }
+    fn counts(stats: &mut SimStats) -> &mut ServerCounts {
+        &mut stats.planner
+    }
+}
+
+impl SimAction for FollowPath {
+    const XML: &'static str = r#"<FollowPath path="{path}" controller_id="{controller_id}" error_code_id="{error_code}" error_msg="{error_msg}"/>"#;
+    fn put(goal: &Self::Goal, bb: &mut Blackboard) {
+        let _ = bb.set("path", path_2d(&goal.path));
+        let _ = bb.set("controller_id", goal.controller_id.clone());
+    }
+    fn result(_bb: &Blackboard, code: u16, message: String, _elapsed: Duration) -> Self::Result {
+        FollowPathResult {
+            error_code: code,
+            error_msg: message,
+            ..FollowPathResult::default()
+        }
+    }
+    fn feedback(bb: &Blackboard, sim: &Nav2Sim) -> Option<FollowPathFeedback> {
+        let path = bb.get::<Path>("path").ok()?;
+        let robot = sim.world.robot();
+        let goal = path.goal()?;
+        let left = super::convert::distance_remaining(Some(&path), robot, goal);
+        Some(FollowPathFeedback {
+            distance_to_goal: left as f32,
+            speed: sim.params.speed as f32,
+        })
+    }
+    fn counts(stats: &mut SimStats) -> &mut ServerCounts {
+        &mut stats.controller
+    }
+}
+
+impl SimAction for Spin {
+    const XML: &'static str = r#"<Spin spin_dist="{spin_dist}" time_allowance="{time_allowance}" error_code_id="{error_code}" error_msg="{error_msg}"/>"#;
+    fn put(goal: &Self::Goal, bb: &mut Blackboard) {
+        let _ = bb.set("spin_dist", f64::from(goal.target_yaw));
+        let allowance: Duration = goal.time_allowance.into();
+        let _ = bb.set("time_allowance", allowance.as_secs_f64());
+    }
+    fn result(_bb: &Blackboard, code: u16, message: String, elapsed: Duration) -> Self::Result {
+        SpinResult {
+            total_elapsed_time: elapsed.into(),
+            error_code: code,
+            error_msg: message,
+        }
+    }
+    fn counts(stats: &mut SimStats) -> &mut ServerCounts {
+        &mut stats.spin
+    }
+}
+
+impl SimAction for BackUp {
+    const XML: &'static str = r#"<BackUp backup_dist="{backup_dist}" backup_speed="{backup_speed}" time_allowance="{time_allowance}" error_code_id="{error_code}" error_msg="{error_msg}"/>"#;
+    fn put(goal: &Self::Goal, bb: &mut Blackboard) {
+        let _ = bb.set("backup_dist", goal.target.x);
+        let _ = bb.set("backup_speed", f64::from(goal.speed));
+        let allowance: Duration = goal.time_allowance.into();
+        let _ = bb.set("time_allowance", allowance.as_secs_f64());
+    }
+    fn result(_bb: &Blackboard, code: u16, message: String, elapsed: Duration) -> Self::Result {
+        BackUpResult {
+            total_elapsed_time: elapsed.into(),
+            error_code: code,
+            error_msg: message,
+        }
+    }
+    fn counts(stats: &mut SimStats) -> &mut ServerCounts {
+        &mut stats.backup
+    }
+}
+
+impl SimAction for Wait {
+    const XML: &'static str = r#"<Wait wait_duration="{wait_duration}" error_code_id="{error_code}" error_msg="{error_msg}"/>"#;
+    fn put(goal: &Self::Goal, bb: &mut Blackboard) {
+        let time: Duration = goal.time.into();
+        let _ = bb.set("wait_duration", time.as_secs_f64());
+    }
+    fn result(_bb: &Blackboard, code: u16, message: String, elapsed: Duration) -> Self::Result {
+        WaitResult {
+            total_elapsed_time: elapsed.into(),
+            error_code: code,
+            error_msg: message,
+        }
+    }
+    fn counts(stats: &mut SimStats) -> &mut ServerCounts {
+        &mut stats.wait
+    }
+}
+
+/// One action server and the tree of its running goal.
+struct Served<A: SimAction>
+where
+    A::Result: Default,
+{
+    goals: GoalServer<A>,
+    blueprint: Arc<Blueprint<Nav2Sim>>,
+    running: Option<(Tree<Nav2Sim>, Duration)>,
+}
+
+impl<A: SimAction> Served<A>
+where
+    A::Result: Default,
+{
+    fn new(
+        ros: &RosNode,
+        name: &str,
+        registry: &Registry<Nav2Sim>,
+    ) -> Result<Self, NavigatorError> {
+        let mut loader = XmlLoader::new(registry);
+        let xml = format!(
+            r#"<root BTCPP_format="4"><BehaviorTree ID="Server">{}</BehaviorTree></root>"#,
+            A::XML
+        );
+        loader.load_str(&xml, name)?;
+        Ok(Self {
+            goals: GoalServer::new(ros, name)?,
+            blueprint: Arc::new(loader.build_main()?),
+            running: None,
+        })
+    }
+
+    /// Reads the requests; `true` if a new goal started.
+    fn poll(&mut self, sim: &mut Nav2Sim, stats: &SimStatsHandle) -> Result<bool, Ros2Error> {
+        let mut started = false;
+        for request in self.goals.poll()? {
+            match request {
+                Request::Goal(goal) => {
+                    if let Some((mut tree, _)) = self.running.take() {
+                        // The server already ended the preempted goal.
+                        tree.halt(sim);
+                        A::counts(&mut stats.lock()).aborted += 1;
+                    }
+                    let mut tree = Tree::with_clock(Arc::clone(&self.blueprint), sim.world.clock());
+                    A::put(&goal, tree.blackboard_mut());
+                    self.running = Some((tree, sim.world.now()));
+                    A::counts(&mut stats.lock()).goals += 1;
+                    started = true;
+                }
+                Request::Cancel => {
+                    if let Some((mut tree, since)) = self.running.take() {
+                        tree.halt(sim);
+                        let elapsed = sim.world.now().saturating_sub(since);
+                        let result = A::result(tree.blackboard(), 0, String::new(), elapsed);
+                        self.goals.finish(GoalStatusEnum::Canceled, result);
+                        started = false;
+                    }
+                    A::counts(&mut stats.lock()).cancels += 1;
+                }
+            }
+        }
+        Ok(started)
+    }
+
+    /// Aborts the running goal: another server took the robot.
+    fn preempt(&mut self, sim: &mut Nav2Sim, stats: &SimStatsHandle) {
+        if let Some((mut tree, since)) = self.running.take() {
+            tree.halt(sim);
+            let elapsed = sim.world.now().saturating_sub(since);
+            let message = "preempted by another motion".to_owned();
+            let result = A::result(tree.blackboard(), 0, message, elapsed);
+            self.goals.finish(GoalStatusEnum::Aborted, result);
+            A::counts(&mut stats.lock()).aborted += 1;
+        }
+    }
+
+    fn is_running(&self) -> bool {
+        self.running.is_some()
+    }
+
+    /// Ticks the running goal's tree; sends feedback or ends the goal.
+    fn tick(&mut self, sim: &mut Nav2Sim, stats: &SimStatsHandle) {
+        let Some((tree, since)) = &mut self.running else {
+            return;
+        };
+        let status = tree.tick_once(sim);
+        if status == Ok(Status::Running) {
+            if let Some(feedback) = A::feedback(tree.blackboard(), sim) {
+                self.goals.feedback(feedback);
+            }
+            return;
+        }
+        let bb = tree.blackboard();
+        let elapsed = sim.world.now().saturating_sub(*since);
+        let code = bb.get::<u16>("error_code").unwrap_or(0);
+        let message = bb.get::<String>("error_msg").unwrap_or_default();
+        let (status, result) = match status {
+            Ok(Status::Success) => (
+                GoalStatusEnum::Succeeded,
+                A::result(bb, 0, String::new(), elapsed),
+            ),
+            Ok(_) => (
+                GoalStatusEnum::Aborted,
+                A::result(bb, code, message, elapsed),
+            ),
+            Err(e) => (
+                GoalStatusEnum::Aborted,
+                A::result(bb, code, e.to_string(), elapsed),
+            ),
+        };
+        {
+            let mut stats = stats.lock();
+            let counts = A::counts(&mut stats);
+            if status == GoalStatusEnum::Succeeded {
+                counts.succeeded += 1;
+            } else {
+                counts.aborted += 1;
+            }
+        }
+        self.running = None;
+        self.goals.finish(status, result);
+    }
+}
+
+type ClearServer = Server<ClearEntireCostmapRequest, ClearEntireCostmapResponse>;
+
+/// The grid world as Nav2's servers; see the [module](self).
+pub struct SimServers {
+    sim: Nav2Sim,
+    planner: Served<ComputePathToPose>,
+    controller: Served<FollowPath>,
+    spin: Served<Spin>,
+    backup: Served<BackUp>,
+    wait: Served<Wait>,
+    clear_global: ClearServer,
+    clear_local: ClearServer,
+    poses: Publisher<PoseStamped>,
+    stats: SimStatsHandle,
+    wall_period: Duration,
+    clock_running: bool,
+}
+
+impl SimServers {
+    /// Serves `sim` on `ros`.
+    pub fn new(ros: &RosNode, sim: Nav2Sim, options: SimOptions) -> Result<Self, NavigatorError> {
+        let mut registry = Registry::<Nav2Sim>::new();
+        register_nav2_leaves(&mut registry)?;
+        let scale = if options.time_scale.is_finite() && options.time_scale > 0.0 {
+            options.time_scale
+        } else {
+            1.0
+        };
+        let wall_period = sim.params.period.div_f64(scale);
+        let servers = Self {
+            planner: Served::new(ros, "compute_path_to_pose", &registry)?,
+            controller: Served::new(ros, "follow_path", &registry)?,
+            spin: Served::new(ros, "spin", &registry)?,
+            backup: Served::new(ros, "backup", &registry)?,
+            wait: Served::new(ros, "wait", &registry)?,
+            clear_global: ros.service_server::<ClearEntireCostmap>(CLEAR_GLOBAL_COSTMAP)?,
+            clear_local: ros.service_server::<ClearEntireCostmap>(CLEAR_LOCAL_COSTMAP)?,
+            poses: ros.publisher(ROBOT_POSE_TOPIC)?,
+            stats: SimStatsHandle::default(),
+            wall_period,
+            clock_running: !options.start_on_first_goal,
+            sim,
+        };
+        servers.record();
+        Ok(servers)
+    }
+
+    /// The counts, shared: read them while [`run`](Self::run) goes on in another thread.
+    pub fn stats(&self) -> SimStatsHandle {
+        self.stats.clone()
+    }
+
+    /// The simulation.
+    pub fn sim(&self) -> &Nav2Sim {
+        &self.sim
+    }
+
+    /// Wall time between steps.
+    pub fn wall_period(&self) -> Duration {
+        self.wall_period
+    }
+
+    /// One step: answers the requests, ticks the running goals, steps the world and
+    /// publishes the robot's pose.
+    pub fn spin_once(&mut self) -> Result<(), Ros2Error> {
+        let sim = &mut self.sim;
+        let stats = &self.stats;
+        let planned = self.planner.poll(sim, stats)?;
+        // The controller and the behaviors share the robot: the newest goal has it.
+        let moved = [
+            self.controller.poll(sim, stats)?,
+            self.spin.poll(sim, stats)?,
+            self.backup.poll(sim, stats)?,
+            self.wait.poll(sim, stats)?,
+        ];
+        self.clock_running |= planned || moved.contains(&true);
+        if let Some(newest) = moved.iter().rposition(|m| *m) {
+            let running = [
+                self.controller.is_running(),
+                self.spin.is_running(),
+                self.backup.is_running(),
+                self.wait.is_running(),
+            ];
+            for (i, _) in running
+                .iter()
+                .enumerate()
+                .filter(|(i, r)| **r && *i != newest)
+            {
+                match i {
+                    0 => self.controller.preempt(sim, stats),
+                    1 => self.spin.preempt(sim, stats),
+                    2 => self.backup.preempt(sim, stats),
+                    _ => self.wait.preempt(sim, stats),
+                }
+            }
+        }
+        for (server, layer) in [
+            (&self.clear_global, CostmapLayer::Global),
+            (&self.clear_local, CostmapLayer::Local),
+        ] {
+            while let Some((id, _)) = server.receive_request().map_err(|e| Ros2Error::Serve {
+                kind: "service server",
+                name: format!("{layer:?} costmap"),
+                message: format!("{e:?}"),
+            })? {
+                sim.world.clear_costmap(layer);
+                // A client gone since it asked does not need the answer.
+                let _ = server.send_response(id, ClearEntireCostmapResponse::default());
+                stats.lock().clears += 1;
+            }
+        }
+        self.planner.tick(sim, stats);
+        self.controller.tick(sim, stats);
+        self.spin.tick(sim, stats);
+        self.backup.tick(sim, stats);
+        self.wait.tick(sim, stats);
+        if self.clock_running {
+            sim.step();
+        }
+        // Best effort: the next step publishes again.
+        let _ = self.poses.publish(pose_stamped(sim.world.robot()));
+        self.record();
+        Ok(())
+    }
+
+    /// Calls [`spin_once`](Self::spin_once) every wall period until `stop` is raised.
+    pub fn run(&mut self, stop: &AtomicBool) -> Result<(), Ros2Error> {
+        let mut next = Instant::now();
+        while !stop.load(Ordering::SeqCst) {
+            self.spin_once()?;
+            next += self.wall_period;
+            let now = Instant::now();
+            if next > now {
+                std::thread::sleep(next - now);
+            } else {
+                next = now;
+            }
+        }
+        Ok(())
+    }
+
+    fn record(&self) {
+        let mut stats = self.stats.lock();
+        stats.robot = self.sim.world.robot();
+        stats.time = self.sim.world.now();
+        stats.distance = self.sim.world.distance_travelled();
+    }
+}
