@@ -11,6 +11,20 @@
 //! Nav2's navigator (`navigate_to_pose_w_replanning_and_recovery.xml`) runs unchanged: a
 //! [`Navigator`] on one ROS node, a [`SimServers`] on another (in another process, or in
 //! the same one), and a goal sent to `navigate_to_pose`. See `tests/navigator.rs`.
+//!
+//! # Where it is simpler than Nav2
+//!
+//! - A path planned again while FollowPath runs is taken when FollowPath next starts; Nav2
+//!   sends it to the running controller.
+//! - A navigator runs one tree; a goal naming another `behavior_tree` is aborted with
+//!   FAILED_TO_LOAD_BEHAVIOR_TREE.
+//! - One goal at a time: a cancel applies to the running goal (ros2-client does not give
+//!   the goal id of a cancel request).
+//! - The feedback's `number_of_recoveries` counts every run of a recovery branch of the
+//!   tree, clearing a costmap included (Nav2 counts spin, wait and back-up);
+//!   `estimated_time_remaining` is always zero.
+//! - The navigator follows the robot from the simulator's `robot_pose` topic rather than
+//!   from TF.
 
 pub mod convert;
 mod goal_server;
