@@ -102,7 +102,7 @@ pub struct NavigatorStats {
     pub canceled: u32,
 }
 
-/// Nav2's BT navigator over ROS 2; see the [module](self).
+/// Nav2's BT navigator over ROS 2; see the [module](crate::nav2).
 pub struct Navigator {
     goals: GoalServer<NavigateToPose>,
     poses: Subscription<PoseStamped>,

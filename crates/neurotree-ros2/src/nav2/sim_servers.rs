@@ -373,7 +373,7 @@ where
 
 type ClearServer = Server<ClearEntireCostmapRequest, ClearEntireCostmapResponse>;
 
-/// The grid world as Nav2's servers; see the [module](self).
+/// The grid world as Nav2's servers; see the [module](crate::nav2).
 pub struct SimServers {
     sim: Nav2Sim,
     planner: Served<ComputePathToPose>,
