@@ -53,6 +53,7 @@
 mod btlog;
 mod console;
 mod jsonl;
+mod outcome;
 #[cfg(feature = "sqlite")]
 mod sqlite;
 mod stats;
@@ -65,6 +66,7 @@ pub use btlog::{
 };
 pub use console::ConsoleLogger;
 pub use jsonl::JsonlTrace;
+pub use outcome::{Outcome, Outcomes};
 #[cfg(feature = "sqlite")]
 pub use sqlite::{SqliteLogError, SqliteLogger};
 pub use stats::{NodeStats, Statistics};
