@@ -68,21 +68,23 @@ impl fmt::Display for Outcome {
 
 /// A set of [`Outcome`]s, as one byte.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
-pub struct Outcomes(u8);
+pub struct OutcomeSet(u8);
 
-impl Outcomes {
+impl OutcomeSet {
     /// No outcome.
-    pub const NONE: Outcomes = Outcomes(0);
+    pub const NONE: OutcomeSet = OutcomeSet(0);
 
     /// The set of `outcomes`.
-    pub fn of(outcomes: &[Outcome]) -> Outcomes {
-        outcomes.iter().fold(Outcomes::NONE, |set, &o| set.with(o))
+    pub fn of(outcomes: &[Outcome]) -> OutcomeSet {
+        outcomes
+            .iter()
+            .fold(OutcomeSet::NONE, |set, &o| set.with(o))
     }
 
     /// This set and `outcome`.
     #[must_use]
-    pub const fn with(self, outcome: Outcome) -> Outcomes {
-        Outcomes(self.0 | outcome.bit())
+    pub const fn with(self, outcome: Outcome) -> OutcomeSet {
+        OutcomeSet(self.0 | outcome.bit())
     }
 
     /// `true` if `outcome` is in the set.
@@ -102,14 +104,14 @@ impl Outcomes {
 
     /// The outcomes in both sets.
     #[must_use]
-    pub const fn and(self, other: Outcomes) -> Outcomes {
-        Outcomes(self.0 & other.0)
+    pub const fn and(self, other: OutcomeSet) -> OutcomeSet {
+        OutcomeSet(self.0 & other.0)
     }
 
     /// The outcomes of this set that `other` lacks.
     #[must_use]
-    pub const fn without(self, other: Outcomes) -> Outcomes {
-        Outcomes(self.0 & !other.0)
+    pub const fn without(self, other: OutcomeSet) -> OutcomeSet {
+        OutcomeSet(self.0 & !other.0)
     }
 
     /// The outcomes, in [`Outcome::ALL`] order.
@@ -119,7 +121,7 @@ impl Outcomes {
 }
 
 /// The words of the outcomes, comma-separated (`success, halted`), or `-` for none.
-impl fmt::Display for Outcomes {
+impl fmt::Display for OutcomeSet {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         if self.is_empty() {
             return f.write_str("-");
@@ -257,14 +259,14 @@ mod tests {
 
     #[test]
     fn outcome_sets_hold_name_and_print_their_outcomes() {
-        let set = Outcomes::of(&[Outcome::Halted, Outcome::Success]);
+        let set = OutcomeSet::of(&[Outcome::Halted, Outcome::Success]);
         assert_eq!(set.len(), 2);
         assert!(set.contains(Outcome::Halted) && !set.contains(Outcome::Running));
         assert_eq!(set.to_string(), "success, halted");
-        assert_eq!(Outcomes::NONE.to_string(), "-");
+        assert_eq!(OutcomeSet::NONE.to_string(), "-");
         assert_eq!(
-            set.without(Outcomes::of(&[Outcome::Success])),
-            Outcomes::of(&[Outcome::Halted])
+            set.without(OutcomeSet::of(&[Outcome::Success])),
+            OutcomeSet::of(&[Outcome::Halted])
         );
         for o in Outcome::ALL {
             assert_eq!(Outcome::from_name(o.as_str()), Some(o));
