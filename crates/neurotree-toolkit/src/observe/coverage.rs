@@ -247,8 +247,7 @@ pub struct CoverageReport {
 impl CoverageReport {
     /// The report for `blueprint` given each node's outcomes seen and whether it was
     /// reached (both indexed by [`NodeId`]; missing entries read as none and not reached).
-    /// [`Coverage::report`] makes it from a run; this is for outcomes kept elsewhere (a
-    /// file written by `neurotree run --coverage-json`).
+    /// [`Coverage::report`] makes it from a run.
     pub fn new<C>(blueprint: &Blueprint<C>, seen: &[OutcomeSet], reached: &[bool]) -> Self {
         let possible = possible_all(blueprint);
         let nodes = blueprint
@@ -264,6 +263,13 @@ impl CoverageReport {
                 }
             })
             .collect();
+        Self { nodes }
+    }
+
+    /// The report of `nodes` as they were recorded elsewhere (a file written by
+    /// `neurotree run --coverage-json`), each with its own possible outcomes, indexed by
+    /// [`NodeId`].
+    pub fn from_nodes(nodes: Vec<NodeCoverage>) -> Self {
         Self { nodes }
     }
 
