@@ -13,7 +13,9 @@
 //! With `--groot PORT`, the run is also served to Groot2 (see `groot.rs`).
 //!
 //! The loggers of `neurotree::observe` can watch the run too ([`ObserveArgs`]); they write
-//! to stderr or to files, so stdout keeps only the lines above.
+//! to stderr or to files, so stdout keeps only the lines above. `--coverage` prints what
+//! the run covered (`observe::Coverage`) on stderr at the end, and `--coverage-json FILE`
+//! writes it as [`coverage_json`] for `neurotree show --coverage FILE`.
 
 use std::collections::BTreeMap;
 use std::fs::File;
