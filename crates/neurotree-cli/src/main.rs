@@ -239,6 +239,10 @@ struct ShowArgs {
     /// With --trace: the statuses of this tick instead (the last each node reached in it).
     #[arg(long, requires = "trace")]
     tick: Option<u32>,
+    /// The JSON that `neurotree run --coverage-json FILE` wrote: mark each node covered,
+    /// reached with outcomes not seen, or never reached.
+    #[arg(long, value_name = "FILE", conflicts_with = "trace")]
+    coverage: Option<std::path::PathBuf>,
     #[command(flatten)]
     limits: LoadLimits,
 }
@@ -454,6 +458,7 @@ fn main() -> ExitCode {
                 models: args.models,
                 trace: args.trace,
                 tick: args.tick,
+                coverage: args.coverage,
                 max_nodes: args.limits.max_nodes,
             };
             show::run(&args.files, &opts, &mut out, &mut io::stderr()).map(Outcome::from)

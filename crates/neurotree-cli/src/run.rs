@@ -13,7 +13,9 @@
 //! With `--groot PORT`, the run is also served to Groot2 (see `groot.rs`).
 //!
 //! The loggers of `neurotree::observe` can watch the run too ([`ObserveArgs`]); they write
-//! to stderr or to files, so stdout keeps only the lines above.
+//! to stderr or to files, so stdout keeps only the lines above. `--coverage` prints what
+//! the run covered (`observe::Coverage`) on stderr at the end, and `--coverage-json FILE`
+//! writes it as [`coverage_json`] for `neurotree show --coverage FILE`.
 
 use std::collections::BTreeMap;
 use std::fs::File;
@@ -22,7 +24,9 @@ use std::path::PathBuf;
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
-use neurotree::observe::{BtlogWriter, ConsoleLogger, JsonlTrace, SqliteLogger, Statistics};
+use neurotree::observe::{
+    BtlogWriter, ConsoleLogger, Coverage, CoverageReport, JsonlTrace, SqliteLogger, Statistics,
+};
 use neurotree::render::LastTickStatuses;
 use neurotree::{
     Blueprint, LoadWarning, ManualClock, NodeId, NodeStatus, Observer, Registry, Status,
@@ -321,7 +325,7 @@ pub fn run(
         "blackboard": blackboard,
     }});
     writeln!(out, "{summary}")?;
-    let written = outputs.finish(err)?;
+    let written = outputs.finish(&blueprint, err)?;
     if let Some(served) = groot {
         out.flush()?;
         served.linger(err)?;
@@ -356,6 +360,13 @@ pub struct ObserveArgs {
     /// a run that is killed keeps all but its last batch.
     #[arg(long, value_name = "FILE")]
     pub sqlite: Option<PathBuf>,
+    /// Print on stderr at the end which outcomes each node was seen with, against those it
+    /// could have, and the nodes never reached.
+    #[arg(long)]
+    pub coverage: bool,
+    /// Write the coverage as JSON to FILE, for `neurotree show --coverage FILE`.
+    #[arg(long, value_name = "FILE")]
+    pub coverage_json: Option<PathBuf>,
 }
 
 /// The handles of the loggers that write somewhere, to flush and report at the end.
@@ -365,6 +376,10 @@ struct Outputs {
     btlog: Option<(PathBuf, BtlogWriter<BufWriter<File>>)>,
     sqlite: Option<(PathBuf, SqliteLogger)>,
     stats: Option<Statistics>,
+    coverage: Option<Coverage>,
+    /// Print the coverage table (`--coverage`).
+    coverage_table: bool,
+    coverage_json: Option<PathBuf>,
 }
 
 /// Makes the loggers `args` asks for: the observers to attach, and their handles.
@@ -402,13 +417,20 @@ fn observers(
         attached.push(Box::new(stats.clone()));
         outputs.stats = Some(stats);
     }
+    if args.coverage || args.coverage_json.is_some() {
+        let coverage = Coverage::new(bp);
+        attached.push(Box::new(coverage.clone()));
+        outputs.coverage = Some(coverage);
+        outputs.coverage_table = args.coverage;
+        outputs.coverage_json.clone_from(&args.coverage_json);
+    }
     Ok((attached, outputs))
 }
 
 impl Outputs {
-    /// Flushes the files and prints the statistics; `Ok(false)` if a file could not be
-    /// written (the error is on `err`).
-    fn finish(self, err: &mut impl Write) -> io::Result<bool> {
+    /// Flushes the files and prints the statistics and the coverage; `Ok(false)` if a file
+    /// could not be written (the error is on `err`).
+    fn finish(self, bp: &Blueprint<()>, err: &mut impl Write) -> io::Result<bool> {
         let mut failures = Vec::new();
         if let Some((path, trace)) = &self.jsonl {
             if let Err(e) = trace.flush() {
@@ -428,9 +450,55 @@ impl Outputs {
         if let Some(stats) = &self.stats {
             write!(err, "{stats}")?;
         }
+        if let Some(coverage) = &self.coverage {
+            let report = coverage.report(bp);
+            if let Some(path) = &self.coverage_json {
+                let text = format!("{}\n", coverage_json(&report));
+                if let Err(e) = std::fs::write(path, text) {
+                    failures.push(format!("--coverage-json {}: {e}", path.display()));
+                }
+            }
+            if self.coverage_table {
+                write!(err, "{report}")?;
+            }
+        }
         for failure in &failures {
             writeln!(err, "neurotree: {failure}")?;
         }
         Ok(failures.is_empty())
     }
+}
+
+/// The coverage as `neurotree run --coverage-json` writes it: the totals, then one entry
+/// per node in pre-order (the order of the tree's node ids) with its path, type, whether
+/// it was reached, and the outcomes seen, possible and not seen, as lower-case words.
+///
+/// ```json
+/// {"covered":15,"possible":22,"nodes":[{"path":"root","type":"Fallback","reached":true,
+///  "seen":["success","running"],"possible":["success","failure","running","halted"],
+///  "not_seen":["failure","halted"]}, ...]}
+/// ```
+pub fn coverage_json(report: &CoverageReport) -> Value {
+    let words = |set: neurotree::observe::OutcomeSet| -> Vec<&str> {
+        set.iter().map(|o| o.as_str()).collect()
+    };
+    let nodes: Vec<Value> = report
+        .nodes()
+        .iter()
+        .map(|n| {
+            json!({
+                "path": n.path,
+                "type": n.type_name,
+                "reached": n.reached,
+                "seen": words(n.seen),
+                "possible": words(n.possible),
+                "not_seen": words(n.missing()),
+            })
+        })
+        .collect();
+    json!({
+        "covered": report.covered_outcomes(),
+        "possible": report.possible_outcomes(),
+        "nodes": nodes,
+    })
 }

@@ -12,7 +12,11 @@
 //! the status it had when the tick began. (The trace numbers ticks by pass of the root, as
 //! `run --max-ticks` counts them: a tick that re-ran the root at once for a node that asked
 //! to be woken has one number per pass.) Nodes that share a path are told apart by their
-//! statuses. Every error is printed as `path:line:col: error: message`.
+//! statuses.
+//!
+//! With `--coverage FILE`, the JSON that `neurotree run --coverage-json FILE` wrote marks
+//! each node covered, reached with outcomes not seen, or never reached (see
+//! [`render_coverage`]). Every error is printed as `path:line:col: error: message`.
 
 use std::collections::{BTreeSet, HashMap};
 use std::fs;
@@ -20,7 +24,8 @@ use std::io::{self, Write};
 use std::path::{Path, PathBuf};
 use std::time::Duration;
 
-use neurotree::render::{Format, LastTickStatuses};
+use neurotree::observe::{CoverageReport, NodeCoverage, Outcome, OutcomeSet};
+use neurotree::render::{render_coverage, Format, LastTickStatuses};
 use neurotree::{
     Arity, Blueprint, Category, CustomNode, LoadError, NodeCtx, NodeId, NodeStatus, Observer,
     Registry, StatusChange, XmlLoader,
@@ -43,6 +48,8 @@ pub struct ShowOptions {
     pub trace: Option<PathBuf>,
     /// Show the statuses of this tick of the trace.
     pub tick: Option<u32>,
+    /// The JSON of `neurotree run --coverage-json`.
+    pub coverage: Option<PathBuf>,
     /// The most nodes the tree may have, subtrees expanded.
     pub max_nodes: usize,
 }
@@ -60,6 +67,10 @@ pub fn run(
     }
     let picture = loaded.and_then(|(bp, picked)| {
         let tree_id = picked.id;
+        if let Some(coverage) = &opts.coverage {
+            let report = coverage_report(coverage, &bp, &tree_id)?;
+            return Ok(render_coverage(&bp, &report, format_of(opts)));
+        }
         let statuses = match &opts.trace {
             Some(trace) => Some(trace_statuses(trace, &bp, &tree_id, opts.tick)?),
             None => None,
@@ -169,6 +180,79 @@ impl CustomNode<()> for StandIn {
     }
 }
 
+/// The coverage that `neurotree run --coverage-json` wrote to `path`, for `bp`: its
+/// `nodes` must be `bp`'s, in order and by path.
+fn coverage_report(
+    path: &Path,
+    bp: &Blueprint<()>,
+    tree_id: &str,
+) -> Result<CoverageReport, LoadError> {
+    let shown = path.display().to_string();
+    let text = read_text(path, "coverage").map_err(|e| at_start(&shown, e))?;
+    coverage_from_json(&text, bp, tree_id).map_err(|e| at_start(&shown, e))
+}
+
+/// See [`coverage_report`].
+fn coverage_from_json(
+    text: &str,
+    bp: &Blueprint<()>,
+    tree_id: &str,
+) -> Result<CoverageReport, String> {
+    let json: Value = serde_json::from_str(text)
+        .map_err(|e| format!("not the JSON of `neurotree run --coverage-json`: {e}"))?;
+    let nodes = json
+        .get("nodes")
+        .and_then(Value::as_array)
+        .ok_or("no `nodes` list; expected the JSON of `neurotree run --coverage-json`")?;
+    if nodes.len() != bp.len() {
+        return Err(format!(
+            "the coverage has {} nodes and tree `{tree_id}` {}; was it made from another tree?",
+            nodes.len(),
+            bp.len()
+        ));
+    }
+    let outcomes = |node: &Value, key: &str| -> Result<OutcomeSet, String> {
+        let mut set = OutcomeSet::NONE;
+        for word in node
+            .get(key)
+            .and_then(Value::as_array)
+            .into_iter()
+            .flatten()
+        {
+            let outcome = word
+                .as_str()
+                .and_then(Outcome::from_name)
+                .ok_or_else(|| format!("unknown outcome {word} in `{key}`"))?;
+            set = set.with(outcome);
+        }
+        Ok(set)
+    };
+    let mut read = Vec::with_capacity(nodes.len());
+    for (id, node) in bp.ids().zip(nodes) {
+        let path = node.get("path").and_then(Value::as_str).unwrap_or_default();
+        if path != bp.path(id) {
+            return Err(format!(
+                "node {} of the coverage is `{path}`, not `{}`; was it made from another tree?",
+                id.index(),
+                bp.path(id)
+            ));
+        }
+        // The possible outcomes are the run's: its mocks may be of other kinds than the
+        // stand-ins `show` draws.
+        read.push(NodeCoverage {
+            path: path.to_string(),
+            type_name: bp.type_id(id).to_string(),
+            reached: node
+                .get("reached")
+                .and_then(Value::as_bool)
+                .unwrap_or(false),
+            seen: outcomes(node, "seen").map_err(|e| format!("node `{path}`: {e}"))?,
+            possible: outcomes(node, "possible").map_err(|e| format!("node `{path}`: {e}"))?,
+        });
+    }
+    Ok(CoverageReport::from_nodes(read))
+}
+
 /// One status change read from a trace line.
 struct Change {
     line: u32,
@@ -187,30 +271,31 @@ fn trace_statuses(
     tick: Option<u32>,
 ) -> Result<Vec<NodeStatus>, LoadError> {
     let shown = path.display().to_string();
-    let text = read_trace(path).map_err(|e| at_start(&shown, e))?;
+    let text = read_text(path, "trace").map_err(|e| at_start(&shown, e))?;
     statuses_from_trace(&text, &shown, bp, tree_id, tick)
 }
 
 /// The largest trace read: a long run with `--trace` writes a few megabytes.
 const MAX_TRACE_BYTES: u64 = 256 << 20;
 
-/// The text of the trace at `path`, read up to [`MAX_TRACE_BYTES`]. A pipe is welcome
-/// (`show --trace <(neurotree run --trace ...)`), so the kind of file is not checked.
-fn read_trace(path: &Path) -> Result<String, String> {
+/// The text of the trace (or other input, `what`) at `path`, read up to
+/// [`MAX_TRACE_BYTES`]. A pipe is welcome (`show --trace <(neurotree run --trace ...)`), so
+/// the kind of file is not checked.
+fn read_text(path: &Path, what: &str) -> Result<String, String> {
     use std::io::Read;
-    let file = fs::File::open(path).map_err(|e| format!("cannot read the trace: {e}"))?;
+    let file = fs::File::open(path).map_err(|e| format!("cannot read the {what}: {e}"))?;
     let mut bytes = Vec::new();
     file.take(MAX_TRACE_BYTES + 1)
         .read_to_end(&mut bytes)
-        .map_err(|e| format!("cannot read the trace: {e}"))?;
+        .map_err(|e| format!("cannot read the {what}: {e}"))?;
     if bytes.len() as u64 > MAX_TRACE_BYTES {
         return Err(format!(
-            "the trace is more than {MAX_TRACE_BYTES} bytes; give the trace of a shorter run"
+            "the {what} is more than {MAX_TRACE_BYTES} bytes; give the {what} of a shorter run"
         ));
     }
     String::from_utf8(bytes).map_err(|e| {
         format!(
-            "cannot read the trace: it is not UTF-8 text (at byte {})",
+            "cannot read the {what}: it is not UTF-8 text (at byte {})",
             e.utf8_error().valid_up_to()
         )
     })

@@ -9,6 +9,7 @@
 //! | [`ConsoleLogger`] | a line per status change | watching a run |
 //! | [`JsonlTrace`] | JSON lines | scripts, diffs between runs |
 //! | [`Statistics`] | counts and times per node | finding the busy or failing nodes |
+//! | [`Coverage`] | the outcomes seen per node, against those possible | what a test left out |
 //! | [`BtlogWriter`] | a `.btlog` file | replay in Groot2 |
 //! | `SqliteLogger` (feature `sqlite`) | a SQLite database | querying a run with SQL |
 //! | `TracingObserver` (feature `tracing`) | `tracing` events | applications using `tracing` |
@@ -16,6 +17,9 @@
 //! - [`ConsoleLogger`] prints `[0.100s] root/move IDLE -> RUNNING`, coloured on a terminal.
 //! - [`JsonlTrace`] writes one JSON line per status change and per tick.
 //! - [`Statistics`] counts ticks, successes, failures, skips, halts and time Running per node.
+//! - [`Coverage`] records which [`Outcome`]s (success, failure, running, halted, skipped)
+//!   each node was seen with; its [`CoverageReport`] lists the nodes never reached and the
+//!   outcomes never seen.
 //! - [`BtlogWriter`] writes BehaviorTree.CPP's `.btlog` (FileLogger2) file; [`read_btlog`]
 //!   reads it back.
 //! - `SqliteLogger` writes BehaviorTree.CPP's SQLite schema.
@@ -52,7 +56,9 @@
 
 mod btlog;
 mod console;
+mod coverage;
 mod jsonl;
+mod outcome;
 #[cfg(feature = "sqlite")]
 mod sqlite;
 mod stats;
@@ -64,7 +70,9 @@ pub use btlog::{
     BTLOG_MAGIC, BTLOG_PROTOCOL,
 };
 pub use console::ConsoleLogger;
+pub use coverage::{possible_outcomes, Coverage, CoverageReport, NodeCoverage};
 pub use jsonl::JsonlTrace;
+pub use outcome::{Outcome, OutcomeSet};
 #[cfg(feature = "sqlite")]
 pub use sqlite::{SqliteLogError, SqliteLogger};
 pub use stats::{NodeStats, Statistics};

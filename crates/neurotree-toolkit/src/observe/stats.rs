@@ -7,6 +7,7 @@ use std::time::Duration;
 use neurotree_core::{Blueprint, NodeId, NodeStatus, Observer, StatusChange};
 
 use super::lock;
+use super::outcome::{Outcome, OutcomeReader};
 
 /// What one node did, as [`Statistics`] counted it.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -71,19 +72,9 @@ pub struct Statistics {
 
 struct Stats {
     paths: Vec<String>,
-    /// See [`Blueprint::subtree_ends`].
-    subtree_ends: Vec<u32>,
     nodes: Vec<NodeStats>,
-    /// The tree's stored statuses, as the changes told them.
-    stored: Vec<NodeStatus>,
+    outcomes: OutcomeReader,
     running_since: Vec<Option<Duration>>,
-    /// Nodes whose own tick began and whose result is not counted yet, each the parent
-    /// (or an ancestor) of the next. A result that equals the stored status changes
-    /// nothing, so it is read from `stored` when the next event shows the tick is over.
-    pending: Vec<NodeId>,
-    /// A pending node just went from Running to Idle: a skip if its skip event follows at
-    /// once, a halt otherwise.
-    running_to_idle: Option<NodeId>,
     last_seen: Duration,
 }
 
@@ -94,12 +85,9 @@ impl Statistics {
         Self {
             state: Arc::new(Mutex::new(Stats {
                 paths: blueprint.paths(),
-                subtree_ends: blueprint.subtree_ends(),
                 nodes: vec![NodeStats::default(); n],
-                stored: vec![NodeStatus::Idle; n],
+                outcomes: OutcomeReader::new(blueprint),
                 running_since: vec![None; n],
-                pending: Vec::new(),
-                running_to_idle: None,
                 last_seen: Duration::ZERO,
             })),
         }
@@ -136,94 +124,47 @@ impl Stats {
         stats
     }
 
-    fn is_in_subtree(&self, node: NodeId, of: NodeId) -> bool {
-        of.0 <= node.0 && node.0 < self.subtree_ends[of.index()]
-    }
-
-    /// Counts the result of a node whose tick is over, read from its stored status.
-    fn count_result(&mut self, id: NodeId) {
-        let status = self.stored[id.index()];
-        self.count(id, status);
-    }
-
-    fn count(&mut self, id: NodeId, status: NodeStatus) {
-        let stats = &mut self.nodes[id.index()];
-        match status {
-            NodeStatus::Success => stats.successes += 1,
-            NodeStatus::Failure => stats.failures += 1,
-            NodeStatus::Idle | NodeStatus::Running | NodeStatus::Skipped => {}
-        }
-    }
-
-    /// Ends the ticks of the pending nodes for which `keep` is false, innermost first.
-    fn end_ticks_until(&mut self, keep: impl Fn(&Self, NodeId) -> bool) {
-        while let Some(&top) = self.pending.last() {
-            if keep(self, top) {
-                break;
+    /// Runs `read` on the outcome reader, counting each outcome it tells of.
+    fn read(&mut self, read: impl FnOnce(&mut OutcomeReader, &mut dyn FnMut(NodeId, Outcome))) {
+        let Stats {
+            outcomes, nodes, ..
+        } = self;
+        read(outcomes, &mut |id, outcome| {
+            let stats = &mut nodes[id.index()];
+            match outcome {
+                Outcome::Success => stats.successes += 1,
+                Outcome::Failure => stats.failures += 1,
+                Outcome::Halted => stats.halts += 1,
+                Outcome::Skipped => stats.skips += 1,
+                Outcome::Running => {}
             }
-            self.pending.pop();
-            self.count_result(top);
-        }
-    }
-
-    /// Settles a Running-to-Idle change that was not followed by its skip: a halt.
-    fn settle(&mut self) {
-        if let Some(id) = self.running_to_idle.take() {
-            self.nodes[id.index()].halts += 1;
-        }
-    }
-
-    fn knows(&self, id: NodeId) -> bool {
-        id.index() < self.nodes.len()
+        });
     }
 }
 
 impl Observer for Statistics {
     fn on_tick_start(&mut self, now: Duration) {
         let mut state = lock(&self.state);
-        state.settle();
-        state.end_ticks_until(|_, _| false);
+        state.read(|r, seen| r.pass_boundary(seen));
         state.last_seen = now;
     }
 
     fn on_node_tick(&mut self, node: NodeId) {
         let mut state = lock(&self.state);
-        if !state.knows(node) {
+        if !state.outcomes.knows(node) {
             return;
         }
-        state.settle();
-        // A node ticked again within the same pass (a retry) ended its previous tick.
-        state.end_ticks_until(|s, p| p != node && s.is_in_subtree(node, p));
+        state.read(|r, seen| r.node_tick(node, seen));
         state.nodes[node.index()].ticks += 1;
-        state.pending.push(node);
     }
 
     fn on_status_change(&mut self, c: StatusChange) {
         let mut state = lock(&self.state);
-        if !state.knows(c.node) {
+        if !state.outcomes.knows(c.node) {
             return;
         }
-        state.settle();
-        state.end_ticks_until(|s, p| s.is_in_subtree(c.node, p));
+        state.read(|r, seen| r.status_change(c, seen));
         let i = c.node.index();
-        let pending = state.pending.last() == Some(&c.node);
-        match (c.from, c.to) {
-            // Its own result: counted when its tick is over, in case it changes again
-            // (a control marks itself Running before it ticks its children).
-            (_, NodeStatus::Running | NodeStatus::Success | NodeStatus::Failure) if pending => {}
-            (NodeStatus::Running, NodeStatus::Idle) if pending => {
-                state.pending.pop();
-                state.running_to_idle = Some(c.node);
-            }
-            // Returned its result and was reset at once (the root, by the tree).
-            (from, NodeStatus::Idle) if pending => {
-                state.pending.pop();
-                state.count(c.node, from);
-            }
-            (NodeStatus::Running, NodeStatus::Idle) => state.nodes[i].halts += 1,
-            // Decided by a precondition, without a tick.
-            (_, to) => state.count(c.node, to),
-        }
         if c.to == NodeStatus::Running && c.from != NodeStatus::Running {
             state.running_since[i] = Some(c.at);
         } else if c.from == NodeStatus::Running && c.to != NodeStatus::Running {
@@ -231,31 +172,20 @@ impl Observer for Statistics {
                 state.nodes[i].running += c.at.saturating_sub(since);
             }
         }
-        state.stored[i] = c.to;
         state.last_seen = c.at;
     }
 
     fn on_node_skipped(&mut self, node: NodeId) {
         let mut state = lock(&self.state);
-        if !state.knows(node) {
+        if !state.outcomes.knows(node) {
             return;
         }
-        if state.running_to_idle != Some(node) {
-            state.settle();
-        }
-        // Its Running-to-Idle change just before was the skip, not a halt.
-        state.running_to_idle = None;
-        state.end_ticks_until(|s, p| s.is_in_subtree(node, p));
-        if state.pending.last() == Some(&node) {
-            state.pending.pop();
-        }
-        state.nodes[node.index()].skips += 1;
+        state.read(|r, seen| r.node_skipped(node, seen));
     }
 
     fn on_tick_end(&mut self, _status: NodeStatus, now: Duration) {
         let mut state = lock(&self.state);
-        state.settle();
-        state.end_ticks_until(|_, _| false);
+        state.read(|r, seen| r.pass_boundary(seen));
         state.last_seen = now;
     }
 }

@@ -7,6 +7,9 @@
 //! | Mermaid | [`render_mermaid`] | Markdown on GitHub and GitLab, documentation sites |
 //! | SVG | [`render_svg`] | browsers, documents; drawn here, no external tool |
 //!
+//! [`render_coverage`] draws, in any format, what a run covered
+//! ([`CoverageReport`](crate::observe::CoverageReport)), the nodes never reached set apart.
+//!
 //! [`Format`] names them for a command line or a configuration file. The picture formats
 //! share one look: a shape per family of node and a colour per status,
 //!
@@ -82,6 +85,7 @@
 //! );
 //! ```
 
+mod coverage;
 mod dot;
 mod last_tick;
 pub mod layout;
@@ -96,6 +100,7 @@ use std::str::FromStr;
 
 use neurotree_core::{Blueprint, NodeStatus};
 
+pub use coverage::render_coverage;
 pub use dot::render_dot;
 pub use last_tick::LastTickStatuses;
 pub use mermaid::render_mermaid;

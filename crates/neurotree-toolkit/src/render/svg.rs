@@ -52,6 +52,17 @@ const EDGE_COLOUR: &str = "#adb5bd";
 /// assert!(svg.contains("class=\"node action success\""));
 /// ```
 pub fn render_svg<C>(bp: &Blueprint<C>, statuses: Option<&[NodeStatus]>) -> String {
+    let words = STATUSES.map(|s| (s, status_word(s)));
+    render_svg_with_legend(bp, statuses, &words)
+}
+
+/// [`render_svg`] with the legend's entries given: each a status whose colours it shows
+/// and the word that says what they mean in this picture.
+pub(crate) fn render_svg_with_legend<C>(
+    bp: &Blueprint<C>,
+    statuses: Option<&[NodeStatus]>,
+    legend_entries: &[(NodeStatus, &str)],
+) -> String {
     let views = node_views(bp, statuses);
     let sizes: Vec<Size> = views.iter().map(box_size).collect();
     let children: Vec<Vec<usize>> = bp
@@ -66,7 +77,7 @@ pub fn render_svg<C>(bp: &Blueprint<C>, statuses: Option<&[NodeStatus]>) -> Stri
         height: 0.0,
     });
     let legend_width = if statuses.is_some() {
-        legend_width()
+        legend_width(legend_entries)
     } else {
         0.0
     };
@@ -104,7 +115,12 @@ pub fn render_svg<C>(bp: &Blueprint<C>, statuses: Option<&[NodeStatus]>) -> Stri
     }
     out.push_str("</g>\n");
     if statuses.is_some() {
-        legend(&mut out, MARGIN, height - MARGIN - LEGEND_HEIGHT / 2.0);
+        legend(
+            &mut out,
+            legend_entries,
+            MARGIN,
+            height - MARGIN - LEGEND_HEIGHT / 2.0,
+        );
     }
     out.push_str("</svg>\n");
     out
@@ -328,20 +344,19 @@ const SWATCH: f64 = 12.0;
 const LEGEND_GAP: f64 = 16.0;
 const LEGEND_SIZE: f64 = 11.0;
 
-fn legend_width() -> f64 {
-    STATUSES
+fn legend_width(entries: &[(NodeStatus, &str)]) -> f64 {
+    entries
         .iter()
-        .map(|s| SWATCH + 5.0 + text_width(status_word(*s), LEGEND_SIZE, false) + LEGEND_GAP)
+        .map(|(_, word)| SWATCH + 5.0 + text_width(word, LEGEND_SIZE, false) + LEGEND_GAP)
         .sum::<f64>()
         - LEGEND_GAP
 }
 
-fn legend(out: &mut String, left: f64, middle: f64) {
+fn legend(out: &mut String, entries: &[(NodeStatus, &str)], left: f64, middle: f64) {
     out.push_str("<g class=\"legend\">");
     let mut x = left;
-    for status in STATUSES {
+    for &(status, word) in entries {
         let paint = paint(Some(status));
-        let word = status_word(status);
         let _ = write!(
             out,
             "<rect x=\"{}\" y=\"{}\" width=\"{SWATCH}\" height=\"{SWATCH}\" rx=\"2\" fill=\"{}\" \

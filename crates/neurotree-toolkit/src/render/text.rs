@@ -2,7 +2,7 @@
 
 use std::fmt::Write as _;
 
-use neurotree_core::{Blueprint, NodeStatus, Tree};
+use neurotree_core::{Blueprint, NodeId, NodeStatus, Tree};
 
 /// Draws `tree`'s stored statuses with ascii characters (`+--`, `\--`, `|`, `[S]`, `[F]`).
 pub fn render_ascii<C>(tree: &Tree<C>) -> String {
@@ -18,6 +18,26 @@ pub fn render_unicode<C>(tree: &Tree<C>) -> String {
 /// [`NodeId`](neurotree_core::NodeId) (nodes beyond the end of `statuses` are drawn Idle).
 /// `unicode` picks the character set; every line, the last included, ends with `\n`.
 pub fn render_statuses<C>(bp: &Blueprint<C>, statuses: &[NodeStatus], unicode: bool) -> String {
+    let glyphs = if unicode { &UNICODE } else { &ASCII };
+    draw_lines(
+        bp,
+        unicode,
+        |id, out| {
+            let status = statuses.get(id.index()).copied().unwrap_or_default();
+            out.push_str(glyphs.marker(status));
+        },
+        |_, _| {},
+    )
+}
+
+/// The text drawing of `bp`, each line's marker written by `marker` before the label and
+/// `note` after it; [`render_statuses`] and the coverage drawing share it.
+pub(crate) fn draw_lines<C>(
+    bp: &Blueprint<C>,
+    unicode: bool,
+    mut marker: impl FnMut(NodeId, &mut String),
+    mut note: impl FnMut(NodeId, &mut String),
+) -> String {
     let glyphs = if unicode { &UNICODE } else { &ASCII };
     let mut out = String::new();
     // For each ancestor below the root, on the path to the current node: whether it has a
@@ -35,8 +55,7 @@ pub fn render_statuses<C>(bp: &Blueprint<C>, statuses: &[NodeStatus], unicode: b
             out.push_str(if is_last { glyphs.last } else { glyphs.branch });
             open_columns.push(!is_last);
         }
-        let status = statuses.get(id.index()).copied().unwrap_or_default();
-        out.push_str(glyphs.marker(status));
+        marker(id, &mut out);
         out.push(' ');
         let name = bp.name(id);
         out.push_str(name);
@@ -45,6 +64,7 @@ pub fn render_statuses<C>(bp: &Blueprint<C>, statuses: &[NodeStatus], unicode: b
             // Writing into a String cannot fail.
             let _ = write!(out, " ({type_name})");
         }
+        note(id, &mut out);
         out.push('\n');
     }
     out
@@ -53,7 +73,7 @@ pub fn render_statuses<C>(bp: &Blueprint<C>, statuses: &[NodeStatus], unicode: b
 /// What a node's label shows after its name: its registered type (`MoveTo`) when the name
 /// is something else, else its kind (`Condition`, `SubTree`), so that a node named after its
 /// type still says what it is.
-pub(crate) fn type_label<C>(bp: &Blueprint<C>, id: neurotree_core::NodeId) -> &str {
+pub(crate) fn type_label<C>(bp: &Blueprint<C>, id: NodeId) -> &str {
     let type_id = bp.type_id(id);
     if type_id != bp.name(id) {
         type_id
