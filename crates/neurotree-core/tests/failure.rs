@@ -262,3 +262,23 @@ fn a_static_reason_allocates_nothing() {
     assert_eq!(t.status(NodeId::ROOT), NodeStatus::Idle);
     assert_eq!(t.last_failure().unwrap().leaf().path, "root/r/c");
 }
+
+#[test]
+fn a_full_record_drops_its_older_half_and_keeps_the_chain() {
+    let (mut t, _) = tree(Blueprint::builder().sequence("root", |s| {
+        s.retry("retry", 40, |r| {
+            r.action_node("dock", FailWith(7, "no dock"))
+        })
+    }));
+    // 40 attempts note 80 entries, more than the record holds.
+    let n = allocations(|| assert_eq!(t.tick_once(&mut ()), Ok(Status::Failure)));
+    assert_eq!(n, 0);
+    assert_eq!(
+        lines(&t.last_failure().unwrap()),
+        [
+            "root",
+            "root/retry: gave up after 40 attempts",
+            "root/retry/dock: no dock (error 7)",
+        ]
+    );
+}

@@ -41,8 +41,10 @@ use crate::{NodeId, TickError};
 /// Why a node failed: a small code and a message.
 ///
 /// A static message costs nothing to give; [`Reason::owned`] carries text made at run time
-/// (and allocates for it). Code 0 means "no code": the built-ins' own reasons use it, and
-/// the [`Display`](fmt::Display) form then shows the message alone.
+/// (and allocates for it). The built-ins' own reasons keep their numbers and are put into
+/// words only when shown, so they allocate nothing either. Code 0 means "no code": the
+/// built-ins' reasons use it, and the [`Display`](fmt::Display) form then shows the
+/// message alone.
 ///
 /// ```
 /// use neurotree_core::Reason;
@@ -51,10 +53,20 @@ use crate::{NodeId, TickError};
 /// assert_eq!(BLOCKED.to_string(), "blocked (error 106)");
 /// assert_eq!(Reason::owned(0, format!("{} m short", 2)).to_string(), "2 m short");
 /// ```
-#[derive(Clone, Debug, PartialEq, Eq)]
+#[derive(Clone, Debug)]
 pub struct Reason {
     code: u32,
-    message: Cow<'static, str>,
+    message: Message,
+}
+
+#[derive(Clone, Debug)]
+enum Message {
+    Static(&'static str),
+    Owned(String),
+    /// A Timeout fired after this long.
+    TimedOut(Duration),
+    /// A RetryUntilSuccessful ran out after this many attempts.
+    GaveUp(u64),
 }
 
 impl Reason {
@@ -62,7 +74,7 @@ impl Reason {
     pub const fn new(code: u32, message: &'static str) -> Self {
         Self {
             code,
-            message: Cow::Borrowed(message),
+            message: Message::Static(message),
         }
     }
 
@@ -70,24 +82,76 @@ impl Reason {
     pub fn owned(code: u32, message: impl Into<String>) -> Self {
         Self {
             code,
-            message: Cow::Owned(message.into()),
+            message: Message::Owned(message.into()),
         }
     }
+
+    /// A Timeout's reason: "timed out after 100 ms".
+    pub(crate) const fn timed_out(after: Duration) -> Self {
+        Self {
+            code: 0,
+            message: Message::TimedOut(after),
+        }
+    }
+
+    /// A Retry's reason: "gave up after 3 attempts".
+    pub(crate) const fn gave_up(attempts: u64) -> Self {
+        Self {
+            code: 0,
+            message: Message::GaveUp(attempts),
+        }
+    }
+
+    /// The reason of a `_failureIf` precondition that held.
+    pub(crate) const PRECONDITION: Reason = Reason::new(0, "failed by its precondition");
 
     /// The code (0: none).
     pub fn code(&self) -> u32 {
         self.code
     }
 
-    /// The message.
-    pub fn message(&self) -> &str {
-        &self.message
+    /// The message (put into words now for a built-in's reason).
+    pub fn message(&self) -> Cow<'_, str> {
+        match &self.message {
+            Message::Static(text) => Cow::Borrowed(text),
+            Message::Owned(text) => Cow::Borrowed(text),
+            _ => Cow::Owned(alloc::format!("{}", Words(&self.message))),
+        }
+    }
+}
+
+/// Two reasons are equal when their codes and their messages, in words, are.
+impl PartialEq for Reason {
+    fn eq(&self, other: &Self) -> bool {
+        self.code == other.code && self.message() == other.message()
+    }
+}
+
+impl Eq for Reason {}
+
+/// A message in words.
+struct Words<'a>(&'a Message);
+
+impl fmt::Display for Words<'_> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self.0 {
+            Message::Static(text) => f.write_str(text),
+            Message::Owned(text) => f.write_str(text),
+            Message::TimedOut(after) => write!(f, "timed out after {}", Span(*after)),
+            Message::GaveUp(n) => {
+                write!(
+                    f,
+                    "gave up after {n} attempt{}",
+                    if *n == 1 { "" } else { "s" }
+                )
+            }
+        }
     }
 }
 
 impl fmt::Display for Reason {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(&self.message)?;
+        Words(&self.message).fmt(f)?;
         if self.code != 0 {
             write!(f, " (error {})", self.code)?;
         }
@@ -98,36 +162,19 @@ impl fmt::Display for Reason {
 /// One entry of a tick's record.
 #[derive(Debug)]
 pub(crate) enum Note {
-    /// A node gave this reason ([`Handle::fail_with`](crate::Handle::fail_with)).
+    /// A node gave this reason for its coming Failure (a leaf's, or a built-in's own).
     Gave(Reason),
-    /// A Timeout fired after this long.
-    TimedOut(Duration),
-    /// A RetryUntilSuccessful ran out after this many attempts.
-    GaveUp(u64),
-    /// A `_failureIf` precondition held.
-    Precondition,
     /// The node's status was written Failure.
     Failed,
 }
 
 impl Note {
     /// The reason this note gives, `None` for [`Note::Failed`].
-    pub(crate) fn reason(&self) -> Option<Reason> {
-        Some(match self {
-            Note::Gave(reason) => reason.clone(),
-            Note::TimedOut(after) => {
-                Reason::owned(0, alloc::format!("timed out after {}", Span(*after)))
-            }
-            Note::GaveUp(n) => Reason::owned(
-                0,
-                alloc::format!(
-                    "gave up after {n} attempt{}",
-                    if *n == 1 { "" } else { "s" }
-                ),
-            ),
-            Note::Precondition => Reason::new(0, "failed by its precondition"),
-            Note::Failed => return None,
-        })
+    pub(crate) fn reason(&self) -> Option<&Reason> {
+        match self {
+            Note::Gave(reason) => Some(reason),
+            Note::Failed => None,
+        }
     }
 }
 
@@ -149,12 +196,69 @@ impl fmt::Display for Span {
 ///
 /// One place for both, so that a leaf's [`Handle`](crate::Handle) reaches them through one
 /// pointer.
-#[derive(Default)]
 pub(crate) struct Outcome {
     /// The first error of this pass.
     pub(crate) fault: Option<TickError>,
     /// The tick's record, in order: empty until a node gives a reason (see the module docs).
-    pub(crate) notes: Vec<(NodeId, Note)>,
+    notes: Vec<(NodeId, Note)>,
+}
+
+/// Entries the record holds before it drops its older half; made with the tree, so that
+/// ticking never allocates for it.
+const RECORD: usize = 32;
+
+impl Outcome {
+    /// The outcome of a tree of `bp`: with room for the record only if one of its nodes can
+    /// give a reason (a leaf with a handle, a custom node, a Retry, a Timeout, a hooked node).
+    pub(crate) fn for_blueprint<C>(bp: &Blueprint<C>) -> Self {
+        let can_give = bp.ids().any(|id| {
+            bp.node_hooks(id).is_some()
+                || matches!(
+                    bp.kind(id),
+                    NodeKind::Action(_)
+                        | NodeKind::Stateful(_)
+                        | NodeKind::Async(_)
+                        | NodeKind::Custom(_)
+                        | NodeKind::RetryUntilSuccessful { .. }
+                        | NodeKind::Timeout(_)
+                )
+        });
+        Self {
+            fault: None,
+            notes: Vec::with_capacity(if can_give { RECORD } else { 0 }),
+        }
+    }
+
+    /// The tick's record, oldest first.
+    pub(crate) fn notes(&self) -> &[(NodeId, Note)] {
+        &self.notes
+    }
+
+    /// `true` when no reason was given in this tick.
+    #[inline(always)]
+    pub(crate) fn is_quiet(&self) -> bool {
+        self.notes.is_empty()
+    }
+
+    /// Empties the record.
+    pub(crate) fn forget(&mut self) {
+        self.notes.clear();
+    }
+
+    /// Adds to the record. Full, it drops its older half rather than grow, so that ticking
+    /// allocates nothing: the chain is built from the newest entries (the root's failure is
+    /// the last), so only a chain longer than half the record loses its far end.
+    pub(crate) fn push(&mut self, node: NodeId, note: Note) {
+        if self.notes.len() == self.notes.capacity() && !self.notes.is_empty() {
+            self.notes.drain(..self.notes.len() / 2);
+        }
+        self.notes.push((node, note));
+    }
+
+    /// The last entry.
+    pub(crate) fn last(&self) -> Option<&(NodeId, Note)> {
+        self.notes.last()
+    }
 }
 
 /// Why the root failed on the last tick: the chain from the root down to the node whose
@@ -263,7 +367,7 @@ fn explain<C>(
         .iter()
         .rev()
         .filter(|(n, _)| *n == node)
-        .find_map(|(_, note)| note.reason());
+        .find_map(|(_, note)| note.reason().cloned());
     let children = bp.children(node);
     let failed_at = |child: NodeId| last_failed(run, child, run.len()).map(|i| start + i);
     let fallback = matches!(

@@ -145,7 +145,7 @@ impl<C> Tree<C> {
             max_passes: DEFAULT_MAX_PASSES,
             last_passes: 0,
             reject_multiple_running: false,
-            out: failure::Outcome::default(),
+            out: failure::Outcome::for_blueprint(&blueprint),
             last_root: NodeStatus::Idle,
             blueprint,
         }
@@ -233,7 +233,7 @@ impl<C> Tree<C> {
     }
 
     fn ticker<'t>(&'t mut self, ctx: &'t mut C) -> Ticker<'t, C> {
-        let watching = !self.out.notes.is_empty() && self.observer.is_none();
+        let watching = !self.out.is_quiet() && self.observer.is_none();
         Ticker {
             bp: &self.blueprint,
             statuses: &mut self.statuses,
@@ -307,7 +307,7 @@ impl<C> Tree<C> {
     /// Forgets the last tick's outcome. The record is empty unless a reason was given.
     #[inline(always)]
     fn start_tick(&mut self) {
-        if !self.out.notes.is_empty() {
+        if !self.out.is_quiet() {
             self.forget_notes();
         }
         self.last_root = NodeStatus::Idle;
@@ -316,7 +316,7 @@ impl<C> Tree<C> {
     #[cold]
     #[inline(never)]
     fn forget_notes(&mut self) {
-        self.out.notes.clear();
+        self.out.forget();
     }
 
     /// Why the root failed on the last tick: the chain from the root to the node whose
@@ -347,7 +347,7 @@ impl<C> Tree<C> {
     /// ```
     pub fn last_failure(&self) -> Option<Failure> {
         (self.last_root == NodeStatus::Failure)
-            .then(|| failure::build(&self.blueprint, &self.out.notes))
+            .then(|| failure::build(&self.blueprint, self.out.notes()))
     }
 
     /// Ticks the root, and again at once while it is Running and a node asked to be woken or

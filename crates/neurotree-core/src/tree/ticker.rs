@@ -87,7 +87,7 @@ impl<'t, C> Ticker<'t, C> {
 
     #[inline(never)]
     fn set_status_observed(&mut self, id: NodeId, to: NodeStatus) {
-        if to == NodeStatus::Failure && !self.out.notes.is_empty() {
+        if to == NodeStatus::Failure && !self.out.is_quiet() {
             self.note_failed(id);
         }
         let from = mem::replace(self.status_mut(id), to);
@@ -109,7 +109,7 @@ impl<'t, C> Ticker<'t, C> {
     #[cold]
     #[inline(never)]
     pub(crate) fn note(&mut self, id: NodeId, note: Note) {
-        self.out.notes.push((id, note));
+        self.out.push(id, note);
         self.watch();
     }
 
@@ -117,7 +117,7 @@ impl<'t, C> Ticker<'t, C> {
     /// on. A leaf that gave none pays a load and a branch.
     #[inline(always)]
     pub(crate) fn watch_if_noted(&mut self) {
-        if self.observer.is_none() && !self.out.notes.is_empty() {
+        if self.observer.is_none() && !self.out.is_quiet() {
             self.watch();
         }
     }
@@ -139,15 +139,15 @@ impl<'t, C> Ticker<'t, C> {
     #[inline(never)]
     fn note_failed(&mut self, id: NodeId) {
         if !self.watching {
-            if let Some((node, note)) = self.out.notes.last() {
+            if let Some((node, note)) = self.out.last() {
                 if *node == id {
                     if let (Some(reason), Some(o)) = (note.reason(), self.observer.as_deref_mut()) {
-                        o.on_failure_reason(id, &reason);
+                        o.on_failure_reason(id, reason);
                     }
                 }
             }
         }
-        self.out.notes.push((id, Note::Failed));
+        self.out.push(id, Note::Failed);
     }
 
     /// The clock in nanoseconds, the unit of time-based nodes' state slots.
@@ -243,7 +243,7 @@ impl<'t, C> Ticker<'t, C> {
                 NodeStatus::Skipped
             }
             Some(NodeStatus::Failure) => {
-                self.note(id, Note::Precondition);
+                self.note(id, Note::Gave(super::failure::Reason::PRECONDITION));
                 NodeStatus::Failure
             }
             Some(decided) => decided,

@@ -14,7 +14,7 @@ use core::time::Duration;
 
 use crate::blueprint::NodeDef;
 use crate::clock::{duration_to_nanos, moment};
-use crate::tree::failure::Note;
+use crate::tree::failure::{Note, Reason};
 use crate::tree::Ticker;
 use crate::{NodeId, NodeStatus};
 
@@ -56,7 +56,7 @@ pub(crate) fn tick<C>(
             {
                 t.halt_child(child);
                 t.aux[slot] = moment::NONE;
-                t.note(id, Note::TimedOut(limit));
+                t.note(id, Note::Gave(Reason::timed_out(limit)));
                 return NodeStatus::Failure;
             }
         }

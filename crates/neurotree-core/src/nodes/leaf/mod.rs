@@ -149,8 +149,7 @@ impl<'a, C> Handle<'a, C> {
     /// [`Reason::owned`](crate::Reason::owned) carries text made at run time).
     pub fn fail_because(&mut self, reason: crate::Reason) -> Status {
         self.out
-            .notes
-            .push((self.node, crate::tree::failure::Note::Gave(reason)));
+            .push(self.node, crate::tree::failure::Note::Gave(reason));
         Status::Failure
     }
 
