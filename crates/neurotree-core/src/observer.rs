@@ -6,7 +6,7 @@
 
 use core::time::Duration;
 
-use crate::{NodeId, NodeStatus};
+use crate::{NodeId, NodeStatus, Reason};
 
 /// One change of a node's stored status.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -43,6 +43,14 @@ pub trait Observer: Send {
 
     /// A root tick ended with `status`.
     fn on_tick_end(&mut self, _status: NodeStatus, _now: Duration) {}
+
+    /// `node` failed for `reason`: called just before the status change of `node` to
+    /// Failure, and only when the node gave a reason ([`Handle::fail_with`]) or is a
+    /// built-in that gives its own (a Timeout that fired, a Retry that ran out, a
+    /// `_failureIf` precondition). Never called in a tick where no reason is given.
+    ///
+    /// [`Handle::fail_with`]: crate::Handle::fail_with
+    fn on_failure_reason(&mut self, _node: NodeId, _reason: &Reason) {}
 }
 
 /// Two observers side by side: both see every event, the first one first.
@@ -66,6 +74,10 @@ impl<A: Observer, B: Observer> Observer for (A, B) {
     fn on_tick_end(&mut self, status: NodeStatus, now: Duration) {
         self.0.on_tick_end(status, now);
         self.1.on_tick_end(status, now);
+    }
+    fn on_failure_reason(&mut self, node: NodeId, reason: &Reason) {
+        self.0.on_failure_reason(node, reason);
+        self.1.on_failure_reason(node, reason);
     }
 }
 
@@ -94,6 +106,11 @@ impl Observer for alloc::vec::Vec<alloc::boxed::Box<dyn Observer>> {
     fn on_tick_end(&mut self, status: NodeStatus, now: Duration) {
         for o in self.iter_mut() {
             o.on_tick_end(status, now);
+        }
+    }
+    fn on_failure_reason(&mut self, node: NodeId, reason: &Reason) {
+        for o in self.iter_mut() {
+            o.on_failure_reason(node, reason);
         }
     }
 }

@@ -131,3 +131,30 @@ fn jsonl_changes_between_ticks_carry_the_last_tick() {
         ]
     );
 }
+
+#[test]
+fn jsonl_carries_a_reason_on_the_change_to_failure() {
+    struct Blocked;
+    impl neurotree::Action<()> for Blocked {
+        fn tick(&self, h: &mut neurotree::Handle<'_, ()>) -> neurotree::Status {
+            h.fail_with(106, "blocked")
+        }
+    }
+    let bp = neurotree::Builder::<()>::new()
+        .action_node("follow", Blocked)
+        .build_shared()
+        .unwrap();
+    let mut tree = neurotree::Tree::with_clock(bp, neurotree::ManualClock::new());
+    let trace = JsonlTrace::new(tree.blueprint(), Vec::new());
+    tree.set_observer(trace.clone());
+    assert_eq!(tree.tick_once(&mut ()), Ok(neurotree::Status::Failure));
+    let text = trace.with_writer(|out| String::from_utf8(out.clone()).unwrap());
+    assert_eq!(
+        text.lines().collect::<Vec<_>>(),
+        [
+            r#"{"tick":1,"time_us":0,"id":0,"node":"follow","from":"IDLE","to":"FAILURE","reason":"blocked","code":106}"#,
+            r#"{"tick":1,"time_us":0,"id":0,"node":"follow","from":"FAILURE","to":"IDLE"}"#,
+            r#"{"tick":1,"time_us":0,"status":"FAILURE"}"#,
+        ]
+    );
+}

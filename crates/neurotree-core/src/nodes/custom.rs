@@ -169,6 +169,14 @@ impl<'t, C> NodeCtx<'_, 't, C> {
         self.t.clock.now()
     }
 
+    /// Gives a reason for the Failure this node returns, and returns Failure, as
+    /// [`Handle::fail_with`](crate::Handle::fail_with) does for a leaf.
+    pub fn fail_with(&mut self, reason: crate::Reason) -> NodeStatus {
+        self.t
+            .note(self.id, crate::tree::failure::Note::Gave(reason));
+        NodeStatus::Failure
+    }
+
     /// Reports a runtime error: the tick ends with [`TickError::Node`](crate::TickError::Node)
     /// after the tree is halted. Return Failure after calling it.
     pub fn fail(&mut self, message: impl Into<String>) {

@@ -19,10 +19,12 @@
 //! of one call never leaks into the next.)
 
 mod error;
+pub(crate) mod failure;
 pub(crate) mod ticker;
 mod wake;
 
 pub use error::TickError;
+pub use failure::{Failure, FailureLink, Reason, Tried};
 pub(crate) use ticker::Ticker;
 pub use wake::{WakeSignal, Woken};
 
@@ -58,6 +60,10 @@ pub struct Tree<C> {
     /// A second Running child of a reactive control is an error
     /// ([`reject_multiple_running`](Self::reject_multiple_running)).
     reject_multiple_running: bool,
+    /// The pass's error, and the record of reasons given during the last tick.
+    out: failure::Outcome,
+    /// What the root returned on the last tick (Idle after an error).
+    last_root: NodeStatus,
 }
 
 /// Passes one [`Tree::tick_once`] makes at most, unless [`Tree::set_max_passes`] says
@@ -139,6 +145,8 @@ impl<C> Tree<C> {
             max_passes: DEFAULT_MAX_PASSES,
             last_passes: 0,
             reject_multiple_running: false,
+            out: failure::Outcome::for_blueprint(&blueprint),
+            last_root: NodeStatus::Idle,
             blueprint,
         }
     }
@@ -225,6 +233,7 @@ impl<C> Tree<C> {
     }
 
     fn ticker<'t>(&'t mut self, ctx: &'t mut C) -> Ticker<'t, C> {
+        let watching = !self.out.is_quiet() && self.observer.is_none();
         Ticker {
             bp: &self.blueprint,
             statuses: &mut self.statuses,
@@ -235,11 +244,14 @@ impl<C> Tree<C> {
             clock: &*self.clock,
             observer: match self.observer.as_deref_mut() {
                 Some(o) => Some(o),
+                // A reason given in an earlier pass of this tick: keep noting failures.
+                None if watching => Some(failure::stand_in()),
                 None => None,
             },
+            watching,
             wake: None,
             waker: self.wake.as_ref().map(|w| &w.waker),
-            fault: None,
+            out: &mut self.out,
             current: NodeId::ROOT,
             reject_multiple_running: self.reject_multiple_running,
         }
@@ -276,7 +288,7 @@ impl<C> Tree<C> {
         if let Some(o) = t.observer.as_deref_mut() {
             o.on_tick_end(status, t.clock.now());
         }
-        if let Some(fault) = t.fault.take() {
+        if let Some(fault) = t.out.fault.take() {
             t.halt_node(NodeId::ROOT);
             return Err(fault);
         }
@@ -286,8 +298,56 @@ impl<C> Tree<C> {
     /// Ticks the root exactly once, ignoring wake-up requests. A future that woke during the
     /// pass leaves the [`wake_signal`](Self::wake_signal) set, for a runner to tick again soon.
     pub fn tick_exactly_once(&mut self, ctx: &mut C) -> Result<Status, TickError> {
+        self.start_tick();
         let (status, _) = self.pass(ctx)?;
+        self.last_root = status;
         to_result(status)
+    }
+
+    /// Forgets the last tick's outcome. The record is empty unless a reason was given.
+    #[inline(always)]
+    fn start_tick(&mut self) {
+        if !self.out.is_quiet() {
+            self.forget_notes();
+        }
+        self.last_root = NodeStatus::Idle;
+    }
+
+    #[cold]
+    #[inline(never)]
+    fn forget_notes(&mut self) {
+        self.out.forget();
+    }
+
+    /// Why the root failed on the last tick: the chain from the root to the node whose
+    /// failure decided it, with the reasons nodes gave on the way; `None` unless the last
+    /// [`tick_once`](Self::tick_once) or [`tick_exactly_once`](Self::tick_exactly_once)
+    /// returned Failure. Built now, from the tick's record; see [`failure`] for which
+    /// failure "decided" the root. When no node gave a reason during the tick, the chain
+    /// is the root alone, with no reason.
+    ///
+    /// ```
+    /// use neurotree_core::{Action, Blueprint, Handle, ManualClock, Status, Tree};
+    ///
+    /// struct FollowPath;
+    /// impl Action<()> for FollowPath {
+    ///     fn tick(&self, h: &mut Handle<'_, ()>) -> Status {
+    ///         h.fail_with(106, "blocked")
+    ///     }
+    /// }
+    /// let bp = Blueprint::<()>::builder()
+    ///     .sequence("go", |s| s.action_node("follow_path", FollowPath))
+    ///     .build_shared()
+    ///     .unwrap();
+    /// let mut tree = Tree::with_clock(bp, ManualClock::new());
+    /// assert_eq!(tree.tick_once(&mut ()), Ok(Status::Failure));
+    /// let failure = tree.last_failure().unwrap();
+    /// assert_eq!(failure.leaf().path, "go/follow_path");
+    /// assert_eq!(failure.reason().unwrap().to_string(), "blocked (error 106)");
+    /// ```
+    pub fn last_failure(&self) -> Option<Failure> {
+        (self.last_root == NodeStatus::Failure)
+            .then(|| failure::build(&self.blueprint, self.out.notes()))
     }
 
     /// Ticks the root, and again at once while it is Running and a node asked to be woken or
@@ -308,6 +368,7 @@ impl<C> Tree<C> {
     /// ticking it again. [`tick_exactly_once`](Self::tick_exactly_once) does the same.
     pub fn tick_once(&mut self, ctx: &mut C) -> Result<Status, TickError> {
         self.last_passes = 0;
+        self.start_tick();
         loop {
             let (status, waker) = self.pass(ctx)?;
             self.last_passes += 1;
@@ -317,7 +378,10 @@ impl<C> Tree<C> {
                         return Err(self.too_many_passes(ctx, waker));
                     }
                 }
-                _ => return to_result(status),
+                _ => {
+                    self.last_root = status;
+                    return to_result(status);
+                }
             }
         }
     }
@@ -462,7 +526,7 @@ fn recover<C>(t: &mut ticker::Ticker<'_, C>, panicked: TickError) -> TickError {
         o.on_tick_end(NodeStatus::Idle, t.clock.now());
     }
     // A panic while halting is already in the halt's own error; the first panic is news.
-    t.fault = None;
+    t.out.fault = None;
     panicked
 }
 

@@ -18,6 +18,8 @@ use crate::nodes::{control, decorator, leaf};
 use crate::observer::{Observer, StatusChange};
 use crate::{Clock, NodeId, NodeStatus, Status, TickError};
 
+use super::failure::{Note, Outcome};
+
 /// A per-instance object: the state a leaf or custom node keeps in `self`.
 pub(crate) enum Object<C> {
     Stateful(alloc::boxed::Box<dyn StatefulAction<C>>),
@@ -43,8 +45,11 @@ pub(crate) struct Ticker<'t, C> {
     pub(crate) wake: Option<NodeId>,
     /// The waker async actions poll with; the tree has one when its blueprint has them.
     pub(crate) waker: Option<&'t core::task::Waker>,
-    /// The first error of this pass.
-    pub(crate) fault: Option<TickError>,
+    /// The pass's error and the tick's record of reasons, kept in the tree.
+    pub(crate) out: &'t mut Outcome,
+    /// The observer is the engine's stand-in, attached when a reason was given so that the
+    /// rest of the tick notes every Failure (see [`failure`](super::failure)).
+    pub(crate) watching: bool,
     /// The node ticked or halted last: if user code panics, the one it panicked in.
     pub(crate) current: NodeId,
     /// A reactive control's second Running child is an error (BT.CPP's `EnableException`).
@@ -82,6 +87,9 @@ impl<'t, C> Ticker<'t, C> {
 
     #[inline(never)]
     fn set_status_observed(&mut self, id: NodeId, to: NodeStatus) {
+        if to == NodeStatus::Failure && !self.out.is_quiet() {
+            self.note_failed(id);
+        }
         let from = mem::replace(self.status_mut(id), to);
         if from != to {
             let at = self.clock.now();
@@ -94,6 +102,52 @@ impl<'t, C> Ticker<'t, C> {
                 });
             }
         }
+    }
+
+    /// Records why node `id` fails (a reason it gave, or a built-in's own cause), and
+    /// notes every Failure for the rest of the tick (see [`failure`](super::failure)).
+    #[cold]
+    #[inline(never)]
+    pub(crate) fn note(&mut self, id: NodeId, note: Note) {
+        self.out.push(id, note);
+        self.watch();
+    }
+
+    /// After a leaf that held a handle: if it gave a reason, note every Failure from now
+    /// on. A leaf that gave none pays a load and a branch.
+    #[inline(always)]
+    pub(crate) fn watch_if_noted(&mut self) {
+        if self.observer.is_none() && !self.out.is_quiet() {
+            self.watch();
+        }
+    }
+
+    /// Attaches the engine's stand-in observer, unless one is attached: status writes then
+    /// go through [`set_status_observed`](Self::set_status_observed), which notes failures.
+    #[cold]
+    #[inline(never)]
+    pub(crate) fn watch(&mut self) {
+        if self.observer.is_none() {
+            self.observer = Some(super::failure::stand_in());
+            self.watching = true;
+        }
+    }
+
+    /// Notes node `id`'s Failure, telling the user's observer first of the reason the node
+    /// gave for it, if it gave one just before.
+    #[cold]
+    #[inline(never)]
+    fn note_failed(&mut self, id: NodeId) {
+        if !self.watching {
+            if let Some((node, note)) = self.out.last() {
+                if *node == id {
+                    if let (Some(reason), Some(o)) = (note.reason(), self.observer.as_deref_mut()) {
+                        o.on_failure_reason(id, reason);
+                    }
+                }
+            }
+        }
+        self.out.push(id, Note::Failed);
     }
 
     /// The clock in nanoseconds, the unit of time-based nodes' state slots.
@@ -187,6 +241,10 @@ impl<'t, C> Ticker<'t, C> {
             Some(NodeStatus::Skipped) if stored == NodeStatus::Running => {
                 self.halt_node(id);
                 NodeStatus::Skipped
+            }
+            Some(NodeStatus::Failure) => {
+                self.note(id, Note::Gave(super::failure::Reason::PRECONDITION));
+                NodeStatus::Failure
             }
             Some(decided) => decided,
             None => {
@@ -347,10 +405,19 @@ impl<'t, C> Ticker<'t, C> {
             NodeKind::Action(a) => {
                 let mut h = self.handle(id);
                 let s = a.tick(&mut h);
+                self.watch_if_noted();
                 self.sync_result(id, s, "Action")
             }
-            NodeKind::Stateful(_) => self.tick_stateful(id),
-            NodeKind::Async(action) => leaf::async_action::tick(self, id, &**action),
+            NodeKind::Stateful(_) => {
+                let s = self.tick_stateful(id);
+                self.watch_if_noted();
+                s
+            }
+            NodeKind::Async(action) => {
+                let s = leaf::async_action::tick(self, id, &**action);
+                self.watch_if_noted();
+                s
+            }
             NodeKind::Custom(_) => self.tick_custom(id),
         }
     }
@@ -359,8 +426,8 @@ impl<'t, C> Ticker<'t, C> {
     #[inline]
     pub(crate) fn sync_result(&mut self, id: NodeId, s: Status, kind: &'static str) -> NodeStatus {
         if s == Status::Running {
-            if self.fault.is_none() {
-                self.fault = Some(TickError::LeafRunning {
+            if self.out.fault.is_none() {
+                self.out.fault = Some(TickError::LeafRunning {
                     node: id,
                     path: self.bp.path(id),
                     kind,
@@ -438,8 +505,8 @@ impl<'t, C> Ticker<'t, C> {
 
     /// Records a node's own error; the first error of a pass wins.
     pub(crate) fn fault_node(&mut self, id: NodeId, message: alloc::string::String) {
-        if self.fault.is_none() {
-            self.fault = Some(TickError::Node {
+        if self.out.fault.is_none() {
+            self.out.fault = Some(TickError::Node {
                 node: id,
                 path: self.bp.path(id),
                 message,
@@ -455,7 +522,7 @@ impl<'t, C> Ticker<'t, C> {
             clock: self.clock,
             node: id,
             bp: self.bp,
-            fault: &mut self.fault,
+            out: &mut *self.out,
         }
     }
 
@@ -473,7 +540,7 @@ impl<'t, C> Ticker<'t, C> {
             clock: self.clock,
             node: id,
             bp,
-            fault: &mut self.fault,
+            out: &mut *self.out,
         };
         (object, handle)
     }
@@ -508,8 +575,8 @@ impl<'t, C> Ticker<'t, C> {
         });
         self.objects[slot] = Object::Custom(node);
         if status == NodeStatus::Idle {
-            if self.fault.is_none() {
-                self.fault = Some(TickError::ReturnedIdle {
+            if self.out.fault.is_none() {
+                self.out.fault = Some(TickError::ReturnedIdle {
                     node: id,
                     path: self.bp.path(id),
                 });
@@ -667,8 +734,8 @@ impl<'t, C> Ticker<'t, C> {
 fn contain<'t, C>(t: &mut Ticker<'t, C>, id: NodeId, halt: impl FnOnce(&mut Ticker<'t, C>)) {
     let caught = std::panic::catch_unwind(core::panic::AssertUnwindSafe(|| halt(&mut *t)));
     if let Err(payload) = caught {
-        if t.fault.is_none() {
-            t.fault = Some(TickError::Panicked {
+        if t.out.fault.is_none() {
+            t.out.fault = Some(TickError::Panicked {
                 node: id,
                 path: t.bp.path(id),
                 message: panic_message(&*payload),

@@ -4,7 +4,7 @@ use std::io::{self, Write};
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
-use neurotree_core::{Blueprint, NodeStatus, Observer, StatusChange};
+use neurotree_core::{Blueprint, NodeId, NodeStatus, Observer, Reason, StatusChange};
 use serde::Serialize;
 
 use super::{lock, micros, Sink};
@@ -24,6 +24,7 @@ use super::{lock, micros, Sink};
 /// | `node` | the node's path |
 /// | `from`, `to` | the statuses, as BehaviorTree.CPP names them |
 /// | `status` | what the root returned, on the line that ends a tick (`SKIPPED` too) |
+/// | `reason`, `code` | on a change to `FAILURE` for which the node gave a [`Reason`]: its message and code (only then) |
 ///
 /// [`Tree::tick_once`](crate::Tree::tick_once) makes several passes when a node asks to be
 /// woken, and changes made between ticks (by [`Tree::halt`](crate::Tree::halt)) carry the
@@ -43,6 +44,8 @@ struct Jsonl<W> {
     tick: u64,
     /// The line being written, kept to reuse its buffer.
     line: Vec<u8>,
+    /// The reason a node just gave, for its coming change to Failure.
+    reason: Option<(NodeId, Reason)>,
 }
 
 #[derive(Serialize)]
@@ -53,6 +56,10 @@ struct ChangeLine<'a> {
     node: &'a str,
     from: &'static str,
     to: &'static str,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    reason: Option<&'a str>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    code: Option<u32>,
 }
 
 #[derive(Serialize)]
@@ -79,6 +86,7 @@ impl<W: Write> JsonlTrace<W> {
                 paths: blueprint.paths(),
                 tick: 0,
                 line: Vec::new(),
+                reason: None,
             })),
         }
     }
@@ -115,7 +123,13 @@ impl<W: Write + Send> Observer for JsonlTrace<W> {
             paths,
             tick,
             line,
+            reason,
         } = &mut *state;
+        let given = match reason.take() {
+            Some((node, r)) if node == change.node && change.to == NodeStatus::Failure => Some(r),
+            _ => None,
+        };
+        let message = given.as_ref().map(Reason::message);
         let value = ChangeLine {
             tick: *tick,
             time_us: micros(change.at),
@@ -123,8 +137,14 @@ impl<W: Write + Send> Observer for JsonlTrace<W> {
             node: paths.get(change.node.index()).map_or("?", String::as_str),
             from: change.from.as_str(),
             to: change.to.as_str(),
+            reason: message.as_deref(),
+            code: given.as_ref().map(Reason::code),
         };
         write_line(sink, line, &value);
+    }
+
+    fn on_failure_reason(&mut self, node: NodeId, reason: &Reason) {
+        lock(&self.state).reason = Some((node, reason.clone()));
     }
 
     fn on_tick_end(&mut self, status: NodeStatus, now: Duration) {

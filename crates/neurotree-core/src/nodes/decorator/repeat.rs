@@ -14,6 +14,7 @@
 //! child makes the node Skipped without resetting the count. Halt resets the count.
 
 use crate::blueprint::NodeDef;
+use crate::tree::failure::{Note, Reason};
 use crate::tree::Ticker;
 use crate::{NodeId, NodeStatus};
 
@@ -75,6 +76,10 @@ pub(crate) fn tick<C, const REPEAT: bool>(
             t.wake = Some(id);
             return NodeStatus::Running;
         }
+    }
+    if !REPEAT {
+        // Ran out of attempts: the Retry's own reason for its Failure.
+        t.note(id, Note::Gave(Reason::gave_up(t.aux[slot])));
     }
     t.aux[slot] = 0;
     again

@@ -8,6 +8,9 @@
 //! [`Tree::tick_exactly_once`](crate::Tree::tick_exactly_once) an instant failure yields Running,
 //! under [`Tree::tick_once`](crate::Tree::tick_once) the attempts follow each other in the same
 //! call. Exactly `-1` retries forever. Halt resets the count.
+//!
+//! A Retry that runs out gives its own [reason](crate::Reason) for its Failure: "gave up
+//! after 3 attempts", code 0.
 
 use crate::nodes::decl::{NodeDecl, PortDecl};
 use crate::{Arity, Category};

@@ -6,11 +6,15 @@
 //! The time is checked before the child is ticked, and only a Running child is timed out
 //! (as BehaviorTree.CPP's timer only halts a Running child). A child that completes in time
 //! ends the run; the next run times afresh. `msec = 0` never times out.
+//!
+//! A Timeout that fires gives its own [reason](crate::Reason) for its Failure: "timed out
+//! after 100 ms" (whole seconds as "2 s"), code 0.
 
 use core::time::Duration;
 
 use crate::blueprint::NodeDef;
 use crate::clock::{duration_to_nanos, moment};
+use crate::tree::failure::{Note, Reason};
 use crate::tree::Ticker;
 use crate::{NodeId, NodeStatus};
 
@@ -52,6 +56,7 @@ pub(crate) fn tick<C>(
             {
                 t.halt_child(child);
                 t.aux[slot] = moment::NONE;
+                t.note(id, Note::Gave(Reason::timed_out(limit)));
                 return NodeStatus::Failure;
             }
         }

@@ -45,7 +45,8 @@ pub struct Handle<'a, C> {
     pub(crate) node: NodeId,
     /// Where the node's scope, name and ports are, and who names it in an error.
     pub(crate) bp: &'a crate::Blueprint<C>,
-    pub(crate) fault: &'a mut Option<crate::TickError>,
+    /// The pass's error and the tick's record of reasons.
+    pub(crate) out: &'a mut crate::tree::failure::Outcome,
 }
 
 impl<'a, C> Handle<'a, C> {
@@ -136,12 +137,28 @@ impl<'a, C> Handle<'a, C> {
         self.bp.name(self.node)
     }
 
+    /// Gives a reason for the Failure this leaf returns, and returns Failure:
+    /// `return h.fail_with(106, "blocked")`. The reason is not an error: the tick goes on as
+    /// for any Failure, and [`Tree::last_failure`](crate::Tree::last_failure) tells it if
+    /// this failure decided the root. A static message allocates nothing.
+    pub fn fail_with(&mut self, code: u32, message: &'static str) -> Status {
+        self.fail_because(crate::Reason::new(code, message))
+    }
+
+    /// As [`fail_with`](Self::fail_with), with any [`Reason`](crate::Reason) (one made with
+    /// [`Reason::owned`](crate::Reason::owned) carries text made at run time).
+    pub fn fail_because(&mut self, reason: crate::Reason) -> Status {
+        self.out
+            .push(self.node, crate::tree::failure::Note::Gave(reason));
+        Status::Failure
+    }
+
     /// Reports a runtime error, as BehaviorTree.CPP's nodes throw one: the tick ends with
     /// [`TickError::Node`](crate::TickError::Node) (the first error of a tick wins) after the
     /// tree is halted. Return Failure after calling it.
     pub fn fail(&mut self, message: impl Into<String>) {
-        if self.fault.is_none() {
-            *self.fault = Some(crate::TickError::Node {
+        if self.out.fault.is_none() {
+            self.out.fault = Some(crate::TickError::Node {
                 node: self.node,
                 path: self.bp.path(self.node),
                 message: message.into(),

@@ -1,0 +1,450 @@
+//! Why the root failed: reasons given with failures, and the chain that explains a tick.
+//!
+//! A node may attach a [`Reason`] to the Failure it returns ([`Handle::fail_with`]); a few
+//! built-ins give their own: a Timeout that fired ("timed out after 100 ms"), a
+//! RetryUntilSuccessful that ran out of attempts ("gave up after 3 attempts") and a
+//! `_failureIf` precondition that held ("failed by its precondition").
+//!
+//! # What is recorded, and what it costs
+//!
+//! Nothing, until a reason is given: a tick in which no node gives one runs exactly as
+//! before. The first reason of a tick is written to the tree's record and from then on, for
+//! the rest of that [`Tree::tick_once`](crate::Tree::tick_once) call, the engine notes
+//! every status write to Failure (it ticks as if an observer were attached). The record is
+//! emptied when the next call starts; a static reason allocates nothing once the record has
+//! grown to the size a tick needs.
+//!
+//! # Which failure decided the root
+//!
+//! [`Tree::last_failure`](crate::Tree::last_failure) builds the [`Failure`] chain after the
+//! tick, only when asked. It starts at the root's last Failure and, at each node, goes down
+//! to the child whose Failure was written last before the node's own: the last child whose
+//! Failure propagated. For a Fallback (Fallback, AsyncFallback, ReactiveFallback), whose
+//! failure means every child failed, that is its last child, and the link lists every child
+//! it tried with that child's reason. A link carries the node's own reason: the one it gave
+//! during the run that ended in the Failure being explained (a leaf's, a Timeout's, a
+//! Retry's). The chain ends at a node with no failing child noted: a leaf, a Timeout that
+//! halted its child, a node whose deciding child failed before any reason was given in the
+//! tick (closure conditions never give one).
+//!
+//! [`Handle::fail_with`]: crate::Handle::fail_with
+
+use alloc::borrow::Cow;
+use alloc::string::String;
+use alloc::vec::Vec;
+use core::fmt;
+use core::time::Duration;
+
+use crate::blueprint::{Blueprint, NodeKind};
+use crate::{NodeId, TickError};
+
+/// Why a node failed: a small code and a message.
+///
+/// A static message costs nothing to give; [`Reason::owned`] carries text made at run time
+/// (and allocates for it). The built-ins' own reasons keep their numbers and are put into
+/// words only when shown, so they allocate nothing either. Code 0 means "no code": the
+/// built-ins' reasons use it, and the [`Display`](fmt::Display) form then shows the
+/// message alone.
+///
+/// ```
+/// use neurotree_core::Reason;
+///
+/// const BLOCKED: Reason = Reason::new(106, "blocked");
+/// assert_eq!(BLOCKED.to_string(), "blocked (error 106)");
+/// assert_eq!(Reason::owned(0, format!("{} m short", 2)).to_string(), "2 m short");
+/// ```
+#[derive(Clone, Debug)]
+pub struct Reason {
+    code: u32,
+    message: Message,
+}
+
+#[derive(Clone, Debug)]
+enum Message {
+    Static(&'static str),
+    Owned(String),
+    /// A Timeout fired after this long.
+    TimedOut(Duration),
+    /// A RetryUntilSuccessful ran out after this many attempts.
+    GaveUp(u64),
+}
+
+impl Reason {
+    /// A reason with a static message.
+    pub const fn new(code: u32, message: &'static str) -> Self {
+        Self {
+            code,
+            message: Message::Static(message),
+        }
+    }
+
+    /// A reason with a message made at run time.
+    pub fn owned(code: u32, message: impl Into<String>) -> Self {
+        Self {
+            code,
+            message: Message::Owned(message.into()),
+        }
+    }
+
+    /// A Timeout's reason: "timed out after 100 ms".
+    pub(crate) const fn timed_out(after: Duration) -> Self {
+        Self {
+            code: 0,
+            message: Message::TimedOut(after),
+        }
+    }
+
+    /// A Retry's reason: "gave up after 3 attempts".
+    pub(crate) const fn gave_up(attempts: u64) -> Self {
+        Self {
+            code: 0,
+            message: Message::GaveUp(attempts),
+        }
+    }
+
+    /// The reason of a `_failureIf` precondition that held.
+    pub(crate) const PRECONDITION: Reason = Reason::new(0, "failed by its precondition");
+
+    /// The code (0: none).
+    pub fn code(&self) -> u32 {
+        self.code
+    }
+
+    /// The message (put into words now for a built-in's reason).
+    pub fn message(&self) -> Cow<'_, str> {
+        match &self.message {
+            Message::Static(text) => Cow::Borrowed(text),
+            Message::Owned(text) => Cow::Borrowed(text),
+            _ => Cow::Owned(alloc::format!("{}", Words(&self.message))),
+        }
+    }
+}
+
+/// Two reasons are equal when their codes and their messages, in words, are.
+impl PartialEq for Reason {
+    fn eq(&self, other: &Self) -> bool {
+        self.code == other.code && self.message() == other.message()
+    }
+}
+
+impl Eq for Reason {}
+
+/// A message in words.
+struct Words<'a>(&'a Message);
+
+impl fmt::Display for Words<'_> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self.0 {
+            Message::Static(text) => f.write_str(text),
+            Message::Owned(text) => f.write_str(text),
+            Message::TimedOut(after) => write!(f, "timed out after {}", Span(*after)),
+            Message::GaveUp(n) => {
+                write!(
+                    f,
+                    "gave up after {n} attempt{}",
+                    if *n == 1 { "" } else { "s" }
+                )
+            }
+        }
+    }
+}
+
+impl fmt::Display for Reason {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        Words(&self.message).fmt(f)?;
+        if self.code != 0 {
+            write!(f, " (error {})", self.code)?;
+        }
+        Ok(())
+    }
+}
+
+/// One entry of a tick's record.
+#[derive(Debug)]
+pub(crate) enum Note {
+    /// A node gave this reason for its coming Failure (a leaf's, or a built-in's own).
+    Gave(Reason),
+    /// The node's status was written Failure.
+    Failed,
+}
+
+impl Note {
+    /// The reason this note gives, `None` for [`Note::Failed`].
+    pub(crate) fn reason(&self) -> Option<&Reason> {
+        match self {
+            Note::Gave(reason) => Some(reason),
+            Note::Failed => None,
+        }
+    }
+}
+
+/// A duration as people write it: whole seconds as `2 s`, anything else in milliseconds.
+struct Span(Duration);
+
+impl fmt::Display for Span {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let ms = self.0.as_millis();
+        if ms != 0 && ms % 1000 == 0 {
+            write!(f, "{} s", ms / 1000)
+        } else {
+            write!(f, "{ms} ms")
+        }
+    }
+}
+
+/// What a pass leaves behind in the tree: its error, and the tick's record of reasons.
+///
+/// One place for both, so that a leaf's [`Handle`](crate::Handle) reaches them through one
+/// pointer.
+pub(crate) struct Outcome {
+    /// The first error of this pass.
+    pub(crate) fault: Option<TickError>,
+    /// The tick's record, in order: empty until a node gives a reason (see the module docs).
+    notes: Vec<(NodeId, Note)>,
+}
+
+/// Entries the record holds before it drops its older half; made with the tree, so that
+/// ticking never allocates for it.
+const RECORD: usize = 32;
+
+impl Outcome {
+    /// The outcome of a tree of `bp`: with room for the record only if one of its nodes can
+    /// give a reason (a leaf with a handle, a custom node, a Retry, a Timeout, a hooked node).
+    pub(crate) fn for_blueprint<C>(bp: &Blueprint<C>) -> Self {
+        let can_give = bp.ids().any(|id| {
+            bp.node_hooks(id).is_some()
+                || matches!(
+                    bp.kind(id),
+                    NodeKind::Action(_)
+                        | NodeKind::Stateful(_)
+                        | NodeKind::Async(_)
+                        | NodeKind::Custom(_)
+                        | NodeKind::RetryUntilSuccessful { .. }
+                        | NodeKind::Timeout(_)
+                )
+        });
+        Self {
+            fault: None,
+            notes: Vec::with_capacity(if can_give { RECORD } else { 0 }),
+        }
+    }
+
+    /// The tick's record, oldest first.
+    pub(crate) fn notes(&self) -> &[(NodeId, Note)] {
+        &self.notes
+    }
+
+    /// `true` when no reason was given in this tick.
+    #[inline(always)]
+    pub(crate) fn is_quiet(&self) -> bool {
+        self.notes.is_empty()
+    }
+
+    /// Empties the record.
+    pub(crate) fn forget(&mut self) {
+        self.notes.clear();
+    }
+
+    /// Adds to the record. Full, it drops its older half rather than grow, so that ticking
+    /// allocates nothing: the chain is built from the newest entries (the root's failure is
+    /// the last), so only a chain longer than half the record loses its far end.
+    pub(crate) fn push(&mut self, node: NodeId, note: Note) {
+        if self.notes.len() == self.notes.capacity() && !self.notes.is_empty() {
+            self.notes.drain(..self.notes.len() / 2);
+        }
+        self.notes.push((node, note));
+    }
+
+    /// The last entry.
+    pub(crate) fn last(&self) -> Option<&(NodeId, Note)> {
+        self.notes.last()
+    }
+}
+
+/// Why the root failed on the last tick: the chain from the root down to the node whose
+/// failure decided it (see the [module docs](self) for which one that is).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Failure {
+    /// From the root down; never empty.
+    pub links: Vec<FailureLink>,
+}
+
+/// One node on a [`Failure`] chain.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct FailureLink {
+    /// The node.
+    pub node: NodeId,
+    /// Its path in the blueprint (`root/fallback/leaf`).
+    pub path: String,
+    /// Its own reason, if it gave one (a leaf's, a Timeout's, a Retry's, a precondition's).
+    pub reason: Option<Reason>,
+    /// For a Fallback: every child it tried, in order, with the reason each one's own chain
+    /// ends with. Empty for other nodes.
+    pub tried: Vec<Tried>,
+}
+
+/// A child a Fallback tried.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Tried {
+    /// The child.
+    pub node: NodeId,
+    /// Its path in the blueprint.
+    pub path: String,
+    /// The deepest reason on its own chain, if any node below gave one.
+    pub reason: Option<Reason>,
+}
+
+impl Failure {
+    /// The node where the chain ends: the one whose failure decided the root.
+    pub fn leaf(&self) -> &FailureLink {
+        // Invariant: `build` always pushes the root's link.
+        self.links.last().expect("a failure chain holds the root")
+    }
+
+    /// The deepest reason on the chain: what, in the end, went wrong.
+    pub fn reason(&self) -> Option<&Reason> {
+        self.links.iter().rev().find_map(|l| l.reason.as_ref())
+    }
+}
+
+/// One link per line, indented by depth: `path: reason`, a Fallback's tries below it.
+impl fmt::Display for Failure {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        for (depth, link) in self.links.iter().enumerate() {
+            if depth > 0 {
+                f.write_str("\n")?;
+            }
+            write!(f, "{:width$}{}", "", link.path, width = depth * 2)?;
+            if let Some(reason) = &link.reason {
+                write!(f, ": {reason}")?;
+            }
+            for tried in &link.tried {
+                write!(
+                    f,
+                    "\n{:width$}tried {}",
+                    "",
+                    tried.path,
+                    width = depth * 2 + 2
+                )?;
+                match &tried.reason {
+                    Some(reason) => write!(f, ": {reason}")?,
+                    None => f.write_str(": no reason given")?,
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Builds the chain of a tick whose root failed, from the tick's record.
+pub(crate) fn build<C>(bp: &Blueprint<C>, notes: &[(NodeId, Note)]) -> Failure {
+    match last_failed(notes, NodeId::ROOT, notes.len()) {
+        Some(end) => build_from(bp, notes, NodeId::ROOT, end),
+        // The root failed before any reason was given: nothing is known of why.
+        None => Failure {
+            links: alloc::vec![FailureLink {
+                node: NodeId::ROOT,
+                path: bp.path(NodeId::ROOT),
+                reason: None,
+                tried: Vec::new(),
+            }],
+        },
+    }
+}
+
+/// The link of `node`, whose Failure is noted at `end`, and the child that decided it,
+/// with the index of its noted Failure (`None` when its failure went unnoted).
+fn explain<C>(
+    bp: &Blueprint<C>,
+    notes: &[(NodeId, Note)],
+    node: NodeId,
+    end: usize,
+) -> (FailureLink, Option<(NodeId, Option<usize>)>) {
+    // The run that ended at `end` began after the node's previous Failure.
+    let start = last_failed(notes, node, end).map_or(0, |i| i + 1);
+    let run = &notes[start..end];
+    let reason = run
+        .iter()
+        .rev()
+        .filter(|(n, _)| *n == node)
+        .find_map(|(_, note)| note.reason().cloned());
+    let children = bp.children(node);
+    let failed_at = |child: NodeId| last_failed(run, child, run.len()).map(|i| start + i);
+    let fallback = matches!(
+        bp.kind(node),
+        NodeKind::Fallback | NodeKind::AsyncFallback | NodeKind::ReactiveFallback
+    );
+    let mut tried = Vec::new();
+    let next = if fallback {
+        for &child in children {
+            let reason = failed_at(child).and_then(|i| {
+                let chain = build_from(bp, notes, child, i);
+                chain.reason().cloned()
+            });
+            tried.push(Tried {
+                node: child,
+                path: bp.path(child),
+                reason,
+            });
+        }
+        // A failed Fallback's children all failed: the last one decided it, even if its
+        // failure went unnoted (a closure condition ticked from a loop entered before the
+        // first reason was given).
+        children.last().map(|&c| (c, failed_at(c)))
+    } else {
+        children
+            .iter()
+            .filter_map(|&c| failed_at(c).map(|i| (c, Some(i))))
+            .max_by_key(|(_, i)| *i)
+    };
+    let link = FailureLink {
+        node,
+        path: bp.path(node),
+        reason,
+        tried,
+    };
+    (link, next)
+}
+
+/// The chain below `node`, whose Failure is noted at `end`.
+fn build_from<C>(bp: &Blueprint<C>, notes: &[(NodeId, Note)], node: NodeId, end: usize) -> Failure {
+    let mut links = Vec::new();
+    let (mut node, mut end) = (node, end);
+    loop {
+        let (link, next) = explain(bp, notes, node, end);
+        links.push(link);
+        match next {
+            Some((child, Some(i))) => (node, end) = (child, i),
+            Some((child, None)) => {
+                links.push(FailureLink {
+                    node: child,
+                    path: bp.path(child),
+                    reason: None,
+                    tried: Vec::new(),
+                });
+                break;
+            }
+            None => break,
+        }
+    }
+    Failure { links }
+}
+
+/// The index of the last Failure of `node` among `notes[..before]`.
+fn last_failed(notes: &[(NodeId, Note)], node: NodeId, before: usize) -> Option<usize> {
+    notes[..before]
+        .iter()
+        .rposition(|(n, note)| *n == node && matches!(note, Note::Failed))
+}
+
+/// The observer the engine attaches to a tick once a reason was given, when the user
+/// attached none: it hears nothing, but with it attached every status write goes through
+/// the path that notes failures.
+struct StandIn;
+
+impl crate::Observer for StandIn {}
+
+/// A stand-in observer. It has no size, so making one allocates nothing.
+pub(crate) fn stand_in() -> &'static mut dyn crate::Observer {
+    alloc::boxed::Box::leak(alloc::boxed::Box::new(StandIn))
+}

@@ -1,0 +1,284 @@
+//! Why the root failed: the chain `Tree::last_failure` builds from the reasons nodes gave,
+//! through Sequences, Fallbacks, Retries and Timeouts; the observer's view of reasons; and
+//! the promise that a static reason allocates nothing.
+
+use std::sync::{Arc, Mutex};
+use std::time::Duration;
+
+use neurotree_core::{
+    Action, Blueprint, Builder, Failure, Handle, ManualClock, NodeId, NodeStatus, Observer, Reason,
+    StatefulAction, Status, StatusChange, Tree,
+};
+
+#[path = "support/counting_alloc.rs"]
+mod counting_alloc;
+use counting_alloc::allocations;
+
+/// Fails with a static reason.
+struct FailWith(u32, &'static str);
+impl<C> Action<C> for FailWith {
+    fn tick(&self, h: &mut Handle<'_, C>) -> Status {
+        h.fail_with(self.0, self.1)
+    }
+}
+
+/// Runs until halted.
+struct Forever;
+impl<C> StatefulAction<C> for Forever {
+    fn on_start(&mut self, _h: &mut Handle<'_, C>) -> Status {
+        Status::Running
+    }
+    fn on_running(&mut self, _h: &mut Handle<'_, C>) -> Status {
+        Status::Running
+    }
+}
+
+fn tree(b: Builder<()>) -> (Tree<()>, ManualClock) {
+    let clock = ManualClock::new();
+    (
+        Tree::with_clock(b.build_shared().unwrap(), clock.clone()),
+        clock,
+    )
+}
+
+/// A chain as `path: reason` per link, and `tried path: reason` per Fallback try.
+fn lines(f: &Failure) -> Vec<String> {
+    let mut out = Vec::new();
+    for link in &f.links {
+        out.push(match &link.reason {
+            Some(r) => format!("{}: {r}", link.path),
+            None => link.path.clone(),
+        });
+        for t in &link.tried {
+            out.push(match &t.reason {
+                Some(r) => format!("  tried {}: {r}", t.path),
+                None => format!("  tried {}", t.path),
+            });
+        }
+    }
+    out
+}
+
+#[test]
+fn a_leaf_failing_under_a_sequence() {
+    let (mut t, _) = tree(Blueprint::builder().sequence("go", |s| {
+        s.condition("ready", |_: &()| true)
+            .action_node("follow_path", FailWith(106, "blocked"))
+            .condition("never", |_: &()| true)
+    }));
+    assert_eq!(t.tick_once(&mut ()), Ok(Status::Failure));
+    let f = t.last_failure().unwrap();
+    assert_eq!(lines(&f), ["go", "go/follow_path: blocked (error 106)"]);
+    assert_eq!(f.leaf().node, NodeId(2));
+    assert_eq!(f.reason(), Some(&Reason::new(106, "blocked")));
+    assert_eq!(f.to_string(), "go\n  go/follow_path: blocked (error 106)");
+}
+
+#[test]
+fn a_fallback_whose_children_all_failed_lists_each_reason() {
+    let (mut t, _) = tree(Blueprint::builder().sequence("root", |s| {
+        s.fallback("fb", |f| {
+            f.action_node("a", FailWith(1, "a broke"))
+                .condition("b", |_: &()| false)
+                .sequence("c", |c| c.action_node("c1", FailWith(3, "c1 broke")))
+        })
+    }));
+    assert_eq!(t.tick_once(&mut ()), Ok(Status::Failure));
+    assert_eq!(
+        lines(&t.last_failure().unwrap()),
+        [
+            "root",
+            "root/fb",
+            "  tried root/fb/a: a broke (error 1)",
+            "  tried root/fb/b",
+            "  tried root/fb/c: c1 broke (error 3)",
+            "root/fb/c",
+            "root/fb/c/c1: c1 broke (error 3)",
+        ]
+    );
+}
+
+#[test]
+fn the_last_child_of_a_failed_fallback_decides_even_without_a_reason() {
+    let (mut t, _) = tree(Blueprint::builder().fallback("fb", |f| {
+        f.action_node("a", FailWith(1, "a broke"))
+            .condition("b", |_: &()| false)
+    }));
+    assert_eq!(t.tick_once(&mut ()), Ok(Status::Failure));
+    let f = t.last_failure().unwrap();
+    assert_eq!(
+        lines(&f),
+        [
+            "fb",
+            "  tried fb/a: a broke (error 1)",
+            "  tried fb/b",
+            "fb/b"
+        ]
+    );
+    // The deepest reason is the one a Fallback alternative gave: the chain's own links
+    // carry none, so `reason` says nothing rather than blame `a`.
+    assert_eq!(f.reason(), None);
+}
+
+#[test]
+fn a_retry_that_ran_out_counts_its_attempts() {
+    let (mut t, _) = tree(Blueprint::builder().sequence("root", |s| {
+        s.retry("retry", 3, |r| {
+            r.action_node("dock", FailWith(7, "no dock"))
+        })
+    }));
+    assert_eq!(t.tick_once(&mut ()), Ok(Status::Failure));
+    assert_eq!(
+        lines(&t.last_failure().unwrap()),
+        [
+            "root",
+            "root/retry: gave up after 3 attempts",
+            "root/retry/dock: no dock (error 7)",
+        ]
+    );
+    // One attempt per call: the attempts span calls, the count is the Retry's.
+    for _ in 0..2 {
+        assert_eq!(t.tick_exactly_once(&mut ()), Ok(Status::Running));
+        assert_eq!(t.last_failure(), None);
+    }
+    assert_eq!(t.tick_exactly_once(&mut ()), Ok(Status::Failure));
+    assert_eq!(
+        t.last_failure().unwrap().links[1].reason,
+        Some(Reason::owned(0, "gave up after 3 attempts"))
+    );
+}
+
+#[test]
+fn a_timeout_gives_its_own_reason() {
+    let (mut t, clock) = tree(Blueprint::builder().sequence("root", |s| {
+        s.timeout("limit", Duration::from_millis(100), |t| {
+            t.stateful("drive", || Forever)
+        })
+    }));
+    assert_eq!(t.tick_once(&mut ()), Ok(Status::Running));
+    assert_eq!(t.last_failure(), None);
+    clock.advance(Duration::from_millis(100));
+    assert_eq!(t.tick_once(&mut ()), Ok(Status::Failure));
+    assert_eq!(
+        lines(&t.last_failure().unwrap()),
+        ["root", "root/limit: timed out after 100 ms"]
+    );
+
+    let (mut t, clock) = tree(
+        Blueprint::builder().timeout("limit", Duration::from_secs(2), |t| {
+            t.stateful("drive", || Forever)
+        }),
+    );
+    assert_eq!(t.tick_once(&mut ()), Ok(Status::Running));
+    clock.advance(Duration::from_secs(2));
+    assert_eq!(t.tick_once(&mut ()), Ok(Status::Failure));
+    assert_eq!(
+        lines(&t.last_failure().unwrap()),
+        ["limit: timed out after 2 s"]
+    );
+}
+
+#[test]
+fn a_failure_without_a_reason_is_the_root_alone_and_a_stale_reason_is_not_blamed() {
+    // `a` fails with a reason, but its Fallback recovers; `c`, which gives none, fails
+    // the root.
+    let (mut t, _) = tree(Blueprint::builder().sequence("root", |s| {
+        s.fallback("fb", |f| {
+            f.action_node("a", FailWith(1, "a broke"))
+                .condition("ok", |_: &()| true)
+        })
+        .condition("c", |_: &()| false)
+    }));
+    assert_eq!(t.tick_once(&mut ()), Ok(Status::Failure));
+    assert_eq!(lines(&t.last_failure().unwrap()), ["root"]);
+
+    let (mut t, _) = tree(Blueprint::builder().condition("c", |_: &()| false));
+    assert_eq!(t.tick_once(&mut ()), Ok(Status::Failure));
+    assert_eq!(lines(&t.last_failure().unwrap()), ["c"]);
+    // A success clears it.
+    let (mut t, _) = tree(Blueprint::builder().always_success("ok"));
+    assert_eq!(t.tick_once(&mut ()), Ok(Status::Success));
+    assert_eq!(t.last_failure(), None);
+}
+
+/// Notes reasons and status changes, in order.
+#[derive(Clone, Default)]
+struct Seen(Arc<Mutex<Vec<String>>>);
+impl Observer for Seen {
+    fn on_status_change(&mut self, c: StatusChange) {
+        let line = format!("{} {}->{}", c.node, c.from, c.to);
+        self.0.lock().unwrap().push(line);
+    }
+    fn on_failure_reason(&mut self, node: NodeId, reason: &Reason) {
+        self.0
+            .lock()
+            .unwrap()
+            .push(format!("{node} because {reason}"));
+    }
+}
+
+#[test]
+fn the_observer_hears_the_reason_just_before_the_failure() {
+    let (mut t, _) =
+        tree(Blueprint::builder().sequence("root", |s| s.action_node("a", FailWith(5, "jammed"))));
+    let seen = Seen::default();
+    t.set_observer(seen.clone());
+    assert_eq!(t.tick_once(&mut ()), Ok(Status::Failure));
+    assert_eq!(
+        *seen.0.lock().unwrap(),
+        [
+            "#0 IDLE->RUNNING",
+            "#1 because jammed (error 5)",
+            "#1 IDLE->FAILURE",
+            "#1 FAILURE->IDLE",
+            "#0 RUNNING->FAILURE",
+            "#0 FAILURE->IDLE",
+        ]
+    );
+    assert_eq!(
+        lines(&t.last_failure().unwrap()),
+        ["root", "root/a: jammed (error 5)"]
+    );
+}
+
+#[test]
+fn a_static_reason_allocates_nothing() {
+    let (mut t, _) = tree(Builder::new().fallback("root", |f| {
+        f.action_node("a", FailWith(1, "a"))
+            .sequence("s", |s| s.action_node("b", FailWith(2, "b")))
+            .retry("r", 2, |r| r.action_node("c", FailWith(3, "c")))
+    }));
+    // The first tick grows the record to the size a tick needs.
+    assert_eq!(t.tick_once(&mut ()), Ok(Status::Failure));
+    let n = allocations(|| {
+        for _ in 0..100 {
+            assert_eq!(t.tick_once(&mut ()), Ok(Status::Failure));
+            assert_eq!(t.tick_exactly_once(&mut ()), Ok(Status::Running));
+            assert_eq!(t.tick_exactly_once(&mut ()), Ok(Status::Failure));
+        }
+    });
+    // The Retry's own reason is recorded as a count, formatted only when asked for.
+    assert_eq!(n, 0);
+    assert_eq!(t.status(NodeId::ROOT), NodeStatus::Idle);
+    assert_eq!(t.last_failure().unwrap().leaf().path, "root/r/c");
+}
+
+#[test]
+fn a_full_record_drops_its_older_half_and_keeps_the_chain() {
+    let (mut t, _) = tree(Blueprint::builder().sequence("root", |s| {
+        s.retry("retry", 40, |r| {
+            r.action_node("dock", FailWith(7, "no dock"))
+        })
+    }));
+    // 40 attempts note 80 entries, more than the record holds.
+    let n = allocations(|| assert_eq!(t.tick_once(&mut ()), Ok(Status::Failure)));
+    assert_eq!(n, 0);
+    assert_eq!(
+        lines(&t.last_failure().unwrap()),
+        [
+            "root",
+            "root/retry: gave up after 40 attempts",
+            "root/retry/dock: no dock (error 7)",
+        ]
+    );
+}
