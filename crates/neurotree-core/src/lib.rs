@@ -80,4 +80,6 @@ pub use nodes::leaf::{Action, ActionFuture, AsyncAction, Condition, Handle, Stat
 pub use nodes::{NodeDecl, PortDecl, PortDirection};
 pub use observer::{Observer, StatusChange};
 pub use status::{NodeStatus, Status};
-pub use tree::{TickError, Tree, WakeSignal, Woken, DEFAULT_MAX_PASSES};
+pub use tree::{
+    HaltHandle, TickError, Tree, WakeSignal, Woken, DEFAULT_MAX_PASSES, HALT_POLL_PERIOD,
+};
