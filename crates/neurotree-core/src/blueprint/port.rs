@@ -156,8 +156,10 @@ impl Number {
     fn integer(self) -> Option<i128> {
         match self {
             Number::Int(i) => Some(i),
-            // Within ±2^127 the cast is exact for a whole real.
-            Number::Real(r) if r.fract() == 0.0 && r.abs() < 1.7e38 => Some(r as i128),
+            // Within ±2^127 the cast is exact for a whole real (no `fract` without std).
+            Number::Real(r) if r > -1.7e38 && r < 1.7e38 && (r as i128) as f64 == r => {
+                Some(r as i128)
+            }
             Number::Real(_) => None,
             Number::Bool(b) => Some(i128::from(b)),
         }
@@ -220,7 +222,8 @@ impl FromPortStr for f32 {
 
     fn from_other(value: &dyn Any) -> Option<Result<Self, String>> {
         let n = Number::of(value)?;
-        let fits = |r: f64| !r.is_finite() || r.abs() <= f64::from(f32::MAX);
+        let max = f64::from(f32::MAX);
+        let fits = |r: f64| !r.is_finite() || (-max..=max).contains(&r);
         Some(
             n.real()
                 .filter(|r| fits(*r))

@@ -53,6 +53,11 @@ pub enum TickError {
         /// The panic's message.
         message: String,
     },
+    /// A [`HaltHandle`](crate::HaltHandle) asked for a halt, and this call served it at a
+    /// tick boundary: the tree was halted (each Running stateful action got its one
+    /// `on_halted`) and nothing more was ticked. The next tick starts afresh.
+    #[error("a halt was requested through a HaltHandle; the tree was halted")]
+    HaltRequested,
     /// A node reported an error of its own.
     #[error("{path} ({node}): {message}")]
     Node {

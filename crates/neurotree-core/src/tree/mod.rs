@@ -17,14 +17,20 @@
 //! request made during `tickExactlyOnce`, or during a pass whose root completed, pending
 //! until the next `tickOnce`, which then runs one extra pass; NeuroTree drops it, so the work
 //! of one call never leaks into the next.)
+//!
+//! Another thread halts the tree through a [`HaltHandle`]: the request is served at the next
+//! tick boundary (the start of a call, or between two passes of `tick_once`), and that call
+//! returns [`TickError::HaltRequested`]; see [`halt`] for the exact rules.
 
 mod error;
 pub(crate) mod failure;
+pub mod halt;
 pub(crate) mod ticker;
 mod wake;
 
 pub use error::TickError;
 pub use failure::{Failure, FailureLink, Reason, Tried};
+pub use halt::HaltHandle;
 pub(crate) use ticker::Ticker;
 pub use wake::{WakeSignal, Woken};
 
@@ -69,6 +75,11 @@ pub struct Tree<C> {
 /// Passes one [`Tree::tick_once`] makes at most, unless [`Tree::set_max_passes`] says
 /// otherwise: enough for a `Repeat` of a million quick cycles, finite for one of `-1`.
 pub const DEFAULT_MAX_PASSES: u32 = 1_000_000;
+
+/// The longest stretch of the clock's time a wait between ticks sleeps before looking for a
+/// halt request again, once the tree has a [`HaltHandle`]: how late, at most, a request ends
+/// [`Tree::tick_while_running`]'s wait (and the toolkit's `FixedRate` sleep).
+pub const HALT_POLL_PERIOD: Duration = Duration::from_millis(10);
 
 /// Who asked for another pass of the root.
 #[derive(Clone, Copy)]
@@ -224,6 +235,41 @@ impl<C> Tree<C> {
             .signal
     }
 
+    /// A handle that asks this tree to halt at its next tick boundary, from any thread (see
+    /// [`halt`]). The first call makes the tree's [`WakeSignal`] if it had none; a tree that
+    /// never makes a handle pays one branch per tick call for the feature.
+    pub fn halt_handle(&mut self) -> HaltHandle {
+        let wake = self.wake.get_or_insert_with(|| Box::new(TreeWake::new()));
+        wake.halt_handle = true;
+        HaltHandle::new(wake.signal.clone())
+    }
+
+    /// `true` if the tree has a [`HaltHandle`]; its waits between ticks then watch for
+    /// requests (see [`HALT_POLL_PERIOD`]).
+    pub fn has_halt_handle(&self) -> bool {
+        self.wake.as_ref().is_some_and(|w| w.halt_handle)
+    }
+
+    /// `true` while a [`HaltHandle`]'s request waits to be served by the next tick call; a
+    /// runner waiting between ticks reads it to stop waiting.
+    #[inline]
+    pub fn halt_requested(&self) -> bool {
+        match &self.wake {
+            Some(w) => w.signal.halt_requested(),
+            None => false,
+        }
+    }
+
+    /// Serves a pending halt request: clears it, halts the tree, and names why.
+    #[cold]
+    fn serve_halt_request(&mut self, ctx: &mut C) -> TickError {
+        if let Some(w) = &self.wake {
+            w.signal.take_halt();
+        }
+        self.halt(ctx);
+        TickError::HaltRequested
+    }
+
     /// Bytes this instance keeps on the heap for node state (statuses, slots, object
     /// pointers), not counting the stateful leaves' own objects or blackboard entries.
     pub fn state_bytes(&self) -> usize {
@@ -297,7 +343,13 @@ impl<C> Tree<C> {
 
     /// Ticks the root exactly once, ignoring wake-up requests. A future that woke during the
     /// pass leaves the [`wake_signal`](Self::wake_signal) set, for a runner to tick again soon.
+    ///
+    /// A pending [`HaltHandle`] request is served first: the tree is halted and the call
+    /// returns [`TickError::HaltRequested`] without ticking.
     pub fn tick_exactly_once(&mut self, ctx: &mut C) -> Result<Status, TickError> {
+        if self.halt_requested() {
+            return Err(self.serve_halt_request(ctx));
+        }
         self.start_tick();
         let (status, _) = self.pass(ctx)?;
         self.last_root = status;
@@ -366,15 +418,26 @@ impl<C> Tree<C> {
     /// starts afresh. Without `std` nothing can catch it: the panic leaves the tree as it
     /// found it (nodes Running, counts half-way), so call [`halt`](Self::halt) before
     /// ticking it again. [`tick_exactly_once`](Self::tick_exactly_once) does the same.
+    ///
+    /// A pending [`HaltHandle`] request is served at the start of the call and between two
+    /// passes (never during one): the tree is halted and the call returns
+    /// [`TickError::HaltRequested`]. A request made during a pass that leaves the root
+    /// Running is therefore served in the same call; one made during a pass that completes
+    /// the root waits for the next call. See [`halt`].
     pub fn tick_once(&mut self, ctx: &mut C) -> Result<Status, TickError> {
         self.last_passes = 0;
         self.start_tick();
         loop {
+            if self.halt_requested() {
+                return Err(self.serve_halt_request(ctx));
+            }
             let (status, waker) = self.pass(ctx)?;
             self.last_passes += 1;
             match waker {
                 Some(waker) if status == NodeStatus::Running => {
-                    if self.last_passes >= self.max_passes {
+                    // A request that came during the pass is served at the top of the loop,
+                    // even at the bound: the halt is what its maker asked for.
+                    if self.last_passes >= self.max_passes && !self.halt_requested() {
                         return Err(self.too_many_passes(ctx, waker));
                     }
                 }
@@ -437,6 +500,15 @@ impl<C> Tree<C> {
     /// period; for a steady rate, use `neurotree::runtime::FixedRate`. With a zero
     /// period a manual clock never moves, and a tree waiting on time never completes.
     ///
+    /// A [`HaltHandle`] request ends the run: the tick call serves it and this returns
+    /// [`TickError::HaltRequested`]. Once the tree has a handle, the wait is made of
+    /// [`Clock::wait`]s of at most [`HALT_POLL_PERIOD`], with a look for a request before
+    /// each, so a request ends it within that much of the clock's time. (Slices rather than
+    /// a wait woken by the request: `Clock::wait` is the clock's own way to let time pass,
+    /// a sleep on wall time, a step of a manual or simulated clock, and slicing works on
+    /// every clock alike; it costs a wake-up every 10 ms of a long wait, and nothing for a
+    /// tree without a handle, which waits with one `Clock::wait` as before.)
+    ///
     /// ```
     /// use core::time::Duration;
     /// use neurotree_core::{Blueprint, Clock, ManualClock, Status, Tree};
@@ -466,7 +538,25 @@ impl<C> Tree<C> {
             if status != Status::Running {
                 return Ok(status);
             }
-            self.clock.wait(period);
+            if self.has_halt_handle() {
+                self.wait_unless_halt_requested(period);
+            } else {
+                self.clock.wait(period);
+            }
+        }
+    }
+
+    /// Lets `period` pass on the clock in slices of at most [`HALT_POLL_PERIOD`], returning
+    /// early once a halt is requested.
+    #[cfg(feature = "std")]
+    fn wait_unless_halt_requested(&self, period: Duration) {
+        let until = self.clock.now().saturating_add(period);
+        loop {
+            let now = self.clock.now();
+            if now >= until || self.halt_requested() {
+                return;
+            }
+            self.clock.wait((until - now).min(HALT_POLL_PERIOD));
         }
     }
 

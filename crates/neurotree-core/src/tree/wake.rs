@@ -15,6 +15,10 @@
 //!
 //! [`Tree::tick_exactly_once`](crate::Tree::tick_exactly_once) never ticks twice, so a wake
 //! during its pass is left set for the runner to see.
+//!
+//! The signal also carries the tree's halt request, raised by a
+//! [`HaltHandle`](crate::HaltHandle): a request wakes the signal too, so that a runner
+//! waiting on it ticks at once, and the tick serves the request (see [`super::halt`]).
 
 use alloc::sync::Arc;
 use alloc::task::Wake;
@@ -46,6 +50,8 @@ pub struct WakeSignal {
 #[derive(Default)]
 struct Inner {
     woken: AtomicBool,
+    /// A [`HaltHandle`](crate::HaltHandle) asked for a halt that no tick has served yet.
+    halt: AtomicBool,
     /// The runner waiting for the signal, if one registered.
     runner: AtomicWaker,
 }
@@ -104,6 +110,29 @@ impl WakeSignal {
     pub fn waker(&self) -> Waker {
         Waker::from(Arc::clone(&self.inner))
     }
+
+    /// Raises the halt request, then wakes the signal.
+    pub(crate) fn request_halt(&self) {
+        // Release pairs with the Acquire of `take_halt`, as for `woken`.
+        self.inner.halt.store(true, Ordering::Release);
+        self.wake();
+    }
+
+    /// `true` while a halt request waits to be served.
+    #[inline]
+    pub(crate) fn halt_requested(&self) -> bool {
+        self.inner.halt.load(Ordering::Relaxed)
+    }
+
+    /// Clears the halt request and the wake (a halt drops every future, so no wake is left
+    /// to answer); says whether a request was pending.
+    pub(crate) fn take_halt(&self) -> bool {
+        let requested = self.inner.halt.swap(false, Ordering::AcqRel);
+        if requested {
+            self.inner.woken.store(false, Ordering::Release);
+        }
+        requested
+    }
 }
 
 impl fmt::Debug for WakeSignal {
@@ -139,17 +168,24 @@ impl Future for Woken {
     }
 }
 
-/// The signal and the waker made from it, kept by a tree that has async leaves.
+/// The signal and the waker made from it, kept by a tree that has async leaves, a runner
+/// that asked for the signal, or a [`HaltHandle`](crate::HaltHandle).
 pub(crate) struct TreeWake {
     pub(crate) signal: WakeSignal,
     pub(crate) waker: Waker,
+    /// A halt handle was made, so waits between ticks watch for its requests.
+    pub(crate) halt_handle: bool,
 }
 
 impl TreeWake {
     pub(crate) fn new() -> Self {
         let signal = WakeSignal::new();
         let waker = signal.waker();
-        Self { signal, waker }
+        Self {
+            signal,
+            waker,
+            halt_handle: false,
+        }
     }
 }
 

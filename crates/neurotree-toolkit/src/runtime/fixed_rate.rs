@@ -12,6 +12,12 @@
 //! [`Tree::tick_once`] and stops when the root completes or its [`StopFlag`] is raised; a
 //! stopped loop halts the tree first, so every running action gets its halt.
 //!
+//! A request from the tree's [`HaltHandle`](neurotree_core::HaltHandle) ends the loop too:
+//! the next tick serves it (the tree halts itself) and the run returns
+//! `Err(TickError::HaltRequested)`. Once the tree has a handle, the sleep between ticks is
+//! made of sleeps of at most [`HALT_POLL_PERIOD`] with a look for a request before each, so
+//! a request ends it within that time instead of at the next period.
+//!
 //! ```
 //! use std::time::Duration;
 //! use neurotree::runtime::{FixedRate, Finish, ManualPacer};
@@ -46,7 +52,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::Duration;
 
-use neurotree_core::{Clock, ManualClock, Status, SystemClock, TickError, Tree};
+use neurotree_core::{Clock, ManualClock, Status, SystemClock, TickError, Tree, HALT_POLL_PERIOD};
 
 /// What paces a loop: the time, and a way to wait until a moment.
 pub trait Pacer {
@@ -222,7 +228,8 @@ impl FixedRate {
     }
 
     /// Runs on `pacer`'s time, calling `on_tick` after every tick. A tick error ends the
-    /// run with that error (the tree has halted itself).
+    /// run with that error (the tree has halted itself), [`TickError::HaltRequested`]
+    /// included.
     pub fn run_with<C, P: Pacer + ?Sized>(
         &self,
         tree: &mut Tree<C>,
@@ -274,9 +281,25 @@ impl FixedRate {
             report.skipped_periods += skipped;
             scheduled = next;
             if !self.stop.is_stopped() {
-                pacer.sleep_until(scheduled);
+                sleep_until(pacer, scheduled, tree);
             }
         }
+    }
+}
+
+/// Sleeps until `deadline`, or, once `tree` has a halt handle, until a halt is requested,
+/// looking for one every [`HALT_POLL_PERIOD`] of the pacer's time.
+fn sleep_until<C, P: Pacer + ?Sized>(pacer: &mut P, deadline: Duration, tree: &Tree<C>) {
+    if !tree.has_halt_handle() {
+        pacer.sleep_until(deadline);
+        return;
+    }
+    loop {
+        let now = pacer.now();
+        if now >= deadline || tree.halt_requested() {
+            return;
+        }
+        pacer.sleep_until(deadline.min(now.saturating_add(HALT_POLL_PERIOD)));
     }
 }
 
@@ -498,6 +521,62 @@ mod tests {
         let report = FixedRate::new(ms(10)).run(&mut tree, &mut n).unwrap();
         assert_eq!(report.finish, Finish::Completed(Status::Success));
         assert_eq!((report.ticks, n), (1, 1));
+    }
+
+    #[test]
+    fn a_halt_request_ends_the_run_with_its_error_after_one_halt() {
+        let clock = ManualClock::new();
+        let mut plant = Plant::new(&clock, &[1]);
+        plant.forever = true;
+        let mut tree = tree(&clock);
+        let handle = tree.halt_handle();
+        let mut pacer = ManualPacer::new(clock.clone());
+        let result = FixedRate::new(ms(10)).run_with(&mut tree, &mut plant, &mut pacer, |s| {
+            if s.index == 2 {
+                handle.request();
+            }
+        });
+        assert_eq!(result, Err(TickError::HaltRequested));
+        assert_eq!((plant.ticks, plant.halts), (3, 1));
+        // The sleep after the third tick ended at once: its first look saw the request.
+        assert_eq!(clock.now(), ms(21));
+    }
+
+    #[test]
+    fn with_a_handle_but_no_request_the_loop_keeps_its_periods() {
+        let clock = ManualClock::new();
+        let mut plant = Plant::new(&clock, &[2, 3, 1]);
+        let mut tree = tree(&clock);
+        let _handle = tree.halt_handle();
+        let mut pacer = ManualPacer::new(clock.clone());
+        let mut starts = Vec::new();
+        let report = FixedRate::new(ms(25))
+            .run_with(&mut tree, &mut plant, &mut pacer, |s| {
+                starts.push(s.started)
+            })
+            .unwrap();
+        assert_eq!(report.finish, Finish::Completed(Status::Success));
+        assert_eq!(starts, [ms(0), ms(25), ms(50)]);
+    }
+
+    #[test]
+    fn a_request_from_another_thread_wakes_a_long_system_sleep() {
+        let clock = ManualClock::new();
+        let mut plant = Plant::new(&clock, &[0]);
+        plant.forever = true;
+        let mut tree = tree(&clock);
+        let handle = tree.halt_handle();
+        let requester = std::thread::spawn(move || {
+            std::thread::sleep(ms(100));
+            handle.request();
+        });
+        let started = std::time::Instant::now();
+        let result = FixedRate::new(Duration::from_secs(10)).run(&mut tree, &mut plant);
+        let took = started.elapsed();
+        requester.join().unwrap();
+        assert_eq!(result, Err(TickError::HaltRequested));
+        assert!(took < Duration::from_secs(1), "took {took:?}");
+        assert_eq!((plant.ticks, plant.halts), (1, 1));
     }
 
     #[test]

@@ -106,7 +106,10 @@ pub struct RunSummary {
 /// sooner when the future of one of its async actions wakes (see
 /// [`WakeSignal`](crate::WakeSignal)). The next period is counted from each tick.
 ///
-/// A tick error ends the run with that error (the tree has halted itself). Dropping the
+/// A tick error ends the run with that error (the tree has halted itself). A request from
+/// the tree's [`HaltHandle`](neurotree_core::HaltHandle) wakes the run at once (it sets the
+/// wake signal), and the tick it makes serves the request: the run returns
+/// `Err(TickError::HaltRequested)` without waiting for its period. Dropping the
 /// returned future before it completes (a `select!`, a timeout) halts the tree, so its
 /// running actions are halted and their futures dropped.
 pub async fn tick_until_done<C>(
@@ -179,4 +182,29 @@ where
     F::Output: Send + 'static,
 {
     AbortOnDropHandle::new(::tokio::spawn(future))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use neurotree_core::Blueprint;
+
+    #[tokio::test(start_paused = true)]
+    async fn a_halt_request_wakes_the_run_before_its_period_is_over() {
+        let blueprint = Blueprint::<u32>::builder()
+            .async_action("forever", |_| core::future::pending::<Status>())
+            .build_shared()
+            .unwrap();
+        let mut tree = Tree::with_clock(blueprint, TokioClock::new());
+        let handle = tree.halt_handle();
+        let requester = ::tokio::spawn(async move {
+            ::tokio::time::sleep(Duration::from_secs(1)).await;
+            handle.request();
+        });
+        let result = tick_until_done(&mut tree, &mut 0, Duration::from_secs(10)).await;
+        assert_eq!(result, Err(TickError::HaltRequested));
+        // Woken at 1 s by the request, not at the 10 s period.
+        assert_eq!(tree.now(), Duration::from_secs(1));
+        requester.await.unwrap();
+    }
 }

@@ -1,0 +1,88 @@
+//! A tree loaded from BehaviorTree.CPP XML is halted from another thread as a built one is:
+//! ticked by hand, and run by `FixedRate` in real time with a long period.
+
+use std::sync::atomic::{AtomicU32, Ordering};
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+use neurotree_toolkit::{
+    FixedRate, Handle, ManualClock, Registry, StatefulAction, Status, SystemClock, TickError, Tree,
+    XmlLoader,
+};
+
+/// Starts and halts of every `Work` node, shared with the test's threads.
+#[derive(Default)]
+struct Counts {
+    starts: AtomicU32,
+    halts: AtomicU32,
+}
+
+/// Runs until halted.
+struct Work;
+
+impl StatefulAction<Arc<Counts>> for Work {
+    fn on_start(&mut self, h: &mut Handle<'_, Arc<Counts>>) -> Status {
+        h.ctx().starts.fetch_add(1, Ordering::Relaxed);
+        Status::Running
+    }
+    fn on_running(&mut self, _: &mut Handle<'_, Arc<Counts>>) -> Status {
+        Status::Running
+    }
+    fn on_halted(&mut self, h: &mut Handle<'_, Arc<Counts>>) {
+        h.ctx().halts.fetch_add(1, Ordering::Relaxed);
+    }
+}
+
+const XML: &str = r#"<root BTCPP_format="4" main_tree_to_execute="Main">
+  <BehaviorTree ID="Main">
+    <Parallel success_count="-1" failure_count="1">
+      <Work/>
+      <SubTree ID="Inner"/>
+    </Parallel>
+  </BehaviorTree>
+  <BehaviorTree ID="Inner">
+    <Sequence><AlwaysSuccess/><Work/></Sequence>
+  </BehaviorTree>
+</root>"#;
+
+fn blueprint() -> Arc<neurotree_toolkit::Blueprint<Arc<Counts>>> {
+    let mut registry = Registry::<Arc<Counts>>::new();
+    registry.register_stateful("Work", vec![], || Work).unwrap();
+    let mut loader = XmlLoader::new(&registry);
+    loader.load_str(XML, "halt.xml").unwrap();
+    Arc::new(loader.build_main().unwrap())
+}
+
+#[test]
+fn a_tree_from_xml_is_halted_from_another_thread_at_its_next_tick() {
+    let mut tree = Tree::with_clock(blueprint(), ManualClock::new());
+    let handle = tree.halt_handle();
+    let mut counts = Arc::new(Counts::default());
+    assert_eq!(tree.tick_once(&mut counts), Ok(Status::Running));
+    std::thread::spawn(move || handle.request()).join().unwrap();
+    assert_eq!(tree.tick_once(&mut counts), Err(TickError::HaltRequested));
+    assert_eq!(counts.starts.load(Ordering::Relaxed), 2);
+    assert_eq!(counts.halts.load(Ordering::Relaxed), 2);
+    assert!(tree
+        .statuses()
+        .iter()
+        .all(|s| *s == neurotree_toolkit::NodeStatus::Idle));
+}
+
+#[test]
+fn a_fixed_rate_run_of_a_tree_from_xml_ends_promptly_on_a_request() {
+    let mut tree = Tree::with_clock(blueprint(), SystemClock::new());
+    let handle = tree.halt_handle();
+    let requester = std::thread::spawn(move || {
+        std::thread::sleep(Duration::from_millis(100));
+        handle.request();
+    });
+    let mut counts = Arc::new(Counts::default());
+    let started = Instant::now();
+    let result = FixedRate::new(Duration::from_secs(10)).run(&mut tree, &mut counts);
+    let took = started.elapsed();
+    requester.join().unwrap();
+    assert_eq!(result, Err(TickError::HaltRequested));
+    assert!(took < Duration::from_secs(1), "took {took:?}");
+    assert_eq!(counts.halts.load(Ordering::Relaxed), 2);
+}
