@@ -19,8 +19,9 @@ use neurotree_core::{Blueprint, NodeStatus};
 use super::{render_dot, render_mermaid, svg, text, Format};
 use crate::observe::{CoverageReport, NodeCoverage};
 
-/// Draws `bp` in `format` with what `report` (made for `bp`) says each node covered; see
-/// the [module docs](self).
+/// Draws `bp` in `format` with what `report` (made for `bp`) says each node covered:
+/// covered, outcomes not seen, never reached (see [`Coverage`](crate::observe::Coverage)
+/// for what counts).
 ///
 /// ```
 /// use neurotree::observe::Coverage;
