@@ -26,7 +26,7 @@
 //!
 //! Loops that wait between ticks end their wait early:
 //! [`Tree::tick_while_running`](crate::Tree::tick_while_running) and the toolkit's runners.
-//! A request also sets the tree's [`WakeSignal`](crate::WakeSignal), so a runner awaiting
+//! A request also sets the tree's [`WakeSignal`], so a runner awaiting
 //! it ticks at once.
 //!
 //! The handle costs nothing until it is made: the flag lives in the tree's wake signal,

@@ -23,7 +23,7 @@
 //! returns [`TickError::HaltRequested`]; see [`halt`] for the exact rules.
 
 mod error;
-pub(crate) mod failure;
+pub mod failure;
 pub mod halt;
 pub(crate) mod ticker;
 mod wake;
