@@ -490,3 +490,52 @@ fn check_and_run_print_the_loaders_warnings_on_stderr() {
     assert_eq!(err.lines().count(), 2, "{err}");
     assert!(err.contains(":3:5: warning: `SequenceStar`"), "{err}");
 }
+
+const TIMEOUT_THEN_RETRY: &str = r#"<root BTCPP_format="4" main_tree_to_execute="Main">
+  <BehaviorTree ID="Main">
+    <Fallback name="try">
+      <Timeout name="limit" msec="150">
+        <Drive name="drive"/>
+      </Timeout>
+      <RetryUntilSuccessful name="retry" num_attempts="2">
+        <AlwaysFailure/>
+      </RetryUntilSuccessful>
+    </Fallback>
+  </BehaviorTree>
+</root>"#;
+
+#[test]
+fn run_summary_says_why_the_root_failed() {
+    let file = write_tree("reasons.xml", TIMEOUT_THEN_RETRY);
+    let (code, out, err) = run_cli(&["run", file.to_str().unwrap(), "--mock", "drive=RUNNING"]);
+    assert_eq!(code, Some(2), "{err}");
+    let summary = out.lines().last().unwrap();
+    let failure = summary
+        .split_once(r#","failure":"#)
+        .map(|(_, f)| f)
+        .expect(summary);
+    assert_eq!(
+        failure,
+        concat!(
+            r#"[{"path":"try","tried":[{"path":"try/limit","reason":"timed out after 150 ms"},"#,
+            r#"{"path":"try/retry","reason":"gave up after 2 attempts"}]},"#,
+            r#"{"path":"try/retry","reason":"gave up after 2 attempts","tried":[]},"#,
+            r#"{"path":"try/retry/AlwaysFailure","tried":[]}]}}"#
+        )
+    );
+}
+
+#[test]
+fn run_summary_of_a_run_that_succeeds_has_no_failure() {
+    let file = write_tree("no_reasons.xml", TIMEOUT_THEN_RETRY);
+    let (code, out, err) = run_cli(&[
+        "run",
+        file.to_str().unwrap(),
+        "--mock",
+        "drive=RUNNING,SUCCESS",
+    ]);
+    assert_eq!(code, Some(0), "{err}");
+    let summary = out.lines().last().unwrap();
+    assert!(summary.ends_with(r#""blackboard":{}}}"#), "{summary}");
+    assert!(!summary.contains("failure"), "{summary}");
+}
