@@ -269,6 +269,7 @@ mod tests {
         assert_eq!(run.len(), 12);
         assert_eq!(run.last(), Some(&F));
         assert_eq!(b.get::<u16>("code"), spin::TIMEOUT);
+        assert_eq!(b.reason().as_deref(), Some("timed out (error 701)"));
         assert_eq!(b.sim.world.stop_count(), 1);
     }
 
@@ -294,6 +295,7 @@ mod tests {
         let run = b.run(100);
         assert_eq!(run.last(), Some(&F));
         assert_eq!(b.get::<u16>("code"), back_up::COLLISION_AHEAD);
+        assert_eq!(b.reason().as_deref(), Some("collision ahead (error 714)"));
         assert_eq!(
             b.get::<String>("msg"),
             "an obstacle or a wall in cell (0, 2)"
@@ -307,6 +309,7 @@ mod tests {
         let mut b = bench(r#"<BackUp backup_dist="0.3" backup_speed="0" error_code_id="{code}"/>"#);
         assert_eq!(b.tick(), F);
         assert_eq!(b.get::<u16>("code"), back_up::INVALID_INPUT);
+        assert_eq!(b.reason().as_deref(), Some("invalid input (error 713)"));
     }
 
     #[test]
@@ -317,6 +320,7 @@ mod tests {
         let mut b = Bench::with_world(world, r#"<Spin error_code_id="{code}"/>"#);
         assert_eq!(b.run(5), [R, F]);
         assert_eq!(b.get::<u16>("code"), spin::UNKNOWN);
+        assert_eq!(b.reason().as_deref(), Some("battery empty (error 700)"));
     }
 
     #[test]

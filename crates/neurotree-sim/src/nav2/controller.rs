@@ -288,6 +288,7 @@ mod tests {
         assert_eq!(run.len(), 11);
         assert_eq!(run.last(), Some(&F));
         assert_eq!(b.get::<u16>("code"), code::NO_VALID_CONTROL);
+        assert_eq!(b.reason().as_deref(), Some("blocked (error 106)"));
         assert_eq!(
             b.get::<String>("msg"),
             "blocked by an obstacle in cell (3, 2)"
@@ -322,6 +323,7 @@ mod tests {
         b.set("path", Path::default());
         assert_eq!(b.tick(), F);
         assert_eq!(b.get::<String>("msg"), "no path to follow");
+        assert_eq!(b.reason().as_deref(), Some("no path (error 103)"));
         // Taken away while driving: the robot stops.
         b.set("path", straight(&[1.5, 4.5]));
         assert_eq!(b.run(2), [R, R]);

@@ -212,6 +212,7 @@ mod tests {
             assert_eq!(b.get::<u16>("code"), expected);
             assert_eq!(b.get::<Path>("path"), Path::default());
         }
+        assert_eq!(b.reason().as_deref(), Some("goal occupied (error 206)"));
         assert!(b.get::<String>("msg").contains("blocked cell (2, 2)"));
         // A goal walled in by obstacles the costmap knows.
         let mut b = Bench::with_world(
@@ -225,10 +226,12 @@ mod tests {
         b.set_goal(Pose2D::new(4.5, 1.5, 0.0));
         assert_eq!(b.tick(), Status::Failure);
         assert_eq!(b.get::<u16>("code"), code::NO_VALID_PATH);
+        assert_eq!(b.reason().as_deref(), Some("no valid path (error 208)"));
         // No goal at all.
         let mut b = bench("");
         assert_eq!(b.tick(), Status::Failure);
         assert_eq!(b.get::<u16>("code"), code::UNKNOWN);
+        assert_eq!(b.reason().as_deref(), Some("no goal (error 200)"));
         assert_eq!(b.sim.plans(), 0);
     }
 
