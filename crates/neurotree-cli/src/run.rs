@@ -2,7 +2,8 @@
 //!
 //! The files load together and the tree to run is picked as `files.rs` says. Each tick
 //! prints one JSON line `{"tick":1,"status":"RUNNING"}` (with `--trace`, also one line per
-//! status change). Ticks count passes of the root: a `tick_once` that passes again at once
+//! status change; a change to FAILURE for which the node gave a reason carries `reason`
+//! and, if not 0, `code`, as the `--jsonl` trace does). Ticks count passes of the root: a `tick_once` that passes again at once
 //! for a node that asks to be woken counts each pass, toward `--max-ticks` too, and its
 //! line carries the number of its last pass. The run ends with a summary line: ticks,
 //! final status, per-node tick and halt counts by name in `nodes` (summed over nodes
@@ -78,6 +79,8 @@ struct Record {
     trace: Vec<String>,
     tracing: bool,
     paths: Vec<String>,
+    /// The reason given for the coming change of this node to Failure, for its trace line.
+    reason: Option<(NodeId, Reason)>,
 }
 
 #[derive(Clone)]
@@ -97,15 +100,30 @@ impl Observer for Recorder {
         if c.from == NodeStatus::Running && c.to == NodeStatus::Idle {
             r.halts[c.node.index()] += 1;
         }
+        let given = match r.reason.take() {
+            Some((node, reason)) if node == c.node && c.to == NodeStatus::Failure => Some(reason),
+            _ => None,
+        };
         if r.tracing {
-            let line = json!({
+            let mut line = json!({
                 "tick": r.tick,
                 "node": r.paths[c.node.index()],
                 "from": c.from.as_str(),
                 "to": c.to.as_str(),
-            })
-            .to_string();
-            r.trace.push(line);
+            });
+            if let Some(reason) = given {
+                line["reason"] = json!(reason.message());
+                if reason.code() != 0 {
+                    line["code"] = json!(reason.code());
+                }
+            }
+            r.trace.push(line.to_string());
+        }
+    }
+    fn on_failure_reason(&mut self, node: NodeId, reason: &Reason) {
+        let mut r = self.0.lock().unwrap_or_else(|e| e.into_inner());
+        if r.tracing {
+            r.reason = Some((node, reason.clone()));
         }
     }
 }

@@ -537,3 +537,32 @@ fn run_summary_of_a_run_that_succeeds_has_no_failure() {
     assert!(summary.ends_with(r#""blackboard":{}}}"#), "{summary}");
     assert!(!summary.contains("failure"), "{summary}");
 }
+
+#[test]
+fn run_trace_carries_the_reason_on_the_change_to_failure() {
+    let file = write_tree("reasons_trace.xml", TIMEOUT_THEN_RETRY);
+    let (code, out, err) = run_cli(&[
+        "run",
+        file.to_str().unwrap(),
+        "--mock",
+        "drive=RUNNING",
+        "--trace",
+    ]);
+    assert_eq!(code, Some(2), "{err}");
+    let failures: Vec<&str> = out
+        .lines()
+        .filter(|l| l.contains(r#""to":"FAILURE""#))
+        .collect();
+    // The Retry's child fails without a reason; the Timeout and the Retry give theirs. (The
+    // Retry's second attempt is the root's next pass: ticks count passes.)
+    assert_eq!(
+        failures,
+        [
+            r#"{"tick":3,"node":"try/limit","from":"RUNNING","to":"FAILURE","reason":"timed out after 150 ms"}"#,
+            r#"{"tick":3,"node":"try/retry/AlwaysFailure","from":"IDLE","to":"FAILURE"}"#,
+            r#"{"tick":4,"node":"try/retry/AlwaysFailure","from":"IDLE","to":"FAILURE"}"#,
+            r#"{"tick":4,"node":"try/retry","from":"RUNNING","to":"FAILURE","reason":"gave up after 2 attempts"}"#,
+            r#"{"tick":4,"node":"try","from":"RUNNING","to":"FAILURE"}"#,
+        ]
+    );
+}
