@@ -169,8 +169,8 @@ impl Nav2Sim {
         self
     }
 
-    /// Writing what the leaves do to `log` (one line per plan, failure, clearing or
-    /// behavior), for a live view. Off by default, so that a long run does not grow a log
+    /// Writing what the leaves do to `log` (one line per plan, clearing or behavior
+    /// done; their failures are told by a [`FailureNotes`] on the tree), for a live view. Off by default, so that a long run does not grow a log
     /// nobody reads.
     pub fn with_log(mut self, log: EventLog) -> Self {
         self.log = Some(log);
