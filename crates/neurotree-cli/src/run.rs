@@ -2,12 +2,15 @@
 //!
 //! The files load together and the tree to run is picked as `files.rs` says. Each tick
 //! prints one JSON line `{"tick":1,"status":"RUNNING"}` (with `--trace`, also one line per
-//! status change). Ticks count passes of the root: a `tick_once` that passes again at once
+//! status change; a change to FAILURE for which the node gave a reason carries `reason`
+//! and, if not 0, `code`, as the `--jsonl` trace does). Ticks count passes of the root: a `tick_once` that passes again at once
 //! for a node that asks to be woken counts each pass, toward `--max-ticks` too, and its
 //! line carries the number of its last pass. The run ends with a summary line: ticks,
 //! final status, per-node tick and halt counts by name in `nodes` (summed over nodes
 //! sharing a name, as other tools read it) and by path in `paths` (the paths of
-//! [`Blueprint::paths`], one entry per node), and the root blackboard. How the run ended is the exit status (see [`Outcome`]).
+//! [`Blueprint::paths`], one entry per node), and the root blackboard; a run whose root
+//! ended FAILURE adds `failure`, why it failed ([`failure_json`]). How the run ended is
+//! the exit status (see [`Outcome`]).
 //! With `--view`, the tree is also drawn after every tick, with that tick's statuses, on
 //! standard error.
 //! With `--groot PORT`, the run is also served to Groot2 (see `groot.rs`).
@@ -29,8 +32,8 @@ use neurotree::observe::{
 };
 use neurotree::render::LastTickStatuses;
 use neurotree::{
-    Blueprint, LoadWarning, ManualClock, NodeId, NodeStatus, Observer, Registry, Status,
-    StatusChange, TickError, Tree, XmlLoader,
+    Blueprint, Failure, LoadWarning, ManualClock, NodeId, NodeStatus, Observer, Reason, Registry,
+    Status, StatusChange, TickError, Tree, XmlLoader,
 };
 use serde_json::{json, Map, Value};
 
@@ -76,6 +79,8 @@ struct Record {
     trace: Vec<String>,
     tracing: bool,
     paths: Vec<String>,
+    /// The reason given for the coming change of this node to Failure, for its trace line.
+    reason: Option<(NodeId, Reason)>,
 }
 
 #[derive(Clone)]
@@ -95,15 +100,30 @@ impl Observer for Recorder {
         if c.from == NodeStatus::Running && c.to == NodeStatus::Idle {
             r.halts[c.node.index()] += 1;
         }
+        let given = match r.reason.take() {
+            Some((node, reason)) if node == c.node && c.to == NodeStatus::Failure => Some(reason),
+            _ => None,
+        };
         if r.tracing {
-            let line = json!({
+            let mut line = json!({
                 "tick": r.tick,
                 "node": r.paths[c.node.index()],
                 "from": c.from.as_str(),
                 "to": c.to.as_str(),
-            })
-            .to_string();
-            r.trace.push(line);
+            });
+            if let Some(reason) = given {
+                line["reason"] = json!(reason.message());
+                if reason.code() != 0 {
+                    line["code"] = json!(reason.code());
+                }
+            }
+            r.trace.push(line.to_string());
+        }
+    }
+    fn on_failure_reason(&mut self, node: NodeId, reason: &Reason) {
+        let mut r = self.0.lock().unwrap_or_else(|e| e.into_inner());
+        if r.tracing {
+            r.reason = Some((node, reason.clone()));
         }
     }
 }
@@ -317,13 +337,16 @@ pub fn run(
         .collect();
     let blackboard =
         neurotree::blackboard_json::scope_json(tree.blackboard(), neurotree::ScopeId::ROOT);
-    let summary = json!({ "summary": {
+    let mut summary = json!({ "summary": {
         "ticks": ticks,
         "status": status,
         "nodes": nodes,
         "paths": paths,
         "blackboard": blackboard,
     }});
+    if let Some(failure) = tree.last_failure() {
+        summary["summary"]["failure"] = failure_json(&failure);
+    }
     writeln!(out, "{summary}")?;
     let written = outputs.finish(&blueprint, err)?;
     if let Some(served) = groot {
@@ -336,6 +359,41 @@ pub fn run(
         "RUNNING" | "IDLE" => Outcome::Stopped,
         _ => Outcome::RunFailed,
     })
+}
+
+/// Why the root failed, as the summary of `neurotree run` carries it: one entry per link of
+/// the chain, from the root down, with the node's own reason and code when it gave one
+/// (code 0, "none", is left out) and, for a Fallback, every child it tried.
+///
+/// ```json
+/// [{"path":"Fallback","tried":[{"path":"Fallback/a","reason":"blocked","code":106},
+///  {"path":"Fallback/b"}]},{"path":"Fallback/b","tried":[]}]
+/// ```
+pub fn failure_json(failure: &Failure) -> Value {
+    fn with_reason(mut entry: Value, reason: Option<&Reason>) -> Value {
+        if let Some(reason) = reason {
+            entry["reason"] = json!(reason.message());
+            if reason.code() != 0 {
+                entry["code"] = json!(reason.code());
+            }
+        }
+        entry
+    }
+    let links: Vec<Value> = failure
+        .links
+        .iter()
+        .map(|link| {
+            let tried: Vec<Value> = link
+                .tried
+                .iter()
+                .map(|t| with_reason(json!({ "path": t.path }), t.reason.as_ref()))
+                .collect();
+            let mut entry = with_reason(json!({ "path": link.path }), link.reason.as_ref());
+            entry["tried"] = json!(tried);
+            entry
+        })
+        .collect();
+    json!(links)
 }
 
 /// The loggers that watch a run (`neurotree run --log --jsonl FILE ...`).

@@ -12,7 +12,10 @@
 //! the status it had when the tick began. (The trace numbers ticks by pass of the root, as
 //! `run --max-ticks` counts them: a tick that re-ran the root at once for a node that asked
 //! to be woken has one number per pass.) Nodes that share a path are told apart by their
-//! statuses.
+//! statuses. When the root failed in that tick (the last one, without `--tick`), the text
+//! formats mark the path that failed: the last node of the tick whose change to FAILURE
+//! carries a `reason`, and its ancestors, each ` -- failed`, with its own reason if it gave
+//! one (` -- failed: gave up after 2 attempts`).
 //!
 //! With `--coverage FILE`, the JSON that `neurotree run --coverage-json FILE` wrote marks
 //! each node covered, reached with outcomes not seen, or never reached (see
@@ -25,7 +28,7 @@ use std::path::{Path, PathBuf};
 use std::time::Duration;
 
 use neurotree::observe::{CoverageReport, NodeCoverage, Outcome, OutcomeSet};
-use neurotree::render::{render_coverage, Format, LastTickStatuses};
+use neurotree::render::{render_coverage, render_statuses_noted, Format, LastTickStatuses};
 use neurotree::{
     Arity, Blueprint, Category, CustomNode, LoadError, NodeCtx, NodeId, NodeStatus, Observer,
     Registry, StatusChange, XmlLoader,
@@ -71,11 +74,19 @@ pub fn run(
             let report = coverage_report(coverage, &bp, &tree_id)?;
             return Ok(render_coverage(&bp, &report, format_of(opts)));
         }
-        let statuses = match &opts.trace {
-            Some(trace) => Some(trace_statuses(trace, &bp, &tree_id, opts.tick)?),
-            None => None,
-        };
-        Ok(format_of(opts).render(&bp, statuses.as_deref()))
+        let format = format_of(opts);
+        match &opts.trace {
+            Some(trace) => {
+                let (statuses, notes) = trace_statuses(trace, &bp, &tree_id, opts.tick)?;
+                Ok(match format {
+                    Format::Ascii | Format::Unicode => {
+                        render_statuses_noted(&bp, &statuses, &notes, format == Format::Unicode)
+                    }
+                    _ => format.render(&bp, Some(&statuses)),
+                })
+            }
+            None => Ok(format.render(&bp, None)),
+        }
     });
     let picture = match picture {
         Ok(picture) => picture,
@@ -261,7 +272,13 @@ struct Change {
     path: String,
     from: NodeStatus,
     to: NodeStatus,
+    /// The reason the line gives for a change to FAILURE, in words (`blocked (error 106)`).
+    reason: Option<String>,
 }
+
+/// What a trace shows of a run: each node's status, and the notes that mark the path that
+/// failed (empty for the nodes off it), both by node id.
+type Shown = (Vec<NodeStatus>, Vec<String>);
 
 /// The statuses the trace at `path` shows; see [`statuses_from_trace`].
 fn trace_statuses(
@@ -269,7 +286,7 @@ fn trace_statuses(
     bp: &Blueprint<()>,
     tree_id: &str,
     tick: Option<u32>,
-) -> Result<Vec<NodeStatus>, LoadError> {
+) -> Result<Shown, LoadError> {
     let shown = path.display().to_string();
     let text = read_text(path, "trace").map_err(|e| at_start(&shown, e))?;
     statuses_from_trace(&text, &shown, bp, tree_id, tick)
@@ -303,14 +320,15 @@ fn read_text(path: &Path, what: &str) -> Result<String, String> {
 
 /// The status of every node of `bp` that a trace (`text`, read from `file`) shows: the last
 /// each reached or, with `tick`, the last each reached in that tick (the one stored when it
-/// began, for a node the tick did not change).
+/// began, for a node the tick did not change); and the path that failed in that tick (see
+/// [`failed_path`]).
 fn statuses_from_trace(
     text: &str,
     file: &str,
     bp: &Blueprint<()>,
     tree_id: &str,
     tick: Option<u32>,
-) -> Result<Vec<NodeStatus>, LoadError> {
+) -> Result<Shown, LoadError> {
     let shown = file.to_string();
     let (changes, last_tick) = parse_trace(text, &shown)?;
     let mut by_path: HashMap<String, Vec<NodeId>> = HashMap::new();
@@ -321,6 +339,9 @@ fn statuses_from_trace(
     let mut stored = vec![NodeStatus::Idle; bp.len()];
     let mut record = LastTickStatuses::new();
     let mut current = None;
+    // The changes to FAILURE of the tick shown, by node, with their reasons.
+    let shown_tick = tick.map_or(last_tick, u64::from);
+    let mut failed: Vec<(NodeId, Option<&str>)> = Vec::new();
     for change in &changes {
         if tick.is_some_and(|n| change.tick > u64::from(n)) {
             break;
@@ -344,6 +365,9 @@ fn statuses_from_trace(
             .find(|id| stored[id.index()] == change.from)
             .unwrap_or(candidates[0]);
         stored[node.index()] = change.to;
+        if change.tick == shown_tick && change.to == NodeStatus::Failure {
+            failed.push((node, change.reason.as_deref()));
+        }
         if tick.is_some() && current != Some(change.tick) {
             record.on_tick_start(Duration::ZERO);
             current = Some(change.tick);
@@ -369,7 +393,34 @@ fn statuses_from_trace(
     }
     let mut statuses = record.statuses();
     statuses.resize(bp.len(), NodeStatus::Idle);
-    Ok(statuses)
+    Ok((statuses, failed_path(bp, &failed)))
+}
+
+/// The notes marking the path that failed, by node id, from the changes to FAILURE of one
+/// tick (in order, with their reasons): empty unless the root failed in it. The path runs
+/// from the root to the last node that gave a reason (the trace says no more of which
+/// child decided a node's failure); each node on it is noted `failed`, with the last reason
+/// it gave in the tick.
+fn failed_path(bp: &Blueprint<()>, failed: &[(NodeId, Option<&str>)]) -> Vec<String> {
+    let mut notes = vec![String::new(); bp.len()];
+    let root_failed = failed.iter().any(|(node, _)| *node == NodeId::ROOT);
+    let last_reason = failed.iter().rev().find(|(_, reason)| reason.is_some());
+    let (true, Some(&(leaf, _))) = (root_failed, last_reason) else {
+        return notes;
+    };
+    let mut on_path = Some(leaf);
+    while let Some(node) = on_path {
+        let reason = failed
+            .iter()
+            .rev()
+            .find_map(|(n, reason)| reason.filter(|_| *n == node));
+        notes[node.index()] = match reason {
+            Some(reason) => format!("failed: {reason}"),
+            None => "failed".to_string(),
+        };
+        on_path = bp.parent(node);
+    }
+    notes
 }
 
 /// The status changes of a trace, in order, and the last tick it mentions.
@@ -422,6 +473,12 @@ fn parse_trace(text: &str, file: &str) -> Result<(Vec<Change>, u64), LoadError> 
                 )
             })
         };
+        let reason = object.get("reason").and_then(Value::as_str).map(|message| {
+            match object.get("code").and_then(Value::as_u64) {
+                Some(code) if code != 0 => format!("{message} (error {code})"),
+                _ => message.to_string(),
+            }
+        });
         changes.push(Change {
             line: line_no,
             col: u32::try_from(key_col("node")).unwrap_or(u32::MAX),
@@ -429,6 +486,7 @@ fn parse_trace(text: &str, file: &str) -> Result<(Vec<Change>, u64), LoadError> 
             path: path.to_string(),
             from: status("from")?,
             to: status("to")?,
+            reason,
         });
     }
     Ok((changes, last_tick))
@@ -451,7 +509,7 @@ mod tests {
     }
 
     fn statuses(trace: &str, tick: Option<u32>) -> Result<Vec<NodeStatus>, LoadError> {
-        statuses_from_trace(trace, "trace", &blueprint(), "Main", tick)
+        statuses_from_trace(trace, "trace", &blueprint(), "Main", tick).map(|(s, _)| s)
     }
 
     const TRACE: &str = r#"{"tick":1,"node":"root","from":"IDLE","to":"RUNNING"}
@@ -478,6 +536,18 @@ mod tests {
             statuses(TRACE, None),
             Ok(vec![Failure, Success, Success, Failure])
         );
+    }
+
+    #[test]
+    fn the_path_that_failed_ends_at_the_last_reason_with_its_code() {
+        let trace = r#"{"tick":1,"node":"root","from":"IDLE","to":"RUNNING"}
+{"tick":1,"node":"root/step","from":"IDLE","to":"SUCCESS"}
+{"tick":1,"node":"root/step","from":"IDLE","to":"SUCCESS"}
+{"tick":1,"node":"root/last","from":"IDLE","to":"FAILURE","reason":"blocked","code":106}
+{"tick":1,"node":"root","from":"RUNNING","to":"FAILURE"}
+{"tick":1,"status":"FAILURE"}"#;
+        let (_, notes) = statuses_from_trace(trace, "trace", &blueprint(), "Main", None).unwrap();
+        assert_eq!(notes, ["failed", "", "", "failed: blocked (error 106)"]);
     }
 
     #[test]

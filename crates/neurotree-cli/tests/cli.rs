@@ -97,9 +97,7 @@ fn demo_to_an_unreachable_goal_fails_with_a_summary() {
          \x20 recoveries  1 (ComputePathToPose recovery 1)\n\
          \x20 robot       (1.50, 13.50), 13.04 m from the goal (0.50, 0.50)\n\n"
     );
-    assert!(out.contains(
-        "  > ComputePathToPose failed: (0.50, 0.50) is in blocked cell (0, 0) (error 206)\n"
-    ));
+    assert!(out.contains("  > ComputePathToPose failed: goal occupied (error 206)\n"));
     let (code, _, err) = run_cli(&["demo", "--fast", "--goal", "here"]);
     assert_eq!(code, Some(2));
     assert!(
@@ -489,4 +487,82 @@ fn check_and_run_print_the_loaders_warnings_on_stderr() {
     assert!(out.contains(r#""status":"SUCCESS""#), "{out}");
     assert_eq!(err.lines().count(), 2, "{err}");
     assert!(err.contains(":3:5: warning: `SequenceStar`"), "{err}");
+}
+
+const TIMEOUT_THEN_RETRY: &str = r#"<root BTCPP_format="4" main_tree_to_execute="Main">
+  <BehaviorTree ID="Main">
+    <Fallback name="try">
+      <Timeout name="limit" msec="150">
+        <Drive name="drive"/>
+      </Timeout>
+      <RetryUntilSuccessful name="retry" num_attempts="2">
+        <AlwaysFailure/>
+      </RetryUntilSuccessful>
+    </Fallback>
+  </BehaviorTree>
+</root>"#;
+
+#[test]
+fn run_summary_says_why_the_root_failed() {
+    let file = write_tree("reasons.xml", TIMEOUT_THEN_RETRY);
+    let (code, out, err) = run_cli(&["run", file.to_str().unwrap(), "--mock", "drive=RUNNING"]);
+    assert_eq!(code, Some(2), "{err}");
+    let summary = out.lines().last().unwrap();
+    let failure = summary
+        .split_once(r#","failure":"#)
+        .map(|(_, f)| f)
+        .expect(summary);
+    assert_eq!(
+        failure,
+        concat!(
+            r#"[{"path":"try","tried":[{"path":"try/limit","reason":"timed out after 150 ms"},"#,
+            r#"{"path":"try/retry","reason":"gave up after 2 attempts"}]},"#,
+            r#"{"path":"try/retry","reason":"gave up after 2 attempts","tried":[]},"#,
+            r#"{"path":"try/retry/AlwaysFailure","tried":[]}]}}"#
+        )
+    );
+}
+
+#[test]
+fn run_summary_of_a_run_that_succeeds_has_no_failure() {
+    let file = write_tree("no_reasons.xml", TIMEOUT_THEN_RETRY);
+    let (code, out, err) = run_cli(&[
+        "run",
+        file.to_str().unwrap(),
+        "--mock",
+        "drive=RUNNING,SUCCESS",
+    ]);
+    assert_eq!(code, Some(0), "{err}");
+    let summary = out.lines().last().unwrap();
+    assert!(summary.ends_with(r#""blackboard":{}}}"#), "{summary}");
+    assert!(!summary.contains("failure"), "{summary}");
+}
+
+#[test]
+fn run_trace_carries_the_reason_on_the_change_to_failure() {
+    let file = write_tree("reasons_trace.xml", TIMEOUT_THEN_RETRY);
+    let (code, out, err) = run_cli(&[
+        "run",
+        file.to_str().unwrap(),
+        "--mock",
+        "drive=RUNNING",
+        "--trace",
+    ]);
+    assert_eq!(code, Some(2), "{err}");
+    let failures: Vec<&str> = out
+        .lines()
+        .filter(|l| l.contains(r#""to":"FAILURE""#))
+        .collect();
+    // The Retry's child fails without a reason; the Timeout and the Retry give theirs. (The
+    // Retry's second attempt is the root's next pass: ticks count passes.)
+    assert_eq!(
+        failures,
+        [
+            r#"{"tick":3,"node":"try/limit","from":"RUNNING","to":"FAILURE","reason":"timed out after 150 ms"}"#,
+            r#"{"tick":3,"node":"try/retry/AlwaysFailure","from":"IDLE","to":"FAILURE"}"#,
+            r#"{"tick":4,"node":"try/retry/AlwaysFailure","from":"IDLE","to":"FAILURE"}"#,
+            r#"{"tick":4,"node":"try/retry","from":"RUNNING","to":"FAILURE","reason":"gave up after 2 attempts"}"#,
+            r#"{"tick":4,"node":"try","from":"RUNNING","to":"FAILURE"}"#,
+        ]
+    );
 }

@@ -18,10 +18,11 @@ const GUARD: &str = r#"<root BTCPP_format="4" main_tree_to_execute="Main">
   </BehaviorTree>
 </root>"#;
 
-/// What plain stdout shows, with or without loggers. The run ends FAILURE: exit status 2.
+/// What plain stdout shows, with or without loggers. The run ends FAILURE: exit status 2;
+/// no node gave a reason, so the failure chain is the root alone.
 const STDOUT: &str = r#"{"tick":1,"status":"RUNNING"}
 {"tick":2,"status":"FAILURE"}
-{"summary":{"ticks":2,"status":"FAILURE","nodes":{"IsReady":{"ticks":2,"halts":0},"guard":{"ticks":2,"halts":0},"move":{"ticks":1,"halts":1}},"paths":{"guard":[{"ticks":2,"halts":0}],"guard/IsReady":[{"ticks":2,"halts":0}],"guard/move":[{"ticks":1,"halts":1}]},"blackboard":{}}}
+{"summary":{"ticks":2,"status":"FAILURE","nodes":{"IsReady":{"ticks":2,"halts":0},"guard":{"ticks":2,"halts":0},"move":{"ticks":1,"halts":1}},"paths":{"guard":[{"ticks":2,"halts":0}],"guard/IsReady":[{"ticks":2,"halts":0}],"guard/move":[{"ticks":1,"halts":1}]},"blackboard":{},"failure":[{"path":"guard","tried":[]}]}}
 "#;
 
 /// The run's status changes (the mock condition goes straight from Idle to its outcome, as a

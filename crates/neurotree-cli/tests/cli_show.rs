@@ -382,3 +382,46 @@ fn run_view_draws_each_tick_on_stderr_and_keeps_stdout_json() {
          \n"
     );
 }
+
+/// A Timeout that fires, then a Retry that runs out: both give their reasons.
+const GIVE_UP: &str = r#"<root BTCPP_format="4" main_tree_to_execute="Main">
+  <BehaviorTree ID="Main">
+    <Sequence name="go">
+      <Fallback name="try">
+        <Timeout name="limit" msec="150">
+          <Drive name="drive"/>
+        </Timeout>
+        <RetryUntilSuccessful name="retry" num_attempts="2">
+          <AlwaysFailure/>
+        </RetryUntilSuccessful>
+      </Fallback>
+    </Sequence>
+  </BehaviorTree>
+</root>
+"#;
+
+#[test]
+fn show_marks_the_path_that_failed_with_the_reasons_of_the_trace() {
+    let dir = tempfile::tempdir().unwrap();
+    let tree = file(&dir, "give_up.xml", GIVE_UP);
+    let run = neurotree(&["run", arg(&tree), "--mock", "drive=RUNNING", "--trace"]);
+    assert_eq!(run.status.code(), Some(2), "{}", text(&run.stderr));
+    let trace = file(&dir, "give_up.jsonl", &text(&run.stdout));
+    let (tree, trace) = (arg(&tree), arg(&trace));
+    // The last tick: the Retry ran out, and the root failed for it. The Timeout fired a
+    // pass earlier, so it is not on the path; the path ends at the Retry, the last node
+    // that gave a reason (the trace does not say which child decided its failure).
+    assert_eq!(
+        show(&[tree, "--trace", trace, "--format", "ascii"]),
+        "[F] go (Sequence) -- failed\n\
+         \\-- [F] try (Fallback) -- failed\n\
+         \x20   +-- [F] limit (Timeout)\n\
+         \x20   |   \\-- [ ] drive (Drive)\n\
+         \x20   \\-- [F] retry (RetryUntilSuccessful) -- failed: gave up after 2 attempts\n\
+         \x20       \\-- [F] AlwaysFailure\n"
+    );
+    // In a tick where the root did not fail, nothing is marked.
+    assert!(
+        !show(&[tree, "--trace", trace, "--tick", "3", "--format", "ascii"]).contains("failed")
+    );
+}

@@ -167,7 +167,7 @@ fn the_story_is_told_in_the_notes() {
         run.tick();
         notes.extend(run.notes().iter().cloned());
     }
-    let blocked = "FollowPath failed: blocked by an obstacle in cell (22, 5) (error 106)";
+    let blocked = "FollowPath failed: blocked (error 106)";
     let told: Vec<&str> = notes
         .iter()
         .map(String::as_str)

@@ -38,7 +38,7 @@ fn the_ros2_demo_reaches_the_goal_after_a_recovery() {
         .unwrap_or_else(|| panic!("no recoveries line: {stdout}"));
     assert!(recoveries >= 1, "{stdout}");
     assert!(
-        stdout.contains("FollowPath failed: blocked by an obstacle"),
+        stdout.contains("FollowPath failed: blocked (error 106)"),
         "the simulator reported the obstacle: {stdout}"
     );
 }

@@ -158,3 +158,41 @@ fn jsonl_carries_a_reason_on_the_change_to_failure() {
         ]
     );
 }
+
+#[test]
+fn console_logger_ends_a_failure_with_its_reason() {
+    struct Blocked;
+    impl neurotree::Action<()> for Blocked {
+        fn tick(&self, h: &mut neurotree::Handle<'_, ()>) -> neurotree::Status {
+            h.fail_with(106, "blocked")
+        }
+    }
+    let bp = neurotree::Builder::<()>::new()
+        .fallback("go", |f| {
+            f.always_failure("check")
+                .action_node("follow_path", Blocked)
+        })
+        .build_shared()
+        .unwrap();
+    let clock = neurotree::ManualClock::new();
+    let mut tree = neurotree::Tree::with_clock(bp, clock.clone());
+    let log = ConsoleLogger::new(tree.blueprint(), Vec::new());
+    tree.set_observer(log.clone());
+    clock.advance(std::time::Duration::from_millis(100));
+    assert_eq!(tree.tick_once(&mut ()), Ok(neurotree::Status::Failure));
+    let text = log.with_writer(|out| String::from_utf8(out.clone()).unwrap());
+    // Only the change the reason was given for carries it: not the Fallback's, nor a
+    // failure without a reason.
+    assert_eq!(
+        text.lines().collect::<Vec<_>>(),
+        [
+            "[0.100s] go IDLE -> RUNNING",
+            "[0.100s] go/check IDLE -> FAILURE",
+            "[0.100s] go/follow_path IDLE -> FAILURE: blocked (error 106)",
+            "[0.100s] go/check FAILURE -> IDLE",
+            "[0.100s] go/follow_path FAILURE -> IDLE",
+            "[0.100s] go RUNNING -> FAILURE",
+            "[0.100s] go FAILURE -> IDLE",
+        ]
+    );
+}

@@ -19,7 +19,9 @@ use super::frame::{Layout, Parts};
 use super::scenario::{Scenario, DEFAULT_GOAL};
 use neurotree::render::LastTickStatuses;
 use neurotree::robotics::{Path, Pose2D};
-use neurotree::sim::nav2::{register_nav2_leaves, EventLog, Nav2Params, Nav2Sim, RecoveryCounter};
+use neurotree::sim::nav2::{
+    register_nav2_leaves, EventLog, FailureNotes, Nav2Params, Nav2Sim, RecoveryCounter,
+};
 use neurotree::sim::{MapError, LEGEND};
 use neurotree::{nav2, LoadError, Registry, RegistryError, XmlLoader};
 
@@ -202,7 +204,9 @@ impl DemoRun {
         tree.blackboard_mut().set("goal", config.goal)?;
         let seen = LastTickStatuses::new();
         let recoveries = RecoveryCounter::new(&blueprint).with_log(log.clone());
-        tree.set_observer((seen.clone(), recoveries.clone()));
+        // Failures are told as the nodes give their reasons, in the order they come.
+        let failures = FailureNotes::new(&blueprint, log.clone());
+        tree.set_observer((seen.clone(), (recoveries.clone(), failures)));
         Ok(Self {
             sim,
             tree,

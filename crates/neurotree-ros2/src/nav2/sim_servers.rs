@@ -22,7 +22,7 @@ use std::sync::{Arc, Mutex, MutexGuard};
 use std::time::{Duration, Instant};
 
 use neurotree_nav2::robotics::{Path, Pose2D};
-use neurotree_sim::nav2::{register_nav2_leaves, Nav2Sim};
+use neurotree_sim::nav2::{register_nav2_leaves, FailureNotes, Nav2Sim};
 use neurotree_sim::CostmapLayer;
 use neurotree_toolkit::{Blackboard, Blueprint, Registry, Status, Tree, XmlLoader};
 use ros2_client::action::GoalStatusEnum;
@@ -291,6 +291,10 @@ where
                         A::counts(&mut stats.lock()).aborted += 1;
                     }
                     let mut tree = Tree::with_clock(Arc::clone(&self.blueprint), sim.world.clock());
+                    if let Some(log) = sim.log() {
+                        // The leaf's failures, with their reasons, in the sim's log.
+                        tree.set_observer(FailureNotes::new(&self.blueprint, log.clone()));
+                    }
                     A::put(&goal, tree.blackboard_mut());
                     self.running = Some((tree, sim.world.now()));
                     A::counts(&mut stats.lock()).goals += 1;

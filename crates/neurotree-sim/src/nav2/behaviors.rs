@@ -125,23 +125,29 @@ impl Behavior {
         }
     }
 
-    /// Fails with `code` and `message` (only the message for Wait).
-    fn fail<C: Nav2Context>(&self, h: &mut Handle<'_, C>, code: u16, message: String) -> Status {
+    /// Fails with `code`, the reason `why` and `message` (no code for Wait: only the
+    /// message, and the reason without a code).
+    fn fail<C>(
+        &self,
+        h: &mut Handle<'_, C>,
+        code: u16,
+        why: &'static str,
+        message: String,
+    ) -> Status {
         if self.kind == Kind::Wait {
-            let name = h.name().to_string();
-            h.ctx_mut()
-                .nav2_mut()
-                .note(|| format!("{name} failed: {message}"));
             ports::emit(h, "error_msg", message);
-            return Status::Failure;
+            return h.fail_with(0, why);
         }
-        ports::fail(h, code, message)
+        ports::fail(h, code, why, message)
     }
 
     /// Reads the ports and starts the motion; `Err` says why it cannot.
-    fn start<C: Nav2Context>(&mut self, h: &mut Handle<'_, C>) -> Result<(), (u16, String)> {
+    fn start<C: Nav2Context>(
+        &mut self,
+        h: &mut Handle<'_, C>,
+    ) -> Result<(), (u16, &'static str, String)> {
         let unknown = self.kind.codes().0;
-        let read = |e: neurotree_core::PortError| (unknown, e.to_string());
+        let read = |e: neurotree_core::PortError| (unknown, "bad input", e.to_string());
         self.allowance = match self.kind {
             Kind::Wait => None,
             Kind::Spin | Kind::BackUp => {
@@ -167,6 +173,7 @@ impl Behavior {
                 if !distance.is_finite() || !speed.is_finite() || speed == 0.0 {
                     return Err((
                         back_up::INVALID_INPUT,
+                        "invalid input",
                         format!("cannot back up {distance} m at {speed} m/s"),
                     ));
                 }
@@ -184,7 +191,7 @@ impl<C: Nav2Context> StatefulAction<C> for Behavior {
     fn on_start(&mut self, h: &mut Handle<'_, C>) -> Status {
         match self.start(h) {
             Ok(()) => Status::Running,
-            Err((code, message)) => self.fail(h, code, message),
+            Err((code, why, message)) => self.fail(h, code, why, message),
         }
     }
 
@@ -194,7 +201,7 @@ impl<C: Nav2Context> StatefulAction<C> for Behavior {
         if self.allowance.is_some_and(|allowed| elapsed > allowed) {
             h.ctx_mut().nav2_mut().world.stop();
             let message = format!("still going after {:.1} s", elapsed.as_secs_f64());
-            return self.fail(h, timeout, message);
+            return self.fail(h, timeout, "timed out", message);
         }
         match h.ctx().nav2().world.motion_status() {
             MotionStatus::Active => Status::Running,
@@ -206,10 +213,15 @@ impl<C: Nav2Context> StatefulAction<C> for Behavior {
             MotionStatus::Blocked(cell) => self.fail(
                 h,
                 collision,
+                "collision ahead",
                 format!("an obstacle or a wall in cell {cell}"),
             ),
-            MotionStatus::BatteryEmpty => self.fail(h, unknown, "the battery is empty".into()),
-            MotionStatus::Idle => self.fail(h, unknown, "the motion was cancelled".into()),
+            MotionStatus::BatteryEmpty => {
+                self.fail(h, unknown, "battery empty", "the battery is empty".into())
+            }
+            MotionStatus::Idle => {
+                self.fail(h, unknown, "cancelled", "the motion was cancelled".into())
+            }
         }
     }
 
@@ -257,6 +269,7 @@ mod tests {
         assert_eq!(run.len(), 12);
         assert_eq!(run.last(), Some(&F));
         assert_eq!(b.get::<u16>("code"), spin::TIMEOUT);
+        assert_eq!(b.reason().as_deref(), Some("timed out (error 701)"));
         assert_eq!(b.sim.world.stop_count(), 1);
     }
 
@@ -282,6 +295,7 @@ mod tests {
         let run = b.run(100);
         assert_eq!(run.last(), Some(&F));
         assert_eq!(b.get::<u16>("code"), back_up::COLLISION_AHEAD);
+        assert_eq!(b.reason().as_deref(), Some("collision ahead (error 714)"));
         assert_eq!(
             b.get::<String>("msg"),
             "an obstacle or a wall in cell (0, 2)"
@@ -295,6 +309,7 @@ mod tests {
         let mut b = bench(r#"<BackUp backup_dist="0.3" backup_speed="0" error_code_id="{code}"/>"#);
         assert_eq!(b.tick(), F);
         assert_eq!(b.get::<u16>("code"), back_up::INVALID_INPUT);
+        assert_eq!(b.reason().as_deref(), Some("invalid input (error 713)"));
     }
 
     #[test]
@@ -305,6 +320,7 @@ mod tests {
         let mut b = Bench::with_world(world, r#"<Spin error_code_id="{code}"/>"#);
         assert_eq!(b.run(5), [R, F]);
         assert_eq!(b.get::<u16>("code"), spin::UNKNOWN);
+        assert_eq!(b.reason().as_deref(), Some("battery empty (error 700)"));
     }
 
     #[test]

@@ -91,8 +91,11 @@ impl FollowPath {
     fn control<C: Nav2Context>(&mut self, h: &mut Handle<'_, C>, starting: bool) -> Status {
         let path = match ports::optional::<Path, C>(h, "path") {
             Ok(Some(path)) if !path.is_empty() => path,
-            Ok(_) => return self.abort(h, code::INVALID_PATH, "no path to follow".into()),
-            Err(e) => return self.abort(h, code::INVALID_PATH, e.to_string()),
+            Ok(_) => {
+                let message = "no path to follow".into();
+                return self.abort(h, code::INVALID_PATH, "no path", message);
+            }
+            Err(e) => return self.abort(h, code::INVALID_PATH, "bad path", e.to_string()),
         };
         let sim = h.ctx_mut().nav2_mut();
         let (tolerance, speed) = (sim.params.goal_tolerance, sim.params.speed);
@@ -119,14 +122,17 @@ impl FollowPath {
                 MotionStatus::Active | MotionStatus::Idle => Ok(Status::Running),
                 MotionStatus::Blocked(cell) => Err((
                     code::NO_VALID_CONTROL,
+                    "blocked",
                     format!("blocked by an obstacle in cell {cell}"),
                 )),
                 MotionStatus::BatteryEmpty => Err((
                     code::FAILED_TO_MAKE_PROGRESS,
+                    "battery empty",
                     "the battery is empty".to_string(),
                 )),
                 MotionStatus::Succeeded => Err((
                     code::FAILED_TO_MAKE_PROGRESS,
+                    "stopped short of the goal",
                     format!(
                         "the path ended {:.2} m from its goal",
                         world.robot().distance(&end)
@@ -138,9 +144,9 @@ impl FollowPath {
         match status {
             Ok(Status::Success) => ports::succeed(h),
             Ok(status) => status,
-            Err((code, message)) => {
+            Err((code, why, message)) => {
                 self.following = None;
-                ports::fail(h, code, message)
+                ports::fail(h, code, why, message)
             }
         }
     }
@@ -150,6 +156,7 @@ impl FollowPath {
         &mut self,
         h: &mut Handle<'_, C>,
         code: u16,
+        why: &'static str,
         message: String,
     ) -> Status {
         if self.following.take().is_some() {
@@ -158,7 +165,7 @@ impl FollowPath {
                 world.stop();
             }
         }
-        ports::fail(h, code, message)
+        ports::fail(h, code, why, message)
     }
 }
 
@@ -281,6 +288,7 @@ mod tests {
         assert_eq!(run.len(), 11);
         assert_eq!(run.last(), Some(&F));
         assert_eq!(b.get::<u16>("code"), code::NO_VALID_CONTROL);
+        assert_eq!(b.reason().as_deref(), Some("blocked (error 106)"));
         assert_eq!(
             b.get::<String>("msg"),
             "blocked by an obstacle in cell (3, 2)"
@@ -315,6 +323,7 @@ mod tests {
         b.set("path", Path::default());
         assert_eq!(b.tick(), F);
         assert_eq!(b.get::<String>("msg"), "no path to follow");
+        assert_eq!(b.reason().as_deref(), Some("no path (error 103)"));
         // Taken away while driving: the robot stops.
         b.set("path", straight(&[1.5, 4.5]));
         assert_eq!(b.run(2), [R, R]);

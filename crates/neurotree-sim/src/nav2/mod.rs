@@ -92,6 +92,7 @@ pub mod behaviors;
 pub mod codes;
 pub mod controller;
 pub mod costmaps;
+mod failures;
 pub mod path_checks;
 pub mod planner;
 mod ports;
@@ -105,6 +106,7 @@ use std::sync::{Arc, Mutex, MutexGuard};
 use std::time::Duration;
 
 pub use controller::TrackingFeedback;
+pub use failures::FailureNotes;
 pub use recoveries::RecoveryCounter;
 
 use super::{GridWorld, MotionStatus};
@@ -167,8 +169,8 @@ impl Nav2Sim {
         self
     }
 
-    /// Writing what the leaves do to `log` (one line per plan, failure, clearing or
-    /// behavior), for a live view. Off by default, so that a long run does not grow a log
+    /// Writing what the leaves do to `log` (one line per plan, clearing or behavior
+    /// done; their failures are told by a [`FailureNotes`] on the tree), for a live view. Off by default, so that a long run does not grow a log
     /// nobody reads.
     pub fn with_log(mut self, log: EventLog) -> Self {
         self.log = Some(log);
@@ -199,6 +201,11 @@ impl Nav2Sim {
         self.plans += 1;
     }
 
+    /// The log the leaves write to, if it is on: for a [`FailureNotes`] to write to as well.
+    pub fn log(&self) -> Option<&EventLog> {
+        self.log.as_ref()
+    }
+
     /// Adds a line to the log, if it is on; `line` is only called then.
     pub(super) fn note(&mut self, line: impl FnOnce() -> String) {
         if let Some(log) = &self.log {
@@ -207,8 +214,9 @@ impl Nav2Sim {
     }
 }
 
-/// Lines of what happened, in order, written by the leaves ([`Nav2Sim::with_log`]) and by
-/// a [`RecoveryCounter`] ([`RecoveryCounter::with_log`]) and read by a view. Clones share
+/// Lines of what happened, in order, written by the leaves ([`Nav2Sim::with_log`]), by
+/// a [`RecoveryCounter`] ([`RecoveryCounter::with_log`]) and by a [`FailureNotes`], and
+/// read by a view. Clones share
 /// the lines.
 #[derive(Clone, Debug, Default)]
 pub struct EventLog {

@@ -55,8 +55,11 @@ pub(super) fn register<C: Nav2Context>(r: &mut Registry<C>) -> Result<(), Regist
 fn compute_path_to_pose<C: Nav2Context>(h: &mut Handle<'_, C>) -> Status {
     let goal = match ports::optional::<Pose2D, C>(h, "goal") {
         Ok(Some(goal)) => goal,
-        Ok(None) => return failed(h, code::UNKNOWN, "no goal: bind `goal` to a pose".into()),
-        Err(e) => return failed(h, code::UNKNOWN, e.to_string()),
+        Ok(None) => {
+            let message = "no goal: bind `goal` to a pose".into();
+            return failed(h, code::UNKNOWN, "no goal", message);
+        }
+        Err(e) => return failed(h, code::UNKNOWN, "bad input", e.to_string()),
     };
     let inputs = ports::optional::<Pose2D, C>(h, "start").and_then(|start| {
         let use_start = ports::or(h, "use_start", true)?;
@@ -65,7 +68,7 @@ fn compute_path_to_pose<C: Nav2Context>(h: &mut Handle<'_, C>) -> Status {
     });
     let (start, viapoints) = match inputs {
         Ok(inputs) => inputs,
-        Err(e) => return failed(h, code::UNKNOWN, e.to_string()),
+        Err(e) => return failed(h, code::UNKNOWN, "bad input", e.to_string()),
     };
     let planned = {
         let world = &mut h.ctx_mut().nav2_mut().world;
@@ -74,7 +77,7 @@ fn compute_path_to_pose<C: Nav2Context>(h: &mut Handle<'_, C>) -> Status {
     };
     let path = match planned {
         Ok(path) => path,
-        Err((code, message)) => return failed(h, code, message),
+        Err((code, why, message)) => return failed(h, code, why, message),
     };
     // The path this one replaces, if the output is bound to an entry that holds one.
     let previous = ports::optional::<Path, C>(h, "path").ok().flatten();
@@ -88,24 +91,25 @@ fn compute_path_to_pose<C: Nav2Context>(h: &mut Handle<'_, C>) -> Status {
 }
 
 /// A failed run: an empty path, as Nav2's node writes, and the error.
-fn failed<C: Nav2Context>(h: &mut Handle<'_, C>, code: u16, message: String) -> Status {
+fn failed<C>(h: &mut Handle<'_, C>, code: u16, why: &'static str, message: String) -> Status {
     ports::emit(h, "path", Path::default());
-    ports::fail(h, code, message)
+    ports::fail(h, code, why, message)
 }
 
-/// A path from `start` through each of `viapoints` to `goal`, or the planner's error code
-/// and message.
+/// A path from `start` through each of `viapoints` to `goal`, or the planner's error code,
+/// reason and message.
 fn plan_through(
     world: &mut crate::GridWorld,
     start: Pose2D,
     viapoints: &[Pose2D],
     goal: Pose2D,
-) -> Result<Path, (u16, String)> {
+) -> Result<Path, (u16, &'static str, String)> {
     let map = world.map();
     let at = |p: &Pose2D| format!("({:.2}, {:.2})", p.x, p.y);
     if map.cell_at(&start).is_none() {
         return Err((
             code::START_OUTSIDE_MAP,
+            "start outside the map",
             format!("the start {} is off the map", at(&start)),
         ));
     }
@@ -113,12 +117,14 @@ fn plan_through(
         let Some(cell) = map.cell_at(target) else {
             return Err((
                 code::GOAL_OUTSIDE_MAP,
+                "goal outside the map",
                 format!("{} is off the map", at(target)),
             ));
         };
         if world.costmap(CostmapLayer::Global).is_blocked(cell) {
             return Err((
                 code::GOAL_OCCUPIED,
+                "goal occupied",
                 format!("{} is in blocked cell {cell}", at(target)),
             ));
         }
@@ -129,6 +135,7 @@ fn plan_through(
         let Some(leg) = world.plan(from, *target) else {
             return Err((
                 code::NO_VALID_PATH,
+                "no valid path",
                 format!("no path from {} to {}", at(&from), at(target)),
             ));
         };
@@ -205,6 +212,7 @@ mod tests {
             assert_eq!(b.get::<u16>("code"), expected);
             assert_eq!(b.get::<Path>("path"), Path::default());
         }
+        assert_eq!(b.reason().as_deref(), Some("goal occupied (error 206)"));
         assert!(b.get::<String>("msg").contains("blocked cell (2, 2)"));
         // A goal walled in by obstacles the costmap knows.
         let mut b = Bench::with_world(
@@ -218,10 +226,12 @@ mod tests {
         b.set_goal(Pose2D::new(4.5, 1.5, 0.0));
         assert_eq!(b.tick(), Status::Failure);
         assert_eq!(b.get::<u16>("code"), code::NO_VALID_PATH);
+        assert_eq!(b.reason().as_deref(), Some("no valid path (error 208)"));
         // No goal at all.
         let mut b = bench("");
         assert_eq!(b.tick(), Status::Failure);
         assert_eq!(b.get::<u16>("code"), code::UNKNOWN);
+        assert_eq!(b.reason().as_deref(), Some("no goal (error 200)"));
         assert_eq!(b.sim.plans(), 0);
     }
 

@@ -5,7 +5,7 @@ use std::any::Any;
 
 use neurotree_core::{BlackboardError, FromPortStr, Handle, PortError, Status};
 
-use super::{codes, Nav2Context};
+use super::codes;
 
 /// Reads input `port`: `Ok(None)` when the node has no such port (an optional port the
 /// file leaves out) or its entry was never written.
@@ -43,15 +43,18 @@ pub(super) fn emit<T: Any + Send + Sync, C>(h: &mut Handle<'_, C>, port: &str, v
 }
 
 /// Ends a run with Failure: writes `code` and `message` to the `error_code_id` and
-/// `error_msg` outputs, and logs the message under the node's name.
-pub(super) fn fail<C: Nav2Context>(h: &mut Handle<'_, C>, code: u16, message: String) -> Status {
-    let name = h.name().to_string();
-    h.ctx_mut()
-        .nav2_mut()
-        .note(|| format!("{name} failed: {message} (error {code})"));
+/// `error_msg` outputs, and gives the Failure the reason `why` with the same code (a short
+/// static text, so that failing allocates no reason; the detail is in `error_msg`). A
+/// [`FailureNotes`](super::FailureNotes) on the tree logs it.
+pub(super) fn fail<C>(
+    h: &mut Handle<'_, C>,
+    code: u16,
+    why: &'static str,
+    message: String,
+) -> Status {
     emit(h, "error_code_id", code);
     emit(h, "error_msg", message);
-    Status::Failure
+    h.fail_with(code.into(), why)
 }
 
 /// Ends a run with Success: error code 0 and an empty message, as Nav2's nodes write.

@@ -50,6 +50,12 @@ impl Bench {
         self.tree.blackboard().get(key).unwrap()
     }
 
+    /// The reason the tree's last tick failed for, in words (`blocked (error 106)`).
+    pub(super) fn reason(&self) -> Option<String> {
+        let failure = self.tree.last_failure()?;
+        failure.reason().map(ToString::to_string)
+    }
+
     /// One tick.
     pub(super) fn tick(&mut self) -> Status {
         self.tree.tick_once(&mut self.sim).unwrap()

@@ -6,7 +6,7 @@ use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
 use anstyle::{AnsiColor, Style};
-use neurotree_core::{Blueprint, NodeStatus, Observer, StatusChange};
+use neurotree_core::{Blueprint, NodeId, NodeStatus, Observer, Reason, StatusChange};
 
 use super::{lock, Sink};
 
@@ -17,6 +17,9 @@ use super::{lock, Sink};
 /// [0.100s] patrol/battery_ok IDLE -> SUCCESS
 /// [0.100s] patrol/move IDLE -> RUNNING
 /// ```
+///
+/// A change to FAILURE for which the node gave a reason ends with it, and its code if it has
+/// one: `[0.100s] go/follow_path RUNNING -> FAILURE: blocked (error 106)`.
 ///
 /// The time is the tree's clock, in seconds with milliseconds. With colour on, the time is
 /// dimmed and each status has its colour (Running yellow, Success green, Failure red,
@@ -59,6 +62,8 @@ struct Console<W> {
     colored: bool,
     /// The line being written, kept to reuse its buffer.
     line: String,
+    /// The reason given for the coming change of this node to Failure.
+    reason: Option<(NodeId, Reason)>,
 }
 
 impl<W> Clone for ConsoleLogger<W> {
@@ -87,6 +92,7 @@ impl<W: Write> ConsoleLogger<W> {
                 paths: blueprint.paths(),
                 colored: false,
                 line: String::new(),
+                reason: None,
             })),
         }
     }
@@ -116,27 +122,38 @@ impl<W: Write + Send> Observer for ConsoleLogger<W> {
             paths,
             colored,
             line,
+            reason,
         } = &mut *state;
+        let given = match reason.take() {
+            Some((node, r)) if node == change.node && change.to == NodeStatus::Failure => Some(r),
+            _ => None,
+        };
         line.clear();
         let path = paths.get(change.node.index()).map_or("?", String::as_str);
         // Writing into a String cannot fail.
-        let _ = write_line(line, *colored, change, path);
+        let _ = write_line(line, *colored, change, path, given.as_ref());
         sink.write_all(line.as_bytes());
+    }
+
+    fn on_failure_reason(&mut self, node: NodeId, reason: &Reason) {
+        lock(&self.state).reason = Some((node, reason.clone()));
     }
 }
 
-/// Formats one line; the time with integer arithmetic, as this runs on every change.
+/// Formats one line, with `reason` at its end if given; the time with integer arithmetic,
+/// as this runs on every change.
 fn write_line(
     line: &mut String,
     colored: bool,
     change: StatusChange,
     path: &str,
+    reason: Option<&Reason>,
 ) -> std::fmt::Result {
     let time = Time(change.at);
     if colored {
         let dim = Style::new().dimmed();
         let (from, to) = (status_style(change.from), status_style(change.to));
-        writeln!(
+        write!(
             line,
             "{}[{time}]{} {path} {}{}{} -> {}{}{}",
             dim.render(),
@@ -147,10 +164,15 @@ fn write_line(
             to.render(),
             change.to,
             to.render_reset(),
-        )
+        )?;
     } else {
-        writeln!(line, "[{time}] {path} {} -> {}", change.from, change.to)
+        write!(line, "[{time}] {path} {} -> {}", change.from, change.to)?;
     }
+    if let Some(reason) = reason {
+        write!(line, ": {reason}")?;
+    }
+    line.push('\n');
+    Ok(())
 }
 
 fn status_style(status: NodeStatus) -> Style {
@@ -200,17 +222,29 @@ mod tests {
     fn coloured_lines_style_the_time_and_each_status() {
         let mut line = String::new();
         let c = change(0, NodeStatus::Running, NodeStatus::Failure, 1500);
-        write_line(&mut line, true, c, "a/b").unwrap();
+        write_line(&mut line, true, c, "a/b", None).unwrap();
         assert_eq!(
             line,
             "\u{1b}[2m[1.500s]\u{1b}[0m a/b \u{1b}[33mRUNNING\u{1b}[0m -> \u{1b}[31mFAILURE\u{1b}[0m\n"
         );
         line.clear();
         let c = change(0, NodeStatus::Idle, NodeStatus::Success, 0);
-        write_line(&mut line, true, c, "a").unwrap();
+        write_line(&mut line, true, c, "a", None).unwrap();
         assert_eq!(
             line,
             "\u{1b}[2m[0.000s]\u{1b}[0m a \u{1b}[2mIDLE\u{1b}[0m -> \u{1b}[32mSUCCESS\u{1b}[0m\n"
+        );
+    }
+
+    #[test]
+    fn a_failure_with_a_reason_ends_with_it() {
+        let blocked = Reason::new(106, "blocked");
+        let mut line = String::new();
+        let c = change(0, NodeStatus::Running, NodeStatus::Failure, 1500);
+        write_line(&mut line, true, c, "a/b", Some(&blocked)).unwrap();
+        assert_eq!(
+            line,
+            "\u{1b}[2m[1.500s]\u{1b}[0m a/b \u{1b}[33mRUNNING\u{1b}[0m -> \u{1b}[31mFAILURE\u{1b}[0m: blocked (error 106)\n"
         );
     }
 

@@ -105,7 +105,7 @@ pub use dot::render_dot;
 pub use last_tick::LastTickStatuses;
 pub use mermaid::render_mermaid;
 pub use svg::render_svg;
-pub use text::{render_ascii, render_statuses, render_unicode};
+pub use text::{render_ascii, render_statuses, render_statuses_noted, render_unicode};
 
 /// A picture format.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]

@@ -18,6 +18,30 @@ pub fn render_unicode<C>(tree: &Tree<C>) -> String {
 /// [`NodeId`](neurotree_core::NodeId) (nodes beyond the end of `statuses` are drawn Idle).
 /// `unicode` picks the character set; every line, the last included, ends with `\n`.
 pub fn render_statuses<C>(bp: &Blueprint<C>, statuses: &[NodeStatus], unicode: bool) -> String {
+    render_statuses_noted(bp, statuses, &[], unicode)
+}
+
+/// Draws as [`render_statuses`] does, with `notes[id]`, where there is one and it is not
+/// empty, after the node's label as ` -- NOTE` (as `neurotree show --trace` marks the
+/// path that failed).
+///
+/// ```
+/// use neurotree::render::render_statuses_noted;
+/// use neurotree::{Blueprint, NodeStatus};
+///
+/// let bp = Blueprint::<()>::builder().always_failure("no").build().unwrap();
+/// let notes = ["failed".to_string()];
+/// assert_eq!(
+///     render_statuses_noted(&bp, &[NodeStatus::Failure], &notes, false),
+///     "[F] no (AlwaysFailure) -- failed\n"
+/// );
+/// ```
+pub fn render_statuses_noted<C>(
+    bp: &Blueprint<C>,
+    statuses: &[NodeStatus],
+    notes: &[String],
+    unicode: bool,
+) -> String {
     let glyphs = if unicode { &UNICODE } else { &ASCII };
     draw_lines(
         bp,
@@ -26,7 +50,12 @@ pub fn render_statuses<C>(bp: &Blueprint<C>, statuses: &[NodeStatus], unicode: b
             let status = statuses.get(id.index()).copied().unwrap_or_default();
             out.push_str(glyphs.marker(status));
         },
-        |_, _| {},
+        |id, out| {
+            if let Some(note) = notes.get(id.index()).filter(|n| !n.is_empty()) {
+                out.push_str(" -- ");
+                out.push_str(note);
+            }
+        },
     )
 }
 
