@@ -1,0 +1,158 @@
+//! Halts that take several ticks, and who waits for them.
+//!
+//! BehaviorTree.CPP halts a node within the call that halts it (its 5.0 plans otherwise,
+//! issue #1117). A robot arm that must decelerate, or an action server that must
+//! acknowledge a cancel, cannot: a [`StatefulAction`](crate::StatefulAction) may answer
+//! [`on_halt_requested`](crate::StatefulAction::on_halt_requested) with
+//! [`HaltProgress::Halting`](crate::HaltProgress::Halting) and finish the halt on later
+//! ticks in [`on_halting`](crate::StatefulAction::on_halting). Only stateful actions can;
+//! async actions and custom nodes halt at once, as before.
+//!
+//! A halting action is stored Idle (its run is over for its parent and for observers), and
+//! it is never ticked until its halt is done. Every halting action **waits for** one node,
+//! or for the tree: the node whose own tick halted it, if that node is one of those below;
+//! else the tree. When the node it waits for is itself halted, it waits for whoever halts
+//! that node (the tree, for [`Tree::halt`](crate::Tree::halt)).
+//!
+//! | node | when it halts a Running child | while the halt is in progress | when it is done |
+//! |---|---|---|---|
+//! | ReactiveSequence, ReactiveFallback | a child ran, or one ended the node | Running; ticks no child; one `on_halting` per tick | ticks as usual from child 0, in the same tick |
+//! | WhileDoElse | the condition chose the other branch, or failed with 2 children | Running; ticks no child | ticks as usual (condition first), in the same tick |
+//! | Timeout | the time is up | Running | Failure (timed out), in the same tick |
+//! | the tree | [`Tree::halt`](crate::Tree::halt), a tick's error, and every other halt | [`Tree::tick_once`](crate::Tree::tick_once) and `tick_exactly_once` return Running without ticking the root; [`Tree::tick_halt`](crate::Tree::tick_halt) continues it | the call ticks the root as usual |
+//!
+//! The other nodes never halt a Running child during their own tick: Sequence, Fallback
+//! and their Async and WithMemory forms, IfThenElse, TryCatch and the decorators but
+//! Timeout complete only once their children have, and halt children only when halted
+//! themselves. Parallel and ParallelAll do halt Running children when they complete, and a
+//! precondition that skips a Running node halts it: such halts wait for the tree, which
+//! ticks the root again only once they are done, but the node's parent may already have
+//! gone on in the tick of the halt (the Parallel's completion, the skip, are returned at
+//! once). A custom control's halts are the same.
+//!
+//! "Ticks no child" includes the halting action: until its halt is done, the node that
+//! waits returns Running and asks nothing else of its subtree, so no sibling branch starts
+//! while the action still stops. A ReactiveFallback whose earlier child started running and
+//! so halted a later one has ticked that earlier child once already, in that tick, as
+//! BehaviorTree.CPP does; it then waits like the others.
+//!
+//! Cost: nothing per tick while no action is halting but one compare per tick call; while
+//! one is, a node that waits looks over the tree's stateful actions once per tick.
+
+use core::mem;
+
+use crate::blueprint::NodeKind;
+use crate::nodes::leaf::HaltProgress;
+use crate::{NodeId, NodeStatus};
+
+use super::ticker::{contain, Object, Ticker};
+
+/// Which halting actions to continue.
+#[derive(Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Waiter {
+    /// Those that wait for this node (`Some`) or for the tree (`None`).
+    Owner(Option<NodeId>),
+    /// Every one.
+    Any,
+}
+
+impl<'t, C> Ticker<'t, C> {
+    /// Asks the Running stateful action `id` to halt; one that answers Halting now waits
+    /// for the node on whose behalf the engine halts (see [`halting_for`](Self::halting_for)).
+    pub(crate) fn request_halt(&mut self, id: NodeId) {
+        let halter = self.halter;
+        let (Some(object), mut h) = self.split(id) else {
+            return;
+        };
+        let Object::Stateful(action) = object else {
+            return;
+        };
+        if action.on_halt_requested(&mut h) == HaltProgress::Done {
+            return;
+        }
+        if let Object::Stateful(action) = mem::replace(object, Object::Vacant) {
+            *object = Object::Halting {
+                action,
+                owner: halter,
+            };
+        }
+        *self.halting += 1;
+        self.left_halting = true;
+    }
+
+    /// Runs `halt` on behalf of node `owner`: the actions it leaves halting wait for
+    /// `owner`. Returns `true` if any did.
+    #[inline]
+    pub(crate) fn halting_for(&mut self, owner: NodeId, halt: impl FnOnce(&mut Self)) -> bool {
+        let outer_halter = mem::replace(&mut self.halter, Some(owner));
+        let outer_left = mem::replace(&mut self.left_halting, false);
+        halt(self);
+        let left = self.left_halting;
+        self.halter = outer_halter;
+        self.left_halting = outer_left;
+        left
+    }
+
+    /// Node `id` is halted: the actions that waited for it wait for whoever halts it.
+    #[cold]
+    #[inline(never)]
+    pub(crate) fn pass_on_halts_of(&mut self, id: NodeId) {
+        let halter = self.halter;
+        let mut passed = false;
+        for object in self.objects.iter_mut() {
+            if let Object::Halting { owner, .. } = object {
+                if *owner == Some(id) {
+                    *owner = halter;
+                    passed = true;
+                }
+            }
+        }
+        self.left_halting |= passed;
+    }
+
+    /// If actions wait for node `id`, continues their halts: `true` while any is left, and
+    /// the node then returns Running without ticking a child.
+    #[inline(always)]
+    pub(crate) fn waits_for_halts(&mut self, id: NodeId) -> bool {
+        *self.halting != 0 && self.continue_halts(Waiter::Owner(Some(id)))
+    }
+
+    /// One `on_halting` for each halting action `waiter` selects, in node order; `true`
+    /// while any of them is still halting. A panic in one ends its halt (with `std`, it is
+    /// the pass's error).
+    #[cold]
+    #[inline(never)]
+    pub(crate) fn continue_halts(&mut self, waiter: Waiter) -> bool {
+        let bp = self.bp;
+        let mut left = false;
+        for id in bp.ids() {
+            if !matches!(bp.def(id).kind, NodeKind::Stateful(_)) {
+                continue;
+            }
+            let slot = bp.slot(id);
+            let Object::Halting { owner, .. } = &self.objects[slot] else {
+                continue;
+            };
+            if waiter != Waiter::Any && waiter != Waiter::Owner(*owner) {
+                continue;
+            }
+            self.current = id;
+            let mut progress = HaltProgress::Done;
+            contain(self, id, |t| {
+                if let (Some(Object::Halting { action, .. }), mut h) = t.split(id) {
+                    progress = action.on_halting(&mut h);
+                }
+            });
+            if progress == HaltProgress::Halting {
+                left = true;
+            } else if let Object::Halting { action, .. } =
+                mem::replace(&mut self.objects[slot], Object::Vacant)
+            {
+                self.objects[slot] = Object::Stateful(action);
+                *self.halting -= 1;
+                debug_assert_eq!(self.status(id), NodeStatus::Idle);
+            }
+        }
+        left
+    }
+}
