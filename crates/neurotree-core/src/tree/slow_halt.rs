@@ -16,19 +16,24 @@
 //!
 //! | node | when it halts a Running child | while the halt is in progress | when it is done |
 //! |---|---|---|---|
-//! | ReactiveSequence, ReactiveFallback | a child ran, or one ended the node | Running; ticks no child; one `on_halting` per tick | ticks as usual from child 0, in the same tick |
+//! | ReactiveSequence, ReactiveFallback | a child ran, or one ended the node | Running; ticks no child | ticks as usual from child 0, in the same tick |
 //! | WhileDoElse | the condition chose the other branch, or failed with 2 children | Running; ticks no child | ticks as usual (condition first), in the same tick |
-//! | Timeout | the time is up | Running | Failure (timed out), in the same tick |
-//! | the tree | [`Tree::halt`](crate::Tree::halt), a tick's error, and every other halt | [`Tree::tick_once`](crate::Tree::tick_once) and `tick_exactly_once` return Running without ticking the root; [`Tree::tick_halt`](crate::Tree::tick_halt) continues it | the call ticks the root as usual |
+//! | Parallel | it completed with children Running | Running; ticks no child | the outcome it had decided, in the same tick |
+//! | Timeout | the time is up | Running; does not tick the child | Failure (timed out), in the same tick |
+//! | the tree | [`Tree::halt`](crate::Tree::halt), a tick's error, and every halt no node above waits for | [`Tree::tick_once`](crate::Tree::tick_once) and `tick_exactly_once` return Running without ticking the root (checked before every pass); [`Tree::tick_halt`](crate::Tree::tick_halt) continues it | the call ticks the root as usual |
+//!
+//! While it waits, the node calls `on_halting` once on each action that waits for it, at
+//! each of its ticks, in node order.
 //!
 //! The other nodes never halt a Running child during their own tick: Sequence, Fallback
-//! and their Async and WithMemory forms, IfThenElse, TryCatch and the decorators but
-//! Timeout complete only once their children have, and halt children only when halted
-//! themselves. Parallel and ParallelAll do halt Running children when they complete, and a
-//! precondition that skips a Running node halts it: such halts wait for the tree, which
-//! ticks the root again only once they are done, but the node's parent may already have
-//! gone on in the tick of the halt (the Parallel's completion, the skip, are returned at
-//! once). A custom control's halts are the same.
+//! and their Async and WithMemory forms, IfThenElse, TryCatch, ParallelAll and the
+//! decorators but Timeout complete only once their children have, and halt children only
+//! when halted themselves (their halting descendants then wait for whoever halted them).
+//! Two halts are made on no control's behalf, and so wait for the tree: a precondition
+//! that skips a Running node, and a custom control's halt of its children. There the parent
+//! goes on in the tick of the halt (it sees the skip, or decides for itself), and the tree
+//! ticks the root again only once the halt is done; a halting action that a custom control
+//! ticks anyway fails, so that it is not taken for Running.
 //!
 //! "Ticks no child" includes the halting action: until its halt is done, the node that
 //! waits returns Running and asks nothing else of its subtree, so no sibling branch starts
@@ -36,8 +41,11 @@
 //! so halted a later one has ticked that earlier child once already, in that tick, as
 //! BehaviorTree.CPP does; it then waits like the others.
 //!
-//! Cost: nothing per tick while no action is halting but one compare per tick call; while
-//! one is, a node that waits looks over the tree's stateful actions once per tick.
+//! Cost when no halt takes ticks: one compare per pass of the root, and one per tick of a
+//! ReactiveSequence, ReactiveFallback, WhileDoElse or Parallel; no allocation, ever (a
+//! halting action's box moves between two variants of its slot). While halts are in
+//! progress, every node that waits, and the tree, look over the stateful actions once per
+//! tick.
 
 use core::mem;
 
