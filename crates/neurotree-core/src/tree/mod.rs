@@ -71,8 +71,6 @@ pub struct Tree<C> {
     out: failure::Outcome,
     /// What the root returned on the last tick (Idle after an error).
     last_root: NodeStatus,
-    /// How many stateful actions are halting (see [`slow_halt`]).
-    halting: u32,
 }
 
 /// Passes one [`Tree::tick_once`] makes at most, unless [`Tree::set_max_passes`] says
@@ -161,7 +159,6 @@ impl<C> Tree<C> {
             reject_multiple_running: false,
             out: failure::Outcome::for_blueprint(&blueprint),
             last_root: NodeStatus::Idle,
-            halting: 0,
             blueprint,
         }
     }
@@ -305,9 +302,6 @@ impl<C> Tree<C> {
             out: &mut self.out,
             current: NodeId::ROOT,
             reject_multiple_running: self.reject_multiple_running,
-            halting: &mut self.halting,
-            halter: None,
-            left_halting: false,
         }
     }
 
@@ -359,7 +353,7 @@ impl<C> Tree<C> {
             return Err(self.serve_halt_request(ctx));
         }
         self.start_tick();
-        if self.halting != 0 {
+        if self.out.halts.count != 0 {
             if let Some(waiting) = self.tree_waits(ctx) {
                 return waiting;
             }
@@ -445,7 +439,7 @@ impl<C> Tree<C> {
                 return Err(self.serve_halt_request(ctx));
             }
             // Before every pass: a halt made during the last one may wait for the tree.
-            if self.halting != 0 {
+            if self.out.halts.count != 0 {
                 if let Some(waiting) = self.tree_waits(ctx) {
                     return waiting;
                 }
@@ -598,7 +592,7 @@ impl<C> Tree<C> {
         for id in t.bp.ids() {
             t.halt_node(id);
         }
-        self.halting == 0
+        self.out.halts.count == 0
     }
 
     /// Continues every halt in progress (one [`on_halting`](crate::StatefulAction::on_halting)
@@ -636,16 +630,16 @@ impl<C> Tree<C> {
     /// assert!(!tree.is_halting());
     /// ```
     pub fn tick_halt(&mut self, ctx: &mut C) -> bool {
-        if self.halting != 0 {
+        if self.out.halts.count != 0 {
             // A panic in `on_halting` ends that action's halt; the halt has no error to give.
             let _ = self.continue_halt(ctx, slow_halt::Waiter::Any);
         }
-        self.halting == 0
+        self.out.halts.count == 0
     }
 
     /// `true` while a stateful action's halt is in progress (see [`slow_halt`]).
     pub fn is_halting(&self) -> bool {
-        self.halting != 0
+        self.out.halts.count != 0
     }
 
     /// Continues the halts `waiter` selects: `Ok(true)` while any is left.
@@ -710,7 +704,7 @@ fn recover<C>(t: &mut ticker::Ticker<'_, C>, panicked: TickError) -> TickError {
     #[cfg(feature = "std")]
     t.replace_vacant_objects();
     // The halt below waits for the tree, whatever was halting when the panic came.
-    t.halter = None;
+    t.out.halts.halter = None;
     t.halt_node(NodeId::ROOT);
     for id in t.bp.ids() {
         t.halt_node(id);

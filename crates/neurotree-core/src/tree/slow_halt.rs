@@ -55,6 +55,19 @@ use crate::{NodeId, NodeStatus};
 
 use super::ticker::{contain, Object, Ticker};
 
+/// The tree's count of halting actions, and on whose behalf the engine halts now: one
+/// pointer for the ticker to carry, so that a pass pays one store for the feature.
+#[derive(Default)]
+pub(crate) struct Halts {
+    /// How many stateful actions are halting.
+    pub(crate) count: u32,
+    /// The node on whose behalf the engine halts now (`None`: the tree); set only within
+    /// [`Ticker::halting_for`].
+    pub(crate) halter: Option<NodeId>,
+    /// A halt since `halter` was set left an action halting.
+    pub(crate) left: bool,
+}
+
 /// Which halting actions to continue.
 #[derive(Clone, Copy, PartialEq, Eq)]
 pub(crate) enum Waiter {
@@ -68,7 +81,7 @@ impl<'t, C> Ticker<'t, C> {
     /// Asks the Running stateful action `id` to halt; one that answers Halting now waits
     /// for the node on whose behalf the engine halts (see [`halting_for`](Self::halting_for)).
     pub(crate) fn request_halt(&mut self, id: NodeId) {
-        let halter = self.halter;
+        let halter = self.out.halts.halter;
         let (Some(object), mut h) = self.split(id) else {
             return;
         };
@@ -84,20 +97,20 @@ impl<'t, C> Ticker<'t, C> {
                 owner: halter,
             };
         }
-        *self.halting += 1;
-        self.left_halting = true;
+        self.out.halts.count += 1;
+        self.out.halts.left = true;
     }
 
     /// Runs `halt` on behalf of node `owner`: the actions it leaves halting wait for
     /// `owner`. Returns `true` if any did.
     #[inline]
     pub(crate) fn halting_for(&mut self, owner: NodeId, halt: impl FnOnce(&mut Self)) -> bool {
-        let outer_halter = mem::replace(&mut self.halter, Some(owner));
-        let outer_left = mem::replace(&mut self.left_halting, false);
+        let outer_halter = mem::replace(&mut self.out.halts.halter, Some(owner));
+        let outer_left = mem::replace(&mut self.out.halts.left, false);
         halt(self);
-        let left = self.left_halting;
-        self.halter = outer_halter;
-        self.left_halting = outer_left;
+        let left = self.out.halts.left;
+        self.out.halts.halter = outer_halter;
+        self.out.halts.left = outer_left;
         left
     }
 
@@ -105,7 +118,7 @@ impl<'t, C> Ticker<'t, C> {
     #[cold]
     #[inline(never)]
     pub(crate) fn pass_on_halts_of(&mut self, id: NodeId) {
-        let halter = self.halter;
+        let halter = self.out.halts.halter;
         let mut passed = false;
         for object in self.objects.iter_mut() {
             if let Object::Halting { owner, .. } = object {
@@ -115,14 +128,14 @@ impl<'t, C> Ticker<'t, C> {
                 }
             }
         }
-        self.left_halting |= passed;
+        self.out.halts.left |= passed;
     }
 
     /// If actions wait for node `id`, continues their halts: `true` while any is left, and
     /// the node then returns Running without ticking a child.
     #[inline(always)]
     pub(crate) fn waits_for_halts(&mut self, id: NodeId) -> bool {
-        *self.halting != 0 && self.continue_halts(Waiter::Owner(Some(id)))
+        self.out.halts.count != 0 && self.continue_halts(Waiter::Owner(Some(id)))
     }
 
     /// One `on_halting` for each halting action `waiter` selects, in node order; `true`
@@ -157,7 +170,7 @@ impl<'t, C> Ticker<'t, C> {
                 mem::replace(&mut self.objects[slot], Object::Vacant)
             {
                 self.objects[slot] = Object::Stateful(action);
-                *self.halting -= 1;
+                self.out.halts.count -= 1;
                 debug_assert_eq!(self.status(id), NodeStatus::Idle);
             }
         }

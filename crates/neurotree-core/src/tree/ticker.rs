@@ -60,12 +60,6 @@ pub(crate) struct Ticker<'t, C> {
     pub(crate) current: NodeId,
     /// A reactive control's second Running child is an error (BT.CPP's `EnableException`).
     pub(crate) reject_multiple_running: bool,
-    /// How many stateful actions are halting, kept in the tree.
-    pub(crate) halting: &'t mut u32,
-    /// The node on whose behalf the engine halts now (`None`: the tree).
-    pub(crate) halter: Option<NodeId>,
-    /// A halt since `halter` was set left an action halting.
-    pub(crate) left_halting: bool,
 }
 
 impl<'t, C> Ticker<'t, C> {
@@ -606,7 +600,7 @@ impl<'t, C> Ticker<'t, C> {
     /// future's `Drop`) is caught: that node is skipped, the halt goes on, and the panic
     /// becomes the pass's error.
     pub(crate) fn halt_node(&mut self, id: NodeId) {
-        if *self.halting != 0 {
+        if self.out.halts.count != 0 {
             self.pass_on_halts_of(id);
         }
         let bp = self.bp;
