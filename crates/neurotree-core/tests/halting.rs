@@ -206,7 +206,7 @@ fn check_lifecycle(spec: &Spec, ops: &[Op], halt_ticks: &[usize]) -> Result<(), 
         if let Err(e) = follow(&mut runs, &events) {
             return Err(TestCaseError::fail(format!("step {i} ({op:?}): {e}")));
         }
-        let halting = runs.iter().any(|r| *r == Run::Halting);
+        let halting = runs.contains(&Run::Halting);
         prop_assert_eq!(tree.is_halting(), halting, "step {} ({:?})", i, op);
         for &l in &leaves {
             let open = runs[l] == Run::Open;

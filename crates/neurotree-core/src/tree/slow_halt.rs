@@ -105,7 +105,7 @@ impl<'t, C> Ticker<'t, C> {
     /// `owner`. Returns `true` if any did.
     #[inline]
     pub(crate) fn halting_for(&mut self, owner: NodeId, halt: impl FnOnce(&mut Self)) -> bool {
-        let outer_halter = mem::replace(&mut self.out.halts.halter, Some(owner));
+        let outer_halter = self.out.halts.halter.replace(owner);
         let outer_left = mem::replace(&mut self.out.halts.left, false);
         halt(self);
         let left = self.out.halts.left;

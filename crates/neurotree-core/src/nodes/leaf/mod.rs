@@ -263,7 +263,8 @@ pub trait Action<C>: Send + Sync {
 /// every later tick while Running, told when it is halted.
 ///
 /// `on_start` on the tick from Idle, `on_running` on later ticks, `on_halted` when halted
-/// while Running.
+/// while Running; or, for a halt that takes ticks, `on_halt_requested` then `on_halting`
+/// on later ticks until it is done (see [`slow_halt`](crate::tree::slow_halt)).
 ///
 /// ```
 /// use neurotree_core::{Handle, StatefulAction, Status};
