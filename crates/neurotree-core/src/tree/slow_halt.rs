@@ -4,7 +4,7 @@
 //! issue #1117). A robot arm that must decelerate, or an action server that must
 //! acknowledge a cancel, cannot: a [`StatefulAction`](crate::StatefulAction) may answer
 //! [`on_halt_requested`](crate::StatefulAction::on_halt_requested) with
-//! [`HaltProgress::Halting`](crate::HaltProgress::Halting) and finish the halt on later
+//! [`HaltProgress::Halting`] and finish the halt on later
 //! ticks in [`on_halting`](crate::StatefulAction::on_halting). Only stateful actions can;
 //! async actions and custom nodes halt at once, as before.
 //!
@@ -42,10 +42,13 @@
 //! BehaviorTree.CPP does; it then waits like the others.
 //!
 //! Cost when no halt takes ticks: one compare per pass of the root, and one per tick of a
-//! ReactiveSequence, ReactiveFallback, WhileDoElse or Parallel; no allocation, ever (a
-//! halting action's box moves between two variants of its slot). While halts are in
-//! progress, every node that waits, and the tree, look over the stateful actions once per
-//! tick.
+//! ReactiveSequence, ReactiveFallback, WhileDoElse, Parallel or Timeout; tree1111 (Sequences,
+//! Fallbacks and conditions) takes 4 instructions more per tick than without the feature
+//! (47,243 against 47,239 built, 70,153 against 70,149 from XML, under callgrind). No
+//! allocation, ever: a halting action's box moves between two variants of its slot, which
+//! is no larger for it. A Parallel keeps one state slot (8 bytes) for the outcome it holds
+//! while it waits. While halts are in progress, every node that waits, and the tree, look
+//! over the stateful actions once per tick.
 
 use core::mem;
 
