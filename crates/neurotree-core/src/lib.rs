@@ -76,7 +76,9 @@ pub use clock::SystemClock;
 pub use clock::{Clock, ManualClock};
 pub use nodes::custom::{CustomNode, NodeCtx};
 pub use nodes::hooks::NodeHooks;
-pub use nodes::leaf::{Action, ActionFuture, AsyncAction, Condition, Handle, StatefulAction};
+pub use nodes::leaf::{
+    Action, ActionFuture, AsyncAction, Condition, HaltProgress, Handle, StatefulAction,
+};
 pub use nodes::{NodeDecl, PortDecl, PortDirection};
 pub use observer::{Observer, StatusChange};
 pub use status::{NodeStatus, Status};

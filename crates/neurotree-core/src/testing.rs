@@ -75,7 +75,7 @@ impl Lab {
         tree.tick_exactly_once(self)
     }
 
-    pub(crate) fn halt(&mut self, tree: &mut Tree<Lab>) {
+    pub(crate) fn halt(&mut self, tree: &mut Tree<Lab>) -> bool {
         tree.halt(self)
     }
 

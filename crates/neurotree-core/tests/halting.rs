@@ -10,6 +10,13 @@
 //! (c) after a tick that returns Success or Failure every stored status is Idle, except
 //!     where BehaviorTree.CPP itself leaves a completed status behind.
 //!
+//! Each property runs twice: with every halt immediate (BehaviorTree.CPP's), and with each
+//! stateful action's halt taking a random 0 to 3 more ticks (`StatefulAction::on_halting`).
+//! There (a) reads: a run ends by one completion or by one halt, which may be in progress
+//! over several ticks, during which the action is stored Idle, not started again and
+//! asked nothing but `on_halting`; and after the final halt, `tick_halt` is called until the
+//! tree is fully halted (at most 4 times), and then no halt is in progress.
+//!
 //! The trees are those of `reference_model.rs` without Repeat/Retry(-1), so every
 //! `tick_once` ends.
 
@@ -87,8 +94,13 @@ fn subtree_ends(spec: &Spec) -> Vec<usize> {
     end
 }
 
-/// A tree of `spec` with a [`Watch`] attached.
+/// A tree of `spec` with a [`Watch`] attached; every halt immediate.
 fn start(spec: &Spec) -> (Tree<Ctx>, Ctx, Arc<Mutex<Seen>>) {
+    start_with(spec, &[])
+}
+
+/// As [`start`], leaf `i`'s halts taking `halt_ticks[i]` more ticks.
+fn start_with(spec: &Spec, halt_ticks: &[usize]) -> (Tree<Ctx>, Ctx, Arc<Mutex<Seen>>) {
     let mut tree = Tree::with_clock(common::blueprint(spec), ManualClock::new());
     tree.set_max_passes(MAX_PASSES as u32);
     let seen = Arc::new(Mutex::new(Seen {
@@ -97,7 +109,7 @@ fn start(spec: &Spec) -> (Tree<Ctx>, Ctx, Arc<Mutex<Seen>>) {
         ..Seen::default()
     }));
     tree.set_observer(Watch(Arc::clone(&seen)));
-    (tree, Ctx::new(spec), seen)
+    (tree, Ctx::new(spec).with_halt_ticks(halt_ticks), seen)
 }
 
 /// Runs one step: `None` for a halt, else the tick's result. `Err` (the case is discarded)
@@ -130,31 +142,36 @@ fn step(
     }
 }
 
-/// Follows each stateful leaf's runs through its calls: `open[l]` while a run is open.
-fn follow(open: &mut [bool], events: &[Event]) -> Result<(), String> {
+/// Where a stateful leaf's run stands.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Run {
+    Closed,
+    Open,
+    /// Its halt is in progress.
+    Halting,
+}
+
+/// Follows each stateful leaf's runs through its calls.
+fn follow(runs: &mut [Run], events: &[Event]) -> Result<(), String> {
     for e in events {
         let l = e.leaf;
-        match e.what {
-            What::Start(s) => {
-                if open[l] {
-                    return Err(format!("{e}: started again while its run was open"));
-                }
-                open[l] = s == Status::Running;
-            }
-            What::Running(s) => {
-                if !open[l] {
-                    return Err(format!("{e}: on_running without an open run"));
-                }
-                open[l] = s == Status::Running;
-            }
-            What::Halted => {
-                if !open[l] {
-                    return Err(format!("{e}: halted without an open run"));
-                }
-                open[l] = false;
-            }
-            What::Tick(_) => {}
+        let expected = match e.what {
+            What::Start(_) => Run::Closed,
+            What::Running(_) | What::HaltRequested => Run::Open,
+            What::StillHalting => Run::Halting,
+            // Halted at once, or at the end of a halt in progress.
+            What::Halted if runs[l] == Run::Halting => Run::Halting,
+            What::Halted => Run::Open,
+            What::Tick(_) => continue,
+        };
+        if runs[l] != expected {
+            return Err(format!("{e}: the run was {:?}", runs[l]));
         }
+        runs[l] = match e.what {
+            What::Start(s) | What::Running(s) if s == Status::Running => Run::Open,
+            What::HaltRequested | What::StillHalting => Run::Halting,
+            _ => Run::Closed,
+        };
     }
     Ok(())
 }
@@ -168,27 +185,40 @@ fn stateful_leaves(spec: &Spec) -> Vec<usize> {
         .collect()
 }
 
-fn check_lifecycle(spec: &Spec, ops: &[Op]) -> Result<(), TestCaseError> {
-    let (mut tree, mut ctx, seen) = start(spec);
+fn check_lifecycle(spec: &Spec, ops: &[Op], halt_ticks: &[usize]) -> Result<(), TestCaseError> {
+    let (mut tree, mut ctx, seen) = start_with(spec, halt_ticks);
     let leaves = stateful_leaves(spec);
-    let mut open = vec![false; spec.len()];
+    let mut runs = vec![Run::Closed; spec.len()];
     let all = ops.iter().copied().chain([Op::Halt]);
+    let last = ops.len();
     for (i, op) in all.enumerate() {
         step(&mut tree, &mut ctx, &seen, op)?;
+        if i == last {
+            for _ in 0..4 {
+                tree.tick_halt(&mut ctx);
+            }
+            prop_assert!(
+                !tree.is_halting(),
+                "a halt is in progress after 4 tick_halt"
+            );
+        }
         let events = ctx.take_events();
-        if let Err(e) = follow(&mut open, &events) {
+        if let Err(e) = follow(&mut runs, &events) {
             return Err(TestCaseError::fail(format!("step {i} ({op:?}): {e}")));
         }
+        let halting = runs.contains(&Run::Halting);
+        prop_assert_eq!(tree.is_halting(), halting, "step {} ({:?})", i, op);
         for &l in &leaves {
+            let open = runs[l] == Run::Open;
             prop_assert_eq!(
                 tree.status(NodeId(l as u32)) == Running,
-                open[l],
-                "step {} ({:?}): leaf L{} stored {} with its run {}",
+                open,
+                "step {} ({:?}): leaf L{} stored {} with its run {:?}",
                 i,
                 op,
                 l,
                 tree.status(NodeId(l as u32)),
-                if open[l] { "open" } else { "closed" }
+                runs[l]
             );
         }
         if op == Op::Halt {
@@ -201,14 +231,14 @@ fn check_lifecycle(spec: &Spec, ops: &[Op]) -> Result<(), TestCaseError> {
         }
     }
     prop_assert!(
-        open.iter().all(|o| !o),
-        "a run is open after the final halt"
+        runs.iter().all(|r| *r == Run::Closed),
+        "a run is open or halting after the final halt"
     );
     Ok(())
 }
 
-fn check_halt_order(spec: &Spec, ops: &[Op]) -> Result<(), TestCaseError> {
-    let (mut tree, mut ctx, seen) = start(spec);
+fn check_halt_order(spec: &Spec, ops: &[Op], halt_ticks: &[usize]) -> Result<(), TestCaseError> {
+    let (mut tree, mut ctx, seen) = start_with(spec, halt_ticks);
     let all = ops.iter().copied().chain([Op::Halt]);
     for (i, op) in all.enumerate() {
         step(&mut tree, &mut ctx, &seen, op)?;
@@ -246,8 +276,8 @@ fn may_stay(tree: &Tree<Ctx>, id: NodeId) -> Option<NodeStatus> {
     }
 }
 
-fn check_reset(spec: &Spec, ops: &[Op]) -> Result<(), TestCaseError> {
-    let (mut tree, mut ctx, seen) = start(spec);
+fn check_reset(spec: &Spec, ops: &[Op], halt_ticks: &[usize]) -> Result<(), TestCaseError> {
+    let (mut tree, mut ctx, seen) = start_with(spec, halt_ticks);
     for (i, &op) in ops.iter().enumerate() {
         let result = step(&mut tree, &mut ctx, &seen, op)?;
         if !matches!(result, Some(Ok(Status::Success | Status::Failure))) {
@@ -282,12 +312,12 @@ proptest! {
         spec in common::tree(false),
         ops in common::ops(),
     ) {
-        check_lifecycle(&spec, &ops)?;
+        check_lifecycle(&spec, &ops, &[])?;
     }
 
     #[test]
     fn halts_go_children_first(spec in common::tree(false), ops in common::ops()) {
-        check_halt_order(&spec, &ops)?;
+        check_halt_order(&spec, &ops, &[])?;
     }
 
     #[test]
@@ -295,7 +325,34 @@ proptest! {
         spec in common::tree(false),
         ops in common::ops(),
     ) {
-        check_reset(&spec, &ops)?;
+        check_reset(&spec, &ops, &[])?;
+    }
+
+    #[test]
+    fn with_halts_over_ticks_a_running_stateful_action_completes_or_is_halted_once(
+        spec in common::tree(false),
+        ops in common::ops(),
+        halt_ticks in proptest::collection::vec(0..4usize, 64),
+    ) {
+        check_lifecycle(&spec, &ops, &halt_ticks)?;
+    }
+
+    #[test]
+    fn with_halts_over_ticks_halts_go_children_first(
+        spec in common::tree(false),
+        ops in common::ops(),
+        halt_ticks in proptest::collection::vec(0..4usize, 64),
+    ) {
+        check_halt_order(&spec, &ops, &halt_ticks)?;
+    }
+
+    #[test]
+    fn with_halts_over_ticks_a_completed_tick_leaves_every_node_idle(
+        spec in common::tree(false),
+        ops in common::ops(),
+        halt_ticks in proptest::collection::vec(0..4usize, 64),
+    ) {
+        check_reset(&spec, &ops, &halt_ticks)?;
     }
 }
 
@@ -376,20 +433,18 @@ fn an_endless_tick_once_is_recognised() {
 
 #[test]
 fn lifecycle_checker_rejects_a_restart_and_a_double_halt() {
-    let mut open = vec![false; 2];
+    let fresh = || vec![Run::Closed; 2];
     let ev = |what| Event { leaf: 1, what };
-    assert!(follow(&mut open, &[ev(What::Start(R)), ev(What::Start(R))]).is_err());
-    let mut open = vec![false; 2];
+    assert!(follow(&mut fresh(), &[ev(What::Start(R)), ev(What::Start(R))]).is_err());
     assert!(follow(
-        &mut open,
+        &mut fresh(),
         &[ev(What::Start(R)), ev(What::Halted), ev(What::Halted)]
     )
     .is_err());
-    let mut open = vec![false; 2];
-    assert!(follow(&mut open, &[ev(What::Start(S)), ev(What::Running(F))]).is_err());
-    let mut open = vec![false; 2];
+    assert!(follow(&mut fresh(), &[ev(What::Start(S)), ev(What::Running(F))]).is_err());
+    let mut runs = fresh();
     follow(
-        &mut open,
+        &mut runs,
         &[
             ev(What::Start(R)),
             ev(What::Running(S)),
@@ -398,7 +453,24 @@ fn lifecycle_checker_rejects_a_restart_and_a_double_halt() {
         ],
     )
     .unwrap();
-    assert!(!open[1]);
+    assert_eq!(runs[1], Run::Closed);
+}
+
+#[test]
+fn lifecycle_checker_follows_a_halt_over_ticks() {
+    let fresh = || vec![Run::Closed; 2];
+    let ev = |what| Event { leaf: 1, what };
+    let mut runs = fresh();
+    let halting = [ev(What::Start(R)), ev(What::HaltRequested)];
+    follow(&mut runs, &halting).unwrap();
+    assert_eq!(runs[1], Run::Halting);
+    // Neither started nor ticked while halting; halted once, at the end.
+    assert!(follow(&mut runs.clone(), &[ev(What::Start(R))]).is_err());
+    assert!(follow(&mut runs.clone(), &[ev(What::Running(R))]).is_err());
+    assert!(follow(&mut runs.clone(), &[ev(What::HaltRequested)]).is_err());
+    follow(&mut runs, &[ev(What::StillHalting), ev(What::Halted)]).unwrap();
+    assert_eq!(runs[1], Run::Closed);
+    assert!(follow(&mut runs, &[ev(What::StillHalting)]).is_err());
 }
 
 /// BehaviorTree.CPP's `Tree::haltTree()` halts the root and then calls `haltNode()` on every

@@ -60,7 +60,7 @@ impl Lab {
     }
 
     pub(crate) fn halt(&mut self, tree: &mut Tree<Lab>) {
-        tree.halt(self)
+        tree.halt(self);
     }
 
     pub(crate) fn advance(&self, by: Duration) {

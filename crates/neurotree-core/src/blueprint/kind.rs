@@ -360,6 +360,7 @@ impl<C> NodeKind<C> {
             | NodeKind::ReactiveFallback
             | NodeKind::IfThenElse
             | NodeKind::TryCatch { .. }
+            | NodeKind::Parallel(_)
             | NodeKind::Repeat { .. }
             | NodeKind::RetryUntilSuccessful { .. }
             | NodeKind::Delay(_)

@@ -192,13 +192,17 @@ impl fmt::Display for Span {
     }
 }
 
-/// What a pass leaves behind in the tree: its error, and the tick's record of reasons.
+/// What a pass leaves behind in the tree: its error, the tick's record of reasons, and the
+/// halts still in progress.
 ///
-/// One place for both, so that a leaf's [`Handle`](crate::Handle) reaches them through one
-/// pointer.
+/// One place for them, so that a leaf's [`Handle`](crate::Handle) reaches them through one
+/// pointer, and the ticker carries no other for halts (which keeps their cost out of every
+/// pass of a tree that never halts slowly).
 pub(crate) struct Outcome {
     /// The first error of this pass.
     pub(crate) fault: Option<TickError>,
+    /// Halts that take ticks (see [`slow_halt`](super::slow_halt)).
+    pub(crate) halts: super::slow_halt::Halts,
     /// The tick's record, in order: empty until a node gives a reason (see the module docs).
     notes: Vec<(NodeId, Note)>,
 }
@@ -225,6 +229,7 @@ impl Outcome {
         });
         Self {
             fault: None,
+            halts: super::slow_halt::Halts::default(),
             notes: Vec::with_capacity(if can_give { RECORD } else { 0 }),
         }
     }

@@ -15,7 +15,9 @@
 //! the call returns [`TickError::HaltRequested`](crate::TickError::HaltRequested) without
 //! ticking anything more. The next call starts afresh. A request made while nothing runs is
 //! served the same way: the halt changes nothing, and the call still returns the error, so
-//! a loop that ticks ends either way.
+//! a loop that ticks ends either way. A halt that takes ticks
+//! ([`slow_halt`](super::slow_halt)) goes on in the next calls, which return Running
+//! without ticking the root until it is done, or with [`Tree::tick_halt`](crate::Tree::tick_halt).
 //!
 //! A request made during a pass of `tick_once` that leaves the root Running is served right
 //! after that pass: the request wakes the tree, which asks for another pass, and the

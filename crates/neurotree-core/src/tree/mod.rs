@@ -25,6 +25,7 @@
 mod error;
 pub mod failure;
 pub mod halt;
+pub mod slow_halt;
 pub(crate) mod ticker;
 mod wake;
 
@@ -266,7 +267,8 @@ impl<C> Tree<C> {
         if let Some(w) = &self.wake {
             w.signal.take_halt();
         }
-        self.halt(ctx);
+        // A halt that takes ticks goes on in the next tick calls (see `slow_halt`).
+        let _ = self.halt(ctx);
         TickError::HaltRequested
     }
 
@@ -351,6 +353,11 @@ impl<C> Tree<C> {
             return Err(self.serve_halt_request(ctx));
         }
         self.start_tick();
+        if self.out.halts.count != 0 {
+            if let Some(waiting) = self.tree_waits(ctx) {
+                return waiting;
+            }
+        }
         let (status, _) = self.pass(ctx)?;
         self.last_root = status;
         to_result(status)
@@ -431,6 +438,12 @@ impl<C> Tree<C> {
             if self.halt_requested() {
                 return Err(self.serve_halt_request(ctx));
             }
+            // Before every pass: a halt made during the last one may wait for the tree.
+            if self.out.halts.count != 0 {
+                if let Some(waiting) = self.tree_waits(ctx) {
+                    return waiting;
+                }
+            }
             let (status, waker) = self.pass(ctx)?;
             self.last_passes += 1;
             match waker {
@@ -476,7 +489,7 @@ impl<C> Tree<C> {
     /// Halts the tree and names who kept asking for passes.
     #[cold]
     fn too_many_passes(&mut self, ctx: &mut C, waker: Waker) -> TickError {
-        self.halt(ctx);
+        let _ = self.halt(ctx);
         let (node, path) = match waker {
             Waker::Node(id) => (Some(id), self.blueprint.path(id)),
             Waker::Future => (
@@ -565,12 +578,94 @@ impl<C> Tree<C> {
     /// `on_halted`, and completed statuses a control had left in place (a two-child
     /// IfThenElse keeps its failed condition's) are cleared too, so the next tick starts
     /// afresh. RunOnce and Cooldown keep their memory, SequenceWithMemory its place.
-    pub fn halt(&mut self, ctx: &mut C) {
+    ///
+    /// Returns `true` when the tree is fully halted. An action whose halt takes several
+    /// ticks ([`HaltProgress::Halting`](crate::HaltProgress::Halting)) makes it `false`:
+    /// such halts, and those that were in progress, now wait for the tree. Call
+    /// [`tick_halt`](Self::tick_halt) until it returns `true` (or keep ticking:
+    /// [`tick_once`](Self::tick_once) continues them first, and ticks the root only once
+    /// they are done). See [`slow_halt`].
+    pub fn halt(&mut self, ctx: &mut C) -> bool {
         let mut t = self.ticker(ctx);
         t.halt_node(NodeId::ROOT);
         // Nothing is Running any more, so this only resets what a control left behind.
         for id in t.bp.ids() {
             t.halt_node(id);
+        }
+        self.out.halts.count == 0
+    }
+
+    /// Continues every halt in progress (one [`on_halting`](crate::StatefulAction::on_halting)
+    /// for each action still halting, whoever waits for it) without ticking anything;
+    /// returns `true` when the tree is fully halted. A runner that halts a tree calls it,
+    /// a tick period apart, until it does.
+    ///
+    /// ```
+    /// use neurotree_core::{Blueprint, HaltProgress, Handle, ManualClock, StatefulAction, Status, Tree};
+    ///
+    /// /// Runs until halted, then takes `ticks` more ticks to stop.
+    /// struct Arm { ticks: u32, left: u32 }
+    /// impl StatefulAction<()> for Arm {
+    ///     fn on_start(&mut self, _h: &mut Handle<'_, ()>) -> Status { Status::Running }
+    ///     fn on_running(&mut self, _h: &mut Handle<'_, ()>) -> Status { Status::Running }
+    ///     fn on_halt_requested(&mut self, _h: &mut Handle<'_, ()>) -> HaltProgress {
+    ///         self.left = self.ticks;
+    ///         HaltProgress::Halting
+    ///     }
+    ///     fn on_halting(&mut self, _h: &mut Handle<'_, ()>) -> HaltProgress {
+    ///         self.left -= 1;
+    ///         if self.left == 0 { HaltProgress::Done } else { HaltProgress::Halting }
+    ///     }
+    /// }
+    /// let bp = Blueprint::<()>::builder()
+    ///     .stateful("arm", || Arm { ticks: 2, left: 0 })
+    ///     .build_shared()
+    ///     .unwrap();
+    /// let mut tree = Tree::with_clock(bp, ManualClock::new());
+    /// assert_eq!(tree.tick_once(&mut ()), Ok(Status::Running));
+    /// assert!(!tree.halt(&mut ()));
+    /// assert!(tree.is_halting());
+    /// assert!(!tree.tick_halt(&mut ()));
+    /// assert!(tree.tick_halt(&mut ()));
+    /// assert!(!tree.is_halting());
+    /// ```
+    pub fn tick_halt(&mut self, ctx: &mut C) -> bool {
+        if self.out.halts.count != 0 {
+            // A panic in `on_halting` ends that action's halt; the halt has no error to give.
+            let _ = self.continue_halt(ctx, slow_halt::Waiter::Any);
+        }
+        self.out.halts.count == 0
+    }
+
+    /// `true` while a stateful action's halt is in progress (see [`slow_halt`]).
+    pub fn is_halting(&self) -> bool {
+        self.out.halts.count != 0
+    }
+
+    /// Continues the halts `waiter` selects: `Ok(true)` while any is left.
+    #[cold]
+    #[inline(never)]
+    fn continue_halt(&mut self, ctx: &mut C, waiter: slow_halt::Waiter) -> Result<bool, TickError> {
+        let mut t = self.ticker(ctx);
+        let left = t.continue_halts(waiter);
+        match t.out.fault.take() {
+            Some(fault) => Err(fault),
+            None => Ok(left),
+        }
+    }
+
+    /// Before a tick call: continues the halts that wait for the tree. `Some` (Running, or
+    /// the error of a panic in `on_halting`) while any is left: the root is not ticked.
+    #[cold]
+    #[inline(never)]
+    fn tree_waits(&mut self, ctx: &mut C) -> Option<Result<Status, TickError>> {
+        match self.continue_halt(ctx, slow_halt::Waiter::Owner(None)) {
+            Ok(false) => None,
+            Ok(true) => {
+                self.last_root = NodeStatus::Running;
+                Some(Ok(Status::Running))
+            }
+            Err(fault) => Some(Err(fault)),
         }
     }
 
@@ -608,6 +703,8 @@ fn tick_root<C>(t: &mut ticker::Ticker<'_, C>) -> Result<NodeStatus, TickError> 
 fn recover<C>(t: &mut ticker::Ticker<'_, C>, panicked: TickError) -> TickError {
     #[cfg(feature = "std")]
     t.replace_vacant_objects();
+    // The halt below waits for the tree, whatever was halting when the panic came.
+    t.out.halts.halter = None;
     t.halt_node(NodeId::ROOT);
     for id in t.bp.ids() {
         t.halt_node(id);

@@ -24,6 +24,12 @@ use super::failure::{Note, Outcome};
 pub(crate) enum Object<C> {
     Stateful(alloc::boxed::Box<dyn StatefulAction<C>>),
     Custom(alloc::boxed::Box<dyn CustomNode<C>>),
+    /// A stateful action whose halt is in progress, and the node that waits for it
+    /// (`None`: the tree); see [`slow_halt`](super::slow_halt).
+    Halting {
+        action: alloc::boxed::Box<dyn StatefulAction<C>>,
+        owner: Option<NodeId>,
+    },
     /// The running future of an async action, `None` between runs.
     Async(Option<ActionFuture>),
     /// A custom node's slot while its object is out ticking or halting (it needs the
@@ -548,7 +554,9 @@ impl<'t, C> Ticker<'t, C> {
     fn tick_stateful(&mut self, id: NodeId) -> NodeStatus {
         let prev = self.status(id);
         let (Some(Object::Stateful(action)), mut h) = self.split(id) else {
-            // Objects are laid out from the same blueprint that chose this kind.
+            // Objects are laid out from the same blueprint that chose this kind; the other
+            // case is an action still halting, which only a custom control can tick (the
+            // others wait): it fails, so that it is not taken for Running.
             return NodeStatus::Failure;
         };
         match prev {
@@ -592,6 +600,9 @@ impl<'t, C> Ticker<'t, C> {
     /// future's `Drop`) is caught: that node is skipped, the halt goes on, and the panic
     /// becomes the pass's error.
     pub(crate) fn halt_node(&mut self, id: NodeId) {
+        if self.out.halts.count != 0 {
+            self.pass_on_halts_of(id);
+        }
         let bp = self.bp;
         let def = bp.def(id);
         let slot = self.bp.slot(id);
@@ -599,11 +610,7 @@ impl<'t, C> Ticker<'t, C> {
             NodeKind::Stateful(_) => {
                 if self.status(id) == NodeStatus::Running {
                     self.current = id;
-                    contain(self, id, |t| {
-                        if let (Some(Object::Stateful(action)), mut h) = t.split(id) {
-                            action.on_halted(&mut h);
-                        }
-                    });
+                    contain(self, id, |t| t.request_halt(id));
                 }
             }
             NodeKind::Async(_) => {
@@ -642,6 +649,7 @@ impl<'t, C> Ticker<'t, C> {
                 control::try_catch::halt(self, id, def, catch.unwrap_or(false));
             }
             NodeKind::IfThenElse
+            | NodeKind::Parallel(_)
             | NodeKind::ReactiveSequence
             | NodeKind::ReactiveFallback
             | NodeKind::Repeat { .. }
@@ -731,7 +739,11 @@ impl<'t, C> Ticker<'t, C> {
 /// Runs `halt` (user code that halts node `id`); with `std`, a panic in it is caught and
 /// recorded as the pass's error, so that the rest of the tree is still halted.
 #[cfg(feature = "std")]
-fn contain<'t, C>(t: &mut Ticker<'t, C>, id: NodeId, halt: impl FnOnce(&mut Ticker<'t, C>)) {
+pub(crate) fn contain<'t, C>(
+    t: &mut Ticker<'t, C>,
+    id: NodeId,
+    halt: impl FnOnce(&mut Ticker<'t, C>),
+) {
     let caught = std::panic::catch_unwind(core::panic::AssertUnwindSafe(|| halt(&mut *t)));
     if let Err(payload) = caught {
         if t.out.fault.is_none() {
@@ -745,7 +757,11 @@ fn contain<'t, C>(t: &mut Ticker<'t, C>, id: NodeId, halt: impl FnOnce(&mut Tick
 }
 
 #[cfg(not(feature = "std"))]
-fn contain<'t, C>(t: &mut Ticker<'t, C>, _id: NodeId, halt: impl FnOnce(&mut Ticker<'t, C>)) {
+pub(crate) fn contain<'t, C>(
+    t: &mut Ticker<'t, C>,
+    _id: NodeId,
+    halt: impl FnOnce(&mut Ticker<'t, C>),
+) {
     halt(t);
 }
 

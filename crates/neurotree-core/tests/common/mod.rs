@@ -14,7 +14,7 @@ use std::cell::{Cell, RefCell};
 use std::fmt;
 use std::sync::Arc;
 
-use neurotree_core::{Action, Blueprint, Builder, Handle, StatefulAction, Status};
+use neurotree_core::{Action, Blueprint, Builder, HaltProgress, Handle, StatefulAction, Status};
 use proptest::collection::vec;
 use proptest::prelude::*;
 
@@ -117,6 +117,11 @@ pub enum FlatKind {
 pub enum What {
     Start(Status),
     Running(Status),
+    /// Asked to halt, answering Halting: its halt takes more ticks (see
+    /// [`Ctx::with_halt_ticks`]); `Halted` comes when it is done.
+    HaltRequested,
+    /// An `on_halting` that answered Halting.
+    StillHalting,
     Halted,
     /// A sync action or a condition was ticked.
     Tick(Status),
@@ -135,6 +140,8 @@ impl fmt::Display for Event {
         match self.what {
             What::Start(s) => write!(f, "L{l} start -> {s}"),
             What::Running(s) => write!(f, "L{l} running -> {s}"),
+            What::HaltRequested => write!(f, "L{l} halt requested"),
+            What::StillHalting => write!(f, "L{l} still halting"),
             What::Halted => write!(f, "L{l} halted"),
             What::Tick(s) => write!(f, "L{l} tick -> {s}"),
         }
@@ -148,16 +155,32 @@ pub struct Ctx {
     scripts: Vec<Vec<Status>>,
     calls: Vec<Cell<usize>>,
     events: RefCell<Vec<Event>>,
+    /// Leaf `i`'s halt takes `halt_ticks[i]` `on_halting` calls after the request (0: it
+    /// halts at once, through the default `on_halt_requested`).
+    halt_ticks: Vec<usize>,
+    /// `on_halting` calls left in each leaf's halt in progress.
+    halting_left: Vec<Cell<usize>>,
 }
 
 impl Ctx {
     pub fn new(spec: &Spec) -> Self {
         let scripts: Vec<Vec<Status>> = spec.flatten().into_iter().map(|f| f.script).collect();
         Self {
+            halt_ticks: vec![0; scripts.len()],
+            halting_left: scripts.iter().map(|_| Cell::new(0)).collect(),
             calls: scripts.iter().map(|_| Cell::new(0)).collect(),
             scripts,
             events: RefCell::new(Vec::new()),
         }
+    }
+
+    /// The context with leaf `i`'s halts taking `halt_ticks[i]` more ticks (indices past
+    /// the end: 0).
+    pub fn with_halt_ticks(mut self, halt_ticks: &[usize]) -> Self {
+        for (i, &k) in halt_ticks.iter().enumerate().take(self.halt_ticks.len()) {
+            self.halt_ticks[i] = k;
+        }
+        self
     }
 
     /// The next outcome of leaf `leaf`.
@@ -201,6 +224,29 @@ impl StatefulAction<Ctx> for Scripted {
     }
     fn on_halted(&mut self, h: &mut Handle<'_, Ctx>) {
         h.ctx().log(self.0, What::Halted);
+    }
+    fn on_halt_requested(&mut self, h: &mut Handle<'_, Ctx>) -> HaltProgress {
+        let ctx = h.ctx();
+        let k = ctx.halt_ticks[self.0];
+        if k == 0 {
+            self.on_halted(h);
+            return HaltProgress::Done;
+        }
+        ctx.halting_left[self.0].set(k);
+        ctx.log(self.0, What::HaltRequested);
+        HaltProgress::Halting
+    }
+    fn on_halting(&mut self, h: &mut Handle<'_, Ctx>) -> HaltProgress {
+        let ctx = h.ctx();
+        let left = ctx.halting_left[self.0].get() - 1;
+        ctx.halting_left[self.0].set(left);
+        if left == 0 {
+            ctx.log(self.0, What::Halted);
+            HaltProgress::Done
+        } else {
+            ctx.log(self.0, What::StillHalting);
+            HaltProgress::Halting
+        }
     }
 }
 

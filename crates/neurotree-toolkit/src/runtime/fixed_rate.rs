@@ -10,7 +10,10 @@
 //! sleeps the thread; [`ManualPacer`] moves a [`ManualClock`] instead of sleeping, so a test
 //! or a simulation runs the loop at once and deterministically. The loop ticks with
 //! [`Tree::tick_once`] and stops when the root completes or its [`StopFlag`] is raised; a
-//! stopped loop halts the tree first, so every running action gets its halt.
+//! stopped loop halts the tree first, so every running action gets its halt. A halt that
+//! takes ticks ([`slow_halt`](neurotree_core::tree::slow_halt)) is ticked to its end, a
+//! period apart, before the run returns, whatever ended it (the stop flag, a halt request,
+//! an error).
 //!
 //! A request from the tree's [`HaltHandle`](neurotree_core::HaltHandle) ends the loop too:
 //! the next tick serves it (the tree halts itself) and the run returns
@@ -248,10 +251,18 @@ impl FixedRate {
         loop {
             if self.stop.is_stopped() {
                 tree.halt(ctx);
+                self.finish_halt(tree, ctx, pacer);
                 return Ok(report);
             }
             let started = pacer.now();
-            let status = tree.tick_once(ctx)?;
+            let status = match tree.tick_once(ctx) {
+                Ok(status) => status,
+                Err(e) => {
+                    // The tree halted itself; its halt may take ticks.
+                    self.finish_halt(tree, ctx, pacer);
+                    return Err(e);
+                }
+            };
             let ended = pacer.now();
             // Back-to-back ticks have no period to overrun.
             let overrun = if self.period.is_zero() {
@@ -283,6 +294,16 @@ impl FixedRate {
             if !self.stop.is_stopped() {
                 sleep_until(pacer, scheduled, tree);
             }
+        }
+    }
+}
+
+impl FixedRate {
+    /// Ticks a halt in progress to its end with [`Tree::tick_halt`], a period apart.
+    fn finish_halt<C, P: Pacer + ?Sized>(&self, tree: &mut Tree<C>, ctx: &mut C, pacer: &mut P) {
+        while tree.is_halting() {
+            pacer.sleep_until(pacer.now().saturating_add(self.period));
+            tree.tick_halt(ctx);
         }
     }
 }
@@ -324,7 +345,7 @@ fn next_period_start(scheduled: Duration, period: Duration, ended: Duration) -> 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use neurotree_core::{Blueprint, Handle, StatefulAction};
+    use neurotree_core::{Blueprint, HaltProgress, Handle, StatefulAction};
 
     /// The controlled plant: a clock that work moves forward, and what the action saw.
     struct Plant {
@@ -468,6 +489,63 @@ mod tests {
         assert_eq!((plant.ticks, plant.halts), (3, 1));
         // Ticks at 0, 10 and 20, each taking 1 ms; no sleep after the last.
         assert_eq!(clock.now(), ms(21));
+    }
+
+    /// Runs until halted, then brakes for `brake_ticks` ticks (the request and
+    /// `brake_ticks - 1` calls of `on_halting`), noting the time of each.
+    struct Brake {
+        left: u32,
+        at: std::sync::Arc<std::sync::Mutex<Vec<Duration>>>,
+    }
+    impl StatefulAction<Plant> for Brake {
+        fn on_start(&mut self, _: &mut Handle<'_, Plant>) -> Status {
+            Status::Running
+        }
+        fn on_running(&mut self, _: &mut Handle<'_, Plant>) -> Status {
+            Status::Running
+        }
+        fn on_halt_requested(&mut self, h: &mut Handle<'_, Plant>) -> HaltProgress {
+            self.at.lock().unwrap().push(h.now());
+            self.left = 2;
+            HaltProgress::Halting
+        }
+        fn on_halting(&mut self, h: &mut Handle<'_, Plant>) -> HaltProgress {
+            self.at.lock().unwrap().push(h.now());
+            self.left -= 1;
+            if self.left == 0 {
+                h.ctx_mut().halts += 1;
+                HaltProgress::Done
+            } else {
+                HaltProgress::Halting
+            }
+        }
+    }
+
+    #[test]
+    fn a_stopped_loop_ticks_a_slow_halt_to_its_end_a_period_apart() {
+        let clock = ManualClock::new();
+        let at = std::sync::Arc::new(std::sync::Mutex::new(Vec::new()));
+        let seen = std::sync::Arc::clone(&at);
+        let bp = Blueprint::builder()
+            .stateful("brake", move || Brake {
+                left: 0,
+                at: std::sync::Arc::clone(&seen),
+            })
+            .build_shared()
+            .unwrap();
+        let mut tree = Tree::with_clock(bp, clock.clone());
+        let mut plant = Plant::new(&clock, &[1]);
+        let rate = FixedRate::new(ms(10));
+        let stop = rate.stop_flag().clone();
+        let mut pacer = ManualPacer::new(clock.clone());
+        let report = rate
+            .run_with(&mut tree, &mut plant, &mut pacer, |_| stop.stop())
+            .unwrap();
+        assert_eq!((report.finish, report.ticks), (Finish::Stopped, 1));
+        // Requested as the loop stopped, then continued 10 and 20 ms later.
+        assert_eq!(*at.lock().unwrap(), [ms(0), ms(10), ms(20)]);
+        assert_eq!(plant.halts, 1);
+        assert!(!tree.is_halting());
     }
 
     #[test]

@@ -33,6 +33,8 @@
 //!
 //! Every control marks itself Running before ticking its children, resets all its children
 //! to Idle when it completes, and halts Running children it stops ticking before it returns.
+//! When such a halt takes ticks, ReactiveSequence, ReactiveFallback, WhileDoElse and
+//! Parallel wait for it, returning Running; see [`slow_halt`](crate::tree::slow_halt).
 
 pub mod fallback;
 pub mod if_then_else;

@@ -17,6 +17,11 @@
 //! Which children completed is read from their stored statuses, so the node keeps no list of
 //! its own. Skipped children count toward success only when the success threshold is
 //! "all" (negative), as in BehaviorTree.CPP; if every child was skipped, the node is Skipped.
+//!
+//! A halt that takes ticks ([`slow_halt`](crate::tree::slow_halt)): when the node completes
+//! and a Running child it halts answers Halting, the node returns Running instead, keeps
+//! its decided outcome in its state slot, continues the halt on later ticks (ticking no
+//! child), and returns the outcome on the tick the halt is done.
 
 use crate::blueprint::builder::resolve_threshold;
 use crate::blueprint::{NodeDef, ParallelPolicy};
@@ -56,6 +61,10 @@ pub(crate) fn tick<C>(
     // As in BehaviorTree.CPP, skipped children count toward a success threshold given as
     // negative ("all but ...") only.
     let skipped_count_as_success = success < 0;
+    let slot = t.bp.slot(id);
+    if t.aux[slot] != 0 {
+        return finish_halt(t, id, slot);
+    }
     let (mut successes, mut failures, mut skipped) = (0u32, 0u32, 0u32);
     for i in 0..n {
         match t.status(t.child(def, i)) {
@@ -76,12 +85,10 @@ pub(crate) fn tick<C>(
             }
         }
         if successes >= need || (skipped_count_as_success && successes + skipped >= need) {
-            t.reset_children(id);
-            return NodeStatus::Success;
+            return complete(t, id, slot, NodeStatus::Success);
         }
         if n - failures < need || failures == max_fail {
-            t.reset_children(id);
-            return NodeStatus::Failure;
+            return complete(t, id, slot, NodeStatus::Failure);
         }
     }
     if skipped == n {
@@ -89,6 +96,34 @@ pub(crate) fn tick<C>(
     } else {
         NodeStatus::Running
     }
+}
+
+/// Resets the children, halting the Running ones, and returns `outcome`; or Running, with
+/// `outcome` kept, when such a halt takes ticks.
+#[inline(always)]
+fn complete<C>(t: &mut Ticker<'_, C>, id: NodeId, slot: usize, outcome: NodeStatus) -> NodeStatus {
+    if t.halting_for(id, |t| t.reset_children(id)) {
+        t.aux[slot] = outcome as u64;
+        return NodeStatus::Running;
+    }
+    outcome
+}
+
+/// A tick of a Parallel that completed and waits for its children's halts: Running until
+/// they are done, then the outcome it kept.
+#[cold]
+#[inline(never)]
+fn finish_halt<C>(t: &mut Ticker<'_, C>, id: NodeId, slot: usize) -> NodeStatus {
+    if t.waits_for_halts(id) {
+        return NodeStatus::Running;
+    }
+    let outcome = if t.aux[slot] == NodeStatus::Success as u64 {
+        NodeStatus::Success
+    } else {
+        NodeStatus::Failure
+    };
+    t.aux[slot] = 0;
+    outcome
 }
 
 #[cfg(test)]

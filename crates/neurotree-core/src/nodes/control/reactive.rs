@@ -18,6 +18,11 @@
 //! [`Tree::reject_multiple_running`](crate::Tree::reject_multiple_running) is that switch:
 //! on, the tick ends with a [`TickError::Node`](crate::TickError::Node) naming the control,
 //! after the other children were halted, and the tree is halted.
+//!
+//! A halt that takes ticks ([`slow_halt`](crate::tree::slow_halt)): when a child this node
+//! halts answers Halting, the node returns Running (whatever it was about to return) and,
+//! on later ticks, continues the halt and returns Running without ticking any child; on the
+//! tick the halt is done it ticks as usual, from child 0.
 
 use crate::blueprint::NodeDef;
 use crate::tree::Ticker;
@@ -61,6 +66,9 @@ pub(crate) fn tick<C>(
     // The first child that returned Running in this run, plus one (0: none yet), as
     // BehaviorTree.CPP's `running_child_`, forgotten when a run starts and on halt.
     let slot = bp.slot(id);
+    if t.waits_for_halts(id) {
+        return NodeStatus::Running;
+    }
     if t.status(id) == NodeStatus::Idle {
         t.aux[slot] = 0;
     }
@@ -70,11 +78,13 @@ pub(crate) fn tick<C>(
         let status = t.tick_child::<true>(hot_child);
         all_skipped &= status == NodeStatus::Skipped;
         if status == NodeStatus::Running {
-            for (other, &c) in children.iter().enumerate() {
-                if other != index {
-                    t.halt_child(c);
+            t.halting_for(id, |t| {
+                for (other, &c) in children.iter().enumerate() {
+                    if other != index {
+                        t.halt_child(c);
+                    }
                 }
-            }
+            });
             let running = index as u64 + 1;
             if t.aux[slot] == 0 {
                 t.aux[slot] = running;
@@ -84,9 +94,13 @@ pub(crate) fn tick<C>(
             return NodeStatus::Running;
         }
         if status == NodeStatus::Skipped {
+            // Skipped is stored Idle: nothing to halt (a precondition that skipped a
+            // Running child halted it already, on the tree's behalf).
             t.halt_child(child);
         } else if status != go_on {
-            t.reset_children(id);
+            if t.halting_for(id, |t| t.reset_children(id)) {
+                return NodeStatus::Running;
+            }
             return status;
         }
     }

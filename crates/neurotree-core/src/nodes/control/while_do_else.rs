@@ -4,6 +4,11 @@
 //! "do" and ticks "else" (2 children → Failure).
 //!
 //! A branch that completes resets the node, so the next tick checks the condition afresh.
+//!
+//! A halt that takes ticks ([`slow_halt`](crate::tree::slow_halt)): when the branch this
+//! node halts answers Halting, the node returns Running without ticking the other branch
+//! and, on later ticks, continues the halt and returns Running without ticking any child;
+//! on the tick the halt is done it ticks as usual, condition first.
 
 use crate::blueprint::NodeDef;
 use crate::tree::Ticker;
@@ -24,6 +29,9 @@ pub const WHILE_DO_ELSE: NodeDecl = NodeDecl {
 #[inline(never)]
 pub(crate) fn tick<C>(t: &mut Ticker<'_, C>, id: NodeId, def: &NodeDef<C>) -> NodeStatus {
     let three = def.child_count == 3;
+    if t.waits_for_halts(id) {
+        return NodeStatus::Running;
+    }
     t.set_status(id, NodeStatus::Running);
     let condition = t.child(def, 0);
     let status = match t.tick(condition) {
@@ -31,7 +39,9 @@ pub(crate) fn tick<C>(t: &mut Ticker<'_, C>, id: NodeId, def: &NodeDef<C>) -> No
         NodeStatus::Success => {
             if three {
                 let otherwise = t.child(def, 2);
-                t.halt_child(otherwise);
+                if t.halting_for(id, |t| t.halt_child(otherwise)) {
+                    return NodeStatus::Running;
+                }
             }
             let body = t.child(def, 1);
             t.tick(body)
@@ -39,7 +49,9 @@ pub(crate) fn tick<C>(t: &mut Ticker<'_, C>, id: NodeId, def: &NodeDef<C>) -> No
         NodeStatus::Failure | NodeStatus::Idle => {
             if three {
                 let body = t.child(def, 1);
-                t.halt_child(body);
+                if t.halting_for(id, |t| t.halt_child(body)) {
+                    return NodeStatus::Running;
+                }
                 let otherwise = t.child(def, 2);
                 t.tick(otherwise)
             } else {
@@ -48,8 +60,8 @@ pub(crate) fn tick<C>(t: &mut Ticker<'_, C>, id: NodeId, def: &NodeDef<C>) -> No
         }
         NodeStatus::Skipped => NodeStatus::Skipped,
     };
-    if status != NodeStatus::Running {
-        t.reset_children(id);
+    if status != NodeStatus::Running && t.halting_for(id, |t| t.reset_children(id)) {
+        return NodeStatus::Running;
     }
     status
 }

@@ -9,6 +9,10 @@
 //!
 //! A Timeout that fires gives its own [reason](crate::Reason) for its Failure: "timed out
 //! after 100 ms" (whole seconds as "2 s"), code 0.
+//!
+//! A halt that takes ticks ([`slow_halt`](crate::tree::slow_halt)): when the child it times
+//! out answers Halting, the node returns Running, continues the halt on later ticks (the
+//! child is not ticked), and returns the timeout's Failure on the tick the halt is done.
 
 use core::time::Duration;
 
@@ -42,6 +46,9 @@ pub(crate) fn tick<C>(
     limit: Duration,
 ) -> NodeStatus {
     let slot = t.bp.slot(id);
+    if t.aux[slot] == TIMED_OUT {
+        return finish_halt(t, id, limit);
+    }
     let now = t.now_nanos();
     let child = t.child(def, 0);
     match moment::elapsed(t.aux[slot], now) {
@@ -54,7 +61,10 @@ pub(crate) fn tick<C>(
                 && ran >= duration_to_nanos(limit)
                 && t.status(child) == NodeStatus::Running
             {
-                t.halt_child(child);
+                if t.halting_for(id, |t| t.halt_child(child)) {
+                    t.aux[slot] = TIMED_OUT;
+                    return NodeStatus::Running;
+                }
                 t.aux[slot] = moment::NONE;
                 t.note(id, Note::Gave(Reason::timed_out(limit)));
                 return NodeStatus::Failure;
@@ -67,6 +77,23 @@ pub(crate) fn tick<C>(
         t.halt_child(child);
     }
     status
+}
+
+/// The state slot of a Timeout that timed out and waits for its child's halt (never a
+/// moment: those count nanoseconds from 1).
+const TIMED_OUT: u64 = u64::MAX;
+
+/// A tick of a Timeout that waits for its child's halt: Running until it is done, then the
+/// timeout's Failure.
+#[cold]
+#[inline(never)]
+fn finish_halt<C>(t: &mut Ticker<'_, C>, id: NodeId, limit: Duration) -> NodeStatus {
+    if t.waits_for_halts(id) {
+        return NodeStatus::Running;
+    }
+    t.aux[t.bp.slot(id)] = moment::NONE;
+    t.note(id, Note::Gave(Reason::timed_out(limit)));
+    NodeStatus::Failure
 }
 
 #[cfg(test)]

@@ -263,7 +263,8 @@ pub trait Action<C>: Send + Sync {
 /// every later tick while Running, told when it is halted.
 ///
 /// `on_start` on the tick from Idle, `on_running` on later ticks, `on_halted` when halted
-/// while Running.
+/// while Running; or, for a halt that takes ticks, `on_halt_requested` then `on_halting`
+/// on later ticks until it is done (see [`slow_halt`](crate::tree::slow_halt)).
 ///
 /// ```
 /// use neurotree_core::{Handle, StatefulAction, Status};
@@ -290,6 +291,36 @@ pub trait StatefulAction<C>: Send {
     fn on_running(&mut self, h: &mut Handle<'_, C>) -> Status;
     /// Called when the node is halted while Running; release what `on_start` took.
     fn on_halted(&mut self, _h: &mut Handle<'_, C>) {}
+
+    /// Called instead of [`on_halted`](Self::on_halted) when the engine halts the node
+    /// while Running. The default calls `on_halted` and answers
+    /// [`HaltProgress::Done`]: the halt is over at once, as in BehaviorTree.CPP.
+    ///
+    /// An action whose halt takes time (an arm that decelerates, an action server that
+    /// must acknowledge a cancel) answers [`HaltProgress::Halting`]: it is stored Idle,
+    /// its parent does not start a conflicting branch, and it gets
+    /// [`on_halting`](Self::on_halting) on later ticks until it answers `Done` (see
+    /// [`tree::slow_halt`](crate::tree::slow_halt) for who waits, and how).
+    fn on_halt_requested(&mut self, h: &mut Handle<'_, C>) -> HaltProgress {
+        self.on_halted(h);
+        HaltProgress::Done
+    }
+
+    /// Called once per tick of the node that waits for this halt, after
+    /// [`on_halt_requested`](Self::on_halt_requested) answered `Halting`, until it
+    /// answers [`HaltProgress::Done`]. Never called for an action that halts at once.
+    fn on_halting(&mut self, _h: &mut Handle<'_, C>) -> HaltProgress {
+        HaltProgress::Done
+    }
+}
+
+/// How far a [`StatefulAction`]'s halt has got.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum HaltProgress {
+    /// The action has stopped; it may be started again.
+    Done,
+    /// The action is still stopping: call [`StatefulAction::on_halting`] on a later tick.
+    Halting,
 }
 
 #[cfg(test)]
