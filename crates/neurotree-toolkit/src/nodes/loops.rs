@@ -35,12 +35,9 @@ use neurotree_core::{
 
 use crate::registry::Registry;
 
-/// LoopInt's declaration: its BehaviorTree.CPP name, family, children and ports.
-pub const LOOP_INT: NodeDecl = NodeDecl {
-    name: "LoopInt",
-    category: Category::Decorator,
-    arity: Arity::One,
-    ports: &[
+/// The ports of a loop whose elements are of type `value_type`.
+const fn loop_ports(value_type: &'static str) -> [PortDecl; 3] {
+    [
         PortDecl {
             direction: PortDirection::InOut,
             ..PortDecl::input(
@@ -49,91 +46,63 @@ pub const LOOP_INT: NodeDecl = NodeDecl {
                 "The queue: an entry holding one, or a literal list separated by `;`.",
             )
         },
-        PortDecl::output("value", "i32", "The element the child works on."),
+        PortDecl::output("value", value_type, "The element the child works on."),
         PortDecl::input(
             "if_empty",
             "String",
             "The status returned when the queue is empty: SUCCESS, FAILURE or SKIPPED.",
         )
         .or("SUCCESS"),
-    ],
-    summary: "Runs the child once per element of a queue of integers, written to `value`.",
-};
+    ]
+}
+
+/// A loop's declaration: the four differ only in name, element type and summary.
+const fn loop_decl(
+    name: &'static str,
+    ports: &'static [PortDecl],
+    summary: &'static str,
+) -> NodeDecl {
+    NodeDecl {
+        name,
+        category: Category::Decorator,
+        arity: Arity::One,
+        ports,
+        summary,
+    }
+}
+
+const LOOP_INT_PORTS: [PortDecl; 3] = loop_ports("i32");
+const LOOP_DOUBLE_PORTS: [PortDecl; 3] = loop_ports("f64");
+const LOOP_STRING_PORTS: [PortDecl; 3] = loop_ports("String");
+const LOOP_BOOL_PORTS: [PortDecl; 3] = loop_ports("bool");
+
+/// LoopInt's declaration: its BehaviorTree.CPP name, family, children and ports.
+pub const LOOP_INT: NodeDecl = loop_decl(
+    "LoopInt",
+    &LOOP_INT_PORTS,
+    "Runs the child once per element of a queue of integers, written to `value`.",
+);
 
 /// LoopDouble's declaration: its BehaviorTree.CPP name, family, children and ports.
-pub const LOOP_DOUBLE: NodeDecl = NodeDecl {
-    name: "LoopDouble",
-    category: Category::Decorator,
-    arity: Arity::One,
-    ports: &[
-        PortDecl {
-            direction: PortDirection::InOut,
-            ..PortDecl::input(
-                "queue",
-                "String",
-                "The queue: an entry holding one, or a literal list separated by `;`.",
-            )
-        },
-        PortDecl::output("value", "f64", "The element the child works on."),
-        PortDecl::input(
-            "if_empty",
-            "String",
-            "The status returned when the queue is empty: SUCCESS, FAILURE or SKIPPED.",
-        )
-        .or("SUCCESS"),
-    ],
-    summary: "Runs the child once per element of a queue of numbers, written to `value`.",
-};
+pub const LOOP_DOUBLE: NodeDecl = loop_decl(
+    "LoopDouble",
+    &LOOP_DOUBLE_PORTS,
+    "Runs the child once per element of a queue of numbers, written to `value`.",
+);
 
 /// LoopString's declaration: its BehaviorTree.CPP name, family, children and ports.
-pub const LOOP_STRING: NodeDecl = NodeDecl {
-    name: "LoopString",
-    category: Category::Decorator,
-    arity: Arity::One,
-    ports: &[
-        PortDecl {
-            direction: PortDirection::InOut,
-            ..PortDecl::input(
-                "queue",
-                "String",
-                "The queue: an entry holding one, or a literal list separated by `;`.",
-            )
-        },
-        PortDecl::output("value", "String", "The element the child works on."),
-        PortDecl::input(
-            "if_empty",
-            "String",
-            "The status returned when the queue is empty: SUCCESS, FAILURE or SKIPPED.",
-        )
-        .or("SUCCESS"),
-    ],
-    summary: "Runs the child once per element of a queue of strings, written to `value`.",
-};
+pub const LOOP_STRING: NodeDecl = loop_decl(
+    "LoopString",
+    &LOOP_STRING_PORTS,
+    "Runs the child once per element of a queue of strings, written to `value`.",
+);
 
 /// LoopBool's declaration: its BehaviorTree.CPP name, family, children and ports.
-pub const LOOP_BOOL: NodeDecl = NodeDecl {
-    name: "LoopBool",
-    category: Category::Decorator,
-    arity: Arity::One,
-    ports: &[
-        PortDecl {
-            direction: PortDirection::InOut,
-            ..PortDecl::input(
-                "queue",
-                "String",
-                "The queue: an entry holding one, or a literal list separated by `;`.",
-            )
-        },
-        PortDecl::output("value", "bool", "The element the child works on."),
-        PortDecl::input(
-            "if_empty",
-            "String",
-            "The status returned when the queue is empty: SUCCESS, FAILURE or SKIPPED.",
-        )
-        .or("SUCCESS"),
-    ],
-    summary: "Runs the child once per element of a queue of booleans, written to `value`.",
-};
+pub const LOOP_BOOL: NodeDecl = loop_decl(
+    "LoopBool",
+    &LOOP_BOOL_PORTS,
+    "Runs the child once per element of a queue of booleans, written to `value`.",
+);
 
 /// A queue that nodes share through the blackboard: a loop whose `queue` entry holds one
 /// takes its elements out of it (BehaviorTree.CPP's `SharedQueue<T>`).

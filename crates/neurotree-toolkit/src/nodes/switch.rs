@@ -236,50 +236,31 @@ const SWITCH_PORTS: &[PortDecl] = &[
     PortDecl::input("case_6", "String", "The value that selects child 6."),
 ];
 
+/// SwitchN's declaration: `cases` cases and the default, so `cases + 1` children, and the
+/// first `cases + 1` of [`SWITCH_PORTS`].
+const fn switch_decl(name: &'static str, cases: u32) -> NodeDecl {
+    NodeDecl {
+        name,
+        category: Category::Control,
+        arity: Arity::Range {
+            min: cases + 1,
+            max: cases + 1,
+        },
+        ports: SWITCH_PORTS.split_at(cases as usize + 1).0,
+        summary: "Ticks the child whose case matches `variable`; none matches: the last child.",
+    }
+}
+
 /// Switch2's declaration: its BehaviorTree.CPP name, family, children and ports.
-pub const SWITCH2: NodeDecl = NodeDecl {
-    name: "Switch2",
-    category: Category::Control,
-    arity: Arity::Range { min: 3, max: 3 },
-    ports: SWITCH_PORTS.split_at(3).0,
-    summary: "Ticks the child whose case matches `variable`; none matches: the last child.",
-};
-
-/// Switch3's declaration: its BehaviorTree.CPP name, family, children and ports.
-pub const SWITCH3: NodeDecl = NodeDecl {
-    name: "Switch3",
-    category: Category::Control,
-    arity: Arity::Range { min: 4, max: 4 },
-    ports: SWITCH_PORTS.split_at(4).0,
-    summary: "Ticks the child whose case matches `variable`; none matches: the last child.",
-};
-
-/// Switch4's declaration: its BehaviorTree.CPP name, family, children and ports.
-pub const SWITCH4: NodeDecl = NodeDecl {
-    name: "Switch4",
-    category: Category::Control,
-    arity: Arity::Range { min: 5, max: 5 },
-    ports: SWITCH_PORTS.split_at(5).0,
-    summary: "Ticks the child whose case matches `variable`; none matches: the last child.",
-};
-
-/// Switch5's declaration: its BehaviorTree.CPP name, family, children and ports.
-pub const SWITCH5: NodeDecl = NodeDecl {
-    name: "Switch5",
-    category: Category::Control,
-    arity: Arity::Range { min: 6, max: 6 },
-    ports: SWITCH_PORTS.split_at(6).0,
-    summary: "Ticks the child whose case matches `variable`; none matches: the last child.",
-};
-
-/// Switch6's declaration: its BehaviorTree.CPP name, family, children and ports.
-pub const SWITCH6: NodeDecl = NodeDecl {
-    name: "Switch6",
-    category: Category::Control,
-    arity: Arity::Range { min: 7, max: 7 },
-    ports: SWITCH_PORTS.split_at(7).0,
-    summary: "Ticks the child whose case matches `variable`; none matches: the last child.",
-};
+pub const SWITCH2: NodeDecl = switch_decl("Switch2", 2);
+/// Switch3's declaration.
+pub const SWITCH3: NodeDecl = switch_decl("Switch3", 3);
+/// Switch4's declaration.
+pub const SWITCH4: NodeDecl = switch_decl("Switch4", 4);
+/// Switch5's declaration.
+pub const SWITCH5: NodeDecl = switch_decl("Switch5", 5);
+/// Switch6's declaration.
+pub const SWITCH6: NodeDecl = switch_decl("Switch6", 6);
 
 /// Adds Switch2 … Switch6 to `registry`.
 pub(crate) fn register<C: 'static>(registry: &mut Registry<C>) {
