@@ -128,6 +128,13 @@ impl<C> Child<C> {
         }
     }
 
+    /// Whether the child is a condition its parent's loop calls directly (a closure or a
+    /// `Condition` object without hooks).
+    #[inline(always)]
+    pub(crate) fn is_fast(&self) -> bool {
+        self.fast != Fast::None
+    }
+
     /// The child's `Condition` object (a registered condition from XML, or the builder's
     /// `condition_node`), if it is one without hooks.
     #[inline(always)]

@@ -301,6 +301,14 @@ impl<'t, C> Ticker<'t, C> {
         self.tick_other(child.id, def)
     }
 
+    /// Ticks a child that is no condition called from its parent's list, for a loop that
+    /// handles those itself (`ordered::run_quiet`).
+    #[inline(never)]
+    pub(crate) fn tick_child_stored(&mut self, child: &Child<C>) -> NodeStatus {
+        let def = self.bp.def(child.id);
+        self.tick_other(child.id, def)
+    }
+
     /// Stores what a condition answered, and returns it as a status.
     #[inline(always)]
     fn store_condition<const OBSERVED: bool>(&mut self, id: NodeId, holds: bool) -> NodeStatus {
@@ -521,7 +529,7 @@ impl<'t, C> Ticker<'t, C> {
     }
 
     #[inline(always)]
-    fn handle(&mut self, id: NodeId) -> Handle<'_, C> {
+    pub(crate) fn handle(&mut self, id: NodeId) -> Handle<'_, C> {
         Handle {
             ctx: &mut *self.ctx,
             blackboard: &mut *self.bb,

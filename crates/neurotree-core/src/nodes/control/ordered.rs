@@ -27,6 +27,8 @@ pub(crate) fn tick<C, const SEQUENCE: bool, const FLAVOR: Flavor>(
 ) -> NodeStatus {
     if t.observed() {
         run::<C, SEQUENCE, FLAVOR, true>(t, id, def)
+    } else if FLAVOR == PLAIN {
+        run_quiet::<C, SEQUENCE>(t, id, def)
     } else {
         run::<C, SEQUENCE, FLAVOR, false>(t, id, def)
     }
@@ -96,5 +98,203 @@ fn run<C, const SEQUENCE: bool, const FLAVOR: Flavor, const OBSERVED: bool>(
         NodeStatus::Skipped
     } else {
         go_on
+    }
+}
+
+/// A plain Sequence or Fallback with no observer: the most common node, made cheap.
+///
+/// A condition child called straight from the child list (a closure, or a registered
+/// condition) gets no status stored while the loop runs: if the node completes in this
+/// call, it resets every child it ticked to Idle anyway, so no one could see the status.
+/// Only when the node returns Running do the statuses of the conditions that moved it on
+/// outlive the call; they are written then. The reset at completion so covers the children
+/// ticked in earlier calls, and those ticked now only if one of them was no such condition.
+#[inline(always)]
+fn run_quiet<C, const SEQUENCE: bool>(
+    t: &mut Ticker<'_, C>,
+    id: NodeId,
+    def: &NodeDef<C>,
+) -> NodeStatus {
+    let go_on = if SEQUENCE {
+        NodeStatus::Success
+    } else {
+        NodeStatus::Failure
+    };
+    let bp = t.bp;
+    let children = bp.children_of(def);
+    let hot = bp.hot_children_of(def);
+    let slot = bp.slot(id);
+    let (start, mut skipped) = unpack(t.aux[slot]);
+    if !t.status(id).is_active() {
+        skipped = 0;
+    }
+    *t.status_mut(id) = NodeStatus::Running;
+    let start = (start as usize).min(hot.len());
+    // Whether a child stored its own status (it was no condition called from the list).
+    let mut stored = false;
+    let mut rest = hot[start..].iter();
+    let ended = loop {
+        let Some(child) = rest.next() else {
+            break None;
+        };
+        let status = match child.closure() {
+            Some(f) => {
+                t.current = child.id;
+                NodeStatus::from(crate::Status::from(f(t.ctx)))
+            }
+            None => match child.condition_object() {
+                Some(c) => {
+                    t.current = child.id;
+                    NodeStatus::from(crate::Status::from(c.check(&t.handle(child.id))))
+                }
+                None => {
+                    stored = true;
+                    t.tick_child_stored(child)
+                }
+            },
+        };
+        if status == go_on {
+            continue;
+        }
+        if status == NodeStatus::Skipped {
+            skipped += 1;
+            continue;
+        }
+        break Some(status);
+    };
+    // The index just past the child the loop stopped at (or the end).
+    let end = hot.len() - rest.len();
+    // The children to reset if the node completes: those ticked in earlier calls, and those
+    // ticked now if one of them stored its status.
+    let ticked = if stored { end } else { start };
+    match ended {
+        None => {
+            t.reset_completed(&children[..ticked]);
+            t.aux[slot] = 0;
+            if skipped as usize == hot.len() {
+                NodeStatus::Skipped
+            } else {
+                go_on
+            }
+        }
+        Some(NodeStatus::Running) => {
+            let cursor = end - 1;
+            for child in &hot[start..cursor] {
+                if child.is_fast() {
+                    *t.status_mut(child.id) = go_on;
+                }
+            }
+            t.aux[slot] = pack(cursor as u32, skipped);
+            NodeStatus::Running
+        }
+        Some(stop) => {
+            // Children past the one that stopped the node are Idle already.
+            t.reset_completed(&children[..ticked]);
+            t.aux[slot] = pack(0, skipped);
+            stop
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::testing::*;
+    use crate::Condition;
+    use NodeStatus::{Failure as Fl, Idle as I, Running as Rn, Success as Sc};
+
+    /// A registered-style condition object: called from the child list like a closure.
+    struct Holds(bool);
+    impl Condition<Lab> for Holds {
+        fn check(&self, _h: &crate::Handle<'_, Lab>) -> bool {
+            self.0
+        }
+    }
+
+    /// Ids in builder order: 0 the control, then its children.
+    fn statuses(tree: &Tree<Lab>) -> Vec<NodeStatus> {
+        tree.statuses().to_vec()
+    }
+
+    #[test]
+    fn conditions_before_a_running_child_keep_their_success_until_completion() {
+        // A closure condition and a condition object move the Sequence on, the scripted
+        // child runs: the two conditions hold Success between the ticks, not Idle.
+        let mut lab = Lab::new(&[&[R, R, S], &[S]]);
+        let mut tree = lab.tree(|b| {
+            b.sequence("seq", |s| {
+                s.condition("c", |_: &Lab| true)
+                    .condition_node("o", Holds(true))
+                    .scripted(0)
+                    .condition("d", |_: &Lab| true)
+                    .scripted(1)
+            })
+        });
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Running));
+        assert_eq!(statuses(&tree), [Rn, Sc, Sc, Rn, I, I]);
+        // Resumed at the running child: the conditions are not asked again.
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Running));
+        assert_eq!(statuses(&tree), [Rn, Sc, Sc, Rn, I, I]);
+        assert_eq!(lab.ticks, [2, 0]);
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Success));
+        assert_eq!(lab.ticks, [3, 1]);
+        assert_eq!(statuses(&tree), [I, I, I, I, I, I]);
+    }
+
+    #[test]
+    fn a_fallback_resets_conditions_ticked_in_earlier_calls_when_it_fails() {
+        let mut lab = Lab::new(&[&[R, F]]);
+        let mut tree = lab.tree(|b| {
+            b.fallback("fb", |f| {
+                f.condition("c", |_: &Lab| false)
+                    .scripted(0)
+                    .condition_node("o", Holds(false))
+            })
+        });
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Running));
+        assert_eq!(statuses(&tree), [Rn, Fl, Rn, I]);
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Failure));
+        assert_eq!(statuses(&tree), [I, I, I, I]);
+        assert_eq!(lab.ticks, [2]);
+    }
+
+    #[test]
+    fn a_sequence_of_conditions_only_leaves_every_child_idle() {
+        let mut lab = Lab::new(&[]);
+        let mut tree = lab.tree(|b| {
+            b.sequence("seq", |s| {
+                s.condition("c", |_: &Lab| true)
+                    .condition_node("o", Holds(true))
+                    .condition("d", |_: &Lab| false)
+                    .condition("e", |_: &Lab| true)
+            })
+        });
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Failure));
+        assert_eq!(statuses(&tree), [I, I, I, I, I]);
+    }
+
+    #[test]
+    fn observed_and_quiet_loops_agree() {
+        // The same tree with a recording observer attached ticks the stored loop; both end
+        // every tick with the same statuses.
+        let make = |lab: &Lab| {
+            lab.tree(|b| {
+                b.sequence("seq", |s| {
+                    s.condition("c", |_: &Lab| true)
+                        .fallback("fb", |f| f.condition_node("o", Holds(false)).scripted(0))
+                        .condition("d", |_: &Lab| true)
+                })
+            })
+        };
+        let script: &[&[Status]] = &[&[R, R, S]];
+        let (mut quiet_lab, mut observed_lab) = (Lab::new(script), Lab::new(script));
+        let mut quiet = make(&quiet_lab);
+        let mut observed = make(&observed_lab);
+        observed.set_observer(Vec::<alloc::boxed::Box<dyn crate::Observer>>::new());
+        for _ in 0..3 {
+            let q = quiet_lab.tick(&mut quiet);
+            assert_eq!(q, observed_lab.tick(&mut observed));
+            assert_eq!(statuses(&quiet), statuses(&observed));
+        }
+        assert_eq!(quiet_lab.ticks, [3]);
     }
 }
