@@ -62,7 +62,9 @@ pub(crate) struct NodeDef<C> {
 
 /// A child as its parent's loop sees it: its id and, for a condition without hooks (the
 /// most common leaf, from the builder or from XML), the condition itself, so that ticking
-/// it needs no look-up of its definition and no call through the dispatcher.
+/// it needs no look-up of its definition and no call through the dispatcher. A plain
+/// Sequence or Fallback without hooks (the most common control) is marked too, so that its
+/// parent calls its loop without the dispatcher.
 pub(crate) struct Child<C> {
     pub(crate) id: NodeId,
     /// Which field of `leaf` is set. Beside the id, it costs no space: the record is as
@@ -79,6 +81,10 @@ enum Fast {
     Closure,
     None,
     Condition,
+    /// A plain Sequence without hooks, which a parent's loop ticks without the dispatcher.
+    Sequence,
+    /// A plain Fallback without hooks, likewise.
+    Fallback,
 }
 
 /// The condition a [`Child`] calls directly: points into the `ConditionFn` box or at the
@@ -109,6 +115,8 @@ impl<C> Child<C> {
                     condition: NonNull::from(&**c),
                 },
             ),
+            (NodeKind::Sequence, false) => (Fast::Sequence, FastLeaf { none: () }),
+            (NodeKind::Fallback, false) => (Fast::Fallback, FastLeaf { none: () }),
             _ => (Fast::None, FastLeaf { none: () }),
         };
         Self { id, fast, leaf }
@@ -132,7 +140,18 @@ impl<C> Child<C> {
     /// `Condition` object without hooks).
     #[inline(always)]
     pub(crate) fn is_fast(&self) -> bool {
-        self.fast != Fast::None
+        matches!(self.fast, Fast::Closure | Fast::Condition)
+    }
+
+    /// A plain Sequence (`Some(true)`) or Fallback (`Some(false)`) without hooks, which a
+    /// parent's loop ticks without the dispatcher.
+    #[inline(always)]
+    pub(crate) fn fast_control(&self) -> Option<bool> {
+        match self.fast {
+            Fast::Sequence => Some(true),
+            Fast::Fallback => Some(false),
+            _ => None,
+        }
     }
 
     /// The child's `Condition` object (a registered condition from XML, or the builder's
@@ -323,7 +342,9 @@ impl<C> Blueprint<C> {
     /// The node's state slot or object index (see `slots`).
     #[inline(always)]
     pub(crate) fn slot(&self, id: NodeId) -> usize {
-        self.slots[id.index()] as usize
+        debug_assert!(id.index() < self.slots.len());
+        // SAFETY: `slots` has one entry per node (see `def`).
+        (unsafe { *self.slots.get_unchecked(id.index()) }) as usize
     }
 
     /// The depth limit this blueprint was validated against.

@@ -301,12 +301,32 @@ impl<'t, C> Ticker<'t, C> {
         self.tick_other(child.id, def)
     }
 
+    /// Ticks node `id` (without hooks) with `tick`, the function the dispatcher would pick
+    /// for its kind, and stores what it returned: a parent's loop that knows the kind
+    /// saves the dispatch.
+    #[inline(always)]
+    pub(crate) fn tick_direct(
+        &mut self,
+        id: NodeId,
+        tick: fn(&mut Ticker<'t, C>, NodeId, &NodeDef<C>) -> NodeStatus,
+    ) -> NodeStatus {
+        self.current = id;
+        self.note_tick(id);
+        let status = tick(self, id, self.bp.def(id));
+        self.store_result(id, status);
+        status
+    }
+
     /// Ticks a child that is no condition called from its parent's list, for a loop that
     /// handles those itself (`ordered::run_quiet`).
     #[inline(never)]
     pub(crate) fn tick_child_stored(&mut self, child: &Child<C>) -> NodeStatus {
-        let def = self.bp.def(child.id);
-        self.tick_other(child.id, def)
+        use control::ordered::{tick, PLAIN};
+        match child.fast_control() {
+            Some(true) => self.tick_direct(child.id, tick::<C, true, PLAIN>),
+            Some(false) => self.tick_direct(child.id, tick::<C, false, PLAIN>),
+            None => self.tick_other(child.id, self.bp.def(child.id)),
+        }
     }
 
     /// Stores what a condition answered, and returns it as a status.

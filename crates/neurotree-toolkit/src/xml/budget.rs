@@ -39,13 +39,25 @@ pub(super) fn expanded_size<C: 'static>(loader: &XmlLoader<'_, C>, id: &str) -> 
             let size = count(tree, |used| known.get(used).copied().unwrap_or(0));
             known.insert(at.to_string(), size);
         } else if met.insert(at) {
-            todo.push((at, true));
-            count(tree, |used| {
-                if !known.contains_key(used) && !met.contains(used) {
-                    todo.push((used, false));
+            // Counted in this one walk when every tree it uses is counted already (a tree
+            // of no SubTree, the common case); else counted again once they are.
+            let mark = todo.len();
+            let mut waits = false;
+            let size = count(tree, |used| match known.get(used) {
+                Some(size) => *size,
+                None => {
+                    waits = true;
+                    if !met.contains(used) {
+                        todo.push((used, false));
+                    }
+                    0
                 }
-                0
             });
+            if waits {
+                todo.insert(mark, (at, true));
+            } else {
+                known.insert(at.to_string(), size);
+            }
         }
     }
     known.get(id).copied().unwrap_or(0)
