@@ -646,6 +646,11 @@ impl<C> Tree<C> {
     #[cold]
     #[inline(never)]
     fn continue_halt(&mut self, ctx: &mut C, waiter: slow_halt::Waiter) -> Result<bool, TickError> {
+        // As a pass does: this call polls every halt future it continues, so earlier wakes
+        // are answered by it.
+        if let Some(w) = &self.wake {
+            w.signal.take();
+        }
         let mut t = self.ticker(ctx);
         let left = t.continue_halts(waiter);
         match t.out.fault.take() {
