@@ -637,7 +637,8 @@ impl<C> Tree<C> {
         self.out.halts.count == 0
     }
 
-    /// `true` while a stateful action's halt is in progress (see [`slow_halt`]).
+    /// `true` while a halt is in progress: an action whose halt takes ticks, or a TryCatch
+    /// whose catch waits for one (see [`slow_halt`]).
     pub fn is_halting(&self) -> bool {
         self.out.halts.count != 0
     }

@@ -35,6 +35,13 @@
 //! ticks the root again only once the halt is done; a halting action that a custom control
 //! ticks anyway fails, so that it is not taken for Running.
 //!
+//! A TryCatch with `catch_on_halt`, halted while it tries, runs its catch once the try
+//! block has stopped: when halting the try block leaves a halt in progress below it, its
+//! catch waits like a halting action, for whoever halted the TryCatch, and runs at that
+//! waiter's first tick after the halts below are done, before the waiter goes on (see
+//! [`try_catch`](crate::nodes::control::try_catch)). A catch that runs then is halted, and
+//! its own halt may take ticks; it waits for the same waiter.
+//!
 //! "Ticks no child" includes the halting action: until its halt is done, the node that
 //! waits returns Running and asks nothing else of its subtree, so no sibling branch starts
 //! while the action still stops. A ReactiveFallback whose earlier child started running and
@@ -53,6 +60,7 @@
 use core::mem;
 
 use crate::blueprint::NodeKind;
+use crate::nodes::control::try_catch;
 use crate::nodes::leaf::HaltProgress;
 use crate::{NodeId, NodeStatus};
 
@@ -62,7 +70,8 @@ use super::ticker::{contain, Object, Ticker};
 /// pointer for the ticker to carry, so that a pass pays one store for the feature.
 #[derive(Default)]
 pub(crate) struct Halts {
-    /// How many stateful actions are halting.
+    /// How many halts are in progress: halting actions, and TryCatch nodes whose catch
+    /// waits.
     pub(crate) count: u32,
     /// The node on whose behalf the engine halts now (`None`: the tree); set only within
     /// [`Ticker::halting_for`].
@@ -100,6 +109,12 @@ impl<'t, C> Ticker<'t, C> {
                 owner: halter,
             };
         }
+        self.started_halting();
+    }
+
+    /// Counts a halt that now takes ticks.
+    #[inline]
+    pub(crate) fn started_halting(&mut self) {
         self.out.halts.count += 1;
         self.out.halts.left = true;
     }
@@ -117,16 +132,26 @@ impl<'t, C> Ticker<'t, C> {
         left
     }
 
-    /// Node `id` is halted: the actions that waited for it wait for whoever halts it.
+    /// Node `id` is halted: the halts that waited for it wait for whoever halts it.
     #[cold]
     #[inline(never)]
     pub(crate) fn pass_on_halts_of(&mut self, id: NodeId) {
         let halter = self.out.halts.halter;
         let mut passed = false;
         for object in self.objects.iter_mut() {
-            if let Object::Halting { owner, .. } = object {
+            if let Some(owner) = object.halt_owner() {
                 if *owner == Some(id) {
                     *owner = halter;
+                    passed = true;
+                }
+            }
+        }
+        let bp = self.bp;
+        for tc in bp.ids() {
+            if matches!(bp.def(tc).kind, NodeKind::TryCatch { .. }) {
+                let slot = bp.slot(tc);
+                if try_catch::pending_owner(self.aux[slot]) == Some(Some(id)) {
+                    self.aux[slot] = try_catch::pending(halter);
                     passed = true;
                 }
             }
@@ -134,24 +159,66 @@ impl<'t, C> Ticker<'t, C> {
         self.out.halts.left |= passed;
     }
 
-    /// If actions wait for node `id`, continues their halts: `true` while any is left, and
-    /// the node then returns Running without ticking a child.
+    /// If halts wait for node `id`, continues them: `true` while any is left, and the node
+    /// then returns Running without ticking a child.
     #[inline(always)]
     pub(crate) fn waits_for_halts(&mut self, id: NodeId) -> bool {
         self.out.halts.count != 0 && self.continue_halts(Waiter::Owner(Some(id)))
     }
 
-    /// One `on_halting` for each halting action `waiter` selects, in node order; `true`
-    /// while any of them is still halting. A panic in one ends its halt (with `std`, it is
-    /// the pass's error).
+    /// `true` if node `id` is halting: an action whose halt is in progress, or a TryCatch
+    /// whose catch waits for the halts below it.
+    pub(crate) fn is_halting_node(&self, id: NodeId) -> bool {
+        let bp = self.bp;
+        match &bp.def(id).kind {
+            NodeKind::Stateful(_) | NodeKind::Async(_) | NodeKind::Custom(_) => {
+                matches!(
+                    self.objects.get(bp.slot(id)),
+                    Some(object) if object.is_halting()
+                )
+            }
+            NodeKind::TryCatch { .. } => try_catch::pending_owner(self.aux[bp.slot(id)]).is_some(),
+            _ => false,
+        }
+    }
+
+    /// `true` if a node below `id` is halting.
+    #[cold]
+    #[inline(never)]
+    pub(crate) fn halting_below(&self, id: NodeId) -> bool {
+        let bp = self.bp;
+        bp.ids().any(|other| {
+            other != id && self.is_halting_node(other) && {
+                let mut up = bp.parent(other);
+                while let Some(p) = up {
+                    if p == id {
+                        break;
+                    }
+                    up = bp.parent(p);
+                }
+                up.is_some()
+            }
+        })
+    }
+
+    /// One `on_halting` for each halting action `waiter` selects, in node order, then the
+    /// catch of each TryCatch `waiter` selects whose halts below are done, from the last
+    /// one up; `true` while any of them is still halting. A panic in one ends its halt
+    /// (with `std`, it is the pass's error).
     #[cold]
     #[inline(never)]
     pub(crate) fn continue_halts(&mut self, waiter: Waiter) -> bool {
         let bp = self.bp;
         let mut left = false;
+        let mut catches = false;
         for id in bp.ids() {
-            if !matches!(bp.def(id).kind, NodeKind::Stateful(_)) {
-                continue;
+            match &bp.def(id).kind {
+                NodeKind::Stateful(_) => {}
+                NodeKind::TryCatch { .. } => {
+                    catches |= try_catch::pending_owner(self.aux[bp.slot(id)]).is_some();
+                    continue;
+                }
+                _ => continue,
             }
             let slot = bp.slot(id);
             let Object::Halting { owner, .. } = &self.objects[slot] else {
@@ -176,6 +243,49 @@ impl<'t, C> Ticker<'t, C> {
                 self.out.halts.count -= 1;
                 debug_assert_eq!(self.status(id), NodeStatus::Idle);
             }
+        }
+        if catches {
+            left |= self.continue_catches(waiter);
+        }
+        left
+    }
+
+    /// Runs the catch of each TryCatch `waiter` selects once nothing below it is halting,
+    /// the innermost first; `true` while any catch still waits, or the halt of one that
+    /// ran takes ticks.
+    fn continue_catches(&mut self, waiter: Waiter) -> bool {
+        let bp = self.bp;
+        let mut left = false;
+        for tc in (0..bp.len() as u32).rev().map(NodeId) {
+            let def = bp.def(tc);
+            if !matches!(def.kind, NodeKind::TryCatch { .. }) {
+                continue;
+            }
+            let slot = bp.slot(tc);
+            let Some(owner) = try_catch::pending_owner(self.aux[slot]) else {
+                continue;
+            };
+            if waiter != Waiter::Any && waiter != Waiter::Owner(owner) {
+                continue;
+            }
+            if self.halting_below(tc) {
+                left = true;
+                continue;
+            }
+            self.aux[slot] = 0;
+            self.out.halts.count -= 1;
+            let outer_halter = mem::replace(&mut self.out.halts.halter, owner);
+            let outer_left = mem::replace(&mut self.out.halts.left, false);
+            let catch = self.child(def, def.child_count - 1);
+            contain(self, tc, |t| {
+                t.tick(catch);
+            });
+            // Once, as when the halt was done at once: a catch that runs is halted, and
+            // its halt waits for whoever the catch waited for.
+            self.halt_child(catch);
+            left |= self.out.halts.left;
+            self.out.halts.halter = outer_halter;
+            self.out.halts.left = outer_left;
         }
         left
     }

@@ -37,6 +37,21 @@ pub(crate) enum Object<C> {
     Vacant,
 }
 
+impl<C> Object<C> {
+    /// Whom a halt in progress waits for, if this is one.
+    pub(crate) fn halt_owner(&mut self) -> Option<&mut Option<NodeId>> {
+        match self {
+            Object::Halting { owner, .. } => Some(owner),
+            _ => None,
+        }
+    }
+
+    /// `true` for a halt in progress.
+    pub(crate) fn is_halting(&self) -> bool {
+        matches!(self, Object::Halting { .. })
+    }
+}
+
 /// Everything one pass needs, borrowed from the [`Tree`](crate::Tree) for its duration.
 pub(crate) struct Ticker<'t, C> {
     pub(crate) bp: &'t Blueprint<C>,
