@@ -61,7 +61,7 @@ use core::mem;
 
 use crate::blueprint::NodeKind;
 use crate::nodes::control::try_catch;
-use crate::nodes::leaf::HaltProgress;
+use crate::nodes::leaf::{async_action, HaltProgress};
 use crate::{NodeId, NodeStatus};
 
 use super::ticker::{contain, Object, Ticker};
@@ -78,6 +78,28 @@ pub(crate) struct Halts {
     pub(crate) halter: Option<NodeId>,
     /// A halt since `halter` was set left an action halting.
     pub(crate) left: bool,
+}
+
+/// Whom a halt in progress waits for, in four bytes (a node's id, or the tree), so that
+/// a halting object fits in the slot of the object it was.
+#[derive(Clone, Copy, PartialEq, Eq)]
+pub(crate) struct Owner(u32);
+
+impl Owner {
+    /// The tree: no node has `u32::MAX` as its id.
+    const TREE: u32 = u32::MAX;
+
+    /// Node `owner`, or the tree for `None`.
+    #[inline]
+    pub(crate) fn of(owner: Option<NodeId>) -> Self {
+        Self(owner.map_or(Self::TREE, |id| id.0))
+    }
+
+    /// The node, or `None` for the tree.
+    #[inline]
+    pub(crate) fn get(self) -> Option<NodeId> {
+        (self.0 != Self::TREE).then_some(NodeId(self.0))
+    }
 }
 
 /// Which halting actions to continue.
@@ -106,7 +128,7 @@ impl<'t, C> Ticker<'t, C> {
         if let Object::Stateful(action) = mem::replace(object, Object::Vacant) {
             *object = Object::Halting {
                 action,
-                owner: halter,
+                owner: Owner::of(halter),
             };
         }
         self.started_halting();
@@ -140,8 +162,8 @@ impl<'t, C> Ticker<'t, C> {
         let mut passed = false;
         for object in self.objects.iter_mut() {
             if let Some(owner) = object.halt_owner() {
-                if *owner == Some(id) {
-                    *owner = halter;
+                if owner.get() == Some(id) {
+                    *owner = Owner::of(halter);
                     passed = true;
                 }
             }
@@ -212,8 +234,9 @@ impl<'t, C> Ticker<'t, C> {
         let mut left = false;
         let mut catches = false;
         for id in bp.ids() {
-            match &bp.def(id).kind {
-                NodeKind::Stateful(_) => {}
+            let kind = &bp.def(id).kind;
+            match kind {
+                NodeKind::Stateful(_) | NodeKind::Async(_) => {}
                 NodeKind::TryCatch { .. } => {
                     catches |= try_catch::pending_owner(self.aux[bp.slot(id)]).is_some();
                     continue;
@@ -221,27 +244,33 @@ impl<'t, C> Ticker<'t, C> {
                 _ => continue,
             }
             let slot = bp.slot(id);
-            let Object::Halting { owner, .. } = &self.objects[slot] else {
+            let Some(owner) = self.objects[slot].waits_for() else {
                 continue;
             };
-            if waiter != Waiter::Any && waiter != Waiter::Owner(*owner) {
+            if waiter != Waiter::Any && waiter != Waiter::Owner(owner) {
                 continue;
             }
             self.current = id;
-            let mut progress = HaltProgress::Done;
+            // A panic leaves `done` true: it ends the halt.
+            let mut done = true;
             contain(self, id, |t| {
-                if let (Some(Object::Halting { action, .. }), mut h) = t.split(id) {
-                    progress = action.on_halting(&mut h);
-                }
+                done = match kind {
+                    NodeKind::Async(_) => async_action::continue_halt(t, id),
+                    _ => match t.split(id) {
+                        (Some(Object::Halting { action, .. }), mut h) => {
+                            action.on_halting(&mut h) == HaltProgress::Done
+                        }
+                        _ => true,
+                    },
+                };
             });
-            if progress == HaltProgress::Halting {
-                left = true;
-            } else if let Object::Halting { action, .. } =
-                mem::replace(&mut self.objects[slot], Object::Vacant)
-            {
-                self.objects[slot] = Object::Stateful(action);
+            if done {
+                let object = mem::replace(&mut self.objects[slot], Object::Vacant);
+                self.objects[slot] = object.halted();
                 self.out.halts.count -= 1;
                 debug_assert_eq!(self.status(id), NodeStatus::Idle);
+            } else {
+                left = true;
             }
         }
         if catches {
@@ -293,7 +322,7 @@ impl<'t, C> Ticker<'t, C> {
 
 #[cfg(test)]
 mod tests {
-    /// The halting variant fits in the slot an object had before (a box and a tag): trees
+    /// The halting variants fit in the slot an object had before (a box and a tag): trees
     /// that never halt slowly keep their size.
     #[test]
     fn a_halting_action_takes_no_more_room_than_an_object_did() {
