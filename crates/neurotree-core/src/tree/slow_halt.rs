@@ -208,19 +208,21 @@ impl<'t, C> Ticker<'t, C> {
     #[cold]
     #[inline(never)]
     pub(crate) fn halting_below(&self, id: NodeId) -> bool {
-        let bp = self.bp;
-        bp.ids().any(|other| {
-            other != id && self.is_halting_node(other) && {
-                let mut up = bp.parent(other);
-                while let Some(p) = up {
-                    if p == id {
-                        break;
-                    }
-                    up = bp.parent(p);
-                }
-                up.is_some()
+        self.bp
+            .ids()
+            .any(|other| self.is_halting_node(other) && self.is_below(other, id))
+    }
+
+    /// `true` if `node` is a descendant of `ancestor`.
+    fn is_below(&self, node: NodeId, ancestor: NodeId) -> bool {
+        let mut up = self.bp.parent(node);
+        while let Some(p) = up {
+            if p == ancestor {
+                return true;
             }
-        })
+            up = self.bp.parent(p);
+        }
+        false
     }
 
     /// One `on_halting` for each halting action `waiter` selects, in node order, then the
@@ -310,8 +312,15 @@ impl<'t, C> Ticker<'t, C> {
                 t.tick(catch);
             });
             // Once, as when the halt was done at once: a catch that runs is halted, and
-            // its halt waits for whoever the catch waited for.
+            // its halt waits for whoever the catch waited for. Its subtree is then left all
+            // Idle, as `Tree::halt` leaves a tree (a two-child IfThenElse keeps its failed
+            // condition otherwise), since no control above resets it any more.
             self.halt_child(catch);
+            for id in bp.ids() {
+                if self.is_below(id, catch) {
+                    self.halt_node(id);
+                }
+            }
             left |= self.out.halts.left;
             self.out.halts.halter = outer_halter;
             self.out.halts.left = outer_left;
