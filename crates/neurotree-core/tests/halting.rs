@@ -20,6 +20,10 @@
 //! and the catch's own halt may take ticks, so every TryCatch above a leaf may add a
 //! halt's ticks (16 calls cover the generated trees' depth).
 //!
+//! The same three properties hold with async actions among the leaves, their runs ended
+//! by completion or by a halt whose future takes 0 to 3 more ticks
+//! (`AsyncAction::on_halt_requested`), under the same rules: (a) reads the same for them.
+//!
 //! The trees are those of `reference_model.rs` without Repeat/Retry(-1), so every
 //! `tick_once` ends.
 
@@ -183,7 +187,12 @@ fn stateful_leaves(spec: &Spec) -> Vec<usize> {
     spec.flatten()
         .iter()
         .enumerate()
-        .filter(|(_, f)| f.node == FlatKind::Leaf(LeafKind::Stateful))
+        .filter(|(_, f)| {
+            matches!(
+                f.node,
+                FlatKind::Leaf(LeafKind::Stateful) | FlatKind::Leaf(LeafKind::Async)
+            )
+        })
         .map(|(i, _)| i)
         .collect()
 }
@@ -346,6 +355,33 @@ proptest! {
         halt_ticks in proptest::collection::vec(0..4usize, 64),
     ) {
         check_halt_order(&spec, &ops, &halt_ticks)?;
+    }
+
+    #[test]
+    fn with_async_actions_and_halts_over_ticks_a_run_completes_or_is_halted_once(
+        spec in common::tree_with(false, true),
+        ops in common::ops(),
+        halt_ticks in proptest::collection::vec(0..4usize, 64),
+    ) {
+        check_lifecycle(&spec, &ops, &halt_ticks)?;
+    }
+
+    #[test]
+    fn with_async_actions_and_halts_over_ticks_halts_go_children_first(
+        spec in common::tree_with(false, true),
+        ops in common::ops(),
+        halt_ticks in proptest::collection::vec(0..4usize, 64),
+    ) {
+        check_halt_order(&spec, &ops, &halt_ticks)?;
+    }
+
+    #[test]
+    fn with_async_actions_and_halts_over_ticks_a_completed_tick_leaves_every_node_idle(
+        spec in common::tree_with(false, true),
+        ops in common::ops(),
+        halt_ticks in proptest::collection::vec(0..4usize, 64),
+    ) {
+        check_reset(&spec, &ops, &halt_ticks)?;
     }
 
     #[test]
