@@ -580,8 +580,10 @@ impl<C> Tree<C> {
     /// afresh. RunOnce and Cooldown keep their memory, SequenceWithMemory its place.
     ///
     /// Returns `true` when the tree is fully halted. An action whose halt takes several
-    /// ticks ([`HaltProgress::Halting`](crate::HaltProgress::Halting)) makes it `false`:
-    /// such halts, and those that were in progress, now wait for the tree. Call
+    /// ticks ([`HaltProgress::Halting`](crate::HaltProgress::Halting), or an async action's
+    /// [`HaltFuture`](crate::HaltFuture) not ready at its first poll, or a TryCatch's catch
+    /// waiting for them) makes it `false`: such halts, and those that were in progress, now
+    /// wait for the tree. Call
     /// [`tick_halt`](Self::tick_halt) until it returns `true` (or keep ticking:
     /// [`tick_once`](Self::tick_once) continues them first, and ticks the root only once
     /// they are done). See [`slow_halt`].
@@ -596,7 +598,8 @@ impl<C> Tree<C> {
     }
 
     /// Continues every halt in progress (one [`on_halting`](crate::StatefulAction::on_halting)
-    /// for each action still halting, whoever waits for it) without ticking anything;
+    /// or poll of its halt future for each action still halting, whoever waits for it, then
+    /// the catch of each TryCatch whose try block has stopped) without ticking the root;
     /// returns `true` when the tree is fully halted. A runner that halts a tree calls it,
     /// a tick period apart, until it does.
     ///

@@ -1,12 +1,23 @@
 //! Halts that take several ticks, and who waits for them.
 //!
-//! BehaviorTree.CPP halts a node within the call that halts it (its 5.0 plans otherwise,
-//! issue #1117). A robot arm that must decelerate, or an action server that must
-//! acknowledge a cancel, cannot: a [`StatefulAction`](crate::StatefulAction) may answer
-//! [`on_halt_requested`](crate::StatefulAction::on_halt_requested) with
-//! [`HaltProgress::Halting`] and finish the halt on later
-//! ticks in [`on_halting`](crate::StatefulAction::on_halting). Only stateful actions can;
-//! async actions and custom nodes halt at once, as before.
+//! BehaviorTree.CPP halts a node within the call that halts it (its 5.0 plans otherwise).
+//! A robot arm that must decelerate, or an action server that must acknowledge a cancel,
+//! cannot. Here two kinds of action may take ticks to halt:
+//!
+//! - a [`StatefulAction`](crate::StatefulAction) answers
+//!   [`on_halt_requested`](crate::StatefulAction::on_halt_requested) with
+//!   [`HaltProgress::Halting`] and finishes the halt on later ticks in
+//!   [`on_halting`](crate::StatefulAction::on_halting);
+//! - an [`AsyncAction`](crate::AsyncAction) returns a [`HaltFuture`](crate::HaltFuture) from
+//!   [`on_halt_requested`](crate::AsyncAction::on_halt_requested), polled at once and then
+//!   where a stateful action gets `on_halting`, until it is ready.
+//!
+//! Both follow the same rules below ("action" means either, "`on_halting`" a poll of the
+//! halt future). Actions that keep the default halt at once, as in BehaviorTree.CPP.
+//! Custom nodes halt at once: [`CustomNode::halt`](crate::CustomNode::halt) is one call,
+//! after which the engine halts the node's Running children; a child's halt that takes
+//! ticks waits for whoever halted the custom node, so a custom node whose stop takes time
+//! puts that work in such a child.
 //!
 //! A halting action is stored Idle (its run is over for its parent and for observers), and
 //! it is never ticked until its halt is done. Every halting action **waits for** one node,
@@ -20,10 +31,12 @@
 //! | WhileDoElse | the condition chose the other branch, or failed with 2 children | Running; ticks no child | ticks as usual (condition first), in the same tick |
 //! | Parallel | it completed with children Running | Running; ticks no child | the outcome it had decided, in the same tick |
 //! | Timeout | the time is up | Running; does not tick the child | Failure (timed out), in the same tick |
+//! | TryCatch with `catch_on_halt` | halted while it tries: it halts its try block, and its catch conflicts with it | stored Idle; its catch waits, like a halting action, for whoever halted the TryCatch | the catch is ticked once (halted if Running), at that waiter's tick, before the waiter goes on |
 //! | the tree | [`Tree::halt`](crate::Tree::halt), a tick's error, and every halt no node above waits for | [`Tree::tick_once`](crate::Tree::tick_once) and `tick_exactly_once` return Running without ticking the root (checked before every pass); [`Tree::tick_halt`](crate::Tree::tick_halt) continues it | the call ticks the root as usual |
 //!
 //! While it waits, the node calls `on_halting` once on each action that waits for it, at
-//! each of its ticks, in node order.
+//! each of its ticks, in node order, then runs the catch of each TryCatch that waits for it
+//! and has nothing halting below any more (below).
 //!
 //! The other nodes never halt a Running child during their own tick: Sequence, Fallback
 //! and their Async and WithMemory forms, IfThenElse, TryCatch, ParallelAll and the
@@ -39,8 +52,11 @@
 //! block has stopped: when halting the try block leaves a halt in progress below it, its
 //! catch waits like a halting action, for whoever halted the TryCatch, and runs at that
 //! waiter's first tick after the halts below are done, before the waiter goes on (see
-//! [`try_catch`](crate::nodes::control::try_catch)). A catch that runs then is halted, and
-//! its own halt may take ticks; it waits for the same waiter.
+//! [TryCatch](crate::nodes::control::try_catch)). A catch that runs then is halted, and
+//! its own halt may take ticks; it waits for the same waiter. The catch's subtree is then
+//! left all Idle. A TryCatch whose catch waits counts as a halt in progress
+//! ([`Tree::is_halting`](crate::Tree::is_halting)); one whose try block halted at once runs
+//! its catch within the halt, as before.
 //!
 //! "Ticks no child" includes the halting action: until its halt is done, the node that
 //! waits returns Running and asks nothing else of its subtree, so no sibling branch starts
@@ -52,10 +68,12 @@
 //! ReactiveSequence, ReactiveFallback, WhileDoElse, Parallel or Timeout; tree1111 (Sequences,
 //! Fallbacks and conditions) takes 4 instructions more per tick than without the feature
 //! (47,243 against 47,239 built, 70,153 against 70,149 from XML, under callgrind). No
-//! allocation, ever: a halting action's box moves between two variants of its slot, which
-//! is no larger for it. A Parallel keeps one state slot (8 bytes) for the outcome it holds
-//! while it waits. While halts are in progress, every node that waits, and the tree, look
-//! over the stateful actions once per tick.
+//! allocation for a stateful action: its box moves between two variants of its slot, which
+//! is no larger for it (the node it waits for is kept in 4 bytes). An async action's halt
+//! allocates only if the action returns a halt future (its box); the default allocates
+//! nothing. A Parallel keeps one state slot (8 bytes) for the outcome it holds while it
+//! waits, a TryCatch its waiting catch in the state slot it has. While halts are in
+//! progress, every node that waits, and the tree, look over the nodes once per tick.
 
 use core::mem;
 

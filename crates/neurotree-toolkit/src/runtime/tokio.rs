@@ -105,7 +105,7 @@ pub struct RunSummary {
 
 /// Ticks `tree` with [`Tree::tick_once`] until its root completes: every `period`, or
 /// sooner when the future of one of its async actions wakes (see
-/// [`WakeSignal`](crate::WakeSignal)). The next period is counted from each tick.
+/// [`WakeSignal`]). The next period is counted from each tick.
 ///
 /// A tick error ends the run with that error (the tree has halted itself). A request from
 /// the tree's [`HaltHandle`](neurotree_core::HaltHandle) wakes the run at once (it sets the

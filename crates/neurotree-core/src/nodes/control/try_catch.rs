@@ -16,8 +16,8 @@
 //! tree). The waiter returns Running and ticks no child (the tree ticks no root) until the
 //! halts below the node are done; at its first tick after that (for the tree: its next tick
 //! call, or [`Tree::tick_halt`](crate::Tree::tick_halt)) the catch is ticked once and halted
-//! if it runs, that halt waiting for the same waiter if it takes ticks, and the waiter goes
-//! on as usual in the same tick. A TryCatch whose catch waits is halting:
+//! if it runs, that halt waiting for the same waiter if it takes ticks, its subtree left all
+//! Idle, and the waiter goes on as usual in the same tick. A TryCatch whose catch waits is halting:
 //! [`Tree::is_halting`](crate::Tree::is_halting) is `true` and [`Tree::halt`](crate::Tree::halt)
 //! returns `false`; halting it again changes nothing, and a custom control that ticks it
 //! meanwhile gets Failure.
