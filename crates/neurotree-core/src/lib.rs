@@ -77,7 +77,7 @@ pub use clock::{Clock, ManualClock};
 pub use nodes::custom::{CustomNode, NodeCtx};
 pub use nodes::hooks::NodeHooks;
 pub use nodes::leaf::{
-    Action, ActionFuture, AsyncAction, Condition, HaltProgress, Handle, StatefulAction,
+    Action, ActionFuture, AsyncAction, Condition, HaltFuture, HaltProgress, Handle, StatefulAction,
 };
 pub use nodes::{NodeDecl, PortDecl, PortDirection};
 pub use observer::{Observer, StatusChange};

@@ -15,7 +15,14 @@
 //! There (a) reads: a run ends by one completion or by one halt, which may be in progress
 //! over several ticks, during which the action is stored Idle, not started again and
 //! asked nothing but `on_halting`; and after the final halt, `tick_halt` is called until the
-//! tree is fully halted (at most 4 times), and then no halt is in progress.
+//! tree is fully halted, and then no halt is in progress. That takes at most 3 calls per
+//! halt; a TryCatch with `catch_on_halt` runs its catch once the halts below it are done,
+//! and the catch's own halt may take ticks, so every TryCatch above a leaf may add a
+//! halt's ticks (16 calls cover the generated trees' depth).
+//!
+//! The same three properties hold with async actions among the leaves, their runs ended
+//! by completion or by a halt whose future takes 0 to 3 more ticks
+//! (`AsyncAction::on_halt_requested`), under the same rules: (a) reads the same for them.
 //!
 //! The trees are those of `reference_model.rs` without Repeat/Retry(-1), so every
 //! `tick_once` ends.
@@ -180,7 +187,12 @@ fn stateful_leaves(spec: &Spec) -> Vec<usize> {
     spec.flatten()
         .iter()
         .enumerate()
-        .filter(|(_, f)| f.node == FlatKind::Leaf(LeafKind::Stateful))
+        .filter(|(_, f)| {
+            matches!(
+                f.node,
+                FlatKind::Leaf(LeafKind::Stateful) | FlatKind::Leaf(LeafKind::Async)
+            )
+        })
         .map(|(i, _)| i)
         .collect()
 }
@@ -194,13 +206,12 @@ fn check_lifecycle(spec: &Spec, ops: &[Op], halt_ticks: &[usize]) -> Result<(), 
     for (i, op) in all.enumerate() {
         step(&mut tree, &mut ctx, &seen, op)?;
         if i == last {
-            for _ in 0..4 {
-                tree.tick_halt(&mut ctx);
+            let mut calls = 0;
+            while !tree.tick_halt(&mut ctx) {
+                calls += 1;
+                prop_assert!(calls < 16, "a halt is in progress after 16 tick_halt");
             }
-            prop_assert!(
-                !tree.is_halting(),
-                "a halt is in progress after 4 tick_halt"
-            );
+            prop_assert!(!tree.is_halting());
         }
         let events = ctx.take_events();
         if let Err(e) = follow(&mut runs, &events) {
@@ -344,6 +355,33 @@ proptest! {
         halt_ticks in proptest::collection::vec(0..4usize, 64),
     ) {
         check_halt_order(&spec, &ops, &halt_ticks)?;
+    }
+
+    #[test]
+    fn with_async_actions_and_halts_over_ticks_a_run_completes_or_is_halted_once(
+        spec in common::tree_with(false, true),
+        ops in common::ops(),
+        halt_ticks in proptest::collection::vec(0..4usize, 64),
+    ) {
+        check_lifecycle(&spec, &ops, &halt_ticks)?;
+    }
+
+    #[test]
+    fn with_async_actions_and_halts_over_ticks_halts_go_children_first(
+        spec in common::tree_with(false, true),
+        ops in common::ops(),
+        halt_ticks in proptest::collection::vec(0..4usize, 64),
+    ) {
+        check_halt_order(&spec, &ops, &halt_ticks)?;
+    }
+
+    #[test]
+    fn with_async_actions_and_halts_over_ticks_a_completed_tick_leaves_every_node_idle(
+        spec in common::tree_with(false, true),
+        ops in common::ops(),
+        halt_ticks in proptest::collection::vec(0..4usize, 64),
+    ) {
+        check_reset(&spec, &ops, &halt_ticks)?;
     }
 
     #[test]

@@ -189,7 +189,7 @@ impl Model {
     /// `haltNode`: the kind's `halt()`, children first, then the node is Idle.
     fn halt(&mut self, id: usize) {
         match self.nodes[id].kind.clone() {
-            FlatKind::Leaf(LeafKind::Stateful) => {
+            FlatKind::Leaf(LeafKind::Stateful | LeafKind::Async) => {
                 if self.nodes[id].status == Running {
                     self.log(id, What::Halted);
                 }
@@ -335,7 +335,7 @@ impl Model {
 
     fn tick_leaf(&mut self, id: usize, leaf: LeafKind) -> NodeStatus {
         match leaf {
-            LeafKind::Stateful => match self.nodes[id].status {
+            LeafKind::Stateful | LeafKind::Async => match self.nodes[id].status {
                 Idle => {
                     let s = self.next(id);
                     self.log(id, What::Start(s));

@@ -408,6 +408,139 @@ fn two_arms_under_one_reactive_fallback_each_wait_for_their_own_halter() {
     );
 }
 
+fn catch(w: &mut World) -> Status {
+    w.log.push("catch".into());
+    Status::Success
+}
+
+#[test]
+fn a_try_catch_halted_while_trying_runs_its_catch_only_once_its_arm_has_stopped() {
+    // Fallback(ReactiveSequence(go, TryCatch[catch_on_halt](arm, catch)), alt).
+    let (mut tree, _) = tree(|b| {
+        b.fallback("root", |f| {
+            f.reactive_sequence("guarded", |r| {
+                r.condition("go", |w: &World| w.go)
+                    .try_catch("tc", true, |t| {
+                        t.stateful("arm", || Arm::new("arm", 3))
+                            .action("catch", catch)
+                    })
+            })
+            .action("alt", alt)
+        })
+    });
+    let mut w = World {
+        go: true,
+        ..World::default()
+    };
+    assert_eq!(tree.tick_once(&mut w), Ok(Status::Running));
+    w.go = false;
+    // The sequence halts the TryCatch, which halts the arm: the catch waits for it.
+    assert_eq!(tree.tick_once(&mut w), Ok(Status::Running));
+    assert!(tree.is_halting());
+    use NodeStatus::{Idle, Running};
+    assert_eq!(
+        tree.statuses(),
+        [Running, Running, Idle, Idle, Idle, Idle, Idle]
+    );
+    assert_eq!(tree.tick_once(&mut w), Ok(Status::Running));
+    assert_eq!(w.log, ["arm start", "arm halt requested", "arm halting"]);
+    // The arm stops; in the same tick the catch runs, once, then the sequence ticks as
+    // usual: `go` fails, and the fallback's alternative runs.
+    assert_eq!(tree.tick_once(&mut w), Ok(Status::Success));
+    assert_eq!(
+        w.log,
+        [
+            "arm start",
+            "arm halt requested",
+            "arm halting",
+            "arm halted",
+            "catch",
+            "alt"
+        ]
+    );
+    assert!(!tree.is_halting());
+    assert!(tree.statuses().iter().all(|s| *s == Idle));
+}
+
+#[test]
+fn after_tree_halt_a_try_catch_runs_its_catch_before_the_root_is_ticked_again() {
+    let (mut tree, _) = tree(|b| {
+        b.try_catch("tc", true, |t| {
+            t.stateful("arm", || Arm::new("arm", 3))
+                .action("catch", catch)
+        })
+    });
+    let mut w = World::default();
+    assert_eq!(tree.tick_once(&mut w), Ok(Status::Running));
+    assert!(!tree.halt(&mut w));
+    assert_eq!(w.log, ["arm start", "arm halt requested"]);
+    assert!(tree.statuses().iter().all(|s| *s == NodeStatus::Idle));
+    // Halted again while the catch waits: the catch still runs once, later.
+    assert!(!tree.halt(&mut w));
+    assert_eq!(tree.tick_once(&mut w), Ok(Status::Running));
+    assert_eq!(w.log.last().unwrap(), "arm halting");
+    // The halt ends with the catch; the same call then ticks the root afresh.
+    assert_eq!(tree.tick_once(&mut w), Ok(Status::Running));
+    assert_eq!(
+        w.log,
+        [
+            "arm start",
+            "arm halt requested",
+            "arm halting",
+            "arm halted",
+            "catch",
+            "arm start"
+        ]
+    );
+    assert_eq!(w.count("catch"), 1);
+}
+
+#[test]
+fn a_catch_run_after_a_halt_is_halted_once_and_its_own_halt_may_take_ticks() {
+    // The catch is an action that runs, and takes 2 ticks to halt.
+    let (mut slow, _) = tree(|b| {
+        b.try_catch("tc", true, |t| {
+            t.stateful("arm", || Arm::new("arm", 2))
+                .stateful("cleanup", || Arm::new("cleanup", 2))
+        })
+    });
+    let mut w = World::default();
+    assert_eq!(slow.tick_once(&mut w), Ok(Status::Running));
+    assert!(!slow.halt(&mut w));
+    assert!(!slow.tick_halt(&mut w));
+    assert_eq!(
+        w.log,
+        [
+            "arm start",
+            "arm halt requested",
+            "arm halted",
+            "cleanup start",
+            "cleanup halt requested"
+        ]
+    );
+    assert!(slow.tick_halt(&mut w));
+    assert_eq!(w.log.last().unwrap(), "cleanup halted");
+    assert_eq!(
+        (w.count("cleanup start"), w.count("cleanup halted")),
+        (1, 1)
+    );
+    assert!(slow.statuses().iter().all(|s| *s == NodeStatus::Idle));
+    // A halt that is done at once runs the catch in the halt itself, as before.
+    let (mut quick, _) = tree(|b| {
+        b.try_catch("tc", true, |t| {
+            t.stateful("arm", || Arm::new("arm", 1))
+                .action("catch", catch)
+        })
+    });
+    let mut w = World::default();
+    assert_eq!(quick.tick_once(&mut w), Ok(Status::Running));
+    assert!(quick.halt(&mut w));
+    assert_eq!(
+        w.log,
+        ["arm start", "arm halt requested", "arm halted", "catch"]
+    );
+}
+
 fn ms(n: u64) -> Duration {
     Duration::from_millis(n)
 }

@@ -61,7 +61,9 @@ pub trait CustomNode<C>: Send {
     fn tick(&mut self, node: &mut NodeCtx<'_, '_, C>) -> NodeStatus;
 
     /// Called when the node is halted while Running, before the engine halts its running
-    /// children. Reset the node's own state here.
+    /// children. Reset the node's own state here. The node's halt is over when this
+    /// returns; a stop that takes ticks belongs in a child action, whose halt then waits
+    /// for whoever halted this node (see [`slow_halt`](crate::tree::slow_halt)).
     fn halt(&mut self, _node: &mut NodeCtx<'_, '_, C>) {}
 }
 

@@ -580,8 +580,10 @@ impl<C> Tree<C> {
     /// afresh. RunOnce and Cooldown keep their memory, SequenceWithMemory its place.
     ///
     /// Returns `true` when the tree is fully halted. An action whose halt takes several
-    /// ticks ([`HaltProgress::Halting`](crate::HaltProgress::Halting)) makes it `false`:
-    /// such halts, and those that were in progress, now wait for the tree. Call
+    /// ticks ([`HaltProgress::Halting`](crate::HaltProgress::Halting), or an async action's
+    /// [`HaltFuture`](crate::HaltFuture) not ready at its first poll, or a TryCatch's catch
+    /// waiting for them) makes it `false`: such halts, and those that were in progress, now
+    /// wait for the tree. Call
     /// [`tick_halt`](Self::tick_halt) until it returns `true` (or keep ticking:
     /// [`tick_once`](Self::tick_once) continues them first, and ticks the root only once
     /// they are done). See [`slow_halt`].
@@ -596,7 +598,8 @@ impl<C> Tree<C> {
     }
 
     /// Continues every halt in progress (one [`on_halting`](crate::StatefulAction::on_halting)
-    /// for each action still halting, whoever waits for it) without ticking anything;
+    /// or poll of its halt future for each action still halting, whoever waits for it, then
+    /// the catch of each TryCatch whose try block has stopped) without ticking the root;
     /// returns `true` when the tree is fully halted. A runner that halts a tree calls it,
     /// a tick period apart, until it does.
     ///
@@ -637,7 +640,8 @@ impl<C> Tree<C> {
         self.out.halts.count == 0
     }
 
-    /// `true` while a stateful action's halt is in progress (see [`slow_halt`]).
+    /// `true` while a halt is in progress: an action whose halt takes ticks, or a TryCatch
+    /// whose catch waits for one (see [`slow_halt`]).
     pub fn is_halting(&self) -> bool {
         self.out.halts.count != 0
     }
@@ -646,6 +650,11 @@ impl<C> Tree<C> {
     #[cold]
     #[inline(never)]
     fn continue_halt(&mut self, ctx: &mut C, waiter: slow_halt::Waiter) -> Result<bool, TickError> {
+        // As a pass does: this call polls every halt future it continues, so earlier wakes
+        // are answered by it.
+        if let Some(w) = &self.wake {
+            w.signal.take();
+        }
         let mut t = self.ticker(ctx);
         let left = t.continue_halts(waiter);
         match t.out.fault.take() {

@@ -13,12 +13,13 @@ use crate::blackboard::Blackboard;
 use crate::blueprint::{Blueprint, Child, FromPortStr, NodeDef, NodeKind, ParallelPolicy, Param};
 use crate::clock::duration_to_nanos;
 use crate::nodes::custom::{CustomNode, NodeCtx};
-use crate::nodes::leaf::{read_input, ActionFuture, Handle, StatefulAction};
+use crate::nodes::leaf::{read_input, ActionFuture, HaltFuture, Handle, StatefulAction};
 use crate::nodes::{control, decorator, leaf};
 use crate::observer::{Observer, StatusChange};
 use crate::{Clock, NodeId, NodeStatus, Status, TickError};
 
 use super::failure::{Note, Outcome};
+use super::slow_halt::Owner;
 
 /// A per-instance object: the state a leaf or custom node keeps in `self`.
 pub(crate) enum Object<C> {
@@ -28,13 +29,51 @@ pub(crate) enum Object<C> {
     /// (`None`: the tree); see [`slow_halt`](super::slow_halt).
     Halting {
         action: alloc::boxed::Box<dyn StatefulAction<C>>,
-        owner: Option<NodeId>,
+        owner: Owner,
     },
     /// The running future of an async action, `None` between runs.
     Async(Option<ActionFuture>),
+    /// An async action whose halt is in progress: the future of its halt, and the node
+    /// that waits for it (`None`: the tree).
+    AsyncHalting {
+        halt: HaltFuture,
+        owner: Owner,
+    },
     /// A custom node's slot while its object is out ticking or halting (it needs the
     /// ticker, which holds the slot); left so only if that code panicked.
     Vacant,
+}
+
+impl<C> Object<C> {
+    /// Whom a halt in progress waits for, if this is one.
+    pub(crate) fn halt_owner(&mut self) -> Option<&mut Owner> {
+        match self {
+            Object::Halting { owner, .. } | Object::AsyncHalting { owner, .. } => Some(owner),
+            _ => None,
+        }
+    }
+
+    /// Whom a halt in progress waits for (`Some(None)`: the tree), if this is one.
+    pub(crate) fn waits_for(&self) -> Option<Option<NodeId>> {
+        match self {
+            Object::Halting { owner, .. } | Object::AsyncHalting { owner, .. } => Some(owner.get()),
+            _ => None,
+        }
+    }
+
+    /// `true` for a halt in progress.
+    pub(crate) fn is_halting(&self) -> bool {
+        self.waits_for().is_some()
+    }
+
+    /// The object once its halt is done.
+    pub(crate) fn halted(self) -> Self {
+        match self {
+            Object::Halting { action, .. } => Object::Stateful(action),
+            Object::AsyncHalting { .. } => Object::Async(None),
+            other => other,
+        }
+    }
 }
 
 /// Everything one pass needs, borrowed from the [`Tree`](crate::Tree) for its duration.
@@ -641,9 +680,9 @@ impl<'t, C> Ticker<'t, C> {
                     contain(self, id, |t| t.request_halt(id));
                 }
             }
-            NodeKind::Async(_) => {
+            NodeKind::Async(action) => {
                 self.current = id;
-                contain(self, id, |t| leaf::async_action::halt(t, id));
+                contain(self, id, |t| leaf::async_action::halt(t, id, &**action));
             }
             NodeKind::Custom(_) => {
                 let obj = self.bp.slot(id);

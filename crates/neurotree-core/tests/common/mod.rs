@@ -10,11 +10,18 @@
 // Each test file uses its own part of this module.
 #![allow(dead_code)]
 
-use std::cell::{Cell, RefCell};
+use std::cell::Cell;
 use std::fmt;
-use std::sync::Arc;
+use std::future::Future;
+use std::pin::Pin;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::{Arc, Mutex};
+use std::task::{Context, Poll};
 
-use neurotree_core::{Action, Blueprint, Builder, HaltProgress, Handle, StatefulAction, Status};
+use neurotree_core::{
+    Action, ActionFuture, AsyncAction, Blueprint, Builder, HaltFuture, HaltProgress, Handle,
+    StatefulAction, Status,
+};
 use proptest::collection::vec;
 use proptest::prelude::*;
 
@@ -51,6 +58,10 @@ pub enum LeafKind {
     Sync,
     /// A closure condition (its script holds Success and Failure only).
     Cond,
+    /// An `AsyncAction`: its start plays the first outcome, each later poll of the run's
+    /// future the next one; its halt takes as many polls of a halt future as a
+    /// stateful leaf's takes `on_halting` calls.
+    Async,
 }
 
 /// A tree description.
@@ -152,14 +163,34 @@ impl fmt::Display for Event {
 ///
 /// Interior mutability lets closure conditions (which see `&Ctx`) play their scripts too.
 pub struct Ctx {
-    scripts: Vec<Vec<Status>>,
-    calls: Vec<Cell<usize>>,
-    events: RefCell<Vec<Event>>,
+    /// What the leaves play and log, shared with the futures of async leaves.
+    shared: Arc<Shared>,
     /// Leaf `i`'s halt takes `halt_ticks[i]` `on_halting` calls after the request (0: it
     /// halts at once, through the default `on_halt_requested`).
     halt_ticks: Vec<usize>,
     /// `on_halting` calls left in each leaf's halt in progress.
     halting_left: Vec<Cell<usize>>,
+}
+
+/// The scripts, the call counts and the event log: what an async leaf's future, which
+/// outlives the tick, needs of the context.
+pub struct Shared {
+    scripts: Vec<Vec<Status>>,
+    calls: Vec<AtomicUsize>,
+    events: Mutex<Vec<Event>>,
+}
+
+impl Shared {
+    /// The next outcome of leaf `leaf`.
+    fn next(&self, leaf: usize) -> Status {
+        let k = self.calls[leaf].fetch_add(1, Ordering::Relaxed);
+        let script = &self.scripts[leaf];
+        script[k.min(script.len() - 1)]
+    }
+
+    fn log(&self, leaf: usize, what: What) {
+        self.events.lock().unwrap().push(Event { leaf, what });
+    }
 }
 
 impl Ctx {
@@ -168,9 +199,11 @@ impl Ctx {
         Self {
             halt_ticks: vec![0; scripts.len()],
             halting_left: scripts.iter().map(|_| Cell::new(0)).collect(),
-            calls: scripts.iter().map(|_| Cell::new(0)).collect(),
-            scripts,
-            events: RefCell::new(Vec::new()),
+            shared: Arc::new(Shared {
+                calls: scripts.iter().map(|_| AtomicUsize::new(0)).collect(),
+                scripts,
+                events: Mutex::new(Vec::new()),
+            }),
         }
     }
 
@@ -185,19 +218,16 @@ impl Ctx {
 
     /// The next outcome of leaf `leaf`.
     fn next(&self, leaf: usize) -> Status {
-        let k = self.calls[leaf].get();
-        self.calls[leaf].set(k + 1);
-        let script = &self.scripts[leaf];
-        script[k.min(script.len() - 1)]
+        self.shared.next(leaf)
     }
 
     fn log(&self, leaf: usize, what: What) {
-        self.events.borrow_mut().push(Event { leaf, what });
+        self.shared.log(leaf, what);
     }
 
     /// The events logged since the last call.
     pub fn take_events(&self) -> Vec<Event> {
-        std::mem::take(&mut *self.events.borrow_mut())
+        std::mem::take(&mut *self.shared.events.lock().unwrap())
     }
 
     fn cond(&self, leaf: usize) -> bool {
@@ -261,6 +291,95 @@ impl Action<Ctx> for SyncLeaf {
     }
 }
 
+struct AsyncLeaf(usize);
+
+/// The run of an async leaf whose start played Running: each later poll plays the next
+/// outcome.
+struct AsyncRun {
+    leaf: usize,
+    shared: Arc<Shared>,
+    /// The start's poll, which plays nothing: the start already played Running.
+    started: bool,
+}
+
+impl Future for AsyncRun {
+    type Output = Status;
+    fn poll(mut self: Pin<&mut Self>, _cx: &mut Context<'_>) -> Poll<Status> {
+        if !self.started {
+            self.started = true;
+            return Poll::Pending;
+        }
+        let s = self.shared.next(self.leaf);
+        self.shared.log(self.leaf, What::Running(s));
+        match s {
+            Status::Running => Poll::Pending,
+            done => Poll::Ready(done),
+        }
+    }
+}
+
+/// The halt of an async leaf: ready on its `left`-th poll after the request's.
+struct AsyncHalt {
+    leaf: usize,
+    shared: Arc<Shared>,
+    /// The request's poll, which plays nothing, as `on_halt_requested` answers Halting.
+    requested: bool,
+    left: usize,
+    /// The run, dropped with the halt.
+    _run: ActionFuture,
+}
+
+impl Future for AsyncHalt {
+    type Output = ();
+    fn poll(mut self: Pin<&mut Self>, _cx: &mut Context<'_>) -> Poll<()> {
+        if !self.requested {
+            self.requested = true;
+            return Poll::Pending;
+        }
+        self.left -= 1;
+        if self.left == 0 {
+            self.shared.log(self.leaf, What::Halted);
+            Poll::Ready(())
+        } else {
+            self.shared.log(self.leaf, What::StillHalting);
+            Poll::Pending
+        }
+    }
+}
+
+impl AsyncAction<Ctx> for AsyncLeaf {
+    fn start(&self, h: &mut Handle<'_, Ctx>) -> ActionFuture {
+        let ctx = h.ctx();
+        let s = ctx.next(self.0);
+        ctx.log(self.0, What::Start(s));
+        if s != Status::Running {
+            return Box::pin(std::future::ready(s));
+        }
+        Box::pin(AsyncRun {
+            leaf: self.0,
+            shared: Arc::clone(&ctx.shared),
+            started: false,
+        })
+    }
+
+    fn on_halt_requested(&self, run: ActionFuture, h: &mut Handle<'_, Ctx>) -> Option<HaltFuture> {
+        let ctx = h.ctx();
+        let k = ctx.halt_ticks[self.0];
+        if k == 0 {
+            ctx.log(self.0, What::Halted);
+            return None;
+        }
+        ctx.log(self.0, What::HaltRequested);
+        Some(Box::pin(AsyncHalt {
+            leaf: self.0,
+            shared: Arc::clone(&ctx.shared),
+            requested: false,
+            left: k,
+            _run: run,
+        }))
+    }
+}
+
 /// The engine blueprint of a description.
 pub fn blueprint(spec: &Spec) -> Arc<Blueprint<Ctx>> {
     let mut next = 0;
@@ -279,6 +398,7 @@ fn add(b: Builder<Ctx>, spec: &Spec, next: &mut usize) -> Builder<Ctx> {
         Spec::Leaf(LeafKind::Stateful, _) => return b.stateful(&name, move || Scripted(id)),
         Spec::Leaf(LeafKind::Sync, _) => return b.action_node(&name, SyncLeaf(id)),
         Spec::Leaf(LeafKind::Cond, _) => return b.condition(&name, move |c: &Ctx| c.cond(id)),
+        Spec::Leaf(LeafKind::Async, _) => return b.async_action_node(&name, AsyncLeaf(id)),
         Spec::Node(kind, children) => (kind, children),
     };
     let name = format!("N{id}");
@@ -335,12 +455,23 @@ fn instant() -> impl Strategy<Value = Status> {
     prop_oneof![Just(Status::Success), Just(Status::Failure)]
 }
 
-fn leaf() -> impl Strategy<Value = Spec> {
+/// A leaf; with `async_leaves`, half of the leaves that run are async actions.
+fn leaf(async_leaves: bool) -> BoxedStrategy<Spec> {
+    if !async_leaves {
+        return prop_oneof![
+            4 => vec(outcome(), 1..5).prop_map(|s| Spec::Leaf(LeafKind::Stateful, s)),
+            1 => vec(instant(), 1..4).prop_map(|s| Spec::Leaf(LeafKind::Sync, s)),
+            1 => vec(instant(), 1..4).prop_map(|s| Spec::Leaf(LeafKind::Cond, s)),
+        ]
+        .boxed();
+    }
     prop_oneof![
-        4 => vec(outcome(), 1..5).prop_map(|s| Spec::Leaf(LeafKind::Stateful, s)),
+        2 => vec(outcome(), 1..5).prop_map(|s| Spec::Leaf(LeafKind::Stateful, s)),
+        2 => vec(outcome(), 1..5).prop_map(|s| Spec::Leaf(LeafKind::Async, s)),
         1 => vec(instant(), 1..4).prop_map(|s| Spec::Leaf(LeafKind::Sync, s)),
         1 => vec(instant(), 1..4).prop_map(|s| Spec::Leaf(LeafKind::Cond, s)),
     ]
+    .boxed()
 }
 
 fn ordered_kind() -> impl Strategy<Value = Kind> {
@@ -373,7 +504,12 @@ fn decorator_kind(forever: bool) -> impl Strategy<Value = Kind> {
 /// With `forever`, Repeat and RetryUntilSuccessful may get -1 (forever), which can make
 /// `tick_once` loop without end; without it, every `tick_once` terminates.
 pub fn tree(forever: bool) -> impl Strategy<Value = Spec> {
-    leaf().prop_recursive(3, 160, 3, move |inner| {
+    tree_with(forever, false)
+}
+
+/// As [`tree`], with async actions among the leaves when `async_leaves` is set.
+pub fn tree_with(forever: bool, async_leaves: bool) -> impl Strategy<Value = Spec> {
+    leaf(async_leaves).prop_recursive(3, 160, 3, move |inner| {
         let kids = vec(inner.clone(), 1..=5);
         prop_oneof![
             6 => (ordered_kind(), kids.clone()).prop_map(|(k, c)| Spec::Node(k, c)),

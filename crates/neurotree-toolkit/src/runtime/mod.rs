@@ -13,7 +13,10 @@
 //!   wakes; it is for trees whose actions await timers, tasks and I/O on tokio.
 //!
 //! Both stop when the root completes. Stopping them early halts the tree, so every running
-//! action ends with its halt.
+//! action ends with its halt; a halt that takes ticks
+//! ([`slow_halt`](neurotree_core::tree::slow_halt)) is ticked to its end, a period apart,
+//! before they return. The one exception is a tokio run that is dropped: a drop cannot
+//! wait, so the halt goes on in the tree's next tick calls, or in `tokio::halt`.
 
 mod fixed_rate;
 #[cfg(feature = "tokio")]

@@ -5,6 +5,7 @@
 //!   actions' timers all move together, deterministically.
 //! - [`tick_until_done`]: ticks every period, and at once when an async action's future
 //!   wakes (its timer fired, its task finished), until the root completes.
+//! - [`halt`]: halts a tree and ticks a halt that takes ticks to its end, on tokio's time.
 //! - [`spawn_abort_on_drop`]: runs work as a tokio task owned by an async action's future,
 //!   so that halting the node aborts the task.
 //!
@@ -48,7 +49,7 @@ use std::future::Future;
 use std::time::Duration;
 
 use ::tokio::time::Instant;
-use neurotree_core::{Clock, Status, TickError, Tree};
+use neurotree_core::{Clock, Status, TickError, Tree, WakeSignal};
 
 pub use tokio_util::task::AbortOnDropHandle;
 
@@ -104,14 +105,23 @@ pub struct RunSummary {
 
 /// Ticks `tree` with [`Tree::tick_once`] until its root completes: every `period`, or
 /// sooner when the future of one of its async actions wakes (see
-/// [`WakeSignal`](crate::WakeSignal)). The next period is counted from each tick.
+/// [`WakeSignal`]). The next period is counted from each tick.
 ///
 /// A tick error ends the run with that error (the tree has halted itself). A request from
 /// the tree's [`HaltHandle`](neurotree_core::HaltHandle) wakes the run at once (it sets the
 /// wake signal), and the tick it makes serves the request: the run returns
-/// `Err(TickError::HaltRequested)` without waiting for its period. Dropping the
-/// returned future before it completes (a `select!`, a timeout) halts the tree, so its
-/// running actions are halted and their futures dropped.
+/// `Err(TickError::HaltRequested)` without waiting for its period.
+///
+/// A halt that takes ticks ([`slow_halt`](neurotree_core::tree::slow_halt)) is ticked to
+/// its end before the run returns its error, with [`Tree::tick_halt`] every `period` or at
+/// once on a wake, as [`halt`] does; the run then returns with [`Tree::is_halting`] false.
+///
+/// Dropping the returned future before it completes (a `select!`, a timeout) halts the
+/// tree, so its running actions are halted and their futures dropped. A drop cannot wait:
+/// a halt that takes ticks is left in progress there, and the tree's next tick calls
+/// continue it before they tick the root (await [`halt`] to finish it at once). To stop a
+/// run and have its halt finished by the run itself, request the halt through the tree's
+/// `HaltHandle` instead of dropping the run.
 pub async fn tick_until_done<C>(
     tree: &mut Tree<C>,
     ctx: &mut C,
@@ -136,6 +146,8 @@ pub async fn tick_until_done<C>(
         let status = match ticked {
             Ok(status) => status,
             Err(e) => {
+                // The tree halted itself; its halt may take ticks.
+                finish_halt(run.tree, run.ctx, &signal, period).await;
                 run.done = true;
                 return Err(e);
             }
@@ -150,6 +162,39 @@ pub async fn tick_until_done<C>(
             .await
             .is_ok();
     }
+}
+
+/// Halts `tree` as [`Tree::halt`] does, then ticks a halt that takes ticks to its end with
+/// [`Tree::tick_halt`]: every `period`, or at once when the future of an async action's
+/// halt wakes. Returns the number of `tick_halt` calls it made (0 when the tree halted at
+/// once).
+///
+/// For a tree whose run was dropped while an action was halting, or any tree to stop on
+/// tokio's time. Dropping this future leaves the rest of the halt to the tree's next tick
+/// calls, as a dropped run does.
+pub async fn halt<C>(tree: &mut Tree<C>, ctx: &mut C, period: Duration) -> u64 {
+    let signal = tree.wake_signal().clone();
+    tree.halt(ctx);
+    finish_halt(tree, ctx, &signal, period).await
+}
+
+/// Ticks a halt in progress to its end, a period apart or on a wake; returns the number of
+/// `tick_halt` calls.
+async fn finish_halt<C>(
+    tree: &mut Tree<C>,
+    ctx: &mut C,
+    signal: &WakeSignal,
+    period: Duration,
+) -> u64 {
+    let mut calls = 0;
+    while tree.is_halting() {
+        let deadline = Instant::now() + period;
+        // A wake before the deadline only makes the next call early.
+        let _ = ::tokio::time::timeout_at(deadline, signal.woken()).await;
+        tree.tick_halt(ctx);
+        calls += 1;
+    }
+    calls
 }
 
 /// Halts the tree when a run is dropped before it finished.
@@ -187,7 +232,150 @@ where
 #[cfg(test)]
 mod tests {
     use super::*;
-    use neurotree_core::Blueprint;
+    use neurotree_core::{Blueprint, HaltProgress, Handle, NodeStatus, StatefulAction};
+
+    /// What an [`Arm`] did, and when on the tree's clock.
+    type Log = Vec<(&'static str, Duration)>;
+
+    /// Runs until halted; its halt takes 3 ticks: the request and two `on_halting`.
+    struct Arm {
+        left: u32,
+    }
+
+    impl StatefulAction<Log> for Arm {
+        fn on_start(&mut self, h: &mut Handle<'_, Log>) -> Status {
+            let now = h.now();
+            h.ctx_mut().push(("start", now));
+            Status::Running
+        }
+        fn on_running(&mut self, h: &mut Handle<'_, Log>) -> Status {
+            let now = h.now();
+            h.ctx_mut().push(("running", now));
+            Status::Running
+        }
+        fn on_halt_requested(&mut self, h: &mut Handle<'_, Log>) -> HaltProgress {
+            let now = h.now();
+            h.ctx_mut().push(("halt requested", now));
+            self.left = 2;
+            HaltProgress::Halting
+        }
+        fn on_halting(&mut self, h: &mut Handle<'_, Log>) -> HaltProgress {
+            let now = h.now();
+            self.left -= 1;
+            if self.left == 0 {
+                h.ctx_mut().push(("halted", now));
+                HaltProgress::Done
+            } else {
+                h.ctx_mut().push(("halting", now));
+                HaltProgress::Halting
+            }
+        }
+    }
+
+    fn arm_tree() -> Tree<Log> {
+        let blueprint = Blueprint::<Log>::builder()
+            .stateful("arm", || Arm { left: 0 })
+            .build_shared()
+            .unwrap();
+        Tree::with_clock(blueprint, TokioClock::new())
+    }
+
+    fn ms(n: u64) -> Duration {
+        Duration::from_millis(n)
+    }
+
+    #[tokio::test(start_paused = true)]
+    async fn a_halt_request_is_ticked_to_its_end_before_the_run_returns() {
+        let mut tree = arm_tree();
+        let handle = tree.halt_handle();
+        let requester = ::tokio::spawn(async move {
+            ::tokio::time::sleep(ms(250)).await;
+            handle.request();
+        });
+        let mut log = Log::new();
+        let result = tick_until_done(&mut tree, &mut log, ms(100)).await;
+        assert_eq!(result, Err(TickError::HaltRequested));
+        // Ticks at 0, 100 and 200 ms; the request is served at 250 ms, and the halt is
+        // continued a period apart until it is done.
+        assert_eq!(
+            log,
+            [
+                ("start", ms(0)),
+                ("running", ms(100)),
+                ("running", ms(200)),
+                ("halt requested", ms(250)),
+                ("halting", ms(350)),
+                ("halted", ms(450)),
+            ]
+        );
+        assert_eq!(tree.now(), ms(450));
+        assert!(!tree.is_halting());
+        assert!(tree.statuses().iter().all(|s| *s == NodeStatus::Idle));
+        assert!(tree.halt(&mut log), "nothing is left to halt");
+        assert_eq!(log.len(), 6);
+        requester.await.unwrap();
+    }
+
+    #[tokio::test(start_paused = true)]
+    async fn a_dropped_run_leaves_the_halt_in_progress_and_halt_finishes_it() {
+        let mut tree = arm_tree();
+        let mut log = Log::new();
+        let run = tick_until_done(&mut tree, &mut log, ms(100));
+        assert!(::tokio::time::timeout(ms(150), run).await.is_err());
+        // Dropped at 150 ms: the tree was halted, and the arm's halt is in progress.
+        assert!(tree.is_halting());
+        assert_eq!(log.last(), Some(&("halt requested", ms(150))));
+        assert_eq!(halt(&mut tree, &mut log, ms(100)).await, 2);
+        assert_eq!(
+            log,
+            [
+                ("start", ms(0)),
+                ("running", ms(100)),
+                ("halt requested", ms(150)),
+                ("halting", ms(250)),
+                ("halted", ms(350)),
+            ]
+        );
+        assert!(!tree.is_halting());
+        // Halting a halted tree is done at once, and calls nothing.
+        assert_eq!(halt(&mut tree, &mut log, ms(100)).await, 0);
+        assert!(tree.halt(&mut log));
+        assert_eq!(log.len(), 5);
+        assert_eq!(tree.now(), ms(350));
+    }
+
+    #[tokio::test(start_paused = true)]
+    async fn a_run_after_a_dropped_one_finishes_the_halt_before_the_root_runs_again() {
+        let mut tree = arm_tree();
+        let mut log = Log::new();
+        let run = tick_until_done(&mut tree, &mut log, ms(100));
+        assert!(::tokio::time::timeout(ms(50), run).await.is_err());
+        let handle = tree.halt_handle();
+        // Requested at 300 ms.
+        let requester = ::tokio::spawn(async move {
+            ::tokio::time::sleep(ms(250)).await;
+            handle.request();
+        });
+        // The next run's first two ticks (50 and 150 ms) continue the halt; the third
+        // (250 ms) starts the arm again.
+        let result = tick_until_done(&mut tree, &mut log, ms(100)).await;
+        assert_eq!(result, Err(TickError::HaltRequested));
+        assert_eq!(
+            log,
+            [
+                ("start", ms(0)),
+                ("halt requested", ms(50)),
+                ("halting", ms(50)),
+                ("halted", ms(150)),
+                ("start", ms(150)),
+                ("running", ms(250)),
+                ("halt requested", ms(300)),
+                ("halting", ms(400)),
+                ("halted", ms(500)),
+            ]
+        );
+        requester.await.unwrap();
+    }
 
     #[tokio::test(start_paused = true)]
     async fn a_halt_request_wakes_the_run_before_its_period_is_over() {

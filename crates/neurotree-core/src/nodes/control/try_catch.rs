@@ -6,6 +6,21 @@
 //! On a failure in the try block, every child is halted and reset, then the catch child is
 //! ticked in the same tick; while it runs, the node is Running. With `catch_on_halt`, halting
 //! the node while it is trying also runs the catch child once (halting it if it runs).
+//!
+//! The catch and the try block conflict (the catch cleans up after the try block), so the
+//! catch never runs while the try block still stops. When halting the try block leaves a
+//! halt in progress below the node (an action whose halt takes ticks, see
+//! [`slow_halt`](crate::tree::slow_halt)), the catch does not run within the halt: the node
+//! is stored Idle, and its catch waits, as a halting action does, for whoever halted the
+//! node (a ReactiveSequence, ReactiveFallback, WhileDoElse, Parallel or Timeout, else the
+//! tree). The waiter returns Running and ticks no child (the tree ticks no root) until the
+//! halts below the node are done; at its first tick after that (for the tree: its next tick
+//! call, or [`Tree::tick_halt`](crate::Tree::tick_halt)) the catch is ticked once and halted
+//! if it runs, that halt waiting for the same waiter if it takes ticks, its subtree left all
+//! Idle, and the waiter goes on as usual in the same tick. A TryCatch whose catch waits is halting:
+//! [`Tree::is_halting`](crate::Tree::is_halting) is `true` and [`Tree::halt`](crate::Tree::halt)
+//! returns `false`; halting it again changes nothing, and a custom control that ticks it
+//! meanwhile gets Failure.
 
 use crate::blueprint::NodeDef;
 use crate::tree::Ticker;
@@ -30,6 +45,26 @@ pub const TRY_CATCH: NodeDecl = NodeDecl {
 };
 
 const IN_CATCH: u64 = 1 << 63;
+/// The node was halted while trying, with `catch_on_halt`, and its catch waits for the
+/// halts below it; the low bits say whom the catch waits for.
+const CATCH_PENDING: u64 = 1 << 62;
+/// With [`CATCH_PENDING`]: the catch waits for the node whose id is in the low 32 bits
+/// (else for the tree).
+const FOR_NODE: u64 = 1 << 32;
+
+/// The state slot of a TryCatch whose catch waits, for `owner`.
+pub(crate) fn pending(owner: Option<NodeId>) -> u64 {
+    CATCH_PENDING
+        | match owner {
+            Some(id) => FOR_NODE | u64::from(id.0),
+            None => 0,
+        }
+}
+
+/// Whom a TryCatch's catch waits for, if it waits (`Some(None)`: the tree).
+pub(crate) fn pending_owner(slot: u64) -> Option<Option<NodeId>> {
+    (slot & CATCH_PENDING != 0).then(|| (slot & FOR_NODE != 0).then_some(NodeId(slot as u32)))
+}
 
 fn unpack(slot: u64) -> (u32, u32, bool) {
     let (cursor, skipped) = super::unpack(slot & !IN_CATCH);
@@ -43,6 +78,11 @@ fn pack(cursor: u32, skipped: u32, in_catch: bool) -> u64 {
 #[inline(never)]
 pub(crate) fn tick<C>(t: &mut Ticker<'_, C>, id: NodeId, def: &NodeDef<C>) -> NodeStatus {
     let slot = t.bp.slot(id);
+    if t.aux[slot] & CATCH_PENDING != 0 {
+        // Only a custom control ticks a node whose halt is in progress; it fails, as a
+        // halting action does, so that it is not taken for Running.
+        return NodeStatus::Failure;
+    }
     let (mut cursor, mut skipped, mut in_catch) = unpack(t.aux[slot]);
     if !t.status(id).is_active() {
         skipped = 0;
@@ -91,12 +131,26 @@ pub(crate) fn tick<C>(t: &mut Ticker<'_, C>, id: NodeId, def: &NodeDef<C>) -> No
 
 pub(crate) fn halt<C>(t: &mut Ticker<'_, C>, id: NodeId, def: &NodeDef<C>, catch_on_halt: bool) {
     let slot = t.bp.slot(id);
+    if t.aux[slot] & CATCH_PENDING != 0 {
+        // Halted again while its catch waits (by `Tree::halt`'s sweep): the catch still
+        // runs once the halts below are done.
+        t.reset_children(id);
+        return;
+    }
     let (_, _, in_catch) = unpack(t.aux[slot]);
     if catch_on_halt && !in_catch && t.status(id).is_active() {
         let catch = t.child(def, def.child_count - 1);
         for i in 0..def.child_count - 1 {
             let child = t.child(def, i);
             t.halt_child(child);
+        }
+        if t.out.halts.count != 0 && t.halting_below(id) {
+            // The catch conflicts with the try block: it runs once the try block has
+            // stopped, as the end of this halt (see `slow_halt`).
+            t.aux[slot] = pending(t.out.halts.halter);
+            t.started_halting();
+            t.reset_children(id);
+            return;
         }
         if t.tick(catch) == NodeStatus::Running {
             t.halt_child(catch);

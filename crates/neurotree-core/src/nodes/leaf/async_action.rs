@@ -6,7 +6,10 @@
 //!
 //! - Pending → Running.
 //! - Ready(status) → that status, and the future is dropped.
-//! - Halted while Running: the future is dropped, exactly once, and never polled again.
+//! - Halted while Running: the future is dropped, exactly once, and never polled again;
+//!   or, for a halt that takes ticks, handed to
+//!   [`on_halt_requested`](AsyncAction::on_halt_requested), whose halt future is polled
+//!   until it is ready (see [`slow_halt`](crate::tree::slow_halt)).
 //!
 //! In short: the future is made on the tick from Idle, polled once per tick (Pending →
 //! Running), dropped on completion or halt.
@@ -65,6 +68,10 @@ use crate::{NodeId, NodeStatus, Status};
 /// The future of one run of an async action.
 pub type ActionFuture = Pin<Box<dyn Future<Output = Status> + Send + 'static>>;
 
+/// The future of an async action's halt that takes ticks (see
+/// [`AsyncAction::on_halt_requested`]): the halt is done when it is ready.
+pub type HaltFuture = Pin<Box<dyn Future<Output = ()> + Send + 'static>>;
+
 /// An action whose runs are futures; one object serves every instance.
 ///
 /// A closure does the same through [`Builder::async_action`](crate::Builder::async_action);
@@ -92,6 +99,56 @@ pub trait AsyncAction<C>: Send + Sync {
     /// does the work. Its output is the node's Success or Failure (Running is reported as
     /// a [`TickError`](crate::TickError)).
     fn start(&self, h: &mut Handle<'_, C>) -> ActionFuture;
+
+    /// Called when the engine halts the node while its run is pending, with the run's
+    /// future. The default drops it and answers `None`: the halt is over at once.
+    ///
+    /// An action whose halt takes time (a server that must acknowledge a cancel, a run
+    /// that must reach a safe point) returns the future of its halt, which may own the
+    /// run's future and go on polling it: it is polled at once, and while it is Pending
+    /// the node is stored Idle, its parent does not start a conflicting branch, and it is
+    /// polled once per tick of whoever waits for the halt, as a
+    /// [`StatefulAction`](super::StatefulAction)'s `on_halting` is called, until it is
+    /// ready (see [`slow_halt`](crate::tree::slow_halt)). Its wakes wake the tree as the
+    /// run's do. Boxing it is the one allocation, and only actions that halt so pay it.
+    ///
+    /// ```
+    /// use std::sync::atomic::{AtomicBool, Ordering};
+    /// use std::sync::Arc;
+    /// use neurotree_core::{ActionFuture, AsyncAction, Blueprint, HaltFuture, Handle, ManualClock, Status, Tree};
+    ///
+    /// /// Runs until told to stop, then needs one more poll to stop.
+    /// struct Drive { stop: Arc<AtomicBool> }
+    /// impl AsyncAction<()> for Drive {
+    ///     fn start(&self, _h: &mut Handle<'_, ()>) -> ActionFuture {
+    ///         let stop = Arc::clone(&self.stop);
+    ///         let mut stopping = false;
+    ///         Box::pin(core::future::poll_fn(move |_| {
+    ///             if stopping { return core::task::Poll::Ready(Status::Failure); }
+    ///             stopping = stop.load(Ordering::Relaxed);
+    ///             core::task::Poll::Pending
+    ///         }))
+    ///     }
+    ///     fn on_halt_requested(&self, mut run: ActionFuture, _h: &mut Handle<'_, ()>) -> Option<HaltFuture> {
+    ///         self.stop.store(true, Ordering::Relaxed);
+    ///         // The halt is done when the run has stopped.
+    ///         Some(Box::pin(async move { let _ = run.as_mut().await; }))
+    ///     }
+    /// }
+    /// let stop = Arc::new(AtomicBool::new(false));
+    /// let bp = Blueprint::<()>::builder()
+    ///     .async_action_node("drive", Drive { stop: Arc::clone(&stop) })
+    ///     .build_shared()
+    ///     .unwrap();
+    /// let mut tree = Tree::with_clock(bp, ManualClock::new());
+    /// assert_eq!(tree.tick_once(&mut ()), Ok(Status::Running));
+    /// assert!(!tree.halt(&mut ()), "the run sees the stop on the halt's first poll");
+    /// assert!(tree.tick_halt(&mut ()), "and stops on the next");
+    /// ```
+    fn on_halt_requested(&self, run: ActionFuture, _h: &mut Handle<'_, C>) -> Option<HaltFuture> {
+        drop(run);
+        None
+    }
 }
 
 /// A closure that starts a future, as an [`AsyncAction`].
@@ -143,20 +200,60 @@ pub(crate) fn tick<C>(
     }
 }
 
-/// Halts an async action that is Running: drops its future.
-pub(crate) fn halt<C>(t: &mut Ticker<'_, C>, id: NodeId) {
-    if t.status(id) == NodeStatus::Running {
-        if let (Some(Object::Async(run)), _) = t.split(id) {
-            *run = None;
-        }
+/// Halts an async action that is Running: hands its future to `on_halt_requested`, and
+/// keeps the future of a halt that is not ready at its first poll (see
+/// [`slow_halt`](crate::tree::slow_halt)).
+pub(crate) fn halt<C>(t: &mut Ticker<'_, C>, id: NodeId, action: &dyn AsyncAction<C>) {
+    if t.status(id) != NodeStatus::Running {
+        return;
+    }
+    let halter = t.out.halts.halter;
+    let waker = t.waker;
+    let (Some(object), mut h) = t.split(id) else {
+        return;
+    };
+    let Object::Async(run) = object else {
+        return;
+    };
+    let Some(run) = run.take() else {
+        return;
+    };
+    let (Some(mut halt), Some(waker)) = (action.on_halt_requested(run, &mut h), waker) else {
+        return;
+    };
+    if halt
+        .as_mut()
+        .poll(&mut Context::from_waker(waker))
+        .is_ready()
+    {
+        return;
+    }
+    *object = Object::AsyncHalting {
+        halt,
+        owner: crate::tree::slow_halt::Owner::of(halter),
+    };
+    t.started_halting();
+}
+
+/// Polls the future of an async action's halt in progress once: `true` when it is done.
+pub(crate) fn continue_halt<C>(t: &mut Ticker<'_, C>, id: NodeId) -> bool {
+    let waker = t.waker;
+    match (t.split(id), waker) {
+        ((Some(Object::AsyncHalting { halt, .. }), _), Some(waker)) => halt
+            .as_mut()
+            .poll(&mut Context::from_waker(waker))
+            .is_ready(),
+        _ => true,
     }
 }
 
 #[cfg(test)]
 mod tests {
+    use super::{ActionFuture, AsyncAction, Handle};
     use crate::observer::Observer;
     use crate::testing::*;
     use crate::{NodeStatus, Port, TickError};
+    use alloc::boxed::Box;
     use core::future::Future;
     use core::pin::Pin;
     use core::sync::atomic::{AtomicU32, Ordering::SeqCst};
@@ -426,6 +523,165 @@ mod tests {
         assert_eq!(tick(&mut tree), Ok(Status::Running));
         drop(tree);
         assert_eq!(probe.counts(), (1, 1, 1));
+    }
+
+    /// Polls of halt futures, and the halts requested.
+    #[derive(Default)]
+    struct Halts {
+        requested: AtomicU32,
+        polls: AtomicU32,
+    }
+
+    /// An action whose runs wait forever and whose halt is ready on its `halt_polls`-th
+    /// poll (0: the default halt, at once). The halt owns the run until it is done.
+    struct Braking {
+        probe: Arc<Probe>,
+        halts: Arc<Halts>,
+        halt_polls: u32,
+    }
+
+    impl<C> AsyncAction<C> for Braking {
+        fn start(&self, _h: &mut Handle<'_, C>) -> ActionFuture {
+            self.probe.starts.fetch_add(1, SeqCst);
+            Box::pin(Run {
+                probe: Arc::clone(&self.probe),
+                steps: vec![Wait],
+                at: 0,
+            })
+        }
+        fn on_halt_requested(
+            &self,
+            run: ActionFuture,
+            _h: &mut Handle<'_, C>,
+        ) -> Option<super::HaltFuture> {
+            self.halts.requested.fetch_add(1, SeqCst);
+            if self.halt_polls == 0 {
+                return None;
+            }
+            let halts = Arc::clone(&self.halts);
+            let last = self.halt_polls;
+            let mut polls = 0;
+            Some(Box::pin(core::future::poll_fn(move |_| {
+                let _owned = &run;
+                halts.polls.fetch_add(1, SeqCst);
+                polls += 1;
+                if polls == last {
+                    Poll::Ready(())
+                } else {
+                    Poll::Pending
+                }
+            })))
+        }
+    }
+
+    fn braking<C: 'static>(
+        b: Builder<C>,
+        probe: &Arc<Probe>,
+        halts: &Arc<Halts>,
+        halt_polls: u32,
+    ) -> Builder<C> {
+        b.async_action_node(
+            "braking",
+            Braking {
+                probe: Arc::clone(probe),
+                halts: Arc::clone(halts),
+                halt_polls,
+            },
+        )
+    }
+
+    #[test]
+    fn a_halt_future_keeps_a_reactive_parent_waiting_until_it_is_ready() {
+        let probe: Arc<Probe> = Arc::default();
+        let halts: Arc<Halts> = Arc::default();
+        let alts = Arc::new(AtomicU32::new(0));
+        let seen = Arc::clone(&alts);
+        let bp = Builder::<bool>::new()
+            .fallback("root", |f| {
+                f.reactive_sequence("guarded", |s| {
+                    braking(s.condition("go", |g: &bool| *g), &probe, &halts, 3)
+                })
+                .action("alt", move |_| {
+                    seen.fetch_add(1, SeqCst);
+                    Status::Success
+                })
+            })
+            .build_shared()
+            .unwrap();
+        let mut tree = Tree::with_clock(bp, ManualClock::new());
+        let mut go = true;
+        let counts = || {
+            (
+                halts.requested.load(SeqCst),
+                halts.polls.load(SeqCst),
+                probe.drops.load(SeqCst),
+                alts.load(SeqCst),
+            )
+        };
+        assert_eq!(tree.tick_once(&mut go), Ok(Status::Running));
+        go = false;
+        // Requested and polled once: Pending, so the sequence waits, Running.
+        assert_eq!(tree.tick_once(&mut go), Ok(Status::Running));
+        assert_eq!(counts(), (1, 1, 0, 0));
+        assert!(tree.is_halting());
+        assert_eq!(tree.status(NodeId(3)), NodeStatus::Idle);
+        assert_eq!(tree.tick_once(&mut go), Ok(Status::Running));
+        assert_eq!(counts(), (1, 2, 0, 0));
+        // Ready on the third poll: the run is dropped with it, and in the same tick the
+        // sequence fails and the alternative runs.
+        assert_eq!(tree.tick_once(&mut go), Ok(Status::Success));
+        assert_eq!(counts(), (1, 3, 1, 1));
+        assert!(!tree.is_halting());
+        assert!(tree.statuses().iter().all(|s| *s == NodeStatus::Idle));
+        // The run was polled once, on the first tick, and never after the halt.
+        assert_eq!(probe.counts(), (1, 1, 1));
+    }
+
+    #[test]
+    fn tree_halt_waits_for_a_halt_future_and_tick_halt_polls_it_to_its_end() {
+        let probe: Arc<Probe> = Arc::default();
+        let halts: Arc<Halts> = Arc::default();
+        let (mut tree, _) = build(|b| braking(b, &probe, &halts, 3));
+        assert_eq!(tick(&mut tree), Ok(Status::Running));
+        assert!(!tree.halt(&mut ()));
+        assert!(!tree.tick_halt(&mut ()));
+        assert_eq!(halts.polls.load(SeqCst), 2);
+        assert!(tree.tick_halt(&mut ()));
+        assert_eq!(halts.polls.load(SeqCst), 3);
+        assert!(tree.tick_halt(&mut ()), "done stays done");
+        assert_eq!(halts.polls.load(SeqCst), 3);
+        assert_eq!(probe.counts(), (1, 1, 1));
+        // The next tick starts a new run.
+        assert_eq!(tick(&mut tree), Ok(Status::Running));
+        assert_eq!(probe.counts(), (2, 2, 1));
+        assert_eq!(halts.requested.load(SeqCst), 1);
+    }
+
+    #[test]
+    fn a_halt_ready_at_its_first_poll_and_the_default_halt_are_done_at_once() {
+        for halt_polls in [0, 1] {
+            let probe: Arc<Probe> = Arc::default();
+            let halts: Arc<Halts> = Arc::default();
+            let (mut tree, _) = build(|b| braking(b, &probe, &halts, halt_polls));
+            assert_eq!(tick(&mut tree), Ok(Status::Running));
+            assert!(tree.halt(&mut ()));
+            assert!(!tree.is_halting());
+            assert_eq!(halts.polls.load(SeqCst), halt_polls);
+            assert_eq!(probe.counts(), (1, 1, 1));
+        }
+    }
+
+    #[test]
+    fn dropping_the_tree_drops_a_halt_in_progress_once() {
+        let probe: Arc<Probe> = Arc::default();
+        let halts: Arc<Halts> = Arc::default();
+        let (mut tree, _) = build(|b| braking(b, &probe, &halts, 3));
+        assert_eq!(tick(&mut tree), Ok(Status::Running));
+        assert!(!tree.halt(&mut ()));
+        assert_eq!(probe.counts(), (1, 1, 0));
+        drop(tree);
+        assert_eq!(probe.counts(), (1, 1, 1));
+        assert_eq!(halts.polls.load(SeqCst), 1);
     }
 
     #[test]

@@ -21,7 +21,7 @@ pub mod always;
 pub mod async_action;
 pub mod sleep;
 
-pub use async_action::{ActionFuture, AsyncAction};
+pub use async_action::{ActionFuture, AsyncAction, HaltFuture};
 
 use core::time::Duration;
 
