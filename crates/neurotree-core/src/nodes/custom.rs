@@ -176,8 +176,7 @@ impl<'t, C> NodeCtx<'_, 't, C> {
     /// Reads input port `port`, as [`Handle::input`](crate::Handle::input) does: its literal
     /// text converted to `T`, or the blackboard entry it is bound to.
     pub fn input<T: FromPortStr + Any + Clone>(&self, port: &str) -> Result<T, PortError> {
-        let scope = self.scope();
-        read_input(self.t.bb, scope, self.ports(), port)
+        read_input(self.t.bb, self.t.bp, self.id, port)
     }
 
     /// The tree's clock reading.

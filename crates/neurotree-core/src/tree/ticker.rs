@@ -485,7 +485,7 @@ impl<'t, C> Ticker<'t, C> {
     #[cold]
     #[inline(never)]
     fn read_port<T: FromPortStr + Any + Clone>(&mut self, id: NodeId, port: &str) -> Option<T> {
-        let read = read_input(self.bb, self.bp.scope(id), self.bp.ports(id), port);
+        let read = read_input(self.bb, self.bp, id, port);
         read.map_err(|e| self.fault_node(id, alloc::string::ToString::to_string(&e)))
             .ok()
     }
