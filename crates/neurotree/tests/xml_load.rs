@@ -565,7 +565,7 @@ fn the_subtree_remapping_tutorial_runs() {
     .unwrap();
     r.register_action(
         "MoveBase",
-        vec![PortSpec::input::<String>("goal")],
+        vec![PortSpec::input::<Vec<f64>>("goal")],
         |h| match h.input::<Vec<f64>>("goal") {
             Ok(goal) if goal == [1.0, 2.0, 3.0] => Status::Success,
             _ => Status::Failure,

@@ -16,7 +16,7 @@ pub use kind::{
     ActionFn, Arity, Category, ConditionFn, CustomFactory, CustomSpec, NodeKind, ParallelPolicy,
     Param, StatefulFactory, SubTreeScope,
 };
-pub use port::{FromPortStr, Literal, Number, Port, PortError, PortValue};
+pub use port::{FromPortStr, Literal, Number, Port, PortError, PortType, PortValue};
 
 use alloc::boxed::Box;
 use alloc::string::String;

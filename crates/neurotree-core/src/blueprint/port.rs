@@ -10,7 +10,7 @@
 
 use alloc::string::{String, ToString};
 use alloc::vec::Vec;
-use core::any::Any;
+use core::any::{Any, TypeId};
 use core::str::FromStr;
 
 use crate::blackboard::BlackboardError;
@@ -31,24 +31,166 @@ pub struct Port {
     pub name: String,
     /// What it is bound to.
     pub value: PortValue,
+    /// The type its node declares for it; a read or write as an incompatible type is a
+    /// [`PortError::TypeMismatch`]. [`PortType::ANY`] unless declared.
+    pub declared: PortType,
 }
 
 impl Port {
-    /// A port bound to literal text.
+    /// A port bound to literal text, of no declared type.
     pub fn literal(name: &str, text: &str) -> Self {
         Self {
             name: String::from(name),
             value: PortValue::Literal(String::from(text)),
+            declared: PortType::ANY,
         }
     }
 
-    /// A port bound to a blackboard entry.
+    /// A port bound to a blackboard entry, of no declared type.
     pub fn entry(name: &str, key: &str) -> Self {
         Self {
             name: String::from(name),
             value: PortValue::Entry(String::from(key)),
+            declared: PortType::ANY,
         }
     }
+
+    /// The same port, declared of type `declared`.
+    ///
+    /// ```
+    /// use neurotree_core::{Port, PortType};
+    ///
+    /// let port = Port::literal("speed", "2").with_type(PortType::of::<u8>());
+    /// assert!(port.declared.reads_as::<f64>());
+    /// assert!(!port.declared.reads_as::<Vec<u8>>());
+    /// ```
+    pub fn with_type(self, declared: PortType) -> Self {
+        Self { declared, ..self }
+    }
+}
+
+/// The type a node declares for a port, as reads and writes are checked against it.
+///
+/// Compatibility follows what BehaviorTree.CPP's `Any` converts between (`Any::cast`, and
+/// `Blackboard::set` for writes):
+///
+/// | declared | read as | written as |
+/// |---|---|---|
+/// | untyped ([`ANY`](Self::ANY), BehaviorTree.CPP's `AnyTypeAllowed`) | any type | any type |
+/// | a number or `bool` | any number or `bool` (converted with range checks), `String` | any number or `bool`, `String` |
+/// | `String` | `String`, any number or `bool` (parsed) | `String` |
+/// | any other type | that type | that type |
+///
+/// The value itself is still checked when it is converted: a number that does not fit, or
+/// text that does not parse, is its own error.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct PortType {
+    class: TypeClass,
+    name: &'static str,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum TypeClass {
+    Any,
+    Number,
+    Text,
+    Exact(TypeId),
+}
+
+impl PortType {
+    /// Untyped: read and written as any type.
+    pub const ANY: PortType = PortType {
+        class: TypeClass::Any,
+        name: "AnyTypeAllowed",
+    };
+
+    /// The port type of values of `T`.
+    pub fn of<T: Any>() -> PortType {
+        let id = TypeId::of::<T>();
+        let class = if is_number(id) {
+            TypeClass::Number
+        } else if id == TypeId::of::<String>() {
+            TypeClass::Text
+        } else {
+            TypeClass::Exact(id)
+        };
+        PortType {
+            class,
+            name: core::any::type_name::<T>(),
+        }
+    }
+
+    /// The port type a built-in declaration names (one of
+    /// [`PORT_TYPES`](crate::nodes::PORT_TYPES): `"i32"`, `"u64"`, `"bool"`, `"f64"` or
+    /// `"String"`); untyped for any other name.
+    pub const fn named(name: &'static str) -> PortType {
+        let class = match name.as_bytes() {
+            b"i32" | b"u64" | b"bool" | b"f64" => TypeClass::Number,
+            b"String" => TypeClass::Text,
+            _ => return PortType::ANY,
+        };
+        PortType { class, name }
+    }
+
+    /// The declared type's name, as errors print it.
+    pub const fn name(&self) -> &'static str {
+        self.name
+    }
+
+    /// `true` for an untyped port.
+    pub const fn is_any(&self) -> bool {
+        matches!(self.class, TypeClass::Any)
+    }
+
+    /// `true` if the port may be read as `T`.
+    #[inline]
+    pub fn reads_as<T: Any>(&self) -> bool {
+        match self.class {
+            TypeClass::Any => true,
+            TypeClass::Exact(id) => id == TypeId::of::<T>(),
+            TypeClass::Number | TypeClass::Text => {
+                let id = TypeId::of::<T>();
+                is_number(id) || id == TypeId::of::<String>()
+            }
+        }
+    }
+
+    /// `true` if the port may be written as `T`.
+    #[inline]
+    pub fn writes_as<T: Any>(&self) -> bool {
+        match self.class {
+            TypeClass::Any => true,
+            TypeClass::Exact(id) => id == TypeId::of::<T>(),
+            TypeClass::Number => {
+                let id = TypeId::of::<T>();
+                is_number(id) || id == TypeId::of::<String>()
+            }
+            // BehaviorTree.CPP's `Blackboard::set` refuses a number in a text entry.
+            TypeClass::Text => TypeId::of::<T>() == TypeId::of::<String>(),
+        }
+    }
+}
+
+/// `true` for Rust's number types and `bool`: the types [`Number`] converts among.
+fn is_number(id: TypeId) -> bool {
+    [
+        TypeId::of::<i8>(),
+        TypeId::of::<i16>(),
+        TypeId::of::<i32>(),
+        TypeId::of::<i64>(),
+        TypeId::of::<i128>(),
+        TypeId::of::<isize>(),
+        TypeId::of::<u8>(),
+        TypeId::of::<u16>(),
+        TypeId::of::<u32>(),
+        TypeId::of::<u64>(),
+        TypeId::of::<u128>(),
+        TypeId::of::<usize>(),
+        TypeId::of::<f32>(),
+        TypeId::of::<f64>(),
+        TypeId::of::<bool>(),
+    ]
+    .contains(&id)
 }
 
 /// Why a port could not be read or written.
@@ -86,6 +228,24 @@ pub enum PortError {
         value: String,
         /// The type asked for.
         type_name: &'static str,
+    },
+    /// The node reads or writes the port as a type its declaration does not allow (see
+    /// [`PortType`]).
+    #[error(
+        "node `{node}`: port `{port}` is declared as {declared}; it cannot be {} as {requested}",
+        if *.written { "written" } else { "read" }
+    )]
+    TypeMismatch {
+        /// The node's path.
+        node: String,
+        /// The port.
+        port: String,
+        /// The declared type.
+        declared: &'static str,
+        /// The type the node read or wrote it as.
+        requested: &'static str,
+        /// `true` for a write, `false` for a read.
+        written: bool,
     },
     /// The bound entry could not be read or written.
     #[error("port `{port}`: {source}")]

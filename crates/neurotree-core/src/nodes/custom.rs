@@ -9,6 +9,10 @@
 //! custom leaf goes from Idle straight to Success in a trace. A control or decorator that,
 //! like BehaviorTree.CPP's own (`setStatus(RUNNING)` at the top of their `tick`), should be
 //! seen Running while its children tick calls [`NodeCtx::set_running`].
+//!
+//! BehaviorTree.CPP's `DecoratorNode::executeTick` resets a child that completed after the
+//! decorator's own status is set; a custom node that wants that order calls
+//! [`NodeCtx::reset_completed_children_after_tick`] instead of resetting inside its `tick`.
 
 use alloc::string::String;
 use core::any::Any;
@@ -74,6 +78,8 @@ pub struct NodeCtx<'a, 't, C> {
     /// The node's stored status when the call began (kept, as `set_running` changes the
     /// stored one).
     pub(crate) previous: NodeStatus,
+    /// Set by [`reset_completed_children_after_tick`](Self::reset_completed_children_after_tick).
+    pub(crate) reset_completed: bool,
 }
 
 impl<'t, C> NodeCtx<'_, 't, C> {
@@ -132,6 +138,16 @@ impl<'t, C> NodeCtx<'_, 't, C> {
         self.t.reset_children(self.id);
     }
 
+    /// Resets to Idle every child that is Success or Failure once this node's own result is
+    /// stored, as BehaviorTree.CPP's `DecoratorNode::executeTick` does after every
+    /// decorator's `tick`: an observer sees this node's change before its child's return to
+    /// Idle, and the child's `_skipIf`/`_successIf`/`_failureIf` are checked again on its
+    /// next tick. No child is halted (none that completed is Running). Has no effect in
+    /// [`CustomNode::halt`].
+    pub fn reset_completed_children_after_tick(&mut self) {
+        self.reset_completed = true;
+    }
+
     /// Asks `tick_once` to tick the tree again at once (after yielding Running).
     pub fn request_wake_up(&mut self) {
         self.t.wake = Some(self.id);
@@ -162,8 +178,7 @@ impl<'t, C> NodeCtx<'_, 't, C> {
     /// Reads input port `port`, as [`Handle::input`](crate::Handle::input) does: its literal
     /// text converted to `T`, or the blackboard entry it is bound to.
     pub fn input<T: FromPortStr + Any + Clone>(&self, port: &str) -> Result<T, PortError> {
-        let scope = self.scope();
-        read_input(self.t.bb, scope, self.ports(), port)
+        read_input(self.t.bb, self.t.bp, self.id, port)
     }
 
     /// The tree's clock reading.
@@ -350,5 +365,65 @@ mod tests {
                 (0, Succ, Idle)
             ]
         );
+    }
+
+    /// A decorator that passes its child's status and leaves the reset of a completed child
+    /// to the engine, as BehaviorTree.CPP's `DecoratorNode::executeTick` does it.
+    struct After;
+
+    impl CustomNode<Lab> for After {
+        fn tick(&mut self, node: &mut NodeCtx<'_, '_, Lab>) -> NodeStatus {
+            let status = node.tick_child(0);
+            node.reset_completed_children_after_tick();
+            status
+        }
+    }
+
+    fn after() -> CustomSpec<Lab> {
+        CustomSpec {
+            type_name: "After".into(),
+            arity: Arity::One,
+            factory: Box::new(|| Box::new(After)),
+        }
+    }
+
+    #[test]
+    fn a_completed_child_is_reset_after_its_parents_status_is_stored() {
+        use NodeStatus::{Failure as Fail, Idle, Running as Run, Success as Succ};
+        let changes = Arc::new(Mutex::new(Vec::new()));
+        let mut lab = Lab::new(&[&[R, S, F]]);
+        let mut tree = lab.tree(|b| b.custom("deco", after(), |c| c.scripted(0)));
+        tree.set_observer(Changes(Arc::clone(&changes)));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Running));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Success));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Failure));
+        assert_eq!(
+            *changes.lock().unwrap(),
+            [
+                (1, Idle, Run),
+                (0, Idle, Run),
+                (1, Run, Succ),
+                (0, Run, Succ),
+                // The child is reset after its parent's change, not before.
+                (1, Succ, Idle),
+                (0, Succ, Idle),
+                (1, Idle, Fail),
+                (0, Idle, Fail),
+                (1, Fail, Idle),
+                (0, Fail, Idle),
+            ]
+        );
+        assert_eq!(lab.ticks, [3]);
+        assert_eq!(lab.halts, [0]);
+        // Unobserved, the child is Idle after the tick all the same.
+        let mut lab = Lab::new(&[&[S]]);
+        let mut tree = lab.tree(|b| {
+            b.sequence("s", |s| {
+                s.custom("deco", after(), |c| c.scripted(0)).scripted(0)
+            })
+        });
+        assert_eq!(lab.tick_exactly_once(&mut tree), Ok(Status::Success));
+        assert_eq!(tree.statuses(), [Idle, Idle, Idle, Idle]);
+        assert_eq!(lab.ticks, [2]);
     }
 }

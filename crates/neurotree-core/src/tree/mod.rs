@@ -302,6 +302,7 @@ impl<C> Tree<C> {
             out: &mut self.out,
             current: NodeId::ROOT,
             reject_multiple_running: self.reject_multiple_running,
+            reset_after_store: None,
         }
     }
 

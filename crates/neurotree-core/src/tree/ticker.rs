@@ -99,6 +99,10 @@ pub(crate) struct Ticker<'t, C> {
     pub(crate) current: NodeId,
     /// A reactive control's second Running child is an error (BT.CPP's `EnableException`).
     pub(crate) reject_multiple_running: bool,
+    /// The custom node whose completed children are reset once its own status is stored
+    /// (see [`NodeCtx::reset_completed_children_after_tick`]); set only while observed,
+    /// between the node's `tick` returning and that store.
+    pub(crate) reset_after_store: Option<NodeId>,
 }
 
 impl<'t, C> Ticker<'t, C> {
@@ -269,6 +273,10 @@ impl<'t, C> Ticker<'t, C> {
             }
         } else {
             self.set_status_observed(id, status);
+        }
+        if self.reset_after_store == Some(id) {
+            self.reset_after_store = None;
+            self.reset_completed_children(id);
         }
     }
 
@@ -544,7 +552,7 @@ impl<'t, C> Ticker<'t, C> {
     #[cold]
     #[inline(never)]
     fn read_port<T: FromPortStr + Any + Clone>(&mut self, id: NodeId, port: &str) -> Option<T> {
-        let read = read_input(self.bb, self.bp.scope(id), self.bp.ports(id), port);
+        let read = read_input(self.bb, self.bp, id, port);
         read.map_err(|e| self.fault_node(id, alloc::string::ToString::to_string(&e)))
             .ok()
     }
@@ -643,12 +651,24 @@ impl<'t, C> Ticker<'t, C> {
         // Not marked Running first: a custom leaf goes Idle → result, as in BehaviorTree.CPP;
         // a node that wants the mark sets it (`NodeCtx::set_running`), as BT.CPP's do.
         let previous = self.status(id);
-        let status = node.tick(&mut NodeCtx {
+        let mut node_ctx = NodeCtx {
             t: self,
             id,
             previous,
-        });
+            reset_completed: false,
+        };
+        let status = node.tick(&mut node_ctx);
+        let reset_completed = node_ctx.reset_completed;
         self.objects[slot] = Object::Custom(node);
+        if reset_completed {
+            // Only an observer can tell the reset from one after the store: without one,
+            // doing it now spares the store a check.
+            if self.observed() {
+                self.reset_after_store = Some(id);
+            } else {
+                self.reset_completed_children(id);
+            }
+        }
         if status == NodeStatus::Idle {
             if self.out.fault.is_none() {
                 self.out.fault = Some(TickError::ReturnedIdle {
@@ -696,6 +716,7 @@ impl<'t, C> Ticker<'t, C> {
                                 t,
                                 id,
                                 previous: NodeStatus::Running,
+                                reset_completed: false,
                             });
                         });
                         self.objects[obj] = Object::Custom(node);
@@ -767,6 +788,17 @@ impl<'t, C> Ticker<'t, C> {
         let bp = self.bp;
         for &child in bp.children_of(bp.def(id)) {
             self.halt_child(child);
+        }
+    }
+
+    /// BehaviorTree.CPP's `DecoratorNode::executeTick` after the tick: a child that is
+    /// Success or Failure goes back to Idle, with no halt (it is not Running).
+    pub(crate) fn reset_completed_children(&mut self, id: NodeId) {
+        let bp = self.bp;
+        for &child in bp.children_of(bp.def(id)) {
+            if self.status(child).is_completed() {
+                self.set_status(child, NodeStatus::Idle);
+            }
         }
     }
 

@@ -9,6 +9,13 @@
 //!   for a write.
 //!
 //! A write of the same value counts: the sequence number grows on every write.
+//!
+//! The decorators do what BehaviorTree.CPP's `EntryUpdatedDecorator` and the
+//! `DecoratorNode::executeTick` around it do: a child that completed goes back to Idle once
+//! the decorator's own status is stored, without a halt. So an observer sees the child's
+//! result, then the decorator's, then the child's return to Idle; and the child's
+//! `_skipIf`/`_successIf`/`_failureIf` are checked again each time the decorator ticks it
+//! anew, never while it is Running. When nothing was written the child is not ticked at all.
 
 use std::sync::Arc;
 
@@ -93,9 +100,7 @@ impl<C> CustomNode<C> for Watch {
         }
         let status = node.tick_child(0);
         self.child_running = status == NodeStatus::Running;
-        if status.is_completed() {
-            node.reset_children();
-        }
+        node.reset_completed_children_after_tick();
         status
     }
 
@@ -142,4 +147,158 @@ pub(crate) fn register<C: 'static>(registry: &mut Registry<C>) {
     register_watch(registry, &WAS_ENTRY_UPDATED, None);
     register_watch(registry, &SKIP_UNLESS_UPDATED, Some(NodeStatus::Skipped));
     register_watch(registry, &WAIT_VALUE_UPDATE, Some(NodeStatus::Running));
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::testing::*;
+    use neurotree_core::{NodeId, NodeStatus, Observer, StatusChange};
+    use std::sync::{Arc, Mutex};
+
+    /// What an observer saw, in order: (node, from, to); a skip is recorded as
+    /// (node, Idle, Skipped).
+    type Seen = Arc<Mutex<Vec<(usize, NodeStatus, NodeStatus)>>>;
+
+    struct Changes(Seen);
+
+    impl Observer for Changes {
+        fn on_status_change(&mut self, c: StatusChange) {
+            self.0.lock().unwrap().push((c.node.index(), c.from, c.to));
+        }
+        fn on_node_skipped(&mut self, node: NodeId) {
+            let skip = (node.index(), NodeStatus::Idle, NodeStatus::Skipped);
+            self.0.lock().unwrap().push(skip);
+        }
+    }
+
+    fn take(seen: &Seen) -> Vec<(usize, NodeStatus, NodeStatus)> {
+        std::mem::take(&mut *seen.lock().unwrap())
+    }
+
+    #[test]
+    fn the_child_is_ticked_anew_with_its_preconditions_after_each_write() {
+        let mut lab = Lab::new(&[&[R, S], &[S]]);
+        let mut tree = lab.tree(
+            r#"<Sequence>
+                 <SkipUnlessUpdated entry="{goal}"><L0 _successIf="done" _skipIf="skip"/></SkipUnlessUpdated>
+                 <L1/>
+               </Sequence>"#,
+        );
+        let bb = tree.blackboard_mut();
+        bb.set("done", false).unwrap();
+        bb.set("skip", false).unwrap();
+        bb.set("goal", 1_i64).unwrap();
+        assert_eq!(lab.tick(&mut tree), Ok(R));
+        assert_eq!(
+            (lab.ticks.as_slice(), lab.halts.as_slice()),
+            (&[1, 0][..], &[0, 0][..])
+        );
+        // Preconditions are not checked while the child runs: it is ticked to its end.
+        tree.blackboard_mut().set("done", true).unwrap();
+        tree.blackboard_mut().set("skip", true).unwrap();
+        assert_eq!(lab.tick(&mut tree), Ok(S));
+        assert_eq!(lab.ticks, [2, 1]);
+        // No write: the decorator is skipped without ticking its child; the Sequence goes on.
+        assert_eq!(lab.tick(&mut tree), Ok(S));
+        assert_eq!(lab.ticks, [2, 2]);
+        // A write: the child was reset to Idle, so `_successIf` decides, without a tick.
+        tree.blackboard_mut().set("goal", 2_i64).unwrap();
+        assert_eq!(lab.tick(&mut tree), Ok(S));
+        assert_eq!(lab.ticks, [2, 3]);
+        // Then `_skipIf`: the child is skipped, so is the decorator.
+        tree.blackboard_mut().set("done", false).unwrap();
+        tree.blackboard_mut().set("goal", 3_i64).unwrap();
+        assert_eq!(lab.tick(&mut tree), Ok(S));
+        assert_eq!(lab.ticks, [2, 4]);
+        // Then no precondition holds: a new run of the child.
+        tree.blackboard_mut().set("skip", false).unwrap();
+        tree.blackboard_mut().set("goal", 4_i64).unwrap();
+        assert_eq!(lab.tick(&mut tree), Ok(S));
+        assert_eq!(lab.ticks, [3, 5]);
+        assert_eq!(lab.halts, [0, 0]);
+    }
+
+    #[test]
+    fn an_observer_sees_the_decorators_change_before_its_childs_reset() {
+        use NodeStatus::{Idle, Running as Run, Skipped as Skip, Success as Succ};
+        let seen: Seen = Arc::default();
+        let mut lab = Lab::new(&[&[S], &[S]]);
+        // Nodes: 0 Sequence, 1 SkipUnlessUpdated, 2 L0, 3 L1.
+        let mut tree = lab.tree(
+            r#"<Sequence><SkipUnlessUpdated entry="goal"><L0/></SkipUnlessUpdated><L1/></Sequence>"#,
+        );
+        tree.set_observer(Changes(Arc::clone(&seen)));
+        tree.blackboard_mut().set("goal", 1_i64).unwrap();
+        assert_eq!(lab.tick(&mut tree), Ok(S));
+        assert_eq!(
+            take(&seen),
+            [
+                (0, Idle, Run),
+                (2, Idle, Succ),
+                (1, Idle, Succ),
+                (2, Succ, Idle),
+                (3, Idle, Succ),
+                (1, Succ, Idle),
+                (3, Succ, Idle),
+                (0, Run, Succ),
+                (0, Succ, Idle),
+            ]
+        );
+        // Not written since: skipped, and the child sees nothing at all.
+        assert_eq!(lab.tick(&mut tree), Ok(S));
+        assert_eq!(
+            take(&seen),
+            [
+                (0, Idle, Run),
+                (1, Idle, Skip),
+                (3, Idle, Succ),
+                (3, Succ, Idle),
+                (0, Run, Succ),
+                (0, Succ, Idle),
+            ]
+        );
+        assert_eq!(lab.ticks, [1, 2]);
+    }
+
+    #[test]
+    fn wait_value_update_waits_and_forgets_a_halted_child() {
+        let mut lab = Lab::new(&[&[R, S, R]]);
+        let mut tree = lab.tree(r#"<WaitValueUpdate entry="{ping}"><L0/></WaitValueUpdate>"#);
+        // No entry yet: Running, the child untouched.
+        assert_eq!(lab.tick(&mut tree), Ok(R));
+        assert_eq!(lab.ticks, [0]);
+        tree.blackboard_mut().set("ping", true).unwrap();
+        assert_eq!(lab.tick(&mut tree), Ok(R));
+        // A Running child is ticked on without looking at the entry.
+        assert_eq!(lab.tick(&mut tree), Ok(S));
+        assert_eq!(lab.tick(&mut tree), Ok(R));
+        assert_eq!(lab.ticks, [2]);
+        // Halted while waiting: the child is Idle, nothing to halt.
+        tree.halt(&mut lab);
+        assert_eq!(lab.halts, [0]);
+        tree.blackboard_mut().set("ping", true).unwrap();
+        assert_eq!(lab.tick(&mut tree), Ok(R));
+        assert_eq!(lab.ticks, [3]);
+        // Halted while its child runs: the child is halted, and the next tick looks at the
+        // entry again (unwritten) instead of resuming the child.
+        tree.halt(&mut lab);
+        assert_eq!(lab.halts, [1]);
+        assert_eq!(lab.tick(&mut tree), Ok(R));
+        assert_eq!(lab.ticks, [3]);
+        tree.blackboard_mut().set("ping", false).unwrap();
+        assert_eq!(lab.tick(&mut tree), Ok(R));
+        assert_eq!((lab.ticks[0], lab.halts[0]), (4, 1));
+    }
+
+    #[test]
+    fn was_entry_updated_fails_without_an_entry_and_then_sees_each_write_once() {
+        let mut lab = Lab::new(&[]);
+        let mut tree = lab.tree(r#"<WasEntryUpdated entry="x"/>"#);
+        assert_eq!(lab.tick(&mut tree), Ok(F));
+        tree.blackboard_mut().set("x", 0_u8).unwrap();
+        assert_eq!(lab.tick(&mut tree), Ok(S));
+        assert_eq!(lab.tick(&mut tree), Ok(F));
+        tree.blackboard_mut().set("x", 0_u8).unwrap();
+        assert_eq!(lab.tick(&mut tree), Ok(S));
+    }
 }

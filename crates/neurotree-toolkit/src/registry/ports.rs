@@ -2,12 +2,15 @@
 
 use std::fmt;
 
-use neurotree_core::{FromPortStr, PortDecl};
+use neurotree_core::{FromPortStr, PortDecl, PortType};
 
 /// Which way a port carries data (declared in the core, with the built-in nodes' ports).
 pub use neurotree_core::PortDirection;
 
 /// A declared port: name, direction, type, default and description.
+///
+/// The type checks the port's literals when a file loads, and the types the node reads and
+/// writes it as when it runs (see [`PortType`]).
 #[derive(Clone)]
 pub struct PortSpec {
     /// The attribute name.
@@ -22,6 +25,8 @@ pub struct PortSpec {
     pub description: String,
     /// `true` if a literal converts to the port's type.
     pub(crate) check: Option<fn(&str) -> bool>,
+    /// What the node's reads and writes are checked against.
+    pub(crate) port_type: PortType,
 }
 
 impl PortSpec {
@@ -39,6 +44,21 @@ impl PortSpec {
             default: None,
             description: String::new(),
             check: None,
+            port_type: PortType::of::<T>(),
+        }
+    }
+
+    /// A port of no declared type (BehaviorTree.CPP's `AnyTypeAllowed`): read and written
+    /// as any type, its literals unchecked.
+    pub fn untyped(name: &str, direction: PortDirection) -> Self {
+        Self {
+            name: name.to_string(),
+            direction,
+            type_name: PortType::ANY.name(),
+            default: None,
+            description: String::new(),
+            check: None,
+            port_type: PortType::ANY,
         }
     }
 
@@ -55,6 +75,7 @@ impl PortSpec {
             default: None,
             description: String::new(),
             check: Some(|text| T::from_port_str(text).is_ok()),
+            port_type: PortType::of::<T>(),
         }
     }
 
@@ -74,6 +95,11 @@ impl PortSpec {
     pub fn accepts(&self, text: &str) -> bool {
         self.check.map_or(true, |check| check(text))
     }
+
+    /// The declared type the node's reads and writes of this port are checked against.
+    pub fn port_type(&self) -> PortType {
+        self.port_type
+    }
 }
 
 impl From<&PortDecl> for PortSpec {
@@ -90,6 +116,7 @@ impl From<&PortDecl> for PortSpec {
                 PortDirection::Output => None,
                 _ => literal_check(p.type_name),
             },
+            port_type: PortType::named(p.type_name),
         }
     }
 }
@@ -117,5 +144,147 @@ impl fmt::Debug for PortSpec {
             .field("type_name", &self.type_name)
             .field("default", &self.default)
             .finish()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::registry::Registry;
+    use crate::testing::*;
+    use neurotree_core::{Handle, PortError};
+
+    /// What a read or write gave: `Ok(value)` or the error's message.
+    fn show<T: fmt::Debug>(r: Result<T, PortError>) -> String {
+        match r {
+            Ok(v) => format!("Ok({v:?})"),
+            Err(e) => e.to_string(),
+        }
+    }
+
+    /// The lab's registry and `Probe(n: u8, label: String out, free: untyped, sink: untyped
+    /// out)`, which reads
+    /// and writes its ports as `f` says and records what it got in `said`.
+    fn registry(lab: &Lab, f: fn(&mut Handle<'_, Lab>) -> Vec<String>) -> Registry<Lab> {
+        let mut r = lab.registry();
+        let ports = vec![
+            PortSpec::input::<u8>("n"),
+            PortSpec::output::<String>("label"),
+            PortSpec::untyped("free", PortDirection::Input),
+            PortSpec::untyped("sink", PortDirection::Output),
+        ];
+        r.register_action("Probe", ports, move |h| {
+            let seen = f(h);
+            h.ctx_mut().said.extend(seen);
+            Status::Success
+        })
+        .unwrap();
+        r
+    }
+
+    const TREE: &str = r#"<root BTCPP_format="4"><BehaviorTree ID="T">
+          <Sequence><Probe n="{n}" label="{label}" free="5" sink="{sink}"/></Sequence>
+        </BehaviorTree></root>"#;
+
+    #[test]
+    fn an_xml_leaf_reads_and_writes_its_ports_as_declared() {
+        let mut lab = Lab::new(&[]);
+        let r = registry(&lab, |h| {
+            vec![
+                show(h.input::<u8>("n")),
+                show(h.input::<u64>("n")),
+                show(h.input::<f64>("n")),
+                show(h.input::<Vec<u8>>("n")),
+                show(h.output("label", 7_u8)),
+                show(h.output("label", String::from("seven"))),
+                show(h.input::<String>("free")),
+                show(h.input::<Vec<i32>>("free")),
+                show(h.output("sink", 0.5_f32)),
+            ]
+        });
+        let mut tree = lab.load_with(&r, TREE).unwrap();
+        tree.blackboard_mut().set("n", 200_i64).unwrap();
+        assert_eq!(lab.tick(&mut tree), Ok(S));
+        assert_eq!(
+            lab.said,
+            [
+                "Ok(200)",
+                "Ok(200)",
+                "Ok(200.0)",
+                "node `Sequence/Probe`: port `n` is declared as u8; it cannot be read as alloc::vec::Vec<u8>",
+                "node `Sequence/Probe`: port `label` is declared as alloc::string::String; it cannot be written as u8",
+                "Ok(())",
+                "Ok(\"5\")",
+                "Ok([5])",
+                "Ok(())",
+            ]
+        );
+        assert_eq!(tree.blackboard().get::<String>("label"), Ok("seven".into()));
+        assert_eq!(tree.blackboard().get::<f32>("sink"), Ok(0.5));
+    }
+
+    #[test]
+    fn the_mismatch_error_names_node_port_and_both_types() {
+        let mut lab = Lab::new(&[]);
+        let r = registry(&lab, |h| match h.input::<Vec<u8>>("n") {
+            Err(e) => vec![format!("{e:?}")],
+            Ok(_) => vec![],
+        });
+        let mut tree = lab.load_with(&r, TREE).unwrap();
+        tree.blackboard_mut().set("n", 1_u8).unwrap();
+        assert_eq!(lab.tick(&mut tree), Ok(S));
+        let expected = PortError::TypeMismatch {
+            node: "Sequence/Probe".into(),
+            port: "n".into(),
+            declared: "u8",
+            requested: "alloc::vec::Vec<u8>",
+            written: false,
+        };
+        assert_eq!(lab.said, [format!("{expected:?}")]);
+    }
+
+    #[test]
+    fn a_literal_is_checked_against_the_declared_type_at_load() {
+        let lab = Lab::new(&[]);
+        let r = registry(&lab, |_| vec![]);
+        let load = |attrs: &str| {
+            let xml = format!(
+                r#"<root BTCPP_format="4"><BehaviorTree ID="T"><Probe {attrs}/></BehaviorTree></root>"#
+            );
+            lab.load_with(&r, &xml).map(|_| ()).map_err(|e| e.message)
+        };
+        assert_eq!(
+            load(r#"n="300""#),
+            Err("port `n` of `Probe`: cannot read `300` as u8".into())
+        );
+        assert_eq!(
+            load(r#"n="many""#),
+            Err("port `n` of `Probe`: cannot read `many` as u8".into())
+        );
+        assert_eq!(load(r#"n="255""#), Ok(()));
+        // An untyped port takes any text, as BehaviorTree.CPP's `AnyTypeAllowed` does.
+        assert_eq!(load(r#"n="1" free="anything at all""#), Ok(()));
+        // So does a built-in's declaration: Repeat's `num_cycles` is an i32.
+        let xml = r#"<root BTCPP_format="4"><BehaviorTree ID="T">
+              <Repeat num_cycles="2.5"><AlwaysSuccess/></Repeat></BehaviorTree></root>"#;
+        assert_eq!(
+            lab.load(xml).map(|_| ()).map_err(|e| e.message),
+            Err("port `num_cycles` of `Repeat`: cannot read `2.5` as i32".into())
+        );
+    }
+
+    #[test]
+    fn declarations_carry_their_port_types() {
+        assert_eq!(PortSpec::input::<u8>("n").port_type(), PortType::of::<u8>());
+        assert_eq!(
+            PortSpec::output::<String>("s").port_type(),
+            PortType::of::<String>()
+        );
+        let free = PortSpec::untyped("free", PortDirection::Input);
+        assert!(free.port_type().is_any());
+        assert_eq!(free.type_name, "AnyTypeAllowed");
+        assert!(free.accepts("anything"));
+        let decl = neurotree_core::PortDecl::input("num_cycles", "i32", "How many.");
+        assert_eq!(PortSpec::from(&decl).port_type(), PortType::named("i32"));
     }
 }

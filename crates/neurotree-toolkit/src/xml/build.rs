@@ -545,6 +545,7 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
             ports.push(Port {
                 name: key.to_string(),
                 value,
+                declared: spec.port_type(),
             });
         }
         for spec in &node_type.ports {
@@ -553,6 +554,7 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
                     ports.push(Port {
                         name: spec.name.clone(),
                         value: binding(&spec.name, default),
+                        declared: spec.port_type(),
                     });
                 }
             }

@@ -57,6 +57,8 @@ impl<C: 'static> Registry<C> {
                         default: port.attr("default").map(str::to_string),
                         description: port.text().to_string(),
                         check: model_type_check(port.attr("type")),
+                        // A node only a model describes does not run: nothing reads it.
+                        port_type: neurotree_core::PortType::ANY,
                     });
                 }
                 self.types.insert(

@@ -100,15 +100,25 @@ impl<'a, C> Handle<'a, C> {
 
     /// Reads input port `port`: its literal text converted to `T`, or the blackboard entry
     /// it is bound to (a text entry is converted too, as BehaviorTree.CPP does).
+    ///
+    /// A port declared of a type `T` is incompatible with is a
+    /// [`PortError::TypeMismatch`] (see [`PortType`](crate::PortType)).
     pub fn input<T: FromPortStr + Any + Clone>(&self, port: &str) -> Result<T, PortError> {
-        read_input(self.blackboard, self.scope(), self.ports(), port)
+        read_input(self.blackboard, self.bp, self.node, port)
     }
 
     /// Writes output port `port`: the blackboard entry it is bound to, stamped with the
     /// clock's time.
+    ///
+    /// A port declared of a type `T` is incompatible with is a
+    /// [`PortError::TypeMismatch`] (see [`PortType`](crate::PortType)).
     pub fn output<T: Any + Send + Sync>(&mut self, port: &str, value: T) -> Result<(), PortError> {
         let bp = self.bp;
-        let PortValue::Entry(key) = &find_port(bp.ports(self.node), port)?.value else {
+        let binding = find_port(bp.ports(self.node), port)?;
+        if !binding.declared.writes_as::<T>() {
+            return Err(type_mismatch::<T, C>(bp, self.node, binding, true));
+        }
+        let PortValue::Entry(key) = &binding.value else {
             return Err(PortError::NotAnEntry {
                 port: String::from(port),
             });
@@ -177,16 +187,41 @@ pub(crate) fn find_port<'p>(ports: &'p [Port], port: &str) -> Result<&'p Port, P
         })
 }
 
-/// Reads input port `port` of a node whose bindings are `ports` and whose scope is `scope`:
-/// its literal text converted to `T`, or the blackboard entry it is bound to (a text entry is
-/// converted too, as BehaviorTree.CPP does). Leaves and custom nodes read ports through it.
-pub(crate) fn read_input<T: FromPortStr + Any + Clone>(
+/// The error of node `node` reading (or writing) `binding` as `T`.
+#[cold]
+#[inline(never)]
+fn type_mismatch<T, C>(
+    bp: &crate::Blueprint<C>,
+    node: NodeId,
+    binding: &Port,
+    written: bool,
+) -> PortError {
+    PortError::TypeMismatch {
+        node: bp.path(node),
+        port: binding.name.clone(),
+        declared: binding.declared.name(),
+        requested: core::any::type_name::<T>(),
+        written,
+    }
+}
+
+/// Reads input port `port` of node `node`: its literal text converted to `T`, or the
+/// blackboard entry it is bound to in the node's scope (a text entry is converted too, as
+/// BehaviorTree.CPP does), once `T` is found compatible with the port's declared type.
+/// Leaves, custom nodes and built-ins read ports through it.
+pub(crate) fn read_input<T: FromPortStr + Any + Clone, C>(
     blackboard: &Blackboard,
-    scope: ScopeId,
-    ports: &[Port],
+    bp: &crate::Blueprint<C>,
+    node: NodeId,
     port: &str,
 ) -> Result<T, PortError> {
-    let binding = find_port(ports, port)?;
+    let scope = bp.scope(node);
+    let binding = find_port(bp.ports(node), port)?;
+    // The declaration is on the binding already found: no look-up of its own, and for an
+    // untyped port one comparison.
+    if !binding.declared.reads_as::<T>() {
+        return Err(type_mismatch::<T, C>(bp, node, binding, false));
+    }
     let convert = |text: &str| {
         T::from_port_str(text).map_err(|()| PortError::Convert {
             port: String::from(port),
@@ -508,5 +543,180 @@ mod tests {
         assert_eq!(tree.tick_once(&mut n), Ok(Status::Success));
         assert_eq!(n, 8);
         assert_eq!(tree.blackboard().get::<bool>("done"), Ok(true));
+    }
+
+    /// What a [`Probe`] read and wrote, printed: `Ok(value)` or the error's message.
+    type Log = Vec<String>;
+
+    /// Reads and writes its ports as a test asks, and logs the results.
+    struct Probe(fn(&mut Handle<'_, Log>) -> Log);
+    impl Action<Log> for Probe {
+        fn tick(&self, h: &mut Handle<'_, Log>) -> Status {
+            let seen = (self.0)(h);
+            h.ctx_mut().extend(seen);
+            Status::Success
+        }
+    }
+
+    fn show<T: core::fmt::Debug>(r: Result<T, PortError>) -> String {
+        match r {
+            Ok(v) => format!("Ok({v:?})"),
+            Err(e) => e.to_string(),
+        }
+    }
+
+    fn probe(ports: Vec<Port>, f: fn(&mut Handle<'_, Log>) -> Log) -> (Tree<Log>, Log) {
+        let bp = Builder::<Log>::new()
+            .sequence("root", |s| s.action_node("probe", Probe(f)).ports(ports))
+            .build_shared()
+            .unwrap();
+        let mut tree = Tree::with_clock(bp, ManualClock::new());
+        let mut log = Vec::new();
+        assert_eq!(tree.tick_once(&mut log), Ok(Status::Success));
+        (tree, log)
+    }
+
+    #[test]
+    fn a_declared_port_is_read_as_a_compatible_type_only() {
+        use crate::PortType;
+        let u8_literal = Port::literal("n", "7").with_type(PortType::of::<u8>());
+        let u8_entry = Port::entry("e", "count").with_type(PortType::of::<u8>());
+        let (_, log) = probe(vec![u8_literal, u8_entry], |h| {
+            h.blackboard_mut().set("count", 300_i64).unwrap();
+            vec![
+                show(h.input::<u8>("n")),
+                show(h.input::<i64>("n")),
+                show(h.input::<f32>("n")),
+                show(h.input::<bool>("n")),
+                show(h.input::<String>("n")),
+                show(h.input::<Vec<u8>>("n")),
+                show(h.input::<i64>("e")),
+                // The type is compatible; the value is not: its own error.
+                show(h.input::<u8>("e")),
+            ]
+        });
+        assert_eq!(
+            log,
+            [
+                "Ok(7)",
+                "Ok(7)",
+                "Ok(7.0)",
+                // The declaration lets a number be read as bool; `7` is none.
+                "port `n`: cannot read `7` as bool",
+                "Ok(\"7\")",
+                "node `root/probe`: port `n` is declared as u8; it cannot be read as alloc::vec::Vec<u8>",
+                "Ok(300)",
+                "port `e`: the entry's value 300 does not fit u8",
+            ]
+        );
+        let (_, log) = probe(
+            vec![Port::literal("n", "7").with_type(PortType::of::<u8>())],
+            |h| match h.input::<Vec<u8>>("n") {
+                Err(e) => vec![format!("{e:?}")],
+                Ok(_) => vec![],
+            },
+        );
+        assert_eq!(
+            log,
+            [format!(
+                "{:?}",
+                PortError::TypeMismatch {
+                    node: "root/probe".into(),
+                    port: "n".into(),
+                    declared: "u8",
+                    requested: "alloc::vec::Vec<u8>",
+                    written: false,
+                }
+            )]
+        );
+    }
+
+    #[test]
+    fn text_and_other_declared_types_and_untyped_ports() {
+        use crate::PortType;
+        let ports = vec![
+            Port::literal("text", "12").with_type(PortType::of::<String>()),
+            Port::literal("list", "1;2").with_type(PortType::of::<Vec<i32>>()),
+            Port::literal("free", "3"),
+        ];
+        let (_, log) = probe(ports, |h| {
+            vec![
+                show(h.input::<String>("text")),
+                show(h.input::<u16>("text")),
+                show(h.input::<Vec<i32>>("text")),
+                show(h.input::<Vec<i32>>("list")),
+                show(h.input::<Vec<i64>>("list")),
+                show(h.input::<String>("list")),
+                show(h.input::<u8>("free")),
+                show(h.input::<String>("free")),
+                show(h.input::<Vec<i64>>("free")),
+            ]
+        });
+        assert_eq!(
+            log,
+            [
+                "Ok(\"12\")",
+                "Ok(12)",
+                "node `root/probe`: port `text` is declared as alloc::string::String; it cannot be read as alloc::vec::Vec<i32>",
+                "Ok([1, 2])",
+                "node `root/probe`: port `list` is declared as alloc::vec::Vec<i32>; it cannot be read as alloc::vec::Vec<i64>",
+                "node `root/probe`: port `list` is declared as alloc::vec::Vec<i32>; it cannot be read as alloc::string::String",
+                "Ok(3)",
+                "Ok(\"3\")",
+                "Ok([3])",
+            ]
+        );
+    }
+
+    #[test]
+    fn a_declared_output_is_written_as_a_compatible_type_only() {
+        use crate::PortType;
+        let ports = vec![
+            Port::entry("count", "c").with_type(PortType::of::<u32>()),
+            Port::entry("label", "l").with_type(PortType::of::<String>()),
+            Port::entry("free", "f"),
+        ];
+        let (tree, log) = probe(ports, |h| {
+            vec![
+                show(h.output("label", 5_i32)),
+                show(h.output("count", vec![1_u32])),
+                show(h.output("label", String::from("five"))),
+                show(h.output("count", 5_u32)),
+                show(h.output("free", vec![1_u8])),
+            ]
+        });
+        assert_eq!(
+            log,
+            [
+                "node `root/probe`: port `label` is declared as alloc::string::String; it cannot be written as i32",
+                "node `root/probe`: port `count` is declared as u32; it cannot be written as alloc::vec::Vec<u32>",
+                "Ok(())",
+                "Ok(())",
+                "Ok(())",
+            ]
+        );
+        let bb = tree.blackboard();
+        assert_eq!(bb.get::<String>("l"), Ok("five".into()));
+        assert_eq!(bb.get::<u32>("c"), Ok(5));
+        assert_eq!(bb.get::<Vec<u8>>("f"), Ok(vec![1]));
+    }
+
+    #[test]
+    fn port_type_compatibility() {
+        use crate::PortType;
+        let number = PortType::named("i32");
+        assert!(number.reads_as::<u64>() && number.reads_as::<f32>() && number.reads_as::<bool>());
+        assert!(number.reads_as::<String>() && !number.reads_as::<Vec<i32>>());
+        assert!(number.writes_as::<i8>() && number.writes_as::<String>());
+        assert!(!number.writes_as::<&'static str>());
+        let text = PortType::named("String");
+        assert!(text.reads_as::<String>() && text.reads_as::<f64>());
+        assert!(text.writes_as::<String>() && !text.writes_as::<f64>());
+        assert_eq!(PortType::named("Pose"), PortType::ANY);
+        assert!(PortType::ANY.is_any() && !number.is_any());
+        assert_eq!(
+            (number.name(), PortType::of::<String>().name()),
+            ("i32", "alloc::string::String")
+        );
     }
 }
