@@ -2,7 +2,7 @@
 //! every document the quick reader leaves, with every error and its position.
 
 use super::super::LoadError;
-use super::document::{Node, Span};
+use super::document::{small, Node, Span};
 use super::entities::entity_name;
 use super::{Document, MAX_NESTING};
 
@@ -99,7 +99,7 @@ pub(super) fn complete(text: &str, file: &str) -> Result<Document, LoadError> {
             if Some(id) == parent {
                 break;
             }
-            doc.nodes[index].end = doc.nodes.len();
+            doc.nodes[index].end = small(doc.nodes.len());
             open.pop();
         }
         let offset = original(node.range().start);
@@ -127,14 +127,14 @@ pub(super) fn complete(text: &str, file: &str) -> Result<Document, LoadError> {
             tag,
             text,
             attrs: Span::new(first_attr, doc.attrs.len()),
-            end: index + 1,
+            end: small(index + 1),
             children: 0,
-            offset,
+            offset: small(offset),
         });
         open.push((node.id(), index));
     }
     for (_, index) in open {
-        doc.nodes[index].end = doc.nodes.len();
+        doc.nodes[index].end = small(doc.nodes.len());
     }
     Ok(doc)
 }

@@ -4,16 +4,40 @@
 use super::super::{LoadError, LoadWarning};
 
 /// A range of bytes of [`Document::buf`], or of indices into one of its arrays.
+///
+/// In 32 bits: [`parse`](super::parse) refuses a text of more than
+/// [`MAX_TEXT_BYTES`](super::MAX_TEXT_BYTES), so every offset and count fits, and the
+/// elements of a large tree take half the memory.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub(super) struct Span {
-    pub(super) start: usize,
-    pub(super) end: usize,
+    start: u32,
+    end: u32,
 }
 
 impl Span {
     pub(super) fn new(start: usize, end: usize) -> Self {
-        Self { start, end }
+        Self {
+            start: small(start),
+            end: small(end),
+        }
     }
+
+    /// The range it stands for.
+    pub(super) fn range(self) -> core::ops::Range<usize> {
+        self.start as usize..self.end as usize
+    }
+
+    /// Whether it is empty.
+    pub(super) fn is_empty(self) -> bool {
+        self.start >= self.end
+    }
+}
+
+/// An offset or count of a document, in the 32 bits [`Span`] and [`Node`] keep.
+pub(super) fn small(n: usize) -> u32 {
+    debug_assert!(n <= u32::MAX as usize);
+    // `parse` refused texts whose offsets and counts could not fit.
+    n as u32
 }
 
 /// One element of a [`Document`].
@@ -26,11 +50,11 @@ pub(super) struct Node {
     pub(super) attrs: Span,
     /// One past its last descendant: its next sibling, if it has one (elements are stored in
     /// document order, so its descendants follow it).
-    pub(super) end: usize,
+    pub(super) end: u32,
     /// How many child elements it has.
-    pub(super) children: usize,
+    pub(super) children: u32,
     /// Byte offset of its `<` in the text.
-    pub(super) offset: usize,
+    pub(super) offset: u32,
 }
 
 /// One XML text read: the text itself and its elements, in document order (the root first).
@@ -69,7 +93,7 @@ impl Document {
     }
 
     pub(super) fn str(&self, span: Span) -> &str {
-        &self.buf[span.start..span.end]
+        &self.buf[span.range()]
     }
 
     /// Appends `s` to the buffer and returns where it is.
@@ -131,15 +155,14 @@ impl<'d> Element<'d> {
     pub(crate) fn attrs(&self) -> impl Iterator<Item = (&'d str, &'d str)> + 'd {
         let doc = self.doc;
         let span = self.node().attrs;
-        doc.attrs[span.start..span.end]
+        doc.attrs[span.range()]
             .iter()
             .map(move |&(k, v)| (doc.str(k), doc.str(v)))
     }
 
     /// Whether it has attributes.
     pub(crate) fn has_attrs(&self) -> bool {
-        let span = self.node().attrs;
-        span.start < span.end
+        !self.node().attrs.is_empty()
     }
 
     /// The value of attribute `name`.
@@ -149,7 +172,7 @@ impl<'d> Element<'d> {
 
     /// How many child elements it has.
     pub(crate) fn child_count(&self) -> usize {
-        self.node().children
+        self.node().children as usize
     }
 
     /// Its child elements, in document order.
@@ -157,7 +180,7 @@ impl<'d> Element<'d> {
         Children {
             doc: self.doc,
             next: self.id + 1,
-            end: self.node().end,
+            end: self.node().end as usize,
         }
     }
 
@@ -165,18 +188,18 @@ impl<'d> Element<'d> {
     pub(crate) fn descendants(&self) -> impl Iterator<Item = Element<'d>> + 'd {
         let doc = self.doc;
         // Elements are stored in document order: its descendants are the ones up to `end`.
-        (self.id + 1..self.node().end).map(move |id| doc.element(id))
+        (self.id + 1..self.node().end as usize).map(move |id| doc.element(id))
     }
 
     /// Its line and column (1-based, the column in characters).
     #[cfg(test)]
     pub(crate) fn line_col(&self) -> (u32, u32) {
-        self.doc.line_col(self.node().offset)
+        self.doc.line_col(self.node().offset as usize)
     }
 
     /// An error located at this element.
     pub(crate) fn error(&self, message: impl Into<String>) -> LoadError {
-        self.doc.error_at(self.node().offset, message.into())
+        self.doc.error_at(self.node().offset as usize, message.into())
     }
 
     /// A warning located at this element.
@@ -207,7 +230,7 @@ impl<'d> Iterator for Children<'d> {
         }
         let child = self.doc.element(self.next);
         // Its descendants come next; its next sibling after them.
-        self.next = self.doc.nodes[self.next].end;
+        self.next = self.doc.nodes[self.next].end as usize;
         Some(child)
     }
 }

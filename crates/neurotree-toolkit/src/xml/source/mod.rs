@@ -30,8 +30,25 @@ use quick::quick;
 /// no reader needs a deep stack.
 const MAX_NESTING: usize = 1024;
 
+/// The longest text read, so that every offset and count of a document fits in 32 bits
+/// (the text and the values decoded from it), far beyond any tree file (the loader reads
+/// files of up to 32 MiB by default).
+pub const MAX_TEXT_BYTES: usize = 1 << 30;
+
+/// Refuses a text longer than [`MAX_TEXT_BYTES`].
+fn check_size(len: usize, file: &str) -> Result<(), LoadError> {
+    if len > MAX_TEXT_BYTES {
+        return Err(LoadError::at_file(
+            file,
+            format!("the text is {len} bytes, more than the {MAX_TEXT_BYTES} a document may have; split it into files"),
+        ));
+    }
+    Ok(())
+}
+
 /// Parses `text` (from `file`) into a document.
 pub(crate) fn parse(text: &str, file: &str) -> Result<Document, LoadError> {
+    check_size(text.len(), file)?;
     match quick(text, file) {
         Some(doc) => Ok(doc),
         None => complete(text, file),
@@ -45,6 +62,20 @@ mod tests {
     use super::*;
     use proptest::prelude::*;
     use std::path::Path;
+
+    #[test]
+    fn a_text_past_the_size_limit_is_refused_by_name() {
+        assert_eq!(check_size(MAX_TEXT_BYTES, "t.xml"), Ok(()));
+        let e = check_size(MAX_TEXT_BYTES + 1, "big.xml").unwrap_err();
+        assert_eq!(e.file, "big.xml");
+        assert_eq!(
+            e.message,
+            format!(
+                "the text is {} bytes, more than the {MAX_TEXT_BYTES} a document may have; split it into files",
+                MAX_TEXT_BYTES + 1
+            )
+        );
+    }
 
     #[test]
     fn bare_ampersands_are_accepted_and_entities_kept() {

@@ -2,7 +2,7 @@
 //! the XML that tree files are made of; `None` on anything else.
 
 use super::bytes::*;
-use super::document::{Node, Span};
+use super::document::{small, Node, Span};
 use super::entities::{decode_entity, entity_name};
 use super::{Document, MAX_NESTING};
 
@@ -130,9 +130,9 @@ impl<'t> Quick<'t> {
             tag: Span::new(at + 1, tag_end),
             text: Span::default(),
             attrs: Span::new(first_attr, self.doc.attrs.len()),
-            end: id + 1,
+            end: small(id + 1),
             children: 0,
-            offset: at,
+            offset: small(at),
         });
         if opened {
             self.open.push(id);
@@ -170,7 +170,7 @@ impl<'t> Quick<'t> {
         // Names point into the text, which `b` is.
         if self.doc.attrs[first..]
             .iter()
-            .any(|(k, _)| &b[k.start..k.end] == name)
+            .any(|(k, _)| &b[k.range()] == name)
         {
             return None;
         }
@@ -268,10 +268,10 @@ impl<'t> Quick<'t> {
         }
         let id = self.open.pop()?;
         let tag = self.doc.nodes[id].tag;
-        if b[tag.start..tag.end] != b[at + 2..name_end] {
+        if b[tag.range()] != b[at + 2..name_end] {
             return None;
         }
-        self.doc.nodes[id].end = self.doc.nodes.len();
+        self.doc.nodes[id].end = small(self.doc.nodes.len());
         Some(pos + 1)
     }
 }
