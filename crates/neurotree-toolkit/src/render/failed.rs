@@ -2,12 +2,13 @@
 
 use neurotree_core::{Failure, NodeId};
 
-/// The colour of the path that failed: the stroke of a failed node (see [`paint`](super::style::paint)).
+/// The colour of the path that failed: the stroke of a failed node, so that the path reads
+/// as failure's colour made bolder.
 pub(crate) const PATH_COLOUR: &str = "#c92a2a";
 
-/// The nodes on the path that failed in a tick, from the root down, each with its own
-/// reason in words when it gave one: what [`Format::render_failed_path`](super::Format::render_failed_path)
-/// marks.
+/// The nodes on the path that failed in a tick (the root and its descendants down to the
+/// node that decided it), each with its own reason in words when it gave one: what
+/// [`Format::render_failed_path`](super::Format::render_failed_path) marks.
 ///
 /// ```
 /// use neurotree::render::FailedPath;
