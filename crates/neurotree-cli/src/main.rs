@@ -233,8 +233,8 @@ struct ShowArgs {
     #[arg(long = "model")]
     models: Vec<std::path::PathBuf>,
     /// The JSON lines of `neurotree run --trace`: colour each node with the last status it
-    /// reached; if the root failed, the text formats mark the path that failed with the
-    /// reasons the trace gives.
+    /// reached; if the root failed, mark the path that failed with the reasons the trace
+    /// gives (text: ` -- failed: REASON`; dot, mermaid, svg: red and wide, reasons in labels).
     #[arg(long)]
     trace: Option<std::path::PathBuf>,
     /// With --trace: the statuses of this tick instead (the last each node reached in it).

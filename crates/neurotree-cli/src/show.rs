@@ -12,10 +12,12 @@
 //! the status it had when the tick began. (The trace numbers ticks by pass of the root, as
 //! `run --max-ticks` counts them: a tick that re-ran the root at once for a node that asked
 //! to be woken has one number per pass.) Nodes that share a path are told apart by their
-//! statuses. When the root failed in that tick (the last one, without `--tick`), the text
-//! formats mark the path that failed: the last node of the tick whose change to FAILURE
-//! carries a `reason`, and its ancestors, each ` -- failed`, with its own reason if it gave
-//! one (` -- failed: gave up after 2 attempts`).
+//! statuses. When the root failed in that tick (the last one, without `--tick`), every
+//! format marks the path that failed: the last node of the tick whose change to FAILURE
+//! carries a `reason`, and its ancestors. The text formats note each ` -- failed`, with its
+//! own reason if it gave one (` -- failed: gave up after 2 attempts`); DOT, Mermaid and SVG
+//! draw them and the edges between them red and wide, each reason in its node's label
+//! (see [`Format::render_failed_path`]).
 //!
 //! With `--coverage FILE`, the JSON that `neurotree run --coverage-json FILE` wrote marks
 //! each node covered, reached with outcomes not seen, or never reached (see
@@ -28,7 +30,7 @@ use std::path::{Path, PathBuf};
 use std::time::Duration;
 
 use neurotree::observe::{CoverageReport, NodeCoverage, Outcome, OutcomeSet};
-use neurotree::render::{render_coverage, render_statuses_noted, Format, LastTickStatuses};
+use neurotree::render::{render_coverage, FailedPath, Format, LastTickStatuses};
 use neurotree::{
     Arity, Blueprint, Category, CustomNode, LoadError, NodeCtx, NodeId, NodeStatus, Observer,
     Registry, StatusChange, XmlLoader,
@@ -77,13 +79,8 @@ pub fn run(
         let format = format_of(opts);
         match &opts.trace {
             Some(trace) => {
-                let (statuses, notes) = trace_statuses(trace, &bp, &tree_id, opts.tick)?;
-                Ok(match format {
-                    Format::Ascii | Format::Unicode => {
-                        render_statuses_noted(&bp, &statuses, &notes, format == Format::Unicode)
-                    }
-                    _ => format.render(&bp, Some(&statuses)),
-                })
+                let (statuses, failed) = trace_statuses(trace, &bp, &tree_id, opts.tick)?;
+                Ok(format.render_failed_path(&bp, &statuses, &failed))
             }
             None => Ok(format.render(&bp, None)),
         }
@@ -276,9 +273,8 @@ struct Change {
     reason: Option<String>,
 }
 
-/// What a trace shows of a run: each node's status, and the notes that mark the path that
-/// failed (empty for the nodes off it), both by node id.
-type Shown = (Vec<NodeStatus>, Vec<String>);
+/// What a trace shows of a run: each node's status, by node id, and the path that failed.
+type Shown = (Vec<NodeStatus>, FailedPath);
 
 /// The statuses the trace at `path` shows; see [`statuses_from_trace`].
 fn trace_statuses(
@@ -396,17 +392,16 @@ fn statuses_from_trace(
     Ok((statuses, failed_path(bp, &failed)))
 }
 
-/// The notes marking the path that failed, by node id, from the changes to FAILURE of one
-/// tick (in order, with their reasons): empty unless the root failed in it. The path runs
-/// from the root to the last node that gave a reason (the trace says no more of which
-/// child decided a node's failure); each node on it is noted `failed`, with the last reason
-/// it gave in the tick.
-fn failed_path(bp: &Blueprint<()>, failed: &[(NodeId, Option<&str>)]) -> Vec<String> {
-    let mut notes = vec![String::new(); bp.len()];
+/// The path that failed, from the changes to FAILURE of one tick (in order, with their
+/// reasons): empty unless the root failed in it. The path runs from the root to the last
+/// node that gave a reason (the trace says no more of which child decided a node's
+/// failure); each node on it carries the last reason it gave in the tick, if any.
+fn failed_path(bp: &Blueprint<()>, failed: &[(NodeId, Option<&str>)]) -> FailedPath {
+    let mut path = FailedPath::new();
     let root_failed = failed.iter().any(|(node, _)| *node == NodeId::ROOT);
     let last_reason = failed.iter().rev().find(|(_, reason)| reason.is_some());
     let (true, Some(&(leaf, _))) = (root_failed, last_reason) else {
-        return notes;
+        return path;
     };
     let mut on_path = Some(leaf);
     while let Some(node) = on_path {
@@ -414,13 +409,10 @@ fn failed_path(bp: &Blueprint<()>, failed: &[(NodeId, Option<&str>)]) -> Vec<Str
             .iter()
             .rev()
             .find_map(|(n, reason)| reason.filter(|_| *n == node));
-        notes[node.index()] = match reason {
-            Some(reason) => format!("failed: {reason}"),
-            None => "failed".to_string(),
-        };
+        path.mark(node, reason.map(str::to_string));
         on_path = bp.parent(node);
     }
-    notes
+    path
 }
 
 /// The status changes of a trace, in order, and the last tick it mentions.
@@ -546,8 +538,11 @@ mod tests {
 {"tick":1,"node":"root/last","from":"IDLE","to":"FAILURE","reason":"blocked","code":106}
 {"tick":1,"node":"root","from":"RUNNING","to":"FAILURE"}
 {"tick":1,"status":"FAILURE"}"#;
-        let (_, notes) = statuses_from_trace(trace, "trace", &blueprint(), "Main", None).unwrap();
-        assert_eq!(notes, ["failed", "", "", "failed: blocked (error 106)"]);
+        let (_, path) = statuses_from_trace(trace, "trace", &blueprint(), "Main", None).unwrap();
+        let mut expected = FailedPath::new();
+        expected.mark(NodeId(0), None);
+        expected.mark(NodeId(3), Some("blocked (error 106)".into()));
+        assert_eq!(path, expected);
     }
 
     #[test]

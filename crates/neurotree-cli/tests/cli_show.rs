@@ -425,3 +425,94 @@ fn show_marks_the_path_that_failed_with_the_reasons_of_the_trace() {
         !show(&[tree, "--trace", trace, "--tick", "3", "--format", "ascii"]).contains("failed")
     );
 }
+
+/// The lines of `picture` that contain `mark`.
+fn marked<'a>(picture: &'a str, mark: &str) -> Vec<&'a str> {
+    picture.lines().filter(|l| l.contains(mark)).collect()
+}
+
+#[test]
+fn show_marks_the_path_that_failed_in_every_picture_format() {
+    let dir = tempfile::tempdir().unwrap();
+    let tree = file(&dir, "give_up.xml", GIVE_UP);
+    let run = neurotree(&["run", arg(&tree), "--mock", "drive=RUNNING", "--trace"]);
+    let trace = file(&dir, "give_up.jsonl", &text(&run.stdout));
+    let (tree, trace) = (arg(&tree), arg(&trace));
+    // Ids: go 0, try 1, limit 2, drive 3, retry 4, AlwaysFailure 5; the path is 0, 1, 4.
+    let dot = show(&[tree, "--trace", trace, "--format", "dot"]);
+    assert_eq!(
+        marked(&dot, "penwidth=3"),
+        [
+            "  n0 [label=\"→ go\\nSequence\", shape=box, fillcolor=\"#ffe3e3\", \
+             color=\"#c92a2a\", tooltip=\"FAILURE: failed\", penwidth=3];",
+            "  n1 [label=\"? try\\nFallback\", shape=box, fillcolor=\"#ffe3e3\", \
+             color=\"#c92a2a\", tooltip=\"FAILURE: failed\", penwidth=3];",
+            "  n4 [label=\"retry\\nRetryUntilSuccessful\\ngave up after 2 attempts\", \
+             shape=hexagon, fillcolor=\"#ffe3e3\", color=\"#c92a2a\", \
+             tooltip=\"FAILURE: failed: gave up after 2 attempts\", penwidth=3];",
+            "  n0 -> n1 [color=\"#c92a2a\", penwidth=3];",
+            "  n1 -> n4 [color=\"#c92a2a\", penwidth=3];",
+        ]
+    );
+    assert_eq!(marked(&dot, "gave up").len(), 1);
+    assert_eq!(marked(&dot, "failed").len(), 3);
+
+    let mermaid = show(&[tree, "--trace", trace, "--format", "mermaid"]);
+    assert_eq!(
+        marked(&mermaid, "#c92a2a,stroke-width:3px"),
+        [
+            "    classDef failedpath stroke:#c92a2a,stroke-width:3px;",
+            "    linkStyle 0,3 stroke:#c92a2a,stroke-width:3px;",
+        ]
+    );
+    assert_eq!(
+        marked(&mermaid, "failedpath"),
+        [
+            "    classDef failedpath stroke:#c92a2a,stroke-width:3px;",
+            "    class n0,n1,n4 failedpath;",
+        ]
+    );
+    assert_eq!(
+        marked(&mermaid, "<b>"),
+        ["    n4{{\"retry<br/><i>RetryUntilSuccessful</i><br/><b>gave up after 2 attempts</b>\"}}"]
+    );
+    // Links, in the order written: 0 go-try, 1 try-limit, 2 limit-drive, 3 try-retry.
+    assert_eq!(
+        marked(&mermaid, " --> "),
+        [
+            "    n0 --> n1",
+            "    n1 --> n2",
+            "    n2 --> n3",
+            "    n1 --> n4",
+            "    n4 --> n5"
+        ]
+    );
+
+    let svg = show(&[tree, "--trace", trace, "--format", "svg"]);
+    let groups: Vec<&str> = marked(&svg, "failed-path\">")
+        .iter()
+        .map(|l| &l[..l.find(" class").unwrap()])
+        .collect();
+    assert_eq!(groups, ["<g id=\"n0\"", "<g id=\"n1\"", "<g id=\"n4\""]);
+    assert_eq!(
+        marked(&svg, "<path class=\"failed-path\""),
+        [
+            "<path class=\"failed-path\" d=\"M130 56V74H130V92\" stroke=\"#c92a2a\" stroke-width=\"3\"/>",
+            "<path class=\"failed-path\" d=\"M130 132V153.5H203V168\" stroke=\"#c92a2a\" stroke-width=\"3\"/>",
+        ]
+    );
+    let reasons = marked(&svg, "class=\"reason\"");
+    assert_eq!(reasons.len(), 1);
+    assert!(reasons[0].starts_with("<g id=\"n4\" class=\"node decorator failure failed-path\">\
+         <title>go/try/retry (RetryUntilSuccessful): FAILURE -- failed: gave up after 2 attempts</title>"));
+    assert!(reasons[0].contains(
+        "<text class=\"reason\" x=\"203\" y=\"213\" font-size=\"10\" font-weight=\"bold\" \
+         text-anchor=\"middle\" fill=\"#c92a2a\">gave up after 2 attempts</text>"
+    ));
+    // Red and three pixels wide: the outlines of the three nodes on the path and the two
+    // lines between them, nothing else.
+    assert_eq!(
+        svg.matches("stroke=\"#c92a2a\" stroke-width=\"3\"").count(),
+        5
+    );
+}

@@ -23,6 +23,36 @@
 //! [`Groot2Monitor::answer`] lists what each request receives. Breakpoints and node
 //! replacement hooks are not supported: requests to set them get an error reply.
 //!
+//! # Why the tree failed
+//!
+//! Groot2 learns why a tick failed from the blackboard panel. Its protocol has no field for
+//! a reason: a status or transition record holds a status byte and no more, and the tree's
+//! XML is fetched once per tree id. The blackboard reply, JSON that Groot2 asks for again
+//! while it watches, is the one place text can reach it unmodified. So when the tick before
+//! the latest [`Groot2Monitor::publish_blackboard`] failed ([`Tree::last_failure`]), the
+//! main tree's blackboard (the one named after the main tree) holds, besides the tree's own
+//! entries, these read-only ones ([`failure_entries`]):
+//!
+//! | entry | value | example |
+//! |---|---|---|
+//! | `@failure.path` | the path of the node whose failure decided the root | `"mission/reach/follow"` |
+//! | `@failure.reason` | the message of the deepest reason on the chain, if any | `"blocked"` |
+//! | `@failure.code` | its code, unless 0 | `106` |
+//! | `@failure.chain` | the whole chain, one link per line, with what each Fallback tried | `"mission\n  mission/reach\n    tried ..."` |
+//!
+//! Groot2 lists them among the entries, as it lists strings and integers of a
+//! BehaviorTree.CPP blackboard; a publication after a tick that did not fail takes them
+//! away. Subtrees' blackboards never carry them. Every blackboard access reads a leading
+//! `@` as "the root's" and strips it, so no key a tree reads or writes is stored under these
+//! names; one written with two `@`s (`@@failure.path`) would be, and is replaced by the
+//! monitor's in the reply.
+//!
+//! The chain is taken by `publish_blackboard`, between ticks, and the entries are made when
+//! a `B` request asks for the main tree's blackboard: the observer callbacks, which run in
+//! the tick, allocate nothing for them.
+//!
+//! [`Tree::last_failure`]: neurotree_core::Tree::last_failure
+//!
 //! Times: a transition is stamped with the tree's clock (so a [`ManualClock`](neurotree_toolkit::ManualClock) gives
 //! reproducible recordings), relative to the latest time the monitor had seen when the
 //! client started recording.
@@ -77,5 +107,7 @@ mod requests;
 mod server;
 mod zmtp;
 
-pub use monitor::Groot2Monitor;
+pub use monitor::{
+    failure_entries, Groot2Monitor, FAILURE_CHAIN, FAILURE_CODE, FAILURE_PATH, FAILURE_REASON,
+};
 pub use server::{Groot2Options, Groot2Server, GrootError};

@@ -8,9 +8,10 @@ use std::sync::{Arc, Mutex, MutexGuard};
 use std::time::Duration;
 
 use neurotree_core::{
-    Blueprint, Category, NodeId, NodeKind, NodeStatus, Observer, ScopeId, StatusChange, Tree,
+    Blueprint, Category, Failure, NodeId, NodeKind, NodeStatus, Observer, ScopeId, StatusChange,
+    Tree,
 };
-use serde_json::Value;
+use serde_json::{json, Map, Value};
 
 use super::protocol::{status_byte, status_record, Transition};
 use neurotree_toolkit::blackboard_json::scope_json;
@@ -52,6 +53,9 @@ pub(crate) struct State {
     pub(crate) transitions: VecDeque<Transition>,
     /// `(blackboard name, its entries as a JSON object)`, main tree first.
     pub(crate) blackboards: Vec<(String, Value)>,
+    /// Why the tree failed, as of the latest publication; turned into entries only when a
+    /// client asks for the main tree's blackboard.
+    pub(crate) failure: Option<Failure>,
 }
 
 impl Groot2Monitor {
@@ -103,6 +107,7 @@ impl Groot2Monitor {
                     latest: Duration::ZERO,
                     transitions: VecDeque::with_capacity(MAX_TRANSITIONS),
                     blackboards: vec![(tree_id.to_string(), Value::Object(Default::default()))],
+                    failure: None,
                 }),
             }),
         }
@@ -121,6 +126,10 @@ impl Groot2Monitor {
     /// Takes a snapshot of `tree`'s blackboards for `B` requests: the root scope under the
     /// main tree's name, and each subtree's own scope under its `_fullpath`, with the values
     /// [`blackboard_json`](neurotree_toolkit::blackboard_json) gives them.
+    ///
+    /// It also takes [`Tree::last_failure`]: when the latest tick failed, the main tree's
+    /// blackboard carries the [failure entries](failure_entries) too, until a call after a
+    /// tick that did not fail.
     ///
     /// The monitor cannot read the blackboard while the tree ticks, so clients see the
     /// entries as of the latest call. Call it between ticks (after each one, or every few
@@ -141,7 +150,10 @@ impl Groot2Monitor {
                 snapshot.push((name.clone(), Value::Object(scope_json(bb, scope))));
             }
         }
-        self.state().blackboards = snapshot;
+        let failure = tree.last_failure();
+        let mut state = self.state();
+        state.blackboards = snapshot;
+        state.failure = failure;
     }
 
     pub(crate) fn state(&self) -> MutexGuard<'_, State> {
@@ -198,6 +210,64 @@ impl Observer for Groot2Monitor {
     fn on_tick_end(&mut self, _status: NodeStatus, now: Duration) {
         self.state().latest = now;
     }
+}
+
+/// The entry of the main tree's blackboard naming the node whose failure decided the root
+/// (its [path](neurotree_core::FailureLink::path)).
+pub const FAILURE_PATH: &str = "@failure.path";
+/// The entry holding the message of the deepest reason on the chain.
+pub const FAILURE_REASON: &str = "@failure.reason";
+/// The entry holding that reason's code.
+pub const FAILURE_CODE: &str = "@failure.code";
+/// The entry holding the whole chain, as [`Failure`]'s `Display` writes it.
+pub const FAILURE_CHAIN: &str = "@failure.chain";
+
+/// The entries a Groot2 client finds in the main tree's blackboard when the tree failed:
+/// [`FAILURE_PATH`] and [`FAILURE_CHAIN`] always, [`FAILURE_REASON`] when a node on the
+/// chain gave a reason, [`FAILURE_CODE`] when that reason has a code other than 0. Strings
+/// and an integer only, which every version of Groot2 shows in its blackboard panel.
+///
+/// ```
+/// use neurotree::groot::failure_entries;
+/// use neurotree::{Action, Blueprint, Handle, ManualClock, Status, Tree};
+///
+/// struct Walk;
+/// impl Action<()> for Walk {
+///     fn tick(&self, h: &mut Handle<'_, ()>) -> Status {
+///         h.fail_with(106, "blocked")
+///     }
+/// }
+///
+/// let blueprint = Blueprint::<()>::builder()
+///     .fallback("find", |f| f.always_failure("near").action_node("walk", Walk))
+///     .build_shared()
+///     .unwrap();
+/// let mut tree = Tree::with_clock(blueprint, ManualClock::new());
+/// assert_eq!(tree.tick_once(&mut ()), Ok(Status::Failure));
+/// let entries = failure_entries(&tree.last_failure().unwrap());
+/// assert_eq!(
+///     serde_json::Value::Object(entries),
+///     serde_json::json!({
+///         "@failure.path": "find/walk",
+///         "@failure.reason": "blocked",
+///         "@failure.code": 106,
+///         "@failure.chain": "find\n  tried find/near: no reason given\n  \
+///                            tried find/walk: blocked (error 106)\n  \
+///                            find/walk: blocked (error 106)",
+///     })
+/// );
+/// ```
+pub fn failure_entries(failure: &Failure) -> Map<String, Value> {
+    let mut entries = Map::new();
+    entries.insert(FAILURE_PATH.into(), json!(failure.leaf().path));
+    if let Some(reason) = failure.reason() {
+        entries.insert(FAILURE_REASON.into(), json!(reason.message()));
+        if reason.code() != 0 {
+            entries.insert(FAILURE_CODE.into(), json!(reason.code()));
+        }
+    }
+    entries.insert(FAILURE_CHAIN.into(), json!(failure.to_string()));
+    entries
 }
 
 /// Adds to the `TreeNodesModel` of `xml` the types of `blueprint` that `registry` does not

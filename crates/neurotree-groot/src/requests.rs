@@ -5,7 +5,7 @@ use std::time::{SystemTime, UNIX_EPOCH};
 
 use serde_json::{Map, Value};
 
-use super::monitor::Groot2Monitor;
+use super::monitor::{failure_entries, Groot2Monitor};
 use super::protocol::{error_reply, ReplyHeader, RequestHeader, RequestType};
 
 impl Groot2Monitor {
@@ -20,7 +20,7 @@ impl Groot2Monitor {
     /// |---|---|
     /// | `T` | the tree XML, with `_uid`s |
     /// | `S` | 3 bytes per node: uid (u16), status byte |
-    /// | `B` + names | MessagePack map: each known name (`;`-separated) to its entries; no names: every blackboard |
+    /// | `B` + names | MessagePack map: each known name (`;`-separated) to its entries; no names: every blackboard; after a failed tick the main tree's has the [failure entries](crate::failure_entries) too |
     /// | `r` + `start` | the wall-clock time, in microseconds since 1970, as decimal text; recording starts |
     /// | `r` + `stop` | nothing; recording stops |
     /// | `t` | 9 bytes per transition recorded since the last `t` |
@@ -79,11 +79,22 @@ impl Groot2Monitor {
         let names = String::from_utf8_lossy(names);
         let wanted: Vec<&str> = names.split(';').filter(|n| !n.is_empty()).collect();
         let mut out = Map::new();
-        for (name, entries) in &self.state().blackboards {
-            if wanted.is_empty() || wanted.contains(&name.as_str()) {
-                out.insert(name.clone(), entries.clone());
+        let state = self.state();
+        for (name, entries) in &state.blackboards {
+            if !wanted.is_empty() && !wanted.contains(&name.as_str()) {
+                continue;
             }
+            let mut entries = entries.clone();
+            if let (Some(failure), Value::Object(map)) = (&state.failure, &mut entries) {
+                if *name == self.shared.main_tree {
+                    // A stored entry of the same name gives way: the monitor's are the
+                    // ones the crate documents.
+                    map.extend(failure_entries(failure));
+                }
+            }
+            out.insert(name.clone(), entries);
         }
+        drop(state);
         // Serializing a JSON value to a Vec fails only on I/O or unrepresentable keys,
         // neither of which a JSON map of strings has; an empty map is the safe answer anyway.
         rmp_serde::to_vec(&Value::Object(out)).unwrap_or_else(|_| vec![0x80])

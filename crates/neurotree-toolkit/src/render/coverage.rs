@@ -16,7 +16,7 @@ use std::fmt::Write as _;
 
 use neurotree_core::{Blueprint, NodeStatus};
 
-use super::{render_dot, render_mermaid, svg, text, Format};
+use super::{render_dot, render_mermaid, svg, text, FailedPath, Format};
 use crate::observe::{CoverageReport, NodeCoverage};
 
 /// Draws `bp` in `format` with what `report` (made for `bp`) says each node covered:
@@ -85,7 +85,7 @@ pub fn render_coverage<C>(bp: &Blueprint<C>, report: &CoverageReport, format: Fo
             match format {
                 Format::Dot => render_dot(bp, Some(&statuses)),
                 Format::Mermaid => render_mermaid(bp, Some(&statuses)),
-                _ => svg::render_svg_with_legend(bp, Some(&statuses), &LEGEND),
+                _ => svg::render_svg_with_legend(bp, Some(&statuses), &LEGEND, &FailedPath::new()),
             }
         }
     }

@@ -8,12 +8,18 @@
 //! for subtrees. With statuses, each node gets the class of its status (`success`,
 //! `failure`, `running`, `idle`, `skipped`), defined with the colours of the tables in
 //! [`render`](super).
+//!
+//! Drawn with a [`FailedPath`](super::FailedPath), the nodes on the path also get the class
+//! `failedpath` (a red border three pixels wide), the links between them a `linkStyle` of
+//! the same red and width, and a node that gave a reason has it in bold as the last line of
+//! its label.
 
 use std::fmt::Write as _;
 
 use neurotree_core::{Blueprint, NodeStatus};
 
-use super::style::{node_views, paint, status_word, NodeView, Shape, STATUSES};
+use super::failed::{FailedPath, PATH_COLOUR};
+use super::style::{node_views, paint, printable, status_word, NodeView, Shape, STATUSES};
 
 /// The tree `bp` as a Mermaid flowchart; with `statuses` (by node id, Idle past the end)
 /// each node is coloured by its status.
@@ -31,13 +37,29 @@ use super::style::{node_views, paint, status_word, NodeView, Shape, STATUSES};
 /// assert!(chart.contains(r#"n1(["is_open<br/><i>Condition</i>"])"#));
 /// ```
 pub fn render_mermaid<C>(bp: &Blueprint<C>, statuses: Option<&[NodeStatus]>) -> String {
+    draw(bp, statuses, &FailedPath::new())
+}
+
+/// [`render_mermaid`] with `failed` marked.
+pub(crate) fn draw<C>(
+    bp: &Blueprint<C>,
+    statuses: Option<&[NodeStatus]>,
+    failed: &FailedPath,
+) -> String {
     let mut out = String::from("flowchart TD\n");
     let views = node_views(bp, statuses);
     for view in &views {
-        node_line(&mut out, view);
+        node_line(&mut out, view, failed.reason(view.id));
     }
+    // Mermaid numbers links in the order they are written, from 0.
+    let mut failed_links = Vec::new();
+    let mut link = 0;
     for view in &views {
         if let Some(parent) = bp.parent(view.id) {
+            if failed.joins(parent, view.id) {
+                failed_links.push(link.to_string());
+            }
+            link += 1;
             // Writing into a String cannot fail.
             let _ = writeln!(out, "    n{} --> n{}", parent.0, view.id.0);
         }
@@ -63,13 +85,37 @@ pub fn render_mermaid<C>(bp: &Blueprint<C>, statuses: Option<&[NodeStatus]>) -> 
         }
         let _ = writeln!(out, ";\n    class {} {word};", ids.join(","));
     }
+    let on_path: Vec<String> = views
+        .iter()
+        .filter(|v| failed.contains(v.id))
+        .map(|v| format!("n{}", v.id.0))
+        .collect();
+    if !on_path.is_empty() {
+        // After the status classes, so that its stroke wins over theirs.
+        let _ = writeln!(
+            out,
+            "    classDef failedpath stroke:{PATH_COLOUR},stroke-width:3px;\n    \
+             class {} failedpath;",
+            on_path.join(",")
+        );
+    }
+    if !failed_links.is_empty() {
+        let _ = writeln!(
+            out,
+            "    linkStyle {} stroke:{PATH_COLOUR},stroke-width:3px;",
+            failed_links.join(",")
+        );
+    }
     out
 }
 
-fn node_line(out: &mut String, view: &NodeView<'_>) {
+fn node_line(out: &mut String, view: &NodeView<'_>, reason: Option<&str>) {
     let mut label = escape(&view.title());
     if let Some(type_name) = &view.type_name {
         let _ = write!(label, "<br/><i>{}</i>", escape(type_name));
+    }
+    if let Some(reason) = reason {
+        let _ = write!(label, "<br/><b>{}</b>", escape(&printable(reason)));
     }
     let (open, close) = match view.shape {
         Shape::Decorator => ("{{", "}}"),

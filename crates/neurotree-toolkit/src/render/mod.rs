@@ -7,6 +7,12 @@
 //! | Mermaid | [`render_mermaid`] | Markdown on GitHub and GitLab, documentation sites |
 //! | SVG | [`render_svg`] | browsers, documents; drawn here, no external tool |
 //!
+//! [`Format::render_failed_path`] draws, in any format, the statuses of a tick with the path
+//! that failed in it ([`FailedPath`], from [`Tree::last_failure`](neurotree_core::Tree::last_failure)
+//! or a trace) marked: the text formats note each node on it ` -- failed: REASON`; the
+//! picture formats draw its nodes and the edges between them red and wide, and write each
+//! reason in the label of the node that gave it.
+//!
 //! [`render_coverage`] draws, in any format, what a run covered
 //! ([`CoverageReport`](crate::observe::CoverageReport)), the nodes never reached set apart.
 //!
@@ -87,6 +93,7 @@
 
 mod coverage;
 mod dot;
+mod failed;
 mod last_tick;
 pub mod layout;
 mod mermaid;
@@ -102,6 +109,7 @@ use neurotree_core::{Blueprint, NodeStatus};
 
 pub use coverage::render_coverage;
 pub use dot::render_dot;
+pub use failed::FailedPath;
 pub use last_tick::LastTickStatuses;
 pub use mermaid::render_mermaid;
 pub use svg::render_svg;
@@ -173,6 +181,52 @@ impl Format {
             Format::Dot => render_dot(bp, statuses),
             Format::Mermaid => render_mermaid(bp, statuses),
             Format::Svg => render_svg(bp, statuses),
+        }
+    }
+
+    /// Draws `bp` in this format with `statuses` (by node id, Idle past the end) and the
+    /// path that `failed` marked: in text, ` -- failed` after each node on it, with
+    /// `: REASON` for a node that gave one (as [`render_statuses_noted`] writes notes); in
+    /// DOT, Mermaid and SVG, its nodes and the edges between them red and three times as
+    /// wide, and each reason as the last line of its node's label (see each format's page).
+    /// An empty path draws as [`render`](Self::render) does.
+    ///
+    /// ```
+    /// use neurotree::render::{FailedPath, Format};
+    /// use neurotree::{Blueprint, NodeId, NodeStatus};
+    ///
+    /// let bp = Blueprint::<()>::builder()
+    ///     .fallback("find", |f| f.always_failure("near").always_failure("far"))
+    ///     .build()
+    ///     .unwrap();
+    /// let mut path = FailedPath::new();
+    /// path.mark(NodeId(0), None);
+    /// path.mark(NodeId(2), Some("blocked (error 106)".into()));
+    /// let statuses = [NodeStatus::Failure; 3];
+    /// assert_eq!(
+    ///     Format::Ascii.render_failed_path(&bp, &statuses, &path),
+    ///     "[F] find (Fallback) -- failed\n\
+    ///      +-- [F] near (AlwaysFailure)\n\
+    ///      \\-- [F] far (AlwaysFailure) -- failed: blocked (error 106)\n"
+    /// );
+    /// assert!(Format::Dot
+    ///     .render_failed_path(&bp, &statuses, &path)
+    ///     .contains("n0 -> n2 [color=\"#c92a2a\", penwidth=3];"));
+    /// ```
+    pub fn render_failed_path<C>(
+        self,
+        bp: &Blueprint<C>,
+        statuses: &[NodeStatus],
+        failed: &FailedPath,
+    ) -> String {
+        match self {
+            Format::Ascii | Format::Unicode => {
+                let notes = failed.notes(bp.len());
+                render_statuses_noted(bp, statuses, &notes, self == Format::Unicode)
+            }
+            Format::Dot => dot::draw(bp, Some(statuses), failed),
+            Format::Mermaid => mermaid::draw(bp, Some(statuses), failed),
+            Format::Svg => svg::draw(bp, Some(statuses), failed),
         }
     }
 }

@@ -8,15 +8,21 @@
 //! status, and a `<title>` (its path, type and status) that viewers show on hover. A legend
 //! of the colours closes a picture drawn with statuses.
 //!
+//! Drawn with a [`FailedPath`](super::FailedPath), the nodes on the path get the class
+//! `failed-path` and a red outline three pixels wide, the lines between them are drawn red
+//! and as wide, over the others, with the class `failed-path`, and a node that gave a reason
+//! shows it in red (class `reason`) under its name and type, and in its `<title>`.
+//!
 //! The output is plain XML with every text escaped and numbers rounded to a tenth, so the
 //! same tree and statuses give the same bytes.
 
 use std::fmt::Write as _;
 
-use neurotree_core::{Blueprint, NodeStatus};
+use neurotree_core::{Blueprint, NodeId, NodeStatus};
 
+use super::failed::{FailedPath, PATH_COLOUR};
 use super::layout::{tidy, Layout, Placed, Size, Spacing};
-use super::style::{node_views, paint, status_word, NodeView, Paint, Shape, STATUSES};
+use super::style::{node_views, paint, printable, status_word, NodeView, Paint, Shape, STATUSES};
 use super::text_width::text_width;
 use crate::xml::escape;
 
@@ -33,6 +39,8 @@ const SLANT: f64 = 10.0;
 const MIN_WIDTH: f64 = 44.0;
 const BADGE_RADIUS: f64 = 7.0;
 const LEGEND_HEIGHT: f64 = 28.0;
+/// From one label line's baseline to the next.
+const LINE_STEP: f64 = 14.0;
 const FONTS: &str = "Helvetica, Arial, 'DejaVu Sans', sans-serif";
 const EDGE_COLOUR: &str = "#adb5bd";
 
@@ -52,8 +60,17 @@ const EDGE_COLOUR: &str = "#adb5bd";
 /// assert!(svg.contains("class=\"node action success\""));
 /// ```
 pub fn render_svg<C>(bp: &Blueprint<C>, statuses: Option<&[NodeStatus]>) -> String {
+    draw(bp, statuses, &FailedPath::new())
+}
+
+/// [`render_svg`] with `failed` marked.
+pub(crate) fn draw<C>(
+    bp: &Blueprint<C>,
+    statuses: Option<&[NodeStatus]>,
+    failed: &FailedPath,
+) -> String {
     let words = STATUSES.map(|s| (s, status_word(s)));
-    render_svg_with_legend(bp, statuses, &words)
+    render_svg_with_legend(bp, statuses, &words, failed)
 }
 
 /// [`render_svg`] with the legend's entries given: each a status whose colours it shows
@@ -62,9 +79,13 @@ pub(crate) fn render_svg_with_legend<C>(
     bp: &Blueprint<C>,
     statuses: Option<&[NodeStatus]>,
     legend_entries: &[(NodeStatus, &str)],
+    failed: &FailedPath,
 ) -> String {
     let views = node_views(bp, statuses);
-    let sizes: Vec<Size> = views.iter().map(box_size).collect();
+    let sizes: Vec<Size> = views
+        .iter()
+        .map(|v| box_size(v, failed.reason(v.id)))
+        .collect();
     let children: Vec<Vec<usize>> = bp
         .ids()
         .map(|id| bp.children(id).iter().map(|c| c.index()).collect())
@@ -108,10 +129,10 @@ pub(crate) fn render_svg_with_legend<C>(
             size: p.size,
         })
         .collect();
-    edges(&mut out, &placed, &children);
+    edges(&mut out, &placed, &children, failed);
     out.push_str("<g class=\"nodes\">\n");
     for (view, p) in views.iter().zip(&placed) {
-        node(&mut out, bp, view, p);
+        node(&mut out, bp, view, p, failed);
     }
     out.push_str("</g>\n");
     if statuses.is_some() {
@@ -127,41 +148,61 @@ pub(crate) fn render_svg_with_legend<C>(
 }
 
 /// Right-angled lines from each parent's bottom to its children's tops, bending halfway
-/// between the rows, where no box is.
-fn edges(out: &mut String, nodes: &[Placed], children: &[Vec<usize>]) {
+/// between the rows, where no box is; those of the path that failed last, so that siblings'
+/// lines, which share their first stretch, do not hide them.
+fn edges(out: &mut String, nodes: &[Placed], children: &[Vec<usize>], failed: &FailedPath) {
     let _ = writeln!(
         out,
         "<g class=\"edges\" fill=\"none\" stroke=\"{EDGE_COLOUR}\" stroke-width=\"1.5\">"
     );
-    for (parent, kids) in nodes.iter().zip(children) {
+    let mut on_path = Vec::new();
+    for (i, (parent, kids)) in nodes.iter().zip(children).enumerate() {
         let Some(&first) = kids.first() else {
             continue;
         };
         let bend = parent.bottom() + (nodes[first].y - parent.bottom()) / 2.0;
         for &c in kids {
             let child = &nodes[c];
-            let _ = writeln!(
-                out,
-                "<path d=\"M{} {}V{}H{}V{}\"/>",
+            let d = format!(
+                "M{} {}V{}H{}V{}",
                 num(parent.x),
                 num(parent.bottom()),
                 num(bend),
                 num(child.x),
                 num(child.y)
             );
+            // Node indices are node ids: the layout keeps the blueprint's order.
+            if failed.joins(id_of(i), id_of(c)) {
+                on_path.push(d);
+            } else {
+                let _ = writeln!(out, "<path d=\"{d}\"/>");
+            }
         }
+    }
+    for d in on_path {
+        let _ = writeln!(
+            out,
+            "<path class=\"failed-path\" d=\"{d}\" stroke=\"{PATH_COLOUR}\" stroke-width=\"3\"/>"
+        );
     }
     out.push_str("</g>\n");
 }
 
-/// The box a node needs for its label and shape.
-fn box_size(view: &NodeView<'_>) -> Size {
+fn id_of(index: usize) -> NodeId {
+    // A blueprint's ids are u32, so its indices fit.
+    NodeId(u32::try_from(index).unwrap_or(u32::MAX))
+}
+
+/// The box a node needs for its label (with the reason it gave, on the path that failed)
+/// and shape.
+fn box_size(view: &NodeView<'_>, reason: Option<&str>) -> Size {
     let name = text_width(&view.name, NAME_SIZE, true);
     let type_name = view
         .type_name
         .as_deref()
         .map_or(0.0, |t| text_width(t, TYPE_SIZE, false));
-    let mut width = name.max(type_name) + 2.0 * PADDING;
+    let reason_width = reason.map_or(0.0, |r| text_width(&printable(r), TYPE_SIZE, true));
+    let mut width = name.max(type_name).max(reason_width) + 2.0 * PADDING;
     width += match view.shape {
         Shape::Sequence | Shape::Fallback | Shape::Parallel => GLYPH_WIDTH,
         Shape::Decorator => 2.0 * SLANT,
@@ -169,11 +210,26 @@ fn box_size(view: &NodeView<'_>) -> Size {
         Shape::SubTree => 6.0,
         Shape::Control | Shape::Action => 0.0,
     };
-    Size::new(width.max(MIN_WIDTH).ceil(), NODE_HEIGHT)
+    // Two lines fit the usual height; a third needs one more step.
+    let lines = 1 + usize::from(view.type_name.is_some()) + usize::from(reason.is_some());
+    let height = if lines > 2 {
+        NODE_HEIGHT + LINE_STEP
+    } else {
+        NODE_HEIGHT
+    };
+    Size::new(width.max(MIN_WIDTH).ceil(), height)
 }
 
-fn node<C>(out: &mut String, bp: &Blueprint<C>, view: &NodeView<'_>, p: &Placed) {
-    let paint = paint(view.status);
+fn node<C>(
+    out: &mut String,
+    bp: &Blueprint<C>,
+    view: &NodeView<'_>,
+    p: &Placed,
+    failed: &FailedPath,
+) {
+    let on_path = failed.contains(view.id);
+    let reason = failed.reason(view.id).map(printable);
+    let mut paint = paint(view.status);
     let _ = write!(
         out,
         "<g id=\"n{}\" class=\"node {}",
@@ -183,6 +239,10 @@ fn node<C>(out: &mut String, bp: &Blueprint<C>, view: &NodeView<'_>, p: &Placed)
     if let Some(status) = view.status {
         let _ = write!(out, " {}", status_word(status));
     }
+    if on_path {
+        out.push_str(" failed-path");
+        paint.stroke = PATH_COLOUR;
+    }
     out.push_str("\">");
     let mut title = super::style::printable(&bp.path(view.id)).into_owned();
     if let Some(type_name) = &view.type_name {
@@ -191,9 +251,17 @@ fn node<C>(out: &mut String, bp: &Blueprint<C>, view: &NodeView<'_>, p: &Placed)
     if let Some(status) = view.status {
         let _ = write!(title, ": {}", status.as_str());
     }
+    match &reason {
+        Some(reason) => {
+            let _ = write!(title, " -- failed: {reason}");
+        }
+        None if on_path => title.push_str(" -- failed"),
+        None => {}
+    }
     let _ = write!(out, "<title>{}</title>", escape(&title));
-    let (left, right) = outline(out, view.shape, p, paint);
-    labels(out, view, p, (left + right) / 2.0);
+    let width = if on_path { "3" } else { "1.5" };
+    let (left, right) = outline(out, view.shape, p, paint, width);
+    labels(out, view, p, (left + right) / 2.0, reason.as_deref());
     if let Some(mark) = view.status.and_then(badge_mark) {
         badge(out, mark, view.shape, p, paint);
     }
@@ -202,9 +270,9 @@ fn node<C>(out: &mut String, bp: &Blueprint<C>, view: &NodeView<'_>, p: &Placed)
 
 /// Draws the node's shape (and a control's glyph); returns the horizontal span left for
 /// the label.
-fn outline(out: &mut String, shape: Shape, p: &Placed, paint: Paint) -> (f64, f64) {
+fn outline(out: &mut String, shape: Shape, p: &Placed, paint: Paint, width: &str) -> (f64, f64) {
     let style = format!(
-        "fill=\"{}\" stroke=\"{}\" stroke-width=\"1.5\"{}",
+        "fill=\"{}\" stroke=\"{}\" stroke-width=\"{width}\"{}",
         paint.fill,
         paint.stroke,
         if paint.dashed {
@@ -270,12 +338,13 @@ fn outline(out: &mut String, shape: Shape, p: &Placed, paint: Paint) -> (f64, f6
     (l + GLYPH_WIDTH, l + w)
 }
 
-/// The name in bold, over the type name when the two differ, centred on `centre`.
-fn labels(out: &mut String, view: &NodeView<'_>, p: &Placed, centre: f64) {
+/// The name in bold, over the type name when the two differ, over the reason the node
+/// gave, if any, all centred on `centre`.
+fn labels(out: &mut String, view: &NodeView<'_>, p: &Placed, centre: f64, reason: Option<&str>) {
     let centre = num(centre);
-    let name_y = match view.type_name {
-        Some(_) => p.y + 17.0,
-        None => p.middle() + NAME_SIZE * 0.35,
+    let name_y = match (&view.type_name, reason) {
+        (None, None) => p.middle() + NAME_SIZE * 0.35,
+        _ => p.y + 17.0,
     };
     let _ = write!(
         out,
@@ -289,8 +358,18 @@ fn labels(out: &mut String, view: &NodeView<'_>, p: &Placed, centre: f64) {
             out,
             "<text x=\"{centre}\" y=\"{}\" font-size=\"{TYPE_SIZE}\" text-anchor=\"middle\" \
              fill=\"#495057\">{}</text>",
-            num(p.y + 31.0),
+            num(p.y + 17.0 + LINE_STEP),
             escape(type_name)
+        );
+    }
+    if let Some(reason) = reason {
+        let lines_above = if view.type_name.is_some() { 2.0 } else { 1.0 };
+        let _ = write!(
+            out,
+            "<text class=\"reason\" x=\"{centre}\" y=\"{}\" font-size=\"{TYPE_SIZE}\" \
+             font-weight=\"bold\" text-anchor=\"middle\" fill=\"{PATH_COLOUR}\">{}</text>",
+            num(p.y + 17.0 + LINE_STEP * lines_above),
+            escape(reason)
         );
     }
 }
