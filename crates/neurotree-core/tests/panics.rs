@@ -226,3 +226,79 @@ fn a_repeat_interrupted_by_a_panic_counts_afresh() {
     assert_eq!(tree.tick_once(&mut log), Ok(Status::Success));
     assert_eq!(log.ticks, 5);
 }
+
+#[test]
+fn a_panicking_condition_is_named_in_an_unobserved_sequence_and_fallback() {
+    // Closure conditions of a plain Sequence or Fallback are called straight from the child
+    // list with no status stored; a panic in one still names it, not its parent or the
+    // condition ticked before it.
+    let bp = Blueprint::<Log>::builder()
+        .sequence("root", |s| {
+            s.condition("fine", |_: &Log| true)
+                .fallback("fb", |f| {
+                    f.condition("no", |_: &Log| false)
+                        .condition("bad", |log: &Log| {
+                            if log.panic_on == 1 {
+                                panic!("bad condition");
+                            }
+                            true
+                        })
+                })
+                .condition("after", |_: &Log| true)
+        })
+        .build_shared()
+        .unwrap();
+    let mut tree = Tree::with_clock(bp, ManualClock::new());
+    let mut log = Log {
+        panic_on: 1,
+        ..Log::default()
+    };
+    assert_eq!(
+        tree.tick_once(&mut log),
+        Err(TickError::Panicked {
+            node: tree.blueprint().find("root/fb/bad").unwrap(),
+            path: "root/fb/bad".into(),
+            message: "bad condition".into(),
+        })
+    );
+    assert!(tree.statuses().iter().all(|s| *s == NodeStatus::Idle));
+    log.panic_on = 0;
+    assert_eq!(tree.tick_once(&mut log), Ok(Status::Success));
+}
+
+/// A condition object (as the registry makes for XML) that panics when told to.
+struct Explodes;
+
+impl neurotree_core::Condition<Log> for Explodes {
+    fn check(&self, h: &Handle<'_, Log>) -> bool {
+        if h.ctx().panic_on == 1 {
+            panic!("object condition");
+        }
+        false
+    }
+}
+
+#[test]
+fn a_panicking_condition_object_is_named_too() {
+    let bp = Blueprint::<Log>::builder()
+        .fallback("root", |f| {
+            f.condition("first", |_: &Log| false)
+                .condition_node("object", Explodes)
+                .condition("last", |_: &Log| true)
+        })
+        .build_shared()
+        .unwrap();
+    let mut tree = Tree::with_clock(bp, ManualClock::new());
+    let mut log = Log {
+        panic_on: 1,
+        ..Log::default()
+    };
+    let err = tree.tick_once(&mut log).unwrap_err();
+    assert!(
+        matches!(&err, TickError::Panicked { path, message, .. }
+            if path == "root/object" && message == "object condition"),
+        "{err}"
+    );
+    log.panic_on = 0;
+    assert_eq!(tree.tick_once(&mut log), Ok(Status::Success));
+}

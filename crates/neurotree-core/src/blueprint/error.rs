@@ -68,4 +68,10 @@ pub enum BuildErrorKind {
         /// The most nodes a blueprint holds.
         max: u32,
     },
+    /// The nodes' names and type ids together are longer than a blueprint holds.
+    #[error("the names of the nodes take more than {max} bytes together; shorten them")]
+    NamesTooLong {
+        /// The most bytes of names a blueprint holds.
+        max: usize,
+    },
 }

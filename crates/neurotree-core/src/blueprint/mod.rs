@@ -85,6 +85,35 @@ enum Fast {
     Sequence,
     /// A plain Fallback without hooks, likewise.
     Fallback,
+    /// A plain Sequence without hooks whose children are all closure conditions without
+    /// hooks (a guard: it completes in every tick, and its loop needs no other case).
+    SequenceOfClosures,
+    /// A plain Fallback of closure conditions, likewise.
+    FallbackOfClosures,
+    /// A plain Sequence without hooks whose children are all `Condition` objects without
+    /// hooks (the same guard, loaded from XML).
+    SequenceOfObjects,
+    /// A plain Fallback of `Condition` objects, likewise.
+    FallbackOfObjects,
+}
+
+/// What a node's children all are, when its parent can use it (see [`Fast`]).
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub(crate) enum Guards {
+    /// Closure conditions without hooks.
+    Closures,
+    /// `Condition` objects without hooks.
+    Objects,
+    /// Anything else.
+    Mixed,
+}
+
+/// A plain Sequence (`sequence`) or Fallback without hooks, and what its children all are:
+/// how a parent's loop ticks it without the dispatcher.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub(crate) struct FastControl {
+    pub(crate) sequence: bool,
+    pub(crate) guards: Guards,
 }
 
 /// The condition a [`Child`] calls directly: points into the `ConditionFn` box or at the
@@ -101,7 +130,7 @@ type ConditionDyn<C> = dyn Fn(&C) -> bool + Send + Sync;
 
 impl<C> Child<C> {
     /// A child of kind `kind`; `hooked` when it has pre- or post-conditions.
-    pub(crate) fn new(id: NodeId, kind: &NodeKind<C>, hooked: bool) -> Self {
+    pub(crate) fn new(id: NodeId, kind: &NodeKind<C>, hooked: bool, guards: Guards) -> Self {
         let (fast, leaf) = match (kind, hooked) {
             (NodeKind::ConditionFn(f), false) => (
                 Fast::Closure,
@@ -115,8 +144,18 @@ impl<C> Child<C> {
                     condition: NonNull::from(&**c),
                 },
             ),
-            (NodeKind::Sequence, false) => (Fast::Sequence, FastLeaf { none: () }),
-            (NodeKind::Fallback, false) => (Fast::Fallback, FastLeaf { none: () }),
+            (NodeKind::Sequence | NodeKind::Fallback, false) => {
+                let sequence = matches!(kind, NodeKind::Sequence);
+                let fast = match (sequence, guards) {
+                    (true, Guards::Closures) => Fast::SequenceOfClosures,
+                    (true, Guards::Objects) => Fast::SequenceOfObjects,
+                    (true, Guards::Mixed) => Fast::Sequence,
+                    (false, Guards::Closures) => Fast::FallbackOfClosures,
+                    (false, Guards::Objects) => Fast::FallbackOfObjects,
+                    (false, Guards::Mixed) => Fast::Fallback,
+                };
+                (fast, FastLeaf { none: () })
+            }
             _ => (Fast::None, FastLeaf { none: () }),
         };
         Self { id, fast, leaf }
@@ -143,15 +182,39 @@ impl<C> Child<C> {
         matches!(self.fast, Fast::Closure | Fast::Condition)
     }
 
-    /// A plain Sequence (`Some(true)`) or Fallback (`Some(false)`) without hooks, which a
-    /// parent's loop ticks without the dispatcher.
+    /// A plain Sequence or Fallback without hooks, which a parent's loop ticks without the
+    /// dispatcher, and what its children all are.
     #[inline(always)]
-    pub(crate) fn fast_control(&self) -> Option<bool> {
-        match self.fast {
-            Fast::Sequence => Some(true),
-            Fast::Fallback => Some(false),
-            _ => None,
-        }
+    pub(crate) fn fast_control(&self) -> Option<FastControl> {
+        let (sequence, guards) = match self.fast {
+            Fast::Sequence => (true, Guards::Mixed),
+            Fast::Fallback => (false, Guards::Mixed),
+            Fast::SequenceOfClosures => (true, Guards::Closures),
+            Fast::FallbackOfClosures => (false, Guards::Closures),
+            Fast::SequenceOfObjects => (true, Guards::Objects),
+            Fast::FallbackOfObjects => (false, Guards::Objects),
+            Fast::Closure | Fast::Condition | Fast::None => return None,
+        };
+        Some(FastControl { sequence, guards })
+    }
+
+    /// The child's closure, when its parent knows it is a closure condition
+    /// ([`Guards::Closures`]).
+    #[inline(always)]
+    pub(crate) fn closure_known(&self) -> &ConditionDyn<C> {
+        debug_assert!(self.fast == Fast::Closure);
+        // SAFETY: the parent's `Fast` said all its children are closure conditions, which
+        // `new` set for exactly those (see `closure`).
+        unsafe { &*self.leaf.closure.as_ptr() }
+    }
+
+    /// The child's `Condition` object, when its parent knows it is one
+    /// ([`Guards::Objects`]).
+    #[inline(always)]
+    pub(crate) fn condition_known(&self) -> &dyn Condition<C> {
+        debug_assert!(self.fast == Fast::Condition);
+        // SAFETY: as in `closure_known`, for `Condition` objects (see `condition_object`).
+        unsafe { &*self.leaf.condition.as_ptr() }
     }
 
     /// The child's `Condition` object (a registered condition from XML, or the builder's
@@ -174,11 +237,30 @@ unsafe impl<C> Send for Child<C> {}
 unsafe impl<C> Sync for Child<C> {}
 
 /// Where a name is in [`Blueprint::names`]: all the names of a blueprint share one buffer,
-/// so that building one allocates per blueprint, not per node.
+/// so that building one allocates per blueprint, not per node. In 32 bits, as the
+/// builder refuses names past [`MAX_NAMES_BYTES`](builder::MAX_NAMES_BYTES): a large tree's
+/// records take less memory.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub(crate) struct NameSpan {
-    pub(crate) start: usize,
-    pub(crate) end: usize,
+    start: u32,
+    end: u32,
+}
+
+impl NameSpan {
+    /// The span of bytes `start..end`, both within the builder's limit.
+    pub(crate) fn new(start: usize, end: usize) -> Self {
+        debug_assert!(end <= builder::MAX_NAMES_BYTES);
+        // The builder checks the length of its names before it makes a span.
+        Self {
+            start: start as u32,
+            end: end as u32,
+        }
+    }
+
+    /// The range of [`Blueprint::names`] it stands for.
+    pub(crate) fn range(self) -> core::ops::Range<usize> {
+        self.start as usize..self.end as usize
+    }
 }
 
 /// What only tools read: names, parents, depths.
@@ -259,11 +341,11 @@ impl<C> Blueprint<C> {
     /// The node's name (its kind's type name when it was given none).
     pub fn name(&self, id: NodeId) -> &str {
         let span = self.meta[id.index()].name;
-        debug_assert!(self.names.get(span.start..span.end).is_some());
+        debug_assert!(self.names.get(span.range()).is_some());
         // SAFETY: the builder recorded `span` around a whole `&str` it had just appended to
         // `names`, so both ends are char boundaries within it, and `names` does not change
         // once built. Unchecked because every tick of a leaf with a handle reads the name.
-        unsafe { self.names.get_unchecked(span.start..span.end) }
+        unsafe { self.names.get_unchecked(span.range()) }
     }
 
     /// The node's type as a file names it: the registered name it was made from (see
@@ -271,7 +353,7 @@ impl<C> Blueprint<C> {
     pub fn type_id(&self, id: NodeId) -> &str {
         let meta = &self.meta[id.index()];
         match meta.type_id {
-            Some(span) => &self.names[span.start..span.end],
+            Some(span) => &self.names[span.range()],
             None => self.kind(id).type_name(),
         }
     }

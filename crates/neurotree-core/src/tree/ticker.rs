@@ -368,11 +368,19 @@ impl<'t, C> Ticker<'t, C> {
     /// handles those itself (`ordered::run_quiet`).
     #[inline(never)]
     pub(crate) fn tick_child_stored(&mut self, child: &Child<C>) -> NodeStatus {
-        use control::ordered::{tick, PLAIN};
-        match child.fast_control() {
-            Some(true) => self.tick_direct(child.id, tick::<C, true, PLAIN>),
-            Some(false) => self.tick_direct(child.id, tick::<C, false, PLAIN>),
-            None => self.tick_other(child.id, self.bp.def(child.id)),
+        use crate::blueprint::{FastControl, Guards};
+        use control::ordered::{tick, tick_guard, PLAIN};
+        let Some(FastControl { sequence, guards }) = child.fast_control() else {
+            return self.tick_other(child.id, self.bp.def(child.id));
+        };
+        let id = child.id;
+        match (sequence, guards) {
+            (true, Guards::Mixed) => self.tick_direct(id, tick::<C, true, PLAIN>),
+            (false, Guards::Mixed) => self.tick_direct(id, tick::<C, false, PLAIN>),
+            (true, Guards::Closures) => self.tick_direct(id, tick_guard::<C, true, true>),
+            (false, Guards::Closures) => self.tick_direct(id, tick_guard::<C, false, true>),
+            (true, Guards::Objects) => self.tick_direct(id, tick_guard::<C, true, false>),
+            (false, Guards::Objects) => self.tick_direct(id, tick_guard::<C, false, false>),
         }
     }
 

@@ -8,8 +8,8 @@ use alloc::sync::Arc;
 use alloc::vec::Vec;
 
 use super::{
-    Blueprint, BuildError, BuildErrorKind, Child, NameSpan, NodeDef, NodeId, NodeKind, NodeMeta,
-    ParallelPolicy, Param, Port, SubTreeScope, DEFAULT_MAX_DEPTH,
+    Blueprint, BuildError, BuildErrorKind, Child, Guards, NameSpan, NodeDef, NodeId, NodeKind,
+    NodeMeta, ParallelPolicy, Param, Port, SubTreeScope, DEFAULT_MAX_DEPTH,
 };
 use crate::blackboard::ScopeId;
 use crate::nodes::hooks::NodeHooks;
@@ -28,9 +28,16 @@ struct Pending<C> {
     parent: Option<u32>,
     child_count: u32,
     depth: u32,
-    ports: Vec<Port>,
     type_id: Option<NameSpan>,
-    hooks: Option<Box<dyn NodeHooks<C>>>,
+}
+
+/// The longest text all the names and type ids of one tree may take together (they share
+/// one buffer, addressed in 32 bits).
+pub const MAX_NAMES_BYTES: usize = u32::MAX as usize;
+
+/// `Some` if `more` bytes of names fit after `used`.
+fn names_fit(used: usize, more: usize) -> Option<()> {
+    (used.checked_add(more)? <= MAX_NAMES_BYTES).then_some(())
 }
 
 /// Builds a [`Blueprint`].
@@ -72,6 +79,10 @@ struct State<C> {
     /// The text of every node's name and type id.
     names: String,
     open: Vec<u32>,
+    /// The ports and the hooks of the few nodes that have them, by node number in
+    /// increasing order: kept apart, a pending node is half as large.
+    ports: Vec<(u32, Vec<Port>)>,
+    hooks: Vec<(u32, Box<dyn NodeHooks<C>>)>,
     error: Option<BuildError>,
     /// Opens seen after an error, so their closes balance without storing nodes.
     ignored: usize,
@@ -92,6 +103,8 @@ impl<C> Builder<C> {
                 nodes: Chunks::new(),
                 names: String::new(),
                 open: Vec::new(),
+                ports: Vec::new(),
+                hooks: Vec::new(),
                 error: None,
                 ignored: 0,
                 max_depth: DEFAULT_MAX_DEPTH,
@@ -140,20 +153,27 @@ impl<C> Builder<C> {
             return self;
         }
         let id = self.s.nodes.len() as u32;
-        let name = self.s.push_name(if name.is_empty() {
+        let Some(name) = self.s.push_name(if name.is_empty() {
             kind.type_name()
         } else {
             name
-        });
+        }) else {
+            self.s.fail(
+                parent,
+                BuildErrorKind::NamesTooLong {
+                    max: MAX_NAMES_BYTES,
+                },
+            );
+            self.s.ignored += 1;
+            return self;
+        };
         self.s.nodes.push(Pending {
             kind,
             name,
             parent,
             child_count: 0,
             depth,
-            ports: Vec::new(),
             type_id: None,
-            hooks: None,
         });
         if let Some(p) = parent {
             self.s.nodes[p as usize].child_count += 1;
@@ -183,9 +203,14 @@ impl<C> Builder<C> {
         if self.s.ignored > 0 || self.s.error.is_some() {
             return self;
         }
-        match self.s.nodes.last_mut() {
-            Some(node) => node.ports.extend(ports),
-            None => self.s.fail(None, BuildErrorKind::Empty),
+        let Some(last) = self.s.nodes.len().checked_sub(1) else {
+            self.s.fail(None, BuildErrorKind::Empty);
+            return self;
+        };
+        let last = last as u32;
+        match self.s.ports.last_mut() {
+            Some((id, bound)) if *id == last => bound.extend(ports),
+            _ => self.s.ports.push((last, ports.into_iter().collect())),
         }
         self
     }
@@ -202,14 +227,24 @@ impl<C> Builder<C> {
             return self;
         };
         // Usually the node is named after its type: the name's text serves for both.
-        let text = &self.s.names.as_bytes()[name.start..name.end];
+        let text = &self.s.names.as_bytes()[name.range()];
         // Compared inline: names are short, and `==` would call `memcmp`.
         let same =
             text.len() == type_id.len() && text.iter().zip(type_id.bytes()).all(|(a, b)| *a == b);
         let span = if same {
             name
         } else {
-            self.s.push_name(type_id)
+            let Some(span) = self.s.push_name(type_id) else {
+                let last = self.s.nodes.len() as u32 - 1;
+                self.s.fail(
+                    Some(last),
+                    BuildErrorKind::NamesTooLong {
+                        max: MAX_NAMES_BYTES,
+                    },
+                );
+                return self;
+            };
+            span
         };
         if let Some(node) = self.s.nodes.last_mut() {
             node.type_id = Some(span);
@@ -222,9 +257,14 @@ impl<C> Builder<C> {
         if self.s.ignored > 0 || self.s.error.is_some() {
             return self;
         }
-        match self.s.nodes.last_mut() {
-            Some(node) => node.hooks = Some(Box::new(hooks)),
-            None => self.s.fail(None, BuildErrorKind::Empty),
+        let Some(last) = self.s.nodes.len().checked_sub(1) else {
+            self.s.fail(None, BuildErrorKind::Empty);
+            return self;
+        };
+        let last = last as u32;
+        match self.s.hooks.last_mut() {
+            Some((id, attached)) if *id == last => *attached = Box::new(hooks),
+            _ => self.s.hooks.push((last, Box::new(hooks))),
         }
         self
     }
@@ -297,18 +337,17 @@ impl<C> State<C> {
                 out.push('/');
             }
             let name = self.nodes[*n as usize].name;
-            out.push_str(&self.names[name.start..name.end]);
+            out.push_str(&self.names[name.range()]);
         }
         out
     }
 
-    fn push_name(&mut self, name: &str) -> NameSpan {
+    /// Appends a name to the shared buffer; `None` if the buffer would pass its limit.
+    fn push_name(&mut self, name: &str) -> Option<NameSpan> {
+        names_fit(self.names.len(), name.len())?;
         let start = self.names.len();
         self.names.push_str(name);
-        NameSpan {
-            start,
-            end: self.names.len(),
-        }
+        Some(NameSpan::new(start, self.names.len()))
     }
 
     /// Checks the closed node's children and resolves thresholds that depend on their number.
@@ -397,6 +436,8 @@ impl<C> State<C> {
         let mut child_scope: Vec<ScopeId> = Vec::with_capacity(count);
         let mut aux = 0u32;
         let mut objects = 0u32;
+        let mut side_ports = self.ports.into_iter().peekable();
+        let mut side_hooks = self.hooks.into_iter().peekable();
         let mut add = |id: u32, p: Pending<C>| {
             next_child.push(laid_out);
             let first_child = laid_out;
@@ -427,7 +468,7 @@ impl<C> State<C> {
                 _ => 0,
             };
             let kind = p.kind;
-            hooks.push(p.hooks);
+            hooks.push(side_hooks.next_if(|(at, _)| *at == id).map(|(_, h)| h));
             let own_slots = kind.aux_slots();
             slots.push(if own_slots > 0 { aux } else { object });
             node_scopes.push(scope);
@@ -441,7 +482,10 @@ impl<C> State<C> {
                 name: p.name,
                 parent: p.parent.map(NodeId),
                 depth: p.depth,
-                ports: p.ports,
+                ports: side_ports
+                    .next_if(|(at, _)| *at == id)
+                    .map(|(_, ports)| ports)
+                    .unwrap_or_default(),
                 type_id: p.type_id,
             });
         };
@@ -454,10 +498,33 @@ impl<C> State<C> {
             }
         }
         let nodes = nodes.into_boxed_slice();
+        // What each node's children all are, for its parent's loop; a hooked condition
+        // takes the general path, which runs its hooks.
+        let guards: Vec<Guards> = nodes
+            .iter()
+            .map(|def| {
+                let range = def.first_child as usize..(def.first_child + def.child_count) as usize;
+                let mut kinds = children[range].iter().map(|c| {
+                    match (&nodes[c.index()].kind, hooks[c.index()].is_some()) {
+                        (NodeKind::ConditionFn(_), false) => Guards::Closures,
+                        (NodeKind::Condition(_), false) => Guards::Objects,
+                        _ => Guards::Mixed,
+                    }
+                });
+                let first = kinds.next().unwrap_or(Guards::Mixed);
+                if kinds.all(|k| k == first) {
+                    first
+                } else {
+                    Guards::Mixed
+                }
+            })
+            .collect();
         let hot_children = children
             .iter()
-            // A hooked condition takes the general path, which runs its hooks.
-            .map(|&id| Child::new(id, &nodes[id.index()].kind, hooks[id.index()].is_some()))
+            .map(|&id| {
+                let i = id.index();
+                Child::new(id, &nodes[i].kind, hooks[i].is_some(), guards[i])
+            })
             .collect();
         Blueprint {
             hot_children,
@@ -490,6 +557,58 @@ mod tests {
     use super::*;
     use crate::blueprint::Arity;
     use alloc::string::ToString;
+
+    /// Hooks that make the node succeed at once, so that a test can see which node has them.
+    struct Succeed;
+    impl NodeHooks<()> for Succeed {
+        fn before(
+            &self,
+            _h: &mut crate::Handle<'_, ()>,
+            _stored: crate::NodeStatus,
+        ) -> Option<crate::NodeStatus> {
+            Some(crate::NodeStatus::Success)
+        }
+    }
+
+    #[test]
+    fn ports_and_hooks_kept_apart_reach_their_own_nodes() {
+        let bp = Builder::<()>::new()
+            .open(NodeKind::Sequence, "root")
+            .ports([Port::literal("a", "1")])
+            .ports([Port::literal("b", "2")])
+            .leaf(NodeKind::AlwaysFailure, "plain")
+            .open(NodeKind::AlwaysFailure, "hooked")
+            .hooks(Succeed)
+            .ports([Port::entry("c", "key")])
+            .close()
+            .open(NodeKind::AlwaysFailure, "twice")
+            .hooks(Succeed)
+            .hooks(Succeed)
+            .close()
+            .close()
+            .build()
+            .unwrap();
+        let names = |id: u32| -> Vec<&str> {
+            bp.ports(NodeId(id))
+                .iter()
+                .map(|p| p.name.as_str())
+                .collect()
+        };
+        assert_eq!(names(0), ["a", "b"]);
+        assert!(names(1).is_empty());
+        assert_eq!(names(2), ["c"]);
+        assert!(names(3).is_empty());
+        let hooked: Vec<bool> = (0..4).map(|i| bp.hooks(NodeId(i)).is_some()).collect();
+        assert_eq!(hooked, [false, false, true, true]);
+    }
+
+    #[test]
+    fn names_fit_up_to_the_limit_only() {
+        assert_eq!(names_fit(0, MAX_NAMES_BYTES), Some(()));
+        assert_eq!(names_fit(MAX_NAMES_BYTES - 3, 3), Some(()));
+        assert_eq!(names_fit(MAX_NAMES_BYTES - 3, 4), None);
+        assert_eq!(names_fit(usize::MAX, 1), None);
+    }
 
     fn err<C>(b: Builder<C>) -> BuildError {
         match b.build() {

@@ -5,6 +5,7 @@
 
 use super::{pack, unpack};
 use crate::blueprint::NodeDef;
+use crate::nodes::leaf::Handle;
 use crate::tree::Ticker;
 use crate::{NodeId, NodeStatus};
 
@@ -101,6 +102,78 @@ fn run<C, const SEQUENCE: bool, const FLAVOR: Flavor, const OBSERVED: bool>(
     }
 }
 
+/// Ticks a plain Sequence (`SEQUENCE`) or Fallback whose children are all conditions
+/// called from the child list: closures (`CLOSURES`) or `Condition` objects. Such a node
+/// completes in every tick, so with no observer its loop is the calls alone: no status is
+/// stored for the children (see [`run_quiet`]), none for the node until it returns, and
+/// its cursor stays at the start.
+#[inline(never)]
+pub(crate) fn tick_guard<C, const SEQUENCE: bool, const CLOSURES: bool>(
+    t: &mut Ticker<'_, C>,
+    id: NodeId,
+    def: &NodeDef<C>,
+) -> NodeStatus {
+    if t.observed() {
+        return run::<C, SEQUENCE, PLAIN, true>(t, id, def);
+    }
+    let (go_on, stop) = if SEQUENCE {
+        (NodeStatus::Success, NodeStatus::Failure)
+    } else {
+        (NodeStatus::Failure, NodeStatus::Success)
+    };
+    let hot = t.bp.hot_children_of(def);
+    if CLOSURES {
+        let ctx: &C = t.ctx;
+        for child in hot {
+            let f = child.closure_known();
+            let blame = Blame {
+                current: &mut t.current,
+                child: child.id,
+            };
+            let holds = f(ctx);
+            core::mem::forget(blame);
+            if holds != SEQUENCE {
+                return stop;
+            }
+        }
+    } else {
+        let mut h = Handle {
+            ctx: &mut *t.ctx,
+            blackboard: &mut *t.bb,
+            clock: t.clock,
+            node: id,
+            bp: t.bp,
+            out: &mut *t.out,
+        };
+        for child in hot {
+            h.node = child.id;
+            let blame = Blame {
+                current: &mut t.current,
+                child: child.id,
+            };
+            let holds = child.condition_known().check(&h);
+            core::mem::forget(blame);
+            if holds != SEQUENCE {
+                return stop;
+            }
+        }
+    }
+    go_on
+}
+
+/// Names the child whose condition is being called as the node a panic came from, when
+/// the panic unwinds through the call (the loop forgets it otherwise).
+struct Blame<'a> {
+    current: &'a mut NodeId,
+    child: NodeId,
+}
+
+impl Drop for Blame<'_> {
+    fn drop(&mut self) {
+        *self.current = self.child;
+    }
+}
+
 /// A plain Sequence or Fallback with no observer: the most common node, made cheap.
 ///
 /// A condition child called straight from the child list (a closure, or a registered
@@ -139,13 +212,32 @@ fn run_quiet<C, const SEQUENCE: bool>(
         };
         let status = match child.closure() {
             Some(f) => {
-                t.current = child.id;
-                NodeStatus::from(crate::Status::from(f(t.ctx)))
+                // Which node a panic came from is written only if one unwinds through here:
+                // a store per condition would cost this loop a tenth of its time.
+                let blame = Blame {
+                    current: &mut t.current,
+                    child: child.id,
+                };
+                let holds = f(t.ctx);
+                core::mem::forget(blame);
+                NodeStatus::from(crate::Status::from(holds))
             }
             None => match child.condition_object() {
                 Some(c) => {
-                    t.current = child.id;
-                    NodeStatus::from(crate::Status::from(c.check(&t.handle(child.id))))
+                    let blame = Blame {
+                        current: &mut t.current,
+                        child: child.id,
+                    };
+                    let holds = c.check(&Handle {
+                        ctx: &mut *t.ctx,
+                        blackboard: &mut *t.bb,
+                        clock: t.clock,
+                        node: child.id,
+                        bp: t.bp,
+                        out: &mut *t.out,
+                    });
+                    core::mem::forget(blame);
+                    NodeStatus::from(crate::Status::from(holds))
                 }
                 None => {
                     stored = true;
@@ -273,6 +365,59 @@ mod tests {
     }
 
     #[test]
+    fn guards_of_conditions_decide_and_hold_their_result_while_the_parent_runs() {
+        // Ids: 0 seq, 1 closures (2 a, 3 b), 4 objects (5 o, 6 p), 7 scripted.
+        let mut lab = Lab::new(&[&[R, S]]);
+        let mut tree = lab.tree(|b| {
+            b.sequence("seq", |s| {
+                s.sequence("closures", |g| {
+                    g.condition("a", |_: &Lab| true)
+                        .condition("b", |_: &Lab| true)
+                })
+                .fallback("objects", |g| {
+                    g.condition_node("o", Holds(false))
+                        .condition_node("p", Holds(true))
+                })
+                .scripted(0)
+            })
+        });
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Running));
+        // The guards hold their Success while their parent runs; their conditions, never
+        // stored, are Idle.
+        assert_eq!(statuses(&tree), [Rn, Sc, I, I, Sc, I, I, Rn]);
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Success));
+        assert_eq!(statuses(&tree), [I; 8]);
+        assert_eq!(lab.ticks, [2]);
+    }
+
+    #[test]
+    fn a_failing_guard_stops_its_parent_at_the_first_deciding_condition() {
+        let asked = Arc::new(core::sync::atomic::AtomicU32::new(0));
+        let counted = |holds: bool| {
+            let asked = Arc::clone(&asked);
+            move |_: &Lab| {
+                asked.fetch_add(1, core::sync::atomic::Ordering::Relaxed);
+                holds
+            }
+        };
+        let mut lab = Lab::new(&[&[S]]);
+        let mut tree = lab.tree(|b| {
+            b.fallback("fb", |f| {
+                f.sequence("guard", |g| {
+                    g.condition("yes", counted(true))
+                        .condition("no", counted(false))
+                        .condition("unasked", counted(true))
+                })
+                .scripted(0)
+            })
+        });
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Success));
+        assert_eq!(asked.load(core::sync::atomic::Ordering::Relaxed), 2);
+        assert_eq!(lab.ticks, [1]);
+        assert_eq!(statuses(&tree), [I; 6]);
+    }
+
+    #[test]
     fn observed_and_quiet_loops_agree() {
         // The same tree with a recording observer attached ticks the stored loop; both end
         // every tick with the same statuses.
@@ -281,6 +426,14 @@ mod tests {
                 b.sequence("seq", |s| {
                     s.condition("c", |_: &Lab| true)
                         .fallback("fb", |f| f.condition_node("o", Holds(false)).scripted(0))
+                        .fallback("guard", |g| {
+                            g.condition_node("x", Holds(false))
+                                .condition_node("y", Holds(true))
+                        })
+                        .sequence("closures", |g| {
+                            g.condition("e", |_: &Lab| true)
+                                .condition("f", |_: &Lab| true)
+                        })
                         .condition("d", |_: &Lab| true)
                 })
             })

@@ -199,7 +199,8 @@ impl<'d> Element<'d> {
 
     /// An error located at this element.
     pub(crate) fn error(&self, message: impl Into<String>) -> LoadError {
-        self.doc.error_at(self.node().offset as usize, message.into())
+        self.doc
+            .error_at(self.node().offset as usize, message.into())
     }
 
     /// A warning located at this element.
