@@ -70,18 +70,22 @@ fn many_agents(c: &mut Criterion) {
     group.finish();
 }
 
-/// From XML text to a tickable instance: parse, check, build the blueprint, instantiate.
+/// From XML text to a tickable instance: parse, check, build the blueprint, instantiate,
+/// and drop it again (so that each iteration starts from the same heap); `drop/tree1111`
+/// times the drop alone.
 fn load_tree1111(c: &mut Criterion) {
     let registry = tree1111_registry::<()>();
-    c.bench_function("load/tree1111", |b| {
-        b.iter(|| {
-            let mut loader = neurotree::XmlLoader::new(&registry);
-            loader
-                .load_str(black_box(TREE1111_XML), "tree1111.xml")
-                .unwrap();
-            let bp = loader.build_main().unwrap();
-            Tree::with_clock(std::sync::Arc::new(bp), ManualClock::new())
-        })
+    let load = || {
+        let mut loader = neurotree::XmlLoader::new(&registry);
+        loader
+            .load_str(black_box(TREE1111_XML), "tree1111.xml")
+            .unwrap();
+        let bp = loader.build_main().unwrap();
+        Tree::with_clock(std::sync::Arc::new(bp), ManualClock::new())
+    };
+    c.bench_function("load/tree1111", |b| b.iter(load));
+    c.bench_function("drop/tree1111", |b| {
+        b.iter_batched(load, drop, criterion::BatchSize::SmallInput)
     });
 }
 

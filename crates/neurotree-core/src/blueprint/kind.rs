@@ -156,6 +156,18 @@ pub struct CustomSpec<C> {
     pub factory: CustomFactory<C>,
 }
 
+/// Which of its blueprint's shared [`Condition`] objects a
+/// [`NodeKind::SharedCondition`] calls; only a [`Builder`](crate::Builder) makes one.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Shared(pub(crate) u32);
+
+impl Shared {
+    /// Its place in the blueprint's table.
+    pub(crate) fn index(self) -> usize {
+        self.0 as usize
+    }
+}
+
 /// Every kind of node the engine ticks.
 ///
 /// The first group are BehaviorTree.CPP's built-in nodes with its semantics (see each node's
@@ -235,6 +247,10 @@ pub enum NodeKind<C> {
     ConditionFn(ConditionFn<C>),
     /// A [`Condition`] object, shared by all instances.
     Condition(Arc<dyn Condition<C>>),
+    /// A [`Condition`] object its blueprint holds once for every node that calls it, made
+    /// by [`Builder::open_shared_condition`](crate::Builder::open_shared_condition):
+    /// making such a node clones no `Arc`.
+    SharedCondition(Shared),
     /// A closure sync action.
     ActionFn(ActionFn<C>),
     /// An [`Action`] object, shared by all instances.
@@ -277,7 +293,9 @@ impl<C> NodeKind<C> {
             NodeKind::AlwaysSuccess => "AlwaysSuccess",
             NodeKind::AlwaysFailure => "AlwaysFailure",
             NodeKind::Sleep(_) => "Sleep",
-            NodeKind::ConditionFn(_) | NodeKind::Condition(_) => "Condition",
+            NodeKind::ConditionFn(_) | NodeKind::Condition(_) | NodeKind::SharedCondition(_) => {
+                "Condition"
+            }
             NodeKind::ActionFn(_) | NodeKind::Action(_) => "Action",
             NodeKind::Stateful(_) => "StatefulAction",
             NodeKind::Async(_) => "AsyncAction",
@@ -290,7 +308,9 @@ impl<C> NodeKind<C> {
     pub fn category(&self) -> Category {
         match self.arity() {
             Arity::Leaf => match self {
-                NodeKind::ConditionFn(_) | NodeKind::Condition(_) => Category::Condition,
+                NodeKind::ConditionFn(_)
+                | NodeKind::Condition(_)
+                | NodeKind::SharedCondition(_) => Category::Condition,
                 _ => Category::Action,
             },
             Arity::One => match self {
@@ -331,6 +351,7 @@ impl<C> NodeKind<C> {
             | NodeKind::Sleep(_)
             | NodeKind::ConditionFn(_)
             | NodeKind::Condition(_)
+            | NodeKind::SharedCondition(_)
             | NodeKind::ActionFn(_)
             | NodeKind::Action(_)
             | NodeKind::Stateful(_)

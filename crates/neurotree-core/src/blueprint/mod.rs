@@ -14,12 +14,13 @@ pub use builder::Builder;
 pub use error::{BuildError, BuildErrorKind};
 pub use kind::{
     ActionFn, Arity, Category, ConditionFn, CustomFactory, CustomSpec, NodeKind, ParallelPolicy,
-    Param, StatefulFactory, SubTreeScope,
+    Param, Shared, StatefulFactory, SubTreeScope,
 };
 pub use port::{FromPortStr, Literal, Number, Port, PortError, PortType, PortValue};
 
 use alloc::boxed::Box;
 use alloc::string::String;
+use alloc::sync::Arc;
 use alloc::vec::Vec;
 use core::fmt;
 use core::ptr::NonNull;
@@ -130,7 +131,13 @@ type ConditionDyn<C> = dyn Fn(&C) -> bool + Send + Sync;
 
 impl<C> Child<C> {
     /// A child of kind `kind`; `hooked` when it has pre- or post-conditions.
-    pub(crate) fn new(id: NodeId, kind: &NodeKind<C>, hooked: bool, guards: Guards) -> Self {
+    pub(crate) fn new(
+        id: NodeId,
+        kind: &NodeKind<C>,
+        hooked: bool,
+        guards: Guards,
+        shared: &[Arc<dyn Condition<C>>],
+    ) -> Self {
         let (fast, leaf) = match (kind, hooked) {
             (NodeKind::ConditionFn(f), false) => (
                 Fast::Closure,
@@ -142,6 +149,12 @@ impl<C> Child<C> {
                 Fast::Condition,
                 FastLeaf {
                     condition: NonNull::from(&**c),
+                },
+            ),
+            (NodeKind::SharedCondition(s), false) => (
+                Fast::Condition,
+                FastLeaf {
+                    condition: NonNull::from(&*shared[s.index()]),
                 },
             ),
             (NodeKind::Sequence | NodeKind::Fallback, false) => {
@@ -307,6 +320,8 @@ pub struct Blueprint<C> {
     pub(crate) hooks: Box<[Option<Box<dyn NodeHooks<C>>>]>,
     /// Subtree scopes in creation order: scope `i + 1` is `scopes[i]`, opened by a SubTree.
     pub(crate) scopes: Box<[(ScopeId, SubTreeScope)]>,
+    /// The `Condition` objects of its [`NodeKind::SharedCondition`] nodes, each once.
+    pub(crate) shared: Box<[Arc<dyn Condition<C>>]>,
     pub(crate) aux_slots: u32,
     pub(crate) objects: u32,
     pub(crate) max_depth: u32,

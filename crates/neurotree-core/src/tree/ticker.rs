@@ -487,6 +487,11 @@ impl<'t, C> Ticker<'t, C> {
                 let h = self.handle(id);
                 Status::from(c.check(&h)).into()
             }
+            NodeKind::SharedCondition(s) => {
+                let bp = self.bp;
+                let h = self.handle(id);
+                Status::from(bp.shared[s.index()].check(&h)).into()
+            }
             NodeKind::ActionFn(f) => {
                 let s = f(self.ctx);
                 self.sync_result(id, s, "Action")

@@ -44,6 +44,10 @@ pub(crate) type LeafMaker<C> =
 pub(crate) enum Make<C> {
     BuiltIn(BuiltIn),
     Leaf(LeafMaker<C>),
+    /// A condition whose one object every node of the type calls: the loader opens it
+    /// with [`Builder::open_shared_condition`](neurotree_core::Builder::open_shared_condition),
+    /// so a blueprint holds it once however many nodes use it.
+    Condition(Arc<dyn neurotree_core::Condition<C>>),
     /// Known only from a `TreeNodesModel`: enough to validate a tree, not to run it.
     Model,
 }
@@ -339,11 +343,21 @@ impl<C: 'static> Registry<C> {
     where
         F: Fn(&Handle<'_, C>) -> bool + Send + Sync + 'static,
     {
-        // One object shared by every node of this type: making a node allocates nothing.
-        let condition: Arc<dyn neurotree_core::Condition<C>> = Arc::new(SharedCondition(f));
-        let leaf: LeafMaker<C> =
-            Arc::new(move |_, _| Ok(NodeKind::Condition(Arc::clone(&condition))));
-        self.register_leaf(name, Category::Condition, ports, leaf)
+        // One object shared by every node of this type, and held once by each blueprint:
+        // making a node allocates nothing and clones no `Arc`.
+        if self.types.contains_key(name) {
+            return Err(RegistryError::Duplicate(name.to_string()));
+        }
+        let t = NodeType {
+            name: name.to_string(),
+            category: Category::Condition,
+            ports,
+            description: String::new(),
+            make: Make::Condition(Arc::new(SharedCondition(f))),
+            builtin: false,
+        };
+        self.types.insert(name.to_string(), t);
+        Ok(())
     }
 
     /// Registers a subtree made with the builder under a tree ID, so that XML files can use

@@ -46,6 +46,8 @@ struct Expansion<'a, 'r, C> {
 /// What an element turns into: the node to open, and whether its children follow it.
 struct Opened<'a, C> {
     kind: NodeKind<C>,
+    /// The registered condition it calls, opened in place of `kind`.
+    shared: Option<&'a Arc<dyn neurotree_core::Condition<C>>>,
     name: &'a str,
     /// The registered type name, where the kind alone does not tell it.
     type_id: Option<&'a str>,
@@ -60,6 +62,7 @@ impl<'a, C: 'static> Opened<'a, C> {
     fn plain(kind: NodeKind<C>, name: &'a str) -> Self {
         Self {
             kind,
+            shared: None,
             name,
             type_id: None,
             ports: Vec::new(),
@@ -70,7 +73,10 @@ impl<'a, C: 'static> Opened<'a, C> {
 
     /// Opens the node in `b`; the caller adds its children and closes it.
     fn add(self, b: Builder<C>) -> Builder<C> {
-        let b = b.open(self.kind, self.name);
+        let b = match self.shared {
+            Some(condition) => b.open_shared_condition(condition, self.name),
+            None => b.open(self.kind, self.name),
+        };
         let b = match self.type_id {
             Some(type_id) => b.type_id(type_id),
             None => b,
@@ -341,6 +347,7 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
         // leaf mocked with SUCCESS.
         let stand_in = |kind, hooks| Opened {
             kind,
+            shared: None,
             name,
             type_id: Some(type_name),
             ports: Vec::new(),
@@ -465,9 +472,27 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
                 }
                 kind
             }
+            Make::Condition(condition) => {
+                if el.child_count() != 0 {
+                    return Err(el.error(format!(
+                        "`{type_name}` is a leaf and takes no children, found {}",
+                        el.child_count()
+                    )));
+                }
+                return Ok(Opened {
+                    kind: NodeKind::AlwaysSuccess,
+                    shared: Some(condition),
+                    name,
+                    type_id: Some(type_name),
+                    ports,
+                    hooks,
+                    descend: true,
+                });
+            }
         };
         Ok(Opened {
             kind,
+            shared: None,
             name,
             type_id: Some(type_name),
             ports,

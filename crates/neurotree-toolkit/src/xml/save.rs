@@ -257,6 +257,7 @@ pub fn no_file_form<C>(bp: &Blueprint<C>, id: NodeId) -> bool {
             | NodeKind::Action(_)
             | NodeKind::ConditionFn(_)
             | NodeKind::Condition(_)
+            | NodeKind::SharedCondition(_)
             | NodeKind::Stateful(_)
             | NodeKind::Async(_)
     ) && bp.type_id(id) == kind.type_name()

@@ -3,16 +3,18 @@
 //! that no tree shape can overflow the stack while building.
 
 use alloc::boxed::Box;
+use alloc::collections::BTreeMap;
 use alloc::string::String;
 use alloc::sync::Arc;
 use alloc::vec::Vec;
 
 use super::{
     Blueprint, BuildError, BuildErrorKind, Child, Guards, NameSpan, NodeDef, NodeId, NodeKind,
-    NodeMeta, ParallelPolicy, Param, Port, SubTreeScope, DEFAULT_MAX_DEPTH,
+    NodeMeta, ParallelPolicy, Param, Port, Shared, SubTreeScope, DEFAULT_MAX_DEPTH,
 };
 use crate::blackboard::ScopeId;
 use crate::nodes::hooks::NodeHooks;
+use crate::Condition;
 
 mod chunks;
 mod fluent;
@@ -83,6 +85,10 @@ struct State<C> {
     /// increasing order: kept apart, a pending node is half as large.
     ports: Vec<(u32, Vec<Port>)>,
     hooks: Vec<(u32, Box<dyn NodeHooks<C>>)>,
+    /// The shared conditions, each once, and where each is by the address of its object.
+    shared: Vec<Arc<dyn Condition<C>>>,
+    shared_at: BTreeMap<usize, u32>,
+    shared_last: Option<(usize, u32)>,
     error: Option<BuildError>,
     /// Opens seen after an error, so their closes balance without storing nodes.
     ignored: usize,
@@ -105,6 +111,9 @@ impl<C> Builder<C> {
                 open: Vec::new(),
                 ports: Vec::new(),
                 hooks: Vec::new(),
+                shared: Vec::new(),
+                shared_at: BTreeMap::new(),
+                shared_last: None,
                 error: None,
                 ignored: 0,
                 max_depth: DEFAULT_MAX_DEPTH,
@@ -180,6 +189,32 @@ impl<C> Builder<C> {
         }
         self.s.open.push(id);
         self
+    }
+
+    /// Starts a condition node that calls `condition`, which the blueprint holds once for
+    /// all the nodes opened with it: unlike [`NodeKind::Condition`], which each node owns,
+    /// this clones the `Arc` once per blueprint, not once per node (an atomic operation a
+    /// large tree loaded from XML would pay per node, and again when dropped).
+    pub fn open_shared_condition(mut self, condition: &Arc<dyn Condition<C>>, name: &str) -> Self {
+        let at = Arc::as_ptr(condition).cast::<()>() as usize;
+        // Most nodes call the condition the node before called, or one of a few.
+        let index = match self.s.shared_last {
+            Some((last, index)) if last == at => index,
+            _ => {
+                let index = match self.s.shared_at.get(&at) {
+                    Some(&index) => index,
+                    None => {
+                        let index = self.s.shared.len() as u32;
+                        self.s.shared.push(Arc::clone(condition));
+                        self.s.shared_at.insert(at, index);
+                        index
+                    }
+                };
+                self.s.shared_last = Some((at, index));
+                index
+            }
+        };
+        self.open(NodeKind::SharedCondition(Shared(index)), name)
     }
 
     /// Ends the node opened last and checks its number of children.
@@ -507,7 +542,9 @@ impl<C> State<C> {
                 let mut kinds = children[range].iter().map(|c| {
                     match (&nodes[c.index()].kind, hooks[c.index()].is_some()) {
                         (NodeKind::ConditionFn(_), false) => Guards::Closures,
-                        (NodeKind::Condition(_), false) => Guards::Objects,
+                        (NodeKind::Condition(_) | NodeKind::SharedCondition(_), false) => {
+                            Guards::Objects
+                        }
                         _ => Guards::Mixed,
                     }
                 });
@@ -519,11 +556,12 @@ impl<C> State<C> {
                 }
             })
             .collect();
+        let shared = self.shared.into_boxed_slice();
         let hot_children = children
             .iter()
             .map(|&id| {
                 let i = id.index();
-                Child::new(id, &nodes[i].kind, hooks[i].is_some(), guards[i])
+                Child::new(id, &nodes[i].kind, hooks[i].is_some(), guards[i], &shared)
             })
             .collect();
         Blueprint {
@@ -536,6 +574,7 @@ impl<C> State<C> {
             meta: meta.into_boxed_slice(),
             names: self.names,
             scopes: scopes.into_boxed_slice(),
+            shared,
             aux_slots: aux,
             objects,
             max_depth: self.max_depth,
@@ -600,6 +639,42 @@ mod tests {
         assert!(names(3).is_empty());
         let hooked: Vec<bool> = (0..4).map(|i| bp.hooks(NodeId(i)).is_some()).collect();
         assert_eq!(hooked, [false, false, true, true]);
+    }
+
+    /// A condition object that answers what it was made with.
+    struct Answer(bool);
+    impl Condition<()> for Answer {
+        fn check(&self, _h: &crate::Handle<'_, ()>) -> bool {
+            self.0
+        }
+    }
+
+    #[test]
+    fn a_shared_condition_is_held_once_by_the_blueprint_whatever_its_nodes() {
+        let yes: Arc<dyn Condition<()>> = Arc::new(Answer(true));
+        let no: Arc<dyn Condition<()>> = Arc::new(Answer(false));
+        let mut b = Builder::<()>::new().open(NodeKind::Fallback, "root");
+        for i in 0..500 {
+            b = b
+                .open(NodeKind::Sequence, "seq")
+                .open_shared_condition(&yes, "yes")
+                .close()
+                .open_shared_condition(if i == 499 { &yes } else { &no }, "last")
+                .close()
+                .close();
+        }
+        let bp = b.close().build_shared().unwrap();
+        // One clone each for the blueprint, none per node.
+        assert_eq!(Arc::strong_count(&yes), 2);
+        assert_eq!(Arc::strong_count(&no), 2);
+        assert_eq!(bp.shared.len(), 2);
+        assert_eq!(bp.type_id(NodeId(2)), "Condition");
+        let mut tree = crate::Tree::with_clock(Arc::clone(&bp), crate::ManualClock::new());
+        // 499 sequences fail on `no`; the last succeeds.
+        assert_eq!(tree.tick_once(&mut ()), Ok(crate::Status::Success));
+        drop(tree);
+        drop(bp);
+        assert_eq!(Arc::strong_count(&yes), 1);
     }
 
     #[test]
