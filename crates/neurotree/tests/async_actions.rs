@@ -339,3 +339,73 @@ mod on_tokio {
         assert_eq!(neurotree::Clock::now(&clock), Duration::from_millis(1500));
     }
 }
+
+/// Runs until halted; its halt then takes `halt_polls` more polls (a cancel being
+/// acknowledged), counted in `probe`.
+struct SlowStop {
+    probe: Arc<Probe>,
+    halt_polls: u32,
+}
+
+impl neurotree::AsyncAction<()> for SlowStop {
+    fn start(&self, _h: &mut neurotree::Handle<'_, ()>) -> neurotree::ActionFuture {
+        Box::pin(std::future::pending())
+    }
+
+    fn on_halt_requested(
+        &self,
+        run: neurotree::ActionFuture,
+        _h: &mut neurotree::Handle<'_, ()>,
+    ) -> Option<neurotree::HaltFuture> {
+        drop(run);
+        let probe = Arc::clone(&self.probe);
+        let mut left = self.halt_polls;
+        Some(Box::pin(std::future::poll_fn(move |_| {
+            probe.polls.fetch_add(1, SeqCst);
+            if left == 0 {
+                probe.drops.fetch_add(1, SeqCst);
+                return Poll::Ready(());
+            }
+            left -= 1;
+            Poll::Pending
+        })))
+    }
+}
+
+#[test]
+fn a_registered_async_action_object_halts_over_ticks_from_xml() {
+    let probe = Arc::new(Probe::default());
+    let mut registry = Registry::<()>::new();
+    registry
+        .register_async_action(
+            "Drive",
+            vec![],
+            SlowStop {
+                probe: Arc::clone(&probe),
+                halt_polls: 2,
+            },
+        )
+        .unwrap();
+    let mut loader = XmlLoader::new(&registry);
+    loader
+        .load_str(
+            r#"<root BTCPP_format="4"><BehaviorTree ID="Main">
+                 <Sequence><Drive/></Sequence>
+               </BehaviorTree></root>"#,
+            "drive.xml",
+        )
+        .unwrap();
+    let mut tree = Tree::with_clock(Arc::new(loader.build_main().unwrap()), ManualClock::new());
+    assert_eq!(tree.tick_once(&mut ()), Ok(Status::Running));
+    // The halt future is polled at once (pending), then once per tick_halt: done on the
+    // third poll.
+    assert!(!tree.halt(&mut ()));
+    assert_eq!(probe.counts(), (1, 0));
+    assert!(!tree.tick_halt(&mut ()));
+    assert_eq!(probe.counts(), (2, 0));
+    assert!(tree.tick_halt(&mut ()));
+    assert_eq!(probe.counts(), (3, 1));
+    assert!(tree.statuses().iter().all(|s| *s == NodeStatus::Idle));
+    // The next tick starts a new run.
+    assert_eq!(tree.tick_once(&mut ()), Ok(Status::Running));
+}

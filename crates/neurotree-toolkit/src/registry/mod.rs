@@ -317,6 +317,30 @@ impl<C: 'static> Registry<C> {
         self.register_leaf(name, Category::Action, ports, leaf)
     }
 
+    /// Registers an [`AsyncAction`](neurotree_core::AsyncAction) object, shared by every
+    /// node of the type: unlike [`register_async`](Self::register_async), which takes a
+    /// closure, the object's own
+    /// [`on_halt_requested`](neurotree_core::AsyncAction::on_halt_requested) runs, so a
+    /// node loaded from XML may take ticks to halt (a server that must acknowledge a
+    /// cancel).
+    pub fn register_async_action<A>(
+        &mut self,
+        name: &str,
+        ports: Vec<PortSpec>,
+        action: A,
+    ) -> Result<(), RegistryError>
+    where
+        A: neurotree_core::AsyncAction<C> + 'static,
+    {
+        let action = Arc::new(action);
+        let leaf: LeafMaker<C> = Arc::new(move |_, _| {
+            Ok(NodeKind::Async(Box::new(SharedAsyncAction(Arc::clone(
+                &action,
+            )))))
+        });
+        self.register_leaf(name, Category::Action, ports, leaf)
+    }
+
     /// Registers a sync action: it completes within the tick.
     pub fn register_action<F>(
         &mut self,
@@ -442,6 +466,26 @@ where
 {
     fn start(&self, h: &mut Handle<'_, C>) -> neurotree_core::ActionFuture {
         Box::pin((self.0)(h))
+    }
+}
+
+/// A registered [`AsyncAction`](neurotree_core::AsyncAction) object, one per node kind.
+struct SharedAsyncAction<A>(Arc<A>);
+
+impl<C, A> neurotree_core::AsyncAction<C> for SharedAsyncAction<A>
+where
+    A: neurotree_core::AsyncAction<C>,
+{
+    fn start(&self, h: &mut Handle<'_, C>) -> neurotree_core::ActionFuture {
+        self.0.start(h)
+    }
+
+    fn on_halt_requested(
+        &self,
+        run: neurotree_core::ActionFuture,
+        h: &mut Handle<'_, C>,
+    ) -> Option<neurotree_core::HaltFuture> {
+        self.0.on_halt_requested(run, h)
     }
 }
 
