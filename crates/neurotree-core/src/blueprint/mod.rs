@@ -6,11 +6,13 @@
 //! serves any number of agents without copying its structure.
 
 pub(crate) mod builder;
+mod declared;
 mod error;
 mod kind;
 mod port;
 
 pub use builder::Builder;
+pub use declared::PortBinding;
 pub use error::{BuildError, BuildErrorKind};
 pub use kind::{
     ActionFn, Arity, Category, ConditionFn, CustomFactory, CustomSpec, NodeKind, ParallelPolicy,

@@ -9,8 +9,8 @@
 //!
 //! Here: registration; [`ports`] declares ports; the built-in types come from the nodes'
 //! declarations (`neurotree_core::nodes::BUILT_INS` and
-//! [`STD_BUILT_INS`](crate::nodes::STD_BUILT_INS)), and `builtins` makes the engine's kinds
-//! from their ports;
+//! [`STD_BUILT_INS`](crate::nodes::STD_BUILT_INS)); the engine makes a built-in's kind from
+//! its ports (`NodeKind::from_declared`), and `builtins` reads them back for the writer;
 //! `enums` holds the names scripts read as numbers; `suggest` finds what a misspelt name
 //! meant; `aliases` lists the few names real files write that BehaviorTree.CPP does not
 //! know (`inverter`, the v3 `SequenceStar`) and what they load as. Reading and writing a `TreeNodesModel` is the XML side's business
@@ -30,7 +30,7 @@ mod enums;
 pub mod ports;
 mod suggest;
 
-pub(crate) use builtins::{built_in_kind, built_in_ports, Binding, BuiltIn};
+pub(crate) use builtins::built_in_ports;
 pub use ports::{PortDirection, PortSpec};
 
 /// Makes the per-node part of a leaf from its port bindings (most leaves ignore them; a
@@ -42,7 +42,9 @@ pub(crate) type LeafMaker<C> =
 /// How a registered type becomes a node.
 #[derive(Clone)]
 pub(crate) enum Make<C> {
-    BuiltIn(BuiltIn),
+    /// An engine built-in, made from its ports by
+    /// [`NodeKind::from_declared`](neurotree_core::NodeKind::from_declared).
+    BuiltIn(&'static neurotree_core::nodes::NodeDecl),
     Leaf(LeafMaker<C>),
     /// A condition whose one object every node of the type calls: the loader opens it
     /// with [`Builder::open_shared_condition`](neurotree_core::Builder::open_shared_condition),
@@ -133,11 +135,9 @@ impl<C: 'static> Registry<C> {
             enums: Arc::new(Enums::new()),
         };
         for decl in neurotree_core::nodes::BUILT_INS {
-            // Every declaration has a kind: `built_in_kinds_and_declarations_match` walks both.
-            let built_in = BuiltIn::named(decl.name).expect("a built-in kind per declaration");
             r.types.insert(
                 decl.name.to_string(),
-                NodeType::declared(decl, Make::BuiltIn(built_in)),
+                NodeType::declared(decl, Make::BuiltIn(decl)),
             );
         }
         crate::nodes::script::register(&mut r);

@@ -4,7 +4,8 @@
 use std::sync::Arc;
 
 use neurotree_core::{
-    Arity, Blueprint, Builder, Category, NodeKind, Port, PortValue, SubTreeScope, DEFAULT_MAX_DEPTH,
+    Arity, Blueprint, Builder, Category, NodeKind, Port, PortBinding, PortValue, SubTreeScope,
+    DEFAULT_MAX_DEPTH,
 };
 
 use super::budget;
@@ -12,7 +13,7 @@ use super::mock;
 use super::source::Element;
 use super::{LoadError, XmlLoader};
 use crate::nodes::hooks::{ScriptHooks, ATTRIBUTES};
-use crate::registry::{built_in_kind, Binding, Make, NodeType};
+use crate::registry::{Make, NodeType};
 use crate::script::{Enums, Script};
 
 /// The elements that name their type in an `ID` attribute (BehaviorTree.CPP's explicit form).
@@ -389,16 +390,18 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
         };
         let ports = self.check_ports(el, node_type, explicit)?;
         let kind = match &node_type.make {
-            Make::BuiltIn(built_in) => {
+            Make::BuiltIn(decl) => {
                 let binding = |port: &str| match ports.iter().find(|p| p.name == port) {
                     Some(Port {
                         value: PortValue::Literal(text),
                         ..
-                    }) => Binding::Literal(text.clone()),
-                    Some(_) => Binding::Entry,
-                    None => Binding::Missing,
+                    }) => PortBinding::Literal(text.clone()),
+                    Some(_) => PortBinding::Entry,
+                    None => PortBinding::Missing,
                 };
-                let kind = built_in_kind::<C>(*built_in, binding).map_err(|m| el.error(m))?;
+                let kind = NodeKind::<C>::from_declared(decl, &binding)
+                    .unwrap_or_else(|| Err(format!("`{type_name}` is no built-in of the engine")))
+                    .map_err(|m| el.error(m))?;
                 // A node that reads a port when it runs keeps its bindings; the others are
                 // known by their kind alone.
                 let reads_entries = ports.iter().any(|p| matches!(p.value, PortValue::Entry(_)));

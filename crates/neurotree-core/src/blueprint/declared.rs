@@ -1,0 +1,262 @@
+//! A built-in kind made from its declared ports, and the ports read back from a kind: the
+//! two directions a file takes (the XML loader, the XML writer), for every built-in
+//! [`NodeDecl`](crate::nodes::NodeDecl) that has ports.
+//!
+//! A literal is read when the kind is made (the loader has checked it converts); a port
+//! bound to a blackboard entry becomes [`Param::Port`], which the node reads when it runs,
+//! as BehaviorTree.CPP's `getInput` does.
+
+use alloc::format;
+use alloc::string::{String, ToString};
+use alloc::vec;
+use alloc::vec::Vec;
+use core::time::Duration;
+
+use super::port::FromPortStr;
+use super::{NodeKind, ParallelPolicy, Param};
+use crate::nodes::NodeDecl;
+
+/// What a port of a built-in node is bound to in a file.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum PortBinding {
+    /// Literal text, read when the kind is made.
+    Literal(String),
+    /// A blackboard entry, read by the node when it runs.
+    Entry,
+    /// Not given, and no default.
+    Missing,
+}
+
+/// The parameter of port `name`: its literal read as `T`, or [`Param::Port`].
+fn param<T: FromPortStr>(
+    port: &dyn Fn(&str) -> PortBinding,
+    name: &str,
+) -> Result<Param<T>, String> {
+    match port(name) {
+        PortBinding::Literal(text) => T::from_port_str(&text)
+            .map(Param::Value)
+            .map_err(|()| format!("port `{name}`: cannot read `{text}`")),
+        PortBinding::Entry => Ok(Param::Port),
+        PortBinding::Missing => Err(format!("missing port `{name}`")),
+    }
+}
+
+/// A duration parameter, whose port holds milliseconds as in BehaviorTree.CPP.
+fn millis(port: &dyn Fn(&str) -> PortBinding, name: &str) -> Result<Param<Duration>, String> {
+    Ok(match param::<u64>(port, name)? {
+        Param::Value(ms) => Param::Value(Duration::from_millis(ms)),
+        Param::Port => Param::Port,
+    })
+}
+
+/// A parameter as a file writes it; `None` for one read from a port (the node keeps its
+/// port bindings, which the writer writes instead).
+fn text<T: ToString>(p: &Param<T>) -> Option<String> {
+    match p {
+        Param::Value(v) => Some(v.to_string()),
+        Param::Port => None,
+    }
+}
+
+/// A duration parameter as a file writes it: milliseconds.
+fn millis_text(p: &Param<Duration>) -> Option<String> {
+    match p {
+        Param::Value(d) => Some(d.as_millis().to_string()),
+        Param::Port => None,
+    }
+}
+
+/// The built-in kind named `name` with its ports bound by `port`; `Ok(None)` if no
+/// built-in of the engine has that name.
+fn make<C>(name: &str, port: &dyn Fn(&str) -> PortBinding) -> Result<Option<NodeKind<C>>, String> {
+    let i32_port = |name| param::<i32>(port, name);
+    Ok(Some(match name {
+        "Sequence" => NodeKind::Sequence,
+        "SequenceWithMemory" => NodeKind::SequenceWithMemory,
+        "ReactiveSequence" => NodeKind::ReactiveSequence,
+        "Fallback" => NodeKind::Fallback,
+        "ReactiveFallback" => NodeKind::ReactiveFallback,
+        "AsyncSequence" => NodeKind::AsyncSequence,
+        "AsyncFallback" => NodeKind::AsyncFallback,
+        "Parallel" => NodeKind::Parallel(
+            match (i32_port("success_count")?, i32_port("failure_count")?) {
+                (Param::Value(success), Param::Value(failure)) => {
+                    ParallelPolicy::Thresholds { success, failure }
+                }
+                (success, failure) => ParallelPolicy::Ports { success, failure },
+            },
+        ),
+        "ParallelAll" => NodeKind::ParallelAll {
+            max_failures: i32_port("max_failures")?,
+        },
+        "IfThenElse" => NodeKind::IfThenElse,
+        "WhileDoElse" => NodeKind::WhileDoElse,
+        "TryCatch" => NodeKind::TryCatch {
+            catch_on_halt: param(port, "catch_on_halt")?,
+        },
+        "Inverter" => NodeKind::Inverter,
+        "ForceSuccess" => NodeKind::ForceSuccess,
+        "ForceFailure" => NodeKind::ForceFailure,
+        "Repeat" => NodeKind::Repeat {
+            num_cycles: i32_port("num_cycles")?,
+        },
+        "RetryUntilSuccessful" => NodeKind::RetryUntilSuccessful {
+            num_attempts: i32_port("num_attempts")?,
+        },
+        "KeepRunningUntilFailure" => NodeKind::KeepRunningUntilFailure,
+        "Delay" => NodeKind::Delay(millis(port, "delay_msec")?),
+        "Timeout" => NodeKind::Timeout(millis(port, "msec")?),
+        "Cooldown" => NodeKind::Cooldown(millis(port, "cooldown_msec")?),
+        "RunOnce" => NodeKind::RunOnce {
+            then_skip: param(port, "then_skip")?,
+        },
+        "AlwaysSuccess" => NodeKind::AlwaysSuccess,
+        "AlwaysFailure" => NodeKind::AlwaysFailure,
+        "Sleep" => NodeKind::Sleep(millis(port, "msec")?),
+        _ => return Ok(None),
+    }))
+}
+
+impl<C> NodeKind<C> {
+    /// The kind of the built-in `decl` with its ports bound by `port`; an error names the
+    /// port that is missing or whose literal does not convert. `None` if `decl` is no
+    /// built-in of the engine.
+    pub fn from_declared(
+        decl: &NodeDecl,
+        port: &dyn Fn(&str) -> PortBinding,
+    ) -> Option<Result<Self, String>> {
+        make(decl.name, port).transpose()
+    }
+
+    /// The ports a built-in kind was made from, as [`from_declared`](Self::from_declared)
+    /// reads them back: what a saved file writes for the node, named as its declaration
+    /// names them, a parameter read from a port left out. `children` resolves the Parallel
+    /// shorthands the builder offers into BehaviorTree.CPP's thresholds.
+    pub fn declared_ports(&self, decl: &NodeDecl, children: usize) -> Vec<(&'static str, String)> {
+        // The values in the order of the declared ports.
+        let values: Vec<Option<String>> = match self {
+            NodeKind::Parallel(policy) => {
+                let n = children as i32;
+                let (success, failure) = match *policy {
+                    ParallelPolicy::Thresholds { success, failure } => {
+                        (Param::Value(success), Param::Value(failure))
+                    }
+                    ParallelPolicy::Ports { success, failure } => (success, failure),
+                    ParallelPolicy::RequireAll => (Param::Value(-1), Param::Value(1)),
+                    ParallelPolicy::RequireOne => (Param::Value(1), Param::Value(-1)),
+                    ParallelPolicy::RequireCount(m) => {
+                        (Param::Value(m as i32), Param::Value(n - m as i32 + 1))
+                    }
+                };
+                vec![text(&success), text(&failure)]
+            }
+            NodeKind::ParallelAll { max_failures } => vec![text(max_failures)],
+            NodeKind::TryCatch { catch_on_halt } => vec![text(catch_on_halt)],
+            NodeKind::Repeat { num_cycles } => vec![text(num_cycles)],
+            NodeKind::RetryUntilSuccessful { num_attempts } => vec![text(num_attempts)],
+            NodeKind::Delay(d)
+            | NodeKind::Timeout(d)
+            | NodeKind::Sleep(d)
+            | NodeKind::Cooldown(d) => {
+                vec![millis_text(d)]
+            }
+            NodeKind::RunOnce { then_skip } => vec![text(then_skip)],
+            _ => return Vec::new(),
+        };
+        decl.ports
+            .iter()
+            .map(|p| p.name)
+            .zip(values)
+            .filter_map(|(name, value)| Some((name, value?)))
+            .collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::nodes::{PortDecl, BUILT_INS};
+
+    /// A literal of the port's type, other than its default and the smallest value, so
+    /// that a swapped pair of ports would show.
+    fn sample(port: &PortDecl) -> &'static str {
+        match (port.name, port.type_name) {
+            ("failure_count", _) => "-1",
+            (_, "i32") => "2",
+            (_, "bool") => match port.default {
+                Some("true") => "false",
+                _ => "true",
+            },
+            _ => "7",
+        }
+    }
+
+    fn samples(decl: &NodeDecl) -> impl Fn(&str) -> PortBinding + '_ {
+        move |p| match decl.port(p) {
+            Some(port) => PortBinding::Literal(sample(port).into()),
+            None => PortBinding::Missing,
+        }
+    }
+
+    #[test]
+    fn every_declaration_makes_the_kind_it_declares() {
+        for decl in BUILT_INS {
+            let kind = NodeKind::<()>::from_declared(decl, &samples(decl))
+                .unwrap_or_else(|| panic!("{} makes no kind", decl.name))
+                .unwrap_or_else(|e| panic!("{}: {e}", decl.name));
+            assert_eq!(kind.type_name(), decl.name);
+            assert_eq!(kind.arity(), decl.arity, "{}", decl.name);
+            assert_eq!(kind.category(), decl.category, "{}", decl.name);
+        }
+    }
+
+    #[test]
+    fn declared_ports_read_back_into_the_same_kind() {
+        for decl in BUILT_INS {
+            let kind = NodeKind::<()>::from_declared(decl, &samples(decl))
+                .unwrap()
+                .unwrap();
+            let ports = kind.declared_ports(decl, 3);
+            let names: Vec<&str> = ports.iter().map(|(n, _)| *n).collect();
+            let declared: Vec<&str> = decl.ports.iter().map(|p| p.name).collect();
+            assert_eq!(names, declared, "{}", decl.name);
+            // Only the names written back are given, so a kind reading another name fails.
+            let again = NodeKind::<()>::from_declared(decl, &|p| match ports
+                .iter()
+                .find(|(n, _)| *n == p)
+            {
+                Some((_, v)) => PortBinding::Literal(v.clone()),
+                None => PortBinding::Missing,
+            })
+            .unwrap()
+            .unwrap();
+            assert_eq!(format!("{again:?}"), format!("{kind:?}"), "{}", decl.name);
+        }
+        let parallel = BUILT_INS.iter().find(|d| d.name == "Parallel").unwrap();
+        let count = NodeKind::<()>::Parallel(ParallelPolicy::RequireCount(2));
+        assert_eq!(
+            count.declared_ports(parallel, 5),
+            [("success_count", "2".into()), ("failure_count", "4".into())]
+        );
+    }
+
+    #[test]
+    fn entries_become_ports_read_at_run_time_and_bad_literals_are_named() {
+        let repeat = BUILT_INS.iter().find(|d| d.name == "Repeat").unwrap();
+        let entry = NodeKind::<()>::from_declared(repeat, &|_| PortBinding::Entry).unwrap();
+        assert!(matches!(
+            entry,
+            Ok(NodeKind::Repeat {
+                num_cycles: Param::Port
+            })
+        ));
+        assert!(entry.unwrap().declared_ports(repeat, 1).is_empty());
+        let bad = NodeKind::<()>::from_declared(repeat, &|_| PortBinding::Literal("x".into()));
+        assert_eq!(
+            bad.unwrap().unwrap_err(),
+            "port `num_cycles`: cannot read `x`"
+        );
+        let missing = NodeKind::<()>::from_declared(repeat, &|_| PortBinding::Missing);
+        assert_eq!(missing.unwrap().unwrap_err(), "missing port `num_cycles`");
+    }
+}
