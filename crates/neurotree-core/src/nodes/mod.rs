@@ -10,6 +10,12 @@
 //! name, family, children, ports), and [`BUILT_INS`] lists those declarations: the one list
 //! a new built-in joins. The toolkit's registry, model export, XML writer and the README's
 //! catalog are derived from it; the tick goes through [`NodeKind`](crate::NodeKind) only.
+//!
+//! A new built-in is its module (declaration, tick, halt, tests) and one line in each of:
+//! [`BUILT_INS`], its family's module list, [`NodeKind`](crate::NodeKind) (the variant, its
+//! name and its number of children), the dispatch in `tree::ticker`, the making of its kind
+//! from its ports ([`NodeKind::from_declared`](crate::NodeKind::from_declared)), and the
+//! README's catalog (its test prints the row).
 
 pub mod control;
 pub mod custom;
