@@ -270,15 +270,36 @@ fn a_full_record_drops_its_older_half_and_keeps_the_chain() {
             r.action_node("dock", FailWith(7, "no dock"))
         })
     }));
-    // 40 attempts note 80 entries, more than the record holds.
-    let n = allocations(|| assert_eq!(t.tick_once(&mut ()), Ok(Status::Failure)));
-    assert_eq!(n, 0);
-    assert_eq!(
-        lines(&t.last_failure().unwrap()),
-        [
-            "root",
-            "root/retry: gave up after 40 attempts",
-            "root/retry/dock: no dock (error 7)",
-        ]
-    );
+    // The record was made with the tree; 40 attempts note 80 entries, more than it holds,
+    // and it never grows.
+    let with_record = t.state_bytes();
+    for _ in 0..3 {
+        let n = allocations(|| assert_eq!(t.tick_once(&mut ()), Ok(Status::Failure)));
+        assert_eq!(n, 0);
+        assert_eq!(t.state_bytes(), with_record);
+        assert_eq!(
+            lines(&t.last_failure().unwrap()),
+            [
+                "root",
+                "root/retry: gave up after 40 attempts",
+                "root/retry/dock: no dock (error 7)",
+            ]
+        );
+    }
+}
+
+#[test]
+fn only_a_tree_that_can_give_a_reason_carries_a_record() {
+    // Closures and plain controls give no reason: no record.
+    let (plain, _) = tree(Blueprint::builder().sequence("root", |s| {
+        s.action("a", |_: &mut ()| Status::Success)
+            .condition("c", |_: &()| true)
+    }));
+    assert_eq!(plain.state_bytes(), 3 + 8);
+    // A Retry gives its own: the record is made with the tree, and counted.
+    let (retry, _) = tree(Blueprint::builder().sequence("root", |s| {
+        s.retry("retry", 2, |r| r.action("a", |_: &mut ()| Status::Success))
+            .condition("c", |_: &()| true)
+    }));
+    assert_eq!(retry.state_bytes(), 4 + 2 * 8 + 32 * 40);
 }

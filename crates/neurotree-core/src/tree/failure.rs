@@ -11,8 +11,11 @@
 //! before. The first reason of a tick is written to the tree's record and from then on, for
 //! the rest of that [`Tree::tick_once`](crate::Tree::tick_once) call, the engine notes
 //! every status write to Failure (it ticks as if an observer were attached). The record is
-//! emptied when the next call starts; a static reason allocates nothing once the record has
-//! grown to the size a tick needs.
+//! emptied when the next call starts; a static reason allocates nothing. The record is made
+//! with the tree, and only for a tree with a node that can give a reason (a leaf with a
+//! handle, a custom node, a Retry, a Timeout, a node with pre-conditions): 32 entries of
+//! 40 bytes, counted in [`Tree::state_bytes`](crate::Tree::state_bytes). A tree of closures
+//! and plain controls carries none.
 //!
 //! # Which failure decided the root
 //!
@@ -208,7 +211,8 @@ pub(crate) struct Outcome {
 }
 
 /// Entries the record holds before it drops its older half; made with the tree, so that
-/// ticking never allocates for it.
+/// ticking never allocates for it. The chain needs only the tick's last failures: a
+/// full record keeps its newer half.
 const RECORD: usize = 32;
 
 impl Outcome {
@@ -232,6 +236,11 @@ impl Outcome {
             halts: super::slow_halt::Halts::default(),
             notes: Vec::with_capacity(if can_give { RECORD } else { 0 }),
         }
+    }
+
+    /// Bytes the record takes (none until the tree's first reason).
+    pub(crate) fn record_bytes(&self) -> usize {
+        self.notes.capacity() * core::mem::size_of::<(NodeId, Note)>()
     }
 
     /// The tick's record, oldest first.

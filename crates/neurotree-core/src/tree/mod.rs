@@ -273,11 +273,13 @@ impl<C> Tree<C> {
     }
 
     /// Bytes this instance keeps on the heap for node state (statuses, slots, object
-    /// pointers), not counting the stateful leaves' own objects or blackboard entries.
+    /// pointers, and the failure reasons' record once a node has given a reason), not
+    /// counting the stateful leaves' own objects or blackboard entries.
     pub fn state_bytes(&self) -> usize {
         self.statuses.len() * core::mem::size_of::<NodeStatus>()
             + self.aux.len() * core::mem::size_of::<u64>()
             + self.objects.len() * core::mem::size_of::<Object<C>>()
+            + self.out.record_bytes()
     }
 
     fn ticker<'t>(&'t mut self, ctx: &'t mut C) -> Ticker<'t, C> {
