@@ -38,8 +38,14 @@ fn many_agents_tick_without_allocating() {
     let clock = ManualClock::new();
     let shared: Arc<dyn neurotree::Clock> = Arc::new(clock.clone());
     let bp = agent_tree();
+    // An agent's Retry gives a reason when it gives up: with the record made up front, no
+    // tick allocates, even the first that gives one.
     let mut trees: Vec<_> = (0..100)
-        .map(|_| Tree::with_shared_clock(Arc::clone(&bp), Arc::clone(&shared)))
+        .map(|_| {
+            let mut t = Tree::with_shared_clock(Arc::clone(&bp), Arc::clone(&shared));
+            t.reserve_failure_record();
+            t
+        })
         .collect();
     let mut agents: Vec<_> = (0..100).map(Agent::new).collect();
     for (t, a) in trees.iter_mut().zip(agents.iter_mut()) {

@@ -270,9 +270,13 @@ fn a_full_record_drops_its_older_half_and_keeps_the_chain() {
             r.action_node("dock", FailWith(7, "no dock"))
         })
     }));
-    // The record was made with the tree; 40 attempts note 80 entries, more than it holds,
-    // and it never grows.
+    // The tree has no record until its first reason: that tick makes it, once; 40
+    // attempts note 80 entries, more than it holds, and it never grows.
+    let fresh = t.state_bytes();
+    let n = allocations(|| assert_eq!(t.tick_once(&mut ()), Ok(Status::Failure)));
+    assert_eq!(n, 1);
     let with_record = t.state_bytes();
+    assert_eq!(with_record, fresh + 32 * 40);
     for _ in 0..3 {
         let n = allocations(|| assert_eq!(t.tick_once(&mut ()), Ok(Status::Failure)));
         assert_eq!(n, 0);
@@ -289,17 +293,42 @@ fn a_full_record_drops_its_older_half_and_keeps_the_chain() {
 }
 
 #[test]
-fn only_a_tree_that_can_give_a_reason_carries_a_record() {
-    // Closures and plain controls give no reason: no record.
-    let (plain, _) = tree(Blueprint::builder().sequence("root", |s| {
-        s.action("a", |_: &mut ()| Status::Success)
-            .condition("c", |_: &()| true)
+fn a_tree_whose_nodes_give_no_reason_carries_no_record() {
+    // Actions, a Retry and a Timeout could give reasons; these never do.
+    let (mut t, _) = tree(Blueprint::builder().sequence("root", |s| {
+        s.retry("retry", 2, |r| r.action("ok", |_: &mut ()| Status::Success))
+            .timeout("limit", core::time::Duration::from_secs(1), |d| {
+                d.action("ok2", |_: &mut ()| Status::Success)
+            })
     }));
-    assert_eq!(plain.state_bytes(), 3 + 8);
-    // A Retry gives its own: the record is made with the tree, and counted.
-    let (retry, _) = tree(Blueprint::builder().sequence("root", |s| {
-        s.retry("retry", 2, |r| r.action("a", |_: &mut ()| Status::Success))
-            .condition("c", |_: &()| true)
+    let fresh = t.state_bytes();
+    let n = allocations(|| {
+        for _ in 0..3 {
+            assert_eq!(t.tick_once(&mut ()), Ok(Status::Success));
+        }
+    });
+    assert_eq!(n, 0);
+    assert_eq!(t.state_bytes(), fresh);
+}
+
+#[test]
+fn a_reserved_record_makes_even_the_first_reason_allocate_nothing() {
+    let (mut t, _) = tree(Blueprint::builder().sequence("root", |s| {
+        s.retry("retry", 3, |r| {
+            r.action_node("dock", FailWith(7, "no dock"))
+        })
     }));
-    assert_eq!(retry.state_bytes(), 4 + 2 * 8 + 32 * 40);
+    let fresh = t.state_bytes();
+    t.reserve_failure_record();
+    assert_eq!(t.state_bytes(), fresh + 32 * 40);
+    let n = allocations(|| assert_eq!(t.tick_once(&mut ()), Ok(Status::Failure)));
+    assert_eq!(n, 0);
+    assert_eq!(
+        lines(&t.last_failure().unwrap()),
+        [
+            "root",
+            "root/retry: gave up after 3 attempts",
+            "root/retry/dock: no dock (error 7)",
+        ]
+    );
 }

@@ -140,7 +140,8 @@ impl<'t, C> Ticker<'t, C> {
             self.note_failed(id);
         }
         let from = mem::replace(self.status_mut(id), to);
-        if from != to {
+        // The engine's stand-in hears nothing: it is attached only so that failures are noted.
+        if from != to && !self.watching {
             let at = self.clock.now();
             if let Some(observer) = self.observer.as_deref_mut() {
                 observer.on_status_change(StatusChange {
@@ -404,7 +405,9 @@ impl<'t, C> Ticker<'t, C> {
     #[inline(always)]
     fn note_tick(&mut self, id: NodeId) {
         if let Some(observer) = self.observer.as_deref_mut() {
-            observer.on_node_tick(id);
+            if !self.watching {
+                observer.on_node_tick(id);
+            }
         }
     }
 

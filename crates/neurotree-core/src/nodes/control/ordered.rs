@@ -107,7 +107,11 @@ fn run<C, const SEQUENCE: bool, const FLAVOR: Flavor, const OBSERVED: bool>(
 /// completes in every tick, so with no observer its loop is the calls alone: no status is
 /// stored for the children (see [`run_quiet`]), none for the node until it returns, and
 /// its cursor stays at the start.
-#[inline(never)]
+// Inlined into its one caller in optimised builds (a call less per guard, 5 % of
+// tree1111's tick); kept apart without optimisation, where its frame would add to every
+// level of a deep tree's recursion (`tests/depth.rs` ticks 400 levels on a 2 MB stack).
+#[cfg_attr(debug_assertions, inline(never))]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub(crate) fn tick_guard<C, const SEQUENCE: bool, const CLOSURES: bool>(
     t: &mut Ticker<'_, C>,
     id: NodeId,
