@@ -140,8 +140,7 @@ impl<'t, C> Ticker<'t, C> {
             self.note_failed(id);
         }
         let from = mem::replace(self.status_mut(id), to);
-        // The engine's stand-in hears nothing: it is attached only so that failures are noted.
-        if from != to && !self.watching {
+        if from != to {
             let at = self.clock.now();
             if let Some(observer) = self.observer.as_deref_mut() {
                 observer.on_status_change(StatusChange {
@@ -405,9 +404,7 @@ impl<'t, C> Ticker<'t, C> {
     #[inline(always)]
     fn note_tick(&mut self, id: NodeId) {
         if let Some(observer) = self.observer.as_deref_mut() {
-            if !self.watching {
-                observer.on_node_tick(id);
-            }
+            observer.on_node_tick(id);
         }
     }
 
@@ -613,14 +610,22 @@ impl<'t, C> Ticker<'t, C> {
 
     #[inline(always)]
     pub(crate) fn handle(&mut self, id: NodeId) -> Handle<'_, C> {
-        Handle {
+        self.handle_beside_current(id).0
+    }
+
+    /// A handle for node `id`, and beside it the slot naming the node a panic comes from,
+    /// for a loop that writes that slot only when a panic unwinds (`ordered::Blame`).
+    #[inline(always)]
+    pub(crate) fn handle_beside_current(&mut self, id: NodeId) -> (Handle<'_, C>, &mut NodeId) {
+        let handle = Handle {
             ctx: &mut *self.ctx,
             blackboard: &mut *self.bb,
             clock: self.clock,
             node: id,
             bp: self.bp,
             out: &mut *self.out,
-        }
+        };
+        (handle, &mut self.current)
     }
 
     /// The node's per-instance object and a handle for it, borrowed side by side.

@@ -5,7 +5,6 @@
 
 use super::{pack, unpack};
 use crate::blueprint::NodeDef;
-use crate::nodes::leaf::Handle;
 use crate::tree::Ticker;
 use crate::{NodeId, NodeStatus};
 
@@ -141,18 +140,11 @@ pub(crate) fn tick_guard<C, const SEQUENCE: bool, const CLOSURES: bool>(
             }
         }
     } else {
-        let mut h = Handle {
-            ctx: &mut *t.ctx,
-            blackboard: &mut *t.bb,
-            clock: t.clock,
-            node: id,
-            bp: t.bp,
-            out: &mut *t.out,
-        };
+        let (mut h, current) = t.handle_beside_current(id);
         for child in hot {
             h.node = child.id;
             let blame = Blame {
-                current: &mut t.current,
+                current: &mut *current,
                 child: child.id,
             };
             let holds = child.condition_known().check(&h);
@@ -228,18 +220,12 @@ fn run_quiet<C, const SEQUENCE: bool>(
             }
             None => match child.condition_object() {
                 Some(c) => {
+                    let (h, current) = t.handle_beside_current(child.id);
                     let blame = Blame {
-                        current: &mut t.current,
+                        current,
                         child: child.id,
                     };
-                    let holds = c.check(&Handle {
-                        ctx: &mut *t.ctx,
-                        blackboard: &mut *t.bb,
-                        clock: t.clock,
-                        node: child.id,
-                        bp: t.bp,
-                        out: &mut *t.out,
-                    });
+                    let holds = c.check(&h);
                     core::mem::forget(blame);
                     NodeStatus::from(crate::Status::from(holds))
                 }
