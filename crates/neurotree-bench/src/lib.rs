@@ -15,26 +15,30 @@ pub const TREE1111_NODES_PER_TICK: usize = 1111;
 /// the first nine Sequences end with a failing leaf and the tenth succeeds, so one tick
 /// visits every node and the root succeeds.
 pub fn tree1111<C: 'static>() -> Arc<Blueprint<C>> {
-    let mut b = Builder::<C>::new().open(neurotree::NodeKind::Sequence, "root");
-    for f in 0..10 {
-        b = b.fallback(&format!("fallback_{f}"), |mut fb| {
-            for s in 0..10 {
-                fb = fb.sequence(&format!("sequence_{f}_{s}"), |mut seq| {
-                    for leaf in 0..10 {
-                        let fail = s < 9 && leaf == 9;
-                        seq = if fail {
-                            seq.condition("Fail", |_: &C| false)
-                        } else {
-                            seq.condition("Succ", |_: &C| true)
-                        };
+    Builder::<C>::new()
+        .sequence("root", |mut root| {
+            for f in 0..10 {
+                root = root.fallback(&format!("fallback_{f}"), |mut fb| {
+                    for s in 0..10 {
+                        fb = fb.sequence(&format!("sequence_{f}_{s}"), |mut seq| {
+                            for leaf in 0..10 {
+                                let fail = s < 9 && leaf == 9;
+                                seq = if fail {
+                                    seq.condition("Fail", |_: &C| false)
+                                } else {
+                                    seq.condition("Succ", |_: &C| true)
+                                };
+                            }
+                            seq
+                        });
                     }
-                    seq
+                    fb
                 });
             }
-            fb
-        });
-    }
-    b.close().build_shared().expect("tree1111 is a valid tree")
+            root
+        })
+        .build_shared()
+        .expect("tree1111 is a valid tree")
 }
 
 /// `tree1111.xml` as BehaviorTree.CPP's benchmark ships it (from this repository's corpus).

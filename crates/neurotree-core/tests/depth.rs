@@ -4,6 +4,7 @@
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Arc;
 
+use neurotree_core::nodes::kinds;
 use neurotree_core::{
     BuildErrorKind, Builder, Handle, ManualClock, NodeKind, NodeStatus, Observer, StatefulAction,
     Status, StatusChange, Tree, DEFAULT_MAX_DEPTH,
@@ -41,9 +42,9 @@ fn chain(depth: u32) -> Builder<u32> {
 fn chain_on(mut b: Builder<u32>, depth: u32) -> Builder<u32> {
     for level in 0..depth - 1 {
         let kind = match level % 3 {
-            0 => NodeKind::Inverter,
-            1 => NodeKind::ForceSuccess,
-            _ => NodeKind::Sequence,
+            0 => NodeKind::Inverter(kinds::Inverter),
+            1 => NodeKind::ForceSuccess(kinds::ForceSuccess),
+            _ => NodeKind::Sequence(kinds::Sequence),
         };
         b = b.open(kind, "");
     }
@@ -140,7 +141,7 @@ fn a_chain_of_100000_is_rejected_at_build_time() {
 #[test]
 fn a_wide_tree_builds_and_ticks() {
     on_small_stack(|| {
-        let mut b = Builder::<u32>::new().open(NodeKind::Sequence, "wide");
+        let mut b = Builder::<u32>::new().open(NodeKind::Sequence(kinds::Sequence), "wide");
         for _ in 0..100_000 {
             b = b.action("inc", |n: &mut u32| {
                 *n += 1;

@@ -279,8 +279,10 @@ fn may_stay(tree: &Tree<Ctx>, id: NodeId) -> Option<NodeStatus> {
     let bp = tree.blueprint();
     let parent = bp.parent(id)?;
     match bp.kind(parent) {
-        NodeKind::SequenceWithMemory => Some(Success),
-        NodeKind::IfThenElse if bp.children(parent).len() == 2 && bp.children(parent)[0] == id => {
+        NodeKind::SequenceWithMemory(_) => Some(Success),
+        NodeKind::IfThenElse(_)
+            if bp.children(parent).len() == 2 && bp.children(parent)[0] == id =>
+        {
             Some(Failure)
         }
         _ => None,

@@ -6,14 +6,10 @@
 //! bound to a blackboard entry becomes [`Param::Port`], which the node reads when it runs,
 //! as BehaviorTree.CPP's `getInput` does.
 
-use alloc::format;
-use alloc::string::{String, ToString};
-use alloc::vec;
+use alloc::string::String;
 use alloc::vec::Vec;
-use core::time::Duration;
 
-use super::port::FromPortStr;
-use super::{NodeKind, ParallelPolicy, Param};
+use super::NodeKind;
 use crate::nodes::NodeDecl;
 
 /// What a port of a built-in node is bound to in a file.
@@ -27,96 +23,6 @@ pub enum PortBinding {
     Missing,
 }
 
-/// The parameter of port `name`: its literal read as `T`, or [`Param::Port`].
-fn param<T: FromPortStr>(
-    port: &dyn Fn(&str) -> PortBinding,
-    name: &str,
-) -> Result<Param<T>, String> {
-    match port(name) {
-        PortBinding::Literal(text) => T::from_port_str(&text)
-            .map(Param::Value)
-            .map_err(|()| format!("port `{name}`: cannot read `{text}`")),
-        PortBinding::Entry => Ok(Param::Port),
-        PortBinding::Missing => Err(format!("missing port `{name}`")),
-    }
-}
-
-/// A duration parameter, whose port holds milliseconds as in BehaviorTree.CPP.
-fn millis(port: &dyn Fn(&str) -> PortBinding, name: &str) -> Result<Param<Duration>, String> {
-    Ok(match param::<u64>(port, name)? {
-        Param::Value(ms) => Param::Value(Duration::from_millis(ms)),
-        Param::Port => Param::Port,
-    })
-}
-
-/// A parameter as a file writes it; `None` for one read from a port (the node keeps its
-/// port bindings, which the writer writes instead).
-fn text<T: ToString>(p: &Param<T>) -> Option<String> {
-    match p {
-        Param::Value(v) => Some(v.to_string()),
-        Param::Port => None,
-    }
-}
-
-/// A duration parameter as a file writes it: milliseconds.
-fn millis_text(p: &Param<Duration>) -> Option<String> {
-    match p {
-        Param::Value(d) => Some(d.as_millis().to_string()),
-        Param::Port => None,
-    }
-}
-
-/// The built-in kind named `name` with its ports bound by `port`; `Ok(None)` if no
-/// built-in of the engine has that name.
-fn make<C>(name: &str, port: &dyn Fn(&str) -> PortBinding) -> Result<Option<NodeKind<C>>, String> {
-    let i32_port = |name| param::<i32>(port, name);
-    Ok(Some(match name {
-        "Sequence" => NodeKind::Sequence,
-        "SequenceWithMemory" => NodeKind::SequenceWithMemory,
-        "ReactiveSequence" => NodeKind::ReactiveSequence,
-        "Fallback" => NodeKind::Fallback,
-        "ReactiveFallback" => NodeKind::ReactiveFallback,
-        "AsyncSequence" => NodeKind::AsyncSequence,
-        "AsyncFallback" => NodeKind::AsyncFallback,
-        "Parallel" => NodeKind::Parallel(
-            match (i32_port("success_count")?, i32_port("failure_count")?) {
-                (Param::Value(success), Param::Value(failure)) => {
-                    ParallelPolicy::Thresholds { success, failure }
-                }
-                (success, failure) => ParallelPolicy::Ports { success, failure },
-            },
-        ),
-        "ParallelAll" => NodeKind::ParallelAll {
-            max_failures: i32_port("max_failures")?,
-        },
-        "IfThenElse" => NodeKind::IfThenElse,
-        "WhileDoElse" => NodeKind::WhileDoElse,
-        "TryCatch" => NodeKind::TryCatch {
-            catch_on_halt: param(port, "catch_on_halt")?,
-        },
-        "Inverter" => NodeKind::Inverter,
-        "ForceSuccess" => NodeKind::ForceSuccess,
-        "ForceFailure" => NodeKind::ForceFailure,
-        "Repeat" => NodeKind::Repeat {
-            num_cycles: i32_port("num_cycles")?,
-        },
-        "RetryUntilSuccessful" => NodeKind::RetryUntilSuccessful {
-            num_attempts: i32_port("num_attempts")?,
-        },
-        "KeepRunningUntilFailure" => NodeKind::KeepRunningUntilFailure,
-        "Delay" => NodeKind::Delay(millis(port, "delay_msec")?),
-        "Timeout" => NodeKind::Timeout(millis(port, "msec")?),
-        "Cooldown" => NodeKind::Cooldown(millis(port, "cooldown_msec")?),
-        "RunOnce" => NodeKind::RunOnce {
-            then_skip: param(port, "then_skip")?,
-        },
-        "AlwaysSuccess" => NodeKind::AlwaysSuccess,
-        "AlwaysFailure" => NodeKind::AlwaysFailure,
-        "Sleep" => NodeKind::Sleep(millis(port, "msec")?),
-        _ => return Ok(None),
-    }))
-}
-
 impl<C> NodeKind<C> {
     /// The kind of the built-in `decl` with its ports bound by `port`; an error names the
     /// port that is missing or whose literal does not convert. `None` if `decl` is no
@@ -125,7 +31,7 @@ impl<C> NodeKind<C> {
         decl: &NodeDecl,
         port: &dyn Fn(&str) -> PortBinding,
     ) -> Option<Result<Self, String>> {
-        make(decl.name, port).transpose()
+        Self::make(decl.name, port).transpose()
     }
 
     /// The ports a built-in kind was made from, as [`from_declared`](Self::from_declared)
@@ -134,34 +40,9 @@ impl<C> NodeKind<C> {
     /// shorthands the builder offers into BehaviorTree.CPP's thresholds.
     pub fn declared_ports(&self, decl: &NodeDecl, children: usize) -> Vec<(&'static str, String)> {
         // The values in the order of the declared ports.
-        let values: Vec<Option<String>> = match self {
-            NodeKind::Parallel(policy) => {
-                let n = children as i32;
-                let (success, failure) = match *policy {
-                    ParallelPolicy::Thresholds { success, failure } => {
-                        (Param::Value(success), Param::Value(failure))
-                    }
-                    ParallelPolicy::Ports { success, failure } => (success, failure),
-                    ParallelPolicy::RequireAll => (Param::Value(-1), Param::Value(1)),
-                    ParallelPolicy::RequireOne => (Param::Value(1), Param::Value(-1)),
-                    ParallelPolicy::RequireCount(m) => {
-                        (Param::Value(m as i32), Param::Value(n - m as i32 + 1))
-                    }
-                };
-                vec![text(&success), text(&failure)]
-            }
-            NodeKind::ParallelAll { max_failures } => vec![text(max_failures)],
-            NodeKind::TryCatch { catch_on_halt } => vec![text(catch_on_halt)],
-            NodeKind::Repeat { num_cycles } => vec![text(num_cycles)],
-            NodeKind::RetryUntilSuccessful { num_attempts } => vec![text(num_attempts)],
-            NodeKind::Delay(d)
-            | NodeKind::Timeout(d)
-            | NodeKind::Sleep(d)
-            | NodeKind::Cooldown(d) => {
-                vec![millis_text(d)]
-            }
-            NodeKind::RunOnce { then_skip } => vec![text(then_skip)],
-            _ => return Vec::new(),
+        let values = match self.built_in() {
+            Some(node) => node.port_values(children),
+            None => return Vec::new(),
         };
         decl.ports
             .iter()
@@ -176,6 +57,8 @@ impl<C> NodeKind<C> {
 mod tests {
     use super::*;
     use crate::nodes::{PortDecl, BUILT_INS};
+    use crate::{ParallelPolicy, Param};
+    use alloc::format;
 
     /// A literal of the port's type, other than its default and the smallest value, so
     /// that a swapped pair of ports would show.
@@ -233,7 +116,9 @@ mod tests {
             assert_eq!(format!("{again:?}"), format!("{kind:?}"), "{}", decl.name);
         }
         let parallel = BUILT_INS.iter().find(|d| d.name == "Parallel").unwrap();
-        let count = NodeKind::<()>::Parallel(ParallelPolicy::RequireCount(2));
+        let count = NodeKind::<()>::Parallel(crate::nodes::control::parallel::Parallel {
+            policy: ParallelPolicy::RequireCount(2),
+        });
         assert_eq!(
             count.declared_ports(parallel, 5),
             [("success_count", "2".into()), ("failure_count", "4".into())]
@@ -246,9 +131,9 @@ mod tests {
         let entry = NodeKind::<()>::from_declared(repeat, &|_| PortBinding::Entry).unwrap();
         assert!(matches!(
             entry,
-            Ok(NodeKind::Repeat {
+            Ok(NodeKind::Repeat(crate::nodes::decorator::repeat::Repeat {
                 num_cycles: Param::Port
-            })
+            }))
         ));
         assert!(entry.unwrap().declared_ports(repeat, 1).is_empty());
         let bad = NodeKind::<()>::from_declared(repeat, &|_| PortBinding::Literal("x".into()));

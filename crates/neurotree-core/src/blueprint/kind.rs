@@ -6,10 +6,12 @@ use alloc::string::String;
 use alloc::sync::Arc;
 use alloc::vec::Vec;
 use core::fmt;
-use core::time::Duration;
 
+use super::{BuildErrorKind, PortBinding};
+use crate::nodes::built_in::{BuiltIn, Tick};
 use crate::nodes::custom::CustomNode;
 use crate::nodes::leaf::{Action, AsyncAction, Condition, StatefulAction};
+use crate::nodes::NodeDecl;
 use crate::Status;
 
 /// A closure condition: a pure function of the user's context.
@@ -168,198 +170,240 @@ impl Shared {
     }
 }
 
-/// Every kind of node the engine ticks.
-///
-/// The first group are BehaviorTree.CPP's built-in nodes with its semantics (see each node's
-/// module under `nodes/`); the last group are the doors for user code.
-#[non_exhaustive]
-// A plain byte tag: the tick loop decodes it with one load instead of a niche computation.
-#[repr(u8)]
-pub enum NodeKind<C> {
-    /// Ticks children in order, resuming at the running one; see [`crate::nodes::control::sequence`].
-    Sequence,
-    /// Sequence that keeps its place after a failure and a halt.
-    SequenceWithMemory,
-    /// Sequence that restarts from the first child every tick.
-    ReactiveSequence,
-    /// Tries children in order until one succeeds.
-    Fallback,
-    /// Fallback that restarts from the first child every tick.
-    ReactiveFallback,
-    /// Sequence that yields after each child that completes at once.
-    AsyncSequence,
-    /// Fallback that yields after each child that completes at once.
-    AsyncFallback,
-    /// Ticks all children, deciding by thresholds.
-    Parallel(ParallelPolicy),
-    /// Ticks all children to completion; fails if `max_failures` of them failed.
-    ParallelAll {
-        /// Failures that make it fail (negative: counted from the number of children).
-        max_failures: Param<i32>,
-    },
-    /// `if` child 0 `then` child 1 `else` child 2.
-    IfThenElse,
-    /// Re-checks child 0 every tick and runs child 1 or 2.
-    WhileDoElse,
-    /// Children but the last as a Sequence; the last runs on failure.
-    TryCatch {
-        /// Run the catch child when halted while trying.
-        catch_on_halt: Param<bool>,
-    },
-    /// Swaps Success and Failure.
-    Inverter,
-    /// Turns a completed child into Success.
-    ForceSuccess,
-    /// Turns a completed child into Failure.
-    ForceFailure,
-    /// Repeats a succeeding child.
-    Repeat {
-        /// Cycles to run; -1 forever, another negative value none.
-        num_cycles: Param<i32>,
-    },
-    /// Retries a failing child.
-    RetryUntilSuccessful {
-        /// Attempts to make; -1 forever, another negative value none.
-        num_attempts: Param<i32>,
-    },
-    /// Success becomes Running; Failure ends it.
-    KeepRunningUntilFailure,
-    /// Waits, then ticks the child.
-    Delay(Param<Duration>),
-    /// Fails and halts the child when it runs too long.
-    Timeout(Param<Duration>),
-    /// After the child completes, fails without ticking it for a while.
-    Cooldown(Param<Duration>),
-    /// Runs the child to completion once.
-    RunOnce {
-        /// After the first completion return Skipped (true) or the cached status (false).
-        then_skip: Param<bool>,
-    },
-    /// Opens a blackboard scope for its child.
-    SubTree(Box<SubTreeScope>),
-    /// Always Success.
-    AlwaysSuccess,
-    /// Always Failure.
-    AlwaysFailure,
-    /// Running until the duration has passed, then Success.
-    Sleep(Param<Duration>),
-    /// A closure of the context that never runs.
-    ConditionFn(ConditionFn<C>),
-    /// A [`Condition`] object, shared by all instances.
-    Condition(Arc<dyn Condition<C>>),
-    /// A [`Condition`] object its blueprint holds once for every node that calls it, made
-    /// by [`Builder::open_shared_condition`](crate::Builder::open_shared_condition):
-    /// making such a node clones no `Arc`.
-    SharedCondition(Shared),
-    /// A closure sync action.
-    ActionFn(ActionFn<C>),
-    /// An [`Action`] object, shared by all instances.
-    Action(Arc<dyn Action<C>>),
-    /// A [`StatefulAction`], one object per instance.
-    Stateful(StatefulFactory<C>),
-    /// An [`AsyncAction`], shared by all instances; each instance keeps its running future.
-    Async(Box<dyn AsyncAction<C>>),
-    /// A user control or decorator, one object per instance.
-    Custom(Box<CustomSpec<C>>),
+/// Makes [`NodeKind`] and its matches from [the list of built-ins](crate::nodes): a
+/// variant per built-in, carrying the node's own type, beside the engine's doors (SubTree,
+/// the leaf kinds, custom nodes), each match listing every variant.
+macro_rules! node_kinds {
+    ($($name:ident in $($module:ident)::+;)*) => {
+        /// Every kind of node the engine ticks.
+        ///
+        /// The first group are BehaviorTree.CPP's built-in nodes with its semantics, each
+        /// carrying its node's type (see each node's module under [`nodes`](crate::nodes));
+        /// the last group are the doors for user code.
+        #[non_exhaustive]
+        // A plain byte tag: the tick loop decodes it with one load instead of a niche
+        // computation.
+        #[repr(u8)]
+        pub enum NodeKind<C> {
+            $(
+                #[doc = concat!("The built-in node `", stringify!($name), "`.")]
+                $name(crate::nodes::$($module::)+$name),
+            )*
+            /// Opens a blackboard scope for its child.
+            SubTree(Box<SubTreeScope>),
+            /// A closure of the context that never runs.
+            ConditionFn(ConditionFn<C>),
+            /// A [`Condition`] object, shared by all instances.
+            Condition(Arc<dyn Condition<C>>),
+            /// A [`Condition`] object its blueprint holds once for every node that calls it,
+            /// made by [`Builder::open_shared_condition`](crate::Builder::open_shared_condition):
+            /// making such a node clones no `Arc`.
+            SharedCondition(Shared),
+            /// A closure sync action.
+            ActionFn(ActionFn<C>),
+            /// An [`Action`] object, shared by all instances.
+            Action(Arc<dyn Action<C>>),
+            /// A [`StatefulAction`], one object per instance.
+            Stateful(StatefulFactory<C>),
+            /// An [`AsyncAction`], shared by all instances; each instance keeps its running
+            /// future.
+            Async(Box<dyn AsyncAction<C>>),
+            /// A user control or decorator, one object per instance.
+            Custom(Box<CustomSpec<C>>),
+        }
+
+        impl<C> NodeKind<C> {
+            /// The kind's type name, as BehaviorTree.CPP's XML spells it.
+            pub fn type_name(&self) -> &str {
+                match self {
+                    $(NodeKind::$name(_) => <crate::nodes::$($module::)+$name as Tick>::DECL.name,)*
+                    NodeKind::SubTree(_) => "SubTree",
+                    NodeKind::ConditionFn(_)
+                    | NodeKind::Condition(_)
+                    | NodeKind::SharedCondition(_) => "Condition",
+                    NodeKind::ActionFn(_) | NodeKind::Action(_) => "Action",
+                    NodeKind::Stateful(_) => "StatefulAction",
+                    NodeKind::Async(_) => "AsyncAction",
+                    NodeKind::Custom(spec) => &spec.type_name,
+                }
+            }
+
+            /// How many children the kind accepts.
+            pub fn arity(&self) -> Arity {
+                match self {
+                    $(NodeKind::$name(_) => <crate::nodes::$($module::)+$name as Tick>::DECL.arity,)*
+                    NodeKind::SubTree(_) => Arity::One,
+                    NodeKind::Custom(spec) => spec.arity,
+                    NodeKind::ConditionFn(_)
+                    | NodeKind::Condition(_)
+                    | NodeKind::SharedCondition(_)
+                    | NodeKind::ActionFn(_)
+                    | NodeKind::Action(_)
+                    | NodeKind::Stateful(_)
+                    | NodeKind::Async(_) => Arity::Leaf,
+                }
+            }
+
+            /// The broad family: `Control`, `Decorator`, `Condition`, `Action` or
+            /// `SubTree`, as the `TreeNodesModel` of BehaviorTree.CPP names them.
+            pub fn category(&self) -> Category {
+                match self {
+                    $(NodeKind::$name(_) => <crate::nodes::$($module::)+$name as Tick>::DECL.category,)*
+                    NodeKind::SubTree(_) => Category::SubTree,
+                    NodeKind::ConditionFn(_)
+                    | NodeKind::Condition(_)
+                    | NodeKind::SharedCondition(_) => Category::Condition,
+                    NodeKind::ActionFn(_)
+                    | NodeKind::Action(_)
+                    | NodeKind::Stateful(_)
+                    | NodeKind::Async(_) => Category::Action,
+                    NodeKind::Custom(spec) => match spec.arity {
+                        Arity::Leaf => Category::Action,
+                        Arity::One => Category::Decorator,
+                        Arity::Range { .. } | Arity::AtLeast(_) => Category::Control,
+                    },
+                }
+            }
+
+            /// The declaration of a built-in kind; `None` for SubTree and the doors for user
+            /// code.
+            pub fn decl(&self) -> Option<&'static NodeDecl> {
+                match self {
+                    $(NodeKind::$name(_) => Some(<crate::nodes::$($module::)+$name as Tick>::DECL),)*
+                    NodeKind::SubTree(_)
+                    | NodeKind::ConditionFn(_)
+                    | NodeKind::Condition(_)
+                    | NodeKind::SharedCondition(_)
+                    | NodeKind::ActionFn(_)
+                    | NodeKind::Action(_)
+                    | NodeKind::Stateful(_)
+                    | NodeKind::Async(_)
+                    | NodeKind::Custom(_) => None,
+                }
+            }
+
+            /// What a built-in kind says of itself (its family, outcomes, port values);
+            /// `None` for SubTree and the doors for user code.
+            pub fn built_in(&self) -> Option<&dyn BuiltIn> {
+                match self {
+                    $(NodeKind::$name(node) => Some(node),)*
+                    NodeKind::SubTree(_)
+                    | NodeKind::ConditionFn(_)
+                    | NodeKind::Condition(_)
+                    | NodeKind::SharedCondition(_)
+                    | NodeKind::ActionFn(_)
+                    | NodeKind::Action(_)
+                    | NodeKind::Stateful(_)
+                    | NodeKind::Async(_)
+                    | NodeKind::Custom(_) => None,
+                }
+            }
+
+            /// Per-instance state slots (`u64`) the kind needs: a cursor, a counter or a time.
+            pub(crate) fn aux_slots(&self) -> u32 {
+                match self {
+                    $(NodeKind::$name(_) => <crate::nodes::$($module::)+$name as Tick>::AUX_SLOTS,)*
+                    NodeKind::SubTree(_)
+                    | NodeKind::ConditionFn(_)
+                    | NodeKind::Condition(_)
+                    | NodeKind::SharedCondition(_)
+                    | NodeKind::ActionFn(_)
+                    | NodeKind::Action(_)
+                    | NodeKind::Stateful(_)
+                    | NodeKind::Async(_)
+                    | NodeKind::Custom(_) => 0,
+                }
+            }
+
+            /// `Some(true)` for a plain Sequence, `Some(false)` for a plain Fallback (see
+            /// [`Tick::PLAIN_ORDER`]).
+            pub(crate) fn plain_order(&self) -> Option<bool> {
+                match self {
+                    $(NodeKind::$name(_) => <crate::nodes::$($module::)+$name as Tick>::PLAIN_ORDER,)*
+                    NodeKind::SubTree(_)
+                    | NodeKind::ConditionFn(_)
+                    | NodeKind::Condition(_)
+                    | NodeKind::SharedCondition(_)
+                    | NodeKind::ActionFn(_)
+                    | NodeKind::Action(_)
+                    | NodeKind::Stateful(_)
+                    | NodeKind::Async(_)
+                    | NodeKind::Custom(_) => None,
+                }
+            }
+
+            /// `true` for a kind whose halt may wait for the halts below it (see
+            /// [`Tick::WAITS_ON_HALTS`]).
+            pub(crate) fn waits_on_halts(&self) -> bool {
+                match self {
+                    $(NodeKind::$name(_) => <crate::nodes::$($module::)+$name as Tick>::WAITS_ON_HALTS,)*
+                    NodeKind::SubTree(_)
+                    | NodeKind::ConditionFn(_)
+                    | NodeKind::Condition(_)
+                    | NodeKind::SharedCondition(_)
+                    | NodeKind::ActionFn(_)
+                    | NodeKind::Action(_)
+                    | NodeKind::Stateful(_)
+                    | NodeKind::Async(_)
+                    | NodeKind::Custom(_) => false,
+                }
+            }
+
+            /// Checks a built-in once its number of children is known (see [`Tick::close`]).
+            pub(crate) fn close(&mut self, children: u32) -> Result<(), BuildErrorKind> {
+                match self {
+                    $(NodeKind::$name(node) => node.close(children),)*
+                    NodeKind::SubTree(_)
+                    | NodeKind::ConditionFn(_)
+                    | NodeKind::Condition(_)
+                    | NodeKind::SharedCondition(_)
+                    | NodeKind::ActionFn(_)
+                    | NodeKind::Action(_)
+                    | NodeKind::Stateful(_)
+                    | NodeKind::Async(_)
+                    | NodeKind::Custom(_) => Ok(()),
+                }
+            }
+
+            /// The built-in kind named `name` with its ports bound by `port`; `Ok(None)` if
+            /// no built-in of the engine has that name.
+            pub(crate) fn make(
+                name: &str,
+                port: &dyn Fn(&str) -> PortBinding,
+            ) -> Result<Option<Self>, String> {
+                $(
+                    if name == <crate::nodes::$($module::)+$name as Tick>::DECL.name {
+                        return <crate::nodes::$($module::)+$name as Tick>::from_ports(port)
+                            .map(|node| Some(NodeKind::$name(node)));
+                    }
+                )*
+                Ok(None)
+            }
+        }
+
+        impl<C> fmt::Debug for NodeKind<C> {
+            fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+                match self {
+                    $(NodeKind::$name(node) => fmt::Debug::fmt(node, f),)*
+                    NodeKind::SubTree(s) => write!(f, "SubTree({s:?})"),
+                    NodeKind::ConditionFn(_)
+                    | NodeKind::Condition(_)
+                    | NodeKind::SharedCondition(_)
+                    | NodeKind::ActionFn(_)
+                    | NodeKind::Action(_)
+                    | NodeKind::Stateful(_)
+                    | NodeKind::Async(_)
+                    | NodeKind::Custom(_) => f.write_str(self.type_name()),
+                }
+            }
+        }
+
+    };
 }
 
+crate::nodes::with_built_ins!(node_kinds);
+
 impl<C> NodeKind<C> {
-    /// The kind's type name, as BehaviorTree.CPP's XML spells it.
-    pub fn type_name(&self) -> &str {
-        match self {
-            NodeKind::Sequence => "Sequence",
-            NodeKind::SequenceWithMemory => "SequenceWithMemory",
-            NodeKind::ReactiveSequence => "ReactiveSequence",
-            NodeKind::Fallback => "Fallback",
-            NodeKind::ReactiveFallback => "ReactiveFallback",
-            NodeKind::AsyncSequence => "AsyncSequence",
-            NodeKind::AsyncFallback => "AsyncFallback",
-            NodeKind::Parallel(_) => "Parallel",
-            NodeKind::ParallelAll { .. } => "ParallelAll",
-            NodeKind::IfThenElse => "IfThenElse",
-            NodeKind::WhileDoElse => "WhileDoElse",
-            NodeKind::TryCatch { .. } => "TryCatch",
-            NodeKind::Inverter => "Inverter",
-            NodeKind::ForceSuccess => "ForceSuccess",
-            NodeKind::ForceFailure => "ForceFailure",
-            NodeKind::Repeat { .. } => "Repeat",
-            NodeKind::RetryUntilSuccessful { .. } => "RetryUntilSuccessful",
-            NodeKind::KeepRunningUntilFailure => "KeepRunningUntilFailure",
-            NodeKind::Delay(_) => "Delay",
-            NodeKind::Timeout(_) => "Timeout",
-            NodeKind::Cooldown(_) => "Cooldown",
-            NodeKind::RunOnce { .. } => "RunOnce",
-            NodeKind::SubTree(_) => "SubTree",
-            NodeKind::AlwaysSuccess => "AlwaysSuccess",
-            NodeKind::AlwaysFailure => "AlwaysFailure",
-            NodeKind::Sleep(_) => "Sleep",
-            NodeKind::ConditionFn(_) | NodeKind::Condition(_) | NodeKind::SharedCondition(_) => {
-                "Condition"
-            }
-            NodeKind::ActionFn(_) | NodeKind::Action(_) => "Action",
-            NodeKind::Stateful(_) => "StatefulAction",
-            NodeKind::Async(_) => "AsyncAction",
-            NodeKind::Custom(spec) => &spec.type_name,
-        }
-    }
-
-    /// The broad family: `Control`, `Decorator`, `Condition`, `Action` or `SubTree`, as the
-    /// `TreeNodesModel` of BehaviorTree.CPP names them.
-    pub fn category(&self) -> Category {
-        match self.arity() {
-            Arity::Leaf => match self {
-                NodeKind::ConditionFn(_)
-                | NodeKind::Condition(_)
-                | NodeKind::SharedCondition(_) => Category::Condition,
-                _ => Category::Action,
-            },
-            Arity::One => match self {
-                NodeKind::SubTree(_) => Category::SubTree,
-                _ => Category::Decorator,
-            },
-            Arity::Range { .. } | Arity::AtLeast(_) => Category::Control,
-        }
-    }
-
-    /// How many children the kind accepts.
-    pub fn arity(&self) -> Arity {
-        match self {
-            NodeKind::Sequence
-            | NodeKind::SequenceWithMemory
-            | NodeKind::ReactiveSequence
-            | NodeKind::Fallback
-            | NodeKind::ReactiveFallback
-            | NodeKind::AsyncSequence
-            | NodeKind::AsyncFallback
-            | NodeKind::Parallel(_)
-            | NodeKind::ParallelAll { .. } => Arity::AtLeast(1),
-            NodeKind::IfThenElse | NodeKind::WhileDoElse => Arity::Range { min: 2, max: 3 },
-            NodeKind::TryCatch { .. } => Arity::AtLeast(2),
-            NodeKind::Inverter
-            | NodeKind::ForceSuccess
-            | NodeKind::ForceFailure
-            | NodeKind::Repeat { .. }
-            | NodeKind::RetryUntilSuccessful { .. }
-            | NodeKind::KeepRunningUntilFailure
-            | NodeKind::Delay(_)
-            | NodeKind::Timeout(_)
-            | NodeKind::Cooldown(_)
-            | NodeKind::RunOnce { .. }
-            | NodeKind::SubTree(_) => Arity::One,
-            NodeKind::AlwaysSuccess
-            | NodeKind::AlwaysFailure
-            | NodeKind::Sleep(_)
-            | NodeKind::ConditionFn(_)
-            | NodeKind::Condition(_)
-            | NodeKind::SharedCondition(_)
-            | NodeKind::ActionFn(_)
-            | NodeKind::Action(_)
-            | NodeKind::Stateful(_)
-            | NodeKind::Async(_) => Arity::Leaf,
-            NodeKind::Custom(spec) => spec.arity,
-        }
-    }
-
     /// `true` for kinds with a per-instance object (stateful leaves, custom nodes, the
     /// running future of an async action).
     pub(crate) fn has_object(&self) -> bool {
@@ -367,55 +411,6 @@ impl<C> NodeKind<C> {
             self,
             NodeKind::Stateful(_) | NodeKind::Custom(_) | NodeKind::Async(_)
         )
-    }
-
-    /// Per-instance state slots (`u64`) the kind needs: a cursor, a counter or a time.
-    pub(crate) fn aux_slots(&self) -> u32 {
-        match self {
-            NodeKind::Sequence
-            | NodeKind::SequenceWithMemory
-            | NodeKind::Fallback
-            | NodeKind::AsyncSequence
-            | NodeKind::AsyncFallback
-            | NodeKind::ReactiveSequence
-            | NodeKind::ReactiveFallback
-            | NodeKind::IfThenElse
-            | NodeKind::TryCatch { .. }
-            | NodeKind::Parallel(_)
-            | NodeKind::Repeat { .. }
-            | NodeKind::RetryUntilSuccessful { .. }
-            | NodeKind::Delay(_)
-            | NodeKind::Timeout(_)
-            | NodeKind::Cooldown(_)
-            | NodeKind::RunOnce { .. }
-            | NodeKind::Sleep(_) => 1,
-            _ => 0,
-        }
-    }
-}
-
-impl<C> fmt::Debug for NodeKind<C> {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            NodeKind::Parallel(p) => write!(f, "Parallel({p:?})"),
-            NodeKind::ParallelAll { max_failures } => {
-                write!(f, "ParallelAll {{ max_failures: {max_failures} }}")
-            }
-            NodeKind::TryCatch { catch_on_halt } => {
-                write!(f, "TryCatch {{ catch_on_halt: {catch_on_halt} }}")
-            }
-            NodeKind::Repeat { num_cycles } => write!(f, "Repeat {{ num_cycles: {num_cycles} }}"),
-            NodeKind::RetryUntilSuccessful { num_attempts } => {
-                write!(f, "RetryUntilSuccessful {{ num_attempts: {num_attempts} }}")
-            }
-            NodeKind::Delay(d) => write!(f, "Delay({d:?})"),
-            NodeKind::Timeout(d) => write!(f, "Timeout({d:?})"),
-            NodeKind::Cooldown(d) => write!(f, "Cooldown({d:?})"),
-            NodeKind::Sleep(d) => write!(f, "Sleep({d:?})"),
-            NodeKind::RunOnce { then_skip } => write!(f, "RunOnce {{ then_skip: {then_skip} }}"),
-            NodeKind::SubTree(s) => write!(f, "SubTree({s:?})"),
-            other => f.write_str(other.type_name()),
-        }
     }
 }
 

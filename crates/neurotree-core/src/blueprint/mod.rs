@@ -85,9 +85,9 @@ enum Fast {
     None,
     Condition,
     /// A plain Sequence without hooks, which a parent's loop ticks without the dispatcher.
-    Sequence,
+    Sequential,
     /// A plain Fallback without hooks, likewise.
-    Fallback,
+    Alternative,
     /// A plain Sequence without hooks whose children are all closure conditions without
     /// hooks (a guard: it completes in every tick, and its loop needs no other case).
     SequenceOfClosures,
@@ -159,15 +159,15 @@ impl<C> Child<C> {
                     condition: NonNull::from(&*shared[s.index()]),
                 },
             ),
-            (NodeKind::Sequence | NodeKind::Fallback, false) => {
-                let sequence = matches!(kind, NodeKind::Sequence);
+            (kind, false) if kind.plain_order().is_some() => {
+                let sequence = kind.plain_order() == Some(true);
                 let fast = match (sequence, guards) {
                     (true, Guards::Closures) => Fast::SequenceOfClosures,
                     (true, Guards::Objects) => Fast::SequenceOfObjects,
-                    (true, Guards::Mixed) => Fast::Sequence,
+                    (true, Guards::Mixed) => Fast::Sequential,
                     (false, Guards::Closures) => Fast::FallbackOfClosures,
                     (false, Guards::Objects) => Fast::FallbackOfObjects,
-                    (false, Guards::Mixed) => Fast::Fallback,
+                    (false, Guards::Mixed) => Fast::Alternative,
                 };
                 (fast, FastLeaf { none: () })
             }
@@ -202,8 +202,8 @@ impl<C> Child<C> {
     #[inline(always)]
     pub(crate) fn fast_control(&self) -> Option<FastControl> {
         let (sequence, guards) = match self.fast {
-            Fast::Sequence => (true, Guards::Mixed),
-            Fast::Fallback => (false, Guards::Mixed),
+            Fast::Sequential => (true, Guards::Mixed),
+            Fast::Alternative => (false, Guards::Mixed),
             Fast::SequenceOfClosures => (true, Guards::Closures),
             Fast::FallbackOfClosures => (false, Guards::Closures),
             Fast::SequenceOfObjects => (true, Guards::Objects),

@@ -6,17 +6,18 @@
 //! - [`custom`]: the door for user-defined controls and decorators;
 //! - [`hooks`]: pre- and post-conditions around any node.
 //!
-//! Each built-in node's module also declares it as data ([`NodeDecl`]: BehaviorTree.CPP
-//! name, family, children, ports), and [`BUILT_INS`] lists those declarations: the one list
-//! a new built-in joins. The toolkit's registry, model export, XML writer and the README's
-//! catalog are derived from it; the tick goes through [`NodeKind`](crate::NodeKind) only.
+//! Each built-in node is a type of its own in its module, which says everything about it:
+//! its declaration as data ([`NodeDecl`]: BehaviorTree.CPP name, family, children, ports),
+//! its semantics, what it can return, how it is made from its ports, its tick, its halt, its
+//! builder method and its tests (see [`built_in`]). [`with_built_ins!`] is the one list of
+//! them: it makes [`NodeKind`](crate::NodeKind)'s variants, the dispatch and every other
+//! match over node kinds, and [`BUILT_INS`], from which the toolkit's registry, model
+//! export, XML writer and the README's catalog are derived.
 //!
-//! A new built-in is its module (declaration, tick, halt, tests) and one line in each of:
-//! [`BUILT_INS`], its family's module list, [`NodeKind`](crate::NodeKind) (the variant, its
-//! name and its number of children), the dispatch in `tree::ticker`, the making of its kind
-//! from its ports ([`NodeKind::from_declared`](crate::NodeKind::from_declared)), and the
-//! README's catalog (its test prints the row).
+//! A new built-in is its module and one line in [`with_built_ins!`] (and its module's line
+//! in its family's `mod` list).
 
+pub mod built_in;
 pub mod control;
 pub mod custom;
 pub mod decl;
@@ -26,35 +27,87 @@ pub mod leaf;
 
 pub use decl::{NodeDecl, PortDecl, PortDirection, PORT_TYPES};
 
-/// Every built-in node of the engine, as declared in its module, in catalog order.
-/// (SubTree is not here: it is a reference to a tree, made by the loader, not a node type.)
-pub const BUILT_INS: &[&NodeDecl] = &[
-    &control::sequence::SEQUENCE,
-    &control::sequence::SEQUENCE_WITH_MEMORY,
-    &control::reactive::REACTIVE_SEQUENCE,
-    &control::fallback::FALLBACK,
-    &control::reactive::REACTIVE_FALLBACK,
-    &control::sequence::ASYNC_SEQUENCE,
-    &control::fallback::ASYNC_FALLBACK,
-    &control::parallel::PARALLEL,
-    &control::parallel_all::PARALLEL_ALL,
-    &control::if_then_else::IF_THEN_ELSE,
-    &control::while_do_else::WHILE_DO_ELSE,
-    &control::try_catch::TRY_CATCH,
-    &decorator::inverter::INVERTER,
-    &decorator::force::FORCE_SUCCESS,
-    &decorator::force::FORCE_FAILURE,
-    &decorator::repeat::REPEAT,
-    &decorator::retry::RETRY_UNTIL_SUCCESSFUL,
-    &decorator::keep_running::KEEP_RUNNING_UNTIL_FAILURE,
-    &decorator::delay::DELAY,
-    &decorator::timeout::TIMEOUT,
-    &decorator::cooldown::COOLDOWN,
-    &decorator::run_once::RUN_ONCE,
-    &leaf::always::ALWAYS_SUCCESS,
-    &leaf::always::ALWAYS_FAILURE,
-    &leaf::sleep::SLEEP,
-];
+/// The one list of built-in nodes, in catalog order: `Name in module::path;`, where the
+/// module under `nodes` defines the type `Name` implementing [`built_in::BuiltIn`] and the
+/// engine's `Tick`. It hands the list to `$callback`, a macro that makes something for
+/// every built-in: [`NodeKind`](crate::NodeKind) and its matches, the tick dispatch, the
+/// halt, [`BUILT_INS`].
+///
+/// SubTree is not here: it is a reference to a tree, made by the loader, not a node type.
+macro_rules! with_built_ins {
+    ($callback:ident) => {
+        $callback! {
+            Sequence in control::sequence;
+            SequenceWithMemory in control::sequence;
+            ReactiveSequence in control::reactive;
+            Fallback in control::fallback;
+            ReactiveFallback in control::reactive;
+            AsyncSequence in control::sequence;
+            AsyncFallback in control::fallback;
+            Parallel in control::parallel;
+            ParallelAll in control::parallel_all;
+            IfThenElse in control::if_then_else;
+            WhileDoElse in control::while_do_else;
+            TryCatch in control::try_catch;
+            Inverter in decorator::inverter;
+            ForceSuccess in decorator::force;
+            ForceFailure in decorator::force;
+            Repeat in decorator::repeat;
+            RetryUntilSuccessful in decorator::retry;
+            KeepRunningUntilFailure in decorator::keep_running;
+            Delay in decorator::delay;
+            Timeout in decorator::timeout;
+            Cooldown in decorator::cooldown;
+            RunOnce in decorator::run_once;
+            AlwaysSuccess in leaf::always;
+            AlwaysFailure in leaf::always;
+            Sleep in leaf::sleep;
+        }
+    };
+}
+pub(crate) use with_built_ins;
+
+/// Makes [`BUILT_INS`] from the list.
+macro_rules! declarations {
+    ($($name:ident in $($module:ident)::+;)*) => {
+        /// Every built-in node of the engine, as declared in its module, in catalog order.
+        /// (SubTree is not here: it is a reference to a tree, made by the loader, not a node
+        /// type.)
+        pub const BUILT_INS: &[&NodeDecl] = &[
+            $(<$($module::)+$name as built_in::Tick>::DECL,)*
+        ];
+    };
+}
+with_built_ins!(declarations);
+
+/// Makes [`kinds`] from the list.
+macro_rules! kinds {
+    ($($name:ident in $($module:ident)::+;)*) => {
+        /// Every built-in node's type under one roof, for building a [`NodeKind`] by hand:
+        /// `NodeKind::Inverter(kinds::Inverter)`.
+        ///
+        /// [`NodeKind`]: crate::NodeKind
+        pub mod kinds {
+            $(pub use super::$($module::)+$name;)*
+        }
+    };
+}
+with_built_ins!(kinds);
+
+/// A stand-in of a family: what the XML loader builds for a node it cannot make (one only
+/// described by a model, or one with an error), so that its children are still checked.
+pub fn stand_in<C>(category: crate::Category) -> crate::NodeKind<C> {
+    use crate::{Category, NodeKind};
+    match category {
+        Category::Control => NodeKind::Sequence(control::sequence::Sequence),
+        Category::Decorator | Category::SubTree => {
+            NodeKind::Inverter(decorator::inverter::Inverter)
+        }
+        Category::Action | Category::Condition => {
+            NodeKind::AlwaysSuccess(leaf::always::AlwaysSuccess)
+        }
+    }
+}
 
 #[cfg(test)]
 mod tests {

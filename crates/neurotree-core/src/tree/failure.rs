@@ -42,7 +42,8 @@ use alloc::vec::Vec;
 use core::fmt;
 use core::time::Duration;
 
-use crate::blueprint::{Blueprint, NodeKind};
+use crate::blueprint::Blueprint;
+use crate::nodes::built_in::Family;
 use crate::{NodeId, TickError};
 
 /// Why a node failed: a small code and a message.
@@ -384,10 +385,7 @@ fn explain<C>(
         .find_map(|(_, note)| note.reason().cloned());
     let children = bp.children(node);
     let failed_at = |child: NodeId| last_failed(run, child, run.len()).map(|i| start + i);
-    let fallback = matches!(
-        bp.kind(node),
-        NodeKind::Fallback | NodeKind::AsyncFallback | NodeKind::ReactiveFallback
-    );
+    let fallback = bp.kind(node).built_in().and_then(|n| n.family()) == Some(Family::Alternative);
     let mut tried = Vec::new();
     let next = if fallback {
         for &child in children {

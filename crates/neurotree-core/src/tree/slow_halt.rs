@@ -189,7 +189,7 @@ impl<'t, C> Ticker<'t, C> {
         }
         let bp = self.bp;
         for tc in bp.ids() {
-            if matches!(bp.def(tc).kind, NodeKind::TryCatch { .. }) {
+            if bp.def(tc).kind.waits_on_halts() {
                 let slot = bp.slot(tc);
                 if try_catch::pending_owner(self.aux[slot]) == Some(Some(id)) {
                     self.aux[slot] = try_catch::pending(halter);
@@ -218,7 +218,9 @@ impl<'t, C> Ticker<'t, C> {
                     Some(object) if object.is_halting()
                 )
             }
-            NodeKind::TryCatch { .. } => try_catch::pending_owner(self.aux[bp.slot(id)]).is_some(),
+            kind if kind.waits_on_halts() => {
+                try_catch::pending_owner(self.aux[bp.slot(id)]).is_some()
+            }
             _ => false,
         }
     }
@@ -258,7 +260,7 @@ impl<'t, C> Ticker<'t, C> {
             let kind = &bp.def(id).kind;
             match kind {
                 NodeKind::Stateful(_) | NodeKind::Async(_) => {}
-                NodeKind::TryCatch { .. } => {
+                kind if kind.waits_on_halts() => {
                     catches |= try_catch::pending_owner(self.aux[bp.slot(id)]).is_some();
                     continue;
                 }
@@ -308,7 +310,7 @@ impl<'t, C> Ticker<'t, C> {
         let mut left = false;
         for tc in (0..bp.len() as u32).rev().map(NodeId) {
             let def = bp.def(tc);
-            if !matches!(def.kind, NodeKind::TryCatch { .. }) {
+            if !def.kind.waits_on_halts() {
                 continue;
             }
             let slot = bp.slot(tc);

@@ -10,8 +10,9 @@ use core::mem;
 use core::time::Duration;
 
 use crate::blackboard::Blackboard;
-use crate::blueprint::{Blueprint, Child, FromPortStr, NodeDef, NodeKind, ParallelPolicy, Param};
+use crate::blueprint::{Blueprint, Child, FromPortStr, NodeDef, NodeKind, Param};
 use crate::clock::duration_to_nanos;
+use crate::nodes::built_in::Tick;
 use crate::nodes::custom::{CustomNode, NodeCtx};
 use crate::nodes::leaf::{read_input, ActionFuture, HaltFuture, Handle, StatefulAction};
 use crate::nodes::{control, decorator, leaf};
@@ -414,108 +415,6 @@ impl<'t, C> Ticker<'t, C> {
         self.observer.is_some()
     }
 
-    #[inline(never)]
-    fn dispatch(&mut self, id: NodeId, def: &NodeDef<C>) -> NodeStatus {
-        use control::{
-            if_then_else, ordered, parallel, parallel_all, reactive, try_catch, while_do_else,
-        };
-        use decorator::{
-            cooldown, delay, force, inverter, keep_running, repeat, run_once, subtree, timeout,
-        };
-        match &def.kind {
-            NodeKind::ConditionFn(f) => Status::from(f(self.ctx)).into(),
-            NodeKind::Sequence => ordered::tick::<C, true, { ordered::PLAIN }>(self, id, def),
-            NodeKind::Fallback => ordered::tick::<C, false, { ordered::PLAIN }>(self, id, def),
-            NodeKind::SequenceWithMemory => {
-                ordered::tick::<C, true, { ordered::MEMORY }>(self, id, def)
-            }
-            NodeKind::AsyncSequence => ordered::tick::<C, true, { ordered::ASYNC }>(self, id, def),
-            NodeKind::AsyncFallback => ordered::tick::<C, false, { ordered::ASYNC }>(self, id, def),
-            NodeKind::ReactiveSequence => reactive::tick(self, id, def, Status::Success),
-            NodeKind::ReactiveFallback => reactive::tick(self, id, def, Status::Failure),
-            NodeKind::Parallel(policy) => match self.thresholds(id, def, *policy) {
-                Some(policy) => parallel::tick(self, id, def, policy),
-                None => NodeStatus::Failure,
-            },
-            NodeKind::ParallelAll { max_failures } => {
-                match self.param(id, *max_failures, "max_failures") {
-                    Some(max) => parallel_all::tick(self, id, def, max),
-                    None => NodeStatus::Failure,
-                }
-            }
-            NodeKind::IfThenElse => if_then_else::tick(self, id, def),
-            NodeKind::WhileDoElse => while_do_else::tick(self, id, def),
-            NodeKind::TryCatch { .. } => try_catch::tick(self, id, def),
-            NodeKind::Inverter => inverter::tick(self, id, def),
-            NodeKind::ForceSuccess => force::tick(self, id, def, NodeStatus::Success),
-            NodeKind::ForceFailure => force::tick(self, id, def, NodeStatus::Failure),
-            NodeKind::Repeat { num_cycles } => match self.param(id, *num_cycles, "num_cycles") {
-                Some(n) => repeat::tick::<C, true>(self, id, def, n),
-                None => NodeStatus::Failure,
-            },
-            NodeKind::RetryUntilSuccessful { num_attempts } => {
-                match self.param(id, *num_attempts, "num_attempts") {
-                    Some(n) => repeat::tick::<C, false>(self, id, def, n),
-                    None => NodeStatus::Failure,
-                }
-            }
-            NodeKind::KeepRunningUntilFailure => keep_running::tick(self, id, def),
-            NodeKind::Delay(wait) => match self.millis(id, *wait, "delay_msec") {
-                Some(wait) => delay::tick(self, id, def, wait),
-                None => NodeStatus::Failure,
-            },
-            NodeKind::Timeout(limit) => match self.millis(id, *limit, "msec") {
-                Some(limit) => timeout::tick(self, id, def, limit),
-                None => NodeStatus::Failure,
-            },
-            NodeKind::Cooldown(period) => match self.millis(id, *period, "cooldown_msec") {
-                Some(period) => cooldown::tick(self, id, def, period),
-                None => NodeStatus::Failure,
-            },
-            NodeKind::RunOnce { then_skip } => match self.param(id, *then_skip, "then_skip") {
-                Some(skip) => run_once::tick(self, id, def, skip),
-                None => NodeStatus::Failure,
-            },
-            NodeKind::SubTree(_) => subtree::tick(self, id, def),
-            NodeKind::AlwaysSuccess => NodeStatus::Success,
-            NodeKind::AlwaysFailure => NodeStatus::Failure,
-            NodeKind::Sleep(wait) => match self.millis(id, *wait, "msec") {
-                Some(wait) => leaf::sleep::tick(self, id, self.bp.slot(id), wait),
-                None => NodeStatus::Failure,
-            },
-            NodeKind::Condition(c) => {
-                let h = self.handle(id);
-                Status::from(c.check(&h)).into()
-            }
-            NodeKind::SharedCondition(s) => {
-                let bp = self.bp;
-                let h = self.handle(id);
-                Status::from(bp.shared[s.index()].check(&h)).into()
-            }
-            NodeKind::ActionFn(f) => {
-                let s = f(self.ctx);
-                self.sync_result(id, s, "Action")
-            }
-            NodeKind::Action(a) => {
-                let mut h = self.handle(id);
-                let s = a.tick(&mut h);
-                self.watch_if_noted();
-                self.sync_result(id, s, "Action")
-            }
-            NodeKind::Stateful(_) => {
-                let s = self.tick_stateful(id);
-                self.watch_if_noted();
-                s
-            }
-            NodeKind::Async(action) => {
-                let s = leaf::async_action::tick(self, id, &**action);
-                self.watch_if_noted();
-                s
-            }
-            NodeKind::Custom(_) => self.tick_custom(id),
-        }
-    }
-
     /// A sync leaf's result; Running breaks its contract and ends the tick with an error.
     #[inline]
     pub(crate) fn sync_result(&mut self, id: NodeId, s: Status, kind: &'static str) -> NodeStatus {
@@ -568,33 +467,6 @@ impl<'t, C> Ticker<'t, C> {
         let read = read_input(self.bb, self.bp, id, port);
         read.map_err(|e| self.fault_node(id, alloc::string::ToString::to_string(&e)))
             .ok()
-    }
-
-    /// A Parallel's thresholds, read from its ports if they are bound there, and checked
-    /// against its number of children as BehaviorTree.CPP checks them at each tick.
-    #[inline(always)]
-    fn thresholds(
-        &mut self,
-        id: NodeId,
-        def: &NodeDef<C>,
-        policy: ParallelPolicy,
-    ) -> Option<ParallelPolicy> {
-        let ParallelPolicy::Ports { success, failure } = policy else {
-            return Some(policy);
-        };
-        let success = self.param(id, success, "success_count")?;
-        let failure = self.param(id, failure, "failure_count")?;
-        let n = def.child_count;
-        for (which, t) in [("succeed", success), ("fail", failure)] {
-            if crate::blueprint::builder::resolve_threshold(t, n) > i64::from(n) {
-                let message = alloc::format!(
-                    "its threshold {t} is more than its {n} children: it can never {which}"
-                );
-                self.fault_node(id, message);
-                return None;
-            }
-        }
-        Some(ParallelPolicy::Thresholds { success, failure })
     }
 
     /// Records a node's own error; the first error of a pass wins.
@@ -702,82 +574,24 @@ impl<'t, C> Ticker<'t, C> {
         status
     }
 
-    /// Halts a node (its Running descendants first) and resets it to Idle.
-    ///
-    /// With `std`, a panic in user code that halts (`on_halted`, a custom node's `halt`, a
-    /// future's `Drop`) is caught: that node is skipped, the halt goes on, and the panic
-    /// becomes the pass's error.
-    pub(crate) fn halt_node(&mut self, id: NodeId) {
-        if self.out.halts.count != 0 {
-            self.pass_on_halts_of(id);
-        }
-        let bp = self.bp;
-        let def = bp.def(id);
-        let slot = self.bp.slot(id);
-        match &def.kind {
-            NodeKind::Stateful(_) => {
-                if self.status(id) == NodeStatus::Running {
-                    self.current = id;
-                    contain(self, id, |t| t.request_halt(id));
-                }
-            }
-            NodeKind::Async(action) => {
-                self.current = id;
-                contain(self, id, |t| leaf::async_action::halt(t, id, &**action));
-            }
-            NodeKind::Custom(_) => {
-                let obj = self.bp.slot(id);
-                if self.status(id) == NodeStatus::Running {
-                    self.current = id;
-                    if let Object::Custom(mut node) =
-                        mem::replace(&mut self.objects[obj], Object::Vacant)
-                    {
-                        contain(self, id, |t| {
-                            node.halt(&mut NodeCtx {
-                                t,
-                                id,
-                                previous: NodeStatus::Running,
-                                reset_completed: false,
-                            });
-                        });
-                        self.objects[obj] = Object::Custom(node);
-                    }
-                }
-                self.reset_children(id);
-            }
-            NodeKind::Sequence
-            | NodeKind::AsyncSequence
-            | NodeKind::Fallback
-            | NodeKind::AsyncFallback => {
-                self.aux[slot] = 0;
-                self.reset_children(id);
-            }
-            NodeKind::TryCatch { catch_on_halt } => {
-                // Read when halted, as BehaviorTree.CPP reads it; unreadable: no catch.
-                let catch = self.param(id, *catch_on_halt, "catch_on_halt");
-                control::try_catch::halt(self, id, def, catch.unwrap_or(false));
-            }
-            NodeKind::IfThenElse
-            | NodeKind::Parallel(_)
-            | NodeKind::ReactiveSequence
-            | NodeKind::ReactiveFallback
-            | NodeKind::Repeat { .. }
-            | NodeKind::RetryUntilSuccessful { .. }
-            | NodeKind::Delay(_)
-            | NodeKind::Timeout(_) => {
-                self.aux[slot] = 0;
-                self.reset_children(id);
-            }
-            // SequenceWithMemory keeps its place, Cooldown its timer, RunOnce its memory.
-            _ => self.reset_children(id),
-        }
-        let was_running = self.status(id) == NodeStatus::Running;
-        self.set_status(id, NodeStatus::Idle);
-        if was_running {
-            if let Some(hooks) = self.bp.hooks(id) {
-                hooks.halted(&mut self.handle(id));
+    /// Halts a custom node: its own `halt` if it is Running, then its children.
+    fn halt_custom(&mut self, id: NodeId) {
+        let obj = self.bp.slot(id);
+        if self.status(id) == NodeStatus::Running {
+            self.current = id;
+            if let Object::Custom(mut node) = mem::replace(&mut self.objects[obj], Object::Vacant) {
+                contain(self, id, |t| {
+                    node.halt(&mut NodeCtx {
+                        t,
+                        id,
+                        previous: NodeStatus::Running,
+                        reset_completed: false,
+                    });
+                });
+                self.objects[obj] = Object::Custom(node);
             }
         }
+        self.reset_children(id);
     }
 
     /// Puts back the objects of custom nodes that a panic left vacant (the object was out
@@ -792,6 +606,14 @@ impl<'t, C> Ticker<'t, C> {
                 }
             }
         }
+    }
+
+    /// Clears node `id`'s state slot and halts its children: the halt of a node that starts
+    /// afresh after it.
+    pub(crate) fn halt_afresh(&mut self, id: NodeId) {
+        let slot = self.bp.slot(id);
+        self.aux[slot] = 0;
+        self.reset_children(id);
     }
 
     /// BehaviorTree.CPP's `haltChild`: halt if Running, then reset to Idle.
@@ -855,6 +677,95 @@ impl<'t, C> Ticker<'t, C> {
         }
     }
 }
+
+/// Makes the tick dispatch and the halt of every kind from [the list of
+/// built-ins](crate::nodes): a built-in goes to its type's [`Tick`], the doors for user code
+/// to the ticker's own functions.
+macro_rules! dispatch {
+    ($($name:ident in $($module:ident)::+;)*) => {
+        impl<'t, C> Ticker<'t, C> {
+            #[inline(never)]
+            fn dispatch(&mut self, id: NodeId, def: &NodeDef<C>) -> NodeStatus {
+                match &def.kind {
+                    NodeKind::ConditionFn(f) => Status::from(f(self.ctx)).into(),
+                    $(NodeKind::$name(node) => node.tick(self, id, def),)*
+                    NodeKind::SubTree(_) => decorator::subtree::tick(self, id, def),
+                    NodeKind::Condition(c) => {
+                        let h = self.handle(id);
+                        Status::from(c.check(&h)).into()
+                    }
+                    NodeKind::SharedCondition(s) => {
+                        let bp = self.bp;
+                        let h = self.handle(id);
+                        Status::from(bp.shared[s.index()].check(&h)).into()
+                    }
+                    NodeKind::ActionFn(f) => {
+                        let s = f(self.ctx);
+                        self.sync_result(id, s, "Action")
+                    }
+                    NodeKind::Action(a) => {
+                        let mut h = self.handle(id);
+                        let s = a.tick(&mut h);
+                        self.watch_if_noted();
+                        self.sync_result(id, s, "Action")
+                    }
+                    NodeKind::Stateful(_) => {
+                        let s = self.tick_stateful(id);
+                        self.watch_if_noted();
+                        s
+                    }
+                    NodeKind::Async(action) => {
+                        let s = leaf::async_action::tick(self, id, &**action);
+                        self.watch_if_noted();
+                        s
+                    }
+                    NodeKind::Custom(_) => self.tick_custom(id),
+                }
+            }
+
+            /// Halts a node (its Running descendants first) and resets it to Idle.
+            ///
+            /// With `std`, a panic in user code that halts (`on_halted`, a custom node's
+            /// `halt`, a future's `Drop`) is caught: that node is skipped, the halt goes on,
+            /// and the panic becomes the pass's error.
+            pub(crate) fn halt_node(&mut self, id: NodeId) {
+                if self.out.halts.count != 0 {
+                    self.pass_on_halts_of(id);
+                }
+                let bp = self.bp;
+                let def = bp.def(id);
+                match &def.kind {
+                    $(NodeKind::$name(node) => node.halt(self, id, def),)*
+                    NodeKind::Stateful(_) => {
+                        if self.status(id) == NodeStatus::Running {
+                            self.current = id;
+                            contain(self, id, |t| t.request_halt(id));
+                        }
+                    }
+                    NodeKind::Async(action) => {
+                        self.current = id;
+                        contain(self, id, |t| leaf::async_action::halt(t, id, &**action));
+                    }
+                    NodeKind::Custom(_) => self.halt_custom(id),
+                    NodeKind::SubTree(_)
+                    | NodeKind::ConditionFn(_)
+                    | NodeKind::Condition(_)
+                    | NodeKind::SharedCondition(_)
+                    | NodeKind::ActionFn(_)
+                    | NodeKind::Action(_) => self.reset_children(id),
+                }
+                let was_running = self.status(id) == NodeStatus::Running;
+                self.set_status(id, NodeStatus::Idle);
+                if was_running {
+                    if let Some(hooks) = self.bp.hooks(id) {
+                        hooks.halted(&mut self.handle(id));
+                    }
+                }
+            }
+        }
+    };
+}
+crate::nodes::with_built_ins!(dispatch);
 
 /// Runs `halt` (user code that halts node `id`); with `std`, a panic in it is caught and
 /// recorded as the pass's error, so that the rest of the tree is still halted.

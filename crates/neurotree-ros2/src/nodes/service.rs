@@ -4,7 +4,7 @@
 //! |---|---|---|
 //! | from Idle | reads the ports, asks the [`ServiceSpec`] for the request | Failure (`InvalidRequest`) if it has none |
 //! | while the server is not discovered | waits up to `wait_for_server_timeout` (and [`DISCOVERY_SETTLE`](super::DISCOVERY_SETTLE) after the first discovery) | Running, then Failure (`ServerUnreachable`) |
-//! | server discovered | sends the request, waits up to `server_timeout` | Running, then Failure (`Timeout`) |
+//! | server discovered | sends the request, waits up to `server_timeout` | Running, then Failure (`TimedOut`) |
 //! | response | `on_response` | its status |
 //! | halted while Running | forgets the request (a service call cannot be cancelled) | (Idle) |
 //!
@@ -69,7 +69,7 @@ pub enum ServiceError {
         waited: Duration,
     },
     /// No response within `server_timeout`.
-    Timeout {
+    TimedOut {
         /// The service name.
         service: String,
         /// How long the node waited.
@@ -87,7 +87,7 @@ impl fmt::Display for ServiceError {
             Self::ServerUnreachable { service, waited } => {
                 write!(f, "service `{service}` not found within {waited:?}")
             }
-            Self::Timeout { service, waited } => {
+            Self::TimedOut { service, waited } => {
                 write!(f, "service `{service}` did not answer within {waited:?}")
             }
             Self::InvalidRequest(reason) => write!(f, "no request to send: {reason}"),
@@ -241,7 +241,7 @@ impl<C: 'static, S: ServiceSpec<C>> RosServiceNode<C, S> {
                     Ok(Some(_)) => continue,
                     Ok(None) if Instant::now() >= until => {
                         let waited = since.elapsed();
-                        break self.fail(h, ServiceError::Timeout { service, waited });
+                        break self.fail(h, ServiceError::TimedOut { service, waited });
                     }
                     Ok(None) => {
                         self.phase = Phase::WaitingForResponse { id, since, until };

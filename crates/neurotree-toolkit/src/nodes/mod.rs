@@ -34,7 +34,7 @@
 //! [`neurotree_core::nodes::BUILT_INS`], these in [`STD_BUILT_INS`]; [`built_ins`] walks
 //! both, and the README's node catalog is made from them.
 
-pub use neurotree_core::nodes::{control, custom, decorator, leaf, NodeDecl};
+pub use neurotree_core::nodes::{built_in, control, custom, decorator, kinds, leaf, NodeDecl};
 
 pub mod entry;
 pub mod hooks;

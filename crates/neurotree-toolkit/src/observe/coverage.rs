@@ -5,7 +5,7 @@ use std::fmt;
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
-use neurotree_core::{Blueprint, NodeId, NodeKind, NodeStatus, Observer, Param, StatusChange};
+use neurotree_core::{Blueprint, NodeId, NodeKind, NodeStatus, Observer, StatusChange};
 
 use super::lock;
 use super::outcome::{Outcome, OutcomeReader, OutcomeSet};
@@ -163,20 +163,19 @@ fn possible_all<C>(blueprint: &Blueprint<C>) -> Vec<OutcomeSet> {
         .ids()
         .map(|id| {
             let kind = blueprint.kind(id);
-            let mut set = match kind {
-                NodeKind::AlwaysSuccess | NodeKind::ForceSuccess => OutcomeSet::of(&[Success]),
-                NodeKind::AlwaysFailure
-                | NodeKind::ForceFailure
-                | NodeKind::KeepRunningUntilFailure => OutcomeSet::of(&[Failure]),
-                _ => OutcomeSet::of(&[Success, Failure]),
-            };
+            let own = kind.built_in().map(|node| node.outcomes());
+            let mut set = OutcomeSet::of(&[]);
+            if own.map_or(true, |o| o.success) {
+                set = set.with(Success);
+            }
+            if own.map_or(true, |o| o.failure) {
+                set = set.with(Failure);
+            }
             if can_run[id.index()] {
                 set = set.with(Running).with(Halted);
             }
-            if let NodeKind::RunOnce { then_skip } = kind {
-                if *then_skip != Param::Value(false) {
-                    set = set.with(Skipped);
-                }
+            if own.is_some_and(|o| o.skipped) {
+                set = set.with(Skipped);
             }
             if let Some(hooks) = blueprint.node_hooks(id) {
                 hooks.attributes(&mut |name, _| match name {
@@ -191,21 +190,16 @@ fn possible_all<C>(blueprint: &Blueprint<C>) -> Vec<OutcomeSet> {
         .collect()
 }
 
-/// `true` for kinds that return Running whatever their children do.
+/// `true` for kinds that return Running whatever their children do: the leaves of user
+/// code that run over ticks, and the built-ins that say so of themselves.
 fn runs_by_itself<C>(kind: &NodeKind<C>) -> bool {
-    matches!(
-        kind,
-        NodeKind::Sleep(_)
-            | NodeKind::Stateful(_)
-            | NodeKind::Async(_)
-            | NodeKind::Custom(_)
-            | NodeKind::Delay(_)
-            | NodeKind::KeepRunningUntilFailure
-            | NodeKind::Repeat { .. }
-            | NodeKind::RetryUntilSuccessful { .. }
-            | NodeKind::AsyncSequence
-            | NodeKind::AsyncFallback
-    )
+    match kind.built_in() {
+        Some(node) => node.outcomes().running,
+        None => matches!(
+            kind,
+            NodeKind::Stateful(_) | NodeKind::Async(_) | NodeKind::Custom(_)
+        ),
+    }
 }
 
 /// What a run covered of one node.

@@ -32,14 +32,14 @@ pub(crate) const ALIASES: [Alias; 2] = [
     // corpus/nav2/opennav_docking_bt__application_example.xml) writes `<inverter>`.
     Alias {
         name: "inverter",
-        target: "Inverter",
+        target: neurotree_core::nodes::decorator::inverter::INVERTER.name,
         kind: AliasKind::Misspelt,
     },
     // BehaviorTree.CPP 3 called SequenceWithMemory `SequenceStar`; version 4 renamed it
     // (its v3-to-v4 converter rewrites the name), and 4.10 no longer knows the old one.
     Alias {
         name: "SequenceStar",
-        target: "SequenceWithMemory",
+        target: neurotree_core::nodes::control::sequence::SEQUENCE_WITH_MEMORY.name,
         kind: AliasKind::Deprecated,
     },
 ];

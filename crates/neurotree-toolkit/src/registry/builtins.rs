@@ -51,11 +51,17 @@ mod tests {
             );
         }
         // The writer names a Parallel's thresholds as declared.
-        let count = NodeKind::<()>::Parallel(ParallelPolicy::RequireCount(2));
+        let count = NodeKind::<()>::Parallel(neurotree_core::nodes::kinds::Parallel {
+            policy: ParallelPolicy::RequireCount(2),
+        });
         assert_eq!(
             built_in_ports(&count, 5),
             [("success_count", "2".into()), ("failure_count", "4".into())]
         );
-        assert!(built_in_ports(&NodeKind::<()>::Sequence, 2).is_empty());
+        assert!(built_in_ports(
+            &NodeKind::<()>::Sequence(neurotree_core::nodes::kinds::Sequence),
+            2
+        )
+        .is_empty());
     }
 }

@@ -4,14 +4,15 @@
 
 use std::borrow::Cow;
 
+use neurotree_core::nodes::built_in::Family;
 use neurotree_core::{Blueprint, Category, NodeId, NodeKind, NodeStatus};
 
 /// The drawn family of a node.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum Shape {
-    Sequence,
-    Fallback,
-    Parallel,
+    Sequential,
+    Alternative,
+    Concurrent,
     Control,
     Decorator,
     Condition,
@@ -21,16 +22,11 @@ pub(crate) enum Shape {
 
 impl Shape {
     pub(crate) fn of<C>(kind: &NodeKind<C>) -> Self {
-        match kind {
-            NodeKind::Sequence
-            | NodeKind::SequenceWithMemory
-            | NodeKind::ReactiveSequence
-            | NodeKind::AsyncSequence => Shape::Sequence,
-            NodeKind::Fallback | NodeKind::ReactiveFallback | NodeKind::AsyncFallback => {
-                Shape::Fallback
-            }
-            NodeKind::Parallel(_) | NodeKind::ParallelAll { .. } => Shape::Parallel,
-            other => match other.category() {
+        match kind.built_in().and_then(|node| node.family()) {
+            Some(Family::Sequential) => Shape::Sequential,
+            Some(Family::Alternative) => Shape::Alternative,
+            Some(Family::Concurrent) => Shape::Concurrent,
+            None => match kind.category() {
                 Category::Control => Shape::Control,
                 Category::Decorator => Shape::Decorator,
                 Category::Condition => Shape::Condition,
@@ -43,9 +39,9 @@ impl Shape {
     /// The mark drawn before the name of the well-known controls.
     pub(crate) fn glyph(self) -> Option<&'static str> {
         match self {
-            Shape::Sequence => Some("→"),
-            Shape::Fallback => Some("?"),
-            Shape::Parallel => Some("⇉"),
+            Shape::Sequential => Some("→"),
+            Shape::Alternative => Some("?"),
+            Shape::Concurrent => Some("⇉"),
             _ => None,
         }
     }
@@ -53,7 +49,9 @@ impl Shape {
     /// The family as a lower-case word, for class names.
     pub(crate) fn family(self) -> &'static str {
         match self {
-            Shape::Sequence | Shape::Fallback | Shape::Parallel | Shape::Control => "control",
+            Shape::Sequential | Shape::Alternative | Shape::Concurrent | Shape::Control => {
+                "control"
+            }
             Shape::Decorator => "decorator",
             Shape::Condition => "condition",
             Shape::Action => "action",
@@ -186,9 +184,9 @@ mod tests {
             .unwrap();
         let views = node_views(&bp, None);
         let shape = |name: &str| views.iter().find(|v| v.name == name).unwrap().shape;
-        assert_eq!(shape("a"), Shape::Sequence);
-        assert_eq!(shape("b"), Shape::Fallback);
-        assert_eq!(shape("c"), Shape::Parallel);
+        assert_eq!(shape("a"), Shape::Sequential);
+        assert_eq!(shape("b"), Shape::Alternative);
+        assert_eq!(shape("c"), Shape::Concurrent);
         assert_eq!(shape("d"), Shape::Control);
         assert_eq!(shape("e"), Shape::Decorator);
         assert_eq!(shape("f"), Shape::Condition);

@@ -204,7 +204,7 @@ fn box_size(view: &NodeView<'_>, reason: Option<&str>) -> Size {
     let reason_width = reason.map_or(0.0, |r| text_width(&printable(r), TYPE_SIZE, true));
     let mut width = name.max(type_name).max(reason_width) + 2.0 * PADDING;
     width += match view.shape {
-        Shape::Sequence | Shape::Fallback | Shape::Parallel => GLYPH_WIDTH,
+        Shape::Sequential | Shape::Alternative | Shape::Concurrent => GLYPH_WIDTH,
         Shape::Decorator => 2.0 * SLANT,
         Shape::Condition => NODE_HEIGHT / 2.0,
         Shape::SubTree => 6.0,
@@ -315,7 +315,7 @@ fn outline(out: &mut String, shape: Shape, p: &Placed, paint: Paint, width: &str
             );
             rect(out, &inner, 1.0, &inner_style);
         }
-        Shape::Sequence | Shape::Fallback | Shape::Parallel | Shape::Control => {
+        Shape::Sequential | Shape::Alternative | Shape::Concurrent | Shape::Control => {
             rect(out, p, 2.0, &style);
         }
     }

@@ -3,6 +3,8 @@
 
 use std::sync::Arc;
 
+use neurotree_core::nodes;
+
 use neurotree_core::{
     Arity, Blueprint, Builder, Category, NodeKind, Port, PortBinding, PortValue, SubTreeScope,
     DEFAULT_MAX_DEPTH,
@@ -278,7 +280,7 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
                 Ok(subtree) => subtree,
                 Err(e) => {
                     self.keep(e)?;
-                    let b = Opened::plain(NodeKind::AlwaysSuccess, el.tag()).add(b);
+                    let b = Opened::plain(nodes::stand_in(Category::Action), el.tag()).add(b);
                     return Ok(self.close(b, el));
                 }
             };
@@ -298,11 +300,11 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
                 self.keep(e)?;
                 // Of a family that accepts its children, so that they are checked too and
                 // the builder finds nothing more to say about it.
-                let kind = if el.child_count() == 0 {
-                    NodeKind::AlwaysSuccess
+                let kind = nodes::stand_in(if el.child_count() == 0 {
+                    Category::Action
                 } else {
-                    NodeKind::Sequence
-                };
+                    Category::Control
+                });
                 Opened::plain(kind, el.tag())
             }
         };
@@ -346,7 +348,7 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
         };
         // A leaf standing in for the node, which has no children: a mock, or an unknown
         // leaf mocked with SUCCESS.
-        let stand_in = |kind, hooks| Opened {
+        let leaf_for = |kind, hooks| Opened {
             kind,
             shared: None,
             name,
@@ -364,7 +366,7 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
                 if !self.mocked.contains(&name) {
                     self.mocked.push(name);
                 }
-                return Ok(stand_in(mock::mock_kind(outcomes), hooks));
+                return Ok(leaf_for(mock::mock_kind(outcomes), hooks));
             }
             // Not a leaf: it stays. A mock named after it that replaces no leaf either is
             // a mistake, found once the tree is expanded.
@@ -378,7 +380,7 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
         }
         let Some(node_type) = node_type else {
             if self.loader.mock_unknown && el.child_count() == 0 {
-                return Ok(stand_in(NodeKind::AlwaysSuccess, hooks));
+                return Ok(leaf_for(nodes::stand_in(Category::Action), hooks));
             }
             let hint = match self.loader.registry.closest(type_name) {
                 Some(close) => format!("did you mean `{close}`? "),
@@ -425,7 +427,7 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
                     && el.child_count() == 0
                     && matches!(node_type.category, Category::Action | Category::Condition) =>
             {
-                return Ok(stand_in(NodeKind::AlwaysSuccess, hooks));
+                return Ok(leaf_for(nodes::stand_in(Category::Action), hooks));
             }
             Make::Model if !self.validate => {
                 // Asked to mock it: say why that cannot be, the closer mistake.
@@ -446,11 +448,7 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
             }
             Make::Model => {
                 // A placeholder of the same family, so that the structure is checked.
-                let kind = match node_type.category {
-                    Category::Control => NodeKind::Sequence,
-                    Category::Decorator => NodeKind::Inverter,
-                    _ => NodeKind::AlwaysSuccess,
-                };
+                let kind = nodes::stand_in(node_type.category);
                 if !kind.arity().accepts(el.child_count() as u32) {
                     return Err(el.error(format!(
                         "`{type_name}` takes {}, found {}",
@@ -483,7 +481,8 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
                     )));
                 }
                 return Ok(Opened {
-                    kind: NodeKind::AlwaysSuccess,
+                    // Made from `shared` when the node is added.
+                    kind: nodes::stand_in(Category::Condition),
                     shared: Some(condition),
                     name,
                     type_id: Some(type_name),

@@ -10,7 +10,7 @@ use alloc::vec::Vec;
 
 use super::{
     Blueprint, BuildError, BuildErrorKind, Child, Guards, NameSpan, NodeDef, NodeId, NodeKind,
-    NodeMeta, ParallelPolicy, Param, Port, Shared, SubTreeScope, DEFAULT_MAX_DEPTH,
+    NodeMeta, Port, Shared, SubTreeScope, DEFAULT_MAX_DEPTH,
 };
 use crate::blackboard::ScopeId;
 use crate::nodes::hooks::NodeHooks;
@@ -397,60 +397,7 @@ impl<C> State<C> {
                 found: n,
             });
         }
-        let threshold_error = |which, value: i64| BuildErrorKind::Threshold {
-            type_name: String::from("Parallel"),
-            which,
-            value,
-            children: n,
-        };
-        match &mut node.kind {
-            NodeKind::Parallel(policy) => {
-                let (s, f) = match *policy {
-                    ParallelPolicy::Thresholds { success, failure } => (success, failure),
-                    // Read at each tick, and checked then.
-                    ParallelPolicy::Ports { .. } => return Ok(()),
-                    ParallelPolicy::RequireAll => (-1, 1),
-                    ParallelPolicy::RequireOne => (1, -1),
-                    ParallelPolicy::RequireCount(m) => {
-                        let m = i32::try_from(m).unwrap_or(i32::MAX);
-                        (m, (n as i32 - m + 1).max(1))
-                    }
-                };
-                let resolved_s = resolve_threshold(s, n);
-                let resolved_f = resolve_threshold(f, n);
-                if resolved_s > i64::from(n) {
-                    return Err(threshold_error("success", resolved_s));
-                }
-                if resolved_f > i64::from(n) {
-                    return Err(threshold_error("failure", resolved_f));
-                }
-                // Signs are kept: a negative success threshold also counts skipped children.
-                *policy = ParallelPolicy::Thresholds {
-                    success: s,
-                    failure: f,
-                };
-            }
-            NodeKind::ParallelAll {
-                max_failures: Param::Value(max_failures),
-            } => {
-                let f = resolve_threshold(*max_failures, n);
-                if f > i64::from(n) {
-                    return Err(BuildErrorKind::Threshold {
-                        type_name: String::from("ParallelAll"),
-                        which: "max_failures",
-                        value: f,
-                        children: n,
-                    });
-                }
-                *max_failures = f as i32;
-            }
-            // Read at each tick; BehaviorTree.CPP checks it then too.
-            NodeKind::ParallelAll {
-                max_failures: Param::Port,
-            } => {}
-            _ => {}
-        }
-        Ok(())
+        node.kind.close(n)
     }
 
     fn finish(self) -> Blueprint<C> {
@@ -595,6 +542,10 @@ pub(crate) fn resolve_threshold(t: i32, n: u32) -> i64 {
 mod tests {
     use super::*;
     use crate::blueprint::Arity;
+    use crate::nodes::control::{fallback::Fallback, parallel::Parallel, sequence::Sequence};
+    use crate::nodes::decorator::inverter::Inverter;
+    use crate::nodes::leaf::always::AlwaysFailure;
+    use crate::ParallelPolicy;
     use alloc::string::ToString;
 
     /// Hooks that make the node succeed at once, so that a test can see which node has them.
@@ -612,15 +563,15 @@ mod tests {
     #[test]
     fn ports_and_hooks_kept_apart_reach_their_own_nodes() {
         let bp = Builder::<()>::new()
-            .open(NodeKind::Sequence, "root")
+            .open(NodeKind::Sequence(Sequence), "root")
             .ports([Port::literal("a", "1")])
             .ports([Port::literal("b", "2")])
-            .leaf(NodeKind::AlwaysFailure, "plain")
-            .open(NodeKind::AlwaysFailure, "hooked")
+            .leaf(NodeKind::AlwaysFailure(AlwaysFailure), "plain")
+            .open(NodeKind::AlwaysFailure(AlwaysFailure), "hooked")
             .hooks(Succeed)
             .ports([Port::entry("c", "key")])
             .close()
-            .open(NodeKind::AlwaysFailure, "twice")
+            .open(NodeKind::AlwaysFailure(AlwaysFailure), "twice")
             .hooks(Succeed)
             .hooks(Succeed)
             .close()
@@ -653,10 +604,10 @@ mod tests {
     fn a_shared_condition_is_held_once_by_the_blueprint_whatever_its_nodes() {
         let yes: Arc<dyn Condition<()>> = Arc::new(Answer(true));
         let no: Arc<dyn Condition<()>> = Arc::new(Answer(false));
-        let mut b = Builder::<()>::new().open(NodeKind::Fallback, "root");
+        let mut b = Builder::<()>::new().open(NodeKind::Fallback(Fallback), "root");
         for i in 0..500 {
             b = b
-                .open(NodeKind::Sequence, "seq")
+                .open(NodeKind::Sequence(Sequence), "seq")
                 .open_shared_condition(&yes, "yes")
                 .close()
                 .open_shared_condition(if i == 499 { &yes } else { &no }, "last")
@@ -799,9 +750,9 @@ mod tests {
             .build()
             .unwrap();
         let resolved = |id| match bp.kind(NodeId(id)) {
-            NodeKind::Parallel(ParallelPolicy::Thresholds { success, failure }) => {
-                (*success, *failure)
-            }
+            NodeKind::Parallel(Parallel {
+                policy: ParallelPolicy::Thresholds { success, failure },
+            }) => (*success, *failure),
             other => panic!("unexpected {other:?}"),
         };
         assert_eq!(resolved(1), (-2, -1));
@@ -813,7 +764,7 @@ mod tests {
         let e = err(Builder::<()>::new().always_success("a").always_success("b"));
         assert_eq!(e.kind, BuildErrorKind::SecondRoot);
         assert_eq!(err(Builder::<()>::new()).kind, BuildErrorKind::Empty);
-        let e = err(Builder::<()>::new().open(NodeKind::Sequence, "s"));
+        let e = err(Builder::<()>::new().open(NodeKind::Sequence(Sequence), "s"));
         assert_eq!(e.kind, BuildErrorKind::Unclosed { open: 1 });
         let e = err(Builder::<()>::new().always_success("a").close());
         assert_eq!(e.kind, BuildErrorKind::UnbalancedClose);
@@ -823,7 +774,7 @@ mod tests {
     fn depth_limit_is_enforced_without_recursion() {
         let mut b = Builder::<()>::new().max_depth(40);
         for _ in 0..10_000 {
-            b = b.open(NodeKind::Inverter, "i");
+            b = b.open(NodeKind::Inverter(Inverter), "i");
         }
         b = b.always_success("leaf");
         for _ in 0..10_000 {

@@ -12,8 +12,15 @@
 //!
 //! Skipped children count as absent; if all were skipped, the node is Skipped.
 
+use super::ordered;
+use crate::blueprint::NodeDef;
+use crate::blueprint::{Builder, NodeKind, PortBinding};
+use crate::nodes::built_in::{BuiltIn, Family, Tick};
 use crate::nodes::decl::NodeDecl;
+use crate::tree::Ticker;
 use crate::{Arity, Category};
+use crate::{NodeId, NodeStatus};
+use alloc::string::String;
 
 /// Fallback's declaration: its BehaviorTree.CPP name, family, children and ports.
 pub const FALLBACK: NodeDecl = NodeDecl {
@@ -32,6 +39,85 @@ pub const ASYNC_FALLBACK: NodeDecl = NodeDecl {
     ports: &[],
     summary: "As Fallback, yielding after each child that fails.",
 };
+
+/// The Fallback node. It has no parameters.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Fallback;
+
+impl BuiltIn for Fallback {
+    fn family(&self) -> Option<Family> {
+        Some(Family::Alternative)
+    }
+}
+
+impl Tick for Fallback {
+    const DECL: &'static NodeDecl = &FALLBACK;
+    const AUX_SLOTS: u32 = 1;
+    const PLAIN_ORDER: Option<bool> = Some(false);
+
+    fn from_ports(_: &dyn Fn(&str) -> PortBinding) -> Result<Self, String> {
+        Ok(Fallback)
+    }
+
+    #[inline]
+    fn tick<C>(&self, t: &mut Ticker<'_, C>, id: NodeId, def: &NodeDef<C>) -> NodeStatus {
+        ordered::tick::<C, false, { ordered::PLAIN }>(t, id, def)
+    }
+    fn halt<C>(&self, t: &mut Ticker<'_, C>, id: NodeId, _: &NodeDef<C>) {
+        t.halt_afresh(id);
+    }
+}
+
+impl<C> Builder<C> {
+    /// A [Fallback](self) (Colledanchise & Ögren's Selector).
+    pub fn fallback(self, name: &str, children: impl FnOnce(Self) -> Self) -> Self {
+        self.node(NodeKind::Fallback(Fallback), name, children)
+    }
+}
+
+impl<C> Builder<C> {
+    /// A [Fallback](Self::fallback), under the name Colledanchise & Ögren and many libraries
+    /// give it.
+    pub fn selector(self, name: &str, children: impl FnOnce(Self) -> Self) -> Self {
+        self.fallback(name, children)
+    }
+}
+/// The AsyncFallback node. It has no parameters.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct AsyncFallback;
+
+impl BuiltIn for AsyncFallback {
+    fn family(&self) -> Option<Family> {
+        Some(Family::Alternative)
+    }
+    fn outcomes(&self) -> crate::nodes::built_in::Outcomes {
+        crate::nodes::built_in::Outcomes::EITHER.and_running()
+    }
+}
+
+impl Tick for AsyncFallback {
+    const DECL: &'static NodeDecl = &ASYNC_FALLBACK;
+    const AUX_SLOTS: u32 = 1;
+
+    fn from_ports(_: &dyn Fn(&str) -> PortBinding) -> Result<Self, String> {
+        Ok(AsyncFallback)
+    }
+
+    #[inline]
+    fn tick<C>(&self, t: &mut Ticker<'_, C>, id: NodeId, def: &NodeDef<C>) -> NodeStatus {
+        ordered::tick::<C, false, { ordered::ASYNC }>(t, id, def)
+    }
+    fn halt<C>(&self, t: &mut Ticker<'_, C>, id: NodeId, _: &NodeDef<C>) {
+        t.halt_afresh(id);
+    }
+}
+
+impl<C> Builder<C> {
+    /// An [AsyncFallback](self): a Fallback that yields between children.
+    pub fn async_fallback(self, name: &str, children: impl FnOnce(Self) -> Self) -> Self {
+        self.node(NodeKind::AsyncFallback(AsyncFallback), name, children)
+    }
+}
 
 #[cfg(test)]
 mod tests {

@@ -11,8 +11,11 @@ use crate::blueprint::NodeDef;
 use crate::tree::Ticker;
 use crate::{NodeId, NodeStatus};
 
+use crate::blueprint::{Builder, NodeKind, PortBinding};
+use crate::nodes::built_in::{BuiltIn, Tick};
 use crate::nodes::decl::NodeDecl;
 use crate::{Arity, Category};
+use alloc::string::String;
 
 /// IfThenElse's declaration: its BehaviorTree.CPP name, family, children and ports.
 pub const IF_THEN_ELSE: NodeDecl = NodeDecl {
@@ -50,6 +53,37 @@ pub(crate) fn tick<C>(t: &mut Ticker<'_, C>, id: NodeId, def: &NodeDef<C>) -> No
         t.aux[slot] = 0;
     }
     status
+}
+
+/// The IfThenElse node. It has no parameters.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct IfThenElse;
+
+impl BuiltIn for IfThenElse {}
+
+impl Tick for IfThenElse {
+    const DECL: &'static NodeDecl = &IF_THEN_ELSE;
+    const AUX_SLOTS: u32 = 1;
+
+    fn from_ports(_: &dyn Fn(&str) -> PortBinding) -> Result<Self, String> {
+        Ok(IfThenElse)
+    }
+
+    #[inline]
+    fn tick<C>(&self, t: &mut Ticker<'_, C>, id: NodeId, def: &NodeDef<C>) -> NodeStatus {
+        tick(t, id, def)
+    }
+
+    fn halt<C>(&self, t: &mut Ticker<'_, C>, id: NodeId, _: &NodeDef<C>) {
+        t.halt_afresh(id);
+    }
+}
+
+impl<C> Builder<C> {
+    /// An [IfThenElse](self): pick a branch by a condition.
+    pub fn if_then_else(self, name: &str, children: impl FnOnce(Self) -> Self) -> Self {
+        self.node(NodeKind::IfThenElse(IfThenElse), name, children)
+    }
 }
 
 #[cfg(test)]

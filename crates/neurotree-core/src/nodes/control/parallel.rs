@@ -28,8 +28,15 @@ use crate::blueprint::{NodeDef, ParallelPolicy};
 use crate::tree::Ticker;
 use crate::{NodeId, NodeStatus};
 
+use crate::blueprint::BuildErrorKind;
+use crate::blueprint::{Builder, NodeKind, Param, PortBinding};
+use crate::nodes::built_in::Family;
+use crate::nodes::built_in::{self, BuiltIn, Tick};
 use crate::nodes::decl::{NodeDecl, PortDecl};
 use crate::{Arity, Category};
+use alloc::string::String;
+use alloc::vec;
+use alloc::vec::Vec;
 
 /// Parallel's declaration: its BehaviorTree.CPP name, family, children and ports.
 pub const PARALLEL: NodeDecl = NodeDecl {
@@ -124,6 +131,148 @@ fn finish_halt<C>(t: &mut Ticker<'_, C>, id: NodeId, slot: usize) -> NodeStatus 
     };
     t.aux[slot] = 0;
     outcome
+}
+
+/// The Parallel node: its policy, thresholds or a shorthand resolved when its children are
+/// known.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Parallel {
+    /// How it decides.
+    pub policy: ParallelPolicy,
+}
+
+impl BuiltIn for Parallel {
+    fn family(&self) -> Option<Family> {
+        Some(Family::Concurrent)
+    }
+
+    fn port_values(&self, children: usize) -> Vec<Option<String>> {
+        let n = children as i32;
+        let (success, failure) = match self.policy {
+            ParallelPolicy::Thresholds { success, failure } => {
+                (Param::Value(success), Param::Value(failure))
+            }
+            ParallelPolicy::Ports { success, failure } => (success, failure),
+            ParallelPolicy::RequireAll => (Param::Value(-1), Param::Value(1)),
+            ParallelPolicy::RequireOne => (Param::Value(1), Param::Value(-1)),
+            ParallelPolicy::RequireCount(m) => {
+                (Param::Value(m as i32), Param::Value(n - m as i32 + 1))
+            }
+        };
+        vec![built_in::text(&success), built_in::text(&failure)]
+    }
+}
+
+impl Tick for Parallel {
+    const DECL: &'static NodeDecl = &PARALLEL;
+    const AUX_SLOTS: u32 = 1;
+
+    fn from_ports(port: &dyn Fn(&str) -> PortBinding) -> Result<Self, String> {
+        let success = built_in::param::<i32>(port, "success_count")?;
+        let failure = built_in::param::<i32>(port, "failure_count")?;
+        let policy = match (success, failure) {
+            (Param::Value(success), Param::Value(failure)) => {
+                ParallelPolicy::Thresholds { success, failure }
+            }
+            (success, failure) => ParallelPolicy::Ports { success, failure },
+        };
+        Ok(Parallel { policy })
+    }
+
+    fn close(&mut self, n: u32) -> Result<(), BuildErrorKind> {
+        let (s, f) = match self.policy {
+            ParallelPolicy::Thresholds { success, failure } => (success, failure),
+            // Read at each tick, and checked then.
+            ParallelPolicy::Ports { .. } => return Ok(()),
+            ParallelPolicy::RequireAll => (-1, 1),
+            ParallelPolicy::RequireOne => (1, -1),
+            ParallelPolicy::RequireCount(m) => {
+                let m = i32::try_from(m).unwrap_or(i32::MAX);
+                (m, (n as i32 - m + 1).max(1))
+            }
+        };
+        for (which, t) in [("success", s), ("failure", f)] {
+            let resolved = resolve_threshold(t, n);
+            if resolved > i64::from(n) {
+                return Err(BuildErrorKind::Threshold {
+                    type_name: String::from(PARALLEL.name),
+                    which,
+                    value: resolved,
+                    children: n,
+                });
+            }
+        }
+        // Signs are kept: a negative success threshold also counts skipped children.
+        self.policy = ParallelPolicy::Thresholds {
+            success: s,
+            failure: f,
+        };
+        Ok(())
+    }
+
+    #[inline]
+    fn tick<C>(&self, t: &mut Ticker<'_, C>, id: NodeId, def: &NodeDef<C>) -> NodeStatus {
+        match thresholds(t, id, def, self.policy) {
+            Some(policy) => tick(t, id, def, policy),
+            None => NodeStatus::Failure,
+        }
+    }
+
+    fn halt<C>(&self, t: &mut Ticker<'_, C>, id: NodeId, _: &NodeDef<C>) {
+        t.halt_afresh(id);
+    }
+}
+
+/// A Parallel's thresholds, read from its ports if they are bound there, and checked
+/// against its number of children as BehaviorTree.CPP checks them at each tick.
+#[inline(always)]
+fn thresholds<C>(
+    t: &mut Ticker<'_, C>,
+    id: NodeId,
+    def: &NodeDef<C>,
+    policy: ParallelPolicy,
+) -> Option<ParallelPolicy> {
+    let ParallelPolicy::Ports { success, failure } = policy else {
+        return Some(policy);
+    };
+    let success = t.param(id, success, "success_count")?;
+    let failure = t.param(id, failure, "failure_count")?;
+    let n = def.child_count;
+    for (which, threshold) in [("succeed", success), ("fail", failure)] {
+        if resolve_threshold(threshold, n) > i64::from(n) {
+            let message = alloc::format!(
+                "its threshold {threshold} is more than its {n} children: it can never {which}"
+            );
+            t.fault_node(id, message);
+            return None;
+        }
+    }
+    Some(ParallelPolicy::Thresholds { success, failure })
+}
+
+impl<C> Builder<C> {
+    /// A [Parallel](self) with BehaviorTree.CPP's thresholds.
+    pub fn parallel(
+        self,
+        name: &str,
+        success: i32,
+        failure: i32,
+        children: impl FnOnce(Self) -> Self,
+    ) -> Self {
+        let policy = ParallelPolicy::Thresholds { success, failure };
+        self.parallel_policy(name, policy, children)
+    }
+
+    /// A [Parallel](self) with a [`ParallelPolicy`]: thresholds, or one of the shorthands
+    /// `RequireAll`, `RequireOne`, `RequireCount(M)`.
+    pub fn parallel_policy(
+        self,
+        name: &str,
+        policy: ParallelPolicy,
+        children: impl FnOnce(Self) -> Self,
+    ) -> Self {
+        self.node(NodeKind::Parallel(Parallel { policy }), name, children)
+    }
 }
 
 #[cfg(test)]

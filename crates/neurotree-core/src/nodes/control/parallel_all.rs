@@ -11,8 +11,16 @@ use crate::blueprint::NodeDef;
 use crate::tree::Ticker;
 use crate::{NodeId, NodeStatus};
 
+use crate::blueprint::builder::resolve_threshold;
+use crate::blueprint::BuildErrorKind;
+use crate::blueprint::{Builder, NodeKind, Param, PortBinding};
+use crate::nodes::built_in::Family;
+use crate::nodes::built_in::{self, BuiltIn, Tick};
 use crate::nodes::decl::{NodeDecl, PortDecl};
 use crate::{Arity, Category};
+use alloc::string::String;
+use alloc::vec;
+use alloc::vec::Vec;
 
 /// ParallelAll's declaration: its BehaviorTree.CPP name, family, children and ports.
 pub const PARALLEL_ALL: NodeDecl = NodeDecl {
@@ -64,6 +72,74 @@ pub(crate) fn tick<C>(
         };
     }
     NodeStatus::Running
+}
+
+/// The ParallelAll node.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ParallelAll {
+    /// Failures that make it fail (negative: counted from the number of children).
+    pub max_failures: Param<i32>,
+}
+
+impl BuiltIn for ParallelAll {
+    fn family(&self) -> Option<Family> {
+        Some(Family::Concurrent)
+    }
+
+    fn port_values(&self, _: usize) -> Vec<Option<String>> {
+        vec![built_in::text(&self.max_failures)]
+    }
+}
+
+impl Tick for ParallelAll {
+    const DECL: &'static NodeDecl = &PARALLEL_ALL;
+
+    fn from_ports(port: &dyn Fn(&str) -> PortBinding) -> Result<Self, String> {
+        Ok(ParallelAll {
+            max_failures: built_in::param(port, "max_failures")?,
+        })
+    }
+
+    fn close(&mut self, n: u32) -> Result<(), BuildErrorKind> {
+        // A port is read at each tick; BehaviorTree.CPP checks it then too.
+        let Param::Value(max_failures) = self.max_failures else {
+            return Ok(());
+        };
+        let f = resolve_threshold(max_failures, n);
+        if f > i64::from(n) {
+            return Err(BuildErrorKind::Threshold {
+                type_name: String::from(PARALLEL_ALL.name),
+                which: "max_failures",
+                value: f,
+                children: n,
+            });
+        }
+        self.max_failures = Param::Value(f as i32);
+        Ok(())
+    }
+
+    #[inline]
+    fn tick<C>(&self, t: &mut Ticker<'_, C>, id: NodeId, def: &NodeDef<C>) -> NodeStatus {
+        match t.param(id, self.max_failures, "max_failures") {
+            Some(max) => tick(t, id, def, max),
+            None => NodeStatus::Failure,
+        }
+    }
+}
+
+impl<C> Builder<C> {
+    /// A [ParallelAll](self).
+    pub fn parallel_all(
+        self,
+        name: &str,
+        max_failures: i32,
+        children: impl FnOnce(Self) -> Self,
+    ) -> Self {
+        let node = ParallelAll {
+            max_failures: max_failures.into(),
+        };
+        self.node(NodeKind::ParallelAll(node), name, children)
+    }
 }
 
 #[cfg(test)]

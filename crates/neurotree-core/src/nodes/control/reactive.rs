@@ -28,8 +28,11 @@ use crate::blueprint::NodeDef;
 use crate::tree::Ticker;
 use crate::{NodeId, NodeStatus, Status};
 
+use crate::blueprint::{Builder, NodeKind, PortBinding};
+use crate::nodes::built_in::{BuiltIn, Family, Tick};
 use crate::nodes::decl::NodeDecl;
 use crate::{Arity, Category};
+use alloc::string::String;
 
 /// ReactiveSequence's declaration: its BehaviorTree.CPP name, family, children and ports.
 pub const REACTIVE_SEQUENCE: NodeDecl = NodeDecl {
@@ -127,6 +130,75 @@ fn multiple_running<C>(t: &mut Ticker<'_, C>, id: NodeId, goal: Status) {
             "[{kind}]: only a single child can return Running (Tree::reject_multiple_running(false) allows it)"
         ),
     );
+}
+
+/// The ReactiveSequence node. It has no parameters.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct ReactiveSequence;
+
+impl BuiltIn for ReactiveSequence {
+    fn family(&self) -> Option<Family> {
+        Some(Family::Sequential)
+    }
+}
+
+impl Tick for ReactiveSequence {
+    const DECL: &'static NodeDecl = &REACTIVE_SEQUENCE;
+    const AUX_SLOTS: u32 = 1;
+
+    fn from_ports(_: &dyn Fn(&str) -> PortBinding) -> Result<Self, String> {
+        Ok(ReactiveSequence)
+    }
+
+    #[inline]
+    fn tick<C>(&self, t: &mut Ticker<'_, C>, id: NodeId, def: &NodeDef<C>) -> NodeStatus {
+        tick(t, id, def, Status::Success)
+    }
+
+    fn halt<C>(&self, t: &mut Ticker<'_, C>, id: NodeId, _: &NodeDef<C>) {
+        t.halt_afresh(id);
+    }
+}
+
+impl<C> Builder<C> {
+    /// A [ReactiveSequence](self).
+    pub fn reactive_sequence(self, name: &str, children: impl FnOnce(Self) -> Self) -> Self {
+        self.node(NodeKind::ReactiveSequence(ReactiveSequence), name, children)
+    }
+}
+/// The ReactiveFallback node. It has no parameters.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct ReactiveFallback;
+
+impl BuiltIn for ReactiveFallback {
+    fn family(&self) -> Option<Family> {
+        Some(Family::Alternative)
+    }
+}
+
+impl Tick for ReactiveFallback {
+    const DECL: &'static NodeDecl = &REACTIVE_FALLBACK;
+    const AUX_SLOTS: u32 = 1;
+
+    fn from_ports(_: &dyn Fn(&str) -> PortBinding) -> Result<Self, String> {
+        Ok(ReactiveFallback)
+    }
+
+    #[inline]
+    fn tick<C>(&self, t: &mut Ticker<'_, C>, id: NodeId, def: &NodeDef<C>) -> NodeStatus {
+        tick(t, id, def, Status::Failure)
+    }
+
+    fn halt<C>(&self, t: &mut Ticker<'_, C>, id: NodeId, _: &NodeDef<C>) {
+        t.halt_afresh(id);
+    }
+}
+
+impl<C> Builder<C> {
+    /// A [ReactiveFallback](self).
+    pub fn reactive_fallback(self, name: &str, children: impl FnOnce(Self) -> Self) -> Self {
+        self.node(NodeKind::ReactiveFallback(ReactiveFallback), name, children)
+    }
 }
 
 #[cfg(test)]

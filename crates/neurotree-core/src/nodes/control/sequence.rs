@@ -14,8 +14,15 @@
 //! ticks again at once, [`Tree::tick_exactly_once`](crate::Tree::tick_exactly_once) returns
 //! Running. Skipped children count as absent; if all were skipped, the node is Skipped.
 
+use super::ordered;
+use crate::blueprint::NodeDef;
+use crate::blueprint::{Builder, NodeKind, PortBinding};
+use crate::nodes::built_in::{BuiltIn, Family, Tick};
 use crate::nodes::decl::NodeDecl;
+use crate::tree::Ticker;
 use crate::{Arity, Category};
+use crate::{NodeId, NodeStatus};
+use alloc::string::String;
 
 /// Sequence's declaration: its BehaviorTree.CPP name, family, children and ports.
 pub const SEQUENCE: NodeDecl = NodeDecl {
@@ -43,6 +50,111 @@ pub const ASYNC_SEQUENCE: NodeDecl = NodeDecl {
     ports: &[],
     summary: "As Sequence, but yields (Running, woken at once by `tick_once`) after each child that completes.",
 };
+
+/// The Sequence node. It has no parameters.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Sequence;
+
+impl BuiltIn for Sequence {
+    fn family(&self) -> Option<Family> {
+        Some(Family::Sequential)
+    }
+}
+
+impl Tick for Sequence {
+    const DECL: &'static NodeDecl = &SEQUENCE;
+    const AUX_SLOTS: u32 = 1;
+    const PLAIN_ORDER: Option<bool> = Some(true);
+
+    fn from_ports(_: &dyn Fn(&str) -> PortBinding) -> Result<Self, String> {
+        Ok(Sequence)
+    }
+
+    #[inline]
+    fn tick<C>(&self, t: &mut Ticker<'_, C>, id: NodeId, def: &NodeDef<C>) -> NodeStatus {
+        ordered::tick::<C, true, { ordered::PLAIN }>(t, id, def)
+    }
+    fn halt<C>(&self, t: &mut Ticker<'_, C>, id: NodeId, _: &NodeDef<C>) {
+        t.halt_afresh(id);
+    }
+}
+
+impl<C> Builder<C> {
+    /// A [Sequence](self): children in order, until one fails.
+    pub fn sequence(self, name: &str, children: impl FnOnce(Self) -> Self) -> Self {
+        self.node(NodeKind::Sequence(Sequence), name, children)
+    }
+}
+/// The SequenceWithMemory node. It has no parameters.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct SequenceWithMemory;
+
+impl BuiltIn for SequenceWithMemory {
+    fn family(&self) -> Option<Family> {
+        Some(Family::Sequential)
+    }
+}
+
+impl Tick for SequenceWithMemory {
+    const DECL: &'static NodeDecl = &SEQUENCE_WITH_MEMORY;
+    const AUX_SLOTS: u32 = 1;
+
+    fn from_ports(_: &dyn Fn(&str) -> PortBinding) -> Result<Self, String> {
+        Ok(SequenceWithMemory)
+    }
+
+    #[inline]
+    fn tick<C>(&self, t: &mut Ticker<'_, C>, id: NodeId, def: &NodeDef<C>) -> NodeStatus {
+        ordered::tick::<C, true, { ordered::MEMORY }>(t, id, def)
+    }
+}
+
+impl<C> Builder<C> {
+    /// A [SequenceWithMemory](self): a Sequence that keeps its place.
+    pub fn sequence_with_memory(self, name: &str, children: impl FnOnce(Self) -> Self) -> Self {
+        self.node(
+            NodeKind::SequenceWithMemory(SequenceWithMemory),
+            name,
+            children,
+        )
+    }
+}
+/// The AsyncSequence node. It has no parameters.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct AsyncSequence;
+
+impl BuiltIn for AsyncSequence {
+    fn family(&self) -> Option<Family> {
+        Some(Family::Sequential)
+    }
+    fn outcomes(&self) -> crate::nodes::built_in::Outcomes {
+        crate::nodes::built_in::Outcomes::EITHER.and_running()
+    }
+}
+
+impl Tick for AsyncSequence {
+    const DECL: &'static NodeDecl = &ASYNC_SEQUENCE;
+    const AUX_SLOTS: u32 = 1;
+
+    fn from_ports(_: &dyn Fn(&str) -> PortBinding) -> Result<Self, String> {
+        Ok(AsyncSequence)
+    }
+
+    #[inline]
+    fn tick<C>(&self, t: &mut Ticker<'_, C>, id: NodeId, def: &NodeDef<C>) -> NodeStatus {
+        ordered::tick::<C, true, { ordered::ASYNC }>(t, id, def)
+    }
+    fn halt<C>(&self, t: &mut Ticker<'_, C>, id: NodeId, _: &NodeDef<C>) {
+        t.halt_afresh(id);
+    }
+}
+
+impl<C> Builder<C> {
+    /// An [AsyncSequence](self): a Sequence that yields between children.
+    pub fn async_sequence(self, name: &str, children: impl FnOnce(Self) -> Self) -> Self {
+        self.node(NodeKind::AsyncSequence(AsyncSequence), name, children)
+    }
+}
 
 #[cfg(test)]
 mod tests {

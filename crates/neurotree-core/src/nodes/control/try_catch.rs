@@ -26,8 +26,13 @@ use crate::blueprint::NodeDef;
 use crate::tree::Ticker;
 use crate::{NodeId, NodeStatus};
 
+use crate::blueprint::{Builder, NodeKind, Param, PortBinding};
+use crate::nodes::built_in::{self, BuiltIn, Tick};
 use crate::nodes::decl::{NodeDecl, PortDecl};
 use crate::{Arity, Category};
+use alloc::string::String;
+use alloc::vec;
+use alloc::vec::Vec;
 
 /// TryCatch's declaration: its BehaviorTree.CPP name, family, children and ports.
 pub const TRY_CATCH: NodeDecl = NodeDecl {
@@ -158,6 +163,57 @@ pub(crate) fn halt<C>(t: &mut Ticker<'_, C>, id: NodeId, def: &NodeDef<C>, catch
     }
     t.aux[slot] = 0;
     t.reset_children(id);
+}
+
+/// The TryCatch node.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct TryCatch {
+    /// Run the catch child when halted while trying.
+    pub catch_on_halt: Param<bool>,
+}
+
+impl BuiltIn for TryCatch {
+    fn port_values(&self, _: usize) -> Vec<Option<String>> {
+        vec![built_in::text(&self.catch_on_halt)]
+    }
+}
+
+impl Tick for TryCatch {
+    const DECL: &'static NodeDecl = &TRY_CATCH;
+    const AUX_SLOTS: u32 = 1;
+    const WAITS_ON_HALTS: bool = true;
+
+    fn from_ports(port: &dyn Fn(&str) -> PortBinding) -> Result<Self, String> {
+        Ok(TryCatch {
+            catch_on_halt: built_in::param(port, "catch_on_halt")?,
+        })
+    }
+
+    #[inline]
+    fn tick<C>(&self, t: &mut Ticker<'_, C>, id: NodeId, def: &NodeDef<C>) -> NodeStatus {
+        tick(t, id, def)
+    }
+
+    fn halt<C>(&self, t: &mut Ticker<'_, C>, id: NodeId, def: &NodeDef<C>) {
+        // Read when halted, as BehaviorTree.CPP reads it; unreadable: no catch.
+        let catch = t.param(id, self.catch_on_halt, "catch_on_halt");
+        halt(t, id, def, catch.unwrap_or(false));
+    }
+}
+
+impl<C> Builder<C> {
+    /// A [TryCatch](self): the children but the last as a Sequence, the last on failure.
+    pub fn try_catch(
+        self,
+        name: &str,
+        catch_on_halt: bool,
+        children: impl FnOnce(Self) -> Self,
+    ) -> Self {
+        let node = TryCatch {
+            catch_on_halt: catch_on_halt.into(),
+        };
+        self.node(NodeKind::TryCatch(node), name, children)
+    }
 }
 
 #[cfg(test)]

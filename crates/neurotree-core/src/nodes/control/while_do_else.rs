@@ -14,8 +14,11 @@ use crate::blueprint::NodeDef;
 use crate::tree::Ticker;
 use crate::{NodeId, NodeStatus};
 
+use crate::blueprint::{Builder, NodeKind, PortBinding};
+use crate::nodes::built_in::{BuiltIn, Tick};
 use crate::nodes::decl::NodeDecl;
 use crate::{Arity, Category};
+use alloc::string::String;
 
 /// WhileDoElse's declaration: its BehaviorTree.CPP name, family, children and ports.
 pub const WHILE_DO_ELSE: NodeDecl = NodeDecl {
@@ -64,6 +67,32 @@ pub(crate) fn tick<C>(t: &mut Ticker<'_, C>, id: NodeId, def: &NodeDef<C>) -> No
         return NodeStatus::Running;
     }
     status
+}
+
+/// The WhileDoElse node. It has no parameters.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct WhileDoElse;
+
+impl BuiltIn for WhileDoElse {}
+
+impl Tick for WhileDoElse {
+    const DECL: &'static NodeDecl = &WHILE_DO_ELSE;
+
+    fn from_ports(_: &dyn Fn(&str) -> PortBinding) -> Result<Self, String> {
+        Ok(WhileDoElse)
+    }
+
+    #[inline]
+    fn tick<C>(&self, t: &mut Ticker<'_, C>, id: NodeId, def: &NodeDef<C>) -> NodeStatus {
+        tick(t, id, def)
+    }
+}
+
+impl<C> Builder<C> {
+    /// A [WhileDoElse](self): a branch by a condition re-checked every tick.
+    pub fn while_do_else(self, name: &str, children: impl FnOnce(Self) -> Self) -> Self {
+        self.node(NodeKind::WhileDoElse(WhileDoElse), name, children)
+    }
 }
 
 #[cfg(test)]

@@ -14,8 +14,13 @@ use crate::clock::{duration_to_nanos, moment};
 use crate::tree::Ticker;
 use crate::{NodeId, NodeStatus};
 
+use crate::blueprint::{Builder, NodeKind, Param, PortBinding};
+use crate::nodes::built_in::{self, BuiltIn, Tick};
 use crate::nodes::decl::{NodeDecl, PortDecl};
 use crate::{Arity, Category};
+use alloc::string::String;
+use alloc::vec;
+use alloc::vec::Vec;
 
 /// Cooldown's declaration: its BehaviorTree.CPP name, family, children and ports.
 pub const COOLDOWN: NodeDecl = NodeDecl {
@@ -48,6 +53,48 @@ pub(crate) fn tick<C>(
         t.halt_child(child);
     }
     status
+}
+
+/// The Cooldown node.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Cooldown {
+    /// The time, whose port holds milliseconds.
+    pub period: Param<Duration>,
+}
+
+impl BuiltIn for Cooldown {
+    fn port_values(&self, _: usize) -> Vec<Option<String>> {
+        vec![built_in::millis_text(&self.period)]
+    }
+}
+
+impl Tick for Cooldown {
+    const DECL: &'static NodeDecl = &COOLDOWN;
+    const AUX_SLOTS: u32 = 1;
+
+    fn from_ports(port: &dyn Fn(&str) -> PortBinding) -> Result<Self, String> {
+        Ok(Cooldown {
+            period: built_in::millis(port, "cooldown_msec")?,
+        })
+    }
+
+    #[inline]
+    fn tick<C>(&self, t: &mut Ticker<'_, C>, id: NodeId, def: &NodeDef<C>) -> NodeStatus {
+        match t.millis(id, self.period, "cooldown_msec") {
+            Some(period) => tick(t, id, def, period),
+            None => NodeStatus::Failure,
+        }
+    }
+}
+
+impl<C> Builder<C> {
+    /// A [Cooldown](self): after the child completes, fail for a while without ticking it.
+    pub fn cooldown(self, name: &str, period: Duration, child: impl FnOnce(Self) -> Self) -> Self {
+        let node = Cooldown {
+            period: period.into(),
+        };
+        self.node(NodeKind::Cooldown(node), name, child)
+    }
 }
 
 #[cfg(test)]

@@ -13,8 +13,14 @@ use crate::clock::{duration_to_nanos, moment};
 use crate::tree::Ticker;
 use crate::{NodeId, NodeStatus};
 
+use crate::blueprint::{Builder, NodeKind, Param, PortBinding};
+use crate::nodes::built_in::Outcomes;
+use crate::nodes::built_in::{self, BuiltIn, Tick};
 use crate::nodes::decl::{NodeDecl, PortDecl};
 use crate::{Arity, Category};
+use alloc::string::String;
+use alloc::vec;
+use alloc::vec::Vec;
 
 /// Delay's declaration: its BehaviorTree.CPP name, family, children and ports.
 pub const DELAY: NodeDecl = NodeDecl {
@@ -56,6 +62,56 @@ pub(crate) fn tick<C>(
         t.halt_child(child);
     }
     status
+}
+
+/// The Delay node.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Delay {
+    /// The time, whose port holds milliseconds.
+    pub delay: Param<Duration>,
+}
+
+impl BuiltIn for Delay {
+    fn outcomes(&self) -> Outcomes {
+        Outcomes::EITHER.and_running()
+    }
+
+    fn port_values(&self, _: usize) -> Vec<Option<String>> {
+        vec![built_in::millis_text(&self.delay)]
+    }
+}
+
+impl Tick for Delay {
+    const DECL: &'static NodeDecl = &DELAY;
+    const AUX_SLOTS: u32 = 1;
+
+    fn from_ports(port: &dyn Fn(&str) -> PortBinding) -> Result<Self, String> {
+        Ok(Delay {
+            delay: built_in::millis(port, "delay_msec")?,
+        })
+    }
+
+    #[inline]
+    fn tick<C>(&self, t: &mut Ticker<'_, C>, id: NodeId, def: &NodeDef<C>) -> NodeStatus {
+        match t.millis(id, self.delay, "delay_msec") {
+            Some(delay) => tick(t, id, def, delay),
+            None => NodeStatus::Failure,
+        }
+    }
+
+    fn halt<C>(&self, t: &mut Ticker<'_, C>, id: NodeId, _: &NodeDef<C>) {
+        t.halt_afresh(id);
+    }
+}
+
+impl<C> Builder<C> {
+    /// A [Delay](self): wait on the clock, then tick the child.
+    pub fn delay(self, name: &str, delay: Duration, child: impl FnOnce(Self) -> Self) -> Self {
+        let node = Delay {
+            delay: delay.into(),
+        };
+        self.node(NodeKind::Delay(node), name, child)
+    }
 }
 
 #[cfg(test)]

@@ -7,8 +7,11 @@ use crate::blueprint::NodeDef;
 use crate::tree::Ticker;
 use crate::{NodeId, NodeStatus};
 
+use crate::blueprint::{Builder, NodeKind, PortBinding};
+use crate::nodes::built_in::{BuiltIn, Outcomes, Tick};
 use crate::nodes::decl::NodeDecl;
 use crate::{Arity, Category};
+use alloc::string::String;
 
 /// ForceSuccess's declaration: its BehaviorTree.CPP name, family, children and ports.
 pub const FORCE_SUCCESS: NodeDecl = NodeDecl {
@@ -43,6 +46,65 @@ pub(crate) fn tick<C>(
         forced
     } else {
         status
+    }
+}
+
+/// The ForceSuccess node. It has no parameters.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct ForceSuccess;
+
+impl BuiltIn for ForceSuccess {
+    fn outcomes(&self) -> Outcomes {
+        Outcomes::SUCCESS
+    }
+}
+
+impl Tick for ForceSuccess {
+    const DECL: &'static NodeDecl = &FORCE_SUCCESS;
+
+    fn from_ports(_: &dyn Fn(&str) -> PortBinding) -> Result<Self, String> {
+        Ok(ForceSuccess)
+    }
+
+    #[inline]
+    fn tick<C>(&self, t: &mut Ticker<'_, C>, id: NodeId, def: &NodeDef<C>) -> NodeStatus {
+        tick(t, id, def, NodeStatus::Success)
+    }
+}
+
+impl<C> Builder<C> {
+    /// A [ForceSuccess](self): a completed child becomes Success.
+    pub fn force_success(self, name: &str, children: impl FnOnce(Self) -> Self) -> Self {
+        self.node(NodeKind::ForceSuccess(ForceSuccess), name, children)
+    }
+}
+/// The ForceFailure node. It has no parameters.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct ForceFailure;
+
+impl BuiltIn for ForceFailure {
+    fn outcomes(&self) -> Outcomes {
+        Outcomes::FAILURE
+    }
+}
+
+impl Tick for ForceFailure {
+    const DECL: &'static NodeDecl = &FORCE_FAILURE;
+
+    fn from_ports(_: &dyn Fn(&str) -> PortBinding) -> Result<Self, String> {
+        Ok(ForceFailure)
+    }
+
+    #[inline]
+    fn tick<C>(&self, t: &mut Ticker<'_, C>, id: NodeId, def: &NodeDef<C>) -> NodeStatus {
+        tick(t, id, def, NodeStatus::Failure)
+    }
+}
+
+impl<C> Builder<C> {
+    /// A [ForceFailure](self): a completed child becomes Failure.
+    pub fn force_failure(self, name: &str, children: impl FnOnce(Self) -> Self) -> Self {
+        self.node(NodeKind::ForceFailure(ForceFailure), name, children)
     }
 }
 

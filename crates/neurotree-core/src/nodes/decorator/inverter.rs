@@ -8,8 +8,11 @@ use crate::blueprint::NodeDef;
 use crate::tree::Ticker;
 use crate::{NodeId, NodeStatus};
 
+use crate::blueprint::{Builder, NodeKind, PortBinding};
+use crate::nodes::built_in::{BuiltIn, Tick};
 use crate::nodes::decl::NodeDecl;
 use crate::{Arity, Category};
+use alloc::string::String;
 
 /// Inverter's declaration: its BehaviorTree.CPP name, family, children and ports.
 pub const INVERTER: NodeDecl = NodeDecl {
@@ -32,6 +35,32 @@ pub(crate) fn tick<C>(t: &mut Ticker<'_, C>, id: NodeId, def: &NodeDef<C>) -> No
     };
     t.halt_child(child);
     inverted
+}
+
+/// The Inverter node. It has no parameters.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Inverter;
+
+impl BuiltIn for Inverter {}
+
+impl Tick for Inverter {
+    const DECL: &'static NodeDecl = &INVERTER;
+
+    fn from_ports(_: &dyn Fn(&str) -> PortBinding) -> Result<Self, String> {
+        Ok(Inverter)
+    }
+
+    #[inline]
+    fn tick<C>(&self, t: &mut Ticker<'_, C>, id: NodeId, def: &NodeDef<C>) -> NodeStatus {
+        tick(t, id, def)
+    }
+}
+
+impl<C> Builder<C> {
+    /// An [Inverter](self): Success ↔ Failure.
+    pub fn inverter(self, name: &str, children: impl FnOnce(Self) -> Self) -> Self {
+        self.node(NodeKind::Inverter(Inverter), name, children)
+    }
 }
 
 #[cfg(test)]

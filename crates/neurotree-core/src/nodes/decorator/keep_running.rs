@@ -9,8 +9,11 @@ use crate::blueprint::NodeDef;
 use crate::tree::Ticker;
 use crate::{NodeId, NodeStatus};
 
+use crate::blueprint::{Builder, NodeKind, PortBinding};
+use crate::nodes::built_in::{BuiltIn, Tick};
 use crate::nodes::decl::NodeDecl;
 use crate::{Arity, Category};
+use alloc::string::String;
 
 /// KeepRunningUntilFailure's declaration: its BehaviorTree.CPP name, family, children and ports.
 pub const KEEP_RUNNING_UNTIL_FAILURE: NodeDecl = NodeDecl {
@@ -35,6 +38,44 @@ pub(crate) fn tick<C>(t: &mut Ticker<'_, C>, id: NodeId, def: &NodeDef<C>) -> No
             NodeStatus::Failure
         }
         NodeStatus::Running | NodeStatus::Skipped => NodeStatus::Running,
+    }
+}
+
+/// The KeepRunningUntilFailure node. It has no parameters.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct KeepRunningUntilFailure;
+
+impl BuiltIn for KeepRunningUntilFailure {
+    fn outcomes(&self) -> crate::nodes::built_in::Outcomes {
+        crate::nodes::built_in::Outcomes::FAILURE.and_running()
+    }
+}
+
+impl Tick for KeepRunningUntilFailure {
+    const DECL: &'static NodeDecl = &KEEP_RUNNING_UNTIL_FAILURE;
+
+    fn from_ports(_: &dyn Fn(&str) -> PortBinding) -> Result<Self, String> {
+        Ok(KeepRunningUntilFailure)
+    }
+
+    #[inline]
+    fn tick<C>(&self, t: &mut Ticker<'_, C>, id: NodeId, def: &NodeDef<C>) -> NodeStatus {
+        tick(t, id, def)
+    }
+}
+
+impl<C> Builder<C> {
+    /// A [KeepRunningUntilFailure](self): Success becomes Running.
+    pub fn keep_running_until_failure(
+        self,
+        name: &str,
+        children: impl FnOnce(Self) -> Self,
+    ) -> Self {
+        self.node(
+            NodeKind::KeepRunningUntilFailure(KeepRunningUntilFailure),
+            name,
+            children,
+        )
     }
 }
 

@@ -18,8 +18,14 @@ use crate::tree::failure::{Note, Reason};
 use crate::tree::Ticker;
 use crate::{NodeId, NodeStatus};
 
+use crate::blueprint::{Builder, NodeKind, Param, PortBinding};
+use crate::nodes::built_in::Outcomes;
+use crate::nodes::built_in::{self, BuiltIn, Tick};
 use crate::nodes::decl::{NodeDecl, PortDecl};
 use crate::{Arity, Category};
+use alloc::string::String;
+use alloc::vec;
+use alloc::vec::Vec;
 
 /// Repeat's declaration: its BehaviorTree.CPP name, family, children and ports.
 pub const REPEAT: NodeDecl = NodeDecl {
@@ -83,6 +89,56 @@ pub(crate) fn tick<C, const REPEAT: bool>(
     }
     t.aux[slot] = 0;
     again
+}
+
+/// The Repeat node.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Repeat {
+    /// How many times; -1 forever, another negative value none.
+    pub num_cycles: Param<i32>,
+}
+
+impl BuiltIn for Repeat {
+    fn outcomes(&self) -> Outcomes {
+        Outcomes::EITHER.and_running()
+    }
+
+    fn port_values(&self, _: usize) -> Vec<Option<String>> {
+        vec![built_in::text(&self.num_cycles)]
+    }
+}
+
+impl Tick for Repeat {
+    const DECL: &'static NodeDecl = &REPEAT;
+    const AUX_SLOTS: u32 = 1;
+
+    fn from_ports(port: &dyn Fn(&str) -> PortBinding) -> Result<Self, String> {
+        Ok(Repeat {
+            num_cycles: built_in::param(port, "num_cycles")?,
+        })
+    }
+
+    #[inline]
+    fn tick<C>(&self, t: &mut Ticker<'_, C>, id: NodeId, def: &NodeDef<C>) -> NodeStatus {
+        match t.param(id, self.num_cycles, "num_cycles") {
+            Some(n) => tick::<C, true>(t, id, def, n),
+            None => NodeStatus::Failure,
+        }
+    }
+
+    fn halt<C>(&self, t: &mut Ticker<'_, C>, id: NodeId, _: &NodeDef<C>) {
+        t.halt_afresh(id);
+    }
+}
+
+impl<C> Builder<C> {
+    /// A [Repeat](self); exactly `-1` repeats forever, another negative count runs no cycle.
+    pub fn repeat(self, name: &str, num_cycles: i32, child: impl FnOnce(Self) -> Self) -> Self {
+        let node = Repeat {
+            num_cycles: num_cycles.into(),
+        };
+        self.node(NodeKind::Repeat(node), name, child)
+    }
 }
 
 #[cfg(test)]

@@ -12,8 +12,17 @@
 //! A Retry that runs out gives its own [reason](crate::Reason) for its Failure: "gave up
 //! after 3 attempts", code 0.
 
+use crate::blueprint::NodeDef;
+use crate::blueprint::{Builder, NodeKind, Param, PortBinding};
+use crate::nodes::built_in::Outcomes;
+use crate::nodes::built_in::{self, BuiltIn, Tick};
 use crate::nodes::decl::{NodeDecl, PortDecl};
+use crate::tree::Ticker;
 use crate::{Arity, Category};
+use crate::{NodeId, NodeStatus};
+use alloc::string::String;
+use alloc::vec;
+use alloc::vec::Vec;
 
 /// RetryUntilSuccessful's declaration: its BehaviorTree.CPP name, family, children and ports.
 pub const RETRY_UNTIL_SUCCESSFUL: NodeDecl = NodeDecl {
@@ -29,6 +38,57 @@ pub const RETRY_UNTIL_SUCCESSFUL: NodeDecl = NodeDecl {
 };
 
 // The loop is Repeat's, mirrored: see `repeat::tick`.
+
+/// The RetryUntilSuccessful node.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct RetryUntilSuccessful {
+    /// How many times; -1 forever, another negative value none.
+    pub num_attempts: Param<i32>,
+}
+
+impl BuiltIn for RetryUntilSuccessful {
+    fn outcomes(&self) -> Outcomes {
+        Outcomes::EITHER.and_running()
+    }
+
+    fn port_values(&self, _: usize) -> Vec<Option<String>> {
+        vec![built_in::text(&self.num_attempts)]
+    }
+}
+
+impl Tick for RetryUntilSuccessful {
+    const DECL: &'static NodeDecl = &RETRY_UNTIL_SUCCESSFUL;
+    const AUX_SLOTS: u32 = 1;
+
+    fn from_ports(port: &dyn Fn(&str) -> PortBinding) -> Result<Self, String> {
+        Ok(RetryUntilSuccessful {
+            num_attempts: built_in::param(port, "num_attempts")?,
+        })
+    }
+
+    #[inline]
+    fn tick<C>(&self, t: &mut Ticker<'_, C>, id: NodeId, def: &NodeDef<C>) -> NodeStatus {
+        match t.param(id, self.num_attempts, "num_attempts") {
+            Some(n) => super::repeat::tick::<C, false>(t, id, def, n),
+            None => NodeStatus::Failure,
+        }
+    }
+
+    fn halt<C>(&self, t: &mut Ticker<'_, C>, id: NodeId, _: &NodeDef<C>) {
+        t.halt_afresh(id);
+    }
+}
+
+impl<C> Builder<C> {
+    /// A [RetryUntilSuccessful](self); exactly `-1` retries forever, another negative count makes
+    /// no attempt.
+    pub fn retry(self, name: &str, num_attempts: i32, child: impl FnOnce(Self) -> Self) -> Self {
+        let node = RetryUntilSuccessful {
+            num_attempts: num_attempts.into(),
+        };
+        self.node(NodeKind::RetryUntilSuccessful(node), name, child)
+    }
+}
 
 #[cfg(test)]
 mod tests {

@@ -9,8 +9,14 @@ use crate::blueprint::NodeDef;
 use crate::tree::Ticker;
 use crate::{NodeId, NodeStatus};
 
+use crate::blueprint::{Builder, NodeKind, Param, PortBinding};
+use crate::nodes::built_in::Outcomes;
+use crate::nodes::built_in::{self, BuiltIn, Tick};
 use crate::nodes::decl::{NodeDecl, PortDecl};
 use crate::{Arity, Category};
+use alloc::string::String;
+use alloc::vec;
+use alloc::vec::Vec;
 
 /// RunOnce's declaration: its BehaviorTree.CPP name, family, children and ports.
 pub const RUN_ONCE: NodeDecl = NodeDecl {
@@ -52,6 +58,55 @@ pub(crate) fn tick<C>(
         t.halt_child(child);
     }
     status
+}
+
+/// The RunOnce node.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct RunOnce {
+    /// After the first completion return Skipped (true) or the cached status (false).
+    pub then_skip: Param<bool>,
+}
+
+impl BuiltIn for RunOnce {
+    fn outcomes(&self) -> Outcomes {
+        Outcomes {
+            skipped: self.then_skip != Param::Value(false),
+            ..Outcomes::EITHER
+        }
+    }
+
+    fn port_values(&self, _: usize) -> Vec<Option<String>> {
+        vec![built_in::text(&self.then_skip)]
+    }
+}
+
+impl Tick for RunOnce {
+    const DECL: &'static NodeDecl = &RUN_ONCE;
+    const AUX_SLOTS: u32 = 1;
+
+    fn from_ports(port: &dyn Fn(&str) -> PortBinding) -> Result<Self, String> {
+        Ok(RunOnce {
+            then_skip: built_in::param(port, "then_skip")?,
+        })
+    }
+
+    #[inline]
+    fn tick<C>(&self, t: &mut Ticker<'_, C>, id: NodeId, def: &NodeDef<C>) -> NodeStatus {
+        match t.param(id, self.then_skip, "then_skip") {
+            Some(skip) => tick(t, id, def, skip),
+            None => NodeStatus::Failure,
+        }
+    }
+}
+
+impl<C> Builder<C> {
+    /// A [RunOnce](self): run the child to completion once, then skip.
+    pub fn run_once(self, name: &str, then_skip: bool, child: impl FnOnce(Self) -> Self) -> Self {
+        let node = RunOnce {
+            then_skip: then_skip.into(),
+        };
+        self.node(NodeKind::RunOnce(node), name, child)
+    }
 }
 
 #[cfg(test)]

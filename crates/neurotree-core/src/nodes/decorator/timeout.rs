@@ -22,8 +22,13 @@ use crate::tree::failure::{Note, Reason};
 use crate::tree::Ticker;
 use crate::{NodeId, NodeStatus};
 
+use crate::blueprint::{Builder, NodeKind, Param, PortBinding};
+use crate::nodes::built_in::{self, BuiltIn, Tick};
 use crate::nodes::decl::{NodeDecl, PortDecl};
 use crate::{Arity, Category};
+use alloc::string::String;
+use alloc::vec;
+use alloc::vec::Vec;
 
 /// Timeout's declaration: its BehaviorTree.CPP name, family, children and ports.
 pub const TIMEOUT: NodeDecl = NodeDecl {
@@ -94,6 +99,52 @@ fn finish_halt<C>(t: &mut Ticker<'_, C>, id: NodeId, limit: Duration) -> NodeSta
     t.aux[t.bp.slot(id)] = moment::NONE;
     t.note(id, Note::Gave(Reason::timed_out(limit)));
     NodeStatus::Failure
+}
+
+/// The Timeout node.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Timeout {
+    /// The time, whose port holds milliseconds.
+    pub limit: Param<Duration>,
+}
+
+impl BuiltIn for Timeout {
+    fn port_values(&self, _: usize) -> Vec<Option<String>> {
+        vec![built_in::millis_text(&self.limit)]
+    }
+}
+
+impl Tick for Timeout {
+    const DECL: &'static NodeDecl = &TIMEOUT;
+    const AUX_SLOTS: u32 = 1;
+
+    fn from_ports(port: &dyn Fn(&str) -> PortBinding) -> Result<Self, String> {
+        Ok(Timeout {
+            limit: built_in::millis(port, "msec")?,
+        })
+    }
+
+    #[inline]
+    fn tick<C>(&self, t: &mut Ticker<'_, C>, id: NodeId, def: &NodeDef<C>) -> NodeStatus {
+        match t.millis(id, self.limit, "msec") {
+            Some(limit) => tick(t, id, def, limit),
+            None => NodeStatus::Failure,
+        }
+    }
+
+    fn halt<C>(&self, t: &mut Ticker<'_, C>, id: NodeId, _: &NodeDef<C>) {
+        t.halt_afresh(id);
+    }
+}
+
+impl<C> Builder<C> {
+    /// A [Timeout](self): fail and halt the child when it runs too long.
+    pub fn timeout(self, name: &str, limit: Duration, child: impl FnOnce(Self) -> Self) -> Self {
+        let node = Timeout {
+            limit: limit.into(),
+        };
+        self.node(NodeKind::Timeout(node), name, child)
+    }
 }
 
 #[cfg(test)]

@@ -3,8 +3,14 @@
 //! - **AlwaysSuccess**: Success, every tick.
 //! - **AlwaysFailure**: Failure, every tick.
 
+use crate::blueprint::NodeDef;
+use crate::blueprint::{Builder, NodeKind, PortBinding};
+use crate::nodes::built_in::{BuiltIn, Outcomes, Tick};
 use crate::nodes::decl::NodeDecl;
+use crate::tree::Ticker;
 use crate::{Arity, Category};
+use crate::{NodeId, NodeStatus};
+use alloc::string::String;
 
 /// AlwaysSuccess's declaration: its BehaviorTree.CPP name, family, children and ports.
 pub const ALWAYS_SUCCESS: NodeDecl = NodeDecl {
@@ -23,6 +29,65 @@ pub const ALWAYS_FAILURE: NodeDecl = NodeDecl {
     ports: &[],
     summary: "Failure, every tick.",
 };
+
+/// The AlwaysSuccess leaf. It has no parameters.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct AlwaysSuccess;
+
+impl BuiltIn for AlwaysSuccess {
+    fn outcomes(&self) -> Outcomes {
+        Outcomes::SUCCESS
+    }
+}
+
+impl Tick for AlwaysSuccess {
+    const DECL: &'static NodeDecl = &ALWAYS_SUCCESS;
+
+    fn from_ports(_: &dyn Fn(&str) -> PortBinding) -> Result<Self, String> {
+        Ok(AlwaysSuccess)
+    }
+
+    #[inline]
+    fn tick<C>(&self, _: &mut Ticker<'_, C>, _: NodeId, _: &NodeDef<C>) -> NodeStatus {
+        NodeStatus::Success
+    }
+}
+
+impl<C> Builder<C> {
+    /// An [AlwaysSuccess](self) leaf.
+    pub fn always_success(self, name: &str) -> Self {
+        self.leaf(NodeKind::AlwaysSuccess(AlwaysSuccess), name)
+    }
+}
+/// The AlwaysFailure leaf. It has no parameters.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct AlwaysFailure;
+
+impl BuiltIn for AlwaysFailure {
+    fn outcomes(&self) -> Outcomes {
+        Outcomes::FAILURE
+    }
+}
+
+impl Tick for AlwaysFailure {
+    const DECL: &'static NodeDecl = &ALWAYS_FAILURE;
+
+    fn from_ports(_: &dyn Fn(&str) -> PortBinding) -> Result<Self, String> {
+        Ok(AlwaysFailure)
+    }
+
+    #[inline]
+    fn tick<C>(&self, _: &mut Ticker<'_, C>, _: NodeId, _: &NodeDef<C>) -> NodeStatus {
+        NodeStatus::Failure
+    }
+}
+
+impl<C> Builder<C> {
+    /// An [AlwaysFailure](self) leaf.
+    pub fn always_failure(self, name: &str) -> Self {
+        self.leaf(NodeKind::AlwaysFailure(AlwaysFailure), name)
+    }
+}
 
 #[cfg(test)]
 mod tests {

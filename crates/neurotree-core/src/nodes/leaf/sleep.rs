@@ -16,8 +16,15 @@ use crate::clock::duration_to_nanos;
 use crate::tree::Ticker;
 use crate::{NodeId, NodeStatus};
 
+use crate::blueprint::NodeDef;
+use crate::blueprint::{Builder, NodeKind, Param, PortBinding};
+use crate::nodes::built_in::Outcomes;
+use crate::nodes::built_in::{self, BuiltIn, Tick};
 use crate::nodes::decl::{NodeDecl, PortDecl};
 use crate::{Arity, Category};
+use alloc::string::String;
+use alloc::vec;
+use alloc::vec::Vec;
 
 /// Sleep's declaration: its BehaviorTree.CPP name, family, children and ports.
 pub const SLEEP: NodeDecl = NodeDecl {
@@ -56,6 +63,55 @@ pub(crate) fn tick<C>(
         NodeStatus::Success
     } else {
         NodeStatus::Running
+    }
+}
+
+/// The Sleep node.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Sleep {
+    /// The time, whose port holds milliseconds.
+    pub duration: Param<Duration>,
+}
+
+impl BuiltIn for Sleep {
+    fn outcomes(&self) -> Outcomes {
+        Outcomes::EITHER.and_running()
+    }
+
+    fn port_values(&self, _: usize) -> Vec<Option<String>> {
+        vec![built_in::millis_text(&self.duration)]
+    }
+}
+
+impl Tick for Sleep {
+    const DECL: &'static NodeDecl = &SLEEP;
+    const AUX_SLOTS: u32 = 1;
+
+    fn from_ports(port: &dyn Fn(&str) -> PortBinding) -> Result<Self, String> {
+        Ok(Sleep {
+            duration: built_in::millis(port, "msec")?,
+        })
+    }
+
+    #[inline]
+    fn tick<C>(&self, t: &mut Ticker<'_, C>, id: NodeId, def: &NodeDef<C>) -> NodeStatus {
+        match t.millis(id, self.duration, "msec") {
+            Some(duration) => {
+                let _ = def;
+                tick(t, id, t.bp.slot(id), duration)
+            }
+            None => NodeStatus::Failure,
+        }
+    }
+}
+
+impl<C> Builder<C> {
+    /// A [Sleep](self) leaf: Running until the duration has passed, then Success.
+    pub fn sleep(self, name: &str, duration: Duration) -> Self {
+        let node = Sleep {
+            duration: duration.into(),
+        };
+        self.leaf(NodeKind::Sleep(node), name)
     }
 }
 

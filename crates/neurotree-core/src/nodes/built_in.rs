@@ -1,0 +1,177 @@
+//! What a built-in node's file says about the node beside its [`NodeDecl`]: how it is made
+//! from its ports and written back, what it may return, how it ticks and halts.
+//!
+//! Each built-in is a type of its own (`Sequence`, `Repeat { num_cycles }`, ...) that carries
+//! the node's configuration and implements two traits in the node's file:
+//!
+//! - [`BuiltIn`], public: what pictures, coverage, failure reasons and the XML writer ask of
+//!   a node (its family of control, its possible outcomes, its ports' values);
+//! - `Tick`, the engine's: its declaration, state slots, how it is made from its ports and
+//!   checked once its children are known, its tick and its halt.
+//!
+//! The [one list](super) turns the types into the variants of
+//! [`NodeKind`](crate::NodeKind), its dispatch and every other match over node kinds, so a
+//! new built-in is its file and one line there.
+
+use alloc::string::String;
+use alloc::vec::Vec;
+use core::fmt;
+
+use crate::blueprint::{BuildErrorKind, NodeDef, PortBinding};
+use crate::nodes::NodeDecl;
+use crate::tree::Ticker;
+use crate::{NodeId, NodeStatus};
+
+/// The family of control a built-in belongs to: what pictures mark it with (→, ?, ⇉) and how
+/// a failure is explained through it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Family {
+    /// Children in turn, all must succeed (the Sequence family).
+    Sequential,
+    /// Children in turn until one succeeds: each failure is an alternative tried (the
+    /// Fallback family).
+    Alternative,
+    /// Children ticked side by side (the Parallel family).
+    Concurrent,
+}
+
+/// What a built-in can return by itself; a precondition or a child that runs adds to it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct Outcomes {
+    /// It can succeed.
+    pub success: bool,
+    /// It can fail.
+    pub failure: bool,
+    /// It returns Running whatever its children do (a wait, a loop, a yield).
+    pub running: bool,
+    /// It can be Skipped after its work is done.
+    pub skipped: bool,
+}
+
+impl Outcomes {
+    /// Success or Failure, Running only through a child.
+    pub const EITHER: Outcomes = Outcomes {
+        success: true,
+        failure: true,
+        running: false,
+        skipped: false,
+    };
+    /// Only Success.
+    pub const SUCCESS: Outcomes = Outcomes {
+        failure: false,
+        ..Outcomes::EITHER
+    };
+    /// Only Failure.
+    pub const FAILURE: Outcomes = Outcomes {
+        success: false,
+        ..Outcomes::EITHER
+    };
+
+    /// The same, and Running by itself.
+    pub const fn and_running(self) -> Outcomes {
+        Outcomes {
+            running: true,
+            ..self
+        }
+    }
+}
+
+/// What the rest of the library asks of a built-in node, implemented in the node's file.
+pub trait BuiltIn: fmt::Debug + Send + Sync + 'static {
+    /// The family of control it belongs to, if one of the well-known ones.
+    fn family(&self) -> Option<Family> {
+        None
+    }
+
+    /// What it can return by itself.
+    fn outcomes(&self) -> Outcomes {
+        Outcomes::EITHER
+    }
+
+    /// Its parameters as a file writes them, in the order of its declared ports; `None`
+    /// for one read from a port (the writer writes the binding instead). `children`
+    /// resolves shorthands that depend on their number.
+    fn port_values(&self, children: usize) -> Vec<Option<String>> {
+        let _ = children;
+        Vec::new()
+    }
+}
+
+/// The engine's side of a built-in node: its declaration, state, making, tick and halt.
+pub(crate) trait Tick: BuiltIn + Sized {
+    /// Its declaration.
+    const DECL: &'static NodeDecl;
+    /// Per-instance state slots (`u64`): a cursor, a counter or a time.
+    const AUX_SLOTS: u32 = 0;
+    /// `Some(true)` for the plain Sequence, `Some(false)` for the plain Fallback: controls a
+    /// parent's loop ticks without the dispatcher (`ordered`'s fast paths).
+    const PLAIN_ORDER: Option<bool> = None;
+    /// `true` for a node whose halt may wait for the halts below it before it runs code of
+    /// its own (TryCatch's catch); see [`slow_halt`](crate::tree::slow_halt).
+    const WAITS_ON_HALTS: bool = false;
+
+    /// The node with its ports bound by `port`; an error names the port that is missing or
+    /// whose literal does not convert.
+    fn from_ports(port: &dyn Fn(&str) -> PortBinding) -> Result<Self, String>;
+
+    /// Checks the node once its number of children is known, and resolves what depends on
+    /// it (the arity itself is checked before).
+    fn close(&mut self, children: u32) -> Result<(), BuildErrorKind> {
+        let _ = children;
+        Ok(())
+    }
+
+    /// One tick of node `id`; the ticker stores what it returns.
+    fn tick<C>(&self, t: &mut Ticker<'_, C>, id: NodeId, def: &NodeDef<C>) -> NodeStatus;
+
+    /// Halts node `id`'s children and resets its own state; the ticker then sets it Idle.
+    /// By default the children are halted and the state slot, if any, is kept.
+    fn halt<C>(&self, t: &mut Ticker<'_, C>, id: NodeId, def: &NodeDef<C>) {
+        let _ = def;
+        t.reset_children(id);
+    }
+}
+
+/// A parameter read from its port `name`: its literal read as `T`, or
+/// [`Param::Port`](crate::Param::Port) for a blackboard entry.
+pub(crate) fn param<T: crate::blueprint::FromPortStr>(
+    port: &dyn Fn(&str) -> PortBinding,
+    name: &str,
+) -> Result<crate::Param<T>, String> {
+    use crate::Param;
+    match port(name) {
+        PortBinding::Literal(text) => T::from_port_str(&text)
+            .map(Param::Value)
+            .map_err(|()| alloc::format!("port `{name}`: cannot read `{text}`")),
+        PortBinding::Entry => Ok(Param::Port),
+        PortBinding::Missing => Err(alloc::format!("missing port `{name}`")),
+    }
+}
+
+/// A duration parameter, whose port holds milliseconds as in BehaviorTree.CPP.
+pub(crate) fn millis(
+    port: &dyn Fn(&str) -> PortBinding,
+    name: &str,
+) -> Result<crate::Param<core::time::Duration>, String> {
+    use crate::Param;
+    Ok(match param::<u64>(port, name)? {
+        Param::Value(ms) => Param::Value(core::time::Duration::from_millis(ms)),
+        Param::Port => Param::Port,
+    })
+}
+
+/// A parameter as a file writes it; `None` for one read from a port.
+pub(crate) fn text<T: alloc::string::ToString>(p: &crate::Param<T>) -> Option<String> {
+    match p {
+        crate::Param::Value(v) => Some(v.to_string()),
+        crate::Param::Port => None,
+    }
+}
+
+/// A duration parameter as a file writes it: milliseconds.
+pub(crate) fn millis_text(p: &crate::Param<core::time::Duration>) -> Option<String> {
+    match p {
+        crate::Param::Value(d) => Some(alloc::string::ToString::to_string(&d.as_millis())),
+        crate::Param::Port => None,
+    }
+}
