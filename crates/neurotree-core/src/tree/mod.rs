@@ -25,6 +25,7 @@
 mod error;
 pub mod failure;
 pub mod halt;
+mod objects;
 pub mod slow_halt;
 pub(crate) mod ticker;
 mod wake;
@@ -581,111 +582,6 @@ impl<C> Tree<C> {
                 return;
             }
             self.clock.wait((until - now).min(HALT_POLL_PERIOD));
-        }
-    }
-
-    /// Halts every Running node (children before parents) and resets the whole tree to
-    /// Idle, as BehaviorTree.CPP's `haltTree` does: stateful actions that were Running get
-    /// `on_halted`, and completed statuses a control had left in place (a two-child
-    /// IfThenElse keeps its failed condition's) are cleared too, so the next tick starts
-    /// afresh. RunOnce and Cooldown keep their memory, SequenceWithMemory its place.
-    ///
-    /// Returns `true` when the tree is fully halted. An action whose halt takes several
-    /// ticks ([`HaltProgress::Halting`](crate::HaltProgress::Halting), or an async action's
-    /// [`HaltFuture`](crate::HaltFuture) not ready at its first poll, or a TryCatch's catch
-    /// waiting for them) makes it `false`: such halts, and those that were in progress, now
-    /// wait for the tree. Call
-    /// [`tick_halt`](Self::tick_halt) until it returns `true` (or keep ticking:
-    /// [`tick_once`](Self::tick_once) continues them first, and ticks the root only once
-    /// they are done). See [`slow_halt`].
-    pub fn halt(&mut self, ctx: &mut C) -> bool {
-        let mut t = self.ticker(ctx);
-        t.halt_node(NodeId::ROOT);
-        // Nothing is Running any more, so this only resets what a control left behind.
-        for id in t.bp.ids() {
-            t.halt_node(id);
-        }
-        self.out.halts.count == 0
-    }
-
-    /// Continues every halt in progress (one [`on_halting`](crate::StatefulAction::on_halting)
-    /// or poll of its halt future for each action still halting, whoever waits for it, then
-    /// the catch of each TryCatch whose try block has stopped) without ticking the root;
-    /// returns `true` when the tree is fully halted. A runner that halts a tree calls it,
-    /// a tick period apart, until it does.
-    ///
-    /// ```
-    /// use neurotree_core::{Blueprint, HaltProgress, Handle, ManualClock, StatefulAction, Status, Tree};
-    ///
-    /// /// Runs until halted, then takes `ticks` more ticks to stop.
-    /// struct Arm { ticks: u32, left: u32 }
-    /// impl StatefulAction<()> for Arm {
-    ///     fn on_start(&mut self, _h: &mut Handle<'_, ()>) -> Status { Status::Running }
-    ///     fn on_running(&mut self, _h: &mut Handle<'_, ()>) -> Status { Status::Running }
-    ///     fn on_halt_requested(&mut self, _h: &mut Handle<'_, ()>) -> HaltProgress {
-    ///         self.left = self.ticks;
-    ///         HaltProgress::Halting
-    ///     }
-    ///     fn on_halting(&mut self, _h: &mut Handle<'_, ()>) -> HaltProgress {
-    ///         self.left -= 1;
-    ///         if self.left == 0 { HaltProgress::Done } else { HaltProgress::Halting }
-    ///     }
-    /// }
-    /// let bp = Blueprint::<()>::builder()
-    ///     .stateful("arm", || Arm { ticks: 2, left: 0 })
-    ///     .build_shared()
-    ///     .unwrap();
-    /// let mut tree = Tree::with_clock(bp, ManualClock::new());
-    /// assert_eq!(tree.tick_once(&mut ()), Ok(Status::Running));
-    /// assert!(!tree.halt(&mut ()));
-    /// assert!(tree.is_halting());
-    /// assert!(!tree.tick_halt(&mut ()));
-    /// assert!(tree.tick_halt(&mut ()));
-    /// assert!(!tree.is_halting());
-    /// ```
-    pub fn tick_halt(&mut self, ctx: &mut C) -> bool {
-        if self.out.halts.count != 0 {
-            // A panic in `on_halting` ends that action's halt; the halt has no error to give.
-            let _ = self.continue_halt(ctx, slow_halt::Waiter::Any);
-        }
-        self.out.halts.count == 0
-    }
-
-    /// `true` while a halt is in progress: an action whose halt takes ticks, or a TryCatch
-    /// whose catch waits for one (see [`slow_halt`]).
-    pub fn is_halting(&self) -> bool {
-        self.out.halts.count != 0
-    }
-
-    /// Continues the halts `waiter` selects: `Ok(true)` while any is left.
-    #[cold]
-    #[inline(never)]
-    fn continue_halt(&mut self, ctx: &mut C, waiter: slow_halt::Waiter) -> Result<bool, TickError> {
-        // As a pass does: this call polls every halt future it continues, so earlier wakes
-        // are answered by it.
-        if let Some(w) = &self.wake {
-            w.signal.take();
-        }
-        let mut t = self.ticker(ctx);
-        let left = t.continue_halts(waiter);
-        match t.out.fault.take() {
-            Some(fault) => Err(fault),
-            None => Ok(left),
-        }
-    }
-
-    /// Before a tick call: continues the halts that wait for the tree. `Some` (Running, or
-    /// the error of a panic in `on_halting`) while any is left: the root is not ticked.
-    #[cold]
-    #[inline(never)]
-    fn tree_waits(&mut self, ctx: &mut C) -> Option<Result<Status, TickError>> {
-        match self.continue_halt(ctx, slow_halt::Waiter::Owner(None)) {
-            Ok(false) => None,
-            Ok(true) => {
-                self.last_root = NodeStatus::Running;
-                Some(Ok(Status::Running))
-            }
-            Err(fault) => Some(Err(fault)),
         }
     }
 

@@ -13,69 +13,13 @@ use crate::blackboard::Blackboard;
 use crate::blueprint::{Blueprint, Child, FromPortStr, NodeDef, NodeKind, Param};
 use crate::clock::duration_to_nanos;
 use crate::nodes::built_in::Tick;
-use crate::nodes::custom::{CustomNode, NodeCtx};
-use crate::nodes::leaf::{read_input, ActionFuture, HaltFuture, Handle, StatefulAction};
+use crate::nodes::leaf::{read_input, Handle};
 use crate::nodes::{control, decorator, leaf};
 use crate::observer::{Observer, StatusChange};
 use crate::{Clock, NodeId, NodeStatus, Status, TickError};
 
 use super::failure::{Note, Outcome};
-use super::slow_halt::Owner;
-
-/// A per-instance object: the state a leaf or custom node keeps in `self`.
-pub(crate) enum Object<C> {
-    Stateful(alloc::boxed::Box<dyn StatefulAction<C>>),
-    Custom(alloc::boxed::Box<dyn CustomNode<C>>),
-    /// A stateful action whose halt is in progress, and the node that waits for it
-    /// (`None`: the tree); see [`slow_halt`](super::slow_halt).
-    Halting {
-        action: alloc::boxed::Box<dyn StatefulAction<C>>,
-        owner: Owner,
-    },
-    /// The running future of an async action, `None` between runs.
-    Async(Option<ActionFuture>),
-    /// An async action whose halt is in progress: the future of its halt, and the node
-    /// that waits for it (`None`: the tree).
-    AsyncHalting {
-        halt: HaltFuture,
-        owner: Owner,
-    },
-    /// A custom node's slot while its object is out ticking or halting (it needs the
-    /// ticker, which holds the slot); left so only if that code panicked.
-    Vacant,
-}
-
-impl<C> Object<C> {
-    /// Whom a halt in progress waits for, if this is one.
-    pub(crate) fn halt_owner(&mut self) -> Option<&mut Owner> {
-        match self {
-            Object::Halting { owner, .. } | Object::AsyncHalting { owner, .. } => Some(owner),
-            _ => None,
-        }
-    }
-
-    /// Whom a halt in progress waits for (`Some(None)`: the tree), if this is one.
-    pub(crate) fn waits_for(&self) -> Option<Option<NodeId>> {
-        match self {
-            Object::Halting { owner, .. } | Object::AsyncHalting { owner, .. } => Some(owner.get()),
-            _ => None,
-        }
-    }
-
-    /// `true` for a halt in progress.
-    pub(crate) fn is_halting(&self) -> bool {
-        self.waits_for().is_some()
-    }
-
-    /// The object once its halt is done.
-    pub(crate) fn halted(self) -> Self {
-        match self {
-            Object::Halting { action, .. } => Object::Stateful(action),
-            Object::AsyncHalting { .. } => Object::Async(None),
-            other => other,
-        }
-    }
-}
+pub(crate) use super::objects::Object;
 
 /// Everything one pass needs, borrowed from the [`Tree`](crate::Tree) for its duration.
 pub(crate) struct Ticker<'t, C> {
@@ -101,7 +45,7 @@ pub(crate) struct Ticker<'t, C> {
     /// A reactive control's second Running child is an error (BT.CPP's `EnableException`).
     pub(crate) reject_multiple_running: bool,
     /// The custom node whose completed children are reset once its own status is stored
-    /// (see [`NodeCtx::reset_completed_children_after_tick`]); set only while observed,
+    /// (see [`NodeCtx::reset_completed_children_after_tick`](crate::NodeCtx::reset_completed_children_after_tick)); set only while observed,
     /// between the node's `tick` returning and that store.
     pub(crate) reset_after_store: Option<NodeId>,
 }
@@ -498,114 +442,6 @@ impl<'t, C> Ticker<'t, C> {
             out: &mut *self.out,
         };
         (handle, &mut self.current)
-    }
-
-    /// The node's per-instance object and a handle for it, borrowed side by side.
-    pub(crate) fn split(&mut self, id: NodeId) -> (Option<&mut Object<C>>, Handle<'_, C>) {
-        let bp = self.bp;
-        let object = if bp.nodes[id.index()].kind.has_object() {
-            self.objects.get_mut(bp.slot(id))
-        } else {
-            None
-        };
-        let handle = Handle {
-            ctx: &mut *self.ctx,
-            blackboard: &mut *self.bb,
-            clock: self.clock,
-            node: id,
-            bp,
-            out: &mut *self.out,
-        };
-        (object, handle)
-    }
-
-    fn tick_stateful(&mut self, id: NodeId) -> NodeStatus {
-        let prev = self.status(id);
-        let (Some(Object::Stateful(action)), mut h) = self.split(id) else {
-            // Objects are laid out from the same blueprint that chose this kind; the other
-            // case is an action still halting, which only a custom control can tick (the
-            // others wait): it fails, so that it is not taken for Running.
-            return NodeStatus::Failure;
-        };
-        match prev {
-            NodeStatus::Idle | NodeStatus::Skipped => action.on_start(&mut h).into(),
-            NodeStatus::Running => action.on_running(&mut h).into(),
-            // Completed and not yet reset by its parent: BehaviorTree.CPP repeats the result.
-            done => done,
-        }
-    }
-
-    fn tick_custom(&mut self, id: NodeId) -> NodeStatus {
-        let slot = self.bp.slot(id);
-        let Object::Custom(node) = mem::replace(&mut self.objects[slot], Object::Vacant) else {
-            return NodeStatus::Failure;
-        };
-        let mut node = node;
-        // Not marked Running first: a custom leaf goes Idle → result, as in BehaviorTree.CPP;
-        // a node that wants the mark sets it (`NodeCtx::set_running`), as BT.CPP's do.
-        let previous = self.status(id);
-        let mut node_ctx = NodeCtx {
-            t: self,
-            id,
-            previous,
-            reset_completed: false,
-        };
-        let status = node.tick(&mut node_ctx);
-        let reset_completed = node_ctx.reset_completed;
-        self.objects[slot] = Object::Custom(node);
-        if reset_completed {
-            // Only an observer can tell the reset from one after the store: without one,
-            // doing it now spares the store a check.
-            if self.observed() {
-                self.reset_after_store = Some(id);
-            } else {
-                self.reset_completed_children(id);
-            }
-        }
-        if status == NodeStatus::Idle {
-            if self.out.fault.is_none() {
-                self.out.fault = Some(TickError::ReturnedIdle {
-                    node: id,
-                    path: self.bp.path(id),
-                });
-            }
-            return NodeStatus::Failure;
-        }
-        status
-    }
-
-    /// Halts a custom node: its own `halt` if it is Running, then its children.
-    fn halt_custom(&mut self, id: NodeId) {
-        let obj = self.bp.slot(id);
-        if self.status(id) == NodeStatus::Running {
-            self.current = id;
-            if let Object::Custom(mut node) = mem::replace(&mut self.objects[obj], Object::Vacant) {
-                contain(self, id, |t| {
-                    node.halt(&mut NodeCtx {
-                        t,
-                        id,
-                        previous: NodeStatus::Running,
-                        reset_completed: false,
-                    });
-                });
-                self.objects[obj] = Object::Custom(node);
-            }
-        }
-        self.reset_children(id);
-    }
-
-    /// Puts back the objects of custom nodes that a panic left vacant (the object was out
-    /// of its slot while it ran), made anew by their factories.
-    #[cfg(feature = "std")]
-    pub(crate) fn replace_vacant_objects(&mut self) {
-        for id in self.bp.ids() {
-            if let NodeKind::Custom(spec) = &self.bp.def(id).kind {
-                let slot = self.bp.slot(id);
-                if matches!(self.objects[slot], Object::Vacant) {
-                    self.objects[slot] = Object::Custom((spec.factory)());
-                }
-            }
-        }
     }
 
     /// Clears node `id`'s state slot and halts its children: the halt of a node that starts
