@@ -98,7 +98,7 @@ fi
 
 echo "== NeuroTree"
 NT_ERR="$(mktemp)"
-if ! (cd "$REPO" && cargo run --release -q -p neurotree-cli -- bench --json 2>"$NT_ERR") \
+if ! (cd "$REPO" && cargo run --profile dist -q -p neurotree-cli -- bench --json 2>"$NT_ERR") \
      | collect tree1111; then
   echo "neurotree: not available"
   tail -n 5 "$NT_ERR" | sed 's/^/  | /'
