@@ -4,7 +4,7 @@ use neurotree::{
     LoadError, ManualClock, NodeId, PortSpec, Registry, Status, TickError, Tree, XmlLoader,
 };
 
-#[path = "support/corpus.rs"]
+#[path = "../../neurotree/tests/support/corpus.rs"]
 mod corpus_dir;
 use corpus_dir::corpus;
 
