@@ -39,7 +39,7 @@ fn wrong_type_reads_and_writes_are_errors_that_change_nothing() {
     let mut bb = Blackboard::new();
     bb.set_in(ScopeId::ROOT, "speed", 1.5_f32, T1).unwrap();
     assert_eq!(
-        bb.get::<f64>("speed"),
+        bb.get_exact::<f64>("speed"),
         Err(BlackboardError::WrongType {
             key: String::from("speed"),
             expected: "f64",

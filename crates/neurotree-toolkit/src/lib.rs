@@ -1,7 +1,8 @@
 //! # NeuroTree toolkit
 //!
 //! The BehaviorTree.CPP-compatible layer of NeuroTree, on top of the `no_std` engine
-//! [`neurotree_core`] (re-exported here whole): the node [`Registry`], the XML loader and
+//! [`neurotree_core`] (re-exported here whole): the node [`Registry`] (which also loads a
+//! file into a tree in one call, [`Registry::load_file`]), the XML loader and
 //! writer ([`xml`]), the [`script`] language, the built-in nodes that need `std`
 //! ([`nodes`]), observers and loggers ([`observe`]), pictures ([`render`]) and runners
 //! ([`runtime`]).
@@ -15,6 +16,7 @@ pub use neurotree_core::*;
 
 pub mod blackboard_json;
 mod json_port;
+mod load;
 pub mod nodes;
 pub mod observe;
 pub mod registry;

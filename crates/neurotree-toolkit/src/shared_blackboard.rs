@@ -53,9 +53,16 @@ impl SharedBlackboard {
         self.inner.write().unwrap_or_else(|e| e.into_inner())
     }
 
-    /// Reads a copy of `key` in the root scope.
+    /// Reads a copy of `key` in the root scope, numbers, `bool` and text converted as ports
+    /// convert them (see [`Blackboard::get_in`]).
     pub fn get<T: Any + Clone>(&self, key: &str) -> Result<T, BlackboardError> {
         self.read().get(key)
+    }
+
+    /// Reads a copy of `key` in the root scope only if it holds a `T` exactly (see
+    /// [`Blackboard::get_exact`]).
+    pub fn get_exact<T: Any + Clone>(&self, key: &str) -> Result<T, BlackboardError> {
+        self.read().get_exact(key)
     }
 
     /// Writes `key` in the root scope (see [`Blackboard::set`]).
@@ -63,9 +70,19 @@ impl SharedBlackboard {
         self.write().set(key, value)
     }
 
-    /// Reads a copy of `key` as seen from `scope`.
+    /// Reads a copy of `key` as seen from `scope`, converted as [`Blackboard::get_in`]
+    /// converts.
     pub fn get_in<T: Any + Clone>(&self, scope: ScopeId, key: &str) -> Result<T, BlackboardError> {
         self.read().get_in(scope, key)
+    }
+
+    /// Reads a copy of `key` as seen from `scope` only if it holds a `T` exactly.
+    pub fn get_exact_in<T: Any + Clone>(
+        &self,
+        scope: ScopeId,
+        key: &str,
+    ) -> Result<T, BlackboardError> {
+        self.read().get_exact_in(scope, key)
     }
 
     /// Writes `key` as seen from `scope`, with the given stamp (see [`Blackboard::set_in`]).
@@ -177,8 +194,10 @@ mod tests {
             bb.info("target").map(|i| i.stamp),
             Some(Duration::from_secs(2))
         );
+        // The ordinary read converts the number; the exact one does not.
+        assert_eq!(bb.get::<i64>("target"), Ok(5));
         assert_eq!(
-            bb.get::<i64>("target"),
+            bb.get_exact::<i64>("target"),
             Err(BlackboardError::WrongType {
                 key: "target".into(),
                 expected: "i64",

@@ -8,12 +8,55 @@
 //!
 //! # Quick start
 //!
-//! A tree from the builder: leaves are closures over your own context type, which every
-//! tick receives by `&mut`.
+//! `use neurotree::prelude::*` brings what a program needs. Register your leaves, with the
+//! ports they read, in a [`Registry`] (the built-in nodes are already in it), then load a
+//! BehaviorTree.CPP file in one call: [`Registry::load_file`] follows its `<include>`s,
+//! checks every node, port and literal, and reports errors as `file:line:col: error: ...`.
+//! [`Registry::load_str`] does the same for text. Leaves receive your own context type,
+//! here a `Vec<String>`, by `&mut` on every tick.
 //!
 //! ```
-//! use std::sync::Arc;
-//! use neurotree::{Blueprint, ManualClock, Status, Tree};
+//! use neurotree::prelude::*;
+//!
+//! # fn main() -> Result<(), Box<dyn std::error::Error>> {
+//! let mut registry = Registry::<Vec<String>>::new();
+//! registry.register_action("Say", vec![PortSpec::input::<String>("message")], |h| {
+//!     let message = h.input::<String>("message").unwrap_or_default();
+//!     h.ctx_mut().push(message);
+//!     Status::Success
+//! })?;
+//!
+//! // `registry.load_file("main.xml", SystemClock::new())` for a file.
+//! let mut tree = registry.load_str(
+//!     r#"<root BTCPP_format="4" main_tree_to_execute="Main">
+//!          <BehaviorTree ID="Main">
+//!            <Sequence>
+//!              <Script code="laps := 2"/>
+//!              <Repeat num_cycles="{laps}">
+//!                <Say message="hello"/>
+//!              </Repeat>
+//!            </Sequence>
+//!          </BehaviorTree>
+//!        </root>"#,
+//!     "main.xml",
+//!     ManualClock::new(),
+//! )?;
+//!
+//! // Tick until the root is no longer Running.
+//! let mut said = Vec::new();
+//! while tree.tick_once(&mut said)? == Status::Running {}
+//! assert_eq!(said, ["hello", "hello"]);
+//!
+//! // The script wrote an `i64`; reads convert numbers as ports do, with a range check.
+//! assert_eq!(tree.blackboard().get::<i32>("laps")?, 2);
+//! # Ok(())
+//! # }
+//! ```
+//!
+//! The same tree from the builder: leaves are closures over your context type.
+//!
+//! ```
+//! use neurotree::prelude::*;
 //!
 //! struct Robot { battery: u32 }
 //!
@@ -28,48 +71,15 @@
 //!     .build_shared()
 //!     .expect("a valid tree");
 //!
-//! let mut tree = Tree::with_clock(Arc::clone(&blueprint), ManualClock::new());
+//! // One blueprint, any number of instances; each holds only its per-node state.
+//! let mut tree = Tree::with_clock(blueprint, ManualClock::new());
 //! let mut robot = Robot { battery: 10 };
 //! assert_eq!(tree.tick_once(&mut robot), Ok(Status::Success));
 //! assert_eq!(robot.battery, 100);
 //! ```
 //!
-//! The same from BehaviorTree.CPP XML: register your leaves, with the ports they read, in a
-//! [`Registry`]; the built-in nodes are already in it. An [`XmlLoader`] checks every node,
-//! port and literal while loading, and reports errors as `file:line:col: error: ...`.
-//!
-//! ```
-//! use neurotree::{ManualClock, PortSpec, Registry, Status, Tree, XmlLoader};
-//!
-//! let mut registry = Registry::<Vec<String>>::new();
-//! registry
-//!     .register_action("Say", vec![PortSpec::input::<String>("message")], |h| {
-//!         let message = h.input::<String>("message").unwrap_or_default();
-//!         h.ctx_mut().push(message);
-//!         Status::Success
-//!     })
-//!     .unwrap();
-//!
-//! let mut loader = XmlLoader::new(&registry);
-//! loader
-//!     .load_str(
-//!         r#"<root BTCPP_format="4" main_tree_to_execute="Main">
-//!              <BehaviorTree ID="Main">
-//!                <Repeat num_cycles="2">
-//!                  <Say message="hello"/>
-//!                </Repeat>
-//!              </BehaviorTree>
-//!            </root>"#,
-//!         "main.xml",
-//!     )
-//!     .unwrap();
-//! let mut tree = Tree::with_clock(loader.build_main().unwrap().into(), ManualClock::new());
-//!
-//! // Run it: tick until the root is no longer Running.
-//! let mut said = Vec::new();
-//! while tree.tick_once(&mut said).unwrap() == Status::Running {}
-//! assert_eq!(said, ["hello", "hello"]);
-//! ```
+//! An [`XmlLoader`] is the lower-level way to load: several files, a tree other than the
+//! main one, mocks, limits, warnings, one blueprint for many trees.
 //!
 //! For a robot, tick at a fixed rate with [`runtime::FixedRate`] or, with the `tokio`
 //! feature, `runtime::tokio::tick_until_done`; [`Tree::tick_while_running`] ticks on the
@@ -90,6 +100,7 @@
 //! | `sim` | (feature `sim`) a deterministic grid world and Nav2's leaves simulated on it |
 //! | `groot` | (feature `groot`) a Groot2 monitor server |
 //!
+//! - [`prelude`] has what most programs need, for one `use neurotree::prelude::*`.
 //! - The root has [`Blueprint`], [`Builder`], [`tree!`], [`Tree`], [`Status`], the leaf traits
 //!   ([`Condition`], [`Action`], [`StatefulAction`], [`AsyncAction`], [`CustomNode`]),
 //!   [`Clock`]s, [`Observer`], [`Blackboard`] and [`SharedBlackboard`], [`Registry`],
@@ -142,3 +153,16 @@ pub use neurotree_nav2::robotics;
 pub use neurotree_sim as sim;
 
 mod readme;
+
+/// What most programs need, in one `use neurotree::prelude::*;`: the types that load,
+/// build and run a tree, the clocks and the [`Clock`] trait (whose `now` reads them), the
+/// leaf traits, the blackboard and the errors that `?` meets on the way.
+pub mod prelude {
+    #[doc(no_inline)]
+    pub use crate::{
+        Action, AsyncAction, Blackboard, BlackboardError, Blueprint, BuildError, Clock, Condition,
+        CustomNode, Handle, LoadError, ManualClock, NodeCtx, PortError, PortSpec, Registry,
+        RegistryError, SharedBlackboard, StatefulAction, Status, SystemClock, TickError, Tree,
+        XmlLoader,
+    };
+}

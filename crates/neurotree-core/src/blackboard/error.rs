@@ -31,6 +31,23 @@ pub enum BlackboardError {
         /// The type the entry holds.
         found: &'static str,
     },
+    /// The entry holds a number, `bool` or text that converts to the type asked for in
+    /// general, but not this value: out of range, a fraction where an integer is wanted, or
+    /// text that does not parse.
+    #[error(
+        "blackboard entry `{key}` holds the `{found}` {value}, which does not fit a \
+         `{expected}`: read it as a type that holds it"
+    )]
+    NotConvertible {
+        /// The key as asked.
+        key: String,
+        /// The value, printed.
+        value: String,
+        /// The type asked for.
+        expected: &'static str,
+        /// The type the entry holds.
+        found: &'static str,
+    },
     /// The scope does not exist in this blackboard.
     #[error(
         "blackboard scope {scope} does not exist: scopes are numbered in the order \

@@ -11,7 +11,11 @@
 //!
 //! An entry holds one Rust value. Its type is fixed by its first write: writing a value of
 //! another type later is an error ([`BlackboardError::WrongType`]), as is reading it as
-//! another type, so a typo in a port cannot silently turn a pose into a string. (Loaders that
+//! another type, so a typo in a port cannot silently turn a pose into a string. Numbers,
+//! `bool` and text are the exception on reads: [`get`](Blackboard::get) converts them as an
+//! input port does (a script's `i64` reads as the `i32` asked for, when it fits; a value
+//! that does not fit is [`BlackboardError::NotConvertible`]), and
+//! [`get_exact`](Blackboard::get_exact) reads only the type stored. (Loaders that
 //! must retype an entry, for example to turn a text literal into the type a port declares,
 //! use [`Blackboard::replace_in`].) The exception is an entry a script created
 //! ([`Blackboard::set_untyped_in`]): as in BehaviorTree.CPP, no port declared its type, so a
@@ -56,12 +60,19 @@
 //! let mut bb = Blackboard::new();
 //! bb.set("battery", 87.5_f64).unwrap();
 //! assert_eq!(bb.get::<f64>("battery"), Ok(87.5));
-//! assert_eq!(
+//! // Numbers convert as ports convert them, and never lose anything on the way.
+//! bb.set("laps", 3_i64).unwrap();
+//! assert_eq!(bb.get::<i32>("laps"), Ok(3));
+//! assert!(matches!(
 //!     bb.get::<i32>("battery"),
+//!     Err(BlackboardError::NotConvertible { .. })
+//! ));
+//! assert_eq!(
+//!     bb.get_exact::<i32>("laps"),
 //!     Err(BlackboardError::WrongType {
-//!         key: "battery".into(),
+//!         key: "laps".into(),
 //!         expected: "i32",
-//!         found: "f64",
+//!         found: "i64",
 //!     })
 //! );
 //!
@@ -77,16 +88,17 @@
 //! bb.set_in(sub, "retries", 3_u8, Duration::from_secs(2)).unwrap();
 //! assert_eq!(bb.get::<&str>("mode"), Ok("docking"));
 //! assert!(!bb.contains("retries"));
-//! assert_eq!(bb.keys().collect::<Vec<_>>(), ["battery", "mode"]);
+//! assert_eq!(bb.keys().collect::<Vec<_>>(), ["battery", "laps", "mode"]);
 //! ```
 
 mod error;
 mod scope;
 
+use crate::blueprint::FromPortStr;
 use alloc::collections::BTreeMap;
 use alloc::string::String;
 use alloc::vec::Vec;
-use core::any::{type_name, Any};
+use core::any::{type_name, Any, TypeId};
 use core::fmt;
 use core::time::Duration;
 
@@ -229,8 +241,41 @@ impl Blackboard {
         }
     }
 
-    /// Reads a copy of `key` as seen from `scope`.
+    /// Reads a copy of `key` as seen from `scope`, converted as an input port converts it:
+    /// when `T` is a number, `bool` or `String`, an entry of another number type, `bool`
+    /// or text converts to it by [`FromPortStr`]'s rules (checked: a value that does not
+    /// fit is [`BlackboardError::NotConvertible`], never wrapped). Other types are read
+    /// exactly, as [`get_exact_in`](Self::get_exact_in) reads them.
+    ///
+    /// Scripts write `i64` and `f64` and XML literals are text, so a reader asking for the
+    /// `i32` it works with should not have to know which wrote the entry.
     pub fn get_in<T: Any + Clone>(&self, scope: ScopeId, key: &str) -> Result<T, BlackboardError> {
+        let entry = self.entry_or_err(scope, key)?;
+        if entry.value.is::<Unwritten>() {
+            return Err(self.missing(scope, key));
+        }
+        if let Some(value) = entry.value.downcast_ref::<T>() {
+            return Ok(value.clone());
+        }
+        match convert::<T>(&*entry.value) {
+            Some(Ok(value)) => Ok(value),
+            Some(Err(value)) => Err(BlackboardError::NotConvertible {
+                key: String::from(key),
+                value,
+                expected: type_name::<T>(),
+                found: entry.info.type_name,
+            }),
+            None => Err(wrong_type::<T>(key, entry)),
+        }
+    }
+
+    /// Reads a copy of `key` as seen from `scope` only if the entry holds a `T` exactly: no
+    /// number or text conversion (see [`get_in`](Self::get_in)).
+    pub fn get_exact_in<T: Any + Clone>(
+        &self,
+        scope: ScopeId,
+        key: &str,
+    ) -> Result<T, BlackboardError> {
         self.get_ref_in::<T>(scope, key).cloned()
     }
 
@@ -451,12 +496,19 @@ impl Blackboard {
             .flat_map(|e| e.keys().map(String::as_str))
     }
 
-    /// Reads a copy of `key` in the root scope.
+    /// Reads a copy of `key` in the root scope, numbers, `bool` and text converted as ports
+    /// convert them (see [`get_in`](Self::get_in)).
     pub fn get<T: Any + Clone>(&self, key: &str) -> Result<T, BlackboardError> {
         self.get_in(ScopeId::ROOT, key)
     }
 
-    /// Borrows `key` in the root scope.
+    /// Reads a copy of `key` in the root scope only if it holds a `T` exactly.
+    pub fn get_exact<T: Any + Clone>(&self, key: &str) -> Result<T, BlackboardError> {
+        self.get_exact_in(ScopeId::ROOT, key)
+    }
+
+    /// Borrows `key` in the root scope; a borrow cannot convert, so the entry must hold a
+    /// `T` exactly.
     pub fn get_ref<T: Any>(&self, key: &str) -> Result<&T, BlackboardError> {
         self.get_ref_in(ScopeId::ROOT, key)
     }
@@ -504,6 +556,41 @@ impl Blackboard {
 
 /// The value of a declared entry that nothing has written yet.
 struct Unwritten;
+
+/// `value` read as `T` by the rules an input port reads an entry with, when `T` is one of
+/// the types those rules cover (the numbers, `bool`, `String`): text through
+/// [`FromPortStr::from_port_str`], other numbers through [`FromPortStr::from_other`].
+/// `None` for any other `T`, or a value those rules do not convert from; `Err` with the
+/// value printed when they do, but it does not fit.
+fn convert<T: Any>(value: &dyn Any) -> Option<Result<T, String>> {
+    /// The conversion to `U`, handed back as `T` (the same type, checked by the caller).
+    fn to<U: FromPortStr + Any, T: Any>(value: &dyn Any) -> Option<Result<T, String>> {
+        let converted = match value.downcast_ref::<String>() {
+            Some(text) => U::from_port_str(text).map_err(|()| alloc::format!("{text:?}")),
+            None => U::from_other(value)?,
+        };
+        Some(match converted {
+            Ok(u) => {
+                let mut slot = Some(u);
+                Ok((&mut slot as &mut dyn Any)
+                    .downcast_mut::<Option<T>>()?
+                    .take()?)
+            }
+            Err(printed) => Err(printed),
+        })
+    }
+    macro_rules! dispatch {
+        ($($t:ty),*) => {$(
+            if TypeId::of::<T>() == TypeId::of::<$t>() {
+                return to::<$t, T>(value);
+            }
+        )*};
+    }
+    dispatch!(
+        i32, i64, f64, bool, String, u32, u64, usize, f32, i8, i16, u8, u16, isize, i128, u128
+    );
+    None
+}
 
 fn wrong_type<T: Any>(key: &str, entry: &Entry) -> BlackboardError {
     BlackboardError::WrongType {

@@ -24,7 +24,7 @@ fn typed_get_and_set() {
 fn wrong_type_reads_and_writes_are_errors() {
     let mut bb = Blackboard::new();
     bb.set("n", 3_i64).unwrap();
-    let e = bb.get::<f64>("n").unwrap_err();
+    let e = bb.get_exact::<f64>("n").unwrap_err();
     assert_eq!(
         e,
         BlackboardError::WrongType {
@@ -53,6 +53,98 @@ fn wrong_type_reads_and_writes_are_errors() {
     bb.replace_in(ScopeId::ROOT, "n", 1.5_f64, T1);
     assert_eq!(bb.get::<f64>("n"), Ok(1.5));
     assert_eq!(bb.info("n").unwrap().sequence, 2);
+}
+
+#[test]
+fn reads_convert_numbers_as_ports_do() {
+    let mut bb = Blackboard::new();
+    // What a script writes: i64 and f64.
+    bb.set("laps", 3_i64).unwrap();
+    bb.set("big", 3_000_000_000_i64).unwrap();
+    bb.set("whole", 4.0_f64).unwrap();
+    bb.set("half", 4.5_f64).unwrap();
+    bb.set("flag", true).unwrap();
+    assert_eq!(bb.get::<i32>("laps"), Ok(3));
+    assert_eq!(bb.get::<u8>("laps"), Ok(3));
+    assert_eq!(bb.get::<f64>("laps"), Ok(3.0));
+    assert_eq!(bb.get::<i32>("whole"), Ok(4));
+    assert_eq!(bb.get::<i32>("flag"), Ok(1));
+    assert_eq!(bb.get::<bool>("laps").ok(), None);
+    assert_eq!(bb.get::<String>("half"), Ok("4.5".to_string()));
+    // Out of range, or a fraction where an integer is asked: an error, never a wrap.
+    assert_eq!(
+        bb.get::<i32>("big"),
+        Err(BlackboardError::NotConvertible {
+            key: "big".into(),
+            value: "3000000000".into(),
+            expected: "i32",
+            found: "i64",
+        })
+    );
+    assert_eq!(bb.get::<u32>("big"), Ok(3_000_000_000));
+    assert!(matches!(
+        bb.get::<i32>("half"),
+        Err(BlackboardError::NotConvertible {
+            expected: "i32",
+            found: "f64",
+            ..
+        })
+    ));
+    // The same in a scope, as nodes read.
+    let sub = bb.add_scope(ScopeId::ROOT, true);
+    assert_eq!(bb.get_in::<i16>(sub, "laps"), Ok(3));
+}
+
+#[test]
+fn reads_parse_text_as_ports_do() {
+    let mut bb = Blackboard::new();
+    bb.set("n", String::from(" 42 ")).unwrap();
+    bb.set("word", String::from("fast")).unwrap();
+    bb.set("yes", String::from("TRUE")).unwrap();
+    assert_eq!(bb.get::<i32>("n"), Ok(42));
+    assert_eq!(bb.get::<bool>("yes"), Ok(true));
+    let e = bb.get::<f64>("word").unwrap_err();
+    assert_eq!(
+        e,
+        BlackboardError::NotConvertible {
+            key: "word".into(),
+            value: "\"fast\"".into(),
+            expected: "f64",
+            found: "alloc::string::String",
+        }
+    );
+    assert!(e
+        .to_string()
+        .contains("\"fast\", which does not fit a `f64`"));
+}
+
+#[test]
+fn exact_reads_and_other_types_do_not_convert() {
+    let mut bb = Blackboard::new();
+    bb.set("laps", 3_i64).unwrap();
+    assert_eq!(
+        bb.get_exact::<i32>("laps"),
+        Err(BlackboardError::WrongType {
+            key: "laps".into(),
+            expected: "i32",
+            found: "i64",
+        })
+    );
+    assert_eq!(bb.get_exact::<i64>("laps"), Ok(3));
+    assert!(bb.get_ref::<i32>("laps").is_err());
+    // A type no port rule covers is read exactly, whatever the entry holds.
+    assert!(matches!(
+        bb.get::<Vec<i64>>("laps"),
+        Err(BlackboardError::WrongType { found: "i64", .. })
+    ));
+    bb.set("list", vec![1_i64]).unwrap();
+    assert!(matches!(
+        bb.get::<i64>("list"),
+        Err(BlackboardError::WrongType {
+            expected: "i64",
+            ..
+        })
+    ));
 }
 
 #[test]

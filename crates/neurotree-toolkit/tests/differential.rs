@@ -22,7 +22,7 @@
 //!
 //! Scripts: leaf `n<i>` plays its letters (S, F, R) one per call, the last one repeating.
 //!
-//! Run: `BTCPP_PYTHON=/path/to/venv/bin/python cargo test -p neurotree --test differential
+//! Run: `BTCPP_PYTHON=/path/to/venv/bin/python cargo test -p neurotree-toolkit --test differential
 //! -- --nocapture`, with `behaviortreepy==0.1.4` installed in that venv (`.ci/run` does
 //! it). Without `BTCPP_PYTHON`, or when that Python cannot import `behaviortreepy`, the
 //! test prints why it skipped and passes. `NEUROTREE_DIFF_TREES=20000` runs more trees
