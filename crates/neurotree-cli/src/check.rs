@@ -15,7 +15,7 @@ use std::collections::BTreeSet;
 use std::io::{self, Write};
 use std::path::PathBuf;
 
-use neurotree::{LoadError, LoadWarning, Registry, XmlLoader};
+use neurotree::{LoadError, LoadErrorKind, LoadWarning, Registry, XmlLoader};
 
 use crate::files;
 
@@ -76,8 +76,8 @@ pub fn run(
             Err(errors) => {
                 valid = false;
                 for e in &errors {
-                    unknown_nodes |= e.message.starts_with(files::UNKNOWN_NODE);
-                    too_many_nodes |= e.message.starts_with(neurotree::xml::TOO_MANY_NODES);
+                    unknown_nodes |= e.kind() == LoadErrorKind::UnknownNode;
+                    too_many_nodes |= e.kind() == LoadErrorKind::TooManyNodes;
                     if reported.insert(e.to_string()) {
                         writeln!(err, "{e}")?;
                     }

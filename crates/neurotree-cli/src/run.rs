@@ -32,8 +32,8 @@ use neurotree::observe::{
 };
 use neurotree::render::LastTickStatuses;
 use neurotree::{
-    Blueprint, Failure, LoadWarning, ManualClock, NodeId, NodeStatus, Observer, Reason, Registry,
-    Status, StatusChange, TickError, Tree, XmlLoader,
+    Blueprint, Failure, LoadErrorKind, LoadWarning, ManualClock, NodeId, NodeStatus, Observer,
+    Reason, Registry, Status, StatusChange, TickError, Tree, XmlLoader,
 };
 use serde_json::{json, Map, Value};
 
@@ -186,11 +186,11 @@ fn load(
         });
     match built {
         Ok((blueprint, picked)) => Ok((blueprint, registry, picked)),
-        Err(e) if e.message.starts_with(files::UNKNOWN_NODE) => Err(format!(
+        Err(e) if e.kind() == LoadErrorKind::UnknownNode => Err(format!(
             "{e}\nhint: mock the leaves without an implementation with --mock-unknown, or \
              one with --mock NAME=OUTCOMES"
         )),
-        Err(e) if e.message.starts_with(neurotree::xml::TOO_MANY_NODES) => {
+        Err(e) if e.kind() == LoadErrorKind::TooManyNodes => {
             Err(format!("{e}\n{}", files::MAX_NODES_HINT))
         }
         Err(e) => Err(e.to_string()),

@@ -30,4 +30,4 @@ pub use json_port::Json;
 pub use registry::{PortDirection, PortSpec, Registry, RegistryError};
 pub use runtime::{FixedRate, StopFlag};
 pub use shared_blackboard::SharedBlackboard;
-pub use xml::{LoadError, LoadWarning, XmlLoader};
+pub use xml::{LoadError, LoadErrorKind, LoadWarning, XmlLoader};
