@@ -18,6 +18,15 @@ use neurotree::{LoadError, LoadErrorKind, Registry, XmlLoader};
 pub const MAX_NODES_HINT: &str =
     "hint: if the tree is meant to be this big, raise the limit with --max-nodes N";
 
+/// The bounds on what loading a file may build, shared by `run`, `check` and `show`.
+#[derive(clap::Args, Debug)]
+pub struct LoadLimits {
+    /// The most nodes a tree may have once its subtrees are expanded (each use of a
+    /// subtree is a copy); a file past it is refused at the SubTree that crosses it.
+    #[arg(long, value_name = "N", default_value_t = neurotree::xml::DEFAULT_MAX_NODES)]
+    pub max_nodes: usize,
+}
+
 /// The text of the tree or model file `file`: a regular file of at most
 /// [`DEFAULT_MAX_FILE_BYTES`](neurotree::xml::DEFAULT_MAX_FILE_BYTES), as the loader reads
 /// them (a FIFO would block, `/dev/zero` never end).

@@ -37,35 +37,53 @@ use neurotree::{
 };
 use serde_json::Value;
 
-use crate::files::{self, at_start, Picked};
+use crate::files::{self, at_start, LoadLimits, Picked};
 
 /// What `neurotree show` was asked to do.
-pub struct ShowOptions {
-    /// The tree to draw (default: the file's main tree).
+#[derive(clap::Args, Debug)]
+pub struct ShowArgs {
+    /// The file to draw, then any files with trees it uses (all loaded into one loader).
+    #[arg(required = true, value_name = "FILE")]
+    pub files: Vec<PathBuf>,
+    /// The tree to draw (default: main_tree_to_execute of the first file, else the only
+    /// tree, else the only tree no other tree uses).
+    #[arg(long)]
     pub tree: Option<String>,
-    /// The picture format (default: from the output's extension, else unicode).
+    /// ascii, unicode, dot, mermaid or svg (default: from the extension of --output, else
+    /// unicode).
+    #[arg(long, short = 'f')]
     pub format: Option<Format>,
-    /// Where to write the picture (default: standard output).
+    /// Write the picture to this file instead of standard output.
+    #[arg(long, short = 'o')]
     pub output: Option<PathBuf>,
-    /// Files whose `TreeNodesModel` declares node types.
+    /// A file whose `TreeNodesModel` declares node types the file uses (repeatable); they
+    /// are drawn with their type names, without an implementation.
+    #[arg(long = "model")]
     pub models: Vec<PathBuf>,
-    /// JSON lines of `neurotree run --trace`.
+    /// The JSON lines of `neurotree run --trace`: colour each node with the last status it
+    /// reached; if the root failed, mark the path that failed with the reasons the trace
+    /// gives (text: ` -- failed: REASON`; dot, mermaid, svg: red and wide, reasons in labels).
+    #[arg(long)]
     pub trace: Option<PathBuf>,
-    /// Show the statuses of this tick of the trace.
+    /// With --trace: the statuses of this tick instead (the last each node reached in it).
+    #[arg(long, requires = "trace")]
     pub tick: Option<u32>,
-    /// The JSON of `neurotree run --coverage-json`.
+    /// The JSON that `neurotree run --coverage-json FILE` wrote: mark each node covered,
+    /// reached with outcomes not seen, or never reached.
+    #[arg(long, value_name = "FILE", conflicts_with = "trace")]
     pub coverage: Option<PathBuf>,
-    /// The most nodes the tree may have, subtrees expanded.
-    pub max_nodes: usize,
+    #[command(flatten)]
+    pub limits: LoadLimits,
 }
 
-/// Draws the tree of `files`; `Ok(false)` if it could not (the error is on `err`).
-pub fn run(
-    files: &[PathBuf],
-    opts: &ShowOptions,
+/// Draws the tree of the files; [`Refused`](crate::Outcome::Refused) if it could not (the
+/// error is on `err`).
+pub fn execute(
+    opts: &ShowArgs,
     out: &mut impl Write,
     err: &mut impl Write,
-) -> io::Result<bool> {
+) -> io::Result<crate::Outcome> {
+    let files = &opts.files;
     let loaded = load(files, opts);
     if let Ok((_, picked)) = &loaded {
         picked.note("drawing", err)?;
@@ -89,7 +107,7 @@ pub fn run(
         Ok(picture) => picture,
         Err(e) => {
             writeln!(err, "{e}")?;
-            return Ok(false);
+            return Ok(crate::Outcome::Refused);
         }
     };
     match &opts.output {
@@ -100,15 +118,15 @@ pub fn run(
                     "{}: error: cannot write the picture: {e}",
                     path.display()
                 )?;
-                return Ok(false);
+                return Ok(crate::Outcome::Refused);
             }
         }
         None => out.write_all(picture.as_bytes())?,
     }
-    Ok(true)
+    Ok(crate::Outcome::Done)
 }
 
-fn format_of(opts: &ShowOptions) -> Format {
+fn format_of(opts: &ShowArgs) -> Format {
     opts.format
         .or_else(|| {
             let ext = opts.output.as_ref()?.extension()?.to_str()?;
@@ -118,11 +136,11 @@ fn format_of(opts: &ShowOptions) -> Format {
 }
 
 /// The blueprint to draw and the tree it is.
-fn load(files: &[PathBuf], opts: &ShowOptions) -> Result<(Blueprint<()>, Picked), LoadError> {
+fn load(files: &[PathBuf], opts: &ShowArgs) -> Result<(Blueprint<()>, Picked), LoadError> {
     let registry = registry_with_stand_ins(files, &opts.models)?;
     let mut loader = XmlLoader::new(&registry)
         .mock_unknown(true)
-        .max_nodes(opts.max_nodes);
+        .max_nodes(opts.limits.max_nodes);
     files::load_all(&mut loader, files)?;
     // Clap asks for at least one file.
     let first = files.first().map(|f| files::shown(f)).unwrap_or_default();
