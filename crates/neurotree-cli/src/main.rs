@@ -12,6 +12,8 @@
 //! one file; here the command line is only parsed and handed over, and the outcome turned
 //! into the exit status.
 
+#![forbid(unsafe_code)]
+
 mod bench;
 mod check;
 mod demo_command;

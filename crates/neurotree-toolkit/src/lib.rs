@@ -9,6 +9,7 @@
 //! Most users depend on the `neurotree` crate, which re-exports all of this under the same
 //! paths, and adds robotics, the simulator and the Groot2 monitor behind features.
 
+#![forbid(unsafe_code)]
 #![warn(missing_docs)]
 
 pub use neurotree_core::*;
