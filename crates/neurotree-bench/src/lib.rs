@@ -3,6 +3,8 @@
 //! They are public so that anyone can reproduce the figures in `BENCHMARKS.md` from their own
 //! code, and compare with other libraries on the same shapes.
 
+#![forbid(unsafe_code)]
+
 use std::sync::Arc;
 
 use neurotree::{Blueprint, Builder, ParallelPolicy, Status};

@@ -19,12 +19,19 @@ use std::time::{Duration, Instant};
 use neurotree::{Blueprint, Clock, ManualClock, Status, Tree};
 use neurotree_bench::{agent_tree, tree1111, tree1111_xml, Agent, TREE1111_NODES_PER_TICK};
 
-/// How the benchmarks run.
-#[derive(Clone, Debug)]
-pub struct BenchOptions {
-    /// Shorter measurements (about a fifth of the time).
+use crate::Outcome;
+
+/// What `neurotree bench` was asked to do.
+#[derive(clap::Args, Clone, Debug)]
+pub struct BenchArgs {
+    /// One JSON object per benchmark, one per line.
+    #[arg(long)]
+    pub json: bool,
+    /// Measure for a fifth of the usual time.
+    #[arg(long)]
     pub quick: bool,
     /// Instances in the many-agents benchmark.
+    #[arg(long, default_value_t = 100_000, hide = true)]
     pub agents: usize,
 }
 
@@ -61,7 +68,7 @@ pub struct ManyAgentsResult {
 /// Ticks tree1111 (`blueprint`, reported as `name`) for about a second (a fifth with
 /// `quick`) after a warm-up.
 pub fn tree1111_bench(
-    opts: &BenchOptions,
+    opts: &BenchArgs,
     name: &'static str,
     blueprint: Arc<Blueprint<()>>,
 ) -> Tree1111Result {
@@ -109,7 +116,7 @@ pub fn tree1111_bench(
 /// Ticks `opts.agents` agent trees once per frame, 20 frames (5 with `quick`) after two
 /// warm-up frames, advancing the shared clock 16 ms per frame. Each agent gets one pass,
 /// `tick_exactly_once`, as a game loop gives each agent one tick per frame.
-pub fn many_agents_bench(opts: &BenchOptions) -> ManyAgentsResult {
+pub fn many_agents_bench(opts: &BenchArgs) -> ManyAgentsResult {
     const FRAME: Duration = Duration::from_millis(16);
     let frames = if opts.quick { 5 } else { 20 };
     let blueprint = agent_tree();
@@ -143,8 +150,10 @@ pub fn many_agents_bench(opts: &BenchOptions) -> ManyAgentsResult {
     }
 }
 
-/// Runs both benchmarks and writes a table, or one JSON object per line with `json`.
-pub fn run(opts: &BenchOptions, json: bool, out: &mut impl Write) -> io::Result<()> {
+/// Runs both benchmarks and writes a table, or one JSON object per line with `--json`; a
+/// benchmark that ran has nothing to fail on.
+pub fn execute(opts: &BenchArgs, out: &mut impl Write) -> io::Result<Outcome> {
+    let json = opts.json;
     if !json {
         writeln!(out, "{:<12} {:<20} {:>14}", "benchmark", "measure", "value")?;
     }
@@ -175,7 +184,8 @@ pub fn run(opts: &BenchOptions, json: bool, out: &mut impl Write) -> io::Result<
             m.bytes_per_instance.to_string(),
         )?;
     }
-    out.flush()
+    out.flush()?;
+    Ok(Outcome::Done)
 }
 
 fn row(out: &mut impl Write, bench: &str, measure: &str, value: String) -> io::Result<()> {

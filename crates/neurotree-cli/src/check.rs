@@ -15,31 +15,39 @@ use std::collections::BTreeSet;
 use std::io::{self, Write};
 use std::path::PathBuf;
 
-use neurotree::{LoadError, LoadWarning, Registry, XmlLoader};
+use neurotree::{LoadError, LoadErrorKind, LoadWarning, Registry, XmlLoader};
 
-use crate::files;
+use crate::files::{self, LoadLimits};
+use crate::Outcome;
 
 /// The most errors reported for one file: past that, the rest are mostly consequences.
 pub const LIMIT: usize = 20;
 
-/// What `neurotree check` was asked to do, besides the files to check.
-pub struct CheckOptions {
-    /// Files whose `TreeNodesModel` declares node types.
+/// What `neurotree check` was asked to do.
+#[derive(clap::Args, Debug)]
+pub struct CheckArgs {
+    /// The files to check, each with the trees it uses from the others; every error is
+    /// reported (up to 20 per file), and each valid file gets `FILE: ok (N trees)` on stdout.
+    #[arg(required = true)]
+    pub files: Vec<PathBuf>,
+    /// A file whose `TreeNodesModel` declares node types the files use (repeatable).
+    #[arg(long = "model")]
     pub models: Vec<PathBuf>,
-    /// The most nodes a tree may have, subtrees expanded.
-    pub max_nodes: usize,
+    #[command(flatten)]
+    pub limits: LoadLimits,
 }
 
-/// Checks `files` against the built-ins and the models; returns `true` if all are valid.
-pub fn run(
-    files: &[PathBuf],
-    opts: &CheckOptions,
+/// Checks the files against the built-ins and the models: [`Outcome::Done`] if all are
+/// valid, else [`Outcome::Refused`] (the errors are on `err`).
+pub fn execute(
+    args: &CheckArgs,
     out: &mut impl Write,
     err: &mut impl Write,
-) -> io::Result<bool> {
+) -> io::Result<Outcome> {
+    let files = &args.files;
     let mut registry = crate::registry::with_nav2_controls::<()>();
     let mut refused = Vec::new();
-    for path in &opts.models {
+    for path in &args.models {
         match files::read(path) {
             Ok(text) => {
                 if let Err(e) = registry.add_model_str(&text, &files::shown(path)) {
@@ -56,7 +64,7 @@ pub fn run(
         for e in &refused {
             writeln!(err, "{e}")?;
         }
-        return Ok(false);
+        return Ok(Outcome::Refused);
     }
     let mut reported = BTreeSet::new();
     let mut valid = true;
@@ -64,7 +72,7 @@ pub fn run(
     let mut too_many_nodes = false;
     for at in 0..files.len() {
         let shown = files::shown(&files[at]);
-        let (warnings, checked) = check_file(&registry, files, at, opts.max_nodes);
+        let (warnings, checked) = check_file(&registry, files, at, args.limits.max_nodes);
         for w in &warnings {
             if reported.insert(w.to_string()) {
                 writeln!(err, "{w}")?;
@@ -76,8 +84,8 @@ pub fn run(
             Err(errors) => {
                 valid = false;
                 for e in &errors {
-                    unknown_nodes |= e.message.starts_with(files::UNKNOWN_NODE);
-                    too_many_nodes |= e.message.starts_with(neurotree::xml::TOO_MANY_NODES);
+                    unknown_nodes |= e.kind() == LoadErrorKind::UnknownNode;
+                    too_many_nodes |= e.kind() == LoadErrorKind::TooManyNodes;
                     if reported.insert(e.to_string()) {
                         writeln!(err, "{e}")?;
                     }
@@ -101,7 +109,7 @@ pub fn run(
     if too_many_nodes {
         writeln!(err, "{}", files::MAX_NODES_HINT)?;
     }
-    Ok(valid)
+    Ok(Outcome::from(valid))
 }
 
 /// Checks every tree of `files[at]`: the loader's warnings, and how many trees it has or up

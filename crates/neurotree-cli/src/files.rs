@@ -11,15 +11,21 @@
 use std::io::{self, Write};
 use std::path::{Path, PathBuf};
 
-use neurotree::{LoadError, Registry, XmlLoader};
+use neurotree::{LoadError, LoadErrorKind, Registry, XmlLoader};
 
-/// The first line of an unknown node type's error, as the loader writes it.
-pub const UNKNOWN_NODE: &str = "unknown node type";
-
-/// What to add after an error whose message starts with
-/// [`TOO_MANY_NODES`](neurotree::xml::TOO_MANY_NODES): the flag that raises the limit.
+/// What to add after an error of kind [`LoadErrorKind::TooManyNodes`]: the flag that
+/// raises the limit.
 pub const MAX_NODES_HINT: &str =
     "hint: if the tree is meant to be this big, raise the limit with --max-nodes N";
+
+/// The bounds on what loading a file may build, shared by `run`, `check` and `show`.
+#[derive(clap::Args, Debug)]
+pub struct LoadLimits {
+    /// The most nodes a tree may have once its subtrees are expanded (each use of a
+    /// subtree is a copy); a file past it is refused at the SubTree that crosses it.
+    #[arg(long, value_name = "N", default_value_t = neurotree::xml::DEFAULT_MAX_NODES)]
+    pub max_nodes: usize,
+}
 
 /// The text of the tree or model file `file`: a regular file of at most
 /// [`DEFAULT_MAX_FILE_BYTES`](neurotree::xml::DEFAULT_MAX_FILE_BYTES), as the loader reads
@@ -55,14 +61,9 @@ pub fn shown(file: &Path) -> String {
     file.display().to_string()
 }
 
-/// An error about the files as a whole, shown at the start of `file`.
-pub fn at_start(file: &str, message: String) -> LoadError {
-    LoadError {
-        file: file.to_string(),
-        line: 1,
-        col: 1,
-        message,
-    }
+/// An error of `kind` about the files as a whole, shown at the start of `file`.
+pub fn at_start(kind: LoadErrorKind, file: &str, message: String) -> LoadError {
+    LoadError::new(kind, file, 1, 1, message)
 }
 
 /// The tree a command works on.
@@ -105,6 +106,7 @@ pub fn pick_tree<C: 'static>(
             return Ok(picked(id, false));
         }
         return Err(at_start(
+            LoadErrorKind::UnknownTree,
             first,
             format!(
                 "--tree {id}: no tree with that ID is loaded; the trees are: {}",
@@ -117,6 +119,7 @@ pub fn pick_tree<C: 'static>(
     }
     if ids.is_empty() {
         return Err(at_start(
+            LoadErrorKind::NoMainTree,
             first,
             "no <BehaviorTree> is loaded; there is nothing to work on".to_string(),
         ));
@@ -131,7 +134,7 @@ pub fn pick_tree<C: 'static>(
     } else {
         candidates
     };
-    Err(at_start(
+    Err(at_start(LoadErrorKind::AmbiguousMainTree,
         first,
         format!(
             "no main_tree_to_execute, and {} trees could be the main one: {}; pick one with --tree NAME",

@@ -13,16 +13,42 @@ use std::time::Duration;
 use neurotree::groot::{Groot2Monitor, Groot2Server, GrootError};
 use neurotree::{Blueprint, Registry, Tree};
 
-/// What `--groot`, `--groot-bind`, `--groot-linger` and `--groot-pace-ms` asked for.
-pub struct GrootOptions {
-    /// The request port; notifications go to the next one. 0 picks a free pair.
-    pub port: u16,
-    /// The address to listen on: loopback unless widened.
+/// The flags of `neurotree run` that serve the run to Groot2.
+#[derive(clap::Args, Debug)]
+pub struct GrootArgs {
+    /// Serve the run to Groot2 on PORT (requests; PORT+1 publishes), as BehaviorTree.CPP's
+    /// Groot2Publisher does; 0 picks free ports and says which on stderr.
+    #[arg(long = "groot", id = "groot", value_name = "PORT")]
+    pub port: Option<u16>,
+    /// Address the Groot2 server listens on: 127.0.0.1 keeps it to this machine; 0.0.0.0
+    /// opens it to every network the machine is on.
+    #[arg(
+        long = "groot-bind",
+        value_name = "ADDR",
+        default_value = "127.0.0.1",
+        requires = "groot"
+    )]
     pub bind: IpAddr,
-    /// How long to keep serving once the run ended.
+    /// Seconds to keep serving Groot2 once the run ended.
+    #[arg(long = "groot-linger", value_name = "SECS", default_value = "5", value_parser = seconds, requires = "groot")]
     pub linger: Duration,
-    /// Wall time each tick waits, so that a client can follow.
-    pub pace: Duration,
+    /// Milliseconds of wall time each tick waits while serving Groot2, so that a client
+    /// sees the run unfold (the manual clock, and so the results, are the same).
+    #[arg(
+        long = "groot-pace-ms",
+        value_name = "MS",
+        default_value_t = 0,
+        requires = "groot"
+    )]
+    pub pace_ms: u64,
+}
+
+/// A number of seconds, fractions allowed.
+fn seconds(text: &str) -> Result<Duration, String> {
+    text.parse::<f64>()
+        .ok()
+        .and_then(|s| Duration::try_from_secs_f64(s).ok())
+        .ok_or_else(|| format!("`{text}` should be a number of seconds, 0 or more"))
 }
 
 /// A monitor being served for one run.
@@ -34,20 +60,22 @@ pub struct Served {
 }
 
 impl Served {
-    /// Serves a monitor of `blueprint`, whose main tree `tree_id` names.
+    /// Serves a monitor of `blueprint`, whose main tree `tree_id` names, on `port` (the
+    /// one `--groot` gave) as `opts` says.
     pub fn start(
         blueprint: &Blueprint<()>,
         registry: &Registry<()>,
         tree_id: &str,
-        opts: &GrootOptions,
+        port: u16,
+        opts: &GrootArgs,
     ) -> Result<Served, GrootError> {
         let monitor = Groot2Monitor::new(blueprint, registry, tree_id);
-        let server = monitor.serve_on(opts.bind, opts.port)?;
+        let server = monitor.serve_on(opts.bind, port)?;
         Ok(Served {
             monitor,
             server,
             linger: opts.linger,
-            pace: opts.pace,
+            pace: Duration::from_millis(opts.pace_ms),
         })
     }
 

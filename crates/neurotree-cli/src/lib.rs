@@ -4,6 +4,7 @@
 //! [`demo::DemoRun`] is Nav2's navigator, unchanged, driving the simulated robot of
 //! `neurotree::sim` across a warehouse; the binary paces and draws it.
 
+#![forbid(unsafe_code)]
 #![warn(missing_docs)]
 
 pub mod demo;

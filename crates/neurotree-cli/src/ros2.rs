@@ -30,6 +30,102 @@ use crate::Outcome;
 /// How long the demo waits for the navigator to accept its goal.
 const ACCEPT_WITHIN: Duration = Duration::from_secs(20);
 
+/// The subcommands of `neurotree ros2`.
+#[derive(clap::Subcommand, Debug)]
+pub enum Ros2Command {
+    /// Serve the demo's warehouse as Nav2's planner, controller, behavior and costmap
+    /// servers (compute_path_to_pose, follow_path, spin, backup, wait, clear_entirely_*).
+    Sim {
+        /// Picks the obstacle that steps onto the robot's path (as `neurotree demo`).
+        #[arg(long, default_value_t = 0)]
+        seed: u64,
+        /// The DDS domain (ROS_DOMAIN_ID).
+        #[arg(long, default_value_t = 0)]
+        domain: u16,
+        /// Simulated seconds per wall second.
+        #[arg(long, default_value_t = 1.0, value_parser = parse_positive)]
+        time_scale: f64,
+        /// Stop after this many seconds [default: run until killed].
+        #[arg(long, value_name = "SECS")]
+        duration: Option<u64>,
+    },
+    /// Serve navigate_to_pose: for each goal, tick the tree at 10 Hz with its leaves
+    /// calling Nav2's servers over ROS 2; feedback, result; a cancel halts the tree.
+    Navigator {
+        /// The tree to run [default: Nav2's navigate_to_pose_w_replanning_and_recovery.xml].
+        #[arg(long, value_name = "FILE")]
+        tree: Option<PathBuf>,
+        /// The DDS domain (ROS_DOMAIN_ID).
+        #[arg(long, default_value_t = 0)]
+        domain: u16,
+        /// Stop after this many seconds [default: run until killed].
+        #[arg(long, value_name = "SECS")]
+        duration: Option<u64>,
+    },
+    /// Start `ros2 sim` and `ros2 navigator` as processes, send the robot across the
+    /// warehouse, print its progress and a summary, stop both.
+    Demo {
+        /// Picks the obstacle that steps onto the robot's path.
+        #[arg(long, default_value_t = 0)]
+        seed: u64,
+        /// The DDS domain (ROS_DOMAIN_ID).
+        #[arg(long, default_value_t = 0)]
+        domain: u16,
+        /// Simulated seconds per wall second.
+        #[arg(long, default_value_t = 4.0, value_parser = parse_positive)]
+        time_scale: f64,
+        /// Give up after this many seconds.
+        #[arg(long, value_name = "SECS", default_value_t = 120)]
+        timeout: u64,
+    },
+}
+
+/// A number above zero.
+fn parse_positive(text: &str) -> Result<f64, String> {
+    match text.trim().parse::<f64>() {
+        Ok(x) if x > 0.0 && x.is_finite() => Ok(x),
+        _ => Err(format!("`{text}` should be a number above 0")),
+    }
+}
+
+/// Runs the subcommand `command` of `neurotree ros2`.
+pub fn execute(command: Ros2Command, out: &mut impl Write) -> io::Result<Outcome> {
+    match command {
+        Ros2Command::Sim {
+            seed,
+            domain,
+            time_scale,
+            duration,
+        } => sim(
+            seed,
+            domain,
+            time_scale,
+            duration.map(Duration::from_secs),
+            out,
+        ),
+        Ros2Command::Navigator {
+            tree,
+            domain,
+            duration,
+        } => navigator(tree, domain, duration.map(Duration::from_secs), out),
+        Ros2Command::Demo {
+            seed,
+            domain,
+            time_scale,
+            timeout,
+        } => {
+            let options = DemoOptions {
+                seed,
+                domain,
+                time_scale,
+                goal: DEFAULT_GOAL,
+                timeout: Duration::from_secs(timeout),
+            };
+            demo(&options, out)
+        }
+    }
+}
+
 /// `ros2 sim`: serves the warehouse of `seed` until `duration` passes (or forever).
 pub fn sim(
     seed: u64,

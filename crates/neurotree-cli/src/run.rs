@@ -32,41 +32,106 @@ use neurotree::observe::{
 };
 use neurotree::render::LastTickStatuses;
 use neurotree::{
-    Blueprint, Failure, LoadWarning, ManualClock, NodeId, NodeStatus, Observer, Reason, Registry,
-    Status, StatusChange, TickError, Tree, XmlLoader,
+    Blueprint, Failure, LoadErrorKind, LoadWarning, ManualClock, NodeId, NodeStatus, Observer,
+    Reason, Registry, Status, StatusChange, TickError, Tree, XmlLoader,
 };
 use serde_json::{json, Map, Value};
 
-use crate::files;
-use crate::groot::Served;
+use crate::files::{self, LoadLimits};
+use crate::groot::{GrootArgs, Served};
 use crate::Outcome;
 
+/// What `neurotree run --help` says after the options.
+const RUN_AFTER_HELP: &str = "\
+Several files load together, as BehaviorTree.CPP's registerBehaviorTreeFromFile loads each:
+`neurotree run main.xml subtrees.xml` runs a tree that uses the trees of another file. The
+tree run is --tree, else the main_tree_to_execute of the first file, else the only tree,
+else the only tree that no other tree uses (said on stderr).
+
+Ticks count passes of the root: with `--tick once`, a tick that passes again at once for a
+node that asks to be woken (a Repeat, a Retry) counts each pass, and its line carries the
+number of its last pass.
+
+The last line is the summary: ticks, final status, per-node ticks and halts in `nodes`
+(keyed by node name, nodes sharing a name summed) and in `paths` (keyed by the node's path
+from the root, a list with one entry per node of that path, in tree order), and the root
+blackboard.
+
+Exit status:
+  0  the root ended SUCCESS
+  1  the files did not load (or a log could not be written)
+  2  the root ended FAILURE or SKIPPED, or a tick failed with an error
+  3  --max-ticks stopped the run while it was RUNNING";
+
 /// What `neurotree run` was asked to do.
-pub struct RunOptions {
-    /// The tree to run (default: the file's main tree).
+#[derive(clap::Args, Debug)]
+#[command(after_help = RUN_AFTER_HELP)]
+pub struct RunArgs {
+    /// The file to run, then any files with trees it uses (all loaded into one loader).
+    #[arg(required = true, value_name = "FILE")]
+    pub files: Vec<PathBuf>,
+    /// The tree to run (default: main_tree_to_execute of the first file, else the only
+    /// tree, else the only tree no other tree uses).
+    #[arg(long)]
     pub tree: Option<String>,
-    /// `(name, outcomes)` pairs.
+    /// NAME=OUTCOMES: replace the leaves named NAME (else of type NAME) by a mock playing
+    /// OUTCOMES, a comma list of SUCCESS, FAILURE, RUNNING, each optionally `*k`. Controls
+    /// and decorators are not mocked: a NAME only they have is an error.
+    #[arg(long = "mock", value_parser = key_value)]
     pub mocks: Vec<(String, String)>,
-    /// Mock every unregistered leaf with SUCCESS.
+    /// Mock with SUCCESS every leaf without an implementation: unregistered, or known only
+    /// from a `TreeNodesModel`. Mocks replace leaves only (Actions, Conditions).
+    #[arg(long)]
     pub mock_unknown: bool,
-    /// `(key, value)` pairs written to the root blackboard first.
+    /// KEY=VALUE written to the root blackboard first (integer, else float, else
+    /// true/false, else text).
+    #[arg(long = "set", value_parser = key_value)]
     pub sets: Vec<(String, String)>,
-    /// Stop after this many ticks, counting every pass of the root.
+    /// Stop after this many ticks; every pass of the root counts, including the passes
+    /// `--tick once` makes at once for a node that asks to be woken.
+    #[arg(long, default_value_t = 100)]
     pub max_ticks: u32,
-    /// `tick_exactly_once` instead of `tick_once`.
-    pub exactly_once: bool,
-    /// Clock step before every tick.
-    pub step: Duration,
-    /// Print every status change.
+    /// `once` re-ticks while a node asks to be woken; `exactly-once` does not.
+    #[arg(long, default_value = "once", value_parser = ["once", "exactly-once"])]
+    pub tick: String,
+    /// Milliseconds the manual clock advances before every tick (at most a day: the clock
+    /// must not run to its end).
+    #[arg(long, default_value_t = 100, value_parser = clap::value_parser!(u64).range(0..=MAX_STEP_MS))]
+    pub step_ms: u64,
+    /// Also print every status change.
+    #[arg(long)]
     pub trace: bool,
-    /// Draw the tree with each tick's statuses on the error stream.
+    #[command(flatten)]
+    pub groot: GrootArgs,
+    /// After each tick, draw the tree with the statuses of that tick on standard error.
+    #[arg(long)]
     pub view: bool,
-    /// Serve the run to Groot2 (`--groot`).
-    pub groot: Option<crate::groot::GrootOptions>,
-    /// Loggers watching the run.
+    #[command(flatten)]
     pub observe: ObserveArgs,
-    /// The most nodes the tree may have, subtrees expanded.
-    pub max_nodes: usize,
+    #[command(flatten)]
+    pub limits: LoadLimits,
+}
+
+impl RunArgs {
+    /// `tick_exactly_once` instead of `tick_once`.
+    fn exactly_once(&self) -> bool {
+        self.tick == "exactly-once"
+    }
+
+    /// How far the clock advances before every tick.
+    fn step(&self) -> Duration {
+        Duration::from_millis(self.step_ms)
+    }
+}
+
+/// The longest `--step-ms`: a day, in milliseconds.
+const MAX_STEP_MS: u64 = 24 * 60 * 60 * 1000;
+
+/// A `NAME=VALUE` of `--mock` or `--set`.
+fn key_value(text: &str) -> Result<(String, String), String> {
+    text.split_once('=')
+        .map(|(k, v)| (k.to_string(), v.to_string()))
+        .ok_or_else(|| format!("`{text}` should be NAME=VALUE"))
 }
 
 #[derive(Default)]
@@ -154,14 +219,14 @@ fn set_value(bb: &mut neurotree::Blackboard, key: &str, text: &str) {
 /// tree then builds.
 fn load(
     files: &[PathBuf],
-    opts: &RunOptions,
+    opts: &RunArgs,
     warnings: &mut Vec<LoadWarning>,
 ) -> Result<(Blueprint<()>, Registry<()>, files::Picked), String> {
     let mut registry = crate::registry::with_nav2_controls::<()>();
     files::add_models(&mut registry, files).map_err(|e| e.to_string())?;
     let mut loader = XmlLoader::new(&registry)
         .mock_unknown(opts.mock_unknown)
-        .max_nodes(opts.max_nodes);
+        .max_nodes(opts.limits.max_nodes);
     for (name, outcomes) in &opts.mocks {
         let outcomes = neurotree::xml::parse_outcomes(outcomes)
             .map_err(|e| format!("--mock {name}={outcomes}: {e}"))?;
@@ -186,25 +251,21 @@ fn load(
         });
     match built {
         Ok((blueprint, picked)) => Ok((blueprint, registry, picked)),
-        Err(e) if e.message.starts_with(files::UNKNOWN_NODE) => Err(format!(
+        Err(e) if e.kind() == LoadErrorKind::UnknownNode => Err(format!(
             "{e}\nhint: mock the leaves without an implementation with --mock-unknown, or \
              one with --mock NAME=OUTCOMES"
         )),
-        Err(e) if e.message.starts_with(neurotree::xml::TOO_MANY_NODES) => {
+        Err(e) if e.kind() == LoadErrorKind::TooManyNodes => {
             Err(format!("{e}\n{}", files::MAX_NODES_HINT))
         }
         Err(e) => Err(e.to_string()),
     }
 }
 
-/// Runs the tree of `files`; how the run ended, or [`Outcome::Refused`] if the files did
+/// Runs the tree of the files; how the run ended, or [`Outcome::Refused`] if the files did
 /// not load or a logger could not write (the error is on `err`).
-pub fn run(
-    files: &[PathBuf],
-    opts: &RunOptions,
-    out: &mut impl Write,
-    err: &mut impl Write,
-) -> io::Result<Outcome> {
+pub fn execute(opts: &RunArgs, out: &mut impl Write, err: &mut impl Write) -> io::Result<Outcome> {
+    let files = &opts.files;
     let mut warnings = Vec::new();
     let loaded = load(files, opts, &mut warnings);
     for w in &warnings {
@@ -220,8 +281,8 @@ pub fn run(
             return Ok(Outcome::Refused);
         }
     };
-    let groot = match &opts.groot {
-        Some(g) => match Served::start(&blueprint, &registry, &tree_id, g) {
+    let groot = match opts.groot.port {
+        Some(port) => match Served::start(&blueprint, &registry, &tree_id, port, &opts.groot) {
             Ok(served) => {
                 served.announce(err)?;
                 Some(served)
@@ -270,14 +331,14 @@ pub fn run(
     while ticks < opts.max_ticks {
         let left = opts.max_ticks - ticks;
         tree.set_max_passes(left);
-        clock.advance(opts.step);
-        let result = if opts.exactly_once {
+        clock.advance(opts.step());
+        let result = if opts.exactly_once() {
             tree.tick_exactly_once(&mut ())
         } else {
             tree.tick_once(&mut ())
         };
         // A pass that failed with an error is not in `last_passes`, but it was made.
-        let passes = if opts.exactly_once {
+        let passes = if opts.exactly_once() {
             1
         } else {
             tree.last_passes().max(1)

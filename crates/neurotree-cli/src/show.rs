@@ -32,40 +32,58 @@ use std::time::Duration;
 use neurotree::observe::{CoverageReport, NodeCoverage, Outcome, OutcomeSet};
 use neurotree::render::{render_coverage, FailedPath, Format, LastTickStatuses};
 use neurotree::{
-    Arity, Blueprint, Category, CustomNode, LoadError, NodeCtx, NodeId, NodeStatus, Observer,
-    Registry, StatusChange, XmlLoader,
+    Arity, Blueprint, Category, CustomNode, LoadError, LoadErrorKind, NodeCtx, NodeId, NodeStatus,
+    Observer, Registry, StatusChange, XmlLoader,
 };
 use serde_json::Value;
 
-use crate::files::{self, at_start, Picked};
+use crate::files::{self, at_start, LoadLimits, Picked};
 
 /// What `neurotree show` was asked to do.
-pub struct ShowOptions {
-    /// The tree to draw (default: the file's main tree).
+#[derive(clap::Args, Debug)]
+pub struct ShowArgs {
+    /// The file to draw, then any files with trees it uses (all loaded into one loader).
+    #[arg(required = true, value_name = "FILE")]
+    pub files: Vec<PathBuf>,
+    /// The tree to draw (default: main_tree_to_execute of the first file, else the only
+    /// tree, else the only tree no other tree uses).
+    #[arg(long)]
     pub tree: Option<String>,
-    /// The picture format (default: from the output's extension, else unicode).
+    /// ascii, unicode, dot, mermaid or svg (default: from the extension of --output, else
+    /// unicode).
+    #[arg(long, short = 'f')]
     pub format: Option<Format>,
-    /// Where to write the picture (default: standard output).
+    /// Write the picture to this file instead of standard output.
+    #[arg(long, short = 'o')]
     pub output: Option<PathBuf>,
-    /// Files whose `TreeNodesModel` declares node types.
+    /// A file whose `TreeNodesModel` declares node types the file uses (repeatable); they
+    /// are drawn with their type names, without an implementation.
+    #[arg(long = "model")]
     pub models: Vec<PathBuf>,
-    /// JSON lines of `neurotree run --trace`.
+    /// The JSON lines of `neurotree run --trace`: colour each node with the last status it
+    /// reached; if the root failed, mark the path that failed with the reasons the trace
+    /// gives (text: ` -- failed: REASON`; dot, mermaid, svg: red and wide, reasons in labels).
+    #[arg(long)]
     pub trace: Option<PathBuf>,
-    /// Show the statuses of this tick of the trace.
+    /// With --trace: the statuses of this tick instead (the last each node reached in it).
+    #[arg(long, requires = "trace")]
     pub tick: Option<u32>,
-    /// The JSON of `neurotree run --coverage-json`.
+    /// The JSON that `neurotree run --coverage-json FILE` wrote: mark each node covered,
+    /// reached with outcomes not seen, or never reached.
+    #[arg(long, value_name = "FILE", conflicts_with = "trace")]
     pub coverage: Option<PathBuf>,
-    /// The most nodes the tree may have, subtrees expanded.
-    pub max_nodes: usize,
+    #[command(flatten)]
+    pub limits: LoadLimits,
 }
 
-/// Draws the tree of `files`; `Ok(false)` if it could not (the error is on `err`).
-pub fn run(
-    files: &[PathBuf],
-    opts: &ShowOptions,
+/// Draws the tree of the files; [`Refused`](crate::Outcome::Refused) if it could not (the
+/// error is on `err`).
+pub fn execute(
+    opts: &ShowArgs,
     out: &mut impl Write,
     err: &mut impl Write,
-) -> io::Result<bool> {
+) -> io::Result<crate::Outcome> {
+    let files = &opts.files;
     let loaded = load(files, opts);
     if let Ok((_, picked)) = &loaded {
         picked.note("drawing", err)?;
@@ -89,7 +107,7 @@ pub fn run(
         Ok(picture) => picture,
         Err(e) => {
             writeln!(err, "{e}")?;
-            return Ok(false);
+            return Ok(crate::Outcome::Refused);
         }
     };
     match &opts.output {
@@ -100,15 +118,15 @@ pub fn run(
                     "{}: error: cannot write the picture: {e}",
                     path.display()
                 )?;
-                return Ok(false);
+                return Ok(crate::Outcome::Refused);
             }
         }
         None => out.write_all(picture.as_bytes())?,
     }
-    Ok(true)
+    Ok(crate::Outcome::Done)
 }
 
-fn format_of(opts: &ShowOptions) -> Format {
+fn format_of(opts: &ShowArgs) -> Format {
     opts.format
         .or_else(|| {
             let ext = opts.output.as_ref()?.extension()?.to_str()?;
@@ -118,11 +136,11 @@ fn format_of(opts: &ShowOptions) -> Format {
 }
 
 /// The blueprint to draw and the tree it is.
-fn load(files: &[PathBuf], opts: &ShowOptions) -> Result<(Blueprint<()>, Picked), LoadError> {
+fn load(files: &[PathBuf], opts: &ShowArgs) -> Result<(Blueprint<()>, Picked), LoadError> {
     let registry = registry_with_stand_ins(files, &opts.models)?;
     let mut loader = XmlLoader::new(&registry)
         .mock_unknown(true)
-        .max_nodes(opts.max_nodes);
+        .max_nodes(opts.limits.max_nodes);
     files::load_all(&mut loader, files)?;
     // Clap asks for at least one file.
     let first = files.first().map(|f| files::shown(f)).unwrap_or_default();
@@ -132,12 +150,14 @@ fn load(files: &[PathBuf], opts: &ShowOptions) -> Result<(Blueprint<()>, Picked)
         if e.file.is_empty() {
             e.file.clone_from(&first);
         }
-        if e.message.starts_with(files::UNKNOWN_NODE) {
-            e.message
-                .push_str(", or declare it in a TreeNodesModel given with --model to draw it");
-        }
-        if e.message.starts_with(neurotree::xml::TOO_MANY_NODES) {
-            e.message = format!("{}\n{}", e.message, files::MAX_NODES_HINT);
+        match e.kind() {
+            LoadErrorKind::UnknownNode => e
+                .message
+                .push_str(", or declare it in a TreeNodesModel given with --model to draw it"),
+            LoadErrorKind::TooManyNodes => {
+                e.message = format!("{}\n{}", e.message, files::MAX_NODES_HINT);
+            }
+            _ => {}
         }
         e
     })?;
@@ -196,8 +216,8 @@ fn coverage_report(
     tree_id: &str,
 ) -> Result<CoverageReport, LoadError> {
     let shown = path.display().to_string();
-    let text = read_text(path, "coverage").map_err(|e| at_start(&shown, e))?;
-    coverage_from_json(&text, bp, tree_id).map_err(|e| at_start(&shown, e))
+    let text = read_text(path, "coverage")?;
+    coverage_from_json(&text, bp, tree_id).map_err(|e| at_start(LoadErrorKind::BadValue, &shown, e))
 }
 
 /// See [`coverage_report`].
@@ -284,7 +304,7 @@ fn trace_statuses(
     tick: Option<u32>,
 ) -> Result<Shown, LoadError> {
     let shown = path.display().to_string();
-    let text = read_text(path, "trace").map_err(|e| at_start(&shown, e))?;
+    let text = read_text(path, "trace")?;
     statuses_from_trace(&text, &shown, bp, tree_id, tick)
 }
 
@@ -294,23 +314,30 @@ const MAX_TRACE_BYTES: u64 = 256 << 20;
 /// The text of the trace (or other input, `what`) at `path`, read up to
 /// [`MAX_TRACE_BYTES`]. A pipe is welcome (`show --trace <(neurotree run --trace ...)`), so
 /// the kind of file is not checked.
-fn read_text(path: &Path, what: &str) -> Result<String, String> {
+fn read_text(path: &Path, what: &str) -> Result<String, LoadError> {
     use std::io::Read;
-    let file = fs::File::open(path).map_err(|e| format!("cannot read the {what}: {e}"))?;
+    let shown = path.display().to_string();
+    let io_error = |message: String| at_start(LoadErrorKind::Io, &shown, message);
+    let file =
+        fs::File::open(path).map_err(|e| io_error(format!("cannot read the {what}: {e}")))?;
     let mut bytes = Vec::new();
     file.take(MAX_TRACE_BYTES + 1)
         .read_to_end(&mut bytes)
-        .map_err(|e| format!("cannot read the {what}: {e}"))?;
+        .map_err(|e| io_error(format!("cannot read the {what}: {e}")))?;
     if bytes.len() as u64 > MAX_TRACE_BYTES {
-        return Err(format!(
-            "the {what} is more than {MAX_TRACE_BYTES} bytes; give the {what} of a shorter run"
+        return Err(at_start(
+            LoadErrorKind::TooLarge,
+            &shown,
+            format!(
+                "the {what} is more than {MAX_TRACE_BYTES} bytes; give the {what} of a shorter run"
+            ),
         ));
     }
     String::from_utf8(bytes).map_err(|e| {
-        format!(
+        io_error(format!(
             "cannot read the {what}: it is not UTF-8 text (at byte {})",
             e.utf8_error().valid_up_to()
-        )
+        ))
     })
 }
 
@@ -343,15 +370,16 @@ fn statuses_from_trace(
             break;
         }
         let Some(candidates) = by_path.get(&change.path) else {
-            return Err(LoadError {
-                file: shown,
-                line: change.line,
-                col: change.col,
-                message: format!(
+            return Err(LoadError::new(
+                LoadErrorKind::BadValue,
+                shown,
+                change.line,
+                change.col,
+                format!(
                     "node `{}` is not in tree `{tree_id}`; was the trace made from another tree?",
                     change.path
                 ),
-            });
+            ));
         };
         // Siblings may share a name; the one that changes is the first whose status is
         // the change's `from` (BehaviorTree.CPP ticks, resets and halts in child order).
@@ -378,6 +406,7 @@ fn statuses_from_trace(
     if let Some(n) = tick {
         if u64::from(n) > last_tick || n == 0 {
             return Err(at_start(
+                LoadErrorKind::BadValue,
                 &shown,
                 format!("--tick {n} is not a tick of this trace, which has ticks 1 to {last_tick}"),
             ));
@@ -424,15 +453,25 @@ fn parse_trace(text: &str, file: &str) -> Result<(Vec<Change>, u64), LoadError> 
         if line.trim().is_empty() {
             continue;
         }
-        let error = |col: usize, message: String| LoadError {
-            file: file.to_string(),
-            line: line_no,
-            col: u32::try_from(col).unwrap_or(u32::MAX),
-            message,
+        let at = |col: usize, kind: LoadErrorKind, message: String| {
+            LoadError::new(
+                kind,
+                file,
+                line_no,
+                u32::try_from(col).unwrap_or(u32::MAX),
+                message,
+            )
         };
+        // Past the JSON, every check is of a value the line holds.
+        let error = |col: usize, message: String| at(col, LoadErrorKind::BadValue, message);
         let key_col = |key: &str| line.find(&format!("\"{key}\"")).map_or(1, |at| at + 1);
-        let value: Value = serde_json::from_str(line)
-            .map_err(|e| error(e.column().max(1), format!("not a JSON trace line: {e}")))?;
+        let value: Value = serde_json::from_str(line).map_err(|e| {
+            at(
+                e.column().max(1),
+                LoadErrorKind::Syntax,
+                format!("not a JSON trace line: {e}"),
+            )
+        })?;
         let Some(object) = value.as_object() else {
             return Err(error(1, "a trace line is a JSON object".into()));
         };

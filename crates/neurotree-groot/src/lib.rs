@@ -100,6 +100,8 @@
 //! assert_eq!(reply[1], [1, 0, 13, 2, 0, 12, 3, 0, 13]);
 //! ```
 
+#![forbid(unsafe_code)]
+
 mod monitor;
 mod peer;
 pub mod protocol;

@@ -95,6 +95,7 @@ impl RequestType {
 
 /// A request header the server could not read.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
 pub enum ProtocolError {
     /// The first frame is not the 6 bytes of a request header.
     #[error("wrong request header: {len} bytes instead of {expected}", expected = RequestHeader::SIZE)]

@@ -21,6 +21,7 @@ use super::peer::{serve_peer, Limits, Role};
 
 /// Why a monitor could not be served.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum GrootError {
     /// A socket could not be bound (the port is taken, or the address is not local).
     #[error("cannot bind the Groot2 {socket} socket to {address}: {reason}")]

@@ -74,6 +74,7 @@
 //! assert_eq!(plans, 2);
 //! ```
 
+#![forbid(unsafe_code)]
 #![warn(missing_docs)]
 
 mod global_updated_goal;

@@ -32,6 +32,7 @@ impl fmt::Display for Cell {
 
 /// Why a map or a world could not be made.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
 pub enum MapError {
     /// The map has no cells.
     #[error("the map is empty: give at least one row of cells")]

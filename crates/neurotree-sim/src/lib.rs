@@ -50,6 +50,8 @@
 //! print!("{}", world.render());
 //! ```
 
+#![forbid(unsafe_code)]
+
 mod battery;
 mod costmap;
 mod grid;

@@ -10,6 +10,7 @@
 //! Most users depend on the `neurotree` crate, which re-exports all of this under the same
 //! paths, and adds robotics, the simulator and the Groot2 monitor behind features.
 
+#![forbid(unsafe_code)]
 #![warn(missing_docs)]
 
 pub use neurotree_core::*;
@@ -32,4 +33,4 @@ pub use json_port::Json;
 pub use registry::{PortDirection, PortSpec, Registry, RegistryError};
 pub use runtime::{FixedRate, StopFlag};
 pub use shared_blackboard::SharedBlackboard;
-pub use xml::{LoadError, LoadWarning, XmlLoader};
+pub use xml::{LoadError, LoadErrorKind, LoadWarning, XmlLoader};

@@ -139,6 +139,7 @@
 //! [`neurotree_toolkit`] is the BehaviorTree.CPP-compatible layer this crate puts at its
 //! root; the optional crates come in through the features above.
 
+#![forbid(unsafe_code)]
 #![warn(missing_docs)]
 
 pub use neurotree_toolkit::*;

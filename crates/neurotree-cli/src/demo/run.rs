@@ -67,6 +67,7 @@ impl Default for DemoConfig {
 
 /// Why a demo could not start.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
 pub enum DemoError {
     /// The tree did not load; the message reads `file:line:col: error: …`.
     #[error(transparent)]

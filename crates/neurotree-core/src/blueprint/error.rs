@@ -16,6 +16,7 @@ pub struct BuildError {
 
 /// What made a blueprint invalid.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
 pub enum BuildErrorKind {
     /// The builder was given no node.
     #[error("the tree is empty: add a root node")]

@@ -195,6 +195,7 @@ fn is_number(id: TypeId) -> bool {
 
 /// Why a port could not be read or written.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
 pub enum PortError {
     /// The node has no port of this name.
     #[error("no port `{port}` on this node")]

@@ -7,6 +7,7 @@ use crate::NodeId;
 /// A tick that did not produce a status. The tree has been halted when this is returned, so
 /// it can be ticked again from a clean state.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
 pub enum TickError {
     /// The root's precondition skipped it: nothing ran.
     #[error("the root node was skipped by its precondition; nothing ran")]

@@ -189,6 +189,7 @@ impl FromPortStr for Obstacle {
 
 /// Why planning or execution failed.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
 pub enum NavigationError {
     /// No collision-free route exists between the two poses.
     #[error("no path from {from} to {to}")]

@@ -59,6 +59,7 @@ use neurotree_toolkit::registry::{PortSpec, Registry, RegistryError};
 
 /// Why a sensor gave no reading.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
 pub enum SensorError {
     /// The device is switched off, disconnected or not yet initialised.
     #[error("the sensor is not available")]

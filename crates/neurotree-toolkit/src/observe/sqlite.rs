@@ -37,6 +37,7 @@ CREATE TABLE IF NOT EXISTS Definitions (
 
 /// What went wrong with the database.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum SqliteLogError {
     /// SQLite refused an operation.
     #[error("SQLite log: {0}")]

@@ -91,6 +91,7 @@ impl<C> NodeType<C> {
 
 /// Why a registration was refused.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
 pub enum RegistryError {
     /// The name is taken.
     #[error("a node type named `{0}` is already registered; pick another name")]

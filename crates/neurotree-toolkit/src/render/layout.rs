@@ -110,6 +110,7 @@ pub struct Layout {
 
 /// Why a tree could not be laid out.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
 pub enum LayoutError {
     /// The child lists and the sizes describe different numbers of nodes.
     #[error("{children} child lists but {sizes} sizes; give one of each per node")]

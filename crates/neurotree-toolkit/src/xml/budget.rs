@@ -12,7 +12,7 @@ use std::sync::PoisonError;
 
 use super::build::only_child;
 use super::source::Element;
-use super::{LoadError, XmlLoader};
+use super::{LoadError, LoadErrorKind, XmlLoader};
 
 /// The start of the message of a tree refused for its size, which a command may follow
 /// with a hint of its own.
@@ -97,7 +97,7 @@ pub(super) fn crossings<C: 'static>(
             nodes += size;
             continue;
         }
-        errors.push(el.error(format!(
+        errors.push(el.error(LoadErrorKind::TooManyNodes, format!(
             "{TOO_MANY_NODES} {max} nodes here: SubTree `{id}` adds {size} nodes to the {nodes} counted so far (each use of a subtree is a copy of it); raise the limit with XmlLoader::max_nodes if the tree is meant to be this big"
         )));
     }
@@ -107,7 +107,7 @@ pub(super) fn crossings<C: 'static>(
 /// The error of the element `el` that would be node `max + 1`.
 #[cold]
 pub(super) fn too_many_nodes(el: Element<'_>, max: usize) -> LoadError {
-    el.error(format!(
+    el.error(LoadErrorKind::TooManyNodes, format!(
         "{TOO_MANY_NODES} {max} nodes here; raise the limit with XmlLoader::max_nodes if the tree is meant to be this big"
     ))
 }

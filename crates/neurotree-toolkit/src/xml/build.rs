@@ -6,14 +6,14 @@ use std::sync::Arc;
 use neurotree_core::nodes;
 
 use neurotree_core::{
-    Arity, Blueprint, Builder, Category, NodeKind, Port, PortBinding, PortValue, SubTreeScope,
-    DEFAULT_MAX_DEPTH,
+    Arity, Blueprint, BuildErrorKind, Builder, Category, NodeKind, Port, PortBinding, PortValue,
+    SubTreeScope, DEFAULT_MAX_DEPTH,
 };
 
 use super::budget;
 use super::mock;
 use super::source::Element;
-use super::{LoadError, XmlLoader};
+use super::{LoadError, LoadErrorKind, XmlLoader};
 use crate::nodes::hooks::{ScriptHooks, ATTRIBUTES};
 use crate::registry::{Make, NodeType};
 use crate::script::{Enums, Script};
@@ -156,8 +156,8 @@ impl<'a, 'r, C: 'static> Expansion<'a, 'r, C> {
         // of children) come back from the builder; they point at the element it refused,
         // whose position names the node, so the node's path is left out.
         b.build().map_err(|e| match self.refused {
-            Some(el) => el.error(e.kind.to_string()),
-            None => tree.error(e.to_string()),
+            Some(el) => el.error(build_error_kind(&e.kind), e.kind.to_string()),
+            None => tree.error(build_error_kind(&e.kind), e.to_string()),
         })
     }
 
@@ -178,6 +178,29 @@ impl<'a, 'r, C: 'static> Expansion<'a, 'r, C> {
             self.refused = Some(el);
         }
         b
+    }
+}
+
+/// The kind of a builder's refusal, as the loader reports it.
+fn build_error_kind(kind: &BuildErrorKind) -> LoadErrorKind {
+    match kind {
+        BuildErrorKind::ChildCount { .. } | BuildErrorKind::Threshold { .. } => {
+            LoadErrorKind::ChildCount
+        }
+        BuildErrorKind::TooDeep { .. } => LoadErrorKind::TooDeep,
+        BuildErrorKind::TooManyNodes { .. } => LoadErrorKind::TooManyNodes,
+        _ => LoadErrorKind::Structure,
+    }
+}
+
+/// The kind of a node maker's refusal. The makers of the engine's built-ins
+/// (`NodeKind::from_declared`) and of the std nodes say why in text only, a port that is
+/// not given as `missing port …` and anything else about a value they cannot use.
+fn maker_error_kind(message: &str) -> LoadErrorKind {
+    if message.starts_with("missing port") {
+        LoadErrorKind::MissingPort
+    } else {
+        LoadErrorKind::BadValue
     }
 }
 
@@ -204,7 +227,12 @@ fn conditions(el: Element<'_>, enums: &Arc<Enums>) -> Result<Option<Box<ScriptHo
         if ATTRIBUTES.contains(&key) {
             let script = Script::parse(code)
                 // A window of the script, not all of it: a script may be kilobytes long.
-                .map_err(|e| el.error(format!("in `{key}` script `{}`: {e}", e.excerpt(code))))?;
+                .map_err(|e| {
+                    el.error(
+                        LoadErrorKind::Script,
+                        format!("in `{key}` script `{}`: {e}", e.excerpt(code)),
+                    )
+                })?;
             hooks
                 .get_or_insert_with(|| {
                     Box::new(ScriptHooks {
@@ -214,10 +242,13 @@ fn conditions(el: Element<'_>, enums: &Arc<Enums>) -> Result<Option<Box<ScriptHo
                 })
                 .set(key, script);
         } else if key.starts_with('_') && key != "_autoremap" {
-            return Err(el.error(format!(
-                "unknown attribute `{key}`; names starting with `_` are reserved for {}",
-                ATTRIBUTES.join(", ")
-            )));
+            return Err(el.error(
+                LoadErrorKind::ReservedAttribute,
+                format!(
+                    "unknown attribute `{key}`; names starting with `_` are reserved for {}",
+                    ATTRIBUTES.join(", ")
+                ),
+            ));
         }
     }
     Ok(hooks)
@@ -320,9 +351,12 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
 
     #[inline(never)]
     fn too_deep(&self, el: Element<'_>) -> LoadError {
-        el.error(format!(
+        el.error(
+            LoadErrorKind::TooDeep,
+            format!(
             "the tree nests deeper than {DEFAULT_MAX_DEPTH} levels (subtrees included); flatten it"
-        ))
+        ),
+        )
     }
 
     /// Checks `el` and says what node it opens.
@@ -332,9 +366,10 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
         let explicit = EXPLICIT.contains(&tag);
         let type_name = if explicit {
             el.attr("ID").ok_or_else(|| {
-                el.error(format!(
-                    "<{tag}> needs an ID attribute naming the node type"
-                ))
+                el.error(
+                    LoadErrorKind::Structure,
+                    format!("<{tag}> needs an ID attribute naming the node type"),
+                )
             })?
         } else {
             tag
@@ -372,7 +407,7 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
             // a mistake, found once the tree is expanded.
             if self.not_mocked.iter().all(|(n, _)| *n != name) {
                 let family = family.map_or("node with children", Category::as_str);
-                let error = el.error(format!(
+                let error = el.error(LoadErrorKind::MockNotLeaf, format!(
                     "`{name}` is a {family} (`{type_name}`) and no leaf is named so; a mock replaces only a leaf (an Action or a Condition)"
                 ));
                 self.not_mocked.push((name, error));
@@ -386,9 +421,12 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
                 Some(close) => format!("did you mean `{close}`? "),
                 None => String::new(),
             };
-            return Err(el.error(format!(
+            return Err(el.error(
+                LoadErrorKind::UnknownNode,
+                format!(
                 "unknown node type `{type_name}`; {hint}register it in the Registry before loading"
-            )));
+            ),
+            ));
         };
         let ports = self.check_ports(el, node_type, explicit)?;
         let kind = match &node_type.make {
@@ -403,16 +441,16 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
                 };
                 let kind = NodeKind::<C>::from_declared(decl, &binding)
                     .unwrap_or_else(|| Err(format!("`{type_name}` is no built-in of the engine")))
-                    .map_err(|m| el.error(m))?;
+                    .map_err(|m| el.error(maker_error_kind(&m), m))?;
                 // A node that reads a port when it runs keeps its bindings; the others are
                 // known by their kind alone.
                 let reads_entries = ports.iter().any(|p| matches!(p.value, PortValue::Entry(_)));
                 let arity = kind.arity();
                 if !arity.accepts(el.child_count() as u32) {
-                    return Err(el.error(format!(
-                        "`{type_name}` takes {arity}, found {}",
-                        el.child_count()
-                    )));
+                    return Err(el.error(
+                        LoadErrorKind::ChildCount,
+                        format!("`{type_name}` takes {arity}, found {}", el.child_count()),
+                    ));
                 }
                 return Ok(Opened {
                     hooks,
@@ -442,7 +480,7 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
                 } else {
                     "; mocks replace only leaves"
                 };
-                return Err(el.error(format!(
+                return Err(el.error(LoadErrorKind::ModelOnly, format!(
                     "`{type_name}` is only described by a model; register an implementation to run it{mocked}"
                 )));
             }
@@ -450,16 +488,20 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
                 // A placeholder of the same family, so that the structure is checked.
                 let kind = nodes::stand_in(node_type.category);
                 if !kind.arity().accepts(el.child_count() as u32) {
-                    return Err(el.error(format!(
-                        "`{type_name}` takes {}, found {}",
-                        kind.arity(),
-                        el.child_count()
-                    )));
+                    return Err(el.error(
+                        LoadErrorKind::ChildCount,
+                        format!(
+                            "`{type_name}` takes {}, found {}",
+                            kind.arity(),
+                            el.child_count()
+                        ),
+                    ));
                 }
                 kind
             }
             Make::Leaf(make) => {
-                let kind = make(&ports, self.loader.registry.enums()).map_err(|m| el.error(m))?;
+                let kind = make(&ports, self.loader.registry.enums())
+                    .map_err(|m| el.error(maker_error_kind(&m), m))?;
                 let arity = kind.arity();
                 if !arity.accepts(el.child_count() as u32) {
                     let what = if arity == Arity::Leaf {
@@ -467,18 +509,22 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
                     } else {
                         format!("takes {arity}")
                     };
-                    return Err(
-                        el.error(format!("`{type_name}` {what}, found {}", el.child_count()))
-                    );
+                    return Err(el.error(
+                        LoadErrorKind::ChildCount,
+                        format!("`{type_name}` {what}, found {}", el.child_count()),
+                    ));
                 }
                 kind
             }
             Make::Condition(condition) => {
                 if el.child_count() != 0 {
-                    return Err(el.error(format!(
-                        "`{type_name}` is a leaf and takes no children, found {}",
-                        el.child_count()
-                    )));
+                    return Err(el.error(
+                        LoadErrorKind::ChildCount,
+                        format!(
+                            "`{type_name}` is a leaf and takes no children, found {}",
+                            el.child_count()
+                        ),
+                    ));
                 }
                 return Ok(Opened {
                     // Made from `shared` when the node is added.
@@ -549,10 +595,10 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
                 } else {
                     format!("its ports are: {}", valid.join(", "))
                 };
-                return Err(el.error(format!(
-                    "unknown port `{key}` on `{}`; {listed}",
-                    node_type.name
-                )));
+                return Err(el.error(
+                    LoadErrorKind::UnknownPort,
+                    format!("unknown port `{key}` on `{}`; {listed}", node_type.name),
+                ));
             };
             let mut value = binding(key, text);
             if let PortValue::Literal(text) = &mut value {
@@ -563,10 +609,13 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
                     }
                 }
                 if !spec.accepts(text) {
-                    return Err(el.error(format!(
-                        "port `{key}` of `{}`: cannot read `{text}` as {}",
-                        node_type.name, spec.type_name
-                    )));
+                    return Err(el.error(
+                        LoadErrorKind::BadValue,
+                        format!(
+                            "port `{key}` of `{}`: cannot read `{text}` as {}",
+                            node_type.name, spec.type_name
+                        ),
+                    ));
                 }
             }
             ports.push(Port {
@@ -593,9 +642,12 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
     /// it; the caller pops `stack` when done.
     #[inline(never)]
     fn open_subtree(&mut self, el: Element<'a>) -> Result<(Opened<'a, C>, Body<'a, C>), LoadError> {
-        let id = el
-            .attr("ID")
-            .ok_or_else(|| el.error("<SubTree> needs an ID attribute naming the tree"))?;
+        let id = el.attr("ID").ok_or_else(|| {
+            el.error(
+                LoadErrorKind::Structure,
+                "<SubTree> needs an ID attribute naming the tree",
+            )
+        })?;
         let body = match self.loader.tree(id) {
             Some(tree) => Body::Xml(tree),
             None => match self.loader.registry.subtree(id) {
@@ -606,20 +658,26 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
                         .tree_ids()
                         .chain(self.loader.registry.subtree_ids())
                         .collect();
-                    return Err(el.error(format!(
-                        "no tree with ID `{id}` is loaded or registered; known trees: {}",
-                        known.join(", ")
-                    )));
+                    return Err(el.error(
+                        LoadErrorKind::UnknownTree,
+                        format!(
+                            "no tree with ID `{id}` is loaded or registered; known trees: {}",
+                            known.join(", ")
+                        ),
+                    ));
                 }
             },
         };
         if let Some(at) = self.stack.iter().position(|s| s == id) {
             let mut cycle = self.stack[at..].to_vec();
             cycle.push(id.to_string());
-            return Err(el.error(format!(
-                "subtree cycle: {}; a tree cannot contain itself",
-                cycle.join(" -> ")
-            )));
+            return Err(el.error(
+                LoadErrorKind::SubtreeCycle,
+                format!(
+                    "subtree cycle: {}; a tree cannot contain itself",
+                    cycle.join(" -> ")
+                ),
+            ));
         }
         let mut scope = SubTreeScope::default();
         for (key, text) in el.attrs() {
@@ -630,16 +688,21 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
                         "true" | "TRUE" | "True" | "1" => true,
                         "false" | "FALSE" | "False" | "0" => false,
                         other => {
-                            return Err(el
-                                .error(format!("_autoremap must be true or false, not `{other}`")))
+                            return Err(el.error(
+                                LoadErrorKind::BadValue,
+                                format!("_autoremap must be true or false, not `{other}`"),
+                            ))
                         }
                     }
                 }
                 k if ATTRIBUTES.contains(&k) => {}
                 k if k.starts_with('_') => {
-                    return Err(el.error(format!(
+                    return Err(el.error(
+                        LoadErrorKind::ReservedAttribute,
+                        format!(
                         "unknown attribute `{k}` on <SubTree>; names starting with `_` are reserved"
-                    )))
+                    ),
+                    ))
                 }
                 _ => match binding(key, text) {
                     PortValue::Entry(parent_key) => scope.remap.push((key.to_string(), parent_key)),
@@ -655,11 +718,14 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
                     continue;
                 }
                 let Some(default) = default else {
-                    return Err(el.error(format!(
-                        "the TreeNodesModel declares port `{port}` of SubTree `{id}` with no \
+                    return Err(el.error(
+                        LoadErrorKind::MissingPort,
+                        format!(
+                            "the TreeNodesModel declares port `{port}` of SubTree `{id}` with no \
                          default, so it is mandatory; remap it here ({port}=\"{{key}}\") or give \
                          it a value"
-                    )));
+                        ),
+                    ));
                 };
                 match binding(port, default) {
                     PortValue::Entry(parent_key) => scope.remap.push((port.clone(), parent_key)),

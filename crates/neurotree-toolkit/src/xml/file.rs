@@ -10,7 +10,7 @@ use std::fs::{File, Metadata};
 use std::io::Read;
 use std::path::Path;
 
-use super::LoadError;
+use super::{LoadError, LoadErrorKind};
 
 /// The largest file an [`XmlLoader`](super::XmlLoader) reads unless told otherwise
 /// (32 MiB): a tree file of a few thousand nodes is a few hundred kilobytes.
@@ -20,14 +20,18 @@ pub const DEFAULT_MAX_FILE_BYTES: u64 = 32 << 20;
 /// errors name `path` (at line 1, column 1) and say what to do.
 pub fn read_file(path: &Path, max_bytes: u64) -> Result<String, LoadError> {
     let shown = path.display().to_string();
-    let error = |message: String| LoadError::at_file(&shown, message);
-    let cannot_open = |e: std::io::Error| error(format!("cannot open the file: {e}"));
+    let error = |message: String| LoadError::at_file(LoadErrorKind::Io, &shown, message);
     let too_big = |size: &str| {
-        error(format!(
-            "the file is {size} bytes, more than the limit of {max_bytes}; raise the limit \
-             (XmlLoader::max_file_bytes) if the file is meant to be this big"
-        ))
+        LoadError::at_file(
+            LoadErrorKind::TooLarge,
+            &shown,
+            format!(
+                "the file is {size} bytes, more than the limit of {max_bytes}; raise the limit \
+                 (XmlLoader::max_file_bytes) if the file is meant to be this big"
+            ),
+        )
     };
+    let cannot_open = |e: std::io::Error| error(format!("cannot open the file: {e}"));
     let meta = std::fs::metadata(path).map_err(cannot_open)?;
     regular(&meta).map_err(&error)?;
     if meta.len() > max_bytes {

@@ -31,6 +31,7 @@
 
 mod budget;
 mod build;
+mod error;
 mod file;
 mod mock;
 mod model;
@@ -38,6 +39,7 @@ pub mod save;
 mod source;
 
 pub use budget::TOO_MANY_NODES;
+pub use error::{LoadError, LoadErrorKind, LoadWarning};
 pub use file::{read_file, DEFAULT_MAX_FILE_BYTES};
 pub use mock::{parse_outcomes, Outcomes};
 pub use save::{write_xml, SaveOptions};
@@ -80,46 +82,6 @@ pub fn escape(text: &str) -> String {
         }
     }
     out
-}
-
-/// A file that could not be loaded or a tree that could not be built, with its place.
-#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
-#[error("{file}:{line}:{col}: error: {message}")]
-pub struct LoadError {
-    /// The file (as given to the loader).
-    pub file: String,
-    /// 1-based line.
-    pub line: u32,
-    /// 1-based column.
-    pub col: u32,
-    /// What is wrong and what to do.
-    pub message: String,
-}
-
-/// Something a file does that loads but should change, with its place: a deprecated or
-/// misspelt node name that loads as the built-in it stands for.
-#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
-#[error("{file}:{line}:{col}: warning: {message}")]
-pub struct LoadWarning {
-    /// The file (as given to the loader).
-    pub file: String,
-    /// 1-based line.
-    pub line: u32,
-    /// 1-based column.
-    pub col: u32,
-    /// What to change.
-    pub message: String,
-}
-
-impl LoadError {
-    fn at_file(file: &str, message: impl Into<String>) -> Self {
-        Self {
-            file: file.to_string(),
-            line: 1,
-            col: 1,
-            message: message.into(),
-        }
-    }
 }
 
 /// Where a loaded `<BehaviorTree>` is: its document and its element there.
@@ -260,14 +222,19 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
     pub fn load_file(&mut self, path: impl AsRef<Path>) -> Result<(), LoadError> {
         let path = path.as_ref();
         let shown = path.display().to_string();
-        let canonical = path
-            .canonicalize()
-            .map_err(|e| LoadError::at_file(&shown, format!("cannot open the file: {e}")))?;
+        let canonical = path.canonicalize().map_err(|e| {
+            LoadError::at_file(
+                LoadErrorKind::Io,
+                &shown,
+                format!("cannot open the file: {e}"),
+            )
+        })?;
         if self.base_dir.is_none() {
             self.base_dir = canonical.parent().map(Path::to_path_buf);
         }
         if self.loading.contains(&canonical) {
             return Err(LoadError::at_file(
+                LoadErrorKind::Include,
                 &shown,
                 "this file includes itself (through its includes); remove the cycle",
             ));
@@ -304,16 +271,19 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
     fn take_children(&mut self, at: usize, dir: Option<&Path>) -> Result<(), LoadError> {
         let root = self.docs[at].root();
         if root.tag() != "root" {
-            return Err(root.error(format!(
+            return Err(root.error(
+                LoadErrorKind::Structure,
+                format!(
                 "the document element is <{}>; a BehaviorTree.CPP file starts with <root BTCPP_format=\"4\">",
                 root.tag()
             )));
         }
         if let Some(format) = root.attr("BTCPP_format") {
             if format != "4" && format != "3" {
-                return Err(root.error(format!(
-                    "BTCPP_format=\"{format}\" is not supported; use format 4"
-                )));
+                return Err(root.error(
+                    LoadErrorKind::UnsupportedFormat,
+                    format!("BTCPP_format=\"{format}\" is not supported; use format 4"),
+                ));
             }
         }
         // BehaviorTree.CPP executes the main tree of the first document opened: a file
@@ -336,12 +306,12 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
                         self.unnamed_trees += 1;
                     }
                     if self.trees.contains_key(&id) {
-                        return Err(child.error(format!(
+                        return Err(child.error(LoadErrorKind::DuplicateTree, format!(
                             "a tree with ID `{id}` is already loaded; tree IDs must be unique"
                         )));
                     }
                     if child.child_count() != 1 {
-                        return Err(child.error(format!(
+                        return Err(child.error(LoadErrorKind::Structure, format!(
                             "<BehaviorTree ID=\"{id}\"> must hold exactly one root node, found {}",
                             child.child_count()
                         )));
@@ -354,7 +324,7 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
                 // of nodes; but a model's SubTree ports are applied as BehaviorTree.CPP does.
                 "TreeNodesModel" => self.read_subtree_models(at, element)?,
                 other => {
-                    return Err(child.error(format!(
+                    return Err(child.error(LoadErrorKind::Structure, format!(
                         "unexpected <{other}> under <root>; expected <BehaviorTree>, <include> or <TreeNodesModel>"
                     )))
                 }
@@ -367,9 +337,12 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
     fn read_subtree_models(&mut self, doc: usize, element: usize) -> Result<(), LoadError> {
         let model = self.docs[doc].element(element);
         for sub in model.children().filter(|c| c.tag() == "SubTree") {
-            let id = sub
-                .attr("ID")
-                .ok_or_else(|| sub.error("<SubTree> in a TreeNodesModel needs an ID"))?;
+            let id = sub.attr("ID").ok_or_else(|| {
+                sub.error(
+                    LoadErrorKind::Structure,
+                    "<SubTree> in a TreeNodesModel needs an ID",
+                )
+            })?;
             let ports = sub
                 .children()
                 .filter(|p| p.tag().ends_with("_port"))
@@ -406,22 +379,25 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
     fn include(&mut self, doc: usize, element: usize, dir: Option<&Path>) -> Result<(), LoadError> {
         let el = self.docs[doc].element(element);
         let Some(path) = el.attr("path") else {
-            return Err(el.error("<include> needs a path attribute"));
+            return Err(el.error(LoadErrorKind::Include, "<include> needs a path attribute"));
         };
         let Some(dir) = dir else {
-            return Err(el.error("<include> in text loaded without a file; load it with load_file"));
+            return Err(el.error(
+                LoadErrorKind::Include,
+                "<include> in text loaded without a file; load it with load_file",
+            ));
         };
         let target = dir.join(path);
         let canonical = target.canonicalize().map_err(|e| {
-            el.error(format!(
-                "included file `{}` not found: {e}",
-                target.display()
-            ))
+            el.error(
+                LoadErrorKind::Include,
+                format!("included file `{}` not found: {e}", target.display()),
+            )
         })?;
         if let Some(base) = &self.base_dir {
             let base = base.canonicalize().unwrap_or_else(|_| base.clone());
             if !canonical.starts_with(&base) {
-                return Err(el.error(format!(
+                return Err(el.error(LoadErrorKind::Include, format!(
                     "included file `{}` is outside the base directory `{}`; move it inside or widen the base with XmlLoader::base_dir",
                     target.display(),
                     base.display()
@@ -431,11 +407,10 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
         self.load_file(&target).map_err(|inner| {
             if inner.file == target.display().to_string() && inner.line == 1 && inner.col == 1 {
                 let el = self.docs[doc].element(element);
-                el.error(format!(
-                    "in included file `{}`: {}",
-                    target.display(),
-                    inner.message
-                ))
+                el.error(
+                    inner.kind(),
+                    format!("in included file `{}`: {}", target.display(), inner.message),
+                )
             } else {
                 inner
             }
@@ -447,6 +422,7 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
         let Some(tree) = self.tree(id) else {
             let known: Vec<&str> = self.tree_ids().collect();
             return Err(LoadError::at_file(
+                LoadErrorKind::UnknownTree,
                 "",
                 format!("no tree with ID `{id}`; loaded trees: {}", known.join(", ")),
             ));
@@ -458,7 +434,11 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
     /// known only from a `TreeNodesModel` (which cannot run).
     pub fn validate(&self, id: &str) -> Result<(), LoadError> {
         let Some(tree) = self.tree(id) else {
-            return Err(LoadError::at_file("", format!("no tree with ID `{id}`")));
+            return Err(LoadError::at_file(
+                LoadErrorKind::UnknownTree,
+                "",
+                format!("no tree with ID `{id}`"),
+            ));
         };
         build::build(self, id, tree, true).map(drop)
     }
@@ -469,7 +449,11 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
     /// is valid. A subtree's errors are reported with each tree that uses it.
     pub fn validate_all(&self, id: &str, limit: usize) -> Vec<LoadError> {
         let Some(tree) = self.tree(id) else {
-            return vec![LoadError::at_file("", format!("no tree with ID `{id}`"))];
+            return vec![LoadError::at_file(
+                LoadErrorKind::UnknownTree,
+                "",
+                format!("no tree with ID `{id}`"),
+            )];
         };
         build::validate_all(self, id, tree, limit)
     }
@@ -509,7 +493,14 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
     /// Builds the main tree (see [`main_tree`](Self::main_tree)).
     pub fn build_main(&self) -> Result<Blueprint<C>, LoadError> {
         let Some(main) = self.main_tree() else {
+            // Several trees and none named the main one is a choice left to make.
+            let kind = if self.trees.len() > 1 {
+                LoadErrorKind::AmbiguousMainTree
+            } else {
+                LoadErrorKind::NoMainTree
+            };
             return Err(LoadError::at_file(
+                kind,
                 "",
                 "no main tree: set main_tree_to_execute on <root>, or name the tree to build",
             ));

@@ -4,7 +4,7 @@
 
 use neurotree_core::{Category, FromPortStr};
 
-use super::escape;
+use super::{escape, LoadErrorKind};
 use crate::registry::{Make, NodeType, PortDirection, PortSpec, Registry};
 
 impl<C: 'static> Registry<C> {
@@ -28,13 +28,16 @@ impl<C: 'static> Registry<C> {
                     "Decorator" => Category::Decorator,
                     "SubTree" => continue,
                     other => {
-                        return Err(node.error(format!(
+                        return Err(node.error(LoadErrorKind::Structure, format!(
                             "unexpected <{other}> in <TreeNodesModel>; expected Action, Condition, Control, Decorator or SubTree"
                         )))
                     }
                 };
                 let Some(id) = node.attr("ID") else {
-                    return Err(node.error(format!("<{}> in a model needs an ID", node.tag())));
+                    return Err(node.error(
+                        LoadErrorKind::Structure,
+                        format!("<{}> in a model needs an ID", node.tag()),
+                    ));
                 };
                 if self.types.contains_key(id) {
                     continue;
@@ -48,7 +51,9 @@ impl<C: 'static> Registry<C> {
                         _ => continue,
                     };
                     let Some(name) = port.attr("name") else {
-                        return Err(port.error("a port in a model needs a name"));
+                        return Err(
+                            port.error(LoadErrorKind::Structure, "a port in a model needs a name")
+                        );
                     };
                     ports.push(PortSpec {
                         name: name.to_string(),

@@ -31,6 +31,7 @@ const MAX_OFFSET_US: u64 = (1 << 48) - 1;
 
 /// Why a `.btlog` could not be started.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum BtlogError {
     /// Creating the file or writing the header failed.
     #[error("writing the .btlog header: {0}")]

@@ -46,6 +46,7 @@ impl BtlogRecord {
 
 /// Why a `.btlog` could not be read.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum BtlogReadError {
     /// Reading failed.
     #[error("reading the .btlog: {0}")]

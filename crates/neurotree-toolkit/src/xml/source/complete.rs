@@ -1,7 +1,7 @@
 //! The complete reader: roxmltree on a copy of the text whose bare `&`s are escaped, for
 //! every document the quick reader leaves, with every error and its position.
 
-use super::super::LoadError;
+use super::super::{LoadError, LoadErrorKind};
 use super::document::{small, Node, Span};
 use super::entities::entity_name;
 use super::{Document, MAX_NESTING};
@@ -59,14 +59,9 @@ pub(super) fn complete(text: &str, file: &str) -> Result<Document, LoadError> {
         allow_dtd: false,
         ..roxmltree::ParsingOptions::default()
     };
-    let error = |offset: usize, message: String| {
+    let error = |offset: usize, kind: LoadErrorKind, message: String| {
         let (line, col) = lines.line_col(offset);
-        LoadError {
-            file: file.to_string(),
-            line,
-            col,
-            message,
-        }
+        LoadError::new(kind, file, line, col, message)
     };
     let parsed = roxmltree::Document::parse_with_options(&strict, options).map_err(|e| {
         let pos = e.pos();
@@ -84,7 +79,11 @@ pub(super) fn complete(text: &str, file: &str) -> Result<Document, LoadError> {
                         .nth(pos.col.saturating_sub(1) as usize)
                         .map_or(l.len(), |(b, _)| b)
                 });
-        error(original(offset), format!("malformed XML: {e}"))
+        error(
+            original(offset),
+            LoadErrorKind::Syntax,
+            format!("malformed XML: {e}"),
+        )
     })?;
     let mut doc = Document::new(text, file, 0, 0);
     // The open elements, outermost first: the new element's ancestors once the elements it
@@ -106,6 +105,7 @@ pub(super) fn complete(text: &str, file: &str) -> Result<Document, LoadError> {
         if open.len() >= MAX_NESTING {
             return Err(error(
                 offset,
+                LoadErrorKind::TooDeep,
                 format!(
                     "elements nest deeper than {MAX_NESTING} levels; no behavior tree is that deep"
                 ),

@@ -1,7 +1,7 @@
 //! The document both readers fill: the text kept once, elements in a flat arena of byte
 //! ranges into it, and what the loader asks of an element.
 
-use super::super::{LoadError, LoadWarning};
+use super::super::{LoadError, LoadErrorKind, LoadWarning};
 
 /// A range of bytes of [`Document::buf`], or of indices into one of its arrays.
 ///
@@ -113,14 +113,14 @@ impl Document {
         (line as u32 + 1, col as u32 + 1)
     }
 
-    pub(super) fn error_at(&self, offset: usize, message: String) -> LoadError {
+    pub(super) fn error_at(
+        &self,
+        offset: usize,
+        kind: LoadErrorKind,
+        message: String,
+    ) -> LoadError {
         let (line, col) = self.line_col(offset);
-        LoadError {
-            file: self.file.clone(),
-            line,
-            col,
-            message,
-        }
+        LoadError::new(kind, self.file.clone(), line, col, message)
     }
 }
 
@@ -197,20 +197,20 @@ impl<'d> Element<'d> {
         self.doc.line_col(self.node().offset as usize)
     }
 
-    /// An error located at this element.
-    pub(crate) fn error(&self, message: impl Into<String>) -> LoadError {
+    /// An error of `kind` located at this element.
+    pub(crate) fn error(&self, kind: LoadErrorKind, message: impl Into<String>) -> LoadError {
         self.doc
-            .error_at(self.node().offset as usize, message.into())
+            .error_at(self.node().offset as usize, kind, message.into())
     }
 
     /// A warning located at this element.
     pub(crate) fn warning(&self, message: impl Into<String>) -> LoadWarning {
-        let e = self.error(message);
+        let (line, col) = self.doc.line_col(self.node().offset as usize);
         LoadWarning {
-            file: e.file,
-            line: e.line,
-            col: e.col,
-            message: e.message,
+            file: self.doc.file.clone(),
+            line,
+            col,
+            message: message.into(),
         }
     }
 }

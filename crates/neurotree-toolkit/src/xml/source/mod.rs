@@ -21,7 +21,7 @@ mod document;
 mod entities;
 mod quick;
 
-use super::LoadError;
+use super::{LoadError, LoadErrorKind};
 use complete::complete;
 pub(crate) use document::{Document, Element};
 use quick::quick;
@@ -39,6 +39,7 @@ pub const MAX_TEXT_BYTES: usize = 1 << 30;
 fn check_size(len: usize, file: &str) -> Result<(), LoadError> {
     if len > MAX_TEXT_BYTES {
         return Err(LoadError::at_file(
+            LoadErrorKind::TooLarge,
             file,
             format!("the text is {len} bytes, more than the {MAX_TEXT_BYTES} a document may have; split it into files"),
         ));

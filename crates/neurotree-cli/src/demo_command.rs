@@ -1,0 +1,81 @@
+//! `neurotree demo`: the flags of the warehouse demo, and how they set up the run of
+//! [`neurotree_cli::demo`], which paces and draws it.
+
+use std::io::{self, IsTerminal, Write};
+use std::path::PathBuf;
+
+use neurotree::robotics::Pose2D;
+use neurotree_cli::demo;
+
+use crate::Outcome;
+
+/// What `neurotree demo` was asked to do.
+#[derive(clap::Args, Debug)]
+pub struct DemoArgs {
+    /// A BehaviorTree.CPP file to run instead of Nav2's navigator; it may use Nav2's control
+    /// nodes and the simulated Nav2 leaves (ComputePathToPose, FollowPath, Spin, ...).
+    #[arg(long, value_name = "FILE")]
+    pub tree: Option<PathBuf>,
+    /// Where to send the robot, in metres from the map's lower left corner (1 m cells).
+    #[arg(long, value_name = "X,Y", value_parser = parse_goal, default_value = "36.5,1.5")]
+    pub goal: Pose2D,
+    /// Picks the obstacle that steps onto the robot's path, and whether it leaves again.
+    #[arg(long, default_value_t = 0)]
+    pub seed: u64,
+    /// Simulated seconds per second of watching; 0 does not wait.
+    #[arg(long, default_value_t = 3.0, value_parser = parse_speed)]
+    pub speed: f64,
+    /// Do not wait between frames (the same as --speed 0).
+    #[arg(long)]
+    pub fast: bool,
+    /// Draw every Nth tick (and every tick in which more happens than routine planning)
+    /// [default: 2 on a terminal, else 10: one frame per simulated second]
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
+    pub every: Option<u32>,
+    /// Draw the tree with ascii characters instead of unicode box drawing.
+    #[arg(long)]
+    pub ascii: bool,
+    /// Stop after this many ticks (of 100 ms) if the navigator has not finished.
+    #[arg(long, default_value_t = 3000)]
+    pub max_ticks: u32,
+}
+
+/// `X,Y` in metres.
+fn parse_goal(text: &str) -> Result<Pose2D, String> {
+    let numbers: Result<Vec<f64>, _> = text.split(',').map(|n| n.trim().parse::<f64>()).collect();
+    match numbers.as_deref() {
+        Ok([x, y]) if x.is_finite() && y.is_finite() => Ok(Pose2D::new(*x, *y, 0.0)),
+        _ => Err(format!("`{text}` should be two numbers X,Y (metres)")),
+    }
+}
+
+/// A speed: a number, zero or more.
+fn parse_speed(text: &str) -> Result<f64, String> {
+    match text.trim().parse::<f64>() {
+        Ok(speed) if speed >= 0.0 && speed.is_finite() => Ok(speed),
+        _ => Err(format!("`{text}` should be a number of 0 or more")),
+    }
+}
+
+/// Runs the demo, animated in place when standard output is a terminal, else one frame
+/// after another.
+pub fn execute(args: DemoArgs, out: &mut impl Write) -> io::Result<Outcome> {
+    let animate_allowed = io::stdout().is_terminal();
+    let opts = demo::DemoOptions {
+        config: demo::DemoConfig {
+            tree: args.tree,
+            goal: args.goal,
+            seed: args.seed,
+            max_ticks: args.max_ticks,
+            unicode: !args.ascii,
+            ..Default::default()
+        },
+        speed: (!args.fast && args.speed > 0.0).then_some(args.speed),
+        every: args.every.unwrap_or(if animate_allowed { 2 } else { 10 }),
+        terminal: animate_allowed
+            .then(terminal_size::terminal_size)
+            .flatten()
+            .map(|(w, h)| (usize::from(w.0), usize::from(h.0))),
+    };
+    demo::run(&opts, out, &mut io::stderr()).map(Outcome::from)
+}
