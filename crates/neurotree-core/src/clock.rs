@@ -154,6 +154,15 @@ pub(crate) mod moment {
         now.saturating_add(1)
     }
 
+    /// A stored moment read on a clock at `saved`, moved to a clock at `now` so that the
+    /// time elapsed since it stays the same (a saved state restored on another clock).
+    pub(crate) fn shift(slot: u64, saved: u64, now: u64) -> u64 {
+        match elapsed(slot, saved) {
+            Some(elapsed) => at(now.saturating_sub(elapsed)),
+            None => NONE,
+        }
+    }
+
     /// Nanoseconds from the stored moment to `now`, or `None` if no moment is stored.
     #[inline]
     pub(crate) fn elapsed(slot: u64, now: u64) -> Option<u64> {

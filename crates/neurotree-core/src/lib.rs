@@ -59,6 +59,7 @@ pub mod clock;
 mod macros;
 pub mod nodes;
 pub mod observer;
+pub mod state;
 mod status;
 pub mod tree;
 

@@ -349,6 +349,23 @@ macro_rules! node_kinds {
                 }
             }
 
+            /// A state slot saved at clock reading `saved`, for a clock at `now` (see
+            /// [`Tick::shift_aux`]).
+            pub(crate) fn shift_aux(&self, aux: u64, saved: u64, now: u64) -> u64 {
+                match self {
+                    $(NodeKind::$name(_) => <crate::nodes::$($module::)+$name as Tick>::shift_aux(aux, saved, now),)*
+                    NodeKind::SubTree(_)
+                    | NodeKind::ConditionFn(_)
+                    | NodeKind::Condition(_)
+                    | NodeKind::SharedCondition(_)
+                    | NodeKind::ActionFn(_)
+                    | NodeKind::Action(_)
+                    | NodeKind::Stateful(_)
+                    | NodeKind::Async(_)
+                    | NodeKind::Custom(_) => aux,
+                }
+            }
+
             /// Checks a built-in once its number of children is known (see [`Tick::close`]).
             pub(crate) fn close(&mut self, children: u32) -> Result<(), BuildErrorKind> {
                 match self {

@@ -340,6 +340,31 @@ impl<C> Blueprint<C> {
         self.nodes.len()
     }
 
+    /// A hash of the tree's structure: every node's type, parameters, name, children and
+    /// port bindings, in order. Two blueprints built alike have the same hash, in any
+    /// process and on any machine; a saved state names its tree by it
+    /// ([`crate::state`]). User closures and objects count by their kind, not their code.
+    pub fn structure_hash(&self) -> u64 {
+        use core::fmt::Write;
+        let mut h = Fnv(0xcbf2_9ce4_8422_2325);
+        for id in self.ids() {
+            let def = self.def(id);
+            // Writing into the hash cannot fail.
+            let _ = write!(
+                h,
+                "{:?}\u{1}{}\u{1}{}\u{1}",
+                def.kind,
+                self.name(id),
+                def.child_count
+            );
+            for port in self.ports(id) {
+                let _ = write!(h, "{}={:?}\u{1}", port.name, port.value);
+            }
+            let _ = h.write_str("\u{2}");
+        }
+        h.0
+    }
+
     /// A blueprint always has a root, so it is never empty.
     pub fn is_empty(&self) -> bool {
         self.nodes.is_empty()
@@ -525,5 +550,19 @@ impl<C> fmt::Debug for Blueprint<C> {
             ));
         }
         list.finish()
+    }
+}
+
+/// FNV-1a, 64 bits: a hash that is the same in every process and release, as a saved
+/// state's reference to its tree must be.
+struct Fnv(u64);
+
+impl core::fmt::Write for Fnv {
+    fn write_str(&mut self, s: &str) -> core::fmt::Result {
+        for &byte in s.as_bytes() {
+            self.0 ^= u64::from(byte);
+            self.0 = self.0.wrapping_mul(0x0100_0000_01b3);
+        }
+        Ok(())
     }
 }

@@ -124,6 +124,14 @@ pub(crate) trait Tick: BuiltIn + Sized {
     /// One tick of node `id`; the ticker stores what it returns.
     fn tick<C>(&self, t: &mut Ticker<'_, C>, id: NodeId, def: &NodeDef<C>) -> NodeStatus;
 
+    /// Node `id`'s state slot saved when the clock read `saved` (nanoseconds), as it reads
+    /// on a clock at `now`: a slot that holds a moment keeps the time elapsed since it
+    /// (see [`Tree::restore_state`](crate::Tree::restore_state)). Others are kept as they are.
+    fn shift_aux(aux: u64, saved: u64, now: u64) -> u64 {
+        let _ = (saved, now);
+        aux
+    }
+
     /// Halts node `id`'s children and resets its own state; the ticker then sets it Idle.
     /// By default the children are halted and the state slot, if any, is kept.
     fn halt<C>(&self, t: &mut Ticker<'_, C>, id: NodeId, def: &NodeDef<C>) {

@@ -69,6 +69,20 @@ pub trait CustomNode<C>: Send {
     /// returns; a stop that takes ticks belongs in a child action, whose halt then waits
     /// for whoever halted this node (see [`slow_halt`](crate::tree::slow_halt)).
     fn halt(&mut self, _node: &mut NodeCtx<'_, '_, C>) {}
+
+    /// Opt-in: the state this node keeps in `self` between ticks, as bytes, for
+    /// [`Tree::save_state`](crate::Tree::save_state); `None` (the default) means it cannot
+    /// be saved, and saving a tree that holds it is an error naming the node. A node that
+    /// keeps nothing in `self` returns `Some(Vec::new())`.
+    fn save_state(&self) -> Option<alloc::vec::Vec<u8>> {
+        None
+    }
+
+    /// Takes back what [`save_state`](Self::save_state) gave, into a node fresh from its
+    /// factory; `false` if the bytes are not its state (the restore is then refused).
+    fn restore_state(&mut self, state: &[u8]) -> bool {
+        state.is_empty()
+    }
 }
 
 /// What a [`CustomNode`] sees: its children, the context, the blackboard and the clock.

@@ -26,6 +26,7 @@ mod error;
 pub mod failure;
 pub mod halt;
 mod objects;
+mod persist;
 pub mod slow_halt;
 pub(crate) mod ticker;
 mod wake;

@@ -225,6 +225,28 @@ impl Ctx {
         self.shared.log(leaf, what);
     }
 
+    /// The world's state: each leaf's place in its script and its halt in progress.
+    pub fn snapshot(&self) -> (Vec<usize>, Vec<usize>) {
+        let calls = self
+            .shared
+            .calls
+            .iter()
+            .map(|c| c.load(Ordering::Relaxed))
+            .collect();
+        let halting = self.halting_left.iter().map(Cell::get).collect();
+        (calls, halting)
+    }
+
+    /// Puts the world back as [`snapshot`](Self::snapshot) found it.
+    pub fn rewind(&self, (calls, halting): &(Vec<usize>, Vec<usize>)) {
+        for (c, &n) in self.shared.calls.iter().zip(calls) {
+            c.store(n, Ordering::Relaxed);
+        }
+        for (h, &n) in self.halting_left.iter().zip(halting) {
+            h.set(n);
+        }
+    }
+
     /// The events logged since the last call.
     pub fn take_events(&self) -> Vec<Event> {
         std::mem::take(&mut *self.shared.events.lock().unwrap())
@@ -265,6 +287,10 @@ impl StatefulAction<Ctx> for Scripted {
         ctx.halting_left[self.0].set(k);
         ctx.log(self.0, What::HaltRequested);
         HaltProgress::Halting
+    }
+    // A scripted leaf keeps nothing of its own: its place in the script is the world's.
+    fn save_state(&self) -> Option<Vec<u8>> {
+        Some(Vec::new())
     }
     fn on_halting(&mut self, h: &mut Handle<'_, Ctx>) -> HaltProgress {
         let ctx = h.ctx();

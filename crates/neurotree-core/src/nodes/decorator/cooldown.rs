@@ -72,6 +72,10 @@ impl Tick for Cooldown {
     const DECL: &'static NodeDecl = &COOLDOWN;
     const AUX_SLOTS: u32 = 1;
 
+    fn shift_aux(aux: u64, saved: u64, now: u64) -> u64 {
+        crate::clock::moment::shift(aux, saved, now)
+    }
+
     fn from_ports(port: &dyn Fn(&str) -> PortBinding) -> Result<Self, String> {
         Ok(Cooldown {
             period: built_in::millis(port, "cooldown_msec")?,

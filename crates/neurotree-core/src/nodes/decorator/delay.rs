@@ -85,6 +85,10 @@ impl Tick for Delay {
     const DECL: &'static NodeDecl = &DELAY;
     const AUX_SLOTS: u32 = 1;
 
+    fn shift_aux(aux: u64, saved: u64, now: u64) -> u64 {
+        crate::clock::moment::shift(aux, saved, now)
+    }
+
     fn from_ports(port: &dyn Fn(&str) -> PortBinding) -> Result<Self, String> {
         Ok(Delay {
             delay: built_in::millis(port, "delay_msec")?,

@@ -118,6 +118,13 @@ impl Tick for Timeout {
     const DECL: &'static NodeDecl = &TIMEOUT;
     const AUX_SLOTS: u32 = 1;
 
+    fn shift_aux(aux: u64, saved: u64, now: u64) -> u64 {
+        if aux == TIMED_OUT {
+            return aux;
+        }
+        crate::clock::moment::shift(aux, saved, now)
+    }
+
     fn from_ports(port: &dyn Fn(&str) -> PortBinding) -> Result<Self, String> {
         Ok(Timeout {
             limit: built_in::millis(port, "msec")?,

@@ -347,6 +347,21 @@ pub trait StatefulAction<C>: Send {
     fn on_halting(&mut self, _h: &mut Handle<'_, C>) -> HaltProgress {
         HaltProgress::Done
     }
+
+    /// Opt-in: the state this object keeps between ticks, as bytes, for
+    /// [`Tree::save_state`](crate::Tree::save_state); `None` (the default) means it cannot
+    /// be saved, and saving a tree that holds it is an error naming the node.
+    /// [`state::encode`](crate::state::encode) turns any `serde` value into such bytes; an
+    /// action that keeps nothing returns `Some(Vec::new())`.
+    fn save_state(&self) -> Option<alloc::vec::Vec<u8>> {
+        None
+    }
+
+    /// Takes back what [`save_state`](Self::save_state) gave, into an object fresh from
+    /// its factory; `false` if the bytes are not its state (the restore is then refused).
+    fn restore_state(&mut self, state: &[u8]) -> bool {
+        state.is_empty()
+    }
 }
 
 /// How far a [`StatefulAction`]'s halt has got.

@@ -87,6 +87,11 @@ impl Tick for Sleep {
     const DECL: &'static NodeDecl = &SLEEP;
     const AUX_SLOTS: u32 = 1;
 
+    fn shift_aux(aux: u64, saved: u64, now: u64) -> u64 {
+        // The moment the sleep began, as a clock reading.
+        now.saturating_sub(saved.saturating_sub(aux))
+    }
+
     fn from_ports(port: &dyn Fn(&str) -> PortBinding) -> Result<Self, String> {
         Ok(Sleep {
             duration: built_in::millis(port, "msec")?,

@@ -1,0 +1,249 @@
+//! A tree's state saved to bytes and restored into a fresh instance; see [`crate::state`].
+
+use alloc::boxed::Box;
+use alloc::string::String;
+use alloc::vec::Vec;
+use core::time::Duration;
+
+use super::ticker::Object;
+use super::Tree;
+use crate::clock::duration_to_nanos;
+use crate::state::{RestoreError, SaveError, SavedEntry, SavedObject, SavedTree, StateCodecs};
+use crate::{EntryInfo, NodeId, NodeKind, NodeStatus};
+
+impl<C> Tree<C> {
+    /// The tree's whole execution state as bytes: every node's status and state, the
+    /// per-instance objects' own state, the blackboard; see [`crate::state`] for what must
+    /// opt in and what cannot be saved. Blackboard values are saved with
+    /// [`StateCodecs::new`]'s codecs.
+    ///
+    /// ```
+    /// use neurotree_core::{Blueprint, ManualClock, Status, Tree};
+    ///
+    /// let bp = Blueprint::<()>::builder()
+    ///     .sequence_with_memory("s", |s| s.always_success("a").sleep("wait", std::time::Duration::from_secs(5)))
+    ///     .build_shared()
+    ///     .unwrap();
+    /// let clock = ManualClock::new();
+    /// let mut tree = Tree::with_clock(bp.clone(), clock.clone());
+    /// assert_eq!(tree.tick_once(&mut ()), Ok(Status::Running));
+    /// let saved = tree.save_state().unwrap();
+    ///
+    /// // Elsewhere, later: the same blueprint, a clock where this one was.
+    /// let elsewhere = ManualClock::new();
+    /// let mut resumed = Tree::with_clock(bp, elsewhere.clone());
+    /// resumed.restore_state(&saved).unwrap();
+    /// elsewhere.advance(std::time::Duration::from_secs(5));
+    /// assert_eq!(resumed.tick_once(&mut ()), Ok(Status::Success));
+    /// ```
+    pub fn save_state(&self) -> Result<Vec<u8>, SaveError> {
+        self.save_state_with(&StateCodecs::new())
+    }
+
+    /// [`save_state`](Self::save_state), with blackboard values saved by `codecs`.
+    pub fn save_state_with(&self, codecs: &StateCodecs) -> Result<Vec<u8>, SaveError> {
+        let bp = &*self.blueprint;
+        if self.is_halting() {
+            return Err(SaveError::Halting {
+                node: NodeId::ROOT,
+                path: bp.path(NodeId::ROOT),
+            });
+        }
+        let mut saved = SavedTree::new(bp.structure_hash(), duration_to_nanos(self.clock.now()));
+        saved.statuses = self.statuses.iter().map(|s| *s as u8).collect();
+        saved.aux = self.aux.to_vec();
+        for id in bp.ids() {
+            if !bp.kind(id).has_object() {
+                continue;
+            }
+            let unsaveable = |kind| SaveError::Unsaveable {
+                node: id,
+                path: bp.path(id),
+                kind,
+            };
+            let object = match &self.objects[bp.slot(id)] {
+                Object::Stateful(action) => {
+                    action.save_state().ok_or(unsaveable("stateful action"))?
+                }
+                Object::Custom(node) => node.save_state().ok_or(unsaveable("custom node"))?,
+                Object::Async(None) => {
+                    saved.objects.push(SavedObject::Idle);
+                    continue;
+                }
+                Object::Async(Some(_)) => {
+                    return Err(SaveError::AsyncRunning {
+                        node: id,
+                        path: bp.path(id),
+                    })
+                }
+                Object::Halting { .. } | Object::AsyncHalting { .. } => {
+                    return Err(SaveError::Halting {
+                        node: id,
+                        path: bp.path(id),
+                    })
+                }
+                Object::Vacant => return Err(unsaveable("custom node")),
+            };
+            saved.objects.push(SavedObject::State(object));
+        }
+        for (scope, key, info, untyped, value) in self.blackboard.raw_entries() {
+            let (type_name, value) = match value {
+                None => (None, Vec::new()),
+                Some(value) => match codecs.encode(value) {
+                    Some(bytes) => (Some(String::from(info.type_name)), bytes),
+                    None => {
+                        return Err(SaveError::Value {
+                            key: String::from(key),
+                            type_name: info.type_name,
+                        })
+                    }
+                },
+            };
+            saved.entries.push(SavedEntry {
+                scope,
+                key: String::from(key),
+                type_name,
+                sequence: info.sequence,
+                stamp_nanos: duration_to_nanos(info.stamp),
+                untyped,
+                value,
+            });
+        }
+        saved.last_stamp_nanos = duration_to_nanos(self.blackboard.last_stamp());
+        saved.last_root = self.last_root as u8;
+        Ok(crate::state::encode(&saved))
+    }
+
+    /// Restores a state [`save_state`](Self::save_state) made, of a tree of the same
+    /// blueprint structure, into this instance; the tree then runs on as the saved one
+    /// would have. Refused, leaving the tree as it was, for bytes that are not such a state
+    /// or belong to another tree. Blackboard values are read with [`StateCodecs::new`]'s
+    /// codecs.
+    pub fn restore_state(&mut self, bytes: &[u8]) -> Result<(), RestoreError> {
+        self.restore_state_with(bytes, &StateCodecs::new())
+    }
+
+    /// [`restore_state`](Self::restore_state), with blackboard values read by `codecs`.
+    pub fn restore_state_with(
+        &mut self,
+        bytes: &[u8],
+        codecs: &StateCodecs,
+    ) -> Result<(), RestoreError> {
+        let saved = SavedTree::read(bytes)?;
+        let bp = &*self.blueprint;
+        let expected = bp.structure_hash();
+        if saved.blueprint != expected {
+            return Err(RestoreError::OtherTree {
+                expected,
+                found: saved.blueprint,
+            });
+        }
+        let corrupt =
+            |what: &str| RestoreError::Corrupt(alloc::format!("{what} do not match its tree"));
+        if saved.statuses.len() != self.statuses.len() {
+            return Err(corrupt("its node statuses"));
+        }
+        if saved.aux.len() != self.aux.len() {
+            return Err(corrupt("its state slots"));
+        }
+        if saved.objects.len() != self.objects.len() {
+            return Err(corrupt("its objects"));
+        }
+        let mut statuses = Vec::with_capacity(saved.statuses.len());
+        for &s in &saved.statuses {
+            statuses.push(status_of(s).ok_or_else(|| corrupt("its node statuses"))?);
+        }
+        let last_root = status_of(saved.last_root).ok_or_else(|| corrupt("its root status"))?;
+        let now = duration_to_nanos(self.clock.now());
+        let mut aux = saved.aux.clone();
+        let mut objects = Vec::with_capacity(self.objects.len());
+        let mut saved_objects = saved.objects.into_iter();
+        for id in bp.ids() {
+            let kind = bp.kind(id);
+            if kind.aux_slots() > 0 {
+                let slot = bp.slot(id);
+                aux[slot] = kind.shift_aux(aux[slot], saved.clock_nanos, now);
+            }
+            if !kind.has_object() {
+                continue;
+            }
+            let refused = || RestoreError::Node {
+                node: id,
+                path: bp.path(id),
+            };
+            let state = saved_objects.next().ok_or_else(|| corrupt("its objects"))?;
+            let object = match (kind, state) {
+                (NodeKind::Stateful(make), SavedObject::State(bytes)) => {
+                    let mut action = make();
+                    if !action.restore_state(&bytes) {
+                        return Err(refused());
+                    }
+                    Object::Stateful(action)
+                }
+                (NodeKind::Custom(spec), SavedObject::State(bytes)) => {
+                    let mut node = (spec.factory)();
+                    if !node.restore_state(&bytes) {
+                        return Err(refused());
+                    }
+                    Object::Custom(node)
+                }
+                (NodeKind::Async(_), SavedObject::Idle) => Object::Async(None),
+                _ => return Err(corrupt("its objects")),
+            };
+            objects.push(object);
+        }
+        let mut entries = Vec::with_capacity(saved.entries.len());
+        for entry in saved.entries {
+            let value = match &entry.type_name {
+                None => None,
+                Some(name) => {
+                    let refused = || RestoreError::Value {
+                        key: entry.key.clone(),
+                        type_name: name.clone(),
+                    };
+                    Some(codecs.decode(name, &entry.value).ok_or_else(refused)?)
+                }
+            };
+            if entry.scope as usize >= self.blackboard.scope_count() {
+                return Err(corrupt("its blackboard scopes"));
+            }
+            entries.push((entry, value));
+        }
+        // Nothing can fail from here: the tree changes all at once.
+        self.blackboard.clear_entries();
+        for (entry, value) in entries {
+            let (type_name, value): (&'static str, Option<Box<dyn core::any::Any + Send + Sync>>) =
+                match value {
+                    Some((name, value)) => (name, Some(value)),
+                    None => (crate::blackboard::UNWRITTEN, None),
+                };
+            let info = EntryInfo {
+                sequence: entry.sequence,
+                stamp: Duration::from_nanos(entry.stamp_nanos),
+                type_name,
+            };
+            self.blackboard
+                .put_raw_entry(entry.scope, entry.key, info, entry.untyped, value);
+        }
+        self.blackboard
+            .set_last_stamp(Duration::from_nanos(saved.last_stamp_nanos));
+        self.statuses.copy_from_slice(&statuses);
+        self.aux.copy_from_slice(&aux);
+        self.objects = objects.into_boxed_slice();
+        self.last_root = last_root;
+        self.forget_notes();
+        Ok(())
+    }
+}
+
+/// The status a saved byte stands for.
+fn status_of(byte: u8) -> Option<NodeStatus> {
+    Some(match byte {
+        0 => NodeStatus::Idle,
+        1 => NodeStatus::Running,
+        2 => NodeStatus::Success,
+        3 => NodeStatus::Failure,
+        4 => NodeStatus::Skipped,
+        _ => return None,
+    })
+}
