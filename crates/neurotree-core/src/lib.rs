@@ -84,6 +84,6 @@ pub use nodes::{NodeDecl, PortDecl, PortDirection};
 pub use observer::{Observer, StatusChange};
 pub use status::{NodeStatus, Status};
 pub use tree::{
-    Failure, FailureLink, HaltHandle, Reason, TickError, Tree, Tried, WakeSignal, Woken,
-    DEFAULT_MAX_PASSES, HALT_POLL_PERIOD,
+    Failure, FailureLink, HaltHandle, Reason, ReloadError, ReloadReport, TickError, Tree, Tried,
+    WakeSignal, Woken, DEFAULT_MAX_PASSES, HALT_POLL_PERIOD,
 };

@@ -577,6 +577,28 @@ impl Blackboard {
         })
     }
 
+    /// Takes every entry out, in scope then key order: `(scope, key, info, untyped,
+    /// value)`, `None` for an entry declared and not written yet.
+    #[allow(clippy::type_complexity)]
+    pub(crate) fn take_raw_entries(
+        &mut self,
+    ) -> Vec<(
+        u32,
+        String,
+        EntryInfo,
+        bool,
+        Option<alloc::boxed::Box<dyn Any + Send + Sync>>,
+    )> {
+        let mut out = Vec::new();
+        for (s, entries) in core::mem::take(&mut self.entries).into_iter().enumerate() {
+            for (key, e) in entries {
+                let value = (!e.value.is::<Unwritten>()).then_some(e.value);
+                out.push((s as u32, key, e.info, e.untyped, value));
+            }
+        }
+        out
+    }
+
     /// Forgets every entry, keeping the scopes and their links.
     pub(crate) fn clear_entries(&mut self) {
         self.entries.clear();

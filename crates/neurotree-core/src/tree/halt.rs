@@ -156,7 +156,11 @@ impl<C> Tree<C> {
             // A panic in `on_halting` ends that action's halt; the halt has no error to give.
             let _ = self.continue_halt(ctx, slow_halt::Waiter::Any);
         }
-        self.out.halts.count == 0
+        let done = self.out.halts.count == 0;
+        if done {
+            self.finish_reload();
+        }
+        done
     }
 
     /// `true` while a halt is in progress: an action whose halt takes ticks, or a TryCatch
@@ -192,7 +196,10 @@ impl<C> Tree<C> {
     #[inline(never)]
     pub(super) fn tree_waits(&mut self, ctx: &mut C) -> Option<Result<Status, TickError>> {
         match self.continue_halt(ctx, slow_halt::Waiter::Owner(None)) {
-            Ok(false) => None,
+            Ok(false) => {
+                self.finish_reload();
+                None
+            }
             Ok(true) => {
                 self.last_root = NodeStatus::Running;
                 Some(Ok(Status::Running))

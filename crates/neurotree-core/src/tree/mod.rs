@@ -27,6 +27,7 @@ pub mod failure;
 pub mod halt;
 mod objects;
 mod persist;
+mod reload;
 pub mod slow_halt;
 pub(crate) mod ticker;
 mod wake;
@@ -34,6 +35,7 @@ mod wake;
 pub use error::TickError;
 pub use failure::{Failure, FailureLink, Reason, Tried};
 pub use halt::HaltHandle;
+pub use reload::{ReloadError, ReloadReport};
 pub(crate) use ticker::Ticker;
 pub use wake::{WakeSignal, Woken};
 
@@ -73,6 +75,8 @@ pub struct Tree<C> {
     out: failure::Outcome,
     /// What the root returned on the last tick (Idle after an error).
     last_root: NodeStatus,
+    /// A reload that waits for the halts it started (see [`Tree::reload`]).
+    pending_reload: Option<Box<reload::Pending<C>>>,
 }
 
 /// Passes one [`Tree::tick_once`] makes at most, unless [`Tree::set_max_passes`] says
@@ -114,40 +118,7 @@ impl<C> Tree<C> {
                 _ => {}
             }
         }
-        let mut blackboard = Blackboard::new();
-        for (parent, scope) in blueprint.scopes.iter() {
-            let id = blackboard.add_scope(*parent, scope.autoremap);
-            for (child_key, parent_key) in &scope.remap {
-                blackboard.remap(id, child_key, parent_key);
-            }
-            // The subtree's own entries: never written through autoremap into the parent.
-            // Numbers typed as BehaviorTree.CPP 4.10 types them, so that scripts can
-            // compute with them.
-            for (child_key, text) in &scope.values {
-                match crate::blueprint::Literal::parse(text) {
-                    crate::blueprint::Literal::Int(i) => {
-                        blackboard.replace_own_in(id, child_key, i, Duration::ZERO)
-                    }
-                    crate::blueprint::Literal::Long(i) => {
-                        blackboard.replace_own_in(id, child_key, i, Duration::ZERO)
-                    }
-                    crate::blueprint::Literal::Real(r) => {
-                        blackboard.replace_own_in(id, child_key, r, Duration::ZERO)
-                    }
-                    crate::blueprint::Literal::Text(t) => {
-                        blackboard.replace_own_in(id, child_key, t, Duration::ZERO)
-                    }
-                }
-            }
-        }
-        // As in BehaviorTree.CPP, every entry a port names exists from the start.
-        for id in blueprint.ids() {
-            for port in blueprint.ports(id) {
-                if let crate::PortValue::Entry(key) = &port.value {
-                    blackboard.declare_in(blueprint.scope(id), key);
-                }
-            }
-        }
+        let blackboard = new_blackboard(&blueprint);
         Self {
             statuses: vec![NodeStatus::Idle; blueprint.len()].into_boxed_slice(),
             aux: vec![0; blueprint.aux_slots as usize].into_boxed_slice(),
@@ -161,6 +132,7 @@ impl<C> Tree<C> {
             reject_multiple_running: false,
             out: failure::Outcome::new(),
             last_root: NodeStatus::Idle,
+            pending_reload: None,
             blueprint,
         }
     }
@@ -590,6 +562,46 @@ impl<C> Tree<C> {
     pub fn now(&self) -> Duration {
         self.clock.now()
     }
+}
+
+/// A blackboard with the scopes of `blueprint`'s SubTrees, their remaps and literal values,
+/// and an entry declared for every key a port names, as BehaviorTree.CPP makes one.
+fn new_blackboard<C>(blueprint: &Blueprint<C>) -> Blackboard {
+    let mut blackboard = Blackboard::new();
+    for (parent, scope) in blueprint.scopes.iter() {
+        let id = blackboard.add_scope(*parent, scope.autoremap);
+        for (child_key, parent_key) in &scope.remap {
+            blackboard.remap(id, child_key, parent_key);
+        }
+        // The subtree's own entries: never written through autoremap into the parent.
+        // Numbers typed as BehaviorTree.CPP 4.10 types them, so that scripts can
+        // compute with them.
+        for (child_key, text) in &scope.values {
+            match crate::blueprint::Literal::parse(text) {
+                crate::blueprint::Literal::Int(i) => {
+                    blackboard.replace_own_in(id, child_key, i, Duration::ZERO)
+                }
+                crate::blueprint::Literal::Long(i) => {
+                    blackboard.replace_own_in(id, child_key, i, Duration::ZERO)
+                }
+                crate::blueprint::Literal::Real(r) => {
+                    blackboard.replace_own_in(id, child_key, r, Duration::ZERO)
+                }
+                crate::blueprint::Literal::Text(t) => {
+                    blackboard.replace_own_in(id, child_key, t, Duration::ZERO)
+                }
+            }
+        }
+    }
+    // As in BehaviorTree.CPP, every entry a port names exists from the start.
+    for id in blueprint.ids() {
+        for port in blueprint.ports(id) {
+            if let crate::PortValue::Entry(key) = &port.value {
+                blackboard.declare_in(blueprint.scope(id), key);
+            }
+        }
+    }
+    blackboard
 }
 
 /// Ticks the root; with `std`, a panic in user code is caught and becomes

@@ -417,9 +417,55 @@ pub fn blueprint(spec: &Spec) -> Arc<Blueprint<Ctx>> {
 }
 
 fn add(b: Builder<Ctx>, spec: &Spec, next: &mut usize) -> Builder<Ctx> {
+    add_named(b, spec, next, &Naming::ById, 0)
+}
+
+/// How [`add_named`] names nodes.
+enum Naming {
+    /// `L{id}` and `N{id}`, by pre-order id.
+    ById,
+    /// `c{i}` by place among its siblings, and the node of pre-order id `replaced` (with
+    /// its subtree) replaced by an AlwaysSuccess leaf.
+    ByPlace { replaced: Option<usize> },
+}
+
+/// A blueprint of `spec` whose nodes are named by their place among their siblings, so
+/// that a node's path stays when another subtree changes; with `replaced`, the node of that
+/// pre-order id and its subtree become one AlwaysSuccess leaf. Leaves keep their
+/// pre-order ids of `spec` (their scripts in a [`Ctx`] of `spec`).
+pub fn blueprint_by_place(spec: &Spec, replaced: Option<usize>) -> Arc<Blueprint<Ctx>> {
+    let mut next = 0;
+    add_named(
+        Builder::new(),
+        spec,
+        &mut next,
+        &Naming::ByPlace { replaced },
+        0,
+    )
+    .build_shared()
+    .expect("generated trees are valid")
+}
+
+fn add_named(
+    b: Builder<Ctx>,
+    spec: &Spec,
+    next: &mut usize,
+    naming: &Naming,
+    place: usize,
+) -> Builder<Ctx> {
     let id = *next;
     *next += 1;
-    let name = format!("L{id}");
+    let (leaf_name, node_name) = match naming {
+        Naming::ById => (format!("L{id}"), format!("N{id}")),
+        Naming::ByPlace { replaced } => {
+            if *replaced == Some(id) {
+                *next = id + spec.len();
+                return b.always_success(&format!("c{place}"));
+            }
+            (format!("c{place}"), format!("c{place}"))
+        }
+    };
+    let name = leaf_name;
     let (kind, children) = match spec {
         Spec::Leaf(LeafKind::Stateful, _) => return b.stateful(&name, move || Scripted(id)),
         Spec::Leaf(LeafKind::Sync, _) => return b.action_node(&name, SyncLeaf(id)),
@@ -427,10 +473,10 @@ fn add(b: Builder<Ctx>, spec: &Spec, next: &mut usize) -> Builder<Ctx> {
         Spec::Leaf(LeafKind::Async, _) => return b.async_action_node(&name, AsyncLeaf(id)),
         Spec::Node(kind, children) => (kind, children),
     };
-    let name = format!("N{id}");
+    let name = node_name;
     let kids = |mut b: Builder<Ctx>| {
-        for c in children {
-            b = add(b, c, next);
+        for (i, c) in children.iter().enumerate() {
+            b = add_named(b, c, next, naming, i);
         }
         b
     };
