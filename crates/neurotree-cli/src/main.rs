@@ -19,6 +19,7 @@ mod check;
 mod demo_command;
 mod files;
 mod groot;
+mod live;
 mod registry;
 #[cfg(feature = "ros2")]
 mod ros2;
@@ -48,7 +49,7 @@ enum Command {
     /// Validate BehaviorTree.CPP XML files: structure, node names, ports, literals.
     Check(check::CheckArgs),
     /// Tick a BehaviorTree.CPP file with mock leaves and print each tick as JSON.
-    Run(run::RunArgs),
+    Run(Box<run::RunArgs>),
     /// Draw a BehaviorTree.CPP file's tree as text, Graphviz DOT, Mermaid or SVG, with the
     /// statuses of a `run --trace` if given one.
     Show(show::ShowArgs),

@@ -39,6 +39,7 @@ use serde_json::{json, Map, Value};
 
 use crate::files::{self, LoadLimits};
 use crate::groot::{GrootArgs, Served};
+use crate::live::{self, LiveArgs, SavedRun, Watcher};
 use crate::Outcome;
 
 /// What `neurotree run --help` says after the options.
@@ -110,6 +111,8 @@ pub struct RunArgs {
     pub observe: ObserveArgs,
     #[command(flatten)]
     pub limits: LoadLimits,
+    #[command(flatten)]
+    pub live: LiveArgs,
 }
 
 impl RunArgs {
@@ -307,6 +310,44 @@ pub fn execute(opts: &RunArgs, out: &mut impl Write, err: &mut impl Write) -> io
         paths: blueprint.paths(),
         ..Record::default()
     }));
+    let mut status = "IDLE".to_string();
+    // Passes of the root so far: `tick_once` passes again at once for a node that asks to
+    // be woken, and each of those counts toward `--max-ticks` (a `Repeat` of -1 over a
+    // child that succeeds at once would otherwise spin within one tick).
+    let mut ticks: u32 = 0;
+    if let Some(path) = &opts.live.resume {
+        // Before the clock is read by anything: the resumed run's clock is the saved one's.
+        let saved = match SavedRun::read(path, &mut tree) {
+            Ok(saved) => saved,
+            Err(e) => {
+                writeln!(err, "{e}")?;
+                return Ok(Outcome::Refused);
+            }
+        };
+        clock.set(saved.clock());
+        ticks = saved.ticks;
+        status.clone_from(&saved.status);
+        let mut r = record.lock().unwrap_or_else(|e| e.into_inner());
+        r.tick = saved.ticks;
+        r.ticks = saved.node_ticks;
+        r.halts = saved.node_halts;
+    }
+    if opts.live.watch && (opts.view || groot.is_some() || opts.observe.any()) {
+        writeln!(
+            err,
+            "neurotree: --watch reloads the tree, which the loggers, --view and --groot \
+             would not follow; run it without them"
+        )?;
+        return Ok(Outcome::Refused);
+    }
+    if let Err(e) = live::make_states_dir(&opts.live) {
+        writeln!(err, "neurotree: cannot make the states directory: {e}")?;
+        return Ok(Outcome::Refused);
+    }
+    let mut watcher = opts.live.watch.then(|| Watcher::new(files));
+    let mut blueprint = blueprint;
+    // The run stops at --stop-after as it stops at --max-ticks.
+    let limit = opts.max_ticks.min(opts.live.stop_after.unwrap_or(u32::MAX));
     let (mut observers, outputs) = match observers(&opts.observe, &tree, &registry) {
         Ok(attached) => attached,
         Err(e) => {
@@ -323,13 +364,16 @@ pub fn execute(opts: &RunArgs, out: &mut impl Write, err: &mut impl Write) -> io
         observers.push(Box::new(served.monitor()));
     }
     tree.set_observer((Recorder(Arc::clone(&record)), observers));
-    let mut status = "IDLE";
-    // Passes of the root so far: `tick_once` passes again at once for a node that asks to
-    // be woken, and each of those counts toward `--max-ticks` (a `Repeat` of -1 over a
-    // child that succeeds at once would otherwise spin within one tick).
-    let mut ticks: u32 = 0;
-    while ticks < opts.max_ticks {
-        let left = opts.max_ticks - ticks;
+    while ticks < limit {
+        live::pace(&opts.live);
+        if let Some(watcher) = &mut watcher {
+            if watcher.changed() {
+                if let Some(new) = reload(&mut tree, files, opts, &record, out, err)? {
+                    blueprint = new;
+                }
+            }
+        }
+        let left = limit - ticks;
         tree.set_max_passes(left);
         clock.advance(opts.step());
         let result = if opts.exactly_once() {
@@ -343,7 +387,8 @@ pub fn execute(opts: &RunArgs, out: &mut impl Write, err: &mut impl Write) -> io
         } else {
             tree.last_passes().max(1)
         };
-        ticks = ticks.saturating_add(passes).min(opts.max_ticks);
+        let before = ticks;
+        ticks = ticks.saturating_add(passes).min(limit);
         // Out of passes because the ticks ran out: stopped as a run still RUNNING is.
         let stopped =
             matches!(&result, Err(TickError::TooManyPasses { passes, .. }) if *passes >= left);
@@ -352,7 +397,8 @@ pub fn execute(opts: &RunArgs, out: &mut impl Write, err: &mut impl Write) -> io
             Ok(s) => s.as_str(),
             Err(TickError::RootSkipped) => "SKIPPED",
             Err(_) => "ERROR",
-        };
+        }
+        .to_string();
         let trace = std::mem::take(&mut record.lock().unwrap_or_else(|e| e.into_inner()).trace);
         for line in trace {
             writeln!(out, "{line}")?;
@@ -374,9 +420,27 @@ pub fn execute(opts: &RunArgs, out: &mut impl Write, err: &mut impl Write) -> io
         if let Some(served) = &groot {
             served.after_tick(&tree);
         }
+        if let (Some(k), Some(dir)) = (opts.live.keep_states, &opts.live.states_dir) {
+            // The first tick at or past each multiple of K (a tick of several passes may
+            // step over one).
+            if ticks / k > before / k {
+                let path = live::kept_state_path(dir, ticks);
+                if let Err(e) = save_run(&tree, ticks, &status, &record, &path) {
+                    writeln!(err, "{e}")?;
+                    return Ok(Outcome::Refused);
+                }
+            }
+        }
         if matches!(result, Ok(Status::Success | Status::Failure) | Err(_)) {
             break;
         }
+    }
+    if let Some(path) = &opts.live.save_state {
+        if let Err(e) = save_run(&tree, ticks, &status, &record, path) {
+            writeln!(err, "{e}")?;
+            return Ok(Outcome::Refused);
+        }
+        writeln!(err, "state after tick {ticks} saved to {}", path.display())?;
     }
     let r = record.lock().unwrap_or_else(|e| e.into_inner());
     let counts = |id: NodeId| json!({ "ticks": r.ticks[id.index()], "halts": r.halts[id.index()] });
@@ -414,12 +478,86 @@ pub fn execute(opts: &RunArgs, out: &mut impl Write, err: &mut impl Write) -> io
         out.flush()?;
         served.linger(err)?;
     }
-    Ok(match status {
+    Ok(match status.as_str() {
         _ if !written => Outcome::Refused,
         "SUCCESS" => Outcome::Done,
         "RUNNING" | "IDLE" => Outcome::Stopped,
         _ => Outcome::RunFailed,
     })
+}
+
+/// Writes the run's state after tick `ticks` to `path`.
+fn save_run(
+    tree: &Tree<()>,
+    ticks: u32,
+    status: &str,
+    record: &Mutex<Record>,
+    path: &std::path::Path,
+) -> Result<(), String> {
+    let r = record.lock().unwrap_or_else(|e| e.into_inner());
+    SavedRun::new(tree, ticks, status, (&r.ticks, &r.halts))?.write(path)
+}
+
+/// Loads the files again and swaps the new tree in under the running one; prints the
+/// reload's line, or the files' errors (the running tree then goes on). The per-node
+/// counts follow their nodes by path.
+fn reload(
+    tree: &mut Tree<()>,
+    files: &[PathBuf],
+    opts: &RunArgs,
+    record: &Mutex<Record>,
+    out: &mut impl Write,
+    err: &mut impl Write,
+) -> io::Result<Option<Arc<Blueprint<()>>>> {
+    let mut warnings = Vec::new();
+    let loaded = load(files, opts, &mut warnings);
+    for w in &warnings {
+        writeln!(err, "{w}")?;
+    }
+    let blueprint = match loaded {
+        Ok((bp, _, _)) => Arc::new(bp),
+        Err(e) => {
+            writeln!(err, "{e}\nthe running tree goes on")?;
+            return Ok(None);
+        }
+    };
+    let report = match tree.reload(Arc::clone(&blueprint), &mut ()) {
+        Ok(report) => report,
+        Err(e) => {
+            writeln!(err, "neurotree: the reload waits: {e}")?;
+            return Ok(None);
+        }
+    };
+    let mut r = record.lock().unwrap_or_else(|e| e.into_inner());
+    let paths = blueprint.paths();
+    let mut old: BTreeMap<(&str, usize), usize> = BTreeMap::new();
+    let mut seen: BTreeMap<&str, usize> = BTreeMap::new();
+    for (i, p) in r.paths.iter().enumerate() {
+        let k = seen.entry(p).or_default();
+        old.insert((p, *k), i);
+        *k += 1;
+    }
+    seen.clear();
+    let (mut ticks, mut halts) = (vec![0; paths.len()], vec![0; paths.len()]);
+    for (i, p) in paths.iter().enumerate() {
+        let k = seen.entry(p).or_default();
+        if let Some(&o) = old.get(&(p.as_str(), *k)) {
+            ticks[i] = r.ticks[o];
+            halts[i] = r.halts[o];
+        }
+        *k += 1;
+    }
+    drop(old);
+    r.ticks = ticks;
+    r.halts = halts;
+    r.paths = paths;
+    let line = json!({ "reload": {
+        "kept": report.kept,
+        "restarted": report.restarted,
+        "halted": report.halted,
+    }});
+    writeln!(out, "{line}")?;
+    Ok(Some(blueprint))
 }
 
 /// Why the root failed, as the summary of `neurotree run` carries it: one entry per link of
@@ -486,6 +624,19 @@ pub struct ObserveArgs {
     /// Write the coverage as JSON to FILE, for `neurotree show --coverage FILE`.
     #[arg(long, value_name = "FILE")]
     pub coverage_json: Option<PathBuf>,
+}
+
+impl ObserveArgs {
+    /// `true` if any logger is asked for.
+    fn any(&self) -> bool {
+        self.log
+            || self.jsonl.is_some()
+            || self.stats
+            || self.btlog.is_some()
+            || self.sqlite.is_some()
+            || self.coverage
+            || self.coverage_json.is_some()
+    }
 }
 
 /// The handles of the loggers that write somewhere, to flush and report at the end.

@@ -46,6 +46,19 @@ impl GlobalUpdatedGoal {
 }
 
 impl<C> CustomNode<C> for GlobalUpdatedGoal {
+    fn save_state(&self) -> Option<Vec<u8>> {
+        Some(neurotree_core::state::encode(&(&self.seen, self.first)))
+    }
+
+    fn restore_state(&mut self, state: &[u8]) -> bool {
+        neurotree_core::state::decode(state)
+            .map(|(seen, first)| {
+                self.seen = seen;
+                self.first = first;
+            })
+            .is_some()
+    }
+
     fn tick(&mut self, node: &mut NodeCtx<'_, '_, C>) -> NodeStatus {
         let updated = if self.first {
             self.first = false;

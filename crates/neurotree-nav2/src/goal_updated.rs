@@ -37,6 +37,18 @@ impl GoalUpdated {
 }
 
 impl<C> CustomNode<C> for GoalUpdated {
+    fn save_state(&self) -> Option<Vec<u8>> {
+        Some(neurotree_core::state::encode(&(&self.seen,)))
+    }
+
+    fn restore_state(&mut self, state: &[u8]) -> bool {
+        neurotree_core::state::decode(state)
+            .map(|(seen,)| {
+                self.seen = seen;
+            })
+            .is_some()
+    }
+
     fn tick(&mut self, node: &mut NodeCtx<'_, '_, C>) -> NodeStatus {
         let updated = if node.previous_status().is_active() {
             self.seen.update(node)

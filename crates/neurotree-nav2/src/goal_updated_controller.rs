@@ -49,6 +49,19 @@ impl GoalUpdatedController {
 }
 
 impl<C> CustomNode<C> for GoalUpdatedController {
+    fn save_state(&self) -> Option<Vec<u8>> {
+        Some(neurotree_core::state::encode(&(&self.seen, self.pending)))
+    }
+
+    fn restore_state(&mut self, state: &[u8]) -> bool {
+        neurotree_core::state::decode(state)
+            .map(|(seen, pending)| {
+                self.seen = seen;
+                self.pending = pending;
+            })
+            .is_some()
+    }
+
     fn tick(&mut self, node: &mut NodeCtx<'_, '_, C>) -> NodeStatus {
         if let Err(message) = self.look(node) {
             node.fail(message);

@@ -15,7 +15,7 @@ use neurotree_core::{Blackboard, FromPortStr, NodeCtx, Port, PortValue, ScopeId}
 use crate::robotics::Pose2D;
 
 /// The `goal` and `goals` a node saw last.
-#[derive(Debug, Default)]
+#[derive(Debug, Default, serde::Serialize, serde::Deserialize)]
 pub(crate) struct SeenGoals {
     goal: Pose2D,
     goals: Vec<Pose2D>,

@@ -42,6 +42,18 @@ impl PipelineSequence {
 }
 
 impl<C> CustomNode<C> for PipelineSequence {
+    fn save_state(&self) -> Option<Vec<u8>> {
+        Some(neurotree_core::state::encode(&(self.furthest,)))
+    }
+
+    fn restore_state(&mut self, state: &[u8]) -> bool {
+        neurotree_core::state::decode(state)
+            .map(|(furthest,)| {
+                self.furthest = furthest;
+            })
+            .is_some()
+    }
+
     fn tick(&mut self, node: &mut NodeCtx<'_, '_, C>) -> NodeStatus {
         let count = node.child_count();
         let mut skipped = 0;

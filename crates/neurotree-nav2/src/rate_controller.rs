@@ -60,6 +60,19 @@ fn period_of(hz: f64) -> Option<Duration> {
 }
 
 impl<C> CustomNode<C> for RateController {
+    fn save_state(&self) -> Option<Vec<u8>> {
+        Some(neurotree_core::state::encode(&(self.since, self.first)))
+    }
+
+    fn restore_state(&mut self, state: &[u8]) -> bool {
+        neurotree_core::state::decode(state)
+            .map(|(since, first)| {
+                self.since = since;
+                self.first = first;
+            })
+            .is_some()
+    }
+
     fn tick(&mut self, node: &mut NodeCtx<'_, '_, C>) -> NodeStatus {
         if !node.previous_status().is_active() {
             let Some(hz) = port_or(node, "hz", 10.0) else {

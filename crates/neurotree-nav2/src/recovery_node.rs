@@ -51,6 +51,19 @@ impl RecoveryNode {
 }
 
 impl<C> CustomNode<C> for RecoveryNode {
+    fn save_state(&self) -> Option<Vec<u8>> {
+        Some(neurotree_core::state::encode(&(self.current, self.retries)))
+    }
+
+    fn restore_state(&mut self, state: &[u8]) -> bool {
+        neurotree_core::state::decode(state)
+            .map(|(current, retries)| {
+                self.current = current;
+                self.retries = retries;
+            })
+            .is_some()
+    }
+
     fn tick(&mut self, node: &mut NodeCtx<'_, '_, C>) -> NodeStatus {
         let Some(max_retries) = port_or(node, "number_of_retries", 1_i32) else {
             return self.finish(node, NodeStatus::Failure);

@@ -47,6 +47,19 @@ impl RoundRobin {
 }
 
 impl<C> CustomNode<C> for RoundRobin {
+    fn save_state(&self) -> Option<Vec<u8>> {
+        Some(neurotree_core::state::encode(&(self.next, self.failed)))
+    }
+
+    fn restore_state(&mut self, state: &[u8]) -> bool {
+        neurotree_core::state::decode(state)
+            .map(|(next, failed)| {
+                self.next = next;
+                self.failed = failed;
+            })
+            .is_some()
+    }
+
     fn tick(&mut self, node: &mut NodeCtx<'_, '_, C>) -> NodeStatus {
         let Some(wrap_around) = port_or(node, "wrap_around", false) else {
             node.reset_children();

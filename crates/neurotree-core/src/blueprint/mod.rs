@@ -352,7 +352,8 @@ impl<C> Blueprint<C> {
             // Writing into the hash cannot fail.
             let _ = write!(
                 h,
-                "{:?}\u{1}{}\u{1}{}\u{1}",
+                "{}\u{1}{:?}\u{1}{}\u{1}{}\u{1}",
+                self.type_id(id),
                 def.kind,
                 self.name(id),
                 def.child_count

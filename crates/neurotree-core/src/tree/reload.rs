@@ -3,7 +3,9 @@
 //!
 //! Nodes are matched by their [path](crate::Blueprint::path) (the k-th node of a path
 //! matches the k-th of the same path, for siblings of one name) and are *unchanged* when
-//! their kind with its parameters, their ports and their number of children are the same.
+//! their type, their kind with its parameters, their ports and their number of children
+//! are the same: a control whose children were added or removed starts afresh, since its
+//! state (a cursor, the children it has seen) counts them.
 //! An unchanged node keeps its status, its state slot and its object; a node that was
 //! removed or changed while Running is halted first, exactly as a halt would halt it (its
 //! Running descendants first, each stateful action getting its one `on_halted`); new and
@@ -56,13 +58,20 @@ pub(crate) struct Pending<C> {
     kept_from: Vec<Option<NodeId>>,
 }
 
-/// What makes two nodes of the same path the same node: kind and parameters, ports,
-/// number of children.
+/// What makes two nodes of the same path the same node: type (as the file names it),
+/// kind and parameters, ports, number of children (a control's state counts its
+/// children: one whose children were added or removed starts afresh).
 fn signature<C>(bp: &Blueprint<C>, id: NodeId) -> String {
     use core::fmt::Write;
     let mut s = String::new();
     // Writing into a string cannot fail.
-    let _ = write!(s, "{:?}|{}|", bp.kind(id), bp.children(id).len());
+    let _ = write!(
+        s,
+        "{}|{:?}|{}|",
+        bp.type_id(id),
+        bp.kind(id),
+        bp.children(id).len()
+    );
     for port in bp.ports(id) {
         let _ = write!(s, "{}={:?};", port.name, port.value);
     }

@@ -70,7 +70,7 @@ impl<C: 'static> RoboticsBuilder<C> for Builder<C> {
 }
 
 /// A position and heading in the plane: metres and radians, as Nav2's 2D poses are.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Pose2D {
     /// Metres along x.
     pub x: f64,

@@ -87,6 +87,22 @@ impl Watch {
 }
 
 impl<C> CustomNode<C> for Watch {
+    fn save_state(&self) -> Option<Vec<u8>> {
+        Some(neurotree_core::state::encode(&(
+            self.seen,
+            self.child_running,
+        )))
+    }
+
+    fn restore_state(&mut self, state: &[u8]) -> bool {
+        neurotree_core::state::decode(state)
+            .map(|(seen, child_running)| {
+                self.seen = seen;
+                self.child_running = child_running;
+            })
+            .is_some()
+    }
+
     fn tick(&mut self, node: &mut NodeCtx<'_, '_, C>) -> NodeStatus {
         let Some(not_updated) = self.not_updated else {
             return if self.updated(node) {

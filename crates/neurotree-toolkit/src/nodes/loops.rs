@@ -213,8 +213,39 @@ where
 
 impl<C, T> CustomNode<C> for Loop<T>
 where
-    T: FromPortStr + Clone + Send + Sync + 'static,
+    T: FromPortStr + Clone + Send + Sync + 'static + serde::Serialize + serde::de::DeserializeOwned,
 {
+    /// A run that pops a shared queue entry cannot be saved: the queue is the
+    /// blackboard's, shared with whoever fills it.
+    fn save_state(&self) -> Option<Vec<u8>> {
+        let copying = match self.current {
+            Current::Unset => false,
+            Current::Copy => true,
+            Current::Shared(_) => return None,
+        };
+        Some(neurotree_core::state::encode(&(
+            copying,
+            &self.copy,
+            self.child_running,
+        )))
+    }
+
+    fn restore_state(&mut self, state: &[u8]) -> bool {
+        neurotree_core::state::decode(state)
+            .map(
+                |(copying, copy, child_running): (bool, VecDeque<T>, bool)| {
+                    self.current = if copying {
+                        Current::Copy
+                    } else {
+                        Current::Unset
+                    };
+                    self.copy = copy;
+                    self.child_running = child_running;
+                },
+            )
+            .is_some()
+    }
+
     fn tick(&mut self, node: &mut NodeCtx<'_, '_, C>) -> NodeStatus {
         if node.previous_status() == NodeStatus::Idle {
             self.child_running = false;
@@ -287,7 +318,7 @@ fn status_of(text: &str) -> Result<NodeStatus, String> {
 
 fn register_loop<C: 'static, T>(registry: &mut Registry<C>, decl: &'static NodeDecl)
 where
-    T: FromPortStr + Clone + Send + Sync + 'static,
+    T: FromPortStr + Clone + Send + Sync + 'static + serde::Serialize + serde::de::DeserializeOwned,
 {
     let name = decl.name;
     registry.register_declared(

@@ -247,6 +247,18 @@ impl Precondition {
 }
 
 impl<C> CustomNode<C> for Precondition {
+    fn save_state(&self) -> Option<Vec<u8>> {
+        Some(neurotree_core::state::encode(&(self.child_running,)))
+    }
+
+    fn restore_state(&mut self, state: &[u8]) -> bool {
+        neurotree_core::state::decode(state)
+            .map(|(child_running,)| {
+                self.child_running = child_running;
+            })
+            .is_some()
+    }
+
     fn tick(&mut self, node: &mut NodeCtx<'_, '_, C>) -> NodeStatus {
         if !self.child_running {
             let enums = Arc::clone(&self.enums);

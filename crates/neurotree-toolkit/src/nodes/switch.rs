@@ -188,6 +188,18 @@ impl Switch {
 }
 
 impl<C> CustomNode<C> for Switch {
+    fn save_state(&self) -> Option<Vec<u8>> {
+        Some(neurotree_core::state::encode(&(self.running,)))
+    }
+
+    fn restore_state(&mut self, state: &[u8]) -> bool {
+        neurotree_core::state::decode(state)
+            .map(|(running,)| {
+                self.running = running;
+            })
+            .is_some()
+    }
+
     fn tick(&mut self, node: &mut NodeCtx<'_, '_, C>) -> NodeStatus {
         let scope = node.scope();
         let chosen = self.choose(node.blackboard(), scope);

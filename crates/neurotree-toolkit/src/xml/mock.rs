@@ -48,6 +48,22 @@ struct Mock {
 }
 
 impl<C> CustomNode<C> for Mock {
+    // Its place in its outcomes: what a resumed run must go on from.
+    fn save_state(&self) -> Option<Vec<u8>> {
+        Some(neurotree_core::state::encode(&(self.run, self.played)))
+    }
+
+    fn restore_state(&mut self, state: &[u8]) -> bool {
+        match neurotree_core::state::decode::<(usize, u64)>(state) {
+            Some((run, played)) if run < self.runs.len().max(1) => {
+                self.run = run;
+                self.played = played;
+                true
+            }
+            _ => false,
+        }
+    }
+
     fn tick(&mut self, _node: &mut NodeCtx<'_, '_, C>) -> NodeStatus {
         let Some(&(status, count)) = self.runs.get(self.run) else {
             // No outcome at all (an empty list given to `XmlLoader::mock`).
