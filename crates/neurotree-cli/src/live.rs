@@ -29,7 +29,9 @@ pub struct LiveArgs {
     pub stop_after: Option<u32>,
     /// Go on from a state --save-state or --keep-states wrote, with the same files, mocks
     /// and options: the ticks printed are those the uninterrupted run would have printed
-    /// after it, numbered on from it.
+    /// after it, numbered on from it. The state holds the blackboard: a --set given with
+    /// --resume changes it after the restore, and another --mock plays from the saved place
+    /// in its outcomes: a fork of the run.
     #[arg(long, value_name = "FILE")]
     pub resume: Option<PathBuf>,
     /// Keep the run's state every K ticks, as DIR/tick-N.state (with --states-dir).

@@ -331,6 +331,10 @@ pub fn execute(opts: &RunArgs, out: &mut impl Write, err: &mut impl Write) -> io
         r.tick = saved.ticks;
         r.ticks = saved.node_ticks;
         r.halts = saved.node_halts;
+        // The state holds the blackboard: a `--set` given now changes it, a fork.
+        for (key, value) in &opts.sets {
+            set_value(tree.blackboard_mut(), key, value);
+        }
     }
     if opts.live.watch && (opts.view || groot.is_some() || opts.observe.any()) {
         writeln!(

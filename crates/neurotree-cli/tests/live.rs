@@ -252,3 +252,56 @@ fn watch_refuses_loggers_it_cannot_keep_up_to_date() {
     assert_eq!(out.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&out.stderr).contains("--watch"));
 }
+
+const GUARDED: &str = r#"<root BTCPP_format="4" main_tree_to_execute="Main">
+  <BehaviorTree ID="Main">
+    <ReactiveSequence name="go">
+      <ScriptCondition name="charged" code="battery > 20"/>
+      <Drive name="drive"/>
+    </ReactiveSequence>
+  </BehaviorTree>
+</root>
+"#;
+
+#[test]
+fn a_resumed_run_forks_with_another_value_or_mock() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("guarded.xml");
+    std::fs::write(&file, GUARDED).unwrap();
+    let state = dir.path().join("go.state");
+    let (tree, state_arg) = (path_str(&file), path_str(&state));
+    let mock = ["--mock", "drive=RUNNING*5,SUCCESS"];
+    let mut first = vec!["run", tree, "--set", "battery=50", "--stop-after", "2"];
+    first.extend_from_slice(&mock);
+    first.extend_from_slice(&["--save-state", state_arg]);
+    assert_eq!(neurotree(&first).status.code(), Some(3));
+
+    let mut same = vec!["run", tree, "--resume", state_arg];
+    same.extend_from_slice(&mock);
+    let out = neurotree(&same);
+    assert_eq!(out.status.code(), Some(0));
+    assert!(
+        lines(&out)[3].starts_with(r#"{"tick":6,"status":"SUCCESS"}"#),
+        "{:?}",
+        lines(&out)
+    );
+
+    // The battery drops at the cut: the guard fails on the next tick.
+    let mut drained = same.clone();
+    drained.extend_from_slice(&["--set", "battery=10"]);
+    let out = neurotree(&drained);
+    assert_eq!(out.status.code(), Some(2));
+    assert_eq!(lines(&out)[0], r#"{"tick":3,"status":"FAILURE"}"#);
+
+    // Another mock for the drive, from where the saved one was.
+    let out = neurotree(&[
+        "run",
+        tree,
+        "--resume",
+        state_arg,
+        "--mock",
+        "drive=RUNNING*3,FAILURE",
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    assert_eq!(lines(&out)[1], r#"{"tick":4,"status":"FAILURE"}"#);
+}
