@@ -89,5 +89,30 @@ fn load_tree1111(c: &mut Criterion) {
     });
 }
 
-criterion_group!(benches, tick_tree1111, many_agents, load_tree1111);
+/// Saving tree1111's state, restoring it into a fresh instance, and reloading the same
+/// blueprint under a running instance: what checkpoints, resumes and `--watch` cost.
+fn state_tree1111(c: &mut Criterion) {
+    let blueprint = tree1111_xml::<()>();
+    let mut tree = Tree::with_clock(blueprint.clone(), ManualClock::new());
+    tree.tick_once(&mut ()).unwrap();
+    let saved = tree.save_state().unwrap();
+    c.bench_function("state/save/tree1111", |b| {
+        b.iter(|| black_box(&tree).save_state().unwrap())
+    });
+    let mut fresh = Tree::with_clock(blueprint.clone(), ManualClock::new());
+    c.bench_function("state/restore/tree1111", |b| {
+        b.iter(|| fresh.restore_state(black_box(&saved)).unwrap())
+    });
+    c.bench_function("state/reload/tree1111", |b| {
+        b.iter(|| tree.reload(black_box(blueprint.clone()), &mut ()).unwrap())
+    });
+}
+
+criterion_group!(
+    benches,
+    tick_tree1111,
+    many_agents,
+    load_tree1111,
+    state_tree1111
+);
 criterion_main!(benches);

@@ -69,8 +69,8 @@ pub(crate) mod testing;
 pub use blackboard::{Blackboard, BlackboardError, EntryInfo, ScopeId};
 pub use blueprint::{
     Arity, Blueprint, BuildError, BuildErrorKind, Builder, Category, CustomSpec, FromPortStr,
-    NodeId, NodeKind, Number, ParallelPolicy, Param, Port, PortBinding, PortError, PortType,
-    PortValue, Shared, SubTreeScope, DEFAULT_MAX_DEPTH,
+    NodeId, NodeKind, Number, ParallelPolicy, Param, Port, PortBinding, PortBindingError,
+    PortError, PortType, PortValue, Shared, SubTreeScope, DEFAULT_MAX_DEPTH,
 };
 #[cfg(feature = "std")]
 pub use clock::SystemClock;

@@ -218,6 +218,16 @@ fn a_condition_script_that_does_not_parse_is_script() {
         kind(&main_tree(r#"<AlwaysSuccess _skipIf="1 +"/>"#)),
         LoadErrorKind::Script
     );
+    // The code of a Script node, and a std node's port left out, are told apart by kind.
+    assert_eq!(
+        kind(&main_tree(r#"<Script code="x := "/>"#)),
+        LoadErrorKind::Script
+    );
+    assert_eq!(kind(&main_tree("<Script/>")), LoadErrorKind::MissingPort);
+    assert_eq!(
+        kind(&main_tree(r#"<Script code="{entry}"/>"#)),
+        LoadErrorKind::BadValue
+    );
 }
 
 #[test]

@@ -12,6 +12,26 @@ use alloc::vec::Vec;
 use super::NodeKind;
 use crate::nodes::NodeDecl;
 
+/// Why a built-in's ports do not make it: what the loader reports at the node.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
+pub enum PortBindingError {
+    /// A port without a default is not given.
+    #[error("missing port `{port}`")]
+    Missing {
+        /// The port's name.
+        port: String,
+    },
+    /// A literal does not convert to the port's type.
+    #[error("port `{port}`: cannot read `{text}`")]
+    Unreadable {
+        /// The port's name.
+        port: String,
+        /// The literal.
+        text: String,
+    },
+}
+
 /// What a port of a built-in node is bound to in a file.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum PortBinding {
@@ -30,7 +50,7 @@ impl<C> NodeKind<C> {
     pub fn from_declared(
         decl: &NodeDecl,
         port: &dyn Fn(&str) -> PortBinding,
-    ) -> Option<Result<Self, String>> {
+    ) -> Option<Result<Self, PortBindingError>> {
         Self::make(decl.name, port).transpose()
     }
 
@@ -59,6 +79,7 @@ mod tests {
     use crate::nodes::{PortDecl, BUILT_INS};
     use crate::{ParallelPolicy, Param};
     use alloc::format;
+    use alloc::string::ToString;
 
     /// A literal of the port's type, other than its default and the smallest value, so
     /// that a swapped pair of ports would show.
@@ -138,10 +159,15 @@ mod tests {
         assert!(entry.unwrap().declared_ports(repeat, 1).is_empty());
         let bad = NodeKind::<()>::from_declared(repeat, &|_| PortBinding::Literal("x".into()));
         assert_eq!(
-            bad.unwrap().unwrap_err(),
+            bad.unwrap().unwrap_err().to_string(),
             "port `num_cycles`: cannot read `x`"
         );
         let missing = NodeKind::<()>::from_declared(repeat, &|_| PortBinding::Missing);
-        assert_eq!(missing.unwrap().unwrap_err(), "missing port `num_cycles`");
+        assert_eq!(
+            missing.unwrap().unwrap_err(),
+            PortBindingError::Missing {
+                port: "num_cycles".into()
+            }
+        );
     }
 }

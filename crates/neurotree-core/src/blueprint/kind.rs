@@ -7,7 +7,7 @@ use alloc::sync::Arc;
 use alloc::vec::Vec;
 use core::fmt;
 
-use super::{BuildErrorKind, PortBinding};
+use super::{BuildErrorKind, PortBinding, PortBindingError};
 use crate::nodes::built_in::{BuiltIn, Tick};
 use crate::nodes::custom::CustomNode;
 use crate::nodes::leaf::{Action, AsyncAction, Condition, StatefulAction};
@@ -387,7 +387,7 @@ macro_rules! node_kinds {
             pub(crate) fn make(
                 name: &str,
                 port: &dyn Fn(&str) -> PortBinding,
-            ) -> Result<Option<Self>, String> {
+            ) -> Result<Option<Self>, PortBindingError> {
                 $(
                     if name == <crate::nodes::$($module::)+$name as Tick>::DECL.name {
                         return <crate::nodes::$($module::)+$name as Tick>::from_ports(port)

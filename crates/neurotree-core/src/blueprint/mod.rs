@@ -12,7 +12,7 @@ mod kind;
 mod port;
 
 pub use builder::Builder;
-pub use declared::PortBinding;
+pub use declared::{PortBinding, PortBindingError};
 pub use error::{BuildError, BuildErrorKind};
 pub use kind::{
     ActionFn, Arity, Category, ConditionFn, CustomFactory, CustomSpec, NodeKind, ParallelPolicy,

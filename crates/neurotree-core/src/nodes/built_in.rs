@@ -17,7 +17,7 @@ use alloc::string::String;
 use alloc::vec::Vec;
 use core::fmt;
 
-use crate::blueprint::{BuildErrorKind, NodeDef, PortBinding};
+use crate::blueprint::{BuildErrorKind, NodeDef, PortBinding, PortBindingError};
 use crate::nodes::NodeDecl;
 use crate::tree::Ticker;
 use crate::{NodeId, NodeStatus};
@@ -112,7 +112,7 @@ pub(crate) trait Tick: BuiltIn + Sized {
 
     /// The node with its ports bound by `port`; an error names the port that is missing or
     /// whose literal does not convert.
-    fn from_ports(port: &dyn Fn(&str) -> PortBinding) -> Result<Self, String>;
+    fn from_ports(port: &dyn Fn(&str) -> PortBinding) -> Result<Self, PortBindingError>;
 
     /// Checks the node once its number of children is known, and resolves what depends on
     /// it (the arity itself is checked before).
@@ -145,14 +145,21 @@ pub(crate) trait Tick: BuiltIn + Sized {
 pub(crate) fn param<T: crate::blueprint::FromPortStr>(
     port: &dyn Fn(&str) -> PortBinding,
     name: &str,
-) -> Result<crate::Param<T>, String> {
+) -> Result<crate::Param<T>, PortBindingError> {
     use crate::Param;
     match port(name) {
-        PortBinding::Literal(text) => T::from_port_str(&text)
-            .map(Param::Value)
-            .map_err(|()| alloc::format!("port `{name}`: cannot read `{text}`")),
+        PortBinding::Literal(text) => {
+            T::from_port_str(&text)
+                .map(Param::Value)
+                .map_err(|()| PortBindingError::Unreadable {
+                    port: String::from(name),
+                    text,
+                })
+        }
         PortBinding::Entry => Ok(Param::Port),
-        PortBinding::Missing => Err(alloc::format!("missing port `{name}`")),
+        PortBinding::Missing => Err(PortBindingError::Missing {
+            port: String::from(name),
+        }),
     }
 }
 
@@ -160,7 +167,7 @@ pub(crate) fn param<T: crate::blueprint::FromPortStr>(
 pub(crate) fn millis(
     port: &dyn Fn(&str) -> PortBinding,
     name: &str,
-) -> Result<crate::Param<core::time::Duration>, String> {
+) -> Result<crate::Param<core::time::Duration>, PortBindingError> {
     use crate::Param;
     Ok(match param::<u64>(port, name)? {
         Param::Value(ms) => Param::Value(core::time::Duration::from_millis(ms)),

@@ -24,7 +24,7 @@ use neurotree_core::{
     PortDecl, PortValue,
 };
 
-use crate::registry::Registry;
+use crate::registry::{MakerError, Registry};
 
 /// WasEntryUpdated's declaration: its BehaviorTree.CPP name, family, children and ports.
 pub const WAS_ENTRY_UPDATED: NodeDecl = NodeDecl {
@@ -126,10 +126,10 @@ impl<C> CustomNode<C> for Watch {
 }
 
 /// The entry named by the `entry` port: `key` or `{key}`.
-fn entry_key(ports: &[Port]) -> Result<String, String> {
+fn entry_key(ports: &[Port]) -> Result<String, MakerError> {
     match ports.iter().find(|p| p.name == "entry").map(|p| &p.value) {
         Some(PortValue::Literal(key) | PortValue::Entry(key)) => Ok(key.clone()),
-        None => Err("missing port `entry`".into()),
+        None => Err(MakerError::MissingPort("missing port `entry`".into())),
     }
 }
 

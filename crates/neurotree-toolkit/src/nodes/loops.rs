@@ -33,7 +33,7 @@ use neurotree_core::{
     Port, PortDecl, PortDirection, PortValue,
 };
 
-use crate::registry::Registry;
+use crate::registry::{MakerError, Registry};
 
 /// The ports of a loop whose elements are of type `value_type`.
 const fn loop_ports(value_type: &'static str) -> [PortDecl; 3] {
@@ -334,7 +334,11 @@ where
                         None,
                     ),
                     Some(PortValue::Entry(key)) => (None, Some(key.clone())),
-                    None => return Err(format!("missing port `queue` of `{name}`")),
+                    None => {
+                        return Err(MakerError::MissingPort(format!(
+                            "missing port `queue` of `{name}`"
+                        )))
+                    }
                 };
             let value_key = match value_of("value") {
                 Some(PortValue::Entry(key)) => Some(key.clone()),

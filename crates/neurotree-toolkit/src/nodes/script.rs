@@ -22,7 +22,7 @@ use neurotree_core::{
     NodeStatus, Port, PortDecl, PortDirection, PortValue, Status,
 };
 
-use crate::registry::Registry;
+use crate::registry::{MakerError, Registry};
 use crate::script::{Enums, Script, ScriptEnv, Value};
 
 /// Script's declaration: its BehaviorTree.CPP name, family, children and ports.
@@ -102,11 +102,13 @@ pub const PRECONDITION: NodeDecl = NodeDecl {
 };
 
 /// The literal text of port `name`, or why it is missing.
-fn literal<'a>(ports: &'a [Port], name: &str) -> Result<&'a str, String> {
+fn literal<'a>(ports: &'a [Port], name: &str) -> Result<&'a str, MakerError> {
     match ports.iter().find(|p| p.name == name).map(|p| &p.value) {
         Some(PortValue::Literal(text)) => Ok(text),
-        Some(PortValue::Entry(_)) => Err(format!("port `{name}` must be literal text here")),
-        None => Err(format!("missing port `{name}`")),
+        Some(PortValue::Entry(_)) => Err(MakerError::BadValue(format!(
+            "port `{name}` must be literal text here"
+        ))),
+        None => Err(MakerError::MissingPort(format!("missing port `{name}`"))),
     }
 }
 
@@ -195,16 +197,17 @@ impl<C> Action<C> for UnsetBlackboard {
 }
 
 /// The entry named by port `name`: written as plain text (`key`) or as `{key}`.
-fn key_of(ports: &[Port], name: &str) -> Result<String, String> {
+fn key_of(ports: &[Port], name: &str) -> Result<String, MakerError> {
     match ports.iter().find(|p| p.name == name).map(|p| &p.value) {
         Some(PortValue::Literal(key) | PortValue::Entry(key)) => Ok(key.clone()),
-        None => Err(format!("missing port `{name}`")),
+        None => Err(MakerError::MissingPort(format!("missing port `{name}`"))),
     }
 }
 
-fn parse(ports: &[Port]) -> Result<Script, String> {
+fn parse(ports: &[Port]) -> Result<Script, MakerError> {
     let code = literal(ports, "code")?;
-    Script::parse(code).map_err(|e| format!("in script `{}`: {e}", e.excerpt(code)))
+    Script::parse(code)
+        .map_err(|e| MakerError::Script(format!("in script `{}`: {e}", e.excerpt(code))))
 }
 
 /// BehaviorTree.CPP's Precondition decorator (see the module doc).

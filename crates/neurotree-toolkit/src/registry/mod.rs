@@ -36,8 +36,37 @@ pub use ports::{PortDirection, PortSpec};
 /// Makes the per-node part of a leaf from its port bindings (most leaves ignore them; a
 /// Script node parses its `code` here, at load time) and the registry's enums (which its
 /// scripts name).
-pub(crate) type LeafMaker<C> =
-    Arc<dyn Fn(&[neurotree_core::Port], &Arc<Enums>) -> Result<NodeKind<C>, String> + Send + Sync>;
+pub(crate) type LeafMaker<C> = Arc<
+    dyn Fn(&[neurotree_core::Port], &Arc<Enums>) -> Result<NodeKind<C>, MakerError> + Send + Sync,
+>;
+
+/// Why a leaf maker refused a node's ports: the loader reports it with its kind.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub(crate) enum MakerError {
+    /// A port the node needs is not given.
+    MissingPort(String),
+    /// A value the node cannot use.
+    BadValue(String),
+    /// A script that does not parse.
+    Script(String),
+}
+
+impl From<String> for MakerError {
+    fn from(message: String) -> Self {
+        MakerError::BadValue(message)
+    }
+}
+
+impl MakerError {
+    /// The loader's kind of error, and the message.
+    pub(crate) fn into_parts(self) -> (crate::xml::LoadErrorKind, String) {
+        match self {
+            MakerError::MissingPort(m) => (crate::xml::LoadErrorKind::MissingPort, m),
+            MakerError::BadValue(m) => (crate::xml::LoadErrorKind::BadValue, m),
+            MakerError::Script(m) => (crate::xml::LoadErrorKind::Script, m),
+        }
+    }
+}
 
 /// How a registered type becomes a node.
 #[derive(Clone)]

@@ -6,8 +6,8 @@ use std::sync::Arc;
 use neurotree_core::nodes;
 
 use neurotree_core::{
-    Arity, Blueprint, BuildErrorKind, Builder, Category, NodeKind, Port, PortBinding, PortValue,
-    SubTreeScope, DEFAULT_MAX_DEPTH,
+    Arity, Blueprint, BuildErrorKind, Builder, Category, NodeKind, Port, PortBinding,
+    PortBindingError, PortValue, SubTreeScope, DEFAULT_MAX_DEPTH,
 };
 
 use super::budget;
@@ -190,17 +190,6 @@ fn build_error_kind(kind: &BuildErrorKind) -> LoadErrorKind {
         BuildErrorKind::TooDeep { .. } => LoadErrorKind::TooDeep,
         BuildErrorKind::TooManyNodes { .. } => LoadErrorKind::TooManyNodes,
         _ => LoadErrorKind::Structure,
-    }
-}
-
-/// The kind of a node maker's refusal. The makers of the engine's built-ins
-/// (`NodeKind::from_declared`) and of the std nodes say why in text only, a port that is
-/// not given as `missing port …` and anything else about a value they cannot use.
-fn maker_error_kind(message: &str) -> LoadErrorKind {
-    if message.starts_with("missing port") {
-        LoadErrorKind::MissingPort
-    } else {
-        LoadErrorKind::BadValue
     }
 }
 
@@ -439,9 +428,20 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
                     Some(_) => PortBinding::Entry,
                     None => PortBinding::Missing,
                 };
-                let kind = NodeKind::<C>::from_declared(decl, &binding)
-                    .unwrap_or_else(|| Err(format!("`{type_name}` is no built-in of the engine")))
-                    .map_err(|m| el.error(maker_error_kind(&m), m))?;
+                let kind = match NodeKind::<C>::from_declared(decl, &binding) {
+                    Some(Ok(kind)) => kind,
+                    Some(Err(e)) => {
+                        let kind = match e {
+                            PortBindingError::Missing { .. } => LoadErrorKind::MissingPort,
+                            _ => LoadErrorKind::BadValue,
+                        };
+                        return Err(el.error(kind, e.to_string()));
+                    }
+                    None => {
+                        let message = format!("`{type_name}` is no built-in of the engine");
+                        return Err(el.error(LoadErrorKind::UnknownNode, message));
+                    }
+                };
                 // A node that reads a port when it runs keeps its bindings; the others are
                 // known by their kind alone.
                 let reads_entries = ports.iter().any(|p| matches!(p.value, PortValue::Entry(_)));
@@ -500,8 +500,10 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
                 kind
             }
             Make::Leaf(make) => {
-                let kind = make(&ports, self.loader.registry.enums())
-                    .map_err(|m| el.error(maker_error_kind(&m), m))?;
+                let kind = make(&ports, self.loader.registry.enums()).map_err(|e| {
+                    let (kind, message) = e.into_parts();
+                    el.error(kind, message)
+                })?;
                 let arity = kind.arity();
                 if !arity.accepts(el.child_count() as u32) {
                     let what = if arity == Arity::Leaf {

@@ -14,13 +14,12 @@
 
 use super::ordered;
 use crate::blueprint::NodeDef;
-use crate::blueprint::{Builder, NodeKind, PortBinding};
+use crate::blueprint::{Builder, NodeKind, PortBinding, PortBindingError};
 use crate::nodes::built_in::{BuiltIn, Family, Tick};
 use crate::nodes::decl::NodeDecl;
 use crate::tree::Ticker;
 use crate::{Arity, Category};
 use crate::{NodeId, NodeStatus};
-use alloc::string::String;
 
 /// Fallback's declaration: its BehaviorTree.CPP name, family, children and ports.
 pub const FALLBACK: NodeDecl = NodeDecl {
@@ -55,7 +54,7 @@ impl Tick for Fallback {
     const AUX_SLOTS: u32 = 1;
     const PLAIN_ORDER: Option<bool> = Some(false);
 
-    fn from_ports(_: &dyn Fn(&str) -> PortBinding) -> Result<Self, String> {
+    fn from_ports(_: &dyn Fn(&str) -> PortBinding) -> Result<Self, PortBindingError> {
         Ok(Fallback)
     }
 
@@ -99,7 +98,7 @@ impl Tick for AsyncFallback {
     const DECL: &'static NodeDecl = &ASYNC_FALLBACK;
     const AUX_SLOTS: u32 = 1;
 
-    fn from_ports(_: &dyn Fn(&str) -> PortBinding) -> Result<Self, String> {
+    fn from_ports(_: &dyn Fn(&str) -> PortBinding) -> Result<Self, PortBindingError> {
         Ok(AsyncFallback)
     }
 

@@ -11,11 +11,10 @@ use crate::blueprint::NodeDef;
 use crate::tree::Ticker;
 use crate::{NodeId, NodeStatus};
 
-use crate::blueprint::{Builder, NodeKind, PortBinding};
+use crate::blueprint::{Builder, NodeKind, PortBinding, PortBindingError};
 use crate::nodes::built_in::{BuiltIn, Tick};
 use crate::nodes::decl::NodeDecl;
 use crate::{Arity, Category};
-use alloc::string::String;
 
 /// IfThenElse's declaration: its BehaviorTree.CPP name, family, children and ports.
 pub const IF_THEN_ELSE: NodeDecl = NodeDecl {
@@ -65,7 +64,7 @@ impl Tick for IfThenElse {
     const DECL: &'static NodeDecl = &IF_THEN_ELSE;
     const AUX_SLOTS: u32 = 1;
 
-    fn from_ports(_: &dyn Fn(&str) -> PortBinding) -> Result<Self, String> {
+    fn from_ports(_: &dyn Fn(&str) -> PortBinding) -> Result<Self, PortBindingError> {
         Ok(IfThenElse)
     }
 

@@ -29,7 +29,7 @@ use crate::tree::Ticker;
 use crate::{NodeId, NodeStatus};
 
 use crate::blueprint::BuildErrorKind;
-use crate::blueprint::{Builder, NodeKind, Param, PortBinding};
+use crate::blueprint::{Builder, NodeKind, Param, PortBinding, PortBindingError};
 use crate::nodes::built_in::Family;
 use crate::nodes::built_in::{self, BuiltIn, Tick};
 use crate::nodes::decl::{NodeDecl, PortDecl};
@@ -167,7 +167,7 @@ impl Tick for Parallel {
     const DECL: &'static NodeDecl = &PARALLEL;
     const AUX_SLOTS: u32 = 1;
 
-    fn from_ports(port: &dyn Fn(&str) -> PortBinding) -> Result<Self, String> {
+    fn from_ports(port: &dyn Fn(&str) -> PortBinding) -> Result<Self, PortBindingError> {
         let success = built_in::param::<i32>(port, "success_count")?;
         let failure = built_in::param::<i32>(port, "failure_count")?;
         let policy = match (success, failure) {

@@ -13,7 +13,7 @@ use crate::{NodeId, NodeStatus};
 
 use crate::blueprint::builder::resolve_threshold;
 use crate::blueprint::BuildErrorKind;
-use crate::blueprint::{Builder, NodeKind, Param, PortBinding};
+use crate::blueprint::{Builder, NodeKind, Param, PortBinding, PortBindingError};
 use crate::nodes::built_in::Family;
 use crate::nodes::built_in::{self, BuiltIn, Tick};
 use crate::nodes::decl::{NodeDecl, PortDecl};
@@ -94,7 +94,7 @@ impl BuiltIn for ParallelAll {
 impl Tick for ParallelAll {
     const DECL: &'static NodeDecl = &PARALLEL_ALL;
 
-    fn from_ports(port: &dyn Fn(&str) -> PortBinding) -> Result<Self, String> {
+    fn from_ports(port: &dyn Fn(&str) -> PortBinding) -> Result<Self, PortBindingError> {
         Ok(ParallelAll {
             max_failures: built_in::param(port, "max_failures")?,
         })

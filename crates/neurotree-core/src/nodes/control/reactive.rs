@@ -28,11 +28,10 @@ use crate::blueprint::NodeDef;
 use crate::tree::Ticker;
 use crate::{NodeId, NodeStatus, Status};
 
-use crate::blueprint::{Builder, NodeKind, PortBinding};
+use crate::blueprint::{Builder, NodeKind, PortBinding, PortBindingError};
 use crate::nodes::built_in::{BuiltIn, Family, Tick};
 use crate::nodes::decl::NodeDecl;
 use crate::{Arity, Category};
-use alloc::string::String;
 
 /// ReactiveSequence's declaration: its BehaviorTree.CPP name, family, children and ports.
 pub const REACTIVE_SEQUENCE: NodeDecl = NodeDecl {
@@ -146,7 +145,7 @@ impl Tick for ReactiveSequence {
     const DECL: &'static NodeDecl = &REACTIVE_SEQUENCE;
     const AUX_SLOTS: u32 = 1;
 
-    fn from_ports(_: &dyn Fn(&str) -> PortBinding) -> Result<Self, String> {
+    fn from_ports(_: &dyn Fn(&str) -> PortBinding) -> Result<Self, PortBindingError> {
         Ok(ReactiveSequence)
     }
 
@@ -180,7 +179,7 @@ impl Tick for ReactiveFallback {
     const DECL: &'static NodeDecl = &REACTIVE_FALLBACK;
     const AUX_SLOTS: u32 = 1;
 
-    fn from_ports(_: &dyn Fn(&str) -> PortBinding) -> Result<Self, String> {
+    fn from_ports(_: &dyn Fn(&str) -> PortBinding) -> Result<Self, PortBindingError> {
         Ok(ReactiveFallback)
     }
 

@@ -16,13 +16,12 @@
 
 use super::ordered;
 use crate::blueprint::NodeDef;
-use crate::blueprint::{Builder, NodeKind, PortBinding};
+use crate::blueprint::{Builder, NodeKind, PortBinding, PortBindingError};
 use crate::nodes::built_in::{BuiltIn, Family, Tick};
 use crate::nodes::decl::NodeDecl;
 use crate::tree::Ticker;
 use crate::{Arity, Category};
 use crate::{NodeId, NodeStatus};
-use alloc::string::String;
 
 /// Sequence's declaration: its BehaviorTree.CPP name, family, children and ports.
 pub const SEQUENCE: NodeDecl = NodeDecl {
@@ -66,7 +65,7 @@ impl Tick for Sequence {
     const AUX_SLOTS: u32 = 1;
     const PLAIN_ORDER: Option<bool> = Some(true);
 
-    fn from_ports(_: &dyn Fn(&str) -> PortBinding) -> Result<Self, String> {
+    fn from_ports(_: &dyn Fn(&str) -> PortBinding) -> Result<Self, PortBindingError> {
         Ok(Sequence)
     }
 
@@ -99,7 +98,7 @@ impl Tick for SequenceWithMemory {
     const DECL: &'static NodeDecl = &SEQUENCE_WITH_MEMORY;
     const AUX_SLOTS: u32 = 1;
 
-    fn from_ports(_: &dyn Fn(&str) -> PortBinding) -> Result<Self, String> {
+    fn from_ports(_: &dyn Fn(&str) -> PortBinding) -> Result<Self, PortBindingError> {
         Ok(SequenceWithMemory)
     }
 
@@ -136,7 +135,7 @@ impl Tick for AsyncSequence {
     const DECL: &'static NodeDecl = &ASYNC_SEQUENCE;
     const AUX_SLOTS: u32 = 1;
 
-    fn from_ports(_: &dyn Fn(&str) -> PortBinding) -> Result<Self, String> {
+    fn from_ports(_: &dyn Fn(&str) -> PortBinding) -> Result<Self, PortBindingError> {
         Ok(AsyncSequence)
     }
 

@@ -26,7 +26,7 @@ use crate::blueprint::NodeDef;
 use crate::tree::Ticker;
 use crate::{NodeId, NodeStatus};
 
-use crate::blueprint::{Builder, NodeKind, Param, PortBinding};
+use crate::blueprint::{Builder, NodeKind, Param, PortBinding, PortBindingError};
 use crate::nodes::built_in::{self, BuiltIn, Tick};
 use crate::nodes::decl::{NodeDecl, PortDecl};
 use crate::{Arity, Category};
@@ -183,7 +183,7 @@ impl Tick for TryCatch {
     const AUX_SLOTS: u32 = 1;
     const WAITS_ON_HALTS: bool = true;
 
-    fn from_ports(port: &dyn Fn(&str) -> PortBinding) -> Result<Self, String> {
+    fn from_ports(port: &dyn Fn(&str) -> PortBinding) -> Result<Self, PortBindingError> {
         Ok(TryCatch {
             catch_on_halt: built_in::param(port, "catch_on_halt")?,
         })

@@ -14,11 +14,10 @@ use crate::blueprint::NodeDef;
 use crate::tree::Ticker;
 use crate::{NodeId, NodeStatus};
 
-use crate::blueprint::{Builder, NodeKind, PortBinding};
+use crate::blueprint::{Builder, NodeKind, PortBinding, PortBindingError};
 use crate::nodes::built_in::{BuiltIn, Tick};
 use crate::nodes::decl::NodeDecl;
 use crate::{Arity, Category};
-use alloc::string::String;
 
 /// WhileDoElse's declaration: its BehaviorTree.CPP name, family, children and ports.
 pub const WHILE_DO_ELSE: NodeDecl = NodeDecl {
@@ -78,7 +77,7 @@ impl BuiltIn for WhileDoElse {}
 impl Tick for WhileDoElse {
     const DECL: &'static NodeDecl = &WHILE_DO_ELSE;
 
-    fn from_ports(_: &dyn Fn(&str) -> PortBinding) -> Result<Self, String> {
+    fn from_ports(_: &dyn Fn(&str) -> PortBinding) -> Result<Self, PortBindingError> {
         Ok(WhileDoElse)
     }
 

@@ -7,11 +7,10 @@ use crate::blueprint::NodeDef;
 use crate::tree::Ticker;
 use crate::{NodeId, NodeStatus};
 
-use crate::blueprint::{Builder, NodeKind, PortBinding};
+use crate::blueprint::{Builder, NodeKind, PortBinding, PortBindingError};
 use crate::nodes::built_in::{BuiltIn, Outcomes, Tick};
 use crate::nodes::decl::NodeDecl;
 use crate::{Arity, Category};
-use alloc::string::String;
 
 /// ForceSuccess's declaration: its BehaviorTree.CPP name, family, children and ports.
 pub const FORCE_SUCCESS: NodeDecl = NodeDecl {
@@ -62,7 +61,7 @@ impl BuiltIn for ForceSuccess {
 impl Tick for ForceSuccess {
     const DECL: &'static NodeDecl = &FORCE_SUCCESS;
 
-    fn from_ports(_: &dyn Fn(&str) -> PortBinding) -> Result<Self, String> {
+    fn from_ports(_: &dyn Fn(&str) -> PortBinding) -> Result<Self, PortBindingError> {
         Ok(ForceSuccess)
     }
 
@@ -91,7 +90,7 @@ impl BuiltIn for ForceFailure {
 impl Tick for ForceFailure {
     const DECL: &'static NodeDecl = &FORCE_FAILURE;
 
-    fn from_ports(_: &dyn Fn(&str) -> PortBinding) -> Result<Self, String> {
+    fn from_ports(_: &dyn Fn(&str) -> PortBinding) -> Result<Self, PortBindingError> {
         Ok(ForceFailure)
     }
 

@@ -8,11 +8,10 @@ use crate::blueprint::NodeDef;
 use crate::tree::Ticker;
 use crate::{NodeId, NodeStatus};
 
-use crate::blueprint::{Builder, NodeKind, PortBinding};
+use crate::blueprint::{Builder, NodeKind, PortBinding, PortBindingError};
 use crate::nodes::built_in::{BuiltIn, Tick};
 use crate::nodes::decl::NodeDecl;
 use crate::{Arity, Category};
-use alloc::string::String;
 
 /// Inverter's declaration: its BehaviorTree.CPP name, family, children and ports.
 pub const INVERTER: NodeDecl = NodeDecl {
@@ -46,7 +45,7 @@ impl BuiltIn for Inverter {}
 impl Tick for Inverter {
     const DECL: &'static NodeDecl = &INVERTER;
 
-    fn from_ports(_: &dyn Fn(&str) -> PortBinding) -> Result<Self, String> {
+    fn from_ports(_: &dyn Fn(&str) -> PortBinding) -> Result<Self, PortBindingError> {
         Ok(Inverter)
     }
 

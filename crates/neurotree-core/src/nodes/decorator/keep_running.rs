@@ -9,11 +9,10 @@ use crate::blueprint::NodeDef;
 use crate::tree::Ticker;
 use crate::{NodeId, NodeStatus};
 
-use crate::blueprint::{Builder, NodeKind, PortBinding};
+use crate::blueprint::{Builder, NodeKind, PortBinding, PortBindingError};
 use crate::nodes::built_in::{BuiltIn, Tick};
 use crate::nodes::decl::NodeDecl;
 use crate::{Arity, Category};
-use alloc::string::String;
 
 /// KeepRunningUntilFailure's declaration: its BehaviorTree.CPP name, family, children and ports.
 pub const KEEP_RUNNING_UNTIL_FAILURE: NodeDecl = NodeDecl {
@@ -54,7 +53,7 @@ impl BuiltIn for KeepRunningUntilFailure {
 impl Tick for KeepRunningUntilFailure {
     const DECL: &'static NodeDecl = &KEEP_RUNNING_UNTIL_FAILURE;
 
-    fn from_ports(_: &dyn Fn(&str) -> PortBinding) -> Result<Self, String> {
+    fn from_ports(_: &dyn Fn(&str) -> PortBinding) -> Result<Self, PortBindingError> {
         Ok(KeepRunningUntilFailure)
     }
 

@@ -18,7 +18,7 @@ use crate::tree::failure::{Note, Reason};
 use crate::tree::Ticker;
 use crate::{NodeId, NodeStatus};
 
-use crate::blueprint::{Builder, NodeKind, Param, PortBinding};
+use crate::blueprint::{Builder, NodeKind, Param, PortBinding, PortBindingError};
 use crate::nodes::built_in::Outcomes;
 use crate::nodes::built_in::{self, BuiltIn, Tick};
 use crate::nodes::decl::{NodeDecl, PortDecl};
@@ -112,7 +112,7 @@ impl Tick for Repeat {
     const DECL: &'static NodeDecl = &REPEAT;
     const AUX_SLOTS: u32 = 1;
 
-    fn from_ports(port: &dyn Fn(&str) -> PortBinding) -> Result<Self, String> {
+    fn from_ports(port: &dyn Fn(&str) -> PortBinding) -> Result<Self, PortBindingError> {
         Ok(Repeat {
             num_cycles: built_in::param(port, "num_cycles")?,
         })

@@ -13,7 +13,7 @@
 //! after 3 attempts", code 0.
 
 use crate::blueprint::NodeDef;
-use crate::blueprint::{Builder, NodeKind, Param, PortBinding};
+use crate::blueprint::{Builder, NodeKind, Param, PortBinding, PortBindingError};
 use crate::nodes::built_in::Outcomes;
 use crate::nodes::built_in::{self, BuiltIn, Tick};
 use crate::nodes::decl::{NodeDecl, PortDecl};
@@ -60,7 +60,7 @@ impl Tick for RetryUntilSuccessful {
     const DECL: &'static NodeDecl = &RETRY_UNTIL_SUCCESSFUL;
     const AUX_SLOTS: u32 = 1;
 
-    fn from_ports(port: &dyn Fn(&str) -> PortBinding) -> Result<Self, String> {
+    fn from_ports(port: &dyn Fn(&str) -> PortBinding) -> Result<Self, PortBindingError> {
         Ok(RetryUntilSuccessful {
             num_attempts: built_in::param(port, "num_attempts")?,
         })

@@ -4,13 +4,12 @@
 //! - **AlwaysFailure**: Failure, every tick.
 
 use crate::blueprint::NodeDef;
-use crate::blueprint::{Builder, NodeKind, PortBinding};
+use crate::blueprint::{Builder, NodeKind, PortBinding, PortBindingError};
 use crate::nodes::built_in::{BuiltIn, Outcomes, Tick};
 use crate::nodes::decl::NodeDecl;
 use crate::tree::Ticker;
 use crate::{Arity, Category};
 use crate::{NodeId, NodeStatus};
-use alloc::string::String;
 
 /// AlwaysSuccess's declaration: its BehaviorTree.CPP name, family, children and ports.
 pub const ALWAYS_SUCCESS: NodeDecl = NodeDecl {
@@ -43,7 +42,7 @@ impl BuiltIn for AlwaysSuccess {
 impl Tick for AlwaysSuccess {
     const DECL: &'static NodeDecl = &ALWAYS_SUCCESS;
 
-    fn from_ports(_: &dyn Fn(&str) -> PortBinding) -> Result<Self, String> {
+    fn from_ports(_: &dyn Fn(&str) -> PortBinding) -> Result<Self, PortBindingError> {
         Ok(AlwaysSuccess)
     }
 
@@ -72,7 +71,7 @@ impl BuiltIn for AlwaysFailure {
 impl Tick for AlwaysFailure {
     const DECL: &'static NodeDecl = &ALWAYS_FAILURE;
 
-    fn from_ports(_: &dyn Fn(&str) -> PortBinding) -> Result<Self, String> {
+    fn from_ports(_: &dyn Fn(&str) -> PortBinding) -> Result<Self, PortBindingError> {
         Ok(AlwaysFailure)
     }
 

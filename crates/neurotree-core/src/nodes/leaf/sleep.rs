@@ -17,7 +17,7 @@ use crate::tree::Ticker;
 use crate::{NodeId, NodeStatus};
 
 use crate::blueprint::NodeDef;
-use crate::blueprint::{Builder, NodeKind, Param, PortBinding};
+use crate::blueprint::{Builder, NodeKind, Param, PortBinding, PortBindingError};
 use crate::nodes::built_in::Outcomes;
 use crate::nodes::built_in::{self, BuiltIn, Tick};
 use crate::nodes::decl::{NodeDecl, PortDecl};
@@ -92,7 +92,7 @@ impl Tick for Sleep {
         now.saturating_sub(saved.saturating_sub(aux))
     }
 
-    fn from_ports(port: &dyn Fn(&str) -> PortBinding) -> Result<Self, String> {
+    fn from_ports(port: &dyn Fn(&str) -> PortBinding) -> Result<Self, PortBindingError> {
         Ok(Sleep {
             duration: built_in::millis(port, "msec")?,
         })
