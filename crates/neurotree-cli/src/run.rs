@@ -39,6 +39,7 @@ use serde_json::{json, Map, Value};
 
 use crate::files::{self, LoadLimits};
 use crate::groot::{GrootArgs, Served};
+use crate::testbench::{TestbenchArgs, Watch};
 use crate::Outcome;
 
 /// What `neurotree run --help` says after the options.
@@ -75,8 +76,10 @@ pub struct RunArgs {
     #[arg(long)]
     pub tree: Option<String>,
     /// NAME=OUTCOMES: replace the leaves named NAME (else of type NAME) by a mock playing
-    /// OUTCOMES, a comma list of SUCCESS, FAILURE, RUNNING, each optionally `*k`. Controls
-    /// and decorators are not mocked: a NAME only they have is an error.
+    /// OUTCOMES, a comma list of SUCCESS, FAILURE, RUNNING, each optionally `*k`, then the
+    /// outputs it writes at every tick: `;PORT=VALUE` or `;PORT:TYPE=VALUE` (the entry the
+    /// node's attribute PORT binds, else the entry PORT). Controls and decorators are not
+    /// mocked: a NAME only they have is an error, as is a NAME no node has.
     #[arg(long = "mock", value_parser = key_value)]
     pub mocks: Vec<(String, String)>,
     /// Mock with SUCCESS every leaf without an implementation: unregistered, or known only
@@ -110,6 +113,8 @@ pub struct RunArgs {
     pub observe: ObserveArgs,
     #[command(flatten)]
     pub limits: LoadLimits,
+    #[command(flatten)]
+    pub testbench: TestbenchArgs,
 }
 
 impl RunArgs {
@@ -194,7 +199,7 @@ impl Observer for Recorder {
 }
 
 /// The value of `--set KEY=VALUE`: integer, else float, else bool, else text.
-fn set_value(bb: &mut neurotree::Blackboard, key: &str, text: &str) {
+pub(crate) fn set_value(bb: &mut neurotree::Blackboard, key: &str, text: &str) {
     let result = if let Ok(i) = text.parse::<i64>() {
         bb.set(key, i)
     } else if let Ok(f) = text.parse::<f64>() {
@@ -224,6 +229,7 @@ fn load(
 ) -> Result<(Blueprint<()>, Registry<()>, files::Picked), String> {
     let mut registry = crate::registry::with_nav2_controls::<()>();
     files::add_models(&mut registry, files).map_err(|e| e.to_string())?;
+    opts.testbench.register_enums(&mut registry)?;
     let mut loader = XmlLoader::new(&registry)
         .mock_unknown(opts.mock_unknown)
         .max_nodes(opts.limits.max_nodes);
@@ -232,6 +238,7 @@ fn load(
             .map_err(|e| format!("--mock {name}={outcomes}: {e}"))?;
         loader = loader.mock(name, outcomes);
     }
+    let mut loader = opts.testbench.substitute(loader)?;
     // Clap asks for at least one file.
     let first = files.first().map(|f| files::shown(f)).unwrap_or_default();
     let loaded = files::load_all(&mut loader, files);
@@ -265,6 +272,16 @@ fn load(
 /// Runs the tree of the files; how the run ended, or [`Outcome::Refused`] if the files did
 /// not load or a logger could not write (the error is on `err`).
 pub fn execute(opts: &RunArgs, out: &mut impl Write, err: &mut impl Write) -> io::Result<Outcome> {
+    execute_watched(opts, out, err, &mut ())
+}
+
+/// [`execute`], with `watch` shown the tree after every tick.
+pub(crate) fn execute_watched(
+    opts: &RunArgs,
+    out: &mut impl Write,
+    err: &mut impl Write,
+    watch: &mut dyn Watch,
+) -> io::Result<Outcome> {
     let files = &opts.files;
     let mut warnings = Vec::new();
     let loaded = load(files, opts, &mut warnings);
@@ -314,6 +331,7 @@ pub fn execute(opts: &RunArgs, out: &mut impl Write, err: &mut impl Write) -> io
             return Ok(Outcome::Refused);
         }
     };
+    observers.extend(watch.attach(&tree));
     let view = opts.view.then(LastTickStatuses::new);
     if let Some(seen) = &view {
         observers.push(Box::new(seen.clone()));
@@ -328,7 +346,12 @@ pub fn execute(opts: &RunArgs, out: &mut impl Write, err: &mut impl Write) -> io
     // be woken, and each of those counts toward `--max-ticks` (a `Repeat` of -1 over a
     // child that succeeds at once would otherwise spin within one tick).
     let mut ticks: u32 = 0;
+    // The `--set-at` ticks written so far.
+    let mut set_upto: u32 = 0;
     while ticks < opts.max_ticks {
+        opts.testbench
+            .set_due(set_upto, ticks + 1, tree.blackboard_mut());
+        set_upto = ticks + 1;
         let left = opts.max_ticks - ticks;
         tree.set_max_passes(left);
         clock.advance(opts.step());
@@ -364,6 +387,7 @@ pub fn execute(opts: &RunArgs, out: &mut impl Write, err: &mut impl Write) -> io
             }
         }
         writeln!(out, "{line}")?;
+        watch.after_tick(ticks, &line, &tree);
         if let Some(seen) = &view {
             writeln!(
                 err,
@@ -407,6 +431,9 @@ pub fn execute(opts: &RunArgs, out: &mut impl Write, err: &mut impl Write) -> io
     }});
     if let Some(failure) = tree.last_failure() {
         summary["summary"]["failure"] = failure_json(&failure);
+    }
+    if let Some(all) = opts.testbench.blackboards(&tree) {
+        summary["summary"]["blackboards"] = all;
     }
     writeln!(out, "{summary}")?;
     let written = outputs.finish(&blueprint, err)?;

@@ -26,8 +26,11 @@
 //! (BehaviorTree.CPP appends `::UID` to an unnamed node, which no rule can know in
 //! advance). Where several rules match a node, the first that names it or its type wins,
 //! then the first pattern in file order (BehaviorTree.CPP leaves the order unspecified).
-//! A node a rule replaces needs no registration; a test node is a leaf, and replaces the
-//! node with anything below it.
+//! A node a rule replaces needs no registration. A test node is a leaf: a rule naming a
+//! test node leaves a node with children as it is (a control and a leaf may share a name,
+//! as Nav2's RecoveryNode `ComputePathToPose` and the action it retries), while a rule
+//! naming a registered type replaces any node, keeping the ports of the replaced node
+//! that the new type has.
 
 use std::path::Path;
 use std::sync::Arc;
