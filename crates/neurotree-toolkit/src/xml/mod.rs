@@ -196,8 +196,9 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
         self
     }
 
-    /// Applies BehaviorTree.CPP's substitution rules when building (see [the rules](crate::xml::substitute)),
-    /// after the ones given before. A node that a mock replaces is not substituted.
+    /// Applies BehaviorTree.CPP's substitution rules when building (see
+    /// [the rules](crate::xml::substitute)), after the ones given before. A node that a
+    /// mock replaces is not substituted.
     ///
     /// ```
     /// use neurotree::xml::{Substitutions, XmlLoader};
