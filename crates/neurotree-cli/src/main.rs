@@ -6,6 +6,7 @@
 //! - `neurotree run`: dry-run a BehaviorTree.CPP file with mock leaves, as JSON lines.
 //! - `neurotree ros2`: Nav2's navigator and the simulated Nav2 servers as ROS 2 processes
 //!   (feature `ros2`, on by default; Rust 1.88).
+//! - `neurotree test`: run scenario files (mocks, inputs, expectations per tick) as tests.
 //! - `neurotree show`: draw a BehaviorTree.CPP file's tree as text, DOT, Mermaid or SVG.
 //!
 //! Each command's flags and what it does are in its own module, so that a command reads in
@@ -25,6 +26,8 @@ mod registry;
 mod ros2;
 mod run;
 mod show;
+mod test;
+mod testbench;
 
 use std::io::{self, Write};
 use std::process::ExitCode;
@@ -50,6 +53,9 @@ enum Command {
     Check(check::CheckArgs),
     /// Tick a BehaviorTree.CPP file with mock leaves and print each tick as JSON.
     Run(Box<run::RunArgs>),
+    /// Run scenario files: a tree with mocks, inputs and expectations per tick; reports as
+    /// `cargo test` does.
+    Test(test::TestArgs),
     /// Draw a BehaviorTree.CPP file's tree as text, Graphviz DOT, Mermaid or SVG, with the
     /// statuses of a `run --trace` if given one.
     Show(show::ShowArgs),
@@ -93,6 +99,7 @@ fn main() -> ExitCode {
         Command::Ros2(command) => ros2::execute(command, &mut out),
         Command::Bench(args) => bench::execute(&args, &mut out),
         Command::Run(args) => run::execute(&args, &mut out, &mut io::stderr()),
+        Command::Test(args) => test::execute(&args, &mut out, &mut io::stderr()),
         Command::Show(args) => show::execute(&args, &mut out, &mut io::stderr()),
         Command::Check(args) => check::execute(&args, &mut out, &mut io::stderr()),
     };

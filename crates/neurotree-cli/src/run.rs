@@ -40,6 +40,7 @@ use serde_json::{json, Map, Value};
 use crate::files::{self, LoadLimits};
 use crate::groot::{GrootArgs, Served};
 use crate::live::{self, LiveArgs, SavedRun, Watcher};
+use crate::testbench::{TestbenchArgs, Watch};
 use crate::Outcome;
 
 /// What `neurotree run --help` says after the options.
@@ -76,8 +77,10 @@ pub struct RunArgs {
     #[arg(long)]
     pub tree: Option<String>,
     /// NAME=OUTCOMES: replace the leaves named NAME (else of type NAME) by a mock playing
-    /// OUTCOMES, a comma list of SUCCESS, FAILURE, RUNNING, each optionally `*k`. Controls
-    /// and decorators are not mocked: a NAME only they have is an error.
+    /// OUTCOMES, a comma list of SUCCESS, FAILURE, RUNNING, each optionally `*k`, then the
+    /// outputs it writes at every tick: `;PORT=VALUE` or `;PORT:TYPE=VALUE` (the entry the
+    /// node's attribute PORT binds, else the entry PORT). Controls and decorators are not
+    /// mocked: a NAME only they have is an error, as is a NAME no node has.
     #[arg(long = "mock", value_parser = key_value)]
     pub mocks: Vec<(String, String)>,
     /// Mock with SUCCESS every leaf without an implementation: unregistered, or known only
@@ -113,6 +116,8 @@ pub struct RunArgs {
     pub limits: LoadLimits,
     #[command(flatten)]
     pub live: LiveArgs,
+    #[command(flatten)]
+    pub testbench: TestbenchArgs,
 }
 
 impl RunArgs {
@@ -197,7 +202,7 @@ impl Observer for Recorder {
 }
 
 /// The value of `--set KEY=VALUE`: integer, else float, else bool, else text.
-fn set_value(bb: &mut neurotree::Blackboard, key: &str, text: &str) {
+pub(crate) fn set_value(bb: &mut neurotree::Blackboard, key: &str, text: &str) {
     let result = if let Ok(i) = text.parse::<i64>() {
         bb.set(key, i)
     } else if let Ok(f) = text.parse::<f64>() {
@@ -227,6 +232,7 @@ fn load(
 ) -> Result<(Blueprint<()>, Registry<()>, files::Picked), String> {
     let mut registry = crate::registry::with_nav2_controls::<()>();
     files::add_models(&mut registry, files).map_err(|e| e.to_string())?;
+    opts.testbench.register_enums(&mut registry)?;
     let mut loader = XmlLoader::new(&registry)
         .mock_unknown(opts.mock_unknown)
         .max_nodes(opts.limits.max_nodes);
@@ -235,6 +241,7 @@ fn load(
             .map_err(|e| format!("--mock {name}={outcomes}: {e}"))?;
         loader = loader.mock(name, outcomes);
     }
+    let mut loader = opts.testbench.substitute(loader)?;
     // Clap asks for at least one file.
     let first = files.first().map(|f| files::shown(f)).unwrap_or_default();
     let loaded = files::load_all(&mut loader, files);
@@ -268,6 +275,16 @@ fn load(
 /// Runs the tree of the files; how the run ended, or [`Outcome::Refused`] if the files did
 /// not load or a logger could not write (the error is on `err`).
 pub fn execute(opts: &RunArgs, out: &mut impl Write, err: &mut impl Write) -> io::Result<Outcome> {
+    execute_watched(opts, out, err, &mut ())
+}
+
+/// [`execute`], with `watch` shown the tree after every tick.
+pub(crate) fn execute_watched(
+    opts: &RunArgs,
+    out: &mut impl Write,
+    err: &mut impl Write,
+    watch: &mut dyn Watch,
+) -> io::Result<Outcome> {
     let files = &opts.files;
     let mut warnings = Vec::new();
     let loaded = load(files, opts, &mut warnings);
@@ -359,6 +376,7 @@ pub fn execute(opts: &RunArgs, out: &mut impl Write, err: &mut impl Write) -> io
             return Ok(Outcome::Refused);
         }
     };
+    observers.extend(watch.attach(&tree));
     let view = opts.view.then(LastTickStatuses::new);
     if let Some(seen) = &view {
         observers.push(Box::new(seen.clone()));
@@ -368,6 +386,8 @@ pub fn execute(opts: &RunArgs, out: &mut impl Write, err: &mut impl Write) -> io
         observers.push(Box::new(served.monitor()));
     }
     tree.set_observer((Recorder(Arc::clone(&record)), observers));
+    // The `--set-at` ticks written so far: on a resumed run, those of the ticks it saved.
+    let mut set_upto: u32 = ticks;
     while ticks < limit {
         live::pace(&opts.live);
         if let Some(watcher) = &mut watcher {
@@ -377,6 +397,9 @@ pub fn execute(opts: &RunArgs, out: &mut impl Write, err: &mut impl Write) -> io
                 }
             }
         }
+        opts.testbench
+            .set_due(set_upto, ticks + 1, tree.blackboard_mut());
+        set_upto = ticks + 1;
         let left = limit - ticks;
         tree.set_max_passes(left);
         clock.advance(opts.step());
@@ -414,6 +437,7 @@ pub fn execute(opts: &RunArgs, out: &mut impl Write, err: &mut impl Write) -> io
             }
         }
         writeln!(out, "{line}")?;
+        watch.after_tick(ticks, &line, &tree);
         if let Some(seen) = &view {
             writeln!(
                 err,
@@ -475,6 +499,9 @@ pub fn execute(opts: &RunArgs, out: &mut impl Write, err: &mut impl Write) -> io
     }});
     if let Some(failure) = tree.last_failure() {
         summary["summary"]["failure"] = failure_json(&failure);
+    }
+    if let Some(all) = opts.testbench.blackboards(&tree) {
+        summary["summary"]["blackboards"] = all;
     }
     writeln!(out, "{summary}")?;
     let written = outputs.finish(&blueprint, err)?;

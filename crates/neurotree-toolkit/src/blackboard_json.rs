@@ -1,11 +1,11 @@
 //! Blackboard entries as JSON, for the tools that show a blackboard to a person or a program
 //! (the `neurotree run` summary, the Groot2 monitor).
 //!
-//! Entries hold arbitrary Rust values, so only the types that scripts, `--set` and the XML
-//! loader write are converted to their JSON value: `i64`, `f64`, `bool` and `String`. Any
-//! other type shows as its type name in angle brackets (`"<my_robot::Pose>"`), which tells
-//! the reader that the entry exists and what it holds; an entry that a port declared but
-//! nothing wrote yet is `null`.
+//! Entries hold arbitrary Rust values, so the types a JSON value can hold are converted to
+//! it: integers of every width (`i8` to `i128`, `u8` to `u128`, `isize`, `usize`), `f64`
+//! and `f32`, `bool`, `String` and `&'static str`. Any other type shows as its type name in
+//! angle brackets (`"<my_robot::Pose>"`), which tells the reader that the entry exists and
+//! what it holds; an entry that a port declared but nothing wrote yet is `null`.
 //!
 //! ```
 //! use neurotree::blackboard_json::scope_json;
@@ -15,9 +15,10 @@
 //! bb.set("count", 3_i64).unwrap();
 //! bb.set("mode", "docking".to_string()).unwrap();
 //! bb.set("raw", 7_u8).unwrap();
+//! bb.set("pose", (1.0_f64, 2.0_f64)).unwrap();
 //! assert_eq!(
 //!     serde_json::Value::Object(scope_json(&bb, ScopeId::ROOT)).to_string(),
-//!     r#"{"count":3,"mode":"docking","raw":"<u8>"}"#
+//!     r#"{"count":3,"mode":"docking","pose":"<(f64, f64)>","raw":7}"#
 //! );
 //! ```
 
@@ -29,14 +30,20 @@ pub fn entry_json(bb: &Blackboard, scope: ScopeId, key: &str) -> Value {
     let Some(any) = bb.get_any_in(scope, key) else {
         return Value::Null;
     };
-    if let Some(v) = any.downcast_ref::<i64>() {
-        json!(v)
-    } else if let Some(v) = any.downcast_ref::<f64>() {
-        json!(v)
-    } else if let Some(v) = any.downcast_ref::<bool>() {
-        json!(v)
-    } else if let Some(v) = any.downcast_ref::<String>() {
-        json!(v)
+    macro_rules! as_json {
+        ($($t:ty),*) => {$(
+            if let Some(v) = any.downcast_ref::<$t>() {
+                return json!(v);
+            }
+        )*};
+    }
+    as_json!(i64, f64, bool, String, i32, u32, u64, f32, usize, isize, i16, u16, i8, u8);
+    as_json!(&'static str);
+    // Past 64 bits, a number JSON readers take at its word: as text.
+    if let Some(v) = any.downcast_ref::<i128>() {
+        json!(v.to_string())
+    } else if let Some(v) = any.downcast_ref::<u128>() {
+        json!(v.to_string())
     } else {
         let type_name = bb.info_in(scope, key).map_or("unknown", |i| i.type_name);
         json!(format!("<{type_name}>"))
@@ -69,7 +76,15 @@ mod tests {
         assert_eq!(entry_json(&bb, root, "f"), json!(2.5));
         assert_eq!(entry_json(&bb, root, "b"), json!(true));
         assert_eq!(entry_json(&bb, root, "s"), json!("text"));
-        assert_eq!(entry_json(&bb, root, "u"), json!("<u32>"));
+        assert_eq!(entry_json(&bb, root, "u"), json!(9));
+        bb.set("i32", -7_i32).unwrap();
+        bb.set("f32", 0.5_f32).unwrap();
+        bb.set("big", u128::MAX).unwrap();
+        bb.set("pair", (1_u8, 2_u8)).unwrap();
+        assert_eq!(entry_json(&bb, root, "i32"), json!(-7));
+        assert_eq!(entry_json(&bb, root, "f32"), json!(0.5));
+        assert_eq!(entry_json(&bb, root, "big"), json!(u128::MAX.to_string()));
+        assert_eq!(entry_json(&bb, root, "pair"), json!("<(u8, u8)>"));
         assert_eq!(entry_json(&bb, root, "later"), Value::Null);
         assert_eq!(entry_json(&bb, root, "missing"), Value::Null);
     }

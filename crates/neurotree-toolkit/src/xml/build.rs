@@ -13,6 +13,7 @@ use neurotree_core::{
 use super::budget;
 use super::mock;
 use super::source::Element;
+use super::substitute::{self, Substitute};
 use super::{LoadError, LoadErrorKind, XmlLoader};
 use crate::nodes::hooks::{ScriptHooks, ATTRIBUTES};
 use crate::registry::{Make, NodeType};
@@ -44,6 +45,9 @@ struct Expansion<'a, 'r, C> {
     not_mocked: Vec<(&'a str, LoadError)>,
     /// Nodes opened so far, subtrees expanded: at most the loader's `max_nodes`.
     nodes: usize,
+    /// The names (else IDs) of the SubTrees being expanded, outermost first: the start of
+    /// a node's path as BehaviorTree.CPP's substitution rules match it.
+    subtree_names: Vec<&'a str>,
 }
 
 /// What an element turns into: the node to open, and whether its children follow it.
@@ -129,6 +133,7 @@ impl<'a, 'r, C: 'static> Expansion<'a, 'r, C> {
             mocked: Vec::new(),
             not_mocked: Vec::new(),
             nodes: 0,
+            subtree_names: Vec::new(),
         }
     }
 
@@ -151,6 +156,22 @@ impl<'a, 'r, C: 'static> Expansion<'a, 'r, C> {
             .find(|(n, _)| !self.mocked.contains(n))
         {
             return Err(error.clone());
+        }
+        // A mock that replaced nothing is a mistake (a misspelt name), never ignored.
+        if !self.validate {
+            if let Some(name) = self.loader.mocks.keys().find(|name| {
+                !self.mocked.contains(&name.as_str())
+                    && self.not_mocked.iter().all(|(n, _)| n != name)
+            }) {
+                return Err(tree.error(
+                    LoadErrorKind::UnmatchedMock,
+                    format!(
+                        "the mock `{name}` matches no node of tree `{}`: no node is named or of \
+                         type `{name}`; check its spelling",
+                        self.stack[0]
+                    ),
+                ));
+            }
         }
         // Checks the loader could not make on one element (thresholds against the number
         // of children) come back from the builder; they point at the element it refused,
@@ -312,6 +333,7 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
             }
             .map(|b| self.close(b, el));
             self.stack.pop();
+            self.subtree_names.pop();
             return b;
         }
         let opened = match self.open(el) {
@@ -382,7 +404,12 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
             descend: false,
         };
         let node_type = self.node_type(type_name);
-        if let Some(outcomes) = self.loader.mocks.get(name) {
+        // By name first, as BehaviorTree.CPP's substitution rules match, then by type.
+        let mock = [name, type_name]
+            .into_iter()
+            .find_map(|key| self.loader.mocks.get_key_value(key));
+        if let Some((key, outcomes)) = mock {
+            let name = key.as_str();
             let family = node_type.map(|t| t.category);
             if el.child_count() == 0
                 && !matches!(family, Some(Category::Control | Category::Decorator))
@@ -390,7 +417,13 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
                 if !self.mocked.contains(&name) {
                     self.mocked.push(name);
                 }
-                return Ok(leaf_for(mock::mock_kind(outcomes), hooks));
+                let ports = mock::output_ports(outcomes, |port| {
+                    el.attr(port).map(|text| binding(port, text))
+                });
+                return Ok(Opened {
+                    ports,
+                    ..leaf_for(mock::mock_kind(outcomes), hooks)
+                });
             }
             // Not a leaf: it stays. A mock named after it that replaces no leaf either is
             // a mistake, found once the tree is expanded.
@@ -400,6 +433,36 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
                     "`{name}` is a {family} (`{type_name}`) and no leaf is named so; a mock replaces only a leaf (an Action or a Condition)"
                 ));
                 self.not_mocked.push((name, error));
+            }
+        }
+        let mut substituted = false;
+        let mut node_type = node_type;
+        if !self.validate {
+            if let Some(rule) = self.substitution(name, type_name) {
+                match rule {
+                    // A test node is a leaf: a node with children sharing a leaf's name
+                    // (Nav2's RecoveryNode `ComputePathToPose` around the action of that
+                    // name) stays, as it does for a mock.
+                    Substitute::Test(_) if el.child_count() > 0 => {}
+                    Substitute::Test(config) => {
+                        let kind = substitute::test_kind(config, self.loader.registry.enums());
+                        return Ok(leaf_for(kind, hooks));
+                    }
+                    Substitute::Node(other) => {
+                        let Some(other_type) = self.node_type(other) else {
+                            return Err(el.error(
+                                LoadErrorKind::Substitution,
+                                format!(
+                                    "a substitution rule replaces `{name}` by `{other}`, which \
+                                     is neither a TestNodeConfig of the rules nor a registered \
+                                     node type"
+                                ),
+                            ));
+                        };
+                        node_type = Some(other_type);
+                        substituted = true;
+                    }
+                }
             }
         }
         let Some(node_type) = node_type else {
@@ -417,7 +480,7 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
             ),
             ));
         };
-        let ports = self.check_ports(el, node_type, explicit)?;
+        let ports = self.check_ports(el, node_type, explicit, substituted)?;
         let kind = match &node_type.make {
             Make::BuiltIn(decl) => {
                 let binding = |port: &str| match ports.iter().find(|p| p.name == port) {
@@ -551,6 +614,20 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
         })
     }
 
+    /// The substitution rule for the node `name` of type `type_name`, if one applies.
+    fn substitution(&self, name: &str, type_name: &str) -> Option<&'a Substitute> {
+        let rules = &self.loader.substitutions;
+        if rules.is_empty() {
+            return None;
+        }
+        let mut path = self.subtree_names.join("/");
+        if !path.is_empty() {
+            path.push('/');
+        }
+        path.push_str(name);
+        rules.rule_for(name, type_name, &path)
+    }
+
     /// The registered type named `name`.
     fn node_type(&mut self, name: &'a str) -> Option<&'a NodeType<C>> {
         let b = name.as_bytes();
@@ -584,10 +661,16 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
         el: Element<'_>,
         node_type: &NodeType<C>,
         explicit: bool,
+        substituted: bool,
     ) -> Result<Vec<Port>, LoadError> {
         let mut ports = Vec::new();
         for (key, text) in el.attrs() {
             if key == "name" || (explicit && key == "ID") || ATTRIBUTES.contains(&key) {
+                continue;
+            }
+            // A node put in another's place by a substitution rule keeps the ports it
+            // shares with the node it replaces; the others have no use there.
+            if substituted && node_type.port(key).is_none() {
                 continue;
             }
             let Some(spec) = node_type.port(key) else {
@@ -738,6 +821,7 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
         let name = el.attr("name").unwrap_or(id);
         let hooks = conditions(el, self.loader.registry.enums())?;
         self.stack.push(id.to_string());
+        self.subtree_names.push(name);
         let opened = Opened {
             type_id: Some(id),
             hooks,

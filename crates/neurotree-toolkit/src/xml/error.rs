@@ -101,6 +101,11 @@ pub enum LoadErrorKind {
     TooManyNodes,
     /// A mock named after a control or decorator and no leaf: mocks replace only leaves.
     MockNotLeaf,
+    /// A mock that no node of the tree built is named or of the type of.
+    UnmatchedMock,
+    /// A substitution rules file that cannot be read, or a rule that cannot be applied
+    /// (it names neither a TestNodeConfig nor a registered node type).
+    Substitution,
 }
 
 /// Something a file does that loads but should change, with its place: a deprecated or

@@ -1,22 +1,167 @@
-//! Mock nodes for dry runs: a node replaced by a leaf that plays a list of outcomes.
+//! Mock nodes for dry runs: a node replaced by a leaf that plays a list of outcomes, and
+//! writes outputs as it goes.
 //!
 //! The outcomes are kept as runs (an outcome and how many ticks it lasts) and played with
 //! a cursor, so `RUNNING*4000000000` costs one run, not four billion entries.
 
-use neurotree_core::{Arity, CustomNode, CustomSpec, NodeCtx, NodeKind, NodeStatus, Status};
+use std::time::Duration;
+
+use neurotree_core::{
+    Arity, Blackboard, CustomNode, CustomSpec, NodeCtx, NodeKind, NodeStatus, Port, PortValue,
+    ScopeId, Status,
+};
+
+use crate::script::Value;
 
 /// What a mock plays: runs of outcomes, each lasting a number of ticks, then the last
-/// outcome forever. Made by [`parse_outcomes`], or from a list of outcomes one per tick.
+/// outcome forever, and the outputs it writes at every tick. Made by [`parse_outcomes`],
+/// or from a list of outcomes one per tick.
 #[derive(Clone, Debug, PartialEq, Eq, Default)]
 pub struct Outcomes {
     /// `(outcome, ticks)`, every count at least 1.
     runs: Vec<(Status, u64)>,
+    /// Written at every tick, in order.
+    outputs: Vec<MockOutput>,
+}
+
+/// A value a mock writes to one of its ports at every tick: `out=3` or `out:i32=3`.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct MockOutput {
+    /// The port: the entry the node's attribute of that name binds (`out="{goal}"`), or,
+    /// if the node has no such attribute, the entry named like the port.
+    pub port: String,
+    /// The type to store, if declared; otherwise the text is stored as a script literal
+    /// would be (integer, else real, else `true`/`false`, else text), converted to the
+    /// type of an entry that exists.
+    pub declared: Option<OutputType>,
+    /// The value, as written.
+    pub text: String,
+}
+
+/// The types a mock's output may be declared as.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum OutputType {
+    /// `i64` (also written `int`).
+    I64,
+    /// `i32`.
+    I32,
+    /// `u32`.
+    U32,
+    /// `u64`.
+    U64,
+    /// `f64` (also `double`, `real`).
+    F64,
+    /// `f32` (also `float`).
+    F32,
+    /// `bool`.
+    Bool,
+    /// `String` (also `string`, `str`).
+    String,
+}
+
+impl OutputType {
+    /// The type named `name`, as `--mock` and port models write it.
+    pub fn parse(name: &str) -> Option<Self> {
+        Some(match name {
+            "i64" | "int" | "int64_t" | "long" => OutputType::I64,
+            "i32" | "int32_t" => OutputType::I32,
+            "u32" | "uint32_t" | "unsigned" => OutputType::U32,
+            "u64" | "uint64_t" => OutputType::U64,
+            "f64" | "double" | "real" => OutputType::F64,
+            "f32" | "float" => OutputType::F32,
+            "bool" => OutputType::Bool,
+            "string" | "String" | "str" | "std::string" => OutputType::String,
+            _ => return None,
+        })
+    }
+
+    /// Stores `text` read as this type at `key` from `scope`.
+    fn store(
+        self,
+        bb: &mut Blackboard,
+        scope: ScopeId,
+        key: &str,
+        text: &str,
+        now: Duration,
+    ) -> Result<(), String> {
+        fn num<T: std::str::FromStr>(text: &str, ty: &str) -> Result<T, String> {
+            text.trim()
+                .parse()
+                .map_err(|_| format!("cannot read `{text}` as {ty}"))
+        }
+        let stored = match self {
+            OutputType::I64 => bb.set_in(scope, key, num::<i64>(text, "i64")?, now),
+            OutputType::I32 => bb.set_in(scope, key, num::<i32>(text, "i32")?, now),
+            OutputType::U32 => bb.set_in(scope, key, num::<u32>(text, "u32")?, now),
+            OutputType::U64 => bb.set_in(scope, key, num::<u64>(text, "u64")?, now),
+            OutputType::F64 => bb.set_in(scope, key, num::<f64>(text, "f64")?, now),
+            OutputType::F32 => bb.set_in(scope, key, num::<f32>(text, "f32")?, now),
+            OutputType::Bool => bb.set_in(scope, key, num::<bool>(text, "bool")?, now),
+            OutputType::String => bb.set_in(scope, key, text.to_string(), now),
+        };
+        stored.map_err(|e| e.to_string())
+    }
+
+    /// Every type name [`parse`](Self::parse) reads, for messages.
+    pub const NAMES: &'static str = "i64, i32, u32, u64, f64, f32, bool, string";
+}
+
+impl MockOutput {
+    /// Writes the value to the port of the node being ticked.
+    fn write<C>(&self, node: &mut NodeCtx<'_, '_, C>) -> Result<(), String> {
+        let key = match node.ports().iter().find(|p| p.name == self.port) {
+            Some(Port {
+                value: PortValue::Entry(key),
+                ..
+            }) => key.clone(),
+            Some(_) => {
+                return Err(format!(
+                    "the mock's output port `{}` is given a literal, not an entry like {{key}}",
+                    self.port
+                ))
+            }
+            None => self.port.clone(),
+        };
+        let (scope, now) = (node.scope(), node.now());
+        let bb = node.blackboard();
+        match self.declared {
+            Some(ty) => ty.store(bb, scope, &key, &self.text, now),
+            None => literal(&self.text)
+                .store(bb, scope, &key, now)
+                .map(drop)
+                .map_err(|e| e.to_string()),
+        }
+    }
+}
+
+/// `text` as a script literal: integer, else real, else `true`/`false`, else text.
+fn literal(text: &str) -> Value {
+    if let Ok(i) = text.parse::<i64>() {
+        Value::Int(i)
+    } else if let Ok(f) = text.parse::<f64>() {
+        Value::Real(f)
+    } else if let Ok(b) = text.parse::<bool>() {
+        Value::Bool(b)
+    } else {
+        Value::Str(text.to_string())
+    }
 }
 
 impl Outcomes {
     /// The runs, in order: each outcome and the number of ticks it lasts.
     pub fn runs(&self) -> &[(Status, u64)] {
         &self.runs
+    }
+
+    /// The outputs written at every tick, in order.
+    pub fn outputs(&self) -> &[MockOutput] {
+        &self.outputs
+    }
+
+    /// Adds an output written at every tick (see [`MockOutput`]).
+    pub fn with_output(mut self, output: MockOutput) -> Self {
+        self.outputs.push(output);
+        self
     }
 
     /// Appends `count` ticks of `status` (nothing if `count` is 0).
@@ -41,6 +186,7 @@ impl From<Vec<Status>> for Outcomes {
 /// Plays its runs in order, one tick at a time, then repeats the last outcome.
 struct Mock {
     runs: Vec<(Status, u64)>,
+    outputs: Vec<MockOutput>,
     /// The run being played.
     run: usize,
     /// Ticks of that run played so far.
@@ -64,7 +210,13 @@ impl<C> CustomNode<C> for Mock {
         }
     }
 
-    fn tick(&mut self, _node: &mut NodeCtx<'_, '_, C>) -> NodeStatus {
+    fn tick(&mut self, node: &mut NodeCtx<'_, '_, C>) -> NodeStatus {
+        for output in &self.outputs {
+            if let Err(e) = output.write(node) {
+                node.fail(format!("mock output `{}`: {e}", output.port));
+                return NodeStatus::Failure;
+            }
+        }
         let Some(&(status, count)) = self.runs.get(self.run) else {
             // No outcome at all (an empty list given to `XmlLoader::mock`).
             return NodeStatus::Success;
@@ -82,12 +234,14 @@ impl<C> CustomNode<C> for Mock {
 /// A leaf kind playing `outcomes` (a fresh cursor per tree instance).
 pub(crate) fn mock_kind<C>(outcomes: &Outcomes) -> NodeKind<C> {
     let runs = outcomes.runs.clone();
+    let outputs = outcomes.outputs.clone();
     NodeKind::Custom(Box::new(CustomSpec {
         type_name: "Mock".into(),
         arity: Arity::Leaf,
         factory: Box::new(move || {
             Box::new(Mock {
                 runs: runs.clone(),
+                outputs: outputs.clone(),
                 run: 0,
                 played: 0,
             })
@@ -95,9 +249,72 @@ pub(crate) fn mock_kind<C>(outcomes: &Outcomes) -> NodeKind<C> {
     }))
 }
 
+/// The ports a mock of `outcomes` writes, bound as the node's attributes `attr` bind them
+/// (`{key}`, `{=}`, or a literal), or, without an attribute, to the entry of the same name.
+pub(crate) fn output_ports(
+    outcomes: &Outcomes,
+    attr: impl Fn(&str) -> Option<PortValue>,
+) -> Vec<Port> {
+    outcomes
+        .outputs
+        .iter()
+        .map(|o| Port {
+            name: o.port.clone(),
+            value: attr(&o.port).unwrap_or_else(|| PortValue::Entry(o.port.clone())),
+            declared: neurotree_core::PortType::ANY,
+        })
+        .collect()
+}
+
 /// Parses `SUCCESS,RUNNING*3,FAILURE`: a comma list of outcomes, each optionally `*k` with
-/// `k` from 1 to `u64::MAX`.
+/// `k` from 1 to `u64::MAX`; then, after `;`, outputs to write at every tick:
+/// `SUCCESS;pose=3;mode:string=dock` (`PORT=VALUE` or `PORT:TYPE=VALUE`, see
+/// [`MockOutput`] and [`OutputType`]).
 pub fn parse_outcomes(text: &str) -> Result<Outcomes, String> {
+    let mut clauses = text.split(';');
+    let mut out = parse_runs(clauses.next().unwrap_or(""))?;
+    for clause in clauses.filter(|c| !c.trim().is_empty()) {
+        let Some((port, value)) = clause.split_once('=') else {
+            return Err(format!(
+                "`{clause}` should be PORT=VALUE or PORT:TYPE=VALUE (an output to write)"
+            ));
+        };
+        let (port, declared) = match port.split_once(':') {
+            Some((port, ty)) => {
+                let ty = OutputType::parse(ty.trim()).ok_or_else(|| {
+                    format!(
+                        "`{clause}`: unknown type `{}`; write one of {}",
+                        ty.trim(),
+                        OutputType::NAMES
+                    )
+                })?;
+                (port, Some(ty))
+            }
+            None => (port, None),
+        };
+        let port = port.trim();
+        if port.is_empty() {
+            return Err(format!(
+                "`{clause}`: the output needs a port name before `=`"
+            ));
+        }
+        if let Some(ty) = declared {
+            // Checked now, so a value that cannot be stored is a mistake in the command.
+            let mut bb = Blackboard::new();
+            ty.store(&mut bb, ScopeId::ROOT, port, value, Duration::ZERO)
+                .map_err(|e| format!("`{clause}`: {e}"))?;
+        }
+        out.outputs.push(MockOutput {
+            port: port.to_string(),
+            declared,
+            text: value.to_string(),
+        });
+    }
+    Ok(out)
+}
+
+/// The outcomes before any `;`.
+fn parse_runs(text: &str) -> Result<Outcomes, String> {
     let mut out = Outcomes::default();
     for item in text.split(',') {
         let (word, times) = match item.split_once('*') {
@@ -182,6 +399,26 @@ mod tests {
         assert_eq!(
             parse_outcomes("RUNNING*-1").unwrap_err(),
             "`RUNNING*-1`: the count after `*` must be a whole number"
+        );
+    }
+
+    #[test]
+    fn outputs_parse_after_the_outcomes() {
+        let o = parse_outcomes("SUCCESS*2,FAILURE;out=3;mode:string=dock").unwrap();
+        assert_eq!(o.runs(), [(Status::Success, 2), (Status::Failure, 1)]);
+        assert_eq!(o.outputs().len(), 2);
+        assert_eq!(o.outputs()[0].declared, None);
+        assert_eq!(o.outputs()[1].declared, Some(OutputType::String));
+        assert_eq!(o.outputs()[1].text, "dock");
+        assert!(parse_outcomes("SUCCESS;out")
+            .unwrap_err()
+            .contains("PORT=VALUE"));
+        assert!(parse_outcomes("SUCCESS;out:pose=1")
+            .unwrap_err()
+            .contains("unknown type `pose`"));
+        assert_eq!(
+            parse_outcomes("SUCCESS;n:i32=x").unwrap_err(),
+            "`n:i32=x`: cannot read `x` as i32"
         );
     }
 

@@ -37,12 +37,14 @@ mod mock;
 mod model;
 pub mod save;
 mod source;
+pub mod substitute;
 
 pub use budget::TOO_MANY_NODES;
 pub use error::{LoadError, LoadErrorKind, LoadWarning};
 pub use file::{read_file, DEFAULT_MAX_FILE_BYTES};
-pub use mock::{parse_outcomes, Outcomes};
+pub use mock::{parse_outcomes, MockOutput, Outcomes, OutputType};
 pub use save::{write_xml, SaveOptions};
+pub use substitute::{Substitute, Substitutions, TestNodeConfig};
 
 /// The most nodes a tree built by an [`XmlLoader`] may have, its subtrees expanded, unless
 /// [`XmlLoader::max_nodes`] says otherwise: far more than any real tree, and few enough
@@ -106,6 +108,8 @@ pub struct XmlLoader<'r, C> {
     unnamed_trees: usize,
     /// Node name (or type) → the outcomes of the mock that replaces it.
     mocks: BTreeMap<String, Outcomes>,
+    /// BehaviorTree.CPP's substitution rules, applied after the mocks.
+    substitutions: Substitutions,
     /// The most nodes a built tree may have, subtrees expanded.
     max_nodes: usize,
     /// The largest file read, in bytes.
@@ -143,6 +147,7 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
             loading: Vec::new(),
             unnamed_trees: 0,
             mocks: BTreeMap::new(),
+            substitutions: Substitutions::new(),
             max_nodes: DEFAULT_MAX_NODES,
             max_file_bytes: DEFAULT_MAX_FILE_BYTES,
             sizes: std::sync::Mutex::default(),
@@ -180,12 +185,38 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
     }
 
     /// Replaces every leaf (Action or Condition) whose `name` (or, without one, its type) is
-    /// `name` by a leaf that returns `outcomes` one per tick (a `Vec<Status>`, or the runs
-    /// [`parse_outcomes`] reads), then the last one forever, for dry runs. A control or
-    /// decorator of that name stays; if no leaf of the tree built is named so, building it
-    /// fails.
+    /// `name`, else whose type is `name`, by a leaf that returns `outcomes` one per tick (a
+    /// `Vec<Status>`, or the runs [`parse_outcomes`] reads), then the last one forever, and
+    /// writes the outcomes' outputs at every tick, for dry runs. A control or decorator of
+    /// that name stays; if no leaf of the tree built is named so or of that type, building
+    /// it fails ([`LoadErrorKind::MockNotLeaf`] if a control or decorator is,
+    /// [`LoadErrorKind::UnmatchedMock`] if no node is).
     pub fn mock(mut self, name: &str, outcomes: impl Into<Outcomes>) -> Self {
         self.mocks.insert(name.to_string(), outcomes.into());
+        self
+    }
+
+    /// Applies BehaviorTree.CPP's substitution rules when building (see
+    /// [the rules](crate::xml::substitute)), after the ones given before. A node that a
+    /// mock replaces is not substituted.
+    ///
+    /// ```
+    /// use neurotree::xml::{Substitutions, XmlLoader};
+    /// use neurotree::{ManualClock, Registry, Status, Tree};
+    ///
+    /// let rules = Substitutions::from_json(r#"{
+    ///     "TestNodeConfigs": { "Done": { "return_status": "SUCCESS", "post_script": "n := 7" } },
+    ///     "SubstitutionRules": { "Drive*": "Done" } }"#, "rules.json").unwrap();
+    /// let registry = Registry::<()>::new();
+    /// let mut loader = XmlLoader::new(&registry).substitute(rules);
+    /// loader.load_str(r#"<root BTCPP_format="4"><BehaviorTree ID="Main">
+    ///     <DriveToDock/></BehaviorTree></root>"#, "main.xml").unwrap();
+    /// let mut tree = Tree::with_clock(loader.build_main().unwrap().into(), ManualClock::new());
+    /// assert_eq!(tree.tick_once(&mut ()), Ok(Status::Success));
+    /// assert_eq!(tree.blackboard().get::<i64>("n"), Ok(7));
+    /// ```
+    pub fn substitute(mut self, rules: Substitutions) -> Self {
+        self.substitutions.extend(rules);
         self
     }
 
