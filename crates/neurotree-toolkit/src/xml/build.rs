@@ -44,6 +44,12 @@ struct Expansion<'a, 'r, C> {
     not_mocked: Vec<(&'a str, LoadError)>,
     /// Nodes opened so far, subtrees expanded: at most the loader's `max_nodes`.
     nodes: usize,
+    /// The path of each subtree instance being expanded, outermost first (the main tree's
+    /// is empty), as BehaviorTree.CPP makes them: the parent's path, `/`, then the SubTree's
+    /// `name`, or its ID and a number unique in the tree without one.
+    paths: Vec<String>,
+    /// The paths of the subtree instances made so far, which must differ.
+    seen: std::collections::HashSet<String>,
 }
 
 /// What an element turns into: the node to open, and whether its children follow it.
@@ -129,6 +135,8 @@ impl<'a, 'r, C: 'static> Expansion<'a, 'r, C> {
             mocked: Vec::new(),
             not_mocked: Vec::new(),
             nodes: 0,
+            paths: vec![String::new()],
+            seen: std::collections::HashSet::new(),
         }
     }
 
@@ -195,10 +203,13 @@ fn build_error_kind(kind: &BuildErrorKind) -> LoadErrorKind {
 
 /// The kind of a node maker's refusal. The makers of the engine's built-ins
 /// (`NodeKind::from_declared`) and of the std nodes say why in text only, a port that is
-/// not given as `missing port …` and anything else about a value they cannot use.
+/// not given as `missing port …`, a script that does not parse as `in script …`, and
+/// anything else about a value they cannot use.
 fn maker_error_kind(message: &str) -> LoadErrorKind {
     if message.starts_with("missing port") {
         LoadErrorKind::MissingPort
+    } else if message.starts_with("in script") {
+        LoadErrorKind::Script
     } else {
         LoadErrorKind::BadValue
     }
@@ -273,6 +284,22 @@ fn with_hooks<C: 'static>(b: Builder<C>, hooks: Option<Box<ScriptHooks>>) -> Bui
     }
 }
 
+/// The attributes of `el`, a node of a type nobody declared, bound to entries: taken as its
+/// ports, so that their entries exist as they would with the node's real ports.
+fn entry_ports(el: Element<'_>, explicit: bool) -> Vec<Port> {
+    el.attrs()
+        .filter(|(key, _)| !(*key == "name" || (explicit && *key == "ID") || key.starts_with('_')))
+        .filter_map(|(key, text)| match binding(key, text) {
+            value @ PortValue::Entry(_) => Some(Port {
+                name: key.to_string(),
+                value,
+                declared: neurotree_core::PortType::ANY,
+            }),
+            PortValue::Literal(_) => None,
+        })
+        .collect()
+}
+
 /// A port's binding from its attribute text: `{key}` (or `{@key}`) is an entry, `{=}` and
 /// `=` the entry named like the port, anything else literal text.
 fn binding(port: &str, text: &str) -> PortValue {
@@ -323,6 +350,7 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
             }
             .map(|b| self.close(b, el));
             self.stack.pop();
+            self.paths.pop();
             return b;
         }
         let opened = match self.open(el) {
@@ -383,12 +411,14 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
         };
         // A leaf standing in for the node, which has no children: a mock, or an unknown
         // leaf mocked with SUCCESS.
-        let leaf_for = |kind, hooks| Opened {
+        // It keeps the node's ports, whose entries BehaviorTree.CPP creates when it builds
+        // the tree whatever the node turns out to be: a later Script may assign them.
+        let leaf_for = |kind, ports, hooks| Opened {
             kind,
             shared: None,
             name,
             type_id: Some(type_name),
-            ports: Vec::new(),
+            ports,
             hooks,
             descend: false,
         };
@@ -401,7 +431,11 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
                 if !self.mocked.contains(&name) {
                     self.mocked.push(name);
                 }
-                return Ok(leaf_for(mock::mock_kind(outcomes), hooks));
+                let ports = match node_type {
+                    Some(t) => self.check_ports(el, t, explicit)?,
+                    None => entry_ports(el, explicit),
+                };
+                return Ok(leaf_for(mock::mock_kind(outcomes), ports, hooks));
             }
             // Not a leaf: it stays. A mock named after it that replaces no leaf either is
             // a mistake, found once the tree is expanded.
@@ -415,7 +449,8 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
         }
         let Some(node_type) = node_type else {
             if self.loader.mock_unknown && el.child_count() == 0 {
-                return Ok(leaf_for(nodes::stand_in(Category::Action), hooks));
+                let ports = entry_ports(el, explicit);
+                return Ok(leaf_for(nodes::stand_in(Category::Action), ports, hooks));
             }
             let hint = match self.loader.registry.closest(type_name) {
                 Some(close) => format!("did you mean `{close}`? "),
@@ -465,7 +500,7 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
                     && el.child_count() == 0
                     && matches!(node_type.category, Category::Action | Category::Condition) =>
             {
-                return Ok(leaf_for(nodes::stand_in(Category::Action), hooks));
+                return Ok(leaf_for(nodes::stand_in(Category::Action), ports, hooks));
             }
             Make::Model if !self.validate => {
                 // Asked to mock it: say why that cannot be, the closer mistake.
@@ -735,13 +770,45 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
         }
         let name = el.attr("name").unwrap_or(id);
         let hooks = conditions(el, self.loader.registry.enums())?;
+        let path = self.subtree_path(el, id)?;
         self.stack.push(id.to_string());
+        self.paths.push(path);
         let opened = Opened {
             type_id: Some(id),
             hooks,
             ..Opened::plain(NodeKind::SubTree(Box::new(scope)), name)
         };
         Ok((opened, body))
+    }
+}
+
+impl<C: 'static> Expansion<'_, '_, C> {
+    /// The path of the subtree instance the SubTree `el` (of tree `id`) makes; refused, as
+    /// BehaviorTree.CPP refuses it, if another instance of the tree built has it.
+    fn subtree_path(&mut self, el: Element<'_>, id: &str) -> Result<String, LoadError> {
+        let parent = self.paths.last().map_or("", String::as_str);
+        let own = match el.attr("name") {
+            Some(name) => name.to_string(),
+            // `nodes` numbers the nodes opened: unique, as BehaviorTree.CPP's UID is.
+            None => format!("{id}::{}", self.nodes),
+        };
+        let path = if parent.is_empty() {
+            own
+        } else {
+            format!("{parent}/{own}")
+        };
+        if !self.seen.insert(path.clone()) {
+            return Err(el.error(
+                LoadErrorKind::DuplicateSubTreePath,
+                format!(
+                    "another SubTree of this tree is already named `{}`, so both would have \
+                     the path `{path}` (BehaviorTree.CPP refuses this: Groot2 could not tell \
+                     them apart); give them different names, or leave `name` out",
+                    el.attr("name").unwrap_or_default()
+                ),
+            ));
+        }
+        Ok(path)
     }
 }
 

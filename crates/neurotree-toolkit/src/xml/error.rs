@@ -101,6 +101,17 @@ pub enum LoadErrorKind {
     TooManyNodes,
     /// A mock named after a control or decorator and no leaf: mocks replace only leaves.
     MockNotLeaf,
+    /// A name BehaviorTree.CPP refuses: a tree or SubTree ID that is empty, reserved
+    /// (`Root`), holds a forbidden character or is a registered node type's name; a node
+    /// type written as an element with a forbidden character; a port name that is reserved,
+    /// holds a forbidden character or does not start as BehaviorTree.CPP requires.
+    BadName,
+    /// Two SubTrees with the same `name` in one tree: their paths (which Groot2 and
+    /// observers go by) would be the same.
+    DuplicateSubTreePath,
+    /// A ReactiveSequence with more than one asynchronous child (`AsyncSequence`), which
+    /// BehaviorTree.CPP refuses when it loads the file.
+    ReactiveAsync,
 }
 
 /// Something a file does that loads but should change, with its place: a deprecated or
