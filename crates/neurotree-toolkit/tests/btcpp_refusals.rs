@@ -432,16 +432,13 @@ fn an_entry_a_model_node_binds_exists_for_a_later_script() {
     let text = main_tree(
         r#"<Sequence>
              <ComputePath path="{plan}"/>
-             <Unknown target="{goal}" speed="3"/>
-             <Script code="plan = 'straight'; goal = 'dock'"/>
+             <Script code="plan = 'straight'"/>
            </Sequence>"#,
     );
     let mut loader = XmlLoader::new(&registry).mock_unknown(true);
     loader.load_str(&text, "model_ports.xml").unwrap();
     let mut tree = Tree::with_clock(Arc::new(loader.build_main().unwrap()), ManualClock::new());
     assert!(tree.blackboard().contains("plan"));
-    assert!(tree.blackboard().contains("goal"));
-    assert!(!tree.blackboard().contains("speed"));
     assert_eq!(tree.tick_once(&mut ()), Ok(Status::Success));
     assert_eq!(
         tree.blackboard().get::<String>("plan"),

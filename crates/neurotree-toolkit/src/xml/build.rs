@@ -284,22 +284,6 @@ fn with_hooks<C: 'static>(b: Builder<C>, hooks: Option<Box<ScriptHooks>>) -> Bui
     }
 }
 
-/// The attributes of `el`, a node of a type nobody declared, bound to entries: taken as its
-/// ports, so that their entries exist as they would with the node's real ports.
-fn entry_ports(el: Element<'_>, explicit: bool) -> Vec<Port> {
-    el.attrs()
-        .filter(|(key, _)| !(*key == "name" || (explicit && *key == "ID") || key.starts_with('_')))
-        .filter_map(|(key, text)| match binding(key, text) {
-            value @ PortValue::Entry(_) => Some(Port {
-                name: key.to_string(),
-                value,
-                declared: neurotree_core::PortType::ANY,
-            }),
-            PortValue::Literal(_) => None,
-        })
-        .collect()
-}
-
 /// A port's binding from its attribute text: `{key}` (or `{@key}`) is an entry, `{=}` and
 /// `=` the entry named like the port, anything else literal text.
 fn binding(port: &str, text: &str) -> PortValue {
@@ -431,9 +415,11 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
                 if !self.mocked.contains(&name) {
                     self.mocked.push(name);
                 }
+                // A type nobody declared has no ports to keep: its attributes are not
+                // known to be ports.
                 let ports = match node_type {
                     Some(t) => self.check_ports(el, t, explicit)?,
-                    None => entry_ports(el, explicit),
+                    None => Vec::new(),
                 };
                 return Ok(leaf_for(mock::mock_kind(outcomes), ports, hooks));
             }
@@ -449,8 +435,11 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
         }
         let Some(node_type) = node_type else {
             if self.loader.mock_unknown && el.child_count() == 0 {
-                let ports = entry_ports(el, explicit);
-                return Ok(leaf_for(nodes::stand_in(Category::Action), ports, hooks));
+                return Ok(leaf_for(
+                    nodes::stand_in(Category::Action),
+                    Vec::new(),
+                    hooks,
+                ));
             }
             let hint = match self.loader.registry.closest(type_name) {
                 Some(close) => format!("did you mean `{close}`? "),
