@@ -246,30 +246,60 @@ fn load(
     let first = files.first().map(|f| files::shown(f)).unwrap_or_default();
     let loaded = files::load_all(&mut loader, files);
     warnings.extend_from_slice(loader.warnings());
-    let built = loaded
-        .and_then(|()| files::pick_tree(&loader, opts.tree.as_deref(), &first))
-        .and_then(|picked| {
-            let blueprint = loader.build(&picked.id).map_err(|mut e| {
-                // An error about the files as a whole (a main tree that is not there)
-                // names no file.
-                if e.file.is_empty() {
-                    e.file.clone_from(&first);
-                }
-                e
-            })?;
-            Ok((blueprint, picked))
+    let picked = loaded.and_then(|()| files::pick_tree(&loader, opts.tree.as_deref(), &first));
+    let built = picked
+        .map_err(|e| vec![e])
+        .and_then(|picked| match loader.build(&picked.id) {
+            Ok(blueprint) => Ok((blueprint, picked)),
+            // Every error of the tree, as `check` reports them: the builder stops at the first.
+            Err(first_error) => Err(all_errors(&loader, &picked.id, first_error)),
         });
-    match built {
-        Ok((blueprint, picked)) => Ok((blueprint, registry, picked)),
-        Err(e) if e.kind() == LoadErrorKind::UnknownNode => Err(format!(
-            "{e}\nhint: mock the leaves without an implementation with --mock-unknown, or \
-             one with --mock NAME=OUTCOMES"
-        )),
-        Err(e) if e.kind() == LoadErrorKind::TooManyNodes => {
-            Err(format!("{e}\n{}", files::MAX_NODES_HINT))
-        }
-        Err(e) => Err(e.to_string()),
+    let errors = match built {
+        Ok((blueprint, picked)) => return Ok((blueprint, registry, picked)),
+        Err(errors) => errors,
+    };
+    let mut text: Vec<String> = errors
+        .iter()
+        .map(|e| {
+            let mut e = e.clone();
+            // An error about the files as a whole (a main tree that is not there) names no
+            // file.
+            if e.file.is_empty() {
+                e.file.clone_from(&first);
+            }
+            e.to_string()
+        })
+        .collect();
+    let has = |kind| errors.iter().any(|e| e.kind() == kind);
+    // Only what was not given already: with --mock-unknown, an unknown node left is one
+    // with children, which no mock replaces.
+    if has(LoadErrorKind::UnknownNode) && !opts.mock_unknown {
+        text.push(
+            "hint: mock the leaves without an implementation with --mock-unknown, or one \
+             with --mock NAME=OUTCOMES"
+                .to_string(),
+        );
     }
+    if has(LoadErrorKind::TooManyNodes) {
+        text.push(files::MAX_NODES_HINT.to_string());
+    }
+    Err(text.join("\n"))
+}
+
+/// The errors of tree `id`, which `first` (the builder's) is one of: `first`, then the
+/// others [`XmlLoader::validate_all`] finds, up to `check`'s limit.
+fn all_errors(
+    loader: &XmlLoader<'_, ()>,
+    id: &str,
+    first: neurotree::LoadError,
+) -> Vec<neurotree::LoadError> {
+    let mut errors = vec![first];
+    for e in loader.validate_all(id, crate::check::LIMIT) {
+        if errors.len() < crate::check::LIMIT && !errors.contains(&e) {
+            errors.push(e);
+        }
+    }
+    errors
 }
 
 /// Runs the tree of the files; how the run ended, or [`Outcome::Refused`] if the files did

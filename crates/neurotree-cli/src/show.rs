@@ -13,8 +13,10 @@
 //! `run --max-ticks` counts them: a tick that re-ran the root at once for a node that asked
 //! to be woken has one number per pass.) Nodes that share a path are told apart by their
 //! statuses. When the root failed in that tick (the last one, without `--tick`), every
-//! format marks the path that failed: the last node of the tick whose change to FAILURE
-//! carries a `reason`, and its ancestors. The text formats note each ` -- failed`, with its
+//! format marks the path that failed: for the last tick, the chain of `Tree::last_failure`
+//! that the trace's summary carries; for another (or a trace without it), from the root,
+//! each node's child that failed last in that tick, down to a node none of whose children
+//! failed (a Timeout that halted its child, a leaf). The text formats note each ` -- failed`, with its
 //! own reason if it gave one (` -- failed: gave up after 2 attempts`); DOT, Mermaid and SVG
 //! draw them and the edges between them red and wide, each reason in its node's label
 //! (see [`Format::render_failed_path`]).
@@ -35,7 +37,7 @@ use neurotree::{
     Arity, Blueprint, Category, CustomNode, LoadError, LoadErrorKind, NodeCtx, NodeId, NodeStatus,
     Observer, Registry, StatusChange, XmlLoader,
 };
-use serde_json::Value;
+use serde_json::{Map, Value};
 
 use crate::files::{self, at_start, LoadLimits, Picked};
 
@@ -353,7 +355,7 @@ fn statuses_from_trace(
     tick: Option<u32>,
 ) -> Result<Shown, LoadError> {
     let shown = file.to_string();
-    let (changes, last_tick) = parse_trace(text, &shown)?;
+    let (changes, last_tick, chain) = parse_trace(text, &shown)?;
     let mut by_path: HashMap<String, Vec<NodeId>> = HashMap::new();
     for id in bp.ids() {
         by_path.entry(bp.path(id)).or_default().push(id);
@@ -418,36 +420,82 @@ fn statuses_from_trace(
     }
     let mut statuses = record.statuses();
     statuses.resize(bp.len(), NodeStatus::Idle);
-    Ok((statuses, failed_path(bp, &failed)))
+    // The run's own chain, when the tick shown is the one it is of.
+    let path = match chain.filter(|_| shown_tick == last_tick) {
+        Some(chain) if !chain.is_empty() => chain_path(&by_path, bp, &chain),
+        _ => failed_path(bp, &failed),
+    };
+    Ok((statuses, path))
+}
+
+/// The path of a summary's failure chain: each link's node (among those of its path, the
+/// child of the link before) with its reason. A link not in the tree ends it.
+fn chain_path(
+    by_path: &HashMap<String, Vec<NodeId>>,
+    bp: &Blueprint<()>,
+    chain: &[(String, Option<String>)],
+) -> FailedPath {
+    let mut path = FailedPath::new();
+    let mut parent = None;
+    for (link, reason) in chain {
+        let node = by_path
+            .get(link)
+            .and_then(|nodes| nodes.iter().copied().find(|n| bp.parent(*n) == parent));
+        let Some(node) = node else { break };
+        path.mark(node, reason.clone());
+        parent = Some(node);
+    }
+    path
 }
 
 /// The path that failed, from the changes to FAILURE of one tick (in order, with their
-/// reasons): empty unless the root failed in it. The path runs from the root to the last
-/// node that gave a reason (the trace says no more of which child decided a node's
-/// failure); each node on it carries the last reason it gave in the tick, if any.
+/// reasons): empty unless the root failed in it. From the root, the path goes down to the
+/// child that failed last in the tick (the one that decided its parent: a Sequence's
+/// failing child, a Fallback's last), until a node none of whose children failed: a
+/// Timeout that halted its child ends it, with its own reason. Each node on it carries the
+/// last reason it gave in the tick, if any.
 fn failed_path(bp: &Blueprint<()>, failed: &[(NodeId, Option<&str>)]) -> FailedPath {
     let mut path = FailedPath::new();
-    let root_failed = failed.iter().any(|(node, _)| *node == NodeId::ROOT);
-    let last_reason = failed.iter().rev().find(|(_, reason)| reason.is_some());
-    let (true, Some(&(leaf, _))) = (root_failed, last_reason) else {
+    if !failed.iter().any(|(node, _)| *node == NodeId::ROOT) {
         return path;
-    };
-    let mut on_path = Some(leaf);
+    }
+    let mut on_path = Some(NodeId::ROOT);
     while let Some(node) = on_path {
         let reason = failed
             .iter()
             .rev()
             .find_map(|(n, reason)| reason.filter(|_| *n == node));
         path.mark(node, reason.map(str::to_string));
-        on_path = bp.parent(node);
+        on_path = failed
+            .iter()
+            .rev()
+            .map(|(n, _)| *n)
+            .find(|n| bp.parent(*n) == Some(node));
     }
     path
 }
 
-/// The status changes of a trace, in order, and the last tick it mentions.
-fn parse_trace(text: &str, file: &str) -> Result<(Vec<Change>, u64), LoadError> {
+/// What a trace holds: its status changes, in order; the last tick it mentions; and, from
+/// its summary, the chain of `Tree::last_failure` after that tick (each link's path and
+/// reason in words), if the root failed.
+type Parsed = (Vec<Change>, u64, Option<Vec<(String, Option<String>)>>);
+
+/// A reason of a trace line or of a summary's failure link in words:
+/// `blocked (error 106)`.
+fn reason_text(object: &Map<String, Value>) -> Option<String> {
+    let message = object.get("reason").and_then(Value::as_str)?;
+    Some(match object.get("code").and_then(Value::as_u64) {
+        Some(code) if code != 0 => format!("{message} (error {code})"),
+        _ => message.to_string(),
+    })
+}
+
+/// The status changes of a trace, in order, the last tick it mentions and the failure
+/// chain of its summary.
+fn parse_trace(text: &str, file: &str) -> Result<Parsed, LoadError> {
     let mut changes = Vec::new();
     let mut last_tick = 0;
+    let mut chain = None;
     for (i, line) in text.lines().enumerate() {
         let line_no = u32::try_from(i + 1).unwrap_or(u32::MAX);
         if line.trim().is_empty() {
@@ -475,7 +523,17 @@ fn parse_trace(text: &str, file: &str) -> Result<(Vec<Change>, u64), LoadError> 
         let Some(object) = value.as_object() else {
             return Err(error(1, "a trace line is a JSON object".into()));
         };
-        if object.contains_key("summary") {
+        if let Some(summary) = object.get("summary") {
+            chain = summary["failure"].as_array().map(|links| {
+                links
+                    .iter()
+                    .filter_map(Value::as_object)
+                    .filter_map(|link| {
+                        let path = link.get("path")?.as_str()?.to_string();
+                        Some((path, reason_text(link)))
+                    })
+                    .collect()
+            });
             continue;
         }
         let Some(tick) = object.get("tick").and_then(Value::as_u64) else {
@@ -504,12 +562,7 @@ fn parse_trace(text: &str, file: &str) -> Result<(Vec<Change>, u64), LoadError> 
                 )
             })
         };
-        let reason = object.get("reason").and_then(Value::as_str).map(|message| {
-            match object.get("code").and_then(Value::as_u64) {
-                Some(code) if code != 0 => format!("{message} (error {code})"),
-                _ => message.to_string(),
-            }
-        });
+        let reason = reason_text(object);
         changes.push(Change {
             line: line_no,
             col: u32::try_from(key_col("node")).unwrap_or(u32::MAX),
@@ -520,7 +573,7 @@ fn parse_trace(text: &str, file: &str) -> Result<(Vec<Change>, u64), LoadError> 
             reason,
         });
     }
-    Ok((changes, last_tick))
+    Ok((changes, last_tick, chain))
 }
 
 #[cfg(test)]
@@ -581,6 +634,40 @@ mod tests {
         let mut expected = FailedPath::new();
         expected.mark(NodeId(0), None);
         expected.mark(NodeId(3), Some("blocked (error 106)".into()));
+        assert_eq!(path, expected);
+    }
+
+    #[test]
+    fn the_path_that_failed_goes_down_to_the_timeout_below_a_retry() {
+        // A Timeout halts its child and fails with its reason; the Retry above gives up with
+        // its own: both are on the path, as in Tree::last_failure.
+        let bp = Blueprint::<()>::builder()
+            .sequence("Sequence", |s| {
+                s.retry("Retry", 1, |r| {
+                    r.timeout("Timeout", Duration::from_secs(3), |t| {
+                        t.action("Work", |_: &mut ()| Status::Running)
+                    })
+                })
+            })
+            .build()
+            .unwrap();
+        let trace = r#"{"tick":1,"node":"Sequence","from":"IDLE","to":"RUNNING"}
+{"tick":1,"node":"Sequence/Retry","from":"IDLE","to":"RUNNING"}
+{"tick":1,"node":"Sequence/Retry/Timeout","from":"IDLE","to":"RUNNING"}
+{"tick":1,"node":"Sequence/Retry/Timeout/Work","from":"IDLE","to":"RUNNING"}
+{"tick":1,"status":"RUNNING"}
+{"tick":2,"node":"Sequence/Retry/Timeout/Work","from":"RUNNING","to":"IDLE"}
+{"tick":2,"node":"Sequence/Retry/Timeout","from":"RUNNING","to":"FAILURE","reason":"timed out after 3 s"}
+{"tick":2,"node":"Sequence/Retry/Timeout","from":"FAILURE","to":"IDLE"}
+{"tick":2,"node":"Sequence/Retry","from":"RUNNING","to":"FAILURE","reason":"gave up after 1 attempt"}
+{"tick":2,"node":"Sequence/Retry","from":"FAILURE","to":"IDLE"}
+{"tick":2,"node":"Sequence","from":"RUNNING","to":"FAILURE"}
+{"tick":2,"status":"FAILURE"}"#;
+        let (_, path) = statuses_from_trace(trace, "trace", &bp, "Main", None).unwrap();
+        let mut expected = FailedPath::new();
+        expected.mark(NodeId(0), None);
+        expected.mark(NodeId(1), Some("gave up after 1 attempt".into()));
+        expected.mark(NodeId(2), Some("timed out after 3 s".into()));
         assert_eq!(path, expected);
     }
 

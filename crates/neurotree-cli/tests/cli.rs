@@ -391,6 +391,39 @@ fn run_reports_load_errors_and_exits_1() {
 }
 
 #[test]
+fn run_reports_every_load_error_and_hints_only_what_was_not_given() {
+    let file = write_tree("unknowns.xml", GUARDED_MOVE);
+    let (code, _, err) = run_cli(&["run", file.to_str().unwrap()]);
+    assert_eq!(code, Some(1));
+    // Both unknown leaves, as `check` reports them, and the hint once.
+    assert!(
+        err.contains("unknowns.xml:6:9: error: unknown node type `IsReady`"),
+        "{err}"
+    );
+    assert!(
+        err.contains("unknowns.xml:7:9: error: unknown node type `MoveBase`"),
+        "{err}"
+    );
+    assert_eq!(err.matches("--mock-unknown").count(), 1, "{err}");
+    // With --mock-unknown given, what is left (an unknown node with children) is reported
+    // without suggesting it again.
+    let file = write_tree(
+        "unknown_controls.xml",
+        r#"<root BTCPP_format="4"><BehaviorTree ID="Main">
+             <Sequence>
+               <Ordered><AlwaysSuccess/></Ordered>
+               <Chosen><AlwaysSuccess/></Chosen>
+             </Sequence>
+           </BehaviorTree></root>"#,
+    );
+    let (code, _, err) = run_cli(&["run", file.to_str().unwrap(), "--mock-unknown"]);
+    assert_eq!(code, Some(1));
+    assert!(err.contains("unknown node type `Ordered`"), "{err}");
+    assert!(err.contains("unknown node type `Chosen`"), "{err}");
+    assert!(!err.contains("hint: mock"), "{err}");
+}
+
+#[test]
 fn run_mock_unknown_and_max_ticks() {
     let file = write_tree("unknown2.xml", GUARDED_MOVE);
     let (code, out, _) = run_cli(&[

@@ -170,9 +170,10 @@ fn show_colours_each_node_with_the_statuses_of_a_run_trace() {
 
     // At the end the door would not let us through: every node shows its last status.
     // (`show` knows nothing of the run's mocks: its leaves are the loader's own.)
+    // The root's failure chain (Tree::last_failure) is the root alone: it is marked.
     assert_eq!(
         show(&[door, "--trace", trace]),
-        "[✗] enter (Sequence)\n\
+        "[✗] enter (Sequence) -- failed\n\
          ├── [✓] open it (Fallback)\n\
          │   ├── [✗] Inverter\n\
          │   │   └── [✓] IsDoorClosed (AlwaysSuccess)\n\
@@ -196,7 +197,7 @@ fn show_colours_each_node_with_the_statuses_of_a_run_trace() {
          \\-- [R] PassThroughDoor (AlwaysSuccess)\n"
     );
     let svg = show(&[door, "--trace", trace, "--format", "svg"]);
-    assert!(svg.contains("<g id=\"n0\" class=\"node control failure\">"));
+    assert!(svg.contains("<g id=\"n0\" class=\"node control failure failed-path\">"));
     assert!(svg.contains("<g id=\"n6\" class=\"node action success\">"));
     assert!(svg.contains("<g class=\"legend\">"));
     let mermaid = show(&[door, "--trace", trace, "--format", "mermaid"]);
@@ -409,8 +410,8 @@ fn show_marks_the_path_that_failed_with_the_reasons_of_the_trace() {
     let trace = file(&dir, "give_up.jsonl", &text(&run.stdout));
     let (tree, trace) = (arg(&tree), arg(&trace));
     // The last tick: the Retry ran out, and the root failed for it. The Timeout fired a
-    // pass earlier, so it is not on the path; the path ends at the Retry, the last node
-    // that gave a reason (the trace does not say which child decided its failure).
+    // pass earlier, so it is not on the path; the path is the run's failure chain, down to
+    // the Retry's child.
     assert_eq!(
         show(&[tree, "--trace", trace, "--format", "ascii"]),
         "[F] go (Sequence) -- failed\n\
@@ -418,11 +419,44 @@ fn show_marks_the_path_that_failed_with_the_reasons_of_the_trace() {
          \x20   +-- [F] limit (Timeout)\n\
          \x20   |   \\-- [ ] drive (Drive)\n\
          \x20   \\-- [F] retry (RetryUntilSuccessful) -- failed: gave up after 2 attempts\n\
-         \x20       \\-- [F] AlwaysFailure\n"
+         \x20       \\-- [F] AlwaysFailure -- failed\n"
     );
     // In a tick where the root did not fail, nothing is marked.
     assert!(
         !show(&[tree, "--trace", trace, "--tick", "3", "--format", "ascii"]).contains("failed")
+    );
+}
+
+/// A Retry that gives up because the Timeout below it fired.
+const TIMED_OUT: &str = r#"<root BTCPP_format="4" main_tree_to_execute="Main">
+  <BehaviorTree ID="Main">
+    <Sequence name="go">
+      <RetryUntilSuccessful name="retry" num_attempts="1">
+        <Timeout name="limit" msec="150">
+          <Drive name="drive"/>
+        </Timeout>
+      </RetryUntilSuccessful>
+    </Sequence>
+  </BehaviorTree>
+</root>
+"#;
+
+#[test]
+fn show_marks_the_whole_failure_chain_down_to_the_timeout() {
+    let dir = tempfile::tempdir().unwrap();
+    let tree = file(&dir, "timed_out.xml", TIMED_OUT);
+    let run = neurotree(&["run", arg(&tree), "--mock", "drive=RUNNING", "--trace"]);
+    assert_eq!(run.status.code(), Some(2), "{}", text(&run.stderr));
+    let trace = file(&dir, "timed_out.jsonl", &text(&run.stdout));
+    let (tree, trace) = (arg(&tree), arg(&trace));
+    // As Tree::last_failure chains it: the Retry gave up, because the Timeout fired (and
+    // halted its child, which did not fail).
+    assert_eq!(
+        show(&[tree, "--trace", trace, "--format", "ascii"]),
+        "[F] go (Sequence) -- failed\n\
+         \\-- [F] retry (RetryUntilSuccessful) -- failed: gave up after 1 attempt\n\
+         \x20   \\-- [F] limit (Timeout) -- failed: timed out after 150 ms\n\
+         \x20       \\-- [ ] drive (Drive)\n"
     );
 }
 
@@ -438,7 +472,7 @@ fn show_marks_the_path_that_failed_in_every_picture_format() {
     let run = neurotree(&["run", arg(&tree), "--mock", "drive=RUNNING", "--trace"]);
     let trace = file(&dir, "give_up.jsonl", &text(&run.stdout));
     let (tree, trace) = (arg(&tree), arg(&trace));
-    // Ids: go 0, try 1, limit 2, drive 3, retry 4, AlwaysFailure 5; the path is 0, 1, 4.
+    // Ids: go 0, try 1, limit 2, drive 3, retry 4, AlwaysFailure 5; the path is 0, 1, 4, 5.
     let dot = show(&[tree, "--trace", trace, "--format", "dot"]);
     assert_eq!(
         marked(&dot, "penwidth=3"),
@@ -450,26 +484,30 @@ fn show_marks_the_path_that_failed_in_every_picture_format() {
             "  n4 [label=\"retry\\nRetryUntilSuccessful\\ngave up after 2 attempts\", \
              shape=hexagon, fillcolor=\"#ffe3e3\", color=\"#c92a2a\", \
              tooltip=\"FAILURE: failed: gave up after 2 attempts\", penwidth=3];",
+            "  n5 [label=\"AlwaysFailure\", shape=box, fillcolor=\"#ffe3e3\", \
+             color=\"#c92a2a\", tooltip=\"FAILURE: failed\", penwidth=3, \
+             style=\"rounded,filled\"];",
             "  n0 -> n1 [color=\"#c92a2a\", penwidth=3];",
             "  n1 -> n4 [color=\"#c92a2a\", penwidth=3];",
+            "  n4 -> n5 [color=\"#c92a2a\", penwidth=3];",
         ]
     );
     assert_eq!(marked(&dot, "gave up").len(), 1);
-    assert_eq!(marked(&dot, "failed").len(), 3);
+    assert_eq!(marked(&dot, "failed").len(), 4);
 
     let mermaid = show(&[tree, "--trace", trace, "--format", "mermaid"]);
     assert_eq!(
         marked(&mermaid, "#c92a2a,stroke-width:3px"),
         [
             "    classDef failedpath stroke:#c92a2a,stroke-width:3px;",
-            "    linkStyle 0,3 stroke:#c92a2a,stroke-width:3px;",
+            "    linkStyle 0,3,4 stroke:#c92a2a,stroke-width:3px;",
         ]
     );
     assert_eq!(
         marked(&mermaid, "failedpath"),
         [
             "    classDef failedpath stroke:#c92a2a,stroke-width:3px;",
-            "    class n0,n1,n4 failedpath;",
+            "    class n0,n1,n4,n5 failedpath;",
         ]
     );
     assert_eq!(
@@ -493,12 +531,21 @@ fn show_marks_the_path_that_failed_in_every_picture_format() {
         .iter()
         .map(|l| &l[..l.find(" class").unwrap()])
         .collect();
-    assert_eq!(groups, ["<g id=\"n0\"", "<g id=\"n1\"", "<g id=\"n4\""]);
+    assert_eq!(
+        groups,
+        [
+            "<g id=\"n0\"",
+            "<g id=\"n1\"",
+            "<g id=\"n4\"",
+            "<g id=\"n5\""
+        ]
+    );
     assert_eq!(
         marked(&svg, "<path class=\"failed-path\""),
         [
             "<path class=\"failed-path\" d=\"M130 56V74H130V92\" stroke=\"#c92a2a\" stroke-width=\"3\"/>",
             "<path class=\"failed-path\" d=\"M130 132V153.5H203V168\" stroke=\"#c92a2a\" stroke-width=\"3\"/>",
+            "<path class=\"failed-path\" d=\"M203 222V240H203V258\" stroke=\"#c92a2a\" stroke-width=\"3\"/>",
         ]
     );
     let reasons = marked(&svg, "class=\"reason\"");
@@ -509,10 +556,10 @@ fn show_marks_the_path_that_failed_in_every_picture_format() {
         "<text class=\"reason\" x=\"203\" y=\"213\" font-size=\"10\" font-weight=\"bold\" \
          text-anchor=\"middle\" fill=\"#c92a2a\">gave up after 2 attempts</text>"
     ));
-    // Red and three pixels wide: the outlines of the three nodes on the path and the two
+    // Red and three pixels wide: the outlines of the four nodes on the path and the three
     // lines between them, nothing else.
     assert_eq!(
         svg.matches("stroke=\"#c92a2a\" stroke-width=\"3\"").count(),
-        5
+        7
     );
 }

@@ -199,3 +199,44 @@ fn xml_tree_outcomes_with_a_halt_and_a_skip() {
         (15, 22)
     );
 }
+
+#[test]
+fn only_reachable_outcomes_of_std_nodes_and_conditions_are_possible() {
+    // A Script returns SUCCESS or throws (BehaviorTree.CPP's ScriptNode::tick), so it cannot
+    // fail; conditions never run over ticks; a Precondition returns its `else` status.
+    let mut registry = Registry::<()>::new();
+    registry
+        .register_condition("IsOk", vec![], |_| true)
+        .unwrap();
+    let mut loader = XmlLoader::new(&registry);
+    loader
+        .load_str(
+            r#"<root BTCPP_format="4"><BehaviorTree ID="Main">
+                 <Sequence>
+                   <Script code="x := 1"/>
+                   <ScriptCondition code="x == 1"/>
+                   <IsOk/>
+                   <Precondition if="x == 1" else="SKIPPED"><AlwaysSuccess/></Precondition>
+                   <SetBlackboard value="1" output_key="y"/>
+                   <WasEntryUpdated entry="y"/>
+                 </Sequence>
+               </BehaviorTree></root>"#,
+            "reachable.xml",
+        )
+        .unwrap();
+    let bp = loader.build_main().unwrap();
+    let possible = |i| possible_outcomes(&bp, neurotree::NodeId(i));
+    assert_eq!(possible(0), set(&[Success, Failure]), "Sequence");
+    assert_eq!(possible(1), set(&[Success]), "Script");
+    assert_eq!(possible(2), set(&[Success, Failure]), "ScriptCondition");
+    assert_eq!(possible(3), set(&[Success, Failure]), "IsOk");
+    assert_eq!(
+        possible(4),
+        set(&[Success, Failure, Skipped]),
+        "Precondition"
+    );
+    assert_eq!(possible(6), set(&[Success]), "SetBlackboard");
+    assert_eq!(possible(7), set(&[Success, Failure]), "WasEntryUpdated");
+    assert!(!possible(0).contains(Running));
+    assert!(!possible(0).contains(Halted));
+}

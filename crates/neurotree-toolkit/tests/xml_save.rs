@@ -287,7 +287,13 @@ impl Node {
                 }
                 out.push_str(&close(open));
             }
-            Node::SubTree(attrs) => out.push_str(&format!("<SubTree ID=\"Sub\" {attrs}/>")),
+            Node::SubTree(attrs) => {
+                // Numbered: two SubTrees of one name in a tree are refused, as in
+                // BehaviorTree.CPP.
+                let n = out.matches("<SubTree").count();
+                let attrs = attrs.replace(r#"name="inner""#, &format!(r#"name="inner{n}""#));
+                out.push_str(&format!("<SubTree ID=\"Sub\" {attrs}/>"));
+            }
         }
     }
 }

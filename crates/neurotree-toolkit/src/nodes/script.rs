@@ -369,8 +369,9 @@ pub(crate) fn register<C: 'static>(registry: &mut Registry<C>) {
                 None
             } else {
                 let code = literal(ports, "if")?;
-                let parsed = Script::parse(code)
-                    .map_err(|e| format!("in script `{}`: {e}", e.excerpt(code)))?;
+                let parsed = Script::parse(code).map_err(|e| {
+                    MakerError::Script(format!("in script `{}`: {e}", e.excerpt(code)))
+                })?;
                 Some(parsed)
             };
             let otherwise = if bound("else") {

@@ -5,6 +5,7 @@ use std::fmt;
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
+use neurotree_core::nodes::built_in::Outcomes;
 use neurotree_core::{Blueprint, NodeId, NodeKind, NodeStatus, Observer, StatusChange};
 
 use super::lock;
@@ -133,16 +134,18 @@ impl Observer for Coverage {
 /// The outcomes node `id` of `blueprint` can have, by its kind and its preconditions; what
 /// a [`CoverageReport`] counts as possible:
 ///
-/// - Success and Failure for every node, except that AlwaysSuccess, ForceSuccess cannot
-///   fail and AlwaysFailure, ForceFailure, KeepRunningUntilFailure cannot succeed (a
-///   `_successIf` or `_failureIf` precondition adds the one it decides).
+/// - Success and Failure for every node, except that AlwaysSuccess, ForceSuccess, Script,
+///   SetBlackboard and UnsetBlackboard cannot fail and AlwaysFailure, ForceFailure,
+///   KeepRunningUntilFailure cannot succeed (a `_successIf` or `_failureIf` precondition
+///   adds the one it decides).
 /// - Running and Halted for a node that can be Running: a leaf that runs over ticks
-///   (Sleep, a stateful, async, custom or mock leaf; never a condition or a sync action), a
+///   (Sleep, WaitValueUpdate, a stateful, async, custom or mock leaf; never a condition,
+///   Script or other sync action), a
 ///   node that returns Running by itself (Delay, KeepRunningUntilFailure, Repeat,
 ///   RetryUntilSuccessful, AsyncSequence, AsyncFallback, a custom control), or any other
 ///   control, decorator or SubTree with such a node below it.
-/// - Skipped for a node with a `_skipIf` or `_while` precondition, and a RunOnce that may
-///   skip after its run. A control whose children were all skipped also returns Skipped;
+/// - Skipped for a node with a `_skipIf` or `_while` precondition, a RunOnce that may
+///   skip after its run, a SkipUnlessUpdated, and a Precondition whose `else` is SKIPPED. A control whose children were all skipped also returns Skipped;
 ///   that is seen and shown but not counted as possible.
 pub fn possible_outcomes<C>(blueprint: &Blueprint<C>, id: NodeId) -> OutcomeSet {
     possible_all(blueprint)[id.index()]
@@ -152,18 +155,31 @@ pub fn possible_outcomes<C>(blueprint: &Blueprint<C>, id: NodeId) -> OutcomeSet 
 fn possible_all<C>(blueprint: &Blueprint<C>) -> Vec<OutcomeSet> {
     use Outcome::{Failure, Halted, Running, Skipped, Success};
     let n = blueprint.len();
+    // What each node returns by itself, where its kind or type says so.
+    let own: Vec<Option<Outcomes>> = blueprint
+        .ids()
+        .map(|id| {
+            let kind = blueprint.kind(id);
+            kind.built_in().map(|node| node.outcomes()).or_else(|| {
+                crate::nodes::std_outcomes(
+                    blueprint.type_id(id),
+                    kind.type_name(),
+                    blueprint.ports(id),
+                )
+            })
+        })
+        .collect();
     let mut can_run = vec![false; n];
     // Children come after their parent in pre-order, so a reverse walk sees them first.
     let ids: Vec<NodeId> = blueprint.ids().collect();
     for &id in ids.iter().rev() {
-        can_run[id.index()] = runs_by_itself(blueprint.kind(id))
+        can_run[id.index()] = runs_by_itself(blueprint.kind(id), own[id.index()])
             || blueprint.children(id).iter().any(|c| can_run[c.index()]);
     }
     blueprint
         .ids()
         .map(|id| {
-            let kind = blueprint.kind(id);
-            let own = kind.built_in().map(|node| node.outcomes());
+            let own = own[id.index()];
             let mut set = OutcomeSet::of(&[]);
             if own.map_or(true, |o| o.success) {
                 set = set.with(Success);
@@ -191,10 +207,10 @@ fn possible_all<C>(blueprint: &Blueprint<C>) -> Vec<OutcomeSet> {
 }
 
 /// `true` for kinds that return Running whatever their children do: the leaves of user
-/// code that run over ticks, and the built-ins that say so of themselves.
-fn runs_by_itself<C>(kind: &NodeKind<C>) -> bool {
-    match kind.built_in() {
-        Some(node) => node.outcomes().running,
+/// code that run over ticks, and the nodes whose outcomes (`own`) say so of themselves.
+fn runs_by_itself<C>(kind: &NodeKind<C>, own: Option<Outcomes>) -> bool {
+    match own {
+        Some(outcomes) => outcomes.running,
         None => matches!(
             kind,
             NodeKind::Stateful(_) | NodeKind::Async(_) | NodeKind::Custom(_)

@@ -135,6 +135,30 @@ pub enum RegistryError {
         /// The value refused.
         new: i64,
     },
+    /// A port name BehaviorTree.CPP's `CreatePort` refuses (it must start with a letter,
+    /// not be `name`, `ID` or a reserved `_` attribute, and hold no space, `.`, `:` …).
+    #[error("node type `{node}`: {reason}")]
+    BadPortName {
+        /// The node type being registered.
+        node: String,
+        /// The port refused.
+        port: String,
+        /// What is wrong with it.
+        reason: String,
+    },
+}
+
+/// Refuses the port names BehaviorTree.CPP's `CreatePort` refuses: a file written for the
+/// node would not load there, and Groot2 could not show it.
+fn check_port_names(node: &str, ports: &[PortSpec]) -> Result<(), RegistryError> {
+    for port in ports {
+        crate::xml::check_port_name(&port.name).map_err(|reason| RegistryError::BadPortName {
+            node: node.to_string(),
+            port: port.name.clone(),
+            reason,
+        })?;
+    }
+    Ok(())
 }
 
 /// Adds the nodes of a subtree made in Rust below an open SubTree node.
@@ -253,6 +277,7 @@ impl<C: 'static> Registry<C> {
         if self.types.contains_key(name) {
             return Err(RegistryError::Duplicate(name.to_string()));
         }
+        check_port_names(name, &ports)?;
         let t = NodeType {
             name: name.to_string(),
             category,
@@ -402,6 +427,7 @@ impl<C: 'static> Registry<C> {
         if self.types.contains_key(name) {
             return Err(RegistryError::Duplicate(name.to_string()));
         }
+        check_port_names(name, &ports)?;
         let t = NodeType {
             name: name.to_string(),
             category: Category::Condition,

@@ -43,6 +43,10 @@ pub enum ScriptErrorKind {
     /// The expression nests deeper than the parser allows (to keep the stack bounded).
     #[error("expression nested too deeply (more than {0} levels)")]
     TooDeep(usize),
+    /// A script without a statement (blank, or only `;`): BehaviorTree.CPP refuses it
+    /// ("Empty Script") rather than run nothing.
+    #[error("empty script: write at least one statement, or remove the script")]
+    Empty,
 
     // ----- runtime errors -----
     /// A key read (or assigned with `=` or a compound operator) that has no entry.

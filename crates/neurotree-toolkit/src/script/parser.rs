@@ -36,6 +36,8 @@ pub(crate) fn parse_program(src: &str) -> Result<Vec<Expr>, Located> {
     loop {
         match p.peek() {
             Tok::Semi => p.pos += 1,
+            // BehaviorTree.CPP's ParseScript refuses a script with no statement.
+            Tok::Eof if program.is_empty() => return Err((ScriptErrorKind::Empty, 0)),
             Tok::Eof => return Ok(program),
             _ => {
                 program.push(p.expr(BP_ASSIGN)?);

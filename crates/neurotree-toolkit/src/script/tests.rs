@@ -112,8 +112,11 @@ fn literals() {
 
 #[test]
 fn program_value_is_the_last_expression() {
-    assert_eq!(value(""), Value::Empty);
-    assert_eq!(value(" ;; ; "), Value::Empty);
+    // BehaviorTree.CPP's ParseScript refuses a script without a statement ("Empty Script").
+    for blank in ["", "  \n", " ;; ; "] {
+        let e = Script::parse(blank).unwrap_err();
+        assert_eq!(e.kind, ScriptErrorKind::Empty, "{blank:?}");
+    }
     assert_eq!(value("1; 2"), int(2));
     assert_eq!(value("1; 2;;"), int(2));
     assert_eq!(value(";x := 3;; x + 1;"), int(4));

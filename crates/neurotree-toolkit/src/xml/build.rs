@@ -48,6 +48,12 @@ struct Expansion<'a, 'r, C> {
     /// The names (else IDs) of the SubTrees being expanded, outermost first: the start of
     /// a node's path as BehaviorTree.CPP's substitution rules match it.
     subtree_names: Vec<&'a str>,
+    /// The path of each subtree instance being expanded, outermost first (the main tree's
+    /// is empty), as BehaviorTree.CPP makes them: the parent's path, `/`, then the SubTree's
+    /// `name`, or its ID and a number unique in the tree without one.
+    paths: Vec<String>,
+    /// The paths of the subtree instances made so far, which must differ.
+    seen: std::collections::HashSet<String>,
 }
 
 /// What an element turns into: the node to open, and whether its children follow it.
@@ -134,6 +140,8 @@ impl<'a, 'r, C: 'static> Expansion<'a, 'r, C> {
             not_mocked: Vec::new(),
             nodes: 0,
             subtree_names: Vec::new(),
+            paths: vec![String::new()],
+            seen: std::collections::HashSet::new(),
         }
     }
 
@@ -334,6 +342,7 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
             .map(|b| self.close(b, el));
             self.stack.pop();
             self.subtree_names.pop();
+            self.paths.pop();
             return b;
         }
         let opened = match self.open(el) {
@@ -394,12 +403,14 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
         };
         // A leaf standing in for the node, which has no children: a mock, or an unknown
         // leaf mocked with SUCCESS.
-        let leaf_for = |kind, hooks| Opened {
+        // It keeps the node's ports, whose entries BehaviorTree.CPP creates when it builds
+        // the tree whatever the node turns out to be: a later Script may assign them.
+        let leaf_for = |kind, ports, hooks| Opened {
             kind,
             shared: None,
             name,
             type_id: Some(type_name),
-            ports: Vec::new(),
+            ports,
             hooks,
             descend: false,
         };
@@ -417,13 +428,21 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
                 if !self.mocked.contains(&name) {
                     self.mocked.push(name);
                 }
-                let ports = mock::output_ports(outcomes, |port| {
+                // A type nobody declared has no ports to keep: its attributes are not
+                // known to be ports. The mock's outputs are ports of their own.
+                let mut ports = match node_type {
+                    Some(t) => self.check_ports(el, t, explicit, false)?,
+                    None => Vec::new(),
+                };
+                let outputs = mock::output_ports(outcomes, |port| {
                     el.attr(port).map(|text| binding(port, text))
                 });
-                return Ok(Opened {
-                    ports,
-                    ..leaf_for(mock::mock_kind(outcomes), hooks)
-                });
+                for output in outputs {
+                    if !ports.iter().any(|p| p.name == output.name) {
+                        ports.push(output);
+                    }
+                }
+                return Ok(leaf_for(mock::mock_kind(outcomes), ports, hooks));
             }
             // Not a leaf: it stays. A mock named after it that replaces no leaf either is
             // a mistake, found once the tree is expanded.
@@ -446,7 +465,7 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
                     Substitute::Test(_) if el.child_count() > 0 => {}
                     Substitute::Test(config) => {
                         let kind = substitute::test_kind(config, self.loader.registry.enums());
-                        return Ok(leaf_for(kind, hooks));
+                        return Ok(leaf_for(kind, Vec::new(), hooks));
                     }
                     Substitute::Node(other) => {
                         let Some(other_type) = self.node_type(other) else {
@@ -467,7 +486,11 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
         }
         let Some(node_type) = node_type else {
             if self.loader.mock_unknown && el.child_count() == 0 {
-                return Ok(leaf_for(nodes::stand_in(Category::Action), hooks));
+                return Ok(leaf_for(
+                    nodes::stand_in(Category::Action),
+                    Vec::new(),
+                    hooks,
+                ));
             }
             let hint = match self.loader.registry.closest(type_name) {
                 Some(close) => format!("did you mean `{close}`? "),
@@ -528,7 +551,7 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
                     && el.child_count() == 0
                     && matches!(node_type.category, Category::Action | Category::Condition) =>
             {
-                return Ok(leaf_for(nodes::stand_in(Category::Action), hooks));
+                return Ok(leaf_for(nodes::stand_in(Category::Action), ports, hooks));
             }
             Make::Model if !self.validate => {
                 // Asked to mock it: say why that cannot be, the closer mistake.
@@ -820,14 +843,46 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
         }
         let name = el.attr("name").unwrap_or(id);
         let hooks = conditions(el, self.loader.registry.enums())?;
+        let path = self.subtree_path(el, id)?;
         self.stack.push(id.to_string());
         self.subtree_names.push(name);
+        self.paths.push(path);
         let opened = Opened {
             type_id: Some(id),
             hooks,
             ..Opened::plain(NodeKind::SubTree(Box::new(scope)), name)
         };
         Ok((opened, body))
+    }
+}
+
+impl<C: 'static> Expansion<'_, '_, C> {
+    /// The path of the subtree instance the SubTree `el` (of tree `id`) makes; refused, as
+    /// BehaviorTree.CPP refuses it, if another instance of the tree built has it.
+    fn subtree_path(&mut self, el: Element<'_>, id: &str) -> Result<String, LoadError> {
+        let parent = self.paths.last().map_or("", String::as_str);
+        let own = match el.attr("name") {
+            Some(name) => name.to_string(),
+            // `nodes` numbers the nodes opened: unique, as BehaviorTree.CPP's UID is.
+            None => format!("{id}::{}", self.nodes),
+        };
+        let path = if parent.is_empty() {
+            own
+        } else {
+            format!("{parent}/{own}")
+        };
+        if !self.seen.insert(path.clone()) {
+            return Err(el.error(
+                LoadErrorKind::DuplicateSubTreePath,
+                format!(
+                    "another SubTree of this tree is already named `{}`, so both would have \
+                     the path `{path}` (BehaviorTree.CPP refuses this: Groot2 could not tell \
+                     them apart); give them different names, or leave `name` out",
+                    el.attr("name").unwrap_or_default()
+                ),
+            ));
+        }
+        Ok(path)
     }
 }
 

@@ -106,6 +106,17 @@ pub enum LoadErrorKind {
     /// A substitution rules file that cannot be read, or a rule that cannot be applied
     /// (it names neither a TestNodeConfig nor a registered node type).
     Substitution,
+    /// A name BehaviorTree.CPP refuses: a tree or SubTree ID that is empty, reserved
+    /// (`Root`), holds a forbidden character or is a registered node type's name; a node
+    /// type written as an element with a forbidden character; a port name that is reserved,
+    /// holds a forbidden character or does not start as BehaviorTree.CPP requires.
+    BadName,
+    /// Two SubTrees with the same `name` in one tree: their paths (which Groot2 and
+    /// observers go by) would be the same.
+    DuplicateSubTreePath,
+    /// A ReactiveSequence with more than one asynchronous child (`AsyncSequence`), which
+    /// BehaviorTree.CPP refuses when it loads the file.
+    ReactiveAsync,
 }
 
 /// Something a file does that loads but should change, with its place: a deprecated or

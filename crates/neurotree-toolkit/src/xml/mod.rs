@@ -35,6 +35,7 @@ mod error;
 mod file;
 mod mock;
 mod model;
+mod names;
 pub mod save;
 mod source;
 pub mod substitute;
@@ -43,6 +44,7 @@ pub use budget::TOO_MANY_NODES;
 pub use error::{LoadError, LoadErrorKind, LoadWarning};
 pub use file::{read_file, DEFAULT_MAX_FILE_BYTES};
 pub use mock::{parse_outcomes, MockOutput, Outcomes, OutputType};
+pub(crate) use names::check_port_name;
 pub use save::{write_xml, SaveOptions};
 pub use substitute::{Substitute, Substitutions, TestNodeConfig};
 
@@ -324,6 +326,7 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
         }
         // By number: an include loads more documents into `docs` while these are walked.
         let children: Vec<usize> = root.children().map(|c| c.id()).collect();
+        let siblings = children.len();
         for element in children {
             let child = self.docs[at].element(element);
             match child.tag() {
@@ -347,6 +350,7 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
                             child.child_count()
                         )));
                     }
+                    self.check_tree(child, siblings)?;
                     self.trees.insert(id, TreeAt { doc: at, element });
                     self.warn_aliases(at, element);
                 }
@@ -364,6 +368,80 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
         Ok(())
     }
 
+    /// Refuses what BehaviorTree.CPP's `VerifyXML` refuses in the `<BehaviorTree>` `tree`
+    /// (one of `siblings` elements under `<root>`): its ID, its SubTrees' IDs and the node
+    /// type names it writes as elements, and a ReactiveSequence with several asynchronous
+    /// children.
+    fn check_tree(&self, tree: Element<'_>, siblings: usize) -> Result<(), LoadError> {
+        let registered = |id: &str| self.registry.get(id).is_some();
+        match tree.attr("ID") {
+            // BehaviorTree.CPP names the only tree of a file; among others it must be named.
+            None | Some("") if siblings > 1 => {
+                return Err(tree.error(
+                    LoadErrorKind::BadName,
+                    "<BehaviorTree> needs an ID when <root> holds other elements \
+                     (BehaviorTree.CPP refuses it); add ID=\"...\"",
+                ))
+            }
+            None | Some("") => {}
+            Some(id) => {
+                names::check_model_name(id, "tree ID")
+                    .map_err(|m| tree.error(LoadErrorKind::BadName, m))?;
+                if registered(id) {
+                    return Err(tree.error(
+                        LoadErrorKind::BadName,
+                        format!(
+                            "tree ID `{id}` is the name of a registered node type, which \
+                         BehaviorTree.CPP refuses; rename the tree"
+                        ),
+                    ));
+                }
+            }
+        }
+        for el in tree.descendants() {
+            let tag = el.tag();
+            if tag == "SubTree" {
+                // Without an ID the builder says so; an empty one is a name refused here.
+                let Some(id) = el.attr("ID") else { continue };
+                names::check_model_name(id, "SubTree ID")
+                    .map_err(|m| el.error(LoadErrorKind::BadName, m))?;
+                if registered(id) {
+                    return Err(el.error(
+                        LoadErrorKind::BadName,
+                        format!(
+                            "SubTree ID `{id}` is the name of a registered node type, which \
+                         BehaviorTree.CPP refuses; rename the tree"
+                        ),
+                    ));
+                }
+            } else if !build::EXPLICIT.contains(&tag) {
+                names::check_model_name(tag, "node type")
+                    .map_err(|m| el.error(LoadErrorKind::BadName, m))?;
+            }
+            // As BehaviorTree.CPP, which counts the children written as `<AsyncSequence>`
+            // (the asynchronous control it registers) of a ReactiveSequence.
+            let type_name = if build::EXPLICIT.contains(&tag) {
+                el.attr("ID").unwrap_or("")
+            } else {
+                tag
+            };
+            use neurotree_core::nodes::control::{reactive, sequence};
+            let async_child = sequence::ASYNC_SEQUENCE.name;
+            if type_name == reactive::REACTIVE_SEQUENCE.name
+                && el.children().filter(|c| c.tag() == async_child).count() > 1
+            {
+                return Err(el.error(
+                    LoadErrorKind::ReactiveAsync,
+                    "a ReactiveSequence cannot have more than one async child \
+                     (AsyncSequence), as BehaviorTree.CPP refuses: only one child of a \
+                     ReactiveSequence may be Running; use a Sequence, or move all but one \
+                     into another branch",
+                ));
+            }
+        }
+        Ok(())
+    }
+
     /// Keeps the ports that the `<SubTree>` entries of model `element` declare.
     fn read_subtree_models(&mut self, doc: usize, element: usize) -> Result<(), LoadError> {
         let model = self.docs[doc].element(element);
@@ -374,14 +452,19 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
                     "<SubTree> in a TreeNodesModel needs an ID",
                 )
             })?;
-            let ports = sub
-                .children()
-                .filter(|p| p.tag().ends_with("_port"))
-                .filter_map(|p| {
-                    let name = p.attr("name")?;
-                    Some((name.to_string(), p.attr("default").map(String::from)))
-                })
-                .collect();
+            let mut ports = Vec::new();
+            for p in sub.children().filter(|p| p.tag().ends_with("_port")) {
+                let Some(name) = p.attr("name") else {
+                    return Err(p.error(
+                        LoadErrorKind::Structure,
+                        format!("a port of SubTree `{id}` in a TreeNodesModel needs a name"),
+                    ));
+                };
+                names::check_subtree_port_name(name).map_err(|m| {
+                    p.error(LoadErrorKind::BadName, format!("SubTree `{id}` model: {m}"))
+                })?;
+                ports.push((name.to_string(), p.attr("default").map(String::from)));
+            }
             self.subtree_models.insert(id.to_string(), ports);
         }
         Ok(())

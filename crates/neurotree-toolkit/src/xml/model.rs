@@ -55,6 +55,9 @@ impl<C: 'static> Registry<C> {
                             port.error(LoadErrorKind::Structure, "a port in a model needs a name")
                         );
                     };
+                    super::names::check_port_name(name).map_err(|m| {
+                        port.error(LoadErrorKind::BadName, format!("node type `{id}`: {m}"))
+                    })?;
                     ports.push(PortSpec {
                         name: name.to_string(),
                         direction,
