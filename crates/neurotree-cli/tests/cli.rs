@@ -223,7 +223,7 @@ fn bench_table_names_every_measure() {
     }
 }
 
-#[path = "../../neurotree/tests/support/corpus.rs"]
+#[path = "../../neurotree-toolkit/tests/support/corpus.rs"]
 mod corpus_dir;
 use corpus_dir::corpus;
 

@@ -4,7 +4,7 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-#[path = "../../neurotree/tests/support/corpus.rs"]
+#[path = "../../neurotree-toolkit/tests/support/corpus.rs"]
 mod corpus_dir;
 use corpus_dir::corpus;
 

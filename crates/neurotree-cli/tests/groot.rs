@@ -21,7 +21,7 @@ fn write_tree(name: &str, xml: &str) -> PathBuf {
     file
 }
 
-#[path = "../../neurotree/tests/support/corpus.rs"]
+#[path = "../../neurotree-toolkit/tests/support/corpus.rs"]
 mod corpus_dir;
 use corpus_dir::corpus;
 

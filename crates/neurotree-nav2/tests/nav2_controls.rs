@@ -17,7 +17,7 @@ use counting_alloc::allocations;
 
 use Status::{Failure as F, Running as R, Success as S};
 
-#[path = "../../neurotree/tests/support/corpus.rs"]
+#[path = "../../neurotree-toolkit/tests/support/corpus.rs"]
 mod corpus_dir;
 
 fn nav2_corpus() -> PathBuf {

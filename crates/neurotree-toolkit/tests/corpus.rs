@@ -13,7 +13,7 @@ use neurotree::{Arity, Blueprint, CustomNode, NodeCtx, NodeStatus, PortSpec, Reg
 mod support;
 use support::signature;
 
-#[path = "../../neurotree/tests/support/corpus.rs"]
+#[path = "support/corpus.rs"]
 mod corpus_dir;
 
 fn corpus() -> PathBuf {

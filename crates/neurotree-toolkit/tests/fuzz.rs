@@ -20,7 +20,7 @@ use neurotree::groot::Groot2Monitor;
 use neurotree::script::{Enums, Script, ScriptEnv, ScriptError};
 use neurotree::{Blackboard, ManualClock, Registry, ScopeId, Tree, XmlLoader};
 
-#[path = "../../neurotree/tests/support/corpus.rs"]
+#[path = "support/corpus.rs"]
 mod corpus_dir;
 #[path = "support/load_all.rs"]
 mod load_all;

@@ -5,7 +5,7 @@
 use neurotree::{Registry, XmlLoader};
 use proptest::prelude::*;
 
-#[path = "../../neurotree/tests/support/corpus.rs"]
+#[path = "support/corpus.rs"]
 mod corpus_dir;
 #[path = "support/load_all.rs"]
 mod load_all;

@@ -3,7 +3,7 @@
 
 use neurotree::{ManualClock, Registry, Status, Tree, XmlLoader};
 
-#[path = "../../neurotree/tests/support/corpus.rs"]
+#[path = "support/corpus.rs"]
 mod corpus_dir;
 use corpus_dir::corpus;
 
