@@ -6,12 +6,10 @@
 //! each tick also waits that long in wall time, and a client watches the run unfold. The
 //! manual clock, and so every result, is the same either way.
 
+#[cfg(not(feature = "groot"))]
 use std::io::{self, Write};
 use std::net::IpAddr;
 use std::time::Duration;
-
-use neurotree::groot::{Groot2Monitor, Groot2Server, GrootError};
-use neurotree::{Blueprint, Registry, Tree};
 
 /// The flags of `neurotree run` that serve the run to Groot2.
 #[derive(clap::Args, Debug)]
@@ -51,73 +49,50 @@ fn seconds(text: &str) -> Result<Duration, String> {
         .ok_or_else(|| format!("`{text}` should be a number of seconds, 0 or more"))
 }
 
-/// A monitor being served for one run.
-pub struct Served {
-    monitor: Groot2Monitor,
-    server: Groot2Server,
-    linger: Duration,
-    pace: Duration,
-}
+#[cfg(feature = "groot")]
+mod served;
+#[cfg(feature = "groot")]
+pub use served::Served;
 
+/// A build without Groot2 support (`--no-default-features`): `--groot` is refused.
+#[cfg(not(feature = "groot"))]
+pub enum Served {}
+
+#[cfg(not(feature = "groot"))]
 impl Served {
-    /// Serves a monitor of `blueprint`, whose main tree `tree_id` names, on `port` (the
-    /// one `--groot` gave) as `opts` says.
+    /// Refuses: this build has no Groot2 server.
     pub fn start(
-        blueprint: &Blueprint<()>,
-        registry: &Registry<()>,
-        tree_id: &str,
-        port: u16,
-        opts: &GrootArgs,
-    ) -> Result<Served, GrootError> {
-        let monitor = Groot2Monitor::new(blueprint, registry, tree_id);
-        let server = monitor.serve_on(opts.bind, port)?;
-        Ok(Served {
-            monitor,
-            server,
-            linger: opts.linger,
-            pace: Duration::from_millis(opts.pace_ms),
-        })
+        _: &neurotree::Blueprint<()>,
+        _: &neurotree::Registry<()>,
+        _: &str,
+        _: u16,
+        _: &GrootArgs,
+    ) -> Result<Served, String> {
+        Err("neurotree: this build has no Groot2 monitor; build it with `--features groot`".into())
     }
 
-    /// Tells on `err` where clients connect (the port chosen, when asked for any).
-    pub fn announce(&self, err: &mut impl Write) -> io::Result<()> {
-        let address = self.server.local_addr();
-        writeln!(
-            err,
-            "neurotree: Groot2 monitor on tcp://{address} (publisher on port {})",
-            u32::from(address.port()) + 1
-        )
+    /// Never called: no `Served` exists.
+    pub fn announce(&self, _: &mut impl Write) -> io::Result<()> {
+        match *self {}
     }
 
-    /// The observer to attach to the tree.
-    pub fn monitor(&self) -> Groot2Monitor {
-        self.monitor.clone()
+    /// Never called: no `Served` exists.
+    pub fn monitor(&self) -> Vec<Box<dyn neurotree::Observer>> {
+        match *self {}
     }
 
-    /// Shows clients the blackboard as it now is.
-    pub fn publish(&self, tree: &Tree<()>) {
-        self.monitor.publish_blackboard(tree);
+    /// Never called: no `Served` exists.
+    pub fn publish(&self, _: &neurotree::Tree<()>) {
+        match *self {}
     }
 
-    /// After a tick: the blackboard as it now is, then the pause, if any.
-    pub fn after_tick(&self, tree: &Tree<()>) {
-        self.publish(tree);
-        if !self.pace.is_zero() {
-            std::thread::sleep(self.pace);
-        }
+    /// Never called: no `Served` exists.
+    pub fn after_tick(&self, _: &neurotree::Tree<()>) {
+        match *self {}
     }
 
-    /// Keeps serving for the linger time, then stops.
-    pub fn linger(self, err: &mut impl Write) -> io::Result<()> {
-        if !self.linger.is_zero() {
-            writeln!(
-                err,
-                "neurotree: the run ended; serving Groot2 for {} s more",
-                self.linger.as_secs_f64()
-            )?;
-            std::thread::sleep(self.linger);
-        }
-        self.server.stop();
-        Ok(())
+    /// Never called: no `Served` exists.
+    pub fn linger(self, _: &mut impl Write) -> io::Result<()> {
+        match self {}
     }
 }

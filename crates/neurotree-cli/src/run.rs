@@ -28,7 +28,7 @@ use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
 use neurotree::observe::{
-    BtlogWriter, ConsoleLogger, Coverage, CoverageReport, JsonlTrace, SqliteLogger, Statistics,
+    BtlogWriter, ConsoleLogger, Coverage, CoverageReport, JsonlTrace, Statistics,
 };
 use neurotree::render::LastTickStatuses;
 use neurotree::{

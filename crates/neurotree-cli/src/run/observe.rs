@@ -86,7 +86,8 @@ impl ObserveArgs {
 pub(super) struct Outputs {
     jsonl: Option<(PathBuf, JsonlTrace<BufWriter<File>>)>,
     btlog: Option<(PathBuf, BtlogWriter<BufWriter<File>>)>,
-    sqlite: Option<(PathBuf, SqliteLogger)>,
+    #[cfg(feature = "sqlite")]
+    sqlite: Option<(PathBuf, neurotree::observe::SqliteLogger)>,
     stats: Option<Statistics>,
     coverage: Option<Coverage>,
     /// Print the coverage table (`--coverage`).
@@ -118,11 +119,16 @@ pub(super) fn observers(
         attached.push(Box::new(log.clone()));
         outputs.btlog = Some((path.clone(), log));
     }
+    #[cfg(feature = "sqlite")]
     if let Some(path) = &args.sqlite {
-        let log = SqliteLogger::open(path, tree, registry, false)
+        let log = neurotree::observe::SqliteLogger::open(path, tree, registry, false)
             .map_err(|e| format!("--sqlite {}: {e}", path.display()))?;
         attached.push(Box::new(log.clone()));
         outputs.sqlite = Some((path.clone(), log));
+    }
+    #[cfg(not(feature = "sqlite"))]
+    if args.sqlite.is_some() {
+        return Err("this build has no SQLite logger; build it with `--features sqlite`".into());
     }
     if args.stats {
         let stats = Statistics::new(bp);
@@ -154,6 +160,7 @@ impl Outputs {
                 failures.push(format!("--btlog {}: {e}", path.display()));
             }
         }
+        #[cfg(feature = "sqlite")]
         if let Some((path, log)) = &self.sqlite {
             if let Err(e) = log.flush() {
                 failures.push(format!("--sqlite {}: {e}", path.display()));
