@@ -199,15 +199,19 @@ impl<C> CustomNode<C> for Mock {
         Some(neurotree_core::state::encode(&(self.run, self.played)))
     }
 
+    /// A mock given other outcomes than the saved one's (a fork of a run) plays on from the
+    /// same place, as far as its outcomes go: past their end, from its last one.
     fn restore_state(&mut self, state: &[u8]) -> bool {
-        match neurotree_core::state::decode::<(usize, u64)>(state) {
-            Some((run, played)) if run < self.runs.len().max(1) => {
-                self.run = run;
-                self.played = played;
-                true
-            }
-            _ => false,
-        }
+        let Some((run, played)) = neurotree_core::state::decode::<(usize, u64)>(state) else {
+            return false;
+        };
+        let last = self.runs.len().saturating_sub(1);
+        (self.run, self.played) = if run <= last {
+            (run, played)
+        } else {
+            (last, 0)
+        };
+        true
     }
 
     fn tick(&mut self, node: &mut NodeCtx<'_, '_, C>) -> NodeStatus {
