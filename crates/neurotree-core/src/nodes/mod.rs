@@ -9,12 +9,12 @@
 //! Each built-in node is a type of its own in its module, which says everything about it:
 //! its declaration as data ([`NodeDecl`]: BehaviorTree.CPP name, family, children, ports),
 //! its semantics, what it can return, how it is made from its ports, its tick, its halt, its
-//! builder method and its tests (see [`built_in`]). [`with_built_ins!`] is the one list of
+//! builder method and its tests (see [`built_in`]). `with_built_ins!` is the one list of
 //! them: it makes [`NodeKind`](crate::NodeKind)'s variants, the dispatch and every other
 //! match over node kinds, and [`BUILT_INS`], from which the toolkit's registry, model
 //! export, XML writer and the README's catalog are derived.
 //!
-//! A new built-in is its module and one line in [`with_built_ins!`] (and its module's line
+//! A new built-in is its module and one line in `with_built_ins!` (and its module's line
 //! in its family's `mod` list).
 
 pub mod built_in;

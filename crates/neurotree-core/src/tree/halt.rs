@@ -12,11 +12,11 @@
 //! At a boundary with a request pending, the tree does what [`Tree::halt`](crate::Tree::halt)
 //! does (every Running node halted, children first, each Running stateful action getting
 //! exactly one `on_halted`, every async action's future dropped), clears the request, and
-//! the call returns [`TickError::HaltRequested`](crate::TickError::HaltRequested) without
+//! the call returns [`TickError::HaltRequested`] without
 //! ticking anything more. The next call starts afresh. A request made while nothing runs is
 //! served the same way: the halt changes nothing, and the call still returns the error, so
 //! a loop that ticks ends either way. A halt that takes ticks
-//! ([`slow_halt`](super::slow_halt)) goes on in the next calls, which return Running
+//! ([`slow_halt`]) goes on in the next calls, which return Running
 //! without ticking the root until it is done, or with [`Tree::tick_halt`](crate::Tree::tick_halt).
 //!
 //! A request made during a pass of `tick_once` that leaves the root Running is served right
@@ -40,7 +40,7 @@ use core::fmt;
 use super::{slow_halt, Tree, WakeSignal};
 use crate::{NodeId, NodeStatus, Status, TickError};
 
-/// Asks a [`Tree`](crate::Tree) to halt at its next tick boundary, from any thread; clones
+/// Asks a [`Tree`] to halt at its next tick boundary, from any thread; clones
 /// ask the same tree. Made by [`Tree::halt_handle`](crate::Tree::halt_handle).
 ///
 /// ```

@@ -105,8 +105,17 @@ fn match_nodes<C>(old: &Blueprint<C>, new: &Blueprint<C>) -> Vec<Option<NodeId>>
 
 impl<C> Tree<C> {
     /// Swaps `blueprint` in under this running instance, keeping the state of every node
-    /// that did not change and halting those removed or changed while Running (see the
-    /// [module docs](self)); `ctx` is what their halts get. Between two ticks only.
+    /// that did not change and halting those removed or changed while Running; `ctx` is
+    /// what their halts get. Between two ticks only.
+    ///
+    /// Nodes are matched by path (the k-th node of a path with the k-th of the same path)
+    /// and are unchanged when their type, kind and parameters, ports and number of children
+    /// are the same: an unchanged node keeps its status, state slot and object; a node
+    /// removed or changed while Running is halted first, as a halt halts it (its Running
+    /// descendants first, each stateful action getting its one `on_halted`), and new or
+    /// changed nodes start Idle. Blackboard entries are kept (the root's, and those of each
+    /// matched SubTree). A halt that takes ticks delays the swap until it is done
+    /// ([`ReloadReport::waiting`]).
     ///
     /// ```
     /// use neurotree_core::{Blueprint, ManualClock, Status, Tree};
