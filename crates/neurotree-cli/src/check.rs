@@ -34,6 +34,8 @@ pub struct CheckArgs {
     #[arg(long = "model")]
     pub models: Vec<PathBuf>,
     #[command(flatten)]
+    pub nav2: crate::registry::Nav2Args,
+    #[command(flatten)]
     pub limits: LoadLimits,
 }
 
@@ -45,7 +47,7 @@ pub fn execute(
     err: &mut impl Write,
 ) -> io::Result<Outcome> {
     let files = &args.files;
-    let mut registry = crate::registry::with_nav2_controls::<()>();
+    let mut registry = crate::registry::with_nav2_controls::<()>(args.nav2);
     let mut refused = Vec::new();
     for path in &args.models {
         match files::read(path) {

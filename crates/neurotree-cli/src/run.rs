@@ -122,6 +122,8 @@ pub struct RunArgs {
     #[command(flatten)]
     pub limits: LoadLimits,
     #[command(flatten)]
+    pub nav2: crate::registry::Nav2Args,
+    #[command(flatten)]
     pub live: LiveArgs,
     #[command(flatten)]
     pub testbench: TestbenchArgs,
@@ -237,7 +239,7 @@ fn load(
     opts: &RunArgs,
     warnings: &mut Vec<LoadWarning>,
 ) -> Result<(Blueprint<()>, Registry<()>, files::Picked), String> {
-    let mut registry = crate::registry::with_nav2_controls::<()>();
+    let mut registry = crate::registry::with_nav2_controls::<()>(opts.nav2);
     files::add_models(&mut registry, files).map_err(|e| e.to_string())?;
     opts.testbench.register_enums(&mut registry)?;
     let mut loader = XmlLoader::new(&registry)

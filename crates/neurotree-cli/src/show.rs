@@ -75,6 +75,8 @@ pub struct ShowArgs {
     #[arg(long, value_name = "FILE", conflicts_with = "trace")]
     pub coverage: Option<PathBuf>,
     #[command(flatten)]
+    pub nav2: crate::registry::Nav2Args,
+    #[command(flatten)]
     pub limits: LoadLimits,
 }
 
@@ -139,7 +141,7 @@ fn format_of(opts: &ShowArgs) -> Format {
 
 /// The blueprint to draw and the tree it is.
 fn load(files: &[PathBuf], opts: &ShowArgs) -> Result<(Blueprint<()>, Picked), LoadError> {
-    let registry = registry_with_stand_ins(files, &opts.models)?;
+    let registry = registry_with_stand_ins(files, &opts.models, opts.nav2)?;
     let mut loader = XmlLoader::new(&registry)
         .mock_unknown(true)
         .max_nodes(opts.limits.max_nodes);
@@ -171,8 +173,9 @@ fn load(files: &[PathBuf], opts: &ShowArgs) -> Result<(Blueprint<()>, Picked), L
 fn registry_with_stand_ins(
     files: &[PathBuf],
     models: &[PathBuf],
+    nav2: crate::registry::Nav2Args,
 ) -> Result<Registry<()>, LoadError> {
-    let mut declared = crate::registry::with_nav2_controls::<()>();
+    let mut declared = crate::registry::with_nav2_controls::<()>(nav2);
     let built_in: BTreeSet<String> = declared.types().map(|t| t.name.clone()).collect();
     for model in models {
         let shown = model.display().to_string();
@@ -180,7 +183,7 @@ fn registry_with_stand_ins(
         declared.add_model_str(&model_text, &shown)?;
     }
     files::add_models(&mut declared, files)?;
-    let mut registry = crate::registry::with_nav2_controls::<()>();
+    let mut registry = crate::registry::with_nav2_controls::<()>(nav2);
     for t in declared.types().filter(|t| !built_in.contains(&t.name)) {
         let ports = t.ports.clone();
         let stand_in = || -> Box<dyn CustomNode<()>> { Box::new(StandIn) };

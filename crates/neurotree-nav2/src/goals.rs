@@ -57,10 +57,22 @@ impl SeenGoals {
     }
 }
 
+/// Entry `key` (no port) as a `T`, owned: see [`entry`].
+pub(crate) fn entry_owned<C, T>(
+    node: &mut NodeCtx<'_, '_, C>,
+    key: &str,
+) -> Result<Option<T>, String>
+where
+    T: FromPortStr + Any + Clone,
+{
+    let scope = node.scope();
+    entry::<T>(node.blackboard(), scope, key, key).map(|v| v.map(Cow::into_owned))
+}
+
 /// The value of `port` as Nav2 reads it: the port's literal or entry if that gives a value,
 /// else the entry named `port`. Borrowed from the blackboard where it can be, so that
 /// comparing a list of goals allocates nothing. A value of another type is an error.
-fn read<'b, T>(
+pub(crate) fn read<'b, T>(
     bb: &'b Blackboard,
     scope: ScopeId,
     ports: &[Port],
@@ -86,7 +98,7 @@ where
 }
 
 /// Entry `key` as a `T`: the value itself, or text converted; `None` if it was never written.
-fn entry<'b, T>(
+pub(crate) fn entry<'b, T>(
     bb: &'b Blackboard,
     scope: ScopeId,
     port: &str,

@@ -77,36 +77,60 @@
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 
+mod distance_controller;
 mod global_updated_goal;
 mod goal_updated;
 mod goal_updated_controller;
+mod goal_updater;
 mod goals;
+mod nonblocking_sequence;
+mod path_longer_on_approach;
+mod pause_resume_controller;
+mod persistent_sequence;
 mod pipeline_sequence;
 mod rate_controller;
 mod recovery_node;
 pub mod robotics;
 mod round_robin;
+mod single_trigger;
+mod speed_controller;
 #[cfg(test)]
 mod testing;
 
 use std::any::Any;
 
+pub use distance_controller::{DistanceController, ROBOT_POSE};
 pub use global_updated_goal::GlobalUpdatedGoal;
 pub use goal_updated::GoalUpdated;
 pub use goal_updated_controller::GoalUpdatedController;
+pub use goal_updater::{GoalUpdater, GOALS_UPDATE, GOAL_UPDATE};
+pub use nonblocking_sequence::NonblockingSequence;
+pub use path_longer_on_approach::PathLongerOnApproach;
+pub use pause_resume_controller::{PauseResumeController, PauseState};
+pub use persistent_sequence::PersistentSequence;
 pub use pipeline_sequence::PipelineSequence;
 pub use rate_controller::RateController;
 pub use recovery_node::RecoveryNode;
 pub use round_robin::RoundRobin;
+pub use single_trigger::SingleTrigger;
+pub use speed_controller::{SpeedController, ROBOT_SPEED};
 
-use neurotree_core::{Arity, Category, CustomSpec, FromPortStr, NodeCtx};
+/// Nav2's model of every node type it registers (`nav2_tree_nodes.xml` of Nav2 main): 81
+/// types, whose conditions and actions NeuroTree knows only by their ports. Add it to a
+/// registry with [`Registry::add_model_str`] after [`register_controls`], so that Nav2's trees
+/// load with the controls and decorators implemented and the leaves declared.
+pub const NAV2_TREE_NODES_MODEL: &str = include_str!("nav2_tree_nodes.xml");
 
-use crate::robotics::Pose2D;
+use neurotree_core::{Arity, Category, CustomSpec, FromPortStr, NodeCtx, PortValue};
+
+use crate::robotics::{Path, Pose2D};
 use neurotree_toolkit::{PortSpec, Registry, RegistryError};
 
-/// Registers PipelineSequence, RecoveryNode, RoundRobin, RateController, GoalUpdated,
-/// GlobalUpdatedGoal and GoalUpdatedController under their Nav2 names, with Nav2's ports and
-/// defaults. Fails if one of the names is taken (nothing after it is registered then).
+/// Registers every control and decorator of Nav2 (PipelineSequence, RecoveryNode,
+/// RoundRobin, NonblockingSequence, PauseResumeController, PersistentSequence,
+/// RateController, DistanceController, SingleTrigger, GoalUpdater, SpeedController,
+/// PathLongerOnApproach, GoalUpdatedController) and the conditions GoalUpdated and
+/// GlobalUpdatedGoal under their Nav2 names, with Nav2's ports and defaults. Fails if one of the names is taken (nothing after it is registered then).
 pub fn register_controls<C: 'static>(registry: &mut Registry<C>) -> Result<(), RegistryError> {
     registry.register_custom("PipelineSequence", Arity::AtLeast(1), vec![], || {
         Box::new(PipelineSequence::default())
@@ -138,6 +162,89 @@ pub fn register_controls<C: 'static>(registry: &mut Registry<C>) -> Result<(), R
     registry.register_custom("GoalUpdatedController", Arity::One, goal_ports(), || {
         Box::new(GoalUpdatedController::default())
     })?;
+    registry.register_custom("NonblockingSequence", Arity::AtLeast(1), vec![], || {
+        Box::new(NonblockingSequence)
+    })?;
+    registry.register_custom(
+        "PauseResumeController",
+        Arity::Range { min: 1, max: 4 },
+        vec![
+            PortSpec::input::<String>("pause_service_name")
+                .describe("The `bool` entry that, set to true, asks for a pause."),
+            PortSpec::input::<String>("resume_service_name")
+                .describe("The `bool` entry that, set to true, asks for a resume."),
+        ],
+        || Box::new(PauseResumeController::default()),
+    )?;
+    registry.register_custom(
+        "PersistentSequence",
+        Arity::AtLeast(1),
+        vec![PortSpec::inout::<i32>("current_child_idx")
+            .describe("The index of the current child, kept in the blackboard.")],
+        || Box::new(PersistentSequence),
+    )?;
+    registry.register_custom(
+        "DistanceController",
+        Arity::One,
+        vec![
+            PortSpec::input::<f64>("distance")
+                .default_value("1.0")
+                .describe("Metres travelled between two ticks of the child."),
+            PortSpec::input::<String>("global_frame")
+                .describe("Accepted for Nav2's trees; there is one frame."),
+            PortSpec::input::<String>("robot_base_frame")
+                .describe("Accepted for Nav2's trees; there is one frame."),
+        ],
+        || Box::new(DistanceController::default()),
+    )?;
+    registry.register_custom("SingleTrigger", Arity::One, vec![], || {
+        Box::new(SingleTrigger::default())
+    })?;
+    registry.register_custom(
+        "GoalUpdater",
+        Arity::One,
+        vec![
+            PortSpec::input::<Pose2D>("input_goal").describe("The original goal."),
+            PortSpec::input::<Vec<Pose2D>>("input_goals").describe("The original goals."),
+            PortSpec::output::<Pose2D>("output_goal")
+                .describe("The goal: `goal_update` if newer, else the input."),
+            PortSpec::output::<Vec<Pose2D>>("output_goals")
+                .describe("The goals: `goals_update` if newer, else the input."),
+        ],
+        || Box::new(GoalUpdater),
+    )?;
+    let mut speed_ports = vec![
+        PortSpec::input::<f64>("min_rate")
+            .default_value("0.1")
+            .describe("The rate (Hz) at `min_speed` and below."),
+        PortSpec::input::<f64>("max_rate")
+            .default_value("1.0")
+            .describe("The rate (Hz) at `max_speed` and above."),
+        PortSpec::input::<f64>("min_speed")
+            .default_value("0.0")
+            .describe("The speed (m/s) of the lowest rate."),
+        PortSpec::input::<f64>("max_speed")
+            .default_value("0.5")
+            .describe("The speed (m/s) of the highest rate."),
+    ];
+    speed_ports.extend(goal_ports());
+    registry.register_custom("SpeedController", Arity::One, speed_ports, || {
+        Box::new(SpeedController::default())
+    })?;
+    registry.register_custom(
+        "PathLongerOnApproach",
+        Arity::One,
+        vec![
+            PortSpec::input::<Path>("path").describe("The planned path."),
+            PortSpec::input::<f64>("prox_len")
+                .default_value("3.0")
+                .describe("Metres of old path under which the robot is near the goal."),
+            PortSpec::input::<f64>("length_factor")
+                .default_value("2.0")
+                .describe("How many times longer the new path must be."),
+        ],
+        || Box::new(PathLongerOnApproach::default()),
+    )?;
     register_condition(registry, "GoalUpdated", GoalUpdated::spec)?;
     register_condition(registry, "GlobalUpdatedGoal", GlobalUpdatedGoal::spec)?;
     registry.describe(
@@ -168,6 +275,42 @@ pub fn register_controls<C: 'static>(registry: &mut Registry<C>) -> Result<(), R
         "GoalUpdatedController",
         "Ticks its child on a new goal, and on while it runs.",
     );
+    for (name, text) in [
+        (
+            "NonblockingSequence",
+            "Ticks every child every tick; fails at the first failure.",
+        ),
+        (
+            "PauseResumeController",
+            "Runs child 0; on request pauses (2, then 1) and resumes (3).",
+        ),
+        (
+            "PersistentSequence",
+            "A sequence whose current child is the `current_child_idx` entry.",
+        ),
+        (
+            "DistanceController",
+            "Ticks its child again each `distance` metres the robot moves.",
+        ),
+        (
+            "SingleTrigger",
+            "Ticks its child to completion once per run, then fails.",
+        ),
+        (
+            "GoalUpdater",
+            "Writes the goal, or a newer `goal_update`, then ticks its child.",
+        ),
+        (
+            "SpeedController",
+            "Ticks its child at a rate that grows with the robot's speed.",
+        ),
+        (
+            "PathLongerOnApproach",
+            "Ticks its child when a new path near the goal is much longer.",
+        ),
+    ] {
+        registry.describe(name, text);
+    }
     Ok(())
 }
 
@@ -210,6 +353,47 @@ fn port_or<C, T: FromPortStr + Any + Clone>(
             None
         }
     }
+}
+
+/// Reads port `port` as Nav2's plain `getInput` does: `None` when the port is not given or
+/// its entry was never written (Nav2 then keeps the variable as it was); a value that does
+/// not convert is an error of the tick.
+fn port_value<C, T: FromPortStr + Any + Clone>(
+    node: &mut NodeCtx<'_, '_, C>,
+    port: &str,
+) -> Result<Option<T>, String> {
+    let Some(binding) = node.ports().iter().find(|p| p.name == port) else {
+        return Ok(None);
+    };
+    if let PortValue::Entry(key) = &binding.value {
+        let scope = node.scope();
+        if node.blackboard().get_any_in(scope, key).is_none() {
+            return Ok(None);
+        }
+    }
+    node.input(port).map(Some).map_err(|e| e.to_string())
+}
+
+/// Writes output port `port` as Nav2's `setOutput` does: into the entry it is bound to; a
+/// port that is not given, or given a literal, is left alone (Nav2 ignores that error). An
+/// entry that holds a value of another type is an error of the tick.
+fn write_output<C, T: Any + Send + Sync>(
+    node: &mut NodeCtx<'_, '_, C>,
+    port: &str,
+    value: T,
+) -> Result<(), String> {
+    let Some(PortValue::Entry(key)) = node
+        .ports()
+        .iter()
+        .find(|p| p.name == port)
+        .map(|p| &p.value)
+    else {
+        return Ok(());
+    };
+    let (scope, now) = (node.scope(), node.now());
+    node.blackboard()
+        .set_in(scope, key, value, now)
+        .map_err(|e| format!("`{port}`: {e}"))
 }
 
 #[cfg(test)]

@@ -4,15 +4,19 @@ use neurotree_core::{Arity, CustomNode, CustomSpec, NodeCtx, NodeStatus};
 
 use super::port_or;
 
-/// RoundRobin: each use of the node runs the next child, so that recoveries take turns.
+/// RoundRobin: each use of the node runs the next child, so that recoveries take turns, as
+/// Nav2's `round_robin_node.cpp` does.
 ///
 /// Port `wrap_around` (default false). Starting at the stored child, tick; a child that
-/// completes advances the index (wrapping to 0 if wrap_around, else stopping at the end).
+/// completes advances the index.
 ///
 /// - Success: halt the others, Success; the next tick starts at the child after it.
 /// - Running: Running.
-/// - Failure: try the next; when every child has failed since the last success (or the end is
-///   reached without wrap-around): reset, Failure.
+/// - Failure: try the next; when every child has failed since the last success: reset,
+///   Failure.
+/// - Without wrap-around, once the last child has completed, whatever it returned (Success
+///   too): reset (the next use starts at the first child), Failure (Skipped if every child
+///   was skipped in this tick). With wrap-around the index goes back to the first child.
 /// - Halt resets the index.
 ///
 /// The index survives the node's completion: a parent that resets the node after a Success
@@ -70,13 +74,23 @@ impl<C> CustomNode<C> for RoundRobin {
         node.set_running();
         let count = node.child_count();
         let mut skipped = 0;
-        while self.failed + skipped < count && self.next < count {
+        while self.failed + skipped < count {
             let status = node.tick_child(self.next);
             if status == NodeStatus::Running {
                 return NodeStatus::Running;
             }
             self.next += 1;
-            if self.next == count && wrap_around {
+            if self.next == count {
+                if !wrap_around {
+                    // Nav2 breaks out here, after the last child, and fails even when that
+                    // child succeeded.
+                    match status {
+                        NodeStatus::Skipped => skipped += 1,
+                        NodeStatus::Success => {}
+                        _ => self.failed += 1,
+                    }
+                    break;
+                }
                 self.next = 0;
             }
             match status {
@@ -142,18 +156,32 @@ mod tests {
     }
 
     #[test]
-    fn without_wrap_around_it_fails_once_every_child_had_its_turn() {
-        // The default: after the last child's success the next use fails, ticking nothing,
-        // and the use after that starts again at the first child.
+    fn without_wrap_around_the_last_childs_success_is_failure() {
+        // The default: the last child succeeds, yet the node halts itself and fails, as
+        // Nav2's `round_robin_node.cpp` breaks out after the last child; the next use
+        // starts again at the first child.
         let mut lab = Lab::new(&[&[S], &[S]]);
         let mut tree = round_robin(&lab, None, false);
         assert_eq!(lab.tick(&mut tree), S);
-        assert_eq!(lab.tick(&mut tree), S);
-        assert_eq!(lab.ticks, [1, 1]);
+        assert_eq!(lab.ticks, [1, 0]);
         assert_eq!(lab.tick(&mut tree), F);
         assert_eq!(lab.ticks, [1, 1]);
+        assert!(tree.statuses().iter().all(|s| *s == NodeStatus::Idle));
         assert_eq!(lab.tick(&mut tree), S);
         assert_eq!(lab.ticks, [2, 1]);
+        assert_eq!(lab.halts, [0, 0]);
+    }
+
+    #[test]
+    fn without_wrap_around_a_skipped_last_child_ends_the_turns() {
+        // 0 fails, 1 (the last) is skipped: Failure, not Skipped, as one child failed.
+        let mut lab = Lab::new(&[&[F, K], &[K]]);
+        let mut tree = round_robin(&lab, Some("false"), true);
+        assert_eq!(lab.tick(&mut tree), F);
+        assert_eq!(lab.ticks, [1, 1]);
+        // Both skipped: Skipped.
+        assert_eq!(lab.tick(&mut tree), K);
+        assert_eq!(lab.ticks, [2, 2]);
     }
 
     #[test]
@@ -206,14 +234,16 @@ mod tests {
 
     #[test]
     fn a_running_child_keeps_its_turn() {
-        let mut lab = Lab::new(&[&[R, R, S], &[S]]);
+        let mut lab = Lab::new(&[&[R, R, S], &[R, S]]);
         let mut tree = round_robin(&lab, None, false);
         assert_eq!(lab.tick(&mut tree), R);
         assert_eq!(lab.tick(&mut tree), R);
         assert_eq!(lab.tick(&mut tree), S);
         assert_eq!(lab.ticks, [3, 0]);
-        assert_eq!(lab.tick(&mut tree), S);
-        assert_eq!(lab.ticks, [3, 1]);
+        assert_eq!(lab.tick(&mut tree), R);
+        // The last child succeeds: without wrap-around that ends the turns with Failure.
+        assert_eq!(lab.tick(&mut tree), F);
+        assert_eq!(lab.ticks, [3, 2]);
     }
 
     #[test]

@@ -1,0 +1,113 @@
+//! `--nav2`: `run`, `check` and `show` know all of Nav2's node types without a model file,
+//! and `run --nav2 --mock-unknown` runs every navigator tree Nav2 ships.
+
+use std::path::PathBuf;
+use std::process::Command;
+
+#[path = "../../neurotree/tests/support/corpus.rs"]
+mod corpus_dir;
+
+/// The exit status, stdout and stderr of `neurotree ARGS`.
+fn neurotree(args: &[&str]) -> (Option<i32>, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_neurotree"))
+        .args(args)
+        .output()
+        .expect("the neurotree binary runs");
+    (
+        out.status.code(),
+        String::from_utf8(out.stdout).expect("stdout is UTF-8"),
+        String::from_utf8(out.stderr).expect("stderr is UTF-8"),
+    )
+}
+
+/// Nav2's tree files (not its model), by name.
+fn nav2_trees() -> Vec<(String, PathBuf)> {
+    let mut files: Vec<(String, PathBuf)> = std::fs::read_dir(corpus_dir::corpus("nav2"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "xml"))
+        .map(|p| (p.file_name().unwrap().to_str().unwrap().to_string(), p))
+        .filter(|(name, _)| name != "nav2_tree_nodes.xml")
+        .collect();
+    files.sort();
+    files
+}
+
+#[test]
+fn run_nav2_mock_unknown_runs_every_navigator_tree_to_a_summary() {
+    let trees = nav2_trees();
+    assert_eq!(trees.len(), 16, "{trees:?}");
+    for (name, path) in &trees {
+        let (code, out, err) =
+            neurotree(&["run", "--nav2", "--mock-unknown", path.to_str().unwrap()]);
+        let expected = match name.as_str() {
+            // Follows a point for ever: --max-ticks (100) stops it while it runs.
+            "follow_point.xml" => 3,
+            // No `robot_pose` entry: the DistanceController fails, as Nav2's does without a
+            // pose in TF, and the navigator fails.
+            "navigate_w_replanning_distance.xml" => 2,
+            _ => 0,
+        };
+        assert_eq!(code, Some(expected), "{name}: {err}");
+        let last = out.lines().last().unwrap_or("");
+        assert!(
+            last.starts_with(r#"{"summary":{"ticks":"#),
+            "{name}: {last}"
+        );
+        let status = match expected {
+            0 => "SUCCESS",
+            2 => "FAILURE",
+            _ => "RUNNING",
+        };
+        assert!(
+            last.contains(&format!(r#""status":"{status}""#)),
+            "{name}: {last}"
+        );
+    }
+}
+
+#[test]
+fn a_robot_pose_lets_the_distance_controller_tick_its_child() {
+    let path = corpus_dir::corpus("nav2").join("navigate_w_replanning_distance.xml");
+    let (code, out, err) = neurotree(&[
+        "run",
+        "--nav2",
+        "--mock-unknown",
+        "--set",
+        "robot_pose=0;0",
+        path.to_str().unwrap(),
+    ]);
+    assert_eq!(code, Some(0), "{err}");
+    let last = out.lines().last().unwrap_or("");
+    assert!(
+        last.contains(r#""ComputePathToPose":{"ticks":1,"halts":0}"#),
+        "{last}"
+    );
+}
+
+#[test]
+fn check_and_show_know_nav2_leaves_only_with_nav2() {
+    let path = corpus_dir::corpus("nav2").join("follow_point.xml");
+    let file = path.to_str().unwrap();
+    let (code, _, err) = neurotree(&["check", file]);
+    assert_eq!(code, Some(1));
+    assert!(
+        err.contains("unknown node type `ControllerSelector`"),
+        "{err}"
+    );
+    let (code, out, err) = neurotree(&["check", "--nav2", file]);
+    assert_eq!(code, Some(0), "{err}");
+    assert!(out.contains("follow_point.xml: ok (1 tree)"), "{out}");
+    let (code, out, err) = neurotree(&["show", "--nav2", file]);
+    assert_eq!(code, Some(0), "{err}");
+    assert!(out.contains("GoalUpdater"), "{out}");
+    assert!(out.contains("ComputePathToPose"), "{out}");
+}
+
+#[test]
+fn run_without_nav2_does_not_know_nav2_leaves() {
+    let path = corpus_dir::corpus("nav2").join("navigate_w_replanning_time.xml");
+    let (code, _, err) = neurotree(&["run", path.to_str().unwrap()]);
+    assert_eq!(code, Some(1));
+    assert!(err.contains("unknown node type"), "{err}");
+}
