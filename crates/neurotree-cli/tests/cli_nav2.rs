@@ -4,7 +4,7 @@
 use std::path::PathBuf;
 use std::process::Command;
 
-#[path = "../../neurotree/tests/support/corpus.rs"]
+#[path = "../../neurotree-toolkit/tests/support/corpus.rs"]
 mod corpus_dir;
 
 /// The exit status, stdout and stderr of `neurotree ARGS`.
