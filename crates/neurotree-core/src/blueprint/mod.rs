@@ -327,6 +327,10 @@ pub struct Blueprint<C> {
     pub(crate) aux_slots: u32,
     pub(crate) objects: u32,
     pub(crate) max_depth: u32,
+    /// The [structure hash](Self::structure_hash) once made (0: not yet): saving and
+    /// restoring a state ask for it each time.
+    #[cfg(target_has_atomic = "64")]
+    pub(crate) hash: core::sync::atomic::AtomicU64,
 }
 
 impl<C> Blueprint<C> {
@@ -345,6 +349,24 @@ impl<C> Blueprint<C> {
     /// process and on any machine; a saved state names its tree by it
     /// ([`crate::state`]). User closures and objects count by their kind, not their code.
     pub fn structure_hash(&self) -> u64 {
+        #[cfg(target_has_atomic = "64")]
+        {
+            use core::sync::atomic::Ordering;
+            let known = self.hash.load(Ordering::Relaxed);
+            if known != 0 {
+                return known;
+            }
+            // 0 marks "not yet": a structure that hashes to 0 is taken as 1.
+            let hash = self.compute_structure_hash().max(1);
+            self.hash.store(hash, Ordering::Relaxed);
+            hash
+        }
+        #[cfg(not(target_has_atomic = "64"))]
+        self.compute_structure_hash().max(1)
+    }
+
+    /// [`structure_hash`](Self::structure_hash), made from the nodes.
+    fn compute_structure_hash(&self) -> u64 {
         use core::fmt::Write;
         let mut h = Fnv(0xcbf2_9ce4_8422_2325);
         for id in self.ids() {

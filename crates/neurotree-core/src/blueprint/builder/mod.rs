@@ -525,6 +525,8 @@ impl<C> State<C> {
             aux_slots: aux,
             objects,
             max_depth: self.max_depth,
+            #[cfg(target_has_atomic = "64")]
+            hash: core::sync::atomic::AtomicU64::new(0),
         }
     }
 }
