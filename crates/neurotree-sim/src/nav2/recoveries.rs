@@ -154,7 +154,7 @@ mod tests {
                          <Act/>
                          <AlwaysSuccess/>
                        </RecoveryNode>
-                       <RoundRobin name="Recoveries">
+                       <RoundRobin name="Recoveries" wrap_around="true">
                          <AlwaysSuccess name="Clear"/>
                          <AlwaysSuccess name="Spin"/>
                        </RoundRobin>
