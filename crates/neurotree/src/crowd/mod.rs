@@ -82,22 +82,19 @@ use std::sync::Arc;
 use rayon::prelude::*;
 
 use crate::{Blueprint, Clock, Tree};
-pub use member::{FrameStatus, Member, MemberId, TickMode};
-use member::{Tally, NOT_OWED};
+use member::{Body, Plan, Tally, NOT_OWED};
+pub use member::{FrameStatus, Member, MemberId, MemberMut, TickMode};
 pub use rayon::{ThreadPool, ThreadPoolBuildError, ThreadPoolBuilder};
 
 /// A level-of-detail hook: a member's interval, from its context.
 type Lod<C> = dyn Fn(&C) -> u32 + Send + Sync;
 
-/// A place for a member; its generation tells the ids of successive members apart.
-struct Slot<C> {
-    generation: u32,
-    member: Option<Member<C>>,
-}
-
 /// Many trees with contexts of their own, ticked frame by frame in parallel.
 pub struct Crowd<C> {
-    slots: Vec<Slot<C>>,
+    /// Each slot's tree and context, `None` in an empty slot.
+    bodies: Vec<Option<Body<C>>>,
+    /// Each slot's schedule, beside `bodies`.
+    plans: Vec<Plan>,
     /// Empty slots, reused last-freed first.
     free: Vec<u32>,
     len: usize,
@@ -152,7 +149,8 @@ impl<C: Send> Crowd<C> {
     /// An empty crowd whose trees share `clock`.
     pub fn with_shared_clock(clock: Arc<dyn Clock>) -> Self {
         Self {
-            slots: Vec::new(),
+            bodies: Vec::new(),
+            plans: Vec::new(),
             free: Vec::new(),
             len: 0,
             clock,
@@ -188,6 +186,13 @@ impl<C: Send> Crowd<C> {
         }
     }
 
+    /// Bytes each member takes in the crowd's tables: its `Tree` struct, its context and
+    /// its schedule. Its node state is apart ([`Tree::state_bytes`]), and so are its
+    /// stateful leaves' objects and its blackboard's entries.
+    pub fn slot_bytes(&self) -> usize {
+        std::mem::size_of::<Option<Body<C>>>() + std::mem::size_of::<Plan>()
+    }
+
     /// The clock the crowd's trees read.
     pub fn clock(&self) -> &Arc<dyn Clock> {
         &self.clock
@@ -209,22 +214,29 @@ impl<C: Send> Crowd<C> {
         let index = match self.free.pop() {
             Some(index) => index,
             None => {
-                let index = u32::try_from(self.slots.len()).expect("at most 2^32 members");
-                self.slots.push(Slot {
-                    generation: 0,
-                    member: None,
-                });
+                let index = u32::try_from(self.plans.len()).expect("at most 2^32 members");
+                self.plans.push(Plan::new(0));
+                self.bodies.push(None);
                 index
             }
         };
-        let slot = &mut self.slots[index as usize];
-        let id = MemberId {
-            index,
-            generation: slot.generation,
+        let plan = &mut self.plans[index as usize];
+        *plan = Plan {
+            phase,
+            cost: member::nodes(&tree),
+            present: true,
+            ..Plan::new(plan.generation)
         };
-        slot.member = Some(Member::new(tree, ctx, id, 1, phase));
+        self.bodies[index as usize] = Some(Body {
+            tree,
+            ctx,
+            error: None,
+        });
         self.len += 1;
-        id
+        MemberId {
+            index,
+            generation: plan.generation,
+        }
     }
 
     /// Removes a member, halting its tree first (each Running stateful action gets its one
@@ -233,66 +245,93 @@ impl<C: Send> Crowd<C> {
     /// [`Tree::tick_halt`] until it returns `true`.
     pub fn remove(&mut self, id: MemberId) -> Option<(Tree<C>, C)> {
         self.get(id)?;
-        let slot = &mut self.slots[id.index as usize];
-        let mut member = slot.member.take()?;
-        slot.generation = slot.generation.wrapping_add(1);
+        let i = id.index as usize;
+        let mut body = self.bodies[i].take()?;
+        let plan = &mut self.plans[i];
+        let owed = plan.owed_since != NOT_OWED;
+        *plan = Plan::new(plan.generation.wrapping_add(1));
         self.free.push(id.index);
         self.len -= 1;
-        if member.is_owed() {
+        if owed {
             self.backlog.retain(|&s| s != id.index);
         }
-        member.tree.halt(&mut member.ctx);
-        Some((member.tree, member.ctx))
+        body.tree.halt(&mut body.ctx);
+        Some((body.tree, body.ctx))
     }
 
     /// Halts every member's tree, as [`Crowd::remove`] would, keeping the members.
     pub fn halt_all(&mut self) {
-        self.run_in_pool(|slots| {
-            slots
-                .par_iter_mut()
-                .filter_map(|s| s.member.as_mut())
-                .for_each(|m| {
-                    m.tree.halt(&mut m.ctx);
-                });
-        });
+        let halt = |bodies: &mut [Option<Body<C>>]| {
+            bodies.par_iter_mut().flatten().for_each(|b| {
+                b.tree.halt(&mut b.ctx);
+            })
+        };
+        match &self.pool {
+            Some(pool) => pool.install(|| halt(&mut self.bodies)),
+            None => halt(&mut self.bodies),
+        }
     }
 
     /// The member `id` names, if it is still in the crowd.
-    pub fn get(&self, id: MemberId) -> Option<&Member<C>> {
-        let slot = self.slots.get(id.index as usize)?;
-        (slot.generation == id.generation)
-            .then_some(slot.member.as_ref())
-            .flatten()
+    pub fn get(&self, id: MemberId) -> Option<Member<'_, C>> {
+        let plan = self.plans.get(id.index as usize)?;
+        if plan.generation != id.generation {
+            return None;
+        }
+        let body = self.bodies[id.index as usize].as_ref()?;
+        Some(Member { id, body, plan })
     }
 
     /// The member `id` names, to change between frames.
-    pub fn get_mut(&mut self, id: MemberId) -> Option<&mut Member<C>> {
-        let slot = self.slots.get_mut(id.index as usize)?;
-        (slot.generation == id.generation)
-            .then_some(slot.member.as_mut())
-            .flatten()
+    pub fn get_mut(&mut self, id: MemberId) -> Option<MemberMut<'_, C>> {
+        let plan = self.plans.get_mut(id.index as usize)?;
+        if plan.generation != id.generation {
+            return None;
+        }
+        let body = self.bodies[id.index as usize].as_mut()?;
+        Some(MemberMut { id, body, plan })
     }
 
     /// The members, in slot order.
-    pub fn iter(&self) -> impl Iterator<Item = &Member<C>> {
-        self.slots.iter().filter_map(|s| s.member.as_ref())
+    pub fn iter(&self) -> impl Iterator<Item = Member<'_, C>> {
+        self.plans
+            .iter()
+            .zip(&self.bodies)
+            .enumerate()
+            .filter_map(|(i, (plan, body))| {
+                let id = MemberId {
+                    index: i as u32,
+                    generation: plan.generation,
+                };
+                body.as_ref().map(|body| Member { id, body, plan })
+            })
     }
 
     /// The members, in slot order, to change between frames.
-    pub fn iter_mut(&mut self) -> impl Iterator<Item = &mut Member<C>> {
-        self.slots.iter_mut().filter_map(|s| s.member.as_mut())
+    pub fn iter_mut(&mut self) -> impl Iterator<Item = MemberMut<'_, C>> {
+        self.plans
+            .iter_mut()
+            .zip(&mut self.bodies)
+            .enumerate()
+            .filter_map(|(i, (plan, body))| {
+                let id = MemberId {
+                    index: i as u32,
+                    generation: plan.generation,
+                };
+                body.as_mut().map(|body| MemberMut { id, body, plan })
+            })
     }
 
     /// The members whose root returned Failure in the last frame; [`Tree::last_failure`]
     /// on their tree says why.
-    pub fn failures(&self) -> impl Iterator<Item = &Member<C>> {
+    pub fn failures(&self) -> impl Iterator<Item = Member<'_, C>> {
         self.iter()
-            .filter(|m| m.status == FrameStatus::Ticked(crate::Status::Failure))
+            .filter(|m| m.status() == FrameStatus::Ticked(crate::Status::Failure))
     }
 
     /// The members whose tick ended with an error in the last frame ([`Member::error`]).
-    pub fn errors(&self) -> impl Iterator<Item = &Member<C>> {
-        self.iter().filter(|m| m.status == FrameStatus::Error)
+    pub fn errors(&self) -> impl Iterator<Item = Member<'_, C>> {
+        self.iter().filter(|m| m.status() == FrameStatus::Error)
     }
 
     /// Members in the crowd.
@@ -312,7 +351,8 @@ impl<C: Send> Crowd<C> {
 
     /// Sets the hook that chooses each member's interval from its context at the start of
     /// every frame (a result of 0 counts as 1). It runs on the frame's threads, so it must
-    /// give the same answer for the same context.
+    /// give the same answer for the same context. It reads every member's context every
+    /// frame; without it, a frame reads only the schedules and the members due.
     pub fn set_level_of_detail(&mut self, hook: impl Fn(&C) -> u32 + Send + Sync + 'static) {
         self.lod = Some(Box::new(hook));
     }
@@ -347,10 +387,7 @@ impl<C: Send> Crowd<C> {
     /// How far behind the budget has left the crowd.
     pub fn behind(&self) -> Behind {
         let frames = self.backlog.front().map_or(0, |&slot| {
-            let since = self.slots[slot as usize]
-                .member
-                .as_ref()
-                .map_or(NOT_OWED, |m| m.owed_since);
+            let since = self.plans[slot as usize].owed_since;
             self.frames.saturating_sub(since)
         });
         Behind {
@@ -362,9 +399,14 @@ impl<C: Send> Crowd<C> {
     /// Runs one frame: ticks the members due in it, in parallel, and reports.
     pub fn frame(&mut self) -> FrameReport {
         let frame = self.frames;
-        let tally = match self.budget {
-            Some(budget) => self.in_pool(|crowd| crowd.run_budgeted(frame, budget)),
-            None => self.in_pool(|crowd| crowd.run_all(frame)),
+        let budget = self.budget;
+        let run = |crowd: &mut Self| match budget {
+            Some(budget) => crowd.run_budgeted(frame, budget),
+            None => crowd.run_all(frame),
+        };
+        let tally = match self.pool.clone() {
+            Some(pool) => pool.install(|| run(self)),
+            None => run(self),
         };
         self.frames += 1;
         FrameReport {
@@ -383,38 +425,28 @@ impl<C: Send> Crowd<C> {
         self.backlog.clear();
         let lod = self.lod.as_deref();
         let mode = self.mode;
-        self.slots
+        self.plans
             .par_iter_mut()
+            .zip(self.bodies.par_iter_mut())
             .with_min_len(256)
-            .filter_map(|s| s.member.as_mut())
-            .map(|m| {
-                let due = m.plan(frame, lod) || m.owed_since != NOT_OWED;
-                if due {
-                    Tally {
+            .map(|(plan, body)| {
+                if !plan.present {
+                    return Tally::default();
+                }
+                let due = plan.plan(body, frame, lod) || plan.owed_since != NOT_OWED;
+                // The body is touched only when due.
+                if !due {
+                    return Tally::default();
+                }
+                match body {
+                    Some(body) => Tally {
                         due: 1,
-                        ..m.tick(mode)
-                    }
-                } else {
-                    Tally::default()
+                        ..plan.tick(body, mode)
+                    },
+                    None => Tally::default(),
                 }
             })
             .reduce(Tally::default, Tally::add)
-    }
-
-    /// Runs `work` on the crowd in its pool, or in the global pool.
-    fn in_pool<R: Send>(&mut self, work: impl FnOnce(&mut Self) -> R + Send) -> R {
-        match self.pool.clone() {
-            Some(pool) => pool.install(|| work(self)),
-            None => work(self),
-        }
-    }
-
-    /// Runs `work` on the slots in the crowd's pool, or in the global pool.
-    fn run_in_pool(&mut self, work: impl FnOnce(&mut [Slot<C>]) + Send) {
-        match &self.pool {
-            Some(pool) => pool.install(|| work(&mut self.slots)),
-            None => work(&mut self.slots),
-        }
     }
 }
 

@@ -37,40 +37,49 @@ pub(super) struct Chunk {
 impl<C: Send> Crowd<C> {
     /// Runs frame `frame` within `budget` visits.
     pub(super) fn run_budgeted(&mut self, frame: u64, budget: u64) -> Tally {
-        let chunks = self.slots.len().div_ceil(CHUNK);
+        let chunks = self.plans.len().div_ceil(CHUNK);
         if self.chunks.len() != chunks {
             self.chunks.resize(chunks, Chunk::default());
         }
         let lod = self.lod.as_deref();
-        self.slots
+        self.plans
             .par_chunks_mut(CHUNK)
+            .zip(self.bodies.par_chunks_mut(CHUNK))
             .zip(self.chunks.par_iter_mut())
-            .for_each(|(slots, chunk)| {
+            .for_each(|((plans, bodies), chunk)| {
                 *chunk = Chunk::default();
-                for m in slots.iter_mut().filter_map(|s| s.member.as_mut()) {
-                    let due = m.plan(frame, lod);
-                    if m.owed_since != NOT_OWED {
-                        m.status = FrameStatus::Deferred;
+                for (plan, body) in plans.iter_mut().zip(bodies) {
+                    if !plan.present {
+                        continue;
+                    }
+                    let due = plan.plan(body, frame, lod);
+                    if plan.owed_since != NOT_OWED {
+                        plan.status = FrameStatus::Deferred;
                     } else if due {
-                        m.owed_since = frame;
-                        chunk.cost += u64::from(m.cost);
+                        plan.owed_since = frame;
+                        chunk.cost += u64::from(plan.cost);
                         chunk.fresh += 1;
                     }
                 }
             });
-        let due =
-            self.backlog.len() as u64 + self.chunks.iter().map(|c| u64::from(c.fresh)).sum::<u64>();
+        let fresh: u64 = self.chunks.iter().map(|c| u64::from(c.fresh)).sum();
+        let due = self.backlog.len() as u64 + fresh;
         self.pick(frame, budget);
         let mode = self.mode;
         let tally = self
-            .slots
+            .plans
             .par_chunks_mut(CHUNK)
+            .zip(self.bodies.par_chunks_mut(CHUNK))
             .zip(self.chunks.par_iter())
-            .map(|(slots, chunk)| {
+            .map(|((plans, bodies), chunk)| {
                 let mut tally = Tally::default();
-                for m in slots.iter_mut().filter_map(|s| s.member.as_mut()) {
-                    if m.picked || (chunk.all && m.owed_since == frame) {
-                        tally = tally.add(m.tick(mode));
+                for (plan, body) in plans.iter_mut().zip(bodies) {
+                    let go = plan.picked || (chunk.all && plan.owed_since == frame);
+                    // The body is touched only when picked.
+                    if go {
+                        if let Some(body) = body {
+                            tally = tally.add(plan.tick(body, mode));
+                        }
                     }
                 }
                 tally
@@ -86,23 +95,20 @@ impl<C: Send> Crowd<C> {
         let mut left = budget;
         let mut any = false;
         let Self {
-            slots,
+            plans,
             backlog,
             chunks,
             ..
         } = self;
         while let Some(&slot) = backlog.front() {
-            let m = slots[slot as usize]
-                .member
-                .as_mut()
-                .expect("the backlog names only members");
-            let cost = u64::from(m.cost);
+            let plan = &mut plans[slot as usize];
+            let cost = u64::from(plan.cost);
             if cost > left && any {
                 break;
             }
             left = left.saturating_sub(cost);
             any = true;
-            m.picked = true;
+            plan.picked = true;
             backlog.pop_front();
         }
         // Once a member does not fit, every later one waits: the queue stays in the order
@@ -119,22 +125,19 @@ impl<C: Send> Crowd<C> {
                 continue;
             }
             let start = c * CHUNK;
-            let end = (start + CHUNK).min(slots.len());
-            for (i, slot) in slots[start..end].iter_mut().enumerate() {
-                let Some(m) = slot.member.as_mut() else {
-                    continue;
-                };
-                if m.owed_since != frame {
+            let end = (start + CHUNK).min(plans.len());
+            for (i, plan) in plans[start..end].iter_mut().enumerate() {
+                if !plan.present || plan.owed_since != frame {
                     continue;
                 }
-                let cost = u64::from(m.cost);
+                let cost = u64::from(plan.cost);
                 if open && (cost <= left || !any) {
                     left = left.saturating_sub(cost);
                     any = true;
-                    m.picked = true;
+                    plan.picked = true;
                 } else {
                     open = false;
-                    m.status = FrameStatus::Deferred;
+                    plan.status = FrameStatus::Deferred;
                     backlog.push_back((start + i) as u32);
                 }
             }
