@@ -15,7 +15,7 @@
 //!   a way that does not depend on order) and the clock is one like
 //!   [`ManualClock`](crate::ManualClock) that moves only between frames.
 //! - **Intervals.** A member is due every `interval`-th frame, with a phase that spreads the
-//!   members of one interval over the frames ([`Member::set_interval`]). A level-of-detail
+//!   members of one interval over the frames ([`MemberMut::set_interval`]). A level-of-detail
 //!   hook ([`Crowd::set_level_of_detail`]) chooses each member's interval every frame from
 //!   its context: a member far from the camera ticks every 8th frame.
 //! - **Budget.** [`Crowd::set_budget`] caps a frame's ticks in node visits (see
@@ -35,8 +35,16 @@
 //! # Budget
 //!
 //! The budget counts node visits rather than time, so that it picks the same members on
-//! any machine. A tick is charged the blueprint's nodes for each pass of its root, the most
-//! the pass can visit, and a member is expected to cost what its last tick cost.
+//! any machine, under any load and with any number of threads; a budget in wall time could
+//! not, and none is offered. A tick is charged the blueprint's nodes for each pass of its
+//! root, the most the pass can visit: the engine keeps no count of the nodes it visits (its
+//! loops over conditions do not even store their statuses), and an observer on every member
+//! to count them would cost more than the ticks it counted. A member is expected to cost
+//! what its last tick cost, and one pass when it joins.
+//!
+//! The schedules of all members sit in a table apart from their trees, so that a frame
+//! reads a few bytes of each member not due and leaves its tree alone; a level-of-detail
+//! hook reads each member's context too.
 //!
 //! # Example
 //!
