@@ -41,6 +41,15 @@ fn main() {
     run(frames);
     let ms = start.elapsed().as_secs_f64() * 1e3 / frames as f64;
     println!("agents {agents} threads {threads} interval {interval}: {ms:.3} ms per frame");
+    let state = crowd.iter().next().map_or(0, |m| m.tree().state_bytes());
+    println!(
+        "bytes per member: {} = slot {} (Tree {}, Agent {}, schedule and error) + node state {}",
+        neurotree_bench::crowd_bytes_per_member(&crowd),
+        crowd.slot_bytes(),
+        std::mem::size_of::<neurotree::Tree<neurotree_bench::Agent>>(),
+        std::mem::size_of::<neurotree_bench::Agent>(),
+        state,
+    );
 }
 
 fn plain_loop(agents: usize, frames: usize, clock: ManualClock) {
