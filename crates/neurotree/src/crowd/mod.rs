@@ -98,6 +98,9 @@ pub use rayon::{ThreadPool, ThreadPoolBuildError, ThreadPoolBuilder};
 type Lod<C> = dyn Fn(&C) -> u32 + Send + Sync;
 
 /// Many trees with contexts of their own, ticked frame by frame in parallel.
+///
+/// Dropping a crowd drops its trees without halting them, as dropping a [`Tree`] does:
+/// call [`Crowd::halt_all`] first if running actions must hear of it.
 pub struct Crowd<C> {
     /// Each slot's tree and context, `None` in an empty slot.
     bodies: Vec<Option<Body<C>>>,
