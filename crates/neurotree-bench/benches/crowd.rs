@@ -1,6 +1,7 @@
 //! Crowd benchmarks: 1,000,000 instances of the 50-node agent tree, one frame each
 //! iteration, on one thread and on every core, and with only one agent in eight due (by
-//! intervals set once, and by a level-of-detail hook).
+//! intervals set once, with phases by slot or by blocks of slots, and by a level-of-detail
+//! hook).
 //!
 //! `cargo bench -p neurotree-bench --bench crowd` (`RAYON_NUM_THREADS` does not apply: the
 //! pools are sized here).
@@ -50,6 +51,23 @@ fn crowd(c: &mut Criterion) {
                 report
             })
         });
+        // The same with phases by blocks of 1,024 slots: the members due together sit
+        // together in memory.
+        for mut member in crowd.iter_mut() {
+            let phase = member.id().slot() / 1024;
+            member.set_phase(phase as u32);
+        }
+        group.bench_function(
+            format!("frame_1m_eighth_due_blocks/{threads}_threads"),
+            |b| {
+                b.iter(|| {
+                    clock.advance(Duration::from_millis(16));
+                    let report = crowd.frame();
+                    debug_assert_eq!(report.ticked, AGENTS as u64 / 8);
+                    report
+                })
+            },
+        );
         crowd.set_level_of_detail(|_| 8);
         group.bench_function(format!("frame_1m_eighth_due_lod/{threads}_threads"), |b| {
             b.iter(|| {

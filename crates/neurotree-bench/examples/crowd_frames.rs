@@ -1,7 +1,9 @@
 //! Times frames of a crowd of agent trees, for a quick look at how a crowd scales with
 //! threads and members outside criterion.
 //!
-//! `crowd_frames AGENTS THREADS [FRAMES] [INTERVAL]`: prints milliseconds per frame. With
+//! `crowd_frames AGENTS THREADS [FRAMES] [INTERVAL] [BLOCK]`: prints milliseconds per
+//! frame; with `BLOCK`, members take their phases by blocks of that many slots (the member
+//! in slot `s` gets phase `s / BLOCK`), so that the members due together sit together. With
 //! `THREADS` 0 it times the plain loop of the many-agents benchmark instead (every tree
 //! ticked in turn on this thread), the baseline a crowd's bookkeeping adds to.
 
@@ -21,6 +23,7 @@ fn main() {
     let (agents, threads) = (args[0], args[1]);
     let frames = args.get(2).copied().unwrap_or(20);
     let interval = args.get(3).copied().unwrap_or(1) as u32;
+    let block = args.get(4).copied();
     let clock = ManualClock::new();
     if threads == 0 {
         plain_loop(agents, frames, clock);
@@ -29,6 +32,10 @@ fn main() {
     let mut crowd = agent_crowd(agents, threads, clock.clone());
     for mut member in crowd.iter_mut() {
         member.set_interval(interval);
+        if let Some(block) = block {
+            let phase = member.id().slot() / block.max(1);
+            member.set_phase(phase as u32);
+        }
     }
     let mut run = |n: usize| {
         for _ in 0..n {
@@ -40,7 +47,8 @@ fn main() {
     let start = Instant::now();
     run(frames);
     let ms = start.elapsed().as_secs_f64() * 1e3 / frames as f64;
-    println!("agents {agents} threads {threads} interval {interval}: {ms:.3} ms per frame");
+    let block = block.map_or(String::new(), |b| format!(" block {b}"));
+    println!("agents {agents} threads {threads} interval {interval}{block}: {ms:.3} ms per frame");
     let state = crowd.iter().next().map_or(0, |m| m.tree().state_bytes());
     println!(
         "bytes per member: {} = slot {} (Tree {}, Agent {}, schedule and error) + node state {}",

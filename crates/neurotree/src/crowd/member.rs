@@ -248,7 +248,10 @@ impl<C> MemberMut<'_, C> {
         self.plan.interval = interval.max(1);
     }
 
-    /// Sets its phase (see [`Member::phase`]).
+    /// Sets its phase (see [`Member::phase`]). In a large crowd with long intervals, phases
+    /// by blocks of slots (`slot / 1024`) rather than by slot put the members due together
+    /// next to each other in memory: a frame with one member in eight due then costs about
+    /// an eighth of a full frame, rather than a fifth.
     pub fn set_phase(&mut self, phase: u32) {
         self.plan.phase = phase;
     }
