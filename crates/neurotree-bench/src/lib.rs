@@ -182,6 +182,30 @@ pub fn agent_tree() -> Arc<Blueprint<Agent>> {
         .expect("the agent tree is a valid tree")
 }
 
+/// A crowd of `agents` instances of [`agent_tree`] on `clock`, each with its own
+/// [`Agent::new`] context, running its frames in a pool of `threads` threads (0: rayon's
+/// default, `RAYON_NUM_THREADS` or every core).
+pub fn agent_crowd(
+    agents: usize,
+    threads: usize,
+    clock: neurotree::ManualClock,
+) -> neurotree::crowd::Crowd<Agent> {
+    let blueprint = agent_tree();
+    let mut crowd = neurotree::crowd::Crowd::new(clock)
+        .with_threads(threads)
+        .expect("rayon starts its threads");
+    for i in 0..agents {
+        crowd.add(Arc::clone(&blueprint), Agent::new(i as u32));
+    }
+    crowd
+}
+
+/// Bytes one member of [`agent_crowd`] takes: its slot in the crowd (the `Tree` struct, the
+/// [`Agent`] and its schedule) and its tree's node state.
+pub fn crowd_bytes_per_member(crowd: &neurotree::crowd::Crowd<Agent>) -> usize {
+    crowd.slot_bytes() + crowd.iter().next().map_or(0, |m| m.tree().state_bytes())
+}
+
 /// The world state of one agent in [`agent_tree`].
 #[derive(Clone, Debug)]
 pub struct Agent {

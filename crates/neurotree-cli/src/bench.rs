@@ -1,4 +1,4 @@
-//! `neurotree bench`: quick in-process measurements of the two reference workloads.
+//! `neurotree bench`: quick in-process measurements of the reference workloads.
 //!
 //! - `tree1111`: one instance of BehaviorTree.CPP's benchmark shape (1,111 nodes, every
 //!   node visited per tick), ticked in a loop: nanoseconds per tick and per visited node,
@@ -7,6 +7,9 @@
 //! - `many_agents`: many instances of the 50-node agent tree sharing one blueprint and one
 //!   manual clock, each ticked once per frame: milliseconds per frame and bytes per
 //!   instance.
+//! - `crowd`: the same agents as a [`Crowd`](neurotree::crowd::Crowd), each frame ticked on
+//!   every thread of a rayon pool (`--threads`, or `RAYON_NUM_THREADS`, or every core):
+//!   milliseconds per frame and bytes per member.
 //!
 //! These are wall-clock figures from [`Instant`], good for a first look on a new machine;
 //! the criterion benchmarks (`cargo bench -p neurotree-bench --bench tick`) are the careful ones.
@@ -17,7 +20,10 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use neurotree::{Blueprint, Clock, ManualClock, Status, Tree};
-use neurotree_bench::{agent_tree, tree1111, tree1111_xml, Agent, TREE1111_NODES_PER_TICK};
+use neurotree_bench::{
+    agent_crowd, agent_tree, crowd_bytes_per_member, tree1111, tree1111_xml, Agent,
+    TREE1111_NODES_PER_TICK,
+};
 
 use crate::Outcome;
 
@@ -30,9 +36,12 @@ pub struct BenchArgs {
     /// Measure for a fifth of the usual time.
     #[arg(long)]
     pub quick: bool,
-    /// Instances in the many-agents benchmark.
-    #[arg(long, default_value_t = 100_000, hide = true)]
+    /// Instances in the many-agents and crowd benchmarks.
+    #[arg(long, default_value_t = 100_000)]
     pub agents: usize,
+    /// Threads of the crowd benchmark (0: `RAYON_NUM_THREADS`, or every core).
+    #[arg(long, default_value_t = 0)]
+    pub threads: usize,
 }
 
 /// Result of the tree1111 benchmark.
@@ -63,6 +72,21 @@ pub struct ManyAgentsResult {
     pub ms_per_frame: f64,
     /// Bytes per instance: its node state plus the `Tree` value itself.
     pub bytes_per_instance: usize,
+}
+
+/// Result of the crowd benchmark.
+#[derive(Clone, Debug)]
+pub struct CrowdResult {
+    /// Members ticked per frame.
+    pub agents: usize,
+    /// Threads the frames ran on.
+    pub threads: usize,
+    /// Frames timed.
+    pub frames: u32,
+    /// Mean milliseconds per frame.
+    pub ms_per_frame: f64,
+    /// Bytes per member: its slot in the crowd and its tree's node state.
+    pub bytes_per_member: usize,
 }
 
 /// Ticks tree1111 (`blueprint`, reported as `name`) for about a second (a fifth with
@@ -150,7 +174,36 @@ pub fn many_agents_bench(opts: &BenchArgs) -> ManyAgentsResult {
     }
 }
 
-/// Runs both benchmarks and writes a table, or one JSON object per line with `--json`; a
+/// Runs `opts.agents` agents as a crowd on `opts.threads` threads, every agent due every
+/// frame: 20 frames (5 with `quick`) after two warm-up frames, the clock advancing 16 ms per
+/// frame.
+pub fn crowd_bench(opts: &BenchArgs) -> CrowdResult {
+    const FRAME: Duration = Duration::from_millis(16);
+    let frames = if opts.quick { 5 } else { 20 };
+    let clock = ManualClock::new();
+    let mut crowd = agent_crowd(opts.agents, opts.threads, clock.clone());
+    let mut frame = || {
+        clock.advance(FRAME);
+        black_box(crowd.frame());
+    };
+    for _ in 0..2 {
+        frame();
+    }
+    let start = Instant::now();
+    for _ in 0..frames {
+        frame();
+    }
+    let elapsed = start.elapsed();
+    CrowdResult {
+        agents: opts.agents,
+        threads: crowd.threads(),
+        frames,
+        ms_per_frame: elapsed.as_secs_f64() * 1e3 / f64::from(frames),
+        bytes_per_member: crowd_bytes_per_member(&crowd),
+    }
+}
+
+/// Runs the benchmarks and writes a table, or one JSON object per line with `--json`; a
 /// benchmark that ran has nothing to fail on.
 pub fn execute(opts: &BenchArgs, out: &mut impl Write) -> io::Result<Outcome> {
     let json = opts.json;
@@ -185,6 +238,17 @@ pub fn execute(opts: &BenchArgs, out: &mut impl Write) -> io::Result<Outcome> {
         )?;
     }
     out.flush()?;
+    let c = crowd_bench(opts);
+    if json {
+        writeln!(out, "{}", crowd_json(&c))?;
+    } else {
+        row(out, "crowd", "agents", c.agents.to_string())?;
+        row(out, "", "threads", c.threads.to_string())?;
+        row(out, "", "frames", c.frames.to_string())?;
+        row(out, "", "ms per frame", format!("{:.3}", c.ms_per_frame))?;
+        row(out, "", "bytes per member", c.bytes_per_member.to_string())?;
+    }
+    out.flush()?;
     Ok(Outcome::Done)
 }
 
@@ -203,6 +267,13 @@ fn many_agents_json(m: &ManyAgentsResult) -> String {
     format!(
         r#"{{"name":"many_agents","agents":{},"frames":{},"ms_per_frame":{:.4},"bytes_per_instance":{}}}"#,
         m.agents, m.frames, m.ms_per_frame, m.bytes_per_instance
+    )
+}
+
+fn crowd_json(c: &CrowdResult) -> String {
+    format!(
+        r#"{{"name":"crowd","agents":{},"threads":{},"ms_per_frame":{:.4},"frames":{},"bytes_per_member":{}}}"#,
+        c.agents, c.threads, c.ms_per_frame, c.frames, c.bytes_per_member
     )
 }
 
@@ -233,6 +304,17 @@ mod tests {
         assert_eq!(
             many_agents_json(&m),
             r#"{"name":"many_agents","agents":100000,"frames":20,"ms_per_frame":12.2500,"bytes_per_instance":320}"#
+        );
+        let c = CrowdResult {
+            agents: 100_000,
+            threads: 2,
+            frames: 20,
+            ms_per_frame: 4.5,
+            bytes_per_member: 600,
+        };
+        assert_eq!(
+            crowd_json(&c),
+            r#"{"name":"crowd","agents":100000,"threads":2,"ms_per_frame":4.5000,"frames":20,"bytes_per_member":600}"#
         );
     }
 }

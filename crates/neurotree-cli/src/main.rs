@@ -1,7 +1,8 @@
 //! The `neurotree` command.
 //!
 //! - `neurotree demo`: Nav2's navigator drives a simulated robot; world and tree drawn live.
-//! - `neurotree bench`: quick measurements of tick cost and of many agents per frame.
+//! - `neurotree bench`: quick measurements of tick cost, of many agents per frame, and of a
+//!   crowd of them on every core.
 //! - `neurotree check`: validate BehaviorTree.CPP XML files against the node models.
 //! - `neurotree run`: dry-run a BehaviorTree.CPP file with mock leaves, as JSON lines.
 //! - `neurotree ros2`: Nav2's navigator and the simulated Nav2 servers as ROS 2 processes
@@ -47,7 +48,7 @@ enum Command {
     /// Run Nav2's navigator tree on a simulated robot in a warehouse, drawing the world and
     /// the tree's statuses as it goes, then a summary.
     Demo(demo_command::DemoArgs),
-    /// Measure tick cost (tree1111) and a frame of many agents, in-process.
+    /// Measure tick cost (tree1111), a frame of many agents, and a crowd on every core, in-process.
     Bench(bench::BenchArgs),
     /// Validate BehaviorTree.CPP XML files: structure, node names, ports, literals.
     Check(check::CheckArgs),

@@ -181,10 +181,16 @@ fn positive(line: &str, key: &str) -> f64 {
 #[test]
 fn bench_json_prints_one_line_per_benchmark() {
     let out = stdout(&neurotree(&[
-        "bench", "--json", "--quick", "--agents", "1000",
+        "bench",
+        "--json",
+        "--quick",
+        "--agents",
+        "1000",
+        "--threads",
+        "2",
     ]));
     let lines: Vec<&str> = out.lines().collect();
-    assert_eq!(lines.len(), 3, "{out}");
+    assert_eq!(lines.len(), 4, "{out}");
     for line in &lines {
         assert!(line.starts_with('{') && line.ends_with('}'), "{line}");
     }
@@ -206,6 +212,14 @@ fn bench_json_prints_one_line_per_benchmark() {
     for key in ["frames", "ms_per_frame", "bytes_per_instance"] {
         positive(agents, key);
     }
+
+    let crowd = lines[3];
+    assert_eq!(field(crowd, "name"), "\"crowd\"");
+    assert_eq!(field(crowd, "agents"), "1000");
+    assert_eq!(field(crowd, "threads"), "2");
+    for key in ["frames", "ms_per_frame", "bytes_per_member"] {
+        positive(crowd, key);
+    }
 }
 
 #[test]
@@ -218,6 +232,8 @@ fn bench_table_names_every_measure() {
         "state bytes",
         "ms per frame",
         "bytes per instance",
+        "bytes per member",
+        "threads",
     ] {
         assert!(out.contains(measure), "{measure} missing from\n{out}");
     }

@@ -96,6 +96,7 @@
 //! | [`observe`] | loggers on the observer hook |
 //! | [`render`] | pictures of a tree: text, Graphviz DOT, Mermaid, SVG, with statuses |
 //! | [`runtime`] | runners: a fixed-rate loop, and tokio helpers |
+//! | `crowd` | (feature `crowd`, on by default) many trees ticked frame by frame on all cores |
 //! | `robotics`, `nav2` | (feature `nav2`) robot nodes; Nav2's control nodes |
 //! | `sim` | (feature `sim`) a deterministic grid world and Nav2's leaves simulated on it |
 //! | `groot` | (feature `groot`) a Groot2 monitor server |
@@ -116,11 +117,12 @@
 //!
 //! # Crate features
 //!
-//! None is on by default: the default build is the engine, the registry, XML, scripts,
-//! observers and pictures.
+//! Only `crowd` is on by default: the default build is the engine, the registry, XML,
+//! scripts, observers, pictures and crowds.
 //!
 //! | feature | brings | dependencies it adds |
 //! |---|---|---|
+//! | `crowd` (default) | `neurotree::crowd` | `rayon` |
 //! | `nav2` | `neurotree::robotics`, `neurotree::nav2` | none beyond the crate |
 //! | `sim` | `neurotree::sim`; turns on `nav2` | `pathfinding`, `fastrand` |
 //! | `groot` | `neurotree::groot` | `tokio`, `rmp-serde` |
@@ -153,6 +155,8 @@ pub use neurotree_nav2::robotics;
 #[cfg(feature = "sim")]
 pub use neurotree_sim as sim;
 
+#[cfg(feature = "crowd")]
+pub mod crowd;
 mod readme;
 
 /// What most programs need, in one `use neurotree::prelude::*;`: the types that load,

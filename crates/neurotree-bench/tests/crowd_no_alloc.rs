@@ -1,0 +1,104 @@
+//! A crowd's frames allocate nothing in steady state, on any thread of the pool, beyond
+//! rayon's own queue: a global allocator counts every thread's allocations while frames run.
+//!
+//! One test in this binary, so that no other test allocates while it counts.
+
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::Arc;
+use std::time::Duration;
+
+use neurotree::crowd::Crowd;
+use neurotree::{Clock, ManualClock, Tree};
+use neurotree_bench::{agent_tree, Agent};
+
+struct Counting;
+
+static WATCHING: AtomicBool = AtomicBool::new(false);
+static COUNT: AtomicUsize = AtomicUsize::new(0);
+
+// SAFETY: every call is forwarded unchanged to the system allocator; counting touches only
+// two atomics.
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        note();
+        System.alloc(layout)
+    }
+    unsafe fn alloc_zeroed(&self, layout: Layout) -> *mut u8 {
+        note();
+        System.alloc_zeroed(layout)
+    }
+    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
+        note();
+        System.realloc(ptr, layout, new_size)
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        System.dealloc(ptr, layout)
+    }
+}
+
+fn note() {
+    if WATCHING.load(Ordering::Relaxed) {
+        COUNT.fetch_add(1, Ordering::Relaxed);
+    }
+}
+
+#[global_allocator]
+static GLOBAL: Counting = Counting;
+
+/// Allocations made by any thread while `f` runs.
+fn allocations(f: impl FnOnce()) -> usize {
+    COUNT.store(0, Ordering::SeqCst);
+    WATCHING.store(true, Ordering::SeqCst);
+    f();
+    WATCHING.store(false, Ordering::SeqCst);
+    COUNT.load(Ordering::SeqCst)
+}
+
+#[test]
+fn crowd_frames_allocate_nothing_in_steady_state() {
+    // Guards the guard: without this, a broken counter would make the test pass.
+    assert!(allocations(|| drop(std::hint::black_box(vec![1u8; 64]))) >= 1);
+
+    let clock = ManualClock::new();
+    let shared: Arc<dyn Clock> = Arc::new(clock.clone());
+    let bp = agent_tree();
+    for threads in [1, 2, 4] {
+        let mut crowd = Crowd::with_shared_clock(Arc::clone(&shared))
+            .with_threads(threads)
+            .unwrap();
+        for i in 0..2000u32 {
+            // The record of failure reasons made up front, as for any tree that must not
+            // allocate while ticking (an agent's Retry gives a reason when it gives up).
+            let mut tree = Tree::with_shared_clock(Arc::clone(&bp), Arc::clone(&shared));
+            tree.reserve_failure_record();
+            crowd.add_tree(tree, Agent::new(i));
+        }
+        crowd.set_level_of_detail(|a: &Agent| if a.threat > 50 { 4 } else { 1 });
+        for budget in [None, Some(40_000)] {
+            crowd.set_budget(budget);
+            let mut run = |frames: usize| {
+                for _ in 0..frames {
+                    clock.advance(Duration::from_millis(16));
+                    let report = crowd.frame();
+                    assert_eq!(report.errors, 0);
+                }
+            };
+            // Warm-up: the pool's threads start, the queue of deferred members grows to
+            // its size.
+            run(20);
+            // Rayon's own: handing a frame to the pool queues one job in its injector,
+            // whose blocks hold 63 jobs; a bare `ThreadPool::install(|| ())` allocates as
+            // often. The crowd adds nothing to it.
+            const FRAMES: usize = 126;
+            let n = allocations(|| run(FRAMES));
+            assert!(
+                n <= FRAMES / 63 + 1,
+                "{n} allocations in {FRAMES} frames, {threads} threads, budget {budget:?}"
+            );
+            if budget.is_some() {
+                assert!(crowd.behind().overdue > 0);
+            }
+        }
+    }
+}

@@ -1,0 +1,298 @@
+//! One member of a crowd: its tree and context, and apart from them its schedule.
+//!
+//! The schedule of every member sits in one compact table ([`Plan`]), so that deciding who
+//! is due reads a few bytes per member and leaves the trees of members not due untouched:
+//! a frame in which one member in eight is due then costs little more than their ticks.
+
+use crate::{Status, TickError, Tree};
+
+/// `owed_since` of a member that is owed no tick.
+pub(super) const NOT_OWED: u64 = u64::MAX;
+
+/// Names a member of a [`Crowd`](super::Crowd) for as long as it stays in it: the id of a
+/// removed member never names the member that takes its place.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct MemberId {
+    pub(super) index: u32,
+    pub(super) generation: u32,
+}
+
+impl MemberId {
+    /// The member's slot: ids of members present at the same time have different slots,
+    /// so a program can index its own per-member tables with it.
+    pub fn slot(self) -> usize {
+        self.index as usize
+    }
+}
+
+/// What a member did in the last frame.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum FrameStatus {
+    /// Its interval skipped it (or the crowd has run no frame since it joined).
+    NotDue,
+    /// It was due, but the frame's budget left it for a later frame.
+    Deferred,
+    /// It was ticked, and its root returned this.
+    Ticked(Status),
+    /// It was ticked, and the tick ended with an error: [`Member::error`] says which.
+    Error,
+}
+
+/// How a crowd ticks each due member.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum TickMode {
+    /// One pass of the root ([`Tree::tick_exactly_once`]), as a game loop gives each agent
+    /// one tick per frame: a node that yields waits for the next frame.
+    #[default]
+    ExactlyOnce,
+    /// [`Tree::tick_once`]: passes are repeated at once while a node asks to be woken.
+    Once,
+}
+
+/// What a member owns: its tree and its context.
+pub(super) struct Body<C> {
+    pub(super) tree: Tree<C>,
+    pub(super) ctx: C,
+    /// Boxed: errors are rare, and most members should not pay their size.
+    pub(super) error: Option<Box<TickError>>,
+}
+
+/// A slot's schedule.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Plan {
+    /// The frame since which the member is owed a tick the budget held back, or [`NOT_OWED`].
+    pub(super) owed_since: u64,
+    pub(super) interval: u32,
+    pub(super) phase: u32,
+    /// Visits its next tick is expected to cost: what its last one cost.
+    pub(super) cost: u32,
+    /// Tells the ids of the slot's successive members apart.
+    pub(super) generation: u32,
+    pub(super) status: FrameStatus,
+    /// The slot holds a member.
+    pub(super) present: bool,
+    /// Picked by the budget for this frame's tick.
+    pub(super) picked: bool,
+}
+
+impl Plan {
+    pub(super) fn new(generation: u32) -> Self {
+        Self {
+            owed_since: NOT_OWED,
+            interval: 1,
+            phase: 0,
+            cost: 0,
+            generation,
+            status: FrameStatus::NotDue,
+            present: false,
+            picked: false,
+        }
+    }
+
+    /// Whether the member's interval makes it due in `frame`, after the level-of-detail
+    /// hook, if any, chose the interval from its context; forgets the last frame's status.
+    #[inline]
+    pub(super) fn plan<C>(
+        &mut self,
+        body: &Option<Body<C>>,
+        frame: u64,
+        lod: Option<&super::Lod<C>>,
+    ) -> bool {
+        // The body is read only for the hook: without one, a member not due stays untouched.
+        if let Some(lod) = lod {
+            if let Some(body) = body {
+                self.interval = lod(&body.ctx).max(1);
+            }
+        }
+        self.picked = false;
+        self.status = FrameStatus::NotDue;
+        let at = frame.wrapping_add(u64::from(self.phase));
+        let interval = u64::from(self.interval);
+        // Powers of two, the usual intervals, without a division.
+        if interval.is_power_of_two() {
+            at & (interval - 1) == 0
+        } else {
+            at % interval == 0
+        }
+    }
+
+    /// Ticks the member and returns the visits charged: the blueprint's nodes for each
+    /// pass of the root (the most a pass can visit).
+    #[inline]
+    pub(super) fn tick<C>(&mut self, body: &mut Body<C>, mode: TickMode) -> Tally {
+        let result = match mode {
+            TickMode::ExactlyOnce => body.tree.tick_exactly_once(&mut body.ctx),
+            TickMode::Once => body.tree.tick_once(&mut body.ctx),
+        };
+        let passes = match mode {
+            TickMode::ExactlyOnce => 1,
+            TickMode::Once => body.tree.last_passes().max(1),
+        };
+        let visits = nodes(&body.tree).saturating_mul(passes);
+        self.cost = visits;
+        self.owed_since = NOT_OWED;
+        self.picked = false;
+        let mut tally = Tally {
+            ticked: 1,
+            visits: u64::from(visits),
+            ..Tally::default()
+        };
+        match result {
+            Ok(status) => {
+                self.status = FrameStatus::Ticked(status);
+                tally.failures = u64::from(status == Status::Failure);
+                if body.error.is_some() {
+                    body.error = None;
+                }
+            }
+            Err(error) => {
+                self.status = FrameStatus::Error;
+                body.error = Some(Box::new(error));
+                tally.errors = 1;
+            }
+        }
+        tally
+    }
+}
+
+/// The nodes of a tree's blueprint, as visits.
+pub(super) fn nodes<C>(tree: &Tree<C>) -> u32 {
+    u32::try_from(tree.blueprint().len()).unwrap_or(u32::MAX)
+}
+
+/// A member of a [`Crowd`](super::Crowd), to read: its tree, its context, its schedule and
+/// what it did in the last frame.
+pub struct Member<'a, C> {
+    pub(super) id: MemberId,
+    pub(super) body: &'a Body<C>,
+    pub(super) plan: &'a Plan,
+}
+
+/// A member of a [`Crowd`](super::Crowd), to change between frames.
+pub struct MemberMut<'a, C> {
+    pub(super) id: MemberId,
+    pub(super) body: &'a mut Body<C>,
+    pub(super) plan: &'a mut Plan,
+}
+
+impl<'a, C> Member<'a, C> {
+    /// Its id in the crowd.
+    pub fn id(&self) -> MemberId {
+        self.id
+    }
+
+    /// Its tree, for its blackboard, its stored statuses or [`Tree::last_failure`].
+    pub fn tree(&self) -> &'a Tree<C> {
+        &self.body.tree
+    }
+
+    /// Its context.
+    pub fn context(&self) -> &'a C {
+        &self.body.ctx
+    }
+
+    /// What it did in the last frame.
+    pub fn status(&self) -> FrameStatus {
+        self.plan.status
+    }
+
+    /// The error its last tick ended with, kept until its next tick.
+    pub fn error(&self) -> Option<&'a TickError> {
+        self.body.error.as_deref()
+    }
+
+    /// It is due every `interval`-th frame (1: every frame).
+    pub fn interval(&self) -> u32 {
+        self.plan.interval
+    }
+
+    /// Its phase: it is due in the frames `f` where `(f + phase) % interval == 0`, so that
+    /// members of one interval with different phases spread over the frames.
+    pub fn phase(&self) -> u32 {
+        self.plan.phase
+    }
+
+    /// `true` while it waits for a tick the budget held back.
+    pub fn is_owed(&self) -> bool {
+        self.plan.owed_since != NOT_OWED
+    }
+}
+
+impl<C> MemberMut<'_, C> {
+    /// Reads it.
+    pub fn as_ref(&self) -> Member<'_, C> {
+        Member {
+            id: self.id,
+            body: self.body,
+            plan: self.plan,
+        }
+    }
+
+    /// Its id in the crowd.
+    pub fn id(&self) -> MemberId {
+        self.id
+    }
+
+    /// Its tree, to seed its blackboard or attach an observer between frames.
+    pub fn tree_mut(&mut self) -> &mut Tree<C> {
+        &mut self.body.tree
+    }
+
+    /// Its context, to change between frames.
+    pub fn context_mut(&mut self) -> &mut C {
+        &mut self.body.ctx
+    }
+
+    /// Sets its interval (at least 1); a level-of-detail hook overrides it every frame.
+    pub fn set_interval(&mut self, interval: u32) {
+        self.plan.interval = interval.max(1);
+    }
+
+    /// Sets its phase (see [`Member::phase`]). In a large crowd with long intervals, phases
+    /// by blocks of slots (`slot / 1024`) rather than by slot put the members due together
+    /// next to each other in memory: a frame with one member in eight due then costs about
+    /// an eighth of a full frame, rather than a fifth.
+    pub fn set_phase(&mut self, phase: u32) {
+        self.plan.phase = phase;
+    }
+}
+
+impl<C> core::fmt::Debug for Member<'_, C> {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.debug_struct("Member")
+            .field("id", &self.id)
+            .field("interval", &self.plan.interval)
+            .field("phase", &self.plan.phase)
+            .field("status", &self.plan.status)
+            .finish_non_exhaustive()
+    }
+}
+
+impl<C> core::fmt::Debug for MemberMut<'_, C> {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        self.as_ref().fmt(f)
+    }
+}
+
+/// What a part of the frame did, summed over members in any order (so any split over
+/// threads gives the same sums).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub(super) struct Tally {
+    pub(super) due: u64,
+    pub(super) ticked: u64,
+    pub(super) visits: u64,
+    pub(super) failures: u64,
+    pub(super) errors: u64,
+}
+
+impl Tally {
+    pub(super) fn add(self, o: Tally) -> Tally {
+        Tally {
+            due: self.due + o.due,
+            ticked: self.ticked + o.ticked,
+            visits: self.visits + o.visits,
+            failures: self.failures + o.failures,
+            errors: self.errors + o.errors,
+        }
+    }
+}

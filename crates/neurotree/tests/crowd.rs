@@ -1,0 +1,475 @@
+//! Crowds: schedules, budgets, membership and results, counted exactly; and the same
+//! results with one thread or several.
+
+use std::sync::Arc;
+use std::time::Duration;
+
+use neurotree::crowd::{Behind, Crowd, FrameReport, FrameStatus, MemberId, TickMode};
+use neurotree::prelude::*;
+use neurotree::NodeStatus;
+
+/// A context that counts what its tree did to it.
+#[derive(Clone, Debug, Default, PartialEq)]
+struct Walker {
+    seed: i64,
+    x: i64,
+    food: i64,
+    far: bool,
+    ticks: u32,
+    starts: u32,
+    halts: u32,
+    /// Everything that happened, folded into one number in order.
+    trace: u64,
+}
+
+impl Walker {
+    fn new(seed: i64) -> Self {
+        Self {
+            seed,
+            food: seed % 60,
+            ..Self::default()
+        }
+    }
+
+    fn note(&mut self, event: u64) {
+        self.trace = self.trace.wrapping_mul(1_000_003).wrapping_add(event);
+    }
+}
+
+/// Runs until halted, counting starts and halts in the context.
+struct Work;
+
+impl StatefulAction<Walker> for Work {
+    fn on_start(&mut self, h: &mut Handle<'_, Walker>) -> Status {
+        h.ctx_mut().starts += 1;
+        Status::Running
+    }
+    fn on_running(&mut self, _h: &mut Handle<'_, Walker>) -> Status {
+        Status::Running
+    }
+    fn on_halted(&mut self, h: &mut Handle<'_, Walker>) {
+        h.ctx_mut().halts += 1;
+    }
+}
+
+/// One action that counts its ticks and succeeds.
+fn counter() -> Arc<Blueprint<Walker>> {
+    Blueprint::<Walker>::builder()
+        .action("count", |w: &mut Walker| {
+            w.ticks += 1;
+            Status::Success
+        })
+        .build_shared()
+        .unwrap()
+}
+
+/// Each member's status in the last frame, in slot order.
+fn statuses(crowd: &Crowd<Walker>) -> Vec<FrameStatus> {
+    crowd.iter().map(|m| m.status()).collect()
+}
+
+const T: FrameStatus = FrameStatus::Ticked(Status::Success);
+const N: FrameStatus = FrameStatus::NotDue;
+const D: FrameStatus = FrameStatus::Deferred;
+
+#[test]
+fn intervals_and_phases_spread_members_over_the_frames() {
+    let mut crowd = Crowd::new(ManualClock::new()).with_threads(2).unwrap();
+    let bp = counter();
+    let ids: Vec<MemberId> = (0..8)
+        .map(|i| crowd.add(bp.clone(), Walker::new(i)))
+        .collect();
+    for id in &ids {
+        crowd.get_mut(*id).unwrap().set_interval(4);
+    }
+    // Member i (phase i) is due in the frames f with (f + i) % 4 == 0.
+    assert_eq!(crowd.frame().ticked, 2);
+    assert_eq!(statuses(&crowd), [T, N, N, N, T, N, N, N]);
+    assert_eq!(crowd.frame().ticked, 2);
+    assert_eq!(statuses(&crowd), [N, N, N, T, N, N, N, T]);
+    for _ in 2..8 {
+        let report = crowd.frame();
+        assert_eq!((report.due, report.ticked, report.visits), (2, 2, 2));
+    }
+    assert!(crowd.iter().all(|m| m.context().ticks == 2));
+    assert_eq!(crowd.frames(), 8);
+}
+
+#[test]
+fn the_level_of_detail_hook_chooses_intervals_every_frame() {
+    let mut crowd = Crowd::new(ManualClock::new()).with_threads(2).unwrap();
+    let bp = counter();
+    let near = crowd.add(bp.clone(), Walker::new(0));
+    let far = crowd.add(bp.clone(), Walker::new(1));
+    crowd.get_mut(far).unwrap().context_mut().far = true;
+    crowd.set_level_of_detail(|w: &Walker| if w.far { 8 } else { 1 });
+    for _ in 0..16 {
+        crowd.frame();
+    }
+    assert_eq!(crowd.get(near).unwrap().context().ticks, 16);
+    assert_eq!(crowd.get(far).unwrap().context().ticks, 2);
+    assert_eq!(crowd.get(far).unwrap().interval(), 8);
+    // Coming near: due every frame from the next one on.
+    crowd.get_mut(far).unwrap().context_mut().far = false;
+    for _ in 0..4 {
+        crowd.frame();
+    }
+    assert_eq!(crowd.get(far).unwrap().context().ticks, 6);
+    // A hook answering 0 means every frame.
+    crowd.set_level_of_detail(|_: &Walker| 0);
+    crowd.frame();
+    assert_eq!(crowd.get(far).unwrap().interval(), 1);
+    assert_eq!(crowd.get(far).unwrap().context().ticks, 7);
+}
+
+#[test]
+fn a_budget_defers_the_rest_oldest_first_and_reports_the_lag() {
+    let mut crowd = Crowd::new(ManualClock::new()).with_threads(2).unwrap();
+    let bp = counter();
+    for i in 0..10 {
+        crowd.add(bp.clone(), Walker::new(i));
+    }
+    // One node each: four ticks per frame.
+    crowd.set_budget(Some(4));
+    let report = crowd.frame();
+    assert_eq!(
+        report,
+        FrameReport {
+            frame: 0,
+            due: 10,
+            ticked: 4,
+            visits: 4,
+            failures: 0,
+            errors: 0,
+            behind: Behind {
+                overdue: 6,
+                frames: 1
+            },
+        }
+    );
+    assert_eq!(statuses(&crowd), [T, T, T, T, D, D, D, D, D, D]);
+    // The six owed from frame 0 come first: 4..8 now, 8 and 9 wait, and 0..4, due again,
+    // wait behind them. A member owed a tick is owed one, however often it falls due.
+    let report = crowd.frame();
+    assert_eq!((report.due, report.ticked), (10, 4));
+    assert_eq!(statuses(&crowd), [D, D, D, D, T, T, T, T, D, D]);
+    assert_eq!(
+        report.behind,
+        Behind {
+            overdue: 6,
+            frames: 2
+        }
+    );
+    assert_eq!(crowd.behind(), report.behind);
+    let report = crowd.frame();
+    assert_eq!(statuses(&crowd), [T, T, D, D, D, D, D, D, T, T]);
+    // Member 2 has waited since frame 1.
+    assert_eq!(
+        report.behind,
+        Behind {
+            overdue: 6,
+            frames: 2
+        }
+    );
+    let ticks: Vec<u32> = crowd.iter().map(|m| m.context().ticks).collect();
+    assert_eq!(ticks, [2, 2, 1, 1, 1, 1, 1, 1, 1, 1]);
+
+    // Lifted: every owed or due member is ticked once, and the crowd has caught up.
+    crowd.set_budget(None);
+    let report = crowd.frame();
+    assert_eq!((report.due, report.ticked), (10, 10));
+    assert_eq!(report.behind, Behind::default());
+    let ticks: Vec<u32> = crowd.iter().map(|m| m.context().ticks).collect();
+    assert_eq!(ticks, [3, 3, 2, 2, 2, 2, 2, 2, 2, 2]);
+
+    // A budget smaller than one tick still lets one member through per frame.
+    crowd.set_budget(Some(0));
+    assert_eq!(crowd.frame().ticked, 1);
+    assert_eq!(crowd.frame().ticked, 1);
+    assert_eq!(statuses(&crowd)[..3], [D, T, D]);
+}
+
+#[test]
+fn a_budget_that_covers_the_frame_ticks_everyone_due() {
+    let mut crowd = Crowd::new(ManualClock::new()).with_threads(2).unwrap();
+    let bp = counter();
+    for i in 0..3000 {
+        crowd.add(bp.clone(), Walker::new(i));
+    }
+    crowd.set_budget(Some(3000));
+    for _ in 0..3 {
+        let report = crowd.frame();
+        assert_eq!(
+            (report.due, report.ticked, report.visits),
+            (3000, 3000, 3000)
+        );
+        assert_eq!(report.behind, Behind::default());
+    }
+    // Over three chunks of slots, the budget ends inside the second.
+    crowd.set_budget(Some(1500));
+    let report = crowd.frame();
+    assert_eq!((report.ticked, report.behind.overdue), (1500, 1500));
+    let ticks: Vec<u32> = crowd.iter().map(|m| m.context().ticks).collect();
+    assert!(ticks[..1500].iter().all(|t| *t == 4));
+    assert!(ticks[1500..].iter().all(|t| *t == 3));
+}
+
+#[test]
+fn removing_a_member_halts_its_running_action_once() {
+    let mut crowd = Crowd::new(ManualClock::new()).with_threads(2).unwrap();
+    let working = Blueprint::<Walker>::builder()
+        .sequence("job", |s| s.stateful("work", || Work))
+        .build_shared()
+        .unwrap();
+    let a = crowd.add(working.clone(), Walker::new(0));
+    let b = crowd.add(working.clone(), Walker::new(1));
+    let idle = crowd.add(counter(), Walker::new(2));
+    for _ in 0..3 {
+        crowd.frame();
+    }
+    assert_eq!(
+        crowd.get(a).unwrap().status(),
+        FrameStatus::Ticked(Status::Running)
+    );
+    let (tree, walker) = crowd.remove(a).unwrap();
+    assert_eq!((walker.starts, walker.halts), (1, 1));
+    assert!(tree.statuses().iter().all(|s| *s == NodeStatus::Idle));
+    assert!(crowd.remove(a).is_none());
+    assert!(crowd.get(a).is_none());
+    // Its slot goes to the next member, under a new id.
+    let c = crowd.add(counter(), Walker::new(3));
+    assert_eq!(c.slot(), a.slot());
+    assert_ne!(c, a);
+    assert!(crowd.get(a).is_none());
+    assert_eq!(crowd.len(), 3);
+    crowd.frame();
+    // The others went on, untouched by the removal.
+    let bw = crowd.get(b).unwrap().context();
+    assert_eq!((bw.starts, bw.halts), (1, 0));
+    let (_, walker) = crowd.remove(idle).unwrap();
+    assert_eq!((walker.ticks, walker.halts), (4, 0));
+    // Halting all keeps the members and halts each running action once.
+    crowd.halt_all();
+    crowd.halt_all();
+    let bw = crowd.get(b).unwrap().context();
+    assert_eq!((bw.starts, bw.halts), (1, 1));
+    assert_eq!(crowd.len(), 2);
+}
+
+#[test]
+fn a_removed_member_owed_a_tick_leaves_the_queue() {
+    let mut crowd = Crowd::new(ManualClock::new()).with_threads(2).unwrap();
+    let bp = counter();
+    let ids: Vec<MemberId> = (0..4)
+        .map(|i| crowd.add(bp.clone(), Walker::new(i)))
+        .collect();
+    crowd.set_budget(Some(1));
+    crowd.frame();
+    assert_eq!(crowd.behind().overdue, 3);
+    crowd.remove(ids[1]).unwrap();
+    assert_eq!(crowd.behind().overdue, 2);
+    // Member 2 is the oldest owed now.
+    crowd.frame();
+    let ticks: Vec<u32> = crowd.iter().map(|m| m.context().ticks).collect();
+    assert_eq!(ticks, [1, 1, 0]);
+}
+
+#[test]
+fn failures_and_errors_are_reported_per_member() {
+    let mut crowd = Crowd::new(ManualClock::new()).with_threads(2).unwrap();
+    struct Blocked;
+    impl Action<Walker> for Blocked {
+        fn tick(&self, h: &mut Handle<'_, Walker>) -> Status {
+            h.fail_with(7, "blocked")
+        }
+    }
+    let failing = Blueprint::<Walker>::builder()
+        .sequence("go", |s| s.action_node("walk", Blocked))
+        .build_shared()
+        .unwrap();
+    let broken = Blueprint::<Walker>::builder()
+        .action("bad", |_: &mut Walker| Status::Running)
+        .build_shared()
+        .unwrap();
+    let ok = crowd.add(counter(), Walker::new(0));
+    let fails = crowd.add(failing, Walker::new(1));
+    let errs = crowd.add(broken, Walker::new(2));
+    let report = crowd.frame();
+    assert_eq!((report.ticked, report.failures, report.errors), (3, 1, 1));
+    assert_eq!(crowd.get(ok).unwrap().status(), T);
+    let failed = crowd.get(fails).unwrap();
+    assert_eq!(failed.status(), FrameStatus::Ticked(Status::Failure));
+    let why = failed.tree().last_failure().unwrap();
+    assert_eq!(why.leaf().path, "go/walk");
+    assert_eq!(why.reason().unwrap().to_string(), "blocked (error 7)");
+    let ids: Vec<MemberId> = crowd.failures().map(|m| m.id()).collect();
+    assert_eq!(ids, [fails]);
+    let erred = crowd.get(errs).unwrap();
+    assert_eq!(erred.status(), FrameStatus::Error);
+    assert!(matches!(erred.error(), Some(TickError::LeafRunning { .. })));
+    assert_eq!(crowd.errors().count(), 1);
+    // The error stays until the member's next tick.
+    crowd.get_mut(errs).unwrap().set_interval(2);
+    crowd.frame();
+    assert_eq!(crowd.get(errs).unwrap().status(), N);
+    assert!(crowd.get(errs).unwrap().error().is_some());
+}
+
+#[test]
+fn tick_once_repeats_passes_and_charges_each() {
+    let bp = Blueprint::<Walker>::builder()
+        .repeat("thrice", 3, |r| {
+            r.action("count", |w: &mut Walker| {
+                w.ticks += 1;
+                Status::Success
+            })
+        })
+        .build_shared()
+        .unwrap();
+    let mut crowd = Crowd::new(ManualClock::new()).with_threads(1).unwrap();
+    crowd.add(bp, Walker::new(0));
+    assert_eq!(crowd.frame().visits, 2);
+    assert_eq!(crowd.iter().next().unwrap().context().ticks, 1);
+    crowd.set_tick_mode(TickMode::Once);
+    // The Repeat's remaining two cycles and then three more: two nodes per pass.
+    let report = crowd.frame();
+    assert_eq!(crowd.iter().next().unwrap().context().ticks, 3);
+    assert_eq!(report.visits, 4);
+    assert_eq!(report.ticked, 1);
+}
+
+// --- The same results on any number of threads -------------------------------------
+
+const WALK_XML: &str = r#"<root BTCPP_format="4" main_tree_to_execute="Main">
+  <BehaviorTree ID="Main">
+    <Fallback>
+      <Sequence>
+        <Hungry/>
+        <Script code="meals := meals + 1"/>
+        <Eat/>
+      </Sequence>
+      <Sequence>
+        <Wander/>
+        <Sleep msec="30"/>
+        <Script code="walks := walks + 1"/>
+      </Sequence>
+    </Fallback>
+  </BehaviorTree>
+</root>"#;
+
+fn walk_blueprint() -> Arc<Blueprint<Walker>> {
+    let mut registry = Registry::<Walker>::new();
+    registry
+        .register_condition("Hungry", vec![], |h| h.ctx().food < 30)
+        .unwrap();
+    registry
+        .register_action("Eat", vec![], |h| {
+            let w = h.ctx_mut();
+            w.food += 50;
+            w.note(1);
+            Status::Success
+        })
+        .unwrap();
+    registry
+        .register_action("Wander", vec![], |h| {
+            let w = h.ctx_mut();
+            w.x += w.seed % 5 - 2;
+            w.food -= 7;
+            w.far = w.x.abs() > 6;
+            w.note(2 + w.x.unsigned_abs());
+            Status::from(w.x % 13 != 0)
+        })
+        .unwrap();
+    let mut loader = XmlLoader::new(&registry);
+    loader.load_str(WALK_XML, "walk.xml").unwrap();
+    Arc::new(loader.build_main().unwrap())
+}
+
+fn work_blueprint() -> Arc<Blueprint<Walker>> {
+    Blueprint::<Walker>::builder()
+        .reactive_sequence("guarded", |s| {
+            s.condition("fed", |w: &Walker| w.food > -40).timeout(
+                "limit",
+                Duration::from_millis(80),
+                |t| t.stateful("work", || Work),
+            )
+        })
+        .build_shared()
+        .unwrap()
+}
+
+/// Everything observable of one run: every frame's report and statuses, and each
+/// member's context, node statuses and blackboard at the end.
+type Run = (Vec<(FrameReport, Vec<FrameStatus>)>, Vec<String>);
+
+fn run(threads: usize, budget: Option<u64>) -> Run {
+    let clock = ManualClock::new();
+    let mut crowd = Crowd::new(clock.clone()).with_threads(threads).unwrap();
+    assert_eq!(crowd.threads(), threads);
+    let (walk, work) = (walk_blueprint(), work_blueprint());
+    let add = |crowd: &mut Crowd<Walker>, i: i64| {
+        let bp = if i % 3 == 0 { &work } else { &walk };
+        let mut tree = Tree::with_shared_clock(bp.clone(), crowd.clock().clone());
+        tree.blackboard_mut().set("meals", 0i64).unwrap();
+        tree.blackboard_mut().set("walks", 0i64).unwrap();
+        crowd.add_tree(tree, Walker::new(i))
+    };
+    let mut ids: Vec<MemberId> = (0..5000).map(|i| add(&mut crowd, i)).collect();
+    crowd.set_level_of_detail(|w: &Walker| if w.far { 4 } else { 1 });
+    crowd.set_budget(budget);
+    let mut frames = Vec::new();
+    for f in 0..120i64 {
+        if f % 10 == 5 {
+            // Leave and join between frames, the same way in every run.
+            for k in 0..50 {
+                let id = ids.remove((k * 37 + f as usize) % ids.len());
+                crowd.remove(id).unwrap();
+            }
+            for k in 0..60 {
+                ids.push(add(&mut crowd, 10_000 + f * 100 + k));
+            }
+        }
+        let report = crowd.frame();
+        frames.push((report, statuses(&crowd)));
+        clock.advance(Duration::from_millis(10));
+    }
+    let ends = crowd
+        .iter()
+        .map(|m| {
+            let bb = m.tree().blackboard();
+            format!(
+                "{:?} {:?} {:?} meals={:?} walks={:?}",
+                m.id(),
+                m.context(),
+                m.tree().statuses(),
+                bb.get::<i64>("meals"),
+                bb.get::<i64>("walks"),
+            )
+        })
+        .collect();
+    (frames, ends)
+}
+
+#[test]
+fn one_thread_or_several_give_the_same_results() {
+    for budget in [None, Some(20_000)] {
+        let one = run(1, budget);
+        // The runs are worth comparing: work was done, deferred, failed, removed.
+        let ticked: u64 = one.0.iter().map(|(r, _)| r.ticked).sum();
+        let failures: u64 = one.0.iter().map(|(r, _)| r.failures).sum();
+        assert!(ticked > 100_000 && failures > 0, "{ticked} {failures}");
+        assert!(one.1.iter().any(|e| e.contains("halts: 1")));
+        assert!(one.1.iter().any(|e| !e.contains("meals=Ok(0)")));
+        if budget.is_some() {
+            assert!(one.0.iter().any(|(r, _)| r.behind.overdue > 0));
+        }
+        for threads in [2, 3] {
+            let many = run(threads, budget);
+            assert_eq!(one.0.len(), many.0.len());
+            for (f, (a, b)) in one.0.iter().zip(&many.0).enumerate() {
+                assert_eq!(a, b, "frame {f} with {threads} threads, budget {budget:?}");
+            }
+            assert_eq!(one.1, many.1, "{threads} threads, budget {budget:?}");
+        }
+    }
+}
