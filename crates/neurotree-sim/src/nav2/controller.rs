@@ -37,16 +37,52 @@ pub struct TrackingFeedback {
     pub remaining_path_length: f64,
     /// Metres from the robot to that pose.
     pub tracking_error: f64,
+    /// The same distance, signed as Nav2's `position_tracking_error`: positive (or zero)
+    /// when the robot is left of the path, negative when it is right of it.
+    pub position_tracking_error: f64,
+    /// The robot's heading less the path's heading at that pose, in radians in [-π, π]:
+    /// Nav2's `heading_tracking_error`.
+    pub heading_tracking_error: f64,
+}
+
+/// A feedback has no text form: a tree gets one from FollowPath, never from a literal.
+impl neurotree_core::FromPortStr for TrackingFeedback {
+    fn from_port_str(_text: &str) -> Result<Self, ()> {
+        Err(())
+    }
 }
 
 impl TrackingFeedback {
     /// The feedback for a robot at `robot` on `path`.
     pub fn new(path: &Path, robot: &Pose2D) -> Self {
         let index = path.closest_index(robot).unwrap_or(0);
+        let tracking_error = path.poses.get(index).map_or(0.0, |p| p.distance(robot));
+        let (side, heading) = match path.poses.get(index) {
+            Some(at) => {
+                // The path's direction there: towards the next pose, or from the one before
+                // at the end.
+                let direction = match (index.checked_sub(1), path.poses.get(index + 1)) {
+                    (_, Some(next)) => (next.y - at.y).atan2(next.x - at.x),
+                    (Some(before), None) => {
+                        let before = &path.poses[before];
+                        (at.y - before.y).atan2(at.x - before.x)
+                    }
+                    (None, None) => at.theta,
+                };
+                let cross = direction.cos() * (robot.y - at.y) - direction.sin() * (robot.x - at.x);
+                let turn = (robot.theta - direction + std::f64::consts::PI)
+                    .rem_euclid(std::f64::consts::TAU)
+                    - std::f64::consts::PI;
+                (if cross < 0.0 { -1.0 } else { 1.0 }, turn)
+            }
+            None => (1.0, 0.0),
+        };
         Self {
             current_path_index: index,
             remaining_path_length: path.from_index(index).length(),
-            tracking_error: path.poses.get(index).map_or(0.0, |p| p.distance(robot)),
+            tracking_error,
+            position_tracking_error: side * tracking_error,
+            heading_tracking_error: heading,
         }
     }
 }

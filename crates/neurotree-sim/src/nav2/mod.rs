@@ -21,6 +21,8 @@
 //! | IsGoalNearby | is the end of the path near? |
 //! | TruncatePathLocal | the part of the path around the robot |
 //! | ValidatePath | is the path still free? |
+//! | TruncatePath | the path short of its last metres |
+//! | IsWithinPathTrackingBounds | is the robot on its path? |
 //! | ClearEntireCostmap | forget the sensed obstacles of a costmap |
 //! | WouldAPlannerRecoveryHelp | can a recovery fix the planner's error? |
 //! | WouldAControllerRecoveryHelp | can a recovery fix the controller's error? |
@@ -30,7 +32,7 @@
 //!
 //! Each node's ports, defaults, outcomes and error codes are told in its own module:
 //! [`planner`], [`controller`], [`selectors`], [`path_checks`], [`costmaps`],
-//! [`recovery_help`] and [`behaviors`] (Spin, Wait, BackUp).
+//! [`recovery_help`], [`tracking`] (TruncatePath, IsWithinPathTrackingBounds) and [`behaviors`] (Spin, Wait, BackUp).
 //!
 //! Ports that only make sense on a ROS system (server names, timeouts, frames, plugin ids,
 //! footprints) are declared, so that files using them load, and read nowhere.
@@ -101,6 +103,7 @@ pub mod recovery_help;
 pub mod selectors;
 #[cfg(test)]
 mod testing;
+pub mod tracking;
 
 use std::sync::{Arc, Mutex, MutexGuard};
 use std::time::Duration;
@@ -110,6 +113,8 @@ pub use failures::FailureNotes;
 pub use recoveries::RecoveryCounter;
 
 use super::{GridWorld, MotionStatus};
+use neurotree_core::{Blackboard, BlackboardError};
+use neurotree_nav2::{ROBOT_POSE, ROBOT_SPEED};
 use neurotree_toolkit::{Registry, RegistryError};
 
 /// How the simulated Nav2 servers behave.
@@ -148,6 +153,8 @@ pub struct Nav2Sim {
     pub params: Nav2Params,
     plans: u32,
     replans: u32,
+    /// The robot's speed over the last step, in metres per second.
+    speed: f64,
     log: Option<EventLog>,
 }
 
@@ -159,6 +166,7 @@ impl Nav2Sim {
             params: Nav2Params::default(),
             plans: 0,
             replans: 0,
+            speed: 0.0,
             log: None,
         }
     }
@@ -179,7 +187,30 @@ impl Nav2Sim {
 
     /// Moves the world on by one period ([`Nav2Params::period`]); see [`GridWorld::step`].
     pub fn step(&mut self) -> MotionStatus {
-        self.world.step(self.params.period)
+        let before = self.world.distance_travelled();
+        let status = self.world.step(self.params.period);
+        let seconds = self.params.period.as_secs_f64();
+        self.speed = if seconds > 0.0 {
+            (self.world.distance_travelled() - before) / seconds
+        } else {
+            0.0
+        };
+        status
+    }
+
+    /// The robot's speed over the last [`step`](Self::step), in metres per second: what
+    /// Nav2's odometry smoother would report (0 before the first step).
+    pub fn robot_speed(&self) -> f64 {
+        self.speed
+    }
+
+    /// Writes the robot's state where Nav2's controls read it, as TF and odometry give it
+    /// to them in Nav2: the pose to `robot_pose` ([`ROBOT_POSE`], read by
+    /// DistanceController) and the speed to `robot_speed` ([`ROBOT_SPEED`], read by
+    /// SpeedController). Whoever runs the tree calls it before each tick.
+    pub fn write_robot_state(&self, blackboard: &mut Blackboard) -> Result<(), BlackboardError> {
+        blackboard.set(ROBOT_POSE, self.world.robot())?;
+        blackboard.set(ROBOT_SPEED, self.speed)
     }
 
     /// Paths ComputePathToPose produced.
@@ -266,7 +297,8 @@ impl Nav2Context for Nav2Sim {
 /// Registers every Nav2 leaf that `navigate_to_pose_w_replanning_and_recovery.xml` uses, under
 /// its Nav2 name with the ports of `nav2_tree_nodes.xml`: ComputePathToPose, FollowPath, the
 /// five selectors, IsGoalNearby, TruncatePathLocal, ValidatePath, ClearEntireCostmap,
-/// WouldAPlannerRecoveryHelp, WouldAControllerRecoveryHelp, Spin, Wait and BackUp. The control
+/// WouldAPlannerRecoveryHelp, WouldAControllerRecoveryHelp, TruncatePath,
+/// IsWithinPathTrackingBounds, Spin, Wait and BackUp. The control
 /// nodes come from [`nav2::register_controls`](neurotree_nav2::register_controls). Fails if one
 /// of the names is taken.
 pub fn register_nav2_leaves<C: Nav2Context>(
@@ -278,6 +310,7 @@ pub fn register_nav2_leaves<C: Nav2Context>(
     path_checks::register(registry)?;
     costmaps::register(registry)?;
     recovery_help::register(registry)?;
+    tracking::register(registry)?;
     behaviors::register(registry)
 }
 
@@ -295,7 +328,7 @@ pub fn register_nav2_checks<C: Nav2Context>(
 }
 
 /// The names [`register_nav2_leaves`] registers, in its order.
-pub const LEAVES: [&str; 16] = [
+pub const LEAVES: [&str; 18] = [
     "ComputePathToPose",
     "FollowPath",
     "ProgressCheckerSelector",
@@ -309,7 +342,34 @@ pub const LEAVES: [&str; 16] = [
     "ClearEntireCostmap",
     "WouldAPlannerRecoveryHelp",
     "WouldAControllerRecoveryHelp",
+    "TruncatePath",
+    "IsWithinPathTrackingBounds",
     "Spin",
     "Wait",
     "BackUp",
 ];
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use neurotree_nav2::robotics::Pose2D;
+
+    #[test]
+    fn the_robot_state_is_written_where_nav2s_controls_read_it() {
+        let mut sim = Nav2Sim::new(GridWorld::parse("R....", 1.0).unwrap());
+        let mut blackboard = Blackboard::default();
+        sim.write_robot_state(&mut blackboard).unwrap();
+        assert_eq!(blackboard.get::<f64>(ROBOT_SPEED).unwrap(), 0.0);
+        let goal = Pose2D::new(4.5, 0.5, 0.0);
+        let path = sim.world.plan(sim.world.robot(), goal).unwrap();
+        sim.world.follow(path, 1.0);
+        sim.step();
+        sim.step();
+        sim.write_robot_state(&mut blackboard).unwrap();
+        // 1 m/s, in 100 ms steps.
+        assert!((blackboard.get::<f64>(ROBOT_SPEED).unwrap() - 1.0).abs() < 1e-9);
+        let pose: Pose2D = blackboard.get(ROBOT_POSE).unwrap();
+        assert_eq!(pose, sim.world.robot());
+        assert!((pose.x - 0.7).abs() < 1e-9, "{pose:?}");
+    }
+}
