@@ -155,6 +155,19 @@ mod tests {
     }
 
     #[test]
+    fn the_position_error_is_to_the_path_not_to_its_poses() {
+        let diagonal = path(&[(0.5, 0.5), (1.5, 1.5), (2.5, 2.5)]);
+        // Halfway between two poses, on the line: 0.35 m from either pose, on the path.
+        let on = TrackingFeedback::new(&diagonal, &Pose2D::new(1.0, 1.0, 0.0));
+        assert!(on.tracking_error > 0.35 && on.position_tracking_error.abs() < 1e-9);
+        // Above the line is its left, below is its right.
+        let left = TrackingFeedback::new(&diagonal, &Pose2D::new(1.0, 1.2, 0.0));
+        let right = TrackingFeedback::new(&diagonal, &Pose2D::new(1.2, 1.0, 0.0));
+        assert!(left.position_tracking_error > 0.1 && right.position_tracking_error < -0.1);
+        assert!((on.heading_tracking_error + std::f64::consts::FRAC_PI_4).abs() < 1e-9);
+    }
+
+    #[test]
     fn tracking_bounds_pass_without_feedback_and_check_each_side() {
         let leaf = r#"<IsWithinPathTrackingBounds tracking_feedback="{fb}" max_error_left="0.2" max_error_right="0.4" max_error_heading="1.0"/>"#;
         let mut bench = Bench::new("R....", leaf);
