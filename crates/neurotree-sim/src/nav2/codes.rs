@@ -63,6 +63,18 @@ pub mod back_up {
     pub const COLLISION_AHEAD: u16 = 714;
 }
 
+/// The drive-on-heading behavior.
+pub mod drive_on_heading {
+    /// A failure of no other kind.
+    pub const UNKNOWN: u16 = 720;
+    /// The time allowance ran out.
+    pub const TIMEOUT: u16 = 721;
+    /// Driving on would hit something.
+    pub const COLLISION_AHEAD: u16 = 723;
+    /// The distance and the speed make no motion (a zero speed, or signs that differ).
+    pub const INVALID_INPUT: u16 = 724;
+}
+
 /// The codes for which WouldAPlannerRecoveryHelp succeeds: clearing the global costmap may
 /// let the planner find a path.
 pub const PLANNER_RECOVERABLE: [u16; 3] = [

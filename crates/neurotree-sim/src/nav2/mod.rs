@@ -29,10 +29,28 @@
 //! | Spin | turn on the spot |
 //! | Wait | stand still |
 //! | BackUp | drive backwards |
+//! | DriveOnHeading | drive straight on |
 //!
 //! Each node's ports, defaults, outcomes and error codes are told in its own module:
 //! [`planner`], [`controller`], [`selectors`], [`path_checks`], [`costmaps`],
-//! [`recovery_help`], [`tracking`] (TruncatePath, IsWithinPathTrackingBounds) and [`behaviors`] (Spin, Wait, BackUp).
+//! [`recovery_help`], [`tracking`] (TruncatePath, IsWithinPathTrackingBounds) and [`behaviors`] (Spin, Wait, BackUp, DriveOnHeading).
+//!
+//! # Not simulated
+//!
+//! Nav2's other leaves have no implementation here, and a tree that uses one does not load
+//! in `neurotree demo` (the error names the node). Some would need what the grid world does
+//! not have: a route graph (ComputeRoute, ExtractRouteNodesAsGoals, WouldARouteRecoveryHelp),
+//! a docking server (DockRobot, UndockRobot) and the NavigateToPose action of another
+//! navigator; others are not written yet: the leaves of the through-poses and goal-patience
+//! navigators (ComputePathThroughPoses, RemovePassedGoals, PathExpiringTimer,
+//! CancelControl), and the battery checks (IsBatteryLow, IsBatteryCharging),
+//! which the world's battery and charger could answer.
+//!
+//! # The robot's state
+//!
+//! Nav2's DistanceController and SpeedController read the robot's pose (TF) and speed
+//! (odometry); here they read the blackboard entries `robot_pose` and `robot_speed`, which
+//! [`Nav2Sim::write_robot_state`] writes before each tick.
 //!
 //! Ports that only make sense on a ROS system (server names, timeouts, frames, plugin ids,
 //! footprints) are declared, so that files using them load, and read nowhere.
@@ -298,7 +316,7 @@ impl Nav2Context for Nav2Sim {
 /// its Nav2 name with the ports of `nav2_tree_nodes.xml`: ComputePathToPose, FollowPath, the
 /// five selectors, IsGoalNearby, TruncatePathLocal, ValidatePath, ClearEntireCostmap,
 /// WouldAPlannerRecoveryHelp, WouldAControllerRecoveryHelp, TruncatePath,
-/// IsWithinPathTrackingBounds, Spin, Wait and BackUp. The control
+/// IsWithinPathTrackingBounds, Spin, Wait, BackUp and DriveOnHeading. The control
 /// nodes come from [`nav2::register_controls`](neurotree_nav2::register_controls). Fails if one
 /// of the names is taken.
 pub fn register_nav2_leaves<C: Nav2Context>(
@@ -328,7 +346,7 @@ pub fn register_nav2_checks<C: Nav2Context>(
 }
 
 /// The names [`register_nav2_leaves`] registers, in its order.
-pub const LEAVES: [&str; 18] = [
+pub const LEAVES: [&str; 19] = [
     "ComputePathToPose",
     "FollowPath",
     "ProgressCheckerSelector",
@@ -347,6 +365,7 @@ pub const LEAVES: [&str; 18] = [
     "Spin",
     "Wait",
     "BackUp",
+    "DriveOnHeading",
 ];
 
 #[cfg(test)]
