@@ -44,6 +44,16 @@ pub struct DemoArgs {
     /// tolerance of the end of the path it follows.
     #[arg(long, value_name = "SECONDS", value_parser = parse_duration)]
     pub duration: Option<Duration>,
+    /// The robot's heading at the start, in degrees counter-clockwise from east (0: facing
+    /// the store; -90: facing south, as Nav2's odometry_calibration.xml needs to drive its
+    /// square inside the warehouse).
+    #[arg(
+        long,
+        value_name = "DEGREES",
+        default_value_t = 0.0,
+        allow_negative_numbers = true
+    )]
+    pub heading: f64,
     /// Leave the seed's obstacle out: a tree without recoveries cannot get past one.
     #[arg(long)]
     pub no_obstacle: bool,
@@ -91,6 +101,7 @@ pub fn execute(args: DemoArgs, out: &mut impl Write) -> io::Result<Outcome> {
             unicode: !args.ascii,
             obstacle: !args.no_obstacle,
             duration: args.duration,
+            start_heading: args.heading.to_radians(),
             ..Default::default()
         },
         speed: (!args.fast && args.speed > 0.0).then_some(args.speed),

@@ -331,7 +331,7 @@ fn last_line(text: &str) -> &str {
 
 /// Nav2's default navigator trees that run on the simulated robot, with the extra flags
 /// they need (a tree that never ends is given a duration).
-const RUNNING_TREES: [(&str, &[&str]); 9] = [
+const RUNNING_TREES: [(&str, &[&str]); 10] = [
     ("follow_point.xml", &["--duration", "60"]),
     ("navigate_to_pose_w_bounds_check.xml", &[]),
     ("navigate_to_pose_w_replanning_and_recovery.xml", &[]),
@@ -347,6 +347,8 @@ const RUNNING_TREES: [(&str, &[&str]); 9] = [
     ),
     ("navigate_w_replanning_speed.xml", &[]),
     ("navigate_w_replanning_time.xml", &[]),
+    // Its square turns left: from the corner the robot starts in, facing south.
+    ("odometry_calibration.xml", &["--heading", "-90"]),
 ];
 
 #[test]
@@ -369,18 +371,20 @@ fn each_default_tree_reaches_the_goal_when_nothing_blocks_it() {
 
 #[test]
 fn the_obstacle_stops_the_trees_without_recoveries_with_nav2s_error_code() {
-    let recovering = [
+    let unhindered = [
         "navigate_to_pose_w_replanning_and_recovery.xml",
         "navigate_w_recovery_and_replanning_only_if_path_becomes_invalid.xml",
         // Replanning every metre, it plans around the obstacle before it gets there.
         "navigate_w_replanning_distance.xml",
+        // Its square is far from the obstacle.
+        "odometry_calibration.xml",
     ];
     for (tree, extra) in RUNNING_TREES {
         let path = format!("corpus/nav2/{tree}");
         let mut args = vec!["--tree", path.as_str()];
         args.extend_from_slice(extra);
         let (code, out, err) = demo_cli(&args);
-        if recovering.contains(&tree) {
+        if unhindered.contains(&tree) {
             assert_eq!(
                 (code, last_line(&out)),
                 (0, "navigation succeeded"),
@@ -431,6 +435,22 @@ fn a_tree_that_never_ends_is_stopped_by_max_ticks_or_judged_after_its_duration()
 }
 
 #[test]
+fn the_odometry_square_turns_into_the_wall_facing_east() {
+    let tree = "corpus/nav2/odometry_calibration.xml";
+    let (code, out, _) = demo_cli(&["--tree", tree]);
+    assert_eq!((code, last_line(&out)), (2, "navigation failed"));
+    assert!(
+        out.contains("\n  error code  723 (drive_on_heading_error_code): an obstacle or a wall in cell (3, 14)\n"),
+        "{out}"
+    );
+    let (code, out, _) = demo_cli(&["--tree", tree, "--heading", "-90"]);
+    assert_eq!(code, 0);
+    // Three times round a 2 m square, back where it started.
+    assert!(out.contains("\n  distance    24.00 m\n"), "{out}");
+    assert!(out.contains("\n  robot       (1.50, 13.50),"), "{out}");
+}
+
+#[test]
 fn trees_with_nodes_the_simulator_lacks_are_refused_naming_the_node() {
     for (tree, node) in [
         (
@@ -450,7 +470,6 @@ fn trees_with_nodes_the_simulator_lacks_are_refused_naming_the_node() {
             "navigate_w_routing_global_planning_and_control_w_recovery.xml",
             "ComputeRoute",
         ),
-        ("odometry_calibration.xml", "DriveOnHeading"),
         (
             "opennav_docking_bt__application_example.xml",
             "IsBatteryCharging",

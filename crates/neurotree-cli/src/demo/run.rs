@@ -48,6 +48,8 @@ pub struct DemoConfig {
     pub unicode: bool,
     /// How the simulated servers behave.
     pub params: Nav2Params,
+    /// The robot's heading at the start, in radians counter-clockwise from +x (east).
+    pub start_heading: f64,
     /// Put the seed's obstacle on the robot's path (a tree without recoveries cannot get
     /// past one that stays).
     pub obstacle: bool,
@@ -70,6 +72,7 @@ impl Default for DemoConfig {
             params: Nav2Params::default(),
             obstacle: true,
             duration: None,
+            start_heading: 0.0,
         }
     }
 }
@@ -273,7 +276,10 @@ impl DemoRun {
             scenario.obstacle = None;
         }
         let log = EventLog::new();
-        let sim = Nav2Sim::new(scenario.world()?)
+        let mut world = scenario.world()?;
+        let start = world.robot();
+        world.set_robot(Pose2D::new(start.x, start.y, config.start_heading))?;
+        let sim = Nav2Sim::new(world)
             .with_params(config.params)
             .with_log(log.clone());
         let mut tree = Tree::with_clock(Arc::clone(&blueprint), sim.world.clock());
