@@ -23,6 +23,7 @@
 //! | ValidatePath | is the path still free? |
 //! | TruncatePath | the path short of its last metres |
 //! | IsWithinPathTrackingBounds | is the robot on its path? |
+//! | PathExpiringTimer | has the path stayed the same for a while? |
 //! | ClearEntireCostmap | forget the sensed obstacles of a costmap |
 //! | WouldAPlannerRecoveryHelp | can a recovery fix the planner's error? |
 //! | WouldAControllerRecoveryHelp | can a recovery fix the controller's error? |
@@ -33,7 +34,7 @@
 //!
 //! Each node's ports, defaults, outcomes and error codes are told in its own module:
 //! [`planner`], [`controller`], [`selectors`], [`path_checks`], [`costmaps`],
-//! [`recovery_help`], [`tracking`] (TruncatePath, IsWithinPathTrackingBounds) and [`behaviors`] (Spin, Wait, BackUp, DriveOnHeading).
+//! [`recovery_help`], [`tracking`] (TruncatePath, IsWithinPathTrackingBounds, PathExpiringTimer) and [`behaviors`] (Spin, Wait, BackUp, DriveOnHeading).
 //!
 //! # Not simulated
 //!
@@ -42,8 +43,7 @@
 //! not have: a route graph (ComputeRoute, ExtractRouteNodesAsGoals, WouldARouteRecoveryHelp),
 //! a docking server (DockRobot, UndockRobot) and the NavigateToPose action of another
 //! navigator; others are not written yet: the leaves of the through-poses and goal-patience
-//! navigators (ComputePathThroughPoses, RemovePassedGoals, PathExpiringTimer,
-//! CancelControl), and the battery checks (IsBatteryLow, IsBatteryCharging),
+//! navigators (ComputePathThroughPoses, RemovePassedGoals, CancelControl), and the battery checks (IsBatteryLow, IsBatteryCharging),
 //! which the world's battery and charger could answer.
 //!
 //! # The robot's state
@@ -316,7 +316,7 @@ impl Nav2Context for Nav2Sim {
 /// its Nav2 name with the ports of `nav2_tree_nodes.xml`: ComputePathToPose, FollowPath, the
 /// five selectors, IsGoalNearby, TruncatePathLocal, ValidatePath, ClearEntireCostmap,
 /// WouldAPlannerRecoveryHelp, WouldAControllerRecoveryHelp, TruncatePath,
-/// IsWithinPathTrackingBounds, Spin, Wait, BackUp and DriveOnHeading. The control
+/// IsWithinPathTrackingBounds, PathExpiringTimer, Spin, Wait, BackUp and DriveOnHeading. The control
 /// nodes come from [`nav2::register_controls`](neurotree_nav2::register_controls). Fails if one
 /// of the names is taken.
 pub fn register_nav2_leaves<C: Nav2Context>(
@@ -346,7 +346,7 @@ pub fn register_nav2_checks<C: Nav2Context>(
 }
 
 /// The names [`register_nav2_leaves`] registers, in its order.
-pub const LEAVES: [&str; 19] = [
+pub const LEAVES: [&str; 20] = [
     "ComputePathToPose",
     "FollowPath",
     "ProgressCheckerSelector",
@@ -362,6 +362,7 @@ pub const LEAVES: [&str; 19] = [
     "WouldAControllerRecoveryHelp",
     "TruncatePath",
     "IsWithinPathTrackingBounds",
+    "PathExpiringTimer",
     "Spin",
     "Wait",
     "BackUp",

@@ -1,4 +1,5 @@
-//! Following a path and staying on it: TruncatePath and IsWithinPathTrackingBounds.
+//! Following a path and staying on it: TruncatePath, IsWithinPathTrackingBounds and
+//! PathExpiringTimer.
 //!
 //! - **TruncatePath**: a sync action. Ports: `input_path`, `distance` (default 1.0); output
 //!   `output_path`. As Nav2's `truncate_path_action.cpp`:
@@ -14,8 +15,17 @@
 //!   - Success when the signed position error is within `max_error_left` (left of the path,
 //!     or on it) or `max_error_right` (right of it), and the heading error within
 //!     `max_error_heading`; else Failure.
+//! - **PathExpiringTimer**: a condition. Ports: `seconds` (default 1.0), `path`. As Nav2's
+//!   `path_expiring_timer_condition.cpp`:
+//!   - The node's first tick reads `seconds` and the path, starts the timer: Failure.
+//!   - Later ticks restart the timer when the path differs from the last one read; Failure
+//!     until `seconds` have passed since the timer started, then Success, and the timer
+//!     starts again. The timer runs on the tree's clock, and is kept for the tree's life,
+//!     as Nav2 keeps it in the node.
 
-use neurotree_core::{Handle, Status};
+use std::time::Duration;
+
+use neurotree_core::{Category, Handle, StatefulAction, Status};
 
 use super::{ports, Nav2Context, TrackingFeedback};
 use neurotree_nav2::robotics::{Path, Pose2D};
@@ -35,6 +45,21 @@ pub(super) fn register<C: Nav2Context>(r: &mut Registry<C>) -> Result<(), Regist
     r.describe(
         "IsWithinPathTrackingBounds",
         "Succeeds while the robot tracks its path within the given errors.",
+    );
+    r.register_stateful_as(
+        "PathExpiringTimer",
+        Category::Condition,
+        vec![
+            PortSpec::input::<f64>("seconds")
+                .default_value("1.0")
+                .describe("Seconds a path may stay the same before the timer expires."),
+            PortSpec::input::<Path>("path").describe("The path whose change restarts the timer."),
+        ],
+        PathExpiringTimer::default,
+    )?;
+    r.describe(
+        "PathExpiringTimer",
+        "Succeeds once the path has stayed the same for `seconds`.",
     );
     Ok(())
 }
@@ -120,6 +145,38 @@ fn within_bounds<C: Nav2Context>(h: &Handle<'_, C>) -> bool {
     within_position && feedback.heading_tracking_error.abs() <= heading
 }
 
+/// PathExpiringTimer: see the [module documentation](self).
+#[derive(Default)]
+struct PathExpiringTimer {
+    /// The period, the last path and the timer's start, once the first tick read them.
+    started: Option<(f64, Path, Duration)>,
+}
+
+impl<C: Nav2Context> StatefulAction<C> for PathExpiringTimer {
+    fn on_start(&mut self, h: &mut Handle<'_, C>) -> Status {
+        let now = h.now();
+        let path = ports::or(h, "path", Path::default()).unwrap_or_default();
+        let Some((period, last, start)) = &mut self.started else {
+            let period = ports::or(h, "seconds", 1.0).unwrap_or(1.0);
+            self.started = Some((period, path, now));
+            return Status::Failure;
+        };
+        if *last != path {
+            *last = path;
+            *start = now;
+        }
+        if now.saturating_sub(*start).as_secs_f64() < *period {
+            return Status::Failure;
+        }
+        *start = now;
+        Status::Success
+    }
+
+    fn on_running(&mut self, h: &mut Handle<'_, C>) -> Status {
+        self.on_start(h)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -152,6 +209,26 @@ mod tests {
         let out: Path = bench.get("out");
         assert_eq!(out.len(), 2);
         assert!((out.poses[1].theta - std::f64::consts::FRAC_PI_2).abs() < 1e-9);
+    }
+
+    #[test]
+    fn the_path_expiring_timer_expires_on_a_path_that_stays_the_same() {
+        use Status::{Failure as F, Success as S};
+        let mut bench = Bench::new("R....", r#"<PathExpiringTimer seconds="0.3" path="{p}"/>"#);
+        let a = path(&[(0.5, 0.5), (1.5, 0.5)]);
+        bench.set("p", a.clone());
+        // Ticks 100 ms apart: the first starts the timer, the fourth sees 0.3 s, and so on.
+        let tick = |bench: &mut Bench| {
+            let status = bench.tick();
+            bench.sim.step();
+            status
+        };
+        let run: Vec<Status> = (0..8).map(|_| tick(&mut bench)).collect();
+        assert_eq!(run, [F, F, F, S, F, F, S, F]);
+        // A new path restarts the timer.
+        bench.set("p", path(&[(0.5, 0.5), (2.5, 0.5)]));
+        let run: Vec<Status> = (0..4).map(|_| tick(&mut bench)).collect();
+        assert_eq!(run, [F, F, F, S]);
     }
 
     #[test]
