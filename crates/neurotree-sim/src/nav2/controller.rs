@@ -1,4 +1,5 @@
-//! FollowPath: the controller server, as the world's follow motion.
+//! FollowPath: the controller server, as the world's follow motion; CancelControl, which
+//! cancels it.
 //!
 //! Stateful action on the world's follow motion. Ports: `path`, `controller_id`, …; outputs
 //! `tracking_feedback`, `error_code_id`, `error_msg`.
@@ -19,6 +20,11 @@
 //! turns out to be occupied ends the motion in front of it ([`MotionStatus::Blocked`]);
 //! the node reports it with the code Nav2's controllers use when no safe command exists,
 //! which WouldAControllerRecoveryHelp recognises.
+//!
+//! **CancelControl** (ports `server_name`, `server_timeout`, unused) is a sync action that
+//! cancels the controller's goal, as Nav2's `controller_cancel_node.cpp` cancels the
+//! FollowPath action: if the world's motion is a follow, it is stopped (the robot stays
+//! where it is). Success, whether or not there was one to cancel.
 
 use neurotree_core::{Handle, StatefulAction, Status};
 
@@ -131,7 +137,29 @@ pub(super) fn register<C: Nav2Context>(r: &mut Registry<C>) -> Result<(), Regist
         "FollowPath",
         "Follows the current `path` until the robot is at its end; halting it stops the robot.",
     );
+    r.register_action(
+        "CancelControl",
+        vec![
+            PortSpec::input::<String>("server_name").describe("Action server name (unused)."),
+            PortSpec::input::<u64>("server_timeout").describe("Server timeout in ms (unused)."),
+        ],
+        cancel_control::<C>,
+    )?;
+    r.describe("CancelControl", "Stops the controller's path following.");
     Ok(())
+}
+
+/// CancelControl: see the [module documentation](self).
+fn cancel_control<C: Nav2Context>(h: &mut Handle<'_, C>) -> Status {
+    let world = &mut h.ctx_mut().nav2_mut().world;
+    if world.followed_path().is_some() && world.motion_status() == MotionStatus::Active {
+        world.stop();
+        let name = h.name().to_string();
+        h.ctx_mut()
+            .nav2_mut()
+            .note(|| format!("{name}: cancelled the controller"));
+    }
+    Status::Success
 }
 
 /// The node: see the [module documentation](self).
@@ -325,6 +353,29 @@ mod tests {
             b.sim.world.map().cell_at(&b.sim.world.robot()),
             Some(Cell::new(3, 1))
         );
+        assert_eq!(b.sim.world.stop_count(), 1);
+    }
+
+    #[test]
+    fn cancel_control_stops_a_follow_and_nothing_else() {
+        let mut b = Bench::new(
+            "R....",
+            r#"<Sequence><CancelControl/><AlwaysFailure/></Sequence>"#,
+        );
+        let path = b
+            .sim
+            .world
+            .plan(b.sim.world.robot(), Pose2D::new(4.5, 0.5, 0.0));
+        b.sim.world.follow(path.unwrap(), 1.0);
+        b.sim.step();
+        assert_eq!(b.sim.world.motion_status(), MotionStatus::Active);
+        b.tick();
+        assert_eq!(b.sim.world.motion_status(), MotionStatus::Idle);
+        assert_eq!(b.sim.world.stop_count(), 1);
+        // A spin is not the controller's: it goes on.
+        b.sim.world.spin(1.0, 1.0);
+        b.tick();
+        assert_eq!(b.sim.world.motion_status(), MotionStatus::Active);
         assert_eq!(b.sim.world.stop_count(), 1);
     }
 

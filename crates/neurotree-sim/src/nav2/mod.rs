@@ -13,6 +13,7 @@
 //! |---|---|
 //! | ComputePathToPose | the planner: A* on the global costmap |
 //! | FollowPath | the controller: follow the current path |
+//! | CancelControl | stop following it |
 //! | PlannerSelector | pick the default planner |
 //! | ControllerSelector | pick the default controller |
 //! | GoalCheckerSelector | pick the default goal checker |
@@ -42,9 +43,9 @@
 //! in `neurotree demo` (the error names the node). Some would need what the grid world does
 //! not have: a route graph (ComputeRoute, ExtractRouteNodesAsGoals, WouldARouteRecoveryHelp),
 //! a docking server (DockRobot, UndockRobot) and the NavigateToPose action of another
-//! navigator; others are not written yet: the leaves of the through-poses and goal-patience
-//! navigators (ComputePathThroughPoses, RemovePassedGoals, CancelControl), and the battery checks (IsBatteryLow, IsBatteryCharging),
-//! which the world's battery and charger could answer.
+//! navigator; others are not written yet: the leaves of the through-poses navigator
+//! (ComputePathThroughPoses, RemovePassedGoals), and the battery checks (IsBatteryLow,
+//! IsBatteryCharging), which the world's battery and charger could answer.
 //!
 //! # The robot's state
 //!
@@ -313,7 +314,8 @@ impl Nav2Context for Nav2Sim {
 }
 
 /// Registers every Nav2 leaf that `navigate_to_pose_w_replanning_and_recovery.xml` uses, under
-/// its Nav2 name with the ports of `nav2_tree_nodes.xml`: ComputePathToPose, FollowPath, the
+/// its Nav2 name with the ports of `nav2_tree_nodes.xml`: ComputePathToPose, FollowPath,
+/// CancelControl, the
 /// five selectors, IsGoalNearby, TruncatePathLocal, ValidatePath, ClearEntireCostmap,
 /// WouldAPlannerRecoveryHelp, WouldAControllerRecoveryHelp, TruncatePath,
 /// IsWithinPathTrackingBounds, PathExpiringTimer, Spin, Wait, BackUp and DriveOnHeading. The control
@@ -346,9 +348,10 @@ pub fn register_nav2_checks<C: Nav2Context>(
 }
 
 /// The names [`register_nav2_leaves`] registers, in its order.
-pub const LEAVES: [&str; 20] = [
+pub const LEAVES: [&str; 21] = [
     "ComputePathToPose",
     "FollowPath",
+    "CancelControl",
     "ProgressCheckerSelector",
     "GoalCheckerSelector",
     "PathHandlerSelector",
