@@ -331,7 +331,7 @@ fn last_line(text: &str) -> &str {
 
 /// Nav2's default navigator trees that run on the simulated robot, with the extra flags
 /// they need (a tree that never ends is given a duration).
-const RUNNING_TREES: [(&str, &[&str]); 11] = [
+const RUNNING_TREES: [(&str, &[&str]); 12] = [
     ("follow_point.xml", &["--duration", "60"]),
     (
         "nav_to_pose_with_consistent_replanning_and_if_path_becomes_invalid.xml",
@@ -339,6 +339,10 @@ const RUNNING_TREES: [(&str, &[&str]); 11] = [
     ),
     ("navigate_to_pose_w_bounds_check.xml", &[]),
     ("navigate_to_pose_w_replanning_and_recovery.xml", &[]),
+    (
+        "navigate_to_pose_w_replanning_goal_patience_and_recovery.xml",
+        &[],
+    ),
     (
         "navigate_w_recovery_and_replanning_only_if_path_becomes_invalid.xml",
         &[],
@@ -376,6 +380,7 @@ fn each_default_tree_reaches_the_goal_when_nothing_blocks_it() {
 #[test]
 fn the_obstacle_stops_the_trees_without_recoveries_with_nav2s_error_code() {
     let unhindered = [
+        "navigate_to_pose_w_replanning_goal_patience_and_recovery.xml",
         "nav_to_pose_with_consistent_replanning_and_if_path_becomes_invalid.xml",
         "navigate_to_pose_w_replanning_and_recovery.xml",
         "navigate_w_recovery_and_replanning_only_if_path_becomes_invalid.xml",
@@ -462,10 +467,6 @@ fn trees_with_nodes_the_simulator_lacks_are_refused_naming_the_node() {
         (
             "navigate_through_poses_w_replanning_and_recovery.xml",
             "RemovePassedGoals",
-        ),
-        (
-            "navigate_to_pose_w_replanning_goal_patience_and_recovery.xml",
-            "CancelControl",
         ),
         (
             "navigate_w_routing_global_planning_and_control_w_recovery.xml",
