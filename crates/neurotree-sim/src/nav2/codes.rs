@@ -25,6 +25,14 @@ pub mod compute_path {
     pub const NO_VALID_PATH: u16 = 208;
 }
 
+/// The planner server's ComputePathThroughPoses: ComputePathToPose's codes, 100 higher.
+pub mod compute_path_through_poses {
+    /// A failure of no other kind.
+    pub const UNKNOWN: u16 = 300;
+    /// No goals were given.
+    pub const NO_VIAPOINTS_GIVEN: u16 = 309;
+}
+
 /// The controller server (FollowPath).
 pub mod follow_path {
     /// A failure of no other kind.

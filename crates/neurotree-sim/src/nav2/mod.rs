@@ -12,6 +12,8 @@
 //! | node | in short |
 //! |---|---|
 //! | ComputePathToPose | the planner: A* on the global costmap |
+//! | ComputePathThroughPoses | the planner, through several goals |
+//! | RemovePassedGoals | forget the goals passed |
 //! | FollowPath | the controller: follow the current path |
 //! | CancelControl | stop following it |
 //! | PlannerSelector | pick the default planner |
@@ -35,7 +37,7 @@
 //!
 //! Each node's ports, defaults, outcomes and error codes are told in its own module:
 //! [`planner`], [`controller`], [`selectors`], [`path_checks`], [`costmaps`],
-//! [`recovery_help`], [`tracking`] (TruncatePath, IsWithinPathTrackingBounds, PathExpiringTimer) and [`behaviors`] (Spin, Wait, BackUp, DriveOnHeading).
+//! [`recovery_help`], [`tracking`] (TruncatePath, IsWithinPathTrackingBounds, PathExpiringTimer), [`through_poses`] (ComputePathThroughPoses, RemovePassedGoals) and [`behaviors`] (Spin, Wait, BackUp, DriveOnHeading).
 //!
 //! # Not simulated
 //!
@@ -43,8 +45,7 @@
 //! in `neurotree demo` (the error names the node). Some would need what the grid world does
 //! not have: a route graph (ComputeRoute, ExtractRouteNodesAsGoals, WouldARouteRecoveryHelp),
 //! a docking server (DockRobot, UndockRobot) and the NavigateToPose action of another
-//! navigator; others are not written yet: the leaves of the through-poses navigator
-//! (ComputePathThroughPoses, RemovePassedGoals), and the battery checks (IsBatteryLow,
+//! navigator; others are not written yet, such as the battery checks (IsBatteryLow,
 //! IsBatteryCharging), which the world's battery and charger could answer.
 //!
 //! # The robot's state
@@ -122,6 +123,7 @@ pub mod recovery_help;
 pub mod selectors;
 #[cfg(test)]
 mod testing;
+pub mod through_poses;
 pub mod tracking;
 
 use std::sync::{Arc, Mutex, MutexGuard};
@@ -315,7 +317,7 @@ impl Nav2Context for Nav2Sim {
 
 /// Registers every Nav2 leaf that `navigate_to_pose_w_replanning_and_recovery.xml` uses, under
 /// its Nav2 name with the ports of `nav2_tree_nodes.xml`: ComputePathToPose, FollowPath,
-/// CancelControl, the
+/// CancelControl, ComputePathThroughPoses, RemovePassedGoals, the
 /// five selectors, IsGoalNearby, TruncatePathLocal, ValidatePath, ClearEntireCostmap,
 /// WouldAPlannerRecoveryHelp, WouldAControllerRecoveryHelp, TruncatePath,
 /// IsWithinPathTrackingBounds, PathExpiringTimer, Spin, Wait, BackUp and DriveOnHeading. The control
@@ -331,6 +333,7 @@ pub fn register_nav2_leaves<C: Nav2Context>(
     costmaps::register(registry)?;
     recovery_help::register(registry)?;
     tracking::register(registry)?;
+    through_poses::register(registry)?;
     behaviors::register(registry)
 }
 
@@ -348,10 +351,12 @@ pub fn register_nav2_checks<C: Nav2Context>(
 }
 
 /// The names [`register_nav2_leaves`] registers, in its order.
-pub const LEAVES: [&str; 21] = [
+pub const LEAVES: [&str; 23] = [
     "ComputePathToPose",
     "FollowPath",
     "CancelControl",
+    "ComputePathThroughPoses",
+    "RemovePassedGoals",
     "ProgressCheckerSelector",
     "GoalCheckerSelector",
     "PathHandlerSelector",
