@@ -331,12 +331,13 @@ fn last_line(text: &str) -> &str {
 
 /// Nav2's default navigator trees that run on the simulated robot, with the extra flags
 /// they need (a tree that never ends is given a duration).
-const RUNNING_TREES: [(&str, &[&str]); 12] = [
+const RUNNING_TREES: [(&str, &[&str]); 13] = [
     ("follow_point.xml", &["--duration", "60"]),
     (
         "nav_to_pose_with_consistent_replanning_and_if_path_becomes_invalid.xml",
         &[],
     ),
+    ("navigate_through_poses_w_replanning_and_recovery.xml", &[]),
     ("navigate_to_pose_w_bounds_check.xml", &[]),
     ("navigate_to_pose_w_replanning_and_recovery.xml", &[]),
     (
@@ -380,6 +381,7 @@ fn each_default_tree_reaches_the_goal_when_nothing_blocks_it() {
 #[test]
 fn the_obstacle_stops_the_trees_without_recoveries_with_nav2s_error_code() {
     let unhindered = [
+        "navigate_through_poses_w_replanning_and_recovery.xml",
         "navigate_to_pose_w_replanning_goal_patience_and_recovery.xml",
         "nav_to_pose_with_consistent_replanning_and_if_path_becomes_invalid.xml",
         "navigate_to_pose_w_replanning_and_recovery.xml",
@@ -464,10 +466,6 @@ fn the_odometry_square_turns_into_the_wall_facing_east() {
 fn trees_with_nodes_the_simulator_lacks_are_refused_naming_the_node() {
     for (tree, node) in [
         ("navigate_on_route_graph_w_recovery.xml", "ComputeRoute"),
-        (
-            "navigate_through_poses_w_replanning_and_recovery.xml",
-            "RemovePassedGoals",
-        ),
         (
             "navigate_w_routing_global_planning_and_control_w_recovery.xml",
             "ComputeRoute",

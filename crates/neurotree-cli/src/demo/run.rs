@@ -284,6 +284,8 @@ impl DemoRun {
             .with_log(log.clone());
         let mut tree = Tree::with_clock(Arc::clone(&blueprint), sim.world.clock());
         tree.blackboard_mut().set("goal", config.goal)?;
+        // The through-poses navigator's goals: the one goal.
+        tree.blackboard_mut().set("goals", vec![config.goal])?;
         let seen = LastTickStatuses::new();
         let recoveries = RecoveryCounter::new(&blueprint).with_log(log.clone());
         // Failures are told as the nodes give their reasons, in the order they come.
