@@ -3,6 +3,7 @@
 
 use std::io::{self, IsTerminal, Write};
 use std::path::PathBuf;
+use std::time::Duration;
 
 use neurotree::robotics::Pose2D;
 use neurotree_cli::demo;
@@ -25,7 +26,7 @@ pub struct DemoArgs {
     /// Simulated seconds per second of watching; 0 does not wait.
     #[arg(long, default_value_t = 3.0, value_parser = parse_speed)]
     pub speed: f64,
-    /// Do not wait between frames (the same as --speed 0).
+    /// Draw no frames before the last one, and do not wait.
     #[arg(long)]
     pub fast: bool,
     /// Draw every Nth tick (and every tick in which more happens than routine planning)
@@ -35,9 +36,37 @@ pub struct DemoArgs {
     /// Draw the tree with ascii characters instead of unicode box drawing.
     #[arg(long)]
     pub ascii: bool,
-    /// Stop after this many ticks (of 100 ms) if the navigator has not finished.
+    /// Stop after this many ticks (of 100 ms) if the navigator has not finished (exit 3).
     #[arg(long, default_value_t = 3000)]
     pub max_ticks: u32,
+    /// Run for this many simulated seconds, for a tree that never ends by itself (Nav2's
+    /// follow_point.xml): still running then, it succeeds if the robot is within the goal
+    /// tolerance of the end of the path it follows.
+    #[arg(long, value_name = "SECONDS", value_parser = parse_duration)]
+    pub duration: Option<Duration>,
+    /// The robot's heading at the start, in degrees counter-clockwise from east (0: facing
+    /// the store; -90: facing south, as Nav2's odometry_calibration.xml needs to drive its
+    /// square inside the warehouse).
+    #[arg(
+        long,
+        value_name = "DEGREES",
+        default_value_t = 0.0,
+        allow_negative_numbers = true
+    )]
+    pub heading: f64,
+    /// Leave the seed's obstacle out: a tree without recoveries cannot get past one.
+    #[arg(long)]
+    pub no_obstacle: bool,
+}
+
+/// A number of seconds, more than 0.
+fn parse_duration(text: &str) -> Result<Duration, String> {
+    match text.trim().parse::<f64>() {
+        Ok(seconds) if seconds > 0.0 && seconds.is_finite() => {
+            Duration::try_from_secs_f64(seconds).map_err(|e| format!("`{text}`: {e}"))
+        }
+        _ => Err(format!("`{text}` should be a number of seconds above 0")),
+    }
 }
 
 /// `X,Y` in metres.
@@ -58,7 +87,9 @@ fn parse_speed(text: &str) -> Result<f64, String> {
 }
 
 /// Runs the demo, animated in place when standard output is a terminal, else one frame
-/// after another.
+/// after another. Done when the navigation succeeded; RunFailed when it failed (the summary
+/// prints Nav2's error codes); Stopped when `--max-ticks` ended it unfinished; Refused when
+/// the tree did not load.
 pub fn execute(args: DemoArgs, out: &mut impl Write) -> io::Result<Outcome> {
     let animate_allowed = io::stdout().is_terminal();
     let opts = demo::DemoOptions {
@@ -68,14 +99,30 @@ pub fn execute(args: DemoArgs, out: &mut impl Write) -> io::Result<Outcome> {
             seed: args.seed,
             max_ticks: args.max_ticks,
             unicode: !args.ascii,
+            obstacle: !args.no_obstacle,
+            duration: args.duration,
+            start_heading: args.heading.to_radians(),
             ..Default::default()
         },
         speed: (!args.fast && args.speed > 0.0).then_some(args.speed),
         every: args.every.unwrap_or(if animate_allowed { 2 } else { 10 }),
+        frames_between: !args.fast,
         terminal: animate_allowed
             .then(terminal_size::terminal_size)
             .flatten()
             .map(|(w, h)| (usize::from(w.0), usize::from(h.0))),
     };
-    demo::run(&opts, out, &mut io::stderr()).map(Outcome::from)
+    let summary = demo::run(&opts, out, &mut io::stderr())?;
+    Ok(match summary {
+        None => Outcome::Refused,
+        Some(summary) if summary.succeeded() => Outcome::Done,
+        Some(summary)
+            if summary.outcome == neurotree::Status::Running
+                && summary.within_tolerance.is_none()
+                && summary.error.is_none() =>
+        {
+            Outcome::Stopped
+        }
+        Some(_) => Outcome::RunFailed,
+    })
 }

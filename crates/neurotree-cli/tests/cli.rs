@@ -29,7 +29,7 @@ fn summary(out: &str) -> &str {
 
 #[test]
 fn demo_drives_nav2s_navigator_to_the_goal_deterministically() {
-    let first = stdout(&neurotree(&["demo", "--fast"]));
+    let first = stdout(&neurotree(&["demo", "--speed", "0"]));
     assert_eq!(
         summary(&first),
         "Summary\n\
@@ -39,7 +39,8 @@ fn demo_drives_nav2s_navigator_to_the_goal_deterministically() {
          \x20 distance    40.90 m\n\
          \x20 replans     38\n\
          \x20 recoveries  4 (FollowPath recovery 2, ClearingActions 1, Spin 1)\n\
-         \x20 robot       (36.35, 1.50), 0.15 m from the goal (36.50, 1.50)\n\n"
+         \x20 robot       (36.35, 1.50), 0.15 m from the goal (36.50, 1.50)\n\
+         navigation succeeded\n\n"
     );
     assert!(first.starts_with("NeuroTree demo: Nav2's navigator drives a simulated robot\n"));
     // Piped: one frame per simulated second (and each tick where something happened),
@@ -50,7 +51,12 @@ fn demo_drives_nav2s_navigator_to_the_goal_deterministically() {
     assert!(first.contains("\ntick 430   t =  42.9 s   SUCCESS\n"));
     assert!(first.contains("  > recovery: Spin\n"));
     assert!(first.contains("├── [R] NavigateWithReplanning (PipelineSequence)"));
-    assert_eq!(first, stdout(&neurotree(&["demo", "--fast"])));
+    assert_eq!(first, stdout(&neurotree(&["demo", "--speed", "0"])));
+    // --fast draws the last frame only, before the same summary.
+    let fast = stdout(&neurotree(&["demo", "--fast"]));
+    assert_eq!(fast.matches("\ntick ").count(), 1);
+    assert!(fast.contains("\ntick 430   t =  42.9 s   SUCCESS\n"));
+    assert_eq!(summary(&fast), summary(&first));
 }
 
 #[test]
@@ -84,8 +90,9 @@ fn demo_options_pick_the_frames_the_seed_and_the_drawing() {
 
 #[test]
 fn demo_to_an_unreachable_goal_fails_with_a_summary() {
-    // Inside a wall.
-    let out = stdout(&neurotree(&["demo", "--fast", "--goal", "0.5,0.5"]));
+    // Inside a wall: Nav2's navigation fails (exit 2) with the planner's error code.
+    let (code, out, _) = run_cli(&["demo", "--speed", "0", "--goal", "0.5,0.5"]);
+    assert_eq!(code, Some(2));
     assert_eq!(
         summary(&out),
         "Summary\n\
@@ -95,7 +102,9 @@ fn demo_to_an_unreachable_goal_fails_with_a_summary() {
          \x20 distance    0.00 m\n\
          \x20 replans     0\n\
          \x20 recoveries  1 (ComputePathToPose recovery 1)\n\
-         \x20 robot       (1.50, 13.50), 13.04 m from the goal (0.50, 0.50)\n\n"
+         \x20 robot       (1.50, 13.50), 13.04 m from the goal (0.50, 0.50)\n\
+         \x20 error code  206 (compute_path_error_code): (0.50, 0.50) is in blocked cell (0, 0)\n\
+         navigation failed\n\n"
     );
     assert!(out.contains("  > ComputePathToPose failed: goal occupied (error 206)\n"));
     let (code, _, err) = run_cli(&["demo", "--fast", "--goal", "here"]);

@@ -66,6 +66,8 @@ fn the_default_run_meets_the_obstacle_recovers_and_arrives() {
             pose,
             goal: DEFAULT_GOAL,
             error: None,
+            error_codes: vec![],
+            within_tolerance: None,
         }
     );
     assert_eq!(
@@ -77,7 +79,8 @@ fn the_default_run_meets_the_obstacle_recovers_and_arrives() {
          distance    40.90 m\n  \
          replans     38\n  \
          recoveries  4 (FollowPath recovery 2, ClearingActions 1, Spin 1)\n  \
-         robot       (36.35, 1.50), 0.15 m from the goal (36.50, 1.50)\n"
+         robot       (36.35, 1.50), 0.15 m from the goal (36.50, 1.50)\n\
+         navigation succeeded\n"
     );
     // Over: more ticks change nothing.
     assert_eq!(run.tick(), Status::Success);
@@ -210,6 +213,17 @@ fn an_unreachable_goal_fails_at_once() {
         );
         assert_eq!(summary.distance, 0.0);
         assert!(summary.to_string().contains("  outcome     FAILURE\n"));
+        // Nav2's planner error: the goal on a wall, or outside the map.
+        let code = if goal.x > 40.0 { 204 } else { 206 };
+        assert_eq!(
+            summary
+                .error_codes
+                .iter()
+                .map(|(entry, code, _)| (entry.as_str(), *code))
+                .collect::<Vec<_>>(),
+            [("compute_path_error_code", code)]
+        );
+        assert!(summary.to_string().ends_with("navigation failed\n"));
     }
 }
 
@@ -290,4 +304,186 @@ fn another_tree_file_drives_the_same_world() {
         "{error}"
     );
     std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// `neurotree demo ARGS --fast` from the repository's root: exit code, standard output,
+/// standard error.
+fn demo_cli(args: &[&str]) -> (i32, String, String) {
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_neurotree"))
+        .current_dir(root)
+        .arg("demo")
+        .args(args)
+        .arg("--fast")
+        .output()
+        .unwrap();
+    let text = |b: Vec<u8>| String::from_utf8(b).unwrap();
+    (
+        out.status.code().unwrap(),
+        text(out.stdout),
+        text(out.stderr),
+    )
+}
+
+fn last_line(text: &str) -> &str {
+    text.trim_end().lines().last().unwrap_or("")
+}
+
+/// Nav2's default navigator trees that run on the simulated robot, with the extra flags
+/// they need (a tree that never ends is given a duration).
+const RUNNING_TREES: [(&str, &[&str]); 13] = [
+    ("follow_point.xml", &["--duration", "60"]),
+    (
+        "nav_to_pose_with_consistent_replanning_and_if_path_becomes_invalid.xml",
+        &[],
+    ),
+    ("navigate_through_poses_w_replanning_and_recovery.xml", &[]),
+    ("navigate_to_pose_w_bounds_check.xml", &[]),
+    ("navigate_to_pose_w_replanning_and_recovery.xml", &[]),
+    (
+        "navigate_to_pose_w_replanning_goal_patience_and_recovery.xml",
+        &[],
+    ),
+    (
+        "navigate_w_recovery_and_replanning_only_if_path_becomes_invalid.xml",
+        &[],
+    ),
+    ("navigate_w_replanning_distance.xml", &[]),
+    ("navigate_w_replanning_only_if_goal_is_updated.xml", &[]),
+    (
+        "navigate_w_replanning_only_if_path_becomes_invalid.xml",
+        &[],
+    ),
+    ("navigate_w_replanning_speed.xml", &[]),
+    ("navigate_w_replanning_time.xml", &[]),
+    // Its square turns left: from the corner the robot starts in, facing south.
+    ("odometry_calibration.xml", &["--heading", "-90"]),
+];
+
+#[test]
+fn each_default_tree_reaches_the_goal_when_nothing_blocks_it() {
+    for (tree, extra) in RUNNING_TREES {
+        let path = format!("corpus/nav2/{tree}");
+        let mut args = vec!["--tree", path.as_str(), "--no-obstacle"];
+        args.extend_from_slice(extra);
+        let (code, out, err) = demo_cli(&args);
+        assert_eq!(
+            (code, last_line(&out)),
+            (0, "navigation succeeded"),
+            "{tree}\n{out}{err}"
+        );
+        // --fast draws the last frame only.
+        assert_eq!(out.matches("\ntick ").count(), 1, "{tree}");
+        assert!(out.contains("from the goal (36.50, 1.50)"), "{tree}");
+    }
+}
+
+#[test]
+fn the_obstacle_stops_the_trees_without_recoveries_with_nav2s_error_code() {
+    let unhindered = [
+        "navigate_through_poses_w_replanning_and_recovery.xml",
+        "navigate_to_pose_w_replanning_goal_patience_and_recovery.xml",
+        "nav_to_pose_with_consistent_replanning_and_if_path_becomes_invalid.xml",
+        "navigate_to_pose_w_replanning_and_recovery.xml",
+        "navigate_w_recovery_and_replanning_only_if_path_becomes_invalid.xml",
+        // Replanning every metre, it plans around the obstacle before it gets there.
+        "navigate_w_replanning_distance.xml",
+        // Its square is far from the obstacle.
+        "odometry_calibration.xml",
+    ];
+    for (tree, extra) in RUNNING_TREES {
+        let path = format!("corpus/nav2/{tree}");
+        let mut args = vec!["--tree", path.as_str()];
+        args.extend_from_slice(extra);
+        let (code, out, err) = demo_cli(&args);
+        if unhindered.contains(&tree) {
+            assert_eq!(
+                (code, last_line(&out)),
+                (0, "navigation succeeded"),
+                "{tree}\n{out}{err}"
+            );
+        } else {
+            assert_eq!(
+                (code, last_line(&out)),
+                (2, "navigation failed"),
+                "{tree}\n{out}{err}"
+            );
+            assert!(
+                out.contains(
+                    "\n  error code  106 (follow_path_error_code): blocked by an obstacle in cell (22, 5)\n"
+                ),
+                "{tree}\n{out}"
+            );
+        }
+    }
+}
+
+#[test]
+fn an_unreachable_goal_exits_2_with_the_planners_error_code() {
+    let (code, out, _) = demo_cli(&["--goal", "0.5,0.5"]);
+    assert_eq!((code, last_line(&out)), (2, "navigation failed"));
+    assert!(
+        out.contains("\n  error code  206 (compute_path_error_code): "),
+        "{out}"
+    );
+}
+
+#[test]
+fn a_tree_that_never_ends_is_stopped_by_max_ticks_or_judged_after_its_duration() {
+    let tree = "corpus/nav2/follow_point.xml";
+    let (code, out, _) = demo_cli(&["--tree", tree, "--no-obstacle", "--max-ticks", "800"]);
+    assert_eq!(
+        (code, last_line(&out)),
+        (3, "navigation stopped unfinished")
+    );
+    // Ten seconds in, the robot is still on its way: outside its tolerance.
+    let (code, out, _) = demo_cli(&["--tree", tree, "--no-obstacle", "--duration", "10"]);
+    assert_eq!((code, last_line(&out)), (2, "navigation failed"), "{out}");
+    assert!(out.contains("\n  duration    over, the robot outside its tolerance\n"));
+    let (code, out, _) = demo_cli(&["--tree", tree, "--no-obstacle", "--duration", "60"]);
+    assert_eq!(code, 0);
+    assert!(out.contains("\n  duration    over, the robot within its tolerance\n"));
+    assert!(out.contains("\n  time        60.0 s\n"), "{out}");
+}
+
+#[test]
+fn the_odometry_square_turns_into_the_wall_facing_east() {
+    let tree = "corpus/nav2/odometry_calibration.xml";
+    let (code, out, _) = demo_cli(&["--tree", tree]);
+    assert_eq!((code, last_line(&out)), (2, "navigation failed"));
+    assert!(
+        out.contains("\n  error code  723 (drive_on_heading_error_code): an obstacle or a wall in cell (3, 14)\n"),
+        "{out}"
+    );
+    let (code, out, _) = demo_cli(&["--tree", tree, "--heading", "-90"]);
+    assert_eq!(code, 0);
+    // Three times round a 2 m square, back where it started.
+    assert!(out.contains("\n  distance    24.00 m\n"), "{out}");
+    assert!(out.contains("\n  robot       (1.50, 13.50),"), "{out}");
+}
+
+#[test]
+fn trees_with_nodes_the_simulator_lacks_are_refused_naming_the_node() {
+    for (tree, node) in [
+        ("navigate_on_route_graph_w_recovery.xml", "ComputeRoute"),
+        (
+            "navigate_w_routing_global_planning_and_control_w_recovery.xml",
+            "ComputeRoute",
+        ),
+        (
+            "opennav_docking_bt__application_example.xml",
+            "IsBatteryCharging",
+        ),
+    ] {
+        let path = format!("corpus/nav2/{tree}");
+        let (code, out, err) = demo_cli(&["--tree", &path]);
+        assert_eq!(code, 1, "{tree}");
+        assert!(out.is_empty());
+        assert!(
+            err.contains(&format!(
+                "error: `{node}` is a Nav2 node the demo's simulated robot does not implement"
+            )),
+            "{tree}: {err}"
+        );
+    }
 }

@@ -68,6 +68,8 @@ enum Command {
         /// Metres still to go.
         left: f64,
         speed: f64,
+        /// Along the heading rather than opposite to it.
+        forward: bool,
     },
     Wait {
         left: Duration,
@@ -113,6 +115,17 @@ impl GridWorld {
         self.command(Command::BackUp {
             left: finite(distance).abs(),
             speed: finite(speed).abs(),
+            forward: false,
+        });
+    }
+
+    /// Starts driving straight along the heading, without turning, for `distance` metres at
+    /// `speed` metres per second: Nav2's DriveOnHeading.
+    pub fn drive_on_heading(&mut self, distance: f64, speed: f64) {
+        self.command(Command::BackUp {
+            left: finite(distance).abs(),
+            speed: finite(speed).abs(),
+            forward: true,
         });
     }
 
@@ -161,7 +174,14 @@ impl GridWorld {
             Command::None => (MotionStatus::Idle, false),
             Command::Follow { path, speed, next } => self.drive(path, next, *speed * seconds),
             Command::Spin { left, rate } => self.turn(left, *rate * seconds),
-            Command::BackUp { left, speed } => self.reverse(left, *speed * seconds),
+            Command::BackUp {
+                left,
+                speed,
+                forward,
+            } => {
+                let sign = if *forward { -1.0 } else { 1.0 };
+                self.reverse(left, *speed * seconds, sign)
+            }
             Command::Wait { left } => {
                 *left = left.saturating_sub(dt);
                 (done_if(left.is_zero()), false)
@@ -243,14 +263,15 @@ impl GridWorld {
     }
 
     /// Backs up by up to `budget` metres of what is `left`.
-    fn reverse(&mut self, left: &mut f64, budget: f64) -> (MotionStatus, bool) {
+    /// Drives straight opposite to the heading (`sign` 1) or along it (`sign` -1).
+    fn reverse(&mut self, left: &mut f64, budget: f64, sign: f64) -> (MotionStatus, bool) {
         let step = left.min(budget).min(self.battery.range());
         if step <= 0.0 && *left > 0.0 {
             return (MotionStatus::BatteryEmpty, false);
         }
         let to = Pose2D::new(
-            self.robot.x - step * self.robot.theta.cos(),
-            self.robot.y - step * self.robot.theta.sin(),
+            self.robot.x - sign * step * self.robot.theta.cos(),
+            self.robot.y - sign * step * self.robot.theta.sin(),
             self.robot.theta,
         );
         let here = self.robot_cell();

@@ -28,6 +28,9 @@ pub struct DemoOptions {
     pub speed: Option<f64>,
     /// Draw every this many ticks (and every tick where something happens).
     pub every: u32,
+    /// Draw the frames before the last one; without them only the intro, the last frame
+    /// and the summary are shown.
+    pub frames_between: bool,
     /// The terminal's columns and rows, when standard output is one.
     pub terminal: Option<(usize, usize)>,
 }
@@ -39,14 +42,18 @@ const CLEAR_BELOW: &str = "\x1b[J";
 /// Lines a frame may gain from its notes (a tick with much going on has five or six).
 const NOTES_ROOM: usize = 6;
 
-/// Runs the demo, frames and summary on `out`; `Ok(false)` if it could not start (the
-/// error is on `err`) or a tick failed.
-pub fn run(opts: &DemoOptions, out: &mut impl Write, err: &mut impl Write) -> io::Result<bool> {
+/// Runs the demo, frames and summary on `out`; the summary, or `None` if it could not
+/// start (the error is on `err`).
+pub fn run(
+    opts: &DemoOptions,
+    out: &mut impl Write,
+    err: &mut impl Write,
+) -> io::Result<Option<DemoSummary>> {
     let mut demo = match DemoRun::new(&opts.config) {
         Ok(demo) => demo,
         Err(e) => {
             writeln!(err, "{e}")?;
-            return Ok(false);
+            return Ok(None);
         }
     };
     let period = opts.config.params.period;
@@ -58,7 +65,7 @@ pub fn run(opts: &DemoOptions, out: &mut impl Write, err: &mut impl Write) -> io
         let ticks = demo.ticks();
         // Ticks 1, 1 + N, 1 + 2N, ...: with N = 10, the first tick of every second.
         let on_beat = (ticks - 1) % opts.every.max(1) == 0;
-        if !on_beat && !demo.is_eventful() {
+        if !demo.is_over() && (!opts.frames_between || (!on_beat && !demo.is_eventful())) {
             continue;
         }
         if let Some(speed) = opts.speed.filter(|s| *s > 0.0) {
@@ -76,7 +83,7 @@ pub fn run(opts: &DemoOptions, out: &mut impl Write, err: &mut impl Write) -> io
     }
     writeln!(out, "{summary}")?;
     out.flush()?;
-    Ok(summary.error.is_none())
+    Ok(Some(summary))
 }
 
 /// Where frames go and in what shape.
@@ -145,10 +152,13 @@ mod tests {
             config: DemoConfig::default(),
             speed: None,
             every,
+            frames_between: true,
             terminal,
         };
         let (mut out, mut err) = (Vec::new(), Vec::new());
-        let ok = run(&opts, &mut out, &mut err).unwrap();
+        let ok = run(&opts, &mut out, &mut err)
+            .unwrap()
+            .is_some_and(|s| s.succeeded());
         let text = |b: Vec<u8>| String::from_utf8(b).unwrap();
         (ok, text(out), text(err))
     }
@@ -159,7 +169,7 @@ mod tests {
         assert!(ok && err.is_empty());
         assert!(!out.contains('\x1b'));
         assert_eq!(out.matches("\ntick ").count(), 49);
-        assert!(out.ends_with("0.15 m from the goal (36.50, 1.50)\n\n"));
+        assert!(out.ends_with("0.15 m from the goal (36.50, 1.50)\nnavigation succeeded\n\n"));
     }
 
     #[test]
@@ -200,10 +210,11 @@ mod tests {
             },
             speed: Some(1.0),
             every: 1,
+            frames_between: true,
             terminal: None,
         };
         let (mut out, mut err) = (Vec::new(), Vec::new());
-        assert!(!run(&opts, &mut out, &mut err).unwrap());
+        assert!(run(&opts, &mut out, &mut err).unwrap().is_none());
         assert!(out.is_empty());
         let err = String::from_utf8(err).unwrap();
         assert!(

@@ -48,11 +48,20 @@ pub struct DemoConfig {
     pub unicode: bool,
     /// How the simulated servers behave.
     pub params: Nav2Params,
+    /// The robot's heading at the start, in radians counter-clockwise from +x (east).
+    pub start_heading: f64,
+    /// Put the seed's obstacle on the robot's path (a tree without recoveries cannot get
+    /// past one that stays).
+    pub obstacle: bool,
+    /// Simulated time after which a tree that is still running is judged by where the
+    /// robot is ([`DemoSummary::within_tolerance`]): for a tree that never ends by itself,
+    /// such as Nav2's `follow_point.xml`.
+    pub duration: Option<Duration>,
 }
 
 impl Default for DemoConfig {
-    /// Nav2's navigator, the far corner of the store, seed 0, at most 3000 ticks (five
-    /// simulated minutes), unicode.
+    /// Nav2's navigator, the far corner of the store, seed 0 with its obstacle, at most 3000
+    /// ticks (five simulated minutes), no duration, unicode.
     fn default() -> Self {
         Self {
             tree: None,
@@ -61,6 +70,9 @@ impl Default for DemoConfig {
             max_ticks: 3000,
             unicode: true,
             params: Nav2Params::default(),
+            obstacle: true,
+            duration: None,
+            start_heading: 0.0,
         }
     }
 }
@@ -78,9 +90,29 @@ pub enum DemoError {
     /// A node type of the demo was registered twice (a bug in this module).
     #[error("registering the demo's nodes: {0}")]
     Registry(#[from] RegistryError),
+    /// Nav2's model of its node types did not load (a bug in this module).
+    #[error("Nav2's model: {0}")]
+    Model(String),
     /// The tree's root blackboard would not take the goal.
     #[error("cannot give the tree its goal: {0}")]
     Goal(#[from] BlackboardError),
+}
+
+/// A load error that names a Nav2 type known only by its model, told as what it is for the
+/// demo: a node of Nav2 that the simulated robot does not implement. Other errors pass.
+fn not_simulated(mut error: LoadError) -> LoadError {
+    let name = error
+        .message
+        .strip_prefix('`')
+        .and_then(|rest| rest.split_once("` is only described by a model"))
+        .map(|(name, _)| name.to_string());
+    if let Some(name) = name {
+        error.message = format!(
+            "`{name}` is a Nav2 node the demo's simulated robot does not implement \
+             (the simulated ones are listed in neurotree::sim::nav2::LEAVES)"
+        );
+    }
+    error
 }
 
 /// How a run went.
@@ -106,6 +138,22 @@ pub struct DemoSummary {
     pub goal: Pose2D,
     /// The error a tick ended with, if one did.
     pub error: Option<String>,
+    /// Nav2's error codes the tree holds when it ends: each root entry named
+    /// `…_error_code` that is not 0, with its `…_error_msg` (empty if none), in name order.
+    pub error_codes: Vec<(String, u16, String)>,
+    /// When the run was stopped by its duration: whether the robot was within the goal
+    /// tolerance of the end of the path it was following (it kept up with its goal).
+    pub within_tolerance: Option<bool>,
+}
+
+impl DemoSummary {
+    /// Whether the navigation succeeded: the tree ended with Success, or it was still
+    /// running at the end of its duration with the robot within its tolerance.
+    pub fn succeeded(&self) -> bool {
+        self.error.is_none()
+            && (self.outcome == Status::Success
+                || (self.outcome == Status::Running && self.within_tolerance == Some(true)))
+    }
 }
 
 impl fmt::Display for DemoSummary {
@@ -136,10 +184,28 @@ impl fmt::Display for DemoSummary {
             self.goal.x,
             self.goal.y
         )?;
+        if let Some(within) = self.within_tolerance {
+            let verdict = if within { "within" } else { "outside" };
+            writeln!(f, "  duration    over, the robot {verdict} its tolerance")?;
+        }
+        for (entry, code, message) in &self.error_codes {
+            write!(f, "  error code  {code} ({entry})")?;
+            if !message.is_empty() {
+                write!(f, ": {message}")?;
+            }
+            writeln!(f)?;
+        }
         if let Some(error) = &self.error {
             writeln!(f, "  error       {error}")?;
         }
-        Ok(())
+        let verdict = if self.succeeded() {
+            "navigation succeeded"
+        } else if self.outcome == Status::Running && self.within_tolerance.is_none() {
+            "navigation stopped unfinished"
+        } else {
+            "navigation failed"
+        };
+        writeln!(f, "{verdict}")
     }
 }
 
@@ -167,8 +233,11 @@ pub struct DemoRun {
     scenario: Scenario,
     log: EventLog,
     tree_file: String,
+    /// The goal has no path from the start, hence no obstacle.
+    unreachable: bool,
     unicode: bool,
     max_ticks: u32,
+    duration: Option<Duration>,
     ticks: u32,
     status: Status,
     error: Option<String>,
@@ -184,6 +253,11 @@ impl DemoRun {
         let mut registry = Registry::<Nav2Sim>::new();
         nav2::register_controls(&mut registry)?;
         register_nav2_leaves(&mut registry)?;
+        // Nav2's other types, by their ports: they load, and building one says it has no
+        // simulated implementation.
+        registry
+            .add_model_str(nav2::NAV2_TREE_NODES_MODEL, "nav2_tree_nodes.xml")
+            .map_err(|e| DemoError::Model(e.to_string()))?;
         let mut loader = XmlLoader::new(&registry);
         let tree_file = match &config.tree {
             Some(path) => {
@@ -195,14 +269,23 @@ impl DemoRun {
                 NAVIGATE_TO_POSE_FILE.to_string()
             }
         };
-        let blueprint = Arc::new(loader.build_main()?);
-        let scenario = Scenario::new(config.seed, config.goal, &config.params)?;
+        let blueprint = Arc::new(loader.build_main().map_err(not_simulated)?);
+        let mut scenario = Scenario::new(config.seed, config.goal, &config.params)?;
+        let unreachable = scenario.obstacle.is_none();
+        if !config.obstacle {
+            scenario.obstacle = None;
+        }
         let log = EventLog::new();
-        let sim = Nav2Sim::new(scenario.world()?)
+        let mut world = scenario.world()?;
+        let start = world.robot();
+        world.set_robot(Pose2D::new(start.x, start.y, config.start_heading))?;
+        let sim = Nav2Sim::new(world)
             .with_params(config.params)
             .with_log(log.clone());
         let mut tree = Tree::with_clock(Arc::clone(&blueprint), sim.world.clock());
         tree.blackboard_mut().set("goal", config.goal)?;
+        // The through-poses navigator's goals: the one goal.
+        tree.blackboard_mut().set("goals", vec![config.goal])?;
         let seen = LastTickStatuses::new();
         let recoveries = RecoveryCounter::new(&blueprint).with_log(log.clone());
         // Failures are told as the nodes give their reasons, in the order they come.
@@ -216,8 +299,10 @@ impl DemoRun {
             scenario,
             log,
             tree_file,
+            unreachable,
             unicode: config.unicode,
             max_ticks: config.max_ticks,
+            duration: config.duration,
             ticks: 0,
             status: Status::Running,
             error: None,
@@ -226,9 +311,15 @@ impl DemoRun {
         })
     }
 
-    /// `true` once the tree has completed or the tick limit is reached.
+    /// `true` once the tree has completed, the tick limit is reached, or the duration is
+    /// over.
     pub fn is_over(&self) -> bool {
-        self.status != Status::Running || self.ticks >= self.max_ticks
+        self.status != Status::Running || self.ticks >= self.max_ticks || self.duration_over()
+    }
+
+    /// `true` once the simulated time reached the duration, if there is one.
+    fn duration_over(&self) -> bool {
+        self.ticks > 0 && self.duration.is_some_and(|d| self.sim.world.now() >= d)
     }
 
     /// Ticks the tree once (after stepping the world by one period, from the second tick
@@ -244,6 +335,10 @@ impl DemoRun {
         }
         self.ticks += 1;
         let plans = self.sim.plans();
+        // Nav2's controls read the robot's pose and speed (TF and odometry in Nav2).
+        if let Err(error) = self.sim.write_robot_state(self.tree.blackboard_mut()) {
+            self.log.push(format!("the robot's state: {error}"));
+        }
         self.status = match self.tree.tick_once(&mut self.sim) {
             Ok(status) => status,
             Err(error) => {
@@ -339,7 +434,8 @@ impl DemoRun {
                     o.appears.as_secs_f64()
                 )
             }
-            None => "no obstacle (the goal cannot be reached)".to_string(),
+            None if self.unreachable => "no obstacle (the goal cannot be reached)".to_string(),
+            None => "no obstacle".to_string(),
         };
         format!(
             "NeuroTree demo: Nav2's navigator drives a simulated robot\n\
@@ -424,6 +520,38 @@ impl DemoRun {
             pose: world.robot(),
             goal: self.scenario.goal,
             error: self.error.clone(),
+            error_codes: self.error_codes(),
+            within_tolerance: (self.status == Status::Running && self.duration_over())
+                .then(|| self.within_tolerance()),
         }
+    }
+
+    /// The root's nonzero `…_error_code` entries with their messages, in name order.
+    fn error_codes(&self) -> Vec<(String, u16, String)> {
+        let blackboard = self.tree.blackboard();
+        let mut codes: Vec<(String, u16, String)> = blackboard
+            .keys()
+            .filter_map(|key| {
+                let stem = key.strip_suffix("_error_code")?;
+                let code = blackboard.get::<u16>(key).ok().filter(|c| *c != 0)?;
+                let message = blackboard
+                    .get::<String>(&format!("{stem}_error_msg"))
+                    .unwrap_or_default();
+                Some((key.to_string(), code, message))
+            })
+            .collect();
+        codes.sort();
+        codes
+    }
+
+    /// Whether the robot is within the goal tolerance of the end of the path it follows
+    /// (or of the goal, when it follows none).
+    fn within_tolerance(&self) -> bool {
+        let world = &self.sim.world;
+        let target = world
+            .followed_path()
+            .and_then(|path| path.poses.last().copied())
+            .unwrap_or(self.scenario.goal);
+        world.robot().distance(&target) <= self.sim.params.goal_tolerance
     }
 }

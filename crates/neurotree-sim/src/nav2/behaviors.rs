@@ -1,6 +1,6 @@
-//! Spin, Wait and BackUp: Nav2's recovery behaviors, as the world's motions.
+//! Spin, Wait, BackUp and DriveOnHeading: Nav2's behaviors, as the world's motions.
 //!
-//! All three are stateful actions.
+//! All four are stateful actions.
 //!
 //! - **Spin**, ports `spin_dist` (default 1.57) and `time_allowance` (default 10): turns on the
 //!   spot by `spin_dist` radians at the spin rate. Success when turned; Failure TIMEOUT 701
@@ -12,6 +12,12 @@
 //!   Success; Failure COLLISION_AHEAD 714 against a wall or an obstacle, TIMEOUT 711 past the
 //!   time allowance, INVALID_INPUT 713 for a zero speed or a number that is not finite. Halt
 //!   stops the motion.
+//! - **DriveOnHeading**, ports `dist_to_travel` (default 0.15), `speed` (default 0.025) and
+//!   `time_allowance` (default 10): drives straight on, without turning, `dist_to_travel`
+//!   metres at `speed` (backwards when both are negative). Success; Failure
+//!   COLLISION_AHEAD 723, TIMEOUT 721, INVALID_INPUT 724 for a zero speed, signs that
+//!   differ or a number that is not finite, as Nav2's `drive_on_heading.hpp` checks. Halt
+//!   stops the motion.
 //!
 //! Each starts its motion on the tick from Idle (Running) and reads the motion's outcome
 //! on later ticks, after the world has stepped. A motion that ends without the node's doing
@@ -21,7 +27,7 @@ use std::time::Duration;
 
 use neurotree_core::{Handle, StatefulAction, Status};
 
-use super::codes::{back_up, spin};
+use super::codes::{back_up, drive_on_heading, spin};
 use super::{ports, Nav2Context};
 use crate::MotionStatus;
 use neurotree_toolkit::{PortSpec, Registry, RegistryError};
@@ -32,6 +38,7 @@ enum Kind {
     Spin,
     Wait,
     BackUp,
+    DriveOnHeading,
 }
 
 impl Kind {
@@ -42,6 +49,11 @@ impl Kind {
         match self {
             Kind::Spin => (spin::UNKNOWN, spin::TIMEOUT, spin::COLLISION_AHEAD),
             Kind::BackUp => (back_up::UNKNOWN, back_up::TIMEOUT, back_up::COLLISION_AHEAD),
+            Kind::DriveOnHeading => (
+                drive_on_heading::UNKNOWN,
+                drive_on_heading::TIMEOUT,
+                drive_on_heading::COLLISION_AHEAD,
+            ),
             Kind::Wait => (0, 0, 0),
         }
     }
@@ -104,6 +116,25 @@ pub(super) fn register<C: Nav2Context>(r: &mut Registry<C>) -> Result<(), Regist
     back_up_ports.extend(server_ports("back-up"));
     r.register_stateful("BackUp", back_up_ports, || Behavior::new(Kind::BackUp))?;
     r.describe("BackUp", "Drives backwards `backup_dist` metres.");
+
+    let mut drive_ports = vec![
+        PortSpec::input::<f64>("dist_to_travel")
+            .default_value("0.15")
+            .describe("Metres to drive straight on."),
+        PortSpec::input::<f64>("speed")
+            .default_value("0.025")
+            .describe("Metres per second."),
+        time_allowance(),
+        collision_checks(),
+    ];
+    drive_ports.extend(server_ports("drive-on-heading"));
+    r.register_stateful("DriveOnHeading", drive_ports, || {
+        Behavior::new(Kind::DriveOnHeading)
+    })?;
+    r.describe(
+        "DriveOnHeading",
+        "Drives straight on `dist_to_travel` metres.",
+    );
     Ok(())
 }
 
@@ -150,7 +181,7 @@ impl Behavior {
         let read = |e: neurotree_core::PortError| (unknown, "bad input", e.to_string());
         self.allowance = match self.kind {
             Kind::Wait => None,
-            Kind::Spin | Kind::BackUp => {
+            Kind::Spin | Kind::BackUp | Kind::DriveOnHeading => {
                 let seconds: f64 = ports::or(h, "time_allowance", 10.0).map_err(read)?;
                 Some(Duration::try_from_secs_f64(seconds.max(0.0)).unwrap_or(Duration::MAX))
             }
@@ -181,6 +212,27 @@ impl Behavior {
                     .nav2_mut()
                     .world
                     .back_up(distance.abs(), speed.abs());
+            }
+            Kind::DriveOnHeading => {
+                let distance: f64 = ports::or(h, "dist_to_travel", 0.15).map_err(read)?;
+                let speed: f64 = ports::or(h, "speed", 0.025).map_err(read)?;
+                if !distance.is_finite()
+                    || !speed.is_finite()
+                    || speed == 0.0
+                    || distance * speed < 0.0
+                {
+                    return Err((
+                        drive_on_heading::INVALID_INPUT,
+                        "invalid input",
+                        format!("cannot drive {distance} m at {speed} m/s"),
+                    ));
+                }
+                let world = &mut h.ctx_mut().nav2_mut().world;
+                if distance < 0.0 {
+                    world.back_up(-distance, -speed);
+                } else {
+                    world.drive_on_heading(distance, speed);
+                }
             }
         }
         Ok(())
@@ -310,6 +362,38 @@ mod tests {
         assert_eq!(b.tick(), F);
         assert_eq!(b.get::<u16>("code"), back_up::INVALID_INPUT);
         assert_eq!(b.reason().as_deref(), Some("invalid input (error 713)"));
+    }
+
+    #[test]
+    fn drive_on_heading_drives_straight_on_until_a_wall() {
+        let mut b =
+            bench(r#"<DriveOnHeading dist_to_travel="0.3" speed="0.15" error_code_id="{code}"/>"#);
+        assert_eq!(b.run(100).last(), Some(&S));
+        let robot = b.sim.world.robot();
+        // Facing +x from (2.5, 2.5).
+        assert!((robot.x - 2.8).abs() < 1e-9 && robot.y == 2.5, "{robot:?}");
+        assert_eq!(b.get::<u16>("code"), 0);
+        let mut b =
+            bench(r#"<DriveOnHeading dist_to_travel="20" speed="1.0" error_code_id="{code}"/>"#);
+        assert_eq!(b.run(500).last(), Some(&F));
+        assert_eq!(b.get::<u16>("code"), drive_on_heading::COLLISION_AHEAD);
+        // Both negative: backwards.
+        let mut b = bench(r#"<DriveOnHeading dist_to_travel="-0.3" speed="-0.15"/>"#);
+        assert_eq!(b.run(100).last(), Some(&S));
+        assert!((b.sim.world.robot().x - 2.2).abs() < 1e-9);
+    }
+
+    #[test]
+    fn drive_on_heading_refuses_signs_that_differ_and_a_zero_speed() {
+        for xml in [
+            r#"<DriveOnHeading dist_to_travel="0.3" speed="-0.1" error_code_id="{code}"/>"#,
+            r#"<DriveOnHeading dist_to_travel="0.3" speed="0" error_code_id="{code}"/>"#,
+        ] {
+            let mut b = bench(xml);
+            assert_eq!(b.tick(), F);
+            assert_eq!(b.get::<u16>("code"), drive_on_heading::INVALID_INPUT);
+            assert_eq!(b.reason().as_deref(), Some("invalid input (error 724)"));
+        }
     }
 
     #[test]

@@ -25,6 +25,14 @@ pub mod compute_path {
     pub const NO_VALID_PATH: u16 = 208;
 }
 
+/// The planner server's ComputePathThroughPoses: ComputePathToPose's codes, 100 higher.
+pub mod compute_path_through_poses {
+    /// A failure of no other kind.
+    pub const UNKNOWN: u16 = 300;
+    /// No goals were given.
+    pub const NO_VIAPOINTS_GIVEN: u16 = 309;
+}
+
 /// The controller server (FollowPath).
 pub mod follow_path {
     /// A failure of no other kind.
@@ -61,6 +69,18 @@ pub mod back_up {
     pub const INVALID_INPUT: u16 = 713;
     /// Backing up would hit something.
     pub const COLLISION_AHEAD: u16 = 714;
+}
+
+/// The drive-on-heading behavior.
+pub mod drive_on_heading {
+    /// A failure of no other kind.
+    pub const UNKNOWN: u16 = 720;
+    /// The time allowance ran out.
+    pub const TIMEOUT: u16 = 721;
+    /// Driving on would hit something.
+    pub const COLLISION_AHEAD: u16 = 723;
+    /// The distance and the speed make no motion (a zero speed, or signs that differ).
+    pub const INVALID_INPUT: u16 = 724;
 }
 
 /// The codes for which WouldAPlannerRecoveryHelp succeeds: clearing the global costmap may

@@ -1,4 +1,5 @@
-//! FollowPath: the controller server, as the world's follow motion.
+//! FollowPath: the controller server, as the world's follow motion; CancelControl, which
+//! cancels it.
 //!
 //! Stateful action on the world's follow motion. Ports: `path`, `controller_id`, …; outputs
 //! `tracking_feedback`, `error_code_id`, `error_msg`.
@@ -19,6 +20,11 @@
 //! turns out to be occupied ends the motion in front of it ([`MotionStatus::Blocked`]);
 //! the node reports it with the code Nav2's controllers use when no safe command exists,
 //! which WouldAControllerRecoveryHelp recognises.
+//!
+//! **CancelControl** (ports `server_name`, `server_timeout`, unused) is a sync action that
+//! cancels the controller's goal, as Nav2's `controller_cancel_node.cpp` cancels the
+//! FollowPath action: if the world's motion is a follow, it is stopped (the robot stays
+//! where it is). Success, whether or not there was one to cancel.
 
 use neurotree_core::{Handle, StatefulAction, Status};
 
@@ -37,16 +43,70 @@ pub struct TrackingFeedback {
     pub remaining_path_length: f64,
     /// Metres from the robot to that pose.
     pub tracking_error: f64,
+    /// Metres from the robot to the path (the nearest segment at that pose), signed as
+    /// Nav2's `position_tracking_error`: positive (or zero) when the robot is left of the
+    /// path, negative when it is right of it.
+    pub position_tracking_error: f64,
+    /// The robot's heading less the path's heading at that pose, in radians in [-π, π]:
+    /// Nav2's `heading_tracking_error`.
+    pub heading_tracking_error: f64,
+}
+
+/// The signed distance from `robot` to the segment `a`–`b` (positive on its left) and the
+/// segment's direction.
+fn cross_track(a: &Pose2D, b: &Pose2D, robot: &Pose2D) -> (f64, f64) {
+    let (dx, dy) = (b.x - a.x, b.y - a.y);
+    let length2 = dx * dx + dy * dy;
+    if length2 == 0.0 {
+        return (a.distance(robot), a.theta);
+    }
+    let t = (((robot.x - a.x) * dx + (robot.y - a.y) * dy) / length2).clamp(0.0, 1.0);
+    let (px, py) = (a.x + t * dx, a.y + t * dy);
+    let distance = ((robot.x - px).powi(2) + (robot.y - py).powi(2)).sqrt();
+    let cross = dx * (robot.y - a.y) - dy * (robot.x - a.x);
+    let sign = if cross < 0.0 { -1.0 } else { 1.0 };
+    (sign * distance, dy.atan2(dx))
+}
+
+/// A feedback has no text form: a tree gets one from FollowPath, never from a literal.
+impl neurotree_core::FromPortStr for TrackingFeedback {
+    fn from_port_str(_text: &str) -> Result<Self, ()> {
+        Err(())
+    }
 }
 
 impl TrackingFeedback {
     /// The feedback for a robot at `robot` on `path`.
     pub fn new(path: &Path, robot: &Pose2D) -> Self {
         let index = path.closest_index(robot).unwrap_or(0);
+        let tracking_error = path.poses.get(index).map_or(0.0, |p| p.distance(robot));
+        // The nearest of the segments that meet at that pose, as Nav2 measures the error
+        // to the path rather than to its poses.
+        let segments = [
+            index.checked_sub(1).map(|i| (i, index)),
+            Some((index, index + 1)),
+        ];
+        let nearest = segments
+            .into_iter()
+            .flatten()
+            .filter(|(_, b)| *b < path.poses.len())
+            .map(|(a, b)| cross_track(&path.poses[a], &path.poses[b], robot))
+            .min_by(|x, y| x.0.abs().total_cmp(&y.0.abs()));
+        let (position, heading) = match nearest {
+            Some((signed, direction)) => {
+                let turn = (robot.theta - direction + std::f64::consts::PI)
+                    .rem_euclid(std::f64::consts::TAU)
+                    - std::f64::consts::PI;
+                (signed, turn)
+            }
+            None => (tracking_error, 0.0),
+        };
         Self {
             current_path_index: index,
             remaining_path_length: path.from_index(index).length(),
-            tracking_error: path.poses.get(index).map_or(0.0, |p| p.distance(robot)),
+            tracking_error,
+            position_tracking_error: position,
+            heading_tracking_error: heading,
         }
     }
 }
@@ -77,7 +137,29 @@ pub(super) fn register<C: Nav2Context>(r: &mut Registry<C>) -> Result<(), Regist
         "FollowPath",
         "Follows the current `path` until the robot is at its end; halting it stops the robot.",
     );
+    r.register_action(
+        "CancelControl",
+        vec![
+            PortSpec::input::<String>("server_name").describe("Action server name (unused)."),
+            PortSpec::input::<u64>("server_timeout").describe("Server timeout in ms (unused)."),
+        ],
+        cancel_control::<C>,
+    )?;
+    r.describe("CancelControl", "Stops the controller's path following.");
     Ok(())
+}
+
+/// CancelControl: see the [module documentation](self).
+fn cancel_control<C: Nav2Context>(h: &mut Handle<'_, C>) -> Status {
+    let world = &mut h.ctx_mut().nav2_mut().world;
+    if world.followed_path().is_some() && world.motion_status() == MotionStatus::Active {
+        world.stop();
+        let name = h.name().to_string();
+        h.ctx_mut()
+            .nav2_mut()
+            .note(|| format!("{name}: cancelled the controller"));
+    }
+    Status::Success
 }
 
 /// The node: see the [module documentation](self).
@@ -271,6 +353,29 @@ mod tests {
             b.sim.world.map().cell_at(&b.sim.world.robot()),
             Some(Cell::new(3, 1))
         );
+        assert_eq!(b.sim.world.stop_count(), 1);
+    }
+
+    #[test]
+    fn cancel_control_stops_a_follow_and_nothing_else() {
+        let mut b = Bench::new(
+            "R....",
+            r#"<Sequence><CancelControl/><AlwaysFailure/></Sequence>"#,
+        );
+        let path = b
+            .sim
+            .world
+            .plan(b.sim.world.robot(), Pose2D::new(4.5, 0.5, 0.0));
+        b.sim.world.follow(path.unwrap(), 1.0);
+        b.sim.step();
+        assert_eq!(b.sim.world.motion_status(), MotionStatus::Active);
+        b.tick();
+        assert_eq!(b.sim.world.motion_status(), MotionStatus::Idle);
+        assert_eq!(b.sim.world.stop_count(), 1);
+        // A spin is not the controller's: it goes on.
+        b.sim.world.spin(1.0, 1.0);
+        b.tick();
+        assert_eq!(b.sim.world.motion_status(), MotionStatus::Active);
         assert_eq!(b.sim.world.stop_count(), 1);
     }
 

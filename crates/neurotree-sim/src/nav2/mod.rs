@@ -12,7 +12,10 @@
 //! | node | in short |
 //! |---|---|
 //! | ComputePathToPose | the planner: A* on the global costmap |
+//! | ComputePathThroughPoses | the planner, through several goals |
+//! | RemovePassedGoals | forget the goals passed |
 //! | FollowPath | the controller: follow the current path |
+//! | CancelControl | stop following it |
 //! | PlannerSelector | pick the default planner |
 //! | ControllerSelector | pick the default controller |
 //! | GoalCheckerSelector | pick the default goal checker |
@@ -21,16 +24,35 @@
 //! | IsGoalNearby | is the end of the path near? |
 //! | TruncatePathLocal | the part of the path around the robot |
 //! | ValidatePath | is the path still free? |
+//! | TruncatePath | the path short of its last metres |
+//! | IsWithinPathTrackingBounds | is the robot on its path? |
+//! | PathExpiringTimer | has the path stayed the same for a while? |
 //! | ClearEntireCostmap | forget the sensed obstacles of a costmap |
 //! | WouldAPlannerRecoveryHelp | can a recovery fix the planner's error? |
 //! | WouldAControllerRecoveryHelp | can a recovery fix the controller's error? |
 //! | Spin | turn on the spot |
 //! | Wait | stand still |
 //! | BackUp | drive backwards |
+//! | DriveOnHeading | drive straight on |
 //!
 //! Each node's ports, defaults, outcomes and error codes are told in its own module:
 //! [`planner`], [`controller`], [`selectors`], [`path_checks`], [`costmaps`],
-//! [`recovery_help`] and [`behaviors`] (Spin, Wait, BackUp).
+//! [`recovery_help`], [`tracking`] (TruncatePath, IsWithinPathTrackingBounds, PathExpiringTimer), [`through_poses`] (ComputePathThroughPoses, RemovePassedGoals) and [`behaviors`] (Spin, Wait, BackUp, DriveOnHeading).
+//!
+//! # Not simulated
+//!
+//! Nav2's other leaves have no implementation here, and a tree that uses one does not load
+//! in `neurotree demo` (the error names the node). Some would need what the grid world does
+//! not have: a route graph (ComputeRoute, ExtractRouteNodesAsGoals, WouldARouteRecoveryHelp),
+//! a docking server (DockRobot, UndockRobot) and the NavigateToPose action of another
+//! navigator; others are not written yet, such as the battery checks (IsBatteryLow,
+//! IsBatteryCharging), which the world's battery and charger could answer.
+//!
+//! # The robot's state
+//!
+//! Nav2's DistanceController and SpeedController read the robot's pose (TF) and speed
+//! (odometry); here they read the blackboard entries `robot_pose` and `robot_speed`, which
+//! [`Nav2Sim::write_robot_state`] writes before each tick.
 //!
 //! Ports that only make sense on a ROS system (server names, timeouts, frames, plugin ids,
 //! footprints) are declared, so that files using them load, and read nowhere.
@@ -101,6 +123,8 @@ pub mod recovery_help;
 pub mod selectors;
 #[cfg(test)]
 mod testing;
+pub mod through_poses;
+pub mod tracking;
 
 use std::sync::{Arc, Mutex, MutexGuard};
 use std::time::Duration;
@@ -110,6 +134,8 @@ pub use failures::FailureNotes;
 pub use recoveries::RecoveryCounter;
 
 use super::{GridWorld, MotionStatus};
+use neurotree_core::{Blackboard, BlackboardError};
+use neurotree_nav2::{ROBOT_POSE, ROBOT_SPEED};
 use neurotree_toolkit::{Registry, RegistryError};
 
 /// How the simulated Nav2 servers behave.
@@ -148,6 +174,8 @@ pub struct Nav2Sim {
     pub params: Nav2Params,
     plans: u32,
     replans: u32,
+    /// The robot's speed over the last step, in metres per second.
+    speed: f64,
     log: Option<EventLog>,
 }
 
@@ -159,6 +187,7 @@ impl Nav2Sim {
             params: Nav2Params::default(),
             plans: 0,
             replans: 0,
+            speed: 0.0,
             log: None,
         }
     }
@@ -179,7 +208,30 @@ impl Nav2Sim {
 
     /// Moves the world on by one period ([`Nav2Params::period`]); see [`GridWorld::step`].
     pub fn step(&mut self) -> MotionStatus {
-        self.world.step(self.params.period)
+        let before = self.world.distance_travelled();
+        let status = self.world.step(self.params.period);
+        let seconds = self.params.period.as_secs_f64();
+        self.speed = if seconds > 0.0 {
+            (self.world.distance_travelled() - before) / seconds
+        } else {
+            0.0
+        };
+        status
+    }
+
+    /// The robot's speed over the last [`step`](Self::step), in metres per second: what
+    /// Nav2's odometry smoother would report (0 before the first step).
+    pub fn robot_speed(&self) -> f64 {
+        self.speed
+    }
+
+    /// Writes the robot's state where Nav2's controls read it, as TF and odometry give it
+    /// to them in Nav2: the pose to `robot_pose` ([`ROBOT_POSE`], read by
+    /// DistanceController) and the speed to `robot_speed` ([`ROBOT_SPEED`], read by
+    /// SpeedController). Whoever runs the tree calls it before each tick.
+    pub fn write_robot_state(&self, blackboard: &mut Blackboard) -> Result<(), BlackboardError> {
+        blackboard.set(ROBOT_POSE, self.world.robot())?;
+        blackboard.set(ROBOT_SPEED, self.speed)
     }
 
     /// Paths ComputePathToPose produced.
@@ -264,9 +316,11 @@ impl Nav2Context for Nav2Sim {
 }
 
 /// Registers every Nav2 leaf that `navigate_to_pose_w_replanning_and_recovery.xml` uses, under
-/// its Nav2 name with the ports of `nav2_tree_nodes.xml`: ComputePathToPose, FollowPath, the
+/// its Nav2 name with the ports of `nav2_tree_nodes.xml`: ComputePathToPose, FollowPath,
+/// CancelControl, ComputePathThroughPoses, RemovePassedGoals, the
 /// five selectors, IsGoalNearby, TruncatePathLocal, ValidatePath, ClearEntireCostmap,
-/// WouldAPlannerRecoveryHelp, WouldAControllerRecoveryHelp, Spin, Wait and BackUp. The control
+/// WouldAPlannerRecoveryHelp, WouldAControllerRecoveryHelp, TruncatePath,
+/// IsWithinPathTrackingBounds, PathExpiringTimer, Spin, Wait, BackUp and DriveOnHeading. The control
 /// nodes come from [`nav2::register_controls`](neurotree_nav2::register_controls). Fails if one
 /// of the names is taken.
 pub fn register_nav2_leaves<C: Nav2Context>(
@@ -278,6 +332,8 @@ pub fn register_nav2_leaves<C: Nav2Context>(
     path_checks::register(registry)?;
     costmaps::register(registry)?;
     recovery_help::register(registry)?;
+    tracking::register(registry)?;
+    through_poses::register(registry)?;
     behaviors::register(registry)
 }
 
@@ -295,9 +351,12 @@ pub fn register_nav2_checks<C: Nav2Context>(
 }
 
 /// The names [`register_nav2_leaves`] registers, in its order.
-pub const LEAVES: [&str; 16] = [
+pub const LEAVES: [&str; 23] = [
     "ComputePathToPose",
     "FollowPath",
+    "CancelControl",
+    "ComputePathThroughPoses",
+    "RemovePassedGoals",
     "ProgressCheckerSelector",
     "GoalCheckerSelector",
     "PathHandlerSelector",
@@ -309,7 +368,36 @@ pub const LEAVES: [&str; 16] = [
     "ClearEntireCostmap",
     "WouldAPlannerRecoveryHelp",
     "WouldAControllerRecoveryHelp",
+    "TruncatePath",
+    "IsWithinPathTrackingBounds",
+    "PathExpiringTimer",
     "Spin",
     "Wait",
     "BackUp",
+    "DriveOnHeading",
 ];
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use neurotree_nav2::robotics::Pose2D;
+
+    #[test]
+    fn the_robot_state_is_written_where_nav2s_controls_read_it() {
+        let mut sim = Nav2Sim::new(GridWorld::parse("R....", 1.0).unwrap());
+        let mut blackboard = Blackboard::default();
+        sim.write_robot_state(&mut blackboard).unwrap();
+        assert_eq!(blackboard.get::<f64>(ROBOT_SPEED).unwrap(), 0.0);
+        let goal = Pose2D::new(4.5, 0.5, 0.0);
+        let path = sim.world.plan(sim.world.robot(), goal).unwrap();
+        sim.world.follow(path, 1.0);
+        sim.step();
+        sim.step();
+        sim.write_robot_state(&mut blackboard).unwrap();
+        // 1 m/s, in 100 ms steps.
+        assert!((blackboard.get::<f64>(ROBOT_SPEED).unwrap() - 1.0).abs() < 1e-9);
+        let pose: Pose2D = blackboard.get(ROBOT_POSE).unwrap();
+        assert_eq!(pose, sim.world.robot());
+        assert!((pose.x - 0.7).abs() < 1e-9, "{pose:?}");
+    }
+}

@@ -98,7 +98,7 @@ fn failed<C>(h: &mut Handle<'_, C>, code: u16, why: &'static str, message: Strin
 
 /// A path from `start` through each of `viapoints` to `goal`, or the planner's error code,
 /// reason and message.
-fn plan_through(
+pub(super) fn plan_through(
     world: &mut crate::GridWorld,
     start: Pose2D,
     viapoints: &[Pose2D],
