@@ -5,33 +5,9 @@ mod common;
 
 use std::time::Duration;
 
-use common::{Ctx, Event, Op, Spec, What};
-use neurotree_core::{
-    Blueprint, ManualClock, NodeStatus, ReloadError, ReloadReport, Status, TickError, Tree,
-};
+use common::{run, Ctx, Spec, What};
+use neurotree_core::{Blueprint, ManualClock, NodeStatus, ReloadError, ReloadReport, Status, Tree};
 use proptest::prelude::*;
-
-type Step = (
-    Option<Result<Status, TickError>>,
-    Vec<Event>,
-    Vec<NodeStatus>,
-);
-
-fn step(tree: &mut Tree<Ctx>, ctx: &mut Ctx, op: Op) -> Step {
-    let result = match op {
-        Op::TickOnce => Some(tree.tick_once(ctx)),
-        Op::TickExactlyOnce => Some(tree.tick_exactly_once(ctx)),
-        Op::Halt => {
-            tree.halt(ctx);
-            None
-        }
-    };
-    (result, ctx.take_events(), tree.statuses().to_vec())
-}
-
-fn run(tree: &mut Tree<Ctx>, ctx: &mut Ctx, ops: &[Op]) -> Vec<Step> {
-    ops.iter().map(|&op| step(tree, ctx, op)).collect()
-}
 
 /// The pre-order ids of the subtree rooted at `root`: `root .. root + its size`.
 fn subtree_of(spec: &Spec, root: usize) -> std::ops::Range<usize> {

@@ -5,35 +5,10 @@ mod common;
 
 use std::time::Duration;
 
-use common::{Ctx, Event, Op, Spec};
+use common::{run, Ctx, Spec};
 use neurotree_core::state::{RestoreError, SaveError, SavedInfo, StateCodecs};
-use neurotree_core::{
-    Blueprint, Handle, ManualClock, NodeStatus, StatefulAction, Status, TickError, Tree,
-};
+use neurotree_core::{Blueprint, Handle, ManualClock, NodeStatus, StatefulAction, Status, Tree};
 use proptest::prelude::*;
-
-/// What one step of a run shows: its result, the events it caused, every status after it.
-type Step = (
-    Option<Result<Status, TickError>>,
-    Vec<Event>,
-    Vec<NodeStatus>,
-);
-
-fn step(tree: &mut Tree<Ctx>, ctx: &mut Ctx, op: Op) -> Step {
-    let result = match op {
-        Op::TickOnce => Some(tree.tick_once(ctx)),
-        Op::TickExactlyOnce => Some(tree.tick_exactly_once(ctx)),
-        Op::Halt => {
-            tree.halt(ctx);
-            None
-        }
-    };
-    (result, ctx.take_events(), tree.statuses().to_vec())
-}
-
-fn run(tree: &mut Tree<Ctx>, ctx: &mut Ctx, ops: &[Op]) -> Vec<Step> {
-    ops.iter().map(|&op| step(tree, ctx, op)).collect()
-}
 
 proptest! {
     #![proptest_config(ProptestConfig { cases: 256, ..ProptestConfig::default() })]

@@ -627,3 +627,28 @@ pub fn ops() -> impl Strategy<Value = Vec<Op>> {
         1..=12,
     )
 }
+
+/// What one step of a run shows: its result, the events it caused, every status after it.
+pub type Step = (
+    Option<Result<Status, neurotree_core::TickError>>,
+    Vec<Event>,
+    Vec<neurotree_core::NodeStatus>,
+);
+
+/// Makes one step of a run and tells what it showed.
+pub fn step(tree: &mut neurotree_core::Tree<Ctx>, ctx: &mut Ctx, op: Op) -> Step {
+    let result = match op {
+        Op::TickOnce => Some(tree.tick_once(ctx)),
+        Op::TickExactlyOnce => Some(tree.tick_exactly_once(ctx)),
+        Op::Halt => {
+            tree.halt(ctx);
+            None
+        }
+    };
+    (result, ctx.take_events(), tree.statuses().to_vec())
+}
+
+/// Makes the steps `ops` of a run, one after the other.
+pub fn run(tree: &mut neurotree_core::Tree<Ctx>, ctx: &mut Ctx, ops: &[Op]) -> Vec<Step> {
+    ops.iter().map(|&op| step(tree, ctx, op)).collect()
+}
