@@ -112,6 +112,12 @@ impl<C> NodeType<C> {
         }
     }
 
+    /// `true` for the types every registry starts with (the built-in nodes), which a
+    /// `TreeNodesModel` does not list.
+    pub fn is_builtin(&self) -> bool {
+        self.builtin
+    }
+
     /// The port named `name`.
     pub fn port(&self, name: &str) -> Option<&PortSpec> {
         self.ports.iter().find(|p| p.name == name)

@@ -1,0 +1,231 @@
+//! Checking the text the editor holds, as `neurotree check` checks a file, and locating
+//! each error's node so that the page can show it there.
+
+use std::path::Path;
+
+use neurotree_toolkit::{LoadError, Registry, XmlLoader};
+use serde::Serialize;
+
+/// The most errors reported for one text, as `neurotree check` reports.
+pub const LIMIT: usize = 20;
+
+/// What the loader says of a text (PROTOCOL.md, "Check").
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct Check {
+    /// Every tree loads and validates.
+    pub ok: bool,
+    /// The tree `main_tree_to_execute` names, or the only one.
+    pub main: Option<String>,
+    /// The `<BehaviorTree>` IDs of the text, in order.
+    pub trees: Vec<String>,
+    /// Up to [`LIMIT`] errors.
+    pub errors: Vec<Diagnostic>,
+    /// The loader's warnings (deprecated or misspelt names).
+    pub warnings: Vec<Diagnostic>,
+}
+
+/// One error or warning, with the node it is at.
+#[derive(Clone, Debug, Serialize)]
+pub struct Diagnostic {
+    /// 1-based line in the text.
+    pub line: u32,
+    /// 1-based column.
+    pub column: u32,
+    /// The error's kind (`UnknownPort`, …); `Warning` for warnings.
+    pub kind: String,
+    /// As `neurotree check` prints it: `file:line:col: error: …`.
+    pub message: String,
+    /// The `<BehaviorTree>` the node is in.
+    pub tree: Option<String>,
+    /// Indices of element children from that tree down to the node.
+    pub element: Option<Vec<usize>>,
+}
+
+/// Checks `text` as the file `shown` (includes resolve beside `path`), with `registry`
+/// (which gets the text's own `TreeNodesModel`).
+pub fn check_text(
+    mut registry: Registry<()>,
+    path: &Path,
+    shown: &str,
+    text: &str,
+    max_nodes: usize,
+) -> Check {
+    let places = Places::new(text);
+    let mut check = Check::default();
+    if let Err(e) = registry.add_model_str(text, shown) {
+        check.errors.push(places.diagnostic(&e));
+        return check;
+    }
+    let mut loader = XmlLoader::new(&registry).max_nodes(max_nodes);
+    if let Some(dir) = path.parent() {
+        loader = loader.base_dir(dir);
+    }
+    let loaded = loader.load_str(text, shown);
+    check.warnings = loader
+        .warnings()
+        .iter()
+        .map(|w| places.locate(w.line, w.col, "Warning", w.to_string()))
+        .collect();
+    if let Err(e) = loaded {
+        check.errors.push(places.diagnostic(&e));
+        return check;
+    }
+    check.trees = loader.tree_ids().map(String::from).collect();
+    check.main = loader.main_tree().map(String::from);
+    let mut seen = std::collections::BTreeSet::new();
+    for id in &check.trees {
+        for e in loader.validate_all(id, LIMIT) {
+            if check.errors.len() < LIMIT && seen.insert(e.to_string()) {
+                check.errors.push(places.diagnostic(&e));
+            }
+        }
+    }
+    check.ok = check.errors.is_empty();
+    check
+}
+
+/// How the studio parses XML it was given: no DTD (so no entity expansion), and a bound
+/// on the nodes a document may have.
+pub(crate) fn xml_options<'i>() -> roxmltree::ParsingOptions<'i> {
+    roxmltree::ParsingOptions {
+        allow_dtd: false,
+        nodes_limit: 1_000_000,
+        ..Default::default()
+    }
+}
+
+/// The elements of a text with where they start and end, to find the node an error's
+/// line and column fall in.
+struct Places<'a> {
+    text: &'a str,
+    line_starts: Vec<usize>,
+    doc: Option<roxmltree::Document<'a>>,
+}
+
+impl<'a> Places<'a> {
+    fn new(text: &'a str) -> Self {
+        let mut line_starts = vec![0];
+        line_starts.extend(text.match_indices('\n').map(|(i, _)| i + 1));
+        let options = crate::check::xml_options();
+        Self {
+            text,
+            line_starts,
+            doc: roxmltree::Document::parse_with_options(text, options).ok(),
+        }
+    }
+
+    fn diagnostic(&self, e: &LoadError) -> Diagnostic {
+        self.locate(e.line, e.col, &format!("{:?}", e.kind()), e.to_string())
+    }
+
+    fn locate(&self, line: u32, column: u32, kind: &str, message: String) -> Diagnostic {
+        let (tree, element) = match self.offset(line, column) {
+            Some(at) => self.element_at(at),
+            None => (None, None),
+        };
+        Diagnostic {
+            line,
+            column,
+            kind: kind.to_string(),
+            message,
+            tree,
+            element,
+        }
+    }
+
+    /// The byte offset of a 1-based line and (character) column.
+    fn offset(&self, line: u32, column: u32) -> Option<usize> {
+        let start = *self.line_starts.get((line as usize).checked_sub(1)?)?;
+        let rest = &self.text[start..];
+        let col = (column as usize).saturating_sub(1);
+        Some(start + rest.char_indices().nth(col).map_or(rest.len(), |(i, _)| i))
+    }
+
+    /// The tree and element path of the deepest element inside a `<BehaviorTree>` whose
+    /// text holds `at`.
+    fn element_at(&self, at: usize) -> (Option<String>, Option<Vec<usize>>) {
+        let Some(doc) = &self.doc else {
+            return (None, None);
+        };
+        let trees = doc
+            .root_element()
+            .children()
+            .filter(|n| n.is_element() && n.has_tag_name("BehaviorTree"));
+        for tree in trees {
+            if !tree.range().contains(&at) {
+                continue;
+            }
+            let id = tree.attribute("ID").map(String::from);
+            let mut path = Vec::new();
+            let mut node = tree;
+            'down: loop {
+                for (i, child) in node.children().filter(|n| n.is_element()).enumerate() {
+                    if child.range().contains(&at) {
+                        path.push(i);
+                        node = child;
+                        continue 'down;
+                    }
+                }
+                break;
+            }
+            return (id, (!path.is_empty()).then_some(path));
+        }
+        (None, None)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const TEXT: &str = r#"<root BTCPP_format="4">
+  <BehaviorTree ID="Main">
+    <Sequence>
+      <!-- a comment is not an element -->
+      <AlwaysSuccess/>
+      <Repeat num_cycles="many">
+        <AlwaysSuccess/>
+      </Repeat>
+    </Sequence>
+  </BehaviorTree>
+</root>"#;
+
+    #[test]
+    fn an_error_is_located_at_its_node() {
+        let check = check_text(
+            Registry::new(),
+            Path::new("a.xml"),
+            "a.xml",
+            TEXT,
+            100_000,
+        );
+        assert!(!check.ok);
+        assert_eq!(check.trees, ["Main"]);
+        assert_eq!(check.errors.len(), 1, "{:?}", check.errors);
+        let e = &check.errors[0];
+        assert_eq!(e.kind, "BadValue");
+        assert!(e.message.starts_with("a.xml:6:"), "{}", e.message);
+        assert_eq!(e.tree.as_deref(), Some("Main"));
+        // The Sequence is the tree's root; the Repeat its second element child.
+        assert_eq!(e.element.as_deref(), Some(&[0, 1][..]));
+    }
+
+    #[test]
+    fn a_valid_text_is_ok_and_malformed_text_says_where() {
+        let good = TEXT.replace("many", "2");
+        let check = check_text(Registry::new(), Path::new("a.xml"), "a.xml", &good, 100_000);
+        assert!(check.ok, "{:?}", check.errors);
+        assert_eq!(check.main.as_deref(), Some("Main"));
+
+        let bad = check_text(
+            Registry::new(),
+            Path::new("a.xml"),
+            "a.xml",
+            "<root><BehaviorTree ID=\"M\">",
+            100_000,
+        );
+        assert!(!bad.ok);
+        assert_eq!(bad.errors[0].kind, "Syntax");
+        assert_eq!(bad.errors[0].element, None);
+    }
+}

@@ -1,0 +1,443 @@
+//! The state pages read and the controls they set, shared by the tick thread and the
+//! server's tasks.
+
+use std::collections::HashMap;
+use std::sync::atomic::{AtomicBool, AtomicU64, AtomicU8, AtomicUsize, Ordering};
+use std::sync::{Arc, Condvar, Mutex, MutexGuard};
+use std::time::Duration;
+
+use neurotree_core::{NodeId, NodeStatus, Observer, Reason, ScopeId, Status, StatusChange, Tree};
+use serde::Serialize;
+use serde_json::{json, Value};
+
+use super::values;
+use crate::view::{status_name, status_of_byte, TreeView};
+
+/// A breakpoint's byte: stop before the node is ticked.
+const BEFORE: u8 = 0x80;
+/// No breakpoint.
+const NONE: u8 = 0xff;
+
+/// Why the run stands still (PROTOCOL.md, "Paused").
+#[derive(Clone, Debug, PartialEq, Eq, Serialize)]
+pub(crate) struct Paused {
+    pub why: &'static str,
+    pub node: Option<u32>,
+    pub status: Option<&'static str>,
+}
+
+/// A blackboard edit from a page, applied between ticks.
+#[derive(Clone, Debug)]
+pub(crate) struct Edit {
+    pub scope: u32,
+    pub key: String,
+    pub value: Value,
+}
+
+/// What the observer writes in the tick: one byte per node for its status and one for
+/// its breakpoint, read by the pages' tasks without a lock.
+pub(crate) struct RunCell {
+    pub statuses: Box<[AtomicU8]>,
+    pub breakpoints: Box<[AtomicU8]>,
+    pub tick: AtomicU64,
+}
+
+/// The run being watched.
+pub(crate) struct Run {
+    pub name: String,
+    /// The TreeView, serialized once.
+    pub tree: Arc<str>,
+    pub paths: Vec<String>,
+    pub cell: Arc<RunCell>,
+}
+
+/// What changes under the lock, each part with a version so that a page sends a part only
+/// when it changed.
+#[derive(Default)]
+pub(crate) struct Inner {
+    /// Bumped when another run (or a reload) is attached: pages then send `hello`.
+    pub generation: u64,
+    pub run: Option<Run>,
+    pub blackboards: (u64, Value),
+    pub failure: (u64, Value),
+    pub paused: Option<Paused>,
+    pub paused_version: u64,
+    pub breakpoints_version: u64,
+    pub ended: Option<&'static str>,
+    pause_requested: bool,
+    step_requested: bool,
+    edits: Vec<Edit>,
+}
+
+/// The watch state shared by the run, the observer and the pages.
+pub(crate) struct Hub {
+    inner: Mutex<Inner>,
+    resume: Condvar,
+    version: tokio::sync::watch::Sender<u64>,
+    pages: AtomicUsize,
+    /// Breakpoints stop the run only while a page is attached.
+    armed: AtomicBool,
+    refused: AtomicU64,
+}
+
+impl Hub {
+    pub fn new() -> Arc<Self> {
+        Arc::new(Self {
+            inner: Mutex::new(Inner::default()),
+            resume: Condvar::new(),
+            version: tokio::sync::watch::Sender::new(0),
+            pages: AtomicUsize::new(0),
+            armed: AtomicBool::new(false),
+            refused: AtomicU64::new(0),
+        })
+    }
+
+    pub fn lock(&self) -> MutexGuard<'_, Inner> {
+        // A page's task that panicked left the state whole: each change is one assignment.
+        self.inner.lock().unwrap_or_else(|e| e.into_inner())
+    }
+
+    /// Wakes every page's task.
+    pub fn bump(&self) {
+        self.version.send_modify(|v| *v = v.wrapping_add(1));
+    }
+
+    pub fn subscribe(&self) -> tokio::sync::watch::Receiver<u64> {
+        self.version.subscribe()
+    }
+
+    pub fn pages(&self) -> usize {
+        self.pages.load(Ordering::Acquire)
+    }
+
+    pub fn refused(&self) -> u64 {
+        self.refused.load(Ordering::Relaxed)
+    }
+
+    pub fn count_refused(&self) {
+        self.refused.fetch_add(1, Ordering::Relaxed);
+    }
+
+    pub fn page_joined(&self) {
+        self.pages.fetch_add(1, Ordering::AcqRel);
+        self.armed.store(true, Ordering::Release);
+    }
+
+    /// The last page to leave lets a paused run go on: nobody is left to continue it.
+    pub fn page_left(&self) {
+        if self.pages.fetch_sub(1, Ordering::AcqRel) == 1 {
+            self.armed.store(false, Ordering::Release);
+            let mut inner = self.lock();
+            inner.pause_requested = false;
+            inner.step_requested = false;
+            drop(inner);
+            self.resume.notify_all();
+        }
+    }
+
+    /// Shows `tree` to the pages; returns the observer that feeds them.
+    pub fn attach<C>(self: &Arc<Self>, tree: &Tree<C>, name: &str) -> StudioObserver {
+        let blueprint = tree.blueprint();
+        let view = TreeView::of_blueprint(blueprint, name);
+        let statuses: Box<[AtomicU8]> = tree.statuses().iter().map(|s| AtomicU8::new(*s as u8)).collect();
+        let breakpoints: Box<[AtomicU8]> = (0..blueprint.len()).map(|_| AtomicU8::new(NONE)).collect();
+        let paths = blueprint.paths();
+        let mut inner = self.lock();
+        // Breakpoints stay on the nodes whose paths the new tree still has.
+        if let Some(old) = &inner.run {
+            for (i, path) in old.paths.iter().enumerate() {
+                let bp = old.cell.breakpoints[i].load(Ordering::Relaxed);
+                if bp != NONE {
+                    if let Some(j) = paths.iter().position(|p| p == path) {
+                        breakpoints[j].store(bp, Ordering::Relaxed);
+                    }
+                }
+            }
+        }
+        let tick = inner.run.as_ref().map_or(0, |r| r.cell.tick.load(Ordering::Relaxed));
+        let cell = Arc::new(RunCell {
+            statuses,
+            breakpoints,
+            tick: AtomicU64::new(tick),
+        });
+        let tree_json = serde_json::to_string(&view).unwrap_or_else(|_| "null".into());
+        inner.run = Some(Run {
+            name: name.to_string(),
+            tree: tree_json.into(),
+            paths,
+            cell: Arc::clone(&cell),
+        });
+        inner.generation += 1;
+        inner.ended = None;
+        drop(inner);
+        self.bump();
+        StudioObserver {
+            hub: Arc::clone(self),
+            cell,
+        }
+    }
+
+    pub fn finish(&self, status: Status) {
+        self.lock().ended = Some(status_name(status.into()));
+        self.bump();
+    }
+
+    /// Publishes the blackboards and the failure chain, if a page is attached to read them.
+    pub fn publish<C>(&self, tree: &mut Tree<C>) {
+        if self.pages() == 0 {
+            return;
+        }
+        let scopes = values::scopes(tree);
+        let failure = tree.last_failure().map_or(Value::Null, |f| {
+            let reason = f.reason();
+            json!({
+                "path": f.leaf().path,
+                "reason": reason.map(|r| r.message().into_owned()),
+                "code": reason.map(|r| r.code()).filter(|c| *c != 0),
+                "chain": f.to_string(),
+                "nodes": f.links.iter().map(|l| l.node.0).collect::<Vec<_>>(),
+            })
+        });
+        let mut inner = self.lock();
+        let mut changed = false;
+        if inner.blackboards.1 != scopes {
+            inner.blackboards = (inner.blackboards.0 + 1, scopes);
+            changed = true;
+        }
+        if inner.failure.1 != failure {
+            inner.failure = (inner.failure.0 + 1, failure);
+            changed = true;
+        }
+        drop(inner);
+        if changed {
+            self.bump();
+        }
+    }
+
+    pub fn between_ticks<C>(&self, tree: &mut Tree<C>) {
+        self.apply_edits(tree);
+        self.publish(tree);
+        let why = {
+            let mut inner = self.lock();
+            if self.pages() == 0 {
+                return;
+            }
+            if inner.step_requested {
+                inner.step_requested = false;
+                Some("step")
+            } else if inner.pause_requested {
+                Some("pause")
+            } else {
+                None
+            }
+        };
+        if let Some(why) = why {
+            self.hold(
+                Paused {
+                    why,
+                    node: None,
+                    status: None,
+                },
+                Some(&mut |edits: Vec<Edit>| {
+                    for e in edits {
+                        values::apply(tree, &e);
+                    }
+                    self.publish(tree);
+                }),
+            );
+        }
+    }
+
+    fn apply_edits<C>(&self, tree: &mut Tree<C>) {
+        let edits = std::mem::take(&mut self.lock().edits);
+        for e in &edits {
+            values::apply(tree, e);
+        }
+    }
+
+    /// Stands the run still until a page continues or steps it, or the last page leaves;
+    /// `apply` (between ticks only) applies blackboard edits made meanwhile.
+    fn hold(&self, paused: Paused, mut apply: Option<&mut dyn FnMut(Vec<Edit>)>) {
+        let mut inner = self.lock();
+        if self.pages() == 0 {
+            return;
+        }
+        inner.paused = Some(paused);
+        inner.paused_version += 1;
+        self.bump();
+        while inner.paused.is_some() && self.pages() > 0 {
+            if let Some(apply) = apply.as_mut() {
+                if !inner.edits.is_empty() {
+                    let edits = std::mem::take(&mut inner.edits);
+                    drop(inner);
+                    apply(edits);
+                    inner = self.lock();
+                    continue;
+                }
+            }
+            // The timeout only guards against a lost wake-up; every release notifies.
+            inner = self
+                .resume
+                .wait_timeout(inner, Duration::from_millis(250))
+                .unwrap_or_else(|e| e.into_inner())
+                .0;
+        }
+        inner.paused = None;
+        inner.paused_version += 1;
+        drop(inner);
+        self.bump();
+    }
+
+    /// A page asked for the run to stop before its next tick.
+    pub fn pause(&self) {
+        self.lock().pause_requested = true;
+    }
+
+    /// A page asked for one tick: a paused run ticks once and stops; a running one stops
+    /// after its tick.
+    pub fn step(&self) {
+        let mut inner = self.lock();
+        inner.step_requested = true;
+        inner.pause_requested = true;
+        inner.paused = None;
+        drop(inner);
+        self.resume.notify_all();
+    }
+
+    /// A page asked the run to go on.
+    pub fn resume(&self) {
+        let mut inner = self.lock();
+        inner.pause_requested = false;
+        inner.step_requested = false;
+        inner.paused = None;
+        drop(inner);
+        self.resume.notify_all();
+    }
+
+    /// A page set or cleared a breakpoint; `false` if the node is not in the tree.
+    pub fn set_breakpoint(&self, node: u64, when: Option<NodeStatus>, before: bool) -> bool {
+        let mut inner = self.lock();
+        let Some(run) = &inner.run else { return false };
+        let Some(id) = super::node_in(node, run.cell.breakpoints.len()) else {
+            return false;
+        };
+        let byte = match (before, when) {
+            (true, _) => BEFORE,
+            (false, Some(s)) => s as u8,
+            (false, None) => NONE,
+        };
+        run.cell.breakpoints[id.index()].store(byte, Ordering::Release);
+        inner.breakpoints_version += 1;
+        drop(inner);
+        self.bump();
+        true
+    }
+
+    /// A page edited a blackboard entry; applied between ticks (at once if paused there).
+    pub fn edit(&self, edit: Edit) {
+        self.lock().edits.push(edit);
+        self.resume.notify_all();
+    }
+
+    /// The breakpoints of the run, as pages list them.
+    pub fn breakpoints(run: &Run) -> Vec<Value> {
+        run.cell
+            .breakpoints
+            .iter()
+            .enumerate()
+            .filter_map(|(i, b)| {
+                let b = b.load(Ordering::Relaxed);
+                let when = match b {
+                    NONE => return None,
+                    BEFORE => "before",
+                    s => status_name(status_of_byte(s)),
+                };
+                Some(json!({"node": i, "when": when}))
+            })
+            .collect()
+    }
+}
+
+/// The observer a watched tree runs with (made by [`Studio::attach`](crate::Studio::attach)):
+/// statuses into the shared bytes, breakpoints checked at each node.
+pub struct StudioObserver {
+    hub: Arc<Hub>,
+    cell: Arc<RunCell>,
+}
+
+impl std::fmt::Debug for StudioObserver {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("StudioObserver").finish_non_exhaustive()
+    }
+}
+
+impl StudioObserver {
+    fn breakpoint(&self, node: NodeId, byte: u8, status: Option<NodeStatus>) {
+        if !self.hub.armed.load(Ordering::Acquire) {
+            return;
+        }
+        let Some(bp) = self.cell.breakpoints.get(node.index()) else {
+            return;
+        };
+        if bp.load(Ordering::Acquire) == byte {
+            // The tick waits here, inside the tree: edits wait for the next pause between
+            // ticks.
+            self.hub.bump();
+            self.hub.hold(
+                Paused {
+                    why: "breakpoint",
+                    node: Some(node.0),
+                    status: status.map(status_name),
+                },
+                None,
+            );
+        }
+    }
+}
+
+impl Observer for StudioObserver {
+    fn on_tick_start(&mut self, _now: Duration) {
+        self.cell.tick.fetch_add(1, Ordering::Release);
+    }
+
+    fn on_status_change(&mut self, change: StatusChange) {
+        if let Some(s) = self.cell.statuses.get(change.node.index()) {
+            s.store(change.to as u8, Ordering::Release);
+        }
+        self.breakpoint(change.node, change.to as u8, Some(change.to));
+    }
+
+    fn on_node_tick(&mut self, node: NodeId) {
+        self.breakpoint(node, BEFORE, None);
+    }
+
+    fn on_tick_end(&mut self, _status: NodeStatus, _now: Duration) {
+        self.hub.bump();
+    }
+
+    fn on_failure_reason(&mut self, _node: NodeId, _reason: &Reason) {}
+}
+
+/// Statuses of the run as the pages name them.
+pub(crate) fn statuses(cell: &RunCell) -> Vec<&'static str> {
+    cell.statuses
+        .iter()
+        .map(|s| status_name(status_of_byte(s.load(Ordering::Acquire))))
+        .collect()
+}
+
+/// Scope ids of a tree's blackboards, root first, with the path pages show them by.
+pub(crate) fn scope_paths<C>(tree: &Tree<C>) -> Vec<(ScopeId, String)> {
+    let blueprint = tree.blueprint();
+    let mut out = vec![(ScopeId::ROOT, String::new())];
+    let mut seen: HashMap<u32, ()> = HashMap::new();
+    seen.insert(ScopeId::ROOT.0, ());
+    for id in blueprint.ids() {
+        if let Some(scope) = tree.subtree_scope(id) {
+            if seen.insert(scope.0, ()).is_none() {
+                out.push((scope, blueprint.path(id)));
+            }
+        }
+    }
+    out
+}

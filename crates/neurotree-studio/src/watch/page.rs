@@ -1,0 +1,221 @@
+//! One page's WebSocket: the first message tells everything, later ones what changed;
+//! the page's controls are checked before they reach the run.
+
+use std::sync::atomic::Ordering;
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+use axum::extract::ws::{Message, WebSocket};
+use neurotree_core::NodeStatus;
+use serde::Deserialize;
+use serde_json::{json, Value};
+
+use super::hub::{statuses, Edit, Hub, Inner};
+
+/// The largest message a page may send: controls are a few dozen bytes.
+pub const MAX_PAGE_MESSAGE: usize = 64 * 1024;
+/// The most messages a page may send in a second before the rest are refused.
+pub const MAX_PAGE_RATE: u32 = 100;
+
+/// What a page may send (PROTOCOL.md).
+#[derive(Deserialize)]
+#[serde(tag = "type", rename_all = "lowercase", deny_unknown_fields)]
+enum FromPage {
+    Pause,
+    Step,
+    Continue,
+    Breakpoint { node: u64, when: String },
+    Set { scope: u32, key: String, value: Value },
+}
+
+/// What this page was last sent, to send it only what changed.
+#[derive(Default)]
+struct Sent {
+    generation: Option<u64>,
+    statuses: Vec<&'static str>,
+    tick: u64,
+    blackboards: u64,
+    failure: u64,
+    paused: u64,
+    breakpoints: u64,
+    ended: bool,
+}
+
+/// Serves one page until it leaves.
+pub(crate) async fn serve_page(mut socket: WebSocket, hub: Arc<Hub>) {
+    hub.page_joined();
+    let mut version = hub.subscribe();
+    let mut sent = Sent::default();
+    let mut window = (Instant::now(), 0u32);
+    'page: loop {
+        for text in changes(&hub, &mut sent) {
+            if socket.send(Message::Text(text.into())).await.is_err() {
+                break 'page;
+            }
+        }
+        tokio::select! {
+            changed = version.changed() => {
+                if changed.is_err() {
+                    break;
+                }
+            }
+            incoming = socket.recv() => {
+                let Some(Ok(message)) = incoming else { break };
+                let text = match message {
+                    Message::Text(t) => t,
+                    Message::Close(_) => break,
+                    Message::Ping(_) | Message::Pong(_) => continue,
+                    Message::Binary(_) => {
+                        if refuse(&hub, &mut socket, "binary messages are not understood").await {
+                            break;
+                        }
+                        continue;
+                    }
+                };
+                if window.0.elapsed() >= Duration::from_secs(1) {
+                    window = (Instant::now(), 0);
+                }
+                window.1 += 1;
+                let why = if window.1 > MAX_PAGE_RATE {
+                    Some(format!("more than {MAX_PAGE_RATE} messages a second"))
+                } else if text.len() > MAX_PAGE_MESSAGE {
+                    Some(format!("a message over {MAX_PAGE_MESSAGE} bytes"))
+                } else {
+                    match serde_json::from_str::<FromPage>(&text) {
+                        Ok(m) => control(&hub, m),
+                        Err(e) => Some(format!("not a message the studio knows: {e}")),
+                    }
+                };
+                if let Some(why) = why {
+                    // Past the rate, refusals are counted but not answered: answering a
+                    // flood would be a flood.
+                    let quiet = window.1 > MAX_PAGE_RATE + 1;
+                    hub.count_refused();
+                    if !quiet && refuse(&hub, &mut socket, &why).await {
+                        break;
+                    }
+                }
+            }
+        }
+    }
+    hub.page_left();
+}
+
+/// Tells the page its message was refused; `true` if the page is gone.
+async fn refuse(_hub: &Hub, socket: &mut WebSocket, why: &str) -> bool {
+    let text = json!({"type": "refused", "why": why}).to_string();
+    socket.send(Message::Text(text.into())).await.is_err()
+}
+
+/// Carries out a page's control; the reason it was refused, if it was.
+fn control(hub: &Hub, message: FromPage) -> Option<String> {
+    match message {
+        FromPage::Pause => hub.pause(),
+        FromPage::Step => hub.step(),
+        FromPage::Continue => hub.resume(),
+        FromPage::Breakpoint { node, when } => {
+            let (before, status) = match when.as_str() {
+                "before" => (true, None),
+                "off" => (false, None),
+                "RUNNING" => (false, Some(NodeStatus::Running)),
+                "SUCCESS" => (false, Some(NodeStatus::Success)),
+                "FAILURE" => (false, Some(NodeStatus::Failure)),
+                "SKIPPED" => (false, Some(NodeStatus::Skipped)),
+                other => return Some(format!("a breakpoint is `before`, a status or `off`, not `{other}`")),
+            };
+            if !hub.set_breakpoint(node, status, before) {
+                return Some(format!("no node {node} in the tree watched"));
+            }
+        }
+        FromPage::Set { scope, key, value } => {
+            if key.is_empty() || !(value.is_number() || value.is_boolean() || value.is_string()) {
+                return Some("`set` takes a key and a number, a boolean or text".into());
+            }
+            hub.edit(Edit { scope, key, value });
+        }
+    }
+    None
+}
+
+/// The messages that bring the page from what it was sent to what is now.
+fn changes(hub: &Hub, sent: &mut Sent) -> Vec<String> {
+    let inner = hub.lock();
+    let mut out = Vec::new();
+    let Some(run) = &inner.run else {
+        if sent.generation != Some(inner.generation) {
+            sent.generation = Some(inner.generation);
+            out.push(json!({"type": "hello", "run": null}).to_string());
+        }
+        return out;
+    };
+    let now = statuses(&run.cell);
+    let tick = run.cell.tick.load(Ordering::Acquire);
+    if sent.generation != Some(inner.generation) {
+        out.push(hello(&inner, run, &now, tick));
+        *sent = Sent {
+            generation: Some(inner.generation),
+            statuses: now,
+            tick,
+            blackboards: inner.blackboards.0,
+            failure: inner.failure.0,
+            paused: inner.paused_version,
+            breakpoints: inner.breakpoints_version,
+            ended: inner.ended.is_some(),
+        };
+        return out;
+    }
+    let changed: Vec<Value> = now
+        .iter()
+        .zip(&sent.statuses)
+        .enumerate()
+        .filter(|(_, (a, b))| a != b)
+        .map(|(i, (a, _))| json!([i, a]))
+        .collect();
+    if !changed.is_empty() || tick != sent.tick {
+        out.push(json!({"type": "tick", "tick": tick, "changes": changed}).to_string());
+        sent.statuses = now;
+        sent.tick = tick;
+    }
+    if sent.blackboards != inner.blackboards.0 {
+        sent.blackboards = inner.blackboards.0;
+        out.push(json!({"type": "blackboards", "tick": tick, "scopes": inner.blackboards.1}).to_string());
+    }
+    if sent.failure != inner.failure.0 {
+        sent.failure = inner.failure.0;
+        out.push(json!({"type": "failure", "tick": tick, "failure": inner.failure.1}).to_string());
+    }
+    if sent.breakpoints != inner.breakpoints_version {
+        sent.breakpoints = inner.breakpoints_version;
+        out.push(json!({"type": "breakpoints", "breakpoints": Hub::breakpoints(run)}).to_string());
+    }
+    if sent.paused != inner.paused_version {
+        sent.paused = inner.paused_version;
+        out.push(match &inner.paused {
+            Some(p) => json!({"type": "paused", "tick": tick, "paused": p}).to_string(),
+            None => json!({"type": "resumed", "tick": tick}).to_string(),
+        });
+    }
+    if let (Some(status), false) = (inner.ended, sent.ended) {
+        sent.ended = true;
+        out.push(json!({"type": "ended", "tick": tick, "status": status}).to_string());
+    }
+    out
+}
+
+fn hello(inner: &Inner, run: &super::hub::Run, statuses: &[&str], tick: u64) -> String {
+    // The tree is serialized once per attach and spliced in, not rebuilt per page.
+    let rest = json!({
+        "type": "hello",
+        "run": {"name": run.name},
+        "tick": tick,
+        "statuses": statuses,
+        "paused": inner.paused,
+        "breakpoints": Hub::breakpoints(run),
+        "blackboards": inner.blackboards.1,
+        "failure": inner.failure.1,
+        "ended": inner.ended,
+    })
+    .to_string();
+    // `rest` is a JSON object: `{"type":…}`; the tree goes in as its first member.
+    format!("{{\"tree\":{},{}", run.tree, &rest[1..])
+}
