@@ -1,0 +1,745 @@
+// The editor view: one file's trees drawn from its XML DOM, a palette of node types, a
+// side panel with the selected node's name and ports, add / delete / move by drag and
+// drop or keyboard, checks by the server's loader shown at the nodes, undo and redo,
+// save (with the changed-on-disk conflict), a watch on the file's mtime, and SVG export.
+//
+// The view's state is one object, `state`, changed only by the functions of `actions`.
+// Every edit is a named action that records the file's text before it: undo and redo swap
+// those texts, so every edit, however made, undoes the same way.
+
+import * as api from "./api.js";
+import { TreeDrawing, drawingToolbar } from "./tree.js";
+import * as xml from "./xmldoc.js";
+
+const CHECK_DELAY_MS = 300;
+const STAT_EVERY_MS = 2000;
+// Typing into one field within this long is one undo step.
+const COALESCE_MS = 1500;
+
+export function mountEditor(section, app) {
+  const state = {
+    path: null,
+    file: null, // {doc, prolog, epilog, separators, error}
+    rawText: null, // the text when it is not well-formed XML
+    savedText: "",
+    mtime: null,
+    diskMtime: null, // a newer mtime seen on disk and not acted on yet
+    check: null,
+    checking: false,
+    palette: new Map(),
+    treeId: null,
+    tabs: [], // [{id, prefix}]
+    selected: null, // element index path in the shown tree
+    paletteType: null,
+    undo: [],
+    redo: [],
+    saving: false,
+  };
+
+  section.innerHTML = `
+    <aside class="palette">
+      <h2>Palette</h2>
+      <input type="search" class="palette-search" placeholder="search node types" aria-label="search node types">
+      <ul class="palette-list"></ul>
+      <div class="palette-detail"></div>
+    </aside>
+    <div class="edit-main">
+      <div class="toolbar">
+        <select class="file-select" aria-label="file"></select>
+        <button data-action="open">open</button>
+        <span class="sep"></span>
+        <button data-action="undo" title="undo (Ctrl+Z)">↶ undo</button>
+        <button data-action="redo" title="redo (Ctrl+Shift+Z)">↷ redo</button>
+        <button data-action="add" title="add the palette's type to the selected node (Insert)">+ add</button>
+        <button data-action="delete" title="delete the selected node (Delete)">delete</button>
+        <button data-action="save" title="save (Ctrl+S)">save</button>
+        <button data-action="reload" title="read the file from disk again">reload</button>
+        <button data-action="export-svg" title="download the tree as SVG">export SVG</button>
+        <span class="edit-status" data-edit-status></span>
+      </div>
+      <div class="banner" hidden></div>
+      <div class="tree-tabs" role="tablist"></div>
+      <div class="canvas-wrap"><div class="canvas"></div><textarea class="raw-text" hidden spellcheck="false"></textarea></div>
+      <div class="problems"><h3>Problems <span class="problem-count"></span></h3><ul class="problem-list"></ul></div>
+    </div>
+    <aside class="side-panel"><p class="hint">Click a node to see its ports.</p></aside>`;
+
+  const $ = (sel) => section.querySelector(sel);
+  const canvas = $(".canvas");
+  const drawing = new TreeDrawing(canvas, {
+    draggable: true,
+    onSelect: (i) => actions.select(i == null ? null : drawn[i].element),
+    onOpen: (i) => drawn[i].subtree && actions.openTab(drawn[i].subtree, drawn[i].path),
+    onDrop: (from, to, where) => actions.move(drawn[from].element, drawn[to].element, where),
+    onDropType: (type, to, where) => actions.add(type, drawn[to].element, where),
+  });
+  $(".canvas-wrap").before(drawingToolbar(drawing, { onJump: (i) => actions.select(drawn[i].element, false) }));
+  let drawn = []; // the nodes of the shown tree, as drawn
+  let checkTimer = null;
+  let lastEdit = null; // {key, at} of the last attribute edit, to coalesce typing
+
+  const text = () => (state.file && !state.file.error ? xml.serializeXml(state.file) : state.rawText ?? "");
+  const shownTree = () => (state.file && !state.file.error ? xml.treeElement(state.file.doc, state.treeId) : null);
+  const selectedElement = () => (state.selected && shownTree() ? xml.elementAt(shownTree(), state.selected) : null);
+  const indexOfElement = (elPath) => drawn.findIndex((n) => n.element.join() === elPath.join());
+
+  function setStatus(msg, kind = "") {
+    const s = $(".edit-status");
+    s.textContent = msg;
+    s.dataset.kind = kind;
+  }
+
+  function flagState() {
+    const dirty = state.file ? text() !== state.savedText : false;
+    section.dataset.dirty = String(dirty);
+    $('[data-action="undo"]').disabled = !state.undo.length;
+    $('[data-action="redo"]').disabled = !state.redo.length;
+    app.setTitle(state.path ? `${dirty ? "● " : ""}${state.path}` : "");
+  }
+
+  // --- the actions: the only functions that change `state` -----------------------------
+  const actions = {
+    async open(path) {
+      if (!path) return;
+      setStatus(`opening ${path}…`);
+      let answer;
+      try {
+        answer = await api.get("/api/file", { path });
+      } catch (e) {
+        setStatus(e.message, "error");
+        return;
+      }
+      state.path = path;
+      state.undo = [];
+      state.redo = [];
+      state.selected = null;
+      state.diskMtime = null;
+      state.mtime = answer.mtime;
+      loadText(answer.text);
+      // What an unedited file saves as: the DOM's serialization, not the bytes read.
+      state.savedText = text();
+      state.treeId = state.file.error ? null : xml.mainTreeId(state.file.doc, answer.check);
+      state.tabs = state.treeId ? [{ id: state.treeId, prefix: "" }] : [];
+      try {
+        const pal = await api.get("/api/palette", { path });
+        state.palette = new Map(pal.types.map((t) => [t.type, t]));
+      } catch (e) {
+        setStatus(`palette: ${e.message}`, "error");
+      }
+      app.remember({ view: "edit", file: path });
+      $(".file-select").value = path;
+      render({ fit: true });
+      showCheck(answer.check);
+      setStatus(answer.check?.ok === false ? "opened, with errors" : "opened");
+      section.dataset.loaded = path;
+    },
+
+    openTab(id, prefix = "") {
+      if (!xml.treeElement(state.file.doc, id)) return;
+      if (!state.tabs.some((t) => t.id === id)) state.tabs.push({ id, prefix });
+      else if (prefix) state.tabs.find((t) => t.id === id).prefix = prefix;
+      state.treeId = id;
+      state.selected = null;
+      render({ fit: true });
+      markProblems();
+    },
+
+    closeTab(id) {
+      if (state.tabs.length < 2) return;
+      state.tabs = state.tabs.filter((t) => t.id !== id);
+      if (state.treeId === id) actions.openTab(state.tabs[0].id);
+      else renderTabs();
+    },
+
+    select(elPath, reveal = false) {
+      state.selected = elPath;
+      const i = elPath ? indexOfElement(elPath) : -1;
+      drawing.select(i >= 0 ? i : null, { reveal });
+      renderPanel();
+    },
+
+    choosePaletteType(type) {
+      state.paletteType = type;
+      renderPalette();
+    },
+
+    setAttribute(elPath, name, value) {
+      edit(`set ${name}`, `${state.treeId}:${elPath.join()}:${name}`, () => {
+        const el = xml.elementAt(shownTree(), elPath);
+        if (value === "" || value == null) el.removeAttribute(name);
+        else el.setAttribute(name, value);
+        return elPath;
+      }, { redraw: name === "name" || name === "ID" });
+    },
+
+    add(type, target, where = "into") {
+      const tree = shownTree();
+      if (!tree || !type) return;
+      const entry = state.palette.get(type) || subtreeEntry(type);
+      edit(`add ${type}`, null, () => {
+        const doc = state.file.doc;
+        const unit = xml.indentUnit(doc);
+        const el = xml.newElement(doc, type, entry);
+        const at = target ? xml.elementAt(tree, target) : null;
+        if (!at) {
+          if (tree.firstElementChild) throw new Error("select a node to add to");
+          xml.insertElement(tree, el, null, unit);
+          return xml.pathOf(tree, el);
+        }
+        const isRoot = at.parentElement === tree;
+        const category = xml.categoryOf(at, state.palette);
+        let place = where;
+        if (place === "into" && !xml.acceptsChild(at, category)) place = "after";
+        if (isRoot && place !== "into") throw new Error(`the tree's root takes no siblings; add into a control`);
+        if (place === "into") xml.insertElement(at, el, null, unit);
+        else xml.insertElement(at.parentElement, el, place === "before" ? at : at.nextElementSibling, unit);
+        return xml.pathOf(tree, el);
+      });
+    },
+
+    remove(elPath) {
+      const tree = shownTree();
+      const el = elPath && xml.elementAt(tree, elPath);
+      if (!el) return;
+      if (el.parentElement === tree) {
+        setStatus("the tree's root cannot be deleted: add another root first, or delete the tree", "error");
+        return;
+      }
+      edit(`delete ${xml.nameOf(el)}`, null, () => {
+        const parent = el.parentElement;
+        const next = el.nextElementSibling;
+        const prev = el.previousElementSibling;
+        xml.removeElement(el);
+        return xml.pathOf(tree, next || prev || parent);
+      });
+    },
+
+    move(from, to, where) {
+      const tree = shownTree();
+      const el = xml.elementAt(tree, from);
+      const at = xml.elementAt(tree, to);
+      if (!el || !at || el === at || el.contains(at)) return;
+      if (el.parentElement === tree) return;
+      const category = xml.categoryOf(at, state.palette);
+      let place = where;
+      if (place === "into" && !xml.acceptsChild(at, category)) place = "after";
+      if (at.parentElement === tree && place !== "into") return;
+      edit(`move ${xml.nameOf(el)}`, null, () => {
+        const unit = xml.indentUnit(state.file.doc);
+        xml.removeElement(el);
+        if (place === "into") xml.insertElement(at, el, null, unit);
+        else xml.insertElement(at.parentElement, el, place === "before" ? at : at.nextElementSibling, unit);
+        return xml.pathOf(tree, el);
+      });
+    },
+
+    // Moves the selected node one place earlier (-1) or later (+1) among its siblings, or
+    // out of its parent (0), after it.
+    shift(step) {
+      const tree = shownTree();
+      const el = selectedElement();
+      if (!el || el.parentElement === tree) return;
+      const parent = el.parentElement;
+      if (step === 0) {
+        if (parent.parentElement === tree) return;
+        actions.move(xml.pathOf(tree, el), xml.pathOf(tree, parent), "after");
+        return;
+      }
+      const sibling = step < 0 ? el.previousElementSibling : el.nextElementSibling;
+      if (!sibling) return;
+      actions.move(xml.pathOf(tree, el), xml.pathOf(tree, sibling), step < 0 ? "before" : "after");
+    },
+
+    undo() {
+      const entry = state.undo.pop();
+      if (!entry) return;
+      state.redo.push({ name: entry.name, text: text(), selected: state.selected, treeId: state.treeId });
+      restore(entry);
+      setStatus(`undid ${entry.name}`);
+    },
+
+    redo() {
+      const entry = state.redo.pop();
+      if (!entry) return;
+      state.undo.push({ name: entry.name, text: text(), selected: state.selected, treeId: state.treeId });
+      restore(entry);
+      setStatus(`redid ${entry.name}`);
+    },
+
+    applyRawText(newText) {
+      edit("edit text", null, () => {
+        loadText(newText);
+        if (!state.file.error) {
+          state.treeId = xml.mainTreeId(state.file.doc, state.check);
+          state.tabs = state.treeId ? [{ id: state.treeId, prefix: "" }] : [];
+        }
+        return null;
+      });
+    },
+
+    async save(overwrite = false) {
+      if (!state.path || state.saving) return;
+      const body = text();
+      state.saving = true;
+      setStatus("saving…");
+      try {
+        const answer = await api.post("/api/save", { path: state.path, text: body, mtime: overwrite ? null : state.mtime });
+        state.mtime = answer.mtime;
+        state.diskMtime = null;
+        state.savedText = body;
+        hideBanner();
+        showCheck(answer.check);
+        setStatus(`saved ${state.path}`, "ok");
+        section.dataset.saved = String(answer.mtime);
+      } catch (e) {
+        if (e.status === 409) {
+          showBanner("The file changed on disk since it was opened.", [
+            ["Reload from disk (drop my edits)", () => actions.reload()],
+            ["Overwrite with mine", () => actions.save(true)],
+          ]);
+          setStatus("not saved: changed on disk", "error");
+        } else setStatus(`not saved: ${e.message}`, "error");
+      } finally {
+        state.saving = false;
+        flagState();
+      }
+    },
+
+    async reload() {
+      hideBanner();
+      const keep = { tabs: state.tabs, treeId: state.treeId };
+      await actions.open(state.path);
+      if (state.file && !state.file.error && xml.treeElement(state.file.doc, keep.treeId)) {
+        state.tabs = keep.tabs.filter((t) => xml.treeElement(state.file.doc, t.id));
+        actions.openTab(keep.treeId);
+      }
+    },
+
+    async exportSvg() {
+      if (!state.path) return;
+      try {
+        const blob = await api.postBlob("/api/svg", { path: state.path, text: text(), tree: state.treeId });
+        const base = state.path.split("/").pop().replace(/\.xml$/i, "");
+        api.download(blob, `${base}${state.treeId ? `-${state.treeId}` : ""}.svg`);
+        setStatus("SVG exported", "ok");
+      } catch (e) {
+        setStatus(`export: ${e.message}`, "error");
+      }
+    },
+  };
+
+  // An edit: record the text before it, run it, draw again, check. `key` coalesces
+  // repeated edits of one field into one undo step.
+  function edit(name, key, change, { redraw = true } = {}) {
+    const before = { name, text: text(), selected: state.selected, treeId: state.treeId };
+    const now = performance.now();
+    const coalesce = key && lastEdit && lastEdit.key === key && now - lastEdit.at < COALESCE_MS;
+    let selected;
+    try {
+      selected = change();
+    } catch (e) {
+      setStatus(e.message, "error");
+      return;
+    }
+    if (!coalesce) state.undo.push(before);
+    lastEdit = key ? { key, at: now } : null;
+    state.redo = [];
+    if (selected !== undefined) state.selected = selected;
+    if (redraw) render();
+    else flagState();
+    setStatus(name);
+    scheduleCheck();
+  }
+
+  function restore(entry) {
+    lastEdit = null;
+    loadText(entry.text);
+    state.treeId = entry.treeId;
+    state.selected = entry.selected;
+    if (state.file && !state.file.error && !xml.treeElement(state.file.doc, state.treeId)) {
+      state.treeId = xml.mainTreeId(state.file.doc, state.check);
+    }
+    render();
+    scheduleCheck();
+  }
+
+  function loadText(t) {
+    const file = xml.parseXml(t);
+    state.file = file;
+    state.rawText = file.error ? t : null;
+  }
+
+  function subtreeEntry(type) {
+    return state.file && xml.treeElement(state.file.doc, type) ? { type, category: "subtree", builtin: false } : null;
+  }
+
+  // --- checks --------------------------------------------------------------------------
+  function scheduleCheck() {
+    clearTimeout(checkTimer);
+    section.dataset.check = "pending";
+    checkTimer = setTimeout(runCheck, CHECK_DELAY_MS);
+  }
+
+  async function runCheck() {
+    const body = text();
+    try {
+      const check = await api.post("/api/check", { path: state.path, text: body });
+      if (body === text()) showCheck(check);
+    } catch (e) {
+      setStatus(`check: ${e.message}`, "error");
+    }
+  }
+
+  function showCheck(check) {
+    state.check = check;
+    const list = $(".problem-list");
+    list.innerHTML = "";
+    const problems = [];
+    if (state.file?.error) problems.push({ severity: "error", message: `not well-formed XML: ${state.file.error}`, tree: null, element: null });
+    for (const e of check?.errors || []) problems.push({ severity: "error", ...e });
+    for (const w of check?.warnings || []) problems.push({ severity: "warning", ...w });
+    for (const p of problems) {
+      const li = document.createElement("li");
+      li.dataset.severity = p.severity;
+      li.textContent = p.message;
+      if (p.tree && p.element) {
+        li.classList.add("located");
+        li.addEventListener("click", () => {
+          if (p.tree !== state.treeId) actions.openTab(p.tree);
+          actions.select(p.element, true);
+        });
+      }
+      list.append(li);
+    }
+    const errors = problems.filter((p) => p.severity === "error").length;
+    $(".problem-count").textContent = problems.length ? `(${errors} errors, ${problems.length - errors} warnings)` : "none";
+    section.dataset.check = errors ? "errors" : "ok";
+    markProblems();
+  }
+
+  function markProblems() {
+    drawing.clearMarks("data-error");
+    drawing.clearMarks("data-warning");
+    const check = state.check;
+    if (!check) return;
+    const put = (items, attr) => {
+      for (const p of items || []) {
+        if (p.tree !== state.treeId || !p.element) continue;
+        const i = indexOfElement(p.element);
+        if (i >= 0) drawing.mark(i, attr, p.message);
+      }
+    };
+    put(check.warnings, "data-warning");
+    put(check.errors, "data-error");
+    renderPanel();
+  }
+
+  // --- drawing -------------------------------------------------------------------------
+  function render({ fit = false } = {}) {
+    const raw = $(".raw-text");
+    if (state.file?.error) {
+      raw.hidden = false;
+      canvas.hidden = true;
+      if (raw.value !== state.rawText) raw.value = state.rawText;
+      drawn = [];
+      drawing.setTree([]);
+    } else {
+      raw.hidden = true;
+      canvas.hidden = false;
+      const tree = shownTree();
+      const tab = state.tabs.find((t) => t.id === state.treeId);
+      drawn = tree ? xml.nodesOfTree(tree, state.palette, tab?.prefix || "") : [];
+      drawing.setTree(drawn, { keepView: !fit });
+      const i = state.selected ? indexOfElement(state.selected) : -1;
+      if (state.selected && i < 0) state.selected = null;
+      drawing.select(i >= 0 ? i : null);
+      markProblems();
+    }
+    renderTabs();
+    renderPalette();
+    renderPanel();
+    flagState();
+  }
+
+  function renderTabs() {
+    const bar = $(".tree-tabs");
+    bar.innerHTML = "";
+    if (!state.file || state.file.error) return;
+    for (const t of state.tabs) {
+      const b = document.createElement("button");
+      b.className = "tab";
+      b.dataset.tree = t.id;
+      b.setAttribute("role", "tab");
+      b.setAttribute("aria-selected", String(t.id === state.treeId));
+      b.innerHTML = `<span></span>${state.tabs.length > 1 ? '<span class="close" title="close">×</span>' : ""}`;
+      b.firstChild.textContent = t.id;
+      b.addEventListener("click", (e) => (e.target.classList.contains("close") ? actions.closeTab(t.id) : actions.openTab(t.id)));
+      bar.append(b);
+    }
+    const others = xml.trees(state.file.doc).map((t) => t.getAttribute("ID")).filter((id) => !state.tabs.some((t) => t.id === id));
+    if (others.length) {
+      const sel = document.createElement("select");
+      sel.className = "open-tree";
+      sel.innerHTML = `<option value="">open tree…</option>`;
+      for (const id of others) sel.add(new Option(id, id));
+      sel.addEventListener("change", () => sel.value && actions.openTab(sel.value));
+      bar.append(sel);
+    }
+  }
+
+  function renderPalette() {
+    const list = $(".palette-list");
+    const q = $(".palette-search").value.trim().toLowerCase();
+    const types = [...state.palette.values()];
+    if (state.file && !state.file.error) {
+      for (const t of xml.trees(state.file.doc)) {
+        const id = t.getAttribute("ID");
+        if (!state.palette.has(id)) types.push({ type: id, category: "subtree", builtin: false, description: "a tree of this file", ports: [] });
+      }
+    }
+    const order = ["control", "decorator", "condition", "action", "subtree"];
+    types.sort((a, b) => order.indexOf(a.category) - order.indexOf(b.category) || a.type.localeCompare(b.type));
+    let html = "";
+    let group = null;
+    for (const t of types) {
+      if (q && !t.type.toLowerCase().includes(q) && !(t.description || "").toLowerCase().includes(q)) continue;
+      if (t.category !== group) {
+        group = t.category;
+        html += `<li class="group">${group}</li>`;
+      }
+      const sel = t.type === state.paletteType ? ' aria-selected="true"' : "";
+      html += `<li class="palette-item cat-${t.category}" draggable="true" data-type="${esc(t.type)}"${sel} title="${esc(t.description || "")}">${esc(t.type)}</li>`;
+    }
+    list.innerHTML = html;
+    const detail = $(".palette-detail");
+    const t = state.paletteType && (state.palette.get(state.paletteType) || types.find((x) => x.type === state.paletteType));
+    detail.innerHTML = t ? typeDetail(t) : '<p class="hint">Pick a type, then “+ add” (or drag it onto a node).</p>';
+  }
+
+  function typeDetail(t) {
+    const ports = (t.ports || []).map((p) => `<li><b>${esc(p.name)}</b> <i>${esc(p.direction)}</i> ${esc(p.type || "")}${p.default != null ? ` = ${esc(p.default)}` : ""}${p.description ? `<br><small>${esc(p.description)}</small>` : ""}</li>`).join("");
+    return `<h3>${esc(t.type)} <small>${esc(t.category)}${t.builtin ? ", built-in" : ""}</small></h3>${t.description ? `<p>${esc(t.description)}</p>` : ""}${ports ? `<ul class="ports">${ports}</ul>` : "<p><small>no ports</small></p>"}`;
+  }
+
+  function renderPanel() {
+    const panel = section.querySelector(".side-panel");
+    const el = selectedElement();
+    if (!el) {
+      panel.innerHTML = '<p class="hint">Click a node to see its name and ports. Drag nodes to move them; Alt+←/→ reorders, Delete deletes, Insert adds the palette\'s type.</p>';
+      return;
+    }
+    const type = xml.typeOf(el);
+    const entry = state.palette.get(type) || subtreeEntry(type);
+    const i = indexOfElement(state.selected);
+    const node = drawn[i];
+    const errors = [...(state.check?.errors || []), ...(state.check?.warnings || [])]
+      .filter((p) => p.tree === state.treeId && p.element && p.element.join() === state.selected.join());
+    const ports = entry?.ports || [];
+    const known = new Set(["name", "ID", ...ports.map((p) => p.name)]);
+    const extra = Array.from(el.attributes).map((a) => a.name).filter((n) => !known.has(n));
+    let html = `<h2>${esc(xml.nameOf(el))}</h2><p class="node-type">${esc(type)} <small>${esc(entry?.category || "unknown type")}</small></p>`;
+    html += `<p class="node-path">${esc(node?.path || "")}</p>`;
+    if (errors.length) html += `<ul class="node-problems">${errors.map((p) => `<li>${esc(p.message)}</li>`).join("")}</ul>`;
+    html += `<label class="field">name<input data-attr="name" value="${esc(el.getAttribute("name") || "")}" placeholder="${esc(type)}"></label>`;
+    if (el.tagName === "SubTree") {
+      html += `<button data-action="open-subtree">open tree ${esc(el.getAttribute("ID") || "")}</button>`;
+    }
+    if (ports.length) html += "<h3>Ports</h3>";
+    for (const p of ports) {
+      const value = el.getAttribute(p.name);
+      html += `<label class="field" title="${esc(p.description || "")}"><span>${esc(p.name)} <small>${esc(p.direction)} ${esc(p.type || "")}</small></span>
+        <input data-port="${esc(p.name)}" value="${esc(value ?? "")}" placeholder="${esc(p.default ?? "")}"></label>`;
+      if (p.description) html += `<small class="port-doc">${esc(p.description)}</small>`;
+    }
+    if (extra.length) html += "<h3>Other attributes</h3>";
+    for (const name of extra) {
+      html += `<label class="field"><span>${esc(name)}</span><input data-port="${esc(name)}" value="${esc(el.getAttribute(name))}"></label>`;
+    }
+    html += `<h3>Add an attribute</h3><div class="add-attr"><input class="new-attr-name" placeholder="name"><input class="new-attr-value" placeholder="value"><button data-action="add-attribute">set</button></div>`;
+    html += `<h3>Move</h3><div class="moves"><button data-action="move-earlier" title="Alt+←">← earlier</button><button data-action="move-later" title="Alt+→">later →</button><button data-action="move-out" title="Alt+↑">out ↑</button></div>`;
+    const focused = document.activeElement && panel.contains(document.activeElement) ? document.activeElement : null;
+    const focusKey = focused && (focused.dataset.port ? `[data-port="${CSS.escape(focused.dataset.port)}"]` : focused.dataset.attr ? `[data-attr="${focused.dataset.attr}"]` : null);
+    const caret = focused?.selectionStart;
+    panel.innerHTML = html;
+    if (focusKey) {
+      const again = panel.querySelector(focusKey);
+      if (again) {
+        again.focus();
+        if (caret != null) again.setSelectionRange(caret, caret);
+      }
+    }
+  }
+
+  function showBanner(message, buttons) {
+    const b = $(".banner");
+    b.hidden = false;
+    b.innerHTML = "";
+    const p = document.createElement("span");
+    p.textContent = message;
+    b.append(p);
+    for (const [label, fn] of buttons) {
+      const btn = document.createElement("button");
+      btn.textContent = label;
+      btn.addEventListener("click", fn);
+      b.append(btn);
+    }
+  }
+
+  function hideBanner() {
+    $(".banner").hidden = true;
+  }
+
+  // --- events --------------------------------------------------------------------------
+  section.addEventListener("click", (e) => {
+    const a = e.target.closest("[data-action]")?.dataset.action;
+    if (!a) return;
+    const sel = state.selected;
+    if (a === "open") actions.open($(".file-select").value);
+    else if (a === "undo") actions.undo();
+    else if (a === "redo") actions.redo();
+    else if (a === "save") actions.save();
+    else if (a === "reload") actions.reload();
+    else if (a === "export-svg") actions.exportSvg();
+    else if (a === "add") state.paletteType ? actions.add(state.paletteType, sel, "into") : setStatus("pick a type in the palette first", "error");
+    else if (a === "delete") actions.remove(sel);
+    else if (a === "open-subtree") {
+      const el = selectedElement();
+      actions.openTab(el.getAttribute("ID"), drawn[indexOfElement(sel)]?.path || "");
+    } else if (a === "move-earlier") actions.shift(-1);
+    else if (a === "move-later") actions.shift(1);
+    else if (a === "move-out") actions.shift(0);
+    else if (a === "add-attribute") {
+      const name = $(".new-attr-name").value.trim();
+      if (name && sel) actions.setAttribute(sel, name, $(".new-attr-value").value);
+      renderPanel();
+    }
+  });
+
+  section.addEventListener("input", (e) => {
+    const t = e.target;
+    if (!state.selected) return;
+    if (t.dataset.port) actions.setAttribute(state.selected, t.dataset.port, t.value);
+    else if (t.dataset.attr === "name") actions.setAttribute(state.selected, "name", t.value);
+  });
+  // A renamed node is drawn again once the field is left, not at every key.
+  section.addEventListener("change", (e) => {
+    if (e.target.dataset.attr === "name") render();
+  });
+
+  $(".palette-search").addEventListener("input", renderPalette);
+  $(".palette-search").addEventListener("keydown", (e) => {
+    if (e.key === "Enter") {
+      const first = $(".palette-list .palette-item");
+      if (first) {
+        actions.choosePaletteType(first.dataset.type);
+        actions.add(first.dataset.type, state.selected, "into");
+      }
+    } else if (e.key === "Escape") e.target.blur();
+    e.stopPropagation();
+  });
+  $(".palette-list").addEventListener("click", (e) => {
+    const item = e.target.closest(".palette-item");
+    if (item) actions.choosePaletteType(item.dataset.type);
+  });
+  $(".palette-list").addEventListener("dblclick", (e) => {
+    const item = e.target.closest(".palette-item");
+    if (item) actions.add(item.dataset.type, state.selected, "into");
+  });
+  $(".palette-list").addEventListener("dragstart", (e) => {
+    const item = e.target.closest(".palette-item");
+    if (!item) return;
+    e.dataTransfer.setData("application/x-neurotree-type", item.dataset.type);
+    e.dataTransfer.setData("text/plain", item.dataset.type);
+    e.dataTransfer.effectAllowed = "copy";
+  });
+  $(".raw-text").addEventListener("change", (e) => actions.applyRawText(e.target.value));
+
+  function onKey(e) {
+    if (!app.isShown("edit")) return;
+    const inField = /^(INPUT|TEXTAREA|SELECT)$/.test(document.activeElement?.tagName || "");
+    const ctrl = e.ctrlKey || e.metaKey;
+    const key = e.key.toLowerCase();
+    if (ctrl && key === "s") {
+      e.preventDefault();
+      actions.save();
+    } else if (ctrl && key === "z" && !inField) {
+      e.preventDefault();
+      e.shiftKey ? actions.redo() : actions.undo();
+    } else if (ctrl && key === "y" && !inField) {
+      e.preventDefault();
+      actions.redo();
+    } else if (inField) {
+      return;
+    } else if (e.key === "Delete" || e.key === "Backspace") {
+      e.preventDefault();
+      actions.remove(state.selected);
+    } else if (e.key === "Insert" || (key === "a" && !ctrl)) {
+      e.preventDefault();
+      if (state.paletteType && e.key === "Insert") actions.add(state.paletteType, state.selected, "into");
+      else $(".palette-search").focus();
+    } else if (e.altKey && (e.key === "ArrowLeft" || e.key === "ArrowDown")) {
+      e.preventDefault();
+      actions.shift(e.key === "ArrowLeft" ? -1 : 1);
+    } else if (e.altKey && e.key === "ArrowRight") {
+      e.preventDefault();
+      actions.shift(1);
+    } else if (e.altKey && e.key === "ArrowUp") {
+      e.preventDefault();
+      actions.shift(0);
+    } else if (e.key.startsWith("Arrow") && state.selected) {
+      e.preventDefault();
+      navigate(e.key);
+    } else if (e.key === "Enter" && state.selected) {
+      const el = selectedElement();
+      if (el?.tagName === "SubTree") actions.openTab(el.getAttribute("ID"), drawn[indexOfElement(state.selected)]?.path || "");
+    }
+  }
+  document.addEventListener("keydown", onKey);
+
+  // Arrow keys walk the tree: up to the parent, down to the first child, sideways to siblings.
+  function navigate(key) {
+    const p = state.selected;
+    let next = null;
+    if (key === "ArrowUp" && p.length > 1) next = p.slice(0, -1);
+    else if (key === "ArrowDown") next = [...p, 0];
+    else if (key === "ArrowLeft" && p[p.length - 1] > 0) next = [...p.slice(0, -1), p[p.length - 1] - 1];
+    else if (key === "ArrowRight") next = [...p.slice(0, -1), p[p.length - 1] + 1];
+    if (next && indexOfElement(next) >= 0) actions.select(next, true);
+  }
+
+  // The file on disk: noticed when it changes, offered for reload.
+  setInterval(async () => {
+    if (!state.path || state.saving || !app.isShown("edit")) return;
+    try {
+      const { mtime } = await api.get("/api/stat", { path: state.path });
+      if (mtime !== state.mtime && mtime !== state.diskMtime) {
+        state.diskMtime = mtime;
+        showBanner(`${state.path} changed on disk.`, [
+          ["Reload", () => actions.reload()],
+          ["Keep mine", () => hideBanner()],
+        ]);
+      }
+    } catch {
+      /* the server may be restarting; the next poll tries again */
+    }
+  }, STAT_EVERY_MS);
+
+  async function listFiles() {
+    try {
+      const { files } = await api.get("/api/files");
+      const sel = $(".file-select");
+      sel.innerHTML = "";
+      for (const f of files.filter((f) => f.kind === "tree")) sel.add(new Option(f.path, f.path));
+      if (state.path) sel.value = state.path;
+    } catch (e) {
+      setStatus(`files: ${e.message}`, "error");
+    }
+  }
+  listFiles();
+
+  return { actions, state, drawing, show: () => drawing.fit() };
+}
+
+function esc(text) {
+  return String(text).replace(/[&<>"']/g, (c) => ({ "&": "&amp;", "<": "&lt;", ">": "&gt;", '"': "&quot;", "'": "&#39;" })[c]);
+}

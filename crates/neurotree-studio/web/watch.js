@@ -1,0 +1,350 @@
+// The watch view: a running tree as the server's studio observer reports it over `/ws`
+// (PROTOCOL.md): every node's status live, the running path and the list of nodes running
+// now, each scope's blackboard (editable between ticks), the failure reason chain,
+// breakpoints, pause / step / continue, and the tick counter (`[data-tick]`).
+//
+// A tick message touches only the nodes it names: one attribute each, no layout. The
+// socket reconnects by itself; the server's `hello` carries everything, so nothing is
+// kept across connections but what the user chose (collapsed nodes, selection).
+
+import * as api from "./api.js";
+import { TreeDrawing, drawingToolbar, nodesOfTreeView } from "./tree.js";
+
+export function mountWatch(section, app) {
+  const state = {
+    connected: false,
+    run: null,
+    tree: null,
+    tick: 0,
+    statuses: [],
+    running: new Set(),
+    paused: null,
+    breakpoints: new Map(), // node id -> when
+    blackboards: [],
+    failure: null,
+    ended: null,
+    selected: null,
+  };
+
+  section.innerHTML = `
+    <div class="watch-main">
+      <div class="toolbar">
+        <span class="conn" data-connection="closed">disconnected</span>
+        <span class="run-name"></span>
+        <span class="tick-box">tick <b data-tick="0">0</b></span>
+        <button data-action="pause" title="stop before the next tick">❚❚ pause</button>
+        <button data-action="step" title="tick once, then stop">▸❚ step</button>
+        <button data-action="continue" title="go on">▶ continue</button>
+        <span class="run-state" data-run-state="none"></span>
+      </div>
+      <div class="canvas"></div>
+    </div>
+    <aside class="side-panel watch-side">
+      <section class="selected-node"><p class="hint">Click a node to set a breakpoint on it.</p></section>
+      <section><h3>Running now <span class="running-count"></span></h3><ul class="running-list" data-running-list></ul></section>
+      <section><h3>Last failure</h3><div class="failure" data-failure><p class="hint">none</p></div></section>
+      <section><h3>Blackboards</h3><div class="blackboards"></div></section>
+    </aside>`;
+
+  const $ = (sel) => section.querySelector(sel);
+  const drawing = new TreeDrawing($(".canvas"), {
+    onSelect: (i) => actions.select(i),
+  });
+  $(".canvas").before(drawingToolbar(drawing));
+  const tickEl = $("[data-tick]");
+  let socket = null;
+
+  const actions = {
+    connect() {
+      if (socket) return;
+      socket = api.watchSocket(receive, (s) => {
+        state.connected = s === "open";
+        const c = $(".conn");
+        c.dataset.connection = s;
+        c.textContent = s === "open" ? "connected" : "reconnecting…";
+      });
+    },
+    select(i) {
+      state.selected = i;
+      renderSelected();
+    },
+    pause: () => socket?.send({ type: "pause" }),
+    step: () => socket?.send({ type: "step" }),
+    continue: () => socket?.send({ type: "continue" }),
+    breakpoint(id, when) {
+      socket?.send({ type: "breakpoint", node: id, when });
+    },
+    setEntry(scope, key, value) {
+      socket?.send({ type: "set", scope, key, value });
+    },
+  };
+
+  function receive(msg) {
+    switch (msg.type) {
+      case "hello":
+        return hello(msg);
+      case "tick":
+        return tick(msg);
+      case "blackboards":
+        state.blackboards = msg.scopes || [];
+        return renderBlackboards();
+      case "failure":
+        state.failure = msg.failure;
+        return renderFailure();
+      case "paused":
+        state.paused = msg.paused;
+        setTick(msg.tick);
+        return renderRunState();
+      case "resumed":
+        state.paused = null;
+        setTick(msg.tick);
+        return renderRunState();
+      case "breakpoints":
+        return setBreakpoints(msg.breakpoints);
+      case "ended":
+        state.ended = msg.status;
+        state.paused = null;
+        setTick(msg.tick);
+        return renderRunState();
+      case "refused":
+        return app.toast(`the server refused a message: ${msg.why}`);
+      default:
+        return undefined;
+    }
+  }
+
+  function hello(msg) {
+    state.run = msg.run;
+    if (!msg.run) {
+      $(".run-name").textContent = "no run attached: start one with `neurotree run FILE --studio PORT`";
+      state.tree = null;
+      drawing.setTree([]);
+      section.dataset.run = "none";
+      return;
+    }
+    $(".run-name").textContent = msg.run.name || "";
+    const signature = msg.tree.nodes.map((n) => n.path).join("\n");
+    const same = state.tree && state.signature === signature;
+    state.tree = msg.tree;
+    state.signature = signature;
+    if (!same) drawing.setTree(nodesOfTreeView(msg.tree), { keepView: false });
+    state.statuses = msg.statuses.slice();
+    state.running = new Set();
+    state.statuses.forEach((s, i) => s === "RUNNING" && state.running.add(i));
+    drawing.setStatuses(state.statuses);
+    state.paused = msg.paused;
+    state.ended = msg.ended;
+    state.blackboards = msg.blackboards || [];
+    state.failure = msg.failure;
+    setBreakpoints(msg.breakpoints || []);
+    setTick(msg.tick);
+    renderRunning();
+    renderBlackboards();
+    renderFailure();
+    renderRunState();
+    renderSelected();
+    section.dataset.run = "attached";
+  }
+
+  function tick(msg) {
+    if (!state.tree) return;
+    let runningChanged = false;
+    for (const [id, status] of msg.changes) {
+      const i = id; // a TreeView's nodes are in id order
+      if (state.statuses[i] === status) continue;
+      if (state.statuses[i] === "RUNNING" || status === "RUNNING") runningChanged = true;
+      state.statuses[i] = status;
+      if (status === "RUNNING") state.running.add(i);
+      else state.running.delete(i);
+      drawing.setStatus(i, status);
+    }
+    setTick(msg.tick);
+    if (runningChanged) {
+      drawing.drawHot();
+      renderRunning();
+    }
+  }
+
+  function setTick(n) {
+    if (n == null || n === state.tick) return;
+    state.tick = n;
+    tickEl.textContent = String(n);
+    tickEl.dataset.tick = String(n);
+  }
+
+  function setBreakpoints(list) {
+    state.breakpoints = new Map(list.map((b) => [b.node, b.when]));
+    drawing.clearMarks("data-breakpoint");
+    for (const [id, when] of state.breakpoints) drawing.mark(id, "data-breakpoint", when);
+    renderSelected();
+  }
+
+  function renderRunState() {
+    const el = $(".run-state");
+    const p = state.paused;
+    drawing.clearMarks("data-paused-at");
+    if (state.ended) {
+      el.dataset.runState = "ended";
+      el.textContent = `ended: ${state.ended}`;
+    } else if (p) {
+      el.dataset.runState = "paused";
+      const node = p.node != null ? state.tree?.nodes[p.node] : null;
+      el.textContent = p.why === "breakpoint" && node
+        ? `paused at breakpoint: ${node.path}${p.status ? ` returned ${p.status}` : " (before its tick)"}`
+        : `paused (${p.why})`;
+      if (p.node != null) drawing.mark(p.node, "data-paused-at", true);
+    } else if (state.tree) {
+      el.dataset.runState = "running";
+      el.textContent = "running";
+    } else {
+      el.dataset.runState = "none";
+      el.textContent = "";
+    }
+    $('[data-action="pause"]').disabled = !state.tree || !!p || !!state.ended;
+    $('[data-action="step"]').disabled = !p;
+    $('[data-action="continue"]').disabled = !p;
+  }
+
+  function renderRunning() {
+    const list = $(".running-list");
+    const nodes = state.tree?.nodes || [];
+    const ids = [...state.running].sort((a, b) => a - b);
+    $(".running-count").textContent = ids.length ? `(${ids.length})` : "";
+    list.innerHTML = "";
+    for (const i of ids.slice(0, 200)) {
+      const li = document.createElement("li");
+      li.textContent = nodes[i]?.path ?? String(i);
+      li.dataset.nodeId = String(i);
+      li.addEventListener("click", () => {
+        drawing.select(i, { reveal: true });
+        actions.select(i);
+      });
+      list.append(li);
+    }
+  }
+
+  function renderFailure() {
+    const box = $(".failure");
+    drawing.clearMarks("data-failed");
+    const f = state.failure;
+    if (!f) {
+      box.innerHTML = '<p class="hint">none</p>';
+      drawing.drawHot();
+      return;
+    }
+    box.innerHTML = "";
+    const head = document.createElement("p");
+    head.innerHTML = "<b></b>";
+    head.firstChild.textContent = f.path;
+    if (f.reason) head.append(`: ${f.reason}`);
+    if (f.code != null) head.append(` (code ${f.code})`);
+    const chain = document.createElement("pre");
+    chain.textContent = f.chain || "";
+    box.append(head, chain);
+    for (const id of f.nodes || []) drawing.mark(id, "data-failed", true);
+    drawing.drawHot();
+  }
+
+  function renderBlackboards() {
+    const box = $(".blackboards");
+    // Keep a field the user is typing in.
+    if (box.contains(document.activeElement) && document.activeElement.tagName === "INPUT") return;
+    box.innerHTML = "";
+    for (const scope of state.blackboards) {
+      const details = document.createElement("details");
+      details.open = true;
+      details.dataset.scope = String(scope.scope);
+      const summary = document.createElement("summary");
+      summary.textContent = scope.path ? scope.path : "root";
+      details.append(summary);
+      const table = document.createElement("table");
+      for (const entry of scope.entries) {
+        const tr = document.createElement("tr");
+        const k = document.createElement("td");
+        k.textContent = entry.key;
+        const t = document.createElement("td");
+        t.className = "entry-type";
+        t.textContent = entry.type || "";
+        const v = document.createElement("td");
+        const input = document.createElement("input");
+        input.dataset.entry = entry.key;
+        input.value = typeof entry.value === "string" ? entry.value : JSON.stringify(entry.value);
+        input.addEventListener("keydown", (e) => {
+          if (e.key === "Enter") {
+            actions.setEntry(scope.scope, entry.key, parseValue(input.value, entry.value));
+            input.blur();
+          } else if (e.key === "Escape") input.blur();
+        });
+        input.addEventListener("blur", () => setTimeout(renderBlackboards, 0));
+        v.append(input);
+        tr.append(k, v, t);
+        table.append(tr);
+      }
+      if (!scope.entries.length) table.innerHTML = "<tr><td class='hint'>empty</td></tr>";
+      details.append(table);
+      box.append(details);
+    }
+  }
+
+  function renderSelected() {
+    const box = $(".selected-node");
+    const i = state.selected;
+    const node = i != null ? state.tree?.nodes[i] : null;
+    if (!node) {
+      box.innerHTML = '<p class="hint">Click a node to set a breakpoint on it.</p>';
+      return;
+    }
+    const when = state.breakpoints.get(node.id) || "off";
+    box.innerHTML = `<h3></h3><p class="node-type"></p><p>status <b data-selected-status></b></p>
+      <label class="field">breakpoint <select data-breakpoint-select>
+        <option value="off">none</option><option value="before">before its tick</option>
+        <option value="SUCCESS">when it returns SUCCESS</option><option value="FAILURE">when it returns FAILURE</option>
+        <option value="RUNNING">when it returns RUNNING</option></select></label>
+      <div class="ports"></div>`;
+    box.querySelector("h3").textContent = node.path;
+    box.querySelector(".node-type").textContent = `${node.type} (${node.category})`;
+    box.querySelector("[data-selected-status]").textContent = state.statuses[i] || "";
+    const sel = box.querySelector("select");
+    sel.value = when;
+    sel.addEventListener("change", () => actions.breakpoint(node.id, sel.value));
+    const ports = box.querySelector(".ports");
+    for (const [k, v] of Object.entries(node.ports || {})) {
+      const p = document.createElement("div");
+      p.className = "port";
+      p.textContent = `${k} = ${v}`;
+      ports.append(p);
+    }
+  }
+
+  section.addEventListener("click", (e) => {
+    const a = e.target.closest("[data-action]")?.dataset.action;
+    if (a === "pause") actions.pause();
+    else if (a === "step") actions.step();
+    else if (a === "continue") actions.continue();
+  });
+
+  return {
+    actions,
+    state,
+    drawing,
+    show() {
+      actions.connect();
+      if (state.tree) drawing.fit();
+    },
+  };
+}
+
+// A typed value back to JSON: numbers and booleans when the entry held one, else text.
+function parseValue(text, previous) {
+  if (typeof previous === "number") {
+    const n = Number(text);
+    return Number.isFinite(n) ? n : text;
+  }
+  if (typeof previous === "boolean") return text === "true";
+  if (typeof previous === "string") return text;
+  try {
+    return JSON.parse(text);
+  } catch {
+    return text;
+  }
+}
