@@ -58,22 +58,7 @@ async function start() {
   } catch (e) {
     app.toast(`session: ${e.message}`);
   }
-  const hash = new URLSearchParams(location.hash.slice(1));
-  const view = hash.get("view");
-  if (view === "edit" && hash.get("file")) {
-    app.show("edit");
-    await app.views.edit.actions.open(hash.get("file"));
-    return;
-  }
-  if (view === "replay" && hash.get("file")) {
-    app.show("replay");
-    await app.views.replay.actions.open(hash.get("file"), hash.get("tree"));
-    return;
-  }
-  if (VIEWS.includes(view)) {
-    app.show(view);
-    return;
-  }
+  if (await route()) return;
   // What the command line opened: trees in the editor, logs in replay; a run's watch first.
   const trees = session.open.filter((p) => /\.xml$/i.test(p));
   const logs = session.open.filter((p) => /\.(jsonl|btlog|db|sqlite|db3)$/i.test(p));
@@ -85,5 +70,27 @@ async function start() {
   app.show(session.watch ? "watch" : logs.length && !trees.length ? "replay" : "edit");
 }
 
+// Opens what the address names; false when it names nothing.
+async function route() {
+  const hash = new URLSearchParams(location.hash.slice(1));
+  const view = hash.get("view");
+  if (view === "edit" && hash.get("file")) {
+    app.show("edit");
+    await app.views.edit.actions.open(hash.get("file"));
+    return true;
+  }
+  if (view === "replay" && hash.get("file")) {
+    app.show("replay");
+    await app.views.replay.actions.open(hash.get("file"), hash.get("tree"));
+    return true;
+  }
+  if (VIEWS.includes(view)) {
+    app.show(view);
+    return true;
+  }
+  return false;
+}
+
+window.addEventListener("hashchange", route);
 window.studio = app;
 start();

@@ -38,11 +38,11 @@ export function mountReplay(section, app) {
         <span class="replay-status"></span>
       </div>
       <div class="timeline">
-        <button data-action="start" title="to the start">⏮</button>
+        <button data-action="start" title="to the start">|◂</button>
         <button data-action="back" title="one step back (←)">◂</button>
         <button data-action="play" title="play / pause (space)">▶ play</button>
         <button data-action="forward" title="one step forward (→)">▸</button>
-        <button data-action="end" title="to the end">⏭</button>
+        <button data-action="end" title="to the end">▸|</button>
         <button data-action="prev-failure" title="previous failure">◂ failure</button>
         <button data-action="next-failure" title="next failure">failure ▸</button>
         <label>speed <select class="speed">${SPEEDS.map((s) => `<option value="${s}"${s === 1 ? " selected" : ""}>${s}×</option>`).join("")}</select></label>
@@ -89,6 +89,9 @@ export function mountReplay(section, app) {
       $(".replay-status").textContent = `${replay.source}: ${replay.tree.nodes.length} nodes, ${replay.steps.length} steps`;
       app.remember({ view: "replay", file: path, tree: treePath || undefined });
       section.dataset.loaded = path;
+      $(".log-select").value = path;
+      if (treePath) $(".tree-select").value = treePath;
+      showTreeFor();
       renderPosition();
     },
 
@@ -299,6 +302,7 @@ export function mountReplay(section, app) {
       fill($(".tree-select"), ["tree"]);
       fill($(".coverage-select"), ["coverage"], "—");
       if (state.path) $(".log-select").value = state.path;
+      if (state.treePath) $(".tree-select").value = state.treePath;
       showTreeFor();
     } catch (e) {
       $(".replay-status").textContent = e.message;
