@@ -9,6 +9,7 @@
 //!   (feature `ros2`, on by default; Rust 1.88).
 //! - `neurotree test`: run scenario files (mocks, inputs, expectations per tick) as tests.
 //! - `neurotree show`: draw a BehaviorTree.CPP file's tree as text, DOT, Mermaid or SVG.
+//! - `neurotree studio`: see, edit, watch and replay trees in the browser (feature `studio`).
 //!
 //! Each command's flags and what it does are in its own module, so that a command reads in
 //! one file; here the command line is only parsed and handed over, and the outcome turned
@@ -27,6 +28,7 @@ mod registry;
 mod ros2;
 mod run;
 mod show;
+mod studio;
 mod test;
 mod testbench;
 
@@ -60,6 +62,9 @@ enum Command {
     /// Draw a BehaviorTree.CPP file's tree as text, Graphviz DOT, Mermaid or SVG, with the
     /// statuses of a `run --trace` if given one.
     Show(show::ShowArgs),
+    /// See, edit, watch and replay behavior trees in the browser: serves a page on
+    /// 127.0.0.1 and prints its URL on stderr.
+    Studio(studio::StudioArgs),
     /// Nav2's navigator and the simulated Nav2 servers as ROS 2 processes on 127.0.0.1.
     #[cfg(feature = "ros2")]
     #[command(subcommand)]
@@ -103,6 +108,7 @@ fn main() -> ExitCode {
         Command::Test(args) => test::execute(&args, &mut out, &mut io::stderr()),
         Command::Show(args) => show::execute(&args, &mut out, &mut io::stderr()),
         Command::Check(args) => check::execute(&args, &mut out, &mut io::stderr()),
+        Command::Studio(args) => studio::execute(&args, &mut io::stderr()),
     };
     match result {
         Ok(Outcome::Done) => ExitCode::SUCCESS,

@@ -38,8 +38,9 @@ use neurotree::{
 use serde_json::{json, Map, Value};
 
 use crate::files::{self, LoadLimits};
-use crate::groot::{GrootArgs, Served};
+use crate::groot::{GrootArgs, Served as GrootServed};
 use crate::live::{self, LiveArgs, SavedRun, Watcher};
+use crate::studio::Served;
 use crate::testbench::{TestbenchArgs, Watch};
 use crate::Outcome;
 
@@ -114,6 +115,8 @@ pub struct RunArgs {
     pub trace: bool,
     #[command(flatten)]
     pub groot: GrootArgs,
+    #[command(flatten)]
+    pub studio: crate::studio::StudioFlags,
     /// After each tick, draw the tree with the statuses of that tick on standard error.
     #[arg(long)]
     pub view: bool,
@@ -341,17 +344,23 @@ pub(crate) fn execute_watched(
         }
     };
     let groot = match opts.groot.port {
-        Some(port) => match Served::start(&blueprint, &registry, &tree_id, port, &opts.groot) {
-            Ok(served) => {
-                served.announce(err)?;
-                Some(served)
+        Some(port) => {
+            match GrootServed::start(&blueprint, &registry, &tree_id, port, &opts.groot) {
+                Ok(served) => {
+                    served.announce(err)?;
+                    Some(served)
+                }
+                Err(e) => {
+                    writeln!(err, "{e}")?;
+                    return Ok(Outcome::Refused);
+                }
             }
-            Err(e) => {
-                writeln!(err, "{e}")?;
-                return Ok(Outcome::Refused);
-            }
-        },
+        }
         None => None,
+    };
+    let mut studio = match Served::start(&opts.studio, files, opts.nav2, err)? {
+        Ok(studio) => studio,
+        Err(()) => return Ok(Outcome::Refused),
     };
     let clock = ManualClock::new();
     let mut tree = Tree::with_clock(Arc::clone(&blueprint), clock.clone());
@@ -424,6 +433,9 @@ pub(crate) fn execute_watched(
         served.publish(&tree);
         observers.push(Box::new(served.monitor()));
     }
+    if let Some(studio) = &mut studio {
+        observers.push(studio.attach(&tree, &tree_id));
+    }
     tree.set_observer((Recorder(Arc::clone(&record)), observers));
     // The `--set-at` ticks written so far: on a resumed run, those of the ticks it saved.
     let mut set_upto: u32 = ticks;
@@ -433,12 +445,19 @@ pub(crate) fn execute_watched(
             if watcher.changed() {
                 if let Some(new) = reload(&mut tree, files, opts, &record, out, err)? {
                     blueprint = new;
+                    if let Some(studio) = &mut studio {
+                        studio.reattach(&tree, &tree_id);
+                    }
                 }
             }
         }
         opts.testbench
             .set_due(set_upto, ticks + 1, tree.blackboard_mut());
         set_upto = ticks + 1;
+        if let Some(studio) = &mut studio {
+            // A page may pause here, and edit the blackboard before the tick.
+            studio.between_ticks(&mut tree);
+        }
         let left = limit - ticks;
         tree.set_max_passes(left);
         clock.advance(opts.step());
@@ -547,6 +566,15 @@ pub(crate) fn execute_watched(
     if let Some(served) = groot {
         out.flush()?;
         served.linger(err)?;
+    }
+    if let Some(studio) = studio {
+        out.flush()?;
+        let ended = match status.as_str() {
+            "SUCCESS" => Status::Success,
+            "RUNNING" | "IDLE" => Status::Running,
+            _ => Status::Failure,
+        };
+        studio.finish(&mut tree, ended, err)?;
     }
     Ok(match status.as_str() {
         _ if !written => Outcome::Refused,

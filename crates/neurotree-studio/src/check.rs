@@ -192,13 +192,7 @@ mod tests {
 
     #[test]
     fn an_error_is_located_at_its_node() {
-        let check = check_text(
-            Registry::new(),
-            Path::new("a.xml"),
-            "a.xml",
-            TEXT,
-            100_000,
-        );
+        let check = check_text(Registry::new(), Path::new("a.xml"), "a.xml", TEXT, 100_000);
         assert!(!check.ok);
         assert_eq!(check.trees, ["Main"]);
         assert_eq!(check.errors.len(), 1, "{:?}", check.errors);

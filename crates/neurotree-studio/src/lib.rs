@@ -134,7 +134,9 @@ pub struct Studio {
 
 impl std::fmt::Debug for Studio {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("Studio").field("addr", &self.addr).finish_non_exhaustive()
+        f.debug_struct("Studio")
+            .field("addr", &self.addr)
+            .finish_non_exhaustive()
     }
 }
 
@@ -156,7 +158,9 @@ impl Studio {
             source,
         })?;
         let addr = listener.local_addr().map_err(StudioError::Runtime)?;
-        listener.set_nonblocking(true).map_err(StudioError::Runtime)?;
+        listener
+            .set_nonblocking(true)
+            .map_err(StudioError::Runtime)?;
         let token = if options.bind.is_loopback() {
             None
         } else {

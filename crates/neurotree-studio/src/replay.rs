@@ -84,9 +84,8 @@ pub fn from_jsonl<C>(
                 )));
             }
         }
-        let status = status_from_name(to).ok_or_else(|| {
-            ReplayError::Format(format!("line {}: unknown status `{to}`", n + 1))
-        })?;
+        let status = status_from_name(to)
+            .ok_or_else(|| ReplayError::Format(format!("line {}: unknown status `{to}`", n + 1)))?;
         let time_us = v.get("time_us").and_then(|t| t.as_u64()).unwrap_or(0);
         if steps.last().is_none_or(|s| s.tick != tick) {
             steps.push(Step {
@@ -143,7 +142,11 @@ pub fn from_sqlite(path: &std::path::Path) -> Result<Replay, ReplayError> {
         .map_err(format)?;
     let rows = stmt
         .query_map((session, MAX_CHANGES as i64 + 1), |r| {
-            Ok((r.get::<_, i64>(0)?, r.get::<_, i64>(1)?, r.get::<_, i64>(2)?))
+            Ok((
+                r.get::<_, i64>(0)?,
+                r.get::<_, i64>(1)?,
+                r.get::<_, i64>(2)?,
+            ))
         })
         .map_err(format)?;
     let mut records = Vec::new();
@@ -266,7 +269,8 @@ mod tests {
     #[test]
     fn a_trace_of_another_tree_is_refused() {
         let bp = blueprint();
-        let line = r#"{"tick":1,"time_us":0,"id":1,"node":"s/elsewhere","from":"IDLE","to":"RUNNING"}"#;
+        let line =
+            r#"{"tick":1,"time_us":0,"id":1,"node":"s/elsewhere","from":"IDLE","to":"RUNNING"}"#;
         assert!(matches!(
             from_jsonl(line, &bp, "Main"),
             Err(ReplayError::Mismatch(_))

@@ -194,7 +194,9 @@ async fn file(State(shared): App, Query(q): Query<PathQuery>) -> Result<Json<Val
     let text = shared.workspace.read(&q.path)?;
     let mtime = shared.workspace.mtime(&q.path)?;
     let check = run_check(&shared, &q.path, text.clone()).await?;
-    Ok(Json(json!({"path": q.path, "text": text, "mtime": mtime, "check": check})))
+    Ok(Json(
+        json!({"path": q.path, "text": text, "mtime": mtime, "check": check}),
+    ))
 }
 
 async fn stat(State(shared): App, Query(q): Query<PathQuery>) -> Result<Json<Value>, Refusal> {
@@ -241,7 +243,11 @@ async fn save(State(shared): App, Json(body): Json<TextBody>) -> Result<Response
                 "`{}` changed on disk since it was opened: reload it, or save again to overwrite",
                 body.path
             );
-            return Ok((StatusCode::CONFLICT, Json(json!({"error": error, "mtime": now}))).into_response());
+            return Ok((
+                StatusCode::CONFLICT,
+                Json(json!({"error": error, "mtime": now})),
+            )
+                .into_response());
         }
     }
     shared.workspace.write(&body.path, &body.text)?;
@@ -255,7 +261,10 @@ struct MaybePath {
     path: Option<String>,
 }
 
-async fn palette_of(State(shared): App, Query(q): Query<MaybePath>) -> Result<Json<Value>, Refusal> {
+async fn palette_of(
+    State(shared): App,
+    Query(q): Query<MaybePath>,
+) -> Result<Json<Value>, Refusal> {
     let mut registry = (shared.registry)();
     if let Some(path) = &q.path {
         let text = shared.workspace.read(path)?;
@@ -277,7 +286,9 @@ async fn svg(State(shared): App, Json(body): Json<TextBody>) -> Result<Response,
         if let Some(dir) = abs.parent() {
             loader = loader.base_dir(dir);
         }
-        loader.load_str(&body.text, &body.path).map_err(|e| e.to_string())?;
+        loader
+            .load_str(&body.text, &body.path)
+            .map_err(|e| e.to_string())?;
         let blueprint = match &body.tree {
             Some(id) => loader.build(id),
             None => loader.build_main(),
@@ -343,7 +354,10 @@ enum JsonlError {
 /// its trees the trace matches.
 fn jsonl_replay(shared: &Shared, tree_path: &str, text: &str) -> Result<Replay, JsonlError> {
     let tree_text = shared.workspace.read(tree_path).map_err(JsonlError::Path)?;
-    let abs = shared.workspace.resolve(tree_path).map_err(JsonlError::Path)?;
+    let abs = shared
+        .workspace
+        .resolve(tree_path)
+        .map_err(JsonlError::Path)?;
     let mut registry = (shared.registry)();
     let _ = registry.add_model_str(&tree_text, tree_path);
     let mut loader = XmlLoader::new(&registry)
@@ -363,7 +377,9 @@ fn jsonl_replay(shared: &Shared, tree_path: &str, text: &str) -> Result<Replay, 
     }
     let mut first_error = None;
     for id in &ids {
-        let Ok(blueprint) = loader.build(id) else { continue };
+        let Ok(blueprint) = loader.build(id) else {
+            continue;
+        };
         match replay::from_jsonl(text, &blueprint, id) {
             Ok(r) => return Ok(r),
             Err(e) => {
@@ -381,7 +397,10 @@ async fn coverage(State(shared): App, Query(q): Query<MaybePath>) -> Result<Json
     let path = q.path.unwrap_or_default();
     let text = shared.workspace.read(&path)?;
     let value: Value = serde_json::from_str(&text).map_err(|e| {
-        Refusal(StatusCode::UNPROCESSABLE_ENTITY, format!("{path}: not JSON: {e}"))
+        Refusal(
+            StatusCode::UNPROCESSABLE_ENTITY,
+            format!("{path}: not JSON: {e}"),
+        )
     })?;
     if !value.get("nodes").is_some_and(Value::is_array) {
         return Err(Refusal(

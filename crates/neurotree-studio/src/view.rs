@@ -188,7 +188,10 @@ impl<'d, 'i> LogWalk<'d, 'i> {
             return Err("the log's tree is too large or too deep".into());
         }
         let tag = el.tag_name().name();
-        let explicit = matches!(tag, "Action" | "Condition" | "Control" | "Decorator" | "SubTree");
+        let explicit = matches!(
+            tag,
+            "Action" | "Condition" | "Control" | "Decorator" | "SubTree"
+        );
         let type_name = if explicit {
             el.attribute("ID").unwrap_or(tag)
         } else {
@@ -233,15 +236,22 @@ impl<'d, 'i> LogWalk<'d, 'i> {
             subtree: is_subtree.then(|| type_name.to_string()),
             ports,
         });
-        self.uids
-            .push(el.attribute("_uid").and_then(|u| u.parse().ok()).unwrap_or(0));
+        self.uids.push(
+            el.attribute("_uid")
+                .and_then(|u| u.parse().ok())
+                .unwrap_or(0),
+        );
         let body: Vec<roxmltree::Node<'d, 'i>> = if is_subtree && children.is_empty() {
             let fullpath = el.attribute("_fullpath");
             let tree = self
                 .trees
                 .iter()
                 .find(|t| fullpath.is_some() && t.attribute("_fullpath") == fullpath)
-                .or_else(|| self.trees.iter().find(|t| t.attribute("ID") == Some(type_name)));
+                .or_else(|| {
+                    self.trees
+                        .iter()
+                        .find(|t| t.attribute("ID") == Some(type_name))
+                });
             match tree {
                 Some(t) if !self.open.contains(&t.id()) => {
                     self.open.push(t.id());
@@ -286,7 +296,13 @@ mod tests {
         let paths: Vec<&str> = view.nodes.iter().map(|n| n.path.as_str()).collect();
         assert_eq!(
             paths,
-            ["Sequence", "Sequence/A", "Sequence/A/Sleep", "Sequence/B", "Sequence/B/IsDone"]
+            [
+                "Sequence",
+                "Sequence/A",
+                "Sequence/A/Sleep",
+                "Sequence/B",
+                "Sequence/B/IsDone"
+            ]
         );
         assert_eq!(uids, [1, 2, 3, 4, 5]);
         assert_eq!(view.nodes[4].category, "condition");

@@ -139,8 +139,13 @@ impl Hub {
     pub fn attach<C>(self: &Arc<Self>, tree: &Tree<C>, name: &str) -> StudioObserver {
         let blueprint = tree.blueprint();
         let view = TreeView::of_blueprint(blueprint, name);
-        let statuses: Box<[AtomicU8]> = tree.statuses().iter().map(|s| AtomicU8::new(*s as u8)).collect();
-        let breakpoints: Box<[AtomicU8]> = (0..blueprint.len()).map(|_| AtomicU8::new(NONE)).collect();
+        let statuses: Box<[AtomicU8]> = tree
+            .statuses()
+            .iter()
+            .map(|s| AtomicU8::new(*s as u8))
+            .collect();
+        let breakpoints: Box<[AtomicU8]> =
+            (0..blueprint.len()).map(|_| AtomicU8::new(NONE)).collect();
         let paths = blueprint.paths();
         let mut inner = self.lock();
         // Breakpoints stay on the nodes whose paths the new tree still has.
@@ -154,7 +159,10 @@ impl Hub {
                 }
             }
         }
-        let tick = inner.run.as_ref().map_or(0, |r| r.cell.tick.load(Ordering::Relaxed));
+        let tick = inner
+            .run
+            .as_ref()
+            .map_or(0, |r| r.cell.tick.load(Ordering::Relaxed));
         let cell = Arc::new(RunCell {
             statuses,
             breakpoints,
@@ -397,6 +405,12 @@ impl StudioObserver {
 
 impl Observer for StudioObserver {
     fn on_tick_start(&mut self, _now: Duration) {
+        // After a reload the pages read a new cell: follow it (once per tick, not per node).
+        if let Some(run) = &self.hub.lock().run {
+            if !Arc::ptr_eq(&run.cell, &self.cell) {
+                self.cell = Arc::clone(&run.cell);
+            }
+        }
         self.cell.tick.fetch_add(1, Ordering::Release);
     }
 

@@ -60,11 +60,11 @@ impl Watch {
         Ok(status)
     }
 
-    /// Shows `tree` (reloaded, or another one) to the pages in place of the one watched:
-    /// they get it whole, with the breakpoints of nodes whose paths it still has. Returns
-    /// the observer to set on it.
-    pub fn reattach<C>(&mut self, tree: &Tree<C>, name: &str) -> StudioObserver {
-        self.hub.attach(tree, name)
+    /// Shows `tree`, reloaded ([`Tree::reload`]), to the pages in place of the one
+    /// watched: they get it whole, with the breakpoints of nodes whose paths it still has.
+    /// The observer already set follows it from the next tick.
+    pub fn reattach<C>(&mut self, tree: &Tree<C>, name: &str) {
+        drop(self.hub.attach(tree, name));
     }
 
     /// Marks the run ended with `status` and publishes the tree's last blackboards.

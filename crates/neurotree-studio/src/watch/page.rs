@@ -24,8 +24,15 @@ enum FromPage {
     Pause,
     Step,
     Continue,
-    Breakpoint { node: u64, when: String },
-    Set { scope: u32, key: String, value: Value },
+    Breakpoint {
+        node: u64,
+        when: String,
+    },
+    Set {
+        scope: u32,
+        key: String,
+        value: Value,
+    },
 }
 
 /// What this page was last sent, to send it only what changed.
@@ -121,7 +128,11 @@ fn control(hub: &Hub, message: FromPage) -> Option<String> {
                 "SUCCESS" => (false, Some(NodeStatus::Success)),
                 "FAILURE" => (false, Some(NodeStatus::Failure)),
                 "SKIPPED" => (false, Some(NodeStatus::Skipped)),
-                other => return Some(format!("a breakpoint is `before`, a status or `off`, not `{other}`")),
+                other => {
+                    return Some(format!(
+                        "a breakpoint is `before`, a status or `off`, not `{other}`"
+                    ))
+                }
             };
             if !hub.set_breakpoint(node, status, before) {
                 return Some(format!("no node {node} in the tree watched"));
@@ -178,7 +189,9 @@ fn changes(hub: &Hub, sent: &mut Sent) -> Vec<String> {
     }
     if sent.blackboards != inner.blackboards.0 {
         sent.blackboards = inner.blackboards.0;
-        out.push(json!({"type": "blackboards", "tick": tick, "scopes": inner.blackboards.1}).to_string());
+        out.push(
+            json!({"type": "blackboards", "tick": tick, "scopes": inner.blackboards.1}).to_string(),
+        );
     }
     if sent.failure != inner.failure.0 {
         sent.failure = inner.failure.0;

@@ -18,7 +18,9 @@ pub(crate) fn scopes<C>(tree: &Tree<C>) -> Value {
             let entries: Vec<Value> = keys
                 .into_iter()
                 .map(|key| {
-                    let type_name = bb.info_in(scope, key).map_or("", |i| short_type(i.type_name));
+                    let type_name = bb
+                        .info_in(scope, key)
+                        .map_or("", |i| short_type(i.type_name));
                     json!({"key": key, "value": entry_json(bb, scope, key), "type": type_name})
                 })
                 .collect();
@@ -44,7 +46,9 @@ pub(crate) fn apply<C>(tree: &mut Tree<C>, edit: &Edit) {
     }
     let now = tree.now();
     let bb = tree.blackboard_mut();
-    let held = bb.info_in(scope, &edit.key).map(|i| short_type(i.type_name));
+    let held = bb
+        .info_in(scope, &edit.key)
+        .map(|i| short_type(i.type_name));
     let text = match &edit.value {
         Value::String(s) => s.clone(),
         other => other.to_string(),
@@ -128,7 +132,10 @@ mod tests {
         edit(&mut tree, "ok", json!(false));
         assert_eq!(tree.blackboard().get_exact::<bool>("ok"), Ok(false));
         edit(&mut tree, "name", json!("b"));
-        assert_eq!(tree.blackboard().get_exact::<String>("name").as_deref(), Ok("b"));
+        assert_eq!(
+            tree.blackboard().get_exact::<String>("name").as_deref(),
+            Ok("b")
+        );
         edit(&mut tree, "fresh", json!(1.5));
         assert_eq!(tree.blackboard().get_exact::<f64>("fresh"), Ok(1.5));
         // A scope the tree does not have is ignored.

@@ -1,0 +1,201 @@
+//! The studio itself, in a build with the `studio` feature.
+
+use std::io::{self, Write};
+use std::path::PathBuf;
+use std::time::{Duration, Instant};
+
+use neurotree::{Registry, Status, Tree};
+use neurotree_studio::{Studio, StudioObserver, StudioOptions, Watch};
+
+use super::{StudioArgs, StudioFlags};
+use crate::registry::{with_nav2_controls, Nav2Args};
+use crate::{files, Outcome};
+
+/// The registry the page checks with: the built-ins, Nav2's nodes (all of them with
+/// `--nav2`), and the `TreeNodesModel` of every model file and file given.
+fn registry_factory(
+    nav2: Nav2Args,
+    model_files: &[PathBuf],
+    err: &mut impl Write,
+) -> io::Result<Result<impl Fn() -> Registry<()> + Send + Sync + 'static, ()>> {
+    let mut models = Vec::new();
+    for path in model_files {
+        match files::read(path) {
+            Ok(text) => {
+                let shown = files::shown(path);
+                // Refused now, with its place, rather than on every check.
+                if let Err(e) = Registry::<()>::new().add_model_str(&text, &shown) {
+                    writeln!(err, "{e}")?;
+                    return Ok(Err(()));
+                }
+                models.push((text, shown));
+            }
+            Err(e) => {
+                writeln!(err, "{e}")?;
+                return Ok(Err(()));
+            }
+        }
+    }
+    Ok(Ok(move || {
+        let mut registry = with_nav2_controls::<()>(nav2);
+        for (text, shown) in &models {
+            // Each loaded when the studio started.
+            let _ = registry.add_model_str(text, shown);
+        }
+        registry
+    }))
+}
+
+/// `files` relative to the current folder, or the first that is not inside it.
+fn inside(files: &[PathBuf]) -> Result<Vec<String>, String> {
+    let here = std::env::current_dir().map_err(|e| e.to_string())?;
+    let here = std::fs::canonicalize(here).map_err(|e| e.to_string())?;
+    files
+        .iter()
+        .map(|f| {
+            let real = std::fs::canonicalize(f)
+                .map_err(|e| format!("neurotree: {}: {e}", files::shown(f)))?;
+            let rel = real.strip_prefix(&here).map_err(|_| {
+                format!(
+                    "neurotree: {} is outside the current folder, which is all the studio \
+                     serves: start it in a folder that holds the file",
+                    files::shown(f)
+                )
+            })?;
+            Ok(rel
+                .components()
+                .map(|c| c.as_os_str().to_string_lossy().into_owned())
+                .collect::<Vec<_>>()
+                .join("/"))
+        })
+        .collect()
+}
+
+/// Serves the studio until the process is stopped.
+pub fn execute(args: &StudioArgs, err: &mut impl Write) -> io::Result<Outcome> {
+    let open = match inside(&args.files) {
+        Ok(open) => open,
+        Err(e) => {
+            writeln!(err, "{e}")?;
+            return Ok(Outcome::Refused);
+        }
+    };
+    let Ok(registry) = registry_factory(args.nav2, &args.models, err)? else {
+        return Ok(Outcome::Refused);
+    };
+    let options = StudioOptions {
+        bind: args.bind,
+        port: args.port,
+        open,
+        ..StudioOptions::default()
+    };
+    let studio = match Studio::serve(options, registry) {
+        Ok(s) => s,
+        Err(e) => {
+            writeln!(err, "neurotree: {e}")?;
+            return Ok(Outcome::Refused);
+        }
+    };
+    writeln!(err, "studio: {}", studio.url())?;
+    err.flush()?;
+    loop {
+        std::thread::park();
+    }
+}
+
+/// A run served to the studio (`run --studio`, `demo --studio`).
+pub struct Served {
+    studio: Studio,
+    watch: Option<Watch>,
+    linger: Duration,
+}
+
+impl Served {
+    /// Starts the studio if `--studio` was given, serving the current folder with `files`
+    /// open; says where on `err`. `Err` when it cannot start (said on `err`).
+    pub fn start(
+        flags: &StudioFlags,
+        files: &[PathBuf],
+        nav2: Nav2Args,
+        err: &mut impl Write,
+    ) -> io::Result<Result<Option<Served>, ()>> {
+        let Some(port) = flags.port else {
+            return Ok(Ok(None));
+        };
+        let Ok(registry) = registry_factory(nav2, &[], err)? else {
+            return Ok(Err(()));
+        };
+        // Files outside the folder are run, but not opened in the page.
+        let open = files
+            .iter()
+            .filter_map(|f| inside(std::slice::from_ref(f)).ok())
+            .flatten()
+            .collect();
+        let options = StudioOptions {
+            bind: flags.bind,
+            port,
+            open,
+            ..StudioOptions::default()
+        };
+        match Studio::serve(options, registry) {
+            Ok(studio) => {
+                writeln!(err, "studio: {}", studio.url())?;
+                err.flush()?;
+                Ok(Ok(Some(Served {
+                    studio,
+                    watch: None,
+                    linger: flags.linger,
+                })))
+            }
+            Err(e) => {
+                writeln!(err, "neurotree: {e}")?;
+                Ok(Err(()))
+            }
+        }
+    }
+
+    /// Shows `tree` to the pages; the observer to set on it.
+    pub fn attach(&mut self, tree: &Tree<()>, name: &str) -> Box<dyn neurotree::Observer> {
+        let (observer, watch): (StudioObserver, Watch) = self.studio.attach(tree, name);
+        self.watch = Some(watch);
+        Box::new(observer)
+    }
+
+    /// Between two ticks: the pages' edits, pauses and steps.
+    pub fn between_ticks(&mut self, tree: &mut Tree<()>) {
+        if let Some(w) = &mut self.watch {
+            w.between_ticks(tree);
+        }
+    }
+
+    /// After a reload: the pages get the new tree.
+    pub fn reattach(&mut self, tree: &Tree<()>, name: &str) {
+        if let Some(w) = &mut self.watch {
+            w.reattach(tree, name);
+        }
+    }
+
+    /// The run ended: the pages are told, and the studio serves on for `--studio-linger`.
+    pub fn finish(
+        mut self,
+        tree: &mut Tree<()>,
+        status: Status,
+        err: &mut impl Write,
+    ) -> io::Result<()> {
+        if let Some(w) = &mut self.watch {
+            w.finish(tree, status);
+        }
+        if !self.linger.is_zero() {
+            writeln!(
+                err,
+                "studio: the run ended; serving its last state for {} s",
+                self.linger.as_secs_f64()
+            )?;
+            let until = Instant::now() + self.linger;
+            while Instant::now() < until {
+                std::thread::sleep(Duration::from_millis(50).min(until - Instant::now()));
+            }
+        }
+        Ok(())
+    }
+}
