@@ -1,0 +1,276 @@
+//! Watching a run through the WebSocket, as a page does: the whole tree first, then only
+//! changes; pause, step and continue; breakpoints; blackboard edits between ticks; and a
+//! run that goes on whatever the pages do.
+
+mod common;
+
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::Arc;
+use std::thread;
+use std::time::{Duration, Instant};
+
+use common::{get, Page};
+use neurotree_studio::{Studio, StudioOptions};
+use neurotree_toolkit::{ManualClock, Registry, Tree, XmlLoader};
+use serde_json::{json, Value};
+
+/// Node ids: 0 `root`, 1 the Script, 2 `done`.
+const TREE: &str = r#"<root BTCPP_format="4">
+  <BehaviorTree ID="Main">
+    <Sequence name="root">
+      <Script code="count += 1"/>
+      <AlwaysSuccess name="done"/>
+    </Sequence>
+  </BehaviorTree>
+</root>"#;
+
+/// A run ticking every 5 ms until stopped, watched by a studio; `ticks` counts the ticks
+/// it made.
+struct Run {
+    studio: Studio,
+    ticks: Arc<AtomicU64>,
+    count: Arc<AtomicU64>,
+    stop: Arc<AtomicBool>,
+    thread: Option<thread::JoinHandle<()>>,
+}
+
+impl Run {
+    fn start() -> Run {
+        let dir = tempfile::tempdir().unwrap();
+        let options = StudioOptions {
+            root: dir.path().to_path_buf(),
+            ..StudioOptions::default()
+        };
+        let studio = Studio::serve(options, Registry::new).unwrap();
+        let registry = Registry::<()>::new();
+        let mut loader = XmlLoader::new(&registry);
+        loader.load_str(TREE, "main.xml").unwrap();
+        let clock = ManualClock::new();
+        let mut tree = Tree::with_clock(Arc::new(loader.build_main().unwrap()), clock.clone());
+        tree.blackboard_mut().set("count", 0i64).unwrap();
+        let mut watch = studio.watch(&mut tree, "main.xml");
+        let ticks = Arc::new(AtomicU64::new(0));
+        let count = Arc::new(AtomicU64::new(0));
+        let stop = Arc::new(AtomicBool::new(false));
+        let (t, c, s) = (Arc::clone(&ticks), Arc::clone(&count), Arc::clone(&stop));
+        let thread = thread::spawn(move || {
+            while !s.load(Ordering::Acquire) {
+                watch.between_ticks(&mut tree);
+                clock.advance(Duration::from_millis(100));
+                tree.tick_once(&mut ()).unwrap();
+                t.fetch_add(1, Ordering::AcqRel);
+                c.store(
+                    tree.blackboard().get::<u64>("count").unwrap(),
+                    Ordering::Release,
+                );
+                thread::sleep(Duration::from_millis(5));
+            }
+            drop(dir);
+        });
+        Run {
+            studio,
+            ticks,
+            count,
+            stop,
+            thread: Some(thread),
+        }
+    }
+
+    fn ticks(&self) -> u64 {
+        self.ticks.load(Ordering::Acquire)
+    }
+
+    /// Waits until the run has made more than `n` ticks.
+    fn wait_past(&self, n: u64) {
+        let until = Instant::now() + Duration::from_secs(20);
+        while self.ticks() <= n {
+            assert!(
+                Instant::now() < until,
+                "the run stands still at {}",
+                self.ticks()
+            );
+            thread::sleep(Duration::from_millis(5));
+        }
+    }
+}
+
+impl Drop for Run {
+    fn drop(&mut self) {
+        self.stop.store(true, Ordering::Release);
+        if let Some(t) = self.thread.take() {
+            let _ = t.join();
+        }
+    }
+}
+
+fn root_count(m: &Value) -> Option<i64> {
+    m["scopes"][0]["entries"]
+        .as_array()?
+        .iter()
+        .find(|e| e["key"] == "count")?["value"]
+        .as_i64()
+}
+
+#[test]
+fn a_page_gets_the_whole_tree_then_changes() {
+    let run = Run::start();
+    run.wait_past(2);
+    let mut page = Page::connect(run.studio.addr());
+    let hello = page.expect("hello");
+    let paths: Vec<&str> = hello["tree"]["nodes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|n| n["path"].as_str().unwrap())
+        .collect();
+    assert_eq!(paths, ["root", "root/Script", "root/done"]);
+    assert_eq!(hello["tree"]["nodes"][0]["category"], "control");
+    assert_eq!(hello["statuses"].as_array().unwrap().len(), 3);
+    assert!(hello["tick"].as_u64().unwrap() >= 2);
+    // Later messages carry the tick and what changed; ticks only grow.
+    let first = page.expect("tick")["tick"].as_u64().unwrap();
+    let later = page.expect_where("tick", |m| m["tick"].as_u64().unwrap() > first + 3);
+    assert!(later["changes"].is_array());
+    assert_eq!(get(run.studio.addr(), "/api/stats").json()["pages"], 1);
+}
+
+#[test]
+fn pause_holds_the_run_and_each_step_is_one_tick() {
+    let run = Run::start();
+    let mut page = Page::connect(run.studio.addr());
+    page.expect("hello");
+    page.send(r#"{"type":"pause"}"#);
+    let paused = page.expect("paused");
+    assert_eq!(paused["paused"]["why"], "pause");
+    let at = run.ticks();
+    thread::sleep(Duration::from_millis(150));
+    assert_eq!(run.ticks(), at, "a paused run does not tick");
+    for n in 1..=3 {
+        page.send(r#"{"type":"step"}"#);
+        let stepped = page.expect_where("paused", |m| m["paused"]["why"] == "step");
+        assert_eq!(run.ticks(), at + n, "step {n}");
+        assert_eq!(stepped["tick"].as_u64().unwrap(), at + n);
+    }
+    page.send(r#"{"type":"continue"}"#);
+    page.expect("resumed");
+    run.wait_past(at + 5);
+}
+
+#[test]
+fn a_breakpoint_stops_before_its_node_and_on_its_status() {
+    let run = Run::start();
+    let mut page = Page::connect(run.studio.addr());
+    page.expect("hello");
+    page.send(r#"{"type":"breakpoint","node":2,"when":"before"}"#);
+    let set = page.expect("breakpoints");
+    assert_eq!(set["breakpoints"], json!([{"node": 2, "when": "before"}]));
+    let hit = page.expect("paused");
+    assert_eq!(
+        hit["paused"],
+        json!({"why": "breakpoint", "node": 2, "status": null})
+    );
+    let at = run.ticks();
+    thread::sleep(Duration::from_millis(100));
+    assert_eq!(run.ticks(), at, "held inside the tick");
+    // On to the same breakpoint in the next tick.
+    page.send(r#"{"type":"continue"}"#);
+    page.expect("resumed");
+    page.expect("paused");
+    assert_eq!(run.ticks(), at + 1);
+    // A breakpoint on a result instead.
+    page.send(r#"{"type":"breakpoint","node":2,"when":"SUCCESS"}"#);
+    page.send(r#"{"type":"continue"}"#);
+    let hit = page.expect_where("paused", |m| m["paused"]["status"] == "SUCCESS");
+    assert_eq!(hit["paused"]["node"], 2);
+    page.send(r#"{"type":"breakpoint","node":2,"when":"off"}"#);
+    page.send(r#"{"type":"continue"}"#);
+    page.expect("resumed");
+    run.wait_past(at + 10);
+    // A node the tree does not have.
+    page.send(r#"{"type":"breakpoint","node":99,"when":"before"}"#);
+    assert!(page.expect("refused")["why"]
+        .as_str()
+        .unwrap()
+        .contains("99"));
+}
+
+#[test]
+fn a_blackboard_edit_lands_between_ticks() {
+    let run = Run::start();
+    let mut page = Page::connect(run.studio.addr());
+    page.expect("hello");
+    page.send(r#"{"type":"pause"}"#);
+    page.expect("paused");
+    page.send(r#"{"type":"set","scope":0,"key":"count","value":100}"#);
+    let shown = page.expect_where("blackboards", |m| root_count(m) == Some(100));
+    assert_eq!(shown["scopes"][0]["path"], "");
+    page.send(r#"{"type":"step"}"#);
+    page.expect_where("paused", |m| m["paused"]["why"] == "step");
+    // The Script counted on from the edited value.
+    assert_eq!(run.count.load(Ordering::Acquire), 101);
+}
+
+#[test]
+fn bad_messages_are_refused_and_counted_and_the_page_stays() {
+    let run = Run::start();
+    let mut page = Page::connect(run.studio.addr());
+    page.expect("hello");
+    for bad in [
+        "not json",
+        r#"{"type":"explode"}"#,
+        r#"{"type":"set","scope":0,"key":"k","value":{"deep":1}}"#,
+        &format!(r#"{{"type":"pause","pad":"{}"}}"#, "x".repeat(70_000)),
+    ] {
+        page.send(bad);
+        page.expect("refused");
+    }
+    // A flood: past 100 a second the rest are refused without an answer each.
+    for _ in 0..300 {
+        page.send(r#"{"type":"continue"}"#);
+    }
+    let refused = get(run.studio.addr(), "/api/stats").json()["refused"]
+        .as_u64()
+        .unwrap();
+    assert!(refused >= 4 + 150, "{refused}");
+    thread::sleep(Duration::from_millis(1100));
+    // Still attached, and heard.
+    page.send(r#"{"type":"pause"}"#);
+    page.expect("paused");
+    let at = run.ticks();
+    thread::sleep(Duration::from_millis(100));
+    assert_eq!(run.ticks(), at);
+}
+
+#[test]
+fn the_run_goes_on_when_its_last_page_leaves_and_a_new_page_gets_it_whole() {
+    let run = Run::start();
+    let mut page = Page::connect(run.studio.addr());
+    page.expect("hello");
+    page.send(r#"{"type":"pause"}"#);
+    page.expect("paused");
+    let at = run.ticks();
+    page.close();
+    // Nobody is left to continue it: the run goes on by itself.
+    run.wait_past(at + 5);
+    let mut again = Page::connect(run.studio.addr());
+    let hello = again.expect("hello");
+    assert!(hello["tick"].as_u64().unwrap() > at);
+    assert_eq!(hello["paused"], Value::Null);
+    assert_eq!(hello["statuses"].as_array().unwrap().len(), 3);
+    // The blackboards as of the latest tick a page could have seen (none was attached).
+    assert!(hello["blackboards"].is_array());
+}
+
+#[test]
+fn with_no_page_attached_breakpoints_never_hold_the_run() {
+    let run = Run::start();
+    {
+        let mut page = Page::connect(run.studio.addr());
+        page.expect("hello");
+        page.send(r#"{"type":"breakpoint","node":1,"when":"before"}"#);
+        page.expect("paused");
+        page.close();
+    }
+    let at = run.ticks();
+    run.wait_past(at + 20);
+}
