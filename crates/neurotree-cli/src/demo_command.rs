@@ -57,6 +57,8 @@ pub struct DemoArgs {
     /// Leave the seed's obstacle out: a tree without recoveries cannot get past one.
     #[arg(long)]
     pub no_obstacle: bool,
+    #[command(flatten)]
+    pub studio: crate::studio::StudioFlags,
 }
 
 /// A number of seconds, more than 0.
@@ -112,7 +114,14 @@ pub fn execute(args: DemoArgs, out: &mut impl Write) -> io::Result<Outcome> {
             .flatten()
             .map(|(w, h)| (usize::from(w.0), usize::from(h.0))),
     };
-    let summary = demo::run(&opts, out, &mut io::stderr())?;
+    let mut err = io::stderr();
+    let files: Vec<std::path::PathBuf> = opts.config.tree.iter().cloned().collect();
+    let nav2 = crate::registry::Nav2Args { nav2: true };
+    let summary = match crate::studio::Served::start(&args.studio, &files, nav2, &mut err)? {
+        Err(()) => return Ok(Outcome::Refused),
+        Ok(None) => demo::run(&opts, out, &mut err)?,
+        Ok(Some(served)) => crate::studio::run_demo(served, &opts, out, &mut err)?,
+    };
     Ok(match summary {
         None => Outcome::Refused,
         Some(summary) if summary.succeeded() => Outcome::Done,

@@ -567,14 +567,15 @@ pub(crate) fn execute_watched(
         out.flush()?;
         served.linger(err)?;
     }
-    if let Some(studio) = studio {
+    if let Some(mut studio) = studio {
         out.flush()?;
         let ended = match status.as_str() {
             "SUCCESS" => Status::Success,
             "RUNNING" | "IDLE" => Status::Running,
             _ => Status::Failure,
         };
-        studio.finish(&mut tree, ended, err)?;
+        studio.end(&mut tree, ended);
+        studio.linger(err)?;
     }
     Ok(match status.as_str() {
         _ if !written => Outcome::Refused,

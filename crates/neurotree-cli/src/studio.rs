@@ -46,6 +46,7 @@ pub struct StudioFlags {
     /// Address the studio listens on (see `neurotree studio --bind`).
     #[arg(
         long = "studio-bind",
+        id = "studio_bind",
         value_name = "ADDR",
         default_value = "127.0.0.1",
         requires = "studio"
@@ -53,7 +54,7 @@ pub struct StudioFlags {
     pub bind: IpAddr,
     /// Seconds to keep serving the studio once the run ended, so that a page still shows
     /// its last statuses.
-    #[arg(long = "studio-linger", value_name = "SECS", default_value = "5", value_parser = seconds, requires = "studio")]
+    #[arg(long = "studio-linger", id = "studio_linger", value_name = "SECS", default_value = "5", value_parser = seconds, requires = "studio")]
     pub linger: Duration,
 }
 
@@ -68,7 +69,7 @@ fn seconds(text: &str) -> Result<Duration, String> {
 #[cfg(feature = "studio")]
 mod served;
 #[cfg(feature = "studio")]
-pub use served::{execute, Served};
+pub use served::{execute, run_demo, Served};
 
 /// A build without the studio (`--no-default-features`): `studio` and `--studio` are
 /// refused with what to do.
@@ -106,27 +107,38 @@ impl Served {
     }
 
     /// Never called: no `Served` exists.
-    pub fn attach(&self, _: &neurotree::Tree<()>, _: &str) -> Box<dyn neurotree::Observer> {
+    pub fn attach<C>(&mut self, _: &neurotree::Tree<C>, _: &str) -> Box<dyn neurotree::Observer> {
         match *self {}
     }
 
     /// Never called: no `Served` exists.
-    pub fn between_ticks(&mut self, _: &mut neurotree::Tree<()>) {
+    pub fn between_ticks<C>(&mut self, _: &mut neurotree::Tree<C>) {
         match *self {}
     }
 
     /// Never called: no `Served` exists.
-    pub fn reattach(&mut self, _: &neurotree::Tree<()>, _: &str) {
+    pub fn reattach<C>(&mut self, _: &neurotree::Tree<C>, _: &str) {
         match *self {}
     }
 
     /// Never called: no `Served` exists.
-    pub fn finish(
-        self,
-        _: &mut neurotree::Tree<()>,
-        _: neurotree::Status,
-        _: &mut impl Write,
-    ) -> io::Result<()> {
+    pub fn end<C>(&mut self, _: &mut neurotree::Tree<C>, _: neurotree::Status) {
+        match *self {}
+    }
+
+    /// Never called: no `Served` exists.
+    pub fn linger(self, _: &mut impl Write) -> io::Result<()> {
         match self {}
     }
+}
+
+/// Never called: no `Served` exists.
+#[cfg(not(feature = "studio"))]
+pub fn run_demo(
+    served: Served,
+    _: &neurotree_cli::demo::DemoOptions,
+    _: &mut impl Write,
+    _: &mut impl Write,
+) -> io::Result<Option<neurotree_cli::demo::DemoSummary>> {
+    match served {}
 }

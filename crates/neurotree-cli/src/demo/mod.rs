@@ -42,12 +42,36 @@ const CLEAR_BELOW: &str = "\x1b[J";
 /// Lines a frame may gain from its notes (a tick with much going on has five or six).
 const NOTES_ROOM: usize = 6;
 
+/// What watches the demo's tree from outside (the studio): shown the run before its first
+/// tick, called before each tick (where it may hold the run) and once at its end.
+pub trait DemoWatch {
+    /// Before the first tick.
+    fn attach(&mut self, _demo: &mut DemoRun) {}
+    /// Before each tick.
+    fn before_tick(&mut self, _demo: &mut DemoRun) {}
+    /// After the last tick.
+    fn finish(&mut self, _demo: &mut DemoRun) {}
+}
+
+/// Watches nothing: the plain demo.
+impl DemoWatch for () {}
+
 /// Runs the demo, frames and summary on `out`; the summary, or `None` if it could not
 /// start (the error is on `err`).
 pub fn run(
     opts: &DemoOptions,
     out: &mut impl Write,
     err: &mut impl Write,
+) -> io::Result<Option<DemoSummary>> {
+    run_watched(opts, out, err, &mut ())
+}
+
+/// [`run`], with `watch` shown the tree.
+pub fn run_watched(
+    opts: &DemoOptions,
+    out: &mut impl Write,
+    err: &mut impl Write,
+    watch: &mut dyn DemoWatch,
 ) -> io::Result<Option<DemoSummary>> {
     let mut demo = match DemoRun::new(&opts.config) {
         Ok(demo) => demo,
@@ -60,7 +84,9 @@ pub fn run(
     let mut screen = Screen::new(opts.terminal, &demo);
     writeln!(out, "{}", demo.intro())?;
     let started = Instant::now();
+    watch.attach(&mut demo);
     while !demo.is_over() {
+        watch.before_tick(&mut demo);
         demo.tick();
         let ticks = demo.ticks();
         // Ticks 1, 1 + N, 1 + 2N, ...: with N = 10, the first tick of every second.
@@ -77,6 +103,7 @@ pub fn run(
         }
         screen.draw(out, &demo.frame(screen.layout))?;
     }
+    watch.finish(&mut demo);
     let summary = demo.summary();
     if screen.in_place {
         writeln!(out)?;

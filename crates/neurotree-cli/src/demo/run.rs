@@ -352,6 +352,24 @@ impl DemoRun {
         self.status
     }
 
+    /// Adds `observer` beside the demo's own: it sees every tick from now on.
+    pub fn add_observer(&mut self, observer: Box<dyn neurotree::Observer>) {
+        let mut all: Vec<Box<dyn neurotree::Observer>> = Vec::new();
+        all.extend(self.tree.take_observer());
+        all.push(observer);
+        self.tree.set_observer(all);
+    }
+
+    /// The navigator's tree, for what watches it from outside (the studio).
+    pub fn tree_mut(&mut self) -> &mut Tree<Nav2Sim> {
+        &mut self.tree
+    }
+
+    /// The file the tree was loaded from (the built-in navigator's name if none was given).
+    pub fn tree_file(&self) -> &str {
+        &self.tree_file
+    }
+
     /// Runs to the end without drawing; the summary.
     pub fn run_to_end(&mut self) -> DemoSummary {
         while !self.is_over() {

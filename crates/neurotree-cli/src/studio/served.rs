@@ -2,9 +2,10 @@
 
 use std::io::{self, Write};
 use std::path::PathBuf;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 use neurotree::{Registry, Status, Tree};
+use neurotree_cli::demo::{self, DemoOptions, DemoRun, DemoSummary, DemoWatch};
 use neurotree_studio::{Studio, StudioObserver, StudioOptions, Watch};
 
 use super::{StudioArgs, StudioFlags};
@@ -155,47 +156,80 @@ impl Served {
     }
 
     /// Shows `tree` to the pages; the observer to set on it.
-    pub fn attach(&mut self, tree: &Tree<()>, name: &str) -> Box<dyn neurotree::Observer> {
+    pub fn attach<C>(&mut self, tree: &Tree<C>, name: &str) -> Box<dyn neurotree::Observer> {
         let (observer, watch): (StudioObserver, Watch) = self.studio.attach(tree, name);
         self.watch = Some(watch);
         Box::new(observer)
     }
 
     /// Between two ticks: the pages' edits, pauses and steps.
-    pub fn between_ticks(&mut self, tree: &mut Tree<()>) {
+    pub fn between_ticks<C>(&mut self, tree: &mut Tree<C>) {
         if let Some(w) = &mut self.watch {
             w.between_ticks(tree);
         }
     }
 
     /// After a reload: the pages get the new tree.
-    pub fn reattach(&mut self, tree: &Tree<()>, name: &str) {
+    pub fn reattach<C>(&mut self, tree: &Tree<C>, name: &str) {
         if let Some(w) = &mut self.watch {
             w.reattach(tree, name);
         }
     }
 
-    /// The run ended: the pages are told, and the studio serves on for `--studio-linger`.
-    pub fn finish(
-        mut self,
-        tree: &mut Tree<()>,
-        status: Status,
-        err: &mut impl Write,
-    ) -> io::Result<()> {
+    /// The run ended with `status`: the pages are told.
+    pub fn end<C>(&mut self, tree: &mut Tree<C>, status: Status) {
         if let Some(w) = &mut self.watch {
             w.finish(tree, status);
         }
+    }
+
+    /// Serves on for `--studio-linger`, so that a page still shows the run's last state.
+    pub fn linger(self, err: &mut impl Write) -> io::Result<()> {
         if !self.linger.is_zero() {
             writeln!(
                 err,
                 "studio: the run ended; serving its last state for {} s",
                 self.linger.as_secs_f64()
             )?;
-            let until = Instant::now() + self.linger;
-            while Instant::now() < until {
-                std::thread::sleep(Duration::from_millis(50).min(until - Instant::now()));
-            }
+            err.flush()?;
+            std::thread::sleep(self.linger);
         }
         Ok(())
+    }
+}
+
+/// Runs the demo shown in the studio, which serves on for `--studio-linger` after it.
+pub fn run_demo(
+    served: Served,
+    opts: &DemoOptions,
+    out: &mut impl Write,
+    err: &mut impl Write,
+) -> io::Result<Option<DemoSummary>> {
+    let mut watched = DemoWatched { served };
+    let summary = demo::run_watched(opts, out, err, &mut watched)?;
+    out.flush()?;
+    watched.served.linger(err)?;
+    Ok(summary)
+}
+
+/// The demo's run shown in the studio.
+struct DemoWatched {
+    served: Served,
+}
+
+impl DemoWatch for DemoWatched {
+    fn attach(&mut self, demo: &mut DemoRun) {
+        let name = demo.tree_file().to_string();
+        let observer = self.served.attach(demo.tree_mut(), &name);
+        demo.add_observer(observer);
+    }
+
+    fn before_tick(&mut self, demo: &mut DemoRun) {
+        self.served.between_ticks(demo.tree_mut());
+    }
+
+    fn finish(&mut self, demo: &mut DemoRun) {
+        let status = demo.summary().outcome;
+        self.served.end(demo.tree_mut(), status);
     }
 }
