@@ -61,6 +61,8 @@ pub enum Ros2Command {
         /// Stop after this many seconds [default: run until killed].
         #[arg(long, value_name = "SECS")]
         duration: Option<u64>,
+        #[command(flatten)]
+        studio: crate::studio::StudioFlags,
     },
     /// Start `ros2 sim` and `ros2 navigator` as processes, send the robot across the
     /// warehouse, print its progress and a summary, stop both.
@@ -107,7 +109,14 @@ pub fn execute(command: Ros2Command, out: &mut impl Write) -> io::Result<Outcome
             tree,
             domain,
             duration,
-        } => navigator(tree, domain, duration.map(Duration::from_secs), out),
+            studio,
+        } => navigator(
+            tree,
+            domain,
+            duration.map(Duration::from_secs),
+            &studio,
+            out,
+        ),
         Ros2Command::Demo {
             seed,
             domain,
@@ -178,6 +187,7 @@ pub fn navigator(
     tree: Option<PathBuf>,
     domain: u16,
     duration: Option<Duration>,
+    studio: &crate::studio::StudioFlags,
     out: &mut impl Write,
 ) -> io::Result<Outcome> {
     let (xml, file) = match &tree {
@@ -202,10 +212,24 @@ pub fn navigator(
         "[navigator] serving navigate_to_pose with {file} in domain {domain}"
     )?;
     out.flush()?;
+    let files: Vec<PathBuf> = tree.iter().cloned().collect();
+    let nav2 = crate::registry::Nav2Args { nav2: true };
+    let mut served = match crate::studio::Served::start(studio, &files, nav2, &mut io::stderr())? {
+        Ok(served) => served,
+        Err(()) => return Ok(Outcome::Refused),
+    };
+    if let Some(served) = &mut served {
+        let observer = served.attach(navigator.tree_mut(), &file);
+        navigator.add_observer(observer);
+    }
     let until = duration.map(|d| Instant::now() + d);
     let mut next = Instant::now();
     let mut seen = navigator.stats();
     while until.map_or(true, |u| Instant::now() < u) {
+        if let Some(served) = &mut served {
+            // A page may hold the navigator here, between two ticks.
+            served.between_ticks(navigator.tree_mut());
+        }
         navigator.spin_once().map_err(io::Error::other)?;
         let now = navigator.stats();
         if now != seen {

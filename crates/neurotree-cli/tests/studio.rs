@@ -126,3 +126,26 @@ fn demo_shows_its_run_to_the_studio() {
     assert!(watched);
     assert_eq!(child.wait().unwrap().code(), Some(0));
 }
+
+#[cfg(feature = "ros2")]
+#[test]
+fn the_ros2_navigator_shows_its_tree_to_the_studio() {
+    let dir = tempfile::tempdir().unwrap();
+    let (mut child, addr) = start(
+        dir.path(),
+        &[
+            "ros2",
+            "navigator",
+            "--domain",
+            "91",
+            "--duration",
+            "20",
+            "--studio",
+            "0",
+        ],
+    );
+    let session = get(&addr, "/api/session");
+    assert_eq!(session["watch"], true);
+    child.kill().unwrap();
+    let _ = child.wait();
+}

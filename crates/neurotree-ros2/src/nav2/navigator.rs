@@ -163,6 +163,19 @@ impl Navigator {
         self.recoveries.total()
     }
 
+    /// The navigator's tree, for what watches it from outside (the studio).
+    pub fn tree_mut(&mut self) -> &mut Tree<Nav2Sim> {
+        &mut self.tree
+    }
+
+    /// Adds `observer` beside the navigator's own: it sees every tick from now on.
+    pub fn add_observer(&mut self, observer: Box<dyn neurotree_toolkit::Observer>) {
+        let mut all: Vec<Box<dyn neurotree_toolkit::Observer>> = Vec::new();
+        all.extend(self.tree.take_observer());
+        all.push(observer);
+        self.tree.set_observer(all);
+    }
+
     /// `true` while a goal runs.
     pub fn is_navigating(&self) -> bool {
         self.navigation.is_some()
