@@ -100,6 +100,7 @@
 //! | `robotics`, `nav2` | (feature `nav2`) robot nodes; Nav2's control nodes |
 //! | `sim` | (feature `sim`) a deterministic grid world and Nav2's leaves simulated on it |
 //! | `groot` | (feature `groot`) a Groot2 monitor server |
+//! | `studio` | (feature `studio`) the browser studio: edit, watch (breakpoints, stepping, blackboard edits) and replay |
 //!
 //! - [`prelude`] has what most programs need, for one `use neurotree::prelude::*`.
 //! - The root has [`Blueprint`], [`Builder`], [`tree!`], [`Tree`], [`Status`], the leaf traits
@@ -126,12 +127,13 @@
 //! | `nav2` | `neurotree::robotics`, `neurotree::nav2` | none beyond the crate |
 //! | `sim` | `neurotree::sim`; turns on `nav2` | `pathfinding`, `fastrand` |
 //! | `groot` | `neurotree::groot` | `tokio`, `rmp-serde` |
+//! | `studio` | `neurotree::studio` | `axum`, `tokio`, `rust-embed`, `roxmltree` |
 //! | `tokio` | `runtime::tokio` | `tokio`, `tokio-util` |
 //! | `sqlite` | `observe::SqliteLogger` | `rusqlite` (SQLite bundled) |
 //! | `tracing` | `observe::TracingObserver` | `tracing` |
 //!
 //! The crates behind them: `neurotree-nav2` for `nav2`, `neurotree-sim` for `sim`,
-//! `neurotree-groot` for `groot`. `runtime::tokio` is a runner, a clock on tokio's time, and
+//! `neurotree-groot` for `groot`, `neurotree-studio` for `studio`. `runtime::tokio` is a runner, a clock on tokio's time, and
 //! tasks aborted by a halt.
 //!
 //! # Crates
@@ -148,6 +150,8 @@ pub use neurotree_toolkit::*;
 
 #[cfg(feature = "groot")]
 pub use neurotree_groot as groot;
+#[cfg(feature = "studio")]
+pub use neurotree_studio as studio;
 #[cfg(feature = "nav2")]
 pub use neurotree_nav2 as nav2;
 #[cfg(feature = "nav2")]
