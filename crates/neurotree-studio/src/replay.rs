@@ -301,4 +301,29 @@ mod tests {
         assert!(replay.steps[1].changes.contains(&(3, "FAILURE")));
         assert!(from_btlog(b"not a log").is_err());
     }
+
+    #[cfg(feature = "sqlite")]
+    #[test]
+    fn a_sqlite_log_replays_its_newest_session() {
+        use neurotree_toolkit::observe::SqliteLogger;
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("run.db3");
+        let registry = Registry::<()>::new();
+        let mut log = None;
+        let status = run(|tree| {
+            let logger = SqliteLogger::open(&path, tree, &registry, false).unwrap();
+            log = Some(logger.clone());
+            logger
+        });
+        assert_eq!(status, Status::Failure);
+        log.unwrap().flush().unwrap();
+        let replay = from_sqlite(&path).unwrap();
+        assert_eq!(replay.source, "sqlite");
+        assert_eq!(replay.tree.nodes.len(), 4);
+        let changes: Vec<(u32, &str)> =
+            replay.steps.iter().flat_map(|s| s.changes.iter().copied()).collect();
+        assert_eq!(&changes[..2], &[(0, "RUNNING"), (1, "RUNNING")]);
+        assert!(changes.contains(&(3, "FAILURE")));
+        assert!(from_sqlite(&dir.path().join("missing.db3")).is_err());
+    }
 }

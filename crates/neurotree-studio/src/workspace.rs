@@ -65,7 +65,7 @@ impl FileKind {
             "xml" => FileKind::Tree,
             "jsonl" => FileKind::Trace,
             "btlog" => FileKind::Btlog,
-            "db" | "db3" | "sqlite" | "sqlite3" => FileKind::Sqlite,
+            "db" | "db3" | "btdb" | "sqlite" | "sqlite3" => FileKind::Sqlite,
             "json" => FileKind::Coverage,
             _ => return None,
         })
