@@ -274,3 +274,66 @@ fn with_no_page_attached_breakpoints_never_hold_the_run() {
     let at = run.ticks();
     run.wait_past(at + 20);
 }
+
+#[test]
+fn a_reloaded_tree_reaches_the_pages_whole_with_its_breakpoints() {
+    let dir = tempfile::tempdir().unwrap();
+    let options = StudioOptions {
+        root: dir.path().to_path_buf(),
+        ..StudioOptions::default()
+    };
+    let studio = Studio::serve(options, Registry::new).unwrap();
+    let registry = Registry::<()>::new();
+    let build = |xml: &str| {
+        let mut loader = XmlLoader::new(&registry);
+        loader.load_str(xml, "main.xml").unwrap();
+        Arc::new(loader.build_main().unwrap())
+    };
+    let mut tree = Tree::new(build(TREE));
+    tree.blackboard_mut().set("count", 0i64).unwrap();
+    let mut watch = studio.watch(&mut tree, "main.xml");
+    let mut page = Page::connect(studio.addr());
+    assert_eq!(
+        page.expect("hello")["tree"]["nodes"]
+            .as_array()
+            .unwrap()
+            .len(),
+        3
+    );
+    page.send(r#"{"type":"breakpoint","node":2,"when":"SUCCESS"}"#);
+    page.expect("breakpoints");
+
+    // A node is added before `done`, which moves from id 2 to id 3.
+    let v2 = TREE.replace(
+        r#"<AlwaysSuccess name="done"/>"#,
+        r#"<AlwaysSuccess name="extra"/><AlwaysSuccess name="done"/>"#,
+    );
+    tree.reload(build(&v2), &mut ()).unwrap();
+    watch.reattach(&tree, "main.xml");
+    let hello = page.expect("hello");
+    let paths: Vec<&str> = hello["tree"]["nodes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|n| n["path"].as_str().unwrap())
+        .collect();
+    assert_eq!(paths, ["root", "root/Script", "root/extra", "root/done"]);
+    assert_eq!(
+        hello["breakpoints"],
+        json!([{"node": 3, "when": "SUCCESS"}])
+    );
+
+    // The observer set before the reload follows the new tree: the breakpoint holds the
+    // tick at `done`'s success, in a thread of its own.
+    let ticking = thread::spawn(move || {
+        watch.between_ticks(&mut tree);
+        tree.tick_once(&mut ()).unwrap()
+    });
+    let hit = page.expect("paused");
+    assert_eq!(
+        hit["paused"],
+        json!({"why": "breakpoint", "node": 3, "status": "SUCCESS"})
+    );
+    page.send(r#"{"type":"continue"}"#);
+    assert_eq!(ticking.join().unwrap(), neurotree_toolkit::Status::Success);
+}
