@@ -320,8 +320,11 @@ mod tests {
         let replay = from_sqlite(&path).unwrap();
         assert_eq!(replay.source, "sqlite");
         assert_eq!(replay.tree.nodes.len(), 4);
-        let changes: Vec<(u32, &str)> =
-            replay.steps.iter().flat_map(|s| s.changes.iter().copied()).collect();
+        let changes: Vec<(u32, &str)> = replay
+            .steps
+            .iter()
+            .flat_map(|s| s.changes.iter().copied())
+            .collect();
         assert_eq!(&changes[..2], &[(0, "RUNNING"), (1, "RUNNING")]);
         assert!(changes.contains(&(3, "FAILURE")));
         assert!(from_sqlite(&dir.path().join("missing.db3")).is_err());

@@ -150,14 +150,14 @@ pub use neurotree_toolkit::*;
 
 #[cfg(feature = "groot")]
 pub use neurotree_groot as groot;
-#[cfg(feature = "studio")]
-pub use neurotree_studio as studio;
 #[cfg(feature = "nav2")]
 pub use neurotree_nav2 as nav2;
 #[cfg(feature = "nav2")]
 pub use neurotree_nav2::robotics;
 #[cfg(feature = "sim")]
 pub use neurotree_sim as sim;
+#[cfg(feature = "studio")]
+pub use neurotree_studio as studio;
 
 #[cfg(feature = "crowd")]
 pub mod crowd;
