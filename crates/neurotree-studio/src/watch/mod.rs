@@ -81,5 +81,5 @@ impl Watch {
 
 /// The id of a node by its index, for messages from pages (which may name any number).
 fn node_in(index: u64, len: usize) -> Option<NodeId> {
-    (index < len as u64).then(|| NodeId(index as u32))
+    (index < len as u64).then_some(NodeId(index as u32))
 }
