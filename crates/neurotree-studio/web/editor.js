@@ -132,6 +132,8 @@ export function mountEditor(section, app) {
       showCheck(answer.check);
       setStatus(answer.check?.ok === false ? "opened, with errors" : "opened");
       section.dataset.loaded = path;
+      // For the time-to-drawn measurement: the frame after the tree is in the DOM.
+      requestAnimationFrame(() => setTimeout(() => performance.mark(`studio:edit-drawn:${path}`), 0));
     },
 
     openTab(id, prefix = "") {
@@ -398,7 +400,7 @@ export function mountEditor(section, app) {
     if (state.file?.error) problems.push({ severity: "error", message: `not well-formed XML: ${state.file.error}`, tree: null, element: null });
     for (const e of check?.errors || []) problems.push({ severity: "error", ...e });
     for (const w of check?.warnings || []) problems.push({ severity: "warning", ...w });
-    for (const p of problems) {
+    for (const p of problems.slice(0, 200)) {
       const li = document.createElement("li");
       li.dataset.severity = p.severity;
       li.textContent = p.message;
@@ -409,6 +411,11 @@ export function mountEditor(section, app) {
           actions.select(p.element, true);
         });
       }
+      list.append(li);
+    }
+    if (problems.length > 200) {
+      const li = document.createElement("li");
+      li.textContent = `… and ${problems.length - 200} more`;
       list.append(li);
     }
     const errors = problems.filter((p) => p.severity === "error").length;

@@ -52,6 +52,7 @@ export function mountWatch(section, app) {
   });
   $(".canvas").before(drawingToolbar(drawing));
   const tickEl = $("[data-tick]");
+  const shown = [];
   let socket = null;
 
   const actions = {
@@ -127,7 +128,10 @@ export function mountWatch(section, app) {
     const same = state.tree && state.signature === signature;
     state.tree = msg.tree;
     state.signature = signature;
-    if (!same) drawing.setTree(nodesOfTreeView(msg.tree), { keepView: false });
+    if (!same) {
+      drawing.setTree(nodesOfTreeView(msg.tree), { keepView: false });
+      requestAnimationFrame(() => setTimeout(() => performance.mark("studio:watch-drawn"), 0));
+    }
     state.statuses = msg.statuses.slice();
     state.running = new Set();
     state.statuses.forEach((s, i) => s === "RUNNING" && state.running.add(i));
@@ -170,6 +174,9 @@ export function mountWatch(section, app) {
     state.tick = n;
     tickEl.textContent = String(n);
     tickEl.dataset.tick = String(n);
+    // When each tick was shown (wall clock, ms), for the lag measurement of the tests.
+    if (shown.length >= 20000) shown.splice(0, 10000);
+    shown.push([n, performance.timeOrigin + performance.now()]);
   }
 
   function setBreakpoints(list) {
@@ -327,6 +334,7 @@ export function mountWatch(section, app) {
     actions,
     state,
     drawing,
+    shownTicks: shown,
     show() {
       actions.connect();
       if (state.tree) drawing.fit();

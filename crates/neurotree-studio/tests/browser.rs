@@ -1,0 +1,810 @@
+//! The studio's page in a real browser: Debian's `chromium`, driven through `chromedriver`
+//! (WebDriver, with `fantoccini`), against a studio served in-process on 127.0.0.1 from a
+//! temporary folder holding copies of corpus files.
+//!
+//! Each test does what a person would: opens a tree and finds its nodes; edits a port, adds
+//! a node from the palette, deletes one, undoes, saves and loads the saved file; watches a
+//! run and sees statuses change; stops at a breakpoint and steps; replays a `.btlog` and
+//! scrubs its timeline; opens the 1,111-node tree and follows a 100 Hz run of it, printing
+//! the time to drawn and the tick lag (BENCHMARKS.md).
+//!
+//! Without a browser (no `/usr/bin/chromium` and `/usr/bin/chromedriver`, or the paths in
+//! `NEUROTREE_CHROMIUM` and `NEUROTREE_CHROMEDRIVER`) the tests print a note and pass;
+//! with `NEUROTREE_REQUIRE_BROWSER=1` (as `.ci/run` sets) they fail instead.
+
+use std::net::TcpListener;
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Stdio};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, Mutex};
+use std::thread::JoinHandle;
+use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
+
+use fantoccini::{Client, ClientBuilder, Locator};
+use hyper_util::client::legacy::connect::HttpConnector;
+use neurotree_toolkit::observe::{read_btlog_file, BtlogWriter};
+use neurotree_toolkit::{
+    Handle, ManualClock, NodeStatus, Registry, StatefulAction, Status, Tree, XmlLoader,
+};
+use neurotree_nav2 as nav2;
+use neurotree_studio::{Studio, StudioOptions};
+use serde_json::{json, Value};
+
+const NAV2_TREE: &str = "corpus/nav2/navigate_to_pose_w_replanning_and_recovery.xml";
+const BIG_TREE: &str = "corpus/bench/tree1111.xml";
+
+/// A patrol that never ends: two legs that each run for two ticks, then a check.
+const PATROL: &str = r#"<root BTCPP_format="4" main_tree_to_execute="Patrol">
+  <BehaviorTree ID="Patrol">
+    <Repeat name="forever" num_cycles="-1">
+      <Sequence name="patrol">
+        <Work name="go_a"/>
+        <Work name="go_b"/>
+        <AlwaysSuccess name="look"/>
+      </Sequence>
+    </Repeat>
+  </BehaviorTree>
+</root>
+"#;
+
+// One browser at a time: the tests measure times, and each browser is a few processes.
+static ONE_AT_A_TIME: tokio::sync::Mutex<()> = tokio::sync::Mutex::const_new(());
+
+// ---------------------------------------------------------------------------------------
+// The browser
+
+struct Browser {
+    client: Client,
+    driver: Child,
+    _profile: tempfile::TempDir,
+}
+
+impl Browser {
+    /// A headless chromium through a chromedriver of its own, or `None` (with a note) when
+    /// there is none and none is required.
+    async fn start() -> Option<Browser> {
+        let chromium = tool("NEUROTREE_CHROMIUM", "/usr/bin/chromium");
+        let driver = tool("NEUROTREE_CHROMEDRIVER", "/usr/bin/chromedriver");
+        if !chromium.exists() || !driver.exists() {
+            let note = format!(
+                "browser tests skipped: {} or {} is missing (Debian: apt-get install chromium chromium-driver)",
+                chromium.display(),
+                driver.display()
+            );
+            if std::env::var("NEUROTREE_REQUIRE_BROWSER").as_deref() == Ok("1") {
+                panic!("{note}, and NEUROTREE_REQUIRE_BROWSER=1 requires them");
+            }
+            eprintln!("{note}");
+            return None;
+        }
+        let port = free_port();
+        let driver = Command::new(&driver)
+            .arg(format!("--port={port}"))
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .spawn()
+            .expect("chromedriver starts");
+        let profile = tempfile::tempdir().expect("a profile folder");
+        let caps = json!({
+            "browserName": "chrome",
+            "goog:chromeOptions": {
+                "binary": chromium,
+                "args": [
+                    "--headless=new", "--no-sandbox", "--disable-gpu",
+                    "--disable-background-networking", "--disable-component-update",
+                    "--disable-sync", "--no-first-run", "--disable-dev-shm-usage",
+                    "--window-size=1600,1000",
+                    format!("--user-data-dir={}", profile.path().display()),
+                ],
+            },
+        });
+        let caps = match caps {
+            Value::Object(map) => map,
+            _ => unreachable!("the capabilities are an object"),
+        };
+        let url = format!("http://127.0.0.1:{port}");
+        let deadline = Instant::now() + Duration::from_secs(20);
+        let client = loop {
+            match ClientBuilder::new(HttpConnector::new())
+                .capabilities(caps.clone())
+                .connect(&url)
+                .await
+            {
+                Ok(client) => break client,
+                Err(e) if Instant::now() > deadline => panic!("chromedriver answers: {e}"),
+                Err(_) => tokio::time::sleep(Duration::from_millis(100)).await,
+            }
+        };
+        Some(Browser {
+            client,
+            driver,
+            _profile: profile,
+        })
+    }
+
+    async fn close(self) {
+        let _ = self.client.clone().close().await;
+    }
+
+    async fn goto(&self, url: &str) {
+        self.client.goto(url).await.expect("the page opens");
+    }
+
+    async fn js(&self, script: &str) -> Value {
+        self.client
+            .execute(script, vec![])
+            .await
+            .unwrap_or_else(|e| panic!("script `{script}`: {e}"))
+    }
+
+    async fn click(&self, css: &str) {
+        self.element(css)
+            .await
+            .click()
+            .await
+            .unwrap_or_else(|e| panic!("click {css}: {e}"));
+    }
+
+    async fn element(&self, css: &str) -> fantoccini::elements::Element {
+        self.client
+            .wait()
+            .at_most(Duration::from_secs(10))
+            .for_element(Locator::Css(css))
+            .await
+            .unwrap_or_else(|e| panic!("no element {css}: {e}"))
+    }
+
+    async fn count(&self, css: &str) -> usize {
+        self.client
+            .find_all(Locator::Css(css))
+            .await
+            .map(|v| v.len())
+            .unwrap_or(0)
+    }
+
+    async fn attr(&self, css: &str, name: &str) -> Option<String> {
+        self.element(css)
+            .await
+            .attr(name)
+            .await
+            .expect("an attribute read")
+    }
+
+    /// Waits until `script` (an expression) is truthy; returns its value.
+    async fn until(&self, what: &str, script: &str) -> Value {
+        let deadline = Instant::now() + Duration::from_secs(10);
+        loop {
+            let v = self.js(&format!("return {script};")).await;
+            if !matches!(v, Value::Null | Value::Bool(false)) && v != json!("") && v != json!(0) {
+                return v;
+            }
+            if Instant::now() > deadline {
+                panic!("timed out waiting for {what} ({script})");
+            }
+            tokio::time::sleep(Duration::from_millis(20)).await;
+        }
+    }
+
+    async fn shown_tick(&self) -> u64 {
+        self.js("return Number(document.querySelector('[data-tick]').dataset.tick);")
+            .await
+            .as_u64()
+            .expect("the tick shown is a number")
+    }
+}
+
+/// Moves the replay's timeline to step `p` as a dragged slider does; returns each node's
+/// `[id, status]`.
+async fn replay_statuses_at(b: &Browser, p: usize) -> Value {
+    b.js(&format!(
+        "const s = document.querySelector('[data-timeline]'); s.value = {p}; s.dispatchEvent(new Event('input', {{bubbles: true}}));
+         return [...document.querySelectorAll('#replay-view [data-node-id]')].map(e => [Number(e.dataset.nodeId), e.dataset.status]);"
+    ))
+    .await
+}
+
+impl Drop for Browser {
+    // Also when a test fails: chromedriver ends the browser it started when it ends.
+    fn drop(&mut self) {
+        let _ = self.driver.kill();
+        let _ = self.driver.wait();
+    }
+}
+
+fn tool(var: &str, default: &str) -> PathBuf {
+    std::env::var_os(var).map_or_else(|| PathBuf::from(default), PathBuf::from)
+}
+
+fn free_port() -> u16 {
+    TcpListener::bind("127.0.0.1:0")
+        .and_then(|l| l.local_addr())
+        .map(|a| a.port())
+        .expect("a free port")
+}
+
+fn css_path(path: &str) -> String {
+    format!("[data-node-path=\"{path}\"]")
+}
+
+// ---------------------------------------------------------------------------------------
+// The studio and its runs
+
+/// Nav2's node types, the patrol's `Work`, and tree1111's `Succ` and `Fail`.
+fn registry() -> Registry<()> {
+    let mut registry = Registry::new();
+    nav2::register_controls(&mut registry).expect("Nav2's names are free");
+    registry
+        .add_model_str(nav2::NAV2_TREE_NODES_MODEL, "nav2_tree_nodes.xml")
+        .expect("Nav2's model loads");
+    registry
+        .register_stateful("Work", vec![], || Work { left: 0 })
+        .expect("Work is free");
+    registry
+        .register_condition("Succ", vec![], |_| true)
+        .expect("Succ is free");
+    registry
+        .register_condition("Fail", vec![], |_| false)
+        .expect("Fail is free");
+    registry
+}
+
+/// Runs for two ticks, then succeeds.
+struct Work {
+    left: u32,
+}
+
+impl StatefulAction<()> for Work {
+    fn on_start(&mut self, h: &mut Handle<'_, ()>) -> Status {
+        self.left = 2;
+        self.on_running(h)
+    }
+    fn on_running(&mut self, _: &mut Handle<'_, ()>) -> Status {
+        if self.left == 0 {
+            return Status::Success;
+        }
+        self.left -= 1;
+        Status::Running
+    }
+}
+
+/// A folder with copies of the corpus files the tests open, and the patrol.
+fn workspace() -> tempfile::TempDir {
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    let corpus = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    for file in [NAV2_TREE, BIG_TREE] {
+        let to = dir.path().join(file);
+        std::fs::create_dir_all(to.parent().expect("a folder")).expect("folders made");
+        std::fs::copy(corpus.join(file), &to).expect("a corpus file copied");
+    }
+    std::fs::write(dir.path().join("patrol.xml"), PATROL).expect("patrol written");
+    dir
+}
+
+fn serve(root: &Path) -> Studio {
+    let options = StudioOptions {
+        root: root.to_path_buf(),
+        ..StudioOptions::default()
+    };
+    Studio::serve(options, registry).expect("the studio serves")
+}
+
+fn load(xml: &str, name: &str) -> Tree<()> {
+    let registry = registry();
+    // Nav2's conditions and actions are known by their models only: mocked, as `run
+    // --mock-unknown` does.
+    let mut loader = XmlLoader::new(&registry).mock_unknown(true);
+    loader.load_str(xml, name).expect("the tree loads");
+    Tree::new(Arc::new(loader.build_main().expect("the tree builds")))
+}
+
+/// A watched run on a thread of its own, one tick every `pace`, until dropped; it keeps
+/// when each tick ended (wall clock, ms) to measure how far behind the page is.
+struct Run {
+    stop: Arc<AtomicBool>,
+    ended: Arc<Mutex<Vec<(u64, f64)>>>,
+    thread: Option<JoinHandle<()>>,
+}
+
+impl Run {
+    fn start(studio: &Studio, mut tree: Tree<()>, name: &str, pace: Duration) -> Run {
+        let mut watch = studio.watch(&mut tree, name);
+        let stop = Arc::new(AtomicBool::new(false));
+        let ended = Arc::new(Mutex::new(Vec::new()));
+        let (stop2, ended2) = (Arc::clone(&stop), Arc::clone(&ended));
+        let thread = std::thread::spawn(move || {
+            let mut tick = 0u64;
+            while !stop2.load(Ordering::Relaxed) {
+                let started = Instant::now();
+                watch.between_ticks(&mut tree);
+                tree.tick_once(&mut ()).expect("the tree ticks");
+                tick += 1;
+                ended2.lock().expect("not poisoned").push((tick, now_ms()));
+                if let Some(rest) = pace.checked_sub(started.elapsed()) {
+                    std::thread::sleep(rest);
+                }
+            }
+        });
+        Run {
+            stop,
+            ended,
+            thread: Some(thread),
+        }
+    }
+}
+
+impl Drop for Run {
+    fn drop(&mut self) {
+        self.stop.store(true, Ordering::Relaxed);
+        // A run held by a page (paused) goes on once the page leaves; when a test fails
+        // the page may still be there, so the thread is joined only if it ends soon.
+        if let Some(t) = self.thread.take() {
+            let deadline = Instant::now() + Duration::from_secs(2);
+            while !t.is_finished() && Instant::now() < deadline {
+                std::thread::sleep(Duration::from_millis(10));
+            }
+            if t.is_finished() {
+                let _ = t.join();
+            }
+        }
+    }
+}
+
+fn now_ms() -> f64 {
+    SystemTime::now()
+        .duration_since(UNIX_EPOCH)
+        .expect("after 1970")
+        .as_secs_f64()
+        * 1000.0
+}
+
+// ---------------------------------------------------------------------------------------
+// The tests
+
+#[tokio::test(flavor = "multi_thread")]
+async fn a_nav2_tree_opens_with_every_node_found_by_its_path() {
+    let _one = ONE_AT_A_TIME.lock().await;
+    let Some(b) = Browser::start().await else {
+        return;
+    };
+    let dir = workspace();
+    let studio = serve(dir.path());
+    b.goto(&format!("{}#view=edit&file={NAV2_TREE}", studio.url()))
+        .await;
+    b.until(
+        "the tree drawn",
+        "document.querySelector('#edit-view').dataset.loaded",
+    )
+    .await;
+
+    // The paths `run --trace` prints, as the library builds the tree.
+    let text = std::fs::read_to_string(dir.path().join(NAV2_TREE)).expect("the file");
+    let tree = load(&text, NAV2_TREE);
+    let bp = tree.blueprint();
+    assert_eq!(b.count("#edit-view [data-node-path]").await, bp.len());
+    for id in bp.ids() {
+        let css = format!("#edit-view {}", css_path(&bp.path(id)));
+        assert!(b.count(&css).await >= 1, "no node drawn at {}", bp.path(id));
+    }
+    // The shapes of `neurotree show`: a hexagon for the decorator, a pill for the condition.
+    let rate = "NavigateRecovery/NavigateWithReplanning/RateController";
+    assert_eq!(
+        b.js(&format!(
+            "return document.querySelector('{} > .shape').tagName;",
+            css_path(rate).replace('\'', "\\'")
+        ))
+        .await,
+        json!("polygon")
+    );
+    assert_eq!(
+        b.js("return document.querySelector('#edit-view .problem-count').textContent;")
+            .await,
+        json!("none")
+    );
+    b.close().await;
+}
+
+#[tokio::test(flavor = "multi_thread")]
+async fn editing_a_port_adding_deleting_undoing_and_saving_gives_a_file_that_loads() {
+    let _one = ONE_AT_A_TIME.lock().await;
+    let Some(b) = Browser::start().await else {
+        return;
+    };
+    let dir = workspace();
+    let studio = serve(dir.path());
+    b.goto(&format!("{}#view=edit&file={NAV2_TREE}", studio.url()))
+        .await;
+    b.until(
+        "the tree drawn",
+        "document.querySelector('#edit-view').dataset.loaded",
+    )
+    .await;
+
+    // A port typed into: checked by the loader, and the error shown at the node.
+    let planner = "NavigateRecovery/NavigateWithReplanning/RateController/ComputePathToPose";
+    b.click(&css_path(planner)).await;
+    let retries = b.element("input[data-port=number_of_retries]").await;
+    assert_eq!(
+        retries.prop("placeholder").await.unwrap().as_deref(),
+        Some("1")
+    );
+    retries.clear().await.unwrap();
+    retries.send_keys("three").await.unwrap();
+    b.until(
+        "the check's error at the node",
+        &format!(
+            "document.querySelector('{}').hasAttribute('data-error')",
+            css_path(planner).replace('\'', "\\'")
+        ),
+    )
+    .await;
+    let message = b.attr(&css_path(planner), "data-error").await.unwrap();
+    assert!(message.contains("number_of_retries"), "{message}");
+    let retries = b.element("input[data-port=number_of_retries]").await;
+    retries.clear().await.unwrap();
+    retries.send_keys("3").await.unwrap();
+    b.until(
+        "the check passes",
+        "document.querySelector('#edit-view').dataset.check === 'ok'",
+    )
+    .await;
+
+    // A node added from the palette into the recovery actions.
+    let actions = "NavigateRecovery/Sequence/RecoveryFallback/RecoveryActions";
+    let waits = format!("{actions}/Wait");
+    assert_eq!(b.count(&css_path(&waits)).await, 1);
+    b.click(&css_path(actions)).await;
+    b.element(".palette-search")
+        .await
+        .send_keys("Wait")
+        .await
+        .unwrap();
+    b.click(".palette-item[data-type=Wait]").await;
+    b.click("[data-action=add]").await;
+    b.until(
+        "the new Wait",
+        &format!(
+            "document.querySelectorAll('{}').length === 2",
+            css_path(&waits).replace('\'', "\\'")
+        ),
+    )
+    .await;
+
+    // A node deleted, then brought back by undo.
+    let spin = format!("{actions}/Spin");
+    b.click(&css_path(&spin)).await;
+    b.click("[data-action=delete]").await;
+    b.until(
+        "Spin gone",
+        &format!(
+            "!document.querySelector('{}')",
+            css_path(&spin).replace('\'', "\\'")
+        ),
+    )
+    .await;
+    b.click("[data-action=undo]").await;
+    b.until(
+        "Spin back",
+        &format!(
+            "!!document.querySelector('{}')",
+            css_path(&spin).replace('\'', "\\'")
+        ),
+    )
+    .await;
+    assert_eq!(
+        b.count(&css_path(&waits)).await,
+        2,
+        "undo took back the delete only"
+    );
+
+    // Saved, and loaded back by the library with every edit in it.
+    b.click("[data-action=save]").await;
+    b.until("saved", "document.querySelector('#edit-view').dataset.dirty === 'false' && document.querySelector('#edit-view').dataset.saved").await;
+    let saved = std::fs::read_to_string(dir.path().join(NAV2_TREE)).expect("the saved file");
+    let tree = load(&saved, NAV2_TREE);
+    let bp = tree.blueprint();
+    assert_eq!(bp.len(), 39, "38 nodes and the Wait added");
+    let paths: Vec<String> = bp.ids().map(|id| bp.path(id)).collect();
+    assert_eq!(paths.iter().filter(|p| **p == waits).count(), 2);
+    assert!(paths.contains(&spin));
+    let planner_id = bp
+        .ids()
+        .find(|&id| bp.path(id) == planner)
+        .expect("the planner's recovery");
+    let text = std::fs::read_to_string(dir.path().join(NAV2_TREE)).unwrap();
+    assert!(
+        text.contains(r#"number_of_retries="3" name="ComputePathToPose""#),
+        "{text}"
+    );
+    assert!(
+        text.contains("This Behavior Tree replans the global path"),
+        "the comment is kept"
+    );
+    assert_eq!(bp.name(planner_id), "ComputePathToPose");
+    b.close().await;
+}
+
+#[tokio::test(flavor = "multi_thread")]
+async fn a_watched_run_shows_its_statuses_change() {
+    let _one = ONE_AT_A_TIME.lock().await;
+    let Some(b) = Browser::start().await else {
+        return;
+    };
+    let dir = workspace();
+    let studio = serve(dir.path());
+    let run = Run::start(
+        &studio,
+        load(PATROL, "patrol.xml"),
+        "patrol.xml",
+        Duration::from_millis(40),
+    );
+    b.goto(&format!("{}#view=watch", studio.url())).await;
+    let leg = css_path("forever/patrol/go_a");
+    b.element(&leg).await;
+    let mut seen = std::collections::BTreeSet::new();
+    let first = b.shown_tick().await;
+    let deadline = Instant::now() + Duration::from_secs(5);
+    while Instant::now() < deadline && seen.len() < 3 {
+        if let Some(s) = b.attr(&leg, "data-status").await {
+            seen.insert(s);
+        }
+        tokio::time::sleep(Duration::from_millis(10)).await;
+    }
+    assert!(seen.len() >= 2, "go_a showed only {seen:?}");
+    assert!(b.shown_tick().await > first, "the tick counter moves");
+    assert!(b.count("[data-running-list] li").await <= 5);
+    drop(run);
+    b.close().await;
+}
+
+#[tokio::test(flavor = "multi_thread")]
+async fn a_breakpoint_stops_the_run_and_each_step_is_one_tick() {
+    let _one = ONE_AT_A_TIME.lock().await;
+    let Some(b) = Browser::start().await else {
+        return;
+    };
+    let dir = workspace();
+    let studio = serve(dir.path());
+    let run = Run::start(
+        &studio,
+        load(PATROL, "patrol.xml"),
+        "patrol.xml",
+        Duration::from_millis(20),
+    );
+    b.goto(&format!("{}#view=watch", studio.url())).await;
+    let leg = css_path("forever/patrol/go_b");
+    b.click(&leg).await;
+    b.element("select[data-breakpoint-select]")
+        .await
+        .select_by_value("before")
+        .await
+        .unwrap();
+    b.until(
+        "the breakpoint drawn",
+        &format!(
+            "document.querySelector('{}').dataset.breakpoint === 'before'",
+            leg.replace('\'', "\\'")
+        ),
+    )
+    .await;
+    b.until(
+        "paused at the breakpoint",
+        "document.querySelector('[data-run-state]').dataset.runState === 'paused'",
+    )
+    .await;
+    assert_eq!(b.attr(&leg, "data-paused-at").await.as_deref(), Some(""));
+    let mut tick = b.shown_tick().await;
+    for _ in 0..3 {
+        b.click("[data-action=step]").await;
+        b.until(
+            "the step's tick",
+            &format!("Number(document.querySelector('[data-tick]').dataset.tick) !== {tick}"),
+        )
+        .await;
+        // Settle: a step is one tick, then the run stops again.
+        tokio::time::sleep(Duration::from_millis(150)).await;
+        let now = b.shown_tick().await;
+        assert_eq!(now, tick + 1, "one step, one tick");
+        assert_eq!(
+            b.attr("[data-run-state]", "data-run-state")
+                .await
+                .as_deref(),
+            Some("paused")
+        );
+        tick = now;
+    }
+    // The breakpoint off, the run goes on.
+    b.click(&leg).await;
+    b.element("select[data-breakpoint-select]")
+        .await
+        .select_by_value("off")
+        .await
+        .unwrap();
+    b.click("[data-action=continue]").await;
+    b.until(
+        "running again",
+        &format!(
+            "Number(document.querySelector('[data-tick]').dataset.tick) > {}",
+            tick + 5
+        ),
+    )
+    .await;
+    drop(run);
+    b.close().await;
+}
+
+#[tokio::test(flavor = "multi_thread")]
+async fn a_btlog_replays_and_its_timeline_scrubs_forward_and_back() {
+    let _one = ONE_AT_A_TIME.lock().await;
+    let Some(b) = Browser::start().await else {
+        return;
+    };
+    let dir = workspace();
+    // The log, as `run --btlog` writes it: the patrol, a tenth of a second per tick.
+    let log = dir.path().join("patrol.btlog");
+    {
+        let registry = registry();
+        let mut loader = XmlLoader::new(&registry);
+        loader.load_str(PATROL, "patrol.xml").unwrap();
+        let clock = ManualClock::new();
+        let mut tree = Tree::with_clock(Arc::new(loader.build_main().unwrap()), clock.clone());
+        let writer = BtlogWriter::create(&log, &tree, &registry).unwrap();
+        tree.set_observer(writer.clone());
+        for _ in 0..12 {
+            clock.advance(Duration::from_millis(100));
+            tree.tick_once(&mut ()).unwrap();
+        }
+        writer.flush().unwrap();
+    }
+    // What the log says each node is after each of its timestamps.
+    let read = read_btlog_file(&log).unwrap();
+    let nodes = 1 + read
+        .records
+        .iter()
+        .filter_map(|r| r.node())
+        .map(|n| n.0 as usize)
+        .max()
+        .unwrap();
+    let mut steps: Vec<Vec<NodeStatus>> = Vec::new();
+    let mut now = vec![NodeStatus::Idle; nodes];
+    let mut last = None;
+    for r in &read.records {
+        if last.is_some() && last != Some(r.offset_us) {
+            steps.push(now.clone());
+        }
+        last = Some(r.offset_us);
+        now[r.node().unwrap().0 as usize] = r.status;
+    }
+    steps.push(now);
+
+    let studio = serve(dir.path());
+    b.goto(&format!("{}#view=replay&file=patrol.btlog", studio.url()))
+        .await;
+    b.until(
+        "the log read",
+        "document.querySelector('#replay-view').dataset.loaded",
+    )
+    .await;
+    assert_eq!(
+        b.attr("[data-timeline]", "max").await,
+        Some(steps.len().to_string())
+    );
+    let expected = |p: usize| -> Value {
+        Value::Array(
+            steps[p - 1]
+                .iter()
+                .enumerate()
+                .map(|(i, s)| json!([i, s.as_str()]))
+                .collect(),
+        )
+    };
+    // Forward to a step, on to a later one the log tells apart, back again: the page says
+    // what the log says each time.
+    let a = 2;
+    let later = (a + 1..=steps.len()).find(|&p| steps[p - 1] != steps[a - 1]).expect("the log changes");
+    let at_a = replay_statuses_at(&b, a).await;
+    assert_eq!(at_a, expected(a));
+    let at_later = replay_statuses_at(&b, later).await;
+    assert_eq!(at_later, expected(later));
+    assert_ne!(at_a, at_later);
+    assert_eq!(replay_statuses_at(&b, a).await, expected(a), "and back");
+    assert_eq!(replay_statuses_at(&b, 0).await, Value::Array((0..nodes).map(|i| json!([i, "IDLE"])).collect()));
+    // And with the buttons: one step on.
+    b.click("[data-action=forward]").await;
+    assert_eq!(b.attr(".position", "data-step").await.as_deref(), Some("1"));
+    assert_eq!(b.js("return [...document.querySelectorAll('#replay-view [data-node-id]')].map(e => [Number(e.dataset.nodeId), e.dataset.status]);").await, expected(1));
+    b.close().await;
+}
+
+#[tokio::test(flavor = "multi_thread")]
+async fn the_1111_node_tree_opens_quickly_and_a_100_hz_run_is_followed_closely() {
+    let _one = ONE_AT_A_TIME.lock().await;
+    let Some(b) = Browser::start().await else {
+        return;
+    };
+    let dir = workspace();
+    let studio = serve(dir.path());
+
+    // Opened in the editor: from the navigation to the frame after it is drawn.
+    b.goto(&format!("{}#view=edit&file={BIG_TREE}", studio.url()))
+        .await;
+    let mark = format!("studio:edit-drawn:{BIG_TREE}");
+    let drawn = b
+        .until(
+            "tree1111 drawn",
+            &format!("performance.getEntriesByName('{mark}')[0]?.startTime"),
+        )
+        .await
+        .as_f64()
+        .unwrap();
+    assert_eq!(b.count("#edit-view [data-node-path]").await, 1111);
+    println!("studio: tree1111 opened in the editor and drawn in {drawn:.0} ms");
+
+    // Watched while it ticks at 100 Hz.
+    let text = std::fs::read_to_string(dir.path().join(BIG_TREE)).unwrap();
+    let run = Run::start(
+        &studio,
+        load(&text, "tree1111.xml"),
+        "tree1111.xml",
+        Duration::from_millis(10),
+    );
+    b.goto(&format!("{}#view=watch", studio.url())).await;
+    b.client.refresh().await.unwrap();
+    let watch_drawn = b
+        .until(
+            "tree1111 watched",
+            "performance.getEntriesByName('studio:watch-drawn')[0]?.startTime",
+        )
+        .await
+        .as_f64()
+        .unwrap();
+    assert_eq!(b.count("#watch-view [data-node-id]").await, 1111);
+    println!("studio: tree1111 watched and drawn in {watch_drawn:.0} ms");
+
+    // Followed for three seconds; then, at every millisecond of them, how many ticks the
+    // run had ended that the page did not show yet.
+    let from = now_ms() + 500.0;
+    tokio::time::sleep(Duration::from_millis(3500)).await;
+    let to = now_ms() - 100.0;
+    let shown: Vec<(u64, f64)> =
+        serde_json::from_value(b.js("return window.studio.views.watch.shownTicks;").await).unwrap();
+    let ended = run.ended.lock().unwrap().clone();
+    drop(run);
+    b.close().await;
+    let (max, mean, ticks) = tick_lag(&ended, &shown, from, to);
+    println!(
+        "studio: tree1111 at 100 Hz, {ticks} ticks in {:.1} s: the page showed the run's tick at most {max} behind, {mean:.2} on average",
+        (to - from) / 1000.0
+    );
+    assert!(
+        ticks > 150,
+        "the run ticked {ticks} times, not near 100 a second"
+    );
+    assert!(max <= 2, "the page fell {max} ticks behind");
+}
+
+/// How far behind the run the page was, sampled every millisecond from `from` to `to`:
+/// (most, mean, the run's ticks in the window). `ended` and `shown` are (tick, wall ms).
+fn tick_lag(ended: &[(u64, f64)], shown: &[(u64, f64)], from: f64, to: f64) -> (u64, f64, usize) {
+    let latest = |log: &[(u64, f64)], t: f64| -> u64 {
+        let i = log.partition_point(|&(_, at)| at <= t);
+        if i == 0 {
+            0
+        } else {
+            log[i - 1].0
+        }
+    };
+    let (mut max, mut sum, mut samples) = (0u64, 0u64, 0u64);
+    let mut t = from;
+    while t < to {
+        let lag = latest(ended, t).saturating_sub(latest(shown, t));
+        max = max.max(lag);
+        sum += lag;
+        samples += 1;
+        t += 1.0;
+    }
+    let ticks = ended
+        .iter()
+        .filter(|&&(_, at)| at >= from && at < to)
+        .count();
+    (max, sum as f64 / samples.max(1) as f64, ticks)
+}
