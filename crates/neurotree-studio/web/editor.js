@@ -102,6 +102,8 @@ export function mountEditor(section, app) {
     async open(path) {
       if (!path) return;
       setStatus(`opening ${path}…`);
+      // The palette is asked for with the file, not after it.
+      const palette = api.get("/api/palette", { path }).catch((e) => e);
       let answer;
       try {
         answer = await api.get("/api/file", { path });
@@ -120,12 +122,9 @@ export function mountEditor(section, app) {
       state.savedText = text();
       state.treeId = state.file.error ? null : xml.mainTreeId(state.file.doc, answer.check);
       state.tabs = state.treeId ? [{ id: state.treeId, prefix: "" }] : [];
-      try {
-        const pal = await api.get("/api/palette", { path });
-        state.palette = new Map(pal.types.map((t) => [t.type, t]));
-      } catch (e) {
-        setStatus(`palette: ${e.message}`, "error");
-      }
+      const pal = await palette;
+      if (pal instanceof Error) setStatus(`palette: ${pal.message}`, "error");
+      else state.palette = new Map(pal.types.map((t) => [t.type, t]));
       app.remember({ view: "edit", file: path });
       $(".file-select").value = path;
       render({ fit: true });
