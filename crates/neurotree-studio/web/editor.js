@@ -225,6 +225,9 @@ export function mountEditor(section, app) {
       let place = where;
       if (place === "into" && !xml.acceptsChild(at, category)) place = "after";
       if (at.parentElement === tree && place !== "into") return;
+      // Dropped where it already is: nothing to undo.
+      if ((place === "after" && at.nextElementSibling === el) || (place === "before" && at.previousElementSibling === el)) return;
+      if (place === "into" && at.lastElementChild === el) return;
       edit(`move ${xml.nameOf(el)}`, null, () => {
         const unit = xml.indentUnit(state.file.doc);
         xml.removeElement(el);

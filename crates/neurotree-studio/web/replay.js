@@ -103,6 +103,12 @@ export function mountReplay(section, app) {
       const statuses = statusesAt(p);
       for (let i = 0; i < statuses.length; i++) drawing.setStatus(i, statuses[i]);
       drawing.drawHot();
+      // A node that ended the step Idle may have failed or succeeded in it: glow it so.
+      drawing.clearMarks("data-stepped");
+      const step = p > 0 ? state.replay.steps[p - 1] : null;
+      const passed = new Map();
+      for (const [id, st] of step?.changes || []) if (st === "FAILURE" || st === "SUCCESS") passed.set(id, st);
+      for (const [id, st] of passed) if (statuses[id] === "IDLE") drawing.mark(id, "data-stepped", st);
       renderPosition();
     },
 
@@ -254,7 +260,7 @@ export function mountReplay(section, app) {
       drawing.mark(i, "data-coverage", !entry.reached ? "unreached" : full ? "full" : "partial");
     });
     box.innerHTML = `<h3>Coverage</h3><p>${cov.covered} of ${cov.possible} outcomes seen; ${matched} nodes matched.</p>
-      <p><span class="swatch full"></span> every outcome <span class="swatch partial"></span> some <span class="swatch unreached"></span> never reached</p>`;
+      <p><span class="swatch full"></span> every outcome seen <span class="swatch partial"></span> some <span class="swatch unreached"></span> never reached</p>`;
     section.dataset.coverage = state.coveragePath;
   }
 

@@ -264,18 +264,23 @@ export function mountWatch(section, app) {
       const summary = document.createElement("summary");
       summary.textContent = scope.path ? scope.path : "root";
       details.append(summary);
-      const table = document.createElement("table");
+      const table = document.createElement("div");
+      table.className = "entries";
       for (const entry of scope.entries) {
-        const tr = document.createElement("tr");
-        const k = document.createElement("td");
+        const row = document.createElement("label");
+        row.className = "entry";
+        const k = document.createElement("span");
+        k.className = "entry-key";
         k.textContent = entry.key;
-        const t = document.createElement("td");
+        const t = document.createElement("span");
         t.className = "entry-type";
         t.textContent = entry.type || "";
-        const v = document.createElement("td");
         const input = document.createElement("input");
         input.dataset.entry = entry.key;
-        input.value = typeof entry.value === "string" ? entry.value : JSON.stringify(entry.value);
+        input.dataset.scope = String(scope.scope);
+        if (entry.value === null) input.placeholder = "not written yet";
+        else input.value = typeof entry.value === "string" ? entry.value : JSON.stringify(entry.value);
+        input.title = input.value;
         input.addEventListener("keydown", (e) => {
           if (e.key === "Enter") {
             actions.setEntry(scope.scope, entry.key, parseValue(input.value, entry.value));
@@ -283,11 +288,10 @@ export function mountWatch(section, app) {
           } else if (e.key === "Escape") input.blur();
         });
         input.addEventListener("blur", () => setTimeout(renderBlackboards, 0));
-        v.append(input);
-        tr.append(k, v, t);
-        table.append(tr);
+        row.append(k, t, input);
+        table.append(row);
       }
-      if (!scope.entries.length) table.innerHTML = "<tr><td class='hint'>empty</td></tr>";
+      if (!scope.entries.length) table.innerHTML = "<p class='hint'>empty</p>";
       details.append(table);
       box.append(details);
     }
