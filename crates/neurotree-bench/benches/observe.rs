@@ -97,6 +97,15 @@ fn observers(c: &mut Criterion) {
     bench_observer(c, "btlog_sink", |t| {
         BtlogWriter::new(io::sink(), t, &Registry::new()).expect("writing to a sink")
     });
+    // The studio's observer with its server up and no page attached: what `--studio`
+    // costs a run nobody watches yet (statuses into shared bytes, a wake-up per tick).
+    let dir = tempfile::tempdir().expect("a temporary directory");
+    let options = neurotree::studio::StudioOptions {
+        root: dir.path().to_path_buf(),
+        ..Default::default()
+    };
+    let studio = neurotree::studio::Studio::serve(options, Registry::new).expect("a studio");
+    bench_observer(c, "studio_no_page", |t| studio.attach(t, "bench").0);
 }
 
 const NAV2_NAVIGATOR: &str = include_str!(concat!(
