@@ -22,12 +22,12 @@ use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
 
 use fantoccini::{Client, ClientBuilder, Locator};
 use hyper_util::client::legacy::connect::HttpConnector;
+use neurotree_nav2 as nav2;
+use neurotree_studio::{Studio, StudioOptions};
 use neurotree_toolkit::observe::{read_btlog_file, BtlogWriter};
 use neurotree_toolkit::{
     Handle, ManualClock, NodeStatus, Registry, StatefulAction, Status, Tree, XmlLoader,
 };
-use neurotree_nav2 as nav2;
-use neurotree_studio::{Studio, StudioOptions};
 use serde_json::{json, Value};
 
 const NAV2_TREE: &str = "corpus/nav2/navigate_to_pose_w_replanning_and_recovery.xml";
@@ -531,12 +531,9 @@ async fn a_watched_run_shows_its_statuses_change() {
     };
     let dir = workspace();
     let studio = serve(dir.path());
-    let run = Run::start(
-        &studio,
-        load(PATROL, "patrol.xml"),
-        "patrol.xml",
-        Duration::from_millis(40),
-    );
+    let mut tree = load(PATROL, "patrol.xml");
+    tree.blackboard_mut().set("speed", 1.5f64).unwrap();
+    let run = Run::start(&studio, tree, "patrol.xml", Duration::from_millis(40));
     b.goto(&format!("{}#view=watch", studio.url())).await;
     let leg = css_path("forever/patrol/go_a");
     b.element(&leg).await;
@@ -552,6 +549,22 @@ async fn a_watched_run_shows_its_statuses_change() {
     assert!(seen.len() >= 2, "go_a showed only {seen:?}");
     assert!(b.shown_tick().await > first, "the tick counter moves");
     assert!(b.count("[data-running-list] li").await <= 5);
+
+    // A blackboard entry edited on the page, between two ticks of the run.
+    let speed = "input[data-entry=speed][data-scope='0']";
+    let field = b.element(speed).await;
+    assert_eq!(field.prop("value").await.unwrap().as_deref(), Some("1.5"));
+    b.click(speed).await;
+    b.element(speed)
+        .await
+        .send_keys("\u{e009}a\u{e009}2.75\u{e007}")
+        .await
+        .unwrap();
+    b.until(
+        "the run's blackboard holding the edit",
+        "studio.views.watch.state.blackboards[0].entries.find(e => e.key === 'speed').value === 2.75",
+    )
+    .await;
     drop(run);
     b.close().await;
 }
@@ -700,14 +713,19 @@ async fn a_btlog_replays_and_its_timeline_scrubs_forward_and_back() {
     // Forward to a step, on to a later one the log tells apart, back again: the page says
     // what the log says each time.
     let a = 2;
-    let later = (a + 1..=steps.len()).find(|&p| steps[p - 1] != steps[a - 1]).expect("the log changes");
+    let later = (a + 1..=steps.len())
+        .find(|&p| steps[p - 1] != steps[a - 1])
+        .expect("the log changes");
     let at_a = replay_statuses_at(&b, a).await;
     assert_eq!(at_a, expected(a));
     let at_later = replay_statuses_at(&b, later).await;
     assert_eq!(at_later, expected(later));
     assert_ne!(at_a, at_later);
     assert_eq!(replay_statuses_at(&b, a).await, expected(a), "and back");
-    assert_eq!(replay_statuses_at(&b, 0).await, Value::Array((0..nodes).map(|i| json!([i, "IDLE"])).collect()));
+    assert_eq!(
+        replay_statuses_at(&b, 0).await,
+        Value::Array((0..nodes).map(|i| json!([i, "IDLE"])).collect())
+    );
     // And with the buttons: one step on.
     b.click("[data-action=forward]").await;
     assert_eq!(b.attr(".position", "data-step").await.as_deref(), Some("1"));

@@ -252,10 +252,30 @@ export function mountWatch(section, app) {
     drawing.drawHot();
   }
 
+  // The entries' fields are made again only when the scopes or their keys change; a new
+  // value only rewrites the fields not being edited, so a field can be clicked and typed
+  // into while the run writes the blackboard every tick.
+  let bbShape = "";
   function renderBlackboards() {
     const box = $(".blackboards");
-    // Keep a field the user is typing in.
+    const shape = JSON.stringify(state.blackboards.map((s) => [s.scope, s.path, s.entries.map((e) => [e.key, e.type])]));
+    if (shape === bbShape) {
+      for (const scope of state.blackboards) {
+        for (const entry of scope.entries) {
+          const input = box.querySelector(`input[data-scope="${scope.scope}"][data-entry="${CSS.escape(entry.key)}"]`);
+          if (!input || input === document.activeElement) continue;
+          const text = entry.value === null ? "" : typeof entry.value === "string" ? entry.value : JSON.stringify(entry.value);
+          if (input.title !== text) {
+            input.value = text;
+            input.title = text;
+          }
+          input.previous = entry.value;
+        }
+      }
+      return;
+    }
     if (box.contains(document.activeElement) && document.activeElement.tagName === "INPUT") return;
+    bbShape = shape;
     box.innerHTML = "";
     for (const scope of state.blackboards) {
       const details = document.createElement("details");
@@ -281,11 +301,15 @@ export function mountWatch(section, app) {
         if (entry.value === null) input.placeholder = "not written yet";
         else input.value = typeof entry.value === "string" ? entry.value : JSON.stringify(entry.value);
         input.title = input.value;
+        // Sent when the value is committed: Enter, or leaving the field; Escape drops it.
+        input.previous = entry.value;
+        input.addEventListener("change", () => actions.setEntry(scope.scope, entry.key, parseValue(input.value, input.previous)));
         input.addEventListener("keydown", (e) => {
-          if (e.key === "Enter") {
-            actions.setEntry(scope.scope, entry.key, parseValue(input.value, entry.value));
+          if (e.key === "Enter") input.blur();
+          else if (e.key === "Escape") {
+            input.value = input.title;
             input.blur();
-          } else if (e.key === "Escape") input.blur();
+          }
         });
         input.addEventListener("blur", () => setTimeout(renderBlackboards, 0));
         row.append(k, t, input);
