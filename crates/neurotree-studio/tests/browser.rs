@@ -826,3 +826,105 @@ fn tick_lag(ended: &[(u64, f64)], shown: &[(u64, f64)], from: f64, to: f64) -> (
         .count();
     (max, sum as f64 / samples.max(1) as f64, ticks)
 }
+
+#[tokio::test(flavor = "multi_thread")]
+async fn every_corpus_file_saved_unedited_by_the_page_loads_back_to_the_same_tree() {
+    let _one = ONE_AT_A_TIME.lock().await;
+    let Some(b) = Browser::start().await else {
+        return;
+    };
+    // The whole corpus, so that files that include others find them.
+    let dir = tempfile::tempdir().unwrap();
+    let corpus = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../corpus");
+    let mut files = Vec::new();
+    copy_tree(&corpus, &dir.path().join("corpus"), dir.path(), &mut files);
+    files.sort();
+    assert!(files.len() > 50, "the corpus has its files");
+    let studio = serve(dir.path());
+    b.goto(&studio.url()).await;
+    b.until("the page", "window.studio && window.studio.shown")
+        .await;
+
+    // What the editor would save for each file opened and saved without an edit: the
+    // text read by `/api/file`, through its XML DOM and back.
+    let list = serde_json::to_string(&files).unwrap();
+    let saved = b
+        .js(&format!(
+            "const xml = await import('/xmldoc.js');
+             const out = {{}};
+             for (const path of {list}) {{
+               const res = await fetch('/api/file?path=' + encodeURIComponent(path));
+               const {{text}} = await res.json();
+               const file = xml.parseXml(text);
+               out[path] = file.error ? null : xml.serializeXml(file);
+             }}
+             return out;"
+        ))
+        .await;
+    b.close().await;
+
+    let mut same = 0;
+    for rel in &files {
+        let original = dir.path().join(rel);
+        let before = blueprint_text(&original);
+        let Some(text) = saved[rel.as_str()].as_str() else {
+            assert!(
+                before.is_err(),
+                "{rel} loads, but the page cannot read it as XML"
+            );
+            continue;
+        };
+        // Beside the original, so that its includes resolve the same way.
+        let copy = original.with_extension("roundtrip.xml");
+        std::fs::write(&copy, text).unwrap();
+        let after = blueprint_text(&copy);
+        match (&before, &after) {
+            (Ok(a), Ok(b)) => {
+                assert_eq!(a, b, "{rel} saved unedited loads as another tree");
+                same += 1;
+            }
+            (Err(_), Err(_)) => {}
+            (Ok(_), Err(e)) => panic!("{rel} loads, but not once saved by the page: {e}"),
+            (Err(e), Ok(_)) => panic!("{rel} does not load ({e}), but does once saved by the page"),
+        }
+    }
+    println!("studio: {same} of {} corpus files load, and load back to the same tree once saved unedited by the page", files.len());
+    assert!(same > 30);
+}
+
+/// The tree of the file at `path` as text: every node's path, type and ports.
+fn blueprint_text(path: &Path) -> Result<String, String> {
+    let registry = registry();
+    let mut loader = XmlLoader::new(&registry).mock_unknown(true);
+    loader.load_file(path).map_err(|e| e.to_string())?;
+    let bp = loader.build_main().map_err(|e| e.to_string())?;
+    let statuses = vec![NodeStatus::Idle; bp.len()];
+    let mut text = neurotree_toolkit::render::render_statuses(&bp, &statuses, false);
+    for id in bp.ids() {
+        text.push_str(&format!("{}: {:?}\n", bp.path(id), bp.ports(id)));
+    }
+    Ok(text)
+}
+
+/// Copies the folder `from` to `to`, listing the `.xml` files in `xml` by their paths from
+/// `base`, `/`-separated.
+fn copy_tree(from: &Path, to: &Path, base: &Path, xml: &mut Vec<String>) {
+    std::fs::create_dir_all(to).unwrap();
+    for entry in std::fs::read_dir(from).unwrap() {
+        let entry = entry.unwrap();
+        let target = to.join(entry.file_name());
+        if entry.file_type().unwrap().is_dir() {
+            copy_tree(&entry.path(), &target, base, xml);
+        } else {
+            std::fs::copy(entry.path(), &target).unwrap();
+            if target.extension().is_some_and(|e| e == "xml") {
+                let rel = target.strip_prefix(base).unwrap();
+                let parts: Vec<_> = rel
+                    .components()
+                    .map(|c| c.as_os_str().to_string_lossy())
+                    .collect();
+                xml.push(parts.join("/"));
+            }
+        }
+    }
+}

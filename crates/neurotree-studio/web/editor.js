@@ -400,6 +400,9 @@ export function mountEditor(section, app) {
     list.innerHTML = "";
     const problems = [];
     if (state.file?.error) problems.push({ severity: "error", message: `not well-formed XML: ${state.file.error}`, tree: null, element: null });
+    if (state.file?.repaired) {
+      problems.push({ severity: "warning", message: "this file has a bare & or < inside an attribute, which XML forbids (BehaviorTree.CPP reads it); the editor saves it escaped (&amp; &lt;), which loads the same", tree: null, element: null });
+    }
     for (const e of check?.errors || []) problems.push({ severity: "error", ...e });
     for (const w of check?.warnings || []) problems.push({ severity: "warning", ...w });
     for (const p of problems.slice(0, 200)) {

@@ -8,6 +8,18 @@ const CATEGORY_TAGS = { Action: "action", Condition: "condition", Control: "cont
 
 /** A parsed file: `{doc, prolog, epilog, separators, error}`; `error` is the parser's message, if any. */
 export function parseXml(text) {
+  const first = parseStrict(text);
+  if (!first.error) return first;
+  // BehaviorTree.CPP (tinyxml2) and NeuroTree's loader read a bare `&` or `<` inside an
+  // attribute (`if="A>-B && ok"`), which XML forbids; such a file is read with them
+  // escaped, and saved so (it loads the same).
+  const repaired = escapeLoose(text);
+  if (repaired === text) return first;
+  const second = parseStrict(repaired);
+  return second.error ? first : { ...second, repaired: true };
+}
+
+function parseStrict(text) {
   const doc = new DOMParser().parseFromString(text, "application/xml");
   const bad = doc.getElementsByTagName("parsererror")[0];
   // What the DOM cannot hold: the declaration and the line breaks around the top level.
@@ -15,6 +27,49 @@ export function parseXml(text) {
   const epilog = /\s*$/.exec(text)[0];
   const separators = bad ? [] : topLevelSeparators(text.slice(prolog.length), doc);
   return { doc, prolog, epilog, separators, error: bad ? bad.textContent.trim() : null };
+}
+
+// `text` with every `&` that starts no entity escaped, and every `<` inside a quoted
+// attribute value; comments, CDATA and processing instructions are left as they are.
+function escapeLoose(text) {
+  let out = "";
+  let i = 0;
+  const bareAmp = /&(?!(?:amp|lt|gt|quot|apos|#[0-9]+|#x[0-9a-fA-F]+);)/g;
+  const startsBare = /^&(?!(?:amp|lt|gt|quot|apos|#[0-9]+|#x[0-9a-fA-F]+);)/;
+  while (i < text.length) {
+    const lt = text.indexOf("<", i);
+    if (lt < 0) {
+      out += text.slice(i).replace(bareAmp, "&amp;");
+      break;
+    }
+    out += text.slice(i, lt).replace(bareAmp, "&amp;");
+    const skip = [["<!--", "-->"], ["<![CDATA[", "]]>"], ["<?", "?>"], ["<!", ">"]].find(([a]) => text.startsWith(a, lt));
+    if (skip) {
+      const end = text.indexOf(skip[1], lt + skip[0].length);
+      const stop = end < 0 ? text.length : end + skip[1].length;
+      out += text.slice(lt, stop);
+      i = stop;
+      continue;
+    }
+    // A tag: copy up to its closing `>`, escaping inside quoted values.
+    let j = lt + 1;
+    let quote = null;
+    let tag = "<";
+    for (; j < text.length; j++) {
+      const c = text[j];
+      if (quote) {
+        if (c === quote) quote = null;
+        tag += c === "<" ? "&lt;" : c === "&" && startsBare.test(text.slice(j, j + 12)) ? "&amp;" : c;
+      } else {
+        tag += c;
+        if (c === '"' || c === "'") quote = c;
+        else if (c === ">") break;
+      }
+    }
+    out += tag;
+    i = j + 1;
+  }
+  return out;
 }
 
 // The whitespace between the top-level nodes of `body` (comments and the root element),
