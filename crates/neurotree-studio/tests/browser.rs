@@ -606,17 +606,31 @@ async fn a_breakpoint_stops_the_run_and_each_step_is_one_tick() {
     .await;
     assert_eq!(b.attr(&leg, "data-paused-at").await.as_deref(), Some(""));
     let mut tick = b.shown_tick().await;
-    for _ in 0..3 {
+    for step in 1..=3 {
         b.click("[data-action=step]").await;
-        b.until(
-            "the step's tick",
-            &format!("Number(document.querySelector('[data-tick]').dataset.tick) !== {tick}"),
-        )
-        .await;
-        // Settle: a step is one tick, then the run stops again.
+        // A step is one tick, then the run stops again: wait for the stop after the tick.
+        let deadline = Instant::now() + Duration::from_secs(5);
+        let now = loop {
+            tokio::time::sleep(Duration::from_millis(100)).await;
+            let now = b.shown_tick().await;
+            if now != tick || Instant::now() > deadline {
+                break now;
+            }
+        };
         tokio::time::sleep(Duration::from_millis(150)).await;
-        let now = b.shown_tick().await;
-        assert_eq!(now, tick + 1, "one step, one tick");
+        let state = b
+            .js("return document.querySelector('[data-run-state]').textContent;")
+            .await;
+        assert_eq!(
+            now,
+            tick + 1,
+            "step {step} from tick {tick}: one tick (the page says {state})"
+        );
+        assert_eq!(
+            b.shown_tick().await,
+            now,
+            "step {step}: the run stopped again"
+        );
         assert_eq!(
             b.attr("[data-run-state]", "data-run-state")
                 .await
