@@ -32,9 +32,9 @@ export function mountWatch(section, app) {
         <span class="conn" data-connection="closed">disconnected</span>
         <span class="run-name"></span>
         <span class="tick-box">tick <b data-tick="0">0</b></span>
-        <button data-action="pause" title="stop before the next tick">❚❚ pause</button>
-        <button data-action="step" title="tick once, then stop">▸❚ step</button>
-        <button data-action="continue" title="go on">▶ continue</button>
+        <button data-action="pause" title="stop before the next tick (Space)">❚❚ pause</button>
+        <button data-action="step" title="tick once, then stop (S)">▸❚ step</button>
+        <button data-action="continue" title="go on (Space)">▶ continue</button>
         <span class="run-state" data-run-state="none"></span>
       </div>
       <div class="canvas"></div>
@@ -350,6 +350,18 @@ export function mountWatch(section, app) {
       ports.append(p);
     }
   }
+
+  // Space pauses and continues, S (or F10) steps, as debuggers do.
+  document.addEventListener("keydown", (e) => {
+    if (!app.isShown("watch") || /^(INPUT|TEXTAREA|SELECT)$/.test(document.activeElement?.tagName || "")) return;
+    if (e.key === " ") {
+      e.preventDefault();
+      state.paused ? actions.continue() : actions.pause();
+    } else if (e.key === "s" || e.key === "F10") {
+      e.preventDefault();
+      actions.step();
+    }
+  });
 
   section.addEventListener("click", (e) => {
     const a = e.target.closest("[data-action]")?.dataset.action;

@@ -26,7 +26,9 @@ function parseStrict(text) {
   const prolog = /^\s*(<\?xml[^]*?\?>\s*)?/.exec(text)[0];
   const epilog = /\s*$/.exec(text)[0];
   const separators = bad ? [] : topLevelSeparators(text.slice(prolog.length), doc);
-  return { doc, prolog, epilog, separators, error: bad ? bad.textContent.trim() : null };
+  // Chrome wraps the parser's message in a page of its own: keep the message.
+  const error = bad ? (bad.querySelector("div")?.textContent || bad.textContent).trim() : null;
+  return { doc, prolog, epilog, separators, error };
 }
 
 // `text` with every `&` that starts no entity escaped, and every `<` inside a quoted
