@@ -8,6 +8,7 @@
 // those texts, so every edit, however made, undoes the same way.
 
 import * as api from "./api.js";
+import { mountPalette } from "./palette.js";
 import { TreeDrawing, drawingToolbar } from "./tree.js";
 import * as xml from "./xmldoc.js";
 
@@ -37,12 +38,7 @@ export function mountEditor(section, app) {
   };
 
   section.innerHTML = `
-    <aside class="palette">
-      <h2>Palette</h2>
-      <input type="search" class="palette-search" placeholder="search node types" aria-label="search node types">
-      <ul class="palette-list"></ul>
-      <div class="palette-detail"></div>
-    </aside>
+    <aside class="palette"></aside>
     <div class="edit-main">
       <div class="toolbar">
         <select class="file-select" aria-label="file"></select>
@@ -74,6 +70,10 @@ export function mountEditor(section, app) {
     onDropType: (type, to, where) => actions.add(type, drawn[to].element, where),
   });
   $(".canvas-wrap").before(drawingToolbar(drawing, { onJump: (i) => actions.select(drawn[i].element, false) }));
+  const palette = mountPalette($(".palette"), {
+    onChoose: (type) => actions.choosePaletteType(type),
+    onAdd: (type) => actions.add(type, state.selected, "into"),
+  });
   let drawn = []; // the nodes of the shown tree, as drawn
   let checkTimer = null;
   let lastEdit = null; // {key, at} of the last attribute edit, to coalesce typing
@@ -103,7 +103,7 @@ export function mountEditor(section, app) {
       if (!path) return;
       setStatus(`opening ${path}…`);
       // The palette is asked for with the file, not after it.
-      const palette = api.get("/api/palette", { path }).catch((e) => e);
+      const asked = api.get("/api/palette", { path }).catch((e) => e);
       let answer;
       try {
         answer = await api.get("/api/file", { path });
@@ -122,7 +122,7 @@ export function mountEditor(section, app) {
       state.savedText = text();
       state.treeId = state.file.error ? null : xml.mainTreeId(state.file.doc, answer.check);
       state.tabs = state.treeId ? [{ id: state.treeId, prefix: "" }] : [];
-      const pal = await palette;
+      const pal = await asked;
       if (pal instanceof Error) setStatus(`palette: ${pal.message}`, "error");
       else state.palette = new Map(pal.types.map((t) => [t.type, t]));
       app.remember({ view: "edit", file: path });
@@ -500,8 +500,6 @@ export function mountEditor(section, app) {
   }
 
   function renderPalette() {
-    const list = $(".palette-list");
-    const q = $(".palette-search").value.trim().toLowerCase();
     const types = [...state.palette.values()];
     if (state.file && !state.file.error) {
       for (const t of xml.trees(state.file.doc)) {
@@ -509,28 +507,7 @@ export function mountEditor(section, app) {
         if (!state.palette.has(id)) types.push({ type: id, category: "subtree", builtin: false, description: "a tree of this file", ports: [] });
       }
     }
-    const order = ["control", "decorator", "condition", "action", "subtree"];
-    types.sort((a, b) => order.indexOf(a.category) - order.indexOf(b.category) || a.type.localeCompare(b.type));
-    let html = "";
-    let group = null;
-    for (const t of types) {
-      if (q && !t.type.toLowerCase().includes(q) && !(t.description || "").toLowerCase().includes(q)) continue;
-      if (t.category !== group) {
-        group = t.category;
-        html += `<li class="group">${group}</li>`;
-      }
-      const sel = t.type === state.paletteType ? ' aria-selected="true"' : "";
-      html += `<li class="palette-item cat-${t.category}" draggable="true" data-type="${esc(t.type)}"${sel} title="${esc(t.description || "")}">${esc(t.type)}</li>`;
-    }
-    list.innerHTML = html;
-    const detail = $(".palette-detail");
-    const t = state.paletteType && (state.palette.get(state.paletteType) || types.find((x) => x.type === state.paletteType));
-    detail.innerHTML = t ? typeDetail(t) : '<p class="hint">Pick a type, then “+ add” (or drag it onto a node).</p>';
-  }
-
-  function typeDetail(t) {
-    const ports = (t.ports || []).map((p) => `<li><b>${esc(p.name)}</b> <i>${esc(p.direction)}</i> ${esc(p.type || "")}${p.default != null ? ` = ${esc(p.default)}` : ""}${p.description ? `<br><small>${esc(p.description)}</small>` : ""}</li>`).join("");
-    return `<h3>${esc(t.type)} <small>${esc(t.category)}${t.builtin ? ", built-in" : ""}</small></h3>${t.description ? `<p>${esc(t.description)}</p>` : ""}${ports ? `<ul class="ports">${ports}</ul>` : "<p><small>no ports</small></p>"}`;
+    palette.render(types, state.paletteType);
   }
 
   function renderPanel() {
@@ -638,32 +615,6 @@ export function mountEditor(section, app) {
     if (e.target.dataset.attr === "name") render();
   });
 
-  $(".palette-search").addEventListener("input", renderPalette);
-  $(".palette-search").addEventListener("keydown", (e) => {
-    if (e.key === "Enter") {
-      const first = $(".palette-list .palette-item");
-      if (first) {
-        actions.choosePaletteType(first.dataset.type);
-        actions.add(first.dataset.type, state.selected, "into");
-      }
-    } else if (e.key === "Escape") e.target.blur();
-    e.stopPropagation();
-  });
-  $(".palette-list").addEventListener("click", (e) => {
-    const item = e.target.closest(".palette-item");
-    if (item) actions.choosePaletteType(item.dataset.type);
-  });
-  $(".palette-list").addEventListener("dblclick", (e) => {
-    const item = e.target.closest(".palette-item");
-    if (item) actions.add(item.dataset.type, state.selected, "into");
-  });
-  $(".palette-list").addEventListener("dragstart", (e) => {
-    const item = e.target.closest(".palette-item");
-    if (!item) return;
-    e.dataTransfer.setData("application/x-neurotree-type", item.dataset.type);
-    e.dataTransfer.setData("text/plain", item.dataset.type);
-    e.dataTransfer.effectAllowed = "copy";
-  });
   $(".raw-text").addEventListener("change", (e) => actions.applyRawText(e.target.value));
 
   function onKey(e) {
@@ -688,7 +639,7 @@ export function mountEditor(section, app) {
     } else if (e.key === "Insert" || (key === "a" && !ctrl)) {
       e.preventDefault();
       if (state.paletteType && e.key === "Insert") actions.add(state.paletteType, state.selected, "into");
-      else $(".palette-search").focus();
+      else palette.focus();
     } else if (e.altKey && (e.key === "ArrowLeft" || e.key === "ArrowDown")) {
       e.preventDefault();
       actions.shift(e.key === "ArrowLeft" ? -1 : 1);
