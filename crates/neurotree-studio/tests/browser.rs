@@ -66,15 +66,15 @@ impl Browser {
         let chromium = tool("NEUROTREE_CHROMIUM", "/usr/bin/chromium");
         let driver = tool("NEUROTREE_CHROMEDRIVER", "/usr/bin/chromedriver");
         if !chromium.exists() || !driver.exists() {
-            let note = format!(
-                "browser tests skipped: {} or {} is missing (Debian: apt-get install chromium chromium-driver)",
+            let missing = format!(
+                "{} or {} is missing (Debian: apt-get install chromium chromium-driver)",
                 chromium.display(),
                 driver.display()
             );
             if std::env::var("NEUROTREE_REQUIRE_BROWSER").as_deref() == Ok("1") {
-                panic!("{note}, and NEUROTREE_REQUIRE_BROWSER=1 requires them");
+                panic!("no browser, which NEUROTREE_REQUIRE_BROWSER=1 requires: {missing}");
             }
-            eprintln!("{note}");
+            eprintln!("browser test skipped: {missing}");
             return None;
         }
         let port = free_port();
