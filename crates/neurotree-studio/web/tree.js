@@ -100,8 +100,9 @@ function boxWidth(node, shape) {
   return Math.ceil(Math.max(width, MIN_WIDTH));
 }
 
-/** The markup of one node, centred on (0, 0) horizontally, its top at y = 0. */
-function nodeMarkup(node, index) {
+/** The markup of one node at `at` (its top centre; null: hidden), drawn centred on
+ * (0, 0) horizontally with its top at y = 0. */
+function nodeMarkup(node, index, at, folded) {
   const shape = node.shape;
   const w = node.w;
   const h = NODE_HEIGHT;
@@ -132,11 +133,14 @@ function nodeMarkup(node, index) {
   out += `<text class="name" x="${centre}" y="${nameY}">${escapeXml(node.label)}</text>`;
   if (node.typeLabel) out += `<text class="type" x="${centre}" y="${17 + LINE_STEP}">${escapeXml(node.typeLabel)}</text>`;
   if (node.children.length) {
-    out += `<g class="toggle" transform="translate(0,${h + 7})"><circle r="6"/><text y="3.5">−</text></g>`;
+    out += `<g class="toggle" transform="translate(0,${h + 7})"><circle r="6"/><text y="3.5">${folded ? "+" : "−"}</text></g>`;
   }
   const id = node.id == null ? "" : ` data-node-id="${node.id}"`;
+  const place = at ? ` transform="translate(${r(at.x)},${r(at.y)})"` : ' display="none"';
+  const fold = folded ? " data-collapsed" : "";
   const title = `${node.path} (${node.type})`;
-  return `<g class="node ${shape === "sequential" || shape === "alternative" || shape === "concurrent" ? "control" : shape}" data-index="${index}" data-node-path="${escapeXml(node.path)}"${id}><title>${escapeXml(title)}</title>${out}</g>`;
+  const family = shape === "sequential" || shape === "alternative" || shape === "concurrent" ? "control" : shape;
+  return `<g class="node ${family}" data-index="${index}" data-node-path="${escapeXml(node.path)}"${id}${place}${fold}><title>${escapeXml(title)}</title>${out}</g>`;
 }
 
 /**
@@ -187,37 +191,47 @@ export class TreeDrawing {
     if (collapsed) collapsed.forEach((i) => this.collapsed.add(i));
     else if (previous) nodes.forEach((n, i) => previous.has(n.path) && n.children.length && this.collapsed.add(i));
     this.statusOf = new Array(nodes.length).fill(null);
-    let html = "";
-    nodes.forEach((n, i) => {
+    for (const n of nodes) {
       n.label = printable(n.name);
       n.typeLabel = n.type && n.type !== n.name ? printable(n.type) : null;
       n.shape = shapeOf(n.type, n.category);
       n.w = boxWidth(n, n.shape);
-      html += nodeMarkup(n, i);
+    }
+    // Measured before the new nodes are in the document, so that it forces no layout of
+    // them; the nodes are then written placed, in one string: a big tree is drawn in
+    // one pass of the parser and one layout of the page.
+    const box = this.svg.getBoundingClientRect();
+    const visible = this.place();
+    let html = "";
+    let edges = "";
+    nodes.forEach((n, i) => {
+      const folded = this.collapsed.has(i);
+      html += nodeMarkup(n, i, visible[i] ? this.pos[i] : null, folded);
+      if (visible[i] && !folded) edges += this.edgesOf(i);
     });
     this.nodeLayer.innerHTML = html;
     this.elements = Array.from(this.nodeLayer.children);
+    this.edgePath.setAttribute("d", edges);
     this.hotPath.setAttribute("d", "");
     this.failPath.setAttribute("d", "");
-    this.layout();
-    if (!keepView) this.fit();
+    if (!keepView) this.fit(box);
     if (this.selected != null && this.selected >= nodes.length) this.selected = null;
     if (this.selected != null) this.elements[this.selected].classList.add("selected");
   }
 
-  /** Places the visible nodes; called when the tree or what is collapsed changes. */
-  layout() {
+  /** Computes where the visible nodes go (`this.pos`, `this.bounds`); returns which are. */
+  place() {
     const nodes = this.nodes;
+    const visible = new Uint8Array(nodes.length);
+    this.pos = new Array(nodes.length);
     if (!nodes.length) {
-      this.edgePath.setAttribute("d", "");
-      return;
+      this.bounds = null;
+      return visible;
     }
     const root = hierarchy(0, (i) => (this.collapsed.has(i) ? null : nodes[i].children));
     tidyTree()
       .nodeSize([1, NODE_HEIGHT + LEVEL])
       .separation((a, b) => (nodes[a.data].w + nodes[b.data].w) / 2 + (a.parent === b.parent ? SIBLING : COUSIN))(root);
-    const visible = new Uint8Array(nodes.length);
-    this.pos = new Array(nodes.length);
     let minX = Infinity;
     let maxX = -Infinity;
     let maxY = 0;
@@ -229,6 +243,13 @@ export class TreeDrawing {
       maxY = Math.max(maxY, d.y + NODE_HEIGHT);
     });
     this.bounds = { minX, maxX, minY: 0, maxY };
+    return visible;
+  }
+
+  /** Places the drawn nodes again; called when what is collapsed changes. */
+  layout() {
+    const nodes = this.nodes;
+    const visible = this.place();
     let d = "";
     nodes.forEach((n, i) => {
       const el = this.elements[i];
@@ -242,8 +263,7 @@ export class TreeDrawing {
       const folded = this.collapsed.has(i);
       if (n.children.length) {
         el.toggleAttribute("data-collapsed", folded);
-        const mark = el.querySelector(".toggle text");
-        mark.textContent = folded ? "+" : "−";
+        el.querySelector(".toggle text").textContent = folded ? "+" : "−";
       }
       if (!folded) d += this.edgesOf(i);
     });
@@ -406,8 +426,7 @@ export class TreeDrawing {
     return i;
   }
 
-  fit() {
-    const box = this.svg.getBoundingClientRect();
+  fit(box = this.svg.getBoundingClientRect()) {
     if (!this.bounds || !box.width || !box.height) {
       this.view = { x: 20, y: 20, k: 1 };
       this.applyView();
