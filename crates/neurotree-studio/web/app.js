@@ -51,14 +51,20 @@ async function start() {
     const v = e.target.closest("[data-view]")?.dataset.view;
     if (v) app.show(v);
   });
-  let session = { open: [], watch: false };
-  try {
-    session = await api.get("/api/session");
-    document.getElementById("version").textContent = `v${session.version}`;
-  } catch (e) {
-    app.toast(`session: ${e.message}`);
-  }
+  // The session is asked for while the address's view opens: it is needed only when the
+  // address names nothing.
+  const asked = api.get("/api/session").then(
+    (s) => {
+      document.getElementById("version").textContent = `v${s.version}`;
+      return s;
+    },
+    (e) => {
+      app.toast(`session: ${e.message}`);
+      return { open: [], watch: false };
+    },
+  );
   if (await route()) return;
+  const session = await asked;
   // What the command line opened: trees in the editor, logs in replay; a run's watch first.
   const trees = session.open.filter((p) => /\.xml$/i.test(p));
   const logs = session.open.filter((p) => /\.(jsonl|btlog|db|sqlite|db3)$/i.test(p));
