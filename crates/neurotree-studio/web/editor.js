@@ -89,8 +89,10 @@ export function mountEditor(section, app) {
     s.dataset.kind = kind;
   }
 
+  const isDirty = () => (state.file ? text() !== state.savedText : false);
+
   function flagState() {
-    const dirty = state.file ? text() !== state.savedText : false;
+    const dirty = isDirty();
     section.dataset.dirty = String(dirty);
     $('[data-action="undo"]').disabled = !state.undo.length;
     $('[data-action="redo"]').disabled = !state.redo.length;
@@ -99,8 +101,9 @@ export function mountEditor(section, app) {
 
   // --- the actions: the only functions that change `state` -----------------------------
   const actions = {
-    async open(path) {
+    async open(path, { discard = false } = {}) {
       if (!path) return;
+      if (!discard && isDirty() && !window.confirm(`${state.path} has edits not saved. Open ${path} and drop them?`)) return;
       setStatus(`opening ${path}…`);
       // The palette is asked for with the file, not after it.
       const asked = api.get("/api/palette", { path }).catch((e) => e);
@@ -312,7 +315,7 @@ export function mountEditor(section, app) {
     async reload() {
       hideBanner();
       const keep = { tabs: state.tabs, treeId: state.treeId };
-      await actions.open(state.path);
+      await actions.open(state.path, { discard: true });
       if (state.file && !state.file.error && xml.treeElement(state.file.doc, keep.treeId)) {
         state.tabs = keep.tabs.filter((t) => xml.treeElement(state.file.doc, t.id));
         actions.openTab(keep.treeId);
@@ -658,6 +661,10 @@ export function mountEditor(section, app) {
     }
   }
   document.addEventListener("keydown", onKey);
+  // Leaving the page with edits not saved asks first.
+  window.addEventListener("beforeunload", (e) => {
+    if (isDirty()) e.preventDefault();
+  });
 
   // Arrow keys walk the tree: up to the parent, down to the first child, sideways to siblings.
   function navigate(key) {

@@ -26,6 +26,8 @@ const LINE_STEP = 14;
 const SIBLING = 14;
 const COUSIN = 24;
 const LEVEL = 36;
+// Below this scale a 12 px label is under 4 px high: not drawn.
+const FAR = 0.3;
 
 /** The statuses a node can show, as the protocol spells them. */
 export const STATUSES = ["IDLE", "RUNNING", "SUCCESS", "FAILURE", "SKIPPED"];
@@ -174,9 +176,16 @@ export class TreeDrawing {
     this.failPath.setAttribute("class", "edges failed");
     this.nodeLayer = document.createElementNS(SVG, "g");
     this.nodeLayer.setAttribute("class", "nodes");
-    this.viewport.append(this.edgePath, this.hotPath, this.failPath, this.nodeLayer);
+    this.viewport.append(this.edgePath, this.nodeLayer);
     this.svg.append(this.viewport);
-    container.append(this.svg);
+    // The running path and the failure chain change at every tick: drawn in a layer of
+    // their own over the tree, so that redrawing them does not repaint the nodes.
+    this.overlay = document.createElementNS(SVG, "svg");
+    this.overlay.setAttribute("class", "tree-overlay");
+    this.overlayViewport = document.createElementNS(SVG, "g");
+    this.overlayViewport.append(this.hotPath, this.failPath);
+    this.overlay.append(this.overlayViewport);
+    container.append(this.svg, this.overlay);
     this.elements = [];
     this.bindPointer();
   }
@@ -329,14 +338,23 @@ export class TreeDrawing {
     this.drawHot();
   }
 
-  /** The lines between running nodes drawn over the others: the path that runs now. */
-  drawHot() {
+  /**
+   * The lines between running nodes, and between nodes on the failure chain, drawn over
+   * the others. `running` and `failed` are sets of node indices; without them every node
+   * is looked at.
+   */
+  drawHot(running = null, failed = null) {
+    const hot = running ?? this.nodes.keys();
+    const chain = failed ?? this.nodes.keys();
     let d = "";
     let f = "";
-    for (let i = 1; i < this.nodes.length; i++) {
-      if (this.statusOf[i] === "RUNNING" && this.statusOf[this.parent[i]] === "RUNNING") d += this.edgeTo(i);
-      const el = this.elements[i];
-      if (el.hasAttribute("data-failed") && this.elements[this.parent[i]].hasAttribute("data-failed")) f += this.edgeTo(i);
+    for (const i of hot) {
+      const p = this.parent[i];
+      if (p >= 0 && this.statusOf[i] === "RUNNING" && this.statusOf[p] === "RUNNING") d += this.edgeTo(i);
+    }
+    for (const i of chain) {
+      const p = this.parent[i];
+      if (p >= 0 && this.elements[i]?.hasAttribute("data-failed") && this.elements[p].hasAttribute("data-failed")) f += this.edgeTo(i);
     }
     this.hotPath.setAttribute("d", d);
     this.failPath.setAttribute("d", f);
@@ -460,7 +478,11 @@ export class TreeDrawing {
 
   applyView() {
     const { x, y, k } = this.view;
-    this.viewport.setAttribute("transform", `translate(${r(x)},${r(y)}) scale(${Math.round(k * 1000) / 1000})`);
+    const transform = `translate(${r(x)},${r(y)}) scale(${Math.round(k * 1000) / 1000})`;
+    this.viewport.setAttribute("transform", transform);
+    this.overlayViewport.setAttribute("transform", transform);
+    // Zoomed out past reading, labels are not drawn: less to paint at every tick.
+    this.svg.classList.toggle("far", k < FAR);
   }
 
   indexOf(target) {

@@ -18,12 +18,15 @@ export function mountWatch(section, app) {
     tick: 0,
     statuses: [],
     running: new Set(),
+    failedNodes: new Set(), // the nodes on the failure chain, as marked
     paused: null,
     breakpoints: new Map(), // node id -> when
     blackboards: [],
     failure: null,
     ended: null,
     selected: null,
+    // Tick messages and status changes received, for measurements.
+    received: { ticks: 0, changes: 0 },
   };
 
   section.innerHTML = `
@@ -80,6 +83,22 @@ export function mountWatch(section, app) {
     },
   };
 
+  // The tick counter and the nodes' statuses follow every message at once; the panels
+  // (running list, failure chain, blackboards) and the highlighted paths are drawn again
+  // at most once a frame, so a run ticking faster than the screen does not queue work.
+  const dirty = new Set();
+  let frame = 0;
+  function later(panel) {
+    dirty.add(panel);
+    if (!frame) frame = requestAnimationFrame(drawPanels);
+  }
+  function drawPanels() {
+    frame = 0;
+    const panels = [...dirty];
+    dirty.clear();
+    for (const panel of panels) panel();
+  }
+
   function receive(msg) {
     switch (msg.type) {
       case "hello":
@@ -88,10 +107,10 @@ export function mountWatch(section, app) {
         return tick(msg);
       case "blackboards":
         state.blackboards = msg.scopes || [];
-        return renderBlackboards();
+        return later(renderBlackboards);
       case "failure":
         state.failure = msg.failure;
-        return renderFailure();
+        return later(renderFailure);
       case "paused":
         state.paused = msg.paused;
         setTick(msg.tick);
@@ -136,6 +155,10 @@ export function mountWatch(section, app) {
     state.running = new Set();
     state.statuses.forEach((s, i) => s === "RUNNING" && state.running.add(i));
     drawing.setStatuses(state.statuses);
+    if (!same) {
+      state.failedNodes = new Set();
+      failureShown = "";
+    }
     state.paused = msg.paused;
     state.ended = msg.ended;
     state.blackboards = msg.blackboards || [];
@@ -145,6 +168,7 @@ export function mountWatch(section, app) {
     renderRunning();
     renderBlackboards();
     renderFailure();
+    drawHot();
     renderRunState();
     renderSelected();
     section.dataset.run = "attached";
@@ -152,6 +176,8 @@ export function mountWatch(section, app) {
 
   function tick(msg) {
     if (!state.tree) return;
+    state.received.ticks += 1;
+    state.received.changes += msg.changes.length;
     let runningChanged = false;
     for (const [id, status] of msg.changes) {
       const i = id; // a TreeView's nodes are in id order
@@ -161,12 +187,17 @@ export function mountWatch(section, app) {
       if (status === "RUNNING") state.running.add(i);
       else state.running.delete(i);
       drawing.setStatus(i, status);
+      if (i === state.selected) later(showSelectedStatus);
     }
     setTick(msg.tick);
     if (runningChanged) {
-      drawing.drawHot();
-      renderRunning();
+      later(drawHot);
+      later(renderRunning);
     }
+  }
+
+  function drawHot() {
+    drawing.drawHot(state.running, state.failedNodes);
   }
 
   function setTick(n) {
@@ -230,13 +261,20 @@ export function mountWatch(section, app) {
     }
   }
 
+  let failureShown = "";
   function renderFailure() {
     const box = $(".failure");
-    drawing.clearMarks("data-failed");
     const f = state.failure;
+    const key = JSON.stringify(f);
+    if (key === failureShown) return;
+    failureShown = key;
+    const nodes = new Set(f?.nodes || []);
+    for (const id of state.failedNodes) if (!nodes.has(id)) drawing.mark(id, "data-failed", null);
+    for (const id of nodes) if (!state.failedNodes.has(id)) drawing.mark(id, "data-failed", true);
+    state.failedNodes = nodes;
+    drawHot();
     if (!f) {
       box.innerHTML = '<p class="hint">none</p>';
-      drawing.drawHot();
       return;
     }
     box.innerHTML = "";
@@ -248,8 +286,6 @@ export function mountWatch(section, app) {
     const chain = document.createElement("pre");
     chain.textContent = f.chain || "";
     box.append(head, chain);
-    for (const id of f.nodes || []) drawing.mark(id, "data-failed", true);
-    drawing.drawHot();
   }
 
   // The entries' fields are made again only when the scopes or their keys change; a new
@@ -319,6 +355,11 @@ export function mountWatch(section, app) {
       details.append(table);
       box.append(details);
     }
+  }
+
+  function showSelectedStatus() {
+    const el = section.querySelector("[data-selected-status]");
+    if (el && state.selected != null) el.textContent = state.statuses[state.selected] || "";
   }
 
   function renderSelected() {
