@@ -540,6 +540,68 @@ async fn editing_a_port_adding_deleting_undoing_and_saving_gives_a_file_that_loa
 }
 
 #[tokio::test(flavor = "multi_thread")]
+async fn a_page_whose_studio_goes_away_reconnects_to_the_next_run() {
+    let _one = ONE_AT_A_TIME.lock().await;
+    let Some(b) = Browser::start().await else {
+        return;
+    };
+    let dir = workspace();
+    let studio = serve(dir.path());
+    let port = studio.addr().port();
+    let run = Run::start(
+        &studio,
+        load(PATROL, "patrol.xml"),
+        "patrol.xml",
+        Duration::from_millis(40),
+    );
+    b.goto(&format!("{}#view=watch", studio.url())).await;
+    b.element(&css_path("forever/patrol/go_a")).await;
+    b.until(
+        "connected",
+        "document.querySelector('[data-connection]').dataset.connection === 'open'",
+    )
+    .await;
+
+    // The run and its studio end; another run is served on the same port.
+    drop(run);
+    drop(studio);
+    b.until(
+        "the page noticing",
+        "document.querySelector('[data-connection]').dataset.connection === 'closed'",
+    )
+    .await;
+    let studio = Studio::serve(
+        StudioOptions {
+            root: dir.path().to_path_buf(),
+            port,
+            ..StudioOptions::default()
+        },
+        registry,
+    )
+    .expect("the port is free again");
+    let other = PATROL.replace("patrol", "rounds");
+    let run = Run::start(
+        &studio,
+        load(&other, "rounds.xml"),
+        "rounds.xml",
+        Duration::from_millis(40),
+    );
+    // The page, not reloaded, shows the new run whole.
+    b.element(&css_path("forever/rounds/go_a")).await;
+    assert_eq!(b.count(&css_path("forever/patrol/go_a")).await, 0);
+    b.until(
+        "the new run's statuses",
+        &format!(
+            "document.querySelector('{}').dataset.status",
+            css_path("forever/rounds/go_a").replace('\'', "\\'")
+        ),
+    )
+    .await;
+    drop(run);
+    b.close().await;
+}
+
+#[tokio::test(flavor = "multi_thread")]
 async fn a_watched_run_shows_its_statuses_change() {
     let _one = ONE_AT_A_TIME.lock().await;
     let Some(b) = Browser::start().await else {
