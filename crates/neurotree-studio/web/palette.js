@@ -45,10 +45,13 @@ export function mountPalette(root, { onChoose, onAdd }) {
   search.addEventListener("input", () => render(shown.types, shown.chosen));
   search.addEventListener("keydown", (e) => {
     if (e.key === "Enter") {
-      const first = list.querySelector(".palette-item");
-      if (first) {
-        onChoose(first.dataset.type);
-        onAdd(first.dataset.type);
+      // The type named exactly, else the first one shown.
+      const q = search.value.trim().toLowerCase();
+      const items = [...list.querySelectorAll(".palette-item")];
+      const pick = items.find((i) => i.dataset.type.toLowerCase() === q) || items[0];
+      if (pick) {
+        onChoose(pick.dataset.type);
+        onAdd(pick.dataset.type);
       }
     } else if (e.key === "Escape") search.blur();
     // The editor's shortcuts (Delete, arrows) are not for this field.
