@@ -32,6 +32,7 @@ export function mountEditor(section, app) {
     tabs: [], // [{id, prefix}]
     selected: null, // element index path in the shown tree
     paletteType: null,
+    clipboard: null, // a copied node, as XML text
     undo: [],
     redo: [],
     saving: false,
@@ -198,6 +199,47 @@ export function mountEditor(section, app) {
         if (place === "into") xml.insertElement(at, el, null, unit);
         else xml.insertElement(at.parentElement, el, place === "before" ? at : at.nextElementSibling, unit);
         return xml.pathOf(tree, el);
+      });
+    },
+
+    // Copies the selected node and what is under it (as XML text, so that it can be
+    // pasted into another tree or file).
+    copy(elPath) {
+      const el = elPath && xml.elementAt(shownTree(), elPath);
+      if (!el) return;
+      state.clipboard = new XMLSerializer().serializeToString(el);
+      setStatus(`copied ${xml.nameOf(el)}`);
+    },
+
+    // Pastes the copied node into the selected one (after it, when it takes no child).
+    paste(target) {
+      const tree = shownTree();
+      const at = target && xml.elementAt(tree, target);
+      if (!state.clipboard || !at) return;
+      const parsed = new DOMParser().parseFromString(state.clipboard, "application/xml").documentElement;
+      if (!parsed || parsed.getElementsByTagName("parsererror").length) return;
+      edit(`paste ${xml.nameOf(parsed)}`, null, () => {
+        const doc = state.file.doc;
+        const el = doc.importNode(parsed, true);
+        const unit = xml.indentUnit(doc);
+        const isRoot = at.parentElement === tree;
+        const place = xml.acceptsChild(at, xml.categoryOf(at, state.palette)) ? "into" : "after";
+        if (isRoot && place !== "into") throw new Error("the tree's root takes no siblings; paste into a control");
+        if (place === "into") xml.insertElement(at, el, null, unit);
+        else xml.insertElement(at.parentElement, el, at.nextElementSibling, unit);
+        return xml.pathOf(tree, el);
+      });
+    },
+
+    // A copy of the node and what is under it, right after it.
+    duplicate(elPath) {
+      const tree = shownTree();
+      const el = elPath && xml.elementAt(tree, elPath);
+      if (!el || el.parentElement === tree) return;
+      edit(`duplicate ${xml.nameOf(el)}`, null, () => {
+        const copy = el.cloneNode(true);
+        xml.insertElement(el.parentElement, copy, el.nextElementSibling, xml.indentUnit(state.file.doc));
+        return xml.pathOf(tree, copy);
       });
     },
 
@@ -517,7 +559,7 @@ export function mountEditor(section, app) {
     const panel = section.querySelector(".side-panel");
     const el = selectedElement();
     if (!el) {
-      panel.innerHTML = '<p class="hint">Click a node to see its name and ports. Drag nodes to move them; Alt+←/→ reorders, Delete deletes, Insert adds the palette\'s type.</p>';
+      panel.innerHTML = '<p class="hint">Click a node to see its name and ports. Drag nodes to move them; Alt+←/→ reorders, Alt+↑ moves out, Delete deletes, Insert adds the palette\'s type, Ctrl+C / Ctrl+X / Ctrl+V / Ctrl+D copy, cut, paste and duplicate.</p>';
       return;
     }
     const type = xml.typeOf(el);
@@ -636,6 +678,16 @@ export function mountEditor(section, app) {
       actions.redo();
     } else if (inField) {
       return;
+    } else if (ctrl && (key === "c" || key === "x")) {
+      e.preventDefault();
+      actions.copy(state.selected);
+      if (key === "x") actions.remove(state.selected);
+    } else if (ctrl && key === "v") {
+      e.preventDefault();
+      actions.paste(state.selected);
+    } else if (ctrl && key === "d") {
+      e.preventDefault();
+      actions.duplicate(state.selected);
     } else if (e.key === "Delete" || e.key === "Backspace") {
       e.preventDefault();
       actions.remove(state.selected);
