@@ -508,7 +508,7 @@ impl<C> State<C> {
             .iter()
             .map(|&id| {
                 let i = id.index();
-                Child::new(id, &nodes[i].kind, hooks[i].is_some(), guards[i], &shared)
+                Child::new(id, &nodes[i], hooks[i].is_some(), guards[i], &shared)
             })
             .collect();
         Blueprint {
