@@ -25,11 +25,32 @@ const RESERVED: [&str; 11] = [
     "_autoremap",
 ];
 
+/// [`FORBIDDEN`] and the ASCII control characters, as a set of bytes: bit `b` is set for a
+/// forbidden byte `b` (all below 128).
+const FORBIDDEN_BYTES: u128 = {
+    let mut set = 0u128;
+    let mut b = 0;
+    while b < 128 {
+        if (b as u8).is_ascii_control() {
+            set |= 1 << b;
+        }
+        b += 1;
+    }
+    let mut i = 0;
+    while i < FORBIDDEN.len() {
+        set |= 1 << FORBIDDEN[i] as u32;
+        i += 1;
+    }
+    set
+};
+
 /// The first character of `name` that BehaviorTree.CPP forbids in a name, if any.
 fn forbidden_char(name: &str) -> Option<char> {
-    // Multibyte UTF-8 is allowed, as BehaviorTree.CPP skips bytes with the high bit set.
-    name.chars()
-        .find(|&c| c.is_ascii() && (c.is_ascii_control() || FORBIDDEN.contains(&c)))
+    // Multibyte UTF-8 is allowed, as BehaviorTree.CPP skips bytes with the high bit set; an
+    // ASCII character is one byte below 128, and no byte of a multibyte one is.
+    name.bytes()
+        .find(|&b| b < 128 && FORBIDDEN_BYTES & (1 << b) != 0)
+        .map(char::from)
 }
 
 /// How a forbidden character is named in a message.
@@ -109,6 +130,15 @@ pub(crate) fn check_port_name(name: &str) -> Result<(), String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_byte_set_forbids_what_the_list_and_control_characters_forbid() {
+        for c in (0..=0x10ffu32).filter_map(char::from_u32) {
+            let by_rule = c.is_ascii() && (c.is_ascii_control() || FORBIDDEN.contains(&c));
+            let name = format!("a{c}b");
+            assert_eq!(forbidden_char(&name), by_rule.then_some(c), "{c:?}");
+        }
+    }
 
     #[test]
     fn names_as_behaviortree_cpp_checks_them() {
