@@ -25,23 +25,21 @@ const RESERVED: [&str; 11] = [
     "_autoremap",
 ];
 
-/// [`FORBIDDEN`] and the ASCII control characters, as a set of bytes: bit `b` is set for a
-/// forbidden byte `b` (all below 128).
-const FORBIDDEN_BYTES: u128 = {
-    let mut set = 0u128;
+/// [`FORBIDDEN`] and the ASCII control characters, as a table of bytes: `true` for a
+/// forbidden byte (all below 128).
+static FORBIDDEN_BYTES: [bool; 256] = {
+    let mut table = [false; 256];
     let mut b = 0;
     while b < 128 {
-        if (b as u8).is_ascii_control() {
-            set |= 1 << b;
-        }
+        table[b] = (b as u8).is_ascii_control();
         b += 1;
     }
     let mut i = 0;
     while i < FORBIDDEN.len() {
-        set |= 1 << FORBIDDEN[i] as u32;
+        table[FORBIDDEN[i] as usize] = true;
         i += 1;
     }
-    set
+    table
 };
 
 /// The first character of `name` that BehaviorTree.CPP forbids in a name, if any.
@@ -49,7 +47,7 @@ fn forbidden_char(name: &str) -> Option<char> {
     // Multibyte UTF-8 is allowed, as BehaviorTree.CPP skips bytes with the high bit set; an
     // ASCII character is one byte below 128, and no byte of a multibyte one is.
     name.bytes()
-        .find(|&b| b < 128 && FORBIDDEN_BYTES & (1 << b) != 0)
+        .find(|&b| FORBIDDEN_BYTES[usize::from(b)])
         .map(char::from)
 }
 
