@@ -14,8 +14,8 @@
 #   BTCPP_SRC=dir      BehaviorTree.CPP's source (default: <repo>/../btcpp-src)
 #   BTCPP_BUILD=dir    where to build both (default: $CARGO_TARGET_DIR or <repo>/target,
 #                      then /btcpp-native)
-#   TICKS=N            timed ticks per round (default 20000; 5 rounds, the best is kept)
-#   LOADS=N            timed loads per round (default 200; 5 rounds, the best is kept)
+#   ROUNDS=N           timed rounds of about 2 ms per measure (default 300); the fastest
+#                      is kept, in both programs
 set -euo pipefail
 
 HERE="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
@@ -23,8 +23,7 @@ REPO="$(cd "$HERE/../../.." && pwd)"
 BTCPP_SRC="${BTCPP_SRC:-$REPO/../btcpp-src}"
 TARGET="${CARGO_TARGET_DIR:-$REPO/target}"
 BTCPP_BUILD="${BTCPP_BUILD:-$TARGET/btcpp-native}"
-TICKS="${TICKS:-20000}"
-LOADS="${LOADS:-200}"
+ROUNDS="${ROUNDS:-300}"
 TREE="$REPO/corpus/bench/tree1111.xml"
 JOBS="${JOBS:-$(nproc)}"
 
@@ -57,8 +56,8 @@ NT="$TARGET/release/examples/compare_native"
 echo "machine: $(nproc) cores, load average $(cut -d' ' -f1-3 /proc/loadavg), $(date -u +%FT%TZ)"
 RESULTS="$(mktemp)"
 trap 'rm -f "$RESULTS"' EXIT
-"$BTCPP_BUILD/bench/btcpp_tree1111" "$TREE" "$TICKS" "$LOADS" | tee -a "$RESULTS"
-"$NT" "$TICKS" "$LOADS" | tee -a "$RESULTS"
+"$BTCPP_BUILD/bench/btcpp_tree1111" "$TREE" "$ROUNDS" | tee -a "$RESULTS"
+"$NT" "$ROUNDS" | tee -a "$RESULTS"
 echo "load average after: $(cut -d' ' -f1-3 /proc/loadavg)"
 
 python3 - "$RESULTS" <<'PY'

@@ -6,8 +6,10 @@
 //!   nodes and the root succeeds (checked on every tick);
 //! - load: from the XML text to a tickable instance with one registry, and its drop.
 //!
-//! Each is the best of 5 timed rounds after one warm-up round.
-//! `compare_native [TICKS] [LOADS]` prints one JSON line per measure.
+//! Each is the fastest of ROUNDS rounds (default 300) of about 2 ms each (the number of
+//! ticks or loads per round is doubled from 1 until a round takes 2 ms): on a machine shared
+//! with other work, a round that nothing interrupted is what the code costs.
+//! `compare_native [ROUNDS]` prints one JSON line per measure.
 
 use std::hint::black_box;
 use std::sync::Arc;
@@ -18,31 +20,39 @@ use neurotree_bench::{
     tree1111, tree1111_registry, tree1111_xml, TREE1111_NODES_PER_TICK, TREE1111_XML,
 };
 
-/// The best time per iteration, in seconds, of 5 rounds of `n` iterations of `f`, after a
-/// warm-up round of `n / 10 + 1`.
-fn best_of_5(n: u64, mut f: impl FnMut()) -> f64 {
-    let mut best = f64::INFINITY;
-    for round in 0..6 {
-        let count = if round == 0 { n / 10 + 1 } else { n };
+/// The fastest time per call of `f`, in seconds, over `rounds` rounds of about 2 ms, and
+/// the calls per round.
+fn fastest(rounds: u32, mut f: impl FnMut()) -> (f64, u64) {
+    let mut n = 1u64;
+    loop {
         let start = Instant::now();
-        for _ in 0..count {
+        for _ in 0..n {
             f();
         }
-        let per = start.elapsed().as_secs_f64() / count as f64;
-        if round > 0 && per < best {
-            best = per;
+        if start.elapsed().as_secs_f64() >= 0.002 || n >= 1 << 30 {
+            break;
         }
+        n *= 2;
     }
-    best
+    let mut best = f64::INFINITY;
+    for _ in 0..rounds {
+        let start = Instant::now();
+        for _ in 0..n {
+            f();
+        }
+        best = best.min(start.elapsed().as_secs_f64() / n as f64);
+    }
+    (best, n)
 }
 
 fn main() {
-    let mut args = std::env::args().skip(1);
-    let ticks: u64 = args.next().and_then(|n| n.parse().ok()).unwrap_or(20_000);
-    let loads: u64 = args.next().and_then(|n| n.parse().ok()).unwrap_or(200);
+    let rounds: u32 = std::env::args()
+        .nth(1)
+        .and_then(|n| n.parse().ok())
+        .unwrap_or(300);
 
     let registry = tree1111_registry::<()>();
-    let per_load = best_of_5(loads, || {
+    let (per_load, n) = fastest(rounds, || {
         let mut loader = XmlLoader::new(&registry);
         loader
             .load_str(black_box(TREE1111_XML), "tree1111.xml")
@@ -51,19 +61,19 @@ fn main() {
         black_box(Tree::with_clock(Arc::new(blueprint), ManualClock::new()));
     });
     println!(
-        "{{\"name\":\"neurotree/load\",\"loads\":{loads},\"us_per_load\":{:.3}}}",
+        "{{\"name\":\"neurotree/load\",\"per_round\":{n},\"us_per_load\":{:.3}}}",
         per_load * 1e6
     );
 
     for (name, blueprint) in [("builder", tree1111::<()>()), ("xml", tree1111_xml())] {
         let mut tree = Tree::with_clock(blueprint, ManualClock::new());
-        let per_tick = best_of_5(ticks, || {
+        let (per_tick, n) = fastest(rounds, || {
             let status = tree.tick_once(black_box(&mut ()));
             assert_eq!(status, Ok(Status::Success), "the root of tree1111 succeeds");
         });
         let ns = per_tick * 1e9;
         println!(
-            "{{\"name\":\"neurotree/tick/{name}\",\"ticks\":{ticks},\"ns_per_tick\":{ns:.1},\"ns_per_node\":{:.3}}}",
+            "{{\"name\":\"neurotree/tick/{name}\",\"per_round\":{n},\"ns_per_tick\":{ns:.1},\"ns_per_node\":{:.3}}}",
             ns / TREE1111_NODES_PER_TICK as f64
         );
     }
