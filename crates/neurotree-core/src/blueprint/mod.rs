@@ -100,6 +100,17 @@ enum Fast {
     FallbackOfObjects,
 }
 
+/// A child as a plain Sequence's or Fallback's quiet loop ticks it: a condition called
+/// from the child list, a guard whose loop runs in the parent's, or anything else.
+pub(crate) enum Hot<'a, C> {
+    Closure(&'a ConditionDyn<C>),
+    Condition(&'a dyn Condition<C>),
+    /// A guard: a Sequence (`.0`) or Fallback, of closures (`.1`) or of `Condition`
+    /// objects, and its children's range in `Blueprint::hot_children` (first, count).
+    Guard(bool, bool, [u32; 2]),
+    Other,
+}
+
 /// What a node's children all are, when its parent can use it (see [`Fast`]).
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
 pub(crate) enum Guards {
@@ -126,6 +137,9 @@ union FastLeaf<C> {
     none: (),
     closure: NonNull<ConditionDyn<C>>,
     condition: NonNull<dyn Condition<C>>,
+    /// A guard's children in `Blueprint::hot_children` (first, count), so that its
+    /// parent's loop runs the guard's loop without looking its definition up.
+    guard: [u32; 2],
 }
 
 /// The closure behind a [`ConditionFn`].
@@ -135,12 +149,12 @@ impl<C> Child<C> {
     /// A child of kind `kind`; `hooked` when it has pre- or post-conditions.
     pub(crate) fn new(
         id: NodeId,
-        kind: &NodeKind<C>,
+        def: &NodeDef<C>,
         hooked: bool,
         guards: Guards,
         shared: &[Arc<dyn Condition<C>>],
     ) -> Self {
-        let (fast, leaf) = match (kind, hooked) {
+        let (fast, leaf) = match (&def.kind, hooked) {
             (NodeKind::ConditionFn(f), false) => (
                 Fast::Closure,
                 FastLeaf {
@@ -169,7 +183,14 @@ impl<C> Child<C> {
                     (false, Guards::Objects) => Fast::FallbackOfObjects,
                     (false, Guards::Mixed) => Fast::Alternative,
                 };
-                (fast, FastLeaf { none: () })
+                let leaf = if guards == Guards::Mixed {
+                    FastLeaf { none: () }
+                } else {
+                    FastLeaf {
+                        guard: [def.first_child, def.child_count],
+                    }
+                };
+                (fast, leaf)
             }
             _ => (Fast::None, FastLeaf { none: () }),
         };
@@ -190,11 +211,20 @@ impl<C> Child<C> {
         }
     }
 
-    /// Whether the child is a condition its parent's loop calls directly (a closure or a
-    /// `Condition` object without hooks).
+    /// Whether the child is one whose status a parent's quiet loop does not store: a
+    /// condition it calls directly (a closure or a `Condition` object without hooks), or a
+    /// guard whose loop it runs.
     #[inline(always)]
     pub(crate) fn is_fast(&self) -> bool {
-        matches!(self.fast, Fast::Closure | Fast::Condition)
+        matches!(
+            self.fast,
+            Fast::Closure
+                | Fast::Condition
+                | Fast::SequenceOfClosures
+                | Fast::FallbackOfClosures
+                | Fast::SequenceOfObjects
+                | Fast::FallbackOfObjects
+        )
     }
 
     /// A plain Sequence or Fallback without hooks, which a parent's loop ticks without the
@@ -211,6 +241,24 @@ impl<C> Child<C> {
             Fast::Closure | Fast::Condition | Fast::None => return None,
         };
         Some(FastControl { sequence, guards })
+    }
+
+    /// What a parent's quiet loop does with this child (see [`Hot`]).
+    #[inline(always)]
+    pub(crate) fn hot(&self) -> Hot<'_, C> {
+        // SAFETY: `fast` says which field `new` set (see `closure` and `condition_object`;
+        // the guard variants set `guard`).
+        unsafe {
+            match self.fast {
+                Fast::Closure => Hot::Closure(&*self.leaf.closure.as_ptr()),
+                Fast::Condition => Hot::Condition(&*self.leaf.condition.as_ptr()),
+                Fast::SequenceOfClosures => Hot::Guard(true, true, self.leaf.guard),
+                Fast::FallbackOfClosures => Hot::Guard(false, true, self.leaf.guard),
+                Fast::SequenceOfObjects => Hot::Guard(true, false, self.leaf.guard),
+                Fast::FallbackOfObjects => Hot::Guard(false, false, self.leaf.guard),
+                Fast::Sequential | Fast::Alternative | Fast::None => Hot::Other,
+            }
+        }
     }
 
     /// The child's closure, when its parent knows it is a closure condition
@@ -449,6 +497,16 @@ impl<C> Blueprint<C> {
         let range = def.first_child as usize..(def.first_child + def.child_count) as usize;
         debug_assert!(range.end <= self.hot_children.len());
         // SAFETY: `hot_children` mirrors `children` entry for entry (see `children_of`).
+        unsafe { self.hot_children.get_unchecked(range) }
+    }
+
+    /// A guard's children, from the range its [`Hot::Guard`] holds.
+    #[inline(always)]
+    pub(crate) fn hot_range(&self, [first, count]: [u32; 2]) -> &[Child<C>] {
+        let range = first as usize..(first + count) as usize;
+        debug_assert!(range.end <= self.hot_children.len());
+        // SAFETY: `Child::new` took the range from a node definition of this blueprint, as
+        // `hot_children_of` does.
         unsafe { self.hot_children.get_unchecked(range) }
     }
 

@@ -351,9 +351,14 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
         };
         let node_type = self.node_type(type_name);
         // By name first, as BehaviorTree.CPP's substitution rules match, then by type.
-        let mock = [name, type_name]
-            .into_iter()
-            .find_map(|key| self.loader.mocks.get_key_value(key));
+        let mocks = &self.loader.mocks;
+        let mock = (!mocks.is_empty())
+            .then(|| {
+                [name, type_name]
+                    .into_iter()
+                    .find_map(|key| mocks.get_key_value(key))
+            })
+            .flatten();
         if let Some((key, outcomes)) = mock {
             let name = key.as_str();
             let family = node_type.map(|t| t.category);

@@ -350,9 +350,9 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
                             child.child_count()
                         )));
                     }
-                    self.check_tree(child, siblings)?;
+                    let warnings = self.check_tree(child, siblings)?;
                     self.trees.insert(id, TreeAt { doc: at, element });
-                    self.warn_aliases(at, element);
+                    self.warnings.extend(warnings);
                 }
                 "include" => self.include(at, element, dir)?,
                 // Models describe nodes for editors, and the registry is the loader's model
@@ -371,8 +371,13 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
     /// Refuses what BehaviorTree.CPP's `VerifyXML` refuses in the `<BehaviorTree>` `tree`
     /// (one of `siblings` elements under `<root>`): its ID, its SubTrees' IDs and the node
     /// type names it writes as elements, and a ReactiveSequence with several asynchronous
-    /// children.
-    fn check_tree(&self, tree: Element<'_>, siblings: usize) -> Result<(), LoadError> {
+    /// children. Returns the warnings for the node types it names by an alias, in document
+    /// order (one walk over the tree for both).
+    fn check_tree(
+        &self,
+        tree: Element<'_>,
+        siblings: usize,
+    ) -> Result<Vec<LoadWarning>, LoadError> {
         let registered = |id: &str| self.registry.get(id).is_some();
         match tree.attr("ID") {
             // BehaviorTree.CPP names the only tree of a file; among others it must be named.
@@ -398,8 +403,18 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
                 }
             }
         }
+        let mut warnings = Vec::new();
         for el in tree.descendants() {
             let tag = el.tag();
+            let explicit = build::EXPLICIT.contains(&tag);
+            let type_name = if explicit {
+                el.attr("ID").unwrap_or("")
+            } else {
+                tag
+            };
+            if let Some((alias, _)) = self.registry.alias(type_name) {
+                warnings.push(el.warning(alias.warning()));
+            }
             if tag == "SubTree" {
                 // Without an ID the builder says so; an empty one is a name refused here.
                 let Some(id) = el.attr("ID") else { continue };
@@ -414,17 +429,12 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
                         ),
                     ));
                 }
-            } else if !build::EXPLICIT.contains(&tag) {
+            } else if !explicit {
                 names::check_model_name(tag, "node type")
                     .map_err(|m| el.error(LoadErrorKind::BadName, m))?;
             }
             // As BehaviorTree.CPP, which counts the children written as `<AsyncSequence>`
             // (the asynchronous control it registers) of a ReactiveSequence.
-            let type_name = if build::EXPLICIT.contains(&tag) {
-                el.attr("ID").unwrap_or("")
-            } else {
-                tag
-            };
             use neurotree_core::nodes::control::{reactive, sequence};
             let async_child = sequence::ASYNC_SEQUENCE.name;
             if type_name == reactive::REACTIVE_SEQUENCE.name
@@ -439,7 +449,7 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
                 ));
             }
         }
-        Ok(())
+        Ok(warnings)
     }
 
     /// Keeps the ports that the `<SubTree>` entries of model `element` declare.
@@ -473,21 +483,6 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
     /// The ports a model declares for the SubTree `id`, if one does.
     fn subtree_model(&self, id: &str) -> Option<&[(String, Option<String>)]> {
         self.subtree_models.get(id).map(Vec::as_slice)
-    }
-
-    /// Warns of each element of tree `element` that names its type by an alias.
-    fn warn_aliases(&mut self, doc: usize, element: usize) {
-        let tree = self.docs[doc].element(element);
-        for el in tree.descendants() {
-            let type_name = if build::EXPLICIT.contains(&el.tag()) {
-                el.attr("ID").unwrap_or("")
-            } else {
-                el.tag()
-            };
-            if let Some((alias, _)) = self.registry.alias(type_name) {
-                self.warnings.push(el.warning(alias.warning()));
-            }
-        }
     }
 
     fn include(&mut self, doc: usize, element: usize, dir: Option<&Path>) -> Result<(), LoadError> {

@@ -25,11 +25,30 @@ const RESERVED: [&str; 11] = [
     "_autoremap",
 ];
 
+/// [`FORBIDDEN`] and the ASCII control characters, as a table of bytes: `true` for a
+/// forbidden byte (all below 128).
+static FORBIDDEN_BYTES: [bool; 256] = {
+    let mut table = [false; 256];
+    let mut b = 0;
+    while b < 128 {
+        table[b] = (b as u8).is_ascii_control();
+        b += 1;
+    }
+    let mut i = 0;
+    while i < FORBIDDEN.len() {
+        table[FORBIDDEN[i] as usize] = true;
+        i += 1;
+    }
+    table
+};
+
 /// The first character of `name` that BehaviorTree.CPP forbids in a name, if any.
 fn forbidden_char(name: &str) -> Option<char> {
-    // Multibyte UTF-8 is allowed, as BehaviorTree.CPP skips bytes with the high bit set.
-    name.chars()
-        .find(|&c| c.is_ascii() && (c.is_ascii_control() || FORBIDDEN.contains(&c)))
+    // Multibyte UTF-8 is allowed, as BehaviorTree.CPP skips bytes with the high bit set; an
+    // ASCII character is one byte below 128, and no byte of a multibyte one is.
+    name.bytes()
+        .find(|&b| FORBIDDEN_BYTES[usize::from(b)])
+        .map(char::from)
 }
 
 /// How a forbidden character is named in a message.
@@ -109,6 +128,15 @@ pub(crate) fn check_port_name(name: &str) -> Result<(), String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_byte_set_forbids_what_the_list_and_control_characters_forbid() {
+        for c in (0..=0x10ffu32).filter_map(char::from_u32) {
+            let by_rule = c.is_ascii() && (c.is_ascii_control() || FORBIDDEN.contains(&c));
+            let name = format!("a{c}b");
+            assert_eq!(forbidden_char(&name), by_rule.then_some(c), "{c:?}");
+        }
+    }
 
     #[test]
     fn names_as_behaviortree_cpp_checks_them() {

@@ -4,7 +4,7 @@
 //! [`fallback`](super::fallback) for the semantics.
 
 use super::{pack, unpack};
-use crate::blueprint::NodeDef;
+use crate::blueprint::{Child, Hot, NodeDef};
 use crate::tree::Ticker;
 use crate::{NodeId, NodeStatus};
 
@@ -119,61 +119,92 @@ pub(crate) fn tick_guard<C, const SEQUENCE: bool, const CLOSURES: bool>(
     if t.observed() {
         return run::<C, SEQUENCE, PLAIN, true>(t, id, def);
     }
+    let hot = t.bp.hot_children_of(def);
+    guard::<C, SEQUENCE, CLOSURES>(t, id, hot)
+}
+
+/// A guard's loop with no observer (see [`tick_guard`]): the calls of its conditions
+/// `hot` (at least one), in order, until one decides. Run by the guard's parent in its own
+/// loop when the parent is a quiet Sequence or Fallback ([`run_quiet`]), as if the guard
+/// were one condition: its status is stored only if the parent returns Running.
+#[inline(always)]
+fn guard<C, const SEQUENCE: bool, const CLOSURES: bool>(
+    t: &mut Ticker<'_, C>,
+    id: NodeId,
+    hot: &[Child<C>],
+) -> NodeStatus {
     let (go_on, stop) = if SEQUENCE {
         (NodeStatus::Success, NodeStatus::Failure)
     } else {
         (NodeStatus::Failure, NodeStatus::Success)
     };
-    let hot = t.bp.hot_children_of(def);
+    debug_assert!(!hot.is_empty());
+    let range = hot.as_ptr_range();
+    let mut child = range.start;
     if CLOSURES {
         let ctx: &C = t.ctx;
-        for child in hot {
-            let f = child.closure_known();
+        loop {
+            // SAFETY: `child` is in `start..end` of the non-empty `hot` (a guard has a
+            // child: the builder makes none of a node without children).
+            let c = unsafe { &*child };
             let blame = Blame {
                 current: &mut t.current,
-                child: child.id,
+                child: c,
             };
-            let holds = f(ctx);
+            let holds = c.closure_known()(ctx);
             core::mem::forget(blame);
             if holds != SEQUENCE {
                 return stop;
+            }
+            // SAFETY: at most one past the end of `hot`.
+            child = unsafe { child.add(1) };
+            if child == range.end {
+                return go_on;
             }
         }
     } else {
         let (mut h, current) = t.handle_beside_current(id);
-        for child in hot {
-            h.node = child.id;
+        loop {
+            // SAFETY: as above.
+            let c = unsafe { &*child };
+            h.node = c.id;
             let blame = Blame {
                 current: &mut *current,
-                child: child.id,
+                child: c,
             };
-            let holds = child.condition_known().check(&h);
+            let holds = c.condition_known().check(&h);
             core::mem::forget(blame);
             if holds != SEQUENCE {
                 return stop;
             }
+            // SAFETY: as above.
+            child = unsafe { child.add(1) };
+            if child == range.end {
+                return go_on;
+            }
         }
     }
-    go_on
 }
 
 /// Names the child whose condition is being called as the node a panic came from, when
-/// the panic unwinds through the call (the loop forgets it otherwise).
-struct Blame<'a> {
+/// the panic unwinds through the call (the loop forgets it otherwise). It holds the child
+/// record the loop holds anyway, so that the loop loads no id for it.
+struct Blame<'a, C> {
     current: &'a mut NodeId,
-    child: NodeId,
+    child: &'a Child<C>,
 }
 
-impl Drop for Blame<'_> {
+impl<C> Drop for Blame<'_, C> {
     fn drop(&mut self) {
-        *self.current = self.child;
+        *self.current = self.child.id;
     }
 }
 
 /// A plain Sequence or Fallback with no observer: the most common node, made cheap.
 ///
 /// A condition child called straight from the child list (a closure, or a registered
-/// condition) gets no status stored while the loop runs: if the node completes in this
+/// condition), or a guard of such conditions whose loop runs here, gets no status stored
+/// while the loop runs: if the node completes in this
 /// call, it resets every child it ticked to Idle anyway, so no one could see the status.
 /// Only when the node returns Running do the statuses of the conditions that moved it on
 /// outlive the call; they are written then. The reset at completion so covers the children
@@ -206,34 +237,40 @@ fn run_quiet<C, const SEQUENCE: bool>(
         let Some(child) = rest.next() else {
             break None;
         };
-        let status = match child.closure() {
-            Some(f) => {
+        let status = match child.hot() {
+            Hot::Closure(f) => {
                 // Which node a panic came from is written only if one unwinds through here:
                 // a store per condition would cost this loop a tenth of its time.
                 let blame = Blame {
                     current: &mut t.current,
-                    child: child.id,
+                    child,
                 };
                 let holds = f(t.ctx);
                 core::mem::forget(blame);
                 NodeStatus::from(crate::Status::from(holds))
             }
-            None => match child.condition_object() {
-                Some(c) => {
-                    let (h, current) = t.handle_beside_current(child.id);
-                    let blame = Blame {
-                        current,
-                        child: child.id,
-                    };
-                    let holds = c.check(&h);
-                    core::mem::forget(blame);
-                    NodeStatus::from(crate::Status::from(holds))
+            Hot::Condition(c) => {
+                let (h, current) = t.handle_beside_current(child.id);
+                let blame = Blame { current, child };
+                let holds = c.check(&h);
+                core::mem::forget(blame);
+                NodeStatus::from(crate::Status::from(holds))
+            }
+            // A guard completes in this call, like a condition: its status, like theirs,
+            // is stored only if this node returns Running.
+            Hot::Guard(sequence, closures, range) => {
+                let hot = bp.hot_range(range);
+                match (sequence, closures) {
+                    (true, true) => guard::<C, true, true>(t, child.id, hot),
+                    (false, true) => guard::<C, false, true>(t, child.id, hot),
+                    (true, false) => guard::<C, true, false>(t, child.id, hot),
+                    (false, false) => guard::<C, false, false>(t, child.id, hot),
                 }
-                None => {
-                    stored = true;
-                    t.tick_child_stored(child)
-                }
-            },
+            }
+            Hot::Other => {
+                stored = true;
+                t.tick_child_stored(child)
+            }
         };
         if status == go_on {
             continue;
