@@ -140,7 +140,10 @@ export function mountEditor(section, app) {
     },
 
     openTab(id, prefix = "") {
-      if (!xml.treeElement(state.file.doc, id)) return;
+      if (!xml.treeElement(state.file.doc, id)) {
+        setStatus(`${id} is not a tree of this file: open the file that has it (an include, or a --model)`, "error");
+        return;
+      }
       if (!state.tabs.some((t) => t.id === id)) state.tabs.push({ id, prefix });
       else if (prefix) state.tabs.find((t) => t.id === id).prefix = prefix;
       state.treeId = id;
