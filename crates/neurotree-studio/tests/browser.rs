@@ -8,7 +8,7 @@
 //! scrubs its timeline; opens the 1,111-node tree and follows a 100 Hz run of it, printing
 //! the time to drawn and the tick lag (BENCHMARKS.md).
 //!
-//! Without a browser (no `/usr/bin/chromium` and `/usr/bin/chromedriver`, or the paths in
+//! Without a browser (no `chromium` and `chromedriver` on `PATH`, or at the paths in
 //! `NEUROTREE_CHROMIUM` and `NEUROTREE_CHROMEDRIVER`) the tests print a note and pass;
 //! with `NEUROTREE_REQUIRE_BROWSER=1` (as `.ci/run` sets) they fail instead.
 
@@ -63,8 +63,8 @@ impl Browser {
     /// A headless chromium through a chromedriver of its own, or `None` (with a note) when
     /// there is none and none is required.
     async fn start() -> Option<Browser> {
-        let chromium = tool("NEUROTREE_CHROMIUM", "/usr/bin/chromium");
-        let driver = tool("NEUROTREE_CHROMEDRIVER", "/usr/bin/chromedriver");
+        let chromium = tool("NEUROTREE_CHROMIUM", "chromium");
+        let driver = tool("NEUROTREE_CHROMEDRIVER", "chromedriver");
         if !chromium.exists() || !driver.exists() {
             let missing = format!(
                 "{} or {} is missing (Debian: apt-get install chromium chromium-driver)",
@@ -211,8 +211,18 @@ impl Drop for Browser {
     }
 }
 
-fn tool(var: &str, default: &str) -> PathBuf {
-    std::env::var_os(var).map_or_else(|| PathBuf::from(default), PathBuf::from)
+/// The program named by the variable `var`, else `name` as found on `PATH` (Debian puts
+/// both in /usr/bin), else /usr/bin/`name` (missing: the tests skip).
+fn tool(var: &str, name: &str) -> PathBuf {
+    if let Some(path) = std::env::var_os(var) {
+        return PathBuf::from(path);
+    }
+    std::env::var_os("PATH")
+        .iter()
+        .flat_map(std::env::split_paths)
+        .map(|dir| dir.join(name))
+        .find(|p| p.is_file())
+        .unwrap_or_else(|| Path::new("/usr/bin").join(name))
 }
 
 fn free_port() -> u16 {
