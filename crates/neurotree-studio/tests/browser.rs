@@ -20,6 +20,8 @@ use std::sync::{Arc, Mutex};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
 
+use fantoccini::actions::{InputSource, KeyAction, KeyActions, MouseActions, PointerAction};
+use fantoccini::key::Key;
 use fantoccini::{Client, ClientBuilder, Locator};
 use hyper_util::client::legacy::connect::HttpConnector;
 use neurotree_nav2 as nav2;
@@ -32,6 +34,8 @@ use serde_json::{json, Value};
 
 const NAV2_TREE: &str = "corpus/nav2/navigate_to_pose_w_replanning_and_recovery.xml";
 const BIG_TREE: &str = "corpus/bench/tree1111.xml";
+/// Two trees, the main one using the other twice.
+const SUBTREES: &str = "corpus/btcpp/files/examples/test_files/log_test.xml";
 
 /// A patrol that never ends: two legs that each run for two ticks, then a check.
 const PATROL: &str = r#"<root BTCPP_format="4" main_tree_to_execute="Patrol">
@@ -285,7 +289,7 @@ impl StatefulAction<()> for Work {
 fn workspace() -> tempfile::TempDir {
     let dir = tempfile::tempdir().expect("a temporary folder");
     let corpus = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
-    for file in [NAV2_TREE, BIG_TREE] {
+    for file in [NAV2_TREE, BIG_TREE, SUBTREES] {
         let to = dir.path().join(file);
         std::fs::create_dir_all(to.parent().expect("a folder")).expect("folders made");
         std::fs::copy(corpus.join(file), &to).expect("a corpus file copied");
@@ -547,6 +551,150 @@ async fn editing_a_port_adding_deleting_undoing_and_saving_gives_a_file_that_loa
     );
     assert_eq!(bp.name(planner_id), "ComputePathToPose");
     b.close().await;
+}
+
+#[tokio::test(flavor = "multi_thread")]
+async fn nodes_move_by_keyboard_and_by_drag_and_drop_in_a_subtree_opened_as_a_tab() {
+    let _one = ONE_AT_A_TIME.lock().await;
+    let Some(b) = Browser::start().await else {
+        return;
+    };
+    let dir = workspace();
+    let studio = serve(dir.path());
+    b.goto(&format!("{}#view=edit&file={SUBTREES}", studio.url()))
+        .await;
+    b.click(&css_path("Sequence/FirstSubtree")).await;
+    b.click("[data-action=open-subtree]").await;
+    b.element(".tree-tabs .tab[data-tree=Subtree][aria-selected=true]")
+        .await;
+    let sleep = "Sequence/FirstSubtree/SleepSequence/Sleep";
+    let done = "Sequence/FirstSubtree/SleepSequence/AlwaysSuccess";
+    let order = "[...document.querySelectorAll('#edit-view [data-node-path]')].map(e => e.dataset.nodePath.split('/').pop()).join(' ')";
+    let order_is = |want: &'static str| format!("{order} === '{want}'");
+    b.until(
+        "the subtree",
+        &order_is("SleepSequence Sleep AlwaysSuccess"),
+    )
+    .await;
+
+    // Alt+→ moves the selected node one place later.
+    b.click(&css_path(sleep)).await;
+    let alt_right = KeyActions::new("keys".into())
+        .then(KeyAction::Down {
+            value: Key::Alt.into(),
+        })
+        .then(KeyAction::Down {
+            value: Key::Right.into(),
+        })
+        .then(KeyAction::Up {
+            value: Key::Right.into(),
+        })
+        .then(KeyAction::Up {
+            value: Key::Alt.into(),
+        });
+    b.client.perform_actions(alt_right.clone()).await.unwrap();
+    b.until(
+        "moved by keyboard",
+        &order_is("SleepSequence AlwaysSuccess Sleep"),
+    )
+    .await;
+
+    // Dragged onto the left of its sibling, it goes back before it.
+    let centre = |path: &str| {
+        format!(
+            "const r = document.querySelector('{}').getBoundingClientRect(); return [r.x + r.width / 2, r.y + r.height / 2, r.width];",
+            css_path(path).replace('\'', "\\'")
+        )
+    };
+    let from = b.js(&centre(sleep)).await;
+    let to = b.js(&centre(done)).await;
+    let (fx, fy) = (from[0].as_f64().unwrap(), from[1].as_f64().unwrap());
+    let (tx, ty, tw) = (
+        to[0].as_f64().unwrap(),
+        to[1].as_f64().unwrap(),
+        to[2].as_f64().unwrap(),
+    );
+    let drag = MouseActions::new("mouse".into())
+        .then(PointerAction::MoveTo {
+            duration: None,
+            x: fx.round(),
+            y: fy.round(),
+        })
+        .then(PointerAction::Down {
+            button: fantoccini::actions::MOUSE_BUTTON_LEFT,
+        })
+        .then(PointerAction::MoveTo {
+            duration: Some(Duration::from_millis(100)),
+            x: (fx - 20.0).round(),
+            y: fy.round(),
+        })
+        .then(PointerAction::MoveTo {
+            duration: Some(Duration::from_millis(200)),
+            x: (tx - tw * 0.35).round(),
+            y: ty.round(),
+        })
+        .then(PointerAction::Up {
+            button: fantoccini::actions::MOUSE_BUTTON_LEFT,
+        });
+    b.client.perform_actions(drag).await.unwrap();
+    b.until(
+        "moved by drag and drop",
+        &order_is("SleepSequence Sleep AlwaysSuccess"),
+    )
+    .await;
+
+    // Delete, then undo; move again and save with Ctrl+S.
+    b.click(&css_path(sleep)).await;
+    let press = |key: Key| {
+        KeyActions::new("keys".into())
+            .then(KeyAction::Down { value: key.into() })
+            .then(KeyAction::Up { value: key.into() })
+    };
+    b.client.perform_actions(press(Key::Delete)).await.unwrap();
+    b.until("deleted", &order_is("SleepSequence AlwaysSuccess"))
+        .await;
+    b.click("[data-action=undo]").await;
+    b.until("undone", &order_is("SleepSequence Sleep AlwaysSuccess"))
+        .await;
+    b.click(&css_path(sleep)).await;
+    b.client.perform_actions(alt_right).await.unwrap();
+    b.until(
+        "moved again",
+        &order_is("SleepSequence AlwaysSuccess Sleep"),
+    )
+    .await;
+    let save = KeyActions::new("keys".into())
+        .then(KeyAction::Down {
+            value: Key::Control.into(),
+        })
+        .then(KeyAction::Down { value: 's' })
+        .then(KeyAction::Up { value: 's' })
+        .then(KeyAction::Up {
+            value: Key::Control.into(),
+        });
+    b.client.perform_actions(save).await.unwrap();
+    b.until(
+        "saved",
+        "document.querySelector('#edit-view').dataset.dirty === 'false' && document.querySelector('#edit-view').dataset.saved",
+    )
+    .await;
+    b.close().await;
+
+    let registry = registry();
+    let mut loader = XmlLoader::new(&registry).mock_unknown(true);
+    loader.load_file(dir.path().join(SUBTREES)).unwrap();
+    let bp = loader.build("Main").expect("the saved file builds");
+    let paths: Vec<String> = bp.ids().map(|id| bp.path(id)).collect();
+    let at = |p: &str| paths.iter().position(|q| q == p).unwrap();
+    assert!(
+        at(done) < at(sleep),
+        "saved with AlwaysSuccess first: {paths:?}"
+    );
+    assert!(
+        at("Sequence/SecondSubtree/SleepSequence/AlwaysSuccess")
+            < at("Sequence/SecondSubtree/SleepSequence/Sleep"),
+        "both uses of the subtree see the move"
+    );
 }
 
 #[tokio::test(flavor = "multi_thread")]
