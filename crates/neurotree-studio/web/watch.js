@@ -3,9 +3,12 @@
 // now, each scope's blackboard (editable between ticks), the failure reason chain,
 // breakpoints, pause / step / continue, and the tick counter (`[data-tick]`).
 //
-// A tick message touches only the nodes it names: one attribute each, no layout. The
-// socket reconnects by itself; the server's `hello` carries everything, so nothing is
-// kept across connections but what the user chose (collapsed nodes, selection).
+// `state` changes only through `actions` (what the user does; most are sent to the
+// server) and `receive` (what the server says, one function per message). A tick message
+// touches only the nodes it names, one attribute each, no layout; the panels follow at
+// most once a frame. The socket reconnects by itself; the server's `hello` carries
+// everything, so nothing is kept across connections but what the user chose (collapsed
+// nodes, selection).
 
 import * as api from "./api.js";
 import { TreeDrawing, drawingToolbar, nodesOfTreeView } from "./tree.js";
