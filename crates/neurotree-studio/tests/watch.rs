@@ -337,3 +337,54 @@ fn a_reloaded_tree_reaches_the_pages_whole_with_its_breakpoints() {
     page.send(r#"{"type":"continue"}"#);
     assert_eq!(ticking.join().unwrap(), neurotree_toolkit::Status::Success);
 }
+
+#[test]
+fn a_step_from_a_breakpoint_is_one_tick_too() {
+    let run = Run::start();
+    let mut page = Page::connect(run.studio.addr());
+    page.expect("hello");
+    page.send(r#"{"type":"breakpoint","node":2,"when":"before"}"#);
+    let hit = page.expect("paused");
+    let at = hit["tick"].as_u64().unwrap();
+    // Held inside tick `at`: the run finished the ticks before it.
+    assert_eq!(run.ticks(), at - 1);
+    for n in 1..=3 {
+        page.send(r#"{"type":"step"}"#);
+        // The step finishes the tick, ticks the next, and meets the breakpoint in it.
+        let again = page.expect("paused");
+        assert_eq!(again["paused"]["why"], "breakpoint");
+        assert_eq!(again["tick"].as_u64().unwrap(), at + n, "step {n}");
+        assert_eq!(run.ticks(), at + n - 1);
+    }
+    // Without the breakpoint, a step from it stops after the next tick.
+    page.send(r#"{"type":"breakpoint","node":2,"when":"off"}"#);
+    page.send(r#"{"type":"step"}"#);
+    let stepped = page.expect_where("paused", |m| m["paused"]["why"] == "step");
+    assert_eq!(stepped["tick"].as_u64().unwrap(), at + 4);
+    assert_eq!(run.ticks(), at + 4);
+}
+
+#[test]
+fn nodes_reset_within_a_tick_show_how_they_ended() {
+    let run = Run::start();
+    let mut page = Page::connect(run.studio.addr());
+    page.expect("hello");
+    page.send(r#"{"type":"pause"}"#);
+    page.expect("paused");
+    let mut again = Page::connect(run.studio.addr());
+    let hello = again.expect("hello");
+    // Each tick the Sequence runs both children to success and resets them to Idle; the
+    // page is shown how each ended, not the Idle they were reset to.
+    page.send(r#"{"type":"step"}"#);
+    page.expect_where("paused", |m| m["paused"]["why"] == "step");
+    let shown = again.expect("tick");
+    let all: Vec<Value> = hello["statuses"].as_array().unwrap().clone();
+    let mut statuses = all;
+    for change in shown["changes"].as_array().unwrap() {
+        statuses[change[0].as_u64().unwrap() as usize] = change[1].clone();
+    }
+    assert_eq!(
+        statuses,
+        [json!("SUCCESS"), json!("SUCCESS"), json!("SUCCESS")]
+    );
+}

@@ -34,12 +34,33 @@ pub(crate) struct Edit {
     pub value: Value,
 }
 
-/// What the observer writes in the tick: one byte per node for its status and one for
-/// its breakpoint, read by the pages' tasks without a lock.
+/// What the observer writes in the tick, per node, read by the pages' tasks without a
+/// lock: its status, the last status other than Idle it had in the tick under way, what
+/// the pages are shown, and its breakpoint.
 pub(crate) struct RunCell {
     pub statuses: Box<[AtomicU8]>,
+    pub touched: Box<[AtomicU8]>,
+    /// As of the end of the latest tick (or of the breakpoint holding it): the status if
+    /// not Idle, else how the node ended in that tick, so that a tree whose nodes complete
+    /// and are reset within each tick does not show as all Idle.
+    pub shown: Box<[AtomicU8]>,
     pub breakpoints: Box<[AtomicU8]>,
     pub tick: AtomicU64,
+}
+
+impl RunCell {
+    fn publish_shown(&self) {
+        for ((shown, status), touched) in self.shown.iter().zip(&*self.statuses).zip(&*self.touched)
+        {
+            let s = status.load(Ordering::Acquire);
+            let t = if s == NodeStatus::Idle as u8 {
+                touched.load(Ordering::Acquire)
+            } else {
+                s
+            };
+            shown.store(t, Ordering::Release);
+        }
+    }
 }
 
 /// The run being watched.
@@ -65,7 +86,9 @@ pub(crate) struct Inner {
     pub breakpoints_version: u64,
     pub ended: Option<&'static str>,
     pause_requested: bool,
-    step_requested: bool,
+    /// Stops between ticks to pass before a step pauses: 1 from a pause between ticks
+    /// (tick once), 2 from a breakpoint inside a tick (finish it, tick the next).
+    steps_owed: u8,
     edits: Vec<Edit>,
 }
 
@@ -121,6 +144,13 @@ impl Hub {
     pub fn page_joined(&self) {
         self.pages.fetch_add(1, Ordering::AcqRel);
         self.armed.store(true, Ordering::Release);
+        // Nothing was kept for the pages while none was attached: start from the statuses
+        // as they stand.
+        if let Some(run) = &self.lock().run {
+            for (shown, status) in run.cell.shown.iter().zip(&*run.cell.statuses) {
+                shown.store(status.load(Ordering::Acquire), Ordering::Release);
+            }
+        }
     }
 
     /// The last page to leave lets a paused run go on: nobody is left to continue it.
@@ -129,7 +159,7 @@ impl Hub {
             self.armed.store(false, Ordering::Release);
             let mut inner = self.lock();
             inner.pause_requested = false;
-            inner.step_requested = false;
+            inner.steps_owed = 0;
             drop(inner);
             self.resume.notify_all();
         }
@@ -139,11 +169,14 @@ impl Hub {
     pub fn attach<C>(self: &Arc<Self>, tree: &Tree<C>, name: &str) -> StudioObserver {
         let blueprint = tree.blueprint();
         let view = TreeView::of_blueprint(blueprint, name);
-        let statuses: Box<[AtomicU8]> = tree
-            .statuses()
-            .iter()
-            .map(|s| AtomicU8::new(*s as u8))
-            .collect();
+        let bytes = || -> Box<[AtomicU8]> {
+            tree.statuses()
+                .iter()
+                .map(|s| AtomicU8::new(*s as u8))
+                .collect()
+        };
+        let (statuses, shown) = (bytes(), bytes());
+        let touched: Box<[AtomicU8]> = (0..blueprint.len()).map(|_| AtomicU8::new(0)).collect();
         let breakpoints: Box<[AtomicU8]> =
             (0..blueprint.len()).map(|_| AtomicU8::new(NONE)).collect();
         let paths = blueprint.paths();
@@ -165,6 +198,8 @@ impl Hub {
             .map_or(0, |r| r.cell.tick.load(Ordering::Relaxed));
         let cell = Arc::new(RunCell {
             statuses,
+            touched,
+            shown,
             breakpoints,
             tick: AtomicU64::new(tick),
         });
@@ -230,9 +265,9 @@ impl Hub {
             if self.pages() == 0 {
                 return;
             }
-            if inner.step_requested {
-                inner.step_requested = false;
-                Some("step")
+            if inner.steps_owed > 0 {
+                inner.steps_owed -= 1;
+                (inner.steps_owed == 0).then_some("step")
             } else if inner.pause_requested {
                 Some("pause")
             } else {
@@ -301,11 +336,13 @@ impl Hub {
         self.lock().pause_requested = true;
     }
 
-    /// A page asked for one tick: a paused run ticks once and stops; a running one stops
-    /// after its tick.
+    /// A page asked for one tick: a run paused between ticks ticks once and stops; one held
+    /// at a breakpoint inside a tick finishes it, ticks the next and stops (a breakpoint
+    /// met on the way ends the step there); a running one stops after its tick.
     pub fn step(&self) {
         let mut inner = self.lock();
-        inner.step_requested = true;
+        let inside_a_tick = inner.paused.as_ref().is_some_and(|p| p.why == "breakpoint");
+        inner.steps_owed = if inside_a_tick { 2 } else { 1 };
         inner.pause_requested = true;
         inner.paused = None;
         drop(inner);
@@ -316,7 +353,7 @@ impl Hub {
     pub fn resume(&self) {
         let mut inner = self.lock();
         inner.pause_requested = false;
-        inner.step_requested = false;
+        inner.steps_owed = 0;
         inner.paused = None;
         drop(inner);
         self.resume.notify_all();
@@ -390,6 +427,7 @@ impl StudioObserver {
         if bp.load(Ordering::Acquire) == byte {
             // The tick waits here, inside the tree: edits wait for the next pause between
             // ticks.
+            self.cell.publish_shown();
             self.hub.bump();
             self.hub.hold(
                 Paused {
@@ -412,11 +450,22 @@ impl Observer for StudioObserver {
             }
         }
         self.cell.tick.fetch_add(1, Ordering::Release);
+        if self.hub.armed.load(Ordering::Acquire) {
+            for t in &*self.cell.touched {
+                t.store(NodeStatus::Idle as u8, Ordering::Relaxed);
+            }
+        }
     }
 
     fn on_status_change(&mut self, change: StatusChange) {
-        if let Some(s) = self.cell.statuses.get(change.node.index()) {
+        let i = change.node.index();
+        if let Some(s) = self.cell.statuses.get(i) {
             s.store(change.to as u8, Ordering::Release);
+        }
+        if change.to != NodeStatus::Idle {
+            if let Some(t) = self.cell.touched.get(i) {
+                t.store(change.to as u8, Ordering::Release);
+            }
         }
         self.breakpoint(change.node, change.to as u8, Some(change.to));
     }
@@ -426,15 +475,18 @@ impl Observer for StudioObserver {
     }
 
     fn on_tick_end(&mut self, _status: NodeStatus, _now: Duration) {
+        if self.hub.armed.load(Ordering::Acquire) {
+            self.cell.publish_shown();
+        }
         self.hub.bump();
     }
 
     fn on_failure_reason(&mut self, _node: NodeId, _reason: &Reason) {}
 }
 
-/// Statuses of the run as the pages name them.
+/// Statuses of the run as the pages are shown them (see [`RunCell::shown`]).
 pub(crate) fn statuses(cell: &RunCell) -> Vec<&'static str> {
-    cell.statuses
+    cell.shown
         .iter()
         .map(|s| status_name(status_of_byte(s.load(Ordering::Acquire))))
         .collect()
