@@ -388,3 +388,41 @@ fn nodes_reset_within_a_tick_show_how_they_ended() {
         [json!("SUCCESS"), json!("SUCCESS"), json!("SUCCESS")]
     );
 }
+
+#[test]
+fn a_page_that_acknowledges_is_never_sent_more_than_two_ticks_ahead() {
+    let run = Run::start();
+    let mut page = Page::connect(run.studio.addr());
+    let hello = page.expect("hello");
+    page.send(&format!(r#"{{"type":"ack","tick":{}}}"#, hello["tick"]));
+    // The run ticks every 5 ms; unacknowledged, the page gets two ticks and no more.
+    let until = Instant::now() + Duration::from_millis(400);
+    let mut ticks = Vec::new();
+    while Instant::now() < until {
+        if let Some(m) = page.next(Duration::from_millis(50)) {
+            if m["type"] == "tick" {
+                ticks.push(m["tick"].as_u64().unwrap());
+            }
+        }
+    }
+    assert_eq!(ticks.len(), 2, "{ticks:?}");
+    // One acknowledgement lets one more go, with every change since: the newest tick.
+    let before = run.ticks();
+    page.send(&format!(r#"{{"type":"ack","tick":{}}}"#, ticks[0]));
+    let next = page.expect("tick")["tick"].as_u64().unwrap();
+    assert!(
+        next > ticks[1] && next >= before,
+        "{next} after {ticks:?}, run at {before}"
+    );
+    // Paused, no more ticks are sent: past those in flight, an acknowledgement nobody
+    // awaits is refused.
+    page.send(r#"{"type":"pause"}"#);
+    page.expect("paused");
+    for _ in 0..3 {
+        page.send(r#"{"type":"ack","tick":1}"#);
+    }
+    assert!(page.expect("refused")["why"]
+        .as_str()
+        .unwrap()
+        .contains("ack"));
+}

@@ -187,6 +187,7 @@ export class TreeDrawing {
     this.overlay.append(this.overlayViewport);
     container.append(this.svg, this.overlay);
     this.elements = [];
+    this.badges = [];
     this.bindPointer();
   }
 
@@ -220,6 +221,7 @@ export class TreeDrawing {
     });
     this.nodeLayer.innerHTML = html;
     this.elements = Array.from(this.nodeLayer.children);
+    this.badges = new Array(this.elements.length).fill(null);
     this.edgePath.setAttribute("d", edges);
     this.hotPath.setAttribute("d", "");
     this.failPath.setAttribute("d", "");
@@ -316,8 +318,10 @@ export class TreeDrawing {
     this.statusOf[i] = status;
     if (status == null) el.removeAttribute("data-status");
     else el.setAttribute("data-status", status);
+    // A node's badge is made once and then only hidden or relabelled: a run that changes
+    // hundreds of statuses a tick then costs attributes, not elements made and removed.
     const mark = BADGE[status];
-    let badge = el.querySelector(":scope > .badge");
+    let badge = this.badges[i];
     if (mark) {
       if (!badge) {
         badge = document.createElementNS(SVG, "g");
@@ -327,9 +331,13 @@ export class TreeDrawing {
         badge.setAttribute("transform", `translate(${r(n.w / 2 - inset)},0)`);
         badge.innerHTML = '<circle r="7"/><text y="3.2"></text>';
         el.append(badge);
+        this.badges[i] = badge;
+      } else {
+        badge.removeAttribute("display");
       }
-      badge.lastChild.textContent = mark;
-    } else if (badge) badge.remove();
+      const text = badge.lastChild;
+      if (text.textContent !== mark) text.textContent = mark;
+    } else if (badge) badge.setAttribute("display", "none");
   }
 
   /** Every node's status from an array by index (null: no statuses). */

@@ -175,6 +175,13 @@ export function mountWatch(section, app) {
     renderRunState();
     renderSelected();
     section.dataset.run = "attached";
+    ack(msg.tick);
+  }
+
+  // Telling the server a tick was applied lets it send the next: it never queues stale
+  // ticks on the socket, so the page shows the newest however fast the run goes.
+  function ack(tick) {
+    socket?.send({ type: "ack", tick: tick ?? 0 });
   }
 
   function tick(msg) {
@@ -197,6 +204,7 @@ export function mountWatch(section, app) {
       later(drawHot);
       later(renderRunning);
     }
+    ack(msg.tick);
   }
 
   function drawHot() {

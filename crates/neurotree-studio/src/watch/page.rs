@@ -16,6 +16,9 @@ use super::hub::{statuses, Edit, Hub, Inner};
 pub const MAX_PAGE_MESSAGE: usize = 64 * 1024;
 /// The most messages a page may send in a second before the rest are refused.
 pub const MAX_PAGE_RATE: u32 = 100;
+/// `tick` messages a page that acknowledges may have unacknowledged: two, so that one
+/// travels while the page draws the other, and no more, so that none goes stale in a queue.
+const IN_FLIGHT: u8 = 2;
 
 /// What a page may send (PROTOCOL.md).
 #[derive(Deserialize)]
@@ -32,6 +35,11 @@ enum FromPage {
         scope: u32,
         key: String,
         value: Value,
+    },
+    /// The page applied the `tick` (or `hello`) it was sent: the next may go.
+    Ack {
+        #[allow(dead_code)]
+        tick: u64,
     },
 }
 
@@ -54,8 +62,16 @@ pub(crate) async fn serve_page(mut socket: WebSocket, hub: Arc<Hub>) {
     let mut version = hub.subscribe();
     let mut sent = Sent::default();
     let mut window = (Instant::now(), 0u32);
+    // A page that acknowledges what it drew (PROTOCOL.md, `ack`) is sent a `tick` only
+    // once it drew the last: the socket then never holds a queue of stale ticks, and the
+    // page is always shown the newest. A page that never acknowledges is sent every change.
+    let mut acks = false;
+    let mut in_flight: u8 = 0;
     'page: loop {
-        for text in changes(&hub, &mut sent) {
+        for text in changes(&hub, &mut sent, !acks || in_flight < IN_FLIGHT) {
+            if text.starts_with("{\"type\":\"tick\"") || text.starts_with("{\"tree\"") {
+                in_flight = in_flight.saturating_add(1);
+            }
             if socket.send(Message::Text(text.into())).await.is_err() {
                 break 'page;
             }
@@ -79,6 +95,15 @@ pub(crate) async fn serve_page(mut socket: WebSocket, hub: Arc<Hub>) {
                         continue;
                     }
                 };
+                // An awaited acknowledgement is part of the flow the server set, not a
+                // message of the page's own: it is not counted against the rate.
+                if in_flight > 0 && text.len() < 64 && text.contains("\"ack\"") {
+                    if let Ok(FromPage::Ack { .. }) = serde_json::from_str::<FromPage>(&text) {
+                        acks = true;
+                        in_flight -= 1;
+                        continue;
+                    }
+                }
                 if window.0.elapsed() >= Duration::from_secs(1) {
                     window = (Instant::now(), 0);
                 }
@@ -138,6 +163,9 @@ fn control(hub: &Hub, message: FromPage) -> Option<String> {
                 return Some(format!("no node {node} in the tree watched"));
             }
         }
+        FromPage::Ack { .. } => {
+            return Some("an `ack` answers a `tick` or `hello`; none was awaited".into())
+        }
         FromPage::Set { scope, key, value } => {
             if key.is_empty() || !(value.is_number() || value.is_boolean() || value.is_string()) {
                 return Some("`set` takes a key and a number, a boolean or text".into());
@@ -148,8 +176,9 @@ fn control(hub: &Hub, message: FromPage) -> Option<String> {
     None
 }
 
-/// The messages that bring the page from what it was sent to what is now.
-fn changes(hub: &Hub, sent: &mut Sent) -> Vec<String> {
+/// The messages that bring the page from what it was sent to what is now; the statuses
+/// (`tick`) only if `ticks` (else they wait, and are sent as one later).
+fn changes(hub: &Hub, sent: &mut Sent, ticks: bool) -> Vec<String> {
     let inner = hub.lock();
     let mut out = Vec::new();
     let Some(run) = &inner.run else {
@@ -182,7 +211,7 @@ fn changes(hub: &Hub, sent: &mut Sent) -> Vec<String> {
         .filter(|(_, (a, b))| a != b)
         .map(|(i, (a, _))| json!([i, a]))
         .collect();
-    if !changed.is_empty() || tick != sent.tick {
+    if ticks && (!changed.is_empty() || tick != sent.tick) {
         out.push(json!({"type": "tick", "tick": tick, "changes": changed}).to_string());
         sent.statuses = now;
         sent.tick = tick;
