@@ -57,6 +57,18 @@ pub struct DemoArgs {
     /// Leave the seed's obstacle out: a tree without recoveries cannot get past one.
     #[arg(long)]
     pub no_obstacle: bool,
+    /// The battery's charge at the start, in percent; under 100 the robot, which starts on
+    /// its dock, is charging (Nav2's docking example then undocks first).
+    #[arg(long, value_name = "PERCENT", default_value_t = 100.0, value_parser = parse_battery)]
+    pub battery: f64,
+}
+
+/// A charge in percent, 0 to 100.
+fn parse_battery(text: &str) -> Result<f64, String> {
+    match text.trim().parse::<f64>() {
+        Ok(level) if (0.0..=100.0).contains(&level) => Ok(level),
+        _ => Err(format!("`{text}` should be a percentage from 0 to 100")),
+    }
 }
 
 /// A number of seconds, more than 0.
@@ -102,6 +114,7 @@ pub fn execute(args: DemoArgs, out: &mut impl Write) -> io::Result<Outcome> {
             obstacle: !args.no_obstacle,
             duration: args.duration,
             start_heading: args.heading.to_radians(),
+            battery: args.battery,
             ..Default::default()
         },
         speed: (!args.fast && args.speed > 0.0).then_some(args.speed),

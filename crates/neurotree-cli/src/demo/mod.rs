@@ -18,7 +18,7 @@ mod scenario;
 
 pub use frame::Layout;
 pub use run::{DemoConfig, DemoError, DemoRun, DemoSummary, NAVIGATE_TO_POSE_XML};
-pub use scenario::{Scenario, DEFAULT_GOAL, WAREHOUSE};
+pub use scenario::{dock, route_graph, Scenario, DEFAULT_GOAL, PLACING_LOCATION, WAREHOUSE};
 
 /// How `neurotree demo` shows the run.
 pub struct DemoOptions {
