@@ -111,3 +111,65 @@ fn run_without_nav2_does_not_know_nav2_leaves() {
     assert_eq!(code, Some(1));
     assert!(err.contains("unknown node type"), "{err}");
 }
+
+/// A tree written for Nav2 Kilted: its stop and path checks under their old names.
+const KILTED_TREE: &str = r#"<root BTCPP_format="4" main_tree_to_execute="T">
+  <BehaviorTree ID="T">
+    <Sequence>
+      <IsStopped duration_stopped="500"/>
+      <IsPathValid path="{path}"/>
+    </Sequence>
+  </BehaviorTree>
+</root>
+"#;
+
+#[test]
+fn check_knows_each_releases_model_and_loads_old_names_on_main_with_a_warning() {
+    let dir = std::env::temp_dir().join(format!("neurotree-nav2-releases-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("kilted.xml");
+    std::fs::write(&file, KILTED_TREE).unwrap();
+    let path = file.to_str().unwrap();
+    let shown = file.display();
+    // Main (the default release): loads, warning of each renamed node.
+    let (code, out, err) = neurotree(&["check", "--nav2", path]);
+    assert_eq!(code, Some(0), "{err}");
+    assert_eq!(out, format!("{shown}: ok (1 tree)\n"));
+    assert_eq!(
+        err,
+        format!(
+            "{shown}:4:7: warning: `IsStopped` is `CheckStopStatus` now (renamed in Nav2 after Kilted); it loads as `CheckStopStatus`, write that\n\
+             {shown}:5:7: warning: `IsPathValid` is `ValidatePath` now (renamed in Nav2 after Kilted); it loads as `ValidatePath`, write that\n"
+        )
+    );
+    let (code, _, err) = neurotree(&["check", "--nav2=main", path]);
+    assert_eq!(code, Some(0), "{err}");
+    // Kilted has both under these names: no warning.
+    let (code, _, err) = neurotree(&["check", "--nav2=kilted", path]);
+    assert_eq!((code, err.as_str()), (Some(0), ""));
+    // Jazzy had no IsStopped yet.
+    let (code, _, err) = neurotree(&["check", "--nav2=jazzy", path]);
+    assert_eq!(code, Some(1));
+    assert!(
+        err.contains(":4:7: error: unknown node type `IsStopped`"),
+        "{err}"
+    );
+    // Nav2 main's navigator uses nodes Jazzy does not have.
+    let navigator =
+        corpus_dir::corpus("nav2").join("navigate_to_pose_w_replanning_and_recovery.xml");
+    let (code, _, err) = neurotree(&["check", "--nav2=jazzy", navigator.to_str().unwrap()]);
+    assert_eq!(code, Some(1));
+    assert!(err.contains("unknown node type `ValidatePath`"), "{err}");
+    // run and show take the release too.
+    let (code, _, err) = neurotree(&["run", "--nav2=kilted", "--mock-unknown", path]);
+    assert_eq!(code, Some(0), "{err}");
+    let (code, _, err) = neurotree(&["show", "--nav2=kilted", path]);
+    assert_eq!(code, Some(0), "{err}");
+    let (code, _, err) = neurotree(&["check", "--nav2=rolling", path]);
+    assert_eq!(code, Some(2));
+    assert!(
+        err.contains("`rolling` is not a Nav2 release NeuroTree knows"),
+        "{err}"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}

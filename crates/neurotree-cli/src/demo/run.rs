@@ -267,6 +267,10 @@ impl DemoRun {
         registry
             .add_model_str(nav2::NAV2_TREE_NODES_MODEL, "nav2_tree_nodes.xml")
             .map_err(|e| DemoError::Model(e.to_string()))?;
+        // Files written for older releases load, with a warning, as on `check --nav2`.
+        for (old, new) in nav2::RENAMED {
+            registry.add_renamed(old, new, "renamed in Nav2 after Kilted");
+        }
         let mut loader = XmlLoader::new(&registry);
         let tree_file = match &config.tree {
             Some(path) => {
