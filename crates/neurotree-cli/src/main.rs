@@ -9,6 +9,7 @@
 //!   (feature `ros2`, on by default; Rust 1.88).
 //! - `neurotree test`: run scenario files (mocks, inputs, expectations per tick) as tests.
 //! - `neurotree show`: draw a BehaviorTree.CPP file's tree as text, DOT, Mermaid or SVG.
+//! - `neurotree models`: write the TreeNodesModel of Nav2's node types.
 //!
 //! Each command's flags and what it does are in its own module, so that a command reads in
 //! one file; here the command line is only parsed and handed over, and the outcome turned
@@ -22,6 +23,7 @@ mod demo_command;
 mod files;
 mod groot;
 mod live;
+mod models;
 mod registry;
 #[cfg(feature = "ros2")]
 mod ros2;
@@ -60,6 +62,8 @@ enum Command {
     /// Draw a BehaviorTree.CPP file's tree as text, Graphviz DOT, Mermaid or SVG, with the
     /// statuses of a `run --trace` if given one.
     Show(show::ShowArgs),
+    /// Write the TreeNodesModel of Nav2's node types (--nav2), for Groot2 and the studio.
+    Models(models::ModelsArgs),
     /// Nav2's navigator and the simulated Nav2 servers as ROS 2 processes on 127.0.0.1.
     #[cfg(feature = "ros2")]
     #[command(subcommand)]
@@ -103,6 +107,7 @@ fn main() -> ExitCode {
         Command::Test(args) => test::execute(&args, &mut out, &mut io::stderr()),
         Command::Show(args) => show::execute(&args, &mut out, &mut io::stderr()),
         Command::Check(args) => check::execute(&args, &mut out, &mut io::stderr()),
+        Command::Models(args) => models::execute(&args, &mut out, &mut io::stderr()),
     };
     match result {
         Ok(Outcome::Done) => ExitCode::SUCCESS,

@@ -173,3 +173,37 @@ fn check_knows_each_releases_model_and_loads_old_names_on_main_with_a_warning() 
     );
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn models_nav2_writes_a_model_of_81_types_that_checks_nav2s_trees() {
+    let (code, out, err) = neurotree(&["models", "--nav2"]);
+    assert_eq!(code, Some(0), "{err}");
+    assert!(
+        out.starts_with("<root BTCPP_format=\"4\">\n  <TreeNodesModel>\n"),
+        "{out}"
+    );
+    assert_eq!(out.matches(" ID=\"").count(), 81);
+    assert!(out.contains("<Control ID=\"PipelineSequence\""), "{out}");
+    assert!(out.contains("<Action ID=\"DockRobot\">"), "{out}");
+    // Written to a file, it stands in for --nav2: every tree Nav2 ships checks against it.
+    let dir = std::env::temp_dir().join(format!("neurotree-models-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let model = dir.join("nav2_model.xml");
+    let (code, _, err) = neurotree(&["models", "--nav2=main", "--output", model.to_str().unwrap()]);
+    assert_eq!((code, err.as_str()), (Some(0), ""));
+    for (name, path) in nav2_trees() {
+        let (code, out, err) = neurotree(&[
+            "check",
+            "--model",
+            model.to_str().unwrap(),
+            path.to_str().unwrap(),
+        ]);
+        assert_eq!(code, Some(0), "{name}: {out}{err}");
+    }
+    let (_, jazzy, _) = neurotree(&["models", "--nav2=jazzy"]);
+    assert_eq!(jazzy.matches(" ID=\"").count(), 65);
+    let (code, _, err) = neurotree(&["models"]);
+    assert_eq!(code, Some(2));
+    assert!(err.contains("--nav2"), "{err}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
