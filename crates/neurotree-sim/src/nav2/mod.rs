@@ -497,8 +497,9 @@ pub fn register_nav2_leaves<C: Nav2Context>(
 }
 
 /// Registers the Nav2 leaves that call no server in Nav2 either, or only to read what the
-/// navigator's own view answers: the five selectors, IsGoalNearby, TruncatePathLocal,
-/// ValidatePath, WouldAPlannerRecoveryHelp and WouldAControllerRecoveryHelp. A navigator
+/// navigator's own view answers: the six selectors, IsGoalNearby, TruncatePathLocal,
+/// ValidatePath, the five error-code conditions (WouldAPlannerRecoveryHelp, …,
+/// AreErrorCodesPresent), AppendGoalPoseToGoals and GetNextFewGoals. A navigator
 /// whose planner, controller, behaviors and costmaps are served elsewhere (over ROS 2)
 /// registers these and its own clients for the rest. Fails if one of the names is taken.
 pub fn register_nav2_checks<C: Nav2Context>(
@@ -506,7 +507,8 @@ pub fn register_nav2_checks<C: Nav2Context>(
 ) -> Result<(), RegistryError> {
     selectors::register(registry)?;
     path_checks::register(registry)?;
-    recovery_help::register(registry)
+    recovery_help::register(registry)?;
+    goal_lists::register(registry)
 }
 
 /// The names [`register_nav2_leaves`] registers, in its order.
