@@ -238,7 +238,7 @@ mod tests {
         assert_eq!(marked(&b), [Cell::new(2, 1)]);
         let mut b = Bench::new(
             "R....",
-            &format!(r#"<ClearCostmapAroundPose pose="1;1" service_name="elsewhere"/>"#),
+            r#"<ClearCostmapAroundPose pose="1;1" service_name="elsewhere"/>"#,
         );
         assert_eq!(b.tick(), Status::Failure);
     }

@@ -169,7 +169,9 @@ impl<C: Nav2Context> StatefulAction<C> for FollowObject {
             );
             return self.end(h, Err(lost));
         };
-        let moved = self.planned_for.is_none_or(|p| p.distance(&object) > MOVED);
+        let moved = !self
+            .planned_for
+            .is_some_and(|p| p.distance(&object) <= MOVED);
         let blocked = matches!(sim.world.motion_status(), MotionStatus::Blocked(_));
         if moved || blocked {
             if let Err(failed) = self.head_for(h, object) {

@@ -129,7 +129,7 @@ impl RouteGraph {
             for edge in self.edges.iter().filter(|e| e.start == at && usable(e)) {
                 let Some(len) = length(edge) else { continue };
                 let next = cost + len;
-                if best.get(&edge.end).is_none_or(|(c, _)| next < *c) {
+                if !best.get(&edge.end).is_some_and(|(c, _)| next >= *c) {
                     best.insert(edge.end, (next, Some(*edge)));
                     open.push(Entry(next, edge.end));
                 }
