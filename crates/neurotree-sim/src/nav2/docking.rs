@@ -104,9 +104,14 @@ pub(super) fn register<C: Nav2Context>(r: &mut Registry<C>) -> Result<(), Regist
         PortSpec::input::<bool>("navigate_to_staging_pose")
             .default_value("true")
             .describe("Drive to the staging pose first."),
-        PortSpec::output::<u16>("num_retries").describe("Retries made (always 0)."),
     ];
-    dock.extend(server_ports());
+    let mut server = server_ports().to_vec();
+    // Nav2's order: after `success`.
+    server.insert(
+        3,
+        PortSpec::output::<u16>("num_retries").describe("Retries made (always 0)."),
+    );
+    dock.extend(server);
     r.register_stateful("DockRobot", dock, DockRobot::default)?;
     r.describe(
         "DockRobot",

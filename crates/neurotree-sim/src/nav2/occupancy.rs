@@ -53,12 +53,17 @@ pub(super) fn register<C: Nav2Context>(r: &mut Registry<C>) -> Result<(), Regist
         "CheckPoseOccupancy",
         "Succeeds when the global costmap holds `pose` occupied.",
     );
-    let mut remove = vec![
-        PortSpec::input::<Vec<Pose2D>>("input_goals").describe("The goals to check."),
+    let mut remove =
+        vec![PortSpec::input::<Vec<Pose2D>>("input_goals").describe("The goals to check.")];
+    let mut costs = cost_ports();
+    // Nav2's order: the three cost ports, the statuses, then the service's.
+    let service = costs.split_off(3);
+    remove.extend(costs);
+    remove.push(
         PortSpec::input::<String>("input_waypoint_statuses")
             .describe("Waypoint statuses (not kept)."),
-    ];
-    remove.extend(cost_ports());
+    );
+    remove.extend(service);
     remove.extend([
         PortSpec::output::<Vec<Pose2D>>("output_goals").describe("The goals not in collision."),
         PortSpec::output::<String>("output_waypoint_statuses")

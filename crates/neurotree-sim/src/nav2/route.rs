@@ -271,7 +271,8 @@ fn compute(sim: &Nav2Sim, ends: Ends) -> Result<(Route, Path), Failed> {
     Ok((route, path))
 }
 
-fn route_ports() -> Vec<PortSpec> {
+/// The inputs both route nodes take.
+fn route_inputs() -> Vec<PortSpec> {
     vec![
         PortSpec::input::<Pose2D>("start").describe("Start pose, with `use_start`."),
         PortSpec::input::<Pose2D>("goal").describe("Goal pose, with `use_poses`."),
@@ -285,29 +286,49 @@ fn route_ports() -> Vec<PortSpec> {
             .describe("Route between poses rather than node ids."),
         PortSpec::input::<String>("server_name").describe("Action server name (unused)."),
         PortSpec::input::<u64>("server_timeout").describe("Server timeout in ms (unused)."),
-        PortSpec::output::<Route>("route").describe("The route; empty after a failure."),
-        PortSpec::output::<Path>("path").describe("The route's path; empty after a failure."),
+    ]
+}
+
+fn route_output() -> PortSpec {
+    PortSpec::output::<Route>("route").describe("The route; empty after a failure.")
+}
+
+fn path_output() -> PortSpec {
+    PortSpec::output::<Path>("path").describe("The route's path; empty after a failure.")
+}
+
+fn error_outputs() -> [PortSpec; 2] {
+    [
         PortSpec::output::<u16>("error_code_id").describe("0, or the route server's error code."),
         PortSpec::output::<String>("error_msg").describe("Why it failed; empty on success."),
     ]
 }
 
 pub(super) fn register<C: Nav2Context>(r: &mut Registry<C>) -> Result<(), RegistryError> {
-    let mut compute_ports = route_ports();
-    compute_ports.push(PortSpec::output::<f64>("planning_time").describe("Seconds routing took."));
+    // In the order of Nav2's model.
+    let mut compute_ports = route_inputs();
+    compute_ports.extend([
+        route_output(),
+        path_output(),
+        PortSpec::output::<f64>("planning_time").describe("Seconds routing took."),
+    ]);
+    compute_ports.extend(error_outputs());
     r.register_action("ComputeRoute", compute_ports, compute_route::<C>)?;
     r.describe(
         "ComputeRoute",
         "Finds the cheapest route on the route graph.",
     );
-    let mut track_ports = route_ports();
+    let mut track_ports = route_inputs();
     track_ports.extend([
         PortSpec::output::<f64>("execution_duration").describe("Seconds tracked so far."),
         PortSpec::output::<u16>("last_node_id").describe("The last node reached."),
         PortSpec::output::<u16>("next_node_id").describe("The next node."),
         PortSpec::output::<u16>("current_edge_id").describe("The edge being driven."),
+        route_output(),
+        path_output(),
         PortSpec::output::<bool>("rerouted").describe("Whether the route was computed again."),
     ]);
+    track_ports.extend(error_outputs());
     r.register_stateful("ComputeAndTrackRoute", track_ports, TrackRoute::default)?;
     r.describe(
         "ComputeAndTrackRoute",
