@@ -247,6 +247,55 @@ pub struct BackUpFeedback {
 }
 
 action!(
+    /// `nav2_msgs/action/DriveOnHeading`: the behavior server drives the robot straight on.
+    DriveOnHeading: DriveOnHeadingGoal, DriveOnHeadingResult, DriveOnHeadingFeedback
+);
+
+/// The goal of [`DriveOnHeading`].
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct DriveOnHeadingGoal {
+    /// How far, as a point in the robot's frame (x negative to drive backwards).
+    pub target: Point,
+    /// m/s, negative backwards.
+    pub speed: f32,
+    /// How long it may take.
+    pub time_allowance: Duration,
+}
+
+/// The result of [`DriveOnHeading`].
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct DriveOnHeadingResult {
+    /// How long it took.
+    pub total_elapsed_time: Duration,
+    /// 0, or one of the constants.
+    pub error_code: u16,
+    /// What went wrong, for people.
+    pub error_msg: String,
+}
+
+impl DriveOnHeadingResult {
+    /// No error.
+    pub const NONE: u16 = 0;
+    /// An error without a code of its own.
+    pub const UNKNOWN: u16 = 720;
+    /// It took longer than `time_allowance`.
+    pub const TIMEOUT: u16 = 721;
+    /// A transform was missing.
+    pub const TF_ERROR: u16 = 722;
+    /// Driving on would collide.
+    pub const COLLISION_AHEAD: u16 = 723;
+    /// The goal was unusable.
+    pub const INVALID_INPUT: u16 = 724;
+}
+
+/// The feedback of [`DriveOnHeading`].
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct DriveOnHeadingFeedback {
+    /// Meters driven so far.
+    pub distance_traveled: f32,
+}
+
+action!(
     /// `nav2_msgs/action/Wait`: the behavior server waits.
     Wait: WaitGoal, WaitResult, WaitFeedback
 );

@@ -7,6 +7,7 @@
 //! | FollowPath | `follow_path` | `path`, `controller_id`, `goal_checker_id`, `progress_checker_id` | | |
 //! | Spin | `spin` | `spin_dist`, `time_allowance` | | |
 //! | BackUp | `backup` | `backup_dist`, `backup_speed`, `time_allowance` | | |
+//! | DriveOnHeading | `drive_on_heading` | `dist_to_travel`, `speed`, `time_allowance` | | |
 //! | Wait | `wait` | `wait_duration` | | |
 //! | ClearEntireCostmap | `service_name` (`local_costmap/clear_entirely_local_costmap`) | | on the response | |
 //!
@@ -35,8 +36,8 @@ use crate::msg::geometry_msgs::Point;
 use crate::msg::nav2_msgs::{
     BackUp, BackUpGoal, BackUpResult, ClearEntireCostmap, ClearEntireCostmapRequest,
     ClearEntireCostmapResponse, ComputePathToPose, ComputePathToPoseGoal, ComputePathToPoseResult,
-    FollowPath, FollowPathGoal, FollowPathResult, Spin, SpinGoal, SpinResult, Wait, WaitGoal,
-    WaitResult,
+    DriveOnHeading, DriveOnHeadingGoal, DriveOnHeadingResult, FollowPath, FollowPathGoal,
+    FollowPathResult, Spin, SpinGoal, SpinResult, Wait, WaitGoal, WaitResult,
 };
 use crate::{ActionError, ActionSpec, RosActionNode, RosNode, RosServiceNode, ServiceSpec};
 
@@ -44,8 +45,8 @@ use crate::{ActionError, ActionSpec, RosActionNode, RosNode, RosServiceNode, Ser
 /// milliseconds: the `wait_for_server_timeout` default of these leaves.
 pub const WAIT_FOR_SERVER_MS: u64 = 1000;
 
-/// Registers ComputePathToPose, FollowPath, Spin, BackUp, Wait and ClearEntireCostmap as
-/// ROS 2 clients on `ros`. Fails if one of the names is taken.
+/// Registers ComputePathToPose, FollowPath, Spin, BackUp, DriveOnHeading, Wait and
+/// ClearEntireCostmap as ROS 2 clients on `ros`. Fails if one of the names is taken.
 pub fn register_nav2_ros_leaves<C: 'static>(
     registry: &mut Registry<C>,
     ros: &RosNode,
@@ -60,6 +61,9 @@ pub fn register_nav2_ros_leaves<C: 'static>(
     register_action(registry, "FollowPath", ros, "follow_path", || Follow)?;
     register_action(registry, "Spin", ros, "spin", || SpinBy)?;
     register_action(registry, "BackUp", ros, "backup", || BackUpBy)?;
+    register_action(registry, "DriveOnHeading", ros, "drive_on_heading", || {
+        DriveOn
+    })?;
     register_action(registry, "Wait", ros, "wait", || WaitFor)?;
     let ros_node = ros.clone();
     let name = "local_costmap/clear_entirely_local_costmap";
@@ -378,6 +382,57 @@ impl<C: 'static> ActionSpec<C> for BackUpBy {
     ) -> Status {
         let server = result.map(|r| (r.error_code, r.error_msg.as_str()));
         failed(h, BackUpResult::UNKNOWN, error, server)
+    }
+}
+
+/// DriveOnHeading: the behavior server drives the robot `dist_to_travel` straight on.
+struct DriveOn;
+
+impl<C: 'static> ActionSpec<C> for DriveOn {
+    type Action = DriveOnHeading;
+
+    fn ports() -> Vec<PortSpec> {
+        vec![
+            PortSpec::input::<f64>("dist_to_travel")
+                .default_value("0.15")
+                .describe("Metres to drive, negative backwards."),
+            PortSpec::input::<f64>("speed")
+                .default_value("0.025")
+                .describe("Metres per second, negative backwards."),
+            time_allowance(),
+            collision_checks(),
+            server_name_port(),
+            error_code_port("drive-on-heading"),
+        ]
+    }
+
+    fn goal(&mut self, h: &mut Handle<'_, C>) -> Result<DriveOnHeadingGoal, String> {
+        let distance: f64 = required(h, "dist_to_travel")?;
+        let speed: f64 = required(h, "speed")?;
+        let allowance: f64 = required(h, "time_allowance")?;
+        Ok(DriveOnHeadingGoal {
+            target: Point {
+                x: distance,
+                y: 0.0,
+                z: 0.0,
+            },
+            speed: speed as f32,
+            time_allowance: seconds(allowance),
+        })
+    }
+
+    fn on_result(&mut self, h: &mut Handle<'_, C>, result: &DriveOnHeadingResult) -> Status {
+        outcome(h, result.error_code, &result.error_msg)
+    }
+
+    fn on_failure(
+        &mut self,
+        h: &mut Handle<'_, C>,
+        error: &ActionError,
+        result: Option<&DriveOnHeadingResult>,
+    ) -> Status {
+        let server = result.map(|r| (r.error_code, r.error_msg.as_str()));
+        failed(h, DriveOnHeadingResult::UNKNOWN, error, server)
     }
 }
 

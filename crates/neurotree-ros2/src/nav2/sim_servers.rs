@@ -4,7 +4,7 @@
 //! |---|---|---|
 //! | planner | action `compute_path_to_pose` | A* on the global costmap (the sim's ComputePathToPose) |
 //! | controller | action `follow_path` | follows the path, fails when blocked (the sim's FollowPath) |
-//! | behaviors | actions `spin`, `backup`, `wait` | turn, drive back, stand still (the sim's Spin, BackUp, Wait) |
+//! | behaviors | actions `spin`, `backup`, `drive_on_heading`, `wait` | turn, drive back, drive on, stand still (the sim's Spin, BackUp, DriveOnHeading, Wait) |
 //! | costmaps | services `global_costmap/clear_entirely_global_costmap`, `local_costmap/clear_entirely_local_costmap` | forget the sensed obstacles |
 //! | pose | topic [`ROBOT_POSE_TOPIC`] | the robot's pose, each step |
 //!
@@ -35,8 +35,9 @@ use super::navigator::{NavigatorError, ROBOT_POSE_TOPIC};
 use crate::msg::geometry_msgs::PoseStamped;
 use crate::msg::nav2_msgs::{
     BackUp, BackUpResult, ClearEntireCostmap, ClearEntireCostmapRequest,
-    ClearEntireCostmapResponse, ComputePathToPose, ComputePathToPoseResult, FollowPath,
-    FollowPathFeedback, FollowPathResult, Spin, SpinResult, Wait, WaitResult,
+    ClearEntireCostmapResponse, ComputePathToPose, ComputePathToPoseResult, DriveOnHeading,
+    DriveOnHeadingResult, FollowPath, FollowPathFeedback, FollowPathResult, Spin, SpinResult, Wait,
+    WaitResult,
 };
 use crate::{Ros2Error, RosAction, RosNode};
 
@@ -69,6 +70,8 @@ pub struct SimStats {
     pub spin: ServerCounts,
     /// `backup`.
     pub backup: ServerCounts,
+    /// `drive_on_heading`.
+    pub drive_on_heading: ServerCounts,
     /// `wait`.
     pub wait: ServerCounts,
     /// Costmap clearings served.
@@ -229,6 +232,26 @@ impl SimAction for BackUp {
     }
 }
 
+impl SimAction for DriveOnHeading {
+    const XML: &'static str = r#"<DriveOnHeading dist_to_travel="{dist_to_travel}" speed="{speed}" time_allowance="{time_allowance}" error_code_id="{error_code}" error_msg="{error_msg}"/>"#;
+    fn put(goal: &Self::Goal, bb: &mut Blackboard) {
+        let _ = bb.set("dist_to_travel", goal.target.x);
+        let _ = bb.set("speed", f64::from(goal.speed));
+        let allowance: Duration = goal.time_allowance.into();
+        let _ = bb.set("time_allowance", allowance.as_secs_f64());
+    }
+    fn result(_bb: &Blackboard, code: u16, message: String, elapsed: Duration) -> Self::Result {
+        DriveOnHeadingResult {
+            total_elapsed_time: elapsed.into(),
+            error_code: code,
+            error_msg: message,
+        }
+    }
+    fn counts(stats: &mut SimStats) -> &mut ServerCounts {
+        &mut stats.drive_on_heading
+    }
+}
+
 impl SimAction for Wait {
     const XML: &'static str = r#"<Wait wait_duration="{wait_duration}" error_code_id="{error_code}" error_msg="{error_msg}"/>"#;
     fn put(goal: &Self::Goal, bb: &mut Blackboard) {
@@ -384,6 +407,7 @@ pub struct SimServers {
     controller: Served<FollowPath>,
     spin: Served<Spin>,
     backup: Served<BackUp>,
+    drive_on_heading: Served<DriveOnHeading>,
     wait: Served<Wait>,
     clear_global: ClearServer,
     clear_local: ClearServer,
@@ -409,6 +433,7 @@ impl SimServers {
             controller: Served::new(ros, "follow_path", &registry)?,
             spin: Served::new(ros, "spin", &registry)?,
             backup: Served::new(ros, "backup", &registry)?,
+            drive_on_heading: Served::new(ros, "drive_on_heading", &registry)?,
             wait: Served::new(ros, "wait", &registry)?,
             clear_global: ros.service_server::<ClearEntireCostmap>(CLEAR_GLOBAL_COSTMAP)?,
             clear_local: ros.service_server::<ClearEntireCostmap>(CLEAR_LOCAL_COSTMAP)?,
@@ -448,6 +473,7 @@ impl SimServers {
             self.controller.poll(sim, stats)?,
             self.spin.poll(sim, stats)?,
             self.backup.poll(sim, stats)?,
+            self.drive_on_heading.poll(sim, stats)?,
             self.wait.poll(sim, stats)?,
         ];
         self.clock_running |= planned || moved.contains(&true);
@@ -456,6 +482,7 @@ impl SimServers {
                 self.controller.is_running(),
                 self.spin.is_running(),
                 self.backup.is_running(),
+                self.drive_on_heading.is_running(),
                 self.wait.is_running(),
             ];
             for (i, _) in running
@@ -467,6 +494,7 @@ impl SimServers {
                     0 => self.controller.preempt(sim, stats),
                     1 => self.spin.preempt(sim, stats),
                     2 => self.backup.preempt(sim, stats),
+                    3 => self.drive_on_heading.preempt(sim, stats),
                     _ => self.wait.preempt(sim, stats),
                 }
             }
@@ -490,6 +518,7 @@ impl SimServers {
         self.controller.tick(sim, stats);
         self.spin.tick(sim, stats);
         self.backup.tick(sim, stats);
+        self.drive_on_heading.tick(sim, stats);
         self.wait.tick(sim, stats);
         if self.clock_running {
             sim.step();
