@@ -351,6 +351,71 @@ pub struct ClearEntireCostmapResponse {
 
 parts!(ClearEntireCostmapRequest, ClearEntireCostmapResponse);
 
+/// Declares a clearing service whose response is empty.
+macro_rules! clearing {
+    ($(#[$doc:meta])* $name:ident: $request:ident, $response:ident) => {
+        $(#[$doc])*
+        #[derive(Clone, Copy, Debug)]
+        pub struct $name;
+
+        impl RosService for $name {
+            type Request = $request;
+            type Response = $response;
+            const TYPE: (&'static str, &'static str) = ("nav2_msgs", stringify!($name));
+        }
+
+        #[doc = concat!("The response of [`", stringify!($name), "`].")]
+        #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+        pub struct $response {
+            /// Nothing.
+            pub response: Empty,
+        }
+
+        parts!($request, $response);
+    };
+}
+
+clearing!(
+    /// `nav2_msgs/srv/ClearCostmapAroundRobot`: a costmap forgets the obstacles in a square
+    /// around the robot.
+    ClearCostmapAroundRobot: ClearCostmapAroundRobotRequest, ClearCostmapAroundRobotResponse
+);
+
+/// The request of [`ClearCostmapAroundRobot`].
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct ClearCostmapAroundRobotRequest {
+    /// The square's side, in metres.
+    pub reset_distance: f32,
+}
+
+clearing!(
+    /// `nav2_msgs/srv/ClearCostmapExceptRegion`: a costmap forgets the obstacles outside a
+    /// square around the robot.
+    ClearCostmapExceptRegion: ClearCostmapExceptRegionRequest, ClearCostmapExceptRegionResponse
+);
+
+/// The request of [`ClearCostmapExceptRegion`].
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct ClearCostmapExceptRegionRequest {
+    /// The square's side, in metres.
+    pub reset_distance: f32,
+}
+
+clearing!(
+    /// `nav2_msgs/srv/ClearCostmapAroundPose`: a costmap forgets the obstacles in a square
+    /// around a pose.
+    ClearCostmapAroundPose: ClearCostmapAroundPoseRequest, ClearCostmapAroundPoseResponse
+);
+
+/// The request of [`ClearCostmapAroundPose`].
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct ClearCostmapAroundPoseRequest {
+    /// The square's centre.
+    pub pose: PoseStamped,
+    /// The square's side, in metres.
+    pub reset_distance: f64,
+}
+
 action!(
     /// `nav2_msgs/action/NavigateToPose`: the BT navigator drives the robot to a pose.
     NavigateToPose: NavigateToPoseGoal, NavigateToPoseResult, NavigateToPoseFeedback

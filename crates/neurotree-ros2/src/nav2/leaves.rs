@@ -10,6 +10,9 @@
 //! | DriveOnHeading | `drive_on_heading` | `dist_to_travel`, `speed`, `time_allowance` | | |
 //! | Wait | `wait` | `wait_duration` | | |
 //! | ClearEntireCostmap | `service_name` (`local_costmap/clear_entirely_local_costmap`) | | on the response | |
+//! | ClearCostmapAroundRobot | `service_name` (`local_costmap/clear_around_local_costmap`) | `reset_distance` | on the response | |
+//! | ClearCostmapExceptRegion | `service_name` (`local_costmap/clear_except_local_costmap`) | `reset_distance` | on the response | |
+//! | ClearCostmapAroundPose | `service_name` (`local_costmap/clear_around_pose_local_costmap`) | `pose`, `reset_distance` | on the response | |
 //!
 //! The actions write the server's `error_code` to `error_code_id` (0 on success; the
 //! server's code when it aborted; the node's UNKNOWN code when the server could not be
@@ -34,7 +37,10 @@ use neurotree_toolkit::{Handle, PortError, PortSpec, Registry, RegistryError, St
 use super::convert::{path_2d, path_msg, pose_stamped};
 use crate::msg::geometry_msgs::Point;
 use crate::msg::nav2_msgs::{
-    BackUp, BackUpGoal, BackUpResult, ClearEntireCostmap, ClearEntireCostmapRequest,
+    BackUp, BackUpGoal, BackUpResult, ClearCostmapAroundPose, ClearCostmapAroundPoseRequest,
+    ClearCostmapAroundPoseResponse, ClearCostmapAroundRobot, ClearCostmapAroundRobotRequest,
+    ClearCostmapAroundRobotResponse, ClearCostmapExceptRegion, ClearCostmapExceptRegionRequest,
+    ClearCostmapExceptRegionResponse, ClearEntireCostmap, ClearEntireCostmapRequest,
     ClearEntireCostmapResponse, ComputePathToPose, ComputePathToPoseGoal, ComputePathToPoseResult,
     DriveOnHeading, DriveOnHeadingGoal, DriveOnHeadingResult, FollowPath, FollowPathGoal,
     FollowPathResult, Spin, SpinGoal, SpinResult, Wait, WaitGoal, WaitResult,
@@ -45,8 +51,9 @@ use crate::{ActionError, ActionSpec, RosActionNode, RosNode, RosServiceNode, Ser
 /// milliseconds: the `wait_for_server_timeout` default of these leaves.
 pub const WAIT_FOR_SERVER_MS: u64 = 1000;
 
-/// Registers ComputePathToPose, FollowPath, Spin, BackUp, DriveOnHeading, Wait and
-/// ClearEntireCostmap as ROS 2 clients on `ros`. Fails if one of the names is taken.
+/// Registers ComputePathToPose, FollowPath, Spin, BackUp, DriveOnHeading, Wait,
+/// ClearEntireCostmap, ClearCostmapAroundRobot, ClearCostmapExceptRegion and
+/// ClearCostmapAroundPose as ROS 2 clients on `ros`. Fails if one of the names is taken.
 pub fn register_nav2_ros_leaves<C: 'static>(
     registry: &mut Registry<C>,
     ros: &RosNode,
@@ -75,6 +82,46 @@ pub fn register_nav2_ros_leaves<C: 'static>(
         "ClearEntireCostmap",
         "Asks the costmap server `service_name` to forget every obstacle.",
     );
+    register_service(
+        registry,
+        "ClearCostmapAroundRobot",
+        ros,
+        "local_costmap/clear_around_local_costmap",
+        || ClearAround,
+        "Asks the costmap server `service_name` to forget the obstacles around the robot.",
+    )?;
+    register_service(
+        registry,
+        "ClearCostmapExceptRegion",
+        ros,
+        "local_costmap/clear_except_local_costmap",
+        || ClearExcept,
+        "Asks the costmap server `service_name` to forget the obstacles away from the robot.",
+    )?;
+    register_service(
+        registry,
+        "ClearCostmapAroundPose",
+        ros,
+        "local_costmap/clear_around_pose_local_costmap",
+        || ClearAroundPose,
+        "Asks the costmap server `service_name` to forget the obstacles around `pose`.",
+    )
+}
+
+fn register_service<C: 'static, S: ServiceSpec<C>>(
+    registry: &mut Registry<C>,
+    type_name: &str,
+    ros: &RosNode,
+    default_name: &'static str,
+    make: fn() -> S,
+    description: &str,
+) -> Result<(), RegistryError> {
+    let ros = ros.clone();
+    let ports = with_wait_default(RosServiceNode::<C, S>::ports(default_name));
+    registry.register_stateful(type_name, ports, move || {
+        RosServiceNode::new(ros.clone(), default_name, make())
+    })?;
+    registry.describe(type_name, description);
     Ok(())
 }
 
@@ -494,6 +541,104 @@ impl<C: 'static> ServiceSpec<C> for ClearCostmap {
         &mut self,
         _h: &mut Handle<'_, C>,
         _response: &ClearEntireCostmapResponse,
+    ) -> Status {
+        Status::Success
+    }
+}
+
+fn reset_distance() -> PortSpec {
+    PortSpec::input::<f64>("reset_distance")
+        .default_value("1.0")
+        .describe("The square's side, in metres.")
+}
+
+fn plugins() -> PortSpec {
+    PortSpec::input::<Vec<String>>("plugins")
+        .describe("The costmap plugins to clear (unused: all of them).")
+}
+
+/// ClearCostmapAroundRobot: the costmap server forgets the obstacles around the robot.
+struct ClearAround;
+
+impl<C: 'static> ServiceSpec<C> for ClearAround {
+    type Service = ClearCostmapAroundRobot;
+
+    fn ports() -> Vec<PortSpec> {
+        vec![reset_distance(), plugins()]
+    }
+
+    fn request(&mut self, h: &mut Handle<'_, C>) -> Result<ClearCostmapAroundRobotRequest, String> {
+        let distance: f64 = optional(h, "reset_distance")?.unwrap_or(1.0);
+        Ok(ClearCostmapAroundRobotRequest {
+            reset_distance: distance as f32,
+        })
+    }
+
+    fn on_response(
+        &mut self,
+        _h: &mut Handle<'_, C>,
+        _: &ClearCostmapAroundRobotResponse,
+    ) -> Status {
+        Status::Success
+    }
+}
+
+/// ClearCostmapExceptRegion: the costmap server forgets the obstacles away from the robot.
+struct ClearExcept;
+
+impl<C: 'static> ServiceSpec<C> for ClearExcept {
+    type Service = ClearCostmapExceptRegion;
+
+    fn ports() -> Vec<PortSpec> {
+        vec![reset_distance(), plugins()]
+    }
+
+    fn request(
+        &mut self,
+        h: &mut Handle<'_, C>,
+    ) -> Result<ClearCostmapExceptRegionRequest, String> {
+        let distance: f64 = optional(h, "reset_distance")?.unwrap_or(1.0);
+        Ok(ClearCostmapExceptRegionRequest {
+            reset_distance: distance as f32,
+        })
+    }
+
+    fn on_response(
+        &mut self,
+        _h: &mut Handle<'_, C>,
+        _: &ClearCostmapExceptRegionResponse,
+    ) -> Status {
+        Status::Success
+    }
+}
+
+/// ClearCostmapAroundPose: the costmap server forgets the obstacles around `pose`.
+struct ClearAroundPose;
+
+impl<C: 'static> ServiceSpec<C> for ClearAroundPose {
+    type Service = ClearCostmapAroundPose;
+
+    fn ports() -> Vec<PortSpec> {
+        vec![
+            PortSpec::input::<Pose2D>("pose").describe("The square's centre."),
+            reset_distance(),
+            plugins(),
+        ]
+    }
+
+    fn request(&mut self, h: &mut Handle<'_, C>) -> Result<ClearCostmapAroundPoseRequest, String> {
+        let pose: Pose2D = required(h, "pose")?;
+        let distance: f64 = optional(h, "reset_distance")?.unwrap_or(1.0);
+        Ok(ClearCostmapAroundPoseRequest {
+            pose: pose_stamped(pose),
+            reset_distance: distance,
+        })
+    }
+
+    fn on_response(
+        &mut self,
+        _h: &mut Handle<'_, C>,
+        _: &ClearCostmapAroundPoseResponse,
     ) -> Status {
         Status::Success
     }

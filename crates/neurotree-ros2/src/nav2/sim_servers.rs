@@ -6,6 +6,7 @@
 //! | controller | action `follow_path` | follows the path, fails when blocked (the sim's FollowPath) |
 //! | behaviors | actions `spin`, `backup`, `drive_on_heading`, `wait` | turn, drive back, drive on, stand still (the sim's Spin, BackUp, DriveOnHeading, Wait) |
 //! | costmaps | services `global_costmap/clear_entirely_global_costmap`, `local_costmap/clear_entirely_local_costmap` | forget the sensed obstacles |
+//! | costmaps | services `clear_around_`, `clear_except_` and `clear_around_pose_` of each costmap (`local_costmap/clear_around_local_costmap`, ...) | forget them in, or outside, a square (the sim's ClearCostmapAroundRobot, ClearCostmapExceptRegion, ClearCostmapAroundPose) |
 //! | pose | topic [`ROBOT_POSE_TOPIC`] | the robot's pose, each step |
 //!
 //! Each goal runs the in-process leaf of `neurotree_sim::nav2` of the same name, alone in a
@@ -22,6 +23,7 @@ use std::sync::{Arc, Mutex, MutexGuard};
 use std::time::{Duration, Instant};
 
 use neurotree_nav2::robotics::{Path, Pose2D};
+use neurotree_sim::nav2::costmaps::clear_square;
 use neurotree_sim::nav2::{register_nav2_leaves, FailureNotes, Nav2Sim};
 use neurotree_sim::CostmapLayer;
 use neurotree_toolkit::{Blackboard, Blueprint, Registry, Status, Tree, XmlLoader};
@@ -34,7 +36,10 @@ use super::goal_server::{GoalServer, Request};
 use super::navigator::{NavigatorError, ROBOT_POSE_TOPIC};
 use crate::msg::geometry_msgs::PoseStamped;
 use crate::msg::nav2_msgs::{
-    BackUp, BackUpResult, ClearEntireCostmap, ClearEntireCostmapRequest,
+    BackUp, BackUpResult, ClearCostmapAroundPose, ClearCostmapAroundPoseRequest,
+    ClearCostmapAroundPoseResponse, ClearCostmapAroundRobot, ClearCostmapAroundRobotRequest,
+    ClearCostmapAroundRobotResponse, ClearCostmapExceptRegion, ClearCostmapExceptRegionRequest,
+    ClearCostmapExceptRegionResponse, ClearEntireCostmap, ClearEntireCostmapRequest,
     ClearEntireCostmapResponse, ComputePathToPose, ComputePathToPoseResult, DriveOnHeading,
     DriveOnHeadingResult, FollowPath, FollowPathFeedback, FollowPathResult, Spin, SpinResult, Wait,
     WaitResult,
@@ -74,8 +79,12 @@ pub struct SimStats {
     pub drive_on_heading: ServerCounts,
     /// `wait`.
     pub wait: ServerCounts,
-    /// Costmap clearings served.
+    /// Costmap clearings served (entire and regions).
     pub clears: u32,
+    /// Obstacle cells the global costmap remembers.
+    pub global_obstacles: usize,
+    /// Obstacle cells the local costmap remembers.
+    pub local_obstacles: usize,
     /// Where the robot is.
     pub robot: Pose2D,
     /// Simulated time.
@@ -400,6 +409,76 @@ where
 
 type ClearServer = Server<ClearEntireCostmapRequest, ClearEntireCostmapResponse>;
 
+/// The region-clearing services of one costmap.
+struct RegionServers {
+    layer: CostmapLayer,
+    around: Server<ClearCostmapAroundRobotRequest, ClearCostmapAroundRobotResponse>,
+    except: Server<ClearCostmapExceptRegionRequest, ClearCostmapExceptRegionResponse>,
+    around_pose: Server<ClearCostmapAroundPoseRequest, ClearCostmapAroundPoseResponse>,
+}
+
+impl RegionServers {
+    /// The services of costmap `costmap` (`global_costmap` or `local_costmap`), named as
+    /// Nav2's costmap names them.
+    fn new(ros: &RosNode, costmap: &str, layer: CostmapLayer) -> Result<Self, Ros2Error> {
+        Ok(Self {
+            layer,
+            around: ros.service_server::<ClearCostmapAroundRobot>(&format!(
+                "{costmap}/clear_around_{costmap}"
+            ))?,
+            except: ros.service_server::<ClearCostmapExceptRegion>(&format!(
+                "{costmap}/clear_except_{costmap}"
+            ))?,
+            around_pose: ros.service_server::<ClearCostmapAroundPose>(&format!(
+                "{costmap}/clear_around_pose_{costmap}"
+            ))?,
+        })
+    }
+
+    /// Answers the requests that came; how many.
+    fn serve(&self, sim: &mut Nav2Sim) -> Result<u32, Ros2Error> {
+        let layer = self.layer;
+        let failed = move |e: ros2_client::ReadError| Ros2Error::Serve {
+            kind: "service server",
+            name: format!("{layer:?} costmap region clearing"),
+            message: format!("{e:?}"),
+        };
+        let mut served = 0;
+        // A client gone since it asked does not need the answer: responses are best effort.
+        while let Some((id, request)) = self.around.receive_request().map_err(failed)? {
+            let robot = sim.world.robot();
+            clear_square(
+                sim,
+                self.layer,
+                robot,
+                f64::from(request.reset_distance),
+                false,
+            );
+            let _ = self.around.send_response(id, Default::default());
+            served += 1;
+        }
+        while let Some((id, request)) = self.except.receive_request().map_err(failed)? {
+            let robot = sim.world.robot();
+            clear_square(
+                sim,
+                self.layer,
+                robot,
+                f64::from(request.reset_distance),
+                true,
+            );
+            let _ = self.except.send_response(id, Default::default());
+            served += 1;
+        }
+        while let Some((id, request)) = self.around_pose.receive_request().map_err(failed)? {
+            let centre = pose_2d(&request.pose);
+            clear_square(sim, self.layer, centre, request.reset_distance, false);
+            let _ = self.around_pose.send_response(id, Default::default());
+            served += 1;
+        }
+        Ok(served)
+    }
+}
+
 /// The grid world as Nav2's servers; see the [module](crate::nav2).
 pub struct SimServers {
     sim: Nav2Sim,
@@ -411,6 +490,7 @@ pub struct SimServers {
     wait: Served<Wait>,
     clear_global: ClearServer,
     clear_local: ClearServer,
+    regions: [RegionServers; 2],
     poses: Publisher<PoseStamped>,
     stats: SimStatsHandle,
     wall_period: Duration,
@@ -437,6 +517,10 @@ impl SimServers {
             wait: Served::new(ros, "wait", &registry)?,
             clear_global: ros.service_server::<ClearEntireCostmap>(CLEAR_GLOBAL_COSTMAP)?,
             clear_local: ros.service_server::<ClearEntireCostmap>(CLEAR_LOCAL_COSTMAP)?,
+            regions: [
+                RegionServers::new(ros, "global_costmap", CostmapLayer::Global)?,
+                RegionServers::new(ros, "local_costmap", CostmapLayer::Local)?,
+            ],
             poses: ros.publisher(ROBOT_POSE_TOPIC)?,
             stats: SimStatsHandle::default(),
             wall_period,
@@ -514,6 +598,10 @@ impl SimServers {
                 stats.lock().clears += 1;
             }
         }
+        for regions in &self.regions {
+            let served = regions.serve(sim)?;
+            stats.lock().clears += served;
+        }
         self.planner.tick(sim, stats);
         self.controller.tick(sim, stats);
         self.spin.tick(sim, stats);
@@ -550,5 +638,12 @@ impl SimServers {
         stats.robot = self.sim.world.robot();
         stats.time = self.sim.world.now();
         stats.distance = self.sim.world.distance_travelled();
+        stats.global_obstacles = self
+            .sim
+            .world
+            .costmap(CostmapLayer::Global)
+            .marked()
+            .count();
+        stats.local_obstacles = self.sim.world.costmap(CostmapLayer::Local).marked().count();
     }
 }

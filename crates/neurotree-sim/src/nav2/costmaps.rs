@@ -86,6 +86,33 @@ pub(super) fn register<C: Nav2Context>(r: &mut Registry<C>) -> Result<(), Regist
     Ok(())
 }
 
+/// Forgets the sensed obstacles of `layer` inside Nav2's square of side `distance` centred
+/// on `centre` (outside it when `invert`), as the clearing services do (see the
+/// [module documentation](self)); returns how many cells were forgotten. The ROS 2
+/// simulator serves Nav2's clearing services with it.
+pub fn clear_square(
+    sim: &mut super::Nav2Sim,
+    layer: CostmapLayer,
+    centre: Pose2D,
+    distance: f64,
+    invert: bool,
+) -> usize {
+    let resolution = sim.world.map().resolution();
+    // Nav2's worldToMapNoBounds: truncation, from an origin at 0.
+    let index = |metres: f64| (metres / resolution) as i32;
+    let (x0, y0) = (
+        index(centre.x - distance / 2.0),
+        index(centre.y - distance / 2.0),
+    );
+    let (x1, y1) = (
+        index(centre.x - distance / 2.0 + distance),
+        index(centre.y - distance / 2.0 + distance),
+    );
+    let inside = move |c: Cell| c.x > x0 && c.x < x1 && c.y > y0 && c.y < y1;
+    sim.world
+        .clear_costmap_where(layer, move |c| inside(c) != invert)
+}
+
 /// ClearCostmapAroundRobot, ClearCostmapAroundPose, ClearCostmapExceptRegion: see the
 /// [module documentation](self).
 fn clear_region<C: Nav2Context>(h: &mut Handle<'_, C>, region: Region) -> Status {
@@ -107,22 +134,8 @@ fn clear_region<C: Nav2Context>(h: &mut Handle<'_, C>, region: Region) -> Status
     let name = h.name().to_string();
     let sim = h.ctx_mut().nav2_mut();
     let centre = centre.unwrap_or_else(|| sim.world.robot());
-    let resolution = sim.world.map().resolution();
-    // Nav2's worldToMapNoBounds: truncation, from an origin at 0.
-    let index = |metres: f64| (metres / resolution) as i32;
-    let (x0, y0) = (
-        index(centre.x - distance / 2.0),
-        index(centre.y - distance / 2.0),
-    );
-    let (x1, y1) = (
-        index(centre.x - distance / 2.0 + distance),
-        index(centre.y - distance / 2.0 + distance),
-    );
-    let inside = move |c: Cell| c.x > x0 && c.x < x1 && c.y > y0 && c.y < y1;
     let invert = region == Region::ExceptAroundRobot;
-    let forgotten = sim
-        .world
-        .clear_costmap_where(layer, move |c| inside(c) != invert);
+    let forgotten = clear_square(sim, layer, centre, distance, invert);
     sim.note(|| format!("{name}: forgot {forgotten} obstacle cells"));
     Status::Success
 }
