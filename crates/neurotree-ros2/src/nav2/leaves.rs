@@ -4,6 +4,8 @@
 //! | node | server (default name) | goal from the ports | Success | on failure |
 //! |---|---|---|---|---|
 //! | ComputePathToPose | `compute_path_to_pose` | `goal`, `start` / `use_start`, `planner_id` | writes `path` | empties `path` |
+//! | ComputePathThroughPoses | `compute_path_through_poses` | `goals`, `start` / `use_start`, `planner_id` | writes `path` | empties `path` |
+//! | SmoothPath | `smooth_path` | `unsmoothed_path`, `smoother_id`, `max_smoothing_duration`, `check_for_collisions` | writes `smoothed_path`, `smoothing_duration`, `was_completed` | |
 //! | FollowPath | `follow_path` | `path`, `controller_id`, `goal_checker_id`, `progress_checker_id` | | |
 //! | Spin | `spin` | `spin_dist`, `time_allowance` | | |
 //! | BackUp | `backup` | `backup_dist`, `backup_speed`, `time_allowance` | | |
@@ -41,17 +43,20 @@ use crate::msg::nav2_msgs::{
     ClearCostmapAroundPoseResponse, ClearCostmapAroundRobot, ClearCostmapAroundRobotRequest,
     ClearCostmapAroundRobotResponse, ClearCostmapExceptRegion, ClearCostmapExceptRegionRequest,
     ClearCostmapExceptRegionResponse, ClearEntireCostmap, ClearEntireCostmapRequest,
-    ClearEntireCostmapResponse, ComputePathToPose, ComputePathToPoseGoal, ComputePathToPoseResult,
-    DriveOnHeading, DriveOnHeadingGoal, DriveOnHeadingResult, FollowPath, FollowPathGoal,
-    FollowPathResult, Spin, SpinGoal, SpinResult, Wait, WaitGoal, WaitResult,
+    ClearEntireCostmapResponse, ComputePathThroughPoses, ComputePathThroughPosesGoal,
+    ComputePathThroughPosesResult, ComputePathToPose, ComputePathToPoseGoal,
+    ComputePathToPoseResult, DriveOnHeading, DriveOnHeadingGoal, DriveOnHeadingResult, FollowPath,
+    FollowPathGoal, FollowPathResult, Spin, SpinGoal, SpinResult, Wait, WaitGoal, WaitResult,
 };
+use crate::msg::nav2_msgs::{SmoothPath, SmoothPathGoal, SmoothPathResult};
 use crate::{ActionError, ActionSpec, RosActionNode, RosNode, RosServiceNode, ServiceSpec};
 
 /// Nav2's BT navigator waits this long for a server (its `wait_for_service_timeout`), in
 /// milliseconds: the `wait_for_server_timeout` default of these leaves.
 pub const WAIT_FOR_SERVER_MS: u64 = 1000;
 
-/// Registers ComputePathToPose, FollowPath, Spin, BackUp, DriveOnHeading, Wait,
+/// Registers ComputePathToPose, ComputePathThroughPoses, SmoothPath, FollowPath, Spin,
+/// BackUp, DriveOnHeading, Wait,
 /// ClearEntireCostmap, ClearCostmapAroundRobot, ClearCostmapExceptRegion and
 /// ClearCostmapAroundPose as ROS 2 clients on `ros`. Fails if one of the names is taken.
 pub fn register_nav2_ros_leaves<C: 'static>(
@@ -65,6 +70,14 @@ pub fn register_nav2_ros_leaves<C: 'static>(
         "compute_path_to_pose",
         || ComputePath,
     )?;
+    register_action(
+        registry,
+        "ComputePathThroughPoses",
+        ros,
+        "compute_path_through_poses",
+        || ComputeThrough,
+    )?;
+    register_action(registry, "SmoothPath", ros, "smooth_path", || Smooth)?;
     register_action(registry, "FollowPath", ros, "follow_path", || Follow)?;
     register_action(registry, "Spin", ros, "spin", || SpinBy)?;
     register_action(registry, "BackUp", ros, "backup", || BackUpBy)?;
@@ -273,6 +286,116 @@ impl<C: 'static> ActionSpec<C> for ComputePath {
         emit(h, "path", Path::default());
         let server = result.map(|r| (r.error_code, r.error_msg.as_str()));
         failed(h, ComputePathToPoseResult::UNKNOWN, error, server)
+    }
+}
+
+/// ComputePathThroughPoses: the planner server's path from the robot (or `start`) through
+/// each of `goals`.
+struct ComputeThrough;
+
+impl<C: 'static> ActionSpec<C> for ComputeThrough {
+    type Action = ComputePathThroughPoses;
+
+    fn ports() -> Vec<PortSpec> {
+        vec![
+            PortSpec::input::<Vec<Pose2D>>("goals").describe("The poses to pass, in order."),
+            PortSpec::input::<Pose2D>("start").describe("Where it starts, instead of the robot."),
+            PortSpec::input::<String>("planner_id")
+                .default_value("")
+                .describe("The planner plugin; empty for the only one."),
+            server_name_port(),
+            PortSpec::output::<Path>("path").describe("The path found."),
+            error_code_port("planner"),
+        ]
+    }
+
+    fn goal(&mut self, h: &mut Handle<'_, C>) -> Result<ComputePathThroughPosesGoal, String> {
+        let goals: Vec<Pose2D> = optional(h, "goals")?.unwrap_or_default();
+        let start: Option<Pose2D> = optional(h, "start")?;
+        Ok(ComputePathThroughPosesGoal {
+            goals: goals.into_iter().map(pose_stamped).collect(),
+            start: pose_stamped(start.unwrap_or_default()),
+            planner_id: optional(h, "planner_id")?.unwrap_or_default(),
+            use_start: start.is_some(),
+        })
+    }
+
+    fn on_result(
+        &mut self,
+        h: &mut Handle<'_, C>,
+        result: &ComputePathThroughPosesResult,
+    ) -> Status {
+        if result.error_code == ComputePathThroughPosesResult::NONE {
+            emit(h, "path", path_2d(&result.path));
+        }
+        outcome(h, result.error_code, &result.error_msg)
+    }
+
+    fn on_failure(
+        &mut self,
+        h: &mut Handle<'_, C>,
+        error: &ActionError,
+        result: Option<&ComputePathThroughPosesResult>,
+    ) -> Status {
+        emit(h, "path", Path::default());
+        let server = result.map(|r| (r.error_code, r.error_msg.as_str()));
+        failed(h, ComputePathThroughPosesResult::UNKNOWN, error, server)
+    }
+}
+
+/// SmoothPath: the smoother server smooths `unsmoothed_path`.
+struct Smooth;
+
+impl<C: 'static> ActionSpec<C> for Smooth {
+    type Action = SmoothPath;
+
+    fn ports() -> Vec<PortSpec> {
+        vec![
+            PortSpec::input::<Path>("unsmoothed_path").describe("The path to smooth."),
+            PortSpec::input::<f64>("max_smoothing_duration")
+                .default_value("3.0")
+                .describe("Seconds smoothing may take."),
+            PortSpec::input::<bool>("check_for_collisions")
+                .default_value("false")
+                .describe("Fail when the smoothed path collides."),
+            PortSpec::input::<String>("smoother_id").describe("The smoother plugin."),
+            server_name_port(),
+            PortSpec::output::<Path>("smoothed_path").describe("The smoothed path."),
+            PortSpec::output::<f64>("smoothing_duration").describe("Seconds smoothing took."),
+            PortSpec::output::<bool>("was_completed").describe("Smoothing finished in time."),
+            error_code_port("smoother"),
+        ]
+    }
+
+    fn goal(&mut self, h: &mut Handle<'_, C>) -> Result<SmoothPathGoal, String> {
+        let path: Path = required(h, "unsmoothed_path")?;
+        let allowed: f64 = optional(h, "max_smoothing_duration")?.unwrap_or(3.0);
+        Ok(SmoothPathGoal {
+            path: path_msg(&path),
+            smoother_id: optional(h, "smoother_id")?.unwrap_or_default(),
+            max_smoothing_duration: seconds(allowed),
+            check_for_collisions: optional(h, "check_for_collisions")?.unwrap_or(false),
+        })
+    }
+
+    fn on_result(&mut self, h: &mut Handle<'_, C>, result: &SmoothPathResult) -> Status {
+        if result.error_code == SmoothPathResult::NONE {
+            emit(h, "smoothed_path", path_2d(&result.path));
+            let took: Duration = result.smoothing_duration.into();
+            emit(h, "smoothing_duration", took.as_secs_f64());
+            emit(h, "was_completed", result.was_completed);
+        }
+        outcome(h, result.error_code, &result.error_msg)
+    }
+
+    fn on_failure(
+        &mut self,
+        h: &mut Handle<'_, C>,
+        error: &ActionError,
+        result: Option<&SmoothPathResult>,
+    ) -> Status {
+        let server = result.map(|r| (r.error_code, r.error_msg.as_str()));
+        failed(h, SmoothPathResult::UNKNOWN, error, server)
     }
 }
 

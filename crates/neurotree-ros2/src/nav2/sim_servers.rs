@@ -2,7 +2,8 @@
 //!
 //! | server | name | what it does on the world |
 //! |---|---|---|
-//! | planner | action `compute_path_to_pose` | A* on the global costmap (the sim's ComputePathToPose) |
+//! | planner | actions `compute_path_to_pose`, `compute_path_through_poses` | A* on the global costmap (the sim's ComputePathToPose, ComputePathThroughPoses) |
+//! | smoother | action `smooth_path` | the sim's SmoothPath |
 //! | controller | action `follow_path` | follows the path, fails when blocked (the sim's FollowPath) |
 //! | behaviors | actions `spin`, `backup`, `drive_on_heading`, `wait` | turn, drive back, drive on, stand still (the sim's Spin, BackUp, DriveOnHeading, Wait) |
 //! | costmaps | services `global_costmap/clear_entirely_global_costmap`, `local_costmap/clear_entirely_local_costmap` | forget the sensed obstacles |
@@ -40,10 +41,11 @@ use crate::msg::nav2_msgs::{
     ClearCostmapAroundPoseResponse, ClearCostmapAroundRobot, ClearCostmapAroundRobotRequest,
     ClearCostmapAroundRobotResponse, ClearCostmapExceptRegion, ClearCostmapExceptRegionRequest,
     ClearCostmapExceptRegionResponse, ClearEntireCostmap, ClearEntireCostmapRequest,
-    ClearEntireCostmapResponse, ComputePathToPose, ComputePathToPoseResult, DriveOnHeading,
-    DriveOnHeadingResult, FollowPath, FollowPathFeedback, FollowPathResult, Spin, SpinResult, Wait,
-    WaitResult,
+    ClearEntireCostmapResponse, ComputePathThroughPoses, ComputePathThroughPosesResult,
+    ComputePathToPose, ComputePathToPoseResult, DriveOnHeading, DriveOnHeadingResult, FollowPath,
+    FollowPathFeedback, FollowPathResult, Spin, SpinResult, Wait, WaitResult,
 };
+use crate::msg::nav2_msgs::{SmoothPath, SmoothPathResult};
 use crate::{Ros2Error, RosAction, RosNode};
 
 /// The global costmap's clearing service.
@@ -69,6 +71,10 @@ pub struct ServerCounts {
 pub struct SimStats {
     /// `compute_path_to_pose`.
     pub planner: ServerCounts,
+    /// `compute_path_through_poses`.
+    pub planner_through_poses: ServerCounts,
+    /// `smooth_path`.
+    pub smoother: ServerCounts,
     /// `follow_path`.
     pub controller: ServerCounts,
     /// `spin`.
@@ -171,6 +177,50 @@ impl SimAction for ComputePathToPose {
     }
     fn counts(stats: &mut SimStats) -> &mut ServerCounts {
         &mut stats.planner
+    }
+}
+
+impl SimAction for ComputePathThroughPoses {
+    const XML: &'static str = r#"<ComputePathThroughPoses goals="{goals}" start="{start}" planner_id="{planner_id}" path="{path}" error_code_id="{error_code}" error_msg="{error_msg}"/>"#;
+    fn put(goal: &Self::Goal, bb: &mut Blackboard) {
+        let goals: Vec<Pose2D> = goal.goals.iter().map(pose_2d).collect();
+        let _ = bb.set("goals", goals);
+        if goal.use_start {
+            let _ = bb.set("start", pose_2d(&goal.start));
+        }
+        let _ = bb.set("planner_id", goal.planner_id.clone());
+    }
+    fn result(bb: &Blackboard, code: u16, message: String, elapsed: Duration) -> Self::Result {
+        ComputePathThroughPosesResult {
+            path: path_msg(&bb.get::<Path>("path").unwrap_or_default()),
+            planning_time: elapsed.into(),
+            error_code: code,
+            error_msg: message,
+        }
+    }
+    fn counts(stats: &mut SimStats) -> &mut ServerCounts {
+        &mut stats.planner_through_poses
+    }
+}
+
+impl SimAction for SmoothPath {
+    const XML: &'static str = r#"<SmoothPath unsmoothed_path="{unsmoothed_path}" smoother_id="{smoother_id}" check_for_collisions="{check_for_collisions}" smoothed_path="{smoothed_path}" was_completed="{was_completed}" error_code_id="{error_code}" error_msg="{error_msg}"/>"#;
+    fn put(goal: &Self::Goal, bb: &mut Blackboard) {
+        let _ = bb.set("unsmoothed_path", path_2d(&goal.path));
+        let _ = bb.set("smoother_id", goal.smoother_id.clone());
+        let _ = bb.set("check_for_collisions", goal.check_for_collisions);
+    }
+    fn result(bb: &Blackboard, code: u16, message: String, elapsed: Duration) -> Self::Result {
+        SmoothPathResult {
+            path: path_msg(&bb.get::<Path>("smoothed_path").unwrap_or_default()),
+            smoothing_duration: elapsed.into(),
+            was_completed: bb.get::<bool>("was_completed").unwrap_or(false),
+            error_code: code,
+            error_msg: message,
+        }
+    }
+    fn counts(stats: &mut SimStats) -> &mut ServerCounts {
+        &mut stats.smoother
     }
 }
 
@@ -483,6 +533,8 @@ impl RegionServers {
 pub struct SimServers {
     sim: Nav2Sim,
     planner: Served<ComputePathToPose>,
+    planner_through_poses: Served<ComputePathThroughPoses>,
+    smoother: Served<SmoothPath>,
     controller: Served<FollowPath>,
     spin: Served<Spin>,
     backup: Served<BackUp>,
@@ -510,6 +562,8 @@ impl SimServers {
         let wall_period = sim.params.period.div_f64(scale);
         let servers = Self {
             planner: Served::new(ros, "compute_path_to_pose", &registry)?,
+            planner_through_poses: Served::new(ros, "compute_path_through_poses", &registry)?,
+            smoother: Served::new(ros, "smooth_path", &registry)?,
             controller: Served::new(ros, "follow_path", &registry)?,
             spin: Served::new(ros, "spin", &registry)?,
             backup: Served::new(ros, "backup", &registry)?,
@@ -551,7 +605,9 @@ impl SimServers {
     pub fn spin_once(&mut self) -> Result<(), Ros2Error> {
         let sim = &mut self.sim;
         let stats = &self.stats;
-        let planned = self.planner.poll(sim, stats)?;
+        let planned = self.planner.poll(sim, stats)?
+            | self.planner_through_poses.poll(sim, stats)?
+            | self.smoother.poll(sim, stats)?;
         // The controller and the behaviors share the robot: the newest goal has it.
         let moved = [
             self.controller.poll(sim, stats)?,
@@ -603,6 +659,8 @@ impl SimServers {
             stats.lock().clears += served;
         }
         self.planner.tick(sim, stats);
+        self.planner_through_poses.tick(sim, stats);
+        self.smoother.tick(sim, stats);
         self.controller.tick(sim, stats);
         self.spin.tick(sim, stats);
         self.backup.tick(sim, stats);
