@@ -58,7 +58,8 @@ pub const WAIT_FOR_SERVER_MS: u64 = 1000;
 /// Registers ComputePathToPose, ComputePathThroughPoses, SmoothPath, FollowPath, Spin,
 /// BackUp, DriveOnHeading, Wait,
 /// ClearEntireCostmap, ClearCostmapAroundRobot, ClearCostmapExceptRegion and
-/// ClearCostmapAroundPose as ROS 2 clients on `ros`. Fails if one of the names is taken.
+/// ClearCostmapAroundPose as ROS 2 clients on `ros`, and the battery conditions as
+/// subscribers ([`register_battery_conditions`](super::register_battery_conditions)). Fails if one of the names is taken.
 pub fn register_nav2_ros_leaves<C: 'static>(
     registry: &mut Registry<C>,
     ros: &RosNode,
@@ -118,7 +119,8 @@ pub fn register_nav2_ros_leaves<C: 'static>(
         "local_costmap/clear_around_pose_local_costmap",
         || ClearAroundPose,
         "Asks the costmap server `service_name` to forget the obstacles around `pose`.",
-    )
+    )?;
+    super::register_battery_conditions(registry, ros)
 }
 
 fn register_service<C: 'static, S: ServiceSpec<C>>(

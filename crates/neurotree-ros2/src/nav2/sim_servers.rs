@@ -9,6 +9,7 @@
 //! | costmaps | services `global_costmap/clear_entirely_global_costmap`, `local_costmap/clear_entirely_local_costmap` | forget the sensed obstacles |
 //! | costmaps | services `clear_around_`, `clear_except_` and `clear_around_pose_` of each costmap (`local_costmap/clear_around_local_costmap`, ...) | forget them in, or outside, a square (the sim's ClearCostmapAroundRobot, ClearCostmapExceptRegion, ClearCostmapAroundPose) |
 //! | pose | topic [`ROBOT_POSE_TOPIC`] | the robot's pose, each step |
+//! | battery | topic [`BATTERY_TOPIC`](super::BATTERY_TOPIC) | the world's battery (`sensor_msgs/BatteryState`: percentage, charging on the charger), each step |
 //!
 //! Each goal runs the in-process leaf of `neurotree_sim::nav2` of the same name, alone in a
 //! tree of its own, over the one [`Nav2Sim`]: the servers behave as the simulated leaves do
@@ -46,6 +47,7 @@ use crate::msg::nav2_msgs::{
     FollowPathFeedback, FollowPathResult, Spin, SpinResult, Wait, WaitResult,
 };
 use crate::msg::nav2_msgs::{SmoothPath, SmoothPathResult};
+use crate::msg::sensor_msgs::BatteryState;
 use crate::{Ros2Error, RosAction, RosNode};
 
 /// The global costmap's clearing service.
@@ -544,6 +546,7 @@ pub struct SimServers {
     clear_local: ClearServer,
     regions: [RegionServers; 2],
     poses: Publisher<PoseStamped>,
+    battery: Publisher<BatteryState>,
     stats: SimStatsHandle,
     wall_period: Duration,
     clock_running: bool,
@@ -576,6 +579,7 @@ impl SimServers {
                 RegionServers::new(ros, "local_costmap", CostmapLayer::Local)?,
             ],
             poses: ros.publisher(ROBOT_POSE_TOPIC)?,
+            battery: ros.publisher(super::BATTERY_TOPIC)?,
             stats: SimStatsHandle::default(),
             wall_period,
             clock_running: !options.start_on_first_goal,
@@ -671,6 +675,7 @@ impl SimServers {
         }
         // Best effort: the next step publishes again.
         let _ = self.poses.publish(pose_stamped(sim.world.robot()));
+        let _ = self.battery.publish(battery_state(sim));
         self.record();
         Ok(())
     }
@@ -703,5 +708,29 @@ impl SimServers {
             .marked()
             .count();
         stats.local_obstacles = self.sim.world.costmap(CostmapLayer::Local).marked().count();
+    }
+}
+
+/// The world's battery as a `BatteryState`: its charge as a fraction, charging while the
+/// robot stands on the charger with the battery not full (full there: FULL; elsewhere:
+/// DISCHARGING); nothing else is measured (NaN).
+fn battery_state(sim: &Nav2Sim) -> BatteryState {
+    let level = sim.world.battery().level();
+    let status = match (sim.world.is_on_charger(), level < 100.0) {
+        (true, true) => BatteryState::POWER_SUPPLY_STATUS_CHARGING,
+        (true, false) => BatteryState::POWER_SUPPLY_STATUS_FULL,
+        (false, _) => BatteryState::POWER_SUPPLY_STATUS_DISCHARGING,
+    };
+    BatteryState {
+        voltage: f32::NAN,
+        temperature: f32::NAN,
+        current: f32::NAN,
+        charge: f32::NAN,
+        capacity: f32::NAN,
+        design_capacity: f32::NAN,
+        percentage: (level / 100.0) as f32,
+        power_supply_status: status,
+        present: true,
+        ..BatteryState::default()
     }
 }
