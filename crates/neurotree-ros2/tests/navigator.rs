@@ -226,3 +226,39 @@ fn cancelling_the_goal_halts_the_tree_and_cancels_follow_path_on_the_server() {
     assert_eq!(seen.distance, stopped_at, "the robot stopped: {seen:?}");
     assert!(seen.robot.distance(&FAR_END) > 1.0, "{seen:?}");
 }
+
+#[test]
+fn an_application_trees_navigate_to_pose_is_served_by_the_navigator() {
+    let domain = free_domain();
+    let (_sim, stats) = sim(domain.id, hall(None));
+    let _navigator = navigator(domain.id);
+    let ros = node("application", domain.id);
+    let mut registry = neurotree_toolkit::Registry::<()>::new();
+    neurotree_ros2::nav2::register_nav2_ros_leaves(&mut registry, &ros).unwrap();
+    let mut loader = neurotree_toolkit::XmlLoader::new(&registry);
+    loader
+        .load_str(
+            r#"<root BTCPP_format="4"><BehaviorTree ID="App">
+                 <NavigateToPose goal="{goal}" error_code_id="{code}" error_msg="{msg}"/>
+               </BehaviorTree></root>"#,
+            "app.xml",
+        )
+        .unwrap();
+    let mut tree = common::tree(Arc::new(loader.build_main().unwrap()));
+    tree.blackboard_mut().set("goal", FAR_END).unwrap();
+    let status = common::tick_until_done(&mut tree, &mut (), Duration::from_secs(30));
+    let seen = stats.get();
+    assert_eq!(status, neurotree_toolkit::Status::Success, "{seen:?}");
+    assert_eq!(tree.blackboard().get::<u16>("code").unwrap(), 0);
+    assert!(seen.robot.distance(&FAR_END) <= 0.25, "{seen:?}");
+    // A goal in a wall: the navigator's tree fails, and its code reaches the application.
+    tree.blackboard_mut()
+        .set("goal", Pose2D::new(0.5, 0.5, 0.0))
+        .unwrap();
+    let status = common::tick_until_done(&mut tree, &mut (), Duration::from_secs(30));
+    assert_eq!(status, neurotree_toolkit::Status::Failure);
+    assert_eq!(
+        tree.blackboard().get::<u16>("code").unwrap(),
+        NavigateToPoseResult::UNKNOWN
+    );
+}

@@ -6,6 +6,7 @@
 //! | ComputePathToPose | `compute_path_to_pose` | `goal`, `start` / `use_start`, `planner_id` | writes `path` | empties `path` |
 //! | ComputePathThroughPoses | `compute_path_through_poses` | `goals`, `start` / `use_start`, `planner_id` | writes `path` | empties `path` |
 //! | SmoothPath | `smooth_path` | `unsmoothed_path`, `smoother_id`, `max_smoothing_duration`, `check_for_collisions` | writes `smoothed_path`, `smoothing_duration`, `was_completed` | |
+//! | NavigateToPose | `navigate_to_pose` | `goal`, `behavior_tree` | | |
 //! | FollowPath | `follow_path` | `path`, `controller_id`, `goal_checker_id`, `progress_checker_id` | | |
 //! | Spin | `spin` | `spin_dist`, `time_allowance` | | |
 //! | BackUp | `backup` | `backup_dist`, `backup_speed`, `time_allowance` | | |
@@ -48,15 +49,18 @@ use crate::msg::nav2_msgs::{
     ComputePathToPoseResult, DriveOnHeading, DriveOnHeadingGoal, DriveOnHeadingResult, FollowPath,
     FollowPathGoal, FollowPathResult, Spin, SpinGoal, SpinResult, Wait, WaitGoal, WaitResult,
 };
-use crate::msg::nav2_msgs::{SmoothPath, SmoothPathGoal, SmoothPathResult};
+use crate::msg::nav2_msgs::{
+    NavigateToPose, NavigateToPoseGoal, NavigateToPoseResult, SmoothPath, SmoothPathGoal,
+    SmoothPathResult,
+};
 use crate::{ActionError, ActionSpec, RosActionNode, RosNode, RosServiceNode, ServiceSpec};
 
 /// Nav2's BT navigator waits this long for a server (its `wait_for_service_timeout`), in
 /// milliseconds: the `wait_for_server_timeout` default of these leaves.
 pub const WAIT_FOR_SERVER_MS: u64 = 1000;
 
-/// Registers ComputePathToPose, ComputePathThroughPoses, SmoothPath, FollowPath, Spin,
-/// BackUp, DriveOnHeading, Wait,
+/// Registers ComputePathToPose, ComputePathThroughPoses, SmoothPath, NavigateToPose,
+/// FollowPath, Spin, BackUp, DriveOnHeading, Wait,
 /// ClearEntireCostmap, ClearCostmapAroundRobot, ClearCostmapExceptRegion and
 /// ClearCostmapAroundPose as ROS 2 clients on `ros`, and the battery conditions as
 /// subscribers ([`register_battery_conditions`](super::register_battery_conditions)). Fails if one of the names is taken.
@@ -79,6 +83,9 @@ pub fn register_nav2_ros_leaves<C: 'static>(
         || ComputeThrough,
     )?;
     register_action(registry, "SmoothPath", ros, "smooth_path", || Smooth)?;
+    register_action(registry, "NavigateToPose", ros, "navigate_to_pose", || {
+        Navigate
+    })?;
     register_action(registry, "FollowPath", ros, "follow_path", || Follow)?;
     register_action(registry, "Spin", ros, "spin", || SpinBy)?;
     register_action(registry, "BackUp", ros, "backup", || BackUpBy)?;
@@ -398,6 +405,46 @@ impl<C: 'static> ActionSpec<C> for Smooth {
     ) -> Status {
         let server = result.map(|r| (r.error_code, r.error_msg.as_str()));
         failed(h, SmoothPathResult::UNKNOWN, error, server)
+    }
+}
+
+/// NavigateToPose: another navigator (Nav2's, or a [`Navigator`](super::Navigator)) takes
+/// the robot to `goal`.
+struct Navigate;
+
+impl<C: 'static> ActionSpec<C> for Navigate {
+    type Action = NavigateToPose;
+
+    fn ports() -> Vec<PortSpec> {
+        vec![
+            PortSpec::input::<Pose2D>("goal").describe("Where to go."),
+            PortSpec::input::<String>("behavior_tree")
+                .describe("The navigator's tree to run; empty for its default."),
+            server_name_port(),
+            error_code_port("navigator"),
+        ]
+    }
+
+    fn goal(&mut self, h: &mut Handle<'_, C>) -> Result<NavigateToPoseGoal, String> {
+        let goal: Pose2D = required(h, "goal")?;
+        Ok(NavigateToPoseGoal {
+            pose: pose_stamped(goal),
+            behavior_tree: optional(h, "behavior_tree")?.unwrap_or_default(),
+        })
+    }
+
+    fn on_result(&mut self, h: &mut Handle<'_, C>, result: &NavigateToPoseResult) -> Status {
+        outcome(h, result.error_code, &result.error_msg)
+    }
+
+    fn on_failure(
+        &mut self,
+        h: &mut Handle<'_, C>,
+        error: &ActionError,
+        result: Option<&NavigateToPoseResult>,
+    ) -> Status {
+        let server = result.map(|r| (r.error_code, r.error_msg.as_str()));
+        failed(h, NavigateToPoseResult::UNKNOWN, error, server)
     }
 }
 
