@@ -2,10 +2,11 @@
 //! BehaviorTree.CPP's `writeTreeNodesModelXML` writes a factory's, for Groot2 and the
 //! studio to know them.
 //!
-//! With `--nav2[=RELEASE]`, Nav2's node types of that release (main when none is given):
-//! its controls and decorators, and its conditions and actions as the simulator implements
-//! them (their ports, defaults and descriptions), the one it cannot give a meaning
-//! (AssistedTeleop) as Nav2's model declares it. The document is BehaviorTree.CPP format 4:
+//! With `--nav2[=RELEASE]`, Nav2's node types of that release (main when none is given).
+//! For main: its controls and decorators, and its conditions and actions as the simulator
+//! implements them (their ports, defaults and descriptions), the one it cannot give a
+//! meaning (AssistedTeleop) as Nav2's model declares it. For Jazzy and Kilted: the types as
+//! their own models declare them (NeuroTree's nodes have main's ports). The document is BehaviorTree.CPP format 4:
 //! one `<Action>`, `<Condition>`, `<Control>` or `<Decorator>` per type, by name, with its
 //! `input_port`, `output_port` and `inout_port` elements (name, type, default, description).
 //! Port types are the Rust types the ports convert to, as BehaviorTree.CPP writes the
@@ -38,18 +39,20 @@ pub struct ModelsArgs {
     pub output: Option<PathBuf>,
 }
 
-/// The `TreeNodesModel` document of Nav2's node types of `release`.
+/// The `TreeNodesModel` document of Nav2's node types of `release`: for main, as NeuroTree
+/// implements them (its controls and simulated leaves, AssistedTeleop as Nav2 declares it);
+/// for an older release, as that release's model declares them, since NeuroTree's nodes
+/// have main's ports.
 pub fn nav2_model(release: Nav2Release) -> String {
     let mut registry = Registry::<Nav2Sim>::new();
-    // A fresh registry holds only the built-ins, none of which has a Nav2 name.
-    register_nav2_leaves(&mut registry).expect("Nav2's names are free in a fresh registry");
-    let types: Vec<&str> = release.types().collect();
-    for leaf in neurotree::sim::nav2::LEAVES {
-        if !types.contains(&leaf) {
-            registry.remove(leaf);
-        }
+    if release == Nav2Release::Main {
+        // A fresh registry holds only the built-ins, none of which has a Nav2 name.
+        register_nav2_leaves(&mut registry).expect("Nav2's names are free in a fresh registry");
+        register_release(&mut registry, release).expect("Nav2's names are free but for its leaves");
+    } else {
+        // The model is part of the program; the test below loads it.
+        let _ = registry.add_model_str(release.model(), &release.model_file());
     }
-    register_release(&mut registry, release).expect("Nav2's names are free but for its leaves");
     registry.tree_nodes_model()
 }
 

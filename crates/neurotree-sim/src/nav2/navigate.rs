@@ -17,6 +17,8 @@
 //!
 //! Nav2's server runs a whole navigator tree (`behavior_tree` picks which); the simulated
 //! one plans and follows, replanning when blocked, and reads `behavior_tree` nowhere.
+//! Without a `goal`, Nav2's node logs an error and still sends a goal at the origin; the
+//! simulated one fails at once (UNKNOWN), which is what such a goal usually comes to.
 
 use neurotree_core::{Handle, StatefulAction, Status};
 
