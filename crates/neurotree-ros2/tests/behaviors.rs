@@ -113,3 +113,45 @@ fn drive_on_heading_into_the_wall_fails_with_the_servers_collision_code() {
     // Stopped before the wall at x = 6.
     assert!(seen.robot.x < 6.0 && seen.robot.x > 5.0, "{seen:?}");
 }
+
+#[test]
+fn a_spin_cancelled_by_someone_else_succeeds_as_nav2s_does() {
+    let domain = free_domain();
+    let served = Served::start(domain.id, GridWorld::parse(CORRIDOR, 1.0).unwrap());
+    let ros = node("bt_navigator", domain.id);
+    let mut registry = Registry::<()>::new();
+    register_nav2_ros_leaves(&mut registry, &ros).unwrap();
+    let mut loader = XmlLoader::new(&registry);
+    loader
+        .load_str(
+            r#"<root BTCPP_format="4"><BehaviorTree ID="T">
+                 <Spin spin_dist="6.0" time_allowance="60" error_code_id="{code}"/>
+               </BehaviorTree></root>"#,
+            "spin.xml",
+        )
+        .unwrap();
+    let mut tree = Tree::new(Arc::new(loader.build_main().unwrap()));
+    let other = node("other_client", domain.id);
+    let canceller = other
+        .action_client::<neurotree_ros2::msg::nav2_msgs::Spin>("spin")
+        .unwrap();
+    let until = std::time::Instant::now() + Duration::from_secs(20);
+    let mut cancelled = false;
+    let status = loop {
+        let status = tree.tick_once(&mut ()).unwrap();
+        if status != Status::Running || std::time::Instant::now() > until {
+            break status;
+        }
+        let seen = served.stats.get();
+        if !cancelled && seen.spin.goals == 1 && seen.robot.theta > 0.2 {
+            canceller.cancel_all_goals().unwrap();
+            cancelled = true;
+        }
+        std::thread::sleep(Duration::from_millis(10));
+    };
+    assert_eq!(status, Status::Success);
+    assert_eq!(tree.blackboard().get::<u16>("code").unwrap(), 0);
+    let seen = served.stats.get();
+    assert_eq!((seen.spin.cancels, seen.spin.succeeded), (1, 0), "{seen:?}");
+    assert!(seen.robot.theta < 6.0, "{seen:?}");
+}

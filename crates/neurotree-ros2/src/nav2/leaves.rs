@@ -20,7 +20,8 @@
 //! The actions write the server's `error_code` to `error_code_id` (0 on success; the
 //! server's code when it aborted; the node's UNKNOWN code when the server could not be
 //! reached or answered nothing), and the reason to `error_msg`, so that Nav2's
-//! `WouldA…RecoveryHelp` conditions read them as in Nav2.
+//! `WouldA…RecoveryHelp` conditions read them as in Nav2. A goal someone else cancelled
+//! ends the node with Success and code 0, as Nav2's `on_cancelled` does.
 //!
 //! Ports that name Nav2 plugins the simulator does not have (`path_handler_id`,
 //! `is_recovery`, `disable_collision_checks`, `plugins`) are declared, so that Nav2's files
@@ -229,13 +230,17 @@ fn outcome<C>(h: &mut Handle<'_, C>, code: u16, message: &str) -> Status {
 }
 
 /// A failure: the server's code and message when it sent a result, else `unknown` and
-/// the node's reason.
+/// the node's reason. A goal cancelled by someone else ends with Success and code 0, as
+/// Nav2's nodes end then (`on_cancelled`).
 fn failed<C>(
     h: &mut Handle<'_, C>,
     unknown: u16,
     error: &ActionError,
     server: Option<(u16, &str)>,
 ) -> Status {
+    if matches!(error, ActionError::Canceled { .. }) {
+        return outcome(h, 0, "");
+    }
     let (code, message) = match server {
         Some((code, message)) if code != 0 => (code, message.to_owned()),
         _ => (unknown, error.to_string()),
