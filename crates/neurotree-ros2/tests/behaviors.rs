@@ -155,3 +155,32 @@ fn a_spin_cancelled_by_someone_else_succeeds_as_nav2s_does() {
     assert_eq!((seen.spin.cancels, seen.spin.succeeded), (1, 0), "{seen:?}");
     assert!(seen.robot.theta < 6.0, "{seen:?}");
 }
+
+#[test]
+fn cancel_spin_asks_the_server_to_cancel_and_the_spin_succeeds() {
+    let domain = free_domain();
+    let served = Served::start(domain.id, GridWorld::parse(CORRIDOR, 1.0).unwrap());
+    // The spin runs; a second in, CancelSpin asks the server to cancel every spin goal.
+    let (status, code) = run(
+        domain.id,
+        r#"<Parallel success_count="2" failure_count="1">
+             <Spin spin_dist="6.0" time_allowance="60" error_code_id="{code}"/>
+             <Delay delay_msec="1000"><CancelSpin/></Delay>
+           </Parallel>"#,
+    );
+    assert_eq!((status, code), (Status::Success, 0));
+    let seen = served.stats.get();
+    assert_eq!((seen.spin.cancels, seen.spin.succeeded), (1, 0), "{seen:?}");
+    // With nothing to cancel, the server still answers.
+    let (status, _) = run(
+        domain.id,
+        r#"<Sequence><CancelBackUp/><CancelWait/><SetBlackboard output_key="code" value="7"/></Sequence>"#,
+    );
+    assert_eq!(status, Status::Success);
+    // No server of that name: Failure once `wait_for_server_timeout` is over.
+    let (status, _) = run(
+        domain.id,
+        r#"<CancelSpin action_name="nobody_spins" wait_for_server_timeout="300"/>"#,
+    );
+    assert_eq!(status, Status::Failure);
+}

@@ -63,7 +63,8 @@ pub const WAIT_FOR_SERVER_MS: u64 = 1000;
 /// Registers ComputePathToPose, ComputePathThroughPoses, SmoothPath, NavigateToPose,
 /// FollowPath, Spin, BackUp, DriveOnHeading, Wait,
 /// ClearEntireCostmap, ClearCostmapAroundRobot, ClearCostmapExceptRegion and
-/// ClearCostmapAroundPose as ROS 2 clients on `ros`, and the battery conditions as
+/// ClearCostmapAroundPose as ROS 2 clients on `ros`, the cancel nodes
+/// ([`register_cancel_nodes`](super::register_cancel_nodes)) and the battery conditions as
 /// subscribers ([`register_battery_conditions`](super::register_battery_conditions)). Fails if one of the names is taken.
 pub fn register_nav2_ros_leaves<C: 'static>(
     registry: &mut Registry<C>,
@@ -128,6 +129,7 @@ pub fn register_nav2_ros_leaves<C: 'static>(
         || ClearAroundPose,
         "Asks the costmap server `service_name` to forget the obstacles around `pose`.",
     )?;
+    super::register_cancel_nodes(registry, ros)?;
     super::register_battery_conditions(registry, ros)
 }
 
