@@ -262,3 +262,37 @@ fn an_application_trees_navigate_to_pose_is_served_by_the_navigator() {
         NavigateToPoseResult::UNKNOWN
     );
 }
+
+#[test]
+fn the_navigator_loads_nav2s_blackboard_and_pose_nodes_and_refuses_one_it_lacks_by_name() {
+    let domain = free_domain();
+    let ros = node("bt_navigator", domain.id);
+    let tree = |body: &str| {
+        format!(r#"<root BTCPP_format="4"><BehaviorTree ID="N">{body}</BehaviorTree></root>"#)
+    };
+    let known = tree(
+        r#"<Sequence>
+             <GetCurrentPose current_pose="{pose}"/>
+             <ArePosesNear ref_pose="{pose}" target_pose="{goal}"/>
+             <GoalReached goal="{goal}"/>
+             <RemovePassedGoals input_goals="{goals}" output_goals="{goals}"/>
+             <GetNextFewGoals num_goals="2" input_goals="{goals}" output_goals="{next}"/>
+             <ComputePathThroughPoses goals="{next}" path="{path}"/>
+             <TruncatePath input_path="{path}" output_path="{path}"/>
+             <SmoothPath unsmoothed_path="{path}" smoothed_path="{path}"/>
+             <IsBatteryLow min_battery="0.2"/>
+             <CancelSpin/>
+           </Sequence>"#,
+    );
+    let options = NavigatorOptions::default();
+    assert!(Navigator::new(&ros, &known, "known.xml", hall(None), &options).is_ok());
+    let docking = tree(r#"<DockRobot dock_id="home"/>"#);
+    let refused = Navigator::new(&ros, &docking, "dock.xml", hall(None), &options);
+    let Err(error) = refused else {
+        panic!("DockRobot has no ROS 2 client yet");
+    };
+    assert!(
+        error.to_string().contains("unknown node type `DockRobot`"),
+        "{error}"
+    );
+}

@@ -497,9 +497,12 @@ pub fn register_nav2_leaves<C: Nav2Context>(
 }
 
 /// Registers the Nav2 leaves that call no server in Nav2 either, or only to read what the
-/// navigator's own view answers: the six selectors, IsGoalNearby, TruncatePathLocal,
-/// ValidatePath, the five error-code conditions (WouldAPlannerRecoveryHelp, …,
-/// AreErrorCodesPresent), AppendGoalPoseToGoals and GetNextFewGoals. A navigator
+/// navigator's own view answers (the map, the robot's pose, the clock): the six selectors,
+/// IsGoalNearby, TruncatePathLocal, ValidatePath, the five error-code conditions
+/// (WouldAPlannerRecoveryHelp, …, AreErrorCodesPresent), AppendGoalPoseToGoals,
+/// GetNextFewGoals, GetCurrentPose, GetPoseFromPath, ConcatenatePaths, ArePosesNear,
+/// GoalReached, TruncatePath, IsWithinPathTrackingBounds, PathExpiringTimer and
+/// RemovePassedGoals. A navigator
 /// whose planner, controller, behaviors and costmaps are served elsewhere (over ROS 2)
 /// registers these and its own clients for the rest. Fails if one of the names is taken.
 pub fn register_nav2_checks<C: Nav2Context>(
@@ -508,7 +511,10 @@ pub fn register_nav2_checks<C: Nav2Context>(
     selectors::register(registry)?;
     path_checks::register(registry)?;
     recovery_help::register(registry)?;
-    goal_lists::register(registry)
+    goal_lists::register(registry)?;
+    poses::register(registry)?;
+    tracking::register(registry)?;
+    through_poses::register_remove_passed_goals(registry)
 }
 
 /// The names [`register_nav2_leaves`] registers, in its order.
