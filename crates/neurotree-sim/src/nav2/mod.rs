@@ -501,8 +501,9 @@ pub fn register_nav2_leaves<C: Nav2Context>(
 /// IsGoalNearby, TruncatePathLocal, ValidatePath, the five error-code conditions
 /// (WouldAPlannerRecoveryHelp, …, AreErrorCodesPresent), AppendGoalPoseToGoals,
 /// GetNextFewGoals, GetCurrentPose, GetPoseFromPath, ConcatenatePaths, ArePosesNear,
-/// GoalReached, TruncatePath, IsWithinPathTrackingBounds, PathExpiringTimer and
-/// RemovePassedGoals. A navigator
+/// GoalReached, TruncatePath, IsWithinPathTrackingBounds, PathExpiringTimer,
+/// RemovePassedGoals, DistanceTraveled, TimeExpired, TransformAvailable and
+/// InitialPoseReceived. A navigator
 /// whose planner, controller, behaviors and costmaps are served elsewhere (over ROS 2)
 /// registers these and its own clients for the rest. Fails if one of the names is taken.
 pub fn register_nav2_checks<C: Nav2Context>(
@@ -514,10 +515,11 @@ pub fn register_nav2_checks<C: Nav2Context>(
     goal_lists::register(registry)?;
     poses::register(registry)?;
     tracking::register(registry)?;
-    through_poses::register_remove_passed_goals(registry)
+    through_poses::register_remove_passed_goals(registry)?;
+    odometry::register_pose_and_clock(registry)
 }
 
-/// The names [`register_nav2_leaves`] registers, in its order.
+/// The names [`register_nav2_leaves`] registers.
 pub const LEAVES: [&str; 65] = [
     "ComputePathToPose",
     "FollowPath",

@@ -48,6 +48,7 @@ fn frame(name: &str) -> PortSpec {
 }
 
 pub(super) fn register<C: Nav2Context>(r: &mut Registry<C>) -> Result<(), RegistryError> {
+    register_pose_and_clock(r)?;
     r.register_condition("IsStuck", vec![], |h: &Handle<'_, C>| {
         h.ctx().nav2().acceleration() < BRAKE_ACCEL_LIMIT
     })?;
@@ -55,6 +56,31 @@ pub(super) fn register<C: Nav2Context>(r: &mut Registry<C>) -> Result<(), Regist
         "IsStuck",
         "Succeeds when the robot braked harder than 10 m/s².",
     );
+    r.register_stateful(
+        "CheckStopStatus",
+        vec![
+            PortSpec::input::<f64>("velocity_threshold")
+                .default_value("0.01")
+                .describe("Speed (m/s, rad/s) under which the robot counts as still."),
+            PortSpec::input::<u64>("duration_stopped")
+                .default_value("1000")
+                .describe("Milliseconds the robot must be still."),
+        ],
+        CheckStopStatus::default,
+    )?;
+    r.describe(
+        "CheckStopStatus",
+        "Runs while the robot is still, succeeds once it was still for `duration_stopped`.",
+    );
+    Ok(())
+}
+
+/// DistanceTraveled, TimeExpired, TransformAvailable and InitialPoseReceived: they read only
+/// the robot's pose, the clock and the blackboard, so a navigator whose world is elsewhere
+/// (over ROS 2) has them too.
+pub(super) fn register_pose_and_clock<C: Nav2Context>(
+    r: &mut Registry<C>,
+) -> Result<(), RegistryError> {
     r.register_custom_as(
         "DistanceTraveled",
         Category::Condition,
@@ -82,22 +108,6 @@ pub(super) fn register<C: Nav2Context>(r: &mut Registry<C>) -> Result<(), Regist
         || Box::new(TimeExpired::default()),
     )?;
     r.describe("TimeExpired", "Succeeds each time `seconds` have passed.");
-    r.register_stateful(
-        "CheckStopStatus",
-        vec![
-            PortSpec::input::<f64>("velocity_threshold")
-                .default_value("0.01")
-                .describe("Speed (m/s, rad/s) under which the robot counts as still."),
-            PortSpec::input::<u64>("duration_stopped")
-                .default_value("1000")
-                .describe("Milliseconds the robot must be still."),
-        ],
-        CheckStopStatus::default,
-    )?;
-    r.describe(
-        "CheckStopStatus",
-        "Runs while the robot is still, succeeds once it was still for `duration_stopped`.",
-    );
     r.register_custom_as(
         "TransformAvailable",
         Category::Condition,
