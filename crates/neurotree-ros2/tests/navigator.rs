@@ -282,6 +282,10 @@ fn the_navigator_loads_nav2s_blackboard_and_pose_nodes_and_refuses_one_it_lacks_
              <SmoothPath unsmoothed_path="{path}" smoothed_path="{path}"/>
              <IsBatteryLow min_battery="0.2"/>
              <CancelSpin/>
+             <TimeExpired seconds="2"/>
+             <DistanceTraveled distance="1"/>
+             <InitialPoseReceived/>
+             <TransformAvailable child="base_link" parent="map"/>
            </Sequence>"#,
     );
     let options = NavigatorOptions::default();
