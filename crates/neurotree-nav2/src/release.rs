@@ -7,6 +7,11 @@
 //! registry that knows exactly its types, so a file checked against Jazzy is refused if it
 //! uses a node Jazzy does not have. With main, the names Nav2 changed ([`RENAMED`]) load
 //! from older files as their new names, with a warning.
+//!
+//! The controls and decorators an older release has are NeuroTree's, which follow Nav2 main:
+//! with Jazzy or Kilted, RoundRobin still takes `wrap_around` (added after Kilted) and runs
+//! as main's does, and GoalUpdater takes `input_goals` / `output_goals` (added after Jazzy).
+//! The other types of an older release are declared by its own model, with its ports.
 
 use std::fmt;
 use std::str::FromStr;
