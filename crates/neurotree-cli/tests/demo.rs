@@ -553,3 +553,33 @@ fn the_docking_example_undocks_works_and_docks_again() {
         "{out}"
     );
 }
+
+#[test]
+fn a_tree_with_nav2s_old_names_runs_with_a_warning() {
+    let dir = std::env::temp_dir().join(format!("neurotree-old-names-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let tree = dir.join("kilted.xml");
+    std::fs::write(
+        &tree,
+        r#"<root BTCPP_format="4"><BehaviorTree ID="T">
+  <IsStopped duration_stopped="500"/>
+</BehaviorTree></root>"#,
+    )
+    .unwrap();
+    let (code, out, err) = demo_cli(&["--tree", tree.to_str().unwrap()]);
+    // The robot stands still from the start: more than 500 ms at the seventh tick.
+    assert_eq!(
+        (code, last_line(&out)),
+        (0, "navigation succeeded"),
+        "{err}"
+    );
+    assert!(out.contains("\n  ticks       7\n"), "{out}");
+    assert_eq!(
+        err,
+        format!(
+            "{}:2:3: warning: `IsStopped` is `CheckStopStatus` now (renamed in Nav2 after Kilted); it loads as `CheckStopStatus`, write that\n",
+            tree.display()
+        )
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -56,6 +56,9 @@ pub fn run(
             return Ok(None);
         }
     };
+    for warning in demo.warnings() {
+        writeln!(err, "{warning}")?;
+    }
     let period = opts.config.params.period;
     let mut screen = Screen::new(opts.terminal, &demo);
     writeln!(out, "{}", demo.intro())?;

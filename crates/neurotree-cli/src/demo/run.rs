@@ -254,6 +254,8 @@ pub struct DemoRun {
     notes: Vec<String>,
     /// Plans made in the last tick.
     plans_in_tick: u32,
+    /// What the loader warned of (an old Nav2 name, say), `file:line:col: warning: …`.
+    warnings: Vec<String>,
 }
 
 impl DemoRun {
@@ -283,6 +285,7 @@ impl DemoRun {
             }
         };
         let blueprint = Arc::new(loader.build_main().map_err(not_simulated)?);
+        let warnings = loader.warnings().iter().map(ToString::to_string).collect();
         let mut scenario = Scenario::new(config.seed, config.goal, &config.params)?;
         let unreachable = scenario.obstacle.is_none();
         if !config.obstacle {
@@ -330,7 +333,13 @@ impl DemoRun {
             error: None,
             notes: Vec::new(),
             plans_in_tick: 0,
+            warnings,
         })
+    }
+
+    /// What the loader warned of, one line each: an old Nav2 name that loads as its new one.
+    pub fn warnings(&self) -> &[String] {
+        &self.warnings
     }
 
     /// `true` once the tree has completed, the tick limit is reached, or the duration is
