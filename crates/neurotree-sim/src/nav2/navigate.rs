@@ -175,6 +175,8 @@ mod tests {
         );
         b.set_goal(Pose2D::new(4.5, 1.5, 0.0));
         let run = b.run(200);
+        // 4 m at 1 m/s, blocked in front of the obstacle, then round it: 61 ticks.
+        assert_eq!(run.len(), 61);
         assert_eq!(run.last(), Some(&S));
         assert!(b.sim.world.robot().distance(&Pose2D::new(4.5, 1.5, 0.0)) < 1e-9);
         assert_eq!(b.get::<u16>("code"), 0);
@@ -211,6 +213,8 @@ mod tests {
         let end = Pose2D::new(4.5, 0.5, 0.0);
         b.set("goals", vec![via, end]);
         let run = b.run(200);
+        // √2 + 1 m to the first pose, 2√2 m on to the second: 5.24 m, seen at tick 54.
+        assert_eq!(run.len(), 54);
         assert_eq!(run.last(), Some(&S));
         assert!(b.sim.world.robot().distance(&end) < 1e-9);
         let mut b = Bench::new(HALL, r#"<NavigateToPose goal="{goal}"/>"#);

@@ -634,6 +634,9 @@ mod tests {
         // Node 1 is under the robot: reached.
         assert_eq!((b.get::<u16>("last"), b.get::<u16>("next")), (1, 5));
         let run = b.run(200);
+        // The tracking ends a metre from node 4; FollowPath 0.25 m from it, 5.75 m along the
+        // route's 6 m: after 58 steps of 0.1 m (one before these ticks, 57 between them).
+        assert_eq!(run.len(), 58);
         assert_eq!(run.last(), Some(&S));
         assert_eq!(b.get::<u16>("last"), 4);
         assert_eq!(b.sim.goals.route_tracking, GoalState::Idle);
