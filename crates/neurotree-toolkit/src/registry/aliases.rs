@@ -69,29 +69,38 @@ pub(crate) struct Renamed {
     pub warning: String,
 }
 
+/// An alias as the registry finds it: a row of the table, or an old name it was told.
+pub(crate) enum AliasRef<'r> {
+    Table(&'static Alias),
+    Renamed(&'r Renamed),
+}
+
+impl AliasRef<'_> {
+    /// The warning a file using the alias gets.
+    pub(crate) fn warning(&self) -> String {
+        match self {
+            AliasRef::Table(alias) => alias.warning(),
+            AliasRef::Renamed(renamed) => renamed.warning.clone(),
+        }
+    }
+}
+
 impl<C: 'static> Registry<C> {
-    /// The type alias `name` loads as, unless `name` is registered itself.
-    pub(crate) fn alias(&self, name: &str) -> Option<&NodeType<C>> {
+    /// The alias `name` is, with the type it loads as, unless `name` is registered itself.
+    pub(crate) fn alias(&self, name: &str) -> Option<(AliasRef<'_>, &NodeType<C>)> {
         // The table first: it is asked about every element of every file loaded, and two
         // comparisons cost less than a search of the registry.
-        let target = match ALIASES.iter().find(|a| a.name == name) {
-            Some(alias) => alias.target,
-            None => self.renamed.get(name)?.target.as_str(),
+        let (alias, target) = match ALIASES.iter().find(|a| a.name == name) {
+            Some(alias) => (AliasRef::Table(alias), alias.target),
+            None => {
+                let renamed = self.renamed.get(name)?;
+                (AliasRef::Renamed(renamed), renamed.target.as_str())
+            }
         };
         if self.types.contains_key(name) {
             return None;
         }
-        self.types.get(target)
-    }
-
-    /// The warning a file that names a type by alias `name` gets; `None` when `name` is no
-    /// alias or is registered itself.
-    pub(crate) fn alias_warning(&self, name: &str) -> Option<String> {
-        self.alias(name)?;
-        match ALIASES.iter().find(|a| a.name == name) {
-            Some(alias) => Some(alias.warning()),
-            None => self.renamed.get(name).map(|r| r.warning.clone()),
-        }
+        Some((alias, self.types.get(target)?))
     }
 
     /// Lets files name registered type `new` by its old name `old`, as a library of nodes

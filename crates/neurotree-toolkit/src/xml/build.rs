@@ -603,7 +603,9 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
             Some((known, node_type)) if same(known, name) => Some(node_type),
             _ => {
                 let registry = self.loader.registry;
-                let node_type = registry.get(name).or_else(|| registry.alias(name))?;
+                let node_type = registry
+                    .get(name)
+                    .or_else(|| registry.alias(name).map(|(_, t)| t))?;
                 *slot = Some((name, node_type));
                 Some(node_type)
             }

@@ -484,8 +484,8 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
             } else {
                 el.tag()
             };
-            if let Some(warning) = self.registry.alias_warning(type_name) {
-                self.warnings.push(el.warning(warning));
+            if let Some((alias, _)) = self.registry.alias(type_name) {
+                self.warnings.push(el.warning(alias.warning()));
             }
         }
     }
