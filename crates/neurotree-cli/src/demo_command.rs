@@ -59,6 +59,18 @@ pub struct DemoArgs {
     pub no_obstacle: bool,
     #[command(flatten)]
     pub studio: crate::studio::StudioFlags,
+    /// The battery's charge at the start, in percent; under 100 the robot, which starts on
+    /// its dock, is charging (Nav2's docking example then undocks first).
+    #[arg(long, value_name = "PERCENT", default_value_t = 100.0, value_parser = parse_battery)]
+    pub battery: f64,
+}
+
+/// A charge in percent, 0 to 100.
+fn parse_battery(text: &str) -> Result<f64, String> {
+    match text.trim().parse::<f64>() {
+        Ok(level) if (0.0..=100.0).contains(&level) => Ok(level),
+        _ => Err(format!("`{text}` should be a percentage from 0 to 100")),
+    }
 }
 
 /// A number of seconds, more than 0.
@@ -104,6 +116,7 @@ pub fn execute(args: DemoArgs, out: &mut impl Write) -> io::Result<Outcome> {
             obstacle: !args.no_obstacle,
             duration: args.duration,
             start_heading: args.heading.to_radians(),
+            battery: args.battery,
             ..Default::default()
         },
         speed: (!args.fast && args.speed > 0.0).then_some(args.speed),
@@ -116,7 +129,9 @@ pub fn execute(args: DemoArgs, out: &mut impl Write) -> io::Result<Outcome> {
     };
     let mut err = io::stderr();
     let files: Vec<std::path::PathBuf> = opts.config.tree.iter().cloned().collect();
-    let nav2 = crate::registry::Nav2Args { nav2: true };
+    let nav2 = crate::registry::Nav2Args {
+        nav2: Some(neurotree::nav2::Nav2Release::Main),
+    };
     let summary = match crate::studio::Served::start(&args.studio, &files, nav2, &mut err)? {
         Err(()) => return Ok(Outcome::Refused),
         Ok(None) => demo::run(&opts, out, &mut err)?,

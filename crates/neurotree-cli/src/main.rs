@@ -10,6 +10,7 @@
 //! - `neurotree test`: run scenario files (mocks, inputs, expectations per tick) as tests.
 //! - `neurotree show`: draw a BehaviorTree.CPP file's tree as text, DOT, Mermaid or SVG.
 //! - `neurotree studio`: see, edit, watch and replay trees in the browser (feature `studio`).
+//! - `neurotree models`: write the TreeNodesModel of Nav2's node types.
 //!
 //! Each command's flags and what it does are in its own module, so that a command reads in
 //! one file; here the command line is only parsed and handed over, and the outcome turned
@@ -23,6 +24,7 @@ mod demo_command;
 mod files;
 mod groot;
 mod live;
+mod models;
 mod registry;
 #[cfg(feature = "ros2")]
 mod ros2;
@@ -65,6 +67,8 @@ enum Command {
     /// See, edit, watch and replay behavior trees in the browser: serves a page on
     /// 127.0.0.1 and prints its URL on stderr.
     Studio(studio::StudioArgs),
+    /// Write the TreeNodesModel of Nav2's node types (--nav2), for Groot2 and the studio.
+    Models(models::ModelsArgs),
     /// Nav2's navigator and the simulated Nav2 servers as ROS 2 processes on 127.0.0.1.
     #[cfg(feature = "ros2")]
     #[command(subcommand)]
@@ -109,6 +113,7 @@ fn main() -> ExitCode {
         Command::Show(args) => show::execute(&args, &mut out, &mut io::stderr()),
         Command::Check(args) => check::execute(&args, &mut out, &mut io::stderr()),
         Command::Studio(args) => studio::execute(&args, &mut io::stderr()),
+        Command::Models(args) => models::execute(&args, &mut out, &mut io::stderr()),
     };
     match result {
         Ok(Outcome::Done) => ExitCode::SUCCESS,

@@ -213,7 +213,9 @@ pub fn navigator(
     )?;
     out.flush()?;
     let files: Vec<PathBuf> = tree.iter().cloned().collect();
-    let nav2 = crate::registry::Nav2Args { nav2: true };
+    let nav2 = crate::registry::Nav2Args {
+        nav2: Some(neurotree::nav2::Nav2Release::Main),
+    };
     let mut served = match crate::studio::Served::start(studio, &files, nav2, &mut io::stderr())? {
         Ok(served) => served,
         Err(()) => return Ok(Outcome::Refused),

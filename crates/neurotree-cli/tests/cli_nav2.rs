@@ -111,3 +111,99 @@ fn run_without_nav2_does_not_know_nav2_leaves() {
     assert_eq!(code, Some(1));
     assert!(err.contains("unknown node type"), "{err}");
 }
+
+/// A tree written for Nav2 Kilted: its stop and path checks under their old names.
+const KILTED_TREE: &str = r#"<root BTCPP_format="4" main_tree_to_execute="T">
+  <BehaviorTree ID="T">
+    <Sequence>
+      <IsStopped duration_stopped="500"/>
+      <IsPathValid path="{path}"/>
+    </Sequence>
+  </BehaviorTree>
+</root>
+"#;
+
+#[test]
+fn check_knows_each_releases_model_and_loads_old_names_on_main_with_a_warning() {
+    let dir = std::env::temp_dir().join(format!("neurotree-nav2-releases-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("kilted.xml");
+    std::fs::write(&file, KILTED_TREE).unwrap();
+    let path = file.to_str().unwrap();
+    let shown = file.display();
+    // Main (the default release): loads, warning of each renamed node.
+    let (code, out, err) = neurotree(&["check", "--nav2", path]);
+    assert_eq!(code, Some(0), "{err}");
+    assert_eq!(out, format!("{shown}: ok (1 tree)\n"));
+    assert_eq!(
+        err,
+        format!(
+            "{shown}:4:7: warning: `IsStopped` is `CheckStopStatus` now (renamed in Nav2 after Kilted); it loads as `CheckStopStatus`, write that\n\
+             {shown}:5:7: warning: `IsPathValid` is `ValidatePath` now (renamed in Nav2 after Kilted); it loads as `ValidatePath`, write that\n"
+        )
+    );
+    let (code, _, err) = neurotree(&["check", "--nav2=main", path]);
+    assert_eq!(code, Some(0), "{err}");
+    // Kilted has both under these names: no warning.
+    let (code, _, err) = neurotree(&["check", "--nav2=kilted", path]);
+    assert_eq!((code, err.as_str()), (Some(0), ""));
+    // Jazzy had no IsStopped yet.
+    let (code, _, err) = neurotree(&["check", "--nav2=jazzy", path]);
+    assert_eq!(code, Some(1));
+    assert!(
+        err.contains(":4:7: error: unknown node type `IsStopped`"),
+        "{err}"
+    );
+    // Nav2 main's navigator uses nodes Jazzy does not have.
+    let navigator =
+        corpus_dir::corpus("nav2").join("navigate_to_pose_w_replanning_and_recovery.xml");
+    let (code, _, err) = neurotree(&["check", "--nav2=jazzy", navigator.to_str().unwrap()]);
+    assert_eq!(code, Some(1));
+    assert!(err.contains("unknown node type `ValidatePath`"), "{err}");
+    // run and show take the release too.
+    let (code, _, err) = neurotree(&["run", "--nav2=kilted", "--mock-unknown", path]);
+    assert_eq!(code, Some(0), "{err}");
+    let (code, _, err) = neurotree(&["show", "--nav2=kilted", path]);
+    assert_eq!(code, Some(0), "{err}");
+    let (code, _, err) = neurotree(&["check", "--nav2=rolling", path]);
+    assert_eq!(code, Some(2));
+    assert!(
+        err.contains("`rolling` is not a Nav2 release NeuroTree knows"),
+        "{err}"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn models_nav2_writes_a_model_of_81_types_that_checks_nav2s_trees() {
+    let (code, out, err) = neurotree(&["models", "--nav2"]);
+    assert_eq!(code, Some(0), "{err}");
+    assert!(
+        out.starts_with("<root BTCPP_format=\"4\">\n  <TreeNodesModel>\n"),
+        "{out}"
+    );
+    assert_eq!(out.matches(" ID=\"").count(), 81);
+    assert!(out.contains("<Control ID=\"PipelineSequence\""), "{out}");
+    assert!(out.contains("<Action ID=\"DockRobot\">"), "{out}");
+    // Written to a file, it stands in for --nav2: every tree Nav2 ships checks against it.
+    let dir = std::env::temp_dir().join(format!("neurotree-models-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let model = dir.join("nav2_model.xml");
+    let (code, _, err) = neurotree(&["models", "--nav2=main", "--output", model.to_str().unwrap()]);
+    assert_eq!((code, err.as_str()), (Some(0), ""));
+    for (name, path) in nav2_trees() {
+        let (code, out, err) = neurotree(&[
+            "check",
+            "--model",
+            model.to_str().unwrap(),
+            path.to_str().unwrap(),
+        ]);
+        assert_eq!(code, Some(0), "{name}: {out}{err}");
+    }
+    let (_, jazzy, _) = neurotree(&["models", "--nav2=jazzy"]);
+    assert_eq!(jazzy.matches(" ID=\"").count(), 65);
+    let (code, _, err) = neurotree(&["models"]);
+    assert_eq!(code, Some(2));
+    assert!(err.contains("--nav2"), "{err}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}

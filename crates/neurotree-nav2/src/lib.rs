@@ -90,6 +90,7 @@ mod persistent_sequence;
 mod pipeline_sequence;
 mod rate_controller;
 mod recovery_node;
+mod release;
 pub mod robotics;
 mod round_robin;
 mod single_trigger;
@@ -111,6 +112,10 @@ pub use persistent_sequence::PersistentSequence;
 pub use pipeline_sequence::PipelineSequence;
 pub use rate_controller::RateController;
 pub use recovery_node::RecoveryNode;
+pub use release::{
+    register_release, Nav2Release, UnknownRelease, NAV2_JAZZY_TREE_NODES_MODEL,
+    NAV2_KILTED_TREE_NODES_MODEL, RENAMED,
+};
 pub use round_robin::RoundRobin;
 pub use single_trigger::SingleTrigger;
 pub use speed_controller::{SpeedController, ROBOT_SPEED};
@@ -125,6 +130,26 @@ use neurotree_core::{Arity, Category, CustomSpec, FromPortStr, NodeCtx, PortValu
 
 use crate::robotics::{Path, Pose2D};
 use neurotree_toolkit::{PortSpec, Registry, RegistryError};
+
+/// The names [`register_controls`] registers: Nav2's six controls, seven decorators and
+/// two goal conditions.
+pub const CONTROLS: [&str; 15] = [
+    "PipelineSequence",
+    "RecoveryNode",
+    "RoundRobin",
+    "NonblockingSequence",
+    "PauseResumeController",
+    "PersistentSequence",
+    "RateController",
+    "DistanceController",
+    "SingleTrigger",
+    "GoalUpdater",
+    "SpeedController",
+    "PathLongerOnApproach",
+    "GoalUpdatedController",
+    "GoalUpdated",
+    "GlobalUpdatedGoal",
+];
 
 /// Registers every control and decorator of Nav2 (PipelineSequence, RecoveryNode,
 /// RoundRobin, NonblockingSequence, PauseResumeController, PersistentSequence,

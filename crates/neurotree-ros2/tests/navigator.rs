@@ -226,3 +226,77 @@ fn cancelling_the_goal_halts_the_tree_and_cancels_follow_path_on_the_server() {
     assert_eq!(seen.distance, stopped_at, "the robot stopped: {seen:?}");
     assert!(seen.robot.distance(&FAR_END) > 1.0, "{seen:?}");
 }
+
+#[test]
+fn an_application_trees_navigate_to_pose_is_served_by_the_navigator() {
+    let domain = free_domain();
+    let (_sim, stats) = sim(domain.id, hall(None));
+    let _navigator = navigator(domain.id);
+    let ros = node("application", domain.id);
+    let mut registry = neurotree_toolkit::Registry::<()>::new();
+    neurotree_ros2::nav2::register_nav2_ros_leaves(&mut registry, &ros).unwrap();
+    let mut loader = neurotree_toolkit::XmlLoader::new(&registry);
+    loader
+        .load_str(
+            r#"<root BTCPP_format="4"><BehaviorTree ID="App">
+                 <NavigateToPose goal="{goal}" error_code_id="{code}" error_msg="{msg}"/>
+               </BehaviorTree></root>"#,
+            "app.xml",
+        )
+        .unwrap();
+    let mut tree = common::tree(Arc::new(loader.build_main().unwrap()));
+    tree.blackboard_mut().set("goal", FAR_END).unwrap();
+    let status = common::tick_until_done(&mut tree, &mut (), Duration::from_secs(30));
+    let seen = stats.get();
+    assert_eq!(status, neurotree_toolkit::Status::Success, "{seen:?}");
+    assert_eq!(tree.blackboard().get::<u16>("code").unwrap(), 0);
+    assert!(seen.robot.distance(&FAR_END) <= 0.25, "{seen:?}");
+    // A goal in a wall: the navigator's tree fails, and its code reaches the application.
+    tree.blackboard_mut()
+        .set("goal", Pose2D::new(0.5, 0.5, 0.0))
+        .unwrap();
+    let status = common::tick_until_done(&mut tree, &mut (), Duration::from_secs(30));
+    assert_eq!(status, neurotree_toolkit::Status::Failure);
+    assert_eq!(
+        tree.blackboard().get::<u16>("code").unwrap(),
+        NavigateToPoseResult::UNKNOWN
+    );
+}
+
+#[test]
+fn the_navigator_loads_nav2s_blackboard_and_pose_nodes_and_refuses_one_it_lacks_by_name() {
+    let domain = free_domain();
+    let ros = node("bt_navigator", domain.id);
+    let tree = |body: &str| {
+        format!(r#"<root BTCPP_format="4"><BehaviorTree ID="N">{body}</BehaviorTree></root>"#)
+    };
+    let known = tree(
+        r#"<Sequence>
+             <GetCurrentPose current_pose="{pose}"/>
+             <ArePosesNear ref_pose="{pose}" target_pose="{goal}"/>
+             <GoalReached goal="{goal}"/>
+             <RemovePassedGoals input_goals="{goals}" output_goals="{goals}"/>
+             <GetNextFewGoals num_goals="2" input_goals="{goals}" output_goals="{next}"/>
+             <ComputePathThroughPoses goals="{next}" path="{path}"/>
+             <TruncatePath input_path="{path}" output_path="{path}"/>
+             <SmoothPath unsmoothed_path="{path}" smoothed_path="{path}"/>
+             <IsBatteryLow min_battery="0.2"/>
+             <CancelSpin/>
+             <TimeExpired seconds="2"/>
+             <DistanceTraveled distance="1"/>
+             <InitialPoseReceived/>
+             <TransformAvailable child="base_link" parent="map"/>
+           </Sequence>"#,
+    );
+    let options = NavigatorOptions::default();
+    assert!(Navigator::new(&ros, &known, "known.xml", hall(None), &options).is_ok());
+    let docking = tree(r#"<DockRobot dock_id="home"/>"#);
+    let refused = Navigator::new(&ros, &docking, "dock.xml", hall(None), &options);
+    let Err(error) = refused else {
+        panic!("DockRobot has no ROS 2 client yet");
+    };
+    assert!(
+        error.to_string().contains("unknown node type `DockRobot`"),
+        "{error}"
+    );
+}

@@ -89,6 +89,18 @@ impl Costmap {
         self.marks.iter_mut().for_each(|m| *m = false);
     }
 
+    /// Forgets the sensed obstacles in the cells for which `forget` is `true`; the walls
+    /// stay. Returns how many were forgotten.
+    pub fn clear_where(&mut self, forget: impl Fn(Cell) -> bool) -> usize {
+        let cells: Vec<Cell> = self.marked().filter(|c| forget(*c)).collect();
+        for cell in &cells {
+            if let Some(i) = self.index(*cell) {
+                self.marks[i] = false;
+            }
+        }
+        cells.len()
+    }
+
     /// The cheapest 8-connected route of free cells from `from` to `to`, both included,
     /// also avoiding the cells for which `avoid` is `true`. The start cell may be blocked
     /// (the robot is standing there); a blocked goal has no route.

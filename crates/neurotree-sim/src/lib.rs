@@ -66,7 +66,7 @@ mod world;
 pub use battery::Battery;
 pub use costmap::Costmap;
 pub use grid::{Cell, GridMap, MapError};
-pub use motion::MotionStatus;
+pub use motion::{MotionKind, MotionStatus};
 pub use obstacle::TimedObstacle;
 pub use render::LEGEND;
 pub use sensors::{BatterySensor, Camera, Lidar};

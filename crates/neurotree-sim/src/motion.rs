@@ -48,6 +48,22 @@ impl fmt::Display for MotionStatus {
     }
 }
 
+/// What the robot was last commanded to do, so that Nav2's cancel nodes stop only the
+/// motion of their own behavior.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MotionKind {
+    /// Following a path ([`GridWorld::follow`]).
+    Follow,
+    /// Turning on the spot ([`GridWorld::spin`]).
+    Spin,
+    /// Driving backwards ([`GridWorld::back_up`]).
+    BackUp,
+    /// Driving straight on ([`GridWorld::drive_on_heading`]).
+    DriveOnHeading,
+    /// Standing still ([`GridWorld::wait`]).
+    Wait,
+}
+
 /// A command and what is left of it.
 #[derive(Clone, Debug, Default, PartialEq)]
 enum Command {
@@ -143,6 +159,18 @@ impl GridWorld {
     /// Where the current (or last) command stands.
     pub fn motion_status(&self) -> MotionStatus {
         self.motion.status
+    }
+
+    /// The kind of the current (or last, unless stopped) command; `None` after a stop.
+    pub fn motion_kind(&self) -> Option<MotionKind> {
+        match &self.motion.command {
+            Command::None => None,
+            Command::Follow { .. } => Some(MotionKind::Follow),
+            Command::Spin { .. } => Some(MotionKind::Spin),
+            Command::BackUp { forward: false, .. } => Some(MotionKind::BackUp),
+            Command::BackUp { forward: true, .. } => Some(MotionKind::DriveOnHeading),
+            Command::Wait { .. } => Some(MotionKind::Wait),
+        }
     }
 
     /// The path of the current (or last, unless stopped) follow command.

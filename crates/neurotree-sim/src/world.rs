@@ -286,6 +286,26 @@ impl GridWorld {
         }
     }
 
+    /// Forgets the obstacles a costmap learned in the cells for which `forget` is `true`;
+    /// returns how many.
+    pub fn clear_costmap_where(
+        &mut self,
+        layer: CostmapLayer,
+        forget: impl Fn(Cell) -> bool,
+    ) -> usize {
+        match layer {
+            CostmapLayer::Global => self.global.clear_where(forget),
+            CostmapLayer::Local => self.local.clear_where(forget),
+        }
+    }
+
+    /// `true` while the robot stands on the charger's cell with no motion under way: the
+    /// battery reports itself charging (or full).
+    pub fn is_on_charger(&self) -> bool {
+        self.charger == Some(self.robot_cell())
+            && self.motion_status() != super::MotionStatus::Active
+    }
+
     /// A path from `from` to `to` on the global costmap, or `None` if there is none.
     pub fn plan(&mut self, from: Pose2D, to: Pose2D) -> Option<Path> {
         self.plan_around(from, to, &[])

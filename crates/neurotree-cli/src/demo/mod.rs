@@ -18,7 +18,7 @@ mod scenario;
 
 pub use frame::Layout;
 pub use run::{DemoConfig, DemoError, DemoRun, DemoSummary, NAVIGATE_TO_POSE_XML};
-pub use scenario::{Scenario, DEFAULT_GOAL, WAREHOUSE};
+pub use scenario::{dock, route_graph, Scenario, DEFAULT_GOAL, PLACING_LOCATION, WAREHOUSE};
 
 /// How `neurotree demo` shows the run.
 pub struct DemoOptions {
@@ -80,6 +80,9 @@ pub fn run_watched(
             return Ok(None);
         }
     };
+    for warning in demo.warnings() {
+        writeln!(err, "{warning}")?;
+    }
     let period = opts.config.params.period;
     let mut screen = Screen::new(opts.terminal, &demo);
     writeln!(out, "{}", demo.intro())?;

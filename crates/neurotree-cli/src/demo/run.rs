@@ -16,13 +16,14 @@ use std::time::Duration;
 use neurotree::{BlackboardError, Status, Tree};
 
 use super::frame::{Layout, Parts};
-use super::scenario::{Scenario, DEFAULT_GOAL};
+use super::scenario::{dock, route_graph, Scenario, DEFAULT_GOAL, PLACING_LOCATION};
 use neurotree::render::LastTickStatuses;
 use neurotree::robotics::{Path, Pose2D};
 use neurotree::sim::nav2::{
     register_nav2_leaves, EventLog, FailureNotes, Nav2Params, Nav2Sim, RecoveryCounter,
+    NOT_SIMULATED,
 };
-use neurotree::sim::{MapError, LEGEND};
+use neurotree::sim::{Battery, MapError, LEGEND};
 use neurotree::{nav2, LoadError, Registry, RegistryError, XmlLoader};
 
 /// Nav2's NavigateToPose navigator with replanning and recovery, as Nav2 ships it: the
@@ -57,6 +58,9 @@ pub struct DemoConfig {
     /// robot is ([`DemoSummary::within_tolerance`]): for a tree that never ends by itself,
     /// such as Nav2's `follow_point.xml`.
     pub duration: Option<Duration>,
+    /// The battery's charge at the start, in percent: under 100, a robot on the charger is
+    /// charging (Nav2's docking example then undocks first).
+    pub battery: f64,
 }
 
 impl Default for DemoConfig {
@@ -73,6 +77,7 @@ impl Default for DemoConfig {
             obstacle: true,
             duration: None,
             start_heading: 0.0,
+            battery: 100.0,
         }
     }
 }
@@ -107,8 +112,12 @@ fn not_simulated(mut error: LoadError) -> LoadError {
         .and_then(|rest| rest.split_once("` is only described by a model"))
         .map(|(name, _)| name.to_string());
     if let Some(name) = name {
+        let why = NOT_SIMULATED
+            .iter()
+            .find(|(n, _)| *n == name)
+            .map_or(String::new(), |(_, why)| format!(": {why}"));
         error.message = format!(
-            "`{name}` is a Nav2 node the demo's simulated robot does not implement \
+            "`{name}` is a Nav2 node the demo's simulated robot does not implement{why} \
              (the simulated ones are listed in neurotree::sim::nav2::LEAVES)"
         );
     }
@@ -245,6 +254,8 @@ pub struct DemoRun {
     notes: Vec<String>,
     /// Plans made in the last tick.
     plans_in_tick: u32,
+    /// What the loader warned of (an old Nav2 name, say), `file:line:col: warning: …`.
+    warnings: Vec<String>,
 }
 
 impl DemoRun {
@@ -258,6 +269,10 @@ impl DemoRun {
         registry
             .add_model_str(nav2::NAV2_TREE_NODES_MODEL, "nav2_tree_nodes.xml")
             .map_err(|e| DemoError::Model(e.to_string()))?;
+        // Files written for older releases load, with a warning, as on `check --nav2`.
+        for (old, new) in nav2::RENAMED {
+            registry.add_renamed(old, new, "renamed in Nav2 after Kilted");
+        }
         let mut loader = XmlLoader::new(&registry);
         let tree_file = match &config.tree {
             Some(path) => {
@@ -270,22 +285,32 @@ impl DemoRun {
             }
         };
         let blueprint = Arc::new(loader.build_main().map_err(not_simulated)?);
+        let warnings = loader.warnings().iter().map(ToString::to_string).collect();
         let mut scenario = Scenario::new(config.seed, config.goal, &config.params)?;
         let unreachable = scenario.obstacle.is_none();
         if !config.obstacle {
             scenario.obstacle = None;
         }
         let log = EventLog::new();
-        let mut world = scenario.world()?;
+        let mut world = scenario.world()?.with_battery(Battery::at(config.battery));
         let start = world.robot();
         world.set_robot(Pose2D::new(start.x, start.y, config.start_heading))?;
         let sim = Nav2Sim::new(world)
             .with_params(config.params)
-            .with_log(log.clone());
+            .with_log(log.clone())
+            .with_dock(dock())
+            .with_route_graph(route_graph());
         let mut tree = Tree::with_clock(Arc::clone(&blueprint), sim.world.clock());
         tree.blackboard_mut().set("goal", config.goal)?;
         // The through-poses navigator's goals: the one goal.
         tree.blackboard_mut().set("goals", vec![config.goal])?;
+        // What Nav2's docking example asks of its user: where to pick and place, and the
+        // dock to return to.
+        tree.blackboard_mut().set("picking_location", config.goal)?;
+        tree.blackboard_mut()
+            .set("placing_location", PLACING_LOCATION)?;
+        tree.blackboard_mut().set("dock_id", dock().id)?;
+        tree.blackboard_mut().set("dock_type", dock().dock_type)?;
         let seen = LastTickStatuses::new();
         let recoveries = RecoveryCounter::new(&blueprint).with_log(log.clone());
         // Failures are told as the nodes give their reasons, in the order they come.
@@ -308,7 +333,13 @@ impl DemoRun {
             error: None,
             notes: Vec::new(),
             plans_in_tick: 0,
+            warnings,
         })
+    }
+
+    /// What the loader warned of, one line each: an old Nav2 name that loads as its new one.
+    pub fn warnings(&self) -> &[String] {
+        &self.warnings
     }
 
     /// `true` once the tree has completed, the tick limit is reached, or the duration is

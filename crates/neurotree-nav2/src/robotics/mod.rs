@@ -3,7 +3,8 @@
 //! - [`sensor`]: the [`SensorReader`] trait and the sensor node (read, check quality,
 //!   publish on the blackboard);
 //! - [`navigation`]: the [`MotionPlanner`] trait and the navigation node (plan, follow,
-//!   replan when blocked, stop when halted), with [`Path`] and [`Obstacle`].
+//!   replan when blocked, stop when halted), with [`Path`] and [`Obstacle`];
+//! - [`route`]: a [`Route`] on a route graph, as Nav2's route server gives it.
 //!
 //! Everything here is plain data and traits, so the same nodes drive a real robot or the
 //! simulated one of `neurotree::sim`. Nodes reach the robot through the user's context:
@@ -12,6 +13,7 @@
 //! [`register_navigation`].
 
 pub mod navigation;
+pub mod route;
 pub mod sensor;
 
 use core::fmt;
@@ -21,6 +23,7 @@ use neurotree_core::{Builder, FromPortStr, NodeKind, Port};
 pub use navigation::{
     register_navigation, MotionPlanner, NavigationError, NavigationNode, Obstacle, Path, Progress,
 };
+pub use route::{Route, RouteEdge, RouteNode};
 pub use sensor::{register_sensor, SensorData, SensorError, SensorNode, SensorReader, SensorValue};
 
 /// Adds the robotics nodes to a [`Builder`], with their ports bound.

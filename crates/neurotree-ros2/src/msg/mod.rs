@@ -17,6 +17,7 @@ pub mod builtin_interfaces;
 pub mod geometry_msgs;
 pub mod nav2_msgs;
 pub mod nav_msgs;
+pub mod sensor_msgs;
 pub mod std_msgs;
 
 #[cfg(test)]

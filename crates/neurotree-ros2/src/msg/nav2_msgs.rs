@@ -94,6 +94,107 @@ pub struct ComputePathToPoseFeedback {
 }
 
 action!(
+    /// `nav2_msgs/action/ComputePathThroughPoses`: the planner server's path through poses.
+    ComputePathThroughPoses: ComputePathThroughPosesGoal, ComputePathThroughPosesResult,
+    ComputePathThroughPosesFeedback
+);
+
+/// The goal of [`ComputePathThroughPoses`] (Jazzy's: the goals as an array of poses).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct ComputePathThroughPosesGoal {
+    /// The poses to pass, in order.
+    pub goals: Vec<PoseStamped>,
+    /// Where it starts, when `use_start`.
+    pub start: PoseStamped,
+    /// Which planner plugin; empty for the only one.
+    pub planner_id: String,
+    /// `false`: start at the robot's current pose.
+    pub use_start: bool,
+}
+
+/// The result of [`ComputePathThroughPoses`].
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct ComputePathThroughPosesResult {
+    /// The path found.
+    pub path: Path,
+    /// How long planning took.
+    pub planning_time: Duration,
+    /// 0, or one of the constants.
+    pub error_code: u16,
+    /// What went wrong, for people.
+    pub error_msg: String,
+}
+
+impl ComputePathThroughPosesResult {
+    /// No error.
+    pub const NONE: u16 = 0;
+    /// An error without a code of its own.
+    pub const UNKNOWN: u16 = 300;
+    /// No path joins the poses.
+    pub const NO_VALID_PATH: u16 = 308;
+    /// No goals were given.
+    pub const NO_VIAPOINTS_GIVEN: u16 = 309;
+}
+
+/// The feedback of [`ComputePathThroughPoses`]: none.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct ComputePathThroughPosesFeedback {
+    /// Always 0.
+    pub structure_needs_at_least_one_member: u8,
+}
+
+action!(
+    /// `nav2_msgs/action/SmoothPath`: the smoother server smooths a path.
+    SmoothPath: SmoothPathGoal, SmoothPathResult, SmoothPathFeedback
+);
+
+/// The goal of [`SmoothPath`].
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct SmoothPathGoal {
+    /// The path to smooth.
+    pub path: Path,
+    /// Which smoother plugin; empty for the only one.
+    pub smoother_id: String,
+    /// How long smoothing may take.
+    pub max_smoothing_duration: Duration,
+    /// Fail if the smoothed path collides.
+    pub check_for_collisions: bool,
+}
+
+/// The result of [`SmoothPath`].
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct SmoothPathResult {
+    /// The smoothed path.
+    pub path: Path,
+    /// How long smoothing took.
+    pub smoothing_duration: Duration,
+    /// Whether it finished within `max_smoothing_duration`.
+    pub was_completed: bool,
+    /// 0, or one of the constants.
+    pub error_code: u16,
+    /// What went wrong, for people.
+    pub error_msg: String,
+}
+
+impl SmoothPathResult {
+    /// No error.
+    pub const NONE: u16 = 0;
+    /// An error without a code of its own.
+    pub const UNKNOWN: u16 = 500;
+    /// The smoothed path collides.
+    pub const SMOOTHED_PATH_IN_COLLISION: u16 = 503;
+    /// The path is empty.
+    pub const INVALID_PATH: u16 = 505;
+}
+
+/// The feedback of [`SmoothPath`]: none.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct SmoothPathFeedback {
+    /// Always 0.
+    pub structure_needs_at_least_one_member: u8,
+}
+
+action!(
     /// `nav2_msgs/action/FollowPath`: the controller server drives along a path.
     FollowPath: FollowPathGoal, FollowPathResult, FollowPathFeedback
 );
@@ -247,6 +348,55 @@ pub struct BackUpFeedback {
 }
 
 action!(
+    /// `nav2_msgs/action/DriveOnHeading`: the behavior server drives the robot straight on.
+    DriveOnHeading: DriveOnHeadingGoal, DriveOnHeadingResult, DriveOnHeadingFeedback
+);
+
+/// The goal of [`DriveOnHeading`].
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct DriveOnHeadingGoal {
+    /// How far, as a point in the robot's frame (x negative to drive backwards).
+    pub target: Point,
+    /// m/s, negative backwards.
+    pub speed: f32,
+    /// How long it may take.
+    pub time_allowance: Duration,
+}
+
+/// The result of [`DriveOnHeading`].
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct DriveOnHeadingResult {
+    /// How long it took.
+    pub total_elapsed_time: Duration,
+    /// 0, or one of the constants.
+    pub error_code: u16,
+    /// What went wrong, for people.
+    pub error_msg: String,
+}
+
+impl DriveOnHeadingResult {
+    /// No error.
+    pub const NONE: u16 = 0;
+    /// An error without a code of its own.
+    pub const UNKNOWN: u16 = 720;
+    /// It took longer than `time_allowance`.
+    pub const TIMEOUT: u16 = 721;
+    /// A transform was missing.
+    pub const TF_ERROR: u16 = 722;
+    /// Driving on would collide.
+    pub const COLLISION_AHEAD: u16 = 723;
+    /// The goal was unusable.
+    pub const INVALID_INPUT: u16 = 724;
+}
+
+/// The feedback of [`DriveOnHeading`].
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct DriveOnHeadingFeedback {
+    /// Meters driven so far.
+    pub distance_traveled: f32,
+}
+
+action!(
     /// `nav2_msgs/action/Wait`: the behavior server waits.
     Wait: WaitGoal, WaitResult, WaitFeedback
 );
@@ -301,6 +451,71 @@ pub struct ClearEntireCostmapResponse {
 }
 
 parts!(ClearEntireCostmapRequest, ClearEntireCostmapResponse);
+
+/// Declares a clearing service whose response is empty.
+macro_rules! clearing {
+    ($(#[$doc:meta])* $name:ident: $request:ident, $response:ident) => {
+        $(#[$doc])*
+        #[derive(Clone, Copy, Debug)]
+        pub struct $name;
+
+        impl RosService for $name {
+            type Request = $request;
+            type Response = $response;
+            const TYPE: (&'static str, &'static str) = ("nav2_msgs", stringify!($name));
+        }
+
+        #[doc = concat!("The response of [`", stringify!($name), "`].")]
+        #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+        pub struct $response {
+            /// Nothing.
+            pub response: Empty,
+        }
+
+        parts!($request, $response);
+    };
+}
+
+clearing!(
+    /// `nav2_msgs/srv/ClearCostmapAroundRobot`: a costmap forgets the obstacles in a square
+    /// around the robot.
+    ClearCostmapAroundRobot: ClearCostmapAroundRobotRequest, ClearCostmapAroundRobotResponse
+);
+
+/// The request of [`ClearCostmapAroundRobot`].
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct ClearCostmapAroundRobotRequest {
+    /// The square's side, in metres.
+    pub reset_distance: f32,
+}
+
+clearing!(
+    /// `nav2_msgs/srv/ClearCostmapExceptRegion`: a costmap forgets the obstacles outside a
+    /// square around the robot.
+    ClearCostmapExceptRegion: ClearCostmapExceptRegionRequest, ClearCostmapExceptRegionResponse
+);
+
+/// The request of [`ClearCostmapExceptRegion`].
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct ClearCostmapExceptRegionRequest {
+    /// The square's side, in metres.
+    pub reset_distance: f32,
+}
+
+clearing!(
+    /// `nav2_msgs/srv/ClearCostmapAroundPose`: a costmap forgets the obstacles in a square
+    /// around a pose.
+    ClearCostmapAroundPose: ClearCostmapAroundPoseRequest, ClearCostmapAroundPoseResponse
+);
+
+/// The request of [`ClearCostmapAroundPose`].
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct ClearCostmapAroundPoseRequest {
+    /// The square's centre.
+    pub pose: PoseStamped,
+    /// The square's side, in metres.
+    pub reset_distance: f64,
+}
 
 action!(
     /// `nav2_msgs/action/NavigateToPose`: the BT navigator drives the robot to a pose.

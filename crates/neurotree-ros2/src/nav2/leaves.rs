@@ -4,16 +4,24 @@
 //! | node | server (default name) | goal from the ports | Success | on failure |
 //! |---|---|---|---|---|
 //! | ComputePathToPose | `compute_path_to_pose` | `goal`, `start` / `use_start`, `planner_id` | writes `path` | empties `path` |
+//! | ComputePathThroughPoses | `compute_path_through_poses` | `goals`, `start` / `use_start`, `planner_id` | writes `path` | empties `path` |
+//! | SmoothPath | `smooth_path` | `unsmoothed_path`, `smoother_id`, `max_smoothing_duration`, `check_for_collisions` | writes `smoothed_path`, `smoothing_duration`, `was_completed` | |
+//! | NavigateToPose | `navigate_to_pose` | `goal`, `behavior_tree` | | |
 //! | FollowPath | `follow_path` | `path`, `controller_id`, `goal_checker_id`, `progress_checker_id` | | |
 //! | Spin | `spin` | `spin_dist`, `time_allowance` | | |
 //! | BackUp | `backup` | `backup_dist`, `backup_speed`, `time_allowance` | | |
+//! | DriveOnHeading | `drive_on_heading` | `dist_to_travel`, `speed`, `time_allowance` | | |
 //! | Wait | `wait` | `wait_duration` | | |
 //! | ClearEntireCostmap | `service_name` (`local_costmap/clear_entirely_local_costmap`) | | on the response | |
+//! | ClearCostmapAroundRobot | `service_name` (`local_costmap/clear_around_local_costmap`) | `reset_distance` | on the response | |
+//! | ClearCostmapExceptRegion | `service_name` (`local_costmap/clear_except_local_costmap`) | `reset_distance` | on the response | |
+//! | ClearCostmapAroundPose | `service_name` (`local_costmap/clear_around_pose_local_costmap`) | `pose`, `reset_distance` | on the response | |
 //!
 //! The actions write the server's `error_code` to `error_code_id` (0 on success; the
 //! server's code when it aborted; the node's UNKNOWN code when the server could not be
 //! reached or answered nothing), and the reason to `error_msg`, so that Nav2's
-//! `WouldA…RecoveryHelp` conditions read them as in Nav2.
+//! `WouldA…RecoveryHelp` conditions read them as in Nav2. A goal someone else cancelled
+//! ends the node with Success and code 0, as Nav2's `on_cancelled` does.
 //!
 //! Ports that name Nav2 plugins the simulator does not have (`path_handler_id`,
 //! `is_recovery`, `disable_collision_checks`, `plugins`) are declared, so that Nav2's files
@@ -33,10 +41,18 @@ use neurotree_toolkit::{Handle, PortError, PortSpec, Registry, RegistryError, St
 use super::convert::{path_2d, path_msg, pose_stamped};
 use crate::msg::geometry_msgs::Point;
 use crate::msg::nav2_msgs::{
-    BackUp, BackUpGoal, BackUpResult, ClearEntireCostmap, ClearEntireCostmapRequest,
-    ClearEntireCostmapResponse, ComputePathToPose, ComputePathToPoseGoal, ComputePathToPoseResult,
-    FollowPath, FollowPathGoal, FollowPathResult, Spin, SpinGoal, SpinResult, Wait, WaitGoal,
-    WaitResult,
+    BackUp, BackUpGoal, BackUpResult, ClearCostmapAroundPose, ClearCostmapAroundPoseRequest,
+    ClearCostmapAroundPoseResponse, ClearCostmapAroundRobot, ClearCostmapAroundRobotRequest,
+    ClearCostmapAroundRobotResponse, ClearCostmapExceptRegion, ClearCostmapExceptRegionRequest,
+    ClearCostmapExceptRegionResponse, ClearEntireCostmap, ClearEntireCostmapRequest,
+    ClearEntireCostmapResponse, ComputePathThroughPoses, ComputePathThroughPosesGoal,
+    ComputePathThroughPosesResult, ComputePathToPose, ComputePathToPoseGoal,
+    ComputePathToPoseResult, DriveOnHeading, DriveOnHeadingGoal, DriveOnHeadingResult, FollowPath,
+    FollowPathGoal, FollowPathResult, Spin, SpinGoal, SpinResult, Wait, WaitGoal, WaitResult,
+};
+use crate::msg::nav2_msgs::{
+    NavigateToPose, NavigateToPoseGoal, NavigateToPoseResult, SmoothPath, SmoothPathGoal,
+    SmoothPathResult,
 };
 use crate::{ActionError, ActionSpec, RosActionNode, RosNode, RosServiceNode, ServiceSpec};
 
@@ -44,8 +60,12 @@ use crate::{ActionError, ActionSpec, RosActionNode, RosNode, RosServiceNode, Ser
 /// milliseconds: the `wait_for_server_timeout` default of these leaves.
 pub const WAIT_FOR_SERVER_MS: u64 = 1000;
 
-/// Registers ComputePathToPose, FollowPath, Spin, BackUp, Wait and ClearEntireCostmap as
-/// ROS 2 clients on `ros`. Fails if one of the names is taken.
+/// Registers ComputePathToPose, ComputePathThroughPoses, SmoothPath, NavigateToPose,
+/// FollowPath, Spin, BackUp, DriveOnHeading, Wait,
+/// ClearEntireCostmap, ClearCostmapAroundRobot, ClearCostmapExceptRegion and
+/// ClearCostmapAroundPose as ROS 2 clients on `ros`, the cancel nodes
+/// ([`register_cancel_nodes`](super::register_cancel_nodes)) and the battery conditions as
+/// subscribers ([`register_battery_conditions`](super::register_battery_conditions)). Fails if one of the names is taken.
 pub fn register_nav2_ros_leaves<C: 'static>(
     registry: &mut Registry<C>,
     ros: &RosNode,
@@ -57,9 +77,23 @@ pub fn register_nav2_ros_leaves<C: 'static>(
         "compute_path_to_pose",
         || ComputePath,
     )?;
+    register_action(
+        registry,
+        "ComputePathThroughPoses",
+        ros,
+        "compute_path_through_poses",
+        || ComputeThrough,
+    )?;
+    register_action(registry, "SmoothPath", ros, "smooth_path", || Smooth)?;
+    register_action(registry, "NavigateToPose", ros, "navigate_to_pose", || {
+        Navigate
+    })?;
     register_action(registry, "FollowPath", ros, "follow_path", || Follow)?;
     register_action(registry, "Spin", ros, "spin", || SpinBy)?;
     register_action(registry, "BackUp", ros, "backup", || BackUpBy)?;
+    register_action(registry, "DriveOnHeading", ros, "drive_on_heading", || {
+        DriveOn
+    })?;
     register_action(registry, "Wait", ros, "wait", || WaitFor)?;
     let ros_node = ros.clone();
     let name = "local_costmap/clear_entirely_local_costmap";
@@ -71,6 +105,48 @@ pub fn register_nav2_ros_leaves<C: 'static>(
         "ClearEntireCostmap",
         "Asks the costmap server `service_name` to forget every obstacle.",
     );
+    register_service(
+        registry,
+        "ClearCostmapAroundRobot",
+        ros,
+        "local_costmap/clear_around_local_costmap",
+        || ClearAround,
+        "Asks the costmap server `service_name` to forget the obstacles around the robot.",
+    )?;
+    register_service(
+        registry,
+        "ClearCostmapExceptRegion",
+        ros,
+        "local_costmap/clear_except_local_costmap",
+        || ClearExcept,
+        "Asks the costmap server `service_name` to forget the obstacles away from the robot.",
+    )?;
+    register_service(
+        registry,
+        "ClearCostmapAroundPose",
+        ros,
+        "local_costmap/clear_around_pose_local_costmap",
+        || ClearAroundPose,
+        "Asks the costmap server `service_name` to forget the obstacles around `pose`.",
+    )?;
+    super::register_cancel_nodes(registry, ros)?;
+    super::register_battery_conditions(registry, ros)
+}
+
+fn register_service<C: 'static, S: ServiceSpec<C>>(
+    registry: &mut Registry<C>,
+    type_name: &str,
+    ros: &RosNode,
+    default_name: &'static str,
+    make: fn() -> S,
+    description: &str,
+) -> Result<(), RegistryError> {
+    let ros = ros.clone();
+    let ports = with_wait_default(RosServiceNode::<C, S>::ports(default_name));
+    registry.register_stateful(type_name, ports, move || {
+        RosServiceNode::new(ros.clone(), default_name, make())
+    })?;
+    registry.describe(type_name, description);
     Ok(())
 }
 
@@ -156,13 +232,17 @@ fn outcome<C>(h: &mut Handle<'_, C>, code: u16, message: &str) -> Status {
 }
 
 /// A failure: the server's code and message when it sent a result, else `unknown` and
-/// the node's reason.
+/// the node's reason. A goal cancelled by someone else ends with Success and code 0, as
+/// Nav2's nodes end then (`on_cancelled`).
 fn failed<C>(
     h: &mut Handle<'_, C>,
     unknown: u16,
     error: &ActionError,
     server: Option<(u16, &str)>,
 ) -> Status {
+    if matches!(error, ActionError::Canceled { .. }) {
+        return outcome(h, 0, "");
+    }
     let (code, message) = match server {
         Some((code, message)) if code != 0 => (code, message.to_owned()),
         _ => (unknown, error.to_string()),
@@ -222,6 +302,156 @@ impl<C: 'static> ActionSpec<C> for ComputePath {
         emit(h, "path", Path::default());
         let server = result.map(|r| (r.error_code, r.error_msg.as_str()));
         failed(h, ComputePathToPoseResult::UNKNOWN, error, server)
+    }
+}
+
+/// ComputePathThroughPoses: the planner server's path from the robot (or `start`) through
+/// each of `goals`.
+struct ComputeThrough;
+
+impl<C: 'static> ActionSpec<C> for ComputeThrough {
+    type Action = ComputePathThroughPoses;
+
+    fn ports() -> Vec<PortSpec> {
+        vec![
+            PortSpec::input::<Vec<Pose2D>>("goals").describe("The poses to pass, in order."),
+            PortSpec::input::<Pose2D>("start").describe("Where it starts, instead of the robot."),
+            PortSpec::input::<String>("planner_id")
+                .default_value("")
+                .describe("The planner plugin; empty for the only one."),
+            server_name_port(),
+            PortSpec::output::<Path>("path").describe("The path found."),
+            error_code_port("planner"),
+        ]
+    }
+
+    fn goal(&mut self, h: &mut Handle<'_, C>) -> Result<ComputePathThroughPosesGoal, String> {
+        let goals: Vec<Pose2D> = optional(h, "goals")?.unwrap_or_default();
+        let start: Option<Pose2D> = optional(h, "start")?;
+        Ok(ComputePathThroughPosesGoal {
+            goals: goals.into_iter().map(pose_stamped).collect(),
+            start: pose_stamped(start.unwrap_or_default()),
+            planner_id: optional(h, "planner_id")?.unwrap_or_default(),
+            use_start: start.is_some(),
+        })
+    }
+
+    fn on_result(
+        &mut self,
+        h: &mut Handle<'_, C>,
+        result: &ComputePathThroughPosesResult,
+    ) -> Status {
+        if result.error_code == ComputePathThroughPosesResult::NONE {
+            emit(h, "path", path_2d(&result.path));
+        }
+        outcome(h, result.error_code, &result.error_msg)
+    }
+
+    fn on_failure(
+        &mut self,
+        h: &mut Handle<'_, C>,
+        error: &ActionError,
+        result: Option<&ComputePathThroughPosesResult>,
+    ) -> Status {
+        emit(h, "path", Path::default());
+        let server = result.map(|r| (r.error_code, r.error_msg.as_str()));
+        failed(h, ComputePathThroughPosesResult::UNKNOWN, error, server)
+    }
+}
+
+/// SmoothPath: the smoother server smooths `unsmoothed_path`.
+struct Smooth;
+
+impl<C: 'static> ActionSpec<C> for Smooth {
+    type Action = SmoothPath;
+
+    fn ports() -> Vec<PortSpec> {
+        vec![
+            PortSpec::input::<Path>("unsmoothed_path").describe("The path to smooth."),
+            PortSpec::input::<f64>("max_smoothing_duration")
+                .default_value("3.0")
+                .describe("Seconds smoothing may take."),
+            PortSpec::input::<bool>("check_for_collisions")
+                .default_value("false")
+                .describe("Fail when the smoothed path collides."),
+            PortSpec::input::<String>("smoother_id").describe("The smoother plugin."),
+            server_name_port(),
+            PortSpec::output::<Path>("smoothed_path").describe("The smoothed path."),
+            PortSpec::output::<f64>("smoothing_duration").describe("Seconds smoothing took."),
+            PortSpec::output::<bool>("was_completed").describe("Smoothing finished in time."),
+            error_code_port("smoother"),
+        ]
+    }
+
+    fn goal(&mut self, h: &mut Handle<'_, C>) -> Result<SmoothPathGoal, String> {
+        let path: Path = required(h, "unsmoothed_path")?;
+        let allowed: f64 = optional(h, "max_smoothing_duration")?.unwrap_or(3.0);
+        Ok(SmoothPathGoal {
+            path: path_msg(&path),
+            smoother_id: optional(h, "smoother_id")?.unwrap_or_default(),
+            max_smoothing_duration: seconds(allowed),
+            check_for_collisions: optional(h, "check_for_collisions")?.unwrap_or(false),
+        })
+    }
+
+    fn on_result(&mut self, h: &mut Handle<'_, C>, result: &SmoothPathResult) -> Status {
+        if result.error_code == SmoothPathResult::NONE {
+            emit(h, "smoothed_path", path_2d(&result.path));
+            let took: Duration = result.smoothing_duration.into();
+            emit(h, "smoothing_duration", took.as_secs_f64());
+            emit(h, "was_completed", result.was_completed);
+        }
+        outcome(h, result.error_code, &result.error_msg)
+    }
+
+    fn on_failure(
+        &mut self,
+        h: &mut Handle<'_, C>,
+        error: &ActionError,
+        result: Option<&SmoothPathResult>,
+    ) -> Status {
+        let server = result.map(|r| (r.error_code, r.error_msg.as_str()));
+        failed(h, SmoothPathResult::UNKNOWN, error, server)
+    }
+}
+
+/// NavigateToPose: another navigator (Nav2's, or a [`Navigator`](super::Navigator)) takes
+/// the robot to `goal`.
+struct Navigate;
+
+impl<C: 'static> ActionSpec<C> for Navigate {
+    type Action = NavigateToPose;
+
+    fn ports() -> Vec<PortSpec> {
+        vec![
+            PortSpec::input::<Pose2D>("goal").describe("Where to go."),
+            PortSpec::input::<String>("behavior_tree")
+                .describe("The navigator's tree to run; empty for its default."),
+            server_name_port(),
+            error_code_port("navigator"),
+        ]
+    }
+
+    fn goal(&mut self, h: &mut Handle<'_, C>) -> Result<NavigateToPoseGoal, String> {
+        let goal: Pose2D = required(h, "goal")?;
+        Ok(NavigateToPoseGoal {
+            pose: pose_stamped(goal),
+            behavior_tree: optional(h, "behavior_tree")?.unwrap_or_default(),
+        })
+    }
+
+    fn on_result(&mut self, h: &mut Handle<'_, C>, result: &NavigateToPoseResult) -> Status {
+        outcome(h, result.error_code, &result.error_msg)
+    }
+
+    fn on_failure(
+        &mut self,
+        h: &mut Handle<'_, C>,
+        error: &ActionError,
+        result: Option<&NavigateToPoseResult>,
+    ) -> Status {
+        let server = result.map(|r| (r.error_code, r.error_msg.as_str()));
+        failed(h, NavigateToPoseResult::UNKNOWN, error, server)
     }
 }
 
@@ -381,6 +611,57 @@ impl<C: 'static> ActionSpec<C> for BackUpBy {
     }
 }
 
+/// DriveOnHeading: the behavior server drives the robot `dist_to_travel` straight on.
+struct DriveOn;
+
+impl<C: 'static> ActionSpec<C> for DriveOn {
+    type Action = DriveOnHeading;
+
+    fn ports() -> Vec<PortSpec> {
+        vec![
+            PortSpec::input::<f64>("dist_to_travel")
+                .default_value("0.15")
+                .describe("Metres to drive, negative backwards."),
+            PortSpec::input::<f64>("speed")
+                .default_value("0.025")
+                .describe("Metres per second, negative backwards."),
+            time_allowance(),
+            collision_checks(),
+            server_name_port(),
+            error_code_port("drive-on-heading"),
+        ]
+    }
+
+    fn goal(&mut self, h: &mut Handle<'_, C>) -> Result<DriveOnHeadingGoal, String> {
+        let distance: f64 = required(h, "dist_to_travel")?;
+        let speed: f64 = required(h, "speed")?;
+        let allowance: f64 = required(h, "time_allowance")?;
+        Ok(DriveOnHeadingGoal {
+            target: Point {
+                x: distance,
+                y: 0.0,
+                z: 0.0,
+            },
+            speed: speed as f32,
+            time_allowance: seconds(allowance),
+        })
+    }
+
+    fn on_result(&mut self, h: &mut Handle<'_, C>, result: &DriveOnHeadingResult) -> Status {
+        outcome(h, result.error_code, &result.error_msg)
+    }
+
+    fn on_failure(
+        &mut self,
+        h: &mut Handle<'_, C>,
+        error: &ActionError,
+        result: Option<&DriveOnHeadingResult>,
+    ) -> Status {
+        let server = result.map(|r| (r.error_code, r.error_msg.as_str()));
+        failed(h, DriveOnHeadingResult::UNKNOWN, error, server)
+    }
+}
+
 /// Wait: the behavior server stands still for `wait_duration`.
 struct WaitFor;
 
@@ -439,6 +720,104 @@ impl<C: 'static> ServiceSpec<C> for ClearCostmap {
         &mut self,
         _h: &mut Handle<'_, C>,
         _response: &ClearEntireCostmapResponse,
+    ) -> Status {
+        Status::Success
+    }
+}
+
+fn reset_distance() -> PortSpec {
+    PortSpec::input::<f64>("reset_distance")
+        .default_value("1.0")
+        .describe("The square's side, in metres.")
+}
+
+fn plugins() -> PortSpec {
+    PortSpec::input::<Vec<String>>("plugins")
+        .describe("The costmap plugins to clear (unused: all of them).")
+}
+
+/// ClearCostmapAroundRobot: the costmap server forgets the obstacles around the robot.
+struct ClearAround;
+
+impl<C: 'static> ServiceSpec<C> for ClearAround {
+    type Service = ClearCostmapAroundRobot;
+
+    fn ports() -> Vec<PortSpec> {
+        vec![reset_distance(), plugins()]
+    }
+
+    fn request(&mut self, h: &mut Handle<'_, C>) -> Result<ClearCostmapAroundRobotRequest, String> {
+        let distance: f64 = optional(h, "reset_distance")?.unwrap_or(1.0);
+        Ok(ClearCostmapAroundRobotRequest {
+            reset_distance: distance as f32,
+        })
+    }
+
+    fn on_response(
+        &mut self,
+        _h: &mut Handle<'_, C>,
+        _: &ClearCostmapAroundRobotResponse,
+    ) -> Status {
+        Status::Success
+    }
+}
+
+/// ClearCostmapExceptRegion: the costmap server forgets the obstacles away from the robot.
+struct ClearExcept;
+
+impl<C: 'static> ServiceSpec<C> for ClearExcept {
+    type Service = ClearCostmapExceptRegion;
+
+    fn ports() -> Vec<PortSpec> {
+        vec![reset_distance(), plugins()]
+    }
+
+    fn request(
+        &mut self,
+        h: &mut Handle<'_, C>,
+    ) -> Result<ClearCostmapExceptRegionRequest, String> {
+        let distance: f64 = optional(h, "reset_distance")?.unwrap_or(1.0);
+        Ok(ClearCostmapExceptRegionRequest {
+            reset_distance: distance as f32,
+        })
+    }
+
+    fn on_response(
+        &mut self,
+        _h: &mut Handle<'_, C>,
+        _: &ClearCostmapExceptRegionResponse,
+    ) -> Status {
+        Status::Success
+    }
+}
+
+/// ClearCostmapAroundPose: the costmap server forgets the obstacles around `pose`.
+struct ClearAroundPose;
+
+impl<C: 'static> ServiceSpec<C> for ClearAroundPose {
+    type Service = ClearCostmapAroundPose;
+
+    fn ports() -> Vec<PortSpec> {
+        vec![
+            PortSpec::input::<Pose2D>("pose").describe("The square's centre."),
+            reset_distance(),
+            plugins(),
+        ]
+    }
+
+    fn request(&mut self, h: &mut Handle<'_, C>) -> Result<ClearCostmapAroundPoseRequest, String> {
+        let pose: Pose2D = required(h, "pose")?;
+        let distance: f64 = optional(h, "reset_distance")?.unwrap_or(1.0);
+        Ok(ClearCostmapAroundPoseRequest {
+            pose: pose_stamped(pose),
+            reset_distance: distance,
+        })
+    }
+
+    fn on_response(
+        &mut self,
+        _h: &mut Handle<'_, C>,
+        _: &ClearCostmapAroundPoseResponse,
     ) -> Status {
         Status::Success
     }

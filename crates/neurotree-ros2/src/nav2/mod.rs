@@ -3,7 +3,7 @@
 //!
 //! | piece | what it is |
 //! |---|---|
-//! | [`register_nav2_ros_leaves`] | ComputePathToPose, FollowPath, Spin, BackUp, Wait and ClearEntireCostmap as ROS 2 clients, with `nav2_tree_nodes.xml`'s ports |
+//! | [`register_nav2_ros_leaves`] | ComputePathToPose, ComputePathThroughPoses, SmoothPath, NavigateToPose, FollowPath, Spin, BackUp, DriveOnHeading, Wait and the four costmap clearings as ROS 2 clients, the five cancel nodes (CancelControl, CancelSpin, ...), IsBatteryLow and IsBatteryCharging as subscribers, with `nav2_tree_nodes.xml`'s ports |
 //! | [`Navigator`] | the `navigate_to_pose` action server: ticks a tree per goal, feedback, result, cancel halts |
 //! | [`SimServers`] | a [`GridWorld`](neurotree_sim::GridWorld) as the planner, controller, behavior and costmap servers, stepping on its own clock |
 //! | [`convert`] | between the blackboard's `Pose2D` / `Path` and their messages |
@@ -26,12 +26,16 @@
 //! - The navigator follows the robot from the simulator's `robot_pose` topic rather than
 //!   from TF.
 
+mod battery;
+mod cancels;
 pub mod convert;
 mod goal_server;
 mod leaves;
 mod navigator;
 mod sim_servers;
 
+pub use battery::{register_battery_conditions, BATTERY_TOPIC};
+pub use cancels::register_cancel_nodes;
 pub use leaves::{register_nav2_ros_leaves, WAIT_FOR_SERVER_MS};
 pub use navigator::{
     Navigator, NavigatorError, NavigatorOptions, NavigatorStats, ROBOT_POSE_TOPIC,

@@ -2,11 +2,14 @@
 //!
 //! | server | name | what it does on the world |
 //! |---|---|---|
-//! | planner | action `compute_path_to_pose` | A* on the global costmap (the sim's ComputePathToPose) |
+//! | planner | actions `compute_path_to_pose`, `compute_path_through_poses` | A* on the global costmap (the sim's ComputePathToPose, ComputePathThroughPoses) |
+//! | smoother | action `smooth_path` | the sim's SmoothPath |
 //! | controller | action `follow_path` | follows the path, fails when blocked (the sim's FollowPath) |
-//! | behaviors | actions `spin`, `backup`, `wait` | turn, drive back, stand still (the sim's Spin, BackUp, Wait) |
+//! | behaviors | actions `spin`, `backup`, `drive_on_heading`, `wait` | turn, drive back, drive on, stand still (the sim's Spin, BackUp, DriveOnHeading, Wait) |
 //! | costmaps | services `global_costmap/clear_entirely_global_costmap`, `local_costmap/clear_entirely_local_costmap` | forget the sensed obstacles |
+//! | costmaps | services `clear_around_`, `clear_except_` and `clear_around_pose_` of each costmap (`local_costmap/clear_around_local_costmap`, ...) | forget them in, or outside, a square (the sim's ClearCostmapAroundRobot, ClearCostmapExceptRegion, ClearCostmapAroundPose) |
 //! | pose | topic [`ROBOT_POSE_TOPIC`] | the robot's pose, each step |
+//! | battery | topic [`BATTERY_TOPIC`](super::BATTERY_TOPIC) | the world's battery (`sensor_msgs/BatteryState`: percentage, charging on the charger), each step |
 //!
 //! Each goal runs the in-process leaf of `neurotree_sim::nav2` of the same name, alone in a
 //! tree of its own, over the one [`Nav2Sim`]: the servers behave as the simulated leaves do
@@ -22,6 +25,7 @@ use std::sync::{Arc, Mutex, MutexGuard};
 use std::time::{Duration, Instant};
 
 use neurotree_nav2::robotics::{Path, Pose2D};
+use neurotree_sim::nav2::costmaps::clear_square;
 use neurotree_sim::nav2::{register_nav2_leaves, FailureNotes, Nav2Sim};
 use neurotree_sim::CostmapLayer;
 use neurotree_toolkit::{Blackboard, Blueprint, Registry, Status, Tree, XmlLoader};
@@ -34,10 +38,16 @@ use super::goal_server::{GoalServer, Request};
 use super::navigator::{NavigatorError, ROBOT_POSE_TOPIC};
 use crate::msg::geometry_msgs::PoseStamped;
 use crate::msg::nav2_msgs::{
-    BackUp, BackUpResult, ClearEntireCostmap, ClearEntireCostmapRequest,
-    ClearEntireCostmapResponse, ComputePathToPose, ComputePathToPoseResult, FollowPath,
+    BackUp, BackUpResult, ClearCostmapAroundPose, ClearCostmapAroundPoseRequest,
+    ClearCostmapAroundPoseResponse, ClearCostmapAroundRobot, ClearCostmapAroundRobotRequest,
+    ClearCostmapAroundRobotResponse, ClearCostmapExceptRegion, ClearCostmapExceptRegionRequest,
+    ClearCostmapExceptRegionResponse, ClearEntireCostmap, ClearEntireCostmapRequest,
+    ClearEntireCostmapResponse, ComputePathThroughPoses, ComputePathThroughPosesResult,
+    ComputePathToPose, ComputePathToPoseResult, DriveOnHeading, DriveOnHeadingResult, FollowPath,
     FollowPathFeedback, FollowPathResult, Spin, SpinResult, Wait, WaitResult,
 };
+use crate::msg::nav2_msgs::{SmoothPath, SmoothPathResult};
+use crate::msg::sensor_msgs::BatteryState;
 use crate::{Ros2Error, RosAction, RosNode};
 
 /// The global costmap's clearing service.
@@ -63,16 +73,26 @@ pub struct ServerCounts {
 pub struct SimStats {
     /// `compute_path_to_pose`.
     pub planner: ServerCounts,
+    /// `compute_path_through_poses`.
+    pub planner_through_poses: ServerCounts,
+    /// `smooth_path`.
+    pub smoother: ServerCounts,
     /// `follow_path`.
     pub controller: ServerCounts,
     /// `spin`.
     pub spin: ServerCounts,
     /// `backup`.
     pub backup: ServerCounts,
+    /// `drive_on_heading`.
+    pub drive_on_heading: ServerCounts,
     /// `wait`.
     pub wait: ServerCounts,
-    /// Costmap clearings served.
+    /// Costmap clearings served (entire and regions).
     pub clears: u32,
+    /// Obstacle cells the global costmap remembers.
+    pub global_obstacles: usize,
+    /// Obstacle cells the local costmap remembers.
+    pub local_obstacles: usize,
     /// Where the robot is.
     pub robot: Pose2D,
     /// Simulated time.
@@ -162,6 +182,50 @@ impl SimAction for ComputePathToPose {
     }
 }
 
+impl SimAction for ComputePathThroughPoses {
+    const XML: &'static str = r#"<ComputePathThroughPoses goals="{goals}" start="{start}" planner_id="{planner_id}" path="{path}" error_code_id="{error_code}" error_msg="{error_msg}"/>"#;
+    fn put(goal: &Self::Goal, bb: &mut Blackboard) {
+        let goals: Vec<Pose2D> = goal.goals.iter().map(pose_2d).collect();
+        let _ = bb.set("goals", goals);
+        if goal.use_start {
+            let _ = bb.set("start", pose_2d(&goal.start));
+        }
+        let _ = bb.set("planner_id", goal.planner_id.clone());
+    }
+    fn result(bb: &Blackboard, code: u16, message: String, elapsed: Duration) -> Self::Result {
+        ComputePathThroughPosesResult {
+            path: path_msg(&bb.get::<Path>("path").unwrap_or_default()),
+            planning_time: elapsed.into(),
+            error_code: code,
+            error_msg: message,
+        }
+    }
+    fn counts(stats: &mut SimStats) -> &mut ServerCounts {
+        &mut stats.planner_through_poses
+    }
+}
+
+impl SimAction for SmoothPath {
+    const XML: &'static str = r#"<SmoothPath unsmoothed_path="{unsmoothed_path}" smoother_id="{smoother_id}" check_for_collisions="{check_for_collisions}" smoothed_path="{smoothed_path}" was_completed="{was_completed}" error_code_id="{error_code}" error_msg="{error_msg}"/>"#;
+    fn put(goal: &Self::Goal, bb: &mut Blackboard) {
+        let _ = bb.set("unsmoothed_path", path_2d(&goal.path));
+        let _ = bb.set("smoother_id", goal.smoother_id.clone());
+        let _ = bb.set("check_for_collisions", goal.check_for_collisions);
+    }
+    fn result(bb: &Blackboard, code: u16, message: String, elapsed: Duration) -> Self::Result {
+        SmoothPathResult {
+            path: path_msg(&bb.get::<Path>("smoothed_path").unwrap_or_default()),
+            smoothing_duration: elapsed.into(),
+            was_completed: bb.get::<bool>("was_completed").unwrap_or(false),
+            error_code: code,
+            error_msg: message,
+        }
+    }
+    fn counts(stats: &mut SimStats) -> &mut ServerCounts {
+        &mut stats.smoother
+    }
+}
+
 impl SimAction for FollowPath {
     const XML: &'static str = r#"<FollowPath path="{path}" controller_id="{controller_id}" error_code_id="{error_code}" error_msg="{error_msg}"/>"#;
     fn put(goal: &Self::Goal, bb: &mut Blackboard) {
@@ -226,6 +290,26 @@ impl SimAction for BackUp {
     }
     fn counts(stats: &mut SimStats) -> &mut ServerCounts {
         &mut stats.backup
+    }
+}
+
+impl SimAction for DriveOnHeading {
+    const XML: &'static str = r#"<DriveOnHeading dist_to_travel="{dist_to_travel}" speed="{speed}" time_allowance="{time_allowance}" error_code_id="{error_code}" error_msg="{error_msg}"/>"#;
+    fn put(goal: &Self::Goal, bb: &mut Blackboard) {
+        let _ = bb.set("dist_to_travel", goal.target.x);
+        let _ = bb.set("speed", f64::from(goal.speed));
+        let allowance: Duration = goal.time_allowance.into();
+        let _ = bb.set("time_allowance", allowance.as_secs_f64());
+    }
+    fn result(_bb: &Blackboard, code: u16, message: String, elapsed: Duration) -> Self::Result {
+        DriveOnHeadingResult {
+            total_elapsed_time: elapsed.into(),
+            error_code: code,
+            error_msg: message,
+        }
+    }
+    fn counts(stats: &mut SimStats) -> &mut ServerCounts {
+        &mut stats.drive_on_heading
     }
 }
 
@@ -377,17 +461,92 @@ where
 
 type ClearServer = Server<ClearEntireCostmapRequest, ClearEntireCostmapResponse>;
 
+/// The region-clearing services of one costmap.
+struct RegionServers {
+    layer: CostmapLayer,
+    around: Server<ClearCostmapAroundRobotRequest, ClearCostmapAroundRobotResponse>,
+    except: Server<ClearCostmapExceptRegionRequest, ClearCostmapExceptRegionResponse>,
+    around_pose: Server<ClearCostmapAroundPoseRequest, ClearCostmapAroundPoseResponse>,
+}
+
+impl RegionServers {
+    /// The services of costmap `costmap` (`global_costmap` or `local_costmap`), named as
+    /// Nav2's costmap names them.
+    fn new(ros: &RosNode, costmap: &str, layer: CostmapLayer) -> Result<Self, Ros2Error> {
+        Ok(Self {
+            layer,
+            around: ros.service_server::<ClearCostmapAroundRobot>(&format!(
+                "{costmap}/clear_around_{costmap}"
+            ))?,
+            except: ros.service_server::<ClearCostmapExceptRegion>(&format!(
+                "{costmap}/clear_except_{costmap}"
+            ))?,
+            around_pose: ros.service_server::<ClearCostmapAroundPose>(&format!(
+                "{costmap}/clear_around_pose_{costmap}"
+            ))?,
+        })
+    }
+
+    /// Answers the requests that came; how many.
+    fn serve(&self, sim: &mut Nav2Sim) -> Result<u32, Ros2Error> {
+        let layer = self.layer;
+        let failed = move |e: ros2_client::ReadError| Ros2Error::Serve {
+            kind: "service server",
+            name: format!("{layer:?} costmap region clearing"),
+            message: format!("{e:?}"),
+        };
+        let mut served = 0;
+        // A client gone since it asked does not need the answer: responses are best effort.
+        while let Some((id, request)) = self.around.receive_request().map_err(failed)? {
+            let robot = sim.world.robot();
+            clear_square(
+                sim,
+                self.layer,
+                robot,
+                f64::from(request.reset_distance),
+                false,
+            );
+            let _ = self.around.send_response(id, Default::default());
+            served += 1;
+        }
+        while let Some((id, request)) = self.except.receive_request().map_err(failed)? {
+            let robot = sim.world.robot();
+            clear_square(
+                sim,
+                self.layer,
+                robot,
+                f64::from(request.reset_distance),
+                true,
+            );
+            let _ = self.except.send_response(id, Default::default());
+            served += 1;
+        }
+        while let Some((id, request)) = self.around_pose.receive_request().map_err(failed)? {
+            let centre = pose_2d(&request.pose);
+            clear_square(sim, self.layer, centre, request.reset_distance, false);
+            let _ = self.around_pose.send_response(id, Default::default());
+            served += 1;
+        }
+        Ok(served)
+    }
+}
+
 /// The grid world as Nav2's servers; see the [module](crate::nav2).
 pub struct SimServers {
     sim: Nav2Sim,
     planner: Served<ComputePathToPose>,
+    planner_through_poses: Served<ComputePathThroughPoses>,
+    smoother: Served<SmoothPath>,
     controller: Served<FollowPath>,
     spin: Served<Spin>,
     backup: Served<BackUp>,
+    drive_on_heading: Served<DriveOnHeading>,
     wait: Served<Wait>,
     clear_global: ClearServer,
     clear_local: ClearServer,
+    regions: [RegionServers; 2],
     poses: Publisher<PoseStamped>,
+    battery: Publisher<BatteryState>,
     stats: SimStatsHandle,
     wall_period: Duration,
     clock_running: bool,
@@ -406,13 +565,21 @@ impl SimServers {
         let wall_period = sim.params.period.div_f64(scale);
         let servers = Self {
             planner: Served::new(ros, "compute_path_to_pose", &registry)?,
+            planner_through_poses: Served::new(ros, "compute_path_through_poses", &registry)?,
+            smoother: Served::new(ros, "smooth_path", &registry)?,
             controller: Served::new(ros, "follow_path", &registry)?,
             spin: Served::new(ros, "spin", &registry)?,
             backup: Served::new(ros, "backup", &registry)?,
+            drive_on_heading: Served::new(ros, "drive_on_heading", &registry)?,
             wait: Served::new(ros, "wait", &registry)?,
             clear_global: ros.service_server::<ClearEntireCostmap>(CLEAR_GLOBAL_COSTMAP)?,
             clear_local: ros.service_server::<ClearEntireCostmap>(CLEAR_LOCAL_COSTMAP)?,
+            regions: [
+                RegionServers::new(ros, "global_costmap", CostmapLayer::Global)?,
+                RegionServers::new(ros, "local_costmap", CostmapLayer::Local)?,
+            ],
             poses: ros.publisher(ROBOT_POSE_TOPIC)?,
+            battery: ros.publisher(super::BATTERY_TOPIC)?,
             stats: SimStatsHandle::default(),
             wall_period,
             clock_running: !options.start_on_first_goal,
@@ -442,12 +609,15 @@ impl SimServers {
     pub fn spin_once(&mut self) -> Result<(), Ros2Error> {
         let sim = &mut self.sim;
         let stats = &self.stats;
-        let planned = self.planner.poll(sim, stats)?;
+        let planned = self.planner.poll(sim, stats)?
+            | self.planner_through_poses.poll(sim, stats)?
+            | self.smoother.poll(sim, stats)?;
         // The controller and the behaviors share the robot: the newest goal has it.
         let moved = [
             self.controller.poll(sim, stats)?,
             self.spin.poll(sim, stats)?,
             self.backup.poll(sim, stats)?,
+            self.drive_on_heading.poll(sim, stats)?,
             self.wait.poll(sim, stats)?,
         ];
         self.clock_running |= planned || moved.contains(&true);
@@ -456,6 +626,7 @@ impl SimServers {
                 self.controller.is_running(),
                 self.spin.is_running(),
                 self.backup.is_running(),
+                self.drive_on_heading.is_running(),
                 self.wait.is_running(),
             ];
             for (i, _) in running
@@ -467,6 +638,7 @@ impl SimServers {
                     0 => self.controller.preempt(sim, stats),
                     1 => self.spin.preempt(sim, stats),
                     2 => self.backup.preempt(sim, stats),
+                    3 => self.drive_on_heading.preempt(sim, stats),
                     _ => self.wait.preempt(sim, stats),
                 }
             }
@@ -486,16 +658,24 @@ impl SimServers {
                 stats.lock().clears += 1;
             }
         }
+        for regions in &self.regions {
+            let served = regions.serve(sim)?;
+            stats.lock().clears += served;
+        }
         self.planner.tick(sim, stats);
+        self.planner_through_poses.tick(sim, stats);
+        self.smoother.tick(sim, stats);
         self.controller.tick(sim, stats);
         self.spin.tick(sim, stats);
         self.backup.tick(sim, stats);
+        self.drive_on_heading.tick(sim, stats);
         self.wait.tick(sim, stats);
         if self.clock_running {
             sim.step();
         }
         // Best effort: the next step publishes again.
         let _ = self.poses.publish(pose_stamped(sim.world.robot()));
+        let _ = self.battery.publish(battery_state(sim));
         self.record();
         Ok(())
     }
@@ -521,5 +701,36 @@ impl SimServers {
         stats.robot = self.sim.world.robot();
         stats.time = self.sim.world.now();
         stats.distance = self.sim.world.distance_travelled();
+        stats.global_obstacles = self
+            .sim
+            .world
+            .costmap(CostmapLayer::Global)
+            .marked()
+            .count();
+        stats.local_obstacles = self.sim.world.costmap(CostmapLayer::Local).marked().count();
+    }
+}
+
+/// The world's battery as a `BatteryState`: its charge as a fraction, charging while the
+/// robot stands on the charger with the battery not full (full there: FULL; elsewhere:
+/// DISCHARGING); nothing else is measured (NaN).
+fn battery_state(sim: &Nav2Sim) -> BatteryState {
+    let level = sim.world.battery().level();
+    let status = match (sim.world.is_on_charger(), level < 100.0) {
+        (true, true) => BatteryState::POWER_SUPPLY_STATUS_CHARGING,
+        (true, false) => BatteryState::POWER_SUPPLY_STATUS_FULL,
+        (false, _) => BatteryState::POWER_SUPPLY_STATUS_DISCHARGING,
+    };
+    BatteryState {
+        voltage: f32::NAN,
+        temperature: f32::NAN,
+        current: f32::NAN,
+        charge: f32::NAN,
+        capacity: f32::NAN,
+        design_capacity: f32::NAN,
+        percentage: (level / 100.0) as f32,
+        power_supply_status: status,
+        present: true,
+        ..BatteryState::default()
     }
 }

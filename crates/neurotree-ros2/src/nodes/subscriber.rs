@@ -72,6 +72,8 @@ impl<C, M: RosMessage> SubscriberSpec<C> for LatestMessage<M> {
 /// A ROS 2 subscription as a condition; see the [module](self) for its semantics.
 pub struct RosTopicSubNode<C, S: SubscriberSpec<C>> {
     ros: RosNode,
+    /// The port that names the topic: `topic_name`, or another name a library gives it.
+    name_port: &'static str,
     default_name: String,
     spec: S,
     subscription: Option<(String, Subscription<S::Message>)>,
@@ -84,6 +86,7 @@ impl<C: 'static, S: SubscriberSpec<C>> RosTopicSubNode<C, S> {
     pub fn new(ros: RosNode, default_name: &str, spec: S) -> Self {
         let mut node = Self {
             ros,
+            name_port: "topic_name",
             default_name: default_name.to_owned(),
             spec,
             subscription: None,
@@ -91,6 +94,13 @@ impl<C: 'static, S: SubscriberSpec<C>> RosTopicSubNode<C, S> {
         };
         let _ = node.subscribe(default_name);
         node
+    }
+
+    /// The same node reading the topic's name from port `name_port` instead of
+    /// `topic_name`, as Nav2's battery conditions name it `battery_topic`.
+    pub fn with_name_port(mut self, name_port: &'static str) -> Self {
+        self.name_port = name_port;
+        self
     }
 
     /// The ports the node reads: the spec's and `topic_name`.
@@ -133,7 +143,7 @@ impl<C: 'static, S: SubscriberSpec<C>> RosTopicSubNode<C, S> {
     }
 
     fn tick(&mut self, h: &mut Handle<'_, C>) -> Status {
-        let topic = match input_or(h, "topic_name", self.default_name.clone()) {
+        let topic = match input_or(h, self.name_port, self.default_name.clone()) {
             Ok(topic) => topic,
             Err(_) => return Status::Failure,
         };

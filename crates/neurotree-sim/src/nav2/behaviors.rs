@@ -20,8 +20,9 @@
 //!   stops the motion.
 //!
 //! Each starts its motion on the tick from Idle (Running) and reads the motion's outcome
-//! on later ticks, after the world has stepped. A motion that ends without the node's doing
-//! (another command replaced it) fails the node.
+//! on later ticks, after the world has stepped. A motion stopped by someone else (CancelSpin,
+//! CancelWait, ... — see [`cancels`](super::cancels)) ends the node with Success and error
+//! code 0, as Nav2's nodes end when their goal is cancelled (`on_cancelled`).
 
 use std::time::Duration;
 
@@ -271,9 +272,8 @@ impl<C: Nav2Context> StatefulAction<C> for Behavior {
             MotionStatus::BatteryEmpty => {
                 self.fail(h, unknown, "battery empty", "the battery is empty".into())
             }
-            MotionStatus::Idle => {
-                self.fail(h, unknown, "cancelled", "the motion was cancelled".into())
-            }
+            // Stopped by another (a Cancel node): Nav2's `on_cancelled`.
+            MotionStatus::Idle => ports::succeed(h),
         }
     }
 

@@ -1,8 +1,21 @@
-//! ClearEntireCostmap: the costmaps' clearing service.
+//! The costmaps' clearing services: ClearEntireCostmap, ClearCostmapAroundRobot,
+//! ClearCostmapAroundPose and ClearCostmapExceptRegion.
 //!
-//! Sync action with the port `service_name`: forgets the sensed obstacles of the global
-//! costmap (a service name containing `global_costmap`) or the local one (`local_costmap`);
-//! Success. Any other name: Failure.
+//! Sync actions with the port `service_name`, which names the costmap: the global one (a
+//! name containing `global_costmap`) or the local one (`local_costmap`); any other name:
+//! Failure.
+//!
+//! - **ClearEntireCostmap**: forgets every sensed obstacle of the costmap. Success.
+//! - **ClearCostmapAroundRobot** (port `reset_distance`, default 1.0): forgets those in the
+//!   square of side `reset_distance` centred on the robot. Success.
+//! - **ClearCostmapAroundPose** (ports `pose`, `reset_distance`): the same around `pose`.
+//! - **ClearCostmapExceptRegion** (port `reset_distance`): forgets those outside that square
+//!   around the robot. Success.
+//!
+//! The square is Nav2's (`clear_costmap_service.cpp`, `CostmapLayer::clearArea`): its
+//! corners are turned into cell indices by truncation, and a cell is inside when its
+//! indices lie strictly between the corners' (so a `reset_distance` under two cells clears
+//! nothing around a robot at a cell's centre, as in Nav2).
 //!
 //! Nav2 names the costmap by the service that clears it
 //! (`global_costmap/clear_entirely_global_costmap`); the walls of the map stay, and an
@@ -11,7 +24,8 @@
 use neurotree_core::{Handle, Status};
 
 use super::{ports, Nav2Context};
-use crate::CostmapLayer;
+use crate::{Cell, CostmapLayer};
+use neurotree_nav2::robotics::Pose2D;
 use neurotree_toolkit::{PortSpec, Registry, RegistryError};
 
 fn ports() -> Vec<PortSpec> {
@@ -24,13 +38,106 @@ fn ports() -> Vec<PortSpec> {
     ]
 }
 
+fn region_ports() -> Vec<PortSpec> {
+    let mut ports = vec![PortSpec::input::<f64>("reset_distance")
+        .default_value("1.0")
+        .describe("Side of the square, in metres.")];
+    ports.extend(self::ports());
+    ports
+}
+
+/// Which part of a costmap a clearing node forgets.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Region {
+    AroundRobot,
+    AroundPose,
+    ExceptAroundRobot,
+}
+
 pub(super) fn register<C: Nav2Context>(r: &mut Registry<C>) -> Result<(), RegistryError> {
     r.register_action("ClearEntireCostmap", ports(), clear::<C>)?;
     r.describe(
         "ClearEntireCostmap",
         "Forgets the obstacles the global or the local costmap learned.",
     );
+    r.register_action("ClearCostmapAroundRobot", region_ports(), |h| {
+        clear_region(h, Region::AroundRobot)
+    })?;
+    r.describe(
+        "ClearCostmapAroundRobot",
+        "Forgets the obstacles a costmap learned in a square around the robot.",
+    );
+    let mut pose_ports = vec![PortSpec::input::<Pose2D>("pose").describe("The square's centre.")];
+    pose_ports.extend(region_ports());
+    r.register_action("ClearCostmapAroundPose", pose_ports, |h| {
+        clear_region(h, Region::AroundPose)
+    })?;
+    r.describe(
+        "ClearCostmapAroundPose",
+        "Forgets the obstacles a costmap learned in a square around `pose`.",
+    );
+    r.register_action("ClearCostmapExceptRegion", region_ports(), |h| {
+        clear_region(h, Region::ExceptAroundRobot)
+    })?;
+    r.describe(
+        "ClearCostmapExceptRegion",
+        "Forgets the obstacles a costmap learned outside a square around the robot.",
+    );
     Ok(())
+}
+
+/// Forgets the sensed obstacles of `layer` inside Nav2's square of side `distance` centred
+/// on `centre` (outside it when `invert`), as the clearing services do (see the
+/// [module documentation](self)); returns how many cells were forgotten. The ROS 2
+/// simulator serves Nav2's clearing services with it.
+pub fn clear_square(
+    sim: &mut super::Nav2Sim,
+    layer: CostmapLayer,
+    centre: Pose2D,
+    distance: f64,
+    invert: bool,
+) -> usize {
+    let resolution = sim.world.map().resolution();
+    // Nav2's worldToMapNoBounds: truncation, from an origin at 0.
+    let index = |metres: f64| (metres / resolution) as i32;
+    let (x0, y0) = (
+        index(centre.x - distance / 2.0),
+        index(centre.y - distance / 2.0),
+    );
+    let (x1, y1) = (
+        index(centre.x - distance / 2.0 + distance),
+        index(centre.y - distance / 2.0 + distance),
+    );
+    let inside = move |c: Cell| c.x > x0 && c.x < x1 && c.y > y0 && c.y < y1;
+    sim.world
+        .clear_costmap_where(layer, move |c| inside(c) != invert)
+}
+
+/// ClearCostmapAroundRobot, ClearCostmapAroundPose, ClearCostmapExceptRegion: see the
+/// [module documentation](self).
+fn clear_region<C: Nav2Context>(h: &mut Handle<'_, C>, region: Region) -> Status {
+    let read = (|| {
+        let service = ports::or(h, "service_name", String::new())?;
+        let distance: f64 = ports::or(h, "reset_distance", 1.0)?;
+        let centre = match region {
+            Region::AroundPose => Some(ports::or(h, "pose", Pose2D::default())?),
+            Region::AroundRobot | Region::ExceptAroundRobot => None,
+        };
+        Ok::<_, neurotree_core::PortError>((service, distance, centre))
+    })();
+    let Ok((service, distance, centre)) = read else {
+        return Status::Failure;
+    };
+    let Some(layer) = layer_of(&service) else {
+        return Status::Failure;
+    };
+    let name = h.name().to_string();
+    let sim = h.ctx_mut().nav2_mut();
+    let centre = centre.unwrap_or_else(|| sim.world.robot());
+    let invert = region == Region::ExceptAroundRobot;
+    let forgotten = clear_square(sim, layer, centre, distance, invert);
+    sim.note(|| format!("{name}: forgot {forgotten} obstacle cells"));
+    Status::Success
 }
 
 /// The costmap a clearing service name addresses.
@@ -92,6 +199,60 @@ mod tests {
         assert_eq!(b.tick(), Status::Success);
         assert!(!known(&b, CostmapLayer::Global));
         b.set("service", "clear_everything".to_string());
+        assert_eq!(b.tick(), Status::Failure);
+    }
+
+    #[test]
+    fn region_clearing_forgets_inside_or_outside_nav2s_square() {
+        let cells = [Cell::new(1, 2), Cell::new(3, 2), Cell::new(4, 2)];
+        let mut world = GridWorld::parse(
+            "
+            .....
+            .....
+            ..R..
+            .....
+            .....",
+            1.0,
+        )
+        .unwrap()
+        .with_sensing_radius(10.0);
+        for cell in cells {
+            world = world.with_timed_obstacle(TimedObstacle::new(cell, Duration::ZERO));
+        }
+        let marked = |b: &Bench| {
+            b.sim
+                .world
+                .costmap(CostmapLayer::Local)
+                .marked()
+                .collect::<Vec<_>>()
+        };
+        let local = r#"service_name="local_costmap/clear_around_local_costmap""#;
+        // Around (2.5, 2.5) with 3 m: corners at indices 1 and 4, so only x 2..=3 clear.
+        let mut b = Bench::with_world(
+            world,
+            &format!(r#"<ClearCostmapAroundRobot reset_distance="3.0" {local}/>"#),
+        );
+        assert_eq!(b.tick(), Status::Success);
+        assert_eq!(marked(&b), [Cell::new(1, 2), Cell::new(4, 2)]);
+        assert!(b
+            .sim
+            .world
+            .costmap(CostmapLayer::Global)
+            .is_marked(Cell::new(3, 2)));
+        let mut world = GridWorld::parse(".....\n.....\n..R..", 1.0).unwrap();
+        for cell in [Cell::new(0, 0), Cell::new(2, 1), Cell::new(4, 2)] {
+            world = world.with_timed_obstacle(TimedObstacle::new(cell, Duration::ZERO));
+        }
+        let mut b = Bench::with_world(
+            world.with_sensing_radius(10.0),
+            &format!(r#"<ClearCostmapExceptRegion reset_distance="3.0" {local}/>"#),
+        );
+        assert_eq!(b.tick(), Status::Success);
+        assert_eq!(marked(&b), [Cell::new(2, 1)]);
+        let mut b = Bench::new(
+            "R....",
+            r#"<ClearCostmapAroundPose pose="1;1" service_name="elsewhere"/>"#,
+        );
         assert_eq!(b.tick(), Status::Failure);
     }
 }

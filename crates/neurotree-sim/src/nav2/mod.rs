@@ -16,37 +16,43 @@
 //! | RemovePassedGoals | forget the goals passed |
 //! | FollowPath | the controller: follow the current path |
 //! | CancelControl | stop following it |
-//! | PlannerSelector | pick the default planner |
-//! | ControllerSelector | pick the default controller |
-//! | GoalCheckerSelector | pick the default goal checker |
-//! | ProgressCheckerSelector | pick the default progress checker |
-//! | PathHandlerSelector | pick the default path handler |
+//! | PlannerSelector, ControllerSelector, GoalCheckerSelector, ProgressCheckerSelector, PathHandlerSelector, SmootherSelector | pick the default plugin |
 //! | IsGoalNearby | is the end of the path near? |
 //! | TruncatePathLocal | the part of the path around the robot |
 //! | ValidatePath | is the path still free? |
 //! | TruncatePath | the path short of its last metres |
 //! | IsWithinPathTrackingBounds | is the robot on its path? |
 //! | PathExpiringTimer | has the path stayed the same for a while? |
-//! | ClearEntireCostmap | forget the sensed obstacles of a costmap |
-//! | WouldAPlannerRecoveryHelp | can a recovery fix the planner's error? |
-//! | WouldAControllerRecoveryHelp | can a recovery fix the controller's error? |
-//! | Spin | turn on the spot |
-//! | Wait | stand still |
-//! | BackUp | drive backwards |
-//! | DriveOnHeading | drive straight on |
+//! | ClearEntireCostmap, ClearCostmapAroundRobot, ClearCostmapAroundPose, ClearCostmapExceptRegion | forget sensed obstacles, all or in (or out of) a square |
+//! | WouldAPlannerRecoveryHelp, WouldAControllerRecoveryHelp, WouldARouteRecoveryHelp, WouldASmootherRecoveryHelp, AreErrorCodesPresent | is the error one of these codes? |
+//! | Spin, Wait, BackUp, DriveOnHeading | the behaviors, as motions of the world |
+//! | CancelSpin, CancelWait, CancelBackUp, CancelDriveOnHeading, CancelAssistedTeleop, CancelComputeAndTrackRoute, CancelFollowObject | cancel what a server does |
+//! | GetCurrentPose, GetPoseFromPath, ConcatenatePaths, ArePosesNear, GoalReached | poses and paths |
+//! | AppendGoalPoseToGoals, GetNextFewGoals | lists of goals |
+//! | CheckPoseOccupancy, RemoveInCollisionGoals | the global costmap's cost at poses |
+//! | SmoothPath | the smoother |
+//! | IsStuck, DistanceTraveled, TimeExpired, CheckStopStatus, TransformAvailable, InitialPoseReceived | what the robot's motion says |
+//! | IsBatteryLow, IsBatteryCharging | the world's battery and charger |
+//! | ToggleCollisionMonitor, ReinitializeGlobalLocalization | switches of the system |
+//! | DockRobot, UndockRobot | the docking server, on the [`Dock`]s given |
+//! | NavigateToPose, NavigateThroughPoses | another navigator: plan, follow, replan when blocked |
+//! | ComputeRoute, ComputeAndTrackRoute, ExtractRouteNodesAsGoals | the route server, on the [`RouteGraph`] given |
+//! | FollowObject | follow the moving object ([`Nav2Sim::set_object`]) |
 //!
 //! Each node's ports, defaults, outcomes and error codes are told in its own module:
 //! [`planner`], [`controller`], [`selectors`], [`path_checks`], [`costmaps`],
-//! [`recovery_help`], [`tracking`] (TruncatePath, IsWithinPathTrackingBounds, PathExpiringTimer), [`through_poses`] (ComputePathThroughPoses, RemovePassedGoals) and [`behaviors`] (Spin, Wait, BackUp, DriveOnHeading).
+//! [`recovery_help`], [`tracking`], [`through_poses`], [`behaviors`], [`cancels`],
+//! [`poses`], [`goal_lists`], [`occupancy`], [`smoother`], [`odometry`], [`battery`],
+//! [`system`], [`docking`], [`navigate`], [`route`] and [`follow_object`]. Nav2's
+//! GoalUpdated and GlobalUpdatedGoal, which read only the blackboard, are in
+//! [`neurotree_nav2`] with the controls.
 //!
 //! # Not simulated
 //!
-//! Nav2's other leaves have no implementation here, and a tree that uses one does not load
-//! in `neurotree demo` (the error names the node). Some would need what the grid world does
-//! not have: a route graph (ComputeRoute, ExtractRouteNodesAsGoals, WouldARouteRecoveryHelp),
-//! a docking server (DockRobot, UndockRobot) and the NavigateToPose action of another
-//! navigator; others are not written yet, such as the battery checks (IsBatteryLow,
-//! IsBatteryCharging), which the world's battery and charger could answer.
+//! One node of Nav2 has no meaning in the grid world: **AssistedTeleop**, which lets a
+//! person drive the robot while it keeps clear of obstacles; the world has no person to
+//! drive. [`NOT_SIMULATED`] lists it with the reason, and a tree that uses it does not load
+//! in `neurotree demo` (the error names the node and says why).
 //!
 //! # The robot's state
 //!
@@ -110,17 +116,29 @@
 //! assert_eq!((sim.plans(), sim.replans()), (4, 3));
 //! ```
 
+pub mod battery;
 pub mod behaviors;
+pub mod cancels;
 pub mod codes;
 pub mod controller;
 pub mod costmaps;
+pub mod docking;
 mod failures;
+pub mod follow_object;
+pub mod goal_lists;
+pub mod navigate;
+pub mod occupancy;
+pub mod odometry;
 pub mod path_checks;
 pub mod planner;
 mod ports;
+pub mod poses;
 mod recoveries;
 pub mod recovery_help;
+pub mod route;
 pub mod selectors;
+pub mod smoother;
+pub mod system;
 #[cfg(test)]
 mod testing;
 pub mod through_poses;
@@ -130,11 +148,14 @@ use std::sync::{Arc, Mutex, MutexGuard};
 use std::time::Duration;
 
 pub use controller::TrackingFeedback;
+pub use docking::Dock;
 pub use failures::FailureNotes;
 pub use recoveries::RecoveryCounter;
+pub use route::RouteGraph;
 
 use super::{GridWorld, MotionStatus};
 use neurotree_core::{Blackboard, BlackboardError};
+use neurotree_nav2::robotics::Pose2D;
 use neurotree_nav2::{ROBOT_POSE, ROBOT_SPEED};
 use neurotree_toolkit::{Registry, RegistryError};
 
@@ -176,7 +197,43 @@ pub struct Nav2Sim {
     replans: u32,
     /// The robot's speed over the last step, in metres per second.
     speed: f64,
+    /// The speed over the step before, for the deceleration IsStuck watches.
+    previous_speed: f64,
+    /// The robot's turn rate over the last step, in radians per second.
+    turn_rate: f64,
+    /// The docks the docking server knows ([`Nav2Sim::with_dock`]).
+    docks: Vec<Dock>,
+    /// The route server's graph ([`Nav2Sim::with_route_graph`]).
+    route_graph: Option<RouteGraph>,
+    /// Where the object FollowObject follows is ([`Nav2Sim::set_object`]).
+    object: Option<Pose2D>,
+    /// The goals of the long-running servers a cancel node can cancel.
+    pub(super) goals: ServerGoals,
+    /// The type of the dock the robot last docked at, until it undocks.
+    pub(super) current_dock_type: Option<String>,
+    collision_monitor: bool,
+    relocalizations: u32,
     log: Option<EventLog>,
+}
+
+/// Where the goal of a Nav2 server that a cancel node addresses stands.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub(super) enum GoalState {
+    /// No goal under way.
+    #[default]
+    Idle,
+    /// A node's goal is under way.
+    Active,
+    /// A cancel node cancelled it; its node sees that at its next tick.
+    Cancelled,
+}
+
+/// The goals of the servers whose work is not a motion of the world: route tracking and
+/// following an object.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub(super) struct ServerGoals {
+    pub(super) route_tracking: GoalState,
+    pub(super) following: GoalState,
 }
 
 impl Nav2Sim {
@@ -188,7 +245,84 @@ impl Nav2Sim {
             plans: 0,
             replans: 0,
             speed: 0.0,
+            previous_speed: 0.0,
+            turn_rate: 0.0,
+            docks: Vec::new(),
+            route_graph: None,
+            object: None,
+            goals: ServerGoals::default(),
+            current_dock_type: None,
+            collision_monitor: true,
+            relocalizations: 0,
             log: None,
+        }
+    }
+
+    /// With a dock the docking server knows (DockRobot, UndockRobot).
+    pub fn with_dock(mut self, dock: Dock) -> Self {
+        self.docks.push(dock);
+        self
+    }
+
+    /// The docks the docking server knows.
+    pub fn docks(&self) -> &[Dock] {
+        &self.docks
+    }
+
+    /// With a route graph for the route server (ComputeRoute, ComputeAndTrackRoute).
+    pub fn with_route_graph(mut self, graph: RouteGraph) -> Self {
+        self.route_graph = Some(graph);
+        self
+    }
+
+    /// The route server's graph, if it has one.
+    pub fn route_graph(&self) -> Option<&RouteGraph> {
+        self.route_graph.as_ref()
+    }
+
+    /// Puts the object FollowObject follows at `pose` (`None`: it is not seen). Whoever
+    /// runs the world moves it, as a detector would publish its pose on `dynamic_pose`.
+    pub fn set_object(&mut self, pose: Option<Pose2D>) {
+        self.object = pose;
+    }
+
+    /// Where the followed object is, if it is seen.
+    pub fn object(&self) -> Option<Pose2D> {
+        self.object
+    }
+
+    /// Whether the collision monitor is on (ToggleCollisionMonitor switches it; on at the
+    /// start).
+    pub fn collision_monitor(&self) -> bool {
+        self.collision_monitor
+    }
+
+    pub(super) fn set_collision_monitor(&mut self, on: bool) {
+        self.collision_monitor = on;
+    }
+
+    /// How many times ReinitializeGlobalLocalization was called.
+    pub fn relocalizations(&self) -> u32 {
+        self.relocalizations
+    }
+
+    pub(super) fn count_relocalization(&mut self) {
+        self.relocalizations += 1;
+    }
+
+    /// The robot's turn rate over the last [`step`](Self::step), in radians per second.
+    pub fn turn_rate(&self) -> f64 {
+        self.turn_rate
+    }
+
+    /// The change of speed over the last step, in metres per second squared: negative
+    /// when the robot slowed down.
+    pub fn acceleration(&self) -> f64 {
+        let seconds = self.params.period.as_secs_f64();
+        if seconds > 0.0 {
+            (self.speed - self.previous_speed) / seconds
+        } else {
+            0.0
         }
     }
 
@@ -209,12 +343,18 @@ impl Nav2Sim {
     /// Moves the world on by one period ([`Nav2Params::period`]); see [`GridWorld::step`].
     pub fn step(&mut self) -> MotionStatus {
         let before = self.world.distance_travelled();
+        let heading = self.world.robot().theta;
         let status = self.world.step(self.params.period);
         let seconds = self.params.period.as_secs_f64();
-        self.speed = if seconds > 0.0 {
-            (self.world.distance_travelled() - before) / seconds
+        self.previous_speed = self.speed;
+        let turned = angle_between(heading, self.world.robot().theta);
+        (self.speed, self.turn_rate) = if seconds > 0.0 {
+            (
+                (self.world.distance_travelled() - before) / seconds,
+                turned / seconds,
+            )
         } else {
-            0.0
+            (0.0, 0.0)
         };
         status
     }
@@ -263,6 +403,16 @@ impl Nav2Sim {
         if let Some(log) = &self.log {
             log.push(line());
         }
+    }
+}
+
+/// The signed smallest turn from heading `from` to heading `to`, in radians.
+pub(super) fn angle_between(from: f64, to: f64) -> f64 {
+    let d = (to - from).rem_euclid(std::f64::consts::TAU);
+    if d > std::f64::consts::PI {
+        d - std::f64::consts::TAU
+    } else {
+        d
     }
 }
 
@@ -315,14 +465,11 @@ impl Nav2Context for Nav2Sim {
     }
 }
 
-/// Registers every Nav2 leaf that `navigate_to_pose_w_replanning_and_recovery.xml` uses, under
-/// its Nav2 name with the ports of `nav2_tree_nodes.xml`: ComputePathToPose, FollowPath,
-/// CancelControl, ComputePathThroughPoses, RemovePassedGoals, the
-/// five selectors, IsGoalNearby, TruncatePathLocal, ValidatePath, ClearEntireCostmap,
-/// WouldAPlannerRecoveryHelp, WouldAControllerRecoveryHelp, TruncatePath,
-/// IsWithinPathTrackingBounds, PathExpiringTimer, Spin, Wait, BackUp and DriveOnHeading. The control
-/// nodes come from [`nav2::register_controls`](neurotree_nav2::register_controls). Fails if one
-/// of the names is taken.
+/// Registers every Nav2 leaf the simulator implements ([`LEAVES`]: all of Nav2's
+/// conditions and actions but GoalUpdated and GlobalUpdatedGoal, which
+/// [`nav2::register_controls`](neurotree_nav2::register_controls) registers with the controls,
+/// and those in [`NOT_SIMULATED`]), under its Nav2 name with the ports of
+/// `nav2_tree_nodes.xml`. Fails if one of the names is taken.
 pub fn register_nav2_leaves<C: Nav2Context>(
     registry: &mut Registry<C>,
 ) -> Result<(), RegistryError> {
@@ -334,12 +481,29 @@ pub fn register_nav2_leaves<C: Nav2Context>(
     recovery_help::register(registry)?;
     tracking::register(registry)?;
     through_poses::register(registry)?;
-    behaviors::register(registry)
+    behaviors::register(registry)?;
+    poses::register(registry)?;
+    goal_lists::register(registry)?;
+    occupancy::register(registry)?;
+    smoother::register(registry)?;
+    cancels::register(registry)?;
+    odometry::register(registry)?;
+    battery::register(registry)?;
+    system::register(registry)?;
+    docking::register(registry)?;
+    navigate::register(registry)?;
+    route::register(registry)?;
+    follow_object::register(registry)
 }
 
 /// Registers the Nav2 leaves that call no server in Nav2 either, or only to read what the
-/// navigator's own view answers: the five selectors, IsGoalNearby, TruncatePathLocal,
-/// ValidatePath, WouldAPlannerRecoveryHelp and WouldAControllerRecoveryHelp. A navigator
+/// navigator's own view answers (the map, the robot's pose, the clock): the six selectors,
+/// IsGoalNearby, TruncatePathLocal, ValidatePath, the five error-code conditions
+/// (WouldAPlannerRecoveryHelp, …, AreErrorCodesPresent), AppendGoalPoseToGoals,
+/// GetNextFewGoals, GetCurrentPose, GetPoseFromPath, ConcatenatePaths, ArePosesNear,
+/// GoalReached, TruncatePath, IsWithinPathTrackingBounds, PathExpiringTimer,
+/// RemovePassedGoals, DistanceTraveled, TimeExpired, TransformAvailable and
+/// InitialPoseReceived. A navigator
 /// whose planner, controller, behaviors and costmaps are served elsewhere (over ROS 2)
 /// registers these and its own clients for the rest. Fails if one of the names is taken.
 pub fn register_nav2_checks<C: Nav2Context>(
@@ -347,40 +511,120 @@ pub fn register_nav2_checks<C: Nav2Context>(
 ) -> Result<(), RegistryError> {
     selectors::register(registry)?;
     path_checks::register(registry)?;
-    recovery_help::register(registry)
+    recovery_help::register(registry)?;
+    goal_lists::register(registry)?;
+    poses::register(registry)?;
+    tracking::register(registry)?;
+    through_poses::register_remove_passed_goals(registry)?;
+    odometry::register_pose_and_clock(registry)
 }
 
-/// The names [`register_nav2_leaves`] registers, in its order.
-pub const LEAVES: [&str; 23] = [
+/// The names [`register_nav2_leaves`] registers.
+pub const LEAVES: [&str; 65] = [
     "ComputePathToPose",
     "FollowPath",
     "CancelControl",
-    "ComputePathThroughPoses",
-    "RemovePassedGoals",
     "ProgressCheckerSelector",
     "GoalCheckerSelector",
     "PathHandlerSelector",
     "ControllerSelector",
     "PlannerSelector",
+    "SmootherSelector",
     "IsGoalNearby",
     "TruncatePathLocal",
     "ValidatePath",
     "ClearEntireCostmap",
+    "ClearCostmapAroundRobot",
+    "ClearCostmapAroundPose",
+    "ClearCostmapExceptRegion",
     "WouldAPlannerRecoveryHelp",
     "WouldAControllerRecoveryHelp",
+    "WouldARouteRecoveryHelp",
+    "WouldASmootherRecoveryHelp",
+    "AreErrorCodesPresent",
     "TruncatePath",
     "IsWithinPathTrackingBounds",
     "PathExpiringTimer",
+    "ComputePathThroughPoses",
+    "RemovePassedGoals",
     "Spin",
     "Wait",
     "BackUp",
     "DriveOnHeading",
+    "GetCurrentPose",
+    "GetPoseFromPath",
+    "ConcatenatePaths",
+    "ArePosesNear",
+    "GoalReached",
+    "AppendGoalPoseToGoals",
+    "GetNextFewGoals",
+    "CheckPoseOccupancy",
+    "RemoveInCollisionGoals",
+    "SmoothPath",
+    "CancelSpin",
+    "CancelBackUp",
+    "CancelDriveOnHeading",
+    "CancelWait",
+    "CancelAssistedTeleop",
+    "CancelComputeAndTrackRoute",
+    "CancelFollowObject",
+    "IsStuck",
+    "DistanceTraveled",
+    "TimeExpired",
+    "CheckStopStatus",
+    "TransformAvailable",
+    "InitialPoseReceived",
+    "IsBatteryLow",
+    "IsBatteryCharging",
+    "ToggleCollisionMonitor",
+    "ReinitializeGlobalLocalization",
+    "DockRobot",
+    "UndockRobot",
+    "NavigateToPose",
+    "NavigateThroughPoses",
+    "ComputeRoute",
+    "ComputeAndTrackRoute",
+    "ExtractRouteNodesAsGoals",
+    "FollowObject",
 ];
+
+/// Nav2's nodes that have no meaning in the grid world, with the reason.
+pub const NOT_SIMULATED: [(&str, &str); 1] = [(
+    "AssistedTeleop",
+    "it lets a person drive the robot, and the simulated world has no person to drive",
+)];
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use neurotree_nav2::robotics::Pose2D;
+
+    #[test]
+    fn every_leaf_listed_is_registered_and_with_the_controls_and_the_exceptions_makes_nav2s_81() {
+        let mut registry = Registry::<Nav2Sim>::new();
+        register_nav2_leaves(&mut registry).unwrap();
+        let mut names: Vec<&str> = LEAVES.to_vec();
+        names.sort_unstable();
+        names.dedup();
+        assert_eq!(names.len(), LEAVES.len());
+        for name in LEAVES {
+            assert!(registry.get(name).is_some(), "{name}");
+        }
+        neurotree_nav2::register_controls(&mut registry).unwrap();
+        let model = neurotree_nav2::NAV2_TREE_NODES_MODEL;
+        let mut nav2: Vec<&str> = model
+            .split("ID=\"")
+            .skip(1)
+            .filter_map(|rest| rest.split('"').next())
+            .collect();
+        nav2.sort_unstable();
+        assert_eq!(nav2.len(), 81);
+        let missing: Vec<&str> = nav2
+            .into_iter()
+            .filter(|name| registry.get(name).is_none())
+            .collect();
+        assert_eq!(missing, NOT_SIMULATED.map(|(name, _)| name));
+    }
 
     #[test]
     fn the_robot_state_is_written_where_nav2s_controls_read_it() {

@@ -63,3 +63,17 @@ pub(super) fn succeed<C>(h: &mut Handle<'_, C>) -> Status {
     emit(h, "error_msg", String::new());
     Status::Success
 }
+
+/// A port read's result with "absent" as `None`, as [`optional`] gives it, for nodes that
+/// read through another handle than [`Handle`] (a custom node's `NodeCtx`).
+pub(super) fn absent_as_none<T>(read: Result<T, PortError>) -> Result<Option<T>, PortError> {
+    match read {
+        Ok(value) => Ok(Some(value)),
+        Err(PortError::NoSuchPort { .. })
+        | Err(PortError::Blackboard {
+            source: BlackboardError::NotFound { .. },
+            ..
+        }) => Ok(None),
+        Err(e) => Err(e),
+    }
+}

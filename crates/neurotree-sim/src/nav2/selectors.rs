@@ -1,8 +1,8 @@
-//! The five selectors: which planner, controller, goal checker, progress checker and path
-//! handler the navigator uses.
+//! The six selectors: which planner, controller, goal checker, progress checker, path
+//! handler and smoother the navigator uses.
 //!
-//! ProgressCheckerSelector, GoalCheckerSelector, PathHandlerSelector, ControllerSelector and
-//! PlannerSelector are sync actions: write `default_*` to `selected_*`, Success; Failure
+//! ProgressCheckerSelector, GoalCheckerSelector, PathHandlerSelector, ControllerSelector,
+//! PlannerSelector and SmootherSelector are sync actions: write `default_*` to `selected_*`, Success; Failure
 //! without a default.
 //!
 //! In Nav2 a selector listens on `topic_name` for a message that switches plugins at run
@@ -15,7 +15,7 @@ use super::{ports, Nav2Context};
 use neurotree_toolkit::{PortSpec, Registry, RegistryError};
 
 /// The selectors: the node name and the word in their port names.
-const SELECTORS: [(&str, &str, &str); 5] = [
+const SELECTORS: [(&str, &str, &str); 6] = [
     (
         "ProgressCheckerSelector",
         "progress_checker",
@@ -25,6 +25,7 @@ const SELECTORS: [(&str, &str, &str); 5] = [
     ("PathHandlerSelector", "path_handler", "PathHandler"),
     ("ControllerSelector", "controller", "Controller"),
     ("PlannerSelector", "planner", "Planner"),
+    ("SmootherSelector", "smoother", "Smoother"),
 ];
 
 pub(super) fn register<C: Nav2Context>(r: &mut Registry<C>) -> Result<(), RegistryError> {
@@ -69,10 +70,11 @@ mod tests {
                  <PathHandlerSelector selected_path_handler="{h}" default_path_handler="PathHandler"/>
                  <ControllerSelector selected_controller="{c}" default_controller="FollowPath"/>
                  <PlannerSelector selected_planner="{pl}" default_planner="GridBased" topic_name="x"/>
+                 <SmootherSelector selected_smoother="{s}" default_smoother="simple_smoother"/>
                </Sequence>"#,
         );
         assert_eq!(b.tick(), Status::Success);
-        let got: Vec<String> = ["p", "g", "h", "c", "pl"]
+        let got: Vec<String> = ["p", "g", "h", "c", "pl", "s"]
             .iter()
             .map(|k| b.get(k))
             .collect();
@@ -83,7 +85,8 @@ mod tests {
                 "general_goal_checker",
                 "PathHandler",
                 "FollowPath",
-                "GridBased"
+                "GridBased",
+                "simple_smoother"
             ]
         );
     }

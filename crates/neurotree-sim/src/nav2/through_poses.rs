@@ -48,6 +48,14 @@ pub(super) fn register<C: Nav2Context>(r: &mut Registry<C>) -> Result<(), Regist
         "ComputePathThroughPoses",
         "Plans a path on the global costmap from the robot through each of `goals`.",
     );
+    register_remove_passed_goals(r)
+}
+
+/// RemovePassedGoals alone: it reads only the robot's pose, so a navigator whose planner is
+/// served elsewhere has it too.
+pub(super) fn register_remove_passed_goals<C: Nav2Context>(
+    r: &mut Registry<C>,
+) -> Result<(), RegistryError> {
     r.register_action(
         "RemovePassedGoals",
         vec![

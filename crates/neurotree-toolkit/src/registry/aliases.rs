@@ -4,6 +4,9 @@
 //! BehaviorTree.CPP's node names are case-sensitive, and so are the registry's: `<inverter>`
 //! is not `<Inverter>`. This small table is the exception, one row per name a real file
 //! needs; it is not a case-insensitive match. A name the user registered wins over an alias.
+//!
+//! A library of nodes that renamed some (Nav2: `IsPathValid` became `ValidatePath`) tells
+//! its registry the old names with [`Registry::add_renamed`]; they load the same way.
 
 use super::{NodeType, Registry};
 
@@ -59,15 +62,75 @@ impl Alias {
     }
 }
 
+/// An old name of a registered type: the type's name and the warning a file using it gets.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub(crate) struct Renamed {
+    pub target: String,
+    pub warning: String,
+}
+
+/// An alias as the registry finds it: a row of the table, or an old name it was told.
+pub(crate) enum AliasRef<'r> {
+    Table(&'static Alias),
+    Renamed(&'r Renamed),
+}
+
+impl AliasRef<'_> {
+    /// The warning a file using the alias gets.
+    pub(crate) fn warning(&self) -> String {
+        match self {
+            AliasRef::Table(alias) => alias.warning(),
+            AliasRef::Renamed(renamed) => renamed.warning.clone(),
+        }
+    }
+}
+
 impl<C: 'static> Registry<C> {
     /// The alias `name` is, with the type it loads as, unless `name` is registered itself.
-    pub(crate) fn alias(&self, name: &str) -> Option<(&'static Alias, &NodeType<C>)> {
+    pub(crate) fn alias(&self, name: &str) -> Option<(AliasRef<'_>, &NodeType<C>)> {
         // The table first: it is asked about every element of every file loaded, and two
         // comparisons cost less than a search of the registry.
-        let alias = ALIASES.iter().find(|a| a.name == name)?;
+        let (alias, target) = match ALIASES.iter().find(|a| a.name == name) {
+            Some(alias) => (AliasRef::Table(alias), alias.target),
+            None => {
+                let renamed = self.renamed.get(name)?;
+                (AliasRef::Renamed(renamed), renamed.target.as_str())
+            }
+        };
         if self.types.contains_key(name) {
             return None;
         }
-        Some((alias, self.types.get(alias.target)?))
+        Some((alias, self.types.get(target)?))
+    }
+
+    /// Lets files name registered type `new` by its old name `old`, as a library of nodes
+    /// that renamed one keeps its older files loading: each use loads as `new`, with a
+    /// warning that says `why` (the release that renamed it). Until `new` is registered,
+    /// and whenever `old` is registered itself, `old` is no alias.
+    ///
+    /// ```
+    /// use neurotree_toolkit::{Registry, XmlLoader};
+    ///
+    /// let mut registry = Registry::<()>::new();
+    /// registry.add_renamed("Forever", "KeepRunningUntilFailure", "renamed in 2.0");
+    /// let mut loader = XmlLoader::new(&registry);
+    /// loader.load_str(r#"<root BTCPP_format="4"><BehaviorTree ID="T">
+    ///   <Forever><AlwaysFailure/></Forever></BehaviorTree></root>"#, "old.xml").unwrap();
+    /// loader.build_main().unwrap();
+    /// assert_eq!(
+    ///     loader.warnings()[0].to_string(),
+    ///     "old.xml:2:3: warning: `Forever` is `KeepRunningUntilFailure` now (renamed in 2.0); \
+    ///      it loads as `KeepRunningUntilFailure`, write that"
+    /// );
+    /// ```
+    pub fn add_renamed(&mut self, old: &str, new: &str, why: &str) {
+        let warning = format!("`{old}` is `{new}` now ({why}); it loads as `{new}`, write that");
+        self.renamed.insert(
+            old.to_string(),
+            Renamed {
+                target: new.to_string(),
+                warning,
+            },
+        );
     }
 }

@@ -175,6 +175,9 @@ pub(crate) type SubtreeMaker<C> =
 /// builder; and the enum names that scripts and port values may use.
 pub struct Registry<C> {
     pub(crate) types: BTreeMap<String, NodeType<C>>,
+    /// Old names of registered types, each loading as the type with a warning
+    /// ([`Registry::add_renamed`]).
+    pub(crate) renamed: BTreeMap<String, aliases::Renamed>,
     subtrees: BTreeMap<String, SubtreeMaker<C>>,
     /// Shared with the script nodes made from this registry, which look names up at run time.
     enums: Arc<Enums>,
@@ -191,6 +194,7 @@ impl<C: 'static> Registry<C> {
     pub fn new() -> Self {
         let mut r = Self {
             types: BTreeMap::new(),
+            renamed: BTreeMap::new(),
             subtrees: BTreeMap::new(),
             enums: Arc::new(Enums::new()),
         };
@@ -495,6 +499,12 @@ impl<C: 'static> Registry<C> {
         if let Some(t) = self.types.get_mut(name) {
             t.description = description.to_string();
         }
+    }
+
+    /// Forgets type `name`, as a library of nodes that serves several releases keeps only
+    /// one release's types; `false` if there was none.
+    pub fn remove(&mut self, name: &str) -> bool {
+        self.types.remove(name).is_some()
     }
 
     /// The type registered as `name`.
