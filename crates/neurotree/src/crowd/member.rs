@@ -243,6 +243,12 @@ impl<C> MemberMut<'_, C> {
         &mut self.body.ctx
     }
 
+    /// Its tree and its context together, for what needs both between frames: a
+    /// [`Tree::reload`] halts the changed nodes with the member's context.
+    pub fn tree_and_context_mut(&mut self) -> (&mut Tree<C>, &mut C) {
+        (&mut self.body.tree, &mut self.body.ctx)
+    }
+
     /// Sets its interval (at least 1); a level-of-detail hook overrides it every frame.
     pub fn set_interval(&mut self, interval: u32) {
         self.plan.interval = interval.max(1);
