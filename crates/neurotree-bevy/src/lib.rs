@@ -32,7 +32,8 @@
 //!
 //! impl AgentContext for Ship {
 //!     type Components = &'static mut Fuel;
-//!     fn load(&mut self, fuel: &QueryItem<'_, '_, Self::Components>) {
+//!     type Shared = ();
+//!     fn load(&mut self, fuel: &QueryItem<'_, '_, Self::Components>, _: &()) {
 //!         self.fuel = fuel.0;
 //!     }
 //!     fn store(&self, fuel: &mut QueryItem<'_, '_, Self::Components>) {

@@ -7,7 +7,7 @@ use bevy_ecs::entity::Entity;
 use bevy_ecs::lifecycle::Remove;
 use bevy_ecs::message::{MessageReader, MessageWriter};
 use bevy_ecs::observer::On;
-use bevy_ecs::system::{Commands, Local, ParamSet, Query, Res, ResMut};
+use bevy_ecs::system::{Commands, Local, ParamSet, Query, Res, ResMut, StaticSystemParam};
 use neurotree::crowd::FrameStatus;
 use neurotree::{ReloadError, Status};
 
@@ -70,6 +70,7 @@ pub(crate) fn join<C: AgentContext>(
 pub(crate) fn tick<C: AgentContext>(
     mut crowd: ResMut<AgentCrowd<C>>,
     mut agents: Query<(Entity, &TreeAgent<C>, C::Components)>,
+    shared: StaticSystemParam<C::Shared>,
     mut finished: MessageWriter<TreeFinished>,
     mut commands: Commands,
 ) {
@@ -79,7 +80,7 @@ pub(crate) fn tick<C: AgentContext>(
         for (_, agent, components) in agents.iter_mut() {
             let Some(id) = agent.member() else { continue };
             if let Some(mut member) = members.get_mut(id) {
-                member.context_mut().load(&components);
+                member.context_mut().load(&components, &shared);
             }
         }
     }

@@ -40,8 +40,9 @@ struct Guard {
 
 impl AgentContext for Guard {
     type Components = (&'static Hp, &'static mut Counts);
+    type Shared = ();
 
-    fn load(&mut self, (hp, counts): &QueryItem<'_, '_, Self::Components>) {
+    fn load(&mut self, (hp, counts): &QueryItem<'_, '_, Self::Components>, _: &()) {
         self.hp = hp.0;
         self.counts = **counts;
     }
