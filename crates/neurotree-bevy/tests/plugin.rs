@@ -20,6 +20,10 @@ use neurotree_bevy::{
 #[derive(Component)]
 struct Hp(i32);
 
+/// Raised for every guard at once.
+#[derive(Resource)]
+struct Alarm(bool);
+
 /// What a guard's tree did, written back by the plugin.
 #[derive(Component, Clone, Copy, Default, Debug, PartialEq)]
 struct Counts {
@@ -34,16 +38,22 @@ struct Counts {
 #[derive(Default)]
 struct Guard {
     hp: i32,
+    alarm: bool,
     counts: Counts,
     halts: Arc<AtomicU32>,
 }
 
 impl AgentContext for Guard {
     type Components = (&'static Hp, &'static mut Counts);
-    type Shared = ();
+    type Shared = Option<Res<'static, Alarm>>;
 
-    fn load(&mut self, (hp, counts): &QueryItem<'_, '_, Self::Components>, _: &()) {
+    fn load(
+        &mut self,
+        (hp, counts): &QueryItem<'_, '_, Self::Components>,
+        alarm: &Option<Res<'_, Alarm>>,
+    ) {
         self.hp = hp.0;
+        self.alarm = alarm.as_ref().is_some_and(|a| a.0);
         self.counts = **counts;
     }
 
@@ -83,6 +93,11 @@ fn registry() -> Registry<Guard> {
     })
     .unwrap();
     r.register_condition("Hurt", vec![], |h| h.ctx().hp < 50)
+        .unwrap();
+    r.register_condition("Alarmed", vec![], |h| h.ctx().alarm)
+        .unwrap();
+    // A sync action may not return Running: its tick ends with an error.
+    r.register_action("Broken", vec![], |_| Status::Running)
         .unwrap();
     r.register_action("Flee", vec![], |h| {
         h.ctx_mut().counts.fleeing = true;
@@ -172,6 +187,28 @@ fn leaves_read_and_write_the_agents_components() {
     assert!(counts(&app, well).fleeing);
 }
 
+#[test]
+fn contexts_read_what_all_agents_share() {
+    let mut app = app();
+    let bp = blueprint(&tree(
+        "<Fallback><Sequence><Alarmed/><Flee/></Sequence><Patrol/></Fallback>",
+    ));
+    let guards: Vec<Entity> = (0..3)
+        .map(|_| {
+            spawn(
+                &mut app,
+                TreeAgent::new(Arc::clone(&bp), Guard::default()),
+                100,
+            )
+        })
+        .collect();
+    app.update();
+    assert!(guards.iter().all(|&g| !counts(&app, g).fleeing));
+    app.insert_resource(Alarm(true));
+    app.update();
+    assert!(guards.iter().all(|&g| counts(&app, g).fleeing));
+}
+
 /// What the test's systems and observers saw.
 #[derive(Resource, Default)]
 struct Seen {
@@ -190,15 +227,15 @@ fn results_are_messages_and_failures_reach_observers_with_their_reason() {
     app.init_resource::<Seen>()
         .add_systems(Update, record_finished.after(TreeSystems::Tick))
         .add_observer(|failed: On<TreeFailed>, mut seen: ResMut<Seen>| {
-            let FailureReason::Failed(failure) = &failed.reason else {
-                panic!("an error, not a failure: {:?}", failed.reason);
+            let seen_as = match &failed.reason {
+                FailureReason::Failed(failure) => {
+                    let leaf: &FailureLink = failure.leaf();
+                    let reason = failure.reason().map(ToString::to_string);
+                    (failed.entity, leaf.path.clone(), reason.unwrap_or_default())
+                }
+                FailureReason::Error(error) => (failed.entity, "error".into(), error.to_string()),
             };
-            let leaf: &FailureLink = failure.leaf();
-            let reason = failure
-                .reason()
-                .map(ToString::to_string)
-                .unwrap_or_default();
-            seen.failed.push((failed.entity, leaf.path.clone(), reason));
+            seen.failed.push(seen_as);
         });
     let ok = spawn(
         &mut app,
@@ -212,6 +249,11 @@ fn results_are_messages_and_failures_reach_observers_with_their_reason() {
     let running = spawn(
         &mut app,
         TreeAgent::new(blueprint(&tree(r#"<Hold speed="1"/>"#)), Guard::default()),
+        100,
+    );
+    let broken = spawn(
+        &mut app,
+        TreeAgent::new(blueprint(&tree("<Broken/>")), Guard::default()),
         100,
     );
     app.world_mut()
@@ -231,12 +273,20 @@ fn results_are_messages_and_failures_reach_observers_with_their_reason() {
     assert_eq!(of(ok), [Status::Success; 3]);
     assert_eq!(of(failing), [Status::Failure; 3]);
     assert_eq!(of(running), []);
+    assert_eq!(of(broken), []);
     let failure = (
         failing,
         "go/plan".to_string(),
         "no path (error 7)".to_string(),
     );
-    assert_eq!(seen.failed, vec![failure.clone(), failure.clone(), failure]);
+    let of = |e: Entity| seen.failed.iter().filter(|f| f.0 == e).collect::<Vec<_>>();
+    assert_eq!(of(failing), [&failure; 3]);
+    // An error is no Failure message, but it reaches the observers with the error.
+    let errors = of(broken);
+    assert_eq!(errors.len(), 3);
+    assert_eq!(errors[0].1, "error");
+    assert!(errors[0].2.starts_with("Broken (#0)"), "{}", errors[0].2);
+    assert_eq!(seen.failed.len(), 6);
     assert_eq!(seen.on_entity, 3);
 }
 
