@@ -41,10 +41,14 @@
 //!     }
 //! }
 //!
-//! let burn = Blueprint::<Ship>::builder()
-//!     .action("burn", |s: &mut Ship| {
-//!         s.fuel -= 1;
-//!         Status::Running
+//! // Burn a unit of fuel per frame while there is some.
+//! let fly = Blueprint::<Ship>::builder()
+//!     .sequence("fly", |s| {
+//!         s.condition("has_fuel", |s: &Ship| s.fuel > 0)
+//!             .action("burn", |s: &mut Ship| {
+//!                 s.fuel -= 1;
+//!                 Status::Success
+//!             })
 //!     })
 //!     .build_shared()
 //!     .unwrap();
@@ -53,12 +57,12 @@
 //! app.add_plugins(NeuroTreePlugin::new(Registry::<Ship>::new()));
 //! let ship = app
 //!     .world_mut()
-//!     .spawn((Fuel(10), TreeAgent::new(burn, Ship::default())))
+//!     .spawn((Fuel(2), TreeAgent::new(fly, Ship::default())))
 //!     .id();
 //! for _ in 0..3 {
 //!     app.update();
 //! }
-//! assert_eq!(app.world().get::<Fuel>(ship).unwrap().0, 7);
+//! assert_eq!(app.world().get::<Fuel>(ship).unwrap().0, 0);
 //! ```
 
 #![forbid(unsafe_code)]

@@ -1,0 +1,63 @@
+#!/usr/bin/env bash
+# NeuroTree's Bevy plugin beside bevy_behave, on bevy_behave's own chase scenario: enemies
+# wait until the player is in sight, chase it, nap after a catch (see bevy_behave/src/main.rs
+# and crates/neurotree-bevy/examples/chase.rs). Both are built in release and run one after
+# the other at each crowd size, on this machine, and a table of frame times is printed.
+#
+# Usage: bash crates/neurotree-bench/compare/bevy.sh            (from any directory)
+# Environment:
+#   AGENTS="10000 100000 1000000"   crowd sizes
+#   FRAMES=100                      timed frames per run (after one untimed first frame)
+#   CARGO_TARGET_DIR                where to build (default: <repo>/target); bevy_behave's
+#                                   crate builds in its compare-bevy-behave/ subdirectory
+set -euo pipefail
+
+HERE="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
+REPO="$(cd "$HERE/../../.." && pwd)"
+AGENTS="${AGENTS:-10000 100000 1000000}"
+FRAMES="${FRAMES:-100}"
+TARGET="${CARGO_TARGET_DIR:-$REPO/target}"
+
+echo "building NeuroTree's side (Bevy 0.20) ..." >&2
+(cd "$REPO" && CARGO_TARGET_DIR="$TARGET" cargo build --quiet --release -p neurotree-bevy --example chase)
+echo "building bevy_behave's side (bevy_behave 0.5, Bevy 0.18) ..." >&2
+(cd "$HERE/bevy_behave" && cargo build --quiet --release --target-dir "$TARGET/compare-bevy-behave")
+NEUROTREE="$TARGET/release/examples/chase"
+BEVY_BEHAVE="$TARGET/compare-bevy-behave/release/bevy-behave-chase"
+
+field() { # field NAME JSON
+  sed -E "s/.*\"$1\":([0-9.]+).*/\1/" <<<"$2"
+}
+
+# Peak memory, when GNU time is there to tell it.
+run() { # run BINARY N -> JSON line, then "rss KB" on the next line if known
+  if [ -x /usr/bin/time ]; then
+    /usr/bin/time -f "rss %M" "$1" --agents "$2" --frames "$FRAMES" 2>"$TMP/err" | tail -1
+    grep '^rss ' "$TMP/err" | tail -1
+  else
+    "$1" --agents "$2" --frames "$FRAMES" 2>/dev/null | tail -1
+    echo "rss ?"
+  fi
+}
+
+TMP="$(mktemp -d)"
+trap 'rm -rf "$TMP"' EXIT
+
+echo "machine: $(nproc) cores, $(uname -m); load average before: $(cut -d' ' -f1-3 /proc/loadavg); RAYON_NUM_THREADS=${RAYON_NUM_THREADS:-unset}"
+echo "frames timed per run: $FRAMES"
+echo
+printf '| %9s | %22s | %22s | %8s | %19s | %21s |\n' agents "NeuroTree ms/frame" "bevy_behave ms/frame" speed-up "chase frames NT/bb" "peak RSS MB NT/bb"
+printf '|%s|%s|%s|%s|%s|%s|\n' ----------: -----------------------: -----------------------: ---------: --------------------: ----------------------:
+for n in $AGENTS; do
+  out="$(run "$NEUROTREE" "$n")"
+  nt="$(head -1 <<<"$out")"; nt_rss="$(tail -1 <<<"$out" | cut -d' ' -f2)"
+  out="$(run "$BEVY_BEHAVE" "$n")"
+  bb="$(head -1 <<<"$out")"; bb_rss="$(tail -1 <<<"$out" | cut -d' ' -f2)"
+  nt_ms="$(field ms_per_frame "$nt")"; bb_ms="$(field ms_per_frame "$bb")"
+  speedup="$(awk -v a="$bb_ms" -v b="$nt_ms" 'BEGIN { printf "%.1f×", a / b }')"
+  mb() { awk -v k="$1" 'BEGIN { if (k ~ /^[0-9]+$/) printf "%d", k / 1024; else printf "?" }'; }
+  printf '| %9s | %22s | %22s | %8s | %19s | %21s |\n' "$n" "$nt_ms" "$bb_ms" "$speedup" \
+    "$(field chase "$nt") / $(field chase "$bb")" "$(mb "$nt_rss") / $(mb "$bb_rss")"
+done
+echo
+echo "load average after: $(cut -d' ' -f1-3 /proc/loadavg)"
