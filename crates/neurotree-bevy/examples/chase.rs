@@ -13,7 +13,7 @@ use std::time::Instant;
 
 use bevy_app::App;
 use bevy_ecs::prelude::*;
-use bevy_ecs::query::QueryItem;
+use bevy_ecs::query::{QueryItem, ROQueryItem};
 use neurotree::prelude::*;
 use neurotree::{Handle, StatefulAction};
 use neurotree_bevy::{AgentContext, AgentCrowd, NeuroTreePlugin, TreeAgent};
@@ -49,10 +49,10 @@ impl AgentContext for Enemy {
 
     fn load(
         &mut self,
-        (pos, vision, _): &QueryItem<'_, '_, Self::Components>,
+        (pos, vision, _): ROQueryItem<'_, '_, Self::Components>,
         player: &Res<'_, Player>,
     ) {
-        self.pos = **pos;
+        self.pos = *pos;
         self.vision = vision.0;
         self.player = player.0;
     }

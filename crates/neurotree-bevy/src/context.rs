@@ -1,6 +1,6 @@
 //! The typed context an agent's leaves receive: what they read and write of its entity.
 
-use bevy_ecs::query::{IterQueryData, QueryItem};
+use bevy_ecs::query::{IterQueryData, QueryItem, ROQueryItem};
 use bevy_ecs::system::{ReadOnlySystemParam, SystemParamItem};
 
 /// An agent's context: the values its leaves read and write, copied from its entity's
@@ -25,11 +25,11 @@ pub trait AgentContext: Send + Sync + 'static {
     /// nothing.
     type Shared: ReadOnlySystemParam + 'static;
 
-    /// Copies what the leaves read from the entity's components and the shared data,
-    /// before every frame.
+    /// Copies what the leaves read from the entity's components (read-only: `&T` for
+    /// `&mut T`) and the shared data, before every frame.
     fn load(
         &mut self,
-        components: &QueryItem<'_, '_, Self::Components>,
+        components: ROQueryItem<'_, '_, Self::Components>,
         shared: &SystemParamItem<'_, '_, Self::Shared>,
     );
 

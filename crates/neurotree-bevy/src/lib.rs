@@ -33,7 +33,7 @@
 //! impl AgentContext for Ship {
 //!     type Components = &'static mut Fuel;
 //!     type Shared = ();
-//!     fn load(&mut self, fuel: &QueryItem<'_, '_, Self::Components>, _: &()) {
+//!     fn load(&mut self, fuel: &Fuel, _: &()) {
 //!         self.fuel = fuel.0;
 //!     }
 //!     fn store(&self, fuel: &mut QueryItem<'_, '_, Self::Components>) {

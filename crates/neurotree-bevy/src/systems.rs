@@ -77,10 +77,10 @@ pub(crate) fn tick<C: AgentContext>(
     let crowd = &mut *crowd;
     {
         let members = crowd.crowd_mut();
-        for (_, agent, components) in agents.iter_mut() {
+        for (_, agent, components) in agents.iter() {
             let Some(id) = agent.member() else { continue };
             if let Some(mut member) = members.get_mut(id) {
-                member.context_mut().load(&components, &shared);
+                member.context_mut().load(components, &shared);
             }
         }
     }

@@ -8,7 +8,7 @@ use std::sync::Arc;
 use bevy_app::{App, TaskPoolPlugin, Update};
 use bevy_asset::{AssetPlugin, AssetServer, Handle, LoadState};
 use bevy_ecs::prelude::*;
-use bevy_ecs::query::QueryItem;
+use bevy_ecs::query::{QueryItem, ROQueryItem};
 use neurotree::prelude::*;
 use neurotree::{FailureLink, Handle as NodeHandle, StatefulAction};
 use neurotree_bevy::{
@@ -49,12 +49,12 @@ impl AgentContext for Guard {
 
     fn load(
         &mut self,
-        (hp, counts): &QueryItem<'_, '_, Self::Components>,
+        (hp, counts): ROQueryItem<'_, '_, Self::Components>,
         alarm: &Option<Res<'_, Alarm>>,
     ) {
         self.hp = hp.0;
         self.alarm = alarm.as_ref().is_some_and(|a| a.0);
-        self.counts = **counts;
+        self.counts = *counts;
     }
 
     fn store(&self, (_, counts): &mut QueryItem<'_, '_, Self::Components>) {
