@@ -87,6 +87,12 @@ impl<C: AgentContext> AgentCrowd<C> {
         self.report_finished = on;
     }
 
+    /// The crowd, and each slot's entity.
+    pub(crate) fn crowd_and_entities(&mut self) -> (&mut Crowd<C>, &[Option<Entity>]) {
+        let crowd = self.crowd.get_mut().unwrap_or_else(PoisonError::into_inner);
+        (crowd, &self.entities)
+    }
+
     pub(crate) fn join(&mut self, entity: Entity, member: MemberId) {
         let slot = member.slot();
         if self.entities.len() <= slot {

@@ -7,6 +7,7 @@ use std::time::Duration;
 use bevy_app::{App, Plugin, Update};
 use bevy_asset::{AssetApp, AssetServer};
 use bevy_ecs::schedule::{InternedScheduleLabel, IntoScheduleConfigs, ScheduleLabel, SystemSet};
+use bevy_ecs::system::SystemParamItem;
 use neurotree::crowd::{Crowd, ThreadPool, ThreadPoolBuildError, ThreadPoolBuilder};
 use neurotree::{ManualClock, Registry};
 
@@ -75,7 +76,10 @@ impl<C: AgentContext> NeuroTreePlugin<C> {
     }
 }
 
-impl<C: AgentContext> Plugin for NeuroTreePlugin<C> {
+impl<C: AgentContext> Plugin for NeuroTreePlugin<C>
+where
+    for<'w, 's> SystemParamItem<'w, 's, C::Shared>: Sync,
+{
     fn build(&self, app: &mut App) {
         let clock = ManualClock::new();
         let mut crowd = Crowd::<C>::new(clock.clone());

@@ -7,8 +7,12 @@ use bevy_ecs::entity::Entity;
 use bevy_ecs::lifecycle::Remove;
 use bevy_ecs::message::{MessageReader, MessageWriter};
 use bevy_ecs::observer::On;
-use bevy_ecs::system::{Commands, Local, ParamSet, Query, Res, ResMut, StaticSystemParam};
-use neurotree::crowd::FrameStatus;
+use bevy_ecs::system::{
+    Commands, Local, ParamSet, Query, Res, ResMut, StaticSystemParam, SystemParamItem,
+};
+use bevy_tasks::{ComputeTaskPool, TaskPool};
+use bevy_utils::Parallel;
+use neurotree::crowd::{FrameStatus, MemberId};
 use neurotree::{ReloadError, Status};
 
 use crate::agent::{TreeAgent, TreeSource};
@@ -65,56 +69,99 @@ pub(crate) fn join<C: AgentContext>(
     crowd.waiting = waiting;
 }
 
+/// A ticked agent whose root did not return Running, or whose tick ended with an error.
+#[derive(Clone, Copy)]
+pub(crate) struct Finished {
+    member: MemberId,
+    entity: Entity,
+    /// `None` for an error.
+    status: Option<Status>,
+}
+
 /// Loads every agent's context from its components, runs a frame of the crowd, writes the
-/// ticked agents' contexts back, and reports what their trees did.
+/// ticked agents' contexts back, and reports what their trees did. Each step runs on all
+/// cores: the loads and the frame on the crowd's threads, the stores on Bevy's compute
+/// pool.
 pub(crate) fn tick<C: AgentContext>(
     mut crowd: ResMut<AgentCrowd<C>>,
     mut agents: Query<(Entity, &TreeAgent<C>, C::Components)>,
     shared: StaticSystemParam<C::Shared>,
     mut finished: MessageWriter<TreeFinished>,
     mut commands: Commands,
-) {
+    mut collected: Local<Parallel<Vec<Finished>>>,
+    mut ended: Local<Vec<Finished>>,
+) where
+    for<'w, 's> SystemParamItem<'w, 's, C::Shared>: Sync,
+{
     let crowd = &mut *crowd;
+    let report_finished = crowd.report_finished;
     {
-        let members = crowd.crowd_mut();
-        for (_, agent, components) in agents.iter() {
-            let Some(id) = agent.member() else { continue };
-            if let Some(mut member) = members.get_mut(id) {
-                member.context_mut().load(components, &shared);
+        let (members, entities) = crowd.crowd_and_entities();
+        let (agents, shared) = (&agents, &*shared);
+        members.for_each_context_mut(|id, context| {
+            let Some(entity) = entities.get(id.slot()).copied().flatten() else {
+                return;
+            };
+            if let Ok((_, agent, components)) = agents.get(entity) {
+                if agent.member() == Some(id) {
+                    context.load(components, shared);
+                }
             }
-        }
+        });
     }
     crowd.frame();
-    let report_finished = crowd.report_finished;
     let members = crowd.crowd_mut();
-    for (entity, agent, mut components) in agents.iter_mut() {
-        let Some(member) = agent.member().and_then(|id| members.get(id)) else {
+    let contexts = members.contexts();
+    ComputeTaskPool::get_or_init(TaskPool::default);
+    let collect = &*collected;
+    agents
+        .par_iter_mut()
+        .for_each(|(entity, agent, mut components)| {
+            let Some(member) = agent.member() else { return };
+            let status = match contexts.status(member) {
+                Some(FrameStatus::Ticked(status)) => Some(status),
+                Some(FrameStatus::Error) => None,
+                _ => return,
+            };
+            if let Some(context) = contexts.get(member) {
+                context.store(&mut components);
+            }
+            let report = match status {
+                Some(Status::Running) => false,
+                Some(Status::Failure) | None => true,
+                Some(_) => report_finished,
+            };
+            if report {
+                let done = Finished {
+                    member,
+                    entity,
+                    status,
+                };
+                collect.borrow_local_mut().push(done);
+            }
+        });
+    // In slot order, so that messages come in the same order on any number of threads.
+    collected.drain_into(&mut ended);
+    ended.sort_unstable_by_key(|f| f.member.slot());
+    for done in ended.drain(..) {
+        let Some(member) = members.get(done.member) else {
             continue;
         };
-        let status = match member.status() {
-            FrameStatus::NotDue | FrameStatus::Deferred => continue,
-            FrameStatus::Ticked(status) => status,
-            FrameStatus::Error => {
-                member.context().store(&mut components);
-                if let Some(error) = member.error() {
-                    let reason = FailureReason::Error(error.clone());
-                    commands.trigger(TreeFailed { entity, reason });
+        let entity = done.entity;
+        let reason = match done.status {
+            Some(status) => {
+                if report_finished {
+                    finished.write(TreeFinished { entity, status });
                 }
-                continue;
+                if status != Status::Failure {
+                    continue;
+                }
+                member.tree().last_failure().map(FailureReason::Failed)
             }
+            None => member.error().cloned().map(FailureReason::Error),
         };
-        member.context().store(&mut components);
-        if status == Status::Running {
-            continue;
-        }
-        if report_finished {
-            finished.write(TreeFinished { entity, status });
-        }
-        if status == Status::Failure {
-            if let Some(failure) = member.tree().last_failure() {
-                let reason = FailureReason::Failed(failure);
-                commands.trigger(TreeFailed { entity, reason });
-            }
+        if let Some(reason) = reason {
+            commands.trigger(TreeFailed { entity, reason });
         }
     }
 }

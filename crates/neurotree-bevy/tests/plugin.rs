@@ -475,3 +475,51 @@ fn a_bad_tree_file_fails_to_load_naming_its_line_and_column() {
     let agent = app.world().get::<TreeAgent<Guard>>(agent).unwrap();
     assert_eq!(agent.member(), None);
 }
+
+/// With bevy_asset's watcher, a file edited on disk reloads the agents running it. The
+/// watcher reports on its own thread after a debounce, so the frames are run until it has.
+#[cfg(feature = "file_watcher")]
+#[test]
+fn a_tree_file_edited_on_disk_is_reloaded_keeping_state() {
+    let dir = TempDir::new("neurotree-bevy-watch");
+    let v1 = tree(r#"<SequenceWithMemory><Step/><Hold speed="1"/></SequenceWithMemory>"#);
+    std::fs::write(dir.0.join("guard.xml"), &v1).unwrap();
+    let mut app = asset_app(&dir);
+    app.init_resource::<Reloads>().add_systems(
+        Update,
+        (|mut m: MessageReader<TreeReloaded>, mut r: ResMut<Reloads>| {
+            r.0.extend(m.read().copied())
+        })
+        .after(TreeSystems::Tick),
+    );
+    let handle: Handle<TreeAsset<Guard>> = app.world().resource::<AssetServer>().load("guard.xml");
+    let agent = spawn(
+        &mut app,
+        TreeAgent::from_asset(handle.clone(), Guard::default()),
+        100,
+    );
+    assert!(matches!(wait_for(&mut app, &handle), LoadState::Loaded));
+    app.update();
+    app.update();
+    assert_eq!(
+        (counts(&app, agent).steps, counts(&app, agent).started),
+        (1, 1)
+    );
+    let v2 = tree(r#"<SequenceWithMemory><Step/><Hold speed="2"/></SequenceWithMemory>"#);
+    std::fs::write(dir.0.join("guard.xml"), &v2).unwrap();
+    for _ in 0..6000 {
+        app.update();
+        if !app.world().resource::<Reloads>().0.is_empty() {
+            break;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    }
+    let reloads = &app.world().resource::<Reloads>().0;
+    assert_eq!(reloads.len(), 1, "the watcher did not report the change");
+    assert_eq!((reloads[0].report.kept, reloads[0].report.halted), (2, 1));
+    app.update();
+    assert_eq!(
+        (counts(&app, agent).steps, counts(&app, agent).started),
+        (1, 2)
+    );
+}
