@@ -3,6 +3,9 @@
 # wait until the player is in sight, chase it, nap after a catch (see bevy_behave/src/main.rs
 # and crates/neurotree-bevy/examples/chase.rs). Both are built in release and run one after
 # the other at each crowd size, on this machine, and a table of frame times is printed.
+# NeuroTree runs twice: ticking every enemy every frame, as bevy_behave's leaves check every
+# frame, and with a level-of-detail hook (`--lod`: enemies far from the player tick every
+# 8th frame, which changes what they see in no frame).
 #
 # Usage: bash crates/neurotree-bench/compare/bevy.sh            (from any directory)
 # Environment:
@@ -30,12 +33,14 @@ field() { # field NAME JSON
 }
 
 # Peak memory, when GNU time is there to tell it.
-run() { # run BINARY N -> JSON line, then "rss KB" on the next line if known
+run() { # run BINARY N [ARGS...] -> JSON line, then "rss KB" on the next line if known
+  local bin="$1" n="$2"
+  shift 2
   if [ -x /usr/bin/time ]; then
-    /usr/bin/time -f "rss %M" "$1" --agents "$2" --frames "$FRAMES" 2>"$TMP/err" | tail -1
+    /usr/bin/time -f "rss %M" "$bin" --agents "$n" --frames "$FRAMES" "$@" 2>"$TMP/err" | tail -1
     grep '^rss ' "$TMP/err" | tail -1
   else
-    "$1" --agents "$2" --frames "$FRAMES" 2>/dev/null | tail -1
+    "$bin" --agents "$n" --frames "$FRAMES" "$@" 2>/dev/null | tail -1
     echo "rss ?"
   fi
 }
@@ -46,18 +51,25 @@ trap 'rm -rf "$TMP"' EXIT
 echo "machine: $(nproc) cores, $(uname -m); load average before: $(cut -d' ' -f1-3 /proc/loadavg); RAYON_NUM_THREADS=${RAYON_NUM_THREADS:-unset}"
 echo "frames timed per run: $FRAMES"
 echo
-printf '| %9s | %22s | %22s | %8s | %19s | %21s |\n' agents "NeuroTree ms/frame" "bevy_behave ms/frame" speed-up "chase frames NT/bb" "peak RSS MB NT/bb"
-printf '|%s|%s|%s|%s|%s|%s|\n' ----------: -----------------------: -----------------------: ---------: --------------------: ----------------------:
+mb() { awk -v k="$1" 'BEGIN { if (k ~ /^[0-9]+$/) printf "%d", k / 1024; else printf "?" }'; }
+ratio() { awk -v a="$1" -v b="$2" 'BEGIN { printf "%.2f", a / b }'; }
+echo "ms/frame: the mean of the timed frames, then (after /) of their second half, once every tree"
+echo "has started; bb/NT: bevy_behave's time over NeuroTree's (above 1: NeuroTree is faster)"
+echo
+printf '| %9s | %17s | %17s | %17s | %11s | %11s | %22s | %13s |\n' agents "bevy_behave" "NeuroTree" "NT, --lod" "bb/NT" "bb/NT lod" "chase frames bb/NT/lod" "RSS MB bb/NT"
+printf '|%s|%s|%s|%s|%s|%s|%s|%s|\n' ----------: ------------------: ------------------: ------------------: ------------: ------------: -----------------------: --------------:
 for n in $AGENTS; do
-  out="$(run "$NEUROTREE" "$n")"
-  nt="$(head -1 <<<"$out")"; nt_rss="$(tail -1 <<<"$out" | cut -d' ' -f2)"
   out="$(run "$BEVY_BEHAVE" "$n")"
   bb="$(head -1 <<<"$out")"; bb_rss="$(tail -1 <<<"$out" | cut -d' ' -f2)"
-  nt_ms="$(field ms_per_frame "$nt")"; bb_ms="$(field ms_per_frame "$bb")"
-  speedup="$(awk -v a="$bb_ms" -v b="$nt_ms" 'BEGIN { printf "%.1f×", a / b }')"
-  mb() { awk -v k="$1" 'BEGIN { if (k ~ /^[0-9]+$/) printf "%d", k / 1024; else printf "?" }'; }
-  printf '| %9s | %22s | %22s | %8s | %19s | %21s |\n' "$n" "$nt_ms" "$bb_ms" "$speedup" \
-    "$(field chase "$nt") / $(field chase "$bb")" "$(mb "$nt_rss") / $(mb "$bb_rss")"
+  out="$(run "$NEUROTREE" "$n")"
+  nt="$(head -1 <<<"$out")"; nt_rss="$(tail -1 <<<"$out" | cut -d' ' -f2)"
+  out="$(run "$NEUROTREE" "$n" --lod)"
+  lod="$(head -1 <<<"$out")"
+  both() { echo "$(field ms_per_frame "$1") / $(field ms_steady "$1")"; }
+  ratios() { echo "$(ratio "$(field ms_per_frame "$1")" "$(field ms_per_frame "$2")") / $(ratio "$(field ms_steady "$1")" "$(field ms_steady "$2")")"; }
+  printf '| %9s | %17s | %17s | %17s | %11s | %11s | %22s | %13s |\n' "$n" "$(both "$bb")" "$(both "$nt")" "$(both "$lod")" \
+    "$(ratios "$bb" "$nt")" "$(ratios "$bb" "$lod")" \
+    "$(field chase "$bb") / $(field chase "$nt") / $(field chase "$lod")" "$(mb "$bb_rss") / $(mb "$nt_rss")"
 done
 echo
 echo "load average after: $(cut -d' ' -f1-3 /proc/loadavg)"

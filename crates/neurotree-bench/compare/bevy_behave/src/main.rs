@@ -4,7 +4,8 @@
 //! grows with the number of enemies, so that the share of them chasing stays the same.
 //!
 //! `cargo run --release -- --agents N --frames F` prints one line:
-//! `{"lib":"bevy_behave","agents":N,"frames":F,"ms_per_frame":…,"chase":…}`, `chase`
+//! `{"lib":"bevy_behave","agents":N,"frames":F,"ms_per_frame":…,"ms_steady":…,"chase":…}`:
+//! the mean time of a frame, and of the frames of the second half; `chase`
 //! being the agent-frames spent moving towards the player. The same scenario in NeuroTree
 //! is `cargo run --release -p neurotree-bevy --example chase`.
 
@@ -171,17 +172,21 @@ fn main() {
     app.cleanup();
     // The first frame starts every tree; it is not timed.
     app.update();
-    let start = Instant::now();
+    let mut times = Vec::with_capacity(frames);
     for frame in 0..frames {
         let t = Instant::now();
         app.update();
+        times.push(t.elapsed().as_secs_f64() * 1e3);
         if frame < 3 || frame + 1 == frames {
-            eprintln!("frame {frame}: {:.2} ms", t.elapsed().as_secs_f64() * 1e3);
+            eprintln!("frame {frame}: {:.2} ms", times[frame]);
         }
     }
-    let ms = start.elapsed().as_secs_f64() * 1e3 / frames as f64;
+    let ms = times.iter().sum::<f64>() / frames.max(1) as f64;
+    // The second half of the frames, once the trees have started.
+    let half = &times[frames / 2..];
+    let steady = half.iter().sum::<f64>() / half.len().max(1) as f64;
     let chase = app.world().resource::<ChaseFrames>().0;
     println!(
-        "{{\"lib\":\"bevy_behave\",\"agents\":{agents},\"frames\":{frames},\"ms_per_frame\":{ms:.3},\"chase\":{chase}}}"
+        "{{\"lib\":\"bevy_behave\",\"agents\":{agents},\"frames\":{frames},\"ms_per_frame\":{ms:.3},\"ms_steady\":{steady:.3},\"chase\":{chase}}}"
     );
 }
