@@ -11,6 +11,8 @@
 # Environment:
 #   AGENTS="10000 100000 1000000"   crowd sizes
 #   FRAMES=100                      timed frames per run (after one untimed first frame)
+#   SPACING=40                      field side per square root of an enemy: 40, few see the
+#                                   player; 1, many chase, catch and nap in turn
 #   CARGO_TARGET_DIR                where to build (default: <repo>/target); bevy_behave's
 #                                   crate builds in its compare-bevy-behave/ subdirectory
 set -euo pipefail
@@ -19,6 +21,7 @@ HERE="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 REPO="$(cd "$HERE/../../.." && pwd)"
 AGENTS="${AGENTS:-10000 100000 1000000}"
 FRAMES="${FRAMES:-100}"
+SPACING="${SPACING:-40}"
 TARGET="${CARGO_TARGET_DIR:-$REPO/target}"
 
 echo "building NeuroTree's side (Bevy 0.20) ..." >&2
@@ -37,10 +40,10 @@ run() { # run BINARY N [ARGS...] -> JSON line, then "rss KB" on the next line if
   local bin="$1" n="$2"
   shift 2
   if [ -x /usr/bin/time ]; then
-    /usr/bin/time -f "rss %M" "$bin" --agents "$n" --frames "$FRAMES" "$@" 2>"$TMP/err" | tail -1
+    /usr/bin/time -f "rss %M" "$bin" --agents "$n" --frames "$FRAMES" --spacing "$SPACING" "$@" 2>"$TMP/err" | tail -1
     grep '^rss ' "$TMP/err" | tail -1
   else
-    "$bin" --agents "$n" --frames "$FRAMES" "$@" 2>/dev/null | tail -1
+    "$bin" --agents "$n" --frames "$FRAMES" --spacing "$SPACING" "$@" 2>/dev/null | tail -1
     echo "rss ?"
   fi
 }
@@ -49,7 +52,7 @@ TMP="$(mktemp -d)"
 trap 'rm -rf "$TMP"' EXIT
 
 echo "machine: $(nproc) cores, $(uname -m); load average before: $(cut -d' ' -f1-3 /proc/loadavg); RAYON_NUM_THREADS=${RAYON_NUM_THREADS:-unset}"
-echo "frames timed per run: $FRAMES"
+echo "frames timed per run: $FRAMES; spacing: $SPACING"
 echo
 mb() { awk -v k="$1" 'BEGIN { if (k ~ /^[0-9]+$/) printf "%d", k / 1024; else printf "?" }'; }
 ratio() { awk -v a="$1" -v b="$2" 'BEGIN { printf "%.2f", a / b }'; }

@@ -2,7 +2,8 @@
 //! (`crates/neurotree-bench/compare/bevy.sh`): enemies wait until the player is within
 //! their vision, chase it until they catch it or lose it, nap 5 s after a catch, forever
 //! (`assets/chase.xml`). The player circles the field, which grows with the number of
-//! enemies so that the share of them chasing stays the same.
+//! enemies so that the share of them chasing stays the same: `--spacing S` units of side
+//! per square root of an enemy (40 by default; 1 keeps many enemies busy).
 //!
 //! `cargo run --release -p neurotree-bevy --example chase -- --agents N --frames F` prints
 //! one line: `{"lib":"neurotree","lod":false,"agents":N,"frames":F,"ms_per_frame":…,"ms_steady":…,"chase":…}`,
@@ -142,7 +143,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let agents = arg("--agents", 10_000);
     let frames = arg("--frames", 100);
     let lod = std::env::args().any(|a| a == "--lod");
-    let side = (agents as f32).sqrt() * 40.0;
+    // Units of field per square root of an agent: 40 leaves most enemies out of sight; 1
+    // puts many within sight, chasing, catching and napping in turn.
+    let spacing = arg("--spacing", 40) as f32;
+    let side = (agents as f32).sqrt() * spacing;
 
     let mut registry = Registry::<Enemy>::new();
     registry.register_stateful("WaitUntilPlayerIsNear", vec![], || WaitUntilPlayerIsNear)?;

@@ -1,7 +1,9 @@
 //! The chase scenario of bevy_behave's own `chase` example, headless: enemies wait until
 //! the player is within their vision, chase it until they catch it (Success) or lose it
 //! (Failure), nap 5 s after a catch, forever. The player circles the field. The field
-//! grows with the number of enemies, so that the share of them chasing stays the same.
+//! grows with the number of enemies, so that the share of them chasing stays the same:
+//! `--spacing S` units of side per square root of an enemy (40 by default; 1 keeps many
+//! enemies busy).
 //!
 //! `cargo run --release -- --agents N --frames F` prints one line:
 //! `{"lib":"bevy_behave","agents":N,"frames":F,"ms_per_frame":…,"ms_steady":…,"chase":…}`:
@@ -132,7 +134,10 @@ fn arg(name: &str, default: usize) -> usize {
 fn main() {
     let agents = arg("--agents", 10_000);
     let frames = arg("--frames", 100);
-    let side = (agents as f32).sqrt() * 40.0;
+    // Units of field per square root of an agent: 40 leaves most enemies out of sight; 1
+    // puts many within sight, chasing, catching and napping in turn.
+    let spacing = arg("--spacing", 40) as f32;
+    let side = (agents as f32).sqrt() * spacing;
 
     let mut app = App::new();
     app.add_plugins(MinimalPlugins)
