@@ -12,7 +12,7 @@ use bevy_ecs::system::{
 };
 use bevy_tasks::{ComputeTaskPool, TaskPool};
 use bevy_utils::Parallel;
-use neurotree::crowd::{FrameStatus, MemberId};
+use neurotree::crowd::{Crowd, FrameStatus, MemberId};
 use neurotree::{ReloadError, Status};
 
 use crate::agent::{TreeAgent, TreeSource};
@@ -143,6 +143,24 @@ pub(crate) fn tick<C: AgentContext>(
     // In slot order, so that messages come in the same order on any number of threads.
     collected.drain_into(&mut ended);
     ended.sort_unstable_by_key(|f| f.member.slot());
+    report(
+        members,
+        &mut ended,
+        report_finished,
+        &mut finished,
+        &mut commands,
+    );
+}
+
+/// Writes a [`TreeFinished`] for each agent of `ended` (if asked), and triggers a
+/// [`TreeFailed`] with its reason for each failure and error.
+fn report<C: AgentContext>(
+    members: &Crowd<C>,
+    ended: &mut Vec<Finished>,
+    report_finished: bool,
+    finished: &mut MessageWriter<TreeFinished>,
+    commands: &mut Commands,
+) {
     for done in ended.drain(..) {
         let Some(member) = members.get(done.member) else {
             continue;
