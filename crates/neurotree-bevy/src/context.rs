@@ -22,7 +22,8 @@ pub trait AgentContext: Send + Sync + 'static {
 
     /// What every agent's context may read of the world besides its own components: a
     /// `Res<'static, T>`, a `Query<'static, 'static, ...>` or a tuple of them; `()` for
-    /// nothing.
+    /// nothing. Contexts are loaded on the crowd's threads, so its items must be `Sync`
+    /// (as `Res` and `Query` are).
     type Shared: ReadOnlySystemParam + 'static;
 
     /// Copies what the leaves read from the entity's components (read-only: `&T` for
