@@ -133,7 +133,7 @@ pub fn registry() -> Result<Registry<Agent>, RegistryError> {
         a.pos = a.pos.toward(a.target, 1.2);
         // The target hits back at close range.
         if a.pos.distance(a.target) < 6.0 {
-            a.health -= 4.0;
+            a.health -= 25.0;
         }
         a.doing = Doing::Chase;
         Status::Success
