@@ -1,6 +1,6 @@
 //! The systems of [`TreeSystems`](crate::TreeSystems) and the observer that lets agents go.
 
-use std::sync::Arc;
+use std::sync::{Arc, Mutex, PoisonError};
 
 use bevy_asset::{AssetEvent, AssetId, Assets};
 use bevy_ecs::entity::Entity;
@@ -11,7 +11,6 @@ use bevy_ecs::system::{
     Commands, Local, ParamSet, Query, Res, ResMut, StaticSystemParam, SystemParamItem,
 };
 use bevy_tasks::{ComputeTaskPool, TaskPool};
-use bevy_utils::Parallel;
 use neurotree::crowd::{Crowd, FrameStatus, MemberId};
 use neurotree::{ReloadError, Status};
 
@@ -78,6 +77,22 @@ pub(crate) struct Finished {
     status: Option<Status>,
 }
 
+/// Finished agents gathered by one batch of `par_iter_mut`, added to the frame's list when
+/// the batch ends: one lock per batch rather than one per agent.
+struct Gathered<'a> {
+    into: &'a Mutex<Vec<Finished>>,
+    batch: Vec<Finished>,
+}
+
+impl Drop for Gathered<'_> {
+    fn drop(&mut self) {
+        if !self.batch.is_empty() {
+            let mut into = self.into.lock().unwrap_or_else(PoisonError::into_inner);
+            into.append(&mut self.batch);
+        }
+    }
+}
+
 /// Loads every agent's context from its components, runs a frame of the crowd, writes the
 /// ticked agents' contexts back, and reports what their trees did. Each step runs on all
 /// cores: the loads and the frame on the crowd's threads, the stores on Bevy's compute
@@ -88,8 +103,7 @@ pub(crate) fn tick<C: AgentContext>(
     shared: StaticSystemParam<C::Shared>,
     mut finished: MessageWriter<TreeFinished>,
     mut commands: Commands,
-    mut collected: Local<Parallel<Vec<Finished>>>,
-    mut ended: Local<Vec<Finished>>,
+    mut collected: Local<Mutex<Vec<Finished>>>,
 ) where
     for<'w, 's> SystemParamItem<'w, 's, C::Shared>: Sync,
 {
@@ -113,10 +127,14 @@ pub(crate) fn tick<C: AgentContext>(
     let members = crowd.crowd_mut();
     let contexts = members.contexts();
     ComputeTaskPool::get_or_init(TaskPool::default);
-    let collect = &*collected;
+    let into = &*collected;
+    let gather = || Gathered {
+        into,
+        batch: Vec::new(),
+    };
     agents
         .par_iter_mut()
-        .for_each(|(entity, agent, mut components)| {
+        .for_each_init(gather, |gathered, (entity, agent, mut components)| {
             let Some(member) = agent.member() else { return };
             let status = match contexts.status(member) {
                 Some(FrameStatus::Ticked(status)) => Some(status),
@@ -137,15 +155,15 @@ pub(crate) fn tick<C: AgentContext>(
                     entity,
                     status,
                 };
-                collect.borrow_local_mut().push(done);
+                gathered.batch.push(done);
             }
         });
     // In slot order, so that messages come in the same order on any number of threads.
-    collected.drain_into(&mut ended);
+    let ended = collected.get_mut().unwrap_or_else(PoisonError::into_inner);
     ended.sort_unstable_by_key(|f| f.member.slot());
     report(
         members,
-        &mut ended,
+        ended,
         report_finished,
         &mut finished,
         &mut commands,
