@@ -49,10 +49,9 @@ pub enum TickMode {
     Once,
 }
 
-/// What a member owns: its tree and its context.
+/// What a member owns besides its context: its tree.
 pub(super) struct Body<C> {
     pub(super) tree: Tree<C>,
-    pub(super) ctx: C,
     /// Boxed: errors are rare, and most members should not pay their size.
     pub(super) error: Option<Box<TickError>>,
 }
@@ -94,14 +93,15 @@ impl Plan {
     #[inline]
     pub(super) fn plan<C>(
         &mut self,
-        body: &Option<Body<C>>,
+        ctx: &Option<C>,
         frame: u64,
         lod: Option<&super::Lod<C>>,
     ) -> bool {
-        // The body is read only for the hook: without one, a member not due stays untouched.
+        // The context is read only for the hook: without one, a member not due stays
+        // untouched.
         if let Some(lod) = lod {
-            if let Some(body) = body {
-                self.interval = lod(&body.ctx).max(1);
+            if let Some(ctx) = ctx {
+                self.interval = lod(ctx).max(1);
             }
         }
         self.picked = false;
@@ -119,10 +119,10 @@ impl Plan {
     /// Ticks the member and returns the visits charged: the blueprint's nodes for each
     /// pass of the root (the most a pass can visit).
     #[inline]
-    pub(super) fn tick<C>(&mut self, body: &mut Body<C>, mode: TickMode) -> Tally {
+    pub(super) fn tick<C>(&mut self, body: &mut Body<C>, ctx: &mut C, mode: TickMode) -> Tally {
         let result = match mode {
-            TickMode::ExactlyOnce => body.tree.tick_exactly_once(&mut body.ctx),
-            TickMode::Once => body.tree.tick_once(&mut body.ctx),
+            TickMode::ExactlyOnce => body.tree.tick_exactly_once(ctx),
+            TickMode::Once => body.tree.tick_once(ctx),
         };
         let passes = match mode {
             TickMode::ExactlyOnce => 1,
@@ -165,6 +165,7 @@ pub(super) fn nodes<C>(tree: &Tree<C>) -> u32 {
 pub struct Member<'a, C> {
     pub(super) id: MemberId,
     pub(super) body: &'a Body<C>,
+    pub(super) ctx: &'a C,
     pub(super) plan: &'a Plan,
 }
 
@@ -172,6 +173,7 @@ pub struct Member<'a, C> {
 pub struct MemberMut<'a, C> {
     pub(super) id: MemberId,
     pub(super) body: &'a mut Body<C>,
+    pub(super) ctx: &'a mut C,
     pub(super) plan: &'a mut Plan,
 }
 
@@ -188,7 +190,7 @@ impl<'a, C> Member<'a, C> {
 
     /// Its context.
     pub fn context(&self) -> &'a C {
-        &self.body.ctx
+        self.ctx
     }
 
     /// What it did in the last frame.
@@ -224,6 +226,7 @@ impl<C> MemberMut<'_, C> {
         Member {
             id: self.id,
             body: self.body,
+            ctx: self.ctx,
             plan: self.plan,
         }
     }
@@ -240,7 +243,13 @@ impl<C> MemberMut<'_, C> {
 
     /// Its context, to change between frames.
     pub fn context_mut(&mut self) -> &mut C {
-        &mut self.body.ctx
+        self.ctx
+    }
+
+    /// Its tree and its context together, for what needs both between frames: a
+    /// [`Tree::reload`] halts the changed nodes with the member's context.
+    pub fn tree_and_context_mut(&mut self) -> (&mut Tree<C>, &mut C) {
+        (&mut self.body.tree, self.ctx)
     }
 
     /// Sets its interval (at least 1); a level-of-detail hook overrides it every frame.
@@ -254,6 +263,47 @@ impl<C> MemberMut<'_, C> {
     /// an eighth of a full frame, rather than a fifth.
     pub fn set_phase(&mut self, phase: u32) {
         self.plan.phase = phase;
+    }
+}
+
+/// Every member's context and last status, to read from many threads at once between
+/// frames ([`Crowd::contexts`](super::Crowd::contexts)): a game engine writing what the
+/// trees did back into its own data, in parallel.
+pub struct Contexts<'a, C> {
+    pub(super) plans: &'a [Plan],
+    pub(super) contexts: &'a [Option<C>],
+}
+
+impl<'a, C> Contexts<'a, C> {
+    /// The context of the member `id` names, if it is still in the crowd.
+    pub fn get(&self, id: MemberId) -> Option<&'a C> {
+        let plan = self.plans.get(id.index as usize)?;
+        if plan.generation != id.generation {
+            return None;
+        }
+        self.contexts[id.index as usize].as_ref()
+    }
+
+    /// What the member `id` names did in the last frame.
+    pub fn status(&self, id: MemberId) -> Option<FrameStatus> {
+        let plan = self.plans.get(id.index as usize)?;
+        (plan.generation == id.generation && plan.present).then_some(plan.status)
+    }
+}
+
+impl<C> Clone for Contexts<'_, C> {
+    fn clone(&self) -> Self {
+        *self
+    }
+}
+
+impl<C> Copy for Contexts<'_, C> {}
+
+impl<C> core::fmt::Debug for Contexts<'_, C> {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.debug_struct("Contexts")
+            .field("slots", &self.plans.len())
+            .finish_non_exhaustive()
     }
 }
 

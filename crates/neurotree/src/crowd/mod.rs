@@ -91,7 +91,7 @@ use rayon::prelude::*;
 
 use crate::{Blueprint, Clock, Tree};
 use member::{Body, Plan, Tally, NOT_OWED};
-pub use member::{FrameStatus, Member, MemberId, MemberMut, TickMode};
+pub use member::{Contexts, FrameStatus, Member, MemberId, MemberMut, TickMode};
 pub use rayon::{ThreadPool, ThreadPoolBuildError, ThreadPoolBuilder};
 
 /// A level-of-detail hook: a member's interval, from its context.
@@ -102,8 +102,12 @@ type Lod<C> = dyn Fn(&C) -> u32 + Send + Sync;
 /// Dropping a crowd drops its trees without halting them, as dropping a [`Tree`] does:
 /// call [`Crowd::halt_all`] first if running actions must hear of it.
 pub struct Crowd<C> {
-    /// Each slot's tree and context, `None` in an empty slot.
+    /// Each slot's tree, `None` in an empty slot.
     bodies: Vec<Option<Body<C>>>,
+    /// Each slot's context, beside `bodies` rather than in them, so that what reads every
+    /// member's context (a level-of-detail hook, a game engine copying its data in and out)
+    /// reads them packed together.
+    contexts: Vec<Option<C>>,
     /// Each slot's schedule, beside `bodies`.
     plans: Vec<Plan>,
     /// Empty slots, reused last-freed first.
@@ -161,6 +165,7 @@ impl<C: Send> Crowd<C> {
     pub fn with_shared_clock(clock: Arc<dyn Clock>) -> Self {
         Self {
             bodies: Vec::new(),
+            contexts: Vec::new(),
             plans: Vec::new(),
             free: Vec::new(),
             len: 0,
@@ -201,7 +206,9 @@ impl<C: Send> Crowd<C> {
     /// its schedule. Its node state is apart ([`Tree::state_bytes`]), and so are its
     /// stateful leaves' objects and its blackboard's entries.
     pub fn slot_bytes(&self) -> usize {
-        std::mem::size_of::<Option<Body<C>>>() + std::mem::size_of::<Plan>()
+        std::mem::size_of::<Option<Body<C>>>()
+            + std::mem::size_of::<Option<C>>()
+            + std::mem::size_of::<Plan>()
     }
 
     /// The clock the crowd's trees read.
@@ -228,6 +235,7 @@ impl<C: Send> Crowd<C> {
                 let index = u32::try_from(self.plans.len()).expect("at most 2^32 members");
                 self.plans.push(Plan::new(0));
                 self.bodies.push(None);
+                self.contexts.push(None);
                 index
             }
         };
@@ -238,11 +246,8 @@ impl<C: Send> Crowd<C> {
             present: true,
             ..Plan::new(plan.generation)
         };
-        self.bodies[index as usize] = Some(Body {
-            tree,
-            ctx,
-            error: None,
-        });
+        self.bodies[index as usize] = Some(Body { tree, error: None });
+        self.contexts[index as usize] = Some(ctx);
         self.len += 1;
         MemberId {
             index,
@@ -258,6 +263,7 @@ impl<C: Send> Crowd<C> {
         self.get(id)?;
         let i = id.index as usize;
         let mut body = self.bodies[i].take()?;
+        let mut ctx = self.contexts[i].take()?;
         let plan = &mut self.plans[i];
         let owed = plan.owed_since != NOT_OWED;
         *plan = Plan::new(plan.generation.wrapping_add(1));
@@ -266,20 +272,25 @@ impl<C: Send> Crowd<C> {
         if owed {
             self.backlog.retain(|&s| s != id.index);
         }
-        body.tree.halt(&mut body.ctx);
-        Some((body.tree, body.ctx))
+        body.tree.halt(&mut ctx);
+        Some((body.tree, ctx))
     }
 
     /// Halts every member's tree, as [`Crowd::remove`] would, keeping the members.
     pub fn halt_all(&mut self) {
-        let halt = |bodies: &mut [Option<Body<C>>]| {
-            bodies.par_iter_mut().flatten().for_each(|b| {
-                b.tree.halt(&mut b.ctx);
-            })
+        let halt = |bodies: &mut [Option<Body<C>>], contexts: &mut [Option<C>]| {
+            bodies
+                .par_iter_mut()
+                .zip(contexts.par_iter_mut())
+                .for_each(|(b, c)| {
+                    if let (Some(b), Some(c)) = (b, c) {
+                        b.tree.halt(c);
+                    }
+                })
         };
         match &self.pool {
-            Some(pool) => pool.install(|| halt(&mut self.bodies)),
-            None => halt(&mut self.bodies),
+            Some(pool) => pool.install(|| halt(&mut self.bodies, &mut self.contexts)),
+            None => halt(&mut self.bodies, &mut self.contexts),
         }
     }
 
@@ -290,7 +301,13 @@ impl<C: Send> Crowd<C> {
             return None;
         }
         let body = self.bodies[id.index as usize].as_ref()?;
-        Some(Member { id, body, plan })
+        let ctx = self.contexts[id.index as usize].as_ref()?;
+        Some(Member {
+            id,
+            body,
+            ctx,
+            plan,
+        })
     }
 
     /// The member `id` names, to change between frames.
@@ -300,7 +317,13 @@ impl<C: Send> Crowd<C> {
             return None;
         }
         let body = self.bodies[id.index as usize].as_mut()?;
-        Some(MemberMut { id, body, plan })
+        let ctx = self.contexts[id.index as usize].as_mut()?;
+        Some(MemberMut {
+            id,
+            body,
+            ctx,
+            plan,
+        })
     }
 
     /// The members, in slot order.
@@ -308,13 +331,22 @@ impl<C: Send> Crowd<C> {
         self.plans
             .iter()
             .zip(&self.bodies)
+            .zip(&self.contexts)
             .enumerate()
-            .filter_map(|(i, (plan, body))| {
+            .filter_map(|(i, ((plan, body), ctx))| {
                 let id = MemberId {
                     index: i as u32,
                     generation: plan.generation,
                 };
-                body.as_ref().map(|body| Member { id, body, plan })
+                match (body, ctx) {
+                    (Some(body), Some(ctx)) => Some(Member {
+                        id,
+                        body,
+                        ctx,
+                        plan,
+                    }),
+                    _ => None,
+                }
             })
     }
 
@@ -323,14 +355,63 @@ impl<C: Send> Crowd<C> {
         self.plans
             .iter_mut()
             .zip(&mut self.bodies)
+            .zip(&mut self.contexts)
             .enumerate()
-            .filter_map(|(i, (plan, body))| {
+            .filter_map(|(i, ((plan, body), ctx))| {
                 let id = MemberId {
                     index: i as u32,
                     generation: plan.generation,
                 };
-                body.as_mut().map(|body| MemberMut { id, body, plan })
+                match (body, ctx) {
+                    (Some(body), Some(ctx)) => Some(MemberMut {
+                        id,
+                        body,
+                        ctx,
+                        plan,
+                    }),
+                    _ => None,
+                }
             })
+    }
+
+    /// Every member's context and last status, to read from many threads at once.
+    pub fn contexts(&self) -> Contexts<'_, C> {
+        Contexts {
+            plans: &self.plans,
+            contexts: &self.contexts,
+        }
+    }
+
+    /// Calls `f` on every member's id and context, in parallel on the crowd's threads:
+    /// to copy data in before a frame, where [`iter_mut`](Self::iter_mut) would do it on
+    /// one thread.
+    pub fn for_each_context_mut(&mut self, f: impl Fn(MemberId, &mut C) + Send + Sync) {
+        let Self {
+            plans,
+            contexts,
+            pool,
+            ..
+        } = self;
+        let mut run = move || {
+            plans
+                .par_iter()
+                .zip(contexts.par_iter_mut())
+                .enumerate()
+                .with_min_len(1024)
+                .for_each(|(i, (plan, ctx))| {
+                    if let Some(ctx) = ctx {
+                        let id = MemberId {
+                            index: i as u32,
+                            generation: plan.generation,
+                        };
+                        f(id, ctx);
+                    }
+                })
+        };
+        match pool {
+            Some(pool) => pool.install(run),
+            None => run(),
+        }
     }
 
     /// The members whose root returned Failure in the last frame; [`Tree::last_failure`]
@@ -439,22 +520,23 @@ impl<C: Send> Crowd<C> {
         self.plans
             .par_iter_mut()
             .zip(self.bodies.par_iter_mut())
+            .zip(self.contexts.par_iter_mut())
             .with_min_len(256)
-            .map(|(plan, body)| {
+            .map(|((plan, body), ctx)| {
                 if !plan.present {
                     return Tally::default();
                 }
-                let due = plan.plan(body, frame, lod) || plan.owed_since != NOT_OWED;
+                let due = plan.plan(&*ctx, frame, lod) || plan.owed_since != NOT_OWED;
                 // The body is touched only when due.
                 if !due {
                     return Tally::default();
                 }
-                match body {
-                    Some(body) => Tally {
+                match (body, ctx) {
+                    (Some(body), Some(ctx)) => Tally {
                         due: 1,
-                        ..plan.tick(body, mode)
+                        ..plan.tick(body, ctx, mode)
                     },
-                    None => Tally::default(),
+                    _ => Tally::default(),
                 }
             })
             .reduce(Tally::default, Tally::add)

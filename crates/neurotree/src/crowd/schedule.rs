@@ -44,15 +44,16 @@ impl<C: Send> Crowd<C> {
         let lod = self.lod.as_deref();
         self.plans
             .par_chunks_mut(CHUNK)
-            .zip(self.bodies.par_chunks_mut(CHUNK))
+            // `_mut` though only read: contexts need not be `Sync`.
+            .zip(self.contexts.par_chunks_mut(CHUNK))
             .zip(self.chunks.par_iter_mut())
-            .for_each(|((plans, bodies), chunk)| {
+            .for_each(|((plans, contexts), chunk)| {
                 *chunk = Chunk::default();
-                for (plan, body) in plans.iter_mut().zip(bodies) {
+                for (plan, ctx) in plans.iter_mut().zip(contexts) {
                     if !plan.present {
                         continue;
                     }
-                    let due = plan.plan(body, frame, lod);
+                    let due = plan.plan(&*ctx, frame, lod);
                     if plan.owed_since != NOT_OWED {
                         plan.status = FrameStatus::Deferred;
                     } else if due {
@@ -70,15 +71,17 @@ impl<C: Send> Crowd<C> {
             .plans
             .par_chunks_mut(CHUNK)
             .zip(self.bodies.par_chunks_mut(CHUNK))
+            .zip(self.contexts.par_chunks_mut(CHUNK))
             .zip(self.chunks.par_iter())
-            .map(|((plans, bodies), chunk)| {
+            .map(|(((plans, bodies), contexts), chunk)| {
                 let mut tally = Tally::default();
-                for (plan, body) in plans.iter_mut().zip(bodies) {
+                let members = plans.iter_mut().zip(bodies).zip(contexts);
+                for ((plan, body), ctx) in members {
                     let go = plan.picked || (chunk.all && plan.owed_since == frame);
                     // The body is touched only when picked.
                     if go {
-                        if let Some(body) = body {
-                            tally = tally.add(plan.tick(body, mode));
+                        if let (Some(body), Some(ctx)) = (body, ctx) {
+                            tally = tally.add(plan.tick(body, ctx, mode));
                         }
                     }
                 }

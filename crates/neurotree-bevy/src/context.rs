@@ -1,0 +1,40 @@
+//! The typed context an agent's leaves receive: what they read and write of its entity.
+
+use bevy_ecs::query::{IterQueryData, QueryItem, ROQueryItem};
+use bevy_ecs::system::{ReadOnlySystemParam, SystemParamItem};
+
+/// An agent's context: the values its leaves read and write, copied from its entity's
+/// components before each frame and written back after it.
+///
+/// The crowd ticks agents on all cores while Bevy's world is borrowed by the tick system,
+/// so a leaf cannot reach the world itself; instead each agent's context takes what its
+/// tree needs from the components named by [`Components`](AgentContext::Components)
+/// ([`load`](AgentContext::load)) and gives back what the tree changed
+/// ([`store`](AgentContext::store), called only for agents ticked in that frame). What
+/// all agents see alike (a player's position, the time of day) comes from
+/// [`Shared`](AgentContext::Shared), any read-only system parameter. The context is also
+/// the agent's own memory: fields not copied from components persist.
+///
+/// `Components` must not name the [`TreeAgent`](crate::TreeAgent) component itself.
+pub trait AgentContext: Send + Sync + 'static {
+    /// The components the context is made from: `&T` to read, `&mut T` to write back.
+    type Components: IterQueryData + 'static;
+
+    /// What every agent's context may read of the world besides its own components: a
+    /// `Res<'static, T>`, a `Query<'static, 'static, ...>` or a tuple of them; `()` for
+    /// nothing. Contexts are loaded on the crowd's threads, so its items must be `Sync`
+    /// (as `Res` and `Query` are).
+    type Shared: ReadOnlySystemParam + 'static;
+
+    /// Copies what the leaves read from the entity's components (read-only: `&T` for
+    /// `&mut T`) and the shared data, before every frame.
+    fn load(
+        &mut self,
+        components: ROQueryItem<'_, '_, Self::Components>,
+        shared: &SystemParamItem<'_, '_, Self::Shared>,
+    );
+
+    /// Writes what the leaves changed back to the entity's components, after a frame in
+    /// which the agent was ticked.
+    fn store(&self, components: &mut QueryItem<'_, '_, Self::Components>);
+}

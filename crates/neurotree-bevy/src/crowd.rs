@@ -1,0 +1,116 @@
+//! The resource that holds every agent's tree: one [`Crowd`] per context type.
+
+use std::sync::{Mutex, PoisonError};
+use std::time::Duration;
+
+use bevy_ecs::entity::Entity;
+use bevy_ecs::resource::Resource;
+use neurotree::crowd::{Crowd, FrameReport, Member, MemberId, MemberMut};
+use neurotree::ManualClock;
+
+use crate::agent::TreeAgent;
+use crate::context::AgentContext;
+
+/// The agents' trees and contexts, ticked frame by frame on all cores by
+/// [`TreeSystems::Tick`](crate::TreeSystems::Tick).
+///
+/// The trees read a [`ManualClock`] that the tick system moves by a fixed step after each
+/// frame ([`NeuroTreePlugin::with_step`](crate::NeuroTreePlugin::with_step)), so that
+/// `Delay`, `Timeout` and `Sleep` count frames and runs repeat exactly.
+#[derive(Resource)]
+pub struct AgentCrowd<C: Send> {
+    /// A `Mutex` only because a resource must be `Sync` and a tree is not: it is only
+    /// ever reached through `&mut`, so it is never locked.
+    crowd: Mutex<Crowd<C>>,
+    clock: ManualClock,
+    step: Duration,
+    /// Each slot's entity, to say whose tree did what.
+    entities: Vec<Option<Entity>>,
+    /// Agents spawned whose tree is not yet available.
+    pub(crate) waiting: Vec<Entity>,
+    last: FrameReport,
+    /// Write a [`TreeFinished`](crate::TreeFinished) for each root that returned Success or
+    /// Failure.
+    pub(crate) report_finished: bool,
+}
+
+impl<C: AgentContext> AgentCrowd<C> {
+    pub(crate) fn new(crowd: Crowd<C>, clock: ManualClock, step: Duration) -> Self {
+        Self {
+            crowd: Mutex::new(crowd),
+            clock,
+            step,
+            entities: Vec::new(),
+            waiting: Vec::new(),
+            last: FrameReport::default(),
+            report_finished: true,
+        }
+    }
+
+    /// The crowd, to set a level-of-detail hook, a budget or a tick mode, or to reach a
+    /// member's tree.
+    pub fn crowd_mut(&mut self) -> &mut Crowd<C> {
+        self.crowd.get_mut().unwrap_or_else(PoisonError::into_inner)
+    }
+
+    /// The agent's member of the crowd: its tree, its context, what it did last frame.
+    pub fn member(&mut self, agent: &TreeAgent<C>) -> Option<Member<'_, C>> {
+        let id = agent.member()?;
+        self.crowd_mut().get(id)
+    }
+
+    /// The agent's member of the crowd, to change between frames.
+    pub fn member_mut(&mut self, agent: &TreeAgent<C>) -> Option<MemberMut<'_, C>> {
+        let id = agent.member()?;
+        self.crowd_mut().get_mut(id)
+    }
+
+    /// The entity of a member.
+    pub fn entity(&self, member: MemberId) -> Option<Entity> {
+        self.entities.get(member.slot()).copied().flatten()
+    }
+
+    /// The clock the trees read.
+    pub fn clock(&self) -> &ManualClock {
+        &self.clock
+    }
+
+    /// What the last frame did.
+    pub fn last_frame(&self) -> FrameReport {
+        self.last
+    }
+
+    /// Writes a [`TreeFinished`](crate::TreeFinished) message for each agent whose root
+    /// returned Success or Failure (on by default); a game whose trees finish every frame
+    /// may turn it off and read [`Member::status`] instead.
+    pub fn set_report_finished(&mut self, on: bool) {
+        self.report_finished = on;
+    }
+
+    /// The crowd, and each slot's entity.
+    pub(crate) fn crowd_and_entities(&mut self) -> (&mut Crowd<C>, &[Option<Entity>]) {
+        let crowd = self.crowd.get_mut().unwrap_or_else(PoisonError::into_inner);
+        (crowd, &self.entities)
+    }
+
+    pub(crate) fn join(&mut self, entity: Entity, member: MemberId) {
+        let slot = member.slot();
+        if self.entities.len() <= slot {
+            self.entities.resize(slot + 1, None);
+        }
+        self.entities[slot] = Some(entity);
+    }
+
+    pub(crate) fn leave(&mut self, member: MemberId) {
+        if self.crowd_mut().remove(member).is_some() {
+            self.entities[member.slot()] = None;
+        }
+    }
+
+    /// Runs a frame and moves the clock on.
+    pub(crate) fn frame(&mut self) -> FrameReport {
+        self.last = self.crowd_mut().frame();
+        self.clock.advance(self.step);
+        self.last
+    }
+}

@@ -1,0 +1,84 @@
+//! # NeuroTree in Bevy
+//!
+//! Behavior trees for Bevy's entities, ticked on all cores: each agent is an entity with a
+//! [`TreeAgent`] component; [`NeuroTreePlugin`] ticks every agent's tree in one parallel
+//! pass of a [`Crowd`](neurotree::crowd::Crowd) (with per-agent tick intervals), in the
+//! [`TreeSystems`] set.
+//!
+//! - **Leaves see components through a typed context.** An [`AgentContext`] names the
+//!   components its leaves need; it is loaded from them before each frame and written
+//!   back after it, so leaves get `&mut` plain data on any thread.
+//! - **Results** come as messages ([`TreeFinished`]) and, for failures and errors with
+//!   their reason, as an observer event ([`TreeFailed`]).
+//! - **Tree files are assets.** With Bevy's `AssetPlugin`, `.xml` files load as
+//!   [`TreeAsset`]s, built with the [`Registry`](neurotree::Registry) the app gives the
+//!   plugin; a file that fails names its `file:line:col`. When a tree asset changes
+//!   (in `Assets`, or on disk with the `file_watcher` feature), every agent running it is
+//!   reloaded, keeping the state of the nodes that did not change ([`TreeReloaded`]).
+//! - **Removing** an agent's component, or despawning it, halts its running actions once.
+//!
+//! ```
+//! use bevy_app::App;
+//! use bevy_ecs::prelude::*;
+//! use bevy_ecs::query::QueryItem;
+//! use neurotree::prelude::*;
+//! use neurotree_bevy::{AgentContext, NeuroTreePlugin, TreeAgent};
+//!
+//! #[derive(Component)]
+//! struct Fuel(u32);
+//!
+//! #[derive(Default)]
+//! struct Ship { fuel: u32 }
+//!
+//! impl AgentContext for Ship {
+//!     type Components = &'static mut Fuel;
+//!     type Shared = ();
+//!     fn load(&mut self, fuel: &Fuel, _: &()) {
+//!         self.fuel = fuel.0;
+//!     }
+//!     fn store(&self, fuel: &mut QueryItem<'_, '_, Self::Components>) {
+//!         fuel.0 = self.fuel;
+//!     }
+//! }
+//!
+//! // Burn a unit of fuel per frame while there is some.
+//! let fly = Blueprint::<Ship>::builder()
+//!     .sequence("fly", |s| {
+//!         s.condition("has_fuel", |s: &Ship| s.fuel > 0)
+//!             .action("burn", |s: &mut Ship| {
+//!                 s.fuel -= 1;
+//!                 Status::Success
+//!             })
+//!     })
+//!     .build_shared()
+//!     .unwrap();
+//!
+//! let mut app = App::new();
+//! app.add_plugins(NeuroTreePlugin::new(Registry::<Ship>::new()));
+//! let ship = app
+//!     .world_mut()
+//!     .spawn((Fuel(2), TreeAgent::new(fly, Ship::default())))
+//!     .id();
+//! for _ in 0..3 {
+//!     app.update();
+//! }
+//! assert_eq!(app.world().get::<Fuel>(ship).unwrap().0, 0);
+//! ```
+
+#![forbid(unsafe_code)]
+#![warn(missing_docs)]
+
+mod agent;
+mod asset;
+mod context;
+mod crowd;
+mod events;
+mod plugin;
+mod systems;
+
+pub use agent::TreeAgent;
+pub use asset::{TreeAsset, TreeAssetError, TreeAssetLoader};
+pub use context::AgentContext;
+pub use crowd::AgentCrowd;
+pub use events::{FailureReason, TreeFailed, TreeFinished, TreeReloaded};
+pub use plugin::{NeuroTreePlugin, TreeSystems};

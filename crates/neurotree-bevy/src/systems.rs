@@ -1,0 +1,266 @@
+//! The systems of [`TreeSystems`](crate::TreeSystems) and the observer that lets agents go.
+
+use std::sync::{Arc, Mutex, PoisonError};
+
+use bevy_asset::{AssetEvent, AssetId, Assets};
+use bevy_ecs::entity::Entity;
+use bevy_ecs::lifecycle::Remove;
+use bevy_ecs::message::{MessageReader, MessageWriter};
+use bevy_ecs::observer::On;
+use bevy_ecs::system::{
+    Commands, Local, ParamSet, Query, Res, ResMut, StaticSystemParam, SystemParamItem,
+};
+use bevy_tasks::{ComputeTaskPool, TaskPool};
+use neurotree::crowd::{Crowd, FrameStatus, MemberId};
+use neurotree::{ReloadError, Status};
+
+use crate::agent::{TreeAgent, TreeSource};
+use crate::asset::TreeAsset;
+use crate::context::AgentContext;
+use crate::crowd::AgentCrowd;
+use crate::events::{FailureReason, TreeFailed, TreeFinished, TreeReloaded};
+
+/// The agents spawned since the last run of a system.
+type AddedAgents<'w, 's, C> = Query<'w, 's, Entity, bevy_ecs::query::Added<TreeAgent<C>>>;
+
+/// Puts the agents spawned since the last frame, and those still waiting for their tree
+/// asset, in the crowd.
+pub(crate) fn join<C: AgentContext>(
+    mut crowd: ResMut<AgentCrowd<C>>,
+    mut agents: ParamSet<(AddedAgents<C>, Query<&mut TreeAgent<C>>)>,
+    trees: Option<Res<Assets<TreeAsset<C>>>>,
+) {
+    let crowd = &mut *crowd;
+    crowd.waiting.extend(agents.p0().iter());
+    if crowd.waiting.is_empty() {
+        return;
+    }
+    let mut waiting = std::mem::take(&mut crowd.waiting);
+    let mut agents = agents.p1();
+    waiting.retain(|&entity| {
+        let Ok(mut agent) = agents.get_mut(entity) else {
+            // Despawned, or its component removed, before it joined.
+            return false;
+        };
+        if agent.member().is_some() {
+            return false;
+        }
+        let blueprint = match agent.source() {
+            TreeSource::Blueprint(blueprint) => Arc::clone(blueprint),
+            TreeSource::Asset(handle) => match trees.as_ref().and_then(|t| t.get(handle)) {
+                Some(tree) => Arc::clone(tree.blueprint()),
+                None => return true,
+            },
+        };
+        let Some(context) = agent.take_context() else {
+            return false;
+        };
+        let interval = agent.interval();
+        let crowd_ = crowd.crowd_mut();
+        let id = crowd_.add(blueprint, context);
+        if let Some(mut member) = crowd_.get_mut(id) {
+            member.set_interval(interval);
+        }
+        crowd.join(entity, id);
+        agent.joined(id);
+        false
+    });
+    crowd.waiting = waiting;
+}
+
+/// A ticked agent whose root did not return Running, or whose tick ended with an error.
+#[derive(Clone, Copy)]
+pub(crate) struct Finished {
+    member: MemberId,
+    entity: Entity,
+    /// `None` for an error.
+    status: Option<Status>,
+}
+
+/// Finished agents gathered by one batch of `par_iter_mut`, added to the frame's list when
+/// the batch ends: one lock per batch rather than one per agent.
+struct Gathered<'a> {
+    into: &'a Mutex<Vec<Finished>>,
+    batch: Vec<Finished>,
+}
+
+impl Drop for Gathered<'_> {
+    fn drop(&mut self) {
+        if !self.batch.is_empty() {
+            let mut into = self.into.lock().unwrap_or_else(PoisonError::into_inner);
+            into.append(&mut self.batch);
+        }
+    }
+}
+
+/// Loads every agent's context from its components, runs a frame of the crowd, writes the
+/// ticked agents' contexts back, and reports what their trees did. Each step runs on all
+/// cores: the loads and the frame on the crowd's threads, the stores on Bevy's compute
+/// pool.
+pub(crate) fn tick<C: AgentContext>(
+    mut crowd: ResMut<AgentCrowd<C>>,
+    mut agents: Query<(Entity, &TreeAgent<C>, C::Components)>,
+    shared: StaticSystemParam<C::Shared>,
+    mut finished: MessageWriter<TreeFinished>,
+    mut commands: Commands,
+    mut collected: Local<Mutex<Vec<Finished>>>,
+) where
+    for<'w, 's> SystemParamItem<'w, 's, C::Shared>: Sync,
+{
+    let crowd = &mut *crowd;
+    let report_finished = crowd.report_finished;
+    {
+        let (members, entities) = crowd.crowd_and_entities();
+        let (agents, shared) = (&agents, &*shared);
+        members.for_each_context_mut(|id, context| {
+            let Some(entity) = entities.get(id.slot()).copied().flatten() else {
+                return;
+            };
+            if let Ok((_, agent, components)) = agents.get(entity) {
+                if agent.member() == Some(id) {
+                    context.load(components, shared);
+                }
+            }
+        });
+    }
+    crowd.frame();
+    let members = crowd.crowd_mut();
+    let contexts = members.contexts();
+    ComputeTaskPool::get_or_init(TaskPool::default);
+    let into = &*collected;
+    let gather = || Gathered {
+        into,
+        batch: Vec::new(),
+    };
+    agents
+        .par_iter_mut()
+        .for_each_init(gather, |gathered, (entity, agent, mut components)| {
+            let Some(member) = agent.member() else { return };
+            let status = match contexts.status(member) {
+                Some(FrameStatus::Ticked(status)) => Some(status),
+                Some(FrameStatus::Error) => None,
+                _ => return,
+            };
+            if let Some(context) = contexts.get(member) {
+                context.store(&mut components);
+            }
+            let report = match status {
+                Some(Status::Running) => false,
+                Some(Status::Failure) | None => true,
+                Some(_) => report_finished,
+            };
+            if report {
+                let done = Finished {
+                    member,
+                    entity,
+                    status,
+                };
+                gathered.batch.push(done);
+            }
+        });
+    // In slot order, so that messages come in the same order on any number of threads.
+    let ended = collected.get_mut().unwrap_or_else(PoisonError::into_inner);
+    ended.sort_unstable_by_key(|f| f.member.slot());
+    report(
+        members,
+        ended,
+        report_finished,
+        &mut finished,
+        &mut commands,
+    );
+}
+
+/// Writes a [`TreeFinished`] for each agent of `ended` (if asked), and triggers a
+/// [`TreeFailed`] with its reason for each failure and error.
+fn report<C: AgentContext>(
+    members: &Crowd<C>,
+    ended: &mut Vec<Finished>,
+    report_finished: bool,
+    finished: &mut MessageWriter<TreeFinished>,
+    commands: &mut Commands,
+) {
+    for done in ended.drain(..) {
+        let Some(member) = members.get(done.member) else {
+            continue;
+        };
+        let entity = done.entity;
+        let reason = match done.status {
+            Some(status) => {
+                if report_finished {
+                    finished.write(TreeFinished { entity, status });
+                }
+                if status != Status::Failure {
+                    continue;
+                }
+                member.tree().last_failure().map(FailureReason::Failed)
+            }
+            None => member.error().cloned().map(FailureReason::Error),
+        };
+        if let Some(reason) = reason {
+            commands.trigger(TreeFailed { entity, reason });
+        }
+    }
+}
+
+/// Reloads the trees of the agents whose tree asset changed, keeping the state of the
+/// nodes that did not change. An agent whose tree is halting is reloaded in a later frame.
+pub(crate) fn reload<C: AgentContext>(
+    mut changes: MessageReader<AssetEvent<TreeAsset<C>>>,
+    mut pending: Local<Vec<AssetId<TreeAsset<C>>>>,
+    trees: Res<Assets<TreeAsset<C>>>,
+    mut crowd: ResMut<AgentCrowd<C>>,
+    agents: Query<(Entity, &TreeAgent<C>)>,
+    mut reloaded: MessageWriter<TreeReloaded>,
+) {
+    for change in changes.read() {
+        if let AssetEvent::Modified { id } = change {
+            if !pending.contains(id) {
+                pending.push(*id);
+            }
+        }
+    }
+    if pending.is_empty() {
+        return;
+    }
+    let members = crowd.crowd_mut();
+    pending.retain(|&id| {
+        let Some(tree) = trees.get(id) else {
+            return false;
+        };
+        let mut again = false;
+        for (entity, agent) in agents.iter() {
+            if agent.asset() != Some(id) {
+                continue;
+            }
+            let Some(mut member) = agent.member().and_then(|m| members.get_mut(m)) else {
+                continue;
+            };
+            let (instance, context) = member.tree_and_context_mut();
+            if Arc::ptr_eq(instance.blueprint(), tree.blueprint()) {
+                continue;
+            }
+            match instance.reload(Arc::clone(tree.blueprint()), context) {
+                Ok(report) => {
+                    reloaded.write(TreeReloaded { entity, report });
+                }
+                Err(ReloadError::Halting) => again = true,
+                // A refusal this plugin does not know yet: leave the tree as it is.
+                Err(_) => {}
+            }
+        }
+        again
+    });
+}
+
+/// Takes an agent out of the crowd when its component goes (or its entity is despawned),
+/// halting its running actions once.
+pub(crate) fn leave<C: AgentContext>(
+    removed: On<Remove<TreeAgent<C>>>,
+    agents: Query<&TreeAgent<C>>,
+    mut crowd: ResMut<AgentCrowd<C>>,
+) {
+    // Remove observers run while the component is still there.
+    if let Some(member) = agents.get(removed.entity).ok().and_then(TreeAgent::member) {
+        crowd.leave(member);
+    }
+}

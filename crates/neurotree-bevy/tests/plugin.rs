@@ -1,0 +1,525 @@
+//! The plugin in an app: ticks with intervals, leaves over components, messages and
+//! observers, tree assets loaded and reloaded, agents removed.
+
+use std::path::PathBuf;
+use std::sync::atomic::{AtomicU32, Ordering};
+use std::sync::Arc;
+
+use bevy_app::{App, TaskPoolPlugin, Update};
+use bevy_asset::{AssetPlugin, AssetServer, Handle, LoadState};
+use bevy_ecs::prelude::*;
+use bevy_ecs::query::{QueryItem, ROQueryItem};
+use neurotree::prelude::*;
+use neurotree::{FailureLink, Handle as NodeHandle, StatefulAction};
+use neurotree_bevy::{
+    AgentContext, AgentCrowd, FailureReason, NeuroTreePlugin, TreeAgent, TreeAsset, TreeFailed,
+    TreeFinished, TreeReloaded, TreeSystems,
+};
+
+/// What a guard's sensors say; the trees only read it.
+#[derive(Component)]
+struct Hp(i32);
+
+/// Raised for every guard at once.
+#[derive(Resource)]
+struct Alarm(bool);
+
+/// What a guard's tree did, written back by the plugin.
+#[derive(Component, Clone, Copy, Default, Debug, PartialEq)]
+struct Counts {
+    ticks: u32,
+    steps: u32,
+    started: u32,
+    fleeing: bool,
+}
+
+/// The context the leaves see: a copy of `Hp` and `Counts`, and the halts counted apart
+/// (a removed agent's context is gone with it).
+#[derive(Default)]
+struct Guard {
+    hp: i32,
+    alarm: bool,
+    counts: Counts,
+    halts: Arc<AtomicU32>,
+}
+
+impl AgentContext for Guard {
+    type Components = (&'static Hp, &'static mut Counts);
+    type Shared = Option<Res<'static, Alarm>>;
+
+    fn load(
+        &mut self,
+        (hp, counts): ROQueryItem<'_, '_, Self::Components>,
+        alarm: &Option<Res<'_, Alarm>>,
+    ) {
+        self.hp = hp.0;
+        self.alarm = alarm.as_ref().is_some_and(|a| a.0);
+        self.counts = *counts;
+    }
+
+    fn store(&self, (_, counts): &mut QueryItem<'_, '_, Self::Components>) {
+        **counts = self.counts;
+    }
+}
+
+/// Runs until halted, counting its starts in the context and its halts apart.
+struct Hold;
+
+impl StatefulAction<Guard> for Hold {
+    fn on_start(&mut self, h: &mut NodeHandle<'_, Guard>) -> Status {
+        h.ctx_mut().counts.started += 1;
+        Status::Running
+    }
+
+    fn on_running(&mut self, _h: &mut NodeHandle<'_, Guard>) -> Status {
+        Status::Running
+    }
+
+    fn on_halted(&mut self, h: &mut NodeHandle<'_, Guard>) {
+        h.ctx().halts.fetch_add(1, Ordering::SeqCst);
+    }
+}
+
+fn registry() -> Registry<Guard> {
+    let mut r = Registry::<Guard>::new();
+    r.register_action("Tick", vec![], |h| {
+        h.ctx_mut().counts.ticks += 1;
+        Status::Success
+    })
+    .unwrap();
+    r.register_action("Step", vec![], |h| {
+        h.ctx_mut().counts.steps += 1;
+        Status::Success
+    })
+    .unwrap();
+    r.register_condition("Hurt", vec![], |h| h.ctx().hp < 50)
+        .unwrap();
+    r.register_condition("Alarmed", vec![], |h| h.ctx().alarm)
+        .unwrap();
+    // A sync action may not return Running: its tick ends with an error.
+    r.register_action("Broken", vec![], |_| Status::Running)
+        .unwrap();
+    r.register_action("Flee", vec![], |h| {
+        h.ctx_mut().counts.fleeing = true;
+        Status::Success
+    })
+    .unwrap();
+    r.register_action("Patrol", vec![], |h| {
+        h.ctx_mut().counts.fleeing = false;
+        Status::Success
+    })
+    .unwrap();
+    r.register_action("NoPath", vec![], |h| h.fail_with(7, "no path"))
+        .unwrap();
+    r.register_stateful("Hold", vec![PortSpec::input::<i32>("speed")], || Hold)
+        .unwrap();
+    r
+}
+
+fn blueprint(xml: &str) -> Arc<Blueprint<Guard>> {
+    let registry = registry();
+    let mut loader = XmlLoader::new(&registry);
+    loader.load_str(xml, "test.xml").unwrap();
+    Arc::new(loader.build_main().unwrap())
+}
+
+fn tree(body: &str) -> String {
+    format!(r#"<root BTCPP_format="4"><BehaviorTree ID="Main">{body}</BehaviorTree></root>"#)
+}
+
+fn app() -> App {
+    let mut app = App::new();
+    app.add_plugins(NeuroTreePlugin::new(registry()).with_threads(2).unwrap());
+    app
+}
+
+fn counts(app: &App, entity: Entity) -> &Counts {
+    app.world().get::<Counts>(entity).unwrap()
+}
+
+fn spawn(app: &mut App, agent: TreeAgent<Guard>, hp: i32) -> Entity {
+    app.world_mut()
+        .spawn((Hp(hp), Counts::default(), agent))
+        .id()
+}
+
+#[test]
+fn agents_are_ticked_once_per_frame_or_every_nth_frame_with_an_interval() {
+    let mut app = app();
+    let bp = blueprint(&tree("<Tick/>"));
+    let every: Vec<Entity> = [1, 2, 3, 8]
+        .into_iter()
+        .map(|n| {
+            let agent = TreeAgent::new(Arc::clone(&bp), Guard::default()).with_interval(n);
+            spawn(&mut app, agent, 100)
+        })
+        .collect();
+    for _ in 0..24 {
+        app.update();
+    }
+    let ticks: Vec<u32> = every.iter().map(|&e| counts(&app, e).ticks).collect();
+    assert_eq!(ticks, [24, 12, 8, 3]);
+    let mut crowd = app.world_mut().resource_mut::<AgentCrowd<Guard>>();
+    assert_eq!(crowd.crowd_mut().len(), 4);
+    assert_eq!(crowd.crowd_mut().frames(), 24);
+}
+
+#[test]
+fn leaves_read_and_write_the_agents_components() {
+    let mut app = app();
+    let bp = blueprint(&tree(
+        "<ReactiveFallback><Sequence><Hurt/><Flee/></Sequence><Patrol/></ReactiveFallback>",
+    ));
+    let hurt = spawn(
+        &mut app,
+        TreeAgent::new(Arc::clone(&bp), Guard::default()),
+        10,
+    );
+    let well = spawn(&mut app, TreeAgent::new(bp, Guard::default()), 90);
+    app.update();
+    assert!(counts(&app, hurt).fleeing);
+    assert!(!counts(&app, well).fleeing);
+    // The world changes between frames; the next frame's tick sees it.
+    app.world_mut().get_mut::<Hp>(hurt).unwrap().0 = 80;
+    app.world_mut().get_mut::<Hp>(well).unwrap().0 = 20;
+    app.update();
+    assert!(!counts(&app, hurt).fleeing);
+    assert!(counts(&app, well).fleeing);
+}
+
+#[test]
+fn contexts_read_what_all_agents_share() {
+    let mut app = app();
+    let bp = blueprint(&tree(
+        "<Fallback><Sequence><Alarmed/><Flee/></Sequence><Patrol/></Fallback>",
+    ));
+    let guards: Vec<Entity> = (0..3)
+        .map(|_| {
+            spawn(
+                &mut app,
+                TreeAgent::new(Arc::clone(&bp), Guard::default()),
+                100,
+            )
+        })
+        .collect();
+    app.update();
+    assert!(guards.iter().all(|&g| !counts(&app, g).fleeing));
+    app.insert_resource(Alarm(true));
+    app.update();
+    assert!(guards.iter().all(|&g| counts(&app, g).fleeing));
+}
+
+/// What the test's systems and observers saw.
+#[derive(Resource, Default)]
+struct Seen {
+    finished: Vec<TreeFinished>,
+    failed: Vec<(Entity, String, String)>,
+    on_entity: u32,
+}
+
+fn record_finished(mut messages: MessageReader<TreeFinished>, mut seen: ResMut<Seen>) {
+    seen.finished.extend(messages.read().copied());
+}
+
+#[test]
+fn results_are_messages_and_failures_reach_observers_with_their_reason() {
+    let mut app = app();
+    app.init_resource::<Seen>()
+        .add_systems(Update, record_finished.after(TreeSystems::Tick))
+        .add_observer(|failed: On<TreeFailed>, mut seen: ResMut<Seen>| {
+            let seen_as = match &failed.reason {
+                FailureReason::Failed(failure) => {
+                    let leaf: &FailureLink = failure.leaf();
+                    let reason = failure.reason().map(ToString::to_string);
+                    (failed.entity, leaf.path.clone(), reason.unwrap_or_default())
+                }
+                FailureReason::Error(error) => (failed.entity, "error".into(), error.to_string()),
+            };
+            seen.failed.push(seen_as);
+        });
+    let ok = spawn(
+        &mut app,
+        TreeAgent::new(blueprint(&tree("<Step/>")), Guard::default()),
+        100,
+    );
+    let stuck = blueprint(&tree(
+        r#"<Sequence name="go"><Step/><NoPath name="plan"/></Sequence>"#,
+    ));
+    let failing = spawn(&mut app, TreeAgent::new(stuck, Guard::default()), 100);
+    let running = spawn(
+        &mut app,
+        TreeAgent::new(blueprint(&tree(r#"<Hold speed="1"/>"#)), Guard::default()),
+        100,
+    );
+    let broken = spawn(
+        &mut app,
+        TreeAgent::new(blueprint(&tree("<Broken/>")), Guard::default()),
+        100,
+    );
+    app.world_mut()
+        .entity_mut(failing)
+        .observe(|_: On<TreeFailed>, mut seen: ResMut<Seen>| seen.on_entity += 1);
+    for _ in 0..3 {
+        app.update();
+    }
+    let seen = app.world().resource::<Seen>();
+    let of = |e: Entity| {
+        seen.finished
+            .iter()
+            .filter(|f| f.entity == e)
+            .map(|f| f.status)
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(of(ok), [Status::Success; 3]);
+    assert_eq!(of(failing), [Status::Failure; 3]);
+    assert_eq!(of(running), []);
+    assert_eq!(of(broken), []);
+    let failure = (
+        failing,
+        "go/plan".to_string(),
+        "no path (error 7)".to_string(),
+    );
+    let of = |e: Entity| seen.failed.iter().filter(|f| f.0 == e).collect::<Vec<_>>();
+    assert_eq!(of(failing), [&failure; 3]);
+    // An error is no Failure message, but it reaches the observers with the error.
+    let errors = of(broken);
+    assert_eq!(errors.len(), 3);
+    assert_eq!(errors[0].1, "error");
+    assert!(errors[0].2.starts_with("Broken (#0)"), "{}", errors[0].2);
+    assert_eq!(seen.failed.len(), 6);
+    assert_eq!(seen.on_entity, 3);
+}
+
+#[test]
+fn removing_or_despawning_an_agent_halts_its_running_action_once() {
+    let mut app = app();
+    let bp = blueprint(&tree(r#"<Hold speed="1"/>"#));
+    let halts: Vec<Arc<AtomicU32>> = (0..3).map(|_| Arc::default()).collect();
+    let agents: Vec<Entity> = halts
+        .iter()
+        .map(|h| {
+            let guard = Guard {
+                halts: Arc::clone(h),
+                ..Guard::default()
+            };
+            spawn(&mut app, TreeAgent::new(Arc::clone(&bp), guard), 100)
+        })
+        .collect();
+    for _ in 0..3 {
+        app.update();
+    }
+    assert_eq!(counts(&app, agents[0]).started, 1);
+    app.world_mut().despawn(agents[0]);
+    app.world_mut()
+        .entity_mut(agents[1])
+        .remove::<TreeAgent<Guard>>();
+    for _ in 0..3 {
+        app.update();
+    }
+    let halted: Vec<u32> = halts.iter().map(|h| h.load(Ordering::SeqCst)).collect();
+    assert_eq!(halted, [1, 1, 0]);
+    let mut crowd = app.world_mut().resource_mut::<AgentCrowd<Guard>>();
+    assert_eq!(crowd.crowd_mut().len(), 1);
+    // The agent whose component went keeps its last written components and is ticked no more.
+    assert_eq!(counts(&app, agents[1]).started, 1);
+}
+
+/// A directory of its own under the system's temporary one, removed when dropped.
+struct TempDir(PathBuf);
+
+impl TempDir {
+    fn new(name: &str) -> Self {
+        let dir = std::env::temp_dir().join(format!("{name}-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        TempDir(dir)
+    }
+}
+
+impl Drop for TempDir {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+fn asset_app(dir: &TempDir) -> App {
+    let mut app = App::new();
+    app.add_plugins((
+        TaskPoolPlugin::default(),
+        AssetPlugin {
+            file_path: dir.0.display().to_string(),
+            ..AssetPlugin::default()
+        },
+    ));
+    app.add_plugins(NeuroTreePlugin::new(registry()));
+    app
+}
+
+/// Updates until the asset has loaded or failed, at most 1000 times.
+fn wait_for(app: &mut App, handle: &Handle<TreeAsset<Guard>>) -> LoadState {
+    for _ in 0..1000 {
+        app.update();
+        let state = app.world().resource::<AssetServer>().load_state(handle);
+        if !matches!(state, LoadState::Loading | LoadState::NotLoaded) {
+            return state;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(1));
+    }
+    panic!("the asset neither loaded nor failed");
+}
+
+#[derive(Resource, Default)]
+struct Reloads(Vec<TreeReloaded>);
+
+#[test]
+fn a_tree_file_loads_as_an_asset_and_reloads_keeping_the_state_of_unchanged_nodes() {
+    let dir = TempDir::new("neurotree-bevy-reload");
+    let v1 =
+        tree(r#"<SequenceWithMemory name="work"><Step/><Hold speed="1"/></SequenceWithMemory>"#);
+    std::fs::write(dir.0.join("guard.xml"), &v1).unwrap();
+    let mut app = asset_app(&dir);
+    app.init_resource::<Reloads>().add_systems(
+        Update,
+        (|mut m: MessageReader<TreeReloaded>, mut r: ResMut<Reloads>| {
+            r.0.extend(m.read().copied())
+        })
+        .after(TreeSystems::Tick),
+    );
+    let handle: Handle<TreeAsset<Guard>> = app.world().resource::<AssetServer>().load("guard.xml");
+    let halts = Arc::new(AtomicU32::new(0));
+    let guard = Guard {
+        halts: Arc::clone(&halts),
+        ..Guard::default()
+    };
+    let agent = spawn(&mut app, TreeAgent::from_asset(handle.clone(), guard), 100);
+    assert!(matches!(wait_for(&mut app, &handle), LoadState::Loaded));
+    // The frames that waited for the file did not tick the agent.
+    let start = counts(&app, agent).ticks;
+    let frames = |app: &mut App, n| {
+        for _ in 0..n {
+            app.update();
+        }
+    };
+    frames(&mut app, 3);
+    assert_eq!(
+        (counts(&app, agent).steps, counts(&app, agent).started),
+        (1, 1)
+    );
+    assert_eq!(start, 0);
+
+    // Hold's port changes: Hold restarts, the sequence and Step keep their state, so Step
+    // does not run again.
+    let v2 =
+        tree(r#"<SequenceWithMemory name="work"><Step/><Hold speed="2"/></SequenceWithMemory>"#);
+    std::fs::write(dir.0.join("guard.xml"), &v2).unwrap();
+    app.world().resource::<AssetServer>().reload("guard.xml");
+    for _ in 0..1000 {
+        app.update();
+        if !app.world().resource::<Reloads>().0.is_empty() {
+            break;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(1));
+    }
+    let reloads = &app.world().resource::<Reloads>().0;
+    assert_eq!(reloads.len(), 1);
+    assert_eq!(reloads[0].entity, agent);
+    let report = reloads[0].report;
+    assert_eq!((report.kept, report.restarted, report.halted), (2, 1, 1));
+    frames(&mut app, 2);
+    assert_eq!(
+        (counts(&app, agent).steps, counts(&app, agent).started),
+        (1, 2)
+    );
+    assert_eq!(halts.load(Ordering::SeqCst), 1);
+
+    // A change made in `Assets` reloads too: back to v1.
+    let id = handle.id();
+    app.world_mut()
+        .resource_mut::<bevy_asset::Assets<TreeAsset<Guard>>>()
+        .insert(id, TreeAsset::new(blueprint(&v1)))
+        .unwrap();
+    // `Assets` tells of the change at the end of the frame; the next frame reloads.
+    frames(&mut app, 2);
+    assert_eq!(app.world().resource::<Reloads>().0.len(), 2);
+    assert_eq!(
+        (counts(&app, agent).steps, counts(&app, agent).started),
+        (1, 3)
+    );
+    assert_eq!(halts.load(Ordering::SeqCst), 2);
+}
+
+#[test]
+fn a_bad_tree_file_fails_to_load_naming_its_line_and_column() {
+    let dir = TempDir::new("neurotree-bevy-bad");
+    std::fs::write(
+        dir.0.join("bad.xml"),
+        "<root BTCPP_format=\"4\">\n  <BehaviorTree ID=\"Main\">\n    <Nope/>\n  </BehaviorTree>\n</root>\n",
+    )
+    .unwrap();
+    let mut app = asset_app(&dir);
+    let handle: Handle<TreeAsset<Guard>> = app.world().resource::<AssetServer>().load("bad.xml");
+    let agent = spawn(
+        &mut app,
+        TreeAgent::from_asset(handle.clone(), Guard::default()),
+        100,
+    );
+    let LoadState::Failed(error) = wait_for(&mut app, &handle) else {
+        panic!("a tree with an unknown node loaded");
+    };
+    let printed = error.to_string();
+    assert!(
+        printed.contains("bad.xml:3:5: error: unknown node type `Nope`"),
+        "{printed}"
+    );
+    // The agent waits for a tree; it is never ticked.
+    app.update();
+    let agent = app.world().get::<TreeAgent<Guard>>(agent).unwrap();
+    assert_eq!(agent.member(), None);
+}
+
+/// With bevy_asset's watcher, a file edited on disk reloads the agents running it. The
+/// watcher reports on its own thread after a debounce, so the frames are run until it has.
+#[cfg(feature = "file_watcher")]
+#[test]
+fn a_tree_file_edited_on_disk_is_reloaded_keeping_state() {
+    let dir = TempDir::new("neurotree-bevy-watch");
+    let v1 = tree(r#"<SequenceWithMemory><Step/><Hold speed="1"/></SequenceWithMemory>"#);
+    std::fs::write(dir.0.join("guard.xml"), &v1).unwrap();
+    let mut app = asset_app(&dir);
+    app.init_resource::<Reloads>().add_systems(
+        Update,
+        (|mut m: MessageReader<TreeReloaded>, mut r: ResMut<Reloads>| {
+            r.0.extend(m.read().copied())
+        })
+        .after(TreeSystems::Tick),
+    );
+    let handle: Handle<TreeAsset<Guard>> = app.world().resource::<AssetServer>().load("guard.xml");
+    let agent = spawn(
+        &mut app,
+        TreeAgent::from_asset(handle.clone(), Guard::default()),
+        100,
+    );
+    assert!(matches!(wait_for(&mut app, &handle), LoadState::Loaded));
+    app.update();
+    app.update();
+    assert_eq!(
+        (counts(&app, agent).steps, counts(&app, agent).started),
+        (1, 1)
+    );
+    let v2 = tree(r#"<SequenceWithMemory><Step/><Hold speed="2"/></SequenceWithMemory>"#);
+    std::fs::write(dir.0.join("guard.xml"), &v2).unwrap();
+    for _ in 0..6000 {
+        app.update();
+        if !app.world().resource::<Reloads>().0.is_empty() {
+            break;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    }
+    let reloads = &app.world().resource::<Reloads>().0;
+    assert_eq!(reloads.len(), 1, "the watcher did not report the change");
+    assert_eq!((reloads[0].report.kept, reloads[0].report.halted), (2, 1));
+    app.update();
+    assert_eq!(
+        (counts(&app, agent).steps, counts(&app, agent).started),
+        (1, 2)
+    );
+}
