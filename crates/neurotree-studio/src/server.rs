@@ -278,22 +278,13 @@ async fn svg(State(shared): App, Json(body): Json<TextBody>) -> Result<Response,
     let abs = shared.workspace.resolve(&body.path)?;
     let shared = Arc::clone(&shared);
     let drawn = tokio::task::spawn_blocking(move || -> Result<String, String> {
-        let mut registry = (shared.registry)();
-        let _ = registry.add_model_str(&body.text, &body.path);
-        let mut loader = XmlLoader::new(&registry)
-            .mock_unknown(true)
-            .max_nodes(shared.max_nodes);
-        if let Some(dir) = abs.parent() {
-            loader = loader.base_dir(dir);
-        }
-        loader
-            .load_str(&body.text, &body.path)
-            .map_err(|e| e.to_string())?;
-        let blueprint = match &body.tree {
-            Some(id) => loader.build(id),
-            None => loader.build_main(),
-        }
-        .map_err(|e| e.to_string())?;
+        let blueprint = with_lenient_loader(&shared, &abs, &body.path, &body.text, |loader| {
+            match &body.tree {
+                Some(id) => loader.build(id),
+                None => loader.build_main(),
+            }
+            .map_err(|e| e.to_string())
+        })??;
         Ok(neurotree_toolkit::render::render_svg(&blueprint, None))
     })
     .await
@@ -358,39 +349,54 @@ fn jsonl_replay(shared: &Shared, tree_path: &str, text: &str) -> Result<Replay, 
         .workspace
         .resolve(tree_path)
         .map_err(JsonlError::Path)?;
+    with_lenient_loader(shared, &abs, tree_path, &tree_text, |loader| {
+        let mut ids: Vec<String> = loader.tree_ids().map(String::from).collect();
+        if let Some(main) = loader.main_tree() {
+            let main = main.to_string();
+            ids.retain(|i| *i != main);
+            ids.insert(0, main);
+        }
+        let mut first_error = None;
+        for id in &ids {
+            let Ok(blueprint) = loader.build(id) else {
+                continue;
+            };
+            match replay::from_jsonl(text, &blueprint, id) {
+                Ok(r) => return Ok(r),
+                Err(e) => {
+                    first_error.get_or_insert(e);
+                }
+            }
+        }
+        Err(match first_error {
+            Some(e) => JsonlError::Replay(e),
+            None => JsonlError::Load(format!("no tree of `{tree_path}` builds")),
+        })
+    })
+    .map_err(JsonlError::Load)?
+}
+
+/// Runs `f` on a loader holding `text` (the file `path`, its includes beside `abs`) with
+/// every unknown leaf mocked: drawing a tree or replaying its run needs no implementation
+/// of its leaves. `Err` with the loader's message when the text does not load.
+fn with_lenient_loader<R>(
+    shared: &Shared,
+    abs: &Path,
+    path: &str,
+    text: &str,
+    f: impl FnOnce(&mut XmlLoader<'_, ()>) -> R,
+) -> Result<R, String> {
     let mut registry = (shared.registry)();
-    let _ = registry.add_model_str(&tree_text, tree_path);
+    // A model that does not load is the check's to report; the loader goes without it.
+    let _ = registry.add_model_str(text, path);
     let mut loader = XmlLoader::new(&registry)
         .mock_unknown(true)
         .max_nodes(shared.max_nodes);
     if let Some(dir) = abs.parent() {
         loader = loader.base_dir(dir);
     }
-    loader
-        .load_str(&tree_text, tree_path)
-        .map_err(|e| JsonlError::Load(e.to_string()))?;
-    let mut ids: Vec<String> = loader.tree_ids().map(String::from).collect();
-    if let Some(main) = loader.main_tree() {
-        let main = main.to_string();
-        ids.retain(|i| *i != main);
-        ids.insert(0, main);
-    }
-    let mut first_error = None;
-    for id in &ids {
-        let Ok(blueprint) = loader.build(id) else {
-            continue;
-        };
-        match replay::from_jsonl(text, &blueprint, id) {
-            Ok(r) => return Ok(r),
-            Err(e) => {
-                first_error.get_or_insert(e);
-            }
-        }
-    }
-    Err(match first_error {
-        Some(e) => JsonlError::Replay(e),
-        None => JsonlError::Load(format!("no tree of `{tree_path}` builds")),
-    })
+    loader.load_str(text, path).map_err(|e| e.to_string())?;
+    Ok(f(&mut loader))
 }
 
 async fn coverage(State(shared): App, Query(q): Query<MaybePath>) -> Result<Json<Value>, Refusal> {

@@ -34,19 +34,29 @@ struct Run {
     thread: Option<thread::JoinHandle<()>>,
 }
 
+/// A studio serving an empty temporary folder (kept as long as the studio is).
+fn studio() -> (Studio, tempfile::TempDir) {
+    let dir = tempfile::tempdir().unwrap();
+    let options = StudioOptions {
+        root: dir.path().to_path_buf(),
+        ..StudioOptions::default()
+    };
+    (Studio::serve(options, Registry::new).unwrap(), dir)
+}
+
+/// The blueprint of `xml`, with the built-in nodes only.
+fn blueprint(xml: &str) -> Arc<neurotree_toolkit::Blueprint<()>> {
+    let registry = Registry::<()>::new();
+    let mut loader = XmlLoader::new(&registry);
+    loader.load_str(xml, "main.xml").unwrap();
+    Arc::new(loader.build_main().unwrap())
+}
+
 impl Run {
     fn start() -> Run {
-        let dir = tempfile::tempdir().unwrap();
-        let options = StudioOptions {
-            root: dir.path().to_path_buf(),
-            ..StudioOptions::default()
-        };
-        let studio = Studio::serve(options, Registry::new).unwrap();
-        let registry = Registry::<()>::new();
-        let mut loader = XmlLoader::new(&registry);
-        loader.load_str(TREE, "main.xml").unwrap();
+        let (studio, dir) = studio();
         let clock = ManualClock::new();
-        let mut tree = Tree::with_clock(Arc::new(loader.build_main().unwrap()), clock.clone());
+        let mut tree = Tree::with_clock(blueprint(TREE), clock.clone());
         tree.blackboard_mut().set("count", 0i64).unwrap();
         let mut watch = studio.watch(&mut tree, "main.xml");
         let ticks = Arc::new(AtomicU64::new(0));
@@ -277,19 +287,8 @@ fn with_no_page_attached_breakpoints_never_hold_the_run() {
 
 #[test]
 fn a_reloaded_tree_reaches_the_pages_whole_with_its_breakpoints() {
-    let dir = tempfile::tempdir().unwrap();
-    let options = StudioOptions {
-        root: dir.path().to_path_buf(),
-        ..StudioOptions::default()
-    };
-    let studio = Studio::serve(options, Registry::new).unwrap();
-    let registry = Registry::<()>::new();
-    let build = |xml: &str| {
-        let mut loader = XmlLoader::new(&registry);
-        loader.load_str(xml, "main.xml").unwrap();
-        Arc::new(loader.build_main().unwrap())
-    };
-    let mut tree = Tree::new(build(TREE));
+    let (studio, _dir) = studio();
+    let mut tree = Tree::new(blueprint(TREE));
     tree.blackboard_mut().set("count", 0i64).unwrap();
     let mut watch = studio.watch(&mut tree, "main.xml");
     let mut page = Page::connect(studio.addr());
@@ -308,7 +307,7 @@ fn a_reloaded_tree_reaches_the_pages_whole_with_its_breakpoints() {
         r#"<AlwaysSuccess name="done"/>"#,
         r#"<AlwaysSuccess name="extra"/><AlwaysSuccess name="done"/>"#,
     );
-    tree.reload(build(&v2), &mut ()).unwrap();
+    tree.reload(blueprint(&v2), &mut ()).unwrap();
     watch.reattach(&tree, "main.xml");
     let hello = page.expect("hello");
     let paths: Vec<&str> = hello["tree"]["nodes"]
