@@ -16,8 +16,8 @@ use crate::context::AgentContext;
 /// [`AgentCrowd`](crate::AgentCrowd) resource, which ticks every agent's tree in one
 /// parallel pass; this component names it. An agent joins the crowd in the first frame
 /// after it is spawned in which its tree is available (at once for a blueprint, once
-/// loaded for an asset), and leaves it when the component is removed or the entity
-/// despawned, which halts its running actions once.
+/// loaded for an asset), and leaves it when the component is removed or replaced or the
+/// entity despawned, which halts its running actions once.
 #[derive(Component)]
 pub struct TreeAgent<C: AgentContext> {
     source: TreeSource<C>,

@@ -15,7 +15,8 @@
 //!   plugin; a file that fails names its `file:line:col`. When a tree asset changes
 //!   (in `Assets`, or on disk with the `file_watcher` feature), every agent running it is
 //!   reloaded, keeping the state of the nodes that did not change ([`TreeReloaded`]).
-//! - **Removing** an agent's component, or despawning it, halts its running actions once.
+//! - **Removing** an agent's component (or replacing it, or despawning the agent) halts its
+//!   running actions once.
 //!
 //! ```
 //! use bevy_app::App;

@@ -100,6 +100,7 @@ where
                     systems::tick::<C>.in_set(TreeSystems::Tick),
                 ),
             )
+            .add_observer(systems::arrive::<C>)
             .add_observer(systems::leave::<C>);
         if app.world().contains_resource::<AssetServer>() {
             app.init_asset::<TreeAsset<C>>()

@@ -4,12 +4,10 @@ use std::sync::{Arc, Mutex, PoisonError};
 
 use bevy_asset::{AssetEvent, AssetId, Assets};
 use bevy_ecs::entity::Entity;
-use bevy_ecs::lifecycle::Remove;
+use bevy_ecs::lifecycle::{Discard, Insert};
 use bevy_ecs::message::{MessageReader, MessageWriter};
 use bevy_ecs::observer::On;
-use bevy_ecs::system::{
-    Commands, Local, ParamSet, Query, Res, ResMut, StaticSystemParam, SystemParamItem,
-};
+use bevy_ecs::system::{Commands, Local, Query, Res, ResMut, StaticSystemParam, SystemParamItem};
 use bevy_tasks::{ComputeTaskPool, TaskPool};
 use neurotree::crowd::{Crowd, FrameStatus, MemberId};
 use neurotree::{ReloadError, Status};
@@ -20,23 +18,18 @@ use crate::context::AgentContext;
 use crate::crowd::AgentCrowd;
 use crate::events::{FailureReason, TreeFailed, TreeFinished, TreeReloaded};
 
-/// The agents spawned since the last run of a system.
-type AddedAgents<'w, 's, C> = Query<'w, 's, Entity, bevy_ecs::query::Added<TreeAgent<C>>>;
-
-/// Puts the agents spawned since the last frame, and those still waiting for their tree
-/// asset, in the crowd.
+/// Puts the agents whose component was inserted since the last frame, and those still
+/// waiting for their tree asset, in the crowd.
 pub(crate) fn join<C: AgentContext>(
     mut crowd: ResMut<AgentCrowd<C>>,
-    mut agents: ParamSet<(AddedAgents<C>, Query<&mut TreeAgent<C>>)>,
+    mut agents: Query<&mut TreeAgent<C>>,
     trees: Option<Res<Assets<TreeAsset<C>>>>,
 ) {
     let crowd = &mut *crowd;
-    crowd.waiting.extend(agents.p0().iter());
     if crowd.waiting.is_empty() {
         return;
     }
     let mut waiting = std::mem::take(&mut crowd.waiting);
-    let mut agents = agents.p1();
     waiting.retain(|&entity| {
         let Ok(mut agent) = agents.get_mut(entity) else {
             // Despawned, or its component removed, before it joined.
@@ -116,10 +109,10 @@ pub(crate) fn tick<C: AgentContext>(
             let Some(entity) = entities.get(id.slot()).copied().flatten() else {
                 return;
             };
-            if let Ok((_, agent, components)) = agents.get(entity) {
-                if agent.member() == Some(id) {
-                    context.load(components, shared);
-                }
+            // `join` and `leave` keep each slot's entity that of its member, so the agent's
+            // own component need not be read (a cache line per agent saved).
+            if let Ok((_, _, components)) = agents.get(entity) {
+                context.load(components, shared);
             }
         });
     }
@@ -252,15 +245,29 @@ pub(crate) fn reload<C: AgentContext>(
     });
 }
 
+/// Has an agent join the crowd in the next frame, when its component is inserted (also in
+/// place of another, which [`leave`] has taken out).
+pub(crate) fn arrive<C: AgentContext>(
+    inserted: On<Insert<TreeAgent<C>>>,
+    mut crowd: ResMut<AgentCrowd<C>>,
+) {
+    crowd.waiting.push(inserted.entity);
+}
+
 /// Takes an agent out of the crowd when its component goes (or its entity is despawned),
 /// halting its running actions once.
 pub(crate) fn leave<C: AgentContext>(
-    removed: On<Remove<TreeAgent<C>>>,
+    discarded: On<Discard<TreeAgent<C>>>,
     agents: Query<&TreeAgent<C>>,
     mut crowd: ResMut<AgentCrowd<C>>,
 ) {
-    // Remove observers run while the component is still there.
-    if let Some(member) = agents.get(removed.entity).ok().and_then(TreeAgent::member) {
+    // Discard observers run while the old component is still there: on its removal, its
+    // entity's despawn, or its replacement by a new one.
+    if let Some(member) = agents
+        .get(discarded.entity)
+        .ok()
+        .and_then(TreeAgent::member)
+    {
         crowd.leave(member);
     }
 }

@@ -324,6 +324,31 @@ fn removing_or_despawning_an_agent_halts_its_running_action_once() {
     assert_eq!(counts(&app, agents[1]).started, 1);
 }
 
+#[test]
+fn replacing_an_agents_tree_halts_the_old_one_once_and_runs_the_new_one() {
+    let mut app = app();
+    let hold = blueprint(&tree(r#"<Hold speed="1"/>"#));
+    let halts = Arc::new(AtomicU32::new(0));
+    let guard = Guard {
+        halts: Arc::clone(&halts),
+        ..Guard::default()
+    };
+    let agent = spawn(&mut app, TreeAgent::new(hold, guard), 100);
+    app.update();
+    let step = blueprint(&tree("<Step/>"));
+    app.world_mut()
+        .entity_mut(agent)
+        .insert(TreeAgent::new(step, Guard::default()));
+    for _ in 0..3 {
+        app.update();
+    }
+    assert_eq!(halts.load(Ordering::SeqCst), 1);
+    let mut crowd = app.world_mut().resource_mut::<AgentCrowd<Guard>>();
+    assert_eq!(crowd.crowd_mut().len(), 1);
+    // The new tree's context starts from the components, as the old one's did.
+    assert_eq!(counts(&app, agent).steps, 3);
+}
+
 /// A directory of its own under the system's temporary one, removed when dropped.
 struct TempDir(PathBuf);
 
