@@ -238,9 +238,17 @@ fn bad_messages_are_refused_and_counted_and_the_page_stays() {
     for _ in 0..300 {
         page.send(r#"{"type":"continue"}"#);
     }
-    let refused = get(run.studio.addr(), "/api/stats").json()["refused"]
-        .as_u64()
-        .unwrap();
+    // The server reads them after they were sent: its count is waited for.
+    let until = Instant::now() + Duration::from_secs(10);
+    let refused = loop {
+        let refused = get(run.studio.addr(), "/api/stats").json()["refused"]
+            .as_u64()
+            .unwrap();
+        if refused >= 4 + 150 || Instant::now() > until {
+            break refused;
+        }
+        thread::sleep(Duration::from_millis(20));
+    };
     assert!(refused >= 4 + 150, "{refused}");
     thread::sleep(Duration::from_millis(1100));
     // Still attached, and heard.
