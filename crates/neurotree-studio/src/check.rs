@@ -18,7 +18,7 @@ pub struct Check {
     pub main: Option<String>,
     /// The `<BehaviorTree>` IDs of the text, in order.
     pub trees: Vec<String>,
-    /// Up to [`LIMIT`] errors.
+    /// Up to 20 errors, as `neurotree check` reports.
     pub errors: Vec<Diagnostic>,
     /// The loader's warnings (deprecated or misspelt names).
     pub warnings: Vec<Diagnostic>,

@@ -28,7 +28,7 @@ pub enum PathError {
     /// No such file.
     #[error("`{0}` does not exist")]
     NotFound(String),
-    /// Larger than [`MAX_FILE_BYTES`].
+    /// Larger than 16 MiB, the most the page opens or saves.
     #[error("`{0}` is larger than {MAX_FILE_BYTES} bytes")]
     TooLarge(String),
     /// Reading or writing failed.

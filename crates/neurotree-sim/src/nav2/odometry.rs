@@ -2,8 +2,10 @@
 //! TransformAvailable and InitialPoseReceived.
 //!
 //! Nav2 reads the robot's pose from TF and its speed from odometry; here they are the
-//! world's pose and the speed and turn rate over the last step ([`Nav2Sim::robot_speed`],
-//! [`Nav2Sim::turn_rate`], [`Nav2Sim::acceleration`]).
+//! world's pose and the speed and turn rate over the last step
+//! ([`Nav2Sim::robot_speed`](crate::nav2::Nav2Sim::robot_speed),
+//! [`Nav2Sim::turn_rate`](crate::nav2::Nav2Sim::turn_rate),
+//! [`Nav2Sim::acceleration`](crate::nav2::Nav2Sim::acceleration)).
 //!
 //! - **IsStuck**: a condition, no ports. Success when the robot slowed down faster than
 //!   10 m/s² over the last step (Nav2's `brake_accel_limit` of -10), else Failure, as
