@@ -113,6 +113,16 @@ impl Drop for Run {
     }
 }
 
+/// The node paths of a `hello`'s tree, in id order.
+fn paths_of(hello: &Value) -> Vec<&str> {
+    hello["tree"]["nodes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|n| n["path"].as_str().unwrap())
+        .collect()
+}
+
 fn root_count(m: &Value) -> Option<i64> {
     m["scopes"][0]["entries"]
         .as_array()?
@@ -127,12 +137,7 @@ fn a_page_gets_the_whole_tree_then_changes() {
     run.wait_past(2);
     let mut page = Page::connect(run.studio.addr());
     let hello = page.expect("hello");
-    let paths: Vec<&str> = hello["tree"]["nodes"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|n| n["path"].as_str().unwrap())
-        .collect();
+    let paths = paths_of(&hello);
     assert_eq!(paths, ["root", "root/Script", "root/done"]);
     assert_eq!(hello["tree"]["nodes"][0]["category"], "control");
     assert_eq!(hello["statuses"].as_array().unwrap().len(), 3);
@@ -318,12 +323,7 @@ fn a_reloaded_tree_reaches_the_pages_whole_with_its_breakpoints() {
     tree.reload(blueprint(&v2), &mut ()).unwrap();
     watch.reattach(&tree, "main.xml");
     let hello = page.expect("hello");
-    let paths: Vec<&str> = hello["tree"]["nodes"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|n| n["path"].as_str().unwrap())
-        .collect();
+    let paths = paths_of(&hello);
     assert_eq!(paths, ["root", "root/Script", "root/extra", "root/done"]);
     assert_eq!(
         hello["breakpoints"],
