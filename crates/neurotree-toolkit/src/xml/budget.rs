@@ -115,19 +115,25 @@ pub(super) fn too_many_nodes(el: Element<'_>, max: usize) -> LoadError {
 /// The nodes of the `<BehaviorTree>` `tree`, each `<SubTree>` counted as itself and the
 /// nodes `used` says its ID expands to; `used` sees every SubTree's ID in turn.
 fn count<'a>(tree: Element<'a>, mut used: impl FnMut(&'a str) -> u64) -> u64 {
+    let root = only_child(tree);
     let mut nodes = 0u64;
-    // Without recursion: the elements may nest a thousand deep.
-    let mut todo = vec![only_child(tree)];
-    while let Some(el) = todo.pop() {
+    // Elements are stored in document order, each followed by its descendants: one pass
+    // over the tree's range, jumping over what a SubTree holds (it is not expanded).
+    let mut at = root;
+    let end = root.subtree_end();
+    loop {
         nodes = nodes.saturating_add(1);
-        if el.tag() == "SubTree" {
-            // Its children, if it has any, are not expanded.
-            if let Some(id) = el.attr("ID") {
+        let next = if at.tag() == "SubTree" {
+            if let Some(id) = at.attr("ID") {
                 nodes = nodes.saturating_add(used(id));
             }
+            at.subtree_end()
         } else {
-            todo.extend(el.children());
+            at.id() + 1
+        };
+        if next >= end {
+            return nodes;
         }
+        at = at.sibling_or_descendant(next);
     }
-    nodes
 }

@@ -596,11 +596,11 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
         let b = name.as_bytes();
         // Length, first four and last bytes, mixed by a multiplication whose top bits
         // depend on all of them (Fibonacci hashing).
-        let mut head = [0u8; 4];
-        let n = b.len().min(4);
-        head[..n].copy_from_slice(&b[..n]);
+        // Byte by byte: a copy of a variable length would call `memcpy`.
+        let byte = |i: usize| u32::from(b.get(i).copied().unwrap_or(0));
+        let head = byte(0) | byte(1) << 8 | byte(2) << 16 | byte(3) << 24;
         let key = b.len() as u64
-            ^ u64::from(u32::from_le_bytes(head)) << 16
+            ^ u64::from(head) << 16
             ^ u64::from(b.last().copied().unwrap_or(0)) << 48;
         let hash = key.wrapping_mul(0x9E37_79B9_7F4A_7C15) >> 59;
         let slot = &mut self.resolved[hash as usize % RESOLVED];

@@ -184,6 +184,17 @@ impl<'d> Element<'d> {
         }
     }
 
+    /// One past its last descendant: the number of the element after it and everything
+    /// inside it.
+    pub(crate) fn subtree_end(&self) -> usize {
+        self.node().end as usize
+    }
+
+    /// The element numbered `id` of the same document.
+    pub(crate) fn sibling_or_descendant(&self, id: usize) -> Element<'d> {
+        self.doc.element(id)
+    }
+
     /// Every element inside it, in document order.
     pub(crate) fn descendants(&self) -> impl Iterator<Item = Element<'d>> + 'd {
         let doc = self.doc;
