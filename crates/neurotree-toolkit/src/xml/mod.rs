@@ -88,6 +88,25 @@ pub fn escape(text: &str) -> String {
     out
 }
 
+use neurotree_core::nodes::control::{reactive, sequence};
+
+/// Refuses a ReactiveSequence `el` with more than one asynchronous child, as
+/// BehaviorTree.CPP does, counting the children written as `<AsyncSequence>` (the
+/// asynchronous control it registers).
+fn check_reactive(el: Element<'_>) -> Result<(), LoadError> {
+    let async_child = sequence::ASYNC_SEQUENCE.name;
+    if el.children().filter(|c| c.tag() == async_child).count() > 1 {
+        return Err(el.error(
+            LoadErrorKind::ReactiveAsync,
+            "a ReactiveSequence cannot have more than one async child \
+             (AsyncSequence), as BehaviorTree.CPP refuses: only one child of a \
+             ReactiveSequence may be Running; use a Sequence, or move all but one \
+             into another branch",
+        ));
+    }
+    Ok(())
+}
+
 /// Where a loaded `<BehaviorTree>` is: its document and its element there.
 #[derive(Clone, Copy, Debug)]
 struct TreeAt {
@@ -404,17 +423,31 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
             }
         }
         let mut warnings = Vec::new();
+        // Tags already found to be valid names of no alias: a tree writes few types many
+        // times, and each check looks the name up and scans it.
+        let mut plain: [&str; 8] = [""; 8];
+        let mut next_plain = 0;
         for el in tree.descendants() {
             let tag = el.tag();
+            if plain.contains(&tag) {
+                if tag == reactive::REACTIVE_SEQUENCE.name {
+                    check_reactive(el)?;
+                }
+                continue;
+            }
             let explicit = build::EXPLICIT.contains(&tag);
             let type_name = if explicit {
                 el.attr("ID").unwrap_or("")
             } else {
                 tag
             };
-            if let Some((alias, _)) = self.registry.alias(type_name) {
-                warnings.push(el.warning(alias.warning()));
-            }
+            let aliased = match self.registry.alias(type_name) {
+                Some((alias, _)) => {
+                    warnings.push(el.warning(alias.warning()));
+                    true
+                }
+                None => false,
+            };
             if tag == "SubTree" {
                 // Without an ID the builder says so; an empty one is a name refused here.
                 let Some(id) = el.attr("ID") else { continue };
@@ -432,21 +465,13 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
             } else if !explicit {
                 names::check_model_name(tag, "node type")
                     .map_err(|m| el.error(LoadErrorKind::BadName, m))?;
+                if !aliased && !tag.is_empty() {
+                    plain[next_plain % plain.len()] = tag;
+                    next_plain += 1;
+                }
             }
-            // As BehaviorTree.CPP, which counts the children written as `<AsyncSequence>`
-            // (the asynchronous control it registers) of a ReactiveSequence.
-            use neurotree_core::nodes::control::{reactive, sequence};
-            let async_child = sequence::ASYNC_SEQUENCE.name;
-            if type_name == reactive::REACTIVE_SEQUENCE.name
-                && el.children().filter(|c| c.tag() == async_child).count() > 1
-            {
-                return Err(el.error(
-                    LoadErrorKind::ReactiveAsync,
-                    "a ReactiveSequence cannot have more than one async child \
-                     (AsyncSequence), as BehaviorTree.CPP refuses: only one child of a \
-                     ReactiveSequence may be Running; use a Sequence, or move all but one \
-                     into another branch",
-                ));
+            if type_name == reactive::REACTIVE_SEQUENCE.name {
+                check_reactive(el)?;
             }
         }
         Ok(warnings)
