@@ -6,7 +6,7 @@
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-use neurotree::xml::{write_xml, SaveOptions};
+use neurotree::xml::{write_xml, SaveOptions, Substitute, Substitutions};
 use neurotree::{Arity, Blueprint, CustomNode, NodeCtx, NodeStatus, PortSpec, Registry, XmlLoader};
 
 #[path = "support/signature.rs"]
@@ -63,6 +63,24 @@ fn group(file: &Path) -> String {
     }
 }
 
+/// Building tree `id` of `files` the general way gives `bp`: a substitution rule that
+/// matches no node keeps every element off the loader's path for plain elements (no
+/// attributes, no rules), which must open each node exactly as the general path does.
+fn general_path_agrees(registry: &Registry<()>, files: &[PathBuf], id: &str, bp: &Blueprint<()>) {
+    let mut rules = Substitutions::new();
+    rules.add_rule("NoNodeIsNamedSo", Substitute::Node("AlwaysSuccess".into()));
+    let mut loader = XmlLoader::new(registry)
+        .mock_unknown(true)
+        .base_dir(corpus())
+        .substitute(rules);
+    for file in files {
+        loader.load_file(file).unwrap();
+    }
+    let general = loader.build(id).unwrap();
+    assert_eq!(signature(bp), signature(&general), "{files:?} {id}");
+    assert_eq!(bp.structure_hash(), general.structure_hash());
+}
+
 /// Saving `bp` and loading the saved file gives the same blueprint.
 fn saves_and_loads_back(registry: &Registry<()>, bp: &Blueprint<()>, id: &str) {
     let opts = SaveOptions {
@@ -117,6 +135,7 @@ fn every_corpus_file_loads_or_is_listed() {
                 ids.iter().try_for_each(|id| {
                     let bp = loader.build(id)?;
                     saves_and_loads_back(&registry, &bp, id);
+                    general_path_agrees(&registry, files, id, &bp);
                     Ok(())
                 })
             });

@@ -51,6 +51,9 @@ struct Expansion<'a, 'r, C> {
     not_mocked: Vec<(&'a str, LoadError)>,
     /// Nodes opened so far, subtrees expanded: at most the loader's `max_nodes`.
     nodes: usize,
+    /// No mock and no substitution rule could apply to any node: plain elements take
+    /// [`open_plain`](Self::open_plain).
+    plain_rules: bool,
     /// The names (else IDs) of the SubTrees being expanded, outermost first: the start of
     /// a node's path as BehaviorTree.CPP's substitution rules match it.
     subtree_names: Vec<&'a str>,
@@ -145,6 +148,7 @@ impl<'a, 'r, C: 'static> Expansion<'a, 'r, C> {
             mocked: Vec::new(),
             not_mocked: Vec::new(),
             nodes: 0,
+            plain_rules: loader.mocks.is_empty() && loader.substitutions.is_empty(),
             subtree_names: Vec::new(),
             paths: vec![String::new()],
             seen: std::collections::HashSet::new(),
@@ -280,6 +284,16 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
             self.paths.pop();
             return b;
         }
+        let b = match self.open_plain(b, el) {
+            Ok(b) => {
+                let mut b = b;
+                for child in el.children() {
+                    b = self.node(b, child, depth + 1)?;
+                }
+                return Ok(self.close(b, el));
+            }
+            Err(b) => b,
+        };
         let opened = match self.open(el) {
             Ok(opened) => opened,
             Err(e) => {
@@ -302,6 +316,41 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
             }
         }
         Ok(self.close(b, el))
+    }
+
+    /// Opens `el` in `b` when it is a plain node: no attributes, no mock or substitution
+    /// rule in play, a type without ports that is a registered condition (a leaf here) or
+    /// a built-in whose arity takes its children. Such an element opens exactly as
+    /// [`open`](Self::open) and [`Opened::add`] would open it, without the checks and
+    /// records that only attributes, ports and rules need: most elements of a large tree
+    /// are like this. Anything else (including every error) gives `b` back for the general
+    /// path.
+    #[inline]
+    fn open_plain(&mut self, b: Builder<C>, el: Element<'a>) -> Result<Builder<C>, Builder<C>> {
+        if !self.plain_rules || el.has_attrs() {
+            return Err(b);
+        }
+        let tag = el.tag();
+        let Some(node_type) = self.node_type(tag) else {
+            return Err(b);
+        };
+        if !node_type.ports.is_empty() || EXPLICIT.contains(&tag) {
+            return Err(b);
+        }
+        match &node_type.make {
+            Make::Condition(condition) if el.child_count() == 0 => {
+                Ok(b.open_shared_condition(condition, tag).type_id(tag))
+            }
+            Make::BuiltIn(decl) => {
+                match NodeKind::<C>::from_declared(decl, &|_| PortBinding::Missing) {
+                    Some(Ok(kind)) if kind.arity().accepts(el.child_count() as u32) => {
+                        Ok(b.open(kind, tag))
+                    }
+                    _ => Err(b),
+                }
+            }
+            _ => Err(b),
+        }
     }
 
     #[inline(never)]
