@@ -160,14 +160,18 @@ impl<'a, 'r, C: 'static> Expansion<'a, 'r, C> {
         // A tree too big is refused before anything of it is built, at the SubTrees where
         // it crosses the budget: each use of a subtree is a copy, so a few trees using the
         // next one twice each would make millions of nodes.
-        if budget::expanded_size(self.loader, &self.stack[0]) > self.loader.max_nodes as u64 {
+        let size = budget::expanded_size(self.loader, &self.stack[0]);
+        if size > self.loader.max_nodes as u64 {
             let mut errors = budget::crossings(self.loader, tree, self.limit.max(1));
             if let Some(last) = errors.pop() {
                 self.errors.extend(errors);
                 return Err(last);
             }
         }
-        let b = self.node(Builder::new(), only_child(tree), 1)?;
+        // Room for the nodes up front, up to a bound: a tree refused early should not
+        // have claimed much.
+        let room = usize::try_from(size.min(1 << 16)).unwrap_or(0);
+        let b = self.node(Builder::with_capacity(room), only_child(tree), 1)?;
         if let Some((_, error)) = self
             .not_mocked
             .iter()

@@ -16,10 +16,7 @@ use crate::blackboard::ScopeId;
 use crate::nodes::hooks::NodeHooks;
 use crate::Condition;
 
-mod chunks;
 mod fluent;
-
-use chunks::Chunks;
 
 /// A node being built. Its children are not listed: each knows its parent, and `finish`
 /// lays the lists out, so that a node costs no allocation of its own.
@@ -77,7 +74,7 @@ pub struct Builder<C> {
 
 /// What a [`Builder`] has gathered so far.
 struct State<C> {
-    nodes: Chunks<Pending<C>>,
+    nodes: Vec<Pending<C>>,
     /// The text of every node's name and type id.
     names: String,
     open: Vec<u32>,
@@ -104,9 +101,15 @@ impl<C> Default for Builder<C> {
 impl<C> Builder<C> {
     /// An empty builder with the default depth limit.
     pub fn new() -> Self {
+        Self::with_capacity(0)
+    }
+
+    /// An empty builder with room for `nodes` nodes: a program that knows how many it will
+    /// add (the XML loader, from the elements it read) saves the list's growth.
+    pub fn with_capacity(nodes: usize) -> Self {
         Self {
             s: Box::new(State {
-                nodes: Chunks::new(),
+                nodes: Vec::with_capacity(nodes),
                 names: String::new(),
                 open: Vec::new(),
                 ports: Vec::new(),
@@ -476,13 +479,8 @@ impl<C> State<C> {
                 type_id: p.type_id,
             });
         };
-        // Chunk by chunk: a flattening iterator would cost more per node than `add`.
-        let mut id = 0;
-        for chunk in self.nodes.chunks {
-            for p in chunk {
-                add(id, p);
-                id += 1;
-            }
+        for (id, p) in self.nodes.into_iter().enumerate() {
+            add(id as u32, p);
         }
         let nodes = nodes.into_boxed_slice();
         // What each node's children all are, for its parent's loop; a hooked condition
