@@ -216,7 +216,11 @@ impl<'a, 'r, C: 'static> Expansion<'a, 'r, C> {
 
     /// Closes the node of `el`, noting `el` if the builder refuses it.
     fn close(&mut self, b: Builder<C>, el: Element<'a>) -> Builder<C> {
-        let b = b.close();
+        self.note_refusal(b.close(), el)
+    }
+
+    /// Notes `el` as the element the builder refused if it just did.
+    fn note_refusal(&mut self, b: Builder<C>, el: Element<'a>) -> Builder<C> {
         if self.refused.is_none() && b.has_error() {
             self.refused = Some(el);
         }
@@ -234,6 +238,12 @@ fn build_error_kind(kind: &BuildErrorKind) -> LoadErrorKind {
         BuildErrorKind::TooManyNodes { .. } => LoadErrorKind::TooManyNodes,
         _ => LoadErrorKind::Structure,
     }
+}
+
+/// Whether `tag` names its type in an `ID` attribute ([`EXPLICIT`]): most tags are not of
+/// their lengths (6, 7 and 9), and `contains` would compare each with all four.
+pub(super) fn is_explicit(tag: &str) -> bool {
+    matches!(tag.len(), 6 | 7 | 9) && EXPLICIT.contains(&tag)
 }
 
 /// `a == b`, for short names: inline, where `==` calls `memcmp`.
@@ -289,8 +299,9 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
             return b;
         }
         let b = match self.open_plain(b, el) {
-            Ok(b) => {
-                let mut b = b;
+            // A leaf, closed already.
+            Ok((b, true)) => return Ok(self.note_refusal(b, el)),
+            Ok((mut b, false)) => {
                 for child in el.children() {
                     b = self.node(b, child, depth + 1)?;
                 }
@@ -322,7 +333,8 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
         Ok(self.close(b, el))
     }
 
-    /// Opens `el` in `b` when it is a plain node: no attributes, no mock or substitution
+    /// Opens `el` in `b` when it is a plain node (and closes it when it is a leaf, which the
+    /// `bool` says): no attributes, no mock or substitution
     /// rule in play, a type without ports that is a registered condition (a leaf here) or
     /// a built-in whose arity takes its children. Such an element opens exactly as
     /// [`open`](Self::open) and [`Opened::add`] would open it, without the checks and
@@ -330,7 +342,11 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
     /// are like this. Anything else (including every error) gives `b` back for the general
     /// path.
     #[inline]
-    fn open_plain(&mut self, b: Builder<C>, el: Element<'a>) -> Result<Builder<C>, Builder<C>> {
+    fn open_plain(
+        &mut self,
+        b: Builder<C>,
+        el: Element<'a>,
+    ) -> Result<(Builder<C>, bool), Builder<C>> {
         if !self.plain_rules || el.has_attrs() {
             return Err(b);
         }
@@ -338,17 +354,17 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
         let Some(node_type) = self.node_type(tag) else {
             return Err(b);
         };
-        if !node_type.ports.is_empty() || EXPLICIT.contains(&tag) {
+        if !node_type.ports.is_empty() || is_explicit(tag) {
             return Err(b);
         }
         match &node_type.make {
             Make::Condition(condition) if el.child_count() == 0 => {
-                Ok(b.open_shared_condition(condition, tag).type_id(tag))
+                Ok((b.shared_condition_leaf(tag, tag, condition), true))
             }
             Make::BuiltIn(decl) => {
                 match NodeKind::<C>::from_declared(decl, &|_| PortBinding::Missing) {
                     Some(Ok(kind)) if kind.arity().accepts(el.child_count() as u32) => {
-                        Ok(b.open(kind, tag))
+                        Ok((b.open(kind, tag), false))
                     }
                     _ => Err(b),
                 }
@@ -371,7 +387,7 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
     #[inline(never)]
     fn open(&mut self, el: Element<'a>) -> Result<Opened<'a, C>, LoadError> {
         let tag = el.tag();
-        let explicit = EXPLICIT.contains(&tag);
+        let explicit = is_explicit(tag);
         let type_name = if explicit {
             el.attr("ID").ok_or_else(|| {
                 el.error(

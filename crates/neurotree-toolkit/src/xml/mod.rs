@@ -435,7 +435,7 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
                 }
                 continue;
             }
-            let explicit = build::EXPLICIT.contains(&tag);
+            let explicit = build::is_explicit(tag);
             let type_name = if explicit {
                 el.attr("ID").unwrap_or("")
             } else {

@@ -30,6 +30,11 @@ struct Pending<C> {
     type_id: Option<NameSpan>,
 }
 
+/// `a == b`, inline: names are short, and `==` would call `memcmp`.
+fn same(a: &str, b: &str) -> bool {
+    a.len() == b.len() && a.bytes().zip(b.bytes()).all(|(x, y)| x == y)
+}
+
 /// The longest text all the names and type ids of one tree may take together (they share
 /// one buffer, addressed in 32 bits).
 pub const MAX_NAMES_BYTES: usize = u32::MAX as usize;
@@ -85,7 +90,10 @@ struct State<C> {
     /// The shared conditions, each once, and where each is by the address of its object.
     shared: Vec<Arc<dyn Condition<C>>>,
     shared_at: BTreeMap<usize, u32>,
-    shared_last: Option<(usize, u32)>,
+    /// The two conditions called last, the last first: where each is, and its index.
+    shared_last: [Option<(usize, u32)>; 2],
+    /// The name appended to `names` last, which the next node may share.
+    last_name: NameSpan,
     error: Option<BuildError>,
     /// Opens seen after an error, so their closes balance without storing nodes.
     ignored: usize,
@@ -116,7 +124,8 @@ impl<C> Builder<C> {
                 hooks: Vec::new(),
                 shared: Vec::new(),
                 shared_at: BTreeMap::new(),
-                shared_last: None,
+                shared_last: [None; 2],
+                last_name: NameSpan::new(0, 0),
                 error: None,
                 ignored: 0,
                 max_depth: DEFAULT_MAX_DEPTH,
@@ -199,25 +208,70 @@ impl<C> Builder<C> {
     /// this clones the `Arc` once per blueprint, not once per node (an atomic operation a
     /// large tree loaded from XML would pay per node, and again when dropped).
     pub fn open_shared_condition(mut self, condition: &Arc<dyn Condition<C>>, name: &str) -> Self {
-        let at = Arc::as_ptr(condition).cast::<()>() as usize;
-        // Most nodes call the condition the node before called, or one of a few.
-        let index = match self.s.shared_last {
-            Some((last, index)) if last == at => index,
-            _ => {
-                let index = match self.s.shared_at.get(&at) {
-                    Some(&index) => index,
-                    None => {
-                        let index = self.s.shared.len() as u32;
-                        self.s.shared.push(Arc::clone(condition));
-                        self.s.shared_at.insert(at, index);
-                        index
-                    }
-                };
-                self.s.shared_last = Some((at, index));
-                index
-            }
-        };
+        let index = self.s.shared_index(condition);
         self.open(NodeKind::SharedCondition(Shared(index)), name)
+    }
+
+    /// Adds a leaf that calls `condition` (held once by the blueprint, as
+    /// [`open_shared_condition`](Self::open_shared_condition) holds it), named `name`, of
+    /// registered type `type_id`: the same as `open_shared_condition`, [`type_id`]
+    /// (Self::type_id) and [`close`](Self::close), in one call, which a loader makes for
+    /// most nodes of a large tree.
+    pub fn shared_condition_leaf(
+        mut self,
+        name: &str,
+        type_id: &str,
+        condition: &Arc<dyn Condition<C>>,
+    ) -> Self {
+        let parent = self.s.open.last().copied();
+        let depth = self.s.open.len() as u32 + 1;
+        let fits = self.s.nodes.len() < u32::MAX as usize;
+        if self.s.error.is_some() || parent.is_none() || depth > self.s.max_depth || !fits {
+            // An error to record, a root, or nothing to do: the long way says which.
+            return self.shared_condition_leaf_long(name, type_id, condition);
+        }
+        let index = self.s.shared_index(condition);
+        let Some(name_span) = self
+            .s
+            .push_name(if name.is_empty() { "Condition" } else { name })
+        else {
+            return self.shared_condition_leaf_long(name, type_id, condition);
+        };
+        let type_span = if same(type_id, name) {
+            Some(name_span)
+        } else {
+            self.s.push_name(type_id)
+        };
+        let Some(type_span) = type_span else {
+            return self.shared_condition_leaf_long(name, type_id, condition);
+        };
+        self.s.nodes.push(Pending {
+            kind: NodeKind::SharedCondition(Shared(index)),
+            name: name_span,
+            parent,
+            child_count: 0,
+            depth,
+            type_id: Some(type_span),
+        });
+        if let Some(p) = parent {
+            self.s.nodes[p as usize].child_count += 1;
+        }
+        self
+    }
+
+    /// [`shared_condition_leaf`](Self::shared_condition_leaf) the long way, where there is
+    /// an error to record.
+    #[cold]
+    #[inline(never)]
+    fn shared_condition_leaf_long(
+        self,
+        name: &str,
+        type_id: &str,
+        condition: &Arc<dyn Condition<C>>,
+    ) -> Self {
+        self.open_shared_condition(condition, name)
+            .type_id(type_id)
+            .close()
     }
 
     /// Ends the node opened last and checks its number of children.
@@ -380,12 +434,52 @@ impl<C> State<C> {
         out
     }
 
-    /// Appends a name to the shared buffer; `None` if the buffer would pass its limit.
+    /// Appends a name to the shared buffer, or gives the span of the name appended last
+    /// when it is the same (the nodes of a large tree are mostly named after a few types,
+    /// in runs); `None` if the buffer would pass its limit.
     fn push_name(&mut self, name: &str) -> Option<NameSpan> {
+        // As bytes: slicing the `String` would check for character boundaries.
+        let last = &self.names.as_bytes()[self.last_name.range()];
+        if last.len() == name.len() && last.iter().zip(name.bytes()).all(|(a, b)| *a == b) {
+            return Some(self.last_name);
+        }
         names_fit(self.names.len(), name.len())?;
         let start = self.names.len();
         self.names.push_str(name);
-        Some(NameSpan::new(start, self.names.len()))
+        self.last_name = NameSpan::new(start, self.names.len());
+        Some(self.last_name)
+    }
+
+    /// The index in `shared` of `condition`, added if it is not there yet.
+    #[inline]
+    fn shared_index(&mut self, condition: &Arc<dyn Condition<C>>) -> u32 {
+        let at = Arc::as_ptr(condition).cast::<()>() as usize;
+        // Most nodes call one of the two conditions called last (a run of checks and the
+        // one that ends it).
+        match self.shared_last {
+            [Some((last, index)), _] if last == at => index,
+            [other, Some((last, index))] if last == at => {
+                self.shared_last = [Some((at, index)), other];
+                index
+            }
+            _ => self.shared_index_slow(condition, at),
+        }
+    }
+
+    /// [`shared_index`](Self::shared_index) for a condition not called lately.
+    #[inline(never)]
+    fn shared_index_slow(&mut self, condition: &Arc<dyn Condition<C>>, at: usize) -> u32 {
+        let index = match self.shared_at.get(&at) {
+            Some(&index) => index,
+            None => {
+                let index = self.shared.len() as u32;
+                self.shared.push(Arc::clone(condition));
+                self.shared_at.insert(at, index);
+                index
+            }
+        };
+        self.shared_last = [Some((at, index)), self.shared_last[0]];
+        index
     }
 
     /// Checks the closed node's children and resolves thresholds that depend on their number.
@@ -431,15 +525,34 @@ impl<C> State<C> {
                 _ => None,
             }
         }
+        // What each node's children all are, for its parent's loop (see `Guards`), made up
+        // as they are added; `None` until the first child.
+        let mut guards: Vec<Option<Guards>> = Vec::with_capacity(count);
         let mut add = |id: u32, p: Pending<C>| {
             next_child.push(laid_out);
+            guards.push(None);
             let first_child = laid_out;
             laid_out += p.child_count;
+            let hooked = next_at(&mut side_hooks, id);
             if let Some(parent) = p.parent {
                 // Pre-order: the parent came first, and its earlier children before this one.
                 let slot = &mut next_child[parent as usize];
                 children[*slot as usize] = NodeId(id);
                 *slot += 1;
+                // A hooked condition takes the general path, which runs its hooks.
+                let guard = match (&p.kind, hooked.is_some()) {
+                    (NodeKind::ConditionFn(_), false) => Guards::Closures,
+                    (NodeKind::Condition(_) | NodeKind::SharedCondition(_), false) => {
+                        Guards::Objects
+                    }
+                    _ => Guards::Mixed,
+                };
+                let all = &mut guards[parent as usize];
+                *all = match *all {
+                    None => Some(guard),
+                    Some(so_far) if so_far == guard => Some(guard),
+                    Some(_) => Some(Guards::Mixed),
+                };
             }
             let scope = match p.parent {
                 Some(parent) => child_scope[parent as usize],
@@ -461,7 +574,7 @@ impl<C> State<C> {
                 _ => 0,
             };
             let kind = p.kind;
-            hooks.push(next_at(&mut side_hooks, id));
+            hooks.push(hooked);
             let own_slots = kind.aux_slots();
             slots.push(if own_slots > 0 { aux } else { object });
             node_scopes.push(scope);
@@ -483,35 +596,13 @@ impl<C> State<C> {
             add(id as u32, p);
         }
         let nodes = nodes.into_boxed_slice();
-        // What each node's children all are, for its parent's loop; a hooked condition
-        // takes the general path, which runs its hooks.
-        let guards: Vec<Guards> = nodes
-            .iter()
-            .map(|def| {
-                let range = def.first_child as usize..(def.first_child + def.child_count) as usize;
-                let mut kinds = children[range].iter().map(|c| {
-                    match (&nodes[c.index()].kind, hooks[c.index()].is_some()) {
-                        (NodeKind::ConditionFn(_), false) => Guards::Closures,
-                        (NodeKind::Condition(_) | NodeKind::SharedCondition(_), false) => {
-                            Guards::Objects
-                        }
-                        _ => Guards::Mixed,
-                    }
-                });
-                let first = kinds.next().unwrap_or(Guards::Mixed);
-                if kinds.all(|k| k == first) {
-                    first
-                } else {
-                    Guards::Mixed
-                }
-            })
-            .collect();
         let shared = self.shared.into_boxed_slice();
         let hot_children = children
             .iter()
             .map(|&id| {
                 let i = id.index();
-                Child::new(id, &nodes[i], hooks[i].is_some(), guards[i], &shared)
+                let guard = guards[i].unwrap_or(Guards::Mixed);
+                Child::new(id, &nodes[i], hooks[i].is_some(), guard, &shared)
             })
             .collect();
         Blueprint {
@@ -631,6 +722,63 @@ mod tests {
         drop(tree);
         drop(bp);
         assert_eq!(Arc::strong_count(&yes), 1);
+    }
+
+    #[test]
+    fn a_shared_condition_leaf_is_an_open_a_type_and_a_close() {
+        let yes: Arc<dyn Condition<()>> = Arc::new(Answer(true));
+        let no: Arc<dyn Condition<()>> = Arc::new(Answer(false));
+        let third: Arc<dyn Condition<()>> = Arc::new(Answer(true));
+        // Runs of names, a name that is not the type, an empty name, three conditions
+        // taking turns (the two called last are looked up apart from the others).
+        let leaves: [(&str, &str, &Arc<dyn Condition<()>>); 8] = [
+            ("yes", "yes", &yes),
+            ("yes", "yes", &yes),
+            ("no", "no", &no),
+            ("check", "yes", &yes),
+            ("", "no", &no),
+            ("third", "third", &third),
+            ("yes", "yes", &yes),
+            ("no", "no", &no),
+        ];
+        let long = leaves.iter().fold(
+            Builder::<()>::new().open(NodeKind::Sequence(Sequence), "root"),
+            |b, (name, type_id, c)| b.open_shared_condition(c, name).type_id(type_id).close(),
+        );
+        let short = leaves.iter().fold(
+            Builder::<()>::new().open(NodeKind::Sequence(Sequence), "root"),
+            |b, (name, type_id, c)| b.shared_condition_leaf(name, type_id, c),
+        );
+        let (long, short) = (
+            long.close().build().unwrap(),
+            short.close().build().unwrap(),
+        );
+        let seen = |bp: &Blueprint<()>| {
+            bp.ids()
+                .map(|id| {
+                    let kind = alloc::format!("{:?}", bp.def(id).kind);
+                    (bp.name(id).to_string(), bp.type_id(id).to_string(), kind)
+                })
+                .collect::<Vec<_>>()
+        };
+        assert_eq!(seen(&short), seen(&long));
+        assert_eq!(short.structure_hash(), long.structure_hash());
+        assert_eq!(short.shared.len(), 3);
+        assert_eq!(short.name(NodeId(5)), "Condition");
+        assert_eq!(short.type_id(NodeId(4)), "yes");
+        // A leaf at the root, or past the depth limit, is refused as the long way refuses it.
+        let yes2 = Arc::clone(&yes);
+        let root = Builder::<()>::new().shared_condition_leaf("a", "a", &yes2);
+        assert_eq!(root.build().unwrap().len(), 1);
+        let deep = Builder::<()>::new()
+            .max_depth(1)
+            .open(NodeKind::Sequence(Sequence), "root")
+            .shared_condition_leaf("a", "a", &yes2)
+            .close();
+        assert!(matches!(
+            err(deep).kind,
+            BuildErrorKind::TooDeep { limit: 1 }
+        ));
     }
 
     #[test]
