@@ -247,7 +247,7 @@ pub(super) fn is_explicit(tag: &str) -> bool {
 }
 
 /// `a == b`, for short names: inline, where `==` calls `memcmp`.
-fn same(a: &str, b: &str) -> bool {
+pub(super) fn same(a: &str, b: &str) -> bool {
     a.len() == b.len() && a.bytes().zip(b.bytes()).all(|(x, y)| x == y)
 }
 

@@ -427,9 +427,12 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
         // times, and each check looks the name up and scans it.
         let mut plain: [&str; 8] = [""; 8];
         let mut next_plain = 0;
+        let mut last_plain = "";
         for el in tree.descendants() {
             let tag = el.tag();
-            if plain.contains(&tag) {
+            // The type of the element before first: trees write runs of the same type.
+            if build::same(last_plain, tag) || plain.contains(&tag) {
+                last_plain = tag;
                 if tag == reactive::REACTIVE_SEQUENCE.name {
                     check_reactive(el)?;
                 }

@@ -501,7 +501,11 @@ impl<C> State<C> {
         let count = self.nodes.len();
         let mut nodes = Vec::with_capacity(count);
         let mut slots = Vec::with_capacity(count);
-        let mut hooks = Vec::with_capacity(count);
+        // Most nodes have no hooks and no ports: the few that do are put in place after.
+        let mut hooks: Vec<Option<Box<dyn NodeHooks<C>>>> = (0..count).map(|_| None).collect();
+        for (at, attached) in self.hooks {
+            hooks[at as usize] = Some(attached);
+        }
         let mut node_scopes = Vec::with_capacity(count);
         let mut meta = Vec::with_capacity(count);
         // Every node but the root is the child of one node; a node's children are laid out
@@ -515,16 +519,6 @@ impl<C> State<C> {
         let mut child_scope: Vec<ScopeId> = Vec::with_capacity(count);
         let mut aux = 0u32;
         let mut objects = 0u32;
-        // In node order; most nodes have neither, so each is asked with one compare (a
-        // `Peekable` cost four times as much per node).
-        let mut side_ports = self.ports.into_iter();
-        let mut side_hooks = self.hooks.into_iter();
-        fn next_at<T>(side: &mut alloc::vec::IntoIter<(u32, T)>, id: u32) -> Option<T> {
-            match side.as_slice().first() {
-                Some((at, _)) if *at == id => side.next().map(|(_, value)| value),
-                _ => None,
-            }
-        }
         // What each node's children all are, for its parent's loop (see `Guards`), made up
         // as they are added; `None` until the first child.
         let mut guards: Vec<Option<Guards>> = Vec::with_capacity(count);
@@ -533,14 +527,14 @@ impl<C> State<C> {
             guards.push(None);
             let first_child = laid_out;
             laid_out += p.child_count;
-            let hooked = next_at(&mut side_hooks, id);
+            let hooked = hooks[id as usize].is_some();
             if let Some(parent) = p.parent {
                 // Pre-order: the parent came first, and its earlier children before this one.
                 let slot = &mut next_child[parent as usize];
                 children[*slot as usize] = NodeId(id);
                 *slot += 1;
                 // A hooked condition takes the general path, which runs its hooks.
-                let guard = match (&p.kind, hooked.is_some()) {
+                let guard = match (&p.kind, hooked) {
                     (NodeKind::ConditionFn(_), false) => Guards::Closures,
                     (NodeKind::Condition(_) | NodeKind::SharedCondition(_), false) => {
                         Guards::Objects
@@ -574,7 +568,6 @@ impl<C> State<C> {
                 _ => 0,
             };
             let kind = p.kind;
-            hooks.push(hooked);
             let own_slots = kind.aux_slots();
             slots.push(if own_slots > 0 { aux } else { object });
             node_scopes.push(scope);
@@ -588,12 +581,15 @@ impl<C> State<C> {
                 name: p.name,
                 parent: p.parent.map(NodeId),
                 depth: p.depth,
-                ports: next_at(&mut side_ports, id).unwrap_or_default(),
+                ports: Vec::new(),
                 type_id: p.type_id,
             });
         };
         for (id, p) in self.nodes.into_iter().enumerate() {
             add(id as u32, p);
+        }
+        for (at, bound) in self.ports {
+            meta[at as usize].ports = bound;
         }
         let nodes = nodes.into_boxed_slice();
         let shared = self.shared.into_boxed_slice();

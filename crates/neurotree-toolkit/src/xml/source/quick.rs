@@ -213,6 +213,13 @@ impl<'t> Quick<'t> {
 
     /// The element text at `start..stop` of the text, decoded and trimmed.
     fn element_text(&mut self, start: usize, stop: usize) -> Option<Span> {
+        // Most element texts are indentation: a byte test, where `trim` decodes characters.
+        if self.b[start..stop]
+            .iter()
+            .all(|c| matches!(c, b' ' | b'\t' | b'\n' | b'\r'))
+        {
+            return Some(Span::default());
+        }
         let raw = self.text(start, stop);
         if raw.trim().is_empty() {
             return Some(Span::default());
