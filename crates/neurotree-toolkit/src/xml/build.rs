@@ -160,7 +160,13 @@ impl<'a, 'r, C: 'static> Expansion<'a, 'r, C> {
         // A tree too big is refused before anything of it is built, at the SubTrees where
         // it crosses the budget: each use of a subtree is a copy, so a few trees using the
         // next one twice each would make millions of nodes.
-        let size = budget::expanded_size(self.loader, &self.stack[0]);
+        let size = if self.loader.subtrees {
+            budget::expanded_size(self.loader, &self.stack[0])
+        } else {
+            // Elements are stored in document order, each followed by what it holds.
+            let root = only_child(tree);
+            (root.subtree_end() - root.id()) as u64
+        };
         if size > self.loader.max_nodes as u64 {
             let mut errors = budget::crossings(self.loader, tree, self.limit.max(1));
             if let Some(last) = errors.pop() {

@@ -139,6 +139,9 @@ pub struct XmlLoader<'r, C> {
     /// `budget.rs`); emptied when a file is loaded. Behind a lock because building
     /// borrows the loader shared, and the loader may be shared across threads.
     sizes: std::sync::Mutex<BTreeMap<String, u64>>,
+    /// Whether a loaded tree holds a `<SubTree>`: until one does, a tree's size is its
+    /// number of elements.
+    subtrees: bool,
     /// What the files loaded so far should change, in load order.
     warnings: Vec<LoadWarning>,
     /// The ports the files' `TreeNodesModel`s declare for SubTrees, by tree ID: each
@@ -172,6 +175,7 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
             max_nodes: DEFAULT_MAX_NODES,
             max_file_bytes: DEFAULT_MAX_FILE_BYTES,
             sizes: std::sync::Mutex::default(),
+            subtrees: false,
             warnings: Vec::new(),
             subtree_models: BTreeMap::new(),
         }
@@ -369,7 +373,8 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
                             child.child_count()
                         )));
                     }
-                    let warnings = self.check_tree(child, siblings)?;
+                    let (warnings, subtrees) = self.check_tree(child, siblings)?;
+                    self.subtrees |= subtrees;
                     self.trees.insert(id, TreeAt { doc: at, element });
                     self.warnings.extend(warnings);
                 }
@@ -396,8 +401,9 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
         &self,
         tree: Element<'_>,
         siblings: usize,
-    ) -> Result<Vec<LoadWarning>, LoadError> {
+    ) -> Result<(Vec<LoadWarning>, bool), LoadError> {
         let registered = |id: &str| self.registry.get(id).is_some();
+        let mut subtrees = false;
         match tree.attr("ID") {
             // BehaviorTree.CPP names the only tree of a file; among others it must be named.
             None | Some("") if siblings > 1 => {
@@ -452,6 +458,7 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
                 None => false,
             };
             if tag == "SubTree" {
+                subtrees = true;
                 // Without an ID the builder says so; an empty one is a name refused here.
                 let Some(id) = el.attr("ID") else { continue };
                 names::check_model_name(id, "SubTree ID")
@@ -477,7 +484,7 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
                 check_reactive(el)?;
             }
         }
-        Ok(warnings)
+        Ok((warnings, subtrees))
     }
 
     /// Keeps the ports that the `<SubTree>` entries of model `element` declare.
