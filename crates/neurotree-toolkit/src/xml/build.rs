@@ -283,7 +283,8 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
             return Err(budget::too_many_nodes(el, self.loader.max_nodes));
         }
         self.nodes += 1;
-        if el.tag() == "SubTree" {
+        let tag = el.tag();
+        if tag == "SubTree" {
             let (opened, body) = match self.open_subtree(el) {
                 Ok(subtree) => subtree,
                 Err(e) => {
@@ -304,7 +305,7 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
             self.paths.pop();
             return b;
         }
-        let b = match self.open_plain(b, el) {
+        let b = match self.open_plain(b, el, tag) {
             // A leaf, closed already.
             Ok((b, true)) => return Ok(self.note_refusal(b, el)),
             Ok((mut b, false)) => {
@@ -352,11 +353,11 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
         &mut self,
         b: Builder<C>,
         el: Element<'a>,
+        tag: &'a str,
     ) -> Result<(Builder<C>, bool), Builder<C>> {
         if !self.plain_rules || el.has_attrs() {
             return Err(b);
         }
-        let tag = el.tag();
         let Some(node_type) = self.node_type(tag) else {
             return Err(b);
         };
