@@ -18,18 +18,6 @@ use crate::Condition;
 
 mod fluent;
 
-/// A node being built. Its children are not listed: each knows its parent, and `finish`
-/// lays the lists out, so that a node costs no allocation of its own.
-struct Pending<C> {
-    kind: NodeKind<C>,
-    /// In `Builder::names`.
-    name: NameSpan,
-    parent: Option<u32>,
-    child_count: u32,
-    depth: u32,
-    type_id: Option<NameSpan>,
-}
-
 /// `a == b`, inline: names are short, and `==` would call `memcmp`. The same text twice
 /// (a loader naming a node after its type) is seen without reading it.
 fn same(a: &str, b: &str) -> bool {
@@ -81,7 +69,11 @@ pub struct Builder<C> {
 
 /// What a [`Builder`] has gathered so far.
 struct State<C> {
-    nodes: Vec<Pending<C>>,
+    /// The nodes, in the blueprint's own records: a node's children are not listed (each
+    /// knows its parent, and `finish` lays the lists out), so that a node costs no
+    /// allocation of its own and nothing is moved when the blueprint is made.
+    defs: Vec<NodeDef<C>>,
+    metas: Vec<NodeMeta>,
     /// The text of every node's name and type id.
     names: String,
     open: Vec<u32>,
@@ -119,7 +111,8 @@ impl<C> Builder<C> {
     pub fn with_capacity(nodes: usize) -> Self {
         Self {
             s: Box::new(State {
-                nodes: Vec::with_capacity(nodes),
+                defs: Vec::with_capacity(nodes),
+                metas: Vec::with_capacity(nodes),
                 names: String::new(),
                 open: Vec::new(),
                 ports: Vec::new(),
@@ -153,7 +146,7 @@ impl<C> Builder<C> {
             return self;
         }
         let parent = self.s.open.last().copied();
-        if parent.is_none() && !self.s.nodes.is_empty() {
+        if parent.is_none() && !self.s.defs.is_empty() {
             self.s.fail(Some(0), BuildErrorKind::SecondRoot);
             self.s.ignored += 1;
             return self;
@@ -169,13 +162,13 @@ impl<C> Builder<C> {
             self.s.ignored += 1;
             return self;
         }
-        if self.s.nodes.len() >= u32::MAX as usize {
+        if self.s.defs.len() >= u32::MAX as usize {
             self.s
                 .fail(parent, BuildErrorKind::TooManyNodes { max: u32::MAX });
             self.s.ignored += 1;
             return self;
         }
-        let id = self.s.nodes.len() as u32;
+        let id = self.s.defs.len() as u32;
         let Some(name) = self.s.push_name(if name.is_empty() {
             kind.type_name()
         } else {
@@ -190,17 +183,7 @@ impl<C> Builder<C> {
             self.s.ignored += 1;
             return self;
         };
-        self.s.nodes.push(Pending {
-            kind,
-            name,
-            parent,
-            child_count: 0,
-            depth,
-            type_id: None,
-        });
-        if let Some(p) = parent {
-            self.s.nodes[p as usize].child_count += 1;
-        }
+        self.s.push_node(kind, name, parent, depth, None);
         self.s.open.push(id);
         self
     }
@@ -227,7 +210,7 @@ impl<C> Builder<C> {
     ) -> Self {
         let parent = self.s.open.last().copied();
         let depth = self.s.open.len() as u32 + 1;
-        let fits = self.s.nodes.len() < u32::MAX as usize;
+        let fits = self.s.defs.len() < u32::MAX as usize;
         if self.s.error.is_some() || parent.is_none() || depth > self.s.max_depth || !fits {
             // An error to record, a root, or nothing to do: the long way says which.
             return self.shared_condition_leaf_long(name, type_id, condition);
@@ -247,17 +230,9 @@ impl<C> Builder<C> {
         let Some(type_span) = type_span else {
             return self.shared_condition_leaf_long(name, type_id, condition);
         };
-        self.s.nodes.push(Pending {
-            kind: NodeKind::SharedCondition(Shared(index)),
-            name: name_span,
-            parent,
-            child_count: 0,
-            depth,
-            type_id: Some(type_span),
-        });
-        if let Some(p) = parent {
-            self.s.nodes[p as usize].child_count += 1;
-        }
+        let kind = NodeKind::SharedCondition(Shared(index));
+        self.s
+            .push_node(kind, name_span, parent, depth, Some(type_span));
         self
     }
 
@@ -297,7 +272,7 @@ impl<C> Builder<C> {
         if self.s.ignored > 0 || self.s.error.is_some() {
             return self;
         }
-        let Some(last) = self.s.nodes.len().checked_sub(1) else {
+        let Some(last) = self.s.defs.len().checked_sub(1) else {
             self.s.fail(None, BuildErrorKind::Empty);
             return self;
         };
@@ -316,7 +291,7 @@ impl<C> Builder<C> {
         if self.s.ignored > 0 || self.s.error.is_some() {
             return self;
         }
-        let Some(name) = self.s.nodes.last().map(|node| node.name) else {
+        let Some(name) = self.s.metas.last().map(|node| node.name) else {
             self.s.fail(None, BuildErrorKind::Empty);
             return self;
         };
@@ -329,7 +304,7 @@ impl<C> Builder<C> {
             name
         } else {
             let Some(span) = self.s.push_name(type_id) else {
-                let last = self.s.nodes.len() as u32 - 1;
+                let last = self.s.defs.len() as u32 - 1;
                 self.s.fail(
                     Some(last),
                     BuildErrorKind::NamesTooLong {
@@ -340,7 +315,7 @@ impl<C> Builder<C> {
             };
             span
         };
-        if let Some(node) = self.s.nodes.last_mut() {
+        if let Some(node) = self.s.metas.last_mut() {
             node.type_id = Some(span);
         }
         self
@@ -351,7 +326,7 @@ impl<C> Builder<C> {
         if self.s.ignored > 0 || self.s.error.is_some() {
             return self;
         }
-        let Some(last) = self.s.nodes.len().checked_sub(1) else {
+        let Some(last) = self.s.defs.len().checked_sub(1) else {
             self.s.fail(None, BuildErrorKind::Empty);
             return self;
         };
@@ -384,7 +359,7 @@ impl<C> Builder<C> {
             self.s.fail(at, BuildErrorKind::Unclosed { open });
             return Err(self.s.error.take().expect("fail() just stored an error"));
         }
-        if self.s.nodes.is_empty() {
+        if self.s.defs.is_empty() {
             return Err(BuildError {
                 path: String::new(),
                 kind: BuildErrorKind::Empty,
@@ -413,8 +388,8 @@ impl<C> State<C> {
         let mut chain = Vec::new();
         loop {
             chain.push(i);
-            match self.nodes[i as usize].parent {
-                Some(p) => i = p,
+            match self.metas[i as usize].parent {
+                Some(p) => i = p.0,
                 None => break,
             }
         }
@@ -430,10 +405,37 @@ impl<C> State<C> {
             if k > 0 {
                 out.push('/');
             }
-            let name = self.nodes[*n as usize].name;
+            let name = self.metas[*n as usize].name;
             out.push_str(&self.names[name.range()]);
         }
         out
+    }
+
+    /// Adds a node under `parent`.
+    #[inline]
+    fn push_node(
+        &mut self,
+        kind: NodeKind<C>,
+        name: NameSpan,
+        parent: Option<u32>,
+        depth: u32,
+        type_id: Option<NameSpan>,
+    ) {
+        self.defs.push(NodeDef {
+            kind,
+            first_child: 0,
+            child_count: 0,
+        });
+        self.metas.push(NodeMeta {
+            name,
+            parent: parent.map(NodeId),
+            depth,
+            ports: Vec::new(),
+            type_id,
+        });
+        if let Some(p) = parent {
+            self.defs[p as usize].child_count += 1;
+        }
     }
 
     /// Appends a name to the shared buffer, or gives the span of the name appended last
@@ -486,7 +488,7 @@ impl<C> State<C> {
 
     /// Checks the closed node's children and resolves thresholds that depend on their number.
     fn validate(&mut self, id: u32) -> Result<(), BuildErrorKind> {
-        let node = &mut self.nodes[id as usize];
+        let node = &mut self.defs[id as usize];
         let n = node.child_count;
         let arity = node.kind.arity();
         if !arity.accepts(n) {
@@ -500,16 +502,19 @@ impl<C> State<C> {
     }
 
     fn finish(self) -> Blueprint<C> {
-        let count = self.nodes.len();
-        let mut nodes = Vec::with_capacity(count);
+        let count = self.defs.len();
+        let mut nodes = self.defs;
+        let mut meta = self.metas;
         let mut slots = Vec::with_capacity(count);
         // Most nodes have no hooks and no ports: the few that do are put in place after.
         let mut hooks: Vec<Option<Box<dyn NodeHooks<C>>>> = (0..count).map(|_| None).collect();
         for (at, attached) in self.hooks {
             hooks[at as usize] = Some(attached);
         }
+        for (at, bound) in self.ports {
+            meta[at as usize].ports = bound;
+        }
         let mut node_scopes = Vec::with_capacity(count);
-        let mut meta = Vec::with_capacity(count);
         // Every node but the root is the child of one node; a node's children are laid out
         // together, in order, after those of the nodes before it.
         let mut children = alloc::vec![NodeId::ROOT; count.saturating_sub(1)];
@@ -522,39 +527,43 @@ impl<C> State<C> {
         let mut aux = 0u32;
         let mut objects = 0u32;
         // What each node's children all are, for its parent's loop (see `Guards`), made up
-        // as they are added; `None` until the first child.
-        let mut guards: Vec<Option<Guards>> = Vec::with_capacity(count);
-        let mut add = |id: u32, p: Pending<C>| {
+        // as they are laid out; `None` until the first child.
+        let mut guards: Vec<Option<Guards>> = alloc::vec![None; count];
+        for id in 0..count {
+            let def = &mut nodes[id];
+            def.first_child = laid_out;
             next_child.push(laid_out);
-            guards.push(None);
-            let first_child = laid_out;
-            laid_out += p.child_count;
-            let hooked = hooks[id as usize].is_some();
-            if let Some(parent) = p.parent {
-                // Pre-order: the parent came first, and its earlier children before this one.
-                let slot = &mut next_child[parent as usize];
-                children[*slot as usize] = NodeId(id);
-                *slot += 1;
-                // A hooked condition takes the general path, which runs its hooks.
-                let guard = match (&p.kind, hooked) {
-                    (NodeKind::ConditionFn(_), false) => Guards::Closures,
-                    (NodeKind::Condition(_) | NodeKind::SharedCondition(_), false) => {
-                        Guards::Objects
-                    }
-                    _ => Guards::Mixed,
-                };
-                let all = &mut guards[parent as usize];
-                *all = match *all {
-                    None => Some(guard),
-                    Some(so_far) if so_far == guard => Some(guard),
-                    Some(_) => Some(Guards::Mixed),
-                };
-            }
-            let scope = match p.parent {
-                Some(parent) => child_scope[parent as usize],
+            laid_out += def.child_count;
+            let def = &nodes[id];
+            let hooked = hooks[id].is_some();
+            let parent = meta[id].parent;
+            let scope = match parent {
+                Some(parent) => {
+                    let p = parent.index();
+                    // Pre-order: the parent came first, and its earlier children before
+                    // this one.
+                    let slot = &mut next_child[p];
+                    children[*slot as usize] = NodeId(id as u32);
+                    *slot += 1;
+                    // A hooked condition takes the general path, which runs its hooks.
+                    let guard = match (&def.kind, hooked) {
+                        (NodeKind::ConditionFn(_), false) => Guards::Closures,
+                        (NodeKind::Condition(_) | NodeKind::SharedCondition(_), false) => {
+                            Guards::Objects
+                        }
+                        _ => Guards::Mixed,
+                    };
+                    let all = &mut guards[p];
+                    *all = match *all {
+                        None => Some(guard),
+                        Some(so_far) if so_far == guard => Some(guard),
+                        Some(_) => Some(Guards::Mixed),
+                    };
+                    child_scope[p]
+                }
                 None => ScopeId::ROOT,
             };
-            let own_child_scope = match &p.kind {
+            let own_child_scope = match &def.kind {
                 NodeKind::SubTree(spec) => {
                     scopes.push((scope, SubTreeScope::clone(spec)));
                     ScopeId(scopes.len() as u32)
@@ -562,36 +571,17 @@ impl<C> State<C> {
                 _ => scope,
             };
             child_scope.push(own_child_scope);
-            let object = match p.kind {
+            let object = match def.kind {
                 NodeKind::Stateful(_) | NodeKind::Custom(_) | NodeKind::Async(_) => {
                     objects += 1;
                     objects - 1
                 }
                 _ => 0,
             };
-            let kind = p.kind;
-            let own_slots = kind.aux_slots();
+            let own_slots = def.kind.aux_slots();
             slots.push(if own_slots > 0 { aux } else { object });
             node_scopes.push(scope);
-            nodes.push(NodeDef {
-                first_child,
-                child_count: p.child_count,
-                kind,
-            });
             aux += own_slots;
-            meta.push(NodeMeta {
-                name: p.name,
-                parent: p.parent.map(NodeId),
-                depth: p.depth,
-                ports: Vec::new(),
-                type_id: p.type_id,
-            });
-        };
-        for (id, p) in self.nodes.into_iter().enumerate() {
-            add(id as u32, p);
-        }
-        for (at, bound) in self.ports {
-            meta[at as usize].ports = bound;
         }
         let nodes = nodes.into_boxed_slice();
         let shared = self.shared.into_boxed_slice();
