@@ -412,7 +412,7 @@ impl<C> State<C> {
     }
 
     /// Adds a node under `parent`.
-    #[inline]
+    #[inline(always)]
     fn push_node(
         &mut self,
         kind: NodeKind<C>,
