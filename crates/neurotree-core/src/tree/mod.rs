@@ -77,6 +77,11 @@ pub struct Tree<C> {
     last_root: NodeStatus,
     /// A reload that waits for the halts it started (see [`Tree::reload`]).
     pending_reload: Option<Box<reload::Pending<C>>>,
+    /// The stateful action the last pass rested in: it returned Running under a chain of
+    /// nodes up to the root that pass a Running child's tick straight through, and which
+    /// all returned Running. The next pass starts at it rather than at the root
+    /// ([`resting_answer`](Self::resting_answer)).
+    resting: Option<NodeId>,
 }
 
 /// Passes one [`Tree::tick_once`] makes at most, unless [`Tree::set_max_passes`] says
@@ -133,6 +138,7 @@ impl<C> Tree<C> {
             out: failure::Outcome::new(),
             last_root: NodeStatus::Idle,
             pending_reload: None,
+            resting: None,
             blueprint,
         }
     }
@@ -286,6 +292,8 @@ impl<C> Tree<C> {
             out: &mut self.out,
             current: NodeId::ROOT,
             reject_multiple_running: self.reject_multiple_running,
+            rested: None,
+            replay: None,
             reset_after_store: None,
         }
     }
@@ -307,7 +315,34 @@ impl<C> Tree<C> {
     }
 
     fn pass_inner(&mut self, ctx: &mut C) -> Result<(NodeStatus, Option<NodeId>), TickError> {
+        // Whatever happened to the tree since the last pass (a halt, a slow halt under way,
+        // an observer attached, a reason given) shows in what is checked here; a halt, a
+        // reload and a restore forget the leaf.
+        let mut replay = None;
+        if let Some(leaf) = self.resting.take() {
+            let rests = self.observer.is_none()
+                && self.out.is_quiet()
+                && self.out.halts.count == 0
+                && self.statuses[leaf.index()] == NodeStatus::Running;
+            if rests {
+                match self.resting_answer(leaf, ctx) {
+                    Some(Ok(NodeStatus::Running)) if self.out.fault.is_none() => {
+                        self.resting = Some(leaf);
+                        return Ok((NodeStatus::Running, None));
+                    }
+                    // The pass from the root, with the answer; a fault ends it below.
+                    Some(Ok(answer)) => replay = Some((leaf, answer)),
+                    Some(Err(panicked)) => {
+                        let mut t = self.ticker(ctx);
+                        t.current = leaf;
+                        return Err(recover(&mut t, panicked));
+                    }
+                    None => {}
+                }
+            }
+        }
         let mut t = self.ticker(ctx);
+        t.replay = replay;
         if let Some(o) = t.observer.as_deref_mut() {
             o.on_tick_start(t.clock.now());
         }
@@ -325,7 +360,11 @@ impl<C> Tree<C> {
             t.halt_node(NodeId::ROOT);
             return Err(fault);
         }
-        Ok((status, t.wake))
+        let (wake, rested) = (t.wake, t.rested);
+        if status == NodeStatus::Running && wake.is_none() {
+            self.resting = rested.filter(|leaf| self.blueprint.resting[leaf.index()]);
+        }
+        Ok((status, wake))
     }
 
     /// Ticks the root exactly once, ignoring wake-up requests. A future that woke during the
@@ -346,6 +385,47 @@ impl<C> Tree<C> {
         let (status, _) = self.pass(ctx)?;
         self.last_root = status;
         to_result(status)
+    }
+
+    /// The answer of `leaf`, the stateful action the last pass rested in, called as a pass
+    /// from the root would call it: its ancestors up to the root pass a Running child's
+    /// tick straight through, so such a pass would tick it and nothing else, and, if it
+    /// returns Running, change nothing else. `None` if its object is not at hand (an
+    /// action still halting); `Err` for a panic, caught and named as a pass names it.
+    #[inline]
+    fn resting_answer(
+        &mut self,
+        leaf: NodeId,
+        ctx: &mut C,
+    ) -> Option<Result<NodeStatus, TickError>> {
+        let bp = &*self.blueprint;
+        let Some(ticker::Object::Stateful(action)) = self.objects.get_mut(bp.slot(leaf)) else {
+            return None;
+        };
+        let mut h = crate::Handle {
+            ctx,
+            blackboard: &mut self.blackboard,
+            clock: &*self.clock,
+            node: leaf,
+            bp,
+            out: &mut self.out,
+        };
+        #[cfg(feature = "std")]
+        {
+            let call =
+                core::panic::AssertUnwindSafe(|| NodeStatus::from(action.on_running(&mut h)));
+            Some(
+                std::panic::catch_unwind(call).map_err(|payload| TickError::Panicked {
+                    node: leaf,
+                    path: bp.path(leaf),
+                    message: ticker::panic_message(&*payload),
+                }),
+            )
+        }
+        #[cfg(not(feature = "std"))]
+        {
+            Some(Ok(NodeStatus::from(action.on_running(&mut h))))
+        }
     }
 
     /// Forgets the last tick's outcome. The record is empty unless a reason was given.

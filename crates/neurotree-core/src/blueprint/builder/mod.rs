@@ -516,8 +516,25 @@ impl<C> State<C> {
                 Child::new(id, &nodes[i], hooks[i].is_some(), guards[i], &shared)
             })
             .collect();
+        let resting = (0..nodes.len())
+            .map(|i| {
+                if !matches!(nodes[i].kind, NodeKind::Stateful(_)) || hooks[i].is_some() {
+                    return false;
+                }
+                let mut up = meta[i].parent;
+                while let Some(parent) = up {
+                    let p = parent.index();
+                    if hooks[p].is_some() || !nodes[p].kind.passes_through() {
+                        return false;
+                    }
+                    up = meta[p].parent;
+                }
+                true
+            })
+            .collect();
         Blueprint {
             hot_children,
+            resting,
             nodes,
             children: children.into_boxed_slice(),
             slots: slots.into_boxed_slice(),
