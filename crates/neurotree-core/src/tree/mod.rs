@@ -84,6 +84,18 @@ pub struct Tree<C> {
     resting: Option<NodeId>,
 }
 
+/// What [`Tree::rest`] did.
+enum Rest {
+    /// The tree does not rest, or may not be resumed: a pass from the root is due.
+    No,
+    /// The action returned Running again: the pass is over, and the tree still rests.
+    Running,
+    /// The action returned this: the pass from the root is to be run with it.
+    Answered(NodeId, NodeStatus),
+    /// The action panicked; the tree has been halted as after a panic in a pass.
+    Failed(TickError),
+}
+
 /// Passes one [`Tree::tick_once`] makes at most, unless [`Tree::set_max_passes`] says
 /// otherwise: enough for a `Repeat` of a million quick cycles, finite for one of `-1`.
 pub const DEFAULT_MAX_PASSES: u32 = 1_000_000;
@@ -300,12 +312,17 @@ impl<C> Tree<C> {
 
     /// One pass of the root: returns its status and who, if anyone, asked for another pass
     /// (a node that yielded, or a future that woke during the pass).
-    fn pass(&mut self, ctx: &mut C) -> Result<(NodeStatus, Option<Waker>), TickError> {
+    /// `given`: the answer the action the tree rests in gave in this tick already.
+    fn pass(
+        &mut self,
+        ctx: &mut C,
+        given: Option<(NodeId, NodeStatus)>,
+    ) -> Result<(NodeStatus, Option<Waker>), TickError> {
         // The pass polls every future still running, so earlier wakes are answered by it.
         if let Some(w) = &self.wake {
             w.signal.take();
         }
-        let (status, asked) = self.pass_inner(ctx)?;
+        let (status, asked) = self.pass_inner(ctx, given)?;
         let woken = self.wake.as_ref().is_some_and(|w| w.signal.is_woken());
         let waker = match asked {
             Some(node) => Some(Waker::Node(node)),
@@ -314,33 +331,21 @@ impl<C> Tree<C> {
         Ok((status, waker))
     }
 
-    fn pass_inner(&mut self, ctx: &mut C) -> Result<(NodeStatus, Option<NodeId>), TickError> {
-        // Whatever happened to the tree since the last pass (a halt, a slow halt under way,
-        // an observer attached, a reason given) shows in what is checked here; a halt, a
-        // reload and a restore forget the leaf.
-        let mut replay = None;
-        if let Some(leaf) = self.resting.take() {
-            let rests = self.observer.is_none()
-                && self.out.is_quiet()
-                && self.out.halts.count == 0
-                && self.statuses[leaf.index()] == NodeStatus::Running;
-            if rests {
-                match self.resting_answer(leaf, ctx) {
-                    Some(Ok(NodeStatus::Running)) if self.out.fault.is_none() => {
-                        self.resting = Some(leaf);
-                        return Ok((NodeStatus::Running, None));
-                    }
-                    // The pass from the root, with the answer; a fault ends it below.
-                    Some(Ok(answer)) => replay = Some((leaf, answer)),
-                    Some(Err(panicked)) => {
-                        let mut t = self.ticker(ctx);
-                        t.current = leaf;
-                        return Err(recover(&mut t, panicked));
-                    }
-                    None => {}
-                }
-            }
-        }
+    fn pass_inner(
+        &mut self,
+        ctx: &mut C,
+        given: Option<(NodeId, NodeStatus)>,
+    ) -> Result<(NodeStatus, Option<NodeId>), TickError> {
+        let replay = match given {
+            Some(given) => Some(given),
+            None => match self.rest(ctx) {
+                Rest::Running => return Ok((NodeStatus::Running, None)),
+                Rest::Answered(leaf, answer) => Some((leaf, answer)),
+                Rest::Failed(error) => return Err(error),
+                Rest::No => None,
+            },
+        };
+        self.resting = None;
         let mut t = self.ticker(ctx);
         t.replay = replay;
         if let Some(o) = t.observer.as_deref_mut() {
@@ -373,6 +378,25 @@ impl<C> Tree<C> {
     /// A pending [`HaltHandle`] request is served first: the tree is halted and the call
     /// returns [`TickError::HaltRequested`] without ticking.
     pub fn tick_exactly_once(&mut self, ctx: &mut C) -> Result<Status, TickError> {
+        // Resting, with no future to poll (nor a halt request to serve): nothing else in
+        // this call could run before the action.
+        let mut given = None;
+        if self.wake.is_none() {
+            match self.rest(ctx) {
+                Rest::Running => {
+                    if self.last_root != NodeStatus::Running {
+                        self.last_root = NodeStatus::Running;
+                    }
+                    return Ok(Status::Running);
+                }
+                Rest::Answered(leaf, answer) => given = Some((leaf, answer)),
+                Rest::Failed(error) => {
+                    self.last_root = NodeStatus::Idle;
+                    return Err(error);
+                }
+                Rest::No => {}
+            }
+        }
         if self.halt_requested() {
             return Err(self.serve_halt_request(ctx));
         }
@@ -382,9 +406,46 @@ impl<C> Tree<C> {
                 return waiting;
             }
         }
-        let (status, _) = self.pass(ctx)?;
+        let (status, _) = self.pass(ctx, given)?;
         self.last_root = status;
         to_result(status)
+    }
+
+    /// If the last pass rested in a stateful action and nothing since (a halt, a slow
+    /// halt under way, an observer attached, a reason given) stands in the way, calls the
+    /// action as a pass from the root would. A halt, a reload and a restore forget the
+    /// action.
+    #[inline]
+    fn rest(&mut self, ctx: &mut C) -> Rest {
+        let Some(leaf) = self.resting else {
+            return Rest::No;
+        };
+        let rests = self.observer.is_none()
+            && self.out.is_quiet()
+            && self.out.halts.count == 0
+            && self.statuses[leaf.index()] == NodeStatus::Running;
+        if !rests {
+            self.resting = None;
+            return Rest::No;
+        }
+        match self.resting_answer(leaf, ctx) {
+            Some(Ok(NodeStatus::Running)) if self.out.fault.is_none() => Rest::Running,
+            // The pass from the root, with the answer; a fault ends it.
+            Some(Ok(answer)) => {
+                self.resting = None;
+                Rest::Answered(leaf, answer)
+            }
+            Some(Err(panicked)) => {
+                self.resting = None;
+                let mut t = self.ticker(ctx);
+                t.current = leaf;
+                Rest::Failed(recover(&mut t, panicked))
+            }
+            None => {
+                self.resting = None;
+                Rest::No
+            }
+        }
     }
 
     /// The answer of `leaf`, the stateful action the last pass rested in, called as a pass
@@ -509,7 +570,7 @@ impl<C> Tree<C> {
                     return waiting;
                 }
             }
-            let (status, waker) = self.pass(ctx)?;
+            let (status, waker) = self.pass(ctx, None)?;
             self.last_passes += 1;
             match waker {
                 Some(waker) if status == NodeStatus::Running => {
