@@ -1,13 +1,15 @@
 //! # NeuroTree in Bevy
 //!
 //! Behavior trees for Bevy's entities, ticked on all cores: each agent is an entity with a
-//! [`TreeAgent`] component; [`NeuroTreePlugin`] ticks every agent's tree in one parallel
-//! pass of a [`Crowd`](neurotree::crowd::Crowd) (with per-agent tick intervals), in the
-//! [`TreeSystems`] set.
+//! [`TreeAgent`] component; [`NeuroTreePlugin`] ticks every agent's tree through a
+//! [`Crowd`](neurotree::crowd::Crowd) (with per-agent tick intervals), in one parallel
+//! pass over the agents' components in the order Bevy stores them, in the [`TreeSystems`]
+//! set.
 //!
 //! - **Leaves see components through a typed context.** An [`AgentContext`] names the
-//!   components its leaves need; it is loaded from them before each frame and written
-//!   back after it, so leaves get `&mut` plain data on any thread.
+//!   components its leaves need; in the same visit of an agent, it is loaded from them,
+//!   the tree ticked and what changed written back, so leaves get `&mut` plain data on
+//!   any thread.
 //! - **Results** come as messages ([`TreeFinished`]) and, for failures and errors with
 //!   their reason, as an observer event ([`TreeFailed`]).
 //! - **Tree files are assets.** With Bevy's `AssetPlugin`, `.xml` files load as
@@ -34,7 +36,7 @@
 //! impl AgentContext for Ship {
 //!     type Components = &'static mut Fuel;
 //!     type Shared = ();
-//!     fn load(&mut self, fuel: &Fuel, _: &()) {
+//!     fn load(&mut self, fuel: &QueryItem<'_, '_, Self::Components>, _: &()) {
 //!         self.fuel = fuel.0;
 //!     }
 //!     fn store(&self, fuel: &mut QueryItem<'_, '_, Self::Components>) {

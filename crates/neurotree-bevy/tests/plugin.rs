@@ -8,7 +8,7 @@ use std::sync::Arc;
 use bevy_app::{App, TaskPoolPlugin, Update};
 use bevy_asset::{AssetPlugin, AssetServer, Handle, LoadState};
 use bevy_ecs::prelude::*;
-use bevy_ecs::query::{QueryItem, ROQueryItem};
+use bevy_ecs::query::QueryItem;
 use neurotree::prelude::*;
 use neurotree::{FailureLink, Handle as NodeHandle, StatefulAction};
 use neurotree_bevy::{
@@ -49,12 +49,12 @@ impl AgentContext for Guard {
 
     fn load(
         &mut self,
-        (hp, counts): ROQueryItem<'_, '_, Self::Components>,
+        (hp, counts): &QueryItem<'_, '_, Self::Components>,
         alarm: &Option<Res<'_, Alarm>>,
     ) {
         self.hp = hp.0;
         self.alarm = alarm.as_ref().is_some_and(|a| a.0);
-        self.counts = *counts;
+        self.counts = **counts;
     }
 
     fn store(&self, (_, counts): &mut QueryItem<'_, '_, Self::Components>) {
@@ -162,6 +162,38 @@ fn agents_are_ticked_once_per_frame_or_every_nth_frame_with_an_interval() {
     let mut crowd = app.world_mut().resource_mut::<AgentCrowd<Guard>>();
     assert_eq!(crowd.crowd_mut().len(), 4);
     assert_eq!(crowd.crowd_mut().frames(), 24);
+}
+
+#[test]
+fn a_budget_spreads_the_agents_ticks_over_frames_oldest_first() {
+    let mut app = app();
+    let bp = blueprint(&tree("<Tick/>"));
+    let nodes = bp.len() as u64;
+    let agents: Vec<Entity> = (0..10)
+        .map(|_| {
+            spawn(
+                &mut app,
+                TreeAgent::new(Arc::clone(&bp), Guard::default()),
+                100,
+            )
+        })
+        .collect();
+    let budget = 4 * nodes;
+    app.world_mut()
+        .resource_mut::<AgentCrowd<Guard>>()
+        .crowd_mut()
+        .set_budget(Some(budget));
+    for _ in 0..5 {
+        app.update();
+        let last = app.world().resource::<AgentCrowd<Guard>>().last_frame();
+        assert_eq!((last.ticked, last.visits), (4, budget));
+    }
+    // The 20 ticks are written back, and spread: every agent had its turn.
+    let ticks: Vec<u32> = agents.iter().map(|&e| counts(&app, e).ticks).collect();
+    assert_eq!(ticks.iter().sum::<u32>(), 20, "{ticks:?}");
+    assert!(ticks.iter().all(|&t| (1..=3).contains(&t)), "{ticks:?}");
+    let last = app.world().resource::<AgentCrowd<Guard>>().last_frame();
+    assert_eq!(last.behind.overdue, 6);
 }
 
 #[test]
