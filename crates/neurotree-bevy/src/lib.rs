@@ -14,9 +14,11 @@
 //!   their reason, as an observer event ([`TreeFailed`]).
 //! - **Tree files are assets.** With Bevy's `AssetPlugin`, `.xml` files load as
 //!   [`TreeAsset`]s, built with the [`Registry`](neurotree::Registry) the app gives the
-//!   plugin; a file that fails names its `file:line:col`. When a tree asset changes
-//!   (in `Assets`, or on disk with the `file_watcher` feature), every agent running it is
-//!   reloaded, keeping the state of the nodes that did not change ([`TreeReloaded`]).
+//!   plugin, following its `<include>`s (read through the asset server, relative to the
+//!   including file, and watched with it); a file that fails names its `file:line:col`.
+//!   When a tree asset changes (in `Assets`, or on disk with the `file_watcher` feature),
+//!   every agent running it is reloaded, keeping the state of the nodes that did not
+//!   change ([`TreeReloaded`]).
 //! - **Removing** an agent's component (or replacing it, or despawning the agent) halts its
 //!   running actions once.
 //!

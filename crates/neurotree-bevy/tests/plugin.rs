@@ -533,6 +533,117 @@ fn a_bad_tree_file_fails_to_load_naming_its_line_and_column() {
     assert_eq!(agent.member(), None);
 }
 
+/// A tree file that includes `parts/hold.xml` (relative to its own directory, `trees/`),
+/// which includes `speed.xml` beside it.
+fn write_including_tree(dir: &TempDir, speed: i32) {
+    std::fs::create_dir_all(dir.0.join("trees/parts")).unwrap();
+    let main = r#"<root BTCPP_format="4" main_tree_to_execute="Main">
+  <include path="./parts/hold.xml"/>
+  <BehaviorTree ID="Main">
+    <SequenceWithMemory><Step/><SubTree ID="Holding"/></SequenceWithMemory>
+  </BehaviorTree>
+</root>"#;
+    let hold = r#"<root BTCPP_format="4">
+  <include path="speed.xml"/>
+  <BehaviorTree ID="Holding"><SubTree ID="Speed"/></BehaviorTree>
+</root>"#;
+    let speed = format!(
+        r#"<root BTCPP_format="4"><BehaviorTree ID="Speed"><Hold speed="{speed}"/></BehaviorTree></root>"#
+    );
+    std::fs::write(dir.0.join("trees/guard.xml"), main).unwrap();
+    std::fs::write(dir.0.join("trees/parts/hold.xml"), hold).unwrap();
+    std::fs::write(dir.0.join("trees/parts/speed.xml"), speed).unwrap();
+}
+
+#[test]
+fn a_tree_file_loads_the_files_it_includes_relative_to_itself() {
+    let dir = TempDir::new("neurotree-bevy-include");
+    write_including_tree(&dir, 1);
+    let mut app = asset_app(&dir);
+    let server = app.world().resource::<AssetServer>().clone();
+    let handle: Handle<TreeAsset<Guard>> = server.load("trees/guard.xml");
+    let agent = spawn(
+        &mut app,
+        TreeAgent::from_asset(handle.clone(), Guard::default()),
+        100,
+    );
+    assert!(matches!(wait_for(&mut app, &handle), LoadState::Loaded));
+    app.update();
+    app.update();
+    // Step, then the included Hold, started once and running.
+    assert_eq!(
+        (counts(&app, agent).steps, counts(&app, agent).started),
+        (1, 1)
+    );
+    // An include that names no file fails the tree, naming the include.
+    std::fs::remove_file(dir.0.join("trees/parts/speed.xml")).unwrap();
+    let broken: Handle<TreeAsset<Guard>> = server.load("trees/parts/hold.xml");
+    let LoadState::Failed(error) = wait_for(&mut app, &broken) else {
+        panic!("a tree whose include is missing loaded");
+    };
+    let printed = error.to_string();
+    assert!(
+        printed.contains("trees/parts/speed.xml: cannot read the included file"),
+        "{printed}"
+    );
+}
+
+/// With the watcher, a change to an included file reloads the tree that includes it.
+#[cfg(feature = "file_watcher")]
+#[test]
+fn an_included_file_edited_on_disk_reloads_the_tree_that_includes_it() {
+    let dir = TempDir::new("neurotree-bevy-watch-include");
+    write_including_tree(&dir, 1);
+    let mut app = asset_app(&dir);
+    app.init_resource::<Reloads>().add_systems(
+        Update,
+        (|mut m: MessageReader<TreeReloaded>, mut r: ResMut<Reloads>| {
+            r.0.extend(m.read().copied())
+        })
+        .after(TreeSystems::Tick),
+    );
+    let handle: Handle<TreeAsset<Guard>> = app
+        .world()
+        .resource::<AssetServer>()
+        .load("trees/guard.xml");
+    let agent = spawn(
+        &mut app,
+        TreeAgent::from_asset(handle.clone(), Guard::default()),
+        100,
+    );
+    assert!(matches!(wait_for(&mut app, &handle), LoadState::Loaded));
+    app.update();
+    app.update();
+    assert_eq!(
+        (counts(&app, agent).steps, counts(&app, agent).started),
+        (1, 1)
+    );
+    // Two levels down: guard.xml includes hold.xml, which includes speed.xml.
+    let speed = r#"<root BTCPP_format="4"><BehaviorTree ID="Speed"><Hold speed="2"/></BehaviorTree></root>"#;
+    std::fs::write(dir.0.join("trees/parts/speed.xml"), speed).unwrap();
+    for _ in 0..6000 {
+        app.update();
+        if !app.world().resource::<Reloads>().0.is_empty() {
+            break;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    }
+    let reloads = &app.world().resource::<Reloads>().0;
+    assert_eq!(
+        reloads.len(),
+        1,
+        "the change to the included file reloaded nothing"
+    );
+    assert_eq!(reloads[0].entity, agent);
+    assert_eq!(reloads[0].report.halted, 1);
+    app.update();
+    // The Hold restarted with its new speed; the Step before it kept its state.
+    assert_eq!(
+        (counts(&app, agent).steps, counts(&app, agent).started),
+        (1, 2)
+    );
+}
+
 /// With bevy_asset's watcher, a file edited on disk reloads the agents running it. The
 /// watcher reports on its own thread after a debounce, so the frames are run until it has.
 #[cfg(feature = "file_watcher")]
