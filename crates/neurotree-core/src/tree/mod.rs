@@ -377,6 +377,9 @@ impl<C> Tree<C> {
     ///
     /// A pending [`HaltHandle`] request is served first: the tree is halted and the call
     /// returns [`TickError::HaltRequested`] without ticking.
+    // Inlined, so that a caller ticking many resting trees (a crowd) gets the resting
+    // case without a call or a result passed through memory; the rest is out of line.
+    #[inline]
     pub fn tick_exactly_once(&mut self, ctx: &mut C) -> Result<Status, TickError> {
         // Resting, with no future to poll (nor a halt request to serve): nothing else in
         // this call could run before the action.
@@ -397,6 +400,17 @@ impl<C> Tree<C> {
                 Rest::No => {}
             }
         }
+        self.tick_exactly_once_from_root(ctx, given)
+    }
+
+    /// [`tick_exactly_once`](Self::tick_exactly_once) past the resting case: a pass from
+    /// the root, given the answer of the action the tree rested in, if it gave one.
+    #[inline(never)]
+    fn tick_exactly_once_from_root(
+        &mut self,
+        ctx: &mut C,
+        given: Option<(NodeId, NodeStatus)>,
+    ) -> Result<Status, TickError> {
         if self.halt_requested() {
             return Err(self.serve_halt_request(ctx));
         }
