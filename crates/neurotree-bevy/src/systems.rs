@@ -116,8 +116,11 @@ pub(crate) fn tick<C: AgentContext>(
     let last = if let Some(frame) = crowd.crowd_mut().frame_in_place() {
         let open = &frame;
         agents.par_iter_mut().for_each_init(
-            || (open.visitor(), gather()),
-            |(visitor, gathered), (entity, agent, mut components)| {
+            // Boxed, one box per batch: `for_each_init` moves its state in and out of the
+            // call for every agent, and a pointer moves cheaper than the state.
+            || Box::new((open.visitor(), gather())),
+            |state, (entity, agent, mut components)| {
+                let (visitor, gathered) = &mut **state;
                 let Some(member) = agent.member() else { return };
                 let status = match visitor.visit(member, |c| c.load(&components, shared)) {
                     Visit::NotDue => return,
