@@ -15,7 +15,10 @@ use bevy_ecs::system::{ReadOnlySystemParam, SystemParamItem};
 /// [`Shared`](AgentContext::Shared), any read-only system parameter. The context is also
 /// the agent's own memory: fields not copied from components persist.
 ///
-/// `Components` must not name the [`TreeAgent`](crate::TreeAgent) component itself.
+/// `Components` must not name the [`TreeAgent`](crate::TreeAgent) component itself. An
+/// agent whose entity lacks one of them has no context to load and is not ticked (under a
+/// budget, which ticks the crowd's members apart from the components, it is ticked with
+/// the context it kept).
 pub trait AgentContext: Send + Sync + 'static {
     /// The components the context is made from: `&T` to read, `&mut T` to write back.
     type Components: IterQueryData + 'static;

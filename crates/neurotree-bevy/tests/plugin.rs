@@ -197,6 +197,34 @@ fn a_budget_spreads_the_agents_ticks_over_frames_oldest_first() {
 }
 
 #[test]
+fn an_agent_without_its_contexts_components_is_not_ticked() {
+    let mut app = app();
+    let bp = blueprint(&tree("<Tick/>"));
+    let whole = spawn(
+        &mut app,
+        TreeAgent::new(Arc::clone(&bp), Guard::default()),
+        100,
+    );
+    // No `Counts`: the context cannot be loaded.
+    let partial = app
+        .world_mut()
+        .spawn((Hp(100), TreeAgent::new(bp, Guard::default())))
+        .id();
+    for _ in 0..3 {
+        app.update();
+    }
+    assert_eq!(counts(&app, whole).ticks, 3);
+    app.world_mut()
+        .resource_scope(|world, mut crowd: Mut<AgentCrowd<Guard>>| {
+            assert_eq!(crowd.last_frame().ticked, 1);
+            let agent = world.get::<TreeAgent<Guard>>(partial).unwrap();
+            let member = crowd.member(agent).expect("it joined the crowd");
+            assert_eq!(member.context().counts.ticks, 0);
+            assert_eq!(member.status(), neurotree::crowd::FrameStatus::NotDue);
+        });
+}
+
+#[test]
 fn leaves_read_and_write_the_agents_components() {
     let mut app = app();
     let bp = blueprint(&tree(
