@@ -19,7 +19,7 @@ use std::time::Instant;
 
 use bevy_app::App;
 use bevy_ecs::prelude::*;
-use bevy_ecs::query::{QueryItem, ROQueryItem};
+use bevy_ecs::query::QueryItem;
 use neurotree::prelude::*;
 use neurotree::{Handle, StatefulAction};
 use neurotree_bevy::{AgentContext, AgentCrowd, NeuroTreePlugin, TreeAgent};
@@ -28,14 +28,14 @@ const ENEMY_SPEED: f32 = 100.0;
 const PLAYER_SPEED: f32 = 200.0;
 const FRAME: f32 = 1.0 / 60.0;
 
-#[derive(Component, Clone, Copy)]
+#[derive(Component, Clone, Copy, PartialEq)]
 struct Pos(f32, f32);
 
 #[derive(Component)]
 struct VisionRadius(f32);
 
 /// Frames this enemy spent chasing.
-#[derive(Component, Default)]
+#[derive(Component, Default, PartialEq)]
 struct Chased(u32);
 
 #[derive(Resource, Clone, Copy)]
@@ -55,17 +55,19 @@ impl AgentContext for Enemy {
 
     fn load(
         &mut self,
-        (pos, vision, _): ROQueryItem<'_, '_, Self::Components>,
+        (pos, vision, _): &QueryItem<'_, '_, Self::Components>,
         player: &Res<'_, Player>,
     ) {
-        self.pos = *pos;
+        self.pos = **pos;
         self.vision = vision.0;
         self.player = player.0;
     }
 
+    /// Writes only what changed, so that Bevy's change detection sees only the enemies
+    /// that moved, and a waiting enemy's components are left untouched.
     fn store(&self, (pos, _, chased): &mut QueryItem<'_, '_, Self::Components>) {
-        **pos = self.pos;
-        chased.0 = self.chased;
+        pos.set_if_neq(self.pos);
+        chased.set_if_neq(Chased(self.chased));
     }
 }
 

@@ -14,7 +14,7 @@ use std::time::Instant;
 use bevy_app::{App, TaskPoolPlugin, Update};
 use bevy_asset::{AssetPlugin, AssetServer, Handle, LoadState};
 use bevy_ecs::prelude::*;
-use bevy_ecs::query::{QueryItem, ROQueryItem};
+use bevy_ecs::query::QueryItem;
 use neurotree::prelude::*;
 use neurotree_bevy::{
     AgentContext, AgentCrowd, NeuroTreePlugin, TreeAgent, TreeAsset, TreeSystems,
@@ -89,7 +89,7 @@ impl AgentContext for Agent {
 
     fn load(
         &mut self,
-        (pos, home, health, _): ROQueryItem<'_, '_, Self::Components>,
+        (pos, home, health, _): &QueryItem<'_, '_, Self::Components>,
         target: &Res<'_, Target>,
     ) {
         self.pos = pos.0;

@@ -1,12 +1,20 @@
 //! Tree files as Bevy assets: BehaviorTree.CPP XML loaded with the app's registry.
 //!
-//! A tree asset is one file: its `<include>`s are not followed (an asset's path is not a
-//! file system path), so a file that includes others fails to load, naming the include.
+//! A file's `<include path="...">`s are read through the asset server, from the same
+//! asset source, at the include's path relative to the including file's directory (as
+//! BehaviorTree.CPP resolves them), and so on down; they are the asset's loader
+//! dependencies, so that a change to an included file reloads every tree asset that
+//! includes it (and, with it, the agents running them). An include that cannot be read
+//! fails the asset, naming it.
 
+use std::collections::BTreeMap;
 use std::sync::Arc;
 
 use bevy_asset::io::Reader;
-use bevy_asset::{Asset, AssetLoader, LoadContext, UntypedAssetId, VisitAssetDependencies};
+use bevy_asset::{
+    Asset, AssetLoader, AssetPath, LoadContext, ReadAssetBytesError, UntypedAssetId,
+    VisitAssetDependencies,
+};
 use bevy_reflect::utility::GenericTypePathCell;
 use bevy_reflect::TypePath;
 use neurotree::xml::{LoadError, XmlLoader};
@@ -103,6 +111,14 @@ pub enum TreeAssetError {
         /// The asset's path.
         path: String,
     },
+    /// A file an `<include>` names could not be read.
+    #[error("{path}: cannot read the included file: {source}")]
+    Include {
+        /// The included file's path.
+        path: String,
+        /// What the asset server said.
+        source: ReadAssetBytesError,
+    },
     /// The XML is not a tree the registry can build; prints as `file:line:col: error: ...`.
     #[error(transparent)]
     Load(#[from] LoadError),
@@ -127,8 +143,29 @@ impl<C: Send + Sync + 'static> AssetLoader for TreeAssetLoader<C> {
         let Ok(text) = String::from_utf8(bytes) else {
             return Err(TreeAssetError::NotUtf8 { path });
         };
+        // Includes resolve against the asset's path within its source.
+        let file = load_context.path().path().to_string_lossy().into_owned();
+        let source = load_context.path().source().clone_owned();
+        let mut included = BTreeMap::new();
+        let mut wanted = XmlLoader::<C>::includes_of(&text, &file)?;
+        while let Some(next) = wanted.pop() {
+            if included.contains_key(&next) {
+                continue;
+            }
+            let at = AssetPath::from(next.clone()).with_source(source.clone());
+            let bytes = match load_context.read_asset_bytes(at).await {
+                Ok(bytes) => bytes,
+                Err(source) => return Err(TreeAssetError::Include { path: next, source }),
+            };
+            let Ok(text) = String::from_utf8(bytes) else {
+                return Err(TreeAssetError::NotUtf8 { path: next });
+            };
+            wanted.extend(XmlLoader::<C>::includes_of(&text, &next)?);
+            included.insert(next, text);
+        }
         let mut loader = XmlLoader::new(&self.registry);
-        loader.load_str(&text, &path)?;
+        loader.include_texts(included);
+        loader.load_str(&text, &file)?;
         Ok(TreeAsset::new(Arc::new(loader.build_main()?)))
     }
 

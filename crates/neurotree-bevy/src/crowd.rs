@@ -107,10 +107,9 @@ impl<C: AgentContext> AgentCrowd<C> {
         }
     }
 
-    /// Runs a frame and moves the clock on.
-    pub(crate) fn frame(&mut self) -> FrameReport {
-        self.last = self.crowd_mut().frame();
+    /// After a frame: keeps its report and moves the clock on.
+    pub(crate) fn end_frame(&mut self, report: FrameReport) {
+        self.last = report;
         self.clock.advance(self.step);
-        self.last
     }
 }

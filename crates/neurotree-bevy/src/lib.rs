@@ -1,20 +1,24 @@
 //! # NeuroTree in Bevy
 //!
 //! Behavior trees for Bevy's entities, ticked on all cores: each agent is an entity with a
-//! [`TreeAgent`] component; [`NeuroTreePlugin`] ticks every agent's tree in one parallel
-//! pass of a [`Crowd`](neurotree::crowd::Crowd) (with per-agent tick intervals), in the
-//! [`TreeSystems`] set.
+//! [`TreeAgent`] component; [`NeuroTreePlugin`] ticks every agent's tree through a
+//! [`Crowd`](neurotree::crowd::Crowd) (with per-agent tick intervals), in one parallel
+//! pass over the agents' components in the order Bevy stores them, in the [`TreeSystems`]
+//! set.
 //!
 //! - **Leaves see components through a typed context.** An [`AgentContext`] names the
-//!   components its leaves need; it is loaded from them before each frame and written
-//!   back after it, so leaves get `&mut` plain data on any thread.
+//!   components its leaves need; in the same visit of an agent, it is loaded from them,
+//!   the tree ticked and what changed written back, so leaves get `&mut` plain data on
+//!   any thread.
 //! - **Results** come as messages ([`TreeFinished`]) and, for failures and errors with
 //!   their reason, as an observer event ([`TreeFailed`]).
 //! - **Tree files are assets.** With Bevy's `AssetPlugin`, `.xml` files load as
 //!   [`TreeAsset`]s, built with the [`Registry`](neurotree::Registry) the app gives the
-//!   plugin; a file that fails names its `file:line:col`. When a tree asset changes
-//!   (in `Assets`, or on disk with the `file_watcher` feature), every agent running it is
-//!   reloaded, keeping the state of the nodes that did not change ([`TreeReloaded`]).
+//!   plugin, following its `<include>`s (read through the asset server, relative to the
+//!   including file, and watched with it); a file that fails names its `file:line:col`.
+//!   When a tree asset changes (in `Assets`, or on disk with the `file_watcher` feature),
+//!   every agent running it is reloaded, keeping the state of the nodes that did not
+//!   change ([`TreeReloaded`]).
 //! - **Removing** an agent's component (or replacing it, or despawning the agent) halts its
 //!   running actions once.
 //!
@@ -34,7 +38,7 @@
 //! impl AgentContext for Ship {
 //!     type Components = &'static mut Fuel;
 //!     type Shared = ();
-//!     fn load(&mut self, fuel: &Fuel, _: &()) {
+//!     fn load(&mut self, fuel: &QueryItem<'_, '_, Self::Components>, _: &()) {
 //!         self.fuel = fuel.0;
 //!     }
 //!     fn store(&self, fuel: &mut QueryItem<'_, '_, Self::Components>) {

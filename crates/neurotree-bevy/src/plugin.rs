@@ -24,8 +24,9 @@ use crate::systems;
 pub enum TreeSystems {
     /// New agents join the crowd; agents whose tree asset changed are reloaded.
     Join,
-    /// Contexts are loaded from components, the crowd runs a frame on all cores, the
-    /// ticked agents' contexts are written back, and results are reported.
+    /// On all cores, each agent due is visited once: its context is loaded from its
+    /// components, its tree ticked and what changed written back; then results are
+    /// reported.
     Tick,
 }
 
@@ -44,8 +45,9 @@ pub struct NeuroTreePlugin<C> {
 
 impl<C: AgentContext> NeuroTreePlugin<C> {
     /// A plugin whose tree files are built from the nodes `registry` knows, ticking in
-    /// `Update` on rayon's global pool (`RAYON_NUM_THREADS`, or all cores), with a clock
-    /// that moves 1/60 s per frame.
+    /// `Update` on Bevy's compute task pool (a frame under a budget, set through
+    /// [`AgentCrowd::crowd_mut`], runs on rayon's global pool: `RAYON_NUM_THREADS`, or all
+    /// cores), with a clock that moves 1/60 s per frame.
     pub fn new(registry: Registry<C>) -> Self {
         Self {
             registry: Arc::new(registry),
@@ -56,7 +58,9 @@ impl<C: AgentContext> NeuroTreePlugin<C> {
         }
     }
 
-    /// Ticks on a pool of `threads` threads of its own (0: rayon's default).
+    /// Runs frames under a budget on a rayon pool of `threads` threads of its own (0:
+    /// rayon's default); other frames run on Bevy's compute task pool, whose size
+    /// `TaskPoolPlugin` sets.
     pub fn with_threads(mut self, threads: usize) -> Result<Self, ThreadPoolBuildError> {
         let pool = ThreadPoolBuilder::new().num_threads(threads).build()?;
         self.pool = Some(Arc::new(pool));

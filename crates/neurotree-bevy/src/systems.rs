@@ -9,7 +9,7 @@ use bevy_ecs::message::{MessageReader, MessageWriter};
 use bevy_ecs::observer::On;
 use bevy_ecs::system::{Commands, Local, Query, Res, ResMut, StaticSystemParam, SystemParamItem};
 use bevy_tasks::{ComputeTaskPool, TaskPool};
-use neurotree::crowd::{Crowd, FrameStatus, MemberId};
+use neurotree::crowd::{Crowd, FrameStatus, MemberId, Visit};
 use neurotree::{ReloadError, Status};
 
 use crate::agent::{TreeAgent, TreeSource};
@@ -86,10 +86,14 @@ impl Drop for Gathered<'_> {
     }
 }
 
-/// Loads every agent's context from its components, runs a frame of the crowd, writes the
-/// ticked agents' contexts back, and reports what their trees did. Each step runs on all
-/// cores: the loads and the frame on the crowd's threads, the stores on Bevy's compute
-/// pool.
+/// Runs a frame of the crowd over the agents' components and reports what their trees did.
+///
+/// Without a budget, each agent is visited once, in the order its components sit in
+/// Bevy's tables, on all cores (Bevy's compute pool): its context is loaded, its tree
+/// ticked and its context stored while its data is in the cache, and no agent is looked up
+/// by its entity. Under a budget, which picks members across the whole crowd before any is
+/// ticked, the contexts are loaded first (on one thread), the crowd runs its frame on its
+/// own threads, and the ticked agents' contexts are stored after it, on all cores.
 pub(crate) fn tick<C: AgentContext>(
     mut crowd: ResMut<AgentCrowd<C>>,
     mut agents: Query<(Entity, &TreeAgent<C>, C::Components)>,
@@ -102,65 +106,107 @@ pub(crate) fn tick<C: AgentContext>(
 {
     let crowd = &mut *crowd;
     let report_finished = crowd.report_finished;
-    {
-        let (members, entities) = crowd.crowd_and_entities();
-        let (agents, shared) = (&agents, &*shared);
-        members.for_each_context_mut(|id, context| {
-            let Some(entity) = entities.get(id.slot()).copied().flatten() else {
-                return;
-            };
-            // `join` and `leave` keep each slot's entity that of its member, so the agent's
-            // own component need not be read (a cache line per agent saved).
-            if let Ok((_, _, components)) = agents.get(entity) {
-                context.load(components, shared);
-            }
-        });
-    }
-    crowd.frame();
-    let members = crowd.crowd_mut();
-    let contexts = members.contexts();
+    let shared = &*shared;
     ComputeTaskPool::get_or_init(TaskPool::default);
     let into = &*collected;
     let gather = || Gathered {
         into,
         batch: Vec::new(),
     };
-    agents
-        .par_iter_mut()
-        .for_each_init(gather, |gathered, (entity, agent, mut components)| {
-            let Some(member) = agent.member() else { return };
-            let status = match contexts.status(member) {
-                Some(FrameStatus::Ticked(status)) => Some(status),
-                Some(FrameStatus::Error) => None,
-                _ => return,
-            };
-            if let Some(context) = contexts.get(member) {
-                context.store(&mut components);
-            }
-            let report = match status {
-                Some(Status::Running) => false,
-                Some(Status::Failure) | None => true,
-                Some(_) => report_finished,
-            };
-            if report {
-                let done = Finished {
-                    member,
-                    entity,
-                    status,
+    let last = if let Some(frame) = crowd.crowd_mut().frame_in_place() {
+        let open = &frame;
+        agents.par_iter_mut().for_each_init(
+            // Boxed, one box per batch: `for_each_init` moves its state in and out of the
+            // call for every agent, and a pointer moves cheaper than the state.
+            || Box::new((open.visitor(), gather())),
+            |state, (entity, agent, mut components)| {
+                let (visitor, gathered) = &mut **state;
+                let Some(member) = agent.member() else { return };
+                let status = match visitor.visit(member, |c| c.load(&components, shared)) {
+                    Visit::NotDue => return,
+                    Visit::Ticked(context, status) => {
+                        context.store(&mut components);
+                        status
+                    }
                 };
-                gathered.batch.push(done);
-            }
-        });
+                gathered.note(member, entity, status, report_finished);
+            },
+        );
+        frame.finish()
+    } else {
+        load_all(crowd, &mut agents, shared);
+        let report = crowd.crowd_mut().frame();
+        let contexts = crowd.crowd_mut().contexts();
+        agents
+            .par_iter_mut()
+            .for_each_init(gather, |gathered, (entity, agent, mut components)| {
+                let Some(member) = agent.member() else { return };
+                let Some(status) = contexts.status(member) else {
+                    return;
+                };
+                if !matches!(status, FrameStatus::Ticked(_) | FrameStatus::Error) {
+                    return;
+                }
+                if let Some(context) = contexts.get(member) {
+                    context.store(&mut components);
+                }
+                gathered.note(member, entity, status, report_finished);
+            });
+        report
+    };
+    crowd.end_frame(last);
     // In slot order, so that messages come in the same order on any number of threads.
     let ended = collected.get_mut().unwrap_or_else(PoisonError::into_inner);
     ended.sort_unstable_by_key(|f| f.member.slot());
     report(
-        members,
+        crowd.crowd_mut(),
         ended,
         report_finished,
         &mut finished,
         &mut commands,
     );
+}
+
+/// Loads every agent's context from its components, for a frame under a budget.
+fn load_all<C: AgentContext>(
+    crowd: &mut AgentCrowd<C>,
+    agents: &mut Query<(Entity, &TreeAgent<C>, C::Components)>,
+    shared: &SystemParamItem<'_, '_, C::Shared>,
+) {
+    let (members, entities) = crowd.crowd_and_entities();
+    for mut member in members.iter_mut() {
+        let Some(entity) = entities.get(member.id().slot()).copied().flatten() else {
+            continue;
+        };
+        if let Ok((_, _, components)) = agents.get_mut(entity) {
+            member.context_mut().load(&components, shared);
+        }
+    }
+}
+
+impl Gathered<'_> {
+    /// Keeps a ticked agent for the report if its root failed, its tick ended with an
+    /// error, or (when asked) its root succeeded.
+    #[inline(always)]
+    fn note(&mut self, member: MemberId, entity: Entity, status: FrameStatus, finished: bool) {
+        let status = match status {
+            FrameStatus::Ticked(status) => Some(status),
+            FrameStatus::Error => None,
+            FrameStatus::NotDue | FrameStatus::Deferred => return,
+        };
+        let report = match status {
+            Some(Status::Running) => false,
+            Some(Status::Failure) | None => true,
+            Some(_) => finished,
+        };
+        if report {
+            self.batch.push(Finished {
+                member,
+                entity,
+                status,
+            });
+        }
+    }
 }
 
 /// Writes a [`TreeFinished`] for each agent of `ended` (if asked), and triggers a

@@ -8,7 +8,7 @@ use std::sync::Arc;
 use bevy_app::{App, TaskPoolPlugin, Update};
 use bevy_asset::{AssetPlugin, AssetServer, Handle, LoadState};
 use bevy_ecs::prelude::*;
-use bevy_ecs::query::{QueryItem, ROQueryItem};
+use bevy_ecs::query::QueryItem;
 use neurotree::prelude::*;
 use neurotree::{FailureLink, Handle as NodeHandle, StatefulAction};
 use neurotree_bevy::{
@@ -49,12 +49,12 @@ impl AgentContext for Guard {
 
     fn load(
         &mut self,
-        (hp, counts): ROQueryItem<'_, '_, Self::Components>,
+        (hp, counts): &QueryItem<'_, '_, Self::Components>,
         alarm: &Option<Res<'_, Alarm>>,
     ) {
         self.hp = hp.0;
         self.alarm = alarm.as_ref().is_some_and(|a| a.0);
-        self.counts = *counts;
+        self.counts = **counts;
     }
 
     fn store(&self, (_, counts): &mut QueryItem<'_, '_, Self::Components>) {
@@ -162,6 +162,66 @@ fn agents_are_ticked_once_per_frame_or_every_nth_frame_with_an_interval() {
     let mut crowd = app.world_mut().resource_mut::<AgentCrowd<Guard>>();
     assert_eq!(crowd.crowd_mut().len(), 4);
     assert_eq!(crowd.crowd_mut().frames(), 24);
+}
+
+#[test]
+fn a_budget_spreads_the_agents_ticks_over_frames_oldest_first() {
+    let mut app = app();
+    let bp = blueprint(&tree("<Tick/>"));
+    let nodes = bp.len() as u64;
+    let agents: Vec<Entity> = (0..10)
+        .map(|_| {
+            spawn(
+                &mut app,
+                TreeAgent::new(Arc::clone(&bp), Guard::default()),
+                100,
+            )
+        })
+        .collect();
+    let budget = 4 * nodes;
+    app.world_mut()
+        .resource_mut::<AgentCrowd<Guard>>()
+        .crowd_mut()
+        .set_budget(Some(budget));
+    for _ in 0..5 {
+        app.update();
+        let last = app.world().resource::<AgentCrowd<Guard>>().last_frame();
+        assert_eq!((last.ticked, last.visits), (4, budget));
+    }
+    // The 20 ticks are written back, and spread: every agent had its turn.
+    let ticks: Vec<u32> = agents.iter().map(|&e| counts(&app, e).ticks).collect();
+    assert_eq!(ticks.iter().sum::<u32>(), 20, "{ticks:?}");
+    assert!(ticks.iter().all(|&t| (1..=3).contains(&t)), "{ticks:?}");
+    let last = app.world().resource::<AgentCrowd<Guard>>().last_frame();
+    assert_eq!(last.behind.overdue, 6);
+}
+
+#[test]
+fn an_agent_without_its_contexts_components_is_not_ticked() {
+    let mut app = app();
+    let bp = blueprint(&tree("<Tick/>"));
+    let whole = spawn(
+        &mut app,
+        TreeAgent::new(Arc::clone(&bp), Guard::default()),
+        100,
+    );
+    // No `Counts`: the context cannot be loaded.
+    let partial = app
+        .world_mut()
+        .spawn((Hp(100), TreeAgent::new(bp, Guard::default())))
+        .id();
+    for _ in 0..3 {
+        app.update();
+    }
+    assert_eq!(counts(&app, whole).ticks, 3);
+    app.world_mut()
+        .resource_scope(|world, mut crowd: Mut<AgentCrowd<Guard>>| {
+            assert_eq!(crowd.last_frame().ticked, 1);
+            let agent = world.get::<TreeAgent<Guard>>(partial).unwrap();
+            let member = crowd.member(agent).expect("it joined the crowd");
+            assert_eq!(member.context().counts.ticks, 0);
+            assert_eq!(member.status(), neurotree::crowd::FrameStatus::NotDue);
+        });
 }
 
 #[test]
@@ -499,6 +559,117 @@ fn a_bad_tree_file_fails_to_load_naming_its_line_and_column() {
     app.update();
     let agent = app.world().get::<TreeAgent<Guard>>(agent).unwrap();
     assert_eq!(agent.member(), None);
+}
+
+/// A tree file that includes `parts/hold.xml` (relative to its own directory, `trees/`),
+/// which includes `speed.xml` beside it.
+fn write_including_tree(dir: &TempDir, speed: i32) {
+    std::fs::create_dir_all(dir.0.join("trees/parts")).unwrap();
+    let main = r#"<root BTCPP_format="4" main_tree_to_execute="Main">
+  <include path="./parts/hold.xml"/>
+  <BehaviorTree ID="Main">
+    <SequenceWithMemory><Step/><SubTree ID="Holding"/></SequenceWithMemory>
+  </BehaviorTree>
+</root>"#;
+    let hold = r#"<root BTCPP_format="4">
+  <include path="speed.xml"/>
+  <BehaviorTree ID="Holding"><SubTree ID="Speed"/></BehaviorTree>
+</root>"#;
+    let speed = format!(
+        r#"<root BTCPP_format="4"><BehaviorTree ID="Speed"><Hold speed="{speed}"/></BehaviorTree></root>"#
+    );
+    std::fs::write(dir.0.join("trees/guard.xml"), main).unwrap();
+    std::fs::write(dir.0.join("trees/parts/hold.xml"), hold).unwrap();
+    std::fs::write(dir.0.join("trees/parts/speed.xml"), speed).unwrap();
+}
+
+#[test]
+fn a_tree_file_loads_the_files_it_includes_relative_to_itself() {
+    let dir = TempDir::new("neurotree-bevy-include");
+    write_including_tree(&dir, 1);
+    let mut app = asset_app(&dir);
+    let server = app.world().resource::<AssetServer>().clone();
+    let handle: Handle<TreeAsset<Guard>> = server.load("trees/guard.xml");
+    let agent = spawn(
+        &mut app,
+        TreeAgent::from_asset(handle.clone(), Guard::default()),
+        100,
+    );
+    assert!(matches!(wait_for(&mut app, &handle), LoadState::Loaded));
+    app.update();
+    app.update();
+    // Step, then the included Hold, started once and running.
+    assert_eq!(
+        (counts(&app, agent).steps, counts(&app, agent).started),
+        (1, 1)
+    );
+    // An include that names no file fails the tree, naming the include.
+    std::fs::remove_file(dir.0.join("trees/parts/speed.xml")).unwrap();
+    let broken: Handle<TreeAsset<Guard>> = server.load("trees/parts/hold.xml");
+    let LoadState::Failed(error) = wait_for(&mut app, &broken) else {
+        panic!("a tree whose include is missing loaded");
+    };
+    let printed = error.to_string();
+    assert!(
+        printed.contains("trees/parts/speed.xml: cannot read the included file"),
+        "{printed}"
+    );
+}
+
+/// With the watcher, a change to an included file reloads the tree that includes it.
+#[cfg(feature = "file_watcher")]
+#[test]
+fn an_included_file_edited_on_disk_reloads_the_tree_that_includes_it() {
+    let dir = TempDir::new("neurotree-bevy-watch-include");
+    write_including_tree(&dir, 1);
+    let mut app = asset_app(&dir);
+    app.init_resource::<Reloads>().add_systems(
+        Update,
+        (|mut m: MessageReader<TreeReloaded>, mut r: ResMut<Reloads>| {
+            r.0.extend(m.read().copied())
+        })
+        .after(TreeSystems::Tick),
+    );
+    let handle: Handle<TreeAsset<Guard>> = app
+        .world()
+        .resource::<AssetServer>()
+        .load("trees/guard.xml");
+    let agent = spawn(
+        &mut app,
+        TreeAgent::from_asset(handle.clone(), Guard::default()),
+        100,
+    );
+    assert!(matches!(wait_for(&mut app, &handle), LoadState::Loaded));
+    app.update();
+    app.update();
+    assert_eq!(
+        (counts(&app, agent).steps, counts(&app, agent).started),
+        (1, 1)
+    );
+    // Two levels down: guard.xml includes hold.xml, which includes speed.xml.
+    let speed = r#"<root BTCPP_format="4"><BehaviorTree ID="Speed"><Hold speed="2"/></BehaviorTree></root>"#;
+    std::fs::write(dir.0.join("trees/parts/speed.xml"), speed).unwrap();
+    for _ in 0..6000 {
+        app.update();
+        if !app.world().resource::<Reloads>().0.is_empty() {
+            break;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    }
+    let reloads = &app.world().resource::<Reloads>().0;
+    assert_eq!(
+        reloads.len(),
+        1,
+        "the change to the included file reloaded nothing"
+    );
+    assert_eq!(reloads[0].entity, agent);
+    assert_eq!(reloads[0].report.halted, 1);
+    app.update();
+    // The Hold restarted with its new speed; the Step before it kept its state.
+    assert_eq!(
+        (counts(&app, agent).steps, counts(&app, agent).started),
+        (1, 2)
+    );
 }
 
 /// With bevy_asset's watcher, a file edited on disk reloads the agents running it. The

@@ -148,6 +148,16 @@ proptest! {
     ) {
         check(&spec, &ops, observe)?;
     }
+
+    /// Unobserved trees whose Running path is made of pass-through nodes start their ticks
+    /// at the stateful action they rest in: the same calls, results and statuses.
+    #[test]
+    fn resting_trees_match_the_reference(
+        spec in common::pass_through_tree(),
+        ops in common::ops(),
+    ) {
+        check(&spec, &ops, false)?;
+    }
 }
 
 // ---- fixed cases: the interpreter itself, on behaviours the semantics spell out ----

@@ -140,6 +140,44 @@ fn missing_include_is_reported_at_the_include() {
 }
 
 #[test]
+fn includes_can_be_served_from_texts_read_elsewhere() {
+    let main = r#"<root BTCPP_format="4" main_tree_to_execute="Main">
+      <include path="../parts/say.xml"/>
+      <BehaviorTree ID="Main"><SubTree ID="Speech"/></BehaviorTree>
+    </root>"#;
+    let say = r#"<root BTCPP_format="4">
+      <include path="./more/./hi.xml"/>
+      <BehaviorTree ID="Speech"><Sequence><Say message="one"/><SubTree ID="Hi"/></Sequence></BehaviorTree>
+    </root>"#;
+    let hi = r#"<root BTCPP_format="4"><BehaviorTree ID="Hi"><Say message="two"/></BehaviorTree></root>"#;
+    // What to read, in turn, with `.` and `..` resolved against each includer's directory.
+    assert_eq!(
+        XmlLoader::<Vec<String>>::includes_of(main, "trees/main.xml").unwrap(),
+        ["parts/say.xml"]
+    );
+    assert_eq!(
+        XmlLoader::<Vec<String>>::includes_of(say, "parts/say.xml").unwrap(),
+        ["parts/more/hi.xml"]
+    );
+    let r = registry();
+    let texts = [("parts/say.xml", say), ("parts/more/hi.xml", hi)]
+        .map(|(path, text)| (path.to_string(), text.to_string()));
+    let mut loader = XmlLoader::new(&r);
+    loader.include_texts(texts.into_iter().collect());
+    loader.load_str(main, "trees/main.xml").unwrap();
+    let mut tree = Tree::with_clock(loader.build_main().unwrap().into(), ManualClock::new());
+    let mut said = Vec::new();
+    assert_eq!(tree.tick_once(&mut said), Ok(Status::Success));
+    assert_eq!(said, ["one", "two"]);
+    // A text not given is an error at its include.
+    let mut loader = XmlLoader::new(&r);
+    loader.include_texts(Default::default());
+    let e = loader.load_str(main, "trees/main.xml").unwrap_err();
+    assert_eq!(e.line, 2);
+    assert!(e.message.contains("`parts/say.xml` was not read"), "{e}");
+}
+
+#[test]
 fn the_subtree_remapping_tutorial_runs() {
     // BehaviorTree.CPP's tutorial 06 as shipped, with its two leaves registered. Its scripts
     // assign with `=`, which works because every entry a port names exists from the start.

@@ -4,7 +4,7 @@
 use std::sync::Arc;
 use std::time::Duration;
 
-use neurotree::crowd::{Behind, Crowd, FrameReport, FrameStatus, MemberId, TickMode};
+use neurotree::crowd::{Behind, Crowd, FrameReport, FrameStatus, MemberId, TickMode, Visit};
 use neurotree::prelude::*;
 use neurotree::NodeStatus;
 
@@ -403,6 +403,30 @@ fn work_blueprint() -> Arc<Blueprint<Walker>> {
 type Run = (Vec<(FrameReport, Vec<FrameStatus>)>, Vec<String>);
 
 fn run(threads: usize, budget: Option<u64>) -> Run {
+    run_driven(threads, budget, false)
+}
+
+/// A frame whose members are visited one by one ([`Crowd::frame_in_place`]): the
+/// second half of the slots, then the first, each backwards, on two threads at once.
+fn frame_in_place(crowd: &mut Crowd<Walker>) -> FrameReport {
+    let ids: Vec<MemberId> = crowd.iter().map(|m| m.id()).collect();
+    let frame = crowd.frame_in_place().expect("no budget");
+    let (first, second) = ids.split_at(ids.len() / 2);
+    std::thread::scope(|s| {
+        for half in [second, first] {
+            let frame = &frame;
+            s.spawn(move || {
+                let mut visitor = frame.visitor();
+                for &id in half.iter().rev() {
+                    visitor.visit(id, |_| {});
+                }
+            });
+        }
+    });
+    frame.finish()
+}
+
+fn run_driven(threads: usize, budget: Option<u64>, in_place: bool) -> Run {
     let clock = ManualClock::new();
     let mut crowd = Crowd::new(clock.clone()).with_threads(threads).unwrap();
     assert_eq!(crowd.threads(), threads);
@@ -429,7 +453,11 @@ fn run(threads: usize, budget: Option<u64>) -> Run {
                 ids.push(add(&mut crowd, 10_000 + f * 100 + k));
             }
         }
-        let report = crowd.frame();
+        let report = if in_place {
+            frame_in_place(&mut crowd)
+        } else {
+            crowd.frame()
+        };
         frames.push((report, statuses(&crowd)));
         clock.advance(Duration::from_millis(10));
     }
@@ -472,4 +500,60 @@ fn one_thread_or_several_give_the_same_results() {
             assert_eq!(one.1, many.1, "{threads} threads, budget {budget:?}");
         }
     }
+}
+
+#[test]
+fn members_visited_in_place_in_any_order_give_what_a_frame_gives() {
+    let frame = run(1, None);
+    let in_place = run_driven(1, None, true);
+    assert!(frame.0.iter().map(|(r, _)| r.ticked).sum::<u64>() > 100_000);
+    assert_eq!(frame.0.len(), in_place.0.len());
+    for (f, (a, b)) in frame.0.iter().zip(&in_place.0).enumerate() {
+        assert_eq!(a, b, "frame {f}");
+    }
+    assert_eq!(frame.1, in_place.1);
+}
+
+#[test]
+fn an_in_place_frame_ticks_the_due_members_it_visits_once_and_loads_only_them() {
+    let clock = ManualClock::new();
+    let mut crowd = Crowd::new(clock.clone());
+    let ids: Vec<MemberId> = (0..3)
+        .map(|i| crowd.add(counter(), Walker::new(i)))
+        .collect();
+    crowd.get_mut(ids[2]).unwrap().set_interval(2);
+    // Frame 0: member 2 (phase 2, interval 2) is due; member 1 is not visited.
+    let frame = crowd.frame_in_place().unwrap();
+    let mut loads = Vec::new();
+    let mut visitor = frame.visitor();
+    for id in [ids[2], ids[0], ids[0]] {
+        let visit = visitor.visit(id, |w| {
+            w.food = 1000;
+            loads.push(w.seed);
+        });
+        if let Visit::Ticked(w, status) = visit {
+            assert_eq!((w.ticks, w.food, status), (1, 1000, T));
+        }
+    }
+    drop(visitor);
+    let report = frame.finish();
+    assert_eq!((report.due, report.ticked, report.visits), (2, 2, 2));
+    assert_eq!(loads, [2, 0]);
+    assert_eq!(statuses(&crowd), [T, N, T]);
+    // Frame 1: member 2 is not due, so it is neither loaded nor ticked.
+    let frame = crowd.frame_in_place().unwrap();
+    let mut visitor = frame.visitor();
+    let mut loads = Vec::new();
+    for &id in &ids {
+        visitor.visit(id, |w| loads.push(w.seed));
+    }
+    drop(visitor);
+    assert_eq!(frame.finish().ticked, 2);
+    assert_eq!(loads, [0, 1]);
+    assert_eq!(statuses(&crowd), [T, T, N]);
+    let ticks: Vec<u32> = crowd.iter().map(|m| m.context().ticks).collect();
+    assert_eq!(ticks, [2, 1, 1]);
+    // Under a budget, the crowd picks its members itself.
+    crowd.set_budget(Some(10));
+    assert!(crowd.frame_in_place().is_none());
 }

@@ -299,6 +299,23 @@ macro_rules! node_kinds {
                 }
             }
 
+            /// Whether the node passes a Running child's tick straight through (see
+            /// [`Tick::passes_through`]).
+            pub(crate) fn passes_through(&self) -> bool {
+                match self {
+                    $(NodeKind::$name(node) => node.passes_through(),)*
+                    NodeKind::SubTree(_)
+                    | NodeKind::ConditionFn(_)
+                    | NodeKind::Condition(_)
+                    | NodeKind::SharedCondition(_)
+                    | NodeKind::ActionFn(_)
+                    | NodeKind::Action(_)
+                    | NodeKind::Stateful(_)
+                    | NodeKind::Async(_)
+                    | NodeKind::Custom(_) => false,
+                }
+            }
+
             /// Per-instance state slots (`u64`) the kind needs: a cursor, a counter or a time.
             pub(crate) fn aux_slots(&self) -> u32 {
                 match self {

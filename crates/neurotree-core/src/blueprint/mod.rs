@@ -375,6 +375,10 @@ pub struct Blueprint<C> {
     pub(crate) aux_slots: u32,
     pub(crate) objects: u32,
     pub(crate) max_depth: u32,
+    /// Per node: it is a stateful action without hooks whose ancestors all pass a Running
+    /// child's tick straight through (`Tick::passes_through`) and have no hooks, so that a
+    /// tree resting in it may start its next pass at it.
+    pub(crate) resting: Box<[bool]>,
     /// The [structure hash](Self::structure_hash) once made (0: not yet): saving and
     /// restoring a state ask for it each time.
     #[cfg(target_has_atomic = "64")]

@@ -121,6 +121,14 @@ pub(crate) trait Tick: BuiltIn + Sized {
         Ok(())
     }
 
+    /// Whether the node passes a Running child's tick straight through: ticked while
+    /// Running with a Running child, it ticks that child and nothing else, and if the child
+    /// returns Running, returns Running with its state unchanged. A tree resting in a
+    /// stateful action under such nodes starts its next pass at the action.
+    fn passes_through(&self) -> bool {
+        false
+    }
+
     /// One tick of node `id`; the ticker stores what it returns.
     fn tick<C>(&self, t: &mut Ticker<'_, C>, id: NodeId, def: &NodeDef<C>) -> NodeStatus;
 

@@ -107,6 +107,7 @@ impl<C> Tree<C> {
     /// [`tick_once`](Self::tick_once) continues them first, and ticks the root only once
     /// they are done). See [`slow_halt`].
     pub fn halt(&mut self, ctx: &mut C) -> bool {
+        self.resting = None;
         let mut t = self.ticker(ctx);
         t.halt_node(NodeId::ROOT);
         // Nothing is Running any more, so this only resets what a control left behind.

@@ -77,6 +77,23 @@ pub struct Tree<C> {
     last_root: NodeStatus,
     /// A reload that waits for the halts it started (see [`Tree::reload`]).
     pending_reload: Option<Box<reload::Pending<C>>>,
+    /// The stateful action the last pass rested in: it returned Running under a chain of
+    /// nodes up to the root that pass a Running child's tick straight through, and which
+    /// all returned Running. The next pass starts at it rather than at the root
+    /// ([`resting_answer`](Self::resting_answer)).
+    resting: Option<NodeId>,
+}
+
+/// What [`Tree::rest`] did.
+enum Rest {
+    /// The tree does not rest, or may not be resumed: a pass from the root is due.
+    No,
+    /// The action returned Running again: the pass is over, and the tree still rests.
+    Running,
+    /// The action returned this: the pass from the root is to be run with it.
+    Answered(NodeId, NodeStatus),
+    /// The action panicked; the tree has been halted as after a panic in a pass.
+    Failed(TickError),
 }
 
 /// Passes one [`Tree::tick_once`] makes at most, unless [`Tree::set_max_passes`] says
@@ -133,6 +150,7 @@ impl<C> Tree<C> {
             out: failure::Outcome::new(),
             last_root: NodeStatus::Idle,
             pending_reload: None,
+            resting: None,
             blueprint,
         }
     }
@@ -286,18 +304,25 @@ impl<C> Tree<C> {
             out: &mut self.out,
             current: NodeId::ROOT,
             reject_multiple_running: self.reject_multiple_running,
+            rested: None,
+            replay: None,
             reset_after_store: None,
         }
     }
 
     /// One pass of the root: returns its status and who, if anyone, asked for another pass
     /// (a node that yielded, or a future that woke during the pass).
-    fn pass(&mut self, ctx: &mut C) -> Result<(NodeStatus, Option<Waker>), TickError> {
+    /// `given`: the answer the action the tree rests in gave in this tick already.
+    fn pass(
+        &mut self,
+        ctx: &mut C,
+        given: Option<(NodeId, NodeStatus)>,
+    ) -> Result<(NodeStatus, Option<Waker>), TickError> {
         // The pass polls every future still running, so earlier wakes are answered by it.
         if let Some(w) = &self.wake {
             w.signal.take();
         }
-        let (status, asked) = self.pass_inner(ctx)?;
+        let (status, asked) = self.pass_inner(ctx, given)?;
         let woken = self.wake.as_ref().is_some_and(|w| w.signal.is_woken());
         let waker = match asked {
             Some(node) => Some(Waker::Node(node)),
@@ -306,8 +331,23 @@ impl<C> Tree<C> {
         Ok((status, waker))
     }
 
-    fn pass_inner(&mut self, ctx: &mut C) -> Result<(NodeStatus, Option<NodeId>), TickError> {
+    fn pass_inner(
+        &mut self,
+        ctx: &mut C,
+        given: Option<(NodeId, NodeStatus)>,
+    ) -> Result<(NodeStatus, Option<NodeId>), TickError> {
+        let replay = match given {
+            Some(given) => Some(given),
+            None => match self.rest(ctx) {
+                Rest::Running => return Ok((NodeStatus::Running, None)),
+                Rest::Answered(leaf, answer) => Some((leaf, answer)),
+                Rest::Failed(error) => return Err(error),
+                Rest::No => None,
+            },
+        };
+        self.resting = None;
         let mut t = self.ticker(ctx);
+        t.replay = replay;
         if let Some(o) = t.observer.as_deref_mut() {
             o.on_tick_start(t.clock.now());
         }
@@ -325,7 +365,11 @@ impl<C> Tree<C> {
             t.halt_node(NodeId::ROOT);
             return Err(fault);
         }
-        Ok((status, t.wake))
+        let (wake, rested) = (t.wake, t.rested);
+        if status == NodeStatus::Running && wake.is_none() {
+            self.resting = rested.filter(|leaf| self.blueprint.resting[leaf.index()]);
+        }
+        Ok((status, wake))
     }
 
     /// Ticks the root exactly once, ignoring wake-up requests. A future that woke during the
@@ -333,7 +377,40 @@ impl<C> Tree<C> {
     ///
     /// A pending [`HaltHandle`] request is served first: the tree is halted and the call
     /// returns [`TickError::HaltRequested`] without ticking.
+    // Inlined, so that a caller ticking many resting trees (a crowd) gets the resting
+    // case without a call or a result passed through memory; the rest is out of line.
+    #[inline]
     pub fn tick_exactly_once(&mut self, ctx: &mut C) -> Result<Status, TickError> {
+        // Resting, with no future to poll (nor a halt request to serve): nothing else in
+        // this call could run before the action.
+        let mut given = None;
+        if self.wake.is_none() {
+            match self.rest(ctx) {
+                Rest::Running => {
+                    if self.last_root != NodeStatus::Running {
+                        self.last_root = NodeStatus::Running;
+                    }
+                    return Ok(Status::Running);
+                }
+                Rest::Answered(leaf, answer) => given = Some((leaf, answer)),
+                Rest::Failed(error) => {
+                    self.last_root = NodeStatus::Idle;
+                    return Err(error);
+                }
+                Rest::No => {}
+            }
+        }
+        self.tick_exactly_once_from_root(ctx, given)
+    }
+
+    /// [`tick_exactly_once`](Self::tick_exactly_once) past the resting case: a pass from
+    /// the root, given the answer of the action the tree rested in, if it gave one.
+    #[inline(never)]
+    fn tick_exactly_once_from_root(
+        &mut self,
+        ctx: &mut C,
+        given: Option<(NodeId, NodeStatus)>,
+    ) -> Result<Status, TickError> {
         if self.halt_requested() {
             return Err(self.serve_halt_request(ctx));
         }
@@ -343,9 +420,87 @@ impl<C> Tree<C> {
                 return waiting;
             }
         }
-        let (status, _) = self.pass(ctx)?;
+        let (status, _) = self.pass(ctx, given)?;
         self.last_root = status;
         to_result(status)
+    }
+
+    /// If the last pass rested in a stateful action and nothing since (a halt, a slow
+    /// halt under way, an observer attached, a reason given) stands in the way, calls the
+    /// action as a pass from the root would. A halt, a reload and a restore forget the
+    /// action.
+    #[inline]
+    fn rest(&mut self, ctx: &mut C) -> Rest {
+        let Some(leaf) = self.resting else {
+            return Rest::No;
+        };
+        let rests = self.observer.is_none()
+            && self.out.is_quiet()
+            && self.out.halts.count == 0
+            && self.statuses[leaf.index()] == NodeStatus::Running;
+        if !rests {
+            self.resting = None;
+            return Rest::No;
+        }
+        match self.resting_answer(leaf, ctx) {
+            Some(Ok(NodeStatus::Running)) if self.out.fault.is_none() => Rest::Running,
+            // The pass from the root, with the answer; a fault ends it.
+            Some(Ok(answer)) => {
+                self.resting = None;
+                Rest::Answered(leaf, answer)
+            }
+            Some(Err(panicked)) => {
+                self.resting = None;
+                let mut t = self.ticker(ctx);
+                t.current = leaf;
+                Rest::Failed(recover(&mut t, panicked))
+            }
+            None => {
+                self.resting = None;
+                Rest::No
+            }
+        }
+    }
+
+    /// The answer of `leaf`, the stateful action the last pass rested in, called as a pass
+    /// from the root would call it: its ancestors up to the root pass a Running child's
+    /// tick straight through, so such a pass would tick it and nothing else, and, if it
+    /// returns Running, change nothing else. `None` if its object is not at hand (an
+    /// action still halting); `Err` for a panic, caught and named as a pass names it.
+    #[inline]
+    fn resting_answer(
+        &mut self,
+        leaf: NodeId,
+        ctx: &mut C,
+    ) -> Option<Result<NodeStatus, TickError>> {
+        let bp = &*self.blueprint;
+        let Some(ticker::Object::Stateful(action)) = self.objects.get_mut(bp.slot(leaf)) else {
+            return None;
+        };
+        let mut h = crate::Handle {
+            ctx,
+            blackboard: &mut self.blackboard,
+            clock: &*self.clock,
+            node: leaf,
+            bp,
+            out: &mut self.out,
+        };
+        #[cfg(feature = "std")]
+        {
+            let call =
+                core::panic::AssertUnwindSafe(|| NodeStatus::from(action.on_running(&mut h)));
+            Some(
+                std::panic::catch_unwind(call).map_err(|payload| TickError::Panicked {
+                    node: leaf,
+                    path: bp.path(leaf),
+                    message: ticker::panic_message(&*payload),
+                }),
+            )
+        }
+        #[cfg(not(feature = "std"))]
+        {
+            Some(Ok(NodeStatus::from(action.on_running(&mut h))))
+        }
     }
 
     /// Forgets the last tick's outcome. The record is empty unless a reason was given.
@@ -429,7 +584,7 @@ impl<C> Tree<C> {
                     return waiting;
                 }
             }
-            let (status, waker) = self.pass(ctx)?;
+            let (status, waker) = self.pass(ctx, None)?;
             self.last_passes += 1;
             match waker {
                 Some(waker) if status == NodeStatus::Running => {

@@ -231,6 +231,7 @@ impl<C> Tree<C> {
         self.aux.copy_from_slice(&aux);
         self.objects = objects.into_boxed_slice();
         self.last_root = last_root;
+        self.resting = None;
         self.forget_notes();
         Ok(())
     }

@@ -253,6 +253,7 @@ impl<C> Tree<C> {
         blackboard.set_last_stamp(self.blackboard.last_stamp());
         self.blackboard = blackboard;
         self.statuses = statuses.into_boxed_slice();
+        self.resting = None;
         self.aux = aux.into_boxed_slice();
         self.objects = objects.into_boxed_slice();
         let has_async = new

@@ -44,6 +44,13 @@ pub(crate) struct Ticker<'t, C> {
     pub(crate) current: NodeId,
     /// A reactive control's second Running child is an error (BT.CPP's `EnableException`).
     pub(crate) reject_multiple_running: bool,
+    /// The last stateful action that returned Running in this pass: if the pass rests in
+    /// it, the next starts at it.
+    pub(crate) rested: Option<NodeId>,
+    /// The answer a stateful action the last pass rested in already gave in this tick
+    /// (see `Tree::resting_answer`), handed to the pass from the root when it reaches the
+    /// action, instead of a second call.
+    pub(crate) replay: Option<(NodeId, NodeStatus)>,
     /// The custom node whose completed children are reset once its own status is stored
     /// (see [`NodeCtx::reset_completed_children_after_tick`](crate::NodeCtx::reset_completed_children_after_tick)); set only while observed,
     /// between the node's `tick` returning and that store.
@@ -546,8 +553,17 @@ macro_rules! dispatch {
                         self.sync_result(id, s, "Action")
                     }
                     NodeKind::Stateful(_) => {
+                        if let Some((node, answer)) = self.replay {
+                            if node == id {
+                                self.replay = None;
+                                return answer;
+                            }
+                        }
                         let s = self.tick_stateful(id);
                         self.watch_if_noted();
+                        if s == NodeStatus::Running {
+                            self.rested = Some(id);
+                        }
                         s
                     }
                     NodeKind::Async(action) => {

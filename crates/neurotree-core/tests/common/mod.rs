@@ -571,6 +571,30 @@ fn decorator_kind(forever: bool) -> impl Strategy<Value = Kind> {
     ]
 }
 
+/// Random trees of stateful actions, sync actions and conditions under the nodes that
+/// pass a Running child's tick straight through (Sequence, Fallback, Inverter,
+/// ForceSuccess, ForceFailure, Repeat, RetryUntilSuccessful with fixed counts, -1 among
+/// them): the trees whose ticks may start at the stateful action they rest in.
+pub fn pass_through_tree() -> impl Strategy<Value = Spec> {
+    leaf(false).prop_recursive(4, 160, 4, move |inner| {
+        let kinds = prop_oneof![
+            Just(Kind::Sequence),
+            Just(Kind::Fallback),
+            Just(Kind::Inverter),
+            Just(Kind::ForceSuccess),
+            Just(Kind::ForceFailure),
+            (-1..4).prop_map(Kind::Repeat),
+            (-1..4).prop_map(Kind::Retry),
+        ];
+        (kinds, vec(inner, 1..=4)).prop_map(|(kind, mut kids)| {
+            if !matches!(kind, Kind::Sequence | Kind::Fallback) {
+                kids.truncate(1);
+            }
+            Spec::Node(kind, kids)
+        })
+    })
+}
+
 /// Random trees of depth at most 4 whose nodes have at most 5 children.
 ///
 /// With `forever`, Repeat and RetryUntilSuccessful may get -1 (forever), which can make

@@ -125,6 +125,9 @@ pub struct XmlLoader<'r, C> {
     mock_unknown: bool,
     /// Files being loaded, to stop include cycles.
     loading: Vec<PathBuf>,
+    /// The texts `<include>`s are served from instead of the file system, by path (see
+    /// [`include_texts`](Self::include_texts)).
+    include_texts: Option<BTreeMap<String, String>>,
     /// Trees loaded without an ID so far.
     unnamed_trees: usize,
     /// Node name (or type) → the outcomes of the mock that replaces it.
@@ -169,6 +172,7 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
             base_dir: None,
             mock_unknown: false,
             loading: Vec::new(),
+            include_texts: None,
             unnamed_trees: 0,
             mocks: BTreeMap::new(),
             substitutions: Substitutions::new(),
@@ -264,6 +268,35 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
             None if self.trees.len() == 1 => self.trees.keys().next().map(String::as_str),
             None => None,
         }
+    }
+
+    /// Serves `<include>`s from `texts`, by path, rather than from the file system: for
+    /// trees kept where paths are not file paths (a game engine's assets). An include's
+    /// path is joined to the directory of the file that includes it, with `.` and `..`
+    /// resolved, as [`includes_of`](Self::includes_of) gives it; the base directory does
+    /// not apply.
+    pub fn include_texts(&mut self, texts: BTreeMap<String, String>) -> &mut Self {
+        self.include_texts = Some(texts);
+        self
+    }
+
+    /// The paths the `<include>`s of `text` name, `file` being its path: what to read for
+    /// [`include_texts`](Self::include_texts) before loading `text`, and then what the
+    /// included texts name in turn.
+    pub fn includes_of(text: &str, file: &str) -> Result<Vec<String>, LoadError> {
+        let doc = source::parse(text, file)?;
+        let dir = Path::new(file).parent().unwrap_or(Path::new(""));
+        let mut paths = Vec::new();
+        for child in doc.root().children() {
+            if child.tag() != "include" {
+                continue;
+            }
+            let Some(path) = child.attr("path") else {
+                return Err(child.error(LoadErrorKind::Include, "<include> needs a path attribute"));
+            };
+            paths.push(joined(dir, path));
+        }
+        Ok(paths)
     }
 
     /// Loads XML text; `file` names it in errors and anchors relative includes.
@@ -525,6 +558,10 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
         let Some(path) = el.attr("path") else {
             return Err(el.error(LoadErrorKind::Include, "<include> needs a path attribute"));
         };
+        if self.include_texts.is_some() {
+            let dir = dir.unwrap_or(Path::new(""));
+            return self.include_text(doc, element, joined(dir, path));
+        }
         let Some(dir) = dir else {
             return Err(el.error(
                 LoadErrorKind::Include,
@@ -559,6 +596,34 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
                 inner
             }
         })
+    }
+
+    /// Loads the included text at `path` from [`include_texts`](Self::include_texts).
+    fn include_text(&mut self, doc: usize, element: usize, path: String) -> Result<(), LoadError> {
+        let el = self.docs[doc].element(element);
+        let key = PathBuf::from(&path);
+        if self.loading.contains(&key) {
+            return Err(el.error(
+                LoadErrorKind::Include,
+                format!("`{path}` includes itself (through its includes); remove the cycle"),
+            ));
+        }
+        let text = self
+            .include_texts
+            .as_ref()
+            .and_then(|t| t.get(&path))
+            .cloned();
+        let Some(text) = text else {
+            return Err(el.error(
+                LoadErrorKind::Include,
+                format!("included file `{path}` was not read"),
+            ));
+        };
+        self.loading.push(key);
+        let root = source::parse(&text, &path);
+        let result = root.and_then(|root| self.take_root(root, Path::new(&path).parent()));
+        self.loading.pop();
+        result
     }
 
     /// Builds the tree named `id` (its subtrees expanded).
@@ -652,4 +717,24 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
         let main = main.to_string();
         self.build(&main)
     }
+}
+
+/// `path` joined to `dir`, with `.` and `..` resolved and `/` between the parts: the name
+/// an included text is served under.
+fn joined(dir: &Path, path: &str) -> String {
+    let mut parts: Vec<String> = Vec::new();
+    for part in dir.join(path).components() {
+        match part {
+            std::path::Component::CurDir => {}
+            std::path::Component::ParentDir => {
+                if parts.last().is_some_and(|p| p != "..") {
+                    parts.pop();
+                } else {
+                    parts.push("..".into());
+                }
+            }
+            other => parts.push(other.as_os_str().to_string_lossy().into_owned()),
+        }
+    }
+    parts.join("/")
 }

@@ -72,6 +72,9 @@ pub(super) struct Plan {
     pub(super) present: bool,
     /// Picked by the budget for this frame's tick.
     pub(super) picked: bool,
+    /// The last [in-place frame](super::InPlaceFrame) that visited the member, as a stamp
+    /// (the frame's number plus one, 0 for none).
+    pub(super) seen: u32,
 }
 
 impl Plan {
@@ -85,6 +88,7 @@ impl Plan {
             status: FrameStatus::NotDue,
             present: false,
             picked: false,
+            seen: 0,
         }
     }
 
@@ -93,7 +97,7 @@ impl Plan {
     #[inline]
     pub(super) fn plan<C>(
         &mut self,
-        ctx: &Option<C>,
+        ctx: Option<&C>,
         frame: u64,
         lod: Option<&super::Lod<C>>,
     ) -> bool {

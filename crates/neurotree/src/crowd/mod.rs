@@ -24,6 +24,10 @@
 //!   crowd is.
 //! - **Membership.** Members join ([`Crowd::add`]) and leave ([`Crowd::remove`], which halts
 //!   the running actions of the member's tree once) between frames.
+//! - **In the caller's order.** [`Crowd::frame_in_place`] opens a frame whose members the
+//!   caller visits one by one, from its own threads and in the order of its own data
+//!   ([`InPlaceFrame`]): a game engine fills each context, has it ticked and reads it back
+//!   in one visit, rather than in three passes over the crowd.
 //! - **Results.** [`Member::status`] is what the member did in the last frame: not due,
 //!   deferred, or ticked with a status or an error; [`Member::tree`] gives
 //!   [`Tree::last_failure`] for a member that failed.
@@ -81,6 +85,7 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+mod in_place;
 mod member;
 mod schedule;
 
@@ -90,6 +95,7 @@ use std::sync::Arc;
 use rayon::prelude::*;
 
 use crate::{Blueprint, Clock, Tree};
+pub use in_place::{InPlaceFrame, Visit, Visitor, PART};
 use member::{Body, Plan, Tally, NOT_OWED};
 pub use member::{Contexts, FrameStatus, Member, MemberId, MemberMut, TickMode};
 pub use rayon::{ThreadPool, ThreadPoolBuildError, ThreadPoolBuilder};
@@ -526,7 +532,7 @@ impl<C: Send> Crowd<C> {
                 if !plan.present {
                     return Tally::default();
                 }
-                let due = plan.plan(&*ctx, frame, lod) || plan.owed_since != NOT_OWED;
+                let due = plan.plan(ctx.as_ref(), frame, lod) || plan.owed_since != NOT_OWED;
                 // The body is touched only when due.
                 if !due {
                     return Tally::default();

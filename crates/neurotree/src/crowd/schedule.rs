@@ -53,7 +53,7 @@ impl<C: Send> Crowd<C> {
                     if !plan.present {
                         continue;
                     }
-                    let due = plan.plan(&*ctx, frame, lod);
+                    let due = plan.plan(ctx.as_ref(), frame, lod);
                     if plan.owed_since != NOT_OWED {
                         plan.status = FrameStatus::Deferred;
                     } else if due {

@@ -593,8 +593,33 @@ impl<C> State<C> {
                 Child::new(id, &nodes[i], hooks[i].is_some(), guard, &shared)
             })
             .collect();
+        // Per node, whether every ancestor passes a Running child's tick straight through
+        // and has no hooks: in pre-order a parent is known before its children, so one
+        // pass (not a walk up from each node) tells it.
+        // A tree without stateful actions (`objects` counts them) rests in none.
+        let stateful = objects > 0;
+        let mut clear_above: Vec<bool> = Vec::with_capacity(if stateful { nodes.len() } else { 0 });
+        for i in (0..nodes.len()).filter(|_| stateful) {
+            let clear = match meta[i].parent {
+                Some(parent) => {
+                    let p = parent.index();
+                    clear_above[p] && hooks[p].is_none() && nodes[p].kind.passes_through()
+                }
+                None => true,
+            };
+            clear_above.push(clear);
+        }
+        let resting = (0..nodes.len())
+            .map(|i| {
+                stateful
+                    && matches!(nodes[i].kind, NodeKind::Stateful(_))
+                    && hooks[i].is_none()
+                    && clear_above[i]
+            })
+            .collect();
         Blueprint {
             hot_children,
+            resting,
             nodes,
             children: children.into_boxed_slice(),
             slots: slots.into_boxed_slice(),

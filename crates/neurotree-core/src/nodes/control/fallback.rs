@@ -50,6 +50,12 @@ impl BuiltIn for Fallback {
 }
 
 impl Tick for Fallback {
+    /// A Running Fallback resumes at its Running child (its cursor), and returns Running
+    /// with the cursor where it was when that child does.
+    fn passes_through(&self) -> bool {
+        true
+    }
+
     const DECL: &'static NodeDecl = &FALLBACK;
     const AUX_SLOTS: u32 = 1;
     const PLAIN_ORDER: Option<bool> = Some(false);

@@ -61,6 +61,12 @@ impl BuiltIn for Sequence {
 }
 
 impl Tick for Sequence {
+    /// A Running Sequence resumes at its Running child (its cursor), and returns Running
+    /// with the cursor where it was when that child does.
+    fn passes_through(&self) -> bool {
+        true
+    }
+
     const DECL: &'static NodeDecl = &SEQUENCE;
     const AUX_SLOTS: u32 = 1;
     const PLAIN_ORDER: Option<bool> = Some(true);

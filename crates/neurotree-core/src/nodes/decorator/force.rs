@@ -59,6 +59,11 @@ impl BuiltIn for ForceSuccess {
 }
 
 impl Tick for ForceSuccess {
+    /// Running is not forced.
+    fn passes_through(&self) -> bool {
+        true
+    }
+
     const DECL: &'static NodeDecl = &FORCE_SUCCESS;
 
     fn from_ports(_: &dyn Fn(&str) -> PortBinding) -> Result<Self, PortBindingError> {
@@ -88,6 +93,11 @@ impl BuiltIn for ForceFailure {
 }
 
 impl Tick for ForceFailure {
+    /// Running is not forced.
+    fn passes_through(&self) -> bool {
+        true
+    }
+
     const DECL: &'static NodeDecl = &FORCE_FAILURE;
 
     fn from_ports(_: &dyn Fn(&str) -> PortBinding) -> Result<Self, PortBindingError> {

@@ -43,6 +43,11 @@ pub struct Inverter;
 impl BuiltIn for Inverter {}
 
 impl Tick for Inverter {
+    /// Running is not inverted.
+    fn passes_through(&self) -> bool {
+        true
+    }
+
     const DECL: &'static NodeDecl = &INVERTER;
 
     fn from_ports(_: &dyn Fn(&str) -> PortBinding) -> Result<Self, PortBindingError> {

@@ -109,6 +109,13 @@ impl BuiltIn for Repeat {
 }
 
 impl Tick for Repeat {
+    /// With a fixed count, the count that let the Running child start still lets it run
+    /// (it changes only when the child completes); a count read from a port may have
+    /// changed.
+    fn passes_through(&self) -> bool {
+        matches!(self.num_cycles, Param::Value(_))
+    }
+
     const DECL: &'static NodeDecl = &REPEAT;
     const AUX_SLOTS: u32 = 1;
 

@@ -57,6 +57,11 @@ impl BuiltIn for RetryUntilSuccessful {
 }
 
 impl Tick for RetryUntilSuccessful {
+    /// As Repeat's: with a fixed count only.
+    fn passes_through(&self) -> bool {
+        matches!(self.num_attempts, Param::Value(_))
+    }
+
     const DECL: &'static NodeDecl = &RETRY_UNTIL_SUCCESSFUL;
     const AUX_SLOTS: u32 = 1;
 

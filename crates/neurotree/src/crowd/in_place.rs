@@ -1,0 +1,240 @@
+//! A frame ticked member by member by the caller, in the order of the caller's own data.
+//!
+//! [`Crowd::frame`] walks the members in slot order; a game engine whose agents' data sits
+//! in its own tables (Bevy's archetypes) would then copy every context in before the frame
+//! and out after it, reaching each agent's data by its id, three passes over memory. An
+//! [`InPlaceFrame`] lets the engine walk its own tables instead, on its own threads, and
+//! for each agent fill the context, tick the member and read the context back in one
+//! visit, while the agent's data is in the cache.
+//!
+//! The members' tables are split into parts of [`PART`] slots, each behind a lock that a
+//! [`Visitor`] takes when it first visits a member of the part and keeps until it visits a
+//! member of another: walked in (about) slot order, a thread takes a lock per
+//! [`PART`] members, and two threads meet only at the edges of their shares.
+
+use std::sync::{Mutex, MutexGuard, PoisonError};
+
+use super::member::{Body, FrameStatus, Plan, Tally, TickMode, NOT_OWED};
+use super::{Crowd, FrameReport, Lod, MemberId};
+
+/// Slots behind one lock of an [`InPlaceFrame`].
+pub const PART: usize = 1024;
+
+/// A frame of a [`Crowd`] whose members the caller visits one by one
+/// ([`Crowd::frame_in_place`]), from any number of threads, in any order.
+///
+/// Each member is visited at most once per frame; a member not visited is not ticked (its
+/// status is [`FrameStatus::NotDue`]). The frame ends with [`finish`](Self::finish), which
+/// reports as [`Crowd::frame`] does. Since a member's tick touches only its tree and its
+/// context, the results do not depend on the order of the visits nor on the threads.
+pub struct InPlaceFrame<'c, C> {
+    frame: u64,
+    mode: TickMode,
+    lod: Option<&'c Lod<C>>,
+    parts: Vec<Mutex<Part<'c, C>>>,
+    frames: &'c mut u64,
+    len: usize,
+}
+
+/// One lock's share of the crowd's tables.
+struct Part<'c, C> {
+    plans: &'c mut [Plan],
+    bodies: &'c mut [Option<Body<C>>],
+    contexts: &'c mut [Option<C>],
+    tally: Tally,
+    visited: u64,
+}
+
+/// Visits members of an [`InPlaceFrame`] on one thread, holding the lock of the part it
+/// visited last.
+pub struct Visitor<'f, 'c, C> {
+    frame: &'f InPlaceFrame<'c, C>,
+    held: Option<(usize, MutexGuard<'f, Part<'c, C>>)>,
+}
+
+/// What a visit did.
+#[derive(Debug)]
+pub enum Visit<'v, C> {
+    /// The member was not due in this frame (or `id` names no member): not ticked.
+    NotDue,
+    /// The member was ticked: its context after the tick, and what the tick returned
+    /// ([`FrameStatus::Ticked`] or [`FrameStatus::Error`]).
+    Ticked(&'v C, FrameStatus),
+}
+
+/// The stamp of a member visited in `frame`, never 0 (a fresh plan's).
+#[inline(always)]
+fn stamp(frame: u64) -> u32 {
+    (frame as u32).wrapping_add(1).max(1)
+}
+
+impl<C: Send> Crowd<C> {
+    /// Opens a frame whose members the caller visits one by one, in the order of its own
+    /// data ([`InPlaceFrame`]); `None` when a budget is set, since the budget picks members
+    /// oldest first over the whole crowd before any is ticked: use [`frame`](Self::frame).
+    ///
+    /// Members owed a tick from frames under a budget are due, as in [`frame`](Self::frame)
+    /// without one.
+    pub fn frame_in_place(&mut self) -> Option<InPlaceFrame<'_, C>> {
+        if self.budget.is_some() {
+            return None;
+        }
+        self.backlog.clear();
+        let Self {
+            plans,
+            bodies,
+            contexts,
+            lod,
+            mode,
+            frames,
+            len,
+            ..
+        } = self;
+        let parts = plans
+            .chunks_mut(PART)
+            .zip(bodies.chunks_mut(PART))
+            .zip(contexts.chunks_mut(PART))
+            .map(|((plans, bodies), contexts)| {
+                Mutex::new(Part {
+                    plans,
+                    bodies,
+                    contexts,
+                    tally: Tally::default(),
+                    visited: 0,
+                })
+            })
+            .collect();
+        Some(InPlaceFrame {
+            frame: *frames,
+            mode: *mode,
+            lod: lod.as_deref(),
+            parts,
+            frames,
+            len: *len,
+        })
+    }
+}
+
+impl<'c, C> InPlaceFrame<'c, C> {
+    /// A visitor for one thread (or one batch of a parallel walk).
+    pub fn visitor(&self) -> Visitor<'_, 'c, C> {
+        Visitor {
+            frame: self,
+            held: None,
+        }
+    }
+
+    /// The frame's number.
+    pub fn number(&self) -> u64 {
+        self.frame
+    }
+
+    /// Ends the frame: members not visited are marked not due, and the frame is reported.
+    pub fn finish(self) -> FrameReport {
+        let stamp = stamp(self.frame);
+        let mut tally = Tally::default();
+        let mut visited = 0;
+        let mut parts = Vec::new();
+        for part in self.parts {
+            let part = part.into_inner().unwrap_or_else(PoisonError::into_inner);
+            tally = tally.add(part.tally);
+            visited += part.visited;
+            parts.push(part.plans);
+        }
+        if visited < self.len as u64 {
+            for plans in parts {
+                for plan in plans.iter_mut() {
+                    if plan.present && plan.seen != stamp {
+                        plan.status = FrameStatus::NotDue;
+                    }
+                }
+            }
+        }
+        *self.frames += 1;
+        FrameReport {
+            frame: self.frame,
+            due: tally.due,
+            ticked: tally.ticked,
+            visits: tally.visits,
+            failures: tally.failures,
+            errors: tally.errors,
+            // Without a budget, no member is left owed.
+            behind: super::Behind::default(),
+        }
+    }
+}
+
+impl<'f, 'c, C> Visitor<'f, 'c, C> {
+    /// Visits member `id`: if it is due, `load` fills its context from the caller's data,
+    /// and the member is ticked; with a level-of-detail hook, `load` runs first, for every
+    /// member, since the hook reads the context. Store what the tree changed from the
+    /// context [`Visit::Ticked`] gives back.
+    pub fn visit(&mut self, id: MemberId, load: impl FnOnce(&mut C)) -> Visit<'_, C> {
+        let slot = id.index as usize;
+        let index = slot / PART;
+        if !matches!(&self.held, Some((i, _)) if *i == index) {
+            let Some(part) = self.frame.parts.get(index) else {
+                return Visit::NotDue;
+            };
+            // Drop the old guard before waiting for the new one, so that no thread waits
+            // while holding a lock.
+            self.held = None;
+            let guard = part.lock().unwrap_or_else(PoisonError::into_inner);
+            self.held = Some((index, guard));
+        }
+        let Some((_, part)) = &mut self.held else {
+            return Visit::NotDue;
+        };
+        let part = &mut **part;
+        let i = slot % PART;
+        let frame = self.frame.frame;
+        let plan = &mut part.plans[i];
+        if !plan.present || plan.generation != id.generation || plan.seen == stamp(frame) {
+            return Visit::NotDue;
+        }
+        plan.seen = stamp(frame);
+        part.visited += 1;
+        let (Some(body), Some(ctx)) = (&mut part.bodies[i], &mut part.contexts[i]) else {
+            return Visit::NotDue;
+        };
+        let lod = self.frame.lod;
+        // Without a hook, the schedule alone says whether the member is due, and a member
+        // not due is left alone: its context is not even filled.
+        let mut load = Some(load);
+        if lod.is_some() {
+            if let Some(load) = load.take() {
+                load(ctx);
+            }
+        }
+        let due = plan.plan(Some(&*ctx), frame, lod) || plan.owed_since != NOT_OWED;
+        if !due {
+            return Visit::NotDue;
+        }
+        if let Some(load) = load {
+            load(ctx);
+        }
+        let tally = Tally {
+            due: 1,
+            ..plan.tick(body, ctx, self.frame.mode)
+        };
+        part.tally = part.tally.add(tally);
+        Visit::Ticked(ctx, plan.status)
+    }
+}
+
+impl<C> core::fmt::Debug for InPlaceFrame<'_, C> {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.debug_struct("InPlaceFrame")
+            .field("frame", &self.frame)
+            .field("members", &self.len)
+            .finish_non_exhaustive()
+    }
+}
+
+impl<C> core::fmt::Debug for Visitor<'_, '_, C> {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.debug_struct("Visitor")
+            .field("part", &self.held.as_ref().map(|(i, _)| *i))
+            .finish()
+    }
+}
