@@ -35,11 +35,19 @@
 
 use std::time::Duration;
 
-use neurotree_nav2::robotics::{Path, Pose2D};
+use neurotree_nav2::robotics::{Path, Pose2D, Route};
 use neurotree_toolkit::{Handle, PortError, PortSpec, Registry, RegistryError, Status};
 
-use super::convert::{path_2d, path_msg, pose_stamped};
+use super::convert::{goals_msg, path_2d, path_msg, pose_stamped, route_2d};
 use crate::msg::geometry_msgs::Point;
+use crate::msg::nav2_msgs::{
+    AssistedTeleop, AssistedTeleopGoal, AssistedTeleopResult, ComputeAndTrackRoute,
+    ComputeAndTrackRouteFeedback, ComputeAndTrackRouteGoal, ComputeAndTrackRouteResult,
+    ComputeRoute, ComputeRouteGoal, ComputeRouteResult, DockRobot, DockRobotGoal, DockRobotResult,
+    FollowObject, FollowObjectGoal, FollowObjectResult, GetCosts, GetCostsRequest,
+    GetCostsResponse, NavigateThroughPoses, NavigateThroughPosesGoal, NavigateThroughPosesResult,
+    Toggle, ToggleRequest, ToggleResponse, UndockRobot, UndockRobotGoal, UndockRobotResult,
+};
 use crate::msg::nav2_msgs::{
     BackUp, BackUpGoal, BackUpResult, ClearCostmapAroundPose, ClearCostmapAroundPoseRequest,
     ClearCostmapAroundPoseResponse, ClearCostmapAroundRobot, ClearCostmapAroundRobotRequest,
@@ -54,7 +62,18 @@ use crate::msg::nav2_msgs::{
     NavigateToPose, NavigateToPoseGoal, NavigateToPoseResult, SmoothPath, SmoothPathGoal,
     SmoothPathResult,
 };
+use crate::msg::std_srvs::{Empty as EmptyService, EmptyRequest, EmptyResponse};
 use crate::{ActionError, ActionSpec, RosActionNode, RosNode, RosServiceNode, ServiceSpec};
+
+/// The global costmap's cost service, where CheckPoseOccupancy and RemoveInCollisionGoals
+/// ask by default (Nav2's `get_cost_` service of the costmap `global_costmap`).
+pub const GET_COST_GLOBAL_COSTMAP: &str = "/global_costmap/get_cost_global_costmap";
+/// The collision monitor's switch, where ToggleCollisionMonitor asks by default (Nav2's
+/// `collision_monitor` node's `~/toggle`).
+pub const TOGGLE_COLLISION_MONITOR: &str = "collision_monitor/toggle";
+/// AMCL's service that spreads its particles over the map, where
+/// ReinitializeGlobalLocalization asks by default.
+pub const REINITIALIZE_GLOBAL_LOCALIZATION: &str = "reinitialize_global_localization";
 
 /// Nav2's BT navigator waits this long for a server (its `wait_for_service_timeout`), in
 /// milliseconds: the `wait_for_server_timeout` default of these leaves.
@@ -95,6 +114,29 @@ pub fn register_nav2_ros_leaves<C: 'static>(
         DriveOn
     })?;
     register_action(registry, "Wait", ros, "wait", || WaitFor)?;
+    register_action(registry, "ComputeRoute", ros, "compute_route", || RouteOnce)?;
+    register_action(
+        registry,
+        "ComputeAndTrackRoute",
+        ros,
+        "compute_and_track_route",
+        || TrackRoute,
+    )?;
+    register_action(registry, "DockRobot", ros, "dock_robot", || Dock)?;
+    register_action(registry, "UndockRobot", ros, "undock_robot", || Undock)?;
+    register_action(
+        registry,
+        "NavigateThroughPoses",
+        ros,
+        "navigate_through_poses",
+        || NavigateThrough,
+    )?;
+    register_action(registry, "FollowObject", ros, "follow_object", || {
+        FollowTarget
+    })?;
+    register_action(registry, "AssistedTeleop", ros, "assisted_teleop", || {
+        Teleop::default()
+    })?;
     let ros_node = ros.clone();
     let name = "local_costmap/clear_entirely_local_costmap";
     let ports = with_wait_default(RosServiceNode::<C, ClearCostmap>::ports(name));
@@ -129,8 +171,41 @@ pub fn register_nav2_ros_leaves<C: 'static>(
         || ClearAroundPose,
         "Asks the costmap server `service_name` to forget the obstacles around `pose`.",
     )?;
+    register_service(
+        registry,
+        "CheckPoseOccupancy",
+        ros,
+        GET_COST_GLOBAL_COSTMAP,
+        PoseOccupancy::default,
+        "Asks the costmap server `service_name` for the cost at `pose`: Success when occupied.",
+    )?;
+    register_service(
+        registry,
+        "RemoveInCollisionGoals",
+        ros,
+        GET_COST_GLOBAL_COSTMAP,
+        InCollisionGoals::default,
+        "Asks the costmap server `service_name` for the costs at `input_goals` and keeps the free ones.",
+    )?;
+    register_service(
+        registry,
+        "ToggleCollisionMonitor",
+        ros,
+        TOGGLE_COLLISION_MONITOR,
+        || ToggleMonitor,
+        "Asks the collision monitor `service_name` to turn on (`enable`) or off.",
+    )?;
+    register_service(
+        registry,
+        "ReinitializeGlobalLocalization",
+        ros,
+        REINITIALIZE_GLOBAL_LOCALIZATION,
+        || Relocalize,
+        "Asks the localization `service_name` to spread its estimate over the whole map.",
+    )?;
     super::register_cancel_nodes(registry, ros)?;
-    super::register_battery_conditions(registry, ros)
+    super::register_battery_conditions(registry, ros)?;
+    super::register_odometry_conditions(registry, ros)
 }
 
 fn register_service<C: 'static, S: ServiceSpec<C>>(
@@ -819,6 +894,625 @@ impl<C: 'static> ServiceSpec<C> for ClearAroundPose {
         _h: &mut Handle<'_, C>,
         _: &ClearCostmapAroundPoseResponse,
     ) -> Status {
+        Status::Success
+    }
+}
+
+/// The route ports both route nodes read.
+fn route_inputs(server: &str) -> Vec<PortSpec> {
+    vec![
+        PortSpec::input::<Pose2D>("start").describe("Where to start, with `use_start`."),
+        PortSpec::input::<Pose2D>("goal").describe("Where to go, with `use_poses`."),
+        PortSpec::input::<u16>("start_id").describe("The start node, without `use_poses`."),
+        PortSpec::input::<u16>("goal_id").describe("The goal node, without `use_poses`."),
+        PortSpec::input::<bool>("use_start")
+            .default_value("false")
+            .describe("Start at `start` rather than at the robot."),
+        PortSpec::input::<bool>("use_poses")
+            .default_value("false")
+            .describe("Use `start` and `goal` rather than the node ids."),
+        server_name_port(),
+        PortSpec::output::<Route>("route").describe("The route; empty after a failure."),
+        PortSpec::output::<Path>("path").describe("The route's path; empty after a failure."),
+        error_code_port(server),
+    ]
+}
+
+/// The goal of a route action from the ports, as Nav2's route nodes' `on_tick`: the poses
+/// with `use_poses` (`start` only with `use_start`), else the node ids.
+fn route_goal<C>(h: &Handle<'_, C>) -> Result<ComputeRouteGoal, String> {
+    let use_poses: bool = optional(h, "use_poses")?.unwrap_or(false);
+    if !use_poses {
+        return Ok(ComputeRouteGoal {
+            start_id: optional(h, "start_id")?.unwrap_or(0),
+            goal_id: optional(h, "goal_id")?.unwrap_or(0),
+            ..ComputeRouteGoal::default()
+        });
+    }
+    let goal: Pose2D = required(h, "goal")?;
+    let use_start: bool = optional(h, "use_start")?.unwrap_or(false);
+    let start = if use_start {
+        pose_stamped(required(h, "start")?)
+    } else {
+        Default::default()
+    };
+    Ok(ComputeRouteGoal {
+        start,
+        goal: pose_stamped(goal),
+        use_start,
+        use_poses: true,
+        ..ComputeRouteGoal::default()
+    })
+}
+
+/// ComputeRoute: the route server's route on its graph, and its path.
+struct RouteOnce;
+
+impl RouteOnce {
+    /// As Nav2's `resetPorts`: no route rather than a stale one.
+    fn reset<C>(h: &mut Handle<'_, C>) {
+        emit(h, "path", Path::default());
+        emit(h, "route", Route::default());
+        emit(h, "planning_time", 0.0_f64);
+    }
+}
+
+impl<C: 'static> ActionSpec<C> for RouteOnce {
+    type Action = ComputeRoute;
+
+    fn ports() -> Vec<PortSpec> {
+        let mut ports = route_inputs("route");
+        ports.push(PortSpec::output::<f64>("planning_time").describe("Seconds routing took."));
+        ports
+    }
+
+    fn goal(&mut self, h: &mut Handle<'_, C>) -> Result<ComputeRouteGoal, String> {
+        route_goal(h)
+    }
+
+    fn on_result(&mut self, h: &mut Handle<'_, C>, result: &ComputeRouteResult) -> Status {
+        if result.error_code == ComputeRouteResult::NONE {
+            emit(h, "path", path_2d(&result.path));
+            emit(h, "route", route_2d(&result.route));
+            let took: Duration = result.planning_time.into();
+            emit(h, "planning_time", took.as_secs_f64());
+        } else {
+            Self::reset(h);
+        }
+        outcome(h, result.error_code, &result.error_msg)
+    }
+
+    fn on_failure(
+        &mut self,
+        h: &mut Handle<'_, C>,
+        error: &ActionError,
+        result: Option<&ComputeRouteResult>,
+    ) -> Status {
+        Self::reset(h);
+        let server = result.map(|r| (r.error_code, r.error_msg.as_str()));
+        failed(h, ComputeRouteResult::UNKNOWN, error, server)
+    }
+}
+
+/// ComputeAndTrackRoute: the route server's route, then where the robot is along it, from
+/// the server's feedback, until the robot reaches its end.
+struct TrackRoute;
+
+impl TrackRoute {
+    /// As Nav2's `resetFeedbackAndOutputPorts`, when the goal ends whichever way.
+    fn reset<C>(h: &mut Handle<'_, C>) {
+        Self::write(h, &ComputeAndTrackRouteFeedback::default());
+    }
+
+    fn write<C>(h: &mut Handle<'_, C>, feedback: &ComputeAndTrackRouteFeedback) {
+        emit(h, "last_node_id", feedback.last_node_id);
+        emit(h, "next_node_id", feedback.next_node_id);
+        emit(h, "current_edge_id", feedback.current_edge_id);
+        emit(h, "route", route_2d(&feedback.route));
+        emit(h, "path", path_2d(&feedback.path));
+        emit(h, "rerouted", feedback.rerouted);
+    }
+}
+
+impl<C: 'static> ActionSpec<C> for TrackRoute {
+    type Action = ComputeAndTrackRoute;
+
+    fn ports() -> Vec<PortSpec> {
+        let mut ports = route_inputs("route");
+        ports.extend([
+            PortSpec::output::<f64>("execution_duration").describe("Seconds tracked."),
+            PortSpec::output::<u16>("last_node_id").describe("The last node reached."),
+            PortSpec::output::<u16>("next_node_id").describe("The next node."),
+            PortSpec::output::<u16>("current_edge_id").describe("The edge being driven."),
+            PortSpec::output::<bool>("rerouted").describe("The route was computed again."),
+        ]);
+        ports
+    }
+
+    fn goal(&mut self, h: &mut Handle<'_, C>) -> Result<ComputeAndTrackRouteGoal, String> {
+        let goal = route_goal(h)?;
+        Ok(ComputeAndTrackRouteGoal {
+            start_id: goal.start_id,
+            start: goal.start,
+            goal_id: goal.goal_id,
+            goal: goal.goal,
+            use_start: goal.use_start,
+            use_poses: goal.use_poses,
+        })
+    }
+
+    fn on_feedback(
+        &mut self,
+        h: &mut Handle<'_, C>,
+        feedback: &ComputeAndTrackRouteFeedback,
+    ) -> Status {
+        Self::write(h, feedback);
+        Status::Running
+    }
+
+    fn on_result(&mut self, h: &mut Handle<'_, C>, result: &ComputeAndTrackRouteResult) -> Status {
+        Self::reset(h);
+        let took: Duration = result.execution_duration.into();
+        emit(h, "execution_duration", took.as_secs_f64());
+        outcome(h, result.error_code, &result.error_msg)
+    }
+
+    fn on_failure(
+        &mut self,
+        h: &mut Handle<'_, C>,
+        error: &ActionError,
+        result: Option<&ComputeAndTrackRouteResult>,
+    ) -> Status {
+        Self::reset(h);
+        emit(h, "execution_duration", 0.0_f64);
+        let server = result.map(|r| (r.error_code, r.error_msg.as_str()));
+        failed(h, ComputeAndTrackRouteResult::UNKNOWN, error, server)
+    }
+}
+
+/// DockRobot: the docking server docks the robot at a dock of its database, or at a pose.
+struct Dock;
+
+impl<C: 'static> ActionSpec<C> for Dock {
+    type Action = DockRobot;
+
+    fn ports() -> Vec<PortSpec> {
+        vec![
+            PortSpec::input::<bool>("use_dock_id")
+                .default_value("true")
+                .describe("Dock at `dock_id` rather than at `dock_pose`."),
+            PortSpec::input::<String>("dock_id").describe("The dock's id."),
+            PortSpec::input::<Pose2D>("dock_pose").describe("The dock's pose."),
+            PortSpec::input::<String>("dock_type").describe("The dock's type."),
+            PortSpec::input::<f64>("max_staging_time")
+                .default_value("1000.0")
+                .describe("Seconds to reach the staging pose."),
+            PortSpec::input::<bool>("navigate_to_staging_pose")
+                .default_value("true")
+                .describe("Drive to the staging pose first."),
+            server_name_port(),
+            PortSpec::output::<bool>("success").describe("Whether it docked."),
+            PortSpec::output::<u16>("num_retries").describe("Retries made."),
+            error_code_port("docking"),
+        ]
+    }
+
+    fn goal(&mut self, h: &mut Handle<'_, C>) -> Result<DockRobotGoal, String> {
+        let mut goal = DockRobotGoal {
+            use_dock_id: optional(h, "use_dock_id")?.unwrap_or(true),
+            navigate_to_staging_pose: optional(h, "navigate_to_staging_pose")?.unwrap_or(true),
+            ..DockRobotGoal::default()
+        };
+        // As Nav2's node: the id, or the pose with its type and staging time.
+        if goal.use_dock_id {
+            goal.dock_id = required(h, "dock_id")?;
+        } else {
+            goal.dock_pose = pose_stamped(required(h, "dock_pose")?);
+            goal.dock_type = optional(h, "dock_type")?.unwrap_or_default();
+            let staging: f64 = optional(h, "max_staging_time")?.unwrap_or(1000.0);
+            goal.max_staging_time = staging as f32;
+        }
+        Ok(goal)
+    }
+
+    fn on_result(&mut self, h: &mut Handle<'_, C>, result: &DockRobotResult) -> Status {
+        emit(h, "success", result.success);
+        emit(h, "num_retries", result.num_retries);
+        outcome(h, result.error_code, &result.error_msg)
+    }
+
+    fn on_failure(
+        &mut self,
+        h: &mut Handle<'_, C>,
+        error: &ActionError,
+        result: Option<&DockRobotResult>,
+    ) -> Status {
+        if let (Some(result), false) = (result, matches!(error, ActionError::Canceled { .. })) {
+            emit(h, "success", result.success);
+            emit(h, "num_retries", result.num_retries);
+        }
+        let server = result.map(|r| (r.error_code, r.error_msg.as_str()));
+        failed(h, DockRobotResult::UNKNOWN, error, server)
+    }
+}
+
+/// UndockRobot: the docking server backs the robot off its dock to the staging pose.
+struct Undock;
+
+impl<C: 'static> ActionSpec<C> for Undock {
+    type Action = UndockRobot;
+
+    fn ports() -> Vec<PortSpec> {
+        vec![
+            PortSpec::input::<String>("dock_type")
+                .describe("The dock's type; empty for the one the server docked at."),
+            PortSpec::input::<f64>("max_undocking_time")
+                .default_value("30.0")
+                .describe("Seconds undocking may take."),
+            server_name_port(),
+            PortSpec::output::<bool>("success").describe("Whether it undocked."),
+            error_code_port("docking"),
+        ]
+    }
+
+    fn goal(&mut self, h: &mut Handle<'_, C>) -> Result<UndockRobotGoal, String> {
+        let allowed: f64 = optional(h, "max_undocking_time")?.unwrap_or(30.0);
+        Ok(UndockRobotGoal {
+            dock_type: optional(h, "dock_type")?.unwrap_or_default(),
+            max_undocking_time: allowed as f32,
+        })
+    }
+
+    fn on_result(&mut self, h: &mut Handle<'_, C>, result: &UndockRobotResult) -> Status {
+        emit(h, "success", result.success);
+        outcome(h, result.error_code, &result.error_msg)
+    }
+
+    fn on_failure(
+        &mut self,
+        h: &mut Handle<'_, C>,
+        error: &ActionError,
+        result: Option<&UndockRobotResult>,
+    ) -> Status {
+        if let (Some(result), false) = (result, matches!(error, ActionError::Canceled { .. })) {
+            emit(h, "success", result.success);
+        }
+        let server = result.map(|r| (r.error_code, r.error_msg.as_str()));
+        failed(h, UndockRobotResult::UNKNOWN, error, server)
+    }
+}
+
+/// NavigateThroughPoses: another navigator takes the robot through `goals`.
+struct NavigateThrough;
+
+impl<C: 'static> ActionSpec<C> for NavigateThrough {
+    type Action = NavigateThroughPoses;
+
+    fn ports() -> Vec<PortSpec> {
+        vec![
+            PortSpec::input::<Vec<Pose2D>>("goals").describe("The poses to pass, in order."),
+            PortSpec::input::<String>("behavior_tree")
+                .describe("The navigator's tree to run; empty for its default."),
+            server_name_port(),
+            error_code_port("navigator"),
+        ]
+    }
+
+    fn goal(&mut self, h: &mut Handle<'_, C>) -> Result<NavigateThroughPosesGoal, String> {
+        let goals: Vec<Pose2D> = required(h, "goals")?;
+        Ok(NavigateThroughPosesGoal {
+            poses: goals_msg(&goals),
+            behavior_tree: optional(h, "behavior_tree")?.unwrap_or_default(),
+        })
+    }
+
+    fn on_result(&mut self, h: &mut Handle<'_, C>, result: &NavigateThroughPosesResult) -> Status {
+        outcome(h, result.error_code, &result.error_msg)
+    }
+
+    fn on_failure(
+        &mut self,
+        h: &mut Handle<'_, C>,
+        error: &ActionError,
+        result: Option<&NavigateThroughPosesResult>,
+    ) -> Status {
+        let server = result.map(|r| (r.error_code, r.error_msg.as_str()));
+        failed(h, NavigateThroughPosesResult::UNKNOWN, error, server)
+    }
+}
+
+/// FollowObject: the following server keeps the robot behind the object whose pose comes
+/// on `pose_topic`.
+struct FollowTarget;
+
+impl<C: 'static> ActionSpec<C> for FollowTarget {
+    type Action = FollowObject;
+
+    fn ports() -> Vec<PortSpec> {
+        vec![
+            PortSpec::input::<String>("pose_topic")
+                .default_value("dynamic_pose")
+                .describe("The topic of the object's pose."),
+            PortSpec::input::<f64>("max_duration")
+                .default_value("0.0")
+                .describe("Seconds to follow; 0 follows until stopped."),
+            PortSpec::input::<String>("tracked_frame")
+                .describe("The object's frame, when `pose_topic` is empty."),
+            server_name_port(),
+            PortSpec::output::<f64>("total_elapsed_time").describe("Seconds followed."),
+            error_code_port("following"),
+        ]
+    }
+
+    fn goal(&mut self, h: &mut Handle<'_, C>) -> Result<FollowObjectGoal, String> {
+        let secs: f64 = optional(h, "max_duration")?.unwrap_or(0.0);
+        Ok(FollowObjectGoal {
+            pose_topic: optional(h, "pose_topic")?.unwrap_or_else(|| "dynamic_pose".into()),
+            tracked_frame: optional(h, "tracked_frame")?.unwrap_or_default(),
+            max_duration: seconds(secs),
+        })
+    }
+
+    fn on_result(&mut self, h: &mut Handle<'_, C>, result: &FollowObjectResult) -> Status {
+        let took: Duration = result.total_elapsed_time.into();
+        emit(h, "total_elapsed_time", took.as_secs_f64());
+        outcome(h, result.error_code, &result.error_msg)
+    }
+
+    fn on_failure(
+        &mut self,
+        h: &mut Handle<'_, C>,
+        error: &ActionError,
+        result: Option<&FollowObjectResult>,
+    ) -> Status {
+        // Nav2's node writes the time followed when aborted and when cancelled.
+        if let Some(result) = result {
+            let took: Duration = result.total_elapsed_time.into();
+            emit(h, "total_elapsed_time", took.as_secs_f64());
+        }
+        let server = result.map(|r| (r.error_code, r.error_msg.as_str()));
+        failed(h, FollowObjectResult::UNKNOWN, error, server)
+    }
+}
+
+/// AssistedTeleop: the behavior server passes a person's velocity commands on for up to
+/// `time_allowance`. As Nav2's `assisted_teleop_action.cpp`, an aborted goal (the time
+/// allowance ran out) writes the server's code and fails only as a recovery
+/// (`is_recovery`); otherwise the node succeeds, the code telling why it ended.
+#[derive(Default)]
+struct Teleop {
+    is_recovery: bool,
+}
+
+impl<C: 'static> ActionSpec<C> for Teleop {
+    type Action = AssistedTeleop;
+
+    fn ports() -> Vec<PortSpec> {
+        vec![
+            PortSpec::input::<bool>("is_recovery")
+                .default_value("false")
+                .describe("Used as a recovery: an aborted goal fails the node."),
+            time_allowance(),
+            server_name_port(),
+            error_code_port("assisted teleop"),
+        ]
+    }
+
+    fn goal(&mut self, h: &mut Handle<'_, C>) -> Result<AssistedTeleopGoal, String> {
+        let allowance: f64 = required(h, "time_allowance")?;
+        self.is_recovery = optional(h, "is_recovery")?.unwrap_or(false);
+        Ok(AssistedTeleopGoal {
+            time_allowance: seconds(allowance),
+        })
+    }
+
+    fn on_result(&mut self, h: &mut Handle<'_, C>, result: &AssistedTeleopResult) -> Status {
+        outcome(h, result.error_code, &result.error_msg)
+    }
+
+    fn on_failure(
+        &mut self,
+        h: &mut Handle<'_, C>,
+        error: &ActionError,
+        result: Option<&AssistedTeleopResult>,
+    ) -> Status {
+        let aborted = matches!(error, ActionError::Aborted { .. });
+        let server = result.map(|r| (r.error_code, r.error_msg.as_str()));
+        let status = failed(h, AssistedTeleopResult::UNKNOWN, error, server);
+        if aborted && !self.is_recovery {
+            Status::Success
+        } else {
+            status
+        }
+    }
+}
+
+fn cost_ports() -> Vec<PortSpec> {
+    vec![
+        PortSpec::input::<f64>("cost_threshold")
+            .default_value("254.0")
+            .describe("The cost from which a pose counts as in collision."),
+        PortSpec::input::<bool>("use_footprint")
+            .default_value("true")
+            .describe("The cost under the robot's footprint rather than at the point."),
+        PortSpec::input::<bool>("consider_unknown_as_obstacle")
+            .default_value("false")
+            .describe("Count an unknown cost (255) as in collision."),
+    ]
+}
+
+/// How the cost nodes judge a cost, from their ports.
+#[derive(Clone, Copy, Debug)]
+struct CostRule {
+    threshold: f64,
+    unknown_is_obstacle: bool,
+}
+
+impl Default for CostRule {
+    fn default() -> Self {
+        Self {
+            threshold: 254.0,
+            unknown_is_obstacle: false,
+        }
+    }
+}
+
+impl CostRule {
+    fn read<C>(h: &Handle<'_, C>) -> Result<(Self, bool), String> {
+        let rule = Self {
+            threshold: optional(h, "cost_threshold")?.unwrap_or(254.0),
+            unknown_is_obstacle: optional(h, "consider_unknown_as_obstacle")?.unwrap_or(false),
+        };
+        Ok((rule, optional(h, "use_footprint")?.unwrap_or(true)))
+    }
+
+    /// As Nav2's nodes: unknown (255) is free unless told otherwise; else the threshold.
+    fn in_collision(&self, cost: f32) -> bool {
+        let unknown_free = cost == 255.0 && !self.unknown_is_obstacle;
+        !(unknown_free || f64::from(cost) < self.threshold)
+    }
+}
+
+/// CheckPoseOccupancy: Success when the costmap's cost at `pose` is at least
+/// `cost_threshold`; Failure when it is below, or the costmap could not answer.
+#[derive(Default)]
+struct PoseOccupancy {
+    rule: CostRule,
+}
+
+impl<C: 'static> ServiceSpec<C> for PoseOccupancy {
+    type Service = GetCosts;
+
+    fn ports() -> Vec<PortSpec> {
+        let mut ports = vec![PortSpec::input::<Pose2D>("pose").describe("The pose to check.")];
+        ports.extend(cost_ports());
+        ports
+    }
+
+    fn request(&mut self, h: &mut Handle<'_, C>) -> Result<GetCostsRequest, String> {
+        let (rule, use_footprint) = CostRule::read(h)?;
+        self.rule = rule;
+        Ok(GetCostsRequest {
+            use_footprint,
+            poses: vec![pose_stamped(required(h, "pose")?)],
+        })
+    }
+
+    fn on_response(&mut self, h: &mut Handle<'_, C>, response: &GetCostsResponse) -> Status {
+        match (response.success, response.costs.first()) {
+            (true, Some(cost)) if self.rule.in_collision(*cost) => Status::Success,
+            (true, Some(_)) => Status::Failure,
+            _ => {
+                emit(
+                    h,
+                    "error_msg",
+                    "the costmap could not give the cost".to_owned(),
+                );
+                Status::Failure
+            }
+        }
+    }
+}
+
+/// RemoveInCollisionGoals: writes `input_goals` less those whose cost is at least
+/// `cost_threshold` to `output_goals`. As Nav2's node, no goals sends no request and
+/// fails (writing them back), and a call the costmap could not answer writes them back
+/// unchanged and fails. Waypoint statuses are declared and not kept.
+#[derive(Default)]
+struct InCollisionGoals {
+    rule: CostRule,
+    goals: Vec<Pose2D>,
+}
+
+impl<C: 'static> ServiceSpec<C> for InCollisionGoals {
+    type Service = GetCosts;
+
+    fn ports() -> Vec<PortSpec> {
+        let mut ports =
+            vec![PortSpec::input::<Vec<Pose2D>>("input_goals").describe("The goals to check.")];
+        ports.extend(cost_ports());
+        ports.extend([
+            PortSpec::input::<String>("input_waypoint_statuses")
+                .describe("The goals' statuses (not kept)."),
+            PortSpec::output::<Vec<Pose2D>>("output_goals").describe("The goals not in collision."),
+            PortSpec::output::<String>("output_waypoint_statuses")
+                .describe("The statuses with the removed goals skipped (not written)."),
+        ]);
+        ports
+    }
+
+    fn request(&mut self, h: &mut Handle<'_, C>) -> Result<GetCostsRequest, String> {
+        let (rule, use_footprint) = CostRule::read(h)?;
+        self.rule = rule;
+        self.goals = optional(h, "input_goals")?.unwrap_or_default();
+        if self.goals.is_empty() {
+            emit(h, "output_goals", Vec::<Pose2D>::new());
+            return Err("no goals to check".into());
+        }
+        Ok(GetCostsRequest {
+            use_footprint,
+            poses: self.goals.iter().copied().map(pose_stamped).collect(),
+        })
+    }
+
+    fn on_response(&mut self, h: &mut Handle<'_, C>, response: &GetCostsResponse) -> Status {
+        if !response.success || response.costs.len() != self.goals.len() {
+            emit(h, "output_goals", self.goals.clone());
+            emit(
+                h,
+                "error_msg",
+                "the costmap could not give the costs".to_owned(),
+            );
+            return Status::Failure;
+        }
+        let kept: Vec<Pose2D> = self
+            .goals
+            .iter()
+            .zip(&response.costs)
+            .filter(|(_, cost)| !self.rule.in_collision(**cost))
+            .map(|(goal, _)| *goal)
+            .collect();
+        emit(h, "output_goals", kept);
+        Status::Success
+    }
+}
+
+/// ToggleCollisionMonitor: turns the collision monitor on or off; Success once it
+/// answered, whatever it answered, as Nav2's node.
+struct ToggleMonitor;
+
+impl<C: 'static> ServiceSpec<C> for ToggleMonitor {
+    type Service = Toggle;
+
+    fn ports() -> Vec<PortSpec> {
+        vec![PortSpec::input::<bool>("enable")
+            .default_value("true")
+            .describe("Turn the collision monitor on (true) or off.")]
+    }
+
+    fn request(&mut self, h: &mut Handle<'_, C>) -> Result<ToggleRequest, String> {
+        Ok(ToggleRequest {
+            enable: optional(h, "enable")?.unwrap_or(true),
+        })
+    }
+
+    fn on_response(&mut self, _h: &mut Handle<'_, C>, _: &ToggleResponse) -> Status {
+        Status::Success
+    }
+}
+
+/// ReinitializeGlobalLocalization: asks the localization to start over; Success once it
+/// answered.
+struct Relocalize;
+
+impl<C: 'static> ServiceSpec<C> for Relocalize {
+    type Service = EmptyService;
+
+    fn request(&mut self, _h: &mut Handle<'_, C>) -> Result<EmptyRequest, String> {
+        Ok(EmptyRequest::default())
+    }
+
+    fn on_response(&mut self, _h: &mut Handle<'_, C>, _: &EmptyResponse) -> Status {
         Status::Success
     }
 }

@@ -32,14 +32,19 @@ pub mod convert;
 mod goal_server;
 mod leaves;
 mod navigator;
+mod odometry;
 mod sim_servers;
 
 pub use battery::{register_battery_conditions, BATTERY_TOPIC};
 pub use cancels::register_cancel_nodes;
-pub use leaves::{register_nav2_ros_leaves, WAIT_FOR_SERVER_MS};
+pub use leaves::{
+    register_nav2_ros_leaves, GET_COST_GLOBAL_COSTMAP, REINITIALIZE_GLOBAL_LOCALIZATION,
+    TOGGLE_COLLISION_MONITOR, WAIT_FOR_SERVER_MS,
+};
 pub use navigator::{
     Navigator, NavigatorError, NavigatorOptions, NavigatorStats, ROBOT_POSE_TOPIC,
 };
+pub use odometry::{register_odometry_conditions, ODOM_TOPIC};
 pub use sim_servers::{
     ServerCounts, SimOptions, SimServers, SimStats, SimStatsHandle, CLEAR_GLOBAL_COSTMAP,
     CLEAR_LOCAL_COSTMAP,

@@ -502,8 +502,8 @@ pub fn register_nav2_leaves<C: Nav2Context>(
 /// (WouldAPlannerRecoveryHelp, …, AreErrorCodesPresent), AppendGoalPoseToGoals,
 /// GetNextFewGoals, GetCurrentPose, GetPoseFromPath, ConcatenatePaths, ArePosesNear,
 /// GoalReached, TruncatePath, IsWithinPathTrackingBounds, PathExpiringTimer,
-/// RemovePassedGoals, DistanceTraveled, TimeExpired, TransformAvailable and
-/// InitialPoseReceived. A navigator
+/// RemovePassedGoals, ExtractRouteNodesAsGoals, DistanceTraveled, TimeExpired,
+/// TransformAvailable and InitialPoseReceived. A navigator
 /// whose planner, controller, behaviors and costmaps are served elsewhere (over ROS 2)
 /// registers these and its own clients for the rest. Fails if one of the names is taken.
 pub fn register_nav2_checks<C: Nav2Context>(
@@ -516,6 +516,7 @@ pub fn register_nav2_checks<C: Nav2Context>(
     poses::register(registry)?;
     tracking::register(registry)?;
     through_poses::register_remove_passed_goals(registry)?;
+    route::register_extract_route_nodes(registry)?;
     odometry::register_pose_and_clock(registry)
 }
 
