@@ -47,5 +47,5 @@ pub use navigator::{
 pub use odometry::{register_odometry_conditions, ODOM_TOPIC};
 pub use sim_servers::{
     ServerCounts, SimOptions, SimServers, SimStats, SimStatsHandle, CLEAR_GLOBAL_COSTMAP,
-    CLEAR_LOCAL_COSTMAP,
+    CLEAR_LOCAL_COSTMAP, GET_COST_LOCAL_COSTMAP, PREEMPT_TELEOP_TOPIC,
 };

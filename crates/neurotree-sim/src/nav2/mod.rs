@@ -297,7 +297,8 @@ impl Nav2Sim {
         self.collision_monitor
     }
 
-    pub(super) fn set_collision_monitor(&mut self, on: bool) {
+    /// Turns the collision monitor on or off, as its `toggle` service does.
+    pub fn set_collision_monitor(&mut self, on: bool) {
         self.collision_monitor = on;
     }
 
@@ -306,7 +307,8 @@ impl Nav2Sim {
         self.relocalizations
     }
 
-    pub(super) fn count_relocalization(&mut self) {
+    /// Counts a call of the localization's `reinitialize_global_localization`.
+    pub fn count_relocalization(&mut self) {
         self.relocalizations += 1;
     }
 

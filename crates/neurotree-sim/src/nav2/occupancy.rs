@@ -21,7 +21,7 @@
 
 use neurotree_core::{Handle, Status};
 
-use super::{ports, Nav2Context};
+use super::{ports, Nav2Context, Nav2Sim};
 use crate::CostmapLayer;
 use neurotree_nav2::robotics::Pose2D;
 use neurotree_toolkit::{PortSpec, Registry, RegistryError};
@@ -81,12 +81,19 @@ pub(super) fn register<C: Nav2Context>(r: &mut Registry<C>) -> Result<(), Regist
     Ok(())
 }
 
+impl Nav2Sim {
+    /// The cost costmap `layer` gives `pose`, as its `get_cost_` service answers: 254
+    /// (lethal) for a wall or a sensed obstacle, 0 for a free cell; `None` off the map.
+    pub fn cost(&self, layer: CostmapLayer, pose: &Pose2D) -> Option<f64> {
+        let cell = self.world.map().cell_at(pose)?;
+        let blocked = self.world.costmap(layer).is_blocked(cell);
+        Some(if blocked { LETHAL } else { 0.0 })
+    }
+}
+
 /// The global costmap's cost at `pose`: 254 or 0; `None` off the map.
 pub(super) fn cost_at<C: Nav2Context>(h: &Handle<'_, C>, pose: &Pose2D) -> Option<f64> {
-    let world = &h.ctx().nav2().world;
-    let cell = world.map().cell_at(pose)?;
-    let blocked = world.costmap(CostmapLayer::Global).is_blocked(cell);
-    Some(if blocked { LETHAL } else { 0.0 })
+    h.ctx().nav2().cost(CostmapLayer::Global, pose)
 }
 
 /// CheckPoseOccupancy: see the [module documentation](self).
