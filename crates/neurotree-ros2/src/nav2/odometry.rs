@@ -14,7 +14,8 @@
 //!   Before any message the twist is zero, as Nav2's odometry smoother's is. Nav2 takes
 //!   "now" from the node's clock, on which (with `use_sim_time`) the odometry is stamped;
 //!   this node has no `/clock`, so the newest reading's stamp is its "now", and an
-//!   unstamped reading is stamped with the tree's clock, as Nav2 stamps one with its own.
+//!   unstamped reading is stamped with the tree's clock, as Nav2 stamps one with its own
+//!   (a stopped time counted on one of the two clocks starts again on the other).
 //!
 //! [`SimServers`](super::SimServers) publishes the world's odometry on [`ODOM_TOPIC`],
 //! stamped with the simulated time.
@@ -117,8 +118,9 @@ impl<C> SubscriberSpec<C> for Stuck {
 struct StopStatus {
     /// The newest reading, stamped (in seconds).
     newest: Option<(Odometry, f64)>,
-    /// When the robot was first read stopped, in seconds of the stamps.
-    stopped_since: Option<f64>,
+    /// When the robot was first read stopped, in seconds, and whether on the stamps'
+    /// clock (else the tree's).
+    stopped_since: Option<(f64, bool)>,
 }
 
 impl<C> SubscriberSpec<C> for StopStatus {
@@ -147,11 +149,11 @@ impl<C> SubscriberSpec<C> for StopStatus {
             };
             self.newest = Some((message.clone(), stamp));
         }
-        let (twist, stamp, now) = match &self.newest {
+        let (twist, stamp, now, stamped) = match &self.newest {
             // An unstamped reading's time is the tree's: "now" goes on with the clock.
-            Some((m, stamp)) if is_unstamped(m) => (m.twist.twist, *stamp, clock),
-            Some((m, stamp)) => (m.twist.twist, *stamp, *stamp),
-            None => (Default::default(), clock, clock),
+            Some((m, stamp)) if is_unstamped(m) => (m.twist.twist, *stamp, clock, false),
+            Some((m, stamp)) => (m.twist.twist, *stamp, *stamp, true),
+            None => (Default::default(), clock, clock, false),
         };
         let still = twist.linear.x.abs() < threshold
             && twist.linear.y.abs() < threshold
@@ -160,7 +162,11 @@ impl<C> SubscriberSpec<C> for StopStatus {
             self.stopped_since = None;
             return Status::Failure;
         }
-        let since = *self.stopped_since.get_or_insert(stamp);
+        // Two clocks cannot be compared: a reading on the other one starts the count again.
+        if self.stopped_since.is_some_and(|(_, on)| on != stamped) {
+            self.stopped_since = None;
+        }
+        let (since, _) = *self.stopped_since.get_or_insert((stamp, stamped));
         if now - since > needed.as_secs_f64() {
             self.stopped_since = None;
             Status::Success
