@@ -12,6 +12,17 @@
 //! | BackUp | `backup` | `backup_dist`, `backup_speed`, `time_allowance` | | |
 //! | DriveOnHeading | `drive_on_heading` | `dist_to_travel`, `speed`, `time_allowance` | | |
 //! | Wait | `wait` | `wait_duration` | | |
+//! | AssistedTeleop | `assisted_teleop` | `time_allowance`, `is_recovery` | | aborted: Success unless `is_recovery` (Nav2's) |
+//! | ComputeRoute | `compute_route` | `start_id`, `goal_id`, or with `use_poses` `goal` and (`use_start`) `start` | writes `route`, `path`, `planning_time` | empties `route`, `path` |
+//! | ComputeAndTrackRoute | `compute_and_track_route` | as ComputeRoute | feedback to `last_node_id`, `next_node_id`, `current_edge_id`, `route`, `path`, `rerouted`; at the end they are reset and `execution_duration` written | the same, `execution_duration` 0 |
+//! | DockRobot | `dock_robot` | `dock_id`, or without `use_dock_id` `dock_pose`, `dock_type`, `max_staging_time`; `navigate_to_staging_pose` | writes `success`, `num_retries` | the same, from the server's result |
+//! | UndockRobot | `undock_robot` | `dock_type`, `max_undocking_time` | writes `success` | the same |
+//! | NavigateThroughPoses | `navigate_through_poses` | `goals` (as `nav_msgs/Goals`), `behavior_tree` | | |
+//! | FollowObject | `follow_object` | `pose_topic`, `tracked_frame`, `max_duration` | writes `total_elapsed_time` | the same, when the server answered |
+//! | CheckPoseOccupancy | `service_name` ([`GET_COST_GLOBAL_COSTMAP`]) | `pose`, `use_footprint` | Success when the cost is at least `cost_threshold` (255 counts only with `consider_unknown_as_obstacle`) | Failure |
+//! | RemoveInCollisionGoals | `service_name` ([`GET_COST_GLOBAL_COSTMAP`]) | `input_goals`, `use_footprint` | writes the goals below `cost_threshold` to `output_goals` | writes `input_goals` back (no goals: no request) |
+//! | ToggleCollisionMonitor | `service_name` ([`TOGGLE_COLLISION_MONITOR`]) | `enable` | on the response | |
+//! | ReinitializeGlobalLocalization | `service_name` ([`REINITIALIZE_GLOBAL_LOCALIZATION`]) | | on the response | |
 //! | ClearEntireCostmap | `service_name` (`local_costmap/clear_entirely_local_costmap`) | | on the response | |
 //! | ClearCostmapAroundRobot | `service_name` (`local_costmap/clear_around_local_costmap`) | `reset_distance` | on the response | |
 //! | ClearCostmapExceptRegion | `service_name` (`local_costmap/clear_except_local_costmap`) | `reset_distance` | on the response | |
@@ -24,7 +35,7 @@
 //! ends the node with Success and code 0, as Nav2's `on_cancelled` does.
 //!
 //! Ports that name Nav2 plugins the simulator does not have (`path_handler_id`,
-//! `is_recovery`, `disable_collision_checks`, `plugins`) are declared, so that Nav2's files
+//! `is_recovery` of Spin, `disable_collision_checks`, `plugins`) are declared, so that Nav2's files
 //! load, and sent where the goal has a field for them. Nav2 names the server with
 //! `server_name`; here, as in BehaviorTree.ROS2, it is `action_name` (`server_name` is
 //! declared and not read).
@@ -80,11 +91,16 @@ pub const REINITIALIZE_GLOBAL_LOCALIZATION: &str = "reinitialize_global_localiza
 pub const WAIT_FOR_SERVER_MS: u64 = 1000;
 
 /// Registers ComputePathToPose, ComputePathThroughPoses, SmoothPath, NavigateToPose,
-/// FollowPath, Spin, BackUp, DriveOnHeading, Wait,
-/// ClearEntireCostmap, ClearCostmapAroundRobot, ClearCostmapExceptRegion and
-/// ClearCostmapAroundPose as ROS 2 clients on `ros`, the cancel nodes
-/// ([`register_cancel_nodes`](super::register_cancel_nodes)) and the battery conditions as
-/// subscribers ([`register_battery_conditions`](super::register_battery_conditions)). Fails if one of the names is taken.
+/// NavigateThroughPoses, FollowPath, Spin, BackUp, DriveOnHeading, Wait, AssistedTeleop,
+/// ComputeRoute, ComputeAndTrackRoute, DockRobot, UndockRobot and FollowObject as ROS 2
+/// action clients on `ros`; ClearEntireCostmap, ClearCostmapAroundRobot,
+/// ClearCostmapExceptRegion, ClearCostmapAroundPose, CheckPoseOccupancy,
+/// RemoveInCollisionGoals, ToggleCollisionMonitor and ReinitializeGlobalLocalization as
+/// service clients; the cancel nodes ([`register_cancel_nodes`](super::register_cancel_nodes)), and the battery and
+/// odometry conditions as subscribers
+/// ([`register_battery_conditions`](super::register_battery_conditions),
+/// [`register_odometry_conditions`](super::register_odometry_conditions)). Fails if one of
+/// the names is taken.
 pub fn register_nav2_ros_leaves<C: 'static>(
     registry: &mut Registry<C>,
     ros: &RosNode,

@@ -3,9 +3,9 @@
 //!
 //! | piece | what it is |
 //! |---|---|
-//! | [`register_nav2_ros_leaves`] | ComputePathToPose, ComputePathThroughPoses, SmoothPath, NavigateToPose, FollowPath, Spin, BackUp, DriveOnHeading, Wait and the four costmap clearings as ROS 2 clients, the five cancel nodes (CancelControl, CancelSpin, ...), IsBatteryLow and IsBatteryCharging as subscribers, with `nav2_tree_nodes.xml`'s ports |
-//! | [`Navigator`] | the `navigate_to_pose` action server: ticks a tree per goal, feedback, result, cancel halts |
-//! | [`SimServers`] | a [`GridWorld`](neurotree_sim::GridWorld) as the planner, controller, behavior and costmap servers, stepping on its own clock |
+//! | [`register_nav2_ros_leaves`] | every Nav2 node that calls a server, a service or a topic, with `nav2_tree_nodes.xml`'s ports: the actions (ComputePathToPose, ComputePathThroughPoses, SmoothPath, NavigateToPose, NavigateThroughPoses, FollowPath, Spin, BackUp, DriveOnHeading, Wait, AssistedTeleop, ComputeRoute, ComputeAndTrackRoute, DockRobot, UndockRobot, FollowObject) as ROS 2 action clients; the four costmap clearings, CheckPoseOccupancy, RemoveInCollisionGoals, ToggleCollisionMonitor and ReinitializeGlobalLocalization as service clients; the eight cancel nodes ([`register_cancel_nodes`]); IsBatteryLow, IsBatteryCharging ([`register_battery_conditions`]), IsStuck and CheckStopStatus ([`register_odometry_conditions`]) as subscribers |
+//! | [`Navigator`] | the `navigate_to_pose` action server: ticks a tree per goal, feedback, result, cancel halts; it loads every node type of Nav2 main (the rest are the simulator's checks on its own view, [`register_nav2_checks`](neurotree_sim::nav2::register_nav2_checks)) |
+//! | [`SimServers`] | a [`GridWorld`](neurotree_sim::GridWorld) as the planner, smoother, controller, behavior, route, docking, following and costmap servers, the navigator through poses, the collision monitor, the localization and the odometry, stepping on its own clock |
 //! | [`convert`] | between the blackboard's `Pose2D` / `Path` and their messages |
 //!
 //! Nav2's navigator (`navigate_to_pose_w_replanning_and_recovery.xml`) runs unchanged: a
@@ -25,6 +25,11 @@
 //!   `estimated_time_remaining` is always zero.
 //! - The navigator follows the robot from the simulator's `robot_pose` topic rather than
 //!   from TF.
+//! - ComputeAndTrackRoute does not send a new goal when its inputs change while it runs
+//!   (Nav2's does); it takes them when it starts again. ComputeRoute's outputs are not
+//!   reset when it is halted, only when it fails or is cancelled.
+//! - RemoveInCollisionGoals keeps no waypoint statuses (`output_waypoint_statuses` is not
+//!   written), as in the simulator.
 
 mod battery;
 mod cancels;
