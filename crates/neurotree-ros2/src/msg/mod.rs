@@ -86,6 +86,25 @@ mod tests {
     }
 
     #[test]
+    fn kilteds_behavior_goals_add_one_byte_and_its_through_poses_goal_a_header() {
+        use super::nav2_msgs::kilted;
+        let jazzy = cdr(&SpinGoal::default());
+        let checked = cdr(&kilted::SpinGoal {
+            disable_collision_checks: true,
+            ..kilted::SpinGoal::default()
+        });
+        assert_eq!(checked.len(), jazzy.len() + 1);
+        assert_eq!(checked[..jazzy.len()], jazzy[..]);
+        assert_eq!(checked.last(), Some(&1));
+        // Goals: a header (stamp, empty frame id) before the poses' count.
+        let goal = kilted::ComputePathThroughPosesGoal::default();
+        assert_eq!(
+            &cdr(&goal)[..17],
+            &[0, 0, 0, 0, 0, 0, 0, 0, 1, 0, 0, 0, 0, 0, 0, 0, 0]
+        );
+    }
+
+    #[test]
     fn odometry_covariances_are_36_float64_without_a_length() {
         let mut odometry = Odometry {
             header: Header {

@@ -3,10 +3,18 @@
 //! Each action is a type that names it ([`RosAction`]) and three messages: `…Goal`,
 //! `…Result` (with the server's error codes as constants) and `…Feedback`.
 //!
-//! The planner's, controller's and behaviors' actions have Jazzy's layout; those Jazzy
-//! does not have, or that Nav2 main changed (NavigateThroughPoses takes `nav_msgs/Goals`
-//! and reports waypoint statuses), have Nav2 main's: the route server's, the docking
-//! server's, FollowObject, AssistedTeleop, and the services GetCosts and Toggle.
+//! The planner's, controller's and behaviors' actions have Jazzy's layout, and [`kilted`]
+//! has the goals Kilted changed (Spin's, BackUp's, DriveOnHeading's,
+//! ComputePathThroughPoses's), which main keeps. The actions and services Jazzy does not
+//! have, or whose every part Kilted and main changed (NavigateThroughPoses takes
+//! `nav_msgs/Goals` and reports waypoint statuses), have Nav2 main's layout: the route
+//! server's, the docking server's, FollowObject, AssistedTeleop, GetCosts and Toggle.
+//!
+//! Main changed more than this crate follows: ComputePathToPose's goal gained `viapoints`,
+//! FollowPath's goal `path_handler_id` and its feedback a `TrackingFeedback`,
+//! NavigateToPose's feedback the tracking errors, ClearCostmapAroundPose's request
+//! `plugins` (and its response a `success`), ComputePathThroughPoses's result
+//! `last_reached_index`; those messages have Jazzy's (and Kilted's) layout here.
 
 use serde::{Deserialize, Serialize};
 
@@ -1146,3 +1154,109 @@ parts!(
     ToggleRequest,
     ToggleResponse
 );
+
+/// The goals Nav2 Kilted changed, as Kilted and main have them: the behaviors' goals gained
+/// `disable_collision_checks`, and ComputePathThroughPoses takes its goals as a
+/// `nav_msgs/Goals`. Each action has the same ROS 2 name, result and feedback as the Jazzy
+/// one of the parent module; only the goal's layout differs, so a client and a server must
+/// agree on the release.
+pub mod kilted {
+    use serde::{Deserialize, Serialize};
+
+    use super::super::builtin_interfaces::Duration;
+    use super::super::geometry_msgs::{Point, PoseStamped};
+    use super::super::nav_msgs::Goals;
+    use super::{
+        BackUpFeedback, BackUpResult, ComputePathThroughPosesFeedback,
+        ComputePathThroughPosesResult, DriveOnHeadingFeedback, DriveOnHeadingResult, SpinFeedback,
+        SpinResult,
+    };
+    use crate::RosAction;
+
+    /// Declares an action whose result and feedback are the Jazzy action's.
+    macro_rules! goal_only {
+        ($(#[$doc:meta])* $name:ident: $goal:ident, $result:ident, $feedback:ident) => {
+            $(#[$doc])*
+            #[derive(Clone, Copy, Debug)]
+            pub struct $name;
+            impl RosAction for $name {
+                type Goal = $goal;
+                type Result = $result;
+                type Feedback = $feedback;
+                const TYPE: (&'static str, &'static str) = ("nav2_msgs", stringify!($name));
+            }
+            impl ros2_client::Message for $goal {}
+        };
+    }
+
+    goal_only!(
+        /// `nav2_msgs/action/Spin`, Kilted's goal.
+        Spin: SpinGoal, SpinResult, SpinFeedback
+    );
+
+    /// The goal of [`Spin`].
+    #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+    pub struct SpinGoal {
+        /// Radians to turn.
+        pub target_yaw: f32,
+        /// How long the behavior may take.
+        pub time_allowance: Duration,
+        /// Turn without checking for collisions.
+        pub disable_collision_checks: bool,
+    }
+
+    goal_only!(
+        /// `nav2_msgs/action/BackUp`, Kilted's goal.
+        BackUp: BackUpGoal, BackUpResult, BackUpFeedback
+    );
+
+    /// The goal of [`BackUp`].
+    #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+    pub struct BackUpGoal {
+        /// How far to drive back (`x`, metres).
+        pub target: Point,
+        /// Metres per second.
+        pub speed: f32,
+        /// How long the behavior may take.
+        pub time_allowance: Duration,
+        /// Drive without checking for collisions.
+        pub disable_collision_checks: bool,
+    }
+
+    goal_only!(
+        /// `nav2_msgs/action/DriveOnHeading`, Kilted's goal.
+        DriveOnHeading: DriveOnHeadingGoal, DriveOnHeadingResult, DriveOnHeadingFeedback
+    );
+
+    /// The goal of [`DriveOnHeading`].
+    #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+    pub struct DriveOnHeadingGoal {
+        /// How far to drive (`x`, metres; negative backwards).
+        pub target: Point,
+        /// Metres per second.
+        pub speed: f32,
+        /// How long the behavior may take.
+        pub time_allowance: Duration,
+        /// Drive without checking for collisions.
+        pub disable_collision_checks: bool,
+    }
+
+    goal_only!(
+        /// `nav2_msgs/action/ComputePathThroughPoses`, Kilted's goal.
+        ComputePathThroughPoses: ComputePathThroughPosesGoal, ComputePathThroughPosesResult,
+        ComputePathThroughPosesFeedback
+    );
+
+    /// The goal of [`ComputePathThroughPoses`].
+    #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+    pub struct ComputePathThroughPosesGoal {
+        /// The poses to pass, in order.
+        pub goals: Goals,
+        /// Where it starts, when `use_start`.
+        pub start: PoseStamped,
+        /// Which planner plugin; empty for the only one.
+        pub planner_id: String,
+        /// `false`: start at the robot's current pose.
+        pub use_start: bool,
+    }
+}

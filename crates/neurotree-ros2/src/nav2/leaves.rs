@@ -36,7 +36,8 @@
 //!
 //! Ports that name Nav2 plugins the simulator does not have (`path_handler_id`,
 //! `is_recovery` of Spin, `disable_collision_checks`, `plugins`) are declared, so that Nav2's files
-//! load, and sent where the goal has a field for them. Nav2 names the server with
+//! load, and sent where the goal has a field for them (`disable_collision_checks` in the
+//! goals of Kilted and main: [`register_nav2_ros_leaves_for`]). Nav2 names the server with
 //! `server_name`; here, as in BehaviorTree.ROS2, it is `action_name` (`server_name` is
 //! declared and not read).
 //!
@@ -44,13 +45,17 @@
 //! the node follows the path it started with, and takes up the newest one when it starts
 //! again.
 
+use std::marker::PhantomData;
 use std::time::Duration;
 
 use neurotree_nav2::robotics::{Path, Pose2D, Route};
+use neurotree_nav2::Nav2Release;
 use neurotree_toolkit::{Handle, PortError, PortSpec, Registry, RegistryError, Status};
 
 use super::convert::{goals_msg, path_2d, path_msg, pose_stamped, route_2d};
-use crate::msg::geometry_msgs::Point;
+use crate::msg::builtin_interfaces::Duration as MsgDuration;
+use crate::msg::geometry_msgs::{Point, PoseStamped};
+use crate::msg::nav2_msgs::kilted;
 use crate::msg::nav2_msgs::{
     AssistedTeleop, AssistedTeleopGoal, AssistedTeleopResult, ComputeAndTrackRoute,
     ComputeAndTrackRouteFeedback, ComputeAndTrackRouteGoal, ComputeAndTrackRouteResult,
@@ -73,8 +78,11 @@ use crate::msg::nav2_msgs::{
     NavigateToPose, NavigateToPoseGoal, NavigateToPoseResult, SmoothPath, SmoothPathGoal,
     SmoothPathResult,
 };
+use crate::msg::nav_msgs::Goals;
 use crate::msg::std_srvs::{Empty as EmptyService, EmptyRequest, EmptyResponse};
-use crate::{ActionError, ActionSpec, RosActionNode, RosNode, RosServiceNode, ServiceSpec};
+use crate::{
+    ActionError, ActionSpec, RosAction, RosActionNode, RosNode, RosServiceNode, ServiceSpec,
+};
 
 /// The global costmap's cost service, where CheckPoseOccupancy and RemoveInCollisionGoals
 /// ask by default (Nav2's `get_cost_` service of the costmap `global_costmap`).
@@ -105,6 +113,19 @@ pub fn register_nav2_ros_leaves<C: 'static>(
     registry: &mut Registry<C>,
     ros: &RosNode,
 ) -> Result<(), RegistryError> {
+    register_nav2_ros_leaves_for(registry, ros, Nav2Release::default())
+}
+
+/// [`register_nav2_ros_leaves`] speaking the goals of Nav2 `release`: Jazzy's Spin,
+/// BackUp, DriveOnHeading and ComputePathThroughPoses goals, or those of Kilted (and main),
+/// which add `disable_collision_checks` to the behaviors' and take ComputePathThroughPoses's
+/// goals as a `nav_msgs/Goals` ([`kilted`](crate::msg::nav2_msgs::kilted)). The other messages have one layout whatever
+/// the release (see [`nav2_msgs`](crate::msg::nav2_msgs)).
+pub fn register_nav2_ros_leaves_for<C: 'static>(
+    registry: &mut Registry<C>,
+    ros: &RosNode,
+    release: Nav2Release,
+) -> Result<(), RegistryError> {
     register_action(
         registry,
         "ComputePathToPose",
@@ -112,23 +133,39 @@ pub fn register_nav2_ros_leaves<C: 'static>(
         "compute_path_to_pose",
         || ComputePath,
     )?;
-    register_action(
-        registry,
-        "ComputePathThroughPoses",
-        ros,
-        "compute_path_through_poses",
-        || ComputeThrough,
-    )?;
+    let jazzy = release == Nav2Release::Jazzy;
+    let name = "compute_path_through_poses";
+    if jazzy {
+        let make = ComputeThrough::<ComputePathThroughPoses>::default;
+        register_action(registry, "ComputePathThroughPoses", ros, name, make)?;
+    } else {
+        let make = ComputeThrough::<kilted::ComputePathThroughPoses>::default;
+        register_action(registry, "ComputePathThroughPoses", ros, name, make)?;
+    }
     register_action(registry, "SmoothPath", ros, "smooth_path", || Smooth)?;
     register_action(registry, "NavigateToPose", ros, "navigate_to_pose", || {
         Navigate
     })?;
     register_action(registry, "FollowPath", ros, "follow_path", || Follow)?;
-    register_action(registry, "Spin", ros, "spin", || SpinBy)?;
-    register_action(registry, "BackUp", ros, "backup", || BackUpBy)?;
-    register_action(registry, "DriveOnHeading", ros, "drive_on_heading", || {
-        DriveOn
-    })?;
+    if jazzy {
+        register_action(registry, "Spin", ros, "spin", SpinBy::<Spin>::default)?;
+        register_action(
+            registry,
+            "BackUp",
+            ros,
+            "backup",
+            BackUpBy::<BackUp>::default,
+        )?;
+        let make = DriveOn::<DriveOnHeading>::default;
+        register_action(registry, "DriveOnHeading", ros, "drive_on_heading", make)?;
+    } else {
+        let make = SpinBy::<kilted::Spin>::default;
+        register_action(registry, "Spin", ros, "spin", make)?;
+        let make = BackUpBy::<kilted::BackUp>::default;
+        register_action(registry, "BackUp", ros, "backup", make)?;
+        let make = DriveOn::<kilted::DriveOnHeading>::default;
+        register_action(registry, "DriveOnHeading", ros, "drive_on_heading", make)?;
+    }
     register_action(registry, "Wait", ros, "wait", || WaitFor)?;
     register_action(registry, "ComputeRoute", ros, "compute_route", || RouteOnce)?;
     register_action(
@@ -398,10 +435,61 @@ impl<C: 'static> ActionSpec<C> for ComputePath {
 
 /// ComputePathThroughPoses: the planner server's path from the robot (or `start`) through
 /// each of `goals`.
-struct ComputeThrough;
+struct ComputeThrough<A>(PhantomData<fn() -> A>);
 
-impl<C: 'static> ActionSpec<C> for ComputeThrough {
-    type Action = ComputePathThroughPoses;
+impl<A> Default for ComputeThrough<A> {
+    fn default() -> Self {
+        Self(PhantomData)
+    }
+}
+
+/// ComputePathThroughPoses's goal in the layout of a release.
+trait ThroughPosesLayout: RosAction<Result = ComputePathThroughPosesResult> {
+    fn goal(
+        goals: Vec<PoseStamped>,
+        start: PoseStamped,
+        planner_id: String,
+        use_start: bool,
+    ) -> Self::Goal;
+}
+
+impl ThroughPosesLayout for ComputePathThroughPoses {
+    fn goal(
+        goals: Vec<PoseStamped>,
+        start: PoseStamped,
+        planner_id: String,
+        use_start: bool,
+    ) -> ComputePathThroughPosesGoal {
+        ComputePathThroughPosesGoal {
+            goals,
+            start,
+            planner_id,
+            use_start,
+        }
+    }
+}
+
+impl ThroughPosesLayout for kilted::ComputePathThroughPoses {
+    fn goal(
+        goals: Vec<PoseStamped>,
+        start: PoseStamped,
+        planner_id: String,
+        use_start: bool,
+    ) -> kilted::ComputePathThroughPosesGoal {
+        kilted::ComputePathThroughPosesGoal {
+            goals: Goals {
+                header: pose_stamped(Pose2D::default()).header,
+                goals,
+            },
+            start,
+            planner_id,
+            use_start,
+        }
+    }
+}
+
+impl<C: 'static, A: ThroughPosesLayout> ActionSpec<C> for ComputeThrough<A> {
+    type Action = A;
 
     fn ports() -> Vec<PortSpec> {
         vec![
@@ -416,15 +504,15 @@ impl<C: 'static> ActionSpec<C> for ComputeThrough {
         ]
     }
 
-    fn goal(&mut self, h: &mut Handle<'_, C>) -> Result<ComputePathThroughPosesGoal, String> {
+    fn goal(&mut self, h: &mut Handle<'_, C>) -> Result<A::Goal, String> {
         let goals: Vec<Pose2D> = optional(h, "goals")?.unwrap_or_default();
         let start: Option<Pose2D> = optional(h, "start")?;
-        Ok(ComputePathThroughPosesGoal {
-            goals: goals.into_iter().map(pose_stamped).collect(),
-            start: pose_stamped(start.unwrap_or_default()),
-            planner_id: optional(h, "planner_id")?.unwrap_or_default(),
-            use_start: start.is_some(),
-        })
+        Ok(A::goal(
+            goals.into_iter().map(pose_stamped).collect(),
+            pose_stamped(start.unwrap_or_default()),
+            optional(h, "planner_id")?.unwrap_or_default(),
+            start.is_some(),
+        ))
     }
 
     fn on_result(
@@ -607,10 +695,98 @@ fn collision_checks() -> PortSpec {
 }
 
 /// Spin: the behavior server turns the robot by `spin_dist`.
-struct SpinBy;
+struct SpinBy<A>(PhantomData<fn() -> A>);
 
-impl<C: 'static> ActionSpec<C> for SpinBy {
-    type Action = Spin;
+impl<A> Default for SpinBy<A> {
+    fn default() -> Self {
+        Self(PhantomData)
+    }
+}
+
+/// Spin's goal in the layout of a release (Jazzy's has no `disable_collision_checks`).
+trait SpinLayout: RosAction<Result = SpinResult> {
+    fn goal(yaw: f32, allowance: MsgDuration, disable_collision_checks: bool) -> Self::Goal;
+}
+
+impl SpinLayout for Spin {
+    fn goal(yaw: f32, allowance: MsgDuration, _: bool) -> SpinGoal {
+        SpinGoal {
+            target_yaw: yaw,
+            time_allowance: allowance,
+        }
+    }
+}
+
+impl SpinLayout for kilted::Spin {
+    fn goal(yaw: f32, allowance: MsgDuration, disable: bool) -> kilted::SpinGoal {
+        kilted::SpinGoal {
+            target_yaw: yaw,
+            time_allowance: allowance,
+            disable_collision_checks: disable,
+        }
+    }
+}
+
+/// A straight drive's goal (BackUp's, DriveOnHeading's) in the layout of a release.
+trait StraightLayout: RosAction {
+    fn goal(
+        distance: f64,
+        speed: f32,
+        allowance: MsgDuration,
+        disable_collision_checks: bool,
+    ) -> Self::Goal;
+}
+
+/// Implements [`StraightLayout`] for a Jazzy goal and for a Kilted one.
+macro_rules! straight_layouts {
+    ($jazzy:ty: $jazzy_goal:ident, $kilted:ty: $kilted_goal:path) => {
+        impl StraightLayout for $jazzy {
+            fn goal(distance: f64, speed: f32, allowance: MsgDuration, _: bool) -> $jazzy_goal {
+                $jazzy_goal {
+                    target: Point {
+                        x: distance,
+                        y: 0.0,
+                        z: 0.0,
+                    },
+                    speed,
+                    time_allowance: allowance,
+                }
+            }
+        }
+        impl StraightLayout for $kilted {
+            fn goal(
+                distance: f64,
+                speed: f32,
+                allowance: MsgDuration,
+                disable: bool,
+            ) -> $kilted_goal {
+                $kilted_goal {
+                    target: Point {
+                        x: distance,
+                        y: 0.0,
+                        z: 0.0,
+                    },
+                    speed,
+                    time_allowance: allowance,
+                    disable_collision_checks: disable,
+                }
+            }
+        }
+    };
+}
+
+straight_layouts!(BackUp: BackUpGoal, kilted::BackUp: kilted::BackUpGoal);
+straight_layouts!(
+    DriveOnHeading: DriveOnHeadingGoal,
+    kilted::DriveOnHeading: kilted::DriveOnHeadingGoal
+);
+
+fn disable_collision_checks<C>(h: &Handle<'_, C>) -> Result<bool, String> {
+    Ok(optional(h, "disable_collision_checks")?.unwrap_or(false))
+}
+
+impl<C: 'static, A: SpinLayout> ActionSpec<C> for SpinBy<A> {
+    type Action = A;
 
     fn ports() -> Vec<PortSpec> {
         vec![
@@ -627,13 +803,11 @@ impl<C: 'static> ActionSpec<C> for SpinBy {
         ]
     }
 
-    fn goal(&mut self, h: &mut Handle<'_, C>) -> Result<SpinGoal, String> {
+    fn goal(&mut self, h: &mut Handle<'_, C>) -> Result<A::Goal, String> {
         let angle: f64 = required(h, "spin_dist")?;
         let allowance: f64 = required(h, "time_allowance")?;
-        Ok(SpinGoal {
-            target_yaw: angle as f32,
-            time_allowance: seconds(allowance),
-        })
+        let disable = disable_collision_checks(h)?;
+        Ok(A::goal(angle as f32, seconds(allowance), disable))
     }
 
     fn on_result(&mut self, h: &mut Handle<'_, C>, result: &SpinResult) -> Status {
@@ -652,10 +826,16 @@ impl<C: 'static> ActionSpec<C> for SpinBy {
 }
 
 /// BackUp: the behavior server drives the robot `backup_dist` backwards.
-struct BackUpBy;
+struct BackUpBy<A>(PhantomData<fn() -> A>);
 
-impl<C: 'static> ActionSpec<C> for BackUpBy {
-    type Action = BackUp;
+impl<A> Default for BackUpBy<A> {
+    fn default() -> Self {
+        Self(PhantomData)
+    }
+}
+
+impl<C: 'static, A: StraightLayout<Result = BackUpResult>> ActionSpec<C> for BackUpBy<A> {
+    type Action = A;
 
     fn ports() -> Vec<PortSpec> {
         vec![
@@ -672,19 +852,12 @@ impl<C: 'static> ActionSpec<C> for BackUpBy {
         ]
     }
 
-    fn goal(&mut self, h: &mut Handle<'_, C>) -> Result<BackUpGoal, String> {
+    fn goal(&mut self, h: &mut Handle<'_, C>) -> Result<A::Goal, String> {
         let distance: f64 = required(h, "backup_dist")?;
         let speed: f64 = required(h, "backup_speed")?;
         let allowance: f64 = required(h, "time_allowance")?;
-        Ok(BackUpGoal {
-            target: Point {
-                x: distance,
-                y: 0.0,
-                z: 0.0,
-            },
-            speed: speed as f32,
-            time_allowance: seconds(allowance),
-        })
+        let disable = disable_collision_checks(h)?;
+        Ok(A::goal(distance, speed as f32, seconds(allowance), disable))
     }
 
     fn on_result(&mut self, h: &mut Handle<'_, C>, result: &BackUpResult) -> Status {
@@ -703,10 +876,16 @@ impl<C: 'static> ActionSpec<C> for BackUpBy {
 }
 
 /// DriveOnHeading: the behavior server drives the robot `dist_to_travel` straight on.
-struct DriveOn;
+struct DriveOn<A>(PhantomData<fn() -> A>);
 
-impl<C: 'static> ActionSpec<C> for DriveOn {
-    type Action = DriveOnHeading;
+impl<A> Default for DriveOn<A> {
+    fn default() -> Self {
+        Self(PhantomData)
+    }
+}
+
+impl<C: 'static, A: StraightLayout<Result = DriveOnHeadingResult>> ActionSpec<C> for DriveOn<A> {
+    type Action = A;
 
     fn ports() -> Vec<PortSpec> {
         vec![
@@ -723,19 +902,12 @@ impl<C: 'static> ActionSpec<C> for DriveOn {
         ]
     }
 
-    fn goal(&mut self, h: &mut Handle<'_, C>) -> Result<DriveOnHeadingGoal, String> {
+    fn goal(&mut self, h: &mut Handle<'_, C>) -> Result<A::Goal, String> {
         let distance: f64 = required(h, "dist_to_travel")?;
         let speed: f64 = required(h, "speed")?;
         let allowance: f64 = required(h, "time_allowance")?;
-        Ok(DriveOnHeadingGoal {
-            target: Point {
-                x: distance,
-                y: 0.0,
-                z: 0.0,
-            },
-            speed: speed as f32,
-            time_allowance: seconds(allowance),
-        })
+        let disable = disable_collision_checks(h)?;
+        Ok(A::goal(distance, speed as f32, seconds(allowance), disable))
     }
 
     fn on_result(&mut self, h: &mut Handle<'_, C>, result: &DriveOnHeadingResult) -> Status {

@@ -43,8 +43,8 @@ mod sim_servers;
 pub use battery::{register_battery_conditions, BATTERY_TOPIC};
 pub use cancels::register_cancel_nodes;
 pub use leaves::{
-    register_nav2_ros_leaves, GET_COST_GLOBAL_COSTMAP, REINITIALIZE_GLOBAL_LOCALIZATION,
-    TOGGLE_COLLISION_MONITOR, WAIT_FOR_SERVER_MS,
+    register_nav2_ros_leaves, register_nav2_ros_leaves_for, GET_COST_GLOBAL_COSTMAP,
+    REINITIALIZE_GLOBAL_LOCALIZATION, TOGGLE_COLLISION_MONITOR, WAIT_FOR_SERVER_MS,
 };
 pub use navigator::{
     Navigator, NavigatorError, NavigatorOptions, NavigatorStats, ROBOT_POSE_TOPIC,

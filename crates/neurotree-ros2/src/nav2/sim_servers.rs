@@ -34,6 +34,7 @@ use std::sync::{Arc, Mutex, MutexGuard};
 use std::time::{Duration, Instant};
 
 use neurotree_nav2::robotics::{Path, Pose2D, Route};
+use neurotree_nav2::Nav2Release;
 use neurotree_sim::nav2::costmaps::clear_square;
 use neurotree_sim::nav2::{register_nav2_leaves, FailureNotes, Nav2Sim};
 use neurotree_sim::CostmapLayer;
@@ -48,6 +49,9 @@ use super::navigator::{NavigatorError, ROBOT_POSE_TOPIC};
 use super::GET_COST_GLOBAL_COSTMAP;
 use crate::msg::geometry_msgs::PoseStamped;
 use crate::msg::geometry_msgs::{Twist, Vector3};
+use crate::msg::nav2_msgs::{
+    kilted, BackUpGoal, ComputePathThroughPosesGoal, DriveOnHeadingGoal, SpinGoal,
+};
 use crate::msg::nav2_msgs::{
     AssistedTeleop, AssistedTeleopFeedback, AssistedTeleopResult, ComputeAndTrackRoute,
     ComputeAndTrackRouteFeedback, ComputeAndTrackRouteResult, ComputeRoute, ComputeRouteResult,
@@ -133,6 +137,9 @@ pub struct SimStats {
     pub collision_monitor: bool,
     /// Requests served by `reinitialize_global_localization`.
     pub relocalizations: u32,
+    /// The `disable_collision_checks` of the last Spin, BackUp or DriveOnHeading goal in
+    /// Kilted's layout; `None` while only Jazzy's (which has no such field) came.
+    pub disable_collision_checks: Option<bool>,
     /// Obstacle cells the global costmap remembers.
     pub global_obstacles: usize,
     /// Obstacle cells the local costmap remembers.
@@ -170,14 +177,18 @@ pub struct SimOptions {
     /// are timed from the start of the navigation, however long the navigator took to
     /// come up.
     pub start_on_first_goal: bool,
+    /// The Nav2 release whose goal layouts the servers read (see
+    /// [`register_nav2_ros_leaves_for`](super::register_nav2_ros_leaves_for)).
+    pub release: Nav2Release,
 }
 
 impl Default for SimOptions {
-    /// Real time, from the first goal.
+    /// Real time, from the first goal, Nav2 main's goals.
     fn default() -> Self {
         Self {
             time_scale: 1.0,
             start_on_first_goal: true,
+            release: Nav2Release::default(),
         }
     }
 }
@@ -199,6 +210,8 @@ where
     }
     /// Which counts of [`SimStats`] are this server's.
     fn counts(stats: &mut SimStats) -> &mut ServerCounts;
+    /// Notes what of the goal the stats keep.
+    fn record(_goal: &Self::Goal, _stats: &mut SimStats) {}
 }
 
 // The entries are written before the tree first ticks: set fails only for a type that
@@ -527,6 +540,81 @@ impl SimAction for FollowObject {
     }
 }
 
+/// Implements [`SimAction`] for a Kilted goal layout as the Jazzy action's, its goal made
+/// Jazzy's by `$to_jazzy`; a behavior's `disable_collision_checks` goes to the stats (the
+/// world never lets the robot into an occupied cell, checks or not).
+macro_rules! kilted_as_jazzy {
+    ($kilted:ty, $jazzy:ty, $to_jazzy:expr, $record:expr) => {
+        impl SimAction for $kilted {
+            const XML: &'static str = <$jazzy as SimAction>::XML;
+            fn put(goal: &Self::Goal, bb: &mut Blackboard) {
+                <$jazzy as SimAction>::put(&$to_jazzy(goal), bb);
+            }
+            fn result(
+                bb: &Blackboard,
+                code: u16,
+                message: String,
+                elapsed: Duration,
+            ) -> Self::Result {
+                <$jazzy as SimAction>::result(bb, code, message, elapsed)
+            }
+            fn counts(stats: &mut SimStats) -> &mut ServerCounts {
+                <$jazzy as SimAction>::counts(stats)
+            }
+            fn record(goal: &Self::Goal, stats: &mut SimStats) {
+                $record(goal, stats);
+            }
+        }
+    };
+}
+
+kilted_as_jazzy!(
+    kilted::Spin,
+    Spin,
+    |g: &kilted::SpinGoal| SpinGoal {
+        target_yaw: g.target_yaw,
+        time_allowance: g.time_allowance,
+    },
+    |g: &kilted::SpinGoal, stats: &mut SimStats| {
+        stats.disable_collision_checks = Some(g.disable_collision_checks);
+    }
+);
+kilted_as_jazzy!(
+    kilted::BackUp,
+    BackUp,
+    |g: &kilted::BackUpGoal| BackUpGoal {
+        target: g.target,
+        speed: g.speed,
+        time_allowance: g.time_allowance,
+    },
+    |g: &kilted::BackUpGoal, stats: &mut SimStats| {
+        stats.disable_collision_checks = Some(g.disable_collision_checks);
+    }
+);
+kilted_as_jazzy!(
+    kilted::DriveOnHeading,
+    DriveOnHeading,
+    |g: &kilted::DriveOnHeadingGoal| DriveOnHeadingGoal {
+        target: g.target,
+        speed: g.speed,
+        time_allowance: g.time_allowance,
+    },
+    |g: &kilted::DriveOnHeadingGoal, stats: &mut SimStats| {
+        stats.disable_collision_checks = Some(g.disable_collision_checks);
+    }
+);
+kilted_as_jazzy!(
+    kilted::ComputePathThroughPoses,
+    ComputePathThroughPoses,
+    |g: &kilted::ComputePathThroughPosesGoal| ComputePathThroughPosesGoal {
+        goals: g.goals.goals.clone(),
+        start: g.start.clone(),
+        planner_id: g.planner_id.clone(),
+        use_start: g.use_start,
+    },
+    |_: &kilted::ComputePathThroughPosesGoal, _: &mut SimStats| {}
+);
+
 /// One action server and the tree of its running goal.
 struct Served<A: SimAction>
 where
@@ -577,7 +665,9 @@ where
                     }
                     A::put(&goal, tree.blackboard_mut());
                     self.running = Some((tree, sim.world.now()));
-                    A::counts(&mut stats.lock()).goals += 1;
+                    let mut stats = stats.lock();
+                    A::counts(&mut stats).goals += 1;
+                    A::record(&goal, &mut stats);
                     started = true;
                 }
                 Request::Cancel => {
@@ -655,8 +745,8 @@ where
     }
 }
 
-/// A server whose goals command the one robot: the newest goal of any of them has it.
-trait Motion {
+/// An action server whose goals the sim runs.
+trait Serving {
     /// Reads the requests; `true` if a new goal started.
     fn poll(&mut self, sim: &mut Nav2Sim, stats: &SimStatsHandle) -> Result<bool, Ros2Error>;
     /// Aborts the running goal: another server took the robot.
@@ -667,7 +757,7 @@ trait Motion {
     fn tick(&mut self, sim: &mut Nav2Sim, stats: &SimStatsHandle);
 }
 
-impl<A: SimAction> Motion for Served<A>
+impl<A: SimAction> Serving for Served<A>
 where
     A::Result: Default,
 {
@@ -738,7 +828,7 @@ impl Teleop {
     }
 }
 
-impl Motion for Teleop {
+impl Serving for Teleop {
     fn poll(&mut self, sim: &mut Nav2Sim, stats: &SimStatsHandle) -> Result<bool, Ros2Error> {
         // A read error is a message lost; the next one still ends the goal.
         while let Ok(Some(_)) = self.preempts.take() {
@@ -885,14 +975,11 @@ impl RegionServers {
 /// The grid world as Nav2's servers; see the [module](crate::nav2).
 pub struct SimServers {
     sim: Nav2Sim,
-    planner: Served<ComputePathToPose>,
-    planner_through_poses: Served<ComputePathThroughPoses>,
-    smoother: Served<SmoothPath>,
-    route: Served<ComputeRoute>,
-    route_tracking: Served<ComputeAndTrackRoute>,
+    /// The planner, the smoother and the route server: they plan, and move nothing.
+    planning: Vec<Box<dyn Serving>>,
     /// The controller, the behaviors, the docking server, the navigator through poses,
     /// the following server and assisted teleoperation: the servers that move the robot.
-    motions: Vec<Box<dyn Motion>>,
+    motions: Vec<Box<dyn Serving>>,
     clear_global: ClearServer,
     clear_local: ClearServer,
     regions: [RegionServers; 2],
@@ -918,15 +1005,66 @@ impl SimServers {
             1.0
         };
         let wall_period = sim.params.period.div_f64(scale);
-        let motions: Vec<Box<dyn Motion>> = vec![
-            Box::new(Served::<FollowPath>::new(ros, "follow_path", &registry)?),
-            Box::new(Served::<Spin>::new(ros, "spin", &registry)?),
-            Box::new(Served::<BackUp>::new(ros, "backup", &registry)?),
-            Box::new(Served::<DriveOnHeading>::new(
+        let jazzy = options.release == Nav2Release::Jazzy;
+        let through_poses = "compute_path_through_poses";
+        let planning: Vec<Box<dyn Serving>> = vec![
+            Box::new(Served::<ComputePathToPose>::new(
                 ros,
-                "drive_on_heading",
+                "compute_path_to_pose",
                 &registry,
             )?),
+            if jazzy {
+                Box::new(Served::<ComputePathThroughPoses>::new(
+                    ros,
+                    through_poses,
+                    &registry,
+                )?)
+            } else {
+                Box::new(Served::<kilted::ComputePathThroughPoses>::new(
+                    ros,
+                    through_poses,
+                    &registry,
+                )?)
+            },
+            Box::new(Served::<SmoothPath>::new(ros, "smooth_path", &registry)?),
+            Box::new(Served::<ComputeRoute>::new(
+                ros,
+                "compute_route",
+                &registry,
+            )?),
+            Box::new(Served::<ComputeAndTrackRoute>::new(
+                ros,
+                "compute_and_track_route",
+                &registry,
+            )?),
+        ];
+        let behaviors: [Box<dyn Serving>; 3] = if jazzy {
+            [
+                Box::new(Served::<Spin>::new(ros, "spin", &registry)?),
+                Box::new(Served::<BackUp>::new(ros, "backup", &registry)?),
+                Box::new(Served::<DriveOnHeading>::new(
+                    ros,
+                    "drive_on_heading",
+                    &registry,
+                )?),
+            ]
+        } else {
+            [
+                Box::new(Served::<kilted::Spin>::new(ros, "spin", &registry)?),
+                Box::new(Served::<kilted::BackUp>::new(ros, "backup", &registry)?),
+                Box::new(Served::<kilted::DriveOnHeading>::new(
+                    ros,
+                    "drive_on_heading",
+                    &registry,
+                )?),
+            ]
+        };
+        let [spin, backup, drive_on_heading] = behaviors;
+        let motions: Vec<Box<dyn Serving>> = vec![
+            Box::new(Served::<FollowPath>::new(ros, "follow_path", &registry)?),
+            spin,
+            backup,
+            drive_on_heading,
             Box::new(Served::<Wait>::new(ros, "wait", &registry)?),
             Box::new(Served::<DockRobot>::new(ros, "dock_robot", &registry)?),
             Box::new(Served::<UndockRobot>::new(ros, "undock_robot", &registry)?),
@@ -945,11 +1083,7 @@ impl SimServers {
         let stats = SimStatsHandle::default();
         stats.lock().collision_monitor = sim.collision_monitor();
         let servers = Self {
-            planner: Served::new(ros, "compute_path_to_pose", &registry)?,
-            planner_through_poses: Served::new(ros, "compute_path_through_poses", &registry)?,
-            smoother: Served::new(ros, "smooth_path", &registry)?,
-            route: Served::new(ros, "compute_route", &registry)?,
-            route_tracking: Served::new(ros, "compute_and_track_route", &registry)?,
+            planning,
             motions,
             clear_global: ros.service_server::<ClearEntireCostmap>(CLEAR_GLOBAL_COSTMAP)?,
             clear_local: ros.service_server::<ClearEntireCostmap>(CLEAR_LOCAL_COSTMAP)?,
@@ -1002,11 +1136,10 @@ impl SimServers {
     pub fn spin_once(&mut self) -> Result<(), Ros2Error> {
         let sim = &mut self.sim;
         let stats = &self.stats;
-        let planned = self.planner.poll(sim, stats)?
-            | self.planner_through_poses.poll(sim, stats)?
-            | self.smoother.poll(sim, stats)?
-            | self.route.poll(sim, stats)?
-            | self.route_tracking.poll(sim, stats)?;
+        let mut planned = false;
+        for server in &mut self.planning {
+            planned |= server.poll(sim, stats)?;
+        }
         // The servers that move the robot share it: the newest goal has it.
         let mut moved = Vec::with_capacity(self.motions.len());
         for motion in &mut self.motions {
@@ -1041,11 +1174,9 @@ impl SimServers {
         }
         serve_costs(&self.costs, sim, stats)?;
         serve_switches(&self.toggle, &self.relocalize, sim, stats)?;
-        self.planner.tick(sim, stats);
-        self.planner_through_poses.tick(sim, stats);
-        self.smoother.tick(sim, stats);
-        self.route.tick(sim, stats);
-        self.route_tracking.tick(sim, stats);
+        for server in &mut self.planning {
+            server.tick(sim, stats);
+        }
         for motion in &mut self.motions {
             motion.tick(sim, stats);
         }
