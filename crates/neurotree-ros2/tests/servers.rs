@@ -8,12 +8,14 @@ use std::time::{Duration, Instant};
 
 use common::{free_domain, nav2_tree, node, tick_until_done, Served};
 use neurotree_nav2::robotics::{Path, Pose2D, Route, RouteNode};
+use neurotree_ros2::msg::geometry_msgs::PoseStamped;
 use neurotree_ros2::msg::nav2_msgs::{
     AssistedTeleopResult, ComputeRouteResult, DockRobotResult, FollowObjectResult,
     NavigateThroughPosesResult,
 };
 use neurotree_ros2::msg::std_msgs::Empty;
-use neurotree_ros2::nav2::PREEMPT_TELEOP_TOPIC;
+use neurotree_ros2::nav2::convert::pose_stamped;
+use neurotree_ros2::nav2::{OBJECT_POSE_TOPIC, PREEMPT_TELEOP_TOPIC};
 use neurotree_sim::nav2::{Dock, Nav2Sim, RouteGraph};
 use neurotree_sim::GridWorld;
 use neurotree_toolkit::{Status, Tree};
@@ -264,7 +266,7 @@ fn navigate_through_poses_takes_the_robot_through_each_pose_and_fails_with_the_s
 }
 
 #[test]
-fn follow_object_follows_for_max_duration_and_fails_when_no_object_is_seen() {
+fn follow_object_follows_for_max_duration_fails_unseen_and_follows_a_published_pose() {
     let domain = free_domain();
     let mut sim = hall();
     sim.set_object(Some(Pose2D::new(8.5, 3.5, 0.0)));
@@ -282,10 +284,34 @@ fn follow_object_follows_for_max_duration_and_fails_when_no_object_is_seen() {
     assert!(seen.robot.x > 3.0 && seen.robot.x < 4.0, "{seen:?}");
     drop(served);
     let domain = free_domain();
-    let _served = Served::start(domain.id, hall(), 4.0);
+    let served = Served::start(domain.id, hall(), 4.0);
     let mut tree = nav2_tree(domain.id, r#"<FollowObject error_code_id="{code}"/>"#);
     assert_eq!(tick_until_done(&mut tree, &mut (), LIMIT), Status::Failure);
     assert_eq!(code(&tree), FollowObjectResult::FAILED_TO_DETECT_OBJECT);
+    // A detector publishes the object's pose, behind the robot and down the hall.
+    let detector = node("detector", domain.id);
+    let poses = detector
+        .publisher::<PoseStamped>(OBJECT_POSE_TOPIC)
+        .unwrap();
+    let object = Pose2D::new(1.5, 1.5, 0.0);
+    let mut tree = nav2_tree(
+        domain.id,
+        r#"<FollowObject max_duration="3.0" error_code_id="{code}"/>"#,
+    );
+    let until = Instant::now() + LIMIT;
+    let status = loop {
+        poses.publish(pose_stamped(object)).unwrap();
+        let status = tree.tick_once(&mut ()).unwrap();
+        if status != Status::Running || Instant::now() > until {
+            break status;
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    };
+    let seen = served.stats.get();
+    assert_eq!((status, code(&tree)), (Status::Success, 0), "{seen:?}");
+    // A metre short of the object, on the goal tolerance.
+    let gap = seen.robot.distance(&object);
+    assert!((0.7..=1.3).contains(&gap), "{gap}: {seen:?}");
 }
 
 #[test]

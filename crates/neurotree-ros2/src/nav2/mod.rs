@@ -52,5 +52,5 @@ pub use navigator::{
 pub use odometry::{register_odometry_conditions, ODOM_TOPIC};
 pub use sim_servers::{
     ServerCounts, SimOptions, SimServers, SimStats, SimStatsHandle, CLEAR_GLOBAL_COSTMAP,
-    CLEAR_LOCAL_COSTMAP, GET_COST_LOCAL_COSTMAP, PREEMPT_TELEOP_TOPIC,
+    CLEAR_LOCAL_COSTMAP, GET_COST_LOCAL_COSTMAP, OBJECT_POSE_TOPIC, PREEMPT_TELEOP_TOPIC,
 };

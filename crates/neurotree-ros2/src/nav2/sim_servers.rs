@@ -12,7 +12,7 @@
 //! | route server | actions `compute_route`, `compute_and_track_route` | the cheapest route on the world's [`RouteGraph`](neurotree_sim::nav2::RouteGraph), and the robot tracked along it with feedback (the sim's ComputeRoute, ComputeAndTrackRoute) |
 //! | docking server | actions `dock_robot`, `undock_robot` | dock at one of the world's [`Dock`](neurotree_sim::nav2::Dock)s, back off it (the sim's DockRobot, UndockRobot) |
 //! | navigator | action `navigate_through_poses` | plan and follow through the poses (the sim's NavigateThroughPoses) |
-//! | following server | action `follow_object` | follow the world's object ([`Nav2Sim::set_object`]), a metre behind (the sim's FollowObject) |
+//! | following server | action `follow_object` | follow the world's object ([`Nav2Sim::set_object`]), a metre behind (the sim's FollowObject); a pose on [`OBJECT_POSE_TOPIC`] moves the object (a goal naming another `pose_topic` follows it all the same) |
 //! | behaviors | action `assisted_teleop` | no one drives: the robot stands still until the time allowance runs out (TIMEOUT 731) or a message on [`PREEMPT_TELEOP_TOPIC`] ends it with success |
 //! | collision monitor | service `collision_monitor/toggle` (`nav2_msgs/srv/Toggle`) | turns the world's collision monitor on or off |
 //! | localization | service `reinitialize_global_localization` (`std_srvs/srv/Empty`) | counted: the simulated robot knows where it is |
@@ -775,6 +775,10 @@ where
     }
 }
 
+/// Where the object FollowObject follows is published (FollowObject's default
+/// `pose_topic`): each pose moves the world's object there.
+pub const OBJECT_POSE_TOPIC: &str = "dynamic_pose";
+
 /// The topic on which a person ends assisted teleoperation with success (Nav2's
 /// AssistedTeleop behavior listens on it).
 pub const PREEMPT_TELEOP_TOPIC: &str = "preempt_teleop";
@@ -989,6 +993,7 @@ pub struct SimServers {
     poses: Publisher<PoseStamped>,
     battery: Publisher<BatteryState>,
     odometry: Publisher<Odometry>,
+    object: Subscription<PoseStamped>,
     stats: SimStatsHandle,
     wall_period: Duration,
     clock_running: bool,
@@ -1107,6 +1112,7 @@ impl SimServers {
             poses: ros.publisher(ROBOT_POSE_TOPIC)?,
             battery: ros.publisher(super::BATTERY_TOPIC)?,
             odometry: ros.publisher(super::ODOM_TOPIC)?,
+            object: ros.subscription(OBJECT_POSE_TOPIC)?,
             stats,
             wall_period,
             clock_running: !options.start_on_first_goal,
@@ -1136,6 +1142,14 @@ impl SimServers {
     pub fn spin_once(&mut self) -> Result<(), Ros2Error> {
         let sim = &mut self.sim;
         let stats = &self.stats;
+        let mut seen = None;
+        // A pose lost is replaced by the next one the detector sends.
+        while let Ok(Some((pose, _))) = self.object.take() {
+            seen = Some(pose_2d(&pose));
+        }
+        if seen.is_some() {
+            sim.set_object(seen);
+        }
         let mut planned = false;
         for server in &mut self.planning {
             planned |= server.poll(sim, stats)?;
