@@ -14,7 +14,8 @@
 //! - **RemoveInCollisionGoals**: a sync action. Ports `input_goals`, `cost_threshold`
 //!   (default 254) and the same others; outputs `output_goals`,
 //!   `output_waypoint_statuses`. As Nav2's `remove_in_collision_goals_action.cpp`: no goals
-//!   are written back as they are, Success; otherwise the goals whose cost is below the
+//!   are written back as they are, Failure (Nav2's node sends no request, and its service
+//!   node fails then); otherwise the goals whose cost is below the
 //!   threshold are written, Success (an empty list when all are in collision); a failed
 //!   call writes the goals unchanged, Failure. Waypoint statuses are not kept (see
 //!   [RemovePassedGoals](super::through_poses)).
@@ -117,8 +118,9 @@ fn remove_in_collision_goals<C: Nav2Context>(h: &mut Handle<'_, C>) -> Status {
         return Status::Failure;
     };
     if goals.is_empty() {
+        // Nav2's node sends no request then, and its service node fails.
         ports::emit(h, "output_goals", goals);
-        return Status::Success;
+        return Status::Failure;
     }
     let costs: Option<Vec<f64>> = goals.iter().map(|g| cost_at(h, g)).collect();
     let Some(costs) = costs else {
@@ -176,7 +178,7 @@ mod tests {
         assert_eq!(b.tick(), F);
         assert_eq!(b.get::<Vec<Pose2D>>("out"), [at(1.5), at(-3.0)]);
         b.set("in", Vec::<Pose2D>::new());
-        assert_eq!(b.tick(), S);
+        assert_eq!(b.tick(), F);
         assert_eq!(b.get::<Vec<Pose2D>>("out"), []);
     }
 }
