@@ -88,6 +88,25 @@ fn compute_route_writes_the_servers_route_and_fails_with_its_code() {
         (1, 1),
         "{seen:?}"
     );
+    // Halted while it runs: no route either, as Nav2's node's `halt` resets its outputs.
+    let mut halted = nav2_tree(
+        domain.id,
+        r#"<Parallel success_count="2" failure_count="1">
+             <ComputeRoute start_id="1" goal_id="3" route="{route}"/>
+             <AlwaysFailure/>
+           </Parallel>"#,
+    );
+    let stale = Route {
+        nodes: vec![RouteNode::new(1, 1.5, 3.5)],
+        ..Route::default()
+    };
+    halted.blackboard_mut().set("route", stale).unwrap();
+    assert_eq!(halted.tick_once(&mut ()).unwrap(), Status::Failure);
+    assert!(halted
+        .blackboard()
+        .get::<Route>("route")
+        .unwrap()
+        .is_empty());
 }
 
 #[test]

@@ -13,7 +13,7 @@
 //! | DriveOnHeading | `drive_on_heading` | `dist_to_travel`, `speed`, `time_allowance` | | |
 //! | Wait | `wait` | `wait_duration` | | |
 //! | AssistedTeleop | `assisted_teleop` | `time_allowance`, `is_recovery` | | aborted: Success unless `is_recovery` (Nav2's) |
-//! | ComputeRoute | `compute_route` | `start_id`, `goal_id`, or with `use_poses` `goal` and (`use_start`) `start` | writes `route`, `path`, `planning_time` | empties `route`, `path` |
+//! | ComputeRoute | `compute_route` | `start_id`, `goal_id`, or with `use_poses` `goal` and (`use_start`) `start` | writes `route`, `path`, `planning_time` | empties `route`, `path` (halted too, as Nav2's) |
 //! | ComputeAndTrackRoute | `compute_and_track_route` | as ComputeRoute | feedback to `last_node_id`, `next_node_id`, `current_edge_id`, `route`, `path`, `rerouted`; at the end they are reset and `execution_duration` written | the same, `execution_duration` 0 |
 //! | DockRobot | `dock_robot` | `dock_id`, or without `use_dock_id` `dock_pose`, `dock_type`, `max_staging_time`; `navigate_to_staging_pose` | writes `success`, `num_retries` | the same, from the server's result |
 //! | UndockRobot | `undock_robot` | `dock_type`, `max_undocking_time` | writes `success` | the same |
@@ -1156,6 +1156,11 @@ impl<C: 'static> ActionSpec<C> for RouteOnce {
 
     fn goal(&mut self, h: &mut Handle<'_, C>) -> Result<ComputeRouteGoal, String> {
         route_goal(h)
+    }
+
+    fn on_halt(&mut self, h: &mut Handle<'_, C>) {
+        // As Nav2's node's `halt`.
+        Self::reset(h);
     }
 
     fn on_result(&mut self, h: &mut Handle<'_, C>, result: &ComputeRouteResult) -> Status {

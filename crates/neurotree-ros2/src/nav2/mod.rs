@@ -26,8 +26,7 @@
 //! - The navigator follows the robot from the simulator's `robot_pose` topic rather than
 //!   from TF.
 //! - ComputeAndTrackRoute does not send a new goal when its inputs change while it runs
-//!   (Nav2's does); it takes them when it starts again. ComputeRoute's outputs are not
-//!   reset when it is halted, only when it fails or is cancelled.
+//!   (Nav2's does); it takes them when it starts again.
 //! - RemoveInCollisionGoals keeps no waypoint statuses (`output_waypoint_statuses` is not
 //!   written), as in the simulator.
 

@@ -89,6 +89,10 @@ pub trait ActionSpec<C>: Send + 'static {
         result: &<Self::Action as RosAction>::Result,
     ) -> Status;
 
+    /// The node was halted while it ran (its goal, if sent, is then cancelled). Nothing by
+    /// default.
+    fn on_halt(&mut self, _h: &mut Handle<'_, C>) {}
+
     /// The node failed for `error`; `result` is the server's when it aborted or cancelled
     /// the goal. Failure by default.
     fn on_failure(
@@ -467,7 +471,8 @@ impl<C: 'static, S: ActionSpec<C>> StatefulAction<C> for RosActionNode<C, S> {
         self.step(h)
     }
 
-    fn on_halted(&mut self, _h: &mut Handle<'_, C>) {
+    fn on_halted(&mut self, h: &mut Handle<'_, C>) {
+        self.spec.on_halt(h);
         let goal_id = match std::mem::replace(&mut self.phase, Phase::Idle) {
             Phase::WaitingForAcceptance { goal_id, .. } | Phase::Executing { goal_id, .. } => {
                 goal_id
