@@ -375,3 +375,69 @@ fn assisted_teleop_times_out_as_nav2s_and_fails_only_as_a_recovery() {
         "{seen:?}"
     );
 }
+
+#[test]
+fn a_new_path_or_route_goal_while_the_goal_runs_is_sent_in_its_place_as_nav2s() {
+    let domain = free_domain();
+    let served = Served::start(domain.id, hall().with_route_graph(graph()), 4.0);
+    let row = |to: f64| {
+        let poses = (0..)
+            .map(|i| 1.5 + f64::from(i))
+            .take_while(|x| *x <= to)
+            .map(|x| Pose2D::new(x, 3.5, 0.0));
+        Path::new(poses.collect())
+    };
+    let mut tree = nav2_tree(
+        domain.id,
+        r#"<FollowPath path="{path}" error_code_id="{code}"/>"#,
+    );
+    tree.blackboard_mut().set("path", row(12.5)).unwrap();
+    let until = Instant::now() + LIMIT;
+    let mut replaced = false;
+    let status = loop {
+        let status = tree.tick_once(&mut ()).unwrap();
+        if status != Status::Running || Instant::now() > until {
+            break status;
+        }
+        // A metre on, the path is replanned to end at x = 4.5.
+        if !replaced && served.stats.get().robot.x > 2.5 {
+            tree.blackboard_mut().set("path", row(4.5)).unwrap();
+            replaced = true;
+        }
+        std::thread::sleep(Duration::from_millis(10));
+    };
+    let seen = served.stats.get();
+    assert_eq!((status, code(&tree)), (Status::Success, 0), "{seen:?}");
+    assert_eq!(seen.controller.goals, 2, "{seen:?}");
+    assert!(
+        seen.robot.distance(&Pose2D::new(4.5, 3.5, 0.0)) <= 0.25,
+        "{seen:?}"
+    );
+    // The route tracker: another goal node makes a new goal, whose route the feedback gives.
+    let mut tree = nav2_tree(
+        domain.id,
+        r#"<ComputeAndTrackRoute start_id="1" goal_id="{to}" route="{route}"/>"#,
+    );
+    tree.blackboard_mut().set("to", 3_u16).unwrap();
+    let until = Instant::now() + LIMIT;
+    let mut ends = Vec::new();
+    while Instant::now() < until {
+        assert_eq!(tree.tick_once(&mut ()).unwrap(), Status::Running);
+        if served.stats.get().route_tracking.goals == 1 {
+            tree.blackboard_mut().set("to", 2_u16).unwrap();
+        }
+        if let Ok(route) = tree.blackboard().get::<Route>("route") {
+            if let Some(end) = route.nodes.last().map(|n| n.id) {
+                if ends.last() != Some(&end) {
+                    ends.push(end);
+                }
+            }
+        }
+        if ends.last() == Some(&2) {
+            break;
+        }
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    assert_eq!(ends.last(), Some(&2), "{ends:?}");
+    assert_eq!(served.stats.get().route_tracking.goals, 2);
+}

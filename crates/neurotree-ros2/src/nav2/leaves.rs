@@ -41,9 +41,9 @@
 //! `server_name`; here, as in BehaviorTree.ROS2, it is `action_name` (`server_name` is
 //! declared and not read).
 //!
-//! Unlike Nav2's FollowPath, a new `path` while the goal runs is not sent to the controller:
-//! the node follows the path it started with, and takes up the newest one when it starts
-//! again.
+//! As Nav2's, FollowPath sends a new goal in place of the running one when `path` (not
+//! empty) or one of its plugin ids changes while it runs, and ComputeAndTrackRoute when one
+//! of its inputs does; the server preempts the running goal.
 
 use std::marker::PhantomData;
 use std::time::Duration;
@@ -146,7 +146,7 @@ pub fn register_nav2_ros_leaves_for<C: 'static>(
     register_action(registry, "NavigateToPose", ros, "navigate_to_pose", || {
         Navigate
     })?;
-    register_action(registry, "FollowPath", ros, "follow_path", || Follow)?;
+    register_action(registry, "FollowPath", ros, "follow_path", Follow::default)?;
     if jazzy {
         register_action(registry, "Spin", ros, "spin", SpinBy::<Spin>::default)?;
         register_action(
@@ -173,7 +173,7 @@ pub fn register_nav2_ros_leaves_for<C: 'static>(
         "ComputeAndTrackRoute",
         ros,
         "compute_and_track_route",
-        || TrackRoute,
+        TrackRoute::default,
     )?;
     register_action(registry, "DockRobot", ros, "dock_robot", || Dock)?;
     register_action(registry, "UndockRobot", ros, "undock_robot", || Undock)?;
@@ -635,7 +635,22 @@ impl<C: 'static> ActionSpec<C> for Navigate {
 }
 
 /// FollowPath: the controller server drives along `path`.
-struct Follow;
+#[derive(Default)]
+struct Follow {
+    /// The goal sent last, to tell a new path or plugin from it.
+    sent: Option<FollowPathGoal>,
+}
+
+impl Follow {
+    fn read<C>(h: &Handle<'_, C>, path: Path) -> Result<FollowPathGoal, String> {
+        Ok(FollowPathGoal {
+            path: path_msg(&path),
+            controller_id: optional(h, "controller_id")?.unwrap_or_default(),
+            goal_checker_id: optional(h, "goal_checker_id")?.unwrap_or_default(),
+            progress_checker_id: optional(h, "progress_checker_id")?.unwrap_or_default(),
+        })
+    }
+}
 
 impl<C: 'static> ActionSpec<C> for Follow {
     type Action = FollowPath;
@@ -658,13 +673,29 @@ impl<C: 'static> ActionSpec<C> for Follow {
     }
 
     fn goal(&mut self, h: &mut Handle<'_, C>) -> Result<FollowPathGoal, String> {
-        let path: Path = required(h, "path")?;
-        Ok(FollowPathGoal {
-            path: path_msg(&path),
-            controller_id: optional(h, "controller_id")?.unwrap_or_default(),
-            goal_checker_id: optional(h, "goal_checker_id")?.unwrap_or_default(),
-            progress_checker_id: optional(h, "progress_checker_id")?.unwrap_or_default(),
-        })
+        let goal = Self::read(h, required(h, "path")?)?;
+        self.sent = Some(goal.clone());
+        Ok(goal)
+    }
+
+    fn updated_goal(&mut self, h: &mut Handle<'_, C>) -> Option<FollowPathGoal> {
+        // As Nav2's `on_wait_for_result`: a new non-empty path, or another plugin.
+        let sent = self.sent.as_ref()?;
+        let path = optional::<C, Path>(h, "path").ok().flatten();
+        let mut goal = Self::read(h, Path::default()).ok()?;
+        goal.path = match path {
+            Some(path) if !path.poses.is_empty() => path_msg(&path),
+            _ => sent.path.clone(),
+        };
+        let changed = goal.path != sent.path
+            || goal.controller_id != sent.controller_id
+            || goal.goal_checker_id != sent.goal_checker_id
+            || goal.progress_checker_id != sent.progress_checker_id;
+        if !changed {
+            return None;
+        }
+        self.sent = Some(goal.clone());
+        Some(goal)
     }
 
     fn on_result(&mut self, h: &mut Handle<'_, C>, result: &FollowPathResult) -> Status {
@@ -1189,7 +1220,11 @@ impl<C: 'static> ActionSpec<C> for RouteOnce {
 
 /// ComputeAndTrackRoute: the route server's route, then where the robot is along it, from
 /// the server's feedback, until the robot reaches its end.
-struct TrackRoute;
+#[derive(Default)]
+struct TrackRoute {
+    /// The goal sent last, to tell new inputs from it.
+    sent: Option<ComputeAndTrackRouteGoal>,
+}
 
 impl TrackRoute {
     /// As Nav2's `resetFeedbackAndOutputPorts`, when the goal ends whichever way.
@@ -1224,14 +1259,27 @@ impl<C: 'static> ActionSpec<C> for TrackRoute {
 
     fn goal(&mut self, h: &mut Handle<'_, C>) -> Result<ComputeAndTrackRouteGoal, String> {
         let goal = route_goal(h)?;
-        Ok(ComputeAndTrackRouteGoal {
+        let goal = ComputeAndTrackRouteGoal {
             start_id: goal.start_id,
             start: goal.start,
             goal_id: goal.goal_id,
             goal: goal.goal,
             use_start: goal.use_start,
             use_poses: goal.use_poses,
-        })
+        };
+        self.sent = Some(goal.clone());
+        Ok(goal)
+    }
+
+    fn updated_goal(&mut self, h: &mut Handle<'_, C>) -> Option<ComputeAndTrackRouteGoal> {
+        // As Nav2's `on_wait_for_result`: other inputs make a new goal.
+        let sent = self.sent.as_ref()?;
+        let goal = ActionSpec::<C>::goal(&mut TrackRoute::default(), h).ok()?;
+        if goal == *sent {
+            return None;
+        }
+        self.sent = Some(goal.clone());
+        Some(goal)
     }
 
     fn on_feedback(

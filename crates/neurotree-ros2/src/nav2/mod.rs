@@ -14,8 +14,6 @@
 //!
 //! # Where it is simpler than Nav2
 //!
-//! - A path planned again while FollowPath runs is taken when FollowPath next starts; Nav2
-//!   sends it to the running controller.
 //! - A navigator runs one tree; a goal naming another `behavior_tree` is aborted with
 //!   FAILED_TO_LOAD_BEHAVIOR_TREE.
 //! - One goal at a time: a cancel applies to the running goal (ros2-client does not give
@@ -25,8 +23,6 @@
 //!   `estimated_time_remaining` is always zero.
 //! - The navigator follows the robot from the simulator's `robot_pose` topic rather than
 //!   from TF.
-//! - ComputeAndTrackRoute does not send a new goal when its inputs change while it runs
-//!   (Nav2's does); it takes them when it starts again.
 //! - RemoveInCollisionGoals keeps no waypoint statuses (`output_waypoint_statuses` is not
 //!   written), as in the simulator.
 
