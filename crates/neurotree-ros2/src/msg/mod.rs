@@ -105,6 +105,20 @@ mod tests {
     }
 
     #[test]
+    fn mains_clearing_requests_name_plugins_after_the_square() {
+        use super::nav2_msgs::main;
+        let request = main::ClearCostmapAroundRobotRequest {
+            reset_distance: 2.0,
+            plugins: vec!["obstacle_layer".into()],
+        };
+        let mut expected = 2.0f32.to_le_bytes().to_vec();
+        expected.extend(1u32.to_le_bytes());
+        expected.extend(cdr(&String::from("obstacle_layer").data));
+        assert_eq!(cdr(&request), expected);
+        assert_eq!(cdr(&main::ClearResponse { success: true }), [1]);
+    }
+
+    #[test]
     fn odometry_covariances_are_36_float64_without_a_length() {
         let mut odometry = Odometry {
             header: Header {

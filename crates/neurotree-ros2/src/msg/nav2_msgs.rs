@@ -10,10 +10,10 @@
 //! `nav_msgs/Goals` and reports waypoint statuses), have Nav2 main's layout: the route
 //! server's, the docking server's, FollowObject, AssistedTeleop, GetCosts and Toggle.
 //!
+//! [`main`] has the costmap clearing services as main changed them (`plugins`, `success`).
 //! Main changed more than this crate follows: ComputePathToPose's goal gained `viapoints`,
 //! FollowPath's goal `path_handler_id` and its feedback a `TrackingFeedback`,
-//! NavigateToPose's feedback the tracking errors, ClearCostmapAroundPose's request
-//! `plugins` (and its response a `success`), ComputePathThroughPoses's result
+//! NavigateToPose's feedback the tracking errors, ComputePathThroughPoses's result
 //! `last_reached_index`; those messages have Jazzy's (and Kilted's) layout here.
 
 use serde::{Deserialize, Serialize};
@@ -1258,5 +1258,97 @@ pub mod kilted {
         pub planner_id: String,
         /// `false`: start at the robot's current pose.
         pub use_start: bool,
+    }
+}
+
+/// The costmap clearing services as Nav2 main has them: each request names the costmap
+/// `plugins` to clear (all of them when empty), and the response says whether they were
+/// cleared. Each service has the same ROS 2 name as the Jazzy one of the parent module.
+pub mod main {
+    use serde::{Deserialize, Serialize};
+
+    use super::super::geometry_msgs::PoseStamped;
+    use crate::RosService;
+
+    /// Declares a clearing service answered by a [`ClearResponse`].
+    macro_rules! clearing_main {
+        ($(#[$doc:meta])* $name:ident: $request:ident) => {
+            $(#[$doc])*
+            #[derive(Clone, Copy, Debug)]
+            pub struct $name;
+
+            impl RosService for $name {
+                type Request = $request;
+                type Response = ClearResponse;
+                const TYPE: (&'static str, &'static str) = ("nav2_msgs", stringify!($name));
+            }
+
+            impl ros2_client::Message for $request {}
+        };
+    }
+
+    /// The response of main's clearing services.
+    #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+    pub struct ClearResponse {
+        /// The plugins were cleared.
+        pub success: bool,
+    }
+
+    impl ros2_client::Message for ClearResponse {}
+
+    clearing_main!(
+        /// `nav2_msgs/srv/ClearEntireCostmap`, main's: a costmap forgets every obstacle.
+        ClearEntireCostmap: ClearEntireCostmapRequest
+    );
+
+    /// The request of [`ClearEntireCostmap`].
+    #[derive(Clone, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+    pub struct ClearEntireCostmapRequest {
+        /// The plugins to clear; empty for all.
+        pub plugins: Vec<String>,
+    }
+
+    clearing_main!(
+        /// `nav2_msgs/srv/ClearCostmapAroundRobot`, main's.
+        ClearCostmapAroundRobot: ClearCostmapAroundRobotRequest
+    );
+
+    /// The request of [`ClearCostmapAroundRobot`].
+    #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+    pub struct ClearCostmapAroundRobotRequest {
+        /// The square's side, in metres.
+        pub reset_distance: f32,
+        /// The plugins to clear; empty for all.
+        pub plugins: Vec<String>,
+    }
+
+    clearing_main!(
+        /// `nav2_msgs/srv/ClearCostmapExceptRegion`, main's.
+        ClearCostmapExceptRegion: ClearCostmapExceptRegionRequest
+    );
+
+    /// The request of [`ClearCostmapExceptRegion`].
+    #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+    pub struct ClearCostmapExceptRegionRequest {
+        /// The square's side, in metres.
+        pub reset_distance: f32,
+        /// The plugins to clear; empty for all.
+        pub plugins: Vec<String>,
+    }
+
+    clearing_main!(
+        /// `nav2_msgs/srv/ClearCostmapAroundPose`, main's.
+        ClearCostmapAroundPose: ClearCostmapAroundPoseRequest
+    );
+
+    /// The request of [`ClearCostmapAroundPose`].
+    #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+    pub struct ClearCostmapAroundPoseRequest {
+        /// The square's centre.
+        pub pose: PoseStamped,
+        /// The square's side, in metres.
+        pub reset_distance: f64,
+        /// The plugins to clear; empty for all.
+        pub plugins: Vec<String>,
     }
 }

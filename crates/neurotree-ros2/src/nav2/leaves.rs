@@ -36,8 +36,9 @@
 //!
 //! Ports that name Nav2 plugins the simulator does not have (`path_handler_id`,
 //! `is_recovery` of Spin, `disable_collision_checks`, `plugins`) are declared, so that Nav2's files
-//! load, and sent where the goal has a field for them (`disable_collision_checks` in the
-//! goals of Kilted and main: [`register_nav2_ros_leaves_for`]). Nav2 names the server with
+//! load, and sent where the message has a field for them (`disable_collision_checks` in the
+//! goals of Kilted and main, `plugins` in main's clearing requests:
+//! [`register_nav2_ros_leaves_for`]). Nav2 names the server with
 //! `server_name`; here, as in BehaviorTree.ROS2, it is `action_name` (`server_name` is
 //! declared and not read).
 //!
@@ -52,6 +53,7 @@ use neurotree_nav2::robotics::{Path, Pose2D, Route};
 use neurotree_nav2::Nav2Release;
 use neurotree_toolkit::{Handle, PortError, PortSpec, Registry, RegistryError, Status};
 
+use super::clearing::ClearLayout;
 use super::convert::{goals_msg, path_2d, path_msg, pose_stamped, route_2d};
 use crate::msg::builtin_interfaces::Duration as MsgDuration;
 use crate::msg::geometry_msgs::{Point, PoseStamped};
@@ -65,14 +67,12 @@ use crate::msg::nav2_msgs::{
     Toggle, ToggleRequest, ToggleResponse, UndockRobot, UndockRobotGoal, UndockRobotResult,
 };
 use crate::msg::nav2_msgs::{
-    BackUp, BackUpGoal, BackUpResult, ClearCostmapAroundPose, ClearCostmapAroundPoseRequest,
-    ClearCostmapAroundPoseResponse, ClearCostmapAroundRobot, ClearCostmapAroundRobotRequest,
-    ClearCostmapAroundRobotResponse, ClearCostmapExceptRegion, ClearCostmapExceptRegionRequest,
-    ClearCostmapExceptRegionResponse, ClearEntireCostmap, ClearEntireCostmapRequest,
-    ClearEntireCostmapResponse, ComputePathThroughPoses, ComputePathThroughPosesGoal,
-    ComputePathThroughPosesResult, ComputePathToPose, ComputePathToPoseGoal,
-    ComputePathToPoseResult, DriveOnHeading, DriveOnHeadingGoal, DriveOnHeadingResult, FollowPath,
-    FollowPathGoal, FollowPathResult, Spin, SpinGoal, SpinResult, Wait, WaitGoal, WaitResult,
+    BackUp, BackUpGoal, BackUpResult, ClearCostmapAroundPose, ClearCostmapAroundRobot,
+    ClearCostmapExceptRegion, ClearEntireCostmap, ComputePathThroughPoses,
+    ComputePathThroughPosesGoal, ComputePathThroughPosesResult, ComputePathToPose,
+    ComputePathToPoseGoal, ComputePathToPoseResult, DriveOnHeading, DriveOnHeadingGoal,
+    DriveOnHeadingResult, FollowPath, FollowPathGoal, FollowPathResult, Spin, SpinGoal, SpinResult,
+    Wait, WaitGoal, WaitResult,
 };
 use crate::msg::nav2_msgs::{
     NavigateToPose, NavigateToPoseGoal, NavigateToPoseResult, SmoothPath, SmoothPathGoal,
@@ -116,11 +116,13 @@ pub fn register_nav2_ros_leaves<C: 'static>(
     register_nav2_ros_leaves_for(registry, ros, Nav2Release::default())
 }
 
-/// [`register_nav2_ros_leaves`] speaking the goals of Nav2 `release`: Jazzy's Spin,
+/// [`register_nav2_ros_leaves`] speaking the layouts of Nav2 `release`: Jazzy's Spin,
 /// BackUp, DriveOnHeading and ComputePathThroughPoses goals, or those of Kilted (and main),
 /// which add `disable_collision_checks` to the behaviors' and take ComputePathThroughPoses's
-/// goals as a `nav_msgs/Goals` ([`kilted`](crate::msg::nav2_msgs::kilted)). The other messages have one layout whatever
-/// the release (see [`nav2_msgs`](crate::msg::nav2_msgs)).
+/// goals as a `nav_msgs/Goals` ([`kilted`](crate::msg::nav2_msgs::kilted)); and Jazzy's
+/// (and Kilted's) costmap clearings, or main's, which send `plugins` and fail on an
+/// unsuccessful answer ([`main`](crate::msg::nav2_msgs::main)). The other messages have
+/// one layout whatever the release (see [`nav2_msgs`](crate::msg::nav2_msgs)).
 pub fn register_nav2_ros_leaves_for<C: 'static>(
     registry: &mut Registry<C>,
     ros: &RosNode,
@@ -190,40 +192,24 @@ pub fn register_nav2_ros_leaves_for<C: 'static>(
     register_action(registry, "AssistedTeleop", ros, "assisted_teleop", || {
         Teleop::default()
     })?;
-    let ros_node = ros.clone();
-    let name = "local_costmap/clear_entirely_local_costmap";
-    let ports = with_wait_default(RosServiceNode::<C, ClearCostmap>::ports(name));
-    registry.register_stateful("ClearEntireCostmap", ports, move || {
-        RosServiceNode::new(ros_node.clone(), name, ClearCostmap)
-    })?;
-    registry.describe(
-        "ClearEntireCostmap",
-        "Asks the costmap server `service_name` to forget every obstacle.",
-    );
-    register_service(
-        registry,
-        "ClearCostmapAroundRobot",
-        ros,
-        "local_costmap/clear_around_local_costmap",
-        || ClearAround,
-        "Asks the costmap server `service_name` to forget the obstacles around the robot.",
-    )?;
-    register_service(
-        registry,
-        "ClearCostmapExceptRegion",
-        ros,
-        "local_costmap/clear_except_local_costmap",
-        || ClearExcept,
-        "Asks the costmap server `service_name` to forget the obstacles away from the robot.",
-    )?;
-    register_service(
-        registry,
-        "ClearCostmapAroundPose",
-        ros,
-        "local_costmap/clear_around_pose_local_costmap",
-        || ClearAroundPose,
-        "Asks the costmap server `service_name` to forget the obstacles around `pose`.",
-    )?;
+    if release == Nav2Release::Main {
+        use crate::msg::nav2_msgs::main;
+        register_clearings::<
+            C,
+            main::ClearEntireCostmap,
+            main::ClearCostmapAroundRobot,
+            main::ClearCostmapExceptRegion,
+            main::ClearCostmapAroundPose,
+        >(registry, ros)?;
+    } else {
+        register_clearings::<
+            C,
+            ClearEntireCostmap,
+            ClearCostmapAroundRobot,
+            ClearCostmapExceptRegion,
+            ClearCostmapAroundPose,
+        >(registry, ros)?;
+    }
     register_service(
         registry,
         "CheckPoseOccupancy",
@@ -995,126 +981,106 @@ impl<C: 'static> ActionSpec<C> for WaitFor {
     }
 }
 
-/// ClearEntireCostmap: the costmap server forgets every obstacle.
-struct ClearCostmap;
+/// A clearing leaf: ClearEntireCostmap, ClearCostmapAroundRobot, ClearCostmapExceptRegion
+/// or ClearCostmapAroundPose, in the layout `S` of a release. As Nav2 main's, an answer
+/// that the plugins were not cleared fails the node.
+struct Clear<S>(PhantomData<fn() -> S>);
 
-impl<C: 'static> ServiceSpec<C> for ClearCostmap {
-    type Service = ClearEntireCostmap;
+impl<S> Default for Clear<S> {
+    fn default() -> Self {
+        Self(PhantomData)
+    }
+}
+
+impl<C: 'static, S: ClearLayout> ServiceSpec<C> for Clear<S> {
+    type Service = S;
 
     fn ports() -> Vec<PortSpec> {
-        vec![PortSpec::input::<Vec<String>>("plugins")
-            .describe("The costmap plugins to clear (unused: all of them).")]
+        let mut ports = Vec::new();
+        if S::POSE {
+            ports.push(PortSpec::input::<Pose2D>("pose").describe("The square's centre."));
+        }
+        if S::SQUARE {
+            ports.push(
+                PortSpec::input::<f64>("reset_distance")
+                    .default_value("1.0")
+                    .describe("The square's side, in metres."),
+            );
+        }
+        ports.push(PortSpec::input::<Vec<String>>("plugins").describe(
+            "The costmap plugins to clear; empty for all (sent in Nav2 main's layout only).",
+        ));
+        ports
     }
 
-    fn request(&mut self, _h: &mut Handle<'_, C>) -> Result<ClearEntireCostmapRequest, String> {
-        Ok(ClearEntireCostmapRequest::default())
-    }
-
-    fn on_response(
-        &mut self,
-        _h: &mut Handle<'_, C>,
-        _response: &ClearEntireCostmapResponse,
-    ) -> Status {
-        Status::Success
-    }
-}
-
-fn reset_distance() -> PortSpec {
-    PortSpec::input::<f64>("reset_distance")
-        .default_value("1.0")
-        .describe("The square's side, in metres.")
-}
-
-fn plugins() -> PortSpec {
-    PortSpec::input::<Vec<String>>("plugins")
-        .describe("The costmap plugins to clear (unused: all of them).")
-}
-
-/// ClearCostmapAroundRobot: the costmap server forgets the obstacles around the robot.
-struct ClearAround;
-
-impl<C: 'static> ServiceSpec<C> for ClearAround {
-    type Service = ClearCostmapAroundRobot;
-
-    fn ports() -> Vec<PortSpec> {
-        vec![reset_distance(), plugins()]
-    }
-
-    fn request(&mut self, h: &mut Handle<'_, C>) -> Result<ClearCostmapAroundRobotRequest, String> {
+    fn request(&mut self, h: &mut Handle<'_, C>) -> Result<S::Request, String> {
+        let pose = if S::POSE {
+            pose_stamped(required(h, "pose")?)
+        } else {
+            PoseStamped::default()
+        };
         let distance: f64 = optional(h, "reset_distance")?.unwrap_or(1.0);
-        Ok(ClearCostmapAroundRobotRequest {
-            reset_distance: distance as f32,
-        })
+        let plugins: Vec<String> = optional(h, "plugins")?.unwrap_or_default();
+        Ok(S::request(pose, distance, plugins))
     }
 
-    fn on_response(
-        &mut self,
-        _h: &mut Handle<'_, C>,
-        _: &ClearCostmapAroundRobotResponse,
-    ) -> Status {
-        Status::Success
-    }
-}
-
-/// ClearCostmapExceptRegion: the costmap server forgets the obstacles away from the robot.
-struct ClearExcept;
-
-impl<C: 'static> ServiceSpec<C> for ClearExcept {
-    type Service = ClearCostmapExceptRegion;
-
-    fn ports() -> Vec<PortSpec> {
-        vec![reset_distance(), plugins()]
-    }
-
-    fn request(
-        &mut self,
-        h: &mut Handle<'_, C>,
-    ) -> Result<ClearCostmapExceptRegionRequest, String> {
-        let distance: f64 = optional(h, "reset_distance")?.unwrap_or(1.0);
-        Ok(ClearCostmapExceptRegionRequest {
-            reset_distance: distance as f32,
-        })
-    }
-
-    fn on_response(
-        &mut self,
-        _h: &mut Handle<'_, C>,
-        _: &ClearCostmapExceptRegionResponse,
-    ) -> Status {
-        Status::Success
+    fn on_response(&mut self, h: &mut Handle<'_, C>, response: &S::Response) -> Status {
+        if S::cleared(response) {
+            Status::Success
+        } else {
+            emit(
+                h,
+                "error_msg",
+                "the costmap did not clear its layers".to_owned(),
+            );
+            Status::Failure
+        }
     }
 }
 
-/// ClearCostmapAroundPose: the costmap server forgets the obstacles around `pose`.
-struct ClearAroundPose;
-
-impl<C: 'static> ServiceSpec<C> for ClearAroundPose {
-    type Service = ClearCostmapAroundPose;
-
-    fn ports() -> Vec<PortSpec> {
-        vec![
-            PortSpec::input::<Pose2D>("pose").describe("The square's centre."),
-            reset_distance(),
-            plugins(),
-        ]
-    }
-
-    fn request(&mut self, h: &mut Handle<'_, C>) -> Result<ClearCostmapAroundPoseRequest, String> {
-        let pose: Pose2D = required(h, "pose")?;
-        let distance: f64 = optional(h, "reset_distance")?.unwrap_or(1.0);
-        Ok(ClearCostmapAroundPoseRequest {
-            pose: pose_stamped(pose),
-            reset_distance: distance,
-        })
-    }
-
-    fn on_response(
-        &mut self,
-        _h: &mut Handle<'_, C>,
-        _: &ClearCostmapAroundPoseResponse,
-    ) -> Status {
-        Status::Success
-    }
+/// Registers the four clearing leaves in the layouts `E`, `A`, `X` and `P`.
+fn register_clearings<C: 'static, E, A, X, P>(
+    registry: &mut Registry<C>,
+    ros: &RosNode,
+) -> Result<(), RegistryError>
+where
+    E: ClearLayout,
+    A: ClearLayout,
+    X: ClearLayout,
+    P: ClearLayout,
+{
+    register_service(
+        registry,
+        "ClearEntireCostmap",
+        ros,
+        "local_costmap/clear_entirely_local_costmap",
+        Clear::<E>::default,
+        "Asks the costmap server `service_name` to forget every obstacle.",
+    )?;
+    register_service(
+        registry,
+        "ClearCostmapAroundRobot",
+        ros,
+        "local_costmap/clear_around_local_costmap",
+        Clear::<A>::default,
+        "Asks the costmap server `service_name` to forget the obstacles around the robot.",
+    )?;
+    register_service(
+        registry,
+        "ClearCostmapExceptRegion",
+        ros,
+        "local_costmap/clear_except_local_costmap",
+        Clear::<X>::default,
+        "Asks the costmap server `service_name` to forget the obstacles away from the robot.",
+    )?;
+    register_service(
+        registry,
+        "ClearCostmapAroundPose",
+        ros,
+        "local_costmap/clear_around_pose_local_costmap",
+        Clear::<P>::default,
+        "Asks the costmap server `service_name` to forget the obstacles around `pose`.",
+    )
 }
 
 /// The route ports both route nodes read.

@@ -28,6 +28,7 @@
 
 mod battery;
 mod cancels;
+mod clearing;
 pub mod convert;
 mod goal_server;
 mod leaves;

@@ -43,6 +43,7 @@ use ros2_client::action::GoalStatusEnum;
 use ros2_client::service::Server;
 use ros2_client::{Publisher, Subscription};
 
+use super::clearing::ClearLayout;
 use super::convert::{goals_2d, path_2d, path_msg, pose_2d, pose_stamped, route_msg};
 use super::goal_server::{GoalServer, Request};
 use super::navigator::{NavigatorError, ROBOT_POSE_TOPIC};
@@ -53,27 +54,25 @@ use crate::msg::nav2_msgs::{
     kilted, BackUpGoal, ComputePathThroughPosesGoal, DriveOnHeadingGoal, SpinGoal,
 };
 use crate::msg::nav2_msgs::{
+    main, BackUp, BackUpResult, ClearCostmapAroundPose, ClearCostmapAroundRobot,
+    ClearCostmapExceptRegion, ClearEntireCostmap, ComputePathThroughPoses,
+    ComputePathThroughPosesResult, ComputePathToPose, ComputePathToPoseResult, DriveOnHeading,
+    DriveOnHeadingResult, FollowPath, FollowPathFeedback, FollowPathResult, Spin, SpinResult, Wait,
+    WaitResult,
+};
+use crate::msg::nav2_msgs::{
     AssistedTeleop, AssistedTeleopFeedback, AssistedTeleopResult, ComputeAndTrackRoute,
     ComputeAndTrackRouteFeedback, ComputeAndTrackRouteResult, ComputeRoute, ComputeRouteResult,
     DockRobot, DockRobotResult, FollowObject, FollowObjectResult, GetCosts, GetCostsRequest,
     GetCostsResponse, NavigateThroughPoses, NavigateThroughPosesResult, Toggle, ToggleRequest,
     ToggleResponse, UndockRobot, UndockRobotResult,
 };
-use crate::msg::nav2_msgs::{
-    BackUp, BackUpResult, ClearCostmapAroundPose, ClearCostmapAroundPoseRequest,
-    ClearCostmapAroundPoseResponse, ClearCostmapAroundRobot, ClearCostmapAroundRobotRequest,
-    ClearCostmapAroundRobotResponse, ClearCostmapExceptRegion, ClearCostmapExceptRegionRequest,
-    ClearCostmapExceptRegionResponse, ClearEntireCostmap, ClearEntireCostmapRequest,
-    ClearEntireCostmapResponse, ComputePathThroughPoses, ComputePathThroughPosesResult,
-    ComputePathToPose, ComputePathToPoseResult, DriveOnHeading, DriveOnHeadingResult, FollowPath,
-    FollowPathFeedback, FollowPathResult, Spin, SpinResult, Wait, WaitResult,
-};
 use crate::msg::nav2_msgs::{SmoothPath, SmoothPathResult};
 use crate::msg::nav_msgs::Odometry;
 use crate::msg::sensor_msgs::BatteryState;
 use crate::msg::std_msgs::{Empty, Header};
 use crate::msg::std_srvs::{self, EmptyRequest, EmptyResponse};
-use crate::{Ros2Error, RosAction, RosNode};
+use crate::{Ros2Error, RosAction, RosNode, RosService};
 
 /// The global costmap's clearing service.
 pub const CLEAR_GLOBAL_COSTMAP: &str = "global_costmap/clear_entirely_global_costmap";
@@ -177,7 +176,7 @@ pub struct SimOptions {
     /// are timed from the start of the navigation, however long the navigator took to
     /// come up.
     pub start_on_first_goal: bool,
-    /// The Nav2 release whose goal layouts the servers read (see
+    /// The Nav2 release whose goal and clearing layouts the servers read (see
     /// [`register_nav2_ros_leaves_for`](super::register_nav2_ros_leaves_for)).
     pub release: Nav2Release,
 }
@@ -904,75 +903,116 @@ impl Serving for Teleop {
     }
 }
 
-type ClearServer = Server<ClearEntireCostmapRequest, ClearEntireCostmapResponse>;
+/// One clearing service of one costmap, in a release's layout.
+type ClearServer<S> = Server<<S as RosService>::Request, <S as RosService>::Response>;
 
-/// The region-clearing services of one costmap.
-struct RegionServers {
-    layer: CostmapLayer,
-    around: Server<ClearCostmapAroundRobotRequest, ClearCostmapAroundRobotResponse>,
-    except: Server<ClearCostmapExceptRegionRequest, ClearCostmapExceptRegionResponse>,
-    around_pose: Server<ClearCostmapAroundPoseRequest, ClearCostmapAroundPoseResponse>,
+/// What a clearing request asks of a costmap.
+#[derive(Clone, Copy)]
+enum Clearing {
+    Entire,
+    AroundRobot,
+    ExceptRegion,
+    AroundPose,
 }
 
-impl RegionServers {
-    /// The services of costmap `costmap` (`global_costmap` or `local_costmap`), named as
-    /// Nav2's costmap names them.
-    fn new(ros: &RosNode, costmap: &str, layer: CostmapLayer) -> Result<Self, Ros2Error> {
-        Ok(Self {
-            layer,
-            around: ros.service_server::<ClearCostmapAroundRobot>(&format!(
-                "{costmap}/clear_around_{costmap}"
-            ))?,
-            except: ros.service_server::<ClearCostmapExceptRegion>(&format!(
-                "{costmap}/clear_except_{costmap}"
-            ))?,
-            around_pose: ros.service_server::<ClearCostmapAroundPose>(&format!(
-                "{costmap}/clear_around_pose_{costmap}"
-            ))?,
-        })
+/// Takes `server`'s requests and clears `layer` as each asks; how many. A request in
+/// another release's layout cannot be read: it is dropped, and its client times out.
+fn serve_clearing<S: ClearLayout>(
+    server: &ClearServer<S>,
+    clearing: Clearing,
+    layer: CostmapLayer,
+    sim: &mut Nav2Sim,
+) -> Result<u32, Ros2Error> {
+    let mut served = 0;
+    let mut undecodable = 0;
+    loop {
+        let (id, request) = match server.receive_request() {
+            Ok(Some(request)) => request,
+            Ok(None) => return Ok(served),
+            Err(ros2_client::ReadError::Deserialization { .. }) if undecodable < 64 => {
+                undecodable += 1;
+                continue;
+            }
+            Err(e) => {
+                return Err(Ros2Error::Serve {
+                    kind: "service server",
+                    name: format!("{layer:?} costmap clearing"),
+                    message: format!("{e:?}"),
+                })
+            }
+        };
+        let side = S::reset_distance(&request);
+        let robot = sim.world.robot();
+        match clearing {
+            Clearing::Entire => sim.world.clear_costmap(layer),
+            Clearing::AroundRobot => {
+                clear_square(sim, layer, robot, side, false);
+            }
+            Clearing::ExceptRegion => {
+                clear_square(sim, layer, robot, side, true);
+            }
+            Clearing::AroundPose => {
+                let centre = S::pose(&request).map_or(robot, pose_2d);
+                clear_square(sim, layer, centre, side, false);
+            }
+        }
+        // A client gone since it asked does not need the answer: responses are best effort.
+        let _ = server.send_response(id, S::response(true));
+        served += 1;
     }
+}
 
+/// The clearing services of a costmap.
+trait ServeClearings {
     /// Answers the requests that came; how many.
+    fn serve(&self, sim: &mut Nav2Sim) -> Result<u32, Ros2Error>;
+}
+
+/// The four clearing services of one costmap, in the layouts `E`, `A`, `X` and `P`,
+/// named as Nav2's costmaps name them (`local_costmap/clear_around_local_costmap`, ...).
+struct Clearings<E: ClearLayout, A: ClearLayout, X: ClearLayout, P: ClearLayout> {
+    layer: CostmapLayer,
+    entire: ClearServer<E>,
+    around: ClearServer<A>,
+    except: ClearServer<X>,
+    around_pose: ClearServer<P>,
+}
+
+impl<E: ClearLayout, A: ClearLayout, X: ClearLayout, P: ClearLayout> Clearings<E, A, X, P> {
+    /// Both costmaps' services.
+    fn both(ros: &RosNode) -> Result<Vec<Box<dyn ServeClearings>>, Ros2Error>
+    where
+        Self: 'static,
+    {
+        let mut both: Vec<Box<dyn ServeClearings>> = Vec::new();
+        for (costmap, layer) in [
+            ("global_costmap", CostmapLayer::Global),
+            ("local_costmap", CostmapLayer::Local),
+        ] {
+            both.push(Box::new(Self {
+                layer,
+                entire: ros.service_server::<E>(&format!("{costmap}/clear_entirely_{costmap}"))?,
+                around: ros.service_server::<A>(&format!("{costmap}/clear_around_{costmap}"))?,
+                except: ros.service_server::<X>(&format!("{costmap}/clear_except_{costmap}"))?,
+                around_pose: ros
+                    .service_server::<P>(&format!("{costmap}/clear_around_pose_{costmap}"))?,
+            }));
+        }
+        Ok(both)
+    }
+}
+
+impl<E: ClearLayout, A: ClearLayout, X: ClearLayout, P: ClearLayout> ServeClearings
+    for Clearings<E, A, X, P>
+{
     fn serve(&self, sim: &mut Nav2Sim) -> Result<u32, Ros2Error> {
         let layer = self.layer;
-        let failed = move |e: ros2_client::ReadError| Ros2Error::Serve {
-            kind: "service server",
-            name: format!("{layer:?} costmap region clearing"),
-            message: format!("{e:?}"),
-        };
-        let mut served = 0;
-        // A client gone since it asked does not need the answer: responses are best effort.
-        while let Some((id, request)) = self.around.receive_request().map_err(failed)? {
-            let robot = sim.world.robot();
-            clear_square(
-                sim,
-                self.layer,
-                robot,
-                f64::from(request.reset_distance),
-                false,
-            );
-            let _ = self.around.send_response(id, Default::default());
-            served += 1;
-        }
-        while let Some((id, request)) = self.except.receive_request().map_err(failed)? {
-            let robot = sim.world.robot();
-            clear_square(
-                sim,
-                self.layer,
-                robot,
-                f64::from(request.reset_distance),
-                true,
-            );
-            let _ = self.except.send_response(id, Default::default());
-            served += 1;
-        }
-        while let Some((id, request)) = self.around_pose.receive_request().map_err(failed)? {
-            let centre = pose_2d(&request.pose);
-            clear_square(sim, self.layer, centre, request.reset_distance, false);
-            let _ = self.around_pose.send_response(id, Default::default());
-            served += 1;
-        }
-        Ok(served)
+        Ok(
+            serve_clearing::<E>(&self.entire, Clearing::Entire, layer, sim)?
+                + serve_clearing::<A>(&self.around, Clearing::AroundRobot, layer, sim)?
+                + serve_clearing::<X>(&self.except, Clearing::ExceptRegion, layer, sim)?
+                + serve_clearing::<P>(&self.around_pose, Clearing::AroundPose, layer, sim)?,
+        )
     }
 }
 
@@ -984,9 +1024,8 @@ pub struct SimServers {
     /// The controller, the behaviors, the docking server, the navigator through poses,
     /// the following server and assisted teleoperation: the servers that move the robot.
     motions: Vec<Box<dyn Serving>>,
-    clear_global: ClearServer,
-    clear_local: ClearServer,
-    regions: [RegionServers; 2],
+    /// Both costmaps' clearing services.
+    clearings: Vec<Box<dyn ServeClearings>>,
     costs: [(CostmapLayer, Server<GetCostsRequest, GetCostsResponse>); 2],
     toggle: Server<ToggleRequest, ToggleResponse>,
     relocalize: Server<EmptyRequest, EmptyResponse>,
@@ -1085,17 +1124,27 @@ impl SimServers {
             )?),
             Box::new(Teleop::new(ros)?),
         ];
+        let clearings = if options.release == Nav2Release::Main {
+            Clearings::<
+                main::ClearEntireCostmap,
+                main::ClearCostmapAroundRobot,
+                main::ClearCostmapExceptRegion,
+                main::ClearCostmapAroundPose,
+            >::both(ros)?
+        } else {
+            Clearings::<
+                ClearEntireCostmap,
+                ClearCostmapAroundRobot,
+                ClearCostmapExceptRegion,
+                ClearCostmapAroundPose,
+            >::both(ros)?
+        };
         let stats = SimStatsHandle::default();
         stats.lock().collision_monitor = sim.collision_monitor();
         let servers = Self {
             planning,
             motions,
-            clear_global: ros.service_server::<ClearEntireCostmap>(CLEAR_GLOBAL_COSTMAP)?,
-            clear_local: ros.service_server::<ClearEntireCostmap>(CLEAR_LOCAL_COSTMAP)?,
-            regions: [
-                RegionServers::new(ros, "global_costmap", CostmapLayer::Global)?,
-                RegionServers::new(ros, "local_costmap", CostmapLayer::Local)?,
-            ],
+            clearings,
             costs: [
                 (
                     CostmapLayer::Global,
@@ -1167,24 +1216,9 @@ impl SimServers {
                 }
             }
         }
-        for (server, layer) in [
-            (&self.clear_global, CostmapLayer::Global),
-            (&self.clear_local, CostmapLayer::Local),
-        ] {
-            while let Some((id, _)) = server.receive_request().map_err(|e| Ros2Error::Serve {
-                kind: "service server",
-                name: format!("{layer:?} costmap"),
-                message: format!("{e:?}"),
-            })? {
-                sim.world.clear_costmap(layer);
-                // A client gone since it asked does not need the answer.
-                let _ = server.send_response(id, ClearEntireCostmapResponse::default());
-                stats.lock().clears += 1;
-            }
-        }
-        for regions in &self.regions {
-            let served = regions.serve(sim)?;
-            stats.lock().clears += served;
+        for clearings in &self.clearings {
+            let cleared = clearings.serve(sim)?;
+            stats.lock().clears += cleared;
         }
         serve_costs(&self.costs, sim, stats)?;
         serve_switches(&self.toggle, &self.relocalize, sim, stats)?;
