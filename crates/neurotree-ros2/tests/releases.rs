@@ -1,7 +1,7 @@
 //! The layouts of Nav2's releases over ROS 2: Jazzy's Spin, BackUp, DriveOnHeading and
 //! ComputePathThroughPoses goals, and Kilted's and main's (with `disable_collision_checks`,
-//! and `nav_msgs/Goals`); Jazzy's and Kilted's costmap clearings, and main's (with
-//! `plugins` and `success`); each client against [`SimServers`] reading the same release.
+//! and `nav_msgs/Goals`); Jazzy's and Kilted's costmap clearings and ComputePathToPose goal,
+//! and main's (with `plugins` and `success`, and `viapoints`); each client against [`SimServers`] reading the same release.
 
 mod common;
 
@@ -57,6 +57,7 @@ fn tree(domain: u16, release: Nav2Release, body: &str) -> Tree<()> {
 const BODY: &str = r#"<Sequence>
     <Spin spin_dist="0.5" disable_collision_checks="false"/>
     <BackUp backup_dist="0.3" backup_speed="1.0" disable_collision_checks="true"/>
+    <ComputePathToPose goal="12.5;3.5;0" viapoints="{via}"/>
     <ComputePathThroughPoses goals="{goals}" path="{path}"/>
     <ClearEntireCostmap plugins="obstacle_layer;voxel_layer"/>
     <ClearCostmapAroundPose pose="1.5;3.5;0" reset_distance="2"/>
@@ -64,10 +65,10 @@ const BODY: &str = r#"<Sequence>
 
 #[test]
 fn each_release_sends_its_goals_and_its_servers_read_them() {
-    for (release, checks) in [
-        (Nav2Release::Jazzy, None),
-        (Nav2Release::Kilted, Some(true)),
-        (Nav2Release::Main, Some(true)),
+    for (release, checks, viapoints) in [
+        (Nav2Release::Jazzy, None, None),
+        (Nav2Release::Kilted, Some(true), None),
+        (Nav2Release::Main, Some(true), Some(2)),
     ] {
         let domain = free_domain();
         let stop = Arc::new(AtomicBool::new(false));
@@ -75,6 +76,8 @@ fn each_release_sends_its_goals_and_its_servers_read_them() {
         let mut tree = tree(domain.id, release, BODY);
         let goals = vec![Pose2D::new(6.5, 1.5, 0.0), Pose2D::new(12.5, 3.5, 0.0)];
         tree.blackboard_mut().set("goals", goals).unwrap();
+        let via = vec![Pose2D::new(6.5, 1.5, 0.0), Pose2D::new(8.5, 1.5, 0.0)];
+        tree.blackboard_mut().set("via", via).unwrap();
         let status = tick_until_done(&mut tree, &mut (), Duration::from_secs(20));
         let seen = stats.get();
         stop.store(true, Ordering::SeqCst);
@@ -88,6 +91,9 @@ fn each_release_sends_its_goals_and_its_servers_read_them() {
         assert_eq!(seen.clears, 2, "{release:?}");
         // The last goal read carried its flag only in Kilted's layout.
         assert_eq!(seen.disable_collision_checks, checks, "{release:?}");
+        // Only main's ComputePathToPose goal has viapoints.
+        assert_eq!(seen.planner.succeeded, 1, "{release:?}");
+        assert_eq!(seen.viapoints, viapoints, "{release:?}");
         let path: Path = tree.blackboard().get("path").unwrap();
         let end = path.goal().unwrap();
         assert!(

@@ -10,11 +10,11 @@
 //! `nav_msgs/Goals` and reports waypoint statuses), have Nav2 main's layout: the route
 //! server's, the docking server's, FollowObject, AssistedTeleop, GetCosts and Toggle.
 //!
-//! [`main`] has the costmap clearing services as main changed them (`plugins`, `success`).
-//! Main changed more than this crate follows: ComputePathToPose's goal gained `viapoints`,
-//! FollowPath's goal `path_handler_id` and its feedback a `TrackingFeedback`,
+//! [`main`] has the costmap clearing services as main changed them (`plugins`, `success`)
+//! and ComputePathToPose's goal with `viapoints`. Main changed more than this crate
+//! follows: FollowPath's goal `path_handler_id` and its feedback a `TrackingFeedback`,
 //! NavigateToPose's feedback the tracking errors, ComputePathThroughPoses's result
-//! `last_reached_index`; those messages have Jazzy's (and Kilted's) layout here.
+//! `last_reached_index`; those messages have Kilted's layout here.
 
 use serde::{Deserialize, Serialize};
 
@@ -1261,9 +1261,10 @@ pub mod kilted {
     }
 }
 
-/// The costmap clearing services as Nav2 main has them: each request names the costmap
-/// `plugins` to clear (all of them when empty), and the response says whether they were
-/// cleared. Each service has the same ROS 2 name as the Jazzy one of the parent module.
+/// What Nav2 main changed after Kilted that this crate follows: the costmap clearing
+/// services (each request names the costmap `plugins` to clear, all of them when empty, and
+/// the response says whether they were cleared) and ComputePathToPose's goal (with
+/// `viapoints`). Each has the same ROS 2 name as the Jazzy one of the parent module.
 pub mod main {
     use serde::{Deserialize, Serialize};
 
@@ -1351,4 +1352,33 @@ pub mod main {
         /// The plugins to clear; empty for all.
         pub plugins: Vec<String>,
     }
+
+    /// `nav2_msgs/action/ComputePathToPose`, main's goal (with `viapoints`); the result and
+    /// feedback are Jazzy's.
+    #[derive(Clone, Copy, Debug)]
+    pub struct ComputePathToPose;
+
+    impl crate::RosAction for ComputePathToPose {
+        type Goal = ComputePathToPoseGoal;
+        type Result = super::ComputePathToPoseResult;
+        type Feedback = super::ComputePathToPoseFeedback;
+        const TYPE: (&'static str, &'static str) = ("nav2_msgs", "ComputePathToPose");
+    }
+
+    /// The goal of [`ComputePathToPose`].
+    #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+    pub struct ComputePathToPoseGoal {
+        /// Where the path ends.
+        pub goal: PoseStamped,
+        /// Where it starts, when `use_start`.
+        pub start: PoseStamped,
+        /// Poses the path passes on its way, in order.
+        pub viapoints: Vec<PoseStamped>,
+        /// Which planner plugin; empty for the only one.
+        pub planner_id: String,
+        /// `false`: start at the robot's current pose.
+        pub use_start: bool,
+    }
+
+    impl ros2_client::Message for ComputePathToPoseGoal {}
 }

@@ -57,7 +57,7 @@ use super::clearing::ClearLayout;
 use super::convert::{goals_msg, path_2d, path_msg, pose_stamped, route_2d};
 use crate::msg::builtin_interfaces::Duration as MsgDuration;
 use crate::msg::geometry_msgs::{Point, PoseStamped};
-use crate::msg::nav2_msgs::kilted;
+use crate::msg::nav2_msgs::{kilted, main};
 use crate::msg::nav2_msgs::{
     AssistedTeleop, AssistedTeleopGoal, AssistedTeleopResult, ComputeAndTrackRoute,
     ComputeAndTrackRouteFeedback, ComputeAndTrackRouteGoal, ComputeAndTrackRouteResult,
@@ -120,22 +120,24 @@ pub fn register_nav2_ros_leaves<C: 'static>(
 /// BackUp, DriveOnHeading and ComputePathThroughPoses goals, or those of Kilted (and main),
 /// which add `disable_collision_checks` to the behaviors' and take ComputePathThroughPoses's
 /// goals as a `nav_msgs/Goals` ([`kilted`](crate::msg::nav2_msgs::kilted)); and Jazzy's
-/// (and Kilted's) costmap clearings, or main's, which send `plugins` and fail on an
-/// unsuccessful answer ([`main`](crate::msg::nav2_msgs::main)). The other messages have
+/// (and Kilted's) costmap clearings and ComputePathToPose goal, or main's: clearings that
+/// send `plugins` and fail on an unsuccessful answer, a goal that sends `viapoints`
+/// ([`main`](crate::msg::nav2_msgs::main)). The other messages have
 /// one layout whatever the release (see [`nav2_msgs`](crate::msg::nav2_msgs)).
 pub fn register_nav2_ros_leaves_for<C: 'static>(
     registry: &mut Registry<C>,
     ros: &RosNode,
     release: Nav2Release,
 ) -> Result<(), RegistryError> {
-    register_action(
-        registry,
-        "ComputePathToPose",
-        ros,
-        "compute_path_to_pose",
-        || ComputePath,
-    )?;
     let jazzy = release == Nav2Release::Jazzy;
+    let name = "compute_path_to_pose";
+    if release == Nav2Release::Main {
+        let make = ComputePath::<main::ComputePathToPose>::default;
+        register_action(registry, "ComputePathToPose", ros, name, make)?;
+    } else {
+        let make = ComputePath::<ComputePathToPose>::default;
+        register_action(registry, "ComputePathToPose", ros, name, make)?;
+    }
     let name = "compute_path_through_poses";
     if jazzy {
         let make = ComputeThrough::<ComputePathThroughPoses>::default;
@@ -193,7 +195,6 @@ pub fn register_nav2_ros_leaves_for<C: 'static>(
         Teleop::default()
     })?;
     if release == Nav2Release::Main {
-        use crate::msg::nav2_msgs::main;
         register_clearings::<
             C,
             main::ClearEntireCostmap,
@@ -367,17 +368,70 @@ fn failed<C>(
 }
 
 /// ComputePathToPose: the planner server's path from the robot (or `start`) to `goal`.
-struct ComputePath;
+struct ComputePath<A>(PhantomData<fn() -> A>);
 
-impl<C: 'static> ActionSpec<C> for ComputePath {
-    type Action = ComputePathToPose;
+impl<A> Default for ComputePath<A> {
+    fn default() -> Self {
+        Self(PhantomData)
+    }
+}
+
+/// ComputePathToPose's goal in the layout of a release (main's adds `viapoints`).
+trait ComputePathLayout: RosAction<Result = ComputePathToPoseResult> {
+    fn goal(
+        goal: PoseStamped,
+        start: PoseStamped,
+        viapoints: Vec<PoseStamped>,
+        planner_id: String,
+        use_start: bool,
+    ) -> Self::Goal;
+}
+
+impl ComputePathLayout for ComputePathToPose {
+    fn goal(
+        goal: PoseStamped,
+        start: PoseStamped,
+        _: Vec<PoseStamped>,
+        planner_id: String,
+        use_start: bool,
+    ) -> ComputePathToPoseGoal {
+        ComputePathToPoseGoal {
+            goal,
+            start,
+            planner_id,
+            use_start,
+        }
+    }
+}
+
+impl ComputePathLayout for main::ComputePathToPose {
+    fn goal(
+        goal: PoseStamped,
+        start: PoseStamped,
+        viapoints: Vec<PoseStamped>,
+        planner_id: String,
+        use_start: bool,
+    ) -> main::ComputePathToPoseGoal {
+        main::ComputePathToPoseGoal {
+            goal,
+            start,
+            viapoints,
+            planner_id,
+            use_start,
+        }
+    }
+}
+
+impl<C: 'static, A: ComputePathLayout> ActionSpec<C> for ComputePath<A> {
+    type Action = A;
 
     fn ports() -> Vec<PortSpec> {
         vec![
             PortSpec::input::<Pose2D>("goal").describe("Where the path ends."),
             PortSpec::input::<Pose2D>("start").describe("Where it starts, instead of the robot."),
             PortSpec::input::<bool>("use_start").describe("Use `start` (true when it is given)."),
-            PortSpec::input::<Vec<Pose2D>>("viapoints").describe("Intermediate poses (unused)."),
+            PortSpec::input::<Vec<Pose2D>>("viapoints")
+                .describe("Poses the path passes on its way (sent in Nav2 main's layout only)."),
             PortSpec::input::<String>("planner_id")
                 .default_value("")
                 .describe("The planner plugin; empty for the only one."),
@@ -387,16 +441,18 @@ impl<C: 'static> ActionSpec<C> for ComputePath {
         ]
     }
 
-    fn goal(&mut self, h: &mut Handle<'_, C>) -> Result<ComputePathToPoseGoal, String> {
+    fn goal(&mut self, h: &mut Handle<'_, C>) -> Result<A::Goal, String> {
         let goal: Pose2D = required(h, "goal")?;
         let start: Option<Pose2D> = optional(h, "start")?;
         let use_start = optional::<C, bool>(h, "use_start")?.unwrap_or(start.is_some());
-        Ok(ComputePathToPoseGoal {
-            goal: pose_stamped(goal),
-            start: pose_stamped(start.unwrap_or_default()),
-            planner_id: optional(h, "planner_id")?.unwrap_or_default(),
-            use_start: use_start && start.is_some(),
-        })
+        let viapoints: Vec<Pose2D> = optional(h, "viapoints")?.unwrap_or_default();
+        Ok(A::goal(
+            pose_stamped(goal),
+            pose_stamped(start.unwrap_or_default()),
+            viapoints.into_iter().map(pose_stamped).collect(),
+            optional(h, "planner_id")?.unwrap_or_default(),
+            use_start && start.is_some(),
+        ))
     }
 
     fn on_result(&mut self, h: &mut Handle<'_, C>, result: &ComputePathToPoseResult) -> Status {

@@ -51,7 +51,8 @@ use super::GET_COST_GLOBAL_COSTMAP;
 use crate::msg::geometry_msgs::PoseStamped;
 use crate::msg::geometry_msgs::{Twist, Vector3};
 use crate::msg::nav2_msgs::{
-    kilted, BackUpGoal, ComputePathThroughPosesGoal, DriveOnHeadingGoal, SpinGoal,
+    kilted, BackUpGoal, ComputePathThroughPosesGoal, ComputePathToPoseGoal, DriveOnHeadingGoal,
+    SpinGoal,
 };
 use crate::msg::nav2_msgs::{
     main, BackUp, BackUpResult, ClearCostmapAroundPose, ClearCostmapAroundRobot,
@@ -139,6 +140,9 @@ pub struct SimStats {
     /// The `disable_collision_checks` of the last Spin, BackUp or DriveOnHeading goal in
     /// Kilted's layout; `None` while only Jazzy's (which has no such field) came.
     pub disable_collision_checks: Option<bool>,
+    /// How many `viapoints` the last ComputePathToPose goal in main's layout had; `None`
+    /// while only the older layout (which has no such field) came.
+    pub viapoints: Option<usize>,
     /// Obstacle cells the global costmap remembers.
     pub global_obstacles: usize,
     /// Obstacle cells the local costmap remembers.
@@ -539,9 +543,10 @@ impl SimAction for FollowObject {
     }
 }
 
-/// Implements [`SimAction`] for a Kilted goal layout as the Jazzy action's, its goal made
-/// Jazzy's by `$to_jazzy`; a behavior's `disable_collision_checks` goes to the stats (the
-/// world never lets the robot into an occupied cell, checks or not).
+/// Implements [`SimAction`] for a newer goal layout (Kilted's, main's) as the Jazzy
+/// action's, its goal made Jazzy's by `$to_jazzy`; `$record` notes the new fields in the
+/// stats (the sim reads none: the world never lets the robot into an occupied cell, and
+/// its planner plans straight to the goal).
 macro_rules! kilted_as_jazzy {
     ($kilted:ty, $jazzy:ty, $to_jazzy:expr, $record:expr) => {
         impl SimAction for $kilted {
@@ -600,6 +605,19 @@ kilted_as_jazzy!(
     },
     |g: &kilted::DriveOnHeadingGoal, stats: &mut SimStats| {
         stats.disable_collision_checks = Some(g.disable_collision_checks);
+    }
+);
+kilted_as_jazzy!(
+    main::ComputePathToPose,
+    ComputePathToPose,
+    |g: &main::ComputePathToPoseGoal| ComputePathToPoseGoal {
+        goal: g.goal.clone(),
+        start: g.start.clone(),
+        planner_id: g.planner_id.clone(),
+        use_start: g.use_start,
+    },
+    |g: &main::ComputePathToPoseGoal, stats: &mut SimStats| {
+        stats.viapoints = Some(g.viapoints.len());
     }
 );
 kilted_as_jazzy!(
@@ -1052,11 +1070,19 @@ impl SimServers {
         let jazzy = options.release == Nav2Release::Jazzy;
         let through_poses = "compute_path_through_poses";
         let planning: Vec<Box<dyn Serving>> = vec![
-            Box::new(Served::<ComputePathToPose>::new(
-                ros,
-                "compute_path_to_pose",
-                &registry,
-            )?),
+            if options.release == Nav2Release::Main {
+                Box::new(Served::<main::ComputePathToPose>::new(
+                    ros,
+                    "compute_path_to_pose",
+                    &registry,
+                )?)
+            } else {
+                Box::new(Served::<ComputePathToPose>::new(
+                    ros,
+                    "compute_path_to_pose",
+                    &registry,
+                )?)
+            },
             if jazzy {
                 Box::new(Served::<ComputePathThroughPoses>::new(
                     ros,
