@@ -1,7 +1,8 @@
 //! The layouts of Nav2's releases over ROS 2: Jazzy's Spin, BackUp, DriveOnHeading and
 //! ComputePathThroughPoses goals, and Kilted's and main's (with `disable_collision_checks`,
 //! and `nav_msgs/Goals`); Jazzy's and Kilted's costmap clearings and ComputePathToPose goal,
-//! and main's (with `plugins` and `success`, and `viapoints`); each client against [`SimServers`] reading the same release.
+//! and main's (with `plugins` and `success`, and `viapoints`); FollowPath's, whose main
+//! feedback tracks the path; each client against [`SimServers`] reading the same release.
 
 mod common;
 
@@ -13,7 +14,7 @@ use common::{free_domain, node, tick_until_done};
 use neurotree_nav2::robotics::{Path, Pose2D};
 use neurotree_nav2::Nav2Release;
 use neurotree_ros2::nav2::{register_nav2_ros_leaves_for, SimOptions, SimServers, SimStatsHandle};
-use neurotree_sim::nav2::Nav2Sim;
+use neurotree_sim::nav2::{Nav2Sim, TrackingFeedback};
 use neurotree_sim::GridWorld;
 use neurotree_toolkit::{Registry, Status, Tree, XmlLoader};
 
@@ -61,6 +62,7 @@ const BODY: &str = r#"<Sequence>
     <ComputePathThroughPoses goals="{goals}" path="{path}"/>
     <ClearEntireCostmap plugins="obstacle_layer;voxel_layer"/>
     <ClearCostmapAroundPose pose="1.5;3.5;0" reset_distance="2"/>
+    <FollowPath path="{path}" tracking_feedback="{tracking}"/>
   </Sequence>"#;
 
 #[test]
@@ -94,6 +96,18 @@ fn each_release_sends_its_goals_and_its_servers_read_them() {
         // Only main's ComputePathToPose goal has viapoints.
         assert_eq!(seen.planner.succeeded, 1, "{release:?}");
         assert_eq!(seen.viapoints, viapoints, "{release:?}");
+        // Only main's FollowPath feedback tracks the path.
+        assert_eq!(seen.controller.succeeded, 1, "{release:?}");
+        let tracking = tree.blackboard().get::<TrackingFeedback>("tracking");
+        assert_eq!(
+            tracking.is_ok(),
+            viapoints.is_some(),
+            "{release:?}: {tracking:?}"
+        );
+        if let Ok(tracking) = tracking {
+            assert!(tracking.position_tracking_error.abs() < 0.5, "{tracking:?}");
+            assert!(tracking.current_path_index > 0, "{tracking:?}");
+        }
         let path: Path = tree.blackboard().get("path").unwrap();
         let end = path.goal().unwrap();
         assert!(

@@ -10,9 +10,9 @@
 //! `nav_msgs/Goals` and reports waypoint statuses), have Nav2 main's layout: the route
 //! server's, the docking server's, FollowObject, AssistedTeleop, GetCosts and Toggle.
 //!
-//! [`main`] has the costmap clearing services as main changed them (`plugins`, `success`)
-//! and ComputePathToPose's goal with `viapoints`. Main changed more than this crate
-//! follows: FollowPath's goal `path_handler_id` and its feedback a `TrackingFeedback`,
+//! [`main`] has the costmap clearing services as main changed them (`plugins`, `success`),
+//! ComputePathToPose's goal with `viapoints` and FollowPath's goal (`path_handler_id`) and
+//! feedback (a `TrackingFeedback`). Main changed more than this crate follows:
 //! NavigateToPose's feedback the tracking errors, ComputePathThroughPoses's result
 //! `last_reached_index`; those messages have Kilted's layout here.
 
@@ -1263,8 +1263,8 @@ pub mod kilted {
 
 /// What Nav2 main changed after Kilted that this crate follows: the costmap clearing
 /// services (each request names the costmap `plugins` to clear, all of them when empty, and
-/// the response says whether they were cleared) and ComputePathToPose's goal (with
-/// `viapoints`). Each has the same ROS 2 name as the Jazzy one of the parent module.
+/// the response says whether they were cleared), ComputePathToPose's goal (with
+/// `viapoints`) and FollowPath (a `path_handler_id`, a [`TrackingFeedback`](main::TrackingFeedback)). Each has the same ROS 2 name as the Jazzy one of the parent module.
 pub mod main {
     use serde::{Deserialize, Serialize};
 
@@ -1381,4 +1381,63 @@ pub mod main {
     }
 
     impl ros2_client::Message for ComputePathToPoseGoal {}
+
+    /// `nav2_msgs/msg/TrackingFeedback`: how the controller tracks its path.
+    #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+    pub struct TrackingFeedback {
+        /// When, and the frame of `robot_pose`.
+        pub header: super::super::std_msgs::Header,
+        /// Metres from the path, positive when the robot is left of it.
+        pub position_tracking_error: f32,
+        /// Radians between the robot's heading and the path's, positive when rotated right.
+        pub heading_tracking_error: f32,
+        /// The index of the path pose nearest the robot.
+        pub current_path_index: u32,
+        /// Where the robot is.
+        pub robot_pose: PoseStamped,
+        /// Metres straight to the path's end.
+        pub distance_to_goal: f32,
+        /// Metres per second.
+        pub speed: f32,
+        /// Metres of path left.
+        pub remaining_path_length: f32,
+    }
+
+    /// `nav2_msgs/action/FollowPath`, main's: the goal names a path handler, the feedback is
+    /// a [`TrackingFeedback`]; the result is Jazzy's.
+    #[derive(Clone, Copy, Debug)]
+    pub struct FollowPath;
+
+    impl crate::RosAction for FollowPath {
+        type Goal = FollowPathGoal;
+        type Result = super::FollowPathResult;
+        type Feedback = FollowPathFeedback;
+        const TYPE: (&'static str, &'static str) = ("nav2_msgs", "FollowPath");
+    }
+
+    /// The goal of [`FollowPath`].
+    #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+    pub struct FollowPathGoal {
+        /// The path to follow.
+        pub path: super::Path,
+        /// Which controller plugin; empty for the only one.
+        pub controller_id: String,
+        /// Which goal checker plugin; empty for the only one.
+        pub goal_checker_id: String,
+        /// Which progress checker plugin; empty for the only one.
+        pub progress_checker_id: String,
+        /// Which path handler plugin; empty for the only one.
+        pub path_handler_id: String,
+    }
+
+    /// The feedback of [`FollowPath`].
+    #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+    pub struct FollowPathFeedback {
+        /// How the controller tracks the path.
+        pub tracking_feedback: TrackingFeedback,
+    }
+
+    impl ros2_client::Message for FollowPathGoal {}
+    impl ros2_client::Message for FollowPathFeedback {}
+    impl ros2_client::Message for TrackingFeedback {}
 }

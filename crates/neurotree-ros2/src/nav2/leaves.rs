@@ -7,7 +7,7 @@
 //! | ComputePathThroughPoses | `compute_path_through_poses` | `goals`, `start` / `use_start`, `planner_id` | writes `path` | empties `path` |
 //! | SmoothPath | `smooth_path` | `unsmoothed_path`, `smoother_id`, `max_smoothing_duration`, `check_for_collisions` | writes `smoothed_path`, `smoothing_duration`, `was_completed` | |
 //! | NavigateToPose | `navigate_to_pose` | `goal`, `behavior_tree` | | |
-//! | FollowPath | `follow_path` | `path`, `controller_id`, `goal_checker_id`, `progress_checker_id` | | |
+//! | FollowPath | `follow_path` | `path`, `controller_id`, `goal_checker_id`, `progress_checker_id` (main: `path_handler_id`) | main: each feedback's tracking to `tracking_feedback` | |
 //! | Spin | `spin` | `spin_dist`, `time_allowance` | | |
 //! | BackUp | `backup` | `backup_dist`, `backup_speed`, `time_allowance` | | |
 //! | DriveOnHeading | `drive_on_heading` | `dist_to_travel`, `speed`, `time_allowance` | | |
@@ -78,11 +78,12 @@ use crate::msg::nav2_msgs::{
     NavigateToPose, NavigateToPoseGoal, NavigateToPoseResult, SmoothPath, SmoothPathGoal,
     SmoothPathResult,
 };
-use crate::msg::nav_msgs::Goals;
+use crate::msg::nav_msgs::{Goals, Path as NavPath};
 use crate::msg::std_srvs::{Empty as EmptyService, EmptyRequest, EmptyResponse};
 use crate::{
     ActionError, ActionSpec, RosAction, RosActionNode, RosNode, RosServiceNode, ServiceSpec,
 };
+use neurotree_sim::nav2::TrackingFeedback;
 
 /// The global costmap's cost service, where CheckPoseOccupancy and RemoveInCollisionGoals
 /// ask by default (Nav2's `get_cost_` service of the costmap `global_costmap`).
@@ -120,9 +121,10 @@ pub fn register_nav2_ros_leaves<C: 'static>(
 /// BackUp, DriveOnHeading and ComputePathThroughPoses goals, or those of Kilted (and main),
 /// which add `disable_collision_checks` to the behaviors' and take ComputePathThroughPoses's
 /// goals as a `nav_msgs/Goals` ([`kilted`](crate::msg::nav2_msgs::kilted)); and Jazzy's
-/// (and Kilted's) costmap clearings and ComputePathToPose goal, or main's: clearings that
-/// send `plugins` and fail on an unsuccessful answer, a goal that sends `viapoints`
-/// ([`main`](crate::msg::nav2_msgs::main)). The other messages have
+/// (and Kilted's) costmap clearings, ComputePathToPose goal and FollowPath, or main's:
+/// clearings that send `plugins` and fail on an unsuccessful answer, a goal that sends
+/// `viapoints`, a FollowPath that sends `path_handler_id` and writes the controller's
+/// tracking feedback ([`main`](crate::msg::nav2_msgs::main)). The other messages have
 /// one layout whatever the release (see [`nav2_msgs`](crate::msg::nav2_msgs)).
 pub fn register_nav2_ros_leaves_for<C: 'static>(
     registry: &mut Registry<C>,
@@ -150,7 +152,13 @@ pub fn register_nav2_ros_leaves_for<C: 'static>(
     register_action(registry, "NavigateToPose", ros, "navigate_to_pose", || {
         Navigate
     })?;
-    register_action(registry, "FollowPath", ros, "follow_path", Follow::default)?;
+    if release == Nav2Release::Main {
+        let make = Follow::<main::FollowPath>::default;
+        register_action(registry, "FollowPath", ros, "follow_path", make)?;
+    } else {
+        let make = Follow::<FollowPath>::default;
+        register_action(registry, "FollowPath", ros, "follow_path", make)?;
+    }
     if jazzy {
         register_action(registry, "Spin", ros, "spin", SpinBy::<Spin>::default)?;
         register_action(
@@ -677,25 +685,99 @@ impl<C: 'static> ActionSpec<C> for Navigate {
 }
 
 /// FollowPath: the controller server drives along `path`.
-#[derive(Default)]
-struct Follow {
+struct Follow<A: RosAction> {
     /// The goal sent last, to tell a new path or plugin from it.
-    sent: Option<FollowPathGoal>,
+    sent: Option<A::Goal>,
 }
 
-impl Follow {
-    fn read<C>(h: &Handle<'_, C>, path: Path) -> Result<FollowPathGoal, String> {
-        Ok(FollowPathGoal {
-            path: path_msg(&path),
-            controller_id: optional(h, "controller_id")?.unwrap_or_default(),
-            goal_checker_id: optional(h, "goal_checker_id")?.unwrap_or_default(),
-            progress_checker_id: optional(h, "progress_checker_id")?.unwrap_or_default(),
+impl<A: RosAction> Default for Follow<A> {
+    fn default() -> Self {
+        Self { sent: None }
+    }
+}
+
+/// FollowPath's goal and feedback in the layout of a release (main's names a path handler
+/// and gives a tracking feedback).
+trait FollowLayout: RosAction<Result = FollowPathResult, Goal: PartialEq> {
+    /// The goal: the path, then the controller, goal checker, progress checker and path
+    /// handler ids.
+    fn goal(path: NavPath, ids: [String; 4]) -> Self::Goal;
+    fn path(goal: &Self::Goal) -> &NavPath;
+    fn tracking(feedback: &Self::Feedback) -> Option<TrackingFeedback>;
+}
+
+impl FollowLayout for FollowPath {
+    fn goal(
+        path: NavPath,
+        [controller, goal_checker, progress_checker, _]: [String; 4],
+    ) -> FollowPathGoal {
+        FollowPathGoal {
+            path,
+            controller_id: controller,
+            goal_checker_id: goal_checker,
+            progress_checker_id: progress_checker,
+        }
+    }
+    fn path(goal: &FollowPathGoal) -> &NavPath {
+        &goal.path
+    }
+    fn tracking(_: &Self::Feedback) -> Option<TrackingFeedback> {
+        None
+    }
+}
+
+impl FollowLayout for main::FollowPath {
+    fn goal(
+        path: NavPath,
+        [controller, goal_checker, progress_checker, handler]: [String; 4],
+    ) -> main::FollowPathGoal {
+        main::FollowPathGoal {
+            path,
+            controller_id: controller,
+            goal_checker_id: goal_checker,
+            progress_checker_id: progress_checker,
+            path_handler_id: handler,
+        }
+    }
+    fn path(goal: &main::FollowPathGoal) -> &NavPath {
+        &goal.path
+    }
+    fn tracking(feedback: &main::FollowPathFeedback) -> Option<TrackingFeedback> {
+        let t = &feedback.tracking_feedback;
+        let (x, y) = (
+            f64::from(t.position_tracking_error),
+            f64::from(t.heading_tracking_error),
+        );
+        Some(TrackingFeedback {
+            current_path_index: t.current_path_index as usize,
+            remaining_path_length: f64::from(t.remaining_path_length),
+            // The message does not carry the distance to the nearest pose: the distance to
+            // the path stands for it.
+            tracking_error: x.abs(),
+            position_tracking_error: x,
+            heading_tracking_error: y,
         })
     }
 }
 
-impl<C: 'static> ActionSpec<C> for Follow {
-    type Action = FollowPath;
+impl<A: FollowLayout> Follow<A> {
+    fn read<C>(h: &Handle<'_, C>, path: NavPath) -> Result<A::Goal, String> {
+        let id =
+            |port: &str| -> Result<String, String> { Ok(optional(h, port)?.unwrap_or_default()) };
+        Ok(A::goal(
+            path,
+            [
+                id("controller_id")?,
+                id("goal_checker_id")?,
+                id("progress_checker_id")?,
+                id("path_handler_id")?,
+            ],
+        ))
+    }
+}
+
+impl<C: 'static, A: FollowLayout> ActionSpec<C> for Follow<A> {
+    type Action = A;
 
     fn ports() -> Vec<PortSpec> {
         let plugin = |name: &str, what: &str| {
@@ -706,38 +788,44 @@ impl<C: 'static> ActionSpec<C> for Follow {
             plugin("controller_id", "controller"),
             plugin("goal_checker_id", "goal checker"),
             plugin("progress_checker_id", "progress checker"),
-            plugin("path_handler_id", "path handler (unused)"),
+            plugin(
+                "path_handler_id",
+                "path handler (sent in Nav2 main's layout only)",
+            ),
             server_name_port(),
-            PortSpec::output::<String>("tracking_feedback")
-                .describe("The controller's tracking feedback (not written)."),
+            PortSpec::output::<TrackingFeedback>("tracking_feedback")
+                .describe("The controller's tracking feedback (in Nav2 main's layout only)."),
             error_code_port("controller"),
         ]
     }
 
-    fn goal(&mut self, h: &mut Handle<'_, C>) -> Result<FollowPathGoal, String> {
-        let goal = Self::read(h, required(h, "path")?)?;
+    fn goal(&mut self, h: &mut Handle<'_, C>) -> Result<A::Goal, String> {
+        let path: Path = required(h, "path")?;
+        let goal = Self::read(h, path_msg(&path))?;
         self.sent = Some(goal.clone());
         Ok(goal)
     }
 
-    fn updated_goal(&mut self, h: &mut Handle<'_, C>) -> Option<FollowPathGoal> {
+    fn updated_goal(&mut self, h: &mut Handle<'_, C>) -> Option<A::Goal> {
         // As Nav2's `on_wait_for_result`: a new non-empty path, or another plugin.
         let sent = self.sent.as_ref()?;
-        let path = optional::<C, Path>(h, "path").ok().flatten();
-        let mut goal = Self::read(h, Path::default()).ok()?;
-        goal.path = match path {
+        let path = match optional::<C, Path>(h, "path").ok().flatten() {
             Some(path) if !path.poses.is_empty() => path_msg(&path),
-            _ => sent.path.clone(),
+            _ => A::path(sent).clone(),
         };
-        let changed = goal.path != sent.path
-            || goal.controller_id != sent.controller_id
-            || goal.goal_checker_id != sent.goal_checker_id
-            || goal.progress_checker_id != sent.progress_checker_id;
-        if !changed {
+        let goal = Self::read(h, path).ok()?;
+        if goal == *sent {
             return None;
         }
         self.sent = Some(goal.clone());
         Some(goal)
+    }
+
+    fn on_feedback(&mut self, h: &mut Handle<'_, C>, feedback: &A::Feedback) -> Status {
+        if let Some(tracking) = A::tracking(feedback) {
+            emit(h, "tracking_feedback", tracking);
+        }
+        Status::Running
     }
 
     fn on_result(&mut self, h: &mut Handle<'_, C>, result: &FollowPathResult) -> Status {

@@ -36,7 +36,7 @@ use std::time::{Duration, Instant};
 use neurotree_nav2::robotics::{Path, Pose2D, Route};
 use neurotree_nav2::Nav2Release;
 use neurotree_sim::nav2::costmaps::clear_square;
-use neurotree_sim::nav2::{register_nav2_leaves, FailureNotes, Nav2Sim};
+use neurotree_sim::nav2::{register_nav2_leaves, FailureNotes, Nav2Sim, TrackingFeedback};
 use neurotree_sim::CostmapLayer;
 use neurotree_toolkit::{Blackboard, Blueprint, Registry, Status, Tree, XmlLoader};
 use ros2_client::action::GoalStatusEnum;
@@ -52,7 +52,7 @@ use crate::msg::geometry_msgs::PoseStamped;
 use crate::msg::geometry_msgs::{Twist, Vector3};
 use crate::msg::nav2_msgs::{
     kilted, BackUpGoal, ComputePathThroughPosesGoal, ComputePathToPoseGoal, DriveOnHeadingGoal,
-    SpinGoal,
+    FollowPathGoal, SpinGoal,
 };
 use crate::msg::nav2_msgs::{
     main, BackUp, BackUpResult, ClearCostmapAroundPose, ClearCostmapAroundRobot,
@@ -287,7 +287,7 @@ impl SimAction for SmoothPath {
 }
 
 impl SimAction for FollowPath {
-    const XML: &'static str = r#"<FollowPath path="{path}" controller_id="{controller_id}" error_code_id="{error_code}" error_msg="{error_msg}"/>"#;
+    const XML: &'static str = r#"<FollowPath path="{path}" controller_id="{controller_id}" tracking_feedback="{tracking_feedback}" error_code_id="{error_code}" error_msg="{error_msg}"/>"#;
     fn put(goal: &Self::Goal, bb: &mut Blackboard) {
         let _ = bb.set("path", path_2d(&goal.path));
         let _ = bb.set("controller_id", goal.controller_id.clone());
@@ -620,6 +620,45 @@ kilted_as_jazzy!(
         stats.viapoints = Some(g.viapoints.len());
     }
 );
+/// Main's FollowPath: Jazzy's, but for the path handler (which the sim has not) and the
+/// feedback, the sim's tracking feedback with the robot's pose, distance and speed.
+impl SimAction for main::FollowPath {
+    const XML: &'static str = <FollowPath as SimAction>::XML;
+    fn put(goal: &Self::Goal, bb: &mut Blackboard) {
+        let jazzy = FollowPathGoal {
+            path: goal.path.clone(),
+            controller_id: goal.controller_id.clone(),
+            goal_checker_id: goal.goal_checker_id.clone(),
+            progress_checker_id: goal.progress_checker_id.clone(),
+        };
+        <FollowPath as SimAction>::put(&jazzy, bb);
+    }
+    fn result(bb: &Blackboard, code: u16, message: String, elapsed: Duration) -> Self::Result {
+        <FollowPath as SimAction>::result(bb, code, message, elapsed)
+    }
+    fn feedback(bb: &Blackboard, sim: &Nav2Sim) -> Option<main::FollowPathFeedback> {
+        let old = <FollowPath as SimAction>::feedback(bb, sim)?;
+        let t = bb
+            .get::<TrackingFeedback>("tracking_feedback")
+            .unwrap_or_default();
+        Some(main::FollowPathFeedback {
+            tracking_feedback: main::TrackingFeedback {
+                header: pose_stamped(sim.world.robot()).header,
+                position_tracking_error: t.position_tracking_error as f32,
+                heading_tracking_error: t.heading_tracking_error as f32,
+                current_path_index: u32::try_from(t.current_path_index).unwrap_or(u32::MAX),
+                robot_pose: pose_stamped(sim.world.robot()),
+                distance_to_goal: old.distance_to_goal,
+                speed: old.speed,
+                remaining_path_length: t.remaining_path_length as f32,
+            },
+        })
+    }
+    fn counts(stats: &mut SimStats) -> &mut ServerCounts {
+        <FollowPath as SimAction>::counts(stats)
+    }
+}
+
 kilted_as_jazzy!(
     kilted::ComputePathThroughPoses,
     ComputePathThroughPoses,
@@ -1131,7 +1170,15 @@ impl SimServers {
         };
         let [spin, backup, drive_on_heading] = behaviors;
         let motions: Vec<Box<dyn Serving>> = vec![
-            Box::new(Served::<FollowPath>::new(ros, "follow_path", &registry)?),
+            if options.release == Nav2Release::Main {
+                Box::new(Served::<main::FollowPath>::new(
+                    ros,
+                    "follow_path",
+                    &registry,
+                )?)
+            } else {
+                Box::new(Served::<FollowPath>::new(ros, "follow_path", &registry)?)
+            },
             spin,
             backup,
             drive_on_heading,
