@@ -1,14 +1,17 @@
 //! `neurotree ros2`: Nav2's navigator and the simulated Nav2 servers as ROS 2 processes.
 //!
-//! - `ros2 sim`: the demo's warehouse ([`demo::Scenario`] of a seed) served as Nav2's
-//!   planner, controller, behavior and costmap servers ([`SimServers`]).
+//! - `ros2 sim`: the demo's warehouse ([`demo::Scenario`] of a seed, with the demo's dock
+//!   and route graph) served as Nav2's servers ([`SimServers`]): planner, smoother,
+//!   controller, behaviors, costmaps, route, docking, following, navigation through poses,
+//!   collision monitor, localization, odometry.
 //! - `ros2 navigator`: a `navigate_to_pose` action server running a tree (Nav2's
 //!   `navigate_to_pose_w_replanning_and_recovery.xml` by default) for each goal
 //!   ([`Navigator`]), over the warehouse's static map.
 //! - `ros2 demo`: both as child processes of this binary, a goal sent to the far corner of
 //!   the store, progress printed from the feedback, a summary; both stopped at the end.
 //!
-//! Everything is on 127.0.0.1 ([`RosOptions::loopback`]), in DDS domain `--domain`.
+//! Everything is on 127.0.0.1 ([`RosOptions::loopback`]), in DDS domain `--domain`; the
+//! goals go in the layout of Nav2 release `--nav2` (main by default).
 
 use std::io::{self, Write};
 use std::path::PathBuf;
@@ -18,7 +21,11 @@ use std::time::{Duration, Instant};
 use neurotree::robotics::Pose2D;
 use neurotree::sim::nav2::{EventLog, Nav2Params, Nav2Sim};
 use neurotree::sim::GridWorld;
-use neurotree_cli::demo::{Scenario, DEFAULT_GOAL, NAVIGATE_TO_POSE_XML, WAREHOUSE};
+use neurotree_cli::demo::{
+    dock, route_graph, Scenario, DEFAULT_GOAL, NAVIGATE_TO_POSE_XML, WAREHOUSE,
+};
+
+use neurotree::nav2::Nav2Release;
 use neurotree_ros2::msg::nav2_msgs::{NavigateToPose, NavigateToPoseGoal};
 use neurotree_ros2::nav2::convert::{pose_2d, pose_stamped};
 use neurotree_ros2::nav2::{Navigator, NavigatorOptions, SimOptions, SimServers};
@@ -48,6 +55,9 @@ pub enum Ros2Command {
         /// Stop after this many seconds [default: run until killed].
         #[arg(long, value_name = "SECS")]
         duration: Option<u64>,
+        /// Read the goals of this Nav2 release: jazzy, kilted or main.
+        #[arg(long, value_name = "RELEASE", default_value = "main")]
+        nav2: Nav2Release,
     },
     /// Serve navigate_to_pose: for each goal, tick the tree at 10 Hz with its leaves
     /// calling Nav2's servers over ROS 2; feedback, result; a cancel halts the tree.
@@ -61,6 +71,9 @@ pub enum Ros2Command {
         /// Stop after this many seconds [default: run until killed].
         #[arg(long, value_name = "SECS")]
         duration: Option<u64>,
+        /// Send the goals of this Nav2 release: jazzy, kilted or main.
+        #[arg(long, value_name = "RELEASE", default_value = "main")]
+        nav2: Nav2Release,
         #[command(flatten)]
         studio: crate::studio::StudioFlags,
     },
@@ -79,6 +92,9 @@ pub enum Ros2Command {
         /// Give up after this many seconds.
         #[arg(long, value_name = "SECS", default_value_t = 120)]
         timeout: u64,
+        /// The Nav2 release both speak: jazzy, kilted or main.
+        #[arg(long, value_name = "RELEASE", default_value = "main")]
+        nav2: Nav2Release,
     },
 }
 
@@ -98,10 +114,12 @@ pub fn execute(command: Ros2Command, out: &mut impl Write) -> io::Result<Outcome
             domain,
             time_scale,
             duration,
+            nav2,
         } => sim(
             seed,
             domain,
             time_scale,
+            nav2,
             duration.map(Duration::from_secs),
             out,
         ),
@@ -109,10 +127,12 @@ pub fn execute(command: Ros2Command, out: &mut impl Write) -> io::Result<Outcome
             tree,
             domain,
             duration,
+            nav2,
             studio,
         } => navigator(
             tree,
             domain,
+            nav2,
             duration.map(Duration::from_secs),
             &studio,
             out,
@@ -122,6 +142,7 @@ pub fn execute(command: Ros2Command, out: &mut impl Write) -> io::Result<Outcome
             domain,
             time_scale,
             timeout,
+            nav2,
         } => {
             let options = DemoOptions {
                 seed,
@@ -129,6 +150,7 @@ pub fn execute(command: Ros2Command, out: &mut impl Write) -> io::Result<Outcome
                 time_scale,
                 goal: DEFAULT_GOAL,
                 timeout: Duration::from_secs(timeout),
+                nav2,
             };
             demo(&options, out)
         }
@@ -140,6 +162,7 @@ pub fn sim(
     seed: u64,
     domain: u16,
     time_scale: f64,
+    release: Nav2Release,
     duration: Option<Duration>,
     out: &mut impl Write,
 ) -> io::Result<Outcome> {
@@ -148,12 +171,16 @@ pub fn sim(
         .and_then(|s| s.world())
         .map_err(io::Error::other)?;
     let log = EventLog::new();
+    // The demo's dock and route graph, for DockRobot, UndockRobot and the route nodes.
     let sim = Nav2Sim::new(world)
         .with_params(params)
-        .with_log(log.clone());
+        .with_log(log.clone())
+        .with_dock(dock())
+        .with_route_graph(route_graph());
     let ros = RosNode::new("nav2_sim", &RosOptions::loopback(domain)).map_err(io::Error::other)?;
     let options = SimOptions {
         time_scale,
+        release,
         ..SimOptions::default()
     };
     let mut servers = SimServers::new(&ros, sim, options).map_err(io::Error::other)?;
@@ -186,6 +213,7 @@ pub fn sim(
 pub fn navigator(
     tree: Option<PathBuf>,
     domain: u16,
+    release: Nav2Release,
     duration: Option<Duration>,
     studio: &crate::studio::StudioFlags,
     out: &mut impl Write,
@@ -200,7 +228,11 @@ pub fn navigator(
     let map = GridWorld::parse(WAREHOUSE, 1.0).map_err(io::Error::other)?;
     let ros =
         RosNode::new("bt_navigator", &RosOptions::loopback(domain)).map_err(io::Error::other)?;
-    let mut navigator = match Navigator::new(&ros, &xml, &file, map, &NavigatorOptions::default()) {
+    let options = NavigatorOptions {
+        release,
+        ..NavigatorOptions::default()
+    };
+    let mut navigator = match Navigator::new(&ros, &xml, &file, map, &options) {
         Ok(navigator) => navigator,
         Err(e) => {
             eprintln!("error: {e}");
@@ -290,6 +322,8 @@ pub struct DemoOptions {
     pub goal: Pose2D,
     /// How long the demo may take, in wall time.
     pub timeout: Duration,
+    /// The Nav2 release whose goals the navigator sends and the simulator reads.
+    pub nav2: Nav2Release,
 }
 
 /// `ros2 demo`: the simulator and the navigator as child processes, one goal, a summary.
@@ -308,6 +342,8 @@ pub fn demo(options: &DemoOptions, out: &mut impl Write) -> io::Result<Outcome> 
         options.time_scale.to_string(),
         "--duration".into(),
         lifetime.clone(),
+        "--nav2".into(),
+        options.nav2.name().into(),
     ])?;
     let _navigator = spawn(&[
         "navigator".into(),
@@ -315,6 +351,8 @@ pub fn demo(options: &DemoOptions, out: &mut impl Write) -> io::Result<Outcome> 
         domain,
         "--duration".into(),
         lifetime,
+        "--nav2".into(),
+        options.nav2.name().into(),
     ])?;
     let started = Instant::now();
     let deadline = started + options.timeout;

@@ -42,3 +42,58 @@ fn the_ros2_demo_reaches_the_goal_after_a_recovery() {
         "the simulator reported the obstacle: {stdout}"
     );
 }
+
+/// A child process killed when the value is dropped, however the test ends.
+struct Killed(std::process::Child);
+
+impl Drop for Killed {
+    fn drop(&mut self) {
+        let _ = self.0.kill();
+        let _ = self.0.wait();
+    }
+}
+
+#[test]
+fn ros2_sim_serves_the_demos_dock_and_jazzys_goals_with_nav2_jazzy() {
+    use neurotree::nav2::Nav2Release;
+    use neurotree::{Registry, Status, Tree, XmlLoader};
+    use neurotree_ros2::{RosNode, RosOptions};
+    use std::sync::Arc;
+    use std::time::{Duration, Instant};
+
+    let (domain, _claim) = free_domain();
+    let _sim = Killed(
+        Command::new(env!("CARGO_BIN_EXE_neurotree"))
+            .args(["ros2", "sim", "--domain", &domain.to_string()])
+            .args(["--time-scale", "4", "--duration", "60", "--nav2=jazzy"])
+            .stdout(std::process::Stdio::null())
+            .spawn()
+            .unwrap(),
+    );
+    let ros = RosNode::new("client", &RosOptions::loopback(domain)).unwrap();
+    let mut registry = Registry::<()>::new();
+    neurotree_ros2::nav2::register_nav2_ros_leaves_for(&mut registry, &ros, Nav2Release::Jazzy)
+        .unwrap();
+    let mut loader = XmlLoader::new(&registry);
+    loader
+        .load_str(
+            r#"<root BTCPP_format="4"><BehaviorTree ID="T"><Sequence>
+                 <Spin spin_dist="0.5" wait_for_server_timeout="10000" error_code_id="{code}"/>
+                 <DockRobot dock_id="warehouse_dock" success="{ok}" error_code_id="{code}"/>
+               </Sequence></BehaviorTree></root>"#,
+            "dock.xml",
+        )
+        .unwrap();
+    let mut tree = Tree::new(Arc::new(loader.build_main().unwrap()));
+    let until = Instant::now() + Duration::from_secs(45);
+    let status = loop {
+        let status = tree.tick_once(&mut ()).unwrap();
+        if status != Status::Running || Instant::now() > until {
+            break status;
+        }
+        std::thread::sleep(Duration::from_millis(10));
+    };
+    let code = tree.blackboard().get::<u16>("code");
+    assert_eq!(status, Status::Success, "{code:?}");
+    assert!(tree.blackboard().get::<bool>("ok").unwrap());
+}

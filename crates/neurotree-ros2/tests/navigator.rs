@@ -264,7 +264,7 @@ fn an_application_trees_navigate_to_pose_is_served_by_the_navigator() {
 }
 
 #[test]
-fn the_navigator_loads_nav2s_blackboard_and_pose_nodes_and_refuses_one_it_lacks_by_name() {
+fn the_navigator_loads_every_node_type_of_nav2_main_and_refuses_an_unknown_one_by_name() {
     let domain = free_domain();
     let ros = node("bt_navigator", domain.id);
     let tree = |body: &str| {
@@ -290,13 +290,30 @@ fn the_navigator_loads_nav2s_blackboard_and_pose_nodes_and_refuses_one_it_lacks_
     );
     let options = NavigatorOptions::default();
     assert!(Navigator::new(&ros, &known, "known.xml", hall(None), &options).is_ok());
-    let docking = tree(r#"<DockRobot dock_id="home"/>"#);
-    let refused = Navigator::new(&ros, &docking, "dock.xml", hall(None), &options);
-    let Err(error) = refused else {
-        panic!("DockRobot has no ROS 2 client yet");
+    // Every node type of Nav2 main loads in the navigator.
+    let model = neurotree_nav2::NAV2_TREE_NODES_MODEL;
+    let mut missing = Vec::new();
+    for name in model
+        .split("ID=\"")
+        .skip(1)
+        .filter_map(|r| r.split('"').next())
+    {
+        let one = tree(&format!("<{name}/>"));
+        if let Err(e) = Navigator::new(&ros, &one, "one.xml", hall(None), &options) {
+            if e.to_string().contains("unknown node type") {
+                missing.push(name.to_owned());
+            }
+        }
+    }
+    assert_eq!(missing, Vec::<String>::new());
+    let unknown = tree(r#"<DockRobotTwice dock_id="home"/>"#);
+    let Err(error) = Navigator::new(&ros, &unknown, "dock.xml", hall(None), &options) else {
+        panic!("a node type Nav2 does not have loaded");
     };
     assert!(
-        error.to_string().contains("unknown node type `DockRobot`"),
+        error
+            .to_string()
+            .contains("unknown node type `DockRobotTwice`"),
         "{error}"
     );
 }

@@ -94,4 +94,80 @@ pub struct Twist {
     pub angular: Vector3,
 }
 
-messages!("geometry_msgs": Point, Quaternion, Pose, PoseStamped, Vector3, Twist);
+/// A 6×6 covariance matrix, row-major (x, y, z, rotation about x, y, z): ROS 2's
+/// `float64[36]`, a fixed array, so no length goes on the wire.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Covariance(pub [f64; 36]);
+
+impl Default for Covariance {
+    /// All zeros: unknown, as ROS 2's default.
+    fn default() -> Self {
+        Self([0.0; 36])
+    }
+}
+
+// serde derives arrays of up to 32 elements only; CDR writes a fixed array as a tuple.
+impl Serialize for Covariance {
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        use serde::ser::SerializeTuple;
+        let mut tuple = serializer.serialize_tuple(36)?;
+        for value in &self.0 {
+            tuple.serialize_element(value)?;
+        }
+        tuple.end()
+    }
+}
+
+impl<'de> Deserialize<'de> for Covariance {
+    fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        struct Values;
+        impl<'de> serde::de::Visitor<'de> for Values {
+            type Value = Covariance;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("36 float64")
+            }
+            fn visit_seq<A: serde::de::SeqAccess<'de>>(
+                self,
+                mut seq: A,
+            ) -> Result<Covariance, A::Error> {
+                let mut values = [0.0; 36];
+                for (i, value) in values.iter_mut().enumerate() {
+                    *value = seq
+                        .next_element()?
+                        .ok_or_else(|| serde::de::Error::invalid_length(i, &self))?;
+                }
+                Ok(Covariance(values))
+            }
+        }
+        deserializer.deserialize_tuple(36, Values)
+    }
+}
+
+/// `geometry_msgs/msg/PoseWithCovariance`: a pose and how uncertain it is.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct PoseWithCovariance {
+    /// The pose.
+    pub pose: Pose,
+    /// Its uncertainty.
+    pub covariance: Covariance,
+}
+
+/// `geometry_msgs/msg/TwistWithCovariance`: a velocity and how uncertain it is.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct TwistWithCovariance {
+    /// The velocity.
+    pub twist: Twist,
+    /// Its uncertainty.
+    pub covariance: Covariance,
+}
+
+messages!(
+    "geometry_msgs": Point,
+    Quaternion,
+    Pose,
+    PoseStamped,
+    Vector3,
+    Twist,
+    PoseWithCovariance,
+    TwistWithCovariance
+);

@@ -5,9 +5,11 @@
 //! |---|---|
 //! | [`builtin_interfaces`] | `Time`, `Duration` |
 //! | [`std_msgs`] | `Header`, `String`, `Empty` |
-//! | [`geometry_msgs`] | `Point`, `Quaternion`, `Pose`, `PoseStamped`, `Vector3`, `Twist` |
-//! | [`nav_msgs`] | `Path` |
-//! | [`nav2_msgs`] | actions `NavigateToPose`, `ComputePathToPose`, `FollowPath`, `Spin`, `BackUp`, `Wait`; service `ClearEntireCostmap` |
+//! | [`geometry_msgs`] | `Point`, `Quaternion`, `Pose`, `PoseStamped`, `Vector3`, `Twist`, `PoseWithCovariance`, `TwistWithCovariance` |
+//! | [`nav_msgs`] | `Path`, `Goals`, `Odometry` |
+//! | [`nav2_msgs`] | the actions of Nav2's planner, smoother, controller, behaviors, navigators, route, docking and following servers; the costmaps' clearing and `GetCosts` services, `Toggle`; `Route`, `WaypointStatus` |
+//! | [`sensor_msgs`] | `BatteryState` |
+//! | [`std_srvs`] | service `Empty` |
 //!
 //! Field order is the wire format: each struct lists the fields of its `.msg` file in order.
 //! A definition with no field (`std_msgs/Empty`, an empty feedback) carries the one byte
@@ -19,6 +21,7 @@ pub mod nav2_msgs;
 pub mod nav_msgs;
 pub mod sensor_msgs;
 pub mod std_msgs;
+pub mod std_srvs;
 
 #[cfg(test)]
 mod tests {
@@ -27,7 +30,10 @@ mod tests {
 
     use super::builtin_interfaces::Duration;
     use super::geometry_msgs::{Pose, PoseStamped};
-    use super::nav2_msgs::{ClearEntireCostmapRequest, SpinGoal};
+    use super::nav2_msgs::{
+        ClearEntireCostmapRequest, ComputeRouteGoal, GetCostsResponse, SpinGoal,
+    };
+    use super::nav_msgs::Odometry;
     use super::std_msgs::{Empty, Header, String};
     use byteorder::LittleEndian;
 
@@ -56,6 +62,97 @@ mod tests {
         expected.extend(2i32.to_le_bytes());
         expected.extend(3u32.to_le_bytes());
         assert_eq!(cdr(&goal), expected);
+    }
+
+    #[test]
+    fn a_route_goal_puts_its_node_ids_around_a_pose_stamped_aligned_to_8() {
+        let goal = ComputeRouteGoal {
+            start_id: 7,
+            goal_id: 9,
+            use_poses: true,
+            ..ComputeRouteGoal::default()
+        };
+        let bytes = cdr(&goal);
+        assert_eq!(&bytes[0..2], &[7, 0]);
+        // The start's header at 4: stamp (8), an empty frame id (4 + 1); its pose at 24.
+        assert_eq!(&bytes[12..17], &[1, 0, 0, 0, 0]);
+        assert_eq!(
+            &bytes[80..82],
+            &[9, 0],
+            "goal_id after the start's 56-byte pose"
+        );
+        // The goal's pose ends at 160; then use_start and use_poses.
+        assert_eq!(&bytes[160..], &[0, 1]);
+    }
+
+    #[test]
+    fn kilteds_behavior_goals_add_one_byte_and_its_through_poses_goal_a_header() {
+        use super::nav2_msgs::kilted;
+        let jazzy = cdr(&SpinGoal::default());
+        let checked = cdr(&kilted::SpinGoal {
+            disable_collision_checks: true,
+            ..kilted::SpinGoal::default()
+        });
+        assert_eq!(checked.len(), jazzy.len() + 1);
+        assert_eq!(checked[..jazzy.len()], jazzy[..]);
+        assert_eq!(checked.last(), Some(&1));
+        // Goals: a header (stamp, empty frame id) before the poses' count.
+        let goal = kilted::ComputePathThroughPosesGoal::default();
+        assert_eq!(
+            &cdr(&goal)[..17],
+            &[0, 0, 0, 0, 0, 0, 0, 0, 1, 0, 0, 0, 0, 0, 0, 0, 0]
+        );
+    }
+
+    #[test]
+    fn mains_clearing_requests_name_plugins_after_the_square() {
+        use super::nav2_msgs::main;
+        let request = main::ClearCostmapAroundRobotRequest {
+            reset_distance: 2.0,
+            plugins: vec!["obstacle_layer".into()],
+        };
+        let mut expected = 2.0f32.to_le_bytes().to_vec();
+        expected.extend(1u32.to_le_bytes());
+        expected.extend(cdr(&String::from("obstacle_layer").data));
+        assert_eq!(cdr(&request), expected);
+        assert_eq!(cdr(&main::ClearResponse { success: true }), [1]);
+    }
+
+    #[test]
+    fn odometry_covariances_are_36_float64_without_a_length() {
+        let mut odometry = Odometry {
+            header: Header {
+                frame_id: "odom".into(),
+                ..Header::default()
+            },
+            child_frame_id: "base_link".into(),
+            ..Odometry::default()
+        };
+        odometry.pose.covariance.0[0] = 2.0;
+        odometry.twist.twist.linear.x = 0.5;
+        let bytes = cdr(&odometry);
+        // Header 17, child frame at 20 (4 + 10) to 34, the pose at 40, its covariance at
+        // 96, the twist at 384, its covariance at 432 to 720.
+        assert_eq!(bytes.len(), 720);
+        assert_eq!(&bytes[96..104], &2.0f64.to_le_bytes());
+        assert_eq!(&bytes[384..392], &0.5f64.to_le_bytes());
+        let back: Odometry = rustdds::cdr_encoding::from_bytes::<Odometry, LittleEndian>(&bytes)
+            .unwrap()
+            .0;
+        assert_eq!(back, odometry);
+    }
+
+    #[test]
+    fn get_costs_answers_a_length_prefixed_float32_list_then_success() {
+        let response = GetCostsResponse {
+            costs: vec![0.0, 254.0],
+            success: true,
+        };
+        let mut expected = 2u32.to_le_bytes().to_vec();
+        expected.extend(0.0f32.to_le_bytes());
+        expected.extend(254.0f32.to_le_bytes());
+        expected.push(1);
+        assert_eq!(cdr(&response), expected);
     }
 
     #[test]

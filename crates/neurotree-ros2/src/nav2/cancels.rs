@@ -1,5 +1,6 @@
 //! Nav2's cancel nodes over ROS 2: CancelControl, CancelSpin, CancelBackUp,
-//! CancelDriveOnHeading and CancelWait, each asking its action server to cancel every goal.
+//! CancelDriveOnHeading, CancelWait, CancelAssistedTeleop, CancelComputeAndTrackRoute and
+//! CancelFollowObject, each asking its action server to cancel every goal.
 //!
 //! As Nav2's `BtCancelActionNode`: the tick from Idle sends the server a request to cancel
 //! all its goals (a zero goal id and stamp), once the server is discovered (within
@@ -14,12 +15,15 @@ use std::time::{Duration, Instant};
 use neurotree_toolkit::{Handle, PortSpec, Registry, RegistryError, StatefulAction, Status};
 use ros2_client::service::RmwRequestId;
 
-use crate::msg::nav2_msgs::{BackUp, DriveOnHeading, FollowPath, Spin, Wait};
+use crate::msg::nav2_msgs::{
+    AssistedTeleop, BackUp, ComputeAndTrackRoute, DriveOnHeading, FollowObject, FollowPath, Spin,
+    Wait,
+};
 use crate::nodes::{client_ports, deadline, report, ClientPorts, ServerPresence};
 use crate::ros_node::parse_name;
 use crate::{RosAction, RosActionClient, RosNode};
 
-/// Registers the five cancel nodes on `ros`. Fails if one of the names is taken.
+/// Registers the eight cancel nodes on `ros`. Fails if one of the names is taken.
 pub fn register_cancel_nodes<C: 'static>(
     registry: &mut Registry<C>,
     ros: &RosNode,
@@ -28,7 +32,15 @@ pub fn register_cancel_nodes<C: 'static>(
     register::<C, Spin>(registry, "CancelSpin", ros, "spin")?;
     register::<C, BackUp>(registry, "CancelBackUp", ros, "backup")?;
     register::<C, DriveOnHeading>(registry, "CancelDriveOnHeading", ros, "drive_on_heading")?;
-    register::<C, Wait>(registry, "CancelWait", ros, "wait")
+    register::<C, Wait>(registry, "CancelWait", ros, "wait")?;
+    register::<C, AssistedTeleop>(registry, "CancelAssistedTeleop", ros, "assisted_teleop")?;
+    register::<C, ComputeAndTrackRoute>(
+        registry,
+        "CancelComputeAndTrackRoute",
+        ros,
+        "compute_and_track_route",
+    )?;
+    register::<C, FollowObject>(registry, "CancelFollowObject", ros, "follow_object")
 }
 
 fn register<C: 'static, A: RosAction>(

@@ -60,7 +60,21 @@ where
     /// results that were asked for and are known.
     pub(crate) fn poll(&mut self) -> Result<Vec<Request<A::Goal>>, Ros2Error> {
         let mut requests = Vec::new();
-        while let Some((id, sent)) = self.server.receive_goal().map_err(self.fail("goal"))? {
+        let mut undecodable = 0;
+        loop {
+            let (id, sent) = match self.server.receive_goal() {
+                Ok(Some(request)) => request,
+                Ok(None) => break,
+                // A goal in another layout (a client of another Nav2 release) cannot be
+                // read, nor answered without its id: it is dropped, and the client's wait for
+                // an answer times out. The bound keeps a reader that fails again and again
+                // from holding the loop.
+                Err(ros2_client::ReadError::Deserialization { .. }) if undecodable < 64 => {
+                    undecodable += 1;
+                    continue;
+                }
+                Err(e) => return Err(self.fail("goal")(e)),
+            };
             if self.running.is_some() {
                 // Preempted by the new goal.
                 self.finish(GoalStatusEnum::Aborted, A::Result::default());

@@ -3,9 +3,9 @@
 //!
 //! | piece | what it is |
 //! |---|---|
-//! | [`register_nav2_ros_leaves`] | ComputePathToPose, ComputePathThroughPoses, SmoothPath, NavigateToPose, FollowPath, Spin, BackUp, DriveOnHeading, Wait and the four costmap clearings as ROS 2 clients, the five cancel nodes (CancelControl, CancelSpin, ...), IsBatteryLow and IsBatteryCharging as subscribers, with `nav2_tree_nodes.xml`'s ports |
-//! | [`Navigator`] | the `navigate_to_pose` action server: ticks a tree per goal, feedback, result, cancel halts |
-//! | [`SimServers`] | a [`GridWorld`](neurotree_sim::GridWorld) as the planner, controller, behavior and costmap servers, stepping on its own clock |
+//! | [`register_nav2_ros_leaves`] | every Nav2 node that calls a server, a service or a topic, with `nav2_tree_nodes.xml`'s ports: the actions (ComputePathToPose, ComputePathThroughPoses, SmoothPath, NavigateToPose, NavigateThroughPoses, FollowPath, Spin, BackUp, DriveOnHeading, Wait, AssistedTeleop, ComputeRoute, ComputeAndTrackRoute, DockRobot, UndockRobot, FollowObject) as ROS 2 action clients; the four costmap clearings, CheckPoseOccupancy, RemoveInCollisionGoals, ToggleCollisionMonitor and ReinitializeGlobalLocalization as service clients; the eight cancel nodes ([`register_cancel_nodes`]); IsBatteryLow, IsBatteryCharging ([`register_battery_conditions`]), IsStuck and CheckStopStatus ([`register_odometry_conditions`]) as subscribers |
+//! | [`Navigator`] | the `navigate_to_pose` action server: ticks a tree per goal, feedback, result, cancel halts; it loads every node type of Nav2 main (the rest are the simulator's checks on its own view, [`register_nav2_checks`](neurotree_sim::nav2::register_nav2_checks)) |
+//! | [`SimServers`] | a [`GridWorld`](neurotree_sim::GridWorld) as the planner, smoother, controller, behavior, route, docking, following and costmap servers, the navigator through poses, the collision monitor, the localization and the odometry, stepping on its own clock |
 //! | [`convert`] | between the blackboard's `Pose2D` / `Path` and their messages |
 //!
 //! Nav2's navigator (`navigate_to_pose_w_replanning_and_recovery.xml`) runs unchanged: a
@@ -14,8 +14,6 @@
 //!
 //! # Where it is simpler than Nav2
 //!
-//! - A path planned again while FollowPath runs is taken when FollowPath next starts; Nav2
-//!   sends it to the running controller.
 //! - A navigator runs one tree; a goal naming another `behavior_tree` is aborted with
 //!   FAILED_TO_LOAD_BEHAVIOR_TREE.
 //! - One goal at a time: a cancel applies to the running goal (ros2-client does not give
@@ -25,22 +23,30 @@
 //!   `estimated_time_remaining` is always zero.
 //! - The navigator follows the robot from the simulator's `robot_pose` topic rather than
 //!   from TF.
+//! - RemoveInCollisionGoals keeps no waypoint statuses (`output_waypoint_statuses` is not
+//!   written), as in the simulator.
 
 mod battery;
 mod cancels;
+mod clearing;
 pub mod convert;
 mod goal_server;
 mod leaves;
 mod navigator;
+mod odometry;
 mod sim_servers;
 
 pub use battery::{register_battery_conditions, BATTERY_TOPIC};
 pub use cancels::register_cancel_nodes;
-pub use leaves::{register_nav2_ros_leaves, WAIT_FOR_SERVER_MS};
+pub use leaves::{
+    register_nav2_ros_leaves, register_nav2_ros_leaves_for, GET_COST_GLOBAL_COSTMAP,
+    REINITIALIZE_GLOBAL_LOCALIZATION, TOGGLE_COLLISION_MONITOR, WAIT_FOR_SERVER_MS,
+};
 pub use navigator::{
     Navigator, NavigatorError, NavigatorOptions, NavigatorStats, ROBOT_POSE_TOPIC,
 };
+pub use odometry::{register_odometry_conditions, ODOM_TOPIC};
 pub use sim_servers::{
     ServerCounts, SimOptions, SimServers, SimStats, SimStatsHandle, CLEAR_GLOBAL_COSTMAP,
-    CLEAR_LOCAL_COSTMAP,
+    CLEAR_LOCAL_COSTMAP, GET_COST_LOCAL_COSTMAP, OBJECT_POSE_TOPIC, PREEMPT_TELEOP_TOPIC,
 };

@@ -10,7 +10,7 @@
 //! | tree Failure, or a tick error | the goal Aborted, error code UNKNOWN (9000) and the reason |
 //! | cancel | halts the tree (every Running action node cancels its own goal on its server), the goal Canceled |
 //!
-//! The tree's ROS leaves are those of [`register_nav2_ros_leaves`]; its control nodes are
+//! The tree's ROS leaves are those of [`register_nav2_ros_leaves_for`] the options' release; its control nodes are
 //! Nav2's ([`neurotree_nav2::register_controls`]); its checks (selectors, IsGoalNearby,
 //! TruncatePathLocal, ValidatePath, WouldA…RecoveryHelp) run on the navigator's own view of
 //! the robot, a [`Nav2Sim`] over the static map whose robot is placed where the pose topic
@@ -25,6 +25,7 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use neurotree_nav2::robotics::{Path, Pose2D};
+use neurotree_nav2::Nav2Release;
 use neurotree_sim::nav2::{register_nav2_checks, Nav2Sim, RecoveryCounter};
 use neurotree_sim::GridWorld;
 use neurotree_toolkit::{LoadError, Registry, RegistryError, Status, Tree, XmlLoader};
@@ -33,7 +34,7 @@ use ros2_client::Subscription;
 
 use super::convert::{distance_remaining, pose_2d, pose_stamped};
 use super::goal_server::{GoalServer, Request};
-use super::register_nav2_ros_leaves;
+use super::register_nav2_ros_leaves_for;
 use crate::msg::geometry_msgs::PoseStamped;
 use crate::msg::nav2_msgs::{NavigateToPose, NavigateToPoseFeedback, NavigateToPoseResult};
 use crate::{Ros2Error, RosNode};
@@ -69,15 +70,19 @@ pub struct NavigatorOptions {
     pub pose_topic: String,
     /// Time between ticks.
     pub period: Duration,
+    /// The Nav2 release whose goal layouts the tree's clients send (see
+    /// [`register_nav2_ros_leaves_for`](super::register_nav2_ros_leaves_for)).
+    pub release: Nav2Release,
 }
 
 impl Default for NavigatorOptions {
-    /// `navigate_to_pose`, [`ROBOT_POSE_TOPIC`], 10 Hz.
+    /// `navigate_to_pose`, [`ROBOT_POSE_TOPIC`], 10 Hz, Nav2 main's goals.
     fn default() -> Self {
         Self {
             action_name: "navigate_to_pose".to_owned(),
             pose_topic: ROBOT_POSE_TOPIC.to_owned(),
             period: Duration::from_millis(100),
+            release: Nav2Release::default(),
         }
     }
 }
@@ -127,7 +132,7 @@ impl Navigator {
         let mut registry = Registry::<Nav2Sim>::new();
         neurotree_nav2::register_controls(&mut registry)?;
         register_nav2_checks(&mut registry)?;
-        register_nav2_ros_leaves(&mut registry, ros)?;
+        register_nav2_ros_leaves_for(&mut registry, ros, options.release)?;
         let mut loader = XmlLoader::new(&registry);
         loader.load_str(xml, file)?;
         let blueprint = Arc::new(loader.build_main()?);

@@ -7,6 +7,7 @@
 //! | server discovered | sends the goal, waits up to `server_timeout` for the answer | Running, then Failure (`SendGoalTimeout`) |
 //! | goal rejected | | Failure (`GoalRejected`) |
 //! | goal accepted | asks for the result; each feedback goes to `on_feedback` | Running, or what `on_feedback` returns (the goal is then cancelled) |
+//! | goal running, and [`ActionSpec::updated_goal`] gives a new one | sends it in the running goal's place, waits for its acceptance | Running |
 //! | result | Succeeded → `on_result`; Aborted / Canceled → `on_failure` | their status |
 //! | halted while Running | sends a cancel request for the goal | (Idle) |
 //!
@@ -88,6 +89,20 @@ pub trait ActionSpec<C>: Send + 'static {
         h: &mut Handle<'_, C>,
         result: &<Self::Action as RosAction>::Result,
     ) -> Status;
+
+    /// While the goal runs, at each tick: a goal to send in its place when the ports now ask
+    /// for another one (Nav2's `on_wait_for_result` setting `goal_updated_`); the server
+    /// then preempts the running goal. `None`, the default, goes on with it.
+    fn updated_goal(
+        &mut self,
+        _h: &mut Handle<'_, C>,
+    ) -> Option<<Self::Action as RosAction>::Goal> {
+        None
+    }
+
+    /// The node was halted while it ran (its goal, if sent, is then cancelled). Nothing by
+    /// default.
+    fn on_halt(&mut self, _h: &mut Handle<'_, C>) {}
 
     /// The node failed for `error`; `result` is the server's when it aborted or cancelled
     /// the goal. Failure by default.
@@ -420,6 +435,23 @@ impl<C: 'static, S: ActionSpec<C>> RosActionNode<C, S> {
                 }
             }
         }
+        if let Some(goal) = self.spec.updated_goal(h) {
+            return match client.client.send_goal(goal) {
+                Ok((request, goal_id)) => {
+                    self.phase = Phase::WaitingForAcceptance {
+                        goal_id,
+                        request,
+                        since: Instant::now(),
+                        until: deadline(self.server_timeout),
+                    };
+                    Status::Running
+                }
+                Err(e) => {
+                    let error = ActionError::Client(format!("cannot send the new goal: {e:?}"));
+                    self.fail(h, error, None)
+                }
+            };
+        }
         match client.client.receive_result(result_request) {
             Ok(None) => {
                 self.phase = Phase::Executing {
@@ -467,7 +499,8 @@ impl<C: 'static, S: ActionSpec<C>> StatefulAction<C> for RosActionNode<C, S> {
         self.step(h)
     }
 
-    fn on_halted(&mut self, _h: &mut Handle<'_, C>) {
+    fn on_halted(&mut self, h: &mut Handle<'_, C>) {
+        self.spec.on_halt(h);
         let goal_id = match std::mem::replace(&mut self.phase, Phase::Idle) {
             Phase::WaitingForAcceptance { goal_id, .. } | Phase::Executing { goal_id, .. } => {
                 goal_id

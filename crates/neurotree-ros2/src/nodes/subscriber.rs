@@ -1,9 +1,10 @@
 //! `RosTopicSubNode`: a ROS 2 subscription as a condition (BehaviorTree.ROS2's
 //! `RosTopicSubNode`).
 //!
-//! Each tick takes every message that arrived since the last one and calls
-//! [`SubscriberSpec::on_tick`] with the newest, or with `None` when none came; its answer is
-//! the node's status (Success or Failure: the node never runs).
+//! Each tick takes every message that arrived since the last one (each one to
+//! [`SubscriberSpec::on_message`]) and calls [`SubscriberSpec::on_tick`] with the newest,
+//! or with `None` when none came; its answer is the node's status (Success or Failure for
+//! a condition; an action spec may answer Running).
 //!
 //! [`LatestMessage`] is the spec most trees want: it writes the newest message to the
 //! `message` port and succeeds once any message has arrived.
@@ -30,6 +31,11 @@ pub trait SubscriberSpec<C>: Send + 'static {
     {
         Vec::new()
     }
+
+    /// Each message that arrived since the last tick, oldest first, before
+    /// [`on_tick`](Self::on_tick): for a spec that follows every message (a history), not
+    /// only the newest. Nothing by default.
+    fn on_message(&mut self, _message: &Self::Message) {}
 
     /// The node's status, given the newest message since the last tick (`None`: none came).
     fn on_tick(&mut self, h: &mut Handle<'_, C>, latest: Option<&Self::Message>) -> Status;
@@ -156,6 +162,7 @@ impl<C: 'static, S: SubscriberSpec<C>> RosTopicSubNode<C, S> {
         let mut latest = None;
         // A read error is a message lost, not a reason to stop reading the next ones.
         while let Ok(Some((message, _))) = subscription.take() {
+            self.spec.on_message(&message);
             latest = Some(message);
         }
         self.spec.on_tick(h, latest.as_ref())

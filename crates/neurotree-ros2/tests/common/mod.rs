@@ -55,3 +55,60 @@ pub fn tick_until_done<C>(tree: &mut Tree<C>, ctx: &mut C, limit: Duration) -> S
 pub fn tree<C: 'static>(blueprint: Arc<Blueprint<C>>) -> Tree<C> {
     Tree::new(blueprint)
 }
+
+/// [`SimServers`](neurotree_ros2::nav2::SimServers) serving a world in a thread of its
+/// own until dropped.
+pub struct Served {
+    stop: Arc<std::sync::atomic::AtomicBool>,
+    thread: Option<std::thread::JoinHandle<()>>,
+    /// What the servers saw.
+    pub stats: neurotree_ros2::nav2::SimStatsHandle,
+}
+
+impl Served {
+    /// Serves `sim` in `domain`, `time_scale` times as fast as real time.
+    pub fn start(domain: u16, sim: neurotree_sim::nav2::Nav2Sim, time_scale: f64) -> Self {
+        use neurotree_ros2::nav2::{SimOptions, SimServers};
+        let stop = Arc::new(std::sync::atomic::AtomicBool::new(false));
+        let stopped = Arc::clone(&stop);
+        let (tx, rx) = std::sync::mpsc::channel();
+        let thread = std::thread::spawn(move || {
+            let ros = node("nav2_sim", domain);
+            let options = SimOptions {
+                time_scale,
+                ..SimOptions::default()
+            };
+            let mut servers = SimServers::new(&ros, sim, options).unwrap();
+            tx.send(servers.stats()).unwrap();
+            servers.run(&stopped).unwrap();
+        });
+        let stats = rx.recv_timeout(Duration::from_secs(10)).unwrap();
+        Self {
+            stop,
+            thread: Some(thread),
+            stats,
+        }
+    }
+}
+
+impl Drop for Served {
+    fn drop(&mut self) {
+        self.stop.store(true, std::sync::atomic::Ordering::SeqCst);
+        if let Some(thread) = self.thread.take() {
+            let _ = thread.join();
+        }
+    }
+}
+
+/// A tree of `body` (the main tree's XML inside `<BehaviorTree>`) with the Nav2 ROS 2
+/// leaves on a node of its own in `domain`, on the wall clock.
+pub fn nav2_tree(domain: u16, body: &str) -> Tree<()> {
+    let ros = node("bt_navigator", domain);
+    let mut registry = neurotree_toolkit::Registry::<()>::new();
+    neurotree_ros2::nav2::register_nav2_ros_leaves(&mut registry, &ros).unwrap();
+    let mut loader = neurotree_toolkit::XmlLoader::new(&registry);
+    let file =
+        format!(r#"<root BTCPP_format="4"><BehaviorTree ID="T">{body}</BehaviorTree></root>"#);
+    loader.load_str(&file, "tree.xml").unwrap();
+    Tree::new(Arc::new(loader.build_main().unwrap()))
+}

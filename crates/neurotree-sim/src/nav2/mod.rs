@@ -297,7 +297,8 @@ impl Nav2Sim {
         self.collision_monitor
     }
 
-    pub(super) fn set_collision_monitor(&mut self, on: bool) {
+    /// Turns the collision monitor on or off, as its `toggle` service does.
+    pub fn set_collision_monitor(&mut self, on: bool) {
         self.collision_monitor = on;
     }
 
@@ -306,7 +307,8 @@ impl Nav2Sim {
         self.relocalizations
     }
 
-    pub(super) fn count_relocalization(&mut self) {
+    /// Counts a call of the localization's `reinitialize_global_localization`.
+    pub fn count_relocalization(&mut self) {
         self.relocalizations += 1;
     }
 
@@ -502,8 +504,8 @@ pub fn register_nav2_leaves<C: Nav2Context>(
 /// (WouldAPlannerRecoveryHelp, …, AreErrorCodesPresent), AppendGoalPoseToGoals,
 /// GetNextFewGoals, GetCurrentPose, GetPoseFromPath, ConcatenatePaths, ArePosesNear,
 /// GoalReached, TruncatePath, IsWithinPathTrackingBounds, PathExpiringTimer,
-/// RemovePassedGoals, DistanceTraveled, TimeExpired, TransformAvailable and
-/// InitialPoseReceived. A navigator
+/// RemovePassedGoals, ExtractRouteNodesAsGoals, DistanceTraveled, TimeExpired,
+/// TransformAvailable and InitialPoseReceived. A navigator
 /// whose planner, controller, behaviors and costmaps are served elsewhere (over ROS 2)
 /// registers these and its own clients for the rest. Fails if one of the names is taken.
 pub fn register_nav2_checks<C: Nav2Context>(
@@ -516,6 +518,7 @@ pub fn register_nav2_checks<C: Nav2Context>(
     poses::register(registry)?;
     tracking::register(registry)?;
     through_poses::register_remove_passed_goals(registry)?;
+    route::register_extract_route_nodes(registry)?;
     odometry::register_pose_and_clock(registry)
 }
 

@@ -14,14 +14,15 @@
 //! - **RemoveInCollisionGoals**: a sync action. Ports `input_goals`, `cost_threshold`
 //!   (default 254) and the same others; outputs `output_goals`,
 //!   `output_waypoint_statuses`. As Nav2's `remove_in_collision_goals_action.cpp`: no goals
-//!   are written back as they are, Success; otherwise the goals whose cost is below the
+//!   are written back as they are, Failure (Nav2's node sends no request, and its service
+//!   node fails then); otherwise the goals whose cost is below the
 //!   threshold are written, Success (an empty list when all are in collision); a failed
 //!   call writes the goals unchanged, Failure. Waypoint statuses are not kept (see
 //!   [RemovePassedGoals](super::through_poses)).
 
 use neurotree_core::{Handle, Status};
 
-use super::{ports, Nav2Context};
+use super::{ports, Nav2Context, Nav2Sim};
 use crate::CostmapLayer;
 use neurotree_nav2::robotics::Pose2D;
 use neurotree_toolkit::{PortSpec, Registry, RegistryError};
@@ -81,12 +82,19 @@ pub(super) fn register<C: Nav2Context>(r: &mut Registry<C>) -> Result<(), Regist
     Ok(())
 }
 
+impl Nav2Sim {
+    /// The cost costmap `layer` gives `pose`, as its `get_cost_` service answers: 254
+    /// (lethal) for a wall or a sensed obstacle, 0 for a free cell; `None` off the map.
+    pub fn cost(&self, layer: CostmapLayer, pose: &Pose2D) -> Option<f64> {
+        let cell = self.world.map().cell_at(pose)?;
+        let blocked = self.world.costmap(layer).is_blocked(cell);
+        Some(if blocked { LETHAL } else { 0.0 })
+    }
+}
+
 /// The global costmap's cost at `pose`: 254 or 0; `None` off the map.
 pub(super) fn cost_at<C: Nav2Context>(h: &Handle<'_, C>, pose: &Pose2D) -> Option<f64> {
-    let world = &h.ctx().nav2().world;
-    let cell = world.map().cell_at(pose)?;
-    let blocked = world.costmap(CostmapLayer::Global).is_blocked(cell);
-    Some(if blocked { LETHAL } else { 0.0 })
+    h.ctx().nav2().cost(CostmapLayer::Global, pose)
 }
 
 /// CheckPoseOccupancy: see the [module documentation](self).
@@ -110,8 +118,9 @@ fn remove_in_collision_goals<C: Nav2Context>(h: &mut Handle<'_, C>) -> Status {
         return Status::Failure;
     };
     if goals.is_empty() {
+        // Nav2's node sends no request then, and its service node fails.
         ports::emit(h, "output_goals", goals);
-        return Status::Success;
+        return Status::Failure;
     }
     let costs: Option<Vec<f64>> = goals.iter().map(|g| cost_at(h, g)).collect();
     let Some(costs) = costs else {
@@ -169,7 +178,7 @@ mod tests {
         assert_eq!(b.tick(), F);
         assert_eq!(b.get::<Vec<Pose2D>>("out"), [at(1.5), at(-3.0)]);
         b.set("in", Vec::<Pose2D>::new());
-        assert_eq!(b.tick(), S);
+        assert_eq!(b.tick(), F);
         assert_eq!(b.get::<Vec<Pose2D>>("out"), []);
     }
 }

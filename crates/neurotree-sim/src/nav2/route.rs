@@ -334,6 +334,14 @@ pub(super) fn register<C: Nav2Context>(r: &mut Registry<C>) -> Result<(), Regist
         "ComputeAndTrackRoute",
         "Finds a route on the route graph and tracks the robot along it.",
     );
+    register_extract_route_nodes(r)
+}
+
+/// ExtractRouteNodesAsGoals alone: it reads only the blackboard, so a navigator whose route
+/// server is served elsewhere has it too.
+pub(super) fn register_extract_route_nodes<C: Nav2Context>(
+    r: &mut Registry<C>,
+) -> Result<(), RegistryError> {
     r.register_action(
         "ExtractRouteNodesAsGoals",
         vec![
