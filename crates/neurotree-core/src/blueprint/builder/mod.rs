@@ -199,9 +199,9 @@ impl<C> Builder<C> {
 
     /// Adds a leaf that calls `condition` (held once by the blueprint, as
     /// [`open_shared_condition`](Self::open_shared_condition) holds it), named `name`, of
-    /// registered type `type_id`: the same as `open_shared_condition`, [`type_id`]
-    /// (Self::type_id) and [`close`](Self::close), in one call, which a loader makes for
-    /// most nodes of a large tree.
+    /// registered type `type_id`: the same as `open_shared_condition`,
+    /// [`type_id`](Self::type_id) and [`close`](Self::close), in one call, which a loader
+    /// makes for most nodes of a large tree.
     pub fn shared_condition_leaf(
         mut self,
         name: &str,
