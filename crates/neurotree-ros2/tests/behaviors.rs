@@ -3,15 +3,13 @@
 
 mod common;
 
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::{mpsc, Arc};
-use std::thread::JoinHandle;
+use std::sync::Arc;
 use std::time::Duration;
 
-use common::{free_domain, node, tick_until_done};
+use common::{free_domain, node, tick_until_done, Served};
 use neurotree_nav2::robotics::Pose2D;
 use neurotree_ros2::msg::nav2_msgs::DriveOnHeadingResult;
-use neurotree_ros2::nav2::{register_nav2_ros_leaves, SimOptions, SimServers, SimStatsHandle};
+use neurotree_ros2::nav2::register_nav2_ros_leaves;
 use neurotree_sim::nav2::Nav2Sim;
 use neurotree_sim::GridWorld;
 use neurotree_toolkit::{Registry, Status, Tree, XmlLoader};
@@ -23,43 +21,8 @@ const CORRIDOR: &str = "
     #######";
 
 /// The simulator serving `world` in `domain`, four times as fast as real time, until dropped.
-struct Served {
-    stop: Arc<AtomicBool>,
-    thread: Option<JoinHandle<()>>,
-    stats: SimStatsHandle,
-}
-
-impl Served {
-    fn start(domain: u16, world: GridWorld) -> Self {
-        let stop = Arc::new(AtomicBool::new(false));
-        let stopped = Arc::clone(&stop);
-        let (tx, rx) = mpsc::channel();
-        let thread = std::thread::spawn(move || {
-            let ros = node("nav2_sim", domain);
-            let options = SimOptions {
-                time_scale: 4.0,
-                ..SimOptions::default()
-            };
-            let mut servers = SimServers::new(&ros, Nav2Sim::new(world), options).unwrap();
-            tx.send(servers.stats()).unwrap();
-            servers.run(&stopped).unwrap();
-        });
-        let stats = rx.recv_timeout(Duration::from_secs(10)).unwrap();
-        Self {
-            stop,
-            thread: Some(thread),
-            stats,
-        }
-    }
-}
-
-impl Drop for Served {
-    fn drop(&mut self) {
-        self.stop.store(true, Ordering::SeqCst);
-        if let Some(thread) = self.thread.take() {
-            let _ = thread.join();
-        }
-    }
+fn serve(domain: u16, world: GridWorld) -> Served {
+    Served::start(domain, Nav2Sim::new(world), 4.0)
 }
 
 /// Runs `xml` (a tree body) with the ROS 2 leaves in `domain` until it ends; its status and
@@ -81,7 +44,7 @@ fn run(domain: u16, xml: &str) -> (Status, u16) {
 #[test]
 fn drive_on_heading_drives_the_served_robot_straight_on() {
     let domain = free_domain();
-    let served = Served::start(domain.id, GridWorld::parse(CORRIDOR, 1.0).unwrap());
+    let served = serve(domain.id, GridWorld::parse(CORRIDOR, 1.0).unwrap());
     let (status, code) = run(
         domain.id,
         r#"<DriveOnHeading dist_to_travel="2.0" speed="1.0" error_code_id="{code}"/>"#,
@@ -99,7 +62,7 @@ fn drive_on_heading_drives_the_served_robot_straight_on() {
 #[test]
 fn drive_on_heading_into_the_wall_fails_with_the_servers_collision_code() {
     let domain = free_domain();
-    let served = Served::start(domain.id, GridWorld::parse(CORRIDOR, 1.0).unwrap());
+    let served = serve(domain.id, GridWorld::parse(CORRIDOR, 1.0).unwrap());
     let (status, code) = run(
         domain.id,
         r#"<DriveOnHeading dist_to_travel="9.0" speed="2.0" error_code_id="{code}"/>"#,
@@ -117,7 +80,7 @@ fn drive_on_heading_into_the_wall_fails_with_the_servers_collision_code() {
 #[test]
 fn a_spin_cancelled_by_someone_else_succeeds_as_nav2s_does() {
     let domain = free_domain();
-    let served = Served::start(domain.id, GridWorld::parse(CORRIDOR, 1.0).unwrap());
+    let served = serve(domain.id, GridWorld::parse(CORRIDOR, 1.0).unwrap());
     let ros = node("bt_navigator", domain.id);
     let mut registry = Registry::<()>::new();
     register_nav2_ros_leaves(&mut registry, &ros).unwrap();
@@ -159,7 +122,7 @@ fn a_spin_cancelled_by_someone_else_succeeds_as_nav2s_does() {
 #[test]
 fn cancel_spin_asks_the_server_to_cancel_and_the_spin_succeeds() {
     let domain = free_domain();
-    let served = Served::start(domain.id, GridWorld::parse(CORRIDOR, 1.0).unwrap());
+    let served = serve(domain.id, GridWorld::parse(CORRIDOR, 1.0).unwrap());
     // The spin runs; a second in, CancelSpin asks the server to cancel every spin goal.
     let (status, code) = run(
         domain.id,
