@@ -727,6 +727,8 @@ where
                     started = true;
                 }
                 Request::Cancel => {
+                    // Counted before the answer goes out, which a client may act on at once.
+                    A::counts(&mut stats.lock()).cancels += 1;
                     if let Some((mut tree, since)) = self.running.take() {
                         tree.halt(sim);
                         let elapsed = sim.world.now().saturating_sub(since);
@@ -734,7 +736,6 @@ where
                         self.goals.finish(GoalStatusEnum::Canceled, result);
                         started = false;
                     }
-                    A::counts(&mut stats.lock()).cancels += 1;
                 }
             }
         }
@@ -748,8 +749,8 @@ where
             let elapsed = sim.world.now().saturating_sub(since);
             let message = "preempted by another motion".to_owned();
             let result = A::result(tree.blackboard(), 0, message, elapsed);
-            self.goals.finish(GoalStatusEnum::Aborted, result);
             A::counts(&mut stats.lock()).aborted += 1;
+            self.goals.finish(GoalStatusEnum::Aborted, result);
         }
     }
 
@@ -877,14 +878,17 @@ impl Teleop {
             ""
         };
         let result = self.result(sim, code, message);
+        // Counted before the result goes out, which a client may act on at once.
+        {
+            let mut stats = stats.lock();
+            if status == GoalStatusEnum::Succeeded {
+                stats.assisted_teleop.succeeded += 1;
+            } else {
+                stats.assisted_teleop.aborted += 1;
+            }
+        }
         self.running = None;
         self.goals.finish(status, result);
-        let mut stats = stats.lock();
-        if status == GoalStatusEnum::Succeeded {
-            stats.assisted_teleop.succeeded += 1;
-        } else {
-            stats.assisted_teleop.aborted += 1;
-        }
     }
 }
 
@@ -909,13 +913,13 @@ impl Serving for Teleop {
                     started = true;
                 }
                 Request::Cancel => {
+                    stats.lock().assisted_teleop.cancels += 1;
                     if self.running.is_some() {
                         let result = self.result(sim, 0, "");
                         self.running = None;
                         self.goals.finish(GoalStatusEnum::Canceled, result);
                         started = false;
                     }
-                    stats.lock().assisted_teleop.cancels += 1;
                 }
             }
         }
@@ -972,20 +976,21 @@ enum Clearing {
     AroundPose,
 }
 
-/// Takes `server`'s requests and clears `layer` as each asks; how many. A request in
-/// another release's layout cannot be read: it is dropped, and its client times out.
+/// Takes `server`'s requests and clears `layer` as each asks, counting each in `stats`. A
+/// request in another release's layout cannot be read: it is dropped, and its client times
+/// out.
 fn serve_clearing<S: ClearLayout>(
     server: &ClearServer<S>,
     clearing: Clearing,
     layer: CostmapLayer,
     sim: &mut Nav2Sim,
-) -> Result<u32, Ros2Error> {
-    let mut served = 0;
+    stats: &SimStatsHandle,
+) -> Result<(), Ros2Error> {
     let mut undecodable = 0;
     loop {
         let (id, request) = match server.receive_request() {
             Ok(Some(request)) => request,
-            Ok(None) => return Ok(served),
+            Ok(None) => return Ok(()),
             Err(ros2_client::ReadError::Deserialization { .. }) if undecodable < 64 => {
                 undecodable += 1;
                 continue;
@@ -1013,16 +1018,17 @@ fn serve_clearing<S: ClearLayout>(
                 clear_square(sim, layer, centre, side, false);
             }
         }
+        stats.lock().clears += 1;
         // A client gone since it asked does not need the answer: responses are best effort.
         let _ = server.send_response(id, S::response(true));
-        served += 1;
     }
 }
 
 /// The clearing services of a costmap.
 trait ServeClearings {
-    /// Answers the requests that came; how many.
-    fn serve(&self, sim: &mut Nav2Sim) -> Result<u32, Ros2Error>;
+    /// Answers the requests that came, counting each in `stats` before its answer goes
+    /// out (a client that has its answer may read the count at once).
+    fn serve(&self, sim: &mut Nav2Sim, stats: &SimStatsHandle) -> Result<(), Ros2Error>;
 }
 
 /// The four clearing services of one costmap, in the layouts `E`, `A`, `X` and `P`,
@@ -1062,14 +1068,12 @@ impl<E: ClearLayout, A: ClearLayout, X: ClearLayout, P: ClearLayout> Clearings<E
 impl<E: ClearLayout, A: ClearLayout, X: ClearLayout, P: ClearLayout> ServeClearings
     for Clearings<E, A, X, P>
 {
-    fn serve(&self, sim: &mut Nav2Sim) -> Result<u32, Ros2Error> {
+    fn serve(&self, sim: &mut Nav2Sim, stats: &SimStatsHandle) -> Result<(), Ros2Error> {
         let layer = self.layer;
-        Ok(
-            serve_clearing::<E>(&self.entire, Clearing::Entire, layer, sim)?
-                + serve_clearing::<A>(&self.around, Clearing::AroundRobot, layer, sim)?
-                + serve_clearing::<X>(&self.except, Clearing::ExceptRegion, layer, sim)?
-                + serve_clearing::<P>(&self.around_pose, Clearing::AroundPose, layer, sim)?,
-        )
+        serve_clearing::<E>(&self.entire, Clearing::Entire, layer, sim, stats)?;
+        serve_clearing::<A>(&self.around, Clearing::AroundRobot, layer, sim, stats)?;
+        serve_clearing::<X>(&self.except, Clearing::ExceptRegion, layer, sim, stats)?;
+        serve_clearing::<P>(&self.around_pose, Clearing::AroundPose, layer, sim, stats)
     }
 }
 
@@ -1290,8 +1294,7 @@ impl SimServers {
             }
         }
         for clearings in &self.clearings {
-            let cleared = clearings.serve(sim)?;
-            stats.lock().clears += cleared;
+            clearings.serve(sim, stats)?;
         }
         serve_costs(&self.costs, sim, stats)?;
         serve_switches(&self.toggle, &self.relocalize, sim, stats)?;
@@ -1372,9 +1375,9 @@ fn serve_costs(
                 success: costs.iter().all(Option::is_some),
                 costs: costs.iter().map(|c| c.unwrap_or(255.0) as f32).collect(),
             };
+            stats.lock().cost_requests += 1;
             // A client gone since it asked does not need the answer.
             let _ = server.send_response(id, response);
-            stats.lock().cost_requests += 1;
         }
     }
     Ok(())
@@ -1398,16 +1401,16 @@ fn serve_switches(
             success: true,
             message: format!("the collision monitor is {state}"),
         };
-        let _ = toggle.send_response(id, response);
         stats.lock().collision_monitor = request.enable;
+        let _ = toggle.send_response(id, response);
     }
     while let Some((id, _)) = relocalize
         .receive_request()
         .map_err(serve_failed("localization"))?
     {
         sim.count_relocalization();
-        let _ = relocalize.send_response(id, EmptyResponse::default());
         stats.lock().relocalizations += 1;
+        let _ = relocalize.send_response(id, EmptyResponse::default());
     }
     Ok(())
 }
