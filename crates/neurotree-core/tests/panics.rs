@@ -302,3 +302,67 @@ fn a_panicking_condition_object_is_named_too() {
     log.panic_on = 0;
     assert_eq!(tree.tick_once(&mut log), Ok(Status::Success));
 }
+
+/// A condition object that holds unless its node is the one named in the context's
+/// `panic_on` (its id), where it panics; it checks that the handle it gets is its own.
+struct Named(&'static str);
+
+impl neurotree_core::Condition<Log> for Named {
+    fn check(&self, h: &Handle<'_, Log>) -> bool {
+        assert_eq!(h.name(), self.0, "a condition gets its own node's handle");
+        if h.ctx().panic_on == h.node().0 {
+            panic!("{} panicked", self.0);
+        }
+        true
+    }
+}
+
+#[test]
+fn a_panicking_condition_object_in_a_guard_is_named_at_every_place() {
+    // Guards of condition objects, alone at the root and under a plain Sequence: each
+    // object gets its own handle, and the one that panics is blamed, wherever it stands.
+    const NAMES: [&str; 7] = ["a", "b", "c", "d", "e", "f", "g"];
+    for nested in [false, true] {
+        for len in 1..=NAMES.len() {
+            let guard = |b: neurotree_core::Builder<Log>| {
+                b.sequence("guard", |mut g| {
+                    for name in &NAMES[..len] {
+                        g = g.condition_node(name, Named(name));
+                    }
+                    g
+                })
+            };
+            let bp = if nested {
+                Blueprint::<Log>::builder()
+                    .sequence("root", |s| guard(s.condition("first", |_: &Log| true)))
+            } else {
+                guard(Blueprint::<Log>::builder())
+            }
+            .build_shared()
+            .unwrap();
+            let mut tree = Tree::with_clock(Arc::clone(&bp), ManualClock::new());
+            for name in &NAMES[..len] {
+                let path = if nested {
+                    format!("root/guard/{name}")
+                } else {
+                    format!("guard/{name}")
+                };
+                let node = bp.find(&path).unwrap();
+                let mut log = Log {
+                    panic_on: node.0,
+                    ..Log::default()
+                };
+                assert_eq!(
+                    tree.tick_once(&mut log),
+                    Err(TickError::Panicked {
+                        node,
+                        path,
+                        message: format!("{name} panicked"),
+                    })
+                );
+                log.panic_on = u32::MAX;
+                assert_eq!(tree.tick_once(&mut log), Ok(Status::Success));
+            }
+        }
+    }
+}

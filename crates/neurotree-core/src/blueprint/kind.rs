@@ -14,8 +14,9 @@ use crate::nodes::leaf::{Action, AsyncAction, Condition, StatefulAction};
 use crate::nodes::NodeDecl;
 use crate::Status;
 
-/// A closure condition: a pure function of the user's context.
-pub type ConditionFn<C> = Box<dyn Fn(&C) -> bool + Send + Sync>;
+/// A closure condition: a pure function of the user's context (any
+/// `Fn(&C) -> bool + Send + Sync`, boxed).
+pub type ConditionFn<C> = Box<dyn super::ConditionClosure<C>>;
 /// A closure sync action: may change the context, must complete in one tick.
 pub type ActionFn<C> = Box<dyn Fn(&mut C) -> Status + Send + Sync>;
 /// Makes one per-instance object of a stateful leaf.

@@ -6,12 +6,14 @@
 //! serves any number of agents without copying its structure.
 
 pub(crate) mod builder;
+pub(crate) mod call;
 mod declared;
 mod error;
 mod kind;
 mod port;
 
 pub use builder::Builder;
+pub use call::ConditionClosure;
 pub use declared::{PortBinding, PortBindingError};
 pub use error::{BuildError, BuildErrorKind};
 pub use kind::{
@@ -25,7 +27,6 @@ use alloc::string::String;
 use alloc::sync::Arc;
 use alloc::vec::Vec;
 use core::fmt;
-use core::ptr::NonNull;
 
 use crate::blackboard::ScopeId;
 use crate::nodes::hooks::NodeHooks;
@@ -36,6 +37,7 @@ pub const DEFAULT_MAX_DEPTH: u32 = 256;
 
 /// A node's index in its blueprint (pre-order, root = 0).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+#[repr(transparent)]
 pub struct NodeId(pub u32);
 
 impl NodeId {
@@ -64,19 +66,35 @@ pub(crate) struct NodeDef<C> {
 }
 
 /// A child as its parent's loop sees it: its id and, for a condition without hooks (the
-/// most common leaf, from the builder or from XML), the condition itself, so that ticking
-/// it needs no look-up of its definition and no call through the dispatcher. A plain
-/// Sequence or Fallback without hooks (the most common control) is marked too, so that its
-/// parent calls its loop without the dispatcher.
-pub(crate) struct Child<C> {
+/// most common leaf, from the builder or from XML), the condition itself as its data and
+/// the [entry](call::Entry) that calls it, so that ticking it needs no look-up of its
+/// definition, no call through the dispatcher and no vtable. A plain Sequence or Fallback
+/// without hooks (the most common control) is marked too, so that its parent calls its
+/// loop without the dispatcher.
+///
+/// A guard's loop (see [`crate::tree::calls`]) reads these records as they are: the data at
+/// offset 0, the entry at 8, the id at 16.
+#[repr(C)]
+pub(crate) struct Child {
+    data: *const (),
+    word: Word,
     pub(crate) id: NodeId,
-    /// Which field of `leaf` is set. Beside the id, it costs no space: the record is as
-    /// large as the id and one wide pointer need anyway.
+    /// Which field of `word` is set, and what `data` points at.
     fast: Fast,
-    leaf: FastLeaf<C>,
 }
 
-/// What [`Child::leaf`] holds.
+/// What [`Child::word`] holds.
+#[derive(Clone, Copy)]
+union Word {
+    none: u64,
+    /// A condition's entry, called with `data`.
+    entry: call::Entry,
+    /// A guard's children in `Blueprint::hot_children` (first, count), so that its
+    /// parent's loop runs the guard's loop without looking its definition up.
+    guard: [u32; 2],
+}
+
+/// What a child record holds.
 #[derive(Clone, Copy, PartialEq, Eq)]
 #[repr(u32)]
 enum Fast {
@@ -101,10 +119,11 @@ enum Fast {
 }
 
 /// A child as a plain Sequence's or Fallback's quiet loop ticks it: a condition called
-/// from the child list, a guard whose loop runs in the parent's, or anything else.
-pub(crate) enum Hot<'a, C> {
-    Closure(&'a ConditionDyn<C>),
-    Condition(&'a dyn Condition<C>),
+/// through its entry (a closure with the context, an object with a handle), a guard whose
+/// loop runs in the parent's, or anything else.
+pub(crate) enum Hot {
+    Closure,
+    Condition,
     /// A guard: a Sequence (`.0`) or Fallback, of closures (`.1`) or of `Condition`
     /// objects, and its children's range in `Blueprint::hot_children` (first, count).
     Guard(bool, bool, [u32; 2]),
@@ -130,49 +149,35 @@ pub(crate) struct FastControl {
     pub(crate) guards: Guards,
 }
 
-/// The condition a [`Child`] calls directly: points into the `ConditionFn` box or at the
-/// `Condition` object (shared by `Arc`) owned by this blueprint's `nodes`.
-#[derive(Clone, Copy)]
-union FastLeaf<C> {
-    none: (),
-    closure: NonNull<ConditionDyn<C>>,
-    condition: NonNull<dyn Condition<C>>,
-    /// A guard's children in `Blueprint::hot_children` (first, count), so that its
-    /// parent's loop runs the guard's loop without looking its definition up.
-    guard: [u32; 2],
-}
-
-/// The closure behind a [`ConditionFn`].
-type ConditionDyn<C> = dyn Fn(&C) -> bool + Send + Sync;
-
-impl<C> Child<C> {
-    /// A child of kind `kind`; `hooked` when it has pre- or post-conditions.
-    pub(crate) fn new(
+impl Child {
+    /// A child of kind `kind`; `hooked` when it has pre- or post-conditions; `entries` are
+    /// those of the blueprint's `shared` conditions.
+    pub(crate) fn new<C>(
         id: NodeId,
         def: &NodeDef<C>,
         hooked: bool,
         guards: Guards,
         shared: &[Arc<dyn Condition<C>>],
+        entries: &[call::Entry],
     ) -> Self {
-        let (fast, leaf) = match (&def.kind, hooked) {
-            (NodeKind::ConditionFn(f), false) => (
-                Fast::Closure,
-                FastLeaf {
-                    closure: NonNull::from(&**f),
-                },
-            ),
-            (NodeKind::Condition(c), false) => (
-                Fast::Condition,
-                FastLeaf {
-                    condition: NonNull::from(&**c),
-                },
-            ),
-            (NodeKind::SharedCondition(s), false) => (
-                Fast::Condition,
-                FastLeaf {
-                    condition: NonNull::from(&*shared[s.index()]),
-                },
-            ),
+        let condition = |data, entry| Self {
+            data,
+            word: Word { entry },
+            id,
+            fast: Fast::Condition,
+        };
+        match (&def.kind, hooked) {
+            (NodeKind::ConditionFn(f), false) => {
+                let f: &ConditionDyn<C> = &**f;
+                Self {
+                    fast: Fast::Closure,
+                    ..condition(f as *const ConditionDyn<C> as *const (), f.entry())
+                }
+            }
+            (NodeKind::Condition(c), false) => condition(call::data_of(&**c), call::entry_of(&**c)),
+            (NodeKind::SharedCondition(s), false) => {
+                condition(call::data_of(&*shared[s.index()]), entries[s.index()])
+            }
             (kind, false) if kind.plain_order().is_some() => {
                 let sequence = kind.plain_order() == Some(true);
                 let fast = match (sequence, guards) {
@@ -183,31 +188,55 @@ impl<C> Child<C> {
                     (false, Guards::Objects) => Fast::FallbackOfObjects,
                     (false, Guards::Mixed) => Fast::Alternative,
                 };
-                let leaf = if guards == Guards::Mixed {
-                    FastLeaf { none: () }
+                let word = if guards == Guards::Mixed {
+                    Word { none: 0 }
                 } else {
-                    FastLeaf {
+                    Word {
                         guard: [def.first_child, def.child_count],
                     }
                 };
-                (fast, leaf)
+                Self {
+                    data: core::ptr::null(),
+                    word,
+                    id,
+                    fast,
+                }
             }
-            _ => (Fast::None, FastLeaf { none: () }),
-        };
-        Self { id, fast, leaf }
+            _ => Self {
+                data: core::ptr::null(),
+                word: Word { none: 0 },
+                id,
+                fast: Fast::None,
+            },
+        }
     }
 
-    /// The child's closure condition (from the builder), if it is one without hooks.
+    /// The child's entry, if it is a condition without hooks: a closure (`true`, called
+    /// with the context) or a `Condition` object (called with a handle).
     #[inline(always)]
-    pub(crate) fn closure(&self) -> Option<&ConditionDyn<C>> {
-        // SAFETY: `fast` says which field `new` set. The pointer was taken from a `Box` in
-        // `Blueprint::nodes` of the blueprint that owns this `Child`; the blueprint is
-        // immutable once built, so the box is neither dropped nor mutated while `self`
-        // (borrowed from the blueprint) lives.
-        if self.fast == Fast::Closure {
-            Some(unsafe { &*self.leaf.closure.as_ptr() })
-        } else {
-            None
+    pub(crate) fn condition(&self) -> Option<bool> {
+        match self.fast {
+            Fast::Closure => Some(true),
+            Fast::Condition => Some(false),
+            _ => None,
+        }
+    }
+
+    /// Calls the child's condition with `args` (see [`call::Entry`]).
+    ///
+    /// # Safety
+    /// The child is a condition ([`condition`](Self::condition)), and `args` is an
+    /// `Args<*const C>` for a closure, an `Args<Handle<'_, C>>` for an object, of the `C`
+    /// of the blueprint that holds this record.
+    #[inline(always)]
+    pub(crate) unsafe fn call<A>(&self, args: &mut call::Args<A>) -> u8 {
+        debug_assert!(self.condition().is_some());
+        // SAFETY: the caller's contract; `new` set `entry` for conditions.
+        unsafe {
+            (self.word.entry)(
+                (self as *const Self).cast(),
+                (args as *mut call::Args<A>).cast(),
+            )
         }
     }
 
@@ -245,59 +274,47 @@ impl<C> Child<C> {
 
     /// What a parent's quiet loop does with this child (see [`Hot`]).
     #[inline(always)]
-    pub(crate) fn hot(&self) -> Hot<'_, C> {
-        // SAFETY: `fast` says which field `new` set (see `closure` and `condition_object`;
-        // the guard variants set `guard`).
+    pub(crate) fn hot(&self) -> Hot {
+        // SAFETY: the guard variants set `guard` (see `new`).
         unsafe {
             match self.fast {
-                Fast::Closure => Hot::Closure(&*self.leaf.closure.as_ptr()),
-                Fast::Condition => Hot::Condition(&*self.leaf.condition.as_ptr()),
-                Fast::SequenceOfClosures => Hot::Guard(true, true, self.leaf.guard),
-                Fast::FallbackOfClosures => Hot::Guard(false, true, self.leaf.guard),
-                Fast::SequenceOfObjects => Hot::Guard(true, false, self.leaf.guard),
-                Fast::FallbackOfObjects => Hot::Guard(false, false, self.leaf.guard),
+                Fast::Closure => Hot::Closure,
+                Fast::Condition => Hot::Condition,
+                Fast::SequenceOfClosures => Hot::Guard(true, true, self.word.guard),
+                Fast::FallbackOfClosures => Hot::Guard(false, true, self.word.guard),
+                Fast::SequenceOfObjects => Hot::Guard(true, false, self.word.guard),
+                Fast::FallbackOfObjects => Hot::Guard(false, false, self.word.guard),
                 Fast::Sequential | Fast::Alternative | Fast::None => Hot::Other,
             }
         }
     }
+}
 
-    /// The child's closure, when its parent knows it is a closure condition
-    /// ([`Guards::Closures`]).
-    #[inline(always)]
-    pub(crate) fn closure_known(&self) -> &ConditionDyn<C> {
-        debug_assert!(self.fast == Fast::Closure);
-        // SAFETY: the parent's `Fast` said all its children are closure conditions, which
-        // `new` set for exactly those (see `closure`).
-        unsafe { &*self.leaf.closure.as_ptr() }
-    }
-
-    /// The child's `Condition` object, when its parent knows it is one
-    /// ([`Guards::Objects`]).
-    #[inline(always)]
-    pub(crate) fn condition_known(&self) -> &dyn Condition<C> {
-        debug_assert!(self.fast == Fast::Condition);
-        // SAFETY: as in `closure_known`, for `Condition` objects (see `condition_object`).
-        unsafe { &*self.leaf.condition.as_ptr() }
-    }
-
-    /// The child's `Condition` object (a registered condition from XML, or the builder's
-    /// `condition_node`), if it is one without hooks.
-    #[inline(always)]
-    pub(crate) fn condition_object(&self) -> Option<&dyn Condition<C>> {
-        // SAFETY: as in `closure`; the object is held by an `Arc` in `Blueprint::nodes`.
-        if self.fast == Fast::Condition {
-            Some(unsafe { &*self.leaf.condition.as_ptr() })
-        } else {
-            None
+#[cfg(test)]
+impl Child {
+    /// The record of closure condition `f` as node `id`, for tests of the loops.
+    pub(crate) fn of_closure<C, F: ConditionClosure<C>>(f: &F, id: NodeId) -> Self {
+        Self {
+            data: (f as *const F).cast(),
+            word: Word { entry: f.entry() },
+            id,
+            fast: Fast::Closure,
         }
     }
 }
 
-// SAFETY: `condition` points at a `dyn Fn + Send + Sync` owned by the same blueprint, so
-// sharing or sending a `Child` is sharing or sending a reference to that closure.
-unsafe impl<C> Send for Child<C> {}
+// A guard's loop reads the entry at 8 (see `crate::tree::calls`).
+const _: () = assert!(core::mem::offset_of!(Child, word) == 8);
+
+// SAFETY: `data` points at a closure or `Condition` object, both `Send + Sync`, owned by the
+// blueprint that holds the record, so sharing or sending a `Child` is sharing or sending a
+// reference to it.
+unsafe impl Send for Child {}
 // SAFETY: as above.
-unsafe impl<C> Sync for Child<C> {}
+unsafe impl Sync for Child {}
+
+/// The closure behind a [`ConditionFn`].
+type ConditionDyn<C> = dyn ConditionClosure<C>;
 
 /// Where a name is in [`Blueprint::names`]: all the names of a blueprint share one buffer,
 /// so that building one allocates per blueprint, not per node. In 32 bits, as the
@@ -356,7 +373,7 @@ pub struct Blueprint<C> {
     pub(crate) nodes: Box<[NodeDef<C>]>,
     pub(crate) children: Box<[NodeId]>,
     /// `children` with their closure conditions at hand, for the controls' loops.
-    pub(crate) hot_children: Box<[Child<C>]>,
+    pub(crate) hot_children: Box<[Child]>,
     /// Per node: its first per-instance `u64` state slot (kinds that keep state), or its
     /// per-instance object (stateful leaves, custom nodes). Kept apart from `nodes` so that a
     /// `NodeDef` fits in 32 bytes, two to a cache line.
@@ -497,7 +514,7 @@ impl<C> Blueprint<C> {
 
     /// The children of a node definition, as the controls' loops tick them.
     #[inline(always)]
-    pub(crate) fn hot_children_of(&self, def: &NodeDef<C>) -> &[Child<C>] {
+    pub(crate) fn hot_children_of(&self, def: &NodeDef<C>) -> &[Child] {
         let range = def.first_child as usize..(def.first_child + def.child_count) as usize;
         debug_assert!(range.end <= self.hot_children.len());
         // SAFETY: `hot_children` mirrors `children` entry for entry (see `children_of`).
@@ -506,7 +523,7 @@ impl<C> Blueprint<C> {
 
     /// A guard's children, from the range its [`Hot::Guard`] holds.
     #[inline(always)]
-    pub(crate) fn hot_range(&self, [first, count]: [u32; 2]) -> &[Child<C>] {
+    pub(crate) fn hot_range(&self, [first, count]: [u32; 2]) -> &[Child] {
         let range = first as usize..(first + count) as usize;
         debug_assert!(range.end <= self.hot_children.len());
         // SAFETY: `Child::new` took the range from a node definition of this blueprint, as

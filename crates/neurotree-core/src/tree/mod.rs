@@ -22,6 +22,7 @@
 //! tick boundary (the start of a call, or between two passes of `tick_once`), and that call
 //! returns [`TickError::HaltRequested`]; see [`halt`] for the exact rules.
 
+pub(crate) mod calls;
 mod error;
 pub mod failure;
 pub mod halt;

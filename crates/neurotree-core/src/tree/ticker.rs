@@ -10,6 +10,9 @@ use core::mem;
 use core::time::Duration;
 
 use crate::blackboard::Blackboard;
+use crate::blueprint::call::Args;
+#[cfg(feature = "std")]
+use crate::blueprint::call::{Payload, PANICKED};
 use crate::blueprint::{Blueprint, Child, FromPortStr, NodeDef, NodeKind, Param};
 use crate::clock::duration_to_nanos;
 use crate::nodes::built_in::Tick;
@@ -269,16 +272,53 @@ impl<'t, C> Ticker<'t, C> {
     /// `OBSERVED` is the loop-invariant answer to "is an observer attached?", so that a
     /// control's loop compiles twice and the unobserved one stores statuses directly.
     #[inline(always)]
-    pub(crate) fn tick_child<const OBSERVED: bool>(&mut self, child: &Child<C>) -> NodeStatus {
-        if let Some(f) = child.closure() {
-            self.current = child.id;
+    pub(crate) fn tick_child<const OBSERVED: bool>(&mut self, child: &Child) -> NodeStatus {
+        if child.condition() == Some(true) {
             if OBSERVED {
                 self.note_tick(child.id);
             }
-            let holds = f(self.ctx);
+            let holds = self.check(child, true);
             return self.store_condition::<OBSERVED>(child.id, holds);
         }
         self.tick_child_slow::<OBSERVED>(child)
+    }
+
+    /// Calls condition `child` (a closure with the context, else an object with a handle)
+    /// and tells whether it holds; a panic in it goes on, blamed on it.
+    #[inline(always)]
+    pub(crate) fn check(&mut self, child: &Child, closure: bool) -> bool {
+        let answer = if closure {
+            let mut args = Args::new(&raw const *self.ctx);
+            // SAFETY: a closure condition of this blueprint's `C`, with the context.
+            let answer = unsafe { child.call(&mut args) };
+            #[cfg(feature = "std")]
+            if answer == PANICKED {
+                // SAFETY: it answered PANICKED just now.
+                self.resume_panic(child.id, unsafe { args.take_panic() });
+            }
+            answer
+        } else {
+            let mut args = Args::new(self.handle(child.id));
+            // SAFETY: a `Condition` object of this blueprint's `C`, with a handle.
+            let answer = unsafe { child.call(&mut args) };
+            #[cfg(feature = "std")]
+            if answer == PANICKED {
+                // SAFETY: as above.
+                let payload = unsafe { args.take_panic() };
+                self.resume_panic(child.id, payload);
+            }
+            answer
+        };
+        answer == 1
+    }
+
+    /// Resumes the panic of condition `node` (caught by its entry), blamed on it.
+    #[cfg(feature = "std")]
+    #[cold]
+    #[inline(never)]
+    pub(crate) fn resume_panic(&mut self, node: NodeId, payload: Payload) -> ! {
+        self.current = node;
+        std::panic::resume_unwind(payload)
     }
 
     /// [`tick_child`](Self::tick_child) for a child that is no closure condition: a
@@ -287,13 +327,12 @@ impl<'t, C> Ticker<'t, C> {
     /// so that the closure case keeps the parent's loop small: inlined, it costs the
     /// builder's tree1111 three instructions per leaf and saves the XML one eight.
     #[inline(never)]
-    fn tick_child_slow<const OBSERVED: bool>(&mut self, child: &Child<C>) -> NodeStatus {
-        if let Some(c) = child.condition_object() {
-            self.current = child.id;
+    fn tick_child_slow<const OBSERVED: bool>(&mut self, child: &Child) -> NodeStatus {
+        if child.condition() == Some(false) {
             if OBSERVED {
                 self.note_tick(child.id);
             }
-            let holds = c.check(&self.handle(child.id));
+            let holds = self.check(child, false);
             return self.store_condition::<OBSERVED>(child.id, holds);
         }
         let def = self.bp.def(child.id);
@@ -319,7 +358,7 @@ impl<'t, C> Ticker<'t, C> {
     /// Ticks a child that is no condition called from its parent's list, for a loop that
     /// handles those itself (`ordered::run_quiet`).
     #[inline(never)]
-    pub(crate) fn tick_child_stored(&mut self, child: &Child<C>) -> NodeStatus {
+    pub(crate) fn tick_child_stored(&mut self, child: &Child) -> NodeStatus {
         use crate::blueprint::{FastControl, Guards};
         use control::ordered::{tick, tick_guard, PLAIN};
         let Some(FastControl { sequence, guards }) = child.fast_control() else {

@@ -585,12 +585,14 @@ impl<C> State<C> {
         }
         let nodes = nodes.into_boxed_slice();
         let shared = self.shared.into_boxed_slice();
+        // A shared condition's entry is looked up once, not for each of its nodes.
+        let entries: Vec<_> = shared.iter().map(|c| super::call::entry_of(&**c)).collect();
         let hot_children = children
             .iter()
             .map(|&id| {
                 let i = id.index();
                 let guard = guards[i].unwrap_or(Guards::Mixed);
-                Child::new(id, &nodes[i], hooks[i].is_some(), guard, &shared)
+                Child::new(id, &nodes[i], hooks[i].is_some(), guard, &shared, &entries)
             })
             .collect();
         // Per node, whether every ancestor passes a Running child's tick straight through

@@ -4,7 +4,11 @@
 //! [`fallback`](super::fallback) for the semantics.
 
 use super::{pack, unpack};
+use crate::blueprint::call::Args;
+#[cfg(feature = "std")]
+use crate::blueprint::call::PANICKED;
 use crate::blueprint::{Child, Hot, NodeDef};
+use crate::tree::calls;
 use crate::tree::Ticker;
 use crate::{NodeId, NodeStatus};
 
@@ -124,79 +128,49 @@ pub(crate) fn tick_guard<C, const SEQUENCE: bool, const CLOSURES: bool>(
 }
 
 /// A guard's loop with no observer (see [`tick_guard`]): the calls of its conditions
-/// `hot` (at least one), in order, until one decides. Run by the guard's parent in its own
-/// loop when the parent is a quiet Sequence or Fallback ([`run_quiet`]), as if the guard
-/// were one condition: its status is stored only if the parent returns Running.
+/// `calls` (at least one), in order, until one decides (see [`calls`]). Run by the guard's parent in its
+/// own loop when the parent is a quiet Sequence or Fallback ([`run_quiet`]), as if the
+/// guard were one condition: its status is stored only if the parent returns Running.
 #[inline(always)]
 fn guard<C, const SEQUENCE: bool, const CLOSURES: bool>(
     t: &mut Ticker<'_, C>,
     id: NodeId,
-    hot: &[Child<C>],
+    calls: &[Child],
 ) -> NodeStatus {
     let (go_on, stop) = if SEQUENCE {
         (NodeStatus::Success, NodeStatus::Failure)
     } else {
         (NodeStatus::Failure, NodeStatus::Success)
     };
-    debug_assert!(!hot.is_empty());
-    let range = hot.as_ptr_range();
-    let mut child = range.start;
+    debug_assert!(!calls.is_empty());
     if CLOSURES {
-        let ctx: &C = t.ctx;
-        loop {
-            // SAFETY: `child` is in `start..end` of the non-empty `hot` (a guard has a
-            // child: the builder makes none of a node without children).
-            let c = unsafe { &*child };
-            let blame = Blame {
-                current: &mut t.current,
-                child: c,
-            };
-            let holds = c.closure_known()(ctx);
-            core::mem::forget(blame);
-            if holds != SEQUENCE {
-                return stop;
-            }
-            // SAFETY: at most one past the end of `hot`.
-            child = unsafe { child.add(1) };
-            if child == range.end {
-                return go_on;
-            }
+        let mut args = Args::new(&raw const *t.ctx);
+        // SAFETY: a guard of closures' children are closure conditions of `C`
+        // (`Child::new`), called with the context, which nothing else borrows meanwhile.
+        let decided = unsafe { calls::until::<_, SEQUENCE>(calls, &mut args) };
+        match decided {
+            None => go_on,
+            #[cfg(feature = "std")]
+            // SAFETY: the entry answered PANICKED just now.
+            Some((call, PANICKED)) => t.resume_panic(call.id, unsafe { args.take_panic() }),
+            Some(_) => stop,
         }
     } else {
-        let (mut h, current) = t.handle_beside_current(id);
-        loop {
-            // SAFETY: as above.
-            let c = unsafe { &*child };
-            h.node = c.id;
-            let blame = Blame {
-                current: &mut *current,
-                child: c,
-            };
-            let holds = c.condition_known().check(&h);
-            core::mem::forget(blame);
-            if holds != SEQUENCE {
-                return stop;
+        let mut args = Args::new(t.handle(id));
+        // SAFETY: as above, for `Condition` objects of `C`, called with a handle to the
+        // ticker's state that only they use.
+        let decided = unsafe { calls::until::<_, SEQUENCE>(calls, &mut args) };
+        let decided = decided.map(|(call, answer)| (call.id, answer));
+        match decided {
+            None => go_on,
+            #[cfg(feature = "std")]
+            Some((node, PANICKED)) => {
+                // SAFETY: the entry answered PANICKED just now.
+                let payload = unsafe { args.take_panic() };
+                t.resume_panic(node, payload)
             }
-            // SAFETY: as above.
-            child = unsafe { child.add(1) };
-            if child == range.end {
-                return go_on;
-            }
+            Some(_) => stop,
         }
-    }
-}
-
-/// Names the child whose condition is being called as the node a panic came from, when
-/// the panic unwinds through the call (the loop forgets it otherwise). It holds the child
-/// record the loop holds anyway, so that the loop loads no id for it.
-struct Blame<'a, C> {
-    current: &'a mut NodeId,
-    child: &'a Child<C>,
-}
-
-impl<C> Drop for Blame<'_, C> {
-    fn drop(&mut self) {
-        *self.current = self.child.id;
     }
 }
 
@@ -238,33 +212,19 @@ fn run_quiet<C, const SEQUENCE: bool>(
             break None;
         };
         let status = match child.hot() {
-            Hot::Closure(f) => {
-                // Which node a panic came from is written only if one unwinds through here:
-                // a store per condition would cost this loop a tenth of its time.
-                let blame = Blame {
-                    current: &mut t.current,
-                    child,
-                };
-                let holds = f(t.ctx);
-                core::mem::forget(blame);
-                NodeStatus::from(crate::Status::from(holds))
-            }
-            Hot::Condition(c) => {
-                let (h, current) = t.handle_beside_current(child.id);
-                let blame = Blame { current, child };
-                let holds = c.check(&h);
-                core::mem::forget(blame);
-                NodeStatus::from(crate::Status::from(holds))
-            }
+            // Which node a panic came from is written only if one ends the call: a store
+            // per condition would cost this loop a tenth of its time.
+            Hot::Closure => NodeStatus::from(crate::Status::from(t.check(child, true))),
+            Hot::Condition => NodeStatus::from(crate::Status::from(t.check(child, false))),
             // A guard completes in this call, like a condition: its status, like theirs,
             // is stored only if this node returns Running.
             Hot::Guard(sequence, closures, range) => {
-                let hot = bp.hot_range(range);
+                let calls = bp.hot_range(range);
                 match (sequence, closures) {
-                    (true, true) => guard::<C, true, true>(t, child.id, hot),
-                    (false, true) => guard::<C, false, true>(t, child.id, hot),
-                    (true, false) => guard::<C, true, false>(t, child.id, hot),
-                    (false, false) => guard::<C, false, false>(t, child.id, hot),
+                    (true, true) => guard::<C, true, true>(t, child.id, calls),
+                    (false, true) => guard::<C, false, true>(t, child.id, calls),
+                    (true, false) => guard::<C, true, false>(t, child.id, calls),
+                    (false, false) => guard::<C, false, false>(t, child.id, calls),
                 }
             }
             Hot::Other => {

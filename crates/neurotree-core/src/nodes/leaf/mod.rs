@@ -270,6 +270,12 @@ pub(crate) fn read_input<T: FromPortStr + Any + Clone, C>(
 
 /// A check of the world that never runs; one object serves every instance.
 ///
+/// A condition without pre- or post-conditions is called by its parent's loop through a
+/// plain function made for its type (the sealed supertrait, implemented for every
+/// `Condition`), with no vtable. A panic in `check` ends the tick with
+/// [`TickError::Panicked`](crate::TickError::Panicked) naming the node, as anywhere else;
+/// without the `std` feature, where a panic cannot be caught, it aborts.
+///
 /// ```
 /// use neurotree_core::{Blueprint, Condition, Handle};
 ///
@@ -280,7 +286,7 @@ pub(crate) fn read_input<T: FromPortStr + Any + Clone, C>(
 /// let bp = Blueprint::<f32>::builder().condition_node("charged", Above(20.0)).build();
 /// assert!(bp.is_ok());
 /// ```
-pub trait Condition<C>: Send + Sync {
+pub trait Condition<C>: Send + Sync + crate::blueprint::call::sealed::ConditionEntry<C> {
     /// `true` for Success, `false` for Failure.
     fn check(&self, h: &Handle<'_, C>) -> bool;
 }

@@ -1,0 +1,183 @@
+//! How a condition child is called: through an entry, a plain function made for the
+//! condition's own type, with the child's record (its data and id) and the loop's
+//! arguments, so that a parent's loop (and a guard's, see [`crate::tree::calls`]) makes
+//! one direct call per child with no vtable to load first.
+//!
+//! The entry is an `extern "sysv64"` function (one calling convention on every x86-64
+//! system, as the loop's assembly expects) made for the condition's own type when the
+//! condition is added (a closure through [`ConditionClosure`], an object through
+//! [`Condition`]'s sealed supertrait). A panic does not unwind through it: with `std`, the
+//! entry catches it, answers [`PANICKED`] and leaves the payload in the loop's [`Args`],
+//! and the guard resumes it once out of the loop, blaming the child that panicked. (Without
+//! `std` a panic cannot be caught, and one in a guard's condition aborts.)
+
+use super::Child;
+use crate::nodes::leaf::{Condition, Handle};
+
+/// A condition's entry: called with its [`Child`] record and an [`Args`] (as untyped
+/// pointers, so that the type stays private), it answers 1
+/// (`true`), 0 (`false`) or [`PANICKED`].
+#[doc(hidden)]
+pub type Entry = unsafe extern "sysv64" fn(*const (), *mut ()) -> u8;
+
+/// What an entry answers when the condition panicked (the payload is in [`Args`]); only
+/// with `std`.
+#[cfg(feature = "std")]
+pub(crate) const PANICKED: u8 = 2;
+
+/// What a guard's loop passes to every entry (as a pointer to it): the argument of its
+/// conditions (a pointer to the context for closures, the handle itself for objects, so
+/// that an entry reaches it with no load) and, with `std`, where a panic's payload goes.
+///
+/// The payload is written only with the answer [`PANICKED`], and then taken at once
+/// ([`Args::take_panic`]): kept uninitialised otherwise, it costs the loop nothing to drop.
+pub(crate) struct Args<A> {
+    pub(crate) arg: A,
+    #[cfg(feature = "std")]
+    panic: core::mem::MaybeUninit<Payload>,
+}
+
+/// A panic's payload.
+#[cfg(feature = "std")]
+pub(crate) type Payload = alloc::boxed::Box<dyn core::any::Any + Send>;
+
+impl<A> Args<A> {
+    /// The arguments for conditions called with `arg`.
+    #[inline(always)]
+    pub(crate) fn new(arg: A) -> Self {
+        Self {
+            arg,
+            #[cfg(feature = "std")]
+            panic: core::mem::MaybeUninit::uninit(),
+        }
+    }
+
+    /// The payload of the panic an entry answered [`PANICKED`] for.
+    ///
+    /// # Safety
+    /// An entry called with these arguments answered [`PANICKED`], and the payload was not
+    /// taken since.
+    #[cfg(feature = "std")]
+    pub(crate) unsafe fn take_panic(&mut self) -> Payload {
+        // SAFETY: the caller's contract: `answer` wrote it.
+        unsafe { self.panic.assume_init_read() }
+    }
+}
+
+/// A `Condition` object's data pointer, as a [`Child`] keeps it.
+pub(crate) fn data_of<C>(c: &dyn Condition<C>) -> *const () {
+    c as *const dyn Condition<C> as *const ()
+}
+
+/// The entry of a `Condition` object.
+pub(crate) fn entry_of<C>(c: &dyn Condition<C>) -> Entry {
+    c.entry()
+}
+
+/// A closure condition, as [`ConditionFn`](super::ConditionFn) holds it: any
+/// `Fn(&C) -> bool + Send + Sync`, callable as such.
+///
+/// Implemented for every such closure; it cannot be implemented otherwise (its supertrait
+/// is sealed). Beside the closure it gives the plain function, made for the closure's type,
+/// through which a parent's loop calls it; a panic in it ends the tick with
+/// [`TickError::Panicked`](crate::TickError::Panicked), or aborts without the `std`
+/// feature, where a panic cannot be caught.
+///
+/// ```
+/// use neurotree_core::blueprint::{ConditionFn, NodeKind};
+///
+/// let f: ConditionFn<u32> = Box::new(|n: &u32| *n > 2);
+/// assert!(f(&3));
+/// assert_eq!(NodeKind::ConditionFn(f).type_name(), "Condition");
+/// ```
+pub trait ConditionClosure<C>: Fn(&C) -> bool + Send + Sync + sealed::ClosureEntry<C> {}
+
+impl<C, F: Fn(&C) -> bool + Send + Sync> ConditionClosure<C> for F {}
+
+/// The entries, made for each type that has them: sealed, so that no condition can be
+/// given an entry that does not call it.
+pub(crate) mod sealed {
+    use super::{Args, Child, Condition, Entry, Handle};
+
+    /// The context of a guard of closures.
+    type Ctx<C> = *const C;
+
+    /// A closure's entry.
+    pub trait ClosureEntry<C> {
+        /// The entry of this closure's type (see [`Entry`]).
+        #[doc(hidden)]
+        fn entry(&self) -> Entry;
+    }
+
+    impl<C, F: Fn(&C) -> bool> ClosureEntry<C> for F {
+        fn entry(&self) -> Entry {
+            closure::<C, F>
+        }
+    }
+
+    /// A `Condition` object's entry.
+    pub trait ConditionEntry<C> {
+        /// The entry of this object's type (see [`Entry`]).
+        #[doc(hidden)]
+        fn entry(&self) -> Entry;
+    }
+
+    impl<C, T: Condition<C>> ConditionEntry<C> for T {
+        fn entry(&self) -> Entry {
+            object::<C, T>
+        }
+    }
+
+    /// Calls the closure of type `F` of record `call` with the context in `args`.
+    ///
+    /// # Safety
+    /// The record's data points at an `F`, and `args` at an `Args<*const C>` whose
+    /// context is alive.
+    unsafe extern "sysv64" fn closure<C, F: Fn(&C) -> bool>(call: *const (), args: *mut ()) -> u8 {
+        // SAFETY: the caller's contract.
+        unsafe {
+            let (call, args) = (call.cast::<Child>(), args.cast::<Args<Ctx<C>>>());
+            let f = &*(*call).data.cast::<F>();
+            let ctx = &*(*args).arg;
+            answer(args, || f(ctx))
+        }
+    }
+
+    /// Checks the `Condition` object of type `T` of record `call` with the handle in
+    /// `args`, set to the record's node.
+    ///
+    /// # Safety
+    /// The record's data points at a `T`, and `args` at an `Args<Handle<'_, C>>` that
+    /// nothing else borrows during the call.
+    unsafe extern "sysv64" fn object<C, T: Condition<C>>(call: *const (), args: *mut ()) -> u8 {
+        // SAFETY: the caller's contract.
+        unsafe {
+            let (call, args) = (call.cast::<Child>(), args.cast::<Args<Handle<'_, C>>>());
+            let c = &*(*call).data.cast::<T>();
+            (*args).arg.node = (*call).id;
+            let h = &(*args).arg;
+            answer(args, || c.check(h))
+        }
+    }
+
+    /// What `check` answers, as an entry answers it: a panic's payload is kept in `args`.
+    #[inline(always)]
+    fn answer<A>(args: *mut Args<A>, check: impl FnOnce() -> bool) -> u8 {
+        #[cfg(feature = "std")]
+        {
+            match std::panic::catch_unwind(core::panic::AssertUnwindSafe(check)) {
+                Ok(holds) => holds as u8,
+                Err(payload) => {
+                    // SAFETY: `args` is the loop's, alive for the call (see the callers).
+                    unsafe { (*args).panic.write(payload) };
+                    super::PANICKED
+                }
+            }
+        }
+        #[cfg(not(feature = "std"))]
+        {
+            let _ = args;
+            check() as u8
+        }
+    }
+}
