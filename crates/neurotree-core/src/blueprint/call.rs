@@ -3,8 +3,8 @@
 //! arguments, so that a parent's loop (and a guard's, see [`crate::tree::calls`]) makes
 //! one direct call per child with no vtable to load first.
 //!
-//! The entry is an `extern "sysv64"` function (one calling convention on every x86-64
-//! system, as the loop's assembly expects) made for the condition's own type when the
+//! The entry is an `extern "sysv64"` function on x86-64 (one calling convention on every
+//! x86-64 system, as the loop's assembly expects; `extern "C"` elsewhere) made for the condition's own type when the
 //! condition is added (a closure through [`ConditionClosure`], an object through
 //! [`Condition`]'s sealed supertrait). A panic does not unwind through it: with `std`, the
 //! entry catches it, answers [`PANICKED`] and leaves the payload in the loop's [`Args`],
@@ -18,7 +18,12 @@ use crate::nodes::leaf::{Condition, Handle};
 /// pointers, so that the type stays private), it answers 1
 /// (`true`), 0 (`false`) or [`PANICKED`].
 #[doc(hidden)]
+#[cfg(target_arch = "x86_64")]
 pub type Entry = unsafe extern "sysv64" fn(*const (), *mut ()) -> u8;
+/// A condition's entry (see the x86-64 one).
+#[doc(hidden)]
+#[cfg(not(target_arch = "x86_64"))]
+pub type Entry = unsafe extern "C" fn(*const (), *mut ()) -> u8;
 
 /// What an entry answers when the condition panicked (the payload is in [`Args`]); only
 /// with `std`.
@@ -128,37 +133,46 @@ pub(crate) mod sealed {
         }
     }
 
-    /// Calls the closure of type `F` of record `call` with the context in `args`.
-    ///
-    /// # Safety
-    /// The record's data points at an `F`, and `args` at an `Args<*const C>` whose
-    /// context is alive.
-    unsafe extern "sysv64" fn closure<C, F: Fn(&C) -> bool>(call: *const (), args: *mut ()) -> u8 {
-        // SAFETY: the caller's contract.
-        unsafe {
-            let (call, args) = (call.cast::<Child>(), args.cast::<Args<Ctx<C>>>());
-            let f = &*(*call).data.cast::<F>();
-            let ctx = &*(*args).arg;
-            answer(args, || f(ctx))
+    /// Makes the two entries in the calling convention `$abi` (that of [`Entry`]).
+    macro_rules! entries {
+        ($abi:literal) => {
+        /// Calls the closure of type `F` of record `call` with the context in `args`.
+        ///
+        /// # Safety
+        /// The record's data points at an `F`, and `args` at an `Args<*const C>` whose
+        /// context is alive.
+        unsafe extern $abi fn closure<C, F: Fn(&C) -> bool>(call: *const (), args: *mut ()) -> u8 {
+            // SAFETY: the caller's contract.
+            unsafe {
+                let (call, args) = (call.cast::<Child>(), args.cast::<Args<Ctx<C>>>());
+                let f = &*(*call).data.cast::<F>();
+                let ctx = &*(*args).arg;
+                answer(args, || f(ctx))
+            }
         }
-    }
 
-    /// Checks the `Condition` object of type `T` of record `call` with the handle in
-    /// `args`, set to the record's node.
-    ///
-    /// # Safety
-    /// The record's data points at a `T`, and `args` at an `Args<Handle<'_, C>>` that
-    /// nothing else borrows during the call.
-    unsafe extern "sysv64" fn object<C, T: Condition<C>>(call: *const (), args: *mut ()) -> u8 {
-        // SAFETY: the caller's contract.
-        unsafe {
-            let (call, args) = (call.cast::<Child>(), args.cast::<Args<Handle<'_, C>>>());
-            let c = &*(*call).data.cast::<T>();
-            (*args).arg.node = (*call).id;
-            let h = &(*args).arg;
-            answer(args, || c.check(h))
+        /// Checks the `Condition` object of type `T` of record `call` with the handle in
+        /// `args`, set to the record's node.
+        ///
+        /// # Safety
+        /// The record's data points at a `T`, and `args` at an `Args<Handle<'_, C>>` that
+        /// nothing else borrows during the call.
+        unsafe extern $abi fn object<C, T: Condition<C>>(call: *const (), args: *mut ()) -> u8 {
+            // SAFETY: the caller's contract.
+            unsafe {
+                let (call, args) = (call.cast::<Child>(), args.cast::<Args<Handle<'_, C>>>());
+                let c = &*(*call).data.cast::<T>();
+                (*args).arg.node = (*call).id;
+                let h = &(*args).arg;
+                answer(args, || c.check(h))
+            }
         }
+        };
     }
+    #[cfg(target_arch = "x86_64")]
+    entries!("sysv64");
+    #[cfg(not(target_arch = "x86_64"))]
+    entries!("C");
 
     /// What `check` answers, as an entry answers it: a panic's payload is kept in `args`.
     #[inline(always)]

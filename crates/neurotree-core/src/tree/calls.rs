@@ -9,7 +9,8 @@
 //! on x86-64 the loop is written out: every stretch between a return (or the loop's start)
 //! and the next call fits one 16-byte-aligned block, which no 64-byte line boundary cuts,
 //! and four calls share one jump back (a turn of such a loop is bound by its taken
-//! branches: each call, each return and the jump back). Elsewhere it is plain Rust.
+//! branches: each call, each return and the jump back). Elsewhere it is plain Rust (also
+//! under Miri, and with `--cfg neurotree_portable`, with which CI tests it).
 //!
 //! The entries never unwind (see [`call`](crate::blueprint::call)): a condition that
 //! panicked answers `PANICKED`, which ends the loop like a deciding answer.
@@ -33,7 +34,7 @@ pub(crate) unsafe fn until<'c, A, const GO_ON: bool>(
         return None;
     }
     let args: *mut Args<A> = args;
-    #[cfg(all(target_arch = "x86_64", not(miri)))]
+    #[cfg(all(target_arch = "x86_64", not(miri), not(neurotree_portable)))]
     {
         let range = calls.as_ptr_range();
         // Four calls per turn of the loop; a guard of `n` children enters it at call
@@ -120,7 +121,7 @@ pub(crate) unsafe fn until<'c, A, const GO_ON: bool>(
             }
         }
     }
-    #[cfg(not(all(target_arch = "x86_64", not(miri))))]
+    #[cfg(not(all(target_arch = "x86_64", not(miri), not(neurotree_portable))))]
     {
         for call in calls {
             // SAFETY: the caller's contract.
@@ -133,7 +134,7 @@ pub(crate) unsafe fn until<'c, A, const GO_ON: bool>(
     }
 }
 
-#[cfg(all(target_arch = "x86_64", not(miri)))]
+#[cfg(all(target_arch = "x86_64", not(miri), not(neurotree_portable)))]
 const _: () = {
     // The record as the loop reads it: the entry at 8, 24 bytes in all (see `Child`).
     assert!(core::mem::size_of::<Child>() == 24);

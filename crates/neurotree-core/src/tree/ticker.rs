@@ -470,24 +470,17 @@ impl<'t, C> Ticker<'t, C> {
         }
     }
 
+    /// A handle for node `id`, to the pass's context, blackboard and clock.
     #[inline(always)]
     pub(crate) fn handle(&mut self, id: NodeId) -> Handle<'_, C> {
-        self.handle_beside_current(id).0
-    }
-
-    /// A handle for node `id`, and beside it the slot naming the node a panic comes from,
-    /// for a loop that writes that slot only when a panic unwinds (`ordered::Blame`).
-    #[inline(always)]
-    pub(crate) fn handle_beside_current(&mut self, id: NodeId) -> (Handle<'_, C>, &mut NodeId) {
-        let handle = Handle {
+        Handle {
             ctx: &mut *self.ctx,
             blackboard: &mut *self.bb,
             clock: self.clock,
             node: id,
             bp: self.bp,
             out: &mut *self.out,
-        };
-        (handle, &mut self.current)
+        }
     }
 
     /// Clears node `id`'s state slot and halts its children: the halt of a node that starts
