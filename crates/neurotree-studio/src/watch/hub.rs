@@ -46,6 +46,10 @@ pub(crate) struct RunCell {
     pub shown: Box<[AtomicU8]>,
     pub breakpoints: Box<[AtomicU8]>,
     pub tick: AtomicU64,
+    /// The tick whose end (or breakpoint) `shown` is as of: pages are sent this one, not
+    /// `tick`, which a tick under way has already counted, so that a page reading between
+    /// a tick's start and its end is not sent the new tick with the old statuses.
+    pub shown_tick: AtomicU64,
 }
 
 impl RunCell {
@@ -60,6 +64,8 @@ impl RunCell {
             };
             shown.store(t, Ordering::Release);
         }
+        self.shown_tick
+            .store(self.tick.load(Ordering::Acquire), Ordering::Release);
     }
 }
 
@@ -142,14 +148,21 @@ impl Hub {
     }
 
     pub fn page_joined(&self) {
-        self.pages.fetch_add(1, Ordering::AcqRel);
+        let before = self.pages.fetch_add(1, Ordering::AcqRel);
         self.armed.store(true, Ordering::Release);
         // Nothing was kept for the pages while none was attached: start from the statuses
-        // as they stand.
+        // as they stand. With a page attached, what is shown is kept up to date, and the
+        // statuses as they stand between ticks are the Idle that completed nodes were
+        // reset to, which would show the new page (and the others) a tree of Idle nodes.
+        if before > 0 {
+            return;
+        }
         if let Some(run) = &self.lock().run {
             for (shown, status) in run.cell.shown.iter().zip(&*run.cell.statuses) {
                 shown.store(status.load(Ordering::Acquire), Ordering::Release);
             }
+            let tick = run.cell.tick.load(Ordering::Acquire);
+            run.cell.shown_tick.store(tick, Ordering::Release);
         }
     }
 
@@ -202,6 +215,7 @@ impl Hub {
             shown,
             breakpoints,
             tick: AtomicU64::new(tick),
+            shown_tick: AtomicU64::new(tick),
         });
         let tree_json = serde_json::to_string(&view).unwrap_or_else(|_| "null".into());
         inner.run = Some(Run {

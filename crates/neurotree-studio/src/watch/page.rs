@@ -188,8 +188,10 @@ fn changes(hub: &Hub, sent: &mut Sent, ticks: bool) -> Vec<String> {
         }
         return out;
     };
+    // The tick first: statuses published after it are at worst newer than it says, and go
+    // out again with the next tick's number.
+    let tick = run.cell.shown_tick.load(Ordering::Acquire);
     let now = statuses(&run.cell);
-    let tick = run.cell.tick.load(Ordering::Acquire);
     if sent.generation != Some(inner.generation) {
         out.push(hello(&inner, run, &now, tick));
         *sent = Sent {
