@@ -22,25 +22,36 @@ fn free_domain() -> (u16, UdpSocket) {
 #[test]
 fn the_ros2_demo_reaches_the_goal_after_a_recovery() {
     let (domain, _claim) = free_domain();
-    let output = Command::new(env!("CARGO_BIN_EXE_neurotree"))
-        .args(["ros2", "demo", "--domain", &domain.to_string()])
-        .args(["--timeout", "45"])
-        .output()
-        .unwrap();
-    let stdout = String::from_utf8_lossy(&output.stdout);
-
-    assert!(output.status.success(), "{stdout}");
-    assert!(stdout.contains("  outcome     SUCCESS"), "{stdout}");
-    let recoveries: u32 = stdout
-        .lines()
-        .find_map(|l| l.strip_prefix("  recoveries  "))
-        .and_then(|n| n.trim().parse().ok())
-        .unwrap_or_else(|| panic!("no recoveries line: {stdout}"));
-    assert!(recoveries >= 1, "{stdout}");
-    assert!(
-        stdout.contains("FollowPath failed: blocked (error 106)"),
-        "the simulator reported the obstacle: {stdout}"
-    );
+    // The navigator replans while the robot drives. On a loaded machine a new path around
+    // the obstacle (the costmaps learn it when the robot bumps into it) can reach FollowPath
+    // before the controller's "blocked" abort does. The robot then goes around with no
+    // recovery, as Nav2 would. So a run without a recovery is tried again, up to three
+    // times; every run must arrive.
+    let mut last = String::new();
+    for _ in 0..3 {
+        let output = Command::new(env!("CARGO_BIN_EXE_neurotree"))
+            .args(["ros2", "demo", "--domain", &domain.to_string()])
+            .args(["--timeout", "45"])
+            .output()
+            .unwrap();
+        let stdout = String::from_utf8_lossy(&output.stdout).into_owned();
+        assert!(output.status.success(), "{stdout}");
+        assert!(stdout.contains("  outcome     SUCCESS"), "{stdout}");
+        assert!(
+            stdout.contains("FollowPath failed: blocked (error 106)"),
+            "the simulator reported the obstacle: {stdout}"
+        );
+        let recoveries: u32 = stdout
+            .lines()
+            .find_map(|l| l.strip_prefix("  recoveries  "))
+            .and_then(|n| n.trim().parse().ok())
+            .unwrap_or_else(|| panic!("no recoveries line: {stdout}"));
+        if recoveries >= 1 {
+            return;
+        }
+        last = stdout;
+    }
+    panic!("three runs arrived without a recovery; the last:\n{last}");
 }
 
 /// A child process killed when the value is dropped, however the test ends.
