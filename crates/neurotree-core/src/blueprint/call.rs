@@ -45,6 +45,9 @@ pub(crate) struct Args<A> {
 /// A panic's payload.
 #[cfg(feature = "std")]
 pub(crate) type Payload = alloc::boxed::Box<dyn core::any::Any + Send>;
+/// A panic's payload: none without `std`, where no panic is caught.
+#[cfg(not(feature = "std"))]
+pub(crate) enum Payload {}
 
 impl<A> Args<A> {
     /// The arguments for conditions called with `arg`.
@@ -57,15 +60,20 @@ impl<A> Args<A> {
         }
     }
 
-    /// The payload of the panic an entry answered [`PANICKED`] for.
+    /// The payload of the panic, if `answer` is [`PANICKED`] (never, without `std`).
     ///
     /// # Safety
-    /// An entry called with these arguments answered [`PANICKED`], and the payload was not
-    /// taken since.
-    #[cfg(feature = "std")]
-    pub(crate) unsafe fn take_panic(&mut self) -> Payload {
-        // SAFETY: the caller's contract: `answer` wrote it.
-        unsafe { self.panic.assume_init_read() }
+    /// `answer` is what an entry called with these arguments answered, and this is asked
+    /// once for it.
+    #[inline(always)]
+    pub(crate) unsafe fn panicked(&mut self, answer: u8) -> Option<Payload> {
+        #[cfg(feature = "std")]
+        if answer == PANICKED {
+            // SAFETY: the caller's contract: `answer` wrote it, and nobody took it yet.
+            return Some(unsafe { self.panic.assume_init_read() });
+        }
+        let _ = answer;
+        None
     }
 }
 

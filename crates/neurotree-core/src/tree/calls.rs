@@ -232,8 +232,8 @@ mod tests {
                 std::panic::set_hook(hook);
                 let (call, answer) = got.expect("the panic ends the loop");
                 assert_eq!((call.id.0, answer), (at, PANICKED));
-                // SAFETY: the entry answered PANICKED.
-                let payload = unsafe { args.take_panic() };
+                // SAFETY: the entry's answer, asked about once.
+                let payload = unsafe { args.panicked(answer) }.expect("a payload is kept");
                 assert_eq!(
                     payload.downcast_ref::<alloc::string::String>().unwrap(),
                     &alloc::format!("child {at}")

@@ -10,9 +10,7 @@ use core::mem;
 use core::time::Duration;
 
 use crate::blackboard::Blackboard;
-use crate::blueprint::call::Args;
-#[cfg(feature = "std")]
-use crate::blueprint::call::{Payload, PANICKED};
+use crate::blueprint::call::{Args, Payload};
 use crate::blueprint::{Blueprint, Child, FromPortStr, NodeDef, NodeKind, Param};
 use crate::clock::duration_to_nanos;
 use crate::nodes::built_in::Tick;
@@ -287,38 +285,37 @@ impl<'t, C> Ticker<'t, C> {
     /// and tells whether it holds; a panic in it goes on, blamed on it.
     #[inline(always)]
     pub(crate) fn check(&mut self, child: &Child, closure: bool) -> bool {
-        let answer = if closure {
+        let (answer, panic) = if closure {
             let mut args = Args::new(&raw const *self.ctx);
-            // SAFETY: a closure condition of this blueprint's `C`, with the context.
-            let answer = unsafe { child.call(&mut args) };
-            #[cfg(feature = "std")]
-            if answer == PANICKED {
-                // SAFETY: it answered PANICKED just now.
-                self.resume_panic(child.id, unsafe { args.take_panic() });
+            // SAFETY: a closure condition of this blueprint's `C`, with the context; the
+            // answer asked about once.
+            unsafe {
+                let answer = child.call(&mut args);
+                (answer, args.panicked(answer))
             }
-            answer
         } else {
             let mut args = Args::new(self.handle(child.id));
-            // SAFETY: a `Condition` object of this blueprint's `C`, with a handle.
-            let answer = unsafe { child.call(&mut args) };
-            #[cfg(feature = "std")]
-            if answer == PANICKED {
-                // SAFETY: as above.
-                let payload = unsafe { args.take_panic() };
-                self.resume_panic(child.id, payload);
+            // SAFETY: as above, for a `Condition` object, with a handle.
+            unsafe {
+                let answer = child.call(&mut args);
+                (answer, args.panicked(answer))
             }
-            answer
         };
+        if let Some(payload) = panic {
+            self.resume_panic(child.id, payload);
+        }
         answer == 1
     }
 
     /// Resumes the panic of condition `node` (caught by its entry), blamed on it.
-    #[cfg(feature = "std")]
     #[cold]
     #[inline(never)]
     pub(crate) fn resume_panic(&mut self, node: NodeId, payload: Payload) -> ! {
         self.current = node;
-        std::panic::resume_unwind(payload)
+        #[cfg(feature = "std")]
+        std::panic::resume_unwind(payload);
+        #[cfg(not(feature = "std"))]
+        match payload {}
     }
 
     /// [`tick_child`](Self::tick_child) for a child that is no closure condition: a

@@ -5,8 +5,6 @@
 
 use super::{pack, unpack};
 use crate::blueprint::call::Args;
-#[cfg(feature = "std")]
-use crate::blueprint::call::PANICKED;
 use crate::blueprint::{Child, Hot, NodeDef};
 use crate::tree::calls;
 use crate::tree::Ticker;
@@ -143,34 +141,24 @@ fn guard<C, const SEQUENCE: bool, const CLOSURES: bool>(
         (NodeStatus::Failure, NodeStatus::Success)
     };
     debug_assert!(!calls.is_empty());
-    if CLOSURES {
+    let decided = if CLOSURES {
         let mut args = Args::new(&raw const *t.ctx);
         // SAFETY: a guard of closures' children are closure conditions of `C`
-        // (`Child::new`), called with the context, which nothing else borrows meanwhile.
-        let decided = unsafe { calls::until::<_, SEQUENCE>(calls, &mut args) };
-        match decided {
-            None => go_on,
-            #[cfg(feature = "std")]
-            // SAFETY: the entry answered PANICKED just now.
-            Some((call, PANICKED)) => t.resume_panic(call.id, unsafe { args.take_panic() }),
-            Some(_) => stop,
-        }
+        // (`Child::new`), called with the context, which nothing else borrows meanwhile;
+        // the answer that decided is asked about once.
+        unsafe { calls::until::<_, SEQUENCE>(calls, &mut args) }
+            .map(|(call, answer)| (call.id, unsafe { args.panicked(answer) }))
     } else {
         let mut args = Args::new(t.handle(id));
         // SAFETY: as above, for `Condition` objects of `C`, called with a handle to the
         // ticker's state that only they use.
-        let decided = unsafe { calls::until::<_, SEQUENCE>(calls, &mut args) };
-        let decided = decided.map(|(call, answer)| (call.id, answer));
-        match decided {
-            None => go_on,
-            #[cfg(feature = "std")]
-            Some((node, PANICKED)) => {
-                // SAFETY: the entry answered PANICKED just now.
-                let payload = unsafe { args.take_panic() };
-                t.resume_panic(node, payload)
-            }
-            Some(_) => stop,
-        }
+        unsafe { calls::until::<_, SEQUENCE>(calls, &mut args) }
+            .map(|(call, answer)| (call.id, unsafe { args.panicked(answer) }))
+    };
+    match decided {
+        None => go_on,
+        Some((node, Some(payload))) => t.resume_panic(node, payload),
+        Some((_, None)) => stop,
     }
 }
 
