@@ -13,7 +13,7 @@ use std::io;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, SystemTime};
 
-use neurotree::Tree;
+use neurotree::{ManualClock, Tree};
 use serde::{Deserialize, Serialize};
 
 /// The options of `neurotree run` for trees that live on.
@@ -103,9 +103,11 @@ impl SavedRun {
             .map_err(|e| format!("{}: error: cannot write the state: {e}", path.display()))
     }
 
-    /// The state in `path`, checked against the tree it is to go on with: refused with
+    /// The state in `path`, checked against the tree it is to go on with and restored into
+    /// it, with `clock` set back to the saved run's time first (the tree's waits are
+    /// restored against it: a Timeout 200 ms into its 500 has 300 left). Refused with
     /// `FILE: error: …` when it is no state file or belongs to another tree.
-    pub fn read(path: &Path, tree: &mut Tree<()>) -> Result<Self, String> {
+    pub fn read(path: &Path, tree: &mut Tree<()>, clock: &ManualClock) -> Result<Self, String> {
         let shown = path.display();
         let bytes = fs::read(path).map_err(|e| format!("{shown}: error: cannot read it: {e}"))?;
         let run: SavedRun = match neurotree::state::decode(&bytes) {
@@ -123,6 +125,7 @@ impl SavedRun {
                 run.node_ticks.len()
             ));
         }
+        clock.set(run.clock());
         tree.restore_state(&run.tree).map_err(|e| {
             format!(
                 "{shown}: error: {e}; resume with the files and options of the run that saved it"

@@ -382,14 +382,13 @@ pub(crate) fn execute_watched(
     let mut ticks: u32 = 0;
     if let Some(path) = &opts.live.resume {
         // Before the clock is read by anything: the resumed run's clock is the saved one's.
-        let saved = match SavedRun::read(path, &mut tree) {
+        let saved = match SavedRun::read(path, &mut tree, &clock) {
             Ok(saved) => saved,
             Err(e) => {
                 writeln!(err, "{e}")?;
                 return Ok(Outcome::Refused);
             }
         };
-        clock.set(saved.clock());
         ticks = saved.ticks;
         status.clone_from(&saved.status);
         let mut r = record.lock().unwrap_or_else(|e| e.into_inner());

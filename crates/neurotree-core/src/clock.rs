@@ -142,23 +142,31 @@ pub(crate) fn duration_to_nanos(d: Duration) -> u64 {
     u64::try_from(d.as_nanos()).unwrap_or(u64::MAX)
 }
 
-/// A moment kept in a node's `u64` state slot, where 0 must mean "none": moments are stored
-/// as nanoseconds plus one.
+/// A moment kept in a node's `u64` state slot, where 0 must mean "none".
+///
+/// A moment is stored as its nanoseconds plus [`EPOCH`](moment::EPOCH): a state restored on a
+/// clock that began later than the wait (a new process's system clock, a manual clock at 0)
+/// must hold a moment before that clock's origin, which a plain reading cannot.
 pub(crate) mod moment {
     /// No moment stored.
     pub(crate) const NONE: u64 = 0;
 
+    /// What a moment at the clock's origin is stored as: 2^62 ns (146 years) before it can
+    /// be stored too, and the largest moment stays below `u64::MAX`, which nodes may use as a
+    /// mark of their own.
+    pub(crate) const EPOCH: u64 = 1 << 62;
+
     /// The slot value for the moment `now` (nanoseconds).
     #[inline]
     pub(crate) fn at(now: u64) -> u64 {
-        now.saturating_add(1)
+        now.saturating_add(EPOCH).min(u64::MAX - 1)
     }
 
     /// A stored moment read on a clock at `saved`, moved to a clock at `now` so that the
     /// time elapsed since it stays the same (a saved state restored on another clock).
     pub(crate) fn shift(slot: u64, saved: u64, now: u64) -> u64 {
         match elapsed(slot, saved) {
-            Some(elapsed) => at(now.saturating_sub(elapsed)),
+            Some(elapsed) => at(now).saturating_sub(elapsed).max(1),
             None => NONE,
         }
     }
@@ -166,7 +174,7 @@ pub(crate) mod moment {
     /// Nanoseconds from the stored moment to `now`, or `None` if no moment is stored.
     #[inline]
     pub(crate) fn elapsed(slot: u64, now: u64) -> Option<u64> {
-        (slot != NONE).then(|| now.saturating_sub(slot - 1))
+        (slot != NONE).then(|| at(now).saturating_sub(slot))
     }
 }
 

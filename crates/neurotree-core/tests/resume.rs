@@ -7,7 +7,9 @@ use std::time::Duration;
 
 use common::{run, Ctx, Spec};
 use neurotree_core::state::{RestoreError, SaveError, SavedInfo, StateCodecs};
-use neurotree_core::{Blueprint, Handle, ManualClock, NodeStatus, StatefulAction, Status, Tree};
+use neurotree_core::{
+    Blueprint, Clock, Handle, ManualClock, NodeStatus, StatefulAction, Status, Tree,
+};
 use proptest::prelude::*;
 
 proptest! {
@@ -65,6 +67,103 @@ proptest! {
         let mut fresh = Tree::with_clock(bp, ManualClock::new());
         prop_assert!(fresh.restore_state(short).is_err());
         prop_assert_eq!(fresh.statuses(), &before_restore[..]);
+    }
+}
+
+/// Steps of a timed run: each advances the clock by its milliseconds, then acts.
+fn timed_ops() -> impl Strategy<Value = Vec<(common::Op, u16)>> {
+    proptest::collection::vec(
+        (
+            prop_oneof![
+                5 => Just(common::Op::TickOnce),
+                3 => Just(common::Op::TickExactlyOnce),
+                1 => Just(common::Op::Halt),
+            ],
+            prop_oneof![Just(0u16), Just(100), 1u16..300],
+        ),
+        1..=14,
+    )
+}
+
+fn run_timed(
+    tree: &mut Tree<Ctx>,
+    clock: &ManualClock,
+    ctx: &mut Ctx,
+    ops: &[(common::Op, u16)],
+) -> Vec<common::Step> {
+    ops.iter()
+        .map(|&(op, ms)| {
+            clock.advance(Duration::from_millis(u64::from(ms)));
+            common::step(tree, ctx, op)
+        })
+        .collect()
+}
+
+/// How a timed run is carried on after its cut.
+#[derive(Clone, Copy, Debug)]
+enum Carry {
+    /// Saved, and restored into a fresh instance whose clock reads `0` ms later than the
+    /// saved one's (the CLI's `--resume` sets it to the saved time: `0`), or any other.
+    Restore { clock_offset_ms: i32 },
+    /// The same instance reloaded with the same blueprint.
+    Reload,
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 384, ..ProptestConfig::default() })]
+
+    /// The nodes that read the clock (Timeout, Delay, Cooldown, Sleep) among the others,
+    /// the clock moving between steps: cut anywhere, save and restore on a clock at the saved
+    /// time or another, or reload the same blueprint, and the rest of the run is the
+    /// uninterrupted one's, call for call and status for status.
+    #[test]
+    fn a_timed_run_resumed_or_reloaded_continues_as_the_original(
+        spec in common::timed_tree(),
+        before in timed_ops(),
+        after in timed_ops(),
+        carry in prop_oneof![
+            2 => Just(Carry::Restore { clock_offset_ms: 0 }),
+            1 => (-5_000i32..5_000).prop_map(|clock_offset_ms| Carry::Restore { clock_offset_ms }),
+            1 => Just(Carry::Reload),
+        ],
+        start_ms in 0u32..10_000,
+    ) {
+        let bp = common::blueprint(&spec);
+        let mut ctx = Ctx::new(&spec);
+        let clock = ManualClock::new();
+        clock.set(Duration::from_millis(u64::from(start_ms)));
+        let mut original = Tree::with_clock(bp.clone(), clock.clone());
+        run_timed(&mut original, &clock, &mut ctx, &before);
+        let saved = original.save_state().expect("no async leaves, no halts that take ticks");
+        let at_cut = clock.now();
+        let world = ctx.snapshot();
+        let expected = run_timed(&mut original, &clock, &mut ctx, &after);
+
+        ctx.rewind(&world);
+        let got = match carry {
+            Carry::Restore { clock_offset_ms } => {
+                let there = ManualClock::new();
+                let offset = Duration::from_millis(u64::from(clock_offset_ms.unsigned_abs()));
+                there.set(if clock_offset_ms < 0 {
+                    at_cut.saturating_sub(offset)
+                } else {
+                    at_cut + offset
+                });
+                let mut resumed = Tree::with_clock(bp.clone(), there.clone());
+                resumed.restore_state(&saved).unwrap();
+                run_timed(&mut resumed, &there, &mut ctx, &after)
+            }
+            Carry::Reload => {
+                let again = ManualClock::new();
+                again.set(at_cut);
+                let mut tree = Tree::with_clock(bp.clone(), again.clone());
+                tree.restore_state(&saved).unwrap();
+                let report = tree.reload(bp.clone(), &mut ctx).unwrap();
+                prop_assert_eq!((report.restarted, report.halted), (0, 0));
+                run_timed(&mut tree, &again, &mut ctx, &after)
+            }
+        };
+        prop_assert_eq!(got, expected, "tree {:?}", spec);
     }
 }
 

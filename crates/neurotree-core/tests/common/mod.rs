@@ -35,18 +35,33 @@ pub enum Kind {
     ReactiveFallback,
     AsyncSequence,
     AsyncFallback,
-    Parallel { success: i32, failure: i32 },
-    ParallelAll { max_failures: i32 },
+    Parallel {
+        success: i32,
+        failure: i32,
+    },
+    ParallelAll {
+        max_failures: i32,
+    },
     IfThenElse,
     WhileDoElse,
-    TryCatch { catch_on_halt: bool },
+    TryCatch {
+        catch_on_halt: bool,
+    },
     Inverter,
     ForceSuccess,
     ForceFailure,
     Repeat(i32),
     Retry(i32),
     KeepRunningUntilFailure,
-    RunOnce { then_skip: bool },
+    RunOnce {
+        then_skip: bool,
+    },
+    /// The nodes that read the clock, by their milliseconds; only [`timed_tree`] makes
+    /// them (the reference model has no clock). `Sleep` is a leaf: it has no children.
+    Timeout(u16),
+    Delay(u16),
+    Cooldown(u16),
+    Sleep(u16),
 }
 
 /// Leaf kinds.
@@ -500,7 +515,15 @@ fn add_named(
         Kind::Retry(n) => b.retry(&name, n, kids),
         Kind::KeepRunningUntilFailure => b.keep_running_until_failure(&name, kids),
         Kind::RunOnce { then_skip } => b.run_once(&name, then_skip, kids),
+        Kind::Timeout(ms) => b.timeout(&name, millis(ms), kids),
+        Kind::Delay(ms) => b.delay(&name, millis(ms), kids),
+        Kind::Cooldown(ms) => b.cooldown(&name, millis(ms), kids),
+        Kind::Sleep(ms) => b.sleep(&name, millis(ms)),
     }
+}
+
+fn millis(ms: u16) -> std::time::Duration {
+    std::time::Duration::from_millis(u64::from(ms))
 }
 
 /// Resolves a Parallel threshold as BehaviorTree.CPP does: negative `t` is `n + t + 1`,
@@ -628,6 +651,35 @@ pub fn tree_with(forever: bool, async_leaves: bool) -> impl Strategy<Value = Spe
             1 => (any::<bool>(), vec(inner.clone(), 2..=4))
                 .prop_map(|(catch_on_halt, c)| Spec::Node(Kind::TryCatch { catch_on_halt }, c)),
             5 => (decorator_kind(forever), inner).prop_map(|(k, c)| Spec::Node(k, vec![c])),
+        ]
+    })
+}
+
+/// As [`tree`], with the nodes that read the clock among the others: Timeout, Delay and
+/// Cooldown over a child, Sleep among the leaves, each of 0 to 400 ms.
+pub fn timed_tree() -> impl Strategy<Value = Spec> {
+    // Round times as well as any: with steps of 100 ms, a wait then ends exactly at a tick.
+    let ms = || prop_oneof![Just(0u16), (1u16..4).prop_map(|n| n * 100), 1u16..400];
+    let timed_leaf = prop_oneof![
+        4 => leaf(false),
+        1 => ms().prop_map(|ms| Spec::Node(Kind::Sleep(ms), Vec::new())),
+    ];
+    timed_leaf.prop_recursive(3, 120, 3, move |inner| {
+        let timed = prop_oneof![
+            ms().prop_map(Kind::Timeout),
+            ms().prop_map(Kind::Delay),
+            ms().prop_map(Kind::Cooldown),
+        ];
+        prop_oneof![
+            4 => (ordered_kind(), vec(inner.clone(), 1..=4)).prop_map(|(k, c)| Spec::Node(k, c)),
+            1 => vec(inner.clone(), 1..=3).prop_flat_map(|c| {
+                let n = c.len() as i32;
+                (Just(c), -(n + 1)..=n, -(n + 1)..=n).prop_map(|(c, success, failure)| {
+                    Spec::Node(Kind::Parallel { success, failure }, c)
+                })
+            }),
+            3 => (timed, inner.clone()).prop_map(|(k, c)| Spec::Node(k, vec![c])),
+            2 => (decorator_kind(false), inner).prop_map(|(k, c)| Spec::Node(k, vec![c])),
         ]
     })
 }

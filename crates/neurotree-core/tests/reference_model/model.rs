@@ -214,6 +214,9 @@ impl Model {
                 | Kind::ForceFailure
                 | Kind::KeepRunningUntilFailure
                 | Kind::RunOnce { .. } => self.reset_children(id),
+                Kind::Timeout(_) | Kind::Delay(_) | Kind::Cooldown(_) | Kind::Sleep(_) => {
+                    unreachable!("the model has no clock: timed trees are not made for it")
+                }
             },
         }
         self.nodes[id].status = Idle;
@@ -299,6 +302,9 @@ impl Model {
                     self.halt_child(c);
                 }
                 s
+            }
+            Kind::Timeout(_) | Kind::Delay(_) | Kind::Cooldown(_) | Kind::Sleep(_) => {
+                unreachable!("the model has no clock: timed trees are not made for it")
             }
         }
     }

@@ -85,7 +85,7 @@ pub(crate) fn tick<C>(
 }
 
 /// The state slot of a Timeout that timed out and waits for its child's halt (never a
-/// moment: those count nanoseconds from 1).
+/// moment: those stay below it).
 const TIMED_OUT: u64 = u64::MAX;
 
 /// A tick of a Timeout that waits for its child's halt: Running until it is done, then the

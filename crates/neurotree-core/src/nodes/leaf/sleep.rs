@@ -12,7 +12,7 @@
 
 use core::time::Duration;
 
-use crate::clock::duration_to_nanos;
+use crate::clock::{duration_to_nanos, moment};
 use crate::tree::Ticker;
 use crate::{NodeId, NodeStatus};
 
@@ -52,14 +52,14 @@ pub(crate) fn tick<C>(
             if wait.is_zero() {
                 return NodeStatus::Success;
             }
-            t.aux[slot] = now;
+            t.aux[slot] = moment::at(now);
             return NodeStatus::Running;
         }
         // Completed and not yet reset by its parent: BehaviorTree.CPP's StatefulActionNode
         // returns the status it has.
         done => return done,
     }
-    if now.saturating_sub(t.aux[slot]) >= duration_to_nanos(wait) {
+    if moment::elapsed(t.aux[slot], now).unwrap_or(u64::MAX) >= duration_to_nanos(wait) {
         NodeStatus::Success
     } else {
         NodeStatus::Running
@@ -88,8 +88,7 @@ impl Tick for Sleep {
     const AUX_SLOTS: u32 = 1;
 
     fn shift_aux(aux: u64, saved: u64, now: u64) -> u64 {
-        // The moment the sleep began, as a clock reading.
-        now.saturating_sub(saved.saturating_sub(aux))
+        moment::shift(aux, saved, now)
     }
 
     fn from_ports(port: &dyn Fn(&str) -> PortBinding) -> Result<Self, PortBindingError> {
