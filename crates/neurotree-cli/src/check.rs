@@ -70,7 +70,6 @@ pub fn execute(
     }
     let mut reported = BTreeSet::new();
     let mut valid = true;
-    let mut unknown_nodes = false;
     let mut too_many_nodes = false;
     for at in 0..files.len() {
         let shown = files::shown(&files[at]);
@@ -86,7 +85,6 @@ pub fn execute(
             Err(errors) => {
                 valid = false;
                 for e in &errors {
-                    unknown_nodes |= e.kind() == LoadErrorKind::UnknownNode;
                     too_many_nodes |= e.kind() == LoadErrorKind::TooManyNodes;
                     if reported.insert(e.to_string()) {
                         writeln!(err, "{e}")?;
@@ -100,13 +98,6 @@ pub fn execute(
                 }
             }
         }
-    }
-    if unknown_nodes {
-        writeln!(
-            err,
-            "hint: declare the node types the files use in a TreeNodesModel and give it with \
-             --model FILE (`neurotree run` can mock leaves with --mock-unknown)"
-        )?;
     }
     if too_many_nodes {
         writeln!(err, "{}", files::MAX_NODES_HINT)?;
@@ -122,7 +113,9 @@ fn check_file(
     at: usize,
     max_nodes: usize,
 ) -> (Vec<LoadWarning>, Result<usize, Vec<LoadError>>) {
-    let mut loader = XmlLoader::new(registry).max_nodes(max_nodes);
+    let mut loader = XmlLoader::new(registry)
+        .unknown_type_advice(files::UNKNOWN_TYPE_ADVICE)
+        .max_nodes(max_nodes);
     let loaded = loader.load_file(&files[at]);
     let warnings = loader.warnings().to_vec();
     if let Err(e) = loaded {

@@ -18,6 +18,12 @@ use neurotree::{LoadError, LoadErrorKind, Registry, XmlLoader};
 pub const MAX_NODES_HINT: &str =
     "hint: if the tree is meant to be this big, raise the limit with --max-nodes N";
 
+/// What the command line's error for an unknown node type advises: the registry is out of
+/// reach from there, and these flags are what brings a type in.
+/// (`run` adds how to mock it, unless its flags already do.)
+pub const UNKNOWN_TYPE_ADVICE: &str =
+    "declare it in a TreeNodesModel given with --model FILE, or use --nav2 if it is one of Nav2's";
+
 /// The bounds on what loading a file may build, shared by `run`, `check` and `show`.
 #[derive(clap::Args, Debug)]
 pub struct LoadLimits {
@@ -61,11 +67,6 @@ pub fn shown(file: &Path) -> String {
     file.display().to_string()
 }
 
-/// An error of `kind` about the files as a whole, shown at the start of `file`.
-pub fn at_start(kind: LoadErrorKind, file: &str, message: String) -> LoadError {
-    LoadError::new(kind, file, 1, 1, message)
-}
-
 /// The tree a command works on.
 pub struct Picked {
     /// Its ID.
@@ -105,7 +106,7 @@ pub fn pick_tree<C: 'static>(
         if ids.contains(&id) {
             return Ok(picked(id, false));
         }
-        return Err(at_start(
+        return Err(LoadError::at_file(
             LoadErrorKind::UnknownTree,
             first,
             format!(
@@ -118,7 +119,7 @@ pub fn pick_tree<C: 'static>(
         return Ok(picked(main, false));
     }
     if ids.is_empty() {
-        return Err(at_start(
+        return Err(LoadError::at_file(
             LoadErrorKind::NoMainTree,
             first,
             "no <BehaviorTree> is loaded; there is nothing to work on".to_string(),
@@ -134,7 +135,7 @@ pub fn pick_tree<C: 'static>(
     } else {
         candidates
     };
-    Err(at_start(LoadErrorKind::AmbiguousMainTree,
+    Err(LoadError::at_file(LoadErrorKind::AmbiguousMainTree,
         first,
         format!(
             "no main_tree_to_execute, and {} trees could be the main one: {}; pick one with --tree NAME",

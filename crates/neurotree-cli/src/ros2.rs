@@ -191,7 +191,7 @@ pub fn sim(
     out.flush()?;
     let until = duration.map(|d| Instant::now() + d);
     let mut next = Instant::now();
-    while until.map_or(true, |u| Instant::now() < u) {
+    while until.is_none_or(|u| Instant::now() < u) {
         servers.spin_once().map_err(io::Error::other)?;
         for line in log.take() {
             let t = servers.sim().world.now().as_secs_f64();
@@ -259,7 +259,7 @@ pub fn navigator(
     let until = duration.map(|d| Instant::now() + d);
     let mut next = Instant::now();
     let mut seen = navigator.stats();
-    while until.map_or(true, |u| Instant::now() < u) {
+    while until.is_none_or(|u| Instant::now() < u) {
         if let Some(served) = &mut served {
             // A page may hold the navigator here, between two ticks.
             served.between_ticks(navigator.tree_mut());

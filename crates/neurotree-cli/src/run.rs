@@ -246,6 +246,7 @@ fn load(
     files::add_models(&mut registry, files).map_err(|e| e.to_string())?;
     opts.testbench.register_enums(&mut registry)?;
     let mut loader = XmlLoader::new(&registry)
+        .unknown_type_advice(files::UNKNOWN_TYPE_ADVICE)
         .mock_unknown(opts.mock_unknown)
         .max_nodes(opts.limits.max_nodes);
     for (name, outcomes) in &opts.mocks {

@@ -39,7 +39,7 @@ use neurotree::{
 };
 use serde_json::{Map, Value};
 
-use crate::files::{self, at_start, LoadLimits, Picked};
+use crate::files::{self, LoadLimits, Picked};
 
 /// What `neurotree show` was asked to do.
 #[derive(clap::Args, Debug)]
@@ -62,6 +62,11 @@ pub struct ShowArgs {
     /// are drawn with their type names, without an implementation.
     #[arg(long = "model")]
     pub models: Vec<PathBuf>,
+    /// Draw leaves without an implementation as `run --mock-unknown` runs them; else such
+    /// a leaf is an error, as in `check`. Implied by --trace and --coverage: the run that
+    /// wrote them had those leaves.
+    #[arg(long)]
+    pub mock_unknown: bool,
     /// The JSON lines of `neurotree run --trace`: colour each node with the last status it
     /// reached; if the root failed, mark the path that failed with the reasons the trace
     /// gives (text: ` -- failed: REASON`; dot, mermaid, svg: red and wide, reasons in labels).
@@ -142,8 +147,12 @@ fn format_of(opts: &ShowArgs) -> Format {
 /// The blueprint to draw and the tree it is.
 fn load(files: &[PathBuf], opts: &ShowArgs) -> Result<(Blueprint<()>, Picked), LoadError> {
     let registry = registry_with_stand_ins(files, &opts.models, opts.nav2)?;
+    // An unknown type is refused as `check` refuses it (a picture of a tree that does not
+    // load would show what never runs), unless asked for or drawn with what a run wrote.
+    let mock_unknown = opts.mock_unknown || opts.trace.is_some() || opts.coverage.is_some();
     let mut loader = XmlLoader::new(&registry)
-        .mock_unknown(true)
+        .unknown_type_advice(files::UNKNOWN_TYPE_ADVICE)
+        .mock_unknown(mock_unknown)
         .max_nodes(opts.limits.max_nodes);
     files::load_all(&mut loader, files)?;
     // Clap asks for at least one file.
@@ -154,14 +163,8 @@ fn load(files: &[PathBuf], opts: &ShowArgs) -> Result<(Blueprint<()>, Picked), L
         if e.file.is_empty() {
             e.file.clone_from(&first);
         }
-        match e.kind() {
-            LoadErrorKind::UnknownNode => e
-                .message
-                .push_str(", or declare it in a TreeNodesModel given with --model to draw it"),
-            LoadErrorKind::TooManyNodes => {
-                e.message = format!("{}\n{}", e.message, files::MAX_NODES_HINT);
-            }
-            _ => {}
+        if e.kind() == LoadErrorKind::TooManyNodes {
+            e.message = format!("{}\n{}", e.message, files::MAX_NODES_HINT);
         }
         e
     })?;
@@ -176,7 +179,13 @@ fn registry_with_stand_ins(
     nav2: crate::registry::Nav2Args,
 ) -> Result<Registry<()>, LoadError> {
     let mut declared = crate::registry::with_nav2_controls::<()>(nav2);
-    let built_in: BTreeSet<String> = declared.types().map(|t| t.name.clone()).collect();
+    // The types that run as they are; those only described (Nav2's leaves with --nav2, a
+    // model's) get a stand-in to draw.
+    let built_in: BTreeSet<String> = declared
+        .types()
+        .filter(|t| !t.is_model_only())
+        .map(|t| t.name.clone())
+        .collect();
     for model in models {
         let shown = model.display().to_string();
         let model_text = files::read(model)?;
@@ -185,6 +194,7 @@ fn registry_with_stand_ins(
     files::add_models(&mut declared, files)?;
     let mut registry = crate::registry::with_nav2_controls::<()>(nav2);
     for t in declared.types().filter(|t| !built_in.contains(&t.name)) {
+        registry.remove(&t.name);
         let ports = t.ports.clone();
         let stand_in = || -> Box<dyn CustomNode<()>> { Box::new(StandIn) };
         let registered = match t.category {
@@ -197,8 +207,8 @@ fn registry_with_stand_ins(
                 registry.register_custom(&t.name, Arity::Leaf, ports, stand_in)
             }
         };
-        // The names are unique (they come from one registry) and none is built in, so
-        // the fresh registry has none of them yet.
+        // The names are unique (they come from one registry), none runs as it is, and a
+        // description of it was removed just now, so the name is free.
         debug_assert!(registered.is_ok(), "{} registered twice", t.name);
     }
     Ok(registry)
@@ -222,7 +232,8 @@ fn coverage_report(
 ) -> Result<CoverageReport, LoadError> {
     let shown = path.display().to_string();
     let text = read_text(path, "coverage")?;
-    coverage_from_json(&text, bp, tree_id).map_err(|e| at_start(LoadErrorKind::BadValue, &shown, e))
+    coverage_from_json(&text, bp, tree_id)
+        .map_err(|e| LoadError::at_file(LoadErrorKind::BadValue, &shown, e))
 }
 
 /// See [`coverage_report`].
@@ -322,7 +333,7 @@ const MAX_TRACE_BYTES: u64 = 256 << 20;
 fn read_text(path: &Path, what: &str) -> Result<String, LoadError> {
     use std::io::Read;
     let shown = path.display().to_string();
-    let io_error = |message: String| at_start(LoadErrorKind::Io, &shown, message);
+    let io_error = |message: String| LoadError::at_file(LoadErrorKind::Io, &shown, message);
     let file =
         fs::File::open(path).map_err(|e| io_error(format!("cannot read the {what}: {e}")))?;
     let mut bytes = Vec::new();
@@ -330,7 +341,7 @@ fn read_text(path: &Path, what: &str) -> Result<String, LoadError> {
         .read_to_end(&mut bytes)
         .map_err(|e| io_error(format!("cannot read the {what}: {e}")))?;
     if bytes.len() as u64 > MAX_TRACE_BYTES {
-        return Err(at_start(
+        return Err(LoadError::at_file(
             LoadErrorKind::TooLarge,
             &shown,
             format!(
@@ -410,7 +421,7 @@ fn statuses_from_trace(
     }
     if let Some(n) = tick {
         if u64::from(n) > last_tick || n == 0 {
-            return Err(at_start(
+            return Err(LoadError::at_file(
                 LoadErrorKind::BadValue,
                 &shown,
                 format!("--tick {n} is not a tick of this trace, which has ticks 1 to {last_tick}"),
@@ -693,7 +704,7 @@ mod tests {
         let past = statuses(TRACE, Some(4)).unwrap_err();
         assert_eq!(
             past.to_string(),
-            "trace:1:1: error: --tick 4 is not a tick of this trace, which has ticks 1 to 3"
+            "trace: error: --tick 4 is not a tick of this trace, which has ticks 1 to 3"
         );
     }
 

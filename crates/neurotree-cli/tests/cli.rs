@@ -127,14 +127,14 @@ fn demo_with_a_bad_tree_file_reports_where_and_exits_1() {
     assert_eq!(
         err,
         format!(
-            "{}:3:3: error: unknown node type `FollowPth`; did you mean `FollowPath`? register it in the Registry before loading\n",
+            "{}:3:3: error: unknown node type `FollowPth`; did you mean `FollowPath`? the demo runs Nav2's node types, simulated\n",
             file.display()
         )
     );
     let (code, _, err) = run_cli(&["demo", "--fast", "--tree", "/nonexistent/tree.xml"]);
     assert_eq!(code, Some(1));
     assert!(
-        err.starts_with("/nonexistent/tree.xml:1:1: error: cannot open the file"),
+        err.starts_with("/nonexistent/tree.xml: error: cannot open the file"),
         "{err}"
     );
 }
@@ -507,7 +507,14 @@ fn check_and_show_know_nav2_controls() {
         model.to_str().unwrap(),
     ]);
     assert_eq!((code, err.as_str()), (Some(0), ""));
-    let (code, out, err) = run_cli(&["show", nav2.to_str().unwrap(), "--format", "ascii"]);
+    let (code, out, err) = run_cli(&[
+        "show",
+        nav2.to_str().unwrap(),
+        "--model",
+        model.to_str().unwrap(),
+        "--format",
+        "ascii",
+    ]);
     assert_eq!(code, Some(0), "{err}");
     assert!(
         out.starts_with("[ ] NavigateRecovery (RecoveryNode)\n"),

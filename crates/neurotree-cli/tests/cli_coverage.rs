@@ -158,7 +158,7 @@ fn show_coverage_of_another_tree_is_an_error() {
     let shown = neurotree(&["show", &crossdoor(), "--coverage", json.to_str().unwrap()]);
     assert_eq!(shown.status.code(), Some(1));
     assert!(text(&shown.stderr).ends_with(&format!(
-        "{}:1:1: error: the coverage has 1 nodes and tree `MainTree` 11; was it made from \
+        "{}: error: the coverage has 1 nodes and tree `MainTree` 11; was it made from \
          another tree?\n",
         json.display()
     )));

@@ -76,7 +76,7 @@ fn an_ambiguous_main_tree_lists_the_candidates_and_a_bad_tree_names_the_file() {
     let dir = tempfile::tempdir().unwrap();
     let f = file(dir.path(), "two.xml", TWO_STARTS);
     let expected = format!(
-        "{f}:1:1: error: no main_tree_to_execute, and 2 trees could be the main one: Main, Orphan; pick one with --tree NAME\n"
+        "{f}: error: no main_tree_to_execute, and 2 trees could be the main one: Main, Orphan; pick one with --tree NAME\n"
     );
     for command in ["run", "show"] {
         let (code, out, err) = neurotree(&[command, &f]);
@@ -89,7 +89,7 @@ fn an_ambiguous_main_tree_lists_the_candidates_and_a_bad_tree_names_the_file() {
         (code, err),
         (
             Some(1),
-            format!("{f}:1:1: error: --tree Mian: no tree with that ID is loaded; the trees are: Main, Orphan, Shared\n")
+            format!("{f}: error: --tree Mian: no tree with that ID is loaded; the trees are: Main, Orphan, Shared\n")
         )
     );
 }
@@ -119,7 +119,15 @@ fn several_files_load_into_one_loader_like_the_load_multiple_xml_tutorial() {
             r#""blackboard":{}}}"#
         )
     );
-    let (code, out, _) = neurotree(&["show", &main, &sub_a, &sub_b, "-f", "ascii"]);
+    let (code, out, _) = neurotree(&[
+        "show",
+        &main,
+        &sub_a,
+        &sub_b,
+        "--mock-unknown",
+        "-f",
+        "ascii",
+    ]);
     assert_eq!(code, Some(0));
     assert!(
         out.contains("+-- [ ] SubA (SubTree)\n|   \\-- [ ] SaySomething"),
@@ -223,11 +231,10 @@ fn check_reports_every_error_of_every_tree_and_ok_for_each_valid_file() {
     assert_eq!(
         err,
         format!(
-            "{bad}:4:7: error: unknown node type `Sequense`; did you mean `Sequence`? register it in the Registry before loading\n\
+            "{bad}:4:7: error: unknown node type `Sequense`; did you mean `Sequence`? declare it in a TreeNodesModel given with --model FILE, or use --nav2 if it is one of Nav2's\n\
              {bad}:5:7: error: port `num_cycles` of `Repeat`: cannot read `often` as i32\n\
              {bad}:10:7: error: `Inverter` takes exactly 1 child, found 2\n\
-             {bad}:11:7: error: Parallel: success threshold 3 needs at least 3 children, found 1\n\
-             hint: declare the node types the files use in a TreeNodesModel and give it with --model FILE (`neurotree run` can mock leaves with --mock-unknown)\n"
+             {bad}:11:7: error: Parallel: success threshold 3 needs at least 3 children, found 1\n"
         )
     );
 }
@@ -246,7 +253,7 @@ fn check_stops_at_twenty_errors_per_file() {
     let (code, _, err) = neurotree(&["check", &many]);
     assert_eq!(code, Some(1));
     let lines: Vec<&str> = err.lines().collect();
-    assert_eq!(lines.len(), 22, "{err}");
+    assert_eq!(lines.len(), 21, "{err}");
     assert!(lines[19].starts_with(&format!("{many}:1:171: error: unknown node type `Nope`")));
     assert_eq!(
         lines[20],
@@ -346,7 +353,7 @@ fn unknown_nodes_in_a_run_get_a_hint_to_mock_them() {
         (
             Some(1),
             format!(
-                "{f}:1:38: error: unknown node type `OpenDoor`; register it in the Registry before loading\n\
+                "{f}:1:38: error: unknown node type `OpenDoor`; declare it in a TreeNodesModel given with --model FILE, or use --nav2 if it is one of Nav2's\n\
                  hint: mock the leaves without an implementation with --mock-unknown, or one with --mock NAME=OUTCOMES\n"
             )
         )

@@ -26,6 +26,10 @@ const DOOR: &str = r#"<root BTCPP_format="4" main_tree_to_execute="Door">
 
 const DOOR_NODES: usize = 8;
 
+/// What an error for an unknown node type advises on the command line.
+const ADVICE: &str =
+    "declare it in a TreeNodesModel given with --model FILE, or use --nav2 if it is one of Nav2's";
+
 fn neurotree(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_neurotree"))
         .args(args)
@@ -48,9 +52,10 @@ fn arg(path: &Path) -> &str {
     path.to_str().expect("temporary paths are UTF-8")
 }
 
-/// Runs `show` and returns its standard output, asserting that it succeeded.
+/// Runs `show` with the file's unknown leaves drawn as mocks and returns its standard
+/// output, asserting that it succeeded.
 fn show(args: &[&str]) -> String {
-    let mut all = vec!["show"];
+    let mut all = vec!["show", "--mock-unknown"];
     all.extend_from_slice(args);
     let out = neurotree(&all);
     assert!(
@@ -241,12 +246,13 @@ fn show_draws_node_types_that_a_model_declares() {
          ├── [ ] FollowPath\n\
          └── [ ] GoalUpdated\n"
     );
-    // Without the model, FollowPath is an unknown leaf, mocked as `run` mocks it.
-    assert_eq!(
-        show(&[arg(&nav)]),
-        "[ ] navigate (RecoveryNode)\n\
-         ├── [ ] FollowPath (AlwaysSuccess)\n\
-         └── [ ] GoalUpdated\n"
+    // Without the model, FollowPath is an unknown leaf, refused as `check` refuses it.
+    let out = neurotree(&["show", arg(&nav)]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(
+        text(&out.stderr).contains(&format!("unknown node type `FollowPath`; {ADVICE}")),
+        "{}",
+        text(&out.stderr)
     );
     // A control the registry does not know cannot be mocked.
     let juggle = file(
@@ -259,8 +265,7 @@ fn show_draws_node_types_that_a_model_declares() {
     assert_eq!(
         text(&out.stderr),
         format!(
-            "{}:3:5: error: unknown node type `Juggle`; register it in the Registry before \
-             loading, or declare it in a TreeNodesModel given with --model to draw it\n",
+            "{}:3:5: error: unknown node type `Juggle`; {ADVICE}\n",
             arg(&juggle)
         )
     );
@@ -277,7 +282,9 @@ fn show_reports_bad_input_with_its_place_and_exit_code_1() {
         "{\"tick\":1,\"node\":\"enter\",\"from\":\"IDLE\",\"to\":\"RUNNING\"}\n{\"tick\":1,\"node\":\"somewhere/else\",\"from\":\"IDLE\",\"to\":\"RUNNING\"}\n",
     );
     let failing = |args: &[&str]| {
-        let out = neurotree(args);
+        let mut args = args.to_vec();
+        args.push("--mock-unknown");
+        let out = neurotree(&args);
         assert_eq!(out.status.code(), Some(1), "{args:?}");
         assert!(out.stdout.is_empty());
         text(&out.stderr)
@@ -291,16 +298,13 @@ fn show_reports_bad_input_with_its_place_and_exit_code_1() {
     let missing = dir.path().join("missing.xml");
     let err = failing(&["show", arg(&missing)]);
     assert!(
-        err.starts_with(&format!(
-            "{}:1:1: error: cannot open the file",
-            arg(&missing)
-        )),
+        err.starts_with(&format!("{}: error: cannot open the file", arg(&missing))),
         "{err}"
     );
     assert_eq!(
         failing(&["show", arg(&door), "--tree", "Nope"]),
         format!(
-            "{}:1:1: error: --tree Nope: no tree with that ID is loaded; the trees are: Door, Force\n",
+            "{}: error: --tree Nope: no tree with that ID is loaded; the trees are: Door, Force\n",
             arg(&door)
         )
     );

@@ -252,7 +252,7 @@ impl Transition {
 
     /// Reads a `t` payload back into records.
     pub fn parse_all(payload: &[u8]) -> Result<Vec<Transition>, ProtocolError> {
-        if payload.len() % Self::SIZE != 0 {
+        if !payload.len().is_multiple_of(Self::SIZE) {
             return Err(ProtocolError::TransitionsSize { len: payload.len() });
         }
         payload

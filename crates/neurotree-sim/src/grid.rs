@@ -138,7 +138,7 @@ impl GridMap {
 
     /// `true` if `cell` is a wall or outside the map.
     pub fn is_wall(&self, cell: Cell) -> bool {
-        self.index(cell).map_or(true, |i| self.walls[i])
+        self.index(cell).is_none_or(|i| self.walls[i])
     }
 
     /// Makes `cell` a wall or frees it; cells outside the map are ignored.

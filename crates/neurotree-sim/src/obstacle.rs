@@ -35,7 +35,7 @@ impl TimedObstacle {
     /// `true` if it is there at time `now`: from `appears` (included) to `vanishes`
     /// (excluded).
     pub fn is_present(&self, now: Duration) -> bool {
-        self.appears <= now && self.vanishes.map_or(true, |v| now < v)
+        self.appears <= now && self.vanishes.is_none_or(|v| now < v)
     }
 }
 

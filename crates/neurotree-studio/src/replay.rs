@@ -87,7 +87,7 @@ pub fn from_jsonl<C>(
         let status = status_from_name(to)
             .ok_or_else(|| ReplayError::Format(format!("line {}: unknown status `{to}`", n + 1)))?;
         let time_us = v.get("time_us").and_then(|t| t.as_u64()).unwrap_or(0);
-        if steps.last().map_or(true, |s| s.tick != tick) {
+        if steps.last().is_none_or(|s| s.tick != tick) {
             steps.push(Step {
                 tick,
                 time_us,
@@ -189,7 +189,7 @@ fn from_log(
                 "a record names node uid {uid}, which the log's tree does not have"
             )));
         };
-        if steps.last().map_or(true, |s| s.time_us != time_us) {
+        if steps.last().is_none_or(|s| s.time_us != time_us) {
             steps.push(Step {
                 tick: steps.len() as u64 + 1,
                 time_us,

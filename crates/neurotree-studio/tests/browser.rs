@@ -257,7 +257,7 @@ fn registry() -> Registry<()> {
         .register_condition("Succ", vec![], |_| {
             let call = SUCC_CALLS.fetch_add(1, Ordering::Relaxed);
             let every = SUCC_FAIL_EVERY.load(Ordering::Relaxed).max(1);
-            !(SUCC_FAILS.load(Ordering::Relaxed) && call % every == 0)
+            !(SUCC_FAILS.load(Ordering::Relaxed) && call.is_multiple_of(every))
         })
         .expect("Succ is free");
     registry

@@ -149,7 +149,7 @@ mod tests {
                 }
                 drop(guard);
                 looks += 1;
-                if looks % 64 == 0 {
+                if looks.is_multiple_of(64) {
                     std::thread::yield_now();
                 }
             }

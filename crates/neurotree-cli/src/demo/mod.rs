@@ -248,7 +248,7 @@ mod tests {
         assert!(out.is_empty());
         let err = String::from_utf8(err).unwrap();
         assert!(
-            err.starts_with("/nonexistent/tree.xml:1:1: error: cannot open the file"),
+            err.starts_with("/nonexistent/tree.xml: error: cannot open the file"),
             "{err}"
         );
     }

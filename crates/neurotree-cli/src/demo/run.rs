@@ -273,7 +273,8 @@ impl DemoRun {
         for (old, new) in nav2::RENAMED {
             registry.add_renamed(old, new, "renamed in Nav2 after Kilted");
         }
-        let mut loader = XmlLoader::new(&registry);
+        let mut loader = XmlLoader::new(&registry)
+            .unknown_type_advice("the demo runs Nav2's node types, simulated");
         let tree_file = match &config.tree {
             Some(path) => {
                 loader.load_file(path)?;

@@ -264,7 +264,9 @@ pub enum PortError {
 /// `String` and `Vec<T>` (`;`-separated). Implement it for your own types to read them from
 /// ports.
 pub trait FromPortStr: Sized {
-    /// Converts `text`, or says why not (the message names no port; the caller adds it).
+    /// Converts `text`, or says it is none: the caller's error names the port, the text
+    /// and the type, which is all there is to say.
+    #[allow(clippy::result_unit_err)]
     fn from_port_str(text: &str) -> Result<Self, ()>;
 
     /// Converts a blackboard entry's value of another type, as BehaviorTree.CPP's `Any`

@@ -101,7 +101,7 @@ impl Path {
         let mut best: Option<(usize, f64)> = None;
         for (i, p) in self.poses.iter().enumerate() {
             let d = p.distance(pose);
-            if best.map_or(true, |(_, b)| d < b) {
+            if best.is_none_or(|(_, b)| d < b) {
                 best = Some((i, d));
             }
         }

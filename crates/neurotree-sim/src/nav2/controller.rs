@@ -266,7 +266,7 @@ fn ahead_of(path: &Path, robot: Pose2D) -> Path {
     if path
         .poses
         .get(from)
-        .map_or(true, |p| p.x != robot.x || p.y != robot.y)
+        .is_none_or(|p| p.x != robot.x || p.y != robot.y)
     {
         poses.push(robot);
     }

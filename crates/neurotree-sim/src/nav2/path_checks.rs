@@ -305,7 +305,7 @@ fn validate_path<C: Nav2Context>(h: &mut Handle<'_, C>) -> Status {
         world
             .map()
             .cell_at(p)
-            .map_or(true, |cell| costmap.is_blocked(cell))
+            .is_none_or(|cell| costmap.is_blocked(cell))
     };
     let mut collisions = path.poses[start..end].iter().filter(blocked);
     let collisions: Vec<Pose2D> = if first_only {

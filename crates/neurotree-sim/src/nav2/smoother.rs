@@ -72,12 +72,7 @@ fn smooth_path<C: Nav2Context>(h: &mut Handle<'_, C>) -> Status {
         let hit = path
             .poses
             .iter()
-            .find(|p| {
-                !world
-                    .map()
-                    .cell_at(p)
-                    .is_some_and(|c| !costmap.is_blocked(c))
-            })
+            .find(|p| world.map().cell_at(p).is_none_or(|c| costmap.is_blocked(c)))
             .copied();
         if let Some(p) = hit {
             let message = format!("the smoothed path collides at ({:.2}, {:.2})", p.x, p.y);

@@ -201,7 +201,7 @@ where
         // boxes a new entry.
         let same = bb
             .info_in(scope, key)
-            .map_or(true, |i| i.sequence == 0 || i.type_name == type_name::<T>());
+            .is_none_or(|i| i.sequence == 0 || i.type_name == type_name::<T>());
         if same {
             // Cannot fail: the entry is missing, unwritten or of type T.
             let _ = bb.set_in(scope, key, value, now);

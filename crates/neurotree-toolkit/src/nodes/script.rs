@@ -229,7 +229,7 @@ impl Precondition {
     fn script<C>(&mut self, node: &mut NodeCtx<'_, '_, C>) -> Result<&Script, String> {
         if self.script_from_entry {
             let code = node.input::<String>("if").map_err(|e| e.to_string())?;
-            if self.script.as_ref().map_or(true, |s| s.source() != code) {
+            if self.script.as_ref().is_none_or(|s| s.source() != code) {
                 let script = Script::parse(&code)
                     .map_err(|e| format!("in script `{}`: {e}", e.excerpt(&code)))?;
                 self.script = Some(script);

@@ -181,10 +181,10 @@ fn possible_all<C>(blueprint: &Blueprint<C>) -> Vec<OutcomeSet> {
         .map(|id| {
             let own = own[id.index()];
             let mut set = OutcomeSet::of(&[]);
-            if own.map_or(true, |o| o.success) {
+            if own.is_none_or(|o| o.success) {
                 set = set.with(Success);
             }
-            if own.map_or(true, |o| o.failure) {
+            if own.is_none_or(|o| o.failure) {
                 set = set.with(Failure);
             }
             if can_run[id.index()] {

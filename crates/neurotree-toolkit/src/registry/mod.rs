@@ -120,6 +120,12 @@ impl<C> NodeType<C> {
         self.builtin
     }
 
+    /// `true` for a type known only from a `TreeNodesModel`: a tree using it validates,
+    /// but does not run until an implementation is registered (or it is mocked).
+    pub fn is_model_only(&self) -> bool {
+        matches!(self.make, Make::Model)
+    }
+
     /// The port named `name`.
     pub fn port(&self, name: &str) -> Option<&PortSpec> {
         self.ports.iter().find(|p| p.name == name)

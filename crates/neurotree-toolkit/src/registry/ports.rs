@@ -93,7 +93,7 @@ impl PortSpec {
 
     /// `true` if `text` converts to the port's type (always for types without a check).
     pub fn accepts(&self, text: &str) -> bool {
-        self.check.map_or(true, |check| check(text))
+        self.check.is_none_or(|check| check(text))
     }
 
     /// The declared type the node's reads and writes of this port are checked against.

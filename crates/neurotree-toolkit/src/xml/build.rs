@@ -517,8 +517,9 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
             return Err(el.error(
                 LoadErrorKind::UnknownNode,
                 format!(
-                "unknown node type `{type_name}`; {hint}register it in the Registry before loading"
-            ),
+                    "unknown node type `{type_name}`; {hint}{}",
+                    self.loader.unknown_type_advice
+                ),
             ));
         };
         let ports = self.check_ports(el, node_type, explicit, substituted)?;

@@ -4,14 +4,18 @@
 ///
 /// Its [`kind`](Self::kind) says what went wrong in a way a program can act on; the
 /// message says it to a person, and may be reworded.
+///
+/// It prints as `file:line:col: error: message`, or `file: error: message` for an error
+/// about the file as a whole (it cannot be opened, is too large, has no such tree), which
+/// has no place in it.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
-#[error("{file}:{line}:{col}: error: {message}")]
+#[error("{file}{}: error: {message}", place(*line, *col))]
 pub struct LoadError {
     /// The file (as given to the loader).
     pub file: String,
-    /// 1-based line.
+    /// 1-based line; 0 for an error about the file as a whole.
     pub line: u32,
-    /// 1-based column.
+    /// 1-based column; 0 for an error about the file as a whole.
     pub col: u32,
     /// What is wrong and what to do.
     pub message: String,
@@ -37,14 +41,23 @@ impl LoadError {
         }
     }
 
-    /// An error of `kind` about `file` as a whole, placed at its start.
-    pub(crate) fn at_file(kind: LoadErrorKind, file: &str, message: impl Into<String>) -> Self {
-        Self::new(kind, file, 1, 1, message)
+    /// An error of `kind` about `file` as a whole: no line, no column.
+    pub fn at_file(kind: LoadErrorKind, file: &str, message: impl Into<String>) -> Self {
+        Self::new(kind, file, 0, 0, message)
     }
 
     /// What went wrong, to branch on (the message is for people).
     pub fn kind(&self) -> LoadErrorKind {
         self.kind
+    }
+}
+
+/// `:line:col` of a place in a file, or nothing for the file as a whole (line 0).
+fn place(line: u32, col: u32) -> String {
+    if line == 0 {
+        String::new()
+    } else {
+        format!(":{line}:{col}")
     }
 }
 

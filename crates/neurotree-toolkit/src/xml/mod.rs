@@ -150,6 +150,8 @@ pub struct XmlLoader<'r, C> {
     /// The ports the files' `TreeNodesModel`s declare for SubTrees, by tree ID: each
     /// port's name and default (`None`: mandatory), applied where a SubTree leaves one out.
     subtree_models: BTreeMap<String, Vec<(String, Option<String>)>>,
+    /// What an unknown node type's error tells the reader to do.
+    unknown_type_advice: std::borrow::Cow<'static, str>,
 }
 
 impl<C> fmt::Debug for XmlLoader<'_, C> {
@@ -182,7 +184,19 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
             subtrees: false,
             warnings: Vec::new(),
             subtree_models: BTreeMap::new(),
+            unknown_type_advice: "register it in the Registry before loading".into(),
         }
+    }
+
+    /// What the error for an unknown node type advises, "register it in the Registry before
+    /// loading" by default: a tool whose users cannot reach the registry says what they can
+    /// do instead (the command line: `--model`, `--nav2`, `--mock`).
+    pub fn unknown_type_advice(
+        mut self,
+        advice: impl Into<std::borrow::Cow<'static, str>>,
+    ) -> Self {
+        self.unknown_type_advice = advice.into();
+        self
     }
 
     /// Sets the most nodes a tree built (or validated) may have once its subtrees are
@@ -586,7 +600,7 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
             }
         }
         self.load_file(&target).map_err(|inner| {
-            if inner.file == target.display().to_string() && inner.line == 1 && inner.col == 1 {
+            if inner.file == target.display().to_string() && inner.line == 0 {
                 let el = self.docs[doc].element(element);
                 el.error(
                     inner.kind(),

@@ -116,7 +116,7 @@ fn parse(bytes: &[u8]) -> Result<Btlog, BtlogReadError> {
     let first_timestamp_us = i64::from_le_bytes(take_array(bytes, &mut at, "the first timestamp")?);
 
     let body = &bytes[at..];
-    if body.len() % RECORD_LEN != 0 {
+    if !body.len().is_multiple_of(RECORD_LEN) {
         return Err(BtlogReadError::Truncated {
             part: "the last record",
             at: at + body.len() / RECORD_LEN * RECORD_LEN,
