@@ -59,6 +59,7 @@ pub(crate) fn router(shared: Arc<Shared>) -> Router {
         .route("/api/save", post(save))
         .route("/api/palette", get(palette_of))
         .route("/api/svg", post(svg))
+        .route("/api/drawing", get(drawing))
         .route("/api/replay", get(replay_of))
         .route("/api/coverage", get(coverage))
         .route("/api/stats", get(stats))
@@ -291,6 +292,12 @@ async fn svg(State(shared): App, Json(body): Json<TextBody>) -> Result<Response,
     .map_err(|e| Refusal(StatusCode::INTERNAL_SERVER_ERROR, e.to_string()))?
     .map_err(|e| Refusal(StatusCode::UNPROCESSABLE_ENTITY, e))?;
     Ok(([(header::CONTENT_TYPE, "image/svg+xml")], drawn).into_response())
+}
+
+/// The sizes and font widths `neurotree show --format svg` draws with, so that the page's
+/// boxes are the command's.
+async fn drawing() -> Json<neurotree_toolkit::render::DrawingMetrics> {
+    Json(neurotree_toolkit::render::drawing_metrics())
 }
 
 async fn replay_of(State(shared): App, Query(q): Query<PathQuery>) -> Result<Response, Refusal> {

@@ -3,7 +3,7 @@
 
 use std::collections::HashMap;
 
-use neurotree_core::{Blueprint, Category, NodeKind, NodeStatus, PortValue};
+use neurotree_core::{Blueprint, Category, NodeKind, NodeStatus};
 use serde::Serialize;
 use serde_json::{Map, Value};
 
@@ -82,16 +82,11 @@ impl TreeView {
             .ids()
             .map(|id| {
                 let kind = blueprint.kind(id);
-                let ports = blueprint
-                    .ports(id)
-                    .iter()
-                    .map(|p| {
-                        let text = match &p.value {
-                            PortValue::Literal(t) => t.clone(),
-                            PortValue::Entry(k) => format!("{{{k}}}"),
-                        };
-                        (p.name.clone(), Value::String(text))
-                    })
+                // As a file writes them, built-ins' parameters included: what the
+                // nodes draw under their names, as `show --format svg` does.
+                let ports = neurotree_toolkit::render::node_ports(blueprint, id)
+                    .into_iter()
+                    .map(|(name, text)| (name, Value::String(text)))
                     .collect();
                 NodeView {
                     id: id.0,

@@ -509,7 +509,7 @@ export function mountEditor(section, app) {
       const tree = shownTree();
       const tab = state.tabs.find((t) => t.id === state.treeId);
       drawn = tree ? xml.nodesOfTree(tree, state.palette, tab?.prefix || "") : [];
-      drawing.setTree(drawn, { keepView: !fit });
+      drawing.setTree(drawn, { keepView: !fit, key: `${state.path}#${state.treeId}` });
       const i = state.selected ? indexOfElement(state.selected) : -1;
       if (state.selected && i < 0) state.selected = null;
       drawing.select(i >= 0 ? i : null);
