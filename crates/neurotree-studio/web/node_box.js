@@ -3,11 +3,12 @@
 // type, one per port, long ones shortened with … and whole in the title) and its size,
 // measured with the renderer's own sizes and font-width tables, which the studio serves.
 
-import { get } from "./api.js";
+import METRICS from "./drawing-metrics.js";
 
 // The sizes and font widths of the SVG renderer (crates/neurotree-toolkit/src/render/
-// node_box.rs), served by the studio: the page's boxes are the command's, from one table.
-export const M = await get("/api/drawing");
+// node_box.rs), served by the studio as a module: the page's boxes are the command's,
+// from one table.
+export const M = METRICS;
 export const NODE_HEIGHT = M.node_height;
 
 /** How wide `text` is drawn at `size` px, by the renderer's DejaVu Sans tables. */

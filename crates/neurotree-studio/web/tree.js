@@ -57,6 +57,8 @@ export class TreeDrawing {
     this.orientation = "TB";
     this.key = null;
     this.folded = false;
+    // Whether the view is still as the last fit left it.
+    this.untouched = true;
     container.classList.add("tree-drawing");
     container.innerHTML = "";
     // For scripts and tests, which reach a drawing from its element.
@@ -87,10 +89,22 @@ export class TreeDrawing {
     this.elements = [];
     this.badges = [];
     this.bindPointer();
+    // The panels beside a drawing fill in after it is first drawn, and the window can be
+    // resized: a view the user has not moved yet is fitted (and a big tree folded) again.
     new ResizeObserver(() => {
       const box = this.svg.getBoundingClientRect();
+      const changed = box.width !== this.size.width || box.height !== this.size.height;
       this.size = { width: box.width, height: box.height };
-      this.minimap.frame();
+      if (changed && this.untouched && box.width) {
+        if (this.folded) {
+          this.foldToFit();
+          this.placeToggles();
+          this.layout();
+        }
+        this.fit(box);
+      } else {
+        this.minimap.frame();
+      }
     }).observe(this.svg);
   }
 
@@ -153,7 +167,8 @@ export class TreeDrawing {
     } catch {
       // Storage refused (a private window): the default orientation.
     }
-    this.orientation = ORIENTATIONS.includes(stored) ? stored : "TB";
+    this.orientationChosen = ORIENTATIONS.includes(stored);
+    this.orientation = this.orientationChosen ? stored : "TB";
     this.container.dataset.orientation = this.orientation;
   }
 
@@ -161,39 +176,59 @@ export class TreeDrawing {
   setOrientation(orientation) {
     if (!ORIENTATIONS.includes(orientation)) return;
     this.orientation = orientation;
-    this.container.dataset.orientation = orientation;
+    this.orientationChosen = true;
     try {
       if (this.key) localStorage.setItem(`neurotree.orientation:${this.key}`, orientation);
     } catch {
       // Not remembered; the drawing still turns.
     }
-    this.nodes.forEach((n, i) => {
-      if (n.children.length) this.elements[i]?.querySelector(".toggle")?.setAttribute("transform", togglePlace(n, orientation));
-    });
+    this.placeToggles();
     this.layout();
     this.fit();
   }
 
+  /** Puts the fold toggles where the orientation wants them. */
+  placeToggles() {
+    this.container.dataset.orientation = this.orientation;
+    this.nodes.forEach((n, i) => {
+      if (n.children.length) this.elements[i]?.querySelector(".toggle")?.setAttribute("transform", togglePlace(n, this.orientation));
+    });
+  }
+
   /**
    * Folds the tree at the deepest depth whose drawing is no wider (left to right: no
-   * taller) than the view at a legible zoom; returns whether any node was folded.
+   * taller) than the view at a legible zoom, in the file's orientation, or, for a file
+   * with none remembered, in whichever fits deeper (top-down when both do as well);
+   * returns whether any node was folded.
    */
   foldToFit() {
     const nodes = this.nodes;
     const depth = new Array(nodes.length).fill(0);
     nodes.forEach((n, i) => n.children.forEach((c) => (depth[c] = depth[i] + 1)));
     const deepest = Math.max(...depth);
-    const room = (this.orientation === "LR" ? this.size.height : this.size.width) / LEGIBLE || 1500;
-    for (let d = deepest - 1; d >= 1; d--) {
+    const foldAt = (d) => {
       this.collapsed = new Set();
       nodes.forEach((n, i) => depth[i] === d && n.children.length && this.collapsed.add(i));
-      this.place();
-      const b = this.bounds;
-      const breadth = this.orientation === "LR" ? b.maxY - b.minY : b.maxX - b.minX;
-      if (breadth + 2 * MARGIN <= room) return true;
+    };
+    let best = { orientation: this.orientation, depth: 1 };
+    for (const orientation of this.orientationChosen ? [this.orientation] : ORIENTATIONS) {
+      this.orientation = orientation;
+      const room = (orientation === "LR" ? this.size.height : this.size.width) / LEGIBLE || 1500;
+      for (let d = deepest - 1; d >= 1; d--) {
+        if (best.fits && d <= best.depth) break;
+        foldAt(d);
+        this.place();
+        const b = this.bounds;
+        const breadth = orientation === "LR" ? b.maxY - b.minY : b.maxX - b.minX;
+        if (breadth + 2 * MARGIN <= room) {
+          best = { orientation, depth: d, fits: true };
+          break;
+        }
+      }
     }
-    this.collapsed = new Set();
-    nodes.forEach((n, i) => depth[i] === 1 && n.children.length && this.collapsed.add(i));
+    this.orientation = best.orientation;
+    this.container.dataset.orientation = best.orientation;
+    foldAt(best.depth);
     return this.collapsed.size > 0;
   }
 
@@ -384,6 +419,7 @@ export class TreeDrawing {
     if (!this.nodes[i]?.children.length) return;
     if (fold) this.collapsed.add(i);
     else this.collapsed.delete(i);
+    this.untouched = false;
     const before = this.pos[i];
     this.layout();
     // Keep the node that was clicked where it was on the screen.
@@ -396,6 +432,7 @@ export class TreeDrawing {
   }
 
   collapseAll(fold) {
+    this.folded = false;
     this.collapsed.clear();
     if (fold) this.nodes.forEach((n, i) => i !== 0 && n.children.length && this.collapsed.add(i));
     this.layout();
@@ -415,6 +452,7 @@ export class TreeDrawing {
       if (this.collapsed.delete(p)) changed = true;
     }
     if (changed) this.layout();
+    this.untouched = false;
     const c = this.centreOf(i);
     const box = this.svg.getBoundingClientRect();
     if (!c || !box.width) return;
@@ -456,6 +494,7 @@ export class TreeDrawing {
    */
   fit(box = this.svg.getBoundingClientRect()) {
     if (box.width) this.size = { width: box.width, height: box.height };
+    this.untouched = true;
     if (!this.bounds || !box.width || !box.height) {
       this.view = { x: MARGIN, y: MARGIN, k: 1 };
       this.applyView();
@@ -494,6 +533,7 @@ export class TreeDrawing {
       cx = box.width / 2;
       cy = box.height / 2;
     }
+    this.untouched = false;
     const k = Math.min(4, Math.max(0.05, this.view.k * factor));
     this.view.x = cx - ((cx - this.view.x) * k) / this.view.k;
     this.view.y = cy - ((cy - this.view.y) * k) / this.view.k;
@@ -523,6 +563,7 @@ export class TreeDrawing {
 
   /** Moves the view so that the drawing's point (x, y) is at its centre. */
   centreOn(x, y) {
+    this.untouched = false;
     const { width, height } = this.size;
     this.view.x = width / 2 - x * this.view.k;
     this.view.y = height / 2 - y * this.view.k;
@@ -588,6 +629,7 @@ export class TreeDrawing {
       if (drag.node != null && this.options.draggable && drag.node !== 0) {
         this.dragOver(e, drag.node);
       } else {
+        this.untouched = false;
         this.view.x = drag.vx + dx;
         this.view.y = drag.vy + dy;
         this.applyView();

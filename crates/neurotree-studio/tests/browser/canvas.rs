@@ -224,9 +224,9 @@ async fn zoom_keeps_the_point_under_the_pointer_and_the_selected_node_in_place()
     open_in_editor(&b, &studio.url(), NAV2_TREE).await;
 
     // Three clicks on "+" with a node selected: the node stays where it is and grows.
-    let planner =
-        css_path("NavigateRecovery/NavigateWithReplanning/RateController/ComputePathToPose");
-    b.click(&planner).await;
+    let node = css_path("NavigateRecovery/NavigateWithReplanning/RateController/ComputePathToPose");
+    let planner = format!("{node} > .shape");
+    b.click(&node).await;
     let (x0, y0, w0) = centre(&b, &planner).await;
     for _ in 0..3 {
         b.click("#edit-view [data-action=zoom-in]").await;
@@ -245,6 +245,7 @@ async fn zoom_keeps_the_point_under_the_pointer_and_the_selected_node_in_place()
     // The wheel, with the pointer on another node: that node stays under the pointer.
     let spin = css_path("NavigateRecovery/Sequence/RecoveryFallback/RecoveryActions/Spin");
     b.bring_into_view(&spin).await;
+    let spin = format!("{spin} > .shape");
     let (sx, sy, sw) = centre(&b, &spin).await;
     let wheel = |delta_y: i64| {
         WheelActions::new("wheel".into()).then(WheelAction::Scroll {
@@ -323,9 +324,18 @@ async fn the_overview_frames_the_view_and_a_click_or_a_drag_in_it_moves_there() 
     let frame_centre = "const f = document.querySelector('#edit-view [data-minimap] .mini-frame');
          return [Number(f.getAttribute('x')) + Number(f.getAttribute('width')) / 2,
                  Number(f.getAttribute('y')) + Number(f.getAttribute('height')) / 2];";
+    // Within two of the overview's pixels, in the drawing's units.
+    let unit = b
+        .js(&format!(
+            "const svg = document.querySelector('{mini} svg');
+             return svg.viewBox.baseVal.width / svg.getBoundingClientRect().width;"
+        ))
+        .await
+        .as_f64()
+        .unwrap();
     let close = |a: &Value, b: &Value| {
-        (a[0].as_f64().unwrap() - b[0].as_f64().unwrap()).abs() < 1.0
-            && (a[1].as_f64().unwrap() - b[1].as_f64().unwrap()).abs() < 1.0
+        (a[0].as_f64().unwrap() - b[0].as_f64().unwrap()).abs() < 2.0 * unit
+            && (a[1].as_f64().unwrap() - b[1].as_f64().unwrap()).abs() < 2.0 * unit
     };
     assert!(close(&b.js(view_centre).await, &b.js(frame_centre).await));
 
@@ -420,7 +430,14 @@ async fn tree1111_opens_folded_with_the_overview_and_search_unfolds_and_centres_
          return [...document.querySelectorAll('#edit-view g.node:not([display])')].every(g => {
            const r = g.getBoundingClientRect();
            return r.left >= v.left && r.right <= v.right && r.top >= v.top && r.bottom <= v.bottom; });";
-    assert_eq!(b.js(all_inside).await, json!(true));
+    let outside = "const v = document.querySelector('#edit-view .tree-svg').getBoundingClientRect();
+         return [[v.left, v.right, v.top, v.bottom], ...[...document.querySelectorAll('#edit-view g.node:not([display])')].map(g => { const r = g.getBoundingClientRect(); return [r.left, r.right, r.top, r.bottom]; })];";
+    assert_eq!(
+        b.js(all_inside).await,
+        json!(true),
+        "{}",
+        b.js(outside).await
+    );
     assert!(
         minimap_shown(&b, "edit").await,
         "the overview is shown at first view"
@@ -435,14 +452,14 @@ async fn tree1111_opens_folded_with_the_overview_and_search_unfolds_and_centres_
     search.send_keys("Fail").await.unwrap();
     b.until(
         "matches counted",
-        "document.querySelector('#edit-view .match-count').textContent === '1/100'",
+        "document.querySelector('#edit-view .match-count').textContent === '1/90'",
     )
     .await;
     let centred = "const v = document.querySelector('#edit-view .tree-svg').getBoundingClientRect();
          const d = document.querySelector('#edit-view .tree-drawing').treeDrawing;
          const g = d.elements[d.matches[d.matchAt]];
          const r = g.getBoundingClientRect();
-         return [g.hasAttribute('display'), Math.abs(r.x + r.width / 2 - (v.x + v.width / 2)), Math.abs(r.y + r.height / 2 - (v.y + v.height / 2)), r.height, g.dataset.nodePath];";
+         return [g.hasAttribute('display'), Math.abs(r.x + r.width / 2 - (v.x + v.width / 2)), Math.abs(r.y + r.height / 2 - (v.y + v.height / 2)), r.height, d.matches[d.matchAt]];";
     let first = b.js(centred).await;
     assert_eq!(first[0], json!(false), "shown");
     assert!(
@@ -452,7 +469,7 @@ async fn tree1111_opens_folded_with_the_overview_and_search_unfolds_and_centres_
     search.send_keys(&Key::Enter.to_string()).await.unwrap();
     b.until(
         "the next match",
-        "document.querySelector('#edit-view .match-count').textContent === '2/100'",
+        "document.querySelector('#edit-view .match-count').textContent === '2/90'",
     )
     .await;
     let second = b.js(centred).await;
@@ -461,7 +478,7 @@ async fn tree1111_opens_folded_with_the_overview_and_search_unfolds_and_centres_
         second[1].as_f64().unwrap() < 2.0 && second[2].as_f64().unwrap() < 2.0,
         "{second}"
     );
-    assert_ne!(first[4], second[4]);
+    assert_ne!(first[4], second[4], "another node");
     let (least, _) = name_heights(&b, "edit").await;
     assert!(least >= 11.0, "still legible: {least:.1} px");
     b.close().await;
@@ -477,7 +494,7 @@ async fn nodes_draw_their_ports_and_the_same_boxes_as_the_svg_command() {
     std::fs::write(dir.path().join("ports.xml"), PORTS).unwrap();
     let studio = serve(dir.path());
 
-    for (file, view) in [("ports.xml", "edit"), (NAV2_TREE, "edit")] {
+    for (file, view, mocked) in [("ports.xml", "edit", false), (NAV2_TREE, "edit", true)] {
         open_in_editor(&b, &studio.url(), file).await;
         // Each box the page draws has the size of the one `show --format svg` draws: the
         // same node, in the same order (ids are pre-order).
@@ -509,31 +526,46 @@ async fn nodes_draw_their_ports_and_the_same_boxes_as_the_svg_command() {
         let (theirs, ours) = (sizes[0].as_array().unwrap(), sizes[1].as_array().unwrap());
         assert_eq!(theirs.len(), ours.len(), "{file}: as many nodes");
         for (i, (a, b)) in theirs.iter().zip(ours).enumerate() {
+            // Nav2's conditions are known here by their model only, and the server draws
+            // them mocked, as the actions that stand in for them: the width of a pill is
+            // not an action's. Their lines, and so their heights, are the same.
+            let compared = if mocked { (&a[1], &b[1]) } else { (a, b) };
             assert_eq!(
-                a, b,
-                "{file}: the page's box of {} is the command's ({})",
+                compared.0, compared.1,
+                "{file}: the page's box of {} is the command's ({}): {a} and {b}",
                 sizes[3][i], sizes[2][i]
             );
         }
     }
 
-    // ComputePathToPose's ports: `{goal}` a binding, `GridBased` literal text.
-    let planner =
-        css_path("NavigateRecovery/NavigateWithReplanning/RateController/ComputePathToPose");
-    let ports = b
-        .js(&format!(
+    // The planner's ports are bindings; the selector's default a literal.
+    let ports_of = |path: &str| {
+        format!(
             "return [...document.querySelectorAll('{} text.port')].map(t => [t.textContent, t.lastElementChild.getAttribute('class')]);",
-            planner.replace('\'', "\\'")
-        ))
+            css_path(path).replace('\'', "\\'")
+        )
+    };
+    let planner = b
+        .js(&ports_of("NavigateRecovery/NavigateWithReplanning/RateController/ComputePathToPose/FallbackComputePathToPose/ComputePathToPose"))
         .await;
-    let ports = ports.as_array().unwrap();
+    let planner = planner.as_array().unwrap();
     assert!(
-        ports.contains(&json!(["goal: {goal}", "binding"])),
-        "{ports:?}"
+        planner.contains(&json!(["goal: {goal}", "binding"])),
+        "{planner:?}"
     );
     assert!(
-        ports.contains(&json!(["planner_id: GridBased", "literal"])),
-        "{ports:?}"
+        planner.contains(&json!(["planner_id: {selected_planner}", "binding"])),
+        "{planner:?}"
+    );
+    let selector = b
+        .js(&ports_of(
+            "NavigateRecovery/NavigateWithReplanning/PlannerSelector",
+        ))
+        .await;
+    let selector = selector.as_array().unwrap();
+    assert!(
+        selector.contains(&json!(["default_planner: GridBased", "literal"])),
+        "{selector:?}"
     );
 
     // The long Script is shortened on the node and whole in its title.
