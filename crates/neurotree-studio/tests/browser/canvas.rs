@@ -667,3 +667,74 @@ async fn a_replay_numbers_ticks_as_the_trace_does() {
     assert_eq!(b.js(&position_at(2)).await, json!("2 / 2 · 0.300 s"));
     b.close().await;
 }
+
+/// The time from navigation to the frame after the tree is drawn, for tree1111 and each
+/// Nav2 tree of the corpus, in the editor and the watch view (best and median of three
+/// openings each): the figures of BENCHMARKS.md. Ignored by default, as it measures rather
+/// than checks:
+/// `NEUROTREE_REQUIRE_BROWSER=1 cargo test -p neurotree-studio --test browser -- --ignored open_times --nocapture`.
+#[tokio::test(flavor = "multi_thread")]
+#[ignore = "a measurement; prints the figures of BENCHMARKS.md"]
+async fn open_times_of_tree1111_and_the_nav2_trees() {
+    let _one = ONE_AT_A_TIME.lock().await;
+    let Some(b) = sized_browser().await else {
+        return;
+    };
+    let dir = workspace();
+    let corpus = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let mut files = vec![BIG_TREE.to_string()];
+    let mut nav2: Vec<String> = std::fs::read_dir(corpus.join("corpus/nav2"))
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.ends_with(".xml") && n != "nav2_tree_nodes.xml")
+        .map(|n| format!("corpus/nav2/{n}"))
+        .collect();
+    nav2.sort();
+    for file in &nav2 {
+        std::fs::copy(corpus.join(file), dir.path().join(file)).unwrap();
+    }
+    files.extend(nav2);
+    let studio = serve(dir.path());
+    let summary = |mut t: Vec<f64>| {
+        t.sort_by(f64::total_cmp);
+        format!("{:.0} / {:.0}", t[0], t[t.len() / 2])
+    };
+    println!("| tree | nodes | editor (best / median, ms) | watch (best / median, ms) |");
+    println!("|---|---|---|---|");
+    for file in &files {
+        let text = std::fs::read_to_string(dir.path().join(file)).unwrap();
+        let nodes = load(&text, file).blueprint().len();
+        let mut edit = Vec::new();
+        for _ in 0..3 {
+            open_in_editor(&b, &studio.url(), file).await;
+            let mark = format!("studio:edit-drawn:{file}");
+            let t = b
+                .js(&format!(
+                    "return performance.getEntriesByName('{mark}')[0].startTime;"
+                ))
+                .await;
+            edit.push(t.as_f64().unwrap());
+        }
+        let mut watch = Vec::new();
+        for _ in 0..3 {
+            let run = Run::start(&studio, load(&text, file), file, Duration::from_millis(50));
+            b.goto(&format!("{}#view=watch", studio.url())).await;
+            b.client.refresh().await.unwrap();
+            let t = b
+                .until(
+                    "the tree watched",
+                    "performance.getEntriesByName('studio:watch-drawn')[0]?.startTime",
+                )
+                .await;
+            watch.push(t.as_f64().unwrap());
+            drop(run);
+        }
+        let name = file.rsplit('/').next().unwrap_or(file);
+        println!(
+            "| {name} | {nodes} | {} | {} |",
+            summary(edit),
+            summary(watch)
+        );
+    }
+    b.close().await;
+}
