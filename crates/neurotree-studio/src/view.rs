@@ -307,6 +307,45 @@ mod tests {
     }
 
     #[test]
+    fn a_blueprint_view_carries_the_ports_nodes_draw() {
+        let xml = r#"<root BTCPP_format="4" main_tree_to_execute="Main">
+  <BehaviorTree ID="Main">
+    <Sequence>
+      <Repeat num_cycles="3"><Script code="x := 1"/></Repeat>
+      <SubTree ID="Task" goal="{target}" speed="2"/>
+    </Sequence>
+  </BehaviorTree>
+  <BehaviorTree ID="Task"><Sleep msec="{goal}"/></BehaviorTree>
+</root>"#;
+        let registry = neurotree_toolkit::Registry::<()>::new();
+        let mut loader = neurotree_toolkit::XmlLoader::new(&registry);
+        loader.load_str(xml, "t.xml").unwrap();
+        let view = TreeView::of_blueprint(&loader.build_main().unwrap(), "Main");
+        let ports = |path: &str| {
+            let node = view.nodes.iter().find(|n| n.path == path).unwrap();
+            Value::Object(node.ports.clone())
+        };
+        // A built-in's parameter, which the engine keeps in the node's kind, is a port.
+        assert_eq!(
+            ports("Sequence/Repeat"),
+            serde_json::json!({"num_cycles": "3"})
+        );
+        assert_eq!(
+            ports("Sequence/Repeat/Script"),
+            serde_json::json!({"code": "x := 1"})
+        );
+        assert_eq!(
+            ports("Sequence/Task"),
+            serde_json::json!({"goal": "{target}", "speed": "2"})
+        );
+        assert_eq!(
+            ports("Sequence/Task/Sleep"),
+            serde_json::json!({"msec": "{goal}"})
+        );
+        assert_eq!(ports("Sequence"), serde_json::json!({}));
+    }
+
+    #[test]
     fn a_subtree_that_opens_itself_is_not_followed_forever() {
         let xml = r#"<root main_tree_to_execute="T">
   <BehaviorTree ID="T"><SubTree ID="T" _uid="1"/></BehaviorTree>

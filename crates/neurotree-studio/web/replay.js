@@ -80,7 +80,7 @@ export function mountReplay(section, app) {
       state.replay = replay;
       state.keyframes = keyframes(replay);
       state.position = 0;
-      drawing.setTree(nodesOfTreeView(replay.tree));
+      drawing.setTree(nodesOfTreeView(replay.tree), { key: state.treePath || path });
       drawing.setStatuses(statusesAt(0));
       if (state.coverage) applyCoverage();
       const scrub = $(".scrub");

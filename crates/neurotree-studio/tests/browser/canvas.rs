@@ -210,6 +210,26 @@ async fn the_orientation_toggles_and_is_remembered_per_file() {
     assert_eq!(b.js(&format!("return {orientation};")).await, json!("TB"));
     open_in_editor(&b, &studio.url(), "ports.xml").await;
     assert_eq!(b.js(&format!("return {orientation};")).await, json!("LR"));
+    // A run of the same file, watched, is drawn the same way.
+    let run = Run::start(
+        &studio,
+        load(PORTS, "ports.xml"),
+        "ports.xml",
+        Duration::from_millis(50),
+    );
+    b.goto(&format!("{}#view=watch", studio.url())).await;
+    b.client.refresh().await.unwrap();
+    b.until(
+        "the run watched",
+        "performance.getEntriesByName('studio:watch-drawn').length",
+    )
+    .await;
+    assert_eq!(
+        b.js("return document.querySelector('#watch-view .tree-drawing').dataset.orientation;")
+            .await,
+        json!("LR")
+    );
+    drop(run);
     b.close().await;
 }
 

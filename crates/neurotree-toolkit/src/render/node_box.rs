@@ -290,6 +290,48 @@ mod tests {
     }
 
     #[test]
+    fn the_svg_draws_each_port_under_the_name_long_ones_cut_and_whole_in_the_title() {
+        let code = "wait := 500; speed := 0.25; label := 'long enough to be cut on the node'";
+        let xml = format!(
+            r#"<root BTCPP_format="4" main_tree_to_execute="Main">
+  <BehaviorTree ID="Main">
+    <Sequence name="main">
+      <Script name="setup" code="{code}"/>
+      <Sleep name="pause" msec="{{wait}}"/>
+    </Sequence>
+  </BehaviorTree>
+</root>"#
+        );
+        let registry = crate::Registry::<()>::new();
+        let mut loader = crate::XmlLoader::new(&registry);
+        loader.load_str(&xml, "t.xml").unwrap();
+        let bp = loader.build_main().unwrap();
+        let svg = super::super::render_svg(&bp, None);
+        let node = |id: u32| {
+            let start = svg.find(&format!("<g id=\"n{id}\"")).unwrap();
+            &svg[start..start + svg[start..].find("</g>").unwrap()]
+        };
+        // The binding in its own colour and class, after the port's name.
+        assert!(node(2).contains(
+            "<tspan fill=\"#868e96\">msec: </tspan><tspan class=\"binding\" fill=\"#1864ab\">{wait}</tspan>"
+        ));
+        // The code cut on the node, whole in the title; the box one step taller than two
+        // lines.
+        let script = node(1);
+        assert!(script.contains(&format!(
+            "&#10;code: {}</title>",
+            code.replace('\'', "&apos;")
+        )));
+        assert!(script.contains("<tspan class=\"literal\" fill=\"#212529\">wait := 500;"));
+        assert!(script.contains("…</tspan>"));
+        assert!(script.contains(&format!("height=\"{}\"", NODE_HEIGHT + LINE_STEP)));
+        assert!(
+            !node(0).contains("class=\"port\""),
+            "the Sequence has no ports"
+        );
+    }
+
+    #[test]
     fn each_line_past_two_adds_a_step() {
         assert_eq!(box_height(1), NODE_HEIGHT);
         assert_eq!(box_height(2), NODE_HEIGHT);
