@@ -97,9 +97,14 @@ export class TreeDrawing {
       this.size = { width: box.width, height: box.height };
       if (changed && this.untouched && box.width) {
         if (this.folded) {
+          const before = [this.orientation, ...this.collapsed].join();
           this.foldToFit();
-          this.placeToggles();
-          this.layout();
+          if ([this.orientation, ...this.collapsed].join() !== before) {
+            this.placeToggles();
+            this.layout();
+          } else {
+            this.place();
+          }
         }
         this.fit(box);
       } else {
@@ -282,11 +287,12 @@ export class TreeDrawing {
     let d = "";
     nodes.forEach((n, i) => {
       const el = this.elements[i];
+      // Only what changes is written: a big folded tree has a thousand hidden nodes.
       if (!visible[i]) {
-        el.setAttribute("display", "none");
+        if (!el.hasAttribute("display")) el.setAttribute("display", "none");
         return;
       }
-      el.removeAttribute("display");
+      if (el.hasAttribute("display")) el.removeAttribute("display");
       const p = this.pos[i];
       el.setAttribute("transform", `translate(${r(p.x)},${r(p.y)})`);
       const folded = this.collapsed.has(i);
