@@ -9,6 +9,10 @@
 //!   failure chain, breakpoints, pause, step and continue;
 //! - **replay** a recorded run (`--jsonl`, `.btlog`, SQLite log) on a timeline.
 //!
+//! Every view draws the tree with the boxes of `neurotree show --format svg` (ports under
+//! each name; sizes and font widths served from the renderer), top-down or left to right,
+//! at a legible zoom with an overview, big trees folded to fit (docs/guide/studio-canvas.md).
+//!
 //! The page is a view: edits go through the loader, runs through the engine, replays
 //! through the log readers. The messages between them are in `PROTOCOL.md`.
 //!

@@ -27,8 +27,10 @@ pub struct Replay {
 /// A tick of a trace, or the changes of one timestamp of a log.
 #[derive(Clone, Debug, Default, Serialize)]
 pub struct Step {
-    /// The tick (for logs without ticks, the step's number from 1).
-    pub tick: u64,
+    /// The tick, numbered as `run` and the trace number it; `None` for a log that does not
+    /// record ticks (`.btlog`, SQLite): a tick that changed nothing leaves no record there,
+    /// so counting its steps would not give the run's tick.
+    pub tick: Option<u64>,
     /// Microseconds of the run's clock.
     pub time_us: u64,
     /// Node id and new status, in order.
@@ -87,9 +89,9 @@ pub fn from_jsonl<C>(
         let status = status_from_name(to)
             .ok_or_else(|| ReplayError::Format(format!("line {}: unknown status `{to}`", n + 1)))?;
         let time_us = v.get("time_us").and_then(|t| t.as_u64()).unwrap_or(0);
-        if steps.last().is_none_or(|s| s.tick != tick) {
+        if steps.last().is_none_or(|s| s.tick != Some(tick)) {
             steps.push(Step {
-                tick,
+                tick: Some(tick),
                 time_us,
                 changes: Vec::new(),
             });
@@ -191,7 +193,7 @@ fn from_log(
         };
         if steps.last().is_none_or(|s| s.time_us != time_us) {
             steps.push(Step {
-                tick: steps.len() as u64 + 1,
+                tick: None,
                 time_us,
                 changes: Vec::new(),
             });
@@ -259,7 +261,7 @@ mod tests {
         let replay = from_jsonl(&text, &bp, "Main").unwrap();
         // Tick 1: the Delay waits; tick 2: it runs its child, and the Sequence fails.
         assert_eq!(replay.steps.len(), 2);
-        assert_eq!(replay.steps[0].tick, 1);
+        assert_eq!(replay.steps[0].tick, Some(1));
         assert_eq!(replay.steps[0].changes, [(0, "RUNNING"), (1, "RUNNING")]);
         let last = &replay.steps[1].changes;
         assert!(last.contains(&(3, "FAILURE")), "{last:?}");
@@ -300,6 +302,37 @@ mod tests {
         assert_eq!(replay.steps[0].changes, [(0, "RUNNING"), (1, "RUNNING")]);
         assert!(replay.steps[1].changes.contains(&(3, "FAILURE")));
         assert!(from_btlog(b"not a log").is_err());
+    }
+
+    #[test]
+    fn a_trace_numbers_ticks_as_run_does_and_a_btlog_of_the_same_run_numbers_none() {
+        // The Delay waits through tick 2, which changes nothing: the trace's second step
+        // is tick 3, at 0.3 s, and the btlog's second record is at the same time.
+        let registry = Registry::<()>::new();
+        let bp = blueprint();
+        let trace = JsonlTrace::new(&bp, Vec::new());
+        let mut log = None;
+        let status = run(|tree| {
+            let writer = BtlogWriter::new(Vec::new(), tree, &registry).unwrap();
+            log = Some(writer.clone());
+            (trace.clone(), writer)
+        });
+        assert_eq!(status, Status::Failure);
+        let text = trace.with_writer(|w| String::from_utf8(w.clone()).unwrap());
+        let from_trace = from_jsonl(&text, &bp, "Main").unwrap();
+        let ticks: Vec<Option<u64>> = from_trace.steps.iter().map(|s| s.tick).collect();
+        assert_eq!(ticks, [Some(1), Some(3)]);
+        assert!(
+            text.contains(r#"{"tick":3,"time_us":300000,"status":"FAILURE"}"#),
+            "{text}"
+        );
+        let bytes = log.unwrap().with_writer(|w| w.clone());
+        let from_log = from_btlog(&bytes).unwrap();
+        let ticks: Vec<Option<u64>> = from_log.steps.iter().map(|s| s.tick).collect();
+        assert_eq!(ticks, [None, None]);
+        let times: Vec<u64> = from_log.steps.iter().map(|s| s.time_us).collect();
+        let trace_times: Vec<u64> = from_trace.steps.iter().map(|s| s.time_us).collect();
+        assert_eq!(times, trace_times);
     }
 
     #[cfg(feature = "sqlite")]

@@ -59,6 +59,7 @@ pub(crate) fn router(shared: Arc<Shared>) -> Router {
         .route("/api/save", post(save))
         .route("/api/palette", get(palette_of))
         .route("/api/svg", post(svg))
+        .route("/api/drawing", get(drawing))
         .route("/api/replay", get(replay_of))
         .route("/api/coverage", get(coverage))
         .route("/api/stats", get(stats))
@@ -67,6 +68,7 @@ pub(crate) fn router(shared: Arc<Shared>) -> Router {
     Router::new()
         .merge(api)
         .route("/", get(index))
+        .route("/drawing-metrics.js", get(drawing_module))
         .route("/{*path}", get(asset))
         .layer(DefaultBodyLimit::max(MAX_FILE_BYTES as usize + 64 * 1024))
         .with_state(shared)
@@ -291,6 +293,27 @@ async fn svg(State(shared): App, Json(body): Json<TextBody>) -> Result<Response,
     .map_err(|e| Refusal(StatusCode::INTERNAL_SERVER_ERROR, e.to_string()))?
     .map_err(|e| Refusal(StatusCode::UNPROCESSABLE_ENTITY, e))?;
     Ok(([(header::CONTENT_TYPE, "image/svg+xml")], drawn).into_response())
+}
+
+/// The sizes and font widths `neurotree show --format svg` draws with, so that the page's
+/// boxes are the command's.
+async fn drawing() -> Json<neurotree_toolkit::render::DrawingMetrics> {
+    Json(neurotree_toolkit::render::drawing_metrics())
+}
+
+/// The same as a module the page imports, fetched with the page's other modules rather
+/// than after them.
+async fn drawing_module() -> Response {
+    let json = serde_json::to_string(&neurotree_toolkit::render::drawing_metrics())
+        .unwrap_or_else(|_| "{}".into());
+    (
+        [
+            (header::CONTENT_TYPE, "text/javascript; charset=utf-8"),
+            (header::CACHE_CONTROL, "no-cache"),
+        ],
+        format!("// The sizes and font widths of `neurotree show --format svg`.\nexport default {json};\n"),
+    )
+        .into_response()
 }
 
 async fn replay_of(State(shared): App, Query(q): Query<PathQuery>) -> Result<Response, Refusal> {

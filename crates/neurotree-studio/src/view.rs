@@ -3,7 +3,7 @@
 
 use std::collections::HashMap;
 
-use neurotree_core::{Blueprint, Category, NodeKind, NodeStatus, PortValue};
+use neurotree_core::{Blueprint, Category, NodeKind, NodeStatus};
 use serde::Serialize;
 use serde_json::{Map, Value};
 
@@ -82,16 +82,11 @@ impl TreeView {
             .ids()
             .map(|id| {
                 let kind = blueprint.kind(id);
-                let ports = blueprint
-                    .ports(id)
-                    .iter()
-                    .map(|p| {
-                        let text = match &p.value {
-                            PortValue::Literal(t) => t.clone(),
-                            PortValue::Entry(k) => format!("{{{k}}}"),
-                        };
-                        (p.name.clone(), Value::String(text))
-                    })
+                // As a file writes them, built-ins' parameters included: what the
+                // nodes draw under their names, as `show --format svg` does.
+                let ports = neurotree_toolkit::render::node_ports(blueprint, id)
+                    .into_iter()
+                    .map(|(name, text)| (name, Value::String(text)))
                     .collect();
                 NodeView {
                     id: id.0,
@@ -309,6 +304,45 @@ mod tests {
         assert_eq!(view.nodes[1].category, "subtree");
         assert_eq!(view.nodes[0].children, [1, 3]);
         assert_eq!(view.nodes[2].ports["msec"], "10");
+    }
+
+    #[test]
+    fn a_blueprint_view_carries_the_ports_nodes_draw() {
+        let xml = r#"<root BTCPP_format="4" main_tree_to_execute="Main">
+  <BehaviorTree ID="Main">
+    <Sequence>
+      <Repeat num_cycles="3"><Script code="x := 1"/></Repeat>
+      <SubTree ID="Task" goal="{target}" speed="2"/>
+    </Sequence>
+  </BehaviorTree>
+  <BehaviorTree ID="Task"><Sleep msec="{goal}"/></BehaviorTree>
+</root>"#;
+        let registry = neurotree_toolkit::Registry::<()>::new();
+        let mut loader = neurotree_toolkit::XmlLoader::new(&registry);
+        loader.load_str(xml, "t.xml").unwrap();
+        let view = TreeView::of_blueprint(&loader.build_main().unwrap(), "Main");
+        let ports = |path: &str| {
+            let node = view.nodes.iter().find(|n| n.path == path).unwrap();
+            Value::Object(node.ports.clone())
+        };
+        // A built-in's parameter, which the engine keeps in the node's kind, is a port.
+        assert_eq!(
+            ports("Sequence/Repeat"),
+            serde_json::json!({"num_cycles": "3"})
+        );
+        assert_eq!(
+            ports("Sequence/Repeat/Script"),
+            serde_json::json!({"code": "x := 1"})
+        );
+        assert_eq!(
+            ports("Sequence/Task"),
+            serde_json::json!({"goal": "{target}", "speed": "2"})
+        );
+        assert_eq!(
+            ports("Sequence/Task/Sleep"),
+            serde_json::json!({"msec": "{goal}"})
+        );
+        assert_eq!(ports("Sequence"), serde_json::json!({}));
     }
 
     #[test]

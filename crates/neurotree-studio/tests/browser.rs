@@ -142,11 +142,29 @@ impl Browser {
     }
 
     async fn click(&self, css: &str) {
-        self.element(css)
-            .await
+        let element = self.element(css).await;
+        self.bring_into_view(css).await;
+        element
             .click()
             .await
             .unwrap_or_else(|e| panic!("click {css}: {e}"));
+    }
+
+    /// A node of a tree drawing outside its view is brought into it, as a person pans to
+    /// a node before clicking it (a drawing at a legible zoom is larger than its view).
+    async fn bring_into_view(&self, css: &str) {
+        self.client
+            .execute(
+                "const g = document.querySelector(arguments[0])?.closest('g.node');
+                 const box = g?.closest('.tree-drawing');
+                 if (!g || !box) return;
+                 const r = g.getBoundingClientRect(), v = box.getBoundingClientRect();
+                 const inside = r.left >= v.left && r.top >= v.top && r.right <= v.right && r.bottom <= v.bottom;
+                 if (!inside) box.treeDrawing.reveal(Number(g.dataset.index));",
+                vec![json!(css)],
+            )
+            .await
+            .unwrap_or_else(|e| panic!("bring {css} into view: {e}"));
     }
 
     async fn element(&self, css: &str) -> fantoccini::elements::Element {
@@ -397,6 +415,11 @@ fn now_ms() -> f64 {
 
 // ---------------------------------------------------------------------------------------
 // The tests
+
+/// The drawing: legible sizes, orientation, zoom, the overview, big trees, ports; and the
+/// replay's tick numbers.
+#[path = "browser/canvas.rs"]
+mod canvas;
 
 #[tokio::test(flavor = "multi_thread")]
 async fn a_nav2_tree_opens_with_every_node_found_by_its_path() {

@@ -509,7 +509,9 @@ export function mountEditor(section, app) {
       const tree = shownTree();
       const tab = state.tabs.find((t) => t.id === state.treeId);
       drawn = tree ? xml.nodesOfTree(tree, state.palette, tab?.prefix || "") : [];
-      drawing.setTree(drawn, { keepView: !fit });
+      // The orientation is remembered per file (its main tree), and per tree for the
+      // subtrees opened in tabs of their own.
+      drawing.setTree(drawn, { keepView: !fit, key: tab?.prefix ? `${state.path}#${state.treeId}` : state.path });
       const i = state.selected ? indexOfElement(state.selected) : -1;
       if (state.selected && i < 0) state.selected = null;
       drawing.select(i >= 0 ? i : null);

@@ -80,7 +80,7 @@ export function mountReplay(section, app) {
       state.replay = replay;
       state.keyframes = keyframes(replay);
       state.position = 0;
-      drawing.setTree(nodesOfTreeView(replay.tree));
+      drawing.setTree(nodesOfTreeView(replay.tree), { key: state.treePath || path });
       drawing.setStatuses(statusesAt(0));
       if (state.coverage) applyCoverage();
       const scrub = $(".scrub");
@@ -200,6 +200,8 @@ export function mountReplay(section, app) {
     const pos = $(".position");
     pos.dataset.step = String(p);
     let text = `${p} / ${steps.length}`;
+    // A log without ticks (.btlog, SQLite) says when, not which tick: its steps are the
+    // ticks that changed something, so their count is not the run's tick.
     if (step?.tick != null) text += ` · tick ${step.tick}`;
     if (step?.time_us != null) text += ` · ${(step.time_us / 1e6).toFixed(3)} s`;
     pos.textContent = text;

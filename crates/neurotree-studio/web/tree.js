@@ -1,149 +1,40 @@
 // The tree drawing every view shares: nodes drawn as `neurotree show --format svg` draws
-// them (→ ? ⇉ marks for the well-known controls, hexagons for decorators, pills for
-// conditions, rounded boxes for actions, double boxes for subtrees, the type under the
-// name, a colour and a badge per status), laid out by d3-hierarchy's tidy tree, with zoom
-// and pan, collapse and expand, search, selection, and drag and drop for the editor.
+// them (node_box.js: → ? ⇉ marks for the well-known controls, hexagons for decorators,
+// pills for conditions, rounded boxes for actions, double boxes for subtrees, the type and
+// the ports under the name, a colour and a badge per status), laid out by d3-hierarchy's
+// tidy tree top-down or left to right (remembered per file), with zoom around the pointer
+// or the selection, pan, an overview (minimap.js), collapse and expand, search, selection,
+// and drag and drop for the editor. "Fit" never zooms out past a legible size; a tree of
+// more than FOLD_OVER nodes opens folded to the depth that fits the view.
 //
-// A drawing is given its nodes in pre-order, each `{name, type, category, path, id,
+// A drawing is given its nodes in pre-order, each `{name, type, category, path, id, ports,
 // children: [index]}`; index 0 is the root. A node's element is an SVG group carrying
 // `data-node-path` and, for nodes of a TreeView, `data-node-id`; statuses are set as
 // `data-status` on that group alone, so a tick touches only the nodes that changed and
 // never lays the tree out again.
 
 import { tree as tidyTree, hierarchy } from "./vendor/d3-hierarchy/d3-hierarchy.mjs";
+import { Minimap } from "./minimap.js";
+import { M, NODE_HEIGHT, boxSize, nodeMarkup, portLines, printable, r, shapeOf, togglePlace } from "./node_box.js";
+
+export { escapeXml, shapeOf } from "./node_box.js";
 
 const SVG = "http://www.w3.org/2000/svg";
 
-// The sizes of the SVG renderer (crates/neurotree-toolkit/src/render/svg.rs).
-const NODE_HEIGHT = 40;
-const NAME_SIZE = 12;
-const TYPE_SIZE = 10;
-const GLYPH_WIDTH = 22;
-const PADDING = 10;
-const SLANT = 10;
-const MIN_WIDTH = 44;
-const LINE_STEP = 14;
-const SIBLING = 14;
-const COUSIN = 24;
-const LEVEL = 36;
 // Below this scale a 12 px label is under 4 px high: not drawn.
 const FAR = 0.3;
+// The least zoom "fit" picks: a name drawn 12 px high, the type and ports 10 px.
+export const LEGIBLE = 1;
+// A fit never enlarges past this.
+const MOST_FIT = 1.2;
+const MARGIN = 20;
+// A tree of more nodes than this opens folded to the depth that fits the view.
+export const FOLD_OVER = 200;
+const ORIENTATIONS = ["TB", "LR"];
 
 /** The statuses a node can show, as the protocol spells them. */
 export const STATUSES = ["IDLE", "RUNNING", "SUCCESS", "FAILURE", "SKIPPED"];
 const BADGE = { SUCCESS: "✓", FAILURE: "✗", RUNNING: "▶", SKIPPED: "–" };
-
-// Advance widths of printable ASCII in thousandths of the font size: DejaVu Sans Book and
-// Bold, the table text_width.rs measures with, so boxes match the command's pictures.
-const REGULAR = [
-  318, 401, 460, 838, 636, 950, 780, 275, 390, 390, 500, 838, 318, 361, 318, 337, 636, 636, 636,
-  636, 636, 636, 636, 636, 636, 636, 337, 337, 838, 838, 838, 531, 1000, 684, 686, 698, 770, 632,
-  575, 775, 752, 295, 295, 656, 557, 863, 748, 787, 603, 787, 695, 635, 611, 732, 684, 989, 685,
-  611, 685, 390, 337, 390, 838, 500, 500, 613, 635, 550, 635, 615, 352, 635, 634, 278, 278, 579,
-  278, 974, 634, 612, 635, 635, 411, 521, 392, 634, 592, 818, 592, 592, 525, 636, 337, 636, 838,
-];
-const BOLD = [
-  348, 456, 521, 838, 696, 1002, 872, 306, 457, 457, 523, 838, 380, 415, 380, 365, 696, 696, 696,
-  696, 696, 696, 696, 696, 696, 696, 400, 400, 838, 838, 838, 580, 1000, 774, 762, 734, 830, 683,
-  683, 821, 837, 372, 372, 775, 637, 995, 837, 850, 733, 850, 770, 720, 682, 812, 774, 1103, 771,
-  724, 725, 457, 365, 457, 838, 500, 500, 675, 716, 593, 716, 678, 435, 716, 712, 343, 343, 665,
-  343, 1042, 712, 687, 716, 716, 493, 595, 478, 712, 652, 924, 645, 652, 582, 712, 365, 712, 838,
-];
-
-function textWidth(text, size, bold) {
-  const table = bold ? BOLD : REGULAR;
-  let total = 0;
-  for (const ch of text) {
-    const c = ch.codePointAt(0);
-    if (c >= 32 && c <= 126) total += table[c - 32];
-    else if ((c >= 0x1100 && c <= 0x115f) || (c >= 0x2e80 && c <= 0xa4cf) || (c >= 0xac00 && c <= 0xd7a3)
-      || (c >= 0xf900 && c <= 0xfaff) || (c >= 0xff00 && c <= 0xff60) || (c >= 0x1f300 && c <= 0x1faff)) total += 1000;
-    else total += 760;
-  }
-  return (total * size) / 1000;
-}
-
-// The built-in controls with a mark, by family (neurotree-core's `Family`).
-const FAMILY = {
-  Sequence: "sequential", ReactiveSequence: "sequential", SequenceWithMemory: "sequential",
-  AsyncSequence: "sequential", SequenceStar: "sequential",
-  Fallback: "alternative", ReactiveFallback: "alternative", AsyncFallback: "alternative",
-  Parallel: "concurrent", ParallelAll: "concurrent",
-};
-const GLYPH = { sequential: "→", alternative: "?", concurrent: "⇉" };
-
-/** The drawn shape of a node: one of the families above, or its category. */
-export function shapeOf(type, category) {
-  return FAMILY[type] || category || "action";
-}
-
-export function escapeXml(text) {
-  return String(text).replace(/[&<>"']/g, (c) => ({ "&": "&amp;", "<": "&lt;", ">": "&gt;", '"': "&quot;", "'": "&apos;" })[c]);
-}
-
-function printable(text) {
-  // eslint-disable-next-line no-control-regex
-  return String(text).replace(/[\n\r\t]/g, " ").replace(/[\u0000-\u001f\u007f]/g, "\ufffd");
-}
-
-function r(v) {
-  return Math.round(v * 10) / 10;
-}
-
-/** The box a node needs, as svg.rs's `box_size` computes it. */
-function boxWidth(node, shape) {
-  const name = textWidth(node.label, NAME_SIZE, true);
-  const type = node.typeLabel ? textWidth(node.typeLabel, TYPE_SIZE, false) : 0;
-  let width = Math.max(name, type) + 2 * PADDING;
-  if (GLYPH[shape]) width += GLYPH_WIDTH;
-  else if (shape === "decorator") width += 2 * SLANT;
-  else if (shape === "condition") width += NODE_HEIGHT / 2;
-  else if (shape === "subtree") width += 6;
-  return Math.ceil(Math.max(width, MIN_WIDTH));
-}
-
-/** The markup of one node at `at` (its top centre; null: hidden), drawn centred on
- * (0, 0) horizontally with its top at y = 0. */
-function nodeMarkup(node, index, at, folded) {
-  const shape = node.shape;
-  const w = node.w;
-  const h = NODE_HEIGHT;
-  const l = -w / 2;
-  let out = "";
-  if (shape === "decorator") {
-    const pts = [[l, h / 2], [l + SLANT, 0], [l + w - SLANT, 0], [l + w, h / 2], [l + w - SLANT, h], [l + SLANT, h]]
-      .map(([x, y]) => `${r(x)},${r(y)}`).join(" ");
-    out += `<polygon class="shape" points="${pts}"/>`;
-  } else {
-    const rx = shape === "condition" ? h / 2 : shape === "action" ? 8 : 2;
-    out += `<rect class="shape" x="${r(l)}" y="0" width="${w}" height="${h}" rx="${rx}"/>`;
-    if (shape === "subtree") out += `<rect class="inner" x="${r(l + 3)}" y="3" width="${w - 6}" height="${h - 6}" rx="1"/>`;
-  }
-  let left = l;
-  let right = l + w;
-  const glyph = GLYPH[shape];
-  if (glyph) {
-    out += `<line class="inner" x1="${r(l + GLYPH_WIDTH)}" y1="0" x2="${r(l + GLYPH_WIDTH)}" y2="${h}"/>`
-      + `<text class="glyph" x="${r(l + GLYPH_WIDTH / 2)}" y="${r(h / 2 + 15 * 0.35)}">${glyph}</text>`;
-    left = l + GLYPH_WIDTH;
-  } else if (shape === "condition") {
-    left = l + h / 4;
-    right = l + w - h / 4;
-  }
-  const centre = r((left + right) / 2);
-  const nameY = node.typeLabel ? 17 : r(h / 2 + NAME_SIZE * 0.35);
-  out += `<text class="name" x="${centre}" y="${nameY}">${escapeXml(node.label)}</text>`;
-  if (node.typeLabel) out += `<text class="type" x="${centre}" y="${17 + LINE_STEP}">${escapeXml(node.typeLabel)}</text>`;
-  if (node.children.length) {
-    out += `<g class="toggle" transform="translate(0,${h + 7})"><circle r="6"/><text y="3.5">${folded ? "+" : "−"}</text></g>`;
-  }
-  const id = node.id == null ? "" : ` data-node-id="${node.id}"`;
-  const place = at ? ` transform="translate(${r(at.x)},${r(at.y)})"` : ' display="none"';
-  const fold = folded ? " data-collapsed" : "";
-  const title = `${node.path} (${node.type})`;
-  const family = shape === "sequential" || shape === "alternative" || shape === "concurrent" ? "control" : shape;
-  return `<g class="node ${family}" data-index="${index}" data-node-path="${escapeXml(node.path)}"${id}${place}${fold}><title>${escapeXml(title)}</title>${out}</g>`;
-}
 
 /**
  * A tree drawn into `container` (an element the drawing fills).
@@ -161,9 +52,17 @@ export class TreeDrawing {
     this.matches = [];
     this.matchAt = -1;
     this.view = { x: 0, y: 0, k: 1 };
+    this.size = { width: 0, height: 0 };
     this.statusOf = [];
+    this.orientation = "TB";
+    this.key = null;
+    this.folded = false;
+    // Whether the view is still as the last fit left it.
+    this.untouched = true;
     container.classList.add("tree-drawing");
     container.innerHTML = "";
+    // For scripts and tests, which reach a drawing from its element.
+    container.treeDrawing = this;
     this.svg = document.createElementNS(SVG, "svg");
     this.svg.setAttribute("class", "tree-svg");
     this.viewport = document.createElementNS(SVG, "g");
@@ -185,18 +84,46 @@ export class TreeDrawing {
     this.overlayViewport = document.createElementNS(SVG, "g");
     this.overlayViewport.append(this.hotPath, this.failPath);
     this.overlay.append(this.overlayViewport);
-    container.append(this.svg, this.overlay);
+    this.minimap = new Minimap(this);
+    container.append(this.svg, this.overlay, this.minimap.element);
     this.elements = [];
     this.badges = [];
     this.bindPointer();
+    // The panels beside a drawing fill in after it is first drawn, and the window can be
+    // resized: a view the user has not moved yet is fitted (and a big tree folded) again.
+    new ResizeObserver(() => {
+      const box = this.svg.getBoundingClientRect();
+      const changed = box.width !== this.size.width || box.height !== this.size.height;
+      this.size = { width: box.width, height: box.height };
+      if (changed && this.untouched && box.width) {
+        if (this.folded) {
+          const before = [this.orientation, ...this.collapsed].join();
+          this.foldToFit();
+          if ([this.orientation, ...this.collapsed].join() !== before) {
+            this.placeToggles();
+            this.layout();
+          } else {
+            this.place();
+          }
+        }
+        this.fit(box);
+      } else {
+        this.minimap.frame();
+      }
+    }).observe(this.svg);
   }
 
-  /** Draws `nodes` (see the class comment); keeps collapsed nodes by path when asked. */
-  setTree(nodes, { keepView = false, collapsed = null } = {}) {
+  /**
+   * Draws `nodes` (see the class comment). `keepView` keeps the zoom and what is folded
+   * (by path); `collapsed` gives the folded nodes; `key` names the file, under which the
+   * orientation is remembered (default: the root's name).
+   */
+  setTree(nodes, { keepView = false, collapsed = null, key = null } = {}) {
     const previous = keepView ? new Set([...this.collapsed].map((i) => this.nodes[i]?.path)) : null;
     this.nodes = nodes;
     this.parent = new Array(nodes.length).fill(-1);
     nodes.forEach((n, i) => n.children.forEach((c) => (this.parent[c] = i)));
+    this.useKey(key ?? (nodes.length ? `tree:${nodes[0].path}` : null));
     this.collapsed = new Set();
     if (collapsed) collapsed.forEach((i) => this.collapsed.add(i));
     else if (previous) nodes.forEach((n, i) => previous.has(n.path) && n.children.length && this.collapsed.add(i));
@@ -204,19 +131,22 @@ export class TreeDrawing {
     for (const n of nodes) {
       n.label = printable(n.name);
       n.typeLabel = n.type && n.type !== n.name ? printable(n.type) : null;
+      n.portLines = portLines(n.ports);
       n.shape = shapeOf(n.type, n.category);
-      n.w = boxWidth(n, n.shape);
+      Object.assign(n, boxSize(n, n.shape));
     }
     // Measured before the new nodes are in the document, so that it forces no layout of
     // them; the nodes are then written placed, in one string: a big tree is drawn in
     // one pass of the parser and one layout of the page.
     const box = this.svg.getBoundingClientRect();
+    if (box.width) this.size = { width: box.width, height: box.height };
+    if (!keepView && !collapsed) this.folded = nodes.length > FOLD_OVER && this.foldToFit();
     const visible = this.place();
     let html = "";
     let edges = "";
     nodes.forEach((n, i) => {
       const folded = this.collapsed.has(i);
-      html += nodeMarkup(n, i, visible[i] ? this.pos[i] : null, folded);
+      html += nodeMarkup(n, i, visible[i] ? this.pos[i] : null, folded, this.orientation);
       if (visible[i] && !folded) edges += this.edgesOf(i);
     });
     this.nodeLayer.innerHTML = html;
@@ -225,9 +155,86 @@ export class TreeDrawing {
     this.edgePath.setAttribute("d", edges);
     this.hotPath.setAttribute("d", "");
     this.failPath.setAttribute("d", "");
+    this.minimap.draw(edges);
     if (!keepView) this.fit(box);
+    else this.applyView();
     if (this.selected != null && this.selected >= nodes.length) this.selected = null;
     if (this.selected != null) this.elements[this.selected].classList.add("selected");
+  }
+
+  /** Reads the orientation remembered for `key` when the file shown changes. */
+  useKey(key) {
+    if (key === this.key) return;
+    this.key = key;
+    let stored = null;
+    try {
+      stored = key && localStorage.getItem(`neurotree.orientation:${key}`);
+    } catch {
+      // Storage refused (a private window): the default orientation.
+    }
+    this.orientationChosen = ORIENTATIONS.includes(stored);
+    this.orientation = this.orientationChosen ? stored : "TB";
+    this.container.dataset.orientation = this.orientation;
+  }
+
+  /** Switches between top-down and left-to-right, remembered for the file. */
+  setOrientation(orientation) {
+    if (!ORIENTATIONS.includes(orientation)) return;
+    this.orientation = orientation;
+    this.orientationChosen = true;
+    try {
+      if (this.key) localStorage.setItem(`neurotree.orientation:${this.key}`, orientation);
+    } catch {
+      // Not remembered; the drawing still turns.
+    }
+    this.placeToggles();
+    this.layout();
+    this.fit();
+  }
+
+  /** Puts the fold toggles where the orientation wants them. */
+  placeToggles() {
+    this.container.dataset.orientation = this.orientation;
+    this.nodes.forEach((n, i) => {
+      if (n.children.length) this.elements[i]?.querySelector(".toggle")?.setAttribute("transform", togglePlace(n, this.orientation));
+    });
+  }
+
+  /**
+   * Folds the tree at the deepest depth whose drawing is no wider (left to right: no
+   * taller) than the view at a legible zoom, in the file's orientation, or, for a file
+   * with none remembered, in whichever fits deeper (top-down when both do as well);
+   * returns whether any node was folded.
+   */
+  foldToFit() {
+    const nodes = this.nodes;
+    const depth = new Array(nodes.length).fill(0);
+    nodes.forEach((n, i) => n.children.forEach((c) => (depth[c] = depth[i] + 1)));
+    const deepest = Math.max(...depth);
+    const foldAt = (d) => {
+      this.collapsed = new Set();
+      nodes.forEach((n, i) => depth[i] === d && n.children.length && this.collapsed.add(i));
+    };
+    let best = { orientation: this.orientation, depth: 1 };
+    for (const orientation of this.orientationChosen ? [this.orientation] : ORIENTATIONS) {
+      this.orientation = orientation;
+      const room = (orientation === "LR" ? this.size.height : this.size.width) / LEGIBLE || 1500;
+      for (let d = deepest - 1; d >= 1; d--) {
+        if (best.fits && d <= best.depth) break;
+        foldAt(d);
+        this.place();
+        const b = this.bounds;
+        const breadth = orientation === "LR" ? b.maxY - b.minY : b.maxX - b.minX;
+        if (breadth + 2 * MARGIN <= room) {
+          best = { orientation, depth: d, fits: true };
+          break;
+        }
+      }
+    }
+    this.orientation = best.orientation;
+    this.container.dataset.orientation = best.orientation;
+    foldAt(best.depth);
+    return this.collapsed.size > 0;
   }
 
   /** Computes where the visible nodes go (`this.pos`, `this.bounds`); returns which are. */
@@ -239,21 +246,37 @@ export class TreeDrawing {
       this.bounds = null;
       return visible;
     }
+    const lr = this.orientation === "LR";
+    // Laid out across (x of d3's tidy tree) by each box's breadth, and in rows (columns,
+    // left to right) as deep as their deepest box, each box centred in its row, as
+    // layout.rs stacks its rows.
+    const breadth = (i) => (lr ? nodes[i].h : nodes[i].w);
     const root = hierarchy(0, (i) => (this.collapsed.has(i) ? null : nodes[i].children));
     tidyTree()
-      .nodeSize([1, NODE_HEIGHT + LEVEL])
-      .separation((a, b) => (nodes[a.data].w + nodes[b.data].w) / 2 + (a.parent === b.parent ? SIBLING : COUSIN))(root);
+      .nodeSize([1, 1])
+      .separation((a, b) => (breadth(a.data) + breadth(b.data)) / 2 + (a.parent === b.parent ? M.sibling : M.cousin))(root);
+    const row = [];
+    root.each((d) => (row[d.depth] = Math.max(row[d.depth] || 0, lr ? nodes[d.data].w : nodes[d.data].h)));
+    const start = [0];
+    for (let k = 0; k < row.length; k++) start.push(start[k] + row[k] + M.level);
     let minX = Infinity;
     let maxX = -Infinity;
-    let maxY = 0;
+    let minY = Infinity;
+    let maxY = -Infinity;
     root.each((d) => {
+      const n = nodes[d.data];
       visible[d.data] = 1;
-      this.pos[d.data] = { x: d.x, y: d.y };
-      minX = Math.min(minX, d.x - nodes[d.data].w / 2);
-      maxX = Math.max(maxX, d.x + nodes[d.data].w / 2);
-      maxY = Math.max(maxY, d.y + NODE_HEIGHT);
+      const end = start[d.depth] + row[d.depth];
+      const p = lr
+        ? { x: start[d.depth] + row[d.depth] / 2, y: d.x - n.h / 2, end }
+        : { x: d.x, y: start[d.depth] + (row[d.depth] - n.h) / 2, end };
+      this.pos[d.data] = p;
+      minX = Math.min(minX, p.x - n.w / 2);
+      maxX = Math.max(maxX, p.x + n.w / 2);
+      minY = Math.min(minY, p.y);
+      maxY = Math.max(maxY, p.y + n.h);
     });
-    this.bounds = { minX, maxX, minY: 0, maxY };
+    this.bounds = { minX, maxX, minY, maxY };
     return visible;
   }
 
@@ -264,11 +287,12 @@ export class TreeDrawing {
     let d = "";
     nodes.forEach((n, i) => {
       const el = this.elements[i];
+      // Only what changes is written: a big folded tree has a thousand hidden nodes.
       if (!visible[i]) {
-        el.setAttribute("display", "none");
+        if (!el.hasAttribute("display")) el.setAttribute("display", "none");
         return;
       }
-      el.removeAttribute("display");
+      if (el.hasAttribute("display")) el.removeAttribute("display");
       const p = this.pos[i];
       el.setAttribute("transform", `translate(${r(p.x)},${r(p.y)})`);
       const folded = this.collapsed.has(i);
@@ -279,30 +303,38 @@ export class TreeDrawing {
       if (!folded) d += this.edgesOf(i);
     });
     this.edgePath.setAttribute("d", d);
+    this.minimap.draw(d);
     this.drawHot();
   }
 
   edgesOf(i) {
-    const kids = this.nodes[i].children;
-    if (!kids.length) return "";
-    const p = this.pos[i];
-    const bottom = p.y + NODE_HEIGHT;
-    const bend = bottom + LEVEL / 2;
     let d = "";
-    for (const c of kids) {
-      const q = this.pos[c];
-      d += `M${r(p.x)} ${r(bottom)}V${r(bend)}H${r(q.x)}V${r(q.y)}`;
-    }
+    for (const c of this.nodes[i].children) d += this.edge(i, c);
     return d;
+  }
+
+  /** The right-angled line from parent `i` to its child `c`, bending halfway between
+   * their rows (columns), as svg.rs draws it. */
+  edge(i, c) {
+    const p = this.pos[i];
+    const q = this.pos[c];
+    const first = this.pos[this.nodes[i].children[0]];
+    const a = this.nodes[i];
+    const b = this.nodes[c];
+    if (this.orientation === "LR") {
+      const right = p.x + a.w / 2;
+      const bend = p.end + M.level / 2;
+      return `M${r(right)} ${r(p.y + a.h / 2)}H${r(bend)}V${r(q.y + b.h / 2)}H${r(q.x - b.w / 2)}`;
+    }
+    const bottom = p.y + a.h;
+    const bend = (bottom + first.y) / 2;
+    return `M${r(p.x)} ${r(bottom)}V${r(bend)}H${r(q.x)}V${r(q.y)}`;
   }
 
   edgeTo(c) {
     const i = this.parent[c];
-    const p = this.pos[i];
-    const q = this.pos[c];
-    if (!p || !q || this.hidden(c)) return "";
-    const bottom = p.y + NODE_HEIGHT;
-    return `M${r(p.x)} ${r(bottom)}V${r(bottom + LEVEL / 2)}H${r(q.x)}V${r(q.y)}`;
+    if (!this.pos[i] || !this.pos[c] || this.hidden(c)) return "";
+    return this.edge(i, c);
   }
 
   hidden(i) {
@@ -327,7 +359,7 @@ export class TreeDrawing {
         badge = document.createElementNS(SVG, "g");
         badge.setAttribute("class", "badge");
         const n = this.nodes[i];
-        const inset = n.shape === "condition" ? NODE_HEIGHT / 2 : n.shape === "decorator" ? SLANT + 4 : 12;
+        const inset = n.shape === "condition" ? NODE_HEIGHT / 2 : n.shape === "decorator" ? M.slant + 4 : 12;
         badge.setAttribute("transform", `translate(${r(n.w / 2 - inset)},0)`);
         badge.innerHTML = '<circle r="7"/><text y="3.2"></text>';
         el.append(badge);
@@ -393,6 +425,7 @@ export class TreeDrawing {
     if (!this.nodes[i]?.children.length) return;
     if (fold) this.collapsed.add(i);
     else this.collapsed.delete(i);
+    this.untouched = false;
     const before = this.pos[i];
     this.layout();
     // Keep the node that was clicked where it was on the screen.
@@ -405,25 +438,33 @@ export class TreeDrawing {
   }
 
   collapseAll(fold) {
+    this.folded = false;
     this.collapsed.clear();
     if (fold) this.nodes.forEach((n, i) => i !== 0 && n.children.length && this.collapsed.add(i));
     this.layout();
     this.fit();
   }
 
-  /** Expands the ancestors of `i` and centres the view on it. */
+  /** The centre of node `i` in the drawing's coordinates. */
+  centreOf(i) {
+    const p = this.pos[i];
+    return p && { x: p.x, y: p.y + this.nodes[i].h / 2 };
+  }
+
+  /** Expands the ancestors of `i` and centres the view on it, at a legible zoom. */
   reveal(i) {
     let changed = false;
     for (let p = this.parent[i]; p >= 0; p = this.parent[p]) {
       if (this.collapsed.delete(p)) changed = true;
     }
     if (changed) this.layout();
-    const p = this.pos[i];
+    this.untouched = false;
+    const c = this.centreOf(i);
     const box = this.svg.getBoundingClientRect();
-    if (!p || !box.width) return;
-    if (this.view.k < 0.6) this.view.k = 0.9;
-    this.view.x = box.width / 2 - p.x * this.view.k;
-    this.view.y = box.height / 2 - (p.y + NODE_HEIGHT / 2) * this.view.k;
+    if (!c || !box.width) return;
+    this.view.k = Math.max(this.view.k, LEGIBLE);
+    this.view.x = box.width / 2 - c.x * this.view.k;
+    this.view.y = box.height / 2 - c.y * this.view.k;
     this.applyView();
   }
 
@@ -452,35 +493,86 @@ export class TreeDrawing {
     return i;
   }
 
+  /**
+   * The whole tree in the view if it fits at a legible zoom; else a legible zoom with the
+   * root in view (top-down: at the top, centred; left to right: at the left, centred),
+   * the rest reached by scrolling, dragging or the overview.
+   */
   fit(box = this.svg.getBoundingClientRect()) {
+    if (box.width) this.size = { width: box.width, height: box.height };
+    this.untouched = true;
     if (!this.bounds || !box.width || !box.height) {
-      this.view = { x: 20, y: 20, k: 1 };
+      this.view = { x: MARGIN, y: MARGIN, k: 1 };
       this.applyView();
       return;
     }
-    const w = this.bounds.maxX - this.bounds.minX + 40;
-    const h = this.bounds.maxY - this.bounds.minY + 40;
-    const k = Math.min(1.2, box.width / w, box.height / h);
-    // Very wide trees would shrink to dots; keep them readable and show the top.
-    const kk = Math.max(k, 0.15);
-    this.view = {
-      k: kk,
-      x: box.width / 2 - ((this.bounds.minX + this.bounds.maxX) / 2) * kk,
-      y: 20 * kk,
-    };
+    const b = this.bounds;
+    const w = b.maxX - b.minX + 2 * MARGIN;
+    const h = b.maxY - b.minY + 2 * MARGIN;
+    const k = Math.min(MOST_FIT, box.width / w, box.height / h);
+    if (k >= LEGIBLE) {
+      this.view = {
+        k,
+        x: box.width / 2 - ((b.minX + b.maxX) / 2) * k,
+        y: box.height / 2 - ((b.minY + b.maxY) / 2) * k,
+      };
+    } else {
+      const kk = LEGIBLE;
+      const root = this.centreOf(0);
+      // Centred on the root across, unless that leaves an empty margin on one side.
+      const across = (size, centre, min, max) => {
+        const v = size / 2 - centre * kk;
+        if ((max - min) * kk + 2 * MARGIN <= size) return size / 2 - ((min + max) / 2) * kk;
+        return Math.min(MARGIN - min * kk, Math.max(size - MARGIN - max * kk, v));
+      };
+      this.view = this.orientation === "LR"
+        ? { k: kk, x: MARGIN - b.minX * kk, y: across(box.height, root.y, b.minY, b.maxY) }
+        : { k: kk, x: across(box.width, root.x, b.minX, b.maxX), y: MARGIN - b.minY * kk };
+    }
     this.applyView();
   }
 
+  /** Zooms by `factor` keeping the point (cx, cy) of the view still (default: its centre). */
   zoom(factor, cx, cy) {
     const box = this.svg.getBoundingClientRect();
     if (cx == null) {
       cx = box.width / 2;
       cy = box.height / 2;
     }
+    this.untouched = false;
     const k = Math.min(4, Math.max(0.05, this.view.k * factor));
     this.view.x = cx - ((cx - this.view.x) * k) / this.view.k;
     this.view.y = cy - ((cy - this.view.y) * k) / this.view.k;
     this.view.k = k;
+    this.applyView();
+  }
+
+  /** Zooms around the selected node (brought into view first), else the view's centre. */
+  zoomAtSelection(factor) {
+    const i = this.selected;
+    const c = i != null && !this.hidden(i) ? this.centreOf(i) : null;
+    if (!c) {
+      this.zoom(factor);
+      return;
+    }
+    const box = this.svg.getBoundingClientRect();
+    let sx = c.x * this.view.k + this.view.x;
+    let sy = c.y * this.view.k + this.view.y;
+    if (sx < 0 || sy < 0 || sx > box.width || sy > box.height) {
+      this.view.x += box.width / 2 - sx;
+      this.view.y += box.height / 2 - sy;
+      sx = box.width / 2;
+      sy = box.height / 2;
+    }
+    this.zoom(factor, sx, sy);
+  }
+
+  /** Moves the view so that the drawing's point (x, y) is at its centre. */
+  centreOn(x, y) {
+    this.untouched = false;
+    const { width, height } = this.size;
+    this.view.x = width / 2 - x * this.view.k;
+    this.view.y = height / 2 - y * this.view.k;
     this.applyView();
   }
 
@@ -491,6 +583,7 @@ export class TreeDrawing {
     this.overlayViewport.setAttribute("transform", transform);
     // Zoomed out past reading, labels are not drawn: less to paint at every tick.
     this.svg.classList.toggle("far", k < FAR);
+    this.minimap.frame();
   }
 
   indexOf(target) {
@@ -498,10 +591,13 @@ export class TreeDrawing {
     return g ? Number(g.dataset.index) : null;
   }
 
-  /** Where a drop at client x lands on node `i`: before it, after it, or into it. */
-  dropPlace(i, clientX) {
+  /** Where a drop at (clientX, clientY) lands on node `i`: before it, after it (along the
+   * row of its siblings), or into it. */
+  dropPlace(i, clientX, clientY) {
     const box = this.elements[i].getBoundingClientRect();
-    const f = (clientX - box.left) / Math.max(1, box.width);
+    const f = this.orientation === "LR" && clientY != null
+      ? (clientY - box.top) / Math.max(1, box.height)
+      : (clientX - box.left) / Math.max(1, box.width);
     if (f < 0.3) return "before";
     if (f > 0.7) return "after";
     return "into";
@@ -512,7 +608,10 @@ export class TreeDrawing {
     svg.addEventListener("wheel", (e) => {
       e.preventDefault();
       const box = svg.getBoundingClientRect();
-      this.zoom(Math.exp(-e.deltaY * 0.0015), e.clientX - box.left, e.clientY - box.top);
+      // A pinch on a touchpad comes as a wheel with ctrlKey and small steps.
+      const lines = e.deltaMode === 1 ? 16 : 1;
+      const rate = e.ctrlKey ? 0.01 : 0.0015;
+      this.zoom(Math.exp(-e.deltaY * lines * rate), e.clientX - box.left, e.clientY - box.top);
     }, { passive: false });
     let drag = null;
     svg.addEventListener("pointerdown", (e) => {
@@ -536,6 +635,7 @@ export class TreeDrawing {
       if (drag.node != null && this.options.draggable && drag.node !== 0) {
         this.dragOver(e, drag.node);
       } else {
+        this.untouched = false;
         this.view.x = drag.vx + dx;
         this.view.y = drag.vy + dy;
         this.applyView();
@@ -559,7 +659,7 @@ export class TreeDrawing {
       if (d.node != null && this.options.draggable && d.node !== 0) {
         const under = document.elementFromPoint(e.clientX, e.clientY);
         const to = under ? this.indexOf(under) : null;
-        if (to != null && to !== d.node) this.options.onDrop?.(d.node, to, this.dropPlace(to, e.clientX));
+        if (to != null && to !== d.node) this.options.onDrop?.(d.node, to, this.dropPlace(to, e.clientX, e.clientY));
       }
     });
     // Palette entries dragged in (HTML drag and drop).
@@ -569,7 +669,7 @@ export class TreeDrawing {
       this.clearDropMarks();
       if (i == null) return;
       e.preventDefault();
-      this.mark(i, "data-drop", this.dropPlace(i, e.clientX));
+      this.mark(i, "data-drop", this.dropPlace(i, e.clientX, e.clientY));
     });
     svg.addEventListener("dragleave", () => this.clearDropMarks());
     svg.addEventListener("drop", (e) => {
@@ -578,7 +678,7 @@ export class TreeDrawing {
       const type = e.dataTransfer.getData("application/x-neurotree-type") || e.dataTransfer.getData("text/plain");
       if (i == null || !type) return;
       e.preventDefault();
-      this.options.onDropType?.(type, i, this.dropPlace(i, e.clientX));
+      this.options.onDropType?.(type, i, this.dropPlace(i, e.clientX, e.clientY));
     });
   }
 
@@ -587,7 +687,7 @@ export class TreeDrawing {
     this.mark(from, "data-dragging", true);
     const under = document.elementFromPoint(e.clientX, e.clientY);
     const to = under ? this.indexOf(under) : null;
-    if (to != null && to !== from) this.mark(to, "data-drop", this.dropPlace(to, e.clientX));
+    if (to != null && to !== from) this.mark(to, "data-drop", this.dropPlace(to, e.clientX, e.clientY));
   }
 
   clearDropMarks() {
@@ -610,18 +710,26 @@ export function nodesOfTreeView(view) {
   }));
 }
 
-/** A toolbar for a drawing: search, fit, zoom, collapse all / expand all. */
+/** A toolbar for a drawing: search, orientation, fit, zoom, collapse all / expand all. */
 export function drawingToolbar(drawing, { onJump } = {}) {
   const bar = document.createElement("div");
   bar.className = "drawing-tools";
   bar.innerHTML = `<input type="search" class="node-search" placeholder="search name or type" aria-label="search nodes">
     <span class="match-count"></span>
     <button data-action="search-prev" title="previous match">▲</button><button data-action="search-next" title="next match (Enter)">▼</button>
-    <button data-action="fit" title="fit the tree to the view">fit</button>
-    <button data-action="zoom-in" title="zoom in">+</button><button data-action="zoom-out" title="zoom out">−</button>
+    <button data-action="orientation" title="lay the tree out left to right or top down"></button>
+    <button data-action="fit" title="fit the tree to the view, at a zoom that keeps it legible">fit</button>
+    <button data-action="zoom-in" title="zoom in around the selected node">+</button><button data-action="zoom-out" title="zoom out around the selected node">−</button>
     <button data-action="collapse-all" title="collapse every control">collapse</button><button data-action="expand-all" title="expand everything">expand</button>`;
   const input = bar.querySelector("input");
   const count = bar.querySelector(".match-count");
+  const turn = bar.querySelector('[data-action="orientation"]');
+  const showOrientation = () => {
+    turn.textContent = drawing.orientation === "LR" ? "⇥ left to right" : "⤓ top down";
+    turn.dataset.orientation = drawing.orientation;
+  };
+  new MutationObserver(showOrientation).observe(drawing.container, { attributes: true, attributeFilter: ["data-orientation"] });
+  showOrientation();
   const jump = (step) => {
     const i = drawing.nextMatch(step);
     if (i != null) {
@@ -642,9 +750,10 @@ export function drawingToolbar(drawing, { onJump } = {}) {
     const a = e.target.closest("[data-action]")?.dataset.action;
     if (a === "search-next") jump(1);
     else if (a === "search-prev") jump(-1);
+    else if (a === "orientation") drawing.setOrientation(drawing.orientation === "LR" ? "TB" : "LR");
     else if (a === "fit") drawing.fit();
-    else if (a === "zoom-in") drawing.zoom(1.25);
-    else if (a === "zoom-out") drawing.zoom(0.8);
+    else if (a === "zoom-in") drawing.zoomAtSelection(1.25);
+    else if (a === "zoom-out") drawing.zoomAtSelection(0.8);
     else if (a === "collapse-all") drawing.collapseAll(true);
     else if (a === "expand-all") drawing.collapseAll(false);
   });

@@ -151,7 +151,7 @@ export function mountWatch(section, app) {
     state.tree = msg.tree;
     state.signature = signature;
     if (!same) {
-      drawing.setTree(nodesOfTreeView(msg.tree), { keepView: false });
+      drawing.setTree(nodesOfTreeView(msg.tree), { keepView: false, key: msg.run.name || null });
       requestAnimationFrame(() => setTimeout(() => performance.mark("studio:watch-drawn"), 0));
     }
     state.statuses = msg.statuses.slice();

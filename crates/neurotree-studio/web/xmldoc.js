@@ -167,7 +167,7 @@ export function categoryOf(el, palette) {
 
 /**
  * The nodes of one tree for a drawing, in pre-order: `{name, type, category, path,
- * element: [indices], children}`; `prefix` goes before every path.
+ * element: [indices], ports, children}`; `prefix` goes before every path.
  */
 export function nodesOfTree(tree, palette, prefix = "") {
   const nodes = [];
@@ -183,6 +183,7 @@ export function nodesOfTree(tree, palette, prefix = "") {
       path,
       element: elPath,
       subtree: el.tagName === "SubTree" ? el.getAttribute("ID") : null,
+      ports: portsOf(el, palette),
       children: [],
     };
     nodes.push(node);
@@ -194,6 +195,24 @@ export function nodesOfTree(tree, palette, prefix = "") {
   };
   Array.from(tree.children).forEach((el, i) => walk(el, [i], prefix));
   return nodes;
+}
+
+/**
+ * A node element's ports as `neurotree show` draws them (render::node_ports): its
+ * attributes but `name`, `ID` and the `_`-prefixed ones (pre- and post-conditions,
+ * `_autoremap`), which are not ports; and the ports its type declares with a default that
+ * the file leaves out, which the loader gives the node.
+ */
+export function portsOf(el, palette) {
+  const ports = {};
+  for (const a of el.attributes) {
+    if (a.name !== "name" && a.name !== "ID" && !a.name.startsWith("_")) ports[a.name] = a.value;
+  }
+  const type = el.tagName === "SubTree" ? null : palette?.get(typeOf(el));
+  if (type) {
+    for (const p of type.ports || []) if (!(p.name in ports) && p.default != null) ports[p.name] = p.default;
+  }
+  return ports;
 }
 
 /** The indentation one level adds in this file (two spaces when it cannot tell). */

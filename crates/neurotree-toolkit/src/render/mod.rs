@@ -30,7 +30,11 @@
 //! | action | rounded box | | | |
 //! | subtree | double box | | | |
 //!
-//! and the SVG is laid out by [`layout::tidy`], a tidy-tree layout usable on its own.
+//! and the SVG is laid out by [`layout::tidy`], a tidy-tree layout usable on its own. In the
+//! SVG each node also draws its ports under its name, `name: value`, a `{key}` binding in
+//! blue apart from literal text, long values shortened with `…` and whole in the node's
+//! title; [`drawing_metrics`] gives its sizes and font widths to other drawings of the
+//! same boxes (the studio's page).
 //!
 //! ## Text
 //!
@@ -97,6 +101,7 @@ mod failed;
 mod last_tick;
 pub mod layout;
 mod mermaid;
+mod node_box;
 mod style;
 mod svg;
 mod text;
@@ -112,6 +117,7 @@ pub use dot::render_dot;
 pub use failed::FailedPath;
 pub use last_tick::LastTickStatuses;
 pub use mermaid::render_mermaid;
+pub use node_box::{drawing_metrics, node_ports, DrawingMetrics};
 pub use svg::render_svg;
 pub use text::{render_ascii, render_statuses, render_statuses_noted, render_unicode};
 
@@ -280,6 +286,12 @@ mod fixtures {
         }
     }
 }
+
+/// The examples of the guide's chapter on the studio's canvas, which draws the boxes of
+/// [`render_svg`], compiled and run as doctests.
+#[cfg(doctest)]
+#[doc = include_str!("../../../../docs/guide/studio-canvas.md")]
+pub struct StudioCanvasGuide;
 
 #[cfg(test)]
 mod tests {

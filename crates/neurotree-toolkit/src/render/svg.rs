@@ -22,27 +22,23 @@ use neurotree_core::{Blueprint, NodeId, NodeStatus};
 
 use super::failed::{FailedPath, PATH_COLOUR};
 use super::layout::{tidy, Layout, Placed, Size, Spacing};
+use super::node_box::{
+    box_size, port_lines, ports_title, PortLine, FIRST_BASELINE, GLYPH_WIDTH, LINE_STEP, NAME_SIZE,
+    NODE_HEIGHT, PORT_SIZE, SLANT, TYPE_SIZE,
+};
 use super::style::{node_views, paint, printable, status_word, NodeView, Paint, Shape, STATUSES};
 use super::text_width::text_width;
 use crate::xml::escape;
 
 const MARGIN: f64 = 16.0;
-const NODE_HEIGHT: f64 = 40.0;
-const NAME_SIZE: f64 = 12.0;
-const TYPE_SIZE: f64 = 10.0;
 const GLYPH_SIZE: f64 = 15.0;
-/// Width of the compartment holding a control's glyph.
-const GLYPH_WIDTH: f64 = 22.0;
-const PADDING: f64 = 10.0;
-/// How far a decorator's points reach beyond its text.
-const SLANT: f64 = 10.0;
-const MIN_WIDTH: f64 = 44.0;
 const BADGE_RADIUS: f64 = 7.0;
 const LEGEND_HEIGHT: f64 = 28.0;
-/// From one label line's baseline to the next.
-const LINE_STEP: f64 = 14.0;
 const FONTS: &str = "Helvetica, Arial, 'DejaVu Sans', sans-serif";
 const EDGE_COLOUR: &str = "#adb5bd";
+/// A `{key}` binding's colour, apart from literal text.
+const BINDING_COLOUR: &str = "#1864ab";
+const PORT_NAME_COLOUR: &str = "#868e96";
 
 /// The tree `bp` as a standalone SVG document; with `statuses` (by node id, Idle past the
 /// end) each node is coloured by its status and a legend is added.
@@ -81,10 +77,18 @@ pub(crate) fn render_svg_with_legend<C>(
     legend_entries: &[(NodeStatus, &str)],
     failed: &FailedPath,
 ) -> String {
-    let views = node_views(bp, statuses);
+    let mut views = node_views(bp, statuses);
+    // Under the name, the type as the file names it, as the studio's page draws it; the
+    // shape already says what kind of node it is.
+    for view in &mut views {
+        let type_id = bp.type_id(view.id);
+        view.type_name = (type_id != bp.name(view.id)).then(|| printable(type_id));
+    }
+    let ports: Vec<Vec<PortLine>> = views.iter().map(|v| port_lines(bp, v.id)).collect();
     let sizes: Vec<Size> = views
         .iter()
-        .map(|v| box_size(v, failed.reason(v.id)))
+        .zip(&ports)
+        .map(|(v, p)| box_size(v, p, failed.reason(v.id)))
         .collect();
     let children: Vec<Vec<usize>> = bp
         .ids()
@@ -131,8 +135,8 @@ pub(crate) fn render_svg_with_legend<C>(
         .collect();
     edges(&mut out, &placed, &children, failed);
     out.push_str("<g class=\"nodes\">\n");
-    for (view, p) in views.iter().zip(&placed) {
-        node(&mut out, bp, view, p, failed);
+    for ((view, p), ports) in views.iter().zip(&placed).zip(&ports) {
+        node(&mut out, bp, view, p, ports, failed);
     }
     out.push_str("</g>\n");
     if statuses.is_some() {
@@ -193,38 +197,12 @@ fn id_of(index: usize) -> NodeId {
     NodeId(u32::try_from(index).unwrap_or(u32::MAX))
 }
 
-/// The box a node needs for its label (with the reason it gave, on the path that failed)
-/// and shape.
-fn box_size(view: &NodeView<'_>, reason: Option<&str>) -> Size {
-    let name = text_width(&view.name, NAME_SIZE, true);
-    let type_name = view
-        .type_name
-        .as_deref()
-        .map_or(0.0, |t| text_width(t, TYPE_SIZE, false));
-    let reason_width = reason.map_or(0.0, |r| text_width(&printable(r), TYPE_SIZE, true));
-    let mut width = name.max(type_name).max(reason_width) + 2.0 * PADDING;
-    width += match view.shape {
-        Shape::Sequential | Shape::Alternative | Shape::Concurrent => GLYPH_WIDTH,
-        Shape::Decorator => 2.0 * SLANT,
-        Shape::Condition => NODE_HEIGHT / 2.0,
-        Shape::SubTree => 6.0,
-        Shape::Control | Shape::Action => 0.0,
-    };
-    // Two lines fit the usual height; a third needs one more step.
-    let lines = 1 + usize::from(view.type_name.is_some()) + usize::from(reason.is_some());
-    let height = if lines > 2 {
-        NODE_HEIGHT + LINE_STEP
-    } else {
-        NODE_HEIGHT
-    };
-    Size::new(width.max(MIN_WIDTH).ceil(), height)
-}
-
 fn node<C>(
     out: &mut String,
     bp: &Blueprint<C>,
     view: &NodeView<'_>,
     p: &Placed,
+    ports: &[PortLine],
     failed: &FailedPath,
 ) {
     let on_path = failed.contains(view.id);
@@ -258,10 +236,11 @@ fn node<C>(
         None if on_path => title.push_str(" -- failed"),
         None => {}
     }
+    title.push_str(&ports_title(ports));
     let _ = write!(out, "<title>{}</title>", escape(&title));
     let width = if on_path { "3" } else { "1.5" };
     let (left, right) = outline(out, view.shape, p, paint, width);
-    labels(out, view, p, (left + right) / 2.0, reason.as_deref());
+    labels(out, view, p, (left + right) / 2.0, ports, reason.as_deref());
     if let Some(mark) = view.status.and_then(badge_mark) {
         badge(out, mark, view.shape, p, paint);
     }
@@ -297,9 +276,10 @@ fn outline(out: &mut String, shape: Shape, p: &Placed, paint: Paint, width: &str
             let _ = write!(out, "<polygon points=\"{points}\" {style}/>");
         }
         // Keep the label off the round ends.
+        // Round ends of a two-line box's radius, however many lines it carries.
         Shape::Condition => {
-            rect(out, p, h / 2.0, &style);
-            return (l + h / 4.0, l + w - h / 4.0);
+            rect(out, p, NODE_HEIGHT / 2.0, &style);
+            return (l + NODE_HEIGHT / 4.0, l + w - NODE_HEIGHT / 4.0);
         }
         Shape::Action => rect(out, p, 8.0, &style),
         Shape::SubTree => {
@@ -338,13 +318,22 @@ fn outline(out: &mut String, shape: Shape, p: &Placed, paint: Paint, width: &str
     (l + GLYPH_WIDTH, l + w)
 }
 
-/// The name in bold, over the type name when the two differ, over the reason the node
-/// gave, if any, all centred on `centre`.
-fn labels(out: &mut String, view: &NodeView<'_>, p: &Placed, centre: f64, reason: Option<&str>) {
+/// The name in bold, over the type name when the two differ, over the ports, over the
+/// reason the node gave, if any, all centred on `centre`.
+fn labels(
+    out: &mut String,
+    view: &NodeView<'_>,
+    p: &Placed,
+    centre: f64,
+    ports: &[PortLine],
+    reason: Option<&str>,
+) {
     let centre = num(centre);
-    let name_y = match (&view.type_name, reason) {
-        (None, None) => p.middle() + NAME_SIZE * 0.35,
-        _ => p.y + 17.0,
+    let alone = view.type_name.is_none() && ports.is_empty() && reason.is_none();
+    let name_y = if alone {
+        p.middle() + NAME_SIZE * 0.35
+    } else {
+        p.y + FIRST_BASELINE
     };
     let _ = write!(
         out,
@@ -353,22 +342,41 @@ fn labels(out: &mut String, view: &NodeView<'_>, p: &Placed, centre: f64, reason
         num(name_y),
         escape(&view.name)
     );
+    let mut baseline = p.y + FIRST_BASELINE;
     if let Some(type_name) = &view.type_name {
+        baseline += LINE_STEP;
         let _ = write!(
             out,
             "<text x=\"{centre}\" y=\"{}\" font-size=\"{TYPE_SIZE}\" text-anchor=\"middle\" \
              fill=\"#495057\">{}</text>",
-            num(p.y + 17.0 + LINE_STEP),
+            num(baseline),
             escape(type_name)
         );
     }
+    for port in ports {
+        baseline += LINE_STEP;
+        let (class, colour) = if port.binding {
+            ("binding", BINDING_COLOUR)
+        } else {
+            ("literal", "#212529")
+        };
+        let _ = write!(
+            out,
+            "<text class=\"port\" x=\"{centre}\" y=\"{}\" font-size=\"{PORT_SIZE}\" \
+             text-anchor=\"middle\"><tspan fill=\"{PORT_NAME_COLOUR}\">{}: </tspan>\
+             <tspan class=\"{class}\" fill=\"{colour}\">{}</tspan></text>",
+            num(baseline),
+            escape(&port.name),
+            escape(&port.value)
+        );
+    }
     if let Some(reason) = reason {
-        let lines_above = if view.type_name.is_some() { 2.0 } else { 1.0 };
+        baseline += LINE_STEP;
         let _ = write!(
             out,
             "<text class=\"reason\" x=\"{centre}\" y=\"{}\" font-size=\"{TYPE_SIZE}\" \
              font-weight=\"bold\" text-anchor=\"middle\" fill=\"{PATH_COLOUR}\">{}</text>",
-            num(p.y + 17.0 + LINE_STEP * lines_above),
+            num(baseline),
             escape(reason)
         );
     }
@@ -378,7 +386,7 @@ fn labels(out: &mut String, view: &NodeView<'_>, p: &Placed, centre: f64, reason
 /// an edge to sit on.
 fn badge(out: &mut String, mark: &str, shape: Shape, p: &Placed, paint: Paint) {
     let inset = match shape {
-        Shape::Condition => p.size.height / 2.0,
+        Shape::Condition => NODE_HEIGHT / 2.0,
         Shape::Decorator => SLANT + 4.0,
         _ => 12.0,
     };

@@ -7,7 +7,7 @@
 
 /// Advance widths of the printable ASCII characters (space to `~`), in thousandths of the
 /// font size, of DejaVu Sans Book.
-const REGULAR: [u16; 95] = [
+pub(crate) const REGULAR: [u16; 95] = [
     318, 401, 460, 838, 636, 950, 780, 275, 390, 390, 500, 838, 318, 361, 318, 337, 636, 636, 636,
     636, 636, 636, 636, 636, 636, 636, 337, 337, 838, 838, 838, 531, 1000, 684, 686, 698, 770, 632,
     575, 775, 752, 295, 295, 656, 557, 863, 748, 787, 603, 787, 695, 635, 611, 732, 684, 989, 685,
@@ -16,7 +16,7 @@ const REGULAR: [u16; 95] = [
 ];
 
 /// The same for DejaVu Sans Bold.
-const BOLD: [u16; 95] = [
+pub(crate) const BOLD: [u16; 95] = [
     348, 456, 521, 838, 696, 1002, 872, 306, 457, 457, 523, 838, 380, 415, 380, 365, 696, 696, 696,
     696, 696, 696, 696, 696, 696, 696, 400, 400, 838, 838, 838, 580, 1000, 774, 762, 734, 830, 683,
     683, 821, 837, 372, 372, 775, 637, 995, 837, 850, 733, 850, 770, 720, 682, 812, 774, 1103, 771,
@@ -31,18 +31,33 @@ pub(crate) fn text_width(text: &str, font_size: f64, bold: bool) -> f64 {
     f64::from(thousandths) * font_size / 1000.0
 }
 
+/// Code points of wide scripts (CJK, Hangul, full-width forms, pictographs), inclusive:
+/// they take a full em.
+pub(crate) const WIDE_RANGES: [[u32; 2]; 6] = [
+    [0x1100, 0x115F],
+    [0x2E80, 0xA4CF],
+    [0xAC00, 0xD7A3],
+    [0xF900, 0xFAFF],
+    [0xFF00, 0xFF60],
+    [0x1F300, 0x1FAFF],
+];
+/// The width of those, in thousandths.
+pub(crate) const WIDE: u16 = 1000;
+/// Most other letters are about as wide as an upper-case Latin one.
+pub(crate) const OTHER: u16 = 760;
+
 fn char_width(c: char, table: &[u16; 95]) -> u32 {
-    match c {
-        ' '..='~' => u32::from(table[c as usize - ' ' as usize]),
-        // Wide scripts (CJK, Hangul, full-width forms) take a full em.
-        '\u{1100}'..='\u{115F}'
-        | '\u{2E80}'..='\u{A4CF}'
-        | '\u{AC00}'..='\u{D7A3}'
-        | '\u{F900}'..='\u{FAFF}'
-        | '\u{FF00}'..='\u{FF60}'
-        | '\u{1F300}'..='\u{1FAFF}' => 1000,
-        // Most other letters are about as wide as an upper-case Latin one.
-        _ => 760,
+    if (' '..='~').contains(&c) {
+        return u32::from(table[c as usize - ' ' as usize]);
+    }
+    let code = u32::from(c);
+    if WIDE_RANGES
+        .iter()
+        .any(|[from, to]| (*from..=*to).contains(&code))
+    {
+        u32::from(WIDE)
+    } else {
+        u32::from(OTHER)
     }
 }
 
