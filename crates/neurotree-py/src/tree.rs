@@ -34,6 +34,9 @@ pub(crate) struct Ctx {
 pub(crate) struct Inner {
     pub(crate) tree: Tree<Ctx>,
     paths: Arc<[String]>,
+    /// The studio showing the tree, and its side of the run (`neurotree.studio.watch`).
+    #[cfg(feature = "studio")]
+    studio: Option<(neurotree::studio::Studio, neurotree::studio::Watch)>,
 }
 
 /// A tree loaded from XML (`Registry.load_string`, `Registry.load_file`) or built
@@ -65,7 +68,12 @@ impl PyTree {
     ) -> PyResult<Self> {
         let paths: Arc<[String]> = tree.blueprint().paths().into();
         Ok(PyTree {
-            inner: Mutex::new(Inner { tree, paths }),
+            inner: Mutex::new(Inner {
+                tree,
+                paths,
+                #[cfg(feature = "studio")]
+                studio: None,
+            }),
             ticking: AtomicU64::new(0),
             node: Py::new(py, Node::detached())?,
             registry,
@@ -108,20 +116,35 @@ impl PyTree {
         robot: Option<&Bound<'_, PyAny>>,
         work: impl FnOnce(&mut Tree<Ctx>, &mut Ctx) -> T + Send,
     ) -> PyResult<T> {
+        self.with_inner_released(py, robot, |inner, ctx| work(&mut inner.tree, ctx))
+    }
+
+    /// As [`with_tree_released`](Self::with_tree_released), with all that is under the lock.
+    fn with_inner_released<T: Send>(
+        &self,
+        py: Python<'_>,
+        robot: Option<&Bound<'_, PyAny>>,
+        work: impl FnOnce(&mut Inner, &mut Ctx) -> T + Send,
+    ) -> PyResult<T> {
         let mut inner = self.lock(py)?;
         let mut ctx = self.ctx(py, &inner, robot);
         forget_raised();
-        let me = thread_number();
-        self.ticking.store(me, Ordering::Release);
-        let tree = &mut inner.tree;
-        let out = py.allow_threads(|| work(tree, &mut ctx));
+        self.ticking.store(thread_number(), Ordering::Release);
+        let inner = &mut *inner;
+        let out = py.allow_threads(|| work(inner, &mut ctx));
         self.ticking.store(0, Ordering::Release);
         Ok(out)
     }
 
     fn tick(&self, py: Python<'_>, robot: Option<&Bound<'_, PyAny>>) -> PyResult<Status> {
-        self.with_tree_released(py, robot, |tree, ctx| tree.tick_once(ctx))?
-            .map_err(|e| tick_error(py, e))
+        self.with_inner_released(py, robot, |inner, ctx| {
+            #[cfg(feature = "studio")]
+            if let Some((_, watch)) = &mut inner.studio {
+                return watch.tick_once(&mut inner.tree, ctx);
+            }
+            inner.tree.tick_once(ctx)
+        })?
+        .map_err(|e| tick_error(py, e))
     }
 
     /// Adds `observer` beside those the tree has.
@@ -316,6 +339,27 @@ impl PyTree {
             inner.paths = inner.tree.blueprint().paths().into();
         }
         Ok((report.kept, report.restarted, report.halted))
+    }
+
+    /// Shows the tree in the studio, served on 127.0.0.1:`port` (0: a free port), and returns
+    /// the page's URL. From then on each tick applies the page's blackboard edits first and
+    /// waits while the page holds the run paused; `neurotree.studio.watch` calls this.
+    #[cfg(feature = "studio")]
+    #[pyo3(signature = (port = 0, name = "tree"))]
+    fn _watch_in_studio(&self, py: Python<'_>, port: u16, name: &str) -> PyResult<String> {
+        use neurotree::studio::{Studio, StudioOptions};
+        let options = StudioOptions {
+            port,
+            ..StudioOptions::default()
+        };
+        let studio = py
+            .allow_threads(|| Studio::serve(options, neurotree::Registry::new))
+            .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
+        let url = studio.url();
+        let (observer, watch) = studio.attach(&self.lock(py)?.tree, name);
+        self.observe(py, Box::new(observer))?;
+        self.lock(py)?.studio = Some((studio, watch));
+        Ok(url)
     }
 
     fn __repr__(&self, py: Python<'_>) -> String {

@@ -25,7 +25,7 @@ import json
 import pickle
 from typing import Any, Callable, Dict, Generator, Mapping, Optional, Tuple, TypeVar, Union
 
-from . import _native
+from . import _native, studio
 from ._native import Blackboard, Coverage, Failure, ManualClock, Node, SystemClock, Tree
 
 __all__ = [
@@ -50,6 +50,7 @@ __all__ = [
     "InOut",
     "next_tick",
     "sleep",
+    "studio",
 ]
 
 

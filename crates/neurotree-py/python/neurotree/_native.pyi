@@ -141,6 +141,9 @@ class Tree:
     ) -> Tuple[int, int, int]:
         """Swaps in a changed tree, keeping the state of unchanged nodes; returns
         ``(kept, restarted, halted)``."""
+    def tick_times(self, count: int, robot: Any = None) -> Status:
+        """Ticks ``count`` times in one call; returns the last status."""
+    def _watch_in_studio(self, port: int = 0, name: str = "tree") -> str: ...
 
 class Registry:
     """Node types by name, and the way from XML to trees."""
