@@ -105,6 +105,8 @@ pub(crate) fn tick_error(py: Python<'_>, e: TickError) -> PyErr {
     };
     match raised {
         Some(cause) if !cause.is_instance_of::<PyException>(py) => cause,
+        // The node's own NodeError (a bad return, a port read wrongly): already says it all.
+        Some(cause) if names_node(py, &cause, &path) => cause,
         Some(cause) => {
             let message = match &e {
                 TickError::Panicked { message, .. } => format!("{path}: {message}"),
@@ -116,4 +118,17 @@ pub(crate) fn tick_error(py: Python<'_>, e: TickError) -> PyErr {
         }
         None => make(py, &NODE_ERROR, (e.to_string(), path)),
     }
+}
+
+/// `true` if `error` is a `NodeError` about the node at `path`.
+fn names_node(py: Python<'_>, error: &PyErr, path: &str) -> bool {
+    let Some(class) = NODE_ERROR.get(py) else {
+        return false;
+    };
+    error.get_type(py).is(class.bind(py))
+        && error
+            .value(py)
+            .getattr("path")
+            .and_then(|p| p.extract::<String>())
+            .is_ok_and(|p| p == path)
 }

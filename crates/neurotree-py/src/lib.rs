@@ -1,10 +1,10 @@
 //! NeuroTree from Python: the `neurotree._native` extension module, which the `neurotree`
 //! package (`python/neurotree`) wraps.
 //!
-//! Python leaves run inside the Rust engine's ticks: [`leaf`] adapts Python callables,
-//! classes and coroutines to the engine's leaf traits; [`node`] is what a leaf sees;
-//! [`tree`] ticks with the GIL released; [`value`] converts blackboard values; [`errors`]
-//! turns load and tick errors into Python exceptions.
+//! Python leaves run inside the Rust engine's ticks: `leaf` adapts Python callables,
+//! classes and coroutines to the engine's leaf traits; `node` is what a leaf sees; `tree`
+//! ticks with the GIL released; `value` converts blackboard values; `errors` turns load and
+//! tick errors into Python exceptions. The package's guide is `docs/guide/python.md`.
 
 mod clock;
 mod errors;

@@ -85,6 +85,9 @@ impl Node {
     }
 
     /// The handle of the call under way, to write through.
+    // The `&mut` is the one the engine lent the leaf's call (`enter`), reached through the
+    // pointer, not through `self`; each method takes it once and lets it go before it returns.
+    #[allow(clippy::mut_from_ref)]
     fn handle_mut(&self) -> PyResult<&mut Handle<'static, Ctx>> {
         let h = self.handle.load(Ordering::Acquire) as *mut Handle<'static, Ctx>;
         if !h.is_null() && !self.writable.load(Ordering::Acquire) {

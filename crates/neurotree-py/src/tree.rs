@@ -292,7 +292,7 @@ impl PyTree {
         self.observe(py, Box::new(coverage.clone()))?;
         Ok(crate::observe::PyCoverage {
             coverage,
-            blueprint: blueprint,
+            blueprint,
         })
     }
 
