@@ -8,7 +8,7 @@
 
 use std::sync::Arc;
 
-use neurotree::{Handle, Registry, RegistryError, StatefulAction, Status};
+use neurotree::{Action, Condition, Handle, Registry, RegistryError, StatefulAction, Status};
 use pyo3::exceptions::{PyStopIteration, PyValueError};
 use pyo3::intern;
 use pyo3::prelude::*;
@@ -37,6 +37,69 @@ fn bad_return(h: &Handle<'_, Ctx>, value: &Bound<'_, PyAny>, expected: &str) -> 
     raise_in_tree(node_error(h, &message), message)
 }
 
+/// A Python function as a condition: `func(node, robot)` returns `True`, `False`,
+/// `Status.SUCCESS` or `Status.FAILURE`.
+pub(crate) struct PyCondition {
+    pub(crate) func: PyObject,
+    pub(crate) kinds: PortKinds,
+}
+
+impl Condition<Ctx> for PyCondition {
+    fn check(&self, h: &Handle<'_, Ctx>) -> bool {
+        Python::with_gil(|py| {
+            let ctx = h.ctx();
+            let node = ctx.node.bind(py);
+            let result = {
+                let _entered = node.get().enter_read(h, &self.kinds);
+                self.func.bind(py).call1((node, ctx.robot.bind(py)))
+            };
+            match result {
+                Ok(v) => {
+                    if let Ok(b) = v.downcast::<pyo3::types::PyBool>() {
+                        return b.is_true();
+                    }
+                    match crate::status::from_py(&v) {
+                        Some(Status::Success) => true,
+                        Some(Status::Failure) => false,
+                        _ => bad_return(
+                            h,
+                            &v,
+                            "a condition returns True, False, nt.SUCCESS or nt.FAILURE",
+                        ),
+                    }
+                }
+                Err(e) => raised(e),
+            }
+        })
+    }
+}
+
+/// A Python function as an action: `func(node, robot)` returns a `Status`.
+pub(crate) struct PyAction {
+    pub(crate) func: PyObject,
+    pub(crate) kinds: PortKinds,
+}
+
+impl Action<Ctx> for PyAction {
+    fn tick(&self, h: &mut Handle<'_, Ctx>) -> Status {
+        Python::with_gil(|py| {
+            let (node, robot) = {
+                let ctx = h.ctx();
+                (ctx.node.clone_ref(py), ctx.robot.clone_ref(py))
+            };
+            let node = node.bind(py);
+            let result = {
+                let _entered = node.get().enter(h, &self.kinds);
+                self.func.bind(py).call1((node, robot.bind(py)))
+            };
+            match result {
+                Ok(v) => status_of(h, &v),
+                Err(e) => raised(e),
+            }
+        })
+    }
+}
+
 /// Registers `func(node, robot) -> bool | Status` as condition `name`.
 pub(crate) fn register_condition(
     registry: &mut Registry<Ctx>,
@@ -45,34 +108,9 @@ pub(crate) fn register_condition(
     ports: Vec<neurotree::PortSpec>,
     kinds: PortKinds,
 ) -> PyResult<()> {
+    let condition = PyCondition { func, kinds };
     registry
-        .register_condition(name, ports, move |h| {
-            Python::with_gil(|py| {
-                let ctx = h.ctx();
-                let node = ctx.node.bind(py);
-                let result = {
-                    let _entered = node.get().enter_read(h, &kinds);
-                    func.bind(py).call1((node, ctx.robot.bind(py)))
-                };
-                match result {
-                    Ok(v) => {
-                        if let Ok(b) = v.downcast::<pyo3::types::PyBool>() {
-                            return b.is_true();
-                        }
-                        match crate::status::from_py(&v) {
-                            Some(Status::Success) => true,
-                            Some(Status::Failure) => false,
-                            _ => bad_return(
-                                h,
-                                &v,
-                                "a condition returns True, False, nt.SUCCESS or nt.FAILURE",
-                            ),
-                        }
-                    }
-                    Err(e) => raised(e),
-                }
-            })
-        })
+        .register_condition(name, ports, move |h| condition.check(h))
         .map_err(refused)
 }
 
@@ -84,24 +122,9 @@ pub(crate) fn register_action(
     ports: Vec<neurotree::PortSpec>,
     kinds: PortKinds,
 ) -> PyResult<()> {
+    let action = PyAction { func, kinds };
     registry
-        .register_action(name, ports, move |h| {
-            Python::with_gil(|py| {
-                let (node, robot) = {
-                    let ctx = h.ctx();
-                    (ctx.node.clone_ref(py), ctx.robot.clone_ref(py))
-                };
-                let node = node.bind(py);
-                let result = {
-                    let _entered = node.get().enter(h, &kinds);
-                    func.bind(py).call1((node, robot.bind(py)))
-                };
-                match result {
-                    Ok(v) => status_of(h, &v),
-                    Err(e) => raised(e),
-                }
-            })
-        })
+        .register_action(name, ports, move |h| action.tick(h))
         .map_err(refused)
 }
 
@@ -129,7 +152,7 @@ fn call_method<'py>(
 }
 
 /// A `StatefulAction` subclass's instance, one per tree.
-struct PyStateful {
+pub(crate) struct PyStateful {
     /// The instance, or why the class could not make one (raised on the first start).
     object: Result<PyObject, Option<PyErr>>,
     kinds: Arc<PortKinds>,
@@ -143,6 +166,20 @@ enum Step {
 }
 
 impl PyStateful {
+    /// Makes an instance of `class` for each node of each tree.
+    pub(crate) fn maker(
+        class: PyObject,
+        kinds: PortKinds,
+    ) -> impl Fn() -> PyStateful + Send + Sync {
+        let kinds = Arc::new(kinds);
+        move || {
+            Python::with_gil(|py| PyStateful {
+                object: class.call0(py).map_err(Some),
+                kinds: Arc::clone(&kinds),
+            })
+        }
+    }
+
     fn call(&mut self, h: &mut Handle<'_, Ctx>, step: Step) -> Status {
         Python::with_gil(|py| {
             let object = match &mut self.object {
@@ -226,25 +263,33 @@ pub(crate) fn register_stateful(
     ports: Vec<neurotree::PortSpec>,
     kinds: PortKinds,
 ) -> PyResult<()> {
-    let kinds = Arc::new(kinds);
+    let make = PyStateful::maker(class, kinds);
     registry
-        .register_stateful(name, ports, move || {
-            Python::with_gil(|py| PyStateful {
-                object: class.call0(py).map_err(Some),
-                kinds: Arc::clone(&kinds),
-            })
-        })
+        .register_stateful(name, ports, make)
         .map_err(refused)
 }
 
 /// An `async def` action: a coroutine per run, sent `None` once per tick.
-struct PyCoroutine {
+pub(crate) struct PyCoroutine {
     func: Arc<PyObject>,
     kinds: Arc<PortKinds>,
     running: Option<PyObject>,
 }
 
 impl PyCoroutine {
+    /// Makes the driver of `func`'s coroutines for each node of each tree.
+    pub(crate) fn maker(
+        func: PyObject,
+        kinds: PortKinds,
+    ) -> impl Fn() -> PyCoroutine + Send + Sync {
+        let (func, kinds) = (Arc::new(func), Arc::new(kinds));
+        move || PyCoroutine {
+            func: Arc::clone(&func),
+            kinds: Arc::clone(&kinds),
+            running: None,
+        }
+    }
+
     /// Advances the coroutine by one step: Running while it awaits, its result once done.
     fn step(&mut self, py: Python<'_>, h: &mut Handle<'_, Ctx>, coroutine: PyObject) -> Status {
         let sent = {
@@ -325,12 +370,7 @@ pub(crate) fn register_coroutine(
     ports: Vec<neurotree::PortSpec>,
     kinds: PortKinds,
 ) -> PyResult<()> {
-    let (func, kinds) = (Arc::new(func), Arc::new(kinds));
     registry
-        .register_stateful(name, ports, move || PyCoroutine {
-            func: Arc::clone(&func),
-            kinds: Arc::clone(&kinds),
-            running: None,
-        })
+        .register_stateful(name, ports, PyCoroutine::maker(func, kinds))
         .map_err(refused)
 }

@@ -6,6 +6,7 @@
 //! ticks with the GIL released; `value` converts blackboard values; `errors` turns load and
 //! tick errors into Python exceptions. The package's guide is `docs/guide/python.md`.
 
+mod builder;
 mod clock;
 mod errors;
 mod leaf;
@@ -39,6 +40,7 @@ fn _bind(
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(_bind, m)?)?;
     m.add_class::<registry::PyRegistry>()?;
+    m.add_class::<builder::PyBuilder>()?;
     m.add_class::<tree::PyTree>()?;
     m.add_class::<tree::PyBlackboard>()?;
     m.add_class::<node::Node>()?;

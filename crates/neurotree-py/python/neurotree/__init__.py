@@ -19,11 +19,12 @@ decorators that register leaves, and the awaitables ``async def`` leaves use.
 
 from __future__ import annotations
 
+import contextlib
 import enum
 import inspect
 import json
 import pickle
-from typing import Any, Callable, Dict, Generator, Mapping, Optional, Tuple, TypeVar, Union
+from typing import Any, Callable, Dict, Generator, Iterator, Mapping, Optional, Tuple, TypeVar, Union
 
 from . import _native, studio
 from ._native import Blackboard, Coverage, Failure, ManualClock, Node, SystemClock, Tree
@@ -37,6 +38,7 @@ __all__ = [
     "LoadError",
     "NodeError",
     "Registry",
+    "Builder",
     "Tree",
     "Node",
     "Blackboard",
@@ -227,6 +229,51 @@ class Registry(_native.Registry):
     def stateful_action(self, name: str, cls: "type[StatefulAction]") -> None:
         """Registers ``cls``, a ``StatefulAction`` subclass, as action ``name``."""
         self.register_stateful_action(name, cls, _port_tuples(getattr(cls, "ports", None)))
+
+
+class Builder(_native.Builder):
+    """A tree built in code: the built-in nodes by their BehaviorTree.CPP names, and Python
+    leaves given as functions and classes.
+
+        b = nt.Builder()
+        with b.node("Sequence", name="patrol"):
+            b.condition("battery_ok", lambda node, robot: robot["battery"] > 20)
+            with b.node("Repeat", num_cycles=2):
+                b.action("say", say)
+        tree = b.build(clock=nt.ManualClock())
+
+    Keyword arguments bind ports: ``"{key}"`` is a blackboard entry, anything else a literal.
+    """
+
+    @contextlib.contextmanager
+    def node(self, type_name: str, name: Optional[str] = None, **ports: Any) -> Iterator["Builder"]:
+        """Opens the built-in control or decorator ``type_name``; the nodes added in the
+        ``with`` block are its children."""
+        self.open(type_name, name, **ports)
+        yield self
+        self.close()
+
+    def condition(
+        self, name: str, func: Callable[[Node, Any], Any], ports: Optional[Mapping[str, Any]] = None, **bind: Any
+    ) -> "Builder":
+        """Adds condition ``name``: ``func(node, robot) -> bool``."""
+        self.add_condition(name, func, _port_tuples(ports), bind)
+        return self
+
+    def action(
+        self, name: str, func: Callable[[Node, Any], Any], ports: Optional[Mapping[str, Any]] = None, **bind: Any
+    ) -> "Builder":
+        """Adds action ``name``: ``func(node, robot) -> Status``, or an ``async def``."""
+        if inspect.iscoroutinefunction(func):
+            self.add_async_action(name, func, _port_tuples(ports), bind)
+        else:
+            self.add_action(name, func, _port_tuples(ports), bind)
+        return self
+
+    def stateful_action(self, name: str, cls: "type[StatefulAction]", **bind: Any) -> "Builder":
+        """Adds action ``name``: an instance of ``cls`` (a ``StatefulAction`` subclass) per tree."""
+        self.add_stateful_action(name, cls, _port_tuples(getattr(cls, "ports", None)), bind)
+        return self
 
 
 class _NextTick:

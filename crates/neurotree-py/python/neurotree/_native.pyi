@@ -167,3 +167,20 @@ class Registry:
         """The registered node type names, sorted."""
     def tree_nodes_model(self) -> str:
         """The ``TreeNodesModel`` XML of the registered leaves."""
+
+class Builder:
+    """Builds a tree node by node: ``open`` a control or decorator, add children, ``close``."""
+
+    def __init__(self) -> None: ...
+    def open(self, type_name: str, name: Optional[str] = None, **ports: Any) -> None:
+        """Opens the built-in control or decorator ``type_name``, ports as keywords."""
+    def close(self) -> None:
+        """Closes the node opened last."""
+    def leaf(self, type_name: str, name: Optional[str] = None, **ports: Any) -> None:
+        """Adds the built-in leaf ``type_name``."""
+    def add_condition(self, name: str, func: Callable[..., Any], ports: Sequence[_PortDecl], bind: Optional[dict[str, Any]]) -> None: ...
+    def add_action(self, name: str, func: Callable[..., Any], ports: Sequence[_PortDecl], bind: Optional[dict[str, Any]]) -> None: ...
+    def add_async_action(self, name: str, func: Callable[..., Any], ports: Sequence[_PortDecl], bind: Optional[dict[str, Any]]) -> None: ...
+    def add_stateful_action(self, name: str, cls: type, ports: Sequence[_PortDecl], bind: Optional[dict[str, Any]]) -> None: ...
+    def build(self, clock: Optional[_Clock] = None) -> Tree:
+        """Checks the tree and returns it; raises ``ValueError`` naming what is wrong."""
