@@ -36,7 +36,7 @@ pub(crate) struct Inner {
     paths: Arc<[String]>,
     /// The studio showing the tree, and its side of the run (`neurotree.studio.watch`).
     #[cfg(feature = "studio")]
-    studio: Option<(neurotree::studio::Studio, neurotree::studio::Watch)>,
+    studio: Option<(neurotree::studio::Studio, neurotree::studio::Watch, String)>,
 }
 
 /// A tree loaded from XML (`Registry.load_string`, `Registry.load_file`) or built
@@ -139,7 +139,7 @@ impl PyTree {
     fn tick(&self, py: Python<'_>, robot: Option<&Bound<'_, PyAny>>) -> PyResult<Status> {
         self.with_inner_released(py, robot, |inner, ctx| {
             #[cfg(feature = "studio")]
-            if let Some((_, watch)) = &mut inner.studio {
+            if let Some((_, watch, _)) = &mut inner.studio {
                 return watch.tick_once(&mut inner.tree, ctx);
             }
             inner.tree.tick_once(ctx)
@@ -336,7 +336,12 @@ impl PyTree {
         let report = report.map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
         {
             let mut inner = self.lock(py)?;
+            let inner = &mut *inner;
             inner.paths = inner.tree.blueprint().paths().into();
+            #[cfg(feature = "studio")]
+            if let Some((_, watch, name)) = &mut inner.studio {
+                watch.reattach(&inner.tree, name);
+            }
         }
         Ok((report.kept, report.restarted, report.halted))
     }
@@ -358,7 +363,7 @@ impl PyTree {
         let url = studio.url();
         let (observer, watch) = studio.attach(&self.lock(py)?.tree, name);
         self.observe(py, Box::new(observer))?;
-        self.lock(py)?.studio = Some((studio, watch));
+        self.lock(py)?.studio = Some((studio, watch, name.to_owned()));
         Ok(url)
     }
 
