@@ -211,3 +211,38 @@ def test_async_def_leaves_run_over_ticks_and_close_on_halt() -> None:
     # Afresh: Count runs again from its start.
     assert tree.tick_once() is nt.RUNNING
     assert log[-1] == "step 0"
+
+
+def test_a_stateful_actions_attributes_are_saved_and_restored() -> None:
+    reg = nt.Registry()
+
+    class Count(nt.StatefulAction):
+        def __init__(self) -> None:
+            self.seen = 0
+
+        def on_start(self, node: nt.Node, robot: Any) -> nt.Status:
+            self.seen = 1
+            return nt.RUNNING
+
+        def on_running(self, node: nt.Node, robot: Any) -> nt.Status:
+            self.seen += 1
+            node.set("seen", self.seen)
+            return nt.SUCCESS if self.seen == 4 else nt.RUNNING
+
+    reg.stateful_action("Count", Count)
+    xml = '<root BTCPP_format="4"><BehaviorTree ID="M"><Count/></BehaviorTree></root>'
+    tree = reg.load_string(xml)
+    assert [tree.tick_once() for _ in range(2)] == [nt.RUNNING, nt.RUNNING]
+    saved = tree.save_state()
+    resumed = reg.load_string(xml)
+    resumed.restore_state(saved)
+    assert resumed.tick_once() is nt.RUNNING
+    assert resumed.blackboard["seen"] == 3
+    assert resumed.tick_once() is nt.SUCCESS
+
+
+def test_a_dict_on_the_blackboard_is_not_saved_and_the_error_names_it() -> None:
+    tree = nt.Registry().load_string('<root BTCPP_format="4"><BehaviorTree ID="M"><AlwaysSuccess/></BehaviorTree></root>')
+    tree.blackboard["pose"] = {"x": 1.0}
+    with pytest.raises(ValueError, match="pose"):
+        tree.save_state()
