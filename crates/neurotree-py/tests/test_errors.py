@@ -242,3 +242,26 @@ def test_ctrl_c_stops_tick_while_running_and_halts_the_tree() -> None:
     assert robot["ticks"] > 0
     assert robot["halts"] == 1
     assert [s for _, s in tree.statuses()] == [nt.Status.IDLE]
+
+
+def test_an_async_leaf_that_raises_after_awaiting_is_a_node_error() -> None:
+    reg = nt.Registry()
+
+    @reg.action("Late")
+    async def late(node: nt.Node, robot: Any) -> nt.Status:
+        await nt.next_tick()
+        raise KeyError("gone")
+
+    @reg.action("Odd")
+    async def odd(node: nt.Node, robot: Any) -> Any:
+        return "done"
+
+    tree = reg.load_string('<root BTCPP_format="4"><BehaviorTree ID="M"><Late/></BehaviorTree></root>')
+    assert tree.tick_once() is nt.RUNNING
+    with pytest.raises(nt.NodeError) as info:
+        tree.tick_once()
+    assert info.value.path == "Late" and isinstance(info.value.__cause__, KeyError)
+    assert tree.tick_once() is nt.RUNNING  # afresh: a new coroutine
+    odd_tree = reg.load_string('<root BTCPP_format="4"><BehaviorTree ID="M"><Odd/></BehaviorTree></root>')
+    with pytest.raises(nt.NodeError, match="returned 'done'"):
+        odd_tree.tick_once()
