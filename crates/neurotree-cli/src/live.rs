@@ -13,7 +13,6 @@ use std::io;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, SystemTime};
 
-use neurotree::state::StateCodecs;
 use neurotree::Tree;
 use serde::{Deserialize, Serialize};
 
@@ -81,7 +80,7 @@ impl SavedRun {
         counts: (&[u32], &[u32]),
     ) -> Result<Self, String> {
         let state = tree
-            .save_state_with(&codecs())
+            .save_state()
             .map_err(|e| format!("the run's state cannot be saved: {e}"))?;
         Ok(SavedRun {
             magic: MAGIC,
@@ -124,7 +123,7 @@ impl SavedRun {
                 run.node_ticks.len()
             ));
         }
-        tree.restore_state_with(&run.tree, &codecs()).map_err(|e| {
+        tree.restore_state(&run.tree).map_err(|e| {
             format!(
                 "{shown}: error: {e}; resume with the files and options of the run that saved it"
             )
@@ -136,14 +135,6 @@ impl SavedRun {
     pub fn clock(&self) -> Duration {
         Duration::from_nanos(self.clock_nanos)
     }
-}
-
-/// The blackboard types a run's state may hold: those of the command line, the scripts,
-/// Nav2's controls.
-fn codecs() -> StateCodecs {
-    StateCodecs::new()
-        .with::<neurotree::robotics::Pose2D>()
-        .with::<Vec<neurotree::robotics::Pose2D>>()
 }
 
 /// The path `--keep-states` writes the state after tick `tick` to.

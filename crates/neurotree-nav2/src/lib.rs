@@ -151,12 +151,29 @@ pub const CONTROLS: [&str; 15] = [
     "GlobalUpdatedGoal",
 ];
 
+/// Registers the value types Nav2's nodes keep on the blackboard (poses, goal lists, paths,
+/// routes, obstacles, sensor readings), so that the studio and `run` show them as JSON and a
+/// tree's state saves them ([`Registry::register_value`]). [`register_controls`] calls it.
+pub fn register_values<C: 'static>(registry: &mut Registry<C>) {
+    use robotics::{Obstacle, Path, Pose2D, Route, SensorData};
+    registry.register_value::<Pose2D>();
+    registry.register_value::<Vec<Pose2D>>();
+    registry.register_value::<Path>();
+    registry.register_value::<Route>();
+    registry.register_value::<Obstacle>();
+    registry.register_value::<Vec<Obstacle>>();
+    registry.register_value::<SensorData>();
+    registry.register_value::<Vec<i64>>();
+    registry.register_value::<Vec<String>>();
+}
+
 /// Registers every control and decorator of Nav2 (PipelineSequence, RecoveryNode,
 /// RoundRobin, NonblockingSequence, PauseResumeController, PersistentSequence,
 /// RateController, DistanceController, SingleTrigger, GoalUpdater, SpeedController,
 /// PathLongerOnApproach, GoalUpdatedController) and the conditions GoalUpdated and
 /// GlobalUpdatedGoal under their Nav2 names, with Nav2's ports and defaults. Fails if one of the names is taken (nothing after it is registered then).
 pub fn register_controls<C: 'static>(registry: &mut Registry<C>) -> Result<(), RegistryError> {
+    register_values(registry);
     registry.register_custom("PipelineSequence", Arity::AtLeast(1), vec![], || {
         Box::new(PipelineSequence::default())
     })?;

@@ -1,5 +1,6 @@
 //! The node types the editor offers (PROTOCOL.md, "NodeType").
 
+use neurotree_core::blackboard::short_type_name;
 use neurotree_toolkit::{PortDirection, Registry};
 use serde_json::{json, Value};
 
@@ -21,7 +22,7 @@ pub fn palette<C: 'static>(registry: &Registry<C>) -> Vec<Value> {
                             PortDirection::Output => "output",
                             PortDirection::InOut => "inout",
                         },
-                        "type": short(p.type_name),
+                        "type": short_type_name(p.type_name),
                         "default": p.default,
                         "description": p.description,
                     })
@@ -40,18 +41,6 @@ pub fn palette<C: 'static>(registry: &Registry<C>) -> Vec<Value> {
     types
 }
 
-/// `alloc::string::String` as `String`, `core::option::Option<f64>` as `Option<f64>`.
-fn short(name: &str) -> String {
-    let mut out = String::new();
-    for (i, part) in name.split('<').enumerate() {
-        if i > 0 {
-            out.push('<');
-        }
-        out.push_str(part.rsplit("::").next().unwrap_or(part));
-    }
-    out
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -68,11 +57,5 @@ mod tests {
         let mut sorted = names.clone();
         sorted.sort_unstable();
         assert_eq!(names, sorted);
-    }
-
-    #[test]
-    fn type_names_are_shortened_inside_generics() {
-        assert_eq!(short("alloc::string::String"), "String");
-        assert_eq!(short("core::option::Option<f64>"), "Option<f64>");
     }
 }

@@ -1,11 +1,13 @@
 //! Blackboard entries as JSON, for the tools that show a blackboard to a person or a program
-//! (the `neurotree run` summary, the Groot2 monitor).
+//! (the `neurotree run` summary, the studio, the Groot2 monitor).
 //!
-//! Entries hold arbitrary Rust values, so the types a JSON value can hold are converted to
-//! it: integers of every width (`i8` to `i128`, `u8` to `u128`, `isize`, `usize`), `f64`
-//! and `f32`, `bool`, `String` and `&'static str`. Any other type shows as its type name in
-//! angle brackets (`"<my_robot::Pose>"`), which tells the reader that the entry exists and
-//! what it holds; an entry that a port declared but nothing wrote yet is `null`.
+//! Entries hold arbitrary Rust values. A value whose type has a codec — the numbers, `bool`,
+//! `String`, `Duration`, `serde_json::Value`, and every type registered with
+//! [`Registry::register_value`](crate::Registry::register_value) — is its JSON. Past 64
+//! bits a number is written as text (JSON readers take numbers at their word), and a
+//! `&'static str` as its text. Any other type shows as its short type name in angle brackets
+//! (`"<Pose>"`), which tells the reader that the entry exists and what it holds; an entry that
+//! a port declared but nothing wrote yet is `null`.
 //!
 //! ```
 //! use neurotree::blackboard_json::scope_json;
@@ -22,6 +24,7 @@
 //! );
 //! ```
 
+use neurotree_core::blackboard::short_type_name;
 use neurotree_core::{Blackboard, ScopeId};
 use serde_json::{json, Map, Value};
 
@@ -30,23 +33,17 @@ pub fn entry_json(bb: &Blackboard, scope: ScopeId, key: &str) -> Value {
     let Some(any) = bb.get_any_in(scope, key) else {
         return Value::Null;
     };
-    macro_rules! as_json {
-        ($($t:ty),*) => {$(
-            if let Some(v) = any.downcast_ref::<$t>() {
-                return json!(v);
-            }
-        )*};
-    }
-    as_json!(i64, f64, bool, String, i32, u32, u64, f32, usize, isize, i16, u16, i8, u8);
-    as_json!(&'static str);
-    // Past 64 bits, a number JSON readers take at its word: as text.
     if let Some(v) = any.downcast_ref::<i128>() {
         json!(v.to_string())
     } else if let Some(v) = any.downcast_ref::<u128>() {
         json!(v.to_string())
+    } else if let Some(v) = any.downcast_ref::<&'static str>() {
+        json!(v)
+    } else if let Some(v) = bb.json_in(scope, key) {
+        v
     } else {
         let type_name = bb.info_in(scope, key).map_or("unknown", |i| i.type_name);
-        json!(format!("<{type_name}>"))
+        json!(format!("<{}>", short_type_name(type_name)))
     }
 }
 
@@ -87,6 +84,38 @@ mod tests {
         assert_eq!(entry_json(&bb, root, "pair"), json!("<(u8, u8)>"));
         assert_eq!(entry_json(&bb, root, "later"), Value::Null);
         assert_eq!(entry_json(&bb, root, "missing"), Value::Null);
+    }
+
+    #[test]
+    fn registered_types_are_json_and_others_their_short_name() {
+        #[derive(Clone, serde::Serialize, serde::Deserialize)]
+        struct Pose {
+            x: f64,
+        }
+        struct Opaque;
+        let mut registry = crate::Registry::<()>::new();
+        let xml =
+            r#"<root BTCPP_format="4"><BehaviorTree ID="M"><AlwaysSuccess/></BehaviorTree></root>"#;
+        let unregistered = registry
+            .load_str(xml, "m.xml", neurotree_core::ManualClock::new())
+            .unwrap();
+        registry.register_value::<Pose>();
+        let registered = registry
+            .load_str(xml, "m.xml", neurotree_core::ManualClock::new())
+            .unwrap();
+        for (mut tree, pose) in [
+            (unregistered, json!("<Pose>")),
+            (registered, json!({"x": 1.5})),
+        ] {
+            let bb = tree.blackboard_mut();
+            bb.set("pose", Pose { x: 1.5 }).unwrap();
+            bb.set("poses", vec![Opaque]).unwrap();
+            assert_eq!(entry_json(bb, ScopeId::ROOT, "pose"), pose);
+            assert_eq!(
+                entry_json(bb, ScopeId::ROOT, "poses"),
+                json!("<Vec<Opaque>>")
+            );
+        }
     }
 
     #[test]

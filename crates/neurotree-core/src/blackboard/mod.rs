@@ -92,18 +92,22 @@
 //! ```
 
 mod error;
+mod json;
 mod raw;
 mod scope;
 
 use crate::blueprint::FromPortStr;
+use crate::state::StateCodecs;
 use alloc::collections::BTreeMap;
 use alloc::string::String;
+use alloc::sync::Arc;
 use alloc::vec::Vec;
 use core::any::{type_name, Any, TypeId};
 use core::fmt;
 use core::time::Duration;
 
 pub use error::BlackboardError;
+pub use json::{short_type_name, JsonWriteError};
 use scope::{resolve, Entries, Entry, Links};
 
 /// Index of a scope in a [`Blackboard`], in creation order; [`ScopeId::ROOT`] is the tree's
@@ -137,6 +141,8 @@ pub struct Blackboard {
     entries: Vec<Entries>,
     /// The latest stamp written, for the shorthands that take none.
     last_stamp: Duration,
+    /// The value types this blackboard's values are saved, shown and edited with.
+    codecs: Option<Arc<StateCodecs>>,
 }
 
 /// The entries of scope `s`, created if the vector has not grown that far yet. A free
@@ -155,6 +161,7 @@ impl Blackboard {
             links: Vec::new(),
             entries: Vec::new(),
             last_stamp: Duration::ZERO,
+            codecs: None,
         }
     }
 

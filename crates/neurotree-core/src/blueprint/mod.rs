@@ -396,6 +396,8 @@ pub struct Blueprint<C> {
     /// child's tick straight through (`Tick::passes_through`) and have no hooks, so that a
     /// tree resting in it may start its next pass at it.
     pub(crate) resting: Box<[bool]>,
+    /// The value types its trees' blackboards save, show and edit values with.
+    pub(crate) value_codecs: Option<Arc<crate::state::StateCodecs>>,
     /// The [structure hash](Self::structure_hash) once made (0: not yet): saving and
     /// restoring a state ask for it each time.
     #[cfg(target_has_atomic = "64")]
@@ -406,6 +408,12 @@ impl<C> Blueprint<C> {
     /// A builder for a new blueprint.
     pub fn builder() -> Builder<C> {
         Builder::new()
+    }
+
+    /// The value codecs its trees' blackboards get, if it was built with some
+    /// ([`Builder::value_codecs`]).
+    pub fn value_codecs(&self) -> Option<&Arc<crate::state::StateCodecs>> {
+        self.value_codecs.as_ref()
     }
 
     /// Number of nodes.

@@ -724,6 +724,9 @@ impl<C> Tree<C> {
 /// and an entry declared for every key a port names, as BehaviorTree.CPP makes one.
 fn new_blackboard<C>(blueprint: &Blueprint<C>) -> Blackboard {
     let mut blackboard = Blackboard::new();
+    if let Some(codecs) = &blueprint.value_codecs {
+        blackboard.set_codecs(codecs.clone());
+    }
     for (parent, scope) in blueprint.scopes.iter() {
         let id = blackboard.add_scope(*parent, scope.autoremap);
         for (child_key, parent_key) in &scope.remap {

@@ -14,8 +14,9 @@ use crate::{EntryInfo, NodeId, NodeKind, NodeStatus};
 impl<C> Tree<C> {
     /// The tree's whole execution state as bytes: every node's status and state, the
     /// per-instance objects' own state, the blackboard; see [`crate::state`] for what must
-    /// opt in and what cannot be saved. Blackboard values are saved with
-    /// [`StateCodecs::new`]'s codecs.
+    /// opt in and what cannot be saved. Blackboard values are saved with the blackboard's
+    /// codecs ([`Blackboard::codecs`](crate::Blackboard::codecs), its blueprint's), else
+    /// [`StateCodecs::new`]'s.
     ///
     /// ```
     /// use neurotree_core::{Blueprint, ManualClock, Status, Tree};
@@ -37,7 +38,10 @@ impl<C> Tree<C> {
     /// assert_eq!(resumed.tick_once(&mut ()), Ok(Status::Success));
     /// ```
     pub fn save_state(&self) -> Result<Vec<u8>, SaveError> {
-        self.save_state_with(&StateCodecs::new())
+        match self.blackboard.codecs() {
+            Some(codecs) => self.save_state_with(codecs),
+            None => self.save_state_with(&StateCodecs::new()),
+        }
     }
 
     /// [`save_state`](Self::save_state), with blackboard values saved by `codecs`.
@@ -117,10 +121,13 @@ impl<C> Tree<C> {
     /// Restores a state [`save_state`](Self::save_state) made, of a tree of the same
     /// blueprint structure, into this instance; the tree then runs on as the saved one
     /// would have. Refused, leaving the tree as it was, for bytes that are not such a state
-    /// or belong to another tree. Blackboard values are read with [`StateCodecs::new`]'s
-    /// codecs.
+    /// or belong to another tree. Blackboard values are read with the codecs
+    /// [`save_state`](Self::save_state) writes them with.
     pub fn restore_state(&mut self, bytes: &[u8]) -> Result<(), RestoreError> {
-        self.restore_state_with(bytes, &StateCodecs::new())
+        match self.blackboard.codecs().cloned() {
+            Some(codecs) => self.restore_state_with(bytes, &codecs),
+            None => self.restore_state_with(bytes, &StateCodecs::new()),
+        }
     }
 
     /// [`restore_state`](Self::restore_state), with blackboard values read by `codecs`.

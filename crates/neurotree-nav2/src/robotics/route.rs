@@ -6,7 +6,7 @@ use neurotree_core::FromPortStr;
 use super::Pose2D;
 
 /// A node of a route graph: its id and its position, in metres.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct RouteNode {
     /// The node's id in its graph.
     pub id: u16,
@@ -29,7 +29,7 @@ impl RouteNode {
 }
 
 /// A directed edge of a route graph, from node `start` to node `end` (ids).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub struct RouteEdge {
     /// The edge's id in its graph.
     pub id: u16,
@@ -41,7 +41,7 @@ pub struct RouteEdge {
 
 /// A route: the nodes from the start node to the goal node, the edges taken between them,
 /// and the route's cost (its length in metres, as Nav2's default edge scorer counts it).
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Route {
     /// The nodes, start first.
     pub nodes: Vec<RouteNode>,

@@ -70,7 +70,7 @@ pub enum SensorError {
 }
 
 /// One named value of a reading.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub enum SensorValue {
     /// A single measurement (a range, a battery level, a temperature).
     Number(f64),
@@ -115,7 +115,7 @@ impl From<bool> for SensorValue {
 }
 
 /// A reading: when it was taken, how trustworthy it is, and its named values.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct SensorData {
     /// When the reading was taken, on the same time base as the tree's clock.
     pub timestamp: Duration,

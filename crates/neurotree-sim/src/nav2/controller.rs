@@ -35,7 +35,7 @@ use neurotree_nav2::robotics::{Path, Pose2D};
 use neurotree_toolkit::{PortSpec, Registry, RegistryError};
 
 /// How the robot tracks its path: FollowPath's `tracking_feedback` output.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct TrackingFeedback {
     /// The index of the path pose nearest the robot.
     pub current_path_index: usize,

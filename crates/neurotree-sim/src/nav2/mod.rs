@@ -475,6 +475,8 @@ impl Nav2Context for Nav2Sim {
 pub fn register_nav2_leaves<C: Nav2Context>(
     registry: &mut Registry<C>,
 ) -> Result<(), RegistryError> {
+    neurotree_nav2::register_values(registry);
+    registry.register_value::<controller::TrackingFeedback>();
     planner::register(registry)?;
     controller::register(registry)?;
     selectors::register(registry)?;
@@ -511,6 +513,8 @@ pub fn register_nav2_leaves<C: Nav2Context>(
 pub fn register_nav2_checks<C: Nav2Context>(
     registry: &mut Registry<C>,
 ) -> Result<(), RegistryError> {
+    neurotree_nav2::register_values(registry);
+    registry.register_value::<controller::TrackingFeedback>();
     selectors::register(registry)?;
     path_checks::register(registry)?;
     recovery_help::register(registry)?;

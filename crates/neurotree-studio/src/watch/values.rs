@@ -1,6 +1,7 @@
 //! Blackboard values between the tree and the pages: every scope as JSON, and a page's
 //! edit written back in the entry's own type.
 
+use neurotree_core::blackboard::short_type_name;
 use neurotree_core::{ScopeId, Tree};
 use neurotree_toolkit::blackboard_json::entry_json;
 use serde_json::{json, Value};
@@ -20,7 +21,7 @@ pub(crate) fn scopes<C>(tree: &Tree<C>) -> Value {
                 .map(|key| {
                     let type_name = bb
                         .info_in(scope, key)
-                        .map_or("", |i| short_type(i.type_name));
+                        .map_or(String::new(), |i| short_type_name(i.type_name));
                     json!({"key": key, "value": entry_json(bb, scope, key), "type": type_name})
                 })
                 .collect();
@@ -30,66 +31,65 @@ pub(crate) fn scopes<C>(tree: &Tree<C>) -> Value {
     Value::Array(scopes)
 }
 
-/// `alloc::string::String` as `String`.
-fn short_type(name: &str) -> &str {
-    name.rsplit("::").next().unwrap_or(name)
+/// Writes a page's edit, dropping one that is refused; see [`write`].
+pub(crate) fn apply<C>(tree: &mut Tree<C>, edit: &Edit) {
+    // A refused edit leaves the entry as it was, which the page is sent again.
+    let _ = write(tree, edit);
 }
 
-/// Writes a page's edit: converted to the type the entry holds (a number into an integer
-/// entry must be whole and in range; text is parsed as a port parses it), else stored as
-/// the JSON value's own type. An edit that does not convert is dropped: the page sees the
-/// value unchanged.
-pub(crate) fn apply<C>(tree: &mut Tree<C>, edit: &Edit) {
+/// Writes a page's edit in the entry's own type, or says why not. Text typed into a
+/// number, `bool` or text entry is read as a port reads it (`"7"` into an `i64`); any other
+/// value is JSON read by the entry's value codec, so a registered type (a pose, a path)
+/// takes an object of its fields. An entry not written yet takes JSON's own type.
+pub(crate) fn write<C>(tree: &mut Tree<C>, edit: &Edit) -> Result<(), String> {
     let scope = ScopeId(edit.scope);
     if edit.scope as usize >= tree.blackboard().scope_count() {
-        return;
+        return Err(format!("the tree has no blackboard scope {}", edit.scope));
     }
     let now = tree.now();
     let bb = tree.blackboard_mut();
     let held = bb
         .info_in(scope, &edit.key)
-        .map(|i| short_type(i.type_name));
-    let text = match &edit.value {
-        Value::String(s) => s.clone(),
-        other => other.to_string(),
-    };
-    macro_rules! typed {
-        ($($name:literal => $t:ty),*) => {
-            match held {
-                $(Some($name) => {
-                    if let Ok(v) = text.trim().parse::<$t>() {
-                        bb.replace_in(scope, &edit.key, v, now);
-                    }
-                    return;
-                })*
-                _ => {}
+        .filter(|_| bb.get_any_in(scope, &edit.key).is_some())
+        .map(|i| i.type_name);
+    if let (Some(held), Value::String(text)) = (held, &edit.value) {
+        macro_rules! parsed {
+            ($($t:ty),*) => {$(
+                if held == core::any::type_name::<$t>() {
+                    let value = text.trim().parse::<$t>().map_err(|e| {
+                        format!("`{}` holds a `{held}`: `{text}` is not one ({e})", edit.key)
+                    })?;
+                    bb.replace_in(scope, &edit.key, value, now);
+                    return Ok(());
+                }
+            )*};
+        }
+        parsed!(i64, i32, i16, i8, isize, u64, u32, u16, u8, usize, f64, f32, bool, String);
+    }
+    // The page's field holds text: for other types it is the value's JSON.
+    let json = match (held, &edit.value) {
+        (Some(held), Value::String(text)) => match serde_json::from_str(text) {
+            Ok(json) => json,
+            Err(_) if held == core::any::type_name::<Value>() => edit.value.clone(),
+            Err(e) => {
+                return Err(format!(
+                    "`{}` holds a `{}`: the text is not JSON ({e})",
+                    edit.key,
+                    short_type_name(held)
+                ))
             }
-        };
-    }
-    typed!(
-        "i64" => i64, "i32" => i32, "i16" => i16, "i8" => i8, "isize" => isize,
-        "u64" => u64, "u32" => u32, "u16" => u16, "u8" => u8, "usize" => usize,
-        "f64" => f64, "f32" => f32, "bool" => bool
-    );
-    if held == Some("String") || held.is_some_and(|h| h != "String") && edit.value.is_string() {
-        bb.replace_in(scope, &edit.key, text, now);
-        return;
-    }
-    match &edit.value {
-        Value::Bool(b) => bb.replace_in(scope, &edit.key, *b, now),
-        Value::Number(n) => match n.as_i64() {
-            Some(i) => bb.replace_in(scope, &edit.key, i, now),
-            None => bb.replace_in(scope, &edit.key, n.as_f64().unwrap_or(0.0), now),
         },
-        Value::String(s) => bb.replace_in(scope, &edit.key, s.clone(), now),
-        _ => {}
-    }
+        _ => edit.value.clone(),
+    };
+    bb.set_json_in(scope, &edit.key, json, now)
+        .map_err(|e| e.to_string())
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use neurotree_toolkit::{Registry, XmlLoader};
+    use serde_json::Value;
     use std::sync::Arc;
 
     fn tree() -> Tree<()> {
@@ -148,6 +148,51 @@ mod tests {
             },
         );
         assert_eq!(tree.blackboard().get_exact::<i64>("n"), Ok(8));
+    }
+
+    #[test]
+    fn registered_types_are_edited_as_json_and_refusals_say_why() {
+        #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+        struct Pose {
+            x: f64,
+            y: f64,
+        }
+        let mut registry = Registry::<()>::new();
+        registry.register_value::<Pose>();
+        let xml =
+            r#"<root BTCPP_format="4"><BehaviorTree ID="M"><AlwaysSuccess/></BehaviorTree></root>"#;
+        let mut tree = registry
+            .load_str(xml, "m.xml", neurotree_core::ManualClock::new())
+            .unwrap();
+        tree.blackboard_mut()
+            .set("goal", Pose { x: 1.0, y: 2.0 })
+            .unwrap();
+        let v = scopes(&tree);
+        let goal = &v[0]["entries"][0];
+        assert_eq!(goal["value"], json!({"x": 1.0, "y": 2.0}));
+        assert_eq!(goal["type"], "Pose");
+        let mut set = |value: Value| {
+            write(
+                &mut tree,
+                &Edit {
+                    scope: 0,
+                    key: "goal".into(),
+                    value,
+                },
+            )
+        };
+        assert_eq!(set(json!({"x": 3, "y": 4.5})), Ok(()));
+        let why = set(json!({"x": "far", "y": 0})).unwrap_err();
+        assert!(
+            why.starts_with("`goal` holds a `Pose`: invalid type"),
+            "{why}"
+        );
+        let why = set(json!("{not json")).unwrap_err();
+        assert!(why.starts_with("`goal` holds a `Pose`"), "{why}");
+        assert_eq!(
+            tree.blackboard().get::<Pose>("goal"),
+            Ok(Pose { x: 3.0, y: 4.5 })
+        );
     }
 
     #[test]

@@ -22,6 +22,7 @@ use std::sync::Arc;
 
 use crate::script::Enums;
 
+use neurotree_core::state::StateCodecs;
 use neurotree_core::{Category, Handle, NodeKind, StatefulAction, Status};
 
 mod aliases;
@@ -29,6 +30,7 @@ mod builtins;
 mod enums;
 pub mod ports;
 mod suggest;
+mod values;
 
 pub(crate) use builtins::built_in_ports;
 pub use ports::{PortDirection, PortSpec};
@@ -181,6 +183,8 @@ pub struct Registry<C> {
     subtrees: BTreeMap<String, SubtreeMaker<C>>,
     /// Shared with the script nodes made from this registry, which look names up at run time.
     enums: Arc<Enums>,
+    /// The value types of the blackboards of the trees loaded with this registry.
+    value_codecs: Arc<StateCodecs>,
 }
 
 impl<C: 'static> Default for Registry<C> {
@@ -197,6 +201,7 @@ impl<C: 'static> Registry<C> {
             renamed: BTreeMap::new(),
             subtrees: BTreeMap::new(),
             enums: Arc::new(Enums::new()),
+            value_codecs: Arc::new(StateCodecs::new()),
         };
         for decl in neurotree_core::nodes::BUILT_INS {
             r.types.insert(

@@ -177,7 +177,9 @@ impl<'a, 'r, C: 'static> Expansion<'a, 'r, C> {
         // Room for the nodes up front, up to a bound: a tree refused early should not
         // have claimed much.
         let room = usize::try_from(size.min(1 << 16)).unwrap_or(0);
-        let b = self.node(Builder::with_capacity(room), only_child(tree), 1)?;
+        let b =
+            Builder::with_capacity(room).value_codecs(self.loader.registry.value_codecs().clone());
+        let b = self.node(b, only_child(tree), 1)?;
         if let Some((_, error)) = self
             .not_mocked
             .iter()

@@ -6,6 +6,8 @@ use alloc::boxed::Box;
 use alloc::collections::BTreeMap;
 use alloc::string::String;
 use alloc::sync::Arc;
+
+use crate::state::StateCodecs;
 use alloc::vec::Vec;
 
 use super::{
@@ -92,6 +94,7 @@ struct State<C> {
     /// Opens seen after an error, so their closes balance without storing nodes.
     ignored: usize,
     max_depth: u32,
+    value_codecs: Option<Arc<StateCodecs>>,
 }
 
 impl<C> Default for Builder<C> {
@@ -124,6 +127,7 @@ impl<C> Builder<C> {
                 error: None,
                 ignored: 0,
                 max_depth: DEFAULT_MAX_DEPTH,
+                value_codecs: None,
             }),
         }
     }
@@ -131,6 +135,13 @@ impl<C> Builder<C> {
     /// Sets the deepest tree accepted (the root is at depth 1).
     pub fn max_depth(mut self, limit: u32) -> Self {
         self.s.max_depth = limit;
+        self
+    }
+
+    /// The value types the blueprint's trees save, show and edit their blackboard values
+    /// with: each tree's blackboard gets them ([`Blackboard::codecs`](crate::Blackboard::codecs)).
+    pub fn value_codecs(mut self, codecs: Arc<StateCodecs>) -> Self {
+        self.s.value_codecs = Some(codecs);
         self
     }
 
@@ -634,6 +645,7 @@ impl<C> State<C> {
             aux_slots: aux,
             objects,
             max_depth: self.max_depth,
+            value_codecs: self.value_codecs,
             #[cfg(target_has_atomic = "64")]
             hash: core::sync::atomic::AtomicU64::new(0),
         }
