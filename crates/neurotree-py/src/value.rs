@@ -4,13 +4,15 @@
 //! Rust types, so that built-in nodes and Rust leaves read them as they read any entry; a
 //! `list` or a `dict` is stored as a `serde_json::Value`. Reading goes the other way, and an
 //! entry of any other Rust type comes back as the toolkit's JSON view of it
-//! (`blackboard_json::entry_json`): every integer width, and the registered value types.
+//! (`blackboard_json::entry_json`): every integer width, and the registered value types as
+//! dicts.
 //!
-//! Writing to an existing entry keeps its type where the value converts (an `int` written to
-//! an `f64` entry is stored as a float), as a port's write would; otherwise the write is
-//! refused with the entry's type named.
+//! Writing to an entry that keeps a type of its own converts the value to it through the
+//! type's JSON codec (the blackboard's `set_json_in`): an `int` written to an `f64` entry is
+//! stored as a float, a dict written to a `Pose2D` entry (a type registered with
+//! `Registry::register_value`, as Nav2's are) as a `Pose2D`; a value that does not fit is
+//! refused with the entry's type named. Reading goes through the same codecs.
 
-use std::any::TypeId;
 use std::time::Duration;
 
 use neurotree::blackboard_json::entry_json;
@@ -60,47 +62,37 @@ impl Stored {
         key: &str,
         stamp: Duration,
     ) -> PyResult<()> {
-        let result = match self {
+        let json = self.json();
+        let written = match self {
             Stored::Null => bb.set_untyped_in(scope, key, Value::Null, stamp),
             Stored::Bool(v) => bb.set_untyped_in(scope, key, v, stamp),
-            Stored::Int(v) => write_int(bb, scope, key, v, stamp),
+            Stored::Int(v) => bb.set_untyped_in(scope, key, v, stamp),
             Stored::Float(v) => bb.set_untyped_in(scope, key, v, stamp),
             Stored::Text(v) => bb.set_untyped_in(scope, key, v, stamp),
             Stored::Json(v) => bb.set_untyped_in(scope, key, v, stamp),
         };
-        result.map_err(|e| match e {
-            BlackboardError::WrongType { .. } => PyTypeError::new_err(e.to_string()),
-            other => PyValueError::new_err(other.to_string()),
-        })
+        match written {
+            Ok(()) => Ok(()),
+            // The entry keeps a type of its own (an `f64`, a `u32`, a registered type such as
+            // Nav2's `Pose2D`): the value becomes one through the type's JSON codec.
+            Err(BlackboardError::WrongType { .. }) => bb
+                .set_json_in(scope, key, json, stamp)
+                .map_err(|e| PyTypeError::new_err(e.to_string())),
+            Err(other) => Err(PyValueError::new_err(other.to_string())),
+        }
     }
-}
 
-/// Writes an integer, as the number type an existing entry holds if it is not `i64`.
-fn write_int(
-    bb: &mut Blackboard,
-    scope: ScopeId,
-    key: &str,
-    v: i64,
-    stamp: Duration,
-) -> Result<(), BlackboardError> {
-    let Some(held) = bb.get_any_in(scope, key).map(|any| (*any).type_id()) else {
-        return bb.set_untyped_in(scope, key, v, stamp);
-    };
-    macro_rules! as_held {
-        ($($t:ty),*) => {$(
-            if held == TypeId::of::<$t>() {
-                if let Ok(n) = <$t>::try_from(v) {
-                    return bb.set_in(scope, key, n, stamp);
-                }
-            }
-        )*};
+    /// The value as JSON.
+    fn json(&self) -> Value {
+        match self {
+            Stored::Null => Value::Null,
+            Stored::Bool(v) => Value::Bool(*v),
+            Stored::Int(v) => Value::Number((*v).into()),
+            Stored::Float(v) => Number::from_f64(*v).map_or(Value::Null, Value::Number),
+            Stored::Text(v) => Value::String(v.clone()),
+            Stored::Json(v) => v.clone(),
+        }
     }
-    as_held!(i32, u32, u64, usize, i16, u16, i8, u8, isize);
-    if held == TypeId::of::<f64>() {
-        // An `int` where a float is kept: as Python's own arithmetic would take it.
-        return bb.set_in(scope, key, v as f64, stamp);
-    }
-    bb.set_untyped_in(scope, key, v, stamp)
 }
 
 /// The entry `key` resolves to from `scope`, as a Python value; `None` for an entry declared

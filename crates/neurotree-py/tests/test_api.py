@@ -124,8 +124,8 @@ def test_blackboard_values_go_both_ways() -> None:
         bb[key] = value
     for key, value in values.items():
         assert bb[key] == value
-    bb["f"] = 4  # an int into a float entry is kept a float
-    assert bb["f"] == 4.0 and type(bb["f"]) is float
+    bb["f"] = 4  # a script's entry takes the type written, as in BehaviorTree.CPP
+    assert bb["f"] == 4 and type(bb["f"]) is int
     assert "i" in bb and "nothing" not in bb
     with pytest.raises(KeyError):
         bb["nothing"]
@@ -137,3 +137,39 @@ def test_blackboard_values_go_both_ways() -> None:
     assert "none" not in bb
     assert bb.get("none", 5) == 5
     assert set(bb.to_dict()) == set(bb.keys())
+
+
+def test_an_entry_of_a_declared_type_keeps_it() -> None:
+    reg = nt.Registry()
+    reg.action("Set", ports={"speed": nt.Output(float)})(lambda node, robot: node.output("speed", 1.5) or nt.SUCCESS)
+    tree = reg.load_string('<root BTCPP_format="4"><BehaviorTree ID="M"><Set speed="{speed}"/></BehaviorTree></root>')
+    assert tree.tick_once() is nt.SUCCESS
+    tree.blackboard["speed"] = 2
+    assert tree.blackboard["speed"] == 2.0 and type(tree.blackboard["speed"]) is float
+    with pytest.raises(TypeError, match="speed"):
+        tree.blackboard["speed"] = "fast"
+    assert tree.blackboard["speed"] == 2.0
+
+
+def test_registered_rust_types_are_dicts_both_ways() -> None:
+    reg = nt.Registry()
+    reg.add_nav2()
+    tree = reg.load_string(
+        '<root BTCPP_format="4"><BehaviorTree ID="M">'
+        '<GoalUpdater input_goal="1;2;0.5" output_goal="{goal}"><AlwaysSuccess/></GoalUpdater>'
+        "</BehaviorTree></root>"
+    )
+    assert tree.tick_once() is nt.SUCCESS
+    assert tree.blackboard["goal"] == {"x": 1.0, "y": 2.0, "theta": 0.5}
+    tree.blackboard["goal"] = {"x": 3.0, "y": -1.0, "theta": 0.0}
+    assert tree.blackboard["goal"] == {"x": 3.0, "y": -1.0, "theta": 0.0}
+    with pytest.raises(TypeError, match="Pose2D"):
+        tree.blackboard["goal"] = {"x": "east"}
+    saved = tree.save_state()
+    again = reg.load_string(
+        '<root BTCPP_format="4"><BehaviorTree ID="M">'
+        '<GoalUpdater input_goal="1;2;0.5" output_goal="{goal}"><AlwaysSuccess/></GoalUpdater>'
+        "</BehaviorTree></root>"
+    )
+    again.restore_state(saved)
+    assert again.blackboard["goal"] == {"x": 3.0, "y": -1.0, "theta": 0.0}

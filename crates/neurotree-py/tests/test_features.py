@@ -241,8 +241,12 @@ def test_a_stateful_actions_attributes_are_saved_and_restored() -> None:
     assert resumed.tick_once() is nt.SUCCESS
 
 
-def test_a_dict_on_the_blackboard_is_not_saved_and_the_error_names_it() -> None:
-    tree = nt.Registry().load_string('<root BTCPP_format="4"><BehaviorTree ID="M"><AlwaysSuccess/></BehaviorTree></root>')
-    tree.blackboard["pose"] = {"x": 1.0}
-    with pytest.raises(ValueError, match="pose"):
-        tree.save_state()
+def test_lists_and_dicts_on_the_blackboard_are_saved() -> None:
+    xml = '<root BTCPP_format="4"><BehaviorTree ID="M"><AlwaysSuccess/></BehaviorTree></root>'
+    reg = nt.Registry()
+    tree = reg.load_string(xml)
+    tree.blackboard["pose"] = {"x": 1.0, "tags": ["a", None]}
+    tree.blackboard["n"] = 3
+    again = reg.load_string(xml)
+    again.restore_state(tree.save_state())
+    assert again.blackboard.to_dict() == {"pose": {"x": 1.0, "tags": ["a", None]}, "n": 3}
