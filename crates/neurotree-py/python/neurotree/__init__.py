@@ -183,13 +183,15 @@ class StatefulAction:
     ports: Dict[str, Any] = {}
 
     def on_start(self, node: Node, robot: Any) -> Status:
+        """Called on the tick that starts the action; ``RUNNING`` to go on next tick."""
         return Status.RUNNING
 
     def on_running(self, node: Node, robot: Any) -> Status:
+        """Called on each later tick while the action is Running."""
         return Status.SUCCESS
 
     def on_halted(self, node: Node, robot: Any) -> None:
-        pass
+        """Called once when the action is halted while Running: stop what it started."""
 
     def save_state(self) -> bytes:
         """The instance's state, for ``Tree.save_state()``: by default its attributes,
