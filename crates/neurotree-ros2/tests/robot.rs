@@ -80,9 +80,15 @@ fn navigate(
             })
             .unwrap();
         let options = NavigatorOptions::default();
-        let mut navigator =
-            Navigator::new(&ros, &registry, ROBOT_XML, "deliver.xml", Robot::default(), &options)
-                .unwrap();
+        let mut navigator = Navigator::new(
+            &ros,
+            &registry,
+            ROBOT_XML,
+            "deliver.xml",
+            Robot::default(),
+            &options,
+        )
+        .unwrap();
         tx.send(()).unwrap();
         navigator.run(&stop).unwrap();
         let stats = navigator.stats();
@@ -107,7 +113,10 @@ fn a_navigator_over_the_robots_own_context_runs_its_leaf_between_nav2s_clients()
     // The first goal may go out before the navigator is discovered: send until accepted.
     let until = Instant::now() + Duration::from_secs(10);
     let goal_id = 'sent: loop {
-        assert!(Instant::now() < until, "the navigator did not answer the goal");
+        assert!(
+            Instant::now() < until,
+            "the navigator did not answer the goal"
+        );
         let goal = NavigateToPoseGoal {
             pose: pose_stamped(FAR_END),
             behavior_tree: String::new(),
@@ -125,7 +134,11 @@ fn a_navigator_over_the_robots_own_context_runs_its_leaf_between_nav2s_clients()
     let request = client.request_result(goal_id).unwrap();
     let until = Instant::now() + Duration::from_secs(30);
     let (status, result) = loop {
-        assert!(Instant::now() < until, "no result: {:?}", served.stats.get());
+        assert!(
+            Instant::now() < until,
+            "no result: {:?}",
+            served.stats.get()
+        );
         if let Some(answer) = client.receive_result(request).unwrap() {
             break answer;
         }
@@ -146,8 +159,16 @@ fn a_navigator_over_the_robots_own_context_runs_its_leaf_between_nav2s_clients()
         }
     );
     // One plan, one path followed to its end, by Nav2's clients on the simulated servers.
-    assert_eq!((seen.planner.goals, seen.planner.succeeded), (1, 1), "{seen:?}");
-    assert_eq!((seen.controller.goals, seen.controller.succeeded), (1, 1), "{seen:?}");
+    assert_eq!(
+        (seen.planner.goals, seen.planner.succeeded),
+        (1, 1),
+        "{seen:?}"
+    );
+    assert_eq!(
+        (seen.controller.goals, seen.controller.succeeded),
+        (1, 1),
+        "{seen:?}"
+    );
     assert!(seen.robot.distance(&FAR_END) <= 0.25, "{seen:?}");
     // The robot's leaf ran once after planning and once on arrival, where the pose topic,
     // passed on by the navigator, put the robot.

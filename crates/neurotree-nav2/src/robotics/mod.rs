@@ -26,8 +26,8 @@ pub use navigation::{
     register_navigation, MotionPlanner, NavigationError, NavigationNode, Obstacle, Path, Progress,
 };
 pub use route::{Route, RouteEdge, RouteNode};
-pub use tracking::TrackingFeedback;
 pub use sensor::{register_sensor, SensorData, SensorError, SensorNode, SensorReader, SensorValue};
+pub use tracking::TrackingFeedback;
 
 /// Adds the robotics nodes to a [`Builder`], with their ports bound.
 ///

@@ -8,6 +8,7 @@ use neurotree_sim::nav2::Nav2Sim;
 use neurotree_toolkit::Blackboard;
 
 use super::stats::{ServerCounts, SimStats};
+use crate::msg::geometry_msgs::PoseStamped;
 use crate::msg::nav2_msgs::{
     BackUp, BackUpResult, ComputeAndTrackRoute, ComputeAndTrackRouteFeedback,
     ComputeAndTrackRouteResult, ComputePathThroughPoses, ComputePathThroughPosesResult,
@@ -17,7 +18,6 @@ use crate::msg::nav2_msgs::{
     NavigateThroughPosesResult, SmoothPath, SmoothPathResult, Spin, SpinResult, UndockRobot,
     UndockRobotResult, Wait, WaitResult,
 };
-use crate::msg::geometry_msgs::PoseStamped;
 use crate::nav2::convert::{goals_2d, path_2d, path_msg, pose_2d, route_msg};
 use crate::RosAction;
 

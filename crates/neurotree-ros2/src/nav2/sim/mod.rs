@@ -61,8 +61,8 @@ use crate::msg::geometry_msgs::PoseStamped;
 use crate::msg::nav2_msgs::{
     kilted, main, BackUp, ClearCostmapAroundPose, ClearCostmapAroundRobot,
     ClearCostmapExceptRegion, ClearEntireCostmap, ComputeAndTrackRoute, ComputePathThroughPoses,
-    ComputePathToPose, ComputeRoute, DockRobot, DriveOnHeading, FollowObject, FollowPath,
-    GetCosts, GetCostsRequest, GetCostsResponse, NavigateThroughPoses, SmoothPath, Spin, Toggle,
+    ComputePathToPose, ComputeRoute, DockRobot, DriveOnHeading, FollowObject, FollowPath, GetCosts,
+    GetCostsRequest, GetCostsResponse, NavigateThroughPoses, SmoothPath, Spin, Toggle,
     ToggleRequest, ToggleResponse, UndockRobot, Wait,
 };
 use crate::msg::nav_msgs::Odometry;

@@ -5,8 +5,8 @@ use neurotree_sim::nav2::{register_nav2_checks, Nav2Sim};
 use neurotree_sim::GridWorld;
 use neurotree_toolkit::Registry;
 
-use crate::nav2::{register_navigator_nodes, Navigator, NavigatorContext, NavigatorError};
 use crate::nav2::NavigatorOptions;
+use crate::nav2::{register_navigator_nodes, Navigator, NavigatorContext, NavigatorError};
 use crate::RosNode;
 
 /// The view follows the pose topic.
