@@ -88,3 +88,8 @@ pub use ros2_client;
 pub use ros_node::{
     default_qos, Network, RosActionClient, RosActionServer, RosNode, RosOptions, ServiceMapping,
 };
+
+/// The ROS 2 chapter of the guide, whose examples compile as this crate's doctests.
+#[cfg(doctest)]
+#[doc = include_str!("../../../docs/guide/ros2.md")]
+struct GuideRos2;

@@ -14,7 +14,7 @@
 //! ([`register_navigator_nodes`]) beside the robot's own leaves, which reach the robot
 //! through the context `C` the navigator ticks the tree with. Recoveries are counted by a
 //! [`RecoveryCounter`]: each run of a recovery branch of the tree. With the `sim` feature,
-//! [`Navigator::on_map`] is the navigator of Nav2's own trees: its checks (selectors,
+//! `Navigator::on_map` is the navigator of Nav2's own trees: its checks (selectors,
 //! IsGoalNearby, TruncatePathLocal, ValidatePath, WouldA…RecoveryHelp) run on a view of
 //! the robot on the static map, placed where the pose topic says (Nav2 reads it from TF,
 //! which the bridge does not speak).
