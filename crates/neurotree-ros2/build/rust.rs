@@ -4,7 +4,7 @@
 use std::collections::BTreeMap;
 use std::fmt::Write;
 
-use crate::idl::{Array, Field, FieldType, Interface, Kind, Part};
+use super::idl::{Array, Field, FieldType, Interface, Kind, Part};
 
 /// Where a package's definitions live: the base package, or a release's layouts of it.
 #[derive(Clone, Debug, PartialEq, Eq, PartialOrd, Ord)]

@@ -2,14 +2,19 @@
 //! answers to good and bad files, and the generated types' defaults, constants, traits and
 //! names.
 
-// The build script's reader, compiled again here to be tested; the generator uses all of it.
+// The build script's reader and writer, compiled again here to be tested; the build script
+// uses all of them.
 #[allow(dead_code)]
 #[path = "../../build/idl.rs"]
 mod idl;
+#[allow(dead_code)]
+#[path = "../../build/rust.rs"]
+mod rust;
 
 use std::path::Path;
 
 use idl::{parse, Array, Kind};
+use rust::{generate, Definitions, Origin};
 
 use super::geometry_msgs::Quaternion;
 use super::nav2_msgs::{self, kilted, main, DockRobotGoal, DockRobotResult, SpinResult};
@@ -143,4 +148,101 @@ fn a_releases_part_laid_out_as_the_bases_is_the_bases_type() {
     let feedback: fn(<main::FollowPath as RosAction>::Result) -> nav2_msgs::FollowPathResult =
         |r| r;
     assert_eq!(feedback(Default::default()).error_code, 0);
+}
+
+/// The definitions of `files` (package, release, path, text), as the build script reads them.
+fn definitions(files: &[(&str, Option<&str>, &str, &str)]) -> Definitions {
+    let mut all = Definitions::new();
+    for (package, release, path, text) in files {
+        let kind = match path.rsplit('.').next() {
+            Some("msg") => Kind::Message,
+            Some("srv") => Kind::Service,
+            _ => Kind::Action,
+        };
+        let origin = Origin {
+            package: (*package).to_owned(),
+            release: release.map(str::to_owned),
+        };
+        let interface = parse(Path::new(path), kind, text).unwrap();
+        all.entry(origin).or_default().push(interface);
+    }
+    all
+}
+
+fn origin(package: &str, release: Option<&str>) -> Origin {
+    Origin {
+        package: package.to_owned(),
+        release: release.map(str::to_owned),
+    }
+}
+
+#[test]
+fn the_writer_derives_what_the_fields_allow_and_names_the_ros_2_type() {
+    let all = definitions(&[
+        ("p", None, "p/msg/Stamp.msg", "int32 sec\n"),
+        (
+            "p",
+            None,
+            "p/msg/Reading.msg",
+            "# A reading.\n\nStamp stamp\nfloat32 value 1.5\n",
+        ),
+        ("p", None, "p/msg/Names.msg", "string[] names\n"),
+    ]);
+    let code = generate(&all, &origin("p", None)).unwrap();
+    assert!(code.contains("#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ::serde::Serialize, ::serde::Deserialize)]\npub struct Stamp {"), "{code}");
+    // A default value: `Default` is written, not derived; a float: no `Eq`.
+    assert!(code.contains("#[derive(Clone, Copy, Debug, PartialEq, ::serde::Serialize, ::serde::Deserialize)]\npub struct Reading {"), "{code}");
+    assert!(code.contains("            value: 1.5_f32,"), "{code}");
+    assert!(
+        code.contains("    pub stamp: crate::msg::p::Stamp,"),
+        "{code}"
+    );
+    assert!(
+        code.contains("    pub names: ::std::vec::Vec<::std::string::String>,"),
+        "{code}"
+    );
+    assert!(
+        code.contains("const TYPE: (&'static str, &'static str) = (\"p\", \"Reading\");"),
+        "{code}"
+    );
+}
+
+#[test]
+fn the_writer_shares_a_releases_unchanged_parts_and_refuses_an_unknown_message() {
+    let all = definitions(&[
+        (
+            "p",
+            None,
+            "p/action/Go.action",
+            "float32 x\n---\nuint16 NONE=0\nuint16 code\n---\n",
+        ),
+        (
+            "p",
+            Some("next"),
+            "p/next/action/Go.action",
+            "float32 x\nbool fast\n---\nuint16 NONE=0\nuint16 code\n---\n",
+        ),
+        ("q", None, "q/msg/Bad.msg", "p/Missing thing\n"),
+    ]);
+    let code = generate(&all, &origin("p", Some("next"))).unwrap();
+    assert!(code.contains("pub struct GoGoal {"), "{code}");
+    assert!(
+        code.contains("    type Result = crate::msg::p::GoResult;"),
+        "{code}"
+    );
+    assert!(
+        code.contains("    type Feedback = crate::msg::p::GoFeedback;"),
+        "{code}"
+    );
+    assert!(!code.contains("pub struct GoResult"), "{code}");
+    let base = generate(&all, &origin("p", None)).unwrap();
+    // An empty part has the byte ROS 2 gives it.
+    assert!(
+        base.contains("pub struct GoFeedback {\n    /// Always 0"),
+        "{base}"
+    );
+    assert_eq!(
+        generate(&all, &origin("q", None)).unwrap_err(),
+        "q/msg/Bad.msg: error: no definition of the message `p/Missing`: add its .msg file under interfaces/"
+    );
 }
