@@ -193,10 +193,7 @@ pub fn parse(file: &Path, kind: Kind, text: &str) -> Result<Interface, IdlError>
                 }
                 None => {
                     let part = parts.last_mut().expect("one part at least");
-                    if part.fields.is_empty() && part.constants.is_empty() && part.doc.is_empty() {
-                        part.doc = std::mem::take(&mut pending);
-                    }
-                    pending.clear();
+                    end_paragraph(&mut pending, part);
                 }
             }
             continue;
@@ -236,6 +233,15 @@ pub fn parse(file: &Path, kind: Kind, text: &str) -> Result<Interface, IdlError>
         doc,
         parts,
     })
+}
+
+/// A blank line ends a comment paragraph: the part's doc if nothing came before it in the
+/// part, else nobody's.
+fn end_paragraph(pending: &mut Vec<String>, part: &mut Part) {
+    if part.fields.is_empty() && part.constants.is_empty() && part.doc.is_empty() {
+        part.doc = std::mem::take(pending);
+    }
+    pending.clear();
 }
 
 /// The code of a line and its comment, if any.

@@ -157,23 +157,10 @@ fn write_struct(
 ) -> Result<(), String> {
     let traits = part_traits(all, origin, part, file)?;
     let defaults = part.fields.iter().any(|f| f.default.is_some());
-    let mut derives = vec!["Clone"];
-    if traits.copy {
-        derives.push("Copy");
-    }
-    derives.push("Debug");
-    if !defaults {
-        derives.push("Default");
-    }
-    derives.push("PartialEq");
-    if traits.eq {
-        derives.push("Eq");
-    }
-    derives.extend(["::serde::Serialize", "::serde::Deserialize"]);
     writeln!(
         out,
         "#[doc = {doc:?}]\n#[derive({})]\npub struct {name} {{",
-        derives.join(", ")
+        derives(traits, !defaults)
     )
     .unwrap();
     if part.fields.is_empty() {
@@ -191,42 +178,73 @@ fn write_struct(
         .unwrap();
     }
     out.push_str("}\n\n");
-    if !part.constants.is_empty() {
-        writeln!(out, "impl {name} {{").unwrap();
-        for constant in &part.constants {
-            let (ty, value) = constant_rust(&constant.ty, &constant.value)
-                .map_err(|m| format!("{file}: error: the constant `{}` {m}", constant.name))?;
-            let doc = if constant.doc.is_empty() {
-                format!("`{}`.", constant.name)
-            } else {
-                constant.doc.join("\n")
-            };
-            writeln!(
-                out,
-                "    #[doc = {doc:?}]\n    pub const {}: {ty} = {value};",
-                constant.name
-            )
-            .unwrap();
-        }
-        out.push_str("}\n\n");
-    }
+    write_constants(out, name, part, file)?;
     if defaults {
-        writeln!(
-            out,
-            "impl ::core::default::Default for {name} {{\n    /// The definition's default values.\n    fn default() -> Self {{\n        Self {{"
-        )
-        .unwrap();
-        for field in &part.fields {
-            let value = match &field.default {
-                Some(value) => default_rust(&field.ty.base, value)
-                    .map_err(|m| format!("{file}: error: the default of `{}` {m}", field.name))?,
-                None => "::core::default::Default::default()".to_owned(),
-            };
-            writeln!(out, "            {}: {value},", field.name).unwrap();
-        }
-        out.push_str("        }\n    }\n}\n\n");
+        write_default(out, name, part, file)?;
     }
     writeln!(out, "impl ::ros2_client::Message for {name} {{}}\n").unwrap();
+    Ok(())
+}
+
+/// The derives a struct's fields allow; `Default` unless the definition gives defaults.
+fn derives(traits: Traits, default: bool) -> String {
+    let mut derives = vec!["Clone"];
+    if traits.copy {
+        derives.push("Copy");
+    }
+    derives.push("Debug");
+    if default {
+        derives.push("Default");
+    }
+    derives.push("PartialEq");
+    if traits.eq {
+        derives.push("Eq");
+    }
+    derives.extend(["::serde::Serialize", "::serde::Deserialize"]);
+    derives.join(", ")
+}
+
+/// The part's constants, as associated constants of its struct.
+fn write_constants(out: &mut String, name: &str, part: &Part, file: &str) -> Result<(), String> {
+    if part.constants.is_empty() {
+        return Ok(());
+    }
+    writeln!(out, "impl {name} {{").unwrap();
+    for constant in &part.constants {
+        let (ty, value) = constant_rust(&constant.ty, &constant.value)
+            .map_err(|m| format!("{file}: error: the constant `{}` {m}", constant.name))?;
+        let doc = if constant.doc.is_empty() {
+            format!("`{}`.", constant.name)
+        } else {
+            constant.doc.join("\n")
+        };
+        writeln!(
+            out,
+            "    #[doc = {doc:?}]\n    pub const {}: {ty} = {value};",
+            constant.name
+        )
+        .unwrap();
+    }
+    out.push_str("}\n\n");
+    Ok(())
+}
+
+/// `Default` with the definition's default values, the type's own for the other fields.
+fn write_default(out: &mut String, name: &str, part: &Part, file: &str) -> Result<(), String> {
+    writeln!(
+        out,
+        "impl ::core::default::Default for {name} {{\n    /// The definition's default values.\n    fn default() -> Self {{\n        Self {{"
+    )
+    .unwrap();
+    for field in &part.fields {
+        let value = match &field.default {
+            Some(value) => default_rust(&field.ty.base, value)
+                .map_err(|m| format!("{file}: error: the default of `{}` {m}", field.name))?,
+            None => "::core::default::Default::default()".to_owned(),
+        };
+        writeln!(out, "            {}: {value},", field.name).unwrap();
+    }
+    out.push_str("        }\n    }\n}\n\n");
     Ok(())
 }
 

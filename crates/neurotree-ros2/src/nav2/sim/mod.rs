@@ -32,6 +32,7 @@
 mod actions;
 mod clearings;
 mod layouts;
+mod roster;
 mod served;
 mod services;
 mod stats;
@@ -49,21 +50,17 @@ use neurotree_toolkit::Registry;
 use ros2_client::service::Server;
 use ros2_client::{Publisher, Subscription};
 
-use self::clearings::{Clearings, ServeClearings};
-use self::served::{Served, Serving};
+use self::clearings::ServeClearings;
+use self::roster::{clearing_servers, motion_servers, planning_servers};
+use self::served::Serving;
 use self::services::{serve_costs, serve_switches};
-use self::teleop::Teleop;
 use self::topics::{battery_state, odometry};
 use super::convert::{pose_2d, pose_stamped};
 use super::navigator::{NavigatorError, ROBOT_POSE_TOPIC};
 use super::GET_COST_GLOBAL_COSTMAP;
 use crate::msg::geometry_msgs::PoseStamped;
 use crate::msg::nav2_msgs::{
-    kilted, main, BackUp, ClearCostmapAroundPose, ClearCostmapAroundRobot,
-    ClearCostmapExceptRegion, ClearEntireCostmap, ComputeAndTrackRoute, ComputePathThroughPoses,
-    ComputePathToPose, ComputeRoute, DockRobot, DriveOnHeading, FollowObject, FollowPath, GetCosts,
-    GetCostsRequest, GetCostsResponse, NavigateThroughPoses, SmoothPath, Spin, Toggle,
-    ToggleRequest, ToggleResponse, UndockRobot, Wait,
+    GetCosts, GetCostsRequest, GetCostsResponse, Toggle, ToggleRequest, ToggleResponse,
 };
 use crate::msg::nav_msgs::Odometry;
 use crate::msg::sensor_msgs::BatteryState;
@@ -143,112 +140,9 @@ impl SimServers {
             1.0
         };
         let wall_period = sim.params.period.div_f64(scale);
-        let jazzy = options.release == Nav2Release::Jazzy;
-        let through_poses = "compute_path_through_poses";
-        let planning: Vec<Box<dyn Serving>> = vec![
-            if options.release == Nav2Release::Main {
-                Box::new(Served::<main::ComputePathToPose>::new(
-                    ros,
-                    "compute_path_to_pose",
-                    &registry,
-                )?)
-            } else {
-                Box::new(Served::<ComputePathToPose>::new(
-                    ros,
-                    "compute_path_to_pose",
-                    &registry,
-                )?)
-            },
-            if jazzy {
-                Box::new(Served::<ComputePathThroughPoses>::new(
-                    ros,
-                    through_poses,
-                    &registry,
-                )?)
-            } else {
-                Box::new(Served::<kilted::ComputePathThroughPoses>::new(
-                    ros,
-                    through_poses,
-                    &registry,
-                )?)
-            },
-            Box::new(Served::<SmoothPath>::new(ros, "smooth_path", &registry)?),
-            Box::new(Served::<ComputeRoute>::new(
-                ros,
-                "compute_route",
-                &registry,
-            )?),
-            Box::new(Served::<ComputeAndTrackRoute>::new(
-                ros,
-                "compute_and_track_route",
-                &registry,
-            )?),
-        ];
-        let behaviors: [Box<dyn Serving>; 3] = if jazzy {
-            [
-                Box::new(Served::<Spin>::new(ros, "spin", &registry)?),
-                Box::new(Served::<BackUp>::new(ros, "backup", &registry)?),
-                Box::new(Served::<DriveOnHeading>::new(
-                    ros,
-                    "drive_on_heading",
-                    &registry,
-                )?),
-            ]
-        } else {
-            [
-                Box::new(Served::<kilted::Spin>::new(ros, "spin", &registry)?),
-                Box::new(Served::<kilted::BackUp>::new(ros, "backup", &registry)?),
-                Box::new(Served::<kilted::DriveOnHeading>::new(
-                    ros,
-                    "drive_on_heading",
-                    &registry,
-                )?),
-            ]
-        };
-        let [spin, backup, drive_on_heading] = behaviors;
-        let motions: Vec<Box<dyn Serving>> = vec![
-            if options.release == Nav2Release::Main {
-                Box::new(Served::<main::FollowPath>::new(
-                    ros,
-                    "follow_path",
-                    &registry,
-                )?)
-            } else {
-                Box::new(Served::<FollowPath>::new(ros, "follow_path", &registry)?)
-            },
-            spin,
-            backup,
-            drive_on_heading,
-            Box::new(Served::<Wait>::new(ros, "wait", &registry)?),
-            Box::new(Served::<DockRobot>::new(ros, "dock_robot", &registry)?),
-            Box::new(Served::<UndockRobot>::new(ros, "undock_robot", &registry)?),
-            Box::new(Served::<NavigateThroughPoses>::new(
-                ros,
-                "navigate_through_poses",
-                &registry,
-            )?),
-            Box::new(Served::<FollowObject>::new(
-                ros,
-                "follow_object",
-                &registry,
-            )?),
-            Box::new(Teleop::new(ros)?),
-        ];
-        let clearings = if options.release == Nav2Release::Main {
-            Clearings::<
-                main::ClearEntireCostmap,
-                main::ClearCostmapAroundRobot,
-                main::ClearCostmapExceptRegion,
-                main::ClearCostmapAroundPose,
-            >::both(ros)?
-        } else {
-            Clearings::<
-                ClearEntireCostmap,
-                ClearCostmapAroundRobot,
-                ClearCostmapExceptRegion,
-                ClearCostmapAroundPose,
-            >::both(ros)?
-        };
+        let planning = planning_servers(ros, &registry, options.release)?;
+        let motions = motion_servers(ros, &registry, options.release)?;
+        let clearings = clearing_servers(ros, options.release)?;
         let stats = SimStatsHandle::default();
         stats.lock().collision_monitor = sim.collision_monitor();
         let servers = Self {
