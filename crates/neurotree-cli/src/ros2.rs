@@ -232,7 +232,7 @@ pub fn navigator(
         release,
         ..NavigatorOptions::default()
     };
-    let mut navigator = match Navigator::new(&ros, &xml, &file, map, &options) {
+    let mut navigator = match Navigator::on_map(&ros, &xml, &file, map, &options) {
         Ok(navigator) => navigator,
         Err(e) => {
             eprintln!("error: {e}");

@@ -78,6 +78,7 @@
 #![warn(missing_docs)]
 
 mod distance_controller;
+mod event_log;
 mod global_updated_goal;
 mod goal_updated;
 mod goal_updated_controller;
@@ -89,6 +90,7 @@ mod pause_resume_controller;
 mod persistent_sequence;
 mod pipeline_sequence;
 mod rate_controller;
+mod recoveries;
 mod recovery_node;
 mod release;
 pub mod robotics;
@@ -101,6 +103,7 @@ mod testing;
 use std::any::Any;
 
 pub use distance_controller::{DistanceController, ROBOT_POSE};
+pub use event_log::EventLog;
 pub use global_updated_goal::GlobalUpdatedGoal;
 pub use goal_updated::GoalUpdated;
 pub use goal_updated_controller::GoalUpdatedController;
@@ -111,6 +114,7 @@ pub use pause_resume_controller::{PauseResumeController, PauseState};
 pub use persistent_sequence::PersistentSequence;
 pub use pipeline_sequence::PipelineSequence;
 pub use rate_controller::RateController;
+pub use recoveries::RecoveryCounter;
 pub use recovery_node::RecoveryNode;
 pub use release::{
     register_release, Nav2Release, UnknownRelease, NAV2_JAZZY_TREE_NODES_MODEL,

@@ -41,17 +41,3 @@ pub trait RosAction: Send + Sync + 'static {
     /// Package and type name: `("nav2_msgs", "Spin")` for `nav2_msgs/action/Spin`.
     const TYPE: (&'static str, &'static str);
 }
-
-/// Declares message types: `Message` and [`RosMessage`] with the package `$pkg`, each type
-/// named as its Rust struct.
-macro_rules! messages {
-    ($pkg:literal: $($ty:ident),+ $(,)?) => {
-        $(
-            impl ros2_client::Message for $ty {}
-            impl $crate::RosMessage for $ty {
-                const TYPE: (&'static str, &'static str) = ($pkg, stringify!($ty));
-            }
-        )+
-    };
-}
-pub(crate) use messages;

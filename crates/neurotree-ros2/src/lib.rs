@@ -9,7 +9,7 @@
 //! | [`RosServiceNode`] | service client: Running until the response |
 //! | [`RosTopicSubNode`] | subscription as a condition; [`LatestMessage`] puts the newest message on the blackboard |
 //! | [`RosTopicPubNode`] | publisher as an action |
-//! | [`nav2`] | Nav2 over ROS 2: the navigator's ROS leaves, a [`Navigator`](nav2::Navigator) serving `navigate_to_pose`, and [`SimServers`](nav2::SimServers), the grid world as Nav2's servers |
+//! | [`nav2`] | Nav2 over ROS 2: the navigator's ROS leaves, a [`Navigator`](nav2::Navigator) serving `navigate_to_pose` over the program's own context and leaves, and (feature `sim`) `SimServers`, the grid world as Nav2's servers |
 //! | [`msg`] | `builtin_interfaces`, `std_msgs`, `geometry_msgs`, `nav_msgs` and `nav2_msgs` types with their ROS 2 names |
 //!
 //! Each node is generic over its messages through a small trait ([`ActionSpec`],
@@ -88,3 +88,8 @@ pub use ros2_client;
 pub use ros_node::{
     default_qos, Network, RosActionClient, RosActionServer, RosNode, RosOptions, ServiceMapping,
 };
+
+/// The ROS 2 chapter of the guide, whose examples compile as this crate's doctests.
+#[cfg(doctest)]
+#[doc = include_str!("../../../docs/guide/ros2.md")]
+struct GuideRos2;

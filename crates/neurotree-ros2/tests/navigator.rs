@@ -91,7 +91,7 @@ fn navigator(domain: u16) -> Running {
     let (tx, rx) = mpsc::channel();
     let thread = std::thread::spawn(move || {
         let ros = node("bt_navigator", domain);
-        let mut navigator = Navigator::new(
+        let mut navigator = Navigator::on_map(
             &ros,
             NAVIGATOR_XML,
             "navigate_to_pose_w_replanning_and_recovery.xml",
@@ -289,7 +289,7 @@ fn the_navigator_loads_every_node_type_of_nav2_main_and_refuses_an_unknown_one_b
            </Sequence>"#,
     );
     let options = NavigatorOptions::default();
-    assert!(Navigator::new(&ros, &known, "known.xml", hall(None), &options).is_ok());
+    assert!(Navigator::on_map(&ros, &known, "known.xml", hall(None), &options).is_ok());
     // Every node type of Nav2 main loads in the navigator.
     let model = neurotree_nav2::NAV2_TREE_NODES_MODEL;
     let mut missing = Vec::new();
@@ -299,7 +299,7 @@ fn the_navigator_loads_every_node_type_of_nav2_main_and_refuses_an_unknown_one_b
         .filter_map(|r| r.split('"').next())
     {
         let one = tree(&format!("<{name}/>"));
-        if let Err(e) = Navigator::new(&ros, &one, "one.xml", hall(None), &options) {
+        if let Err(e) = Navigator::on_map(&ros, &one, "one.xml", hall(None), &options) {
             if e.to_string().contains("unknown node type") {
                 missing.push(name.to_owned());
             }
@@ -307,7 +307,7 @@ fn the_navigator_loads_every_node_type_of_nav2_main_and_refuses_an_unknown_one_b
     }
     assert_eq!(missing, Vec::<String>::new());
     let unknown = tree(r#"<DockRobotTwice dock_id="home"/>"#);
-    let Err(error) = Navigator::new(&ros, &unknown, "dock.xml", hall(None), &options) else {
+    let Err(error) = Navigator::on_map(&ros, &unknown, "dock.xml", hall(None), &options) else {
         panic!("a node type Nav2 does not have loaded");
     };
     assert!(

@@ -4,7 +4,8 @@
 //!   publish on the blackboard);
 //! - [`navigation`]: the [`MotionPlanner`] trait and the navigation node (plan, follow,
 //!   replan when blocked, stop when halted), with [`Path`] and [`Obstacle`];
-//! - [`route`]: a [`Route`] on a route graph, as Nav2's route server gives it.
+//! - [`route`]: a [`Route`] on a route graph, as Nav2's route server gives it;
+//! - [`TrackingFeedback`]: how the robot tracks its path, as Nav2's controller reports it.
 //!
 //! Everything here is plain data and traits, so the same nodes drive a real robot or the
 //! simulated one of `neurotree::sim`. Nodes reach the robot through the user's context:
@@ -15,6 +16,7 @@
 pub mod navigation;
 pub mod route;
 pub mod sensor;
+mod tracking;
 
 use core::fmt;
 
@@ -25,6 +27,7 @@ pub use navigation::{
 };
 pub use route::{Route, RouteEdge, RouteNode};
 pub use sensor::{register_sensor, SensorData, SensorError, SensorNode, SensorReader, SensorValue};
+pub use tracking::TrackingFeedback;
 
 /// Adds the robotics nodes to a [`Builder`], with their ports bound.
 ///

@@ -1,28 +1,6 @@
 //! `builtin_interfaces`: time stamps and durations.
 
-use serde::{Deserialize, Serialize};
-
-use crate::interface::messages;
-
-/// `builtin_interfaces/msg/Time`: a point in time, seconds and nanoseconds since the epoch.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
-pub struct Time {
-    /// Whole seconds.
-    pub sec: i32,
-    /// Nanoseconds, below 1e9.
-    pub nanosec: u32,
-}
-
-/// `builtin_interfaces/msg/Duration`: a span of time, seconds and nanoseconds.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
-pub struct Duration {
-    /// Whole seconds.
-    pub sec: i32,
-    /// Nanoseconds, below 1e9.
-    pub nanosec: u32,
-}
-
-messages!("builtin_interfaces": Time, Duration);
+include!(concat!(env!("OUT_DIR"), "/builtin_interfaces.rs"));
 
 impl From<core::time::Duration> for Duration {
     /// Saturates at `i32::MAX` seconds.

@@ -15,10 +15,16 @@ pub(crate) trait ClearLayout: RosService {
     /// The request; the fields the layout lacks are left out.
     fn request(pose: PoseStamped, reset_distance: f64, plugins: Vec<String>) -> Self::Request;
     /// The square's side, in metres (0 without a square).
+    // The servers' side: the simulated servers read requests and answer.
+    #[cfg_attr(not(feature = "sim"), allow(dead_code))]
     fn reset_distance(request: &Self::Request) -> f64;
     /// The square's centre, when the request gives one.
+    // The servers' side: the simulated servers read requests and answer.
+    #[cfg_attr(not(feature = "sim"), allow(dead_code))]
     fn pose(request: &Self::Request) -> Option<&PoseStamped>;
     /// The answer: `cleared` where the layout can say it.
+    // The servers' side: the simulated servers read requests and answer.
+    #[cfg_attr(not(feature = "sim"), allow(dead_code))]
     fn response(cleared: bool) -> Self::Response;
     /// Whether the answer says the costmap was cleared (always, in the older layouts).
     fn cleared(response: &Self::Response) -> bool;
@@ -109,10 +115,10 @@ impl ClearLayout for main::ClearEntireCostmap {
     fn pose(_: &Self::Request) -> Option<&PoseStamped> {
         None
     }
-    fn response(cleared: bool) -> main::ClearResponse {
-        main::ClearResponse { success: cleared }
+    fn response(cleared: bool) -> Self::Response {
+        Self::Response { success: cleared }
     }
-    fn cleared(response: &main::ClearResponse) -> bool {
+    fn cleared(response: &Self::Response) -> bool {
         response.success
     }
 }
@@ -135,10 +141,10 @@ macro_rules! main_square {
             fn pose(_: &Self::Request) -> Option<&PoseStamped> {
                 None
             }
-            fn response(cleared: bool) -> main::ClearResponse {
-                main::ClearResponse { success: cleared }
+            fn response(cleared: bool) -> Self::Response {
+                Self::Response { success: cleared }
             }
-            fn cleared(response: &main::ClearResponse) -> bool {
+            fn cleared(response: &Self::Response) -> bool {
                 response.success
             }
         }
@@ -164,10 +170,10 @@ impl ClearLayout for main::ClearCostmapAroundPose {
     fn pose(request: &Self::Request) -> Option<&PoseStamped> {
         Some(&request.pose)
     }
-    fn response(cleared: bool) -> main::ClearResponse {
-        main::ClearResponse { success: cleared }
+    fn response(cleared: bool) -> Self::Response {
+        Self::Response { success: cleared }
     }
-    fn cleared(response: &main::ClearResponse) -> bool {
+    fn cleared(response: &Self::Response) -> bool {
         response.success
     }
 }

@@ -1,21 +1,23 @@
 //! [`Navigator`]: Nav2's BT navigator, the `navigate_to_pose` action server that runs a
-//! behavior tree for each goal.
+//! behavior tree for each goal, over the program's own context and registry.
 //!
 //! | event | what the navigator does |
 //! |---|---|
 //! | goal | accepts it, writes the pose to the blackboard entry `goal`, resets `compute_path_error_code` and `follow_path_error_code` to 0, and ticks the tree every period |
 //! | goal while one runs | the new goal preempts the old one (Aborted); the tree keeps running and sees the new `goal` (GoalUpdated) |
-//! | each period | publishes feedback: the robot's pose, navigation time, metres left along `{path}`, the recoveries of this goal |
+//! | each period | gives the robot's pose from the pose topic to the context ([`NavigatorContext::set_robot_pose`]) and to the blackboard entry `robot_pose` (where Nav2's DistanceController reads it), ticks, publishes feedback: the robot's pose, navigation time, metres left along `{path}`, the recoveries of this goal |
 //! | tree Success | the goal Succeeded, error code 0 |
 //! | tree Failure, or a tick error | the goal Aborted, error code UNKNOWN (9000) and the reason |
 //! | cancel | halts the tree (every Running action node cancels its own goal on its server), the goal Canceled |
 //!
-//! The tree's ROS leaves are those of [`register_nav2_ros_leaves_for`] the options' release; its control nodes are
-//! Nav2's ([`neurotree_nav2::register_controls`]); its checks (selectors, IsGoalNearby,
-//! TruncatePathLocal, ValidatePath, WouldA…RecoveryHelp) run on the navigator's own view of
-//! the robot, a [`Nav2Sim`] over the static map whose robot is placed where the pose topic
-//! says (Nav2 reads it from TF, which the bridge does not speak). Recoveries are counted
-//! by a [`RecoveryCounter`]: each run of a recovery branch of the tree.
+//! The tree loads from the program's [`Registry`]: Nav2's control nodes and ROS 2 clients
+//! ([`register_navigator_nodes`]) beside the robot's own leaves, which reach the robot
+//! through the context `C` the navigator ticks the tree with. Recoveries are counted by a
+//! [`RecoveryCounter`]: each run of a recovery branch of the tree. With the `sim` feature,
+//! `Navigator::on_map` is the navigator of Nav2's own trees: its checks (selectors,
+//! IsGoalNearby, TruncatePathLocal, ValidatePath, WouldA…RecoveryHelp) run on a view of
+//! the robot on the static map, placed where the pose topic says (Nav2 reads it from TF,
+//! which the bridge does not speak).
 //!
 //! No tick waits on the network: [`Navigator::spin_once`] polls and ticks once, and
 //! [`Navigator::run`] calls it at a fixed rate (10 Hz by default).
@@ -25,9 +27,7 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use neurotree_nav2::robotics::{Path, Pose2D};
-use neurotree_nav2::Nav2Release;
-use neurotree_sim::nav2::{register_nav2_checks, Nav2Sim, RecoveryCounter};
-use neurotree_sim::GridWorld;
+use neurotree_nav2::{Nav2Release, RecoveryCounter, ROBOT_POSE};
 use neurotree_toolkit::{LoadError, Registry, RegistryError, Status, Tree, XmlLoader};
 use ros2_client::action::GoalStatusEnum;
 use ros2_client::Subscription;
@@ -56,7 +56,7 @@ pub enum NavigatorError {
     /// The tree did not load; the message reads `file:line:col: error: …`.
     #[error(transparent)]
     Load(#[from] LoadError),
-    /// A node type was registered twice (a bug in this module).
+    /// A node type was registered twice: the program's leaf has the name of one of Nav2's.
     #[error("registering the navigator's nodes: {0}")]
     Registry(#[from] RegistryError),
 }
@@ -107,33 +107,77 @@ pub struct NavigatorStats {
     pub canceled: u32,
 }
 
-/// Nav2's BT navigator over ROS 2; see the [module](crate::nav2).
-pub struct Navigator {
+/// Registers what every Nav2 navigator tree needs beside the robot's own leaves: Nav2's
+/// control nodes ([`neurotree_nav2::register_controls`]) and its leaves that call servers,
+/// services and topics, as ROS 2 clients on `ros` speaking `release`'s layouts
+/// ([`register_nav2_ros_leaves_for`]). Fails if one of the names is taken.
+pub fn register_navigator_nodes<C: 'static>(
+    registry: &mut Registry<C>,
+    ros: &RosNode,
+    release: Nav2Release,
+) -> Result<(), RegistryError> {
+    neurotree_nav2::register_controls(registry)?;
+    register_nav2_ros_leaves_for(registry, ros, release)
+}
+
+/// What a [`Navigator`] tells the program's context between ticks.
+///
+/// ```
+/// use neurotree_ros2::nav2::NavigatorContext;
+/// use neurotree_nav2::robotics::Pose2D;
+///
+/// /// A robot whose leaves want to know where it is.
+/// #[derive(Default)]
+/// struct Robot {
+///     at: Pose2D,
+/// }
+///
+/// impl NavigatorContext for Robot {
+///     fn set_robot_pose(&mut self, pose: Pose2D) {
+///         self.at = pose;
+///     }
+/// }
+/// ```
+pub trait NavigatorContext: 'static {
+    /// The robot's pose in the map frame, as it came on the pose topic, before the tick
+    /// that follows. The default ignores it: the navigator also writes it to the
+    /// blackboard entry `robot_pose`.
+    fn set_robot_pose(&mut self, pose: Pose2D) {
+        let _ = pose;
+    }
+}
+
+/// A context with nothing in it, for trees made of Nav2's nodes alone.
+impl NavigatorContext for () {}
+
+/// Nav2's BT navigator over ROS 2, ticking its tree with the program's context `C`; see
+/// the [module](crate::nav2).
+pub struct Navigator<C: NavigatorContext> {
     goals: GoalServer<NavigateToPose>,
     poses: Subscription<PoseStamped>,
-    tree: Tree<Nav2Sim>,
-    view: Nav2Sim,
+    tree: Tree<C>,
+    context: C,
+    /// Where the robot is, from the pose topic.
+    pub(super) robot: Pose2D,
     recoveries: RecoveryCounter,
     navigation: Option<Navigation>,
     period: Duration,
     stats: NavigatorStats,
 }
 
-impl Navigator {
-    /// A navigator on `ros` that runs the main tree of `xml` (named `file` in messages)
-    /// over `map` (the static map; its robot is moved by the pose topic).
+impl<C: NavigatorContext> Navigator<C> {
+    /// A navigator on `ros` that runs the main tree of `xml` (named `file` in messages),
+    /// loaded with `registry`, over `context`. The registry usually holds
+    /// [`register_navigator_nodes`] and the robot's own leaves.
     pub fn new(
         ros: &RosNode,
+        registry: &Registry<C>,
         xml: &str,
         file: &str,
-        map: GridWorld,
+        context: C,
         options: &NavigatorOptions,
     ) -> Result<Self, NavigatorError> {
-        let mut registry = Registry::<Nav2Sim>::new();
-        neurotree_nav2::register_controls(&mut registry)?;
-        register_nav2_checks(&mut registry)?;
-        register_nav2_ros_leaves_for(&mut registry, ros, options.release)?;
-        let mut loader = XmlLoader::new(&registry);
+        let mut loader = XmlLoader::new(registry);
         loader.load_str(xml, file)?;
         let blueprint = Arc::new(loader.build_main()?);
         let recoveries = RecoveryCounter::new(&blueprint);
@@ -145,12 +189,29 @@ impl Navigator {
             goals: GoalServer::new(ros, &options.action_name)?,
             poses: ros.subscription(&options.pose_topic)?,
             tree,
-            view: Nav2Sim::new(map),
+            context,
+            robot: Pose2D::default(),
             recoveries,
             navigation: None,
             period: options.period,
             stats: NavigatorStats::default(),
         })
+    }
+
+    /// The context the tree runs with.
+    pub fn context(&self) -> &C {
+        &self.context
+    }
+
+    /// The context the tree runs with, to change between ticks.
+    pub fn context_mut(&mut self) -> &mut C {
+        &mut self.context
+    }
+
+    /// Where the robot is: the last pose of the pose topic (the origin before the first,
+    /// unless the constructor knew better).
+    pub fn robot_pose(&self) -> Pose2D {
+        self.robot
     }
 
     /// Time between ticks.
@@ -169,7 +230,7 @@ impl Navigator {
     }
 
     /// The navigator's tree, for what watches it from outside (the studio).
-    pub fn tree_mut(&mut self) -> &mut Tree<Nav2Sim> {
+    pub fn tree_mut(&mut self) -> &mut Tree<C> {
         &mut self.tree
     }
 
@@ -194,20 +255,23 @@ impl Navigator {
             latest = Some(pose);
         }
         if let Some(pose) = latest {
-            // A pose off the map is the simulator's mistake; keep the last good one.
-            let _ = self.view.world.set_robot(pose_2d(&pose));
+            self.robot = pose_2d(&pose);
+            self.context.set_robot_pose(self.robot);
         }
         for request in self.goals.poll()? {
             match request {
                 Request::Goal(goal) => self.start(pose_2d(&goal.pose), &goal.behavior_tree),
                 Request::Cancel => {
-                    self.tree.halt(&mut self.view);
+                    self.tree.halt(&mut self.context);
                     self.end(GoalStatusEnum::Canceled, 0, String::new());
                 }
             }
         }
         if self.navigation.is_some() {
-            match self.tree.tick_once(&mut self.view) {
+            // Set before each tick, as TF is there for Nav2's nodes; an entry the tree
+            // writes as something else is the tree's to report.
+            let _ = self.tree.blackboard_mut().set(ROBOT_POSE, self.robot);
+            match self.tree.tick_once(&mut self.context) {
                 Ok(Status::Running) => self.send_feedback(),
                 Ok(Status::Success) => self.end(GoalStatusEnum::Succeeded, 0, String::new()),
                 Ok(status) => self.end(
@@ -216,7 +280,7 @@ impl Navigator {
                     format!("the navigator's tree ended {status}"),
                 ),
                 Err(e) => {
-                    self.tree.halt(&mut self.view);
+                    self.tree.halt(&mut self.context);
                     self.end(
                         GoalStatusEnum::Aborted,
                         NavigateToPoseResult::UNKNOWN,
@@ -242,14 +306,14 @@ impl Navigator {
                 next = now;
             }
         }
-        self.tree.halt(&mut self.view);
+        self.tree.halt(&mut self.context);
         Ok(())
     }
 
     fn start(&mut self, goal: Pose2D, behavior_tree: &str) {
         self.stats.goals += 1;
         if !behavior_tree.is_empty() {
-            self.tree.halt(&mut self.view);
+            self.tree.halt(&mut self.context);
             self.navigation = Some(Navigation {
                 goal,
                 started: Instant::now(),
@@ -287,7 +351,7 @@ impl Navigator {
         let Some(navigation) = &self.navigation else {
             return;
         };
-        let robot = self.view.world.robot();
+        let robot = self.robot;
         let path = self.tree.blackboard().get::<Path>("path").ok();
         let remaining = distance_remaining(path.as_ref(), robot, navigation.goal);
         let recoveries = self.recoveries.total() - navigation.recoveries_before;

@@ -133,7 +133,6 @@ pub mod path_checks;
 pub mod planner;
 mod ports;
 pub mod poses;
-mod recoveries;
 pub mod recovery_help;
 pub mod route;
 pub mod selectors;
@@ -144,13 +143,12 @@ mod testing;
 pub mod through_poses;
 pub mod tracking;
 
-use std::sync::{Arc, Mutex, MutexGuard};
 use std::time::Duration;
 
 pub use controller::TrackingFeedback;
 pub use docking::Dock;
 pub use failures::FailureNotes;
-pub use recoveries::RecoveryCounter;
+pub use neurotree_nav2::{EventLog, RecoveryCounter};
 pub use route::RouteGraph;
 
 use super::{GridWorld, MotionStatus};
@@ -415,37 +413,6 @@ pub(super) fn angle_between(from: f64, to: f64) -> f64 {
         d - std::f64::consts::TAU
     } else {
         d
-    }
-}
-
-/// Lines of what happened, in order, written by the leaves ([`Nav2Sim::with_log`]), by
-/// a [`RecoveryCounter`] ([`RecoveryCounter::with_log`]) and by a [`FailureNotes`], and
-/// read by a view. Clones share
-/// the lines.
-#[derive(Clone, Debug, Default)]
-pub struct EventLog {
-    lines: Arc<Mutex<Vec<String>>>,
-}
-
-impl EventLog {
-    /// An empty log.
-    pub fn new() -> Self {
-        Self::default()
-    }
-
-    /// Adds a line.
-    pub fn push(&self, line: String) {
-        self.lock().push(line);
-    }
-
-    /// The lines written since the last call.
-    pub fn take(&self) -> Vec<String> {
-        std::mem::take(&mut *self.lock())
-    }
-
-    fn lock(&self) -> MutexGuard<'_, Vec<String>> {
-        // Whole lines only: still readable if a writer panicked.
-        self.lines.lock().unwrap_or_else(|e| e.into_inner())
     }
 }
 

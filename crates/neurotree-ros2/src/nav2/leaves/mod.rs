@@ -83,7 +83,7 @@ use crate::msg::std_srvs::{Empty as EmptyService, EmptyRequest, EmptyResponse};
 use crate::{
     ActionError, ActionSpec, RosAction, RosActionNode, RosNode, RosServiceNode, ServiceSpec,
 };
-use neurotree_sim::nav2::TrackingFeedback;
+use neurotree_nav2::robotics::TrackingFeedback;
 
 /// The global costmap's cost service, where CheckPoseOccupancy and RemoveInCollisionGoals
 /// ask by default (Nav2's `get_cost_` service of the costmap `global_costmap`).

@@ -5,7 +5,7 @@ use std::sync::{Arc, Mutex, MutexGuard};
 
 use neurotree_core::{Blueprint, NodeId, NodeStatus, Observer, StatusChange};
 
-use super::EventLog;
+use crate::EventLog;
 
 /// An [`Observer`] that counts the runs of a Nav2 tree's recovery branches.
 ///
@@ -126,7 +126,7 @@ impl Observer for RecoveryCounter {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use neurotree_nav2 as nav2;
+    use crate as nav2;
     use neurotree_toolkit::{ManualClock, Registry, Status, Tree, XmlLoader};
 
     /// A navigator shaped like Nav2's: leaves scripted by the context.
