@@ -4,6 +4,7 @@
 //! - `neurotree bench`: quick measurements of tick cost, of many agents per frame, and of a
 //!   crowd of them on every core.
 //! - `neurotree check`: validate BehaviorTree.CPP XML files against the node models.
+//! - `neurotree lint`: `check`, then static analysis: data flow, reachability, liveness.
 //! - `neurotree run`: dry-run a BehaviorTree.CPP file with mock leaves, as JSON lines.
 //! - `neurotree ros2`: Nav2's navigator and the simulated Nav2 servers as ROS 2 processes
 //!   (feature `ros2`, on by default; Rust 1.88).
@@ -23,6 +24,7 @@ mod check;
 mod demo_command;
 mod files;
 mod groot;
+mod lint;
 mod live;
 mod models;
 mod registry;
@@ -56,6 +58,9 @@ enum Command {
     Bench(bench::BenchArgs),
     /// Validate BehaviorTree.CPP XML files: structure, node names, ports, literals.
     Check(check::CheckArgs),
+    /// Check BehaviorTree.CPP XML files, then find what they do wrong without running them:
+    /// blackboard data flow, unreachable children, loops that never end.
+    Lint(lint::LintArgs),
     /// Tick a BehaviorTree.CPP file with mock leaves and print each tick as JSON.
     Run(Box<run::RunArgs>),
     /// Run scenario files: a tree with mocks, inputs and expectations per tick; reports as
@@ -112,6 +117,7 @@ fn main() -> ExitCode {
         Command::Test(args) => test::execute(&args, &mut out, &mut io::stderr()),
         Command::Show(args) => show::execute(&args, &mut out, &mut io::stderr()),
         Command::Check(args) => check::execute(&args, &mut out, &mut io::stderr()),
+        Command::Lint(args) => lint::execute(&args, &mut out, &mut io::stderr()),
         Command::Studio(args) => studio::execute(&args, &mut io::stderr()),
         Command::Models(args) => models::execute(&args, &mut out, &mut io::stderr()),
     };

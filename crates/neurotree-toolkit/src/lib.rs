@@ -18,6 +18,7 @@ pub use neurotree_core::*;
 pub mod blackboard_json;
 mod json_port;
 mod load;
+pub mod lint;
 pub mod nodes;
 pub mod observe;
 pub mod registry;

@@ -1,0 +1,526 @@
+//! Blackboard data flow: entries read before anything can have written them (NT0101),
+//! written as a text the reading port cannot convert (NT0102), written and never read
+//! (NT0103).
+//!
+//! A tree no other tree uses is followed from its root, in tick order, into its SubTrees:
+//! each SubTree opens a scope whose entries are the parent's where the SubTree remaps them
+//! (`port="{key}"`, or every entry with `_autoremap`), and its own otherwise. Every read and
+//! write of an entry (a port bound to `{key}` or defaulting to one, a Script's names and
+//! assignments, SetBlackboard, a SubTree's literal) becomes an [`Access`] with its place in
+//! that order and the loops around it. A read is satisfied by a write before it, or by one
+//! anywhere inside a loop that also holds the read (a Repeat, a retry, a reactive control,
+//! a Parallel, a control of another library: the next round sees it).
+
+use std::collections::BTreeSet;
+
+use neurotree_core::{PortDirection, PortValue};
+
+use super::node::{self, line, shown};
+use super::{matches, Diagnostic, LintOptions, Site};
+use crate::registry::PortSpec;
+use crate::script::ast::{AssignOp, Expr, ExprKind};
+use crate::script::Script;
+use crate::xml::{binding, XmlLoader};
+
+/// An entry: the scope it lives in (0 is the root tree's) and its name there.
+type Key = (usize, String);
+
+/// A blackboard scope: the root tree's or a SubTree's.
+struct Scope {
+    parent: Option<usize>,
+    /// The SubTree's ports bound to the parent's entries.
+    remap: Vec<(String, Key)>,
+    autoremap: bool,
+}
+
+/// How an entry is reached.
+#[derive(Clone)]
+enum Use<'r> {
+    /// Read by an input port (whose type converts it) or by a script's name. A read that
+    /// a missing entry does not fail is `checked: false`.
+    Read {
+        port: Option<&'r PortSpec>,
+        checked: bool,
+        script: bool,
+    },
+    /// Written; with the text written when it is a literal. `remap` for a SubTree's
+    /// literal port, which gives the SubTree a value whether or not it reads it.
+    Write { literal: Option<String>, remap: bool },
+}
+
+/// One read or write of an entry.
+struct Access<'d, 'r> {
+    key: Key,
+    what: Use<'r>,
+    /// Its place in tick order.
+    order: usize,
+    /// The loops around it, outermost first.
+    loops: Vec<usize>,
+    site: Site<'d>,
+    /// The node and port, for messages: "port `message` of SaySomething".
+    by: String,
+    /// Named `@key`: an entry of the root blackboard, which the application shares.
+    global: bool,
+}
+
+/// A write the node makes once it has run: the entry, the literal written, who writes it,
+/// and whether it is named `@key`.
+type Pending = (Key, Option<String>, String, bool);
+
+/// Ports whose text is a script, by node type.
+const SCRIPT_PORTS: [(&str, &str); 3] = [
+    ("Script", "code"),
+    ("ScriptCondition", "code"),
+    ("Precondition", "if"),
+];
+/// Attributes whose script runs before the node, and after it.
+const BEFORE: [&str; 4] = ["_skipIf", "_successIf", "_failureIf", "_while"];
+const AFTER: [&str; 4] = ["_onSuccess", "_onFailure", "_onHalted", "_post"];
+
+/// Controls and decorators that tick each child at most once per round, in order: a
+/// write after a read in them is not seen by that read. Any other node with children (a
+/// loop, a reactive control, a Parallel, a node of another library) may tick a child again
+/// after a later one.
+const IN_ORDER: &[&str] = &[
+    "Sequence",
+    "SequenceWithMemory",
+    "AsyncSequence",
+    "Fallback",
+    "AsyncFallback",
+    "IfThenElse",
+    "Switch2",
+    "Switch3",
+    "Switch4",
+    "Switch5",
+    "Switch6",
+    "Inverter",
+    "ForceSuccess",
+    "ForceFailure",
+    "Timeout",
+    "Delay",
+    "RunOnce",
+    "Precondition",
+    "TryCatch",
+    "SkipUnlessUpdated",
+    "Cooldown",
+];
+
+/// Follows the entries of the tree `id` (one no other tree uses) and reports what is wrong
+/// with them.
+pub(crate) fn check_root<C: 'static>(
+    loader: &XmlLoader<'_, C>,
+    id: &str,
+    options: &LintOptions,
+    found: &mut Vec<Diagnostic>,
+) {
+    let Some(tree) = loader.tree(id) else { return };
+    let Some(root) = tree.children().next() else {
+        return;
+    };
+    let mut flow = Flow {
+        loader,
+        scopes: vec![Scope {
+            parent: None,
+            remap: Vec::new(),
+            autoremap: false,
+        }],
+        accesses: Vec::new(),
+        loops: Vec::new(),
+        next_loop: 0,
+        depth: 0,
+        interface: loader
+            .subtree_model(id)
+            .unwrap_or_default()
+            .iter()
+            .map(|(port, _)| port.clone())
+            .collect(),
+    };
+    let site = Site { tree: id, root: tree, el: root };
+    flow.walk(site, 0);
+    flow.report(options, found);
+}
+
+struct Flow<'l, 'r, C> {
+    loader: &'l XmlLoader<'r, C>,
+    scopes: Vec<Scope>,
+    accesses: Vec<Access<'l, 'r>>,
+    loops: Vec<usize>,
+    next_loop: usize,
+    /// SubTrees open: the loader bounds it, this guards against a cycle it missed.
+    depth: usize,
+    /// The ports the root tree's SubTree model declares.
+    interface: Vec<String>,
+}
+
+impl<'l, 'r, C: 'static> Flow<'l, 'r, C> {
+    /// The entry `name` of `scope` is.
+    fn key(&self, scope: usize, name: &str) -> Key {
+        if let Some(global) = name.strip_prefix('@') {
+            return (0, global.to_string());
+        }
+        let s = &self.scopes[scope];
+        if let Some((_, key)) = s.remap.iter().find(|(port, _)| port == name) {
+            return key.clone();
+        }
+        match s.parent {
+            // As BehaviorTree.CPP: `_private` entries stay in the SubTree's scope.
+            Some(parent) if s.autoremap && !name.starts_with('_') => self.key(parent, name),
+            _ => (scope, name.to_string()),
+        }
+    }
+
+    fn push(&mut self, key: Key, what: Use<'r>, site: Site<'l>, by: String) {
+        self.accesses.push(Access {
+            global: false,
+            key,
+            what,
+            order: self.accesses.len(),
+            loops: self.loops.clone(),
+            site,
+            by,
+        });
+    }
+
+    /// The accesses of the node `site.el` and everything below it, in `scope`.
+    fn walk(&mut self, site: Site<'l>, scope: usize) {
+        let el = site.el;
+        for attr in BEFORE {
+            self.script(site, scope, attr, el.attr(attr));
+        }
+        let node = node::resolve(self.loader.registry(), el);
+        let mut writes = Vec::new();
+        match &node {
+            Some(node) if node.name == "SubTree" => self.subtree(site, scope),
+            Some(node) => {
+                writes = self.ports(site, scope, node.name, node.node_type.map(|t| &t.ports[..]));
+                let looping = el.child_count() > 0 && !IN_ORDER.contains(&node.name);
+                self.children(site, scope, looping);
+            }
+            None => {
+                writes = self.unknown_ports(site, scope);
+                self.children(site, scope, true);
+            }
+        }
+        for (key, literal, by, global) in writes {
+            self.push(key, Use::Write { literal, remap: false }, site, by);
+            if global {
+                self.mark_global("@");
+            }
+        }
+        for attr in AFTER {
+            self.script(site, scope, attr, el.attr(attr));
+        }
+    }
+
+    fn children(&mut self, site: Site<'l>, scope: usize, looping: bool) {
+        if looping {
+            self.loops.push(self.next_loop);
+            self.next_loop += 1;
+        }
+        for child in site.el.children() {
+            self.walk(Site { el: child, ..site }, scope);
+        }
+        if looping {
+            self.loops.pop();
+        }
+    }
+
+    /// Marks the access just recorded as one of the root blackboard if `name` is `@key`.
+    fn mark_global(&mut self, name: &str) {
+        if let (true, Some(last)) = (name.starts_with('@'), self.accesses.last_mut()) {
+            last.global = true;
+        }
+    }
+
+    /// Records the reads of the node's ports and returns its writes, which happen when it
+    /// has run.
+    fn ports(
+        &mut self,
+        site: Site<'l>,
+        scope: usize,
+        type_name: &str,
+        ports: Option<&'r [PortSpec]>,
+    ) -> Vec<Pending> {
+        let el = site.el;
+        let mut writes = Vec::new();
+        let by = |port: &str| format!("port `{port}` of {}", shown(el));
+        if type_name == "SetBlackboard" {
+            let (Some(value), Some(target)) = (el.attr("value"), el.attr("output_key")) else {
+                return writes;
+            };
+            let target = match binding("output_key", target) {
+                PortValue::Entry(k) | PortValue::Literal(k) => k,
+            };
+            let literal = match binding("value", value) {
+                PortValue::Literal(text) => Some(text),
+                PortValue::Entry(source) => {
+                    let key = self.key(scope, &source);
+                    self.push(key, Use::Read { port: None, checked: true, script: false }, site, by("value"));
+                    None
+                }
+            };
+            let target = target.trim();
+            writes.push((self.key(scope, target), literal, by("output_key"), target.starts_with('@')));
+            return writes;
+        }
+        for spec in ports.unwrap_or_default() {
+            let text = el.attr(&spec.name).or(spec.default.as_deref());
+            if SCRIPT_PORTS.contains(&(type_name, spec.name.as_str())) {
+                self.script(site, scope, &spec.name, text);
+                continue;
+            }
+            let Some(PortValue::Entry(name)) = text.map(|t| binding(&spec.name, t)) else {
+                continue;
+            };
+            let key = self.key(scope, &name);
+            // The entry nodes read an entry by name and take a missing one as not updated.
+            let checked = !matches!(type_name, "WasEntryUpdated" | "SkipUnlessUpdated" | "WaitValueUpdate");
+            match spec.direction {
+                PortDirection::Input => {
+                    let what = Use::Read { port: Some(spec), checked, script: false };
+                    self.push(key, what, site, by(&spec.name));
+                    self.mark_global(&name);
+                }
+                PortDirection::Output => writes.push((key, None, by(&spec.name), name.starts_with('@'))),
+                PortDirection::InOut => {
+                    let what = Use::Read { port: Some(spec), checked: false, script: false };
+                    self.push(key.clone(), what, site, by(&spec.name));
+                    writes.push((key, None, by(&spec.name), name.starts_with('@')));
+                }
+            }
+        }
+        writes
+    }
+
+    /// A node of no known type (a leaf mocked for a dry run) may read and write every entry
+    /// its attributes name: each is taken as read (without the check that it was
+    /// written) and as written.
+    fn unknown_ports(&mut self, site: Site<'l>, scope: usize) -> Vec<Pending> {
+        let el = site.el;
+        let mut writes = Vec::new();
+        for (port, text) in el.attrs().filter(|(k, _)| *k != "name" && *k != "ID" && !k.starts_with('_')) {
+            if let PortValue::Entry(name) = binding(port, text) {
+                let key = self.key(scope, &name);
+                let by = format!("port `{port}` of {}", shown(el));
+                let what = Use::Read { port: None, checked: false, script: false };
+                self.push(key.clone(), what, site, by.clone());
+                writes.push((key, None, by, name.starts_with('@')));
+            }
+        }
+        writes
+    }
+
+    /// Opens the SubTree `site.el`'s scope and follows the tree it names.
+    fn subtree(&mut self, site: Site<'l>, scope: usize) {
+        let el = site.el;
+        let Some(id) = el.attr("ID") else { return };
+        let (Some(tree), true) = (self.loader.tree(id), self.depth < 64) else {
+            return;
+        };
+        let autoremap = el.attr("_autoremap").is_some_and(|v| matches!(v.trim(), "true" | "TRUE" | "True" | "1"));
+        let inner = self.scopes.len();
+        self.scopes.push(Scope { parent: Some(scope), remap: Vec::new(), autoremap });
+        let mut ports: Vec<(&str, &str)> = el
+            .attrs()
+            .filter(|(k, _)| *k != "ID" && *k != "name" && !k.starts_with('_'))
+            .collect();
+        if !autoremap {
+            for (port, default) in self.loader.subtree_model(id).unwrap_or_default() {
+                if let (None, Some(default)) = (el.attr(port), default) {
+                    ports.push((port, default));
+                }
+            }
+        }
+        for (port, text) in ports {
+            match binding(port, text) {
+                PortValue::Entry(parent_key) => {
+                    let key = self.key(scope, &parent_key);
+                    self.scopes[inner].remap.push((port.to_string(), key));
+                }
+                PortValue::Literal(text) => {
+                    let by = format!("port `{port}` of SubTree {}", shown(el));
+                    self.push((inner, port.to_string()), Use::Write { literal: Some(text), remap: true }, site, by);
+                }
+            }
+        }
+        if let Some(root) = tree.children().next() {
+            self.depth += 1;
+            self.walk(Site { tree: id, root: tree, el: root }, inner);
+            self.depth -= 1;
+        }
+    }
+
+    /// Records the reads and writes of the script `text` (of attribute or port `name`).
+    fn script(&mut self, site: Site<'l>, scope: usize, name: &str, text: Option<&str>) {
+        let Some(Ok(script)) = text.map(Script::parse) else {
+            return;
+        };
+        let by = format!("the script `{name}` of {}", shown(site.el));
+        let enums = self.loader.registry().enums();
+        let mut uses = Vec::new();
+        for expr in script.program() {
+            script_uses(expr, &mut uses);
+        }
+        for (entry, what) in uses {
+            if matches!(what, Use::Read { .. }) && enums.get(&entry).is_some() {
+                continue;
+            }
+            let key = self.key(scope, &entry);
+            self.push(key, what, site, by.clone());
+            self.mark_global(&entry);
+        }
+    }
+
+    fn report(&self, options: &LintOptions, found: &mut Vec<Diagnostic>) {
+        let written: BTreeSet<&Key> = self
+            .accesses
+            .iter()
+            .filter(|a| matches!(a.what, Use::Write { .. }))
+            .map(|a| &a.key)
+            .collect();
+        let read: BTreeSet<&Key> = self
+            .accesses
+            .iter()
+            .filter(|a| matches!(a.what, Use::Read { .. }))
+            .map(|a| &a.key)
+            .collect();
+        let external = |key: &Key, names: &[String]| key.0 == 0 && matches(names, &key.1);
+        let mut unused = BTreeSet::new();
+        for access in &self.accesses {
+            match &access.what {
+                Use::Read { port, checked, script } => {
+                    let is_written = written.contains(&access.key);
+                    // A name no one writes may be an enum the application registers.
+                    let unknowable = *script && !is_written;
+                    if *checked
+                        && !unknowable
+                        && !access.global
+                        && !self.interface(&access.key)
+                        && !external(&access.key, &options.written)
+                        && !self.written_before(access)
+                    {
+                        found.push(self.read_before_write(access, is_written));
+                    }
+                    if let Some(spec) = port {
+                        self.mismatches(access, spec, found);
+                    }
+                }
+                Use::Write { remap: false, .. } => {
+                    if !read.contains(&access.key)
+                        && !access.global
+                        && !self.interface(&access.key)
+                        && !external(&access.key, &options.read)
+                        && unused.insert(&access.key)
+                    {
+                        found.push(access.site.diagnostic(
+                            "NT0103",
+                            format!(
+                                "the entry `{}` is written by {} but never read",
+                                access.key.1, access.by
+                            ),
+                        ));
+                    }
+                }
+                Use::Write { remap: true, .. } => {}
+            }
+        }
+    }
+
+    /// Whether `key` is a port the root tree's SubTree model declares: its parent, not
+    /// linted here, writes or reads it.
+    fn interface(&self, key: &Key) -> bool {
+        key.0 == 0 && self.interface.iter().any(|port| *port == key.1)
+    }
+
+    /// Whether a write of `read`'s entry can come before it: earlier in tick order, or in
+    /// a loop that holds them both.
+    fn written_before(&self, read: &Access<'_, '_>) -> bool {
+        self.accesses.iter().any(|w| {
+            matches!(w.what, Use::Write { .. })
+                && w.key == read.key
+                && (w.order < read.order || w.loops.iter().any(|l| read.loops.contains(l)))
+        })
+    }
+
+    fn read_before_write(&self, read: &Access<'_, '_>, is_written: bool) -> Diagnostic {
+        let name = &read.key.1;
+        let later = self
+            .accesses
+            .iter()
+            .find(|w| matches!(w.what, Use::Write { .. }) && w.key == read.key);
+        let hint = match later {
+            Some(w) if is_written => format!(
+                "; it is first written later, by {} at line {}",
+                w.by,
+                line(w.site.el)
+            ),
+            _ => format!(
+                "; nothing in the tree writes it (if the application does, say so with --entry {name})"
+            ),
+        };
+        read.site.diagnostic(
+            "NT0101",
+            format!(
+                "{} reads the entry `{name}`, which nothing can have written before: the read \
+                 fails at that tick{hint}",
+                read.by
+            ),
+        )
+    }
+
+    /// Reports each literal written into `read`'s entry that its port cannot convert.
+    fn mismatches(&self, read: &Access<'_, '_>, spec: &PortSpec, found: &mut Vec<Diagnostic>) {
+        for w in &self.accesses {
+            let Use::Write { literal: Some(text), .. } = &w.what else {
+                continue;
+            };
+            if w.key == read.key && !spec.accepts(text) {
+                found.push(read.site.diagnostic(
+                    "NT0102",
+                    format!(
+                        "{} reads the entry `{}` as {}, but {} at line {} writes `{text}` into \
+                         it, which does not convert",
+                        read.by,
+                        read.key.1,
+                        spec.type_name,
+                        w.by,
+                        line(w.site.el)
+                    ),
+                ));
+            }
+        }
+    }
+}
+
+/// The entries `expr` reads and writes, in the order it does.
+fn script_uses<'r>(expr: &Expr, uses: &mut Vec<(String, Use<'r>)>) {
+    let read = |script| Use::Read { port: None, checked: true, script };
+    match &expr.kind {
+        ExprKind::Name(name) => uses.push((name.to_string(), read(true))),
+        ExprKind::Unary(_, _, e) => script_uses(e, uses),
+        ExprKind::Binary(_, _, a, b) => {
+            script_uses(a, uses);
+            script_uses(b, uses);
+        }
+        ExprKind::Compare(operands, _) => operands.iter().for_each(|e| script_uses(e, uses)),
+        ExprKind::Ternary(c, a, b) => {
+            script_uses(c, uses);
+            script_uses(a, uses);
+            script_uses(b, uses);
+        }
+        ExprKind::Assign(op, _, key, _, value) => {
+            script_uses(value, uses);
+            // `+=` reads the entry; `=` needs it to exist, which BehaviorTree.CPP's tree
+            // makes sure of when a port names it, and is taken as a plain write.
+            if matches!(op, AssignOp::Compound(_)) {
+                uses.push((key.to_string(), read(false)));
+            }
+            let literal = match &value.kind {
+                ExprKind::Str(text) => Some(text.to_string()),
+                _ => None,
+            };
+            uses.push((key.to_string(), Use::Write { literal, remap: false }));
+        }
+        ExprKind::Int(_) | ExprKind::Real(_) | ExprKind::Bool(_) | ExprKind::Str(_) => {}
+    }
+}
