@@ -524,3 +524,125 @@ fn script_uses<'r>(expr: &Expr, uses: &mut Vec<(String, Use<'r>)>) {
         ExprKind::Int(_) | ExprKind::Real(_) | ExprKind::Bool(_) | ExprKind::Str(_) => {}
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::super::{findings, findings_with, LintOptions};
+
+    fn tree(body: &str) -> String {
+        format!(
+            "<root BTCPP_format=\"4\" main_tree_to_execute=\"Main\">\n\
+             <BehaviorTree ID=\"Main\">\n{body}\n</BehaviorTree>\n</root>"
+        )
+    }
+
+    #[test]
+    fn a_read_before_its_write_is_found_and_one_after_is_not() {
+        let xml = tree(
+            "<Sequence>\n\
+             <Say message=\"{text}\"/>\n\
+             <Think text=\"{text}\"/>\n\
+             <Say message=\"{text}\"/>\n\
+             </Sequence>",
+        );
+        assert_eq!(findings(&xml), [("NT0101", 4)]);
+    }
+
+    #[test]
+    fn a_write_later_in_the_same_loop_counts() {
+        let xml = tree(
+            "<Repeat num_cycles=\"3\"><Sequence>\n\
+             <Say message=\"{text}\"/>\n\
+             <Think text=\"{text}\"/>\n\
+             </Sequence></Repeat>",
+        );
+        assert_eq!(findings(&xml), []);
+        // The same in a Sequence that is no loop: the first round reads nothing.
+        let xml = tree(
+            "<Sequence><Sequence>\n\
+             <Say message=\"{text}\"/>\n\
+             <Think text=\"{text}\"/>\n\
+             </Sequence></Sequence>",
+        );
+        assert_eq!(findings(&xml), [("NT0101", 4)]);
+    }
+
+    #[test]
+    fn an_entry_written_by_a_script_or_the_application_is_provided() {
+        let xml = tree(
+            "<Sequence>\n\
+             <Script code=\"text := 'hi'\"/>\n\
+             <Say message=\"{text}\"/>\n\
+             <Say message=\"{greeting}\"/>\n\
+             </Sequence>",
+        );
+        assert_eq!(findings(&xml), [("NT0101", 6)]);
+        let options = LintOptions {
+            written: vec!["greet*".into()],
+            ..LintOptions::default()
+        };
+        assert_eq!(findings_with(&xml, &options), []);
+    }
+
+    #[test]
+    fn a_port_default_naming_an_entry_reads_it() {
+        let xml = tree("<Move/>");
+        assert_eq!(findings(&xml), [("NT0101", 3)]);
+        assert_eq!(findings_with(&xml, &LintOptions::nav2()), []);
+    }
+
+    #[test]
+    fn entries_follow_subtree_remapping() {
+        let remapped = "<root BTCPP_format=\"4\" main_tree_to_execute=\"Main\">\n\
+             <BehaviorTree ID=\"Main\"><Sequence>\n\
+             <Think text=\"{said}\"/>\n\
+             <SubTree ID=\"Speak\" words=\"{said}\"/>\n\
+             </Sequence></BehaviorTree>\n\
+             <BehaviorTree ID=\"Speak\">\n\
+             <Say message=\"{words}\"/>\n\
+             </BehaviorTree></root>";
+        assert_eq!(findings(remapped), []);
+        // Not remapped: the SubTree's own `words` is never written, and `said` never read.
+        let plain = remapped.replace(" words=\"{said}\"", "");
+        assert_eq!(findings(&plain), [("NT0103", 3), ("NT0101", 7)]);
+        // A literal gives the SubTree its entry.
+        let literal = remapped.replace("words=\"{said}\"", "words=\"hello\"");
+        assert_eq!(findings(&literal), [("NT0103", 3)]);
+        let autoremap = plain.replace("ID=\"Speak\"/>", "ID=\"Speak\" _autoremap=\"true\"/>");
+        assert_eq!(findings(&autoremap), [("NT0103", 3), ("NT0101", 7)]);
+    }
+
+    #[test]
+    fn a_text_written_where_a_number_is_read_is_an_error() {
+        let xml = tree(
+            "<Sequence>\n\
+             <Script code=\"n := 'three'\"/>\n\
+             <Count n=\"{n}\"/>\n\
+             </Sequence>",
+        );
+        assert_eq!(findings(&xml), [("NT0102", 5)]);
+        assert_eq!(findings(&xml.replace("'three'", "'3'")), []);
+        let set = xml.replace(
+            "<Script code=\"n := 'three'\"/>",
+            "<SetBlackboard value=\"many\" output_key=\"n\"/>",
+        );
+        assert_eq!(findings(&set), [("NT0102", 5)]);
+    }
+
+    #[test]
+    fn an_entry_written_and_never_read_is_noted() {
+        let xml = tree(
+            "<Sequence>\n\
+             <Script code=\"x := 1; y := x + 1\"/>\n\
+             <Think text=\"{thought}\" _onSuccess=\"@shared := 2\"/>\n\
+             </Sequence>",
+        );
+        // `y` and `thought`; `x` is read by the script, `@shared` by the application.
+        assert_eq!(findings(&xml), [("NT0103", 4), ("NT0103", 5)]);
+        let options = LintOptions {
+            read: vec!["thought".into(), "y".into()],
+            ..LintOptions::default()
+        };
+        assert_eq!(findings_with(&xml, &options), []);
+    }
+}

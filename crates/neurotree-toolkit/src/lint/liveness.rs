@@ -70,3 +70,43 @@ pub(crate) fn check_tree<C: 'static>(
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::super::findings;
+
+    fn tree(body: &str) -> String {
+        format!(
+            "<root BTCPP_format=\"4\" main_tree_to_execute=\"Main\">\n\
+             <BehaviorTree ID=\"Main\">\n{body}\n</BehaviorTree>\n</root>"
+        )
+    }
+
+    #[test]
+    fn an_endless_retry_of_a_child_that_never_succeeds_is_found() {
+        let xml = tree("<Fallback>\n<RetryUntilSuccessful num_attempts=\"-1\">\n<AlwaysFailure/>\n</RetryUntilSuccessful>\n<Check/>\n</Fallback>");
+        // It only ever runs, so the Fallback never reaches its second child, and never ends.
+        assert_eq!(findings(&xml), [("NT0303", 3), ("NT0301", 4), ("NT0201", 7)]);
+        assert_eq!(findings(&xml.replace("\"-1\"", "\"3\"")), []);
+        // It can end now, but only with a success: the Fallback's second child stays out.
+        assert_eq!(findings(&xml.replace("AlwaysFailure", "Check")), [("NT0201", 7)]);
+    }
+
+    #[test]
+    fn an_endless_repeat_of_a_child_that_never_fails_is_found() {
+        let xml = tree("<Fallback>\n<Repeat num_cycles=\"-1\">\n<ForceSuccess><Check/></ForceSuccess>\n</Repeat>\n<Check/>\n</Fallback>");
+        assert_eq!(findings(&xml), [("NT0303", 3), ("NT0302", 4), ("NT0201", 7)]);
+        assert_eq!(findings(&xml.replace("ForceSuccess", "Inverter")), []);
+        let keep = tree("<Fallback>\n<KeepRunningUntilFailure>\n<AlwaysSuccess/>\n</KeepRunningUntilFailure>\n<Check/>\n</Fallback>");
+        assert_eq!(findings(&keep), [("NT0303", 3), ("NT0302", 4), ("NT0201", 7)]);
+    }
+
+    #[test]
+    fn a_root_that_can_only_run_is_found() {
+        let xml = tree("<Sequence>\n<AlwaysSuccess/>\n<KeepRunningUntilFailure><Sleep msec=\"10\"/></KeepRunningUntilFailure>\n</Sequence>");
+        assert_eq!(findings(&xml), [("NT0303", 3), ("NT0302", 5)]);
+        // With a way out, it can finish.
+        let xml = tree("<Sequence>\n<AlwaysSuccess/>\n<KeepRunningUntilFailure><Check/></KeepRunningUntilFailure>\n</Sequence>");
+        assert_eq!(findings(&xml), []);
+    }
+}

@@ -241,3 +241,35 @@ impl Site<'_> {
         }
     }
 }
+
+/// The findings of `xml` (one file, `main.xml`), linted with `options`, as `(code, line)`;
+/// its leaves: `Say` (input `message`), `Think` (output `text`), `Move` (input `goal`
+/// defaulting to `{goal}`), `Count` (input `n`, an int), `Check` (a condition).
+#[cfg(test)]
+pub(crate) fn findings_with(xml: &str, options: &LintOptions) -> Vec<(&'static str, u32)> {
+    use crate::{PortSpec, Registry};
+    use neurotree_core::Status;
+    let mut registry = Registry::<()>::new();
+    let leaves = [
+        ("Say", PortSpec::input::<String>("message")),
+        ("Think", PortSpec::output::<String>("text")),
+        ("Move", PortSpec::input::<String>("goal").default_value("{goal}")),
+        ("Count", PortSpec::input::<i64>("n")),
+    ];
+    for (name, port) in leaves {
+        registry.register_action(name, vec![port], |_| Status::Success).unwrap();
+    }
+    registry.register_condition("Check", vec![], |_| true).unwrap();
+    let mut loader = XmlLoader::new(&registry);
+    loader.load_str(xml, "main.xml").unwrap();
+    for id in loader.tree_ids() {
+        loader.validate(id).unwrap();
+    }
+    lint(&loader, options).iter().map(|d| (d.code, d.line)).collect()
+}
+
+/// [`findings_with`] the default options.
+#[cfg(test)]
+pub(crate) fn findings(xml: &str) -> Vec<(&'static str, u32)> {
+    findings_with(xml, &LintOptions::default())
+}

@@ -89,21 +89,28 @@ fn unmatched_cases<'d>(
     };
     let variable = literal("variable");
     let mut earlier: Vec<(&str, &str)> = Vec::new();
+    let mut chosen: Option<&str> = None;
     let mut unmatched = Vec::new();
     for (name, _) in el.attrs().filter(|(k, _)| k.starts_with("case_")) {
         let Some(value) = literal(name) else {
             continue;
         };
         if let Some((first, _)) = earlier.iter().find(|(_, v)| *v == value) {
-            unmatched.push((name, format!("is `{value}`, as `{first}` before it is, so it is never chosen")));
-        } else if let Some(variable) = variable.filter(|v| !equal(v, value)) {
-            unmatched.push((
-                name,
-                format!(
+            let why = format!("is `{value}`, as `{first}` before it is, so it is never chosen");
+            unmatched.push((name, why));
+        } else if let (Some(variable), Some(first)) = (variable, chosen) {
+            let why = format!("is never chosen: `{first}` already matches the literal variable `{variable}`");
+            unmatched.push((name, why));
+        } else if let Some(variable) = variable {
+            if equal(variable, value) {
+                chosen = Some(name);
+            } else {
+                let why = format!(
                     "is `{value}`, which the literal variable `{variable}` never equals; bind \
                      `variable` to an entry (`{{key}}`)"
-                ),
-            ));
+                );
+                unmatched.push((name, why));
+            }
         }
         earlier.push((name, value));
     }
@@ -130,5 +137,75 @@ pub(crate) fn unused_trees<C: 'static>(loader: &XmlLoader<'_, C>, found: &mut Ve
             "NT0203",
             format!("tree `{id}` is never used: the main tree `{main}` does not reach it through any SubTree"),
         ));
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::findings;
+
+    fn tree(body: &str) -> String {
+        format!(
+            "<root BTCPP_format=\"4\" main_tree_to_execute=\"Main\">\n\
+             <BehaviorTree ID=\"Main\">\n{body}\n</BehaviorTree>\n</root>"
+        )
+    }
+
+    #[test]
+    fn a_child_after_one_that_never_fails_in_a_fallback_is_found() {
+        let xml = tree("<Fallback>\n<ForceSuccess><Check/></ForceSuccess>\n<Check/>\n<Check/>\n</Fallback>");
+        assert_eq!(findings(&xml), [("NT0201", 5)]);
+        assert_eq!(findings(&xml.replace("ForceSuccess", "Inverter")), []);
+    }
+
+    #[test]
+    fn a_child_after_one_that_never_succeeds_in_a_sequence_is_found() {
+        let xml = tree("<Sequence>\n<Inverter><AlwaysSuccess/></Inverter>\n<Check/>\n</Sequence>");
+        assert_eq!(findings(&xml), [("NT0201", 5)]);
+        // A precondition can end the node with another status.
+        let hooked = xml.replace("<Inverter>", "<Inverter _successIf=\"true\">");
+        assert_eq!(findings(&hooked), []);
+        // An action's outcome is not known.
+        let plain = tree("<Sequence>\n<Say message=\"hi\"/>\n<Check/>\n</Sequence>");
+        assert_eq!(findings(&plain), []);
+    }
+
+    #[test]
+    fn through_a_subtree_the_statuses_of_its_root_count() {
+        let xml = "<root BTCPP_format=\"4\" main_tree_to_execute=\"Main\">\n\
+             <BehaviorTree ID=\"Main\"><Sequence>\n\
+             <SubTree ID=\"Fail\"/>\n\
+             <Check/>\n\
+             </Sequence></BehaviorTree>\n\
+             <BehaviorTree ID=\"Fail\"><AlwaysFailure/></BehaviorTree></root>";
+        assert_eq!(findings(xml), [("NT0201", 4)]);
+    }
+
+    #[test]
+    fn switch_cases_no_value_matches_are_found() {
+        let duplicate = tree(
+            "<Switch3 variable=\"{mode}\" case_1=\"idle\" case_2=\"run\" case_3=\"idle\">\n\
+             <Check/><Check/><Check/><Check/></Switch3>",
+        );
+        assert_eq!(findings(&duplicate), [("NT0101", 3), ("NT0202", 3)]);
+        let literal = tree(
+            "<Switch2 variable=\"run\" case_1=\"idle\" case_2=\"run\">\n\
+             <Check/><Check/><Check/></Switch2>",
+        );
+        assert_eq!(findings(&literal), [("NT0202", 3)]);
+        // Compared as numbers too, as BehaviorTree.CPP compares them: `1` matches `1.0`.
+        let numbers = literal.replace("\"run\"", "\"1.0\"").replace("\"idle\"", "\"1\"");
+        assert_eq!(findings(&numbers), [("NT0202", 3)]);
+    }
+
+    #[test]
+    fn a_tree_the_main_tree_never_uses_is_found() {
+        let xml = "<root BTCPP_format=\"4\" main_tree_to_execute=\"Main\">\n\
+             <BehaviorTree ID=\"Main\"><SubTree ID=\"Used\"/></BehaviorTree>\n\
+             <BehaviorTree ID=\"Used\"><Check/></BehaviorTree>\n\
+             <BehaviorTree ID=\"Orphan\"><Check/></BehaviorTree></root>";
+        assert_eq!(findings(xml), [("NT0203", 4)]);
+        // Without a main tree, every tree may be meant to start from.
+        assert_eq!(findings(&xml.replace(" main_tree_to_execute=\"Main\"", "")), []);
     }
 }
