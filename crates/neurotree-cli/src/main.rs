@@ -11,6 +11,7 @@
 //! - `neurotree test`: run scenario files (mocks, inputs, expectations per tick) as tests.
 //! - `neurotree show`: draw a BehaviorTree.CPP file's tree as text, DOT, Mermaid or SVG.
 //! - `neurotree studio`: see, edit, watch and replay trees in the browser (feature `studio`).
+//! - `neurotree mcp`: a Model Context Protocol server, so an assistant can use the commands.
 //! - `neurotree models`: write the TreeNodesModel of Nav2's node types.
 //!
 //! Each command's flags and what it does are in its own module, so that a command reads in
@@ -26,6 +27,7 @@ mod files;
 mod groot;
 mod lint;
 mod live;
+mod mcp;
 mod models;
 mod registry;
 #[cfg(feature = "ros2")]
@@ -72,6 +74,9 @@ enum Command {
     /// See, edit, watch and replay behavior trees in the browser: serves a page on
     /// 127.0.0.1 and prints its URL on stderr.
     Studio(studio::StudioArgs),
+    /// Serve the Model Context Protocol on stdin/stdout: tools to check, lint, draw and run
+    /// trees, for an assistant.
+    Mcp(mcp::McpArgs),
     /// Write the TreeNodesModel of Nav2's node types (--nav2), for Groot2 and the studio.
     Models(models::ModelsArgs),
     /// Nav2's navigator and the simulated Nav2 servers as ROS 2 processes on 127.0.0.1.
@@ -119,6 +124,7 @@ fn main() -> ExitCode {
         Command::Check(args) => check::execute(&args, &mut out, &mut io::stderr()),
         Command::Lint(args) => lint::execute(&args, &mut out, &mut io::stderr()),
         Command::Studio(args) => studio::execute(&args, &mut io::stderr()),
+        Command::Mcp(args) => mcp::execute(&args, &mut io::stderr()),
         Command::Models(args) => models::execute(&args, &mut out, &mut io::stderr()),
     };
     match result {
