@@ -175,7 +175,7 @@ pub(crate) fn findings(checked: &Checked<'_>, options: &LintOptions) -> Vec<Diag
 }
 
 /// A loader's error as a finding.
-fn load_error(e: &LoadError) -> Diagnostic {
+pub(crate) fn load_error(e: &LoadError) -> Diagnostic {
     Diagnostic {
         code: LOAD_ERROR.code,
         rule: LOAD_ERROR.name,

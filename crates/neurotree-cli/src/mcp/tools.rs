@@ -191,16 +191,20 @@ fn nav2(args: &Value) -> Result<Nav2Args, String> {
 }
 
 /// The registry `check` would use for `args`: built-ins, Nav2's if asked, `model_xml`'s
-/// types and the tree's own `TreeNodesModel`.
-fn registry(args: &Value, tree: Option<&str>) -> Result<Registry<()>, String> {
+/// types.
+fn registry(args: &Value) -> Result<Registry<()>, String> {
     let mut registry = check::registry(&[], nav2(args)?, &[]).map_err(|e| joined(&e))?;
     if let Some(model) = text(args, "model_xml")? {
         registry.add_model_str(model, "model.xml").map_err(|e| e.to_string())?;
     }
-    if let Some(tree) = tree {
-        registry.add_model_str(tree, FILE).map_err(|e| e.to_string())?;
-    }
     Ok(registry)
+}
+
+/// The tree text `xml` checked as `neurotree check` checks a file, with `registry` and
+/// the text's own `TreeNodesModel` (whose error, if it has one, is the check's).
+fn checked<'r>(registry: &'r mut Registry<()>, xml: &str) -> Result<check::Checked<'r>, neurotree::LoadError> {
+    registry.add_model_str(xml, FILE)?;
+    Ok(check::check_text(registry, xml, FILE, neurotree::xml::DEFAULT_MAX_NODES))
 }
 
 fn joined(errors: &[neurotree::LoadError]) -> String {
@@ -211,7 +215,7 @@ fn joined(errors: &[neurotree::LoadError]) -> String {
 const FILE: &str = "tree.xml";
 
 fn list_node_types(args: &Value) -> Result<Value, String> {
-    let registry = registry(args, None)?;
+    let registry = registry(args)?;
     let types: Vec<Value> = registry
         .types()
         .map(|t| {
@@ -245,8 +249,14 @@ fn list_node_types(args: &Value) -> Result<Value, String> {
 
 fn check_tree(args: &Value) -> Result<Value, String> {
     let xml = xml(args)?;
-    let registry = registry(args, Some(xml))?;
-    let checked = check::check_text(&registry, xml, FILE, neurotree::xml::DEFAULT_MAX_NODES);
+    let mut registry = registry(args)?;
+    let checked = match checked(&mut registry, xml) {
+        Ok(checked) => checked,
+        Err(e) => {
+            let error = json!({ "file": e.file, "line": e.line, "col": e.col, "message": e.message, "kind": format!("{:?}", e.kind()) });
+            return Ok(json!({ "ok": false, "errors": [error], "warnings": [] }));
+        }
+    };
     let place = |file: &str, line: u32, col: u32, message: &str| {
         json!({ "file": file, "line": line, "col": col, "message": message })
     };
@@ -273,8 +283,7 @@ fn check_tree(args: &Value) -> Result<Value, String> {
 
 fn lint_tree(args: &Value) -> Result<Value, String> {
     let xml = xml(args)?;
-    let registry = registry(args, Some(xml))?;
-    let checked = check::check_text(&registry, xml, FILE, neurotree::xml::DEFAULT_MAX_NODES);
+    let mut registry = registry(args)?;
     let mut options = if flag(args, "nav2")? { LintOptions::nav2() } else { LintOptions::default() };
     options.tree = text(args, "tree")?.map(String::from);
     match args.get("entries") {
@@ -287,12 +296,17 @@ fn lint_tree(args: &Value) -> Result<Value, String> {
         }
         Some(_) => return Err("`entries` must be a list of strings".to_string()),
     }
-    if let Some(tree) = &options.tree {
-        if checked.trees.is_ok() && !checked.loader.tree_ids().any(|id| id == tree) {
-            return Err(format!("no tree `{tree}` in the XML"));
+    let found = match checked(&mut registry, xml) {
+        Err(e) => vec![lint::load_error(&e)],
+        Ok(checked) => {
+            if let Some(tree) = &options.tree {
+                if checked.trees.is_ok() && !checked.loader.tree_ids().any(|id| id == tree) {
+                    return Err(format!("no tree `{tree}` in the XML"));
+                }
+            }
+            lint::findings(&checked, &options)
         }
-    }
-    let found = lint::findings(&checked, &options);
+    };
     let mut doc = lint::json_document(&found);
     doc["text"] = json!(found
         .iter()
@@ -381,7 +395,7 @@ fn run_tree(args: &Value, dir: &Path) -> Result<Value, String> {
     }
     let lines: Vec<Value> = out.lines().filter_map(|l| serde_json::from_str(l).ok()).collect();
     let (summary, ticks) = match lines.split_last() {
-        Some((summary, ticks)) => (summary.clone(), ticks.to_vec()),
+        Some((last, ticks)) => (last.get("summary").cloned().unwrap_or(Value::Null), ticks.to_vec()),
         None => return Err(format!("the run printed nothing: {err}")),
     };
     let coverage: Value = std::fs::read_to_string(&coverage)

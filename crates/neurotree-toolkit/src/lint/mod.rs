@@ -33,7 +33,7 @@
 //!       <BehaviorTree ID="Main">
 //!         <Fallback>
 //!           <AlwaysSuccess/>
-//!           <Script code="x := 1"/>
+//!           <AlwaysFailure/>
 //!         </Fallback>
 //!       </BehaviorTree>
 //!     </root>"#, "main.xml").unwrap();
