@@ -61,6 +61,11 @@ use crate::xml::{Element, XmlLoader};
 
 pub use rules::{rule, Rule, RULES};
 
+/// The guide's examples (`docs/guide/lint.md`), compiled and run as doctests.
+#[cfg(doctest)]
+#[doc = include_str!("../../../../docs/guide/lint.md")]
+pub struct Guide;
+
 /// How much a finding matters: an error fails `neurotree lint`, a warning does when denied.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize)]
 #[serde(rename_all = "lowercase")]
@@ -75,7 +80,7 @@ pub enum Severity {
 
 impl fmt::Display for Severity {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(match self {
+        f.pad(match self {
             Severity::Note => "note",
             Severity::Warning => "warning",
             Severity::Error => "error",

@@ -146,8 +146,8 @@ never ends; if that is meant (a main loop), this warning says so in review.
         severity: Severity::Warning,
         summary: "a tree's root can only ever return RUNNING",
         explanation: "\
-The root node of a tree no other tree uses can never return SUCCESS or FAILURE: whoever
-ticks it until it finishes (`tickWhileRunning`, Nav2's navigator) waits forever. The cause
+A tree's root node can never return SUCCESS or FAILURE: whoever ticks it until it
+finishes (`tickWhileRunning`, Nav2's navigator, a SubTree's parent) waits forever. The cause
 is a loop that cannot end (see NT0301, NT0302) or a node that only runs, on every path.",
     },
 ];
