@@ -120,18 +120,29 @@ fn options(args: &LintArgs) -> LintOptions {
 pub fn execute(args: &LintArgs, out: &mut impl Write, err: &mut impl Write) -> io::Result<Outcome> {
     if args.list {
         for r in all_rules() {
-            writeln!(out, "{}  {:<7}  {:<22}  {}", r.code, r.severity, r.name, r.summary)?;
+            writeln!(
+                out,
+                "{}  {:<7}  {:<22}  {}",
+                r.code, r.severity, r.name, r.summary
+            )?;
         }
         return Ok(Outcome::Done);
     }
     if let Some(code) = &args.explain {
         return match all_rules().find(|r| r.code.eq_ignore_ascii_case(code)) {
             Some(r) => {
-                writeln!(out, "{} {} ({}): {}\n\n{}", r.code, r.name, r.severity, r.summary, r.explanation)?;
+                writeln!(
+                    out,
+                    "{} {} ({}): {}\n\n{}",
+                    r.code, r.name, r.severity, r.summary, r.explanation
+                )?;
                 Ok(Outcome::Done)
             }
             None => {
-                writeln!(err, "error: no rule `{code}`; `neurotree lint --list` lists them")?;
+                writeln!(
+                    err,
+                    "error: no rule `{code}`; `neurotree lint --list` lists them"
+                )?;
                 Ok(Outcome::Refused)
             }
         };

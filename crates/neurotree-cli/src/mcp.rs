@@ -41,6 +41,7 @@ const PARSE_ERROR: i64 = -32700;
 const INVALID_REQUEST: i64 = -32600;
 const METHOD_NOT_FOUND: i64 = -32601;
 const INVALID_PARAMS: i64 = -32602;
+const INTERNAL_ERROR: i64 = -32603;
 /// MCP's: the revision a request names is not served.
 const UNSUPPORTED_VERSION: i64 = -32022;
 
@@ -49,8 +50,10 @@ const VERSION_KEY: &str = "io.modelcontextprotocol/protocolVersion";
 
 /// What `neurotree mcp` was asked to do.
 #[derive(clap::Args, Debug)]
-#[command(after_help = "Configure an assistant to start `neurotree mcp` in the folder of \
-its trees; see docs/guide/mcp.md.")]
+#[command(
+    after_help = "Configure an assistant to start `neurotree mcp` in the folder of \
+its trees; see docs/guide/mcp.md."
+)]
 pub struct McpArgs {}
 
 /// Serves requests from standard input until it closes.
@@ -69,7 +72,11 @@ pub fn execute(_args: &McpArgs, err: &mut impl Write) -> io::Result<Outcome> {
 }
 
 /// Answers each message of `input` on `output`, one line each, until `input` ends.
-pub fn serve(input: &mut impl BufRead, output: &mut impl Write, scratch: &std::path::Path) -> io::Result<()> {
+pub fn serve(
+    input: &mut impl BufRead,
+    output: &mut impl Write,
+    scratch: &std::path::Path,
+) -> io::Result<()> {
     let mut server = Server {
         scratch: scratch.to_path_buf(),
         calls: 0,
@@ -164,22 +171,35 @@ impl Server {
         };
         let Value::Object(message) = message else {
             // Batches were removed from MCP in 2025-06-18.
-            return Some(error(Value::Null, INVALID_REQUEST, "a message must be one JSON object"));
+            return Some(error(
+                Value::Null,
+                INVALID_REQUEST,
+                "a message must be one JSON object",
+            ));
         };
         let id = message.get("id").cloned();
         let method = message.get("method").and_then(Value::as_str);
         let valid_id = matches!(id, Some(Value::String(_) | Value::Number(_)));
         let (Some(method), true) = (method, message.get("jsonrpc") == Some(&json!("2.0"))) else {
-            // A response from the client (it sends none we asked for), or no request.
-            return (valid_id && !message.contains_key("result") && !message.contains_key("error"))
-                .then(|| error(id.clone().unwrap_or(Value::Null), INVALID_REQUEST, "not a JSON-RPC 2.0 request"));
+            // A response from the client is not answered (the server asks nothing of it).
+            let response = message.contains_key("result") || message.contains_key("error");
+            let id = if valid_id {
+                id.unwrap_or(Value::Null)
+            } else {
+                Value::Null
+            };
+            return (!response).then(|| error(id, INVALID_REQUEST, "not a JSON-RPC 2.0 request"));
         };
         let Some(id) = id else {
             // A notification (`notifications/initialized`, `notifications/cancelled`).
             return None;
         };
         if !valid_id {
-            return Some(error(Value::Null, INVALID_REQUEST, "the id must be a string or a number"));
+            return Some(error(
+                Value::Null,
+                INVALID_REQUEST,
+                "the id must be a string or a number",
+            ));
         }
         let params = message.get("params").cloned().unwrap_or(json!({}));
         if !params.is_object() {
@@ -187,7 +207,11 @@ impl Server {
         }
         Some(match self.request(method, &params) {
             Ok(result) => json!({ "jsonrpc": "2.0", "id": id, "result": result }),
-            Err(Refusal { code, message, data }) => {
+            Err(Refusal {
+                code,
+                message,
+                data,
+            }) => {
                 let mut answer = error(id, code, &message);
                 if let Some(data) = data {
                     answer["error"]["data"] = data;
@@ -230,7 +254,10 @@ impl Server {
             }
             "tools/call" => self.call(params)?,
             other => {
-                return Err(Refusal::new(METHOD_NOT_FOUND, format!("no method `{other}`")));
+                return Err(Refusal::new(
+                    METHOD_NOT_FOUND,
+                    format!("no method `{other}`"),
+                ));
             }
         };
         if modern || method == "server/discover" {
@@ -241,13 +268,23 @@ impl Server {
 
     /// Runs a tool on its own thread, so that a call that takes too long is answered.
     fn call(&mut self, params: &Value) -> Result<Value, Refusal> {
-        let name = params.get("name").and_then(Value::as_str).unwrap_or_default().to_string();
+        let name = params
+            .get("name")
+            .and_then(Value::as_str)
+            .unwrap_or_default()
+            .to_string();
         if !tools::exists(&name) {
-            return Err(Refusal::new(INVALID_PARAMS, format!("no tool `{name}`; tools/list lists them")));
+            return Err(Refusal::new(
+                INVALID_PARAMS,
+                format!("no tool `{name}`; tools/list lists them"),
+            ));
         }
         let arguments = params.get("arguments").cloned().unwrap_or(json!({}));
         if !arguments.is_object() {
-            return Err(Refusal::new(INVALID_PARAMS, "arguments must be an object".to_string()));
+            return Err(Refusal::new(
+                INVALID_PARAMS,
+                "arguments must be an object".to_string(),
+            ));
         }
         self.calls += 1;
         let dir = self.scratch.join(format!("call-{}", self.calls));
@@ -261,7 +298,7 @@ impl Server {
                 let _ = std::fs::remove_dir_all(&dir);
                 let _ = send.send(outcome);
             })
-            .map_err(|e| Refusal::new(-32603, format!("cannot start the call: {e}")))?;
+            .map_err(|e| Refusal::new(INTERNAL_ERROR, format!("cannot start the call: {e}")))?;
         let outcome = match receive.recv_timeout(CALL_TIME_LIMIT) {
             Ok(outcome) => outcome,
             Err(_) => Err(format!(
@@ -301,7 +338,11 @@ struct Refusal {
 
 impl Refusal {
     fn new(code: i64, message: String) -> Self {
-        Self { code, message, data: None }
+        Self {
+            code,
+            message,
+            data: None,
+        }
     }
 }
 
@@ -324,8 +365,14 @@ fn server_info() -> Value {
 /// The `initialize` answer: the client's revision if it is one of the handshake's, else
 /// the newest of them (the client then decides whether to go on).
 fn initialize(params: &Value) -> Value {
-    let asked = params.get("protocolVersion").and_then(Value::as_str).unwrap_or_default();
-    let version = HANDSHAKE.iter().find(|v| **v == asked).unwrap_or(&HANDSHAKE[3]);
+    let asked = params
+        .get("protocolVersion")
+        .and_then(Value::as_str)
+        .unwrap_or_default();
+    let version = HANDSHAKE
+        .iter()
+        .find(|v| **v == asked)
+        .unwrap_or(&HANDSHAKE[3]);
     json!({
         "protocolVersion": version,
         "capabilities": capabilities(),

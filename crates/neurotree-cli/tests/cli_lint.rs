@@ -72,16 +72,28 @@ fn text_findings_and_exit_status() {
     let mistyped = write(&dir, "mistyped.xml", MISTYPED);
     let (code, out, _) = neurotree(&["lint", &mistyped]);
     assert_eq!(code, Some(1));
-    assert!(out.contains(":5:7: error[NT0102]: port `num_cycles` of Repeat reads the entry `n` as"), "{out}");
+    assert!(
+        out.contains(":5:7: error[NT0102]: port `num_cycles` of Repeat reads the entry `n` as"),
+        "{out}"
+    );
 }
 
 #[test]
 fn a_file_that_does_not_load_is_an_error_of_its_own_rule() {
     let dir = tempfile::tempdir().unwrap();
-    let bad = write(&dir, "bad.xml", "<root BTCPP_format=\"4\"><BehaviorTree ID=\"M\"><Nope/></BehaviorTree></root>");
+    let bad = write(
+        &dir,
+        "bad.xml",
+        "<root BTCPP_format=\"4\"><BehaviorTree ID=\"M\"><Nope/></BehaviorTree></root>",
+    );
     let (code, out, _) = neurotree(&["lint", &bad]);
     assert_eq!(code, Some(1));
-    assert!(out.starts_with(&format!("{bad}:1:45: error[NT0001]: unknown node type `Nope`")), "{out}");
+    assert!(
+        out.starts_with(&format!(
+            "{bad}:1:45: error[NT0001]: unknown node type `Nope`"
+        )),
+        "{out}"
+    );
     let (code, _, err) = neurotree(&["lint", "missing.xml"]);
     assert_eq!(code, Some(1), "{err}");
 }
@@ -116,25 +128,36 @@ fn sarif_names_each_rule_and_result() {
     assert_eq!(doc["version"], "2.1.0");
     let run = &doc["runs"][0];
     let rules = run["tool"]["driver"]["rules"].as_array().unwrap();
-    assert!(rules.iter().any(|r| r["id"] == "NT0101" && r["name"] == "read-before-write"));
+    assert!(rules
+        .iter()
+        .any(|r| r["id"] == "NT0101" && r["name"] == "read-before-write"));
     let result = &run["results"][0];
     assert_eq!(result["ruleId"], "NT0102");
     assert_eq!(result["level"], "error");
     let place = &result["locations"][0]["physicalLocation"];
     assert_eq!(place["region"]["startLine"], 5);
-    assert!(place["artifactLocation"]["uri"].as_str().unwrap().ends_with("mistyped.xml"));
+    assert!(place["artifactLocation"]["uri"]
+        .as_str()
+        .unwrap()
+        .ends_with("mistyped.xml"));
 }
 
 #[test]
 fn list_and_explain_show_the_catalog() {
     let (code, out, _) = neurotree(&["lint", "--list"]);
     assert_eq!(code, Some(0));
-    for code in ["NT0001", "NT0101", "NT0102", "NT0103", "NT0201", "NT0202", "NT0203", "NT0301", "NT0302", "NT0303"] {
+    for code in [
+        "NT0001", "NT0101", "NT0102", "NT0103", "NT0201", "NT0202", "NT0203", "NT0301", "NT0302",
+        "NT0303",
+    ] {
         assert!(out.contains(code), "{code}: {out}");
     }
     let (code, out, _) = neurotree(&["lint", "--explain", "nt0101"]);
     assert_eq!(code, Some(0));
-    assert!(out.starts_with("NT0101 read-before-write (warning)"), "{out}");
+    assert!(
+        out.starts_with("NT0101 read-before-write (warning)"),
+        "{out}"
+    );
     let (code, _, err) = neurotree(&["lint", "--explain", "NT0999"]);
     assert_eq!(code, Some(1));
     assert!(err.contains("no rule `NT0999`"), "{err}");
@@ -192,6 +215,9 @@ fn nav2_default_trees_lint_with_exit_zero() {
         let (code, out, err) = neurotree(&["lint", "--nav2", file.to_str().unwrap()]);
         assert_eq!(code, Some(0), "{}: {out}{err}", file.display());
         assert!(!out.contains("error["), "{out}");
-        assert!(!out.contains("[NT0201]") && !out.contains("[NT0303]"), "{out}");
+        assert!(
+            !out.contains("[NT0201]") && !out.contains("[NT0303]"),
+            "{out}"
+        );
     }
 }

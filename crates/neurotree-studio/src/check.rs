@@ -145,7 +145,13 @@ impl<'a> Places<'a> {
     }
 
     fn diagnostic(&self, e: &LoadError) -> Diagnostic {
-        self.locate(e.line, e.col, &format!("{:?}", e.kind()), "error", e.to_string())
+        self.locate(
+            e.line,
+            e.col,
+            &format!("{:?}", e.kind()),
+            "error",
+            e.to_string(),
+        )
     }
 
     fn locate(
@@ -274,8 +280,13 @@ mod tests {
         // The Repeat never ends, so neither does the tree.
         assert_eq!(
             found,
-            [("NT0303", "warning", Some(&[0][..])), ("NT0302", "warning", Some(&[0, 1][..]))]
+            [
+                ("NT0303", "warning", Some(&[0][..])),
+                ("NT0302", "warning", Some(&[0, 1][..]))
+            ]
         );
-        assert!(check.lint[1].message.starts_with("a.xml:6:7: warning[NT0302]: "));
+        assert!(check.lint[1]
+            .message
+            .starts_with("a.xml:6:7: warning[NT0302]: "));
     }
 }

@@ -17,8 +17,8 @@ pub use neurotree_core::*;
 
 pub mod blackboard_json;
 mod json_port;
-mod load;
 pub mod lint;
+mod load;
 pub mod nodes;
 pub mod observe;
 pub mod registry;

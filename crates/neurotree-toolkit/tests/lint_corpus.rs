@@ -45,7 +45,9 @@ fn findings(registry: &Registry<()>, dir: &Path, options: &LintOptions) -> Vec<S
     let files = xml_files(dir);
     for file in &files {
         let name = file.file_name().unwrap().to_string_lossy().to_string();
-        let mut loader = XmlLoader::new(registry).mock_unknown(true).base_dir(corpus(""));
+        let mut loader = XmlLoader::new(registry)
+            .mock_unknown(true)
+            .base_dir(corpus(""));
         if loader.load_file(file).is_err() {
             continue;
         }
@@ -60,7 +62,11 @@ fn findings(registry: &Registry<()>, dir: &Path, options: &LintOptions) -> Vec<S
             continue;
         }
         for d in lint(&loader, options) {
-            let shown = Path::new(&d.file).file_name().unwrap().to_string_lossy().to_string();
+            let shown = Path::new(&d.file)
+                .file_name()
+                .unwrap()
+                .to_string_lossy()
+                .to_string();
             // The entry or node the message names first.
             let named = d.message.split('`').nth(1).unwrap_or_default();
             let line = format!("{shown}:{} {} {named}", d.line, d.code);
@@ -112,7 +118,9 @@ fn behaviortree_cpp_corpus_findings_are_the_real_ones() {
 fn nav2_corpus_findings_are_the_real_ones() {
     let mut registry = Registry::<()>::new();
     let model = std::fs::read_to_string(corpus("nav2/nav2_tree_nodes.xml")).unwrap();
-    registry.add_model_str(&model, "nav2_tree_nodes.xml").unwrap();
+    registry
+        .add_model_str(&model, "nav2_tree_nodes.xml")
+        .unwrap();
     let found = findings(&registry, &corpus("nav2"), &LintOptions::nav2());
     let expected = vec![
         // ComputeRoute's `route` output: the tree follows `route_path` instead.

@@ -20,11 +20,19 @@ const PING: &str = r#"{"jsonrpc":"2.0","id":9,"method":"ping"}"#;
 
 #[test]
 fn the_handshake_answers_the_clients_revision_or_the_newest() {
-    for (asked, answered) in [("2025-11-25", "2025-11-25"), ("2025-03-26", "2025-03-26"), ("1999-01-01", "2025-11-25")] {
+    for (asked, answered) in [
+        ("2025-11-25", "2025-11-25"),
+        ("2025-03-26", "2025-03-26"),
+        ("1999-01-01", "2025-11-25"),
+    ] {
         let init = format!(
             r#"{{"jsonrpc":"2.0","id":1,"method":"initialize","params":{{"protocolVersion":"{asked}","capabilities":{{}},"clientInfo":{{"name":"t","version":"1"}}}}}}"#
         );
-        let got = answers(&[&init, r#"{"jsonrpc":"2.0","method":"notifications/initialized"}"#, PING]);
+        let got = answers(&[
+            &init,
+            r#"{"jsonrpc":"2.0","method":"notifications/initialized"}"#,
+            PING,
+        ]);
         assert_eq!(got.len(), 2, "{got:?}");
         assert_eq!(got[0]["id"], 1);
         assert_eq!(got[0]["result"]["protocolVersion"], answered);
@@ -64,10 +72,15 @@ fn malformed_messages_get_errors_and_the_server_goes_on() {
         r#"{"jsonrpc":"2.0","id":3,"method":"tools/call","params":[1]}"#,
         r#"{"jsonrpc":"2.0","id":4,"method":"tools/call","params":{"name":"nope"}}"#,
         r#"{"jsonrpc":"2.0","id":5,"method":"tools/call","params":{"name":"check_tree","arguments":"x"}}"#,
+        "{}",
+        r#"{"jsonrpc":"2.0","id":6,"result":{}}"#,
         "",
         PING,
     ]);
-    let codes: Vec<(Value, Value)> = got.iter().map(|a| (a["id"].clone(), a["error"]["code"].clone())).collect();
+    let codes: Vec<(Value, Value)> = got
+        .iter()
+        .map(|a| (a["id"].clone(), a["error"]["code"].clone()))
+        .collect();
     assert_eq!(
         codes,
         [
@@ -79,6 +92,7 @@ fn malformed_messages_get_errors_and_the_server_goes_on() {
             (json!(3), json!(INVALID_PARAMS)),
             (json!(4), json!(INVALID_PARAMS)),
             (json!(5), json!(INVALID_PARAMS)),
+            (Value::Null, json!(INVALID_REQUEST)),
             (json!(9), Value::Null),
         ]
     );
@@ -86,10 +100,16 @@ fn malformed_messages_get_errors_and_the_server_goes_on() {
 
 #[test]
 fn a_message_too_long_is_refused_without_being_kept() {
-    let long = format!(r#"{{"jsonrpc":"2.0","id":1,"method":"ping","params":{{"x":"{}"}}}}"#, "a".repeat(MAX_MESSAGE_BYTES));
+    let long = format!(
+        r#"{{"jsonrpc":"2.0","id":1,"method":"ping","params":{{"x":"{}"}}}}"#,
+        "a".repeat(MAX_MESSAGE_BYTES)
+    );
     let got = answers(&[&long, PING]);
     assert_eq!(got[0]["error"]["code"], INVALID_REQUEST);
-    assert!(got[0]["error"]["message"].as_str().unwrap().contains("longer than"));
+    assert!(got[0]["error"]["message"]
+        .as_str()
+        .unwrap()
+        .contains("longer than"));
     assert_eq!(got[1]["id"], 9);
 }
 
@@ -102,13 +122,22 @@ fn call(name: &str, arguments: Value) -> Value {
 fn a_tool_s_failure_is_its_answer() {
     let result = call("check_tree", json!({}));
     assert_eq!(result["isError"], true);
-    assert_eq!(result["content"][0]["text"], "give the tree's XML text in `xml`");
+    assert_eq!(
+        result["content"][0]["text"],
+        "give the tree's XML text in `xml`"
+    );
     let big = "x".repeat(tools::MAX_XML_BYTES + 1);
     let result = call("lint_tree", json!({ "xml": big }));
     assert_eq!(result["isError"], true);
-    let result = call("run_tree", json!({ "xml": "<root/>", "max_ticks": 1_000_000 }));
+    let result = call(
+        "run_tree",
+        json!({ "xml": "<root/>", "max_ticks": 1_000_000 }),
+    );
     assert_eq!(result["isError"], true);
-    assert!(result["content"][0]["text"].as_str().unwrap().contains("from 1 to 10000"));
+    assert!(result["content"][0]["text"]
+        .as_str()
+        .unwrap()
+        .contains("from 1 to 10000"));
 }
 
 #[test]
@@ -120,7 +149,10 @@ fn lint_tree_finds_what_neurotree_lint_finds() {
     let found = &result["structuredContent"]["diagnostics"];
     assert_eq!(found[0]["code"], "NT0201");
     assert_eq!(found[0]["line"], 2);
-    assert!(result["content"][0]["text"].as_str().unwrap().contains("warning[NT0201]"));
+    assert!(result["content"][0]["text"]
+        .as_str()
+        .unwrap()
+        .contains("warning[NT0201]"));
 }
 
 #[test]

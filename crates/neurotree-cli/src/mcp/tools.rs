@@ -195,20 +195,34 @@ fn nav2(args: &Value) -> Result<Nav2Args, String> {
 fn registry(args: &Value) -> Result<Registry<()>, String> {
     let mut registry = check::registry(&[], nav2(args)?, &[]).map_err(|e| joined(&e))?;
     if let Some(model) = text(args, "model_xml")? {
-        registry.add_model_str(model, "model.xml").map_err(|e| e.to_string())?;
+        registry
+            .add_model_str(model, "model.xml")
+            .map_err(|e| e.to_string())?;
     }
     Ok(registry)
 }
 
 /// The tree text `xml` checked as `neurotree check` checks a file, with `registry` and
 /// the text's own `TreeNodesModel` (whose error, if it has one, is the check's).
-fn checked<'r>(registry: &'r mut Registry<()>, xml: &str) -> Result<check::Checked<'r>, neurotree::LoadError> {
+fn checked<'r>(
+    registry: &'r mut Registry<()>,
+    xml: &str,
+) -> Result<check::Checked<'r>, neurotree::LoadError> {
     registry.add_model_str(xml, FILE)?;
-    Ok(check::check_text(registry, xml, FILE, neurotree::xml::DEFAULT_MAX_NODES))
+    Ok(check::check_text(
+        registry,
+        xml,
+        FILE,
+        neurotree::xml::DEFAULT_MAX_NODES,
+    ))
 }
 
 fn joined(errors: &[neurotree::LoadError]) -> String {
-    errors.iter().map(ToString::to_string).collect::<Vec<_>>().join("\n")
+    errors
+        .iter()
+        .map(ToString::to_string)
+        .collect::<Vec<_>>()
+        .join("\n")
 }
 
 /// The name the tree text has in messages and in the call's folder.
@@ -257,9 +271,7 @@ fn check_tree(args: &Value) -> Result<Value, String> {
             return Ok(json!({ "ok": false, "errors": [error], "warnings": [] }));
         }
     };
-    let place = |file: &str, line: u32, col: u32, message: &str| {
-        json!({ "file": file, "line": line, "col": col, "message": message })
-    };
+    let place = |file: &str, line: u32, col: u32, message: &str| json!({ "file": file, "line": line, "col": col, "message": message });
     let warnings: Vec<Value> = checked
         .warnings
         .iter()
@@ -284,7 +296,11 @@ fn check_tree(args: &Value) -> Result<Value, String> {
 fn lint_tree(args: &Value) -> Result<Value, String> {
     let xml = xml(args)?;
     let mut registry = registry(args)?;
-    let mut options = if flag(args, "nav2")? { LintOptions::nav2() } else { LintOptions::default() };
+    let mut options = if flag(args, "nav2")? {
+        LintOptions::nav2()
+    } else {
+        LintOptions::default()
+    };
     options.tree = text(args, "tree")?.map(String::from);
     match args.get("entries") {
         None | Some(Value::Null) => {}
@@ -308,11 +324,13 @@ fn lint_tree(args: &Value) -> Result<Value, String> {
         }
     };
     let mut doc = lint::json_document(&found);
-    doc["text"] = json!(found
-        .iter()
-        .map(|d| d.to_string() + "\n")
-        .collect::<String>()
-        + &lint::summary(&found));
+    doc["text"] = json!(
+        found
+            .iter()
+            .map(|d| d.to_string() + "\n")
+            .collect::<String>()
+            + &lint::summary(&found)
+    );
     Ok(doc)
 }
 
@@ -326,8 +344,9 @@ fn write(dir: &Path, name: &str, text: &str) -> Result<PathBuf, String> {
 /// Runs the `neurotree` command line `argv` (show, run or test) in this process: how it
 /// ended, its standard output and its standard error.
 fn command(argv: &[String]) -> Result<(Outcome, String, String), String> {
-    let cli = Cli::try_parse_from(std::iter::once("neurotree".to_string()).chain(argv.iter().cloned()))
-        .map_err(|e| e.to_string())?;
+    let cli =
+        Cli::try_parse_from(std::iter::once("neurotree".to_string()).chain(argv.iter().cloned()))
+            .map_err(|e| e.to_string())?;
     let (mut out, mut err) = (Vec::new(), Vec::new());
     let outcome = match cli.command {
         Command::Show(args) => crate::show::execute(&args, &mut out, &mut err),
@@ -350,9 +369,17 @@ fn show_tree(args: &Value, dir: &Path) -> Result<Value, String> {
     let format = match text(args, "format")?.unwrap_or("text") {
         "text" => "unicode",
         f @ ("ascii" | "mermaid" | "svg" | "dot") => f,
-        other => return Err(format!("format `{other}`: give text, ascii, mermaid, svg or dot")),
+        other => {
+            return Err(format!(
+                "format `{other}`: give text, ascii, mermaid, svg or dot"
+            ))
+        }
     };
-    let mut argv = vec!["show".to_string(), path.display().to_string(), opt("format", format)];
+    let mut argv = vec![
+        "show".to_string(),
+        path.display().to_string(),
+        opt("format", format),
+    ];
     argv.extend(text(args, "tree")?.map(|t| opt("tree", t)));
     if flag(args, "nav2")? {
         argv.push("--nav2".into());
@@ -379,7 +406,9 @@ fn run_tree(args: &Value, dir: &Path) -> Result<Value, String> {
         argv.push("--nav2".into());
     }
     for (name, value) in object(args, "mocks")? {
-        let outcomes = value.as_str().ok_or("each mock's outcomes must be a string")?;
+        let outcomes = value
+            .as_str()
+            .ok_or("each mock's outcomes must be a string")?;
         argv.push(opt("mock", format!("{name}={outcomes}")));
     }
     for (key, value) in object(args, "inputs")? {
@@ -393,9 +422,15 @@ fn run_tree(args: &Value, dir: &Path) -> Result<Value, String> {
     if outcome == Outcome::Refused {
         return Err(err);
     }
-    let lines: Vec<Value> = out.lines().filter_map(|l| serde_json::from_str(l).ok()).collect();
+    let lines: Vec<Value> = out
+        .lines()
+        .filter_map(|l| serde_json::from_str(l).ok())
+        .collect();
     let (summary, ticks) = match lines.split_last() {
-        Some((last, ticks)) => (last.get("summary").cloned().unwrap_or(Value::Null), ticks.to_vec()),
+        Some((last, ticks)) => (
+            last.get("summary").cloned().unwrap_or(Value::Null),
+            ticks.to_vec(),
+        ),
         None => return Err(format!("the run printed nothing: {err}")),
     };
     let coverage: Value = std::fs::read_to_string(&coverage)
@@ -446,13 +481,21 @@ fn simulate_nav2(args: &Value, dir: &Path) -> Result<Value, String> {
         config.tree = Some(write(dir, FILE, xml)?);
     }
     if let Some(goal) = args.get("goal").filter(|g| !g.is_null()) {
-        match goal.as_array().map(|g| g.iter().map(Value::as_f64).collect::<Vec<_>>()).as_deref() {
-            Some([Some(x), Some(y)]) if x.is_finite() && y.is_finite() => config.goal = Pose2D::new(*x, *y, 0.0),
+        match goal
+            .as_array()
+            .map(|g| g.iter().map(Value::as_f64).collect::<Vec<_>>())
+            .as_deref()
+        {
+            Some([Some(x), Some(y)]) if x.is_finite() && y.is_finite() => {
+                config.goal = Pose2D::new(*x, *y, 0.0)
+            }
             _ => return Err("`goal` must be [x, y] in metres".to_string()),
         }
     }
     if let Some(seed) = args.get("seed").filter(|s| !s.is_null()) {
-        config.seed = seed.as_u64().ok_or("`seed` must be an integer of 0 or more")?;
+        config.seed = seed
+            .as_u64()
+            .ok_or("`seed` must be an integer of 0 or more")?;
     }
     config.max_ticks = count(args, "max_ticks", MAX_SIM_TICKS)?.unwrap_or(3000);
     let mut demo = DemoRun::new(&config).map_err(|e| e.to_string())?;

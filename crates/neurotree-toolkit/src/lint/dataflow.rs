@@ -45,7 +45,10 @@ enum Use<'r> {
     },
     /// Written; with the text written when it is a literal. `remap` for a SubTree's
     /// literal port, which gives the SubTree a value whether or not it reads it.
-    Write { literal: Option<String>, remap: bool },
+    Write {
+        literal: Option<String>,
+        remap: bool,
+    },
 }
 
 /// One read or write of an entry.
@@ -135,7 +138,11 @@ pub(crate) fn check_root<C: 'static>(
             .map(|(port, _)| port.clone())
             .collect(),
     };
-    let site = Site { tree: id, root: tree, el: root };
+    let site = Site {
+        tree: id,
+        root: tree,
+        el: root,
+    };
     flow.walk(site, 0);
     flow.report(options, found);
 }
@@ -202,7 +209,15 @@ impl<'l, 'r, C: 'static> Flow<'l, 'r, C> {
             }
         }
         for (key, literal, by, global) in writes {
-            self.push(key, Use::Write { literal, remap: false }, site, by);
+            self.push(
+                key,
+                Use::Write {
+                    literal,
+                    remap: false,
+                },
+                site,
+                by,
+            );
             if global {
                 self.mark_global("@");
             }
@@ -255,12 +270,26 @@ impl<'l, 'r, C: 'static> Flow<'l, 'r, C> {
                 PortValue::Literal(text) => Some(text),
                 PortValue::Entry(source) => {
                     let key = self.key(scope, &source);
-                    self.push(key, Use::Read { port: None, checked: true, script: false }, site, by("value"));
+                    self.push(
+                        key,
+                        Use::Read {
+                            port: None,
+                            checked: true,
+                            script: false,
+                        },
+                        site,
+                        by("value"),
+                    );
                     None
                 }
             };
             let target = target.trim();
-            writes.push((self.key(scope, target), literal, by("output_key"), target.starts_with('@')));
+            writes.push((
+                self.key(scope, target),
+                literal,
+                by("output_key"),
+                target.starts_with('@'),
+            ));
             return writes;
         }
         for spec in ports.unwrap_or_default() {
@@ -274,16 +303,29 @@ impl<'l, 'r, C: 'static> Flow<'l, 'r, C> {
             };
             let key = self.key(scope, &name);
             // The entry nodes read an entry by name and take a missing one as not updated.
-            let checked = !matches!(type_name, "WasEntryUpdated" | "SkipUnlessUpdated" | "WaitValueUpdate");
+            let checked = !matches!(
+                type_name,
+                "WasEntryUpdated" | "SkipUnlessUpdated" | "WaitValueUpdate"
+            );
             match spec.direction {
                 PortDirection::Input => {
-                    let what = Use::Read { port: Some(spec), checked, script: false };
+                    let what = Use::Read {
+                        port: Some(spec),
+                        checked,
+                        script: false,
+                    };
                     self.push(key, what, site, by(&spec.name));
                     self.mark_global(&name);
                 }
-                PortDirection::Output => writes.push((key, None, by(&spec.name), name.starts_with('@'))),
+                PortDirection::Output => {
+                    writes.push((key, None, by(&spec.name), name.starts_with('@')))
+                }
                 PortDirection::InOut => {
-                    let what = Use::Read { port: Some(spec), checked: false, script: false };
+                    let what = Use::Read {
+                        port: Some(spec),
+                        checked: false,
+                        script: false,
+                    };
                     self.push(key.clone(), what, site, by(&spec.name));
                     writes.push((key, None, by(&spec.name), name.starts_with('@')));
                 }
@@ -298,11 +340,18 @@ impl<'l, 'r, C: 'static> Flow<'l, 'r, C> {
     fn unknown_ports(&mut self, site: Site<'l>, scope: usize) -> Vec<Pending> {
         let el = site.el;
         let mut writes = Vec::new();
-        for (port, text) in el.attrs().filter(|(k, _)| *k != "name" && *k != "ID" && !k.starts_with('_')) {
+        for (port, text) in el
+            .attrs()
+            .filter(|(k, _)| *k != "name" && *k != "ID" && !k.starts_with('_'))
+        {
             if let PortValue::Entry(name) = binding(port, text) {
                 let key = self.key(scope, &name);
                 let by = format!("port `{port}` of {}", shown(el));
-                let what = Use::Read { port: None, checked: false, script: false };
+                let what = Use::Read {
+                    port: None,
+                    checked: false,
+                    script: false,
+                };
                 self.push(key.clone(), what, site, by.clone());
                 writes.push((key, None, by, name.starts_with('@')));
             }
@@ -317,9 +366,15 @@ impl<'l, 'r, C: 'static> Flow<'l, 'r, C> {
         let (Some(tree), true) = (self.loader.tree(id), self.depth < 64) else {
             return;
         };
-        let autoremap = el.attr("_autoremap").is_some_and(|v| matches!(v.trim(), "true" | "TRUE" | "True" | "1"));
+        let autoremap = el
+            .attr("_autoremap")
+            .is_some_and(|v| matches!(v.trim(), "true" | "TRUE" | "True" | "1"));
         let inner = self.scopes.len();
-        self.scopes.push(Scope { parent: Some(scope), remap: Vec::new(), autoremap });
+        self.scopes.push(Scope {
+            parent: Some(scope),
+            remap: Vec::new(),
+            autoremap,
+        });
         let mut ports: Vec<(&str, &str)> = el
             .attrs()
             .filter(|(k, _)| *k != "ID" && *k != "name" && !k.starts_with('_'))
@@ -339,13 +394,28 @@ impl<'l, 'r, C: 'static> Flow<'l, 'r, C> {
                 }
                 PortValue::Literal(text) => {
                     let by = format!("port `{port}` of SubTree {}", shown(el));
-                    self.push((inner, port.to_string()), Use::Write { literal: Some(text), remap: true }, site, by);
+                    self.push(
+                        (inner, port.to_string()),
+                        Use::Write {
+                            literal: Some(text),
+                            remap: true,
+                        },
+                        site,
+                        by,
+                    );
                 }
             }
         }
         if let Some(root) = tree.children().next() {
             self.depth += 1;
-            self.walk(Site { tree: id, root: tree, el: root }, inner);
+            self.walk(
+                Site {
+                    tree: id,
+                    root: tree,
+                    el: root,
+                },
+                inner,
+            );
             self.depth -= 1;
         }
     }
@@ -388,7 +458,11 @@ impl<'l, 'r, C: 'static> Flow<'l, 'r, C> {
         let mut unused = BTreeSet::new();
         for access in &self.accesses {
             match &access.what {
-                Use::Read { port, checked, script } => {
+                Use::Read {
+                    port,
+                    checked,
+                    script,
+                } => {
                     let is_written = written.contains(&access.key);
                     // A name no one writes may be an enum the application registers.
                     let unknowable = *script && !is_written;
@@ -471,7 +545,11 @@ impl<'l, 'r, C: 'static> Flow<'l, 'r, C> {
     /// Reports each literal written into `read`'s entry that its port cannot convert.
     fn mismatches(&self, read: &Access<'_, '_>, spec: &PortSpec, found: &mut Vec<Diagnostic>) {
         for w in &self.accesses {
-            let Use::Write { literal: Some(text), .. } = &w.what else {
+            let Use::Write {
+                literal: Some(text),
+                ..
+            } = &w.what
+            else {
                 continue;
             };
             if w.key == read.key && !spec.accepts(text) {
@@ -494,7 +572,11 @@ impl<'l, 'r, C: 'static> Flow<'l, 'r, C> {
 
 /// The entries `expr` reads and writes, in the order it does.
 fn script_uses<'r>(expr: &Expr, uses: &mut Vec<(String, Use<'r>)>) {
-    let read = |script| Use::Read { port: None, checked: true, script };
+    let read = |script| Use::Read {
+        port: None,
+        checked: true,
+        script,
+    };
     match &expr.kind {
         ExprKind::Name(name) => uses.push((name.to_string(), read(true))),
         ExprKind::Unary(_, _, e) => script_uses(e, uses),
@@ -519,7 +601,13 @@ fn script_uses<'r>(expr: &Expr, uses: &mut Vec<(String, Use<'r>)>) {
                 ExprKind::Str(text) => Some(text.to_string()),
                 _ => None,
             };
-            uses.push((key.to_string(), Use::Write { literal, remap: false }));
+            uses.push((
+                key.to_string(),
+                Use::Write {
+                    literal,
+                    remap: false,
+                },
+            ));
         }
         ExprKind::Int(_) | ExprKind::Real(_) | ExprKind::Bool(_) | ExprKind::Str(_) => {}
     }

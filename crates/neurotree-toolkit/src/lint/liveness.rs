@@ -13,7 +13,11 @@ pub(crate) fn check_tree<C: 'static>(
     tree: Element<'_>,
     found: &mut Vec<Diagnostic>,
 ) {
-    let site = |el| Site { tree: id, root: tree, el };
+    let site = |el| Site {
+        tree: id,
+        root: tree,
+        el,
+    };
     for el in tree.descendants() {
         let Some(node) = statuses.node(el) else {
             continue;
@@ -36,7 +40,9 @@ pub(crate) fn check_tree<C: 'static>(
                     ),
                 ));
             }
-            "Repeat" if literal_count(el, "num_cycles") == Some(-1) && !child_statuses.can_fail() => {
+            "Repeat"
+                if literal_count(el, "num_cycles") == Some(-1) && !child_statuses.can_fail() =>
+            {
                 found.push(site(el).diagnostic(
                     "NT0302",
                     format!(
@@ -86,19 +92,31 @@ mod tests {
     fn an_endless_retry_of_a_child_that_never_succeeds_is_found() {
         let xml = tree("<Fallback>\n<RetryUntilSuccessful num_attempts=\"-1\">\n<AlwaysFailure/>\n</RetryUntilSuccessful>\n<Check/>\n</Fallback>");
         // It only ever runs, so the Fallback never reaches its second child, and never ends.
-        assert_eq!(findings(&xml), [("NT0303", 3), ("NT0301", 4), ("NT0201", 7)]);
+        assert_eq!(
+            findings(&xml),
+            [("NT0303", 3), ("NT0301", 4), ("NT0201", 7)]
+        );
         assert_eq!(findings(&xml.replace("\"-1\"", "\"3\"")), []);
         // It can end now, but only with a success: the Fallback's second child stays out.
-        assert_eq!(findings(&xml.replace("AlwaysFailure", "Check")), [("NT0201", 7)]);
+        assert_eq!(
+            findings(&xml.replace("AlwaysFailure", "Check")),
+            [("NT0201", 7)]
+        );
     }
 
     #[test]
     fn an_endless_repeat_of_a_child_that_never_fails_is_found() {
         let xml = tree("<Fallback>\n<Repeat num_cycles=\"-1\">\n<ForceSuccess><Check/></ForceSuccess>\n</Repeat>\n<Check/>\n</Fallback>");
-        assert_eq!(findings(&xml), [("NT0303", 3), ("NT0302", 4), ("NT0201", 7)]);
+        assert_eq!(
+            findings(&xml),
+            [("NT0303", 3), ("NT0302", 4), ("NT0201", 7)]
+        );
         assert_eq!(findings(&xml.replace("ForceSuccess", "Inverter")), []);
         let keep = tree("<Fallback>\n<KeepRunningUntilFailure>\n<AlwaysSuccess/>\n</KeepRunningUntilFailure>\n<Check/>\n</Fallback>");
-        assert_eq!(findings(&keep), [("NT0303", 3), ("NT0302", 4), ("NT0201", 7)]);
+        assert_eq!(
+            findings(&keep),
+            [("NT0303", 3), ("NT0302", 4), ("NT0201", 7)]
+        );
     }
 
     #[test]

@@ -167,11 +167,13 @@ impl LintOptions {
 
 /// Whether `name` is one of `patterns` (see [`LintOptions::written`]).
 fn matches(patterns: &[String], name: &str) -> bool {
-    patterns.iter().any(|p| match (p.strip_prefix('*'), p.strip_suffix('*')) {
-        (Some(end), _) => name.ends_with(end),
-        (_, Some(start)) => name.starts_with(start),
-        _ => p == name,
-    })
+    patterns
+        .iter()
+        .any(|p| match (p.strip_prefix('*'), p.strip_suffix('*')) {
+            (Some(end), _) => name.ends_with(end),
+            (_, Some(start)) => name.starts_with(start),
+            _ => p == name,
+        })
 }
 
 /// Lints every tree `loader` holds: each tree no other tree uses is followed from its root
@@ -258,19 +260,29 @@ pub(crate) fn findings_with(xml: &str, options: &LintOptions) -> Vec<(&'static s
     let leaves = [
         ("Say", PortSpec::input::<String>("message")),
         ("Think", PortSpec::output::<String>("text")),
-        ("Move", PortSpec::input::<String>("goal").default_value("{goal}")),
+        (
+            "Move",
+            PortSpec::input::<String>("goal").default_value("{goal}"),
+        ),
         ("Count", PortSpec::input::<i64>("n")),
     ];
     for (name, port) in leaves {
-        registry.register_action(name, vec![port], |_| Status::Success).unwrap();
+        registry
+            .register_action(name, vec![port], |_| Status::Success)
+            .unwrap();
     }
-    registry.register_condition("Check", vec![], |_| true).unwrap();
+    registry
+        .register_condition("Check", vec![], |_| true)
+        .unwrap();
     let mut loader = XmlLoader::new(&registry);
     loader.load_str(xml, "main.xml").unwrap();
     for id in loader.tree_ids() {
         loader.validate(id).unwrap();
     }
-    lint(&loader, options).iter().map(|d| (d.code, d.line)).collect()
+    lint(&loader, options)
+        .iter()
+        .map(|d| (d.code, d.line))
+        .collect()
 }
 
 /// [`findings_with`] the default options.

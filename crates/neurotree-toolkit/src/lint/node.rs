@@ -16,7 +16,10 @@ pub(crate) struct Node<'r, C> {
 
 /// The node `el` stands for, if its type is known (a tree that validated knows them all,
 /// but for `--mock-unknown` leaves).
-pub(crate) fn resolve<'r, C: 'static>(registry: &'r Registry<C>, el: Element<'_>) -> Option<Node<'r, C>> {
+pub(crate) fn resolve<'r, C: 'static>(
+    registry: &'r Registry<C>,
+    el: Element<'_>,
+) -> Option<Node<'r, C>> {
     let tag = el.tag();
     if tag == "SubTree" {
         return Some(Node {

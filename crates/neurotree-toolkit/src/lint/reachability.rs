@@ -21,7 +21,11 @@ pub(crate) fn check_tree<C: 'static>(
         let Some(node) = statuses.node(el) else {
             continue;
         };
-        let site = |el| Site { tree: id, root: tree, el };
+        let site = |el| Site {
+            tree: id,
+            root: tree,
+            el,
+        };
         match node.name {
             "Sequence" | "SequenceWithMemory" | "ReactiveSequence" | "AsyncSequence" => {
                 cut_off(statuses, el, true, &site, found)
@@ -99,7 +103,9 @@ fn unmatched_cases<'d>(
             let why = format!("is `{value}`, as `{first}` before it is, so it is never chosen");
             unmatched.push((name, why));
         } else if let (Some(variable), Some(first)) = (variable, chosen) {
-            let why = format!("is never chosen: `{first}` already matches the literal variable `{variable}`");
+            let why = format!(
+                "is never chosen: `{first}` already matches the literal variable `{variable}`"
+            );
             unmatched.push((name, why));
         } else if let Some(variable) = variable {
             if equal(variable, value) {
@@ -128,11 +134,17 @@ pub(crate) fn unused_trees<C: 'static>(loader: &XmlLoader<'_, C>, found: &mut Ve
     };
     let used = super::uses(loader, main);
     for id in loader.tree_ids().filter(|id| !used.contains(id)) {
-        let Some(tree) = loader.tree(id) else { continue };
+        let Some(tree) = loader.tree(id) else {
+            continue;
+        };
         if tree.file() != main_el.file() {
             continue;
         }
-        let site = Site { tree: id, root: tree, el: tree };
+        let site = Site {
+            tree: id,
+            root: tree,
+            el: tree,
+        };
         found.push(site.diagnostic(
             "NT0203",
             format!("tree `{id}` is never used: the main tree `{main}` does not reach it through any SubTree"),
@@ -153,7 +165,9 @@ mod tests {
 
     #[test]
     fn a_child_after_one_that_never_fails_in_a_fallback_is_found() {
-        let xml = tree("<Fallback>\n<ForceSuccess><Check/></ForceSuccess>\n<Check/>\n<Check/>\n</Fallback>");
+        let xml = tree(
+            "<Fallback>\n<ForceSuccess><Check/></ForceSuccess>\n<Check/>\n<Check/>\n</Fallback>",
+        );
         assert_eq!(findings(&xml), [("NT0201", 5)]);
         assert_eq!(findings(&xml.replace("ForceSuccess", "Inverter")), []);
     }
@@ -194,7 +208,9 @@ mod tests {
         );
         assert_eq!(findings(&literal), [("NT0202", 3)]);
         // Compared as numbers too, as BehaviorTree.CPP compares them: `1` matches `1.0`.
-        let numbers = literal.replace("\"run\"", "\"1.0\"").replace("\"idle\"", "\"1\"");
+        let numbers = literal
+            .replace("\"run\"", "\"1.0\"")
+            .replace("\"idle\"", "\"1\"");
         assert_eq!(findings(&numbers), [("NT0202", 3)]);
     }
 
@@ -206,6 +222,9 @@ mod tests {
              <BehaviorTree ID=\"Orphan\"><Check/></BehaviorTree></root>";
         assert_eq!(findings(xml), [("NT0203", 4)]);
         // Without a main tree, every tree may be meant to start from.
-        assert_eq!(findings(&xml.replace(" main_tree_to_execute=\"Main\"", "")), []);
+        assert_eq!(
+            findings(&xml.replace(" main_tree_to_execute=\"Main\"", "")),
+            []
+        );
     }
 }
