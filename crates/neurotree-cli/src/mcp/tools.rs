@@ -448,7 +448,7 @@ fn run_tree(args: &Value, dir: &Path) -> Result<Value, String> {
 }
 
 /// The object argument `name` (empty if not given).
-fn object<'a>(args: &'a Value, name: &str) -> Result<Map<String, Value>, String> {
+fn object(args: &Value, name: &str) -> Result<Map<String, Value>, String> {
     match args.get(name) {
         None | Some(Value::Null) => Ok(Map::new()),
         Some(Value::Object(map)) => Ok(map.clone()),

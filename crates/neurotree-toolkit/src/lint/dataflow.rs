@@ -503,7 +503,7 @@ impl<'l, 'r, C: 'static> Flow<'l, 'r, C> {
     /// Whether `key` is a port the root tree's SubTree model declares: its parent, not
     /// linted here, writes or reads it.
     fn interface(&self, key: &Key) -> bool {
-        key.0 == 0 && self.interface.iter().any(|port| *port == key.1)
+        key.0 == 0 && self.interface.contains(&key.1)
     }
 
     /// Whether a write of `read`'s entry can come before it: earlier in tick order, or in
