@@ -16,6 +16,7 @@ use std::collections::BTreeSet;
 use neurotree_core::{PortDirection, PortValue};
 
 use super::node::{self, line, shown};
+use super::types;
 use super::{matches, Diagnostic, LintOptions, Site};
 use crate::registry::PortSpec;
 use crate::script::ast::{AssignOp, Expr, ExprKind};
@@ -43,10 +44,12 @@ enum Use<'r> {
         checked: bool,
         script: bool,
     },
-    /// Written; with the text written when it is a literal. `remap` for a SubTree's
-    /// literal port, which gives the SubTree a value whether or not it reads it.
+    /// Written; with the text written when it is a literal, or the port that writes it.
+    /// `remap` for a SubTree's literal port, which gives the SubTree a value whether or not
+    /// it reads it.
     Write {
         literal: Option<String>,
+        port: Option<&'r PortSpec>,
         remap: bool,
     },
 }
@@ -68,7 +71,7 @@ struct Access<'d, 'r> {
 
 /// A write the node makes once it has run: the entry, the literal written, who writes it,
 /// and whether it is named `@key`.
-type Pending = (Key, Option<String>, String, bool);
+type Pending<'r> = (Key, Use<'r>, String, bool);
 
 /// Ports whose text is a script, by node type.
 const SCRIPT_PORTS: [(&str, &str); 3] = [
@@ -208,16 +211,8 @@ impl<'l, 'r, C: 'static> Flow<'l, 'r, C> {
                 self.children(site, scope, true);
             }
         }
-        for (key, literal, by, global) in writes {
-            self.push(
-                key,
-                Use::Write {
-                    literal,
-                    remap: false,
-                },
-                site,
-                by,
-            );
+        for (key, write, by, global) in writes {
+            self.push(key, write, site, by);
             if global {
                 self.mark_global("@");
             }
@@ -255,7 +250,7 @@ impl<'l, 'r, C: 'static> Flow<'l, 'r, C> {
         scope: usize,
         type_name: &str,
         ports: Option<&'r [PortSpec]>,
-    ) -> Vec<Pending> {
+    ) -> Vec<Pending<'r>> {
         let el = site.el;
         let mut writes = Vec::new();
         let by = |port: &str| format!("port `{port}` of {}", shown(el));
@@ -286,7 +281,7 @@ impl<'l, 'r, C: 'static> Flow<'l, 'r, C> {
             let target = target.trim();
             writes.push((
                 self.key(scope, target),
-                literal,
+                written(literal, None),
                 by("output_key"),
                 target.starts_with('@'),
             ));
@@ -317,9 +312,12 @@ impl<'l, 'r, C: 'static> Flow<'l, 'r, C> {
                     self.push(key, what, site, by(&spec.name));
                     self.mark_global(&name);
                 }
-                PortDirection::Output => {
-                    writes.push((key, None, by(&spec.name), name.starts_with('@')))
-                }
+                PortDirection::Output => writes.push((
+                    key,
+                    written(None, Some(spec)),
+                    by(&spec.name),
+                    name.starts_with('@'),
+                )),
                 PortDirection::InOut => {
                     let what = Use::Read {
                         port: Some(spec),
@@ -327,7 +325,12 @@ impl<'l, 'r, C: 'static> Flow<'l, 'r, C> {
                         script: false,
                     };
                     self.push(key.clone(), what, site, by(&spec.name));
-                    writes.push((key, None, by(&spec.name), name.starts_with('@')));
+                    writes.push((
+                        key,
+                        written(None, Some(spec)),
+                        by(&spec.name),
+                        name.starts_with('@'),
+                    ));
                 }
             }
         }
@@ -337,7 +340,7 @@ impl<'l, 'r, C: 'static> Flow<'l, 'r, C> {
     /// A node of no known type (a leaf mocked for a dry run) may read and write every entry
     /// its attributes name: each is taken as read (without the check that it was
     /// written) and as written.
-    fn unknown_ports(&mut self, site: Site<'l>, scope: usize) -> Vec<Pending> {
+    fn unknown_ports(&mut self, site: Site<'l>, scope: usize) -> Vec<Pending<'r>> {
         let el = site.el;
         let mut writes = Vec::new();
         for (port, text) in el
@@ -353,7 +356,7 @@ impl<'l, 'r, C: 'static> Flow<'l, 'r, C> {
                     script: false,
                 };
                 self.push(key.clone(), what, site, by.clone());
-                writes.push((key, None, by, name.starts_with('@')));
+                writes.push((key, written(None, None), by, name.starts_with('@')));
             }
         }
         writes
@@ -398,6 +401,7 @@ impl<'l, 'r, C: 'static> Flow<'l, 'r, C> {
                         (inner, port.to_string()),
                         Use::Write {
                             literal: Some(text),
+                            port: None,
                             remap: true,
                         },
                         site,
@@ -542,31 +546,45 @@ impl<'l, 'r, C: 'static> Flow<'l, 'r, C> {
         )
     }
 
-    /// Reports each literal written into `read`'s entry that its port cannot convert.
+    /// Reports each literal written into `read`'s entry that its port cannot convert, and
+    /// each port that writes it as a type its port cannot read.
     fn mismatches(&self, read: &Access<'_, '_>, spec: &PortSpec, found: &mut Vec<Diagnostic>) {
-        for w in &self.accesses {
-            let Use::Write {
-                literal: Some(text),
-                ..
-            } = &w.what
-            else {
-                continue;
+        for w in self.accesses.iter().filter(|w| w.key == read.key) {
+            let why = match &w.what {
+                Use::Write {
+                    literal: Some(text),
+                    ..
+                } if !spec.accepts(text) => {
+                    format!("writes `{text}` into it, which does not convert")
+                }
+                Use::Write {
+                    port: Some(port), ..
+                } if types::incompatible(port.port_type(), spec.port_type()) => {
+                    format!("writes it as {}", port.type_name)
+                }
+                _ => continue,
             };
-            if w.key == read.key && !spec.accepts(text) {
-                found.push(read.site.diagnostic(
-                    "NT0102",
-                    format!(
-                        "{} reads the entry `{}` as {}, but {} at line {} writes `{text}` into \
-                         it, which does not convert",
-                        read.by,
-                        read.key.1,
-                        spec.type_name,
-                        w.by,
-                        line(w.site.el)
-                    ),
-                ));
-            }
+            found.push(read.site.diagnostic(
+                "NT0102",
+                format!(
+                    "{} reads the entry `{}` as {}, but {} at line {} {why}",
+                    read.by,
+                    read.key.1,
+                    spec.type_name,
+                    w.by,
+                    line(w.site.el)
+                ),
+            ));
         }
+    }
+}
+
+/// A write of a node's, of `literal` text or through `port`.
+fn written(literal: Option<String>, port: Option<&PortSpec>) -> Use<'_> {
+    Use::Write {
+        literal,
+        port,
+        remap: false,
     }
 }
 
@@ -605,6 +623,7 @@ fn script_uses<'r>(expr: &Expr, uses: &mut Vec<(String, Use<'r>)>) {
                 key.to_string(),
                 Use::Write {
                     literal,
+                    port: None,
                     remap: false,
                 },
             ));
@@ -715,6 +734,12 @@ mod tests {
             "<SetBlackboard value=\"many\" output_key=\"n\"/>",
         );
         assert_eq!(findings(&set), [("NT0102", 5)]);
+        // A port of another type writes it.
+        let located = xml.replace("<Script code=\"n := 'three'\"/>", "<Locate place=\"{n}\"/>");
+        assert_eq!(findings(&located), [("NT0102", 5)]);
+        // Text converts.
+        let thought = xml.replace("<Script code=\"n := 'three'\"/>", "<Think text=\"{n}\"/>");
+        assert_eq!(findings(&thought), []);
     }
 
     #[test]

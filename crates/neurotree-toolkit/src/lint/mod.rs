@@ -51,6 +51,7 @@ mod node;
 pub mod outcomes;
 pub mod reachability;
 mod rules;
+mod types;
 
 use std::collections::BTreeSet;
 use std::fmt;
@@ -251,7 +252,8 @@ impl Site<'_> {
 
 /// The findings of `xml` (one file, `main.xml`), linted with `options`, as `(code, line)`;
 /// its leaves: `Say` (input `message`), `Think` (output `text`), `Move` (input `goal`
-/// defaulting to `{goal}`), `Count` (input `n`, an int), `Check` (a condition).
+/// defaulting to `{goal}`), `Count` (input `n`, an int), `Locate` (output `place`, a pair
+/// of floats), `Check` (a condition).
 #[cfg(test)]
 pub(crate) fn findings_with(xml: &str, options: &LintOptions) -> Vec<(&'static str, u32)> {
     use crate::{PortSpec, Registry};
@@ -265,6 +267,7 @@ pub(crate) fn findings_with(xml: &str, options: &LintOptions) -> Vec<(&'static s
             PortSpec::input::<String>("goal").default_value("{goal}"),
         ),
         ("Count", PortSpec::input::<i64>("n")),
+        ("Locate", PortSpec::output::<(f64, f64)>("place")),
     ];
     for (name, port) in leaves {
         registry
