@@ -13,7 +13,7 @@ use std::io::{self, Write};
 use std::path::PathBuf;
 
 use neurotree::lint::{self, Diagnostic, LintOptions, Rule, Severity, RULES};
-use neurotree::{LoadError, LoadWarning, Registry};
+use neurotree::{LoadError, LoadErrorKind, LoadWarning, Registry};
 use serde_json::{json, Value};
 
 use crate::check::{self, Checked};
@@ -147,8 +147,8 @@ pub fn execute(args: &LintArgs, out: &mut impl Write, err: &mut impl Write) -> i
             }
         };
     }
-    let found = match check::registry(&args.models, args.nav2, &args.files) {
-        Err(refused) => refused.iter().map(load_error).collect(),
+    let (found, hints) = match check::registry(&args.models, args.nav2, &args.files) {
+        Err(refused) => (refused.iter().map(load_error).collect(), Vec::new()),
         Ok(registry) => lint_files(&registry, args, &options(args)),
     };
     print(&found, args.format, out)?;
@@ -157,21 +157,38 @@ pub fn execute(args: &LintArgs, out: &mut impl Write, err: &mut impl Write) -> i
             || (d.severity == Severity::Warning && args.deny == Some(Deny::Warnings))
     });
     if args.format == LintFormat::Text {
+        for hint in hints {
+            writeln!(err, "{hint}")?;
+        }
         writeln!(err, "{}", summary(&found))?;
     }
     Ok(Outcome::from(!failed))
 }
 
-/// The findings of every file, each once.
-fn lint_files(registry: &Registry<()>, args: &LintArgs, options: &LintOptions) -> Vec<Diagnostic> {
+/// The findings of every file, each once, and the hints `neurotree check` would add.
+fn lint_files(
+    registry: &Registry<()>,
+    args: &LintArgs,
+    options: &LintOptions,
+) -> (Vec<Diagnostic>, Vec<&'static str>) {
     let mut found = Vec::new();
+    let mut hints = BTreeSet::new();
     for at in 0..args.files.len() {
         let checked = check::check_file(registry, &args.files, at, args.limits.max_nodes);
+        if let Err(errors) = &checked.trees {
+            for e in errors {
+                match e.kind() {
+                    LoadErrorKind::UnknownNode => hints.insert(check::UNKNOWN_NODES_HINT),
+                    LoadErrorKind::TooManyNodes => hints.insert(crate::files::MAX_NODES_HINT),
+                    _ => false,
+                };
+            }
+        }
         found.extend(findings(&checked, options));
     }
     let mut seen = BTreeSet::new();
     found.retain(|d| seen.insert(d.to_string()));
-    found
+    (found, hints.into_iter().collect())
 }
 
 /// The findings of one checked file or text: its load errors and warnings, else the

@@ -86,7 +86,9 @@ fn a_file_that_does_not_load_is_an_error_of_its_own_rule() {
         "bad.xml",
         "<root BTCPP_format=\"4\"><BehaviorTree ID=\"M\"><Nope/></BehaviorTree></root>",
     );
-    let (code, out, _) = neurotree(&["lint", &bad]);
+    let (code, out, err) = neurotree(&["lint", &bad]);
+    assert!(err.starts_with("hint: declare the node types"), "{err}");
+
     assert_eq!(code, Some(1));
     assert!(
         out.starts_with(&format!(

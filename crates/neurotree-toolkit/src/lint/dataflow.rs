@@ -252,41 +252,11 @@ impl<'l, 'r, C: 'static> Flow<'l, 'r, C> {
         ports: Option<&'r [PortSpec]>,
     ) -> Vec<Pending<'r>> {
         let el = site.el;
+        if type_name == "SetBlackboard" {
+            return self.set_blackboard(site, scope);
+        }
         let mut writes = Vec::new();
         let by = |port: &str| format!("port `{port}` of {}", shown(el));
-        if type_name == "SetBlackboard" {
-            let (Some(value), Some(target)) = (el.attr("value"), el.attr("output_key")) else {
-                return writes;
-            };
-            let target = match binding("output_key", target) {
-                PortValue::Entry(k) | PortValue::Literal(k) => k,
-            };
-            let literal = match binding("value", value) {
-                PortValue::Literal(text) => Some(text),
-                PortValue::Entry(source) => {
-                    let key = self.key(scope, &source);
-                    self.push(
-                        key,
-                        Use::Read {
-                            port: None,
-                            checked: true,
-                            script: false,
-                        },
-                        site,
-                        by("value"),
-                    );
-                    None
-                }
-            };
-            let target = target.trim();
-            writes.push((
-                self.key(scope, target),
-                written(literal, None),
-                by("output_key"),
-                target.starts_with('@'),
-            ));
-            return writes;
-        }
         for spec in ports.unwrap_or_default() {
             let text = el.attr(&spec.name).or(spec.default.as_deref());
             if SCRIPT_PORTS.contains(&(type_name, spec.name.as_str())) {
@@ -335,6 +305,40 @@ impl<'l, 'r, C: 'static> Flow<'l, 'r, C> {
             }
         }
         writes
+    }
+
+    /// SetBlackboard's read of `value` if it names an entry, and its write (returned): the
+    /// entry `output_key` names, written as plain text (`key`) or as `{key}`.
+    fn set_blackboard(&mut self, site: Site<'l>, scope: usize) -> Vec<Pending<'r>> {
+        let el = site.el;
+        let (Some(value), Some(target)) = (el.attr("value"), el.attr("output_key")) else {
+            return Vec::new();
+        };
+        let by = |port: &str| format!("port `{port}` of {}", shown(el));
+        let target = match binding("output_key", target) {
+            PortValue::Entry(k) | PortValue::Literal(k) => k,
+        };
+        let literal = match binding("value", value) {
+            PortValue::Literal(text) => Some(text),
+            PortValue::Entry(source) => {
+                let key = self.key(scope, &source);
+                let what = Use::Read {
+                    port: None,
+                    checked: true,
+                    script: false,
+                };
+                self.push(key, what, site, by("value"));
+                None
+            }
+        };
+        let target = target.trim();
+        let write = written(literal, None);
+        vec![(
+            self.key(scope, target),
+            write,
+            by("output_key"),
+            target.starts_with('@'),
+        )]
     }
 
     /// A node of no known type (a leaf mocked for a dry run) may read and write every entry
