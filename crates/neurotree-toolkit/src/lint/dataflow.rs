@@ -11,7 +11,7 @@
 //! anywhere inside a loop that also holds the read (a Repeat, a retry, a reactive control,
 //! a Parallel, a control of another library: the next round sees it).
 
-use std::collections::BTreeSet;
+use std::collections::{BTreeSet, HashMap};
 
 use neurotree_core::{PortDirection, PortValue};
 
@@ -450,12 +450,15 @@ impl<'l, 'r, C: 'static> Flow<'l, 'r, C> {
     }
 
     fn report(&self, options: &LintOptions, found: &mut Vec<Diagnostic>) {
-        let written: BTreeSet<&Key> = self
+        // By entry, so that each read looks only at the writes of its own entry.
+        let mut writes: HashMap<&Key, Vec<&Access<'_, '_>>> = HashMap::new();
+        for a in self
             .accesses
             .iter()
             .filter(|a| matches!(a.what, Use::Write { .. }))
-            .map(|a| &a.key)
-            .collect();
+        {
+            writes.entry(&a.key).or_default().push(a);
+        }
         let read: BTreeSet<&Key> = self
             .accesses
             .iter()
@@ -471,7 +474,8 @@ impl<'l, 'r, C: 'static> Flow<'l, 'r, C> {
                     checked,
                     script,
                 } => {
-                    let is_written = written.contains(&access.key);
+                    let writers = writes.get(&access.key).map_or(&[][..], Vec::as_slice);
+                    let is_written = !writers.is_empty();
                     // A name no one writes may be an enum the application registers.
                     let unknowable = *script && !is_written;
                     if *checked
@@ -479,12 +483,12 @@ impl<'l, 'r, C: 'static> Flow<'l, 'r, C> {
                         && !access.global
                         && !self.interface(&access.key)
                         && !external(&access.key, &options.written)
-                        && !self.written_before(access)
+                        && !written_before(access, writers)
                     {
-                        found.push(self.read_before_write(access, is_written));
+                        found.push(read_before_write(access, writers));
                     }
                     if let Some(spec) = port {
-                        self.mismatches(access, spec, found);
+                        mismatches(access, spec, writers, found);
                     }
                 }
                 Use::Write { remap: false, .. } => {
@@ -513,73 +517,71 @@ impl<'l, 'r, C: 'static> Flow<'l, 'r, C> {
     fn interface(&self, key: &Key) -> bool {
         key.0 == 0 && self.interface.contains(&key.1)
     }
+}
 
-    /// Whether a write of `read`'s entry can come before it: earlier in tick order, or in
-    /// a loop that holds them both.
-    fn written_before(&self, read: &Access<'_, '_>) -> bool {
-        self.accesses.iter().any(|w| {
-            matches!(w.what, Use::Write { .. })
-                && w.key == read.key
-                && (w.order < read.order || w.loops.iter().any(|l| read.loops.contains(l)))
-        })
-    }
+/// Whether one of `writes` (of `read`'s entry) can come before it: earlier in tick order,
+/// or in a loop that holds them both.
+fn written_before(read: &Access<'_, '_>, writes: &[&Access<'_, '_>]) -> bool {
+    writes
+        .iter()
+        .any(|w| w.order < read.order || w.loops.iter().any(|l| read.loops.contains(l)))
+}
 
-    fn read_before_write(&self, read: &Access<'_, '_>, is_written: bool) -> Diagnostic {
-        let name = &read.key.1;
-        let later = self
-            .accesses
-            .iter()
-            .find(|w| matches!(w.what, Use::Write { .. }) && w.key == read.key);
-        let hint = match later {
-            Some(w) if is_written => format!(
-                "; it is first written later, by {} at line {}",
+/// The finding of `read`, which none of `writes` (of its entry) comes before.
+fn read_before_write(read: &Access<'_, '_>, writes: &[&Access<'_, '_>]) -> Diagnostic {
+    let name = &read.key.1;
+    let hint = match writes.first() {
+        Some(w) => format!(
+            "; it is first written later, by {} at line {}",
+            w.by,
+            line(w.site.el)
+        ),
+        None => format!(
+            "; nothing in the tree writes it (if the application does, say so with --entry {name})"
+        ),
+    };
+    read.site.diagnostic(
+        "NT0101",
+        format!(
+            "{} reads the entry `{name}`, which nothing can have written before: the read \
+             fails at that tick{hint}",
+            read.by
+        ),
+    )
+}
+
+/// Reports each literal of `writes` (into `read`'s entry) that its port cannot convert,
+/// and each port of them that writes the entry as a type its port cannot read.
+fn mismatches(
+    read: &Access<'_, '_>,
+    spec: &PortSpec,
+    writes: &[&Access<'_, '_>],
+    found: &mut Vec<Diagnostic>,
+) {
+    for w in writes {
+        let why = match &w.what {
+            Use::Write {
+                literal: Some(text),
+                ..
+            } if !spec.accepts(text) => format!("writes `{text}` into it, which does not convert"),
+            Use::Write {
+                port: Some(port), ..
+            } if types::incompatible(port.port_type(), spec.port_type()) => {
+                format!("writes it as {}", port.type_name)
+            }
+            _ => continue,
+        };
+        found.push(read.site.diagnostic(
+            "NT0102",
+            format!(
+                "{} reads the entry `{}` as {}, but {} at line {} {why}",
+                read.by,
+                read.key.1,
+                spec.type_name,
                 w.by,
                 line(w.site.el)
             ),
-            _ => format!(
-                "; nothing in the tree writes it (if the application does, say so with --entry {name})"
-            ),
-        };
-        read.site.diagnostic(
-            "NT0101",
-            format!(
-                "{} reads the entry `{name}`, which nothing can have written before: the read \
-                 fails at that tick{hint}",
-                read.by
-            ),
-        )
-    }
-
-    /// Reports each literal written into `read`'s entry that its port cannot convert, and
-    /// each port that writes it as a type its port cannot read.
-    fn mismatches(&self, read: &Access<'_, '_>, spec: &PortSpec, found: &mut Vec<Diagnostic>) {
-        for w in self.accesses.iter().filter(|w| w.key == read.key) {
-            let why = match &w.what {
-                Use::Write {
-                    literal: Some(text),
-                    ..
-                } if !spec.accepts(text) => {
-                    format!("writes `{text}` into it, which does not convert")
-                }
-                Use::Write {
-                    port: Some(port), ..
-                } if types::incompatible(port.port_type(), spec.port_type()) => {
-                    format!("writes it as {}", port.type_name)
-                }
-                _ => continue,
-            };
-            found.push(read.site.diagnostic(
-                "NT0102",
-                format!(
-                    "{} reads the entry `{}` as {}, but {} at line {} {why}",
-                    read.by,
-                    read.key.1,
-                    spec.type_name,
-                    w.by,
-                    line(w.site.el)
-                ),
-            ));
-        }
+        ));
     }
 }
 

@@ -71,8 +71,9 @@ const PRECONDITIONS: [&str; 4] = ["_skipIf", "_successIf", "_failureIf", "_while
 /// The statuses of the nodes of the trees a loader holds, worked out once each.
 pub struct Outcomes<'l, 'r, C> {
     loader: &'l XmlLoader<'r, C>,
-    /// By file and element number.
-    known: HashMap<(String, usize), Statuses>,
+    /// By document (the address of its file name, which the loader keeps in place) and
+    /// element number.
+    known: HashMap<(usize, usize), Statuses>,
 }
 
 impl<'l, 'r, C: 'static> Outcomes<'l, 'r, C> {
@@ -91,12 +92,12 @@ impl<'l, 'r, C: 'static> Outcomes<'l, 'r, C> {
 
     /// The statuses the node `el` can return.
     pub(crate) fn of(&mut self, el: Element<'_>) -> Statuses {
-        let key = (el.file().to_string(), el.id());
+        let key = (el.file().as_ptr() as usize, el.id());
         if let Some(known) = self.known.get(&key) {
             return *known;
         }
         // A SubTree cycle is refused by the loader; until the answer is known, assume any.
-        self.known.insert(key.clone(), Statuses::ANY);
+        self.known.insert(key, Statuses::ANY);
         let statuses = self.work_out(el);
         self.known.insert(key, statuses);
         statuses
