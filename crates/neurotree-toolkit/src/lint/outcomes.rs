@@ -71,8 +71,7 @@ const PRECONDITIONS: [&str; 4] = ["_skipIf", "_successIf", "_failureIf", "_while
 /// The statuses of the nodes of the trees a loader holds, worked out once each.
 pub struct Outcomes<'l, 'r, C> {
     loader: &'l XmlLoader<'r, C>,
-    /// By document (the address of its file name, which the loader keeps in place) and
-    /// element number.
+    /// By document and element number.
     known: HashMap<(usize, usize), Statuses>,
 }
 
@@ -92,7 +91,7 @@ impl<'l, 'r, C: 'static> Outcomes<'l, 'r, C> {
 
     /// The statuses the node `el` can return.
     pub(crate) fn of(&mut self, el: Element<'_>) -> Statuses {
-        let key = (el.file().as_ptr() as usize, el.id());
+        let key = (el.document_key(), el.id());
         if let Some(known) = self.known.get(&key) {
             return *known;
         }
