@@ -151,6 +151,21 @@ def test_list_node_types_knows_nav2(tmp_path):
     assert ports["path"]["direction"] == "output"
 
 
+def test_a_model_declares_node_types_for_every_tool(tmp_path):
+    model = """<root BTCPP_format="4"><TreeNodesModel>
+      <Action ID="Detect"><output_port name="object" type="std::string">What it saw</output_port></Action>
+      <Action ID="Grasp"><input_port name="object" type="std::string"/></Action>
+    </TreeNodesModel></root>"""
+    listed = call(tmp_path, "legacy", "list_node_types", {"model_xml": model})
+    types = {t["name"]: t for t in listed.structured_content["types"]}
+    assert types["Detect"]["ports"][0]["direction"] == "output"
+    assert types["Detect"]["ports"][0]["description"] == "What it saw"
+    checked = call(tmp_path, "legacy", "check_tree", {"xml": PICK, "model_xml": model})
+    assert checked.structured_content["ok"] is True, checked.structured_content
+    linted = call(tmp_path, "legacy", "lint_tree", {"xml": PICK, "model_xml": model})
+    assert linted.structured_content["diagnostics"] == []
+
+
 def test_simulate_nav2_arrives(tmp_path):
     result = call(tmp_path, "legacy", "simulate_nav2", {"goal": [6.5, 1.5]})
     assert not result.is_error, result.content[0].text

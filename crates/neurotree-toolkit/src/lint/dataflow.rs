@@ -6,7 +6,7 @@
 //! each SubTree opens a scope whose entries are the parent's where the SubTree remaps them
 //! (`port="{key}"`, or every entry with `_autoremap`), and its own otherwise. Every read and
 //! write of an entry (a port bound to `{key}` or defaulting to one, a Script's names and
-//! assignments, SetBlackboard, a SubTree's literal) becomes an [`Access`] with its place in
+//! assignments, SetBlackboard, a SubTree's literal) becomes an access with its place in
 //! that order and the loops around it. A read is satisfied by a write before it, or by one
 //! anywhere inside a loop that also holds the read (a Repeat, a retry, a reactive control,
 //! a Parallel, a control of another library: the next round sees it).
