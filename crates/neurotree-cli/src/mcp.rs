@@ -1,7 +1,7 @@
 //! `neurotree mcp`: a Model Context Protocol server on standard input and output, so that
 //! an assistant can write, check, lint, draw and try trees.
 //!
-//! One JSON-RPC 2.0 message per line each way. Both ways of starting a session are
+//! One JSON-RPC 2.0 message per line each way. Both ways of starting a connection are
 //! served: the `initialize` handshake of protocol revisions 2024-11-05 to 2025-11-25
 //! (most clients still use it), and the current revision, [`MODERN`], where a client may
 //! ask `server/discover` and names the revision in every request's `_meta`. The tools are
@@ -27,7 +27,7 @@ use crate::Outcome;
 mod scratch;
 mod tools;
 
-/// The revisions whose sessions start with `initialize`, oldest first.
+/// The revisions whose connections start with `initialize`, oldest first.
 pub const HANDSHAKE: [&str; 4] = ["2024-11-05", "2025-03-26", "2025-06-18", "2025-11-25"];
 /// The current revision: no handshake, the revision named in each request's `_meta`.
 pub const MODERN: &str = "2026-07-28";
@@ -155,7 +155,7 @@ fn error(id: Value, code: i64, message: &str) -> Value {
     json!({ "jsonrpc": "2.0", "id": id, "error": { "code": code, "message": message } })
 }
 
-/// The session's state: where tools write, and how many calls have been made (each gets
+/// The server's state: where tools write, and how many calls have been made (each gets
 /// its own folder).
 struct Server {
     scratch: PathBuf,
