@@ -15,13 +15,19 @@ use std::collections::{BTreeSet, HashMap};
 
 use neurotree_core::{PortDirection, PortValue};
 
-use super::node::{self, line, shown};
+use super::node::{self, is, line, shown};
 use super::types;
 use super::{matches, Diagnostic, LintOptions, Site};
+use crate::nodes::entry::SKIP_UNLESS_UPDATED;
+use crate::nodes::script::PRECONDITION;
+use crate::nodes::switch::{SWITCH2, SWITCH3, SWITCH4, SWITCH5, SWITCH6};
 use crate::registry::PortSpec;
 use crate::script::ast::{AssignOp, Expr, ExprKind};
 use crate::script::Script;
 use crate::xml::{binding, XmlLoader};
+use neurotree_core::nodes::control::{fallback, if_then_else, sequence, try_catch};
+use neurotree_core::nodes::decorator::{cooldown, delay, force, inverter, run_once, timeout};
+use neurotree_core::nodes::NodeDecl;
 
 /// An entry: the scope it lives in (0 is the root tree's) and its name there.
 type Key = (usize, String);
@@ -87,28 +93,31 @@ const AFTER: [&str; 4] = ["_onSuccess", "_onFailure", "_onHalted", "_post"];
 /// write after a read in them is not seen by that read. Any other node with children (a
 /// loop, a reactive control, a Parallel, a node of another library) may tick a child again
 /// after a later one.
-const IN_ORDER: &[&str] = &[
-    "Sequence",
-    "SequenceWithMemory",
-    "AsyncSequence",
-    "Fallback",
-    "AsyncFallback",
-    "IfThenElse",
-    "Switch2",
-    "Switch3",
-    "Switch4",
-    "Switch5",
-    "Switch6",
-    "Inverter",
-    "ForceSuccess",
-    "ForceFailure",
-    "Timeout",
-    "Delay",
-    "RunOnce",
-    "Precondition",
-    "TryCatch",
-    "SkipUnlessUpdated",
-    "Cooldown",
+const IN_ORDER: [&NodeDecl; 14] = [
+    &sequence::SEQUENCE,
+    &sequence::SEQUENCE_WITH_MEMORY,
+    &sequence::ASYNC_SEQUENCE,
+    &fallback::FALLBACK,
+    &fallback::ASYNC_FALLBACK,
+    &if_then_else::IF_THEN_ELSE,
+    &try_catch::TRY_CATCH,
+    &inverter::INVERTER,
+    &force::FORCE_SUCCESS,
+    &force::FORCE_FAILURE,
+    &timeout::TIMEOUT,
+    &delay::DELAY,
+    &run_once::RUN_ONCE,
+    &cooldown::COOLDOWN,
+];
+/// The toolkit's nodes that tick a child at most once per round.
+const IN_ORDER_TOOLKIT: [&NodeDecl; 7] = [
+    &SWITCH2,
+    &SWITCH3,
+    &SWITCH4,
+    &SWITCH5,
+    &SWITCH6,
+    &PRECONDITION,
+    &SKIP_UNLESS_UPDATED,
 ];
 
 /// Follows the entries of the tree `id` (one no other tree uses) and reports what is wrong
@@ -203,7 +212,8 @@ impl<'l, 'r, C: 'static> Flow<'l, 'r, C> {
             Some(node) if node.name == "SubTree" => self.subtree(site, scope),
             Some(node) => {
                 writes = self.ports(site, scope, node.name, node.node_type.map(|t| &t.ports[..]));
-                let looping = el.child_count() > 0 && !IN_ORDER.contains(&node.name);
+                let in_order = is(node.name, &IN_ORDER) || is(node.name, &IN_ORDER_TOOLKIT);
+                let looping = el.child_count() > 0 && !in_order;
                 self.children(site, scope, looping);
             }
             None => {

@@ -1,9 +1,10 @@
 //! Liveness: loops that cannot end (NT0301, NT0302) and roots that never finish (NT0303).
 
-use super::node::shown;
+use super::node::{is, shown};
 use super::outcomes::{literal_count, Outcomes};
 use super::{Diagnostic, Site};
 use crate::xml::Element;
+use neurotree_core::nodes::decorator::{keep_running, repeat, retry};
 
 /// Reports the endless loops of the tree `id` (`<BehaviorTree>` element `tree`), and its
 /// root if it can only ever run.
@@ -26,41 +27,35 @@ pub(crate) fn check_tree<C: 'static>(
             continue;
         };
         let child_statuses = statuses.of(child);
-        match node.name {
-            "RetryUntilSuccessful"
-                if literal_count(el, "num_attempts") == Some(-1)
-                    && !child_statuses.can_succeed() =>
-            {
-                found.push(site(el).diagnostic(
-                    "NT0301",
-                    format!(
-                        "RetryUntilSuccessful num_attempts=\"-1\" never ends: its child `{}` \
-                         never succeeds; give a number of attempts",
-                        shown(child)
-                    ),
-                ));
-            }
-            "Repeat"
-                if literal_count(el, "num_cycles") == Some(-1) && !child_statuses.can_fail() =>
-            {
-                found.push(site(el).diagnostic(
-                    "NT0302",
-                    format!(
-                        "Repeat num_cycles=\"-1\" never ends: its child `{}` never fails",
-                        shown(child)
-                    ),
-                ));
-            }
-            "KeepRunningUntilFailure" if !child_statuses.can_fail() => {
-                found.push(site(el).diagnostic(
-                    "NT0302",
-                    format!(
-                        "KeepRunningUntilFailure never ends: its child `{}` never fails",
-                        shown(child)
-                    ),
-                ));
-            }
-            _ => {}
+        let name = node.name;
+        let endless = if is(name, &[&retry::RETRY_UNTIL_SUCCESSFUL])
+            && literal_count(el, "num_attempts") == Some(-1)
+            && !child_statuses.can_succeed()
+        {
+            Some((
+                "NT0301",
+                "num_attempts=\"-1\" never ends: its child",
+                "never succeeds; give a number of attempts",
+            ))
+        } else if is(name, &[&repeat::REPEAT])
+            && literal_count(el, "num_cycles") == Some(-1)
+            && !child_statuses.can_fail()
+        {
+            Some((
+                "NT0302",
+                "num_cycles=\"-1\" never ends: its child",
+                "never fails",
+            ))
+        } else if is(name, &[&keep_running::KEEP_RUNNING_UNTIL_FAILURE])
+            && !child_statuses.can_fail()
+        {
+            Some(("NT0302", "never ends: its child", "never fails"))
+        } else {
+            None
+        };
+        if let Some((code, ends, why)) = endless {
+            let message = format!("{name} {ends} `{}` {why}", shown(child));
+            found.push(site(el).diagnostic(code, message));
         }
     }
     if let Some(root) = tree.children().next() {

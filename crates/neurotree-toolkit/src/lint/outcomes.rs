@@ -11,8 +11,12 @@ use std::collections::HashMap;
 
 use neurotree_core::Category;
 
-use super::node::{self, Node};
+use super::node::{self, is, Node, FALLBACKS, SEQUENCES};
 use crate::xml::{Element, XmlLoader};
+use neurotree_core::nodes::decorator::{
+    delay, force, inverter, keep_running, repeat, retry, timeout,
+};
+use neurotree_core::nodes::leaf::{always, sleep};
 
 /// A set of the statuses SUCCESS, FAILURE and RUNNING.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -65,6 +69,11 @@ impl Statuses {
     }
 }
 
+/// The toolkit's leaves that always succeed: they act on the blackboard.
+const TOOLKIT_SUCCEEDS: [&str; 3] = ["Script", "SetBlackboard", "UnsetBlackboard"];
+/// The toolkit's conditions on the blackboard.
+const TOOLKIT_CHECKS: [&str; 2] = ["ScriptCondition", "WasEntryUpdated"];
+
 /// The attributes that can end a node with a status of their own before it is ticked.
 const PRECONDITIONS: [&str; 4] = ["_skipIf", "_successIf", "_failureIf", "_while"];
 
@@ -116,50 +125,61 @@ impl<'l, 'r, C: 'static> Outcomes<'l, 'r, C> {
     fn by_kind(&mut self, el: Element<'_>, node: &Node<'r, C>) -> Statuses {
         let child = |this: &mut Self| el.children().next().map_or(Statuses::ANY, |c| this.of(c));
         let (s, f, r) = (Statuses::SUCCESS, Statuses::FAILURE, Statuses::RUNNING);
-        match node.name {
-            "AlwaysSuccess" | "Script" | "SetBlackboard" | "UnsetBlackboard" => s,
-            "AlwaysFailure" => f,
-            "ScriptCondition" | "WasEntryUpdated" => s.or(f),
-            "Sleep" => s.or(r),
-            "Sequence" | "SequenceWithMemory" | "ReactiveSequence" | "AsyncSequence" => {
-                self.chain(el, true)
-            }
-            "Fallback" | "ReactiveFallback" | "AsyncFallback" => self.chain(el, false),
-            "Inverter" => {
-                let c = child(self);
-                Statuses::when(c.can_succeed(), f)
-                    .or(Statuses::when(c.can_fail(), s))
-                    .or(Statuses::when(c.can_run(), r))
-            }
-            "ForceSuccess" | "ForceFailure" => {
-                let c = child(self);
-                let forced = if node.name == "ForceSuccess" { s } else { f };
-                Statuses::when(c.can_succeed() || c.can_fail(), forced)
-                    .or(Statuses::when(c.can_run(), r))
-            }
-            "KeepRunningUntilFailure" => Statuses::when(child(self).can_fail(), f).or(r),
-            "Repeat" => match literal_count(el, "num_cycles") {
+        let name = node.name;
+        if is(name, &[&always::ALWAYS_SUCCESS]) || TOOLKIT_SUCCEEDS.contains(&name) {
+            s
+        } else if is(name, &[&always::ALWAYS_FAILURE]) {
+            f
+        } else if TOOLKIT_CHECKS.contains(&name) {
+            s.or(f)
+        } else if is(name, &[&sleep::SLEEP]) {
+            s.or(r)
+        } else if is(name, &SEQUENCES) {
+            self.chain(el, true)
+        } else if is(name, &FALLBACKS) {
+            self.chain(el, false)
+        } else if is(name, &[&inverter::INVERTER]) {
+            let c = child(self);
+            Statuses::when(c.can_succeed(), f)
+                .or(Statuses::when(c.can_fail(), s))
+                .or(Statuses::when(c.can_run(), r))
+        } else if is(name, &[&force::FORCE_SUCCESS, &force::FORCE_FAILURE]) {
+            let c = child(self);
+            let forced = if is(name, &[&force::FORCE_SUCCESS]) {
+                s
+            } else {
+                f
+            };
+            Statuses::when(c.can_succeed() || c.can_fail(), forced)
+                .or(Statuses::when(c.can_run(), r))
+        } else if is(name, &[&keep_running::KEEP_RUNNING_UNTIL_FAILURE]) {
+            Statuses::when(child(self).can_fail(), f).or(r)
+        } else if is(name, &[&repeat::REPEAT]) {
+            match literal_count(el, "num_cycles") {
                 Some(-1) => Statuses::when(child(self).can_fail(), f).or(r),
                 Some(_) => child(self).or(r),
                 None => Statuses::ANY,
-            },
-            "RetryUntilSuccessful" => match literal_count(el, "num_attempts") {
+            }
+        } else if is(name, &[&retry::RETRY_UNTIL_SUCCESSFUL]) {
+            match literal_count(el, "num_attempts") {
                 Some(-1) => Statuses::when(child(self).can_succeed(), s).or(r),
                 Some(_) => child(self).or(r),
                 None => Statuses::ANY,
-            },
-            "Timeout" | "Delay" => child(self).or(f).or(r),
-            "SubTree" => match el.attr("ID").and_then(|id| self.loader.tree(id)) {
+            }
+        } else if is(name, &[&timeout::TIMEOUT, &delay::DELAY]) {
+            child(self).or(f).or(r)
+        } else if node.category == Category::SubTree {
+            match el.attr("ID").and_then(|id| self.loader.tree(id)) {
                 Some(tree) => match tree.children().next() {
                     Some(root) => self.of(root),
                     None => Statuses::ANY,
                 },
                 None => Statuses::ANY,
-            },
-            _ => match node.category {
-                Category::Condition => s.or(f),
-                _ => Statuses::ANY,
-            },
+            }
+        } else if node.category == Category::Condition {
+            s.or(f)
+        } else {
+            Statuses::ANY
         }
     }
 

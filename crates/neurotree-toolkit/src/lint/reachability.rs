@@ -1,11 +1,13 @@
 //! Reachability: children no tick can reach (NT0201), Switch cases no value can match
 //! (NT0202), trees of a file that its main tree never uses (NT0203).
 
-use super::node::{line, shown};
+use super::node::{is, line, shown, FALLBACKS, SEQUENCES};
 use super::outcomes::{Outcomes, Statuses};
 use super::{Diagnostic, Site};
 use crate::nodes::switch::check_string_equality;
+use crate::nodes::switch::{SWITCH2, SWITCH3, SWITCH4, SWITCH5, SWITCH6};
 use crate::xml::{binding, Element, XmlLoader};
+use neurotree_core::nodes::control::{fallback, sequence};
 use neurotree_core::PortValue;
 
 /// Reports the unreachable children and Switch cases of the tree `id`, whose
@@ -26,23 +28,22 @@ pub(crate) fn check_tree<C: 'static>(
             root: tree,
             el,
         };
-        match node.name {
-            "Sequence" | "SequenceWithMemory" | "ReactiveSequence" | "AsyncSequence" => {
-                cut_off(statuses, el, true, &site, found)
+        if is(node.name, &SEQUENCES) {
+            cut_off(statuses, el, true, &site, found);
+        } else if is(node.name, &FALLBACKS) {
+            cut_off(statuses, el, false, &site, found);
+        } else if SWITCHES.iter().any(|d| d.name == node.name) {
+            let enums = loader.registry().enums();
+            for (case, why) in unmatched_cases(el, |a, b| check_string_equality(a, b, enums)) {
+                found.push(site(el).diagnostic("NT0202", format!("`{case}` {why}")));
             }
-            "Fallback" | "ReactiveFallback" | "AsyncFallback" => {
-                cut_off(statuses, el, false, &site, found)
-            }
-            name if name.starts_with("Switch") => {
-                let enums = loader.registry().enums();
-                for (case, why) in unmatched_cases(el, |a, b| check_string_equality(a, b, enums)) {
-                    found.push(site(el).diagnostic("NT0202", format!("`{case}` {why}")));
-                }
-            }
-            _ => {}
         }
     }
 }
+
+/// Switch2 … Switch6.
+const SWITCHES: [neurotree_core::nodes::NodeDecl; 5] =
+    [SWITCH2, SWITCH3, SWITCH4, SWITCH5, SWITCH6];
 
 /// Reports the first child of the Sequence (`sequence`) or Fallback `el` that comes after
 /// a child that always ends it.
@@ -54,9 +55,9 @@ fn cut_off<'d, C: 'static>(
     found: &mut Vec<Diagnostic>,
 ) {
     let (go_on, parent, never) = if sequence {
-        (Statuses::SUCCESS, "Sequence", "never succeeds")
+        (Statuses::SUCCESS, sequence::SEQUENCE.name, "never succeeds")
     } else {
-        (Statuses::FAILURE, "Fallback", "never fails")
+        (Statuses::FAILURE, fallback::FALLBACK.name, "never fails")
     };
     let mut children = el.children();
     while let Some(c) = children.next() {
