@@ -39,17 +39,17 @@ pub struct CheckArgs {
     pub limits: LoadLimits,
 }
 
-/// Checks the files against the built-ins and the models: [`Outcome::Done`] if all are
-/// valid, else [`Outcome::Refused`] (the errors are on `err`).
-pub fn execute(
-    args: &CheckArgs,
-    out: &mut impl Write,
-    err: &mut impl Write,
-) -> io::Result<Outcome> {
-    let files = &args.files;
-    let mut registry = crate::registry::with_nav2_controls::<()>(args.nav2);
+/// The registry the files are checked against: the built-ins and Nav2's controls (or a
+/// release's types with `--nav2`), the `--model` files' types and the files' own
+/// `TreeNodesModel`s; or the errors of the models that could not be read.
+pub(crate) fn registry(
+    models: &[PathBuf],
+    nav2: crate::registry::Nav2Args,
+    files: &[PathBuf],
+) -> Result<Registry<()>, Vec<LoadError>> {
+    let mut registry = crate::registry::with_nav2_controls::<()>(nav2);
     let mut refused = Vec::new();
-    for path in &args.models {
+    for path in models {
         match files::read(path) {
             Ok(text) => {
                 if let Err(e) = registry.add_model_str(&text, &files::shown(path)) {
@@ -62,24 +62,42 @@ pub fn execute(
     if let Err(e) = files::add_models(&mut registry, files) {
         refused.push(e);
     }
-    if !refused.is_empty() {
-        for e in &refused {
-            writeln!(err, "{e}")?;
-        }
-        return Ok(Outcome::Refused);
+    if refused.is_empty() {
+        Ok(registry)
+    } else {
+        Err(refused)
     }
+}
+
+/// Checks the files against the built-ins and the models: [`Outcome::Done`] if all are
+/// valid, else [`Outcome::Refused`] (the errors are on `err`).
+pub fn execute(
+    args: &CheckArgs,
+    out: &mut impl Write,
+    err: &mut impl Write,
+) -> io::Result<Outcome> {
+    let files = &args.files;
+    let registry = match registry(&args.models, args.nav2, files) {
+        Ok(registry) => registry,
+        Err(refused) => {
+            for e in &refused {
+                writeln!(err, "{e}")?;
+            }
+            return Ok(Outcome::Refused);
+        }
+    };
     let mut reported = BTreeSet::new();
     let mut valid = true;
     let mut too_many_nodes = false;
     for at in 0..files.len() {
         let shown = files::shown(&files[at]);
-        let (warnings, checked) = check_file(&registry, files, at, args.limits.max_nodes);
-        for w in &warnings {
+        let checked = check_file(&registry, files, at, args.limits.max_nodes);
+        for w in &checked.warnings {
             if reported.insert(w.to_string()) {
                 writeln!(err, "{w}")?;
             }
         }
-        match checked {
+        match checked.trees {
             Ok(1) => writeln!(out, "{shown}: ok (1 tree)")?,
             Ok(trees) => writeln!(out, "{shown}: ok ({trees} trees)")?,
             Err(errors) => {
@@ -105,23 +123,62 @@ pub fn execute(
     Ok(Outcome::from(valid))
 }
 
-/// Checks every tree of `files[at]`: the loader's warnings, and how many trees it has or up
-/// to [`LIMIT`] errors, each once.
-fn check_file(
-    registry: &Registry<()>,
+/// A file checked: the loader that holds its trees (and those it uses from the other
+/// files), its warnings, and how many trees it has or up to [`LIMIT`] errors, each once.
+pub(crate) struct Checked<'r> {
+    pub(crate) loader: XmlLoader<'r, ()>,
+    pub(crate) warnings: Vec<LoadWarning>,
+    pub(crate) trees: Result<usize, Vec<LoadError>>,
+}
+
+/// Checks every tree of `files[at]`.
+pub(crate) fn check_file<'r>(
+    registry: &'r Registry<()>,
     files: &[PathBuf],
     at: usize,
     max_nodes: usize,
-) -> (Vec<LoadWarning>, Result<usize, Vec<LoadError>>) {
+) -> Checked<'r> {
     let mut loader = XmlLoader::new(registry)
         .unknown_type_advice(files::UNKNOWN_TYPE_ADVICE)
         .max_nodes(max_nodes);
     let loaded = loader.load_file(&files[at]);
     let warnings = loader.warnings().to_vec();
-    if let Err(e) = loaded {
-        return (warnings, Err(vec![e]));
+    let trees = match loaded {
+        Err(e) => Err(vec![e]),
+        Ok(()) => check_trees(registry, &mut loader, files, at),
+    };
+    Checked {
+        loader,
+        warnings,
+        trees,
     }
-    (warnings, check_trees(registry, &mut loader, files, at))
+}
+
+/// Checks the XML `text`, named `shown` in errors, as [`check_file`] checks a file (its
+/// includes are refused: a text has no folder).
+pub(crate) fn check_text<'r>(
+    registry: &'r Registry<()>,
+    text: &str,
+    shown: &str,
+    max_nodes: usize,
+) -> Checked<'r> {
+    let mut loader = XmlLoader::new(registry)
+        .unknown_type_advice(
+            "declare it in a TreeNodesModel given as `model_xml`, or set `nav2` if it is one of Nav2's",
+        )
+        .max_nodes(max_nodes);
+    loader.include_texts(Default::default());
+    let loaded = loader.load_str(text, shown);
+    let warnings = loader.warnings().to_vec();
+    let trees = match loaded {
+        Err(e) => Err(vec![e]),
+        Ok(()) => check_trees(registry, &mut loader, &[], 0),
+    };
+    Checked {
+        loader,
+        warnings,
+        trees,
+    }
 }
 
 /// Checks the trees `loader` loaded from `files[at]`, with the other files lending the

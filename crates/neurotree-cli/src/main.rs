@@ -4,12 +4,14 @@
 //! - `neurotree bench`: quick measurements of tick cost, of many agents per frame, and of a
 //!   crowd of them on every core.
 //! - `neurotree check`: validate BehaviorTree.CPP XML files against the node models.
+//! - `neurotree lint`: `check`, then static analysis: data flow, reachability, liveness.
 //! - `neurotree run`: dry-run a BehaviorTree.CPP file with mock leaves, as JSON lines.
 //! - `neurotree ros2`: Nav2's navigator and the simulated Nav2 servers as ROS 2 processes
 //!   (feature `ros2`, on by default; Rust 1.88).
 //! - `neurotree test`: run scenario files (mocks, inputs, expectations per tick) as tests.
 //! - `neurotree show`: draw a BehaviorTree.CPP file's tree as text, DOT, Mermaid or SVG.
 //! - `neurotree studio`: see, edit, watch and replay trees in the browser (feature `studio`).
+//! - `neurotree mcp`: a Model Context Protocol server, so an assistant can use the commands.
 //! - `neurotree models`: write the TreeNodesModel of Nav2's node types.
 //!
 //! Each command's flags and what it does are in its own module, so that a command reads in
@@ -23,7 +25,9 @@ mod check;
 mod demo_command;
 mod files;
 mod groot;
+mod lint;
 mod live;
+mod mcp;
 mod models;
 mod registry;
 #[cfg(feature = "ros2")]
@@ -56,6 +60,9 @@ enum Command {
     Bench(bench::BenchArgs),
     /// Validate BehaviorTree.CPP XML files: structure, node names, ports, literals.
     Check(check::CheckArgs),
+    /// Check BehaviorTree.CPP XML files, then find what they do wrong without running them:
+    /// blackboard data flow, unreachable children, loops that never end.
+    Lint(lint::LintArgs),
     /// Tick a BehaviorTree.CPP file with mock leaves and print each tick as JSON.
     Run(Box<run::RunArgs>),
     /// Run scenario files: a tree with mocks, inputs and expectations per tick; reports as
@@ -67,6 +74,9 @@ enum Command {
     /// See, edit, watch and replay behavior trees in the browser: serves a page on
     /// 127.0.0.1 and prints its URL on stderr.
     Studio(studio::StudioArgs),
+    /// Serve the Model Context Protocol on stdin/stdout: tools to check, lint, draw and run
+    /// trees, for an assistant.
+    Mcp(mcp::McpArgs),
     /// Write the TreeNodesModel of Nav2's node types (--nav2), for Groot2 and the studio.
     Models(models::ModelsArgs),
     /// Nav2's navigator and the simulated Nav2 servers as ROS 2 processes on 127.0.0.1.
@@ -112,7 +122,9 @@ fn main() -> ExitCode {
         Command::Test(args) => test::execute(&args, &mut out, &mut io::stderr()),
         Command::Show(args) => show::execute(&args, &mut out, &mut io::stderr()),
         Command::Check(args) => check::execute(&args, &mut out, &mut io::stderr()),
+        Command::Lint(args) => lint::execute(&args, &mut out, &mut io::stderr()),
         Command::Studio(args) => studio::execute(&args, &mut io::stderr()),
+        Command::Mcp(args) => mcp::execute(&args, &mut io::stderr()),
         Command::Models(args) => models::execute(&args, &mut out, &mut io::stderr()),
     };
     match result {

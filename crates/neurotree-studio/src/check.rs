@@ -1,8 +1,10 @@
-//! Checking the text the editor holds, as `neurotree check` checks a file, and locating
-//! each error's node so that the page can show it there.
+//! Checking the text the editor holds, as `neurotree check` checks a file (then linting
+//! it, as `neurotree lint` does), and locating each error and finding's node so that the
+//! page can show it there.
 
 use std::path::Path;
 
+use neurotree_toolkit::lint::{lint, LintOptions};
 use neurotree_toolkit::{LoadError, Registry, XmlLoader};
 use serde::Serialize;
 
@@ -22,6 +24,8 @@ pub struct Check {
     pub errors: Vec<Diagnostic>,
     /// The loader's warnings (deprecated or misspelt names).
     pub warnings: Vec<Diagnostic>,
+    /// What `neurotree lint` finds in a text that loads: `kind` is the rule's code.
+    pub lint: Vec<Diagnostic>,
 }
 
 /// One error or warning, with the node it is at.
@@ -31,8 +35,10 @@ pub struct Diagnostic {
     pub line: u32,
     /// 1-based column.
     pub column: u32,
-    /// The error's kind (`UnknownPort`, …); `Warning` for warnings.
+    /// The error's kind (`UnknownPort`, …); `Warning` for warnings; a lint rule's code.
     pub kind: String,
+    /// `error`, `warning` or `note`.
+    pub severity: &'static str,
     /// As `neurotree check` prints it: `file:line:col: error: …`.
     pub message: String,
     /// The `<BehaviorTree>` the node is in.
@@ -64,7 +70,7 @@ pub fn check_text(
     check.warnings = loader
         .warnings()
         .iter()
-        .map(|w| places.locate(w.line, w.col, "Warning", w.to_string()))
+        .map(|w| places.locate(w.line, w.col, "Warning", "warning", w.to_string()))
         .collect();
     if let Err(e) = loaded {
         check.errors.push(places.diagnostic(&e));
@@ -81,7 +87,31 @@ pub fn check_text(
         }
     }
     check.ok = check.errors.is_empty();
+    if check.ok {
+        check.lint = lint(&loader, &lint_options(&registry))
+            .iter()
+            .take(LIMIT)
+            .map(|d| {
+                let severity = match d.severity {
+                    neurotree_toolkit::lint::Severity::Error => "error",
+                    neurotree_toolkit::lint::Severity::Warning => "warning",
+                    neurotree_toolkit::lint::Severity::Note => "note",
+                };
+                places.locate(d.line, d.col, d.code, severity, d.to_string())
+            })
+            .collect();
+    }
     check
+}
+
+/// What the linter is told of the trees' surroundings: with Nav2's node types known, the
+/// entries Nav2's navigators write and read.
+fn lint_options(registry: &Registry<()>) -> LintOptions {
+    if registry.get("ComputePathToPose").is_some() {
+        LintOptions::nav2()
+    } else {
+        LintOptions::default()
+    }
 }
 
 /// How the studio parses XML it was given: no DTD (so no entity expansion), and a bound
@@ -115,10 +145,23 @@ impl<'a> Places<'a> {
     }
 
     fn diagnostic(&self, e: &LoadError) -> Diagnostic {
-        self.locate(e.line, e.col, &format!("{:?}", e.kind()), e.to_string())
+        self.locate(
+            e.line,
+            e.col,
+            &format!("{:?}", e.kind()),
+            "error",
+            e.to_string(),
+        )
     }
 
-    fn locate(&self, line: u32, column: u32, kind: &str, message: String) -> Diagnostic {
+    fn locate(
+        &self,
+        line: u32,
+        column: u32,
+        kind: &str,
+        severity: &'static str,
+        message: String,
+    ) -> Diagnostic {
         let (tree, element) = match self.offset(line, column) {
             Some(at) => self.element_at(at),
             None => (None, None),
@@ -127,6 +170,7 @@ impl<'a> Places<'a> {
             line,
             column,
             kind: kind.to_string(),
+            severity,
             message,
             tree,
             element,
@@ -221,5 +265,28 @@ mod tests {
         assert!(!bad.ok);
         assert_eq!(bad.errors[0].kind, "Syntax");
         assert_eq!(bad.errors[0].element, None);
+    }
+
+    #[test]
+    fn a_lint_finding_is_located_at_its_node() {
+        let text = TEXT.replace("num_cycles=\"many\"", "num_cycles=\"-1\"");
+        let check = check_text(Registry::new(), Path::new("a.xml"), "a.xml", &text, 100_000);
+        assert!(check.ok, "{:?}", check.errors);
+        let found: Vec<(&str, &str, Option<&[usize]>)> = check
+            .lint
+            .iter()
+            .map(|d| (d.kind.as_str(), d.severity, d.element.as_deref()))
+            .collect();
+        // The Repeat never ends, so neither does the tree.
+        assert_eq!(
+            found,
+            [
+                ("NT0303", "warning", Some(&[0][..])),
+                ("NT0302", "warning", Some(&[0, 1][..]))
+            ]
+        );
+        assert!(check.lint[1]
+            .message
+            .starts_with("a.xml:6:7: warning[NT0302]: "));
     }
 }

@@ -456,11 +456,87 @@ async fn a_nav2_tree_opens_with_every_node_found_by_its_path() {
         .await,
         json!("polygon")
     );
+    // What `neurotree lint --nav2` notes: three selections no node reads.
     assert_eq!(
         b.js("return document.querySelector('#edit-view .problem-count').textContent;")
             .await,
-        json!("none")
+        json!("(0 errors, 0 warnings, 3 notes)")
     );
+    b.close().await;
+}
+
+/// A loop that never ends, typed in: the lint's findings in the problems panel and on
+/// their nodes, a click on one selecting its node, and gone when the loop is bounded again.
+#[tokio::test(flavor = "multi_thread")]
+async fn lint_findings_show_in_the_problems_and_on_their_nodes() {
+    let _one = ONE_AT_A_TIME.lock().await;
+    let Some(b) = Browser::start().await else {
+        return;
+    };
+    let dir = workspace();
+    std::fs::write(
+        dir.path().join("loop.xml"),
+        r#"<root BTCPP_format="4" main_tree_to_execute="Main">
+  <BehaviorTree ID="Main">
+    <Repeat name="loop" num_cycles="3">
+      <ForceSuccess><AlwaysFailure/></ForceSuccess>
+    </Repeat>
+  </BehaviorTree>
+</root>
+"#,
+    )
+    .expect("loop.xml written");
+    let studio = serve(dir.path());
+    b.goto(&format!("{}#view=edit&file=loop.xml", studio.url()))
+        .await;
+    b.until(
+        "the tree drawn",
+        "document.querySelector('#edit-view').dataset.loaded",
+    )
+    .await;
+    let count = "document.querySelector('#edit-view .problem-count').textContent";
+    assert_eq!(b.js(&format!("return {count};")).await, json!("none"));
+
+    b.click(&css_path("loop")).await;
+    let cycles = b.element("input[data-port=num_cycles]").await;
+    cycles.clear().await.unwrap();
+    cycles.send_keys("-1").await.unwrap();
+    b.until(
+        "the lint's warnings",
+        &format!("{count} === '(0 errors, 2 warnings)'"),
+    )
+    .await;
+    let marked = b.attr(&css_path("loop"), "data-warning").await.unwrap();
+    // The Repeat carries both findings (it never ends, so neither does the tree it is the
+    // root of); its mark shows one.
+    assert!(marked.contains("warning[NT030"), "{marked}");
+    let listed = b
+        .js("return [...document.querySelectorAll('#edit-view .problem-list li')].map((li) => [li.dataset.severity, li.textContent]);")
+        .await;
+    let listed = listed.as_array().unwrap();
+    assert_eq!(listed.len(), 2, "{listed:?}");
+    assert!(listed.iter().all(|l| l[0] == "warning"), "{listed:?}");
+    assert!(
+        listed
+            .iter()
+            .any(|l| l[1].as_str().unwrap().contains("[NT0303]")),
+        "{listed:?}"
+    );
+
+    // Clicking the problem selects its node, whose panel says it too.
+    b.click("#edit-view .problem-list li.located").await;
+    b.until(
+        "the node's problems in its panel",
+        "document.querySelector('.node-problems')",
+    )
+    .await;
+
+    let cycles = b.element("input[data-port=num_cycles]").await;
+    cycles.clear().await.unwrap();
+    cycles.send_keys("2").await.unwrap();
+    b.until("the findings gone", &format!("{count} === 'none'"))
+        .await;
+    assert_eq!(b.count("#edit-view [data-warning]").await, 0);
     b.close().await;
 }
 

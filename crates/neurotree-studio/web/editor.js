@@ -453,6 +453,7 @@ export function mountEditor(section, app) {
     }
     for (const e of check?.errors || []) problems.push({ severity: "error", ...e });
     for (const w of check?.warnings || []) problems.push({ severity: "warning", ...w });
+    for (const l of check?.lint || []) problems.push(l);
     for (const p of problems.slice(0, 200)) {
       const li = document.createElement("li");
       li.dataset.severity = p.severity;
@@ -471,8 +472,15 @@ export function mountEditor(section, app) {
       li.textContent = `… and ${problems.length - 200} more`;
       list.append(li);
     }
+    const count = (severity, one, many) => {
+      const n = problems.filter((p) => p.severity === severity).length;
+      return `${n} ${n === 1 ? one : many}`;
+    };
     const errors = problems.filter((p) => p.severity === "error").length;
-    $(".problem-count").textContent = problems.length ? `(${errors} errors, ${problems.length - errors} warnings)` : "none";
+    const notes = problems.some((p) => p.severity === "note") ? `, ${count("note", "note", "notes")}` : "";
+    $(".problem-count").textContent = problems.length
+      ? `(${count("error", "error", "errors")}, ${count("warning", "warning", "warnings")}${notes})`
+      : "none";
     section.dataset.check = errors ? "errors" : "ok";
     markProblems();
   }
@@ -490,7 +498,9 @@ export function mountEditor(section, app) {
       }
     };
     put(check.warnings, "data-warning");
+    put((check.lint || []).filter((p) => p.severity !== "error"), "data-warning");
     put(check.errors, "data-error");
+    put((check.lint || []).filter((p) => p.severity === "error"), "data-error");
     renderPanel();
   }
 
@@ -571,7 +581,7 @@ export function mountEditor(section, app) {
     const entry = state.palette.get(type) || subtreeEntry(type);
     const i = indexOfElement(state.selected);
     const node = drawn[i];
-    const errors = [...(state.check?.errors || []), ...(state.check?.warnings || [])]
+    const errors = [...(state.check?.errors || []), ...(state.check?.warnings || []), ...(state.check?.lint || [])]
       .filter((p) => p.tree === state.treeId && p.element && p.element.join() === state.selected.join());
     const ports = entry?.ports || [];
     const known = new Set(["name", "ID", ...ports.map((p) => p.name)]);

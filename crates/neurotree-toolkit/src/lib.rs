@@ -3,9 +3,9 @@
 //! The BehaviorTree.CPP-compatible layer of NeuroTree, on top of the `no_std` engine
 //! [`neurotree_core`] (re-exported here whole): the node [`Registry`] (which also loads a
 //! file into a tree in one call, [`Registry::load_file`]), the XML loader and
-//! writer ([`xml`]), the [`script`] language, the built-in nodes that need `std`
-//! ([`nodes`]), observers and loggers ([`observe`]), pictures ([`render`]) and runners
-//! ([`runtime`]).
+//! writer ([`xml`]), static analysis of loaded trees ([`lint`]), the [`script`] language,
+//! the built-in nodes that need `std` ([`nodes`]), observers and loggers ([`observe`]),
+//! pictures ([`render`]) and runners ([`runtime`]).
 //!
 //! Most users depend on the `neurotree` crate, which re-exports all of this under the same
 //! paths, and adds robotics, the simulator and the Groot2 monitor behind features.
@@ -17,6 +17,7 @@ pub use neurotree_core::*;
 
 pub mod blackboard_json;
 mod json_port;
+pub mod lint;
 mod load;
 pub mod nodes;
 pub mod observe;

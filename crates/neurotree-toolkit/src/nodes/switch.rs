@@ -81,7 +81,7 @@ fn from_chars_real(text: &str) -> Option<f64> {
 }
 
 /// BehaviorTree.CPP's `details::CheckStringEquality` (see the [module docs](self)).
-fn check_string_equality(a: &str, b: &str, enums: &Enums) -> bool {
+pub(crate) fn check_string_equality(a: &str, b: &str, enums: &Enums) -> bool {
     if a == b {
         return true;
     }

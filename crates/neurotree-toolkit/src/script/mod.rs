@@ -116,7 +116,7 @@
 //! that do not fit their entry. Every [`ScriptError`] carries its byte offset, line and
 //! column; [`ScriptError::render`] shows the line with a caret.
 
-mod ast;
+pub(crate) mod ast;
 mod error;
 mod eval;
 mod lexer;
@@ -157,6 +157,11 @@ impl Script {
             source: source.into(),
             program: program.into(),
         })
+    }
+
+    /// Its expressions, in order: what the linter follows entries through.
+    pub(crate) fn program(&self) -> &[ast::Expr] {
+        &self.program
     }
 
     /// The text this script was parsed from.

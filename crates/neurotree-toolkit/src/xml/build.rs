@@ -22,7 +22,8 @@ use crate::script::{Enums, Script};
 mod ports;
 mod subtree;
 
-use ports::{binding, conditions, with_hooks, with_ports};
+pub(crate) use ports::binding;
+use ports::{conditions, with_hooks, with_ports};
 use subtree::Body;
 
 /// The elements that name their type in an `ID` attribute (BehaviorTree.CPP's explicit form).
@@ -250,7 +251,7 @@ fn build_error_kind(kind: &BuildErrorKind) -> LoadErrorKind {
 
 /// Whether `tag` names its type in an `ID` attribute ([`EXPLICIT`]): most tags are not of
 /// their lengths (6, 7 and 9), and `contains` would compare each with all four.
-pub(super) fn is_explicit(tag: &str) -> bool {
+pub(crate) fn is_explicit(tag: &str) -> bool {
     matches!(tag.len(), 6 | 7 | 9) && EXPLICIT.contains(&tag)
 }
 

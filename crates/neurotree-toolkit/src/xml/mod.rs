@@ -31,6 +31,7 @@
 
 mod budget;
 mod build;
+pub(crate) use build::{binding, is_explicit};
 mod error;
 mod file;
 mod mock;
@@ -267,6 +268,11 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
     /// (a deprecated or misspelt built-in name that loads as the one it stands for).
     pub fn warnings(&self) -> &[LoadWarning] {
         &self.warnings
+    }
+
+    /// The registry node names resolve through.
+    pub(crate) fn registry(&self) -> &'r Registry<C> {
+        self.registry
     }
 
     /// The IDs of the trees loaded so far.
@@ -563,7 +569,7 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
     }
 
     /// The ports a model declares for the SubTree `id`, if one does.
-    fn subtree_model(&self, id: &str) -> Option<&[(String, Option<String>)]> {
+    pub(crate) fn subtree_model(&self, id: &str) -> Option<&[(String, Option<String>)]> {
         self.subtree_models.get(id).map(Vec::as_slice)
     }
 
@@ -708,7 +714,7 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
     }
 
     /// The `<BehaviorTree>` element of the tree named `id`.
-    fn tree(&self, id: &str) -> Option<Element<'_>> {
+    pub(crate) fn tree(&self, id: &str) -> Option<Element<'_>> {
         let at = self.trees.get(id)?;
         Some(self.docs[at.doc].element(at.element))
     }

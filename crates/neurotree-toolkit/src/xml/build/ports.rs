@@ -63,7 +63,7 @@ pub(super) fn with_hooks<C: 'static>(b: Builder<C>, hooks: Option<Box<ScriptHook
 
 /// A port's binding from its attribute text: `{key}` (or `{@key}`) is an entry, `{=}` and
 /// `=` the entry named like the port, anything else literal text.
-pub(super) fn binding(port: &str, text: &str) -> PortValue {
+pub(crate) fn binding(port: &str, text: &str) -> PortValue {
     let t = text.trim();
     if t == "=" || t == "{=}" {
         return PortValue::Entry(port.to_string());

@@ -202,8 +202,18 @@ impl<'d> Element<'d> {
         (self.id + 1..self.node().end as usize).map(move |id| doc.element(id))
     }
 
+    /// Which document it is in, told apart from the others the loader holds while they
+    /// stay in place (no file is loaded meanwhile).
+    pub(crate) fn document_key(&self) -> usize {
+        std::ptr::from_ref(self.doc) as usize
+    }
+
+    /// The file it was read from, as errors show it.
+    pub(crate) fn file(&self) -> &'d str {
+        &self.doc.file
+    }
+
     /// Its line and column (1-based, the column in characters).
-    #[cfg(test)]
     pub(crate) fn line_col(&self) -> (u32, u32) {
         self.doc.line_col(self.node().offset as usize)
     }
