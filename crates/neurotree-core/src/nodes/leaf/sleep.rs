@@ -53,15 +53,18 @@ pub(crate) fn tick<C>(
                 return NodeStatus::Success;
             }
             t.aux[slot] = now;
+            t.wake_at(now.saturating_add(duration_to_nanos(wait)));
             return NodeStatus::Running;
         }
         // Completed and not yet reset by its parent: BehaviorTree.CPP's StatefulActionNode
         // returns the status it has.
         done => return done,
     }
-    if now.saturating_sub(t.aux[slot]) >= duration_to_nanos(wait) {
+    let wait = duration_to_nanos(wait);
+    if now.saturating_sub(t.aux[slot]) >= wait {
         NodeStatus::Success
     } else {
+        t.wake_at(t.aux[slot].saturating_add(wait));
         NodeStatus::Running
     }
 }
