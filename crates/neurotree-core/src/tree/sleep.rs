@@ -186,8 +186,8 @@ impl<C> Tree<C> {
         true
     }
 
-    /// Forgets the sleep: the next tick is a pass.
-    pub(crate) fn wake_up(&mut self) {
+    /// Wakes the tree if it sleeps: its next tick is a pass, whatever its nodes wait on.
+    pub fn wake_up(&mut self) {
         self.asleep = None;
     }
 
