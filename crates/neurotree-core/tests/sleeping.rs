@@ -90,11 +90,23 @@ impl Action<Log> for Check {
     }
 }
 
+/// A check of the clock that declares nothing: Success in the first half of every period
+/// of `0` ms. A reactive parent re-checks it every tick, so it must keep the tree awake.
+struct Tide(u64);
+
+impl Action<Log> for Tide {
+    fn tick(&self, h: &mut Handle<'_, Log>) -> Status {
+        let ms = h.now().as_millis() as u64;
+        Status::from(ms % self.0 < self.0 / 2)
+    }
+}
+
 /// A node of a random tree.
 #[derive(Clone, Debug)]
 enum Node {
     Waiter { key: u8, ms: u64, declare: bool },
     Check(u8),
+    Tide(u64),
     Sleep(u64),
     Always(bool),
     Control(u8, Vec<Node>),
@@ -106,6 +118,7 @@ fn node() -> impl Strategy<Value = Node> {
         4 => (0u8..3, 1u64..8, prop::bool::weighted(0.85))
             .prop_map(|(key, t, declare)| Node::Waiter { key, ms: t * 100, declare }),
         2 => (0u8..3).prop_map(Node::Check),
+        2 => (2u64..9).prop_map(|t| Node::Tide(t * 100)),
         1 => (1u64..8).prop_map(|t| Node::Sleep(t * 100)),
         1 => any::<bool>().prop_map(Node::Always),
     ];
@@ -137,6 +150,7 @@ fn add(b: Builder<Log>, node: &Node, ids: &mut u8) -> Builder<Log> {
             })
         }
         Node::Check(key) => b.action_node("check", Check(*key)),
+        Node::Tide(period) => b.action_node("tide", Tide(*period)),
         Node::Sleep(ms) => b.sleep("sleep", Duration::from_millis(*ms)),
         Node::Always(true) => b.always_success("yes"),
         Node::Always(false) => b.always_failure("no"),

@@ -317,22 +317,6 @@ macro_rules! node_kinds {
                 }
             }
 
-            /// Whether the node re-ticks completed children every tick (see [`Tick::RECHECKS`]).
-            pub(crate) fn rechecks(&self) -> bool {
-                match self {
-                    $(NodeKind::$name(_) => <crate::nodes::$($module::)+$name as Tick>::RECHECKS,)*
-                    NodeKind::SubTree(_)
-                    | NodeKind::ConditionFn(_)
-                    | NodeKind::Condition(_)
-                    | NodeKind::SharedCondition(_)
-                    | NodeKind::ActionFn(_)
-                    | NodeKind::Action(_)
-                    | NodeKind::Stateful(_)
-                    | NodeKind::Async(_)
-                    | NodeKind::Custom(_) => false,
-                }
-            }
-
             /// Per-instance state slots (`u64`) the kind needs: a cursor, a counter or a time.
             pub(crate) fn aux_slots(&self) -> u32 {
                 match self {

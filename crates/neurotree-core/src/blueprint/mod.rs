@@ -396,9 +396,6 @@ pub struct Blueprint<C> {
     /// child's tick straight through (`Tick::passes_through`) and have no hooks, so that a
     /// tree resting in it may start its next pass at it.
     pub(crate) resting: Box<[bool]>,
-    /// No node re-ticks completed children every tick: an instance may sleep (see
-    /// [`sleep`](crate::tree::sleep)).
-    pub(crate) may_sleep: bool,
     /// The [structure hash](Self::structure_hash) once made (0: not yet): saving and
     /// restoring a state ask for it each time.
     #[cfg(target_has_atomic = "64")]
@@ -406,12 +403,6 @@ pub struct Blueprint<C> {
 }
 
 impl<C> Blueprint<C> {
-    /// `true` if an instance may sleep: no node re-checks completed children every tick
-    /// (see [`sleep`](crate::tree::sleep)).
-    pub fn may_sleep(&self) -> bool {
-        self.may_sleep
-    }
-
     /// A builder for a new blueprint.
     pub fn builder() -> Builder<C> {
         Builder::new()

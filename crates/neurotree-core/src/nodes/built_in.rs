@@ -109,10 +109,6 @@ pub(crate) trait Tick: BuiltIn + Sized {
     /// `true` for a node whose halt may wait for the halts below it before it runs code of
     /// its own (TryCatch's catch); see [`slow_halt`](crate::tree::slow_halt).
     const WAITS_ON_HALTS: bool = false;
-    /// `true` for a node that ticks again, on every tick, children that already completed
-    /// (the reactive controls): a tree holding one does not sleep (see
-    /// [`sleep`](crate::tree::sleep)), as those children cannot say what they read.
-    const RECHECKS: bool = false;
 
     /// The node with its ports bound by `port`; an error names the port that is missing or
     /// whose literal does not convert.

@@ -13,8 +13,9 @@
 //! - no async action returned Running, and every custom node ticked declared;
 //! - no node asked for another pass, no halt waits for a slow halt, no observer is
 //!   attached, and the pass wrote nothing to the blackboard;
-//! - the blueprint has no ReactiveSequence, ReactiveFallback or WhileDoElse: they re-check
-//!   conditions every tick, and a condition cannot say what it reads.
+//! - no ReactiveSequence, ReactiveFallback or WhileDoElse returned Running: they re-check
+//!   their conditions every tick, and a condition cannot say what it reads (nor does
+//!   KeepRunningUntilFailure after its child succeeded: its next tick starts it again).
 //!
 //! A sleeping tree's [`tick_once`](crate::Tree::tick_once) and
 //! [`tick_exactly_once`](crate::Tree::tick_exactly_once) return Running at once, without a
@@ -207,7 +208,6 @@ impl<C> Tree<C> {
         let sleeps = !waits.awake
             && waits.any
             && self.sleep_allowed
-            && self.blueprint.may_sleep()
             && self.observer.is_none()
             && self.out.halts.count == 0
             && self.out.is_quiet()

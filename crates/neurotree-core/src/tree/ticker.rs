@@ -466,7 +466,8 @@ impl<'t, C> Ticker<'t, C> {
     }
 
     /// Keeps the tree awake after this pass: a node returns Running with nothing under it
-    /// waiting (KeepRunningUntilFailure after its child succeeded).
+    /// waiting (KeepRunningUntilFailure after its child succeeded), or re-checks its
+    /// children every tick (the reactive controls).
     #[inline]
     pub(crate) fn stay_awake(&mut self) {
         self.out.waits.awake = true;

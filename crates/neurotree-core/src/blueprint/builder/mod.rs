@@ -619,11 +619,9 @@ impl<C> State<C> {
                     && clear_above[i]
             })
             .collect();
-        let may_sleep = !nodes.iter().any(|n| n.kind.rechecks());
         Blueprint {
             hot_children,
             resting,
-            may_sleep,
             nodes,
             children: children.into_boxed_slice(),
             slots: slots.into_boxed_slice(),

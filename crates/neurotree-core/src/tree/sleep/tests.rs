@@ -183,7 +183,7 @@ fn a_wake_handle_a_halt_and_an_observer_wake_a_sleeping_tree() {
 }
 
 #[test]
-fn a_reactive_tree_and_a_tree_not_allowed_to_never_sleep() {
+fn a_running_reactive_tree_and_a_tree_not_allowed_to_never_sleep() {
     let (mut tree, _clock) = naps(|b| {
         b.reactive_sequence("r", |r| {
             r.condition("ok", |_: &Naps| true)
