@@ -80,7 +80,7 @@ impl<'a, C> Handle<'a, C> {
     /// let clock = ManualClock::new();
     /// let mut tree = Tree::with_clock(bp, clock.clone());
     /// let mut asked = 0;
-    /// for _ in 0..19 {
+    /// for _ in 0..20 {
     ///     assert_eq!(tree.tick_once(&mut asked), Ok(Status::Running));
     ///     clock.advance(Duration::from_millis(100));
     /// }
