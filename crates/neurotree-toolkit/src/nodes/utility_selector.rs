@@ -494,17 +494,17 @@ mod tests {
                 r#"<root BTCPP_format="4" main_tree_to_execute="T"><BehaviorTree ID="T">{body}</BehaviorTree></root>"#
             )
         };
-        let err = lab
-            .load(&wrap(
-                r#"<UtilitySelector><Utility score="1 +"><L0/></Utility></UtilitySelector>"#,
-            ))
-            .err()
-            .expect("a score that does not parse");
+        let Err(err) = lab.load(&wrap(
+            r#"<UtilitySelector><Utility score="1 +"><L0/></Utility></UtilitySelector>"#,
+        )) else {
+            panic!("a score that does not parse loads");
+        };
         assert!(err.to_string().contains("score"), "{err}");
-        let err = lab
-            .load(&wrap(r#"<UtilitySelector hysteresis="-1"><Utility score="1"><L0/></Utility></UtilitySelector>"#))
-            .err()
-            .expect("a negative hysteresis");
+        let Err(err) = lab.load(&wrap(
+            r#"<UtilitySelector hysteresis="-1"><Utility score="1"><L0/></Utility></UtilitySelector>"#,
+        )) else {
+            panic!("a negative hysteresis loads");
+        };
         assert!(err.to_string().contains("hysteresis"), "{err}");
         let mut lab = Lab::new(&[&[S]]);
         let mut tree = lab.tree(r#"<UtilitySelector><L0/></UtilitySelector>"#);
