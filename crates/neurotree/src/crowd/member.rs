@@ -36,7 +36,7 @@ pub enum FrameStatus {
     Ticked(Status),
     /// It was ticked, and the tick ended with an error: [`Member::error`] says which.
     Error,
-    /// It was due, but its tree [sleeps](super::sleep) and nothing it waits on happened:
+    /// It was due, but its tree [sleeps](crate::tree::sleep) and nothing it waits on happened:
     /// it was not ticked.
     Asleep,
 }
@@ -260,7 +260,7 @@ impl<C> MemberMut<'_, C> {
     }
 
     /// Its tree, to seed its blackboard or attach an observer between frames. Wakes it,
-    /// if it slept (see [`sleep`](super::sleep)).
+    /// if it slept (see [`sleep`](crate::tree::sleep)).
     pub fn tree_mut(&mut self) -> &mut Tree<C> {
         self.wake();
         &mut self.body.tree

@@ -133,7 +133,7 @@ pub struct Crowd<C> {
     /// Slots of the members owed a tick, in the order they fell due.
     backlog: VecDeque<u32>,
     chunks: Vec<schedule::Chunk>,
-    /// Wakes queued from other threads (see [`sleep`]).
+    /// Wakes queued from other threads (see [`CrowdWaker`]).
     waker: CrowdWaker,
 }
 
@@ -146,7 +146,7 @@ pub struct FrameReport {
     /// not those asleep.
     pub due: u64,
     /// Members whose interval came round but whose tree sleeps: skipped, untouched (see
-    /// [`sleep`]).
+    /// [`sleep`](crate::tree::sleep)).
     pub asleep: u64,
     /// Members ticked.
     pub ticked: u64,
