@@ -73,113 +73,173 @@ pub fn tree1111_xml<C: 'static>() -> Arc<Blueprint<C>> {
 /// uses every family of node (reactive checks, memory sequences, a parallel, decorators and a
 /// stateful action), so that an instance carries realistic per-node state.
 pub fn agent_tree() -> Arc<Blueprint<Agent>> {
-    use std::time::Duration;
-    Builder::<Agent>::new()
-        .reactive_fallback("agent", |root| {
-            root.sequence("flee", |s| {
-                s.condition("threatened", |a: &Agent| a.threat > 70)
-                    .condition("can_run", |a: &Agent| a.stamina > 10)
-                    .action("run_away", |a: &mut Agent| {
-                        a.x -= 2;
-                        a.stamina -= 1;
-                        Status::Success
-                    })
-            })
-            .reactive_sequence("fight", |s| {
-                s.condition("enemy_near", |a: &Agent| a.threat > 30)
-                    .inverter("not_wounded", |i| {
-                        i.condition("wounded", |a: &Agent| a.health < 20)
-                    })
-                    .parallel_policy("attack", ParallelPolicy::RequireOne, |p| {
-                        p.action("strike", |a: &mut Agent| {
-                            a.threat = a.threat.saturating_sub(3);
-                            Status::from(a.threat < 40)
-                        })
-                        .stateful("dodge", Dodge::default)
-                        .force_failure("taunt", |f| {
-                            f.action("shout", |_: &mut Agent| Status::Success)
-                        })
-                    })
-            })
-            .sequence_with_memory("forage", |s| {
-                s.condition("hungry", |a: &Agent| a.food < 50)
-                    .fallback("find_food", |f| {
-                        f.condition("food_here", |a: &Agent| a.x % 7 == 0)
-                            .retry("search", 3, |r| {
-                                r.action("step", |a: &mut Agent| {
-                                    a.x += 1;
-                                    Status::from(a.x % 7 == 0)
-                                })
-                            })
-                    })
-                    .action("eat", |a: &mut Agent| {
-                        a.food += 20;
-                        Status::Success
-                    })
-            })
-            .sequence("socialize", |s| {
-                s.condition("friend_near", |a: &Agent| a.threat < 10)
-                    .run_once("introduce", true, |r| {
-                        r.action("wave", |_: &mut Agent| Status::Success)
-                    })
-                    .delay("pause", Duration::from_millis(100), |d| {
-                        d.action("chat", |a: &mut Agent| {
-                            a.threat += 1;
-                            Status::Success
-                        })
-                    })
-                    .parallel_all("share", 1, |p| {
-                        p.action("give", |a: &mut Agent| {
-                            a.food = a.food.saturating_sub(5);
-                            Status::Success
-                        })
-                        .action("take", |a: &mut Agent| {
-                            a.food += 5;
-                            Status::Success
-                        })
-                        .sleep("linger", Duration::from_millis(50))
-                    })
-            })
-            .sequence("patrol", |s| {
-                s.fallback("waypoint", |f| {
-                    f.condition("at_a", |a: &Agent| a.x == 0)
-                        .condition("at_b", |a: &Agent| a.x == 10)
-                        .force_success("walk", |w| {
-                            w.action("walk", |a: &mut Agent| {
-                                a.x = (a.x + 1) % 11;
-                                Status::Success
-                            })
-                        })
-                })
-                .cooldown("look_around_cd", Duration::from_millis(500), |c| {
-                    c.action("look_around", |a: &mut Agent| {
-                        a.threat = (a.threat + 13) % 100;
-                        Status::Success
-                    })
-                })
-                .timeout("rest_limit", Duration::from_secs(2), |t| {
-                    t.if_then_else("rest_if_tired", |i| {
-                        i.condition("tired", |a: &Agent| a.stamina < 30)
-                            .action("rest", |a: &mut Agent| {
-                                a.stamina += 5;
-                                Status::Success
-                            })
-                            .always_success("not_tired")
-                    })
-                })
-                .repeat("breathe", 2, |r| r.always_success("breath"))
-                .action("age", |a: &mut Agent| {
-                    a.food = a.food.saturating_sub(1);
-                    a.health = (a.health + 1).min(100);
-                    Status::Success
-                })
-                .keep_running_until_failure("idle", |k| {
-                    k.inverter("idle_once", |i| i.always_success("done"))
-                })
-            })
-        })
+    agent_nodes(Builder::new())
         .build_shared()
         .expect("the agent tree is a valid tree")
+}
+
+/// The nodes of [`agent_tree`], added to `b`.
+fn agent_nodes(b: Builder<Agent>) -> Builder<Agent> {
+    use std::time::Duration;
+    b.reactive_fallback("agent", |root| {
+        root.sequence("flee", |s| {
+            s.condition("threatened", |a: &Agent| a.threat > 70)
+                .condition("can_run", |a: &Agent| a.stamina > 10)
+                .action("run_away", |a: &mut Agent| {
+                    a.x -= 2;
+                    a.stamina -= 1;
+                    Status::Success
+                })
+        })
+        .reactive_sequence("fight", |s| {
+            s.condition("enemy_near", |a: &Agent| a.threat > 30)
+                .inverter("not_wounded", |i| {
+                    i.condition("wounded", |a: &Agent| a.health < 20)
+                })
+                .parallel_policy("attack", ParallelPolicy::RequireOne, |p| {
+                    p.action("strike", |a: &mut Agent| {
+                        a.threat = a.threat.saturating_sub(3);
+                        Status::from(a.threat < 40)
+                    })
+                    .stateful("dodge", Dodge::default)
+                    .force_failure("taunt", |f| {
+                        f.action("shout", |_: &mut Agent| Status::Success)
+                    })
+                })
+        })
+        .sequence_with_memory("forage", |s| {
+            s.condition("hungry", |a: &Agent| a.food < 50)
+                .fallback("find_food", |f| {
+                    f.condition("food_here", |a: &Agent| a.x % 7 == 0)
+                        .retry("search", 3, |r| {
+                            r.action("step", |a: &mut Agent| {
+                                a.x += 1;
+                                Status::from(a.x % 7 == 0)
+                            })
+                        })
+                })
+                .action("eat", |a: &mut Agent| {
+                    a.food += 20;
+                    Status::Success
+                })
+        })
+        .sequence("socialize", |s| {
+            s.condition("friend_near", |a: &Agent| a.threat < 10)
+                .run_once("introduce", true, |r| {
+                    r.action("wave", |_: &mut Agent| Status::Success)
+                })
+                .delay("pause", Duration::from_millis(100), |d| {
+                    d.action("chat", |a: &mut Agent| {
+                        a.threat += 1;
+                        Status::Success
+                    })
+                })
+                .parallel_all("share", 1, |p| {
+                    p.action("give", |a: &mut Agent| {
+                        a.food = a.food.saturating_sub(5);
+                        Status::Success
+                    })
+                    .action("take", |a: &mut Agent| {
+                        a.food += 5;
+                        Status::Success
+                    })
+                    .sleep("linger", Duration::from_millis(50))
+                })
+        })
+        .sequence("patrol", |s| {
+            s.fallback("waypoint", |f| {
+                f.condition("at_a", |a: &Agent| a.x == 0)
+                    .condition("at_b", |a: &Agent| a.x == 10)
+                    .force_success("walk", |w| {
+                        w.action("walk", |a: &mut Agent| {
+                            a.x = (a.x + 1) % 11;
+                            Status::Success
+                        })
+                    })
+            })
+            .cooldown("look_around_cd", Duration::from_millis(500), |c| {
+                c.action("look_around", |a: &mut Agent| {
+                    a.threat = (a.threat + 13) % 100;
+                    Status::Success
+                })
+            })
+            .timeout("rest_limit", Duration::from_secs(2), |t| {
+                t.if_then_else("rest_if_tired", |i| {
+                    i.condition("tired", |a: &Agent| a.stamina < 30)
+                        .action("rest", |a: &mut Agent| {
+                            a.stamina += 5;
+                            Status::Success
+                        })
+                        .always_success("not_tired")
+                })
+            })
+            .repeat("breathe", 2, |r| r.always_success("breath"))
+            .action("age", |a: &mut Agent| {
+                a.food = a.food.saturating_sub(1);
+                a.health = (a.health + 1).min(100);
+                Status::Success
+            })
+            .keep_running_until_failure("idle", |k| {
+                k.inverter("idle_once", |i| i.always_success("done"))
+            })
+        })
+    })
+}
+
+/// [`agent_tree`] behind a leaf that waits, asleep, for its blackboard entry `alert`:
+/// `Sequence(wait_for_alert, agent)`. An alert (a write of `true`) wakes the agent, which
+/// runs the agent tree until it completes, then sleeps again. The tree of the
+/// `crowd_sleeping` benchmark.
+pub fn sleepy_agent_tree() -> Arc<Blueprint<Agent>> {
+    Builder::<Agent>::new()
+        .sequence("sleepy_agent", |s| {
+            agent_nodes(s.stateful("wait_for_alert", || WaitForAlert))
+        })
+        .build_shared()
+        .expect("the sleepy agent tree is a valid tree")
+}
+
+/// Waits for the entry `alert` to be true, saying so, so that the tree sleeps meanwhile;
+/// then clears it and succeeds.
+struct WaitForAlert;
+
+impl WaitForAlert {
+    fn check(h: &mut neurotree::Handle<'_, Agent>) -> Status {
+        if h.blackboard().get::<bool>("alert").unwrap_or(false) {
+            // Written on the tree's own clock, as the tree stamps its writes.
+            let (scope, now) = (h.scope(), h.now());
+            h.blackboard_mut().replace_in(scope, "alert", false, now);
+            return Status::Success;
+        }
+        h.wake_on("alert");
+        Status::Running
+    }
+}
+
+impl neurotree::StatefulAction<Agent> for WaitForAlert {
+    fn on_start(&mut self, h: &mut neurotree::Handle<'_, Agent>) -> Status {
+        Self::check(h)
+    }
+    fn on_running(&mut self, h: &mut neurotree::Handle<'_, Agent>) -> Status {
+        Self::check(h)
+    }
+}
+
+/// A crowd of `agents` instances of [`sleepy_agent_tree`], as [`agent_crowd`] makes one of
+/// [`agent_tree`].
+pub fn sleepy_agent_crowd(
+    agents: usize,
+    threads: usize,
+    clock: neurotree::ManualClock,
+) -> neurotree::crowd::Crowd<Agent> {
+    let blueprint = sleepy_agent_tree();
+    let mut crowd = neurotree::crowd::Crowd::new(clock)
+        .with_threads(threads)
+        .expect("rayon starts its threads");
+    for i in 0..agents {
+        crowd.add(Arc::clone(&blueprint), Agent::new(i as u32));
+    }
+    crowd
 }
 
 /// A crowd of `agents` instances of [`agent_tree`] on `clock`, each with its own

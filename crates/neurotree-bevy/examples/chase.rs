@@ -6,9 +6,14 @@
 //! per square root of an enemy (40 by default; 1 keeps many enemies busy).
 //!
 //! `cargo run --release -p neurotree-bevy --example chase -- --agents N --frames F` prints
-//! one line: `{"lib":"neurotree","lod":false,"agents":N,"frames":F,"ms_per_frame":…,"ms_steady":…,"chase":…}`,
+//! one line: `{"lib":"neurotree","lod":false,"sleep":true,"agents":N,"frames":F,"ms_per_frame":…,"ms_steady":…,"chase":…,"awake_per_frame":…}`,
 //! the mean time of a frame, and of the frames of the second half; `chase` being the
-//! agent-frames spent moving towards the player.
+//! agent-frames spent moving towards the player, `awake_per_frame` the enemies ticked per
+//! frame on average.
+//!
+//! A waiting enemy's tree sleeps until the player could first be in sight (see
+//! `WaitUntilPlayerIsNear`), and a napping one until its nap ends; with `--no-sleep`
+//! waiting enemies look every frame, as bevy_behave's do (naps still sleep).
 //!
 //! With `--lod`, an enemy farther from the player than its vision and 30 units ticks every
 //! 8th frame: the player moves under 27 units in 8 frames, so no enemy sees it later than
@@ -75,6 +80,10 @@ fn distance(a: Pos, b: Pos) -> f32 {
     ((a.0 - b.0).powi(2) + (a.1 - b.1).powi(2)).sqrt()
 }
 
+/// Waits until the player is within vision. The player cannot come closer than
+/// `PLAYER_SPEED` allows, so the enemy says when it could first see it, and its tree
+/// sleeps until then (a frame early, against rounding): it sees the player in the same
+/// frame as if it looked every frame.
 struct WaitUntilPlayerIsNear;
 
 impl StatefulAction<Enemy> for WaitUntilPlayerIsNear {
@@ -84,13 +93,21 @@ impl StatefulAction<Enemy> for WaitUntilPlayerIsNear {
 
     fn on_running(&mut self, h: &mut Handle<'_, Enemy>) -> Status {
         let e = h.ctx();
-        if distance(e.pos, e.player) < e.vision {
-            Status::Success
-        } else {
-            Status::Running
+        let gap = distance(e.pos, e.player) - e.vision;
+        if gap < 0.0 {
+            return Status::Success;
         }
+        if !NO_SLEEP.load(std::sync::atomic::Ordering::Relaxed) {
+            let safe = (gap / PLAYER_SPEED - 2.0 * FRAME).max(0.0);
+            let at = h.now() + std::time::Duration::from_secs_f32(safe);
+            h.sleep_until(at);
+        }
+        Status::Running
     }
 }
+
+/// `--no-sleep`: waiting enemies look every frame, as bevy_behave's do.
+static NO_SLEEP: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
 
 struct MoveTowardsPlayer;
 
@@ -145,6 +162,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let agents = arg("--agents", 10_000);
     let frames = arg("--frames", 100);
     let lod = std::env::args().any(|a| a == "--lod");
+    let no_sleep = std::env::args().any(|a| a == "--no-sleep");
+    NO_SLEEP.store(no_sleep, std::sync::atomic::Ordering::Relaxed);
     // Units of field per square root of an agent: 40 leaves most enemies out of sight; 1
     // puts many within sight, chasing, catching and napping in turn.
     let spacing = arg("--spacing", 40) as f32;
@@ -209,10 +228,16 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     // The first frame puts every agent in the crowd; it is not timed.
     app.update();
     let mut times = Vec::with_capacity(frames);
+    let mut awake = 0u64;
     for frame in 0..frames {
         let t = Instant::now();
         app.update();
         times.push(t.elapsed().as_secs_f64() * 1e3);
+        awake += app
+            .world()
+            .resource::<AgentCrowd<Enemy>>()
+            .last_frame()
+            .ticked;
         if frame < 3 || frame + 1 == frames {
             eprintln!("frame {frame}: {:.2} ms", times[frame]);
         }
@@ -227,8 +252,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .iter(world)
         .map(|c| u64::from(c.0))
         .sum();
+    let sleep = !no_sleep;
+    let awake = awake as f64 / frames.max(1) as f64;
     println!(
-        "{{\"lib\":\"neurotree\",\"lod\":{lod},\"agents\":{agents},\"frames\":{frames},\"ms_per_frame\":{ms:.3},\"ms_steady\":{steady:.3},\"chase\":{chase}}}"
+        "{{\"lib\":\"neurotree\",\"lod\":{lod},\"sleep\":{sleep},\"agents\":{agents},\"frames\":{frames},\"ms_per_frame\":{ms:.3},\"ms_steady\":{steady:.3},\"chase\":{chase},\"awake_per_frame\":{awake:.1}}}"
     );
     Ok(())
 }

@@ -1,12 +1,14 @@
 //! A crowd of game agents in Bevy, headless: each patrols around its home, chases the
-//! target when it sees it, flees when hurt (the target hits back), and regroups when far
-//! from home, all from one tree file, `assets/crowd.xml`, loaded as a Bevy asset. Agents
-//! far from the target think every 4th frame (a level-of-detail hook).
+//! target when it sees it, flees when hurt (the target hits back), regroups when far
+//! from home, and rests while the target is far away, all from one tree file,
+//! `assets/crowd.xml`, loaded as a Bevy asset. Agents far from the target think every 4th
+//! frame (a level-of-detail hook); a resting agent's tree sleeps until the target could
+//! have come near, so it is not ticked at all meanwhile.
 //!
 //! `cargo run --release -p neurotree-bevy --example crowd -- --agents N --frames F` prints
-//! frame times and what the agents did; its last line is
-//! `{"agents":N,"frames":F,"ms_per_frame":…,"patrol":…,"chase":…,"flee":…,"regroup":…}`,
-//! the agent-frames spent in each behaviour.
+//! frame times, how many agents were awake, and what the agents did; its last line is
+//! `{"agents":N,"frames":F,"ms_per_frame":…,"awake_per_frame":…,"patrol":…,"chase":…,"flee":…,"regroup":…,"rest":…}`,
+//! the agents ticked per frame on average and the agent-frames spent in each behaviour.
 
 use std::io::Write;
 use std::time::Instant;
@@ -25,6 +27,10 @@ const SPACING: f32 = 10.0;
 const VISION: f32 = 25.0;
 /// Beyond this distance from the target, an agent thinks every 4th frame.
 const NEAR: f32 = 100.0;
+/// The most the target moves in a frame (its Lissajous curve's top speed is under 2.44).
+const TARGET_STEP: f32 = 2.5;
+/// The trees' clock moves 1/60 s per frame (the plugin's default step).
+const FRAME_SECS: f32 = 1.0 / 60.0;
 
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Pos(f32, f32);
@@ -53,6 +59,7 @@ pub enum Doing {
     Chase,
     Flee,
     Regroup,
+    Rest,
 }
 
 #[derive(Component, Clone, Copy)]
@@ -105,6 +112,36 @@ impl AgentContext for Agent {
     }
 }
 
+/// Rests while the target is farther than `within`: Running, its tree asleep until the
+/// target could have come that near (it moves at most [`TARGET_STEP`] a frame; two frames
+/// early, against rounding); then Failure, so that the agent patrols.
+struct Rest;
+
+impl Rest {
+    fn check(h: &mut neurotree::Handle<'_, Agent>) -> Status {
+        let within = h.input::<f64>("within").unwrap_or(0.0) as f32;
+        let a = h.ctx_mut();
+        let gap = a.pos.distance(a.target) - within;
+        if gap <= 0.0 {
+            return Status::Failure;
+        }
+        a.doing = Doing::Rest;
+        let frames = (gap / TARGET_STEP - 2.0).max(0.0);
+        let at = h.now() + std::time::Duration::from_secs_f32(frames * FRAME_SECS);
+        h.sleep_until(at);
+        Status::Running
+    }
+}
+
+impl neurotree::StatefulAction<Agent> for Rest {
+    fn on_start(&mut self, h: &mut neurotree::Handle<'_, Agent>) -> Status {
+        Self::check(h)
+    }
+    fn on_running(&mut self, h: &mut neurotree::Handle<'_, Agent>) -> Status {
+        Self::check(h)
+    }
+}
+
 /// The leaves `assets/crowd.xml` names.
 pub fn registry() -> Result<Registry<Agent>, RegistryError> {
     let mut r = Registry::<Agent>::new();
@@ -144,6 +181,7 @@ pub fn registry() -> Result<Registry<Agent>, RegistryError> {
         a.doing = Doing::Regroup;
         Status::Success
     })?;
+    r.register_stateful("Rest", vec![PortSpec::input::<f64>("within")], || Rest)?;
     r.register_action("Patrol", vec![], |h| {
         let a = h.ctx_mut();
         // A point a little further round a circle of 8 units about home.
@@ -164,6 +202,9 @@ pub struct Tally {
     pub chase: u64,
     pub flee: u64,
     pub regroup: u64,
+    pub rest: u64,
+    /// Agents ticked, summed over the frames counted.
+    pub awake: u64,
 }
 
 fn tally(agents: Query<&Doing>, mut tally: ResMut<Tally>) {
@@ -176,6 +217,7 @@ fn tally(agents: Query<&Doing>, mut tally: ResMut<Tally>) {
             Doing::Chase => tally.chase += 1,
             Doing::Flee => tally.flee += 1,
             Doing::Regroup => tally.regroup += 1,
+            Doing::Rest => tally.rest += 1,
         }
     }
 }
@@ -264,22 +306,22 @@ pub fn run(
     for frame in 0..frames {
         let t = Instant::now();
         app.update();
+        let ms = t.elapsed().as_secs_f64() * 1e3;
+        let last = app.world().resource::<AgentCrowd<Agent>>().last_frame();
+        app.world_mut().resource_mut::<Tally>().awake += last.ticked;
         if (frame + 1) % every == 0 || frame + 1 == frames {
-            let ms = t.elapsed().as_secs_f64() * 1e3;
-            let ticked = app
-                .world()
-                .resource::<AgentCrowd<Agent>>()
-                .last_frame()
-                .ticked;
             let d = *app.world().resource::<Tally>();
             writeln!(
                 out,
-                "frame {:>5}: {ms:>8.2} ms, {ticked} ticked; so far patrol {} chase {} flee {} regroup {}",
+                "frame {:>5}: {ms:>8.2} ms, {} awake, {} asleep; so far patrol {} chase {} flee {} regroup {} rest {}",
                 frame + 1,
+                last.ticked,
+                last.asleep,
                 d.patrol,
                 d.chase,
                 d.flee,
-                d.regroup
+                d.regroup,
+                d.rest
             )?;
         }
     }
@@ -289,9 +331,10 @@ pub fn run(
 
 /// The last line the example prints.
 pub fn summary(agents: usize, frames: usize, tally: Tally, ms: f64) -> String {
+    let awake = tally.awake as f64 / frames.max(1) as f64;
     format!(
-        "{{\"agents\":{agents},\"frames\":{frames},\"ms_per_frame\":{ms:.3},\"patrol\":{},\"chase\":{},\"flee\":{},\"regroup\":{}}}",
-        tally.patrol, tally.chase, tally.flee, tally.regroup
+        "{{\"agents\":{agents},\"frames\":{frames},\"ms_per_frame\":{ms:.3},\"awake_per_frame\":{awake:.1},\"patrol\":{},\"chase\":{},\"flee\":{},\"regroup\":{},\"rest\":{}}}",
+        tally.patrol, tally.chase, tally.flee, tally.regroup, tally.rest
     )
 }
 

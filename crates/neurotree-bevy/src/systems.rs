@@ -192,7 +192,7 @@ impl Gathered<'_> {
         let status = match status {
             FrameStatus::Ticked(status) => Some(status),
             FrameStatus::Error => None,
-            FrameStatus::NotDue | FrameStatus::Deferred => return,
+            FrameStatus::NotDue | FrameStatus::Deferred | FrameStatus::Asleep => return,
         };
         let report = match status {
             Some(Status::Running) => false,

@@ -15,10 +15,13 @@ fn the_crowd_examples_last_line_counts_every_agent_frame_once() {
     let count = |key: &str| json[key].as_u64().unwrap();
     assert_eq!((count("agents"), count("frames")), (400, 600));
     assert!(json["ms_per_frame"].as_f64().is_some());
-    let behaviours = ["patrol", "chase", "flee", "regroup"].map(count);
+    // Resting agents sleep: fewer are ticked per frame than there are agents.
+    let awake = json["awake_per_frame"].as_f64().unwrap();
+    assert!(awake > 0.0 && awake < 400.0, "{line}");
+    let behaviours = ["patrol", "chase", "flee", "regroup", "rest"].map(count);
     assert_eq!(behaviours.iter().sum::<u64>(), 400 * 600);
     // The target crosses the field: some agents see it, chase it, are hurt and flee, and
-    // walk back home.
+    // walk back home; those it is far from rest.
     assert!(behaviours.iter().all(|&n| n > 0), "{line}");
     let progress = String::from_utf8(progress).unwrap();
     assert_eq!(

@@ -10,6 +10,9 @@
 //! - `crowd`: the same agents as a [`Crowd`](neurotree::crowd::Crowd), each frame ticked on
 //!   every thread of a rayon pool (`--threads`, or `RAYON_NUM_THREADS`, or every core):
 //!   milliseconds per frame and bytes per member.
+//! - `crowd_sleeping`: the same agents behind a leaf that sleeps until an alert, 1% of them
+//!   alerted each frame (a blackboard write through the crowd): the members awake per
+//!   frame and milliseconds per frame, which follow the agents awake rather than the crowd.
 //!
 //! These are wall-clock figures from [`Instant`], good for a first look on a new machine;
 //! the criterion benchmarks (`cargo bench -p neurotree-bench --bench tick`) are the careful ones.
@@ -21,8 +24,8 @@ use std::time::{Duration, Instant};
 
 use neurotree::{Blueprint, Clock, ManualClock, Status, Tree};
 use neurotree_bench::{
-    agent_crowd, agent_tree, crowd_bytes_per_member, tree1111, tree1111_xml, Agent,
-    TREE1111_NODES_PER_TICK,
+    agent_crowd, agent_tree, crowd_bytes_per_member, sleepy_agent_crowd, tree1111, tree1111_xml,
+    Agent, TREE1111_NODES_PER_TICK,
 };
 
 use crate::Outcome;
@@ -203,6 +206,55 @@ pub fn crowd_bench(opts: &BenchArgs) -> CrowdResult {
     }
 }
 
+/// Result of the sleeping-crowd benchmark.
+#[derive(Clone, Debug)]
+pub struct CrowdSleepingResult {
+    /// Members.
+    pub agents: usize,
+    /// Members ticked per frame, on average over the frames timed.
+    pub awake_per_frame: f64,
+    /// Mean milliseconds per frame, the alerts' writes included.
+    pub ms_per_frame: f64,
+}
+
+/// Runs `opts.agents` sleepy agents as a crowd, alerting 1% of them (at least one) before
+/// each frame, in turn: 20 frames (5 with `quick`) after ten warm-up frames in which all
+/// fall asleep, the clock advancing 16 ms per frame.
+pub fn crowd_sleeping_bench(opts: &BenchArgs) -> CrowdSleepingResult {
+    const FRAME: Duration = Duration::from_millis(16);
+    let frames: u32 = if opts.quick { 5 } else { 20 };
+    let clock = ManualClock::new();
+    let mut crowd = sleepy_agent_crowd(opts.agents, opts.threads, clock.clone());
+    let ids: Vec<_> = crowd.iter().map(|m| m.id()).collect();
+    let per_frame = (ids.len() / 100).max(1).min(ids.len());
+    let mut next = 0;
+    let mut frame = |crowd: &mut neurotree::crowd::Crowd<Agent>| {
+        for _ in 0..per_frame {
+            let id = ids[next % ids.len()];
+            next += 1;
+            if let Some(mut m) = crowd.get_mut(id) {
+                let _ = m.tree_mut().blackboard_mut().set("alert", true);
+            }
+        }
+        clock.advance(FRAME);
+        black_box(crowd.frame())
+    };
+    for _ in 0..10 {
+        frame(&mut crowd);
+    }
+    let mut ticked = 0;
+    let start = Instant::now();
+    for _ in 0..frames {
+        ticked += frame(&mut crowd).ticked;
+    }
+    let elapsed = start.elapsed();
+    CrowdSleepingResult {
+        agents: opts.agents,
+        awake_per_frame: ticked as f64 / f64::from(frames),
+        ms_per_frame: elapsed.as_secs_f64() * 1e3 / f64::from(frames),
+    }
+}
+
 /// Runs the benchmarks and writes a table, or one JSON object per line with `--json`; a
 /// benchmark that ran has nothing to fail on.
 pub fn execute(opts: &BenchArgs, out: &mut impl Write) -> io::Result<Outcome> {
@@ -249,6 +301,20 @@ pub fn execute(opts: &BenchArgs, out: &mut impl Write) -> io::Result<Outcome> {
         row(out, "", "bytes per member", c.bytes_per_member.to_string())?;
     }
     out.flush()?;
+    let s = crowd_sleeping_bench(opts);
+    if json {
+        writeln!(out, "{}", crowd_sleeping_json(&s))?;
+    } else {
+        row(out, "crowd_sleeping", "agents", s.agents.to_string())?;
+        row(
+            out,
+            "",
+            "awake per frame",
+            format!("{:.1}", s.awake_per_frame),
+        )?;
+        row(out, "", "ms per frame", format!("{:.3}", s.ms_per_frame))?;
+    }
+    out.flush()?;
     Ok(Outcome::Done)
 }
 
@@ -267,6 +333,13 @@ fn many_agents_json(m: &ManyAgentsResult) -> String {
     format!(
         r#"{{"name":"many_agents","agents":{},"frames":{},"ms_per_frame":{:.4},"bytes_per_instance":{}}}"#,
         m.agents, m.frames, m.ms_per_frame, m.bytes_per_instance
+    )
+}
+
+fn crowd_sleeping_json(s: &CrowdSleepingResult) -> String {
+    format!(
+        r#"{{"name":"crowd_sleeping","agents":{},"awake_per_frame":{:.1},"ms_per_frame":{:.4}}}"#,
+        s.agents, s.awake_per_frame, s.ms_per_frame
     )
 }
 
@@ -315,6 +388,15 @@ mod tests {
         assert_eq!(
             crowd_json(&c),
             r#"{"name":"crowd","agents":100000,"threads":2,"ms_per_frame":4.5000,"frames":20,"bytes_per_member":600}"#
+        );
+        let s = CrowdSleepingResult {
+            agents: 100_000,
+            awake_per_frame: 1000.0,
+            ms_per_frame: 0.25,
+        };
+        assert_eq!(
+            crowd_sleeping_json(&s),
+            r#"{"name":"crowd_sleeping","agents":100000,"awake_per_frame":1000.0,"ms_per_frame":0.2500}"#
         );
     }
 }

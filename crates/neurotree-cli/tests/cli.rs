@@ -199,7 +199,7 @@ fn bench_json_prints_one_line_per_benchmark() {
         "2",
     ]));
     let lines: Vec<&str> = out.lines().collect();
-    assert_eq!(lines.len(), 4, "{out}");
+    assert_eq!(lines.len(), 5, "{out}");
     for line in &lines {
         assert!(line.starts_with('{') && line.ends_with('}'), "{line}");
     }
@@ -229,6 +229,15 @@ fn bench_json_prints_one_line_per_benchmark() {
     for key in ["frames", "ms_per_frame", "bytes_per_member"] {
         positive(crowd, key);
     }
+
+    // 1% of the sleepy agents alerted each frame: 10 a frame, each awake until its agent
+    // tree completes, a few frames.
+    let sleeping = lines[4];
+    assert_eq!(field(sleeping, "name"), "\"crowd_sleeping\"");
+    assert_eq!(field(sleeping, "agents"), "1000");
+    let awake = positive(sleeping, "awake_per_frame");
+    assert!((10.0..100.0).contains(&awake), "{sleeping}");
+    positive(sleeping, "ms_per_frame");
 }
 
 #[test]
@@ -243,6 +252,8 @@ fn bench_table_names_every_measure() {
         "bytes per instance",
         "bytes per member",
         "threads",
+        "crowd_sleeping",
+        "awake per frame",
     ] {
         assert!(out.contains(measure), "{measure} missing from\n{out}");
     }

@@ -31,6 +31,7 @@ mod testing;
 pub mod xml;
 
 pub use json_port::Json;
+pub use nodes::utility_selector::UtilityBuilder;
 pub use registry::{PortDirection, PortSpec, Registry, RegistryError};
 pub use runtime::{FixedRate, StopFlag};
 pub use shared_blackboard::SharedBlackboard;

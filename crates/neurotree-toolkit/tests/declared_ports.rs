@@ -21,6 +21,8 @@ fn sample(decl: &NodeDecl, port: &PortDecl) -> String {
         (_, "else", _) => "SUCCESS",
         (_, "if_empty", _) => "FAILURE",
         (_, "failure_count", _) => "-1",
+        (_, "hysteresis", _) => "1.5",
+        (_, "score", _) => "hunger * 2",
         (_, name, _) if name.starts_with("case_") => return name.replace("case_", ""),
         (_, _, "i32") => "2",
         (_, _, "u64") => "7",

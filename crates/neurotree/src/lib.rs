@@ -161,6 +161,7 @@ pub use neurotree_studio as studio;
 
 #[cfg(feature = "crowd")]
 pub mod crowd;
+mod guide;
 mod readme;
 
 /// What most programs need, in one `use neurotree::prelude::*;`: the types that load,

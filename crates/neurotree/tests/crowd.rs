@@ -137,6 +137,7 @@ fn a_budget_defers_the_rest_oldest_first_and_reports_the_lag() {
         FrameReport {
             frame: 0,
             due: 10,
+            asleep: 0,
             ticked: 4,
             visits: 4,
             failures: 0,

@@ -192,6 +192,8 @@ impl Blackboard {
         entry.info.type_name = type_name;
         entry.touch(stamp);
         self.last_stamp = self.last_stamp.max(stamp);
+        // A write like any other: a tree asleep on the blackboard wakes.
+        self.writes = self.writes.wrapping_add(1);
         Ok(())
     }
 }

@@ -143,6 +143,8 @@ pub struct Blackboard {
     last_stamp: Duration,
     /// The value types this blackboard's values are saved, shown and edited with.
     codecs: Option<Arc<StateCodecs>>,
+    /// Writes so far (see [`writes`](Self::writes)).
+    writes: u64,
 }
 
 /// The entries of scope `s`, created if the vector has not grown that far yet. A free
@@ -162,7 +164,15 @@ impl Blackboard {
             entries: Vec::new(),
             last_stamp: Duration::ZERO,
             codecs: None,
+            writes: 0,
         }
+    }
+
+    /// How many times the blackboard was written (a value set, changed, removed, a key
+    /// remapped), wrapping: a sleeping tree compares it to wake on any write.
+    #[inline]
+    pub fn writes(&self) -> u64 {
+        self.writes
     }
 
     /// Opens a child scope of `parent` and returns it; with `autoremap`, keys the child does
@@ -190,6 +200,7 @@ impl Blackboard {
     /// Remapping a key again replaces its target. The root (which has no parent) and unknown
     /// scopes are left unchanged.
     pub fn remap(&mut self, scope: ScopeId, child_key: &str, parent_key: &str) {
+        self.writes = self.writes.wrapping_add(1);
         let Some(i) = (scope.0 as usize).checked_sub(1) else {
             return;
         };
@@ -237,6 +248,7 @@ impl Blackboard {
     /// and a script's `=`), reads fail until the first write, and the first write of any
     /// type fixes the entry's type. An existing entry is left as it is.
     pub fn declare_in(&mut self, scope: ScopeId, key: &str) {
+        self.writes = self.writes.wrapping_add(1);
         let Some((s, k)) = resolve(&self.links, &self.entries, scope, key) else {
             return;
         };
@@ -322,6 +334,7 @@ impl Blackboard {
         value: T,
         stamp: Duration,
     ) -> Result<(), BlackboardError> {
+        self.writes = self.writes.wrapping_add(1);
         let Some((s, k)) = resolve(&self.links, &self.entries, scope, key) else {
             return Err(BlackboardError::NoSuchScope { scope: scope.0 });
         };
@@ -354,6 +367,7 @@ impl Blackboard {
         stamp: Duration,
         change: impl FnOnce(&mut T),
     ) -> bool {
+        self.writes = self.writes.wrapping_add(1);
         let Some((s, k)) = resolve(&self.links, &self.entries, scope, key) else {
             return false;
         };
@@ -379,6 +393,7 @@ impl Blackboard {
         value: T,
         stamp: Duration,
     ) {
+        self.writes = self.writes.wrapping_add(1);
         let Some((s, k)) = resolve(&self.links, &self.entries, scope, key) else {
             return;
         };
@@ -412,6 +427,7 @@ impl Blackboard {
         value: T,
         stamp: Duration,
     ) -> Result<(), BlackboardError> {
+        self.writes = self.writes.wrapping_add(1);
         let Some((s, k)) = resolve(&self.links, &self.entries, scope, key) else {
             return Err(BlackboardError::NoSuchScope { scope: scope.0 });
         };
@@ -457,6 +473,7 @@ impl Blackboard {
         value: T,
         stamp: Duration,
     ) {
+        self.writes = self.writes.wrapping_add(1);
         if scope.0 as usize > self.links.len() {
             return;
         }
@@ -477,6 +494,7 @@ impl Blackboard {
     /// Removes the entry `key` resolves to from `scope` (a remapped key removes the parent's
     /// entry); `true` if there was one. Remaps stay.
     pub fn unset_in(&mut self, scope: ScopeId, key: &str) -> bool {
+        self.writes = self.writes.wrapping_add(1);
         let Some((s, k)) = resolve(&self.links, &self.entries, scope, key) else {
             return false;
         };
@@ -556,6 +574,7 @@ impl Blackboard {
     /// Removes every entry of every scope; the scopes and their remaps stay, so a tree can
     /// start a new run on the same wiring.
     pub fn clear(&mut self) {
+        self.writes = self.writes.wrapping_add(1);
         for e in &mut self.entries {
             e.clear();
         }

@@ -57,6 +57,7 @@ impl Blackboard {
 
     /// Forgets every entry, keeping the scopes and their links.
     pub(crate) fn clear_entries(&mut self) {
+        self.writes = self.writes.wrapping_add(1);
         self.entries.clear();
     }
 

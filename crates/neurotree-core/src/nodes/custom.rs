@@ -94,6 +94,9 @@ pub struct NodeCtx<'a, 't, C> {
     pub(crate) previous: NodeStatus,
     /// Set by [`reset_completed_children_after_tick`](Self::reset_completed_children_after_tick).
     pub(crate) reset_completed: bool,
+    /// The node said what its result waits on, so the tree may sleep (see
+    /// [`sleep`](crate::tree::sleep)).
+    pub(crate) declared: bool,
 }
 
 impl<'t, C> NodeCtx<'_, 't, C> {
@@ -141,6 +144,49 @@ impl<'t, C> NodeCtx<'_, 't, C> {
         self.t.status(child)
     }
 
+    /// The ports of child `i` and their bindings: what a control that reads its children's
+    /// parameters (a UtilitySelector reads each Utility's `score`) looks at.
+    ///
+    /// # Panics
+    /// If `i` is not below [`child_count`](Self::child_count).
+    pub fn child_ports(&self, i: usize) -> &'t [crate::Port] {
+        let bp: &'t crate::Blueprint<C> = self.t.bp;
+        bp.ports(bp.children(self.id)[i])
+    }
+
+    /// The type name of child `i`'s kind ([`NodeKind::type_name`](crate::NodeKind::type_name)).
+    ///
+    /// # Panics
+    /// If `i` is not below [`child_count`](Self::child_count).
+    pub fn child_type_name(&self, i: usize) -> &'t str {
+        let bp: &'t crate::Blueprint<C> = self.t.bp;
+        bp.kind(bp.children(self.id)[i]).type_name()
+    }
+
+    /// Reads input port `port` of child `i`, as the child would read it.
+    ///
+    /// # Panics
+    /// If `i` is not below [`child_count`](Self::child_count).
+    pub fn child_input<T: FromPortStr + Any + Clone>(
+        &self,
+        i: usize,
+        port: &str,
+    ) -> Result<T, PortError> {
+        let child = self.t.bp.children(self.id)[i];
+        read_input(self.t.bb, self.t.bp, child, port)
+    }
+
+    /// Reports a runtime error of child `i` (one this node evaluates for it): the tick ends
+    /// with [`TickError::Node`](crate::TickError::Node) naming the child. Return Failure
+    /// after calling it.
+    ///
+    /// # Panics
+    /// If `i` is not below [`child_count`](Self::child_count).
+    pub fn fail_child(&mut self, i: usize, message: impl Into<String>) {
+        let child = self.t.bp.children(self.id)[i];
+        self.t.fault_node(child, message.into());
+    }
+
     /// Halts child `i` if it is Running and resets it to Idle.
     pub fn halt_child(&mut self, i: usize) {
         let child = self.t.bp.children(self.id)[i];
@@ -160,6 +206,28 @@ impl<'t, C> NodeCtx<'_, 't, C> {
     /// [`CustomNode::halt`].
     pub fn reset_completed_children_after_tick(&mut self) {
         self.reset_completed = true;
+    }
+
+    /// Says that this node's own result changes only when its children's do: a tree may
+    /// sleep while this node is ticked (see [`sleep`](crate::tree::sleep)). A node that
+    /// says nothing keeps the tree awake.
+    pub fn wakes_with_children(&mut self) {
+        self.declared = true;
+    }
+
+    /// Says that this node's result may also change when the blackboard is written (it
+    /// reads `key`); the sleeping tree wakes on any write.
+    pub fn wake_on(&mut self, key: &str) {
+        let _ = key;
+        self.declared = true;
+        self.t.out.waits.any = true;
+    }
+
+    /// Says that this node's result may also change at `at` on the tree's clock: a
+    /// sleeping tree wakes then.
+    pub fn sleep_until(&mut self, at: Duration) {
+        self.declared = true;
+        self.t.wake_at(crate::clock::duration_to_nanos(at));
     }
 
     /// Asks `tick_once` to tick the tree again at once (after yielding Running).

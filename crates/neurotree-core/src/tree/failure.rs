@@ -211,6 +211,8 @@ pub(crate) struct Outcome {
     pub(crate) fault: Option<TickError>,
     /// Halts that take ticks (see [`slow_halt`](super::slow_halt)).
     pub(crate) halts: super::slow_halt::Halts,
+    /// What the nodes ticked in this pass wait on (see [`sleep`](super::sleep)).
+    pub(crate) waits: super::sleep::Waits,
     /// The tick's record, in order: empty until a node gives a reason (see the module docs).
     notes: Vec<(NodeId, Note)>,
 }
@@ -226,6 +228,7 @@ impl Outcome {
         Self {
             fault: None,
             halts: super::slow_halt::Halts::default(),
+            waits: super::sleep::Waits::new(),
             notes: Vec::new(),
         }
     }

@@ -108,6 +108,7 @@ impl<C> Tree<C> {
     /// they are done). See [`slow_halt`].
     pub fn halt(&mut self, ctx: &mut C) -> bool {
         self.resting = None;
+        self.wake_up();
         let mut t = self.ticker(ctx);
         t.halt_node(NodeId::ROOT);
         // Nothing is Running any more, so this only resets what a control left behind.

@@ -29,6 +29,7 @@ pub mod halt;
 mod objects;
 mod persist;
 mod reload;
+pub mod sleep;
 pub mod slow_halt;
 pub(crate) mod ticker;
 mod wake;
@@ -37,6 +38,7 @@ pub use error::TickError;
 pub use failure::{Failure, FailureLink, Reason, Tried};
 pub use halt::HaltHandle;
 pub use reload::{ReloadError, ReloadReport};
+pub use sleep::WakeHandle;
 pub(crate) use ticker::Ticker;
 pub use wake::{WakeSignal, Woken};
 
@@ -83,6 +85,10 @@ pub struct Tree<C> {
     /// all returned Running. The next pass starts at it rather than at the root
     /// ([`resting_answer`](Self::resting_answer)).
     resting: Option<NodeId>,
+    /// Set while the tree sleeps (see [`sleep`]).
+    asleep: Option<sleep::Asleep>,
+    /// The tree may sleep ([`Tree::set_sleep_allowed`]).
+    sleep_allowed: bool,
 }
 
 /// What [`Tree::rest`] did.
@@ -152,6 +158,8 @@ impl<C> Tree<C> {
             last_root: NodeStatus::Idle,
             pending_reload: None,
             resting: None,
+            asleep: None,
+            sleep_allowed: true,
             blueprint,
         }
     }
@@ -337,9 +345,10 @@ impl<C> Tree<C> {
         ctx: &mut C,
         given: Option<(NodeId, NodeStatus)>,
     ) -> Result<(NodeStatus, Option<NodeId>), TickError> {
+        let writes = self.start_waits();
         let replay = match given {
             Some(given) => Some(given),
-            None => match self.rest(ctx) {
+            None => match self.rest(ctx, writes) {
                 Rest::Running => return Ok((NodeStatus::Running, None)),
                 Rest::Answered(leaf, answer) => Some((leaf, answer)),
                 Rest::Failed(error) => return Err(error),
@@ -369,6 +378,7 @@ impl<C> Tree<C> {
         let (wake, rested) = (t.wake, t.rested);
         if status == NodeStatus::Running && wake.is_none() {
             self.resting = rested.filter(|leaf| self.blueprint.resting[leaf.index()]);
+            self.fall_asleep(writes);
         }
         Ok((status, wake))
     }
@@ -384,9 +394,13 @@ impl<C> Tree<C> {
     pub fn tick_exactly_once(&mut self, ctx: &mut C) -> Result<Status, TickError> {
         // Resting, with no future to poll (nor a halt request to serve): nothing else in
         // this call could run before the action.
+        if self.sleeps_on() {
+            return Ok(Status::Running);
+        }
         let mut given = None;
         if self.wake.is_none() {
-            match self.rest(ctx) {
+            let writes = self.start_waits();
+            match self.rest(ctx, writes) {
                 Rest::Running => {
                     if self.last_root != NodeStatus::Running {
                         self.last_root = NodeStatus::Running;
@@ -431,7 +445,7 @@ impl<C> Tree<C> {
     /// action as a pass from the root would. A halt, a reload and a restore forget the
     /// action.
     #[inline]
-    fn rest(&mut self, ctx: &mut C) -> Rest {
+    fn rest(&mut self, ctx: &mut C, writes: u64) -> Rest {
         let Some(leaf) = self.resting else {
             return Rest::No;
         };
@@ -444,7 +458,10 @@ impl<C> Tree<C> {
             return Rest::No;
         }
         match self.resting_answer(leaf, ctx) {
-            Some(Ok(NodeStatus::Running)) if self.out.fault.is_none() => Rest::Running,
+            Some(Ok(NodeStatus::Running)) if self.out.fault.is_none() => {
+                self.rest_asleep(leaf, writes);
+                Rest::Running
+            }
             // The pass from the root, with the answer; a fault ends it.
             Some(Ok(answer)) => {
                 self.resting = None;
@@ -478,6 +495,7 @@ impl<C> Tree<C> {
         let Some(ticker::Object::Stateful(action)) = self.objects.get_mut(bp.slot(leaf)) else {
             return None;
         };
+        self.out.waits.declared = false;
         let mut h = crate::Handle {
             ctx,
             blackboard: &mut self.blackboard,
@@ -574,6 +592,9 @@ impl<C> Tree<C> {
     /// the root waits for the next call. See [`halt`].
     pub fn tick_once(&mut self, ctx: &mut C) -> Result<Status, TickError> {
         self.last_passes = 0;
+        if self.sleeps_on() {
+            return Ok(Status::Running);
+        }
         self.start_tick();
         loop {
             if self.halt_requested() {

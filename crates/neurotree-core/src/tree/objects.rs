@@ -115,9 +115,11 @@ impl<'t, C> Ticker<'t, C> {
             id,
             previous,
             reset_completed: false,
+            declared: false,
         };
         let status = node.tick(&mut node_ctx);
         let reset_completed = node_ctx.reset_completed;
+        self.out.waits.awake |= !node_ctx.declared;
         self.objects[slot] = Object::Custom(node);
         if reset_completed {
             // Only an observer can tell the reset from one after the store: without one,
@@ -152,6 +154,7 @@ impl<'t, C> Ticker<'t, C> {
                         id,
                         previous: NodeStatus::Running,
                         reset_completed: false,
+                        declared: false,
                     });
                 });
                 self.objects[obj] = Object::Custom(node);

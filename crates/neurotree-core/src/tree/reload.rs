@@ -254,6 +254,7 @@ impl<C> Tree<C> {
         self.blackboard = blackboard;
         self.statuses = statuses.into_boxed_slice();
         self.resting = None;
+        self.wake_up();
         self.aux = aux.into_boxed_slice();
         self.objects = objects.into_boxed_slice();
         let has_async = new

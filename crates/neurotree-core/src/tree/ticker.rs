@@ -456,6 +456,23 @@ impl<'t, C> Ticker<'t, C> {
             .ok()
     }
 
+    /// Declares, for a sleeping tree, that the pass's result may change at `at` (nanoseconds
+    /// on the clock): the time-based built-ins call it while they wait.
+    #[inline]
+    pub(crate) fn wake_at(&mut self, at: u64) {
+        let waits = &mut self.out.waits;
+        waits.deadline = waits.deadline.min(at);
+        waits.any = true;
+    }
+
+    /// Keeps the tree awake after this pass: a node returns Running with nothing under it
+    /// waiting (KeepRunningUntilFailure after its child succeeded), or re-checks its
+    /// children every tick (the reactive controls).
+    #[inline]
+    pub(crate) fn stay_awake(&mut self) {
+        self.out.waits.awake = true;
+    }
+
     /// Records a node's own error; the first error of a pass wins.
     pub(crate) fn fault_node(&mut self, id: NodeId, message: alloc::string::String) {
         if self.out.fault.is_none() {
@@ -588,16 +605,20 @@ macro_rules! dispatch {
                                 return answer;
                             }
                         }
+                        self.out.waits.declared = false;
                         let s = self.tick_stateful(id);
                         self.watch_if_noted();
                         if s == NodeStatus::Running {
                             self.rested = Some(id);
+                            self.out.waits.awake |= !self.out.waits.declared;
                         }
                         s
                     }
                     NodeKind::Async(action) => {
                         let s = leaf::async_action::tick(self, id, &**action);
                         self.watch_if_noted();
+                        // A future may rely on being polled every tick: it keeps the tree awake.
+                        self.out.waits.awake |= s == NodeStatus::Running;
                         s
                     }
                     NodeKind::Custom(_) => self.tick_custom(id),

@@ -26,6 +26,8 @@
 //! | [WasEntryUpdated](entry) | Success if an entry was written since the last look |
 //! | [SkipUnlessUpdated](entry) | tick the child after a write, else Skipped |
 //! | [WaitValueUpdate](entry) | wait for a write, then tick the child |
+//! | [UtilitySelector](utility_selector) | tick the child with the highest score |
+//! | [Utility](utility) | give a UtilitySelector's child its score |
 //!
 //! [`hooks`] (also `std`) runs the `_skipIf`, `_successIf`, `_failureIf`, `_while`,
 //! `_onSuccess`, `_onFailure`, `_post` and `_onHalted` scripts any node may carry. Every
@@ -41,6 +43,8 @@ pub mod hooks;
 pub mod loops;
 pub mod script;
 pub mod switch;
+pub mod utility;
+pub mod utility_selector;
 
 /// The built-in nodes of this crate, as declared in their modules, in catalog order.
 pub const STD_BUILT_INS: &[&NodeDecl] = &[
@@ -61,6 +65,8 @@ pub const STD_BUILT_INS: &[&NodeDecl] = &[
     &entry::WAS_ENTRY_UPDATED,
     &entry::SKIP_UNLESS_UPDATED,
     &entry::WAIT_VALUE_UPDATE,
+    &utility_selector::UTILITY_SELECTOR,
+    &utility::UTILITY,
 ];
 
 /// Every built-in node a new [`Registry`](crate::Registry) holds: the engine's, then this
@@ -99,6 +105,7 @@ pub fn std_outcomes(
             ..either
         },
         (_, "Switch2" | "Switch3" | "Switch4" | "Switch5" | "Switch6") => either,
+        (_, "UtilitySelector" | "Utility") => either,
         (_, "Precondition") => {
             let otherwise = ports.iter().find(|p| p.name == "else").map(|p| &p.value);
             match otherwise {

@@ -219,6 +219,8 @@ impl<C: 'static> Registry<C> {
         crate::nodes::loops::register(&mut r);
         crate::nodes::entry::register(&mut r);
         crate::nodes::switch::register(&mut r);
+        crate::nodes::utility_selector::register(&mut r);
+        crate::nodes::utility::register(&mut r);
         for t in r.types.values_mut() {
             t.builtin = true;
         }

@@ -34,6 +34,8 @@ pub struct InPlaceFrame<'c, C> {
     parts: Vec<Mutex<Part<'c, C>>>,
     frames: &'c mut u64,
     len: usize,
+    /// The clock reading sleeping members' deadlines are compared with.
+    now: u64,
 }
 
 /// One lock's share of the crowd's tables.
@@ -55,7 +57,8 @@ pub struct Visitor<'f, 'c, C> {
 /// What a visit did.
 #[derive(Debug)]
 pub enum Visit<'v, C> {
-    /// The member was not due in this frame (or `id` names no member): not ticked.
+    /// The member was not due in this frame, or sleeps (its status is then
+    /// [`FrameStatus::Asleep`]), or `id` names no member: not ticked.
     NotDue,
     /// The member was ticked: its context after the tick, and what the tick returned
     /// ([`FrameStatus::Ticked`] or [`FrameStatus::Error`]).
@@ -80,6 +83,7 @@ impl<C: Send> Crowd<C> {
             return None;
         }
         self.backlog.clear();
+        let now = self.start_sleep_frame();
         let Self {
             plans,
             bodies,
@@ -111,6 +115,7 @@ impl<C: Send> Crowd<C> {
             parts,
             frames,
             len: *len,
+            now,
         })
     }
 }
@@ -154,6 +159,7 @@ impl<'c, C> InPlaceFrame<'c, C> {
         FrameReport {
             frame: self.frame,
             due: tally.due,
+            asleep: tally.asleep,
             ticked: tally.ticked,
             visits: tally.visits,
             failures: tally.failures,
@@ -208,6 +214,10 @@ impl<'f, 'c, C> Visitor<'f, 'c, C> {
         }
         let due = plan.plan(Some(&*ctx), frame, lod) || plan.owed_since != NOT_OWED;
         if !due {
+            return Visit::NotDue;
+        }
+        if plan.sleeps_through(self.frame.now) {
+            part.tally.asleep += 1;
             return Visit::NotDue;
         }
         if let Some(load) = load {

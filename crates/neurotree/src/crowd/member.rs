@@ -36,6 +36,9 @@ pub enum FrameStatus {
     Ticked(Status),
     /// It was ticked, and the tick ended with an error: [`Member::error`] says which.
     Error,
+    /// It was due, but its tree [sleeps](crate::tree::sleep) and nothing it waits on happened:
+    /// it was not ticked.
+    Asleep,
 }
 
 /// How a crowd ticks each due member.
@@ -75,6 +78,9 @@ pub(super) struct Plan {
     /// The last [in-place frame](super::InPlaceFrame) that visited the member, as a stamp
     /// (the frame's number plus one, 0 for none).
     pub(super) seen: u32,
+    /// When its sleeping tree wakes, in clock nanoseconds; [`AWAKE`](super::sleep::AWAKE)
+    /// while it is awake, `u64::MAX` while it waits only for a wake (see [`super::sleep`]).
+    pub(super) sleeps_until: u64,
 }
 
 impl Plan {
@@ -89,7 +95,19 @@ impl Plan {
             present: false,
             picked: false,
             seen: 0,
+            sleeps_until: super::sleep::AWAKE,
         }
+    }
+
+    /// `true` if the member is due but sleeps through this frame, whose clock reads `now`
+    /// (nanoseconds); marks it so.
+    #[inline]
+    pub(super) fn sleeps_through(&mut self, now: u64) -> bool {
+        if now < self.sleeps_until {
+            self.status = FrameStatus::Asleep;
+            return true;
+        }
+        false
     }
 
     /// Whether the member's interval makes it due in `frame`, after the level-of-detail
@@ -134,6 +152,7 @@ impl Plan {
         };
         let visits = nodes(&body.tree).saturating_mul(passes);
         self.cost = visits;
+        self.sleeps_until = super::sleep::sleeps_until(&body.tree);
         self.owed_since = NOT_OWED;
         self.picked = false;
         let mut tally = Tally {
@@ -240,9 +259,22 @@ impl<C> MemberMut<'_, C> {
         self.id
     }
 
-    /// Its tree, to seed its blackboard or attach an observer between frames.
+    /// Its tree, to seed its blackboard or attach an observer between frames. Wakes it,
+    /// if it slept (see [`sleep`](crate::tree::sleep)).
     pub fn tree_mut(&mut self) -> &mut Tree<C> {
+        self.wake();
         &mut self.body.tree
+    }
+
+    /// Wakes it: its next due frame ticks it, whatever its tree waits on.
+    pub fn wake(&mut self) {
+        self.plan.sleeps_until = super::sleep::AWAKE;
+        self.body.tree.wake_up();
+    }
+
+    /// `true` while its tree sleeps: frames skip it until it wakes.
+    pub fn is_asleep(&self) -> bool {
+        self.plan.sleeps_until != super::sleep::AWAKE
     }
 
     /// Its context, to change between frames.
@@ -253,6 +285,7 @@ impl<C> MemberMut<'_, C> {
     /// Its tree and its context together, for what needs both between frames: a
     /// [`Tree::reload`] halts the changed nodes with the member's context.
     pub fn tree_and_context_mut(&mut self) -> (&mut Tree<C>, &mut C) {
+        self.wake();
         (&mut self.body.tree, self.ctx)
     }
 
@@ -333,6 +366,7 @@ impl<C> core::fmt::Debug for MemberMut<'_, C> {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub(super) struct Tally {
     pub(super) due: u64,
+    pub(super) asleep: u64,
     pub(super) ticked: u64,
     pub(super) visits: u64,
     pub(super) failures: u64,
@@ -343,6 +377,7 @@ impl Tally {
     pub(super) fn add(self, o: Tally) -> Tally {
         Tally {
             due: self.due + o.due,
+            asleep: self.asleep + o.asleep,
             ticked: self.ticked + o.ticked,
             visits: self.visits + o.visits,
             failures: self.failures + o.failures,

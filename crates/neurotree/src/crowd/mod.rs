@@ -88,6 +88,7 @@
 mod in_place;
 mod member;
 mod schedule;
+mod sleep;
 
 use std::collections::VecDeque;
 use std::sync::Arc;
@@ -99,6 +100,7 @@ pub use in_place::{InPlaceFrame, Visit, Visitor, PART};
 use member::{Body, Plan, Tally, NOT_OWED};
 pub use member::{Contexts, FrameStatus, Member, MemberId, MemberMut, TickMode};
 pub use rayon::{ThreadPool, ThreadPoolBuildError, ThreadPoolBuilder};
+pub use sleep::CrowdWaker;
 
 /// A level-of-detail hook: a member's interval, from its context.
 type Lod<C> = dyn Fn(&C) -> u32 + Send + Sync;
@@ -131,6 +133,8 @@ pub struct Crowd<C> {
     /// Slots of the members owed a tick, in the order they fell due.
     backlog: VecDeque<u32>,
     chunks: Vec<schedule::Chunk>,
+    /// Wakes queued from other threads (see [`CrowdWaker`]).
+    waker: CrowdWaker,
 }
 
 /// What one frame did.
@@ -138,8 +142,12 @@ pub struct Crowd<C> {
 pub struct FrameReport {
     /// The frame's number, from 0.
     pub frame: u64,
-    /// Members due: those whose interval came round, and those owed from earlier frames.
+    /// Members due: those whose interval came round, and those owed from earlier frames;
+    /// not those asleep.
     pub due: u64,
+    /// Members whose interval came round but whose tree sleeps: skipped, untouched (see
+    /// [`sleep`](crate::tree::sleep)).
+    pub asleep: u64,
     /// Members ticked.
     pub ticked: u64,
     /// Node visits charged for the ticks (see [the budget](self#budget)).
@@ -184,6 +192,7 @@ impl<C: Send> Crowd<C> {
             added: 0,
             backlog: VecDeque::new(),
             chunks: Vec::new(),
+            waker: CrowdWaker::default(),
         }
     }
 
@@ -498,9 +507,10 @@ impl<C: Send> Crowd<C> {
     pub fn frame(&mut self) -> FrameReport {
         let frame = self.frames;
         let budget = self.budget;
+        let now = self.start_sleep_frame();
         let run = |crowd: &mut Self| match budget {
-            Some(budget) => crowd.run_budgeted(frame, budget),
-            None => crowd.run_all(frame),
+            Some(budget) => crowd.run_budgeted(frame, budget, now),
+            None => crowd.run_all(frame, now),
         };
         let tally = match self.pool.clone() {
             Some(pool) => pool.install(|| run(self)),
@@ -510,6 +520,7 @@ impl<C: Send> Crowd<C> {
         FrameReport {
             frame,
             due: tally.due,
+            asleep: tally.asleep,
             ticked: tally.ticked,
             visits: tally.visits,
             failures: tally.failures,
@@ -518,8 +529,9 @@ impl<C: Send> Crowd<C> {
         }
     }
 
-    /// Ticks every member due in `frame`, and every member owed from earlier frames.
-    fn run_all(&mut self, frame: u64) -> Tally {
+    /// Ticks every member due in `frame`, and every member owed from earlier frames, but
+    /// those asleep at `now`.
+    fn run_all(&mut self, frame: u64, now: u64) -> Tally {
         self.backlog.clear();
         let lod = self.lod.as_deref();
         let mode = self.mode;
@@ -536,6 +548,12 @@ impl<C: Send> Crowd<C> {
                 // The body is touched only when due.
                 if !due {
                     return Tally::default();
+                }
+                if plan.sleeps_through(now) {
+                    return Tally {
+                        asleep: 1,
+                        ..Tally::default()
+                    };
                 }
                 match (body, ctx) {
                     (Some(body), Some(ctx)) => Tally {

@@ -32,11 +32,13 @@ pub(super) struct Chunk {
     fresh: u32,
     /// Every member that fell due this frame fits: tick them all.
     all: bool,
+    /// Members due but asleep.
+    asleep: u64,
 }
 
 impl<C: Send> Crowd<C> {
     /// Runs frame `frame` within `budget` visits.
-    pub(super) fn run_budgeted(&mut self, frame: u64, budget: u64) -> Tally {
+    pub(super) fn run_budgeted(&mut self, frame: u64, budget: u64, now: u64) -> Tally {
         let chunks = self.plans.len().div_ceil(CHUNK);
         if self.chunks.len() != chunks {
             self.chunks.resize(chunks, Chunk::default());
@@ -54,7 +56,9 @@ impl<C: Send> Crowd<C> {
                         continue;
                     }
                     let due = plan.plan(ctx.as_ref(), frame, lod);
-                    if plan.owed_since != NOT_OWED {
+                    if due && plan.owed_since == NOT_OWED && plan.sleeps_through(now) {
+                        chunk.asleep += 1;
+                    } else if plan.owed_since != NOT_OWED {
                         plan.status = FrameStatus::Deferred;
                     } else if due {
                         plan.owed_since = frame;
@@ -64,6 +68,7 @@ impl<C: Send> Crowd<C> {
                 }
             });
         let fresh: u64 = self.chunks.iter().map(|c| u64::from(c.fresh)).sum();
+        let asleep: u64 = self.chunks.iter().map(|c| c.asleep).sum();
         let due = self.backlog.len() as u64 + fresh;
         self.pick(frame, budget);
         let mode = self.mode;
@@ -88,7 +93,11 @@ impl<C: Send> Crowd<C> {
                 tally
             })
             .reduce(Tally::default, Tally::add);
-        Tally { due, ..tally }
+        Tally {
+            due,
+            asleep,
+            ..tally
+        }
     }
 
     /// Picks what fits in `budget`, oldest first, and queues the rest. At least one member

@@ -131,6 +131,16 @@ fn multiple_running<C>(t: &mut Ticker<'_, C>, id: NodeId, goal: Status) {
     );
 }
 
+/// `status`, keeping a sleeping tree awake if it is Running: the next tick re-checks the
+/// children, which cannot say what they read (see [`sleep`](crate::tree::sleep)).
+#[inline(always)]
+pub(crate) fn stay_awake_while_running<C>(t: &mut Ticker<'_, C>, status: NodeStatus) -> NodeStatus {
+    if status == NodeStatus::Running {
+        t.stay_awake();
+    }
+    status
+}
+
 /// The ReactiveSequence node. It has no parameters.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct ReactiveSequence;
@@ -151,7 +161,8 @@ impl Tick for ReactiveSequence {
 
     #[inline]
     fn tick<C>(&self, t: &mut Ticker<'_, C>, id: NodeId, def: &NodeDef<C>) -> NodeStatus {
-        tick(t, id, def, Status::Success)
+        let status = tick(t, id, def, Status::Success);
+        stay_awake_while_running(t, status)
     }
 
     fn halt<C>(&self, t: &mut Ticker<'_, C>, id: NodeId, _: &NodeDef<C>) {
@@ -185,7 +196,8 @@ impl Tick for ReactiveFallback {
 
     #[inline]
     fn tick<C>(&self, t: &mut Ticker<'_, C>, id: NodeId, def: &NodeDef<C>) -> NodeStatus {
-        tick(t, id, def, Status::Failure)
+        let status = tick(t, id, def, Status::Failure);
+        stay_awake_while_running(t, status)
     }
 
     fn halt<C>(&self, t: &mut Ticker<'_, C>, id: NodeId, _: &NodeDef<C>) {

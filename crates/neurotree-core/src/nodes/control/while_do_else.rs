@@ -83,7 +83,9 @@ impl Tick for WhileDoElse {
 
     #[inline]
     fn tick<C>(&self, t: &mut Ticker<'_, C>, id: NodeId, def: &NodeDef<C>) -> NodeStatus {
-        tick(t, id, def)
+        // The condition is re-checked every tick.
+        let status = tick(t, id, def);
+        super::reactive::stay_awake_while_running(t, status)
     }
 }
 

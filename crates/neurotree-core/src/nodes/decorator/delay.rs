@@ -52,7 +52,10 @@ pub(crate) fn tick<C>(
             0
         }
     };
-    if waited < duration_to_nanos(wait) {
+    let wait = duration_to_nanos(wait);
+    if waited < wait {
+        // A sleeping tree wakes when the wait is over.
+        t.wake_at(now.saturating_add(wait - waited));
         return NodeStatus::Running;
     }
     let child = t.child(def, 0);

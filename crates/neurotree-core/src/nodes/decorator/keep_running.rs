@@ -30,13 +30,19 @@ pub(crate) fn tick<C>(t: &mut Ticker<'_, C>, id: NodeId, def: &NodeDef<C>) -> No
     match t.tick(child) {
         NodeStatus::Success => {
             t.halt_child(child);
+            // Running with nothing under it waiting: the next tick starts the child again.
+            t.stay_awake();
             NodeStatus::Running
         }
         NodeStatus::Failure | NodeStatus::Idle => {
             t.halt_child(child);
             NodeStatus::Failure
         }
-        NodeStatus::Running | NodeStatus::Skipped => NodeStatus::Running,
+        NodeStatus::Running => NodeStatus::Running,
+        NodeStatus::Skipped => {
+            t.stay_awake();
+            NodeStatus::Running
+        }
     }
 }
 

@@ -56,10 +56,11 @@ pub(crate) fn tick<C>(
     }
     let now = t.now_nanos();
     let child = t.child(def, 0);
-    match moment::elapsed(t.aux[slot], now) {
+    let ran = match moment::elapsed(t.aux[slot], now) {
         None => {
             t.aux[slot] = moment::at(now);
             t.set_status(id, NodeStatus::Running);
+            0
         }
         Some(ran) => {
             if !limit.is_zero()
@@ -74,12 +75,17 @@ pub(crate) fn tick<C>(
                 t.note(id, Note::Gave(Reason::timed_out(limit)));
                 return NodeStatus::Failure;
             }
+            ran
         }
-    }
+    };
     let status = t.tick(child);
     if status.is_completed() {
         t.aux[slot] = moment::NONE;
         t.halt_child(child);
+    } else if status == NodeStatus::Running && !limit.is_zero() {
+        // A sleeping tree wakes when the time is up.
+        let limit = duration_to_nanos(limit);
+        t.wake_at(now.saturating_add(limit.saturating_sub(ran)));
     }
     status
 }

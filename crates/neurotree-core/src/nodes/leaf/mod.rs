@@ -50,6 +50,62 @@ pub struct Handle<'a, C> {
 }
 
 impl<'a, C> Handle<'a, C> {
+    /// Says, when returning Running, that nothing changes for this action before `at` on
+    /// the tree's clock: if every Running action of the tree waits, the tree sleeps and is
+    /// not ticked until then (or until something else it waits on happens; see
+    /// [`sleep`](crate::tree::sleep)).
+    ///
+    /// ```
+    /// use core::time::Duration;
+    /// use neurotree_core::{Blueprint, Handle, ManualClock, StatefulAction, Status, Tree};
+    ///
+    /// /// Cooks for two seconds, counting how often it is asked.
+    /// struct Cook { done_at: Duration }
+    /// impl StatefulAction<u32> for Cook {
+    ///     fn on_start(&mut self, h: &mut Handle<'_, u32>) -> Status {
+    ///         self.done_at = h.now() + Duration::from_secs(2);
+    ///         self.on_running(h)
+    ///     }
+    ///     fn on_running(&mut self, h: &mut Handle<'_, u32>) -> Status {
+    ///         *h.ctx_mut() += 1;
+    ///         if h.now() >= self.done_at { return Status::Success; }
+    ///         h.sleep_until(self.done_at);
+    ///         Status::Running
+    ///     }
+    /// }
+    /// let bp = Blueprint::<u32>::builder()
+    ///     .stateful("cook", || Cook { done_at: Duration::ZERO })
+    ///     .build_shared()
+    ///     .unwrap();
+    /// let clock = ManualClock::new();
+    /// let mut tree = Tree::with_clock(bp, clock.clone());
+    /// let mut asked = 0;
+    /// for _ in 0..20 {
+    ///     assert_eq!(tree.tick_once(&mut asked), Ok(Status::Running));
+    ///     clock.advance(Duration::from_millis(100));
+    /// }
+    /// assert_eq!(tree.tick_once(&mut asked), Ok(Status::Success));
+    /// assert_eq!(asked, 2); // at the start, and when the two seconds were up
+    /// ```
+    pub fn sleep_until(&mut self, at: Duration) {
+        self.out.waits.until(at);
+    }
+
+    /// Says, when returning Running, that nothing changes for this action until the
+    /// blackboard entry `key` is written: the sleeping tree wakes on a write (to any entry:
+    /// the tree does not tell entries apart).
+    pub fn wake_on(&mut self, key: &str) {
+        let _ = key;
+        self.out.waits.on_event();
+    }
+
+    /// Says, when returning Running, that nothing changes for this action until the
+    /// program wakes the tree through a [`WakeHandle`](crate::WakeHandle) (an event, a
+    /// message, another thread).
+    pub fn wake_on_handle(&mut self) {
+        self.out.waits.on_event();
+    }
+
     /// The user's context.
     #[inline]
     pub fn ctx(&self) -> &C {

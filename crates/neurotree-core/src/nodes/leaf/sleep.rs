@@ -53,15 +53,19 @@ pub(crate) fn tick<C>(
                 return NodeStatus::Success;
             }
             t.aux[slot] = moment::at(now);
+            t.wake_at(now.saturating_add(duration_to_nanos(wait)));
             return NodeStatus::Running;
         }
         // Completed and not yet reset by its parent: BehaviorTree.CPP's StatefulActionNode
         // returns the status it has.
         done => return done,
     }
-    if moment::elapsed(t.aux[slot], now).unwrap_or(u64::MAX) >= duration_to_nanos(wait) {
+    let wait = duration_to_nanos(wait);
+    let slept = moment::elapsed(t.aux[slot], now).unwrap_or(u64::MAX);
+    if slept >= wait {
         NodeStatus::Success
     } else {
+        t.wake_at(now.saturating_add(wait - slept));
         NodeStatus::Running
     }
 }

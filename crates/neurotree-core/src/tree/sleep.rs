@@ -1,0 +1,234 @@
+//! Sleeping trees: a tree whose Running leaves all wait for something is not ticked until
+//! that something can have happened.
+//!
+//! A leaf says what it waits on when it returns Running: a moment on the tree's clock
+//! ([`Handle::sleep_until`](crate::Handle::sleep_until)) or a write to the blackboard
+//! ([`Handle::wake_on`](crate::Handle::wake_on)); a custom control or decorator says it
+//! through [`NodeCtx`](crate::NodeCtx) in the same words. The built-in timers declare their
+//! own deadlines: Sleep, Delay while it waits, Timeout while its child runs.
+//!
+//! After a pass whose root is Running, the tree falls asleep when all of these hold:
+//!
+//! - every stateful action that returned Running in the pass declared what it waits on;
+//! - no async action returned Running, and every custom node ticked declared;
+//! - no node asked for another pass, no halt waits for a slow halt, no observer is
+//!   attached, and the pass wrote nothing to the blackboard;
+//! - no ReactiveSequence, ReactiveFallback or WhileDoElse returned Running: they re-check
+//!   their conditions every tick, and a condition cannot say what it reads (nor does
+//!   KeepRunningUntilFailure after its child succeeded: its next tick starts it again).
+//!
+//! A sleeping tree's [`tick_once`](crate::Tree::tick_once) and
+//! [`tick_exactly_once`](crate::Tree::tick_exactly_once) return Running at once, without a
+//! pass, until it wakes: the clock reaches the earliest deadline declared, the blackboard is
+//! written (any entry: the tree does not tell entries apart), its [`WakeHandle`] or
+//! [`WakeSignal`](crate::WakeSignal) fires, a halt is requested, an observer is attached,
+//! or the tree is halted, reloaded or restored. Since a sleeping tree skips only passes
+//! whose result would have been the same, statuses, halts and the blackboard are those of
+//! a tree ticked every frame; only the calls of the waiting leaves are saved.
+//!
+//! A leaf that declares nothing keeps the tree awake: it is ticked every frame, as before.
+
+use core::time::Duration;
+
+use crate::clock::duration_to_nanos;
+use crate::tree::WakeSignal;
+use crate::{NodeId, Tree};
+
+/// What the nodes ticked in one pass said they wait on.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Waits {
+    /// The earliest deadline declared, in clock nanoseconds; `u64::MAX`: none.
+    pub(crate) deadline: u64,
+    /// The stateful action ticked last declared a wait.
+    pub(crate) declared: bool,
+    /// A node ticked in the pass waits on nothing it declared: the tree stays awake.
+    pub(crate) awake: bool,
+    /// Some node declared a wait (a deadline or an event) in the pass: a Running root
+    /// with none is Running for some other reason, and stays awake.
+    pub(crate) any: bool,
+}
+
+impl Waits {
+    /// Nothing declared, nothing keeping the tree awake.
+    pub(crate) const fn new() -> Self {
+        Self {
+            deadline: u64::MAX,
+            declared: false,
+            awake: false,
+            any: false,
+        }
+    }
+
+    /// Declares a deadline at `at`.
+    #[inline]
+    pub(crate) fn until(&mut self, at: Duration) {
+        self.deadline = self.deadline.min(duration_to_nanos(at));
+        self.declared = true;
+        self.any = true;
+    }
+
+    /// Declares a wait for an event: a blackboard write or a wake.
+    #[inline]
+    pub(crate) fn on_event(&mut self) {
+        self.declared = true;
+        self.any = true;
+    }
+}
+
+/// A sleeping tree's wake conditions.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct Asleep {
+    /// The earliest deadline, in clock nanoseconds; `u64::MAX`: none.
+    until: u64,
+    /// The blackboard's write count when the tree fell asleep.
+    writes: u64,
+}
+
+/// Wakes a sleeping tree from anywhere (another thread, a game event): the tree's next
+/// tick is a pass. Clones wake the same tree.
+///
+/// ```
+/// use neurotree_core::{Blueprint, Handle, ManualClock, Status, StatefulAction, Tree};
+///
+/// /// Waits for a door that someone else opens, and says so.
+/// struct WaitForDoor;
+/// impl StatefulAction<bool> for WaitForDoor {
+///     fn on_start(&mut self, h: &mut Handle<'_, bool>) -> Status { self.on_running(h) }
+///     fn on_running(&mut self, h: &mut Handle<'_, bool>) -> Status {
+///         if *h.ctx() { return Status::Success; }
+///         h.wake_on_handle();
+///         Status::Running
+///     }
+/// }
+/// let bp = Blueprint::<bool>::builder()
+///     .stateful("door", || WaitForDoor)
+///     .build_shared()
+///     .unwrap();
+/// let mut tree = Tree::with_clock(bp, ManualClock::new());
+/// let door = tree.wake_handle();
+/// let mut open = false;
+/// assert_eq!(tree.tick_once(&mut open), Ok(Status::Running));
+/// assert!(tree.is_asleep());
+/// open = true;
+/// // Asleep: the door is not looked at until the handle fires.
+/// assert_eq!(tree.tick_once(&mut open), Ok(Status::Running));
+/// door.wake();
+/// assert_eq!(tree.tick_once(&mut open), Ok(Status::Success));
+/// ```
+#[derive(Clone, Debug)]
+pub struct WakeHandle {
+    signal: WakeSignal,
+}
+
+impl WakeHandle {
+    /// Wakes the tree: its next tick is a pass.
+    pub fn wake(&self) {
+        self.signal.wake();
+    }
+}
+
+impl<C> Tree<C> {
+    /// A handle that wakes this tree when it sleeps (see [`sleep`](self)). Makes the tree's
+    /// [`WakeSignal`] if it had none.
+    pub fn wake_handle(&mut self) -> WakeHandle {
+        WakeHandle {
+            signal: self.wake_signal().clone(),
+        }
+    }
+
+    /// With `false`, the tree never sleeps: it is ticked every frame whatever its leaves
+    /// declare (a reference to compare a sleeping tree with, or a runner that counts
+    /// passes). `true` by default; `false` also wakes a sleeping tree.
+    pub fn set_sleep_allowed(&mut self, allowed: bool) {
+        self.sleep_allowed = allowed;
+        if !allowed {
+            self.asleep = None;
+        }
+    }
+
+    /// `true` while the tree sleeps: its ticks return Running without a pass until it wakes.
+    pub fn is_asleep(&self) -> bool {
+        self.asleep.is_some()
+    }
+
+    /// When the sleeping tree wakes on its own: the earliest deadline its nodes declared.
+    /// `None` if it is awake, or waits only for a write or a wake.
+    pub fn wakes_at(&self) -> Option<Duration> {
+        self.asleep
+            .filter(|a| a.until != u64::MAX)
+            .map(|a| Duration::from_nanos(a.until))
+    }
+
+    /// `true` if the tree is awake, or sleeps and something it waits on happened: its next
+    /// tick will be a pass. A runner ticking many trees asks this to skip the others.
+    pub fn is_due(&self) -> bool {
+        match &self.asleep {
+            None => true,
+            Some(a) => {
+                duration_to_nanos(self.clock.now()) >= a.until
+                    || self.blackboard.writes() != a.writes
+                    || self.observer.is_some()
+                    || self.wake.as_ref().is_some_and(|w| w.signal.is_woken())
+            }
+        }
+    }
+
+    /// At the start of a tick: `true` if the tree sleeps on (the tick returns Running with
+    /// no pass), else it is awake from now on.
+    #[inline]
+    pub(crate) fn sleeps_on(&mut self) -> bool {
+        if self.asleep.is_none() {
+            return false;
+        }
+        if self.is_due() {
+            self.asleep = None;
+            return false;
+        }
+        true
+    }
+
+    /// Wakes the tree if it sleeps: its next tick is a pass, whatever its nodes wait on.
+    pub fn wake_up(&mut self) {
+        self.asleep = None;
+    }
+
+    /// Before a pass: nothing declared yet. Returns the blackboard's write count, for
+    /// [`fall_asleep`](Self::fall_asleep).
+    #[inline]
+    pub(crate) fn start_waits(&mut self) -> u64 {
+        self.out.waits = Waits::new();
+        self.blackboard.writes()
+    }
+
+    /// After a pass that left the root Running with no node asking for another: falls
+    /// asleep if everything ticked waits (see the [module docs](self)). `writes`: the
+    /// blackboard's write count before the pass.
+    pub(crate) fn fall_asleep(&mut self, writes: u64) {
+        let waits = self.out.waits;
+        let sleeps = !waits.awake
+            && waits.any
+            && self.sleep_allowed
+            && self.observer.is_none()
+            && self.out.halts.count == 0
+            && self.out.is_quiet()
+            && self.blackboard.writes() == writes;
+        if sleeps {
+            self.asleep = Some(Asleep {
+                until: waits.deadline,
+                writes,
+            });
+        }
+    }
+
+    /// After the action the tree rests in answered Running again without a pass: the tree
+    /// falls asleep if the action declared a wait.
+    pub(crate) fn rest_asleep(&mut self, leaf: NodeId, writes: u64) {
+        let _ = leaf;
+        if self.out.waits.declared {
+            self.fall_asleep(writes);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,206 @@
+//! Sleeping members: skipped by the frames until their deadline or a wake, with the same
+//! results as members ticked every frame, on one thread or several, frame by frame or in
+//! place.
+
+use std::sync::Arc;
+use std::time::Duration;
+
+use neurotree::crowd::{Crowd, FrameStatus, MemberId};
+use neurotree::prelude::*;
+use neurotree::NodeStatus;
+
+/// What a member's leaves did to its context.
+#[derive(Clone, Debug, Default, PartialEq)]
+struct Guard {
+    /// Calls of the patrol leg's `on_start` / `on_running`.
+    calls: u32,
+    /// Legs finished.
+    legs: u32,
+    /// Everything that happened, with the clock, folded in order.
+    trace: u64,
+}
+
+impl Guard {
+    fn note(&mut self, event: u64, now: Duration) {
+        self.trace = self
+            .trace
+            .wrapping_mul(1_000_003)
+            .wrapping_add(event * 1_000_000 + now.as_millis() as u64);
+    }
+}
+
+/// A patrol leg that lasts `300 + 100 * (seed % 5)` ms, or ends early when the entry
+/// `alarm` is true; it says so, so that its tree sleeps meanwhile.
+struct Leg {
+    seed: u64,
+    until: Duration,
+}
+
+impl Leg {
+    fn step(&mut self, h: &mut Handle<'_, Guard>) -> Status {
+        let now = h.now();
+        h.ctx_mut().calls += 1;
+        let alarm = h.blackboard().get::<bool>("alarm").unwrap_or(false);
+        if alarm || now >= self.until {
+            let g = h.ctx_mut();
+            g.legs += 1;
+            g.note(1 + u64::from(alarm), now);
+            return Status::Success;
+        }
+        h.sleep_until(self.until);
+        h.wake_on("alarm");
+        Status::Running
+    }
+}
+
+impl StatefulAction<Guard> for Leg {
+    fn on_start(&mut self, h: &mut Handle<'_, Guard>) -> Status {
+        self.until = h.now() + Duration::from_millis(300 + 100 * (self.seed % 5));
+        self.step(h)
+    }
+    fn on_running(&mut self, h: &mut Handle<'_, Guard>) -> Status {
+        self.step(h)
+    }
+    fn on_halted(&mut self, h: &mut Handle<'_, Guard>) {
+        let now = h.now();
+        h.ctx_mut().note(9, now);
+    }
+}
+
+/// Patrol forever: a leg, then a pause of 200 ms.
+fn patrol(seed: u64) -> Arc<Blueprint<Guard>> {
+    Blueprint::<Guard>::builder()
+        .keep_running_until_failure("forever", |k| {
+            k.sequence("round", |s| {
+                s.stateful("leg", move || Leg {
+                    seed,
+                    until: Duration::ZERO,
+                })
+                .sleep("pause", Duration::from_millis(200))
+            })
+        })
+        .build_shared()
+        .unwrap()
+}
+
+/// Everything observable of a run: per frame the statuses, at the end each context, node
+/// statuses and blackboard.
+type Seen = (Vec<Vec<FrameStatus>>, Vec<(Guard, Vec<NodeStatus>)>, u64);
+
+/// 30 guards over 80 frames of 50 ms; every 7th frame guard `f % 30` is alarmed (its
+/// blackboard written), every 11th woken. `sleeps`: trees may sleep.
+fn run(threads: usize, sleeps: bool, in_place: bool) -> Seen {
+    let clock = ManualClock::new();
+    let mut crowd = Crowd::new(clock.clone()).with_threads(threads).unwrap();
+    let bps: Vec<_> = (0..5).map(patrol).collect();
+    let ids: Vec<MemberId> = (0..30)
+        .map(|i| {
+            let mut tree = Tree::with_clock(Arc::clone(&bps[i % 5]), clock.clone());
+            tree.set_sleep_allowed(sleeps);
+            crowd.add_tree(tree, Guard::default())
+        })
+        .collect();
+    let waker = crowd.waker();
+    let mut frames = Vec::new();
+    let mut asleep = 0;
+    for f in 0..80usize {
+        if f % 7 == 3 {
+            let mut m = crowd.get_mut(ids[f % 30]).unwrap();
+            m.tree_mut()
+                .blackboard_mut()
+                .set("alarm", f % 2 == 0)
+                .unwrap();
+        }
+        if f % 11 == 5 {
+            waker.wake(ids[(f * 7) % 30]);
+        }
+        let report = if in_place {
+            let frame = crowd.frame_in_place().unwrap();
+            let mut visitor = frame.visitor();
+            for &id in ids.iter().rev() {
+                visitor.visit(id, |_| {});
+            }
+            drop(visitor);
+            frame.finish()
+        } else {
+            crowd.frame()
+        };
+        assert_eq!(report.errors, 0);
+        asleep += report.asleep;
+        // Without sleeping, none is ever skipped.
+        assert!(sleeps || report.asleep == 0);
+        frames.push(
+            crowd
+                .iter()
+                .map(|m| match m.status() {
+                    // A member skipped asleep would have returned Running.
+                    FrameStatus::Asleep => FrameStatus::Ticked(Status::Running),
+                    other => other,
+                })
+                .collect(),
+        );
+        clock.advance(Duration::from_millis(50));
+    }
+    let members = crowd
+        .iter()
+        .map(|m| {
+            let mut g = m.context().clone();
+            g.calls = 0;
+            (g, m.tree().statuses().to_vec())
+        })
+        .collect();
+    (frames, members, asleep)
+}
+
+#[test]
+fn sleeping_members_give_what_members_ticked_every_frame_give() {
+    let (frames, members, _) = run(1, false, false);
+    for (threads, in_place) in [(1, false), (4, false), (1, true), (4, true)] {
+        let (f, m, asleep) = run(threads, true, in_place);
+        assert_eq!(f, frames, "{threads} threads, in place: {in_place}");
+        assert_eq!(m, members, "{threads} threads, in place: {in_place}");
+        // Most member-frames were spent asleep.
+        assert!(asleep > 30 * 80 / 2, "{asleep}");
+    }
+}
+
+#[test]
+fn a_sleeping_member_is_called_only_when_something_it_waits_on_happens() {
+    let clock = ManualClock::new();
+    let mut crowd = Crowd::new(clock.clone()).with_threads(1).unwrap();
+    let id = crowd.add(patrol(0), Guard::default());
+    // A leg of 300 ms, then a pause of 200 ms, frames of 50 ms.
+    let mut statuses = Vec::new();
+    for _ in 0..12 {
+        let report = crowd.frame();
+        statuses.push((report.ticked, report.asleep));
+        clock.advance(Duration::from_millis(50));
+    }
+    let t = (1, 0);
+    let z = (0, 1);
+    // Ticked at 0 ms; asleep until the leg ends at 300; asleep in the pause until 500,
+    // when the round succeeds and KeepRunningUntilFailure, with nothing left waiting,
+    // keeps the member awake: the next leg starts at 550.
+    assert_eq!(statuses, [t, z, z, z, z, z, t, z, z, z, t, t]);
+    assert_eq!(crowd.get(id).unwrap().context().calls, 3);
+    assert_eq!(crowd.get(id).unwrap().context().legs, 1);
+    // A wake from another thread: ticked in the next frame, and asleep again.
+    let waker = crowd.waker();
+    std::thread::spawn(move || waker.wake(id)).join().unwrap();
+    assert!(crowd.get_mut(id).unwrap().is_asleep());
+    let report = crowd.frame();
+    assert_eq!((report.ticked, report.asleep), (1, 0));
+    assert_eq!(crowd.get(id).unwrap().context().calls, 4);
+    assert_eq!(crowd.asleep(), 1);
+    // A write to its blackboard: ticked, and the alarm ends the leg.
+    crowd
+        .get_mut(id)
+        .unwrap()
+        .tree_mut()
+        .blackboard_mut()
+        .set("alarm", true)
+        .unwrap();
+    let report = crowd.frame();
+    assert_eq!((report.ticked, report.asleep), (1, 0));
+    assert_eq!(crowd.get(id).unwrap().context().legs, 2);
+}
