@@ -26,9 +26,13 @@ pub(crate) mod calls;
 mod error;
 pub mod failure;
 pub mod halt;
+mod new_blackboard;
 mod objects;
+mod params;
 mod persist;
 mod reload;
+mod rest;
+mod root;
 pub mod sleep;
 pub mod slow_halt;
 pub(crate) mod ticker;
@@ -52,6 +56,9 @@ use crate::blackboard::{Blackboard, ScopeId};
 use crate::blueprint::{Blueprint, NodeKind};
 use crate::observer::Observer;
 use crate::{Clock, NodeId, NodeStatus, Status};
+use new_blackboard::new_blackboard;
+use rest::Rest;
+use root::{recover, tick_root, to_result};
 use ticker::Object;
 use wake::TreeWake;
 
@@ -89,18 +96,6 @@ pub struct Tree<C> {
     asleep: Option<sleep::Asleep>,
     /// The tree may sleep ([`Tree::set_sleep_allowed`]).
     sleep_allowed: bool,
-}
-
-/// What [`Tree::rest`] did.
-enum Rest {
-    /// The tree does not rest, or may not be resumed: a pass from the root is due.
-    No,
-    /// The action returned Running again: the pass is over, and the tree still rests.
-    Running,
-    /// The action returned this: the pass from the root is to be run with it.
-    Answered(NodeId, NodeStatus),
-    /// The action panicked; the tree has been halted as after a panic in a pass.
-    Failed(TickError),
 }
 
 /// Passes one [`Tree::tick_once`] makes at most, unless [`Tree::set_max_passes`] says
@@ -440,88 +435,6 @@ impl<C> Tree<C> {
         to_result(status)
     }
 
-    /// If the last pass rested in a stateful action and nothing since (a halt, a slow
-    /// halt under way, an observer attached, a reason given) stands in the way, calls the
-    /// action as a pass from the root would. A halt, a reload and a restore forget the
-    /// action.
-    #[inline]
-    fn rest(&mut self, ctx: &mut C, writes: u64) -> Rest {
-        let Some(leaf) = self.resting else {
-            return Rest::No;
-        };
-        let rests = self.observer.is_none()
-            && self.out.is_quiet()
-            && self.out.halts.count == 0
-            && self.statuses[leaf.index()] == NodeStatus::Running;
-        if !rests {
-            self.resting = None;
-            return Rest::No;
-        }
-        match self.resting_answer(leaf, ctx) {
-            Some(Ok(NodeStatus::Running)) if self.out.fault.is_none() => {
-                self.rest_asleep(leaf, writes);
-                Rest::Running
-            }
-            // The pass from the root, with the answer; a fault ends it.
-            Some(Ok(answer)) => {
-                self.resting = None;
-                Rest::Answered(leaf, answer)
-            }
-            Some(Err(panicked)) => {
-                self.resting = None;
-                let mut t = self.ticker(ctx);
-                t.current = leaf;
-                Rest::Failed(recover(&mut t, panicked))
-            }
-            None => {
-                self.resting = None;
-                Rest::No
-            }
-        }
-    }
-
-    /// The answer of `leaf`, the stateful action the last pass rested in, called as a pass
-    /// from the root would call it: its ancestors up to the root pass a Running child's
-    /// tick straight through, so such a pass would tick it and nothing else, and, if it
-    /// returns Running, change nothing else. `None` if its object is not at hand (an
-    /// action still halting); `Err` for a panic, caught and named as a pass names it.
-    #[inline]
-    fn resting_answer(
-        &mut self,
-        leaf: NodeId,
-        ctx: &mut C,
-    ) -> Option<Result<NodeStatus, TickError>> {
-        let bp = &*self.blueprint;
-        let Some(ticker::Object::Stateful(action)) = self.objects.get_mut(bp.slot(leaf)) else {
-            return None;
-        };
-        self.out.waits.declared = false;
-        let mut h = crate::Handle {
-            ctx,
-            blackboard: &mut self.blackboard,
-            clock: &*self.clock,
-            node: leaf,
-            bp,
-            out: &mut self.out,
-        };
-        #[cfg(feature = "std")]
-        {
-            let call =
-                core::panic::AssertUnwindSafe(|| NodeStatus::from(action.on_running(&mut h)));
-            Some(
-                std::panic::catch_unwind(call).map_err(|payload| TickError::Panicked {
-                    node: leaf,
-                    path: bp.path(leaf),
-                    message: ticker::panic_message(&*payload),
-                }),
-            )
-        }
-        #[cfg(not(feature = "std"))]
-        {
-            Some(Ok(NodeStatus::from(action.on_running(&mut h))))
-        }
-    }
-
     /// Forgets the last tick's outcome. The record is empty unless a reason was given.
     #[inline(always)]
     fn start_tick(&mut self) {
@@ -739,95 +652,6 @@ impl<C> Tree<C> {
     pub fn now(&self) -> Duration {
         self.clock.now()
     }
-}
-
-/// A blackboard with the scopes of `blueprint`'s SubTrees, their remaps and literal values,
-/// and an entry declared for every key a port names, as BehaviorTree.CPP makes one.
-fn new_blackboard<C>(blueprint: &Blueprint<C>) -> Blackboard {
-    let mut blackboard = Blackboard::new();
-    if let Some(codecs) = &blueprint.value_codecs {
-        blackboard.set_codecs(codecs.clone());
-    }
-    for (parent, scope) in blueprint.scopes.iter() {
-        let id = blackboard.add_scope(*parent, scope.autoremap);
-        for (child_key, parent_key) in &scope.remap {
-            blackboard.remap(id, child_key, parent_key);
-        }
-        // The subtree's own entries: never written through autoremap into the parent.
-        // Numbers typed as BehaviorTree.CPP 4.10 types them, so that scripts can
-        // compute with them.
-        for (child_key, text) in &scope.values {
-            match crate::blueprint::Literal::parse(text) {
-                crate::blueprint::Literal::Int(i) => {
-                    blackboard.replace_own_in(id, child_key, i, Duration::ZERO)
-                }
-                crate::blueprint::Literal::Long(i) => {
-                    blackboard.replace_own_in(id, child_key, i, Duration::ZERO)
-                }
-                crate::blueprint::Literal::Real(r) => {
-                    blackboard.replace_own_in(id, child_key, r, Duration::ZERO)
-                }
-                crate::blueprint::Literal::Text(t) => {
-                    blackboard.replace_own_in(id, child_key, t, Duration::ZERO)
-                }
-            }
-        }
-    }
-    // As in BehaviorTree.CPP, every entry a port names exists from the start.
-    for id in blueprint.ids() {
-        for port in blueprint.ports(id) {
-            if let crate::PortValue::Entry(key) = &port.value {
-                blackboard.declare_in(blueprint.scope(id), key);
-            }
-        }
-    }
-    blackboard
-}
-
-/// Ticks the root; with `std`, a panic in user code is caught and becomes
-/// [`TickError::Panicked`], naming the node it came from.
-#[cfg(feature = "std")]
-fn tick_root<C>(t: &mut ticker::Ticker<'_, C>) -> Result<NodeStatus, TickError> {
-    std::panic::catch_unwind(core::panic::AssertUnwindSafe(|| t.tick(NodeId::ROOT))).map_err(
-        |payload| TickError::Panicked {
-            node: t.current,
-            path: t.bp.path(t.current),
-            message: ticker::panic_message(&*payload),
-        },
-    )
-}
-
-/// Without `std` there is no catching a panic: it leaves `tick_once` as it found the tree
-/// (nodes Running, counts half-updated). Call [`Tree::halt`] before ticking it again.
-#[cfg(not(feature = "std"))]
-fn tick_root<C>(t: &mut ticker::Ticker<'_, C>) -> Result<NodeStatus, TickError> {
-    Ok(t.tick(NodeId::ROOT))
-}
-
-/// After a panic: halt every Running node (each Running stateful action gets its one
-/// `on_halted`), reset the rest, put back what the panic destroyed, and end the tick for
-/// the observer, so that the next tick starts afresh.
-#[cfg_attr(not(feature = "std"), allow(dead_code))]
-#[cold]
-fn recover<C>(t: &mut ticker::Ticker<'_, C>, panicked: TickError) -> TickError {
-    #[cfg(feature = "std")]
-    t.replace_vacant_objects();
-    // The halt below waits for the tree, whatever was halting when the panic came.
-    t.out.halts.halter = None;
-    t.halt_node(NodeId::ROOT);
-    for id in t.bp.ids() {
-        t.halt_node(id);
-    }
-    if let Some(o) = t.observer.as_deref_mut() {
-        o.on_tick_end(NodeStatus::Idle, t.clock.now());
-    }
-    // A panic while halting is already in the halt's own error; the first panic is news.
-    t.out.fault = None;
-    panicked
-}
-
-fn to_result(status: NodeStatus) -> Result<Status, TickError> {
-    status.to_status().ok_or(TickError::RootSkipped)
 }
 
 impl<C> core::fmt::Debug for Tree<C> {

@@ -24,7 +24,7 @@ use alloc::vec::Vec;
 
 use super::ticker::Object;
 use super::wake::TreeWake;
-use super::{new_blackboard, Tree};
+use super::{new_blackboard::new_blackboard, Tree};
 use crate::blueprint::Blueprint;
 use crate::{NodeId, NodeKind, NodeStatus};
 

@@ -5,16 +5,14 @@
 //! `Option` branch per status write, and not even that in the Sequence and Fallback loops,
 //! which are compiled twice: for observed and for unobserved trees.
 
-use core::any::Any;
 use core::mem;
-use core::time::Duration;
 
 use crate::blackboard::Blackboard;
 use crate::blueprint::call::{Args, Payload};
-use crate::blueprint::{Blueprint, Child, FromPortStr, NodeDef, NodeKind, Param};
+use crate::blueprint::{Blueprint, Child, NodeDef, NodeKind};
 use crate::clock::duration_to_nanos;
 use crate::nodes::built_in::Tick;
-use crate::nodes::leaf::{read_input, Handle};
+use crate::nodes::leaf::Handle;
 use crate::nodes::{control, decorator, leaf};
 use crate::observer::{Observer, StatusChange};
 use crate::{Clock, NodeId, NodeStatus, Status, TickError};
@@ -416,44 +414,6 @@ impl<'t, C> Ticker<'t, C> {
             return NodeStatus::Failure;
         }
         s.into()
-    }
-
-    /// A built-in node's parameter: its value, or its port read now. An unreadable port is
-    /// the node's error (`None`), as BehaviorTree.CPP's nodes throw when `getInput` fails.
-    #[inline(always)]
-    pub(crate) fn param<T: FromPortStr + Any + Clone>(
-        &mut self,
-        id: NodeId,
-        param: Param<T>,
-        port: &'static str,
-    ) -> Option<T> {
-        match param {
-            Param::Value(value) => Some(value),
-            Param::Port => self.read_port(id, port),
-        }
-    }
-
-    /// A duration parameter, whose port holds milliseconds as in BehaviorTree.CPP.
-    #[inline(always)]
-    pub(crate) fn millis(
-        &mut self,
-        id: NodeId,
-        param: Param<Duration>,
-        port: &'static str,
-    ) -> Option<Duration> {
-        match param {
-            Param::Value(value) => Some(value),
-            Param::Port => self.read_port::<u64>(id, port).map(Duration::from_millis),
-        }
-    }
-
-    /// Reads port `port` of node `id`, converting as BehaviorTree.CPP's `Any` does.
-    #[cold]
-    #[inline(never)]
-    fn read_port<T: FromPortStr + Any + Clone>(&mut self, id: NodeId, port: &str) -> Option<T> {
-        let read = read_input(self.bb, self.bp, id, port);
-        read.map_err(|e| self.fault_node(id, alloc::string::ToString::to_string(&e)))
-            .ok()
     }
 
     /// Declares, for a sleeping tree, that the pass's result may change at `at` (nanoseconds
