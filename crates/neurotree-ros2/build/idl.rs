@@ -53,8 +53,8 @@ pub enum Array {
     None,
     /// `T[N]`: exactly N, no length on the wire.
     Fixed(usize),
-    /// `T[]` or `T[<=N]`: a sequence, its length first on the wire.
-    Sequence,
+    /// `T[]` or `T[<=N]`: a sequence (counted: its length first on the wire).
+    Counted,
 }
 
 /// One field of a part.
@@ -328,12 +328,12 @@ fn parse_type(text: &str) -> Result<FieldType, String> {
                 .strip_suffix(']')
                 .ok_or_else(|| format!("`{text}`: an array type ends with `]`"))?;
             let array = if inside.is_empty() {
-                Array::Sequence
+                Array::Counted
             } else if let Some(bound) = inside.strip_prefix("<=") {
                 bound
                     .parse::<usize>()
                     .map_err(|_| format!("`{text}`: the bound of a sequence is a number"))?;
-                Array::Sequence
+                Array::Counted
             } else {
                 let n = inside
                     .parse::<usize>()

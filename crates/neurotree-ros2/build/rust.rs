@@ -302,7 +302,7 @@ fn resolve(
     };
     Ok(match ty.array {
         Array::None => element,
-        Array::Sequence => Resolved {
+        Array::Counted => Resolved {
             rust: format!("::std::vec::Vec<{}>", element.rust),
             traits: Traits {
                 copy: false,

@@ -50,7 +50,7 @@ fn a_definition_reads_as_its_doc_constants_and_fields_in_order() {
         [
             ("covariance", "float64", Array::Fixed(36)),
             ("name", "string", Array::None),
-            ("headers", "Header", Array::Sequence),
+            ("headers", "Header", Array::Counted),
             ("on", "bool", Array::None),
         ]
     );
