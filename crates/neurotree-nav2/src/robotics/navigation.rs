@@ -64,7 +64,7 @@ use neurotree_toolkit::registry::{PortSpec, Registry, RegistryError};
 ///
 /// Port text is the poses separated by `;`, each `x,y,theta` (or `x,y`), as lists are in
 /// BehaviorTree.CPP: `0.5,0.5,0;1.5,0.5,0`.
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Path {
     /// The waypoints, start first.
     pub poses: Vec<Pose2D>,

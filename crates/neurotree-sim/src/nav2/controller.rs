@@ -35,7 +35,7 @@ use neurotree_nav2::robotics::{Path, Pose2D};
 use neurotree_toolkit::{PortSpec, Registry, RegistryError};
 
 /// How the robot tracks its path: FollowPath's `tracking_feedback` output.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct TrackingFeedback {
     /// The index of the path pose nearest the robot.
     pub current_path_index: usize,
@@ -277,6 +277,17 @@ fn ahead_of(path: &Path, robot: Pose2D) -> Path {
 impl<C: Nav2Context> StatefulAction<C> for FollowPath {
     fn on_start(&mut self, h: &mut Handle<'_, C>) -> Status {
         self.control(h, true)
+    }
+
+    /// The path it follows: the world's motion, saved with the world, follows it too.
+    fn save_state(&self) -> Option<Vec<u8>> {
+        Some(neurotree_core::state::encode(&self.following))
+    }
+
+    fn restore_state(&mut self, state: &[u8]) -> bool {
+        neurotree_core::state::decode(state)
+            .map(|following| self.following = following)
+            .is_some()
     }
 
     fn on_running(&mut self, h: &mut Handle<'_, C>) -> Status {

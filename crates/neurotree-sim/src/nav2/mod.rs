@@ -138,6 +138,7 @@ pub mod recovery_help;
 pub mod route;
 pub mod selectors;
 pub mod smoother;
+mod snapshot;
 pub mod system;
 #[cfg(test)]
 mod testing;
@@ -152,6 +153,7 @@ pub use docking::Dock;
 pub use failures::FailureNotes;
 pub use recoveries::RecoveryCounter;
 pub use route::RouteGraph;
+pub use snapshot::Nav2SimState;
 
 use super::{GridWorld, MotionStatus};
 use neurotree_core::{Blackboard, BlackboardError};
@@ -187,7 +189,7 @@ impl Default for Nav2Params {
 
 /// The context the Nav2 leaves work on: the world, the servers' parameters, what they
 /// counted, and (if asked) a log of what they did.
-#[derive(Debug)]
+#[derive(Clone, Debug)]
 pub struct Nav2Sim {
     /// The simulated robot and its surroundings.
     pub world: GridWorld,

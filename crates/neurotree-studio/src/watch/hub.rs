@@ -10,6 +10,7 @@ use neurotree_core::{NodeId, NodeStatus, Observer, Reason, ScopeId, Status, Stat
 use serde::Serialize;
 use serde_json::{json, Value};
 
+use super::rewind::{Shown, Travel};
 use super::values;
 use crate::view::{status_name, status_of_byte, TreeView};
 
@@ -32,6 +33,15 @@ pub(crate) struct Edit {
     pub scope: u32,
     pub key: String,
     pub value: Value,
+}
+
+/// What a page asked of the run, done between ticks by the run's thread.
+#[derive(Clone, Debug)]
+pub(crate) enum Request {
+    /// Write a blackboard entry.
+    Edit(Edit),
+    /// Show an earlier or later kept tick (only while paused between ticks).
+    Travel(Travel),
 }
 
 /// What the observer writes in the tick, per node, read by the pages' tasks without a
@@ -80,7 +90,6 @@ pub(crate) struct Run {
 
 /// What changes under the lock, each part with a version so that a page sends a part only
 /// when it changed.
-#[derive(Default)]
 pub(crate) struct Inner {
     /// Bumped when another run (or a reload) is attached: pages then send `hello`.
     pub generation: u64,
@@ -91,11 +100,39 @@ pub(crate) struct Inner {
     pub paused_version: u64,
     pub breakpoints_version: u64,
     pub ended: Option<&'static str>,
+    /// The kept ticks, as pages are told them (PROTOCOL.md, "Rewind").
+    pub rewind: (u64, Value),
+    /// The scene of the tick shown, as JSON, or why none is shown (PROTOCOL.md, "Scene").
+    pub scene: (u64, Result<Arc<str>, String>),
+    /// A page's request the run refused when it came to do it (a travel past the kept
+    /// ticks, asked for before the pages heard where the run stands): told to every page.
+    pub refusal: (u64, String),
     pause_requested: bool,
     /// Stops between ticks to pass before a step pauses: 1 from a pause between ticks
     /// (tick once), 2 from a breakpoint inside a tick (finish it, tick the next).
     steps_owed: u8,
-    edits: Vec<Edit>,
+    requests: Vec<Request>,
+}
+
+impl Default for Inner {
+    fn default() -> Self {
+        Self {
+            generation: 0,
+            run: None,
+            blackboards: Default::default(),
+            failure: Default::default(),
+            paused: None,
+            paused_version: 0,
+            breakpoints_version: 0,
+            ended: None,
+            rewind: (0, Value::Null),
+            scene: (0, Err(String::new())),
+            refusal: (0, String::new()),
+            pause_requested: false,
+            steps_owed: 0,
+            requests: Vec::new(),
+        }
+    }
 }
 
 /// The watch state shared by the run, the observer and the pages.
@@ -271,7 +308,14 @@ impl Hub {
         }
     }
 
-    pub fn between_ticks<C>(&self, tree: &mut Tree<C>) {
+    /// Between two ticks: the pages' edits applied, the blackboards published, and the
+    /// run held while a page paused it; `travel` restores a kept tick a paused page asked
+    /// for, and says what to show of it.
+    pub fn between_ticks<C>(
+        &self,
+        tree: &mut Tree<C>,
+        travel: &mut dyn FnMut(&mut Tree<C>, Travel) -> Option<Shown>,
+    ) {
         self.apply_edits(tree);
         self.publish(tree);
         let why = {
@@ -295,9 +339,16 @@ impl Hub {
                     node: None,
                     status: None,
                 },
-                Some(&mut |edits: Vec<Edit>| {
-                    for e in edits {
-                        values::apply(tree, &e);
+                Some(&mut |requests: Vec<Request>| {
+                    for request in requests {
+                        match request {
+                            Request::Edit(e) => values::apply(tree, &e),
+                            Request::Travel(t) => {
+                                if let Some(shown) = travel(tree, t) {
+                                    self.show_kept(tree, shown);
+                                }
+                            }
+                        }
                     }
                     self.publish(tree);
                 }),
@@ -305,16 +356,97 @@ impl Hub {
         }
     }
 
+    /// Edits made while the run went on; a travel asked for then (the page saw the run
+    /// paused, and it went on since) is dropped.
     fn apply_edits<C>(&self, tree: &mut Tree<C>) {
-        let edits = std::mem::take(&mut self.lock().edits);
-        for e in &edits {
-            values::apply(tree, e);
+        let requests = std::mem::take(&mut self.lock().requests);
+        for r in &requests {
+            if let Request::Edit(e) = r {
+                values::apply(tree, e);
+            }
+        }
+    }
+
+    /// What pages are shown of the latest tick, to keep beside its state.
+    pub fn shown_now(&self) -> Option<Shown> {
+        let inner = self.lock();
+        let run = inner.run.as_ref()?;
+        let cell = &run.cell;
+        let statuses = if self.pages() > 0 {
+            cell.shown.iter().map(|s| s.load(Ordering::Acquire)).collect()
+        } else {
+            // Nothing keeps `shown` while no page is attached: the statuses as they stand.
+            cell.statuses
+                .iter()
+                .map(|s| s.load(Ordering::Acquire))
+                .collect()
+        };
+        Some(Shown {
+            tick: cell.tick.load(Ordering::Acquire),
+            statuses,
+            failure: inner.failure.1.clone(),
+        })
+    }
+
+    /// Shows pages a kept tick the tree was restored to: its statuses, its failure chain,
+    /// the tree's blackboards; the tick count goes back to it.
+    fn show_kept<C>(&self, tree: &Tree<C>, shown: Shown) {
+        let mut inner = self.lock();
+        if let Some(run) = &inner.run {
+            let cell = &run.cell;
+            for (cell, status) in cell.statuses.iter().zip(tree.statuses()) {
+                cell.store(*status as u8, Ordering::Release);
+            }
+            for (cell, status) in cell.shown.iter().zip(&*shown.statuses) {
+                cell.store(*status, Ordering::Release);
+            }
+            cell.tick.store(shown.tick, Ordering::Release);
+            cell.shown_tick.store(shown.tick, Ordering::Release);
+        }
+        if inner.failure.1 != shown.failure {
+            inner.failure = (inner.failure.0 + 1, shown.failure);
+        }
+        drop(inner);
+        self.bump();
+    }
+
+    /// Tells every page that the run refused a request, and why.
+    pub fn refuse(&self, why: String) {
+        let mut inner = self.lock();
+        inner.refusal = (inner.refusal.0 + 1, why);
+        drop(inner);
+        self.count_refused();
+        self.bump();
+    }
+
+    /// Tells pages the kept ticks (when they changed).
+    pub fn set_rewind(&self, rewind: Value) {
+        let mut inner = self.lock();
+        if inner.rewind.1 != rewind {
+            inner.rewind = (inner.rewind.0 + 1, rewind);
+            drop(inner);
+            self.bump();
+        }
+    }
+
+    /// Shows pages `scene` (JSON, or why none is shown), when it changed.
+    pub fn set_scene(&self, scene: Result<String, String>) {
+        let mut inner = self.lock();
+        let same = match (&inner.scene.1, &scene) {
+            (Ok(a), Ok(b)) => **a == **b,
+            (Err(a), Err(b)) => a == b,
+            _ => false,
+        };
+        if !same {
+            inner.scene = (inner.scene.0 + 1, scene.map(Into::into));
+            drop(inner);
+            self.bump();
         }
     }
 
     /// Stands the run still until a page continues or steps it, or the last page leaves;
     /// `apply` (between ticks only) applies blackboard edits made meanwhile.
-    fn hold(&self, paused: Paused, mut apply: Option<&mut dyn FnMut(Vec<Edit>)>) {
+    fn hold(&self, paused: Paused, mut apply: Option<&mut dyn FnMut(Vec<Request>)>) {
         let mut inner = self.lock();
         if self.pages() == 0 {
             return;
@@ -324,10 +456,10 @@ impl Hub {
         self.bump();
         while inner.paused.is_some() && self.pages() > 0 {
             if let Some(apply) = apply.as_mut() {
-                if !inner.edits.is_empty() {
-                    let edits = std::mem::take(&mut inner.edits);
+                if !inner.requests.is_empty() {
+                    let requests = std::mem::take(&mut inner.requests);
                     drop(inner);
-                    apply(edits);
+                    apply(requests);
                     inner = self.lock();
                     continue;
                 }
@@ -394,8 +526,57 @@ impl Hub {
 
     /// A page edited a blackboard entry; applied between ticks (at once if paused there).
     pub fn edit(&self, edit: Edit) {
-        self.lock().edits.push(edit);
+        self.lock().requests.push(Request::Edit(edit));
         self.resume.notify_all();
+    }
+
+    /// A page asked to see an earlier or later kept tick: refused, with the reason, unless
+    /// the run is paused between ticks and the window has such a tick.
+    pub fn travel(&self, travel: Travel) -> Result<(), String> {
+        let mut inner = self.lock();
+        match &inner.paused {
+            None => return Err("the run goes back and forth only while paused: pause it first".into()),
+            Some(p) if p.why == "breakpoint" => {
+                return Err("the run is held inside a tick at a breakpoint: step to the end \
+                            of the tick to go back"
+                    .into())
+            }
+            Some(_) => {}
+        }
+        let rewind = &inner.rewind.1;
+        let tick = inner
+            .run
+            .as_ref()
+            .map_or(0, |r| r.cell.shown_tick.load(Ordering::Acquire));
+        let window = rewind["window"].as_u64().unwrap_or(0);
+        if window == 0 {
+            return Err("this run keeps no ticks to go back to (its rewind window is 0)".into());
+        }
+        let at = rewind["at"].as_u64();
+        if let (Some(why), None) = (rewind["blocked"].as_str(), at) {
+            return Err(format!("the run cannot go back from this tick: {why}"));
+        }
+        let from = at.unwrap_or(tick);
+        match travel {
+            Travel::Back => {
+                let oldest = rewind["oldest"].as_u64();
+                if oldest.map_or(true, |o| from <= o) {
+                    return Err(format!(
+                        "tick {from} is the oldest kept: the run keeps its last {window} ticks \
+                         (--rewind-window)"
+                    ));
+                }
+            }
+            Travel::Forward => {
+                if at.is_none() {
+                    return Err(format!("tick {from} is the latest"));
+                }
+            }
+        }
+        inner.requests.push(Request::Travel(travel));
+        drop(inner);
+        self.resume.notify_all();
+        Ok(())
     }
 
     /// The breakpoints of the run, as pages list them.
