@@ -472,7 +472,6 @@ pub(crate) fn execute_watched(
                 writeln!(out, "{}", json!({ "rewind": { "to": to } }))?;
                 ticks = to;
                 set_upto = to;
-                status = "RUNNING".to_string();
             }
         }
         let left = limit - ticks;

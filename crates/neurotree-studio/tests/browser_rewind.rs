@@ -29,10 +29,10 @@ static ONE_AT_A_TIME: tokio::sync::Mutex<()> = tokio::sync::Mutex::const_new(())
 /// third, so at tick t it shows SUCCESS exactly when t is a multiple of 3.
 const PATROL: &str = r#"<root BTCPP_format="4" main_tree_to_execute="Patrol">
   <BehaviorTree ID="Patrol">
-    <Sequence name="patrol">
+    <ReactiveSequence name="patrol">
       <Script name="count" code="n += 1"/>
       <Walk name="walk"/>
-    </Sequence>
+    </ReactiveSequence>
   </BehaviorTree>
 </root>
 "#;

@@ -19,7 +19,7 @@ use super::frame::{Layout, Parts};
 use super::scenario::{dock, route_graph, Scenario, DEFAULT_GOAL, PLACING_LOCATION};
 use super::world::{plan_ahead, DemoWorld};
 use neurotree::render::LastTickStatuses;
-use neurotree::robotics::{Path, Pose2D};
+use neurotree::robotics::Pose2D;
 use neurotree::sim::nav2::{
     register_nav2_leaves, EventLog, FailureNotes, Nav2Params, Nav2Sim, RecoveryCounter,
     NOT_SIMULATED,
