@@ -253,7 +253,8 @@ async fn back_and_forward_show_each_kept_tick_and_a_step_from_the_past_forks_the
     b.click("#watch-view [data-action=forward]").await;
     let fork = p - 1;
     let then = at_tick(&b, fork).await;
-    assert_eq!((then["n"].clone(), then["robot"].clone()), (fork.to_string().into(), (fork as f64).into()));
+    assert_eq!(then["n"], fork.to_string(), "{then}");
+    assert_eq!(then["robot"].as_f64(), Some(fork as f64), "{then}");
 
     // An edit at the past tick, then a step: the run goes on from there with the edit.
     let field = "#watch-view input[data-entry=n][data-scope='0']";
