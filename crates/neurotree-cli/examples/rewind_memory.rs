@@ -1,6 +1,6 @@
 //! What the studio's rewind window costs in memory: the heap a watched run holds at its end
 //! with a window of N ticks, less the heap the same run holds with none (`--rewind-window
-//! 0`), for tree1111 (1,000 ticks) and for the Nav2 demo (its whole run, 490 ticks).
+//! 0`), for tree1111 (1,000 ticks) and for the Nav2 demo (its whole run).
 //!
 //! ```sh
 //! cargo run --release -p neurotree-cli --example rewind_memory -- 300
@@ -11,7 +11,6 @@
 
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::sync::atomic::{AtomicIsize, Ordering};
-use std::sync::Arc;
 
 use neurotree::scene::Scene;
 use neurotree::sim::nav2::Nav2Sim;
@@ -35,7 +34,10 @@ unsafe impl GlobalAlloc for Counting {
         System.dealloc(ptr, layout)
     }
     unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        LIVE.fetch_add(new_size as isize - layout.size() as isize, Ordering::Relaxed);
+        LIVE.fetch_add(
+            new_size as isize - layout.size() as isize,
+            Ordering::Relaxed,
+        );
         System.realloc(ptr, layout, new_size)
     }
 }

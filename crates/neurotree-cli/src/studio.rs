@@ -128,7 +128,11 @@ impl Served {
     }
 
     /// Never called: no `Served` exists.
-    pub fn between_ticks_with<C, W>(&mut self, _: &mut neurotree::Tree<C>, _: &mut W) -> Option<u64> {
+    pub fn between_ticks_with<C, W>(
+        &mut self,
+        _: &mut neurotree::Tree<C>,
+        _: &mut W,
+    ) -> Option<u64> {
         match *self {}
     }
 

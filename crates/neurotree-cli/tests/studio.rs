@@ -163,7 +163,9 @@ const COUNTING: &str = r#"<root BTCPP_format="4">
 type Socket = tungstenite::WebSocket<tungstenite::stream::MaybeTlsStream<TcpStream>>;
 
 fn send(socket: &mut Socket, text: &str) {
-    socket.send(tungstenite::Message::Text(text.into())).unwrap();
+    socket
+        .send(tungstenite::Message::Text(text.into()))
+        .unwrap();
 }
 
 thread_local! {
@@ -202,9 +204,22 @@ fn run_forks_where_a_page_went_back_and_numbers_the_ticks_on_from_there() {
     std::fs::write(dir.path().join("count.xml"), COUNTING).unwrap();
     let mut child = Command::new(env!("CARGO_BIN_EXE_neurotree"))
         .args([
-            "run", "count.xml", "--mock", "Work=RUNNING*1000", "--set", "n=0",
-            "--max-ticks", "30", "--pace-ms", "20", "--studio", "0", "--studio-linger", "0",
-            "--rewind-window", "5",
+            "run",
+            "count.xml",
+            "--mock",
+            "Work=RUNNING*1000",
+            "--set",
+            "n=0",
+            "--max-ticks",
+            "30",
+            "--pace-ms",
+            "20",
+            "--studio",
+            "0",
+            "--studio-linger",
+            "0",
+            "--rewind-window",
+            "5",
         ])
         .current_dir(dir.path())
         .stdout(Stdio::piped())
@@ -221,9 +236,12 @@ fn run_forks_where_a_page_went_back_and_numbers_the_ticks_on_from_there() {
     std::thread::spawn(move || for _ in lines {});
     let (mut socket, _) = tungstenite::connect(format!("ws://{addr}/ws")).unwrap();
     if let tungstenite::stream::MaybeTlsStream::Plain(s) = socket.get_ref() {
-        s.set_read_timeout(Some(Duration::from_millis(200))).unwrap();
+        s.set_read_timeout(Some(Duration::from_millis(200)))
+            .unwrap();
     }
-    until(&mut socket, "the run", |m| m["type"] == "hello" && !m["run"].is_null());
+    until(&mut socket, "the run", |m| {
+        m["type"] == "hello" && !m["run"].is_null()
+    });
     until(&mut socket, "tick 8", |m| m["tick"].as_u64() >= Some(8));
     send(&mut socket, r#"{"type":"pause"}"#);
     let paused = until(&mut socket, "the pause", |m| m["type"] == "paused")["tick"]
@@ -247,7 +265,10 @@ fn run_forks_where_a_page_went_back_and_numbers_the_ticks_on_from_there() {
     }
     let refused = until(&mut socket, "a refusal", |m| m["type"] == "refused");
     assert!(
-        refused["why"].as_str().unwrap().contains("is the oldest kept"),
+        refused["why"]
+            .as_str()
+            .unwrap()
+            .contains("is the oldest kept"),
         "{refused}"
     );
     // Forward to paused - 2 again, and continue from there: a fork.
@@ -266,19 +287,36 @@ fn run_forks_where_a_page_went_back_and_numbers_the_ticks_on_from_there() {
     });
     send(&mut socket, r#"{"type":"continue"}"#);
     let mut out = String::new();
-    child.stdout.take().unwrap().read_to_string(&mut out).unwrap();
+    child
+        .stdout
+        .take()
+        .unwrap()
+        .read_to_string(&mut out)
+        .unwrap();
     assert_eq!(child.wait().unwrap().code(), Some(3), "{out}");
     let lines: Vec<&str> = out.lines().collect();
     let fork = format!(r#"{{"rewind":{{"to":{}}}}}"#, back + 1);
-    let at = lines.iter().position(|l| *l == fork).unwrap_or_else(|| panic!("{out}"));
-    assert_eq!(lines[at - 1], format!(r#"{{"tick":{paused},"status":"RUNNING"}}"#));
-    assert_eq!(lines[at + 1], format!(r#"{{"tick":{},"status":"RUNNING"}}"#, back + 2));
+    let at = lines
+        .iter()
+        .position(|l| *l == fork)
+        .unwrap_or_else(|| panic!("{out}"));
+    assert_eq!(
+        lines[at - 1],
+        format!(r#"{{"tick":{paused},"status":"RUNNING"}}"#)
+    );
+    assert_eq!(
+        lines[at + 1],
+        format!(r#"{{"tick":{},"status":"RUNNING"}}"#, back + 2)
+    );
     // The run ends at 30 ticks as counted after the fork, and its blackboard counted them
     // so: the state of tick back + 1 was restored, not the ticks after it.
     let summary: serde_json::Value = serde_json::from_str(lines.last().unwrap()).unwrap();
     assert_eq!(summary["summary"]["ticks"], 30);
     assert_eq!(summary["summary"]["blackboard"]["n"], 30, "{summary}");
-    assert_eq!(summary["summary"]["nodes"]["Script"]["ticks"], 30, "{summary}");
+    assert_eq!(
+        summary["summary"]["nodes"]["Script"]["ticks"], 30,
+        "{summary}"
+    );
 }
 
 /// The `points` of the scene item `id` in a `scene` message.
@@ -293,7 +331,15 @@ fn item<'a>(scene: &'a serde_json::Value, id: &str) -> &'a serde_json::Value {
 fn demo_draws_its_warehouse_and_the_robot_goes_back_with_the_tree() {
     let dir = tempfile::tempdir().unwrap();
     let mut child = Command::new(env!("CARGO_BIN_EXE_neurotree"))
-        .args(["demo", "--speed", "10", "--studio", "0", "--studio-linger", "0"])
+        .args([
+            "demo",
+            "--speed",
+            "10",
+            "--studio",
+            "0",
+            "--studio-linger",
+            "0",
+        ])
         .current_dir(dir.path())
         .stdout(Stdio::null())
         .stderr(Stdio::piped())
@@ -309,11 +355,16 @@ fn demo_draws_its_warehouse_and_the_robot_goes_back_with_the_tree() {
     std::thread::spawn(move || for _ in lines {});
     let (mut socket, _) = tungstenite::connect(format!("ws://{addr}/ws")).unwrap();
     if let tungstenite::stream::MaybeTlsStream::Plain(s) = socket.get_ref() {
-        s.set_read_timeout(Some(Duration::from_millis(200))).unwrap();
+        s.set_read_timeout(Some(Duration::from_millis(200)))
+            .unwrap();
     }
-    until(&mut socket, "the run", |m| m["type"] == "hello" && !m["run"].is_null());
+    until(&mut socket, "the run", |m| {
+        m["type"] == "hello" && !m["run"].is_null()
+    });
     // The robot under way on its plan, 3 s in.
-    until(&mut socket, "tick 30", |m| m["type"] == "tick" && m["tick"].as_u64() >= Some(30));
+    until(&mut socket, "tick 30", |m| {
+        m["type"] == "tick" && m["tick"].as_u64() >= Some(30)
+    });
     send(&mut socket, r#"{"type":"pause"}"#);
     // The scene of a tick goes out before the pause after it.
     let scene = std::cell::RefCell::new(serde_json::Value::Null);
@@ -346,7 +397,10 @@ fn demo_draws_its_warehouse_and_the_robot_goes_back_with_the_tree() {
     };
     let (a, b) = (centre(&robot), centre(&then));
     let moved = ((a.0 - b.0).powi(2) + (a.1 - b.1).powi(2)).sqrt();
-    assert!((0.5..1.5).contains(&moved), "moved {moved}: {robot} then {then}");
+    assert!(
+        (0.5..1.5).contains(&moved),
+        "moved {moved}: {robot} then {then}"
+    );
     send(&mut socket, r#"{"type":"continue"}"#);
     // The fork goes on to the goal.
     assert_eq!(child.wait().unwrap().code(), Some(0));

@@ -60,7 +60,11 @@ impl GridWorld {
             }
         }
         if let Some(c) = self.charger() {
-            scene.polygon("charger", cell_rect(c, r, 0.1), Style::fill("#ffe066").with_stroke("#e67700", 0.05 * r));
+            scene.polygon(
+                "charger",
+                cell_rect(c, r, 0.1),
+                Style::fill("#ffe066").with_stroke("#e67700", 0.05 * r),
+            );
         }
         let costmap = self.costmap(CostmapLayer::Global);
         for c in costmap.marked() {
@@ -69,7 +73,11 @@ impl GridWorld {
         let truth = self.truth();
         for o in self.timed_obstacles() {
             if truth.is_obstacle(o.cell) {
-                scene.polygon("obstacle", cell_rect(o.cell, r, 0.1), Style::fill("#c92a2a"));
+                scene.polygon(
+                    "obstacle",
+                    cell_rect(o.cell, r, 0.1),
+                    Style::fill("#c92a2a"),
+                );
             }
         }
         if path.len() > 1 {
@@ -77,10 +85,19 @@ impl GridWorld {
             scene.polyline("path", points, Style::stroke("#2f9e44", 0.12 * r));
         }
         if let Some(g) = goal {
-            scene.circle("goal", [g.x, g.y], 0.3 * r, Style::fill("none").with_stroke("#2f9e44", 0.1 * r));
+            scene.circle(
+                "goal",
+                [g.x, g.y],
+                0.3 * r,
+                Style::fill("none").with_stroke("#2f9e44", 0.1 * r),
+            );
         }
         let robot = self.robot();
-        scene.polygon("robot", arrow(&robot, 0.4 * r), Style::fill("#1c7ed6").with_stroke("#0b3d91", 0.04 * r));
+        scene.polygon(
+            "robot",
+            arrow(&robot, 0.4 * r),
+            Style::fill("#1c7ed6").with_stroke("#0b3d91", 0.04 * r),
+        );
         scene
     }
 }

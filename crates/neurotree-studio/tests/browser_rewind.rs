@@ -77,7 +77,11 @@ impl World<()> for Track {
     }
     fn scene(&self, _: &Tree<()>) -> Option<Scene> {
         let mut scene = Scene::new([0.0, -2.0], [100.0, 2.0]);
-        scene.polyline("track", vec![[0.0, 0.0], [100.0, 0.0]], Style::stroke("#888", 0.1));
+        scene.polyline(
+            "track",
+            vec![[0.0, 0.0], [100.0, 0.0]],
+            Style::stroke("#888", 0.1),
+        );
         scene.circle("robot", [self.x, 0.0], 0.8, Style::fill("#1c7ed6"));
         Some(scene)
     }
@@ -228,8 +232,16 @@ async fn back_and_forward_show_each_kept_tick_and_a_step_from_the_past_forks_the
     let p = b.shown_tick().await;
     let now = at_tick(&b, p).await;
     assert_eq!(
-        (now["n"].as_str(), now["robot"].as_f64(), now["walk"].as_str()),
-        (Some(p.to_string().as_str()), Some(p as f64), Some(walk_at(p))),
+        (
+            now["n"].as_str(),
+            now["robot"].as_f64(),
+            now["walk"].as_str()
+        ),
+        (
+            Some(p.to_string().as_str()),
+            Some(p as f64),
+            Some(walk_at(p))
+        ),
         "{now}"
     );
 
@@ -249,7 +261,13 @@ async fn back_and_forward_show_each_kept_tick_and_a_step_from_the_past_forks_the
     let state = b
         .js("return document.querySelector('#watch-view [data-run-state]').textContent;")
         .await;
-    assert!(state.as_str().unwrap().starts_with(&format!("back at tick {}", p - 2)), "{state}");
+    assert!(
+        state
+            .as_str()
+            .unwrap()
+            .starts_with(&format!("back at tick {}", p - 2)),
+        "{state}"
+    );
     b.click("#watch-view [data-action=forward]").await;
     let fork = p - 1;
     let then = at_tick(&b, fork).await;

@@ -75,6 +75,9 @@ function drawItem(item) {
     default:
       el = document.createElementNS(SVG, "g");
   }
+  // Filled shapes without an outline meet their neighbours edge to edge (a row of wall
+  // cells): drawn crisp, no seam shows between them.
+  if (item.fill && !item.stroke && item.shape === "polygon") el.setAttribute("shape-rendering", "crispEdges");
   if (item.fill) el.setAttribute("fill", item.fill);
   else if (item.shape !== "polyline") el.setAttribute("fill", "none");
   if (item.stroke) {

@@ -142,7 +142,9 @@ impl Style {
 #[non_exhaustive]
 pub enum SceneError {
     /// More than [`MAX_ITEMS`] items.
-    #[error("the scene has {0} items; at most {MAX_ITEMS} are drawn: merge small items into polygons")]
+    #[error(
+        "the scene has {0} items; at most {MAX_ITEMS} are drawn: merge small items into polygons"
+    )]
     TooManyItems(usize),
     /// More than [`MAX_POINTS`] points.
     #[error("the scene has {0} points; at most {MAX_POINTS} are drawn: simplify its lines")]
@@ -241,9 +243,10 @@ impl Scene {
                     (p.iter().all(finite), long)
                 }
                 Shape::Circle { center, radius } => (finite(center) && radius.is_finite(), long),
-                Shape::Text { at, text, size } => {
-                    (finite(at) && size.is_finite(), long || text.len() > MAX_TEXT)
-                }
+                Shape::Text { at, text, size } => (
+                    finite(at) && size.is_finite(),
+                    long || text.len() > MAX_TEXT,
+                ),
             };
             if long {
                 return Err(SceneError::TooLong(truncated(&item.id)));
@@ -282,10 +285,19 @@ mod tests {
         scene.polyline("a", vec![[0.0, 0.0]; MAX_POINTS], Style::default());
         assert_eq!(scene.check(), Ok(()));
         scene.polygon("b", vec![[0.0, 0.0]], Style::default());
-        assert_eq!(scene.check(), Err(SceneError::TooManyPoints(MAX_POINTS + 1)));
+        assert_eq!(
+            scene.check(),
+            Err(SceneError::TooManyPoints(MAX_POINTS + 1))
+        );
 
         let mut scene = Scene::new([0.0, 0.0], [1.0, 1.0]);
-        scene.text("t", [0.0, 0.0], &"x".repeat(MAX_TEXT + 1), 1.0, Style::default());
+        scene.text(
+            "t",
+            [0.0, 0.0],
+            &"x".repeat(MAX_TEXT + 1),
+            1.0,
+            Style::default(),
+        );
         assert_eq!(scene.check(), Err(SceneError::TooLong("t".into())));
 
         let mut scene = Scene::new([0.0, 0.0], [1.0, 1.0]);
@@ -296,7 +308,11 @@ mod tests {
     #[test]
     fn items_serialize_flat_with_their_shape_named() {
         let mut scene = Scene::new([0.0, 0.0], [2.0, 2.0]);
-        scene.polygon("p", vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0]], Style::fill("#abc").with_stroke("#000", 0.05));
+        scene.polygon(
+            "p",
+            vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0]],
+            Style::fill("#abc").with_stroke("#000", 0.05),
+        );
         let json = serde_json::to_value(&scene).unwrap();
         assert_eq!(
             json,

@@ -4,9 +4,11 @@ use std::io::{self, Write};
 use std::path::PathBuf;
 use std::time::Duration;
 
-use neurotree::{Registry, Status, Tree};
 use neurotree::sim::nav2::Nav2Sim;
-use neurotree_cli::demo::{self, DemoOptions, DemoRun, DemoSaved, DemoSummary, DemoWatch, DemoWorld};
+use neurotree::{Registry, Status, Tree};
+use neurotree_cli::demo::{
+    self, DemoOptions, DemoRun, DemoSaved, DemoSummary, DemoWatch, DemoWorld,
+};
 use neurotree_studio::{Studio, StudioObserver, StudioOptions, Watch, World};
 
 use super::{StudioArgs, StudioFlags};

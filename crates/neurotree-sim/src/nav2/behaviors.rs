@@ -243,7 +243,10 @@ impl Behavior {
 impl<C: Nav2Context> StatefulAction<C> for Behavior {
     /// When the motion started and how long it may take; the kind is the factory's.
     fn save_state(&self) -> Option<Vec<u8>> {
-        Some(neurotree_core::state::encode(&(self.started, self.allowance)))
+        Some(neurotree_core::state::encode(&(
+            self.started,
+            self.allowance,
+        )))
     }
 
     fn restore_state(&mut self, state: &[u8]) -> bool {

@@ -201,7 +201,10 @@ struct IsGoalNearby {
 
 impl<C: Nav2Context> StatefulAction<C> for IsGoalNearby {
     fn save_state(&self) -> Option<Vec<u8>> {
-        Some(neurotree_core::state::encode(&(&self.memory.path, self.memory.from)))
+        Some(neurotree_core::state::encode(&(
+            &self.memory.path,
+            self.memory.from,
+        )))
     }
 
     fn restore_state(&mut self, state: &[u8]) -> bool {
@@ -244,7 +247,10 @@ struct TruncatePathLocal {
 
 impl<C: Nav2Context> StatefulAction<C> for TruncatePathLocal {
     fn save_state(&self) -> Option<Vec<u8>> {
-        Some(neurotree_core::state::encode(&(&self.memory.path, self.memory.from)))
+        Some(neurotree_core::state::encode(&(
+            &self.memory.path,
+            self.memory.from,
+        )))
     }
 
     fn restore_state(&mut self, state: &[u8]) -> bool {

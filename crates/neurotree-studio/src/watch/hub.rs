@@ -373,7 +373,10 @@ impl Hub {
         let run = inner.run.as_ref()?;
         let cell = &run.cell;
         let statuses = if self.pages() > 0 {
-            cell.shown.iter().map(|s| s.load(Ordering::Acquire)).collect()
+            cell.shown
+                .iter()
+                .map(|s| s.load(Ordering::Acquire))
+                .collect()
         } else {
             // Nothing keeps `shown` while no page is attached: the statuses as they stand.
             cell.statuses
@@ -535,11 +538,15 @@ impl Hub {
     pub fn travel(&self, travel: Travel) -> Result<(), String> {
         let mut inner = self.lock();
         match &inner.paused {
-            None => return Err("the run goes back and forth only while paused: pause it first".into()),
+            None => {
+                return Err("the run goes back and forth only while paused: pause it first".into())
+            }
             Some(p) if p.why == "breakpoint" => {
-                return Err("the run is held inside a tick at a breakpoint: step to the end \
+                return Err(
+                    "the run is held inside a tick at a breakpoint: step to the end \
                             of the tick to go back"
-                    .into())
+                        .into(),
+                )
             }
             Some(_) => {}
         }

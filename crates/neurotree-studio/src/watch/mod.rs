@@ -25,8 +25,8 @@ pub(crate) use hub::Hub;
 pub use hub::StudioObserver;
 pub(crate) use page::serve_page;
 pub use page::MAX_SCENE_BYTES;
-pub use rewind::{World, DEFAULT_REWIND_WINDOW};
 use rewind::{Travel, Window};
+pub use rewind::{World, DEFAULT_REWIND_WINDOW};
 
 /// The run's side of a watched tree: call [`between_ticks`](Self::between_ticks) after
 /// each tick (or tick through [`tick_once`](Self::tick_once)), so that pages see the

@@ -296,11 +296,7 @@ fn hello(inner: &Inner, run: &super::hub::Run, statuses: &[&str], tick: u64) -> 
         Ok(scene) => scene,
         Err(_) => "null",
     };
-    format!(
-        "{{\"tree\":{},\"scene\":{scene},{}",
-        run.tree,
-        &rest[1..]
-    )
+    format!("{{\"tree\":{},\"scene\":{scene},{}", run.tree, &rest[1..])
 }
 
 /// `{"type": "scene", …}`: the scene spliced in as it was serialized once for all pages.

@@ -341,10 +341,16 @@ mod tests {
         let mut window = Window::new(3, StateCodecs::new());
         run(&mut tree, &mut world, &mut window, 5);
         let d = window.describe();
-        assert_eq!((d["oldest"].clone(), d["newest"].clone()), (json!(3), json!(5)));
+        assert_eq!(
+            (d["oldest"].clone(), d["newest"].clone()),
+            (json!(3), json!(5))
+        );
         assert_eq!(d["at"], Value::Null);
 
-        assert_eq!(window.target(Travel::Forward, 5), Err("tick 5 is the latest".into()));
+        assert_eq!(
+            window.target(Travel::Forward, 5),
+            Err("tick 5 is the latest".into())
+        );
         assert_eq!(window.target(Travel::Back, 5), Ok(4));
         let at = window.go(4, &mut tree, &mut world, || shown(5)).unwrap();
         assert_eq!((at.tick, &*at.statuses), (4, &[4u8][..]));
@@ -373,7 +379,11 @@ mod tests {
         assert_eq!(count(&tree), 100);
         window.go(5, &mut tree, &mut world, || shown(5)).unwrap();
         assert_eq!((count(&tree), world.0), (101, 50));
-        assert_eq!(window.go_on(&tree, &world), None, "back at the newest tick: no fork");
+        assert_eq!(
+            window.go_on(&tree, &world),
+            None,
+            "back at the newest tick: no fork"
+        );
         assert!(window.bytes() > 0);
     }
 
