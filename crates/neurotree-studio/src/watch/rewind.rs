@@ -177,7 +177,7 @@ impl Window {
         let from = self.at.unwrap_or(now);
         let mut ticks = self.kept.iter().map(|k| k.shown.tick);
         let found = match travel {
-            Travel::Back => ticks.filter(|t| *t < from).last(),
+            Travel::Back => ticks.rev().find(|t| *t < from),
             Travel::Forward => ticks.find(|t| *t > from),
         };
         found.ok_or_else(|| match travel {
