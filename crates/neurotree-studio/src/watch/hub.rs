@@ -309,11 +309,12 @@ impl Hub {
     }
 
     /// Between two ticks: the pages' edits applied, the blackboards published, and the
-    /// run held while a page paused it; `travel` restores a kept tick a paused page asked
-    /// for, and says what to show of it.
+    /// run held while a page paused it, the pages then told the kept ticks (`rewind`);
+    /// `travel` restores a kept tick a paused page asked for, and says what to show of it.
     pub fn between_ticks<C>(
         &self,
         tree: &mut Tree<C>,
+        rewind: Value,
         travel: &mut dyn FnMut(&mut Tree<C>, Travel) -> Option<Shown>,
     ) {
         self.apply_edits(tree);
@@ -333,6 +334,9 @@ impl Hub {
             }
         };
         if let Some(why) = why {
+            // Told only when the run stands still, where pages use it: not a message every
+            // tick.
+            self.set_rewind(rewind);
             self.hold(
                 Paused {
                     why,

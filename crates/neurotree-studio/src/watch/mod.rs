@@ -95,35 +95,33 @@ impl Watch {
         if let Some(shown) = self.hub.shown_now() {
             window.keep(tree, world, shown);
         }
-        self.hub.set_rewind(window.describe());
         if self.hub.pages() > 0 {
             show_scene(&self.hub, world.scene(tree).as_ref());
         }
         let hub = Arc::clone(&self.hub);
-        self.hub.between_ticks(tree, &mut |tree, travel: Travel| {
-            let now = hub.shown_now()?;
-            let gone = window
-                .target(travel, now.tick)
-                .and_then(|tick| window.go(tick, tree, world, || now));
-            let shown = match gone {
-                Ok(shown) => shown,
-                Err(why) => {
-                    hub.refuse(why);
-                    return None;
-                }
-            };
-            let shown = rewind::Shown {
-                tick: shown.tick,
-                statuses: shown.statuses.clone(),
-                failure: shown.failure.clone(),
-            };
-            hub.set_rewind(window.describe());
-            show_scene(&hub, world.scene(tree).as_ref());
-            Some(shown)
-        });
-        let forked = window.go_on(tree, world);
-        self.hub.set_rewind(window.describe());
-        forked
+        self.hub
+            .between_ticks(tree, window.describe(), &mut |tree, travel: Travel| {
+                let now = hub.shown_now()?;
+                let gone = window
+                    .target(travel, now.tick)
+                    .and_then(|tick| window.go(tick, tree, world, || now));
+                let shown = match gone {
+                    Ok(shown) => shown,
+                    Err(why) => {
+                        hub.refuse(why);
+                        return None;
+                    }
+                };
+                let shown = rewind::Shown {
+                    tick: shown.tick,
+                    statuses: shown.statuses.clone(),
+                    failure: shown.failure.clone(),
+                };
+                hub.set_rewind(window.describe());
+                show_scene(&hub, world.scene(tree).as_ref());
+                Some(shown)
+            });
+        window.go_on(tree, world)
     }
 
     /// Shows `scene` beside the tree, in place of the last one (`None`: none). A run with
