@@ -14,6 +14,7 @@
 mod hub;
 mod page;
 mod rewind;
+mod travel;
 mod values;
 
 use std::sync::Arc;
