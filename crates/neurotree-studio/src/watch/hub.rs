@@ -10,7 +10,7 @@ use neurotree_core::{NodeId, NodeStatus, Observer, Reason, ScopeId, Status, Stat
 use serde::Serialize;
 use serde_json::{json, Value};
 
-use super::rewind::{Shown, Travel};
+use super::rewind::Travel;
 use super::values;
 use crate::view::{status_name, status_of_byte, TreeView};
 
@@ -310,12 +310,12 @@ impl Hub {
 
     /// Between two ticks: the pages' edits applied, the blackboards published, and the
     /// run held while a page paused it, the pages then told the kept ticks (`rewind`);
-    /// `travel` restores a kept tick a paused page asked for, and says what to show of it.
+    /// `travel` restores a kept tick a paused page asked for, and shows it to the pages.
     pub fn between_ticks<C>(
         &self,
         tree: &mut Tree<C>,
         rewind: Value,
-        travel: &mut dyn FnMut(&mut Tree<C>, Travel) -> Option<Shown>,
+        travel: &mut dyn FnMut(&mut Tree<C>, Travel),
     ) {
         self.apply_edits(tree);
         self.publish(tree);
@@ -347,11 +347,7 @@ impl Hub {
                     for request in requests {
                         match request {
                             Request::Edit(e) => values::apply(tree, &e),
-                            Request::Travel(t) => {
-                                if let Some(shown) = travel(tree, t) {
-                                    self.show_kept(tree, shown);
-                                }
-                            }
+                            Request::Travel(t) => travel(tree, t),
                         }
                     }
                     self.publish(tree);

@@ -102,25 +102,27 @@ impl Watch {
         let hub = Arc::clone(&self.hub);
         self.hub
             .between_ticks(tree, window.describe(), &mut |tree, travel: Travel| {
-                let now = hub.shown_now()?;
+                let Some(now) = hub.shown_now() else {
+                    return;
+                };
                 let gone = window
                     .target(travel, now.tick)
                     .and_then(|tick| window.go(tick, tree, world, || now));
                 let shown = match gone {
-                    Ok(shown) => shown,
+                    Ok(shown) => rewind::Shown {
+                        tick: shown.tick,
+                        statuses: shown.statuses.clone(),
+                        failure: shown.failure.clone(),
+                    },
                     Err(why) => {
                         hub.refuse(why);
-                        return None;
+                        return;
                     }
                 };
-                let shown = rewind::Shown {
-                    tick: shown.tick,
-                    statuses: shown.statuses.clone(),
-                    failure: shown.failure.clone(),
-                };
+                // The tick first: the scene goes out tagged with the tick shown.
+                hub.show_kept(tree, shown);
                 hub.set_rewind(window.describe());
                 show_scene(&hub, world.scene(tree).as_ref());
-                Some(shown)
             });
         window.go_on(tree, world)
     }
