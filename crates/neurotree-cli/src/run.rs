@@ -14,6 +14,9 @@
 //! With `--view`, the tree is also drawn after every tick, with that tick's statuses, on
 //! standard error.
 //! With `--groot PORT`, the run is also served to Groot2 (see `groot.rs`).
+//! With `--studio PORT`, to the browser studio: a page that went back to tick T and
+//! stepped or continued from there forks the run, which prints `{"rewind":{"to":T}}` and
+//! numbers the ticks that follow on from T.
 //!
 //! The loggers of `neurotree::observe` can watch the run too ([`ObserveArgs`]); they write
 //! to stderr or to files, so stdout keeps only the lines above. `--coverage` prints what
@@ -46,10 +49,12 @@ use crate::Outcome;
 
 mod observe;
 mod reload;
+mod rewind;
 
 use observe::observers;
 pub use observe::{failure_json, ObserveArgs};
 use reload::{reload, save_run};
+use rewind::RunWorld;
 
 /// What `neurotree run --help` says after the options.
 const RUN_AFTER_HELP: &str = "\
@@ -439,6 +444,11 @@ pub(crate) fn execute_watched(
     tree.set_observer((Recorder(Arc::clone(&record)), observers));
     // The `--set-at` ticks written so far: on a resumed run, those of the ticks it saved.
     let mut set_upto: u32 = ticks;
+    // What a page going back restores beside the tree.
+    let mut world = RunWorld {
+        clock: clock.clone(),
+        record: Arc::clone(&record),
+    };
     while ticks < limit {
         live::pace(&opts.live);
         if let Some(watcher) = &mut watcher {
@@ -455,8 +465,14 @@ pub(crate) fn execute_watched(
             .set_due(set_upto, ticks + 1, tree.blackboard_mut());
         set_upto = ticks + 1;
         if let Some(studio) = &mut studio {
-            // A page may pause here, and edit the blackboard before the tick.
-            studio.between_ticks(&mut tree);
+            // A page may pause here, edit the blackboard before the tick, or go back to an
+            // earlier tick and go on from there.
+            if let Some(to) = studio.between_ticks_with(&mut tree, &mut world) {
+                let to = u32::try_from(to).unwrap_or(u32::MAX);
+                writeln!(out, "{}", json!({ "rewind": { "to": to } }))?;
+                ticks = to;
+                set_upto = to;
+            }
         }
         let left = limit - ticks;
         tree.set_max_passes(left);

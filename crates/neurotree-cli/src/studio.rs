@@ -56,6 +56,17 @@ pub struct StudioFlags {
     /// its last statuses.
     #[arg(long = "studio-linger", id = "studio_linger", value_name = "SECS", default_value = "5", value_parser = seconds, requires = "studio")]
     pub linger: Duration,
+    /// Ticks whose state the run keeps, so that a paused page can go back to them and fork
+    /// the run there (0: none).
+    #[arg(
+        long = "rewind-window",
+        id = "rewind_window",
+        value_name = "N",
+        default_value_t = 300,
+        value_parser = clap::value_parser!(u32).range(0..=1_000_000),
+        requires = "studio"
+    )]
+    pub rewind_window: u32,
 }
 
 /// A number of seconds, fractions allowed.
@@ -112,7 +123,17 @@ impl Served {
     }
 
     /// Never called: no `Served` exists.
-    pub fn between_ticks<C>(&mut self, _: &mut neurotree::Tree<C>) {
+    #[cfg_attr(not(feature = "ros2"), allow(dead_code))]
+    pub fn between_ticks<C>(&mut self, _: &mut neurotree::Tree<C>) -> Option<u64> {
+        match *self {}
+    }
+
+    /// Never called: no `Served` exists.
+    pub fn between_ticks_with<C, W>(
+        &mut self,
+        _: &mut neurotree::Tree<C>,
+        _: &mut W,
+    ) -> Option<u64> {
         match *self {}
     }
 

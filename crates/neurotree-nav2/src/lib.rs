@@ -159,7 +159,7 @@ pub const CONTROLS: [&str; 15] = [
 /// routes, obstacles, sensor readings), so that the studio and `run` show them as JSON and a
 /// tree's state saves them ([`Registry::register_value`]). [`register_controls`] calls it.
 pub fn register_values<C: 'static>(registry: &mut Registry<C>) {
-    use robotics::{Obstacle, Path, Pose2D, Route, SensorData};
+    use robotics::{Obstacle, Path, Pose2D, Route, SensorData, TrackingFeedback};
     registry.register_value::<Pose2D>();
     registry.register_value::<Vec<Pose2D>>();
     registry.register_value::<Path>();
@@ -167,6 +167,7 @@ pub fn register_values<C: 'static>(registry: &mut Registry<C>) {
     registry.register_value::<Obstacle>();
     registry.register_value::<Vec<Obstacle>>();
     registry.register_value::<SensorData>();
+    registry.register_value::<TrackingFeedback>();
     registry.register_value::<Vec<i64>>();
     registry.register_value::<Vec<String>>();
 }

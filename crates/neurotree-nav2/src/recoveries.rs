@@ -87,6 +87,17 @@ impl RecoveryCounter {
         self.lock().branches.clone()
     }
 
+    /// Sets each branch's runs back to `branches` (what [`branches`](Self::branches) said
+    /// earlier): the run went back to then.
+    pub fn set_branches(&self, branches: &[(String, u32)]) {
+        let mut counts = self.lock();
+        for ((label, runs), (was_label, was)) in counts.branches.iter_mut().zip(branches) {
+            if label == was_label {
+                *runs = *was;
+            }
+        }
+    }
+
     fn lock(&self) -> MutexGuard<'_, Counts> {
         // Plain counters: still whole if a holder panicked.
         self.counts.lock().unwrap_or_else(|e| e.into_inner())

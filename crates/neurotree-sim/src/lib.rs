@@ -18,7 +18,8 @@
 //! The world is a [`MotionPlanner`](neurotree_nav2::robotics::MotionPlanner) (A* on the global
 //! costmap, via the `pathfinding` crate), and its sensors are
 //! [`SensorReader`](neurotree_nav2::robotics::SensorReader)s, so the robotics nodes drive it as
-//! they would a robot. [`GridWorld::render`] draws it as plain text.
+//! they would a robot. [`GridWorld::render`] draws it as plain text, [`GridWorld::scene`] as
+//! a [`Scene`](neurotree_toolkit::scene::Scene) for a viewer.
 //!
 //! ```
 //! use std::time::Duration;
@@ -60,6 +61,7 @@ pub mod nav2;
 mod obstacle;
 mod planner;
 pub mod render;
+pub mod scene;
 mod sensors;
 mod world;
 

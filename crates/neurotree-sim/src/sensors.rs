@@ -29,7 +29,7 @@ use super::world::Truth;
 use neurotree_nav2::robotics::{Pose2D, SensorData, SensorError, SensorReader};
 
 /// What every simulated sensor shares: the latest sample, availability, a generator.
-#[derive(Debug)]
+#[derive(Clone, Debug)]
 struct Device {
     latest: Option<SensorData>,
     available: bool,
@@ -56,7 +56,7 @@ impl Device {
 }
 
 /// A planar lidar: beams all around, each measuring the distance to the first occupied cell.
-#[derive(Debug)]
+#[derive(Clone, Debug)]
 pub struct Lidar {
     device: Device,
     beams: u16,
@@ -159,7 +159,7 @@ impl SensorReader for Lidar {
 }
 
 /// A forward camera with an object detector: it reports the obstacles in its field of view.
-#[derive(Debug)]
+#[derive(Clone, Debug)]
 pub struct Camera {
     device: Device,
     field_of_view: f64,
@@ -241,7 +241,7 @@ impl SensorReader for Camera {
 }
 
 /// The battery gauge.
-#[derive(Debug)]
+#[derive(Clone, Debug)]
 pub struct BatterySensor {
     device: Device,
 }

@@ -43,7 +43,7 @@ impl Truth<'_> {
 }
 
 /// A small deterministic world for one robot: see the [module documentation](super).
-#[derive(Debug)]
+#[derive(Clone, Debug)]
 pub struct GridWorld {
     pub(super) map: GridMap,
     pub(super) timed: Vec<TimedObstacle>,

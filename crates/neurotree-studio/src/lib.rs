@@ -6,7 +6,9 @@
 //! - **edit** a BehaviorTree.CPP file: the tree drawn as `neurotree show` draws it, a
 //!   palette of every node type, ports checked by the loader as you type, undo, save;
 //! - **watch** a running tree: statuses live, the blackboards (editable between ticks), the
-//!   failure chain, breakpoints, pause, step and continue;
+//!   failure chain, breakpoints, pause, step and continue; back and forth through the
+//!   last few hundred ticks, and a fork from any of them; the world the tree acts on drawn
+//!   beside it (a [`World`]'s [scene](neurotree_toolkit::scene));
 //! - **replay** a recorded run (`--jsonl`, `.btlog`, SQLite log) on a timeline.
 //!
 //! Every view draws the tree with the boxes of `neurotree show --format svg` (ports under
@@ -68,7 +70,7 @@ pub use palette::palette;
 pub use replay::{Replay, ReplayError, Step};
 pub use server::RegistryFactory;
 pub use view::{NodeView, TreeView};
-pub use watch::{StudioObserver, Watch};
+pub use watch::{StudioObserver, Watch, World, DEFAULT_REWIND_WINDOW, MAX_SCENE_BYTES};
 pub use workspace::{FileEntry, FileKind, PathError, Workspace};
 
 /// How to serve the studio.

@@ -1084,7 +1084,7 @@ async fn a_btlog_replays_and_its_timeline_scrubs_forward_and_back() {
         Value::Array((0..nodes).map(|i| json!([i, "IDLE"])).collect())
     );
     // And with the buttons: one step on.
-    b.click("[data-action=forward]").await;
+    b.click("#replay-view [data-action=forward]").await;
     assert_eq!(b.attr(".position", "data-step").await.as_deref(), Some("1"));
     assert_eq!(b.js("return [...document.querySelectorAll('#replay-view [data-node-id]')].map(e => [Number(e.dataset.nodeId), e.dataset.status]);").await, expected(1));
     b.close().await;

@@ -1,7 +1,9 @@
 // The watch view: a running tree as the server's studio observer reports it over `/ws`
 // (PROTOCOL.md): every node's status live, the running path and the list of nodes running
 // now, each scope's blackboard (editable between ticks), the failure reason chain,
-// breakpoints, pause / step / continue, and the tick counter (`[data-tick]`).
+// breakpoints, pause / step / continue, back / forward through the ticks the run kept
+// (a step or continue from a past tick forks the run there), the tick counter
+// (`[data-tick]`), and the scene the run draws of its world (`[data-scene]`).
 //
 // `state` changes only through `actions` (what the user does; most are sent to the
 // server) and `receive` (what the server says, one function per message). A tick message
@@ -12,6 +14,7 @@
 
 import * as api from "./api.js";
 import { TreeDrawing, drawingToolbar, nodesOfTreeView } from "./tree.js";
+import { SceneView } from "./scene.js";
 
 export function mountWatch(section, app) {
   const state = {
@@ -27,6 +30,8 @@ export function mountWatch(section, app) {
     blackboards: [],
     failure: null,
     ended: null,
+    // The ticks the run kept: {window, oldest, newest, at, blocked} (PROTOCOL.md, "Rewind").
+    rewind: null,
     selected: null,
     // Tick messages and status changes received, for measurements.
     received: { ticks: 0, changes: 0 },
@@ -39,11 +44,14 @@ export function mountWatch(section, app) {
         <span class="run-name"></span>
         <span class="tick-box">tick <b data-tick="0">0</b></span>
         <button data-action="pause" title="stop before the next tick (Space)">❚❚ pause</button>
+        <button data-action="back" title="show the tick before">◂ back</button>
+        <button data-action="forward" title="show the tick after">▸ forward</button>
         <button data-action="step" title="tick once, then stop (S)">▸❚ step</button>
         <button data-action="continue" title="go on (Space)">▶ continue</button>
         <span class="run-state" data-run-state="none"></span>
       </div>
       <div class="canvas"></div>
+      <div class="scene-panel" data-scene hidden></div>
     </div>
     <aside class="side-panel watch-side">
       <section class="selected-node"><p class="hint">Click a node to set a breakpoint on it.</p></section>
@@ -57,6 +65,7 @@ export function mountWatch(section, app) {
     onSelect: (i) => actions.select(i),
   });
   $(".canvas").before(drawingToolbar(drawing));
+  const scene = new SceneView($("[data-scene]"));
   const tickEl = $("[data-tick]");
   const shown = [];
   let socket = null;
@@ -78,6 +87,8 @@ export function mountWatch(section, app) {
     pause: () => socket?.send({ type: "pause" }),
     step: () => socket?.send({ type: "step" }),
     continue: () => socket?.send({ type: "continue" }),
+    back: () => socket?.send({ type: "back" }),
+    forward: () => socket?.send({ type: "forward" }),
     breakpoint(id, when) {
       socket?.send({ type: "breakpoint", node: id, when });
     },
@@ -124,6 +135,11 @@ export function mountWatch(section, app) {
         return renderRunState();
       case "breakpoints":
         return setBreakpoints(msg.breakpoints);
+      case "rewind":
+        state.rewind = msg.rewind;
+        return renderRunState();
+      case "scene":
+        return scene.set(msg.scene, msg.why);
       case "ended":
         state.ended = msg.status;
         state.paused = null;
@@ -164,6 +180,8 @@ export function mountWatch(section, app) {
     }
     state.paused = msg.paused;
     state.ended = msg.ended;
+    state.rewind = msg.rewind;
+    scene.set(msg.scene, null);
     state.blackboards = msg.blackboards || [];
     state.failure = msg.failure;
     setBreakpoints(msg.breakpoints || []);
@@ -235,6 +253,9 @@ export function mountWatch(section, app) {
     if (state.ended) {
       el.dataset.runState = "ended";
       el.textContent = `ended: ${state.ended}`;
+    } else if (p && state.rewind?.at != null) {
+      el.dataset.runState = "paused";
+      el.textContent = `back at tick ${state.rewind.at} of ${state.rewind.newest}: step or continue to go on from here (the later ticks are dropped)`;
     } else if (p) {
       el.dataset.runState = "paused";
       const node = p.node != null ? state.tree?.nodes[p.node] : null;
@@ -252,6 +273,31 @@ export function mountWatch(section, app) {
     $('[data-action="pause"]').disabled = !state.tree || !!p || !!state.ended;
     $('[data-action="step"]').disabled = !p;
     $('[data-action="continue"]').disabled = !p;
+    section.dataset.at = state.rewind?.at ?? "";
+    for (const way of ["back", "forward"]) {
+      const button = $(`[data-action="${way}"]`);
+      const why = travelRefused(way);
+      button.disabled = why != null;
+      button.title = why ?? (way === "back" ? "show the tick before" : "show the tick after");
+    }
+  }
+
+  // Why going `way` ("back" or "forward") is not possible now, or null: the server checks
+  // the same (PROTOCOL.md, "Rewind").
+  function travelRefused(way) {
+    const p = state.paused;
+    const r = state.rewind;
+    if (state.ended || !state.tree) return "the run is not going";
+    if (!p) return `pause the run to go ${way}`;
+    if (p.why === "breakpoint") return `the run is held inside a tick: step to its end to go ${way}`;
+    if (!r || !r.window) return "this run keeps no ticks (--rewind-window 0)";
+    if (r.blocked && r.at == null) return `cannot go back from this tick: ${r.blocked}`;
+    const from = r.at ?? state.tick;
+    if (way === "back" && (r.oldest == null || from <= r.oldest)) {
+      return `tick ${from} is the oldest kept: the run keeps its last ${r.window} ticks (--rewind-window)`;
+    }
+    if (way === "forward" && r.at == null) return `tick ${from} is the latest`;
+    return null;
   }
 
   function renderRunning() {
@@ -420,6 +466,8 @@ export function mountWatch(section, app) {
     if (a === "pause") actions.pause();
     else if (a === "step") actions.step();
     else if (a === "continue") actions.continue();
+    else if (a === "back") actions.back();
+    else if (a === "forward") actions.forward();
   });
 
   return {

@@ -24,6 +24,7 @@ pub mod observe;
 pub mod registry;
 pub mod render;
 pub mod runtime;
+pub mod scene;
 pub mod script;
 mod shared_blackboard;
 #[cfg(test)]

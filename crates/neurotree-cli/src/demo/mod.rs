@@ -15,10 +15,12 @@ use std::time::{Duration, Instant};
 mod frame;
 mod run;
 mod scenario;
+mod world;
 
 pub use frame::Layout;
 pub use run::{DemoConfig, DemoError, DemoRun, DemoSummary, NAVIGATE_TO_POSE_XML};
 pub use scenario::{dock, route_graph, Scenario, DEFAULT_GOAL, PLACING_LOCATION, WAREHOUSE};
+pub use world::{DemoSaved, DemoWorld};
 
 /// How `neurotree demo` shows the run.
 pub struct DemoOptions {

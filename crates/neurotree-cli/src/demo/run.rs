@@ -17,8 +17,9 @@ use neurotree::{BlackboardError, Status, Tree};
 
 use super::frame::{Layout, Parts};
 use super::scenario::{dock, route_graph, Scenario, DEFAULT_GOAL, PLACING_LOCATION};
+use super::world::{plan_ahead, DemoWorld};
 use neurotree::render::LastTickStatuses;
-use neurotree::robotics::{Path, Pose2D};
+use neurotree::robotics::Pose2D;
 use neurotree::sim::nav2::{
     register_nav2_leaves, EventLog, FailureNotes, Nav2Params, Nav2Sim, RecoveryCounter,
     NOT_SIMULATED,
@@ -397,6 +398,22 @@ impl DemoRun {
         &mut self.tree
     }
 
+    /// The tree, and the world and counters around it, for a watcher that keeps both after
+    /// each tick and restores both to go back to a tick (the studio).
+    pub fn watched(&mut self) -> (&mut Tree<Nav2Sim>, DemoWorld<'_>) {
+        let world = DemoWorld {
+            sim: &mut self.sim,
+            ticks: &mut self.ticks,
+            status: &mut self.status,
+            error: &mut self.error,
+            notes: &mut self.notes,
+            plans_in_tick: &mut self.plans_in_tick,
+            recoveries: &self.recoveries,
+            scenario: &self.scenario,
+        };
+        (&mut self.tree, world)
+    }
+
     /// The file the tree was loaded from (the built-in navigator's name if none was given).
     pub fn tree_file(&self) -> &str {
         &self.tree_file
@@ -543,17 +560,9 @@ impl DemoRun {
         .compose(layout)
     }
 
-    /// The latest plan from the pose nearest the robot on: the root's `path` entry, or the
-    /// path the robot follows when the tree keeps no such entry.
+    /// The latest plan from the pose nearest the robot on.
     fn plan_ahead(&self) -> Vec<Pose2D> {
-        let world = &self.sim.world;
-        match self.tree.blackboard().get_ref::<Path>("path") {
-            Ok(path) => {
-                let from = path.closest_index(&world.robot()).unwrap_or(0);
-                path.poses[from..].to_vec()
-            }
-            Err(_) => world.path_ahead().to_vec(),
-        }
+        plan_ahead(&self.tree, &self.sim.world)
     }
 
     /// How the run went so far.

@@ -4,9 +4,12 @@ use std::io::{self, Write};
 use std::path::PathBuf;
 use std::time::Duration;
 
+use neurotree::sim::nav2::Nav2Sim;
 use neurotree::{Registry, Status, Tree};
-use neurotree_cli::demo::{self, DemoOptions, DemoRun, DemoSummary, DemoWatch};
-use neurotree_studio::{Studio, StudioObserver, StudioOptions, Watch};
+use neurotree_cli::demo::{
+    self, DemoOptions, DemoRun, DemoSaved, DemoSummary, DemoWatch, DemoWorld,
+};
+use neurotree_studio::{Studio, StudioObserver, StudioOptions, Watch, World};
 
 use super::{StudioArgs, StudioFlags};
 use crate::registry::{with_nav2_controls, Nav2Args};
@@ -109,6 +112,7 @@ pub struct Served {
     studio: Studio,
     watch: Option<Watch>,
     linger: Duration,
+    rewind_window: usize,
 }
 
 impl Served {
@@ -146,6 +150,7 @@ impl Served {
                     studio,
                     watch: None,
                     linger: flags.linger,
+                    rewind_window: flags.rewind_window as usize,
                 })))
             }
             Err(e) => {
@@ -158,15 +163,24 @@ impl Served {
     /// Shows `tree` to the pages; the observer to set on it.
     pub fn attach<C>(&mut self, tree: &Tree<C>, name: &str) -> Box<dyn neurotree::Observer> {
         let (observer, watch): (StudioObserver, Watch) = self.studio.attach(tree, name);
-        self.watch = Some(watch);
+        self.watch = Some(watch.rewind_window(self.rewind_window));
         Box::new(observer)
     }
 
-    /// Between two ticks: the pages' edits, pauses and steps.
-    pub fn between_ticks<C>(&mut self, tree: &mut Tree<C>) {
-        if let Some(w) = &mut self.watch {
-            w.between_ticks(tree);
-        }
+    /// Between two ticks: the pages' edits, pauses and steps; the tick a page went back
+    /// to when the run forks there.
+    pub fn between_ticks<C>(&mut self, tree: &mut Tree<C>) -> Option<u64> {
+        self.between_ticks_with(tree, &mut ())
+    }
+
+    /// [`between_ticks`](Self::between_ticks) for a tree acting on `world`, which is kept
+    /// and restored with it.
+    pub fn between_ticks_with<C, W: World<C>>(
+        &mut self,
+        tree: &mut Tree<C>,
+        world: &mut W,
+    ) -> Option<u64> {
+        self.watch.as_mut()?.between_ticks_with(tree, world)
     }
 
     /// After a reload: the pages get the new tree.
@@ -225,11 +239,40 @@ impl DemoWatch for DemoWatched {
     }
 
     fn before_tick(&mut self, demo: &mut DemoRun) {
-        self.served.between_ticks(demo.tree_mut());
+        let (tree, world) = demo.watched();
+        let mut world = Warehouse(world);
+        if let Some(to) = self.served.between_ticks_with(tree, &mut world) {
+            world.0.note(format!(
+                "back to tick {to}: the run goes on from there, the later ticks dropped"
+            ));
+        }
     }
 
     fn finish(&mut self, demo: &mut DemoRun) {
         let status = demo.summary().outcome;
         self.served.end(demo.tree_mut(), status);
+    }
+}
+
+/// The demo's warehouse and counters, kept and restored with the tree, and drawn beside it.
+struct Warehouse<'a>(DemoWorld<'a>);
+
+impl World<Nav2Sim> for Warehouse<'_> {
+    type Saved = DemoSaved;
+
+    fn save(&self, _: &Tree<Nav2Sim>) -> Result<DemoSaved, String> {
+        Ok(self.0.save())
+    }
+
+    fn restore(&mut self, saved: &DemoSaved) {
+        self.0.restore(saved);
+    }
+
+    fn codecs(&self) -> neurotree::state::StateCodecs {
+        DemoWorld::codecs()
+    }
+
+    fn scene(&self, tree: &Tree<Nav2Sim>) -> Option<neurotree::scene::Scene> {
+        Some(self.0.scene(tree))
     }
 }

@@ -87,4 +87,65 @@ impl Snapshots {
     pub fn ticks(&self) -> impl Iterator<Item = u64> + '_ {
         self.states.iter().map(|(t, _)| *t)
     }
+
+    /// Drops the states of the ticks after `tick`: the run forked from there, and what it
+    /// did after no longer happened.
+    pub fn forget_after(&mut self, tick: u64) {
+        while self.states.back().is_some_and(|(t, _)| *t > tick) {
+            self.states.pop_back();
+        }
+    }
+
+    /// Drops every state kept.
+    pub fn clear(&mut self) {
+        self.states.clear();
+    }
+
+    /// The codecs blackboard values are saved with: restore the states with them.
+    pub fn codecs(&self) -> &StateCodecs {
+        &self.codecs
+    }
+
+    /// The number of states kept.
+    pub fn len(&self) -> usize {
+        self.states.len()
+    }
+
+    /// `true` if no state is kept.
+    pub fn is_empty(&self) -> bool {
+        self.states.is_empty()
+    }
+
+    /// The bytes the kept states take (their encodings, not counting the vectors' spare
+    /// room).
+    pub fn bytes(&self) -> usize {
+        self.states.iter().map(|(_, s)| s.len()).sum()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{Blueprint, ManualClock};
+
+    #[test]
+    fn a_fork_forgets_the_later_states_and_the_window_stays_bounded() {
+        let bp = Blueprint::<()>::builder()
+            .repeat("r", -1, |r| r.always_success("a"))
+            .build_shared()
+            .unwrap();
+        let mut tree = Tree::with_clock(bp, ManualClock::new());
+        let mut snapshots = Snapshots::new(1, 5);
+        for tick in 1..=8 {
+            tree.tick_exactly_once(&mut ()).unwrap();
+            snapshots.after_tick(&tree, tick).unwrap();
+        }
+        assert_eq!(snapshots.ticks().collect::<Vec<_>>(), [4, 5, 6, 7, 8]);
+        assert!(snapshots.bytes() > 0);
+        snapshots.forget_after(6);
+        assert_eq!(snapshots.ticks().collect::<Vec<_>>(), [4, 5, 6]);
+        assert_eq!(snapshots.len(), 3);
+        snapshots.clear();
+        assert!(snapshots.is_empty());
+    }
 }

@@ -241,6 +241,20 @@ impl Behavior {
 }
 
 impl<C: Nav2Context> StatefulAction<C> for Behavior {
+    /// When the motion started and how long it may take; the kind is the factory's.
+    fn save_state(&self) -> Option<Vec<u8>> {
+        Some(neurotree_core::state::encode(&(
+            self.started,
+            self.allowance,
+        )))
+    }
+
+    fn restore_state(&mut self, state: &[u8]) -> bool {
+        neurotree_core::state::decode(state)
+            .map(|(started, allowance)| (self.started, self.allowance) = (started, allowance))
+            .is_some()
+    }
+
     fn on_start(&mut self, h: &mut Handle<'_, C>) -> Status {
         match self.start(h) {
             Ok(()) => Status::Running,

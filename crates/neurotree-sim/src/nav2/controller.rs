@@ -203,6 +203,17 @@ impl<C: Nav2Context> StatefulAction<C> for FollowPath {
         self.control(h, true)
     }
 
+    /// The path it follows: the world's motion, saved with the world, follows it too.
+    fn save_state(&self) -> Option<Vec<u8>> {
+        Some(neurotree_core::state::encode(&self.following))
+    }
+
+    fn restore_state(&mut self, state: &[u8]) -> bool {
+        neurotree_core::state::decode(state)
+            .map(|following| self.following = following)
+            .is_some()
+    }
+
     fn on_running(&mut self, h: &mut Handle<'_, C>) -> Status {
         self.control(h, false)
     }

@@ -137,6 +137,7 @@ pub mod recovery_help;
 pub mod route;
 pub mod selectors;
 pub mod smoother;
+mod snapshot;
 pub mod system;
 #[cfg(test)]
 mod testing;
@@ -150,6 +151,7 @@ pub use docking::Dock;
 pub use failures::FailureNotes;
 pub use neurotree_nav2::{EventLog, RecoveryCounter};
 pub use route::RouteGraph;
+pub use snapshot::Nav2SimState;
 
 use super::{GridWorld, MotionStatus};
 use neurotree_core::{Blackboard, BlackboardError};
@@ -185,7 +187,7 @@ impl Default for Nav2Params {
 
 /// The context the Nav2 leaves work on: the world, the servers' parameters, what they
 /// counted, and (if asked) a log of what they did.
-#[derive(Debug)]
+#[derive(Clone, Debug)]
 pub struct Nav2Sim {
     /// The simulated robot and its surroundings.
     pub world: GridWorld,
@@ -443,7 +445,6 @@ pub fn register_nav2_leaves<C: Nav2Context>(
     registry: &mut Registry<C>,
 ) -> Result<(), RegistryError> {
     neurotree_nav2::register_values(registry);
-    registry.register_value::<controller::TrackingFeedback>();
     planner::register(registry)?;
     controller::register(registry)?;
     selectors::register(registry)?;
@@ -481,7 +482,6 @@ pub fn register_nav2_checks<C: Nav2Context>(
     registry: &mut Registry<C>,
 ) -> Result<(), RegistryError> {
     neurotree_nav2::register_values(registry);
-    registry.register_value::<controller::TrackingFeedback>();
     selectors::register(registry)?;
     path_checks::register(registry)?;
     recovery_help::register(registry)?;

@@ -207,6 +207,16 @@ struct CheckStopStatus {
 }
 
 impl<C: Nav2Context> StatefulAction<C> for CheckStopStatus {
+    fn save_state(&self) -> Option<Vec<u8>> {
+        Some(neurotree_core::state::encode(&self.still_since))
+    }
+
+    fn restore_state(&mut self, state: &[u8]) -> bool {
+        neurotree_core::state::decode::<Option<Duration>>(state)
+            .map(|saved| self.still_since = saved)
+            .is_some()
+    }
+
     fn on_start(&mut self, h: &mut Handle<'_, C>) -> Status {
         let read = ports::or(h, "velocity_threshold", 0.01)
             .and_then(|t| Ok((t, ports::or(h, "duration_stopped", 1000_u64)?)));

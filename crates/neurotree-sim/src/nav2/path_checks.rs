@@ -200,6 +200,19 @@ struct IsGoalNearby {
 }
 
 impl<C: Nav2Context> StatefulAction<C> for IsGoalNearby {
+    fn save_state(&self) -> Option<Vec<u8>> {
+        Some(neurotree_core::state::encode(&(
+            &self.memory.path,
+            self.memory.from,
+        )))
+    }
+
+    fn restore_state(&mut self, state: &[u8]) -> bool {
+        neurotree_core::state::decode::<(Path, usize)>(state)
+            .map(|saved| (self.memory.path, self.memory.from) = saved)
+            .is_some()
+    }
+
     fn on_start(&mut self, h: &mut Handle<'_, C>) -> Status {
         let read = ports::or(h, "path", Path::default()).and_then(|path| {
             let threshold: f64 = ports::or(h, "proximity_threshold", 1.0)?;
@@ -233,6 +246,19 @@ struct TruncatePathLocal {
 }
 
 impl<C: Nav2Context> StatefulAction<C> for TruncatePathLocal {
+    fn save_state(&self) -> Option<Vec<u8>> {
+        Some(neurotree_core::state::encode(&(
+            &self.memory.path,
+            self.memory.from,
+        )))
+    }
+
+    fn restore_state(&mut self, state: &[u8]) -> bool {
+        neurotree_core::state::decode::<(Path, usize)>(state)
+            .map(|saved| (self.memory.path, self.memory.from) = saved)
+            .is_some()
+    }
+
     fn on_start(&mut self, h: &mut Handle<'_, C>) -> Status {
         let read = ports::or(h, "input_path", Path::default()).and_then(|path| {
             let forward: f64 = ports::or(h, "distance_forward", 8.0)?;

@@ -100,6 +100,16 @@ struct AreErrorCodesPresent {
 }
 
 impl<C: Nav2Context> StatefulAction<C> for AreErrorCodesPresent {
+    fn save_state(&self) -> Option<Vec<u8>> {
+        Some(neurotree_core::state::encode(&self.codes))
+    }
+
+    fn restore_state(&mut self, state: &[u8]) -> bool {
+        neurotree_core::state::decode::<Option<Vec<u16>>>(state)
+            .map(|saved| self.codes = saved)
+            .is_some()
+    }
+
     fn on_start(&mut self, h: &mut Handle<'_, C>) -> Status {
         let codes = self.codes.get_or_insert_with(|| {
             let listed =

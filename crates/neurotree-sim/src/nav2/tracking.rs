@@ -153,6 +153,16 @@ struct PathExpiringTimer {
 }
 
 impl<C: Nav2Context> StatefulAction<C> for PathExpiringTimer {
+    fn save_state(&self) -> Option<Vec<u8>> {
+        Some(neurotree_core::state::encode(&self.started))
+    }
+
+    fn restore_state(&mut self, state: &[u8]) -> bool {
+        neurotree_core::state::decode::<Option<(f64, Path, Duration)>>(state)
+            .map(|saved| self.started = saved)
+            .is_some()
+    }
+
     fn on_start(&mut self, h: &mut Handle<'_, C>) -> Status {
         let now = h.now();
         let path = ports::or(h, "path", Path::default()).unwrap_or_default();

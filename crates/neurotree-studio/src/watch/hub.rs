@@ -10,6 +10,7 @@ use neurotree_core::{NodeId, NodeStatus, Observer, Reason, ScopeId, Status, Stat
 use serde::Serialize;
 use serde_json::{json, Value};
 
+use super::rewind::Travel;
 use super::values;
 use crate::view::{status_name, status_of_byte, TreeView};
 
@@ -32,6 +33,15 @@ pub(crate) struct Edit {
     pub scope: u32,
     pub key: String,
     pub value: Value,
+}
+
+/// What a page asked of the run, done between ticks by the run's thread.
+#[derive(Clone, Debug)]
+pub(crate) enum Request {
+    /// Write a blackboard entry.
+    Edit(Edit),
+    /// Show an earlier or later kept tick (only while paused between ticks).
+    Travel(Travel),
 }
 
 /// What the observer writes in the tick, per node, read by the pages' tasks without a
@@ -80,7 +90,6 @@ pub(crate) struct Run {
 
 /// What changes under the lock, each part with a version so that a page sends a part only
 /// when it changed.
-#[derive(Default)]
 pub(crate) struct Inner {
     /// Bumped when another run (or a reload) is attached: pages then send `hello`.
     pub generation: u64,
@@ -91,17 +100,45 @@ pub(crate) struct Inner {
     pub paused_version: u64,
     pub breakpoints_version: u64,
     pub ended: Option<&'static str>,
+    /// The kept ticks, as pages are told them (PROTOCOL.md, "Rewind").
+    pub rewind: (u64, Value),
+    /// The scene of the tick shown, as JSON, or why none is shown (PROTOCOL.md, "Scene").
+    pub scene: (u64, Result<Arc<str>, String>),
+    /// A page's request the run refused when it came to do it (a travel past the kept
+    /// ticks, asked for before the pages heard where the run stands): told to every page.
+    pub refusal: (u64, String),
     pause_requested: bool,
     /// Stops between ticks to pass before a step pauses: 1 from a pause between ticks
     /// (tick once), 2 from a breakpoint inside a tick (finish it, tick the next).
     steps_owed: u8,
-    edits: Vec<Edit>,
+    pub(super) requests: Vec<Request>,
+}
+
+impl Default for Inner {
+    fn default() -> Self {
+        Self {
+            generation: 0,
+            run: None,
+            blackboards: Default::default(),
+            failure: Default::default(),
+            paused: None,
+            paused_version: 0,
+            breakpoints_version: 0,
+            ended: None,
+            rewind: (0, Value::Null),
+            scene: (0, Err(String::new())),
+            refusal: (0, String::new()),
+            pause_requested: false,
+            steps_owed: 0,
+            requests: Vec::new(),
+        }
+    }
 }
 
 /// The watch state shared by the run, the observer and the pages.
 pub(crate) struct Hub {
     inner: Mutex<Inner>,
-    resume: Condvar,
+    pub(super) resume: Condvar,
     version: tokio::sync::watch::Sender<u64>,
     pages: AtomicUsize,
     /// Breakpoints stop the run only while a page is attached.
@@ -271,7 +308,15 @@ impl Hub {
         }
     }
 
-    pub fn between_ticks<C>(&self, tree: &mut Tree<C>) {
+    /// Between two ticks: the pages' edits applied, the blackboards published, and the
+    /// run held while a page paused it, the pages then told the kept ticks (`rewind`);
+    /// `travel` restores a kept tick a paused page asked for, and shows it to the pages.
+    pub fn between_ticks<C>(
+        &self,
+        tree: &mut Tree<C>,
+        rewind: Value,
+        travel: &mut dyn FnMut(&mut Tree<C>, Travel),
+    ) {
         self.apply_edits(tree);
         self.publish(tree);
         let why = {
@@ -289,15 +334,21 @@ impl Hub {
             }
         };
         if let Some(why) = why {
+            // Told only when the run stands still, where pages use it: not a message every
+            // tick.
+            self.set_rewind(rewind);
             self.hold(
                 Paused {
                     why,
                     node: None,
                     status: None,
                 },
-                Some(&mut |edits: Vec<Edit>| {
-                    for e in edits {
-                        values::apply(tree, &e);
+                Some(&mut |requests: Vec<Request>| {
+                    for request in requests {
+                        match request {
+                            Request::Edit(e) => values::apply(tree, &e),
+                            Request::Travel(t) => travel(tree, t),
+                        }
                     }
                     self.publish(tree);
                 }),
@@ -305,16 +356,20 @@ impl Hub {
         }
     }
 
+    /// Edits made while the run went on; a travel asked for then (the page saw the run
+    /// paused, and it went on since) is dropped.
     fn apply_edits<C>(&self, tree: &mut Tree<C>) {
-        let edits = std::mem::take(&mut self.lock().edits);
-        for e in &edits {
-            values::apply(tree, e);
+        let requests = std::mem::take(&mut self.lock().requests);
+        for r in &requests {
+            if let Request::Edit(e) = r {
+                values::apply(tree, e);
+            }
         }
     }
 
     /// Stands the run still until a page continues or steps it, or the last page leaves;
     /// `apply` (between ticks only) applies blackboard edits made meanwhile.
-    fn hold(&self, paused: Paused, mut apply: Option<&mut dyn FnMut(Vec<Edit>)>) {
+    fn hold(&self, paused: Paused, mut apply: Option<&mut dyn FnMut(Vec<Request>)>) {
         let mut inner = self.lock();
         if self.pages() == 0 {
             return;
@@ -324,10 +379,10 @@ impl Hub {
         self.bump();
         while inner.paused.is_some() && self.pages() > 0 {
             if let Some(apply) = apply.as_mut() {
-                if !inner.edits.is_empty() {
-                    let edits = std::mem::take(&mut inner.edits);
+                if !inner.requests.is_empty() {
+                    let requests = std::mem::take(&mut inner.requests);
                     drop(inner);
-                    apply(edits);
+                    apply(requests);
                     inner = self.lock();
                     continue;
                 }
@@ -394,7 +449,7 @@ impl Hub {
 
     /// A page edited a blackboard entry; applied between ticks (at once if paused there).
     pub fn edit(&self, edit: Edit) {
-        self.lock().edits.push(edit);
+        self.lock().requests.push(Request::Edit(edit));
         self.resume.notify_all();
     }
 

@@ -11,11 +11,14 @@ use serde::Deserialize;
 use serde_json::{json, Value};
 
 use super::hub::{statuses, Edit, Hub, Inner};
+use super::rewind::Travel;
 
 /// The largest message a page may send: controls are a few dozen bytes.
 pub const MAX_PAGE_MESSAGE: usize = 64 * 1024;
 /// The most messages a page may send in a second before the rest are refused.
 pub const MAX_PAGE_RATE: u32 = 100;
+/// The largest scene sent to pages, as JSON: a bigger one is replaced by the reason.
+pub const MAX_SCENE_BYTES: usize = 1024 * 1024;
 /// `tick` messages a page that acknowledges may have unacknowledged: two, so that one
 /// travels while the page draws the other, and no more, so that none goes stale in a queue.
 const IN_FLIGHT: u8 = 2;
@@ -27,6 +30,10 @@ enum FromPage {
     Pause,
     Step,
     Continue,
+    /// Show the kept tick before the one shown (paused only).
+    Back,
+    /// Show the kept tick after the one shown (paused only).
+    Forward,
     Breakpoint {
         node: u64,
         when: String,
@@ -53,6 +60,9 @@ struct Sent {
     failure: u64,
     paused: u64,
     breakpoints: u64,
+    rewind: u64,
+    scene: u64,
+    refusal: u64,
     ended: bool,
 }
 
@@ -145,6 +155,8 @@ fn control(hub: &Hub, message: FromPage) -> Option<String> {
         FromPage::Pause => hub.pause(),
         FromPage::Step => hub.step(),
         FromPage::Continue => hub.resume(),
+        FromPage::Back => return hub.travel(Travel::Back).err(),
+        FromPage::Forward => return hub.travel(Travel::Forward).err(),
         FromPage::Breakpoint { node, when } => {
             let (before, status) = match when.as_str() {
                 "before" => (true, None),
@@ -202,6 +214,9 @@ fn changes(hub: &Hub, sent: &mut Sent, ticks: bool) -> Vec<String> {
             failure: inner.failure.0,
             paused: inner.paused_version,
             breakpoints: inner.breakpoints_version,
+            rewind: inner.rewind.0,
+            scene: inner.scene.0,
+            refusal: inner.refusal.0,
             ended: inner.ended.is_some(),
         };
         return out;
@@ -217,6 +232,20 @@ fn changes(hub: &Hub, sent: &mut Sent, ticks: bool) -> Vec<String> {
         out.push(json!({"type": "tick", "tick": tick, "changes": changed}).to_string());
         sent.statuses = now;
         sent.tick = tick;
+    }
+    // A scene goes with the ticks, at their pace: a page slower than the run is sent the
+    // newest, never a queue of them.
+    if ticks && sent.scene != inner.scene.0 {
+        sent.scene = inner.scene.0;
+        out.push(scene_message(&inner, tick));
+    }
+    if sent.refusal != inner.refusal.0 {
+        sent.refusal = inner.refusal.0;
+        out.push(json!({"type": "refused", "why": inner.refusal.1}).to_string());
+    }
+    if sent.rewind != inner.rewind.0 {
+        sent.rewind = inner.rewind.0;
+        out.push(json!({"type": "rewind", "tick": tick, "rewind": inner.rewind.1}).to_string());
     }
     if sent.blackboards != inner.blackboards.0 {
         sent.blackboards = inner.blackboards.0;
@@ -258,8 +287,25 @@ fn hello(inner: &Inner, run: &super::hub::Run, statuses: &[&str], tick: u64) -> 
         "blackboards": inner.blackboards.1,
         "failure": inner.failure.1,
         "ended": inner.ended,
+        "rewind": inner.rewind.1,
     })
     .to_string();
-    // `rest` is a JSON object: `{"type":…}`; the tree goes in as its first member.
-    format!("{{\"tree\":{},{}", run.tree, &rest[1..])
+    // `rest` is a JSON object: `{"type":…}`; the tree and the scene go in as its first
+    // members.
+    let scene = match &inner.scene.1 {
+        Ok(scene) => scene,
+        Err(_) => "null",
+    };
+    format!("{{\"tree\":{},\"scene\":{scene},{}", run.tree, &rest[1..])
+}
+
+/// `{"type": "scene", …}`: the scene spliced in as it was serialized once for all pages.
+fn scene_message(inner: &Inner, tick: u64) -> String {
+    match &inner.scene.1 {
+        Ok(scene) => format!("{{\"type\":\"scene\",\"tick\":{tick},\"scene\":{scene}}}"),
+        Err(why) => {
+            let why = (!why.is_empty()).then_some(why);
+            json!({"type": "scene", "tick": tick, "scene": null, "why": why}).to_string()
+        }
+    }
 }
