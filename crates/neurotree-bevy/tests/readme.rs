@@ -1,5 +1,5 @@
-//! The README's Bevy example is this crate's doc example (which runs as a doctest): the
-//! README cannot compile it, since `neurotree` does not depend on Bevy.
+//! The guide's Bevy example is this crate's doc example (which runs as a doctest): the
+//! guide's doctests cannot compile it, since `neurotree` does not depend on Bevy.
 
 fn code_after(text: &str, marker: &str, fence: &str) -> String {
     let start = text.find(marker).expect("the marker") + marker.len();
@@ -13,10 +13,10 @@ fn code_after(text: &str, marker: &str, fence: &str) -> String {
 }
 
 #[test]
-fn the_readmes_bevy_example_is_the_crates_doc_example() {
-    let readme = include_str!("../../../README.md");
+fn the_guides_bevy_example_is_the_crates_doc_example() {
+    let readme = include_str!("../../../docs/guide/bevy.md");
     let lib = include_str!("../src/lib.rs");
-    let in_readme = code_after(readme, "\n## Bevy\n", "```");
+    let in_readme = code_after(readme, "# Bevy\n", "```");
     let doc: String = lib
         .lines()
         .filter_map(|l| l.strip_prefix("//!"))

@@ -196,7 +196,7 @@ async fn at_tick(b: &Browser, tick: u64) -> Value {
 }
 
 fn walk_at(tick: u64) -> &'static str {
-    if tick % 3 == 0 {
+    if tick.is_multiple_of(3) {
         "SUCCESS"
     } else {
         "RUNNING"

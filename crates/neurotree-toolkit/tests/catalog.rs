@@ -1,11 +1,11 @@
-//! The README's node catalog is made from the built-in nodes' declarations, so that it
+//! The guide's node catalog (docs/guide/catalog.md) is made from the built-in nodes' declarations, so that it
 //! cannot drift from them: a node added, renamed or given a port changes the table, and this
-//! test shows the table the README must carry.
+//! test shows the table the guide must carry.
 
 use neurotree::nodes::built_ins;
 use neurotree::{NodeDecl, PortDecl, PortDirection};
 
-const README: &str = include_str!("../../../README.md");
+const CATALOG: &str = include_str!("../../../docs/guide/catalog.md");
 
 /// One port, as the catalog shows it: `` `name` i32 = default ``, with an arrow for what
 /// the node writes.
@@ -48,16 +48,16 @@ fn catalog() -> String {
 
 #[test]
 fn the_readme_catalog_is_the_declarations() {
-    let section = README
-        .split("\n## Node catalog\n")
+    let section = CATALOG
+        .split("# Node catalog\n")
         .nth(1)
-        .expect("README has a `## Node catalog` section")
+        .expect("the guide's catalog has its `# Node catalog` title")
         .split("\n## ")
         .next()
         .unwrap_or_default();
     let table = catalog();
     assert!(
         section.contains(&format!("\n{table}\n")),
-        "README's node catalog differs from the declarations; put this table there:\n\n{table}"
+        "The guide's node catalog (docs/guide/catalog.md) differs from the declarations; put this table there:\n\n{table}"
     );
 }

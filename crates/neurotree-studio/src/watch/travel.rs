@@ -125,7 +125,7 @@ impl Hub {
         match travel {
             Travel::Back => {
                 let oldest = rewind["oldest"].as_u64();
-                if oldest.map_or(true, |o| from <= o) {
+                if oldest.is_none_or(|o| from <= o) {
                     return Err(format!(
                         "tick {from} is the oldest kept: the run keeps its last {window} ticks \
                          (--rewind-window)"
