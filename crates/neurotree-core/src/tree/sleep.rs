@@ -21,7 +21,7 @@
 //! [`tick_exactly_once`](crate::Tree::tick_exactly_once) return Running at once, without a
 //! pass, until it wakes: the clock reaches the earliest deadline declared, the blackboard is
 //! written (any entry: the tree does not tell entries apart), its [`WakeHandle`] or
-//! [`WakeSignal`](crate::WakeSignal) fires, a halt is requested, an observer is attached,
+//! [`WakeSignal`] fires, a halt is requested, an observer is attached,
 //! or the tree is halted, reloaded or restored. Since a sleeping tree skips only passes
 //! whose result would have been the same, statuses, halts and the blackboard are those of
 //! a tree ticked every frame; only the calls of the waiting leaves are saved.

@@ -235,7 +235,7 @@ fn kind<C: 'static>(hysteresis: Option<f64>, enums: Arc<Enums>) -> CustomSpec<C>
 }
 
 /// A UtilitySelector's kind for a builder, with a literal `hysteresis` (see
-/// [`UtilityBuilder`](crate::UtilityBuilder)).
+/// [`UtilityBuilder`]).
 pub fn spec<C: 'static>(hysteresis: f64) -> CustomSpec<C> {
     kind(Some(hysteresis), Arc::new(Enums::new()))
 }

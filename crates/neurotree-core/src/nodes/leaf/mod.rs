@@ -100,7 +100,7 @@ impl<'a, C> Handle<'a, C> {
     }
 
     /// Says, when returning Running, that nothing changes for this action until the
-    /// program wakes the tree through a [`WakeHandle`](crate::WakeHandle) (an event, a
+    /// program wakes the tree through a [`WakeHandle`](crate::tree::WakeHandle) (an event, a
     /// message, another thread).
     pub fn wake_on_handle(&mut self) {
         self.out.waits.on_event();
