@@ -1,5 +1,5 @@
 //! A headless Chromium driven through chromedriver (WebDriver, with `fantoccini`), for the
-//! browser tests that share it (`browser_rewind.rs`).
+//! browser tests (`browser.rs`, `browser_rewind.rs`).
 //!
 //! Without a browser (no `chromium` and `chromedriver` on `PATH`, or at the paths in
 //! `NEUROTREE_CHROMIUM` and `NEUROTREE_CHROMEDRIVER`) [`Browser::start`] prints a note and
@@ -101,11 +101,29 @@ impl Browser {
     }
 
     pub async fn click(&self, css: &str) {
-        self.element(css)
-            .await
+        let element = self.element(css).await;
+        self.bring_into_view(css).await;
+        element
             .click()
             .await
             .unwrap_or_else(|e| panic!("click {css}: {e}"));
+    }
+
+    /// A node of a tree drawing outside its view is brought into it, as a person pans to
+    /// a node before clicking it (a drawing at a legible zoom is larger than its view).
+    pub async fn bring_into_view(&self, css: &str) {
+        self.client
+            .execute(
+                "const g = document.querySelector(arguments[0])?.closest('g.node');
+                 const box = g?.closest('.tree-drawing');
+                 if (!g || !box) return;
+                 const r = g.getBoundingClientRect(), v = box.getBoundingClientRect();
+                 const inside = r.left >= v.left && r.top >= v.top && r.right <= v.right && r.bottom <= v.bottom;
+                 if (!inside) box.treeDrawing.reveal(Number(g.dataset.index));",
+                vec![json!(css)],
+            )
+            .await
+            .unwrap_or_else(|e| panic!("bring {css} into view: {e}"));
     }
 
     pub async fn element(&self, css: &str) -> fantoccini::elements::Element {
