@@ -60,13 +60,20 @@ fn period_of(hz: f64) -> Option<Duration> {
 }
 
 impl<C> CustomNode<C> for RateController {
+    /// The period too: it is read from `hz` on the tick from Idle only, so a node restored
+    /// while running would otherwise never let its child start again.
     fn save_state(&self) -> Option<Vec<u8>> {
-        Some(neurotree_core::state::encode(&(self.since, self.first)))
+        Some(neurotree_core::state::encode(&(
+            self.period,
+            self.since,
+            self.first,
+        )))
     }
 
     fn restore_state(&mut self, state: &[u8]) -> bool {
         neurotree_core::state::decode(state)
-            .map(|(since, first)| {
+            .map(|(period, since, first)| {
+                self.period = period;
                 self.since = since;
                 self.first = first;
             })
@@ -186,6 +193,24 @@ mod tests {
         lab.advance(ms(50));
         assert_eq!(lab.tick(&mut tree), R); // 180 ms: 100 since the success
         assert_eq!(lab.ticks, [3, 3]);
+    }
+
+    #[test]
+    fn its_saved_state_keeps_the_period_read_on_the_tick_from_idle() {
+        let running = RateController {
+            period: Some(ms(500)),
+            since: ms(1200),
+            first: false,
+        };
+        let saved = CustomNode::<Lab>::save_state(&running).unwrap();
+        let mut fresh = RateController::default();
+        assert!(CustomNode::<Lab>::restore_state(&mut fresh, &saved));
+        assert_eq!(
+            (fresh.period, fresh.since, fresh.first),
+            (Some(ms(500)), ms(1200), false)
+        );
+        // Bytes of another node's state are refused.
+        assert!(!CustomNode::<Lab>::restore_state(&mut fresh, &[1]));
     }
 
     #[test]

@@ -45,7 +45,7 @@ use neurotree_toolkit::{PortSpec, Registry, RegistryError};
 const ON_POSE: f64 = 0.05;
 
 /// A dock the docking server knows: see the [module documentation](self).
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Dock {
     /// Its id, for DockRobot's `dock_id`.
     pub id: String,
@@ -144,7 +144,7 @@ fn succeed<C>(h: &mut Handle<'_, C>) -> Status {
 }
 
 /// Where DockRobot is.
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 enum Phase {
     #[default]
     Idle,
@@ -272,6 +272,24 @@ fn drive_onto(sim: &mut Nav2Sim, dock: &Dock) {
 }
 
 impl<C: Nav2Context> StatefulAction<C> for DockRobot {
+    /// The dock, the phase (with when staging began) and the staging time allowed; the
+    /// motion itself is the world's, saved with it.
+    fn save_state(&self) -> Option<Vec<u8>> {
+        Some(neurotree_core::state::encode(&(
+            &self.dock,
+            &self.phase,
+            self.max_staging,
+        )))
+    }
+
+    fn restore_state(&mut self, state: &[u8]) -> bool {
+        neurotree_core::state::decode(state)
+            .map(|(dock, phase, max)| {
+                (self.dock, self.phase, self.max_staging) = (dock, phase, max)
+            })
+            .is_some()
+    }
+
     fn on_start(&mut self, h: &mut Handle<'_, C>) -> Status {
         ports::emit(h, "num_retries", 0_u16);
         match self.start(h) {
@@ -332,6 +350,17 @@ impl UndockRobot {
 }
 
 impl<C: Nav2Context> StatefulAction<C> for UndockRobot {
+    /// When undocking began and how long it may take; the motion is the world's.
+    fn save_state(&self) -> Option<Vec<u8>> {
+        Some(neurotree_core::state::encode(&(self.started, self.allowed)))
+    }
+
+    fn restore_state(&mut self, state: &[u8]) -> bool {
+        neurotree_core::state::decode(state)
+            .map(|(started, allowed)| (self.started, self.allowed) = (started, allowed))
+            .is_some()
+    }
+
     fn on_start(&mut self, h: &mut Handle<'_, C>) -> Status {
         match self.start(h) {
             Ok(()) => Status::Running,

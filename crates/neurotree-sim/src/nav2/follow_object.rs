@@ -133,6 +133,24 @@ fn short_of(mut path: Path, distance: f64) -> Path {
 }
 
 impl<C: Nav2Context> StatefulAction<C> for FollowObject {
+    /// When following began, its limit and where the object was at the last plan; the
+    /// object, the motion and the server's goal are the world's, saved with it.
+    fn save_state(&self) -> Option<Vec<u8>> {
+        Some(neurotree_core::state::encode(&(
+            self.started,
+            self.max,
+            self.planned_for,
+        )))
+    }
+
+    fn restore_state(&mut self, state: &[u8]) -> bool {
+        neurotree_core::state::decode(state)
+            .map(|(started, max, planned_for)| {
+                (self.started, self.max, self.planned_for) = (started, max, planned_for);
+            })
+            .is_some()
+    }
+
     fn on_start(&mut self, h: &mut Handle<'_, C>) -> Status {
         self.started = h.now();
         let seconds = ports::or(h, "max_duration", 0.0_f64).unwrap_or(0.0);

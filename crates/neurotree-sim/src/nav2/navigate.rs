@@ -114,6 +114,17 @@ impl Navigate {
 }
 
 impl<C: Nav2Context> StatefulAction<C> for Navigate {
+    /// The goals still ahead; the kind is the factory's, the motion the world's.
+    fn save_state(&self) -> Option<Vec<u8>> {
+        Some(neurotree_core::state::encode(&self.goals))
+    }
+
+    fn restore_state(&mut self, state: &[u8]) -> bool {
+        neurotree_core::state::decode(state)
+            .map(|goals| self.goals = goals)
+            .is_some()
+    }
+
     fn on_start(&mut self, h: &mut Handle<'_, C>) -> Status {
         let read = match self.kind {
             Kind::ToPose => {

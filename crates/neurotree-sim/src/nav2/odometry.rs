@@ -149,6 +149,17 @@ struct DistanceTraveled {
 }
 
 impl<C: Nav2Context> CustomNode<C> for DistanceTraveled {
+    /// The distance and the pose it counts from, as the tick from Idle read them.
+    fn save_state(&self) -> Option<Vec<u8>> {
+        Some(neurotree_core::state::encode(&(self.distance, self.start)))
+    }
+
+    fn restore_state(&mut self, state: &[u8]) -> bool {
+        neurotree_core::state::decode(state)
+            .map(|(distance, start)| (self.distance, self.start) = (distance, start))
+            .is_some()
+    }
+
     fn tick(&mut self, node: &mut NodeCtx<'_, '_, C>) -> NodeStatus {
         let robot = node.ctx().nav2().world.robot();
         if !node.previous_status().is_active() {
@@ -178,6 +189,18 @@ struct TimeExpired {
 }
 
 impl<C: Nav2Context> CustomNode<C> for TimeExpired {
+    /// The period and the timer's start, on the tree's clock (which a rewind sets back
+    /// with the world).
+    fn save_state(&self) -> Option<Vec<u8>> {
+        Some(neurotree_core::state::encode(&(self.period, self.start)))
+    }
+
+    fn restore_state(&mut self, state: &[u8]) -> bool {
+        neurotree_core::state::decode(state)
+            .map(|(period, start)| (self.period, self.start) = (period, start))
+            .is_some()
+    }
+
     fn tick(&mut self, node: &mut NodeCtx<'_, '_, C>) -> NodeStatus {
         let now = node.now();
         if !node.previous_status().is_active() {
@@ -251,6 +274,16 @@ struct TransformAvailable {
 }
 
 impl<C: Nav2Context> CustomNode<C> for TransformAvailable {
+    fn save_state(&self) -> Option<Vec<u8>> {
+        Some(neurotree_core::state::encode(&self.found))
+    }
+
+    fn restore_state(&mut self, state: &[u8]) -> bool {
+        neurotree_core::state::decode(state)
+            .map(|found| self.found = found)
+            .is_some()
+    }
+
     fn tick(&mut self, node: &mut NodeCtx<'_, '_, C>) -> NodeStatus {
         if !node.previous_status().is_active() {
             let child = node.input::<String>("child").unwrap_or_default();

@@ -197,7 +197,7 @@ fn edge_free(world: &GridWorld, graph: &RouteGraph, edge: &RouteEdge) -> bool {
 }
 
 /// What a route request asks: from which node to which.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 enum Ends {
     Poses { start: Option<Pose2D>, goal: Pose2D },
     Ids { start: u16, goal: u16 },
@@ -436,6 +436,25 @@ impl TrackRoute {
 }
 
 impl<C: Nav2Context> StatefulAction<C> for TrackRoute {
+    /// The request, the route, the next node and when tracking began; the server's goal
+    /// is the world's, saved with it.
+    fn save_state(&self) -> Option<Vec<u8>> {
+        Some(neurotree_core::state::encode(&(
+            self.ends,
+            &self.route,
+            self.next,
+            self.started,
+        )))
+    }
+
+    fn restore_state(&mut self, state: &[u8]) -> bool {
+        neurotree_core::state::decode(state)
+            .map(|(ends, route, next, started)| {
+                (self.ends, self.route, self.next, self.started) = (ends, route, next, started);
+            })
+            .is_some()
+    }
+
     fn on_start(&mut self, h: &mut Handle<'_, C>) -> Status {
         self.started = h.now();
         let computed = read_ends(h).and_then(|ends| Ok((ends, compute(h.ctx().nav2(), ends)?)));
