@@ -6,6 +6,11 @@
 //! navigation stacks clear their costmaps as a recovery. Planning is A* (from the
 //! `pathfinding` crate) over the 8-connected grid, moving diagonally only between two free
 //! side cells so that no route cuts a corner.
+//!
+//! Nav2's costmaps also *inflate* what is blocked: the cells near a wall or an obstacle get
+//! a cost that keeps plans clear of it. [`Costmap::inflated`] names those cells, within a
+//! radius of a blocked one, for a view to show (the studio's scene panel); the simulated
+//! planner routes through them as through free cells, its robot being a point.
 
 use pathfinding::prelude::astar;
 
@@ -82,6 +87,40 @@ impl Costmap {
     /// The cells marked as sensed obstacles, bottom row first.
     pub fn marked(&self) -> impl Iterator<Item = Cell> + '_ {
         self.map.cells().filter(|c| self.is_marked(*c))
+    }
+
+    /// The free cells within `radius` metres (centre to centre) of a blocked cell (a wall
+    /// or a sensed obstacle; not the map's outside), bottom row first: the cells Nav2's
+    /// inflation layer raises the cost of. A radius under one cell inflates nothing.
+    ///
+    /// ```
+    /// use neurotree::sim::{Cell, GridWorld, CostmapLayer};
+    ///
+    /// let world = GridWorld::parse("R..#..", 1.0).unwrap();
+    /// let costmap = world.costmap(CostmapLayer::Global);
+    /// let inflated: Vec<Cell> = costmap.inflated(1.0).collect();
+    /// assert_eq!(inflated, [Cell::new(2, 0), Cell::new(4, 0)]);
+    /// ```
+    pub fn inflated(&self, radius: f64) -> impl Iterator<Item = Cell> + '_ {
+        // Offsets are in whole cells; `reach` bounds them so the search stays local.
+        let cells = radius / self.map.resolution();
+        let reach = if cells.is_finite() && cells >= 1.0 {
+            // A radius past the map's size reaches no further than the map does.
+            cells.min(f64::from(self.map.width().max(self.map.height()))) as i32
+        } else {
+            0
+        };
+        let within = move |dx: i32, dy: i32| f64::from(dx * dx + dy * dy) <= cells * cells;
+        self.map.cells().filter(move |c| {
+            reach > 0
+                && !self.is_blocked(*c)
+                && (-reach..=reach).any(|dy| {
+                    (-reach..=reach).any(|dx| {
+                        let near = Cell::new(c.x + dx, c.y + dy);
+                        within(dx, dy) && self.map.contains(near) && self.is_blocked(near)
+                    })
+                })
+        })
     }
 
     /// Forgets every sensed obstacle; the walls stay.
@@ -233,6 +272,88 @@ mod tests {
         assert_eq!(c.marked().count(), 0);
         assert!(c.is_blocked(Cell::new(0, 1)));
         assert_eq!(c.route(robot, goal, |_| false).map(|r| r.len()), Some(3));
+    }
+
+    #[test]
+    fn inflated_cells_are_the_free_ones_within_the_radius_of_a_wall_or_a_mark() {
+        let (mut c, _) = costmap(
+            "#.....
+             ......
+             R.....
+             ......",
+        );
+        assert!(c.mark(Cell::new(4, 1)));
+        let inflated = |c: &Costmap, radius| c.inflated(radius).collect::<Vec<_>>();
+        let cells = |list: &[(i32, i32)]| {
+            list.iter()
+                .map(|&(x, y)| Cell::new(x, y))
+                .collect::<Vec<_>>()
+        };
+        // One metre: the sides of the wall (in the top left corner, y = 3) and of the
+        // mark; bottom row first.
+        assert_eq!(
+            inflated(&c, 1.0),
+            cells(&[(4, 0), (3, 1), (5, 1), (0, 2), (4, 2), (1, 3)])
+        );
+        // 1.5 m takes the corners too (√2 m away), not the cells two away.
+        assert_eq!(
+            inflated(&c, 1.5),
+            cells(&[
+                (3, 0),
+                (4, 0),
+                (5, 0),
+                (3, 1),
+                (5, 1),
+                (0, 2),
+                (1, 2),
+                (3, 2),
+                (4, 2),
+                (5, 2),
+                (1, 3),
+            ])
+        );
+        // Under a cell, nothing; the map's outside inflates nothing.
+        assert_eq!(inflated(&c, 0.99), []);
+        assert_eq!(inflated(&c, f64::NAN), []);
+        c.clear();
+        assert_eq!(inflated(&c, 1.0), cells(&[(0, 2), (1, 3)]));
+        // A radius past the map reaches every free cell, and only those.
+        assert_eq!(c.inflated(1e9).count(), 23);
+    }
+
+    #[test]
+    fn inflation_is_measured_in_metres_whatever_the_resolution() {
+        let p = parse(
+            "#######
+             .......
+             .......
+             .......
+             ...#...
+             R......",
+            0.5,
+        )
+        .unwrap();
+        let c = Costmap::new(&p.map);
+        for radius in [0.5, 0.75, 1.0, 1.2, 1.5] {
+            // By definition: free, and a blocked cell's centre within the radius.
+            let expected: Vec<Cell> = p
+                .map
+                .cells()
+                .filter(|cell| !c.is_blocked(*cell))
+                .filter(|cell| {
+                    let here = p.map.centre(*cell);
+                    p.map
+                        .cells()
+                        .filter(|b| c.is_blocked(*b))
+                        .any(|b| p.map.centre(b).distance(&here) <= radius + 1e-9)
+                })
+                .collect();
+            assert_eq!(c.inflated(radius).collect::<Vec<_>>(), expected, "{radius}");
+        }
+        // Half-metre cells: a metre is two cells, so the row under the wall and the one
+        // under it are inflated, and the pillar's cell has eight neighbours within 0.75 m.
+        assert_eq!(c.inflated(1.0).filter(|cell| cell.y >= 3).count(), 14);
+        assert_eq!(c.inflated(0.75).filter(|cell| cell.y <= 2).count(), 8);
     }
 
     #[test]

@@ -1,11 +1,14 @@
 //! The world as a [`Scene`], for a viewer that draws it beside the tree (the studio's
-//! scene panel): the floor, the walls, the charger, the cells the global costmap marked,
-//! the obstacles present now and the robot.
+//! scene panel): the floor, the walls, the charger, the global costmap's inflated and
+//! marked cells, the obstacles present now and the robot.
 //!
 //! Item ids: `floor`, `wall` (one polygon per run of wall cells in a row), `charger`,
-//! `costmap` (one square per marked cell), `obstacle` (one per obstacle present), `robot`
-//! (a triangle pointing where the robot heads). Whoever shows a plan adds it, with its
-//! goal: [`GridWorld::scene_with`] draws them as `path` and `goal`.
+//! `inflation` (one polygon per run of cells in a row within [`INFLATION_RADIUS`] of a
+//! wall or a mark: [`Costmap::inflated`](crate::Costmap::inflated), drawn lighter than
+//! the marks), `costmap` (one square per marked cell), `obstacle` (one per obstacle
+//! present), `robot` (a triangle pointing where the robot heads). Whoever shows a plan adds
+//! it, with its goal: [`GridWorld::scene_with`] draws them as `path` and `goal`. Drawing
+//! runs of cells rather than cells keeps a warehouse's scene to a few hundred items.
 //!
 //! ```
 //! use neurotree::robotics::Pose2D;
@@ -15,14 +18,19 @@
 //! let path = [Pose2D::new(0.5, 0.5, 0.0), Pose2D::new(3.5, 0.5, 0.0)];
 //! let scene = world.scene_with(&path, Some(Pose2D::new(3.5, 0.5, 0.0)));
 //! let ids: Vec<&str> = scene.items().iter().map(|i| i.id.as_str()).collect();
-//! assert_eq!(ids, ["floor", "wall", "charger", "path", "goal", "robot"]);
+//! assert_eq!(
+//!     ids,
+//!     ["floor", "wall", "charger", "inflation", "inflation", "path", "goal", "robot"]
+//! );
 //! assert_eq!(scene.bounds(), [[0.0, 0.0], [5.0, 2.0]]);
 //! ```
+
+use std::collections::HashSet;
 
 use neurotree_nav2::robotics::Pose2D;
 use neurotree_toolkit::scene::{Point, Scene, Style};
 
-use super::grid::Cell;
+use super::grid::{Cell, GridMap};
 use super::world::{CostmapLayer, GridWorld};
 
 impl GridWorld {
@@ -41,23 +49,8 @@ impl GridWorld {
         let (w, h) = (f64::from(map.width()) * r, f64::from(map.height()) * r);
         let mut scene = Scene::new([0.0, 0.0], [w, h]);
         scene.polygon("floor", rect(0.0, 0.0, w, h), Style::fill("#f4f1ea"));
-        // A run of walls in a row is one polygon: a warehouse's walls are a few dozen items,
-        // not hundreds of squares.
-        for y in 0..map.height() {
-            let mut x = 0;
-            while x < map.width() {
-                if !map.is_wall(Cell::new(x, y)) {
-                    x += 1;
-                    continue;
-                }
-                let start = x;
-                while x < map.width() && map.is_wall(Cell::new(x, y)) {
-                    x += 1;
-                }
-                let (x0, x1) = (f64::from(start) * r, f64::from(x) * r);
-                let y0 = f64::from(y) * r;
-                scene.polygon("wall", rect(x0, y0, x1, y0 + r), Style::fill("#495057"));
-            }
+        for run in row_runs(map, |c| map.is_wall(c)) {
+            scene.polygon("wall", run, Style::fill("#495057"));
         }
         if let Some(c) = self.charger() {
             scene.polygon(
@@ -67,6 +60,10 @@ impl GridWorld {
             );
         }
         let costmap = self.costmap(CostmapLayer::Global);
+        let inflated: HashSet<Cell> = costmap.inflated(INFLATION_RADIUS).collect();
+        for run in row_runs(map, |c| inflated.contains(&c)) {
+            scene.polygon("inflation", run, Style::fill("#fff0f0"));
+        }
         for c in costmap.marked() {
             scene.polygon("costmap", cell_rect(c, r, 0.0), Style::fill("#ffc9c9"));
         }
@@ -102,6 +99,35 @@ impl GridWorld {
     }
 }
 
+/// How far from a wall or a sensed obstacle the scene shows the global costmap inflated,
+/// in metres. Nav2's default (0.55 m) would inflate nothing on the demo's one-metre cells;
+/// one metre shows the cell beside each blocked one.
+pub const INFLATION_RADIUS: f64 = 1.0;
+
+/// The rectangles of the runs of cells in a row for which `inside` is `true`, bottom row
+/// first: a warehouse's walls are a few dozen polygons, not hundreds of squares.
+fn row_runs(map: &GridMap, inside: impl Fn(Cell) -> bool) -> Vec<Vec<Point>> {
+    let r = map.resolution();
+    let mut runs = Vec::new();
+    for y in 0..map.height() {
+        let mut x = 0;
+        while x < map.width() {
+            if !inside(Cell::new(x, y)) {
+                x += 1;
+                continue;
+            }
+            let start = x;
+            while x < map.width() && inside(Cell::new(x, y)) {
+                x += 1;
+            }
+            let (x0, x1) = (f64::from(start) * r, f64::from(x) * r);
+            let y0 = f64::from(y) * r;
+            runs.push(rect(x0, y0, x1, y0 + r));
+        }
+    }
+    runs
+}
+
 /// The rectangle from `(x0, y0)` to `(x1, y1)`, counter-clockwise.
 fn rect(x0: f64, y0: f64, x1: f64, y1: f64) -> Vec<Point> {
     vec![[x0, y0], [x1, y0], [x1, y1], [x0, y1]]
@@ -121,4 +147,75 @@ fn arrow(pose: &Pose2D, size: f64) -> Vec<Point> {
         [pose.x + reach * a.cos(), pose.y + reach * a.sin()]
     };
     vec![corner(0.0, size), corner(2.5, size), corner(-2.5, size)]
+}
+
+#[cfg(test)]
+mod tests {
+    use std::time::Duration;
+
+    use neurotree_toolkit::scene::{Item, Shape};
+
+    use super::*;
+    use crate::TimedObstacle;
+
+    /// The cells the rectangles of the items `id` cover, bottom row first.
+    fn covered(scene: &Scene, id: &str) -> Vec<Cell> {
+        let mut cells = Vec::new();
+        for item in scene.items().iter().filter(|i| i.id == id) {
+            let Shape::Polygon { points } = &item.shape else {
+                panic!("{item:?}");
+            };
+            let [x0, y0] = points[0];
+            let [x1, y1] = points[2];
+            for y in y0.round() as i32..y1.round() as i32 {
+                cells.extend((x0.round() as i32..x1.round() as i32).map(|x| Cell::new(x, y)));
+            }
+        }
+        cells.sort_by_key(|c| (c.y, c.x));
+        cells
+    }
+
+    fn fill<'a>(scene: &'a Scene, id: &str) -> Option<&'a str> {
+        let item: &Item = scene.items().iter().find(|i| i.id == id)?;
+        item.style.fill.as_deref()
+    }
+
+    #[test]
+    fn the_inflated_cells_are_drawn_in_runs_apart_from_the_marked_ones() {
+        let mut world = GridWorld::parse("#.....\n......\nR.....\n......", 1.0)
+            .unwrap()
+            .with_timed_obstacle(TimedObstacle::new(Cell::new(4, 1), Duration::ZERO))
+            .with_sensing_radius(10.0);
+        world.step(Duration::from_millis(100));
+        let costmap = world.costmap(CostmapLayer::Global);
+        assert_eq!(costmap.marked().collect::<Vec<_>>(), [Cell::new(4, 1)]);
+        let scene = world.scene();
+        assert!(scene.check().is_ok());
+        // The two cells beside the wall and the four beside the mark, in six runs: (4, 0);
+        // (3, 1) and (5, 1), split by the mark; (0, 2) and (4, 2); (1, 3).
+        let inflated: Vec<Cell> = costmap.inflated(INFLATION_RADIUS).collect();
+        assert_eq!(inflated.len(), 6);
+        assert_eq!(covered(&scene, "inflation"), inflated);
+        let runs = scene.items().iter().filter(|i| i.id == "inflation").count();
+        assert_eq!(runs, 6);
+        assert_eq!(covered(&scene, "costmap"), [Cell::new(4, 1)]);
+        // Lighter than the lethal marks, and beneath them.
+        assert_ne!(fill(&scene, "inflation"), fill(&scene, "costmap"));
+        let at = |id: &str| scene.items().iter().position(|i| i.id == id).unwrap();
+        assert!(at("inflation") < at("costmap"));
+    }
+
+    #[test]
+    fn a_row_of_inflated_cells_is_one_polygon() {
+        let world = GridWorld::parse("##########\n..........\nR.........", 1.0).unwrap();
+        let scene = world.scene();
+        assert_eq!(
+            covered(&scene, "inflation"),
+            (0..10).map(|x| Cell::new(x, 1)).collect::<Vec<_>>()
+        );
+        assert_eq!(
+            scene.items().iter().filter(|i| i.id == "inflation").count(),
+            1
+        );
+    }
 }
