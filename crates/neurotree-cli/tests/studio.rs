@@ -378,7 +378,7 @@ fn demo_draws_its_warehouse_and_the_robot_goes_back_with_the_tree() {
         .unwrap();
     let now = scene.into_inner();
     assert_eq!(now["tick"].as_u64(), Some(paused), "{now}");
-    for id in ["floor", "wall", "path", "goal", "robot"] {
+    for id in ["floor", "wall", "inflation", "path", "goal", "robot"] {
         item(&now, id);
     }
     let robot = item(&now, "robot")["points"].clone();

@@ -4,10 +4,10 @@
 
 use neurotree::robotics::{Path, Pose2D};
 use neurotree::scene::Scene;
-use neurotree::sim::nav2::{Nav2Sim, Nav2SimState, RecoveryCounter, TrackingFeedback};
+use neurotree::sim::nav2::{Nav2Sim, Nav2SimState, RecoveryCounter};
 use neurotree::sim::GridWorld;
 use neurotree::state::StateCodecs;
-use neurotree::{Status, Tree};
+use neurotree::{Registry, Status, Tree};
 
 use super::scenario::Scenario;
 
@@ -61,18 +61,18 @@ impl DemoWorld<'_> {
         self.recoveries.set_branches(&saved.recoveries);
     }
 
-    /// The codecs of the values Nav2's navigators keep on their blackboards: poses, goal
-    /// lists, paths, tracking feedback.
+    /// The codecs of the values Nav2's nodes keep on their blackboards: poses, goal lists,
+    /// paths, routes, tracking feedback and the rest that
+    /// [`nav2::register_values`](neurotree::nav2::register_values) registers, as the demo's
+    /// tree is loaded with them.
     pub fn codecs() -> StateCodecs {
-        StateCodecs::new()
-            .with::<Pose2D>()
-            .with::<Vec<Pose2D>>()
-            .with::<Path>()
-            .with::<TrackingFeedback>()
+        let mut registry = Registry::<Nav2Sim>::new();
+        neurotree::nav2::register_values(&mut registry);
+        StateCodecs::clone(registry.value_codecs())
     }
 
-    /// The warehouse, the costmap's marks, the obstacle, the plan ahead of the robot, the
-    /// goal and the robot.
+    /// The warehouse, the costmap's inflated and marked cells, the obstacle, the plan ahead
+    /// of the robot, the goal and the robot.
     pub fn scene(&self, tree: &Tree<Nav2Sim>) -> Scene {
         let world = &self.sim.world;
         world.scene_with(&plan_ahead(tree, world), Some(self.scenario.goal))
@@ -100,6 +100,9 @@ pub(super) fn plan_ahead(tree: &Tree<Nav2Sim>, world: &GridWorld) -> Vec<Pose2D>
 
 #[cfg(test)]
 mod tests {
+    use std::f64::consts::{FRAC_PI_2, PI};
+    use std::time::Duration;
+
     use super::*;
     use crate::demo::{DemoConfig, DemoRun};
 
@@ -124,5 +127,103 @@ mod tests {
         assert_eq!(run.ticks(), 240);
         assert_eq!(run.run_to_end(), straight);
         assert_eq!((straight.replans, straight.recoveries), (38, 4));
+    }
+
+    #[test]
+    fn the_warehouse_scene_shows_the_inflated_cells_within_a_pages_bounds() {
+        let mut run = DemoRun::new(&DemoConfig::default()).unwrap();
+        // Tick 240: the obstacle seen and marked, the robot spinning in front of it.
+        while run.ticks() < 240 {
+            run.tick();
+        }
+        let (tree, world) = run.watched();
+        let scene = world.scene(tree);
+        assert_eq!(scene.check(), Ok(()));
+        let count = |id: &str| scene.items().iter().filter(|i| i.id == id).count();
+        assert!(count("costmap") >= 1);
+        // The cells beside the walls and the shelves, a run of cells a polygon.
+        assert!(
+            (40..200).contains(&count("inflation")),
+            "{}",
+            count("inflation")
+        );
+        assert!(scene.items().len() < 400, "{}", scene.items().len());
+    }
+
+    /// Each of Nav2's trees in the corpus, with what it needs to run to its end as
+    /// `neurotree demo` runs it (`tests/demo.rs` runs them all the same way).
+    fn nav2_trees() -> Vec<(String, DemoConfig)> {
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../corpus/nav2");
+        let mut trees: Vec<_> = std::fs::read_dir(&dir)
+            .unwrap()
+            .map(|e| e.unwrap().path())
+            .filter(|p| p.extension().is_some_and(|e| e == "xml"))
+            .filter(|p| !p.ends_with("nav2_tree_nodes.xml"))
+            .collect();
+        trees.sort();
+        trees
+            .into_iter()
+            .map(|path| {
+                let name = path.file_name().unwrap().to_string_lossy().into_owned();
+                let mut config = DemoConfig {
+                    tree: Some(path),
+                    ..DemoConfig::default()
+                };
+                match name.as_str() {
+                    // It never ends by itself.
+                    "follow_point.xml" => config.duration = Some(Duration::from_secs(60)),
+                    // Its square turns left: from the corner the robot starts in, facing south.
+                    "odometry_calibration.xml" => config.start_heading = -FRAC_PI_2,
+                    // On its dock, charging, facing the way it docks: it undocks first.
+                    "opennav_docking_bt__application_example.xml" => {
+                        config.battery = 90.0;
+                        config.start_heading = PI;
+                    }
+                    _ => {}
+                }
+                (name, config)
+            })
+            .collect()
+    }
+
+    #[test]
+    fn every_tick_of_each_nav2_tree_the_demo_runs_is_kept_and_the_run_goes_on_from_it_the_same() {
+        let codecs = DemoWorld::codecs();
+        let trees = nav2_trees();
+        assert_eq!(trees.len(), 16);
+        for (name, config) in trees {
+            let straight = DemoRun::new(&config).unwrap().run_to_end();
+            let mut run = DemoRun::new(&config).unwrap();
+            let mut kept = Vec::new();
+            while !run.is_over() {
+                run.tick();
+                let robot = run.sim().world.robot();
+                let tick = run.ticks();
+                let (tree, world) = run.watched();
+                // The simulated leaves are all synchronous or stateful: no tick is refused
+                // for an asynchronous action under way, nor for a leaf that cannot save.
+                let state = tree
+                    .save_state_with(&codecs)
+                    .unwrap_or_else(|e| panic!("{name}: tick {tick} cannot be kept: {e}"));
+                kept.push((state, world.save(), robot));
+            }
+            assert_eq!(kept.len(), straight.ticks as usize, "{name}");
+            // Back to a tick a quarter, half and three quarters in: the same end each time
+            // (the robot goes back with the tree).
+            for at in [1, 2, 3].map(|q| q * kept.len() / 4) {
+                let (state, saved, robot) = &kept[at];
+                let (tree, mut world) = run.watched();
+                world.restore(saved);
+                tree.restore_state_with(state, &codecs).unwrap();
+                assert_eq!(run.ticks() as usize, at + 1, "{name}");
+                assert_eq!(run.sim().world.robot(), *robot, "{name}");
+                assert_eq!(
+                    run.run_to_end(),
+                    straight,
+                    "{name}, back to tick {}",
+                    at + 1
+                );
+            }
+        }
     }
 }
