@@ -312,7 +312,7 @@ fn initial_pose_received<C>(h: &Handle<'_, C>) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::nav2::testing::Bench;
+    use crate::nav2::testing::{watched, Bench};
     use Status::{Failure as F, Running as R, Success as S};
 
     /// Ticks, stepping the world after each.
@@ -324,16 +324,6 @@ mod tests {
                 s
             })
             .collect()
-    }
-
-    /// `condition` as the condition of a WhileDoElse, which keeps its result while the else
-    /// branch runs: the tree succeeds when the condition does, and starts it afresh then.
-    fn watched(condition: &str) -> String {
-        format!(
-            r#"<WhileDoElse>{condition}<AlwaysSuccess/>
-                 <KeepRunningUntilFailure><AlwaysSuccess/></KeepRunningUntilFailure>
-               </WhileDoElse>"#
-        )
     }
 
     #[test]

@@ -66,7 +66,7 @@ mod tests {
     use neurotree_core::Status;
     use neurotree_nav2::robotics::{Pose2D, RouteNode};
 
-    use super::super::testing::Bench;
+    use super::super::testing::{watched, Bench};
     use super::super::{Dock, Nav2Sim, RouteGraph, LEAVES};
     use crate::{Battery, Cell, GridWorld, TimedObstacle};
 
@@ -171,16 +171,6 @@ mod tests {
             vec![Pose2D::new(2.5, 2.5, 0.0), Pose2D::new(4.5, 0.5, 0.0)],
         );
         b
-    }
-
-    /// `condition` in a WhileDoElse that keeps its result while the else branch runs, so
-    /// that the condition is ticked from its last result rather than from Idle.
-    fn watched(condition: &str) -> String {
-        format!(
-            r#"<WhileDoElse>{condition}<AlwaysSuccess/>
-                 <KeepRunningUntilFailure><AlwaysSuccess/></KeepRunningUntilFailure>
-               </WhileDoElse>"#
-        )
     }
 
     /// A corridor, the robot driving east along it at half a metre a second.

@@ -76,3 +76,14 @@ impl Bench {
         seen
     }
 }
+
+/// `condition` as the condition of a WhileDoElse, which keeps its result while the else
+/// branch runs: the condition is ticked from its last result rather than from Idle, the
+/// tree succeeds when the condition does, and starts it afresh then.
+pub(super) fn watched(condition: &str) -> String {
+    format!(
+        r#"<WhileDoElse>{condition}<AlwaysSuccess/>
+             <KeepRunningUntilFailure><AlwaysSuccess/></KeepRunningUntilFailure>
+           </WhileDoElse>"#
+    )
+}
