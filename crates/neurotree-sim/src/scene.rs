@@ -2,13 +2,14 @@
 //! scene panel): the floor, the walls, the charger, the global costmap's inflated and
 //! marked cells, the obstacles present now and the robot.
 //!
-//! Item ids: `floor`, `wall` (one polygon per run of wall cells in a row), `charger`,
-//! `inflation` (one polygon per run of cells in a row within [`INFLATION_RADIUS`] of a
-//! wall or a mark: [`Costmap::inflated`](crate::Costmap::inflated), drawn lighter than
-//! the marks), `costmap` (one square per marked cell), `obstacle` (one per obstacle
+//! Item ids: `floor`, `wall` (rectangles of wall cells: a run in a row, stacked over the
+//! same run in the rows below), `charger`, `inflation` (rectangles, likewise, of the cells
+//! within [`INFLATION_RADIUS`] of a wall or a mark:
+//! [`Costmap::inflated`](crate::Costmap::inflated), drawn lighter than the marks and
+//! beneath them), `costmap` (one square per marked cell), `obstacle` (one per obstacle
 //! present), `robot` (a triangle pointing where the robot heads). Whoever shows a plan adds
 //! it, with its goal: [`GridWorld::scene_with`] draws them as `path` and `goal`. Drawing
-//! runs of cells rather than cells keeps a warehouse's scene to a few hundred items.
+//! rectangles of cells rather than cells keeps a warehouse's scene to about a hundred items.
 //!
 //! ```
 //! use neurotree::robotics::Pose2D;
@@ -49,8 +50,8 @@ impl GridWorld {
         let (w, h) = (f64::from(map.width()) * r, f64::from(map.height()) * r);
         let mut scene = Scene::new([0.0, 0.0], [w, h]);
         scene.polygon("floor", rect(0.0, 0.0, w, h), Style::fill("#f4f1ea"));
-        for run in row_runs(map, |c| map.is_wall(c)) {
-            scene.polygon("wall", run, Style::fill("#495057"));
+        for block in blocks(map, |c| map.is_wall(c)) {
+            scene.polygon("wall", block, Style::fill("#495057"));
         }
         if let Some(c) = self.charger() {
             scene.polygon(
@@ -61,8 +62,8 @@ impl GridWorld {
         }
         let costmap = self.costmap(CostmapLayer::Global);
         let inflated: HashSet<Cell> = costmap.inflated(INFLATION_RADIUS).collect();
-        for run in row_runs(map, |c| inflated.contains(&c)) {
-            scene.polygon("inflation", run, Style::fill("#fff0f0"));
+        for block in blocks(map, |c| inflated.contains(&c)) {
+            scene.polygon("inflation", block, Style::fill("#fff0f0"));
         }
         for c in costmap.marked() {
             scene.polygon("costmap", cell_rect(c, r, 0.0), Style::fill("#ffc9c9"));
@@ -104,12 +105,15 @@ impl GridWorld {
 /// one metre shows the cell beside each blocked one.
 pub const INFLATION_RADIUS: f64 = 1.0;
 
-/// The rectangles of the runs of cells in a row for which `inside` is `true`, bottom row
-/// first: a warehouse's walls are a few dozen polygons, not hundreds of squares.
-fn row_runs(map: &GridMap, inside: impl Fn(Cell) -> bool) -> Vec<Vec<Point>> {
-    let r = map.resolution();
-    let mut runs = Vec::new();
+/// Rectangles covering the cells for which `inside` is `true`, bottom first: each a run of
+/// such cells in a row, stacked over the same run in the rows below. A warehouse's walls
+/// and the bands beside them are a few dozen polygons, not hundreds of squares.
+fn blocks(map: &GridMap, inside: impl Fn(Cell) -> bool) -> Vec<Vec<Point>> {
+    // [x0, x1, y0, y1) in cells; `open` ones reach the row above the last one looked at.
+    let mut done: Vec<[i32; 4]> = Vec::new();
+    let mut open: Vec<[i32; 4]> = Vec::new();
     for y in 0..map.height() {
+        let mut reaching = Vec::new();
         let mut x = 0;
         while x < map.width() {
             if !inside(Cell::new(x, y)) {
@@ -120,12 +124,27 @@ fn row_runs(map: &GridMap, inside: impl Fn(Cell) -> bool) -> Vec<Vec<Point>> {
             while x < map.width() && inside(Cell::new(x, y)) {
                 x += 1;
             }
-            let (x0, x1) = (f64::from(start) * r, f64::from(x) * r);
-            let y0 = f64::from(y) * r;
-            runs.push(rect(x0, y0, x1, y0 + r));
+            match open.iter().position(|b| b[0] == start && b[1] == x) {
+                Some(i) => {
+                    let mut block = open.swap_remove(i);
+                    block[3] = y + 1;
+                    reaching.push(block);
+                }
+                None => reaching.push([start, x, y, y + 1]),
+            }
         }
+        done.append(&mut open);
+        open = reaching;
     }
-    runs
+    done.append(&mut open);
+    done.sort_unstable_by_key(|b| (b[2], b[0]));
+    let r = map.resolution();
+    done.into_iter()
+        .map(|[x0, x1, y0, y1]| {
+            let m = |v: i32| f64::from(v) * r;
+            rect(m(x0), m(y0), m(x1), m(y1))
+        })
+        .collect()
 }
 
 /// The rectangle from `(x0, y0)` to `(x1, y1)`, counter-clockwise.
@@ -206,16 +225,23 @@ mod tests {
     }
 
     #[test]
-    fn a_row_of_inflated_cells_is_one_polygon() {
+    fn a_band_of_inflated_cells_is_one_rectangle() {
+        let count = |scene: &Scene, id: &str| scene.items().iter().filter(|i| i.id == id).count();
         let world = GridWorld::parse("##########\n..........\nR.........", 1.0).unwrap();
         let scene = world.scene();
         assert_eq!(
             covered(&scene, "inflation"),
             (0..10).map(|x| Cell::new(x, 1)).collect::<Vec<_>>()
         );
-        assert_eq!(
-            scene.items().iter().filter(|i| i.id == "inflation").count(),
-            1
-        );
+        assert_eq!(count(&scene, "inflation"), 1);
+        // A wall across three rows: one rectangle, and one on either side of it.
+        let world = GridWorld::parse("..#..\n..#..\nR.#..", 1.0).unwrap();
+        let scene = world.scene();
+        assert_eq!((count(&scene, "wall"), count(&scene, "inflation")), (1, 2));
+        let band = |x| (0..3).map(move |y| Cell::new(x, y));
+        let mut expected: Vec<Cell> = band(1).chain(band(3)).collect();
+        expected.sort_by_key(|c| (c.y, c.x));
+        assert_eq!(covered(&scene, "inflation"), expected);
+        assert_eq!(covered(&scene, "wall"), band(2).collect::<Vec<_>>());
     }
 }
