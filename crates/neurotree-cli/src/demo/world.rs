@@ -184,6 +184,11 @@ mod tests {
             .collect()
     }
 
+    /// What a tick of the demo shows: its status, where the robot is, the replans so far.
+    fn shown(run: &DemoRun, status: Status) -> (Status, Pose2D, u32) {
+        (status, run.sim().world.robot(), run.sim().replans())
+    }
+
     #[test]
     fn every_tick_of_each_nav2_tree_the_demo_runs_is_kept_and_the_run_goes_on_from_it_the_same() {
         let codecs = DemoWorld::codecs();
@@ -193,9 +198,10 @@ mod tests {
             let straight = DemoRun::new(&config).unwrap().run_to_end();
             let mut run = DemoRun::new(&config).unwrap();
             let mut kept = Vec::new();
+            let mut ticks = Vec::new();
             while !run.is_over() {
-                run.tick();
-                let robot = run.sim().world.robot();
+                let status = run.tick();
+                ticks.push(shown(&run, status));
                 let tick = run.ticks();
                 let (tree, world) = run.watched();
                 // The simulated leaves are all synchronous or stateful: no tick is refused
@@ -203,18 +209,32 @@ mod tests {
                 let state = tree
                     .save_state_with(&codecs)
                     .unwrap_or_else(|e| panic!("{name}: tick {tick} cannot be kept: {e}"));
-                kept.push((state, world.save(), robot));
+                kept.push((state, world.save()));
             }
             assert_eq!(kept.len(), straight.ticks as usize, "{name}");
-            // Back to a tick a quarter, half and three quarters in: the same end each time
-            // (the robot goes back with the tree).
-            for at in [1, 2, 3].map(|q| q * kept.len() / 4) {
-                let (state, saved, robot) = &kept[at];
+            let back_to = |run: &mut DemoRun, at: usize| {
+                let (state, saved) = &kept[at];
                 let (tree, mut world) = run.watched();
                 world.restore(saved);
                 tree.restore_state_with(state, &codecs).unwrap();
                 assert_eq!(run.ticks() as usize, at + 1, "{name}");
-                assert_eq!(run.sim().world.robot(), *robot, "{name}");
+                // The robot goes back with the tree.
+                assert_eq!(run.sim().world.robot(), ticks[at].1, "{name}");
+            };
+            // Back to every tenth tick: the ten ticks after it show what they showed.
+            for at in (0..kept.len()).step_by(10) {
+                back_to(&mut run, at);
+                let mut again = Vec::new();
+                while again.len() < 10 && !run.is_over() {
+                    let status = run.tick();
+                    again.push(shown(&run, status));
+                }
+                let end = (at + 11).min(ticks.len());
+                assert_eq!(again, ticks[at + 1..end], "{name}, back to tick {}", at + 1);
+            }
+            // Back to a tick a quarter, half and three quarters in: the same end each time.
+            for at in [1, 2, 3].map(|q| q * kept.len() / 4) {
+                back_to(&mut run, at);
                 assert_eq!(
                     run.run_to_end(),
                     straight,
