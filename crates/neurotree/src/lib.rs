@@ -171,8 +171,8 @@ pub mod prelude {
     #[doc(no_inline)]
     pub use crate::{
         Action, AsyncAction, Blackboard, BlackboardError, Blueprint, BuildError, Clock, Condition,
-        CustomNode, Handle, LoadError, ManualClock, NodeCtx, Port, PortError, PortSpec, Registry,
-        RegistryError, ScopeId, SharedBlackboard, StatefulAction, Status, SystemClock, TickError,
-        Tree, XmlLoader,
+        CustomNode, Handle, LoadError, LoadErrors, ManualClock, NodeCtx, Port, PortError, PortSpec,
+        Registry, RegistryError, ScopeId, ScriptBuilder, SharedBlackboard, StatefulAction, Status,
+        SystemClock, TickError, Tree, XmlLoader,
     };
 }
