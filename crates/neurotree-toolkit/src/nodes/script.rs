@@ -505,4 +505,72 @@ mod tests {
         assert_eq!(lab.tick(&mut tree), Ok(F));
         assert_eq!(lab.ticks, [1]);
     }
+
+    #[test]
+    fn the_builder_adds_the_script_nodes_as_a_file_writes_them() {
+        use crate::xml::{write_xml, SaveOptions};
+        use crate::Registry;
+        use neurotree_core::{Blueprint, BuildErrorKind, ManualClock, Status as St, Tree};
+
+        use super::ScriptBuilder;
+
+        let bp = Blueprint::<u32>::builder()
+            .sequence("root", |s| {
+                s.script("", "n := n + 1")
+                    .precondition("gate", "n > 1", |p| {
+                        p.action("count", |c: &mut u32| {
+                            *c += 1;
+                            St::Success
+                        })
+                    })
+                    .script_condition("small", "n < 3")
+            })
+            .build_shared()
+            .unwrap();
+        let mut tree = Tree::with_clock(bp, ManualClock::new());
+        tree.blackboard_mut().set("n", 0i64).unwrap();
+        let mut counted = 0;
+        // n = 1: the gate is shut (Failure), the condition never reached.
+        assert_eq!(tree.tick_once(&mut counted), Ok(St::Failure));
+        assert_eq!(counted, 0);
+        // n = 2: the gate opens, n < 3 holds.
+        assert_eq!(tree.tick_once(&mut counted), Ok(St::Success));
+        assert_eq!(counted, 1);
+        // n = 3: the gate opens, n < 3 fails.
+        assert_eq!(tree.tick_once(&mut counted), Ok(St::Failure));
+        assert_eq!(counted, 2);
+        assert!(tree.blueprint().find("root/Script").is_some());
+
+        // Written as a file names them.
+        let registry = Registry::<u32>::new();
+        let xml = write_xml(tree.blueprint(), &registry, &SaveOptions::default());
+        assert!(
+            xml.contains(r#"<Script name="Script" code="n := n + 1"/>"#),
+            "{xml}"
+        );
+        assert!(
+            xml.contains(r#"<ScriptCondition name="small" code="n &lt; 3"/>"#),
+            "{xml}"
+        );
+        assert!(
+            xml.contains(r#"<Precondition name="gate" if="n &gt; 1" else="FAILURE">"#),
+            "{xml}"
+        );
+
+        // A script that does not parse fails the build at its node, past the first error.
+        let e = Blueprint::<u32>::builder()
+            .sequence("root", |s| {
+                s.script_condition("bad", "n <")
+                    .precondition("worse", "(", |p| p.script("", ")"))
+            })
+            .build()
+            .unwrap_err();
+        assert_eq!(e.path, "root/bad");
+        assert!(matches!(e.kind, BuildErrorKind::Rejected { .. }), "{e}");
+        let e = Blueprint::<u32>::builder()
+            .precondition("worse", "(", |p| p.script("", "n := 1"))
+            .build()
+            .unwrap_err();
+        assert_eq!(e.path, "worse");
+    }
 }

@@ -182,3 +182,102 @@ impl<C> Builder<C> {
         self
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use alloc::string::String;
+    use alloc::vec::Vec;
+
+    use crate::{Blueprint, BuildErrorKind, ManualClock, Port, PortError, Status, Tree};
+
+    /// What the leaves saw and did.
+    #[derive(Default)]
+    struct World {
+        checks: u32,
+        steps: Vec<(String, i64)>,
+    }
+
+    #[test]
+    fn closures_of_the_handle_read_and_write_their_own_ports() {
+        let bp = Blueprint::<World>::builder()
+            .sequence("root", |s| {
+                s.condition_with("ready", [Port::entry("flag", "go")], |h| {
+                    h.input::<bool>("flag").unwrap_or(false)
+                })
+                .action_with(
+                    "step",
+                    [Port::literal("to", "dock"), Port::entry("by", "stride")],
+                    |h| {
+                        let to = h.input::<String>("to");
+                        let by = h.input::<i64>("by");
+                        let (Ok(to), Ok(by)) = (to, by) else {
+                            return Status::Failure;
+                        };
+                        h.ctx_mut().steps.push((to, by));
+                        Status::Success
+                    },
+                )
+                .action_with("echo", [Port::entry("out", "echoed")], |h| {
+                    h.ctx_mut().checks += 1;
+                    let n = h.ctx().steps.len() as i64;
+                    h.output("out", n).is_ok().into()
+                })
+                .action_with("stray", [Port::literal("x", "1")], |h| {
+                    // A port the node does not bind is an error, not another node's.
+                    match h.input::<i64>("to") {
+                        Err(PortError::NoSuchPort { .. }) => Status::Success,
+                        _ => Status::Failure,
+                    }
+                })
+            })
+            .build_shared()
+            .unwrap();
+        let mut tree = Tree::with_clock(bp, ManualClock::new());
+        let mut world = World::default();
+        // No `go` entry: the condition fails, and nothing after it is ticked.
+        assert_eq!(tree.tick_once(&mut world), Ok(Status::Failure));
+        assert_eq!((world.steps.len(), world.checks), (0, 0));
+        tree.blackboard_mut().set("go", true).unwrap();
+        tree.blackboard_mut().set("stride", 3i64).unwrap();
+        assert_eq!(tree.tick_once(&mut world), Ok(Status::Success));
+        tree.blackboard_mut().set("stride", 5i64).unwrap();
+        assert_eq!(tree.tick_once(&mut world), Ok(Status::Success));
+        assert_eq!(
+            world.steps,
+            [(String::from("dock"), 3), (String::from("dock"), 5)]
+        );
+        assert_eq!(world.checks, 2);
+        assert_eq!(tree.blackboard().get::<i64>("echoed"), Ok(2));
+        // The ports are the blueprint's, as an XML node's are.
+        let step = tree.blueprint().find("root/step").unwrap();
+        let names: Vec<&str> = tree
+            .blueprint()
+            .ports(step)
+            .iter()
+            .map(|p| p.name.as_str())
+            .collect();
+        assert_eq!(names, ["to", "by"]);
+    }
+
+    #[test]
+    fn a_rejected_node_fails_the_build_at_its_path() {
+        let e = Blueprint::<()>::builder()
+            .sequence("root", |s| {
+                s.always_success("a")
+                    .reject("first")
+                    .always_success("b")
+                    .reject("second")
+            })
+            .build()
+            .unwrap_err();
+        assert_eq!(e.path, "root/a");
+        assert_eq!(
+            e.kind,
+            BuildErrorKind::Rejected {
+                message: String::from("first")
+            }
+        );
+        let e = Blueprint::<()>::builder().reject("nothing yet").build();
+        assert_eq!(e.unwrap_err().path, "");
+    }
+}
