@@ -101,7 +101,7 @@ impl<C: 'static> XmlLoader<'_, C> {
     /// [`build_all_errors`](Self::build_all_errors) builds a tree.
     pub fn build_main_all_errors(&self) -> Result<Blueprint<C>, LoadErrors> {
         match self.main_tree() {
-            Some(main) => self.build_all_errors(&main.to_string()),
+            Some(main) => self.build_all_errors(main),
             None => self.build_main().map_err(LoadErrors::from),
         }
     }
