@@ -212,4 +212,46 @@ mod tests {
         assert!(LoadErrors::new([]).is_none());
         assert_eq!(LoadErrors::from(at(1, "x")).len(), 1);
     }
+
+    #[test]
+    fn the_trees_of_a_file_are_checked_in_document_order_and_a_shared_error_told_once() {
+        let registry = crate::Registry::<()>::new();
+        let mut loader = XmlLoader::new(&registry);
+        loader
+            .load_str(
+                r#"<root BTCPP_format="4">
+  <BehaviorTree ID="Zeta">
+    <Sequence><Nope/><SubTree ID="Shared"/></Sequence>
+  </BehaviorTree>
+  <BehaviorTree ID="Alpha">
+    <Sequence><SubTree ID="Shared"/><Inverter/></Sequence>
+  </BehaviorTree>
+  <BehaviorTree ID="Shared">
+    <Repeat num_cycles="x"><AlwaysSuccess/></Repeat>
+  </BehaviorTree>
+</root>"#,
+                "two.xml",
+            )
+            .unwrap();
+        let ids: Vec<String> = loader.tree_ids().map(String::from).collect();
+        assert_eq!(ids, ["Alpha", "Shared", "Zeta"]);
+        let errors = loader
+            .validate_trees(ids.iter().map(String::as_str))
+            .unwrap_err();
+        let seen: Vec<(LoadErrorKind, u32, u32)> =
+            errors.iter().map(|e| (e.kind(), e.line, e.col)).collect();
+        assert_eq!(
+            seen,
+            [
+                (LoadErrorKind::UnknownNode, 3, 15),
+                (LoadErrorKind::BadValue, 9, 5),
+                (LoadErrorKind::ChildCount, 6, 37),
+            ]
+        );
+        assert_eq!(loader.validate_trees(["Shared"]).unwrap_err().len(), 1);
+        // Building stops at nothing either: the main tree asked for has both of its own.
+        let built = loader.build_all_errors("Zeta").unwrap_err();
+        assert_eq!(built.len(), 2);
+        assert_eq!(loader.build("Zeta").unwrap_err(), *built.first());
+    }
 }
