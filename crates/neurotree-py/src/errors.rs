@@ -76,6 +76,10 @@ pub(crate) fn load_error(py: Python<'_>, e: &LoadError) -> PyErr {
 /// A `LoadError` of the first of `errors`, whose `errors` lists every one of them (each a
 /// `LoadError`), as `neurotree check` lists them.
 pub(crate) fn load_errors(py: Python<'_>, errors: &LoadErrors) -> PyErr {
+    if errors.len() == 1 {
+        // Its `errors` is itself.
+        return load_error(py, errors.first());
+    }
     let all: Vec<Py<PyAny>> = errors
         .iter()
         .map(|e| load_error(py, e).into_value(py).into_any())
