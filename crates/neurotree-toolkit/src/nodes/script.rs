@@ -557,7 +557,7 @@ mod tests {
             "{xml}"
         );
 
-        // A script that does not parse fails the build at its node, past the first error.
+        // A script that does not parse fails the build at its node; the first such node is named.
         let e = Blueprint::<u32>::builder()
             .sequence("root", |s| {
                 s.script_condition("bad", "n <")
