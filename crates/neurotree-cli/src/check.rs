@@ -21,7 +21,7 @@ use crate::files::{self, LoadLimits};
 use crate::Outcome;
 
 /// The most errors reported for one file: past that, the rest are mostly consequences.
-pub const LIMIT: usize = 20;
+pub const LIMIT: usize = neurotree::xml::MAX_ERRORS;
 
 /// What `neurotree check` was asked to do.
 #[derive(clap::Args, Debug)]
@@ -191,17 +191,9 @@ fn check_trees(
 ) -> Result<usize, Vec<LoadError>> {
     let own: Vec<String> = loader.tree_ids().map(String::from).collect();
     lend(registry, loader, files, at);
-    let mut seen = BTreeSet::new();
-    let errors: Vec<LoadError> = own
-        .iter()
-        .flat_map(|id| loader.validate_all(id, LIMIT))
-        .filter(|e| seen.insert(e.to_string()))
-        .take(LIMIT)
-        .collect();
-    if errors.is_empty() {
-        Ok(own.len())
-    } else {
-        Err(errors)
+    match loader.validate_trees(own.iter().map(String::as_str)) {
+        Ok(()) => Ok(own.len()),
+        Err(errors) => Err(errors.into_vec()),
     }
 }
 

@@ -9,7 +9,7 @@
 
 use std::cell::RefCell;
 
-use neurotree::{Handle, LoadError, TickError};
+use neurotree::{Handle, LoadError, LoadErrors, TickError};
 use pyo3::exceptions::PyException;
 use pyo3::prelude::*;
 use pyo3::sync::GILOnceCell;
@@ -70,6 +70,33 @@ pub(crate) fn load_error(py: Python<'_>, e: &LoadError) -> PyErr {
         py,
         &LOAD_ERROR,
         (e.to_string(), kind, e.file.clone(), e.line, e.col),
+    )
+}
+
+/// A `LoadError` of the first of `errors`, whose `errors` lists every one of them (each a
+/// `LoadError`), as `neurotree check` lists them.
+pub(crate) fn load_errors(py: Python<'_>, errors: &LoadErrors) -> PyErr {
+    if errors.len() == 1 {
+        // Its `errors` is itself.
+        return load_error(py, errors.first());
+    }
+    let all: Vec<Py<PyAny>> = errors
+        .iter()
+        .map(|e| load_error(py, e).into_value(py).into_any())
+        .collect();
+    let first = errors.first();
+    let kind = format!("{:?}", first.kind());
+    make(
+        py,
+        &LOAD_ERROR,
+        (
+            first.to_string(),
+            kind,
+            first.file.clone(),
+            first.line,
+            first.col,
+            all,
+        ),
     )
 }
 

@@ -13,7 +13,7 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
 use crate::clock;
-use crate::errors::load_error;
+use crate::errors::{load_error, load_errors};
 use crate::leaf;
 use crate::ports::{self, PortTuple};
 use crate::tree::{Ctx, PyTree};
@@ -55,9 +55,10 @@ impl PyRegistry {
                 ))
             }
         };
-        loaded
-            .and_then(|()| loader.build_main())
-            .map_err(|e| load_error(py, &e))
+        loaded.map_err(|e| load_error(py, &e))?;
+        loader
+            .build_main_all_errors()
+            .map_err(|errors| load_errors(py, &errors))
     }
 
     fn tree(

@@ -23,6 +23,30 @@ def test_a_load_error_has_kind_file_line_column_and_check_message() -> None:
     assert isinstance(error, nt.NeuroTreeError)
 
 
+def test_a_load_error_lists_every_error_of_the_tree_in_document_order() -> None:
+    xml = (
+        '<root BTCPP_format="4">\n  <BehaviorTree ID="Main">\n    <Sequence>\n'
+        "      <Nope/>\n"
+        '      <Repeat num_cycles="many"><AlwaysSuccess/></Repeat>\n'
+        '      <AlwaysSuccess colour="red"/>\n'
+        "    </Sequence>\n  </BehaviorTree>\n</root>\n"
+    )
+    with pytest.raises(nt.LoadError) as info:
+        nt.Registry().load_string(xml)
+    error = info.value
+    assert (error.kind, error.line, error.column) == ("UnknownNode", 4, 7)
+    found = [(e.kind, e.line, e.column) for e in error.errors]
+    assert found == [("UnknownNode", 4, 7), ("BadValue", 5, 7), ("UnknownPort", 6, 7)]
+    assert all(isinstance(e, nt.LoadError) for e in error.errors)
+    assert str(error.errors[0]) == str(error)
+
+
+def test_a_single_load_error_lists_itself() -> None:
+    with pytest.raises(nt.LoadError) as info:
+        nt.Registry().load_string('<root BTCPP_format="4"><BehaviorTree ID="M"><Nope/></BehaviorTree></root>')
+    assert info.value.errors == [info.value]
+
+
 def test_a_load_error_in_a_file_names_the_file(tmp_path: Any) -> None:
     path = tmp_path / "bad.xml"
     path.write_text('<root BTCPP_format="4"><BehaviorTree ID="Main"><Sequence>\n</root>')

@@ -9,7 +9,7 @@ use neurotree_toolkit::{LoadError, Registry, XmlLoader};
 use serde::Serialize;
 
 /// The most errors reported for one text, as `neurotree check` reports.
-pub const LIMIT: usize = 20;
+pub const LIMIT: usize = neurotree_toolkit::xml::MAX_ERRORS;
 
 /// What the loader says of a text (PROTOCOL.md, "Check").
 #[derive(Clone, Debug, Default, Serialize)]
@@ -78,13 +78,8 @@ pub fn check_text(
     }
     check.trees = loader.tree_ids().map(String::from).collect();
     check.main = loader.main_tree().map(String::from);
-    let mut seen = std::collections::BTreeSet::new();
-    for id in &check.trees {
-        for e in loader.validate_all(id, LIMIT) {
-            if check.errors.len() < LIMIT && seen.insert(e.to_string()) {
-                check.errors.push(places.diagnostic(&e));
-            }
-        }
+    if let Err(errors) = loader.validate_trees(check.trees.iter().map(String::as_str)) {
+        check.errors = errors.iter().map(|e| places.diagnostic(e)).collect();
     }
     check.ok = check.errors.is_empty();
     if check.ok {

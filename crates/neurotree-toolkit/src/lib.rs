@@ -32,8 +32,9 @@ mod testing;
 pub mod xml;
 
 pub use json_port::Json;
+pub use nodes::script::ScriptBuilder;
 pub use nodes::utility_selector::UtilityBuilder;
 pub use registry::{PortDirection, PortSpec, Registry, RegistryError};
 pub use runtime::{FixedRate, StopFlag};
 pub use shared_blackboard::SharedBlackboard;
-pub use xml::{LoadError, LoadErrorKind, LoadWarning, XmlLoader};
+pub use xml::{LoadError, LoadErrorKind, LoadErrors, LoadWarning, XmlLoader};

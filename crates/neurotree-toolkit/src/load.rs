@@ -8,15 +8,20 @@ use std::sync::Arc;
 use neurotree_core::{Clock, Tree};
 
 use crate::registry::Registry;
-use crate::xml::{LoadError, XmlLoader};
+use crate::xml::{LoadErrors, XmlLoader};
 
 impl<C: 'static> Registry<C> {
     /// Loads the BehaviorTree.CPP file at `path`, with the files it `<include>`s, and
     /// returns its main tree (its `main_tree_to_execute`, or its only tree) ready to tick
     /// on `clock`.
     ///
-    /// Errors print as `file:line:col: error: message`. Warnings (deprecated node names)
-    /// are not reported; [`XmlLoader::warnings`] has them.
+    /// A file that does not load gives its first error (it cannot be read, is not XML, or
+    /// is not shaped as BehaviorTree.CPP expects); a main tree that does not build gives
+    /// all its errors (unknown nodes, ports, values, child counts: up to
+    /// [`MAX_ERRORS`](crate::xml::MAX_ERRORS)), in a [`LoadErrors`] that iterates over
+    /// them and prints them one per line as `file:line:col: error: message`, as
+    /// `neurotree check` does. Warnings (deprecated node names) are not reported;
+    /// [`XmlLoader::warnings`] has them.
     ///
     /// ```no_run
     /// use neurotree::prelude::*;
@@ -31,15 +36,18 @@ impl<C: 'static> Registry<C> {
         &self,
         path: impl AsRef<Path>,
         clock: impl Clock + 'static,
-    ) -> Result<Tree<C>, LoadError> {
+    ) -> Result<Tree<C>, LoadErrors> {
         let mut loader = XmlLoader::new(self);
         loader.load_file(path)?;
-        Ok(Tree::with_clock(Arc::new(loader.build_main()?), clock))
+        Ok(Tree::with_clock(
+            Arc::new(loader.build_main_all_errors()?),
+            clock,
+        ))
     }
 
     /// Loads BehaviorTree.CPP XML `text` and returns its main tree ready to tick on
-    /// `clock`, as [`load_file`](Self::load_file) does; `file` names the text in errors
-    /// and anchors its relative `<include>`s.
+    /// `clock`, as [`load_file`](Self::load_file) does, with all the main tree's errors;
+    /// `file` names the text in errors and anchors its relative `<include>`s.
     ///
     /// ```
     /// use neurotree::prelude::*;
@@ -64,10 +72,13 @@ impl<C: 'static> Registry<C> {
         text: &str,
         file: &str,
         clock: impl Clock + 'static,
-    ) -> Result<Tree<C>, LoadError> {
+    ) -> Result<Tree<C>, LoadErrors> {
         let mut loader = XmlLoader::new(self);
         loader.load_str(text, file)?;
-        Ok(Tree::with_clock(Arc::new(loader.build_main()?), clock))
+        Ok(Tree::with_clock(
+            Arc::new(loader.build_main_all_errors()?),
+            clock,
+        ))
     }
 }
 
@@ -142,7 +153,9 @@ mod tests {
         )
         .unwrap();
         let registry = Registry::<u32>::new();
-        let error = registry.load_file(&path, ManualClock::new()).unwrap_err();
+        let errors = registry.load_file(&path, ManualClock::new()).unwrap_err();
+        assert_eq!(errors.len(), 1);
+        let error = errors.first();
         assert_eq!((error.line, error.col), (3, 5));
         let printed = error.to_string();
         assert!(
@@ -153,5 +166,72 @@ mod tests {
             .load_file(dir.0.join("absent.xml"), ManualClock::new())
             .unwrap_err();
         assert!(missing.to_string().contains("absent.xml"), "{missing}");
+    }
+
+    #[test]
+    fn every_error_of_the_main_tree_is_reported_in_document_order() {
+        let mut registry = Registry::<u32>::new();
+        registry
+            .register_action("Bump", vec![], |_| Status::Success)
+            .unwrap();
+        let xml = "<root BTCPP_format=\"4\" main_tree_to_execute=\"Main\">
+  <BehaviorTree ID=\"Main\">
+    <Sequence>
+      <Bump/>
+      <Nope/>
+      <Repeat num_cycles=\"many\"><Bump/></Repeat>
+      <Bump speed=\"3\"/>
+      <SubTree ID=\"Side\"/>
+      <SubTree ID=\"Side\" name=\"again\"/>
+    </Sequence>
+  </BehaviorTree>
+  <BehaviorTree ID=\"Side\">
+    <Inverter><Bumpp/></Inverter>
+  </BehaviorTree>
+</root>";
+        let errors = registry
+            .load_str(xml, "main.xml", ManualClock::new())
+            .unwrap_err();
+        let seen: Vec<_> = errors
+            .iter()
+            .map(|e| (e.kind(), e.file.as_str(), e.line, e.col))
+            .collect();
+        use crate::xml::LoadErrorKind::*;
+        // The subtree used twice has its error reported once.
+        assert_eq!(
+            seen,
+            [
+                (UnknownNode, "main.xml", 5, 7),
+                (BadValue, "main.xml", 6, 7),
+                (UnknownPort, "main.xml", 7, 7),
+                (UnknownNode, "main.xml", 13, 15),
+            ]
+        );
+        assert_eq!(errors.len(), 4);
+        assert_eq!(errors.kind(), UnknownNode);
+        assert!(errors.first().message.contains("`Nope`"), "{errors}");
+        let printed = errors.to_string();
+        let lines: Vec<&str> = printed.lines().collect();
+        assert_eq!(lines.len(), 4);
+        assert!(lines[0].starts_with("main.xml:5:7: error: unknown node type `Nope`"));
+        assert!(lines[3]
+            .starts_with("main.xml:13:15: error: unknown node type `Bumpp`; did you mean `Bump`?"));
+
+        // One error alone is one error.
+        let one = xml.replace("<Nope/>", "").replace("\"many\"", "\"2\"");
+        let one = one.replace(" speed=\"3\"", "").replace("Bumpp", "Bump");
+        let one = one.replace("<Sequence>", "<Sequence><Nope/>");
+        let errors = registry
+            .load_str(&one, "one.xml", ManualClock::new())
+            .unwrap_err();
+        assert_eq!(errors.len(), 1, "{errors}");
+        assert_eq!((errors.first().line, errors.first().col), (3, 15));
+        assert_eq!(errors.kind(), UnknownNode);
+        let fixed = one.replace("<Nope/>", "");
+        let mut tree = registry
+            .load_str(&fixed, "fixed.xml", ManualClock::new())
+            .unwrap();
+        // The subtree's Inverter turns its Bump's Success into Failure.
+        assert_eq!(tree.tick_once(&mut 0), Ok(Status::Failure));
     }
 }

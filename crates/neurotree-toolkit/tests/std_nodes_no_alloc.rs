@@ -1,7 +1,8 @@
 //! The std nodes of XML-loaded trees allocate nothing per tick: the loops (taking an
 //! element, writing `value`, and for a `Vec` of numbers the copy made at each run's start,
-//! once the node's buffer has grown) and SetBlackboard writing a literal into a text entry.
-//! A counting allocator watches the ticks.
+//! once the node's buffer has grown) and SetBlackboard writing a literal into a text entry;
+//! and the builder's leaves that read their ports through the handle. A counting allocator
+//! watches the ticks.
 
 use std::collections::VecDeque;
 use std::sync::{Arc, Mutex};
@@ -101,4 +102,45 @@ fn set_blackboard_writes_a_literal_without_allocating() {
     // Every write counts: two per tick.
     let after = tree.blackboard().info("mode").unwrap().sequence;
     assert_eq!(after - before, 200);
+}
+
+#[test]
+fn builder_leaves_reading_their_ports_tick_without_allocating() {
+    use neurotree::{Blueprint, Port};
+
+    let blueprint = Blueprint::<i64>::builder()
+        .repeat("forever", -1, |r| {
+            r.sequence("step", |s| {
+                s.condition_with("enabled", [Port::entry("on", "enabled")], |h| {
+                    h.input::<bool>("on").unwrap_or(false)
+                })
+                .action_with(
+                    "advance",
+                    [Port::literal("by", "3"), Port::entry("limit", "limit")],
+                    |h| {
+                        let (Ok(by), Ok(limit)) = (h.input::<i64>("by"), h.input::<i64>("limit"))
+                        else {
+                            return Status::Failure;
+                        };
+                        let at = h.ctx_mut();
+                        *at = (*at + by) % limit;
+                        Status::Success
+                    },
+                )
+            })
+        })
+        .build_shared()
+        .unwrap();
+    let mut tree = Tree::with_clock(blueprint, ManualClock::new());
+    tree.blackboard_mut().set("enabled", true).unwrap();
+    tree.blackboard_mut().set("limit", 1000_i64).unwrap();
+    let mut at = 0;
+    assert_eq!(tree.tick_exactly_once(&mut at), Ok(Status::Running));
+    let n = allocations(|| {
+        for _ in 0..100 {
+            assert_eq!(tree.tick_exactly_once(&mut at), Ok(Status::Running));
+        }
+    });
+    assert_eq!(n, 0);
+    assert_eq!(at, 303);
 }

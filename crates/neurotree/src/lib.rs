@@ -11,7 +11,8 @@
 //! `use neurotree::prelude::*` brings what a program needs. Register your leaves, with the
 //! ports they read, in a [`Registry`] (the built-in nodes are already in it), then load a
 //! BehaviorTree.CPP file in one call: [`Registry::load_file`] follows its `<include>`s,
-//! checks every node, port and literal, and reports errors as `file:line:col: error: ...`.
+//! checks every node, port and literal, and reports every error of the tree (a
+//! [`LoadErrors`]), each as `file:line:col: error: ...`.
 //! [`Registry::load_str`] does the same for text. Leaves receive your own context type,
 //! here a `Vec<String>`, by `&mut` on every tick.
 //!
@@ -171,8 +172,8 @@ pub mod prelude {
     #[doc(no_inline)]
     pub use crate::{
         Action, AsyncAction, Blackboard, BlackboardError, Blueprint, BuildError, Clock, Condition,
-        CustomNode, Handle, LoadError, ManualClock, NodeCtx, Port, PortError, PortSpec, Registry,
-        RegistryError, ScopeId, SharedBlackboard, StatefulAction, Status, SystemClock, TickError,
-        Tree, XmlLoader,
+        CustomNode, Handle, LoadError, LoadErrors, ManualClock, NodeCtx, Port, PortError, PortSpec,
+        Registry, RegistryError, ScopeId, ScriptBuilder, SharedBlackboard, StatefulAction, Status,
+        SystemClock, TickError, Tree, XmlLoader,
     };
 }

@@ -75,4 +75,11 @@ pub enum BuildErrorKind {
         /// The most bytes of names a blueprint holds.
         max: usize,
     },
+    /// A node's configuration was refused by the code that added it (a script that does
+    /// not parse): see [`Builder::reject`](crate::Builder::reject).
+    #[error("{message}")]
+    Rejected {
+        /// What is wrong, and what to do.
+        message: String,
+    },
 }

@@ -24,7 +24,7 @@ import enum
 import inspect
 import json
 import pickle
-from typing import Any, Callable, Dict, Generator, Iterator, Mapping, Optional, Tuple, TypeVar, Union
+from typing import Any, Callable, Dict, Generator, Iterator, List, Mapping, Optional, Tuple, TypeVar, Union
 
 from . import _native, studio
 from ._native import Blackboard, Coverage, Failure, ManualClock, Node, SystemClock, Tree
@@ -81,9 +81,17 @@ class NeuroTreeError(Exception):
 
 class LoadError(NeuroTreeError):
     """A tree file or text that does not load: the message is what ``neurotree check``
-    prints (``file:line:col: error: ...``)."""
+    prints (``file:line:col: error: ...``) for the first error; ``errors`` has them all."""
 
-    def __init__(self, message: str, kind: str, file: str, line: int, column: int) -> None:
+    def __init__(
+        self,
+        message: str,
+        kind: str,
+        file: str,
+        line: int,
+        column: int,
+        errors: "Optional[List[LoadError]]" = None,
+    ) -> None:
         super().__init__(message)
         #: The ``LoadErrorKind`` name (``"UnknownNode"``, ``"Syntax"``, ...).
         self.kind = kind
@@ -93,6 +101,9 @@ class LoadError(NeuroTreeError):
         self.line = line
         #: The 1-based column.
         self.column = column
+        #: Every error of the tree, in document order, this one first (a tree with several
+        #: mistakes lists them all, as ``neurotree check`` does).
+        self.errors: List[LoadError] = errors if errors is not None else [self]
 
 
 class NodeError(NeuroTreeError):

@@ -17,8 +17,9 @@
 
 use std::sync::Arc;
 
+use neurotree_core::nodes::stand_in;
 use neurotree_core::{
-    Action, Arity, Category, CustomNode, CustomSpec, Handle, NodeCtx, NodeDecl, NodeKind,
+    Action, Arity, Builder, Category, CustomNode, CustomSpec, Handle, NodeCtx, NodeDecl, NodeKind,
     NodeStatus, Port, PortDecl, PortDirection, PortValue, Status,
 };
 
@@ -323,29 +324,68 @@ fn status_of(text: &str) -> Result<NodeStatus, String> {
     }
 }
 
+/// A Script (`condition: false`) or a ScriptCondition of the literal `code` in `ports`,
+/// parsed now.
+fn script_kind<C>(
+    ports: &[Port],
+    enums: &Arc<Enums>,
+    condition: bool,
+) -> Result<NodeKind<C>, MakerError> {
+    let script = parse(ports)?;
+    Ok(NodeKind::Action(Arc::new(ScriptNode {
+        script,
+        condition,
+        enums: Arc::clone(enums),
+    })))
+}
+
+/// A Precondition of `ports` (`if`, and `else`), its literal script parsed now.
+fn precondition_kind<C>(ports: &[Port], enums: &Arc<Enums>) -> Result<NodeKind<C>, MakerError> {
+    let enums = Arc::clone(enums);
+    let bound = |name: &str| {
+        matches!(
+            ports.iter().find(|p| p.name == name).map(|p| &p.value),
+            Some(PortValue::Entry(_))
+        )
+    };
+    let script_from_entry = bound("if");
+    let script = if script_from_entry {
+        None
+    } else {
+        let code = literal(ports, "if")?;
+        let parsed = Script::parse(code)
+            .map_err(|e| MakerError::Script(format!("in script `{}`: {e}", e.excerpt(code))))?;
+        Some(parsed)
+    };
+    let otherwise = if bound("else") {
+        None
+    } else {
+        Some(status_of(literal(ports, "else")?)?)
+    };
+    Ok(NodeKind::Custom(Box::new(CustomSpec {
+        type_name: PRECONDITION.name.into(),
+        arity: Arity::One,
+        factory: Box::new(move || {
+            Box::new(Precondition {
+                script: script.clone(),
+                script_from_entry,
+                enums: Arc::clone(&enums),
+                otherwise,
+                child_running: false,
+            })
+        }),
+    })))
+}
+
 /// Adds the nodes of this module to `registry`.
 pub(crate) fn register<C: 'static>(registry: &mut Registry<C>) {
     registry.register_declared(
         &SCRIPT,
-        Arc::new(|ports, enums| {
-            let script = parse(ports)?;
-            Ok(NodeKind::Action(Arc::new(ScriptNode {
-                script,
-                condition: false,
-                enums: Arc::clone(enums),
-            })))
-        }),
+        Arc::new(|ports, enums| script_kind(ports, enums, false)),
     );
     registry.register_declared(
         &SCRIPT_CONDITION,
-        Arc::new(|ports, enums| {
-            let script = parse(ports)?;
-            Ok(NodeKind::Action(Arc::new(ScriptNode {
-                script,
-                condition: true,
-                enums: Arc::clone(enums),
-            })))
-        }),
+        Arc::new(|ports, enums| script_kind(ports, enums, true)),
     );
     registry.register_declared(
         &SET_BLACKBOARD,
@@ -354,46 +394,7 @@ pub(crate) fn register<C: 'static>(registry: &mut Registry<C>) {
             Ok(NodeKind::Action(Arc::new(SetBlackboard { key })))
         }),
     );
-    registry.register_declared(
-        &PRECONDITION,
-        Arc::new(|ports, enums| {
-            let enums = Arc::clone(enums);
-            let bound = |name: &str| {
-                matches!(
-                    ports.iter().find(|p| p.name == name).map(|p| &p.value),
-                    Some(PortValue::Entry(_))
-                )
-            };
-            let script_from_entry = bound("if");
-            let script = if script_from_entry {
-                None
-            } else {
-                let code = literal(ports, "if")?;
-                let parsed = Script::parse(code).map_err(|e| {
-                    MakerError::Script(format!("in script `{}`: {e}", e.excerpt(code)))
-                })?;
-                Some(parsed)
-            };
-            let otherwise = if bound("else") {
-                None
-            } else {
-                Some(status_of(literal(ports, "else")?)?)
-            };
-            Ok(NodeKind::Custom(Box::new(CustomSpec {
-                type_name: "Precondition".into(),
-                arity: Arity::One,
-                factory: Box::new(move || {
-                    Box::new(Precondition {
-                        script: script.clone(),
-                        script_from_entry,
-                        enums: Arc::clone(&enums),
-                        otherwise,
-                        child_running: false,
-                    })
-                }),
-            })))
-        }),
-    );
+    registry.register_declared(&PRECONDITION, Arc::new(precondition_kind));
     registry.register_declared(
         &UNSET_BLACKBOARD,
         Arc::new(|ports, _| {
@@ -401,6 +402,85 @@ pub(crate) fn register<C: 'static>(registry: &mut Registry<C>) {
             Ok(NodeKind::Action(Arc::new(UnsetBlackboard { key })))
         }),
     );
+}
+
+/// Script, ScriptCondition and Precondition in the [`Builder`]: the same nodes as in XML
+/// (saved as `<Script code="…"/>` and so on), their scripts parsed when added. A script
+/// that does not parse fails [`Builder::build`] at its node
+/// ([`BuildErrorKind::Rejected`](neurotree_core::BuildErrorKind::Rejected)). Scripts built
+/// so know no enum values (a [`Registry`]'s belong to the trees it loads).
+///
+/// ```
+/// use neurotree::prelude::*;
+///
+/// let blueprint = Blueprint::<()>::builder()
+///     .sequence("setup", |s| {
+///         s.script("laps", "laps := 2; done := false")
+///             .precondition("", "laps > 1", |p| p.script("", "done := true"))
+///             .script_condition("check", "done == true")
+///     })
+///     .build_shared()
+///     .unwrap();
+/// let mut tree = Tree::with_clock(blueprint, ManualClock::new());
+/// assert_eq!(tree.tick_once(&mut ()), Ok(Status::Success));
+/// assert_eq!(tree.blackboard().get::<bool>("done"), Ok(true));
+///
+/// let bad = Blueprint::<()>::builder().script("oops", "x := ").build();
+/// assert!(bad.unwrap_err().to_string().starts_with("oops: in script"));
+/// ```
+pub trait ScriptBuilder: Sized {
+    /// A Script: runs `code` on the blackboard; Success.
+    fn script(self, name: &str, code: &str) -> Self;
+
+    /// A ScriptCondition: Success if the value of `code` is true, else Failure.
+    fn script_condition(self, name: &str, code: &str) -> Self;
+
+    /// A Precondition: ticks the child `child` adds only if the script `condition` holds
+    /// when the child has not been started; else Failure, without ticking it.
+    fn precondition(self, name: &str, condition: &str, child: impl FnOnce(Self) -> Self) -> Self;
+}
+
+impl<C: 'static> ScriptBuilder for Builder<C> {
+    fn script(self, name: &str, code: &str) -> Self {
+        script_leaf(self, &SCRIPT, name, code)
+    }
+
+    fn script_condition(self, name: &str, code: &str) -> Self {
+        script_leaf(self, &SCRIPT_CONDITION, name, code)
+    }
+
+    fn precondition(self, name: &str, condition: &str, child: impl FnOnce(Self) -> Self) -> Self {
+        let name = if name.is_empty() {
+            PRECONDITION.name
+        } else {
+            name
+        };
+        let ports = [
+            Port::literal("if", condition),
+            Port::literal("else", "FAILURE"),
+        ];
+        match precondition_kind(&ports, &Arc::default()) {
+            Ok(kind) => self.node(kind, name, |b| {
+                child(b.type_id(PRECONDITION.name).ports(ports))
+            }),
+            Err(e) => self.node(stand_in(Category::Decorator), name, |b| {
+                child(b.reject(e.into_parts().1))
+            }),
+        }
+    }
+}
+
+/// Adds the Script or ScriptCondition `decl` of `code`, named `name` (its type without one).
+fn script_leaf<C: 'static>(b: Builder<C>, decl: &NodeDecl, name: &str, code: &str) -> Builder<C> {
+    let name = if name.is_empty() { decl.name } else { name };
+    let ports = [Port::literal("code", code)];
+    let condition = decl.category == Category::Condition;
+    match script_kind(&ports, &Arc::default(), condition) {
+        Ok(kind) => b.leaf(kind, name).type_id(decl.name).ports(ports),
+        Err(e) => b
+            .leaf(stand_in(decl.category), name)
+            .reject(e.into_parts().1),
+    }
 }
 
 #[cfg(test)]
@@ -424,5 +504,73 @@ mod tests {
         // Completed: the flag is cleared, `if` (now false) decides: the `else` status.
         assert_eq!(lab.tick(&mut tree), Ok(F));
         assert_eq!(lab.ticks, [1]);
+    }
+
+    #[test]
+    fn the_builder_adds_the_script_nodes_as_a_file_writes_them() {
+        use crate::xml::{write_xml, SaveOptions};
+        use crate::Registry;
+        use neurotree_core::{Blueprint, BuildErrorKind, ManualClock, Status as St, Tree};
+
+        use super::ScriptBuilder;
+
+        let bp = Blueprint::<u32>::builder()
+            .sequence("root", |s| {
+                s.script("", "n := n + 1")
+                    .precondition("gate", "n > 1", |p| {
+                        p.action("count", |c: &mut u32| {
+                            *c += 1;
+                            St::Success
+                        })
+                    })
+                    .script_condition("small", "n < 3")
+            })
+            .build_shared()
+            .unwrap();
+        let mut tree = Tree::with_clock(bp, ManualClock::new());
+        tree.blackboard_mut().set("n", 0i64).unwrap();
+        let mut counted = 0;
+        // n = 1: the gate is shut (Failure), the condition never reached.
+        assert_eq!(tree.tick_once(&mut counted), Ok(St::Failure));
+        assert_eq!(counted, 0);
+        // n = 2: the gate opens, n < 3 holds.
+        assert_eq!(tree.tick_once(&mut counted), Ok(St::Success));
+        assert_eq!(counted, 1);
+        // n = 3: the gate opens, n < 3 fails.
+        assert_eq!(tree.tick_once(&mut counted), Ok(St::Failure));
+        assert_eq!(counted, 2);
+        assert!(tree.blueprint().find("root/Script").is_some());
+
+        // Written as a file names them.
+        let registry = Registry::<u32>::new();
+        let xml = write_xml(tree.blueprint(), &registry, &SaveOptions::default());
+        assert!(
+            xml.contains(r#"<Script name="Script" code="n := n + 1"/>"#),
+            "{xml}"
+        );
+        assert!(
+            xml.contains(r#"<ScriptCondition name="small" code="n &lt; 3"/>"#),
+            "{xml}"
+        );
+        assert!(
+            xml.contains(r#"<Precondition name="gate" if="n &gt; 1" else="FAILURE">"#),
+            "{xml}"
+        );
+
+        // A script that does not parse fails the build at its node; the first such node is named.
+        let e = Blueprint::<u32>::builder()
+            .sequence("root", |s| {
+                s.script_condition("bad", "n <")
+                    .precondition("worse", "(", |p| p.script("", ")"))
+            })
+            .build()
+            .unwrap_err();
+        assert_eq!(e.path, "root/bad");
+        assert!(matches!(e.kind, BuildErrorKind::Rejected { .. }), "{e}");
+        let e = Blueprint::<u32>::builder()
+            .precondition("worse", "(", |p| p.script("", "n := 1"))
+            .build()
+            .unwrap_err();
+        assert_eq!(e.path, "worse");
     }
 }

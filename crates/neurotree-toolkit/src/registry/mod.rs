@@ -22,6 +22,7 @@ use std::sync::Arc;
 
 use crate::script::Enums;
 
+use neurotree_core::nodes::leaf::{FnAction, FnCondition};
 use neurotree_core::state::StateCodecs;
 use neurotree_core::{Category, Handle, NodeKind, StatefulAction, Status};
 
@@ -430,7 +431,7 @@ impl<C: 'static> Registry<C> {
         F: Fn(&mut Handle<'_, C>) -> Status + Send + Sync + 'static,
     {
         // One object shared by every node of this type: making a node allocates nothing.
-        let action: Arc<dyn neurotree_core::Action<C>> = Arc::new(SharedAction(f));
+        let action: Arc<dyn neurotree_core::Action<C>> = Arc::new(FnAction(f));
         let leaf: LeafMaker<C> = Arc::new(move |_, _| Ok(NodeKind::Action(Arc::clone(&action))));
         self.register_leaf(name, Category::Action, ports, leaf)
     }
@@ -456,7 +457,7 @@ impl<C: 'static> Registry<C> {
             category: Category::Condition,
             ports,
             description: String::new(),
-            make: Make::Condition(Arc::new(SharedCondition(f))),
+            make: Make::Condition(Arc::new(FnCondition(f))),
             builtin: false,
         };
         self.types.insert(name.to_string(), t);
@@ -531,17 +532,6 @@ impl<C: 'static> Registry<C> {
     }
 }
 
-struct SharedAction<F>(F);
-
-impl<C, F> neurotree_core::Action<C> for SharedAction<F>
-where
-    F: Fn(&mut Handle<'_, C>) -> Status + Send + Sync,
-{
-    fn tick(&self, h: &mut Handle<'_, C>) -> Status {
-        (self.0)(h)
-    }
-}
-
 struct SharedAsync<F>(Arc<F>);
 
 impl<C, F, Fut> neurotree_core::AsyncAction<C> for SharedAsync<F>
@@ -574,16 +564,6 @@ where
     }
 }
 
-struct SharedCondition<F>(F);
-
-impl<C, F> neurotree_core::Condition<C> for SharedCondition<F>
-where
-    F: Fn(&Handle<'_, C>) -> bool + Send + Sync,
-{
-    fn check(&self, h: &Handle<'_, C>) -> bool {
-        (self.0)(h)
-    }
-}
 #[cfg(test)]
 mod tests {
     use super::*;

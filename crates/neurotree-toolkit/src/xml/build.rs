@@ -14,7 +14,7 @@ use super::budget;
 use super::mock;
 use super::source::Element;
 use super::substitute::{self, Substitute};
-use super::{LoadError, LoadErrorKind, XmlLoader};
+use super::{LoadError, LoadErrorKind, LoadErrors, XmlLoader};
 use crate::nodes::hooks::{ScriptHooks, ATTRIBUTES};
 use crate::registry::{Make, NodeType};
 use crate::script::{Enums, Script};
@@ -118,6 +118,28 @@ pub(super) fn build<C: 'static>(
     validate: bool,
 ) -> Result<Blueprint<C>, LoadError> {
     Expansion::new(loader, id, validate, 0).expand(tree)
+}
+
+/// Builds the tree as [`build`] does, but goes on past an element in error (in its place, a
+/// stand-in with its children) to report up to `limit` errors.
+pub(super) fn build_all<C: 'static>(
+    loader: &XmlLoader<'_, C>,
+    id: &str,
+    tree: Element<'_>,
+    limit: usize,
+) -> Result<Blueprint<C>, LoadErrors> {
+    let mut x = Expansion::new(loader, id, false, limit);
+    let built = x.expand(tree);
+    let mut errors = std::mem::take(&mut x.errors);
+    let last = match built {
+        Ok(blueprint) => match errors.pop() {
+            None => return Ok(blueprint),
+            // Built with stand-ins for the elements in error: not the tree asked for.
+            Some(last) => last,
+        },
+        Err(last) => last,
+    };
+    Err(LoadErrors::ending_with(errors, last, limit))
 }
 
 /// Checks the tree as [`build`] does when validating, going on past an element in error

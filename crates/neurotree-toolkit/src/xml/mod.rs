@@ -33,6 +33,7 @@ mod budget;
 mod build;
 pub(crate) use build::{binding, is_explicit};
 mod error;
+mod errors;
 mod file;
 mod include;
 use include::joined;
@@ -45,6 +46,7 @@ pub mod substitute;
 
 pub use budget::TOO_MANY_NODES;
 pub use error::{LoadError, LoadErrorKind, LoadWarning};
+pub use errors::{LoadErrors, MAX_ERRORS};
 pub use file::{read_file, DEFAULT_MAX_FILE_BYTES};
 pub use mock::{parse_outcomes, MockOutput, Outcomes, OutputType};
 pub(crate) use names::check_port_name;

@@ -2,8 +2,8 @@
 //!
 //! | kind | in short |
 //! |---|---|
-//! | [`Condition`] / closure `Fn(&C) -> bool` | Success or Failure |
-//! | [`Action`] / closure `Fn(&mut C) -> Status` | Success or Failure in one tick |
+//! | [`Condition`] / closure `Fn(&C) -> bool` or [of the handle](with_handle) | Success or Failure |
+//! | [`Action`] / closure `Fn(&mut C) -> Status` or [of the handle](with_handle) | Success or Failure in one tick |
 //! | [`StatefulAction`] | started, updated and halted over several ticks |
 //! | [`AsyncAction`] / closure returning a future ([async_action]) | a future per run |
 //! | [AlwaysSuccess / AlwaysFailure](always) | as their names |
@@ -20,8 +20,10 @@
 pub mod always;
 pub mod async_action;
 pub mod sleep;
+pub mod with_handle;
 
 pub use async_action::{ActionFuture, AsyncAction, HaltFuture};
+pub use with_handle::{FnAction, FnCondition};
 
 use core::time::Duration;
 
