@@ -753,7 +753,8 @@ async fn a_blackboard_edit_that_does_not_fit_is_refused_at_its_field_and_a_good_
     b.element(field).await;
     assert_eq!(b.attr(field, "aria-invalid").await, None);
     let goal = "studio.views.watch.state.blackboards[0].entries.find(e => e.key === 'goal').value";
-    let held = json!({"x": 1.0, "y": 2.0, "theta": 0.5});
+    // As the page holds it: JavaScript has no whole floats.
+    let held = json!({"x": 1, "y": 2, "theta": 0.5});
     assert_eq!(b.js(&format!("return {goal};")).await, held);
 
     // Not JSON: refused at the field, with why; the entry keeps its value.
@@ -791,7 +792,7 @@ async fn a_blackboard_edit_that_does_not_fit_is_refused_at_its_field_and_a_good_
     .await;
     b.until(
         "the reason cleared",
-        &format!("document.querySelector('{error}').hidden && !document.querySelector('{field}').hasAttribute('aria-invalid')"),
+        &format!("document.querySelector('{error}').hidden && !document.querySelector(\"{field}\").hasAttribute('aria-invalid')"),
     )
     .await;
     drop(run);
