@@ -11,7 +11,12 @@ chromium=${CHROMIUM:-chromium}
 images=docs/images
 here=crates/neurotree-studio/docs
 log=$(mktemp)
-trap 'kill $server 2>/dev/null || true; rm -f "$log"' EXIT
+# tree1111's two conditions, declared for the editor.
+model=$(mktemp --suffix=.xml)
+cat > "$model" <<'XML'
+<root BTCPP_format="4"><TreeNodesModel><Condition ID="Succ"/><Condition ID="Fail"/></TreeNodesModel></root>
+XML
+trap 'kill $server 2>/dev/null || true; rm -f "$log" "$model"' EXIT
 
 # Starts `neurotree ARGS…` in the background and waits for the URL it prints.
 serve() {
@@ -19,7 +24,7 @@ serve() {
   "$neurotree" "$@" 2>"$log" >/dev/null &
   server=$!
   for _ in $(seq 100); do
-    url=$(sed -n 's/^studio: //p' "$log")
+    url=$(sed -n 's/^studio: \(http[^ ]*\).*/\1/p' "$log" | head -n 1)
     [ -n "$url" ] && return 0
     sleep 0.2
   done
@@ -54,14 +59,19 @@ shot "${url}#view=watch" "$images/studio-nav2-watch.png"
 stop
 
 # The editor on tree1111, folded to the depth that fits, and on Nav2's navigator.
-serve studio --port 0 corpus/bench/tree1111.xml
+serve studio --port 0 --model "$model" corpus/bench/tree1111.xml
 shot "${url}#view=edit&file=corpus/bench/tree1111.xml" "$images/studio-tree1111-folded.png"
 stop
 serve studio --port 0 --nav2 "$nav2"
 shot "${url}#view=edit&file=$nav2" "$here/studio-edit.png"
 stop
 
-# A replay of the navigator's trace in docs/images.
+# A replay of the navigator's dry run, at its last step (the trace inside the folder served).
+trace=target/studio-replay.jsonl
+mkdir -p target
+"$neurotree" run "$nav2" --nav2 --mock-unknown --mock FollowPath=RUNNING --set "goal=3;4;0" \
+  --max-ticks 3 --jsonl "$trace" >/dev/null || [ $? -eq 3 ]
 serve studio --port 0 --nav2
-shot "${url}#view=replay&file=$images/navigate_to_pose.trace.jsonl&tree=$nav2" "$here/studio-replay.png"
+shot "${url}#view=replay&file=$trace&tree=$nav2" "$here/studio-replay.png"
 stop
+rm -f "$trace"
