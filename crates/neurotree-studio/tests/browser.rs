@@ -101,7 +101,8 @@ static SUCC_FAILS: AtomicBool = AtomicBool::new(false);
 static SUCC_FAIL_EVERY: AtomicU64 = AtomicU64::new(1);
 static SUCC_CALLS: AtomicU64 = AtomicU64::new(0);
 
-/// Runs for two ticks, then succeeds.
+/// Runs for two ticks, then succeeds; its state is saved with the tree's, so that a
+/// watched run of it can go back.
 struct Work {
     left: u32,
 }
@@ -117,6 +118,14 @@ impl StatefulAction<()> for Work {
         }
         self.left -= 1;
         Status::Running
+    }
+    fn save_state(&self) -> Option<Vec<u8>> {
+        Some(neurotree_toolkit::state::encode(&self.left))
+    }
+    fn restore_state(&mut self, state: &[u8]) -> bool {
+        neurotree_toolkit::state::decode(state)
+            .map(|left| self.left = left)
+            .is_some()
     }
 }
 
@@ -869,6 +878,21 @@ async fn each_utility_shows_its_last_score_and_a_new_score_after_an_edit_and_a_s
     .await;
     b.until(
         "the new score on its node",
+        "document.querySelector('#watch-view [data-node-path=\"choose/work\"]').dataset.score === '9'",
+    )
+    .await;
+    assert_eq!(scores_shown(&b).await, json!(["1", "5", "9"]));
+    // Back a tick, the scores are that tick's; forward again, the new one.
+    b.click("#watch-view [data-action=back]").await;
+    b.until(
+        "the score of the tick before",
+        "document.querySelector('#watch-view [data-node-path=\"choose/work\"]').dataset.score === '2.5'",
+    )
+    .await;
+    assert_eq!(b.shown_tick().await, tick);
+    b.click("#watch-view [data-action=forward]").await;
+    b.until(
+        "the score of the tick after",
         "document.querySelector('#watch-view [data-node-path=\"choose/work\"]').dataset.score === '9'",
     )
     .await;

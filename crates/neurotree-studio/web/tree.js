@@ -374,11 +374,17 @@ export class TreeDrawing {
 
   /**
    * Shows the last score node `i` was given (a Utility's, by its UtilitySelector) above
-   * its top left corner, as `data-score` on the node and a label made once per node.
+   * its top left corner, as `data-score` on the node and a label made once per node;
+   * `null` takes it away.
    */
   setScore(i, score) {
     const el = this.elements[i];
     if (!el) return;
+    if (score == null) {
+      el.removeAttribute("data-score");
+      el.querySelector(":scope > text.score")?.remove();
+      return;
+    }
     const text = Number.isInteger(score) ? String(score) : String(Math.round(score * 1000) / 1000);
     el.setAttribute("data-score", text);
     let label = el.querySelector(":scope > text.score");

@@ -239,10 +239,17 @@ fn changes(hub: &Hub, sent: &mut Sent, ticks: bool) -> Vec<String> {
         let mut message = json!({"type": "tick", "tick": tick, "changes": changed});
         // Only a tree that has scores (a UtilitySelector's) is sent them.
         if scored != sent.scores {
+            // Scores gone (a kept tick shown from before a node was scored) are `null`.
+            let gone = sent
+                .scores
+                .iter()
+                .filter(|(i, _)| !scored.iter().any(|(j, _)| i == j))
+                .map(|&(i, _)| json!([i, null]));
             let new: Vec<Value> = scored
                 .iter()
                 .filter(|s| !sent.scores.contains(s))
                 .map(|&(i, bits)| json!([i, f64::from_bits(bits)]))
+                .chain(gone)
                 .collect();
             message["scores"] = Value::Array(new);
             sent.scores = scored;
