@@ -547,9 +547,9 @@ fn show_marks_the_path_that_failed_in_every_picture_format() {
     assert_eq!(
         marked(&svg, "<path class=\"failed-path\""),
         [
-            "<path class=\"failed-path\" d=\"M138.3 56V74H138.3V92\" stroke=\"#c92a2a\" stroke-width=\"3\"/>",
-            "<path class=\"failed-path\" d=\"M138.3 132V153.5H214V168\" stroke=\"#c92a2a\" stroke-width=\"3\"/>",
-            "<path class=\"failed-path\" d=\"M214 236V254H214V272\" stroke=\"#c92a2a\" stroke-width=\"3\"/>",
+            "<path class=\"failed-path\" d=\"M147.3 56V74H147.3V92\" stroke=\"#c92a2a\" stroke-width=\"3\"/>",
+            "<path class=\"failed-path\" d=\"M147.3 132V153.5H226V168\" stroke=\"#c92a2a\" stroke-width=\"3\"/>",
+            "<path class=\"failed-path\" d=\"M226 236V254H226V272\" stroke=\"#c92a2a\" stroke-width=\"3\"/>",
         ]
     );
     let reasons = marked(&svg, "class=\"reason\"");
@@ -557,11 +557,11 @@ fn show_marks_the_path_that_failed_in_every_picture_format() {
     assert!(reasons[0].starts_with(
         "<g id=\"n4\" class=\"node decorator failure failed-path\">\
          <title>go/try/retry (RetryUntilSuccessful): FAILURE -- failed: gave up after 2 attempts\
-         &#10;num_attempts: 2</title>"
+         &#10;in num_attempts: 2</title>"
     ));
     // Under the name, the type and the port, the reason.
     assert!(reasons[0].contains(
-        "<text class=\"reason\" x=\"214\" y=\"227\" font-size=\"10\" font-weight=\"bold\" \
+        "<text class=\"reason\" x=\"226\" y=\"227\" font-size=\"10\" font-weight=\"bold\" \
          text-anchor=\"middle\" fill=\"#c92a2a\">gave up after 2 attempts</text>"
     ));
     // Red and three pixels wide: the outlines of the four nodes on the path and the three

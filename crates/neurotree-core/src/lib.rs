@@ -70,7 +70,7 @@ pub use blackboard::{Blackboard, BlackboardError, EntryInfo, ScopeId};
 pub use blueprint::{
     Arity, Blueprint, BuildError, BuildErrorKind, Builder, Category, CustomSpec, FromPortStr,
     NodeId, NodeKind, Number, ParallelPolicy, Param, Port, PortBinding, PortBindingError,
-    PortError, PortType, PortValue, Shared, SubTreeScope, DEFAULT_MAX_DEPTH,
+    PortDirections, PortError, PortType, PortValue, Shared, SubTreeScope, DEFAULT_MAX_DEPTH,
 };
 #[cfg(feature = "std")]
 pub use clock::SystemClock;

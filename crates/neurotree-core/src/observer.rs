@@ -51,6 +51,12 @@ pub trait Observer: Send {
     ///
     /// [`Handle::fail_with`]: crate::Handle::fail_with
     fn on_failure_reason(&mut self, _node: NodeId, _reason: &Reason) {}
+
+    /// `node` was given the score `score` in this tick: the number a control chose by (a
+    /// UtilitySelector tells each of its Utility children's, as it evaluates them), which a
+    /// live view shows on the node. Called only where a node reports one
+    /// ([`NodeCtx::report_child_score`](crate::NodeCtx::report_child_score)).
+    fn on_node_score(&mut self, _node: NodeId, _score: f64) {}
 }
 
 /// Two observers side by side: both see every event, the first one first.
@@ -78,6 +84,10 @@ impl<A: Observer, B: Observer> Observer for (A, B) {
     fn on_failure_reason(&mut self, node: NodeId, reason: &Reason) {
         self.0.on_failure_reason(node, reason);
         self.1.on_failure_reason(node, reason);
+    }
+    fn on_node_score(&mut self, node: NodeId, score: f64) {
+        self.0.on_node_score(node, score);
+        self.1.on_node_score(node, score);
     }
 }
 
@@ -111,6 +121,11 @@ impl Observer for alloc::vec::Vec<alloc::boxed::Box<dyn Observer>> {
     fn on_failure_reason(&mut self, node: NodeId, reason: &Reason) {
         for o in self.iter_mut() {
             o.on_failure_reason(node, reason);
+        }
+    }
+    fn on_node_score(&mut self, node: NodeId, score: f64) {
+        for o in self.iter_mut() {
+            o.on_node_score(node, score);
         }
     }
 }

@@ -39,6 +39,9 @@ impl Observer for Fanout {
             .iter_mut()
             .for_each(|o| o.on_failure_reason(node, reason));
     }
+    fn on_node_score(&mut self, node: NodeId, score: f64) {
+        self.0.iter_mut().for_each(|o| o.on_node_score(node, score));
+    }
 }
 
 /// `Tree.on_status_change`: `callback(path, previous, status, seconds)`.

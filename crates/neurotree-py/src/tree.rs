@@ -355,6 +355,9 @@ impl PyTree {
         use neurotree::studio::{Studio, StudioOptions};
         let options = StudioOptions {
             port,
+            // The page's editor knows the built-ins only: a Python program's own types are
+            // not in the registry it checks with.
+            unknown_type_advice: "the studio's editor knows the built-in node types only",
             ..StudioOptions::default()
         };
         let studio = py

@@ -11,6 +11,12 @@ use serde::Serialize;
 /// The most errors reported for one text, as `neurotree check` reports.
 pub const LIMIT: usize = neurotree_toolkit::xml::MAX_ERRORS;
 
+/// What an unknown node type's error advises, as the studio is started from the command
+/// line ([`StudioOptions::unknown_type_advice`](crate::StudioOptions::unknown_type_advice)
+/// by default): its node types come from the flags it was started with.
+pub const UNKNOWN_TYPE_ADVICE: &str = "start the studio with --model FILE, a TreeNodesModel \
+     that declares it, or with --nav2 if it is one of Nav2's";
+
 /// What the loader says of a text (PROTOCOL.md, "Check").
 #[derive(Clone, Debug, Default, Serialize)]
 pub struct Check {
@@ -48,13 +54,15 @@ pub struct Diagnostic {
 }
 
 /// Checks `text` as the file `shown` (includes resolve beside `path`), with `registry`
-/// (which gets the text's own `TreeNodesModel`).
+/// (which gets the text's own `TreeNodesModel`); an unknown node type's error ends with
+/// `advice`.
 pub fn check_text(
     mut registry: Registry<()>,
     path: &Path,
     shown: &str,
     text: &str,
     max_nodes: usize,
+    advice: &'static str,
 ) -> Check {
     let places = Places::new(text);
     let mut check = Check::default();
@@ -62,7 +70,9 @@ pub fn check_text(
         check.errors.push(places.diagnostic(&e));
         return check;
     }
-    let mut loader = XmlLoader::new(&registry).max_nodes(max_nodes);
+    let mut loader = XmlLoader::new(&registry)
+        .max_nodes(max_nodes)
+        .unknown_type_advice(advice);
     if let Some(dir) = path.parent() {
         loader = loader.base_dir(dir);
     }
@@ -231,7 +241,14 @@ mod tests {
 
     #[test]
     fn an_error_is_located_at_its_node() {
-        let check = check_text(Registry::new(), Path::new("a.xml"), "a.xml", TEXT, 100_000);
+        let check = check_text(
+            Registry::new(),
+            Path::new("a.xml"),
+            "a.xml",
+            TEXT,
+            100_000,
+            UNKNOWN_TYPE_ADVICE,
+        );
         assert!(!check.ok);
         assert_eq!(check.trees, ["Main"]);
         assert_eq!(check.errors.len(), 1, "{:?}", check.errors);
@@ -246,7 +263,14 @@ mod tests {
     #[test]
     fn a_valid_text_is_ok_and_malformed_text_says_where() {
         let good = TEXT.replace("many", "2");
-        let check = check_text(Registry::new(), Path::new("a.xml"), "a.xml", &good, 100_000);
+        let check = check_text(
+            Registry::new(),
+            Path::new("a.xml"),
+            "a.xml",
+            &good,
+            100_000,
+            UNKNOWN_TYPE_ADVICE,
+        );
         assert!(check.ok, "{:?}", check.errors);
         assert_eq!(check.main.as_deref(), Some("Main"));
 
@@ -256,6 +280,7 @@ mod tests {
             "a.xml",
             "<root><BehaviorTree ID=\"M\">",
             100_000,
+            UNKNOWN_TYPE_ADVICE,
         );
         assert!(!bad.ok);
         assert_eq!(bad.errors[0].kind, "Syntax");
@@ -265,7 +290,14 @@ mod tests {
     #[test]
     fn a_lint_finding_is_located_at_its_node() {
         let text = TEXT.replace("num_cycles=\"many\"", "num_cycles=\"-1\"");
-        let check = check_text(Registry::new(), Path::new("a.xml"), "a.xml", &text, 100_000);
+        let check = check_text(
+            Registry::new(),
+            Path::new("a.xml"),
+            "a.xml",
+            &text,
+            100_000,
+            UNKNOWN_TYPE_ADVICE,
+        );
         assert!(check.ok, "{:?}", check.errors);
         let found: Vec<(&str, &str, Option<&[usize]>)> = check
             .lint
@@ -283,5 +315,43 @@ mod tests {
         assert!(check.lint[1]
             .message
             .starts_with("a.xml:6:7: warning[NT0302]: "));
+    }
+
+    #[test]
+    fn an_unknown_type_is_advised_as_the_studio_is_started() {
+        let text = TEXT
+            .replace(
+                "<AlwaysSuccess/>\n      <Repeat",
+                "<MoveTo/>\n      <Repeat",
+            )
+            .replace("many", "2");
+        let check = check_text(
+            Registry::new(),
+            Path::new("a.xml"),
+            "a.xml",
+            &text,
+            100_000,
+            UNKNOWN_TYPE_ADVICE,
+        );
+        assert_eq!(check.errors.len(), 1, "{:?}", check.errors);
+        let e = &check.errors[0];
+        assert_eq!(e.kind, "UnknownNode");
+        assert!(e.message.starts_with("a.xml:5:7: error: "), "{}", e.message);
+        assert!(e.message.contains("MoveTo"), "{}", e.message);
+        assert!(e.message.ends_with(UNKNOWN_TYPE_ADVICE), "{}", e.message);
+        assert!(!e.message.contains("Registry"), "{}", e.message);
+        assert_eq!(e.element.as_deref(), Some(&[0, 0][..]));
+        // A program serving the studio with a registry of its own says how it is extended.
+        let own = check_text(
+            Registry::new(),
+            Path::new("a.xml"),
+            "a.xml",
+            &text,
+            100_000,
+            "add it to the program's registry",
+        );
+        assert!(own.errors[0]
+            .message
+            .ends_with("add it to the program's registry"));
     }
 }

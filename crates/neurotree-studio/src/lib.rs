@@ -65,7 +65,7 @@ use std::thread::JoinHandle;
 use neurotree_core::Tree;
 use neurotree_toolkit::Registry;
 
-pub use check::{check_text, Check, Diagnostic};
+pub use check::{check_text, Check, Diagnostic, UNKNOWN_TYPE_ADVICE};
 pub use palette::palette;
 pub use replay::{Replay, ReplayError, Step};
 pub use server::RegistryFactory;
@@ -87,6 +87,10 @@ pub struct StudioOptions {
     pub open: Vec<String>,
     /// The most nodes a tree may expand to when the editor checks it.
     pub max_nodes: usize,
+    /// What the editor's error for a node type the registry does not know advises:
+    /// [`UNKNOWN_TYPE_ADVICE`] (the `neurotree` command's flags) unless the program serving
+    /// the studio says how its registry is extended.
+    pub unknown_type_advice: &'static str,
 }
 
 impl Default for StudioOptions {
@@ -97,6 +101,7 @@ impl Default for StudioOptions {
             root: PathBuf::from("."),
             open: Vec::new(),
             max_nodes: 2_000_000,
+            unknown_type_advice: UNKNOWN_TYPE_ADVICE,
         }
     }
 }
@@ -182,6 +187,7 @@ impl Studio {
             open: options.open,
             token: token.clone(),
             max_nodes: options.max_nodes,
+            unknown_type_advice: options.unknown_type_advice,
             hosts: server::hosts(addr),
         });
         let runtime = tokio::runtime::Builder::new_multi_thread()

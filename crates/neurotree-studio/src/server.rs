@@ -36,6 +36,8 @@ pub(crate) struct Shared {
     pub open: Vec<String>,
     pub token: Option<String>,
     pub max_nodes: usize,
+    /// What an unknown node type's error advises.
+    pub unknown_type_advice: &'static str,
     /// `Host` headers a request may carry when no token is asked for (against DNS
     /// rebinding: a page of another site resolving its name to 127.0.0.1).
     pub hosts: Vec<String>,
@@ -220,7 +222,14 @@ async fn run_check(shared: &Arc<Shared>, path: &str, text: String) -> Result<Val
     let shared = Arc::clone(shared);
     let shown = path.to_string();
     tokio::task::spawn_blocking(move || {
-        let check = check_text((shared.registry)(), &abs, &shown, &text, shared.max_nodes);
+        let check = check_text(
+            (shared.registry)(),
+            &abs,
+            &shown,
+            &text,
+            shared.max_nodes,
+            shared.unknown_type_advice,
+        );
         serde_json::to_value(check).unwrap_or(Value::Null)
     })
     .await

@@ -4,6 +4,7 @@
 use std::collections::HashMap;
 
 use neurotree_core::{Blueprint, Category, NodeKind, NodeStatus};
+use neurotree_toolkit::render;
 use serde::Serialize;
 use serde_json::{Map, Value};
 
@@ -72,6 +73,8 @@ pub struct NodeView {
     pub subtree: Option<String>,
     /// Its ports as written.
     pub ports: Map<String, Value>,
+    /// Which way each port its type declares carries data: `input`, `output` or `inout`.
+    pub directions: Map<String, Value>,
 }
 
 impl TreeView {
@@ -84,9 +87,16 @@ impl TreeView {
                 let kind = blueprint.kind(id);
                 // As a file writes them, built-ins' parameters included: what the
                 // nodes draw under their names, as `show --format svg` does.
-                let ports = neurotree_toolkit::render::node_ports(blueprint, id)
+                let ports: Map<String, Value> = render::node_ports(blueprint, id)
                     .into_iter()
                     .map(|(name, text)| (name, Value::String(text)))
+                    .collect();
+                let directions = ports
+                    .keys()
+                    .filter_map(|name| {
+                        let direction = blueprint.port_direction(id, name)?;
+                        Some((name.clone(), render::direction_name(direction).into()))
+                    })
                     .collect();
                 NodeView {
                     id: id.0,
@@ -99,6 +109,7 @@ impl TreeView {
                     subtree: matches!(kind, NodeKind::SubTree(_))
                         .then(|| blueprint.type_id(id).to_string()),
                     ports,
+                    directions,
                 }
             })
             .collect();
@@ -230,6 +241,8 @@ impl<'d, 'i> LogWalk<'d, 'i> {
             path: path.clone(),
             subtree: is_subtree.then(|| type_name.to_string()),
             ports,
+            // A log's tree carries no declarations of its types' ports.
+            directions: Map::new(),
         });
         self.uids.push(
             el.attribute("_uid")

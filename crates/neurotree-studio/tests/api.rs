@@ -99,6 +99,13 @@ fn a_file_opens_with_its_check_and_errors_are_located_at_their_node() {
     assert_eq!(check["errors"][0]["kind"], "UnknownNode");
     assert_eq!(check["errors"][0]["tree"], "Dock");
     assert_eq!(check["errors"][0]["element"], json!([0]));
+    // The advice is how the studio is given node types: the flags it is started with.
+    let message = check["errors"][0]["message"].as_str().unwrap();
+    assert!(
+        message.ends_with(neurotree_studio::UNKNOWN_TYPE_ADVICE),
+        "{message}"
+    );
+    assert!(message.contains("--model FILE") && message.contains("--nav2"));
 }
 
 #[test]

@@ -101,7 +101,8 @@ static SUCC_FAILS: AtomicBool = AtomicBool::new(false);
 static SUCC_FAIL_EVERY: AtomicU64 = AtomicU64::new(1);
 static SUCC_CALLS: AtomicU64 = AtomicU64::new(0);
 
-/// Runs for two ticks, then succeeds.
+/// Runs for two ticks, then succeeds; its state is saved with the tree's, so that a
+/// watched run of it can go back.
 struct Work {
     left: u32,
 }
@@ -117,6 +118,14 @@ impl StatefulAction<()> for Work {
         }
         self.left -= 1;
         Status::Running
+    }
+    fn save_state(&self) -> Option<Vec<u8>> {
+        Some(neurotree_toolkit::state::encode(&self.left))
+    }
+    fn restore_state(&mut self, state: &[u8]) -> bool {
+        neurotree_toolkit::state::decode(state)
+            .map(|left| self.left = left)
+            .is_some()
     }
 }
 
@@ -717,6 +726,177 @@ async fn a_watched_run_shows_its_statuses_change() {
         "studio.views.watch.state.blackboards[0].entries.find(e => e.key === 'speed').value === 2.75",
     )
     .await;
+    drop(run);
+    b.close().await;
+}
+
+/// Types `text` into the watch view's field of root entry `key` as a person does: click,
+/// select what is there, type, press Enter.
+async fn type_into_entry(b: &Browser, key: &str, text: &str) {
+    let field = format!("#watch-view input[data-entry={key}][data-scope='0']");
+    b.click(&field).await;
+    b.element(&field)
+        .await
+        .send_keys(&format!("\u{e009}a\u{e009}{text}\u{e007}"))
+        .await
+        .unwrap();
+}
+
+#[tokio::test(flavor = "multi_thread")]
+async fn a_blackboard_edit_that_does_not_fit_is_refused_at_its_field_and_a_good_one_applies() {
+    let _one = ONE_AT_A_TIME.lock().await;
+    let Some(b) = Browser::start().await else {
+        return;
+    };
+    let dir = workspace();
+    let studio = serve(dir.path());
+    let mut tree = load(PATROL, "patrol.xml");
+    // A Nav2 pose: its codec is registered with Nav2's nodes, so it is edited as JSON.
+    tree.blackboard_mut()
+        .set("goal", nav2::robotics::Pose2D::new(1.0, 2.0, 0.5))
+        .unwrap();
+    let run = Run::start(&studio, tree, "patrol.xml", Duration::from_millis(40));
+    b.goto(&format!("{}#view=watch", studio.url())).await;
+    let field = "#watch-view input[data-entry=goal][data-scope='0']";
+    let error = "#watch-view .entry:has(input[data-entry=goal]) [data-field-error]";
+    b.element(field).await;
+    assert_eq!(b.attr(field, "aria-invalid").await, None);
+    let goal = "studio.views.watch.state.blackboards[0].entries.find(e => e.key === 'goal').value";
+    // As the page holds it: JavaScript has no whole floats.
+    let held = json!({"x": 1, "y": 2, "theta": 0.5});
+    assert_eq!(b.js(&format!("return {goal};")).await, held);
+
+    // Not JSON: refused at the field, with why; the entry keeps its value.
+    type_into_entry(&b, "goal", r#"{"x": 3, "y":"#).await;
+    let why = b
+        .until(
+            "the reason shown at the field",
+            &format!("!document.querySelector('{error}').hidden && document.querySelector('{error}').textContent"),
+        )
+        .await;
+    let why = why.as_str().unwrap_or_default().to_string();
+    assert!(
+        why.starts_with("`goal` holds a `Pose2D`: the text is not JSON"),
+        "{why}"
+    );
+    assert_eq!(b.attr(field, "aria-invalid").await.as_deref(), Some("true"));
+    assert_eq!(b.js(&format!("return {goal};")).await, held);
+
+    // JSON that does not fit a pose: refused too, with its own reason.
+    type_into_entry(&b, "goal", r#"{"x": "far", "y": 0, "theta": 0}"#).await;
+    b.until(
+        "the reason for a value of the wrong shape",
+        &format!("document.querySelector('{error}').textContent.includes('invalid type')"),
+    )
+    .await;
+    assert_eq!(b.attr(field, "aria-invalid").await.as_deref(), Some("true"));
+    assert_eq!(b.js(&format!("return {goal};")).await, held);
+
+    // A pose: applied, and the reason gone.
+    type_into_entry(&b, "goal", r#"{"x": 3, "y": 4.5, "theta": 0}"#).await;
+    b.until(
+        "the run's blackboard holding the new pose",
+        &format!("{goal}.x === 3 && {goal}.y === 4.5"),
+    )
+    .await;
+    b.until(
+        "the reason cleared",
+        &format!("document.querySelector('{error}').hidden && !document.querySelector(\"{field}\").hasAttribute('aria-invalid')"),
+    )
+    .await;
+    drop(run);
+    b.close().await;
+}
+
+/// Three needs scored by the entries `a`, `b` and `c`, each over work that takes a while.
+const NEEDS: &str = r#"<root BTCPP_format="4" main_tree_to_execute="Needs">
+  <BehaviorTree ID="Needs">
+    <UtilitySelector name="choose">
+      <Utility name="eat" score="{a}"><Work name="eating"/></Utility>
+      <Utility name="rest" score="{b}"><Work name="resting"/></Utility>
+      <Utility name="work" score="{c}"><Work name="working"/></Utility>
+    </UtilitySelector>
+  </BehaviorTree>
+</root>
+"#;
+
+/// The score each of the needs' Utilities shows on its node.
+async fn scores_shown(b: &Browser) -> Value {
+    b.js("return ['eat', 'rest', 'work'].map(n =>
+            document.querySelector(`#watch-view [data-node-path=\"choose/${n}\"]`).dataset.score ?? null);")
+        .await
+}
+
+#[tokio::test(flavor = "multi_thread")]
+async fn each_utility_shows_its_last_score_and_a_new_score_after_an_edit_and_a_step() {
+    let _one = ONE_AT_A_TIME.lock().await;
+    let Some(b) = Browser::start().await else {
+        return;
+    };
+    let dir = workspace();
+    let studio = serve(dir.path());
+    let mut tree = load(NEEDS, "needs.xml");
+    for (key, score) in [("a", 1.0), ("b", 5.0), ("c", 2.5)] {
+        tree.blackboard_mut().set(key, score).unwrap();
+    }
+    let run = Run::start(&studio, tree, "needs.xml", Duration::from_millis(40));
+    b.goto(&format!("{}#view=watch", studio.url())).await;
+    b.until(
+        "each Utility's score on its node",
+        "document.querySelectorAll('#watch-view [data-score]').length === 3",
+    )
+    .await;
+    assert_eq!(scores_shown(&b).await, json!(["1", "5", "2.5"]));
+    let label = b
+        .js("return document.querySelector('#watch-view [data-node-path=\"choose/rest\"] text.score').textContent;")
+        .await;
+    assert_eq!(label, json!("score 5"));
+
+    // Paused, `c` edited: nothing is evaluated until the next tick, which a step makes.
+    b.click("[data-action=pause]").await;
+    b.until(
+        "paused",
+        "document.querySelector('[data-run-state]').dataset.runState === 'paused'",
+    )
+    .await;
+    let tick = b.shown_tick().await;
+    type_into_entry(&b, "c", "9").await;
+    b.until(
+        "the edit applied",
+        "studio.views.watch.state.blackboards[0].entries.find(e => e.key === 'c').value === 9",
+    )
+    .await;
+    assert_eq!(scores_shown(&b).await, json!(["1", "5", "2.5"]));
+    b.click("[data-action=step]").await;
+    b.until(
+        "the step's tick shown",
+        &format!(
+            "Number(document.querySelector('[data-tick]').dataset.tick) === {}",
+            tick + 1
+        ),
+    )
+    .await;
+    b.until(
+        "the new score on its node",
+        "document.querySelector('#watch-view [data-node-path=\"choose/work\"]').dataset.score === '9'",
+    )
+    .await;
+    assert_eq!(scores_shown(&b).await, json!(["1", "5", "9"]));
+    // Back a tick, the scores are that tick's; forward again, the new one.
+    b.click("#watch-view [data-action=back]").await;
+    b.until(
+        "the score of the tick before",
+        "document.querySelector('#watch-view [data-node-path=\"choose/work\"]').dataset.score === '2.5'",
+    )
+    .await;
+    assert_eq!(b.shown_tick().await, tick);
+    b.click("#watch-view [data-action=forward]").await;
+    b.until(
+        "the score of the tick after",
+        "document.querySelector('#watch-view [data-node-path=\"choose/work\"]').dataset.score === '9'",
+    )
+    .await;
+    assert_eq!(scores_shown(&b).await, json!(["1", "5", "9"]));
     drop(run);
     b.close().await;
 }

@@ -226,6 +226,41 @@ fn a_blackboard_edit_lands_between_ticks() {
 }
 
 #[test]
+fn an_edit_that_does_not_fit_is_refused_with_why_until_one_applies() {
+    let run = Run::start();
+    let mut page = Page::connect(run.studio.addr());
+    assert_eq!(page.expect("hello")["edits"], json!([]));
+    page.send(r#"{"type":"pause"}"#);
+    page.expect("paused");
+    // An object for a whole number, then text that is not one: each refused at the entry,
+    // which keeps its value.
+    page.send(r#"{"type":"set","scope":0,"key":"count","value":{"deep":1}}"#);
+    let refused = page.expect("edits")["refused"].clone();
+    assert_eq!(refused[0]["scope"], 0);
+    assert_eq!(refused[0]["key"], "count");
+    let why = refused[0]["why"].as_str().unwrap();
+    assert!(why.starts_with("`count` holds a `i64`"), "{why}");
+    page.send(r#"{"type":"set","scope":0,"key":"count","value":"many"}"#);
+    let refused = page.expect("edits")["refused"].clone();
+    assert_eq!(refused.as_array().unwrap().len(), 1, "{refused}");
+    assert!(refused[0]["why"]
+        .as_str()
+        .unwrap()
+        .contains("`many` is not one"));
+    // A page that comes now is told the refusal standing.
+    let mut late = Page::connect(run.studio.addr());
+    assert_eq!(late.expect("hello")["edits"], refused);
+    late.close();
+    // An edit that fits applies and clears it.
+    page.send(r#"{"type":"set","scope":0,"key":"count","value":"7"}"#);
+    assert_eq!(page.expect("edits")["refused"], json!([]));
+    page.expect_where("blackboards", |m| root_count(m) == Some(7));
+    page.send(r#"{"type":"step"}"#);
+    page.expect_where("paused", |m| m["paused"]["why"] == "step");
+    assert_eq!(run.count.load(Ordering::Acquire), 8);
+}
+
+#[test]
 fn bad_messages_are_refused_and_counted_and_the_page_stays() {
     let run = Run::start();
     let mut page = Page::connect(run.studio.addr());
@@ -233,7 +268,7 @@ fn bad_messages_are_refused_and_counted_and_the_page_stays() {
     for bad in [
         "not json",
         r#"{"type":"explode"}"#,
-        r#"{"type":"set","scope":0,"key":"k","value":{"deep":1}}"#,
+        r#"{"type":"set","scope":0,"key":"","value":1}"#,
         &format!(r#"{{"type":"pause","pad":"{}"}}"#, "x".repeat(70_000)),
     ] {
         page.send(bad);

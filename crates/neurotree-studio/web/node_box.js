@@ -2,6 +2,8 @@
 // (crates/neurotree-toolkit/src/render/node_box.rs and svg.rs): its shape, its lines (name,
 // type, one per port, long ones shortened with … and whole in the title) and its size,
 // measured with the renderer's own sizes and font-width tables, which the studio serves.
+// A port line starts with its direction's mark (`in `, `out `, `inout `) when the node's
+// type declares the port.
 
 import METRICS from "./drawing-metrics.js";
 
@@ -24,9 +26,13 @@ export function textWidth(text, size, bold) {
   return (total * size) / 1000;
 }
 
-/** `name: value` cut to the renderer's port width, value first (node_box.rs's `shorten`). */
-function shorten(name, value) {
-  const fits = (n, v) => textWidth(`${n}: ${v}`, M.port_size, false) <= M.port_width;
+// The mark a port line starts with, by direction (`input`, `output`, `inout`).
+const MARKS = Object.fromEntries(M.direction_marks);
+
+/** `{mark}name: value` cut to the renderer's port width, value first (node_box.rs's
+ * `shorten`). */
+function shorten(mark, name, value) {
+  const fits = (n, v) => textWidth(`${mark}${n}: ${v}`, M.port_size, false) <= M.port_width;
   if (fits(name, value)) return [name, value];
   const v = Array.from(value);
   while (v.length) {
@@ -41,13 +47,19 @@ function shorten(name, value) {
   }
 }
 
-/** A node's ports (`{name: text}` as written) as the lines drawn under its name. */
-export function portLines(ports) {
+/** A node's ports (`{name: text}` as written) as the lines drawn under its name, each
+ * marked with its direction from `directions` (`{name: "input" | "output" | "inout"}`). */
+export function portLines(ports, directions) {
   return Object.entries(ports || {}).map(([rawName, rawValue]) => {
     const name = printable(rawName);
     const value = printable(rawValue);
-    const [shownName, shownValue] = shorten(name, value);
-    return { name: shownName, value: shownValue, binding: /^\{.*\}$/s.test(value), whole: `${name}: ${value}` };
+    const direction = MARKS[directions?.[rawName]] != null ? directions[rawName] : null;
+    const mark = direction ? MARKS[direction] : "";
+    const [shownName, shownValue] = shorten(mark, name, value);
+    return {
+      name: shownName, value: shownValue, direction, mark,
+      binding: /^\{.*\}$/s.test(value), whole: `${mark}${name}: ${value}`,
+    };
   });
 }
 
@@ -82,7 +94,7 @@ export function r(v) {
 export function boxSize(node, shape) {
   const name = textWidth(node.label, M.name_size, true);
   const type = node.typeLabel ? textWidth(node.typeLabel, M.type_size, false) : 0;
-  const ports = node.portLines.reduce((most, p) => Math.max(most, textWidth(`${p.name}: ${p.value}`, M.port_size, false)), 0);
+  const ports = node.portLines.reduce((most, p) => Math.max(most, textWidth(`${p.mark}${p.name}: ${p.value}`, M.port_size, false)), 0);
   let width = Math.max(name, type, ports) + 2 * M.padding;
   if (GLYPH[shape]) width += M.glyph_width;
   else if (shape === "decorator") width += 2 * M.slant;
@@ -137,7 +149,9 @@ export function nodeMarkup(node, index, at, folded, orientation) {
   }
   for (const p of node.portLines) {
     y += M.line_step;
-    out += `<text class="port" x="${centre}" y="${y}"><tspan class="port-name">${escapeXml(p.name)}: </tspan>`
+    const direction = p.direction ? ` data-direction="${p.direction}"` : "";
+    const mark = p.direction ? `<tspan class="direction">${escapeXml(p.mark)}</tspan>` : "";
+    out += `<text class="port"${direction} x="${centre}" y="${y}">${mark}<tspan class="port-name">${escapeXml(p.name)}: </tspan>`
       + `<tspan class="${p.binding ? "binding" : "literal"}">${escapeXml(p.value)}</tspan></text>`;
   }
   if (node.children.length) {

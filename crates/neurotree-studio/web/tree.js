@@ -8,7 +8,7 @@
 // more than FOLD_OVER nodes opens folded to the depth that fits the view.
 //
 // A drawing is given its nodes in pre-order, each `{name, type, category, path, id, ports,
-// children: [index]}`; index 0 is the root. A node's element is an SVG group carrying
+// directions, children: [index]}`; index 0 is the root. A node's element is an SVG group carrying
 // `data-node-path` and, for nodes of a TreeView, `data-node-id`; statuses are set as
 // `data-status` on that group alone, so a tick touches only the nodes that changed and
 // never lays the tree out again.
@@ -131,7 +131,7 @@ export class TreeDrawing {
     for (const n of nodes) {
       n.label = printable(n.name);
       n.typeLabel = n.type && n.type !== n.name ? printable(n.type) : null;
-      n.portLines = portLines(n.ports);
+      n.portLines = portLines(n.ports, n.directions);
       n.shape = shapeOf(n.type, n.category);
       Object.assign(n, boxSize(n, n.shape));
     }
@@ -370,6 +370,33 @@ export class TreeDrawing {
       const text = badge.lastChild;
       if (text.textContent !== mark) text.textContent = mark;
     } else if (badge) badge.setAttribute("display", "none");
+  }
+
+  /**
+   * Shows the last score node `i` was given (a Utility's, by its UtilitySelector) above
+   * its top left corner, as `data-score` on the node and a label made once per node;
+   * `null` takes it away.
+   */
+  setScore(i, score) {
+    const el = this.elements[i];
+    if (!el) return;
+    if (score == null) {
+      el.removeAttribute("data-score");
+      el.querySelector(":scope > text.score")?.remove();
+      return;
+    }
+    const text = Number.isInteger(score) ? String(score) : String(Math.round(score * 1000) / 1000);
+    el.setAttribute("data-score", text);
+    let label = el.querySelector(":scope > text.score");
+    if (!label) {
+      label = document.createElementNS(SVG, "text");
+      label.setAttribute("class", "score");
+      const n = this.nodes[i];
+      label.setAttribute("x", r(-n.w / 2));
+      label.setAttribute("y", -4);
+      el.append(label);
+    }
+    label.textContent = `score ${text}`;
   }
 
   /** Every node's status from an array by index (null: no statuses). */
@@ -706,6 +733,7 @@ export function nodesOfTreeView(view) {
     path: n.path,
     subtree: n.subtree,
     ports: n.ports || {},
+    directions: n.directions || {},
     children: n.children.slice(),
   }));
 }

@@ -1,7 +1,7 @@
 // The watch view: a running tree as the server's studio observer reports it over `/ws`
 // (PROTOCOL.md): every node's status live, the running path and the list of nodes running
 // now, each scope's blackboard (editable between ticks), the failure reason chain,
-// breakpoints, pause / step / continue, back / forward through the ticks the run kept
+// breakpoints, pause / step / continue, each Utility's last score on its node, back / forward through the ticks the run kept
 // (a step or continue from a past tick forks the run there), the tick counter
 // (`[data-tick]`), and the scene the run draws of its world (`[data-scene]`).
 //
@@ -28,6 +28,9 @@ export function mountWatch(section, app) {
     paused: null,
     breakpoints: new Map(), // node id -> when
     blackboards: [],
+    // The blackboard edits the run refused, [{scope, key, why}], shown at their fields
+    // until an edit of the entry applies.
+    refusedEdits: [],
     failure: null,
     ended: null,
     // The ticks the run kept: {window, oldest, newest, at, blocked} (PROTOCOL.md, "Rewind").
@@ -122,6 +125,9 @@ export function mountWatch(section, app) {
       case "blackboards":
         state.blackboards = msg.scopes || [];
         return later(renderBlackboards);
+      case "edits":
+        state.refusedEdits = msg.refused || [];
+        return later(showRefusedEdits);
       case "failure":
         state.failure = msg.failure;
         return later(renderFailure);
@@ -174,6 +180,7 @@ export function mountWatch(section, app) {
     state.running = new Set();
     state.statuses.forEach((s, i) => s === "RUNNING" && state.running.add(i));
     drawing.setStatuses(state.statuses);
+    for (const [id, score] of msg.scores || []) drawing.setScore(id, score);
     if (!same) {
       state.failedNodes = new Set();
       failureShown = "";
@@ -183,6 +190,7 @@ export function mountWatch(section, app) {
     state.rewind = msg.rewind;
     scene.set(msg.scene, null);
     state.blackboards = msg.blackboards || [];
+    state.refusedEdits = msg.edits || [];
     state.failure = msg.failure;
     setBreakpoints(msg.breakpoints || []);
     setTick(msg.tick);
@@ -217,6 +225,7 @@ export function mountWatch(section, app) {
       drawing.setStatus(i, status);
       if (i === state.selected) later(showSelectedStatus);
     }
+    for (const [id, score] of msg.scores || []) drawing.setScore(id, score);
     setTick(msg.tick);
     if (runningChanged) {
       later(drawHot);
@@ -365,6 +374,7 @@ export function mountWatch(section, app) {
           input.previous = entry.value;
         }
       }
+      showRefusedEdits();
       return;
     }
     if (box.contains(document.activeElement) && document.activeElement.tagName === "INPUT") return;
@@ -405,12 +415,40 @@ export function mountWatch(section, app) {
           }
         });
         input.addEventListener("blur", () => setTimeout(renderBlackboards, 0));
-        row.append(k, t, input);
+        const error = document.createElement("span");
+        error.className = "field-error";
+        error.dataset.fieldError = "";
+        error.hidden = true;
+        row.append(k, t, input, error);
         table.append(row);
       }
       if (!scope.entries.length) table.innerHTML = "<p class='hint'>empty</p>";
       details.append(table);
       box.append(details);
+    }
+    showRefusedEdits();
+  }
+
+  // A refused edit is shown at its field, with why; the field shows the entry's value,
+  // which the edit left as it was.
+  function showRefusedEdits() {
+    const why = new Map(state.refusedEdits.map((r) => [`${r.scope}\u0000${r.key}`, r.why]));
+    for (const input of $(".blackboards").querySelectorAll("input[data-entry]")) {
+      const reason = why.get(`${input.dataset.scope}\u0000${input.dataset.entry}`);
+      const error = input.parentElement.querySelector("[data-field-error]");
+      if (reason == null) {
+        input.removeAttribute("aria-invalid");
+        if (error) {
+          error.hidden = true;
+          error.textContent = "";
+        }
+      } else {
+        input.setAttribute("aria-invalid", "true");
+        if (error) {
+          error.hidden = false;
+          error.textContent = reason;
+        }
+      }
     }
   }
 

@@ -184,6 +184,7 @@ export function nodesOfTree(tree, palette, prefix = "") {
       element: elPath,
       subtree: el.tagName === "SubTree" ? el.getAttribute("ID") : null,
       ports: portsOf(el, palette),
+      directions: directionsOf(el, palette),
       children: [],
     };
     nodes.push(node);
@@ -213,6 +214,13 @@ export function portsOf(el, palette) {
     for (const p of type.ports || []) if (!(p.name in ports) && p.default != null) ports[p.name] = p.default;
   }
   return ports;
+}
+
+/** Which way each port the element's type declares carries data, from the palette (as
+ * `Blueprint::port_direction` gives the page's TreeViews): `{name: "input" | …}`. */
+export function directionsOf(el, palette) {
+  const type = el.tagName === "SubTree" ? null : palette?.get(typeOf(el));
+  return Object.fromEntries((type?.ports || []).map((p) => [p.name, p.direction]));
 }
 
 /** The indentation one level adds in this file (two spaces when it cannot tell). */

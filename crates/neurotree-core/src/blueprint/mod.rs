@@ -20,7 +20,9 @@ pub use kind::{
     ActionFn, Arity, Category, ConditionFn, CustomFactory, CustomSpec, NodeKind, ParallelPolicy,
     Param, Shared, StatefulFactory, SubTreeScope,
 };
-pub use port::{FromPortStr, Literal, Number, Port, PortError, PortType, PortValue};
+pub use port::{
+    FromPortStr, Literal, Number, Port, PortDirections, PortError, PortType, PortValue,
+};
 
 use alloc::boxed::Box;
 use alloc::string::String;
@@ -398,6 +400,8 @@ pub struct Blueprint<C> {
     pub(crate) resting: Box<[bool]>,
     /// The value types its trees' blackboards save, show and edit values with.
     pub(crate) value_codecs: Option<Arc<crate::state::StateCodecs>>,
+    /// Which way the ports of its node types carry data ([`Builder::port_directions`]).
+    pub(crate) port_directions: Option<Arc<PortDirections>>,
     /// The [structure hash](Self::structure_hash) once made (0: not yet): saving and
     /// restoring a state ask for it each time.
     #[cfg(target_has_atomic = "64")]
@@ -414,6 +418,21 @@ impl<C> Blueprint<C> {
     /// ([`Builder::value_codecs`]).
     pub fn value_codecs(&self) -> Option<&Arc<crate::state::StateCodecs>> {
         self.value_codecs.as_ref()
+    }
+
+    /// Which way port `port` of node `id` carries data, as its type declares it: a
+    /// built-in's declaration, else the directions the blueprint was built with
+    /// ([`Builder::port_directions`]); `None` when its type declares no such port.
+    pub fn port_direction(&self, id: NodeId, port: &str) -> Option<crate::PortDirection> {
+        let type_name = self.type_id(id);
+        let declared = crate::nodes::BUILT_INS
+            .iter()
+            .find(|decl| decl.name == type_name)
+            .and_then(|decl| decl.ports.iter().find(|p| p.name == port));
+        match declared {
+            Some(decl) => Some(decl.direction),
+            None => self.port_directions.as_ref()?.get(type_name, port),
+        }
     }
 
     /// Number of nodes.

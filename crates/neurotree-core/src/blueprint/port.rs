@@ -14,6 +14,7 @@ use core::any::{Any, TypeId};
 use core::str::FromStr;
 
 use crate::blackboard::BlackboardError;
+use crate::PortDirection;
 
 /// What a port is bound to.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -482,6 +483,51 @@ impl<T: FromPortStr> FromPortStr for Vec<T> {
             return Ok(Vec::new());
         }
         text.split(';').map(T::from_port_str).collect()
+    }
+}
+
+/// Which way the ports of node types carry data, by type name, as the types declare them
+/// (a registry's node types, a `TreeNodesModel`): what a picture of a tree marks each port
+/// with. A built-in node's ports need no entry ([`Blueprint::port_direction`] reads its
+/// declaration).
+///
+/// ```
+/// use neurotree_core::{PortDirection, PortDirections};
+///
+/// let mut directions = PortDirections::new();
+/// directions.insert("ComputePathToPose", "path", PortDirection::Output);
+/// assert_eq!(directions.get("ComputePathToPose", "path"), Some(PortDirection::Output));
+/// assert_eq!(directions.get("ComputePathToPose", "goal"), None);
+/// ```
+///
+/// [`Blueprint::port_direction`]: crate::Blueprint::port_direction
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct PortDirections {
+    types: alloc::collections::BTreeMap<String, Vec<(String, PortDirection)>>,
+}
+
+impl PortDirections {
+    /// No type's ports.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Declares port `port` of type `type_name` to carry data `direction`.
+    pub fn insert(&mut self, type_name: &str, port: &str, direction: PortDirection) {
+        let ports = self.types.entry(type_name.to_string()).or_default();
+        match ports.iter_mut().find(|(name, _)| name == port) {
+            Some(known) => known.1 = direction,
+            None => ports.push((port.to_string(), direction)),
+        }
+    }
+
+    /// Which way port `port` of type `type_name` carries data, if declared.
+    pub fn get(&self, type_name: &str, port: &str) -> Option<PortDirection> {
+        self.types
+            .get(type_name)?
+            .iter()
+            .find(|(name, _)| name == port)
+            .map(|(_, direction)| *direction)
     }
 }
 

@@ -154,6 +154,20 @@ impl<'t, C> NodeCtx<'_, 't, C> {
         bp.ports(bp.children(self.id)[i])
     }
 
+    /// Tells the tree's observer, if any, that child `i` was given `score` in this tick
+    /// ([`Observer::on_node_score`](crate::Observer::on_node_score)): a control that
+    /// chooses by score reports what it chose by, for live views. Costs a branch without
+    /// an observer.
+    ///
+    /// # Panics
+    /// If `i` is not below [`child_count`](Self::child_count).
+    pub fn report_child_score(&mut self, i: usize, score: f64) {
+        let child = self.t.bp.children(self.id)[i];
+        if let Some(observer) = self.t.observer.as_deref_mut() {
+            observer.on_node_score(child, score);
+        }
+    }
+
     /// The type name of child `i`'s kind ([`NodeKind::type_name`](crate::NodeKind::type_name)).
     ///
     /// # Panics

@@ -18,6 +18,8 @@ use crate::view::{status_name, status_of_byte, TreeView};
 const BEFORE: u8 = 0x80;
 /// No breakpoint.
 const NONE: u8 = 0xff;
+/// No score: a NaN, which no score is (a selector refuses one).
+pub(crate) const NO_SCORE: u64 = u64::MAX;
 
 /// Why the run stands still (PROTOCOL.md, "Paused").
 #[derive(Clone, Debug, PartialEq, Eq, Serialize)]
@@ -33,6 +35,15 @@ pub(crate) struct Edit {
     pub scope: u32,
     pub key: String,
     pub value: Value,
+}
+
+/// A page's edit that was refused, as pages are told it: the field it was typed in, and
+/// why.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize)]
+pub(crate) struct RefusedEdit {
+    pub scope: u32,
+    pub key: String,
+    pub why: String,
 }
 
 /// What a page asked of the run, done between ticks by the run's thread.
@@ -55,6 +66,9 @@ pub(crate) struct RunCell {
     /// and are reset within each tick does not show as all Idle.
     pub shown: Box<[AtomicU8]>,
     pub breakpoints: Box<[AtomicU8]>,
+    /// The last score each node was given (a Utility's, by its UtilitySelector), as the
+    /// bits of an `f64`; [`NO_SCORE`] for a node never scored.
+    pub scores: Box<[AtomicU64]>,
     pub tick: AtomicU64,
     /// The tick whose end (or breakpoint) `shown` is as of: pages are sent this one, not
     /// `tick`, which a tick under way has already counted, so that a page reading between
@@ -107,6 +121,9 @@ pub(crate) struct Inner {
     /// A page's request the run refused when it came to do it (a travel past the kept
     /// ticks, asked for before the pages heard where the run stands): told to every page.
     pub refusal: (u64, String),
+    /// The pages' blackboard edits refused, each with why, until the entry is edited
+    /// again and the edit applies (PROTOCOL.md, "edits").
+    pub refused_edits: (u64, Vec<RefusedEdit>),
     pause_requested: bool,
     /// Stops between ticks to pass before a step pauses: 1 from a pause between ticks
     /// (tick once), 2 from a breakpoint inside a tick (finish it, tick the next).
@@ -128,6 +145,7 @@ impl Default for Inner {
             rewind: (0, Value::Null),
             scene: (0, Err(String::new())),
             refusal: (0, String::new()),
+            refused_edits: (0, Vec::new()),
             pause_requested: false,
             steps_owed: 0,
             requests: Vec::new(),
@@ -229,6 +247,9 @@ impl Hub {
         let touched: Box<[AtomicU8]> = (0..blueprint.len()).map(|_| AtomicU8::new(0)).collect();
         let breakpoints: Box<[AtomicU8]> =
             (0..blueprint.len()).map(|_| AtomicU8::new(NONE)).collect();
+        let scores: Box<[AtomicU64]> = (0..blueprint.len())
+            .map(|_| AtomicU64::new(NO_SCORE))
+            .collect();
         let paths = blueprint.paths();
         let mut inner = self.lock();
         // Breakpoints stay on the nodes whose paths the new tree still has.
@@ -251,6 +272,7 @@ impl Hub {
             touched,
             shown,
             breakpoints,
+            scores,
             tick: AtomicU64::new(tick),
             shown_tick: AtomicU64::new(tick),
         });
@@ -263,6 +285,7 @@ impl Hub {
         });
         inner.generation += 1;
         inner.ended = None;
+        inner.refused_edits.1.clear();
         drop(inner);
         self.bump();
         StudioObserver {
@@ -346,7 +369,7 @@ impl Hub {
                 Some(&mut |requests: Vec<Request>| {
                     for request in requests {
                         match request {
-                            Request::Edit(e) => values::apply(tree, &e),
+                            Request::Edit(e) => self.apply_edit(tree, &e),
                             Request::Travel(t) => travel(tree, t),
                         }
                     }
@@ -362,8 +385,36 @@ impl Hub {
         let requests = std::mem::take(&mut self.lock().requests);
         for r in &requests {
             if let Request::Edit(e) = r {
-                values::apply(tree, e);
+                self.apply_edit(tree, e);
             }
+        }
+    }
+
+    /// Writes a page's edit; a refused one leaves the entry as it was and is told to the
+    /// pages with why, at the entry's field, until an edit of the entry applies.
+    fn apply_edit<C>(&self, tree: &mut Tree<C>, edit: &Edit) {
+        let outcome = values::write(tree, edit);
+        let mut inner = self.lock();
+        let refused = &mut inner.refused_edits;
+        let before = refused.1.len();
+        refused
+            .1
+            .retain(|r| !(r.scope == edit.scope && r.key == edit.key));
+        let changed = match outcome {
+            Ok(()) => refused.1.len() != before,
+            Err(why) => {
+                refused.1.push(RefusedEdit {
+                    scope: edit.scope,
+                    key: edit.key.clone(),
+                    why,
+                });
+                true
+            }
+        };
+        if changed {
+            refused.0 += 1;
+            drop(inner);
+            self.bump();
         }
     }
 
@@ -551,6 +602,23 @@ impl Observer for StudioObserver {
     }
 
     fn on_failure_reason(&mut self, _node: NodeId, _reason: &Reason) {}
+
+    fn on_node_score(&mut self, node: NodeId, score: f64) {
+        if let Some(s) = self.cell.scores.get(node.index()) {
+            s.store(score.to_bits(), Ordering::Release);
+        }
+    }
+}
+
+/// The scores of the run's nodes as pages are shown them: `[id, score]` for each node
+/// scored.
+pub(crate) fn scores(cell: &RunCell) -> Vec<(usize, u64)> {
+    cell.scores
+        .iter()
+        .enumerate()
+        .map(|(i, s)| (i, s.load(Ordering::Acquire)))
+        .filter(|(_, bits)| *bits != NO_SCORE)
+        .collect()
 }
 
 /// Statuses of the run as the pages are shown them (see [`RunCell::shown`]).

@@ -109,11 +109,7 @@ impl Watch {
                     .target(travel, now.tick)
                     .and_then(|tick| window.go(tick, tree, world, || now));
                 let shown = match gone {
-                    Ok(shown) => rewind::Shown {
-                        tick: shown.tick,
-                        statuses: shown.statuses.clone(),
-                        failure: shown.failure.clone(),
-                    },
+                    Ok(shown) => shown.clone(),
                     Err(why) => {
                         hub.refuse(why);
                         return;

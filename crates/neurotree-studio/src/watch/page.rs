@@ -10,7 +10,7 @@ use neurotree_core::NodeStatus;
 use serde::Deserialize;
 use serde_json::{json, Value};
 
-use super::hub::{statuses, Edit, Hub, Inner};
+use super::hub::{scores, statuses, Edit, Hub, Inner};
 use super::rewind::Travel;
 
 /// The largest message a page may send: controls are a few dozen bytes.
@@ -55,6 +55,8 @@ enum FromPage {
 struct Sent {
     generation: Option<u64>,
     statuses: Vec<&'static str>,
+    /// `(id, bits)` of the nodes scored.
+    scores: Vec<(usize, u64)>,
     tick: u64,
     blackboards: u64,
     failure: u64,
@@ -63,6 +65,7 @@ struct Sent {
     rewind: u64,
     scene: u64,
     refusal: u64,
+    edits: u64,
     ended: bool,
 }
 
@@ -179,8 +182,9 @@ fn control(hub: &Hub, message: FromPage) -> Option<String> {
             return Some("an `ack` answers a `tick` or `hello`; none was awaited".into())
         }
         FromPage::Set { scope, key, value } => {
-            if key.is_empty() || !(value.is_number() || value.is_boolean() || value.is_string()) {
-                return Some("`set` takes a key and a number, a boolean or text".into());
+            // Whether the value fits the entry is for the run to say, at the field.
+            if key.is_empty() {
+                return Some("`set` takes the key of the entry to write".into());
             }
             hub.edit(Edit { scope, key, value });
         }
@@ -204,11 +208,13 @@ fn changes(hub: &Hub, sent: &mut Sent, ticks: bool) -> Vec<String> {
     // out again with the next tick's number.
     let tick = run.cell.shown_tick.load(Ordering::Acquire);
     let now = statuses(&run.cell);
+    let scored = scores(&run.cell);
     if sent.generation != Some(inner.generation) {
-        out.push(hello(&inner, run, &now, tick));
+        out.push(hello(&inner, run, &now, &scored, tick));
         *sent = Sent {
             generation: Some(inner.generation),
             statuses: now,
+            scores: scored,
             tick,
             blackboards: inner.blackboards.0,
             failure: inner.failure.0,
@@ -217,6 +223,7 @@ fn changes(hub: &Hub, sent: &mut Sent, ticks: bool) -> Vec<String> {
             rewind: inner.rewind.0,
             scene: inner.scene.0,
             refusal: inner.refusal.0,
+            edits: inner.refused_edits.0,
             ended: inner.ended.is_some(),
         };
         return out;
@@ -229,7 +236,25 @@ fn changes(hub: &Hub, sent: &mut Sent, ticks: bool) -> Vec<String> {
         .map(|(i, (a, _))| json!([i, a]))
         .collect();
     if ticks && (!changed.is_empty() || tick != sent.tick) {
-        out.push(json!({"type": "tick", "tick": tick, "changes": changed}).to_string());
+        let mut message = json!({"type": "tick", "tick": tick, "changes": changed});
+        // Only a tree that has scores (a UtilitySelector's) is sent them.
+        if scored != sent.scores {
+            // Scores gone (a kept tick shown from before a node was scored) are `null`.
+            let gone = sent
+                .scores
+                .iter()
+                .filter(|(i, _)| !scored.iter().any(|(j, _)| i == j))
+                .map(|&(i, _)| json!([i, null]));
+            let new: Vec<Value> = scored
+                .iter()
+                .filter(|s| !sent.scores.contains(s))
+                .map(|&(i, bits)| json!([i, f64::from_bits(bits)]))
+                .chain(gone)
+                .collect();
+            message["scores"] = Value::Array(new);
+            sent.scores = scored;
+        }
+        out.push(message.to_string());
         sent.statuses = now;
         sent.tick = tick;
     }
@@ -242,6 +267,10 @@ fn changes(hub: &Hub, sent: &mut Sent, ticks: bool) -> Vec<String> {
     if sent.refusal != inner.refusal.0 {
         sent.refusal = inner.refusal.0;
         out.push(json!({"type": "refused", "why": inner.refusal.1}).to_string());
+    }
+    if sent.edits != inner.refused_edits.0 {
+        sent.edits = inner.refused_edits.0;
+        out.push(json!({"type": "edits", "refused": inner.refused_edits.1}).to_string());
     }
     if sent.rewind != inner.rewind.0 {
         sent.rewind = inner.rewind.0;
@@ -275,19 +304,27 @@ fn changes(hub: &Hub, sent: &mut Sent, ticks: bool) -> Vec<String> {
     out
 }
 
-fn hello(inner: &Inner, run: &super::hub::Run, statuses: &[&str], tick: u64) -> String {
+fn hello(
+    inner: &Inner,
+    run: &super::hub::Run,
+    statuses: &[&str],
+    scored: &[(usize, u64)],
+    tick: u64,
+) -> String {
     // The tree is serialized once per attach and spliced in, not rebuilt per page.
     let rest = json!({
         "type": "hello",
         "run": {"name": run.name},
         "tick": tick,
         "statuses": statuses,
+        "scores": scored.iter().map(|&(i, bits)| json!([i, f64::from_bits(bits)])).collect::<Vec<_>>(),
         "paused": inner.paused,
         "breakpoints": Hub::breakpoints(run),
         "blackboards": inner.blackboards.1,
         "failure": inner.failure.1,
         "ended": inner.ended,
         "rewind": inner.rewind.1,
+        "edits": inner.refused_edits.1,
     })
     .to_string();
     // `rest` is a JSON object: `{"type":…}`; the tree and the scene go in as its first

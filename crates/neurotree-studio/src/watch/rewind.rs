@@ -88,9 +88,12 @@ pub(crate) enum Travel {
 }
 
 /// What a page is shown of a kept tick besides what the restored tree says.
+#[derive(Clone)]
 pub(crate) struct Shown {
     pub tick: u64,
     pub statuses: Box<[u8]>,
+    /// The nodes scored then, `(id, bits of the score)` (none for most trees).
+    pub scores: Box<[(usize, u64)]>,
     pub failure: Value,
 }
 
@@ -239,11 +242,7 @@ impl Window {
         let at = self.at.take()?;
         self.forget_after(at);
         if let Some(kept) = self.kept.back() {
-            let shown = Shown {
-                tick: kept.shown.tick,
-                statuses: kept.shown.statuses.clone(),
-                failure: kept.shown.failure.clone(),
-            };
+            let shown = kept.shown.clone();
             self.keep(tree, world, shown);
         }
         Some(at)
@@ -274,7 +273,7 @@ impl Window {
             + self
                 .kept
                 .iter()
-                .map(|k| k.shown.statuses.len())
+                .map(|k| k.shown.statuses.len() + 16 * k.shown.scores.len())
                 .sum::<usize>()
     }
 }
@@ -315,6 +314,7 @@ mod tests {
         Shown {
             tick,
             statuses: vec![tick as u8].into(),
+            scores: Box::new([]),
             failure: Value::Null,
         }
     }

@@ -7,7 +7,7 @@ use std::sync::atomic::Ordering;
 use neurotree_core::Tree;
 use serde_json::Value;
 
-use super::hub::{Hub, Request};
+use super::hub::{scores, Hub, Request, NO_SCORE};
 use super::rewind::{Shown, Travel};
 
 impl Hub {
@@ -31,12 +31,13 @@ impl Hub {
         Some(Shown {
             tick: cell.tick.load(Ordering::Acquire),
             statuses,
+            scores: scores(cell).into(),
             failure: inner.failure.1.clone(),
         })
     }
 
-    /// Shows pages a kept tick the tree was restored to: its statuses, its failure chain,
-    /// the tree's blackboards; the tick count goes back to it.
+    /// Shows pages a kept tick the tree was restored to: its statuses, its scores, its
+    /// failure chain, the tree's blackboards; the tick count goes back to it.
     pub(super) fn show_kept<C>(&self, tree: &Tree<C>, shown: Shown) {
         let mut inner = self.lock();
         if let Some(run) = &inner.run {
@@ -46,6 +47,14 @@ impl Hub {
             }
             for (cell, status) in cell.shown.iter().zip(&*shown.statuses) {
                 cell.store(*status, Ordering::Release);
+            }
+            for score in &*cell.scores {
+                score.store(NO_SCORE, Ordering::Release);
+            }
+            for &(i, bits) in &*shown.scores {
+                if let Some(score) = cell.scores.get(i) {
+                    score.store(bits, Ordering::Release);
+                }
             }
             cell.tick.store(shown.tick, Ordering::Release);
             cell.shown_tick.store(shown.tick, Ordering::Release);

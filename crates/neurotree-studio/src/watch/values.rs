@@ -31,12 +31,6 @@ pub(crate) fn scopes<C>(tree: &Tree<C>) -> Value {
     Value::Array(scopes)
 }
 
-/// Writes a page's edit, dropping one that is refused; see [`write`].
-pub(crate) fn apply<C>(tree: &mut Tree<C>, edit: &Edit) {
-    // A refused edit leaves the entry as it was, which the page is sent again.
-    let _ = write(tree, edit);
-}
-
 /// Writes a page's edit in the entry's own type, or says why not. Text typed into a
 /// number, `bool` or text entry is read as a port reads it (`"7"` into an `i64`); any other
 /// value is JSON read by the entry's value codec, so a registered type (a pose, a path)
@@ -108,8 +102,9 @@ mod tests {
         tree
     }
 
+    /// Writes the edit; one refused leaves the entry as it was.
     fn edit(tree: &mut Tree<()>, key: &str, value: Value) {
-        apply(
+        let _ = write(
             tree,
             &Edit {
                 scope: 0,
@@ -138,8 +133,8 @@ mod tests {
         );
         edit(&mut tree, "fresh", json!(1.5));
         assert_eq!(tree.blackboard().get_exact::<f64>("fresh"), Ok(1.5));
-        // A scope the tree does not have is ignored.
-        apply(
+        // A scope the tree does not have is refused.
+        let why = write(
             &mut tree,
             &Edit {
                 scope: 99,
@@ -147,6 +142,7 @@ mod tests {
                 value: json!(1),
             },
         );
+        assert_eq!(why, Err("the tree has no blackboard scope 99".into()));
         assert_eq!(tree.blackboard().get_exact::<i64>("n"), Ok(8));
     }
 

@@ -164,6 +164,13 @@ async fn nav2_default_trees_are_legible_at_1500_by_950_in_the_editor_and_the_wat
             "{file}: a name is {least:.1} px tall in the watch view"
         );
         println!("studio: {file} watched: names at least {least:.1} px tall");
+        if file == NAV2_TREE {
+            // The run's tree marks its ports' directions as the editor does.
+            assert_eq!(
+                directions_of(&b, "watch", PLANNER).await,
+                planner_directions()
+            );
+        }
         drop(run);
     }
     b.close().await;
@@ -504,6 +511,29 @@ async fn tree1111_opens_folded_with_the_overview_and_search_unfolds_and_centres_
     b.close().await;
 }
 
+/// The planner of Nav2's tree to a pose, whose ports go both ways.
+const PLANNER: &str = "NavigateRecovery/NavigateWithReplanning/RateController/ComputePathToPose/FallbackComputePathToPose/ComputePathToPose";
+
+/// The planner's ports as it marks them: `[name, data-direction, the mark drawn]`.
+async fn directions_of(b: &Browser, view: &str, path: &str) -> Value {
+    b.js(&format!(
+        "return [...document.querySelectorAll('#{view}-view {} text.port')].map(t =>
+           [t.querySelector('.port-name').textContent, t.dataset.direction ?? null, t.querySelector('.direction')?.textContent ?? null]);",
+        css_path(path).replace('\'', "\\'")
+    ))
+    .await
+}
+
+fn planner_directions() -> Value {
+    json!([
+        ["goal: ", "input", "in "],
+        ["path: ", "output", "out "],
+        ["planner_id: ", "input", "in "],
+        ["error_code_id: ", "output", "out "],
+        ["error_msg: ", "output", "out "]
+    ])
+}
+
 #[tokio::test(flavor = "multi_thread")]
 async fn nodes_draw_their_ports_and_the_same_boxes_as_the_svg_command() {
     let _one = ONE_AT_A_TIME.lock().await;
@@ -570,11 +600,11 @@ async fn nodes_draw_their_ports_and_the_same_boxes_as_the_svg_command() {
         .await;
     let planner = planner.as_array().unwrap();
     assert!(
-        planner.contains(&json!(["goal: {goal}", "binding"])),
+        planner.contains(&json!(["in goal: {goal}", "binding"])),
         "{planner:?}"
     );
     assert!(
-        planner.contains(&json!(["planner_id: {selected_planner}", "binding"])),
+        planner.contains(&json!(["in planner_id: {selected_planner}", "binding"])),
         "{planner:?}"
     );
     let selector = b
@@ -584,8 +614,15 @@ async fn nodes_draw_their_ports_and_the_same_boxes_as_the_svg_command() {
         .await;
     let selector = selector.as_array().unwrap();
     assert!(
-        selector.contains(&json!(["default_planner: GridBased", "literal"])),
+        selector.contains(&json!(["in default_planner: GridBased", "literal"])),
         "{selector:?}"
+    );
+
+    // Which way each port carries data, from Nav2's model: the planner reads its goal and
+    // writes its path, and the two are marked apart.
+    assert_eq!(
+        directions_of(&b, "edit", PLANNER).await,
+        planner_directions()
     );
 
     // The long Script is shortened on the node and whole in its title.
@@ -596,7 +633,7 @@ async fn nodes_draw_their_ports_and_the_same_boxes_as_the_svg_command() {
         .await;
     let (shown, title) = (script[0].as_str().unwrap(), script[1].as_str().unwrap());
     assert!(
-        shown.starts_with("code: wait := 500;") && shown.ends_with('…'),
+        shown.starts_with("in code: wait := 500;") && shown.ends_with('…'),
         "{shown}"
     );
     assert!(

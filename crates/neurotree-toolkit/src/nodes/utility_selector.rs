@@ -13,6 +13,10 @@
 //!   any tick error.
 //! - `hysteresis` is a number ≥ 0, literal or `{key}` (read on every tick).
 //!
+//! Each score evaluated is told to the tree's observer
+//! ([`Observer::on_node_score`](neurotree_core::Observer::on_node_score)) as the Utility's:
+//! the studio shows it on the node.
+//!
 //! The tree may sleep while the selector runs (see [`sleep`](neurotree_core::tree::sleep)):
 //! scores read only the blackboard, so a sleeping tree wakes when it is written.
 
@@ -86,7 +90,10 @@ impl UtilitySelector {
         let mut best = 0;
         for (i, score) in scores.iter().enumerate() {
             match evaluate(score, node, i, &self.enums) {
-                Ok(value) => self.last[i] = value,
+                Ok(value) => {
+                    self.last[i] = value;
+                    node.report_child_score(i, value);
+                }
                 Err(message) => {
                     node.fail_child(i, message);
                     return None;
@@ -430,6 +437,30 @@ mod tests {
             (lab.ticks.clone(), lab.halts.clone()),
             (vec![0, 3, 2], vec![0, 1, 0])
         );
+    }
+
+    /// Each score the observer is told: `(node, score)`.
+    #[derive(Clone, Default)]
+    struct Scores(std::sync::Arc<std::sync::Mutex<Vec<(u32, f64)>>>);
+
+    impl neurotree_core::Observer for Scores {
+        fn on_node_score(&mut self, node: neurotree_core::NodeId, score: f64) {
+            self.0.lock().unwrap().push((node.0, score));
+        }
+    }
+
+    #[test]
+    fn every_score_evaluated_is_told_to_the_observer_as_its_utilitys() {
+        let (mut lab, mut tree) = abc(&[&[R], &[R], &[R]], 0.0);
+        let seen = Scores::default();
+        tree.set_observer(seen.clone());
+        scores(&mut tree, 1.0, 5.0, 2.0);
+        assert_eq!(lab.tick(&mut tree), Ok(R));
+        // The Utilities are nodes 1, 3 and 5 (each over its leaf).
+        assert_eq!(*seen.0.lock().unwrap(), [(1, 1.0), (3, 5.0), (5, 2.0)]);
+        tree.blackboard_mut().set("c", 9.0).unwrap();
+        assert_eq!(lab.tick(&mut tree), Ok(R));
+        assert_eq!(seen.0.lock().unwrap()[3..], [(1, 1.0), (3, 5.0), (5, 9.0)]);
     }
 
     #[test]

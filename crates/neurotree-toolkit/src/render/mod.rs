@@ -117,7 +117,7 @@ pub use dot::render_dot;
 pub use failed::FailedPath;
 pub use last_tick::LastTickStatuses;
 pub use mermaid::render_mermaid;
-pub use node_box::{drawing_metrics, node_ports, DrawingMetrics};
+pub use node_box::{direction_name, drawing_metrics, node_ports, DrawingMetrics};
 pub use svg::render_svg;
 pub use text::{render_ascii, render_statuses, render_statuses_noted, render_unicode};
 

@@ -3,6 +3,8 @@
 //!
 //! A port is drawn as `name: value`, the value either literal text or a `{key}` binding to
 //! a blackboard entry (drawn apart, in another colour); a Script's code is its `code` port.
+//! The line starts with `in`, `out` or `inout` when the node's type declares which way the
+//! port carries data ([`Blueprint::port_direction`]).
 //! A line wider than [`PORT_WIDTH`] is shortened with `…` on the node and kept whole in the
 //! node's title, which viewers show on hover.
 //!
@@ -11,7 +13,7 @@
 
 use std::borrow::Cow;
 
-use neurotree_core::{Blueprint, NodeId, NodeKind, PortValue};
+use neurotree_core::{Blueprint, NodeId, NodeKind, PortDirection, PortValue};
 use serde::Serialize;
 
 use super::layout::{Size, Spacing};
@@ -38,6 +40,9 @@ pub(crate) const MIN_WIDTH: f64 = 44.0;
 /// does not make its row of the tree as wide as the code.
 pub(crate) const PORT_WIDTH: f64 = 220.0;
 const ELLIPSIS: char = '…';
+/// What a port line starts with, by the way the port carries data.
+const DIRECTION_MARKS: [(&str, &str); 3] =
+    [("input", "in "), ("output", "out "), ("inout", "inout ")];
 
 /// One port as a node shows it.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -48,6 +53,8 @@ pub(crate) struct PortLine {
     pub(crate) value: String,
     /// Bound to a blackboard entry rather than to literal text.
     pub(crate) binding: bool,
+    /// Which way it carries data, if its node's type declares the port.
+    pub(crate) direction: Option<PortDirection>,
     /// `name: value` whole, for the title.
     pub(crate) whole: String,
 }
@@ -104,24 +111,58 @@ pub(crate) fn port_lines<C>(bp: &Blueprint<C>, id: NodeId) -> Vec<PortLine> {
         .into_iter()
         .map(|(name, text)| {
             let binding = is_binding(&text);
+            let direction = bp.port_direction(id, &name);
             let value = printable(&text).into_owned();
             let name = printable(&name).into_owned();
-            let whole = format!("{name}: {value}");
-            let (name, value) = shorten(&name, &value);
+            let mark = direction_mark(direction);
+            let whole = format!("{mark}{name}: {value}");
+            let (name, value) = shorten(mark, &name, &value);
             PortLine {
                 name,
                 value,
                 binding,
+                direction,
                 whole,
             }
         })
         .collect()
 }
 
-/// `name` and `value` cut so that `name: value` fits [`PORT_WIDTH`], the cut marked `…`:
-/// the value is cut first, then the name.
-fn shorten(name: &str, value: &str) -> (String, String) {
-    let fits = |n: &str, v: &str| text_width(&format!("{n}: {v}"), PORT_SIZE, false) <= PORT_WIDTH;
+/// The name pictures and pages give a port's direction: `input`, `output` or `inout`.
+pub fn direction_name(direction: PortDirection) -> &'static str {
+    match direction {
+        PortDirection::Input => DIRECTION_MARKS[0].0,
+        PortDirection::Output => DIRECTION_MARKS[1].0,
+        PortDirection::InOut => DIRECTION_MARKS[2].0,
+    }
+}
+
+/// What a port's line starts with: `in `, `out `, `inout `, or nothing when undeclared.
+pub(crate) fn direction_mark(direction: Option<PortDirection>) -> &'static str {
+    let name = direction.map(direction_name);
+    DIRECTION_MARKS
+        .iter()
+        .find(|(n, _)| Some(*n) == name)
+        .map_or("", |(_, mark)| mark)
+}
+
+impl PortLine {
+    /// The line as drawn: its direction's mark, `name: value`.
+    pub(crate) fn text(&self) -> String {
+        format!(
+            "{}{}: {}",
+            direction_mark(self.direction),
+            self.name,
+            self.value
+        )
+    }
+}
+
+/// `name` and `value` cut so that `{mark}name: value` fits [`PORT_WIDTH`], the cut marked
+/// `…`: the value is cut first, then the name.
+fn shorten(mark: &str, name: &str, value: &str) -> (String, String) {
+    let fits =
+        |n: &str, v: &str| text_width(&format!("{mark}{n}: {v}"), PORT_SIZE, false) <= PORT_WIDTH;
     if fits(name, value) {
         return (name.to_string(), value.to_string());
     }
@@ -154,7 +195,7 @@ pub(crate) fn box_size(view: &NodeView<'_>, ports: &[PortLine], reason: Option<&
     let reason_width = reason.map_or(0.0, |r| text_width(&printable(r), TYPE_SIZE, true));
     let port_width = ports
         .iter()
-        .map(|p| text_width(&format!("{}: {}", p.name, p.value), PORT_SIZE, false))
+        .map(|p| text_width(&p.text(), PORT_SIZE, false))
         .fold(0.0, f64::max);
     let mut width = name.max(type_name).max(reason_width).max(port_width) + 2.0 * PADDING;
     width += match view.shape {
@@ -206,6 +247,9 @@ pub struct DrawingMetrics {
     pub min_width: f64,
     /// The widest port line before it is shortened with `…`.
     pub port_width: f64,
+    /// What a port's line starts with, by its direction (`input`, `output`, `inout`); a
+    /// port whose node's type does not declare it has no mark.
+    pub direction_marks: [(&'static str, &'static str); 3],
     /// The gaps of the tidy layout.
     pub sibling: f64,
     /// Between neighbouring boxes with different parents.
@@ -239,6 +283,7 @@ pub fn drawing_metrics() -> DrawingMetrics {
         slant: SLANT,
         min_width: MIN_WIDTH,
         port_width: PORT_WIDTH,
+        direction_marks: DIRECTION_MARKS,
         sibling: spacing.sibling,
         cousin: spacing.cousin,
         level: spacing.level,
@@ -269,9 +314,12 @@ mod tests {
 
     #[test]
     fn short_lines_are_kept_and_long_ones_cut_with_an_ellipsis_to_fit() {
-        assert_eq!(shorten("goal", "{goal}"), ("goal".into(), "{goal}".into()));
+        assert_eq!(
+            shorten("", "goal", "{goal}"),
+            ("goal".into(), "{goal}".into())
+        );
         let code = "x := 1; ".repeat(30);
-        let (name, value) = shorten("code", &code);
+        let (name, value) = shorten("", "code", &code);
         assert_eq!(name, "code");
         assert!(value.ends_with('…'), "{value}");
         assert!(value.len() < code.len());
@@ -285,7 +333,11 @@ mod tests {
             .collect();
         assert!(text_width(&format!("code: {longer}"), PORT_SIZE, false) > PORT_WIDTH);
         // A name too long by itself is cut too, and the value dropped.
-        let (name, value) = shorten(&"n".repeat(200), "1");
+        // The mark counts: the value is cut shorter, so that the whole line fits.
+        let (_, marked) = shorten("inout ", "code", &code);
+        assert!(marked.chars().count() < value.chars().count());
+        assert!(text_width(&format!("inout code: {marked}"), PORT_SIZE, false) <= PORT_WIDTH);
+        let (name, value) = shorten("", &"n".repeat(200), "1");
         assert!(name.ends_with('…') && value.is_empty());
     }
 
@@ -319,7 +371,7 @@ mod tests {
         // lines.
         let script = node(1);
         assert!(script.contains(&format!(
-            "&#10;code: {}</title>",
+            "&#10;in code: {}</title>",
             code.replace('\'', "&apos;")
         )));
         assert!(script.contains("<tspan class=\"literal\" fill=\"#212529\">wait := 500;"));
@@ -329,6 +381,60 @@ mod tests {
             !node(0).contains("class=\"port\""),
             "the Sequence has no ports"
         );
+    }
+
+    #[test]
+    fn the_svg_marks_which_way_each_declared_port_carries_data() {
+        let xml = r#"<root BTCPP_format="4" main_tree_to_execute="Main">
+  <BehaviorTree ID="Main">
+    <LoopDouble name="each" queue="1;2" value="{v}">
+      <Sleep name="pause" msec="{v}"/>
+    </LoopDouble>
+  </BehaviorTree>
+</root>"#;
+        let registry = crate::Registry::<()>::new();
+        let mut loader = crate::XmlLoader::new(&registry);
+        loader.load_str(xml, "t.xml").unwrap();
+        let bp = loader.build_main().unwrap();
+        let lines = port_lines(&bp, NodeId(0));
+        let marked: Vec<(&str, Option<PortDirection>)> = lines
+            .iter()
+            .map(|p| (p.name.as_str(), p.direction))
+            .collect();
+        assert_eq!(
+            marked,
+            [
+                ("queue", Some(PortDirection::InOut)),
+                ("value", Some(PortDirection::Output)),
+                // Its default, which the loader gives the node.
+                ("if_empty", Some(PortDirection::Input))
+            ]
+        );
+        assert_eq!(lines[1].text(), "out value: {v}");
+        assert_eq!(port_lines(&bp, NodeId(1))[0].text(), "in msec: {v}");
+        let svg = super::super::render_svg(&bp, None);
+        let marks = |direction: &str| {
+            svg.matches(&format!("data-direction=\"{direction}\""))
+                .count()
+        };
+        assert_eq!((marks("input"), marks("output"), marks("inout")), (2, 1, 1));
+        assert!(svg.contains("<text class=\"port\" data-direction=\"output\" x="));
+        assert!(svg.contains(
+            "<tspan class=\"direction\" fill=\"#5f3dc4\">out </tspan><tspan fill=\"#868e96\">value: </tspan>"
+        ));
+        assert!(svg.contains(
+            "<tspan class=\"direction\" fill=\"#5f3dc4\">in </tspan><tspan fill=\"#868e96\">msec: </tspan>"
+        ));
+        // A SubTree's remapping is no port its type declares: no mark.
+        let sub = r#"<root BTCPP_format="4" main_tree_to_execute="M">
+  <BehaviorTree ID="M"><SubTree ID="S" x="{y}"/></BehaviorTree>
+  <BehaviorTree ID="S"><AlwaysSuccess/></BehaviorTree>
+</root>"#;
+        let mut loader = crate::XmlLoader::new(&registry);
+        loader.load_str(sub, "m.xml").unwrap();
+        let bp = loader.build_main().unwrap();
+        assert_eq!(port_lines(&bp, NodeId(0))[0].text(), "x: {y}");
+        assert!(!super::super::render_svg(&bp, None).contains("data-direction"));
     }
 
     #[test]

@@ -23,8 +23,8 @@ use neurotree_core::{Blueprint, NodeId, NodeStatus};
 use super::failed::{FailedPath, PATH_COLOUR};
 use super::layout::{tidy, Layout, Placed, Size, Spacing};
 use super::node_box::{
-    box_size, port_lines, ports_title, PortLine, FIRST_BASELINE, GLYPH_WIDTH, LINE_STEP, NAME_SIZE,
-    NODE_HEIGHT, PORT_SIZE, SLANT, TYPE_SIZE,
+    box_size, direction_mark, direction_name, port_lines, ports_title, PortLine, FIRST_BASELINE,
+    GLYPH_WIDTH, LINE_STEP, NAME_SIZE, NODE_HEIGHT, PORT_SIZE, SLANT, TYPE_SIZE,
 };
 use super::style::{node_views, paint, printable, status_word, NodeView, Paint, Shape, STATUSES};
 use super::text_width::text_width;
@@ -39,6 +39,8 @@ const EDGE_COLOUR: &str = "#adb5bd";
 /// A `{key}` binding's colour, apart from literal text.
 const BINDING_COLOUR: &str = "#1864ab";
 const PORT_NAME_COLOUR: &str = "#868e96";
+/// The mark of a port's direction (`in`, `out`).
+const DIRECTION_COLOUR: &str = "#5f3dc4";
 
 /// The tree `bp` as a standalone SVG document; with `statuses` (by node id, Idle past the
 /// end) each node is coloured by its status and a legend is added.
@@ -360,10 +362,21 @@ fn labels(
         } else {
             ("literal", "#212529")
         };
+        // Which way the port carries data, when its type says: set apart from its name.
+        let (direction, mark) = match port.direction {
+            Some(d) => (
+                format!(" data-direction=\"{}\"", direction_name(d)),
+                format!(
+                    "<tspan class=\"direction\" fill=\"{DIRECTION_COLOUR}\">{}</tspan>",
+                    direction_mark(port.direction)
+                ),
+            ),
+            None => (String::new(), String::new()),
+        };
         let _ = write!(
             out,
-            "<text class=\"port\" x=\"{centre}\" y=\"{}\" font-size=\"{PORT_SIZE}\" \
-             text-anchor=\"middle\"><tspan fill=\"{PORT_NAME_COLOUR}\">{}: </tspan>\
+            "<text class=\"port\"{direction} x=\"{centre}\" y=\"{}\" font-size=\"{PORT_SIZE}\" \
+             text-anchor=\"middle\">{mark}<tspan fill=\"{PORT_NAME_COLOUR}\">{}: </tspan>\
              <tspan class=\"{class}\" fill=\"{colour}\">{}</tspan></text>",
             num(baseline),
             escape(&port.name),

@@ -197,11 +197,12 @@ impl<'a, 'r, C: 'static> Expansion<'a, 'r, C> {
                 return Err(last);
             }
         }
-        // Room for the nodes up front, up to a bound: a tree refused early should not
-        // have claimed much.
+        // Room for the nodes up front, up to a bound: a tree refused early claims little.
         let room = usize::try_from(size.min(1 << 16)).unwrap_or(0);
-        let b =
-            Builder::with_capacity(room).value_codecs(self.loader.registry.value_codecs().clone());
+        let registry = self.loader.registry;
+        let b = Builder::with_capacity(room)
+            .value_codecs(registry.value_codecs().clone())
+            .port_directions(Arc::new(registry.port_directions()));
         let b = self.node(b, only_child(tree), 1)?;
         if let Some((_, error)) = self
             .not_mocked
@@ -210,8 +211,8 @@ impl<'a, 'r, C: 'static> Expansion<'a, 'r, C> {
         {
             return Err(error.clone());
         }
-        // A mock that replaced nothing is a mistake (a misspelt name), never ignored.
         if !self.validate {
+            // A mock that replaced nothing is a mistake (a misspelt name), never ignored.
             if let Some(name) = self.loader.mocks.keys().find(|name| {
                 !self.mocked.contains(&name.as_str())
                     && self.not_mocked.iter().all(|(n, _)| n != name)
@@ -235,8 +236,7 @@ impl<'a, 'r, C: 'static> Expansion<'a, 'r, C> {
         })
     }
 
-    /// Keeps `error` if errors are being collected and there is room for more; else gives
-    /// it back.
+    /// Keeps `error` if errors are being collected and there is room; else gives it back.
     fn keep(&mut self, error: LoadError) -> Result<(), LoadError> {
         if self.errors.len() + 1 >= self.limit {
             return Err(error);

@@ -95,6 +95,7 @@ struct State<C> {
     ignored: usize,
     max_depth: u32,
     value_codecs: Option<Arc<StateCodecs>>,
+    port_directions: Option<Arc<crate::PortDirections>>,
 }
 
 impl<C> Default for Builder<C> {
@@ -128,6 +129,7 @@ impl<C> Builder<C> {
                 ignored: 0,
                 max_depth: DEFAULT_MAX_DEPTH,
                 value_codecs: None,
+                port_directions: None,
             }),
         }
     }
@@ -142,6 +144,13 @@ impl<C> Builder<C> {
     /// with: each tree's blackboard gets them ([`Blackboard::codecs`](crate::Blackboard::codecs)).
     pub fn value_codecs(mut self, codecs: Arc<StateCodecs>) -> Self {
         self.s.value_codecs = Some(codecs);
+        self
+    }
+
+    /// Which way the ports of the node types it is given carry data, for pictures of its
+    /// trees to mark ([`Blueprint::port_direction`]); built-ins need none.
+    pub fn port_directions(mut self, directions: Arc<crate::PortDirections>) -> Self {
+        self.s.port_directions = Some(directions);
         self
     }
 
@@ -646,6 +655,7 @@ impl<C> State<C> {
             objects,
             max_depth: self.max_depth,
             value_codecs: self.value_codecs,
+            port_directions: self.port_directions,
             #[cfg(target_has_atomic = "64")]
             hash: core::sync::atomic::AtomicU64::new(0),
         }
