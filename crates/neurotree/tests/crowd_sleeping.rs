@@ -248,6 +248,8 @@ mod random {
     struct Setup {
         threads: usize,
         in_place: bool,
+        /// In place, only the members the frame says are awake are visited.
+        awake_only: bool,
         /// A level-of-detail hook, from the member's context.
         lod: bool,
     }
@@ -338,8 +340,13 @@ mod random {
             }
             let report = if setup.in_place {
                 let frame = crowd.frame_in_place().unwrap();
+                let mut visit = ids.clone();
+                if setup.awake_only {
+                    frame.awake_members(&mut visit);
+                    assert_eq!(visit.len(), frame.awake());
+                }
                 let mut visitor = frame.visitor();
-                for &id in ids.iter().rev() {
+                for &id in visit.iter().rev() {
                     visitor.visit(id, |_| {});
                 }
                 drop(visitor);
@@ -401,9 +408,10 @@ mod random {
             frames in prop::collection::vec(frame(), 1..40),
             threads in prop_oneof![Just(1usize), Just(3)],
             in_place in any::<bool>(),
+            awake_only in any::<bool>(),
             lod in any::<bool>(),
         ) {
-            compare(&roots, &frames, Setup { threads, in_place, lod })?;
+            compare(&roots, &frames, Setup { threads, in_place, awake_only, lod })?;
         }
     }
 
@@ -442,10 +450,11 @@ mod random {
             })
             .collect();
         for threads in [1, 3] {
-            for in_place in [false, true] {
+            for (in_place, awake_only) in [(false, false), (true, false), (true, true)] {
                 let setup = Setup {
                     threads,
                     in_place,
+                    awake_only,
                     lod: false,
                 };
                 let asleep = compare(&[root.clone()], &frames, setup).unwrap();
