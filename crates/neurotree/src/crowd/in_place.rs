@@ -148,6 +148,11 @@ impl<'c, C> InPlaceFrame<'c, C> {
         self.frame
     }
 
+    /// Members in the crowd.
+    pub fn members(&self) -> usize {
+        self.len
+    }
+
     /// Members awake in this frame: those a visit may tick. The others sleep through it,
     /// and need not be visited.
     pub fn awake(&self) -> usize {
