@@ -120,7 +120,11 @@ fn crowd_frames_allocate_nothing_in_steady_state() {
                     let id = ids[next % ids.len()];
                     next += 7;
                     let mut member = crowd.get_mut(id).unwrap();
-                    member.tree_mut().blackboard_mut().set("alert", true).unwrap();
+                    member
+                        .tree_mut()
+                        .blackboard_mut()
+                        .set("alert", true)
+                        .unwrap();
                 }
                 waker.wake(ids[next % ids.len()]);
                 crowd.wake(ids[(next + 3) % ids.len()]);

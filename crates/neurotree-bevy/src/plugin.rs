@@ -32,7 +32,8 @@ pub enum TreeSystems {
     Wake,
     /// On all cores, each agent due is visited once: its context is loaded from its
     /// components, its tree ticked and what changed written back; then results are
-    /// reported.
+    /// reported. Sleeping agents are skipped; when fewer than one agent in 8 is awake,
+    /// the awake ones are visited by entity on one thread, and the others not at all.
     Tick,
 }
 

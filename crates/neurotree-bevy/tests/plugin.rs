@@ -763,7 +763,13 @@ fn sleeping_agents_wake_only_when_their_component_changes_or_a_message_names_the
     );
     let bp = blueprint(&tree("<WaitForHp/>"));
     let guards: Vec<Entity> = (0..20)
-        .map(|_| spawn(&mut app, TreeAgent::new(Arc::clone(&bp), Guard::default()), 100))
+        .map(|_| {
+            spawn(
+                &mut app,
+                TreeAgent::new(Arc::clone(&bp), Guard::default()),
+                100,
+            )
+        })
         .collect();
     let ticks = |app: &App| -> Vec<u32> { guards.iter().map(|&g| counts(app, g).ticks).collect() };
     let last = |app: &mut App| {
@@ -810,7 +816,11 @@ fn sleeping_agents_wake_only_when_their_component_changes_or_a_message_names_the
     // Without the wakes, a change wakes no one.
     let mut plain = App::new();
     plain.add_plugins(NeuroTreePlugin::new(registry()).with_threads(2).unwrap());
-    let guard = spawn(&mut plain, TreeAgent::new(Arc::clone(&bp), Guard::default()), 100);
+    let guard = spawn(
+        &mut plain,
+        TreeAgent::new(Arc::clone(&bp), Guard::default()),
+        100,
+    );
     plain.update();
     plain.world_mut().get_mut::<Hp>(guard).unwrap().0 = 0;
     plain.update();

@@ -382,7 +382,15 @@ mod random {
     /// Runs `frames` with sleeping members under `setup` and without sleeping on one
     /// thread; the first difference, if any.
     fn compare(roots: &[Node], frames: &[Frame], setup: Setup) -> Result<usize, TestCaseError> {
-        let reference = run(roots, frames, Setup { threads: 1, ..setup }, false);
+        let reference = run(
+            roots,
+            frames,
+            Setup {
+                threads: 1,
+                ..setup
+            },
+            false,
+        );
         let sleeping = run(roots, frames, setup, true);
         let mut asleep = 0;
         for (f, (a, b)) in sleeping.iter().zip(&reference).enumerate() {
@@ -390,7 +398,10 @@ mod random {
                 // A member skipped asleep would have returned Running when due.
                 let agrees = s == r
                     || (*s == FrameStatus::Asleep
-                        && matches!(r, FrameStatus::NotDue | FrameStatus::Ticked(Status::Running)));
+                        && matches!(
+                            r,
+                            FrameStatus::NotDue | FrameStatus::Ticked(Status::Running)
+                        ));
                 prop_assert!(agrees, "frame {f}, member {m}: {s:?} against {r:?}");
                 asleep += usize::from(*s == FrameStatus::Asleep);
             }

@@ -7,9 +7,7 @@
 use std::sync::Arc;
 use std::time::Duration;
 
-use neurotree_core::{
-    Action, Blueprint, Builder, Handle, ParallelPolicy, StatefulAction, Status,
-};
+use neurotree_core::{Action, Blueprint, Builder, Handle, ParallelPolicy, StatefulAction, Status};
 use proptest::prelude::*;
 
 /// What the leaves did, in order: (leaf, what, clock in ms).
@@ -224,4 +222,3 @@ pub fn event() -> impl Strategy<Value = Event> {
         1 => Just(Event::Halt),
     ]
 }
-
