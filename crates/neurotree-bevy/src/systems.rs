@@ -355,6 +355,8 @@ pub(crate) fn wake_on_change<C: AgentContext, T: Component>(
 }
 
 /// A system that wakes the agent each message `M` names through `target`.
+// The type is the system's parameters, as Bevy spells them.
+#[allow(clippy::type_complexity)]
 pub(crate) fn wake_on_message<C: AgentContext, M: Message>(
     target: fn(&M) -> Entity,
 ) -> impl FnMut(MessageReader<M>, ResMut<AgentCrowd<C>>, Query<&TreeAgent<C>>) {

@@ -468,7 +468,7 @@ mod random {
                     awake_only,
                     lod: false,
                 };
-                let asleep = compare(&[root.clone()], &frames, setup).unwrap();
+                let asleep = compare(std::slice::from_ref(&root), &frames, setup).unwrap();
                 assert!(asleep > 16 * 40 / 2, "{asleep} member-frames asleep");
             }
         }
