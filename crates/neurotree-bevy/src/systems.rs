@@ -121,29 +121,15 @@ pub(crate) fn tick<C: AgentContext>(
     let (members, entities) = crowd.crowd_and_entities();
     let last = if let Some(frame) = members.frame_in_place() {
         if frame.awake() * FEW_AWAKE < frame.members() {
-            // Most agents sleep: visit the awake ones by their entity, on this thread,
-            // rather than walk every agent's components.
-            let mut gathered = gather();
-            frame.awake_members(&mut awake);
-            let mut visitor = frame.visitor();
-            for &member in awake.iter() {
-                let Some(entity) = entities.get(member.slot()).copied().flatten() else {
-                    continue;
-                };
-                let Ok((entity, _, mut components)) = agents.get_mut(entity) else {
-                    continue;
-                };
-                let status = match visitor.visit(member, |c| c.load(&components, shared)) {
-                    Visit::NotDue => continue,
-                    Visit::Ticked(context, status) => {
-                        context.store(&mut components);
-                        status
-                    }
-                };
-                gathered.note(member, entity, status, report_finished);
-            }
-            drop((visitor, gathered));
-            frame.finish()
+            visit_awake(
+                frame,
+                &mut agents,
+                entities,
+                shared,
+                gather(),
+                &mut awake,
+                report_finished,
+            )
         } else {
             visit_all(frame, &mut agents, shared, &gather, report_finished)
         }
@@ -210,6 +196,40 @@ where
             gathered.note(member, entity, status, report_finished);
         },
     );
+    frame.finish()
+}
+
+/// Visits the agents awake in `frame` by their entity, on this thread, and ends the frame:
+/// when most agents sleep, cheaper than walking every agent's components. `awake` is room
+/// for their ids.
+fn visit_awake<C: AgentContext>(
+    frame: InPlaceFrame<'_, C>,
+    agents: &mut Query<(Entity, &TreeAgent<C>, C::Components)>,
+    entities: &[Option<Entity>],
+    shared: &SystemParamItem<'_, '_, C::Shared>,
+    mut gathered: Gathered<'_>,
+    awake: &mut Vec<MemberId>,
+    report_finished: bool,
+) -> FrameReport {
+    frame.awake_members(awake);
+    let mut visitor = frame.visitor();
+    for &member in awake.iter() {
+        let Some(entity) = entities.get(member.slot()).copied().flatten() else {
+            continue;
+        };
+        let Ok((entity, _, mut components)) = agents.get_mut(entity) else {
+            continue;
+        };
+        let status = match visitor.visit(member, |c| c.load(&components, shared)) {
+            Visit::NotDue => continue,
+            Visit::Ticked(context, status) => {
+                context.store(&mut components);
+                status
+            }
+        };
+        gathered.note(member, entity, status, report_finished);
+    }
+    drop((visitor, gathered));
     frame.finish()
 }
 
