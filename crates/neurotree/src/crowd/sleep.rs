@@ -288,3 +288,75 @@ pub(super) fn stays_awake(plan: &Plan, slot: usize, fallen: &mut Vec<Timer>) -> 
     fallen.push(Timer::of(plan, slot));
     false
 }
+
+#[cfg(test)]
+mod tests {
+    use std::sync::Arc;
+    use std::time::Duration;
+
+    use crate::crowd::{Crowd, FrameStatus};
+    use crate::{Blueprint, Handle, ManualClock, StatefulAction, Status};
+
+    /// Counts its calls; Running, asleep for ten seconds from each call.
+    struct Nap;
+
+    impl StatefulAction<u32> for Nap {
+        fn on_start(&mut self, h: &mut Handle<'_, u32>) -> Status {
+            self.on_running(h)
+        }
+        fn on_running(&mut self, h: &mut Handle<'_, u32>) -> Status {
+            *h.ctx_mut() += 1;
+            let at = h.now() + Duration::from_secs(10);
+            h.sleep_until(at);
+            Status::Running
+        }
+    }
+
+    /// Members woken early leave a stale timer each time: the heap is compacted
+    /// before it passes twice the slots, and the timers that hold still wake their members
+    /// exactly at their deadlines.
+    #[test]
+    fn stale_timers_are_dropped_and_live_ones_still_fire_on_time() {
+        let clock = ManualClock::new();
+        let mut crowd = Crowd::new(clock.clone()).with_threads(1).unwrap();
+        let nap = Blueprint::<u32>::builder()
+            .stateful("nap", || Nap)
+            .build_shared()
+            .unwrap();
+        let ids: Vec<_> = (0..10).map(|_| crowd.add(Arc::clone(&nap), 0)).collect();
+        assert_eq!(crowd.frame().ticked, 10);
+        clock.advance(Duration::from_millis(20));
+        let mut most = 0;
+        for frame in 1..=200 {
+            // Members 0 to 4 are woken every other frame, after their timers went into the
+            // heap; 5 to 9 sleep on.
+            let woken = frame % 2 == 0;
+            if woken {
+                for &id in &ids[..5] {
+                    crowd.wake(id);
+                }
+            }
+            let report = crowd.frame();
+            let expected = if woken { (5, 5) } else { (0, 10) };
+            assert_eq!((report.ticked, report.asleep), expected, "{report:?}");
+            most = most.max(crowd.timers.heap.len());
+            clock.advance(Duration::from_millis(20));
+        }
+        assert!(most <= 2 * 10 + 64 + 5, "{most} timers for 10 members");
+        // Frames of 20 ms: the sleepers' deadlines, 10 s after frame 0, come at frame 500;
+        // those of the members last woken at frame 200, at frame 700.
+        let calls = |crowd: &Crowd<u32>, i: usize| *crowd.get(ids[i]).unwrap().context();
+        assert_eq!((calls(&crowd, 0), calls(&crowd, 9)), (101, 1));
+        for frame in 201..=500 {
+            let report = crowd.frame();
+            let expected = if frame == 500 { 5 } else { 0 };
+            assert_eq!(report.ticked, expected, "frame {frame}");
+            clock.advance(Duration::from_millis(20));
+        }
+        assert_eq!(calls(&crowd, 9), 2);
+        assert_eq!(
+            crowd.get(ids[9]).unwrap().status(),
+            FrameStatus::Ticked(Status::Running)
+        );
+    }
+}
