@@ -10,7 +10,7 @@ use std::time::Duration;
 
 use neurotree::crowd::Crowd;
 use neurotree::{Clock, ManualClock, Tree};
-use neurotree_bench::{agent_tree, Agent};
+use neurotree_bench::{agent_tree, sleepy_agent_crowd, Agent};
 
 struct Counting;
 
@@ -100,5 +100,54 @@ fn crowd_frames_allocate_nothing_in_steady_state() {
                 assert!(crowd.behind().overdue > 0);
             }
         }
+    }
+
+    // Sleeping members: woken by writes, by the crowd and from a waker, and by their
+    // deadlines (the agent tree's Delay and Sleep), falling asleep again.
+    for threads in [1, 2] {
+        let mut crowd = sleepy_agent_crowd(2000, threads, clock.clone());
+        for mut member in crowd.iter_mut() {
+            member.tree_mut().reserve_failure_record();
+        }
+        let ids: Vec<_> = crowd.iter().map(|m| m.id()).collect();
+        let waker = crowd.waker();
+        let mut next = 0;
+        // The allocations of the frames alone: a write to a blackboard may allocate.
+        let mut run = |frames: usize| {
+            let mut n = 0;
+            for _ in 0..frames {
+                for _ in 0..20 {
+                    let id = ids[next % ids.len()];
+                    next += 7;
+                    let mut member = crowd.get_mut(id).unwrap();
+                    member
+                        .tree_mut()
+                        .blackboard_mut()
+                        .set("alert", true)
+                        .unwrap();
+                }
+                waker.wake(ids[next % ids.len()]);
+                crowd.wake(ids[(next + 3) % ids.len()]);
+                clock.advance(Duration::from_millis(16));
+                let mut report = None;
+                n += allocations(|| report = Some(crowd.frame()));
+                let report = report.unwrap();
+                assert_eq!(report.errors, 0);
+                assert!(report.frame == 0 || report.asleep > 1000, "{report:?}");
+            }
+            n
+        };
+        // Warm-up: the heap of deadlines and the lists of members that fell asleep grow
+        // to their size.
+        run(300);
+        const FRAMES: usize = 126;
+        let n = run(FRAMES);
+        // Each of the 20 agents alerted per frame clears its alert in its tick, a
+        // blackboard write that boxes the value: the leaf's allocation, not the crowd's.
+        let leaves = FRAMES * 20;
+        assert!(
+            n <= FRAMES / 63 + 1 + leaves,
+            "{n} allocations in {FRAMES} frames of sleeping members, {threads} threads"
+        );
     }
 }

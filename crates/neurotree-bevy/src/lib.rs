@@ -19,6 +19,13 @@
 //!   When a tree asset changes (in `Assets`, or on disk with the `file_watcher` feature),
 //!   every agent running it is reloaded, keeping the state of the nodes that did not
 //!   change ([`TreeReloaded`]).
+//! - **Sleeping agents cost nothing per frame.** A tree whose waiting leaves say what they
+//!   wait on [sleeps](neurotree::tree::sleep): its agent is not visited until a deadline
+//!   it declared comes (a timer node's, or a leaf's `Handle::sleep_until`), the program wakes
+//!   it, or, where the app asked for it, its entity's component changes
+//!   ([`NeuroTreePlugin::wake_on_change`]) or a message names it
+//!   ([`NeuroTreePlugin::wake_on_message`]). With fewer than one agent in 8 awake, a frame
+//!   visits the awake agents alone, by entity.
 //! - **Removing** an agent's component (or replacing it, or despawning the agent) halts its
 //!   running actions once.
 //!

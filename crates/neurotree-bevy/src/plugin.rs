@@ -6,6 +6,9 @@ use std::time::Duration;
 
 use bevy_app::{App, Plugin, Update};
 use bevy_asset::{AssetApp, AssetServer};
+use bevy_ecs::component::Component;
+use bevy_ecs::entity::Entity;
+use bevy_ecs::message::Message;
 use bevy_ecs::schedule::{InternedScheduleLabel, IntoScheduleConfigs, ScheduleLabel, SystemSet};
 use bevy_ecs::system::SystemParamItem;
 use neurotree::crowd::{Crowd, ThreadPool, ThreadPoolBuildError, ThreadPoolBuilder};
@@ -24,9 +27,13 @@ use crate::systems;
 pub enum TreeSystems {
     /// New agents join the crowd; agents whose tree asset changed are reloaded.
     Join,
+    /// Sleeping agents wake on the component changes and the messages the app named
+    /// ([`NeuroTreePlugin::wake_on_change`], [`NeuroTreePlugin::wake_on_message`]).
+    Wake,
     /// On all cores, each agent due is visited once: its context is loaded from its
     /// components, its tree ticked and what changed written back; then results are
-    /// reported.
+    /// reported. Sleeping agents are skipped; when fewer than one agent in 8 is awake,
+    /// the awake ones are visited by entity on one thread, and the others not at all.
     Tick,
 }
 
@@ -40,8 +47,13 @@ pub struct NeuroTreePlugin<C> {
     pool: Option<Arc<ThreadPool>>,
     step: Duration,
     schedule: InternedScheduleLabel,
+    /// The systems that wake agents, added with the others.
+    wakes: Vec<AddWake>,
     _context: PhantomData<fn(C)>,
 }
+
+/// Adds one waking system to an app's schedule.
+type AddWake = Box<dyn Fn(&mut App, InternedScheduleLabel) + Send + Sync>;
 
 impl<C: AgentContext> NeuroTreePlugin<C> {
     /// A plugin whose tree files are built from the nodes `registry` knows, ticking in
@@ -54,6 +66,7 @@ impl<C: AgentContext> NeuroTreePlugin<C> {
             pool: None,
             step: Duration::from_secs(1) / 60,
             schedule: Update.intern(),
+            wakes: Vec::new(),
             _context: PhantomData,
         }
     }
@@ -70,6 +83,56 @@ impl<C: AgentContext> NeuroTreePlugin<C> {
     /// Moves the trees' clock by `step` after each frame.
     pub fn with_step(mut self, step: Duration) -> Self {
         self.step = step;
+        self
+    }
+
+    /// Wakes an agent whose tree [sleeps](neurotree::tree::sleep) when its entity's
+    /// component `T` is inserted or changed, before the frame's tick: for a leaf that reads
+    /// `T` through its context and, while Running, waits for it to change (it says so with
+    /// [`Handle::wake_on_handle`](neurotree::Handle::wake_on_handle), which lets its tree
+    /// sleep until then). Only the agents whose `T` changed wake; a tree that writes `T`
+    /// back through [`AgentContext::store`] wakes itself when the value it stores differs.
+    ///
+    /// ```
+    /// use bevy_ecs::component::Component;
+    /// # use bevy_ecs::query::QueryItem;
+    /// # use bevy_ecs::system::SystemParamItem;
+    /// use neurotree::Registry;
+    /// use neurotree_bevy::{AgentContext, NeuroTreePlugin};
+    ///
+    /// #[derive(Component)]
+    /// struct Door { open: bool }
+    /// # struct Guard;
+    /// # impl AgentContext for Guard {
+    /// #     type Components = &'static Door;
+    /// #     type Shared = ();
+    /// #     fn load(&mut self, _: &QueryItem<'_, '_, Self::Components>, _: &SystemParamItem<'_, '_, ()>) {}
+    /// #     fn store(&self, _: &mut QueryItem<'_, '_, Self::Components>) {}
+    /// # }
+    /// let plugin = NeuroTreePlugin::new(Registry::<Guard>::new()).wake_on_change::<Door>();
+    /// ```
+    pub fn wake_on_change<T: Component>(mut self) -> Self {
+        self.wakes.push(Box::new(|app, schedule| {
+            app.add_systems(
+                schedule,
+                systems::wake_on_change::<C, T>.in_set(TreeSystems::Wake),
+            );
+        }));
+        self
+    }
+
+    /// Wakes the agent whose entity `target` names in each message `M` written since the
+    /// last frame, before the frame's tick: for a leaf that, while Running, waits for such
+    /// a message ([`Handle::wake_on_handle`](neurotree::Handle::wake_on_handle)) and reads
+    /// what it brought through its context or its blackboard. Only those agents wake.
+    /// Adds the message type to the app if it was not.
+    pub fn wake_on_message<M: Message>(mut self, target: fn(&M) -> Entity) -> Self {
+        self.wakes.push(Box::new(move |app, schedule| {
+            app.add_message::<M>().add_systems(
+                schedule,
+                systems::wake_on_message::<C, M>(target).in_set(TreeSystems::Wake),
+            );
+        }));
         self
     }
 
@@ -95,7 +158,7 @@ where
             .add_message::<TreeReloaded>()
             .configure_sets(
                 self.schedule,
-                (TreeSystems::Join, TreeSystems::Tick).chain(),
+                (TreeSystems::Join, TreeSystems::Wake, TreeSystems::Tick).chain(),
             )
             .add_systems(
                 self.schedule,
@@ -106,6 +169,9 @@ where
             )
             .add_observer(systems::arrive::<C>)
             .add_observer(systems::leave::<C>);
+        for add in &self.wakes {
+            add(app, self.schedule);
+        }
         if app.world().contains_resource::<AssetServer>() {
             app.init_asset::<TreeAsset<C>>()
                 .register_asset_loader(TreeAssetLoader::new(Arc::clone(&self.registry)))

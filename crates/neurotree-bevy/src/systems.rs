@@ -3,13 +3,15 @@
 use std::sync::{Arc, Mutex, PoisonError};
 
 use bevy_asset::{AssetEvent, AssetId, Assets};
+use bevy_ecs::component::Component;
 use bevy_ecs::entity::Entity;
 use bevy_ecs::lifecycle::{Discard, Insert};
-use bevy_ecs::message::{MessageReader, MessageWriter};
+use bevy_ecs::message::{Message, MessageReader, MessageWriter};
 use bevy_ecs::observer::On;
+use bevy_ecs::query::Changed;
 use bevy_ecs::system::{Commands, Local, Query, Res, ResMut, StaticSystemParam, SystemParamItem};
 use bevy_tasks::{ComputeTaskPool, TaskPool};
-use neurotree::crowd::{Crowd, FrameStatus, MemberId, Visit};
+use neurotree::crowd::{Crowd, FrameReport, FrameStatus, InPlaceFrame, MemberId, Visit};
 use neurotree::{ReloadError, Status};
 
 use crate::agent::{TreeAgent, TreeSource};
@@ -93,7 +95,9 @@ impl Drop for Gathered<'_> {
 /// ticked and its context stored while its data is in the cache, and no agent is looked up
 /// by its entity. Under a budget, which picks members across the whole crowd before any is
 /// ticked, the contexts are loaded first (on one thread), the crowd runs its frame on its
-/// own threads, and the ticked agents' contexts are stored after it, on all cores.
+/// own threads, and the ticked agents' contexts are stored after it, on all cores. When
+/// fewer than one agent in [`FEW_AWAKE`] is awake, only the awake ones are visited, by
+/// entity, on this thread: the sleeping ones cost the frame nothing.
 pub(crate) fn tick<C: AgentContext>(
     mut crowd: ResMut<AgentCrowd<C>>,
     mut agents: Query<(Entity, &TreeAgent<C>, C::Components)>,
@@ -101,6 +105,7 @@ pub(crate) fn tick<C: AgentContext>(
     mut finished: MessageWriter<TreeFinished>,
     mut commands: Commands,
     mut collected: Local<Mutex<Vec<Finished>>>,
+    mut awake: Local<Vec<MemberId>>,
 ) where
     for<'w, 's> SystemParamItem<'w, 's, C::Shared>: Sync,
 {
@@ -113,26 +118,21 @@ pub(crate) fn tick<C: AgentContext>(
         into,
         batch: Vec::new(),
     };
-    let last = if let Some(frame) = crowd.crowd_mut().frame_in_place() {
-        let open = &frame;
-        agents.par_iter_mut().for_each_init(
-            // Boxed, one box per batch: `for_each_init` moves its state in and out of the
-            // call for every agent, and a pointer moves cheaper than the state.
-            || Box::new((open.visitor(), gather())),
-            |state, (entity, agent, mut components)| {
-                let (visitor, gathered) = &mut **state;
-                let Some(member) = agent.member() else { return };
-                let status = match visitor.visit(member, |c| c.load(&components, shared)) {
-                    Visit::NotDue => return,
-                    Visit::Ticked(context, status) => {
-                        context.store(&mut components);
-                        status
-                    }
-                };
-                gathered.note(member, entity, status, report_finished);
-            },
-        );
-        frame.finish()
+    let (members, entities) = crowd.crowd_and_entities();
+    let last = if let Some(frame) = members.frame_in_place() {
+        if frame.awake() * FEW_AWAKE < frame.members() {
+            visit_awake(
+                frame,
+                &mut agents,
+                entities,
+                shared,
+                gather(),
+                &mut awake,
+                report_finished,
+            )
+        } else {
+            visit_all(frame, &mut agents, shared, &gather, report_finished)
+        }
     } else {
         load_all(crowd, &mut agents, shared);
         let report = crowd.crowd_mut().frame();
@@ -166,6 +166,76 @@ pub(crate) fn tick<C: AgentContext>(
         &mut commands,
     );
 }
+
+/// Visits every agent, in the order Bevy stores them, on all cores, and ends the frame.
+fn visit_all<'g, C: AgentContext>(
+    frame: InPlaceFrame<'_, C>,
+    agents: &mut Query<(Entity, &TreeAgent<C>, C::Components)>,
+    shared: &SystemParamItem<'_, '_, C::Shared>,
+    gather: &(impl Fn() -> Gathered<'g> + Sync),
+    report_finished: bool,
+) -> FrameReport
+where
+    for<'w, 's> SystemParamItem<'w, 's, C::Shared>: Sync,
+{
+    let open = &frame;
+    agents.par_iter_mut().for_each_init(
+        // Boxed, one box per batch: `for_each_init` moves its state in and out of the
+        // call for every agent, and a pointer moves cheaper than the state.
+        || Box::new((open.visitor(), gather())),
+        |state, (entity, agent, mut components)| {
+            let (visitor, gathered) = &mut **state;
+            let Some(member) = agent.member() else { return };
+            let status = match visitor.visit(member, |c| c.load(&components, shared)) {
+                Visit::NotDue => return,
+                Visit::Ticked(context, status) => {
+                    context.store(&mut components);
+                    status
+                }
+            };
+            gathered.note(member, entity, status, report_finished);
+        },
+    );
+    frame.finish()
+}
+
+/// Visits the agents awake in `frame` by their entity, on this thread, and ends the frame:
+/// when most agents sleep, cheaper than walking every agent's components. `awake` is room
+/// for their ids.
+fn visit_awake<C: AgentContext>(
+    frame: InPlaceFrame<'_, C>,
+    agents: &mut Query<(Entity, &TreeAgent<C>, C::Components)>,
+    entities: &[Option<Entity>],
+    shared: &SystemParamItem<'_, '_, C::Shared>,
+    mut gathered: Gathered<'_>,
+    awake: &mut Vec<MemberId>,
+    report_finished: bool,
+) -> FrameReport {
+    frame.awake_members(awake);
+    let mut visitor = frame.visitor();
+    for &member in awake.iter() {
+        let Some(entity) = entities.get(member.slot()).copied().flatten() else {
+            continue;
+        };
+        let Ok((entity, _, mut components)) = agents.get_mut(entity) else {
+            continue;
+        };
+        let status = match visitor.visit(member, |c| c.load(&components, shared)) {
+            Visit::NotDue => continue,
+            Visit::Ticked(context, status) => {
+                context.store(&mut components);
+                status
+            }
+        };
+        gathered.note(member, entity, status, report_finished);
+    }
+    drop((visitor, gathered));
+    frame.finish()
+}
+
+/// Below one agent awake in this many, a frame visits the awake agents by entity rather
+/// than walking every agent's components.
+const FEW_AWAKE: usize = 8;
 
 /// Loads every agent's context from its components, for a frame under a budget.
 fn load_all<C: AgentContext>(
@@ -289,6 +359,35 @@ pub(crate) fn reload<C: AgentContext>(
         }
         again
     });
+}
+
+/// Wakes the agents whose component `T` was inserted or changed since the last frame.
+pub(crate) fn wake_on_change<C: AgentContext, T: Component>(
+    mut crowd: ResMut<AgentCrowd<C>>,
+    changed: Query<&TreeAgent<C>, Changed<T>>,
+) {
+    let members = crowd.crowd_mut();
+    for agent in &changed {
+        if let Some(member) = agent.member() {
+            members.wake(member);
+        }
+    }
+}
+
+/// A system that wakes the agent each message `M` names through `target`.
+// The type is the system's parameters, as Bevy spells them.
+#[allow(clippy::type_complexity)]
+pub(crate) fn wake_on_message<C: AgentContext, M: Message>(
+    target: fn(&M) -> Entity,
+) -> impl FnMut(MessageReader<M>, ResMut<AgentCrowd<C>>, Query<&TreeAgent<C>>) {
+    move |mut messages, mut crowd, agents| {
+        let members = crowd.crowd_mut();
+        for message in messages.read() {
+            if let Some(member) = agents.get(target(message)).ok().and_then(TreeAgent::member) {
+                members.wake(member);
+            }
+        }
+    }
 }
 
 /// Has an agent join the crowd in the next frame, when its component is inserted (also in

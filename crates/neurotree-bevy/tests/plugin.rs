@@ -113,8 +113,39 @@ fn registry() -> Registry<Guard> {
         .unwrap();
     r.register_stateful("Hold", vec![PortSpec::input::<i32>("speed")], || Hold)
         .unwrap();
+    r.register_stateful("WaitForHp", vec![], || WaitForHp)
+        .unwrap();
     r
 }
+
+/// Counts its ticks; Success once the guard's `Hp` is 0, else Running, asleep until the
+/// program wakes the tree (the plugin, when `Hp` changes or a `Poke` names the guard).
+struct WaitForHp;
+
+impl WaitForHp {
+    fn check(h: &mut NodeHandle<'_, Guard>) -> Status {
+        h.ctx_mut().counts.ticks += 1;
+        if h.ctx().hp <= 0 {
+            return Status::Success;
+        }
+        h.wake_on_handle();
+        Status::Running
+    }
+}
+
+impl StatefulAction<Guard> for WaitForHp {
+    fn on_start(&mut self, h: &mut NodeHandle<'_, Guard>) -> Status {
+        Self::check(h)
+    }
+
+    fn on_running(&mut self, h: &mut NodeHandle<'_, Guard>) -> Status {
+        Self::check(h)
+    }
+}
+
+/// Wakes the guard it names.
+#[derive(Message, Clone, Copy)]
+struct Poke(Entity);
 
 fn blueprint(xml: &str) -> Arc<Blueprint<Guard>> {
     let registry = registry();
@@ -718,4 +749,80 @@ fn a_tree_file_edited_on_disk_is_reloaded_keeping_state() {
         (counts(&app, agent).steps, counts(&app, agent).started),
         (1, 2)
     );
+}
+
+#[test]
+fn sleeping_agents_wake_only_when_their_component_changes_or_a_message_names_them() {
+    let mut app = App::new();
+    app.add_plugins(
+        NeuroTreePlugin::new(registry())
+            .with_threads(2)
+            .unwrap()
+            .wake_on_change::<Hp>()
+            .wake_on_message::<Poke>(|poke| poke.0),
+    );
+    let bp = blueprint(&tree("<WaitForHp/>"));
+    let guards: Vec<Entity> = (0..20)
+        .map(|_| {
+            spawn(
+                &mut app,
+                TreeAgent::new(Arc::clone(&bp), Guard::default()),
+                100,
+            )
+        })
+        .collect();
+    let ticks = |app: &App| -> Vec<u32> { guards.iter().map(|&g| counts(app, g).ticks).collect() };
+    let last = |app: &mut App| {
+        let report = app.world().resource::<AgentCrowd<Guard>>().last_frame();
+        (report.ticked, report.asleep)
+    };
+    let mut expected = vec![1; 20];
+    app.update();
+    assert_eq!(last(&mut app), (20, 0));
+    for _ in 0..4 {
+        app.update();
+        assert_eq!(last(&mut app), (0, 20));
+    }
+    assert_eq!(ticks(&app), expected);
+
+    // A change to one guard's Hp wakes that guard alone: still unhurt enough to wait, it
+    // is Running again, and asleep from the next frame.
+    app.world_mut().get_mut::<Hp>(guards[3]).unwrap().0 = 60;
+    app.update();
+    expected[3] += 1;
+    assert_eq!(ticks(&app), expected);
+    assert_eq!(last(&mut app), (1, 19));
+    app.update();
+    assert_eq!(last(&mut app), (0, 20));
+
+    // A message naming a guard wakes it alone.
+    app.world_mut().write_message(Poke(guards[7]));
+    app.update();
+    expected[7] += 1;
+    assert_eq!(ticks(&app), expected);
+    app.update();
+    assert_eq!(ticks(&app), expected);
+
+    // A guard whose Hp drops to 0 succeeds; its tree, finished, is ticked every frame
+    // from then on, as any tree that does not wait.
+    app.world_mut().get_mut::<Hp>(guards[11]).unwrap().0 = 0;
+    app.update();
+    app.update();
+    app.update();
+    expected[11] += 3;
+    assert_eq!(ticks(&app), expected);
+    assert_eq!(last(&mut app), (1, 19));
+
+    // Without the wakes, a change wakes no one.
+    let mut plain = App::new();
+    plain.add_plugins(NeuroTreePlugin::new(registry()).with_threads(2).unwrap());
+    let guard = spawn(
+        &mut plain,
+        TreeAgent::new(Arc::clone(&bp), Guard::default()),
+        100,
+    );
+    plain.update();
+    plain.world_mut().get_mut::<Hp>(guard).unwrap().0 = 0;
+    plain.update();
+    assert_eq!(counts(&plain, guard).ticks, 1);
 }

@@ -204,3 +204,273 @@ fn a_sleeping_member_is_called_only_when_something_it_waits_on_happens() {
     assert_eq!((report.ticked, report.asleep), (1, 0));
     assert_eq!(crowd.get(id).unwrap().context().legs, 2);
 }
+
+/// The random trees and events of `neurotree-core`'s property of sleeping trees.
+#[path = "../../neurotree-core/tests/sleeping/trees.rs"]
+mod trees;
+
+mod random {
+    use std::sync::Arc;
+    use std::time::Duration;
+
+    use neurotree::crowd::{Crowd, FrameStatus, MemberId};
+    use neurotree::prelude::*;
+    use neurotree::NodeStatus;
+    use proptest::prelude::*;
+
+    use super::trees::{blueprint, event, node, Event, Log, Node};
+
+    /// What happens to one member before a frame.
+    #[derive(Clone, Debug)]
+    enum Touch {
+        /// Entry `k{key}` of its blackboard is written.
+        Write(u8, bool),
+        /// The program wakes it: 0 through a [`CrowdWaker`](neurotree::crowd::CrowdWaker),
+        /// 1 through the crowd, 2 through the member.
+        Wake(u8),
+        /// Its tree is halted.
+        Halt,
+        /// It leaves, and a fresh member of the same tree takes its slot.
+        Replace,
+    }
+
+    fn touch() -> impl Strategy<Value = Touch> {
+        prop_oneof![
+            3 => (0u8..3, any::<bool>()).prop_map(|(k, v)| Touch::Write(k, v)),
+            2 => (0u8..3).prop_map(Touch::Wake),
+            1 => Just(Touch::Halt),
+            1 => Just(Touch::Replace),
+        ]
+    }
+
+    /// How the crowd is run.
+    #[derive(Clone, Copy, Debug)]
+    struct Setup {
+        threads: usize,
+        in_place: bool,
+        /// In place, only the members the frame says are awake are visited.
+        awake_only: bool,
+        /// A level-of-detail hook, from the member's context.
+        lod: bool,
+    }
+
+    /// A frame's events: how far the clock moves (from the core property's events), and
+    /// which members are touched how.
+    type Frame = (u64, Vec<(usize, Touch)>);
+
+    fn frame() -> impl Strategy<Value = Frame> {
+        (
+            event().prop_map(|e| match e {
+                Event::Time(ms) => ms,
+                _ => 50,
+            }),
+            prop::collection::vec((0usize..16, touch()), 0..3),
+        )
+    }
+
+    /// Every frame's statuses, then each member's context, node statuses and blackboard
+    /// after every frame.
+    type Seen = Vec<(Vec<FrameStatus>, Vec<(Log, Vec<NodeStatus>, Vec<String>)>)>;
+
+    /// The entries of a member's blackboard, as text.
+    fn entries(tree: &Tree<Log>) -> Vec<String> {
+        let bb = tree.blackboard();
+        let mut keys: Vec<String> = bb
+            .keys_in(neurotree::ScopeId::ROOT)
+            .map(String::from)
+            .collect();
+        keys.sort();
+        keys.into_iter()
+            .map(|k| {
+                let v = bb
+                    .get::<i64>(&k)
+                    .map(|v| v.to_string())
+                    .or_else(|_| bb.get::<bool>(&k).map(|v| v.to_string()))
+                    .unwrap_or_default();
+                format!("{k}={v}")
+            })
+            .collect()
+    }
+
+    /// 16 members of `roots`' trees, intervals 1 to 3, under `frames`.
+    fn run(roots: &[Node], frames: &[Frame], setup: Setup, sleeps: bool) -> Seen {
+        let clock = ManualClock::new();
+        let mut crowd = Crowd::new(clock.clone())
+            .with_threads(setup.threads)
+            .unwrap();
+        let bps: Vec<_> = roots.iter().map(blueprint).collect();
+        let join = |crowd: &mut Crowd<Log>, i: usize| {
+            let mut tree = Tree::with_clock(Arc::clone(&bps[i % bps.len()]), clock.clone());
+            tree.set_sleep_allowed(sleeps);
+            let id = crowd.add_tree(tree, Log::default());
+            crowd.get_mut(id).unwrap().set_interval(1 + (i % 3) as u32);
+            id
+        };
+        let mut ids: Vec<MemberId> = (0..16).map(|i| join(&mut crowd, i)).collect();
+        if setup.lod {
+            crowd.set_level_of_detail(|log: &Log| 1 + (log.0.len() % 3) as u32);
+        }
+        let waker = crowd.waker();
+        let mut seen = Vec::new();
+        for (ms, touches) in frames {
+            for (m, t) in touches {
+                let id = ids[*m];
+                match t {
+                    Touch::Write(k, v) => {
+                        let mut member = crowd.get_mut(id).unwrap();
+                        member
+                            .tree_mut()
+                            .blackboard_mut()
+                            .set(&format!("k{k}"), *v)
+                            .unwrap();
+                    }
+                    Touch::Wake(0) => waker.wake(id),
+                    Touch::Wake(1) => assert!(crowd.wake(id)),
+                    Touch::Wake(_) => crowd.get_mut(id).unwrap().wake(),
+                    Touch::Halt => {
+                        let mut member = crowd.get_mut(id).unwrap();
+                        let (tree, log) = member.tree_and_context_mut();
+                        tree.halt(log);
+                    }
+                    Touch::Replace => {
+                        crowd.remove(id).unwrap();
+                        ids[*m] = join(&mut crowd, *m);
+                    }
+                }
+            }
+            let report = if setup.in_place {
+                let frame = crowd.frame_in_place().unwrap();
+                let mut visit = ids.clone();
+                if setup.awake_only {
+                    frame.awake_members(&mut visit);
+                    assert_eq!(visit.len(), frame.awake());
+                }
+                let mut visitor = frame.visitor();
+                for &id in visit.iter().rev() {
+                    visitor.visit(id, |_| {});
+                }
+                drop(visitor);
+                frame.finish()
+            } else {
+                crowd.frame()
+            };
+            assert!(sleeps || report.asleep == 0);
+            let statuses: Vec<FrameStatus> = ids
+                .iter()
+                .map(|&id| crowd.get(id).unwrap().status())
+                .collect();
+            // The members the frame counts asleep are those it left asleep.
+            let marked = statuses.iter().filter(|s| **s == FrameStatus::Asleep);
+            assert_eq!(marked.count() as u64, report.asleep);
+            let members = ids
+                .iter()
+                .map(|&id| {
+                    let m = crowd.get(id).unwrap();
+                    (
+                        m.context().clone(),
+                        m.tree().statuses().to_vec(),
+                        entries(m.tree()),
+                    )
+                })
+                .collect();
+            seen.push((statuses, members));
+            clock.advance(Duration::from_millis(*ms));
+        }
+        seen
+    }
+
+    /// Runs `frames` with sleeping members under `setup` and without sleeping on one
+    /// thread; the first difference, if any.
+    fn compare(roots: &[Node], frames: &[Frame], setup: Setup) -> Result<usize, TestCaseError> {
+        let reference = run(
+            roots,
+            frames,
+            Setup {
+                threads: 1,
+                ..setup
+            },
+            false,
+        );
+        let sleeping = run(roots, frames, setup, true);
+        let mut asleep = 0;
+        for (f, (a, b)) in sleeping.iter().zip(&reference).enumerate() {
+            for (m, (s, r)) in a.0.iter().zip(&b.0).enumerate() {
+                // A member skipped asleep would have returned Running when due.
+                let agrees = s == r
+                    || (*s == FrameStatus::Asleep
+                        && matches!(
+                            r,
+                            FrameStatus::NotDue | FrameStatus::Ticked(Status::Running)
+                        ));
+                prop_assert!(agrees, "frame {f}, member {m}: {s:?} against {r:?}");
+                asleep += usize::from(*s == FrameStatus::Asleep);
+            }
+            prop_assert_eq!(&a.1, &b.1, "frame {}", f);
+        }
+        Ok(asleep)
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(150))]
+
+        #[test]
+        fn a_crowd_of_sleeping_members_gives_what_ticking_every_frame_gives(
+            roots in prop::collection::vec(node(), 1..4),
+            frames in prop::collection::vec(frame(), 1..40),
+            threads in prop_oneof![Just(1usize), Just(3)],
+            in_place in any::<bool>(),
+            awake_only in any::<bool>(),
+            lod in any::<bool>(),
+        ) {
+            compare(&roots, &frames, Setup { threads, in_place, awake_only, lod })?;
+        }
+    }
+
+    /// The property is not empty: members of a plain tree of waiting leaves sleep most of
+    /// the frames, and wake by their deadlines exactly when ticking every frame would end
+    /// their waits.
+    #[test]
+    fn members_of_waiting_leaves_sleep_most_frames() {
+        let root = Node::Control(
+            3,
+            vec![
+                Node::Waiter {
+                    key: 0,
+                    ms: 500,
+                    declare: true,
+                },
+                Node::Decorator(
+                    0,
+                    300,
+                    Box::new(Node::Waiter {
+                        key: 1,
+                        ms: 900,
+                        declare: true,
+                    }),
+                ),
+            ],
+        );
+        let frames: Vec<Frame> = (0..40)
+            .map(|f| {
+                let touches = match f % 10 {
+                    3 => vec![(f % 16, Touch::Write(0, true))],
+                    7 => vec![(f % 16, Touch::Wake((f % 3) as u8)), (5, Touch::Replace)],
+                    _ => vec![],
+                };
+                (30, touches)
+            })
+            .collect();
+        for threads in [1, 3] {
+            for (in_place, awake_only) in [(false, false), (true, false), (true, true)] {
+                let setup = Setup {
+                    threads,
+                    in_place,
+                    awake_only,
+                    lod: false,
+                };
+                let asleep = compare(std::slice::from_ref(&root), &frames, setup).unwrap();
+                assert!(asleep > 16 * 40 / 2, "{asleep} member-frames asleep");
+            }
+        }
+    }
+}

@@ -12,9 +12,11 @@
 //! member of another: walked in (about) slot order, a thread takes a lock per
 //! [`PART`] members, and two threads meet only at the edges of their shares.
 
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Mutex, MutexGuard, PoisonError};
 
 use super::member::{Body, FrameStatus, Plan, Tally, TickMode, NOT_OWED};
+use super::sleep::{stays_awake, Awake, Timer, BITS};
 use super::{Crowd, FrameReport, Lod, MemberId};
 
 /// Slots behind one lock of an [`InPlaceFrame`].
@@ -34,8 +36,9 @@ pub struct InPlaceFrame<'c, C> {
     parts: Vec<Mutex<Part<'c, C>>>,
     frames: &'c mut u64,
     len: usize,
-    /// The clock reading sleeping members' deadlines are compared with.
-    now: u64,
+    /// Members asleep through the frame.
+    asleep: u64,
+    awake: &'c Awake,
 }
 
 /// One lock's share of the crowd's tables.
@@ -43,6 +46,10 @@ struct Part<'c, C> {
     plans: &'c mut [Plan],
     bodies: &'c mut [Option<Body<C>>],
     contexts: &'c mut [Option<C>],
+    /// The part's words of the awake set.
+    words: &'c [AtomicU64],
+    /// Its members that fell asleep in this frame.
+    fallen: &'c mut Vec<Timer>,
     tally: Tally,
     visited: u64,
 }
@@ -83,7 +90,7 @@ impl<C: Send> Crowd<C> {
             return None;
         }
         self.backlog.clear();
-        let now = self.start_sleep_frame();
+        let asleep = self.start_sleep_frame();
         let Self {
             plans,
             bodies,
@@ -92,17 +99,23 @@ impl<C: Send> Crowd<C> {
             mode,
             frames,
             len,
+            awake,
+            timers,
             ..
         } = self;
         let parts = plans
             .chunks_mut(PART)
             .zip(bodies.chunks_mut(PART))
             .zip(contexts.chunks_mut(PART))
-            .map(|((plans, bodies), contexts)| {
+            .zip(awake.bits.chunks(PART / BITS))
+            .zip(timers.fallen.iter_mut())
+            .map(|((((plans, bodies), contexts), words), fallen)| {
                 Mutex::new(Part {
                     plans,
                     bodies,
                     contexts,
+                    words,
+                    fallen,
                     tally: Tally::default(),
                     visited: 0,
                 })
@@ -115,7 +128,8 @@ impl<C: Send> Crowd<C> {
             parts,
             frames,
             len: *len,
-            now,
+            asleep,
+            awake,
         })
     }
 }
@@ -134,6 +148,41 @@ impl<'c, C> InPlaceFrame<'c, C> {
         self.frame
     }
 
+    /// Members in the crowd.
+    pub fn members(&self) -> usize {
+        self.len
+    }
+
+    /// Members awake in this frame: those a visit may tick. The others sleep through it,
+    /// and need not be visited.
+    pub fn awake(&self) -> usize {
+        self.len - self.asleep as usize
+    }
+
+    /// Puts the ids of the members awake in this frame in `out` (emptied first), in slot
+    /// order: a caller whose crowd mostly sleeps visits these alone, reaching their data by
+    /// id, rather than walking its whole table. Reads a word per 64 slots.
+    pub fn awake_members(&self, out: &mut Vec<MemberId>) {
+        out.clear();
+        for (p, part) in self.parts.iter().enumerate() {
+            let part = part.lock().unwrap_or_else(PoisonError::into_inner);
+            for (w, word) in part.words.iter().enumerate() {
+                let mut left = word.load(Ordering::Relaxed);
+                while left != 0 {
+                    let i = w * BITS + left.trailing_zeros() as usize;
+                    left &= left - 1;
+                    let plan = &part.plans[i];
+                    if plan.present {
+                        out.push(MemberId {
+                            index: (p * PART + i) as u32,
+                            generation: plan.generation,
+                        });
+                    }
+                }
+            }
+        }
+    }
+
     /// Ends the frame: members not visited are marked not due, and the frame is reported.
     pub fn finish(self) -> FrameReport {
         let stamp = stamp(self.frame);
@@ -144,22 +193,29 @@ impl<'c, C> InPlaceFrame<'c, C> {
             let part = part.into_inner().unwrap_or_else(PoisonError::into_inner);
             tally = tally.add(part.tally);
             visited += part.visited;
-            parts.push(part.plans);
+            parts.push((part.plans, part.words));
         }
+        // Awake members not visited were not due; sleeping ones keep their status.
         if visited < self.len as u64 {
-            for plans in parts {
-                for plan in plans.iter_mut() {
-                    if plan.present && plan.seen != stamp {
-                        plan.status = FrameStatus::NotDue;
+            for (plans, words) in parts {
+                for (w, word) in words.iter().enumerate() {
+                    let mut left = word.load(Ordering::Relaxed);
+                    while left != 0 {
+                        let plan = &mut plans[w * BITS + left.trailing_zeros() as usize];
+                        left &= left - 1;
+                        if plan.present && plan.seen != stamp {
+                            plan.status = FrameStatus::NotDue;
+                        }
                     }
                 }
             }
         }
+        self.awake.fell(tally.fell);
         *self.frames += 1;
         FrameReport {
             frame: self.frame,
             due: tally.due,
-            asleep: tally.asleep,
+            asleep: self.asleep,
             ticked: tally.ticked,
             visits: tally.visits,
             failures: tally.failures,
@@ -211,13 +267,13 @@ impl<'f, 'c, C> Visitor<'f, 'c, C> {
             if let Some(load) = load.take() {
                 load(ctx);
             }
+            plan.choose_interval(Some(&*ctx), lod);
         }
-        let due = plan.plan(Some(&*ctx), frame, lod) || plan.owed_since != NOT_OWED;
-        if !due {
+        if plan.sleeps_through() {
             return Visit::NotDue;
         }
-        if plan.sleeps_through(self.frame.now) {
-            part.tally.asleep += 1;
+        let due = plan.plan(frame) || plan.owed_since != NOT_OWED;
+        if !due {
             return Visit::NotDue;
         }
         if let Some(load) = load {
@@ -228,6 +284,10 @@ impl<'f, 'c, C> Visitor<'f, 'c, C> {
             ..plan.tick(body, ctx, self.frame.mode)
         };
         part.tally = part.tally.add(tally);
+        if !stays_awake(plan, slot, part.fallen) {
+            Awake::clear_in(part.words, i);
+            part.tally.fell += 1;
+        }
         Visit::Ticked(ctx, plan.status)
     }
 }

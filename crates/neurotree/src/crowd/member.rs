@@ -36,8 +36,9 @@ pub enum FrameStatus {
     Ticked(Status),
     /// It was ticked, and the tick ended with an error: [`Member::error`] says which.
     Error,
-    /// It was due, but its tree [sleeps](crate::tree::sleep) and nothing it waits on happened:
-    /// it was not ticked.
+    /// Its tree [sleeps](crate::tree::sleep) and nothing it waits on happened: it was not
+    /// ticked, nor visited. A member is Asleep from the frame after the tick that put it to
+    /// sleep until its next tick, whether or not its interval came round.
     Asleep,
 }
 
@@ -99,33 +100,29 @@ impl Plan {
         }
     }
 
-    /// `true` if the member is due but sleeps through this frame, whose clock reads `now`
-    /// (nanoseconds); marks it so.
+    /// `true` if the member sleeps through this frame; marks it so.
     #[inline]
-    pub(super) fn sleeps_through(&mut self, now: u64) -> bool {
-        if now < self.sleeps_until {
+    pub(super) fn sleeps_through(&mut self) -> bool {
+        if self.sleeps_until != super::sleep::AWAKE {
             self.status = FrameStatus::Asleep;
             return true;
         }
         false
     }
 
-    /// Whether the member's interval makes it due in `frame`, after the level-of-detail
-    /// hook, if any, chose the interval from its context; forgets the last frame's status.
+    /// Lets the level-of-detail hook, if any, choose the member's interval from its
+    /// context.
     #[inline]
-    pub(super) fn plan<C>(
-        &mut self,
-        ctx: Option<&C>,
-        frame: u64,
-        lod: Option<&super::Lod<C>>,
-    ) -> bool {
-        // The context is read only for the hook: without one, a member not due stays
-        // untouched.
-        if let Some(lod) = lod {
-            if let Some(ctx) = ctx {
-                self.interval = lod(ctx).max(1);
-            }
+    pub(super) fn choose_interval<C>(&mut self, ctx: Option<&C>, lod: Option<&super::Lod<C>>) {
+        if let (Some(lod), Some(ctx)) = (lod, ctx) {
+            self.interval = lod(ctx).max(1);
         }
+    }
+
+    /// Whether the member's interval makes it due in `frame`; forgets the last frame's
+    /// status.
+    #[inline]
+    pub(super) fn plan(&mut self, frame: u64) -> bool {
         self.picked = false;
         self.status = FrameStatus::NotDue;
         let at = frame.wrapping_add(u64::from(self.phase));
@@ -198,6 +195,7 @@ pub struct MemberMut<'a, C> {
     pub(super) body: &'a mut Body<C>,
     pub(super) ctx: &'a mut C,
     pub(super) plan: &'a mut Plan,
+    pub(super) awake: &'a super::sleep::Awake,
 }
 
 impl<'a, C> Member<'a, C> {
@@ -268,7 +266,7 @@ impl<C> MemberMut<'_, C> {
 
     /// Wakes it: its next due frame ticks it, whatever its tree waits on.
     pub fn wake(&mut self) {
-        self.plan.sleeps_until = super::sleep::AWAKE;
+        self.awake.wake(self.plan, self.id.index as usize);
         self.body.tree.wake_up();
     }
 
@@ -366,7 +364,8 @@ impl<C> core::fmt::Debug for MemberMut<'_, C> {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub(super) struct Tally {
     pub(super) due: u64,
-    pub(super) asleep: u64,
+    /// Members that fell asleep in their tick.
+    pub(super) fell: u64,
     pub(super) ticked: u64,
     pub(super) visits: u64,
     pub(super) failures: u64,
@@ -377,7 +376,7 @@ impl Tally {
     pub(super) fn add(self, o: Tally) -> Tally {
         Tally {
             due: self.due + o.due,
-            asleep: self.asleep + o.asleep,
+            fell: self.fell + o.fell,
             ticked: self.ticked + o.ticked,
             visits: self.visits + o.visits,
             failures: self.failures + o.failures,

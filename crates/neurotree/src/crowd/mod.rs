@@ -47,8 +47,10 @@
 //! what its last tick cost, and one pass when it joins.
 //!
 //! The schedules of all members sit in a table apart from their trees, so that a frame
-//! reads a few bytes of each member not due and leaves its tree alone; a level-of-detail
-//! hook reads each member's context too.
+//! reads a few bytes of each awake member not due and leaves its tree alone; a
+//! level-of-detail hook reads each member's context too. A sleeping member is not visited
+//! at all (see [`sleep`](crate::tree::sleep) and the crowd's wake timers in
+//! [`CrowdWaker`]'s module).
 //!
 //! # Example
 //!
@@ -135,6 +137,10 @@ pub struct Crowd<C> {
     chunks: Vec<schedule::Chunk>,
     /// Wakes queued from other threads (see [`CrowdWaker`]).
     waker: CrowdWaker,
+    /// Which members are awake: the only ones a frame visits.
+    awake: sleep::Awake,
+    /// When sleeping members wake on their own.
+    timers: sleep::Timers,
 }
 
 /// What one frame did.
@@ -145,7 +151,7 @@ pub struct FrameReport {
     /// Members due: those whose interval came round, and those owed from earlier frames;
     /// not those asleep.
     pub due: u64,
-    /// Members whose interval came round but whose tree sleeps: skipped, untouched (see
+    /// Members whose tree slept through the frame: not visited (see
     /// [`sleep`](crate::tree::sleep)).
     pub asleep: u64,
     /// Members ticked.
@@ -193,6 +199,8 @@ impl<C: Send> Crowd<C> {
             backlog: VecDeque::new(),
             chunks: Vec::new(),
             waker: CrowdWaker::default(),
+            awake: sleep::Awake::default(),
+            timers: sleep::Timers::default(),
         }
     }
 
@@ -251,6 +259,7 @@ impl<C: Send> Crowd<C> {
                 self.plans.push(Plan::new(0));
                 self.bodies.push(None);
                 self.contexts.push(None);
+                self.awake.grow(self.plans.len());
                 index
             }
         };
@@ -263,6 +272,7 @@ impl<C: Send> Crowd<C> {
         };
         self.bodies[index as usize] = Some(Body { tree, error: None });
         self.contexts[index as usize] = Some(ctx);
+        self.awake.set(index as usize);
         self.len += 1;
         MemberId {
             index,
@@ -281,7 +291,11 @@ impl<C: Send> Crowd<C> {
         let mut ctx = self.contexts[i].take()?;
         let plan = &mut self.plans[i];
         let owed = plan.owed_since != NOT_OWED;
+        if plan.sleeps_until != sleep::AWAKE {
+            self.awake.left_asleep();
+        }
         *plan = Plan::new(plan.generation.wrapping_add(1));
+        self.awake.clear(i);
         self.free.push(id.index);
         self.len -= 1;
         if owed {
@@ -338,6 +352,7 @@ impl<C: Send> Crowd<C> {
             body,
             ctx,
             plan,
+            awake: &self.awake,
         })
     }
 
@@ -367,6 +382,7 @@ impl<C: Send> Crowd<C> {
 
     /// The members, in slot order, to change between frames.
     pub fn iter_mut(&mut self) -> impl Iterator<Item = MemberMut<'_, C>> {
+        let awake = &self.awake;
         self.plans
             .iter_mut()
             .zip(&mut self.bodies)
@@ -383,6 +399,7 @@ impl<C: Send> Crowd<C> {
                         body,
                         ctx,
                         plan,
+                        awake,
                     }),
                     _ => None,
                 }
@@ -507,20 +524,24 @@ impl<C: Send> Crowd<C> {
     pub fn frame(&mut self) -> FrameReport {
         let frame = self.frames;
         let budget = self.budget;
-        let now = self.start_sleep_frame();
-        let run = |crowd: &mut Self| match budget {
-            Some(budget) => crowd.run_budgeted(frame, budget, now),
-            None => crowd.run_all(frame, now),
+        let asleep = self.start_sleep_frame();
+        let run = |crowd: &mut Self| {
+            crowd.choose_intervals();
+            match budget {
+                Some(budget) => crowd.run_budgeted(frame, budget),
+                None => crowd.run_all(frame),
+            }
         };
         let tally = match self.pool.clone() {
             Some(pool) => pool.install(|| run(self)),
             None => run(self),
         };
+        self.awake.fell(tally.fell);
         self.frames += 1;
         FrameReport {
             frame,
             due: tally.due,
-            asleep: tally.asleep,
+            asleep,
             ticked: tally.ticked,
             visits: tally.visits,
             failures: tally.failures,
@@ -529,39 +550,62 @@ impl<C: Send> Crowd<C> {
         }
     }
 
-    /// Ticks every member due in `frame`, and every member owed from earlier frames, but
-    /// those asleep at `now`.
-    fn run_all(&mut self, frame: u64, now: u64) -> Tally {
-        self.backlog.clear();
-        let lod = self.lod.as_deref();
-        let mode = self.mode;
+    /// Has the level-of-detail hook, if any, choose every member's interval from its
+    /// context, sleeping members' too (the hook reads every context anyway).
+    fn choose_intervals(&mut self) {
+        let Some(lod) = self.lod.as_deref() else {
+            return;
+        };
         self.plans
             .par_iter_mut()
-            .zip(self.bodies.par_iter_mut())
+            // `_mut` though only read: contexts need not be `Sync`.
             .zip(self.contexts.par_iter_mut())
-            .with_min_len(256)
-            .map(|((plan, body), ctx)| {
-                if !plan.present {
-                    return Tally::default();
-                }
-                let due = plan.plan(ctx.as_ref(), frame, lod) || plan.owed_since != NOT_OWED;
-                // The body is touched only when due.
-                if !due {
-                    return Tally::default();
-                }
-                if plan.sleeps_through(now) {
-                    return Tally {
-                        asleep: 1,
-                        ..Tally::default()
+            .with_min_len(1024)
+            .for_each(|(plan, ctx)| plan.choose_interval(ctx.as_ref(), Some(lod)));
+    }
+
+    /// Ticks every awake member due in `frame`, and every member owed from earlier frames;
+    /// sleeping members are not visited.
+    fn run_all(&mut self, frame: u64) -> Tally {
+        self.backlog.clear();
+        let mode = self.mode;
+        let Self {
+            plans,
+            bodies,
+            contexts,
+            awake,
+            timers,
+            ..
+        } = self;
+        plans
+            .par_chunks_mut(schedule::CHUNK)
+            .zip(bodies.par_chunks_mut(schedule::CHUNK))
+            .zip(contexts.par_chunks_mut(schedule::CHUNK))
+            .zip(awake.bits.par_chunks_mut(schedule::CHUNK / sleep::BITS))
+            .zip(timers.fallen.par_iter_mut())
+            .enumerate()
+            .map(|(c, ((((plans, bodies), contexts), words), fallen))| {
+                let mut tally = Tally::default();
+                sleep::for_each_awake(words, |i| {
+                    let plan = &mut plans[i];
+                    if !plan.present {
+                        return false;
+                    }
+                    let due = plan.plan(frame) || plan.owed_since != NOT_OWED;
+                    // The body is touched only when due.
+                    let (true, Some(body), Some(ctx)) = (due, &mut bodies[i], &mut contexts[i])
+                    else {
+                        return true;
                     };
-                }
-                match (body, ctx) {
-                    (Some(body), Some(ctx)) => Tally {
+                    tally = tally.add(Tally {
                         due: 1,
                         ..plan.tick(body, ctx, mode)
-                    },
-                    _ => Tally::default(),
-                }
+                    });
+                    let stays = sleep::stays_awake(plan, c * schedule::CHUNK + i, fallen);
+                    tally.fell += u64::from(!stays);
+                    stays
+                });
+                tally
             })
             .reduce(Tally::default, Tally::add)
     }

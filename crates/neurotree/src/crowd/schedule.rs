@@ -17,6 +17,7 @@
 use rayon::prelude::*;
 
 use super::member::{FrameStatus, Tally, NOT_OWED};
+use super::sleep::{for_each_awake, stays_awake, BITS};
 use super::Crowd;
 
 /// Slots per chunk: large enough that the sequential pass is short next to the ticks,
@@ -32,43 +33,40 @@ pub(super) struct Chunk {
     fresh: u32,
     /// Every member that fell due this frame fits: tick them all.
     all: bool,
-    /// Members due but asleep.
-    asleep: u64,
+    /// Members owed from earlier frames picked in this one.
+    owed: bool,
 }
 
 impl<C: Send> Crowd<C> {
-    /// Runs frame `frame` within `budget` visits.
-    pub(super) fn run_budgeted(&mut self, frame: u64, budget: u64, now: u64) -> Tally {
+    /// Runs frame `frame` within `budget` visits; sleeping members are not visited.
+    pub(super) fn run_budgeted(&mut self, frame: u64, budget: u64) -> Tally {
         let chunks = self.plans.len().div_ceil(CHUNK);
         if self.chunks.len() != chunks {
             self.chunks.resize(chunks, Chunk::default());
         }
-        let lod = self.lod.as_deref();
         self.plans
             .par_chunks_mut(CHUNK)
-            // `_mut` though only read: contexts need not be `Sync`.
-            .zip(self.contexts.par_chunks_mut(CHUNK))
+            .zip(self.awake.bits.par_chunks_mut(CHUNK / BITS))
             .zip(self.chunks.par_iter_mut())
-            .for_each(|((plans, contexts), chunk)| {
+            .for_each(|((plans, words), chunk)| {
                 *chunk = Chunk::default();
-                for (plan, ctx) in plans.iter_mut().zip(contexts) {
+                for_each_awake(words, |i| {
+                    let plan = &mut plans[i];
                     if !plan.present {
-                        continue;
+                        return false;
                     }
-                    let due = plan.plan(ctx.as_ref(), frame, lod);
-                    if due && plan.owed_since == NOT_OWED && plan.sleeps_through(now) {
-                        chunk.asleep += 1;
-                    } else if plan.owed_since != NOT_OWED {
+                    let due = plan.plan(frame);
+                    if plan.owed_since != NOT_OWED {
                         plan.status = FrameStatus::Deferred;
                     } else if due {
                         plan.owed_since = frame;
                         chunk.cost += u64::from(plan.cost);
                         chunk.fresh += 1;
                     }
-                }
+                    true
+                });
             });
         let fresh: u64 = self.chunks.iter().map(|c| u64::from(c.fresh)).sum();
-        let asleep: u64 = self.chunks.iter().map(|c| c.asleep).sum();
         let due = self.backlog.len() as u64 + fresh;
         self.pick(frame, budget);
         let mode = self.mode;
@@ -77,27 +75,34 @@ impl<C: Send> Crowd<C> {
             .par_chunks_mut(CHUNK)
             .zip(self.bodies.par_chunks_mut(CHUNK))
             .zip(self.contexts.par_chunks_mut(CHUNK))
+            .zip(self.awake.bits.par_chunks_mut(CHUNK / BITS))
             .zip(self.chunks.par_iter())
-            .map(|(((plans, bodies), contexts), chunk)| {
-                let mut tally = Tally::default();
-                let members = plans.iter_mut().zip(bodies).zip(contexts);
-                for ((plan, body), ctx) in members {
-                    let go = plan.picked || (chunk.all && plan.owed_since == frame);
-                    // The body is touched only when picked.
-                    if go {
-                        if let (Some(body), Some(ctx)) = (body, ctx) {
-                            tally = tally.add(plan.tick(body, ctx, mode));
-                        }
+            .zip(self.timers.fallen.par_iter_mut())
+            .enumerate()
+            .map(
+                |(c, (((((plans, bodies), contexts), words), chunk), fallen))| {
+                    let mut tally = Tally::default();
+                    if chunk.fresh == 0 && !chunk.owed {
+                        return tally;
                     }
-                }
-                tally
-            })
+                    for_each_awake(words, |i| {
+                        let plan = &mut plans[i];
+                        let go = plan.picked || (chunk.all && plan.owed_since == frame);
+                        // The body is touched only when picked.
+                        let (true, Some(body), Some(ctx)) = (go, &mut bodies[i], &mut contexts[i])
+                        else {
+                            return true;
+                        };
+                        tally = tally.add(plan.tick(body, ctx, mode));
+                        let stays = stays_awake(plan, c * CHUNK + i, fallen);
+                        tally.fell += u64::from(!stays);
+                        stays
+                    });
+                    tally
+                },
+            )
             .reduce(Tally::default, Tally::add);
-        Tally {
-            due,
-            asleep,
-            ..tally
-        }
+        Tally { due, ..tally }
     }
 
     /// Picks what fits in `budget`, oldest first, and queues the rest. At least one member
@@ -121,6 +126,7 @@ impl<C: Send> Crowd<C> {
             left = left.saturating_sub(cost);
             any = true;
             plan.picked = true;
+            chunks[slot as usize / CHUNK].owed = true;
             backlog.pop_front();
         }
         // Once a member does not fit, every later one waits: the queue stays in the order

@@ -1,10 +1,18 @@
-//! Sleeping members: a member whose tree [sleeps](crate::tree::sleep) is skipped by the
-//! frames until it wakes, without its tree or its context being touched.
+//! Sleeping members: a member whose tree [sleeps](crate::tree::sleep) costs a frame nothing
+//! until it wakes: the frame neither visits its schedule nor looks at its tree or context.
 //!
-//! After each tick the member's schedule ([`Plan`](super::member::Plan)) keeps when its
-//! tree wakes on its own (the earliest deadline its nodes declared), so a frame reads that
-//! one number, next to the interval it reads anyway, and goes on. A sleeping member wakes
-//! when the crowd's clock reaches its deadline, or earlier when:
+//! The crowd keeps one bit per slot, set while the slot's member is awake, and a frame
+//! walks the set bits only (64 slots per word read; a word of sleepers is skipped in one
+//! comparison). A member that falls asleep in a tick clears its bit; if its tree wakes on
+//! its own at a deadline (the earliest its nodes declared), the deadline goes into a
+//! binary heap of timers, which the start of every frame pops up to the clock's reading,
+//! setting those members' bits again: a member wakes in the first frame whose clock
+//! reaches its deadline, exactly as a tree ticked every frame would. A member woken early
+//! leaves its timer in the heap; the timer is dropped when it comes up (its member no
+//! longer sleeps until that moment), and the heap is compacted when stale timers outnumber
+//! the slots.
+//!
+//! A sleeping member wakes when the crowd's clock reaches its deadline, or earlier when:
 //!
 //! - the program changes its tree between frames ([`MemberMut::tree_mut`] and
 //!   [`MemberMut::tree_and_context_mut`] wake it, since the blackboard may be written);
@@ -16,18 +24,28 @@
 //! does not wake it: a leaf that declared what it waits on promised that its result does
 //! not depend on anything else.
 //!
+//! A sleeping member's [`FrameStatus`] is [`Asleep`](FrameStatus::Asleep) from the frame
+//! after the tick that put it to sleep until it is ticked again, whatever its interval.
+//!
 //! [`MemberMut::tree_mut`]: super::MemberMut::tree_mut
 //! [`MemberMut::tree_and_context_mut`]: super::MemberMut::tree_and_context_mut
 //! [`MemberMut::wake`]: super::MemberMut::wake
 
+use std::cmp::Reverse;
+use std::collections::BinaryHeap;
+use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex, PoisonError};
 use std::time::Duration;
 
+use super::member::{FrameStatus, Plan};
 use super::{Crowd, MemberId};
 use crate::Tree;
 
 /// `Plan::sleeps_until` of a member that is awake.
 pub(super) const AWAKE: u64 = 0;
+
+/// Bits of the awake set per word.
+pub(super) const BITS: usize = 64;
 
 /// When a member whose tree was just ticked wakes: [`AWAKE`] if its tree is awake, the
 /// clock reading in nanoseconds of its earliest deadline, `u64::MAX` if it waits only for
@@ -42,6 +60,122 @@ pub(super) fn sleeps_until<C>(tree: &Tree<C>) -> u64 {
 /// A clock reading in nanoseconds.
 pub(super) fn nanos(d: Duration) -> u64 {
     u64::try_from(d.as_nanos()).unwrap_or(u64::MAX)
+}
+
+/// A member that fell asleep, and when it wakes on its own.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub(super) struct Timer {
+    /// Clock nanoseconds; `u64::MAX`: only a wake wakes it.
+    pub(super) until: u64,
+    pub(super) slot: u32,
+    pub(super) generation: u32,
+}
+
+impl Timer {
+    /// The timer of the member `plan` schedules, in `slot`, asleep now.
+    pub(super) fn of(plan: &Plan, slot: usize) -> Self {
+        Self {
+            until: plan.sleeps_until,
+            slot: slot as u32,
+            generation: plan.generation,
+        }
+    }
+
+    /// `true` if the member still sleeps as it did when the timer was set.
+    fn holds(&self, plans: &[Plan]) -> bool {
+        plans.get(self.slot as usize).is_some_and(|p| {
+            p.present && p.generation == self.generation && p.sleeps_until == self.until
+        })
+    }
+}
+
+/// Which members are awake: a bit per slot, and how many members sleep. Atomic, so that
+/// members handed out together by [`Crowd::iter_mut`] can each wake their own.
+#[derive(Debug, Default)]
+pub(super) struct Awake {
+    pub(super) bits: Vec<AtomicU64>,
+    sleeping: AtomicUsize,
+}
+
+impl Awake {
+    /// Makes room for `slots` slots.
+    pub(super) fn grow(&mut self, slots: usize) {
+        let words = slots.div_ceil(BITS);
+        if self.bits.len() < words {
+            self.bits.resize_with(words, AtomicU64::default);
+        }
+    }
+
+    /// Marks the member in `slot` awake (a member that joins, or one woken).
+    pub(super) fn set(&self, slot: usize) -> bool {
+        let bit = 1u64 << (slot % BITS);
+        self.bits[slot / BITS].fetch_or(bit, Ordering::Relaxed) & bit == 0
+    }
+
+    /// Marks the member in `slot` asleep, or no longer there.
+    pub(super) fn clear(&self, slot: usize) {
+        Self::clear_in(&self.bits, slot);
+    }
+
+    /// Clears the bit of `slot` in `words`, a part of the set.
+    pub(super) fn clear_in(words: &[AtomicU64], slot: usize) {
+        let bit = 1u64 << (slot % BITS);
+        words[slot / BITS].fetch_and(!bit, Ordering::Relaxed);
+    }
+
+    /// Wakes the sleeping member `plan` schedules in `slot`: sets its bit, counts it awake.
+    pub(super) fn wake(&self, plan: &mut Plan, slot: usize) {
+        if plan.sleeps_until == AWAKE {
+            return;
+        }
+        plan.sleeps_until = AWAKE;
+        if self.set(slot) {
+            self.sleeping.fetch_sub(1, Ordering::Relaxed);
+        }
+    }
+
+    /// Counts `n` more members asleep, whose bits the frame cleared.
+    pub(super) fn fell(&self, n: u64) {
+        self.sleeping.fetch_add(n as usize, Ordering::Relaxed);
+    }
+
+    /// Counts a member that left while asleep.
+    pub(super) fn left_asleep(&self) {
+        self.sleeping.fetch_sub(1, Ordering::Relaxed);
+    }
+
+    /// Members asleep.
+    pub(super) fn sleeping(&self) -> usize {
+        self.sleeping.load(Ordering::Relaxed)
+    }
+}
+
+/// Calls `tick` with the index (in `words`' slots) of each member whose bit is set, in slot
+/// order; `tick` returns `false` when the member fell asleep, which clears its bit.
+#[inline]
+pub(super) fn for_each_awake(words: &mut [AtomicU64], mut tick: impl FnMut(usize) -> bool) {
+    for (w, word) in words.iter_mut().enumerate() {
+        let bits = word.get_mut();
+        let mut left = *bits;
+        while left != 0 {
+            let b = left.trailing_zeros() as usize;
+            left &= left - 1;
+            if !tick(w * BITS + b) {
+                *bits &= !(1u64 << b);
+            }
+        }
+    }
+}
+
+/// The timers of sleeping members, and those that fell asleep in the last frame.
+#[derive(Debug, Default)]
+pub(super) struct Timers {
+    heap: BinaryHeap<Reverse<Timer>>,
+    /// Per chunk of slots, members that fell asleep in the last frame, noted by the
+    /// frame's threads and handled at the start of the next.
+    pub(super) fallen: Vec<Vec<Timer>>,
+    /// The waker's queue, swapped out at the start of a frame, kept for its room.
+    woken: Vec<MemberId>,
 }
 
 /// Wakes members of a crowd from any thread: the next frame ticks them whatever they wait
@@ -80,25 +214,149 @@ impl<C: Send> Crowd<C> {
 
     /// Members whose tree sleeps now.
     pub fn asleep(&self) -> usize {
-        self.plans
-            .iter()
-            .filter(|p| p.present && p.sleeps_until != AWAKE)
-            .count()
+        self.awake.sleeping()
     }
 
-    /// Applies the wakes queued through [`CrowdWaker`]s; the clock reading the frame
-    /// compares the members' deadlines with.
+    /// Readies the frame's sleepers: the members that fell asleep in the last frame are
+    /// marked asleep and their deadlines set; the wakes queued through [`CrowdWaker`]s
+    /// and the deadlines the clock reached wake their members. Returns how many members
+    /// sleep through the frame.
     pub(super) fn start_sleep_frame(&mut self) -> u64 {
-        let woken = std::mem::take(
-            &mut *self
-                .waker
-                .queue
-                .lock()
-                .unwrap_or_else(PoisonError::into_inner),
-        );
-        for id in woken {
-            self.wake(id);
+        let Self {
+            plans,
+            bodies,
+            awake,
+            timers,
+            waker,
+            clock,
+            ..
+        } = self;
+        for fallen in &mut timers.fallen {
+            for timer in fallen.drain(..) {
+                if timer.holds(plans) {
+                    plans[timer.slot as usize].status = FrameStatus::Asleep;
+                    if timer.until != u64::MAX {
+                        timers.heap.push(Reverse(timer));
+                    }
+                }
+            }
         }
-        nanos(self.clock.now())
+        std::mem::swap(
+            &mut *waker.queue.lock().unwrap_or_else(PoisonError::into_inner),
+            &mut timers.woken,
+        );
+        for id in timers.woken.drain(..) {
+            let slot = id.index as usize;
+            if let Some(plan) = plans.get_mut(slot) {
+                if plan.present && plan.generation == id.generation {
+                    awake.wake(plan, slot);
+                    if let Some(body) = &mut bodies[slot] {
+                        body.tree.wake_up();
+                    }
+                }
+            }
+        }
+        let now = nanos(clock.now());
+        while let Some(&Reverse(timer)) = timers.heap.peek() {
+            if timer.until > now {
+                break;
+            }
+            timers.heap.pop();
+            if timer.holds(plans) {
+                awake.wake(&mut plans[timer.slot as usize], timer.slot as usize);
+            }
+        }
+        // Each sleeper holds one timer at most: past twice the slots, most are stale.
+        if timers.heap.len() > 2 * plans.len() + 64 {
+            timers.heap.retain(|Reverse(t)| t.holds(plans));
+        }
+        let chunks = plans.len().div_ceil(super::schedule::CHUNK);
+        if timers.fallen.len() < chunks {
+            timers.fallen.resize_with(chunks, Vec::new);
+        }
+        awake.sleeping() as u64
+    }
+}
+
+/// After a member's tick: `true` if it is still awake, else it is noted in `fallen`, for
+/// the next frame to mark and to time.
+#[inline]
+pub(super) fn stays_awake(plan: &Plan, slot: usize, fallen: &mut Vec<Timer>) -> bool {
+    if plan.sleeps_until == AWAKE {
+        return true;
+    }
+    fallen.push(Timer::of(plan, slot));
+    false
+}
+
+#[cfg(test)]
+mod tests {
+    use std::sync::Arc;
+    use std::time::Duration;
+
+    use crate::crowd::{Crowd, FrameStatus};
+    use crate::{Blueprint, Handle, ManualClock, StatefulAction, Status};
+
+    /// Counts its calls; Running, asleep for ten seconds from each call.
+    struct Nap;
+
+    impl StatefulAction<u32> for Nap {
+        fn on_start(&mut self, h: &mut Handle<'_, u32>) -> Status {
+            self.on_running(h)
+        }
+        fn on_running(&mut self, h: &mut Handle<'_, u32>) -> Status {
+            *h.ctx_mut() += 1;
+            let at = h.now() + Duration::from_secs(10);
+            h.sleep_until(at);
+            Status::Running
+        }
+    }
+
+    /// Members woken early leave a stale timer each time: the heap is compacted
+    /// before it passes twice the slots, and the timers that hold still wake their members
+    /// exactly at their deadlines.
+    #[test]
+    fn stale_timers_are_dropped_and_live_ones_still_fire_on_time() {
+        let clock = ManualClock::new();
+        let mut crowd = Crowd::new(clock.clone()).with_threads(1).unwrap();
+        let nap = Blueprint::<u32>::builder()
+            .stateful("nap", || Nap)
+            .build_shared()
+            .unwrap();
+        let ids: Vec<_> = (0..10).map(|_| crowd.add(Arc::clone(&nap), 0)).collect();
+        assert_eq!(crowd.frame().ticked, 10);
+        clock.advance(Duration::from_millis(20));
+        let mut most = 0;
+        for frame in 1..=200 {
+            // Members 0 to 4 are woken every other frame, after their timers went into the
+            // heap; 5 to 9 sleep on.
+            let woken = frame % 2 == 0;
+            if woken {
+                for &id in &ids[..5] {
+                    crowd.wake(id);
+                }
+            }
+            let report = crowd.frame();
+            let expected = if woken { (5, 5) } else { (0, 10) };
+            assert_eq!((report.ticked, report.asleep), expected, "{report:?}");
+            most = most.max(crowd.timers.heap.len());
+            clock.advance(Duration::from_millis(20));
+        }
+        assert!(most <= 2 * 10 + 64 + 5, "{most} timers for 10 members");
+        // Frames of 20 ms: the sleepers' deadlines, 10 s after frame 0, come at frame 500;
+        // those of the members last woken at frame 200, at frame 700.
+        let calls = |crowd: &Crowd<u32>, i: usize| *crowd.get(ids[i]).unwrap().context();
+        assert_eq!((calls(&crowd, 0), calls(&crowd, 9)), (101, 1));
+        for frame in 201..=500 {
+            let report = crowd.frame();
+            let expected = if frame == 500 { 5 } else { 0 };
+            assert_eq!(report.ticked, expected, "frame {frame}");
+            clock.advance(Duration::from_millis(20));
+        }
+        assert_eq!(calls(&crowd, 9), 2);
+        assert_eq!(
+            crowd.get(ids[9]).unwrap().status(),
+            FrameStatus::Ticked(Status::Running)
+        );
     }
 }
