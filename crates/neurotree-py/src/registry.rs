@@ -60,6 +60,12 @@ impl PyRegistry {
             .map_err(|e| load_error(py, &e))
     }
 
+    /// The node types, without the mocks and rules of later loads: what scenario files,
+    /// which say their own, run on.
+    pub(crate) fn node_types_registry(&self) -> &Registry<Ctx> {
+        &self.inner
+    }
+
     fn tree(
         slf: &Bound<'_, Self>,
         xml: Option<&str>,
