@@ -517,7 +517,10 @@ fn the_ros2_navigator_goes_back_between_its_actions_and_says_why_not_while_one_r
     let paused = until(&mut socket, "the pause", |m| m["type"] == "paused")["tick"]
         .as_u64()
         .unwrap();
-    let kept_now = |r: &serde_json::Value| r["newest"].as_u64() == Some(paused);
+    // Kept, or not with why.
+    let kept_now = |r: &serde_json::Value| {
+        r["newest"].as_u64() == Some(paused) || !r["blocked"].is_null()
+    };
     if !kept_now(&last_rewind()) {
         until(&mut socket, "what the run keeps", |_| kept_now(&last_rewind()));
     }

@@ -332,3 +332,128 @@ pub fn write_text(bb: &mut Blackboard, key: &str, text: &str) {
         bb.replace_in(ScopeId::ROOT, key, text.to_string(), Duration::ZERO);
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use neurotree_core::{Handle, StatefulAction, Status};
+
+    /// A patrol whose `Charge` is the program's own leaf, succeeding once the context it
+    /// is ticked with has counted to 3.
+    const CHARGE: &str = r#"<root BTCPP_format="4"><BehaviorTree ID="Main">
+        <Sequence><Script code="mode := DOCKING"/><Charge/></Sequence>
+    </BehaviorTree></root>"#;
+
+    /// Counts its ticks in the context; done at the third.
+    struct Charge;
+
+    impl StatefulAction<u32> for Charge {
+        fn on_start(&mut self, h: &mut Handle<'_, u32>) -> Status {
+            self.on_running(h)
+        }
+
+        fn on_running(&mut self, h: &mut Handle<'_, u32>) -> Status {
+            *h.ctx_mut() += 1;
+            if *h.ctx() >= 3 {
+                Status::Success
+            } else {
+                Status::Running
+            }
+        }
+    }
+
+    fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
+        let path = dir.join(name);
+        std::fs::write(&path, text).unwrap();
+        path
+    }
+
+    #[test]
+    fn scenarios_run_on_copies_of_the_registry_ticking_with_the_context_made() {
+        let dir = tempfile::tempdir().unwrap();
+        write(dir.path(), "charge.xml", CHARGE);
+        let file = write(
+            dir.path(),
+            "charge.toml",
+            r#"tree = "charge.xml"
+            enums = { DOCKING = 2 }
+            [[expect]]
+            tick = 2
+            root = "RUNNING"
+            nodes = { Charge = "RUNNING", Script = "SUCCESS" }
+            blackboard = { mode = 2 }
+            [[expect]]
+            root = "SUCCESS"
+            "#,
+        );
+        let mut registry = Registry::<u32>::new();
+        registry
+            .register_stateful("Charge", Vec::new(), || Charge)
+            .unwrap();
+        let mut made = 0;
+        let mut bench = ScenarioBench::with_registry(&registry, |_| {
+            made += 1;
+            0
+        });
+        let first = bench.run_file(&file);
+        assert_eq!(first.problems, Vec::<String>::new());
+        assert_eq!(first.name, "charge");
+        // The scenario's enum went into a copy: the registry, and the next scenario's copy,
+        // start without it.
+        assert_eq!(registry.enums().get("DOCKING"), None);
+        let second = bench.run_file(&file);
+        assert!(second.passed(), "{second}");
+        drop(bench);
+        // One context per scenario, counted from 0 each time.
+        assert_eq!(made, 2);
+    }
+
+    #[test]
+    fn what_fails_is_said_once_per_problem_under_the_scenarios_line() {
+        let dir = tempfile::tempdir().unwrap();
+        write(dir.path(), "charge.xml", CHARGE);
+        let file = write(
+            dir.path(),
+            "late.toml",
+            r#"name = "charges in time"
+            tree = "charge.xml"
+            ticks = 2
+            mocks = { Charge = "RUNNING" }
+            enums = { DOCKING = 2 }
+            [[set]]
+            key = "limit"
+            value = [1, 2]
+            "#,
+        );
+        let result = ScenarioBench::new().run_file(&file);
+        assert_eq!(
+            result.problems,
+            [format!(
+                "{}: [[set]] limit: a array cannot be written to the blackboard; use a \
+                 string, number or boolean",
+                file.display()
+            )]
+        );
+        let file = write(
+            dir.path(),
+            "late.toml",
+            r#"name = "charges in time"
+            tree = "charge.xml"
+            ticks = 2
+            mocks = { Charge = "RUNNING" }
+            enums = { DOCKING = 2 }
+            [[expect]]
+            tick = 2
+            root = "SUCCESS"
+            halted = ["Charge"]
+            "#,
+        );
+        let result = ScenarioBench::new().run_file(&file);
+        assert_eq!(
+            result.to_string(),
+            "test charges in time ... FAILED\n    \
+             tick 2: root is RUNNING, expected SUCCESS\n    \
+             tick 2: `Charge` was not halted"
+        );
+    }
+}
