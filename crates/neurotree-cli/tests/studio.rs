@@ -336,7 +336,15 @@ fn demo_draws_its_warehouse_and_the_robot_goes_back_with_the_tree() {
     let dir = tempfile::tempdir().unwrap();
     let (mut child, addr) = start(
         dir.path(),
-        &["demo", "--speed", "10", "--studio", "0", "--studio-linger", "0"],
+        &[
+            "demo",
+            "--speed",
+            "10",
+            "--studio",
+            "0",
+            "--studio-linger",
+            "0",
+        ],
     );
     let mut socket = page(&addr);
     until(&mut socket, "the run", |m| {
@@ -518,11 +526,12 @@ fn the_ros2_navigator_goes_back_between_its_actions_and_says_why_not_while_one_r
         .as_u64()
         .unwrap();
     // Kept, or not with why.
-    let kept_now = |r: &serde_json::Value| {
-        r["newest"].as_u64() == Some(paused) || !r["blocked"].is_null()
-    };
+    let kept_now =
+        |r: &serde_json::Value| r["newest"].as_u64() == Some(paused) || !r["blocked"].is_null();
     if !kept_now(&last_rewind()) {
-        until(&mut socket, "what the run keeps", |_| kept_now(&last_rewind()));
+        until(&mut socket, "what the run keeps", |_| {
+            kept_now(&last_rewind())
+        });
     }
     assert!(last_rewind()["blocked"].is_null(), "{}", last_rewind());
     for _ in 0..2 {
@@ -584,7 +593,9 @@ fn the_ros2_navigator_goes_back_between_its_actions_and_says_why_not_while_one_r
     let refused = until(&mut socket, "a refusal", |m| m["type"] == "refused");
     let why = refused["why"].as_str().unwrap();
     assert!(
-        why.starts_with("the run cannot go back from this tick: Sequence/Wait: this stateful action is running"),
+        why.starts_with(
+            "the run cannot go back from this tick: Sequence/Wait: this stateful action is running"
+        ),
         "{refused}"
     );
     child.kill().unwrap();
@@ -597,7 +608,9 @@ fn the_ros2_navigator_goes_back_between_its_actions_and_says_why_not_while_one_r
         .read_to_string(&mut out)
         .unwrap();
     assert!(
-        out.contains(&format!("[navigator] back to tick {back}: the tree goes on from there")),
+        out.contains(&format!(
+            "[navigator] back to tick {back}: the tree goes on from there"
+        )),
         "{out}"
     );
 }

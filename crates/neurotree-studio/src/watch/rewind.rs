@@ -86,9 +86,7 @@ impl<C> World<C> for () {
 /// where it is not.
 fn why_unsaved<C>(tree: &Tree<C>, e: &SaveError) -> String {
     match e {
-        SaveError::Unsaveable { node, path, kind }
-            if tree.status(*node) == NodeStatus::Running =>
-        {
+        SaveError::Unsaveable { node, path, kind } if tree.status(*node) == NodeStatus::Running => {
             format!(
                 "{path}: this {kind} is running, and keeps no state that can be saved while \
                  it runs; the run can go back from a tick where it is not running"

@@ -186,7 +186,11 @@ fn load<C: 'static>(
         }
         text.push(e.to_string());
     }
-    if !s.mock_unknown && errors.iter().any(|e| e.kind() == LoadErrorKind::UnknownNode) {
+    if !s.mock_unknown
+        && errors
+            .iter()
+            .any(|e| e.kind() == LoadErrorKind::UnknownNode)
+    {
         text.push(
             "hint: mock the leaves without an implementation with `mock_unknown = true`, or \
              one in [mocks]"
