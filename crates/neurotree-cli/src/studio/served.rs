@@ -175,8 +175,9 @@ impl Served {
         self.between_ticks_with(tree, &mut Nav2Values)
     }
 
-    /// [`between_ticks`](Self::between_ticks) for a tree acting on `world`, which is kept
-    /// and restored with it.
+    /// Between two ticks of a tree acting on `world`, which is kept and restored with it:
+    /// the pages' edits, pauses and steps; the tick a page went back to when the run forks
+    /// there.
     pub fn between_ticks_with<C, W: World<C>>(
         &mut self,
         tree: &mut Tree<C>,
