@@ -409,6 +409,45 @@ mod tests {
     }
 
     #[test]
+    fn a_tree_that_does_not_load_fails_with_the_errors_and_what_to_do() {
+        let dir = tempfile::tempdir().unwrap();
+        let tree = write(dir.path(), "charge.xml", CHARGE);
+        let file = write(dir.path(), "unknown.toml", "tree = \"charge.xml\"\n");
+        let result = ScenarioBench::new().run_file(&file);
+        let [problem] = &result.problems[..] else {
+            panic!("{result}");
+        };
+        let lines: Vec<&str> = problem.lines().collect();
+        assert_eq!(lines[0], "the tree did not load:");
+        assert!(
+            lines[1].starts_with(&format!("{}:2:", tree.display()))
+                && lines[1].contains("unknown node type `Charge`"),
+            "{problem}"
+        );
+        assert_eq!(
+            lines.last(),
+            Some(
+                &"hint: mock the leaves without an implementation with `mock_unknown = true`, \
+                  or one in [mocks]"
+            )
+        );
+        let file = write(
+            dir.path(),
+            "other.toml",
+            "tree = \"charge.xml\"\nmain = \"Patrol\"\nmock_unknown = true\n",
+        );
+        let result = ScenarioBench::new().run_file(&file);
+        assert_eq!(
+            result.problems,
+            [format!(
+                "the tree did not load:\n{}: error: main = \"Patrol\": no tree with that ID is \
+                 loaded; the trees are: Main",
+                tree.display()
+            )]
+        );
+    }
+
+    #[test]
     fn what_fails_is_said_once_per_problem_under_the_scenarios_line() {
         let dir = tempfile::tempdir().unwrap();
         write(dir.path(), "charge.xml", CHARGE);

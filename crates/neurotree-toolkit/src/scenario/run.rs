@@ -11,7 +11,7 @@ use neurotree_core::{Blueprint, ManualClock, Status, TickError, Tree};
 use super::check::Checker;
 use super::{write_text, Scenario, ScenarioBench, DEFAULT_TICKS, MAX_STEP_MS};
 use crate::xml::{self, parse_outcomes, Substitutions};
-use crate::{LoadErrorKind, Registry, XmlLoader};
+use crate::{LoadError, LoadErrorKind, Registry, XmlLoader};
 
 /// The most load errors a scenario reports, as `neurotree check` lists them.
 const ERROR_LIMIT: usize = 20;
@@ -128,20 +128,7 @@ fn load<C: 'static>(
         .chain(&s.files)
         .map(|f| dir.join(f))
         .collect();
-    let mut registry: Registry<C> = bench.registry.clone();
-    for file in &files {
-        // A file that cannot be read is reported when it is loaded.
-        if let Ok(text) = xml::read_file(file, xml::DEFAULT_MAX_FILE_BYTES) {
-            registry
-                .add_model_str(&text, &file.display().to_string())
-                .map_err(|e| e.to_string())?;
-        }
-    }
-    for (name, value) in &s.enums {
-        registry
-            .register_enum(name, *value)
-            .map_err(|e| format!("[enums] {name} = {value}: {e}"))?;
-    }
+    let registry = registry_for(bench.registry, s, &files)?;
     let mut loader = XmlLoader::new(&registry).mock_unknown(s.mock_unknown);
     if let Some(advice) = &bench.unknown_type_advice {
         loader = loader.unknown_type_advice(advice.clone());
@@ -155,10 +142,9 @@ fn load<C: 'static>(
         let rules = Substitutions::read(dir.join(rules)).map_err(|e| e.to_string())?;
         loader = loader.substitute(rules);
     }
-    let loaded = files.iter().try_for_each(|file| loader.load_file(file));
-    let mut text: Vec<String> = loader.warnings().iter().map(|w| w.to_string()).collect();
-    let first = files[0].display().to_string();
-    let built = loaded
+    let built = files
+        .iter()
+        .try_for_each(|file| loader.load_file(file))
         .map_err(|e| vec![e])
         .and_then(|()| pick_tree(&loader, s.main.as_deref()).map_err(|e| vec![e]))
         .and_then(|id| {
@@ -174,19 +160,53 @@ fn load<C: 'static>(
                 errors
             })
         });
-    let errors = match built {
-        Ok(blueprint) => return Ok(blueprint),
-        Err(errors) => errors,
-    };
-    for e in &errors {
+    built.map_err(|errors| {
+        let warnings = loader.warnings().iter().map(|w| w.to_string());
+        failure_text(warnings, &errors, &files[0], s.mock_unknown)
+    })
+}
+
+/// A copy of `registry` with the node types the `TreeNodesModel`s of `files` declare and
+/// the scenario's enums.
+fn registry_for<C: 'static>(
+    registry: &Registry<C>,
+    s: &Scenario,
+    files: &[PathBuf],
+) -> Result<Registry<C>, String> {
+    let mut registry = registry.clone();
+    for file in files {
+        // A file that cannot be read is reported when it is loaded.
+        if let Ok(text) = xml::read_file(file, xml::DEFAULT_MAX_FILE_BYTES) {
+            registry
+                .add_model_str(&text, &file.display().to_string())
+                .map_err(|e| e.to_string())?;
+        }
+    }
+    for (name, value) in &s.enums {
+        registry
+            .register_enum(name, *value)
+            .map_err(|e| format!("[enums] {name} = {value}: {e}"))?;
+    }
+    Ok(registry)
+}
+
+/// Why the tree did not load: the loader's warnings, the errors (an error about the files
+/// as a whole named at the first file), and what to do, one a line.
+fn failure_text(
+    warnings: impl Iterator<Item = String>,
+    errors: &[LoadError],
+    first: &Path,
+    mock_unknown: bool,
+) -> String {
+    let mut text: Vec<String> = warnings.collect();
+    for e in errors {
         let mut e = e.clone();
-        // An error about the files as a whole (a main tree that is not there) names no file.
         if e.file.is_empty() {
-            e.file.clone_from(&first);
+            e.file = first.display().to_string();
         }
         text.push(e.to_string());
     }
-    if !s.mock_unknown
+    if !mock_unknown
         && errors
             .iter()
             .any(|e| e.kind() == LoadErrorKind::UnknownNode)
@@ -197,7 +217,7 @@ fn load<C: 'static>(
                 .to_string(),
         );
     }
-    Err(text.join("\n"))
+    text.join("\n")
 }
 
 /// The tree to run: `main`, else the main tree of the files, else the one tree that no
@@ -205,13 +225,13 @@ fn load<C: 'static>(
 fn pick_tree<C: 'static>(
     loader: &XmlLoader<'_, C>,
     main: Option<&str>,
-) -> Result<String, crate::LoadError> {
+) -> Result<String, LoadError> {
     let ids: Vec<&str> = loader.tree_ids().collect();
     if let Some(id) = main {
         if ids.contains(&id) {
             return Ok(id.to_string());
         }
-        return Err(crate::LoadError::at_file(
+        return Err(LoadError::at_file(
             LoadErrorKind::UnknownTree,
             "",
             format!(
@@ -224,7 +244,7 @@ fn pick_tree<C: 'static>(
         return Ok(main.to_string());
     }
     if ids.is_empty() {
-        return Err(crate::LoadError::at_file(
+        return Err(LoadError::at_file(
             LoadErrorKind::NoMainTree,
             "",
             "no <BehaviorTree> is loaded; there is nothing to run",
@@ -232,7 +252,7 @@ fn pick_tree<C: 'static>(
     }
     match loader.unreferenced_trees()[..] {
         [only] => Ok(only.to_string()),
-        _ => Err(crate::LoadError::at_file(
+        _ => Err(LoadError::at_file(
             LoadErrorKind::AmbiguousMainTree,
             "",
             format!(
