@@ -261,8 +261,16 @@ pub fn navigator(
     let mut seen = navigator.stats();
     while until.is_none_or(|u| Instant::now() < u) {
         if let Some(served) = &mut served {
-            // A page may hold the navigator here, between two ticks.
-            served.between_ticks(navigator.tree_mut());
+            // A page may hold the navigator here, between two ticks, or take its tree back
+            // to a kept tick; the goal and the robot go on as they are.
+            if let Some(to) = served.between_nav2_ticks(navigator.tree_mut()) {
+                writeln!(
+                    out,
+                    "[navigator] back to tick {to}: the tree goes on from there, the later \
+                     ticks dropped"
+                )?;
+                out.flush()?;
+            }
         }
         navigator.spin_once().map_err(io::Error::other)?;
         let now = navigator.stats();

@@ -34,6 +34,7 @@ use neurotree::observe::{
     BtlogWriter, ConsoleLogger, Coverage, CoverageReport, JsonlTrace, Statistics,
 };
 use neurotree::render::LastTickStatuses;
+use neurotree::scenario::write_text;
 use neurotree::{
     Blueprint, Failure, LoadErrorKind, LoadWarning, ManualClock, NodeId, NodeStatus, Observer,
     Reason, Registry, Status, StatusChange, TickError, Tree, XmlLoader,
@@ -44,7 +45,7 @@ use crate::files::{self, LoadLimits};
 use crate::groot::{GrootArgs, Served as GrootServed};
 use crate::live::{self, LiveArgs, SavedRun, Watcher};
 use crate::studio::Served;
-use crate::testbench::{TestbenchArgs, Watch};
+use crate::testbench::TestbenchArgs;
 use crate::Outcome;
 
 mod observe;
@@ -218,27 +219,6 @@ impl Observer for Recorder {
     }
 }
 
-/// The value of `--set KEY=VALUE`: integer, else float, else bool, else text.
-pub(crate) fn set_value(bb: &mut neurotree::Blackboard, key: &str, text: &str) {
-    let result = if let Ok(i) = text.parse::<i64>() {
-        bb.set(key, i)
-    } else if let Ok(f) = text.parse::<f64>() {
-        bb.set(key, f)
-    } else if let Ok(b) = text.parse::<bool>() {
-        bb.set(key, b)
-    } else {
-        bb.set(key, text.to_string())
-    };
-    if result.is_err() {
-        bb.replace_in(
-            neurotree::ScopeId::ROOT,
-            key,
-            text.to_string(),
-            Duration::ZERO,
-        );
-    }
-}
-
 /// The tree to run, the registry it was loaded with, and which tree it is.
 /// The loader's warnings (deprecated or misspelt names) go to `warnings`, whether or not the
 /// tree then builds.
@@ -323,16 +303,6 @@ fn all_errors(
 /// Runs the tree of the files; how the run ended, or [`Outcome::Refused`] if the files did
 /// not load or a logger could not write (the error is on `err`).
 pub fn execute(opts: &RunArgs, out: &mut impl Write, err: &mut impl Write) -> io::Result<Outcome> {
-    execute_watched(opts, out, err, &mut ())
-}
-
-/// [`execute`], with `watch` shown the tree after every tick.
-pub(crate) fn execute_watched(
-    opts: &RunArgs,
-    out: &mut impl Write,
-    err: &mut impl Write,
-    watch: &mut dyn Watch,
-) -> io::Result<Outcome> {
     let files = &opts.files;
     let mut warnings = Vec::new();
     let loaded = load(files, opts, &mut warnings);
@@ -371,7 +341,7 @@ pub(crate) fn execute_watched(
     let clock = ManualClock::new();
     let mut tree = Tree::with_clock(Arc::clone(&blueprint), clock.clone());
     for (key, value) in &opts.sets {
-        set_value(tree.blackboard_mut(), key, value);
+        write_text(tree.blackboard_mut(), key, value);
     }
     let n = blueprint.len();
     let record = Arc::new(Mutex::new(Record {
@@ -403,7 +373,7 @@ pub(crate) fn execute_watched(
         r.halts = saved.node_halts;
         // The state holds the blackboard: a `--set` given now changes it, a fork.
         for (key, value) in &opts.sets {
-            set_value(tree.blackboard_mut(), key, value);
+            write_text(tree.blackboard_mut(), key, value);
         }
     }
     if opts.live.watch && (opts.view || groot.is_some() || opts.observe.any()) {
@@ -429,7 +399,6 @@ pub(crate) fn execute_watched(
             return Ok(Outcome::Refused);
         }
     };
-    observers.extend(watch.attach(&tree));
     let view = opts.view.then(LastTickStatuses::new);
     if let Some(seen) = &view {
         observers.push(Box::new(seen.clone()));
@@ -511,7 +480,6 @@ pub(crate) fn execute_watched(
             }
         }
         writeln!(out, "{line}")?;
-        watch.after_tick(ticks, &line, &tree);
         if let Some(seen) = &view {
             writeln!(
                 err,

@@ -124,7 +124,7 @@ impl Served {
 
     /// Never called: no `Served` exists.
     #[cfg_attr(not(feature = "ros2"), allow(dead_code))]
-    pub fn between_ticks<C>(&mut self, _: &mut neurotree::Tree<C>) -> Option<u64> {
+    pub fn between_nav2_ticks<C>(&mut self, _: &mut neurotree::Tree<C>) -> Option<u64> {
         match *self {}
     }
 

@@ -1,12 +1,12 @@
 //! What makes `neurotree run` a test bench: substitution rules, blackboard values written
 //! at a given tick, scripting enums, and every blackboard in the summary. `neurotree test`
-//! drives the same run from a scenario file.
+//! runs scenario files, which say the same, through the library's `ScenarioBench`.
 
 use std::path::PathBuf;
 
 use neurotree::blackboard_json::scope_json;
 use neurotree::xml::Substitutions;
-use neurotree::{Blackboard, Observer, Registry, Tree, XmlLoader};
+use neurotree::{Blackboard, Registry, Tree, XmlLoader};
 use serde_json::{Map, Value};
 
 /// The test bench's flags of `neurotree run`.
@@ -82,7 +82,7 @@ impl TestbenchArgs {
     pub fn set_due(&self, done: u32, upto: u32, bb: &mut Blackboard) {
         for (tick, key, value) in &self.set_at {
             if *tick > done && *tick <= upto {
-                crate::run::set_value(bb, key, value);
+                neurotree::scenario::write_text(bb, key, value);
             }
         }
     }
@@ -94,21 +94,6 @@ impl TestbenchArgs {
             .then(|| Value::Object(blackboards(tree)))
     }
 }
-
-/// What watches a run tick by tick (`neurotree test` checks its expectations so).
-pub trait Watch {
-    /// Observers to attach to the tree before the first tick.
-    fn attach(&mut self, _tree: &Tree<()>) -> Vec<Box<dyn Observer>> {
-        Vec::new()
-    }
-
-    /// Called after each tick, with the number of the tick's last pass and the tick's
-    /// line (`status`, and `error` for a tick that failed with one).
-    fn after_tick(&mut self, _tick: u32, _line: &Value, _tree: &Tree<()>) {}
-}
-
-/// Watches nothing: a plain `neurotree run`.
-impl Watch for () {}
 
 /// Every blackboard of the tree: `"/"` for the root's, then each SubTree's own entries by
 /// the SubTree node's path.

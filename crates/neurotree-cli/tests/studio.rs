@@ -14,10 +14,19 @@ const NAV2: &str = concat!(
 
 /// Starts `neurotree ARGS` in `dir`; the child and the address from its `studio:` line.
 fn start(dir: &Path, args: &[&str]) -> (Child, String) {
+    start_with(dir, args, Stdio::null())
+}
+
+/// [`start`], with the child's stdout kept for the test to read.
+fn start_watched(dir: &Path, args: &[&str]) -> (Child, String) {
+    start_with(dir, args, Stdio::piped())
+}
+
+fn start_with(dir: &Path, args: &[&str], stdout: Stdio) -> (Child, String) {
     let mut child = Command::new(env!("CARGO_BIN_EXE_neurotree"))
         .args(args)
         .current_dir(dir)
-        .stdout(Stdio::null())
+        .stdout(stdout)
         .stderr(Stdio::piped())
         .spawn()
         .unwrap();
@@ -198,12 +207,23 @@ fn until(
     panic!("no {what} within 20 s");
 }
 
+/// A page's WebSocket to the studio at `addr`, read a little at a time.
+fn page(addr: &str) -> Socket {
+    let (socket, _) = tungstenite::connect(format!("ws://{addr}/ws")).unwrap();
+    if let tungstenite::stream::MaybeTlsStream::Plain(s) = socket.get_ref() {
+        s.set_read_timeout(Some(Duration::from_millis(200)))
+            .unwrap();
+    }
+    socket
+}
+
 #[test]
 fn run_forks_where_a_page_went_back_and_numbers_the_ticks_on_from_there() {
     let dir = tempfile::tempdir().unwrap();
     std::fs::write(dir.path().join("count.xml"), COUNTING).unwrap();
-    let mut child = Command::new(env!("CARGO_BIN_EXE_neurotree"))
-        .args([
+    let (mut child, addr) = start_watched(
+        dir.path(),
+        &[
             "run",
             "count.xml",
             "--mock",
@@ -220,25 +240,9 @@ fn run_forks_where_a_page_went_back_and_numbers_the_ticks_on_from_there() {
             "0",
             "--rewind-window",
             "5",
-        ])
-        .current_dir(dir.path())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    let mut lines = BufReader::new(child.stderr.take().unwrap()).lines();
-    let addr = loop {
-        let line = lines.next().expect("a studio line").unwrap();
-        if let Some(url) = line.strip_prefix("studio: http://") {
-            break url.trim_end_matches('/').to_string();
-        }
-    };
-    std::thread::spawn(move || for _ in lines {});
-    let (mut socket, _) = tungstenite::connect(format!("ws://{addr}/ws")).unwrap();
-    if let tungstenite::stream::MaybeTlsStream::Plain(s) = socket.get_ref() {
-        s.set_read_timeout(Some(Duration::from_millis(200)))
-            .unwrap();
-    }
+        ],
+    );
+    let mut socket = page(&addr);
     until(&mut socket, "the run", |m| {
         m["type"] == "hello" && !m["run"].is_null()
     });
@@ -330,8 +334,9 @@ fn item<'a>(scene: &'a serde_json::Value, id: &str) -> &'a serde_json::Value {
 #[test]
 fn demo_draws_its_warehouse_and_the_robot_goes_back_with_the_tree() {
     let dir = tempfile::tempdir().unwrap();
-    let mut child = Command::new(env!("CARGO_BIN_EXE_neurotree"))
-        .args([
+    let (mut child, addr) = start(
+        dir.path(),
+        &[
             "demo",
             "--speed",
             "10",
@@ -339,25 +344,9 @@ fn demo_draws_its_warehouse_and_the_robot_goes_back_with_the_tree() {
             "0",
             "--studio-linger",
             "0",
-        ])
-        .current_dir(dir.path())
-        .stdout(Stdio::null())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    let mut lines = BufReader::new(child.stderr.take().unwrap()).lines();
-    let addr = loop {
-        let line = lines.next().expect("a studio line").unwrap();
-        if let Some(url) = line.strip_prefix("studio: http://") {
-            break url.trim_end_matches('/').to_string();
-        }
-    };
-    std::thread::spawn(move || for _ in lines {});
-    let (mut socket, _) = tungstenite::connect(format!("ws://{addr}/ws")).unwrap();
-    if let tungstenite::stream::MaybeTlsStream::Plain(s) = socket.get_ref() {
-        s.set_read_timeout(Some(Duration::from_millis(200)))
-            .unwrap();
-    }
+        ],
+    );
+    let mut socket = page(&addr);
     until(&mut socket, "the run", |m| {
         m["type"] == "hello" && !m["run"].is_null()
     });
@@ -404,4 +393,224 @@ fn demo_draws_its_warehouse_and_the_robot_goes_back_with_the_tree() {
     send(&mut socket, r#"{"type":"continue"}"#);
     // The fork goes on to the goal.
     assert_eq!(child.wait().unwrap().code(), Some(0));
+}
+
+/// A navigator's tree that runs no ROS 2 action until a page sets `go`, then waits on
+/// Nav2's `wait` server, which no process serves: its goal never leaves the client, and
+/// the node runs on.
+#[cfg(feature = "ros2")]
+const WAITS_FOR_GO: &str = r#"<root BTCPP_format="4" main_tree_to_execute="Main">
+  <BehaviorTree ID="Main">
+    <Sequence>
+      <Script code="go := false"/>
+      <Inverter>
+        <KeepRunningUntilFailure>
+          <ScriptCondition code="go == false"/>
+        </KeepRunningUntilFailure>
+      </Inverter>
+      <Wait wait_duration="30" wait_for_server_timeout="600000"/>
+    </Sequence>
+  </BehaviorTree>
+</root>"#;
+
+/// A DDS domain no other test process uses, held while the socket lives: the UDP port of
+/// the domain's participant 0 (7410 + 250 × domain), as in the ROS 2 tests.
+#[cfg(feature = "ros2")]
+fn free_domain() -> (u16, std::net::UdpSocket) {
+    let start = (std::process::id() * 11) % 132;
+    for i in 0..132 {
+        let id = 100 + ((start + i) % 132) as u16;
+        if let Ok(claim) = std::net::UdpSocket::bind(("0.0.0.0", 7410 + 250 * id)) {
+            return (id, claim);
+        }
+    }
+    panic!("no free DDS domain between 100 and 231");
+}
+
+/// Sends the navigator on `domain` a goal until it accepts one.
+#[cfg(feature = "ros2")]
+fn send_goal(domain: u16) -> neurotree_ros2::RosNode {
+    use neurotree::robotics::Pose2D;
+    use neurotree_ros2::msg::nav2_msgs::{NavigateToPose, NavigateToPoseGoal};
+    use neurotree_ros2::nav2::convert::pose_stamped;
+    use neurotree_ros2::{RosNode, RosOptions};
+
+    let ros = RosNode::new("goal_sender", &RosOptions::loopback(domain)).unwrap();
+    let client = ros
+        .action_client::<NavigateToPose>("navigate_to_pose")
+        .unwrap();
+    // The first goals may go out before the navigator is discovered.
+    for _ in 0..30 {
+        let goal = NavigateToPoseGoal {
+            pose: pose_stamped(Pose2D::new(3.0, 2.0, 0.0)),
+            behavior_tree: String::new(),
+        };
+        let (request, _) = client.send_goal(goal).unwrap();
+        for _ in 0..100 {
+            match client.receive_goal_response(request).unwrap() {
+                Some(response) => {
+                    assert!(response.accepted, "the navigator rejected the goal");
+                    return ros;
+                }
+                None => std::thread::sleep(Duration::from_millis(20)),
+            }
+        }
+    }
+    panic!("the navigator did not accept a goal");
+}
+
+/// The statuses of a page's `hello`, by node path.
+#[cfg(feature = "ros2")]
+fn statuses_by_path(hello: &serde_json::Value) -> std::collections::BTreeMap<String, String> {
+    let nodes = hello["tree"]["nodes"].as_array().unwrap();
+    let statuses = hello["statuses"].as_array().unwrap();
+    nodes
+        .iter()
+        .map(|n| {
+            let id = n["id"].as_u64().unwrap() as usize;
+            (
+                n["path"].as_str().unwrap().to_string(),
+                statuses[id].as_str().unwrap().to_string(),
+            )
+        })
+        .collect()
+}
+
+/// The id of the node at `path` in a page's `hello`.
+#[cfg(feature = "ros2")]
+fn node_id(hello: &serde_json::Value, path: &str) -> u64 {
+    hello["tree"]["nodes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|n| n["path"] == path)
+        .unwrap_or_else(|| panic!("no node `{path}` in {}", hello["tree"]))["id"]
+        .as_u64()
+        .unwrap()
+}
+
+#[cfg(feature = "ros2")]
+#[test]
+fn the_ros2_navigator_goes_back_between_its_actions_and_says_why_not_while_one_runs() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("waits.xml"), WAITS_FOR_GO).unwrap();
+    let (domain, _claim) = free_domain();
+    let domain = domain.to_string();
+    let (mut child, addr) = start_watched(
+        dir.path(),
+        &[
+            "ros2",
+            "navigator",
+            "--tree",
+            "waits.xml",
+            "--domain",
+            &domain,
+            "--duration",
+            "90",
+            "--studio",
+            "0",
+            "--rewind-window",
+            "50",
+        ],
+    );
+    let mut socket = page(&addr);
+    until(&mut socket, "the run", |m| {
+        m["type"] == "hello" && !m["run"].is_null()
+    });
+    let _ros = send_goal(domain.parse().unwrap());
+
+    // Waiting for `go`, the tree runs built-in nodes only: every tick is kept.
+    until(&mut socket, "tick 6", |m| m["tick"].as_u64() >= Some(6));
+    send(&mut socket, r#"{"type":"pause"}"#);
+    let paused = until(&mut socket, "the pause", |m| m["type"] == "paused")["tick"]
+        .as_u64()
+        .unwrap();
+    // Kept, or not with why.
+    let kept_now =
+        |r: &serde_json::Value| r["newest"].as_u64() == Some(paused) || !r["blocked"].is_null();
+    if !kept_now(&last_rewind()) {
+        until(&mut socket, "what the run keeps", |_| {
+            kept_now(&last_rewind())
+        });
+    }
+    assert!(last_rewind()["blocked"].is_null(), "{}", last_rewind());
+    for _ in 0..2 {
+        send(&mut socket, r#"{"type":"back"}"#);
+    }
+    let back = paused - 2;
+    let rewound = until(&mut socket, "the run back", |m| {
+        m["type"] == "rewind" && m["rewind"]["at"].as_u64() == Some(back)
+    });
+    assert_eq!(rewound["tick"].as_u64(), Some(back), "{rewound}");
+    // A page that connects now is shown that tick, with its statuses.
+    let mut late = page(&addr);
+    let hello = until(&mut late, "the hello of the past tick", |m| {
+        m["type"] == "hello" && !m["run"].is_null()
+    });
+    assert_eq!(hello["tick"].as_u64(), Some(back), "{}", hello["tick"]);
+    assert_eq!(hello["rewind"]["at"].as_u64(), Some(back));
+    let statuses = statuses_by_path(&hello);
+    for (path, status) in [
+        ("Sequence", "RUNNING"),
+        ("Sequence/Script", "SUCCESS"),
+        ("Sequence/Inverter", "RUNNING"),
+        ("Sequence/Inverter/KeepRunningUntilFailure", "RUNNING"),
+        ("Sequence/Wait", "IDLE"),
+    ] {
+        assert_eq!(statuses[path], status, "{path}: {statuses:?}");
+    }
+    drop(late);
+
+    // From there, `go`: the fork runs the Wait action, whose goal is in flight.
+    send(
+        &mut socket,
+        r#"{"type":"set","scope":0,"key":"go","value":true}"#,
+    );
+    send(&mut socket, r#"{"type":"continue"}"#);
+    let wait = node_id(&hello, "Sequence/Wait");
+    until(&mut socket, "Wait running", |m| {
+        m["type"] == "tick"
+            && m["changes"].as_array().is_some_and(|changes| {
+                changes
+                    .iter()
+                    .any(|c| c[0].as_u64() == Some(wait) && c[1] == "RUNNING")
+            })
+    });
+    send(&mut socket, r#"{"type":"pause"}"#);
+    until(&mut socket, "the second pause", |m| m["type"] == "paused");
+    let blocked = |r: &serde_json::Value| !r["blocked"].is_null();
+    if !blocked(&last_rewind()) {
+        until(&mut socket, "the tick that cannot be kept", |_| {
+            blocked(&last_rewind())
+        });
+    }
+    let why = last_rewind()["blocked"].as_str().unwrap().to_string();
+    assert!(
+        why.starts_with("Sequence/Wait: this stateful action is running"),
+        "{why}"
+    );
+    send(&mut socket, r#"{"type":"back"}"#);
+    let refused = until(&mut socket, "a refusal", |m| m["type"] == "refused");
+    let why = refused["why"].as_str().unwrap();
+    assert!(
+        why.starts_with(
+            "the run cannot go back from this tick: Sequence/Wait: this stateful action is running"
+        ),
+        "{refused}"
+    );
+    child.kill().unwrap();
+    let _ = child.wait();
+    let mut out = String::new();
+    child
+        .stdout
+        .take()
+        .unwrap()
+        .read_to_string(&mut out)
+        .unwrap();
+    assert!(
+        out.contains(&format!(
+            "[navigator] back to tick {back}: the tree goes on from there"
+        )),
+        "{out}"
+    );
 }

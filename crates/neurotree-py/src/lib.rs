@@ -14,6 +14,7 @@ mod node;
 mod observe;
 mod ports;
 mod registry;
+mod scenario;
 mod status;
 mod tree;
 mod value;
@@ -39,6 +40,7 @@ fn _bind(
 #[pymodule]
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(_bind, m)?)?;
+    m.add_function(wrap_pyfunction!(scenario::_run_scenarios, m)?)?;
     m.add_class::<registry::PyRegistry>()?;
     m.add_class::<builder::PyBuilder>()?;
     m.add_class::<tree::PyTree>()?;

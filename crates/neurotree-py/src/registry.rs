@@ -61,6 +61,12 @@ impl PyRegistry {
             .map_err(|errors| load_errors(py, &errors))
     }
 
+    /// The node types, without the mocks and rules of later loads: what scenario files,
+    /// which say their own, run on.
+    pub(crate) fn node_types_registry(&self) -> &Registry<Ctx> {
+        &self.inner
+    }
+
     fn tree(
         slf: &Bound<'_, Self>,
         xml: Option<&str>,

@@ -5,7 +5,7 @@
 //! file into a tree in one call, [`Registry::load_file`]), the XML loader and
 //! writer ([`xml`]), static analysis of loaded trees ([`lint`]), the [`script`] language,
 //! the built-in nodes that need `std` ([`nodes`]), observers and loggers ([`observe`]),
-//! pictures ([`render`]) and runners ([`runtime`]).
+//! pictures ([`render`]), runners ([`runtime`]) and the scenario test bench ([`scenario`]).
 //!
 //! Most users depend on the `neurotree` crate, which re-exports all of this under the same
 //! paths, and adds robotics, the simulator and the Groot2 monitor behind features.
@@ -24,6 +24,7 @@ pub mod observe;
 pub mod registry;
 pub mod render;
 pub mod runtime;
+pub mod scenario;
 pub mod scene;
 pub mod script;
 mod shared_blackboard;

@@ -167,14 +167,17 @@ impl Served {
         Box::new(observer)
     }
 
-    /// Between two ticks: the pages' edits, pauses and steps; the tick a page went back
-    /// to when the run forks there.
-    pub fn between_ticks<C>(&mut self, tree: &mut Tree<C>) -> Option<u64> {
-        self.between_ticks_with(tree, &mut ())
+    /// Between two ticks of a tree of Nav2's nodes acting on a world the run does not keep
+    /// (`ros2 navigator`: the robot and its servers are other processes): the pages'
+    /// edits, pauses and steps, and going back to the tree's kept states, whose blackboards
+    /// hold Nav2's values; the tick a page went back to when the run forks there.
+    pub fn between_nav2_ticks<C>(&mut self, tree: &mut Tree<C>) -> Option<u64> {
+        self.between_ticks_with(tree, &mut Nav2Values)
     }
 
-    /// [`between_ticks`](Self::between_ticks) for a tree acting on `world`, which is kept
-    /// and restored with it.
+    /// Between two ticks of a tree acting on `world`, which is kept and restored with it:
+    /// the pages' edits, pauses and steps; the tick a page went back to when the run forks
+    /// there.
     pub fn between_ticks_with<C, W: World<C>>(
         &mut self,
         tree: &mut Tree<C>,
@@ -209,6 +212,24 @@ impl Served {
             std::thread::sleep(self.linger);
         }
         Ok(())
+    }
+}
+
+/// No world kept beside the tree, but the codecs of the values Nav2's nodes keep on the
+/// blackboard, so that the tree's state can be kept.
+struct Nav2Values;
+
+impl<C> World<C> for Nav2Values {
+    type Saved = ();
+
+    fn save(&self, _: &Tree<C>) -> Result<(), String> {
+        Ok(())
+    }
+
+    fn restore(&mut self, _: &()) {}
+
+    fn codecs(&self) -> neurotree::state::StateCodecs {
+        DemoWorld::codecs()
     }
 }
 

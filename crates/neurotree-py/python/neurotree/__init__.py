@@ -28,6 +28,7 @@ from typing import Any, Callable, Dict, Generator, Iterator, List, Mapping, Opti
 
 from . import _native, studio
 from ._native import Blackboard, Coverage, Failure, ManualClock, Node, SystemClock, Tree
+from .scenarios import ScenarioResult, ScenarioResults, run_scenarios
 
 __all__ = [
     "Status",
@@ -53,6 +54,9 @@ __all__ = [
     "next_tick",
     "sleep",
     "studio",
+    "run_scenarios",
+    "ScenarioResult",
+    "ScenarioResults",
 ]
 
 

@@ -9,6 +9,10 @@ _PortDecl = Tuple[str, str, str, Optional[str], str]
 _Clock = Union["ManualClock", "SystemClock"]
 
 def _bind(status: Any, load_error: type, node_error: type) -> None: ...
+def _run_scenarios(
+    paths: Sequence[str], registry: Optional["Registry"] = None, robot: Any = None
+) -> List[Tuple[str, str, float, List[str], str]]:
+    """Runs scenario files: per file, its name, file, seconds, problems and report."""
 
 class ManualClock:
     """A clock that moves only when told: runs are deterministic and as fast as the ticks."""

@@ -197,4 +197,10 @@ impl<C: 'static, A: RosAction> StatefulAction<C> for CancelAll<A> {
     fn on_halted(&mut self, _h: &mut Handle<'_, C>) {
         self.phase = Phase::Idle;
     }
+
+    /// Between its runs the node keeps nothing a restored tree needs; while its cancel
+    /// request is on its way, the tree cannot be saved until it is answered.
+    fn save_state(&self) -> Option<Vec<u8>> {
+        matches!(self.phase, Phase::Idle).then(Vec::new)
+    }
 }

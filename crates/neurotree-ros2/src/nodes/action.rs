@@ -512,6 +512,13 @@ impl<C: 'static, S: ActionSpec<C>> StatefulAction<C> for RosActionNode<C, S> {
             let _ = client.client.cancel_goal(goal_id);
         }
     }
+
+    /// Between its runs the node keeps nothing a restored tree needs (its client is made
+    /// again); while a goal is on its way or on the server, the goal lives there, where no
+    /// saved state can reach it: the tree cannot be saved until the run ends.
+    fn save_state(&self) -> Option<Vec<u8>> {
+        matches!(self.phase, Phase::Idle).then(Vec::new)
+    }
 }
 
 impl<C, S: ActionSpec<C>> fmt::Debug for RosActionNode<C, S> {

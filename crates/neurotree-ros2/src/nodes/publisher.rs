@@ -120,4 +120,9 @@ impl<C: 'static, S: PublisherSpec<C>> StatefulAction<C> for RosTopicPubNode<C, S
     fn on_running(&mut self, h: &mut Handle<'_, C>) -> Status {
         self.on_start(h)
     }
+
+    /// A publication is done within its tick: nothing is kept between ticks.
+    fn save_state(&self) -> Option<Vec<u8>> {
+        Some(Vec::new())
+    }
 }

@@ -287,4 +287,10 @@ impl<C: 'static, S: ServiceSpec<C>> StatefulAction<C> for RosServiceNode<C, S> {
     fn on_halted(&mut self, _h: &mut Handle<'_, C>) {
         self.phase = Phase::Idle;
     }
+
+    /// Between its calls the node keeps nothing a restored tree needs; while a request is
+    /// on its way to the server, the tree cannot be saved until the call ends.
+    fn save_state(&self) -> Option<Vec<u8>> {
+        matches!(self.phase, Phase::Idle).then(Vec::new)
+    }
 }

@@ -177,4 +177,10 @@ impl<C: 'static, S: SubscriberSpec<C>> StatefulAction<C> for RosTopicSubNode<C, 
     fn on_running(&mut self, h: &mut Handle<'_, C>) -> Status {
         self.tick(h)
     }
+
+    /// The messages it read are the world's, not the tree's: a restored node reads the
+    /// topic afresh.
+    fn save_state(&self) -> Option<Vec<u8>> {
+        Some(Vec::new())
+    }
 }

@@ -9,8 +9,8 @@
 use std::any::Any;
 use std::collections::VecDeque;
 
-use neurotree_core::state::{Snapshots, StateCodecs};
-use neurotree_core::Tree;
+use neurotree_core::state::{SaveError, Snapshots, StateCodecs};
+use neurotree_core::{NodeStatus, Tree};
 use neurotree_toolkit::scene::Scene;
 use serde_json::{json, Value};
 
@@ -80,6 +80,22 @@ impl<C> World<C> for () {
     fn restore(&mut self, _: &()) {}
 }
 
+/// Why a tick could not be kept, for the title of the page's back control. A stateful
+/// node that saves no state while it runs (a ROS 2 action whose goal is on its server) is
+/// said to be running, as a running async action is: the run can go back from the ticks
+/// where it is not.
+fn why_unsaved<C>(tree: &Tree<C>, e: &SaveError) -> String {
+    match e {
+        SaveError::Unsaveable { node, path, kind } if tree.status(*node) == NodeStatus::Running => {
+            format!(
+                "{path}: this {kind} is running, and keeps no state that can be saved while \
+                 it runs; the run can go back from a tick where it is not running"
+            )
+        }
+        other => other.to_string(),
+    }
+}
+
 /// A way through the kept ticks.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum Travel {
@@ -147,7 +163,7 @@ impl Window {
             }
         }
         if let Err(e) = self.snapshots.after_tick(tree, tick) {
-            self.blocked = Some(e.to_string());
+            self.blocked = Some(why_unsaved(tree, &e));
             return;
         }
         self.blocked = None;

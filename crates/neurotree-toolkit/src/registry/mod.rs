@@ -72,7 +72,6 @@ impl MakerError {
 }
 
 /// How a registered type becomes a node.
-#[derive(Clone)]
 pub(crate) enum Make<C> {
     /// An engine built-in, made from its ports by
     /// [`NodeKind::from_declared`](neurotree_core::NodeKind::from_declared).
@@ -87,7 +86,6 @@ pub(crate) enum Make<C> {
 }
 
 /// A registered node type.
-#[derive(Clone)]
 pub struct NodeType<C> {
     /// The XML name.
     pub name: String,
@@ -100,6 +98,32 @@ pub struct NodeType<C> {
     pub(crate) make: Make<C>,
     /// Registered by [`Registry::new`], so not written into a `TreeNodesModel`.
     pub(crate) builtin: bool,
+}
+
+// By hand: a derive would ask the context `C` to be `Clone`, which only the makers' `Arc`s
+// need to be.
+impl<C> Clone for Make<C> {
+    fn clone(&self) -> Self {
+        match self {
+            Make::BuiltIn(decl) => Make::BuiltIn(decl),
+            Make::Leaf(make) => Make::Leaf(Arc::clone(make)),
+            Make::Condition(condition) => Make::Condition(Arc::clone(condition)),
+            Make::Model => Make::Model,
+        }
+    }
+}
+
+impl<C> Clone for NodeType<C> {
+    fn clone(&self) -> Self {
+        NodeType {
+            name: self.name.clone(),
+            category: self.category,
+            ports: self.ports.clone(),
+            description: self.description.clone(),
+            make: self.make.clone(),
+            builtin: self.builtin,
+        }
+    }
 }
 
 impl<C> NodeType<C> {
@@ -192,6 +216,21 @@ pub struct Registry<C> {
     enums: Arc<Enums>,
     /// The value types of the blackboards of the trees loaded with this registry.
     value_codecs: Arc<StateCodecs>,
+}
+
+/// A copy that goes its own way: types, enums and value types added to one are not added
+/// to the other (the implementations themselves are shared). A test bench runs each
+/// scenario on a copy, so that one scenario's enums and models do not leak into the next.
+impl<C> Clone for Registry<C> {
+    fn clone(&self) -> Self {
+        Self {
+            types: self.types.clone(),
+            renamed: self.renamed.clone(),
+            subtrees: self.subtrees.clone(),
+            enums: Arc::clone(&self.enums),
+            value_codecs: Arc::clone(&self.value_codecs),
+        }
+    }
 }
 
 impl<C: 'static> Default for Registry<C> {
