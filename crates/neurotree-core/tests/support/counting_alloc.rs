@@ -1,5 +1,7 @@
 //! A global allocator that counts the allocations of the calling thread while asked to, for
-//! the tests that prove code allocates nothing. Included (`#[path]`) by each such test binary.
+//! the tests that prove code allocates nothing. A module (`#[path]`) of each test binary that
+//! has such tests; the counts are per thread, so the binary's other tests, running in
+//! parallel, do not disturb them.
 
 // Each binary uses the helpers it needs.
 #![allow(dead_code)]
