@@ -3,8 +3,7 @@
 
 #![cfg(feature = "tracing")]
 
-#[path = "support/patrol.rs"]
-mod patrol;
+use crate::patrol;
 
 use std::fmt::Write as _;
 use std::sync::{Arc, Mutex};
