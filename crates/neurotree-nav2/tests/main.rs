@@ -1,10 +1,10 @@
 //! The integration tests of `neurotree-nav2`, one binary: each file beside this one is a
 //! module of it, and what they share is a module here, declared once.
 
-#[path = "../../neurotree-core/tests/support/counting_alloc.rs"]
-mod counting_alloc;
 #[path = "../../neurotree-toolkit/tests/support/corpus.rs"]
 mod corpus_dir;
+#[path = "../../neurotree-core/tests/support/counting_alloc.rs"]
+mod counting_alloc;
 #[path = "support/dummy.rs"]
 mod support;
 

@@ -1,10 +1,10 @@
 //! The integration tests of `neurotree-toolkit`, one binary: each file beside this one is a
 //! module of it, and what they share is a module here, declared once.
 
-#[path = "../../neurotree-core/tests/support/counting_alloc.rs"]
-mod counting_alloc;
 #[path = "support/corpus.rs"]
 mod corpus_dir;
+#[path = "../../neurotree-core/tests/support/counting_alloc.rs"]
+mod counting_alloc;
 #[path = "support/load_all.rs"]
 mod load_all;
 #[path = "support/mutate.rs"]
