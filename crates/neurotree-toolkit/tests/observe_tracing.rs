@@ -65,8 +65,8 @@ fn capture(level: Option<Level>) -> Vec<String> {
         });
         patrol::run(&mut tree, &clock);
     });
-    let events = sub.0.lock().unwrap().clone();
-    events
+
+    sub.0.lock().unwrap().clone()
 }
 
 #[test]

@@ -189,20 +189,20 @@ impl<'a, 'r, C: 'static> Expansion<'a, 'r, C> {
             return Err(error.clone());
         }
         // A mock that replaced nothing is a mistake (a misspelt name), never ignored.
-        if !self.validate {
-            if let Some(name) = self.loader.mocks.keys().find(|name| {
+        if !self.validate
+            && let Some(name) = self.loader.mocks.keys().find(|name| {
                 !self.mocked.contains(&name.as_str())
                     && self.not_mocked.iter().all(|(n, _)| n != name)
-            }) {
-                return Err(tree.error(
-                    LoadErrorKind::UnmatchedMock,
-                    format!(
-                        "the mock `{name}` matches no node of tree `{}`: no node is named or of \
+            })
+        {
+            return Err(tree.error(
+                LoadErrorKind::UnmatchedMock,
+                format!(
+                    "the mock `{name}` matches no node of tree `{}`: no node is named or of \
                          type `{name}`; check its spelling",
-                        self.stack[0]
-                    ),
-                ));
-            }
+                    self.stack[0]
+                ),
+            ));
         }
         // Checks the loader could not make on one element (thresholds against the number
         // of children) come back from the builder; they point at the element it refused,
@@ -475,31 +475,31 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
         }
         let mut substituted = false;
         let mut node_type = node_type;
-        if !self.validate {
-            if let Some(rule) = self.substitution(name, type_name) {
-                match rule {
-                    // A test node is a leaf: a node with children sharing a leaf's name
-                    // (Nav2's RecoveryNode `ComputePathToPose` around the action of that
-                    // name) stays, as it does for a mock.
-                    Substitute::Test(_) if el.child_count() > 0 => {}
-                    Substitute::Test(config) => {
-                        let kind = substitute::test_kind(config, self.loader.registry.enums());
-                        return Ok(leaf_for(kind, Vec::new(), hooks));
-                    }
-                    Substitute::Node(other) => {
-                        let Some(other_type) = self.node_type(other) else {
-                            return Err(el.error(
-                                LoadErrorKind::Substitution,
-                                format!(
-                                    "a substitution rule replaces `{name}` by `{other}`, which \
+        if !self.validate
+            && let Some(rule) = self.substitution(name, type_name)
+        {
+            match rule {
+                // A test node is a leaf: a node with children sharing a leaf's name
+                // (Nav2's RecoveryNode `ComputePathToPose` around the action of that
+                // name) stays, as it does for a mock.
+                Substitute::Test(_) if el.child_count() > 0 => {}
+                Substitute::Test(config) => {
+                    let kind = substitute::test_kind(config, self.loader.registry.enums());
+                    return Ok(leaf_for(kind, Vec::new(), hooks));
+                }
+                Substitute::Node(other) => {
+                    let Some(other_type) = self.node_type(other) else {
+                        return Err(el.error(
+                            LoadErrorKind::Substitution,
+                            format!(
+                                "a substitution rule replaces `{name}` by `{other}`, which \
                                      is neither a TestNodeConfig of the rules nor a registered \
                                      node type"
-                                ),
-                            ));
-                        };
-                        node_type = Some(other_type);
-                        substituted = true;
-                    }
+                            ),
+                        ));
+                    };
+                    node_type = Some(other_type);
+                    substituted = true;
                 }
             }
         }
@@ -575,10 +575,10 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
             }
             Make::Model if !self.validate => {
                 // Asked to mock it: say why that cannot be, the closer mistake.
-                if let Some((_, e)) = self.not_mocked.iter().find(|(n, _)| *n == name) {
-                    if !self.mocked.contains(&name) {
-                        return Err(e.clone());
-                    }
+                if let Some((_, e)) = self.not_mocked.iter().find(|(n, _)| *n == name)
+                    && !self.mocked.contains(&name)
+                {
+                    return Err(e.clone());
                 }
                 let leaf = matches!(node_type.category, Category::Action | Category::Condition);
                 let mocked = if leaf {

@@ -207,10 +207,10 @@ impl<'f, 'c, C> Visitor<'f, 'c, C> {
         // Without a hook, the schedule alone says whether the member is due, and a member
         // not due is left alone: its context is not even filled.
         let mut load = Some(load);
-        if lod.is_some() {
-            if let Some(load) = load.take() {
-                load(ctx);
-            }
+        if lod.is_some()
+            && let Some(load) = load.take()
+        {
+            load(ctx);
         }
         let due = plan.plan(Some(&*ctx), frame, lod) || plan.owed_since != NOT_OWED;
         if !due {

@@ -121,10 +121,10 @@ impl Plan {
     ) -> bool {
         // The context is read only for the hook: without one, a member not due stays
         // untouched.
-        if let Some(lod) = lod {
-            if let Some(ctx) = ctx {
-                self.interval = lod(ctx).max(1);
-            }
+        if let Some(lod) = lod
+            && let Some(ctx) = ctx
+        {
+            self.interval = lod(ctx).max(1);
         }
         self.picked = false;
         self.status = FrameStatus::NotDue;

@@ -84,10 +84,8 @@ impl<C: Send> Crowd<C> {
                 for ((plan, body), ctx) in members {
                     let go = plan.picked || (chunk.all && plan.owed_since == frame);
                     // The body is touched only when picked.
-                    if go {
-                        if let (Some(body), Some(ctx)) = (body, ctx) {
-                            tally = tally.add(plan.tick(body, ctx, mode));
-                        }
+                    if go && let (Some(body), Some(ctx)) = (body, ctx) {
+                        tally = tally.add(plan.tick(body, ctx, mode));
                     }
                 }
                 tally
