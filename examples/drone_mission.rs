@@ -300,7 +300,7 @@ async fn fly(drone: Drone, what: String, target: Point, speed: f64) -> Status {
     Status::Success
 }
 
-fn takeoff(h: &mut Handle<'_, Mission>, altitude: f64) -> impl Future<Output = Status> {
+fn takeoff(h: &mut Handle<'_, Mission>, altitude: f64) -> impl Future<Output = Status> + use<> {
     let drone = h.ctx().drone.clone();
     async move {
         drone.log(format!(
@@ -324,7 +324,7 @@ fn fly_to(
     h: &mut Handle<'_, Mission>,
     index: usize,
     target: Point,
-) -> impl Future<Output = Status> {
+) -> impl Future<Output = Status> + use<> {
     let drone = h.ctx().drone.clone();
     async move {
         let what = format!("flight to waypoint {index}");
@@ -365,7 +365,7 @@ async fn process_images(drone: Drone, index: usize) -> u32 {
     (index as u32 * 3 + 2) % 5
 }
 
-fn survey(h: &mut Handle<'_, Mission>, index: usize) -> impl Future<Output = Status> {
+fn survey(h: &mut Handle<'_, Mission>, index: usize) -> impl Future<Output = Status> + use<> {
     let drone = h.ctx().drone.clone();
     async move {
         drone.log(format!("surveying waypoint {index}"));
@@ -382,7 +382,7 @@ fn survey(h: &mut Handle<'_, Mission>, index: usize) -> impl Future<Output = Sta
     }
 }
 
-fn return_home(h: &mut Handle<'_, Mission>, altitude: f64) -> impl Future<Output = Status> {
+fn return_home(h: &mut Handle<'_, Mission>, altitude: f64) -> impl Future<Output = Status> + use<> {
     let drone = h.ctx().drone.clone();
     async move {
         drone.log(format!(
@@ -399,7 +399,7 @@ fn return_home(h: &mut Handle<'_, Mission>, altitude: f64) -> impl Future<Output
     }
 }
 
-fn land(h: &mut Handle<'_, Mission>) -> impl Future<Output = Status> {
+fn land(h: &mut Handle<'_, Mission>) -> impl Future<Output = Status> + use<> {
     let drone = h.ctx().drone.clone();
     async move {
         let here = drone.position();

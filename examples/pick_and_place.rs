@@ -387,15 +387,15 @@ impl fmt::Display for Outcome {
 fn main() -> Result<(), TickError> {
     let wanted = std::env::args().nth(1);
     let all = scenarios();
-    if let Some(name) = &wanted {
-        if !all.iter().any(|(n, _)| n == name) {
-            let names: Vec<&str> = all.iter().map(|(n, _)| *n).collect();
-            eprintln!(
-                "unknown scenario `{name}`; try one of: {}",
-                names.join(", ")
-            );
-            std::process::exit(2);
-        }
+    if let Some(name) = &wanted
+        && !all.iter().any(|(n, _)| n == name)
+    {
+        let names: Vec<&str> = all.iter().map(|(n, _)| *n).collect();
+        eprintln!(
+            "unknown scenario `{name}`; try one of: {}",
+            names.join(", ")
+        );
+        std::process::exit(2);
     }
     for (name, scenario) in &all {
         if wanted.as_deref().is_some_and(|w| w != *name) {

@@ -121,10 +121,10 @@ impl Action<Robot> for Fuse {
             .unwrap_or_default();
         for pose in lidar_hits.iter().chain(camera_objects) {
             // Returns from the known walls are not news.
-            if let Some(cell) = map.cell_at(pose).filter(|c| !map.is_wall(*c)) {
-                if !cells.contains(&cell) {
-                    cells.push(cell);
-                }
+            if let Some(cell) = map.cell_at(pose).filter(|c| !map.is_wall(*c))
+                && !cells.contains(&cell)
+            {
+                cells.push(cell);
             }
         }
         let obstacles: Vec<Obstacle> = cells

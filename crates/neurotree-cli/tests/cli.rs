@@ -259,8 +259,7 @@ fn bench_table_names_every_measure() {
     }
 }
 
-#[path = "../../neurotree-toolkit/tests/support/corpus.rs"]
-mod corpus_dir;
+use crate::corpus_dir;
 use corpus_dir::corpus;
 
 #[test]

@@ -2,8 +2,7 @@
 //! cross-door example of the corpus run with mocks: the door is locked, the lock is picked
 //! at the second attempt, and the door is never smashed.
 
-#[path = "../../neurotree-toolkit/tests/support/corpus.rs"]
-mod corpus_dir;
+use crate::corpus_dir;
 
 use std::process::{Command, Output};
 

@@ -4,8 +4,7 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-#[path = "../../neurotree-toolkit/tests/support/corpus.rs"]
-mod corpus_dir;
+use crate::corpus_dir;
 use corpus_dir::corpus;
 
 /// The exit status, stdout and stderr of `neurotree ARGS`.

@@ -6,8 +6,7 @@ use std::process::Command;
 
 use serde_json::Value;
 
-#[path = "../../neurotree-toolkit/tests/support/corpus.rs"]
-mod corpus_dir;
+use crate::corpus_dir;
 
 /// The exit status, stdout and stderr of `neurotree ARGS`.
 fn neurotree(args: &[&str]) -> (Option<i32>, String, String) {

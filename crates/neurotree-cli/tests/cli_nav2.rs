@@ -4,8 +4,7 @@
 use std::path::PathBuf;
 use std::process::Command;
 
-#[path = "../../neurotree-toolkit/tests/support/corpus.rs"]
-mod corpus_dir;
+use crate::corpus_dir;
 
 /// The exit status, stdout and stderr of `neurotree ARGS`.
 fn neurotree(args: &[&str]) -> (Option<i32>, String, String) {

@@ -21,8 +21,7 @@ fn write_tree(name: &str, xml: &str) -> PathBuf {
     file
 }
 
-#[path = "../../neurotree-toolkit/tests/support/corpus.rs"]
-mod corpus_dir;
+use crate::corpus_dir;
 use corpus_dir::corpus;
 
 const MOVE: &str = r#"<root BTCPP_format="4" main_tree_to_execute="Main">

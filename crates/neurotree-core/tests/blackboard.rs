@@ -8,8 +8,7 @@ use std::time::Duration;
 use neurotree_core::{Blackboard, BlackboardError, EntryInfo, ScopeId};
 use proptest::prelude::*;
 
-#[path = "support/counting_alloc.rs"]
-mod counting_alloc;
+use crate::counting_alloc;
 use counting_alloc::count as allocations;
 
 const T1: Duration = Duration::from_millis(10);

@@ -10,8 +10,7 @@ use neurotree_core::{
     StatefulAction, Status, StatusChange, Tree,
 };
 
-#[path = "support/counting_alloc.rs"]
-mod counting_alloc;
+use crate::counting_alloc;
 use counting_alloc::allocations;
 
 /// Fails with a static reason.

@@ -5,8 +5,7 @@
 //! Every stateful action here keeps its own books: starts, completions, halts, and any
 //! halt or start that broke the rule "a run ends exactly once, by a completion or one halt".
 
-#[path = "support/counting_alloc.rs"]
-mod counting_alloc;
+use crate::counting_alloc;
 
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{mpsc, Arc, Mutex};

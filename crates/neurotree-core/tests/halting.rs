@@ -27,7 +27,7 @@
 //! The trees are those of `reference_model.rs` without Repeat/Retry(-1), so every
 //! `tick_once` ends.
 
-mod common;
+use crate::common;
 
 use std::sync::{Arc, Mutex};
 

@@ -20,7 +20,7 @@
 //!
 //! Each step compares the root's result, every leaf call in order and every stored status.
 
-mod common;
+use crate::common;
 
 use std::sync::{Arc, Mutex};
 

@@ -1,7 +1,7 @@
 //! Reloading a running tree: unchanged nodes keep their state exactly, and nodes removed or
 //! changed while Running are halted exactly once.
 
-mod common;
+use crate::common;
 
 use std::time::Duration;
 

@@ -1,7 +1,7 @@
 //! Saving a tree's state and resuming it: a restored instance runs on tick for tick as the
 //! original, and states that are not a saved state of this tree are refused.
 
-mod common;
+use crate::common;
 
 use std::time::Duration;
 

@@ -11,12 +11,10 @@ use neurotree::groot::{Groot2Monitor, Groot2Server};
 use neurotree::{Action, Blueprint, Handle, ManualClock, Registry, Status, Tree, XmlLoader};
 use serde_json::{json, Value};
 
-#[path = "../../neurotree-core/tests/support/counting_alloc.rs"]
-mod counting_alloc;
+use crate::counting_alloc;
 use counting_alloc::allocations;
 
-#[path = "support/client.rs"]
-mod client;
+use crate::client;
 
 /// Long enough for a loaded machine; a reply that never comes fails the test instead of
 /// hanging it.

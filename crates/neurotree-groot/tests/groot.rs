@@ -12,8 +12,7 @@ use neurotree::xml::{write_xml, SaveOptions};
 use neurotree::NodeStatus::{Idle, Running, Success};
 use neurotree::{ManualClock, Registry, Status, Tree, XmlLoader};
 
-#[path = "../../neurotree-core/tests/support/counting_alloc.rs"]
-mod counting_alloc;
+use crate::counting_alloc;
 use counting_alloc::allocations;
 
 /// Long enough for a loaded machine; a reply that never comes fails the test instead of
@@ -64,8 +63,7 @@ fn fixture() -> Fixture {
     }
 }
 
-#[path = "support/client.rs"]
-mod client;
+use crate::client;
 
 /// The shared client, with this file's timeout.
 struct Client(client::Client);

@@ -100,8 +100,7 @@ fn closed_by_server(stream: &mut TcpStream, within: Duration) -> usize {
     }
 }
 
-#[path = "support/client.rs"]
-mod client;
+use crate::client;
 
 /// The shared client; each status request must be answered within [`PROMPT`].
 struct Client(client::Client);

@@ -1,8 +1,7 @@
 //! Nav2's `test/plugins/decorator/test_distance_controller.cpp`, without ROS: the robot's
 //! pose, which the gtest sends through TF, is the `robot_pose` entry.
 
-#[path = "support/dummy.rs"]
-mod support;
+use crate::support;
 use support::*;
 
 use neurotree::nav2::{DistanceController, ROBOT_POSE};

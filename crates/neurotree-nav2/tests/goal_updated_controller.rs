@@ -2,8 +2,7 @@
 //! gtest's goals differ by time stamp only; a `Pose2D` has none, so here they differ by
 //! position.
 
-#[path = "support/dummy.rs"]
-mod support;
+use crate::support;
 use support::*;
 
 use neurotree::nav2::GoalUpdatedController;

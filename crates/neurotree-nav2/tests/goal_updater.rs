@@ -4,8 +4,7 @@
 
 use std::time::Duration;
 
-#[path = "support/dummy.rs"]
-mod support;
+use crate::support;
 use support::*;
 
 use neurotree::nav2::{GoalUpdater, GOALS_UPDATE, GOAL_UPDATE};

@@ -11,14 +11,12 @@ use neurotree::{
     nav2, Handle, ManualClock, PortSpec, Registry, StatefulAction, Status, Tree, XmlLoader,
 };
 
-#[path = "../../neurotree-core/tests/support/counting_alloc.rs"]
-mod counting_alloc;
+use crate::counting_alloc;
 use counting_alloc::allocations;
 
 use Status::{Failure as F, Running as R, Success as S};
 
-#[path = "../../neurotree-toolkit/tests/support/corpus.rs"]
-mod corpus_dir;
+use crate::corpus_dir;
 
 fn nav2_corpus() -> PathBuf {
     corpus_dir::corpus("nav2")

@@ -1,7 +1,6 @@
 //! Nav2's `test/plugins/decorator/test_path_longer_on_approach.cpp`, without ROS.
 
-#[path = "support/dummy.rs"]
-mod support;
+use crate::support;
 use support::*;
 
 use neurotree::nav2::PathLongerOnApproach;

@@ -1,8 +1,7 @@
 //! Nav2's `test/plugins/control/test_pause_resume_controller.cpp`, without ROS: a call of
 //! the `pause` or `resume` service is writing `true` to the entry of that name.
 
-#[path = "support/dummy.rs"]
-mod support;
+use crate::support;
 use support::*;
 
 use neurotree::nav2::PauseResumeController;

@@ -3,8 +3,7 @@
 
 use std::time::Duration;
 
-#[path = "support/dummy.rs"]
-mod support;
+use crate::support;
 use support::*;
 
 use neurotree::nav2::RateController;

@@ -2,8 +2,7 @@
 //! `returnSuccessOn(1)` / `returnFailureOn(1)` (a different status on the next tick) are
 //! queued outcomes.
 
-#[path = "support/dummy.rs"]
-mod support;
+use crate::support;
 use support::*;
 
 use neurotree::nav2::RecoveryNode;

@@ -1,7 +1,6 @@
 //! Nav2's `test/plugins/control/test_round_robin_node.cpp`, without ROS.
 
-#[path = "support/dummy.rs"]
-mod support;
+use crate::support;
 use support::*;
 
 use neurotree::nav2::RoundRobin;

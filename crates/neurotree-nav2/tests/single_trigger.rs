@@ -1,7 +1,6 @@
 //! Nav2's `test/plugins/decorator/test_single_trigger_node.cpp`, without ROS.
 
-#[path = "support/dummy.rs"]
-mod support;
+use crate::support;
 use support::*;
 
 use neurotree::nav2::SingleTrigger;

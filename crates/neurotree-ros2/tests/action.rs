@@ -1,7 +1,7 @@
 //! The action node against a fake action server written with ros2-client, each on its own
 //! participant in this process, over 127.0.0.1.
 
-mod common;
+use crate::common;
 
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};

@@ -1,7 +1,7 @@
 //! Nav2's battery conditions over ROS 2: IsBatteryLow and IsBatteryCharging subscribed to
 //! `/battery_status`, where [`SimServers`] publishes the world's battery.
 
-mod common;
+use crate::common;
 
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{mpsc, Arc};

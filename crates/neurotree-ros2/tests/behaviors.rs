@@ -1,7 +1,7 @@
 //! Nav2's behaviors over ROS 2: the navigator's DriveOnHeading leaf, a client of the
 //! `drive_on_heading` action, against [`SimServers`] serving the grid world.
 
-mod common;
+use crate::common;
 
 use std::sync::Arc;
 use std::time::Duration;

@@ -3,7 +3,7 @@
 //! `clear_around_`, `clear_except_` and `clear_around_pose_` services, served by
 //! [`SimServers`].
 
-mod common;
+use crate::common;
 
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{mpsc, Arc};

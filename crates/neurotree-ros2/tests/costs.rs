@@ -3,7 +3,7 @@
 //! `get_cost_global_costmap` (`nav2_msgs/srv/GetCosts`), ToggleCollisionMonitor
 //! (`nav2_msgs/srv/Toggle`) and ReinitializeGlobalLocalization (`std_srvs/srv/Empty`).
 
-mod common;
+use crate::common;
 
 use std::time::Duration;
 

@@ -6,7 +6,7 @@
 //! The Python comes from `CYCLONEDDS_PYTHON` (`.ci/run` installs the package in a virtual
 //! environment and sets it); without it the test prints why it skips and passes.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 use std::process::{Child, Command, Stdio};

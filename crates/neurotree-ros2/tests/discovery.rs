@@ -1,7 +1,7 @@
 //! Two bridge nodes, each with its own DDS participant, find each other over 127.0.0.1 (the
 //! unicast SPDP of `Network::Loopback`) and exchange a message.
 
-mod common;
+use crate::common;
 
 use std::time::{Duration, Instant};
 

@@ -2,7 +2,7 @@
 //! `navigate_to_pose_w_replanning_and_recovery.xml`, the grid world served by
 //! [`SimServers`], and a goal client, each on its own participant over 127.0.0.1.
 
-mod common;
+use crate::common;
 
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{mpsc, Arc};

@@ -1,7 +1,7 @@
 //! Nav2's odometry nodes over ROS 2: IsStuck and CheckStopStatus subscribed to the `odom`
 //! that [`SimServers`](neurotree_ros2::nav2::SimServers) publishes.
 
-mod common;
+use crate::common;
 
 use std::time::{Duration, Instant};
 

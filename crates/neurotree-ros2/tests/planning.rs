@@ -2,7 +2,7 @@
 //! clients of the `compute_path_through_poses` and `smooth_path` actions, served by
 //! [`SimServers`].
 
-mod common;
+use crate::common;
 
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{mpsc, Arc};

@@ -4,7 +4,7 @@
 //! and main's (with `plugins` and `success`, and `viapoints`); FollowPath's, whose main
 //! feedback tracks the path; each client against [`SimServers`] reading the same release.
 
-mod common;
+use crate::common;
 
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{mpsc, Arc};

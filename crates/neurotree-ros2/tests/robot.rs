@@ -2,7 +2,7 @@
 //! simulator's), its tree made of Nav2's ROS 2 clients and a leaf of the robot's own,
 //! against the grid world served as Nav2's servers on another participant.
 
-mod common;
+use crate::common;
 
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{mpsc, Arc};

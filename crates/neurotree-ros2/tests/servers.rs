@@ -2,7 +2,7 @@
 //! over ROS 2, and their cancel nodes, against [`SimServers`](neurotree_ros2::nav2::SimServers)
 //! serving the grid world.
 
-mod common;
+use crate::common;
 
 use std::time::{Duration, Instant};
 

@@ -1,6 +1,6 @@
 //! The service node against a fake `ClearEntireCostmap` server written with ros2-client.
 
-mod common;
+use crate::common;
 
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};

@@ -1,7 +1,7 @@
 //! The subscriber condition: Failure before any message, then Success with the newest
 //! message on its `message` port.
 
-mod common;
+use crate::common;
 
 use std::time::{Duration, Instant};
 

@@ -1,7 +1,7 @@
 //! The studio's HTTP API as the page uses it: files, checks located at their nodes,
 //! saving, the palette, pictures, replays, and the guards around all of it.
 
-mod common;
+use crate::common;
 
 use std::fs;
 use std::path::Path;

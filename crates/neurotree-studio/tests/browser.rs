@@ -239,6 +239,9 @@ fn now_ms() -> f64 {
 #[path = "browser/canvas.rs"]
 mod canvas;
 
+/// Rewind and the scene panel.
+mod browser_rewind;
+
 #[tokio::test(flavor = "multi_thread")]
 async fn a_nav2_tree_opens_with_every_node_found_by_its_path() {
     let _one = ONE_AT_A_TIME.lock().await;

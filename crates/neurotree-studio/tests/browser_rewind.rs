@@ -7,8 +7,7 @@
 //! Without a browser the tests print a note and pass, unless `NEUROTREE_REQUIRE_BROWSER=1`
 //! (see `common/browser.rs`).
 
-#[path = "common/browser.rs"]
-mod browser;
+use crate::driver as browser;
 
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
@@ -22,8 +21,9 @@ use neurotree_toolkit::state::{decode, encode};
 use neurotree_toolkit::{Handle, Registry, StatefulAction, Status, Tree, XmlLoader};
 use serde_json::Value;
 
-// One browser at a time: each is a few processes on a small machine.
-static ONE_AT_A_TIME: tokio::sync::Mutex<()> = tokio::sync::Mutex::const_new(());
+// One browser at a time, with the other browser tests: each is a few processes on a small
+// machine.
+use crate::ONE_AT_A_TIME;
 
 /// Counts its ticks in `n` and walks: `walk` is RUNNING for two ticks and SUCCESS on the
 /// third, so at tick t it shows SUCCESS exactly when t is a multiple of 3.

@@ -2,7 +2,7 @@
 //! changes; pause, step and continue; breakpoints; blackboard edits between ticks; and a
 //! run that goes on whatever the pages do.
 
-mod common;
+use crate::common;
 
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::Arc;

@@ -10,8 +10,7 @@ use std::task::{Context, Poll};
 
 use neurotree::{Blueprint, ManualClock, NodeStatus, PortSpec, Registry, Status, Tree, XmlLoader};
 
-#[path = "../../neurotree-core/tests/support/counting_alloc.rs"]
-mod counting_alloc;
+use crate::counting_alloc;
 use counting_alloc::count;
 
 /// Counts the polls and drops of the futures it is shared with.

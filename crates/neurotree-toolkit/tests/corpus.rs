@@ -9,12 +9,10 @@ use std::path::{Path, PathBuf};
 use neurotree::xml::{write_xml, SaveOptions, Substitute, Substitutions};
 use neurotree::{Arity, Blueprint, CustomNode, NodeCtx, NodeStatus, PortSpec, Registry, XmlLoader};
 
-#[path = "support/signature.rs"]
-mod support;
+use crate::signature as support;
 use support::signature;
 
-#[path = "support/corpus.rs"]
-mod corpus_dir;
+use crate::corpus_dir;
 
 fn corpus() -> PathBuf {
     corpus_dir::corpus("btcpp")

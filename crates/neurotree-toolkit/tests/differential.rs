@@ -22,12 +22,12 @@
 //!
 //! Scripts: leaf `n<i>` plays its letters (S, F, R) one per call, the last one repeating.
 //!
-//! Run: `BTCPP_PYTHON=/path/to/venv/bin/python cargo test -p neurotree-toolkit --test differential
-//! -- --nocapture`, with `behaviortreepy==0.1.4` installed in that venv (`.ci/run` does
-//! it). Without `BTCPP_PYTHON`, or when that Python cannot import `behaviortreepy`, the
-//! test prints why it skipped and passes. `NEUROTREE_DIFF_TREES=20000` runs more trees
-//! (default 500), `NEUROTREE_DIFF_SEED` changes the seed, `NEUROTREE_DIFF_SHOW` how many
-//! differing trees are printed (default 8).
+//! Run: `BTCPP_PYTHON=/path/to/venv/bin/python cargo test -p neurotree-toolkit --test integration
+//! differential:: -- --nocapture`, with `behaviortreepy==0.1.4` installed in that venv
+//! (`.ci/run` does it). Without `BTCPP_PYTHON`, or when that Python cannot import
+//! `behaviortreepy`, the test prints why it skipped and passes. `NEUROTREE_DIFF_TREES=20000`
+//! runs more trees (default 500), `NEUROTREE_DIFF_SEED` changes the seed,
+//! `NEUROTREE_DIFF_SHOW` how many differing trees are printed (default 8).
 //!
 //! Differences that are known are listed in [`KNOWN_DIFFERENCES`], each with what
 //! BehaviorTree.CPP does and why it is not (yet) what NeuroTree does; NeuroTree's

@@ -7,7 +7,7 @@
 //! demand:
 //!
 //! ```sh
-//! NEUROTREE_FUZZ_CASES=200000 cargo test --release -p neurotree-toolkit --test fuzz
+//! NEUROTREE_FUZZ_CASES=200000 cargo test --release -p neurotree-toolkit --test integration fuzz::
 //! ```
 //!
 //! with `NEUROTREE_FUZZ_SEED=<n>` for other inputs than the default seed's.
@@ -20,12 +20,8 @@ use neurotree::groot::Groot2Monitor;
 use neurotree::script::{Enums, Script, ScriptEnv, ScriptError};
 use neurotree::{Blackboard, ManualClock, Registry, ScopeId, Tree, XmlLoader};
 
-#[path = "support/corpus.rs"]
-mod corpus_dir;
-#[path = "support/load_all.rs"]
-mod load_all;
-#[path = "support/mutate.rs"]
-mod mutate;
+use crate::load_all;
+use crate::mutate;
 
 use mutate::fuzz;
 

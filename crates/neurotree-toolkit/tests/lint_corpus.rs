@@ -11,8 +11,7 @@ use std::path::{Path, PathBuf};
 use neurotree::lint::{lint, LintOptions};
 use neurotree::{Arity, CustomNode, NodeCtx, NodeStatus, PortSpec, Registry, XmlLoader};
 
-#[path = "support/corpus.rs"]
-mod corpus_dir;
+use crate::corpus_dir;
 use corpus_dir::corpus;
 
 fn xml_files(dir: &Path) -> Vec<PathBuf> {

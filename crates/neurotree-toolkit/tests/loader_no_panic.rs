@@ -5,10 +5,7 @@
 use neurotree::{Registry, XmlLoader};
 use proptest::prelude::*;
 
-#[path = "support/corpus.rs"]
-mod corpus_dir;
-#[path = "support/load_all.rs"]
-mod load_all;
+use crate::load_all;
 
 use load_all::{corpus_texts, load_everything as try_load};
 

@@ -1,8 +1,7 @@
 //! `.btlog` files: what the writer writes reads back exactly, uids match the XML, and the
 //! file is laid out byte for byte as BehaviorTree.CPP's FileLogger2 lays it out.
 
-#[path = "support/patrol.rs"]
-mod patrol;
+use crate::patrol;
 
 use std::time::{Duration, UNIX_EPOCH};
 

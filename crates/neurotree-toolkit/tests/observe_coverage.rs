@@ -1,8 +1,7 @@
 //! Coverage: the exact outcomes each node was seen with, for scripted runs of a builder tree
 //! and of an XML tree, against the outcomes each could have.
 
-#[path = "support/patrol.rs"]
-mod patrol;
+use crate::patrol;
 
 use std::sync::Arc;
 

@@ -4,8 +4,7 @@
 
 #![cfg(feature = "sqlite")]
 
-#[path = "support/patrol.rs"]
-mod patrol;
+use crate::patrol;
 
 use std::io::BufRead;
 use std::path::Path;
@@ -390,7 +389,12 @@ fn a_killed_run_keeps_its_committed_batches() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("killed.db3");
     let mut child = Command::new(std::env::current_exe().unwrap())
-        .args(["--ignored", "--exact", "killed_writer", "--nocapture"])
+        .args([
+            "--ignored",
+            "--exact",
+            "observe_sqlite::killed_writer",
+            "--nocapture",
+        ])
         .env(CHILD_DB, &path)
         .stdout(Stdio::piped())
         .spawn()

@@ -1,7 +1,6 @@
 //! Per-node statistics: exact counts and Running times for scripted runs on a manual clock.
 
-#[path = "support/patrol.rs"]
-mod patrol;
+use crate::patrol;
 
 use std::time::Duration;
 

@@ -1,8 +1,7 @@
 //! The console logger and the JSON-lines trace, line for line, on the scripted patrol
 //! (see `support/patrol.rs` for what each tick does).
 
-#[path = "support/patrol.rs"]
-mod patrol;
+use crate::patrol;
 
 use neurotree::observe::{ConsoleLogger, JsonlTrace};
 

@@ -3,8 +3,7 @@
 
 #![cfg(feature = "tracing")]
 
-#[path = "support/patrol.rs"]
-mod patrol;
+use crate::patrol;
 
 use std::fmt::Write as _;
 use std::sync::{Arc, Mutex};
@@ -66,8 +65,8 @@ fn capture(level: Option<Level>) -> Vec<String> {
         });
         patrol::run(&mut tree, &clock);
     });
-    let events = sub.0.lock().unwrap().clone();
-    events
+
+    sub.0.lock().unwrap().clone()
 }
 
 #[test]

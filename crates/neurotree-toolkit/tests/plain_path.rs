@@ -5,16 +5,13 @@
 use neurotree::xml::{Substitute, Substitutions};
 use neurotree::{Blueprint, XmlLoader};
 
-#[path = "support/corpus.rs"]
-mod corpus_dir;
+use crate::corpus_dir;
 use corpus_dir::corpus;
 
-#[path = "support/signature.rs"]
-mod support;
+use crate::signature as support;
 use support::signature;
 
-#[path = "support/xml.rs"]
-mod shared;
+use crate::shared;
 use shared::registry;
 
 /// The main tree of `text` built by each path.

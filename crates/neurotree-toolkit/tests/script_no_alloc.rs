@@ -6,8 +6,7 @@ use std::time::Duration;
 use neurotree::script::{Enums, Script, ScriptEnv, Value};
 use neurotree::{Blackboard, ScopeId};
 
-#[path = "../../neurotree-core/tests/support/counting_alloc.rs"]
-mod counting_alloc;
+use crate::counting_alloc;
 use counting_alloc::allocations;
 
 #[test]

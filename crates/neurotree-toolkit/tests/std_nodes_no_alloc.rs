@@ -10,8 +10,7 @@ use std::sync::{Arc, Mutex};
 use neurotree::nodes::loops::SharedQueue;
 use neurotree::{ManualClock, Registry, Status, Tree, XmlLoader};
 
-#[path = "../../neurotree-core/tests/support/counting_alloc.rs"]
-mod counting_alloc;
+use crate::counting_alloc;
 use counting_alloc::allocations;
 
 /// A tree repeating, forever, a loop over `{q}` into `{x}`.

@@ -3,8 +3,7 @@
 
 use neurotree::{ManualClock, NodeId, Status, Tree, XmlLoader};
 
-#[path = "support/xml.rs"]
-mod shared;
+use crate::shared;
 use shared::{error, registry};
 
 #[test]

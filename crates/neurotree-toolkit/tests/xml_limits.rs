@@ -3,8 +3,7 @@
 
 use neurotree::{LoadError, XmlLoader};
 
-#[path = "support/xml.rs"]
-mod shared;
+use crate::shared;
 use shared::registry;
 
 /// A file of `levels` trees `T0`..`T{levels-1}`, one a line after `<root>`, each using the

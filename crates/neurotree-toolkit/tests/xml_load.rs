@@ -3,12 +3,10 @@
 
 use neurotree::{ManualClock, NodeId, PortSpec, Registry, Status, Tree, XmlLoader};
 
-#[path = "support/corpus.rs"]
-mod corpus_dir;
+use crate::corpus_dir;
 use corpus_dir::corpus;
 
-#[path = "support/xml.rs"]
-mod shared;
+use crate::shared;
 use shared::{error, load, registry};
 
 #[test]

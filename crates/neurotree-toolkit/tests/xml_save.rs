@@ -5,8 +5,7 @@ use neurotree::xml::{write_xml, SaveOptions};
 use neurotree::{Blueprint, PortSpec, Registry, StatefulAction, Status, XmlLoader};
 use proptest::prelude::*;
 
-#[path = "support/signature.rs"]
-mod support;
+use crate::signature as support;
 use support::signature;
 
 struct Idle;

@@ -3,8 +3,7 @@
 
 use neurotree::{LoadError, ManualClock, Status, TickError, Tree, XmlLoader};
 
-#[path = "support/xml.rs"]
-mod shared;
+use crate::shared;
 use shared::{error, load, registry};
 
 #[test]

@@ -1,5 +1,7 @@
 //! A global allocator that counts the allocations of the calling thread while asked to, for
-//! the tests that prove code allocates nothing. Included (`#[path]`) by each such test binary.
+//! the tests that prove code allocates nothing. A module (`#[path]`) of each test binary that
+//! has such tests; the counts are per thread, so the binary's other tests, running in
+//! parallel, do not disturb them.
 
 // Each binary uses the helpers it needs.
 #![allow(dead_code)]
@@ -20,18 +22,18 @@ thread_local! {
 unsafe impl GlobalAlloc for Counting {
     unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
         note();
-        System.alloc(layout)
+        unsafe { System.alloc(layout) }
     }
     unsafe fn alloc_zeroed(&self, layout: Layout) -> *mut u8 {
         note();
-        System.alloc_zeroed(layout)
+        unsafe { System.alloc_zeroed(layout) }
     }
     unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
         note();
-        System.realloc(ptr, layout, new_size)
+        unsafe { System.realloc(ptr, layout, new_size) }
     }
     unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        System.dealloc(ptr, layout)
+        unsafe { System.dealloc(ptr, layout) }
     }
 }
 

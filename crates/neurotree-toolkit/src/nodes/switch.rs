@@ -86,10 +86,10 @@ pub(crate) fn check_string_equality(a: &str, b: &str, enums: &Enums) -> bool {
         return true;
     }
     let int = |t: &str| enums.get(t).or_else(|| from_chars_int(t));
-    if let (Some(x), Some(y)) = (int(a), int(b)) {
-        if x == y {
-            return true;
-        }
+    if let (Some(x), Some(y)) = (int(a), int(b))
+        && x == y
+    {
+        return true;
     }
     // Enum values are integers, exact as reals.
     let real = |t: &str| {

@@ -110,10 +110,10 @@ impl<W: io::Write> Sink<W> {
     }
 
     fn write_all(&mut self, bytes: &[u8]) {
-        if self.error.is_none() {
-            if let Err(e) = self.out.write_all(bytes) {
-                self.error = Some(e);
-            }
+        if self.error.is_none()
+            && let Err(e) = self.out.write_all(bytes)
+        {
+            self.error = Some(e);
         }
     }
 

@@ -167,10 +167,11 @@ impl Observer for Statistics {
         let i = c.node.index();
         if c.to == NodeStatus::Running && c.from != NodeStatus::Running {
             state.running_since[i] = Some(c.at);
-        } else if c.from == NodeStatus::Running && c.to != NodeStatus::Running {
-            if let Some(since) = state.running_since[i].take() {
-                state.nodes[i].running += c.at.saturating_sub(since);
-            }
+        } else if c.from == NodeStatus::Running
+            && c.to != NodeStatus::Running
+            && let Some(since) = state.running_since[i].take()
+        {
+            state.nodes[i].running += c.at.saturating_sub(since);
         }
         state.last_seen = c.at;
     }

@@ -138,10 +138,10 @@ impl Checker {
             None => format!("end (tick {tick})"),
         };
         let mut problems = Vec::new();
-        if let Some(root) = &e.root {
-            if !root.eq_ignore_ascii_case(status) {
-                problems.push(format!("{at}: root is {status}, expected {root}"));
-            }
+        if let Some(root) = &e.root
+            && !root.eq_ignore_ascii_case(status)
+        {
+            problems.push(format!("{at}: root is {status}, expected {root}"));
         }
         let paths = tree.blueprint().paths();
         for (key, expected) in &e.nodes {
@@ -276,14 +276,14 @@ fn failure_problems<C>(tree: &Tree<C>, f: &FailureExpect, at: &str, status: &str
         .map(|(path, reason)| (path, reason.map(|r| r.message().into_owned())))
         .collect();
     let names = |node: &str, path: &str| path == node || path.ends_with(&format!("/{node}"));
-    if let Some(node) = &f.node {
-        if !chain.iter().any(|(path, _)| names(node, path)) {
-            let paths: Vec<&str> = failure.links.iter().map(|l| l.path.as_str()).collect();
-            problems.push(format!(
-                "{at}: `{node}` is not in the failure chain ({})",
-                paths.join(" <- ")
-            ));
-        }
+    if let Some(node) = &f.node
+        && !chain.iter().any(|(path, _)| names(node, path))
+    {
+        let paths: Vec<&str> = failure.links.iter().map(|l| l.path.as_str()).collect();
+        problems.push(format!(
+            "{at}: `{node}` is not in the failure chain ({})",
+            paths.join(" <- ")
+        ));
     }
     if let Some(reason) = &f.reason {
         let given: Vec<&str> = chain.iter().filter_map(|(_, r)| r.as_deref()).collect();

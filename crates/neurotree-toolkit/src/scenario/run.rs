@@ -79,12 +79,12 @@ pub(super) fn run<C: 'static>(
 
 /// Refuses the numbers a run cannot go by.
 fn check_numbers(s: &Scenario) -> Result<(), String> {
-    if let Some(c) = s.coverage {
-        if !(0.0..=1.0).contains(&c) {
-            return Err(format!(
-                "coverage = {c}: the share of outcomes covered is from 0 to 1"
-            ));
-        }
+    if let Some(c) = s.coverage
+        && !(0.0..=1.0).contains(&c)
+    {
+        return Err(format!(
+            "coverage = {c}: the share of outcomes covered is from 0 to 1"
+        ));
     }
     if let Some(step) = s.step_ms.filter(|&step| step > MAX_STEP_MS) {
         return Err(format!(

@@ -228,11 +228,11 @@ impl Parser<'_> {
     fn prefix(&mut self, op: UnOp) -> Result<Expr, Located> {
         let op_at = self.bump();
         // `-9223372036854775808` is i64::MIN, whose magnitude alone does not fit an i64.
-        if let (UnOp::Neg, Tok::Int(v)) = (op, self.peek()) {
-            if v == 1 << 63 {
-                self.bump();
-                return Ok(Expr::leaf(ExprKind::Int(i64::MIN), op_at));
-            }
+        if let (UnOp::Neg, Tok::Int(v)) = (op, self.peek())
+            && v == 1 << 63
+        {
+            self.bump();
+            return Ok(Expr::leaf(ExprKind::Int(i64::MIN), op_at));
         }
         let operand = self.unary()?;
         let depth = operand.depth + 1;

@@ -211,21 +211,21 @@ impl<'a, 'r, C: 'static> Expansion<'a, 'r, C> {
         {
             return Err(error.clone());
         }
-        if !self.validate {
-            // A mock that replaced nothing is a mistake (a misspelt name), never ignored.
-            if let Some(name) = self.loader.mocks.keys().find(|name| {
+        // A mock that replaced nothing is a mistake (a misspelt name), never ignored.
+        if !self.validate
+            && let Some(name) = self.loader.mocks.keys().find(|name| {
                 !self.mocked.contains(&name.as_str())
                     && self.not_mocked.iter().all(|(n, _)| n != name)
-            }) {
-                return Err(tree.error(
-                    LoadErrorKind::UnmatchedMock,
-                    format!(
-                        "the mock `{name}` matches no node of tree `{}`: no node is named or of \
+            })
+        {
+            return Err(tree.error(
+                LoadErrorKind::UnmatchedMock,
+                format!(
+                    "the mock `{name}` matches no node of tree `{}`: no node is named or of \
                          type `{name}`; check its spelling",
-                        self.stack[0]
-                    ),
-                ));
-            }
+                    self.stack[0]
+                ),
+            ));
         }
         // Checks the loader could not make on one element (thresholds against the number
         // of children) come back from the builder; they point at the element it refused,

@@ -391,13 +391,14 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
                 root.tag()
             )));
         }
-        if let Some(format) = root.attr("BTCPP_format") {
-            if format != "4" && format != "3" {
-                return Err(root.error(
-                    LoadErrorKind::UnsupportedFormat,
-                    format!("BTCPP_format=\"{format}\" is not supported; use format 4"),
-                ));
-            }
+        if let Some(format) = root.attr("BTCPP_format")
+            && format != "4"
+            && format != "3"
+        {
+            return Err(root.error(
+                LoadErrorKind::UnsupportedFormat,
+                format!("BTCPP_format=\"{format}\" is not supported; use format 4"),
+            ));
         }
         // BehaviorTree.CPP executes the main tree of the first document opened: a file
         // loaded or included later does not change it.

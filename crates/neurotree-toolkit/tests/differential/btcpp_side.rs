@@ -9,8 +9,8 @@ use std::time::{Duration, Instant};
 
 use serde_json::{json, Value};
 
-use crate::trees::Case;
-use crate::Step;
+use super::trees::Case;
+use super::Step;
 
 /// How long the BehaviorTree.CPP process may take for the whole batch.
 const PYTHON_TIMEOUT: Duration = Duration::from_secs(600);

@@ -10,8 +10,8 @@ use neurotree::{
     StatusChange, TickError, Tree, XmlLoader,
 };
 
-use crate::trees::{Case, Op};
-use crate::Step;
+use super::trees::{Case, Op};
+use super::Step;
 
 /// Passes one NeuroTree `tick_once` may make. A step whose `tick_once` makes more (a tree
 /// that yields on every pass, as `Repeat -1` over a child that succeeds at once) becomes a

@@ -247,12 +247,13 @@ impl<C: Send> Crowd<C> {
         );
         for id in timers.woken.drain(..) {
             let slot = id.index as usize;
-            if let Some(plan) = plans.get_mut(slot) {
-                if plan.present && plan.generation == id.generation {
-                    awake.wake(plan, slot);
-                    if let Some(body) = &mut bodies[slot] {
-                        body.tree.wake_up();
-                    }
+            if let Some(plan) = plans.get_mut(slot)
+                && plan.present
+                && plan.generation == id.generation
+            {
+                awake.wake(plan, slot);
+                if let Some(body) = &mut bodies[slot] {
+                    body.tree.wake_up();
                 }
             }
         }

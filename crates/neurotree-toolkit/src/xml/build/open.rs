@@ -306,10 +306,10 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
         type_name: &str,
         name: &str,
     ) -> LoadError {
-        if let Some((_, e)) = self.not_mocked.iter().find(|(n, _)| *n == name) {
-            if !self.mocked.contains(&name) {
-                return e.clone();
-            }
+        if let Some((_, e)) = self.not_mocked.iter().find(|(n, _)| *n == name)
+            && !self.mocked.contains(&name)
+        {
+            return e.clone();
         }
         let leaf = matches!(node_type.category, Category::Action | Category::Condition);
         let mocked = if leaf {

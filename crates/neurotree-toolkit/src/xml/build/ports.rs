@@ -111,10 +111,11 @@ impl<C: 'static> Expansion<'_, '_, C> {
             let mut value = binding(key, text);
             if let PortValue::Literal(text) = &mut value {
                 // A registered enum name stands for its number where a number is wanted.
-                if let Some(n) = self.loader.registry.enums().get(text.trim()) {
-                    if !spec.accepts(text) && spec.accepts(&n.to_string()) {
-                        *text = n.to_string();
-                    }
+                if let Some(n) = self.loader.registry.enums().get(text.trim())
+                    && !spec.accepts(text)
+                    && spec.accepts(&n.to_string())
+                {
+                    *text = n.to_string();
                 }
                 if !spec.accepts(text) {
                     return Err(el.error(
@@ -133,14 +134,14 @@ impl<C: 'static> Expansion<'_, '_, C> {
             });
         }
         for spec in &node_type.ports {
-            if let Some(default) = &spec.default {
-                if ports.iter().all(|p| p.name != spec.name) {
-                    ports.push(Port {
-                        name: spec.name.clone(),
-                        value: binding(&spec.name, default),
-                        declared: spec.port_type(),
-                    });
-                }
+            if let Some(default) = &spec.default
+                && ports.iter().all(|p| p.name != spec.name)
+            {
+                ports.push(Port {
+                    name: spec.name.clone(),
+                    value: binding(&spec.name, default),
+                    declared: spec.port_type(),
+                });
             }
         }
         Ok(ports)

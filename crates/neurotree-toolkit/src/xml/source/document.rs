@@ -152,7 +152,7 @@ impl<'d> Element<'d> {
     }
 
     /// Its attributes, as names and values, in document order.
-    pub(crate) fn attrs(&self) -> impl Iterator<Item = (&'d str, &'d str)> + 'd {
+    pub(crate) fn attrs(&self) -> impl Iterator<Item = (&'d str, &'d str)> + use<'d> {
         let doc = self.doc;
         let span = self.node().attrs;
         doc.attrs[span.range()]
@@ -196,7 +196,7 @@ impl<'d> Element<'d> {
     }
 
     /// Every element inside it, in document order.
-    pub(crate) fn descendants(&self) -> impl Iterator<Item = Element<'d>> + 'd {
+    pub(crate) fn descendants(&self) -> impl Iterator<Item = Element<'d>> + use<'d> {
         let doc = self.doc;
         // Elements are stored in document order: its descendants are the ones up to `end`.
         (self.id + 1..self.node().end as usize).map(move |id| doc.element(id))

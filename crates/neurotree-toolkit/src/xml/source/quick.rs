@@ -241,14 +241,14 @@ impl<'t> Quick<'t> {
                 let mut run = 0;
                 let mut i = 0;
                 while i < b.len() {
-                    if b[i] == b'&' {
-                        if let Some(name) = entity_name(&b[i + 1..]) {
-                            out.push_str(&raw[run..i]);
-                            out.push(decode_entity(name)?);
-                            i += name.len() + 2;
-                            run = i;
-                            continue;
-                        }
+                    if b[i] == b'&'
+                        && let Some(name) = entity_name(&b[i + 1..])
+                    {
+                        out.push_str(&raw[run..i]);
+                        out.push(decode_entity(name)?);
+                        i += name.len() + 2;
+                        run = i;
+                        continue;
                     }
                     i += 1;
                 }

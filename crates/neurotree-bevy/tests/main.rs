@@ -1,0 +1,6 @@
+//! The integration tests of `neurotree-bevy`, one binary: each file beside this one is a
+//! module of it.
+
+mod example_crowd;
+mod plugin;
+mod readme;
