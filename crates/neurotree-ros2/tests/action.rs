@@ -251,10 +251,9 @@ fn without_a_server_the_node_fails_after_wait_for_server_timeout() {
         "waiting for the server does not block the tick"
     );
     assert_eq!(status, Status::Failure);
-    assert!(
-        took >= Duration::from_millis(300) && took < Duration::from_secs(2),
-        "{took:?}"
-    );
+    // At least the timeout; that it ends at all is `tick_until_done`'s bound, which a busy
+    // machine may stretch, so no upper bound on the time is asserted here.
+    assert!(took >= Duration::from_millis(300), "{took:?}");
     let failure = seen.lock().unwrap().failure.clone();
     match failure {
         Some(ActionError::ServerUnreachable { action, waited }) => {
