@@ -1,5 +1,6 @@
 #!/bin/sh
-# Takes the studio's pictures again, at 1500×950 in headless Chromium, on the page as it is
+# Takes the studio's pictures again, at 1500×950 in headless Chromium (and its ChromeDriver
+# for the one that needs clicks), on the page as it is
 # now: docs/images/studio-rewind-scene.png and studio-nav2-watch.png (`neurotree demo
 # --studio`), studio-tree1111-folded.png (the editor on tree1111), and this folder's
 # studio-edit.png, studio-watch.png and studio-replay.png. Run from the repository root
@@ -44,11 +45,12 @@ shot() {
     --screenshot="$2" "$1" 2>/dev/null
 }
 
-# The demo's navigator beside its warehouse, the robot on its way.
+# The demo's navigator beside its warehouse, paused and taken eight ticks back (clicked
+# through ChromeDriver), then the same run watched as it goes.
+python3 "$here/rewind_shot.py" "$neurotree" "$images/studio-rewind-scene.png"
 serve demo --studio 0 --speed 1 --max-ticks 100000
 sleep 4
-shot "${url}#view=watch" "$images/studio-rewind-scene.png"
-cp "$images/studio-rewind-scene.png" "$here/studio-watch.png"
+shot "${url}#view=watch" "$here/studio-watch.png"
 stop
 
 # The navigator alone, two ticks into a dry run, following its path (the run lingers).
