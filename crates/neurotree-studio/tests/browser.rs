@@ -1100,23 +1100,8 @@ async fn a_100_hz_run_of_the_1111_node_tree_is_followed_to_its_last_tick() {
     assert_eq!(b.count("#edit-view [data-node-path]").await, 1111);
 
     // About 1,000 nodes change each tick, at 100 Hz.
-    let text = std::fs::read_to_string(dir.path().join(BIG_TREE)).unwrap();
     SUCC_FAIL_EVERY.store(1, Ordering::Relaxed);
-    let run = Run::start_with(
-        &studio,
-        load(&text, "tree1111.xml"),
-        "tree1111.xml",
-        Duration::from_millis(10),
-        |tick| SUCC_FAILS.store(tick % 2 == 0, Ordering::Relaxed),
-    );
-    b.goto(&format!("{}#view=watch", studio.url())).await;
-    b.client.refresh().await.unwrap();
-    b.until(
-        "tree1111 watched",
-        "performance.getEntriesByName('studio:watch-drawn')[0]?.startTime",
-    )
-    .await;
-    assert_eq!(b.count("#watch-view [data-node-id]").await, 1111);
+    let (run, _) = watch_tree1111_at_100_hz(&b, &studio, dir.path()).await;
     tokio::time::sleep(Duration::from_millis(1500)).await;
     run.stop.store(true, Ordering::Relaxed);
     let last = loop {
@@ -1165,6 +1150,32 @@ async fn a_100_hz_run_of_the_1111_node_tree_is_followed_to_its_last_tick() {
     b.close().await;
 }
 
+/// tree1111 run at 100 Hz, its `Succ` conditions failing on even ticks while
+/// [`SUCC_FAIL_EVERY`] says so, and the watch view opened on it: the run, and when the page
+/// had drawn all its nodes (ms from the navigation).
+async fn watch_tree1111_at_100_hz(b: &Browser, studio: &Studio, dir: &Path) -> (Run, f64) {
+    let text = std::fs::read_to_string(dir.join(BIG_TREE)).unwrap();
+    let run = Run::start_with(
+        studio,
+        load(&text, "tree1111.xml"),
+        "tree1111.xml",
+        Duration::from_millis(10),
+        |tick| SUCC_FAILS.store(tick % 2 == 0, Ordering::Relaxed),
+    );
+    b.goto(&format!("{}#view=watch", studio.url())).await;
+    b.client.refresh().await.unwrap();
+    let drawn = b
+        .until(
+            "tree1111 watched",
+            "performance.getEntriesByName('studio:watch-drawn')[0]?.startTime",
+        )
+        .await
+        .as_f64()
+        .unwrap();
+    assert_eq!(b.count("#watch-view [data-node-id]").await, 1111);
+    (run, drawn)
+}
+
 /// How closely the page follows tree1111 at 100 Hz, and how fast it opens: figures for
 /// BENCHMARKS.md, ignored by default since a loaded machine slows the browser:
 /// `NEUROTREE_REQUIRE_BROWSER=1 cargo test -p neurotree-studio --test browser -- --ignored followed_closely --nocapture`.
@@ -1199,25 +1210,7 @@ async fn the_1111_node_tree_opens_quickly_and_a_100_hz_run_is_followed_closely()
     );
 
     // Watched while it ticks at 100 Hz, succeeding and failing in turn.
-    let text = std::fs::read_to_string(dir.path().join(BIG_TREE)).unwrap();
-    let run = Run::start_with(
-        &studio,
-        load(&text, "tree1111.xml"),
-        "tree1111.xml",
-        Duration::from_millis(10),
-        |tick| SUCC_FAILS.store(tick % 2 == 0, Ordering::Relaxed),
-    );
-    b.goto(&format!("{}#view=watch", studio.url())).await;
-    b.client.refresh().await.unwrap();
-    let watch_drawn = b
-        .until(
-            "tree1111 watched",
-            "performance.getEntriesByName('studio:watch-drawn')[0]?.startTime",
-        )
-        .await
-        .as_f64()
-        .unwrap();
-    assert_eq!(b.count("#watch-view [data-node-id]").await, 1111);
+    let (run, watch_drawn) = watch_tree1111_at_100_hz(&b, &studio, dir.path()).await;
     println!("studio: tree1111 watched and drawn in {watch_drawn:.0} ms");
     assert!(
         watch_drawn < 1000.0,
