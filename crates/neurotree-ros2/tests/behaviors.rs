@@ -22,7 +22,7 @@ const CORRIDOR: &str = "
 
 /// The simulator serving `world` in `domain`, four times as fast as real time, until dropped.
 fn serve(domain: u16, world: GridWorld) -> Served {
-    Served::start(domain, Nav2Sim::new(world), 4.0)
+    Served::start(domain, Nav2Sim::new(world), common::TIME_SCALE)
 }
 
 /// Runs `xml` (a tree body) with the ROS 2 leaves in `domain` until it ends; its status and
@@ -123,11 +123,12 @@ fn a_spin_cancelled_by_someone_else_succeeds_as_nav2s_does() {
 fn cancel_spin_asks_the_server_to_cancel_and_the_spin_succeeds() {
     let domain = free_domain();
     let served = serve(domain.id, GridWorld::parse(CORRIDOR, 1.0).unwrap());
-    // The spin runs; a second in, CancelSpin asks the server to cancel every spin goal.
+    // The spin runs (a minute of simulated time, seconds of the test's); a second in,
+    // CancelSpin asks the server to cancel every spin goal.
     let (status, code) = run(
         domain.id,
         r#"<Parallel success_count="2" failure_count="1">
-             <Spin spin_dist="6.0" time_allowance="60" error_code_id="{code}"/>
+             <Spin spin_dist="60.0" time_allowance="120" error_code_id="{code}"/>
              <Delay delay_msec="1000"><CancelSpin/></Delay>
            </Parallel>"#,
     );

@@ -24,7 +24,7 @@ fn serve(domain: u16) -> Served {
     Served::start(
         domain,
         Nav2Sim::new(GridWorld::parse(ROW, 1.0).unwrap()),
-        4.0,
+        common::TIME_SCALE,
     )
 }
 

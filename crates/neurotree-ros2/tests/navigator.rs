@@ -35,9 +35,6 @@ const HALL: &str = "
 /// The far end of the hall.
 const FAR_END: Pose2D = Pose2D::new(12.5, 3.5, 0.0);
 
-/// Simulated seconds per wall second: the world runs four times as fast as the tests wait.
-const TIME_SCALE: f64 = 4.0;
-
 /// A thread running a server loop until dropped.
 struct Running {
     stop: Arc<AtomicBool>,
@@ -69,7 +66,7 @@ fn sim(domain: u16, world: GridWorld) -> (Running, SimStatsHandle) {
     let thread = std::thread::spawn(move || {
         let ros = node("nav2_sim", domain);
         let options = SimOptions {
-            time_scale: TIME_SCALE,
+            time_scale: common::TIME_SCALE,
             ..SimOptions::default()
         };
         let mut servers = SimServers::new(&ros, Nav2Sim::new(world), options).unwrap();

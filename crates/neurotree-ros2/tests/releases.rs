@@ -32,7 +32,7 @@ fn serve(domain: u16, release: Nav2Release, stop: Arc<AtomicBool>) -> SimStatsHa
     std::thread::spawn(move || {
         let ros = node("nav2_sim", domain);
         let options = SimOptions {
-            time_scale: 4.0,
+            time_scale: common::TIME_SCALE,
             release,
             ..SimOptions::default()
         };

@@ -102,7 +102,7 @@ fn navigate(
 fn a_navigator_over_the_robots_own_context_runs_its_leaf_between_nav2s_clients() {
     let domain = free_domain();
     let world = GridWorld::parse(CORRIDOR, 1.0).unwrap();
-    let served = Served::start(domain.id, Nav2Sim::new(world), 4.0);
+    let served = Served::start(domain.id, Nav2Sim::new(world), common::TIME_SCALE);
     let stop = Arc::new(AtomicBool::new(false));
     let navigator = navigate(domain.id, Arc::clone(&stop));
     let ros = node("goal_client", domain.id);

@@ -52,7 +52,11 @@ fn code(tree: &Tree<()>) -> u16 {
 #[test]
 fn compute_route_writes_the_servers_route_and_fails_with_its_code() {
     let domain = free_domain();
-    let served = Served::start(domain.id, hall().with_route_graph(graph()), 4.0);
+    let served = Served::start(
+        domain.id,
+        hall().with_route_graph(graph()),
+        common::TIME_SCALE,
+    );
     let mut tree = nav2_tree(
         domain.id,
         r#"<ComputeRoute start_id="1" goal_id="{to}" route="{route}" path="{path}" planning_time="{took}" error_code_id="{code}"/>"#,
@@ -112,7 +116,11 @@ fn compute_route_writes_the_servers_route_and_fails_with_its_code() {
 #[test]
 fn compute_and_track_route_follows_the_robot_along_the_route_to_its_end() {
     let domain = free_domain();
-    let served = Served::start(domain.id, hall().with_route_graph(graph()), 4.0);
+    let served = Served::start(
+        domain.id,
+        hall().with_route_graph(graph()),
+        common::TIME_SCALE,
+    );
     let mut tree = nav2_tree(
         domain.id,
         r#"<Sequence>
@@ -161,7 +169,7 @@ fn the_new_cancel_nodes_cancel_route_tracking_following_and_teleop_which_then_su
     let domain = free_domain();
     let mut sim = hall().with_route_graph(graph());
     sim.set_object(Some(Pose2D::new(8.5, 3.5, 0.0)));
-    let served = Served::start(domain.id, sim, 4.0);
+    let served = Served::start(domain.id, sim, common::TIME_SCALE);
     for (action, cancel) in [
         (
             r#"<ComputeAndTrackRoute start_id="1" goal_id="3" error_code_id="{code}"/>"#,
@@ -206,7 +214,7 @@ fn the_new_cancel_nodes_cancel_route_tracking_following_and_teleop_which_then_su
 fn dock_robot_docks_at_the_servers_dock_and_undock_robot_backs_off_it() {
     let domain = free_domain();
     let dock = Dock::new("home", "charging_dock", Pose2D::new(10.5, 3.5, 0.0));
-    let served = Served::start(domain.id, hall().with_dock(dock), 4.0);
+    let served = Served::start(domain.id, hall().with_dock(dock), common::TIME_SCALE);
     let mut tree = nav2_tree(
         domain.id,
         r#"<DockRobot dock_id="{dock}" success="{ok}" num_retries="{retries}" error_code_id="{code}"/>"#,
@@ -252,7 +260,7 @@ fn dock_robot_docks_at_the_servers_dock_and_undock_robot_backs_off_it() {
 #[test]
 fn navigate_through_poses_takes_the_robot_through_each_pose_and_fails_with_the_servers_code() {
     let domain = free_domain();
-    let served = Served::start(domain.id, hall(), 4.0);
+    let served = Served::start(domain.id, hall(), common::TIME_SCALE);
     let mut tree = nav2_tree(
         domain.id,
         r#"<NavigateThroughPoses goals="{goals}" error_code_id="{code}"/>"#,
@@ -289,7 +297,7 @@ fn follow_object_follows_for_max_duration_fails_unseen_and_follows_a_published_p
     let domain = free_domain();
     let mut sim = hall();
     sim.set_object(Some(Pose2D::new(8.5, 3.5, 0.0)));
-    let served = Served::start(domain.id, sim, 4.0);
+    let served = Served::start(domain.id, sim, common::TIME_SCALE);
     let mut tree = nav2_tree(
         domain.id,
         r#"<FollowObject max_duration="2.0" total_elapsed_time="{took}" error_code_id="{code}"/>"#,
@@ -303,7 +311,7 @@ fn follow_object_follows_for_max_duration_fails_unseen_and_follows_a_published_p
     assert!(seen.robot.x > 3.0 && seen.robot.x < 4.0, "{seen:?}");
     drop(served);
     let domain = free_domain();
-    let served = Served::start(domain.id, hall(), 4.0);
+    let served = Served::start(domain.id, hall(), common::TIME_SCALE);
     let mut tree = nav2_tree(domain.id, r#"<FollowObject error_code_id="{code}"/>"#);
     assert_eq!(tick_until_done(&mut tree, &mut (), LIMIT), Status::Failure);
     assert_eq!(code(&tree), FollowObjectResult::FAILED_TO_DETECT_OBJECT);
@@ -336,7 +344,7 @@ fn follow_object_follows_for_max_duration_fails_unseen_and_follows_a_published_p
 #[test]
 fn assisted_teleop_times_out_as_nav2s_and_fails_only_as_a_recovery() {
     let domain = free_domain();
-    let served = Served::start(domain.id, hall(), 4.0);
+    let served = Served::start(domain.id, hall(), common::TIME_SCALE);
     for (recovery, expected) in [("false", Status::Success), ("true", Status::Failure)] {
         let mut tree = nav2_tree(
             domain.id,
@@ -379,7 +387,11 @@ fn assisted_teleop_times_out_as_nav2s_and_fails_only_as_a_recovery() {
 #[test]
 fn a_new_path_or_route_goal_while_the_goal_runs_is_sent_in_its_place_as_nav2s() {
     let domain = free_domain();
-    let served = Served::start(domain.id, hall().with_route_graph(graph()), 4.0);
+    let served = Served::start(
+        domain.id,
+        hall().with_route_graph(graph()),
+        common::TIME_SCALE,
+    );
     let row = |to: f64| {
         let poses = (0..)
             .map(|i| 1.5 + f64::from(i))

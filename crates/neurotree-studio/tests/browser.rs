@@ -47,8 +47,23 @@ const PATROL: &str = r#"<root BTCPP_format="4" main_tree_to_execute="Patrol">
 </root>
 "#;
 
-// One browser at a time: the tests measure times, and each browser is a few processes.
-static ONE_AT_A_TIME: tokio::sync::Mutex<()> = tokio::sync::Mutex::const_new(());
+/// Two browsers at a time: a test spends most of its time waiting for its page, so two
+/// share this machine's two cores well; more would only queue for them, and each browser is
+/// a few processes.
+static BROWSERS: tokio::sync::Semaphore = tokio::sync::Semaphore::const_new(2);
+
+/// A place for one browser, held while the test runs.
+async fn browser_slot() -> tokio::sync::SemaphorePermit<'static> {
+    BROWSERS.acquire().await.expect("the semaphore stays open")
+}
+
+/// Every place: a measurement of times runs with no other browser beside it.
+async fn the_whole_machine() -> tokio::sync::SemaphorePermit<'static> {
+    BROWSERS
+        .acquire_many(2)
+        .await
+        .expect("the semaphore stays open")
+}
 #[path = "common/browser.rs"]
 mod driver;
 use driver::Browser;
@@ -244,7 +259,7 @@ mod browser_rewind;
 
 #[tokio::test(flavor = "multi_thread")]
 async fn a_nav2_tree_opens_with_every_node_found_by_its_path() {
-    let _one = ONE_AT_A_TIME.lock().await;
+    let _slot = browser_slot().await;
     let Some(b) = Browser::start().await else {
         return;
     };
@@ -290,7 +305,7 @@ async fn a_nav2_tree_opens_with_every_node_found_by_its_path() {
 /// their nodes, a click on one selecting its node, and gone when the loop is bounded again.
 #[tokio::test(flavor = "multi_thread")]
 async fn lint_findings_show_in_the_problems_and_on_their_nodes() {
-    let _one = ONE_AT_A_TIME.lock().await;
+    let _slot = browser_slot().await;
     let Some(b) = Browser::start().await else {
         return;
     };
@@ -363,7 +378,7 @@ async fn lint_findings_show_in_the_problems_and_on_their_nodes() {
 
 #[tokio::test(flavor = "multi_thread")]
 async fn editing_a_port_adding_deleting_undoing_and_saving_gives_a_file_that_loads() {
-    let _one = ONE_AT_A_TIME.lock().await;
+    let _slot = browser_slot().await;
     let Some(b) = Browser::start().await else {
         return;
     };
@@ -483,7 +498,7 @@ async fn editing_a_port_adding_deleting_undoing_and_saving_gives_a_file_that_loa
 
 #[tokio::test(flavor = "multi_thread")]
 async fn nodes_move_by_keyboard_and_by_drag_and_drop_in_a_subtree_opened_as_a_tab() {
-    let _one = ONE_AT_A_TIME.lock().await;
+    let _slot = browser_slot().await;
     let Some(b) = Browser::start().await else {
         return;
     };
@@ -627,7 +642,7 @@ async fn nodes_move_by_keyboard_and_by_drag_and_drop_in_a_subtree_opened_as_a_ta
 
 #[tokio::test(flavor = "multi_thread")]
 async fn a_page_whose_studio_goes_away_reconnects_to_the_next_run() {
-    let _one = ONE_AT_A_TIME.lock().await;
+    let _slot = browser_slot().await;
     let Some(b) = Browser::start().await else {
         return;
     };
@@ -689,7 +704,7 @@ async fn a_page_whose_studio_goes_away_reconnects_to_the_next_run() {
 
 #[tokio::test(flavor = "multi_thread")]
 async fn a_watched_run_shows_its_statuses_change() {
-    let _one = ONE_AT_A_TIME.lock().await;
+    let _slot = browser_slot().await;
     let Some(b) = Browser::start().await else {
         return;
     };
@@ -747,7 +762,7 @@ async fn type_into_entry(b: &Browser, key: &str, text: &str) {
 
 #[tokio::test(flavor = "multi_thread")]
 async fn a_blackboard_edit_that_does_not_fit_is_refused_at_its_field_and_a_good_one_applies() {
-    let _one = ONE_AT_A_TIME.lock().await;
+    let _slot = browser_slot().await;
     let Some(b) = Browser::start().await else {
         return;
     };
@@ -832,7 +847,7 @@ async fn scores_shown(b: &Browser) -> Value {
 
 #[tokio::test(flavor = "multi_thread")]
 async fn each_utility_shows_its_last_score_and_a_new_score_after_an_edit_and_a_step() {
-    let _one = ONE_AT_A_TIME.lock().await;
+    let _slot = browser_slot().await;
     let Some(b) = Browser::start().await else {
         return;
     };
@@ -906,7 +921,7 @@ async fn each_utility_shows_its_last_score_and_a_new_score_after_an_edit_and_a_s
 
 #[tokio::test(flavor = "multi_thread")]
 async fn a_breakpoint_stops_the_run_and_each_step_is_one_tick() {
-    let _one = ONE_AT_A_TIME.lock().await;
+    let _slot = browser_slot().await;
     let Some(b) = Browser::start().await else {
         return;
     };
@@ -996,7 +1011,7 @@ async fn a_breakpoint_stops_the_run_and_each_step_is_one_tick() {
 
 #[tokio::test(flavor = "multi_thread")]
 async fn a_btlog_replays_and_its_timeline_scrubs_forward_and_back() {
-    let _one = ONE_AT_A_TIME.lock().await;
+    let _slot = browser_slot().await;
     let Some(b) = Browser::start().await else {
         return;
     };
@@ -1084,7 +1099,7 @@ async fn a_btlog_replays_and_its_timeline_scrubs_forward_and_back() {
 
 #[tokio::test(flavor = "multi_thread")]
 async fn a_100_hz_run_of_the_1111_node_tree_is_followed_to_its_last_tick() {
-    let _one = ONE_AT_A_TIME.lock().await;
+    let _slot = browser_slot().await;
     let Some(b) = Browser::start().await else {
         return;
     };
@@ -1182,7 +1197,7 @@ async fn watch_tree1111_at_100_hz(b: &Browser, studio: &Studio, dir: &Path) -> (
 #[tokio::test(flavor = "multi_thread")]
 #[ignore = "a measurement; prints the figures of BENCHMARKS.md"]
 async fn the_1111_node_tree_opens_quickly_and_a_100_hz_run_is_followed_closely() {
-    let _one = ONE_AT_A_TIME.lock().await;
+    let _all = the_whole_machine().await;
     let Some(b) = Browser::start().await else {
         return;
     };
@@ -1315,7 +1330,7 @@ fn tick_lag(ended: &[(u64, f64)], shown: &[(u64, f64)], from: f64, to: f64) -> (
 
 #[tokio::test(flavor = "multi_thread")]
 async fn every_corpus_file_saved_unedited_by_the_page_loads_back_to_the_same_tree() {
-    let _one = ONE_AT_A_TIME.lock().await;
+    let _slot = browser_slot().await;
     let Some(b) = Browser::start().await else {
         return;
     };

@@ -23,7 +23,7 @@ use serde_json::Value;
 
 // One browser at a time, with the other browser tests: each is a few processes on a small
 // machine.
-use crate::ONE_AT_A_TIME;
+use crate::browser_slot;
 
 /// Counts its ticks in `n` and walks: `walk` is RUNNING for two ticks and SUCCESS on the
 /// third, so at tick t it shows SUCCESS exactly when t is a multiple of 3.
@@ -205,7 +205,7 @@ fn walk_at(tick: u64) -> &'static str {
 
 #[tokio::test(flavor = "multi_thread")]
 async fn back_and_forward_show_each_kept_tick_and_a_step_from_the_past_forks_the_run() {
-    let _one = ONE_AT_A_TIME.lock().await;
+    let _slot = browser_slot().await;
     let Some(b) = Browser::start().await else {
         return;
     };
@@ -307,7 +307,7 @@ async fn back_and_forward_show_each_kept_tick_and_a_step_from_the_past_forks_the
 
 #[tokio::test(flavor = "multi_thread")]
 async fn where_the_tree_cannot_be_saved_back_is_disabled_and_says_why() {
-    let _one = ONE_AT_A_TIME.lock().await;
+    let _slot = browser_slot().await;
     let Some(b) = Browser::start().await else {
         return;
     };

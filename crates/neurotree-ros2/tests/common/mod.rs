@@ -34,6 +34,11 @@ pub fn free_domain() -> Domain {
     panic!("no free DDS domain between 100 and 231");
 }
 
+/// Simulated seconds per wall second for the tests' servers: a simulated step of 100 ms
+/// lasts 8 ms of wall time, about one of the tests' 10 ms ticks, so a run of a minute of
+/// simulated time is over in seconds while every step's result still reaches the tree.
+pub const TIME_SCALE: f64 = 12.0;
+
 /// A node on 127.0.0.1 in `domain`.
 pub fn node(name: &str, domain: u16) -> RosNode {
     RosNode::new(name, &RosOptions::loopback(domain)).unwrap()

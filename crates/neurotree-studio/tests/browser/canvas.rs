@@ -14,7 +14,8 @@ use neurotree_toolkit::observe::{BtlogWriter, JsonlTrace};
 use serde_json::{json, Value};
 
 use super::{
-    css_path, load, registry, serve, workspace, Browser, Run, BIG_TREE, NAV2_TREE, ONE_AT_A_TIME,
+    browser_slot, css_path, load, registry, serve, the_whole_machine, workspace, Browser, Run,
+    BIG_TREE, NAV2_TREE,
 };
 
 /// Nav2's default navigator trees: to a pose, and through poses.
@@ -120,7 +121,7 @@ async fn centre(b: &Browser, css: &str) -> (f64, f64, f64) {
 
 #[tokio::test(flavor = "multi_thread")]
 async fn nav2_default_trees_are_legible_at_1500_by_950_in_the_editor_and_the_watch_view() {
-    let _one = ONE_AT_A_TIME.lock().await;
+    let _slot = browser_slot().await;
     let Some(b) = sized_browser().await else {
         return;
     };
@@ -178,7 +179,7 @@ async fn nav2_default_trees_are_legible_at_1500_by_950_in_the_editor_and_the_wat
 
 #[tokio::test(flavor = "multi_thread")]
 async fn the_orientation_toggles_and_is_remembered_per_file() {
-    let _one = ONE_AT_A_TIME.lock().await;
+    let _slot = browser_slot().await;
     let Some(b) = sized_browser().await else {
         return;
     };
@@ -242,7 +243,7 @@ async fn the_orientation_toggles_and_is_remembered_per_file() {
 
 #[tokio::test(flavor = "multi_thread")]
 async fn zoom_keeps_the_point_under_the_pointer_and_the_selected_node_in_place() {
-    let _one = ONE_AT_A_TIME.lock().await;
+    let _slot = browser_slot().await;
     let Some(b) = sized_browser().await else {
         return;
     };
@@ -330,7 +331,7 @@ async fn zoom_keeps_the_point_under_the_pointer_and_the_selected_node_in_place()
 
 #[tokio::test(flavor = "multi_thread")]
 async fn the_overview_frames_the_view_and_a_click_or_a_drag_in_it_moves_there() {
-    let _one = ONE_AT_A_TIME.lock().await;
+    let _slot = browser_slot().await;
     let Some(b) = sized_browser().await else {
         return;
     };
@@ -440,7 +441,7 @@ async fn the_overview_frames_the_view_and_a_click_or_a_drag_in_it_moves_there() 
 
 #[tokio::test(flavor = "multi_thread")]
 async fn tree1111_opens_folded_with_the_overview_and_search_unfolds_and_centres_each_match() {
-    let _one = ONE_AT_A_TIME.lock().await;
+    let _slot = browser_slot().await;
     let Some(b) = sized_browser().await else {
         return;
     };
@@ -536,7 +537,7 @@ fn planner_directions() -> Value {
 
 #[tokio::test(flavor = "multi_thread")]
 async fn nodes_draw_their_ports_and_the_same_boxes_as_the_svg_command() {
-    let _one = ONE_AT_A_TIME.lock().await;
+    let _slot = browser_slot().await;
     let Some(b) = sized_browser().await else {
         return;
     };
@@ -653,7 +654,7 @@ async fn nodes_draw_their_ports_and_the_same_boxes_as_the_svg_command() {
 
 #[tokio::test(flavor = "multi_thread")]
 async fn a_replay_numbers_ticks_as_the_trace_does() {
-    let _one = ONE_AT_A_TIME.lock().await;
+    let _slot = browser_slot().await;
     let Some(b) = sized_browser().await else {
         return;
     };
@@ -733,7 +734,7 @@ async fn a_replay_numbers_ticks_as_the_trace_does() {
 #[tokio::test(flavor = "multi_thread")]
 #[ignore = "a measurement; prints the figures of BENCHMARKS.md"]
 async fn open_times_of_tree1111_and_the_nav2_trees() {
-    let _one = ONE_AT_A_TIME.lock().await;
+    let _all = the_whole_machine().await;
     let Some(b) = sized_browser().await else {
         return;
     };
