@@ -6,7 +6,7 @@
 //! `fatigue`, and 0.5 for work), keeping the running one until another beats it by 0.1.
 //! Villagers start with different needs, so the village is busy with all three at once.
 //!
-//! `cargo run --release -p neurotree-bevy --example needs -- --agents N --frames F` prints,
+//! `cargo run --release -p neurotree-bevy --example village -- --agents N --frames F` prints,
 //! every tenth of the run, how many villagers eat, sleep and work.
 
 use std::sync::Arc;
