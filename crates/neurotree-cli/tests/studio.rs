@@ -37,8 +37,13 @@ fn start_with(dir: &Path, args: &[&str], stdout: Stdio) -> (Child, String) {
             break url.to_string();
         }
     };
-    // The rest of stderr is drained so the child never blocks on it.
-    std::thread::spawn(move || for _ in lines {});
+    // The rest of stderr is drained so the child never blocks on it, into the test's output
+    // (shown when the test fails).
+    std::thread::spawn(move || {
+        for line in lines.map_while(Result::ok) {
+            eprintln!("child: {line}");
+        }
+    });
     let addr = url
         .strip_prefix("http://")
         .and_then(|u| u.strip_suffix('/'))
@@ -113,8 +118,14 @@ fn run_shows_its_tree_to_the_studio_and_ends() {
             "3",
         ],
     );
-    let session = get(&addr, "/api/session");
-    assert_eq!(session["watch"], true);
+    // The server starts before the run loads its tree: the run is attached soon after.
+    let session = (0..500)
+        .map(|_| {
+            std::thread::sleep(Duration::from_millis(10));
+            get(&addr, "/api/session")
+        })
+        .find(|session| session["watch"] == true)
+        .expect("the run is shown");
     assert_eq!(session["open"], serde_json::json!(["nav.xml"]));
     let status = child.wait().unwrap();
     assert_eq!(status.code(), Some(0));
@@ -153,8 +164,12 @@ fn the_ros2_navigator_shows_its_tree_to_the_studio() {
             "0",
         ],
     );
-    let session = get(&addr, "/api/session");
-    assert_eq!(session["watch"], true);
+    // The server starts before the navigator loads its tree: the run is attached soon after.
+    let watched = (0..500).any(|_| {
+        std::thread::sleep(Duration::from_millis(10));
+        get(&addr, "/api/session")["watch"] == true
+    });
+    assert!(watched);
     child.kill().unwrap();
     let _ = child.wait();
 }
