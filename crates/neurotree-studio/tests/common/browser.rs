@@ -4,12 +4,19 @@
 //! Without a browser (no `chromium` and `chromedriver` on `PATH`, or at the paths in
 //! `NEUROTREE_CHROMIUM` and `NEUROTREE_CHROMEDRIVER`) [`Browser::start`] prints a note and
 //! gives `None`; with `NEUROTREE_REQUIRE_BROWSER=1` (as `.ci/run` sets) it fails instead.
+//!
+//! A browser takes a second to start, as long as many tests take to run: a test that passes
+//! gives its browser back ([`Browser::close`]) on a blank page, with the window as it started
+//! and no storage or cookies left, and the next test takes it. A test that fails ends its
+//! browser; the browsers left when the tests end are ended as the process exits.
 
 #![allow(dead_code)]
 
-use std::net::TcpListener;
+use std::io::{Read, Write};
+use std::net::{TcpListener, TcpStream};
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
+use std::sync::{LazyLock, Mutex, Once};
 use std::time::{Duration, Instant};
 
 use fantoccini::{Client, ClientBuilder, Locator};
@@ -18,13 +25,69 @@ use serde_json::{json, Value};
 
 pub struct Browser {
     pub client: Client,
+    /// `None` once given back or ended.
+    session: Option<Session>,
+}
+
+/// What a browser is beside its client: the chromedriver that started it, its profile
+/// folder, and its window as it started.
+struct Session {
+    client: Client,
     driver: Child,
+    /// chromedriver's port, and the session's id there.
+    port: u16,
+    id: String,
     _profile: tempfile::TempDir,
+    /// x, y, width and height.
+    window: (u64, u64, u64, u64),
+}
+
+impl Session {
+    /// Ends the session, which closes its browser (killing chromedriver alone would leave
+    /// the browser running), then chromedriver. Blocking: this runs in `Drop` and at exit.
+    fn end(mut self) {
+        if let Ok(mut http) = TcpStream::connect(("127.0.0.1", self.port)) {
+            let _ = http.set_read_timeout(Some(Duration::from_secs(5)));
+            let _ = write!(
+                http,
+                "DELETE /session/{} HTTP/1.1\r\nHost: 127.0.0.1:{}\r\nConnection: close\r\n\r\n",
+                self.id, self.port
+            );
+            let _ = http.read_to_end(&mut Vec::new());
+        }
+        let _ = self.driver.kill();
+        let _ = self.driver.wait();
+    }
+}
+
+/// Browsers given back by passing tests, for the next tests.
+static IDLE: Mutex<Vec<Session>> = Mutex::new(Vec::new());
+
+/// Where the browsers' WebDriver connections run: a runtime kept for the whole process,
+/// since each test's own runtime ends with the test, and a browser outlives it.
+static CONNECTIONS: LazyLock<tokio::runtime::Runtime> = LazyLock::new(|| {
+    tokio::runtime::Builder::new_multi_thread()
+        .worker_threads(1)
+        .enable_all()
+        .build()
+        .expect("a runtime for the WebDriver connections")
+});
+
+extern "C" {
+    fn atexit(callback: extern "C" fn()) -> std::ffi::c_int;
+}
+
+/// Ends the idle browsers as the process exits (the test harness exits without dropping
+/// statics).
+extern "C" fn end_idle_browsers() {
+    if let Ok(mut idle) = IDLE.lock() {
+        idle.drain(..).for_each(Session::end);
+    }
 }
 
 impl Browser {
-    /// A headless chromium through a chromedriver of its own, or `None` (with a note) when
-    /// there is none and none is required.
+    /// A headless chromium through a chromedriver of its own (an idle one if there is one),
+    /// or `None` (with a note) when there is none and none is required.
     pub async fn start() -> Option<Browser> {
         let chromium = tool("NEUROTREE_CHROMIUM", "chromium");
         let driver = tool("NEUROTREE_CHROMEDRIVER", "chromedriver");
@@ -40,6 +103,21 @@ impl Browser {
             eprintln!("browser test skipped: {missing}");
             return None;
         }
+        let idle = IDLE.lock().unwrap().pop();
+        let session = match idle {
+            Some(session) => session,
+            None => Self::launch(chromium, driver).await,
+        };
+        Some(Browser {
+            client: session.client.clone(),
+            session: Some(session),
+        })
+    }
+
+    async fn launch(chromium: PathBuf, driver: PathBuf) -> Session {
+        static AT_EXIT: Once = Once::new();
+        // SAFETY: `atexit` is given a function with the C ABI that takes and returns nothing.
+        AT_EXIT.call_once(|| assert_eq!(unsafe { atexit(end_idle_browsers) }, 0));
         let port = free_port();
         let driver = Command::new(&driver)
             .arg(format!("--port={port}"))
@@ -66,27 +144,61 @@ impl Browser {
             _ => unreachable!("the capabilities are an object"),
         };
         let url = format!("http://127.0.0.1:{port}");
-        let deadline = Instant::now() + Duration::from_secs(20);
-        let client = loop {
-            match ClientBuilder::new(HttpConnector::new())
-                .capabilities(caps.clone())
-                .connect(&url)
-                .await
-            {
-                Ok(client) => break client,
-                Err(e) if Instant::now() > deadline => panic!("chromedriver answers: {e}"),
-                Err(_) => tokio::time::sleep(Duration::from_millis(100)).await,
+        let connect = async move {
+            let deadline = Instant::now() + Duration::from_secs(20);
+            loop {
+                match ClientBuilder::new(HttpConnector::new())
+                    .capabilities(caps.clone())
+                    .connect(&url)
+                    .await
+                {
+                    Ok(client) => break client,
+                    Err(e) if Instant::now() > deadline => panic!("chromedriver answers: {e}"),
+                    Err(_) => tokio::time::sleep(Duration::from_millis(100)).await,
+                }
             }
         };
-        Some(Browser {
+        let client = match CONNECTIONS.spawn(connect).await {
+            Ok(client) => client,
+            Err(e) => std::panic::resume_unwind(e.into_panic()),
+        };
+        let window = client.get_window_rect().await.expect("the window's size");
+        let id = client
+            .session_id()
+            .await
+            .expect("a session id")
+            .expect("a session");
+        Session {
             client,
             driver,
+            port,
+            id,
             _profile: profile,
-        })
+            window,
+        }
     }
 
-    pub async fn close(self) {
-        let _ = self.client.clone().close().await;
+    /// Gives the browser back for the next test, as it started; ends it if that fails.
+    pub async fn close(mut self) {
+        let Some(session) = self.session.take() else {
+            return;
+        };
+        let c = &session.client;
+        let (x, y, width, height) = session.window;
+        let reset = async {
+            c.execute("localStorage.clear(); sessionStorage.clear();", vec![])
+                .await?;
+            c.delete_all_cookies().await?;
+            c.goto("about:blank").await?;
+            let size = |n: u64| u32::try_from(n).unwrap_or(u32::MAX);
+            c.set_window_rect(size(x), size(y), size(width), size(height))
+                .await?;
+            Ok::<_, fantoccini::error::CmdError>(())
+        };
+        match reset.await {
+            Ok(()) => IDLE.lock().unwrap().push(session),
+            Err(_) => session.end(),
+        }
     }
 
     pub async fn goto(&self, url: &str) {
@@ -176,10 +288,11 @@ impl Browser {
 
 /// Moves the replay's timeline to step `p` as a dragged slider does; returns each node's
 impl Drop for Browser {
-    // Also when a test fails: chromedriver ends the browser it started when it ends.
+    // A browser not given back (its test failed) is ended: its page may be in any state.
     fn drop(&mut self) {
-        let _ = self.driver.kill();
-        let _ = self.driver.wait();
+        if let Some(session) = self.session.take() {
+            session.end();
+        }
     }
 }
 
