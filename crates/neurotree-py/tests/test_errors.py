@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import _thread
+import signal
 import threading
 from typing import Any
 
@@ -258,11 +259,18 @@ def test_ctrl_c_stops_tick_while_running_and_halts_the_tree() -> None:
         '<root BTCPP_format="4"><BehaviorTree ID="M"><Forever/></BehaviorTree></root>',
         clock=nt.SystemClock(),
     )
+    # Python turns SIGINT into KeyboardInterrupt only if SIGINT was not ignored when it
+    # started (a shell's background job ignores it): the test sets Python's handler itself.
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
     timer = threading.Timer(0.2, _thread.interrupt_main)
     timer.start()
-    with pytest.raises(KeyboardInterrupt):
-        tree.tick_while_running(robot, period=0.005)
-    timer.join()
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            # At most 20 s, should the interrupt be lost: a failure, not a hang.
+            tree.tick_while_running(robot, max_ticks=4000, period=0.005)
+    finally:
+        timer.join()
+        signal.signal(signal.SIGINT, previous)
     assert robot["ticks"] > 0
     assert robot["halts"] == 1
     assert [s for _, s in tree.statuses()] == [nt.Status.IDLE]
