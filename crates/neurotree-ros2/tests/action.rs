@@ -186,8 +186,7 @@ fn fake_server(domain: u16, script: Script, limit: Duration) -> FakeServer {
     }
 }
 
-#[test]
-fn an_accepted_goal_runs_with_feedback_and_succeeds_with_the_result() {
+pub(crate) fn an_accepted_goal_runs_with_feedback_and_succeeds_with_the_result() {
     let domain = free_domain();
     let server = fake_server(
         domain.id,
@@ -212,8 +211,7 @@ fn an_accepted_goal_runs_with_feedback_and_succeeds_with_the_result() {
     assert_eq!(seen.failure, None);
 }
 
-#[test]
-fn a_rejected_goal_fails_with_the_reason() {
+pub(crate) fn a_rejected_goal_fails_with_the_reason() {
     let domain = free_domain();
     let server = fake_server(domain.id, Script::Reject, Duration::from_secs(15));
     let ros = node("tree", domain.id);
@@ -233,8 +231,7 @@ fn a_rejected_goal_fails_with_the_reason() {
     );
 }
 
-#[test]
-fn without_a_server_the_node_fails_after_wait_for_server_timeout() {
+pub(crate) fn without_a_server_the_node_fails_after_wait_for_server_timeout() {
     let domain = free_domain();
     let ros = node("tree", domain.id);
     let seen = Arc::new(Mutex::new(Seen::default()));
@@ -264,8 +261,7 @@ fn without_a_server_the_node_fails_after_wait_for_server_timeout() {
     }
 }
 
-#[test]
-fn halting_a_running_goal_sends_the_server_a_cancel_request() {
+pub(crate) fn halting_a_running_goal_sends_the_server_a_cancel_request() {
     let domain = free_domain();
     let server = fake_server(domain.id, Script::RunForever, Duration::from_secs(15));
     let ros = node("tree", domain.id);
@@ -305,8 +301,7 @@ fn halting_a_running_goal_sends_the_server_a_cancel_request() {
     assert_eq!(server.log.cancels.load(Ordering::SeqCst), 1);
 }
 
-#[test]
-fn registered_for_xml_the_node_has_behaviortree_ros2_ports_and_reports_why_it_failed() {
+pub(crate) fn registered_for_xml_the_node_has_behaviortree_ros2_ports_and_reports_why_it_failed() {
     let domain = free_domain();
     let ros = node("tree", domain.id);
     let mut registry = neurotree_toolkit::Registry::<()>::new();

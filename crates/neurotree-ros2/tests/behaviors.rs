@@ -41,8 +41,7 @@ fn run(domain: u16, xml: &str) -> (Status, u16) {
     (status, code)
 }
 
-#[test]
-fn drive_on_heading_drives_the_served_robot_straight_on() {
+pub(crate) fn drive_on_heading_drives_the_served_robot_straight_on() {
     let domain = free_domain();
     let served = serve(domain.id, GridWorld::parse(CORRIDOR, 1.0).unwrap());
     let (status, code) = run(
@@ -59,8 +58,7 @@ fn drive_on_heading_drives_the_served_robot_straight_on() {
     );
 }
 
-#[test]
-fn drive_on_heading_into_the_wall_fails_with_the_servers_collision_code() {
+pub(crate) fn drive_on_heading_into_the_wall_fails_with_the_servers_collision_code() {
     let domain = free_domain();
     let served = serve(domain.id, GridWorld::parse(CORRIDOR, 1.0).unwrap());
     let (status, code) = run(
@@ -77,8 +75,7 @@ fn drive_on_heading_into_the_wall_fails_with_the_servers_collision_code() {
     assert!(seen.robot.x < 6.0 && seen.robot.x > 5.0, "{seen:?}");
 }
 
-#[test]
-fn a_spin_cancelled_by_someone_else_succeeds_as_nav2s_does() {
+pub(crate) fn a_spin_cancelled_by_someone_else_succeeds_as_nav2s_does() {
     let domain = free_domain();
     let served = serve(domain.id, GridWorld::parse(CORRIDOR, 1.0).unwrap());
     let ros = node("bt_navigator", domain.id);
@@ -119,8 +116,7 @@ fn a_spin_cancelled_by_someone_else_succeeds_as_nav2s_does() {
     assert!(seen.robot.theta < 6.0, "{seen:?}");
 }
 
-#[test]
-fn cancel_spin_asks_the_server_to_cancel_and_the_spin_succeeds() {
+pub(crate) fn cancel_spin_asks_the_server_to_cancel_and_the_spin_succeeds() {
     let domain = free_domain();
     let served = serve(domain.id, GridWorld::parse(CORRIDOR, 1.0).unwrap());
     // The spin runs (a minute of simulated time, seconds of the test's); a second in,

@@ -70,8 +70,7 @@ fn run(xml: &str, served: u32) -> (Status, SimStats) {
     (status, seen)
 }
 
-#[test]
-fn each_region_clearing_forgets_nav2s_square_of_the_costmap_it_names() {
+pub(crate) fn each_region_clearing_forgets_nav2s_square_of_the_costmap_it_names() {
     let (status, seen) = run(
         r#"<Sequence>
              <ClearCostmapAroundRobot service_name="local_costmap/clear_around_local_costmap" reset_distance="3.0"/>
@@ -100,8 +99,7 @@ fn each_region_clearing_forgets_nav2s_square_of_the_costmap_it_names() {
     );
 }
 
-#[test]
-fn a_service_no_costmap_serves_fails_the_node() {
+pub(crate) fn a_service_no_costmap_serves_fails_the_node() {
     let (status, seen) = run(
         r#"<ClearCostmapAroundRobot service_name="elsewhere/clear_around" wait_for_server_timeout="300"/>"#,
         0,

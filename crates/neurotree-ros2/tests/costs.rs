@@ -30,8 +30,7 @@ fn serve(domain: u16) -> Served {
 
 const LIMIT: Duration = Duration::from_secs(10);
 
-#[test]
-fn check_pose_occupancy_succeeds_on_a_wall_and_fails_on_the_floor_and_off_the_map() {
+pub(crate) fn check_pose_occupancy_succeeds_on_a_wall_and_fails_on_the_floor_and_off_the_map() {
     let domain = free_domain();
     let served = serve(domain.id);
     let mut tree = nav2_tree(
@@ -56,8 +55,8 @@ fn check_pose_occupancy_succeeds_on_a_wall_and_fails_on_the_floor_and_off_the_ma
     assert_eq!(tick_until_done(&mut tree, &mut (), LIMIT), Status::Success);
 }
 
-#[test]
-fn remove_in_collision_goals_keeps_the_free_goals_and_fails_without_goals_or_an_answer() {
+pub(crate) fn remove_in_collision_goals_keeps_the_free_goals_and_fails_without_goals_or_an_answer()
+{
     let domain = free_domain();
     let served = serve(domain.id);
     let mut tree = nav2_tree(
@@ -99,8 +98,7 @@ fn remove_in_collision_goals_keeps_the_free_goals_and_fails_without_goals_or_an_
     assert_eq!(served.stats.get().cost_requests, 3);
 }
 
-#[test]
-fn toggle_collision_monitor_switches_the_served_monitor_and_relocalization_is_counted() {
+pub(crate) fn toggle_collision_monitor_switches_the_served_monitor_and_relocalization_is_counted() {
     let domain = free_domain();
     let served = serve(domain.id);
     assert!(served.stats.get().collision_monitor);

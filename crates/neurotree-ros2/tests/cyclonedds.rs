@@ -54,8 +54,7 @@ impl Drop for Peer {
     }
 }
 
-#[test]
-fn a_cyclone_dds_node_and_a_tree_exchange_std_msgs_string_on_chatter() {
+pub(crate) fn a_cyclone_dds_node_and_a_tree_exchange_std_msgs_string_on_chatter() {
     let Some(python) = std::env::var_os("CYCLONEDDS_PYTHON") else {
         println!("skipped: CYCLONEDDS_PYTHON is not set (a Python with the cyclonedds package)");
         return;

@@ -8,8 +8,7 @@ use std::time::{Duration, Instant};
 use common::{free_domain, node};
 use neurotree_ros2::msg::std_msgs;
 
-#[test]
-fn two_loopback_participants_discover_each_other_and_exchange_a_message() {
+pub(crate) fn two_loopback_participants_discover_each_other_and_exchange_a_message() {
     let domain = free_domain();
     let talker = node("talker", domain.id);
     let listener = node("listener", domain.id);

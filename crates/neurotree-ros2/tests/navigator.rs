@@ -159,8 +159,7 @@ fn wait_until(limit: Duration, stats: &SimStatsHandle, done: impl Fn(&SimStats) 
     false
 }
 
-#[test]
-fn the_navigator_drives_the_robot_to_the_goal_through_an_obstacle_with_a_recovery() {
+pub(crate) fn the_navigator_drives_the_robot_to_the_goal_through_an_obstacle_with_a_recovery() {
     let domain = free_domain();
     // On the straight path, appearing after the first plan, before the robot gets there.
     let obstacle = TimedObstacle::new(Cell::new(7, 3), Duration::from_secs(1));
@@ -190,8 +189,7 @@ fn the_navigator_drives_the_robot_to_the_goal_through_an_obstacle_with_a_recover
     assert!(recoveries >= 1, "feedback counted {recoveries} recoveries");
 }
 
-#[test]
-fn cancelling_the_goal_halts_the_tree_and_cancels_follow_path_on_the_server() {
+pub(crate) fn cancelling_the_goal_halts_the_tree_and_cancels_follow_path_on_the_server() {
     let domain = free_domain();
     let (_sim, stats) = sim(domain.id, hall(None));
     let _navigator = navigator(domain.id);
@@ -224,8 +222,7 @@ fn cancelling_the_goal_halts_the_tree_and_cancels_follow_path_on_the_server() {
     assert!(seen.robot.distance(&FAR_END) > 1.0, "{seen:?}");
 }
 
-#[test]
-fn an_application_trees_navigate_to_pose_is_served_by_the_navigator() {
+pub(crate) fn an_application_trees_navigate_to_pose_is_served_by_the_navigator() {
     let domain = free_domain();
     let (_sim, stats) = sim(domain.id, hall(None));
     let _navigator = navigator(domain.id);
@@ -260,8 +257,8 @@ fn an_application_trees_navigate_to_pose_is_served_by_the_navigator() {
     );
 }
 
-#[test]
-fn the_navigator_loads_every_node_type_of_nav2_main_and_refuses_an_unknown_one_by_name() {
+pub(crate) fn the_navigator_loads_every_node_type_of_nav2_main_and_refuses_an_unknown_one_by_name()
+{
     let domain = free_domain();
     let ros = node("bt_navigator", domain.id);
     let tree = |body: &str| {

@@ -30,8 +30,7 @@ fn serve(domain: u16) -> Served {
     )
 }
 
-#[test]
-fn is_stuck_succeeds_after_the_robot_brakes_from_two_metres_a_second_to_standstill() {
+pub(crate) fn is_stuck_succeeds_after_the_robot_brakes_from_two_metres_a_second_to_standstill() {
     let domain = free_domain();
     let served = serve(domain.id);
     let mut tree = nav2_tree(domain.id, "<IsStuck/>");
@@ -57,8 +56,8 @@ fn is_stuck_succeeds_after_the_robot_brakes_from_two_metres_a_second_to_standsti
     assert_eq!(tree.tick_once(&mut ()).unwrap(), Status::Failure);
 }
 
-#[test]
-fn check_stop_status_runs_while_stopped_succeeds_after_the_duration_and_fails_in_motion() {
+pub(crate) fn check_stop_status_runs_while_stopped_succeeds_after_the_duration_and_fails_in_motion()
+{
     let domain = free_domain();
     let served = serve(domain.id);
     // Before any goal the world's clock stands and the odometry is unstamped: the

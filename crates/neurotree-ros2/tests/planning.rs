@@ -63,8 +63,7 @@ const PLAN_AND_SMOOTH: &str = r#"<Sequence>
       <SmoothPath unsmoothed_path="{raw}" smoothed_path="{path}" check_for_collisions="true" error_code_id="{smooth_code}"/>
     </Sequence>"#;
 
-#[test]
-fn a_path_through_the_poses_is_planned_and_smoothed_by_the_servers() {
+pub(crate) fn a_path_through_the_poses_is_planned_and_smoothed_by_the_servers() {
     let via = Pose2D::new(4.5, 3.5, 0.0);
     let end = Pose2D::new(7.5, 2.5, 0.0);
     let (status, tree, seen) = run(PLAN_AND_SMOOTH, |bb| {
@@ -90,8 +89,7 @@ fn a_path_through_the_poses_is_planned_and_smoothed_by_the_servers() {
     );
 }
 
-#[test]
-fn the_servers_error_codes_reach_the_tree() {
+pub(crate) fn the_servers_error_codes_reach_the_tree() {
     // A goal in the pillar: GOAL_OCCUPIED of ComputePathThroughPoses.
     let (status, tree, seen) = run(PLAN_AND_SMOOTH, |bb| {
         bb.set("goals", vec![Pose2D::new(4.5, 2.5, 0.0)]).unwrap();

@@ -65,8 +65,7 @@ const BODY: &str = r#"<Sequence>
     <FollowPath path="{path}" tracking_feedback="{tracking}"/>
   </Sequence>"#;
 
-#[test]
-fn each_release_sends_its_goals_and_its_servers_read_them() {
+pub(crate) fn each_release_sends_its_goals_and_its_servers_read_them() {
     for (release, checks, viapoints) in [
         (Nav2Release::Jazzy, None, None),
         (Nav2Release::Kilted, Some(true), None),
@@ -117,8 +116,7 @@ fn each_release_sends_its_goals_and_its_servers_read_them() {
     }
 }
 
-#[test]
-fn a_jazzy_goal_is_not_read_by_main_servers_which_go_on_serving() {
+pub(crate) fn a_jazzy_goal_is_not_read_by_main_servers_which_go_on_serving() {
     let domain = free_domain();
     let stop = Arc::new(AtomicBool::new(false));
     let stats = serve(domain.id, Nav2Release::Main, Arc::clone(&stop));

@@ -98,8 +98,7 @@ fn navigate(
     thread
 }
 
-#[test]
-fn a_navigator_over_the_robots_own_context_runs_its_leaf_between_nav2s_clients() {
+pub(crate) fn a_navigator_over_the_robots_own_context_runs_its_leaf_between_nav2s_clients() {
     let domain = free_domain();
     let world = GridWorld::parse(CORRIDOR, 1.0).unwrap();
     let served = Served::start(domain.id, Nav2Sim::new(world), common::TIME_SCALE);

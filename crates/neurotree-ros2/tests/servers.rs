@@ -49,8 +49,7 @@ fn code(tree: &Tree<()>) -> u16 {
     tree.blackboard().get::<u16>("code").unwrap_or(u16::MAX)
 }
 
-#[test]
-fn compute_route_writes_the_servers_route_and_fails_with_its_code() {
+pub(crate) fn compute_route_writes_the_servers_route_and_fails_with_its_code() {
     let domain = free_domain();
     let served = Served::start(
         domain.id,
@@ -113,8 +112,7 @@ fn compute_route_writes_the_servers_route_and_fails_with_its_code() {
         .is_empty());
 }
 
-#[test]
-fn compute_and_track_route_follows_the_robot_along_the_route_to_its_end() {
+pub(crate) fn compute_and_track_route_follows_the_robot_along_the_route_to_its_end() {
     let domain = free_domain();
     let served = Served::start(
         domain.id,
@@ -164,8 +162,7 @@ fn compute_and_track_route_follows_the_robot_along_the_route_to_its_end() {
     );
 }
 
-#[test]
-fn the_new_cancel_nodes_cancel_route_tracking_following_and_teleop_which_then_succeed() {
+pub(crate) fn the_new_cancel_nodes_cancel_route_tracking_following_and_teleop_which_then_succeed() {
     let domain = free_domain();
     let mut sim = hall().with_route_graph(graph());
     sim.set_object(Some(Pose2D::new(8.5, 3.5, 0.0)));
@@ -210,8 +207,7 @@ fn the_new_cancel_nodes_cancel_route_tracking_following_and_teleop_which_then_su
     }
 }
 
-#[test]
-fn dock_robot_docks_at_the_servers_dock_and_undock_robot_backs_off_it() {
+pub(crate) fn dock_robot_docks_at_the_servers_dock_and_undock_robot_backs_off_it() {
     let domain = free_domain();
     let dock = Dock::new("home", "charging_dock", Pose2D::new(10.5, 3.5, 0.0));
     let served = Served::start(domain.id, hall().with_dock(dock), common::TIME_SCALE);
@@ -257,8 +253,8 @@ fn dock_robot_docks_at_the_servers_dock_and_undock_robot_backs_off_it() {
     assert_eq!(seen.undock.succeeded, 1, "{seen:?}");
 }
 
-#[test]
-fn navigate_through_poses_takes_the_robot_through_each_pose_and_fails_with_the_servers_code() {
+pub(crate) fn navigate_through_poses_takes_the_robot_through_each_pose_and_fails_with_the_servers_code(
+) {
     let domain = free_domain();
     let served = Served::start(domain.id, hall(), common::TIME_SCALE);
     let mut tree = nav2_tree(
@@ -292,8 +288,7 @@ fn navigate_through_poses_takes_the_robot_through_each_pose_and_fails_with_the_s
     );
 }
 
-#[test]
-fn follow_object_follows_for_max_duration_fails_unseen_and_follows_a_published_pose() {
+pub(crate) fn follow_object_follows_for_max_duration_fails_unseen_and_follows_a_published_pose() {
     let domain = free_domain();
     let mut sim = hall();
     sim.set_object(Some(Pose2D::new(8.5, 3.5, 0.0)));
@@ -341,8 +336,7 @@ fn follow_object_follows_for_max_duration_fails_unseen_and_follows_a_published_p
     assert!((0.7..=1.3).contains(&gap), "{gap}: {seen:?}");
 }
 
-#[test]
-fn assisted_teleop_times_out_as_nav2s_and_fails_only_as_a_recovery() {
+pub(crate) fn assisted_teleop_times_out_as_nav2s_and_fails_only_as_a_recovery() {
     let domain = free_domain();
     let served = Served::start(domain.id, hall(), common::TIME_SCALE);
     for (recovery, expected) in [("false", Status::Success), ("true", Status::Failure)] {
@@ -384,8 +378,7 @@ fn assisted_teleop_times_out_as_nav2s_and_fails_only_as_a_recovery() {
     );
 }
 
-#[test]
-fn a_new_path_or_route_goal_while_the_goal_runs_is_sent_in_its_place_as_nav2s() {
+pub(crate) fn a_new_path_or_route_goal_while_the_goal_runs_is_sent_in_its_place_as_nav2s() {
     let domain = free_domain();
     let served = Served::start(
         domain.id,

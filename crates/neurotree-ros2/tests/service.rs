@@ -93,8 +93,7 @@ fn clear_tree(
     Tree::new(blueprint)
 }
 
-#[test]
-fn a_request_is_answered_and_the_node_succeeds() {
+pub(crate) fn a_request_is_answered_and_the_node_succeeds() {
     let domain = free_domain();
     let server = FakeServer::start(domain.id);
     let ros = node("tree", domain.id);
@@ -108,8 +107,7 @@ fn a_request_is_answered_and_the_node_succeeds() {
     assert_eq!(server.requests.load(Ordering::SeqCst), 1);
 }
 
-#[test]
-fn without_a_server_the_node_fails_and_writes_the_reason_to_error_msg() {
+pub(crate) fn without_a_server_the_node_fails_and_writes_the_reason_to_error_msg() {
     let domain = free_domain();
     let ros = node("tree", domain.id);
     let mut registry = Registry::<()>::new();

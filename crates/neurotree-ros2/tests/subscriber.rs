@@ -10,8 +10,7 @@ use neurotree_ros2::msg::geometry_msgs::{Point, Pose, PoseStamped};
 use neurotree_ros2::{LatestMessage, RosTopicSubNode};
 use neurotree_toolkit::{Blueprint, Port, Status, Tree};
 
-#[test]
-fn the_condition_fails_until_a_message_arrives_then_outputs_the_newest() {
+pub(crate) fn the_condition_fails_until_a_message_arrives_then_outputs_the_newest() {
     let domain = free_domain();
     let robot = node("robot", domain.id);
     let ros = node("tree", domain.id);
