@@ -66,6 +66,18 @@ fn get(addr: &str, target: &str) -> serde_json::Value {
     serde_json::from_str(body).unwrap_or_else(|e| panic!("{e}: {text}"))
 }
 
+/// The session once a run is attached to it: the server starts before the command loads its
+/// tree, so the run is attached soon after the `studio:` line.
+fn watched_session(addr: &str) -> serde_json::Value {
+    (0..500)
+        .map(|_| {
+            std::thread::sleep(Duration::from_millis(10));
+            get(addr, "/api/session")
+        })
+        .find(|session| session["watch"] == true)
+        .expect("a run is attached to the studio")
+}
+
 #[test]
 fn studio_serves_the_files_of_its_folder() {
     let dir = tempfile::tempdir().unwrap();
@@ -118,14 +130,7 @@ fn run_shows_its_tree_to_the_studio_and_ends() {
             "3",
         ],
     );
-    // The server starts before the run loads its tree: the run is attached soon after.
-    let session = (0..500)
-        .map(|_| {
-            std::thread::sleep(Duration::from_millis(10));
-            get(&addr, "/api/session")
-        })
-        .find(|session| session["watch"] == true)
-        .expect("the run is shown");
+    let session = watched_session(&addr);
     assert_eq!(session["open"], serde_json::json!(["nav.xml"]));
     let status = child.wait().unwrap();
     assert_eq!(status.code(), Some(0));
@@ -138,12 +143,7 @@ fn demo_shows_its_run_to_the_studio() {
         dir.path(),
         &["demo", "--fast", "--studio", "0", "--studio-linger", "3"],
     );
-    // The server starts before the demo loads its tree: the run is attached soon after.
-    let watched = (0..200).any(|_| {
-        std::thread::sleep(Duration::from_millis(10));
-        get(&addr, "/api/session")["watch"] == true
-    });
-    assert!(watched);
+    watched_session(&addr);
     assert_eq!(child.wait().unwrap().code(), Some(0));
 }
 
@@ -164,12 +164,7 @@ fn the_ros2_navigator_shows_its_tree_to_the_studio() {
             "0",
         ],
     );
-    // The server starts before the navigator loads its tree: the run is attached soon after.
-    let watched = (0..500).any(|_| {
-        std::thread::sleep(Duration::from_millis(10));
-        get(&addr, "/api/session")["watch"] == true
-    });
-    assert!(watched);
+    watched_session(&addr);
     child.kill().unwrap();
     let _ = child.wait();
 }
