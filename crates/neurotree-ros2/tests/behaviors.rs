@@ -20,7 +20,8 @@ const CORRIDOR: &str = "
     #R....#
     #######";
 
-/// The simulator serving `world` in `domain`, four times as fast as real time, until dropped.
+/// The simulator serving `world` in `domain`, [`common::TIME_SCALE`] times as fast as real
+/// time, until dropped.
 fn serve(domain: u16, world: GridWorld) -> Served {
     Served::start(domain, Nav2Sim::new(world), common::TIME_SCALE)
 }
