@@ -71,10 +71,15 @@ echo "load average after: $(cut -d' ' -f1-3 /proc/loadavg)"
 python3 - "$RESULTS" <<'PY'
 import json, sys
 r = {}
+tick_times = []
 for line in open(sys.argv[1]):
     line = line.strip()
     if line.startswith("{"):
         d = json.loads(line)
+        if "p50_ns" in d:
+            # Percentiles are kept pass by pass: a pass's tail is the moment it met.
+            tick_times.append(d)
+            continue
         # The fastest of the passes.
         key = "us_per_load" if "us_per_load" in d else "ns_per_node"
         if d["name"] not in r or d[key] < r[d["name"]][key]:
@@ -95,4 +100,9 @@ print(f"{'load to instance (and drop)':34} {'us/load':>10} {'':>9} {'vs BT.CPP':
 print(f"{'BehaviorTree.CPP 4.10 (native -O3)':34} {bt_load:>10.2f} {'':>9} {'1.0x':>10}")
 nt_load = r["neurotree/load"]["us_per_load"]
 print(f"{'NeuroTree':34} {nt_load:>10.2f} {'':>9} {bt_load / nt_load:>9.1f}x")
+print()
+print(f"{'tick times, each pass (ns)':34} {'p50':>8} {'p99':>8} {'p99.9':>8} {'max':>9}")
+labels = {"btcpp_native/tick_times": "BehaviorTree.CPP 4.10", "neurotree/tick_times/xml": "NeuroTree, from XML"}
+for d in tick_times:
+    print(f"{labels.get(d['name'], d['name']):34} {d['p50_ns']:>8} {d['p99_ns']:>8} {d['p999_ns']:>8} {d['max_ns']:>9}")
 PY

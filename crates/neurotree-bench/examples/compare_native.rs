@@ -4,6 +4,8 @@
 //! - tick: `tick_once` on the tree built with the builder (closure conditions) and on the
 //!   one loaded from `tree1111.xml` (registered conditions); every tick visits all 1,111
 //!   nodes and the root succeeds (checked on every tick);
+//! - tick times: 100,000 ticks of the tree loaded from XML, each timed alone: p50, p99,
+//!   p99.9 and the slowest;
 //! - load: from the XML text to a tickable instance with one registry, and its drop.
 //!
 //! Each is the fastest of ROUNDS rounds (default 300) of about 2 ms each (the number of
@@ -16,9 +18,13 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use neurotree::{ManualClock, Status, Tree, XmlLoader};
+use neurotree_bench::latency::TickTimes;
 use neurotree_bench::{
     tree1111, tree1111_registry, tree1111_xml, TREE1111_NODES_PER_TICK, TREE1111_XML,
 };
+
+/// Ticks timed one by one for the tick-time percentiles, after the timed rounds.
+const TIMED_TICKS: usize = 100_000;
 
 /// The fastest time per call of `f`, in seconds, over `rounds` rounds of about 2 ms, and
 /// the calls per round.
@@ -76,5 +82,17 @@ fn main() {
             "{{\"name\":\"neurotree/tick/{name}\",\"per_round\":{n},\"ns_per_tick\":{ns:.1},\"ns_per_node\":{:.3}}}",
             ns / TREE1111_NODES_PER_TICK as f64
         );
+        if name == "xml" {
+            let mut times = TickTimes::with_capacity(TIMED_TICKS);
+            for _ in 0..TIMED_TICKS {
+                let status = times.time(|| tree.tick_once(black_box(&mut ())));
+                assert_eq!(status, Ok(Status::Success), "the root of tree1111 succeeds");
+            }
+            let p = times.percentiles();
+            println!(
+                "{{\"name\":\"neurotree/tick_times/xml\",\"ticks\":{},\"p50_ns\":{},\"p99_ns\":{},\"p999_ns\":{},\"max_ns\":{}}}",
+                p.ticks, p.p50, p.p99, p.p999, p.max
+            );
+        }
     }
 }

@@ -5,6 +5,8 @@
 
 #![forbid(unsafe_code)]
 
+pub mod latency;
+
 use std::sync::Arc;
 
 use neurotree::{Blueprint, Builder, ParallelPolicy, Status};

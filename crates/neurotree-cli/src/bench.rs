@@ -14,6 +14,11 @@
 //!   alerted each frame (a blackboard write through the crowd): the members awake per
 //!   frame and milliseconds per frame, which follow the agents awake rather than the crowd.
 //!
+//! - `tick_times`: each tick timed alone, at least 100,000 of them, for tree1111 loaded from
+//!   XML and for Nav2's navigator driving the demo's simulated robot (one navigation after
+//!   another, seeds 0, 1, 2, ...): the median, p99, p99.9 and the slowest tick. A robot's
+//!   loop misses its period on its worst tick, which a mean hides.
+//!
 //! These are wall-clock figures from [`Instant`], good for a first look on a new machine;
 //! the criterion benchmarks (`cargo bench -p neurotree-bench --bench tick`) are the careful ones.
 
@@ -23,6 +28,7 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use neurotree::{Blueprint, Clock, ManualClock, Status, Tree};
+use neurotree_bench::latency::{TickPercentiles, TickTimes};
 use neurotree_bench::{
     agent_crowd, agent_tree, crowd_bytes_per_member, sleepy_agent_crowd, tree1111, tree1111_xml,
     Agent, TREE1111_NODES_PER_TICK,
@@ -255,6 +261,63 @@ pub fn crowd_sleeping_bench(opts: &BenchArgs) -> CrowdSleepingResult {
     }
 }
 
+/// Ticks timed one by one in the tick-time benchmarks, at least.
+pub const TIMED_TICKS: usize = 100_000;
+
+/// Result of a tick-time benchmark.
+#[derive(Clone, Debug)]
+pub struct TickTimesResult {
+    /// `tree1111_xml` or `nav2_navigator`.
+    pub tree: &'static str,
+    /// The percentiles of the ticks timed.
+    pub percentiles: TickPercentiles,
+}
+
+/// Times `ticks` ticks of tree1111 loaded from XML one by one, after as many untimed ones.
+pub fn tree1111_tick_times(ticks: usize) -> TickTimesResult {
+    let mut tree = Tree::with_clock(tree1111_xml::<()>(), ManualClock::new());
+    for _ in 0..ticks {
+        black_box(tree.tick_once(&mut ()).ok());
+    }
+    let mut times = TickTimes::with_capacity(ticks);
+    for _ in 0..ticks {
+        let status = times.time(|| tree.tick_once(black_box(&mut ())));
+        debug_assert_eq!(status, Ok(Status::Success));
+    }
+    TickTimesResult {
+        tree: "tree1111_xml",
+        percentiles: times.percentiles(),
+    }
+}
+
+/// Times at least `ticks` ticks of Nav2's navigator (as the demo loads it) driving
+/// the simulated robot, one navigation after another from seed 0 (a first navigation
+/// untimed); only the tree's ticks are timed, not the world's steps between them.
+pub fn nav2_tick_times(ticks: usize) -> Result<TickTimesResult, neurotree_cli::demo::DemoError> {
+    use neurotree_cli::demo::{DemoConfig, DemoRun};
+    let mut times = TickTimes::with_capacity(ticks + 4096);
+    let mut seed = 0;
+    let mut timed = false;
+    while times.len() < ticks {
+        let mut run = DemoRun::new(&DemoConfig {
+            seed,
+            ..DemoConfig::default()
+        })?;
+        while !run.is_over() {
+            let (_, took) = run.tick_timed();
+            if timed {
+                times.record(took);
+            }
+        }
+        timed = true;
+        seed += 1;
+    }
+    Ok(TickTimesResult {
+        tree: "nav2_navigator",
+        percentiles: times.percentiles(),
+    })
+}
+
 /// Runs the benchmarks and writes a table, or one JSON object per line with `--json`; a
 /// benchmark that ran has nothing to fail on.
 pub fn execute(opts: &BenchArgs, out: &mut impl Write) -> io::Result<Outcome> {
@@ -315,7 +378,30 @@ pub fn execute(opts: &BenchArgs, out: &mut impl Write) -> io::Result<Outcome> {
         row(out, "", "ms per frame", format!("{:.3}", s.ms_per_frame))?;
     }
     out.flush()?;
+    let nav2 = nav2_tick_times(TIMED_TICKS).map_err(|e| io::Error::other(e.to_string()))?;
+    for t in [tree1111_tick_times(TIMED_TICKS), nav2] {
+        if json {
+            writeln!(out, "{}", tick_times_json(&t))?;
+        } else {
+            let p = t.percentiles;
+            row(out, "tick_times", "tree", t.tree.to_string())?;
+            row(out, "", "ticks", p.ticks.to_string())?;
+            row(out, "", "p50 ns", p.p50.to_string())?;
+            row(out, "", "p99 ns", p.p99.to_string())?;
+            row(out, "", "p99.9 ns", p.p999.to_string())?;
+            row(out, "", "max ns", p.max.to_string())?;
+        }
+        out.flush()?;
+    }
     Ok(Outcome::Done)
+}
+
+fn tick_times_json(t: &TickTimesResult) -> String {
+    let p = t.percentiles;
+    format!(
+        r#"{{"name":"tick_times","tree":"{}","ticks":{},"p50_ns":{},"p99_ns":{},"p999_ns":{},"max_ns":{}}}"#,
+        t.tree, p.ticks, p.p50, p.p99, p.p999, p.max
+    )
 }
 
 fn row(out: &mut impl Write, bench: &str, measure: &str, value: String) -> io::Result<()> {
@@ -398,5 +484,29 @@ mod tests {
             crowd_sleeping_json(&s),
             r#"{"name":"crowd_sleeping","agents":100000,"awake_per_frame":1000.0,"ms_per_frame":0.2500}"#
         );
+        let t = TickTimesResult {
+            tree: "tree1111_xml",
+            percentiles: TickPercentiles {
+                ticks: 100_000,
+                p50: 900,
+                p99: 1100,
+                p999: 2500,
+                max: 40_000,
+            },
+        };
+        assert_eq!(
+            tick_times_json(&t),
+            r#"{"name":"tick_times","tree":"tree1111_xml","ticks":100000,"p50_ns":900,"p99_ns":1100,"p999_ns":2500,"max_ns":40000}"#
+        );
+    }
+
+    #[test]
+    fn the_navigator_is_timed_tick_by_tick_over_whole_navigations() {
+        // Two navigations at least: the first is not timed.
+        let t = nav2_tick_times(50).expect("the demo's navigator loads");
+        let p = t.percentiles;
+        assert!(p.ticks >= 50, "{} ticks timed", p.ticks);
+        assert!(p.p50 <= p.p99 && p.p99 <= p.p999 && p.p999 <= p.max);
+        assert!(p.p50 > 0, "a tick of the navigator takes some time");
     }
 }

@@ -11,6 +11,9 @@
 //   by the built-in `AlwaysSuccess`/`AlwaysFailure` (`tick_builtin`, as `btcpp_tree1111.py`
 //   runs it through behaviortreepy).
 //
+// - tick times: 100,000 ticks of the tree with `Succ`/`Fail`, each timed alone: p50, p99,
+//   p99.9 and the slowest.
+//
 // Each is the fastest of ROUNDS rounds (default 300) of about 2 ms each (the number of
 // ticks or loads per round is doubled from 1 until a round takes 2 ms): on a machine shared
 // with other work, a round that nothing interrupted is what the code costs.
@@ -18,18 +21,22 @@
 // Usage: btcpp_tree1111 TREE1111_XML [ROUNDS]
 // Prints one JSON line per measure.
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "behaviortree_cpp/bt_factory.h"
 
 namespace {
 
 constexpr double kNodesPerTick = 1111.0;
+constexpr long kTimedTicks = 100000;
 
 double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -100,7 +107,36 @@ int main(int argc, char** argv) {
         "{\"name\":\"%s\",\"per_round\":%ld,\"ns_per_tick\":%.1f,\"ns_per_node\":%.3f}\n",
         name, n, per_tick * 1e9, per_tick * 1e9 / kNodesPerTick);
   };
+  // Each tick timed alone, as NeuroTree's `compare_native` times its own: the percentiles a
+  // control loop's period has to cover.
+  const auto tick_times = [&](const std::string& text, const char* name) {
+    auto tree = factory.createTreeFromText(text);
+    std::vector<long long> nanos;
+    nanos.reserve(kTimedTicks);
+    for (long i = 0; i < kTimedTicks; ++i) {
+      const auto start = std::chrono::steady_clock::now();
+      const auto status = tree.tickOnce();
+      const auto took = std::chrono::steady_clock::now() - start;
+      if (status != BT::NodeStatus::SUCCESS) {
+        std::fprintf(stderr, "tree1111: the root did not succeed\n");
+        std::exit(1);
+      }
+      nanos.push_back(std::chrono::duration_cast<std::chrono::nanoseconds>(took).count());
+    }
+    std::sort(nanos.begin(), nanos.end());
+    // Nearest rank, as NeuroTree's `TickTimes::percentiles`.
+    const auto rank = [&](double q) {
+      auto index = static_cast<size_t>(std::ceil(q * static_cast<double>(nanos.size())));
+      index = std::max<size_t>(index, 1);
+      return nanos[std::min(index, nanos.size()) - 1];
+    };
+    std::printf(
+        "{\"name\":\"%s\",\"ticks\":%zu,\"p50_ns\":%lld,\"p99_ns\":%lld,\"p999_ns\":%lld,"
+        "\"max_ns\":%lld}\n",
+        name, nanos.size(), rank(0.50), rank(0.99), rank(0.999), nanos.back());
+  };
   time_ticks(xml, "btcpp_native/tick");
+  tick_times(xml, "btcpp_native/tick_times");
   std::string builtin = xml;
   for (const auto& [from, to] : {std::pair<std::string, std::string>{"<Succ/>", "<AlwaysSuccess/>"},
                                  {"<Fail/>", "<AlwaysFailure/>"}}) {

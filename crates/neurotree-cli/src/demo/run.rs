@@ -11,7 +11,7 @@
 use std::fmt;
 use std::path::PathBuf;
 use std::sync::Arc;
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 use neurotree::{BlackboardError, Status, Tree};
 
@@ -358,8 +358,15 @@ impl DemoRun {
     /// Ticks the tree once (after stepping the world by one period, from the second tick
     /// on); returns its status. Does nothing once the run [is over](Self::is_over).
     pub fn tick(&mut self) -> Status {
+        self.tick_timed().0
+    }
+
+    /// [`tick`](Self::tick), and how long the tree's own tick took (its leaves' calls into
+    /// the simulated servers included; the world's step and the robot's state written
+    /// before it not): what `neurotree bench` reports as the navigator's tick times.
+    pub fn tick_timed(&mut self) -> (Status, Duration) {
         if self.is_over() {
-            return self.status;
+            return (self.status, Duration::ZERO);
         }
         if self.ticks > 0 {
             let before = self.present_obstacles();
@@ -372,7 +379,10 @@ impl DemoRun {
         if let Err(error) = self.sim.write_robot_state(self.tree.blackboard_mut()) {
             self.log.push(format!("the robot's state: {error}"));
         }
-        self.status = match self.tree.tick_once(&mut self.sim) {
+        let started = Instant::now();
+        let ticked = self.tree.tick_once(&mut self.sim);
+        let took = started.elapsed();
+        self.status = match ticked {
             Ok(status) => status,
             Err(error) => {
                 self.log.push(format!("the tick failed: {error}"));
@@ -382,7 +392,7 @@ impl DemoRun {
         };
         self.notes = self.log.take();
         self.plans_in_tick = self.sim.plans() - plans;
-        self.status
+        (self.status, took)
     }
 
     /// Adds `observer` beside the demo's own: it sees every tick from now on.
