@@ -51,6 +51,10 @@ pub struct BenchArgs {
     /// Threads of the crowd benchmark (0: `RAYON_NUM_THREADS`, or every core).
     #[arg(long, default_value_t = 0)]
     pub threads: usize,
+    /// Per cent of the sleeping crowd alerted before each frame (they wake, and stay awake a
+    /// few frames).
+    #[arg(long, default_value_t = 1.0)]
+    pub alert_percent: f64,
 }
 
 /// Result of the tree1111 benchmark.
@@ -96,6 +100,13 @@ pub struct CrowdResult {
     pub ms_per_frame: f64,
     /// Bytes per member: its slot in the crowd and its tree's node state.
     pub bytes_per_member: usize,
+}
+
+impl CrowdResult {
+    /// Mean nanoseconds a frame spends per member.
+    pub fn ns_per_member(&self) -> f64 {
+        self.ms_per_frame * 1e6 / self.agents.max(1) as f64
+    }
 }
 
 /// Ticks tree1111 (`blueprint`, reported as `name`) for about a second (a fifth with
@@ -221,10 +232,20 @@ pub struct CrowdSleepingResult {
     pub awake_per_frame: f64,
     /// Mean milliseconds per frame, the alerts' writes included.
     pub ms_per_frame: f64,
+    /// Bytes per member: its slot in the crowd and its tree's node state.
+    pub bytes_per_member: usize,
 }
 
-/// Runs `opts.agents` sleepy agents as a crowd, alerting 1% of them (at least one) before
-/// each frame, in turn: 20 frames (5 with `quick`) after ten warm-up frames in which all
+impl CrowdSleepingResult {
+    /// Mean nanoseconds a frame spends per member awake in it: what an agent that acts
+    /// costs in a crowd that mostly sleeps, beside [`CrowdResult::ns_per_member`].
+    pub fn ns_per_awake(&self) -> f64 {
+        self.ms_per_frame * 1e6 / self.awake_per_frame.max(1.0)
+    }
+}
+
+/// Runs `opts.agents` sleepy agents as a crowd, alerting `opts.alert_percent` of them (at
+/// least one) before each frame, in turn: 20 frames (5 with `quick`) after ten warm-up frames in which all
 /// fall asleep, the clock advancing 16 ms per frame.
 pub fn crowd_sleeping_bench(opts: &BenchArgs) -> CrowdSleepingResult {
     const FRAME: Duration = Duration::from_millis(16);
@@ -232,7 +253,9 @@ pub fn crowd_sleeping_bench(opts: &BenchArgs) -> CrowdSleepingResult {
     let clock = ManualClock::new();
     let mut crowd = sleepy_agent_crowd(opts.agents, opts.threads, clock.clone());
     let ids: Vec<_> = crowd.iter().map(|m| m.id()).collect();
-    let per_frame = (ids.len() / 100).max(1).min(ids.len());
+    let per_frame = ((ids.len() as f64 * opts.alert_percent / 100.0) as usize)
+        .max(1)
+        .min(ids.len());
     let mut next = 0;
     let mut frame = |crowd: &mut neurotree::crowd::Crowd<Agent>| {
         for _ in 0..per_frame {
@@ -258,6 +281,7 @@ pub fn crowd_sleeping_bench(opts: &BenchArgs) -> CrowdSleepingResult {
         agents: opts.agents,
         awake_per_frame: ticked as f64 / f64::from(frames),
         ms_per_frame: elapsed.as_secs_f64() * 1e3 / f64::from(frames),
+        bytes_per_member: crowd_bytes_per_member(&crowd),
     }
 }
 
@@ -362,6 +386,12 @@ pub fn execute(opts: &BenchArgs, out: &mut impl Write) -> io::Result<Outcome> {
         row(out, "", "frames", c.frames.to_string())?;
         row(out, "", "ms per frame", format!("{:.3}", c.ms_per_frame))?;
         row(out, "", "bytes per member", c.bytes_per_member.to_string())?;
+        row(
+            out,
+            "",
+            "ns per member",
+            format!("{:.1}", c.ns_per_member()),
+        )?;
     }
     out.flush()?;
     let s = crowd_sleeping_bench(opts);
@@ -376,6 +406,13 @@ pub fn execute(opts: &BenchArgs, out: &mut impl Write) -> io::Result<Outcome> {
             format!("{:.1}", s.awake_per_frame),
         )?;
         row(out, "", "ms per frame", format!("{:.3}", s.ms_per_frame))?;
+        row(
+            out,
+            "",
+            "ns per awake member",
+            format!("{:.1}", s.ns_per_awake()),
+        )?;
+        row(out, "", "bytes per member", s.bytes_per_member.to_string())?;
     }
     out.flush()?;
     let nav2 = nav2_tick_times(TIMED_TICKS).map_err(|e| io::Error::other(e.to_string()))?;
@@ -424,15 +461,24 @@ fn many_agents_json(m: &ManyAgentsResult) -> String {
 
 fn crowd_sleeping_json(s: &CrowdSleepingResult) -> String {
     format!(
-        r#"{{"name":"crowd_sleeping","agents":{},"awake_per_frame":{:.1},"ms_per_frame":{:.4}}}"#,
-        s.agents, s.awake_per_frame, s.ms_per_frame
+        r#"{{"name":"crowd_sleeping","agents":{},"awake_per_frame":{:.1},"ms_per_frame":{:.4},"ns_per_awake":{:.1},"bytes_per_member":{}}}"#,
+        s.agents,
+        s.awake_per_frame,
+        s.ms_per_frame,
+        s.ns_per_awake(),
+        s.bytes_per_member
     )
 }
 
 fn crowd_json(c: &CrowdResult) -> String {
     format!(
-        r#"{{"name":"crowd","agents":{},"threads":{},"ms_per_frame":{:.4},"frames":{},"bytes_per_member":{}}}"#,
-        c.agents, c.threads, c.ms_per_frame, c.frames, c.bytes_per_member
+        r#"{{"name":"crowd","agents":{},"threads":{},"ms_per_frame":{:.4},"frames":{},"bytes_per_member":{},"ns_per_member":{:.1}}}"#,
+        c.agents,
+        c.threads,
+        c.ms_per_frame,
+        c.frames,
+        c.bytes_per_member,
+        c.ns_per_member()
     )
 }
 
@@ -473,16 +519,17 @@ mod tests {
         };
         assert_eq!(
             crowd_json(&c),
-            r#"{"name":"crowd","agents":100000,"threads":2,"ms_per_frame":4.5000,"frames":20,"bytes_per_member":600}"#
+            r#"{"name":"crowd","agents":100000,"threads":2,"ms_per_frame":4.5000,"frames":20,"bytes_per_member":600,"ns_per_member":45.0}"#
         );
         let s = CrowdSleepingResult {
             agents: 100_000,
             awake_per_frame: 1000.0,
             ms_per_frame: 0.25,
+            bytes_per_member: 640,
         };
         assert_eq!(
             crowd_sleeping_json(&s),
-            r#"{"name":"crowd_sleeping","agents":100000,"awake_per_frame":1000.0,"ms_per_frame":0.2500}"#
+            r#"{"name":"crowd_sleeping","agents":100000,"awake_per_frame":1000.0,"ms_per_frame":0.2500,"ns_per_awake":250.0,"bytes_per_member":640}"#
         );
         let t = TickTimesResult {
             tree: "tree1111_xml",
