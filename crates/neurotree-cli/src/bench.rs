@@ -16,8 +16,9 @@
 //!
 //! - `tick_times`: each tick timed alone, at least 100,000 of them, for tree1111 loaded from
 //!   XML and for Nav2's navigator driving the demo's simulated robot (one navigation after
-//!   another, seeds 0, 1, 2, ...): the median, p99, p99.9 and the slowest tick. A robot's
-//!   loop misses its period on its worst tick, which a mean hides.
+//!   another, seeds 0, 1, 2, ...): the median, p99, p99.9 and the slowest tick, and the same
+//!   for the navigator's ticks in which a path was planned. A robot's loop misses its period
+//!   on its worst tick, which a mean hides.
 //!
 //! These are wall-clock figures from [`Instant`], good for a first look on a new machine;
 //! the criterion benchmarks (`cargo bench -p neurotree-bench --bench tick`) are the careful ones.
@@ -291,7 +292,7 @@ pub const TIMED_TICKS: usize = 100_000;
 /// Result of a tick-time benchmark.
 #[derive(Clone, Debug)]
 pub struct TickTimesResult {
-    /// `tree1111_xml` or `nav2_navigator`.
+    /// `tree1111_xml`, `nav2_navigator` or `nav2_navigator_planning`.
     pub tree: &'static str,
     /// The percentiles of the ticks timed.
     pub percentiles: TickPercentiles,
@@ -316,30 +317,45 @@ pub fn tree1111_tick_times(ticks: usize) -> TickTimesResult {
 
 /// Times at least `ticks` ticks of Nav2's navigator (as the demo loads it) driving
 /// the simulated robot, one navigation after another from seed 0 (a first navigation
-/// untimed); only the tree's ticks are timed, not the world's steps between them.
-pub fn nav2_tick_times(ticks: usize) -> Result<TickTimesResult, neurotree_cli::demo::DemoError> {
+/// untimed); only the tree's ticks are timed, not the world's steps between them. Two
+/// results: every tick (`nav2_navigator`), and the ticks in which the planner server computed
+/// a path (`nav2_navigator_planning`), the ticks that make the tail.
+pub fn nav2_tick_times(
+    ticks: usize,
+) -> Result<[TickTimesResult; 2], neurotree_cli::demo::DemoError> {
     use neurotree_cli::demo::{DemoConfig, DemoRun};
-    let mut times = TickTimes::with_capacity(ticks + 4096);
+    let mut all = TickTimes::with_capacity(ticks + 4096);
+    let mut planning = TickTimes::with_capacity(ticks / 8);
     let mut seed = 0;
     let mut timed = false;
-    while times.len() < ticks {
+    while all.len() < ticks {
         let mut run = DemoRun::new(&DemoConfig {
             seed,
             ..DemoConfig::default()
         })?;
         while !run.is_over() {
+            let plans = run.sim().plans();
             let (_, took) = run.tick_timed();
             if timed {
-                times.record(took);
+                all.record(took);
+                if run.sim().plans() > plans {
+                    planning.record(took);
+                }
             }
         }
         timed = true;
         seed += 1;
     }
-    Ok(TickTimesResult {
-        tree: "nav2_navigator",
-        percentiles: times.percentiles(),
-    })
+    Ok([
+        TickTimesResult {
+            tree: "nav2_navigator",
+            percentiles: all.percentiles(),
+        },
+        TickTimesResult {
+            tree: "nav2_navigator_planning",
+            percentiles: planning.percentiles(),
+        },
+    ])
 }
 
 /// Runs the benchmarks and writes a table, or one JSON object per line with `--json`; a
@@ -415,8 +431,9 @@ pub fn execute(opts: &BenchArgs, out: &mut impl Write) -> io::Result<Outcome> {
         row(out, "", "bytes per member", s.bytes_per_member.to_string())?;
     }
     out.flush()?;
-    let nav2 = nav2_tick_times(TIMED_TICKS).map_err(|e| io::Error::other(e.to_string()))?;
-    for t in [tree1111_tick_times(TIMED_TICKS), nav2] {
+    let [nav2, planning] =
+        nav2_tick_times(TIMED_TICKS).map_err(|e| io::Error::other(e.to_string()))?;
+    for t in [tree1111_tick_times(TIMED_TICKS), nav2, planning] {
         if json {
             writeln!(out, "{}", tick_times_json(&t))?;
         } else {
@@ -550,10 +567,18 @@ mod tests {
     #[test]
     fn the_navigator_is_timed_tick_by_tick_over_whole_navigations() {
         // Two navigations at least: the first is not timed.
-        let t = nav2_tick_times(50).expect("the demo's navigator loads");
-        let p = t.percentiles;
+        let [all, planning] = nav2_tick_times(50).expect("the demo's navigator loads");
+        let (p, q) = (all.percentiles, planning.percentiles);
         assert!(p.ticks >= 50, "{} ticks timed", p.ticks);
         assert!(p.p50 <= p.p99 && p.p99 <= p.p999 && p.p999 <= p.max);
         assert!(p.p50 > 0, "a tick of the navigator takes some time");
+        // A navigation plans at least once, in ticks that are among those timed.
+        assert!(
+            q.ticks >= 1 && q.ticks < p.ticks,
+            "{} of {}",
+            q.ticks,
+            p.ticks
+        );
+        assert!(q.max <= p.max);
     }
 }
