@@ -4,11 +4,9 @@
 
 use std::io::{self, IsTerminal, Write};
 use std::path::PathBuf;
-use std::sync::mpsc;
 
 use indicatif::{ProgressBar, ProgressStyle};
 use neurotree_cli::campaign::{self, Campaign, Results, VariantRow};
-use rayon::prelude::*;
 
 use crate::Outcome;
 
@@ -174,53 +172,19 @@ fn run(
         Err(e) => return Ok(Err(e)),
     };
     let selected = campaign::selection(campaign.variants(), args.limit, args.shard);
-    let done = match results.done() {
-        Ok(d) => d,
-        Err(e) => return Ok(Err(e)),
-    };
-    let already = selected.iter().filter(|v| done.contains(v)).count();
-    if already > 0 && !args.resume {
-        return Ok(Err(format!(
-            "{} already holds {already} of these variants: `--resume` runs the missing ones, \
-             or give another --db",
-            args.db.display()
-        )));
-    }
-    let todo: Vec<u64> = selected.into_iter().filter(|v| !done.contains(v)).collect();
-    let pool = match rayon::ThreadPoolBuilder::new()
-        .num_threads(args.threads)
-        .build()
-    {
-        Ok(pool) => pool,
-        Err(e) => return Ok(Err(format!("--threads {}: {e}", args.threads))),
+    let (todo, already) = match campaign.todo(&results, selected, args.resume) {
+        Ok(t) => t,
+        Err(e) => return Ok(Err(format!("{}: {e}", args.db.display()))),
     };
     let progress = Progress::new(&campaign.name, todo.len() as u64);
-    let (send, receive) = mpsc::channel::<VariantRow>();
-    let mut failed: Option<String> = None;
     let (mut ran, mut succeeded) = (0u64, 0u64);
-    std::thread::scope(|scope| {
-        let campaign = &campaign;
-        let todo = &todo;
-        scope.spawn(move || {
-            pool.install(|| {
-                todo.par_iter().for_each_with(send, |send, &v| {
-                    // The receiver is gone only after a database error: stop quietly.
-                    let _ = send.send(campaign.run_variant(v));
-                });
-            });
-        });
-        for row in receive {
-            if let Err(e) = results.insert(&row) {
-                failed = Some(e);
-                break;
-            }
-            ran += 1;
-            succeeded += u64::from(row.outcome == "SUCCESS");
-            progress.tick(ran, succeeded, err);
-        }
+    let done = campaign.run_into(&results, &todo, args.threads, &mut |row| {
+        ran += 1;
+        succeeded += u64::from(row.outcome == "SUCCESS");
+        progress.tick(ran, succeeded, err);
     });
     progress.finish();
-    if let Some(e) = failed {
+    if let Err(e) = done {
         return Ok(Err(format!("{}: {e}", args.db.display())));
     }
     let rate = if ran > 0 {

@@ -334,6 +334,68 @@ fn run(
     Ok((summary, chain, covered))
 }
 
+impl Campaign {
+    /// The variants of `selected` that `results` does not hold yet; an error if it holds
+    /// some and `resume` is false (a run never records a variant twice).
+    pub fn todo(
+        &self,
+        results: &Results,
+        selected: Vec<u64>,
+        resume: bool,
+    ) -> Result<(Vec<u64>, usize), String> {
+        results.claim(self)?;
+        let done = results.done()?;
+        let already = selected.iter().filter(|v| done.contains(v)).count();
+        if already > 0 && !resume {
+            return Err(format!(
+                "the results already hold {already} of these variants: `--resume` runs the \
+                 missing ones, or give another results file"
+            ));
+        }
+        Ok((
+            selected.into_iter().filter(|v| !done.contains(v)).collect(),
+            already,
+        ))
+    }
+
+    /// Runs `variants` on `threads` threads (0: `RAYON_NUM_THREADS`, or every core),
+    /// writing each row into `results` as it finishes, in the order they finish, and
+    /// showing it to `on_row`. Stops at the first row the file refuses.
+    pub fn run_into(
+        &self,
+        results: &Results,
+        variants: &[u64],
+        threads: usize,
+        on_row: &mut dyn FnMut(&VariantRow),
+    ) -> Result<(), String> {
+        use rayon::prelude::*;
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .map_err(|e| format!("{threads} threads: {e}"))?;
+        let (send, receive) = std::sync::mpsc::channel::<VariantRow>();
+        let mut failed = None;
+        std::thread::scope(|scope| {
+            scope.spawn(move || {
+                pool.install(|| {
+                    variants.par_iter().for_each_with(send, |send, &v| {
+                        // The receiver is gone only after a refused row: stop quietly.
+                        let _ = send.send(self.run_variant(v));
+                    });
+                });
+            });
+            for row in receive {
+                if let Err(e) = results.insert(&row) {
+                    failed = Some(e);
+                    break;
+                }
+                on_row(&row);
+            }
+        });
+        failed.map_or(Ok(()), Err)
+    }
+}
+
 /// The variants of `1..=total` after `limit`, of shard `index` of `shards` (from 1): every
 /// `shards`th from the `index`th.
 pub fn selection(total: u64, limit: Option<u64>, shard: Option<(u64, u64)>) -> Vec<u64> {

@@ -102,8 +102,9 @@ struct State<C> {
 
 /// What [`Builder::wrap_hooks`] is given: called with each node and the hooks it has, it
 /// returns the hooks it gets.
-pub type HookWrapper<C> =
-    Box<dyn FnMut(NodeId, Option<Box<dyn NodeHooks<C>>>) -> Option<Box<dyn NodeHooks<C>>> + Send>;
+pub type HookWrapper<C> = Box<
+    dyn FnMut(NodeId, Option<Box<dyn NodeHooks<C>>>) -> Option<Box<dyn NodeHooks<C>>> + Send + Sync,
+>;
 
 impl<C> Default for Builder<C> {
     fn default() -> Self {
