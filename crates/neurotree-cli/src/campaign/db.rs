@@ -2,8 +2,8 @@
 //! finishes), table `campaign` (the campaign's text and where it was, to replay a variant
 //! and to resume).
 //!
-//! Each row is its own transaction: a run stopped by Ctrl-C, a kill or a crash keeps every
-//! row written; `variant` is the primary key, so no variant is recorded twice.
+//! Each row is its own transaction, in SQLite's write-ahead log: a run stopped by Ctrl-C, a
+//! kill or a crash keeps every row written; `variant` is the primary key, so no variant is recorded twice.
 
 use std::collections::BTreeSet;
 use std::path::Path;
@@ -43,6 +43,10 @@ impl Results {
         let conn = Connection::open(path).map_err(|e| sql(path, e))?;
         // Another process may be writing the file (a shard): wait for it rather than fail.
         conn.busy_timeout(std::time::Duration::from_secs(30))
+            .map_err(|e| sql(path, e))?;
+        // Write-ahead logging: a committed row survives the process being killed, and a
+        // commit costs no sync of the whole file (only a power cut may lose the last rows).
+        conn.execute_batch("PRAGMA journal_mode = WAL; PRAGMA synchronous = NORMAL;")
             .map_err(|e| sql(path, e))?;
         conn.execute_batch(SCHEMA).map_err(|e| {
             format!(
