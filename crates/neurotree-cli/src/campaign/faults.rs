@@ -1,7 +1,7 @@
 //! A variant's faults, as a campaign writes them: `none`, or faults joined by ` + `:
 //!
-//! - `PATH=STATUS@K` (`#CODE`): node PATH (a path, or a name or type: every node of it)
-//!   returns STATUS on its Kth call, writing CODE to its `error_code_id`
+//! - `PATH=STATUS@K` (`#CODE`): node PATH (a path; else every node of that type, else of
+//!   that name) returns STATUS on its Kth call, writing CODE to its `error_code_id`
 //!   ([`neurotree::fault`]): `ComputePathToPose=FAILURE@3#106`; `ClearEntireCostmap=RUNNING@1`
 //!   is a service that does not answer.
 //! - `FollowPath*F`: the controller takes F times as long (it drives F times slower).
@@ -25,7 +25,8 @@ pub struct Faults {
 }
 
 impl Faults {
-    /// Reads `text` (see the [module](self)).
+    /// Reads `text`: `none`, or faults joined by ` + `, each `PATH=STATUS@K` (`#CODE`),
+    /// `FollowPath*F` or `battery=P%@Ss`.
     pub fn parse(text: &str) -> Result<Faults, String> {
         let mut faults = Faults::default();
         if text.trim() == "none" {

@@ -91,7 +91,8 @@ class Campaign:
 
         if not ray.is_initialized():
             ray.init(address=ray_address, ignore_reinit_error=True)
-        count = shards or max(1, 2 * int(ray.cluster_resources().get("CPU", 1)))
+        cpus = ray.cluster_resources().get("CPU", 1)  # type: ignore[no-untyped-call]
+        count = shards or max(1, 2 * int(cpus))
         parts = [todo[i::count] for i in range(count) if todo[i::count]]
         task = ray.remote(_run_shard)
         text, file = str(self._native.text), os.fspath(self._native.file)
