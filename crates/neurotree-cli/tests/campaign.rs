@@ -385,3 +385,90 @@ fn a_bad_campaign_file_is_refused_with_its_place() {
     assert_eq!(out.status.code(), Some(1));
     assert!(text(&out.stderr).contains("small.toml:3:1: error: unknown factor `wind`"));
 }
+
+mod random_trees {
+    //! Over random trees of Nav2's simulated leaves and random faults: a campaign's rows
+    //! are the same whatever the order and the threads they are run in.
+
+    use super::*;
+    use proptest::prelude::*;
+
+    const LEAVES: [&str; 6] = [
+        r#"<ComputePathToPose goal="{goal}" path="{path}" error_code_id="{cp_code}"/>"#,
+        r#"<FollowPath path="{path}" error_code_id="{fp_code}"/>"#,
+        r#"<Spin spin_dist="1.57"/>"#,
+        r#"<Wait wait_duration="0.5"/>"#,
+        r#"<BackUp backup_dist="0.3" backup_speed="0.1"/>"#,
+        r#"<ClearEntireCostmap service_name="local_costmap/clear_entirely_local_costmap"/>"#,
+    ];
+
+    /// A tree of Sequences, Fallbacks and RecoveryNodes over the leaves.
+    fn tree() -> impl Strategy<Value = String> {
+        let leaf = (0..LEAVES.len()).prop_map(|i| LEAVES[i].to_string());
+        leaf.prop_recursive(3, 12, 3, |inner| {
+            (0..3usize, prop::collection::vec(inner, 2..=3)).prop_map(|(kind, children)| {
+                let body = children.concat();
+                match kind {
+                    0 => format!("<Sequence>{body}</Sequence>"),
+                    1 => format!("<Fallback>{body}</Fallback>"),
+                    _ => format!(
+                        r#"<RecoveryNode number_of_retries="2">{}{}</RecoveryNode>"#,
+                        children[0], children[1]
+                    ),
+                }
+            })
+        })
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(12))]
+        #[test]
+        fn rows_do_not_depend_on_order_or_threads(
+            body in tree(),
+            seed in 0u64..1000,
+            fault_calls in prop::collection::vec(1u32..4, 2),
+        ) {
+            let dir = tempfile::tempdir().unwrap();
+            std::fs::write(
+                dir.path().join("tree.xml"),
+                format!(r#"<root BTCPP_format="4"><BehaviorTree ID="T">{body}</BehaviorTree></root>"#),
+            )
+            .unwrap();
+            let faults = [
+                "\"none\"".to_string(),
+                format!("\"Wait=FAILURE@{}\"", fault_calls[0]),
+                format!("\"ComputePathToPose=FAILURE@{}#208\"", fault_calls[1]),
+                "\"FollowPath*2\"".to_string(),
+            ];
+            let text = format!(
+                "tree = \"tree.xml\"\nseed = {seed}\nsample = 6\nmax_ticks = 300\n\
+                 [factors]\nseed = {{ from = 0, to = 9 }}\nheading = {{ uniform = [-180, 180] }}\n\
+                 faults = [{}]\n",
+                faults.join(", ")
+            );
+            let file = dir.path().join("random.toml");
+            std::fs::write(&file, &text).unwrap();
+            let campaign = Campaign::load(&file).unwrap();
+            let forward: Vec<u64> = (1..=6).collect();
+            let backward: Vec<u64> = forward.iter().rev().copied().collect();
+            let one = Results::open(&dir.path().join("one.db")).unwrap();
+            one.claim(&campaign).unwrap();
+            campaign.run_into(&one, &forward, 1, &mut |_| {}).unwrap();
+            let two = Results::open(&dir.path().join("two.db")).unwrap();
+            two.claim(&campaign).unwrap();
+            campaign.run_into(&two, &backward, 2, &mut |_| {}).unwrap();
+            let rows = one.rows().unwrap();
+            prop_assert_eq!(rows.len(), 6);
+            // The only error: a fault of a type the random tree does not have.
+            prop_assert!(
+                rows.iter()
+                    .all(|r| !r.outcome.starts_with("error") || r.outcome.contains("names no node")),
+                "{:?}",
+                rows
+            );
+            prop_assert_eq!(&rows, &two.rows().unwrap());
+            // And one variant alone, outside any pool, gives its row.
+            prop_assert_eq!(&campaign.run_variant(4), &rows[3]);
+        }
+    }
+}
