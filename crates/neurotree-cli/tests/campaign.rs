@@ -472,3 +472,58 @@ mod random_trees {
         }
     }
 }
+
+#[test]
+fn a_variant_that_panics_is_a_row_and_every_other_row_is_kept() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = write_campaign(
+        dir.path(),
+        r#"
+name = "panics"
+grid = true
+max_ticks = 600
+[factors]
+goal = ["20.5,6.5", "15.5,2.5"]
+faults = ["none", "FollowPath=PANIC@1", "ComputePathToPose=FAILURE@1"]
+"#,
+    );
+    let file = file.to_str().unwrap();
+    let db = dir.path().join("panics.db");
+    let db = db.to_str().unwrap();
+    let out = run_ok(&["campaign", "run", file, "--db", db, "--threads", "2"]);
+    let all = rows(Path::new(db));
+    assert_eq!(
+        all.iter().map(|r| r.variant).collect::<Vec<_>>(),
+        (1..=6).collect::<Vec<_>>(),
+        "{}",
+        text(&out.stderr)
+    );
+    let faults_of = |row: &VariantRow| row.factors["faults"].as_str().unwrap().to_string();
+    for row in &all {
+        match faults_of(row).as_str() {
+            "FollowPath=PANIC@1" => assert!(
+                row.outcome.starts_with("error: ")
+                    && row.outcome.contains("injected fault: ")
+                    && row.outcome.contains("FollowPath panics on its call 1"),
+                "{}",
+                row.outcome
+            ),
+            "none" => assert_eq!(row.outcome, "SUCCESS"),
+            _ => assert_eq!(row.outcome, "FAILURE"),
+        }
+    }
+    assert_eq!(
+        all.iter()
+            .filter(|r| faults_of(r) == "FollowPath=PANIC@1")
+            .count(),
+        2
+    );
+    // Resuming finds nothing missing and adds nothing.
+    let resumed = run_ok(&["campaign", "run", file, "--db", db, "--resume"]);
+    assert!(
+        text(&resumed.stdout).contains("0 run (6 recorded before)"),
+        "{}",
+        text(&resumed.stdout)
+    );
+    assert_eq!(rows(Path::new(db)), all);
+}

@@ -7,7 +7,10 @@
 //! status, after writing the fault's error code to its `error_code_id` output and its
 //! message to `error_msg` when it has them (Nav2's nodes do). A fault of status RUNNING is
 //! a call that is never answered: the node stays Running, without being ticked, until it
-//! is halted.
+//! is halted. A fault of status PANIC makes the node panic on that call, as a leaf with a
+//! bug does: the tick catches it and returns `TickError::Panicked` naming the node (a
+//! campaign records it as the variant's outcome and goes on); a panic is not recorded in
+//! the [`FaultLog`].
 //!
 //! Faults ride on the node's hooks ([`NodeHooks`]), wrapping the pre- and post-conditions
 //! the file gave it, so the rest of the tree is built and ticked as without them:
@@ -57,8 +60,11 @@ pub struct NodeFault {
     pub node: String,
     /// The call it lands on, from 1.
     pub call: u32,
-    /// What the node returns: SUCCESS, FAILURE, or RUNNING (never answers).
+    /// What the node returns: SUCCESS, FAILURE, or RUNNING (never answers). Unused when
+    /// the node panics instead.
     pub status: Status,
+    /// The node panics on the call instead of returning (`PATH=PANIC@K`).
+    pub panics: bool,
     /// Written to the node's `error_code_id` output, if it has one.
     pub error_code: Option<u16>,
 }
@@ -70,7 +76,16 @@ impl NodeFault {
             node: node.into(),
             call,
             status,
+            panics: false,
             error_code: None,
+        }
+    }
+
+    /// The node at `node` panics on call `call`.
+    pub fn panic(node: impl Into<String>, call: u32) -> Self {
+        Self {
+            panics: true,
+            ..Self::new(node, call, Status::Failure)
         }
     }
 
@@ -81,7 +96,8 @@ impl NodeFault {
     }
 }
 
-/// `PATH=STATUS@K`, or `PATH=STATUS@K#CODE` with an error code.
+/// `PATH=STATUS@K`, or `PATH=STATUS@K#CODE` with an error code; STATUS is SUCCESS,
+/// FAILURE, RUNNING or PANIC.
 impl FromStr for NodeFault {
     type Err = String;
 
@@ -98,7 +114,12 @@ impl FromStr for NodeFault {
             Some((call, code)) => (call, Some(code)),
             None => (rest, None),
         };
-        let status = parse_status(status.trim()).ok_or_else(usage)?;
+        let panics = status.trim().eq_ignore_ascii_case("PANIC");
+        let status = if panics {
+            Status::Failure
+        } else {
+            parse_status(status.trim()).ok_or_else(usage)?
+        };
         let call = call
             .trim()
             .parse::<u32>()
@@ -116,6 +137,7 @@ impl FromStr for NodeFault {
             node: node.trim().to_string(),
             call,
             status,
+            panics,
             error_code,
         })
     }
@@ -127,7 +149,11 @@ impl fmt::Display for NodeFault {
             f,
             "{}={}@{}",
             self.node,
-            status_name(self.status),
+            if self.panics {
+                "PANIC"
+            } else {
+                status_name(self.status)
+            },
             self.call
         )?;
         if let Some(code) = self.error_code {
@@ -325,6 +351,9 @@ impl<C> NodeHooks<C> for FaultHooks<C> {
         let Some(fault) = self.faults.iter().find(|f| f.call == call) else {
             return self.inner.as_ref().and_then(|i| i.before(h, stored));
         };
+        if fault.panics {
+            panic!("injected fault: {} panics on its call {call}", self.path);
+        }
         if let Some(code) = fault.error_code {
             // A node without these outputs gets only the status.
             let _ = h.output::<u16>("error_code_id", code);

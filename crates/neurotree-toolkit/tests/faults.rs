@@ -5,7 +5,7 @@ use std::sync::{Arc, Mutex};
 
 use neurotree::fault::{build_with_faults, FaultLog, NodeFault};
 use neurotree::nodes::leaf::Handle;
-use neurotree::{ManualClock, Registry, StatefulAction, Status, Tree, XmlLoader};
+use neurotree::{ManualClock, Registry, StatefulAction, Status, TickError, Tree, XmlLoader};
 use proptest::prelude::*;
 
 /// Takes `ticks` ticks per call (Running, then Success); logs each start.
@@ -126,6 +126,37 @@ fn a_call_that_is_never_answered_runs_until_halted() {
 }
 
 #[test]
+fn a_panic_fault_panics_on_its_call_and_the_tree_names_the_node() {
+    // Three calls: a panic on the 4th never comes.
+    let (root, _, starts, hits) = run(3, 2, &[NodeFault::panic("work", 4)]);
+    assert_eq!((root, starts, hits.len()), (Status::Success, 3, 0));
+    // On the 2nd it does; the tick catches it and names the node.
+    let registry = Registry::<()>::new();
+    let xml = r#"<root BTCPP_format="4"><BehaviorTree ID="Main">
+        <Repeat num_cycles="3"><AlwaysSuccess name="work"/></Repeat>
+    </BehaviorTree></root>"#;
+    let log = FaultLog::default();
+    let blueprint = build_with_faults(&[NodeFault::panic("work", 2)], &log, |wrap| {
+        let mut loader = XmlLoader::new(&registry);
+        if let Some(wrap) = wrap {
+            loader = loader.wrap_hooks(wrap);
+        }
+        loader.load_str(xml, "work.xml")?;
+        loader.build_main()
+    })
+    .unwrap();
+    let mut tree = Tree::with_clock(Arc::new(blueprint), ManualClock::new());
+    match tree.tick_once(&mut ()) {
+        Err(TickError::Panicked { path, message, .. }) => {
+            assert_eq!(path, "Repeat/work");
+            assert_eq!(message, "injected fault: Repeat/work panics on its call 2");
+        }
+        other => panic!("expected the 2nd call to panic, got {other:?}"),
+    }
+    assert!(log.hits().is_empty());
+}
+
+#[test]
 fn a_fault_that_names_no_node_is_refused() {
     let log = FaultLog::default();
     let registry = Registry::<()>::new();
@@ -153,6 +184,9 @@ fn faults_read_and_write_back() {
         NodeFault::new("a/b", 3, Status::Failure).with_error_code(106)
     );
     assert_eq!(fault.to_string(), "a/b=FAILURE@3#106");
+    let panic: NodeFault = "a/b=panic@2".parse().unwrap();
+    assert_eq!(panic, NodeFault::panic("a/b", 2));
+    assert_eq!(panic.to_string(), "a/b=PANIC@2");
     for bad in [
         "a",
         "a=FAILURE",

@@ -3,7 +3,7 @@
 //! - `PATH=STATUS@K` (`#CODE`): node PATH (a path; else every node of that type, else of
 //!   that name) returns STATUS on its Kth call, writing CODE to its `error_code_id`
 //!   ([`neurotree::fault`]): `ComputePathToPose=FAILURE@3#106`; `ClearEntireCostmap=RUNNING@1`
-//!   is a service that does not answer.
+//!   is a service that does not answer; `Spin=PANIC@2` panics on the 2nd call.
 //! - `FollowPath*F`: the controller takes F times as long (it drives F times slower).
 //! - `battery=P%@Ss`: the battery falls to P percent at S simulated seconds.
 
