@@ -527,3 +527,21 @@ faults = ["none", "FollowPath=PANIC@1", "ComputePathToPose=FAILURE@1"]
     );
     assert_eq!(rows(Path::new(db)), all);
 }
+
+#[test]
+fn a_panic_outside_the_tree_is_the_rows_outcome_too() {
+    // A panic the tick does not catch (here in what watches the run) still ends as the
+    // variant's row, not the caller's panic.
+    let dir = tempfile::tempdir().unwrap();
+    let campaign = Campaign::load(&write_campaign(dir.path(), SMALL)).unwrap();
+    let mut ticks = 0;
+    let row = campaign.run_variant_watched(4, &mut |_| {
+        ticks += 1;
+        if ticks == 3 {
+            panic!("the watcher broke at tick {ticks}");
+        }
+    });
+    assert_eq!(row.variant, 4);
+    assert_eq!(row.outcome, "error: panicked: the watcher broke at tick 3");
+    assert_eq!(row.factors, campaign.run_variant(4).factors);
+}
