@@ -3,6 +3,8 @@
 //! - `neurotree demo`: Nav2's navigator drives a simulated robot; world and tree drawn live.
 //! - `neurotree bench`: quick measurements of tick cost, of many agents per frame, and of a
 //!   crowd of them on every core.
+//! - `neurotree campaign`: a tree through many worlds and faults on every core, each result
+//!   a row of a SQLite file; reports, replays, merges shards.
 //! - `neurotree check`: validate BehaviorTree.CPP XML files against the node models.
 //! - `neurotree lint`: `check`, then static analysis: data flow, reachability, liveness.
 //! - `neurotree run`: dry-run a BehaviorTree.CPP file with mock leaves, as JSON lines.
@@ -21,6 +23,7 @@
 #![forbid(unsafe_code)]
 
 mod bench;
+mod campaign_command;
 mod check;
 mod demo_command;
 mod files;
@@ -58,6 +61,10 @@ enum Command {
     Demo(demo_command::DemoArgs),
     /// Measure tick cost (tree1111), a frame of many agents, and a crowd on every core, in-process.
     Bench(bench::BenchArgs),
+    /// Run a tree through the worlds and faults of a campaign file on every core, each
+    /// result a row of a SQLite file; report on it, replay a variant, merge shards.
+    #[command(subcommand)]
+    Campaign(campaign_command::CampaignCommand),
     /// Validate BehaviorTree.CPP XML files: structure, node names, ports, literals.
     Check(check::CheckArgs),
     /// Check BehaviorTree.CPP XML files, then find what they do wrong without running them:
@@ -118,6 +125,9 @@ fn main() -> ExitCode {
         #[cfg(feature = "ros2")]
         Command::Ros2(command) => ros2::execute(command, &mut out),
         Command::Bench(args) => bench::execute(&args, &mut out),
+        Command::Campaign(command) => {
+            campaign_command::execute(command, &mut out, &mut io::stderr())
+        }
         Command::Run(args) => run::execute(&args, &mut out, &mut io::stderr()),
         Command::Test(args) => test::execute(&args, &mut out, &mut io::stderr()),
         Command::Show(args) => show::execute(&args, &mut out, &mut io::stderr()),

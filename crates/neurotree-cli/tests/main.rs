@@ -4,6 +4,7 @@
 #[path = "../../neurotree-toolkit/tests/support/corpus.rs"]
 mod corpus_dir;
 
+mod campaign;
 mod cli;
 mod cli_bounds;
 mod cli_coverage;

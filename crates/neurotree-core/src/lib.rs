@@ -69,8 +69,9 @@ pub(crate) mod testing;
 pub use blackboard::{Blackboard, BlackboardError, EntryInfo, ScopeId};
 pub use blueprint::{
     Arity, Blueprint, BuildError, BuildErrorKind, Builder, Category, CustomSpec, FromPortStr,
-    NodeId, NodeKind, Number, ParallelPolicy, Param, Port, PortBinding, PortBindingError,
-    PortDirections, PortError, PortType, PortValue, Shared, SubTreeScope, DEFAULT_MAX_DEPTH,
+    HookWrapper, NodeId, NodeKind, Number, ParallelPolicy, Param, Port, PortBinding,
+    PortBindingError, PortDirections, PortError, PortType, PortValue, Shared, SubTreeScope,
+    DEFAULT_MAX_DEPTH,
 };
 #[cfg(feature = "std")]
 pub use clock::SystemClock;

@@ -7,6 +7,7 @@
 //! tick errors into Python exceptions. The package's guide is `docs/guide/python.md`.
 
 mod builder;
+mod campaign;
 mod clock;
 mod errors;
 mod leaf;
@@ -41,6 +42,8 @@ fn _bind(
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(_bind, m)?)?;
     m.add_function(wrap_pyfunction!(scenario::_run_scenarios, m)?)?;
+    m.add_function(wrap_pyfunction!(campaign::_merge_campaign_results, m)?)?;
+    m.add_class::<campaign::PyCampaign>()?;
     m.add_class::<registry::PyRegistry>()?;
     m.add_class::<builder::PyBuilder>()?;
     m.add_class::<tree::PyTree>()?;

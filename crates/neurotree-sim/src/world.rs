@@ -238,6 +238,17 @@ impl GridWorld {
         &self.battery
     }
 
+    /// Sets the battery's charge to `level` percent (clamped to 0..=100), its rates kept: a
+    /// battery that fails at a given moment.
+    pub fn set_battery_level(&mut self, level: f64) {
+        let mut battery = Battery::at(level);
+        battery.drain_per_metre = self.battery.drain_per_metre;
+        battery.drain_per_radian = self.battery.drain_per_radian;
+        battery.charge_per_second = self.battery.charge_per_second;
+        self.battery = battery;
+        self.refresh();
+    }
+
     /// The charger's cell, if the world has one.
     pub fn charger(&self) -> Option<Cell> {
         self.charger

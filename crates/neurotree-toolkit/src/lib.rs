@@ -16,6 +16,7 @@
 pub use neurotree_core::*;
 
 pub mod blackboard_json;
+pub mod fault;
 mod json_port;
 pub mod lint;
 mod load;

@@ -23,6 +23,7 @@ mod corpus;
 mod declared_ports;
 mod differential;
 mod failure_reasons;
+mod faults;
 mod fuzz;
 mod halt_handle_xml;
 mod lint_corpus;

@@ -18,6 +18,7 @@ use neurotree::{BlackboardError, Status, Tree};
 use super::frame::{Layout, Parts};
 use super::scenario::{dock, route_graph, Scenario, DEFAULT_GOAL, PLACING_LOCATION};
 use super::world::{plan_ahead, DemoWorld};
+use neurotree::fault::{build_with_faults, FaultBuildError, FaultHit, FaultLog, NodeFault};
 use neurotree::render::LastTickStatuses;
 use neurotree::robotics::Pose2D;
 use neurotree::sim::nav2::{
@@ -62,6 +63,10 @@ pub struct DemoConfig {
     /// The battery's charge at the start, in percent: under 100, a robot on the charger is
     /// charging (Nav2's docking example then undocks first).
     pub battery: f64,
+    /// Nodes that misbehave on a given call ([`neurotree::fault`]).
+    pub faults: Vec<NodeFault>,
+    /// The battery falls to this level (percent) at this simulated time, if it is higher.
+    pub battery_drop: Option<(Duration, f64)>,
 }
 
 impl Default for DemoConfig {
@@ -79,6 +84,8 @@ impl Default for DemoConfig {
             duration: None,
             start_heading: 0.0,
             battery: 100.0,
+            faults: Vec::new(),
+            battery_drop: None,
         }
     }
 }
@@ -102,6 +109,9 @@ pub enum DemoError {
     /// The tree's root blackboard would not take the goal.
     #[error("cannot give the tree its goal: {0}")]
     Goal(#[from] BlackboardError),
+    /// A fault names no node of the tree, or several.
+    #[error("{0}")]
+    Fault(String),
 }
 
 /// A load error that names a Nav2 type known only by its model, told as what it is for the
@@ -257,6 +267,9 @@ pub struct DemoRun {
     plans_in_tick: u32,
     /// What the loader warned of (an old Nav2 name, say), `file:line:col: warning: …`.
     warnings: Vec<String>,
+    /// Where the configured faults landed.
+    faults: FaultLog,
+    battery_drop: Option<(Duration, f64)>,
 }
 
 impl DemoRun {
@@ -274,20 +287,34 @@ impl DemoRun {
         for (old, new) in nav2::RENAMED {
             registry.add_renamed(old, new, "renamed in Nav2 after Kilted");
         }
-        let mut loader = XmlLoader::new(&registry)
-            .unknown_type_advice("the demo runs Nav2's node types, simulated");
-        let tree_file = match &config.tree {
-            Some(path) => {
-                loader.load_file(path)?;
-                path.display().to_string()
+        let faults = FaultLog::default();
+        let mut warnings = Vec::new();
+        let mut tree_file = String::new();
+        let blueprint = build_with_faults(&config.faults, &faults, |wrap| {
+            let mut loader = XmlLoader::new(&registry)
+                .unknown_type_advice("the demo runs Nav2's node types, simulated");
+            if let Some(wrap) = wrap {
+                loader = loader.wrap_hooks(wrap);
             }
-            None => {
-                loader.load_str(NAVIGATE_TO_POSE_XML, NAVIGATE_TO_POSE_FILE)?;
-                NAVIGATE_TO_POSE_FILE.to_string()
-            }
-        };
-        let blueprint = Arc::new(loader.build_main().map_err(not_simulated)?);
-        let warnings = loader.warnings().iter().map(ToString::to_string).collect();
+            tree_file = match &config.tree {
+                Some(path) => {
+                    loader.load_file(path)?;
+                    path.display().to_string()
+                }
+                None => {
+                    loader.load_str(NAVIGATE_TO_POSE_XML, NAVIGATE_TO_POSE_FILE)?;
+                    NAVIGATE_TO_POSE_FILE.to_string()
+                }
+            };
+            let built = loader.build_main().map_err(not_simulated)?;
+            warnings = loader.warnings().iter().map(ToString::to_string).collect();
+            Ok::<_, LoadError>(built)
+        })
+        .map_err(|e| match e {
+            FaultBuildError::Load(e) => DemoError::Load(e),
+            FaultBuildError::Fault(e) => DemoError::Fault(e),
+        })?;
+        let blueprint = Arc::new(blueprint);
         let mut scenario = Scenario::new(config.seed, config.goal, &config.params)?;
         let unreachable = scenario.obstacle.is_none();
         if !config.obstacle {
@@ -336,6 +363,8 @@ impl DemoRun {
             notes: Vec::new(),
             plans_in_tick: 0,
             warnings,
+            faults,
+            battery_drop: config.battery_drop,
         })
     }
 
@@ -373,6 +402,16 @@ impl DemoRun {
             self.sim.step();
             self.note_obstacles(&before);
         }
+        if let Some((at, level)) = self.battery_drop {
+            let world = &mut self.sim.world;
+            if world.now() >= at {
+                self.battery_drop = None;
+                if world.battery().level() > level {
+                    self.log.push(format!("the battery falls to {level:.0} %"));
+                    world.set_battery_level(level);
+                }
+            }
+        }
         self.ticks += 1;
         let plans = self.sim.plans();
         // Nav2's controls read the robot's pose and speed (TF and odometry in Nav2).
@@ -403,6 +442,11 @@ impl DemoRun {
         self.tree.set_observer(all);
     }
 
+    /// The tree's blueprint.
+    pub fn blueprint(&self) -> &Arc<neurotree::Blueprint<Nav2Sim>> {
+        self.tree.blueprint()
+    }
+
     /// The navigator's tree, for what watches it from outside (the studio).
     pub fn tree_mut(&mut self) -> &mut Tree<Nav2Sim> {
         &mut self.tree
@@ -422,6 +466,11 @@ impl DemoRun {
             scenario: &self.scenario,
         };
         (&mut self.tree, world)
+    }
+
+    /// Where the configured faults landed so far, in order.
+    pub fn fault_hits(&self) -> Vec<FaultHit> {
+        self.faults.hits()
     }
 
     /// The file the tree was loaded from (the built-in navigator's name if none was given).

@@ -12,7 +12,7 @@ mod error;
 mod kind;
 mod port;
 
-pub use builder::Builder;
+pub use builder::{Builder, HookWrapper};
 pub use call::ConditionClosure;
 pub use declared::{PortBinding, PortBindingError};
 pub use error::{BuildError, BuildErrorKind};

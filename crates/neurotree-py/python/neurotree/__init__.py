@@ -28,6 +28,7 @@ from typing import Any, Callable, Dict, Generator, Iterator, List, Mapping, Opti
 
 from . import _native, studio
 from ._native import Blackboard, Coverage, Failure, ManualClock, Node, SystemClock, Tree
+from .campaigns import Campaign
 from .scenarios import ScenarioResult, ScenarioResults, run_scenarios
 
 __all__ = [
@@ -55,6 +56,7 @@ __all__ = [
     "sleep",
     "studio",
     "run_scenarios",
+    "Campaign",
     "ScenarioResult",
     "ScenarioResults",
 ]

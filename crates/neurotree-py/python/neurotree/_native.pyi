@@ -14,6 +14,27 @@ def _run_scenarios(
 ) -> List[Tuple[str, str, float, List[str], str]]:
     """Runs scenario files: per file, its name, file, seconds, problems and report."""
 
+def _merge_campaign_results(sources: Sequence[str], db: str) -> int:
+    """Adds the rows of the results files ``sources`` to ``db``: the number added."""
+
+class Campaign:
+    """A campaign file (``neurotree campaign run``'s TOML), read and checked."""
+
+    @staticmethod
+    def load(path: str) -> "Campaign": ...
+    @staticmethod
+    def parse(text: str, file: str) -> "Campaign": ...
+    @property
+    def name(self) -> str: ...
+    @property
+    def text(self) -> str: ...
+    @property
+    def file(self) -> str: ...
+    @property
+    def variants(self) -> int: ...
+    def todo(self, db: str, limit: Optional[int] = None, resume: bool = False) -> List[int]: ...
+    def run_variants(self, db: str, variants: Sequence[int], threads: int = 0) -> int: ...
+
 class ManualClock:
     """A clock that moves only when told: runs are deterministic and as fast as the ticks."""
 

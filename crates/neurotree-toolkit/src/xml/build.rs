@@ -203,6 +203,13 @@ impl<'a, 'r, C: 'static> Expansion<'a, 'r, C> {
         let b = Builder::with_capacity(room)
             .value_codecs(registry.value_codecs().clone())
             .port_directions(Arc::new(registry.port_directions()));
+        let b = match &self.loader.wrap_hooks {
+            Some(wrap) => {
+                let wrap = Arc::clone(wrap);
+                b.wrap_hooks(Box::new(move |id, hooks| wrap(id, hooks)))
+            }
+            None => b,
+        };
         let b = self.node(b, only_child(tree), 1)?;
         if let Some((_, error)) = self
             .not_mocked

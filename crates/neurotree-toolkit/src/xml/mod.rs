@@ -157,7 +157,20 @@ pub struct XmlLoader<'r, C> {
     subtree_models: BTreeMap<String, Vec<(String, Option<String>)>>,
     /// What an unknown node type's error tells the reader to do.
     unknown_type_advice: std::borrow::Cow<'static, str>,
+    /// Replaces the hooks of the nodes of each tree built ([`XmlLoader::wrap_hooks`]).
+    wrap_hooks: Option<SharedHookWrapper<C>>,
 }
+
+/// What [`XmlLoader::wrap_hooks`] is given: called with each node of a tree being built and
+/// the hooks the file gave it, it returns the hooks the node gets.
+pub type SharedHookWrapper<C> = std::sync::Arc<
+    dyn Fn(
+            neurotree_core::NodeId,
+            Option<Box<dyn neurotree_core::NodeHooks<C>>>,
+        ) -> Option<Box<dyn neurotree_core::NodeHooks<C>>>
+        + Send
+        + Sync,
+>;
 
 impl<C> fmt::Debug for XmlLoader<'_, C> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
@@ -190,7 +203,16 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
             warnings: Vec::new(),
             subtree_models: BTreeMap::new(),
             unknown_type_advice: "register it in the Registry before loading".into(),
+            wrap_hooks: None,
         }
+    }
+
+    /// Has `wrap` give the nodes of every tree built from now on their hooks (see
+    /// [`Builder::wrap_hooks`](neurotree_core::Builder::wrap_hooks)): how faults are
+    /// injected into chosen nodes ([`crate::fault`]).
+    pub fn wrap_hooks(mut self, wrap: SharedHookWrapper<C>) -> Self {
+        self.wrap_hooks = Some(wrap);
+        self
     }
 
     /// What the error for an unknown node type advises, "register it in the Registry before

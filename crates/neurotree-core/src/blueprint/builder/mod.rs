@@ -96,7 +96,15 @@ struct State<C> {
     max_depth: u32,
     value_codecs: Option<Arc<StateCodecs>>,
     port_directions: Option<Arc<crate::PortDirections>>,
+    /// Replaces each node's hooks as the blueprint is finished ([`Builder::wrap_hooks`]).
+    wrap_hooks: Option<HookWrapper<C>>,
 }
+
+/// What [`Builder::wrap_hooks`] is given: called with each node and the hooks it has, it
+/// returns the hooks it gets.
+pub type HookWrapper<C> = Box<
+    dyn FnMut(NodeId, Option<Box<dyn NodeHooks<C>>>) -> Option<Box<dyn NodeHooks<C>>> + Send + Sync,
+>;
 
 impl<C> Default for Builder<C> {
     fn default() -> Self {
@@ -130,6 +138,7 @@ impl<C> Builder<C> {
                 max_depth: DEFAULT_MAX_DEPTH,
                 value_codecs: None,
                 port_directions: None,
+                wrap_hooks: None,
             }),
         }
     }
@@ -358,6 +367,16 @@ impl<C> Builder<C> {
         self
     }
 
+    /// Has `wrap` called, when the blueprint is built, with every node and the hooks it was
+    /// given (`None` for most), and gives each node the hooks `wrap` returns: how a tool
+    /// wraps chosen nodes of a tree it did not build (a fault injected into one node).
+    /// The engine's fast paths are worked out after, so a wrapped node loses none of its
+    /// semantics.
+    pub fn wrap_hooks(mut self, wrap: HookWrapper<C>) -> Self {
+        self.s.wrap_hooks = Some(wrap);
+        self
+    }
+
     /// Adds a node with children added by `children`.
     pub fn node(self, kind: NodeKind<C>, name: &str, children: impl FnOnce(Self) -> Self) -> Self {
         children(self.open(kind, name)).close()
@@ -530,6 +549,11 @@ impl<C> State<C> {
         let mut hooks: Vec<Option<Box<dyn NodeHooks<C>>>> = (0..count).map(|_| None).collect();
         for (at, attached) in self.hooks {
             hooks[at as usize] = Some(attached);
+        }
+        if let Some(mut wrap) = self.wrap_hooks {
+            for (id, slot) in hooks.iter_mut().enumerate() {
+                *slot = wrap(NodeId(id as u32), slot.take());
+            }
         }
         for (at, bound) in self.ports {
             meta[at as usize].ports = bound;
