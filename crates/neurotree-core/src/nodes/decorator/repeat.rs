@@ -22,6 +22,7 @@ use crate::blueprint::{Builder, NodeKind, Param, PortBinding, PortBindingError};
 use crate::nodes::built_in::Outcomes;
 use crate::nodes::built_in::{self, BuiltIn, Tick};
 use crate::nodes::decl::{NodeDecl, PortDecl};
+use crate::nodes::semantics::{first, Literals, Order, Semantics, Statuses};
 use crate::{Arity, Category};
 use alloc::string::String;
 use alloc::vec;
@@ -38,7 +39,23 @@ pub const REPEAT: NodeDecl = NodeDecl {
         "How many times a succeeding child runs before the node succeeds; -1 repeats forever.",
     )],
     summary: "Runs a succeeding child `num_cycles` times (-1: forever); a failure fails.",
+    semantics: Semantics::new(Order::again(Statuses::ANY, Statuses::SUCCESS), outcomes),
 };
+
+/// What a Repeat can return: its child's statuses, with SUCCESS only once the cycles are
+/// done (never with -1) and RUNNING between cycles; SUCCESS at once, without a tick, for 0
+/// cycles (or a negative count other than -1).
+fn outcomes(l: &Literals<'_>, c: &[Statuses]) -> Statuses {
+    let c = first(c);
+    match l.int("num_cycles") {
+        None => Statuses::ANY,
+        Some(-1) => c
+            .without(Statuses::SUCCESS)
+            .or(Statuses::RUNNING.when(c.can_succeed())),
+        Some(n) if n <= 0 => Statuses::SUCCESS,
+        Some(n) => c.or(Statuses::RUNNING.when(c.can_succeed() && n >= 2)),
+    }
+}
 
 /// Repeat (`REPEAT`) or RetryUntilSuccessful (`!REPEAT`): the two mirror each other, one
 /// counting successes and stopping at a failure, the other counting failures and stopping at
