@@ -46,14 +46,19 @@ pub const REPEAT: NodeDecl = NodeDecl {
 /// done (never with -1) and RUNNING between cycles; SUCCESS at once, without a tick, for 0
 /// cycles (or a negative count other than -1).
 fn outcomes(l: &Literals<'_>, c: &[Statuses]) -> Statuses {
-    let c = first(c);
-    match l.int("num_cycles") {
+    loop_outcomes(l.int("num_cycles"), first(c), Statuses::SUCCESS)
+}
+
+/// What a loop that goes again after `again` (Repeat: SUCCESS; RetryUntilSuccessful:
+/// FAILURE) can return over a `child`, with a literal `limit` (`None`: read when it runs).
+pub(crate) fn loop_outcomes(limit: Option<i64>, child: Statuses, again: Statuses) -> Statuses {
+    match limit {
         None => Statuses::ANY,
-        Some(-1) => c
-            .without(Statuses::SUCCESS)
-            .or(Statuses::RUNNING.when(c.can_succeed())),
-        Some(n) if n <= 0 => Statuses::SUCCESS,
-        Some(n) => c.or(Statuses::RUNNING.when(c.can_succeed() && n >= 2)),
+        Some(-1) => child
+            .without(again)
+            .or(Statuses::RUNNING.when(child.meets(again))),
+        Some(n) if n <= 0 => again,
+        Some(n) => child.or(Statuses::RUNNING.when(child.meets(again) && n >= 2)),
     }
 }
 

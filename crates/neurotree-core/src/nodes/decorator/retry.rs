@@ -43,15 +43,7 @@ pub const RETRY_UNTIL_SUCCESSFUL: NodeDecl = NodeDecl {
 /// the attempts run out (never with -1) and RUNNING between attempts; FAILURE at once,
 /// without a tick, for 0 attempts (or a negative count other than -1).
 fn outcomes(l: &Literals<'_>, c: &[Statuses]) -> Statuses {
-    let c = first(c);
-    match l.int("num_attempts") {
-        None => Statuses::ANY,
-        Some(-1) => c
-            .without(Statuses::FAILURE)
-            .or(Statuses::RUNNING.when(c.can_fail())),
-        Some(n) if n <= 0 => Statuses::FAILURE,
-        Some(n) => c.or(Statuses::RUNNING.when(c.can_fail() && n >= 2)),
-    }
+    super::repeat::loop_outcomes(l.int("num_attempts"), first(c), Statuses::FAILURE)
 }
 
 // The loop is Repeat's, mirrored: see `repeat::tick`.
