@@ -7,12 +7,11 @@
 //! (`port="{key}"`, or every entry with `_autoremap`), and its own otherwise. Every read and
 //! write of an entry (a port bound to `{key}` or defaulting to one, a Script's names and
 //! assignments, SetBlackboard, a SubTree's literal) becomes an access with its place in
-//! that order, following each control's declared [`Order`]. A read is satisfied by a write
-//! that can come before it on the first pass: earlier in tick order, or anywhere under a
-//! node whose children run all at once or in an order not declared (a Parallel, a Switch, a
-//! control of another library) that holds them both. A write later in a loop (a Repeat, a
-//! retry, a reactive control, a RecoveryNode) reaches the read only on the next pass, so the
-//! read is still reported, as failing on the first pass.
+//! that order, following each control's declared [`Order`]. A write satisfies a read if it
+//! can come first on the first pass: earlier in that order, or under a node that holds both
+//! and ticks its children all at once (Parallel, Switch, a control of another library). A
+//! later write in a loop (Repeat, a reactive control, RecoveryNode) comes only on the next
+//! pass: a read the first pass surely reaches is reported as failing on the first pass.
 
 use std::collections::{BTreeSet, HashMap};
 
@@ -69,8 +68,7 @@ struct Access<'d, 'r> {
     loops: Vec<usize>,
     /// The nodes around it whose children run all at once or in no declared order.
     concurrent: Vec<usize>,
-    /// The loops around it from which it is surely reached on the first pass: every node
-    /// on the way down is ticked whenever its parent is (see [`Flow::sure`]).
+    /// The loops around it from which the first pass surely reaches it ([`Flow::sure`]).
     sure_in: Vec<usize>,
     site: Site<'d>,
     /// The node and port, for messages: "port `message` of SaySomething".
@@ -115,7 +113,6 @@ pub(crate) fn check_root<C: 'static>(
         accesses: Vec::new(),
         loops: Vec::new(),
         loop_sites: Vec::new(),
-        loop_depths: Vec::new(),
         sure: Vec::new(),
         statuses: super::outcomes::Outcomes::new(loader),
         concurrent: Vec::new(),
@@ -142,13 +139,10 @@ struct Flow<'l, 'r, C> {
     scopes: Vec<Scope>,
     accesses: Vec<Access<'l, 'r>>,
     loops: Vec<usize>,
-    /// Each loop's node, by number.
-    loop_sites: Vec<Element<'l>>,
-    /// Where each loop of `loops` starts in `sure`.
-    loop_depths: Vec<usize>,
-    /// For each node from the root down to the one walked: whether it is ticked whenever its
-    /// parent is (no precondition, and a single child, or every child before it in its
-    /// parent's chain always lets the parent go on).
+    /// Each loop's node, and where its children start in `sure`, by number.
+    loop_sites: Vec<(Element<'l>, usize)>,
+    /// From the root down to the node walked: whether each is ticked whenever its parent is
+    /// (no precondition; an only child, or one after children that always let it go on).
     sure: Vec<bool>,
     statuses: super::outcomes::Outcomes<'l, 'r, C>,
     concurrent: Vec<usize>,
@@ -184,12 +178,8 @@ impl<'l, 'r, C: 'static> Flow<'l, 'r, C> {
             order: self.accesses.len(),
             loops: self.loops.clone(),
             concurrent: self.concurrent.clone(),
-            sure_in: self
-                .loops
-                .iter()
-                .zip(&self.loop_depths)
-                .filter(|(_, depth)| self.sure[**depth..].iter().all(|&s| s))
-                .map(|(&l, _)| l)
+            sure_in: (self.loops.iter().copied())
+                .filter(|&l| self.sure[self.loop_sites[l].1..].iter().all(|&s| s))
                 .collect(),
             site,
             by,
@@ -233,8 +223,7 @@ impl<'l, 'r, C: 'static> Flow<'l, 'r, C> {
         let concurrent = order == Order::AllAtOnce && site.el.child_count() > 1;
         if looping {
             self.loops.push(self.loop_sites.len());
-            self.loop_depths.push(self.sure.len());
-            self.loop_sites.push(site.el);
+            self.loop_sites.push((site.el, self.sure.len()));
         }
         if concurrent {
             self.concurrent.push(self.next_group);
@@ -244,14 +233,14 @@ impl<'l, 'r, C: 'static> Flow<'l, 'r, C> {
         let single = site.el.child_count() == 1;
         let mut goes_on = next_after != Statuses::ANY;
         for child in site.el.children() {
-            self.sure.push(unguarded(child) && (single || goes_on));
+            self.sure
+                .push(outcomes::unguarded(child) && (single || goes_on));
             self.walk(Site { el: child, ..site }, scope);
             self.sure.pop();
             goes_on = goes_on && next_after.contains(self.statuses.of(child));
         }
         if looping {
             self.loops.pop();
-            self.loop_depths.pop();
         }
         if concurrent {
             self.concurrent.pop();
@@ -439,7 +428,7 @@ impl<'l, 'r, C: 'static> Flow<'l, 'r, C> {
         }
         if let Some(root) = tree.children().next() {
             self.depth += 1;
-            self.sure.push(unguarded(root));
+            self.sure.push(outcomes::unguarded(root));
             self.walk(
                 Site {
                     tree: id,
@@ -509,7 +498,10 @@ impl<'l, 'r, C: 'static> Flow<'l, 'r, C> {
                         && !self.interface(&access.key)
                         && !external(&access.key, &options.written)
                         && !written_before(access, writers)
-                        && !next_pass_unsure(access, writers)
+                        // A later write in a loop may reach it on a pass after a first
+                        // one that need not reach it (a condition may end the branch).
+                        && outer_shared_loop(access, writers)
+                            .is_none_or(|l| access.sure_in.contains(&l))
                     {
                         found.push(read_before_write(access, writers, &self.loop_sites));
                     }
@@ -554,13 +546,6 @@ fn written_before(read: &Access<'_, '_>, writes: &[&Access<'_, '_>]) -> bool {
         .any(|w| w.order < read.order || w.concurrent.iter().any(|g| read.concurrent.contains(g)))
 }
 
-/// Whether a write later in a loop holding `read` may reach it on a pass that is not the
-/// first, while the first pass may not reach the read at all (a condition before it may
-/// end its branch): then nothing is claimed.
-fn next_pass_unsure(read: &Access<'_, '_>, writes: &[&Access<'_, '_>]) -> bool {
-    outer_shared_loop(read, writes).is_some_and(|l| !read.sure_in.contains(&l))
-}
-
 /// The outermost loop holding `read` and one of `writes` after it: its next pass sees the
 /// write.
 fn outer_shared_loop(read: &Access<'_, '_>, writes: &[&Access<'_, '_>]) -> Option<usize> {
@@ -574,20 +559,15 @@ fn outer_shared_loop(read: &Access<'_, '_>, writes: &[&Access<'_, '_>]) -> Optio
         .copied()
 }
 
-/// Whether `el` has no attribute that may end it before it is ticked.
-fn unguarded(el: Element<'_>) -> bool {
-    BEFORE.iter().all(|a| el.attr(a).is_none())
-}
-
 /// The finding of `read`, which none of `writes` (of its entry) comes before; `loops`
 /// holds each loop's node, to say which one a later write comes round through.
 fn read_before_write(
     read: &Access<'_, '_>,
     writes: &[&Access<'_, '_>],
-    loops: &[Element<'_>],
+    loops: &[(Element<'_>, usize)],
 ) -> Diagnostic {
     let name = &read.key.1;
-    let through = outer_shared_loop(read, writes).map(|l| loops[l]);
+    let through = outer_shared_loop(read, writes).map(|l| loops[l].0);
     if let (Some(lp), Some(w)) = (through, writes.iter().find(|w| w.order > read.order)) {
         return read.site.diagnostic(
             "NT0101",

@@ -115,6 +115,11 @@ pub(crate) fn semantics<C: 'static>(loader: &XmlLoader<'_, C>, el: Element<'_>) 
     }
 }
 
+/// Whether `el` has no attribute that may end it before it is ticked.
+pub(crate) fn unguarded(el: Element<'_>) -> bool {
+    PRECONDITIONS.iter().all(|(a, _)| el.attr(a).is_none())
+}
+
 /// The literal text of port `port` of `el` (else its `default`); `None` when it names a
 /// blackboard entry.
 fn literal<'a>(el: Element<'a>, default: Option<&'a str>, port: &str) -> Option<&'a str> {
