@@ -3,6 +3,14 @@
 use neurotree_core::{Arity, CustomNode, CustomSpec, NodeCtx, NodeStatus};
 
 use crate::robotics::Pose2D;
+use neurotree_core::nodes::semantics::{first, Order, Semantics, Statuses};
+
+/// DistanceController's semantics: its child's statuses, RUNNING while the robot has not
+/// moved enough, FAILURE without a pose.
+pub const SEMANTICS: Semantics =
+    Semantics::new(Order::again(Statuses::ANY, Statuses::ANY), |_, c| {
+        first(c).or(Statuses::RUNNING).or(Statuses::FAILURE)
+    });
 
 /// The blackboard entry the distance and speed controllers read the robot's pose from.
 pub const ROBOT_POSE: &str = "robot_pose";

@@ -3,6 +3,14 @@
 use neurotree_core::{Arity, CustomNode, CustomSpec, NodeCtx, NodeStatus};
 
 use super::goals::SeenGoals;
+use neurotree_core::nodes::semantics::{first, Order, Semantics, Statuses};
+
+/// GoalUpdatedController's semantics: its child's statuses, and RUNNING while no new goal
+/// comes.
+pub const SEMANTICS: Semantics =
+    Semantics::new(Order::again(Statuses::ANY, Statuses::ANY), |_, c| {
+        first(c).or(Statuses::RUNNING).or(Statuses::FAILURE)
+    });
 
 /// GoalUpdatedController: start the child again only for a new goal.
 ///

@@ -5,6 +5,12 @@ use std::time::Duration;
 use neurotree_core::{Arity, CustomNode, CustomSpec, NodeCtx, NodeStatus, PortValue};
 
 use crate::robotics::Pose2D;
+use neurotree_core::nodes::semantics::{first, Order, Semantics, Statuses};
+
+/// GoalUpdater's semantics: its child's statuses.
+pub const SEMANTICS: Semantics = Semantics::new(Order::in_turn(Statuses::ANY), |_, c| {
+    first(c).or(Statuses::FAILURE)
+});
 
 /// The blackboard entry that plays Nav2's `goal_update` topic.
 pub const GOAL_UPDATE: &str = "goal_update";

@@ -294,6 +294,24 @@ pub fn register_controls<C: 'static>(registry: &mut Registry<C>) -> Result<(), R
     )?;
     register_condition(registry, "GoalUpdated", GoalUpdated::spec)?;
     register_condition(registry, "GlobalUpdatedGoal", GlobalUpdatedGoal::spec)?;
+    // What each control can return and how it ticks its children, declared in its module.
+    for (name, semantics) in [
+        ("PipelineSequence", pipeline_sequence::SEMANTICS),
+        ("RecoveryNode", recovery_node::SEMANTICS),
+        ("RoundRobin", round_robin::SEMANTICS),
+        ("RateController", rate_controller::SEMANTICS),
+        ("DistanceController", distance_controller::SEMANTICS),
+        ("SpeedController", speed_controller::SEMANTICS),
+        ("GoalUpdatedController", goal_updated_controller::SEMANTICS),
+        ("SingleTrigger", single_trigger::SEMANTICS),
+        ("PersistentSequence", persistent_sequence::SEMANTICS),
+        ("PauseResumeController", pause_resume_controller::SEMANTICS),
+        ("NonblockingSequence", nonblocking_sequence::SEMANTICS),
+        ("GoalUpdater", goal_updater::SEMANTICS),
+        ("PathLongerOnApproach", path_longer_on_approach::SEMANTICS),
+    ] {
+        registry.declare_semantics(name, semantics)?;
+    }
     registry.describe(
         "PipelineSequence",
         "Ticks its children from the first every tick; earlier children keep running.",

@@ -1,6 +1,31 @@
 //! NonblockingSequence: a sequence that ticks every child on every tick.
 
+use neurotree_core::nodes::semantics::{Order, Semantics, Statuses};
 use neurotree_core::{Arity, CustomNode, CustomSpec, NodeCtx, NodeStatus};
+
+/// NonblockingSequence's semantics: every child on every tick, until one fails.
+pub const SEMANTICS: Semantics = Semantics::new(
+    Order::again(Statuses::ANY.without(Statuses::FAILURE), Statuses::ANY),
+    |_, c| {
+        let mut out = Statuses::NONE;
+        for s in c {
+            out = out.or(s.without(Statuses::SUCCESS.or(Statuses::SKIPPED)));
+            if !s.meets(Statuses::ANY.without(Statuses::FAILURE)) {
+                return out;
+            }
+        }
+        let ends = c
+            .iter()
+            .all(|s| s.meets(Statuses::SUCCESS.or(Statuses::SKIPPED)));
+        let all_skipped = c.iter().all(|s| s.can_skip());
+        out.or(Statuses::SUCCESS.when(ends))
+            .or(Statuses::SKIPPED.when(all_skipped))
+            .or(Statuses::RUNNING.when(
+                c.iter()
+                    .any(|s| s.meets(Statuses::RUNNING.or(Statuses::SKIPPED))),
+            ))
+    },
+);
 
 /// NonblockingSequence: a sequence that ticks every child on every tick, as Nav2's
 /// `nonblocking_sequence.cpp` does.

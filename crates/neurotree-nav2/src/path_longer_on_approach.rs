@@ -3,6 +3,12 @@
 use neurotree_core::{Arity, CustomNode, CustomSpec, NodeCtx, NodeStatus};
 
 use crate::robotics::{Path, Pose2D};
+use neurotree_core::nodes::semantics::{first, Order, Semantics, Statuses};
+
+/// PathLongerOnApproach's semantics: its child's statuses, or SUCCESS without ticking it.
+pub const SEMANTICS: Semantics = Semantics::new(Order::in_turn(Statuses::ANY), |_, c| {
+    first(c).or(Statuses::SUCCESS)
+});
 
 /// PathLongerOnApproach: tick the child when, close to the goal, the planner's new path to
 /// the same goal is much longer than the old one (something blocks the way); otherwise

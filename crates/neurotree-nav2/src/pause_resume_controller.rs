@@ -1,6 +1,14 @@
 //! PauseResumeController: run the first child, or pause it on request and run the others.
 
+use neurotree_core::nodes::semantics::{Order, Semantics, Statuses};
 use neurotree_core::{Arity, CustomNode, CustomSpec, NodeCtx, NodeStatus};
+
+/// PauseResumeController's semantics: a request moves it from child to child at any tick.
+pub const SEMANTICS: Semantics = Semantics::new(Order::AllAtOnce, |_, _| {
+    Statuses::SUCCESS
+        .or(Statuses::FAILURE)
+        .or(Statuses::RUNNING)
+});
 
 /// The states of a [`PauseResumeController`], as Nav2 names them.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]

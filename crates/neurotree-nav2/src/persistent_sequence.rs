@@ -1,6 +1,16 @@
 //! PersistentSequence: a sequence whose place is kept in a blackboard entry.
 
+use neurotree_core::nodes::semantics::{union, Order, Semantics, Statuses};
 use neurotree_core::{Arity, CustomNode, CustomSpec, NodeCtx, NodeStatus};
+
+/// PersistentSequence's semantics: it starts at the child its entry names, so no order
+/// between its children holds; SUCCESS past the last, FAILURE with a child's.
+pub const SEMANTICS: Semantics = Semantics::new(Order::AllAtOnce, |_, c| {
+    let all = union(c);
+    Statuses::SUCCESS
+        .or(Statuses::FAILURE.when(all.can_fail()))
+        .or(Statuses::RUNNING.when(all.can_run()))
+});
 
 /// PersistentSequence: a sequence whose current child is kept in the blackboard, through
 /// the in/out port `current_child_idx`, as Nav2's `persistent_sequence.cpp` does.

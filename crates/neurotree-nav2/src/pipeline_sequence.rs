@@ -1,6 +1,14 @@
 //! PipelineSequence: a sequence whose earlier children keep running while later ones start.
 
+use neurotree_core::nodes::semantics::{chain, Order, Semantics, Statuses};
 use neurotree_core::{Arity, CustomNode, CustomSpec, NodeCtx, NodeStatus};
+
+/// PipelineSequence's semantics: a chain through successes and skips, ticked again from the
+/// first on every tick.
+pub const SEMANTICS: Semantics = Semantics::new(
+    Order::again(Statuses::SUCCESS.or(Statuses::SKIPPED), Statuses::ANY),
+    |_, c| chain(c, Statuses::SUCCESS),
+);
 
 /// PipelineSequence: a sequence whose earlier children keep running while later ones start.
 ///

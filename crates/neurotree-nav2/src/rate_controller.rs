@@ -5,6 +5,14 @@ use std::time::Duration;
 use neurotree_core::{Arity, CustomNode, CustomSpec, NodeCtx, NodeStatus};
 
 use super::port_or;
+use neurotree_core::nodes::semantics::{first, Order, Semantics, Statuses};
+
+/// RateController's semantics: its child's statuses, and RUNNING while it waits.
+pub const SEMANTICS: Semantics =
+    Semantics::new(Order::again(Statuses::ANY, Statuses::ANY), |l, c| {
+        let read = Statuses::FAILURE.when(l.text("hz").is_none());
+        first(c).or(Statuses::RUNNING).or(read)
+    });
 
 /// RateController: let the child start again at most `hz` times per second.
 ///

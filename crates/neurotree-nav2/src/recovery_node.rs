@@ -3,6 +3,29 @@
 use neurotree_core::{Arity, CustomNode, CustomSpec, NodeCtx, NodeStatus};
 
 use super::port_or;
+use neurotree_core::nodes::semantics::{Literals, Order, Semantics, Statuses};
+
+/// RecoveryNode's semantics: the recovery after the action fails, the action again after the
+/// recovery succeeds.
+pub const SEMANTICS: Semantics =
+    Semantics::new(Order::again(Statuses::FAILURE, Statuses::SUCCESS), outcomes);
+
+/// What a RecoveryNode can return: the action's SUCCESS, RUNNING and SKIPPED, FAILURE once it
+/// failed (the retries run out, or the recovery fails or is skipped), the recovery's
+/// RUNNING; FAILURE at once for a negative `number_of_retries`.
+fn outcomes(l: &Literals<'_>, c: &[Statuses]) -> Statuses {
+    let (Some(n), [action, recovery]) = (l.int("number_of_retries"), c) else {
+        return Statuses::ANY;
+    };
+    if n < 0 {
+        return Statuses::FAILURE;
+    }
+    let recovers = action.can_fail() && n > 0;
+    action
+        .without(Statuses::FAILURE)
+        .or(Statuses::FAILURE.when(action.can_fail()))
+        .or(Statuses::RUNNING.when(recovers && recovery.can_run()))
+}
 
 const ACTION: usize = 0;
 const RECOVERY: usize = 1;

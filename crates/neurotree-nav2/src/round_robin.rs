@@ -3,6 +3,12 @@
 use neurotree_core::{Arity, CustomNode, CustomSpec, NodeCtx, NodeStatus};
 
 use super::port_or;
+use neurotree_core::nodes::semantics::{union, Order, Semantics, Statuses};
+
+/// RoundRobin's semantics: it starts at the child after the last one used, so no order
+/// between its children holds; FAILURE once each had its turn.
+pub const SEMANTICS: Semantics =
+    Semantics::new(Order::AllAtOnce, |_, c| union(c).or(Statuses::FAILURE));
 
 /// RoundRobin: each use of the node runs the next child, so that recoveries take turns, as
 /// Nav2's `round_robin_node.cpp` does.

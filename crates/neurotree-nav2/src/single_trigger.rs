@@ -1,6 +1,12 @@
 //! SingleTrigger: tick the child to completion once per run of the node.
 
+use neurotree_core::nodes::semantics::{first, Order, Semantics, Statuses};
 use neurotree_core::{Arity, CustomNode, CustomSpec, NodeCtx, NodeStatus};
+
+/// SingleTrigger's semantics: its child's statuses, then FAILURE once used up.
+pub const SEMANTICS: Semantics = Semantics::new(Order::in_turn(Statuses::ANY), |_, c| {
+    first(c).or(Statuses::FAILURE)
+});
 
 /// SingleTrigger: tick the child to completion once per run, then fail, as Nav2's
 /// `single_trigger_node.cpp` does.

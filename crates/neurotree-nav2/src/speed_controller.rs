@@ -5,6 +5,13 @@ use std::time::Duration;
 use neurotree_core::{Arity, CustomNode, CustomSpec, NodeCtx, NodeStatus};
 
 use super::goals::SeenGoals;
+use neurotree_core::nodes::semantics::{first, Order, Semantics, Statuses};
+
+/// SpeedController's semantics: its child's statuses, and RUNNING while it waits.
+pub const SEMANTICS: Semantics =
+    Semantics::new(Order::again(Statuses::ANY, Statuses::ANY), |_, c| {
+        first(c).or(Statuses::RUNNING).or(Statuses::FAILURE)
+    });
 
 /// The blackboard entry the SpeedController reads the robot's speed from.
 pub const ROBOT_SPEED: &str = "robot_speed";

@@ -11,6 +11,8 @@ mod support;
 mod distance_controller;
 mod goal_updated_controller;
 mod goal_updater;
+mod lint_nav2;
+mod lint_sound;
 mod nav2_controls;
 mod nonblocking_sequence;
 mod path_longer_on_approach;

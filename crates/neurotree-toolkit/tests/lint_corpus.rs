@@ -127,6 +127,9 @@ fn nav2_corpus_findings_are_the_real_ones() {
         // No PlannerSelector or ControllerSelector in this tree: the reads fail, and Nav2's
         // nodes, which ignore the failure, use their default planner and controller.
         "navigate_to_pose_w_bounds_check.xml:9 NT0101 planner_id",
+        // On the first tick of the ReactiveSequence, FollowPath (after it) has not yet
+        // written its feedback: the bounds check's read fails on the first pass.
+        "navigate_to_pose_w_bounds_check.xml:11 NT0101 tracking_feedback",
         "navigate_to_pose_w_bounds_check.xml:12 NT0101 controller_id",
         // Selected, and never passed on: FollowPath leaves goal_checker_id and
         // progress_checker_id out (Nav2 uses its defaults).

@@ -171,6 +171,27 @@ impl Shared {
     }
 }
 
+/// The user leaves' kinds, as one pattern: the seven doors for leaf code.
+macro_rules! user_leaves {
+    () => {
+        NodeKind::ConditionFn(_)
+            | NodeKind::Condition(_)
+            | NodeKind::SharedCondition(_)
+            | NodeKind::ActionFn(_)
+            | NodeKind::Action(_)
+            | NodeKind::Stateful(_)
+            | NodeKind::Async(_)
+    };
+}
+
+/// Every kind that is not a built-in (SubTree, the user leaves, custom nodes), as one
+/// pattern: what the matches that only ask the built-ins answer for the rest at once.
+macro_rules! doors {
+    () => {
+        NodeKind::SubTree(_) | user_leaves!() | NodeKind::Custom(_)
+    };
+}
+
 /// Makes [`NodeKind`] and its matches from [the list of built-ins](crate::nodes): a
 /// variant per built-in, carrying the node's own type, beside the engine's doors (SubTree,
 /// the leaf kinds, custom nodes), each match listing every variant.
@@ -235,13 +256,7 @@ macro_rules! node_kinds {
                     $(NodeKind::$name(_) => <crate::nodes::$($module::)+$name as Tick>::DECL.arity,)*
                     NodeKind::SubTree(_) => Arity::One,
                     NodeKind::Custom(spec) => spec.arity,
-                    NodeKind::ConditionFn(_)
-                    | NodeKind::Condition(_)
-                    | NodeKind::SharedCondition(_)
-                    | NodeKind::ActionFn(_)
-                    | NodeKind::Action(_)
-                    | NodeKind::Stateful(_)
-                    | NodeKind::Async(_) => Arity::Leaf,
+                    user_leaves!() => Arity::Leaf,
                 }
             }
 
@@ -271,15 +286,7 @@ macro_rules! node_kinds {
             pub fn decl(&self) -> Option<&'static NodeDecl> {
                 match self {
                     $(NodeKind::$name(_) => Some(<crate::nodes::$($module::)+$name as Tick>::DECL),)*
-                    NodeKind::SubTree(_)
-                    | NodeKind::ConditionFn(_)
-                    | NodeKind::Condition(_)
-                    | NodeKind::SharedCondition(_)
-                    | NodeKind::ActionFn(_)
-                    | NodeKind::Action(_)
-                    | NodeKind::Stateful(_)
-                    | NodeKind::Async(_)
-                    | NodeKind::Custom(_) => None,
+                    doors!() => None,
                 }
             }
 
@@ -288,15 +295,7 @@ macro_rules! node_kinds {
             pub fn built_in(&self) -> Option<&dyn BuiltIn> {
                 match self {
                     $(NodeKind::$name(node) => Some(node),)*
-                    NodeKind::SubTree(_)
-                    | NodeKind::ConditionFn(_)
-                    | NodeKind::Condition(_)
-                    | NodeKind::SharedCondition(_)
-                    | NodeKind::ActionFn(_)
-                    | NodeKind::Action(_)
-                    | NodeKind::Stateful(_)
-                    | NodeKind::Async(_)
-                    | NodeKind::Custom(_) => None,
+                    doors!() => None,
                 }
             }
 
@@ -305,15 +304,7 @@ macro_rules! node_kinds {
             pub(crate) fn passes_through(&self) -> bool {
                 match self {
                     $(NodeKind::$name(node) => node.passes_through(),)*
-                    NodeKind::SubTree(_)
-                    | NodeKind::ConditionFn(_)
-                    | NodeKind::Condition(_)
-                    | NodeKind::SharedCondition(_)
-                    | NodeKind::ActionFn(_)
-                    | NodeKind::Action(_)
-                    | NodeKind::Stateful(_)
-                    | NodeKind::Async(_)
-                    | NodeKind::Custom(_) => false,
+                    doors!() => false,
                 }
             }
 
@@ -321,15 +312,7 @@ macro_rules! node_kinds {
             pub(crate) fn aux_slots(&self) -> u32 {
                 match self {
                     $(NodeKind::$name(_) => <crate::nodes::$($module::)+$name as Tick>::AUX_SLOTS,)*
-                    NodeKind::SubTree(_)
-                    | NodeKind::ConditionFn(_)
-                    | NodeKind::Condition(_)
-                    | NodeKind::SharedCondition(_)
-                    | NodeKind::ActionFn(_)
-                    | NodeKind::Action(_)
-                    | NodeKind::Stateful(_)
-                    | NodeKind::Async(_)
-                    | NodeKind::Custom(_) => 0,
+                    doors!() => 0,
                 }
             }
 
@@ -338,15 +321,7 @@ macro_rules! node_kinds {
             pub(crate) fn plain_order(&self) -> Option<bool> {
                 match self {
                     $(NodeKind::$name(_) => <crate::nodes::$($module::)+$name as Tick>::PLAIN_ORDER,)*
-                    NodeKind::SubTree(_)
-                    | NodeKind::ConditionFn(_)
-                    | NodeKind::Condition(_)
-                    | NodeKind::SharedCondition(_)
-                    | NodeKind::ActionFn(_)
-                    | NodeKind::Action(_)
-                    | NodeKind::Stateful(_)
-                    | NodeKind::Async(_)
-                    | NodeKind::Custom(_) => None,
+                    doors!() => None,
                 }
             }
 
@@ -355,15 +330,7 @@ macro_rules! node_kinds {
             pub(crate) fn waits_on_halts(&self) -> bool {
                 match self {
                     $(NodeKind::$name(_) => <crate::nodes::$($module::)+$name as Tick>::WAITS_ON_HALTS,)*
-                    NodeKind::SubTree(_)
-                    | NodeKind::ConditionFn(_)
-                    | NodeKind::Condition(_)
-                    | NodeKind::SharedCondition(_)
-                    | NodeKind::ActionFn(_)
-                    | NodeKind::Action(_)
-                    | NodeKind::Stateful(_)
-                    | NodeKind::Async(_)
-                    | NodeKind::Custom(_) => false,
+                    doors!() => false,
                 }
             }
 
@@ -372,15 +339,7 @@ macro_rules! node_kinds {
             pub(crate) fn shift_aux(&self, aux: u64, saved: u64, now: u64) -> u64 {
                 match self {
                     $(NodeKind::$name(_) => <crate::nodes::$($module::)+$name as Tick>::shift_aux(aux, saved, now),)*
-                    NodeKind::SubTree(_)
-                    | NodeKind::ConditionFn(_)
-                    | NodeKind::Condition(_)
-                    | NodeKind::SharedCondition(_)
-                    | NodeKind::ActionFn(_)
-                    | NodeKind::Action(_)
-                    | NodeKind::Stateful(_)
-                    | NodeKind::Async(_)
-                    | NodeKind::Custom(_) => aux,
+                    doors!() => aux,
                 }
             }
 
@@ -388,15 +347,7 @@ macro_rules! node_kinds {
             pub(crate) fn close(&mut self, children: u32) -> Result<(), BuildErrorKind> {
                 match self {
                     $(NodeKind::$name(node) => node.close(children),)*
-                    NodeKind::SubTree(_)
-                    | NodeKind::ConditionFn(_)
-                    | NodeKind::Condition(_)
-                    | NodeKind::SharedCondition(_)
-                    | NodeKind::ActionFn(_)
-                    | NodeKind::Action(_)
-                    | NodeKind::Stateful(_)
-                    | NodeKind::Async(_)
-                    | NodeKind::Custom(_) => Ok(()),
+                    doors!() => Ok(()),
                 }
             }
 
@@ -421,14 +372,7 @@ macro_rules! node_kinds {
                 match self {
                     $(NodeKind::$name(node) => fmt::Debug::fmt(node, f),)*
                     NodeKind::SubTree(s) => write!(f, "SubTree({s:?})"),
-                    NodeKind::ConditionFn(_)
-                    | NodeKind::Condition(_)
-                    | NodeKind::SharedCondition(_)
-                    | NodeKind::ActionFn(_)
-                    | NodeKind::Action(_)
-                    | NodeKind::Stateful(_)
-                    | NodeKind::Async(_)
-                    | NodeKind::Custom(_) => f.write_str(self.type_name()),
+                    user_leaves!() | NodeKind::Custom(_) => f.write_str(self.type_name()),
                 }
             }
         }

@@ -1,5 +1,5 @@
-//! What a built-in node is, as data: its BehaviorTree.CPP name, family, number of children
-//! and ports.
+//! What a built-in node is, as data: its BehaviorTree.CPP name, family, number of children,
+//! ports and [semantics](super::semantics).
 //!
 //! Each built-in node's module declares its node(s) as a `pub const` [`NodeDecl`] next to
 //! its tick, and [`BUILT_INS`](super::BUILT_INS) lists them. Everything that describes a
@@ -10,6 +10,7 @@
 //!
 //! [`NodeKind`]: crate::NodeKind
 
+use super::semantics::Semantics;
 use crate::{Arity, Category};
 
 /// Which way a port carries data.
@@ -101,6 +102,8 @@ pub struct NodeDecl {
     pub ports: &'static [PortDecl],
     /// What it does, in one line (the catalog's "in short").
     pub summary: &'static str,
+    /// What it can return and how it ticks its children.
+    pub semantics: Semantics,
 }
 
 impl NodeDecl {

@@ -24,8 +24,10 @@ pub mod decl;
 pub mod decorator;
 pub mod hooks;
 pub mod leaf;
+pub mod semantics;
 
 pub use decl::{NodeDecl, PortDecl, PortDirection, PORT_TYPES};
+pub use semantics::{Literals, Order, Semantics, Statuses};
 
 /// The one list of built-in nodes, in catalog order: `Name in module::path;`, where the
 /// module under `nodes` defines the type `Name` implementing [`built_in::BuiltIn`] and the

@@ -7,27 +7,25 @@
 //! (`port="{key}"`, or every entry with `_autoremap`), and its own otherwise. Every read and
 //! write of an entry (a port bound to `{key}` or defaulting to one, a Script's names and
 //! assignments, SetBlackboard, a SubTree's literal) becomes an access with its place in
-//! that order and the loops around it. A read is satisfied by a write before it, or by one
-//! anywhere inside a loop that also holds the read (a Repeat, a retry, a reactive control,
-//! a Parallel, a control of another library: the next round sees it).
+//! that order, following each control's declared [`Order`]. A write satisfies a read if it
+//! can come first on the first pass: earlier in that order, or under a node that holds both
+//! and ticks its children all at once (Parallel, Switch, a control of another library). A
+//! later write in a loop (Repeat, a reactive control, RecoveryNode) comes only on the next
+//! pass: a read the first pass surely reaches is reported as failing on the first pass.
 
 use std::collections::{BTreeSet, HashMap};
 
 use neurotree_core::{PortDirection, PortValue};
 
-use super::node::{self, is, line, shown};
+use super::node::{self, line, shown};
+use super::outcomes;
 use super::types;
 use super::{matches, Diagnostic, LintOptions, Site};
-use crate::nodes::entry::SKIP_UNLESS_UPDATED;
-use crate::nodes::script::PRECONDITION;
-use crate::nodes::switch::{SWITCH2, SWITCH3, SWITCH4, SWITCH5, SWITCH6};
 use crate::registry::PortSpec;
 use crate::script::ast::{AssignOp, Expr, ExprKind};
 use crate::script::Script;
-use crate::xml::{binding, XmlLoader};
-use neurotree_core::nodes::control::{fallback, if_then_else, sequence, try_catch};
-use neurotree_core::nodes::decorator::{cooldown, delay, force, inverter, run_once, timeout};
-use neurotree_core::nodes::NodeDecl;
+use crate::xml::{binding, Element, XmlLoader};
+use neurotree_core::nodes::{Order, Statuses};
 
 /// An entry: the scope it lives in (0 is the root tree's) and its name there.
 type Key = (usize, String);
@@ -68,6 +66,10 @@ struct Access<'d, 'r> {
     order: usize,
     /// The loops around it, outermost first.
     loops: Vec<usize>,
+    /// The nodes around it whose children run all at once or in no declared order.
+    concurrent: Vec<usize>,
+    /// The loops around it from which the first pass surely reaches it ([`Flow::sure`]).
+    sure_in: Vec<usize>,
     site: Site<'d>,
     /// The node and port, for messages: "port `message` of SaySomething".
     by: String,
@@ -88,37 +90,6 @@ const SCRIPT_PORTS: [(&str, &str); 3] = [
 /// Attributes whose script runs before the node, and after it.
 const BEFORE: [&str; 4] = ["_skipIf", "_successIf", "_failureIf", "_while"];
 const AFTER: [&str; 4] = ["_onSuccess", "_onFailure", "_onHalted", "_post"];
-
-/// Controls and decorators that tick each child at most once per round, in order: a
-/// write after a read in them is not seen by that read. Any other node with children (a
-/// loop, a reactive control, a Parallel, a node of another library) may tick a child again
-/// after a later one.
-const IN_ORDER: [&NodeDecl; 14] = [
-    &sequence::SEQUENCE,
-    &sequence::SEQUENCE_WITH_MEMORY,
-    &sequence::ASYNC_SEQUENCE,
-    &fallback::FALLBACK,
-    &fallback::ASYNC_FALLBACK,
-    &if_then_else::IF_THEN_ELSE,
-    &try_catch::TRY_CATCH,
-    &inverter::INVERTER,
-    &force::FORCE_SUCCESS,
-    &force::FORCE_FAILURE,
-    &timeout::TIMEOUT,
-    &delay::DELAY,
-    &run_once::RUN_ONCE,
-    &cooldown::COOLDOWN,
-];
-/// The toolkit's nodes that tick a child at most once per round.
-const IN_ORDER_TOOLKIT: [&NodeDecl; 7] = [
-    &SWITCH2,
-    &SWITCH3,
-    &SWITCH4,
-    &SWITCH5,
-    &SWITCH6,
-    &PRECONDITION,
-    &SKIP_UNLESS_UPDATED,
-];
 
 /// Follows the entries of the tree `id` (one no other tree uses) and reports what is wrong
 /// with them.
@@ -141,7 +112,11 @@ pub(crate) fn check_root<C: 'static>(
         }],
         accesses: Vec::new(),
         loops: Vec::new(),
-        next_loop: 0,
+        loop_sites: Vec::new(),
+        sure: Vec::new(),
+        statuses: super::outcomes::Outcomes::new(loader),
+        concurrent: Vec::new(),
+        next_group: 0,
         depth: 0,
         interface: loader
             .subtree_model(id)
@@ -164,7 +139,14 @@ struct Flow<'l, 'r, C> {
     scopes: Vec<Scope>,
     accesses: Vec<Access<'l, 'r>>,
     loops: Vec<usize>,
-    next_loop: usize,
+    /// Each loop's node, and where its children start in `sure`, by number.
+    loop_sites: Vec<(Element<'l>, usize)>,
+    /// From the root down to the node walked: whether each is ticked whenever its parent is
+    /// (no precondition; an only child, or one after children that always let it go on).
+    sure: Vec<bool>,
+    statuses: super::outcomes::Outcomes<'l, 'r, C>,
+    concurrent: Vec<usize>,
+    next_group: usize,
     /// SubTrees open: the loader bounds it, this guards against a cycle it missed.
     depth: usize,
     /// The ports the root tree's SubTree model declares.
@@ -195,6 +177,10 @@ impl<'l, 'r, C: 'static> Flow<'l, 'r, C> {
             what,
             order: self.accesses.len(),
             loops: self.loops.clone(),
+            concurrent: self.concurrent.clone(),
+            sure_in: (self.loops.iter().copied())
+                .filter(|&l| self.sure[self.loop_sites[l].1..].iter().all(|&s| s))
+                .collect(),
             site,
             by,
         });
@@ -212,13 +198,12 @@ impl<'l, 'r, C: 'static> Flow<'l, 'r, C> {
             Some(node) if node.name == "SubTree" => self.subtree(site, scope),
             Some(node) => {
                 writes = self.ports(site, scope, node.name, node.node_type.map(|t| &t.ports[..]));
-                let in_order = is(node.name, &IN_ORDER) || is(node.name, &IN_ORDER_TOOLKIT);
-                let looping = el.child_count() > 0 && !in_order;
-                self.children(site, scope, looping);
+                let order = outcomes::semantics(self.loader, el).order;
+                self.children(site, scope, order);
             }
             None => {
                 writes = self.unknown_ports(site, scope);
-                self.children(site, scope, true);
+                self.children(site, scope, Order::AllAtOnce);
             }
         }
         for (key, write, by, global) in writes {
@@ -232,16 +217,33 @@ impl<'l, 'r, C: 'static> Flow<'l, 'r, C> {
         }
     }
 
-    fn children(&mut self, site: Site<'l>, scope: usize, looping: bool) {
+    /// The accesses of `site.el`'s children, ticked in `order`.
+    fn children(&mut self, site: Site<'l>, scope: usize, order: Order) {
+        let looping = order.loops();
+        let concurrent = order == Order::AllAtOnce && site.el.child_count() > 1;
         if looping {
-            self.loops.push(self.next_loop);
-            self.next_loop += 1;
+            self.loops.push(self.loop_sites.len());
+            self.loop_sites.push((site.el, self.sure.len()));
         }
+        if concurrent {
+            self.concurrent.push(self.next_group);
+            self.next_group += 1;
+        }
+        let next_after = order.next_after();
+        let single = site.el.child_count() == 1;
+        let mut goes_on = next_after != Statuses::ANY;
         for child in site.el.children() {
+            self.sure
+                .push(outcomes::unguarded(child) && (single || goes_on));
             self.walk(Site { el: child, ..site }, scope);
+            self.sure.pop();
+            goes_on = goes_on && next_after.contains(self.statuses.of(child));
         }
         if looping {
             self.loops.pop();
+        }
+        if concurrent {
+            self.concurrent.pop();
         }
     }
 
@@ -426,6 +428,7 @@ impl<'l, 'r, C: 'static> Flow<'l, 'r, C> {
         }
         if let Some(root) = tree.children().next() {
             self.depth += 1;
+            self.sure.push(outcomes::unguarded(root));
             self.walk(
                 Site {
                     tree: id,
@@ -434,6 +437,7 @@ impl<'l, 'r, C: 'static> Flow<'l, 'r, C> {
                 },
                 inner,
             );
+            self.sure.pop();
             self.depth -= 1;
         }
     }
@@ -494,8 +498,12 @@ impl<'l, 'r, C: 'static> Flow<'l, 'r, C> {
                         && !self.interface(&access.key)
                         && !external(&access.key, &options.written)
                         && !written_before(access, writers)
+                        // A later write in a loop may reach it on a pass after a first
+                        // one that need not reach it (a condition may end the branch).
+                        && outer_shared_loop(access, writers)
+                            .is_none_or(|l| access.sure_in.contains(&l))
                     {
-                        found.push(read_before_write(access, writers));
+                        found.push(read_before_write(access, writers, &self.loop_sites));
                     }
                     if let Some(spec) = port {
                         mismatches(access, spec, writers, found);
@@ -529,17 +537,52 @@ impl<'l, 'r, C: 'static> Flow<'l, 'r, C> {
     }
 }
 
-/// Whether one of `writes` (of `read`'s entry) can come before it: earlier in tick order,
-/// or in a loop that holds them both.
+/// Whether one of `writes` (of `read`'s entry) can come before it on the first pass:
+/// earlier in tick order, or under a node that holds them both and ticks its children all
+/// at once.
 fn written_before(read: &Access<'_, '_>, writes: &[&Access<'_, '_>]) -> bool {
     writes
         .iter()
-        .any(|w| w.order < read.order || w.loops.iter().any(|l| read.loops.contains(l)))
+        .any(|w| w.order < read.order || w.concurrent.iter().any(|g| read.concurrent.contains(g)))
 }
 
-/// The finding of `read`, which none of `writes` (of its entry) comes before.
-fn read_before_write(read: &Access<'_, '_>, writes: &[&Access<'_, '_>]) -> Diagnostic {
+/// The outermost loop holding `read` and one of `writes` after it: its next pass sees the
+/// write.
+fn outer_shared_loop(read: &Access<'_, '_>, writes: &[&Access<'_, '_>]) -> Option<usize> {
+    read.loops
+        .iter()
+        .find(|l| {
+            writes
+                .iter()
+                .any(|w| w.order > read.order && w.loops.contains(l))
+        })
+        .copied()
+}
+
+/// The finding of `read`, which none of `writes` (of its entry) comes before; `loops`
+/// holds each loop's node, to say which one a later write comes round through.
+fn read_before_write(
+    read: &Access<'_, '_>,
+    writes: &[&Access<'_, '_>],
+    loops: &[(Element<'_>, usize)],
+) -> Diagnostic {
     let name = &read.key.1;
+    let through = outer_shared_loop(read, writes).map(|l| loops[l].0);
+    if let (Some(lp), Some(w)) = (through, writes.iter().find(|w| w.order > read.order)) {
+        return read.site.diagnostic(
+            "NT0101",
+            format!(
+                "{} reads the entry `{name}` on the first pass through {} at line {}, before \
+                 anything can have written it: the read fails at that tick; it is written \
+                 later, by {} at line {}",
+                read.by,
+                shown(lp),
+                line(lp),
+                w.by,
+                line(w.site.el)
+            ),
+        );
+    }
     let hint = match writes.first() {
         Some(w) => format!(
             "; it is first written later, by {} at line {}",
@@ -672,14 +715,23 @@ mod tests {
     }
 
     #[test]
-    fn a_write_later_in_the_same_loop_counts() {
+    fn a_write_later_in_a_loop_is_too_late_for_the_first_pass() {
         let xml = tree(
             "<Repeat num_cycles=\"3\"><Sequence>\n\
              <Say message=\"{text}\"/>\n\
              <Think text=\"{text}\"/>\n\
              </Sequence></Repeat>",
         );
-        assert_eq!(findings(&xml), []);
+        assert_eq!(findings(&xml), [("NT0101", 4)]);
+        let message = &super::super::messages(&xml)[0];
+        assert!(
+            message.contains("on the first pass through Repeat at line 3")
+                && message.contains("written later, by port `text` of Think at line 5"),
+            "{message}"
+        );
+        // Children ticked all at once: the write may come first.
+        let parallel = xml.replace("Sequence", "Parallel");
+        assert_eq!(findings(&parallel), []);
         // The same in a Sequence that is no loop: the first round reads nothing.
         let xml = tree(
             "<Sequence><Sequence>\n\

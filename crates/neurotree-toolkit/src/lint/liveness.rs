@@ -1,13 +1,18 @@
 //! Liveness: loops that cannot end (NT0301, NT0302) and roots that never finish (NT0303).
 
-use super::node::{is, shown};
-use super::outcomes::{literal_count, Outcomes};
+use super::node::shown;
+use super::outcomes::{Outcomes, Statuses};
 use super::{Diagnostic, Site};
 use crate::xml::Element;
-use neurotree_core::nodes::decorator::{keep_running, repeat, retry};
+use neurotree_core::nodes::Order;
 
 /// Reports the endless loops of the tree `id` (`<BehaviorTree>` element `tree`), and its
 /// root if it can only ever run.
+///
+/// A loop is a node whose declared order ticks a child again after one of some statuses
+/// (a Repeat after SUCCESS, a retry after FAILURE): it never ends when its children can end
+/// but, given what they return, it can only return RUNNING. NT0301 for a loop that goes
+/// again after a failure, NT0302 for the others.
 pub(crate) fn check_tree<C: 'static>(
     statuses: &mut Outcomes<'_, '_, C>,
     id: &str,
@@ -20,47 +25,33 @@ pub(crate) fn check_tree<C: 'static>(
         el,
     };
     for el in tree.descendants() {
-        let Some(node) = statuses.node(el) else {
+        let Order::Again { again_after, .. } = statuses.semantics(el).order else {
             continue;
         };
-        let Some(child) = el.children().next() else {
+        if again_after == Statuses::ANY || el.child_count() == 0 {
             continue;
-        };
-        let child_statuses = statuses.of(child);
-        let name = node.name;
-        let endless = if is(name, &[&retry::RETRY_UNTIL_SUCCESSFUL])
-            && literal_count(el, "num_attempts") == Some(-1)
-            && !child_statuses.can_succeed()
-        {
-            Some((
-                "NT0301",
-                "num_attempts=\"-1\" never ends: its child",
-                "never succeeds; give a number of attempts",
-            ))
-        } else if is(name, &[&repeat::REPEAT])
-            && literal_count(el, "num_cycles") == Some(-1)
-            && !child_statuses.can_fail()
-        {
-            Some((
-                "NT0302",
-                "num_cycles=\"-1\" never ends: its child",
-                "never fails",
-            ))
-        } else if is(name, &[&keep_running::KEEP_RUNNING_UNTIL_FAILURE])
-            && !child_statuses.can_fail()
-        {
-            Some(("NT0302", "never ends: its child", "never fails"))
-        } else {
-            None
-        };
-        if let Some((code, ends, why)) = endless {
-            let message = format!("{name} {ends} `{}` {why}", shown(child));
-            found.push(site(el).diagnostic(code, message));
         }
+        let children: Vec<_> = el.children().map(|c| (c, statuses.of(c))).collect();
+        if statuses.of(el).can_end() || !children.iter().any(|(_, s)| s.can_end()) {
+            continue;
+        }
+        let (code, wanted) = if again_after == Statuses::FAILURE {
+            ("NT0301", "never succeeds")
+        } else {
+            ("NT0302", "never fails")
+        };
+        let (child, returns) = children[0];
+        let message = format!(
+            "{} never ends: its child `{}` {wanted} (it returns {returns}), so it ticks it \
+             again and again",
+            shown(el),
+            shown(child)
+        );
+        found.push(site(el).diagnostic(code, message));
     }
     if let Some(root) = tree.children().next() {
         let root_statuses = statuses.of(root);
-        if !root_statuses.can_succeed() && !root_statuses.can_fail() {
+        if !root_statuses.can_end() {
             found.push(site(root).diagnostic(
                 "NT0303",
                 format!(
@@ -111,6 +102,20 @@ mod tests {
         assert_eq!(
             findings(&keep),
             [("NT0303", 3), ("NT0302", 4), ("NT0201", 7)]
+        );
+    }
+
+    #[test]
+    fn a_retry_of_no_attempts_fails_at_once_and_ends_the_loop_above() {
+        let xml = tree(
+            "<KeepRunningUntilFailure>\n<RetryUntilSuccessful num_attempts=\"0\">\n\
+             <AlwaysSuccess/>\n</RetryUntilSuccessful>\n</KeepRunningUntilFailure>",
+        );
+        assert_eq!(findings(&xml), []);
+        // One attempt of a child that always succeeds: the loop above never ends.
+        assert_eq!(
+            findings(&xml.replace("\"0\"", "\"1\"")),
+            [("NT0302", 3), ("NT0303", 3)]
         );
     }
 

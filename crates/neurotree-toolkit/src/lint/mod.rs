@@ -250,12 +250,12 @@ impl Site<'_> {
     }
 }
 
-/// The findings of `xml` (one file, `main.xml`), linted with `options`, as `(code, line)`;
-/// its leaves: `Say` (input `message`), `Think` (output `text`), `Move` (input `goal`
-/// defaulting to `{goal}`), `Count` (input `n`, an int), `Locate` (output `place`, a pair
-/// of floats), `Check` (a condition).
+/// Runs `f` on a loader holding `xml` (one file, `main.xml`) and validated; its leaves:
+/// `Say` (input `message`), `Think` (output `text`), `Move` (input `goal` defaulting to
+/// `{goal}`), `Count` (input `n`, an int), `Locate` (output `place`, a pair of floats),
+/// `Check` (a condition).
 #[cfg(test)]
-pub(crate) fn findings_with(xml: &str, options: &LintOptions) -> Vec<(&'static str, u32)> {
+fn lint_test_loader<T>(xml: &str, f: impl FnOnce(&XmlLoader<'_, ()>) -> T) -> T {
     use crate::{PortSpec, Registry};
     use neurotree_core::Status;
     let mut registry = Registry::<()>::new();
@@ -282,10 +282,29 @@ pub(crate) fn findings_with(xml: &str, options: &LintOptions) -> Vec<(&'static s
     for id in loader.tree_ids() {
         loader.validate(id).unwrap();
     }
-    lint(&loader, options)
-        .iter()
-        .map(|d| (d.code, d.line))
-        .collect()
+    f(&loader)
+}
+
+/// The findings of `xml` (see [`lint_test_loader`]), linted with `options`, as `(code, line)`.
+#[cfg(test)]
+pub(crate) fn findings_with(xml: &str, options: &LintOptions) -> Vec<(&'static str, u32)> {
+    lint_test_loader(xml, |loader| {
+        lint(loader, options)
+            .iter()
+            .map(|d| (d.code, d.line))
+            .collect()
+    })
+}
+
+/// The messages of the findings of `xml` (as [`findings`]).
+#[cfg(test)]
+pub(crate) fn messages(xml: &str) -> Vec<String> {
+    lint_test_loader(xml, |loader| {
+        lint(loader, &LintOptions::default())
+            .into_iter()
+            .map(|d| d.message)
+            .collect()
+    })
 }
 
 /// [`findings_with`] the default options.

@@ -2,8 +2,6 @@
 
 use crate::registry::{NodeType, Registry};
 use crate::xml::{is_explicit, Element};
-use neurotree_core::nodes::control::{fallback, reactive, sequence};
-use neurotree_core::nodes::NodeDecl;
 use neurotree_core::Category;
 
 /// The node an element of a tree stands for.
@@ -82,24 +80,3 @@ pub(crate) fn path_in_tree(tree: Element<'_>, el: Element<'_>) -> String {
     }
     parts.join("/")
 }
-
-/// Whether `name` is the name of one of `decls`: the lints name the built-ins through
-/// their declarations, which hold each name once.
-pub(crate) fn is(name: &str, decls: &[&NodeDecl]) -> bool {
-    decls.iter().any(|d| d.name == name)
-}
-
-/// The controls that tick their children in order until one fails.
-pub(crate) const SEQUENCES: [&NodeDecl; 4] = [
-    &sequence::SEQUENCE,
-    &sequence::SEQUENCE_WITH_MEMORY,
-    &reactive::REACTIVE_SEQUENCE,
-    &sequence::ASYNC_SEQUENCE,
-];
-
-/// The controls that tick their children in order until one succeeds.
-pub(crate) const FALLBACKS: [&NodeDecl; 3] = [
-    &fallback::FALLBACK,
-    &reactive::REACTIVE_FALLBACK,
-    &fallback::ASYNC_FALLBACK,
-];

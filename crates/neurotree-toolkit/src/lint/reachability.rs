@@ -1,13 +1,12 @@
 //! Reachability: children no tick can reach (NT0201), Switch cases no value can match
 //! (NT0202), trees of a file that its main tree never uses (NT0203).
 
-use super::node::{is, line, shown, FALLBACKS, SEQUENCES};
+use super::node::{line, shown};
 use super::outcomes::{Outcomes, Statuses};
 use super::{Diagnostic, Site};
 use crate::nodes::switch::check_string_equality;
 use crate::nodes::switch::{SWITCH2, SWITCH3, SWITCH4, SWITCH5, SWITCH6};
 use crate::xml::{binding, Element, XmlLoader};
-use neurotree_core::nodes::control::{fallback, sequence};
 use neurotree_core::PortValue;
 
 /// Reports the unreachable children and Switch cases of the tree `id`, whose
@@ -28,11 +27,8 @@ pub(crate) fn check_tree<C: 'static>(
             root: tree,
             el,
         };
-        if is(node.name, &SEQUENCES) {
-            cut_off(statuses, el, true, &site, found);
-        } else if is(node.name, &FALLBACKS) {
-            cut_off(statuses, el, false, &site, found);
-        } else if SWITCHES.iter().any(|d| d.name == node.name) {
+        cut_off(statuses, el, node.name, &site, found);
+        if SWITCHES.iter().any(|d| d.name == node.name) {
             let enums = loader.registry().enums();
             for (case, why) in unmatched_cases(el, |a, b| check_string_equality(a, b, enums)) {
                 found.push(site(el).diagnostic("NT0202", format!("`{case}` {why}")));
@@ -45,25 +41,30 @@ pub(crate) fn check_tree<C: 'static>(
 const SWITCHES: [neurotree_core::nodes::NodeDecl; 5] =
     [SWITCH2, SWITCH3, SWITCH4, SWITCH5, SWITCH6];
 
-/// Reports the first child of the Sequence (`sequence`) or Fallback `el` that comes after
-/// a child that always ends it.
+/// Reports the first child of `el` (of type `parent`) that comes after a child that never
+/// returns what its declared order needs to tick the next one (a Sequence's SUCCESS or
+/// SKIPPED, a Fallback's FAILURE or SKIPPED).
 fn cut_off<'d, C: 'static>(
     statuses: &mut Outcomes<'_, '_, C>,
     el: Element<'d>,
-    sequence: bool,
+    parent: &str,
     site: &dyn Fn(Element<'d>) -> Site<'d>,
     found: &mut Vec<Diagnostic>,
 ) {
-    let (go_on, parent, never) = if sequence {
-        (Statuses::SUCCESS, sequence::SEQUENCE.name, "never succeeds")
-    } else {
-        (Statuses::FAILURE, fallback::FALLBACK.name, "never fails")
-    };
+    let next_after = statuses.semantics(el).order.next_after();
+    if next_after == Statuses::ANY {
+        return;
+    }
     let mut children = el.children();
     while let Some(c) = children.next() {
-        if statuses.of(c).contains(go_on) {
+        if statuses.of(c).meets(next_after) {
             continue;
         }
+        let never = match next_after.without(Statuses::SKIPPED) {
+            s if s == Statuses::SUCCESS => "never succeeds".to_string(),
+            s if s == Statuses::FAILURE => "never fails".to_string(),
+            s => format!("never returns {s}"),
+        };
         if let Some(next) = children.next() {
             found.push(site(next).diagnostic(
                 "NT0201",
@@ -183,6 +184,36 @@ mod tests {
         // An action's outcome is not known.
         let plain = tree("<Sequence>\n<Say message=\"hi\"/>\n<Check/>\n</Sequence>");
         assert_eq!(findings(&plain), []);
+    }
+
+    #[test]
+    fn a_repeat_of_no_cycles_succeeds_at_once() {
+        let xml = tree(
+            "<Sequence>\n<Repeat num_cycles=\"0\"><AlwaysFailure/></Repeat>\n\
+             <AlwaysSuccess name=\"after\"/>\n</Sequence>",
+        );
+        assert_eq!(findings(&xml), []);
+        // One cycle: the child's failure is the Repeat's, and ends the Sequence.
+        assert_eq!(findings(&xml.replace("\"0\"", "\"1\"")), [("NT0201", 5)]);
+    }
+
+    #[test]
+    fn a_skipped_child_lets_a_fallback_go_on() {
+        let xml = tree(
+            "<Fallback>\n<ForceSuccess><Precondition if=\"false\" else=\"SKIPPED\">\
+             <Check/></Precondition></ForceSuccess>\n<Check/>\n</Fallback>",
+        );
+        assert_eq!(findings(&xml), []);
+        assert_eq!(
+            findings(&xml.replace("SKIPPED", "FAILURE")),
+            [("NT0201", 5)]
+        );
+        // A skip attribute does the same.
+        let skip = tree(
+            "<Fallback>\n<ForceSuccess _skipIf=\"true\"><Check/></ForceSuccess>\n\
+             <Check/>\n</Fallback>",
+        );
+        assert_eq!(findings(&skip), []);
     }
 
     #[test]

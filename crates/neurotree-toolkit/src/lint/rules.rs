@@ -39,9 +39,11 @@ entry on any path from the root before the node runs, BehaviorTree.CPP fails at 
 
 Write the entry first (move the writer before the reader), remap it from the parent tree,
 or, if the application sets it before the first tick, tell the linter with `--entry KEY`
-(`--nav2` knows the entries Nav2's navigators write: goal, goals, ...). A write inside a
-loop (Repeat, RetryUntilSuccessful, a reactive control, Parallel) counts for the reads of
-the same loop, which see it on the next round.",
+(`--nav2` knows the entries Nav2's navigators write: goal, goals, ...). A write later in a
+loop (Repeat, a retry, a reactive control, a RecoveryNode) reaches the read only on the next
+pass: the first pass still fails, and the finding says \"on the first pass\". A write under
+a node whose children run all at once (Parallel, a Switch, a control of another library)
+may come first.",
     },
     Rule {
         code: "NT0102",
@@ -75,10 +77,10 @@ entries Nav2's navigators read: the error codes and messages, path, ...).",
         severity: Severity::Warning,
         summary: "a child comes after one that always ends its parent",
         explanation: "\
-A Sequence ticks its next child only when the one before succeeds, a Fallback only when it
-fails. After a child that can never succeed (AlwaysFailure, ForceFailure, an Inverter over
-a node that never fails) in a Sequence, or that can never fail in a Fallback, the rest are
-never ticked.
+A Sequence ticks its next child only when the one before succeeds (or is skipped), a
+Fallback only when it fails (or is skipped). After a child that can never succeed
+(AlwaysFailure, ForceFailure, an Inverter over a node that never fails) in a Sequence, or
+that can never fail in a Fallback, the rest are never ticked, on any run.
 
     <Fallback>
       <ForceSuccess><Approach/></ForceSuccess>
@@ -115,10 +117,11 @@ same file is used by no SubTree on the way from it: it never runs. Use it with a
         code: "NT0301",
         name: "retry-never-succeeds",
         severity: Severity::Warning,
-        summary: "RetryUntilSuccessful without a limit over a child that never succeeds",
+        summary: "a loop that goes again after a failure, over a child that never succeeds",
         explanation: "\
 `RetryUntilSuccessful num_attempts=\"-1\"` ticks its child again after every failure,
-forever, until it succeeds. Over a child that can never succeed, it never ends.
+forever, until it succeeds (or is skipped). Over a child that can never succeed, it never
+ends: it returns RUNNING on every run, once started.
 
     <RetryUntilSuccessful num_attempts=\"-1\">
       <AlwaysFailure/>                     <!-- NT0301 -->
@@ -130,11 +133,12 @@ Give a number of attempts, or fix the child.",
         code: "NT0302",
         name: "repeat-never-fails",
         severity: Severity::Warning,
-        summary: "Repeat without a limit over a child that never fails",
+        summary: "a loop that goes again after a success, over a child that never fails",
         explanation: "\
 `Repeat num_cycles=\"-1\"` ticks its child again after every success, forever, until it
-fails. Over a child that can never fail (the same holds for KeepRunningUntilFailure), it
-never ends; if that is meant (a main loop), this warning says so in review.
+fails (or is skipped). Over a child that can never fail (the same holds for
+KeepRunningUntilFailure and Nav2's RecoveryNode), it never ends; if that is meant (a main
+loop), this warning says so in review.
 
     <Repeat num_cycles=\"-1\">
       <ForceSuccess><Patrol/></ForceSuccess>   <!-- NT0302 -->

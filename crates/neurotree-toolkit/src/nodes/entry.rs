@@ -25,6 +25,7 @@ use neurotree_core::{
 };
 
 use crate::registry::{MakerError, Registry};
+use neurotree_core::nodes::semantics::{first, Order, Semantics, Statuses};
 
 /// WasEntryUpdated's declaration: its BehaviorTree.CPP name, family, children and ports.
 pub const WAS_ENTRY_UPDATED: NodeDecl = NodeDecl {
@@ -37,6 +38,7 @@ pub const WAS_ENTRY_UPDATED: NodeDecl = NodeDecl {
         "The entry watched: `key` or `{key}`.",
     )],
     summary: "Success if the entry was written since the node last looked, else Failure.",
+    semantics: Semantics::new(Order::AllAtOnce, |_, _| Statuses::DONE),
 };
 
 /// SkipUnlessUpdated's declaration: its BehaviorTree.CPP name, family, children and ports.
@@ -50,6 +52,9 @@ pub const SKIP_UNLESS_UPDATED: NodeDecl = NodeDecl {
         "The entry watched: `key` or `{key}`.",
     )],
     summary: "Ticks the child if the entry was written since the node last looked, else Skipped.",
+    semantics: Semantics::new(Order::in_turn(Statuses::ANY), |_, c| {
+        first(c).or(Statuses::SKIPPED).or(Statuses::FAILURE)
+    }),
 };
 
 /// WaitValueUpdate's declaration: its BehaviorTree.CPP name, family, children and ports.
@@ -63,6 +68,9 @@ pub const WAIT_VALUE_UPDATE: NodeDecl = NodeDecl {
         "The entry watched: `key` or `{key}`.",
     )],
     summary: "Running until the entry is written, then ticks the child.",
+    semantics: Semantics::new(Order::AllAtOnce, |_, _| {
+        Statuses::DONE.or(Statuses::RUNNING)
+    }),
 };
 
 /// Per instance: the entry's sequence number when the node last looked.

@@ -34,6 +34,7 @@ use neurotree_core::{
 };
 
 use crate::registry::{MakerError, Registry};
+use neurotree_core::nodes::semantics::{Order, Semantics, Statuses};
 
 /// The ports of a loop whose elements are of type `value_type`.
 const fn loop_ports(value_type: &'static str) -> [PortDecl; 3] {
@@ -68,6 +69,10 @@ const fn loop_decl(
         arity: Arity::One,
         ports,
         summary,
+        // Each element of the queue ticks the child again; an empty queue gives `if_empty`.
+        semantics: Semantics::new(Order::again(Statuses::ANY, Statuses::ANY), |_, _| {
+            Statuses::ANY
+        }),
     }
 }
 

@@ -36,7 +36,9 @@
 //! [`neurotree_core::nodes::BUILT_INS`], these in [`STD_BUILT_INS`]; [`built_ins`] walks
 //! both, and the README's node catalog is made from them.
 
-pub use neurotree_core::nodes::{built_in, control, custom, decorator, kinds, leaf, NodeDecl};
+pub use neurotree_core::nodes::{
+    built_in, control, custom, decorator, kinds, leaf, semantics, NodeDecl,
+};
 
 pub mod entry;
 pub mod hooks;

@@ -25,6 +25,7 @@ use neurotree_core::{
 
 use crate::registry::{MakerError, Registry};
 use crate::script::{Enums, Script, ScriptEnv, Value};
+use neurotree_core::nodes::semantics::{first, Order, Semantics, Statuses};
 
 /// Script's declaration: its BehaviorTree.CPP name, family, children and ports.
 pub const SCRIPT: NodeDecl = NodeDecl {
@@ -37,6 +38,7 @@ pub const SCRIPT: NodeDecl = NodeDecl {
         "The script to run; it is parsed when the tree is loaded.",
     )],
     summary: "Runs a script on the blackboard; Success.",
+    semantics: Semantics::new(Order::AllAtOnce, |_, _| Statuses::DONE),
 };
 
 /// ScriptCondition's declaration: its BehaviorTree.CPP name, family, children and ports.
@@ -50,6 +52,7 @@ pub const SCRIPT_CONDITION: NodeDecl = NodeDecl {
         "The script to evaluate; true (or a non-zero number) gives Success.",
     )],
     summary: "Success if the value of a script is true, else Failure.",
+    semantics: Semantics::new(Order::AllAtOnce, |_, _| Statuses::DONE),
 };
 
 /// SetBlackboard's declaration: its BehaviorTree.CPP name, family, children and ports.
@@ -69,6 +72,10 @@ pub const SET_BLACKBOARD: NodeDecl = NodeDecl {
         },
     ],
     summary: "Writes `value` into the entry named by `output_key`; Success.",
+    semantics: Semantics::new(Order::AllAtOnce, |l, _| {
+        // A value read from an entry fails when the entry cannot be read.
+        Statuses::SUCCESS.or(Statuses::FAILURE.when(l.text("value").is_none()))
+    }),
 };
 
 /// UnsetBlackboard's declaration: its BehaviorTree.CPP name, family, children and ports.
@@ -78,6 +85,7 @@ pub const UNSET_BLACKBOARD: NodeDecl = NodeDecl {
     arity: Arity::Leaf,
     ports: &[PortDecl::input("key", "String", "The entry removed.")],
     summary: "Removes the entry named by `key`; Success.",
+    semantics: Semantics::new(Order::AllAtOnce, |_, _| Statuses::SUCCESS),
 };
 
 /// Precondition's declaration: its BehaviorTree.CPP name, family, children and ports.
@@ -100,6 +108,11 @@ pub const PRECONDITION: NodeDecl = NodeDecl {
     ],
     summary:
         "Checks a script before its child starts; false gives the `else` status without ticking it.",
+    semantics: Semantics::new(Order::in_turn(Statuses::ANY), |l, c| {
+        // A script that does not evaluate fails.
+        let otherwise = l.status("else").unwrap_or(Statuses::ANY);
+        first(c).or(otherwise).or(Statuses::FAILURE)
+    }),
 };
 
 /// The literal text of port `name`, or why it is missing.

@@ -32,6 +32,7 @@ use neurotree_core::{
 
 use crate::registry::Registry;
 use crate::script::Enums;
+use neurotree_core::nodes::semantics::{union, Order, Semantics, Statuses};
 
 /// A value's text, when it had to be written (a number entry): room for any `f64` with six
 /// decimals (at most 309 integer digits, a sign, a point and six decimals).
@@ -260,6 +261,8 @@ const fn switch_decl(name: &'static str, cases: u32) -> NodeDecl {
         },
         ports: SWITCH_PORTS.split_at(cases as usize + 1).0,
         summary: "Ticks the child whose case matches `variable`; none matches: the last child.",
+        // The chosen child may change from tick to tick: no order between them is declared.
+        semantics: Semantics::new(Order::AllAtOnce, |_, c| union(c).or(Statuses::FAILURE)),
     }
 }
 

@@ -20,6 +20,7 @@ use neurotree_core::{
 
 use crate::registry::{MakerError, Registry};
 use crate::script::Script;
+use neurotree_core::nodes::semantics::{first, Order, Semantics, Statuses};
 
 /// Utility's declaration: its name, family, children and ports.
 pub const UTILITY: NodeDecl = NodeDecl {
@@ -32,6 +33,9 @@ pub const UTILITY: NodeDecl = NodeDecl {
         "The child's score: a script expression or a {key}, giving a number.",
     )],
     summary: "Gives its child a score for the UtilitySelector above it; ticks it through.",
+    semantics: Semantics::new(Order::in_turn(Statuses::ANY), |_, c| {
+        first(c).or(Statuses::FAILURE)
+    }),
 };
 
 /// Where a Utility's score comes from, as its `score` port is written.

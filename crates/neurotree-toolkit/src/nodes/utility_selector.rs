@@ -30,6 +30,7 @@ use neurotree_core::{
 use super::utility::{Score, UTILITY};
 use crate::registry::{MakerError, Registry};
 use crate::script::{Enums, ScriptEnv, Value};
+use neurotree_core::nodes::semantics::Semantics;
 
 /// UtilitySelector's declaration: its name, family, children and ports.
 pub const UTILITY_SELECTOR: NodeDecl = NodeDecl {
@@ -43,6 +44,7 @@ pub const UTILITY_SELECTOR: NodeDecl = NodeDecl {
     )
     .or("0")],
     summary: "Ticks the Utility child with the highest score; switches away from a Running one only past `hysteresis`.",
+    semantics: Semantics::ANY,
 };
 
 /// The children's scores, as their ports declare them: read from the blueprint on the

@@ -23,6 +23,7 @@ use std::sync::Arc;
 use crate::script::Enums;
 
 use neurotree_core::nodes::leaf::{FnAction, FnCondition};
+use neurotree_core::nodes::semantics::{Order, Semantics, Statuses};
 use neurotree_core::state::StateCodecs;
 use neurotree_core::{Category, Handle, NodeKind, StatefulAction, Status};
 
@@ -98,6 +99,8 @@ pub struct NodeType<C> {
     pub(crate) make: Make<C>,
     /// Registered by [`Registry::new`], so not written into a `TreeNodesModel`.
     pub(crate) builtin: bool,
+    /// What it can return and how it ticks its children, if declared.
+    pub(crate) semantics: Option<Semantics>,
 }
 
 // By hand: a derive would ask the context `C` to be `Clone`, which only the makers' `Arc`s
@@ -122,6 +125,7 @@ impl<C> Clone for NodeType<C> {
             description: self.description.clone(),
             make: self.make.clone(),
             builtin: self.builtin,
+            semantics: self.semantics,
         }
     }
 }
@@ -136,6 +140,7 @@ impl<C> NodeType<C> {
             description: decl.summary.to_string(),
             make,
             builtin: true,
+            semantics: Some(decl.semantics),
         }
     }
 
@@ -155,6 +160,21 @@ impl<C> NodeType<C> {
     pub fn port(&self, name: &str) -> Option<&PortSpec> {
         self.ports.iter().find(|p| p.name == name)
     }
+
+    /// What a node of this type can return and how it ticks its children: as declared (a
+    /// built-in's declaration, [`Registry::declare_semantics`], a condition registered
+    /// with [`Registry::register_condition`]); else SUCCESS or FAILURE for a type listed as
+    /// a Condition (a condition does not run, by BehaviorTree.CPP's contract); else
+    /// [`Semantics::ANY`]: anything, children in any order.
+    pub fn semantics(&self) -> Semantics {
+        match self.semantics {
+            Some(declared) => declared,
+            None if self.category == Category::Condition => {
+                Semantics::new(Order::AllAtOnce, |_, _| Statuses::DONE)
+            }
+            None => Semantics::ANY,
+        }
+    }
 }
 
 /// Why a registration was refused.
@@ -164,6 +184,9 @@ pub enum RegistryError {
     /// The name is taken.
     #[error("a node type named `{0}` is already registered; pick another name")]
     Duplicate(String),
+    /// No node type has the name.
+    #[error("no node type named `{0}` is registered; register it first")]
+    Unknown(String),
     /// An enum name was defined again with another value.
     #[error("the enum name `{name}` is already {old}; it cannot also be {new}")]
     EnumRedefined {
@@ -348,8 +371,39 @@ impl<C: 'static> Registry<C> {
             description: String::new(),
             make: Make::Leaf(make),
             builtin: false,
+            semantics: None,
         };
         self.types.insert(name.to_string(), t);
+        Ok(())
+    }
+
+    /// Declares what nodes of the registered type `name` can return and how they tick their
+    /// children, for `neurotree lint` and the other analyses: a control that ticks child 0
+    /// at an interval, then child 1 whose status it returns, is declared by
+    ///
+    /// ```
+    /// use neurotree::nodes::semantics::{Order, Semantics, Statuses};
+    /// # let mut registry = neurotree::Registry::<()>::new();
+    /// # registry.register_custom("Service", neurotree::Arity::Range { min: 2, max: 2 },
+    /// #     vec![], || -> Box<dyn neurotree::CustomNode<()>> { unimplemented!() }).unwrap();
+    /// registry
+    ///     .declare_semantics("Service", Semantics::new(Order::again(Statuses::ANY, Statuses::ANY),
+    ///         |_, children| children[1].or(Statuses::RUNNING)))
+    ///     .unwrap();
+    /// ```
+    ///
+    /// The declaration must hold for every run (naming a status the node never returns is
+    /// allowed, leaving out one it can return is not). Fails if no type is named `name`.
+    pub fn declare_semantics(
+        &mut self,
+        name: &str,
+        semantics: Semantics,
+    ) -> Result<(), RegistryError> {
+        let t = self
+            .types
+            .get_mut(name)
+            .ok_or_else(|| RegistryError::Unknown(name.to_string()))?;
+        t.semantics = Some(semantics);
         Ok(())
     }
 
@@ -498,6 +552,7 @@ impl<C: 'static> Registry<C> {
             description: String::new(),
             make: Make::Condition(Arc::new(FnCondition(f))),
             builtin: false,
+            semantics: Some(Semantics::new(Order::AllAtOnce, |_, _| Statuses::DONE)),
         };
         self.types.insert(name.to_string(), t);
         Ok(())

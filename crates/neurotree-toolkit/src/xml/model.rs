@@ -78,6 +78,7 @@ impl<C: 'static> Registry<C> {
                         description: String::new(),
                         make: Make::Model,
                         builtin: false,
+                        semantics: None,
                     },
                 );
                 added += 1;

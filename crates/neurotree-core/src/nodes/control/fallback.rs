@@ -17,6 +17,7 @@ use crate::blueprint::NodeDef;
 use crate::blueprint::{Builder, NodeKind, PortBinding, PortBindingError};
 use crate::nodes::built_in::{BuiltIn, Family, Tick};
 use crate::nodes::decl::NodeDecl;
+use crate::nodes::semantics::{chain, Order, Semantics, Statuses};
 use crate::tree::Ticker;
 use crate::{Arity, Category};
 use crate::{NodeId, NodeStatus};
@@ -28,6 +29,10 @@ pub const FALLBACK: NodeDecl = NodeDecl {
     arity: Arity::AtLeast(1),
     ports: &[],
     summary: "Mirror of Sequence: the first success ends it; all failed: Failure.",
+    semantics: Semantics::new(
+        Order::in_turn(Statuses::FAILURE.or(Statuses::SKIPPED)),
+        |_, c| chain(c, Statuses::FAILURE),
+    ),
 };
 
 /// AsyncFallback's declaration: its BehaviorTree.CPP name, family, children and ports.
@@ -37,6 +42,10 @@ pub const ASYNC_FALLBACK: NodeDecl = NodeDecl {
     arity: Arity::AtLeast(1),
     ports: &[],
     summary: "As Fallback, yielding after each child that fails.",
+    semantics: Semantics::new(
+        Order::in_turn(Statuses::FAILURE.or(Statuses::SKIPPED)),
+        |_, c| chain(c, Statuses::FAILURE).or(Statuses::RUNNING),
+    ),
 };
 
 /// The Fallback node. It has no parameters.

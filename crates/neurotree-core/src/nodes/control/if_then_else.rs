@@ -14,6 +14,7 @@ use crate::{NodeId, NodeStatus};
 use crate::blueprint::{Builder, NodeKind, PortBinding, PortBindingError};
 use crate::nodes::built_in::{BuiltIn, Tick};
 use crate::nodes::decl::NodeDecl;
+use crate::nodes::semantics::{Order, Semantics, Statuses};
 use crate::{Arity, Category};
 
 /// IfThenElse's declaration: its BehaviorTree.CPP name, family, children and ports.
@@ -23,6 +24,13 @@ pub const IF_THEN_ELSE: NodeDecl = NodeDecl {
     arity: Arity::Range { min: 2, max: 3 },
     ports: &[],
     summary: "Ticks the condition once, then keeps the chosen branch until it completes; no else branch: Failure.",
+    semantics: Semantics::new(Order::in_turn(Statuses::ANY), |_, c| {
+        let branch = |i: usize| c.get(i).copied().unwrap_or(Statuses::FAILURE);
+        let cond = c.first().copied().unwrap_or(Statuses::ANY);
+        cond.without(Statuses::DONE)
+            .or(branch(1).when(cond.can_succeed()))
+            .or(branch(2).when(cond.can_fail()))
+    }),
 };
 
 #[inline(never)]

@@ -33,6 +33,7 @@ use crate::blueprint::{Builder, NodeKind, Param, PortBinding, PortBindingError};
 use crate::nodes::built_in::Family;
 use crate::nodes::built_in::{self, BuiltIn, Tick};
 use crate::nodes::decl::{NodeDecl, PortDecl};
+use crate::nodes::semantics::{union, Literals, Order, Semantics, Statuses};
 use crate::{Arity, Category};
 use alloc::string::String;
 use alloc::vec;
@@ -48,7 +49,29 @@ pub const PARALLEL: NodeDecl = NodeDecl {
         PortDecl::input("failure_count", "i32", "Failures that make the node fail; a negative count is taken from the number of children (-1: all of them).").or("1"),
     ],
     summary: "Ticks the children not yet completed; Success at `success_count` successes, Failure at `failure_count` failures or when success became impossible.",
+    semantics: Semantics::new(Order::AllAtOnce, outcomes),
 };
+
+/// What a Parallel can return, given its thresholds S and F: SUCCESS if S can be reached
+/// (by successes, or by skips when S is "all"), FAILURE if a child can fail, SKIPPED if
+/// every child can be skipped, RUNNING while a child runs or is skipped. Thresholds read
+/// from entries: anything.
+fn outcomes(l: &Literals<'_>, c: &[Statuses]) -> Statuses {
+    let (Some(s), Some(f)) = (l.int("success_count"), l.int("failure_count")) else {
+        return Statuses::ANY;
+    };
+    let n = c.len() as i64;
+    let resolve = |t: i64| if t < 0 { n + t + 1 } else { t };
+    let (need, limit) = (resolve(s), resolve(f));
+    let all = union(c);
+    let success = need <= 0 || all.can_succeed() || (s < 0 && all.can_skip());
+    let failure = limit <= 0 || need > n || all.can_fail();
+    Statuses::SUCCESS
+        .when(success)
+        .or(Statuses::FAILURE.when(failure))
+        .or(Statuses::SKIPPED.when(c.iter().all(|s| s.can_skip())))
+        .or(Statuses::RUNNING.when(all.meets(Statuses::RUNNING.or(Statuses::SKIPPED))))
+}
 
 #[inline(never)]
 pub(crate) fn tick<C>(

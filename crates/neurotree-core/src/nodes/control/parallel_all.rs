@@ -17,6 +17,7 @@ use crate::blueprint::{Builder, NodeKind, Param, PortBinding, PortBindingError};
 use crate::nodes::built_in::Family;
 use crate::nodes::built_in::{self, BuiltIn, Tick};
 use crate::nodes::decl::{NodeDecl, PortDecl};
+use crate::nodes::semantics::{union, Literals, Order, Semantics, Statuses};
 use crate::{Arity, Category};
 use alloc::string::String;
 use alloc::vec;
@@ -31,7 +32,25 @@ pub const PARALLEL_ALL: NodeDecl = NodeDecl {
         PortDecl::input("max_failures", "i32", "Once every child completed, the node fails if at least this many failed (negative: counted from the number of children).").or("1"),
     ],
     summary: "Ticks every child to completion; Failure if `max_failures` of them failed, else Success.",
+    semantics: Semantics::new(Order::AllAtOnce, outcomes),
 };
+
+/// What a ParallelAll can return: SUCCESS unless `max_failures` is no more than 0, FAILURE
+/// if a child can fail (or always, for such a `max_failures`), SKIPPED if every child can be
+/// skipped, RUNNING if a child can run.
+fn outcomes(l: &Literals<'_>, c: &[Statuses]) -> Statuses {
+    let n = c.len() as i64;
+    let limit = l
+        .int("max_failures")
+        .map(|t| if t < 0 { n + t + 1 } else { t });
+    let all = union(c);
+    let always_fails = limit.is_none_or(|m| m <= 0);
+    Statuses::SUCCESS
+        .when(limit.is_none_or(|m| m > 0))
+        .or(Statuses::FAILURE.when(always_fails || all.can_fail()))
+        .or(Statuses::SKIPPED.when(c.iter().all(|s| s.can_skip())))
+        .or(Statuses::RUNNING.when(all.can_run()))
+}
 
 #[inline(never)]
 pub(crate) fn tick<C>(

@@ -31,6 +31,7 @@ use crate::{NodeId, NodeStatus, Status};
 use crate::blueprint::{Builder, NodeKind, PortBinding, PortBindingError};
 use crate::nodes::built_in::{BuiltIn, Family, Tick};
 use crate::nodes::decl::NodeDecl;
+use crate::nodes::semantics::{chain, Order, Semantics, Statuses};
 use crate::{Arity, Category};
 
 /// ReactiveSequence's declaration: its BehaviorTree.CPP name, family, children and ports.
@@ -40,6 +41,10 @@ pub const REACTIVE_SEQUENCE: NodeDecl = NodeDecl {
     arity: Arity::AtLeast(1),
     ports: &[],
     summary: "Restarts at child 0 every tick; a Running child halts the other Running children.",
+    semantics: Semantics::new(
+        Order::again(Statuses::SUCCESS.or(Statuses::SKIPPED), Statuses::ANY),
+        |_, c| chain(c, Statuses::SUCCESS),
+    ),
 };
 
 /// ReactiveFallback's declaration: its BehaviorTree.CPP name, family, children and ports.
@@ -49,6 +54,10 @@ pub const REACTIVE_FALLBACK: NodeDecl = NodeDecl {
     arity: Arity::AtLeast(1),
     ports: &[],
     summary: "Mirror of ReactiveSequence.",
+    semantics: Semantics::new(
+        Order::again(Statuses::FAILURE.or(Statuses::SKIPPED), Statuses::ANY),
+        |_, c| chain(c, Statuses::FAILURE),
+    ),
 };
 
 /// `goal` is the outcome that lets the node move on: Success for the sequence, Failure for

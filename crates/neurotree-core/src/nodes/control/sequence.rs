@@ -19,6 +19,7 @@ use crate::blueprint::NodeDef;
 use crate::blueprint::{Builder, NodeKind, PortBinding, PortBindingError};
 use crate::nodes::built_in::{BuiltIn, Family, Tick};
 use crate::nodes::decl::NodeDecl;
+use crate::nodes::semantics::{chain, Order, Semantics, Statuses};
 use crate::tree::Ticker;
 use crate::{Arity, Category};
 use crate::{NodeId, NodeStatus};
@@ -30,6 +31,10 @@ pub const SEQUENCE: NodeDecl = NodeDecl {
     arity: Arity::AtLeast(1),
     ports: &[],
     summary: "Ticks children in order, resuming at the running one; a failure resets it and fails; all succeeded: Success.",
+    semantics: Semantics::new(
+        Order::in_turn(Statuses::SUCCESS.or(Statuses::SKIPPED)),
+        |_, c| chain(c, Statuses::SUCCESS),
+    ),
 };
 
 /// SequenceWithMemory's declaration: its BehaviorTree.CPP name, family, children and ports.
@@ -39,6 +44,11 @@ pub const SEQUENCE_WITH_MEMORY: NodeDecl = NodeDecl {
     arity: Arity::AtLeast(1),
     ports: &[],
     summary: "As Sequence, but a failure or a halt keeps its place: the failed child is retried next tick.",
+    semantics: Semantics::new(
+        Order::again(Statuses::SUCCESS.or(Statuses::SKIPPED), Statuses::FAILURE),
+        // It yields (RUNNING) after a child that succeeded from Idle, as AsyncSequence does.
+        |_, c| chain(c, Statuses::SUCCESS).or(Statuses::RUNNING.when(c.len() > 1)),
+    ),
 };
 
 /// AsyncSequence's declaration: its BehaviorTree.CPP name, family, children and ports.
@@ -48,6 +58,10 @@ pub const ASYNC_SEQUENCE: NodeDecl = NodeDecl {
     arity: Arity::AtLeast(1),
     ports: &[],
     summary: "As Sequence, but yields (Running, woken at once by `tick_once`) after each child that completes.",
+    semantics: Semantics::new(
+        Order::in_turn(Statuses::SUCCESS.or(Statuses::SKIPPED)),
+        |_, c| chain(c, Statuses::SUCCESS).or(Statuses::RUNNING),
+    ),
 };
 
 /// The Sequence node. It has no parameters.

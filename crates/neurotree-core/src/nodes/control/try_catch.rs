@@ -29,6 +29,7 @@ use crate::{NodeId, NodeStatus};
 use crate::blueprint::{Builder, NodeKind, Param, PortBinding, PortBindingError};
 use crate::nodes::built_in::{self, BuiltIn, Tick};
 use crate::nodes::decl::{NodeDecl, PortDecl};
+use crate::nodes::semantics::{chain, Order, Semantics, Statuses};
 use crate::{Arity, Category};
 use alloc::string::String;
 use alloc::vec;
@@ -47,6 +48,12 @@ pub const TRY_CATCH: NodeDecl = NodeDecl {
     .or("false")],
     summary:
         "Children but the last as a Sequence; on failure ticks the last (the catch) and fails.",
+    semantics: Semantics::new(Order::in_turn(Statuses::ANY), |_, c| {
+        let (tries, catch) = c.split_at(c.len().saturating_sub(1));
+        let tried = chain(tries, Statuses::SUCCESS);
+        let caught = catch.first().is_some_and(|c| c.can_run());
+        tried.or(Statuses::RUNNING.when(caught && tried.can_fail()))
+    }),
 };
 
 const IN_CATCH: u64 = 1 << 63;

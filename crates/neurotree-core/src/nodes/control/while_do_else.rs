@@ -17,6 +17,7 @@ use crate::{NodeId, NodeStatus};
 use crate::blueprint::{Builder, NodeKind, PortBinding, PortBindingError};
 use crate::nodes::built_in::{BuiltIn, Tick};
 use crate::nodes::decl::NodeDecl;
+use crate::nodes::semantics::{Order, Semantics, Statuses};
 use crate::{Arity, Category};
 
 /// WhileDoElse's declaration: its BehaviorTree.CPP name, family, children and ports.
@@ -26,6 +27,15 @@ pub const WHILE_DO_ELSE: NodeDecl = NodeDecl {
     arity: Arity::Range { min: 2, max: 3 },
     ports: &[],
     summary: "Re-ticks the condition every tick; switching branch halts the other one.",
+    semantics: Semantics::new(Order::again(Statuses::ANY, Statuses::ANY), |_, c| {
+        let branch = |i: usize| c.get(i).copied().unwrap_or(Statuses::FAILURE);
+        let cond = c.first().copied().unwrap_or(Statuses::ANY);
+        // RUNNING too while a branch it switches from takes ticks to halt.
+        Statuses::RUNNING
+            .or(Statuses::SKIPPED.when(cond.can_skip()))
+            .or(branch(1).when(cond.can_succeed()))
+            .or(branch(2).when(cond.can_fail()))
+    }),
 };
 
 #[inline(never)]

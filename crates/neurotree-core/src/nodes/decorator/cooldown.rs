@@ -17,6 +17,7 @@ use crate::{NodeId, NodeStatus};
 use crate::blueprint::{Builder, NodeKind, Param, PortBinding, PortBindingError};
 use crate::nodes::built_in::{self, BuiltIn, Tick};
 use crate::nodes::decl::{NodeDecl, PortDecl};
+use crate::nodes::semantics::{first, Order, Semantics, Statuses};
 use crate::{Arity, Category};
 use alloc::string::String;
 use alloc::vec;
@@ -31,6 +32,9 @@ pub const COOLDOWN: NodeDecl = NodeDecl {
         PortDecl::input("cooldown_msec", "u64", "Milliseconds after the child completed during which the node fails without ticking it."),
     ],
     summary: "After the child completes, fails without ticking it until `cooldown_msec` has passed (a NeuroTree node).",
+    semantics: Semantics::new(Order::in_turn(Statuses::ANY), |_, c| {
+        first(c).or(Statuses::FAILURE)
+    }),
 };
 
 #[inline(never)]

@@ -17,6 +17,7 @@ use crate::blueprint::{Builder, NodeKind, Param, PortBinding, PortBindingError};
 use crate::nodes::built_in::Outcomes;
 use crate::nodes::built_in::{self, BuiltIn, Tick};
 use crate::nodes::decl::{NodeDecl, PortDecl};
+use crate::nodes::semantics::{first, Order, Semantics, Statuses};
 use crate::{Arity, Category};
 use alloc::string::String;
 use alloc::vec;
@@ -33,6 +34,9 @@ pub const DELAY: NodeDecl = NodeDecl {
         "Milliseconds to wait, on the tree's clock, before the child is first ticked.",
     )],
     summary: "Running until `delay_msec` has passed on the tree's clock, then ticks the child.",
+    semantics: Semantics::new(Order::in_turn(Statuses::ANY), |_, c| {
+        first(c).or(Statuses::RUNNING).or(Statuses::FAILURE)
+    }),
 };
 
 #[inline(never)]

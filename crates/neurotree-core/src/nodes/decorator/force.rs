@@ -10,6 +10,7 @@ use crate::{NodeId, NodeStatus};
 use crate::blueprint::{Builder, NodeKind, PortBinding, PortBindingError};
 use crate::nodes::built_in::{BuiltIn, Outcomes, Tick};
 use crate::nodes::decl::NodeDecl;
+use crate::nodes::semantics::{first, pass, Order, Semantics, Statuses};
 use crate::{Arity, Category};
 
 /// ForceSuccess's declaration: its BehaviorTree.CPP name, family, children and ports.
@@ -19,6 +20,9 @@ pub const FORCE_SUCCESS: NodeDecl = NodeDecl {
     arity: Arity::One,
     ports: &[],
     summary: "A completed child becomes Success; Running passes.",
+    semantics: Semantics::new(Order::in_turn(Statuses::ANY), |_, c| {
+        pass(first(c), Statuses::SUCCESS, Statuses::SUCCESS)
+    }),
 };
 
 /// ForceFailure's declaration: its BehaviorTree.CPP name, family, children and ports.
@@ -28,6 +32,9 @@ pub const FORCE_FAILURE: NodeDecl = NodeDecl {
     arity: Arity::One,
     ports: &[],
     summary: "A completed child becomes Failure; Running passes.",
+    semantics: Semantics::new(Order::in_turn(Statuses::ANY), |_, c| {
+        pass(first(c), Statuses::FAILURE, Statuses::FAILURE)
+    }),
 };
 
 #[inline(never)]

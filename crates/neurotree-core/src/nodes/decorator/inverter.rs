@@ -11,6 +11,7 @@ use crate::{NodeId, NodeStatus};
 use crate::blueprint::{Builder, NodeKind, PortBinding, PortBindingError};
 use crate::nodes::built_in::{BuiltIn, Tick};
 use crate::nodes::decl::NodeDecl;
+use crate::nodes::semantics::{first, pass, Order, Semantics, Statuses};
 use crate::{Arity, Category};
 
 /// Inverter's declaration: its BehaviorTree.CPP name, family, children and ports.
@@ -20,6 +21,9 @@ pub const INVERTER: NodeDecl = NodeDecl {
     arity: Arity::One,
     ports: &[],
     summary: "Swaps Success and Failure; Running passes.",
+    semantics: Semantics::new(Order::in_turn(Statuses::ANY), |_, c| {
+        pass(first(c), Statuses::FAILURE, Statuses::SUCCESS)
+    }),
 };
 
 #[inline(never)]

@@ -12,6 +12,7 @@ use crate::{NodeId, NodeStatus};
 use crate::blueprint::{Builder, NodeKind, PortBinding, PortBindingError};
 use crate::nodes::built_in::{BuiltIn, Tick};
 use crate::nodes::decl::NodeDecl;
+use crate::nodes::semantics::{first, Order, Semantics, Statuses};
 use crate::{Arity, Category};
 
 /// KeepRunningUntilFailure's declaration: its BehaviorTree.CPP name, family, children and ports.
@@ -21,6 +22,16 @@ pub const KEEP_RUNNING_UNTIL_FAILURE: NodeDecl = NodeDecl {
     arity: Arity::One,
     ports: &[],
     summary: "Child Success becomes Running; Failure ends it.",
+    semantics: Semantics::new(
+        Order::again(Statuses::ANY, Statuses::SUCCESS.or(Statuses::SKIPPED)),
+        |_, c| {
+            let c = first(c);
+            // A success or a skip of the child leaves the node Running.
+            Statuses::FAILURE
+                .when(c.can_fail())
+                .or(Statuses::RUNNING.when(c.meets(Statuses::ANY.without(Statuses::FAILURE))))
+        },
+    ),
 };
 
 #[inline(never)]

@@ -22,6 +22,7 @@ use crate::blueprint::{Builder, NodeKind, Param, PortBinding, PortBindingError};
 use crate::nodes::built_in::Outcomes;
 use crate::nodes::built_in::{self, BuiltIn, Tick};
 use crate::nodes::decl::{NodeDecl, PortDecl};
+use crate::nodes::semantics::{first, Literals, Order, Semantics, Statuses};
 use crate::{Arity, Category};
 use alloc::string::String;
 use alloc::vec;
@@ -38,7 +39,28 @@ pub const REPEAT: NodeDecl = NodeDecl {
         "How many times a succeeding child runs before the node succeeds; -1 repeats forever.",
     )],
     summary: "Runs a succeeding child `num_cycles` times (-1: forever); a failure fails.",
+    semantics: Semantics::new(Order::again(Statuses::ANY, Statuses::SUCCESS), outcomes),
 };
+
+/// What a Repeat can return: its child's statuses, with SUCCESS only once the cycles are
+/// done (never with -1) and RUNNING between cycles; SUCCESS at once, without a tick, for 0
+/// cycles (or a negative count other than -1).
+fn outcomes(l: &Literals<'_>, c: &[Statuses]) -> Statuses {
+    loop_outcomes(l.int("num_cycles"), first(c), Statuses::SUCCESS)
+}
+
+/// What a loop that goes again after `again` (Repeat: SUCCESS; RetryUntilSuccessful:
+/// FAILURE) can return over a `child`, with a literal `limit` (`None`: read when it runs).
+pub(crate) fn loop_outcomes(limit: Option<i64>, child: Statuses, again: Statuses) -> Statuses {
+    match limit {
+        None => Statuses::ANY,
+        Some(-1) => child
+            .without(again)
+            .or(Statuses::RUNNING.when(child.meets(again))),
+        Some(n) if n <= 0 => again,
+        Some(n) => child.or(Statuses::RUNNING.when(child.meets(again) && n >= 2)),
+    }
+}
 
 /// Repeat (`REPEAT`) or RetryUntilSuccessful (`!REPEAT`): the two mirror each other, one
 /// counting successes and stopping at a failure, the other counting failures and stopping at

@@ -17,6 +17,7 @@ use crate::blueprint::{Builder, NodeKind, Param, PortBinding, PortBindingError};
 use crate::nodes::built_in::Outcomes;
 use crate::nodes::built_in::{self, BuiltIn, Tick};
 use crate::nodes::decl::{NodeDecl, PortDecl};
+use crate::nodes::semantics::{first, Literals, Order, Semantics, Statuses};
 use crate::tree::Ticker;
 use crate::{Arity, Category};
 use crate::{NodeId, NodeStatus};
@@ -35,7 +36,15 @@ pub const RETRY_UNTIL_SUCCESSFUL: NodeDecl = NodeDecl {
         "How many times a failing child is tried before the node fails; -1 retries forever.",
     )],
     summary: "Retries a failing child `num_attempts` times (-1: forever); a success succeeds.",
+    semantics: Semantics::new(Order::again(Statuses::ANY, Statuses::FAILURE), outcomes),
 };
+
+/// What a RetryUntilSuccessful can return: its child's statuses, with FAILURE only once
+/// the attempts run out (never with -1) and RUNNING between attempts; FAILURE at once,
+/// without a tick, for 0 attempts (or a negative count other than -1).
+fn outcomes(l: &Literals<'_>, c: &[Statuses]) -> Statuses {
+    super::repeat::loop_outcomes(l.int("num_attempts"), first(c), Statuses::FAILURE)
+}
 
 // The loop is Repeat's, mirrored: see `repeat::tick`.
 

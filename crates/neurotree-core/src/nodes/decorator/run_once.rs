@@ -13,6 +13,7 @@ use crate::blueprint::{Builder, NodeKind, Param, PortBinding, PortBindingError};
 use crate::nodes::built_in::Outcomes;
 use crate::nodes::built_in::{self, BuiltIn, Tick};
 use crate::nodes::decl::{NodeDecl, PortDecl};
+use crate::nodes::semantics::{first, Order, Semantics, Statuses};
 use crate::{Arity, Category};
 use alloc::string::String;
 use alloc::vec;
@@ -27,6 +28,9 @@ pub const RUN_ONCE: NodeDecl = NodeDecl {
         PortDecl::input("then_skip", "bool", "After the first run, return Skipped if true, else the status the child returned that once.").or("true"),
     ],
     summary: "Runs the child to completion once; afterwards Skipped (or the first outcome again).",
+    semantics: Semantics::new(Order::in_turn(Statuses::ANY), |l, c| {
+        first(c).or(Statuses::SKIPPED.when(l.bool("then_skip") != Some(false)))
+    }),
 };
 
 const SUCCEEDED: u64 = 1;

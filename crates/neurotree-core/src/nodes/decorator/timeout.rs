@@ -25,6 +25,7 @@ use crate::{NodeId, NodeStatus};
 use crate::blueprint::{Builder, NodeKind, Param, PortBinding, PortBindingError};
 use crate::nodes::built_in::{self, BuiltIn, Tick};
 use crate::nodes::decl::{NodeDecl, PortDecl};
+use crate::nodes::semantics::{first, Order, Semantics, Statuses};
 use crate::{Arity, Category};
 use alloc::string::String;
 use alloc::vec;
@@ -41,6 +42,9 @@ pub const TIMEOUT: NodeDecl = NodeDecl {
         "Milliseconds the child may run; past them it is halted and the node fails (0: no limit).",
     )],
     summary: "Times from the first tick; when `msec` is up, halts the Running child and fails.",
+    semantics: Semantics::new(Order::in_turn(Statuses::ANY), |_, c| {
+        first(c).or(Statuses::RUNNING).or(Statuses::FAILURE)
+    }),
 };
 
 #[inline(never)]

@@ -7,6 +7,7 @@ use crate::blueprint::NodeDef;
 use crate::blueprint::{Builder, NodeKind, PortBinding, PortBindingError};
 use crate::nodes::built_in::{BuiltIn, Outcomes, Tick};
 use crate::nodes::decl::NodeDecl;
+use crate::nodes::semantics::{Order, Semantics, Statuses};
 use crate::tree::Ticker;
 use crate::{Arity, Category};
 use crate::{NodeId, NodeStatus};
@@ -18,6 +19,7 @@ pub const ALWAYS_SUCCESS: NodeDecl = NodeDecl {
     arity: Arity::Leaf,
     ports: &[],
     summary: "Success, every tick.",
+    semantics: Semantics::new(Order::AllAtOnce, |_, _| Statuses::SUCCESS),
 };
 
 /// AlwaysFailure's declaration: its BehaviorTree.CPP name, family, children and ports.
@@ -27,6 +29,7 @@ pub const ALWAYS_FAILURE: NodeDecl = NodeDecl {
     arity: Arity::Leaf,
     ports: &[],
     summary: "Failure, every tick.",
+    semantics: Semantics::new(Order::AllAtOnce, |_, _| Statuses::FAILURE),
 };
 
 /// The AlwaysSuccess leaf. It has no parameters.

@@ -21,6 +21,7 @@ use crate::blueprint::{Builder, NodeKind, Param, PortBinding, PortBindingError};
 use crate::nodes::built_in::Outcomes;
 use crate::nodes::built_in::{self, BuiltIn, Tick};
 use crate::nodes::decl::{NodeDecl, PortDecl};
+use crate::nodes::semantics::{Order, Semantics, Statuses};
 use crate::{Arity, Category};
 use alloc::string::String;
 use alloc::vec;
@@ -37,6 +38,11 @@ pub const SLEEP: NodeDecl = NodeDecl {
         "Milliseconds to stay Running, on the tree's clock.",
     )],
     summary: "Running until `msec` has passed on the tree's clock, then Success.",
+    semantics: Semantics::new(Order::AllAtOnce, |l, _| {
+        // A duration read from an entry that cannot be read fails the tick.
+        let read = Statuses::FAILURE.when(l.text("msec").is_none());
+        Statuses::SUCCESS.or(Statuses::RUNNING).or(read)
+    }),
 };
 
 pub(crate) fn tick<C>(
