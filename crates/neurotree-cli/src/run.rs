@@ -36,8 +36,8 @@ use neurotree::observe::{
 use neurotree::render::LastTickStatuses;
 use neurotree::scenario::write_text;
 use neurotree::{
-    Blueprint, Failure, LoadErrorKind, LoadWarning, ManualClock, NodeId, NodeStatus, Observer,
-    Reason, Registry, Status, StatusChange, TickError, Tree, XmlLoader,
+    Blueprint, Failure, FailureLink, LoadErrorKind, LoadWarning, ManualClock, NodeId, NodeStatus,
+    Observer, Reason, Registry, Status, StatusChange, TickError, Tree, XmlLoader,
 };
 use serde_json::{json, Map, Value};
 

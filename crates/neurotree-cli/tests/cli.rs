@@ -590,10 +590,60 @@ fn run_summary_says_why_the_root_failed() {
     assert_eq!(
         failure,
         concat!(
-            r#"[{"path":"try","tried":[{"path":"try/limit","reason":"timed out after 150 ms"},"#,
-            r#"{"path":"try/retry","reason":"gave up after 2 attempts"}]},"#,
+            r#"[{"path":"try","tried":[{"path":"try/limit","reason":"timed out after 150 ms","#,
+            r#""chain":[{"path":"try/limit","reason":"timed out after 150 ms","tried":[]}]},"#,
+            r#"{"path":"try/retry","reason":"gave up after 2 attempts","#,
+            r#""chain":[{"path":"try/retry","reason":"gave up after 2 attempts","tried":[]},"#,
+            r#"{"path":"try/retry/AlwaysFailure","tried":[]}]}]},"#,
             r#"{"path":"try/retry","reason":"gave up after 2 attempts","tried":[]},"#,
             r#"{"path":"try/retry/AlwaysFailure","tried":[]}]}}"#
+        )
+    );
+}
+
+const TWO_WAYS: &str = r#"<root BTCPP_format="4" main_tree_to_execute="Main">
+  <BehaviorTree ID="Main">
+    <Fallback name="choose">
+      <Sequence name="dock">
+        <IsLow/>
+        <Dock/>
+      </Sequence>
+      <Sequence name="patrol">
+        <IsCharged/>
+        <Patrol/>
+      </Sequence>
+    </Fallback>
+  </BehaviorTree>
+</root>"#;
+
+#[test]
+fn run_summary_follows_a_failure_without_reasons_down_to_each_leaf() {
+    let file = write_tree("two_ways.xml", TWO_WAYS);
+    let (code, out, err) = run_cli(&[
+        "run",
+        file.to_str().unwrap(),
+        "--mock-unknown",
+        "--mock",
+        "IsLow=FAILURE",
+        "--mock",
+        "IsCharged=FAILURE",
+    ]);
+    assert_eq!(code, Some(2), "{err}");
+    let summary = out.lines().last().unwrap();
+    let failure = summary
+        .split_once(r#","failure":"#)
+        .map(|(_, f)| f)
+        .expect(summary);
+    assert_eq!(
+        failure,
+        concat!(
+            r#"[{"path":"choose","tried":["#,
+            r#"{"path":"choose/dock","chain":[{"path":"choose/dock","tried":[]},"#,
+            r#"{"path":"choose/dock/IsLow","tried":[]}]},"#,
+            r#"{"path":"choose/patrol","chain":[{"path":"choose/patrol","tried":[]},"#,
+            r#"{"path":"choose/patrol/IsCharged","tried":[]}]}]},"#,
+            r#"{"path":"choose/patrol","tried":[]},"#,
+            r#"{"path":"choose/patrol/IsCharged","tried":[]}]}}"#
         )
     );
 }

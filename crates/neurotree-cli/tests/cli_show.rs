@@ -175,7 +175,8 @@ fn show_colours_each_node_with_the_statuses_of_a_run_trace() {
 
     // At the end the door would not let us through: every node shows its last status.
     // (`show` knows nothing of the run's mocks: its leaves are the loader's own.)
-    // The root's failure chain (Tree::last_failure) is the root alone: it is marked.
+    // The root's failure chain (Tree::last_failure) goes from the root to the leaf that
+    // failed: both are marked.
     assert_eq!(
         show(&[door, "--trace", trace]),
         "[✗] enter (Sequence) -- failed\n\
@@ -185,7 +186,7 @@ fn show_colours_each_node_with_the_statuses_of_a_run_trace() {
          │   └── [✓] Force (SubTree)\n\
          │       └── [✓] RetryUntilSuccessful\n\
          │           └── [✓] PickLock (AlwaysSuccess)\n\
-         └── [✗] PassThroughDoor (AlwaysSuccess)\n"
+         └── [✗] PassThroughDoor (AlwaysSuccess) -- failed\n"
     );
     // Ticks count passes of the root: the first tick made two, the retry of PickLock
     // passing again at once. In tick 3 only the door was ticked; the rest shows what the

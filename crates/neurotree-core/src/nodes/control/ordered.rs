@@ -156,9 +156,22 @@ fn guard<C, const SEQUENCE: bool, const CLOSURES: bool>(
             .map(|(call, answer)| (call.id, unsafe { args.panicked(answer) }))
     };
     match decided {
-        None => go_on,
+        None => {
+            // A Fallback of conditions that all failed: each one is part of why.
+            if !SEQUENCE {
+                for call in calls {
+                    t.mark_failed(call.id);
+                }
+            }
+            go_on
+        }
         Some((node, Some(payload))) => t.resume_panic(node, payload),
-        Some((_, None)) => stop,
+        Some((node, None)) => {
+            if SEQUENCE {
+                t.mark_failed(node);
+            }
+            stop
+        }
     }
 }
 
@@ -220,12 +233,20 @@ fn run_quiet<C, const SEQUENCE: bool>(
                 t.tick_child_stored(child)
             }
         };
+        // A child's Failure is marked here, its status being stored only if this node
+        // returns Running (one store; `Tree::last_failure` reads the marks).
         if status == go_on {
+            if !SEQUENCE {
+                t.mark_failed(child.id);
+            }
             continue;
         }
         if status == NodeStatus::Skipped {
             skipped += 1;
             continue;
+        }
+        if status == NodeStatus::Failure {
+            t.mark_failed(child.id);
         }
         break Some(status);
     };
