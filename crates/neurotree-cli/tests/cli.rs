@@ -691,3 +691,34 @@ fn run_trace_carries_the_reason_on_the_change_to_failure() {
         ]
     );
 }
+
+/// A Nav2 tree whose entry `p` holds a Path where a number is read.
+const PATH_AS_NUMBER: &str = r#"<root BTCPP_format="4" main_tree_to_execute="Main">
+  <BehaviorTree ID="Main">
+    <Sequence>
+      <ComputePathToPose goal="{goal}" path="{p}"/>
+      <Wait wait_duration="{p}"/>
+    </Sequence>
+  </BehaviorTree>
+</root>"#;
+
+#[test]
+fn an_entry_written_as_one_type_and_read_as_another_is_found_and_refused_when_strict() {
+    let file = write_tree("path_as_number.xml", PATH_AS_NUMBER);
+    let path = file.to_str().unwrap();
+    let said = "5:7: error[NT0102]: port `wait_duration` of Wait reads the entry `p` as f64, \
+                but port `path` of ComputePathToPose at line 4 writes a Path into it";
+    let (code, out, err) = run_cli(&["lint", "--nav2", path]);
+    assert_eq!(code, Some(1), "{err}");
+    assert!(out.contains(said), "{out}");
+    // `check` loads it, as documented; with --strict-types it refuses it there.
+    let (code, out, err) = run_cli(&["check", "--nav2", path]);
+    assert_eq!(code, Some(0), "{err}");
+    assert!(out.contains("ok (1 tree)"), "{out}");
+    let (code, _, err) = run_cli(&["check", "--nav2", "--strict-types", path]);
+    assert_eq!(code, Some(1), "{err}");
+    assert!(
+        err.contains(":5:7: error: port `wait_duration` of Wait reads the entry `p` as f64"),
+        "{err}"
+    );
+}

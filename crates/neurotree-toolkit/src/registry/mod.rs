@@ -216,6 +216,9 @@ pub struct Registry<C> {
     enums: Arc<Enums>,
     /// The value types of the blackboards of the trees loaded with this registry.
     value_codecs: Arc<StateCodecs>,
+    /// Refuse at load an entry written as one type and read as another
+    /// ([`set_strict_types`](Registry::set_strict_types)).
+    strict_types: bool,
 }
 
 /// A copy that goes its own way: types, enums and value types added to one are not added
@@ -229,6 +232,7 @@ impl<C> Clone for Registry<C> {
             subtrees: self.subtrees.clone(),
             enums: Arc::clone(&self.enums),
             value_codecs: Arc::clone(&self.value_codecs),
+            strict_types: self.strict_types,
         }
     }
 }
@@ -236,6 +240,22 @@ impl<C> Clone for Registry<C> {
 impl<C: 'static> Default for Registry<C> {
     fn default() -> Self {
         Self::new()
+    }
+}
+
+impl<C> Registry<C> {
+    /// With `true`, the trees loaded with this registry are refused when an entry is
+    /// written as one type and read through a port as another it cannot convert to (lint's
+    /// NT0102 errors: a port writing a `Path` into `{p}`, another reading `{p}` as `f64`),
+    /// at the reading port's line, as BehaviorTree.CPP refuses such a file when it
+    /// creates the tree. Off by default: the file loads, and the read fails when it runs.
+    pub fn set_strict_types(&mut self, strict: bool) {
+        self.strict_types = strict;
+    }
+
+    /// Whether [`set_strict_types`](Self::set_strict_types) is on.
+    pub fn strict_types(&self) -> bool {
+        self.strict_types
     }
 }
 
@@ -248,6 +268,7 @@ impl<C: 'static> Registry<C> {
             subtrees: BTreeMap::new(),
             enums: Arc::new(Enums::new()),
             value_codecs: Arc::new(StateCodecs::new()),
+            strict_types: false,
         };
         for decl in neurotree_core::nodes::BUILT_INS {
             r.types.insert(

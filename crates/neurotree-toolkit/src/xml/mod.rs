@@ -588,7 +588,26 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
                 format!("no tree with ID `{id}`; loaded trees: {}", known.join(", ")),
             ));
         };
-        build::build(self, id, tree, false)
+        let built = build::build(self, id, tree, false)?;
+        self.strict_types(id)?;
+        Ok(built)
+    }
+
+    /// With [`Registry::set_strict_types`](crate::Registry::set_strict_types), the first
+    /// entry of tree `id` written as one type and read as another.
+    fn strict_types(&self, id: &str) -> Result<(), LoadError> {
+        match self.strict_type_errors(id).into_iter().next() {
+            Some(e) => Err(e),
+            None => Ok(()),
+        }
+    }
+
+    /// As [`strict_types`](Self::strict_types), every such entry.
+    pub(crate) fn strict_type_errors(&self, id: &str) -> Vec<LoadError> {
+        if !self.registry.strict_types() {
+            return Vec::new();
+        }
+        crate::lint::types::strict_errors(self, id)
     }
 
     /// Checks the tree named `id` as [`build`](Self::build) does, also accepting node types
@@ -601,7 +620,8 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
                 format!("no tree with ID `{id}`"),
             ));
         };
-        build::build(self, id, tree, true).map(drop)
+        build::build(self, id, tree, true)?;
+        self.strict_types(id)
     }
 
     /// Checks the tree named `id` as [`validate`](Self::validate) does, but goes on past a
@@ -616,7 +636,13 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
                 format!("no tree with ID `{id}`"),
             )];
         };
-        build::validate_all(self, id, tree, limit)
+        let errors = build::validate_all(self, id, tree, limit);
+        if errors.is_empty() {
+            let mut strict = self.strict_type_errors(id);
+            strict.truncate(limit.max(1));
+            return strict;
+        }
+        errors
     }
 
     /// The IDs that the `<SubTree>`s of the loaded trees name.
