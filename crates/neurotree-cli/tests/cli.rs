@@ -722,3 +722,28 @@ fn an_entry_written_as_one_type_and_read_as_another_is_found_and_refused_when_st
         "{err}"
     );
 }
+
+#[test]
+fn a_mistyped_port_gets_the_nearest_declared_name_in_check_and_lint() {
+    let file = write_tree(
+        "planer.xml",
+        r#"<root BTCPP_format="4" main_tree_to_execute="Main">
+  <BehaviorTree ID="Main">
+    <ComputePathToPose goal="{goal}" path="{path}" planer_id="GridBased"/>
+  </BehaviorTree>
+</root>"#,
+    );
+    let path = file.to_str().unwrap();
+    // `check` says `error:`, `lint` `error[NT0001]:`.
+    let said = ": unknown port `planer_id` on `ComputePathToPose` (did you mean `planner_id`?); \
+                its ports are: ";
+    for command in ["check", "lint"] {
+        let (code, out, err) = run_cli(&[command, "--nav2", path]);
+        assert_eq!(code, Some(1), "{command}: {err}");
+        let all = format!("{out}{err}");
+        assert!(
+            all.contains(":3:5: error") && all.contains(said),
+            "{command}: {all}"
+        );
+    }
+}

@@ -30,7 +30,7 @@ mod aliases;
 mod builtins;
 mod enums;
 pub mod ports;
-mod suggest;
+pub(crate) mod suggest;
 mod values;
 
 pub(crate) use builtins::built_in_ports;

@@ -582,10 +582,14 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
     pub fn build(&self, id: &str) -> Result<Blueprint<C>, LoadError> {
         let Some(tree) = self.tree(id) else {
             let known: Vec<&str> = self.tree_ids().collect();
+            let meant = crate::registry::suggest::did_you_mean(id, known.iter().copied());
             return Err(LoadError::at_file(
                 LoadErrorKind::UnknownTree,
                 "",
-                format!("no tree with ID `{id}`; loaded trees: {}", known.join(", ")),
+                format!(
+                    "no tree with ID `{id}`{meant}; loaded trees: {}",
+                    known.join(", ")
+                ),
             ));
         };
         let built = build::build(self, id, tree, false)?;
@@ -614,10 +618,12 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
     /// known only from a `TreeNodesModel` (which cannot run).
     pub fn validate(&self, id: &str) -> Result<(), LoadError> {
         let Some(tree) = self.tree(id) else {
+            let known: Vec<&str> = self.tree_ids().collect();
+            let meant = crate::registry::suggest::did_you_mean(id, known.iter().copied());
             return Err(LoadError::at_file(
                 LoadErrorKind::UnknownTree,
                 "",
-                format!("no tree with ID `{id}`"),
+                format!("no tree with ID `{id}`{meant}"),
             ));
         };
         build::build(self, id, tree, true)?;
@@ -630,10 +636,12 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
     /// is valid. A subtree's errors are reported with each tree that uses it.
     pub fn validate_all(&self, id: &str, limit: usize) -> Vec<LoadError> {
         let Some(tree) = self.tree(id) else {
+            let known: Vec<&str> = self.tree_ids().collect();
+            let meant = crate::registry::suggest::did_you_mean(id, known.iter().copied());
             return vec![LoadError::at_file(
                 LoadErrorKind::UnknownTree,
                 "",
-                format!("no tree with ID `{id}`"),
+                format!("no tree with ID `{id}`{meant}"),
             )];
         };
         let errors = build::validate_all(self, id, tree, limit);
