@@ -747,3 +747,55 @@ fn a_mistyped_port_gets_the_nearest_declared_name_in_check_and_lint() {
         );
     }
 }
+
+#[test]
+fn run_takes_models_as_check_does_and_its_hint_names_mock_unknown() {
+    let model = write_tree(
+        "charge_model.xml",
+        r#"<root BTCPP_format="4"><TreeNodesModel><Action ID="Charge"><input_port name="station" type="std::string"/></Action></TreeNodesModel></root>"#,
+    );
+    let tree = write_tree(
+        "charge.xml",
+        r#"<root BTCPP_format="4" main_tree_to_execute="Main">
+  <BehaviorTree ID="Main">
+    <Charge station="A"/>
+  </BehaviorTree>
+</root>"#,
+    );
+    let (tree, model) = (tree.to_str().unwrap(), model.to_str().unwrap());
+    let hint = "hint: mock the leaves without an implementation with --mock-unknown";
+    // Unknown, then known from the model only: refused either way, the hint says how to run it.
+    let (code, _, err) = run_cli(&["run", tree]);
+    assert_eq!(code, Some(1), "{err}");
+    assert!(
+        err.contains("unknown node type `Charge`") && err.contains(hint),
+        "{err}"
+    );
+    let (code, _, err) = run_cli(&["run", tree, "--model", model]);
+    assert_eq!(code, Some(1), "{err}");
+    assert!(
+        err.contains("`Charge` is only described by a model") && err.contains(hint),
+        "{err}"
+    );
+    // With the model, a mock of it checks its ports as the model declares them.
+    let (code, out, err) = run_cli(&["run", tree, "--model", model, "--mock-unknown"]);
+    assert_eq!(code, Some(0), "{err}");
+    assert!(out.contains(r#""status":"SUCCESS""#), "{out}");
+    let bad = write_tree(
+        "charge_bad.xml",
+        r#"<root BTCPP_format="4" main_tree_to_execute="Main">
+  <BehaviorTree ID="Main">
+    <Charge stacion="A"/>
+  </BehaviorTree>
+</root>"#,
+    );
+    let (code, _, err) = run_cli(&[
+        "run",
+        bad.to_str().unwrap(),
+        "--model",
+        model,
+        "--mock-unknown",
+    ]);
+    assert_eq!(code, Some(1), "{err}");
+    assert!(err.contains("(did you mean `station`?)"), "{err}");
+}

@@ -321,8 +321,26 @@ impl<C: 'static> Registry<C> {
     where
         F: Fn() -> Box<dyn neurotree_core::CustomNode<C>> + Send + Sync + 'static,
     {
+        self.register_custom_shown_as(name, name, category, arity, ports, make)
+    }
+
+    /// As [`register_custom_as`](Self::register_custom_as), its nodes' type shown as
+    /// `shown_as` in pictures (`neurotree show` draws a type it does not know as
+    /// `unknown NAME`).
+    pub fn register_custom_shown_as<F>(
+        &mut self,
+        name: &str,
+        shown_as: &str,
+        category: Category,
+        arity: neurotree_core::Arity,
+        ports: Vec<PortSpec>,
+        make: F,
+    ) -> Result<(), RegistryError>
+    where
+        F: Fn() -> Box<dyn neurotree_core::CustomNode<C>> + Send + Sync + 'static,
+    {
         let make = Arc::new(make);
-        let type_name = name.to_string();
+        let type_name = shown_as.to_string();
         let leaf: LeafMaker<C> = Arc::new(move |_, _| {
             let make = Arc::clone(&make);
             Ok(NodeKind::Custom(Box::new(neurotree_core::CustomSpec {
