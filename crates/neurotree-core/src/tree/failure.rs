@@ -475,7 +475,11 @@ fn explain<C>(
     };
     let mut reason = own_reason(notes, node);
     if reason.is_none() && next.is_none() && !children.is_empty() {
-        reason = Some(failed_alone(bp.kind(node).type_name()));
+        let alone = bp.kind(node).built_in().and_then(|n| n.failed_alone());
+        reason = Some(Reason::new(
+            0,
+            alone.unwrap_or("failed with no child failing"),
+        ));
     }
     let link = FailureLink {
         node,
@@ -495,15 +499,6 @@ fn own_reason(notes: &[(NodeId, Note)], node: NodeId) -> Option<Reason> {
         .rev()
         .filter(|(n, _)| *n == node)
         .find_map(|(_, note)| note.reason().cloned())
-}
-
-/// What a node with children that failed while none of them did was doing.
-fn failed_alone(kind: &str) -> Reason {
-    match kind {
-        "Inverter" => Reason::new(0, "its child succeeded"),
-        "ForceFailure" => Reason::new(0, "forced to fail"),
-        _ => Reason::new(0, "failed with no child failing"),
-    }
 }
 
 /// The index of the last Failure of `node` among `notes[..before]`.

@@ -233,18 +233,15 @@ fn run_quiet<C, const SEQUENCE: bool>(
                 t.tick_child_stored(child)
             }
         };
-        // A child's Failure is marked here, its status being stored only if this node
-        // returns Running (one store; `Tree::last_failure` reads the marks).
         if status == go_on {
-            if !SEQUENCE {
-                t.mark_failed(child.id);
-            }
             continue;
         }
         if status == NodeStatus::Skipped {
             skipped += 1;
             continue;
         }
+        // The child that failed a Sequence is marked for `Tree::last_failure`: its status
+        // is stored only if this node returns Running.
         if status == NodeStatus::Failure {
             t.mark_failed(child.id);
         }
@@ -257,6 +254,16 @@ fn run_quiet<C, const SEQUENCE: bool>(
     let ticked = if stored { end } else { start };
     match ended {
         None => {
+            // A Fallback that failed: the conditions and guards it called in this run
+            // failed (none of them can be skipped), and are marked now, once the node is
+            // known to fail; the others marked themselves when they stored their status.
+            if !SEQUENCE && skipped as usize != hot.len() {
+                for child in &hot[start..end] {
+                    if !matches!(child.hot(), Hot::Other) {
+                        t.mark_failed(child.id);
+                    }
+                }
+            }
             t.reset_completed(&children[..ticked]);
             t.aux[slot] = 0;
             if skipped as usize == hot.len() {
