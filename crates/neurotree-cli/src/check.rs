@@ -37,6 +37,11 @@ pub struct CheckArgs {
     pub nav2: crate::registry::Nav2Args,
     #[command(flatten)]
     pub limits: LoadLimits,
+    /// Refuse a file in which an entry is written as one type and read through a port as
+    /// another it cannot convert to (lint's NT0102 errors), as BehaviorTree.CPP refuses it
+    /// when it creates the tree.
+    #[arg(long)]
+    pub strict_types: bool,
 }
 
 /// The registry the files are checked against: the built-ins and Nav2's controls (or a
@@ -78,7 +83,10 @@ pub fn execute(
 ) -> io::Result<Outcome> {
     let files = &args.files;
     let registry = match registry(&args.models, args.nav2, files) {
-        Ok(registry) => registry,
+        Ok(mut registry) => {
+            registry.set_strict_types(args.strict_types);
+            registry
+        }
         Err(refused) => {
             for e in &refused {
                 writeln!(err, "{e}")?;

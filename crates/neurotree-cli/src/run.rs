@@ -101,6 +101,10 @@ pub struct RunArgs {
     /// from a `TreeNodesModel`. Mocks replace leaves only (Actions, Conditions).
     #[arg(long)]
     pub mock_unknown: bool,
+    /// A file whose `TreeNodesModel` declares node types the files use (repeatable), as
+    /// for `check`, `show` and `lint`: their leaves run as mocks (--mock, --mock-unknown).
+    #[arg(long = "model", value_name = "FILE")]
+    pub models: Vec<PathBuf>,
     /// KEY=VALUE written to the root blackboard first (integer, else float, else
     /// true/false, else text).
     #[arg(long = "set", value_parser = key_value)]
@@ -228,6 +232,12 @@ fn load(
     warnings: &mut Vec<LoadWarning>,
 ) -> Result<(Blueprint<()>, Registry<()>, files::Picked), String> {
     let mut registry = crate::registry::with_nav2_controls::<()>(opts.nav2);
+    for model in &opts.models {
+        let text = files::read(model).map_err(|e| e.to_string())?;
+        registry
+            .add_model_str(&text, &files::shown(model))
+            .map_err(|e| e.to_string())?;
+    }
     files::add_models(&mut registry, files).map_err(|e| e.to_string())?;
     opts.testbench.register_enums(&mut registry)?;
     let mut loader = XmlLoader::new(&registry)
@@ -271,7 +281,7 @@ fn load(
     let has = |kind| errors.iter().any(|e| e.kind() == kind);
     // Only what was not given already: with --mock-unknown, an unknown node left is one
     // with children, which no mock replaces.
-    if has(LoadErrorKind::UnknownNode) && !opts.mock_unknown {
+    if (has(LoadErrorKind::UnknownNode) || has(LoadErrorKind::ModelOnly)) && !opts.mock_unknown {
         text.push(
             "hint: mock the leaves without an implementation with --mock-unknown, or one \
              with --mock NAME=OUTCOMES"

@@ -1,10 +1,13 @@
 //! `neurotree show`: draw a BehaviorTree.CPP file's tree as text, Graphviz DOT, Mermaid or
 //! SVG, optionally with the statuses of a run.
 //!
-//! The file loads as `neurotree run` loads it, with every unregistered leaf mocked, so any
-//! file can be drawn. Node types that a `TreeNodesModel` declares (in the file itself or in
-//! a `--model` file, such as Nav2's `nav2_tree_nodes.xml`) are drawn with stand-ins of their
-//! family that keep their type name and ports; they are never ticked.
+//! Any well-formed file is drawn, never refused for its node types. Node types that a
+//! `TreeNodesModel` declares (in the file itself or in a `--model` file, such as Nav2's
+//! `nav2_tree_nodes.xml`) are drawn with stand-ins of their family that keep their type
+//! name and ports; a type nobody declares is drawn from what the file says of it, its name
+//! and attributes, marked `unknown NAME`, with a warning on stderr (with `--mock-unknown`,
+//! `--trace` or `--coverage`, its leaves are drawn as `run --mock-unknown` runs them). None
+//! is ever ticked.
 //!
 //! With `--trace`, the JSON lines that `neurotree run --trace` prints give each node the
 //! last status it reached during the run (a halt sets it back to Idle); with `--tick N`,
@@ -35,7 +38,7 @@ use neurotree::observe::{CoverageReport, NodeCoverage, Outcome, OutcomeSet};
 use neurotree::render::{render_coverage, FailedPath, Format, LastTickStatuses};
 use neurotree::{
     Arity, Blueprint, Category, CustomNode, LoadError, LoadErrorKind, NodeCtx, NodeId, NodeStatus,
-    Observer, Registry, StatusChange, XmlLoader,
+    Observer, PortDirection, PortSpec, Registry, StatusChange, XmlLoader,
 };
 use serde_json::{Map, Value};
 
@@ -62,9 +65,9 @@ pub struct ShowArgs {
     /// are drawn with their type names, without an implementation.
     #[arg(long = "model")]
     pub models: Vec<PathBuf>,
-    /// Draw leaves without an implementation as `run --mock-unknown` runs them; else such
-    /// a leaf is an error, as in `check`. Implied by --trace and --coverage: the run that
-    /// wrote them had those leaves.
+    /// Draw leaves without an implementation as `run --mock-unknown` runs them; else a
+    /// node type nobody declared is drawn as `unknown NAME`, with a warning. Implied by
+    /// --trace and --coverage: the run that wrote them had those leaves.
     #[arg(long)]
     pub mock_unknown: bool,
     /// The JSON lines of `neurotree run --trace`: colour each node with the last status it
@@ -93,7 +96,7 @@ pub fn execute(
     err: &mut impl Write,
 ) -> io::Result<crate::Outcome> {
     let files = &opts.files;
-    let loaded = load(files, opts);
+    let loaded = load(files, opts, err);
     if let Ok((_, picked)) = &loaded {
         picked.note("drawing", err)?;
     }
@@ -145,11 +148,51 @@ fn format_of(opts: &ShowArgs) -> Format {
 }
 
 /// The blueprint to draw and the tree it is.
-fn load(files: &[PathBuf], opts: &ShowArgs) -> Result<(Blueprint<()>, Picked), LoadError> {
-    let registry = registry_with_stand_ins(files, &opts.models, opts.nav2)?;
-    // An unknown type is refused as `check` refuses it (a picture of a tree that does not
-    // load would show what never runs), unless asked for or drawn with what a run wrote.
+fn load(
+    files: &[PathBuf],
+    opts: &ShowArgs,
+    err: &mut impl Write,
+) -> Result<(Blueprint<()>, Picked), LoadError> {
+    let mut registry = registry_with_stand_ins(files, &opts.models, opts.nav2)?;
+    // Leaves without an implementation are drawn as a run mocks them when asked for, or
+    // when drawn with what a run wrote; every other node type nobody declared is drawn as
+    // what the file says of it: its name and attributes, marked unknown. Never refused.
     let mock_unknown = opts.mock_unknown || opts.trace.is_some() || opts.coverage.is_some();
+    {
+        // A control or decorator of an unknown type is no leaf a mock replaces: drawn too.
+        let drawn = unknown_types(files, &registry)
+            .into_iter()
+            .filter(|u| !mock_unknown || u.children);
+        for unknown in drawn {
+            let _ = writeln!(
+                err,
+                "{}:{}:{}: warning: unknown node type `{}`: drawn from its name and \
+                 attributes; declare it with --model FILE (or --nav2 if it is one of Nav2's)",
+                unknown.file, unknown.line, unknown.col, unknown.name
+            );
+            let ports = unknown
+                .attributes
+                .iter()
+                .map(|a| PortSpec::untyped(a, PortDirection::Input))
+                .collect();
+            let (category, arity) = if unknown.children {
+                (Category::Control, Arity::AtLeast(0))
+            } else {
+                (Category::Action, Arity::Leaf)
+            };
+            let stand_in = || -> Box<dyn CustomNode<()>> { Box::new(StandIn) };
+            let shown_as = format!("unknown {}", unknown.name);
+            // Unknown to the registry, so the name is free.
+            let _ = registry.register_custom_shown_as(
+                &unknown.name,
+                &shown_as,
+                category,
+                arity,
+                ports,
+                stand_in,
+            );
+        }
+    }
     let mut loader = XmlLoader::new(&registry)
         .unknown_type_advice(files::UNKNOWN_TYPE_ADVICE)
         .mock_unknown(mock_unknown)
@@ -212,6 +255,67 @@ fn registry_with_stand_ins(
         debug_assert!(registered.is_ok(), "{} registered twice", t.name);
     }
     Ok(registry)
+}
+
+/// A node type the files use that the registry does not know, as the files show it.
+struct Unknown {
+    name: String,
+    /// Where it is first used.
+    file: String,
+    line: u32,
+    col: u32,
+    /// Every attribute its elements carry but `name` and the reserved `_` ones.
+    attributes: BTreeSet<String>,
+    /// Whether one of its elements has children.
+    children: bool,
+}
+
+/// The node types the `<BehaviorTree>`s of `files` use that `registry` does not know, in
+/// the order first met. A file that does not parse gives none: loading it says why.
+fn unknown_types(files: &[PathBuf], registry: &Registry<()>) -> Vec<Unknown> {
+    let mut found: Vec<Unknown> = Vec::new();
+    for file in files {
+        let Ok(text) = files::read(file) else {
+            continue;
+        };
+        let Ok(doc) = roxmltree::Document::parse(&text) else {
+            continue;
+        };
+        let in_tree = |n: &roxmltree::Node<'_, '_>| {
+            n.ancestors()
+                .skip(1)
+                .any(|a| a.tag_name().name() == "BehaviorTree")
+        };
+        for el in doc.descendants().filter(|n| n.is_element() && in_tree(n)) {
+            let name = el.tag_name().name();
+            if name == "SubTree" || registry.knows(name) {
+                continue;
+            }
+            let attributes = el
+                .attributes()
+                .map(|a| a.name().to_string())
+                .filter(|a| a != "name" && !a.starts_with('_'));
+            let children = el.children().any(|c| c.is_element());
+            match found.iter_mut().find(|u| u.name == name) {
+                Some(u) => {
+                    u.attributes.extend(attributes);
+                    u.children |= children;
+                }
+                None => {
+                    let at = doc.text_pos_at(el.range().start);
+                    found.push(Unknown {
+                        name: name.to_string(),
+                        file: files::shown(file),
+                        line: at.row,
+                        col: at.col,
+                        attributes: attributes.collect(),
+                        children,
+                    });
+                }
+            }
+        }
+    }
+    found
 }
 
 /// Stands in for a node type known only from a model: `show` draws it and never ticks it.

@@ -590,10 +590,60 @@ fn run_summary_says_why_the_root_failed() {
     assert_eq!(
         failure,
         concat!(
-            r#"[{"path":"try","tried":[{"path":"try/limit","reason":"timed out after 150 ms"},"#,
-            r#"{"path":"try/retry","reason":"gave up after 2 attempts"}]},"#,
+            r#"[{"path":"try","tried":[{"path":"try/limit","reason":"timed out after 150 ms","#,
+            r#""chain":[{"path":"try/limit","reason":"timed out after 150 ms","tried":[]}]},"#,
+            r#"{"path":"try/retry","reason":"gave up after 2 attempts","#,
+            r#""chain":[{"path":"try/retry","reason":"gave up after 2 attempts","tried":[]},"#,
+            r#"{"path":"try/retry/AlwaysFailure","tried":[]}]}]},"#,
             r#"{"path":"try/retry","reason":"gave up after 2 attempts","tried":[]},"#,
             r#"{"path":"try/retry/AlwaysFailure","tried":[]}]}}"#
+        )
+    );
+}
+
+const TWO_WAYS: &str = r#"<root BTCPP_format="4" main_tree_to_execute="Main">
+  <BehaviorTree ID="Main">
+    <Fallback name="choose">
+      <Sequence name="dock">
+        <IsLow/>
+        <Dock/>
+      </Sequence>
+      <Sequence name="patrol">
+        <IsCharged/>
+        <Patrol/>
+      </Sequence>
+    </Fallback>
+  </BehaviorTree>
+</root>"#;
+
+#[test]
+fn run_summary_follows_a_failure_without_reasons_down_to_each_leaf() {
+    let file = write_tree("two_ways.xml", TWO_WAYS);
+    let (code, out, err) = run_cli(&[
+        "run",
+        file.to_str().unwrap(),
+        "--mock-unknown",
+        "--mock",
+        "IsLow=FAILURE",
+        "--mock",
+        "IsCharged=FAILURE",
+    ]);
+    assert_eq!(code, Some(2), "{err}");
+    let summary = out.lines().last().unwrap();
+    let failure = summary
+        .split_once(r#","failure":"#)
+        .map(|(_, f)| f)
+        .expect(summary);
+    assert_eq!(
+        failure,
+        concat!(
+            r#"[{"path":"choose","tried":["#,
+            r#"{"path":"choose/dock","chain":[{"path":"choose/dock","tried":[]},"#,
+            r#"{"path":"choose/dock/IsLow","tried":[]}]},"#,
+            r#"{"path":"choose/patrol","chain":[{"path":"choose/patrol","tried":[]},"#,
+            r#"{"path":"choose/patrol/IsCharged","tried":[]}]}]},"#,
+            r#"{"path":"choose/patrol","tried":[]},"#,
+            r#"{"path":"choose/patrol/IsCharged","tried":[]}]}}"#
         )
     );
 }
@@ -640,4 +690,112 @@ fn run_trace_carries_the_reason_on_the_change_to_failure() {
             r#"{"tick":4,"node":"try","from":"RUNNING","to":"FAILURE"}"#,
         ]
     );
+}
+
+/// A Nav2 tree whose entry `p` holds a Path where a number is read.
+const PATH_AS_NUMBER: &str = r#"<root BTCPP_format="4" main_tree_to_execute="Main">
+  <BehaviorTree ID="Main">
+    <Sequence>
+      <ComputePathToPose goal="{goal}" path="{p}"/>
+      <Wait wait_duration="{p}"/>
+    </Sequence>
+  </BehaviorTree>
+</root>"#;
+
+#[test]
+fn an_entry_written_as_one_type_and_read_as_another_is_found_and_refused_when_strict() {
+    let file = write_tree("path_as_number.xml", PATH_AS_NUMBER);
+    let path = file.to_str().unwrap();
+    let said = "5:7: error[NT0102]: port `wait_duration` of Wait reads the entry `p` as f64, \
+                but port `path` of ComputePathToPose at line 4 writes a Path into it";
+    let (code, out, err) = run_cli(&["lint", "--nav2", path]);
+    assert_eq!(code, Some(1), "{err}");
+    assert!(out.contains(said), "{out}");
+    // `check` loads it, as documented; with --strict-types it refuses it there.
+    let (code, out, err) = run_cli(&["check", "--nav2", path]);
+    assert_eq!(code, Some(0), "{err}");
+    assert!(out.contains("ok (1 tree)"), "{out}");
+    let (code, _, err) = run_cli(&["check", "--nav2", "--strict-types", path]);
+    assert_eq!(code, Some(1), "{err}");
+    assert!(
+        err.contains(":5:7: error: port `wait_duration` of Wait reads the entry `p` as f64"),
+        "{err}"
+    );
+}
+
+#[test]
+fn a_mistyped_port_gets_the_nearest_declared_name_in_check_and_lint() {
+    let file = write_tree(
+        "planer.xml",
+        r#"<root BTCPP_format="4" main_tree_to_execute="Main">
+  <BehaviorTree ID="Main">
+    <ComputePathToPose goal="{goal}" path="{path}" planer_id="GridBased"/>
+  </BehaviorTree>
+</root>"#,
+    );
+    let path = file.to_str().unwrap();
+    // `check` says `error:`, `lint` `error[NT0001]:`.
+    let said = ": unknown port `planer_id` on `ComputePathToPose` (did you mean `planner_id`?); \
+                its ports are: ";
+    for command in ["check", "lint"] {
+        let (code, out, err) = run_cli(&[command, "--nav2", path]);
+        assert_eq!(code, Some(1), "{command}: {err}");
+        let all = format!("{out}{err}");
+        assert!(
+            all.contains(":3:5: error") && all.contains(said),
+            "{command}: {all}"
+        );
+    }
+}
+
+#[test]
+fn run_takes_models_as_check_does_and_its_hint_names_mock_unknown() {
+    let model = write_tree(
+        "charge_model.xml",
+        r#"<root BTCPP_format="4"><TreeNodesModel><Action ID="Charge"><input_port name="station" type="std::string"/></Action></TreeNodesModel></root>"#,
+    );
+    let tree = write_tree(
+        "charge.xml",
+        r#"<root BTCPP_format="4" main_tree_to_execute="Main">
+  <BehaviorTree ID="Main">
+    <Charge station="A"/>
+  </BehaviorTree>
+</root>"#,
+    );
+    let (tree, model) = (tree.to_str().unwrap(), model.to_str().unwrap());
+    let hint = "hint: mock the leaves without an implementation with --mock-unknown";
+    // Unknown, then known from the model only: refused either way, the hint says how to run it.
+    let (code, _, err) = run_cli(&["run", tree]);
+    assert_eq!(code, Some(1), "{err}");
+    assert!(
+        err.contains("unknown node type `Charge`") && err.contains(hint),
+        "{err}"
+    );
+    let (code, _, err) = run_cli(&["run", tree, "--model", model]);
+    assert_eq!(code, Some(1), "{err}");
+    assert!(
+        err.contains("`Charge` is only described by a model") && err.contains(hint),
+        "{err}"
+    );
+    // With the model, a mock of it checks its ports as the model declares them.
+    let (code, out, err) = run_cli(&["run", tree, "--model", model, "--mock-unknown"]);
+    assert_eq!(code, Some(0), "{err}");
+    assert!(out.contains(r#""status":"SUCCESS""#), "{out}");
+    let bad = write_tree(
+        "charge_bad.xml",
+        r#"<root BTCPP_format="4" main_tree_to_execute="Main">
+  <BehaviorTree ID="Main">
+    <Charge stacion="A"/>
+  </BehaviorTree>
+</root>"#,
+    );
+    let (code, _, err) = run_cli(&[
+        "run",
+        bad.to_str().unwrap(),
+        "--model",
+        model,
+        "--mock-unknown",
+    ]);
+    assert_eq!(code, Some(1), "{err}");
+    assert!(err.contains("(did you mean `station`?)"), "{err}");
 }

@@ -19,10 +19,10 @@ const GUARD: &str = r#"<root BTCPP_format="4" main_tree_to_execute="Main">
 </root>"#;
 
 /// What plain stdout shows, with or without loggers. The run ends FAILURE: exit status 2;
-/// no node gave a reason, so the failure chain is the root alone.
+/// no node gave a reason, and the failure chain goes down to the condition that failed.
 const STDOUT: &str = r#"{"tick":1,"status":"RUNNING"}
 {"tick":2,"status":"FAILURE"}
-{"summary":{"ticks":2,"status":"FAILURE","nodes":{"IsReady":{"ticks":2,"halts":0},"guard":{"ticks":2,"halts":0},"move":{"ticks":1,"halts":1}},"paths":{"guard":[{"ticks":2,"halts":0}],"guard/IsReady":[{"ticks":2,"halts":0}],"guard/move":[{"ticks":1,"halts":1}]},"blackboard":{},"failure":[{"path":"guard","tried":[]}]}}
+{"summary":{"ticks":2,"status":"FAILURE","nodes":{"IsReady":{"ticks":2,"halts":0},"guard":{"ticks":2,"halts":0},"move":{"ticks":1,"halts":1}},"paths":{"guard":[{"ticks":2,"halts":0}],"guard/IsReady":[{"ticks":2,"halts":0}],"guard/move":[{"ticks":1,"halts":1}]},"blackboard":{},"failure":[{"path":"guard","tried":[]},{"path":"guard/IsReady","tried":[]}]}}
 "#;
 
 /// The run's status changes (the mock condition goes straight from Idle to its outcome, as a

@@ -26,10 +26,6 @@ const DOOR: &str = r#"<root BTCPP_format="4" main_tree_to_execute="Door">
 
 const DOOR_NODES: usize = 8;
 
-/// What an error for an unknown node type advises on the command line.
-const ADVICE: &str =
-    "declare it in a TreeNodesModel given with --model FILE, or use --nav2 if it is one of Nav2's";
-
 fn neurotree(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_neurotree"))
         .args(args)
@@ -175,7 +171,8 @@ fn show_colours_each_node_with_the_statuses_of_a_run_trace() {
 
     // At the end the door would not let us through: every node shows its last status.
     // (`show` knows nothing of the run's mocks: its leaves are the loader's own.)
-    // The root's failure chain (Tree::last_failure) is the root alone: it is marked.
+    // The root's failure chain (Tree::last_failure) goes from the root to the leaf that
+    // failed: both are marked.
     assert_eq!(
         show(&[door, "--trace", trace]),
         "[✗] enter (Sequence) -- failed\n\
@@ -185,7 +182,7 @@ fn show_colours_each_node_with_the_statuses_of_a_run_trace() {
          │   └── [✓] Force (SubTree)\n\
          │       └── [✓] RetryUntilSuccessful\n\
          │           └── [✓] PickLock (AlwaysSuccess)\n\
-         └── [✗] PassThroughDoor (AlwaysSuccess)\n"
+         └── [✗] PassThroughDoor (AlwaysSuccess) -- failed\n"
     );
     // Ticks count passes of the root: the first tick made two, the retry of PickLock
     // passing again at once. In tick 3 only the door was ticked; the rest shows what the
@@ -246,28 +243,47 @@ fn show_draws_node_types_that_a_model_declares() {
          ├── [ ] FollowPath\n\
          └── [ ] GoalUpdated\n"
     );
-    // Without the model, FollowPath is an unknown leaf, refused as `check` refuses it.
+    // Without the model, FollowPath is an unknown leaf: drawn from what the file says,
+    // marked unknown, with a warning.
     let out = neurotree(&["show", arg(&nav)]);
-    assert_eq!(out.status.code(), Some(1));
-    assert!(
-        text(&out.stderr).contains(&format!("unknown node type `FollowPath`; {ADVICE}")),
-        "{}",
-        text(&out.stderr)
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    assert_eq!(
+        text(&out.stdout),
+        "[ ] navigate (RecoveryNode)\n\
+         ├── [ ] FollowPath (unknown FollowPath)\n\
+         └── [ ] GoalUpdated\n"
     );
-    // A control the registry does not know cannot be mocked.
-    let juggle = file(
-        &dir,
-        "juggle.xml",
-        "<root BTCPP_format=\"4\">\n  <BehaviorTree ID=\"J\">\n    <Juggle>\n      <FollowPath/>\n    </Juggle>\n  </BehaviorTree>\n</root>\n",
-    );
-    let out = neurotree(&["show", arg(&juggle)]);
-    assert_eq!(out.status.code(), Some(1));
     assert_eq!(
         text(&out.stderr),
         format!(
-            "{}:3:5: error: unknown node type `Juggle`; {ADVICE}\n",
-            arg(&juggle)
+            "{}:4:7: warning: unknown node type `FollowPath`: drawn from its name and \
+             attributes; declare it with --model FILE (or --nav2 if it is one of Nav2's)\n",
+            arg(&nav)
         )
+    );
+    // A control the registry does not know is drawn too, with or without mocks.
+    let juggle = file(
+        &dir,
+        "juggle.xml",
+        "<root BTCPP_format=\"4\">\n  <BehaviorTree ID=\"J\">\n    <Juggle balls=\"3\">\n      <FollowPath/>\n    </Juggle>\n  </BehaviorTree>\n</root>\n",
+    );
+    let out = neurotree(&["show", arg(&juggle)]);
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    assert_eq!(
+        text(&out.stdout),
+        "[ ] Juggle (unknown Juggle)\n\
+         └── [ ] FollowPath (unknown FollowPath)\n"
+    );
+    assert!(text(&out.stderr).starts_with(&format!(
+        "{}:3:5: warning: unknown node type `Juggle`",
+        arg(&juggle)
+    )));
+    let out = neurotree(&["show", arg(&juggle), "--mock-unknown"]);
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    assert!(
+        text(&out.stdout).starts_with("[ ] Juggle (unknown Juggle)\n"),
+        "{}",
+        text(&out.stdout)
     );
 }
 

@@ -178,7 +178,7 @@ fn a_timeout_gives_its_own_reason() {
 }
 
 #[test]
-fn a_failure_without_a_reason_is_the_root_alone_and_a_stale_reason_is_not_blamed() {
+fn a_failure_without_a_reason_reaches_its_leaf_and_a_stale_reason_is_not_blamed() {
     // `a` fails with a reason, but its Fallback recovers; `c`, which gives none, fails
     // the root.
     let (mut t, _) = tree(Blueprint::builder().sequence("root", |s| {
@@ -189,7 +189,7 @@ fn a_failure_without_a_reason_is_the_root_alone_and_a_stale_reason_is_not_blamed
         .condition("c", |_: &()| false)
     }));
     assert_eq!(t.tick_once(&mut ()), Ok(Status::Failure));
-    assert_eq!(lines(&t.last_failure().unwrap()), ["root"]);
+    assert_eq!(lines(&t.last_failure().unwrap()), ["root", "root/c"]);
 
     let (mut t, _) = tree(Blueprint::builder().condition("c", |_: &()| false));
     assert_eq!(t.tick_once(&mut ()), Ok(Status::Failure));
@@ -330,4 +330,75 @@ fn a_reserved_record_makes_even_the_first_reason_allocate_nothing() {
             "root/retry/dock: no dock (error 7)",
         ]
     );
+}
+
+#[test]
+fn a_fallback_of_sequences_whose_first_conditions_fail_lists_each_down_to_its_leaf() {
+    // Closure conditions, called straight from the child lists (their statuses never
+    // stored), and a Sequence of conditions alone, run as one guard.
+    let (mut t, _) = tree(Blueprint::builder().fallback("root", |f| {
+        f.sequence("dock", |s| {
+            s.condition("battery_low", |_: &()| false)
+                .action("go_dock", |_: &mut ()| Status::Success)
+        })
+        .sequence("patrol", |s| {
+            s.condition("battery_ok", |_: &()| false)
+                .condition("map_ready", |_: &()| true)
+        })
+    }));
+    for _ in 0..2 {
+        assert_eq!(t.tick_once(&mut ()), Ok(Status::Failure));
+        let f = t.last_failure().unwrap();
+        assert_eq!(
+            lines(&f),
+            [
+                "root",
+                "  tried root/dock",
+                "  tried root/patrol",
+                "root/patrol",
+                "root/patrol/battery_ok",
+            ]
+        );
+        assert_eq!(
+            f.links[0].tried[0]
+                .chain
+                .iter()
+                .map(|l| l.path.as_str())
+                .collect::<Vec<_>>(),
+            ["root/dock", "root/dock/battery_low"]
+        );
+        assert_eq!(
+            f.to_string(),
+            "root\n  tried root/dock: no reason given\n    root/dock/battery_low\n  \
+             tried root/patrol: no reason given\n  root/patrol\n    root/patrol/battery_ok"
+        );
+    }
+}
+
+#[test]
+fn an_inverter_whose_child_succeeded_says_so() {
+    let (mut t, _) = tree(
+        Blueprint::builder().sequence("root", |s| s.inverter("not", |i| i.always_success("ok"))),
+    );
+    assert_eq!(t.tick_once(&mut ()), Ok(Status::Failure));
+    assert_eq!(
+        lines(&t.last_failure().unwrap()),
+        ["root", "root/not: its child succeeded"]
+    );
+}
+
+#[test]
+fn marking_failures_allocates_nothing() {
+    let (mut t, _) = tree(Blueprint::builder().fallback("root", |f| {
+        f.sequence("a", |s| s.condition("c", |_: &()| false))
+            .condition("d", |_: &()| false)
+    }));
+    let bytes = t.state_bytes();
+    let n = allocations(|| {
+        for _ in 0..100 {
+            assert_eq!(t.tick_once(&mut ()), Ok(Status::Failure));
+        }
+    });
+    assert_eq!(n, 0);
+    assert_eq!(t.state_bytes(), bytes);
 }

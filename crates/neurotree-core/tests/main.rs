@@ -8,6 +8,7 @@ mod counting_alloc;
 mod blackboard;
 mod depth;
 mod failure;
+mod failure_tree;
 mod halt_handle;
 mod halting;
 mod one_place;

@@ -172,6 +172,42 @@ fn a_tree_from_xml_shows_why_it_failed_in_the_main_blackboard_only() {
 }
 
 #[test]
+fn a_failure_without_reasons_reaches_each_leaf_that_decided_it() {
+    // A Fallback of two Sequences whose first conditions fail; no node gives a reason.
+    let blueprint = Arc::new(
+        Blueprint::<()>::builder()
+            .fallback("choose", |f| {
+                f.sequence("dock", |s| {
+                    s.condition("low", |_: &()| false).always_success("go_dock")
+                })
+                .sequence("patrol", |s| {
+                    s.condition("charged", |_: &()| false).always_success("go")
+                })
+            })
+            .build()
+            .unwrap(),
+    );
+    let monitor = Groot2Monitor::new(&blueprint, &Registry::new(), "MainTree");
+    let mut tree = Tree::with_clock(blueprint, ManualClock::new());
+    tree.set_observer(monitor.clone());
+    let (_server, mut client) = serve(&monitor);
+    assert_eq!(tree.tick_once(&mut ()), Ok(Status::Failure));
+    monitor.publish_blackboard(&tree);
+    assert_eq!(
+        blackboards(&mut client, &monitor, "MainTree"),
+        json!({ "MainTree": {
+            "@failure.path": "choose/patrol/charged",
+            "@failure.chain": "choose\n  \
+                               tried choose/dock: no reason given\n    \
+                               choose/dock/low\n  \
+                               tried choose/patrol: no reason given\n  \
+                               choose/patrol\n    \
+                               choose/patrol/charged",
+        }})
+    );
+}
+
+#[test]
 fn an_entry_the_tree_stored_under_a_reserved_name_gives_way() {
     let blueprint = Arc::new(built());
     let monitor = Groot2Monitor::new(&blueprint, &Registry::new(), "MainTree");

@@ -9,7 +9,9 @@ use std::sync::Arc;
 use std::time::Duration;
 
 use neurotree::observe::Coverage;
-use neurotree::{Blueprint, Failure, NodeId, NodeStatus, Observer, Reason, StatusChange};
+use neurotree::{
+    Blueprint, Failure, FailureLink, NodeId, NodeStatus, Observer, Reason, StatusChange,
+};
 use pyo3::prelude::*;
 
 use crate::errors::raise_in_tree;
@@ -118,7 +120,19 @@ pub struct PyFailure {
     /// `(path, reason)` for each node from the root down.
     #[pyo3(get)]
     chain: Vec<(String, Option<String>)>,
+    /// `(path, reason)` for every node that failed in the tick and is part of why: the
+    /// chain's, and those below each child a Fallback tried.
+    #[pyo3(get)]
+    nodes: Vec<(String, Option<String>)>,
     text: String,
+}
+
+/// A link as Python sees it: `(path, reason)`.
+fn entry(l: &FailureLink) -> (String, Option<String>) {
+    (
+        l.path.clone(),
+        l.reason.as_ref().map(|r| r.message().into_owned()),
+    )
 }
 
 impl From<Failure> for PyFailure {
@@ -128,16 +142,8 @@ impl From<Failure> for PyFailure {
             path: f.leaf().path.clone(),
             reason: reason.map(|r| r.message().into_owned()),
             code: reason.map_or(0, Reason::code),
-            chain: f
-                .links
-                .iter()
-                .map(|l| {
-                    (
-                        l.path.clone(),
-                        l.reason.as_ref().map(|r| r.message().into_owned()),
-                    )
-                })
-                .collect(),
+            chain: f.links.iter().map(entry).collect(),
+            nodes: f.all_links().into_iter().map(entry).collect(),
             text: f.to_string(),
         }
     }

@@ -297,3 +297,13 @@ def test_an_async_leaf_that_raises_after_awaiting_is_a_node_error() -> None:
     odd_tree = reg.load_string('<root BTCPP_format="4"><BehaviorTree ID="M"><Odd/></BehaviorTree></root>')
     with pytest.raises(nt.NodeError, match="returned 'done'"):
         odd_tree.tick_once()
+
+
+def test_a_mistyped_port_gets_the_nearest_declared_name() -> None:
+    reg = nt.Registry()
+    reg.action("MoveTo", ports={"goal": str, "speed": float})(lambda node, robot: nt.SUCCESS)
+    with pytest.raises(nt.LoadError) as raised:
+        reg.load_string(
+            '<root BTCPP_format="4"><BehaviorTree ID="M"><MoveTo gaol="dock"/></BehaviorTree></root>'
+        )
+    assert "unknown port `gaol` on `MoveTo` (did you mean `goal`?)" in str(raised.value)

@@ -250,3 +250,47 @@ def test_lists_and_dicts_on_the_blackboard_are_saved() -> None:
     again = reg.load_string(xml)
     again.restore_state(tree.save_state())
     assert again.blackboard.to_dict() == {"pose": {"x": 1.0, "tags": ["a", None]}, "n": 3}
+
+
+TWO_WAYS = """
+<root BTCPP_format="4"><BehaviorTree ID="M">
+  <Fallback>
+    <Sequence><Low/><AlwaysSuccess/></Sequence>
+    <Sequence><Charged/><AlwaysSuccess/></Sequence>
+  </Fallback>
+</BehaviorTree></root>"""
+
+
+def test_last_failure_reaches_each_leaf_that_decided_it_without_reasons() -> None:
+    reg = nt.Registry()
+    reg.condition("Low")(lambda node, robot: False)
+    reg.condition("Charged")(lambda node, robot: False)
+    tree = reg.load_string(TWO_WAYS)
+    assert tree.tick_once() is nt.FAILURE
+    failure = tree.last_failure()
+    assert failure is not None
+    assert failure.path == "Fallback/Sequence/Charged"
+    assert failure.chain == [
+        ("Fallback", None),
+        ("Fallback/Sequence", None),
+        ("Fallback/Sequence/Charged", None),
+    ]
+    # Both Sequences share a path: `nodes` holds each node once, both leaves among them.
+    paths = [path for path, _ in failure.nodes]
+    assert "Fallback/Sequence/Low" in paths and "Fallback/Sequence/Charged" in paths
+    assert str(failure).splitlines() == [
+        "Fallback",
+        "  tried Fallback/Sequence: no reason given",
+        "    Fallback/Sequence/Low",
+        "  tried Fallback/Sequence: no reason given",
+        "  Fallback/Sequence",
+        "    Fallback/Sequence/Charged",
+    ]
+
+
+def test_statuses_print_as_their_names() -> None:
+    assert str(nt.SUCCESS) == "SUCCESS" and repr(nt.SUCCESS) == "SUCCESS"
+    assert f"{nt.FAILURE}" == "FAILURE"
+    assert [str(s) for s in nt.Status] == ["IDLE", "RUNNING", "SUCCESS", "FAILURE", "SKIPPED"]
+    # Still the numbers BehaviorTree.CPP uses.
+    assert nt.SUCCESS == 2

@@ -468,3 +468,42 @@ fn a_page_that_acknowledges_is_never_sent_more_than_two_ticks_ahead() {
         .unwrap()
         .contains("ack"));
 }
+
+#[test]
+fn the_last_failure_reaches_each_leaf_that_decided_it() {
+    // A Fallback of two Sequences whose first conditions fail; no node gives a reason.
+    const TWO_WAYS: &str = r#"<root BTCPP_format="4">
+  <BehaviorTree ID="Main">
+    <Fallback name="choose">
+      <Sequence name="dock"><AlwaysFailure name="low"/><AlwaysSuccess/></Sequence>
+      <Sequence name="patrol"><AlwaysFailure name="charged"/><AlwaysSuccess/></Sequence>
+    </Fallback>
+  </BehaviorTree>
+</root>"#;
+    let (studio, dir) = studio();
+    let mut tree = Tree::with_clock(blueprint(TWO_WAYS), ManualClock::new());
+    let mut watch = studio.watch(&mut tree, "main.xml");
+    let stop = Arc::new(AtomicBool::new(false));
+    let s = Arc::clone(&stop);
+    let thread = thread::spawn(move || {
+        while !s.load(Ordering::Acquire) {
+            watch.between_ticks(&mut tree);
+            assert!(tree.tick_once(&mut ()).is_ok());
+            thread::sleep(Duration::from_millis(5));
+        }
+        drop(dir);
+    });
+    let mut page = Page::connect(studio.addr());
+    page.expect("hello");
+    let failure = page.expect_where("failure", |m| !m["failure"].is_null())["failure"].clone();
+    stop.store(true, Ordering::Release);
+    thread.join().unwrap();
+    assert_eq!(failure["path"], "choose/patrol/charged");
+    // Every node of the failure is marked on the page: both Sequences and both leaves.
+    assert_eq!(failure["nodes"], json!([0, 1, 2, 4, 5]));
+    assert_eq!(
+        failure["chain"],
+        "choose\n  tried choose/dock: no reason given\n    choose/dock/low\n  \
+         tried choose/patrol: no reason given\n  choose/patrol\n    choose/patrol/charged"
+    );
+}

@@ -30,6 +30,45 @@ fn unknown_port_lists_the_valid_ones() {
 }
 
 #[test]
+fn mistyped_ports_trees_and_remappings_get_the_nearest_declared_name() {
+    let e = error(
+        r#"<root main_tree_to_execute="T"><BehaviorTree ID="T"><Produce valeu="3"/></BehaviorTree></root>"#,
+    );
+    assert!(
+        e.message.starts_with(
+            "unknown port `valeu` on `Produce` (did you mean `value`?); its ports are: value, out"
+        ),
+        "{e}"
+    );
+    // Nothing near: no guess.
+    let e = error(
+        r#"<root main_tree_to_execute="T"><BehaviorTree ID="T"><Produce speed="3"/></BehaviorTree></root>"#,
+    );
+    assert!(!e.message.contains("did you mean"), "{e}");
+    let e = error(
+        r#"<root main_tree_to_execute="T"><BehaviorTree ID="T"><SubTree ID="Dock"/></BehaviorTree>
+           <BehaviorTree ID="Docking"><Succ/></BehaviorTree></root>"#,
+    );
+    assert!(
+        e.message.starts_with(
+            "no tree with ID `Dock` is loaded or registered (did you mean `Docking`?)"
+        ),
+        "{e}"
+    );
+    // A SubTree's model declares `goal`; `gaol` is remapped instead.
+    let e = error(
+        r#"<root main_tree_to_execute="T"><BehaviorTree ID="T"><SubTree ID="Go" gaol="{g}"/></BehaviorTree>
+           <BehaviorTree ID="Go"><Succ/></BehaviorTree>
+           <TreeNodesModel><SubTree ID="Go"><input_port name="goal"/></SubTree></TreeNodesModel></root>"#,
+    );
+    assert!(
+        e.message
+            .contains("mandatory (`gaol` is no port of it: did you mean `goal`?); remap it here"),
+        "{e}"
+    );
+}
+
+#[test]
 fn literals_are_converted_at_load_time() {
     let e = error(
         r#"<root main_tree_to_execute="T"><BehaviorTree ID="T"><Repeat num_cycles="many"><Succ/></Repeat></BehaviorTree></root>"#,
@@ -120,7 +159,7 @@ fn validate_all_reports_every_error_of_a_tree_in_document_order() {
         errors,
         [
             "many.xml:4:3: error: unknown node type `Sequense`; did you mean `Sequence`? register it in the Registry before loading",
-            "many.xml:6:5: error: unknown port `valu` on `Produce`; its ports are: value, out",
+            "many.xml:6:5: error: unknown port `valu` on `Produce` (did you mean `value`?); its ports are: value, out",
             "many.xml:9:3: error: `Inverter` takes exactly 1 child, found 2",
             "many.xml:10:3: error: unknown node type `Jump`; register it in the Registry before loading",
             "many.xml:7:5: error: Parallel: success threshold 2 needs at least 2 children, found 1",

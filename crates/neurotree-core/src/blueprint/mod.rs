@@ -662,6 +662,7 @@ impl<C> Blueprint<C> {
     /// heap, not counting stateful leaves' own objects or blackboard entries.
     pub fn instance_state_bytes(&self) -> usize {
         self.nodes.len() * core::mem::size_of::<crate::NodeStatus>()
+            + self.nodes.len().div_ceil(64) * core::mem::size_of::<u64>()
             + self.aux_slots as usize * core::mem::size_of::<u64>()
             + self.objects as usize * core::mem::size_of::<usize>() * 2
     }

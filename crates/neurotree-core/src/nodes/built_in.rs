@@ -88,6 +88,13 @@ pub trait BuiltIn: fmt::Debug + Send + Sync + 'static {
         Outcomes::EITHER
     }
 
+    /// Why it fails when none of its children did (an Inverter whose child succeeded), as
+    /// [`Tree::last_failure`](crate::Tree::last_failure) says it; `None` for a node that
+    /// fails only through a child, or that gives its own reason when it fails.
+    fn failed_alone(&self) -> Option<&'static str> {
+        None
+    }
+
     /// Its parameters as a file writes them, in the order of its declared ports; `None`
     /// for one read from a port (the writer writes the binding instead). `children`
     /// resolves shorthands that depend on their number.

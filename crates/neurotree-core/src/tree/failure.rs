@@ -21,18 +21,24 @@
 //! that must not allocate even once while ticking makes it up front with
 //! [`Tree::reserve_failure_record`](crate::Tree::reserve_failure_record).
 //!
-//! # Which failure decided the root
+//! Apart from reasons, every write of Failure to a node's status in a tick sets that node's
+//! bit in a set the tree keeps (one bit a node, cleared when the next tick starts): one
+//! store, no allocation, and no observer needed. The conditions a Sequence or Fallback calls
+//! straight from its child list, whose statuses are never stored, are marked there too.
 //!
-//! [`Tree::last_failure`](crate::Tree::last_failure) builds the [`Failure`] chain after the
-//! tick, only when asked. It starts at the root's last Failure and, at each node, goes down
-//! to the child whose Failure was written last before the node's own: the last child whose
-//! Failure propagated. For a Fallback (Fallback, AsyncFallback, ReactiveFallback), whose
-//! failure means every child failed, that is its last child, and the link lists every child
-//! it tried with that child's reason. A link carries the node's own reason: the one it gave
+//! # Which failures decided the root
+//!
+//! [`Tree::last_failure`](crate::Tree::last_failure) builds the [`Failure`] after the tick,
+//! only when asked, from those bits and the record. It starts at the root and, at each node,
+//! goes down to the children that failed in the tick. A Fallback (Fallback, AsyncFallback,
+//! ReactiveFallback), whose failure means every child it tried failed, lists each of them
+//! with its own chain, and the chain goes on through the last. Any other node (a Sequence, a
+//! decorator, a SubTree) goes on through its failing child; when it ran more than once in the
+//! tick (a Retry's attempts) and several children failed, through the one whose Failure was
+//! noted last, else the last in order. A link carries the node's own reason: the one it gave
 //! during the run that ended in the Failure being explained (a leaf's, a Timeout's, a
-//! Retry's). The chain ends at a node with no failing child noted: a leaf, a Timeout that
-//! halted its child, a node whose deciding child failed before any reason was given in the
-//! tick (closure conditions never give one).
+//! Retry's). The chain ends at a node with no failing child: a leaf, a Timeout that halted
+//! its child, an Inverter whose child succeeded (which says so as its reason).
 //!
 //! [`Handle::fail_with`]: crate::Handle::fail_with
 
@@ -280,7 +286,9 @@ impl Outcome {
 }
 
 /// Why the root failed on the last tick: the chain from the root down to the node whose
-/// failure decided it (see the [module docs](self) for which one that is).
+/// failure decided it, and, for each Fallback on it, every child it tried with that child's
+/// own chain (see the [module docs](self)). Together they are the tree of the tick's
+/// failures: every node on it failed in that tick.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Failure {
     /// From the root down; never empty.
@@ -294,10 +302,12 @@ pub struct FailureLink {
     pub node: NodeId,
     /// Its path in the blueprint (`root/fallback/leaf`).
     pub path: String,
-    /// Its own reason, if it gave one (a leaf's, a Timeout's, a Retry's, a precondition's).
+    /// Its own reason, if it gave one (a leaf's, a Timeout's, a Retry's, a precondition's),
+    /// or, for a node that failed with no child failing, what it did (an Inverter whose
+    /// child succeeded).
     pub reason: Option<Reason>,
-    /// For a Fallback: every child it tried, in order, with the reason each one's own chain
-    /// ends with. Empty for other nodes.
+    /// For a Fallback: every child it tried in the tick, in order, each with its own chain.
+    /// Empty for other nodes.
     pub tried: Vec<Tried>,
 }
 
@@ -310,6 +320,9 @@ pub struct Tried {
     pub path: String,
     /// The deepest reason on its own chain, if any node below gave one.
     pub reason: Option<Reason>,
+    /// Its own failure: the chain from it down to the node that decided it (its first link
+    /// is the child itself).
+    pub chain: Vec<FailureLink>,
 }
 
 impl Failure {
@@ -321,97 +334,153 @@ impl Failure {
 
     /// The deepest reason on the chain: what, in the end, went wrong.
     pub fn reason(&self) -> Option<&Reason> {
-        self.links.iter().rev().find_map(|l| l.reason.as_ref())
+        deepest(&self.links)
     }
-}
 
-/// One link per line, indented by depth: `path: reason`, a Fallback's tries below it.
-impl fmt::Display for Failure {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        for (depth, link) in self.links.iter().enumerate() {
-            if depth > 0 {
-                f.write_str("\n")?;
-            }
-            write!(f, "{:width$}{}", "", link.path, width = depth * 2)?;
-            if let Some(reason) = &link.reason {
-                write!(f, ": {reason}")?;
-            }
-            for tried in &link.tried {
-                write!(
-                    f,
-                    "\n{:width$}tried {}",
-                    "",
-                    tried.path,
-                    width = depth * 2 + 2
-                )?;
-                match &tried.reason {
-                    Some(reason) => write!(f, ": {reason}")?,
-                    None => f.write_str(": no reason given")?,
+    /// Every node of the failure, once each, from the root down: the chain's links and
+    /// those of the chains of what each Fallback tried.
+    pub fn all_links(&self) -> Vec<&FailureLink> {
+        fn walk<'f>(links: &'f [FailureLink], out: &mut Vec<&'f FailureLink>) {
+            for link in links {
+                if !out.iter().any(|l| l.node == link.node) {
+                    out.push(link);
+                }
+                for tried in &link.tried {
+                    walk(&tried.chain, out);
                 }
             }
         }
-        Ok(())
+        let mut out = Vec::new();
+        walk(&self.links, &mut out);
+        out
     }
 }
 
-/// Builds the chain of a tick whose root failed, from the tick's record.
-pub(crate) fn build<C>(bp: &Blueprint<C>, notes: &[(NodeId, Note)]) -> Failure {
-    match last_failed(notes, NodeId::ROOT, notes.len()) {
-        Some(end) => build_from(bp, notes, NodeId::ROOT, end),
-        // The root failed before any reason was given: nothing is known of why.
-        None => Failure {
-            links: alloc::vec![FailureLink {
-                node: NodeId::ROOT,
-                path: bp.path(NodeId::ROOT),
-                reason: None,
-                tried: Vec::new(),
-            }],
-        },
+fn deepest(links: &[FailureLink]) -> Option<&Reason> {
+    links.iter().rev().find_map(|l| l.reason.as_ref())
+}
+
+/// One link per line, indented by depth: `path: reason`; below a Fallback each child it
+/// tried (`tried path: reason`) and, for all but the one the chain goes on through, that
+/// child's own chain.
+impl fmt::Display for Failure {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write_chain(f, &self.links, 0, false)
     }
 }
 
-/// The link of `node`, whose Failure is noted at `end`, and the child that decided it,
-/// with the index of its noted Failure (`None` when its failure went unnoted).
-fn explain<C>(
+fn write_chain(
+    f: &mut fmt::Formatter<'_>,
+    links: &[FailureLink],
+    base: usize,
+    headless: bool,
+) -> fmt::Result {
+    for (depth, link) in links.iter().enumerate() {
+        let indent = base + depth * 2;
+        if !(headless && depth == 0) {
+            if depth > 0 || base > 0 {
+                f.write_str("\n")?;
+            }
+            write!(f, "{:indent$}{}", "", link.path)?;
+            if let Some(reason) = &link.reason {
+                write!(f, ": {reason}")?;
+            }
+        }
+        let next = links.get(depth + 1).map(|l| l.node);
+        for tried in &link.tried {
+            write!(f, "\n{:width$}tried {}", "", tried.path, width = indent + 2)?;
+            match &tried.reason {
+                Some(reason) => write!(f, ": {reason}")?,
+                None => f.write_str(": no reason given")?,
+            }
+            if Some(tried.node) != next {
+                write_chain(f, &tried.chain, indent + 2, true)?;
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Bits for `nodes` nodes, one a node, all clear.
+pub(crate) fn bits_for(nodes: usize) -> alloc::boxed::Box<[u64]> {
+    alloc::vec![0; nodes.div_ceil(64)].into_boxed_slice()
+}
+
+fn is_marked(failed: &[u64], node: NodeId) -> bool {
+    let i = node.index();
+    failed.get(i / 64).is_some_and(|w| w & (1 << (i % 64)) != 0)
+}
+
+/// Builds the chain of a tick whose root failed, from the nodes marked failed in the tick
+/// and the tick's record of reasons.
+pub(crate) fn build<C>(bp: &Blueprint<C>, failed: &[u64], notes: &[(NodeId, Note)]) -> Failure {
+    Failure {
+        links: chain(bp, failed, notes, NodeId::ROOT),
+    }
+}
+
+/// The chain from `node`, which failed in the tick, down to the node that decided it.
+fn chain<C>(
     bp: &Blueprint<C>,
+    failed: &[u64],
     notes: &[(NodeId, Note)],
     node: NodeId,
-    end: usize,
-) -> (FailureLink, Option<(NodeId, Option<usize>)>) {
-    // The run that ended at `end` began after the node's previous Failure.
-    let start = last_failed(notes, node, end).map_or(0, |i| i + 1);
-    let run = &notes[start..end];
-    let reason = run
-        .iter()
-        .rev()
-        .filter(|(n, _)| *n == node)
-        .find_map(|(_, note)| note.reason().cloned());
+) -> Vec<FailureLink> {
+    let mut links = Vec::new();
+    let mut node = Some(node);
+    while let Some(at) = node {
+        let (link, next) = explain(bp, failed, notes, at);
+        links.push(link);
+        node = next;
+    }
+    links
+}
+
+/// The link of `node`, which failed in the tick, and the child that decided it, if one
+/// failed.
+fn explain<C>(
+    bp: &Blueprint<C>,
+    failed: &[u64],
+    notes: &[(NodeId, Note)],
+    node: NodeId,
+) -> (FailureLink, Option<NodeId>) {
     let children = bp.children(node);
-    let failed_at = |child: NodeId| last_failed(run, child, run.len()).map(|i| start + i);
+    let failing: Vec<NodeId> = children
+        .iter()
+        .copied()
+        .filter(|&c| is_marked(failed, c))
+        .collect();
     let fallback = bp.kind(node).built_in().and_then(|n| n.family()) == Some(Family::Alternative);
     let mut tried = Vec::new();
     let next = if fallback {
-        for &child in children {
-            let reason = failed_at(child).and_then(|i| {
-                let chain = build_from(bp, notes, child, i);
-                chain.reason().cloned()
-            });
+        for &child in &failing {
+            let chain = chain(bp, failed, notes, child);
             tried.push(Tried {
                 node: child,
                 path: bp.path(child),
-                reason,
+                reason: deepest(&chain).cloned(),
+                chain,
             });
         }
-        // A failed Fallback's children all failed: the last one decided it, even if its
-        // failure went unnoted (a closure condition ticked from a loop entered before the
-        // first reason was given).
-        children.last().map(|&c| (c, failed_at(c)))
+        // A failed Fallback's children all failed: the last one decided it.
+        failing.last().copied()
     } else {
-        children
+        // Several children failed in one tick when the node ran more than once in it (a
+        // Retry's attempts, a reactive control's passes): the one whose Failure was
+        // noted last decided it; unnoted, the last in order.
+        failing
             .iter()
-            .filter_map(|&c| failed_at(c).map(|i| (c, Some(i))))
-            .max_by_key(|(_, i)| *i)
+            .copied()
+            .max_by_key(|&c| (last_failed(notes, c, notes.len()), c.index()))
     };
+    let mut reason = own_reason(notes, node);
+    if reason.is_none() && next.is_none() && !children.is_empty() {
+        let alone = bp.kind(node).built_in().and_then(|n| n.failed_alone());
+        reason = Some(Reason::new(
+            0,
+            alone.unwrap_or("failed with no child failing"),
+        ));
+    }
     let link = FailureLink {
         node,
         path: bp.path(node),
@@ -421,28 +490,15 @@ fn explain<C>(
     (link, next)
 }
 
-/// The chain below `node`, whose Failure is noted at `end`.
-fn build_from<C>(bp: &Blueprint<C>, notes: &[(NodeId, Note)], node: NodeId, end: usize) -> Failure {
-    let mut links = Vec::new();
-    let (mut node, mut end) = (node, end);
-    loop {
-        let (link, next) = explain(bp, notes, node, end);
-        links.push(link);
-        match next {
-            Some((child, Some(i))) => (node, end) = (child, i),
-            Some((child, None)) => {
-                links.push(FailureLink {
-                    node: child,
-                    path: bp.path(child),
-                    reason: None,
-                    tried: Vec::new(),
-                });
-                break;
-            }
-            None => break,
-        }
-    }
-    Failure { links }
+/// The reason `node` gave during the run that ended in its last noted Failure.
+fn own_reason(notes: &[(NodeId, Note)], node: NodeId) -> Option<Reason> {
+    let end = last_failed(notes, node, notes.len())?;
+    let start = last_failed(notes, node, end).map_or(0, |i| i + 1);
+    notes[start..end]
+        .iter()
+        .rev()
+        .filter(|(n, _)| *n == node)
+        .find_map(|(_, note)| note.reason().cloned())
 }
 
 /// The index of the last Failure of `node` among `notes[..before]`.

@@ -66,6 +66,8 @@ use wake::TreeWake;
 pub struct Tree<C> {
     blueprint: Arc<Blueprint<C>>,
     statuses: Box<[NodeStatus]>,
+    /// One bit per node: its status was written Failure in the last tick (see [`failure`]).
+    failed: Box<[u64]>,
     aux: Box<[u64]>,
     objects: Box<[Object<C>]>,
     blackboard: Blackboard,
@@ -140,6 +142,7 @@ impl<C> Tree<C> {
         let blackboard = new_blackboard(&blueprint);
         Self {
             statuses: vec![NodeStatus::Idle; blueprint.len()].into_boxed_slice(),
+            failed: failure::bits_for(blueprint.len()),
             aux: vec![0; blueprint.aux_slots as usize].into_boxed_slice(),
             objects: objects.into_boxed_slice(),
             blackboard,
@@ -281,6 +284,7 @@ impl<C> Tree<C> {
     /// counting the stateful leaves' own objects or blackboard entries.
     pub fn state_bytes(&self) -> usize {
         self.statuses.len() * core::mem::size_of::<NodeStatus>()
+            + self.failed.len() * core::mem::size_of::<u64>()
             + self.aux.len() * core::mem::size_of::<u64>()
             + self.objects.len() * core::mem::size_of::<Object<C>>()
             + self.out.record_bytes()
@@ -291,6 +295,7 @@ impl<C> Tree<C> {
         Ticker {
             bp: &self.blueprint,
             statuses: &mut self.statuses,
+            failed: &mut self.failed,
             aux: &mut self.aux,
             objects: &mut self.objects,
             ctx,
@@ -441,6 +446,7 @@ impl<C> Tree<C> {
         if !self.out.is_quiet() {
             self.forget_notes();
         }
+        self.failed.fill(0);
         self.last_root = NodeStatus::Idle;
     }
 
@@ -478,7 +484,7 @@ impl<C> Tree<C> {
     /// ```
     pub fn last_failure(&self) -> Option<Failure> {
         (self.last_root == NodeStatus::Failure)
-            .then(|| failure::build(&self.blueprint, self.out.notes()))
+            .then(|| failure::build(&self.blueprint, &self.failed, self.out.notes()))
     }
 
     /// Ticks the root, and again at once while it is Running and a node asked to be woken or
@@ -942,8 +948,9 @@ mod tests {
             .unwrap();
         let a = Tree::with_clock(Arc::clone(&bp), ManualClock::new());
         let b = Tree::with_clock(Arc::clone(&bp), ManualClock::new());
-        // One status byte per node plus one slot for the sequence's cursor.
-        assert_eq!(a.state_bytes(), 101 + 8);
+        // One status byte per node, one slot for the sequence's cursor, and a bit per node
+        // for the tick's failures (two words).
+        assert_eq!(a.state_bytes(), 101 + 8 + 16);
         assert!(Arc::ptr_eq(a.blueprint(), b.blueprint()));
         assert_eq!(Arc::strong_count(&bp), 3);
     }

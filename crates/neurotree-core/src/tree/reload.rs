@@ -253,6 +253,7 @@ impl<C> Tree<C> {
         blackboard.set_last_stamp(self.blackboard.last_stamp());
         self.blackboard = blackboard;
         self.statuses = statuses.into_boxed_slice();
+        self.failed = super::failure::bits_for(self.statuses.len());
         self.resting = None;
         self.wake_up();
         self.aux = aux.into_boxed_slice();

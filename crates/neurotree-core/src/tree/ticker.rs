@@ -24,6 +24,9 @@ pub(crate) use super::objects::Object;
 pub(crate) struct Ticker<'t, C> {
     pub(crate) bp: &'t Blueprint<C>,
     pub(crate) statuses: &'t mut [NodeStatus],
+    /// One bit per node, set when its status is written Failure in this tick: what
+    /// [`Tree::last_failure`](crate::Tree::last_failure) explains the root's failure from.
+    pub(crate) failed: &'t mut [u64],
     pub(crate) aux: &'t mut [u64],
     pub(crate) objects: &'t mut [Object<C>],
     pub(crate) ctx: &'t mut C,
@@ -75,9 +78,23 @@ impl<'t, C> Ticker<'t, C> {
         unsafe { self.statuses.get_unchecked_mut(id.index()) }
     }
 
+    /// Marks node `id` as failed in this tick (see [`failure`](super::failure)): a bit
+    /// set, so that every Failure is known after the tick at the cost of one store.
+    #[inline(always)]
+    pub(crate) fn mark_failed(&mut self, id: NodeId) {
+        let i = id.index();
+        debug_assert!(i / 64 < self.failed.len());
+        // SAFETY: `failed` holds a bit for each of this blueprint's nodes
+        // (`failure::bits_for`), and `id` is one of them (as in `status`).
+        unsafe { *self.failed.get_unchecked_mut(i / 64) |= 1 << (i % 64) };
+    }
+
     /// Stores a node's status and tells the observer about a change.
     #[inline(always)]
     pub(crate) fn set_status(&mut self, id: NodeId, to: NodeStatus) {
+        if to == NodeStatus::Failure {
+            self.mark_failed(id);
+        }
         if self.observer.is_some() {
             self.set_status_observed(id, to);
         } else {
@@ -202,6 +219,9 @@ impl<'t, C> Ticker<'t, C> {
     /// control marks itself Running before it finds that all its children were skipped.
     #[inline(always)]
     fn store_result(&mut self, id: NodeId, status: NodeStatus) {
+        if status == NodeStatus::Failure {
+            self.mark_failed(id);
+        }
         if self.observer.is_some() {
             self.store_result_observed(id, status);
         } else {
@@ -376,6 +396,7 @@ impl<'t, C> Ticker<'t, C> {
         let status = if holds {
             NodeStatus::Success
         } else {
+            self.mark_failed(id);
             NodeStatus::Failure
         };
         if OBSERVED {

@@ -75,6 +75,14 @@ class Status(enum.IntEnum):
     FAILURE = 3
     SKIPPED = 4
 
+    # Read as their names (`SUCCESS`), as printed statuses are, rather than as the
+    # numbers an IntEnum shows.
+    def __str__(self) -> str:
+        return self.name
+
+    def __repr__(self) -> str:
+        return self.name
+
 
 SUCCESS = Status.SUCCESS
 FAILURE = Status.FAILURE

@@ -111,6 +111,10 @@ class Failure:
     @property
     def chain(self) -> List[Tuple[str, Optional[str]]]:
         """``(path, reason)`` for each node from the root down."""
+    @property
+    def nodes(self) -> List[Tuple[str, Optional[str]]]:
+        """``(path, reason)`` for every node of the failure: the chain's and, below each
+        child a Fallback tried, that child's own chain."""
 
 class Coverage:
     """Which outcomes each node has had since ``Tree.start_coverage()``."""

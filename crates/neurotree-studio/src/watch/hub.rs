@@ -312,7 +312,7 @@ impl Hub {
                 "reason": reason.map(|r| r.message().into_owned()),
                 "code": reason.map(|r| r.code()).filter(|c| *c != 0),
                 "chain": f.to_string(),
-                "nodes": f.links.iter().map(|l| l.node.0).collect::<Vec<_>>(),
+                "nodes": f.all_links().iter().map(|l| l.node.0).collect::<Vec<_>>(),
             })
         });
         let mut inner = self.lock();

@@ -619,9 +619,10 @@ fn mismatches(
             } if !spec.accepts(text) => format!("writes `{text}` into it, which does not convert"),
             Use::Write {
                 port: Some(port), ..
-            } if types::incompatible(port.port_type(), spec.port_type()) => {
-                format!("writes it as {}", port.type_name)
-            }
+            } => match types::entry_mismatch(port, spec) {
+                Some(why) => why,
+                None => continue,
+            },
             _ => continue,
         };
         found.push(read.site.diagnostic(
@@ -630,7 +631,7 @@ fn mismatches(
                 "{} reads the entry `{}` as {}, but {} at line {} {why}",
                 read.by,
                 read.key.1,
-                spec.type_name,
+                types::read_as(spec),
                 w.by,
                 line(w.site.el)
             ),

@@ -51,7 +51,7 @@ mod node;
 pub mod outcomes;
 pub mod reachability;
 mod rules;
-mod types;
+pub(crate) mod types;
 
 use std::collections::BTreeSet;
 use std::fmt;

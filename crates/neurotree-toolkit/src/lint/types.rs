@@ -1,8 +1,131 @@
 //! Which declared port types an entry can pass between, as BehaviorTree.CPP's `Any`
 //! converts: numbers and `bool` among themselves and from text, any type to an untyped
 //! port, and another type only to itself.
+//!
+//! A port's type is the one its Rust declaration gives or, for a node type only a
+//! `TreeNodesModel` declares (Nav2's leaves), the one the model names: `double` is a
+//! number, `nav_msgs::msg::Path` a type of its own, known by its last name (`Path`), so
+//! that a Rust `Path` and a model's are the same. A generic type (`vector<...>`) or a
+//! duration (`chrono::milliseconds`, which BehaviorTree.CPP reads from numbers and text) is
+//! not followed: lint then says nothing rather than something false.
 
 use neurotree_core::PortType;
+
+use super::{Diagnostic, LintOptions};
+use crate::registry::PortSpec;
+use crate::xml::{LoadError, LoadErrorKind, XmlLoader};
+
+/// The errors of [`Registry::set_strict_types`](crate::Registry::set_strict_types) for the
+/// tree `id`: lint's NT0102 findings, each at its reading port, as load errors.
+pub(crate) fn strict_errors<C: 'static>(loader: &XmlLoader<'_, C>, id: &str) -> Vec<LoadError> {
+    let mut found: Vec<Diagnostic> = Vec::new();
+    super::dataflow::check_root(loader, id, &LintOptions::default(), &mut found);
+    found
+        .into_iter()
+        .filter(|d| d.code == "NT0102")
+        .map(|d| {
+            LoadError::new(
+                LoadErrorKind::BadValue,
+                d.file,
+                d.line,
+                d.col,
+                format!(
+                    "{} (types are strict: the file is refused, as BehaviorTree.CPP refuses it)",
+                    d.message
+                ),
+            )
+        })
+        .collect()
+}
+
+/// What a port writes into an entry or reads it as, as far as its declaration tells.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub(crate) enum Held {
+    /// Untyped, or a type not followed.
+    Any,
+    /// A number or `bool`, by its name (`f64`).
+    Number(String),
+    /// Text.
+    Text,
+    /// A type of its own, by its last name (`Path`).
+    Named(String),
+}
+
+impl Held {
+    /// What `spec` carries.
+    pub(crate) fn of(spec: &PortSpec) -> Held {
+        let declared = spec.port_type();
+        if !declared.is_any() {
+            return if is_text(declared) {
+                Held::Text
+            } else if declared.reads_as::<f64>() {
+                Held::Number(spec.type_name.to_string())
+            } else {
+                named(spec.type_name)
+            };
+        }
+        match (spec.type_name, spec.model_type.as_deref()) {
+            ("f64" | "i64" | "u64" | "bool", _) => Held::Number(spec.type_name.to_string()),
+            ("String", _) => Held::Text,
+            (_, Some(model)) => named(model),
+            _ => Held::Any,
+        }
+    }
+
+    /// In words, after "writes": `a Path`, `a number (f64)`.
+    fn words(&self) -> String {
+        match self {
+            Held::Number(name) => format!("a number ({name})"),
+            Held::Named(name) => format!("a {name}"),
+            Held::Text => "text".to_string(),
+            Held::Any => "a value of any type".to_string(),
+        }
+    }
+}
+
+/// The type `spec` reads an entry as, for messages: `f64`, `Path`.
+pub(crate) fn read_as(spec: &PortSpec) -> String {
+    match Held::of(spec) {
+        Held::Named(name) => name,
+        _ => spec.type_name.to_string(),
+    }
+}
+
+/// A type of its own by its last name, unless it is generic or a duration.
+fn named(type_name: &str) -> Held {
+    let last = type_name.rsplit("::").next().unwrap_or(type_name).trim();
+    let duration = ["milliseconds", "seconds", "Duration", "duration"];
+    if type_name.contains('<') || last.is_empty() || duration.iter().any(|d| last.contains(d)) {
+        Held::Any
+    } else {
+        Held::Named(last.to_string())
+    }
+}
+
+/// Why a value `writer` writes into an entry cannot be read through `reader`, in words
+/// ("writes a Path into it"), or `None` when it can or when the types say too little.
+pub(crate) fn entry_mismatch(writer: &PortSpec, reader: &PortSpec) -> Option<String> {
+    let (written, read) = (Held::of(writer), Held::of(reader));
+    let typed = |p: &PortSpec| !p.port_type().is_any();
+    let clash = if typed(writer) && typed(reader) {
+        // Both declared in Rust: their types themselves are compared.
+        incompatible(writer.port_type(), reader.port_type())
+    } else {
+        match (&written, &read) {
+            (Held::Any, _) | (_, Held::Any) | (Held::Text, _) | (_, Held::Text) => false,
+            (Held::Number(_), Held::Number(_)) => false,
+            // Nav2's Rust types are not ROS's messages (a `Pose2D` stands for a
+            // `PoseStamped`): two names are compared only when models gave both.
+            (Held::Named(a), Held::Named(b)) => !typed(writer) && !typed(reader) && a != b,
+            _ => true,
+        }
+    };
+    let words = match written {
+        Held::Any => format!("a {}", writer.type_name),
+        held => held.words(),
+    };
+    clash.then(|| format!("writes {words} into it"))
+}
 
 /// Whether `port` is declared as text (`String`), which reads what converts to text.
 fn is_text(port: PortType) -> bool {
@@ -25,6 +148,63 @@ pub(crate) fn incompatible(written: PortType, read: PortType) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use neurotree_core::PortDirection;
+
+    /// A port a model declares with type `t`.
+    fn modelled(t: &str) -> PortSpec {
+        let mut registry = crate::Registry::<()>::new();
+        registry
+            .add_model_str(
+                &format!(
+                    r#"<root BTCPP_format="4"><TreeNodesModel><Action ID="A">
+                    <output_port name="p" type="{}"/></Action></TreeNodesModel></root>"#,
+                    t.replace('<', "&lt;").replace('>', "&gt;")
+                ),
+                "model.xml",
+            )
+            .unwrap();
+        registry.get("A").unwrap().ports[0].clone()
+    }
+
+    #[test]
+    fn types_named_by_models_and_by_rust_are_followed_through_entries() {
+        struct Path;
+        let path = modelled("nav_msgs::msg::Path");
+        let double = modelled("double");
+        assert_eq!(Held::of(&path), Held::Named("Path".into()));
+        assert_eq!(
+            entry_mismatch(&path, &double).as_deref(),
+            Some("writes a Path into it")
+        );
+        assert_eq!(
+            entry_mismatch(&double, &path).as_deref(),
+            Some("writes a number (f64) into it")
+        );
+        // A Rust `Path` is the model's `Path`; another type is not.
+        let rust = PortSpec::output::<Path>("path");
+        assert_eq!(entry_mismatch(&rust, &path), None);
+        // A Rust type against a model's other name says nothing (Nav2's Rust `Pose2D`
+        // stands for ROS's `PoseStamped`); two models' names are compared.
+        let pose = modelled("geometry_msgs::msg::PoseStamped");
+        assert_eq!(entry_mismatch(&rust, &pose), None);
+        assert_eq!(
+            entry_mismatch(&path, &pose).as_deref(),
+            Some("writes a Path into it")
+        );
+        assert_eq!(read_as(&pose), "PoseStamped");
+        // Text, untyped ports, generics and durations say too little.
+        for quiet in [
+            modelled("string"),
+            modelled("vector<geometry_msgs::msg::PoseStamped>"),
+            modelled("chrono::milliseconds"),
+            PortSpec::untyped("any", PortDirection::Input),
+            PortSpec::input::<String>("text"),
+        ] {
+            assert_eq!(entry_mismatch(&path, &quiet), None, "{quiet:?}");
+            assert_eq!(entry_mismatch(&quiet, &path), None, "{quiet:?}");
+        }
+        assert_eq!(entry_mismatch(&double, &PortSpec::input::<u8>("n")), None);
+    }
 
     #[test]
     fn only_a_type_of_its_own_against_another_is_incompatible() {
@@ -44,5 +224,57 @@ mod tests {
             PortType::named("i32"),
             PortType::named("f64")
         ));
+    }
+
+    #[test]
+    fn an_entry_written_as_a_path_and_read_as_a_number_is_an_error_where_it_is_read() {
+        let mut registry = crate::Registry::<()>::new();
+        registry
+            .add_model_str(
+                r#"<root BTCPP_format="4"><TreeNodesModel>
+                  <Action ID="ComputePathToPose">
+                    <input_port name="goal" type="geometry_msgs::msg::PoseStamped"/>
+                    <output_port name="path" type="nav_msgs::msg::Path"/>
+                  </Action>
+                  <Action ID="Wait"><input_port name="wait_duration" type="double"/></Action>
+                </TreeNodesModel></root>"#,
+                "nav2.xml",
+            )
+            .unwrap();
+        const MAIN: &str = r#"<root BTCPP_format="4">
+  <BehaviorTree ID="Main">
+    <Sequence>
+      <ComputePathToPose goal="{goal}" path="{p}"/>
+      <Wait wait_duration="{p}"/>
+    </Sequence>
+  </BehaviorTree>
+</root>"#;
+        let mut loader = crate::XmlLoader::new(&registry);
+        loader.load_str(MAIN, "main.xml").unwrap();
+        let options = super::super::LintOptions {
+            written: vec!["goal".into()],
+            ..Default::default()
+        };
+        let found: Vec<_> = super::super::lint(&loader, &options)
+            .into_iter()
+            .filter(|d| d.code == "NT0102")
+            .collect();
+        assert_eq!(found.len(), 1, "{found:?}");
+        // By default the file loads; with strict types, loading refuses it there.
+        assert_eq!(loader.validate("Main"), Ok(()));
+        registry.set_strict_types(true);
+        let mut strict = crate::XmlLoader::new(&registry);
+        strict.load_str(MAIN, "main.xml").unwrap();
+        let refused = strict.validate("Main").unwrap_err();
+        assert_eq!((refused.line, refused.col), (5, 7));
+        assert!(refused.message.starts_with(&found[0].message), "{refused}");
+        assert_eq!(strict.validate_all("Main", 20), [refused]);
+        assert_eq!(found[0].severity, super::super::Severity::Error);
+        assert_eq!((found[0].line, found[0].col), (5, 7));
+        assert_eq!(
+            found[0].message,
+            "port `wait_duration` of Wait reads the entry `p` as f64, but port `path` of \
+             ComputePathToPose at line 4 writes a Path into it"
+        );
     }
 }

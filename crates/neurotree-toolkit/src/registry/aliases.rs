@@ -86,6 +86,11 @@ impl AliasRef<'_> {
 }
 
 impl<C: 'static> Registry<C> {
+    /// Whether a file may name `name`: a registered type, or an alias of one.
+    pub fn knows(&self, name: &str) -> bool {
+        self.types.contains_key(name) || self.alias(name).is_some()
+    }
+
     /// The alias `name` is, with the type it loads as, unless `name` is registered itself.
     pub(crate) fn alias(&self, name: &str) -> Option<(AliasRef<'_>, &NodeType<C>)> {
         // The table first: it is asked about every element of every file loaded, and two

@@ -31,7 +31,7 @@ mod aliases;
 mod builtins;
 mod enums;
 pub mod ports;
-mod suggest;
+pub(crate) mod suggest;
 mod values;
 
 pub(crate) use builtins::built_in_ports;
@@ -239,6 +239,9 @@ pub struct Registry<C> {
     enums: Arc<Enums>,
     /// The value types of the blackboards of the trees loaded with this registry.
     value_codecs: Arc<StateCodecs>,
+    /// Refuse at load an entry written as one type and read as another
+    /// ([`set_strict_types`](Registry::set_strict_types)).
+    strict_types: bool,
 }
 
 /// A copy that goes its own way: types, enums and value types added to one are not added
@@ -252,6 +255,7 @@ impl<C> Clone for Registry<C> {
             subtrees: self.subtrees.clone(),
             enums: Arc::clone(&self.enums),
             value_codecs: Arc::clone(&self.value_codecs),
+            strict_types: self.strict_types,
         }
     }
 }
@@ -259,6 +263,22 @@ impl<C> Clone for Registry<C> {
 impl<C: 'static> Default for Registry<C> {
     fn default() -> Self {
         Self::new()
+    }
+}
+
+impl<C> Registry<C> {
+    /// With `true`, the trees loaded with this registry are refused when an entry is
+    /// written as one type and read through a port as another it cannot convert to (lint's
+    /// NT0102 errors: a port writing a `Path` into `{p}`, another reading `{p}` as `f64`),
+    /// at the reading port's line, as BehaviorTree.CPP refuses such a file when it
+    /// creates the tree. Off by default: the file loads, and the read fails when it runs.
+    pub fn set_strict_types(&mut self, strict: bool) {
+        self.strict_types = strict;
+    }
+
+    /// Whether [`set_strict_types`](Self::set_strict_types) is on.
+    pub fn strict_types(&self) -> bool {
+        self.strict_types
     }
 }
 
@@ -271,6 +291,7 @@ impl<C: 'static> Registry<C> {
             subtrees: BTreeMap::new(),
             enums: Arc::new(Enums::new()),
             value_codecs: Arc::new(StateCodecs::new()),
+            strict_types: false,
         };
         for decl in neurotree_core::nodes::BUILT_INS {
             r.types.insert(
@@ -323,8 +344,26 @@ impl<C: 'static> Registry<C> {
     where
         F: Fn() -> Box<dyn neurotree_core::CustomNode<C>> + Send + Sync + 'static,
     {
+        self.register_custom_shown_as(name, name, category, arity, ports, make)
+    }
+
+    /// As [`register_custom_as`](Self::register_custom_as), its nodes' type shown as
+    /// `shown_as` in pictures (`neurotree show` draws a type it does not know as
+    /// `unknown NAME`).
+    pub fn register_custom_shown_as<F>(
+        &mut self,
+        name: &str,
+        shown_as: &str,
+        category: Category,
+        arity: neurotree_core::Arity,
+        ports: Vec<PortSpec>,
+        make: F,
+    ) -> Result<(), RegistryError>
+    where
+        F: Fn() -> Box<dyn neurotree_core::CustomNode<C>> + Send + Sync + 'static,
+    {
         let make = Arc::new(make);
-        let type_name = name.to_string();
+        let type_name = shown_as.to_string();
         let leaf: LeafMaker<C> = Arc::new(move |_, _| {
             let make = Arc::clone(&make);
             Ok(NodeKind::Custom(Box::new(neurotree_core::CustomSpec {

@@ -27,6 +27,9 @@ pub struct PortSpec {
     pub(crate) check: Option<fn(&str) -> bool>,
     /// What the node's reads and writes are checked against.
     pub(crate) port_type: PortType,
+    /// The type a `TreeNodesModel` names for the port, when it is none of the numbers,
+    /// `bool` or text (`nav_msgs::msg::Path`): what lint follows through the entries.
+    pub(crate) model_type: Option<std::sync::Arc<str>>,
 }
 
 impl PortSpec {
@@ -45,6 +48,7 @@ impl PortSpec {
             description: String::new(),
             check: None,
             port_type: PortType::of::<T>(),
+            model_type: None,
         }
     }
 
@@ -59,6 +63,7 @@ impl PortSpec {
             description: String::new(),
             check: None,
             port_type: PortType::ANY,
+            model_type: None,
         }
     }
 
@@ -76,6 +81,7 @@ impl PortSpec {
             description: String::new(),
             check: Some(|text| T::from_port_str(text).is_ok()),
             port_type: PortType::of::<T>(),
+            model_type: None,
         }
     }
 
@@ -117,6 +123,7 @@ impl From<&PortDecl> for PortSpec {
                 _ => literal_check(p.type_name),
             },
             port_type: PortType::named(p.type_name),
+            model_type: None,
         }
     }
 }

@@ -264,8 +264,8 @@ fn failure_problems<C>(tree: &Tree<C>, f: &FailureExpect, at: &str, status: &str
     };
     let mut problems = Vec::new();
     let chain: Vec<(&str, Option<String>)> = failure
-        .links
-        .iter()
+        .all_links()
+        .into_iter()
         .flat_map(|link| {
             std::iter::once((link.path.as_str(), link.reason.as_ref())).chain(
                 link.tried

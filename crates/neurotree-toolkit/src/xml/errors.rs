@@ -92,7 +92,13 @@ impl<C: 'static> XmlLoader<'_, C> {
     /// goes on past a node in error, with a stand-in in its place.
     pub fn build_all_errors(&self, id: &str) -> Result<Blueprint<C>, LoadErrors> {
         match self.tree(id) {
-            Some(tree) => build::build_all(self, id, tree, MAX_ERRORS),
+            Some(tree) => {
+                let built = build::build_all(self, id, tree, MAX_ERRORS)?;
+                match LoadErrors::new(self.strict_type_errors(id)) {
+                    Some(errors) => Err(errors),
+                    None => Ok(built),
+                }
+            }
             None => self.build(id).map_err(LoadErrors::from),
         }
     }

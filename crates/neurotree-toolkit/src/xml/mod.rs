@@ -604,26 +604,52 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
     pub fn build(&self, id: &str) -> Result<Blueprint<C>, LoadError> {
         let Some(tree) = self.tree(id) else {
             let known: Vec<&str> = self.tree_ids().collect();
+            let meant = crate::registry::suggest::did_you_mean(id, known.iter().copied());
             return Err(LoadError::at_file(
                 LoadErrorKind::UnknownTree,
                 "",
-                format!("no tree with ID `{id}`; loaded trees: {}", known.join(", ")),
+                format!(
+                    "no tree with ID `{id}`{meant}; loaded trees: {}",
+                    known.join(", ")
+                ),
             ));
         };
-        build::build(self, id, tree, false)
+        let built = build::build(self, id, tree, false)?;
+        self.strict_types(id)?;
+        Ok(built)
+    }
+
+    /// With [`Registry::set_strict_types`](crate::Registry::set_strict_types), the first
+    /// entry of tree `id` written as one type and read as another.
+    fn strict_types(&self, id: &str) -> Result<(), LoadError> {
+        match self.strict_type_errors(id).into_iter().next() {
+            Some(e) => Err(e),
+            None => Ok(()),
+        }
+    }
+
+    /// As [`strict_types`](Self::strict_types), every such entry.
+    pub(crate) fn strict_type_errors(&self, id: &str) -> Vec<LoadError> {
+        if !self.registry.strict_types() {
+            return Vec::new();
+        }
+        crate::lint::types::strict_errors(self, id)
     }
 
     /// Checks the tree named `id` as [`build`](Self::build) does, also accepting node types
     /// known only from a `TreeNodesModel` (which cannot run).
     pub fn validate(&self, id: &str) -> Result<(), LoadError> {
         let Some(tree) = self.tree(id) else {
+            let known: Vec<&str> = self.tree_ids().collect();
+            let meant = crate::registry::suggest::did_you_mean(id, known.iter().copied());
             return Err(LoadError::at_file(
                 LoadErrorKind::UnknownTree,
                 "",
-                format!("no tree with ID `{id}`"),
+                format!("no tree with ID `{id}`{meant}"),
             ));
         };
-        build::build(self, id, tree, true).map(drop)
+        build::build(self, id, tree, true)?;
+        self.strict_types(id)
     }
 
     /// Checks the tree named `id` as [`validate`](Self::validate) does, but goes on past a
@@ -632,13 +658,21 @@ impl<'r, C: 'static> XmlLoader<'r, C> {
     /// is valid. A subtree's errors are reported with each tree that uses it.
     pub fn validate_all(&self, id: &str, limit: usize) -> Vec<LoadError> {
         let Some(tree) = self.tree(id) else {
+            let known: Vec<&str> = self.tree_ids().collect();
+            let meant = crate::registry::suggest::did_you_mean(id, known.iter().copied());
             return vec![LoadError::at_file(
                 LoadErrorKind::UnknownTree,
                 "",
-                format!("no tree with ID `{id}`"),
+                format!("no tree with ID `{id}`{meant}"),
             )];
         };
-        build::validate_all(self, id, tree, limit)
+        let errors = build::validate_all(self, id, tree, limit);
+        if errors.is_empty() {
+            let mut strict = self.strict_type_errors(id);
+            strict.truncate(limit.max(1));
+            return strict;
+        }
+        errors
     }
 
     /// The IDs that the `<SubTree>`s of the loaded trees name.

@@ -67,6 +67,10 @@ impl<C: 'static> Registry<C> {
                         check: model_type_check(port.attr("type")),
                         // A node only a model describes does not run: nothing reads it.
                         port_type: neurotree_core::PortType::ANY,
+                        model_type: port
+                            .attr("type")
+                            .filter(|t| model_type_name(Some(t)) == "text")
+                            .map(|t| t.trim().into()),
                     });
                 }
                 self.types.insert(

@@ -156,9 +156,22 @@ fn guard<C, const SEQUENCE: bool, const CLOSURES: bool>(
             .map(|(call, answer)| (call.id, unsafe { args.panicked(answer) }))
     };
     match decided {
-        None => go_on,
+        None => {
+            // A Fallback of conditions that all failed: each one is part of why.
+            if !SEQUENCE {
+                for call in calls {
+                    t.mark_failed(call.id);
+                }
+            }
+            go_on
+        }
         Some((node, Some(payload))) => t.resume_panic(node, payload),
-        Some((_, None)) => stop,
+        Some((node, None)) => {
+            if SEQUENCE {
+                t.mark_failed(node);
+            }
+            stop
+        }
     }
 }
 
@@ -227,6 +240,11 @@ fn run_quiet<C, const SEQUENCE: bool>(
             skipped += 1;
             continue;
         }
+        // The child that failed a Sequence is marked for `Tree::last_failure`: its status
+        // is stored only if this node returns Running.
+        if status == NodeStatus::Failure {
+            t.mark_failed(child.id);
+        }
         break Some(status);
     };
     // The index just past the child the loop stopped at (or the end).
@@ -236,6 +254,16 @@ fn run_quiet<C, const SEQUENCE: bool>(
     let ticked = if stored { end } else { start };
     match ended {
         None => {
+            // A Fallback that failed: the conditions and guards it called in this run
+            // failed (none of them can be skipped), and are marked now, once the node is
+            // known to fail; the others marked themselves when they stored their status.
+            if !SEQUENCE && skipped as usize != hot.len() {
+                for child in &hot[start..end] {
+                    if !matches!(child.hot(), Hot::Other) {
+                        t.mark_failed(child.id);
+                    }
+                }
+            }
             t.reset_completed(&children[..ticked]);
             t.aux[slot] = 0;
             if skipped as usize == hot.len() {

@@ -94,6 +94,10 @@ impl<C> Builder<C> {
 pub struct ForceFailure;
 
 impl BuiltIn for ForceFailure {
+    fn failed_alone(&self) -> Option<&'static str> {
+        Some("forced to fail")
+    }
+
     fn outcomes(&self) -> Outcomes {
         Outcomes::FAILURE
     }

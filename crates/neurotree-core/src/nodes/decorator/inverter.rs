@@ -44,7 +44,11 @@ pub(crate) fn tick<C>(t: &mut Ticker<'_, C>, id: NodeId, def: &NodeDef<C>) -> No
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Inverter;
 
-impl BuiltIn for Inverter {}
+impl BuiltIn for Inverter {
+    fn failed_alone(&self) -> Option<&'static str> {
+        Some("its child succeeded")
+    }
+}
 
 impl Tick for Inverter {
     /// Running is not inverted.

@@ -103,9 +103,13 @@ impl<C: 'static> Expansion<'_, '_, C> {
                 } else {
                     format!("its ports are: {}", valid.join(", "))
                 };
+                let meant = crate::registry::suggest::did_you_mean(key, valid.iter().copied());
                 return Err(el.error(
                     LoadErrorKind::UnknownPort,
-                    format!("unknown port `{key}` on `{}`; {listed}", node_type.name),
+                    format!(
+                        "unknown port `{key}` on `{}`{meant}; {listed}",
+                        node_type.name
+                    ),
                 ));
             };
             let mut value = binding(key, text);

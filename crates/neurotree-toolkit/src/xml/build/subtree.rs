@@ -27,10 +27,12 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
                         .tree_ids()
                         .chain(self.loader.registry.subtree_ids())
                         .collect();
+                    let meant = crate::registry::suggest::did_you_mean(id, known.iter().copied());
                     return Err(el.error(
                         LoadErrorKind::UnknownTree,
                         format!(
-                            "no tree with ID `{id}` is loaded or registered; known trees: {}",
+                            "no tree with ID `{id}` is loaded or registered{meant}; known \
+                             trees: {}",
                             known.join(", ")
                         ),
                     ));
@@ -87,12 +89,26 @@ impl<'a, C: 'static> Expansion<'a, '_, C> {
                     continue;
                 }
                 let Some(default) = default else {
+                    // An attribute the model does not declare, close to the missing port,
+                    // is the remapping meant.
+                    let undeclared = el
+                        .attrs()
+                        .map(|(k, _)| k)
+                        .filter(|k| !k.starts_with('_') && *k != "ID" && *k != "name")
+                        .filter(|k| !ports.iter().any(|(p, _)| p == k))
+                        .collect::<Vec<_>>();
+                    let meant = match crate::registry::suggest::nearest(port, undeclared) {
+                        Some(typed) => {
+                            format!(" (`{typed}` is no port of it: did you mean `{port}`?)")
+                        }
+                        None => String::new(),
+                    };
                     return Err(el.error(
                         LoadErrorKind::MissingPort,
                         format!(
                             "the TreeNodesModel declares port `{port}` of SubTree `{id}` with no \
-                         default, so it is mandatory; remap it here ({port}=\"{{key}}\") or give \
-                         it a value"
+                         default, so it is mandatory{meant}; remap it here ({port}=\"{{key}}\") \
+                         or give it a value"
                         ),
                     ));
                 };
