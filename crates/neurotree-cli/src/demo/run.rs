@@ -84,7 +84,7 @@ impl Default for DemoConfig {
 }
 
 /// Why a demo could not start.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[derive(Clone, PartialEq, thiserror::Error)]
 #[non_exhaustive]
 pub enum DemoError {
     /// The tree did not load; the message reads `file:line:col: error: …`.
@@ -103,6 +103,16 @@ pub enum DemoError {
     #[error("cannot give the tree its goal: {0}")]
     Goal(#[from] BlackboardError),
 }
+
+neurotree::debug_shows_message!(
+    enum DemoError {
+        Load(source),
+        Map(source),
+        Registry(source),
+        Model(source),
+        Goal(source),
+    }
+);
 
 /// A load error that names a Nav2 type known only by its model, told as what it is for the
 /// demo: a node of Nav2 that the simulated robot does not implement. Other errors pass.
