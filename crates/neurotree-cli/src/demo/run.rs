@@ -30,7 +30,7 @@ use neurotree::{nav2, LoadError, Registry, RegistryError, XmlLoader};
 /// Nav2's NavigateToPose navigator with replanning and recovery, as Nav2 ships it: the
 /// tree the demo runs unless given another.
 pub const NAVIGATE_TO_POSE_XML: &str =
-    include_str!("../../../../corpus/nav2/navigate_to_pose_w_replanning_and_recovery.xml");
+    include_str!("../../trees/navigate_to_pose_w_replanning_and_recovery.xml");
 
 /// The name [`NAVIGATE_TO_POSE_XML`] goes by in messages: its place in the repository.
 const NAVIGATE_TO_POSE_FILE: &str = "corpus/nav2/navigate_to_pose_w_replanning_and_recovery.xml";

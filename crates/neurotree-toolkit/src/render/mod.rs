@@ -292,7 +292,7 @@ mod fixtures {
 /// The examples of the guide's chapter on the studio's canvas, which draws the boxes of
 /// [`render_svg`], compiled and run as doctests.
 #[cfg(doctest)]
-#[doc = include_str!("../../../../docs/guide/studio-canvas.md")]
+#[doc = include_str!("../../guide/studio-canvas.md")]
 pub struct StudioCanvasGuide;
 
 #[cfg(test)]
