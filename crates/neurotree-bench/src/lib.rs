@@ -46,7 +46,7 @@ pub fn tree1111<C: 'static>() -> Arc<Blueprint<C>> {
 }
 
 /// `tree1111.xml` as BehaviorTree.CPP's benchmark ships it (from this repository's corpus).
-pub const TREE1111_XML: &str = include_str!("../../../corpus/bench/tree1111.xml");
+pub const TREE1111_XML: &str = include_str!("../tree1111.xml");
 
 /// The registry that runs [`TREE1111_XML`]: its `Succ` and `Fail` leaves as registered
 /// conditions, as a user would register them.

@@ -94,7 +94,7 @@ impl<C: 'static> TypePath for TreeAssetLoader<C> {
 }
 
 /// Why a tree file did not load.
-#[derive(Debug, thiserror::Error)]
+#[derive(thiserror::Error)]
 #[non_exhaustive]
 pub enum TreeAssetError {
     /// The file could not be read.
@@ -123,6 +123,13 @@ pub enum TreeAssetError {
     #[error(transparent)]
     Load(#[from] LoadError),
 }
+
+neurotree::debug_shows_message!(enum TreeAssetError {
+    Io { path, source },
+    NotUtf8 { path },
+    Include { path, source },
+    Load(source),
+});
 
 impl<C: Send + Sync + 'static> AssetLoader for TreeAssetLoader<C> {
     type Asset = TreeAsset<C>;

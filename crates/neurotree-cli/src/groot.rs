@@ -11,12 +11,16 @@ use std::io::{self, Write};
 use std::net::IpAddr;
 use std::time::Duration;
 
+/// A build without Groot2 support keeps its flags, to refuse them with what to do, but does
+/// not offer them in `--help`.
+const NOT_IN_BUILD: bool = cfg!(not(feature = "groot"));
+
 /// The flags of `neurotree run` that serve the run to Groot2.
 #[derive(clap::Args, Debug)]
 pub struct GrootArgs {
     /// Serve the run to Groot2 on PORT (requests; PORT+1 publishes), as BehaviorTree.CPP's
     /// Groot2Publisher does; 0 picks free ports and says which on stderr.
-    #[arg(long = "groot", id = "groot", value_name = "PORT")]
+    #[arg(long = "groot", id = "groot", value_name = "PORT", hide = NOT_IN_BUILD)]
     pub port: Option<u16>,
     /// Address the Groot2 server listens on: 127.0.0.1 keeps it to this machine; 0.0.0.0
     /// opens it to every network the machine is on.
@@ -24,11 +28,12 @@ pub struct GrootArgs {
         long = "groot-bind",
         value_name = "ADDR",
         default_value = "127.0.0.1",
-        requires = "groot"
+        requires = "groot",
+        hide = NOT_IN_BUILD
     )]
     pub bind: IpAddr,
     /// Seconds to keep serving Groot2 once the run ended.
-    #[arg(long = "groot-linger", value_name = "SECS", default_value = "5", value_parser = seconds, requires = "groot")]
+    #[arg(long = "groot-linger", value_name = "SECS", default_value = "5", value_parser = seconds, requires = "groot", hide = NOT_IN_BUILD)]
     pub linger: Duration,
     /// Milliseconds of wall time each tick waits while serving Groot2, so that a client
     /// sees the run unfold (the manual clock, and so the results, are the same).
@@ -36,7 +41,8 @@ pub struct GrootArgs {
         long = "groot-pace-ms",
         value_name = "MS",
         default_value_t = 0,
-        requires = "groot"
+        requires = "groot",
+        hide = NOT_IN_BUILD
     )]
     pub pace_ms: u64,
 }

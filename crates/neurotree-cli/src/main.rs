@@ -80,6 +80,7 @@ enum Command {
     Show(show::ShowArgs),
     /// See, edit, watch and replay behavior trees in the browser: serves a page on
     /// 127.0.0.1 and prints its URL on stderr.
+    #[command(hide = cfg!(not(feature = "studio")))]
     Studio(studio::StudioArgs),
     /// Serve the Model Context Protocol on stdin/stdout: tools to check, lint, draw and run
     /// trees, for an assistant.
@@ -162,5 +163,58 @@ mod tests {
     #[test]
     fn the_command_line_is_consistent() {
         super::Cli::command().debug_assert();
+    }
+
+    /// The flags of `command`'s `--help`.
+    fn offered(command: &[&str]) -> Vec<String> {
+        let mut cli = super::Cli::command();
+        let mut help = Vec::new();
+        let mut cmd = &mut cli;
+        for name in command {
+            cmd = cmd.find_subcommand_mut(name).expect("a command");
+        }
+        cmd.write_long_help(&mut help).expect("help written");
+        let help = String::from_utf8(help).expect("UTF-8 help");
+        help.split_whitespace()
+            .filter(|w| w.starts_with("--"))
+            .map(|w| w.trim_end_matches([',', '.']).to_owned())
+            .collect()
+    }
+
+    /// A build offers in `--help` the flags and commands it has, and no other.
+    #[test]
+    fn help_offers_what_this_build_has() {
+        let has = |command: &[&str], flag: &str| offered(command).iter().any(|f| f == flag);
+        for (command, flag) in [
+            (&["demo"][..], "--studio"),
+            (&["run"], "--studio"),
+            (&["run"], "--studio-linger"),
+            (&["run"], "--rewind-window"),
+        ] {
+            assert_eq!(
+                has(command, flag),
+                cfg!(feature = "studio"),
+                "{command:?} {flag}"
+            );
+        }
+        for flag in [
+            "--groot",
+            "--groot-bind",
+            "--groot-linger",
+            "--groot-pace-ms",
+        ] {
+            assert_eq!(has(&["run"], flag), cfg!(feature = "groot"), "run {flag}");
+        }
+        assert_eq!(has(&["run"], "--sqlite"), cfg!(feature = "sqlite"));
+        let mut help = Vec::new();
+        super::Cli::command().write_long_help(&mut help).unwrap();
+        let help = String::from_utf8(help).unwrap();
+        let commands: Vec<&str> = help
+            .lines()
+            .filter_map(|l| l.split_whitespace().next())
+            .collect();
+        assert_eq!(commands.contains(&"studio"), cfg!(feature = "studio"));
+        assert_eq!(commands.contains(&"ros2"), cfg!(feature = "ros2"));
+        assert!(commands.contains(&"demo") && has(&["run"], "--btlog"));
     }
 }

@@ -36,12 +36,16 @@ pub struct StudioArgs {
     pub bind: IpAddr,
 }
 
+/// A build without the studio keeps its flags, to refuse them with what to do, but does not
+/// offer them in `--help`.
+const NOT_IN_BUILD: bool = cfg!(not(feature = "studio"));
+
 /// The flags of `run` and `demo` that serve their run to the studio.
 #[derive(clap::Args, Debug, Clone)]
 pub struct StudioFlags {
     /// Serve the run to the studio on PORT (0 picks a free one): open the URL printed on
     /// stderr to watch it, set breakpoints, pause, step and edit its blackboards.
-    #[arg(long = "studio", id = "studio", value_name = "PORT")]
+    #[arg(long = "studio", id = "studio", value_name = "PORT", hide = NOT_IN_BUILD)]
     pub port: Option<u16>,
     /// Address the studio listens on (see `neurotree studio --bind`).
     #[arg(
@@ -49,12 +53,13 @@ pub struct StudioFlags {
         id = "studio_bind",
         value_name = "ADDR",
         default_value = "127.0.0.1",
-        requires = "studio"
+        requires = "studio",
+        hide = NOT_IN_BUILD
     )]
     pub bind: IpAddr,
     /// Seconds to keep serving the studio once the run ended, so that a page still shows
     /// its last statuses.
-    #[arg(long = "studio-linger", id = "studio_linger", value_name = "SECS", default_value = "5", value_parser = seconds, requires = "studio")]
+    #[arg(long = "studio-linger", id = "studio_linger", value_name = "SECS", default_value = "5", value_parser = seconds, requires = "studio", hide = NOT_IN_BUILD)]
     pub linger: Duration,
     /// Ticks whose state the run keeps, so that a paused page can go back to them and fork
     /// the run there (0: none).
@@ -64,7 +69,8 @@ pub struct StudioFlags {
         value_name = "N",
         default_value_t = 300,
         value_parser = clap::value_parser!(u32).range(0..=1_000_000),
-        requires = "studio"
+        requires = "studio",
+        hide = NOT_IN_BUILD
     )]
     pub rewind_window: u32,
 }
@@ -123,7 +129,7 @@ impl Served {
     }
 
     /// Never called: no `Served` exists.
-    #[cfg_attr(not(feature = "ros2"), allow(dead_code))]
+    #[cfg(feature = "ros2")]
     pub fn between_nav2_ticks<C>(&mut self, _: &mut neurotree::Tree<C>) -> Option<u64> {
         match *self {}
     }

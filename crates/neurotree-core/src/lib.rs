@@ -56,6 +56,7 @@ extern crate std;
 pub mod blackboard;
 pub mod blueprint;
 pub mod clock;
+mod error_debug;
 mod macros;
 pub mod nodes;
 pub mod observer;

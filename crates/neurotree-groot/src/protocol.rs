@@ -94,7 +94,7 @@ impl RequestType {
 }
 
 /// A request header the server could not read.
-#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[derive(Clone, PartialEq, Eq, thiserror::Error)]
 #[non_exhaustive]
 pub enum ProtocolError {
     /// The first frame is not the 6 bytes of a request header.
@@ -116,6 +116,12 @@ pub enum ProtocolError {
         byte: u8,
     },
 }
+
+neurotree_core::debug_shows_message!(enum ProtocolError {
+    HeaderSize { len },
+    TransitionsSize { len },
+    StatusByte { byte },
+});
 
 /// The fixed first frame of a request.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

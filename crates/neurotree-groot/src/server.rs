@@ -20,7 +20,7 @@ use super::monitor::Groot2Monitor;
 use super::peer::{serve_peer, Limits, Role};
 
 /// Why a monitor could not be served.
-#[derive(Debug, thiserror::Error)]
+#[derive(thiserror::Error)]
 #[non_exhaustive]
 pub enum GrootError {
     /// A socket could not be bound (the port is taken, or the address is not local).
@@ -40,6 +40,12 @@ pub enum GrootError {
     #[error("cannot start the Groot2 server: {0}")]
     Start(#[from] std::io::Error),
 }
+
+neurotree_core::debug_shows_message!(enum GrootError {
+    Bind { socket, address, reason },
+    NoNextPort(source),
+    Start(source),
+});
 
 /// Where a Groot2 server listens and how far it trusts its peers, for
 /// [`Groot2Monitor::serve_with`].

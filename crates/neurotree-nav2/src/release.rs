@@ -86,9 +86,11 @@ impl fmt::Display for Nav2Release {
 }
 
 /// A name that is not a release NeuroTree knows.
-#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[derive(Clone, PartialEq, Eq, thiserror::Error)]
 #[error("`{0}` is not a Nav2 release NeuroTree knows (jazzy, kilted or main)")]
 pub struct UnknownRelease(pub String);
+
+neurotree_core::debug_shows_message!(struct UnknownRelease(name));
 
 impl FromStr for Nav2Release {
     type Err = UnknownRelease;

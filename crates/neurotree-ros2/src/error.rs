@@ -1,7 +1,7 @@
 //! What can go wrong when the bridge sets up its ROS 2 side.
 
 /// An error of the ROS 2 bridge: making the node, or an endpoint on it.
-#[derive(Debug, thiserror::Error)]
+#[derive(thiserror::Error)]
 #[non_exhaustive]
 pub enum Ros2Error {
     /// The DDS participant or the ROS 2 node could not be made.
@@ -41,3 +41,10 @@ pub enum Ros2Error {
         message: String,
     },
 }
+
+neurotree_toolkit::debug_shows_message!(enum Ros2Error {
+    Node { node, message },
+    Name { name, message },
+    Endpoint { kind, name, message },
+    Serve { kind, name, message },
+});

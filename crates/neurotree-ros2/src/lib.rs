@@ -91,5 +91,5 @@ pub use ros_node::{
 
 /// The ROS 2 chapter of the guide, whose examples compile as this crate's doctests.
 #[cfg(doctest)]
-#[doc = include_str!("../../../docs/guide/ros2.md")]
+#[doc = include_str!("../guide/ros2.md")]
 struct GuideRos2;

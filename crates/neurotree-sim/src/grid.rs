@@ -31,7 +31,7 @@ impl fmt::Display for Cell {
 }
 
 /// Why a map or a world could not be made.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[derive(Clone, PartialEq, thiserror::Error)]
 #[non_exhaustive]
 pub enum MapError {
     /// The map has no cells.
@@ -83,6 +83,17 @@ pub enum MapError {
         cell: Cell,
     },
 }
+
+neurotree_core::debug_shows_message!(enum MapError {
+    Empty,
+    Ragged { row, expected, found },
+    UnknownChar { ch, row, col },
+    Robots(source),
+    Chargers(source),
+    Resolution(source),
+    OutsideMap { what, pose },
+    Blocked { what, cell },
+});
 
 /// The static map: a rectangle of free and wall cells.
 #[derive(Clone, Debug, PartialEq)]

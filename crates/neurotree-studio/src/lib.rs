@@ -107,7 +107,7 @@ impl Default for StudioOptions {
 }
 
 /// Why the studio could not start.
-#[derive(Debug, thiserror::Error)]
+#[derive(thiserror::Error)]
 #[non_exhaustive]
 pub enum StudioError {
     /// The address could not be listened on.
@@ -133,6 +133,13 @@ pub enum StudioError {
     #[error("no random token for the studio: {0}")]
     Token(String),
 }
+
+neurotree_core::debug_shows_message!(enum StudioError {
+    Bind { addr, source },
+    Root { path, source },
+    Runtime(source),
+    Token(source),
+});
 
 /// A running studio server; dropping it stops the server.
 pub struct Studio {

@@ -38,7 +38,7 @@ pub struct Step {
 }
 
 /// Why a log could not be replayed.
-#[derive(Debug, thiserror::Error)]
+#[derive(thiserror::Error)]
 #[non_exhaustive]
 pub enum ReplayError {
     /// The log is not in the format its name says.
@@ -48,6 +48,13 @@ pub enum ReplayError {
     #[error("the trace does not match the tree: {0}")]
     Mismatch(String),
 }
+
+neurotree_core::debug_shows_message!(
+    enum ReplayError {
+        Format(source),
+        Mismatch(source),
+    }
+);
 
 /// The run a `--jsonl` trace recorded, on `blueprint` (the tree it was run from).
 pub fn from_jsonl<C>(

@@ -19,7 +19,7 @@ const MAX_DEPTH: usize = 8;
 pub const MAX_FILE_BYTES: u64 = 16 * 1024 * 1024;
 
 /// Why a path from the page was not served.
-#[derive(Debug, thiserror::Error)]
+#[derive(thiserror::Error)]
 #[non_exhaustive]
 pub enum PathError {
     /// Absolute, with `..`, empty, or leading out of the folder.
@@ -40,6 +40,13 @@ pub enum PathError {
         source: io::Error,
     },
 }
+
+neurotree_core::debug_shows_message!(enum PathError {
+    Outside(source),
+    NotFound(source),
+    TooLarge(source),
+    Io { path, source },
+});
 
 /// What a listed file holds, by its extension.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]

@@ -738,7 +738,20 @@ export function nodesOfTreeView(view) {
   }));
 }
 
-/** A toolbar for a drawing: search, orientation, fit, zoom, collapse all / expand all. */
+/**
+ * Hides the panels of the view `bar` sits in (the palette, the side panel), giving the tree
+ * the window, or shows them again. The drawing's resize observer refits a view the user has
+ * not moved.
+ */
+function togglePanels(bar) {
+  const view = bar.closest(".view");
+  const hide = view.dataset.panels !== "hidden";
+  if (hide) view.dataset.panels = "hidden";
+  else delete view.dataset.panels;
+  bar.querySelector('[data-action="panels"]').setAttribute("aria-pressed", String(hide));
+}
+
+/** A toolbar for a drawing: search, orientation, fit, zoom, collapse all / expand all, panels. */
 export function drawingToolbar(drawing, { onJump } = {}) {
   const bar = document.createElement("div");
   bar.className = "drawing-tools";
@@ -748,7 +761,8 @@ export function drawingToolbar(drawing, { onJump } = {}) {
     <button data-action="orientation" title="lay the tree out left to right or top down"></button>
     <button data-action="fit" title="fit the tree to the view, at a zoom that keeps it legible">fit</button>
     <button data-action="zoom-in" title="zoom in around the selected node">+</button><button data-action="zoom-out" title="zoom out around the selected node">−</button>
-    <button data-action="collapse-all" title="collapse every control">collapse</button><button data-action="expand-all" title="expand everything">expand</button>`;
+    <button data-action="collapse-all" title="collapse every control">collapse</button><button data-action="expand-all" title="expand everything">expand</button>
+    <button data-action="panels" title="hide the panels beside the tree, or show them again" aria-pressed="false">panels</button>`;
   const input = bar.querySelector("input");
   const count = bar.querySelector(".match-count");
   const turn = bar.querySelector('[data-action="orientation"]');
@@ -784,6 +798,7 @@ export function drawingToolbar(drawing, { onJump } = {}) {
     else if (a === "zoom-out") drawing.zoomAtSelection(0.8);
     else if (a === "collapse-all") drawing.collapseAll(true);
     else if (a === "expand-all") drawing.collapseAll(false);
+    else if (a === "panels") togglePanels(bar);
   });
   return bar;
 }

@@ -138,7 +138,7 @@ impl Style {
 }
 
 /// A bound of [`Scene::check`] that a scene passes.
-#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[derive(Clone, PartialEq, Eq, thiserror::Error)]
 #[non_exhaustive]
 pub enum SceneError {
     /// More than [`MAX_ITEMS`] items.
@@ -156,6 +156,15 @@ pub enum SceneError {
     #[error("item `{0}` has a coordinate or size that is not a finite number")]
     NotFinite(String),
 }
+
+neurotree_core::debug_shows_message!(
+    enum SceneError {
+        TooManyItems(source),
+        TooManyPoints(source),
+        TooLong(source),
+        NotFinite(source),
+    }
+);
 
 impl Scene {
     /// An empty scene showing the rectangle from `min` (lower left) to `max` (upper right).

@@ -31,7 +31,7 @@ use neurotree::{nav2, LoadError, Registry, RegistryError, XmlLoader};
 /// Nav2's NavigateToPose navigator with replanning and recovery, as Nav2 ships it: the
 /// tree the demo runs unless given another.
 pub const NAVIGATE_TO_POSE_XML: &str =
-    include_str!("../../../../corpus/nav2/navigate_to_pose_w_replanning_and_recovery.xml");
+    include_str!("../../trees/navigate_to_pose_w_replanning_and_recovery.xml");
 
 /// The name [`NAVIGATE_TO_POSE_XML`] goes by in messages: its place in the repository.
 const NAVIGATE_TO_POSE_FILE: &str = "corpus/nav2/navigate_to_pose_w_replanning_and_recovery.xml";
@@ -91,7 +91,7 @@ impl Default for DemoConfig {
 }
 
 /// Why a demo could not start.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[derive(Clone, PartialEq, thiserror::Error)]
 #[non_exhaustive]
 pub enum DemoError {
     /// The tree did not load; the message reads `file:line:col: error: …`.
@@ -113,6 +113,16 @@ pub enum DemoError {
     #[error("{0}")]
     Fault(String),
 }
+
+neurotree::debug_shows_message!(
+    enum DemoError {
+        Load(source),
+        Map(source),
+        Registry(source),
+        Model(source),
+        Goal(source),
+    }
+);
 
 /// A load error that names a Nav2 type known only by its model, told as what it is for the
 /// demo: a node of Nav2 that the simulated robot does not implement. Other errors pass.

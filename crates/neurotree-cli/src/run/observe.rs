@@ -24,7 +24,8 @@ pub struct ObserveArgs {
     /// Log into the SQLite database FILE with BehaviorTree.CPP's schema, replacing the runs
     /// it held. Rows are committed every 1,024 status changes or 1 s of the run's clock, so
     /// a run that is killed keeps all but its last batch.
-    #[arg(long, value_name = "FILE")]
+    // A build without it refuses the flag with what to do, and does not offer it in `--help`.
+    #[arg(long, value_name = "FILE", hide = cfg!(not(feature = "sqlite")))]
     pub sqlite: Option<PathBuf>,
     /// Print on stderr at the end which outcomes each node was seen with, against those it
     /// could have, and the nodes never reached.

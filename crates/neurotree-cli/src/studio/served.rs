@@ -171,6 +171,7 @@ impl Served {
     /// (`ros2 navigator`: the robot and its servers are other processes): the pages'
     /// edits, pauses and steps, and going back to the tree's kept states, whose blackboards
     /// hold Nav2's values; the tick a page went back to when the run forks there.
+    #[cfg(feature = "ros2")]
     pub fn between_nav2_ticks<C>(&mut self, tree: &mut Tree<C>) -> Option<u64> {
         self.between_ticks_with(tree, &mut Nav2Values)
     }
@@ -217,8 +218,10 @@ impl Served {
 
 /// No world kept beside the tree, but the codecs of the values Nav2's nodes keep on the
 /// blackboard, so that the tree's state can be kept.
+#[cfg(feature = "ros2")]
 struct Nav2Values;
 
+#[cfg(feature = "ros2")]
 impl<C> World<C> for Nav2Values {
     type Saved = ();
 

@@ -6,7 +6,7 @@ use alloc::string::String;
 ///
 /// Each variant names the key or scope as the caller gave it, so that the message points at
 /// the port or the line of code to fix.
-#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[derive(Clone, PartialEq, Eq, thiserror::Error)]
 #[non_exhaustive]
 pub enum BlackboardError {
     /// No entry under this key, in the scope asked or any scope it reaches.
@@ -59,3 +59,10 @@ pub enum BlackboardError {
         scope: u32,
     },
 }
+
+crate::debug_shows_message!(enum BlackboardError {
+    NotFound { key },
+    WrongType { key, expected, found },
+    NotConvertible { key, value, expected, found },
+    NoSuchScope { scope },
+});

@@ -15,7 +15,7 @@ use super::{entries_mut, Blackboard, ScopeId, Unwritten};
 use crate::state::StateCodecs;
 
 /// Why a JSON value could not be written to an entry.
-#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[derive(Clone, PartialEq, Eq, thiserror::Error)]
 #[non_exhaustive]
 pub enum JsonWriteError {
     /// The scope does not exist.
@@ -45,6 +45,12 @@ pub enum JsonWriteError {
         reason: String,
     },
 }
+
+crate::debug_shows_message!(enum JsonWriteError {
+    NoSuchScope { scope },
+    NoCodec { key, type_name },
+    DoesNotFit { key, type_name, reason },
+});
 
 /// `alloc::vec::Vec<my_robot::geometry::Pose>` as `Vec<Pose>`: every path in a type's name
 /// cut to its last segment, generics kept.

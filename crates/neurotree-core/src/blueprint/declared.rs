@@ -13,7 +13,7 @@ use super::NodeKind;
 use crate::nodes::NodeDecl;
 
 /// Why a built-in's ports do not make it: what the loader reports at the node.
-#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[derive(Clone, PartialEq, Eq, thiserror::Error)]
 #[non_exhaustive]
 pub enum PortBindingError {
     /// A port without a default is not given.
@@ -31,6 +31,11 @@ pub enum PortBindingError {
         text: String,
     },
 }
+
+crate::debug_shows_message!(enum PortBindingError {
+    Missing { port },
+    Unreadable { port, text },
+});
 
 /// What a port of a built-in node is bound to in a file.
 #[derive(Clone, Debug, PartialEq, Eq)]

@@ -5,7 +5,7 @@ use alloc::string::String;
 use super::Arity;
 
 /// A blueprint that failed validation, with the path of the node at fault.
-#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[derive(Clone, PartialEq, Eq, thiserror::Error)]
 #[error("{path}: {kind}")]
 pub struct BuildError {
     /// Names from the root to the node at fault, joined by `/` (empty when no node is at fault).
@@ -13,6 +13,8 @@ pub struct BuildError {
     /// What is wrong.
     pub kind: BuildErrorKind,
 }
+
+crate::debug_shows_message!(struct BuildError { path, kind });
 
 /// What made a blueprint invalid.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]

@@ -195,7 +195,7 @@ fn is_number(id: TypeId) -> bool {
 }
 
 /// Why a port could not be read or written.
-#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[derive(Clone, PartialEq, Eq, thiserror::Error)]
 #[non_exhaustive]
 pub enum PortError {
     /// The node has no port of this name.
@@ -258,6 +258,15 @@ pub enum PortError {
         source: BlackboardError,
     },
 }
+
+crate::debug_shows_message!(enum PortError {
+    NoSuchPort { port },
+    Convert { port, text, type_name },
+    NotAnEntry { port },
+    OutOfRange { port, value, type_name },
+    TypeMismatch { node, port, declared, requested, written },
+    Blackboard { port, source },
+});
 
 /// Conversion from the text of a port (an XML attribute, or a text blackboard entry).
 ///

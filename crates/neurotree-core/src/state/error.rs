@@ -5,7 +5,7 @@ use alloc::string::String;
 use crate::NodeId;
 
 /// Why [`Tree::save_state`](crate::Tree::save_state) refused.
-#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[derive(Clone, PartialEq, Eq, thiserror::Error)]
 #[non_exhaustive]
 pub enum SaveError {
     /// A stateful action or custom node that does not say what state it keeps.
@@ -46,9 +46,16 @@ pub enum SaveError {
     },
 }
 
+crate::debug_shows_message!(enum SaveError {
+    Unsaveable { node, path, kind },
+    AsyncRunning { node, path },
+    Halting { node, path },
+    Value { key, type_name },
+});
+
 /// Why [`Tree::restore_state`](crate::Tree::restore_state) refused; the tree is left as it
 /// was.
-#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[derive(Clone, PartialEq, Eq, thiserror::Error)]
 #[non_exhaustive]
 pub enum RestoreError {
     /// Not a saved state: other bytes, cut short, or altered.
@@ -79,3 +86,10 @@ pub enum RestoreError {
         type_name: String,
     },
 }
+
+crate::debug_shows_message!(enum RestoreError {
+    Corrupt(source),
+    OtherTree { expected, found },
+    Node { node, path },
+    Value { key, type_name },
+});

@@ -6,7 +6,7 @@ use crate::NodeId;
 
 /// A tick that did not produce a status. The tree has been halted when this is returned, so
 /// it can be ticked again from a clean state.
-#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[derive(Clone, PartialEq, Eq, thiserror::Error)]
 #[non_exhaustive]
 pub enum TickError {
     /// The root's precondition skipped it: nothing ran.
@@ -70,3 +70,13 @@ pub enum TickError {
         message: String,
     },
 }
+
+crate::debug_shows_message!(enum TickError {
+    RootSkipped,
+    LeafRunning { node, path, kind },
+    ReturnedIdle { node, path },
+    TooManyPasses { node, path, passes },
+    Panicked { node, path, message },
+    HaltRequested,
+    Node { node, path, message },
+});

@@ -915,6 +915,12 @@ mod tests {
             }
         );
         assert!(err.to_string().contains("p/bad"));
+        // `?` in `main` prints with Debug: the sentence that says what to do comes first.
+        assert_eq!(
+            format!("{err:?}"),
+            format!("{err} (LeafRunning {{ node: NodeId(2), path: \"p/bad\", kind: \"Action\" }})")
+        );
+        assert!(format!("{err:?}").contains("use a StatefulAction"));
         // The running sibling was halted, so the tree starts clean.
         assert_eq!(lab.halts, [1]);
         assert!(tree.statuses().iter().all(|s| *s == Idle));

@@ -43,13 +43,19 @@ pub struct ReloadReport {
 }
 
 /// Why [`Tree::reload`] refused; the tree runs on unchanged.
-#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[derive(Clone, PartialEq, Eq, thiserror::Error)]
 #[non_exhaustive]
 pub enum ReloadError {
     /// A halt that takes ticks is in progress, or an earlier reload still waits for one.
     #[error("a halt is in progress; reload once it is done")]
     Halting,
 }
+
+crate::debug_shows_message!(
+    enum ReloadError {
+        Halting,
+    }
+);
 
 /// A reload that waits for its halts: the new blueprint, and for each of its nodes the old
 /// node it keeps the state of.

@@ -188,7 +188,7 @@ impl FromPortStr for Obstacle {
 }
 
 /// Why planning or execution failed.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[derive(Clone, PartialEq, thiserror::Error)]
 #[non_exhaustive]
 pub enum NavigationError {
     /// No collision-free route exists between the two poses.
@@ -212,6 +212,13 @@ pub enum NavigationError {
     #[error("the robot cannot move: {0}")]
     CannotMove(String),
 }
+
+neurotree_core::debug_shows_message!(enum NavigationError {
+    NoPath { from, to },
+    OutsideMap(source),
+    Blocked { at },
+    CannotMove(source),
+});
 
 /// How far the execution of a path has got.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -58,7 +58,7 @@ use super::Pose2D;
 use neurotree_toolkit::registry::{PortSpec, Registry, RegistryError};
 
 /// Why a sensor gave no reading.
-#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[derive(Clone, PartialEq, Eq, thiserror::Error)]
 #[non_exhaustive]
 pub enum SensorError {
     /// The device is switched off, disconnected or not yet initialised.
@@ -68,6 +68,13 @@ pub enum SensorError {
     #[error("the sensor read failed: {0}")]
     ReadFailed(String),
 }
+
+neurotree_core::debug_shows_message!(
+    enum SensorError {
+        Unavailable,
+        ReadFailed(source),
+    }
+);
 
 /// One named value of a reading.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]

@@ -47,7 +47,7 @@ pub const ROBOT_POSE_TOPIC: &str = "robot_pose";
 const ERROR_CODES: [&str; 2] = ["compute_path_error_code", "follow_path_error_code"];
 
 /// Why a navigator could not start or go on.
-#[derive(Debug, thiserror::Error)]
+#[derive(thiserror::Error)]
 #[non_exhaustive]
 pub enum NavigatorError {
     /// A ROS 2 endpoint could not be made or used.
@@ -60,6 +60,14 @@ pub enum NavigatorError {
     #[error("registering the navigator's nodes: {0}")]
     Registry(#[from] RegistryError),
 }
+
+neurotree_toolkit::debug_shows_message!(
+    enum NavigatorError {
+        Ros(source),
+        Load(source),
+        Registry(source),
+    }
+);
 
 /// How a [`Navigator`] runs.
 #[derive(Clone, Debug)]

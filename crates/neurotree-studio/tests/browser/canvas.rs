@@ -796,3 +796,52 @@ async fn open_times_of_tree1111_and_the_nav2_trees() {
     }
     b.close().await;
 }
+
+#[tokio::test(flavor = "multi_thread")]
+async fn the_panels_button_gives_the_tree_the_window_and_brings_the_panels_back() {
+    let _slot = browser_slot().await;
+    let Some(b) = sized_browser().await else {
+        return;
+    };
+    let dir = workspace();
+    let studio = serve(dir.path());
+    open_in_editor(&b, &studio.url(), NAV2_TREE).await;
+    // How wide the canvas is, and whether the palette and the side panel take room.
+    let layout = "const d = document.querySelector('#edit-view .tree-drawing').treeDrawing;
+         const shown = (css) => document.querySelector(css).getBoundingClientRect().width > 0;
+         return [d.svg.getBoundingClientRect().width,
+                 shown('#edit-view .palette'), shown('#edit-view .side-panel')];";
+    let before = b.js(layout).await;
+    assert_eq!((&before[1], &before[2]), (&json!(true), &json!(true)));
+    let narrow = before[0].as_f64().unwrap();
+
+    b.click("#edit-view [data-action=panels]").await;
+    b.until(
+        "the canvas widened",
+        &format!(
+            "document.querySelector('#edit-view .tree-drawing').treeDrawing.svg
+               .getBoundingClientRect().width > {narrow} + 400"
+        ),
+    )
+    .await;
+    let hidden = b.js(layout).await;
+    assert_eq!((&hidden[1], &hidden[2]), (&json!(false), &json!(false)));
+    let wide = hidden[0].as_f64().unwrap();
+    // The palette (230 px) and the side panel (280 px) and their borders gave their room.
+    assert!(wide >= narrow + 510.0, "{narrow} → {wide}");
+    assert_eq!(
+        b.attr("#edit-view [data-action=panels]", "aria-pressed")
+            .await,
+        Some("true".into())
+    );
+
+    b.click("#edit-view [data-action=panels]").await;
+    b.until(
+        "the panels back",
+        "document.querySelector('#edit-view .palette').getBoundingClientRect().width > 0",
+    )
+    .await;
+    let again = b.js(layout).await;
+    assert_eq!(again, before, "the same layout as before");
+    b.close().await;
+}

@@ -64,7 +64,7 @@ pub use rules::{rule, Rule, RULES};
 
 /// The guide's examples (`docs/guide/lint.md`), compiled and run as doctests.
 #[cfg(doctest)]
-#[doc = include_str!("../../../../docs/guide/lint.md")]
+#[doc = include_str!("../../guide/lint.md")]
 pub struct Guide;
 
 /// How much a finding matters: an error fails `neurotree lint`, a warning does when denied.

@@ -36,13 +36,19 @@ CREATE TABLE IF NOT EXISTS Definitions (
 ";
 
 /// What went wrong with the database.
-#[derive(Debug, thiserror::Error)]
+#[derive(thiserror::Error)]
 #[non_exhaustive]
 pub enum SqliteLogError {
     /// SQLite refused an operation.
     #[error("SQLite log: {0}")]
     Sqlite(#[from] rusqlite::Error),
 }
+
+neurotree_core::debug_shows_message!(
+    enum SqliteLogError {
+        Sqlite(source),
+    }
+);
 
 /// Logs a run into SQLite with the tables of BehaviorTree.CPP's `SqliteLogger`, so that
 /// its tools, and plain SQL, read it:

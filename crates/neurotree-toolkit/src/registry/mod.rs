@@ -178,7 +178,7 @@ impl<C> NodeType<C> {
 }
 
 /// Why a registration was refused.
-#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[derive(Clone, PartialEq, Eq, thiserror::Error)]
 #[non_exhaustive]
 pub enum RegistryError {
     /// The name is taken.
@@ -209,6 +209,12 @@ pub enum RegistryError {
         reason: String,
     },
 }
+
+neurotree_core::debug_shows_message!(enum RegistryError {
+    Duplicate(source),
+    EnumRedefined { name, old, new },
+    BadPortName { node, port, reason },
+});
 
 /// Refuses the port names BehaviorTree.CPP's `CreatePort` refuses: a file written for the
 /// node would not load there, and Groot2 could not show it.

@@ -109,7 +109,7 @@ pub struct Layout {
 }
 
 /// Why a tree could not be laid out.
-#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[derive(Clone, PartialEq, Eq, thiserror::Error)]
 #[non_exhaustive]
 pub enum LayoutError {
     /// The child lists and the sizes describe different numbers of nodes.
@@ -142,6 +142,14 @@ pub enum LayoutError {
     #[error("node {0} has a negative or non-finite size")]
     BadSize(usize),
 }
+
+neurotree_core::debug_shows_message!(enum LayoutError {
+    LengthMismatch { children, sizes },
+    OutOfRange { parent, child, len },
+    SharedChild(source),
+    Unreachable(source),
+    BadSize(source),
+});
 
 /// Lays out the tree whose node `i` has the children `children[i]` (left to right) and the
 /// box `sizes[i]`; node 0 is the root.

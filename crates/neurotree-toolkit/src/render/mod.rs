@@ -244,9 +244,11 @@ impl fmt::Display for Format {
 }
 
 /// A format name that [`Format`] does not know.
-#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[derive(Clone, PartialEq, Eq, thiserror::Error)]
 #[error("unknown picture format `{0}`; expected ascii, unicode, dot, mermaid or svg")]
 pub struct UnknownFormat(pub String);
+
+neurotree_core::debug_shows_message!(struct UnknownFormat(name));
 
 impl FromStr for Format {
     type Err = UnknownFormat;
@@ -290,7 +292,7 @@ mod fixtures {
 /// The examples of the guide's chapter on the studio's canvas, which draws the boxes of
 /// [`render_svg`], compiled and run as doctests.
 #[cfg(doctest)]
-#[doc = include_str!("../../../../docs/guide/studio-canvas.md")]
+#[doc = include_str!("../../guide/studio-canvas.md")]
 pub struct StudioCanvasGuide;
 
 #[cfg(test)]

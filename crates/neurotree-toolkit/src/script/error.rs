@@ -139,7 +139,7 @@ pub enum ScriptErrorKind {
 ///
 /// `Display` prints `line:column: message`; [`render`](Self::render) also shows the line
 /// with a caret under the position.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[derive(Clone, PartialEq, thiserror::Error)]
 #[error("{line}:{column}: {kind}")]
 pub struct ScriptError {
     /// What went wrong.
@@ -151,6 +151,8 @@ pub struct ScriptError {
     /// Column in characters, from 1.
     pub column: u32,
 }
+
+neurotree_core::debug_shows_message!(struct ScriptError { kind, offset, line, column });
 
 impl ScriptError {
     /// The error `kind` at byte `offset` of `source`, with its line and column.

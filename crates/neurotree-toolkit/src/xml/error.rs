@@ -8,7 +8,7 @@
 /// It prints as `file:line:col: error: message`, or `file: error: message` for an error
 /// about the file as a whole (it cannot be opened, is too large, has no such tree), which
 /// has no place in it.
-#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[derive(Clone, PartialEq, Eq, thiserror::Error)]
 #[error("{file}{}: error: {message}", place(*line, *col))]
 pub struct LoadError {
     /// The file (as given to the loader).
@@ -21,6 +21,8 @@ pub struct LoadError {
     pub message: String,
     kind: LoadErrorKind,
 }
+
+neurotree_core::debug_shows_message!(struct LoadError { file, line, col, message, kind });
 
 impl LoadError {
     /// An error of `kind` at `line` and `col` (1-based) of `file`; for tools that report
@@ -134,7 +136,7 @@ pub enum LoadErrorKind {
 
 /// Something a file does that loads but should change, with its place: a deprecated or
 /// misspelt node name that loads as the built-in it stands for.
-#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[derive(Clone, PartialEq, Eq, thiserror::Error)]
 #[error("{file}:{line}:{col}: warning: {message}")]
 pub struct LoadWarning {
     /// The file (as given to the loader).
@@ -146,3 +148,5 @@ pub struct LoadWarning {
     /// What to change.
     pub message: String,
 }
+
+neurotree_core::debug_shows_message!(struct LoadWarning { file, line, col, message });

@@ -39,7 +39,7 @@ pub const MAX_ERRORS: usize = 20;
 /// assert_eq!((errors.first().line, errors.first().col), (3, 5));
 /// assert_eq!(errors.to_string().lines().count(), 2);
 /// ```
-#[derive(Debug, Clone, PartialEq, Eq)]
+#[derive(Clone, PartialEq, Eq)]
 pub struct LoadErrors {
     /// At least one.
     errors: Vec<LoadError>,
@@ -194,6 +194,17 @@ impl fmt::Display for LoadErrors {
 
 impl std::error::Error for LoadErrors {}
 
+/// The lines `Display` prints, so that `?` in `main` shows them, then each error's kind.
+impl fmt::Debug for LoadErrors {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{self} (LoadErrors ")?;
+        f.debug_list()
+            .entries(self.errors.iter().map(LoadError::kind))
+            .finish()?;
+        f.write_str(")")
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -217,6 +228,21 @@ mod tests {
         assert_eq!(owned, errors.as_slice());
         assert!(LoadErrors::new([]).is_none());
         assert_eq!(LoadErrors::from(at(1, "x")).len(), 1);
+    }
+
+    #[test]
+    fn debug_leads_with_the_lines_display_prints() {
+        let errors = LoadErrors::new([at(2, "a"), at(5, "b")]).unwrap();
+        assert_eq!(
+            format!("{errors:?}"),
+            "t.xml:2:3: error: a\nt.xml:5:3: error: b (LoadErrors [BadValue, BadValue])"
+        );
+        let one = at(4, "use a number");
+        assert_eq!(
+            format!("{one:?}"),
+            "t.xml:4:3: error: use a number (LoadError { file: \"t.xml\", line: 4, col: 3, \
+             message: \"use a number\", kind: BadValue })"
+        );
     }
 
     #[test]

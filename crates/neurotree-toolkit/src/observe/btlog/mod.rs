@@ -30,7 +30,7 @@ const RECORD_LEN: usize = 9;
 const MAX_OFFSET_US: u64 = (1 << 48) - 1;
 
 /// Why a `.btlog` could not be started.
-#[derive(Debug, thiserror::Error)]
+#[derive(thiserror::Error)]
 #[non_exhaustive]
 pub enum BtlogError {
     /// Creating the file or writing the header failed.
@@ -49,6 +49,12 @@ pub enum BtlogError {
         bytes: usize,
     },
 }
+
+neurotree_core::debug_shows_message!(enum BtlogError {
+    Io(source),
+    TooManyNodes { nodes },
+    XmlTooLong { bytes },
+});
 
 /// Writes a `.btlog`, BehaviorTree.CPP's `FileLogger2` format, that Groot2 replays and
 /// [`read_btlog`] reads back.

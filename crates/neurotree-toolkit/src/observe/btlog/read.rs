@@ -45,7 +45,7 @@ impl BtlogRecord {
 }
 
 /// Why a `.btlog` could not be read.
-#[derive(Debug, thiserror::Error)]
+#[derive(thiserror::Error)]
 #[non_exhaustive]
 pub enum BtlogReadError {
     /// Reading failed.
@@ -83,6 +83,16 @@ pub enum BtlogReadError {
         code: u8,
     },
 }
+
+neurotree_core::debug_shows_message!(enum BtlogReadError {
+    Io(source),
+    BadMagic,
+    UnsupportedProtocol(source),
+    Truncated { part, at },
+    NegativeXmlLength(source),
+    XmlNotUtf8,
+    BadStatus { index, at, code },
+});
 
 /// Reads a whole `.btlog` from `input`.
 ///
