@@ -121,6 +121,7 @@ neurotree::debug_shows_message!(
         Registry(source),
         Model(source),
         Goal(source),
+        Fault(source),
     }
 );
 

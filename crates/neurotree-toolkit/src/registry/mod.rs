@@ -212,6 +212,7 @@ pub enum RegistryError {
 
 neurotree_core::debug_shows_message!(enum RegistryError {
     Duplicate(source),
+    Unknown(source),
     EnumRedefined { name, old, new },
     BadPortName { node, port, reason },
 });
