@@ -36,15 +36,21 @@ fn crossdoor() -> String {
 const NOTE: &str = "note: running tree 'MainTree' (no main_tree_to_execute; the only tree no \
                     other tree references)\n";
 
+// What each node could have is what its type declares over its children's. The mocks
+// not named (IsDoorClosed, SmashDoor, PassThroughDoor) only succeed, so: the Inverter over
+// IsDoorClosed can only fail; the inner Fallback ends with SmashDoor and cannot fail, nor
+// can the DoorClosed SubTree whose root it is, the outer Fallback that ends with it, or the
+// Sequence of that Fallback and PassThroughDoor. Five Failures fewer than when only a
+// node's own type narrowed them (33), none of them seen: 16 of 28.
 const TABLE: &str = "\
-coverage: 16 of 33 outcomes (48.5%), 10 of 11 nodes reached
+coverage: 16 of 28 outcomes (57.1%), 10 of 11 nodes reached
 node                                                                 type                  seen              not seen
-Sequence                                                             Sequence              success, running  failure, halted
-Sequence/Fallback                                                    Fallback              success, running  failure, halted
-Sequence/Fallback/Inverter                                           Inverter              failure           success
+Sequence                                                             Sequence              success, running  halted
+Sequence/Fallback                                                    Fallback              success, running  halted
+Sequence/Fallback/Inverter                                           Inverter              failure           -
 Sequence/Fallback/Inverter/IsDoorClosed                              IsDoorClosed          success           -
-Sequence/Fallback/DoorClosed                                         DoorClosed            success, running  failure, halted
-Sequence/Fallback/DoorClosed/Fallback                                Fallback              success, running  failure, halted
+Sequence/Fallback/DoorClosed                                         DoorClosed            success, running  halted
+Sequence/Fallback/DoorClosed/Fallback                                Fallback              success, running  halted
 Sequence/Fallback/DoorClosed/Fallback/OpenDoor                       OpenDoor              failure           success, running, halted
 Sequence/Fallback/DoorClosed/Fallback/RetryUntilSuccessful           RetryUntilSuccessful  success, running  failure, halted
 Sequence/Fallback/DoorClosed/Fallback/RetryUntilSuccessful/PickLock  PickLock              success, failure  running, halted
@@ -81,7 +87,7 @@ fn run_coverage_json_feeds_show_coverage() {
         serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
     assert_eq!(
         (&written["covered"], &written["possible"]),
-        (&16.into(), &33.into())
+        (&16.into(), &28.into())
     );
     assert_eq!(
         written["nodes"][9],
@@ -108,12 +114,12 @@ fn run_coverage_json_feeds_show_coverage() {
     // the stand-ins `show` draws.
     assert_eq!(
         text(&shown.stdout),
-        "[~] Sequence -- not seen: failure, halted\n\
-         +-- [~] Fallback -- not seen: failure, halted\n\
-         |   +-- [~] Inverter -- not seen: success\n\
+        "[~] Sequence -- not seen: halted\n\
+         +-- [~] Fallback -- not seen: halted\n\
+         |   +-- [+] Inverter\n\
          |   |   \\-- [+] IsDoorClosed (AlwaysSuccess)\n\
-         |   \\-- [~] DoorClosed (SubTree) -- not seen: failure, halted\n\
-         |       \\-- [~] Fallback -- not seen: failure, halted\n\
+         |   \\-- [~] DoorClosed (SubTree) -- not seen: halted\n\
+         |       \\-- [~] Fallback -- not seen: halted\n\
          |           +-- [~] OpenDoor (AlwaysSuccess) -- not seen: success, running, halted\n\
          |           +-- [~] RetryUntilSuccessful -- not seen: failure, halted\n\
          |           |   \\-- [~] PickLock (AlwaysSuccess) -- not seen: running, halted\n\

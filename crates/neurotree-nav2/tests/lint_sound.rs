@@ -6,6 +6,10 @@
 //! ends) by the loop returning anything but RUNNING, NT0303 (never finishes) by the root
 //! doing so. Runs are bounded, so "never ends" is only ever refuted, never confirmed.
 //!
+//! The same runs check coverage's "outcomes the tree could have": no node is seen with an
+//! outcome its declared signature leaves out (Skipped aside: a control whose children were
+//! all skipped is seen Skipped without it being counted as possible).
+//!
 //! `NEUROTREE_LINT_TREES=20000` runs that many trees instead of the few CI runs.
 
 use std::collections::HashMap;
@@ -14,6 +18,7 @@ use std::time::Duration;
 
 use neurotree::lint::{lint, LintOptions};
 use neurotree::nodes::semantics::{Order, Semantics, Statuses};
+use neurotree::observe::{Coverage, Outcome, OutcomeSet};
 use neurotree::{
     Handle, ManualClock, NodeId, NodeStatus, Observer, Registry, StatefulAction, Status,
     StatusChange, TickError, Tree, XmlLoader,
@@ -316,9 +321,6 @@ fn check(seed: u64, runs: usize) -> Result<usize, String> {
         .filter(|d| d.code.starts_with("NT02") || d.code.starts_with("NT03"))
         .filter(|d| d.code != "NT0203")
         .collect();
-    if findings.is_empty() {
-        return Ok(0);
-    }
     let Ok(blueprint) = loader.build_main() else {
         return Ok(0);
     };
@@ -337,7 +339,8 @@ fn check(seed: u64, runs: usize) -> Result<usize, String> {
     }));
     let clock = ManualClock::new();
     let mut tree = Tree::with_clock(Arc::clone(&blueprint), clock.clone());
-    tree.set_observer(Watch(Arc::clone(&seen)));
+    let coverage = Coverage::new(&blueprint);
+    tree.set_observer((Watch(Arc::clone(&seen)), coverage.clone()));
     // A Repeat of -1 over an instant child asks for pass after pass: a few are enough.
     tree.set_max_passes(64);
     'runs: for run in 0..runs {
@@ -358,6 +361,16 @@ fn check(seed: u64, runs: usize) -> Result<usize, String> {
             }
         }
         tree.halt(&mut ());
+    }
+    let skipped = OutcomeSet::of(&[Outcome::Skipped]);
+    for n in coverage.report(&blueprint).nodes() {
+        let unforeseen = n.seen.without(skipped).without(n.possible);
+        if !unforeseen.is_empty() {
+            return Err(format!(
+                "a run sees {} {unforeseen}, not among its possible outcomes {}\n{xml}",
+                n.path, n.possible
+            ));
+        }
     }
     let seen = seen.lock().unwrap();
     let node = |line: u32| by_line[&line];

@@ -5,7 +5,7 @@ use crate::patrol;
 
 use std::sync::Arc;
 
-use neurotree::observe::{possible_outcomes, Coverage, Outcome, OutcomeSet};
+use neurotree::observe::{possible_outcomes, Coverage, CoverageReport, Outcome, OutcomeSet};
 use neurotree::{Handle, ManualClock, Registry, StatefulAction, Status, Tree, XmlLoader};
 
 use Outcome::{Failure, Halted, Running, Skipped, Success};
@@ -163,7 +163,13 @@ fn xml_tree_outcomes_with_a_halt_and_a_skip() {
     assert_eq!(
         rows(&report),
         [
-            ("root", set(&[Success, Running]), all),
+            // The Fallback cannot fail: `rescue` is a ForceSuccess, which only succeeds, so
+            // a pass that reaches it ends there with Success.
+            (
+                "root",
+                set(&[Success, Running]),
+                set(&[Success, Running, Halted])
+            ),
             ("root/guarded", set(&[Success, Failure, Running]), all),
             (
                 "root/guarded/not_done",
@@ -195,14 +201,16 @@ fn xml_tree_outcomes_with_a_halt_and_a_skip() {
     );
     assert_eq!(
         (report.covered_outcomes(), report.possible_outcomes()),
-        (15, 22)
+        // 22 outcomes less the root's Failure, which no run can have.
+        (15, 21)
     );
 }
 
 #[test]
 fn only_reachable_outcomes_of_std_nodes_and_conditions_are_possible() {
-    // A Script returns SUCCESS or throws (BehaviorTree.CPP's ScriptNode::tick), so it cannot
-    // fail; conditions never run over ticks; a Precondition returns its `else` status.
+    // Conditions never run over ticks; a Precondition returns its `else` status. A Script
+    // whose code fails to evaluate when it runs (an entry of the wrong type, say) returns
+    // Failure with the error as its reason, as its declaration says, so it can fail.
     let mut registry = Registry::<()>::new();
     registry
         .register_condition("IsOk", vec![], |_| true)
@@ -225,8 +233,16 @@ fn only_reachable_outcomes_of_std_nodes_and_conditions_are_possible() {
         .unwrap();
     let bp = loader.build_main().unwrap();
     let possible = |i| possible_outcomes(&bp, neurotree::NodeId(i));
+    for i in 0..bp.len() {
+        eprintln!(
+            "DBG {i} {} {} {:?}",
+            bp.type_id(neurotree::NodeId(i as u32)),
+            bp.kind(neurotree::NodeId(i as u32)).type_name(),
+            possible(i as u32)
+        );
+    }
     assert_eq!(possible(0), set(&[Success, Failure]), "Sequence");
-    assert_eq!(possible(1), set(&[Success]), "Script");
+    assert_eq!(possible(1), set(&[Success, Failure]), "Script");
     assert_eq!(possible(2), set(&[Success, Failure]), "ScriptCondition");
     assert_eq!(possible(3), set(&[Success, Failure]), "IsOk");
     assert_eq!(
@@ -238,4 +254,48 @@ fn only_reachable_outcomes_of_std_nodes_and_conditions_are_possible() {
     assert_eq!(possible(7), set(&[Success, Failure]), "WasEntryUpdated");
     assert!(!possible(0).contains(Running));
     assert!(!possible(0).contains(Halted));
+}
+
+#[test]
+fn possible_outcomes_follow_each_declared_signature_over_literals_and_children() {
+    let registry = Registry::<()>::new();
+    let mut loader = XmlLoader::new(&registry);
+    loader
+        .load_str(
+            r#"<root BTCPP_format="4"><BehaviorTree ID="Main">
+                 <Sequence name="root">
+                   <Repeat name="forever" num_cycles="-1"><AlwaysSuccess/></Repeat>
+                   <Repeat name="once" num_cycles="1"><AlwaysFailure/></Repeat>
+                   <Repeat name="never" num_cycles="0"><AlwaysFailure/></Repeat>
+                   <Delay name="late" delay_msec="10"><AlwaysFailure/></Delay>
+                   <KeepRunningUntilFailure name="keep"><AlwaysSuccess/></KeepRunningUntilFailure>
+                   <RunOnce name="first" then_skip="false"><AlwaysSuccess/></RunOnce>
+                   <RunOnce name="skips"><AlwaysSuccess/></RunOnce>
+                   <Inverter name="flip"><AlwaysSuccess/></Inverter>
+                 </Sequence>
+               </BehaviorTree></root>"#,
+            "signatures.xml",
+        )
+        .unwrap();
+    let bp = loader.build_main().unwrap();
+    let report = CoverageReport::new(&bp, &[], &[]);
+    let possible = |path: &str| report.node_by_path(path).unwrap().possible;
+    // A child that always succeeds is repeated forever: the Repeat never ends.
+    assert_eq!(possible("root/forever"), set(&[Running, Halted]));
+    // The Sequence never gets past it, so it too can only run.
+    assert_eq!(possible("root"), set(&[Running, Halted]));
+    // One cycle of a failing child: its failure, and no Running between cycles.
+    assert_eq!(possible("root/once"), set(&[Failure]));
+    // No cycle: Success at once, the child never ticked.
+    assert_eq!(possible("root/never"), set(&[Success]));
+    // A Delay waits (Running), then returns what its child does; Failure also when its
+    // wait is aborted, as BehaviorTree.CPP's does. Never Success over a failing child.
+    assert_eq!(possible("root/late"), set(&[Failure, Running, Halted]));
+    // A child that always succeeds keeps it Running: it never fails, never succeeds.
+    assert_eq!(possible("root/keep"), set(&[Running, Halted]));
+    // `then_skip="false"` gives the first run's status again, never Skipped; the default
+    // skips after the run.
+    assert_eq!(possible("root/first"), set(&[Success]));
+    assert_eq!(possible("root/skips"), set(&[Success, Skipped]));
+    assert_eq!(possible("root/flip"), set(&[Failure]));
 }

@@ -5,7 +5,7 @@
 //! the node's configuration and implements two traits in the node's file:
 //!
 //! - [`BuiltIn`], public: what pictures, coverage, failure reasons and the XML writer ask of
-//!   a node (its family of control, its possible outcomes, its ports' values);
+//!   a node (its family of control, its ports' values);
 //! - `Tick`, the engine's: its declaration, state slots, how it is made from its ports and
 //!   checked once its children are known, its tick and its halt.
 //!
@@ -35,57 +35,11 @@ pub enum Family {
     Concurrent,
 }
 
-/// What a built-in can return by itself; a precondition or a child that runs adds to it.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub struct Outcomes {
-    /// It can succeed.
-    pub success: bool,
-    /// It can fail.
-    pub failure: bool,
-    /// It returns Running whatever its children do (a wait, a loop, a yield).
-    pub running: bool,
-    /// It can be Skipped after its work is done.
-    pub skipped: bool,
-}
-
-impl Outcomes {
-    /// Success or Failure, Running only through a child.
-    pub const EITHER: Outcomes = Outcomes {
-        success: true,
-        failure: true,
-        running: false,
-        skipped: false,
-    };
-    /// Only Success.
-    pub const SUCCESS: Outcomes = Outcomes {
-        failure: false,
-        ..Outcomes::EITHER
-    };
-    /// Only Failure.
-    pub const FAILURE: Outcomes = Outcomes {
-        success: false,
-        ..Outcomes::EITHER
-    };
-
-    /// The same, and Running by itself.
-    pub const fn and_running(self) -> Outcomes {
-        Outcomes {
-            running: true,
-            ..self
-        }
-    }
-}
-
 /// What the rest of the library asks of a built-in node, implemented in the node's file.
 pub trait BuiltIn: fmt::Debug + Send + Sync + 'static {
     /// The family of control it belongs to, if one of the well-known ones.
     fn family(&self) -> Option<Family> {
         None
-    }
-
-    /// What it can return by itself.
-    fn outcomes(&self) -> Outcomes {
-        Outcomes::EITHER
     }
 
     /// Why it fails when none of its children did (an Inverter whose child succeeded), as

@@ -78,63 +78,6 @@ pub fn built_ins() -> impl Iterator<Item = &'static NodeDecl> {
     core.chain(STD_BUILT_INS).copied()
 }
 
-/// What a std node made from its declaration can return by itself, as
-/// [`BuiltIn::outcomes`](built_in::BuiltIn::outcomes) says it of the engine's: `type_id`
-/// is the node's registered type, `kind_name` its kind's
-/// [`type_name`](neurotree_core::NodeKind::type_name) (a mock standing in for the node has
-/// another, and is not answered for), `ports` its bindings. `None` for other nodes.
-///
-/// A Script and SetBlackboard never fail: BehaviorTree.CPP returns SUCCESS or throws, and a
-/// script that fails at run time is an error of the tick here. A Precondition returns its
-/// `else` status when the script is false.
-pub fn std_outcomes(
-    type_id: &str,
-    kind_name: &str,
-    ports: &[neurotree_core::Port],
-) -> Option<built_in::Outcomes> {
-    use built_in::Outcomes;
-    let either = Outcomes::EITHER;
-    Some(match (type_id, kind_name) {
-        ("Script" | "SetBlackboard" | "UnsetBlackboard", "Action") => Outcomes::SUCCESS,
-        ("ScriptCondition", "Action") => either,
-        (_, "WasEntryUpdated") => either,
-        (_, "SkipUnlessUpdated") => Outcomes {
-            skipped: true,
-            ..either
-        },
-        (_, "WaitValueUpdate") => Outcomes {
-            running: true,
-            ..either
-        },
-        (_, "Switch2" | "Switch3" | "Switch4" | "Switch5" | "Switch6") => either,
-        (_, "UtilitySelector" | "Utility") => either,
-        (_, "Precondition") => {
-            let otherwise = ports.iter().find(|p| p.name == "else").map(|p| &p.value);
-            match otherwise {
-                None => either,
-                Some(neurotree_core::PortValue::Literal(text)) => match text.trim() {
-                    "SKIPPED" => Outcomes {
-                        skipped: true,
-                        ..either
-                    },
-                    "RUNNING" => Outcomes {
-                        running: true,
-                        ..either
-                    },
-                    _ => either,
-                },
-                // Read when it runs: any status.
-                Some(_) => Outcomes {
-                    running: true,
-                    skipped: true,
-                    ..either
-                },
-            }
-        }
-        _ => return None,
-    })
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -5,8 +5,11 @@ use std::fmt;
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
-use neurotree_core::nodes::built_in::Outcomes;
-use neurotree_core::{Blueprint, NodeId, NodeKind, NodeStatus, Observer, StatusChange};
+use neurotree_core::nodes::semantics::{first, Statuses};
+use neurotree_core::nodes::{Literals, NodeDecl};
+use neurotree_core::{
+    Blueprint, NodeId, NodeKind, NodeStatus, Observer, Port, PortValue, StatusChange,
+};
 
 use super::lock;
 use super::outcome::{Outcome, OutcomeReader, OutcomeSet};
@@ -131,90 +134,165 @@ impl Observer for Coverage {
     }
 }
 
-/// The outcomes node `id` of `blueprint` can have, by its kind and its preconditions; what
-/// a [`CoverageReport`] counts as possible:
+/// The outcomes node `id` of `blueprint` can have; what a [`CoverageReport`] counts as
+/// possible. They are the statuses its type's declared outcome signature
+/// ([`NodeDecl::semantics`]) gives over its children's possible statuses and its ports'
+/// literals, widened by its preconditions (`_successIf` adds Success, `_failureIf`
+/// Failure, `_skipIf` and `_while` Skipped):
 ///
-/// - Success and Failure for every node, except that AlwaysSuccess, ForceSuccess, Script,
-///   SetBlackboard and UnsetBlackboard cannot fail and AlwaysFailure, ForceFailure,
-///   KeepRunningUntilFailure cannot succeed (a `_successIf` or `_failureIf` precondition
-///   adds the one it decides).
-/// - Running and Halted for a node that can be Running: a leaf that runs over ticks
-///   (Sleep, WaitValueUpdate, a stateful, async, custom or mock leaf; never a condition,
-///   Script or other sync action), a
-///   node that returns Running by itself (Delay, KeepRunningUntilFailure, Repeat,
-///   RetryUntilSuccessful, AsyncSequence, AsyncFallback, a custom control), or any other
-///   control, decorator or SubTree with such a node below it.
-/// - Skipped for a node with a `_skipIf` or `_while` precondition, a RunOnce that may
-///   skip after its run, a SkipUnlessUpdated, and a Precondition whose `else` is SKIPPED. A control whose children were all skipped also returns Skipped;
-///   that is seen and shown but not counted as possible.
+/// - Success and Failure where the signature gives them (an AlwaysSuccess cannot fail, a
+///   `Repeat num_cycles="-1"` over a child that cannot fail cannot end, ...).
+/// - Running and Halted where it gives Running: by itself (Sleep, Delay, a Repeat of more
+///   than one cycle) or through a child that can be Running.
+/// - Skipped where the node itself may skip: a `_skipIf` or `_while`, a RunOnce that skips
+///   after its run, a SkipUnlessUpdated, a Precondition whose `else` is SKIPPED. A control
+///   whose children were all skipped also returns Skipped; that is seen and shown but not
+///   counted as possible.
+///
+/// A SubTree has its root's. A node of user code declares nothing: a condition or a sync
+/// action can succeed or fail, a stateful or async action also run, a custom control or
+/// decorator (or a mock) anything.
+///
+/// [`NodeDecl::semantics`]: neurotree_core::nodes::NodeDecl::semantics
 pub fn possible_outcomes<C>(blueprint: &Blueprint<C>, id: NodeId) -> OutcomeSet {
     possible_all(blueprint)[id.index()]
+}
+
+/// What declares node `id`'s statuses.
+enum Declared {
+    /// A built-in's or a std node's declaration.
+    Decl(&'static NodeDecl),
+    /// A SubTree: its root's statuses.
+    SubTree,
+    /// A node of user code: these statuses.
+    User(Statuses),
+}
+
+/// The declaration of node `id`: the engine's built-ins by their kind; this crate's by
+/// their registered type, when the kind is the one their declaration makes (a mock
+/// standing in for a Script is not a Script).
+fn declared<C>(blueprint: &Blueprint<C>, id: NodeId) -> Declared {
+    let kind = blueprint.kind(id);
+    if let Some(decl) = kind.decl() {
+        return Declared::Decl(decl);
+    }
+    let user = |statuses| {
+        // A std action or condition is a plain leaf kind of its registered type; a std
+        // control or decorator a kind of its own name.
+        let name = match kind.type_name() {
+            "Action" | "Condition" => blueprint.type_id(id),
+            name => name,
+        };
+        crate::nodes::STD_BUILT_INS
+            .iter()
+            .copied()
+            .find(|d| d.name == name && d.arity == kind.arity())
+            .map_or(Declared::User(statuses), Declared::Decl)
+    };
+    match kind {
+        NodeKind::SubTree(_) => Declared::SubTree,
+        NodeKind::ConditionFn(_)
+        | NodeKind::Condition(_)
+        | NodeKind::SharedCondition(_)
+        | NodeKind::ActionFn(_)
+        | NodeKind::Action(_) => user(Statuses::DONE),
+        NodeKind::Stateful(_) | NodeKind::Async(_) => {
+            Declared::User(Statuses::DONE.or(Statuses::RUNNING))
+        }
+        _ => user(Statuses::ANY),
+    }
 }
 
 /// [`possible_outcomes`] of every node, indexed by [`NodeId`].
 fn possible_all<C>(blueprint: &Blueprint<C>) -> Vec<OutcomeSet> {
     use Outcome::{Failure, Halted, Running, Skipped, Success};
     let n = blueprint.len();
-    // What each node returns by itself, where its kind or type says so.
-    let own: Vec<Option<Outcomes>> = blueprint
-        .ids()
-        .map(|id| {
-            let kind = blueprint.kind(id);
-            kind.built_in().map(|node| node.outcomes()).or_else(|| {
-                crate::nodes::std_outcomes(
-                    blueprint.type_id(id),
-                    kind.type_name(),
-                    blueprint.ports(id),
-                )
-            })
-        })
-        .collect();
-    let mut can_run = vec![false; n];
+    // Every status each node can return (SKIPPED included: it decides what its parent
+    // does next), and whether the node can be skipped of itself.
+    let mut full = vec![Statuses::ANY; n];
+    let mut own_skip = vec![false; n];
     // Children come after their parent in pre-order, so a reverse walk sees them first.
     let ids: Vec<NodeId> = blueprint.ids().collect();
     for &id in ids.iter().rev() {
-        can_run[id.index()] = runs_by_itself(blueprint.kind(id), own[id.index()])
-            || blueprint.children(id).iter().any(|c| can_run[c.index()]);
+        let children: Vec<Statuses> = blueprint
+            .children(id)
+            .iter()
+            .map(|c| full[c.index()])
+            .collect();
+        let (mut statuses, mut skips) = match declared(blueprint, id) {
+            Declared::Decl(decl) => {
+                let values = blueprint
+                    .kind(id)
+                    .built_in()
+                    .map(|b| b.port_values(children.len()))
+                    .unwrap_or_default();
+                let ports = blueprint.ports(id);
+                let text = |name: &str| literal(decl, &values, ports, name);
+                let literals = Literals::new(&text);
+                let statuses = decl.semantics.outcomes(&literals, &children);
+                // Skipped of itself: still Skipped when no child can be.
+                let unskipped: Vec<Statuses> = children
+                    .iter()
+                    .map(|c| c.without(Statuses::SKIPPED))
+                    .collect();
+                let skips = decl.semantics.outcomes(&literals, &unskipped).can_skip();
+                (statuses, skips)
+            }
+            Declared::SubTree => (first(&children), false),
+            Declared::User(statuses) => (statuses, false),
+        };
+        if let Some(hooks) = blueprint.node_hooks(id) {
+            hooks.attributes(&mut |name, _| match name {
+                "_skipIf" | "_while" => {
+                    statuses = statuses.or(Statuses::SKIPPED);
+                    skips = true;
+                }
+                "_successIf" => statuses = statuses.or(Statuses::SUCCESS),
+                "_failureIf" => statuses = statuses.or(Statuses::FAILURE),
+                _ => {}
+            });
+        }
+        full[id.index()] = statuses;
+        own_skip[id.index()] = skips;
     }
-    blueprint
-        .ids()
-        .map(|id| {
-            let own = own[id.index()];
-            let mut set = OutcomeSet::of(&[]);
-            if own.is_none_or(|o| o.success) {
+    (0..n)
+        .map(|i| {
+            let s = full[i];
+            let mut set = OutcomeSet::NONE;
+            if s.can_succeed() {
                 set = set.with(Success);
             }
-            if own.is_none_or(|o| o.failure) {
+            if s.can_fail() {
                 set = set.with(Failure);
             }
-            if can_run[id.index()] {
+            if s.can_run() {
                 set = set.with(Running).with(Halted);
             }
-            if own.is_some_and(|o| o.skipped) {
+            if s.can_skip() && own_skip[i] {
                 set = set.with(Skipped);
-            }
-            if let Some(hooks) = blueprint.node_hooks(id) {
-                hooks.attributes(&mut |name, _| match name {
-                    "_skipIf" | "_while" => set = set.with(Skipped),
-                    "_successIf" => set = set.with(Success),
-                    "_failureIf" => set = set.with(Failure),
-                    _ => {}
-                });
             }
             set
         })
         .collect()
 }
 
-/// `true` for kinds that return Running whatever their children do: the leaves of user
-/// code that run over ticks, and the nodes whose outcomes (`own`) say so of themselves.
-fn runs_by_itself<C>(kind: &NodeKind<C>, own: Option<Outcomes>) -> bool {
-    match own {
-        Some(outcomes) => outcomes.running,
-        None => matches!(
-            kind,
-            NodeKind::Stateful(_) | NodeKind::Async(_) | NodeKind::Custom(_)
-        ),
+/// The literal text of port `name` of a node declared by `decl`: a built-in's own
+/// parameter (`values`, in the order of its declared ports), else its binding in
+/// `ports`, else the declared default; `None` when it is read from a blackboard entry.
+fn literal<'a>(
+    decl: &'static NodeDecl,
+    values: &'a [Option<String>],
+    ports: &'a [Port],
+    name: &str,
+) -> Option<&'a str> {
+    let index = decl.ports.iter().position(|p| p.name == name);
+    if let Some(value) = index.and_then(|i| values.get(i)) {
+        return value.as_deref();
+    }
+    match ports.iter().find(|p| p.name == name).map(|p| &p.value) {
+        Some(PortValue::Literal(text)) => Some(text),
+        Some(_) => None,
+        None => decl.port(name).and_then(|p| p.default),
     }
 }
 

@@ -104,9 +104,6 @@ impl BuiltIn for AsyncFallback {
     fn family(&self) -> Option<Family> {
         Some(Family::Alternative)
     }
-    fn outcomes(&self) -> crate::nodes::built_in::Outcomes {
-        crate::nodes::built_in::Outcomes::EITHER.and_running()
-    }
 }
 
 impl Tick for AsyncFallback {

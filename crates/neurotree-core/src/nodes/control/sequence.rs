@@ -146,9 +146,6 @@ impl BuiltIn for AsyncSequence {
     fn family(&self) -> Option<Family> {
         Some(Family::Sequential)
     }
-    fn outcomes(&self) -> crate::nodes::built_in::Outcomes {
-        crate::nodes::built_in::Outcomes::EITHER.and_running()
-    }
 }
 
 impl Tick for AsyncSequence {

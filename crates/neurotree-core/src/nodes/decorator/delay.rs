@@ -14,7 +14,6 @@ use crate::tree::Ticker;
 use crate::{NodeId, NodeStatus};
 
 use crate::blueprint::{Builder, NodeKind, Param, PortBinding, PortBindingError};
-use crate::nodes::built_in::Outcomes;
 use crate::nodes::built_in::{self, BuiltIn, Tick};
 use crate::nodes::decl::{NodeDecl, PortDecl};
 use crate::nodes::semantics::{first, Order, Semantics, Statuses};
@@ -79,10 +78,6 @@ pub struct Delay {
 }
 
 impl BuiltIn for Delay {
-    fn outcomes(&self) -> Outcomes {
-        Outcomes::EITHER.and_running()
-    }
-
     fn port_values(&self, _: usize) -> Vec<Option<String>> {
         vec![built_in::millis_text(&self.delay)]
     }

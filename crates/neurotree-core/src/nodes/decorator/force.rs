@@ -8,7 +8,7 @@ use crate::tree::Ticker;
 use crate::{NodeId, NodeStatus};
 
 use crate::blueprint::{Builder, NodeKind, PortBinding, PortBindingError};
-use crate::nodes::built_in::{BuiltIn, Outcomes, Tick};
+use crate::nodes::built_in::{BuiltIn, Tick};
 use crate::nodes::decl::NodeDecl;
 use crate::nodes::semantics::{first, pass, Order, Semantics, Statuses};
 use crate::{Arity, Category};
@@ -59,11 +59,7 @@ pub(crate) fn tick<C>(
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct ForceSuccess;
 
-impl BuiltIn for ForceSuccess {
-    fn outcomes(&self) -> Outcomes {
-        Outcomes::SUCCESS
-    }
-}
+impl BuiltIn for ForceSuccess {}
 
 impl Tick for ForceSuccess {
     /// Running is not forced.
@@ -96,10 +92,6 @@ pub struct ForceFailure;
 impl BuiltIn for ForceFailure {
     fn failed_alone(&self) -> Option<&'static str> {
         Some("forced to fail")
-    }
-
-    fn outcomes(&self) -> Outcomes {
-        Outcomes::FAILURE
     }
 }
 

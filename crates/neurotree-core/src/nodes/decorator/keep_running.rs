@@ -61,11 +61,7 @@ pub(crate) fn tick<C>(t: &mut Ticker<'_, C>, id: NodeId, def: &NodeDef<C>) -> No
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct KeepRunningUntilFailure;
 
-impl BuiltIn for KeepRunningUntilFailure {
-    fn outcomes(&self) -> crate::nodes::built_in::Outcomes {
-        crate::nodes::built_in::Outcomes::FAILURE.and_running()
-    }
-}
+impl BuiltIn for KeepRunningUntilFailure {}
 
 impl Tick for KeepRunningUntilFailure {
     const DECL: &'static NodeDecl = &KEEP_RUNNING_UNTIL_FAILURE;

@@ -19,7 +19,6 @@ use crate::tree::Ticker;
 use crate::{NodeId, NodeStatus};
 
 use crate::blueprint::{Builder, NodeKind, Param, PortBinding, PortBindingError};
-use crate::nodes::built_in::Outcomes;
 use crate::nodes::built_in::{self, BuiltIn, Tick};
 use crate::nodes::decl::{NodeDecl, PortDecl};
 use crate::nodes::semantics::{first, Literals, Order, Semantics, Statuses};
@@ -121,10 +120,6 @@ pub struct Repeat {
 }
 
 impl BuiltIn for Repeat {
-    fn outcomes(&self) -> Outcomes {
-        Outcomes::EITHER.and_running()
-    }
-
     fn port_values(&self, _: usize) -> Vec<Option<String>> {
         vec![built_in::text(&self.num_cycles)]
     }

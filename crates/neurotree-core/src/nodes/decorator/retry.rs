@@ -14,7 +14,6 @@
 
 use crate::blueprint::NodeDef;
 use crate::blueprint::{Builder, NodeKind, Param, PortBinding, PortBindingError};
-use crate::nodes::built_in::Outcomes;
 use crate::nodes::built_in::{self, BuiltIn, Tick};
 use crate::nodes::decl::{NodeDecl, PortDecl};
 use crate::nodes::semantics::{first, Literals, Order, Semantics, Statuses};
@@ -56,10 +55,6 @@ pub struct RetryUntilSuccessful {
 }
 
 impl BuiltIn for RetryUntilSuccessful {
-    fn outcomes(&self) -> Outcomes {
-        Outcomes::EITHER.and_running()
-    }
-
     fn port_values(&self, _: usize) -> Vec<Option<String>> {
         vec![built_in::text(&self.num_attempts)]
     }

@@ -10,7 +10,6 @@ use crate::tree::Ticker;
 use crate::{NodeId, NodeStatus};
 
 use crate::blueprint::{Builder, NodeKind, Param, PortBinding, PortBindingError};
-use crate::nodes::built_in::Outcomes;
 use crate::nodes::built_in::{self, BuiltIn, Tick};
 use crate::nodes::decl::{NodeDecl, PortDecl};
 use crate::nodes::semantics::{first, Order, Semantics, Statuses};
@@ -72,13 +71,6 @@ pub struct RunOnce {
 }
 
 impl BuiltIn for RunOnce {
-    fn outcomes(&self) -> Outcomes {
-        Outcomes {
-            skipped: self.then_skip != Param::Value(false),
-            ..Outcomes::EITHER
-        }
-    }
-
     fn port_values(&self, _: usize) -> Vec<Option<String>> {
         vec![built_in::text(&self.then_skip)]
     }

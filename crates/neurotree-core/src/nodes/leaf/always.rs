@@ -5,7 +5,7 @@
 
 use crate::blueprint::NodeDef;
 use crate::blueprint::{Builder, NodeKind, PortBinding, PortBindingError};
-use crate::nodes::built_in::{BuiltIn, Outcomes, Tick};
+use crate::nodes::built_in::{BuiltIn, Tick};
 use crate::nodes::decl::NodeDecl;
 use crate::nodes::semantics::{Order, Semantics, Statuses};
 use crate::tree::Ticker;
@@ -36,11 +36,7 @@ pub const ALWAYS_FAILURE: NodeDecl = NodeDecl {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct AlwaysSuccess;
 
-impl BuiltIn for AlwaysSuccess {
-    fn outcomes(&self) -> Outcomes {
-        Outcomes::SUCCESS
-    }
-}
+impl BuiltIn for AlwaysSuccess {}
 
 impl Tick for AlwaysSuccess {
     const DECL: &'static NodeDecl = &ALWAYS_SUCCESS;
@@ -65,11 +61,7 @@ impl<C> Builder<C> {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct AlwaysFailure;
 
-impl BuiltIn for AlwaysFailure {
-    fn outcomes(&self) -> Outcomes {
-        Outcomes::FAILURE
-    }
-}
+impl BuiltIn for AlwaysFailure {}
 
 impl Tick for AlwaysFailure {
     const DECL: &'static NodeDecl = &ALWAYS_FAILURE;

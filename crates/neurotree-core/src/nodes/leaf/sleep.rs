@@ -18,7 +18,6 @@ use crate::{NodeId, NodeStatus};
 
 use crate::blueprint::NodeDef;
 use crate::blueprint::{Builder, NodeKind, Param, PortBinding, PortBindingError};
-use crate::nodes::built_in::Outcomes;
 use crate::nodes::built_in::{self, BuiltIn, Tick};
 use crate::nodes::decl::{NodeDecl, PortDecl};
 use crate::nodes::semantics::{Order, Semantics, Statuses};
@@ -84,10 +83,6 @@ pub struct Sleep {
 }
 
 impl BuiltIn for Sleep {
-    fn outcomes(&self) -> Outcomes {
-        Outcomes::EITHER.and_running()
-    }
-
     fn port_values(&self, _: usize) -> Vec<Option<String>> {
         vec![built_in::millis_text(&self.duration)]
     }
