@@ -171,7 +171,7 @@ pub fn node() -> impl Strategy<Value = Node> {
     ];
     leaf.prop_recursive(3, 16, 3, |inner| {
         prop_oneof![
-            (0u8..8, prop::collection::vec(inner.clone(), 1..4))
+            (0u8..9, prop::collection::vec(inner.clone(), 1..4))
                 .prop_map(|(kind, kids)| Node::Control(kind, kids)),
             (0u8..9, 1u64..8, inner).prop_map(|(kind, t, kid)| Node::Decorator(
                 kind,
@@ -214,8 +214,9 @@ pub fn add(b: Builder<Log>, node: &Node, ids: &mut u8) -> Builder<Log> {
                 }
                 c
             };
-            let b = match kind % 8 {
+            let b = match kind % 9 {
                 7 if (2..=3).contains(&kids.len()) => b.while_do_else("while", children),
+                8 if kids.len() == 2 => b.service("service", Duration::from_millis(200), children),
                 0 => b.sequence("seq", children),
                 1 => b.fallback("fb", children),
                 2 => b.sequence_with_memory("mem", children),

@@ -13,6 +13,7 @@ use neurotree_core::Category;
 
 use super::node::{self, is, Node, FALLBACKS, SEQUENCES};
 use crate::xml::{Element, XmlLoader};
+use neurotree_core::nodes::control::service;
 use neurotree_core::nodes::decorator::{
     delay, force, inverter, keep_running, repeat, retry, timeout,
 };
@@ -168,6 +169,17 @@ impl<'l, 'r, C: 'static> Outcomes<'l, 'r, C> {
             }
         } else if is(name, &[&timeout::TIMEOUT, &delay::DELAY]) {
             child(self).or(f).or(r)
+        } else if is(name, &[&service::SERVICE]) {
+            // The branch's (second child's) statuses; the service's are ignored. An interval
+            // read from an entry may not convert: Failure.
+            let mut children = el.children();
+            let service = children.next().map(|c| self.of(c));
+            let branch = children.next().map_or(Statuses::ANY, |c| self.of(c));
+            let _ = service;
+            match literal_count(el, "interval_msec") {
+                Some(_) => branch,
+                None => branch.or(f),
+            }
         } else if node.category == Category::SubTree {
             match el.attr("ID").and_then(|id| self.loader.tree(id)) {
                 Some(tree) => match tree.children().next() {
