@@ -13,7 +13,7 @@
 use std::io::Write;
 use std::time::Instant;
 
-use bevy_app::{App, TaskPoolPlugin, Update};
+use bevy_app::{App, Update};
 use bevy_asset::{AssetPlugin, AssetServer, Handle, LoadState};
 use bevy_ecs::prelude::*;
 use bevy_ecs::query::QueryItem;
@@ -246,7 +246,8 @@ pub fn run(
     let side = per_row as f32 * SPACING;
     let mut app = App::new();
     app.add_plugins((
-        TaskPoolPlugin::default(),
+        // `--threads N` for the compute pool the frames run on; every core by default.
+        neurotree_bevy::task_pools(arg("--threads", 0)?),
         AssetPlugin {
             file_path: concat!(env!("CARGO_MANIFEST_DIR"), "/assets").to_string(),
             ..AssetPlugin::default()

@@ -9,21 +9,28 @@ use neurotree::crowd::{Crowd, FrameReport, Member, MemberId, MemberMut};
 use neurotree::ManualClock;
 
 use crate::agent::TreeAgent;
+
+/// The clock's step per frame when no virtual time is there to follow.
+pub(crate) const DEFAULT_STEP: Duration = Duration::from_nanos(1_000_000_000 / 60);
 use crate::context::AgentContext;
 
 /// The agents' trees and contexts, ticked frame by frame on all cores by
 /// [`TreeSystems::Tick`](crate::TreeSystems::Tick).
 ///
-/// The trees read a [`ManualClock`] that the tick system moves by a fixed step after each
-/// frame ([`NeuroTreePlugin::with_step`](crate::NeuroTreePlugin::with_step)), so that
-/// `Delay`, `Timeout` and `Sleep` count frames and runs repeat exactly.
+/// The trees read a [`ManualClock`] that the tick system sets, before each frame, to the
+/// app's virtual time (`Time<Virtual>`, from Bevy's `TimePlugin`): pausing or slowing the
+/// virtual time pauses or slows the trees, and no frame runs while it is paused. Without
+/// `TimePlugin`, or with [`NeuroTreePlugin::with_step`](crate::NeuroTreePlugin::with_step),
+/// the clock moves by a fixed step after each frame, so that `Delay`, `Timeout` and
+/// `Sleep` count frames and runs repeat exactly.
 #[derive(Resource)]
 pub struct AgentCrowd<C: Send> {
     /// A `Mutex` only because a resource must be `Sync` and a tree is not: it is only
     /// ever reached through `&mut`, so it is never locked.
     crowd: Mutex<Crowd<C>>,
     clock: ManualClock,
-    step: Duration,
+    /// `None`: follow the virtual time, or 1/60 s per frame without one.
+    step: Option<Duration>,
     /// Each slot's entity, to say whose tree did what.
     entities: Vec<Option<Entity>>,
     /// Agents spawned whose tree is not yet available.
@@ -35,7 +42,7 @@ pub struct AgentCrowd<C: Send> {
 }
 
 impl<C: AgentContext> AgentCrowd<C> {
-    pub(crate) fn new(crowd: Crowd<C>, clock: ManualClock, step: Duration) -> Self {
+    pub(crate) fn new(crowd: Crowd<C>, clock: ManualClock, step: Option<Duration>) -> Self {
         Self {
             crowd: Mutex::new(crowd),
             clock,
@@ -107,9 +114,28 @@ impl<C: AgentContext> AgentCrowd<C> {
         }
     }
 
-    /// After a frame: keeps its report and moves the clock on.
-    pub(crate) fn end_frame(&mut self, report: FrameReport) {
+    /// Before a frame: `false` if none is to run (the virtual time is paused); else sets
+    /// the clock to the virtual time, if it follows it.
+    pub(crate) fn start_frame(&mut self, virtual_time: Option<(Duration, bool)>) -> bool {
+        match virtual_time {
+            Some((_, true)) => false,
+            Some((elapsed, false)) => {
+                if self.step.is_none() {
+                    self.clock.set(elapsed);
+                }
+                true
+            }
+            None => true,
+        }
+    }
+
+    /// After a frame: keeps its report and moves a clock of fixed steps on.
+    pub(crate) fn end_frame(&mut self, report: FrameReport, follows_time: bool) {
         self.last = report;
-        self.clock.advance(self.step);
+        match self.step {
+            Some(step) => self.clock.advance(step),
+            None if !follows_time => self.clock.advance(DEFAULT_STEP),
+            None => {}
+        }
     }
 }

@@ -82,6 +82,7 @@
 
 mod agent;
 mod asset;
+pub mod awake;
 mod context;
 mod crowd;
 mod events;
@@ -90,7 +91,8 @@ mod systems;
 
 pub use agent::TreeAgent;
 pub use asset::{TreeAsset, TreeAssetError, TreeAssetLoader};
+pub use awake::AwakeAgents;
 pub use context::AgentContext;
 pub use crowd::AgentCrowd;
 pub use events::{FailureReason, TreeFailed, TreeFinished, TreeReloaded};
-pub use plugin::{NeuroTreePlugin, TreeSystems};
+pub use plugin::{task_pools, NeuroTreePlugin, TreeSystems};

@@ -4,7 +4,7 @@ use std::marker::PhantomData;
 use std::sync::Arc;
 use std::time::Duration;
 
-use bevy_app::{App, Plugin, Update};
+use bevy_app::{App, Plugin, TaskPoolOptions, TaskPoolPlugin, Update};
 use bevy_asset::{AssetApp, AssetServer};
 use bevy_ecs::component::Component;
 use bevy_ecs::entity::Entity;
@@ -14,7 +14,10 @@ use bevy_ecs::system::SystemParamItem;
 use neurotree::crowd::{Crowd, ThreadPool, ThreadPoolBuildError, ThreadPoolBuilder};
 use neurotree::{ManualClock, Registry};
 
+use bevy_diagnostic::RegisterDiagnostic;
+
 use crate::asset::{TreeAsset, TreeAssetLoader};
+use crate::awake::AwakeAgents;
 use crate::context::AgentContext;
 use crate::crowd::AgentCrowd;
 use crate::events::{TreeFinished, TreeReloaded};
@@ -45,7 +48,7 @@ pub enum TreeSystems {
 pub struct NeuroTreePlugin<C> {
     registry: Arc<Registry<C>>,
     pool: Option<Arc<ThreadPool>>,
-    step: Duration,
+    step: Option<Duration>,
     schedule: InternedScheduleLabel,
     /// The systems that wake agents, added with the others.
     wakes: Vec<AddWake>,
@@ -59,12 +62,13 @@ impl<C: AgentContext> NeuroTreePlugin<C> {
     /// A plugin whose tree files are built from the nodes `registry` knows, ticking in
     /// `Update` on Bevy's compute task pool (a frame under a budget, set through
     /// [`AgentCrowd::crowd_mut`], runs on rayon's global pool: `RAYON_NUM_THREADS`, or all
-    /// cores), with a clock that moves 1/60 s per frame.
+    /// cores), with a clock that follows the app's virtual time (`Time<Virtual>`), or,
+    /// without Bevy's `TimePlugin`, moves 1/60 s per frame.
     pub fn new(registry: Registry<C>) -> Self {
         Self {
             registry: Arc::new(registry),
             pool: None,
-            step: Duration::from_secs(1) / 60,
+            step: None,
             schedule: Update.intern(),
             wakes: Vec::new(),
             _context: PhantomData,
@@ -80,9 +84,10 @@ impl<C: AgentContext> NeuroTreePlugin<C> {
         Ok(self)
     }
 
-    /// Moves the trees' clock by `step` after each frame.
+    /// Moves the trees' clock by `step` after each frame, whatever the virtual time says
+    /// (frames still stop while it is paused): runs that repeat exactly.
     pub fn with_step(mut self, step: Duration) -> Self {
-        self.step = step;
+        self.step = Some(step);
         self
     }
 
@@ -153,7 +158,11 @@ where
         if let Some(pool) = &self.pool {
             crowd = crowd.with_pool(Arc::clone(pool));
         }
+        for diagnostic in crate::awake::diagnostics() {
+            app.register_diagnostic(diagnostic);
+        }
         app.insert_resource(AgentCrowd::new(crowd, clock, self.step))
+            .init_resource::<AwakeAgents>()
             .add_message::<TreeFinished>()
             .add_message::<TreeReloaded>()
             .configure_sets(
@@ -182,5 +191,28 @@ where
                         .before(systems::join::<C>),
                 );
         }
+    }
+}
+
+/// Bevy's task pools with the compute pool on `threads` threads (0: every core), for
+/// `App::add_plugins` in place of `TaskPoolPlugin::default()` (or `DefaultPlugins.set(…)`):
+/// the plugin's frames run on the compute pool, which Bevy by default gives what is left
+/// after the IO and async pools (one thread on a 2-core machine).
+///
+/// ```
+/// let pools = neurotree_bevy::task_pools(0);
+/// assert!(pools.task_pool_options.compute.min_threads >= 1);
+/// ```
+pub fn task_pools(threads: usize) -> TaskPoolPlugin {
+    let threads = if threads == 0 {
+        bevy_tasks::available_parallelism()
+    } else {
+        threads
+    };
+    let mut options = TaskPoolOptions::default();
+    options.compute.min_threads = threads;
+    options.compute.max_threads = threads;
+    TaskPoolPlugin {
+        task_pool_options: options,
     }
 }

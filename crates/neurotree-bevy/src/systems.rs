@@ -14,8 +14,12 @@ use bevy_tasks::{ComputeTaskPool, TaskPool};
 use neurotree::crowd::{Crowd, FrameReport, FrameStatus, InPlaceFrame, MemberId, Visit};
 use neurotree::{ReloadError, Status};
 
+use bevy_diagnostic::Diagnostics;
+use bevy_time::{Time, Virtual};
+
 use crate::agent::{TreeAgent, TreeSource};
 use crate::asset::TreeAsset;
+use crate::awake::AwakeAgents;
 use crate::context::AgentContext;
 use crate::crowd::AgentCrowd;
 use crate::events::{FailureReason, TreeFailed, TreeFinished, TreeReloaded};
@@ -104,12 +108,20 @@ pub(crate) fn tick<C: AgentContext>(
     shared: StaticSystemParam<C::Shared>,
     mut finished: MessageWriter<TreeFinished>,
     mut commands: Commands,
-    mut collected: Local<Mutex<Vec<Finished>>>,
-    mut awake: Local<Vec<MemberId>>,
+    (mut collected, mut awake): (Local<Mutex<Vec<Finished>>>, Local<Vec<MemberId>>),
+    (time, mut awake_agents, mut diagnostics): (
+        Option<Res<Time<Virtual>>>,
+        ResMut<AwakeAgents>,
+        Diagnostics,
+    ),
 ) where
     for<'w, 's> SystemParamItem<'w, 's, C::Shared>: Sync,
 {
     let crowd = &mut *crowd;
+    let virtual_time = time.map(|t| (t.elapsed(), t.is_paused()));
+    if !crowd.start_frame(virtual_time) {
+        return;
+    }
     let report_finished = crowd.report_finished;
     let shared = &*shared;
     ComputeTaskPool::get_or_init(TaskPool::default);
@@ -154,7 +166,9 @@ pub(crate) fn tick<C: AgentContext>(
             });
         report
     };
-    crowd.end_frame(last);
+    crowd.end_frame(last, virtual_time.is_some());
+    *awake_agents = AwakeAgents::of(&last);
+    crate::awake::measure(&mut diagnostics, &last);
     // In slot order, so that messages come in the same order on any number of threads.
     let ended = collected.get_mut().unwrap_or_else(PoisonError::into_inner);
     ended.sort_unstable_by_key(|f| f.member.slot());

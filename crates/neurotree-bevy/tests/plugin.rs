@@ -568,7 +568,7 @@ fn a_bad_tree_file_fails_to_load_naming_its_line_and_column() {
     let dir = TempDir::new("neurotree-bevy-bad");
     std::fs::write(
         dir.0.join("bad.xml"),
-        "<root BTCPP_format=\"4\">\n  <BehaviorTree ID=\"Main\">\n    <Nope/>\n  </BehaviorTree>\n</root>\n",
+        "<root BTCPP_format=\"4\">\n  <BehaviorTree ID=\"Main\">\n    <Sequence>\n      <Nope/>\n      <Nada/>\n    </Sequence>\n  </BehaviorTree>\n</root>\n",
     )
     .unwrap();
     let mut app = asset_app(&dir);
@@ -582,8 +582,18 @@ fn a_bad_tree_file_fails_to_load_naming_its_line_and_column() {
         panic!("a tree with an unknown node loaded");
     };
     let printed = error.to_string();
+    // Every error, one per line, as `neurotree check` prints them.
+    let errors: Vec<&str> = printed
+        .lines()
+        .filter(|l| l.contains(": error: "))
+        .collect();
+    assert_eq!(errors.len(), 2, "{printed}");
     assert!(
-        printed.contains("bad.xml:3:5: error: unknown node type `Nope`"),
+        errors[0].contains(": bad.xml:4:7: error: unknown node type `Nope`"),
+        "{printed}"
+    );
+    assert!(
+        errors[1].starts_with("bad.xml:5:7: error: unknown node type `Nada`"),
         "{printed}"
     );
     // The agent waits for a tree; it is never ticked.
@@ -825,4 +835,86 @@ fn sleeping_agents_wake_only_when_their_component_changes_or_a_message_names_the
     plain.world_mut().get_mut::<Hp>(guard).unwrap().0 = 0;
     plain.update();
     assert_eq!(counts(&plain, guard).ticks, 1);
+}
+
+/// An app with Bevy's `TimePlugin`, each update 100 ms of real time.
+fn timed_app() -> App {
+    use bevy_time::{TimePlugin, TimeUpdateStrategy};
+    let mut app = App::new();
+    app.add_plugins(TimePlugin)
+        .insert_resource(TimeUpdateStrategy::ManualDuration(
+            std::time::Duration::from_millis(100),
+        ))
+        .add_plugins(NeuroTreePlugin::new(registry()).with_threads(2).unwrap());
+    app
+}
+
+/// The trees' clock: what the virtual time was at the last frame.
+fn virtual_now(app: &App) -> (std::time::Duration, std::time::Duration) {
+    use bevy_time::{Time, Virtual};
+    let time = app.world().resource::<Time<Virtual>>().elapsed();
+    let clock = app.world().resource::<AgentCrowd<Guard>>().clock().now();
+    (clock, time)
+}
+
+#[test]
+fn the_trees_clock_follows_the_virtual_time_and_stops_while_it_is_paused() {
+    use bevy_time::{Time, Virtual};
+    let mut app = timed_app();
+    let bp = blueprint(&tree("<Tick/>"));
+    let agent = spawn(&mut app, TreeAgent::new(bp, Guard::default()), 100);
+    for _ in 0..3 {
+        app.update();
+    }
+    assert_eq!(counts(&app, agent).ticks, 3);
+    let (clock, time) = virtual_now(&app);
+    assert_eq!(clock, time);
+    assert!(time > std::time::Duration::ZERO);
+    // Paused: no frame, no tick, the clock stands.
+    app.world_mut().resource_mut::<Time<Virtual>>().pause();
+    for _ in 0..3 {
+        app.update();
+    }
+    assert_eq!(counts(&app, agent).ticks, 3);
+    assert_eq!(virtual_now(&app).0, clock);
+    // Slowed to half speed: a frame moves the clock half of the real 100 ms.
+    {
+        let mut time = app.world_mut().resource_mut::<Time<Virtual>>();
+        time.unpause();
+        time.set_relative_speed(0.5);
+    }
+    app.update();
+    app.update();
+    assert_eq!(counts(&app, agent).ticks, 5);
+    let (later, time) = virtual_now(&app);
+    assert_eq!(later, time);
+    assert_eq!(later - clock, std::time::Duration::from_millis(100));
+}
+
+#[test]
+fn awake_agents_are_counted_by_reason_in_a_resource() {
+    use neurotree_bevy::AwakeAgents;
+    let mut app = app();
+    let holds = blueprint(&tree("<Hold/>"));
+    let ticks = blueprint(&tree("<Tick/>"));
+    for _ in 0..3 {
+        spawn(
+            &mut app,
+            TreeAgent::new(Arc::clone(&holds), Guard::default()),
+            100,
+        );
+    }
+    spawn(&mut app, TreeAgent::new(ticks, Guard::default()), 100);
+    app.update();
+    app.update();
+    let awake = app.world().resource::<AwakeAgents>().clone();
+    assert_eq!((awake.ticked, awake.asleep, awake.awake), (4, 0, 4));
+    // `Hold` runs and declares no wait; `Tick`'s tree completes every frame.
+    assert_eq!(
+        awake.by_reason,
+        [
+            ("not_running".to_string(), 1),
+            ("undeclared_leaf".to_string(), 3)
+        ]
+    );
 }
