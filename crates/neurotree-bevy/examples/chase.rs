@@ -177,6 +177,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let tree = Arc::new(loader.build_main()?);
 
     let mut app = App::new();
+    // `--threads N`: the compute pool the frames run on (every core without it).
+    app.add_plugins(neurotree_bevy::task_pools(arg("--threads", 0)));
     let player = Player(Pos(side / 2.0 + side / 3.0, side / 2.0));
     app.add_plugins(NeuroTreePlugin::new(registry))
         .insert_resource(player);
