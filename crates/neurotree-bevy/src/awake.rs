@@ -1,6 +1,7 @@
 //! Why agents are awake: the last frame's counts, as a resource and as diagnostics.
 
 use bevy_diagnostic::{Diagnostic, DiagnosticPath, Diagnostics};
+use bevy_ecs::reflect::ReflectResource;
 use bevy_ecs::resource::Resource;
 use bevy_reflect::Reflect;
 use neurotree::crowd::FrameReport;
@@ -14,6 +15,7 @@ use neurotree::{AwakeCounts, AwakeReason};
 /// `neurotree/awake/REASON` (REASON as [`AwakeReason::name`] spells it:
 /// `undeclared_leaf`, `reactive_condition`, ...).
 #[derive(Resource, Reflect, Clone, Debug, Default, PartialEq)]
+#[reflect(Resource)]
 pub struct AwakeAgents {
     /// Agents ticked in the last frame.
     pub ticked: u64,

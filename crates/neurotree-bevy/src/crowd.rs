@@ -39,6 +39,8 @@ pub struct AgentCrowd<C: Send> {
     /// Write a [`TreeFinished`](crate::TreeFinished) for each root that returned Success or
     /// Failure.
     pub(crate) report_finished: bool,
+    /// Keep each agent's [`AgentSummary`](crate::AgentSummary) up to date.
+    pub(crate) summaries: bool,
 }
 
 impl<C: AgentContext> AgentCrowd<C> {
@@ -51,6 +53,7 @@ impl<C: AgentContext> AgentCrowd<C> {
             waiting: Vec::new(),
             last: FrameReport::default(),
             report_finished: true,
+            summaries: true,
         }
     }
 
@@ -92,6 +95,13 @@ impl<C: AgentContext> AgentCrowd<C> {
     /// may turn it off and read [`Member::status`] instead.
     pub fn set_report_finished(&mut self, on: bool) {
         self.report_finished = on;
+    }
+
+    /// Keeps each agent's [`TreeAgent::summary`] up to date after each frame, for Bevy's
+    /// inspectors (on by default): a pass over the agents per frame, which a game with
+    /// many agents, most of them asleep, may turn off in its release builds.
+    pub fn set_summaries(&mut self, on: bool) {
+        self.summaries = on;
     }
 
     /// The crowd, and each slot's entity.

@@ -89,7 +89,7 @@ mod events;
 mod plugin;
 mod systems;
 
-pub use agent::TreeAgent;
+pub use agent::{AgentSummary, TreeAgent};
 pub use asset::{TreeAsset, TreeAssetError, TreeAssetLoader};
 pub use awake::AwakeAgents;
 pub use context::AgentContext;

@@ -16,6 +16,7 @@ use neurotree::{ManualClock, Registry};
 
 use bevy_diagnostic::RegisterDiagnostic;
 
+use crate::agent::{AgentSummary, TreeAgent};
 use crate::asset::{TreeAsset, TreeAssetLoader};
 use crate::awake::AwakeAgents;
 use crate::context::AgentContext;
@@ -163,6 +164,9 @@ where
         }
         app.insert_resource(AgentCrowd::new(crowd, clock, self.step))
             .init_resource::<AwakeAgents>()
+            .register_type::<TreeAgent<C>>()
+            .register_type::<AgentSummary>()
+            .register_type::<AwakeAgents>()
             .add_message::<TreeFinished>()
             .add_message::<TreeReloaded>()
             .configure_sets(
@@ -173,7 +177,9 @@ where
                 self.schedule,
                 (
                     systems::join::<C>.in_set(TreeSystems::Join),
-                    systems::tick::<C>.in_set(TreeSystems::Tick),
+                    (systems::tick::<C>, systems::summarize::<C>)
+                        .chain()
+                        .in_set(TreeSystems::Tick),
                 ),
             )
             .add_observer(systems::arrive::<C>)

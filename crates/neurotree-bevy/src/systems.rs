@@ -3,6 +3,7 @@
 use std::sync::{Arc, Mutex, PoisonError};
 
 use bevy_asset::{AssetEvent, AssetId, Assets};
+use bevy_ecs::change_detection::DetectChangesMut;
 use bevy_ecs::component::Component;
 use bevy_ecs::entity::Entity;
 use bevy_ecs::lifecycle::{Discard, Insert};
@@ -322,6 +323,35 @@ fn report<C: AgentContext>(
         if let Some(reason) = reason {
             commands.trigger(TreeFailed { entity, reason });
         }
+    }
+}
+
+/// Brings each agent's [`AgentSummary`](crate::agent::AgentSummary) up to the last frame,
+/// for Bevy's inspectors, unless the app turned summaries off. A sleeping agent's costs a
+/// look at its member; only a new reason to be awake allocates.
+pub(crate) fn summarize<C: AgentContext>(
+    mut crowd: ResMut<AgentCrowd<C>>,
+    mut agents: Query<&mut TreeAgent<C>>,
+) {
+    if !crowd.summaries {
+        return;
+    }
+    let members = crowd.crowd_mut();
+    for mut agent in &mut agents {
+        let Some(member) = agent.member().and_then(|id| members.get(id)) else {
+            continue;
+        };
+        let tree = member.tree();
+        let asleep = tree.is_asleep();
+        // Not a change of the component: `Changed<TreeAgent<C>>` keeps meaning the app's.
+        let summary = &mut agent.bypass_change_detection().summary;
+        if summary.tree.is_empty() {
+            let blueprint = tree.blueprint();
+            if let Some(root) = blueprint.ids().next() {
+                summary.tree = blueprint.name(root).to_string();
+            }
+        }
+        summary.update(tree, member.status(), asleep);
     }
 }
 

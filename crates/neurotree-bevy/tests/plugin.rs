@@ -918,3 +918,113 @@ fn awake_agents_are_counted_by_reason_in_a_resource() {
         ]
     );
 }
+
+/// A field of a reflected struct, by name, as `T`.
+fn field<'a, T: bevy_reflect::Reflect>(value: &'a dyn bevy_reflect::Reflect, name: &str) -> &'a T {
+    use bevy_reflect::structs::Struct;
+    use bevy_reflect::ReflectRef;
+    let ReflectRef::Struct(s) = value.reflect_ref() else {
+        panic!("{} is not a struct", value.reflect_type_path());
+    };
+    let field = Struct::field(s, name).unwrap_or_else(|| panic!("no field {name}"));
+    field
+        .try_downcast_ref::<T>()
+        .unwrap_or_else(|| panic!("{name} is not a {}", std::any::type_name::<T>()))
+}
+
+#[test]
+fn agents_and_the_awake_counts_show_through_reflection() {
+    use bevy_ecs::reflect::{AppTypeRegistry, ReflectComponent, ReflectResource};
+    use neurotree_bevy::AgentSummary;
+    let mut app = app();
+    let holds = spawn(
+        &mut app,
+        TreeAgent::new(
+            blueprint(&tree(r#"<Sequence name="watch"><Hold/></Sequence>"#)),
+            Guard::default(),
+        ),
+        100,
+    );
+    let waits = spawn(
+        &mut app,
+        TreeAgent::new(blueprint(&tree("<WaitForHp/>")), Guard::default()),
+        100,
+    );
+    let ends = spawn(
+        &mut app,
+        TreeAgent::new(blueprint(&tree("<Tick/>")), Guard::default()),
+        100,
+    );
+    app.update();
+    app.update();
+    let registry = app.world().resource::<AppTypeRegistry>().clone();
+    let registry = registry.read();
+    let agents = registry
+        .get_type_data::<ReflectComponent>(std::any::TypeId::of::<TreeAgent<Guard>>())
+        .expect("TreeAgent<Guard> is registered as a reflected component");
+    let summary = |entity: Entity| {
+        let agent = agents
+            .reflect(app.world().entity(entity))
+            .expect("the agent has the component");
+        let summary = field::<AgentSummary>(agent, "summary");
+        let reflected = summary as &dyn bevy_reflect::Reflect;
+        (
+            field::<String>(reflected, "tree").clone(),
+            *field::<&'static str>(reflected, "status"),
+            *field::<bool>(reflected, "asleep"),
+            *field::<&'static str>(reflected, "awake_reason"),
+            field::<String>(reflected, "why_awake").clone(),
+        )
+    };
+    let (tree, status, asleep, reason, why) = summary(holds);
+    assert_eq!(
+        (status, asleep, reason),
+        ("running", false, "undeclared_leaf")
+    );
+    assert!(why.contains("Hold"), "{why}");
+    assert_eq!(tree, "watch");
+    // Asleep since its first frame: the second did not tick it.
+    assert_eq!(
+        summary(waits),
+        ("WaitForHp".into(), "asleep", true, "", String::new())
+    );
+    assert_eq!(counts(&app, waits).ticks, 1);
+    let (_, status, asleep, reason, _) = summary(ends);
+    assert_eq!((status, asleep, reason), ("success", false, "not_running"));
+    drop(registry);
+
+    // Woken with its `Hp` at 0, it completes, and its summary says so.
+    app.world_mut().get_mut::<Hp>(waits).unwrap().0 = 0;
+    app.world_mut()
+        .resource_scope(|world, mut crowd: Mut<AgentCrowd<Guard>>| {
+            let agent = world.get::<TreeAgent<Guard>>(waits).unwrap();
+            crowd.member_mut(agent).unwrap().wake();
+        });
+    app.update();
+    let summary = &app.world().get::<TreeAgent<Guard>>(waits).unwrap().summary;
+    assert_eq!(
+        (summary.status, summary.asleep, summary.awake_reason),
+        ("success", false, "not_running")
+    );
+    assert!(
+        summary.why_awake.contains("WaitForHp"),
+        "{}",
+        summary.why_awake
+    );
+    let registry = app.world().resource::<AppTypeRegistry>().clone();
+    let registry = registry.read();
+
+    // A resource is reflected as the component of its entity.
+    use neurotree_bevy::AwakeAgents;
+    let awake = std::any::TypeId::of::<AwakeAgents>();
+    assert!(registry.get_type_data::<ReflectResource>(awake).is_some());
+    let resource = app.world().resource_entity::<AwakeAgents>().unwrap();
+    let counted = registry
+        .get_type_data::<ReflectComponent>(awake)
+        .unwrap()
+        .reflect(app.world().entity(resource))
+        .unwrap();
+    assert_eq!(*field::<u64>(counted, "ticked"), 3);
+    assert_eq!(*field::<u64>(counted, "asleep"), 0);
+    assert_eq!(*field::<u64>(counted, "awake"), 3);
+}
