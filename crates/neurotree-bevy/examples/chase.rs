@@ -177,10 +177,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let tree = Arc::new(loader.build_main()?);
 
     let mut app = App::new();
-    // `--threads N`: the compute pool the frames run on (every core without it).
-    app.add_plugins(neurotree_bevy::task_pools(arg("--threads", 0)));
     let player = Player(Pos(side / 2.0 + side / 3.0, side / 2.0));
-    app.add_plugins(NeuroTreePlugin::new(registry))
+    // `--threads N`: the threads the frames run on (every core without it).
+    app.add_plugins(NeuroTreePlugin::new(registry).with_threads(arg("--threads", 0))?)
         .insert_resource(player);
     let mut rng = Lcg(22);
     for _ in 0..agents {

@@ -13,7 +13,7 @@
 use std::io::Write;
 use std::time::Instant;
 
-use bevy_app::{App, Update};
+use bevy_app::{App, TaskPoolPlugin, Update};
 use bevy_asset::{AssetPlugin, AssetServer, Handle, LoadState};
 use bevy_ecs::prelude::*;
 use bevy_ecs::query::QueryItem;
@@ -246,14 +246,14 @@ pub fn run(
     let side = per_row as f32 * SPACING;
     let mut app = App::new();
     app.add_plugins((
-        // `--threads N` for the compute pool the frames run on; every core by default.
-        neurotree_bevy::task_pools(arg("--threads", 0)?),
+        TaskPoolPlugin::default(),
         AssetPlugin {
             file_path: concat!(env!("CARGO_MANIFEST_DIR"), "/assets").to_string(),
             ..AssetPlugin::default()
         },
     ))
-    .add_plugins(NeuroTreePlugin::new(registry()?))
+    // `--threads N` for the threads the frames run on; every core by default.
+    .add_plugins(NeuroTreePlugin::new(registry()?).with_threads(arg("--threads", 0)?)?)
     .insert_resource(Field { side })
     .insert_resource(Target(Pos(side / 2.0, side / 2.0)))
     .init_resource::<Tally>()

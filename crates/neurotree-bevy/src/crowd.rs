@@ -5,7 +5,9 @@ use std::time::Duration;
 
 use bevy_ecs::entity::Entity;
 use bevy_ecs::resource::Resource;
-use neurotree::crowd::{Crowd, FrameReport, Member, MemberId, MemberMut};
+use std::sync::Arc;
+
+use neurotree::crowd::{Crowd, FrameReport, Member, MemberId, MemberMut, ThreadPool};
 use neurotree::ManualClock;
 
 use crate::agent::TreeAgent;
@@ -41,10 +43,17 @@ pub struct AgentCrowd<C: Send> {
     pub(crate) report_finished: bool,
     /// Keep each agent's [`AgentSummary`](crate::AgentSummary) up to date.
     pub(crate) summaries: bool,
+    /// The pool frames without a budget run on; `None`: Bevy's compute task pool.
+    pub(crate) pool: Option<Arc<ThreadPool>>,
 }
 
 impl<C: AgentContext> AgentCrowd<C> {
-    pub(crate) fn new(crowd: Crowd<C>, clock: ManualClock, step: Option<Duration>) -> Self {
+    pub(crate) fn new(
+        crowd: Crowd<C>,
+        clock: ManualClock,
+        step: Option<Duration>,
+        pool: Option<Arc<ThreadPool>>,
+    ) -> Self {
         Self {
             crowd: Mutex::new(crowd),
             clock,
@@ -54,6 +63,7 @@ impl<C: AgentContext> AgentCrowd<C> {
             last: FrameReport::default(),
             report_finished: true,
             summaries: true,
+            pool,
         }
     }
 
@@ -78,6 +88,16 @@ impl<C: AgentContext> AgentCrowd<C> {
     /// The entity of a member.
     pub fn entity(&self, member: MemberId) -> Option<Entity> {
         self.entities.get(member.slot()).copied().flatten()
+    }
+
+    /// The threads a frame without a budget runs on: the plugin's own pool's (one per core
+    /// by default), or, with [`NeuroTreePlugin::on_compute_pool`](crate::NeuroTreePlugin::on_compute_pool),
+    /// Bevy's compute task pool's (1 until that pool exists).
+    pub fn threads(&self) -> usize {
+        match &self.pool {
+            Some(pool) => pool.current_num_threads(),
+            None => bevy_tasks::ComputeTaskPool::try_get().map_or(1, |p| p.thread_num()),
+        }
     }
 
     /// The clock the trees read.

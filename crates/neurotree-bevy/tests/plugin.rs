@@ -1028,3 +1028,44 @@ fn agents_and_the_awake_counts_show_through_reflection() {
     assert_eq!(*field::<u64>(counted, "asleep"), 0);
     assert_eq!(*field::<u64>(counted, "awake"), 3);
 }
+
+#[test]
+fn frames_run_on_every_core_by_default_or_on_the_threads_chosen() {
+    let cores = std::thread::available_parallelism().unwrap().get();
+    let mut by_default = App::new();
+    by_default.add_plugins(NeuroTreePlugin::new(registry()));
+    let bp = blueprint(&tree("<Tick/>"));
+    let agents: Vec<Entity> = (0..300)
+        .map(|_| {
+            spawn(
+                &mut by_default,
+                TreeAgent::new(Arc::clone(&bp), Guard::default()),
+                100,
+            )
+        })
+        .collect();
+    by_default.update();
+    by_default.update();
+    assert!(agents.iter().all(|&e| counts(&by_default, e).ticks == 2));
+    let crowd = by_default.world().resource::<AgentCrowd<Guard>>();
+    assert_eq!(crowd.threads(), cores);
+
+    let mut chosen = App::new();
+    chosen.add_plugins(NeuroTreePlugin::new(registry()).with_threads(1).unwrap());
+    assert_eq!(chosen.world().resource::<AgentCrowd<Guard>>().threads(), 1);
+
+    // On Bevy's compute pool, the trees get the threads `TaskPoolPlugin` gives it.
+    let mut compute = App::new();
+    compute.add_plugins((
+        neurotree_bevy::task_pools(0),
+        NeuroTreePlugin::new(registry()).on_compute_pool(),
+    ));
+    let threads = bevy_tasks::ComputeTaskPool::get().thread_num();
+    assert_eq!(
+        compute.world().resource::<AgentCrowd<Guard>>().threads(),
+        threads
+    );
+    let agent = spawn(&mut compute, TreeAgent::new(bp, Guard::default()), 100);
+    compute.update();
+    assert_eq!(counts(&compute, agent).ticks, 1);
+}
