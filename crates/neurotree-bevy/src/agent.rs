@@ -73,8 +73,9 @@ impl<C: AgentContext> TypePath for TreeAgent<C> {
 }
 
 /// What an agent's tree is and did, for Bevy's inspectors: kept up to date after each
-/// frame by [`TreeSystems::Tick`](crate::TreeSystems::Tick), for the agents whose tree ran
-/// or fell asleep.
+/// frame by [`TreeSystems::Tick`](crate::TreeSystems::Tick) while
+/// [`AgentCrowd::set_summaries`](crate::AgentCrowd::set_summaries) is on (by default in
+/// debug builds only); left at its default otherwise.
 #[derive(Reflect, Clone, Debug, Default, PartialEq, Eq)]
 pub struct AgentSummary {
     /// The name of the tree's root node (its `name` attribute in a tree file, else its

@@ -62,7 +62,7 @@ impl<C: AgentContext> AgentCrowd<C> {
             waiting: Vec::new(),
             last: FrameReport::default(),
             report_finished: true,
-            summaries: true,
+            summaries: cfg!(debug_assertions),
             pool,
         }
     }
@@ -118,8 +118,9 @@ impl<C: AgentContext> AgentCrowd<C> {
     }
 
     /// Keeps each agent's [`TreeAgent::summary`] up to date after each frame, for Bevy's
-    /// inspectors (on by default): a pass over the agents per frame, which a game with
-    /// many agents, most of them asleep, may turn off in its release builds.
+    /// inspectors: on by default in debug builds (`debug_assertions`), off in release
+    /// builds, since it is a pass over every agent per frame on one thread, asleep or not
+    /// (4 to 13 ms a frame for 100,000 agents on a loaded 2-core machine).
     pub fn set_summaries(&mut self, on: bool) {
         self.summaries = on;
     }

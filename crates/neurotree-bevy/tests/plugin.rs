@@ -955,6 +955,10 @@ fn agents_and_the_awake_counts_show_through_reflection() {
         TreeAgent::new(blueprint(&tree("<Tick/>")), Guard::default()),
         100,
     );
+    // On by default in debug builds only.
+    app.world_mut()
+        .resource_mut::<AgentCrowd<Guard>>()
+        .set_summaries(true);
     app.update();
     app.update();
     let registry = app.world().resource::<AppTypeRegistry>().clone();
