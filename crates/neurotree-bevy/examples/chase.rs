@@ -18,6 +18,9 @@
 //! With `--lod`, an enemy farther from the player than its vision and 30 units ticks every
 //! 8th frame: the player moves under 27 units in 8 frames, so no enemy sees it later than
 //! it would have; only a nap far from the player may end up to 7 frames late.
+//!
+//! `--threads N` runs the frames on N threads (every core by default); `--summaries on`
+//! or `off` turns the agents' inspector summaries on or off (`AgentCrowd::set_summaries`).
 
 use std::sync::Arc;
 use std::time::Instant;
@@ -178,8 +181,16 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
 
     let mut app = App::new();
     let player = Player(Pos(side / 2.0 + side / 3.0, side / 2.0));
-    app.add_plugins(NeuroTreePlugin::new(registry))
+    // `--threads N`: the threads the frames run on (every core without it).
+    app.add_plugins(NeuroTreePlugin::new(registry).with_threads(arg("--threads", 0))?)
         .insert_resource(player);
+    // `--summaries on|off`: the per-frame pass bringing the agents' inspector summaries
+    // up (by default, on in debug builds only).
+    if let Some(on) = std::env::args().skip_while(|a| a != "--summaries").nth(1) {
+        app.world_mut()
+            .resource_mut::<AgentCrowd<Enemy>>()
+            .set_summaries(on == "on");
+    }
     let mut rng = Lcg(22);
     for _ in 0..agents {
         let (x, y) = (rng.next() * side, rng.next() * side);

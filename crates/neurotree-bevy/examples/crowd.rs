@@ -252,7 +252,8 @@ pub fn run(
             ..AssetPlugin::default()
         },
     ))
-    .add_plugins(NeuroTreePlugin::new(registry()?))
+    // `--threads N` for the threads the frames run on; every core by default.
+    .add_plugins(NeuroTreePlugin::new(registry()?).with_threads(arg("--threads", 0)?)?)
     .insert_resource(Field { side })
     .insert_resource(Target(Pos(side / 2.0, side / 2.0)))
     .init_resource::<Tally>()

@@ -4,8 +4,11 @@ use std::sync::Arc;
 
 use bevy_asset::{AssetId, Handle};
 use bevy_ecs::component::Component;
-use neurotree::crowd::MemberId;
-use neurotree::Blueprint;
+use bevy_ecs::reflect::ReflectComponent;
+use bevy_reflect::utility::GenericTypePathCell;
+use bevy_reflect::{Reflect, TypePath};
+use neurotree::crowd::{FrameStatus, MemberId};
+use neurotree::{AwakeReason, Blueprint, NodeId, Status, Tree};
 
 use crate::asset::TreeAsset;
 use crate::context::AgentContext;
@@ -18,13 +21,105 @@ use crate::context::AgentContext;
 /// after it is spawned in which its tree is available (at once for a blueprint, once
 /// loaded for an asset), and leaves it when the component is removed or replaced or the
 /// entity despawned, which halts its running actions once.
-#[derive(Component)]
+///
+/// It implements `Reflect` (registered by the plugin), so that Bevy's inspectors show its
+/// [`summary`](Self::summary): the tree's name, what it did last frame, whether it sleeps
+/// and why not.
+#[derive(Component, Reflect)]
+#[reflect(Component, type_path = false, from_reflect = false)]
 pub struct TreeAgent<C: AgentContext> {
+    /// The tree, what it did and whether it sleeps, as of the last frame.
+    pub summary: AgentSummary,
+    #[reflect(ignore)]
     source: TreeSource<C>,
     /// The context until the agent joins; the crowd holds it from then on.
+    #[reflect(ignore)]
     context: Option<C>,
+    #[reflect(ignore)]
     interval: u32,
+    #[reflect(ignore)]
     member: Option<MemberId>,
+}
+
+// By hand: the context type needs no `TypePath` of its own.
+impl<C: AgentContext> TypePath for TreeAgent<C> {
+    fn type_path() -> &'static str {
+        static CELL: GenericTypePathCell = GenericTypePathCell::new();
+        CELL.get_or_insert::<Self, _>(|| {
+            format!("neurotree_bevy::TreeAgent<{}>", std::any::type_name::<C>())
+        })
+    }
+
+    fn short_type_path() -> &'static str {
+        static CELL: GenericTypePathCell = GenericTypePathCell::new();
+        CELL.get_or_insert::<Self, _>(|| {
+            let context = std::any::type_name::<C>();
+            let short = context.rsplit("::").next().unwrap_or(context);
+            format!("TreeAgent<{short}>")
+        })
+    }
+
+    fn type_ident() -> Option<&'static str> {
+        Some("TreeAgent")
+    }
+
+    fn crate_name() -> Option<&'static str> {
+        Some("neurotree_bevy")
+    }
+
+    fn module_path() -> Option<&'static str> {
+        Some("neurotree_bevy")
+    }
+}
+
+/// What an agent's tree is and did, for Bevy's inspectors: kept up to date after each
+/// frame by [`TreeSystems::Tick`](crate::TreeSystems::Tick) while
+/// [`AgentCrowd::set_summaries`](crate::AgentCrowd::set_summaries) is on (by default in
+/// debug builds only); left at its default otherwise.
+#[derive(Reflect, Clone, Debug, Default, PartialEq, Eq)]
+pub struct AgentSummary {
+    /// The name of the tree's root node (its `name` attribute in a tree file, else its
+    /// type); empty until the agent joins the crowd.
+    pub tree: String,
+    /// What its last frame did: `not_due`, `deferred`, `asleep`, `error`, or the status
+    /// its root returned (`running`, `success`, `failure`).
+    pub status: &'static str,
+    /// Whether its tree sleeps: not ticked until what it waits on happens.
+    pub asleep: bool,
+    /// Why it is awake (as [`Tree::why_awake`] displays it), empty while it sleeps.
+    pub why_awake: String,
+    /// The [`AwakeReason::name`](neurotree::AwakeReason::name) of why it is awake, empty
+    /// while it sleeps.
+    pub awake_reason: &'static str,
+    /// The reason and node `why_awake` was written for.
+    #[reflect(ignore)]
+    written: Option<(AwakeReason, NodeId)>,
+}
+
+impl AgentSummary {
+    /// Brings the summary up to the member's last frame; allocates only when the reason it
+    /// is awake changes.
+    pub(crate) fn update<C>(&mut self, tree: &Tree<C>, status: FrameStatus, asleep: bool) {
+        self.status = match status {
+            FrameStatus::NotDue => "not_due",
+            FrameStatus::Deferred => "deferred",
+            FrameStatus::Asleep => "asleep",
+            FrameStatus::Error => "error",
+            FrameStatus::Ticked(Status::Running) => "running",
+            FrameStatus::Ticked(Status::Success) => "success",
+            FrameStatus::Ticked(Status::Failure) => "failure",
+        };
+        self.asleep = asleep;
+        let reason = if asleep { None } else { tree.awake_reason() };
+        if reason != self.written {
+            self.written = reason;
+            self.awake_reason = reason.map_or("", |(r, _)| r.name());
+            self.why_awake = match (reason, tree.why_awake()) {
+                (Some(_), Some(why)) => why.to_string(),
+                _ => String::new(),
+            };
+        }
+    }
 }
 
 /// Where an agent's blueprint comes from.
@@ -48,6 +143,7 @@ impl<C: AgentContext> TreeAgent<C> {
     fn with_source(source: TreeSource<C>, context: C) -> Self {
         Self {
             source,
+            summary: AgentSummary::default(),
             context: Some(context),
             interval: 1,
             member: None,

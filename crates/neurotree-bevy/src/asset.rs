@@ -18,6 +18,7 @@ use bevy_asset::{
 use bevy_reflect::utility::GenericTypePathCell;
 use bevy_reflect::TypePath;
 use neurotree::xml::{LoadError, XmlLoader};
+use neurotree::LoadErrors;
 use neurotree::{Blueprint, Registry};
 
 /// A tree loaded from a BehaviorTree.CPP XML file: the blueprint of its main tree, which
@@ -119,9 +120,10 @@ pub enum TreeAssetError {
         /// What the asset server said.
         source: ReadAssetBytesError,
     },
-    /// The XML is not a tree the registry can build; prints as `file:line:col: error: ...`.
+    /// The XML is not a tree the registry can build: every error found, each printed on
+    /// its own line as `file:line:col: error: ...`, as `neurotree check` prints them.
     #[error(transparent)]
-    Load(#[from] LoadError),
+    Load(#[from] LoadErrors),
 }
 
 neurotree::debug_shows_message!(enum TreeAssetError {
@@ -130,6 +132,15 @@ neurotree::debug_shows_message!(enum TreeAssetError {
     Include { path, source },
     Load(source),
 });
+
+impl From<LoadError> for TreeAssetError {
+    fn from(e: LoadError) -> Self {
+        TreeAssetError::Load(LoadErrors::from(e))
+    }
+}
+
+/// Most errors a failed tree reports: as many as `neurotree check` prints.
+const MOST_ERRORS: usize = 50;
 
 impl<C: Send + Sync + 'static> AssetLoader for TreeAssetLoader<C> {
     type Asset = TreeAsset<C>;
@@ -173,7 +184,23 @@ impl<C: Send + Sync + 'static> AssetLoader for TreeAssetLoader<C> {
         let mut loader = XmlLoader::new(&self.registry);
         loader.include_texts(included);
         loader.load_str(&text, &file)?;
-        Ok(TreeAsset::new(Arc::new(loader.build_main()?)))
+        match loader.build_main() {
+            Ok(blueprint) => Ok(TreeAsset::new(Arc::new(blueprint))),
+            Err(first) => {
+                // The builder stops at the first error; the others, as `check` finds them.
+                let mut errors = vec![first];
+                if let Some(main) = loader.main_tree() {
+                    for e in loader.validate_all(main, MOST_ERRORS) {
+                        if errors.len() < MOST_ERRORS && !errors.contains(&e) {
+                            errors.push(e);
+                        }
+                    }
+                }
+                Err(TreeAssetError::Load(
+                    LoadErrors::new(errors).expect("at least the first error"),
+                ))
+            }
+        }
     }
 
     fn extensions(&self) -> &[&str] {

@@ -82,15 +82,17 @@
 
 mod agent;
 mod asset;
+pub mod awake;
 mod context;
 mod crowd;
 mod events;
 mod plugin;
 mod systems;
 
-pub use agent::TreeAgent;
+pub use agent::{AgentSummary, TreeAgent};
 pub use asset::{TreeAsset, TreeAssetError, TreeAssetLoader};
+pub use awake::AwakeAgents;
 pub use context::AgentContext;
 pub use crowd::AgentCrowd;
 pub use events::{FailureReason, TreeFailed, TreeFinished, TreeReloaded};
-pub use plugin::{NeuroTreePlugin, TreeSystems};
+pub use plugin::{task_pools, NeuroTreePlugin, TreeSystems};

@@ -4,17 +4,22 @@ use std::marker::PhantomData;
 use std::sync::Arc;
 use std::time::Duration;
 
-use bevy_app::{App, Plugin, Update};
+use bevy_app::{App, Plugin, TaskPoolOptions, TaskPoolPlugin, Update};
 use bevy_asset::{AssetApp, AssetServer};
 use bevy_ecs::component::Component;
 use bevy_ecs::entity::Entity;
 use bevy_ecs::message::Message;
+use bevy_ecs::query::QueryItem;
 use bevy_ecs::schedule::{InternedScheduleLabel, IntoScheduleConfigs, ScheduleLabel, SystemSet};
 use bevy_ecs::system::SystemParamItem;
 use neurotree::crowd::{Crowd, ThreadPool, ThreadPoolBuildError, ThreadPoolBuilder};
 use neurotree::{ManualClock, Registry};
 
+use bevy_diagnostic::RegisterDiagnostic;
+
+use crate::agent::{AgentSummary, TreeAgent};
 use crate::asset::{TreeAsset, TreeAssetLoader};
+use crate::awake::AwakeAgents;
 use crate::context::AgentContext;
 use crate::crowd::AgentCrowd;
 use crate::events::{TreeFinished, TreeReloaded};
@@ -45,7 +50,9 @@ pub enum TreeSystems {
 pub struct NeuroTreePlugin<C> {
     registry: Arc<Registry<C>>,
     pool: Option<Arc<ThreadPool>>,
-    step: Duration,
+    /// Frames without a budget run on Bevy's compute task pool rather than `pool`.
+    compute_pool: bool,
+    step: Option<Duration>,
     schedule: InternedScheduleLabel,
     /// The systems that wake agents, added with the others.
     wakes: Vec<AddWake>,
@@ -57,32 +64,42 @@ type AddWake = Box<dyn Fn(&mut App, InternedScheduleLabel) + Send + Sync>;
 
 impl<C: AgentContext> NeuroTreePlugin<C> {
     /// A plugin whose tree files are built from the nodes `registry` knows, ticking in
-    /// `Update` on Bevy's compute task pool (a frame under a budget, set through
-    /// [`AgentCrowd::crowd_mut`], runs on rayon's global pool: `RAYON_NUM_THREADS`, or all
-    /// cores), with a clock that moves 1/60 s per frame.
+    /// `Update` on every core (a pool of its own, one thread per core:
+    /// [`AgentCrowd::threads`]), with a clock that follows the app's virtual time
+    /// (`Time<Virtual>`), or, without Bevy's `TimePlugin`, moves 1/60 s per frame.
     pub fn new(registry: Registry<C>) -> Self {
         Self {
             registry: Arc::new(registry),
             pool: None,
-            step: Duration::from_secs(1) / 60,
+            compute_pool: false,
+            step: None,
             schedule: Update.intern(),
             wakes: Vec::new(),
             _context: PhantomData,
         }
     }
 
-    /// Runs frames under a budget on a rayon pool of `threads` threads of its own (0:
-    /// rayon's default); other frames run on Bevy's compute task pool, whose size
-    /// `TaskPoolPlugin` sets.
+    /// Runs frames on a pool of `threads` threads of its own (0: rayon's default,
+    /// `RAYON_NUM_THREADS` or every core) instead of one thread per core.
     pub fn with_threads(mut self, threads: usize) -> Result<Self, ThreadPoolBuildError> {
         let pool = ThreadPoolBuilder::new().num_threads(threads).build()?;
         self.pool = Some(Arc::new(pool));
         Ok(self)
     }
 
-    /// Moves the trees' clock by `step` after each frame.
+    /// Runs frames without a budget on Bevy's compute task pool, with the rest of the
+    /// game's parallel systems, instead of a pool of its own: the trees then get the
+    /// threads `TaskPoolPlugin` gives that pool (one on a 2-core machine by default; see
+    /// [`task_pools`]). Frames under a budget still run on the plugin's pool.
+    pub fn on_compute_pool(mut self) -> Self {
+        self.compute_pool = true;
+        self
+    }
+
+    /// Moves the trees' clock by `step` after each frame, whatever the virtual time says
+    /// (frames still stop while it is paused): runs that repeat exactly.
     pub fn with_step(mut self, step: Duration) -> Self {
-        self.step = step;
+        self.step = Some(step);
         self
     }
 
@@ -146,14 +163,24 @@ impl<C: AgentContext> NeuroTreePlugin<C> {
 impl<C: AgentContext> Plugin for NeuroTreePlugin<C>
 where
     for<'w, 's> SystemParamItem<'w, 's, C::Shared>: Sync,
+    for<'w, 's> QueryItem<'w, 's, C::Components>: Send,
 {
     fn build(&self, app: &mut App) {
         let clock = ManualClock::new();
-        let mut crowd = Crowd::<C>::new(clock.clone());
-        if let Some(pool) = &self.pool {
-            crowd = crowd.with_pool(Arc::clone(pool));
+        let pool = match &self.pool {
+            Some(pool) => Arc::clone(pool),
+            None => Arc::new(own_pool()),
+        };
+        let crowd = Crowd::<C>::new(clock.clone()).with_pool(Arc::clone(&pool));
+        let pool = (!self.compute_pool).then_some(pool);
+        for diagnostic in crate::awake::diagnostics() {
+            app.register_diagnostic(diagnostic);
         }
-        app.insert_resource(AgentCrowd::new(crowd, clock, self.step))
+        app.insert_resource(AgentCrowd::new(crowd, clock, self.step, pool))
+            .init_resource::<AwakeAgents>()
+            .register_type::<TreeAgent<C>>()
+            .register_type::<AgentSummary>()
+            .register_type::<AwakeAgents>()
             .add_message::<TreeFinished>()
             .add_message::<TreeReloaded>()
             .configure_sets(
@@ -164,7 +191,9 @@ where
                 self.schedule,
                 (
                     systems::join::<C>.in_set(TreeSystems::Join),
-                    systems::tick::<C>.in_set(TreeSystems::Tick),
+                    (systems::tick::<C>, systems::summarize::<C>)
+                        .chain()
+                        .in_set(TreeSystems::Tick),
                 ),
             )
             .add_observer(systems::arrive::<C>)
@@ -182,5 +211,42 @@ where
                         .before(systems::join::<C>),
                 );
         }
+    }
+}
+
+/// A pool of one thread per core: the plugin's default.
+fn own_pool() -> ThreadPool {
+    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
+    ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .thread_name(|i| format!("neurotree-{i}"))
+        .build()
+        .or_else(|_| ThreadPoolBuilder::new().num_threads(1).build())
+        // A pool of one thread is what a machine that cannot start threads gets from
+        // rayon itself; failing that too, nothing would run anyway.
+        .expect("a pool of one thread")
+}
+
+/// Bevy's task pools with the compute pool on `threads` threads (0: every core), for
+/// `App::add_plugins` in place of `TaskPoolPlugin::default()` (or `DefaultPlugins.set(…)`):
+/// with [`NeuroTreePlugin::on_compute_pool`], the plugin's frames run on the compute pool,
+/// which Bevy by default gives what is left after the IO and async pools (one thread on a
+/// 2-core machine).
+///
+/// ```
+/// let pools = neurotree_bevy::task_pools(0);
+/// assert!(pools.task_pool_options.compute.min_threads >= 1);
+/// ```
+pub fn task_pools(threads: usize) -> TaskPoolPlugin {
+    let threads = if threads == 0 {
+        bevy_tasks::available_parallelism()
+    } else {
+        threads
+    };
+    let mut options = TaskPoolOptions::default();
+    options.compute.min_threads = threads;
+    options.compute.max_threads = threads;
+    TaskPoolPlugin {
+        task_pool_options: options,
     }
 }

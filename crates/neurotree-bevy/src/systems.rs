@@ -3,19 +3,27 @@
 use std::sync::{Arc, Mutex, PoisonError};
 
 use bevy_asset::{AssetEvent, AssetId, Assets};
+use bevy_ecs::change_detection::DetectChangesMut;
 use bevy_ecs::component::Component;
 use bevy_ecs::entity::Entity;
 use bevy_ecs::lifecycle::{Discard, Insert};
 use bevy_ecs::message::{Message, MessageReader, MessageWriter};
 use bevy_ecs::observer::On;
 use bevy_ecs::query::Changed;
+use bevy_ecs::query::QueryItem;
 use bevy_ecs::system::{Commands, Local, Query, Res, ResMut, StaticSystemParam, SystemParamItem};
 use bevy_tasks::{ComputeTaskPool, TaskPool};
-use neurotree::crowd::{Crowd, FrameReport, FrameStatus, InPlaceFrame, MemberId, Visit};
+use neurotree::crowd::{
+    Crowd, FrameReport, FrameStatus, InPlaceFrame, MemberId, ThreadPool, Visit,
+};
 use neurotree::{ReloadError, Status};
+
+use bevy_diagnostic::Diagnostics;
+use bevy_time::{Time, Virtual};
 
 use crate::agent::{TreeAgent, TreeSource};
 use crate::asset::TreeAsset;
+use crate::awake::AwakeAgents;
 use crate::context::AgentContext;
 use crate::crowd::AgentCrowd;
 use crate::events::{FailureReason, TreeFailed, TreeFinished, TreeReloaded};
@@ -91,7 +99,8 @@ impl Drop for Gathered<'_> {
 /// Runs a frame of the crowd over the agents' components and reports what their trees did.
 ///
 /// Without a budget, each agent is visited once, in the order its components sit in
-/// Bevy's tables, on all cores (Bevy's compute pool): its context is loaded, its tree
+/// Bevy's tables, on all cores (the plugin's pool, or Bevy's compute pool when asked):
+/// its context is loaded, its tree
 /// ticked and its context stored while its data is in the cache, and no agent is looked up
 /// by its entity. Under a budget, which picks members across the whole crowd before any is
 /// ticked, the contexts are loaded first (on one thread), the crowd runs its frame on its
@@ -104,13 +113,23 @@ pub(crate) fn tick<C: AgentContext>(
     shared: StaticSystemParam<C::Shared>,
     mut finished: MessageWriter<TreeFinished>,
     mut commands: Commands,
-    mut collected: Local<Mutex<Vec<Finished>>>,
-    mut awake: Local<Vec<MemberId>>,
+    (mut collected, mut awake): (Local<Mutex<Vec<Finished>>>, Local<Vec<MemberId>>),
+    (time, mut awake_agents, mut diagnostics): (
+        Option<Res<Time<Virtual>>>,
+        ResMut<AwakeAgents>,
+        Diagnostics,
+    ),
 ) where
     for<'w, 's> SystemParamItem<'w, 's, C::Shared>: Sync,
+    for<'w, 's> QueryItem<'w, 's, C::Components>: Send,
 {
     let crowd = &mut *crowd;
+    let virtual_time = time.map(|t| (t.elapsed(), t.is_paused()));
+    if !crowd.start_frame(virtual_time) {
+        return;
+    }
     let report_finished = crowd.report_finished;
+    let pool = crowd.pool.clone();
     let shared = &*shared;
     ComputeTaskPool::get_or_init(TaskPool::default);
     let into = &*collected;
@@ -130,6 +149,8 @@ pub(crate) fn tick<C: AgentContext>(
                 &mut awake,
                 report_finished,
             )
+        } else if let Some(pool) = &pool {
+            visit_all_on(pool, frame, &mut agents, shared, &gather, report_finished)
         } else {
             visit_all(frame, &mut agents, shared, &gather, report_finished)
         }
@@ -154,7 +175,9 @@ pub(crate) fn tick<C: AgentContext>(
             });
         report
     };
-    crowd.end_frame(last);
+    crowd.end_frame(last, virtual_time.is_some());
+    *awake_agents = AwakeAgents::of(&last);
+    crate::awake::measure(&mut diagnostics, &last);
     // In slot order, so that messages come in the same order on any number of threads.
     let ended = collected.get_mut().unwrap_or_else(PoisonError::into_inner);
     ended.sort_unstable_by_key(|f| f.member.slot());
@@ -198,6 +221,55 @@ where
     );
     frame.finish()
 }
+
+/// Visits every agent, in the order Bevy stores them, on `pool`'s threads (each a run of
+/// agents, several runs per thread so that a slow run does not hold a frame back), and
+/// ends the frame.
+fn visit_all_on<'g, C: AgentContext>(
+    pool: &ThreadPool,
+    frame: InPlaceFrame<'_, C>,
+    agents: &mut Query<(Entity, &TreeAgent<C>, C::Components)>,
+    shared: &SystemParamItem<'_, '_, C::Shared>,
+    gather: &(impl Fn() -> Gathered<'g> + Sync),
+    report_finished: bool,
+) -> FrameReport
+where
+    for<'w, 's> SystemParamItem<'w, 's, C::Shared>: Sync,
+    for<'w, 's> QueryItem<'w, 's, C::Components>: Send,
+{
+    let mut items: Vec<_> = agents.iter_mut().collect();
+    let runs = pool.current_num_threads() * RUNS_PER_THREAD;
+    let run = items.len().div_ceil(runs).max(MIN_RUN);
+    let open = &frame;
+    pool.scope(|scope| {
+        for chunk in items.chunks_mut(run) {
+            scope.spawn(move |_| {
+                let mut visitor = open.visitor();
+                let mut gathered = gather();
+                for (entity, agent, components) in chunk {
+                    let Some(member) = agent.member() else {
+                        continue;
+                    };
+                    let status = match visitor.visit(member, |c| c.load(components, shared)) {
+                        Visit::NotDue => continue,
+                        Visit::Ticked(context, status) => {
+                            context.store(components);
+                            status
+                        }
+                    };
+                    gathered.note(member, *entity, status, report_finished);
+                }
+            });
+        }
+    });
+    drop(items);
+    frame.finish()
+}
+
+/// Runs of agents per thread of a frame on the plugin's pool.
+const RUNS_PER_THREAD: usize = 4;
+/// Fewest agents in a run: below, handing a run to a thread costs more than ticking it.
+const MIN_RUN: usize = 64;
 
 /// Visits the agents awake in `frame` by their entity, on this thread, and ends the frame:
 /// when most agents sleep, cheaper than walking every agent's components. `awake` is room
@@ -308,6 +380,35 @@ fn report<C: AgentContext>(
         if let Some(reason) = reason {
             commands.trigger(TreeFailed { entity, reason });
         }
+    }
+}
+
+/// Brings each agent's [`AgentSummary`](crate::agent::AgentSummary) up to the last frame,
+/// for Bevy's inspectors, unless the app turned summaries off. A sleeping agent's costs a
+/// look at its member; only a new reason to be awake allocates.
+pub(crate) fn summarize<C: AgentContext>(
+    mut crowd: ResMut<AgentCrowd<C>>,
+    mut agents: Query<&mut TreeAgent<C>>,
+) {
+    if !crowd.summaries {
+        return;
+    }
+    let members = crowd.crowd_mut();
+    for mut agent in &mut agents {
+        let Some(member) = agent.member().and_then(|id| members.get(id)) else {
+            continue;
+        };
+        let tree = member.tree();
+        let asleep = tree.is_asleep();
+        // Not a change of the component: `Changed<TreeAgent<C>>` keeps meaning the app's.
+        let summary = &mut agent.bypass_change_detection().summary;
+        if summary.tree.is_empty() {
+            let blueprint = tree.blueprint();
+            if let Some(root) = blueprint.ids().next() {
+                summary.tree = blueprint.name(root).to_string();
+            }
+        }
+        summary.update(tree, member.status(), asleep);
     }
 }
 

@@ -568,7 +568,7 @@ fn a_bad_tree_file_fails_to_load_naming_its_line_and_column() {
     let dir = TempDir::new("neurotree-bevy-bad");
     std::fs::write(
         dir.0.join("bad.xml"),
-        "<root BTCPP_format=\"4\">\n  <BehaviorTree ID=\"Main\">\n    <Nope/>\n  </BehaviorTree>\n</root>\n",
+        "<root BTCPP_format=\"4\">\n  <BehaviorTree ID=\"Main\">\n    <Sequence>\n      <Nope/>\n      <Nada/>\n    </Sequence>\n  </BehaviorTree>\n</root>\n",
     )
     .unwrap();
     let mut app = asset_app(&dir);
@@ -582,8 +582,18 @@ fn a_bad_tree_file_fails_to_load_naming_its_line_and_column() {
         panic!("a tree with an unknown node loaded");
     };
     let printed = error.to_string();
+    // Every error, one per line, as `neurotree check` prints them.
+    let errors: Vec<&str> = printed
+        .lines()
+        .filter(|l| l.contains(": error: "))
+        .collect();
+    assert_eq!(errors.len(), 2, "{printed}");
     assert!(
-        printed.contains("bad.xml:3:5: error: unknown node type `Nope`"),
+        errors[0].contains(": bad.xml:4:7: error: unknown node type `Nope`"),
+        "{printed}"
+    );
+    assert!(
+        errors[1].starts_with("bad.xml:5:7: error: unknown node type `Nada`"),
         "{printed}"
     );
     // The agent waits for a tree; it is never ticked.
@@ -825,4 +835,241 @@ fn sleeping_agents_wake_only_when_their_component_changes_or_a_message_names_the
     plain.world_mut().get_mut::<Hp>(guard).unwrap().0 = 0;
     plain.update();
     assert_eq!(counts(&plain, guard).ticks, 1);
+}
+
+/// An app with Bevy's `TimePlugin`, each update 100 ms of real time.
+fn timed_app() -> App {
+    use bevy_time::{TimePlugin, TimeUpdateStrategy};
+    let mut app = App::new();
+    app.add_plugins(TimePlugin)
+        .insert_resource(TimeUpdateStrategy::ManualDuration(
+            std::time::Duration::from_millis(100),
+        ))
+        .add_plugins(NeuroTreePlugin::new(registry()).with_threads(2).unwrap());
+    app
+}
+
+/// The trees' clock: what the virtual time was at the last frame.
+fn virtual_now(app: &App) -> (std::time::Duration, std::time::Duration) {
+    use bevy_time::{Time, Virtual};
+    let time = app.world().resource::<Time<Virtual>>().elapsed();
+    let clock = app.world().resource::<AgentCrowd<Guard>>().clock().now();
+    (clock, time)
+}
+
+#[test]
+fn the_trees_clock_follows_the_virtual_time_and_stops_while_it_is_paused() {
+    use bevy_time::{Time, Virtual};
+    let mut app = timed_app();
+    let bp = blueprint(&tree("<Tick/>"));
+    let agent = spawn(&mut app, TreeAgent::new(bp, Guard::default()), 100);
+    for _ in 0..3 {
+        app.update();
+    }
+    assert_eq!(counts(&app, agent).ticks, 3);
+    let (clock, time) = virtual_now(&app);
+    assert_eq!(clock, time);
+    assert!(time > std::time::Duration::ZERO);
+    // Paused: no frame, no tick, the clock stands.
+    app.world_mut().resource_mut::<Time<Virtual>>().pause();
+    for _ in 0..3 {
+        app.update();
+    }
+    assert_eq!(counts(&app, agent).ticks, 3);
+    assert_eq!(virtual_now(&app).0, clock);
+    // Slowed to half speed: a frame moves the clock half of the real 100 ms.
+    {
+        let mut time = app.world_mut().resource_mut::<Time<Virtual>>();
+        time.unpause();
+        time.set_relative_speed(0.5);
+    }
+    app.update();
+    app.update();
+    assert_eq!(counts(&app, agent).ticks, 5);
+    let (later, time) = virtual_now(&app);
+    assert_eq!(later, time);
+    assert_eq!(later - clock, std::time::Duration::from_millis(100));
+}
+
+#[test]
+fn awake_agents_are_counted_by_reason_in_a_resource() {
+    use neurotree_bevy::AwakeAgents;
+    let mut app = app();
+    let holds = blueprint(&tree("<Hold/>"));
+    let ticks = blueprint(&tree("<Tick/>"));
+    for _ in 0..3 {
+        spawn(
+            &mut app,
+            TreeAgent::new(Arc::clone(&holds), Guard::default()),
+            100,
+        );
+    }
+    spawn(&mut app, TreeAgent::new(ticks, Guard::default()), 100);
+    app.update();
+    app.update();
+    let awake = app.world().resource::<AwakeAgents>().clone();
+    assert_eq!((awake.ticked, awake.asleep, awake.awake), (4, 0, 4));
+    // `Hold` runs and declares no wait; `Tick`'s tree completes every frame.
+    assert_eq!(
+        awake.by_reason,
+        [
+            ("not_running".to_string(), 1),
+            ("undeclared_leaf".to_string(), 3)
+        ]
+    );
+}
+
+/// A field of a reflected struct, by name, as `T`.
+fn field<'a, T: bevy_reflect::Reflect>(value: &'a dyn bevy_reflect::Reflect, name: &str) -> &'a T {
+    use bevy_reflect::structs::Struct;
+    use bevy_reflect::ReflectRef;
+    let ReflectRef::Struct(s) = value.reflect_ref() else {
+        panic!("{} is not a struct", value.reflect_type_path());
+    };
+    let field = Struct::field(s, name).unwrap_or_else(|| panic!("no field {name}"));
+    field
+        .try_downcast_ref::<T>()
+        .unwrap_or_else(|| panic!("{name} is not a {}", std::any::type_name::<T>()))
+}
+
+#[test]
+fn agents_and_the_awake_counts_show_through_reflection() {
+    use bevy_ecs::reflect::{AppTypeRegistry, ReflectComponent, ReflectResource};
+    use neurotree_bevy::AgentSummary;
+    let mut app = app();
+    let holds = spawn(
+        &mut app,
+        TreeAgent::new(
+            blueprint(&tree(r#"<Sequence name="watch"><Hold/></Sequence>"#)),
+            Guard::default(),
+        ),
+        100,
+    );
+    let waits = spawn(
+        &mut app,
+        TreeAgent::new(blueprint(&tree("<WaitForHp/>")), Guard::default()),
+        100,
+    );
+    let ends = spawn(
+        &mut app,
+        TreeAgent::new(blueprint(&tree("<Tick/>")), Guard::default()),
+        100,
+    );
+    // On by default in debug builds only.
+    app.world_mut()
+        .resource_mut::<AgentCrowd<Guard>>()
+        .set_summaries(true);
+    app.update();
+    app.update();
+    let registry = app.world().resource::<AppTypeRegistry>().clone();
+    let registry = registry.read();
+    let agents = registry
+        .get_type_data::<ReflectComponent>(std::any::TypeId::of::<TreeAgent<Guard>>())
+        .expect("TreeAgent<Guard> is registered as a reflected component");
+    let summary = |entity: Entity| {
+        let agent = agents
+            .reflect(app.world().entity(entity))
+            .expect("the agent has the component");
+        let summary = field::<AgentSummary>(agent, "summary");
+        let reflected = summary as &dyn bevy_reflect::Reflect;
+        (
+            field::<String>(reflected, "tree").clone(),
+            *field::<&'static str>(reflected, "status"),
+            *field::<bool>(reflected, "asleep"),
+            *field::<&'static str>(reflected, "awake_reason"),
+            field::<String>(reflected, "why_awake").clone(),
+        )
+    };
+    let (tree, status, asleep, reason, why) = summary(holds);
+    assert_eq!(
+        (status, asleep, reason),
+        ("running", false, "undeclared_leaf")
+    );
+    assert!(why.contains("Hold"), "{why}");
+    assert_eq!(tree, "watch");
+    // Asleep since its first frame: the second did not tick it.
+    assert_eq!(
+        summary(waits),
+        ("WaitForHp".into(), "asleep", true, "", String::new())
+    );
+    assert_eq!(counts(&app, waits).ticks, 1);
+    let (_, status, asleep, reason, _) = summary(ends);
+    assert_eq!((status, asleep, reason), ("success", false, "not_running"));
+    drop(registry);
+
+    // Woken with its `Hp` at 0, it completes, and its summary says so.
+    app.world_mut().get_mut::<Hp>(waits).unwrap().0 = 0;
+    app.world_mut()
+        .resource_scope(|world, mut crowd: Mut<AgentCrowd<Guard>>| {
+            let agent = world.get::<TreeAgent<Guard>>(waits).unwrap();
+            crowd.member_mut(agent).unwrap().wake();
+        });
+    app.update();
+    let summary = &app.world().get::<TreeAgent<Guard>>(waits).unwrap().summary;
+    assert_eq!(
+        (summary.status, summary.asleep, summary.awake_reason),
+        ("success", false, "not_running")
+    );
+    assert!(
+        summary.why_awake.contains("WaitForHp"),
+        "{}",
+        summary.why_awake
+    );
+    let registry = app.world().resource::<AppTypeRegistry>().clone();
+    let registry = registry.read();
+
+    // A resource is reflected as the component of its entity.
+    use neurotree_bevy::AwakeAgents;
+    let awake = std::any::TypeId::of::<AwakeAgents>();
+    assert!(registry.get_type_data::<ReflectResource>(awake).is_some());
+    let resource = app.world().resource_entity::<AwakeAgents>().unwrap();
+    let counted = registry
+        .get_type_data::<ReflectComponent>(awake)
+        .unwrap()
+        .reflect(app.world().entity(resource))
+        .unwrap();
+    assert_eq!(*field::<u64>(counted, "ticked"), 3);
+    assert_eq!(*field::<u64>(counted, "asleep"), 0);
+    assert_eq!(*field::<u64>(counted, "awake"), 3);
+}
+
+#[test]
+fn frames_run_on_every_core_by_default_or_on_the_threads_chosen() {
+    let cores = std::thread::available_parallelism().unwrap().get();
+    let mut by_default = App::new();
+    by_default.add_plugins(NeuroTreePlugin::new(registry()));
+    let bp = blueprint(&tree("<Tick/>"));
+    let agents: Vec<Entity> = (0..300)
+        .map(|_| {
+            spawn(
+                &mut by_default,
+                TreeAgent::new(Arc::clone(&bp), Guard::default()),
+                100,
+            )
+        })
+        .collect();
+    by_default.update();
+    by_default.update();
+    assert!(agents.iter().all(|&e| counts(&by_default, e).ticks == 2));
+    let crowd = by_default.world().resource::<AgentCrowd<Guard>>();
+    assert_eq!(crowd.threads(), cores);
+
+    let mut chosen = App::new();
+    chosen.add_plugins(NeuroTreePlugin::new(registry()).with_threads(1).unwrap());
+    assert_eq!(chosen.world().resource::<AgentCrowd<Guard>>().threads(), 1);
+
+    // On Bevy's compute pool, the trees get the threads `TaskPoolPlugin` gives it.
+    let mut compute = App::new();
+    compute.add_plugins((
+        neurotree_bevy::task_pools(0),
+        NeuroTreePlugin::new(registry()).on_compute_pool(),
+    ));
+    let threads = bevy_tasks::ComputeTaskPool::get().thread_num();
+    assert_eq!(
+        compute.world().resource::<AgentCrowd<Guard>>().threads(),
+        threads
+    );
+    let agent = spawn(&mut compute, TreeAgent::new(bp, Guard::default()), 100);
+    compute.update();
+    assert_eq!(counts(&compute, agent).ticks, 1);
 }

@@ -80,12 +80,13 @@ pub use clock::{Clock, ManualClock};
 pub use nodes::custom::{CustomNode, NodeCtx};
 pub use nodes::hooks::NodeHooks;
 pub use nodes::leaf::{
-    Action, ActionFuture, AsyncAction, Condition, HaltFuture, HaltProgress, Handle, StatefulAction,
+    Action, ActionFuture, AsyncAction, Condition, HaltFuture, HaltProgress, Handle, Inputs,
+    PortCondition, StatefulAction,
 };
 pub use nodes::{NodeDecl, PortDecl, PortDirection};
 pub use observer::{Observer, StatusChange};
 pub use status::{NodeStatus, Status};
 pub use tree::{
-    Failure, FailureLink, HaltHandle, Reason, ReloadError, ReloadReport, TickError, Tree, Tried,
-    WakeSignal, Woken, DEFAULT_MAX_PASSES, HALT_POLL_PERIOD,
+    AwakeCounts, AwakeReason, Failure, FailureLink, HaltHandle, Reason, ReloadError, ReloadReport,
+    TickError, Tree, Tried, WakeSignal, WhyAwake, Woken, DEFAULT_MAX_PASSES, HALT_POLL_PERIOD,
 };

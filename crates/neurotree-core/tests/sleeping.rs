@@ -42,10 +42,15 @@ impl Run {
                 .blackboard_mut()
                 .set(&format!("k{k}"), *v)
                 .unwrap(),
-            Event::Wake => self.tree.wake_handle().wake(),
+            Event::Wake => {
+                // The program rings the bell some conditions read, and wakes the tree.
+                self.log.1 += 1;
+                self.tree.wake_handle().wake()
+            }
             Event::Halt => {
                 self.tree.halt(&mut self.log);
             }
+            Event::Weather => self.log.2 += 1,
         }
         let result = if exactly_once {
             self.tree.tick_exactly_once(&mut self.log)
@@ -196,4 +201,105 @@ fn sleeping_trees_on_several_threads_agree_with_one() {
     for run in seen.iter() {
         assert_eq!(run, &alone);
     }
+}
+
+/// `ReactiveSequence(bell, ReactiveFallback(pure k0, watch k1, waiter k2))`: every
+/// condition re-checked says what wakes it.
+fn reactive_over_declared_conditions() -> Node {
+    Node::Control(
+        5,
+        vec![
+            Node::Bell,
+            Node::Control(
+                6,
+                vec![
+                    Node::Pure(0),
+                    Node::Watch(1),
+                    Node::Waiter {
+                        key: 2,
+                        ms: 5_000,
+                        declare: true,
+                    },
+                ],
+            ),
+        ],
+    )
+}
+
+/// Reactive nodes over conditions that read the blackboard alone, or say what wakes them,
+/// sleep between the events, and give what ticking every frame gives when they come.
+#[test]
+fn a_reactive_tree_over_declared_conditions_sleeps() {
+    let mut events = vec![Event::Time(30); 20];
+    events.push(Event::Write(2, false)); // wakes, changes nothing: asleep again
+    events.extend(vec![Event::Time(30); 5]);
+    events.push(Event::Wake); // the bell rings: the sequence fails, the waiter is halted
+    events.extend(vec![Event::Time(30); 5]);
+    events.push(Event::Wake); // rings again: the waiter starts afresh
+    events.extend(vec![Event::Time(30); 5]);
+    events.push(Event::Write(0, true)); // the fallback succeeds: the waiter is halted
+    let slept = compare(&reactive_over_declared_conditions(), &events, false).unwrap();
+    assert!(slept >= 30, "slept {slept} of {} ticks", events.len());
+}
+
+/// The same tree with a condition of the clock (which declares nothing) does not sleep, and
+/// says why, naming that condition.
+#[test]
+fn a_reactive_tree_over_an_undeclared_condition_stays_awake_and_says_why() {
+    let bp = blueprint(&Node::Control(
+        5,
+        vec![
+            Node::Tide(10_000),
+            Node::Waiter {
+                key: 2,
+                ms: 5_000,
+                declare: true,
+            },
+        ],
+    ));
+    let mut tree = Tree::with_clock(bp, ManualClock::new());
+    assert_eq!(
+        tree.why_awake().map(|w| w.reason),
+        Some(neurotree_core::AwakeReason::NotRunning)
+    );
+    let mut log = Log::default();
+    for _ in 0..3 {
+        tree.tick_once(&mut log).unwrap();
+        assert!(!tree.is_asleep());
+    }
+    let why = tree.why_awake().expect("awake");
+    assert_eq!(why.reason, neurotree_core::AwakeReason::ReactiveCondition);
+    assert_eq!(why.path, "rseq/tide");
+    assert_eq!(
+        why.to_string(),
+        "`rseq/tide` is re-checked every tick by a reactive node and may read more than the blackboard"
+    );
+    // Over declared conditions, the same shape sleeps: nothing to say.
+    let mut tree = Tree::with_clock(
+        blueprint(&reactive_over_declared_conditions()),
+        ManualClock::new(),
+    );
+    tree.tick_once(&mut log).unwrap();
+    assert!(tree.is_asleep());
+    assert_eq!(tree.why_awake(), None);
+    // A waiter that declares nothing is named as such.
+    let mut tree = Tree::with_clock(
+        blueprint(&Node::Control(
+            0,
+            vec![
+                Node::Always(true),
+                Node::Waiter {
+                    key: 0,
+                    ms: 500,
+                    declare: false,
+                },
+            ],
+        )),
+        ManualClock::new(),
+    );
+    tree.tick_once(&mut log).unwrap();
+    tree.tick_once(&mut log).unwrap(); // the resting path says it too
+    let why = tree.why_awake().expect("awake");
+    assert_eq!(why.reason, neurotree_core::AwakeReason::UndeclaredLeaf);
+    assert_eq!(why.path, "seq/w0");
 }

@@ -53,6 +53,9 @@ mod tests {
         assert_eq!(repeat["builtin"], true);
         assert_eq!(repeat["ports"][0]["name"], "num_cycles");
         assert_eq!(repeat["ports"][0]["direction"], "input");
+        let service = types.iter().find(|t| t["type"] == "Service").unwrap();
+        assert_eq!(service["category"], "control");
+        assert_eq!(service["ports"][0]["name"], "interval_msec");
         let names: Vec<&str> = types.iter().filter_map(|t| t["type"].as_str()).collect();
         let mut sorted = names.clone();
         sorted.sort_unstable();

@@ -151,3 +151,39 @@ fn switch_picks_a_branch_and_halts_the_previous_one() {
         "{e}"
     );
 }
+
+/// A Service loaded from XML: its script refreshes `seen` at the start and every 100 ms
+/// while the Sleep runs; the tree sleeps between the intervals; a write to it round-trips.
+#[test]
+fn a_service_refreshes_the_blackboard_at_its_interval() {
+    let xml = r#"<root main_tree_to_execute="T"><BehaviorTree ID="T">
+             <Service interval_msec="100">
+               <Script code="seen := seen + 1"/>
+               <Sleep msec="350"/>
+             </Service>
+           </BehaviorTree></root>"#;
+    let bp = load(xml).unwrap();
+    let clock = ManualClock::new();
+    let mut tree = Tree::with_clock(bp.into(), clock.clone());
+    tree.blackboard_mut().set("seen", 0_i64).unwrap();
+    let mut said = Vec::new();
+    let mut seen = Vec::new();
+    let mut passes = 0;
+    for _ in 0..25 {
+        let status = tree.tick_once(&mut said).unwrap();
+        passes += u32::from(tree.last_passes() > 0);
+        seen.push(tree.blackboard().get::<i64>("seen").unwrap());
+        if status != Status::Running {
+            break;
+        }
+        clock.advance(std::time::Duration::from_millis(20));
+    }
+    // 0, 100, 200, 300 ms: four services; the Sleep succeeds at 360 ms, the 19th tick.
+    assert_eq!(seen.len(), 19);
+    assert_eq!(*seen.last().unwrap(), 4);
+    assert_eq!(seen[4], 1);
+    assert_eq!(seen[5], 2);
+    // Passes: each service's tick (its write keeps the tree awake one more tick), and the
+    // last: 4 * 2 + 1, not 19.
+    assert_eq!(passes, 9);
+}

@@ -146,6 +146,8 @@ fn a_budget_defers_the_rest_oldest_first_and_reports_the_lag() {
                 overdue: 6,
                 frames: 1
             },
+            // The counter's trees complete every tick: not Running.
+            awake: report.awake,
         }
     );
     assert_eq!(statuses(&crowd), [T, T, T, T, D, D, D, D, D, D]);

@@ -7,7 +7,7 @@ use std::time::Duration;
 
 use neurotree::crowd::{Crowd, FrameStatus, MemberId};
 use neurotree::prelude::*;
-use neurotree::NodeStatus;
+use neurotree::{AwakeReason, NodeStatus, ScriptBuilder};
 
 /// What a member's leaves did to its context.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -324,9 +324,15 @@ mod random {
                             .set(&format!("k{k}"), *v)
                             .unwrap();
                     }
-                    Touch::Wake(0) => waker.wake(id),
-                    Touch::Wake(1) => assert!(crowd.wake(id)),
-                    Touch::Wake(_) => crowd.get_mut(id).unwrap().wake(),
+                    Touch::Wake(how) => {
+                        // The program rings the bell some conditions read, then wakes.
+                        crowd.get_mut(id).unwrap().context_mut().1 += 1;
+                        match how {
+                            0 => waker.wake(id),
+                            1 => assert!(crowd.wake(id)),
+                            _ => crowd.get_mut(id).unwrap().wake(),
+                        }
+                    }
                     Touch::Halt => {
                         let mut member = crowd.get_mut(id).unwrap();
                         let (tree, log) = member.tree_and_context_mut();
@@ -473,4 +479,88 @@ mod random {
             }
         }
     }
+}
+
+/// What a member's alert leaf did.
+#[derive(Clone, Debug, Default, PartialEq)]
+struct Watcher {
+    calls: u32,
+    halts: u32,
+}
+
+/// Runs until the entry `alert` is true, and says so: its tree sleeps meanwhile.
+struct UntilAlert;
+
+impl StatefulAction<Watcher> for UntilAlert {
+    fn on_start(&mut self, h: &mut Handle<'_, Watcher>) -> Status {
+        self.on_running(h)
+    }
+    fn on_running(&mut self, h: &mut Handle<'_, Watcher>) -> Status {
+        h.ctx_mut().calls += 1;
+        if h.blackboard().get::<bool>("alert").unwrap_or(false) {
+            return Status::Success;
+        }
+        h.wake_on("alert");
+        Status::Running
+    }
+    fn on_halted(&mut self, h: &mut Handle<'_, Watcher>) {
+        h.ctx_mut().halts += 1;
+    }
+}
+
+/// `ReactiveSequence(ScriptCondition "hungry == false", a leaf sleeping until "alert")`:
+/// the crowd settles asleep, a frame then ticks none of the 100 members, and writing
+/// `hungry` for 10 of them ticks exactly those 10, whose condition fails and halts the
+/// sleeping leaf.
+#[test]
+fn a_reactive_crowd_over_a_script_condition_sleeps_and_wakes_exactly_the_written() {
+    let bp = Blueprint::<Watcher>::builder()
+        .reactive_sequence("needs", |r| {
+            r.script_condition("fed", "hungry == false")
+                .stateful("watch", || UntilAlert)
+        })
+        .build_shared()
+        .unwrap();
+    let clock = ManualClock::new();
+    let mut crowd = Crowd::new(clock.clone()).with_threads(2).unwrap();
+    let ids: Vec<MemberId> = (0..100)
+        .map(|_| {
+            let mut tree = Tree::with_clock(Arc::clone(&bp), clock.clone());
+            tree.blackboard_mut().set("hungry", false).unwrap();
+            crowd.add_tree(tree, Watcher::default())
+        })
+        .collect();
+    let first = crowd.frame();
+    assert_eq!((first.ticked, first.asleep), (100, 0));
+    assert_eq!(first.awake.total(), 0, "{:?}", first.awake);
+    for _ in 0..3 {
+        clock.advance(Duration::from_millis(16));
+        let report = crowd.frame();
+        assert_eq!((report.ticked, report.asleep), (0, 100));
+    }
+    for &id in &ids[..10] {
+        let mut member = crowd.get_mut(id).unwrap();
+        member
+            .tree_mut()
+            .blackboard_mut()
+            .set("hungry", true)
+            .unwrap();
+    }
+    clock.advance(Duration::from_millis(16));
+    let report = crowd.frame();
+    assert_eq!((report.ticked, report.asleep), (10, 90));
+    for (i, &id) in ids.iter().enumerate() {
+        let member = crowd.get(id).unwrap();
+        let watcher = member.context();
+        if i < 10 {
+            assert_eq!(member.status(), FrameStatus::Ticked(Status::Failure));
+            assert_eq!(*watcher, Watcher { calls: 1, halts: 1 });
+        } else {
+            assert!(member.tree().is_asleep());
+            assert_eq!(*watcher, Watcher { calls: 1, halts: 0 });
+        }
+    }
+    // The 10 failed: their roots are not Running, so they are awake, and say why.
+    assert_eq!(report.awake.get(AwakeReason::NotRunning), 10);
+    assert_eq!(report.awake.total(), 10);
 }

@@ -172,7 +172,10 @@ pub(crate) mod sealed {
                 let c = &*(*call).data.cast::<T>();
                 (*args).arg.node = (*call).id;
                 let h = &(*args).arg;
-                answer(args, || c.check(h))
+                h.out.reads.declare(c.reads_only_blackboard());
+                let answered = answer(args, || c.check(h));
+                (*args).arg.out.reads.settle();
+                answered
             }
         }
         };

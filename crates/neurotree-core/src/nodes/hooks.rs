@@ -36,4 +36,11 @@ pub trait NodeHooks<C>: Send + Sync {
     /// Calls `f` with each hook as the attribute a file writes it as (`_skipIf`, its
     /// script), so a saved tree keeps its hooks. Hooks with no textual form write nothing.
     fn attributes(&self, _f: &mut dyn FnMut(&str, &str)) {}
+
+    /// `true` if the hooks' checks read the blackboard alone (scripts do): a node re-checked
+    /// every tick with such hooks lets the tree sleep (see [`sleep`](crate::tree::sleep)).
+    /// `false` keeps a tree awake while a node with these hooks is re-checked.
+    fn reads_only_blackboard(&self) -> bool {
+        false
+    }
 }

@@ -51,6 +51,7 @@ macro_rules! with_built_ins {
             IfThenElse in control::if_then_else;
             WhileDoElse in control::while_do_else;
             TryCatch in control::try_catch;
+            Service in control::service;
             Inverter in decorator::inverter;
             ForceSuccess in decorator::force;
             ForceFailure in decorator::force;

@@ -219,6 +219,8 @@ pub(crate) struct Outcome {
     pub(crate) halts: super::slow_halt::Halts,
     /// What the nodes ticked in this pass wait on (see [`sleep`](super::sleep)).
     pub(crate) waits: super::sleep::Waits,
+    /// What the leaf being ticked declared through a shared handle.
+    pub(crate) reads: super::sleep::Reads,
     /// The tick's record, in order: empty until a node gives a reason (see the module docs).
     notes: Vec<(NodeId, Note)>,
 }
@@ -235,6 +237,7 @@ impl Outcome {
             fault: None,
             halts: super::slow_halt::Halts::default(),
             waits: super::sleep::Waits::new(),
+            reads: super::sleep::Reads::default(),
             notes: Vec::new(),
         }
     }

@@ -37,6 +37,7 @@ pub mod sleep;
 pub mod slow_halt;
 pub(crate) mod ticker;
 mod wake;
+pub mod why_awake;
 
 pub use error::TickError;
 pub use failure::{Failure, FailureLink, Reason, Tried};
@@ -45,6 +46,7 @@ pub use reload::{ReloadError, ReloadReport};
 pub use sleep::WakeHandle;
 pub(crate) use ticker::Ticker;
 pub use wake::{WakeSignal, Woken};
+pub use why_awake::{AwakeCounts, AwakeReason, WhyAwake};
 
 use alloc::boxed::Box;
 use alloc::sync::Arc;
@@ -379,6 +381,8 @@ impl<C> Tree<C> {
         if status == NodeStatus::Running && wake.is_none() {
             self.resting = rested.filter(|leaf| self.blueprint.resting[leaf.index()]);
             self.fall_asleep(writes);
+        } else if wake.is_some() && self.out.waits.reason.is_none() {
+            self.out.waits.reason = Some((why_awake::AwakeReason::AnotherPass, NodeId::ROOT));
         }
         Ok((status, wake))
     }

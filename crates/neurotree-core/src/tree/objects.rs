@@ -119,7 +119,10 @@ impl<'t, C> Ticker<'t, C> {
         };
         let status = node.tick(&mut node_ctx);
         let reset_completed = node_ctx.reset_completed;
-        self.out.waits.awake |= !node_ctx.declared;
+        if !node_ctx.declared {
+            self.stay_awake(crate::AwakeReason::UndeclaredCustom, id);
+            self.out.waits.opaque(id);
+        }
         self.objects[slot] = Object::Custom(node);
         if reset_completed {
             // Only an observer can tell the reset from one after the store: without one,

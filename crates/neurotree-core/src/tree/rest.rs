@@ -36,7 +36,11 @@ impl<C> Tree<C> {
             self.resting = None;
             return Rest::No;
         }
-        match self.resting_answer(leaf, ctx) {
+        let answer = self.resting_answer(leaf, ctx);
+        if self.out.reads.event() {
+            self.out.waits.on_event();
+        }
+        match answer {
             Some(Ok(NodeStatus::Running)) if self.out.fault.is_none() => {
                 self.rest_asleep(leaf, writes);
                 Rest::Running
@@ -75,6 +79,7 @@ impl<C> Tree<C> {
             return None;
         };
         self.out.waits.declared = false;
+        self.out.reads.declare(false);
         let mut h = crate::Handle {
             ctx,
             blackboard: &mut self.blackboard,

@@ -13,9 +13,17 @@
 //! - no async action returned Running, and every custom node ticked declared;
 //! - no node asked for another pass, no halt waits for a slow halt, no observer is
 //!   attached, and the pass wrote nothing to the blackboard;
-//! - no ReactiveSequence, ReactiveFallback or WhileDoElse returned Running: they re-check
-//!   their conditions every tick, and a condition cannot say what it reads (nor does
-//!   KeepRunningUntilFailure after its child succeeded: its next tick starts it again).
+//! - every child a Running ReactiveSequence, ReactiveFallback or WhileDoElse re-checks
+//!   reads only what wakes the tree: a condition whose kind reads only the blackboard
+//!   ([`Condition::reads_only_blackboard`](crate::Condition::reads_only_blackboard), the
+//!   toolkit's scripts), or that declared its wake in the tick
+//!   ([`Handle::wake_on`](crate::Handle::wake_on),
+//!   [`Handle::wake_on_handle`](crate::Handle::wake_on_handle)); a closure of the
+//!   context, a node that would answer otherwise when ticked again (a Sleep that just
+//!   completed), and every other leaf keep it awake (as does KeepRunningUntilFailure after
+//!   its child succeeded: its next tick starts it again).
+//!
+//! [`Tree::why_awake`] names the first thing that kept the tree awake.
 //!
 //! A sleeping tree's [`tick_once`](crate::Tree::tick_once) and
 //! [`tick_exactly_once`](crate::Tree::tick_exactly_once) return Running at once, without a
@@ -28,8 +36,10 @@
 //!
 //! A leaf that declares nothing keeps the tree awake: it is ticked every frame, as before.
 
+use core::sync::atomic::{AtomicU8, Ordering};
 use core::time::Duration;
 
+use super::why_awake::AwakeReason;
 use crate::clock::duration_to_nanos;
 use crate::tree::WakeSignal;
 use crate::{NodeId, Tree};
@@ -46,6 +56,14 @@ pub(crate) struct Waits {
     /// Some node declared a wait (a deadline or an event) in the pass: a Running root
     /// with none is Running for some other reason, and stays awake.
     pub(crate) any: bool,
+    /// A leaf ticked (since a reactive node last looked) may read more than the
+    /// blackboard: its context, the world. A reactive node that re-checks it every tick
+    /// keeps the tree awake.
+    pub(crate) opaque: bool,
+    /// The last leaf that may read more than the blackboard.
+    pub(crate) opaque_node: NodeId,
+    /// Why the tree stays awake after this pass: the first reason given, and its node.
+    pub(crate) reason: Option<(AwakeReason, NodeId)>,
 }
 
 impl Waits {
@@ -56,7 +74,28 @@ impl Waits {
             declared: false,
             awake: false,
             any: false,
+            opaque: false,
+            opaque_node: NodeId(0),
+            reason: None,
         }
+    }
+
+    /// Keeps the tree awake after this pass, for `reason` at `node` (the first one given
+    /// is kept).
+    #[inline]
+    pub(crate) fn keep_awake(&mut self, reason: AwakeReason, node: NodeId) {
+        if !self.awake {
+            self.awake = true;
+            self.reason = Some((reason, node));
+        }
+    }
+
+    /// Notes that `node`, a leaf, may read more than the blackboard.
+    #[inline]
+    pub(crate) fn opaque(&mut self, node: NodeId) {
+        // Two plain stores, no branch: conditions of the context are the commonest leaves.
+        self.opaque = true;
+        self.opaque_node = node;
     }
 
     /// Declares a deadline at `at`.
@@ -72,6 +111,74 @@ impl Waits {
     pub(crate) fn on_event(&mut self) {
         self.declared = true;
         self.any = true;
+    }
+}
+
+/// What the leaf being ticked declared through a shared handle: a condition's
+/// [`check`](crate::Condition::check) sees `&Handle`, and may still say what wakes it.
+///
+/// Atomics only so that a tree stays `Sync`: one thread ticks a tree, so relaxed loads and
+/// stores are plain ones.
+#[derive(Debug, Default)]
+pub(crate) struct Reads(AtomicU8);
+
+/// The leaf said it waits for a write or a wake ([`Handle::wake_on`](crate::Handle::wake_on),
+/// [`Handle::wake_on_handle`](crate::Handle::wake_on_handle)).
+const EVENT: u8 = 1;
+/// The leaf's kind reads only the blackboard and its ports.
+const PURE: u8 = 2;
+/// A condition called from a run (a guard's loop) may read more than the blackboard:
+/// kept until the caller takes it.
+const SEEN_OPAQUE: u8 = 4;
+
+impl Reads {
+    /// Before a leaf's call: nothing declared yet; `pure` if its kind says it reads only
+    /// the blackboard.
+    #[inline(always)]
+    pub(crate) fn declare(&self, pure: bool) {
+        let seen = self.0.load(Ordering::Relaxed) & SEEN_OPAQUE;
+        self.0
+            .store(seen | if pure { PURE } else { 0 }, Ordering::Relaxed);
+    }
+
+    /// After a condition's call from a run: notes it if it may read more than the
+    /// blackboard, for [`take_opaque`](Self::take_opaque).
+    #[inline(always)]
+    pub(crate) fn settle(&self) {
+        let v = self.0.load(Ordering::Relaxed);
+        if v & (EVENT | PURE) == 0 {
+            self.0.store(v | SEEN_OPAQUE, Ordering::Relaxed);
+        }
+    }
+
+    /// After a run of conditions: `true` if one may read more than the blackboard.
+    #[inline(always)]
+    pub(crate) fn take_opaque(&self) -> bool {
+        let v = self.0.load(Ordering::Relaxed);
+        if v & SEEN_OPAQUE == 0 {
+            return false;
+        }
+        self.0.store(v & !SEEN_OPAQUE, Ordering::Relaxed);
+        true
+    }
+
+    /// The leaf said it waits for a write or a wake.
+    #[inline(always)]
+    pub(crate) fn on_event(&self) {
+        self.0
+            .store(self.0.load(Ordering::Relaxed) | EVENT, Ordering::Relaxed);
+    }
+
+    /// After the call: `true` if the leaf declared a wait for an event.
+    #[inline(always)]
+    pub(crate) fn event(&self) -> bool {
+        self.0.load(Ordering::Relaxed) & EVENT != 0
+    }
+
+    /// After the call: `true` if the leaf reads only what wakes the tree.
+    #[inline(always)]
+    pub(crate) fn known(&self) -> bool {
+        self.0.load(Ordering::Relaxed) & (EVENT | PURE) != 0
     }
 }
 
@@ -217,6 +324,21 @@ impl<C> Tree<C> {
                 until: waits.deadline,
                 writes,
             });
+        } else if waits.reason.is_none() {
+            self.out.waits.reason = Some((self.awake_for(writes), NodeId::ROOT));
+        }
+    }
+
+    /// Why a pass that kept the tree awake, with no node to blame, did (see
+    /// [`why_awake`](super::why_awake)).
+    #[cold]
+    fn awake_for(&self, writes: u64) -> AwakeReason {
+        if self.out.halts.count != 0 || !self.out.is_quiet() {
+            AwakeReason::AnotherPass
+        } else if self.blackboard.writes() != writes {
+            AwakeReason::WroteBlackboard
+        } else {
+            AwakeReason::NothingDeclared
         }
     }
 

@@ -189,6 +189,7 @@ impl<'t, C> Ticker<'t, C> {
         if let (NodeKind::ConditionFn(f), None) = (&def.kind, self.bp.hooks(id)) {
             self.current = id;
             self.note_tick(id);
+            self.out.waits.opaque(id);
             let status = if f(self.ctx) {
                 NodeStatus::Success
             } else {
@@ -279,6 +280,14 @@ impl<'t, C> Ticker<'t, C> {
         if status.is_completed() {
             hooks.after(&mut self.handle(id), status);
         }
+        if !hooks.reads_only_blackboard() {
+            // Checked again next tick (by a reactive parent, or `_while` while Running), it
+            // could answer otherwise with no write to wake the tree.
+            self.out.waits.opaque(id);
+            if status == NodeStatus::Running {
+                self.stay_awake(crate::AwakeReason::ReactiveCondition, id);
+            }
+        }
         status
     }
 
@@ -304,6 +313,8 @@ impl<'t, C> Ticker<'t, C> {
     #[inline(always)]
     pub(crate) fn check(&mut self, child: &Child, closure: bool) -> bool {
         let (answer, panic) = if closure {
+            // A closure of the context: it may read anything.
+            self.out.waits.opaque(child.id);
             let mut args = Args::new(&raw const *self.ctx);
             // SAFETY: a closure condition of this blueprint's `C`, with the context; the
             // answer asked about once.
@@ -314,10 +325,14 @@ impl<'t, C> Ticker<'t, C> {
         } else {
             let mut args = Args::new(self.handle(child.id));
             // SAFETY: as above, for a `Condition` object, with a handle.
-            unsafe {
+            let answered = unsafe {
                 let answer = child.call(&mut args);
                 (answer, args.panicked(answer))
+            };
+            if self.out.reads.take_opaque() {
+                self.out.waits.opaque(child.id);
             }
+            answered
         };
         if let Some(payload) = panic {
             self.resume_panic(child.id, payload);
@@ -450,8 +465,25 @@ impl<'t, C> Ticker<'t, C> {
     /// waiting (KeepRunningUntilFailure after its child succeeded), or re-checks its
     /// children every tick (the reactive controls).
     #[inline]
-    pub(crate) fn stay_awake(&mut self) {
-        self.out.waits.awake = true;
+    pub(crate) fn stay_awake(&mut self, reason: crate::AwakeReason, node: NodeId) {
+        self.out.waits.keep_awake(reason, node);
+    }
+
+    /// After a sync leaf's call: unless its kind reads only the blackboard or it declared
+    /// what wakes it, it may read anything (see [`Waits::opaque`](super::sleep::Waits)).
+    #[inline(always)]
+    fn note_reads(&mut self, id: NodeId) {
+        if !self.out.reads.known() {
+            self.out.waits.opaque(id);
+        }
+    }
+
+    /// Says that node `id`, which completed in this pass, would not answer the same if
+    /// ticked again (it starts afresh: a Sleep sleeps again): a reactive node re-checking it
+    /// keeps the tree awake.
+    #[inline]
+    pub(crate) fn answers_otherwise_next(&mut self, id: NodeId) {
+        self.out.waits.opaque(id);
     }
 
     /// Records a node's own error; the first error of a pass wins.
@@ -557,25 +589,39 @@ macro_rules! dispatch {
             #[inline(never)]
             fn dispatch(&mut self, id: NodeId, def: &NodeDef<C>) -> NodeStatus {
                 match &def.kind {
-                    NodeKind::ConditionFn(f) => Status::from(f(self.ctx)).into(),
+                    NodeKind::ConditionFn(f) => {
+                        // A closure of the context: it may read anything.
+                        self.out.waits.opaque(id);
+                        Status::from(f(self.ctx)).into()
+                    }
                     $(NodeKind::$name(node) => node.tick(self, id, def),)*
                     NodeKind::SubTree(_) => decorator::subtree::tick(self, id, def),
                     NodeKind::Condition(c) => {
+                        self.out.reads.declare(c.reads_only_blackboard());
                         let h = self.handle(id);
-                        Status::from(c.check(&h)).into()
+                        let s = Status::from(c.check(&h));
+                        self.note_reads(id);
+                        s.into()
                     }
                     NodeKind::SharedCondition(s) => {
                         let bp = self.bp;
+                        let c = &bp.shared[s.index()];
+                        self.out.reads.declare(c.reads_only_blackboard());
                         let h = self.handle(id);
-                        Status::from(bp.shared[s.index()].check(&h)).into()
+                        let s = Status::from(c.check(&h));
+                        self.note_reads(id);
+                        s.into()
                     }
                     NodeKind::ActionFn(f) => {
+                        self.out.waits.opaque(id);
                         let s = f(self.ctx);
                         self.sync_result(id, s, "Action")
                     }
                     NodeKind::Action(a) => {
+                        self.out.reads.declare(a.reads_only_blackboard());
                         let mut h = self.handle(id);
                         let s = a.tick(&mut h);
+                        self.note_reads(id);
                         self.watch_if_noted();
                         self.sync_result(id, s, "Action")
                     }
@@ -587,11 +633,21 @@ macro_rules! dispatch {
                             }
                         }
                         self.out.waits.declared = false;
+                        self.out.reads.declare(false);
                         let s = self.tick_stateful(id);
+                        if self.out.reads.event() {
+                            self.out.waits.on_event();
+                        }
                         self.watch_if_noted();
                         if s == NodeStatus::Running {
                             self.rested = Some(id);
-                            self.out.waits.awake |= !self.out.waits.declared;
+                            if !self.out.waits.declared {
+                                self.stay_awake(crate::AwakeReason::UndeclaredLeaf, id);
+                            }
+                        } else {
+                            // Completed, it answered from its context: re-checked, it
+                            // could answer otherwise.
+                            self.out.waits.opaque(id);
                         }
                         s
                     }
@@ -599,7 +655,11 @@ macro_rules! dispatch {
                         let s = leaf::async_action::tick(self, id, &**action);
                         self.watch_if_noted();
                         // A future may rely on being polled every tick: it keeps the tree awake.
-                        self.out.waits.awake |= s == NodeStatus::Running;
+                        if s == NodeStatus::Running {
+                            self.stay_awake(crate::AwakeReason::AsyncLeaf, id);
+                        } else {
+                            self.out.waits.opaque(id);
+                        }
                         s
                     }
                     NodeKind::Custom(_) => self.tick_custom(id),

@@ -7,12 +7,16 @@
 use std::sync::Arc;
 use std::time::Duration;
 
-use neurotree_core::{Action, Blueprint, Builder, Handle, ParallelPolicy, StatefulAction, Status};
+use neurotree_core::{
+    Action, Blueprint, Builder, Condition, Handle, ParallelPolicy, StatefulAction, Status,
+};
 use proptest::prelude::*;
 
-/// What the leaves did, in order: (leaf, what, clock in ms).
+/// What the leaves did, in order: (leaf, what, clock in ms); and the context a
+/// [`Bell`] reads: how many times the program rang (it wakes the tree when it does); and
+/// the weather a closure condition reads, which changes without waking anyone.
 #[derive(Default, Debug, Clone, PartialEq)]
-pub struct Log(pub Vec<(u8, &'static str, u64)>);
+pub struct Log(pub Vec<(u8, &'static str, u64)>, pub u64, pub u64);
 
 /// A stateful action: Success once entry `k{key}` is true, Failure once `ms` has passed
 /// since it started; on completing it counts itself in entry `n{id}`. With `declare` it
@@ -99,12 +103,53 @@ impl Action<Log> for Tide {
     }
 }
 
+/// A condition of entry `k{key}` that says it reads only the blackboard: a reactive parent
+/// re-checking it lets the tree sleep.
+pub struct Pure(u8);
+
+impl Condition<Log> for Pure {
+    fn check(&self, h: &Handle<'_, Log>) -> bool {
+        h.blackboard()
+            .get::<bool>(&format!("k{}", self.0))
+            .unwrap_or(false)
+    }
+    fn reads_only_blackboard(&self) -> bool {
+        true
+    }
+}
+
+/// A condition of entry `k{key}` that declares, each time, the entry it waits on.
+pub struct Watch(u8);
+
+impl Condition<Log> for Watch {
+    fn check(&self, h: &Handle<'_, Log>) -> bool {
+        let key = format!("k{}", self.0);
+        h.wake_on(&key);
+        h.blackboard().get::<bool>(&key).unwrap_or(false)
+    }
+}
+
+/// A condition of the context: Success while the program has rung an even number of times.
+/// It declares `wake_on_handle`: the program wakes the tree when it rings.
+pub struct Bell;
+
+impl Condition<Log> for Bell {
+    fn check(&self, h: &Handle<'_, Log>) -> bool {
+        h.wake_on_handle();
+        h.ctx().1 & 1 == 0
+    }
+}
+
 /// A node of a random tree.
 #[derive(Clone, Debug)]
 pub enum Node {
     Waiter { key: u8, ms: u64, declare: bool },
     Check(u8),
     Tide(u64),
+    Pure(u8),
+    Watch(u8),
+    Bell,
+    Fair,
     Sleep(u64),
     Always(bool),
     Control(u8, Vec<Node>),
@@ -117,14 +162,18 @@ pub fn node() -> impl Strategy<Value = Node> {
             .prop_map(|(key, t, declare)| Node::Waiter { key, ms: t * 100, declare }),
         2 => (0u8..3).prop_map(Node::Check),
         2 => (2u64..9).prop_map(|t| Node::Tide(t * 100)),
+        2 => (0u8..3).prop_map(Node::Pure),
+        2 => (0u8..3).prop_map(Node::Watch),
+        1 => Just(Node::Bell),
+        1 => Just(Node::Fair),
         1 => (1u64..8).prop_map(|t| Node::Sleep(t * 100)),
         1 => any::<bool>().prop_map(Node::Always),
     ];
     leaf.prop_recursive(3, 16, 3, |inner| {
         prop_oneof![
-            (0u8..8, prop::collection::vec(inner.clone(), 1..4))
+            (0u8..9, prop::collection::vec(inner.clone(), 1..4))
                 .prop_map(|(kind, kids)| Node::Control(kind, kids)),
-            (0u8..8, 1u64..8, inner).prop_map(|(kind, t, kid)| Node::Decorator(
+            (0u8..9, 1u64..8, inner).prop_map(|(kind, t, kid)| Node::Decorator(
                 kind,
                 t * 100,
                 Box::new(kid)
@@ -149,6 +198,10 @@ pub fn add(b: Builder<Log>, node: &Node, ids: &mut u8) -> Builder<Log> {
         }
         Node::Check(key) => b.action_node("check", Check(*key)),
         Node::Tide(period) => b.action_node("tide", Tide(*period)),
+        Node::Pure(key) => b.condition_node("pure", Pure(*key)),
+        Node::Watch(key) => b.condition_node("watch", Watch(*key)),
+        Node::Bell => b.condition_node("bell", Bell),
+        Node::Fair => b.condition("fair", |log: &Log| log.2 & 1 == 0),
         Node::Sleep(ms) => b.sleep("sleep", Duration::from_millis(*ms)),
         Node::Always(true) => b.always_success("yes"),
         Node::Always(false) => b.always_failure("no"),
@@ -161,7 +214,9 @@ pub fn add(b: Builder<Log>, node: &Node, ids: &mut u8) -> Builder<Log> {
                 }
                 c
             };
-            let b = match kind % 8 {
+            let b = match kind % 9 {
+                7 if (2..=3).contains(&kids.len()) => b.while_do_else("while", children),
+                8 if kids.len() == 2 => b.service("service", Duration::from_millis(200), children),
                 0 => b.sequence("seq", children),
                 1 => b.fallback("fb", children),
                 2 => b.sequence_with_memory("mem", children),
@@ -178,7 +233,8 @@ pub fn add(b: Builder<Log>, node: &Node, ids: &mut u8) -> Builder<Log> {
             let mut ids2 = *ids;
             let child = |c: Builder<Log>| add(c, kid, &mut ids2);
             let d = Duration::from_millis(*ms);
-            let b = match kind % 8 {
+            let b = match kind % 9 {
+                8 => b.cooldown("cooldown", d, child),
                 0 => b.timeout("timeout", d, child),
                 1 => b.delay("delay", d, child),
                 2 => b.inverter("not", child),
@@ -212,6 +268,8 @@ pub enum Event {
     Wake,
     /// The program halts the tree.
     Halt,
+    /// The weather changes (the context), waking no one.
+    Weather,
 }
 
 pub fn event() -> impl Strategy<Value = Event> {
@@ -220,5 +278,6 @@ pub fn event() -> impl Strategy<Value = Event> {
         3 => (0u8..3, any::<bool>()).prop_map(|(k, v)| Event::Write(k, v)),
         1 => Just(Event::Wake),
         1 => Just(Event::Halt),
+        1 => Just(Event::Weather),
     ]
 }

@@ -137,6 +137,11 @@ impl ScriptHooks {
 }
 
 impl<C> NodeHooks<C> for ScriptHooks {
+    fn reads_only_blackboard(&self) -> bool {
+        // Scripts see the blackboard and the enums fixed at load.
+        true
+    }
+
     fn attributes(&self, f: &mut dyn FnMut(&str, &str)) {
         for (name, script) in self.scripts() {
             if let Some(script) = script {

@@ -153,6 +153,11 @@ impl<C> Action<C> for ScriptNode {
             }
         }
     }
+
+    fn reads_only_blackboard(&self) -> bool {
+        // A script sees the blackboard and the enums, which are fixed at load.
+        true
+    }
 }
 
 fn truthy(value: &Value) -> bool {
@@ -277,6 +282,8 @@ impl<C> CustomNode<C> for Precondition {
     }
 
     fn tick(&mut self, node: &mut NodeCtx<'_, '_, C>) -> NodeStatus {
+        // Its own answer reads the blackboard alone: a tree may sleep under it.
+        node.wakes_with_children();
         if !self.child_running {
             let enums = Arc::clone(&self.enums);
             let script = match self.script(node) {

@@ -604,6 +604,46 @@ impl<C: 'static> Registry<C> {
         Ok(())
     }
 
+    /// Registers a condition of its ports and the blackboard alone (no context, no clock):
+    /// a reactive node that re-checks it lets the tree sleep, waking when the blackboard is
+    /// written (see the guide's sleeping chapter).
+    ///
+    /// ```
+    /// use neurotree::{Inputs, PortSpec, Registry};
+    ///
+    /// let mut registry = Registry::<()>::new();
+    /// registry
+    ///     .register_port_condition("Hungry", vec![PortSpec::input::<u32>("food")], |i: &Inputs<'_, '_, ()>| {
+    ///         i.input::<u32>("food").unwrap_or(0) < 3
+    ///     })
+    ///     .unwrap();
+    /// ```
+    pub fn register_port_condition<F>(
+        &mut self,
+        name: &str,
+        ports: Vec<PortSpec>,
+        f: F,
+    ) -> Result<(), RegistryError>
+    where
+        F: Fn(&neurotree_core::nodes::leaf::Inputs<'_, '_, C>) -> bool + Send + Sync + 'static,
+    {
+        if self.types.contains_key(name) {
+            return Err(RegistryError::Duplicate(name.to_string()));
+        }
+        check_port_names(name, &ports)?;
+        let t = NodeType {
+            name: name.to_string(),
+            category: Category::Condition,
+            ports,
+            description: String::new(),
+            make: Make::Condition(Arc::new(neurotree_core::nodes::leaf::PortCondition(f))),
+            builtin: false,
+            semantics: Some(Semantics::new(Order::AllAtOnce, |_, _| Statuses::DONE)),
+        };
+        self.types.insert(name.to_string(), t);
+        Ok(())
+    }
+
     /// Registers a subtree made with the builder under a tree ID, so that XML files can use
     /// it as `<SubTree ID="name"/>` (with remapping, like any subtree) without a
     /// `<BehaviorTree>` of that ID. `add` receives the builder with the SubTree node open and

@@ -220,6 +220,7 @@ impl<'c, C> InPlaceFrame<'c, C> {
             visits: tally.visits,
             failures: tally.failures,
             errors: tally.errors,
+            awake: tally.awake,
             // Without a budget, no member is left owed.
             behind: super::Behind::default(),
         }

@@ -157,6 +157,7 @@ impl Plan {
             visits: u64::from(visits),
             ..Tally::default()
         };
+        tally.awake.count(&body.tree);
         match result {
             Ok(status) => {
                 self.status = FrameStatus::Ticked(status);
@@ -370,6 +371,8 @@ pub(super) struct Tally {
     pub(super) visits: u64,
     pub(super) failures: u64,
     pub(super) errors: u64,
+    /// Members ticked that stayed awake, by reason.
+    pub(super) awake: neurotree_core::AwakeCounts,
 }
 
 impl Tally {
@@ -381,6 +384,7 @@ impl Tally {
             visits: self.visits + o.visits,
             failures: self.failures + o.failures,
             errors: self.errors + o.errors,
+            awake: self.awake.merged(o.awake),
         }
     }
 }

@@ -164,6 +164,10 @@ pub struct FrameReport {
     pub errors: u64,
     /// How far behind the budget left the crowd, after the frame.
     pub behind: Behind,
+    /// The members ticked in the frame that stayed awake, by why (see
+    /// [`Tree::why_awake`](neurotree_core::Tree::why_awake)); those not ticked are not
+    /// counted.
+    pub awake: neurotree_core::AwakeCounts,
 }
 
 /// How far behind a crowd under a budget is.
@@ -546,6 +550,7 @@ impl<C: Send> Crowd<C> {
             visits: tally.visits,
             failures: tally.failures,
             errors: tally.errors,
+            awake: tally.awake,
             behind: self.behind(),
         }
     }

@@ -14,6 +14,7 @@
 //! | [IfThenElse](if_then_else) | pick a branch by a condition |
 //! | [WhileDoElse](while_do_else) | a branch by a condition re-checked every tick |
 //! | [TryCatch](try_catch) | a Sequence with a catch child |
+//! | [Service](service) | a child at an interval while the other runs |
 //!
 //! They differ in what they remember between ticks, whether they re-check earlier children,
 //! and whether they yield:
@@ -28,6 +29,7 @@
 //! - IfThenElse remembers the chosen branch.
 //! - WhileDoElse remembers nothing and re-checks the condition every tick.
 //! - TryCatch remembers as Sequence, then the catch child.
+//! - Service remembers when it last ticked its service child.
 //!
 //! No other control yields, and no other re-checks earlier children.
 //!
@@ -43,6 +45,7 @@ pub mod parallel;
 pub mod parallel_all;
 pub mod reactive;
 pub mod sequence;
+pub mod service;
 pub mod try_catch;
 pub mod while_do_else;
 

@@ -90,8 +90,15 @@ fn run<C, const SEQUENCE: bool, const FLAVOR: Flavor, const OBSERVED: bool>(
                 cursor = 0;
             }
             t.aux[slot] = pack(cursor, skipped);
+            if FLAVOR != PLAIN {
+                // Ticked again, it would yield between its children.
+                t.answers_otherwise_next(id);
+            }
             return stop;
         }
+    }
+    if FLAVOR != PLAIN {
+        t.answers_otherwise_next(id);
     }
     let all_skipped = skipped == n;
     t.reset_completed(children);
@@ -142,6 +149,8 @@ fn guard<C, const SEQUENCE: bool, const CLOSURES: bool>(
     };
     debug_assert!(!calls.is_empty());
     let decided = if CLOSURES {
+        // Closures of the context: they may read anything.
+        t.out.waits.opaque(id);
         let mut args = Args::new(&raw const *t.ctx);
         // SAFETY: a guard of closures' children are closure conditions of `C`
         // (`Child::new`), called with the context, which nothing else borrows meanwhile;
@@ -152,8 +161,12 @@ fn guard<C, const SEQUENCE: bool, const CLOSURES: bool>(
         let mut args = Args::new(t.handle(id));
         // SAFETY: as above, for `Condition` objects of `C`, called with a handle to the
         // ticker's state that only they use.
-        unsafe { calls::until::<_, SEQUENCE>(calls, &mut args) }
-            .map(|(call, answer)| (call.id, unsafe { args.panicked(answer) }))
+        let decided = unsafe { calls::until::<_, SEQUENCE>(calls, &mut args) }
+            .map(|(call, answer)| (call.id, unsafe { args.panicked(answer) }));
+        if t.out.reads.take_opaque() {
+            t.out.waits.opaque(id);
+        }
+        decided
     };
     match decided {
         None => {

@@ -86,6 +86,9 @@ pub(crate) fn tick<C>(
     t.set_status(id, NodeStatus::Running);
     for (index, hot_child) in hot.iter().enumerate() {
         let child = hot_child.id;
+        // Whether a child ticked before this one may read more than the blackboard: if
+        // this one runs, they are re-checked next tick.
+        let rechecks_opaque = t.out.waits.opaque;
         let status = t.tick_child::<true>(hot_child);
         all_skipped &= status == NodeStatus::Skipped;
         if status == NodeStatus::Running {
@@ -96,6 +99,10 @@ pub(crate) fn tick<C>(
                     }
                 }
             });
+            if rechecks_opaque {
+                let node = t.out.waits.opaque_node;
+                t.stay_awake(crate::AwakeReason::ReactiveCondition, node);
+            }
             let running = index as u64 + 1;
             if t.aux[slot] == 0 {
                 t.aux[slot] = running;
@@ -140,12 +147,21 @@ fn multiple_running<C>(t: &mut Ticker<'_, C>, id: NodeId, goal: Status) {
     );
 }
 
-/// `status`, keeping a sleeping tree awake if it is Running: the next tick re-checks the
-/// children, which cannot say what they read (see [`sleep`](crate::tree::sleep)).
+/// Runs `tick`, a node's that re-checks children every tick, telling it (through
+/// `Waits::opaque`) only about the leaves ticked under it; the leaves ticked before it are
+/// remembered again after. A tree sleeps under such a node when every child it re-checks
+/// reads only what wakes the tree (see [`sleep`](crate::tree::sleep)).
 #[inline(always)]
-pub(crate) fn stay_awake_while_running<C>(t: &mut Ticker<'_, C>, status: NodeStatus) -> NodeStatus {
-    if status == NodeStatus::Running {
-        t.stay_awake();
+pub(crate) fn rechecking<C>(
+    t: &mut Ticker<'_, C>,
+    tick: impl FnOnce(&mut Ticker<'_, C>) -> NodeStatus,
+) -> NodeStatus {
+    let outer = (t.out.waits.opaque, t.out.waits.opaque_node);
+    t.out.waits.opaque = false;
+    let status = tick(t);
+    if outer.0 {
+        t.out.waits.opaque = true;
+        t.out.waits.opaque_node = outer.1;
     }
     status
 }
@@ -170,8 +186,7 @@ impl Tick for ReactiveSequence {
 
     #[inline]
     fn tick<C>(&self, t: &mut Ticker<'_, C>, id: NodeId, def: &NodeDef<C>) -> NodeStatus {
-        let status = tick(t, id, def, Status::Success);
-        stay_awake_while_running(t, status)
+        rechecking(t, |t| tick(t, id, def, Status::Success))
     }
 
     fn halt<C>(&self, t: &mut Ticker<'_, C>, id: NodeId, _: &NodeDef<C>) {
@@ -205,8 +220,7 @@ impl Tick for ReactiveFallback {
 
     #[inline]
     fn tick<C>(&self, t: &mut Ticker<'_, C>, id: NodeId, def: &NodeDef<C>) -> NodeStatus {
-        let status = tick(t, id, def, Status::Failure);
-        stay_awake_while_running(t, status)
+        rechecking(t, |t| tick(t, id, def, Status::Failure))
     }
 
     fn halt<C>(&self, t: &mut Ticker<'_, C>, id: NodeId, _: &NodeDef<C>) {

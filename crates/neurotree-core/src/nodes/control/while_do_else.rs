@@ -93,9 +93,18 @@ impl Tick for WhileDoElse {
 
     #[inline]
     fn tick<C>(&self, t: &mut Ticker<'_, C>, id: NodeId, def: &NodeDef<C>) -> NodeStatus {
-        // The condition is re-checked every tick.
-        let status = tick(t, id, def);
-        super::reactive::stay_awake_while_running(t, status)
+        // The condition is re-checked every tick: the tree sleeps under a Running branch
+        // only if nothing ticked here may read more than the blackboard (the branch's
+        // leaves too, as a margin: they are not re-checked, but telling them apart would
+        // cost every tick).
+        super::reactive::rechecking(t, |t| {
+            let status = tick(t, id, def);
+            if status == NodeStatus::Running && t.out.waits.opaque {
+                let node = t.out.waits.opaque_node;
+                t.stay_awake(crate::AwakeReason::ReactiveCondition, node);
+            }
+            status
+        })
     }
 }
 

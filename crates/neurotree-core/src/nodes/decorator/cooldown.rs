@@ -46,7 +46,11 @@ pub(crate) fn tick<C>(
 ) -> NodeStatus {
     let slot = t.bp.slot(id);
     let now = t.now_nanos();
-    if moment::elapsed(t.aux[slot], now).is_some_and(|rested| rested < duration_to_nanos(period)) {
+    let period = duration_to_nanos(period);
+    if let Some(rested) = moment::elapsed(t.aux[slot], now).filter(|&rested| rested < period) {
+        // Its answer changes when the period is over: a reactive node re-checking it may
+        // let the tree sleep until then.
+        t.wake_at(now.saturating_add(period - rested));
         return NodeStatus::Failure;
     }
     t.set_status(id, NodeStatus::Running);
@@ -55,6 +59,8 @@ pub(crate) fn tick<C>(
     if status.is_completed() {
         t.aux[slot] = moment::at(now);
         t.halt_child(child);
+        // Next tick it fails, cooling down, whatever the child answered now.
+        t.answers_otherwise_next(id);
     }
     status
 }

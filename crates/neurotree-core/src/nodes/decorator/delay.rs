@@ -66,6 +66,9 @@ pub(crate) fn tick<C>(
     if status.is_completed() {
         t.aux[slot] = 0;
         t.halt_child(child);
+        if wait != 0 {
+            t.answers_otherwise_next(id);
+        }
     }
     status
 }

@@ -42,7 +42,7 @@ pub(crate) fn tick<C>(t: &mut Ticker<'_, C>, id: NodeId, def: &NodeDef<C>) -> No
         NodeStatus::Success => {
             t.halt_child(child);
             // Running with nothing under it waiting: the next tick starts the child again.
-            t.stay_awake();
+            t.stay_awake(crate::AwakeReason::RestartsChild, id);
             NodeStatus::Running
         }
         NodeStatus::Failure | NodeStatus::Idle => {
@@ -51,7 +51,7 @@ pub(crate) fn tick<C>(t: &mut Ticker<'_, C>, id: NodeId, def: &NodeDef<C>) -> No
         }
         NodeStatus::Running => NodeStatus::Running,
         NodeStatus::Skipped => {
-            t.stay_awake();
+            t.stay_awake(crate::AwakeReason::RestartsChild, id);
             NodeStatus::Running
         }
     }

@@ -90,6 +90,8 @@ pub(crate) fn tick<C, const REPEAT: bool>(
             return NodeStatus::Running;
         }
         t.halt_child(child);
+        // Completed, it would yield between its cycles if ticked again.
+        t.answers_otherwise_next(id);
         if status == NodeStatus::Skipped {
             // Skipped with its count kept, as BehaviorTree.CPP does.
             return NodeStatus::Skipped;

@@ -59,6 +59,7 @@ pub(crate) fn tick<C>(
             FAILED
         };
         t.halt_child(child);
+        t.answers_otherwise_next(id);
     }
     status
 }

@@ -77,6 +77,7 @@ pub(crate) fn tick<C>(
                 }
                 t.aux[slot] = moment::NONE;
                 t.note(id, Note::Gave(Reason::timed_out(limit)));
+                t.answers_otherwise_next(id);
                 return NodeStatus::Failure;
             }
             ran
@@ -108,6 +109,7 @@ fn finish_halt<C>(t: &mut Ticker<'_, C>, id: NodeId, limit: Duration) -> NodeSta
     }
     t.aux[t.bp.slot(id)] = moment::NONE;
     t.note(id, Note::Gave(Reason::timed_out(limit)));
+    t.answers_otherwise_next(id);
     NodeStatus::Failure
 }
 

@@ -23,7 +23,7 @@ pub mod sleep;
 pub mod with_handle;
 
 pub use async_action::{ActionFuture, AsyncAction, HaltFuture};
-pub use with_handle::{FnAction, FnCondition};
+pub use with_handle::{FnAction, FnCondition, Inputs, PortCondition};
 
 use core::time::Duration;
 
@@ -96,16 +96,20 @@ impl<'a, C> Handle<'a, C> {
     /// Says, when returning Running, that nothing changes for this action until the
     /// blackboard entry `key` is written: the sleeping tree wakes on a write (to any entry:
     /// the tree does not tell entries apart).
-    pub fn wake_on(&mut self, key: &str) {
+    ///
+    /// A condition (or a sync action) says it too: its answer changes only when the
+    /// blackboard is written, so a reactive node that re-checks it lets the tree sleep (see
+    /// [`sleep`](crate::tree::sleep)).
+    pub fn wake_on(&self, key: &str) {
         let _ = key;
-        self.out.waits.on_event();
+        self.out.reads.on_event();
     }
 
     /// Says, when returning Running, that nothing changes for this action until the
     /// program wakes the tree through a [`WakeHandle`](crate::tree::WakeHandle) (an event, a
-    /// message, another thread).
-    pub fn wake_on_handle(&mut self) {
-        self.out.waits.on_event();
+    /// message, another thread). A condition says it when its answer changes only then.
+    pub fn wake_on_handle(&self) {
+        self.out.reads.on_event();
     }
 
     /// The user's context.
@@ -347,6 +351,14 @@ pub(crate) fn read_input<T: FromPortStr + Any + Clone, C>(
 pub trait Condition<C>: Send + Sync + crate::blueprint::call::sealed::ConditionEntry<C> {
     /// `true` for Success, `false` for Failure.
     fn check(&self, h: &Handle<'_, C>) -> bool;
+
+    /// `true` if the answer depends on the blackboard and the node's ports alone (not the
+    /// context, the clock, the world): a reactive node that re-checks it lets the tree
+    /// sleep (see [`sleep`](crate::tree::sleep)). A condition that reads something else
+    /// may still declare, in `check`, what wakes it ([`Handle::wake_on_handle`]).
+    fn reads_only_blackboard(&self) -> bool {
+        false
+    }
 }
 
 /// A synchronous action: it completes within the tick; one object serves every instance.
@@ -356,6 +368,12 @@ pub trait Condition<C>: Send + Sync + crate::blueprint::call::sealed::ConditionE
 pub trait Action<C>: Send + Sync {
     /// Success or Failure; Running is a contract violation reported by the tick.
     fn tick(&self, h: &mut Handle<'_, C>) -> Status;
+
+    /// `true` if the result depends on the blackboard and the node's ports alone, as for
+    /// [`Condition::reads_only_blackboard`].
+    fn reads_only_blackboard(&self) -> bool {
+        false
+    }
 }
 
 /// An action that runs over several ticks, with per-instance state: started once, updated on

@@ -68,6 +68,7 @@ pub(crate) fn tick<C>(
     let wait = duration_to_nanos(wait);
     let slept = moment::elapsed(t.aux[slot], now).unwrap_or(u64::MAX);
     if slept >= wait {
+        t.answers_otherwise_next(id);
         NodeStatus::Success
     } else {
         t.wake_at(now.saturating_add(wait - slept));

@@ -51,3 +51,59 @@ where
         (self.0)(h)
     }
 }
+
+/// What a [`PortCondition`] sees: the node's ports and the blackboard, not the context nor
+/// the clock.
+pub struct Inputs<'h, 'a, C> {
+    h: &'h Handle<'a, C>,
+}
+
+impl<C> Inputs<'_, '_, C> {
+    /// Reads input port `port` (a literal, or the entry it names), as [`Handle::input`].
+    pub fn input<T: crate::blueprint::FromPortStr + core::any::Any + Clone>(
+        &self,
+        port: &str,
+    ) -> Result<T, crate::blueprint::PortError> {
+        self.h.input(port)
+    }
+
+    /// Reads `key` in the node's scope, as [`Handle::get`].
+    pub fn get<T: core::any::Any + Clone>(
+        &self,
+        key: &str,
+    ) -> Result<T, crate::blackboard::BlackboardError> {
+        self.h.get(key)
+    }
+
+    /// The node's name.
+    pub fn name(&self) -> &str {
+        self.h.name()
+    }
+}
+
+/// A [`Condition`] of the node's ports and blackboard alone: since it cannot read the
+/// context or the clock, a reactive node re-checking it lets the tree sleep (see
+/// [`sleep`](crate::tree::sleep)).
+///
+/// ```
+/// use neurotree_core::nodes::leaf::{Inputs, PortCondition};
+/// use neurotree_core::Condition;
+///
+/// let hungry = PortCondition(|i: &Inputs<'_, '_, ()>| i.input::<u32>("food").unwrap_or(0) < 3);
+/// assert!(Condition::<()>::reads_only_blackboard(&hungry));
+/// ```
+pub struct PortCondition<F>(pub F);
+
+impl<C, F> Condition<C> for PortCondition<F>
+where
+    F: Fn(&Inputs<'_, '_, C>) -> bool + Send + Sync,
+{
+    #[inline]
+    fn check(&self, h: &Handle<'_, C>) -> bool {
+        (self.0)(&Inputs { h })
+    }
+
+    fn reads_only_blackboard(&self) -> bool {
+        true
+    }
+}
