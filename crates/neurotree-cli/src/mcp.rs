@@ -107,8 +107,18 @@ pub fn execute(args: &McpArgs, err: &mut impl Write) -> io::Result<Outcome> {
         }
     };
     let stdin = io::stdin();
-    // `Stdout` rather than its lock, which cannot go to the calls' threads.
-    serve_with(&mut stdin.lock(), &mut io::stdout(), scratch.dir(), limits)?;
+    // The calls answer from threads of their own, and the caller may hold `Stdout`'s lock
+    // (the command line does, for every command): they write to the descriptor itself.
+    #[cfg(unix)]
+    let mut output = {
+        use std::os::fd::AsFd;
+        io::BufWriter::new(std::fs::File::from(
+            io::stdout().as_fd().try_clone_to_owned()?,
+        ))
+    };
+    #[cfg(not(unix))]
+    let mut output = io::stdout();
+    serve_with(&mut stdin.lock(), &mut output, scratch.dir(), limits)?;
     Ok(Outcome::Done)
 }
 
