@@ -9,17 +9,25 @@
 //!
 //! Everything is bounded: a message longer than [`MAX_MESSAGE_BYTES`] is refused (and
 //! skipped, never held whole), as is a tree longer than [`tools::MAX_XML_BYTES`]; runs are
-//! capped in ticks, and every call in wall time ([`CALL_TIME_LIMIT`]). Files are written
-//! only in a scratch folder made inside the folder the server was started in, and read
-//! only there. A malformed message is answered with a JSON-RPC error, and the server goes
-//! on serving.
+//! capped in ticks, and every call in wall time ([`CALL_TIME_LIMIT`] unless `--time-limit`
+//! says otherwise). A call past its time, or one the client cancels
+//! (`notifications/cancelled`), has its trees halted through their halt handles
+//! ([`HaltScope`]), so that its thread ends rather than running on. Calls run on threads
+//! of their own while the server reads on, at most as many at once as the machine has
+//! cores (`--max-calls`); a call past that is refused with a message saying so. Files are
+//! written only in a scratch folder made inside the folder the server was started in, and
+//! read only there. A malformed message is answered with a JSON-RPC error, and the server
+//! goes on serving.
 
+use std::collections::HashMap;
 use std::io::{self, BufRead, Write};
-use std::path::PathBuf;
-use std::sync::mpsc;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::{mpsc, Mutex, PoisonError};
 use std::thread;
 use std::time::Duration;
 
+use neurotree::runtime::HaltScope;
 use serde_json::{json, Value};
 
 use crate::Outcome;
@@ -41,7 +49,6 @@ const PARSE_ERROR: i64 = -32700;
 const INVALID_REQUEST: i64 = -32600;
 const METHOD_NOT_FOUND: i64 = -32601;
 const INVALID_PARAMS: i64 = -32602;
-const INTERNAL_ERROR: i64 = -32603;
 /// MCP's: the revision a request names is not served.
 const UNSUPPORTED_VERSION: i64 = -32022;
 
@@ -54,10 +61,44 @@ const VERSION_KEY: &str = "io.modelcontextprotocol/protocolVersion";
     after_help = "Configure an assistant to start `neurotree mcp` in the folder of \
 its trees; see docs/guide/mcp.md."
 )]
-pub struct McpArgs {}
+pub struct McpArgs {
+    /// The longest a tool call may take, in seconds: its trees are then halted and the
+    /// call answered with an error.
+    #[arg(long, value_name = "SECONDS", default_value_t = CALL_TIME_LIMIT.as_secs(), value_parser = clap::value_parser!(u64).range(1..=3600))]
+    time_limit: u64,
+    /// The most tool calls run at once (default: the machine's cores); a call past that is
+    /// refused.
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..=1024))]
+    max_calls: Option<u64>,
+}
+
+/// How much a server's calls may take.
+#[derive(Clone, Copy, Debug)]
+pub struct Limits {
+    /// The longest a call may take.
+    pub call_time: Duration,
+    /// The most calls run at once.
+    pub calls_at_once: usize,
+}
+
+impl Default for Limits {
+    fn default() -> Self {
+        Self {
+            call_time: CALL_TIME_LIMIT,
+            calls_at_once: thread::available_parallelism().map_or(1, usize::from),
+        }
+    }
+}
 
 /// Serves requests from standard input until it closes.
-pub fn execute(_args: &McpArgs, err: &mut impl Write) -> io::Result<Outcome> {
+pub fn execute(args: &McpArgs, err: &mut impl Write) -> io::Result<Outcome> {
+    let mut limits = Limits {
+        call_time: Duration::from_secs(args.time_limit),
+        ..Limits::default()
+    };
+    if let Some(n) = args.max_calls {
+        limits.calls_at_once = n as usize;
+    }
     let scratch = match scratch::Scratch::in_current_dir() {
         Ok(scratch) => scratch,
         Err(e) => {
@@ -66,41 +107,208 @@ pub fn execute(_args: &McpArgs, err: &mut impl Write) -> io::Result<Outcome> {
         }
     };
     let stdin = io::stdin();
-    let stdout = io::stdout();
-    serve(&mut stdin.lock(), &mut stdout.lock(), scratch.dir())?;
+    // The calls answer from threads of their own, and the caller may hold `Stdout`'s lock
+    // (the command line does, for every command): they write to the descriptor itself.
+    #[cfg(unix)]
+    let mut output = {
+        use std::os::fd::AsFd;
+        io::BufWriter::new(std::fs::File::from(
+            io::stdout().as_fd().try_clone_to_owned()?,
+        ))
+    };
+    #[cfg(not(unix))]
+    let mut output = io::stdout();
+    serve_with(&mut stdin.lock(), &mut output, scratch.dir(), limits)?;
     Ok(Outcome::Done)
 }
 
-/// Answers each message of `input` on `output`, one line each, until `input` ends.
-pub fn serve(
+/// Answers each message of `input` on `output`, one line each, until `input` ends and
+/// every call under way has been answered. Tool calls run on threads of their own, so
+/// their answers may come after those of later messages.
+pub fn serve_with(
     input: &mut impl BufRead,
-    output: &mut impl Write,
-    scratch: &std::path::Path,
+    output: &mut (impl Write + Send),
+    scratch: &Path,
+    limits: Limits,
 ) -> io::Result<()> {
+    let output = Mutex::new(output);
+    let running = AtomicUsize::new(0);
+    let cancels: Mutex<HashMap<String, mpsc::Sender<Event>>> = Mutex::new(HashMap::new());
     let mut server = Server {
         scratch: scratch.to_path_buf(),
         calls: 0,
     };
-    let mut line = Vec::new();
-    loop {
-        match read_message(input, &mut line)? {
-            Read::End => return Ok(()),
-            Read::TooLong => {
-                let message = format!("the message is longer than {MAX_MESSAGE_BYTES} bytes");
-                send(output, &error(Value::Null, INVALID_REQUEST, &message))?;
-            }
-            Read::Line => {
-                if let Some(answer) = server.answer(&line) {
-                    send(output, &answer)?;
+    thread::scope(|scope| {
+        let mut line = Vec::new();
+        loop {
+            match read_message(input, &mut line)? {
+                Read::End => return Ok(()),
+                Read::TooLong => {
+                    let message = format!("the message is longer than {MAX_MESSAGE_BYTES} bytes");
+                    send(&output, &error(Value::Null, INVALID_REQUEST, &message))?;
                 }
+                Read::Line => match server.answer(&line) {
+                    None => {}
+                    Some(Reply::Now(answer)) => send(&output, &answer)?,
+                    Some(Reply::Cancel(id)) => {
+                        let key = id.to_string();
+                        if let Some(cancel) = lock(&cancels).get(&key) {
+                            let _ = cancel.send(Event::Cancelled);
+                        }
+                    }
+                    Some(Reply::Call(call)) => {
+                        if running.load(Ordering::SeqCst) >= limits.calls_at_once {
+                            let busy = call.answer(Err(format!(
+                                "the server runs at most {} calls at once, and that many are running; call again once one has been answered",
+                                limits.calls_at_once
+                            )));
+                            send(&output, &busy)?;
+                            continue;
+                        }
+                        running.fetch_add(1, Ordering::SeqCst);
+                        let key = call.id.to_string();
+                        let (events, inbox) = mpsc::channel();
+                        lock(&cancels).insert(key.clone(), events.clone());
+                        let (output, running, cancels) = (&output, &running, &cancels);
+                        scope.spawn(move || {
+                            let answer = call.run(limits.call_time, events, &inbox);
+                            lock(cancels).remove(&key);
+                            running.fetch_sub(1, Ordering::SeqCst);
+                            if let Some(answer) = answer {
+                                // The client may be gone; the server stops when its input ends.
+                                let _ = send(output, &answer);
+                            }
+                        });
+                    }
+                },
             }
         }
+    })
+}
+
+fn lock<T>(mutex: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
+    mutex.lock().unwrap_or_else(PoisonError::into_inner)
+}
+
+fn send(output: &Mutex<&mut (impl Write + Send)>, message: &Value) -> io::Result<()> {
+    let mut output = lock(output);
+    writeln!(output, "{message}")?;
+    output.flush()
+}
+
+/// What a call's watcher hears: the tool's outcome, or the client's cancellation.
+enum Event {
+    Done(Result<Value, String>),
+    Cancelled,
+}
+
+/// What a message asks of the server.
+enum Reply {
+    /// This answer, at once.
+    Now(Value),
+    /// A tool call, to run on a thread of its own.
+    Call(Call),
+    /// The client cancelled the request with this id.
+    Cancel(Value),
+}
+
+/// A tool call, checked and ready to run.
+struct Call {
+    id: Value,
+    name: String,
+    arguments: Value,
+    /// Its folder in the scratch folder.
+    dir: PathBuf,
+    /// The request named the current revision: its result is marked.
+    modern: bool,
+}
+
+impl Call {
+    /// Runs the tool on a thread of its own, within `limit`; its answer, or `None` if the
+    /// client cancelled it. At the limit or on a cancellation, the call's trees are halted
+    /// and its thread is waited for (once more `limit` at most).
+    fn run(
+        self,
+        limit: Duration,
+        events: mpsc::Sender<Event>,
+        inbox: &mpsc::Receiver<Event>,
+    ) -> Option<Value> {
+        let halt = HaltScope::new();
+        let (name, arguments, dir) = (self.name.clone(), self.arguments.clone(), self.dir.clone());
+        let trees = halt.clone();
+        let started = thread::Builder::new()
+            .name(format!("mcp-{name}"))
+            // The loader and the engine are tested on 2 MiB threads; give them room.
+            .stack_size(8 << 20)
+            .spawn(move || {
+                let _entered = trees.enter();
+                let outcome = tools::call(&name, &arguments, &dir);
+                let _ = std::fs::remove_dir_all(&dir);
+                let _ = events.send(Event::Done(outcome));
+            });
+        if let Err(e) = started {
+            return Some(self.answer(Err(format!("cannot start the call: {e}"))));
+        }
+        let outcome = match inbox.recv_timeout(limit) {
+            Ok(Event::Done(outcome)) => outcome,
+            Ok(Event::Cancelled) => {
+                halt.halt();
+                wait_for_end(inbox, limit);
+                return None;
+            }
+            Err(mpsc::RecvTimeoutError::Timeout) => {
+                halt.halt();
+                let ended = wait_for_end(inbox, limit);
+                Err(format!(
+                    "the call took longer than {} s; {}; give fewer ticks or a smaller tree",
+                    limit.as_secs(),
+                    if ended {
+                        "its trees were halted"
+                    } else {
+                        "it was abandoned"
+                    }
+                ))
+            }
+            Err(mpsc::RecvTimeoutError::Disconnected) => {
+                Err("the call ended without an answer".to_string())
+            }
+        };
+        Some(self.answer(outcome))
+    }
+
+    /// The JSON-RPC answer carrying the tool's `outcome`: a tool's failure is the tool's
+    /// answer, for the model to read (MCP's rule).
+    fn answer(&self, outcome: Result<Value, String>) -> Value {
+        let mut result = match outcome {
+            Ok(result) => json!({
+                "content": [{ "type": "text", "text": text_of(&result) }],
+                "structuredContent": result,
+                "isError": false,
+            }),
+            Err(message) => json!({
+                "content": [{ "type": "text", "text": message }],
+                "isError": true,
+            }),
+        };
+        if self.modern {
+            result["resultType"] = json!("complete");
+        }
+        json!({ "jsonrpc": "2.0", "id": self.id, "result": result })
     }
 }
 
-fn send(output: &mut impl Write, message: &Value) -> io::Result<()> {
-    writeln!(output, "{message}")?;
-    output.flush()
+/// Waits, `limit` at most, for the call's thread to give its outcome (dropped: the call
+/// was halted or cancelled); `true` if it did.
+fn wait_for_end(inbox: &mpsc::Receiver<Event>, limit: Duration) -> bool {
+    let until = std::time::Instant::now() + limit;
+    loop {
+        let left = until.saturating_duration_since(std::time::Instant::now());
+        match inbox.recv_timeout(left) {
+            Ok(Event::Done(_)) => return true,
+            Ok(Event::Cancelled) => {}
+            Err(_) => return false,
+        }
+    }
 }
 
 /// What reading a message gave.
@@ -163,19 +371,33 @@ struct Server {
 }
 
 impl Server {
-    /// The answer to one message, or `None` for a notification.
-    fn answer(&mut self, line: &[u8]) -> Option<Value> {
+    /// What to do about one message: nothing for a notification other than a cancellation.
+    fn answer(&mut self, line: &[u8]) -> Option<Reply> {
+        self.reply(line).map(|reply| match reply {
+            Ok(reply) => reply,
+            Err(answer) => Reply::Now(answer),
+        })
+    }
+
+    /// As [`answer`](Self::answer), an answer given at once as `Err`.
+    fn reply(&mut self, line: &[u8]) -> Option<Result<Reply, Value>> {
         let message: Value = match serde_json::from_slice(line) {
             Ok(message) => message,
-            Err(e) => return Some(error(Value::Null, PARSE_ERROR, &format!("not JSON: {e}"))),
+            Err(e) => {
+                return Some(Err(error(
+                    Value::Null,
+                    PARSE_ERROR,
+                    &format!("not JSON: {e}"),
+                )))
+            }
         };
         let Value::Object(message) = message else {
             // Batches were removed from MCP in 2025-06-18.
-            return Some(error(
+            return Some(Err(error(
                 Value::Null,
                 INVALID_REQUEST,
                 "a message must be one JSON object",
-            ));
+            )));
         };
         let id = message.get("id").cloned();
         let method = message.get("method").and_then(Value::as_str);
@@ -188,25 +410,36 @@ impl Server {
             } else {
                 Value::Null
             };
-            return (!response).then(|| error(id, INVALID_REQUEST, "not a JSON-RPC 2.0 request"));
+            return (!response)
+                .then(|| Err(error(id, INVALID_REQUEST, "not a JSON-RPC 2.0 request")));
         };
         let Some(id) = id else {
-            // A notification (`notifications/initialized`, `notifications/cancelled`).
-            return None;
+            // A notification: `notifications/cancelled` names a call to stop; others
+            // (`notifications/initialized`) ask nothing.
+            return (method == "notifications/cancelled")
+                .then(|| message.get("params")?.get("requestId").cloned())
+                .flatten()
+                .map(|id| Ok(Reply::Cancel(id)));
         };
         if !valid_id {
-            return Some(error(
+            return Some(Err(error(
                 Value::Null,
                 INVALID_REQUEST,
                 "the id must be a string or a number",
-            ));
+            )));
         }
         let params = message.get("params").cloned().unwrap_or(json!({}));
         if !params.is_object() {
-            return Some(error(id, INVALID_PARAMS, "params must be an object"));
+            return Some(Err(error(id, INVALID_PARAMS, "params must be an object")));
         }
         Some(match self.request(method, &params) {
-            Ok(result) => json!({ "jsonrpc": "2.0", "id": id, "result": result }),
+            Ok(Answer::Result(result)) => {
+                Err(json!({ "jsonrpc": "2.0", "id": id, "result": result }))
+            }
+            Ok(Answer::Call(mut call)) => {
+                call.id = id;
+                Ok(Reply::Call(call))
+            }
             Err(Refusal {
                 code,
                 message,
@@ -216,12 +449,12 @@ impl Server {
                 if let Some(data) = data {
                     answer["error"]["data"] = data;
                 }
-                answer
+                Err(answer)
             }
         })
     }
 
-    fn request(&mut self, method: &str, params: &Value) -> Result<Value, Refusal> {
+    fn request(&mut self, method: &str, params: &Value) -> Result<Answer, Refusal> {
         let modern = match params.pointer(&format!("/_meta/{}", VERSION_KEY.replace('/', "~1"))) {
             None => false,
             Some(version) if version == MODERN => true,
@@ -252,7 +485,7 @@ impl Server {
                 }
                 list
             }
-            "tools/call" => self.call(params)?,
+            "tools/call" => return Ok(Answer::Call(self.call(params, modern)?)),
             other => {
                 return Err(Refusal::new(
                     METHOD_NOT_FOUND,
@@ -263,11 +496,11 @@ impl Server {
         if modern || method == "server/discover" {
             result["resultType"] = json!("complete");
         }
-        Ok(result)
+        Ok(Answer::Result(result))
     }
 
-    /// Runs a tool on its own thread, so that a call that takes too long is answered.
-    fn call(&mut self, params: &Value) -> Result<Value, Refusal> {
+    /// The tool call `params` asks for, checked, to run on a thread of its own.
+    fn call(&mut self, params: &Value, modern: bool) -> Result<Call, Refusal> {
         let name = params
             .get("name")
             .and_then(Value::as_str)
@@ -287,38 +520,20 @@ impl Server {
             ));
         }
         self.calls += 1;
-        let dir = self.scratch.join(format!("call-{}", self.calls));
-        let (send, receive) = mpsc::channel();
-        thread::Builder::new()
-            .name(format!("mcp-{name}"))
-            // The loader and the engine are tested on 2 MiB threads; give them room.
-            .stack_size(8 << 20)
-            .spawn(move || {
-                let outcome = tools::call(&name, &arguments, &dir);
-                let _ = std::fs::remove_dir_all(&dir);
-                let _ = send.send(outcome);
-            })
-            .map_err(|e| Refusal::new(INTERNAL_ERROR, format!("cannot start the call: {e}")))?;
-        let outcome = match receive.recv_timeout(CALL_TIME_LIMIT) {
-            Ok(outcome) => outcome,
-            Err(_) => Err(format!(
-                "the call took longer than {} s and was abandoned; give fewer ticks",
-                CALL_TIME_LIMIT.as_secs()
-            )),
-        };
-        Ok(match outcome {
-            Ok(result) => json!({
-                "content": [{ "type": "text", "text": text_of(&result) }],
-                "structuredContent": result,
-                "isError": false,
-            }),
-            // A tool's failure is the tool's answer, for the model to read (MCP's rule).
-            Err(message) => json!({
-                "content": [{ "type": "text", "text": message }],
-                "isError": true,
-            }),
+        Ok(Call {
+            id: Value::Null,
+            name,
+            arguments,
+            dir: self.scratch.join(format!("call-{}", self.calls)),
+            modern,
         })
     }
+}
+
+/// What a request gets: its result at once, or a tool call to run.
+enum Answer {
+    Result(Value),
+    Call(Call),
 }
 
 /// A tool's structured result as the text content that goes with it.
@@ -390,10 +605,15 @@ mod tests {
 
     /// The answers to `lines`, one per message that has one.
     fn answers(lines: &[&str]) -> Vec<Value> {
+        answers_within(lines, Limits::default())
+    }
+
+    /// The answers to `lines` from a server under `limits`, in the order they were sent.
+    fn answers_within(lines: &[&str], limits: Limits) -> Vec<Value> {
         let dir = tempfile::tempdir().unwrap();
         let input = lines.join("\n") + "\n";
         let mut output = Vec::new();
-        serve(&mut input.as_bytes(), &mut output, dir.path()).unwrap();
+        serve_with(&mut input.as_bytes(), &mut output, dir.path(), limits).unwrap();
         String::from_utf8(output)
             .unwrap()
             .lines()
@@ -552,5 +772,108 @@ mod tests {
             assert!(text.contains("include"), "{tool}: {text}");
             assert!(!text.contains("root:"), "{tool}: {text}");
         }
+    }
+
+    /// A `run_scenario` call (id `id`) that takes far longer than a second: 10,000 passes
+    /// over 20,000 leaves.
+    fn slow_call(id: u32) -> String {
+        let leaves = "<AlwaysSuccess/>".repeat(20_000);
+        let xml = format!(
+            r#"<root BTCPP_format="4"><BehaviorTree ID="M"><Repeat num_cycles="-1"><Sequence>{leaves}</Sequence></Repeat></BehaviorTree></root>"#
+        );
+        json!({"jsonrpc":"2.0","id":id,"method":"tools/call","params":{"name":"run_scenario","arguments":{"xml":xml,"scenario":"ticks = 10000"}}}).to_string()
+    }
+
+    const FILE_IN_MESSAGES: &str = "tree.xml:";
+
+    fn cancel(id: u32) -> String {
+        json!({"jsonrpc":"2.0","method":"notifications/cancelled","params":{"requestId":id,"reason":"enough"}}).to_string()
+    }
+
+    #[test]
+    fn run_scenario_s_ticks_are_capped_as_run_tree_s() {
+        let xml =
+            r#"<root BTCPP_format="4"><BehaviorTree ID="M"><AlwaysSuccess/></BehaviorTree></root>"#;
+        let result = call(
+            "run_scenario",
+            json!({ "xml": xml, "scenario": "ticks = 4294967295" }),
+        );
+        assert_eq!(result["isError"], true);
+        let text = result["content"][0]["text"].as_str().unwrap();
+        assert!(
+            text.contains("4294967295") && text.contains("10000"),
+            "{text}"
+        );
+        let result = call(
+            "run_scenario",
+            json!({ "xml": xml, "scenario": "ticks = 10000" }),
+        );
+        assert_eq!(result["structuredContent"]["passed"], true, "{result}");
+    }
+
+    #[test]
+    fn a_call_past_its_time_has_its_tree_halted_and_the_server_goes_on() {
+        let limits = Limits {
+            call_time: Duration::from_secs(1),
+            calls_at_once: 2,
+        };
+        let got = answers_within(&[&slow_call(1), PING], limits);
+        // The ping is answered while the call runs; the call, once its tree was halted.
+        assert_eq!(got[0]["id"], 9);
+        assert_eq!(got[1]["id"], 1);
+        assert_eq!(got[1]["result"]["isError"], true);
+        let text = got[1]["result"]["content"][0]["text"].as_str().unwrap();
+        assert!(text.contains("its trees were halted"), "{text}");
+    }
+
+    #[test]
+    fn a_cancelled_call_is_halted_and_not_answered() {
+        // Had the cancellation been ignored, the call would have been answered at its
+        // time limit.
+        let got = answers(&[&slow_call(1), &cancel(1), PING]);
+        assert_eq!(got, [json!({"jsonrpc":"2.0","id":9,"result":{}})]);
+    }
+
+    #[test]
+    fn calls_past_the_most_at_once_are_refused() {
+        let limits = Limits {
+            call_time: CALL_TIME_LIMIT,
+            calls_at_once: 1,
+        };
+        let got = answers_within(&[&slow_call(1), &slow_call(2), &cancel(1), PING], limits);
+        assert_eq!(got.len(), 2, "{got:?}");
+        assert_eq!(got[0]["id"], 2);
+        let text = got[0]["result"]["content"][0]["text"].as_str().unwrap();
+        assert!(text.contains("at most 1 calls at once"), "{text}");
+        assert_eq!(got[1]["id"], 9);
+    }
+
+    #[test]
+    fn an_include_outside_the_call_is_refused_alike_whether_or_not_it_exists() {
+        let message = |path: &str| {
+            let xml = format!(
+                r#"<root BTCPP_format="4"><include path="{path}"/><BehaviorTree ID="M"><AlwaysSuccess/></BehaviorTree></root>"#
+            );
+            let result = call("run_tree", json!({ "xml": xml }));
+            assert_eq!(result["isError"], true);
+            result["content"][0]["text"].as_str().unwrap().to_string()
+        };
+        let exists = std::env::current_exe().unwrap();
+        let exists = format!("../../../../../../../../..{}", exists.display());
+        let missing = "../../../../../../../../../no/such/file.xml";
+        let (a, b) = (message(&exists), message(missing));
+        assert!(a.contains("outside the base directory"), "{a}");
+        assert_eq!(strip_call_dir(&a), strip_call_dir(&b));
+    }
+
+    /// `text` without the call's own folder and the paths, which differ from call to call.
+    fn strip_call_dir(text: &str) -> String {
+        let text = text
+            .split_once(FILE_IN_MESSAGES)
+            .map_or(text, |(_, rest)| rest);
+        text.split('`')
+            .enumerate()
+            .map(|(i, part)| if i % 2 == 1 { "`…`" } else { part })
+            .collect()
     }
 }

@@ -350,6 +350,7 @@ pub fn execute(opts: &RunArgs, out: &mut impl Write, err: &mut impl Write) -> io
     };
     let clock = ManualClock::new();
     let mut tree = Tree::with_clock(Arc::clone(&blueprint), clock.clone());
+    neurotree::runtime::attach(&mut tree);
     for (key, value) in &opts.sets {
         write_text(tree.blackboard_mut(), key, value);
     }

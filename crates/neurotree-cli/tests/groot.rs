@@ -248,6 +248,18 @@ fn a_client_finds_the_last_statuses_and_blackboard_after_the_run() {
     assert_eq!(blackboard[1], expected);
 }
 
+/// The reference this test compares with is missing: the test fails, since a run without it
+/// proves nothing, unless `NEUROTREE_ALLOW_SKIP=1` says this machine goes without it.
+fn reference_missing(why: &str) {
+    if std::env::var("NEUROTREE_ALLOW_SKIP").as_deref() == Ok("1") {
+        use std::io::Write as _;
+        // Straight to stderr, past the test harness's capture, so that the run says so.
+        let _ = writeln!(std::io::stderr(), "skipped (NEUROTREE_ALLOW_SKIP=1): {why}");
+    } else {
+        panic!("{why}; `.ci/run` installs it, or set NEUROTREE_ALLOW_SKIP=1 to skip");
+    }
+}
+
 /// `btview`, from `$BTVIEW` or the `PATH`.
 fn btview() -> Option<PathBuf> {
     if let Some(path) = std::env::var_os("BTVIEW") {
@@ -277,7 +289,7 @@ fn run_btview(btview: &PathBuf, args: &[&str]) -> String {
 #[test]
 fn btview_shows_the_tree_its_statuses_and_its_blackboard() {
     let Some(btview) = btview() else {
-        println!("note: btview is not on PATH (pip install btview==0.2.0); skipping");
+        reference_missing("btview is neither in $BTVIEW nor on PATH (pip install btview==0.2.0)");
         return;
     };
     let file = corpus("nav2/navigate_to_pose_w_bounds_check.xml");

@@ -18,6 +18,7 @@ mod cli_utility;
 mod demo;
 mod groot;
 mod live;
+mod mcp_bounds;
 mod resume_random;
 mod ros2;
 mod studio;

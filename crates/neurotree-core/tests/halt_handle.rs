@@ -9,11 +9,11 @@ use crate::counting_alloc;
 
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{mpsc, Arc, Mutex};
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 use neurotree_core::{
-    Blueprint, Builder, HaltHandle, Handle, ManualClock, NodeStatus, StatefulAction, Status,
-    SystemClock, TickError, Tree,
+    Blueprint, Builder, Clock, HaltHandle, Handle, ManualClock, NodeStatus, StatefulAction, Status,
+    TickError, Tree, HALT_POLL_PERIOD,
 };
 
 /// Per action: what happened to its runs.
@@ -349,37 +349,53 @@ fn halts_requested_from_another_thread_while_ticking_end_every_run_exactly_once(
     assert!(lab.books.iter().any(|b| b.halts > 0));
 }
 
-/// Runs `work` on its own thread and returns its result, failing the test if it takes
-/// longer than five seconds (a wait that ignored the request would take ten).
-fn within_five_seconds<T: Send + 'static>(work: impl FnOnce() -> T + Send + 'static) -> T {
-    let (done, result) = mpsc::channel();
-    std::thread::spawn(move || {
-        // The receiver is gone only if the watchdog already failed the test.
-        let _ = done.send(work());
-    });
-    result
-        .recv_timeout(Duration::from_secs(5))
-        .expect("the work did not finish within 5 s")
+/// A manual clock whose first wait lets another thread act before it lets time pass: the
+/// test knows the tree is waiting when the other thread acts, with no wall time involved.
+struct GateClock {
+    time: ManualClock,
+    /// Told when the first wait starts.
+    waiting: Mutex<Option<mpsc::Sender<()>>>,
+    /// Says when the first wait may go on.
+    go: Mutex<mpsc::Receiver<()>>,
+}
+
+impl Clock for GateClock {
+    fn now(&self) -> Duration {
+        self.time.now()
+    }
+
+    fn wait(&self, period: Duration) {
+        if let Some(waiting) = self.waiting.lock().unwrap().take() {
+            waiting.send(()).unwrap();
+            self.go.lock().unwrap().recv().unwrap();
+        }
+        self.time.wait(period);
+    }
 }
 
 #[test]
 fn a_request_from_another_thread_ends_a_long_wait_of_tick_while_running() {
+    let (waiting, asleep) = mpsc::channel();
+    let (go, gate) = mpsc::channel();
+    let clock = GateClock {
+        time: ManualClock::new(),
+        waiting: Mutex::new(Some(waiting)),
+        go: Mutex::new(gate),
+    };
     let bp = two_forever(Blueprint::builder()).build_shared().unwrap();
-    let mut tree = Tree::with_clock(bp, SystemClock::new());
+    let mut tree = Tree::with_clock(bp, clock);
     let handle = tree.halt_handle();
     let requester = std::thread::spawn(move || {
-        std::thread::sleep(Duration::from_millis(100));
+        asleep.recv().unwrap();
         handle.request();
+        go.send(()).unwrap();
     });
-    let (result, took, lab) = within_five_seconds(move || {
-        let mut lab = Lab::new(2);
-        let started = Instant::now();
-        let result = tree.tick_while_running(&mut lab, Duration::from_secs(10));
-        (result, started.elapsed(), lab)
-    });
+    let mut lab = Lab::new(2);
+    let result = tree.tick_while_running(&mut lab, Duration::from_secs(10));
     requester.join().unwrap();
     assert_eq!(result, Err(TickError::HaltRequested));
-    assert!(took < Duration::from_secs(1), "took {took:?}");
+    // The wait of 10 s ended after the slice in which the request came.
+    assert_eq!(tree.now(), HALT_POLL_PERIOD);
     // One tick before the wait; the request ended the wait and was served.
     assert_eq!(lab.starts(), [1, 1]);
     assert_eq!(lab.halts(), [1, 1]);

@@ -112,6 +112,35 @@ pub(crate) fn raise_in_tree(error: PyErr, summary: String) -> ! {
     std::panic::resume_unwind(Box::new(summary))
 }
 
+/// Keeps `error` for the caller of the call under way on this thread, without ending it:
+/// for user code whose failure the engine can only see as "nothing" (a `save_state` that
+/// raised), or that runs where nothing may unwind.
+pub(crate) fn keep_raised(error: PyErr) {
+    RAISED.with(|r| {
+        let mut r = r.borrow_mut();
+        if r.is_none() {
+            *r = Some(error);
+        }
+    });
+}
+
+/// Takes the exception kept by the call under way on this thread, if any.
+pub(crate) fn take_raised() -> Option<PyErr> {
+    RAISED.with(|r| r.borrow_mut().take())
+}
+
+static TREE_BUSY: GILOnceCell<Py<PyType>> = GILOnceCell::new();
+
+/// Keeps the class of `TreeBusy`.
+pub(crate) fn bind_busy(py: Python<'_>, busy: &Bound<'_, PyType>) {
+    let _ = TREE_BUSY.set(py, busy.clone().unbind());
+}
+
+/// `TreeBusy(message)`.
+pub(crate) fn tree_busy(py: Python<'_>, message: &str) -> PyErr {
+    make(py, &TREE_BUSY, (message.to_owned(),))
+}
+
 /// Forgets an exception kept by a tick that did not report it.
 pub(crate) fn forget_raised() {
     RAISED.with(|r| r.borrow_mut().take());

@@ -213,14 +213,15 @@ impl StatefulAction<Ctx> for PyStateful {
     }
 
     /// The instance's `save_state()` (by default, `StatefulAction` pickles its attributes).
+    /// An exception, or a result that is not bytes, is kept for `Tree.save_state` to raise.
     fn save_state(&self) -> Option<Vec<u8>> {
         Python::with_gil(|py| {
             let object = self.object.as_ref().ok()?;
             let saved = object
                 .bind(py)
                 .call_method0(intern!(py, "save_state"))
-                .ok()?;
-            saved.extract::<Vec<u8>>().ok()
+                .and_then(|saved| saved.extract::<Vec<u8>>());
+            saved.map_err(crate::errors::keep_raised).ok()
         })
     }
 

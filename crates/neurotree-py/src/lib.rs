@@ -37,10 +37,18 @@ fn _bind(
     Ok(())
 }
 
+/// Hands the module the package's `TreeBusy` class, which it raises when a tree is used
+/// while it is ticked.
+#[pyfunction]
+fn _bind_busy(py: Python<'_>, tree_busy: &Bound<'_, PyType>) {
+    errors::bind_busy(py, tree_busy);
+}
+
 /// The extension module.
 #[pymodule]
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(_bind, m)?)?;
+    m.add_function(wrap_pyfunction!(_bind_busy, m)?)?;
     m.add_function(wrap_pyfunction!(scenario::_run_scenarios, m)?)?;
     m.add_function(wrap_pyfunction!(campaign::_merge_campaign_results, m)?)?;
     m.add_class::<campaign::PyCampaign>()?;

@@ -1,10 +1,10 @@
 //! `neurotree.Tree`: a loaded tree, ticked from Python.
 //!
 //! The tree sits behind a mutex, so that any Python thread may tick it (one at a time); the
-//! lock is taken, and the tick run, with the GIL released, and Python leaves take the GIL
-//! for their own call only. A thread that ticks the tree while another does waits without
-//! the GIL; a leaf that reaches its own tree through `Tree` (rather than through its node)
-//! is told so instead of waiting for itself.
+//! tick runs with the GIL released, and Python leaves take the GIL for their own call only.
+//! A call that uses the tree while another call ticks it, from another thread or from a
+//! leaf of that very tick, raises `TreeBusy` at once rather than waiting: a leaf that waits
+//! for a thread ticking its own tree would otherwise wait for ever.
 
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex, MutexGuard};
@@ -16,7 +16,7 @@ use pyo3::exceptions::{PyKeyError, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyBytes;
 
-use crate::errors::{forget_raised, tick_error};
+use crate::errors::{forget_raised, take_raised, tick_error, tree_busy};
 use crate::node::Node;
 use crate::observe::{CallbackObserver, Fanout, LineWriter};
 use crate::registry::PyRegistry;
@@ -60,6 +60,21 @@ fn thread_number() -> u64 {
     NUMBER.with(|n| *n)
 }
 
+/// `TreeBusy` for a use of a tree that thread `ticker` is ticking.
+fn busy(py: Python<'_>, ticker: u64) -> PyErr {
+    if ticker == thread_number() {
+        tree_busy(
+            py,
+            "this tree is being ticked by this thread: a leaf reads and writes its tree's blackboard through its node (node.get, node.set)",
+        )
+    } else {
+        tree_busy(
+            py,
+            "this tree is being ticked by another thread; ticks of one tree do not wait for each other (a leaf waiting for a thread that ticks its own tree would wait for ever): try again once that tick is done",
+        )
+    }
+}
+
 impl PyTree {
     pub(crate) fn new(
         py: Python<'_>,
@@ -80,23 +95,28 @@ impl PyTree {
         })
     }
 
-    /// The tree's lock, waited for without the GIL; refused to a leaf of this very tree.
+    /// The tree's lock, for a short use between ticks: `TreeBusy` while a call ticks it.
     pub(crate) fn lock(&self, py: Python<'_>) -> PyResult<MutexGuard<'_, Inner>> {
-        if self.ticking.load(Ordering::Acquire) == thread_number() {
-            return Err(PyRuntimeError::new_err(
-                "this tree is being ticked by this thread: a leaf reads and writes its tree's blackboard through its node (node.get, node.set)",
-            ));
-        }
+        self.acquire(py, true)
+    }
+
+    /// The tree's lock, waited for without the GIL while another thread uses the tree
+    /// shortly; with `refuse_ticked`, `TreeBusy` as soon as a call ticks it (every tick
+    /// marks itself in `ticking` before it takes the lock, so that none waits for another).
+    fn acquire(&self, py: Python<'_>, refuse_ticked: bool) -> PyResult<MutexGuard<'_, Inner>> {
         loop {
+            let ticker = self.ticking.load(Ordering::Acquire);
+            if refuse_ticked && ticker != 0 {
+                return Err(busy(py, ticker));
+            }
             match self.inner.try_lock() {
                 Ok(guard) => return Ok(guard),
                 // A panic is caught inside the tick, so a poisoned lock guards a whole tree.
                 Err(std::sync::TryLockError::Poisoned(p)) => return Ok(p.into_inner()),
-                // Another thread ticks it: wait for the lock without the GIL, which its
-                // Python leaves may need, then take it again with the GIL.
-                Err(std::sync::TryLockError::WouldBlock) => py.allow_threads(|| {
-                    drop(self.inner.lock());
-                }),
+                // A short use by another thread, which may need the GIL to finish.
+                Err(std::sync::TryLockError::WouldBlock) => {
+                    py.allow_threads(std::thread::yield_now)
+                }
             }
         }
     }
@@ -126,10 +146,23 @@ impl PyTree {
         robot: Option<&Bound<'_, PyAny>>,
         work: impl FnOnce(&mut Inner, &mut Ctx) -> T + Send,
     ) -> PyResult<T> {
-        let mut inner = self.lock(py)?;
+        // Marked before the lock is taken, so that a second tick is refused rather than
+        // waiting for this one.
+        if let Err(ticker) =
+            self.ticking
+                .compare_exchange(0, thread_number(), Ordering::AcqRel, Ordering::Acquire)
+        {
+            return Err(busy(py, ticker));
+        }
+        let mut inner = match self.acquire(py, false) {
+            Ok(inner) => inner,
+            Err(e) => {
+                self.ticking.store(0, Ordering::Release);
+                return Err(e);
+            }
+        };
         let mut ctx = self.ctx(py, &inner, robot);
         forget_raised();
-        self.ticking.store(thread_number(), Ordering::Release);
         let inner = &mut *inner;
         let out = py.allow_threads(|| work(inner, &mut ctx));
         self.ticking.store(0, Ordering::Release);
@@ -226,12 +259,19 @@ impl PyTree {
         Ok(crate::status::to_py(py, status.into()))
     }
 
-    /// Halts every Running node (each Running stateful action's `on_halted` runs once).
+    /// Halts every Running node (each Running stateful action's `on_halted` runs once). An
+    /// exception an `on_halted` raises is raised from here, once the whole tree is halted.
     #[pyo3(signature = (robot = None))]
     fn halt(&self, py: Python<'_>, robot: Option<&Bound<'_, PyAny>>) -> PyResult<()> {
-        self.with_tree_released(py, robot, |tree, ctx| {
+        // An `on_halted` that raises is caught by the tree, which halts the others all the
+        // same; its exception is raised here once the tree is halted.
+        match self.with_tree_released(py, robot, |tree, ctx| {
             tree.halt(ctx);
-        })
+            take_raised()
+        })? {
+            Some(raised) => Err(raised),
+            None => Ok(()),
+        }
     }
 
     /// The tree's blackboard (its root scope), as a mapping.
@@ -298,11 +338,15 @@ impl PyTree {
 
     /// The tree's whole state (node statuses, leaf state, blackboard) as bytes.
     fn save_state<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyBytes>> {
-        let bytes = self
-            .lock(py)?
-            .tree
-            .save_state()
-            .map_err(|e| PyValueError::new_err(e.to_string()))?;
+        let inner = self.lock(py)?;
+        forget_raised();
+        let saved = inner.tree.save_state();
+        // A leaf's `save_state` that raised: its exception, rather than the tree's account
+        // of a node that saved nothing.
+        if let Some(raised) = take_raised() {
+            return Err(raised);
+        }
+        let bytes = saved.map_err(|e| PyValueError::new_err(e.to_string()))?;
         Ok(PyBytes::new(py, &bytes))
     }
 

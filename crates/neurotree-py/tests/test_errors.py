@@ -307,3 +307,65 @@ def test_a_mistyped_port_gets_the_nearest_declared_name() -> None:
             '<root BTCPP_format="4"><BehaviorTree ID="M"><MoveTo gaol="dock"/></BehaviorTree></root>'
         )
     assert "unknown port `gaol` on `MoveTo` (did you mean `goal`?)" in str(raised.value)
+
+
+def test_an_exception_in_on_halted_is_raised_from_halt_once_the_tree_is_halted() -> None:
+    reg = nt.Registry()
+    halts: list[str] = []
+
+    class Clumsy(nt.StatefulAction):
+        def on_start(self, node: nt.Node, robot: Any) -> nt.Status:
+            return nt.RUNNING
+
+        def on_running(self, node: nt.Node, robot: Any) -> nt.Status:
+            return nt.RUNNING
+
+        def on_halted(self, node: nt.Node, robot: Any) -> None:
+            halts.append("clumsy")
+            raise ValueError("dropped the tool")
+
+    class Tidy(nt.StatefulAction):
+        def on_start(self, node: nt.Node, robot: Any) -> nt.Status:
+            return nt.RUNNING
+
+        def on_running(self, node: nt.Node, robot: Any) -> nt.Status:
+            return nt.RUNNING
+
+        def on_halted(self, node: nt.Node, robot: Any) -> None:
+            halts.append("tidy")
+
+    reg.stateful_action("Clumsy", Clumsy)
+    reg.stateful_action("Tidy", Tidy)
+    tree = reg.load_string(
+        '<root BTCPP_format="4"><BehaviorTree ID="M">'
+        '<Parallel success_count="-1" failure_count="1"><Clumsy/><Tidy/></Parallel>'
+        "</BehaviorTree></root>"
+    )
+    assert tree.tick_once() is nt.RUNNING
+    with pytest.raises(ValueError, match="dropped the tool"):
+        tree.halt()
+    # Halted all the same: both actions heard of it, every node is Idle.
+    assert sorted(halts) == ["clumsy", "tidy"]
+    assert all(status is nt.Status.IDLE for _, status in tree.statuses())
+    tree.halt()
+    assert len(halts) == 2
+
+
+def test_a_save_state_that_raises_makes_tree_save_state_raise() -> None:
+    reg = nt.Registry()
+
+    class Secretive(nt.StatefulAction):
+        def on_start(self, node: nt.Node, robot: Any) -> nt.Status:
+            return nt.RUNNING
+
+        def on_running(self, node: nt.Node, robot: Any) -> nt.Status:
+            return nt.RUNNING
+
+        def save_state(self) -> bytes:
+            raise OSError("cannot reach the arm")
+
+    reg.stateful_action("Secretive", Secretive)
+    tree = reg.load_string('<root BTCPP_format="4"><BehaviorTree ID="M"><Secretive/></BehaviorTree></root>')
+    assert tree.tick_once() is nt.RUNNING
+    with pytest.raises(OSError, match="cannot reach the arm"):
+        tree.save_state()

@@ -80,9 +80,27 @@ def test_threads_ticking_one_tree_take_turns() -> None:
         '<Repeat num_cycles="2000"><AlwaysSuccess/></Repeat><Count/></Sequence></BehaviorTree></root>'
     )
 
+    # Ticks finished so far, under `turn`: a thread refused waits for the tick that was
+    # under way to finish, rather than spinning.
+    turn = threading.Condition()
+    finished = [0]
+
     def work() -> None:
-        for _ in range(200):
-            assert tree.tick_once() is nt.SUCCESS
+        done = 0
+        while done < 200:
+            with turn:
+                seen = finished[0]
+            # A tick while another thread's is under way is refused at once: take turns.
+            try:
+                assert tree.tick_once() is nt.SUCCESS
+            except nt.TreeBusy:
+                with turn:
+                    turn.wait_for(lambda: finished[0] != seen)
+                continue
+            done += 1
+            with turn:
+                finished[0] += 1
+                turn.notify_all()
 
     threads = [threading.Thread(target=work) for _ in range(4)]
     for t in threads:
@@ -106,5 +124,41 @@ def test_a_leaf_reaching_its_own_tree_is_told_to_use_its_node() -> None:
     holder["tree"] = tree
     with pytest.raises(nt.NodeError) as info:
         tree.tick_once()
-    assert isinstance(info.value.__cause__, RuntimeError)
+    assert isinstance(info.value.__cause__, nt.TreeBusy)
     assert "node.get" in str(info.value.__cause__)
+
+
+def test_a_tick_from_another_thread_during_a_tick_is_refused_at_once() -> None:
+    reg = nt.Registry()
+    refused: list[nt.TreeBusy] = []
+    holder: dict[str, nt.Tree] = {}
+
+    @reg.action("AskHelper")
+    def ask_helper(node: nt.Node, robot: Any) -> nt.Status:
+        # A helper thread that ticks this very tree, waited for by the leaf: waiting for
+        # the tick to end would wait for ever.
+        def helper() -> None:
+            try:
+                holder["tree"].tick_once()
+            except nt.TreeBusy as e:
+                refused.append(e)
+
+        thread = threading.Thread(target=helper)
+        thread.start()
+        thread.join()
+        return nt.SUCCESS
+
+    tree = reg.load_string('<root BTCPP_format="4"><BehaviorTree ID="M"><AskHelper/></BehaviorTree></root>')
+    holder["tree"] = tree
+    assert tree.tick_once() is nt.SUCCESS
+    assert len(refused) == 1
+    assert "another thread" in str(refused[0])
+    assert isinstance(refused[0], RuntimeError)
+    # Once the tick is done, the tree is ticked from any thread again (whose leaf's helper
+    # is refused in turn).
+    outcomes: list[nt.Status] = []
+    other = threading.Thread(target=lambda: outcomes.append(tree.tick_once()))
+    other.start()
+    other.join()
+    assert outcomes == [nt.SUCCESS]
+    assert len(refused) == 2

@@ -1,13 +1,14 @@
 //! A tree loaded from BehaviorTree.CPP XML is halted from another thread as a built one is:
-//! ticked by hand, and run by `FixedRate` in real time with a long period.
+//! ticked by hand, and run by `FixedRate` with a long period.
 
 use std::sync::atomic::{AtomicU32, Ordering};
-use std::sync::Arc;
-use std::time::{Duration, Instant};
+use std::sync::{mpsc, Arc};
+use std::time::Duration;
 
+use neurotree_toolkit::runtime::{ManualPacer, Pacer};
 use neurotree_toolkit::{
-    FixedRate, Handle, ManualClock, Registry, StatefulAction, Status, SystemClock, TickError, Tree,
-    XmlLoader,
+    Clock, FixedRate, Handle, ManualClock, Registry, StatefulAction, Status, TickError, Tree,
+    XmlLoader, HALT_POLL_PERIOD,
 };
 
 /// Starts and halts of every `Work` node, shared with the test's threads.
@@ -69,20 +70,54 @@ fn a_tree_from_xml_is_halted_from_another_thread_at_its_next_tick() {
         .all(|s| *s == neurotree_toolkit::NodeStatus::Idle));
 }
 
+/// A manual pacer whose first sleep lets another thread act before it ends: the test
+/// knows the loop sleeps when the other thread acts, with no wall time involved.
+struct Gate {
+    time: ManualPacer,
+    asleep: Option<mpsc::Sender<()>>,
+    go: mpsc::Receiver<()>,
+}
+
+impl Pacer for Gate {
+    fn now(&self) -> Duration {
+        self.time.now()
+    }
+    fn sleep_until(&mut self, deadline: Duration) {
+        if let Some(asleep) = self.asleep.take() {
+            asleep.send(()).unwrap();
+            self.go.recv().unwrap();
+        }
+        self.time.sleep_until(deadline);
+    }
+}
+
 #[test]
 fn a_fixed_rate_run_of_a_tree_from_xml_ends_promptly_on_a_request() {
-    let mut tree = Tree::with_clock(blueprint(), SystemClock::new());
+    let clock = ManualClock::new();
+    let mut tree = Tree::with_clock(blueprint(), clock.clone());
     let handle = tree.halt_handle();
+    let (asleep, sleeping) = mpsc::channel();
+    let (go, gate) = mpsc::channel();
+    let mut pacer = Gate {
+        time: ManualPacer::new(clock.clone()),
+        asleep: Some(asleep),
+        go: gate,
+    };
     let requester = std::thread::spawn(move || {
-        std::thread::sleep(Duration::from_millis(100));
+        sleeping.recv().unwrap();
         handle.request();
+        go.send(()).unwrap();
     });
     let mut counts = Arc::new(Counts::default());
-    let started = Instant::now();
-    let result = FixedRate::new(Duration::from_secs(10)).run(&mut tree, &mut counts);
-    let took = started.elapsed();
+    let result = FixedRate::new(Duration::from_secs(10)).run_with(
+        &mut tree,
+        &mut counts,
+        &mut pacer,
+        |_| {},
+    );
     requester.join().unwrap();
     assert_eq!(result, Err(TickError::HaltRequested));
-    assert!(took < Duration::from_secs(1), "took {took:?}");
+    // The sleep of 10 s ended after the slice in which the request came.
+    assert_eq!(clock.now(), HALT_POLL_PERIOD);
     assert_eq!(counts.halts.load(Ordering::Relaxed), 2);
 }

@@ -36,6 +36,7 @@ mod observe_stats;
 mod observe_text;
 mod observe_tracing;
 mod plain_path;
+mod reload_edits;
 mod render_formats;
 mod render_layout;
 mod render_snapshots;

@@ -205,6 +205,77 @@ fn a_sleeping_member_is_called_only_when_something_it_waits_on_happens() {
     assert_eq!(crowd.get(id).unwrap().context().legs, 2);
 }
 
+/// A hundred sleeping guards, halted through the crowd: the next frame ticks every one,
+/// as a tree halted by hand starts over at its next tick.
+#[test]
+fn halting_the_crowd_wakes_every_sleeping_member() {
+    let clock = ManualClock::new();
+    let mut crowd = Crowd::new(clock.clone()).with_threads(2).unwrap();
+    let ids: Vec<_> = (0..100)
+        .map(|i| crowd.add(patrol(i), Guard::default()))
+        .collect();
+    for _ in 0..3 {
+        crowd.frame();
+        clock.advance(Duration::from_millis(50));
+    }
+    assert_eq!(crowd.asleep(), 100);
+    crowd.halt_all();
+    assert_eq!(crowd.asleep(), 0);
+    let report = crowd.frame();
+    assert_eq!((report.ticked, report.asleep), (100, 0), "{report:?}");
+    // Each leg was halted once and started afresh: two starts.
+    for &id in &ids {
+        assert_eq!(crowd.get(id).unwrap().context().calls, 2);
+    }
+}
+
+/// A tree made on a clock of its own sleeps on the crowd's: it wakes when the crowd's
+/// clock reaches the end of its leg, though its own never moves.
+#[test]
+fn a_member_added_with_a_clock_of_its_own_wakes_by_the_crowds() {
+    let clock = ManualClock::new();
+    let mut crowd = Crowd::new(clock.clone()).with_threads(1).unwrap();
+    let own = ManualClock::new();
+    let id = crowd.add_tree(Tree::with_clock(patrol(0), own), Guard::default());
+    // A leg of 300 ms, frames of 50 ms: the leg ends in the frame at 300 ms.
+    let mut ticked = Vec::new();
+    for _ in 0..8 {
+        ticked.push(crowd.frame().ticked);
+        clock.advance(Duration::from_millis(50));
+    }
+    assert_eq!(ticked, [1, 0, 0, 0, 0, 0, 1, 0]);
+    assert_eq!(crowd.get(id).unwrap().context().legs, 1);
+}
+
+/// A tree put in a member's place: the old one is halted, the new one runs on the crowd's
+/// clock from the next frame, though the member slept.
+#[test]
+fn a_replaced_tree_is_halted_and_its_successor_ticked_next_frame() {
+    let clock = ManualClock::new();
+    let mut crowd = Crowd::new(clock.clone()).with_threads(1).unwrap();
+    let id = crowd.add(patrol(0), Guard::default());
+    crowd.frame();
+    clock.advance(Duration::from_millis(50));
+    assert!(crowd.get_mut(id).unwrap().is_asleep());
+    let old = crowd
+        .get_mut(id)
+        .unwrap()
+        .replace_tree(Tree::with_clock(patrol(1), ManualClock::new()));
+    assert_eq!(old.statuses()[0], NodeStatus::Idle);
+    let trace = crowd.get(id).unwrap().context().trace;
+    assert_ne!(trace, 0, "the halted leg noted its halt");
+    let report = crowd.frame();
+    assert_eq!((report.ticked, report.asleep), (1, 0));
+    assert_eq!(crowd.get(id).unwrap().context().calls, 2);
+    // The new leg lasts 400 ms from 50 ms, on the crowd's clock.
+    let mut ticked = Vec::new();
+    for _ in 0..8 {
+        clock.advance(Duration::from_millis(50));
+        ticked.push(crowd.frame().ticked);
+    }
+    assert_eq!(ticked, [0, 0, 0, 0, 0, 0, 0, 1]);
+}
+
 /// The random trees and events of `neurotree-core`'s property of sleeping trees.
 #[path = "../../neurotree-core/tests/sleeping/trees.rs"]
 mod trees;
@@ -232,6 +303,12 @@ mod random {
         Halt,
         /// It leaves, and a fresh member of the same tree takes its slot.
         Replace,
+        /// Every member's tree is halted through the crowd.
+        HaltAll,
+        /// A fresh instance of its blueprint takes the place of its tree.
+        Swap,
+        /// It leaves (its tree halted) and joins again with the same tree and context.
+        Rejoin,
     }
 
     fn touch() -> impl Strategy<Value = Touch> {
@@ -240,6 +317,9 @@ mod random {
             2 => (0u8..3).prop_map(Touch::Wake),
             1 => Just(Touch::Halt),
             1 => Just(Touch::Replace),
+            1 => Just(Touch::HaltAll),
+            1 => Just(Touch::Swap),
+            1 => Just(Touch::Rejoin),
         ]
     }
 
@@ -299,10 +379,13 @@ mod random {
             .with_threads(setup.threads)
             .unwrap();
         let bps: Vec<_> = roots.iter().map(blueprint).collect();
-        let join = |crowd: &mut Crowd<Log>, i: usize| {
+        let fresh = |i: usize| {
             let mut tree = Tree::with_clock(Arc::clone(&bps[i % bps.len()]), clock.clone());
             tree.set_sleep_allowed(sleeps);
-            let id = crowd.add_tree(tree, Log::default());
+            tree
+        };
+        let join = |crowd: &mut Crowd<Log>, i: usize| {
+            let id = crowd.add_tree(fresh(i), Log::default());
             crowd.get_mut(id).unwrap().set_interval(1 + (i % 3) as u32);
             id
         };
@@ -341,6 +424,19 @@ mod random {
                     Touch::Replace => {
                         crowd.remove(id).unwrap();
                         ids[*m] = join(&mut crowd, *m);
+                    }
+                    Touch::HaltAll => crowd.halt_all(),
+                    Touch::Swap => {
+                        let mut member = crowd.get_mut(id).unwrap();
+                        member.replace_tree(fresh(*m));
+                    }
+                    Touch::Rejoin => {
+                        let (tree, log) = crowd.remove(id).unwrap();
+                        ids[*m] = crowd.add_tree(tree, log);
+                        crowd
+                            .get_mut(ids[*m])
+                            .unwrap()
+                            .set_interval(1 + (*m % 3) as u32);
                     }
                 }
             }

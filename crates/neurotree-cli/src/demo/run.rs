@@ -341,6 +341,7 @@ impl DemoRun {
             .with_dock(dock())
             .with_route_graph(route_graph());
         let mut tree = Tree::with_clock(Arc::clone(&blueprint), sim.world.clock());
+        neurotree::runtime::attach(&mut tree);
         tree.blackboard_mut().set("goal", config.goal)?;
         // The through-poses navigator's goals: the one goal.
         tree.blackboard_mut().set("goals", vec![config.goal])?;

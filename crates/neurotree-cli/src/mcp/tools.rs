@@ -19,7 +19,7 @@ use crate::{check, lint, Cli, Command, Outcome};
 
 /// The longest tree text a tool takes, in bytes.
 pub const MAX_XML_BYTES: usize = 1 << 20;
-/// The most ticks `run_tree` runs.
+/// The most ticks `run_tree` and `run_scenario` run.
 pub const MAX_RUN_TICKS: u32 = 10_000;
 /// The most ticks (of 100 ms) `simulate_nav2` runs: ten simulated minutes.
 pub const MAX_SIM_TICKS: u32 = 6_000;
@@ -464,6 +464,16 @@ fn run_scenario(args: &Value, dir: &Path) -> Result<Value, String> {
     for field in ["files", "substitute"] {
         if table.contains_key(field) {
             return Err(format!("scenario: `{field}` names files, which a call cannot give; put everything in `xml`"));
+        }
+    }
+    // Capped as `run_tree`'s `max_ticks` is (the scenario's own default is 100).
+    match table.get("ticks") {
+        None => {}
+        Some(toml::Value::Integer(n)) if (1..=i64::from(MAX_RUN_TICKS)).contains(n) => {}
+        Some(other) => {
+            return Err(format!(
+                "scenario: `ticks` is {other}; a call runs from 1 to {MAX_RUN_TICKS} ticks"
+            ))
         }
     }
     table.insert("tree".into(), toml::Value::String(FILE.into()));

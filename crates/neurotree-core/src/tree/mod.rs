@@ -212,6 +212,15 @@ impl<C> Tree<C> {
         &*self.clock
     }
 
+    /// Moves the tree onto `clock`, shared with other trees, and wakes it if it slept: its
+    /// sleep's deadline was a reading of the old clock. Time-based nodes that are Running
+    /// keep the readings they took (a Delay's start), so move a tree while it is Idle or
+    /// halted, or between clocks that read the same.
+    pub fn set_shared_clock(&mut self, clock: Arc<dyn Clock>) {
+        self.clock = clock;
+        self.wake_up();
+    }
+
     /// Attaches an observer, returning the one it replaces.
     pub fn set_observer(&mut self, observer: impl Observer + 'static) -> Option<Box<dyn Observer>> {
         self.observer.replace(Box::new(observer))

@@ -3,9 +3,12 @@
 //!
 //! Nodes are matched by their [path](crate::Blueprint::path) (the k-th node of a path
 //! matches the k-th of the same path, for siblings of one name) and are *unchanged* when
-//! their type, their kind with its parameters, their ports and their number of children
-//! are the same: a control whose children were added or removed starts afresh, since its
-//! state (a cursor, the children it has seen) counts them.
+//! everything they were built from is the same: their type, their kind with its
+//! parameters, their ports, their pre- and post-conditions and their number of children (a
+//! control whose children were added or removed starts afresh, since its state, a cursor
+//! or the children it has seen, counts them); for a custom node, which may read its
+//! children's ports (a UtilitySelector its Utilities' scores), its children's types, ports
+//! and conditions too.
 //! An unchanged node keeps its status, its state slot and its object; a node that was
 //! removed or changed while Running is halted first, exactly as a halt would halt it (its
 //! Running descendants first, each stateful action getting its one `on_halted`); new and
@@ -64,24 +67,41 @@ pub(crate) struct Pending<C> {
     kept_from: Vec<Option<NodeId>>,
 }
 
-/// What makes two nodes of the same path the same node: type (as the file names it),
-/// kind and parameters, ports, number of children (a control's state counts its
-/// children: one whose children were added or removed starts afresh).
+/// What makes two nodes of the same path the same node: everything it was built from.
+/// Its type (as the file names it), kind and parameters, ports, pre- and post-conditions,
+/// number of children (a control's state counts its children: one whose children were
+/// added or removed starts afresh); and for a custom node, which may read its children's
+/// ports when it is made or first ticked (a UtilitySelector its Utilities' scores), the
+/// type, ports and conditions of each child too.
 fn signature<C>(bp: &Blueprint<C>, id: NodeId) -> String {
     use core::fmt::Write;
     let mut s = String::new();
     // Writing into a string cannot fail.
-    let _ = write!(
-        s,
-        "{}|{:?}|{}|",
-        bp.type_id(id),
-        bp.kind(id),
-        bp.children(id).len()
-    );
+    let _ = write!(s, "{:?}|{}|", bp.kind(id), bp.children(id).len());
+    own_signature(bp, id, &mut s);
+    if matches!(bp.kind(id), NodeKind::Custom(_)) {
+        for &child in bp.children(id) {
+            s.push('[');
+            own_signature(bp, child, &mut s);
+            s.push(']');
+        }
+    }
+    s
+}
+
+/// Appends what a node's file says of it: its type, its ports, its conditions.
+fn own_signature<C>(bp: &Blueprint<C>, id: NodeId, s: &mut String) {
+    use core::fmt::Write;
+    // Writing into a string cannot fail.
+    let _ = write!(s, "{}|", bp.type_id(id));
     for port in bp.ports(id) {
         let _ = write!(s, "{}={:?};", port.name, port.value);
     }
-    s
+    if let Some(hooks) = bp.hooks(id) {
+        hooks.attributes(&mut |name, value| {
+            let _ = write!(s, "{name}={value:?};");
+        });
+    }
 }
 
 /// For each node of `new`, the node of `old` at the same path (the same occurrence of it)
@@ -115,8 +135,9 @@ impl<C> Tree<C> {
     /// what their halts get. Between two ticks only.
     ///
     /// Nodes are matched by path (the k-th node of a path with the k-th of the same path)
-    /// and are unchanged when their type, kind and parameters, ports and number of children
-    /// are the same: an unchanged node keeps its status, state slot and object; a node
+    /// and are unchanged when their type, kind and parameters, ports, conditions and number
+    /// of children are the same, and for a custom node its children's types, ports and
+    /// conditions (see the [module docs](self)): an unchanged node keeps its status, state slot and object; a node
     /// removed or changed while Running is halted first, as a halt halts it (its Running
     /// descendants first, each stateful action getting its one `on_halted`), and new or
     /// changed nodes start Idle. Blackboard entries are kept (the root's, and those of each

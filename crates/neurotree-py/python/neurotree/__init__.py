@@ -39,6 +39,7 @@ __all__ = [
     "NeuroTreeError",
     "LoadError",
     "NodeError",
+    "TreeBusy",
     "Registry",
     "Builder",
     "Tree",
@@ -131,7 +132,16 @@ class NodeError(NeuroTreeError):
         self.path = path
 
 
+class TreeBusy(NeuroTreeError, RuntimeError):
+    """A tree was ticked, halted, reloaded or read while a call ticks it, from another thread
+    or from a leaf of that very tick. Raised at once rather than waiting for the tick to end:
+    a leaf that waits for a thread using its own tree would wait for ever. A leaf reaches its
+    tree's blackboard through its node (``node.get``, ``node.set``); another thread tries
+    again once the tick is done."""
+
+
 _native._bind(Status, LoadError, NodeError)
+_native._bind_busy(TreeBusy)
 
 PortType = Union[type, None]
 

@@ -9,6 +9,7 @@ _PortDecl = Tuple[str, str, str, Optional[str], str]
 _Clock = Union["ManualClock", "SystemClock"]
 
 def _bind(status: Any, load_error: type, node_error: type) -> None: ...
+def _bind_busy(tree_busy: type) -> None: ...
 def _run_scenarios(
     paths: Sequence[str], registry: Optional["Registry"] = None, robot: Any = None
 ) -> List[Tuple[str, str, float, List[str], str]]:

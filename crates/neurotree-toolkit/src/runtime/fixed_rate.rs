@@ -637,23 +637,56 @@ mod tests {
         assert_eq!(starts, [ms(0), ms(25), ms(50)]);
     }
 
+    /// A manual pacer whose first sleep lets another thread act before it ends: the test
+    /// knows the loop sleeps when the other thread acts, with no wall time involved.
+    struct Gate {
+        time: ManualPacer,
+        asleep: Option<std::sync::mpsc::Sender<()>>,
+        go: std::sync::mpsc::Receiver<()>,
+    }
+
+    impl Pacer for Gate {
+        fn now(&self) -> Duration {
+            self.time.now()
+        }
+        fn sleep_until(&mut self, deadline: Duration) {
+            if let Some(asleep) = self.asleep.take() {
+                asleep.send(()).unwrap();
+                self.go.recv().unwrap();
+            }
+            self.time.sleep_until(deadline);
+        }
+    }
+
     #[test]
-    fn a_request_from_another_thread_wakes_a_long_system_sleep() {
+    fn a_request_from_another_thread_wakes_a_long_sleep() {
         let clock = ManualClock::new();
         let mut plant = Plant::new(&clock, &[0]);
         plant.forever = true;
         let mut tree = tree(&clock);
         let handle = tree.halt_handle();
+        let (asleep, sleeping) = std::sync::mpsc::channel();
+        let (go, gate) = std::sync::mpsc::channel();
+        let mut pacer = Gate {
+            time: ManualPacer::new(clock.clone()),
+            asleep: Some(asleep),
+            go: gate,
+        };
         let requester = std::thread::spawn(move || {
-            std::thread::sleep(ms(100));
+            sleeping.recv().unwrap();
             handle.request();
+            go.send(()).unwrap();
         });
-        let started = std::time::Instant::now();
-        let result = FixedRate::new(Duration::from_secs(10)).run(&mut tree, &mut plant);
-        let took = started.elapsed();
+        let result = FixedRate::new(Duration::from_secs(10)).run_with(
+            &mut tree,
+            &mut plant,
+            &mut pacer,
+            |_| {},
+        );
         requester.join().unwrap();
         assert_eq!(result, Err(TickError::HaltRequested));
-        assert!(took < Duration::from_secs(1), "took {took:?}");
+        // The sleep of 10 s ended after the slice in which the request came.
+        assert_eq!(clock.now(), HALT_POLL_PERIOD);
         assert_eq!((plant.ticks, plant.halts), (1, 1));
     }
 

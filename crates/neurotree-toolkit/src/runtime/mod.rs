@@ -17,11 +17,16 @@
 //! ([`slow_halt`](neurotree_core::tree::slow_halt)) is ticked to its end, a period apart,
 //! before they return. The one exception is a tokio run that is dropped: a drop cannot
 //! wait, so the halt goes on in the tree's next tick calls, or in `tokio::halt`.
+//!
+//! A server that runs requests on threads of its own halts the trees a request runs, at a
+//! time limit or when it is cancelled, through a [`HaltScope`].
 
 mod fixed_rate;
+mod halt_scope;
 #[cfg(feature = "tokio")]
 pub mod tokio;
 
 pub use fixed_rate::{
     Finish, FixedRate, ManualPacer, Pacer, RunReport, StopFlag, SystemPacer, TickStats,
 };
+pub use halt_scope::{attach, Entered, HaltScope};

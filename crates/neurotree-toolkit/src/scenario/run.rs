@@ -35,6 +35,7 @@ pub(super) fn run<C: 'static>(
     let mut checker = Checker::new(s);
     let clock = ManualClock::new();
     let mut tree = Tree::with_clock(Arc::clone(&blueprint), clock.clone());
+    crate::runtime::attach(&mut tree);
     tree.set_observer(checker.attach(&tree));
     let limit = s.ticks.unwrap_or(DEFAULT_TICKS);
     let step = Duration::from_millis(s.step_ms.unwrap_or(100));

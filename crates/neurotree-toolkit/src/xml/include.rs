@@ -27,21 +27,36 @@ impl<C: 'static> XmlLoader<'_, C> {
             ));
         };
         let target = dir.join(path);
+        let base = self
+            .base_dir
+            .as_ref()
+            .map(|base| base.canonicalize().unwrap_or_else(|_| base.clone()));
+        let outside = |base: &Path| {
+            el.error(LoadErrorKind::Include, format!(
+                "included file `{}` is outside the base directory `{}`; move it inside or widen the base with XmlLoader::base_dir",
+                target.display(),
+                base.display()
+            ))
+        };
+        // Decided from the path alone before the file is looked for, so that the answer
+        // says nothing of what exists outside the base.
+        if let Some(base) = &base {
+            let dir = dir.canonicalize().unwrap_or_else(|_| dir.to_path_buf());
+            if !lexically_normal(&dir.join(path)).starts_with(base) {
+                return Err(outside(base));
+            }
+        }
         let canonical = target.canonicalize().map_err(|e| {
             el.error(
                 LoadErrorKind::Include,
                 format!("included file `{}` not found: {e}", target.display()),
             )
         })?;
-        if let Some(base) = &self.base_dir {
-            let base = base.canonicalize().unwrap_or_else(|_| base.clone());
-            if !canonical.starts_with(&base) {
-                return Err(el.error(LoadErrorKind::Include, format!(
-                    "included file `{}` is outside the base directory `{}`; move it inside or widen the base with XmlLoader::base_dir",
-                    target.display(),
-                    base.display()
-                )));
-            }
+        // A link inside the base may still lead out of it.
+        if let Some(base) = &base
+            && !canonical.starts_with(base)
+        {
+            return Err(outside(base));
         }
         self.load_file(&target).map_err(|inner| {
             if inner.file == target.display().to_string() && inner.line == 0 {
@@ -103,4 +118,21 @@ pub(super) fn joined(dir: &Path, path: &str) -> String {
         }
     }
     parts.join("/")
+}
+
+/// `path` with its `.` and `..` components resolved without reading the file system (a `..`
+/// above the root stays at the root).
+fn lexically_normal(path: &Path) -> PathBuf {
+    use std::path::Component;
+    let mut out = PathBuf::new();
+    for component in path.components() {
+        match component {
+            Component::CurDir => {}
+            Component::ParentDir => {
+                out.pop();
+            }
+            other => out.push(other),
+        }
+    }
+    out
 }

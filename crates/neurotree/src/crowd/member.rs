@@ -4,7 +4,9 @@
 //! is due reads a few bytes per member and leaves the trees of members not due untouched:
 //! a frame in which one member in eight is due then costs little more than their ticks.
 
-use crate::{Status, TickError, Tree};
+use std::sync::Arc;
+
+use crate::{Clock, Status, TickError, Tree};
 
 /// `owed_since` of a member that is owed no tick.
 pub(super) const NOT_OWED: u64 = u64::MAX;
@@ -197,6 +199,8 @@ pub struct MemberMut<'a, C> {
     pub(super) ctx: &'a mut C,
     pub(super) plan: &'a mut Plan,
     pub(super) awake: &'a super::sleep::Awake,
+    /// The crowd's clock, which a tree put in its place is moved onto.
+    pub(super) clock: &'a Arc<dyn Clock>,
 }
 
 impl<'a, C> Member<'a, C> {
@@ -259,10 +263,25 @@ impl<C> MemberMut<'_, C> {
     }
 
     /// Its tree, to seed its blackboard or attach an observer between frames. Wakes it,
-    /// if it slept (see [`sleep`](crate::tree::sleep)).
+    /// if it slept (see [`sleep`](crate::tree::sleep)). To put another tree in its place,
+    /// use [`replace_tree`](Self::replace_tree), which moves it onto the crowd's clock.
     pub fn tree_mut(&mut self) -> &mut Tree<C> {
         self.wake();
         &mut self.body.tree
+    }
+
+    /// Puts `tree` in place of its tree, which is halted (each Running stateful action gets
+    /// its `on_halted`) and given back. The new tree is moved onto the crowd's clock, as
+    /// [`Crowd::add_tree`](super::Crowd::add_tree) does, and the member is scheduled as a
+    /// fresh one: awake, expected to cost one pass, its last error forgotten.
+    pub fn replace_tree(&mut self, mut tree: Tree<C>) -> Tree<C> {
+        self.wake();
+        tree.set_shared_clock(Arc::clone(self.clock));
+        let mut old = std::mem::replace(&mut self.body.tree, tree);
+        old.halt(self.ctx);
+        self.body.error = None;
+        self.plan.cost = nodes(&self.body.tree);
+        old
     }
 
     /// Wakes it: its next due frame ticks it, whatever its tree waits on.

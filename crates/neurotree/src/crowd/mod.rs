@@ -251,9 +251,14 @@ impl<C: Send> Crowd<C> {
         self.add_tree(tree, ctx)
     }
 
-    /// Adds a member made by the caller: a tree with a seeded blackboard, an observer, or
-    /// a clock of its own.
-    pub fn add_tree(&mut self, tree: Tree<C>, ctx: C) -> MemberId {
+    /// Adds a member made by the caller: a tree with a seeded blackboard or an observer.
+    ///
+    /// The tree is moved onto the crowd's clock ([`Tree::set_shared_clock`]), whatever
+    /// clock it was made with: the crowd wakes its sleeping members by its own clock, so a
+    /// member on another would sleep past its deadlines. Add a tree that has not run, or
+    /// one halted, since its Running time-based nodes keep the readings of its old clock.
+    pub fn add_tree(&mut self, mut tree: Tree<C>, ctx: C) -> MemberId {
+        tree.set_shared_clock(Arc::clone(&self.clock));
         let phase = self.added as u32;
         self.added += 1;
         let index = match self.free.pop() {
@@ -309,8 +314,15 @@ impl<C: Send> Crowd<C> {
         Some((body.tree, ctx))
     }
 
-    /// Halts every member's tree, as [`Crowd::remove`] would, keeping the members.
+    /// Halts every member's tree, as [`Crowd::remove`] would, keeping the members. A
+    /// halted tree starts over at its next tick, so every member is woken: the next frame
+    /// in which it is due ticks it, as a fresh member.
     pub fn halt_all(&mut self) {
+        for (slot, plan) in self.plans.iter_mut().enumerate() {
+            if plan.present {
+                self.awake.wake(plan, slot);
+            }
+        }
         let halt = |bodies: &mut [Option<Body<C>>], contexts: &mut [Option<C>]| {
             bodies
                 .par_iter_mut()
@@ -357,6 +369,7 @@ impl<C: Send> Crowd<C> {
             ctx,
             plan,
             awake: &self.awake,
+            clock: &self.clock,
         })
     }
 
@@ -387,6 +400,7 @@ impl<C: Send> Crowd<C> {
     /// The members, in slot order, to change between frames.
     pub fn iter_mut(&mut self) -> impl Iterator<Item = MemberMut<'_, C>> {
         let awake = &self.awake;
+        let clock = &self.clock;
         self.plans
             .iter_mut()
             .zip(&mut self.bodies)
@@ -404,6 +418,7 @@ impl<C: Send> Crowd<C> {
                         ctx,
                         plan,
                         awake,
+                        clock,
                     }),
                     _ => None,
                 }

@@ -17,7 +17,9 @@
 //! - the program changes its tree between frames ([`MemberMut::tree_mut`] and
 //!   [`MemberMut::tree_and_context_mut`] wake it, since the blackboard may be written);
 //! - the program wakes it: [`MemberMut::wake`], [`Crowd::wake`], or from any thread a
-//!   [`CrowdWaker`], whose wakes the next frame applies.
+//!   [`CrowdWaker`], whose wakes the next frame applies;
+//! - the crowd halts its tree ([`Crowd::halt_all`], [`MemberMut::replace_tree`]): a halted
+//!   tree starts over at its next tick.
 //!
 //! A tree's own [`WakeHandle`](crate::WakeHandle) is not seen by a crowd until the member
 //! is ticked again: in a crowd, wake members through the crowd. Writing a member's context
@@ -30,6 +32,7 @@
 //! [`MemberMut::tree_mut`]: super::MemberMut::tree_mut
 //! [`MemberMut::tree_and_context_mut`]: super::MemberMut::tree_and_context_mut
 //! [`MemberMut::wake`]: super::MemberMut::wake
+//! [`MemberMut::replace_tree`]: super::MemberMut::replace_tree
 
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
