@@ -14,7 +14,7 @@
 //!   alerted each frame (a blackboard write through the crowd): the members awake per
 //!   frame and milliseconds per frame, which follow the agents awake rather than the crowd.
 //!
-//! - `tick_times`: each tick timed alone, at least 100,000 of them, for tree1111 loaded from
+//! - `tick_times`: each tick timed alone, at least 100,000 of them (10,000 with `--quick`), for tree1111 loaded from
 //!   XML and for Nav2's navigator driving the demo's simulated robot (one navigation after
 //!   another, seeds 0, 1, 2, ...): the median, p99, p99.9 and the slowest tick, and the same
 //!   for the navigator's ticks in which a path was planned. A robot's loop misses its period
@@ -286,7 +286,7 @@ pub fn crowd_sleeping_bench(opts: &BenchArgs) -> CrowdSleepingResult {
     }
 }
 
-/// Ticks timed one by one in the tick-time benchmarks, at least.
+/// Ticks timed one by one in the tick-time benchmarks, at least (a tenth with `--quick`).
 pub const TIMED_TICKS: usize = 100_000;
 
 /// Result of a tick-time benchmark.
@@ -431,9 +431,13 @@ pub fn execute(opts: &BenchArgs, out: &mut impl Write) -> io::Result<Outcome> {
         row(out, "", "bytes per member", s.bytes_per_member.to_string())?;
     }
     out.flush()?;
-    let [nav2, planning] =
-        nav2_tick_times(TIMED_TICKS).map_err(|e| io::Error::other(e.to_string()))?;
-    for t in [tree1111_tick_times(TIMED_TICKS), nav2, planning] {
+    let timed = if opts.quick {
+        TIMED_TICKS / 10
+    } else {
+        TIMED_TICKS
+    };
+    let [nav2, planning] = nav2_tick_times(timed).map_err(|e| io::Error::other(e.to_string()))?;
+    for t in [tree1111_tick_times(timed), nav2, planning] {
         if json {
             writeln!(out, "{}", tick_times_json(&t))?;
         } else {

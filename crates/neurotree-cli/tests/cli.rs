@@ -199,7 +199,7 @@ fn bench_json_prints_one_line_per_benchmark() {
         "2",
     ]));
     let lines: Vec<&str> = out.lines().collect();
-    assert_eq!(lines.len(), 5, "{out}");
+    assert_eq!(lines.len(), 8, "{out}");
     for line in &lines {
         assert!(line.starts_with('{') && line.ends_with('}'), "{line}");
     }
@@ -238,6 +238,33 @@ fn bench_json_prints_one_line_per_benchmark() {
     let awake = positive(sleeping, "awake_per_frame");
     assert!((10.0..100.0).contains(&awake), "{sleeping}");
     positive(sleeping, "ms_per_frame");
+    let per_awake = positive(sleeping, "ns_per_awake");
+    let expected = positive(sleeping, "ms_per_frame") * 1e6 / awake;
+    assert!(
+        (per_awake - expected).abs() <= expected * 0.01,
+        "{sleeping}"
+    );
+    positive(sleeping, "bytes_per_member");
+
+    // Ticks timed one by one: tree1111, the navigator, and the navigator's planning ticks
+    // (some of its ticks), each with ordered percentiles.
+    let trees = [
+        "\"tree1111_xml\"",
+        "\"nav2_navigator\"",
+        "\"nav2_navigator_planning\"",
+    ];
+    for (line, tree) in lines[5..].iter().zip(trees) {
+        assert_eq!(field(line, "name"), "\"tick_times\"");
+        assert_eq!(field(line, "tree"), tree);
+        let p: Vec<f64> = ["p50_ns", "p99_ns", "p999_ns", "max_ns"]
+            .iter()
+            .map(|key| positive(line, key))
+            .collect();
+        assert!(p.windows(2).all(|w| w[0] <= w[1]), "{line}");
+    }
+    let timed = |line: &str| positive(line, "ticks");
+    assert_eq!(timed(lines[5]), 10_000.0, "--quick times 10,000 ticks");
+    assert!(timed(lines[6]) >= 10_000.0 && timed(lines[7]) < timed(lines[6]));
 }
 
 #[test]
@@ -254,6 +281,9 @@ fn bench_table_names_every_measure() {
         "threads",
         "crowd_sleeping",
         "awake per frame",
+        "ns per awake member",
+        "tick_times",
+        "p99.9 ns",
     ] {
         assert!(out.contains(measure), "{measure} missing from\n{out}");
     }
