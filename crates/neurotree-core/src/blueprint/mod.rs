@@ -152,15 +152,17 @@ pub(crate) struct FastControl {
 }
 
 impl Child {
-    /// A child of kind `kind`; `hooked` when it has pre- or post-conditions; `entries` are
-    /// those of the blueprint's `shared` conditions.
+    /// A child of kind `kind`; `hooked` when it has pre- or post-conditions; `rechecked`
+    /// when a node above it re-checks its children every tick; `entries` are those of the
+    /// blueprint's `shared` conditions, not `rechecked` and `rechecked`.
     pub(crate) fn new<C>(
         id: NodeId,
         def: &NodeDef<C>,
         hooked: bool,
         guards: Guards,
+        rechecked: bool,
         shared: &[Arc<dyn Condition<C>>],
-        entries: &[call::Entry],
+        entries: &[[call::Entry; 2]],
     ) -> Self {
         let condition = |data, entry| Self {
             data,
@@ -176,10 +178,13 @@ impl Child {
                     ..condition(f as *const ConditionDyn<C> as *const (), f.entry())
                 }
             }
-            (NodeKind::Condition(c), false) => condition(call::data_of(&**c), call::entry_of(&**c)),
-            (NodeKind::SharedCondition(s), false) => {
-                condition(call::data_of(&*shared[s.index()]), entries[s.index()])
+            (NodeKind::Condition(c), false) => {
+                condition(call::data_of(&**c), call::entry_of(&**c, rechecked))
             }
+            (NodeKind::SharedCondition(s), false) => condition(
+                call::data_of(&*shared[s.index()]),
+                entries[s.index()][rechecked as usize],
+            ),
             (kind, false) if kind.plain_order().is_some() => {
                 let sequence = kind.plain_order() == Some(true);
                 let fast = match (sequence, guards) {
