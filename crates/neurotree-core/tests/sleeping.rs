@@ -303,3 +303,58 @@ fn a_reactive_tree_over_an_undeclared_condition_stays_awake_and_says_why() {
     assert_eq!(why.reason, neurotree_core::AwakeReason::UndeclaredLeaf);
     assert_eq!(why.path, "seq/w0");
 }
+
+/// A condition object of the clock that declares nothing keeps awake the reactive node
+/// above it however deep it sits (in a guard of conditions, in a Sequence, under the
+/// reactive node), and only a reactive node: with none above it, the tree sleeps.
+#[test]
+fn an_undeclared_condition_object_keeps_awake_only_a_reactive_node_above_it() {
+    let waiter = || Node::Waiter {
+        key: 2,
+        ms: 5_000,
+        declare: true,
+    };
+    // seq(fb(pure, ebb), yes): the Fallback is a guard of condition objects; the entry
+    // `pure` reads is never written, so the second one decides.
+    let guarded = |ebb: Node| {
+        Node::Control(
+            0,
+            vec![
+                Node::Control(1, vec![Node::Pure(0), ebb]),
+                Node::Always(true),
+            ],
+        )
+    };
+    let awake_for = |root: &Node| {
+        let mut tree = Tree::with_clock(blueprint(root), ManualClock::new());
+        let mut log = Log::default();
+        for _ in 0..3 {
+            tree.tick_once(&mut log).unwrap();
+        }
+        tree.why_awake().map(|w| (w.reason, w.path))
+    };
+    // The clock's half-period is far off: the ebb holds in every tick.
+    let deep = Node::Control(5, vec![guarded(Node::Ebb(1_000_000)), waiter()]);
+    assert_eq!(
+        awake_for(&deep),
+        Some((
+            neurotree_core::AwakeReason::ReactiveCondition,
+            "rseq/seq/fb".to_string()
+        ))
+    );
+    // Called straight from the reactive node's loop, it is named itself.
+    let direct = Node::Control(5, vec![Node::Ebb(1_000_000), waiter()]);
+    assert_eq!(
+        awake_for(&direct),
+        Some((
+            neurotree_core::AwakeReason::ReactiveCondition,
+            "rseq/ebb".to_string()
+        ))
+    );
+    // The same leaves with a declared one in its place sleep.
+    let declared = Node::Control(5, vec![guarded(Node::Bell), waiter()]);
+    assert_eq!(awake_for(&declared), None);
+    // With no reactive node above it, nothing re-checks the ebb: the tree sleeps.
+    let plain = Node::Control(0, vec![guarded(Node::Ebb(1_000_000)), waiter()]);
+    assert_eq!(awake_for(&plain), None);
+}

@@ -82,9 +82,16 @@ pub(crate) fn data_of<C>(c: &dyn Condition<C>) -> *const () {
     c as *const dyn Condition<C> as *const ()
 }
 
-/// The entry of a `Condition` object.
-pub(crate) fn entry_of<C>(c: &dyn Condition<C>) -> Entry {
-    c.entry()
+/// The entry of a `Condition` object; `rechecked` when a node above it re-checks its
+/// children every tick (see [`NodeKind::rechecks`](super::NodeKind::rechecks)).
+///
+/// Only such a node asks whether a leaf may read more than the blackboard, and only of a
+/// condition whose kind does not say it reads the blackboard alone: that one gets the
+/// entry that finds out whether it declared a wake in `check`. Every other condition gets
+/// the plain one, which does nothing but call it, so that trees with no reactive node tick
+/// as fast as if trees never slept.
+pub(crate) fn entry_of<C>(c: &dyn Condition<C>, rechecked: bool) -> Entry {
+    c.entry(rechecked && !c.reads_only_blackboard())
 }
 
 /// A closure condition, as [`ConditionFn`](super::ConditionFn) holds it: any
@@ -130,14 +137,19 @@ pub(crate) mod sealed {
 
     /// A `Condition` object's entry.
     pub trait ConditionEntry<C> {
-        /// The entry of this object's type (see [`Entry`]).
+        /// The entry of this object's type (see [`Entry`]); `tracked`: the one that notes
+        /// whether the condition declared a wake (see [`entry_of`](super::entry_of)).
         #[doc(hidden)]
-        fn entry(&self) -> Entry;
+        fn entry(&self, tracked: bool) -> Entry;
     }
 
     impl<C, T: Condition<C>> ConditionEntry<C> for T {
-        fn entry(&self) -> Entry {
-            object::<C, T>
+        fn entry(&self, tracked: bool) -> Entry {
+            if tracked {
+                tracked_object::<C, T>
+            } else {
+                object::<C, T>
+            }
         }
     }
 
@@ -172,7 +184,24 @@ pub(crate) mod sealed {
                 let c = &*(*call).data.cast::<T>();
                 (*args).arg.node = (*call).id;
                 let h = &(*args).arg;
-                h.out.reads.declare(c.reads_only_blackboard());
+                answer(args, || c.check(h))
+            }
+        }
+
+        /// As `object`, for a condition that may read more than the blackboard under a
+        /// node that re-checks it: unless it declares a wake in `check`, the caller's
+        /// `Reads::take_opaque` says so.
+        ///
+        /// # Safety
+        /// As for `object`.
+        unsafe extern $abi fn tracked_object<C, T: Condition<C>>(call: *const (), args: *mut ()) -> u8 {
+            // SAFETY: the caller's contract.
+            unsafe {
+                let (call, args) = (call.cast::<Child>(), args.cast::<Args<Handle<'_, C>>>());
+                let c = &*(*call).data.cast::<T>();
+                (*args).arg.node = (*call).id;
+                let h = &(*args).arg;
+                h.out.reads.declare(false);
                 let answered = answer(args, || c.check(h));
                 (*args).arg.out.reads.settle();
                 answered

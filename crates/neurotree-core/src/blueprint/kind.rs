@@ -316,6 +316,24 @@ macro_rules! node_kinds {
                 }
             }
 
+            /// `true` for the kinds that re-check their children every tick and so ask
+            /// whether the leaves under them read only what wakes the tree (see
+            /// [`Tick::RECHECKS`]).
+            pub(crate) fn rechecks(&self) -> bool {
+                match self {
+                    $(NodeKind::$name(_) => <crate::nodes::$($module::)+$name as Tick>::RECHECKS,)*
+                    NodeKind::SubTree(_)
+                    | NodeKind::ConditionFn(_)
+                    | NodeKind::Condition(_)
+                    | NodeKind::SharedCondition(_)
+                    | NodeKind::ActionFn(_)
+                    | NodeKind::Action(_)
+                    | NodeKind::Stateful(_)
+                    | NodeKind::Async(_)
+                    | NodeKind::Custom(_) => false,
+                }
+            }
+
             /// `Some(true)` for a plain Sequence, `Some(false)` for a plain Fallback (see
             /// [`Tick::PLAIN_ORDER`]).
             pub(crate) fn plain_order(&self) -> Option<bool> {

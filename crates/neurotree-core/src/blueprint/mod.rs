@@ -104,6 +104,9 @@ enum Fast {
     Closure,
     None,
     Condition,
+    /// A `Condition` object that may read more than the blackboard, under a node that
+    /// re-checks it: its call notes whether it declared a wake (see `call::entry_of`).
+    TrackedCondition,
     /// A plain Sequence without hooks, which a parent's loop ticks without the dispatcher.
     Sequential,
     /// A plain Fallback without hooks, likewise.
@@ -118,6 +121,11 @@ enum Fast {
     SequenceOfObjects,
     /// A plain Fallback of `Condition` objects, likewise.
     FallbackOfObjects,
+    /// A guard of `Condition` objects under a node that re-checks it, whose loop asks
+    /// after the calls whether one may read more than the blackboard.
+    SequenceOfTrackedObjects,
+    /// A plain Fallback of `Condition` objects, likewise.
+    FallbackOfTrackedObjects,
 }
 
 /// A child as a plain Sequence's or Fallback's quiet loop ticks it: a condition called
@@ -125,10 +133,13 @@ enum Fast {
 /// loop runs in the parent's, or anything else.
 pub(crate) enum Hot {
     Closure,
-    Condition,
+    /// A `Condition` object; `true` if its call notes what it reads (see
+    /// [`Fast::TrackedCondition`]).
+    Condition(bool),
     /// A guard: a Sequence (`.0`) or Fallback, of closures (`.1`) or of `Condition`
-    /// objects, and its children's range in `Blueprint::hot_children` (first, count).
-    Guard(bool, bool, [u32; 2]),
+    /// objects, whose calls note what they read (`.2`), and its children's range in
+    /// `Blueprint::hot_children` (first, count).
+    Guard(bool, bool, bool, [u32; 2]),
     Other,
 }
 
@@ -152,21 +163,32 @@ pub(crate) struct FastControl {
 }
 
 impl Child {
-    /// A child of kind `kind`; `hooked` when it has pre- or post-conditions; `entries` are
-    /// those of the blueprint's `shared` conditions.
+    /// A child of kind `kind`; `hooked` when it has pre- or post-conditions; `rechecked`
+    /// when a node above it re-checks its children every tick; `entries` are those of the
+    /// blueprint's `shared` conditions, not `rechecked` and `rechecked`.
     pub(crate) fn new<C>(
         id: NodeId,
         def: &NodeDef<C>,
         hooked: bool,
         guards: Guards,
+        rechecked: bool,
         shared: &[Arc<dyn Condition<C>>],
-        entries: &[call::Entry],
+        entries: &[[call::Entry; 2]],
     ) -> Self {
         let condition = |data, entry| Self {
             data,
             word: Word { entry },
             id,
             fast: Fast::Condition,
+        };
+        // A `Condition` object, given the entry `call::entry_of` picks for it.
+        let object = |c: &dyn Condition<C>, entry| Self {
+            fast: if rechecked && !c.reads_only_blackboard() {
+                Fast::TrackedCondition
+            } else {
+                Fast::Condition
+            },
+            ..condition(call::data_of(c), entry)
         };
         match (&def.kind, hooked) {
             (NodeKind::ConditionFn(f), false) => {
@@ -176,17 +198,19 @@ impl Child {
                     ..condition(f as *const ConditionDyn<C> as *const (), f.entry())
                 }
             }
-            (NodeKind::Condition(c), false) => condition(call::data_of(&**c), call::entry_of(&**c)),
+            (NodeKind::Condition(c), false) => object(&**c, call::entry_of(&**c, rechecked)),
             (NodeKind::SharedCondition(s), false) => {
-                condition(call::data_of(&*shared[s.index()]), entries[s.index()])
+                object(&*shared[s.index()], entries[s.index()][rechecked as usize])
             }
             (kind, false) if kind.plain_order().is_some() => {
                 let sequence = kind.plain_order() == Some(true);
                 let fast = match (sequence, guards) {
                     (true, Guards::Closures) => Fast::SequenceOfClosures,
+                    (true, Guards::Objects) if rechecked => Fast::SequenceOfTrackedObjects,
                     (true, Guards::Objects) => Fast::SequenceOfObjects,
                     (true, Guards::Mixed) => Fast::Sequential,
                     (false, Guards::Closures) => Fast::FallbackOfClosures,
+                    (false, Guards::Objects) if rechecked => Fast::FallbackOfTrackedObjects,
                     (false, Guards::Objects) => Fast::FallbackOfObjects,
                     (false, Guards::Mixed) => Fast::Alternative,
                 };
@@ -219,7 +243,7 @@ impl Child {
     pub(crate) fn condition(&self) -> Option<bool> {
         match self.fast {
             Fast::Closure => Some(true),
-            Fast::Condition => Some(false),
+            Fast::Condition | Fast::TrackedCondition => Some(false),
             _ => None,
         }
     }
@@ -251,11 +275,20 @@ impl Child {
             self.fast,
             Fast::Closure
                 | Fast::Condition
+                | Fast::TrackedCondition
                 | Fast::SequenceOfClosures
                 | Fast::FallbackOfClosures
                 | Fast::SequenceOfObjects
                 | Fast::FallbackOfObjects
+                | Fast::SequenceOfTrackedObjects
+                | Fast::FallbackOfTrackedObjects
         )
+    }
+
+    /// Whether the child is a `Condition` object whose call notes what it reads.
+    #[inline(always)]
+    pub(crate) fn tracked(&self) -> bool {
+        self.fast == Fast::TrackedCondition
     }
 
     /// A plain Sequence or Fallback without hooks, which a parent's loop ticks without the
@@ -267,9 +300,9 @@ impl Child {
             Fast::Alternative => (false, Guards::Mixed),
             Fast::SequenceOfClosures => (true, Guards::Closures),
             Fast::FallbackOfClosures => (false, Guards::Closures),
-            Fast::SequenceOfObjects => (true, Guards::Objects),
-            Fast::FallbackOfObjects => (false, Guards::Objects),
-            Fast::Closure | Fast::Condition | Fast::None => return None,
+            Fast::SequenceOfObjects | Fast::SequenceOfTrackedObjects => (true, Guards::Objects),
+            Fast::FallbackOfObjects | Fast::FallbackOfTrackedObjects => (false, Guards::Objects),
+            Fast::Closure | Fast::Condition | Fast::TrackedCondition | Fast::None => return None,
         };
         Some(FastControl { sequence, guards })
     }
@@ -281,11 +314,14 @@ impl Child {
         unsafe {
             match self.fast {
                 Fast::Closure => Hot::Closure,
-                Fast::Condition => Hot::Condition,
-                Fast::SequenceOfClosures => Hot::Guard(true, true, self.word.guard),
-                Fast::FallbackOfClosures => Hot::Guard(false, true, self.word.guard),
-                Fast::SequenceOfObjects => Hot::Guard(true, false, self.word.guard),
-                Fast::FallbackOfObjects => Hot::Guard(false, false, self.word.guard),
+                Fast::Condition => Hot::Condition(false),
+                Fast::TrackedCondition => Hot::Condition(true),
+                Fast::SequenceOfClosures => Hot::Guard(true, true, false, self.word.guard),
+                Fast::FallbackOfClosures => Hot::Guard(false, true, false, self.word.guard),
+                Fast::SequenceOfObjects => Hot::Guard(true, false, false, self.word.guard),
+                Fast::FallbackOfObjects => Hot::Guard(false, false, false, self.word.guard),
+                Fast::SequenceOfTrackedObjects => Hot::Guard(true, false, true, self.word.guard),
+                Fast::FallbackOfTrackedObjects => Hot::Guard(false, false, true, self.word.guard),
                 Fast::Sequential | Fast::Alternative | Fast::None => Hot::Other,
             }
         }

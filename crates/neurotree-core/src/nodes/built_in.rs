@@ -70,6 +70,10 @@ pub(crate) trait Tick: BuiltIn + Sized {
     /// `true` for a node whose halt may wait for the halts below it before it runs code of
     /// its own (TryCatch's catch); see [`slow_halt`](crate::tree::slow_halt).
     const WAITS_ON_HALTS: bool = false;
+    /// `true` for a node that re-checks its children every tick through
+    /// [`rechecking`](crate::nodes::control::reactive::rechecking): only under one does a
+    /// condition's call note whether it may read more than the blackboard.
+    const RECHECKS: bool = false;
 
     /// The node with its ports bound by `port`; an error names the port that is missing or
     /// whose literal does not convert.

@@ -302,16 +302,18 @@ impl<'t, C> Ticker<'t, C> {
             if OBSERVED {
                 self.note_tick(child.id);
             }
-            let holds = self.check(child, true);
+            let holds = self.check(child, true, false);
             return self.store_condition::<OBSERVED>(child.id, holds);
         }
         self.tick_child_slow::<OBSERVED>(child)
     }
 
     /// Calls condition `child` (a closure with the context, else an object with a handle)
-    /// and tells whether it holds; a panic in it goes on, blamed on it.
+    /// and tells whether it holds; a panic in it goes on, blamed on it. `tracked`: the
+    /// object's call noted whether it may read more than the blackboard (see
+    /// `call::entry_of`), asked here.
     #[inline(always)]
-    pub(crate) fn check(&mut self, child: &Child, closure: bool) -> bool {
+    pub(crate) fn check(&mut self, child: &Child, closure: bool, tracked: bool) -> bool {
         let (answer, panic) = if closure {
             // A closure of the context: it may read anything.
             self.out.waits.opaque(child.id);
@@ -329,7 +331,7 @@ impl<'t, C> Ticker<'t, C> {
                 let answer = child.call(&mut args);
                 (answer, args.panicked(answer))
             };
-            if self.out.reads.take_opaque() {
+            if tracked && self.out.reads.take_opaque() {
                 self.out.waits.opaque(child.id);
             }
             answered
@@ -362,7 +364,7 @@ impl<'t, C> Ticker<'t, C> {
             if OBSERVED {
                 self.note_tick(child.id);
             }
-            let holds = self.check(child, false);
+            let holds = self.check(child, false, child.tracked());
             return self.store_condition::<OBSERVED>(child.id, holds);
         }
         let def = self.bp.def(child.id);

@@ -103,6 +103,18 @@ impl Action<Log> for Tide {
     }
 }
 
+/// A condition of the clock, as [`Tide`], that declares nothing: a `Condition` object,
+/// called from its parent's loop (and from a guard's, with its siblings), which a reactive
+/// node above it, however high, must not let sleep.
+pub struct Ebb(u64);
+
+impl Condition<Log> for Ebb {
+    fn check(&self, h: &Handle<'_, Log>) -> bool {
+        let ms = h.now().as_millis() as u64;
+        ms % self.0 < self.0 / 2
+    }
+}
+
 /// A condition of entry `k{key}` that says it reads only the blackboard: a reactive parent
 /// re-checking it lets the tree sleep.
 pub struct Pure(u8);
@@ -146,6 +158,7 @@ pub enum Node {
     Waiter { key: u8, ms: u64, declare: bool },
     Check(u8),
     Tide(u64),
+    Ebb(u64),
     Pure(u8),
     Watch(u8),
     Bell,
@@ -162,6 +175,7 @@ pub fn node() -> impl Strategy<Value = Node> {
             .prop_map(|(key, t, declare)| Node::Waiter { key, ms: t * 100, declare }),
         2 => (0u8..3).prop_map(Node::Check),
         2 => (2u64..9).prop_map(|t| Node::Tide(t * 100)),
+        2 => (2u64..9).prop_map(|t| Node::Ebb(t * 100)),
         2 => (0u8..3).prop_map(Node::Pure),
         2 => (0u8..3).prop_map(Node::Watch),
         1 => Just(Node::Bell),
@@ -198,6 +212,7 @@ pub fn add(b: Builder<Log>, node: &Node, ids: &mut u8) -> Builder<Log> {
         }
         Node::Check(key) => b.action_node("check", Check(*key)),
         Node::Tide(period) => b.action_node("tide", Tide(*period)),
+        Node::Ebb(period) => b.condition_node("ebb", Ebb(*period)),
         Node::Pure(key) => b.condition_node("pure", Pure(*key)),
         Node::Watch(key) => b.condition_node("watch", Watch(*key)),
         Node::Bell => b.condition_node("bell", Bell),

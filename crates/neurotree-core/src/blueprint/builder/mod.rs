@@ -629,14 +629,41 @@ impl<C> State<C> {
         }
         let nodes = nodes.into_boxed_slice();
         let shared = self.shared.into_boxed_slice();
-        // A shared condition's entry is looked up once, not for each of its nodes.
-        let entries: Vec<_> = shared.iter().map(|c| super::call::entry_of(&**c)).collect();
+        // Per node, whether a node above it re-checks its children every tick: only
+        // there does a condition's call note what it reads (see `call::entry_of`). In
+        // pre-order a parent is known before its children.
+        let mut rechecked: Vec<bool> = Vec::with_capacity(nodes.len());
+        for node in &meta[..nodes.len()] {
+            let under = node
+                .parent
+                .is_some_and(|p| rechecked[p.index()] || nodes[p.index()].kind.rechecks());
+            rechecked.push(under);
+        }
+        // A shared condition's entries are looked up once, not for each of its nodes.
+        let entries: Vec<_> = shared
+            .iter()
+            .map(|c| {
+                [
+                    super::call::entry_of(&**c, false),
+                    super::call::entry_of(&**c, true),
+                ]
+            })
+            .collect();
         let hot_children = children
             .iter()
             .map(|&id| {
                 let i = id.index();
                 let guard = guards[i].unwrap_or(Guards::Mixed);
-                Child::new(id, &nodes[i], hooks[i].is_some(), guard, &shared, &entries)
+                let hooked = hooks[i].is_some();
+                Child::new(
+                    id,
+                    &nodes[i],
+                    hooked,
+                    guard,
+                    rechecked[i],
+                    &shared,
+                    &entries,
+                )
             })
             .collect();
         // Per node, whether every ancestor passes a Running child's tick straight through

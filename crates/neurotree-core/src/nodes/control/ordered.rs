@@ -129,18 +129,22 @@ pub(crate) fn tick_guard<C, const SEQUENCE: bool, const CLOSURES: bool>(
         return run::<C, SEQUENCE, PLAIN, true>(t, id, def);
     }
     let hot = t.bp.hot_children_of(def);
-    guard::<C, SEQUENCE, CLOSURES>(t, id, hot)
+    guard::<C, SEQUENCE, CLOSURES>(t, id, hot, true)
 }
 
 /// A guard's loop with no observer (see [`tick_guard`]): the calls of its conditions
 /// `calls` (at least one), in order, until one decides (see [`calls`]). Run by the guard's parent in its
 /// own loop when the parent is a quiet Sequence or Fallback ([`run_quiet`]), as if the
 /// guard were one condition: its status is stored only if the parent returns Running.
+/// `tracked`: the guard is under a node that re-checks it, and asks after the calls of its
+/// `Condition` objects whether one may read more than the blackboard (elsewhere no call
+/// notes it, and nobody would ask).
 #[inline(always)]
 fn guard<C, const SEQUENCE: bool, const CLOSURES: bool>(
     t: &mut Ticker<'_, C>,
     id: NodeId,
     calls: &[Child],
+    tracked: bool,
 ) -> NodeStatus {
     let (go_on, stop) = if SEQUENCE {
         (NodeStatus::Success, NodeStatus::Failure)
@@ -163,7 +167,7 @@ fn guard<C, const SEQUENCE: bool, const CLOSURES: bool>(
         // ticker's state that only they use.
         let decided = unsafe { calls::until::<_, SEQUENCE>(calls, &mut args) }
             .map(|(call, answer)| (call.id, unsafe { args.panicked(answer) }));
-        if t.out.reads.take_opaque() {
+        if tracked && t.out.reads.take_opaque() {
             t.out.waits.opaque(id);
         }
         decided
@@ -228,17 +232,19 @@ fn run_quiet<C, const SEQUENCE: bool>(
         let status = match child.hot() {
             // Which node a panic came from is written only if one ends the call: a store
             // per condition would cost this loop a tenth of its time.
-            Hot::Closure => NodeStatus::from(crate::Status::from(t.check(child, true))),
-            Hot::Condition => NodeStatus::from(crate::Status::from(t.check(child, false))),
+            Hot::Closure => NodeStatus::from(crate::Status::from(t.check(child, true, false))),
+            Hot::Condition(tracked) => {
+                NodeStatus::from(crate::Status::from(t.check(child, false, tracked)))
+            }
             // A guard completes in this call, like a condition: its status, like theirs,
             // is stored only if this node returns Running.
-            Hot::Guard(sequence, closures, range) => {
+            Hot::Guard(sequence, closures, tracked, range) => {
                 let calls = bp.hot_range(range);
                 match (sequence, closures) {
-                    (true, true) => guard::<C, true, true>(t, child.id, calls),
-                    (false, true) => guard::<C, false, true>(t, child.id, calls),
-                    (true, false) => guard::<C, true, false>(t, child.id, calls),
-                    (false, false) => guard::<C, false, false>(t, child.id, calls),
+                    (true, true) => guard::<C, true, true>(t, child.id, calls, false),
+                    (false, true) => guard::<C, false, true>(t, child.id, calls, false),
+                    (true, false) => guard::<C, true, false>(t, child.id, calls, tracked),
+                    (false, false) => guard::<C, false, false>(t, child.id, calls, tracked),
                 }
             }
             Hot::Other => {

@@ -178,6 +178,7 @@ impl BuiltIn for ReactiveSequence {
 
 impl Tick for ReactiveSequence {
     const DECL: &'static NodeDecl = &REACTIVE_SEQUENCE;
+    const RECHECKS: bool = true;
     const AUX_SLOTS: u32 = 1;
 
     fn from_ports(_: &dyn Fn(&str) -> PortBinding) -> Result<Self, PortBindingError> {
@@ -212,6 +213,7 @@ impl BuiltIn for ReactiveFallback {
 
 impl Tick for ReactiveFallback {
     const DECL: &'static NodeDecl = &REACTIVE_FALLBACK;
+    const RECHECKS: bool = true;
     const AUX_SLOTS: u32 = 1;
 
     fn from_ports(_: &dyn Fn(&str) -> PortBinding) -> Result<Self, PortBindingError> {

@@ -86,6 +86,7 @@ impl BuiltIn for WhileDoElse {}
 
 impl Tick for WhileDoElse {
     const DECL: &'static NodeDecl = &WHILE_DO_ELSE;
+    const RECHECKS: bool = true;
 
     fn from_ports(_: &dyn Fn(&str) -> PortBinding) -> Result<Self, PortBindingError> {
         Ok(WhileDoElse)

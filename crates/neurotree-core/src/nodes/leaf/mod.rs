@@ -356,6 +356,9 @@ pub trait Condition<C>: Send + Sync + crate::blueprint::call::sealed::ConditionE
     /// context, the clock, the world): a reactive node that re-checks it lets the tree
     /// sleep (see [`sleep`](crate::tree::sleep)). A condition that reads something else
     /// may still declare, in `check`, what wakes it ([`Handle::wake_on_handle`]).
+    ///
+    /// Asked once per node, when the blueprint is built (and when a node is ticked
+    /// through the dispatcher): the answer must not change.
     fn reads_only_blackboard(&self) -> bool {
         false
     }
