@@ -256,7 +256,11 @@ impl Call {
                 wait_for_end(inbox, limit);
                 return None;
             }
-            Err(mpsc::RecvTimeoutError::Timeout) => {
+            Err(mpsc::RecvTimeoutError::Disconnected) => {
+                Err("the call ended without an answer".to_string())
+            }
+            // The time limit passed (the other error of `recv_timeout`).
+            Err(_) => {
                 halt.halt();
                 let ended = wait_for_end(inbox, limit);
                 Err(format!(
@@ -268,9 +272,6 @@ impl Call {
                         "it was abandoned"
                     }
                 ))
-            }
-            Err(mpsc::RecvTimeoutError::Disconnected) => {
-                Err("the call ended without an answer".to_string())
             }
         };
         Some(self.answer(outcome))
