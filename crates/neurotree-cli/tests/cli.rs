@@ -754,6 +754,58 @@ fn an_entry_written_as_one_type_and_read_as_another_is_found_and_refused_when_st
 }
 
 #[test]
+fn a_number_a_script_assigns_where_a_port_reads_a_whole_one_is_found_and_refused_when_strict() {
+    let file = write_tree(
+        "script_fraction.xml",
+        r#"<root BTCPP_format="4" main_tree_to_execute="Main">
+  <BehaviorTree ID="Main">
+    <Sequence>
+      <Script code="wait := 2.5"/>
+      <Delay delay_msec="{wait}"><AlwaysSuccess/></Delay>
+    </Sequence>
+  </BehaviorTree>
+</root>"#,
+    );
+    let path = file.to_str().unwrap();
+    let said = "5:7: error[NT0102]: port `delay_msec` of Delay reads the entry `wait` as u64, \
+                but the script `code` of Script at line 4 assigns the number 2.5 into it, \
+                which does not convert without loss";
+    let (code, out, err) = run_cli(&["lint", path]);
+    assert_eq!(code, Some(1), "{err}");
+    assert!(out.contains(said), "{out}");
+    let (code, out, err) = run_cli(&["check", path]);
+    assert_eq!(code, Some(0), "{err}");
+    assert!(out.contains("ok (1 tree)"), "{out}");
+    let (code, _, err) = run_cli(&["check", "--strict-types", path]);
+    assert_eq!(code, Some(1), "{err}");
+    assert!(
+        err.contains(":5:7: error: port `delay_msec` of Delay reads the entry `wait` as u64"),
+        "{err}"
+    );
+    // A run refuses the value where lint says it does.
+    let (_, out, err) = run_cli(&["run", path]);
+    assert!(
+        out.contains(r#""status":"ERROR","error":"Sequence/Delay (#2): port `delay_msec`"#)
+            && out.contains("2.5 does not fit u64"),
+        "{out}{err}"
+    );
+    // A whole number converts: nothing to say, strict or not, and the run succeeds.
+    let whole = write_tree(
+        "script_whole.xml",
+        &std::fs::read_to_string(&file)
+            .unwrap()
+            .replace("2.5", "250"),
+    );
+    let (code, out, err) = run_cli(&["lint", whole.to_str().unwrap()]);
+    assert!(!out.contains("NT0102"), "{out}{err}");
+    assert_eq!(code, Some(0), "{out}{err}");
+    let (code, _, err) = run_cli(&["check", "--strict-types", whole.to_str().unwrap()]);
+    assert_eq!(code, Some(0), "{err}");
+    let (_, out, err) = run_cli(&["run", whole.to_str().unwrap()]);
+    assert!(out.contains(r#""status":"SUCCESS","nodes""#), "{out}{err}");
+}
+
+#[test]
 fn a_mistyped_port_gets_the_nearest_declared_name_in_check_and_lint() {
     let file = write_tree(
         "planer.xml",

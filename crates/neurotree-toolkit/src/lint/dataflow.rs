@@ -1,5 +1,5 @@
 //! Blackboard data flow: entries read before anything can have written them (NT0101),
-//! written as a text the reading port cannot convert (NT0102), written and never read
+//! written as a value the reading port cannot convert (NT0102), written and never read
 //! (NT0103).
 //!
 //! A tree no other tree uses is followed from its root, in tick order, into its SubTrees:
@@ -48,11 +48,12 @@ enum Use<'r> {
         checked: bool,
         script: bool,
     },
-    /// Written; with the text written when it is a literal, or the port that writes it.
-    /// `remap` for a SubTree's literal port, which gives the SubTree a value whether or not
-    /// it reads it.
+    /// Written; with the text written when it is a literal, the number a script assigns,
+    /// or the port that writes it. `remap` for a SubTree's literal port, which gives the
+    /// SubTree a value whether or not it reads it.
     Write {
         literal: Option<String>,
+        number: Option<f64>,
         port: Option<&'r PortSpec>,
         remap: bool,
     },
@@ -417,6 +418,7 @@ impl<'l, 'r, C: 'static> Flow<'l, 'r, C> {
                         (inner, port.to_string()),
                         Use::Write {
                             literal: Some(text),
+                            number: None,
                             port: None,
                             remap: true,
                         },
@@ -612,18 +614,17 @@ fn mismatches(
     found: &mut Vec<Diagnostic>,
 ) {
     for w in writes {
-        let why = match &w.what {
-            Use::Write {
-                literal: Some(text),
-                ..
-            } if !spec.accepts(text) => format!("writes `{text}` into it, which does not convert"),
-            Use::Write {
-                port: Some(port), ..
-            } => match types::entry_mismatch(port, spec) {
-                Some(why) => why,
-                None => continue,
-            },
-            _ => continue,
+        let Use::Write {
+            literal,
+            number,
+            port,
+            ..
+        } = &w.what
+        else {
+            continue;
+        };
+        let Some(why) = types::write_mismatch(literal.as_deref(), *number, *port, spec) else {
+            continue;
         };
         found.push(read.site.diagnostic(
             "NT0102",
@@ -643,6 +644,7 @@ fn mismatches(
 fn written(literal: Option<String>, port: Option<&PortSpec>) -> Use<'_> {
     Use::Write {
         literal,
+        number: None,
         port,
         remap: false,
     }
@@ -679,10 +681,13 @@ fn script_uses<'r>(expr: &Expr, uses: &mut Vec<(String, Use<'r>)>) {
                 ExprKind::Str(text) => Some(text.to_string()),
                 _ => None,
             };
+            // `+=` assigns what the entry held and the value make.
+            let number = Some(&**value).filter(|_| !matches!(op, AssignOp::Compound(_)));
             uses.push((
                 key.to_string(),
                 Use::Write {
                     literal,
+                    number: number.and_then(types::assigned_number),
                     port: None,
                     remap: false,
                 },

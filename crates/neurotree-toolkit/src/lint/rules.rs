@@ -49,11 +49,14 @@ may come first.",
         code: "NT0102",
         name: "type-mismatch",
         severity: Severity::Error,
-        summary: "an entry is written as a text that the port reading it cannot convert",
+        summary: "an entry is written as a value that the port reading it cannot convert",
         explanation: "\
 A Script or SetBlackboard writes a text into an entry, and a port whose type is a number
 (or a boolean, or another typed value) reads that entry: the conversion fails at the tick
-that reads it.
+that reads it. So does a Script's number (`true` and `false` are 1 and 0) read by a port of
+whole numbers that cannot take it without loss (`2.5`, `-1` for an unsigned one) or by a
+port of a type of its own (a pose, a path), and a value an output port writes for a port of
+another type.
 
     <Script code=\"count := 'three'\"/>
     <Repeat num_cycles=\"{count}\">            <!-- NT0102: 'three' is no int -->

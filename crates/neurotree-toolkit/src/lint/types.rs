@@ -1,6 +1,7 @@
 //! Which declared port types an entry can pass between, as BehaviorTree.CPP's `Any`
 //! converts: numbers and `bool` among themselves and from text, any type to an untyped
-//! port, and another type only to itself.
+//! port, and another type only to itself. A Script's number (a `bool` is 1 or 0 there)
+//! is read as a whole number only when it is one that fits, and never as a type of its own.
 //!
 //! A port's type is the one its Rust declaration gives or, for a node type only a
 //! `TreeNodesModel` declares (Nav2's leaves), the one the model names: `double` is a
@@ -13,6 +14,7 @@ use neurotree_core::PortType;
 
 use super::{Diagnostic, LintOptions};
 use crate::registry::PortSpec;
+use crate::script::ast::{Expr, ExprKind, UnOp};
 use crate::xml::{LoadError, LoadErrorKind, XmlLoader};
 
 /// The errors of [`Registry::set_strict_types`](crate::Registry::set_strict_types) for the
@@ -127,6 +129,62 @@ pub(crate) fn entry_mismatch(writer: &PortSpec, reader: &PortSpec) -> Option<Str
     clash.then(|| format!("writes {words} into it"))
 }
 
+/// Why what a write puts into an entry (a `literal` text, the `number` a script assigns,
+/// or a value of the type of `port`) cannot be read through `reader`, in words, or `None`
+/// when it can or when lint cannot tell.
+pub(crate) fn write_mismatch(
+    literal: Option<&str>,
+    number: Option<f64>,
+    port: Option<&PortSpec>,
+    reader: &PortSpec,
+) -> Option<String> {
+    match (literal, number, port) {
+        (Some(text), ..) => (!reader.accepts(text))
+            .then(|| format!("writes `{text}` into it, which does not convert")),
+        (_, Some(n), _) => number_mismatch(n, reader),
+        (_, _, Some(port)) => entry_mismatch(port, reader),
+        _ => None,
+    }
+}
+
+/// The number a script's assigned `value` certainly is, as BehaviorTree.CPP's script holds
+/// it: a number literal, negated or not, or `true`/`false` (1 and 0); `None` when it is
+/// text or an expression whose value lint does not work out.
+pub(crate) fn assigned_number(value: &Expr) -> Option<f64> {
+    match &value.kind {
+        ExprKind::Int(n) => Some(*n as f64),
+        ExprKind::Real(x) => Some(*x),
+        ExprKind::Bool(b) => Some(f64::from(u8::from(*b))),
+        ExprKind::Unary(UnOp::Neg, _, e) => assigned_number(e).map(|n| -n),
+        _ => None,
+    }
+}
+
+/// Why the number `n` a script assigns to an entry cannot be read through `reader`, in
+/// words, or `None` when it can or the types say too little. As BehaviorTree.CPP's `Any`
+/// converts: a number is read as any number it fits without truncation (text and untyped
+/// ports take it as well), never as a type of its own (a `Path`). A `bool` port is let
+/// through, as the script's `true` is a double that converts.
+pub(crate) fn number_mismatch(n: f64, reader: &PortSpec) -> Option<String> {
+    let shown = if n.fract() == 0.0 && n.abs() < 1e15 {
+        format!("{n:.0}")
+    } else {
+        n.to_string()
+    };
+    match Held::of(reader) {
+        Held::Named(name) => Some(format!("assigns the number {shown} into it, not a {name}")),
+        Held::Number(_) => {
+            // An integer port: its literal check takes `1` and neither `0.5` nor `true`.
+            let integer = reader.accepts("1") && !reader.accepts("0.5") && !reader.accepts("true");
+            let fits = n.is_finite() && n.fract() == 0.0 && reader.accepts(&format!("{n:.0}"));
+            (integer && !fits).then(|| {
+                format!("assigns the number {shown} into it, which does not convert without loss")
+            })
+        }
+        Held::Any | Held::Text => None,
+    }
+}
+
 /// Whether `port` is declared as text (`String`), which reads what converts to text.
 fn is_text(port: PortType) -> bool {
     !port.is_any() && !port.writes_as::<f64>() && port.writes_as::<String>()
@@ -224,6 +282,123 @@ mod tests {
             PortType::named("i32"),
             PortType::named("f64")
         ));
+    }
+
+    /// The NT0102 findings of `main` (lines and messages) over Nav2's models, and the load
+    /// errors (lines) of the file with strict types.
+    fn scripted(main: &str) -> (Vec<(u32, String)>, Vec<u32>) {
+        let mut registry = crate::Registry::<()>::new();
+        registry
+            .add_model_str(
+                r#"<root BTCPP_format="4"><TreeNodesModel>
+                  <Action ID="ComputePathToPose">
+                    <input_port name="goal" type="geometry_msgs::msg::PoseStamped"/>
+                    <output_port name="path" type="nav_msgs::msg::Path"/>
+                  </Action>
+                  <Action ID="Wait"><input_port name="wait_duration" type="double"/></Action>
+                  <Action ID="Spin"><input_port name="turns" type="int"/></Action>
+                  <Action ID="Say"><input_port name="text" type="std::string"/></Action>
+                </TreeNodesModel></root>"#,
+                "nav2.xml",
+            )
+            .unwrap();
+        let mut loader = crate::XmlLoader::new(&registry);
+        loader.load_str(main, "main.xml").unwrap();
+        let found = super::super::lint(&loader, &Default::default())
+            .into_iter()
+            .filter(|d| d.code == "NT0102")
+            .map(|d| (d.line, d.message))
+            .collect();
+        registry.set_strict_types(true);
+        let mut strict = crate::XmlLoader::new(&registry);
+        strict.load_str(main, "main.xml").unwrap();
+        let refused = strict.validate_all("Main", 20);
+        let refused = refused.into_iter().map(|e| e.line).collect();
+        (found, refused)
+    }
+
+    #[test]
+    fn a_number_a_script_assigns_is_checked_against_the_port_that_reads_it() {
+        let main = |code: &str, reader: &str| {
+            format!(
+                r#"<root BTCPP_format="4">
+  <BehaviorTree ID="Main">
+    <Sequence>
+      <Script code="{code}"/>
+      {reader}
+    </Sequence>
+  </BehaviorTree>
+</root>"#
+            )
+        };
+        let goal = r#"<ComputePathToPose goal="{p}" path="{path}"/>"#;
+        let (found, refused) = scripted(&main("p := 3.5", goal));
+        assert_eq!(
+            found,
+            [(
+                5,
+                "port `goal` of ComputePathToPose reads the entry `p` as PoseStamped, but the \
+                 script `code` of Script at line 4 assigns the number 3.5 into it, not a \
+                 PoseStamped"
+                    .to_string()
+            )]
+        );
+        assert_eq!(refused, [5]);
+        // `true` is a number to BehaviorTree.CPP's script, and no pose either.
+        assert_eq!(scripted(&main("p := true", goal)).1, [5]);
+        // An integer port takes a whole number in its range, and no fraction.
+        let spin = r#"<Spin turns="{p}"/>"#;
+        for whole in ["p := 3", "p := -2.0", "p = 7", "p := true"] {
+            assert_eq!(scripted(&main(whole, spin)), (vec![], vec![]), "{whole}");
+        }
+        for lossy in ["p := 3.5", "p := -0.25", "p := 1e20"] {
+            let (found, refused) = scripted(&main(lossy, spin));
+            assert_eq!(found.len(), 1, "{lossy}");
+            assert!(
+                found[0].1.ends_with("which does not convert without loss"),
+                "{found:?}"
+            );
+            assert_eq!(refused, [5], "{lossy}");
+        }
+        // A number port, a text port, and what lint cannot work out say nothing.
+        for quiet in [
+            main("p := 3.5", r#"<Wait wait_duration="{p}"/>"#),
+            main("p := 3.5", r#"<Say text="{p}"/>"#),
+            main("p := 3.5 * 2", spin),
+            main("p := 1; p += 0.5", spin),
+            main("p := 'text'", r#"<Say text="{p}"/>"#),
+        ] {
+            assert_eq!(scripted(&quiet), (vec![], vec![]), "{quiet}");
+        }
+        // Text that converts is read; text that does not is refused.
+        let wait = r#"<Wait wait_duration="{p}"/>"#;
+        assert_eq!(scripted(&main("p := '2.5'", wait)), (vec![], vec![]));
+        assert_eq!(scripted(&main("p := 'soon'", wait)).1, [5]);
+    }
+
+    #[test]
+    fn a_script_value_is_a_number_only_when_it_is_a_literal() {
+        let value = |code: &str| {
+            let script = crate::script::Script::parse(code).unwrap();
+            match &script.program()[0].kind {
+                ExprKind::Assign(_, _, _, _, value) => assigned_number(value),
+                other => panic!("{other:?}"),
+            }
+        };
+        assert_eq!(value("p := 3"), Some(3.0));
+        assert_eq!(value("p := -3.5"), Some(-3.5));
+        assert_eq!(value("p := false"), Some(0.0));
+        assert_eq!(value("p := 'three'"), None);
+        assert_eq!(value("p := q"), None);
+        assert_eq!(value("p := 1 + 2"), None);
+        let int = PortSpec::input::<i32>("n");
+        assert_eq!(number_mismatch(2.0, &int), None);
+        assert!(number_mismatch(2.5, &int).is_some());
+        assert!(number_mismatch(3e9, &int).is_some());
+        assert!(number_mismatch(-1.0, &PortSpec::input::<u64>("n")).is_some());
+        assert_eq!(number_mismatch(2.5, &PortSpec::input::<f64>("x")), None);
+        assert_eq!(number_mismatch(2.5, &PortSpec::input::<bool>("b")), None);
+        assert_eq!(number_mismatch(2.5, &PortSpec::input::<String>("s")), None);
     }
 
     #[test]
