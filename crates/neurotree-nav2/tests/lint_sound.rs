@@ -5,6 +5,9 @@
 //! child, NT0202 (never chosen) by a tick of the case's child, NT0301 and NT0302 (never
 //! ends) by the loop returning anything but RUNNING, NT0303 (never finishes) by the root
 //! doing so. Runs are bounded, so "never ends" is only ever refuted, never confirmed.
+//! The Nav2 controls that read the blackboard (PersistentSequence's place, the goals, the
+//! robot's pose and speed) and Service's interval read a world moved at random between
+//! ticks, and each of them is seen to succeed, fail and run.
 //!
 //! The same runs check coverage's "outcomes the tree could have": no node is seen with an
 //! outcome its declared signature leaves out (Skipped aside: a control whose children were
@@ -19,6 +22,7 @@ use std::time::Duration;
 use neurotree::lint::{lint, LintOptions};
 use neurotree::nodes::semantics::{Order, Semantics, Statuses};
 use neurotree::observe::{Coverage, Outcome, OutcomeSet};
+use neurotree::robotics::Pose2D;
 use neurotree::{
     Handle, ManualClock, NodeId, NodeStatus, Observer, Registry, StatefulAction, Status,
     StatusChange, TickError, Tree, XmlLoader,
@@ -150,7 +154,7 @@ fn tree(dice: &Dice, depth: u32) -> Gen {
         let n = 2 + dice.below(2);
         let count = |x: i32| x.to_string();
         let loops = [0, 1, 2, -1];
-        match dice.below(30) {
+        match dice.below(35) {
             0 => ("Sequence".into(), n),
             1 => ("SequenceWithMemory".into(), n),
             2 => ("ReactiveSequence".into(), n),
@@ -235,6 +239,29 @@ fn tree(dice: &Dice, depth: u32) -> Gen {
                 format!("RateController hz=\"{}\"", dice.pick(&[10, 0, -1])),
                 1,
             ),
+            29 => ("PersistentSequence current_child_idx=\"{idx}\"".into(), n),
+            30 => ("GoalUpdatedController".into(), 1),
+            31 => (
+                format!(
+                    "SpeedController min_rate=\"{}\" max_rate=\"50\" max_speed=\"1\"",
+                    dice.pick(&[5, 20])
+                ),
+                1,
+            ),
+            32 => (
+                format!(
+                    "DistanceController distance=\"{}\"",
+                    dice.pick(&["0", "0.5", "2"])
+                ),
+                1,
+            ),
+            33 => (
+                format!(
+                    "Service interval_msec=\"{}\"",
+                    dice.pick(&["0", "20", "50", "{interval}"])
+                ),
+                2,
+            ),
             _ => ("SingleTrigger".into(), 1),
         }
     };
@@ -267,6 +294,46 @@ fn write(node: &Gen, xml: &mut Vec<String>, children: &mut HashMap<u32, Vec<u32>
     line
 }
 
+/// Poses for goals and the robot: near each other, and far apart.
+const POSES: [Pose2D; 3] = [
+    Pose2D::new(0.0, 0.0, 0.0),
+    Pose2D::new(0.3, 0.0, 0.0),
+    Pose2D::new(3.0, 0.0, 1.0),
+];
+
+/// The world the Nav2 controls read, moved at random between ticks so that their
+/// branches are all taken: PersistentSequence's place (before the first child, inside,
+/// past the last), new goals or the same again, the robot's speed, its pose moving far,
+/// near or gone. `start` writes every entry.
+fn world(tree: &mut Tree<()>, dice: &Dice, start: bool) {
+    let bb = tree.blackboard_mut();
+    let now = |n: usize| start || dice.below(n) == 0;
+    if now(4) {
+        bb.set("idx", dice.pick(&[-1_i32, 0, 0, 1, 2, 5])).unwrap();
+    }
+    if now(4) {
+        bb.set("goal", dice.pick(&POSES)).unwrap();
+    }
+    if now(6) {
+        let goals = (0..1 + dice.below(2)).map(|_| dice.pick(&POSES)).collect();
+        bb.set::<Vec<Pose2D>>("goals", goals).unwrap();
+    }
+    if now(3) {
+        bb.set("robot_speed", dice.pick(&[0.0_f64, 0.3, 1.0, -0.5]))
+            .unwrap();
+    }
+    if now(3) {
+        if dice.below(4) == 0 {
+            bb.unset("robot_pose");
+        } else {
+            bb.set("robot_pose", dice.pick(&POSES)).unwrap();
+        }
+    }
+    if start {
+        bb.set("interval", dice.pick(&[0_u64, 20, 50])).unwrap();
+    }
+}
+
 /// What the runs saw, by node name's line: ticked, and ended (returned anything but
 /// RUNNING).
 #[derive(Default)]
@@ -296,9 +363,19 @@ impl Observer for Watch {
     }
 }
 
+/// The node types whose outcomes [`check`] tallies: those that read the [`world`], so that
+/// the runs are shown to reach them and their branches.
+const TALLIED: [&str; 5] = [
+    "PersistentSequence",
+    "GoalUpdatedController",
+    "SpeedController",
+    "DistanceController",
+    "Service",
+];
+
 /// Lints the tree of `seed`, runs it, and returns how many findings the runs could refute,
-/// or the refuted one.
-fn check(seed: u64, runs: usize) -> Result<usize, String> {
+/// or the refuted one. Adds to `tally` the outcomes seen of the [`TALLIED`] types.
+fn check(seed: u64, runs: usize, tally: &mut HashMap<String, OutcomeSet>) -> Result<usize, String> {
     let dice = Dice::new(seed);
     let registry = registry(&dice);
     let mut xml = vec![
@@ -343,9 +420,11 @@ fn check(seed: u64, runs: usize) -> Result<usize, String> {
     tree.set_observer((Watch(Arc::clone(&seen)), coverage.clone()));
     // A Repeat of -1 over an instant child asks for pass after pass: a few are enough.
     tree.set_max_passes(64);
+    world(&mut tree, &dice, true);
     'runs: for run in 0..runs {
         for _ in 0..30 {
             clock.advance(Duration::from_millis(10));
+            world(&mut tree, &dice, false);
             // Both ways of ticking: passes until nothing asks to be woken, and exactly one.
             let ticked = if run % 2 == 0 {
                 tree.tick_once(&mut ())
@@ -364,6 +443,10 @@ fn check(seed: u64, runs: usize) -> Result<usize, String> {
     }
     let skipped = OutcomeSet::of(&[Outcome::Skipped]);
     for n in coverage.report(&blueprint).nodes() {
+        if TALLIED.contains(&n.type_name.as_str()) {
+            let set = tally.entry(n.type_name.clone()).or_default();
+            *set = n.seen.iter().fold(*set, OutcomeSet::with);
+        }
         let unforeseen = n.seen.without(skipped).without(n.possible);
         if !unforeseen.is_empty() {
             return Err(format!(
@@ -406,7 +489,7 @@ fn no_run_refutes_a_finding() {
     let checked = Arc::new(Mutex::new(0usize));
     let counted = Arc::clone(&checked);
     let result = runner.run(&any::<u64>(), move |seed| {
-        let n = check(seed, 6).map_err(TestCaseError::fail)?;
+        let n = check(seed, 6, &mut HashMap::new()).map_err(TestCaseError::fail)?;
         *counted.lock().unwrap() += n;
         Ok(())
     });
@@ -415,4 +498,19 @@ fn no_run_refutes_a_finding() {
     }
     // The trees make findings for the runs to try.
     assert!(*checked.lock().unwrap() > trees as usize / 10);
+}
+
+/// The nodes that read the world are run to each of their outcomes: the world reaches their
+/// branches. Fixed seeds, so that a rare node is not missed by chance.
+#[test]
+fn the_world_leads_each_node_to_each_outcome() {
+    let mut tally = HashMap::new();
+    for seed in 1..=600 {
+        check(seed, 6, &mut tally).unwrap();
+    }
+    let done = OutcomeSet::of(&[Outcome::Success, Outcome::Failure, Outcome::Running]);
+    for name in TALLIED {
+        let seen = tally.get(name).copied().unwrap_or_default();
+        assert!(done.without(seen).is_empty(), "{name} is seen only {seen}");
+    }
 }
