@@ -168,3 +168,30 @@ fn show_coverage_of_another_tree_is_an_error() {
         json.display()
     )));
 }
+
+// A Nav2 control's possible outcomes are those its registry declares: the RecoveryNode's
+// action can only fail, and its recovery cannot run, so the node can only fail (one
+// outcome, not the four of a type that declares nothing); each leaf has its one status.
+#[test]
+fn run_coverage_reads_nav2_declarations() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("recover.xml");
+    std::fs::write(
+        &file,
+        "<root BTCPP_format=\"4\" main_tree_to_execute=\"Main\"><BehaviorTree ID=\"Main\">\
+         <RecoveryNode name=\"recover\" number_of_retries=\"1\">\
+         <AlwaysFailure name=\"act\"/><AlwaysSuccess name=\"fix\"/>\
+         </RecoveryNode></BehaviorTree></root>",
+    )
+    .unwrap();
+    let file = file.display().to_string();
+    let out = neurotree(&["run", file.as_str(), "--coverage"]);
+    assert_eq!(
+        text(&out.stderr),
+        "coverage: 3 of 3 outcomes (100.0%), 3 of 3 nodes reached\n\
+         node         type           seen     not seen\n\
+         recover      RecoveryNode   failure  -\n\
+         recover/act  AlwaysFailure  failure  -\n\
+         recover/fix  AlwaysSuccess  success  -\n"
+    );
+}

@@ -10,7 +10,8 @@
 //! ticks, and each of them is seen to succeed, fail and run.
 //!
 //! The same runs check coverage's "outcomes the tree could have": no node is seen with an
-//! outcome its declared signature leaves out (Skipped aside: a control whose children were
+//! outcome its declared signature leaves out, a Nav2 control's read from the registry the
+//! tree was loaded with (Skipped aside: a control whose children were
 //! all skipped is seen Skipped without it being counted as possible).
 //!
 //! `NEUROTREE_LINT_TREES=20000` runs that many trees instead of the few CI runs.
@@ -416,7 +417,7 @@ fn check(seed: u64, runs: usize, tally: &mut HashMap<String, OutcomeSet>) -> Res
     }));
     let clock = ManualClock::new();
     let mut tree = Tree::with_clock(Arc::clone(&blueprint), clock.clone());
-    let coverage = Coverage::new(&blueprint);
+    let coverage = Coverage::with_registry(&blueprint, &registry);
     tree.set_observer((Watch(Arc::clone(&seen)), coverage.clone()));
     // A Repeat of -1 over an instant child asks for pass after pass: a few are enough.
     tree.set_max_passes(64);

@@ -8,6 +8,7 @@ mod counting_alloc;
 #[path = "support/dummy.rs"]
 mod support;
 
+mod coverage;
 mod distance_controller;
 mod goal_updated_controller;
 mod goal_updater;

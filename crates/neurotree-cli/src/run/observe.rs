@@ -104,7 +104,7 @@ pub(super) fn observers(
         outputs.stats = Some(stats);
     }
     if args.coverage || args.coverage_json.is_some() {
-        let coverage = Coverage::new(bp);
+        let coverage = Coverage::with_registry(bp, registry);
         attached.push(Box::new(coverage.clone()));
         outputs.coverage = Some(coverage);
         outputs.coverage_table = args.coverage;

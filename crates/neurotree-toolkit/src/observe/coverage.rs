@@ -6,13 +6,14 @@ use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
 use neurotree_core::nodes::semantics::{first, Statuses};
-use neurotree_core::nodes::{Literals, NodeDecl};
+use neurotree_core::nodes::{Literals, NodeDecl, Semantics};
 use neurotree_core::{
     Blueprint, NodeId, NodeKind, NodeStatus, Observer, Port, PortValue, StatusChange,
 };
 
 use super::lock;
 use super::outcome::{Outcome, OutcomeReader, OutcomeSet};
+use crate::Registry;
 
 /// Records, per node, whether it was ticked and which [`Outcome`]s it was seen with:
 /// Success, Failure, Running (its tick returned Running), Halted (it went from Running back
@@ -58,6 +59,8 @@ pub struct Coverage {
 }
 
 struct Record {
+    /// Per node, what a registry declares of its type (empty: nothing).
+    registered: Vec<Option<Registered>>,
     outcomes: OutcomeReader,
     seen: Vec<OutcomeSet>,
     ticked: Vec<bool>,
@@ -66,8 +69,21 @@ struct Record {
 impl Coverage {
     /// A record for the nodes of `blueprint`, none reached.
     pub fn new<C>(blueprint: &Blueprint<C>) -> Self {
+        Self::with_declared(blueprint, Vec::new())
+    }
+
+    /// As [`new`](Self::new), with the declarations of `registry`, the registry
+    /// `blueprint` was loaded with: a control, decorator or leaf of a type declared there
+    /// ([`Registry::declare_semantics`], a registered condition) can have what its
+    /// declaration gives, not anything. Use it whenever the registry is at hand.
+    pub fn with_registry<C: 'static>(blueprint: &Blueprint<C>, registry: &Registry<C>) -> Self {
+        Self::with_declared(blueprint, registered(blueprint, registry))
+    }
+
+    fn with_declared<C>(blueprint: &Blueprint<C>, registered: Vec<Option<Registered>>) -> Self {
         Self {
             state: Arc::new(Mutex::new(Record {
+                registered,
                 outcomes: OutcomeReader::new(blueprint),
                 seen: vec![OutcomeSet::NONE; blueprint.len()],
                 ticked: vec![false; blueprint.len()],
@@ -89,8 +105,48 @@ impl Coverage {
             .zip(&state.seen)
             .map(|(&ticked, seen)| ticked || !seen.is_empty())
             .collect();
-        CoverageReport::new(blueprint, &state.seen, &reached)
+        CoverageReport::made(blueprint, &state.registered, &state.seen, &reached)
     }
+}
+
+/// What a registry declares of a node's type: its semantics and its ports' defaults.
+struct Registered {
+    semantics: Semantics,
+    defaults: Vec<(String, String)>,
+}
+
+/// Per node of `blueprint`, its type's declaration in `registry`, when the node is made by
+/// that type (not a mock, test node or substitution standing in for it) and it declares
+/// something; the engine's built-ins are read from their kind.
+fn registered<C: 'static>(
+    blueprint: &Blueprint<C>,
+    registry: &Registry<C>,
+) -> Vec<Option<Registered>> {
+    blueprint
+        .ids()
+        .map(|id| {
+            let kind = blueprint.kind(id);
+            let type_id = blueprint.type_id(id);
+            // A mock or a substitution is a Custom of another type name; a leaf kind is
+            // named by its category, so only a user control or decorator's name is checked.
+            let made_by_type = match kind {
+                NodeKind::Custom(_) => kind.type_name() == type_id,
+                _ => false,
+            };
+            if kind.decl().is_some() || !made_by_type {
+                return None;
+            }
+            let t = registry.get(type_id)?;
+            Some(Registered {
+                semantics: t.semantics?,
+                defaults: t
+                    .ports
+                    .iter()
+                    .filter_map(|p| Some((p.name.clone(), p.default.clone()?)))
+                    .collect(),
+            })
+        })
+        .collect()
 }
 
 impl Record {
@@ -151,30 +207,40 @@ impl Observer for Coverage {
 ///
 /// A SubTree has its root's. A node of user code declares nothing: a condition or a sync
 /// action can succeed or fail, a stateful or async action also run, a custom control or
-/// decorator (or a mock) anything.
+/// decorator (or a mock) anything; a control or decorator of a type its registry declares
+/// has what the declaration gives when the record is made by [`Coverage::with_registry`].
 ///
 /// [`NodeDecl::semantics`]: neurotree_core::nodes::NodeDecl::semantics
 pub fn possible_outcomes<C>(blueprint: &Blueprint<C>, id: NodeId) -> OutcomeSet {
-    possible_all(blueprint)[id.index()]
+    possible_all(blueprint, &[])[id.index()]
 }
 
 /// What declares node `id`'s statuses.
-enum Declared {
+enum Declared<'a> {
     /// A built-in's or a std node's declaration.
     Decl(&'static NodeDecl),
     /// A SubTree: its root's statuses.
     SubTree,
     /// A node of user code: these statuses.
     User(Statuses),
+    /// A node whose type a registry declares.
+    Registered(&'a Registered),
 }
 
 /// The declaration of node `id`: the engine's built-ins by their kind; this crate's by
 /// their registered type, when the kind is the one their declaration makes (a mock
 /// standing in for a Script is not a Script).
-fn declared<C>(blueprint: &Blueprint<C>, id: NodeId) -> Declared {
+fn declared<'a, C>(
+    blueprint: &Blueprint<C>,
+    registered: &'a [Option<Registered>],
+    id: NodeId,
+) -> Declared<'a> {
     let kind = blueprint.kind(id);
     if let Some(decl) = kind.decl() {
         return Declared::Decl(decl);
+    }
+    if let Some(Some(r)) = registered.get(id.index()) {
+        return Declared::Registered(r);
     }
     let user = |statuses| {
         // A std action or condition is a plain leaf kind of its registered type; a std
@@ -204,7 +270,8 @@ fn declared<C>(blueprint: &Blueprint<C>, id: NodeId) -> Declared {
 }
 
 /// [`possible_outcomes`] of every node, indexed by [`NodeId`].
-fn possible_all<C>(blueprint: &Blueprint<C>) -> Vec<OutcomeSet> {
+/// `registered` holds what a registry declares of each node's type (empty: nothing).
+fn possible_all<C>(blueprint: &Blueprint<C>, registered: &[Option<Registered>]) -> Vec<OutcomeSet> {
     use Outcome::{Failure, Halted, Running, Skipped, Success};
     let n = blueprint.len();
     // Every status each node can return (SKIPPED included: it decides what its parent
@@ -219,7 +286,12 @@ fn possible_all<C>(blueprint: &Blueprint<C>) -> Vec<OutcomeSet> {
             .iter()
             .map(|c| full[c.index()])
             .collect();
-        let (mut statuses, mut skips) = match declared(blueprint, id) {
+        // Skipped of itself: still Skipped when no child can be.
+        let unskipped: Vec<Statuses> = children
+            .iter()
+            .map(|c| c.without(Statuses::SKIPPED))
+            .collect();
+        let (mut statuses, mut skips) = match declared(blueprint, registered, id) {
             Declared::Decl(decl) => {
                 let values = blueprint
                     .kind(id)
@@ -230,12 +302,26 @@ fn possible_all<C>(blueprint: &Blueprint<C>) -> Vec<OutcomeSet> {
                 let text = |name: &str| literal(decl, &values, ports, name);
                 let literals = Literals::new(&text);
                 let statuses = decl.semantics.outcomes(&literals, &children);
-                // Skipped of itself: still Skipped when no child can be.
-                let unskipped: Vec<Statuses> = children
-                    .iter()
-                    .map(|c| c.without(Statuses::SKIPPED))
-                    .collect();
                 let skips = decl.semantics.outcomes(&literals, &unskipped).can_skip();
+                (statuses, skips)
+            }
+            Declared::Registered(r) => {
+                let ports = blueprint.ports(id);
+                let text = |name: &str| match ports.iter().find(|p| p.name == name) {
+                    Some(Port {
+                        value: PortValue::Literal(text),
+                        ..
+                    }) => Some(text.as_str()),
+                    Some(_) => None,
+                    None => r
+                        .defaults
+                        .iter()
+                        .find(|(port, _)| port == name)
+                        .map(|(_, text)| text.as_str()),
+                };
+                let literals = Literals::new(&text);
+                let statuses = r.semantics.outcomes(&literals, &children);
+                let skips = r.semantics.outcomes(&literals, &unskipped).can_skip();
                 (statuses, skips)
             }
             Declared::SubTree => (first(&children), false),
@@ -337,7 +423,16 @@ impl CoverageReport {
     /// reached (both indexed by [`NodeId`]; missing entries read as none and not reached).
     /// [`Coverage::report`] makes it from a run.
     pub fn new<C>(blueprint: &Blueprint<C>, seen: &[OutcomeSet], reached: &[bool]) -> Self {
-        let possible = possible_all(blueprint);
+        Self::made(blueprint, &[], seen, reached)
+    }
+
+    fn made<C>(
+        blueprint: &Blueprint<C>,
+        registered: &[Option<Registered>],
+        seen: &[OutcomeSet],
+        reached: &[bool],
+    ) -> Self {
+        let possible = possible_all(blueprint, registered);
         let nodes = blueprint
             .ids()
             .map(|id| {

@@ -45,14 +45,18 @@ impl Checker {
         }
     }
 
-    /// The observers to watch `tree` with.
-    pub(super) fn attach<C>(&mut self, tree: &Tree<C>) -> Vec<Box<dyn Observer>> {
+    /// The observers to watch `tree`, loaded with `registry`, with.
+    pub(super) fn attach<C: 'static>(
+        &mut self,
+        tree: &Tree<C>,
+        registry: &crate::Registry<C>,
+    ) -> Vec<Box<dyn Observer>> {
         let mut attached: Vec<Box<dyn Observer>> = vec![
             Box::new(self.statuses.clone()),
             Box::new(self.halts.clone()),
         ];
         if self.covered.is_some() {
-            let coverage = Coverage::new(tree.blueprint());
+            let coverage = Coverage::with_registry(tree.blueprint(), registry);
             attached.push(Box::new(coverage.clone()));
             self.coverage = Some(coverage);
         }

@@ -27,8 +27,8 @@ pub(super) fn run<C: 'static>(
         return vec![format!("{shown}: {e}")];
     }
     let dir = file.parent().unwrap_or(Path::new(""));
-    let blueprint = match load(bench, s, dir) {
-        Ok(blueprint) => Arc::new(blueprint),
+    let (blueprint, registry) = match load(bench, s, dir) {
+        Ok((blueprint, registry)) => (Arc::new(blueprint), registry),
         Err(e) => return vec![format!("the tree did not load:\n{}", e.trim_end())],
     };
     let mut ctx = (bench.context)(&blueprint);
@@ -36,7 +36,7 @@ pub(super) fn run<C: 'static>(
     let clock = ManualClock::new();
     let mut tree = Tree::with_clock(Arc::clone(&blueprint), clock.clone());
     crate::runtime::attach(&mut tree);
-    tree.set_observer(checker.attach(&tree));
+    tree.set_observer(checker.attach(&tree, &registry));
     let limit = s.ticks.unwrap_or(DEFAULT_TICKS);
     let step = Duration::from_millis(s.step_ms.unwrap_or(100));
     let mut ticks: u32 = 0;
@@ -124,7 +124,7 @@ fn load<C: 'static>(
     bench: &ScenarioBench<'_, C>,
     s: &Scenario,
     dir: &Path,
-) -> Result<Blueprint<C>, String> {
+) -> Result<(Blueprint<C>, Registry<C>), String> {
     let files: Vec<PathBuf> = std::iter::once(&s.tree)
         .chain(&s.files)
         .map(|f| dir.join(f))
@@ -161,10 +161,12 @@ fn load<C: 'static>(
                 errors
             })
         });
-    built.map_err(|errors| {
+    let built = built.map_err(|errors| {
         let warnings = loader.warnings().iter().map(|w| w.to_string());
         failure_text(warnings, &errors, &files[0], s.mock_unknown)
-    })
+    });
+    drop(loader);
+    built.map(|blueprint| (blueprint, registry))
 }
 
 /// A copy of `registry` with the node types the `TreeNodesModel`s of `files` declare and
