@@ -424,16 +424,16 @@ impl<C: 'static> Registry<C> {
     }
 
     /// Declares what nodes of the registered type `name` can return and how they tick their
-    /// children, for `neurotree lint` and the other analyses: a control that ticks child 0
-    /// at an interval, then child 1 whose status it returns, is declared by
+    /// children, for `neurotree lint` and the other analyses: a control of your own that ticks
+    /// child 0 now and then, then child 1 whose status it returns, is declared by
     ///
     /// ```
     /// use neurotree::nodes::semantics::{Order, Semantics, Statuses};
     /// # let mut registry = neurotree::Registry::<()>::new();
-    /// # registry.register_custom("Service", neurotree::Arity::Range { min: 2, max: 2 },
+    /// # registry.register_custom("Refresh", neurotree::Arity::Range { min: 2, max: 2 },
     /// #     vec![], || -> Box<dyn neurotree::CustomNode<()>> { unimplemented!() }).unwrap();
     /// registry
-    ///     .declare_semantics("Service", Semantics::new(Order::again(Statuses::ANY, Statuses::ANY),
+    ///     .declare_semantics("Refresh", Semantics::new(Order::again(Statuses::ANY, Statuses::ANY),
     ///         |_, children| children[1].or(Statuses::RUNNING)))
     ///     .unwrap();
     /// ```
