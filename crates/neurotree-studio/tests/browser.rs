@@ -4,9 +4,10 @@
 //!
 //! Each test does what a person would: opens a tree and finds its nodes; edits a port, adds
 //! a node from the palette, deletes one, undoes, saves and loads the saved file; watches a
-//! run and sees statuses change; stops at a breakpoint and steps; replays a `.btlog` and
-//! scrubs its timeline; opens the 1,111-node tree and follows a 100 Hz run of it, printing
-//! the time to drawn and the tick lag (BENCHMARKS.md).
+//! run and sees statuses change, and every branch its last failure tried; stops at a
+//! breakpoint and steps; replays a `.btlog` and scrubs its timeline; opens the 1,111-node
+//! tree and follows a 100 Hz run of it, printing the time to drawn and the tick lag
+//! (BENCHMARKS.md).
 //!
 //! Without a browser (no `chromium` and `chromedriver` on `PATH`, or at the paths in
 //! `NEUROTREE_CHROMIUM` and `NEUROTREE_CHROMEDRIVER`) the tests print a note and pass;
@@ -253,6 +254,10 @@ fn now_ms() -> f64 {
 /// replay's tick numbers.
 #[path = "browser/canvas.rs"]
 mod canvas;
+
+/// The watch view's "Last failure": every branch a Fallback tried.
+#[path = "browser/failure.rs"]
+mod failure;
 
 /// Rewind and the scene panel.
 mod browser_rewind;
