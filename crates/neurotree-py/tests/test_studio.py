@@ -54,6 +54,10 @@ def test_pause_step_and_edits_reach_python_leaves() -> None:
         assert seen == [1]
 
         ws.send(json.dumps({"type": "pause"}))
+        # The server reads a page's messages in order: once it answers the breakpoint list
+        # after the pause, the pause is in force before the tick below starts.
+        ws.send(json.dumps({"type": "breakpoint", "node": 0, "when": "off"}))
+        receive(ws, "breakpoints")
         results: list[nt.Status] = []
         ticking = threading.Thread(target=lambda: results.append(tree.tick_once()))
         ticking.start()
