@@ -137,7 +137,7 @@ impl<C> Tree<C> {
     /// Nodes are matched by path (the k-th node of a path with the k-th of the same path)
     /// and are unchanged when their type, kind and parameters, ports, conditions and number
     /// of children are the same, and for a custom node its children's types, ports and
-    /// conditions (see the [module docs](self)): an unchanged node keeps its status, state slot and object; a node
+    /// conditions: an unchanged node keeps its status, state slot and object; a node
     /// removed or changed while Running is halted first, as a halt halts it (its Running
     /// descendants first, each stateful action getting its one `on_halted`), and new or
     /// changed nodes start Idle. Blackboard entries are kept (the root's, and those of each

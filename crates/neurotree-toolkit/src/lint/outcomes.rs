@@ -1,7 +1,7 @@
 //! Which statuses each node can return: the ground reachability and liveness stand on.
 //!
 //! A node's [`Statuses`] are worked out from its type's declared
-//! [`Semantics`](neurotree_core::nodes::Semantics) (see [`NodeType::semantics`]), its
+//! [`Semantics`] (see [`NodeType::semantics`]), its
 //! ports' literals and its children's statuses, and widened by its precondition
 //! attributes: `_successIf` adds SUCCESS, `_failureIf` FAILURE, `_skipIf` and `_while`
 //! SKIPPED. A SubTree returns what its tree's root does. A node of a type that declares
