@@ -296,6 +296,12 @@ fn run_quiet<C, const SEQUENCE: bool>(
             for child in &hot[start..cursor] {
                 if child.is_fast() {
                     *t.status_mut(child.id) = go_on;
+                    // A Fallback's conditions that failed before its running child failed
+                    // in this tick: marked, as storing their status marks them when the
+                    // node is observed, for a later pass of the same tick to explain.
+                    if !SEQUENCE {
+                        t.mark_failed(child.id);
+                    }
                 }
             }
             t.aux[slot] = pack(cursor as u32, skipped);
