@@ -23,6 +23,7 @@
 //! returns [`TickError::HaltRequested`]; see [`halt`] for the exact rules.
 
 pub(crate) mod calls;
+mod contain;
 mod error;
 pub mod failure;
 pub mod halt;
@@ -36,6 +37,7 @@ mod root;
 pub mod sleep;
 pub mod slow_halt;
 pub(crate) mod ticker;
+mod ticker_sleep;
 mod wake;
 pub mod why_awake;
 

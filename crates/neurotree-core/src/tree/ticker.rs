@@ -17,6 +17,9 @@ use crate::nodes::{control, decorator, leaf};
 use crate::observer::{Observer, StatusChange};
 use crate::{Clock, NodeId, NodeStatus, Status, TickError};
 
+pub(crate) use super::contain::contain;
+#[cfg(feature = "std")]
+pub(crate) use super::contain::panic_message;
 use super::failure::{Note, Outcome};
 pub(crate) use super::objects::Object;
 
@@ -454,40 +457,6 @@ impl<'t, C> Ticker<'t, C> {
         s.into()
     }
 
-    /// Declares, for a sleeping tree, that the pass's result may change at `at` (nanoseconds
-    /// on the clock): the time-based built-ins call it while they wait.
-    #[inline]
-    pub(crate) fn wake_at(&mut self, at: u64) {
-        let waits = &mut self.out.waits;
-        waits.deadline = waits.deadline.min(at);
-        waits.any = true;
-    }
-
-    /// Keeps the tree awake after this pass: a node returns Running with nothing under it
-    /// waiting (KeepRunningUntilFailure after its child succeeded), or re-checks its
-    /// children every tick (the reactive controls).
-    #[inline]
-    pub(crate) fn stay_awake(&mut self, reason: crate::AwakeReason, node: NodeId) {
-        self.out.waits.keep_awake(reason, node);
-    }
-
-    /// After a sync leaf's call: unless its kind reads only the blackboard or it declared
-    /// what wakes it, it may read anything (see [`Waits::opaque`](super::sleep::Waits)).
-    #[inline(always)]
-    fn note_reads(&mut self, id: NodeId) {
-        if !self.out.reads.known() {
-            self.out.waits.opaque(id);
-        }
-    }
-
-    /// Says that node `id`, which completed in this pass, would not answer the same if
-    /// ticked again (it starts afresh: a Sleep sleeps again): a reactive node re-checking it
-    /// keeps the tree awake.
-    #[inline]
-    pub(crate) fn answers_otherwise_next(&mut self, id: NodeId) {
-        self.out.waits.opaque(id);
-    }
-
     /// Records a node's own error; the first error of a pass wins.
     pub(crate) fn fault_node(&mut self, id: NodeId, message: alloc::string::String) {
         if self.out.fault.is_none() {
@@ -711,44 +680,3 @@ macro_rules! dispatch {
     };
 }
 crate::nodes::with_built_ins!(dispatch);
-
-/// Runs `halt` (user code that halts node `id`); with `std`, a panic in it is caught and
-/// recorded as the pass's error, so that the rest of the tree is still halted.
-#[cfg(feature = "std")]
-pub(crate) fn contain<'t, C>(
-    t: &mut Ticker<'t, C>,
-    id: NodeId,
-    halt: impl FnOnce(&mut Ticker<'t, C>),
-) {
-    let caught = std::panic::catch_unwind(core::panic::AssertUnwindSafe(|| halt(&mut *t)));
-    if let Err(payload) = caught {
-        if t.out.fault.is_none() {
-            t.out.fault = Some(TickError::Panicked {
-                node: id,
-                path: t.bp.path(id),
-                message: panic_message(&*payload),
-            });
-        }
-    }
-}
-
-#[cfg(not(feature = "std"))]
-pub(crate) fn contain<'t, C>(
-    t: &mut Ticker<'t, C>,
-    _id: NodeId,
-    halt: impl FnOnce(&mut Ticker<'t, C>),
-) {
-    halt(t);
-}
-
-/// The text a panic was raised with, if it was text.
-#[cfg(feature = "std")]
-pub(crate) fn panic_message(payload: &(dyn core::any::Any + Send)) -> alloc::string::String {
-    if let Some(s) = payload.downcast_ref::<&str>() {
-        (*s).into()
-    } else if let Some(s) = payload.downcast_ref::<alloc::string::String>() {
-        s.clone()
-    } else {
-        "a panic without a message".into()
-    }
-}

@@ -30,7 +30,11 @@ use neurotree_core::{Category, Handle, NodeKind, StatefulAction, Status};
 mod aliases;
 mod builtins;
 mod enums;
+mod lookup;
 pub mod ports;
+mod shared_async;
+use ports::check_port_names;
+use shared_async::{SharedAsync, SharedAsyncAction};
 pub(crate) mod suggest;
 mod values;
 
@@ -216,19 +220,6 @@ neurotree_core::debug_shows_message!(enum RegistryError {
     EnumRedefined { name, old, new },
     BadPortName { node, port, reason },
 });
-
-/// Refuses the port names BehaviorTree.CPP's `CreatePort` refuses: a file written for the
-/// node would not load there, and Groot2 could not show it.
-fn check_port_names(node: &str, ports: &[PortSpec]) -> Result<(), RegistryError> {
-    for port in ports {
-        crate::xml::check_port_name(&port.name).map_err(|reason| RegistryError::BadPortName {
-            node: node.to_string(),
-            port: port.name.clone(),
-            reason,
-        })?;
-    }
-    Ok(())
-}
 
 /// Adds the nodes of a subtree made in Rust below an open SubTree node.
 pub(crate) type SubtreeMaker<C> =
@@ -699,60 +690,6 @@ impl<C: 'static> Registry<C> {
     /// one release's types; `false` if there was none.
     pub fn remove(&mut self, name: &str) -> bool {
         self.types.remove(name).is_some()
-    }
-
-    /// The type registered as `name`.
-    pub fn get(&self, name: &str) -> Option<&NodeType<C>> {
-        self.types.get(name)
-    }
-
-    /// Every registered type, by name.
-    pub fn types(&self) -> impl Iterator<Item = &NodeType<C>> {
-        self.types.values()
-    }
-
-    /// Which way each port of each registered type carries data, as the trees it loads
-    /// carry it for their pictures to mark ([`Blueprint::port_direction`](neurotree_core::Blueprint::port_direction)).
-    pub fn port_directions(&self) -> neurotree_core::PortDirections {
-        let mut directions = neurotree_core::PortDirections::new();
-        for node_type in self.types.values() {
-            for port in &node_type.ports {
-                directions.insert(&node_type.name, &port.name, port.direction);
-            }
-        }
-        directions
-    }
-}
-
-struct SharedAsync<F>(Arc<F>);
-
-impl<C, F, Fut> neurotree_core::AsyncAction<C> for SharedAsync<F>
-where
-    F: Fn(&mut Handle<'_, C>) -> Fut + Send + Sync,
-    Fut: Future<Output = Status> + Send + 'static,
-{
-    fn start(&self, h: &mut Handle<'_, C>) -> neurotree_core::ActionFuture {
-        Box::pin((self.0)(h))
-    }
-}
-
-/// A registered [`AsyncAction`](neurotree_core::AsyncAction) object, one per node kind.
-struct SharedAsyncAction<A>(Arc<A>);
-
-impl<C, A> neurotree_core::AsyncAction<C> for SharedAsyncAction<A>
-where
-    A: neurotree_core::AsyncAction<C>,
-{
-    fn start(&self, h: &mut Handle<'_, C>) -> neurotree_core::ActionFuture {
-        self.0.start(h)
-    }
-
-    fn on_halt_requested(
-        &self,
-        run: neurotree_core::ActionFuture,
-        h: &mut Handle<'_, C>,
-    ) -> Option<neurotree_core::HaltFuture> {
-        self.0.on_halt_requested(run, h)
     }
 }
 

@@ -154,6 +154,21 @@ impl fmt::Debug for PortSpec {
     }
 }
 
+/// Refuses the port names BehaviorTree.CPP's `CreatePort` refuses: a file written for the
+/// node would not load there, and Groot2 could not show it.
+pub(super) fn check_port_names(node: &str, ports: &[PortSpec]) -> Result<(), super::RegistryError> {
+    for port in ports {
+        crate::xml::check_port_name(&port.name).map_err(|reason| {
+            super::RegistryError::BadPortName {
+                node: node.to_string(),
+                port: port.name.clone(),
+                reason,
+            }
+        })?;
+    }
+    Ok(())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -34,12 +34,15 @@ mod build;
 pub(crate) use build::{binding, is_explicit};
 mod error;
 mod errors;
+mod escape;
 mod file;
 mod include;
 use include::joined;
 mod mock;
 mod model;
 mod names;
+mod reactive_check;
+use reactive_check::check_reactive;
 pub mod save;
 mod source;
 pub mod substitute;
@@ -47,6 +50,7 @@ pub mod substitute;
 pub use budget::TOO_MANY_NODES;
 pub use error::{LoadError, LoadErrorKind, LoadWarning};
 pub use errors::{LoadErrors, MAX_ERRORS};
+pub use escape::escape;
 pub use file::{read_file, DEFAULT_MAX_FILE_BYTES};
 pub use mock::{parse_outcomes, MockOutput, Outcomes, OutputType};
 pub(crate) use names::check_port_name;
@@ -73,44 +77,7 @@ use neurotree_core::Blueprint;
 use crate::registry::Registry;
 pub(crate) use source::{Document, Element};
 
-/// `text` with XML's special characters as entities; line breaks and tabs too, because an
-/// attribute value read back would otherwise have them turned into spaces.
-pub fn escape(text: &str) -> String {
-    let mut out = String::with_capacity(text.len());
-    for c in text.chars() {
-        match c {
-            '&' => out.push_str("&amp;"),
-            '<' => out.push_str("&lt;"),
-            '>' => out.push_str("&gt;"),
-            '"' => out.push_str("&quot;"),
-            '\'' => out.push_str("&apos;"),
-            '\n' => out.push_str("&#10;"),
-            '\r' => out.push_str("&#13;"),
-            '\t' => out.push_str("&#9;"),
-            c => out.push(c),
-        }
-    }
-    out
-}
-
-use neurotree_core::nodes::control::{reactive, sequence};
-
-/// Refuses a ReactiveSequence `el` with more than one asynchronous child, as
-/// BehaviorTree.CPP does, counting the children written as `<AsyncSequence>` (the
-/// asynchronous control it registers).
-fn check_reactive(el: Element<'_>) -> Result<(), LoadError> {
-    let async_child = sequence::ASYNC_SEQUENCE.name;
-    if el.children().filter(|c| c.tag() == async_child).count() > 1 {
-        return Err(el.error(
-            LoadErrorKind::ReactiveAsync,
-            "a ReactiveSequence cannot have more than one async child \
-             (AsyncSequence), as BehaviorTree.CPP refuses: only one child of a \
-             ReactiveSequence may be Running; use a Sequence, or move all but one \
-             into another branch",
-        ));
-    }
-    Ok(())
-}
+use neurotree_core::nodes::control::reactive;
 
 /// Where a loaded `<BehaviorTree>` is: its document and its element there.
 #[derive(Clone, Copy, Debug)]
