@@ -50,6 +50,7 @@
 #![warn(missing_docs)]
 
 mod check;
+mod layout;
 mod palette;
 mod replay;
 mod server;

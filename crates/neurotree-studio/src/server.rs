@@ -62,6 +62,7 @@ pub(crate) fn router(shared: Arc<Shared>) -> Router {
         .route("/api/palette", get(palette_of))
         .route("/api/svg", post(svg))
         .route("/api/drawing", get(drawing))
+        .route("/api/layout", post(crate::layout::layout))
         .route("/api/replay", get(replay_of))
         .route("/api/coverage", get(coverage))
         .route("/api/stats", get(stats))
@@ -77,7 +78,7 @@ pub(crate) fn router(shared: Arc<Shared>) -> Router {
 }
 
 /// An error answer: `{"error": …}` with a status.
-struct Refusal(StatusCode, String);
+pub(crate) struct Refusal(pub(crate) StatusCode, pub(crate) String);
 
 impl IntoResponse for Refusal {
     fn into_response(self) -> Response {
@@ -282,7 +283,15 @@ async fn palette_of(
         // A model that does not load is reported by the check; the palette goes without.
         let _ = registry.add_model_str(&text, path);
     }
-    Ok(Json(json!({ "types": palette(&registry) })))
+    // The names files may write for a type (`<inverter>`), so that the page draws each
+    // as the type it loads as.
+    let aliases: Vec<Value> = registry
+        .aliases()
+        .map(|(name, target)| json!({ "name": name, "type": target.name }))
+        .collect();
+    Ok(Json(
+        json!({ "types": palette(&registry), "aliases": aliases }),
+    ))
 }
 
 async fn svg(State(shared): App, Json(body): Json<TextBody>) -> Result<Response, Refusal> {

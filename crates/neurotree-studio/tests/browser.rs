@@ -255,6 +255,10 @@ fn now_ms() -> f64 {
 #[path = "browser/canvas.rs"]
 mod canvas;
 
+/// "Fit" on Nav2's default trees, and the page's layout against the SVG's.
+#[path = "browser/fit.rs"]
+mod fit;
+
 /// The watch view's "Last failure": every branch a Fallback tried.
 #[path = "browser/failure.rs"]
 mod failure;
@@ -291,7 +295,7 @@ async fn a_nav2_tree_opens_with_every_node_found_by_its_path() {
     let rate = "NavigateRecovery/NavigateWithReplanning/RateController";
     assert_eq!(
         b.js(&format!(
-            "return document.querySelector('{} > .shape').tagName;",
+            "return document.querySelector('{} > .body > .shape').tagName;",
             css_path(rate).replace('\'', "\\'")
         ))
         .await,

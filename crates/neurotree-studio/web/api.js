@@ -12,7 +12,8 @@ export class ApiError extends Error {
   }
 }
 
-function url(path, params = {}) {
+/** The address of `path` with `params` and the page's token. */
+export function url(path, params = {}) {
   const u = new URL(path, location.origin);
   for (const [k, v] of Object.entries(params)) if (v != null) u.searchParams.set(k, v);
   if (token) u.searchParams.set("token", token);

@@ -128,7 +128,15 @@ export function mountEditor(section, app) {
       state.tabs = state.treeId ? [{ id: state.treeId, prefix: "" }] : [];
       const pal = await asked;
       if (pal instanceof Error) setStatus(`palette: ${pal.message}`, "error");
-      else state.palette = new Map(pal.types.map((t) => [t.type, t]));
+      else {
+        state.palette = new Map(pal.types.map((t) => [t.type, t]));
+        // A name a file may write for a type (`<inverter>`) is drawn as that type; the
+        // palette does not offer it.
+        for (const a of pal.aliases || []) {
+          const target = state.palette.get(a.type);
+          if (target && !state.palette.has(a.name)) state.palette.set(a.name, { ...target, type: a.name, alias: a.type });
+        }
+      }
       app.remember({ view: "edit", file: path });
       $(".file-select").value = path;
       render({ fit: true });
@@ -560,7 +568,7 @@ export function mountEditor(section, app) {
   }
 
   function renderPalette() {
-    const types = [...state.palette.values()];
+    const types = [...state.palette.values()].filter((t) => !t.alias);
     if (state.file && !state.file.error) {
       for (const t of xml.trees(state.file.doc)) {
         const id = t.getAttribute("ID");

@@ -1,4 +1,6 @@
-// The overview of a tree drawing: the laid-out tree small, and where the view is.
+// The overview of a tree drawing: the laid-out tree small, and where the view is. It never
+// covers a node: it takes the first corner of the drawing where it hides none, and steps
+// aside (hidden) when every corner would.
 
 import { r } from "./node_box.js";
 
@@ -6,12 +8,16 @@ const MARGIN = 20;
 // The overview's largest size on the screen.
 const MINI_WIDTH = 240;
 const MINI_HEIGHT = 160;
+// Its distance from the drawing's edges, and its frame (padding and border).
+const INSET = 10;
+const FRAME = 10;
 
 /**
  * The overview of a drawing (`[data-minimap]`): the laid-out tree small, one path for the
  * boxes and one for the lines (a picture only: nothing in it carries `data-node-path`),
  * and a frame where the view is; a click or a drag in it moves the view there. Shown
- * while the drawing is larger than its view, or folded to fit it.
+ * while the drawing is larger than its view, or folded to fit it, unless turned off
+ * (`drawing.overview`) or no corner is free of nodes.
  */
 export class Minimap {
   constructor(drawing) {
@@ -26,6 +32,8 @@ export class Minimap {
     this.svg = el.firstChild;
     [this.edges, this.boxes, this.frameRect] = this.svg.children;
     let dragging = false;
+    // Where it sits is kept while the pointer works in it.
+    this.held = () => dragging;
     const move = (e) => {
       const ctm = this.svg.getScreenCTM();
       if (!ctm) return;
@@ -85,11 +93,50 @@ export class Minimap {
     const w = size.width / view.k;
     const h = size.height / view.k;
     const larger = bounds.minX < x || bounds.minY < y || bounds.maxX > x + w || bounds.maxY > y + h;
-    this.element.hidden = !(larger || folded);
+    const shown = (larger || folded) && this.drawing.overview;
+    const corner = shown && this.held?.() && !this.element.hidden ? this.corner : shown ? this.freeCorner() : null;
+    this.corner = corner;
+    this.element.hidden = !corner;
+    if (corner) {
+      this.element.style.left = `${corner.left}px`;
+      this.element.style.top = `${corner.top}px`;
+      this.element.dataset.corner = corner.name;
+    }
     this.frameRect.setAttribute("x", r(x));
     this.frameRect.setAttribute("y", r(y));
     this.frameRect.setAttribute("width", r(w));
     this.frameRect.setAttribute("height", r(h));
+  }
+
+  /**
+   * The first corner of the view (bottom right, bottom left, top right, top left) where the
+   * overview covers no node as the view now shows them: `{name, left, top}`, or null.
+   */
+  freeCorner() {
+    const { nodes, pos, view, size } = this.drawing;
+    const mw = Number(this.svg.getAttribute("width")) + FRAME;
+    const mh = Number(this.svg.getAttribute("height")) + FRAME;
+    const corners = [
+      ["bottom-right", size.width - INSET - mw, size.height - INSET - mh],
+      ["bottom-left", INSET, size.height - INSET - mh],
+      ["top-right", size.width - INSET - mw, INSET],
+      ["top-left", INSET, INSET],
+    ];
+    // A node's drawing reaches past its box: its fold toggle, its badge, its score.
+    const reach = 16 * view.k;
+    for (const [name, left, top] of corners) {
+      const covers = nodes.some((n, i) => {
+        const p = pos[i];
+        if (!p) return false;
+        const x0 = (p.x - n.w / 2) * view.k + view.x - reach;
+        const y0 = p.y * view.k + view.y - reach;
+        const x1 = (p.x + n.w / 2) * view.k + view.x + reach;
+        const y1 = (p.y + n.h) * view.k + view.y + reach;
+        return x0 < left + mw && x1 > left && y0 < top + mh && y1 > top;
+      });
+      if (!covers) return { name, left, top };
+    }
+    return null;
   }
 }
 

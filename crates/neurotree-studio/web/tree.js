@@ -1,11 +1,15 @@
 // The tree drawing every view shares: nodes drawn as `neurotree show --format svg` draws
 // them (node_box.js: → ? ⇉ marks for the well-known controls, hexagons for decorators,
 // pills for conditions, rounded boxes for actions, double boxes for subtrees, the type and
-// the ports under the name, a colour and a badge per status), laid out by d3-hierarchy's
-// tidy tree top-down or left to right (remembered per file), with zoom around the pointer
-// or the selection, pan, an overview (minimap.js), collapse and expand, search, selection,
-// and drag and drop for the editor. "Fit" never zooms out past a legible size; a tree of
-// more than FOLD_OVER nodes opens folded to the depth that fits the view.
+// the ports under the name, a colour and a badge per status), laid out top-down or left to
+// right (remembered per file) by the same renderer: the boxes and the layout come from
+// `POST /api/layout` (crates/neurotree-toolkit/src/render/plan.rs), so that the page draws a
+// tree where `neurotree show --format svg` does. With zoom around the pointer or the
+// selection, pan, an overview (minimap.js), collapse and expand, search, selection, and
+// drag and drop for the editor. A tree opens at full detail, at a legible zoom; "fit"
+// shows it whole, choosing the orientation that fits best and, when full detail does not
+// fit, the compact detail (names only; the rest on hover, on selection and zoomed in). A
+// tree of more than FOLD_OVER nodes opens folded to the depth that fits the view.
 //
 // A drawing is given its nodes in pre-order, each `{name, type, category, path, id, ports,
 // directions, children: [index]}`; index 0 is the root. A node's element is an SVG group carrying
@@ -13,11 +17,11 @@
 // `data-status` on that group alone, so a tick touches only the nodes that changed and
 // never lays the tree out again.
 
-import { tree as tidyTree, hierarchy } from "./vendor/d3-hierarchy/d3-hierarchy.mjs";
+import { url } from "./api.js";
 import { Minimap } from "./minimap.js";
-import { M, NODE_HEIGHT, boxSize, nodeMarkup, portLines, printable, r, shapeOf, togglePlace } from "./node_box.js";
+import { M, NODE_HEIGHT, bodyMarkup, nodeMarkup, r, sizeAt, togglePlace } from "./node_box.js";
 
-export { escapeXml, shapeOf } from "./node_box.js";
+export { escapeXml } from "./node_box.js";
 
 const SVG = "http://www.w3.org/2000/svg";
 
@@ -27,6 +31,10 @@ const FAR = 0.3;
 export const LEGIBLE = 1;
 // A fit never enlarges past this.
 const MOST_FIT = 1.2;
+// The least zoom "fit" shows a whole tree at: a name drawn 11 px high.
+export const LEAST_FIT = 11 / 12;
+// Zoomed in past this, a compact drawing shows its nodes at full detail again.
+const FULL_AT = 1.6;
 const MARGIN = 20;
 // A tree of more nodes than this opens folded to the depth that fits the view.
 export const FOLD_OVER = 200;
@@ -57,6 +65,15 @@ export class TreeDrawing {
     this.orientation = "TB";
     this.key = null;
     this.folded = false;
+    // "full" or "compact" (names only).
+    this.detail = "full";
+    // What the last fit did: "legible" (open, at a legible zoom) or "whole" (the tree whole).
+    this.fitMode = "legible";
+    // Layouts asked of the server, by orientation, detail and what is folded.
+    this.layouts = new Map();
+    this.wire = "[]";
+    // Whether the overview may be shown (the toolbar's toggle).
+    this.overview = true;
     // Whether the view is still as the last fit left it.
     this.untouched = true;
     container.classList.add("tree-drawing");
@@ -75,7 +92,10 @@ export class TreeDrawing {
     this.failPath.setAttribute("class", "edges failed");
     this.nodeLayer = document.createElementNS(SVG, "g");
     this.nodeLayer.setAttribute("class", "nodes");
-    this.viewport.append(this.edgePath, this.nodeLayer);
+    // A compact node's full drawing, over it on hover and selection.
+    this.card = document.createElementNS(SVG, "g");
+    this.card.setAttribute("class", "detail-card");
+    this.viewport.append(this.edgePath, this.nodeLayer, this.card);
     this.svg.append(this.viewport);
     // The running path and the failure chain change at every tick: drawn in a layer of
     // their own over the tree, so that redrawing them does not repaint the nodes.
@@ -95,7 +115,9 @@ export class TreeDrawing {
       const box = this.svg.getBoundingClientRect();
       const changed = box.width !== this.size.width || box.height !== this.size.height;
       this.size = { width: box.width, height: box.height };
-      if (changed && this.untouched && box.width) {
+      if (changed && this.untouched && box.width && this.fitMode === "whole") {
+        this.fitWhole(box);
+      } else if (changed && this.untouched && box.width) {
         if (this.folded) {
           const before = [this.orientation, ...this.collapsed].join();
           this.foldToFit();
@@ -128,13 +150,23 @@ export class TreeDrawing {
     if (collapsed) collapsed.forEach((i) => this.collapsed.add(i));
     else if (previous) nodes.forEach((n, i) => previous.has(n.path) && n.children.length && this.collapsed.add(i));
     this.statusOf = new Array(nodes.length).fill(null);
-    for (const n of nodes) {
-      n.label = printable(n.name);
-      n.typeLabel = n.type && n.type !== n.name ? printable(n.type) : null;
-      n.portLines = portLines(n.ports, n.directions);
-      n.shape = shapeOf(n.type, n.category);
-      Object.assign(n, boxSize(n, n.shape));
+    this.layouts = new Map();
+    this.wire = JSON.stringify(nodes.map((n) => ({
+      name: n.name, type: n.type, category: n.category, ports: Object.entries(n.ports || {}),
+      directions: n.directions || {}, children: n.children,
+    })));
+    if (!keepView) {
+      this.detail = "full";
+      this.fitMode = "legible";
+      this.container.dataset.detail = "full";
+      delete this.container.dataset.fit;
     }
+    const boxes = nodes.length ? this.ask([], true).boxes : [];
+    nodes.forEach((n, i) => {
+      n.box = boxes[i];
+      n.shape = n.box.shape;
+    });
+    this.applySizes();
     // Measured before the new nodes are in the document, so that it forces no layout of
     // them; the nodes are then written placed, in one string: a big tree is drawn in
     // one pass of the parser and one layout of the page.
@@ -146,7 +178,7 @@ export class TreeDrawing {
     let edges = "";
     nodes.forEach((n, i) => {
       const folded = this.collapsed.has(i);
-      html += nodeMarkup(n, i, visible[i] ? this.pos[i] : null, folded, this.orientation);
+      html += nodeMarkup(n, i, visible[i] ? this.pos[i] : null, folded, this.orientation, this.detail);
       if (visible[i] && !folded) edges += this.edgesOf(i);
     });
     this.nodeLayer.innerHTML = html;
@@ -156,6 +188,7 @@ export class TreeDrawing {
     this.hotPath.setAttribute("d", "");
     this.failPath.setAttribute("d", "");
     this.minimap.draw(edges);
+    this.card.innerHTML = "";
     if (!keepView) this.fit(box);
     else this.applyView();
     if (this.selected != null && this.selected >= nodes.length) this.selected = null;
@@ -190,6 +223,7 @@ export class TreeDrawing {
     this.placeToggles();
     this.layout();
     this.fit();
+    if (this.fitMode === "whole") this.announce(false);
   }
 
   /** Puts the fold toggles where the orientation wants them. */
@@ -216,6 +250,9 @@ export class TreeDrawing {
       nodes.forEach((n, i) => depth[i] === d && n.children.length && this.collapsed.add(i));
     };
     let best = { orientation: this.orientation, depth: 1 };
+    const tried = this.orientationChosen ? [this.orientation] : ORIENTATIONS;
+    const foldedAt = (d) => new Set(nodes.flatMap((n, i) => (depth[i] === d && n.children.length ? [i] : [])));
+    this.prefetch(tried.flatMap((o) => Array.from({ length: Math.max(0, deepest - 1) }, (_, k) => [o, this.detail, foldedAt(k + 1)])));
     for (const orientation of this.orientationChosen ? [this.orientation] : ORIENTATIONS) {
       this.orientation = orientation;
       const room = (orientation === "LR" ? this.size.height : this.size.width) / LEGIBLE || 1500;
@@ -237,6 +274,94 @@ export class TreeDrawing {
     return this.collapsed.size > 0;
   }
 
+  /**
+   * Asks the server for `layouts` (each `{orientation, detail, folded: [index]}`) of the
+   * drawn nodes, and their boxes with `boxes`. Synchronous: the layout is a few
+   * milliseconds of the local studio's time, and the drawing's callers select, mark and
+   * colour its nodes as soon as it is drawn.
+   */
+  ask(layouts, boxes = false) {
+    const xhr = new XMLHttpRequest();
+    xhr.open("POST", url("/api/layout"), false);
+    xhr.setRequestHeader("content-type", "application/json");
+    xhr.send(`{"nodes":${this.wire},"boxes":${boxes},"layouts":${JSON.stringify(layouts)}}`);
+    let answer = null;
+    try {
+      answer = JSON.parse(xhr.responseText);
+    } catch {
+      // Not JSON: said below.
+    }
+    if (xhr.status !== 200 || !answer) throw new Error(`the layout was refused: ${answer?.error || xhr.status}`);
+    return answer;
+  }
+
+  layoutKey(orientation, detail, folded) {
+    return `${orientation}|${detail}|${[...folded].sort((a, b) => a - b).join(",")}`;
+  }
+
+  /** Asks in one request for those of `wanted` (`[orientation, detail, folded]`) not yet
+   * known. */
+  prefetch(wanted) {
+    const missing = wanted.filter(([o, d, f]) => !this.layouts.has(this.layoutKey(o, d, f)));
+    if (!missing.length || !this.nodes.length) return;
+    const answer = this.ask(missing.map(([orientation, detail, folded]) => ({ orientation, detail, folded: [...folded] })));
+    missing.forEach(([o, d, f], k) => this.layouts.set(this.layoutKey(o, d, f), answer.layouts[k]));
+  }
+
+  /** The layout in `orientation` at `detail` with `folded` folded. */
+  layoutFor(orientation, detail, folded) {
+    this.prefetch([[orientation, detail, folded]]);
+    return this.layouts.get(this.layoutKey(orientation, detail, folded));
+  }
+
+  /** Gives each node its size at the drawing's detail. */
+  applySizes() {
+    for (const n of this.nodes) Object.assign(n, sizeAt(n.box, this.detail));
+  }
+
+  /** Draws every node at `detail` ("full" or "compact"), placed again. */
+  setDetail(detail) {
+    if (detail === this.detail) return;
+    this.detail = detail;
+    this.container.dataset.detail = detail;
+    this.applySizes();
+    this.nodes.forEach((n, i) => {
+      const el = this.elements[i];
+      const body = el?.querySelector(":scope > .body");
+      if (body) body.innerHTML = bodyMarkup(n, detail, this.collapsed.has(i), this.orientation);
+      const badge = this.badges[i];
+      if (badge) badge.setAttribute("transform", `translate(${r(n.w / 2 - this.badgeInset(n))},0)`);
+      el?.querySelector(":scope > text.score")?.setAttribute("x", r(-n.w / 2));
+    });
+    this.layout();
+    this.showCard(this.selected);
+  }
+
+  badgeInset(n) {
+    return n.shape === "condition" ? Math.min(n.h, NODE_HEIGHT) / 2 : n.shape === "decorator" ? M.slant + 4 : 12;
+  }
+
+  /**
+   * Over a compact node (`i`; null: none), its drawing at full detail: type and ports,
+   * centred on it. Nothing at full detail.
+   */
+  showCard(i) {
+    const n = i == null ? null : this.nodes[i];
+    const p = i == null ? null : this.pos[i];
+    if (!n || !p || this.detail !== "compact" || this.hidden(i)) {
+      if (this.card.firstChild) this.card.innerHTML = "";
+      this.cardOf = null;
+      return;
+    }
+    if (this.cardOf === i) return;
+    this.cardOf = i;
+    const full = sizeAt(n.box, "full");
+    const y = p.y + n.h / 2 - full.h / 2;
+    const status = this.statusOf[i] ? ` data-status="${this.statusOf[i]}"` : "";
+    this.card.innerHTML = `<g class="card ${n.box.family}" data-card-of="${i}"${status} transform="translate(${r(p.x)},${r(y)})">`
+      + `${bodyMarkup(n, "full", this.collapsed.has(i), this.orientation)}</g>`;
+  }
+
   /** Computes where the visible nodes go (`this.pos`, `this.bounds`); returns which are. */
   place() {
     const nodes = this.nodes;
@@ -246,37 +371,14 @@ export class TreeDrawing {
       this.bounds = null;
       return visible;
     }
-    const lr = this.orientation === "LR";
-    // Laid out across (x of d3's tidy tree) by each box's breadth, and in rows (columns,
-    // left to right) as deep as their deepest box, each box centred in its row, as
-    // layout.rs stacks its rows.
-    const breadth = (i) => (lr ? nodes[i].h : nodes[i].w);
-    const root = hierarchy(0, (i) => (this.collapsed.has(i) ? null : nodes[i].children));
-    tidyTree()
-      .nodeSize([1, 1])
-      .separation((a, b) => (breadth(a.data) + breadth(b.data)) / 2 + (a.parent === b.parent ? M.sibling : M.cousin))(root);
-    const row = [];
-    root.each((d) => (row[d.depth] = Math.max(row[d.depth] || 0, lr ? nodes[d.data].w : nodes[d.data].h)));
-    const start = [0];
-    for (let k = 0; k < row.length; k++) start.push(start[k] + row[k] + M.level);
-    let minX = Infinity;
-    let maxX = -Infinity;
-    let minY = Infinity;
-    let maxY = -Infinity;
-    root.each((d) => {
-      const n = nodes[d.data];
-      visible[d.data] = 1;
-      const end = start[d.depth] + row[d.depth];
-      const p = lr
-        ? { x: start[d.depth] + row[d.depth] / 2, y: d.x - n.h / 2, end }
-        : { x: d.x, y: start[d.depth] + (row[d.depth] - n.h) / 2, end };
-      this.pos[d.data] = p;
-      minX = Math.min(minX, p.x - n.w / 2);
-      maxX = Math.max(maxX, p.x + n.w / 2);
-      minY = Math.min(minY, p.y);
-      maxY = Math.max(maxY, p.y + n.h);
+    const layout = this.layoutFor(this.orientation, this.detail, this.collapsed);
+    layout.nodes.forEach((p, i) => {
+      if (!p) return;
+      visible[i] = 1;
+      this.pos[i] = p;
     });
-    this.bounds = { minX, maxX, minY, maxY };
+    this.level = layout.level;
+    this.bounds = { minX: 0, maxX: layout.width, minY: 0, maxY: layout.height };
     return visible;
   }
 
@@ -305,6 +407,9 @@ export class TreeDrawing {
     this.edgePath.setAttribute("d", d);
     this.minimap.draw(d);
     this.drawHot();
+    const card = this.cardOf;
+    this.cardOf = null;
+    this.showCard(card);
   }
 
   edgesOf(i) {
@@ -323,7 +428,7 @@ export class TreeDrawing {
     const b = this.nodes[c];
     if (this.orientation === "LR") {
       const right = p.x + a.w / 2;
-      const bend = p.end + M.level / 2;
+      const bend = p.end + this.level / 2;
       return `M${r(right)} ${r(p.y + a.h / 2)}H${r(bend)}V${r(q.y + b.h / 2)}H${r(q.x - b.w / 2)}`;
     }
     const bottom = p.y + a.h;
@@ -359,8 +464,7 @@ export class TreeDrawing {
         badge = document.createElementNS(SVG, "g");
         badge.setAttribute("class", "badge");
         const n = this.nodes[i];
-        const inset = n.shape === "condition" ? NODE_HEIGHT / 2 : n.shape === "decorator" ? M.slant + 4 : 12;
-        badge.setAttribute("transform", `translate(${r(n.w / 2 - inset)},0)`);
+        badge.setAttribute("transform", `translate(${r(n.w / 2 - this.badgeInset(n))},0)`);
         badge.innerHTML = '<circle r="7"/><text y="3.2"></text>';
         el.append(badge);
         this.badges[i] = badge;
@@ -446,6 +550,7 @@ export class TreeDrawing {
       this.elements[i].classList.add("selected");
       if (reveal) this.reveal(i);
     }
+    this.showCard(i);
   }
 
   toggle(i, fold = !this.collapsed.has(i)) {
@@ -559,6 +664,70 @@ export class TreeDrawing {
     this.applyView();
   }
 
+  /**
+   * The whole tree in the view ("fit" on the toolbar): at full detail if it fits there at a
+   * legible zoom, else at the compact detail in whichever orientation shows it larger, at
+   * least LEAST_FIT; a tree of more than FOLD_OVER nodes its first levels, folded, as it
+   * opens. What it chose is on the container (`data-detail`, `data-orientation`,
+   * `data-fit`: "whole", or "partial" when even that is too large to show whole).
+   */
+  fitWhole(box = this.svg.getBoundingClientRect()) {
+    if (box.width) this.size = { width: box.width, height: box.height };
+    if (!this.nodes.length || !box.width || !box.height) return;
+    this.fitMode = "whole";
+    if (this.nodes.length > FOLD_OVER) {
+      this.setDetail("full");
+      this.folded = this.foldToFit();
+      this.placeToggles();
+      this.layout();
+      this.fit(box);
+      this.fitMode = "whole";
+      this.announce(false);
+      return;
+    }
+    const none = new Set();
+    const room = (l) => Math.min(MOST_FIT, (box.width - 2 * MARGIN) / l.width, (box.height - 2 * MARGIN) / l.height);
+    this.prefetch([[this.orientation, "full", none], ["TB", "compact", none], ["LR", "compact", none]]);
+    let choice = [this.orientation, "full"];
+    if (room(this.layoutFor(this.orientation, "full", none)) < LEGIBLE) {
+      const tb = room(this.layoutFor("TB", "compact", none));
+      const lr = room(this.layoutFor("LR", "compact", none));
+      choice = lr > tb ? ["LR", "compact"] : ["TB", "compact"];
+    }
+    this.collapsed = none;
+    this.folded = false;
+    const turned = choice[0] !== this.orientation;
+    this.orientation = choice[0];
+    this.container.dataset.orientation = this.orientation;
+    if (choice[1] !== this.detail) this.setDetail(choice[1]);
+    else this.layout();
+    if (turned) this.placeToggles();
+    const b = this.bounds;
+    const k = room(this.layoutFor(this.orientation, this.detail, none));
+    const least = this.detail === "compact" ? LEAST_FIT : LEGIBLE;
+    this.untouched = true;
+    if (k >= least) {
+      this.view = {
+        k,
+        x: box.width / 2 - ((b.minX + b.maxX) / 2) * k,
+        y: box.height / 2 - ((b.minY + b.maxY) / 2) * k,
+      };
+      this.applyView();
+    } else {
+      // Too large even so: the root in view at the least size, the rest reached by panning.
+      this.view = this.orientation === "LR"
+        ? { k: least, x: MARGIN, y: MARGIN }
+        : { k: least, x: Math.max(MARGIN, box.width / 2 - this.pos[0].x * least), y: MARGIN };
+      this.applyView();
+    }
+    this.announce(k < least);
+  }
+
+  /** Says on the container what the last whole fit chose. */
+  announce(partial) {
+    this.container.dataset.fit = partial || this.folded ? "partial" : "whole";
+  }
+
   /** Zooms by `factor` keeping the point (cx, cy) of the view still (default: its centre). */
   zoom(factor, cx, cy) {
     const box = this.svg.getBoundingClientRect();
@@ -571,7 +740,30 @@ export class TreeDrawing {
     this.view.x = cx - ((cx - this.view.x) * k) / this.view.k;
     this.view.y = cy - ((cy - this.view.y) * k) / this.view.k;
     this.view.k = k;
+    if (this.detail === "compact" && k >= FULL_AT) this.detailKeeping("full", cx, cy);
     this.applyView();
+  }
+
+  /** Turns to `detail`, the node nearest the point (cx, cy) of the view kept where it is. */
+  detailKeeping(detail, cx, cy) {
+    const { x, y, k } = this.view;
+    let near = null;
+    let best = Infinity;
+    this.pos.forEach((p, i) => {
+      if (!p) return;
+      const d = Math.hypot(p.x * k + x - cx, (p.y + this.nodes[i].h / 2) * k + y - cy);
+      if (d < best) {
+        best = d;
+        near = i;
+      }
+    });
+    const before = near == null ? null : this.centreOf(near);
+    this.setDetail(detail);
+    const after = near == null ? null : this.centreOf(near);
+    if (before && after) {
+      this.view.x += (before.x - after.x) * k;
+      this.view.y += (before.y - after.y) * k;
+    }
   }
 
   /** Zooms around the selected node (brought into view first), else the view's centre. */
@@ -601,6 +793,12 @@ export class TreeDrawing {
     this.view.x = width / 2 - x * this.view.k;
     this.view.y = height / 2 - y * this.view.k;
     this.applyView();
+  }
+
+  /** Lets the overview show (when the tree is larger than the view) or hides it. */
+  setOverview(on) {
+    this.overview = on;
+    this.minimap.frame();
   }
 
   applyView() {
@@ -640,6 +838,12 @@ export class TreeDrawing {
       const rate = e.ctrlKey ? 0.01 : 0.0015;
       this.zoom(Math.exp(-e.deltaY * lines * rate), e.clientX - box.left, e.clientY - box.top);
     }, { passive: false });
+    // A compact node shows its type and ports while the pointer is over it.
+    svg.addEventListener("pointerover", (e) => {
+      const i = this.indexOf(e.target);
+      this.showCard(i ?? this.selected);
+    });
+    svg.addEventListener("pointerleave", () => this.showCard(this.selected));
     let drag = null;
     svg.addEventListener("pointerdown", (e) => {
       if (e.button !== 0) return;
@@ -759,18 +963,30 @@ export function drawingToolbar(drawing, { onJump } = {}) {
     <span class="match-count"></span>
     <button data-action="search-prev" title="previous match">▲</button><button data-action="search-next" title="next match (Enter)">▼</button>
     <button data-action="orientation" title="lay the tree out left to right or top down"></button>
-    <button data-action="fit" title="fit the tree to the view, at a zoom that keeps it legible">fit</button>
+    <button data-action="fit" title="show the whole tree: the orientation that fits best, names only when the whole nodes do not fit">fit</button>
+    <span class="fit-choice" data-fit-choice title="what the drawing shows: the whole nodes, or their names (the rest on hover, on selection and zoomed in)"></span>
     <button data-action="zoom-in" title="zoom in around the selected node">+</button><button data-action="zoom-out" title="zoom out around the selected node">−</button>
     <button data-action="collapse-all" title="collapse every control">collapse</button><button data-action="expand-all" title="expand everything">expand</button>
-    <button data-action="panels" title="hide the panels beside the tree, or show them again" aria-pressed="false">panels</button>`;
+    <button data-action="panels" title="hide the panels beside the tree, or show them again" aria-pressed="false">panels</button>
+    <button data-action="overview" title="show or hide the overview of a tree larger than the view" aria-pressed="true">overview</button>`;
   const input = bar.querySelector("input");
   const count = bar.querySelector(".match-count");
   const turn = bar.querySelector('[data-action="orientation"]');
+  const choice = bar.querySelector("[data-fit-choice]");
   const showOrientation = () => {
     turn.textContent = drawing.orientation === "LR" ? "⇥ left to right" : "⤓ top down";
     turn.dataset.orientation = drawing.orientation;
+    const fit = drawing.container.dataset.fit;
+    const detail = drawing.detail === "compact" ? "names only" : "full detail";
+    choice.textContent = fit
+      ? `fit: ${detail}, ${drawing.orientation === "LR" ? "left to right" : "top down"}${fit === "partial" ? ", not whole" : ""}`
+      : detail;
+    choice.dataset.detail = drawing.detail;
   };
-  new MutationObserver(showOrientation).observe(drawing.container, { attributes: true, attributeFilter: ["data-orientation"] });
+  new MutationObserver(showOrientation).observe(drawing.container, {
+    attributes: true,
+    attributeFilter: ["data-orientation", "data-detail", "data-fit"],
+  });
   showOrientation();
   const jump = (step) => {
     const i = drawing.nextMatch(step);
@@ -793,12 +1009,16 @@ export function drawingToolbar(drawing, { onJump } = {}) {
     if (a === "search-next") jump(1);
     else if (a === "search-prev") jump(-1);
     else if (a === "orientation") drawing.setOrientation(drawing.orientation === "LR" ? "TB" : "LR");
-    else if (a === "fit") drawing.fit();
+    else if (a === "fit") drawing.fitWhole();
     else if (a === "zoom-in") drawing.zoomAtSelection(1.25);
     else if (a === "zoom-out") drawing.zoomAtSelection(0.8);
     else if (a === "collapse-all") drawing.collapseAll(true);
     else if (a === "expand-all") drawing.collapseAll(false);
     else if (a === "panels") togglePanels(bar);
+    else if (a === "overview") {
+      drawing.setOverview(!drawing.overview);
+      e.target.setAttribute("aria-pressed", String(drawing.overview));
+    }
   });
   return bar;
 }

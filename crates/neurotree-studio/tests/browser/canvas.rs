@@ -51,7 +51,7 @@ const WIDTH: u32 = 1500;
 const HEIGHT: u32 = 950;
 
 /// A browser whose page is 1500×950 (the window, less what the browser takes around it).
-async fn sized_browser() -> Option<Browser> {
+pub(super) async fn sized_browser() -> Option<Browser> {
     let b = Browser::start().await?;
     b.client
         .set_window_size(WIDTH, HEIGHT)
@@ -70,7 +70,7 @@ async fn sized_browser() -> Option<Browser> {
 }
 
 /// Opens `file` in the editor and waits until it is drawn.
-async fn open_in_editor(b: &Browser, url: &str, file: &str) {
+pub(super) async fn open_in_editor(b: &Browser, url: &str, file: &str) {
     b.goto(&format!("{url}#view=edit&file={file}")).await;
     b.client.refresh().await.unwrap();
     let mark = format!("studio:edit-drawn:{file}");
@@ -253,7 +253,7 @@ async fn zoom_keeps_the_point_under_the_pointer_and_the_selected_node_in_place()
 
     // Three clicks on "+" with a node selected: the node stays where it is and grows.
     let node = css_path("NavigateRecovery/NavigateWithReplanning/RateController/ComputePathToPose");
-    let planner = format!("{node} > .shape");
+    let planner = format!("{node} > .body > .shape");
     b.click(&node).await;
     let (x0, y0, w0) = centre(&b, &planner).await;
     for _ in 0..3 {
@@ -273,7 +273,7 @@ async fn zoom_keeps_the_point_under_the_pointer_and_the_selected_node_in_place()
     // The wheel, with the pointer on another node: that node stays under the pointer.
     let spin = css_path("NavigateRecovery/Sequence/RecoveryFallback/RecoveryActions/Spin");
     b.bring_into_view(&spin).await;
-    let spin = format!("{spin} > .shape");
+    let spin = format!("{spin} > .body > .shape");
     let (sx, sy, sw) = centre(&b, &spin).await;
     let wheel = |delta_y: i64| {
         WheelActions::new("wheel".into()).then(WheelAction::Scroll {

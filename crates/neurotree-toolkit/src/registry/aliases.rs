@@ -91,6 +91,23 @@ impl<C: 'static> Registry<C> {
         self.types.contains_key(name) || self.alias(name).is_some()
     }
 
+    /// Every alias a file may write (misspellings real files carry, BehaviorTree.CPP 3's
+    /// names, [`add_renamed`](Self::add_renamed)'s old names), each with the type it loads
+    /// as: an editor shows `<inverter>` as the decorator it is.
+    ///
+    /// ```
+    /// let registry = neurotree_toolkit::Registry::<()>::new();
+    /// let (_, target) = registry.aliases().find(|(name, _)| *name == "inverter").unwrap();
+    /// assert_eq!(target.name, "Inverter");
+    /// ```
+    pub fn aliases(&self) -> impl Iterator<Item = (&str, &NodeType<C>)> {
+        ALIASES
+            .iter()
+            .map(|a| a.name)
+            .chain(self.renamed.keys().map(String::as_str))
+            .filter_map(|name| Some((name, self.alias(name)?.1)))
+    }
+
     /// The alias `name` is, with the type it loads as, unless `name` is registered itself.
     pub(crate) fn alias(&self, name: &str) -> Option<(AliasRef<'_>, &NodeType<C>)> {
         // The table first: it is asked about every element of every file loaded, and two

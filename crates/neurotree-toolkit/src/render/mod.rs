@@ -102,6 +102,7 @@ mod last_tick;
 pub mod layout;
 mod mermaid;
 mod node_box;
+pub mod plan;
 mod style;
 mod svg;
 mod text;

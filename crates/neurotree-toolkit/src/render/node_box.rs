@@ -110,22 +110,28 @@ pub(crate) fn port_lines<C>(bp: &Blueprint<C>, id: NodeId) -> Vec<PortLine> {
     node_ports(bp, id)
         .into_iter()
         .map(|(name, text)| {
-            let binding = is_binding(&text);
             let direction = bp.port_direction(id, &name);
-            let value = printable(&text).into_owned();
-            let name = printable(&name).into_owned();
-            let mark = direction_mark(direction);
-            let whole = format!("{mark}{name}: {value}");
-            let (name, value) = shorten(mark, &name, &value);
-            PortLine {
-                name,
-                value,
-                binding,
-                direction,
-                whole,
-            }
+            port_line(&name, &text, direction)
         })
         .collect()
+}
+
+/// One port written `name="text"` as a line, carrying data `direction` when its node's
+/// type declares the port.
+pub(crate) fn port_line(name: &str, text: &str, direction: Option<PortDirection>) -> PortLine {
+    let binding = is_binding(text);
+    let value = printable(text).into_owned();
+    let name = printable(name).into_owned();
+    let mark = direction_mark(direction);
+    let whole = format!("{mark}{name}: {value}");
+    let (name, value) = shorten(mark, &name, &value);
+    PortLine {
+        name,
+        value,
+        binding,
+        direction,
+        whole,
+    }
 }
 
 /// The name pictures and pages give a port's direction: `input`, `output` or `inout`.

@@ -36,6 +36,33 @@ impl Shape {
         }
     }
 
+    /// The shape of a node known by its type's name and category (`control`, `decorator`,
+    /// `condition`, `action`, `subtree`) alone, as a file being edited gives it: the built-in
+    /// controls of the three marked families by name, any other by category (an action
+    /// when the category is unknown).
+    pub(crate) fn of_type(type_name: &str, category: &str) -> Self {
+        if let Some((_, shape)) = FAMILIES.iter().find(|(name, _)| *name == type_name) {
+            return *shape;
+        }
+        match category.to_ascii_lowercase().as_str() {
+            "control" => Shape::Control,
+            "decorator" => Shape::Decorator,
+            "condition" => Shape::Condition,
+            "subtree" => Shape::SubTree,
+            _ => Shape::Action,
+        }
+    }
+
+    /// The shape as a lower-case word, for pages.
+    pub(crate) fn word(self) -> &'static str {
+        match self {
+            Shape::Sequential => "sequential",
+            Shape::Alternative => "alternative",
+            Shape::Concurrent => "concurrent",
+            other => other.family(),
+        }
+    }
+
     /// The mark drawn before the name of the well-known controls.
     pub(crate) fn glyph(self) -> Option<&'static str> {
         match self {
@@ -59,6 +86,21 @@ impl Shape {
         }
     }
 }
+
+/// The built-in controls of the marked families, by the name files give them; a test
+/// checks each against the family its node declares.
+pub(crate) const FAMILIES: [(&str, Shape); 10] = [
+    ("Sequence", Shape::Sequential),
+    ("ReactiveSequence", Shape::Sequential),
+    ("SequenceWithMemory", Shape::Sequential),
+    ("AsyncSequence", Shape::Sequential),
+    ("SequenceStar", Shape::Sequential),
+    ("Fallback", Shape::Alternative),
+    ("ReactiveFallback", Shape::Alternative),
+    ("AsyncFallback", Shape::Alternative),
+    ("Parallel", Shape::Concurrent),
+    ("ParallelAll", Shape::Concurrent),
+];
 
 /// The colours of a node.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -481,7 +481,7 @@ fn legend(out: &mut String, entries: &[(NodeStatus, &str)], left: f64, middle: f
 
 /// A coordinate rounded to a tenth, without a trailing `.0`: short, and the same bytes for
 /// the same value.
-fn num(v: f64) -> String {
+pub(crate) fn num(v: f64) -> String {
     let tenths = (v * 10.0).round();
     // Rounding can leave -0, which should print as 0.
     let tenths = if tenths == 0.0 { 0.0 } else { tenths };
