@@ -758,6 +758,9 @@ export class TreeDrawing {
       }
     });
     const before = near == null ? null : this.centreOf(near);
+    // No longer as "fit" left it.
+    this.fitMode = "legible";
+    delete this.container.dataset.fit;
     this.setDetail(detail);
     const after = near == null ? null : this.centreOf(near);
     if (before && after) {

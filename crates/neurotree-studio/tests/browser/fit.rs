@@ -2,7 +2,10 @@
 //! (one browser for all): the page draws each tree where `neurotree show --format svg` does
 //! (at full detail, unfolded, top-down: the same places up to one scale and offset); after
 //! "panels" and "fit" every node lies inside the canvas, each name at least 11 px tall, and
-//! the overview covers none; and the same in the watch view, beside the scene panel.
+//! the overview covers none; and the same in the watch view, beside the scene panel. On
+//! Nav2's navigator: the overview keeps off the nodes and turns off, a value cut on its
+//! node is whole on hover and in the side panel, and a compact node shows its ports on
+//! hover, on selection and zoomed in.
 
 use std::path::Path;
 use std::time::Duration;
@@ -11,8 +14,10 @@ use neurotree_toolkit::render::render_svg;
 use neurotree_toolkit::{Registry, Status, XmlLoader};
 use serde_json::{json, Value};
 
+use fantoccini::actions::{InputSource, MouseActions, PointerAction};
+
 use super::canvas::{open_in_editor, sized_browser};
-use super::{browser_slot, registry, serve, Browser, Run};
+use super::{browser_slot, css_path, registry, serve, workspace, Browser, Run, NAV2_TREE};
 
 /// The least height of a name on the screen after "fit".
 const LEAST_NAME: f64 = 11.0;
@@ -251,5 +256,147 @@ async fn nav2_default_trees_are_laid_out_as_the_svg_and_fit_whole_in_the_editor_
         assert_fitted(file, "the watch view", &seen, nodes);
         drop(run);
     }
+    b.close().await;
+}
+
+/// The paths of the nodes of `view` the overview covers (none when it is hidden), and
+/// whether it is shown.
+async fn under_overview(b: &Browser, view: &str) -> Value {
+    b.js(&format!(
+        "const root = document.querySelector('#{view}-view');
+         const mini = root.querySelector('[data-minimap]');
+         if (!mini || mini.hidden) return [[], false];
+         const m = mini.getBoundingClientRect();
+         return [[...root.querySelectorAll('g.node[data-node-path]:not([display])')].filter(g => {{
+           const r = g.getBoundingClientRect();
+           return r.width && r.left < m.right && r.right > m.left && r.top < m.bottom && r.bottom > m.top;
+         }}).map(g => g.dataset.nodePath), true];"
+    ))
+    .await
+}
+
+#[tokio::test(flavor = "multi_thread")]
+async fn the_navigator_keeps_its_overview_off_its_nodes_and_shows_cut_values_and_compact_nodes_whole(
+) {
+    let _slot = browser_slot().await;
+    let Some(b) = sized_browser().await else {
+        return;
+    };
+    let dir = workspace();
+    let studio = serve(dir.path());
+    open_in_editor(&b, &studio.url(), NAV2_TREE).await;
+
+    // At full detail the tree is larger than the view: the overview is there, over no node,
+    // and wherever the view is moved it keeps off them.
+    assert_eq!(under_overview(&b, "edit").await, json!([[], true]));
+    for (dx, dy) in [(-400, -300), (300, -500), (600, 200)] {
+        b.js(&format!(
+            "const d = document.querySelector('#edit-view .tree-drawing').treeDrawing;
+             d.view.x += {dx}; d.view.y += {dy}; d.applyView();"
+        ))
+        .await;
+        let under = under_overview(&b, "edit").await;
+        assert_eq!(under[0], json!([]), "moved by ({dx}, {dy}): {under}");
+    }
+    // The toolbar turns it off, and on again.
+    let before = under_overview(&b, "edit").await;
+    b.click("#edit-view [data-action=\"overview\"]").await;
+    assert_eq!(under_overview(&b, "edit").await, json!([[], false]));
+    assert_eq!(
+        b.attr("#edit-view [data-action=\"overview\"]", "aria-pressed")
+            .await,
+        Some("false".into())
+    );
+    b.click("#edit-view [data-action=\"overview\"]").await;
+    assert_eq!(under_overview(&b, "edit").await, before, "on again");
+
+    // The controller's error code is cut on its node, whole in the line's title and in the
+    // side panel.
+    open_in_editor(&b, &studio.url(), NAV2_TREE).await;
+    let follow = css_path("NavigateRecovery/NavigateWithReplanning/FollowPath/FollowPath");
+    let cut = b
+        .js(&format!(
+            "const g = document.querySelector('{}');
+             return [...g.querySelectorAll('g.cut')].map(c => [c.dataset.whole, c.querySelector('title').textContent, c.querySelector('text.port').textContent]);",
+            follow.replace('\'', "\\'")
+        ))
+        .await;
+    let error_code = cut
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|c| c[0].as_str().unwrap().contains("error_code_id"))
+        .unwrap_or_else(|| panic!("the error code's line is cut: {cut}"));
+    assert_eq!(
+        error_code[0],
+        json!("out error_code_id: {follow_path_error_code}")
+    );
+    assert_eq!(
+        error_code[1], error_code[0],
+        "the title holds the line whole"
+    );
+    let shown = error_code[2].as_str().unwrap();
+    assert!(
+        shown.ends_with('…')
+            && shown.chars().count() < error_code[0].as_str().unwrap().chars().count(),
+        "{shown}"
+    );
+    b.click(&follow).await;
+    let panel = b
+        .js("return document.querySelector('#edit-view .side-panel input[data-port=\"error_code_id\"]').value;")
+        .await;
+    assert_eq!(panel, json!("{follow_path_error_code}"));
+
+    // Fitted, the nodes show their names; the selected one its ports over it, another its
+    // own while the pointer is over it, and every node its ports zoomed in.
+    b.click("#edit-view [data-action=\"panels\"]").await;
+    b.click("#edit-view [data-action=\"fit\"]").await;
+    let drawing = "document.querySelector('#edit-view .tree-drawing')";
+    assert_eq!(
+        b.js(&format!("return {drawing}.dataset.detail;")).await,
+        json!("compact")
+    );
+    assert_eq!(b.count(&format!("#edit-view {follow} text.port")).await, 0);
+    let card = format!(
+        "const c = document.querySelector('#edit-view [data-card-of]');
+         const d = {drawing}.treeDrawing;
+         return c ? [d.nodes[Number(c.dataset.cardOf)].path, c.querySelectorAll('text.port').length] : null;"
+    );
+    let selected = b.js(&card).await;
+    assert_eq!(
+        selected,
+        json!([
+            "NavigateRecovery/NavigateWithReplanning/FollowPath/FollowPath",
+            5
+        ]),
+        "the selection's card"
+    );
+    let spin = css_path("NavigateRecovery/Sequence/RecoveryFallback/RecoveryActions/Spin");
+    let hover = MouseActions::new("mouse".into()).then(PointerAction::MoveToElement {
+        element: b.element(&spin).await,
+        duration: None,
+        x: 0.0,
+        y: 0.0,
+    });
+    b.client.perform_actions(hover).await.unwrap();
+    let hovered = b.js(&card).await;
+    assert_eq!(
+        hovered[0],
+        json!("NavigateRecovery/Sequence/RecoveryFallback/RecoveryActions/Spin")
+    );
+    assert!(hovered[1].as_u64().unwrap() >= 3, "{hovered}");
+    for _ in 0..3 {
+        b.click("#edit-view [data-action=\"zoom-in\"]").await;
+    }
+    assert_eq!(
+        b.js(&format!("return {drawing}.dataset.detail;")).await,
+        json!("full")
+    );
+    assert_eq!(b.count(&format!("#edit-view {follow} text.port")).await, 5);
+    assert_eq!(
+        b.js("return document.querySelector('#edit-view [data-fit-choice]').textContent;")
+            .await,
+        json!("full detail")
+    );
     b.close().await;
 }
