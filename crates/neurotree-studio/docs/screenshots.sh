@@ -1,10 +1,11 @@
 #!/bin/sh
 # Takes the studio's pictures again, at 1500×950 in headless Chromium (and its ChromeDriver
-# for the one that needs clicks), on the page as it is
+# for those that need clicks), on the page as it is
 # now: docs/images/studio-rewind-scene.png and studio-nav2-watch.png (`neurotree demo
 # --studio`), studio-tree1111-folded.png (the editor on tree1111), and this folder's
-# studio-edit.png, studio-watch.png and studio-replay.png. Run from the repository root
-# with Debian's `chromium`; it builds the `neurotree` binary first.
+# studio-edit.png, studio-watch.png and studio-replay.png. Each but the rewind picture and
+# tree1111's is taken after "panels" and "fit" (fit_shot.py). Run from the repository root
+# with Debian's `chromium` and `chromedriver`; it builds the `neurotree` binary first.
 set -eu
 cargo build --quiet -p neurotree-cli
 neurotree=${CARGO_TARGET_DIR:-target}/debug/neurotree
@@ -45,19 +46,23 @@ shot() {
     --screenshot="$2" "$1" 2>/dev/null
 }
 
+# fitshot URL VIEW FILE: the page at URL, its panels hidden and its tree fitted in VIEW.
+fitshot() {
+  python3 "$here/fit_shot.py" "$1" "$2" "$3" "${WAIT_SECONDS:-6}"
+}
+
 # The demo's navigator beside its warehouse, paused and taken eight ticks back (clicked
 # through ChromeDriver), then the same run watched as it goes.
 python3 "$here/rewind_shot.py" "$neurotree" "$images/studio-rewind-scene.png"
 serve demo --studio 0 --speed 1 --max-ticks 100000
-sleep 4
-shot "${url}#view=watch" "$here/studio-watch.png"
+fitshot "${url}#view=watch" watch "$here/studio-watch.png"
 stop
 
 # The navigator alone, two ticks into a dry run, following its path (the run lingers).
 nav2=corpus/nav2/navigate_to_pose_w_replanning_and_recovery.xml
 serve run "$nav2" --nav2 --mock-unknown --mock FollowPath=RUNNING --set "goal=3;4;0" \
   --max-ticks 2 --studio 0 --studio-linger 60
-shot "${url}#view=watch" "$images/studio-nav2-watch.png"
+fitshot "${url}#view=watch" watch "$images/studio-nav2-watch.png"
 stop
 
 # The editor on tree1111, folded to the depth that fits, and on Nav2's navigator.
@@ -65,7 +70,7 @@ serve studio --port 0 --model "$model" corpus/bench/tree1111.xml
 shot "${url}#view=edit&file=corpus/bench/tree1111.xml" "$images/studio-tree1111-folded.png"
 stop
 serve studio --port 0 --nav2 "$nav2"
-shot "${url}#view=edit&file=$nav2" "$here/studio-edit.png"
+fitshot "${url}#view=edit&file=$nav2" edit "$here/studio-edit.png"
 stop
 
 # A replay of the navigator's dry run, at its last step (the trace inside the folder served).
@@ -74,6 +79,6 @@ mkdir -p target
 "$neurotree" run "$nav2" --nav2 --mock-unknown --mock FollowPath=RUNNING --set "goal=3;4;0" \
   --max-ticks 3 --jsonl "$trace" >/dev/null || [ $? -eq 3 ]
 serve studio --port 0 --nav2
-shot "${url}#view=replay&file=$trace&tree=$nav2" "$here/studio-replay.png"
+fitshot "${url}#view=replay&file=$trace&tree=$nav2" replay "$here/studio-replay.png"
 stop
 rm -f "$trace"
