@@ -35,6 +35,11 @@ def main(url, view, out, wait=6.0):
                     "args": [],
                 })
 
+            # The page 1500×950, the window that much larger than what the browser takes.
+            inner = call("POST", session + "/execute/sync", {
+                "script": "return [innerWidth, innerHeight];", "args": []})
+            call("POST", session + "/window/rect",
+                 {"width": 3000 - inner[0], "height": 1900 - inner[1]})
             call("POST", session + "/url", {"url": url})
             time.sleep(wait)
             click("panels")

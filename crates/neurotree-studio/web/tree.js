@@ -22,6 +22,7 @@ import { Minimap } from "./minimap.js";
 import { M, NODE_HEIGHT, bodyMarkup, nodeMarkup, r, sizeAt, togglePlace } from "./node_box.js";
 
 export { escapeXml } from "./node_box.js";
+export { drawingToolbar } from "./toolbar.js";
 
 const SVG = "http://www.w3.org/2000/svg";
 
@@ -33,6 +34,9 @@ export const LEGIBLE = 1;
 const MOST_FIT = 1.2;
 // The least zoom "fit" shows a whole tree at: a name drawn 11 px high.
 export const LEAST_FIT = 11 / 12;
+// Where less room is left (the watch view beside its scene panel), "fit" shows a whole
+// tree down to this zoom, as large as fits, rather than a part of it.
+const SMALLEST_FIT = 0.6;
 // Zoomed in past this, a compact drawing shows its nodes at full detail again.
 const FULL_AT = 1.6;
 const MARGIN = 20;
@@ -666,8 +670,9 @@ export class TreeDrawing {
 
   /**
    * The whole tree in the view ("fit" on the toolbar): at full detail if it fits there at a
-   * legible zoom, else at the compact detail in whichever orientation shows it larger, at
-   * least LEAST_FIT; a tree of more than FOLD_OVER nodes its first levels, folded, as it
+   * legible zoom, else at the compact detail in whichever orientation shows it larger (at
+   * 1500×950 Nav2's trees at LEAST_FIT or more; where less room is left, as large as fits,
+   * down to SMALLEST_FIT); a tree of more than FOLD_OVER nodes its first levels, folded, as it
    * opens. What it chose is on the container (`data-detail`, `data-orientation`,
    * `data-fit`: "whole", or "partial" when even that is too large to show whole).
    */
@@ -682,6 +687,7 @@ export class TreeDrawing {
       this.layout();
       this.fit(box);
       this.fitMode = "whole";
+      this.fitScale = this.view.k;
       this.announce(false);
       return;
     }
@@ -704,7 +710,7 @@ export class TreeDrawing {
     if (turned) this.placeToggles();
     const b = this.bounds;
     const k = room(this.layoutFor(this.orientation, this.detail, none));
-    const least = this.detail === "compact" ? LEAST_FIT : LEGIBLE;
+    const least = this.detail === "compact" ? SMALLEST_FIT : LEGIBLE;
     this.untouched = true;
     if (k >= least) {
       this.view = {
@@ -712,14 +718,16 @@ export class TreeDrawing {
         x: box.width / 2 - ((b.minX + b.maxX) / 2) * k,
         y: box.height / 2 - ((b.minY + b.maxY) / 2) * k,
       };
-      this.applyView();
     } else {
-      // Too large even so: the root in view at the least size, the rest reached by panning.
+      // Too large even so: the root in view with names 11 px tall, the rest reached by
+      // panning.
+      const kk = this.detail === "compact" ? LEAST_FIT : LEGIBLE;
       this.view = this.orientation === "LR"
-        ? { k: least, x: MARGIN, y: MARGIN }
-        : { k: least, x: Math.max(MARGIN, box.width / 2 - this.pos[0].x * least), y: MARGIN };
-      this.applyView();
+        ? { k: kk, x: MARGIN, y: MARGIN }
+        : { k: kk, x: Math.max(MARGIN, box.width / 2 - this.pos[0].x * kk), y: MARGIN };
     }
+    this.fitScale = this.view.k;
+    this.applyView();
     this.announce(k < least);
   }
 
@@ -943,85 +951,4 @@ export function nodesOfTreeView(view) {
     directions: n.directions || {},
     children: n.children.slice(),
   }));
-}
-
-/**
- * Hides the panels of the view `bar` sits in (the palette, the side panel), giving the tree
- * the window, or shows them again. The drawing's resize observer refits a view the user has
- * not moved.
- */
-function togglePanels(bar) {
-  const view = bar.closest(".view");
-  const hide = view.dataset.panels !== "hidden";
-  if (hide) view.dataset.panels = "hidden";
-  else delete view.dataset.panels;
-  bar.querySelector('[data-action="panels"]').setAttribute("aria-pressed", String(hide));
-}
-
-/** A toolbar for a drawing: search, orientation, fit, zoom, collapse all / expand all, panels. */
-export function drawingToolbar(drawing, { onJump } = {}) {
-  const bar = document.createElement("div");
-  bar.className = "drawing-tools";
-  bar.innerHTML = `<input type="search" class="node-search" placeholder="search name or type" aria-label="search nodes">
-    <span class="match-count"></span>
-    <button data-action="search-prev" title="previous match">▲</button><button data-action="search-next" title="next match (Enter)">▼</button>
-    <button data-action="orientation" title="lay the tree out left to right or top down"></button>
-    <button data-action="fit" title="show the whole tree: the orientation that fits best, names only when the whole nodes do not fit">fit</button>
-    <span class="fit-choice" data-fit-choice title="what the drawing shows: the whole nodes, or their names (the rest on hover, on selection and zoomed in)"></span>
-    <button data-action="zoom-in" title="zoom in around the selected node">+</button><button data-action="zoom-out" title="zoom out around the selected node">−</button>
-    <button data-action="collapse-all" title="collapse every control">collapse</button><button data-action="expand-all" title="expand everything">expand</button>
-    <button data-action="panels" title="hide the panels beside the tree, or show them again" aria-pressed="false">panels</button>
-    <button data-action="overview" title="show or hide the overview of a tree larger than the view" aria-pressed="true">overview</button>`;
-  const input = bar.querySelector("input");
-  const count = bar.querySelector(".match-count");
-  const turn = bar.querySelector('[data-action="orientation"]');
-  const choice = bar.querySelector("[data-fit-choice]");
-  const showOrientation = () => {
-    turn.textContent = drawing.orientation === "LR" ? "⇥ left to right" : "⤓ top down";
-    turn.dataset.orientation = drawing.orientation;
-    const fit = drawing.container.dataset.fit;
-    const detail = drawing.detail === "compact" ? "names only" : "full detail";
-    choice.textContent = fit
-      ? `fit: ${detail}, ${drawing.orientation === "LR" ? "left to right" : "top down"}${fit === "partial" ? ", not whole" : ""}`
-      : detail;
-    choice.dataset.detail = drawing.detail;
-  };
-  new MutationObserver(showOrientation).observe(drawing.container, {
-    attributes: true,
-    attributeFilter: ["data-orientation", "data-detail", "data-fit"],
-  });
-  showOrientation();
-  const jump = (step) => {
-    const i = drawing.nextMatch(step);
-    if (i != null) {
-      count.textContent = `${drawing.matchAt + 1}/${drawing.matches.length}`;
-      onJump?.(i);
-    }
-  };
-  input.addEventListener("input", () => {
-    const n = drawing.search(input.value);
-    count.textContent = input.value ? `${n} found` : "";
-    if (n) jump(1);
-  });
-  input.addEventListener("keydown", (e) => {
-    if (e.key === "Enter") jump(e.shiftKey ? -1 : 1);
-    e.stopPropagation();
-  });
-  bar.addEventListener("click", (e) => {
-    const a = e.target.closest("[data-action]")?.dataset.action;
-    if (a === "search-next") jump(1);
-    else if (a === "search-prev") jump(-1);
-    else if (a === "orientation") drawing.setOrientation(drawing.orientation === "LR" ? "TB" : "LR");
-    else if (a === "fit") drawing.fitWhole();
-    else if (a === "zoom-in") drawing.zoomAtSelection(1.25);
-    else if (a === "zoom-out") drawing.zoomAtSelection(0.8);
-    else if (a === "collapse-all") drawing.collapseAll(true);
-    else if (a === "expand-all") drawing.collapseAll(false);
-    else if (a === "panels") togglePanels(bar);
-    else if (a === "overview") {
-      drawing.setOverview(!drawing.overview);
-      e.target.setAttribute("aria-pressed", String(drawing.overview));
-    }
-  });
-  return bar;
 }
