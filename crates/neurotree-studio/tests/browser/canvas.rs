@@ -794,6 +794,32 @@ async fn open_times_of_tree1111_and_the_nav2_trees() {
             summary(watch)
         );
     }
+    // tree1111 drawn again, one layout of it asked of the server, and "fit" (four folds
+    // tried in each orientation, asked in one request), five times each.
+    open_in_editor(&b, &studio.url(), BIG_TREE).await;
+    let t = b
+        .js("const d = document.querySelector('#edit-view .tree-drawing').treeDrawing;
+             const nodes = d.nodes.map(n => ({ ...n }));
+             const time = (f) => [0, 1, 2, 3, 4].map(() => { const t0 = performance.now(); f(); return performance.now() - t0; });
+             return [time(() => d.setTree(nodes.map(n => ({ ...n })))),
+                     time(() => d.ask([{ orientation: 'TB', detail: 'full', folded: [] }])),
+                     time(() => { d.layouts = new Map(); d.fitWhole(); })];")
+        .await;
+    let times = |i: usize| {
+        summary(
+            t[i].as_array()
+                .unwrap()
+                .iter()
+                .map(|v| v.as_f64().unwrap())
+                .collect(),
+        )
+    };
+    println!(
+        "tree1111: setTree {} ms, one layout asked {} ms, fit {} ms (best / median)",
+        times(0),
+        times(1),
+        times(2)
+    );
     b.close().await;
 }
 
