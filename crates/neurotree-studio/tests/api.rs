@@ -245,6 +245,12 @@ fn the_palette_has_the_built_ins_and_the_file_models() {
         .iter()
         .any(|t| t["type"] == "Sequence" && t["category"] == "control"));
     assert!(!types.iter().any(|t| t["type"] == "Approach"));
+    // A name a file may write for a built-in, drawn as that built-in.
+    assert!(plain["aliases"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .any(|a| a["name"] == "inverter" && a["type"] == "Inverter"));
     let with_file = get(studio.addr(), "/api/palette?path=tree.xml").json();
     let approach = with_file["types"]
         .as_array()
@@ -276,4 +282,55 @@ fn a_tree_is_drawn_as_svg() {
     );
     assert!(svg.body.contains("Approach"));
     assert!(svg.body.contains("docked"));
+}
+
+#[test]
+fn a_tree_is_laid_out_as_the_svg_lays_it_out_and_a_bad_request_is_refused_with_the_reason() {
+    let dir = tempfile::tempdir().unwrap();
+    let studio = studio(dir.path());
+    let nodes = json!([
+        {"name": "root", "type": "Sequence", "category": "control", "children": [1, 2]},
+        {"name": "again", "type": "RetryUntilSuccessful", "category": "decorator",
+         "ports": [["num_attempts", "3"]], "directions": {"num_attempts": "input"}, "children": [3]},
+        {"name": "Dock", "type": "SubTree", "category": "subtree"},
+        {"name": "Approach", "type": "Approach", "category": "action",
+         "ports": [["target", "{goal}"]], "directions": {"target": "input"}}
+    ]);
+    let answer = post(
+        studio.addr(),
+        "/api/layout",
+        &json!({"nodes": nodes, "boxes": true, "layouts": [
+            {"orientation": "TB", "detail": "full"},
+            {"orientation": "LR", "detail": "compact", "folded": [1]}
+        ]}),
+    );
+    assert_eq!(answer.status, 200, "{}", answer.body);
+    let answer = answer.json();
+    let boxes = answer["boxes"].as_array().unwrap();
+    assert_eq!(boxes[0]["glyph"], "→");
+    assert_eq!(boxes[1]["shape"], "decorator");
+    assert_eq!(boxes[1]["ports"][0]["whole"], "in num_attempts: 3");
+    assert_eq!(boxes[3]["ports"][0]["binding"], true);
+    let [top_down, folded] = [&answer["layouts"][0], &answer["layouts"][1]];
+    // The root centred over its two children, at the top; the leaf under the decorator.
+    let x = |l: &serde_json::Value, i: usize| l["nodes"][i]["x"].as_f64().unwrap();
+    assert_eq!(x(top_down, 0), (x(top_down, 1) + x(top_down, 2)) / 2.0);
+    assert_eq!(top_down["nodes"][0]["y"], 0.0);
+    assert_eq!(x(top_down, 3), x(top_down, 1));
+    // Left to right with the decorator folded: its child has no place.
+    assert!(folded["nodes"][3].is_null());
+    assert!(x(folded, 1) > x(folded, 0));
+
+    let bad = post(
+        studio.addr(),
+        "/api/layout",
+        &json!({"nodes": nodes, "layouts": [{"orientation": "diagonal", "detail": "full"}]}),
+    );
+    assert_eq!(bad.status, 400);
+    assert!(
+        bad.body
+            .contains("orientation `diagonal` is not known; give TB or LR"),
+        "{}",
+        bad.body
+    );
 }

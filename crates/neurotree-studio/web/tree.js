@@ -43,6 +43,8 @@ const MARGIN = 20;
 // A tree of more nodes than this opens folded to the depth that fits the view.
 export const FOLD_OVER = 200;
 const ORIENTATIONS = ["TB", "LR"];
+// The most layouts the server gives in one answer (crates/neurotree-studio/src/layout.rs).
+const MOST_LAYOUTS = 128;
 
 /** The statuses a node can show, as the protocol spells them. */
 export const STATUSES = ["IDLE", "RUNNING", "SUCCESS", "FAILURE", "SKIPPED"];
@@ -307,9 +309,13 @@ export class TreeDrawing {
    * known. */
   prefetch(wanted) {
     const missing = wanted.filter(([o, d, f]) => !this.layouts.has(this.layoutKey(o, d, f)));
-    if (!missing.length || !this.nodes.length) return;
-    const answer = this.ask(missing.map(([orientation, detail, folded]) => ({ orientation, detail, folded: [...folded] })));
-    missing.forEach(([o, d, f], k) => this.layouts.set(this.layoutKey(o, d, f), answer.layouts[k]));
+    if (!this.nodes.length) return;
+    // The server answers at most MOST_LAYOUTS a request (a very deep tree tries more folds).
+    for (let at = 0; at < missing.length; at += MOST_LAYOUTS) {
+      const part = missing.slice(at, at + MOST_LAYOUTS);
+      const answer = this.ask(part.map(([orientation, detail, folded]) => ({ orientation, detail, folded: [...folded] })));
+      part.forEach(([o, d, f], k) => this.layouts.set(this.layoutKey(o, d, f), answer.layouts[k]));
+    }
   }
 
   /** The layout in `orientation` at `detail` with `folded` folded. */
