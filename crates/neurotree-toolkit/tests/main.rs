@@ -39,6 +39,7 @@ mod plain_path;
 mod reload_edits;
 mod render_formats;
 mod render_layout;
+mod render_plan;
 mod render_snapshots;
 mod script_no_alloc;
 mod slow_halt_xml;
