@@ -148,6 +148,22 @@ export class TreeDrawing {
    */
   setTree(nodes, { keepView = false, collapsed = null, key = null } = {}) {
     const previous = keepView ? new Set([...this.collapsed].map((i) => this.nodes[i]?.path)) : null;
+    this.layouts = new Map();
+    this.lastLayout = null;
+    this.wire = JSON.stringify(nodes.map((n) => ({
+      name: n.name, type: n.type, category: n.category, ports: Object.entries(n.ports || {}),
+      directions: n.directions || {}, children: n.children,
+    })));
+    let boxes = [];
+    try {
+      if (nodes.length) boxes = this.ask([], true).boxes;
+      delete this.container.dataset.layoutError;
+    } catch (e) {
+      // The studio is gone or refused: nothing drawn, and why on the container.
+      this.container.dataset.layoutError = e.message;
+      nodes = [];
+      this.wire = "[]";
+    }
     this.nodes = nodes;
     this.parent = new Array(nodes.length).fill(-1);
     nodes.forEach((n, i) => n.children.forEach((c) => (this.parent[c] = i)));
@@ -156,18 +172,12 @@ export class TreeDrawing {
     if (collapsed) collapsed.forEach((i) => this.collapsed.add(i));
     else if (previous) nodes.forEach((n, i) => previous.has(n.path) && n.children.length && this.collapsed.add(i));
     this.statusOf = new Array(nodes.length).fill(null);
-    this.layouts = new Map();
-    this.wire = JSON.stringify(nodes.map((n) => ({
-      name: n.name, type: n.type, category: n.category, ports: Object.entries(n.ports || {}),
-      directions: n.directions || {}, children: n.children,
-    })));
     if (!keepView) {
       this.detail = "full";
       this.fitMode = "legible";
       this.container.dataset.detail = "full";
       delete this.container.dataset.fit;
     }
-    const boxes = nodes.length ? this.ask([], true).boxes : [];
     nodes.forEach((n, i) => {
       n.box = boxes[i];
       n.shape = n.box.shape;
@@ -313,7 +323,14 @@ export class TreeDrawing {
     // The server answers at most MOST_LAYOUTS a request (a very deep tree tries more folds).
     for (let at = 0; at < missing.length; at += MOST_LAYOUTS) {
       const part = missing.slice(at, at + MOST_LAYOUTS);
-      const answer = this.ask(part.map(([orientation, detail, folded]) => ({ orientation, detail, folded: [...folded] })));
+      let answer;
+      try {
+        answer = this.ask(part.map(([orientation, detail, folded]) => ({ orientation, detail, folded: [...folded] })));
+      } catch (e) {
+        // The studio is gone: the drawing stays as it was laid out last.
+        this.container.dataset.layoutError = e.message;
+        return;
+      }
       part.forEach(([o, d, f], k) => this.layouts.set(this.layoutKey(o, d, f), answer.layouts[k]));
     }
   }
@@ -321,7 +338,8 @@ export class TreeDrawing {
   /** The layout in `orientation` at `detail` with `folded` folded. */
   layoutFor(orientation, detail, folded) {
     this.prefetch([[orientation, detail, folded]]);
-    return this.layouts.get(this.layoutKey(orientation, detail, folded));
+    return this.layouts.get(this.layoutKey(orientation, detail, folded))
+      ?? this.lastLayout ?? { nodes: [], width: 0, height: 0, level: M.level };
   }
 
   /** Gives each node its size at the drawing's detail. */
@@ -382,6 +400,7 @@ export class TreeDrawing {
       return visible;
     }
     const layout = this.layoutFor(this.orientation, this.detail, this.collapsed);
+    this.lastLayout = layout;
     layout.nodes.forEach((p, i) => {
       if (!p) return;
       visible[i] = 1;
@@ -730,7 +749,7 @@ export class TreeDrawing {
       const kk = this.detail === "compact" ? LEAST_FIT : LEGIBLE;
       this.view = this.orientation === "LR"
         ? { k: kk, x: MARGIN, y: MARGIN }
-        : { k: kk, x: Math.max(MARGIN, box.width / 2 - this.pos[0].x * kk), y: MARGIN };
+        : { k: kk, x: Math.max(MARGIN, box.width / 2 - (this.pos[0]?.x ?? 0) * kk), y: MARGIN };
     }
     this.fitScale = this.view.k;
     this.applyView();
