@@ -2,7 +2,8 @@
 //! (one browser for all): the page draws each tree where `neurotree show --format svg` does
 //! (at full detail, unfolded, top-down: the same places up to one scale and offset); after
 //! "panels" and "fit" every node lies inside the canvas, each name at least 11 px tall, and
-//! the overview covers none; and the same in the watch view, beside the scene panel. On
+//! the overview covers none; and the same in the watch view, and beside its scene panel the
+//! navigator whole, as large as fits. On
 //! Nav2's navigator: the overview keeps off the nodes and turns off, a value cut on its
 //! node is whole on hover and in the side panel, and a compact node shows its ports on
 //! hover, on selection and zoomed in.
@@ -398,5 +399,83 @@ async fn the_navigator_keeps_its_overview_off_its_nodes_and_shows_cut_values_and
             .await,
         json!("full detail")
     );
+    b.close().await;
+}
+
+#[tokio::test(flavor = "multi_thread")]
+async fn the_watch_view_fits_the_navigator_whole_beside_its_scene_panel_as_large_as_fits() {
+    use std::sync::atomic::{AtomicBool, Ordering};
+    use std::sync::Arc;
+
+    use neurotree_toolkit::scene::{Scene, Style};
+
+    let _slot = browser_slot().await;
+    let Some(b) = sized_browser().await else {
+        return;
+    };
+    let dir = workspace();
+    let studio = serve(dir.path());
+    let text = std::fs::read_to_string(dir.path().join(NAV2_TREE)).unwrap();
+    let mut tree = super::load(&text, NAV2_TREE);
+    let nodes = tree.blueprint().len();
+    let mut watch = studio.watch(&mut tree, NAV2_TREE);
+    let stop = Arc::new(AtomicBool::new(false));
+    let running = Arc::clone(&stop);
+    let thread = std::thread::spawn(move || {
+        let mut scene = Scene::new([0.0, 0.0], [20.0, 10.0]);
+        scene.polyline(
+            "path",
+            vec![[1.0, 1.0], [19.0, 9.0]],
+            Style::stroke("#2b8a3e", 0.2),
+        );
+        while !running.load(Ordering::Relaxed) {
+            watch.between_ticks(&mut tree);
+            watch.show_scene(Some(&scene));
+            tree.tick_once(&mut ()).expect("the tree ticks");
+            std::thread::sleep(Duration::from_millis(50));
+        }
+    });
+    b.goto(&format!("{}#view=watch", studio.url())).await;
+    b.client.refresh().await.unwrap();
+    b.until(
+        "the scene shown",
+        "document.querySelector('#watch-view [data-scene]:not([hidden]) [data-scene-item=path]')",
+    )
+    .await;
+    b.click("#watch-view [data-action=\"panels\"]").await;
+    b.click("#watch-view [data-action=\"fit\"]").await;
+    let seen = after_fit(&b, "watch").await;
+    println!("studio: the navigator fitted above its scene: {seen}");
+    assert_eq!(seen[0], json!(nodes), "{seen}");
+    assert_eq!(seen[1], json!([]), "nodes outside the canvas: {seen}");
+    assert_eq!(seen[3], json!([]), "under the overview: {seen}");
+    assert_eq!(seen[5], json!("whole"), "{seen}");
+    // As large as fits: the tree spans the canvas across or down, less its margins, and the
+    // scene panel is beside it, not under it.
+    let spans = b
+        .js("const root = document.querySelector('#watch-view');
+             const c = root.querySelector('.tree-svg').getBoundingClientRect();
+             const s = root.querySelector('[data-scene]').getBoundingClientRect();
+             const rs = [...root.querySelectorAll('g.node[data-node-path] > .body > .shape')].map(g => g.getBoundingClientRect());
+             const w = Math.max(...rs.map(r => r.right)) - Math.min(...rs.map(r => r.left));
+             const h = Math.max(...rs.map(r => r.bottom)) - Math.min(...rs.map(r => r.top));
+             return [w / c.width, h / c.height, c.bottom <= s.top + 0.5 || c.right <= s.left + 0.5, s.height];")
+        .await;
+    let (across, down) = (spans[0].as_f64().unwrap(), spans[1].as_f64().unwrap());
+    assert!(
+        across.max(down) > 0.9,
+        "the tree spans {across:.2} across, {down:.2} down: {spans}"
+    );
+    assert_eq!(
+        spans[2],
+        json!(true),
+        "the scene panel beside the canvas: {spans}"
+    );
+    assert!(
+        spans[3].as_f64().unwrap() > 100.0,
+        "the scene panel shown: {spans}"
+    );
+    stop.store(true, Ordering::Relaxed);
+    let _ = thread.join();
     b.close().await;
 }
