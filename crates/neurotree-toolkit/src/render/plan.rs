@@ -281,7 +281,7 @@ fn breaks_at(chars: &[char], i: usize) -> bool {
 }
 
 /// Where each node goes in `orientation` at `detail`, the nodes under those in `folded`
-/// left out, by [`tidy`](super::layout::tidy): top-down at full detail, exactly where
+/// left out, by [`tidy`]: top-down at full detail, exactly where
 /// `render_svg` puts them (less its margin). A child list naming a node out of range or
 /// twice, which no tree written in a file gives, places nothing.
 pub fn plan_layout(
