@@ -77,7 +77,7 @@ pub(crate) fn a_cyclone_dds_node_and_a_tree_exchange_std_msgs_string_on_chatter(
     let mut peer = Peer(
         Command::new(python)
             .arg(script)
-            .args([domain.id.to_string(), "20".to_owned()])
+            .args([domain.id.to_string(), common::HANG.as_secs().to_string()])
             .stdout(Stdio::piped())
             .spawn()
             .expect("the Python of CYCLONEDDS_PYTHON runs"),
