@@ -16,6 +16,9 @@ use neurotree_bevy::{
     TreeFinished, TreeReloaded, TreeSystems,
 };
 
+/// A hang catch: far longer than a load or a reload takes on a loaded machine.
+const HANG: std::time::Duration = std::time::Duration::from_secs(180);
+
 /// What a guard's sensors say; the trees only read it.
 #[derive(Component)]
 struct Hp(i32);
@@ -470,9 +473,10 @@ fn asset_app(dir: &TempDir) -> App {
     app
 }
 
-/// Updates until the asset has loaded or failed, at most 1000 times.
+/// Updates until the asset has loaded or failed.
 fn wait_for(app: &mut App, handle: &Handle<TreeAsset<Guard>>) -> LoadState {
-    for _ in 0..1000 {
+    let deadline = std::time::Instant::now() + HANG;
+    while std::time::Instant::now() < deadline {
         app.update();
         let state = app.world().resource::<AssetServer>().load_state(handle);
         if !matches!(state, LoadState::Loading | LoadState::NotLoaded) {
@@ -528,7 +532,8 @@ fn a_tree_file_loads_as_an_asset_and_reloads_keeping_the_state_of_unchanged_node
         tree(r#"<SequenceWithMemory name="work"><Step/><Hold speed="2"/></SequenceWithMemory>"#);
     std::fs::write(dir.0.join("guard.xml"), &v2).unwrap();
     app.world().resource::<AssetServer>().reload("guard.xml");
-    for _ in 0..1000 {
+    let deadline = std::time::Instant::now() + HANG;
+    while std::time::Instant::now() < deadline {
         app.update();
         if !app.world().resource::<Reloads>().0.is_empty() {
             break;
@@ -690,7 +695,8 @@ fn an_included_file_edited_on_disk_reloads_the_tree_that_includes_it() {
     // Two levels down: guard.xml includes hold.xml, which includes speed.xml.
     let speed = r#"<root BTCPP_format="4"><BehaviorTree ID="Speed"><Hold speed="2"/></BehaviorTree></root>"#;
     std::fs::write(dir.0.join("trees/parts/speed.xml"), speed).unwrap();
-    for _ in 0..6000 {
+    let deadline = std::time::Instant::now() + HANG;
+    while std::time::Instant::now() < deadline {
         app.update();
         if !app.world().resource::<Reloads>().0.is_empty() {
             break;
@@ -744,7 +750,8 @@ fn a_tree_file_edited_on_disk_is_reloaded_keeping_state() {
     );
     let v2 = tree(r#"<SequenceWithMemory><Step/><Hold speed="2"/></SequenceWithMemory>"#);
     std::fs::write(dir.0.join("guard.xml"), &v2).unwrap();
-    for _ in 0..6000 {
+    let deadline = std::time::Instant::now() + HANG;
+    while std::time::Instant::now() < deadline {
         app.update();
         if !app.world().resource::<Reloads>().0.is_empty() {
             break;

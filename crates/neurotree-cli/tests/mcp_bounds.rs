@@ -40,6 +40,22 @@ impl Server {
         serde_json::from_str(&line).unwrap()
     }
 
+    /// The `initialize` handshake, which a connection starts with.
+    fn initialize(&mut self) {
+        let answer = self.ask(&json!({"jsonrpc":"2.0","id":0,"method":"initialize","params":{
+            "protocolVersion":"2025-11-25","capabilities":{},"clientInfo":{"name":"bounds","version":"1"}}}));
+        assert_eq!(
+            answer["result"]["serverInfo"]["name"], "neurotree",
+            "{answer}"
+        );
+        writeln!(
+            self.input,
+            "{}",
+            json!({"jsonrpc":"2.0","method":"notifications/initialized"})
+        )
+        .unwrap();
+    }
+
     fn ping(&mut self, id: u32) {
         let answer = self.ask(&json!({"jsonrpc":"2.0","id":id,"method":"ping"}));
         assert_eq!(answer, json!({"jsonrpc":"2.0","id":id,"result":{}}));
@@ -89,6 +105,7 @@ fn after_a_call_past_its_time_the_server_is_idle_and_answers_at_once() {
     }
     let dir = tempfile::tempdir().unwrap();
     let mut server = Server::start(dir.path());
+    server.initialize();
     server.ping(1);
     // 10,000 passes over 20,000 leaves: far longer than the second it is given.
     let leaves = "<AlwaysSuccess/>".repeat(20_000);

@@ -70,13 +70,19 @@ fn get(addr: &str, target: &str) -> serde_json::Value {
 /// The session once a run is attached to it: the server starts before the command loads its
 /// tree, so the run is attached soon after the `studio:` line.
 fn watched_session(addr: &str) -> serde_json::Value {
-    (0..500)
-        .map(|_| {
-            std::thread::sleep(Duration::from_millis(10));
-            get(addr, "/api/session")
-        })
-        .find(|session| session["watch"] == true)
-        .expect("a run is attached to the studio")
+    // A hang catch of minutes: the run is attached in a moment.
+    let deadline = std::time::Instant::now() + Duration::from_secs(180);
+    loop {
+        let session = get(addr, "/api/session");
+        if session["watch"] == true {
+            return session;
+        }
+        assert!(
+            std::time::Instant::now() < deadline,
+            "no run is attached to the studio"
+        );
+        std::thread::sleep(Duration::from_millis(10));
+    }
 }
 
 #[test]

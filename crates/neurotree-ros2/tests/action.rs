@@ -198,7 +198,7 @@ pub(crate) fn an_accepted_goal_runs_with_feedback_and_succeeds_with_the_result()
     let mut tree = spin_tree(&ros, &seen, &[("wait_for_server_timeout", "5000")]);
 
     assert_eq!(tree.tick_once(&mut ()).unwrap(), Status::Running);
-    let status = tick_until_done(&mut tree, &mut (), Duration::from_secs(10));
+    let status = tick_until_done(&mut tree, &mut (), common::HANG);
 
     assert_eq!(status, Status::Success);
     assert_eq!(server.log.goals.load(Ordering::SeqCst), 1);
@@ -218,7 +218,7 @@ pub(crate) fn a_rejected_goal_fails_with_the_reason() {
     let seen = Arc::new(Mutex::new(Seen::default()));
     let mut tree = spin_tree(&ros, &seen, &[("wait_for_server_timeout", "5000")]);
 
-    let status = tick_until_done(&mut tree, &mut (), Duration::from_secs(10));
+    let status = tick_until_done(&mut tree, &mut (), common::HANG);
 
     assert_eq!(status, Status::Failure);
     assert_eq!(server.log.goals.load(Ordering::SeqCst), 1);
@@ -239,7 +239,7 @@ pub(crate) fn without_a_server_the_node_fails_after_wait_for_server_timeout() {
     let started = Instant::now();
 
     let first = tree.tick_once(&mut ()).unwrap();
-    let status = tick_until_done(&mut tree, &mut (), Duration::from_secs(5));
+    let status = tick_until_done(&mut tree, &mut (), common::HANG);
     let took = started.elapsed();
 
     assert_eq!(
@@ -269,7 +269,7 @@ pub(crate) fn halting_a_running_goal_sends_the_server_a_cancel_request() {
     let mut tree = spin_tree(&ros, &seen, &[("wait_for_server_timeout", "5000")]);
 
     // Running until the server has the goal.
-    let until = Instant::now() + Duration::from_secs(10);
+    let until = Instant::now() + common::HANG;
     while server.log.goals.load(Ordering::SeqCst) == 0 && Instant::now() < until {
         let status = tree.tick_once(&mut ()).unwrap();
         assert_eq!(
@@ -294,7 +294,7 @@ pub(crate) fn halting_a_running_goal_sends_the_server_a_cancel_request() {
     }
     tree.halt(&mut ());
 
-    let until = Instant::now() + Duration::from_secs(5);
+    let until = Instant::now() + common::HANG;
     while server.log.cancels.load(Ordering::SeqCst) == 0 && Instant::now() < until {
         std::thread::sleep(Duration::from_millis(20));
     }
@@ -331,7 +331,7 @@ pub(crate) fn registered_for_xml_the_node_has_behaviortree_ros2_ports_and_report
     loader.load_str(xml, "t.xml").unwrap();
     let mut tree = neurotree_toolkit::Tree::new(Arc::new(loader.build_main().unwrap()));
 
-    let status = tick_until_done(&mut tree, &mut (), Duration::from_secs(5));
+    let status = tick_until_done(&mut tree, &mut (), common::HANG);
 
     assert_eq!(status, Status::Failure);
     let why: String = tree.blackboard().get("why").unwrap();

@@ -29,7 +29,7 @@ fn statuses(world: GridWorld, xml: &str) -> Vec<Status> {
         tx.send(()).unwrap();
         servers.run(&stopped).unwrap();
     });
-    rx.recv_timeout(Duration::from_secs(10)).unwrap();
+    rx.recv_timeout(common::HANG).unwrap();
     let ros = node("bt_navigator", domain.id);
     let mut registry = Registry::<()>::new();
     register_nav2_ros_leaves(&mut registry, &ros).unwrap();

@@ -37,7 +37,7 @@ fn run(domain: u16, xml: &str) -> (Status, u16) {
         format!(r#"<root BTCPP_format="4"><BehaviorTree ID="T">{xml}</BehaviorTree></root>"#);
     loader.load_str(&file, "drive.xml").unwrap();
     let mut tree = Tree::new(Arc::new(loader.build_main().unwrap()));
-    let status = tick_until_done(&mut tree, &mut (), Duration::from_secs(20));
+    let status = tick_until_done(&mut tree, &mut (), common::HANG);
     let code = tree.blackboard().get::<u16>("code").unwrap_or(u16::MAX);
     (status, code)
 }
@@ -96,7 +96,7 @@ pub(crate) fn a_spin_cancelled_by_someone_else_succeeds_as_nav2s_does() {
     let canceller = other
         .action_client::<neurotree_ros2::msg::nav2_msgs::Spin>("spin")
         .unwrap();
-    let until = std::time::Instant::now() + Duration::from_secs(20);
+    let until = std::time::Instant::now() + common::HANG;
     let mut cancelled = false;
     let status = loop {
         let status = tree.tick_once(&mut ()).unwrap();

@@ -48,7 +48,7 @@ fn run(xml: &str, served: u32) -> (Status, SimStats) {
         tx.send(servers.stats()).unwrap();
         servers.run(&stopped).unwrap();
     });
-    let stats = rx.recv_timeout(Duration::from_secs(10)).unwrap();
+    let stats = rx.recv_timeout(common::HANG).unwrap();
     let ros = node("bt_navigator", domain.id);
     let mut registry = Registry::<()>::new();
     register_nav2_ros_leaves(&mut registry, &ros).unwrap();
@@ -57,14 +57,13 @@ fn run(xml: &str, served: u32) -> (Status, SimStats) {
         format!(r#"<root BTCPP_format="4"><BehaviorTree ID="T">{xml}</BehaviorTree></root>"#);
     loader.load_str(&file, "clear.xml").unwrap();
     let mut tree = Tree::new(Arc::new(loader.build_main().unwrap()));
-    let status = tick_until_done(&mut tree, &mut (), Duration::from_secs(20));
+    let status = tick_until_done(&mut tree, &mut (), common::HANG);
     // The servers record after each step: wait for the step that served the last request.
-    let until = Instant::now() + Duration::from_secs(5);
+    let until = Instant::now() + common::HANG;
     while stats.get().clears < served && Instant::now() < until {
         std::thread::sleep(Duration::from_millis(20));
     }
-    std::thread::sleep(Duration::from_millis(300));
-    let seen = stats.get();
+    let seen = common::after_steps(&stats, 3);
     stop.store(true, Ordering::SeqCst);
     let _ = thread.join();
     (status, seen)

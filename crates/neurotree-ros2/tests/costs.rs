@@ -28,7 +28,7 @@ fn serve(domain: u16) -> Served {
     )
 }
 
-const LIMIT: Duration = Duration::from_secs(10);
+const LIMIT: Duration = common::HANG;
 
 pub(crate) fn check_pose_occupancy_succeeds_on_a_wall_and_fails_on_the_floor_and_off_the_map() {
     let domain = free_domain();

@@ -77,7 +77,7 @@ pub(crate) fn a_cyclone_dds_node_and_a_tree_exchange_std_msgs_string_on_chatter(
     let mut peer = Peer(
         Command::new(python)
             .arg(script)
-            .args([domain.id.to_string(), "20".to_owned()])
+            .args([domain.id.to_string(), common::HANG.as_secs().to_string()])
             .stdout(Stdio::piped())
             .spawn()
             .expect("the Python of CYCLONEDDS_PYTHON runs"),
@@ -96,7 +96,7 @@ pub(crate) fn a_cyclone_dds_node_and_a_tree_exchange_std_msgs_string_on_chatter(
 
     // The tree publishes on every tick; the newest message it read is `heard`. Its own
     // messages come back to it too, so it waits for one from Cyclone DDS.
-    let until = Instant::now() + Duration::from_secs(20);
+    let until = Instant::now() + common::HANG;
     let mut heard_cyclone = None;
     let mut peer_status = None;
     while Instant::now() < until && (heard_cyclone.is_none() || peer_status.is_none()) {

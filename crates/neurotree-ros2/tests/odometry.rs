@@ -18,7 +18,7 @@ const HALL: &str = "
     #............#
     ##############";
 
-const LIMIT: Duration = Duration::from_secs(20);
+const LIMIT: Duration = common::HANG;
 
 fn serve(domain: u16) -> Served {
     // Twice real time: each odometry message stays the newest for 50 ms of wall time,
@@ -34,7 +34,8 @@ pub(crate) fn is_stuck_succeeds_after_the_robot_brakes_from_two_metres_a_second_
     let domain = free_domain();
     let served = serve(domain.id);
     let mut tree = nav2_tree(domain.id, "<IsStuck/>");
-    std::thread::sleep(Duration::from_millis(300));
+    // Odometry is published every step: a few reach the tree's subscription.
+    common::after_steps(&served.stats, 4);
     assert_eq!(tree.tick_once(&mut ()).unwrap(), Status::Failure);
     // Driving at 2 m/s, cut off after a second: -20 m/s² over the next 0.1 s step.
     let mut tree = nav2_tree(
@@ -52,7 +53,8 @@ pub(crate) fn is_stuck_succeeds_after_the_robot_brakes_from_two_metres_a_second_
     assert_eq!(seen.drive_on_heading.cancels, 1, "{seen:?}");
     // Standing still since: no longer stuck.
     let mut tree = nav2_tree(domain.id, "<IsStuck/>");
-    std::thread::sleep(Duration::from_millis(300));
+    // Odometry is published every step: a few reach the tree's subscription.
+    common::after_steps(&served.stats, 4);
     assert_eq!(tree.tick_once(&mut ()).unwrap(), Status::Failure);
 }
 
@@ -77,7 +79,7 @@ pub(crate) fn check_stop_status_runs_while_stopped_succeeds_after_the_duration_a
     );
     assert_eq!(tick_until_done(&mut tree, &mut (), LIMIT), Status::Failure);
     // The halted drive's cancel request reaches the server a step later.
-    let until = Instant::now() + Duration::from_secs(5);
+    let until = Instant::now() + common::HANG;
     while served.stats.get().drive_on_heading.cancels == 0 && Instant::now() < until {
         std::thread::sleep(Duration::from_millis(10));
     }

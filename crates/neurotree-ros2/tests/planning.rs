@@ -6,7 +6,6 @@ use crate::common;
 
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{mpsc, Arc};
-use std::time::Duration;
 
 use common::{free_domain, node, tick_until_done};
 use neurotree_nav2::robotics::{Path, Pose2D};
@@ -40,7 +39,7 @@ fn run(xml: &str, set: impl FnOnce(&mut Blackboard)) -> (Status, Tree<()>, SimSt
         tx.send(servers.stats()).unwrap();
         servers.run(&stopped).unwrap();
     });
-    let stats = rx.recv_timeout(Duration::from_secs(10)).unwrap();
+    let stats = rx.recv_timeout(common::HANG).unwrap();
     let ros = node("bt_navigator", domain.id);
     let mut registry = Registry::<()>::new();
     register_nav2_ros_leaves(&mut registry, &ros).unwrap();
@@ -50,9 +49,8 @@ fn run(xml: &str, set: impl FnOnce(&mut Blackboard)) -> (Status, Tree<()>, SimSt
     loader.load_str(&file, "plan.xml").unwrap();
     let mut tree = Tree::new(Arc::new(loader.build_main().unwrap()));
     set(tree.blackboard_mut());
-    let status = tick_until_done(&mut tree, &mut (), Duration::from_secs(20));
-    std::thread::sleep(Duration::from_millis(300));
-    let seen = stats.get();
+    let status = tick_until_done(&mut tree, &mut (), common::HANG);
+    let seen = common::after_steps(&stats, 3);
     stop.store(true, Ordering::SeqCst);
     let _ = thread.join();
     (status, tree, seen)

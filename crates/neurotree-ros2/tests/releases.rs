@@ -8,7 +8,6 @@ use crate::common;
 
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{mpsc, Arc};
-use std::time::Duration;
 
 use common::{free_domain, node, tick_until_done};
 use neurotree_nav2::robotics::{Path, Pose2D};
@@ -41,7 +40,7 @@ fn serve(domain: u16, release: Nav2Release, stop: Arc<AtomicBool>) -> SimStatsHa
         tx.send(servers.stats()).unwrap();
         servers.run(&stop).unwrap();
     });
-    rx.recv_timeout(Duration::from_secs(10)).unwrap()
+    rx.recv_timeout(common::HANG).unwrap()
 }
 
 fn tree(domain: u16, release: Nav2Release, body: &str) -> Tree<()> {
@@ -79,7 +78,7 @@ pub(crate) fn each_release_sends_its_goals_and_its_servers_read_them() {
         tree.blackboard_mut().set("goals", goals).unwrap();
         let via = vec![Pose2D::new(6.5, 1.5, 0.0), Pose2D::new(8.5, 1.5, 0.0)];
         tree.blackboard_mut().set("via", via).unwrap();
-        let status = tick_until_done(&mut tree, &mut (), Duration::from_secs(20));
+        let status = tick_until_done(&mut tree, &mut (), common::HANG);
         let seen = stats.get();
         stop.store(true, Ordering::SeqCst);
         assert_eq!(status, Status::Success, "{release:?}: {seen:?}");
@@ -122,19 +121,19 @@ pub(crate) fn a_jazzy_goal_is_not_read_by_main_servers_which_go_on_serving() {
     let stats = serve(domain.id, Nav2Release::Main, Arc::clone(&stop));
     let spin = r#"<Spin spin_dist="0.5" server_timeout="1000" error_code_id="{code}"/>"#;
     let mut jazzy = tree(domain.id, Nav2Release::Jazzy, spin);
-    let status = tick_until_done(&mut jazzy, &mut (), Duration::from_secs(20));
+    let status = tick_until_done(&mut jazzy, &mut (), common::HANG);
     assert_eq!(status, Status::Failure);
     assert_eq!(stats.get().spin.goals, 0);
     // Jazzy's empty clearing request reads as main's with no plugins (CDR pads the one
     // byte to four, a zero count), and main's answer as Jazzy's empty one: they agree.
     let clear = r#"<ClearEntireCostmap server_timeout="1000"/>"#;
     let mut jazzy = tree(domain.id, Nav2Release::Jazzy, clear);
-    let status = tick_until_done(&mut jazzy, &mut (), Duration::from_secs(20));
+    let status = tick_until_done(&mut jazzy, &mut (), common::HANG);
     assert_eq!(status, Status::Success);
     assert_eq!(stats.get().clears, 1);
     let body = format!("<Sequence>{spin}{clear}</Sequence>");
     let mut main = tree(domain.id, Nav2Release::Main, &body);
-    let status = tick_until_done(&mut main, &mut (), Duration::from_secs(20));
+    let status = tick_until_done(&mut main, &mut (), common::HANG);
     stop.store(true, Ordering::SeqCst);
     assert_eq!(status, Status::Success);
     assert_eq!(stats.get().spin.succeeded, 1);

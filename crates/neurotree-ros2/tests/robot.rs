@@ -94,7 +94,7 @@ fn navigate(
         let stats = navigator.stats();
         (std::mem::take(navigator.context_mut()), stats)
     });
-    rx.recv_timeout(Duration::from_secs(10)).unwrap();
+    rx.recv_timeout(common::HANG).unwrap();
     thread
 }
 
@@ -110,7 +110,7 @@ pub(crate) fn a_navigator_over_the_robots_own_context_runs_its_leaf_between_nav2
         .unwrap();
 
     // The first goal may go out before the navigator is discovered: send until accepted.
-    let until = Instant::now() + Duration::from_secs(10);
+    let until = Instant::now() + common::HANG;
     let goal_id = 'sent: loop {
         assert!(
             Instant::now() < until,
@@ -131,7 +131,7 @@ pub(crate) fn a_navigator_over_the_robots_own_context_runs_its_leaf_between_nav2
         }
     };
     let request = client.request_result(goal_id).unwrap();
-    let until = Instant::now() + Duration::from_secs(30);
+    let until = Instant::now() + common::HANG;
     let (status, result) = loop {
         assert!(
             Instant::now() < until,

@@ -28,7 +28,7 @@ const HALL: &str = "
     #............#
     ##############";
 
-const LIMIT: Duration = Duration::from_secs(30);
+const LIMIT: Duration = common::HANG;
 
 fn hall() -> Nav2Sim {
     Nav2Sim::new(GridWorld::parse(HALL, 1.0).unwrap())

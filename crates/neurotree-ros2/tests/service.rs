@@ -49,7 +49,7 @@ impl FakeServer {
         let thread = std::thread::spawn(move || {
             let ros = node("costmap", domain);
             let server = ros.service_server::<ClearEntireCostmap>("clear").unwrap();
-            let until = Instant::now() + Duration::from_secs(15);
+            let until = Instant::now() + common::HANG;
             while Instant::now() < until && !stopped.load(Ordering::SeqCst) {
                 if let Some((id, _)) = server.receive_request().unwrap() {
                     counted.fetch_add(1, Ordering::SeqCst);
@@ -101,7 +101,7 @@ pub(crate) fn a_request_is_answered_and_the_node_succeeds() {
     let mut tree = clear_tree(&ros, &failure, "5000");
 
     assert_eq!(tree.tick_once(&mut ()).unwrap(), Status::Running);
-    let status = tick_until_done(&mut tree, &mut (), Duration::from_secs(10));
+    let status = tick_until_done(&mut tree, &mut (), common::HANG);
 
     assert_eq!(status, Status::Success, "{:?}", failure.lock().unwrap());
     assert_eq!(server.requests.load(Ordering::SeqCst), 1);
@@ -129,7 +129,7 @@ pub(crate) fn without_a_server_the_node_fails_and_writes_the_reason_to_error_msg
     loader.load_str(xml, "t.xml").unwrap();
     let mut tree = Tree::new(Arc::new(loader.build_main().unwrap()));
 
-    let status = tick_until_done(&mut tree, &mut (), Duration::from_secs(5));
+    let status = tick_until_done(&mut tree, &mut (), common::HANG);
 
     assert_eq!(status, Status::Failure);
     let why: String = tree.blackboard().get("why").unwrap();

@@ -42,7 +42,7 @@ pub(crate) fn the_condition_fails_until_a_message_arrives_then_outputs_the_newes
         },
         ..PoseStamped::default()
     };
-    let until = Instant::now() + Duration::from_secs(10);
+    let until = Instant::now() + common::HANG;
     let mut status = Status::Failure;
     while status == Status::Failure && Instant::now() < until {
         publisher.publish(pose(1.0)).unwrap();
@@ -58,7 +58,7 @@ pub(crate) fn the_condition_fails_until_a_message_arrives_then_outputs_the_newes
     // Two more messages between ticks: the newest is kept.
     publisher.publish(pose(3.0)).unwrap();
     publisher.publish(pose(4.0)).unwrap();
-    let until = Instant::now() + Duration::from_secs(5);
+    let until = Instant::now() + common::HANG;
     while tree.blackboard().get::<PoseStamped>("goal").unwrap() != pose(4.0)
         && Instant::now() < until
     {

@@ -229,6 +229,65 @@ fn halting_the_crowd_wakes_every_sleeping_member() {
     }
 }
 
+/// Sleeping guards halted from another thread through their trees' own halt handles, made
+/// before joining the crowd or after: the next frame ticks each one, whose tick serves the
+/// request (the tree halted, the leg noting its halt), and the frame after starts its
+/// patrol afresh, as a tree halted from outside does.
+#[test]
+fn a_sleeping_member_halted_through_its_own_halt_handle_is_ticked_next_frame() {
+    let clock = ManualClock::new();
+    let mut crowd = Crowd::new(clock.clone()).with_threads(2).unwrap();
+    let mut handles = Vec::new();
+    let mut ids = Vec::new();
+    for i in 0..10 {
+        let mut tree = Tree::with_clock(patrol(i), clock.clone());
+        let before = i.is_multiple_of(2).then(|| tree.halt_handle());
+        let id = crowd.add_tree(tree, Guard::default());
+        let handle = before.unwrap_or_else(|| crowd.get_mut(id).unwrap().tree_mut().halt_handle());
+        handles.push(handle);
+        ids.push(id);
+    }
+    for _ in 0..3 {
+        crowd.frame();
+        clock.advance(Duration::from_millis(50));
+    }
+    assert_eq!(crowd.asleep(), 10);
+    // Half of them, from another thread.
+    std::thread::scope(|s| {
+        for handle in handles.iter().step_by(2) {
+            s.spawn(|| handle.request());
+        }
+    });
+    let report = crowd.frame();
+    assert_eq!(
+        (report.ticked, report.errors, report.asleep),
+        (5, 5, 5),
+        "{report:?}"
+    );
+    for (i, &id) in ids.iter().enumerate() {
+        let member = crowd.get(id).unwrap();
+        if i % 2 == 0 {
+            assert_eq!(member.error(), Some(&TickError::HaltRequested));
+            assert_eq!(member.tree().statuses()[0], NodeStatus::Idle);
+            assert!(!handles[i].is_pending());
+        } else {
+            assert_eq!(member.status(), FrameStatus::Asleep);
+        }
+        assert_eq!(member.context().calls, 1);
+    }
+    clock.advance(Duration::from_millis(50));
+    let report = crowd.frame();
+    assert_eq!((report.ticked, report.errors), (5, 0), "{report:?}");
+    for (i, &id) in ids.iter().enumerate() {
+        let expected = if i % 2 == 0 { 2 } else { 1 };
+        assert_eq!(
+            crowd.get(id).unwrap().context().calls,
+            expected,
+            "guard {i}"
+        );
+    }
+}
+
 /// A tree made on a clock of its own sleeps on the crowd's: it wakes when the crowd's
 /// clock reaches the end of its leg, though its own never moves.
 #[test]
@@ -286,7 +345,7 @@ mod random {
 
     use neurotree::crowd::{Crowd, FrameStatus, MemberId};
     use neurotree::prelude::*;
-    use neurotree::NodeStatus;
+    use neurotree::{HaltHandle, NodeStatus};
     use proptest::prelude::*;
 
     use super::trees::{blueprint, event, node, Event, Log, Node};
@@ -309,6 +368,10 @@ mod random {
         Swap,
         /// It leaves (its tree halted) and joins again with the same tree and context.
         Rejoin,
+        /// Its tree is halted from outside through its own
+        /// [`HaltHandle`](neurotree::HaltHandle): made before it joined for even members,
+        /// through the crowd at the first request for odd ones.
+        HaltHandle,
     }
 
     fn touch() -> impl Strategy<Value = Touch> {
@@ -320,6 +383,7 @@ mod random {
             1 => Just(Touch::HaltAll),
             1 => Just(Touch::Swap),
             1 => Just(Touch::Rejoin),
+            1 => Just(Touch::HaltHandle),
         ]
     }
 
@@ -385,11 +449,14 @@ mod random {
             tree
         };
         let join = |crowd: &mut Crowd<Log>, i: usize| {
-            let id = crowd.add_tree(fresh(i), Log::default());
+            let mut tree = fresh(i);
+            let handle = i.is_multiple_of(2).then(|| tree.halt_handle());
+            let id = crowd.add_tree(tree, Log::default());
             crowd.get_mut(id).unwrap().set_interval(1 + (i % 3) as u32);
-            id
+            (id, handle)
         };
-        let mut ids: Vec<MemberId> = (0..16).map(|i| join(&mut crowd, i)).collect();
+        let (mut ids, mut handles): (Vec<MemberId>, Vec<Option<HaltHandle>>) =
+            (0..16).map(|i| join(&mut crowd, i)).unzip();
         if setup.lod {
             crowd.set_level_of_detail(|log: &Log| 1 + (log.0.len() % 3) as u32);
         }
@@ -423,12 +490,13 @@ mod random {
                     }
                     Touch::Replace => {
                         crowd.remove(id).unwrap();
-                        ids[*m] = join(&mut crowd, *m);
+                        (ids[*m], handles[*m]) = join(&mut crowd, *m);
                     }
                     Touch::HaltAll => crowd.halt_all(),
                     Touch::Swap => {
-                        let mut member = crowd.get_mut(id).unwrap();
-                        member.replace_tree(fresh(*m));
+                        let mut tree = fresh(*m);
+                        handles[*m] = m.is_multiple_of(2).then(|| tree.halt_handle());
+                        crowd.get_mut(id).unwrap().replace_tree(tree);
                     }
                     Touch::Rejoin => {
                         let (tree, log) = crowd.remove(id).unwrap();
@@ -437,6 +505,12 @@ mod random {
                             .get_mut(ids[*m])
                             .unwrap()
                             .set_interval(1 + (*m % 3) as u32);
+                    }
+                    Touch::HaltHandle => {
+                        let handle = handles[*m].get_or_insert_with(|| {
+                            crowd.get_mut(id).unwrap().tree_mut().halt_handle()
+                        });
+                        handle.request();
                     }
                 }
             }

@@ -39,6 +39,30 @@ pub fn free_domain() -> Domain {
 /// simulated time is over in seconds while every step's result still reaches the tree.
 pub const TIME_SCALE: f64 = 12.0;
 
+/// A hang catch: far longer than any wait in these tests takes on a loaded machine.
+pub const HANG: Duration = Duration::from_secs(180);
+
+/// Waits until the servers behind `stats` have taken `steps` more steps than now, and
+/// gives what they saw then: everything asked of them before the call is counted.
+pub fn after_steps(
+    stats: &neurotree_ros2::nav2::SimStatsHandle,
+    steps: u64,
+) -> neurotree_ros2::nav2::SimStats {
+    let until = stats.get().steps + steps;
+    let deadline = Instant::now() + HANG;
+    loop {
+        let seen = stats.get();
+        if seen.steps >= until {
+            return seen;
+        }
+        assert!(
+            Instant::now() < deadline,
+            "the servers stopped stepping: {seen:?}"
+        );
+        std::thread::sleep(Duration::from_millis(5));
+    }
+}
+
 /// A node on 127.0.0.1 in `domain`.
 pub fn node(name: &str, domain: u16) -> RosNode {
     RosNode::new(name, &RosOptions::loopback(domain)).unwrap()

@@ -19,10 +19,16 @@
 //! - the program wakes it: [`MemberMut::wake`], [`Crowd::wake`], or from any thread a
 //!   [`CrowdWaker`], whose wakes the next frame applies;
 //! - the crowd halts its tree ([`Crowd::halt_all`], [`MemberMut::replace_tree`]): a halted
-//!   tree starts over at its next tick.
+//!   tree starts over at its next tick;
+//! - its tree's own [`HaltHandle`](crate::HaltHandle) asks for a halt, from any thread: the
+//!   member's next due frame ticks it, and the tick serves the request, as a tree ticked
+//!   every frame would. The crowd registers a waker of its own on the wake signal of each
+//!   sleeping tree that has a halt handle, which queues the member's wake as a
+//!   [`CrowdWaker`] does (it replaces a waker registered there by other code).
 //!
 //! A tree's own [`WakeHandle`](crate::WakeHandle) is not seen by a crowd until the member
-//! is ticked again: in a crowd, wake members through the crowd. Writing a member's context
+//! is ticked again, unless the tree has a halt handle: in a crowd, wake members through the
+//! crowd. Writing a member's context
 //! does not wake it: a leaf that declared what it waits on promised that its result does
 //! not depend on anything else.
 //!
@@ -38,6 +44,7 @@ use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex, PoisonError};
+use std::task::{Wake, Waker};
 use std::time::Duration;
 
 use super::member::{FrameStatus, Plan};
@@ -179,6 +186,60 @@ pub(super) struct Timers {
     pub(super) fallen: Vec<Vec<Timer>>,
     /// The waker's queue, swapped out at the start of a frame, kept for its room.
     woken: Vec<MemberId>,
+    /// Per slot, the waker registered on its sleeping tree's wake signal (see
+    /// [`watch_signal`]), kept for the slot's member so that falling asleep again
+    /// allocates nothing.
+    signals: Vec<Option<(u32, Waker)>>,
+}
+
+/// Queues its member's wake on the crowd's [`CrowdWaker`] when woken: registered on the
+/// wake signal of a sleeping tree with a [`HaltHandle`](crate::HaltHandle), so that a
+/// request wakes the member.
+struct SignalWake {
+    waker: CrowdWaker,
+    id: MemberId,
+}
+
+impl Wake for SignalWake {
+    fn wake(self: Arc<Self>) {
+        self.waker.wake(self.id);
+    }
+
+    fn wake_by_ref(self: &Arc<Self>) {
+        self.waker.wake(self.id);
+    }
+}
+
+/// Has the crowd hear of what wakes the signal of `tree`, asleep in member `id`: a halt
+/// request from its [`HaltHandle`](crate::HaltHandle). A request made before the waker is
+/// registered (between the tick that put the member to sleep and this) queues the wake
+/// at once.
+fn watch_signal<C>(
+    signals: &mut Vec<Option<(u32, Waker)>>,
+    crowd: &CrowdWaker,
+    id: MemberId,
+    tree: &mut Tree<C>,
+) {
+    let slot = id.index as usize;
+    if signals.len() <= slot {
+        signals.resize_with(slot + 1, || None);
+    }
+    let waker = match &signals[slot] {
+        Some((generation, waker)) if *generation == id.generation => waker,
+        _ => {
+            let waker = Waker::from(Arc::new(SignalWake {
+                waker: crowd.clone(),
+                id,
+            }));
+            &signals[slot].insert((id.generation, waker)).1
+        }
+    };
+    let pending = tree.halt_requested();
+    let signal = tree.wake_signal();
+    signal.register(waker);
+    if pending || signal.is_woken() {
+        crowd.wake(id);
+    }
 }
 
 /// Wakes members of a crowd from any thread: the next frame ticks them whatever they wait
@@ -238,6 +299,15 @@ impl<C: Send> Crowd<C> {
             for timer in fallen.drain(..) {
                 if timer.holds(plans) {
                     plans[timer.slot as usize].status = FrameStatus::Asleep;
+                    if let Some(body) = &mut bodies[timer.slot as usize]
+                        && body.tree.has_halt_handle()
+                    {
+                        let id = MemberId {
+                            index: timer.slot,
+                            generation: timer.generation,
+                        };
+                        watch_signal(&mut timers.signals, waker, id, &mut body.tree);
+                    }
                     if timer.until != u64::MAX {
                         timers.heap.push(Reverse(timer));
                     }

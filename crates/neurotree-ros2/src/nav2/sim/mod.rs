@@ -263,6 +263,7 @@ impl SimServers {
         stats.robot = self.sim.world.robot();
         stats.time = self.sim.world.now();
         stats.distance = self.sim.world.distance_travelled();
+        stats.steps += 1;
         stats.global_obstacles = self
             .sim
             .world

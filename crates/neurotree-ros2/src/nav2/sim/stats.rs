@@ -76,6 +76,10 @@ pub struct SimStats {
     pub time: Duration,
     /// Metres the robot drove.
     pub distance: f64,
+    /// Steps the servers have taken: each served what had come and then recorded these
+    /// counts, so a reader that sees two more steps than before knows every request made
+    /// before it looked is counted.
+    pub steps: u64,
 }
 
 /// Shared [`SimStats`]: clones read the same counts.
