@@ -60,11 +60,13 @@ mod db;
 mod faults;
 mod file;
 mod report;
+mod scenario;
 
 pub use db::{merge, Results};
 pub use faults::Faults;
 pub use file::{Domain, FACTORS};
 pub use report::{report_json, report_markdown, report_svg};
+pub use scenario::{variant_scenario, VariantScenario};
 
 /// A campaign, read and checked.
 #[derive(Clone, Debug)]
