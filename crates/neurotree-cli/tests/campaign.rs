@@ -491,6 +491,12 @@ faults = ["none", "FollowPath=PANIC@1", "ComputePathToPose=FAILURE@1"]
     let db = dir.path().join("panics.db");
     let db = db.to_str().unwrap();
     let out = run_ok(&["campaign", "run", file, "--db", db, "--threads", "2"]);
+    // The panics are the rows' outcomes, not messages on stderr.
+    let stderr = text(&out.stderr);
+    assert!(
+        !stderr.contains("panicked") && !stderr.contains("injected fault"),
+        "{stderr}"
+    );
     let all = rows(Path::new(db));
     assert_eq!(
         all.iter().map(|r| r.variant).collect::<Vec<_>>(),

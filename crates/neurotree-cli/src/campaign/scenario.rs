@@ -43,9 +43,11 @@ pub fn variant_scenario(
     let blueprint = Arc::clone(demo.blueprint());
     let plays = Plays::new(&blueprint);
     demo.add_observer(Box::new(plays.clone()));
-    while !demo.is_over() {
-        demo.tick();
-    }
+    super::quietly(|| {
+        while !demo.is_over() {
+            demo.tick();
+        }
+    });
     let summary = demo.summary();
     if let Some(error) = &summary.error {
         return Err(format!(
