@@ -260,6 +260,7 @@ impl Studio {
         &self,
         inner: Option<neurotree_toolkit::xml::SharedHookWrapper<C>>,
     ) -> neurotree_toolkit::xml::SharedHookWrapper<C> {
+        self.hub.forces.hand_out();
         let live: Arc<dyn neurotree_toolkit::fault::LiveFaults> = self.hub.clone();
         neurotree_toolkit::fault::live_wrapper(live, inner)
     }

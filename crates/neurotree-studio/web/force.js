@@ -24,6 +24,8 @@ export class ForcePanel {
     this.nodes = nodes;
     this.changed = changed;
     this.forces = [];
+    // Whether the run's tree was built so that its results can be forced.
+    this.forcing = true;
     if (!document.querySelector("style[data-force-style]")) {
       const style = document.createElement("style");
       style.dataset.forceStyle = "";
@@ -45,8 +47,10 @@ export class ForcePanel {
     this.render();
   }
 
-  // The server's list: [{node, status, until, applied}].
-  set(list) {
+  // The server's list: [{node, status, until, applied}]; `forcing` (from `hello`) whether
+  // the run can be forced at all.
+  set(list, forcing = this.forcing) {
+    this.forcing = forcing;
     this.forces = list || [];
     this.drawing.clearMarks("data-forced");
     for (const f of this.forces) {
@@ -59,6 +63,10 @@ export class ForcePanel {
   render() {
     const nodes = this.nodes();
     this.list.innerHTML = "";
+    if (!this.forcing) {
+      this.list.innerHTML = '<li class="hint" data-force-off>this run\'s tree was built without the hooks that force results</li>';
+      return;
+    }
     if (!this.forces.length) {
       this.list.innerHTML = '<li class="hint">none: a node\'s menu forces its next result</li>';
       return;
@@ -80,6 +88,7 @@ export class ForcePanel {
 
   // The force controls of `node`, added to its panel `box`.
   menu(box, node) {
+    if (!this.forcing) return;
     const menu = document.createElement("div");
     menu.className = "force-menu";
     menu.dataset.forceMenu = "";

@@ -202,7 +202,7 @@ export function mountWatch(section, app) {
     state.refusedEdits = msg.edits || [];
     state.failure = msg.failure;
     setBreakpoints(msg.breakpoints || []);
-    forces.set(msg.forces || []);
+    forces.set(msg.forces || [], msg.forcing !== false);
     setTick(msg.tick);
     renderRunning();
     renderBlackboards();

@@ -75,6 +75,9 @@ pub(crate) struct Forces {
     any: AtomicBool,
     /// Bumped when the list pages are shown changes.
     version: AtomicU64,
+    /// The hooks that apply forces were handed out ([`crate::Studio::force_hooks`]): a
+    /// run that builds its tree without them cannot be forced, and pages are told so.
+    hooked: AtomicBool,
 }
 
 impl Forces {
@@ -85,6 +88,16 @@ impl Forces {
     fn changed(&self, table: &Table) {
         self.any.store(!table.forces.is_empty(), Ordering::Release);
         self.version.fetch_add(1, Ordering::AcqRel);
+    }
+
+    /// The hooks were handed out to build a tree with.
+    pub fn hand_out(&self) {
+        self.hooked.store(true, Ordering::Release);
+    }
+
+    /// Whether a tree may have been built with the hooks.
+    pub fn hooked(&self) -> bool {
+        self.hooked.load(Ordering::Acquire)
     }
 
     pub fn version(&self) -> u64 {
@@ -205,6 +218,13 @@ impl Hub {
     /// A page forced a node's result (`status`: SUCCESS, FAILURE, RUNNING or `off`;
     /// `until`: `once` or `cleared`); the reason it was refused, if it was.
     pub fn force(&self, node: u64, status: &str, until: Option<&str>) -> Result<(), String> {
+        if !self.forces.hooked() {
+            return Err(
+                "this run's tree was built without the studio's force hooks \
+                        (Studio::force_hooks): its results cannot be forced"
+                    .into(),
+            );
+        }
         let len = self.lock().run.as_ref().map_or(0, |r| r.paths.len());
         let Some(id) = super::node_in(node, len) else {
             return Err(format!("no node {node} in the tree watched"));

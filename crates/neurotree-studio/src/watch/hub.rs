@@ -163,7 +163,7 @@ pub(crate) struct Hub {
     armed: AtomicBool,
     refused: AtomicU64,
     /// The results pages forced on nodes ([`super::force`]).
-    pub(super) forces: super::force::Forces,
+    pub(crate) forces: super::force::Forces,
 }
 
 impl Hub {

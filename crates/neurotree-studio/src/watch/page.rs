@@ -223,7 +223,8 @@ fn changes(hub: &Hub, sent: &mut Sent, ticks: bool) -> Vec<String> {
     let now = statuses(&run.cell);
     let scored = scores(&run.cell);
     if sent.generation != Some(inner.generation) {
-        out.push(hello(&inner, run, &now, &scored, tick, hub.forces.list()));
+        let forces = (hub.forces.list(), hub.forces.hooked());
+        out.push(hello(&inner, run, &now, &scored, tick, forces));
         *sent = Sent {
             generation: Some(inner.generation),
             statuses: now,
@@ -329,7 +330,7 @@ fn hello(
     statuses: &[&str],
     scored: &[(usize, u64)],
     tick: u64,
-    forces: Value,
+    (forces, hub_forcing): (Value, bool),
 ) -> String {
     // The tree is serialized once per attach and spliced in, not rebuilt per page.
     let rest = json!({
@@ -341,6 +342,7 @@ fn hello(
         "paused": inner.paused,
         "breakpoints": Hub::breakpoints(run),
         "forces": forces,
+        "forcing": hub_forcing,
         "blackboards": inner.blackboards.1,
         "failure": inner.failure.1,
         "ended": inner.ended,
