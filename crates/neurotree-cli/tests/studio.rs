@@ -720,3 +720,61 @@ fn a_result_forced_from_a_page_is_a_line_of_the_run_and_ends_the_node_running() 
     assert_eq!(counts["halts"], 1, "{summary}");
     assert_eq!(counts["ticks"], paused, "{summary}");
 }
+
+#[test]
+fn demo_builds_its_tree_so_that_a_page_forces_a_result() {
+    let dir = tempfile::tempdir().unwrap();
+    let (mut child, addr) = start(
+        dir.path(),
+        &["demo", "--fast", "--studio", "0", "--studio-linger", "0"],
+    );
+    let mut socket = page(&addr);
+    let hello = until(&mut socket, "the run", |m| {
+        m["type"] == "hello" && !m["run"].is_null()
+    });
+    assert_eq!(hello["forcing"], true);
+    let checker = hello["tree"]["nodes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|n| n["path"] == "NavigateRecovery/NavigateWithReplanning/ProgressCheckerSelector")
+        .unwrap_or_else(|| panic!("{}", hello["tree"]))["id"]
+        .as_u64()
+        .unwrap();
+    send(&mut socket, r#"{"type":"pause"}"#);
+    let paused = until(&mut socket, "the pause", |m| m["type"] == "paused")["tick"]
+        .as_u64()
+        .unwrap();
+    send(
+        &mut socket,
+        &format!(r#"{{"type":"force","node":{checker},"status":"FAILURE"}}"#),
+    );
+    until(&mut socket, "the force listed", |m| m["type"] == "forces");
+    send(&mut socket, r#"{"type":"step"}"#);
+    // The tick and the list that says where the force applied, in either order.
+    let (tick, applied) = (
+        std::cell::RefCell::new(serde_json::Value::Null),
+        std::cell::RefCell::new(serde_json::Value::Null),
+    );
+    until(&mut socket, "the forced tick and the force applied", |m| {
+        if m["type"] == "tick" && m["tick"].as_u64() == Some(paused + 1) {
+            *tick.borrow_mut() = m.clone();
+        }
+        if m["type"] == "forces" && !m["forces"][0]["applied"].is_null() {
+            *applied.borrow_mut() = m.clone();
+        }
+        !tick.borrow().is_null() && !applied.borrow().is_null()
+    });
+    let (tick, applied) = (tick.into_inner(), applied.into_inner());
+    assert_eq!(applied["forces"][0]["applied"], paused + 1, "{applied}");
+    // The selector failed in that tick.
+    let failed = tick["changes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .any(|c| c[0] == checker && c[1] == "FAILURE");
+    assert!(failed, "{tick}");
+    send(&mut socket, r#"{"type":"continue"}"#);
+    drop(socket);
+    child.wait().unwrap();
+}
