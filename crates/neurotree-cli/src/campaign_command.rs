@@ -3,7 +3,7 @@
 //! results of shards. The library's [`neurotree_cli::campaign`] does the work.
 
 use std::io::{self, IsTerminal, Write};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use indicatif::{ProgressBar, ProgressStyle};
 use neurotree_cli::campaign::{self, Campaign, Results, VariantRow};
@@ -117,6 +117,11 @@ pub struct ReplayArgs {
     /// Print each tick: its number, the time, the root's status, what happened.
     #[arg(long)]
     pub trace: bool,
+    /// Also write the variant as a scenario file that `neurotree test FILE` passes: its
+    /// leaves mocks that play what they returned, its node faults, its outcome expected
+    /// (Nav2's navigator, when the campaign runs it, is written beside it as STEM.xml).
+    #[arg(long, value_name = "FILE", conflicts_with = "studio")]
+    pub scenario: Option<PathBuf>,
     #[command(flatten)]
     pub studio: crate::studio::StudioFlags,
 }
@@ -341,12 +346,94 @@ fn replay(args: &ReplayArgs, out: &mut impl Write, err: &mut impl Write) -> io::
         && again.failure_chain == row.failure_chain;
     if same {
         writeln!(out, "matches the recorded row")?;
-        Ok(Outcome::Done)
     } else {
         writeln!(out, "differs from the recorded row:")?;
         print_row(out, &row)?;
-        Ok(Outcome::Refused)
+        return Ok(Outcome::Refused);
     }
+    match &args.scenario {
+        None => Ok(Outcome::Done),
+        Some(file) => match write_scenario(&campaign, &row, file) {
+            Ok(()) => {
+                writeln!(
+                    out,
+                    "scenario written to {}: `neurotree test {}` passes",
+                    file.display(),
+                    file.display()
+                )?;
+                Ok(Outcome::Done)
+            }
+            Err(e) => refuse(err, e),
+        },
+    }
+}
+
+/// Writes variant `row` of `campaign` as the scenario `file` (and Nav2's navigator beside
+/// it when the campaign runs that), then runs it as `neurotree test` does: an error if it
+/// does not pass.
+fn write_scenario(campaign: &Campaign, row: &VariantRow, file: &Path) -> Result<(), String> {
+    let shown = file.display();
+    let dir = match file.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
+    let tree_file = match campaign.tree_path() {
+        Some(tree) => relative(&tree, &dir),
+        None => {
+            let stem = file
+                .file_stem()
+                .map_or_else(|| "variant".into(), |s| s.to_string_lossy().into_owned());
+            let beside = dir.join(format!("{stem}.xml"));
+            if beside == file {
+                return Err(format!(
+                    "--scenario {shown}: the navigator is written beside it as {stem}.xml;                      give the scenario another name (such as {stem}.toml)"
+                ));
+            }
+            std::fs::write(&beside, neurotree_cli::demo::NAVIGATE_TO_POSE_XML)
+                .map_err(|e| format!("{}: {e}", beside.display()))?;
+            format!("{stem}.xml")
+        }
+    };
+    let scenario = campaign::variant_scenario(campaign, row.variant, &tree_file)?;
+    if scenario.outcome != row.outcome || scenario.ticks != row.ticks {
+        return Err(format!(
+            "variant {} ran to {} in {} ticks, not {} in {} as recorded",
+            row.variant, scenario.outcome, scenario.ticks, row.outcome, row.ticks
+        ));
+    }
+    std::fs::write(file, &scenario.toml).map_err(|e| format!("--scenario {shown}: {e}"))?;
+    // As `neurotree test` runs it.
+    let registry = crate::registry::with_nav2_controls::<()>(crate::registry::Nav2Args::default());
+    let result =
+        neurotree::scenario::ScenarioBench::with_registry(&registry, |_| ()).run_file(file);
+    if result.passed() {
+        Ok(())
+    } else {
+        Err(format!(
+            "the scenario written to {shown} does not replay the variant:
+{result}"
+        ))
+    }
+}
+
+/// `target` as a path from the folder `from` (`target` itself if either cannot be found).
+fn relative(target: &Path, from: &Path) -> String {
+    let (Ok(t), Ok(f)) = (std::fs::canonicalize(target), std::fs::canonicalize(from)) else {
+        return target.display().to_string();
+    };
+    let common = t
+        .components()
+        .zip(f.components())
+        .take_while(|(a, b)| a == b)
+        .count();
+    let mut path = PathBuf::new();
+    for _ in f.components().skip(common) {
+        path.push("..");
+    }
+    for c in t.components().skip(common) {
+        path.push(c);
+    }
+    path.display().to_string()
 }
 
 fn print_row(out: &mut impl Write, row: &VariantRow) -> io::Result<()> {

@@ -16,7 +16,9 @@
 //! With `--groot PORT`, the run is also served to Groot2 (see `groot.rs`).
 //! With `--studio PORT`, to the browser studio: a page that went back to tick T and
 //! stepped or continued from there forks the run, which prints `{"rewind":{"to":T}}` and
-//! numbers the ticks that follow on from T.
+//! numbers the ticks that follow on from T. A result a page forced on a node prints
+//! `{"force":{"tick":T,"node":PATH,"status":S,"until":"once"|"cleared"}}` before the line
+//! of the tick it applied in.
 //!
 //! The loggers of `neurotree::observe` can watch the run too ([`ObserveArgs`]); they write
 //! to stderr or to files, so stdout keeps only the lines above. `--coverage` prints what
@@ -35,6 +37,7 @@ use neurotree::observe::{
 };
 use neurotree::render::LastTickStatuses;
 use neurotree::scenario::write_text;
+use neurotree::xml::SharedHookWrapper;
 use neurotree::{
     Blueprint, LoadErrorKind, LoadWarning, ManualClock, NodeId, NodeStatus, Observer, Reason,
     Registry, Status, StatusChange, TickError, Tree, XmlLoader,
@@ -226,10 +229,13 @@ impl Observer for Recorder {
 /// The tree to run, the registry it was loaded with, and which tree it is.
 /// The loader's warnings (deprecated or misspelt names) go to `warnings`, whether or not the
 /// tree then builds.
+/// `wrap`, when the run is served to the studio, gives the nodes the hooks through which
+/// a page forces their results.
 fn load(
     files: &[PathBuf],
     opts: &RunArgs,
     warnings: &mut Vec<LoadWarning>,
+    wrap: Option<&SharedHookWrapper<()>>,
 ) -> Result<(Blueprint<()>, Registry<()>, files::Picked), String> {
     let mut registry = crate::registry::with_nav2_controls::<()>(opts.nav2);
     for model in &opts.models {
@@ -248,6 +254,9 @@ fn load(
         let outcomes = neurotree::xml::parse_outcomes(outcomes)
             .map_err(|e| format!("--mock {name}={outcomes}: {e}"))?;
         loader = loader.mock(name, outcomes);
+    }
+    if let Some(wrap) = wrap {
+        loader = loader.wrap_hooks(Arc::clone(wrap));
     }
     let mut loader = opts.testbench.substitute(loader)?;
     // Clap asks for at least one file.
@@ -314,8 +323,14 @@ fn all_errors(
 /// not load or a logger could not write (the error is on `err`).
 pub fn execute(opts: &RunArgs, out: &mut impl Write, err: &mut impl Write) -> io::Result<Outcome> {
     let files = &opts.files;
+    // Before the tree is built: it is built with the studio's hooks, which force results.
+    let mut studio = match Served::start(&opts.studio, files, opts.nav2, err)? {
+        Ok(studio) => studio,
+        Err(()) => return Ok(Outcome::Refused),
+    };
+    let wrap = studio.as_ref().map(|s| s.force_hooks::<()>(None));
     let mut warnings = Vec::new();
-    let loaded = load(files, opts, &mut warnings);
+    let loaded = load(files, opts, &mut warnings, wrap.as_ref());
     for w in &warnings {
         writeln!(err, "{w}")?;
     }
@@ -343,10 +358,6 @@ pub fn execute(opts: &RunArgs, out: &mut impl Write, err: &mut impl Write) -> io
             }
         }
         None => None,
-    };
-    let mut studio = match Served::start(&opts.studio, files, opts.nav2, err)? {
-        Ok(studio) => studio,
-        Err(()) => return Ok(Outcome::Refused),
     };
     let clock = ManualClock::new();
     let mut tree = Tree::with_clock(Arc::clone(&blueprint), clock.clone());
@@ -433,7 +444,8 @@ pub fn execute(opts: &RunArgs, out: &mut impl Write, err: &mut impl Write) -> io
         live::pace(&opts.live);
         if let Some(watcher) = &mut watcher {
             if watcher.changed() {
-                if let Some(new) = reload(&mut tree, files, opts, &record, out, err)? {
+                if let Some(new) = reload(&mut tree, files, opts, &record, wrap.as_ref(), out, err)?
+                {
                     blueprint = new;
                     if let Some(studio) = &mut studio {
                         studio.reattach(&tree, &tree_id);
@@ -480,6 +492,13 @@ pub fn execute(opts: &RunArgs, out: &mut impl Write, err: &mut impl Write) -> io
             Err(_) => "ERROR",
         }
         .to_string();
+        if let Some(studio) = &mut studio {
+            // Results a page forced in this tick, numbered as the tick's line is.
+            for mut forced in studio.forced() {
+                forced["tick"] = json!(ticks);
+                writeln!(out, "{}", json!({ "force": forced }))?;
+            }
+        }
         let trace = std::mem::take(&mut record.lock().unwrap_or_else(|e| e.into_inner()).trace);
         for line in trace {
             writeln!(out, "{line}")?;

@@ -124,6 +124,19 @@ impl Served {
     }
 
     /// Never called: no `Served` exists.
+    pub fn force_hooks<C: 'static>(
+        &self,
+        _: Option<neurotree::xml::SharedHookWrapper<C>>,
+    ) -> neurotree::xml::SharedHookWrapper<C> {
+        match *self {}
+    }
+
+    /// Never called: no `Served` exists.
+    pub fn forced(&mut self) -> Vec<serde_json::Value> {
+        match *self {}
+    }
+
+    /// Never called: no `Served` exists.
     pub fn attach<C>(&mut self, _: &neurotree::Tree<C>, _: &str) -> Box<dyn neurotree::Observer> {
         match *self {}
     }

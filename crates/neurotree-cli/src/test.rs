@@ -26,6 +26,8 @@ const TEST_AFTER_HELP: &str = r#"A scenario is a TOML file:
   ticks = 20                          # optional: the most ticks to run (default 100)
   step_ms = 100                       # optional, as run --step-ms
   coverage = 0.5                      # optional: the least share of outcomes covered
+  faults = ["Main/Spin=FAILURE@2"]    # optional: node PATH (else type, else name) returns
+                                      # STATUS on its Kth call, as in campaigns (#CODE too)
   [mocks]                             # as run --mock NAME=OUTCOMES[;PORT=VALUE...]
   BatteryOK = "SUCCESS*3,FAILURE"
   [enums]                             # as run --enum

@@ -491,6 +491,12 @@ faults = ["none", "FollowPath=PANIC@1", "ComputePathToPose=FAILURE@1"]
     let db = dir.path().join("panics.db");
     let db = db.to_str().unwrap();
     let out = run_ok(&["campaign", "run", file, "--db", db, "--threads", "2"]);
+    // The panics are the rows' outcomes, not messages on stderr.
+    let stderr = text(&out.stderr);
+    assert!(
+        !stderr.contains("panicked") && !stderr.contains("injected fault"),
+        "{stderr}"
+    );
     let all = rows(Path::new(db));
     assert_eq!(
         all.iter().map(|r| r.variant).collect::<Vec<_>>(),
@@ -544,4 +550,118 @@ fn a_panic_outside_the_tree_is_the_rows_outcome_too() {
     assert_eq!(row.variant, 4);
     assert_eq!(row.outcome, "error: panicked: the watcher broke at tick 3");
     assert_eq!(row.factors, campaign.run_variant(4).factors);
+}
+
+/// Three variants: no fault, a controller fault, and two planner faults after which
+/// the navigator's two `WouldAPlannerRecoveryHelp` answer differently (a scenario says
+/// them by path); then one whose fault panics.
+const REPLAYED: &str = r#"
+name = "replayed"
+grid = true
+max_ticks = 600
+[factors]
+faults = ["none", "FollowPath=FAILURE@2",
+          "ComputePathToPose=FAILURE@1#208 + ComputePathToPose=FAILURE@2#201",
+          "ComputePathToPose=PANIC@1"]
+"#;
+
+#[test]
+fn a_variant_written_as_a_scenario_passes_neurotree_test_and_an_edited_outcome_fails() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("replayed.toml");
+    std::fs::write(&file, REPLAYED).unwrap();
+    let db = dir.path().join("replayed.db");
+    let db_text = db.to_str().unwrap();
+    run_ok(&["campaign", "run", file.to_str().unwrap(), "--db", db_text]);
+    let rows = rows(&db);
+    for row in &rows[..3] {
+        let scenario = dir.path().join(format!("variant{}.toml", row.variant));
+        let scenario_text = scenario.to_str().unwrap();
+        let n = row.variant.to_string();
+        let out = run_ok(&[
+            "campaign",
+            "replay",
+            db_text,
+            &n,
+            "--scenario",
+            scenario_text,
+        ]);
+        assert!(
+            text(&out.stdout).contains(&format!("scenario written to {scenario_text}")),
+            "{}",
+            text(&out.stdout)
+        );
+        let written = std::fs::read_to_string(&scenario).unwrap();
+        assert!(
+            written.contains(&format!("tick = {}\nroot = \"{}\"", row.ticks, row.outcome)),
+            "{written}"
+        );
+        // The navigator is written beside it.
+        assert!(dir.path().join(format!("variant{n}.xml")).exists());
+        let tested = run_ok(&["test", scenario_text]);
+        assert!(
+            text(&tested.stdout).ends_with("1 passed, 0 failed\n"),
+            "{}",
+            text(&tested.stdout)
+        );
+        // Another outcome expected: the scenario fails.
+        let other = if row.outcome == "SUCCESS" {
+            "FAILURE"
+        } else {
+            "SUCCESS"
+        };
+        std::fs::write(
+            &scenario,
+            written.replace(
+                &format!("root = \"{}\"", row.outcome),
+                &format!("root = \"{other}\""),
+            ),
+        )
+        .unwrap();
+        let failed = neurotree(&["test", scenario_text]);
+        assert_eq!(failed.status.code(), Some(1), "{}", text(&failed.stdout));
+        assert!(
+            text(&failed.stdout).contains(&format!(
+                "tick {}: root is {}, expected {other}",
+                row.ticks, row.outcome
+            )),
+            "{}",
+            text(&failed.stdout)
+        );
+        if row.variant == 3 {
+            // The two leaves of one name that answered differently, by path.
+            for fault in [
+                "\"NavigateRecovery/NavigateWithReplanning/RateController/ComputePathToPose/Sequence/WouldAPlannerRecoveryHelp=SUCCESS@1\"",
+                "\"NavigateRecovery/Sequence/Fallback/WouldAPlannerRecoveryHelp=FAILURE@1\"",
+            ] {
+                assert!(written.contains(fault), "{written}");
+            }
+            assert!(
+                !written.contains("\"WouldAPlannerRecoveryHelp\" ="),
+                "{written}"
+            );
+        }
+    }
+    // A variant that ended in a panic has no status to expect.
+    assert!(
+        rows[3].outcome.starts_with("error: ") && rows[3].outcome.contains("panicked"),
+        "{:?}",
+        rows[3]
+    );
+    let scenario = dir.path().join("variant4.toml");
+    let out = neurotree(&[
+        "campaign",
+        "replay",
+        db_text,
+        "4",
+        "--scenario",
+        scenario.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(
+        text(&out.stderr).contains("variant 4 ended in an error"),
+        "{}",
+        text(&out.stderr)
+    );
+    assert!(!scenario.exists());
 }

@@ -631,3 +631,156 @@ fn the_ros2_navigator_goes_back_between_its_actions_and_says_why_not_while_one_r
         "{out}"
     );
 }
+
+#[test]
+fn a_result_forced_from_a_page_is_a_line_of_the_run_and_ends_the_node_running() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("count.xml"), COUNTING).unwrap();
+    let (mut child, addr) = start_watched(
+        dir.path(),
+        &[
+            "run",
+            "count.xml",
+            "--mock",
+            "Work=RUNNING*1000",
+            "--set",
+            "n=0",
+            "--max-ticks",
+            "30",
+            "--pace-ms",
+            "20",
+            "--studio",
+            "0",
+            "--studio-linger",
+            "0",
+        ],
+    );
+    let mut socket = page(&addr);
+    let hello = until(&mut socket, "the run", |m| {
+        m["type"] == "hello" && !m["run"].is_null()
+    });
+    let work = hello["tree"]["nodes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|n| n["path"].as_str().unwrap().ends_with("Work"))
+        .unwrap_or_else(|| panic!("no Work in {}", hello["tree"]))
+        .clone();
+    let id = work["id"].as_u64().unwrap();
+    until(&mut socket, "tick 4", |m| m["tick"].as_u64() >= Some(4));
+    send(&mut socket, r#"{"type":"pause"}"#);
+    let paused = until(&mut socket, "the pause", |m| m["type"] == "paused")["tick"]
+        .as_u64()
+        .unwrap();
+    send(
+        &mut socket,
+        &format!(r#"{{"type":"force","node":{id},"status":"FAILURE","until":"once"}}"#),
+    );
+    let listed = until(&mut socket, "the force listed", |m| m["type"] == "forces");
+    assert_eq!(
+        listed["forces"],
+        serde_json::json!([{"node": id, "status": "FAILURE", "until": "once", "applied": null}])
+    );
+    send(&mut socket, r#"{"type":"step"}"#);
+    let applied = until(&mut socket, "the force applied", |m| {
+        m["type"] == "forces" && !m["forces"][0]["applied"].is_null()
+    });
+    assert_eq!(applied["forces"][0]["applied"], paused + 1, "{applied}");
+    drop(socket);
+    let mut out = String::new();
+    child
+        .stdout
+        .take()
+        .unwrap()
+        .read_to_string(&mut out)
+        .unwrap();
+    // The root failed with the forced node: FAILURE ends the run (exit 2).
+    assert_eq!(child.wait().unwrap().code(), Some(2), "{out}");
+    let lines: Vec<&str> = out.lines().collect();
+    let forced = serde_json::json!({"force": {
+        "tick": paused + 1,
+        "node": work["path"],
+        "status": "FAILURE",
+        "until": "once",
+    }})
+    .to_string();
+    let at = lines
+        .iter()
+        .position(|l| *l == forced)
+        .unwrap_or_else(|| panic!("no {forced} in\n{out}"));
+    assert_eq!(
+        lines[at + 1],
+        format!(r#"{{"tick":{},"status":"FAILURE"}}"#, paused + 1)
+    );
+    assert_eq!(
+        lines
+            .iter()
+            .filter(|l| l.starts_with(r#"{"force""#))
+            .count(),
+        1,
+        "{out}"
+    );
+    // Work was running: the forced result halted it, and its own tick was not called.
+    let summary: serde_json::Value = serde_json::from_str(lines.last().unwrap()).unwrap();
+    let counts = &summary["summary"]["nodes"]["Work"];
+    assert_eq!(counts["halts"], 1, "{summary}");
+    assert_eq!(counts["ticks"], paused, "{summary}");
+}
+
+#[test]
+fn demo_builds_its_tree_so_that_a_page_forces_a_result() {
+    let dir = tempfile::tempdir().unwrap();
+    let (mut child, addr) = start(
+        dir.path(),
+        &["demo", "--fast", "--studio", "0", "--studio-linger", "0"],
+    );
+    let mut socket = page(&addr);
+    let hello = until(&mut socket, "the run", |m| {
+        m["type"] == "hello" && !m["run"].is_null()
+    });
+    assert_eq!(hello["forcing"], true);
+    let checker = hello["tree"]["nodes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|n| n["path"] == "NavigateRecovery/NavigateWithReplanning/ProgressCheckerSelector")
+        .unwrap_or_else(|| panic!("{}", hello["tree"]))["id"]
+        .as_u64()
+        .unwrap();
+    send(&mut socket, r#"{"type":"pause"}"#);
+    let paused = until(&mut socket, "the pause", |m| m["type"] == "paused")["tick"]
+        .as_u64()
+        .unwrap();
+    send(
+        &mut socket,
+        &format!(r#"{{"type":"force","node":{checker},"status":"FAILURE"}}"#),
+    );
+    until(&mut socket, "the force listed", |m| m["type"] == "forces");
+    send(&mut socket, r#"{"type":"step"}"#);
+    // The tick and the list that says where the force applied, in either order.
+    let (tick, applied) = (
+        std::cell::RefCell::new(serde_json::Value::Null),
+        std::cell::RefCell::new(serde_json::Value::Null),
+    );
+    until(&mut socket, "the forced tick and the force applied", |m| {
+        if m["type"] == "tick" && m["tick"].as_u64() == Some(paused + 1) {
+            *tick.borrow_mut() = m.clone();
+        }
+        if m["type"] == "forces" && !m["forces"][0]["applied"].is_null() {
+            *applied.borrow_mut() = m.clone();
+        }
+        !tick.borrow().is_null() && !applied.borrow().is_null()
+    });
+    let (tick, applied) = (tick.into_inner(), applied.into_inner());
+    assert_eq!(applied["forces"][0]["applied"], paused + 1, "{applied}");
+    // The selector failed in that tick.
+    let failed = tick["changes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .any(|c| c[0] == checker && c[1] == "FAILURE");
+    assert!(failed, "{tick}");
+    send(&mut socket, r#"{"type":"continue"}"#);
+    drop(socket);
+    child.wait().unwrap();
+}

@@ -71,7 +71,7 @@ pub use palette::palette;
 pub use replay::{Replay, ReplayError, Step};
 pub use server::RegistryFactory;
 pub use view::{NodeView, TreeView};
-pub use watch::{StudioObserver, Watch, World, DEFAULT_REWIND_WINDOW, MAX_SCENE_BYTES};
+pub use watch::{Forced, StudioObserver, Watch, World, DEFAULT_REWIND_WINDOW, MAX_SCENE_BYTES};
 pub use workspace::{FileEntry, FileKind, PathError, Workspace};
 
 /// How to serve the studio.
@@ -250,6 +250,20 @@ impl Studio {
     pub fn attach<C>(&self, tree: &Tree<C>, name: &str) -> (StudioObserver, Watch) {
         let observer = self.hub.attach(tree, name);
         (observer, Watch::new(Arc::clone(&self.hub)))
+    }
+
+    /// The hook wrapper to build the tree watched with ([`XmlLoader::wrap_hooks`]), so
+    /// that pages can force its nodes' results; `inner` (faults of the run's own) wraps
+    /// first. A tree built without it is watched all the same, without forces.
+    ///
+    /// [`XmlLoader::wrap_hooks`]: neurotree_toolkit::XmlLoader::wrap_hooks
+    pub fn force_hooks<C: 'static>(
+        &self,
+        inner: Option<neurotree_toolkit::xml::SharedHookWrapper<C>>,
+    ) -> neurotree_toolkit::xml::SharedHookWrapper<C> {
+        self.hub.forces.hand_out();
+        let live: Arc<dyn neurotree_toolkit::fault::LiveFaults> = self.hub.clone();
+        neurotree_toolkit::fault::live_wrapper(live, inner)
     }
 
     /// [`attach`](Self::attach), with the observer set on `tree` (replacing any other).

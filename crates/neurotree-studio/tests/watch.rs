@@ -507,3 +507,53 @@ fn the_last_failure_reaches_each_leaf_that_decided_it() {
          tried choose/patrol: no reason given\n  choose/patrol\n    choose/patrol/charged"
     );
 }
+
+#[test]
+fn a_run_built_without_the_force_hooks_refuses_a_force_and_says_so() {
+    // `Run::start` builds its tree as most programs do: without `Studio::force_hooks`.
+    let run = Run::start();
+    let mut page = Page::connect(run.studio.addr());
+    let hello = page.expect("hello");
+    assert_eq!(hello["forcing"], false, "{hello}");
+    assert_eq!(hello["forces"], json!([]));
+    page.send(r#"{"type":"force","node":2,"status":"FAILURE"}"#);
+    let why = page.expect("refused")["why"].as_str().unwrap().to_string();
+    assert!(why.contains("without the studio's force hooks"), "{why}");
+}
+
+#[test]
+fn a_force_is_checked_before_it_is_listed() {
+    let (studio, _dir) = studio();
+    let registry = Registry::<()>::new();
+    let mut loader = XmlLoader::new(&registry).wrap_hooks(studio.force_hooks(None));
+    loader.load_str(TREE, "main.xml").unwrap();
+    let mut tree = Tree::new(Arc::new(loader.build_main().unwrap()));
+    let _watch = studio.watch(&mut tree, "main.xml");
+    let mut page = Page::connect(studio.addr());
+    assert_eq!(page.expect("hello")["forcing"], true);
+    for (message, refusal) in [
+        (
+            r#"{"type":"force","node":99,"status":"FAILURE"}"#,
+            "no node 99",
+        ),
+        (
+            r#"{"type":"force","node":1,"status":"MAYBE"}"#,
+            "not `MAYBE`",
+        ),
+        (
+            r#"{"type":"force","node":1,"status":"SUCCESS","until":"later"}"#,
+            "not `later`",
+        ),
+    ] {
+        page.send(message);
+        let why = page.expect("refused")["why"].as_str().unwrap().to_string();
+        assert!(why.contains(refusal), "{message}: {why}");
+    }
+    page.send(r#"{"type":"force","node":1,"status":"RUNNING","until":"cleared"}"#);
+    assert_eq!(
+        page.expect("forces")["forces"],
+        json!([{"node": 1, "status": "RUNNING", "until": "cleared", "applied": null}])
+    );
+    page.send(r#"{"type":"force","node":1,"status":"off"}"#);
+    assert_eq!(page.expect("forces")["forces"], json!([]));
+}

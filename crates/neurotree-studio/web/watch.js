@@ -15,6 +15,7 @@
 import * as api from "./api.js";
 import { TreeDrawing, drawingToolbar, nodesOfTreeView } from "./tree.js";
 import { SceneView } from "./scene.js";
+import { ForcePanel } from "./force.js";
 
 export function mountWatch(section, app) {
   const state = {
@@ -69,6 +70,12 @@ export function mountWatch(section, app) {
   });
   $(".canvas").before(drawingToolbar(drawing));
   const scene = new SceneView($("[data-scene]"));
+  const forces = new ForcePanel(section, {
+    drawing,
+    send: (m) => socket?.send(m),
+    nodes: () => state.tree?.nodes || [],
+    changed: () => renderSelected(),
+  });
   const tickEl = $("[data-tick]");
   const shown = [];
   let socket = null;
@@ -141,6 +148,8 @@ export function mountWatch(section, app) {
         return renderRunState();
       case "breakpoints":
         return setBreakpoints(msg.breakpoints);
+      case "forces":
+        return forces.set(msg.forces);
       case "rewind":
         state.rewind = msg.rewind;
         return renderRunState();
@@ -193,6 +202,7 @@ export function mountWatch(section, app) {
     state.refusedEdits = msg.edits || [];
     state.failure = msg.failure;
     setBreakpoints(msg.breakpoints || []);
+    forces.set(msg.forces || [], msg.forcing !== false);
     setTick(msg.tick);
     renderRunning();
     renderBlackboards();
@@ -485,6 +495,7 @@ export function mountWatch(section, app) {
       p.textContent = `${k} = ${v}`;
       ports.append(p);
     }
+    forces.menu(box, node);
   }
 
   // Space pauses and continues, S (or F10) steps, as debuggers do.
@@ -512,6 +523,7 @@ export function mountWatch(section, app) {
     actions,
     state,
     drawing,
+    forces,
     shownTicks: shown,
     show() {
       actions.connect();

@@ -316,58 +316,136 @@ pub fn wrapper<C: 'static>(
             .unwrap_or_default();
         Some(Box::new(FaultHooks {
             inner,
-            faults: mine,
-            path,
-            calls: AtomicU32::new(0),
+            plan: Plan::Calls {
+                faults: mine,
+                path,
+                calls: AtomicU32::new(0),
+                log: log.clone(),
+            },
             hanging: AtomicBool::new(false),
-            log: log.clone(),
         }))
     })
 }
 
-/// The hooks of a node with faults: counts its calls, answers for it on a fault's call,
-/// and otherwise hands over to the hooks the file gave it.
+/// The wrapper that applies `inner` (if any), then `outer`, to each node's hooks.
+pub fn chain<C: 'static>(
+    inner: Option<SharedHookWrapper<C>>,
+    outer: SharedHookWrapper<C>,
+) -> SharedHookWrapper<C> {
+    match inner {
+        None => outer,
+        Some(inner) => Arc::new(move |id, hooks| outer(id, inner(id, hooks))),
+    }
+}
+
+/// Results decided while the tree runs, by hand (a studio's forced results): asked each
+/// time a node is ticked, whatever its status.
+pub trait LiveFaults: Send + Sync {
+    /// The status node `node` returns now in place of its tick, if one is forced. A
+    /// SUCCESS or FAILURE forced on a Running node halts it first; a RUNNING is a call
+    /// never answered, as a fault's: the node stays Running, not ticked, until halted.
+    fn forced(&self, node: NodeId) -> Option<Status>;
+}
+
+/// The hook wrapper that lets `live` decide the result of any node of the tree when it
+/// is ticked; `inner` (the faults of a file, say) wraps first. Every node gets hooks: a
+/// tree built with it runs its nodes through them, as a tree of scripted conditions does.
+pub fn live_wrapper<C: 'static>(
+    live: Arc<dyn LiveFaults>,
+    inner: Option<SharedHookWrapper<C>>,
+) -> SharedHookWrapper<C> {
+    Arc::new(move |id, hooks| {
+        let hooks = match &inner {
+            Some(wrap) => wrap(id, hooks),
+            None => hooks,
+        };
+        Some(Box::new(FaultHooks {
+            inner: hooks,
+            plan: Plan::Live {
+                node: id,
+                live: Arc::clone(&live),
+            },
+            hanging: AtomicBool::new(false),
+        }) as Box<dyn NodeHooks<C>>)
+    })
+}
+
+/// Who decides a node's results: faults on chosen calls, or a live source.
+enum Plan {
+    Calls {
+        faults: Vec<NodeFault>,
+        path: String,
+        calls: AtomicU32,
+        log: FaultLog,
+    },
+    Live {
+        node: NodeId,
+        live: Arc<dyn LiveFaults>,
+    },
+}
+
+/// The hooks of a node with faults: answers for it when its plan decides, and otherwise
+/// hands over to the hooks the file gave it.
 ///
 /// The counts live in the hooks, which a blueprint shares among its trees: build one
 /// blueprint per run that injects faults.
 struct FaultHooks<C> {
     inner: Option<Box<dyn NodeHooks<C>>>,
-    faults: Vec<NodeFault>,
-    path: String,
-    calls: AtomicU32,
+    plan: Plan,
     hanging: AtomicBool,
-    log: FaultLog,
+}
+
+impl<C> FaultHooks<C> {
+    /// The status and error code the plan gives this tick, if any.
+    fn decide(&self, stored: NodeStatus) -> Option<(Status, Option<u16>, String)> {
+        match &self.plan {
+            Plan::Live { node, live } => live
+                .forced(*node)
+                .map(|s| (s, None, format!("forced {}", status_name(s)))),
+            Plan::Calls { .. } if stored == NodeStatus::Running => None,
+            Plan::Calls {
+                faults,
+                path,
+                calls,
+                log,
+            } => {
+                let call = calls.fetch_add(1, Ordering::Relaxed) + 1;
+                let fault = faults.iter().find(|f| f.call == call)?;
+                if fault.panics {
+                    panic!("injected fault: {path} panics on its call {call}");
+                }
+                log.push(FaultHit {
+                    path: path.clone(),
+                    call,
+                    status: fault.status,
+                });
+                Some((
+                    fault.status,
+                    fault.error_code,
+                    format!("injected fault {fault}"),
+                ))
+            }
+        }
+    }
 }
 
 impl<C> NodeHooks<C> for FaultHooks<C> {
     fn before(&self, h: &mut Handle<'_, C>, stored: NodeStatus) -> Option<NodeStatus> {
-        if stored == NodeStatus::Running {
-            if self.hanging.load(Ordering::Relaxed) {
+        let Some((status, code, message)) = self.decide(stored) else {
+            if stored == NodeStatus::Running && self.hanging.load(Ordering::Relaxed) {
                 return Some(NodeStatus::Running);
             }
             return self.inner.as_ref().and_then(|i| i.before(h, stored));
-        }
-        let call = self.calls.fetch_add(1, Ordering::Relaxed) + 1;
-        let Some(fault) = self.faults.iter().find(|f| f.call == call) else {
-            return self.inner.as_ref().and_then(|i| i.before(h, stored));
         };
-        if fault.panics {
-            panic!("injected fault: {} panics on its call {call}", self.path);
-        }
-        if let Some(code) = fault.error_code {
+        if let Some(code) = code {
             // A node without these outputs gets only the status.
             let _ = h.output::<u16>("error_code_id", code);
-            let _ = h.output::<String>("error_msg", format!("injected fault {fault}"));
+            let _ = h.output::<String>("error_msg", message);
         }
-        self.log.push(FaultHit {
-            path: self.path.clone(),
-            call,
-            status: fault.status,
-        });
-        if fault.status == Status::Running {
+        if status == Status::Running {
             self.hanging.store(true, Ordering::Relaxed);
         }
-        Some(NodeStatus::from(fault.status))
+        Some(NodeStatus::from(status))
     }
 
     fn after(&self, h: &mut Handle<'_, C>, status: NodeStatus) {
@@ -386,6 +464,18 @@ impl<C> NodeHooks<C> for FaultHooks<C> {
     fn attributes(&self, f: &mut dyn FnMut(&str, &str)) {
         if let Some(inner) = &self.inner {
             inner.attributes(f);
+        }
+    }
+
+    fn reads_only_blackboard(&self) -> bool {
+        // A live source changes only when a person forces a result, between ticks: it
+        // keeps no sleeping tree awake.
+        match &self.plan {
+            Plan::Live { .. } => self
+                .inner
+                .as_ref()
+                .is_none_or(|i| i.reads_only_blackboard()),
+            Plan::Calls { .. } => false,
         }
     }
 }

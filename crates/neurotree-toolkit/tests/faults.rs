@@ -198,3 +198,97 @@ fn faults_read_and_write_back() {
         assert!(bad.parse::<NodeFault>().is_err(), "{bad}");
     }
 }
+
+/// A result forced by hand on one node: what `LiveFaults` answers, set between ticks.
+#[derive(Default)]
+struct ByHand(Mutex<Option<(u32, Status)>>);
+
+impl ByHand {
+    fn force(&self, force: Option<(u32, Status)>) {
+        *self.0.lock().unwrap() = force;
+    }
+}
+
+impl neurotree::fault::LiveFaults for ByHand {
+    fn forced(&self, node: neurotree::NodeId) -> Option<Status> {
+        self.0
+            .lock()
+            .unwrap()
+            .filter(|(at, _)| *at == node.0)
+            .map(|(_, s)| s)
+    }
+}
+
+/// Counts its starts, running ticks and halts; runs for ever.
+#[derive(Default, Clone)]
+struct Counts(Arc<Mutex<(u32, u32, u32)>>);
+
+impl Counts {
+    fn get(&self) -> (u32, u32, u32) {
+        *self.0.lock().unwrap()
+    }
+}
+
+struct Endless(Counts);
+
+impl StatefulAction<()> for Endless {
+    fn on_start(&mut self, _h: &mut Handle<'_, ()>) -> Status {
+        self.0 .0.lock().unwrap().0 += 1;
+        Status::Running
+    }
+    fn on_running(&mut self, _h: &mut Handle<'_, ()>) -> Status {
+        self.0 .0.lock().unwrap().1 += 1;
+        Status::Running
+    }
+    fn on_halted(&mut self, _h: &mut Handle<'_, ()>) {
+        self.0 .0.lock().unwrap().2 += 1;
+    }
+}
+
+#[test]
+fn a_result_forced_on_a_running_node_halts_it_and_a_forced_running_is_never_ticked() {
+    let counts = Counts::default();
+    let mut registry = Registry::<()>::new();
+    let c = counts.clone();
+    registry
+        .register_stateful("Endless", vec![], move || Endless(c.clone()))
+        .unwrap();
+    let live = Arc::new(ByHand::default());
+    let source: Arc<dyn neurotree::fault::LiveFaults> = live.clone();
+    let mut loader =
+        XmlLoader::new(&registry).wrap_hooks(neurotree::fault::live_wrapper(source, None));
+    loader
+        .load_str(
+            r#"<root BTCPP_format="4"><BehaviorTree ID="Main">
+                <Inverter><Endless name="work"/></Inverter>
+            </BehaviorTree></root>"#,
+            "work.xml",
+        )
+        .unwrap();
+    let blueprint = Arc::new(loader.build_main().unwrap());
+    let work = blueprint
+        .ids()
+        .find(|id| blueprint.name(*id) == "work")
+        .unwrap();
+    let mut tree = Tree::with_clock(blueprint, ManualClock::new());
+    let tick = |tree: &mut Tree<()>| tree.tick_once(&mut ()).unwrap();
+    assert_eq!(tick(&mut tree), Status::Running);
+    assert_eq!(tick(&mut tree), Status::Running);
+    assert_eq!(counts.get(), (1, 1, 0));
+    // FAILURE on the running leaf: halted once, its tick not called; the Inverter turns it.
+    live.force(Some((work.0, Status::Failure)));
+    assert_eq!(tick(&mut tree), Status::Success);
+    assert_eq!(counts.get(), (1, 1, 1));
+    live.force(None);
+    assert_eq!(tick(&mut tree), Status::Running);
+    assert_eq!(counts.get(), (2, 1, 1), "started afresh");
+    // RUNNING: a call never answered; the leaf is not ticked until halted, forced or not.
+    live.force(Some((work.0, Status::Running)));
+    assert_eq!(tick(&mut tree), Status::Running);
+    live.force(None);
+    assert_eq!(tick(&mut tree), Status::Running);
+    assert_eq!(counts.get(), (2, 1, 1), "not ticked");
+    tree.halt(&mut ());
+    assert_eq!(tick(&mut tree), Status::Running);
+    assert_eq!(counts.get(), (3, 1, 2), "halted, then started afresh");
+}

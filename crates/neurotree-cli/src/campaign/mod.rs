@@ -60,11 +60,13 @@ mod db;
 mod faults;
 mod file;
 mod report;
+mod scenario;
 
 pub use db::{merge, Results};
 pub use faults::Faults;
 pub use file::{Domain, FACTORS};
 pub use report::{report_json, report_markdown, report_svg};
+pub use scenario::{variant_scenario, VariantScenario};
 
 /// A campaign, read and checked.
 #[derive(Clone, Debug)]
@@ -257,7 +259,14 @@ impl Campaign {
     }
 
     /// [`run_variant`](Self::run_variant), with `watch` shown the run after each tick.
+    ///
+    /// A panic in the run (a `PANIC@K` fault) prints nothing: its message is the row's
+    /// outcome. Panics elsewhere, and on other threads, print as before.
     pub fn run_variant_watched(&self, n: u64, watch: &mut dyn FnMut(&DemoRun)) -> VariantRow {
+        quietly(|| self.run_variant_quietly(n, watch))
+    }
+
+    fn run_variant_quietly(&self, n: u64, watch: &mut dyn FnMut(&DemoRun)) -> VariantRow {
         let factors = Value::Object(self.factors_of(n));
         let errored = |message: String| VariantRow {
             variant: n,
@@ -300,6 +309,35 @@ impl Campaign {
             }
         }
     }
+}
+
+thread_local! {
+    /// Whether this thread runs a variant, whose panics are its row's outcome.
+    static IN_VARIANT: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
+}
+
+/// Runs `f` with the panics on this thread kept quiet: the panic hook (the one set before,
+/// which prints the message) is not called for them. A campaign of ten thousand variants
+/// with a `PANIC@K` fault would otherwise print a message per variant.
+pub(crate) fn quietly<T>(f: impl FnOnce() -> T) -> T {
+    static HOOK: std::sync::Once = std::sync::Once::new();
+    HOOK.call_once(|| {
+        let before = std::panic::take_hook();
+        std::panic::set_hook(Box::new(move |info| {
+            if !IN_VARIANT.with(std::cell::Cell::get) {
+                before(info);
+            }
+        }));
+    });
+    /// Restores the flag however `f` ends.
+    struct Restore(bool);
+    impl Drop for Restore {
+        fn drop(&mut self) {
+            IN_VARIANT.with(|v| v.set(self.0));
+        }
+    }
+    let _restore = Restore(IN_VARIANT.with(|v| v.replace(true)));
+    f()
 }
 
 /// The outcome a row stores.

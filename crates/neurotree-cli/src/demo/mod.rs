@@ -47,6 +47,13 @@ const NOTES_ROOM: usize = 6;
 /// What watches the demo's tree from outside (the studio): shown the run before its first
 /// tick, called before each tick (where it may hold the run) and once at its end.
 pub trait DemoWatch {
+    /// The hooks to build the tree with, beside the configured faults (a studio's forced
+    /// results).
+    fn hooks(
+        &mut self,
+    ) -> Option<neurotree::xml::SharedHookWrapper<neurotree::sim::nav2::Nav2Sim>> {
+        None
+    }
     /// Before the first tick.
     fn attach(&mut self, _demo: &mut DemoRun) {}
     /// Before each tick.
@@ -75,7 +82,7 @@ pub fn run_watched(
     err: &mut impl Write,
     watch: &mut dyn DemoWatch,
 ) -> io::Result<Option<DemoSummary>> {
-    let mut demo = match DemoRun::new(&opts.config) {
+    let mut demo = match DemoRun::with_hooks(&opts.config, watch.hooks()) {
         Ok(demo) => demo,
         Err(e) => {
             writeln!(err, "{e}")?;

@@ -286,6 +286,15 @@ pub struct DemoRun {
 impl DemoRun {
     /// Loads the tree and sets the scene.
     pub fn new(config: &DemoConfig) -> Result<Self, DemoError> {
+        Self::with_hooks(config, None)
+    }
+
+    /// [`new`](Self::new), the tree's nodes also given the hooks of `hooks` (which wrap
+    /// the configured faults' hooks).
+    pub fn with_hooks(
+        config: &DemoConfig,
+        hooks: Option<neurotree::xml::SharedHookWrapper<Nav2Sim>>,
+    ) -> Result<Self, DemoError> {
         let mut registry = Registry::<Nav2Sim>::new();
         nav2::register_controls(&mut registry)?;
         register_nav2_leaves(&mut registry)?;
@@ -304,6 +313,10 @@ impl DemoRun {
         let blueprint = build_with_faults(&config.faults, &faults, |wrap| {
             let mut loader = XmlLoader::new(&registry)
                 .unknown_type_advice("the demo runs Nav2's node types, simulated");
+            let wrap = match (wrap, &hooks) {
+                (wrap, Some(hooks)) => Some(neurotree::fault::chain(wrap, Arc::clone(hooks))),
+                (wrap, None) => wrap,
+            };
             if let Some(wrap) = wrap {
                 loader = loader.wrap_hooks(wrap);
             }

@@ -22,11 +22,12 @@ pub(super) fn reload(
     files: &[PathBuf],
     opts: &RunArgs,
     record: &Mutex<Record>,
+    wrap: Option<&SharedHookWrapper<()>>,
     out: &mut impl Write,
     err: &mut impl Write,
 ) -> io::Result<Option<Arc<Blueprint<()>>>> {
     let mut warnings = Vec::new();
-    let loaded = load(files, opts, &mut warnings);
+    let loaded = load(files, opts, &mut warnings, wrap);
     for w in &warnings {
         writeln!(err, "{w}")?;
     }

@@ -160,6 +160,26 @@ impl Served {
         }
     }
 
+    /// The hooks to build the watched tree with, so that pages force its nodes' results;
+    /// `inner` (the run's own faults) wraps first.
+    pub fn force_hooks<C: 'static>(
+        &self,
+        inner: Option<neurotree::xml::SharedHookWrapper<C>>,
+    ) -> neurotree::xml::SharedHookWrapper<C> {
+        self.studio.force_hooks(inner)
+    }
+
+    /// The results pages forced since the last call, as the run's JSON lines say them:
+    /// `{"tick","node","status","until"}`.
+    pub fn forced(&mut self) -> Vec<serde_json::Value> {
+        self.watch.as_mut().map_or_else(Vec::new, |w| {
+            w.forced()
+                .iter()
+                .map(neurotree_studio::Forced::json)
+                .collect()
+        })
+    }
+
     /// Shows `tree` to the pages; the observer to set on it.
     pub fn attach<C>(&mut self, tree: &Tree<C>, name: &str) -> Box<dyn neurotree::Observer> {
         let (observer, watch): (StudioObserver, Watch) = self.studio.attach(tree, name);
@@ -256,6 +276,10 @@ struct DemoWatched {
 }
 
 impl DemoWatch for DemoWatched {
+    fn hooks(&mut self) -> Option<neurotree::xml::SharedHookWrapper<Nav2Sim>> {
+        Some(self.served.force_hooks(None))
+    }
+
     fn attach(&mut self, demo: &mut DemoRun) {
         let name = demo.tree_file().to_string();
         let observer = self.served.attach(demo.tree_mut(), &name);
@@ -268,6 +292,15 @@ impl DemoWatch for DemoWatched {
         if let Some(to) = self.served.between_ticks_with(tree, &mut world) {
             world.0.note(format!(
                 "back to tick {to}: the run goes on from there, the later ticks dropped"
+            ));
+        }
+        // Those of the tick before, told as it ends.
+        for forced in self.served.forced() {
+            world.0.note(format!(
+                "forced {} to {} at tick {}",
+                forced["node"].as_str().unwrap_or(""),
+                forced["status"].as_str().unwrap_or(""),
+                forced["tick"]
             ));
         }
     }

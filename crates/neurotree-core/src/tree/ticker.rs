@@ -270,6 +270,17 @@ impl<'t, C> Ticker<'t, C> {
                 self.halt_node(id);
                 NodeStatus::Skipped
             }
+            // A result decided for a Running node (a fault forced by hand) ends its run
+            // first, as a halt does.
+            Some(decided @ (NodeStatus::Success | NodeStatus::Failure))
+                if stored == NodeStatus::Running =>
+            {
+                self.halt_node(id);
+                if decided == NodeStatus::Failure {
+                    self.note(id, Note::Gave(super::failure::Reason::PRECONDITION));
+                }
+                decided
+            }
             Some(NodeStatus::Failure) => {
                 self.note(id, Note::Gave(super::failure::Reason::PRECONDITION));
                 NodeStatus::Failure

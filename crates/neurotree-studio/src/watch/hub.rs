@@ -162,6 +162,8 @@ pub(crate) struct Hub {
     /// Breakpoints stop the run only while a page is attached.
     armed: AtomicBool,
     refused: AtomicU64,
+    /// The results pages forced on nodes ([`super::force`]).
+    pub(crate) forces: super::force::Forces,
 }
 
 impl Hub {
@@ -173,6 +175,7 @@ impl Hub {
             pages: AtomicUsize::new(0),
             armed: AtomicBool::new(false),
             refused: AtomicU64::new(0),
+            forces: Default::default(),
         })
     }
 
@@ -285,6 +288,7 @@ impl Hub {
         });
         inner.generation += 1;
         inner.ended = None;
+        self.forces.clear();
         inner.refused_edits.1.clear();
         drop(inner);
         self.bump();

@@ -11,6 +11,7 @@
 //! goes back and forth through the kept ticks, and a step or continue from a past tick
 //! forks the run there. What the tree acts on is kept and drawn by the run's [`World`].
 
+mod force;
 mod hub;
 mod page;
 mod rewind;
@@ -22,6 +23,7 @@ use std::sync::Arc;
 use neurotree_core::{NodeId, Status, Tree};
 use neurotree_toolkit::scene::Scene;
 
+pub use force::Forced;
 pub(crate) use hub::Hub;
 pub use hub::StudioObserver;
 pub(crate) use page::serve_page;
@@ -120,7 +122,18 @@ impl Watch {
                 hub.set_rewind(window.describe());
                 show_scene(&hub, world.scene(tree).as_ref());
             });
-        window.go_on(tree, world)
+        let fork = window.go_on(tree, world);
+        if let Some(tick) = fork {
+            self.hub.forces.fork(tick);
+        }
+        fork
+    }
+
+    /// The results forced by hand that applied since the last call, in order (a run
+    /// logs them, as `neurotree run` prints `{"force":…}`); a fork forgets those after
+    /// the tick it went back to.
+    pub fn forced(&mut self) -> Vec<Forced> {
+        self.hub.forces.take_log()
     }
 
     /// Shows `scene` beside the tree, in place of the last one (`None`: none). A run with

@@ -38,6 +38,13 @@ enum FromPage {
         node: u64,
         when: String,
     },
+    /// Force the node's next result (`until`: `once`, the default, or `cleared`), or
+    /// clear its force (`status`: `off`).
+    Force {
+        node: u64,
+        status: String,
+        until: Option<String>,
+    },
     Set {
         scope: u32,
         key: String,
@@ -62,6 +69,7 @@ struct Sent {
     failure: u64,
     paused: u64,
     breakpoints: u64,
+    forces: u64,
     rewind: u64,
     scene: u64,
     refusal: u64,
@@ -178,6 +186,11 @@ fn control(hub: &Hub, message: FromPage) -> Option<String> {
                 return Some(format!("no node {node} in the tree watched"));
             }
         }
+        FromPage::Force {
+            node,
+            status,
+            until,
+        } => return hub.force(node, &status, until.as_deref()).err(),
         FromPage::Ack { .. } => {
             return Some("an `ack` answers a `tick` or `hello`; none was awaited".into())
         }
@@ -210,7 +223,8 @@ fn changes(hub: &Hub, sent: &mut Sent, ticks: bool) -> Vec<String> {
     let now = statuses(&run.cell);
     let scored = scores(&run.cell);
     if sent.generation != Some(inner.generation) {
-        out.push(hello(&inner, run, &now, &scored, tick));
+        let forces = (hub.forces.list(), hub.forces.hooked());
+        out.push(hello(&inner, run, &now, &scored, tick, forces));
         *sent = Sent {
             generation: Some(inner.generation),
             statuses: now,
@@ -220,6 +234,7 @@ fn changes(hub: &Hub, sent: &mut Sent, ticks: bool) -> Vec<String> {
             failure: inner.failure.0,
             paused: inner.paused_version,
             breakpoints: inner.breakpoints_version,
+            forces: hub.forces.version(),
             rewind: inner.rewind.0,
             scene: inner.scene.0,
             refusal: inner.refusal.0,
@@ -290,6 +305,11 @@ fn changes(hub: &Hub, sent: &mut Sent, ticks: bool) -> Vec<String> {
         sent.breakpoints = inner.breakpoints_version;
         out.push(json!({"type": "breakpoints", "breakpoints": Hub::breakpoints(run)}).to_string());
     }
+    let forces = hub.forces.version();
+    if sent.forces != forces {
+        sent.forces = forces;
+        out.push(json!({"type": "forces", "forces": hub.forces.list()}).to_string());
+    }
     if sent.paused != inner.paused_version {
         sent.paused = inner.paused_version;
         out.push(match &inner.paused {
@@ -310,6 +330,7 @@ fn hello(
     statuses: &[&str],
     scored: &[(usize, u64)],
     tick: u64,
+    (forces, hub_forcing): (Value, bool),
 ) -> String {
     // The tree is serialized once per attach and spliced in, not rebuilt per page.
     let rest = json!({
@@ -320,6 +341,8 @@ fn hello(
         "scores": scored.iter().map(|&(i, bits)| json!([i, f64::from_bits(bits)])).collect::<Vec<_>>(),
         "paused": inner.paused,
         "breakpoints": Hub::breakpoints(run),
+        "forces": forces,
+        "forcing": hub_forcing,
         "blackboards": inner.blackboards.1,
         "failure": inner.failure.1,
         "ended": inner.ended,

@@ -14,6 +14,8 @@
 //! ticks = 20                          # optional: the most ticks to run (default 100)
 //! step_ms = 100                       # optional: the clock's advance before each tick
 //! coverage = 0.5                      # optional: the least share of outcomes covered
+//! faults = ["Root/Spin=FAILURE@2"]     # optional: node PATH (or name, or type) returns
+//!                                     # STATUS on its Kth call ([`crate::fault`])
 //! [mocks]                             # leaves by name or type, as `run --mock` reads them
 //! BatteryOK = "SUCCESS*3,FAILURE"
 //! [enums]                             # scripting enums
@@ -108,6 +110,11 @@ pub struct Scenario {
     /// Leaves replaced by scripted outcomes, by name or type.
     #[serde(default)]
     pub mocks: BTreeMap<String, String>,
+    /// Faults injected into nodes, `PATH=STATUS@K` or `PATH=STATUS@K#CODE` as
+    /// [`crate::fault::NodeFault`] reads them: a node chosen by its path (which tells apart
+    /// leaves that share a name), else its type, else its name.
+    #[serde(default)]
+    pub faults: Vec<String>,
     /// Scripting enums.
     #[serde(default)]
     pub enums: BTreeMap<String, i64>,
@@ -493,6 +500,65 @@ mod tests {
             "test charges in time ... FAILED\n    \
              tick 2: root is RUNNING, expected SUCCESS\n    \
              tick 2: `Charge` was not halted"
+        );
+    }
+
+    #[test]
+    fn a_fault_by_path_lands_on_one_of_two_leaves_that_share_a_name() {
+        let dir = tempfile::tempdir().unwrap();
+        write(
+            dir.path(),
+            "two.xml",
+            r#"<root BTCPP_format="4"><BehaviorTree ID="Main">
+                <Sequence name="seq">
+                    <Fallback name="first"><Check/><AlwaysFailure/></Fallback>
+                    <Fallback name="second"><Check/><AlwaysFailure/></Fallback>
+                </Sequence>
+            </BehaviorTree></root>"#,
+        );
+        let scenario = |faults: &str, root: &str| {
+            format!(
+                "tree = \"two.xml\"\nmocks = {{ Check = \"SUCCESS\" }}\nfaults = [{faults}]\n\
+                 [[expect]]\nroot = \"{root}\"\n"
+            )
+        };
+        let mut bench = ScenarioBench::new();
+        for (faults, root) in [
+            ("", "SUCCESS"),
+            ("\"seq/second/Check=FAILURE@1\"", "FAILURE"),
+            ("\"seq/first/Check=FAILURE@2\"", "SUCCESS"),
+            ("\"Check=FAILURE@1\"", "FAILURE"),
+        ] {
+            let file = write(dir.path(), "two.toml", &scenario(faults, root));
+            let result = bench.run_file(&file);
+            assert!(result.passed(), "{faults}: {result}");
+            let wrong = if root == "SUCCESS" {
+                "FAILURE"
+            } else {
+                "SUCCESS"
+            };
+            let file = write(dir.path(), "two.toml", &scenario(faults, wrong));
+            assert!(!bench.run_file(&file).passed(), "{faults} {wrong}");
+        }
+        let file = write(
+            dir.path(),
+            "two.toml",
+            &scenario("\"seq/third=FAILURE@1\"", "SUCCESS"),
+        );
+        let result = bench.run_file(&file);
+        assert!(
+            result.problems[0].contains("the fault `seq/third=FAILURE@1` names no node"),
+            "{result}"
+        );
+        let file = write(
+            dir.path(),
+            "two.toml",
+            &scenario("\"Check=MAYBE@1\"", "SUCCESS"),
+        );
+        let result = bench.run_file(&file);
+        assert!(
+            result.problems[0].contains("faults: `Check=MAYBE@1` should be"),
+            "{result}"
         );
     }
 }

@@ -10,6 +10,7 @@ use neurotree_core::{Blueprint, ManualClock, Status, TickError, Tree};
 
 use super::check::Checker;
 use super::{write_text, Scenario, ScenarioBench, DEFAULT_TICKS, MAX_STEP_MS};
+use crate::fault::{self, FaultLog, NodeFault};
 use crate::xml::{self, parse_outcomes, Substitutions};
 use crate::{LoadError, LoadErrorKind, Registry, XmlLoader};
 
@@ -164,7 +165,22 @@ fn load<C: 'static>(
     let built = built.map_err(|errors| {
         let warnings = loader.warnings().iter().map(|w| w.to_string());
         failure_text(warnings, &errors, &files[0], s.mock_unknown)
-    });
+    })?;
+    if s.faults.is_empty() {
+        drop(loader);
+        return Ok((built, registry));
+    }
+    // Built once as written, to find the nodes the faults name, then with their hooks.
+    let faults = s
+        .faults
+        .iter()
+        .map(|f| f.parse::<NodeFault>().map_err(|e| format!("faults: {e}")))
+        .collect::<Result<Vec<_>, _>>()?;
+    let resolved = fault::resolve(&built, &faults).map_err(|e| format!("faults: {e}"))?;
+    drop(built);
+    let loader = loader.wrap_hooks(fault::wrapper(resolved, FaultLog::default()));
+    let id = pick_tree(&loader, s.main.as_deref()).map_err(|e| e.to_string())?;
+    let built = loader.build(&id).map_err(|e| e.to_string());
     drop(loader);
     built.map(|blueprint| (blueprint, registry))
 }

@@ -1,0 +1,294 @@
+//! Results forced by hand: a page makes a node return SUCCESS, FAILURE or RUNNING at its
+//! next tick (once) or at every tick until the force is cleared, in place of its own tick
+//! (PROTOCOL.md, "Forced results").
+//!
+//! The forces ride on [`neurotree_toolkit::fault`]'s hooks: the tree is built with
+//! [`live_wrapper`](neurotree_toolkit::fault::live_wrapper) over the hub, which answers from
+//! its table here. A once-force remembers the tick it applied at: when a page goes back
+//! before that tick and the run forks there, the force is due again.
+
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::{Mutex, MutexGuard};
+
+use neurotree_core::{NodeId, Status};
+use neurotree_toolkit::fault::{parse_status, status_name, LiveFaults};
+use serde_json::{json, Value};
+
+use super::hub::Hub;
+
+/// One node's force, as set by a page.
+#[derive(Clone, Debug, PartialEq, Eq)]
+struct Force {
+    node: u32,
+    status: Status,
+    /// At every tick until cleared, else once.
+    until_cleared: bool,
+    /// The tick a once-force applied at; `None` while it is due.
+    applied: Option<u64>,
+}
+
+/// A force that applied: what the run's log says of it.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Forced {
+    /// The tick it applied in (the watch's count, as pages show it).
+    pub tick: u64,
+    /// The node's path.
+    pub node: String,
+    /// What the node returned.
+    pub status: Status,
+    /// A force that stands until cleared, else one that applied once.
+    pub until_cleared: bool,
+}
+
+impl Forced {
+    /// `{"tick":T,"node":PATH,"status":S,"until":"once"|"cleared"}`.
+    pub fn json(&self) -> Value {
+        json!({
+            "tick": self.tick,
+            "node": self.node,
+            "status": status_name(self.status),
+            "until": until(self.until_cleared),
+        })
+    }
+}
+
+fn until(cleared: bool) -> &'static str {
+    if cleared {
+        "cleared"
+    } else {
+        "once"
+    }
+}
+
+#[derive(Default)]
+struct Table {
+    forces: Vec<Force>,
+    /// Applied since the run last read them ([`crate::Watch::forced`]).
+    log: Vec<Forced>,
+}
+
+/// The forces of the run watched, read by the nodes' hooks at each tick.
+#[derive(Default)]
+pub(crate) struct Forces {
+    table: Mutex<Table>,
+    /// Whether any force is set: the hooks of a tree without one read no lock.
+    any: AtomicBool,
+    /// Bumped when the list pages are shown changes.
+    version: AtomicU64,
+    /// The hooks that apply forces were handed out ([`crate::Studio::force_hooks`]): a
+    /// run that builds its tree without them cannot be forced, and pages are told so.
+    hooked: AtomicBool,
+}
+
+impl Forces {
+    fn lock(&self) -> MutexGuard<'_, Table> {
+        self.table.lock().unwrap_or_else(|e| e.into_inner())
+    }
+
+    fn changed(&self, table: &Table) {
+        self.any.store(!table.forces.is_empty(), Ordering::Release);
+        self.version.fetch_add(1, Ordering::AcqRel);
+    }
+
+    /// The hooks were handed out to build a tree with.
+    pub fn hand_out(&self) {
+        self.hooked.store(true, Ordering::Release);
+    }
+
+    /// Whether a tree may have been built with the hooks.
+    pub fn hooked(&self) -> bool {
+        self.hooked.load(Ordering::Acquire)
+    }
+
+    pub fn version(&self) -> u64 {
+        self.version.load(Ordering::Acquire)
+    }
+
+    /// The forces as pages list them: `[{node, status, until, applied}]`.
+    pub fn list(&self) -> Value {
+        let table = self.lock();
+        Value::Array(
+            table
+                .forces
+                .iter()
+                .map(|f| {
+                    json!({
+                        "node": f.node,
+                        "status": status_name(f.status),
+                        "until": until(f.until_cleared),
+                        "applied": f.applied,
+                    })
+                })
+                .collect(),
+        )
+    }
+
+    /// Sets (or, with `None`, clears) the force of `node`, replacing the one it had.
+    fn set(&self, node: u32, force: Option<(Status, bool)>) {
+        let mut table = self.lock();
+        table.forces.retain(|f| f.node != node);
+        if let Some((status, until_cleared)) = force {
+            table.forces.push(Force {
+                node,
+                status,
+                until_cleared,
+                applied: None,
+            });
+        }
+        self.changed(&table);
+    }
+
+    /// Another tree is watched: its nodes are not those the forces named.
+    pub fn clear(&self) {
+        let mut table = self.lock();
+        table.forces.clear();
+        table.log.clear();
+        self.changed(&table);
+    }
+
+    /// The run forked at tick `tick`: the once-forces that applied after it are due again.
+    pub fn fork(&self, tick: u64) {
+        let mut table = self.lock();
+        let mut any = false;
+        for force in &mut table.forces {
+            if force.applied.is_some_and(|t| t > tick) {
+                force.applied = None;
+                any = true;
+            }
+        }
+        table.log.retain(|f| f.tick <= tick);
+        if any {
+            self.changed(&table);
+        }
+    }
+
+    /// The forces that applied since the last call.
+    pub fn take_log(&self) -> Vec<Forced> {
+        std::mem::take(&mut self.lock().log)
+    }
+
+    /// The status `node` returns at tick `tick`, if a force applies; logs it.
+    fn apply(&self, node: u32, path: String, tick: u64) -> Option<Status> {
+        let mut table = self.lock();
+        let force = table.forces.iter_mut().find(|f| f.node == node)?;
+        if !force.until_cleared {
+            if force.applied.is_some() {
+                return None;
+            }
+            force.applied = Some(tick);
+        }
+        let forced = Forced {
+            tick,
+            node: path,
+            status: force.status,
+            until_cleared: force.until_cleared,
+        };
+        let once = !forced.until_cleared;
+        table.log.push(forced.clone());
+        if once {
+            // The list shows where it applied.
+            self.changed(&table);
+        }
+        Some(forced.status)
+    }
+}
+
+impl LiveFaults for Hub {
+    fn forced(&self, node: NodeId) -> Option<Status> {
+        if !self.forces.any.load(Ordering::Acquire) {
+            return None;
+        }
+        let (tick, path) = {
+            let inner = self.lock();
+            let run = inner.run.as_ref()?;
+            (
+                run.cell.tick.load(Ordering::Acquire),
+                run.paths.get(node.index())?.clone(),
+            )
+        };
+        let status = self.forces.apply(node.0, path, tick);
+        if status.is_some() {
+            self.bump();
+        }
+        status
+    }
+}
+
+impl Hub {
+    /// A page forced a node's result (`status`: SUCCESS, FAILURE, RUNNING or `off`;
+    /// `until`: `once` or `cleared`); the reason it was refused, if it was.
+    pub fn force(&self, node: u64, status: &str, until: Option<&str>) -> Result<(), String> {
+        if !self.forces.hooked() {
+            return Err(
+                "this run's tree was built without the studio's force hooks \
+                        (Studio::force_hooks): its results cannot be forced"
+                    .into(),
+            );
+        }
+        let len = self.lock().run.as_ref().map_or(0, |r| r.paths.len());
+        let Some(id) = super::node_in(node, len) else {
+            return Err(format!("no node {node} in the tree watched"));
+        };
+        let force = if status == "off" {
+            None
+        } else {
+            let status = parse_status(status).ok_or_else(|| {
+                format!("a force is SUCCESS, FAILURE, RUNNING or `off`, not `{status}`")
+            })?;
+            let until_cleared = match until.unwrap_or("once") {
+                "once" => false,
+                "cleared" => true,
+                other => {
+                    return Err(format!(
+                        "a force holds `once` or until `cleared`, not `{other}`"
+                    ))
+                }
+            };
+            Some((status, until_cleared))
+        };
+        self.forces.set(id.0, force);
+        self.bump();
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_once_force_applies_once_and_again_after_a_fork_before_it() {
+        let forces = Forces::default();
+        forces.set(2, Some((Status::Failure, false)));
+        assert_eq!(forces.apply(1, "a".into(), 5), None);
+        assert_eq!(forces.apply(2, "b".into(), 5), Some(Status::Failure));
+        assert_eq!(forces.apply(2, "b".into(), 6), None);
+        forces.fork(5);
+        assert_eq!(forces.apply(2, "b".into(), 6), None, "applied at 5, kept");
+        forces.fork(4);
+        assert_eq!(forces.apply(2, "b".into(), 5), Some(Status::Failure));
+        let log = forces.take_log();
+        assert_eq!(
+            log.iter().map(|f| f.tick).collect::<Vec<_>>(),
+            vec![5],
+            "the fork forgot the first application: {log:?}"
+        );
+        assert_eq!(
+            log[0].json(),
+            json!({"tick": 5, "node": "b", "status": "FAILURE", "until": "once"})
+        );
+    }
+
+    #[test]
+    fn a_force_until_cleared_applies_at_every_tick_until_cleared() {
+        let forces = Forces::default();
+        forces.set(0, Some((Status::Running, true)));
+        for tick in 1..4 {
+            assert_eq!(forces.apply(0, "r".into(), tick), Some(Status::Running));
+        }
+        forces.set(0, None);
+        assert_eq!(forces.apply(0, "r".into(), 4), None);
+        assert!(!forces.any.load(Ordering::Acquire));
+        assert_eq!(forces.take_log().len(), 3);
+    }
+}
