@@ -25,9 +25,8 @@ pub trait NodeHooks<C>: Send + Sync {
     /// checks no precondition then). Return the status that replaces the tick, or `None` to
     /// tick the node. Returning Skipped while
     /// `stored` is Running halts the node; so does returning Success or Failure then (a
-    /// result forced on a running node by hand; a script returns Failure then only when
-    /// `_while` fails to run, which makes the tick an error), so that no leaf is left
-    /// running under a completed status.
+    /// result forced on a running node by hand), so that no leaf is left running under a
+    /// completed status.
     fn before(&self, h: &mut Handle<'_, C>, stored: NodeStatus) -> Option<NodeStatus>;
 
     /// After a tick (or a precondition) that completed with `status` (Success or Failure).

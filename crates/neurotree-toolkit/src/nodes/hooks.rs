@@ -161,7 +161,8 @@ impl<C> NodeHooks<C> for ScriptHooks {
             NodeStatus::Running => match self.holds(&self.while_true, h) {
                 Ok(Some(false)) => Some(NodeStatus::Skipped),
                 Ok(_) => None,
-                Err(()) => Some(NodeStatus::Failure),
+                // BehaviorTree.CPP's exception leaves the node Running, not halted.
+                Err(()) => Some(NodeStatus::Running),
             },
             NodeStatus::Success | NodeStatus::Failure => None,
         }
@@ -221,6 +222,19 @@ mod tests {
         assert_eq!(lab.tick(&mut tree), Ok(S));
         assert_eq!(lab.said, ["nope", "nope"]);
         assert_eq!(lab.ticks, [1]);
+    }
+
+    #[test]
+    fn a_while_that_fails_to_run_ends_the_tick_before_the_parent_moves_on() {
+        // BehaviorTree.CPP's exception leaves the node Running and ticks nothing after it:
+        // the Fallback does not try L1. The tick is an error, which halts the tree.
+        let mut lab = Lab::new(&[&[R, R, S], &[S]]);
+        let mut tree = lab.tree(r#"<Fallback><L0 _while="n * 2 > 0"/><L1/></Fallback>"#);
+        tree.blackboard_mut().set("n", 1i64).unwrap();
+        assert_eq!(lab.tick(&mut tree), Ok(R));
+        tree.blackboard_mut().set("n", i64::MAX).unwrap();
+        assert!(lab.tick(&mut tree).is_err());
+        assert_eq!((lab.ticks.as_slice(), lab.halts[0]), ([1, 0].as_slice(), 1));
     }
 
     #[test]
