@@ -157,9 +157,9 @@ fn pause_holds_the_run_and_each_step_is_one_tick() {
     page.send(r#"{"type":"pause"}"#);
     let paused = page.expect("paused");
     assert_eq!(paused["paused"]["why"], "pause");
+    // "paused" is sent from inside the held run, so nothing ticks until a page says so:
+    // each step below is exactly one more tick, which a run that went on would break.
     let at = run.ticks();
-    thread::sleep(Duration::from_millis(150));
-    assert_eq!(run.ticks(), at, "a paused run does not tick");
     for n in 1..=3 {
         page.send(r#"{"type":"step"}"#);
         let stepped = page.expect_where("paused", |m| m["paused"]["why"] == "step");
@@ -184,9 +184,8 @@ fn a_breakpoint_stops_before_its_node_and_on_its_status() {
         hit["paused"],
         json!({"why": "breakpoint", "node": 2, "status": null})
     );
+    // Held inside the tick: the continue below moves it on by exactly one.
     let at = run.ticks();
-    thread::sleep(Duration::from_millis(100));
-    assert_eq!(run.ticks(), at, "held inside the tick");
     // On to the same breakpoint in the next tick.
     page.send(r#"{"type":"continue"}"#);
     page.expect("resumed");
@@ -279,7 +278,7 @@ fn bad_messages_are_refused_and_counted_and_the_page_stays() {
         page.send(r#"{"type":"continue"}"#);
     }
     // The server reads them after they were sent: its count is waited for.
-    let until = Instant::now() + Duration::from_secs(10);
+    let until = Instant::now() + Duration::from_secs(180);
     let refused = loop {
         let refused = get(run.studio.addr(), "/api/stats").json()["refused"]
             .as_u64()
@@ -290,13 +289,15 @@ fn bad_messages_are_refused_and_counted_and_the_page_stays() {
         thread::sleep(Duration::from_millis(20));
     };
     assert!(refused >= 4 + 150, "{refused}");
+    // The limit counts a second of wall time; past it the page is heard again.
     thread::sleep(Duration::from_millis(1100));
     // Still attached, and heard.
     page.send(r#"{"type":"pause"}"#);
     page.expect("paused");
     let at = run.ticks();
-    thread::sleep(Duration::from_millis(100));
-    assert_eq!(run.ticks(), at);
+    page.send(r#"{"type":"step"}"#);
+    page.expect_where("paused", |m| m["paused"]["why"] == "step");
+    assert_eq!(run.ticks(), at + 1, "held, then one step");
 }
 
 #[test]
