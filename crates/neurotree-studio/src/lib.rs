@@ -70,7 +70,10 @@ pub use palette::palette;
 pub use replay::{Replay, ReplayError, Step};
 pub use server::RegistryFactory;
 pub use view::{NodeView, TreeView};
-pub use watch::{StudioObserver, Watch, World, DEFAULT_REWIND_WINDOW, MAX_SCENE_BYTES};
+pub use watch::{
+    AgentEntry, Agents, CrowdWatch, StudioObserver, Watch, World, DEFAULT_REWIND_WINDOW,
+    MAX_AGENTS_PAGE, MAX_SCENE_BYTES,
+};
 pub use workspace::{FileEntry, FileKind, PathError, Workspace};
 
 /// How to serve the studio.
@@ -256,6 +259,14 @@ impl Studio {
         let (observer, watch) = self.attach(tree, name);
         tree.set_observer(observer);
         watch
+    }
+
+    /// Shows the agents of a crowd to the pages, which watch one of them at a time (the
+    /// first until a page chooses another); `name` names the crowd (its tree file, say).
+    /// Call the [`CrowdWatch`] around each frame. Watch one crowd, or one tree
+    /// ([`attach`](Self::attach)), per studio.
+    pub fn watch_crowd(&self, name: &str) -> CrowdWatch {
+        CrowdWatch::new(Arc::clone(&self.hub), name)
     }
 
     /// Messages refused from pages (malformed, oversized, flooding, foreign origin).

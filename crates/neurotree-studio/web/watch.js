@@ -15,6 +15,7 @@
 import * as api from "./api.js";
 import { TreeDrawing, drawingToolbar, nodesOfTreeView } from "./tree.js";
 import { SceneView } from "./scene.js";
+import { mountAgents } from "./agents.js";
 
 export function mountWatch(section, app) {
   const state = {
@@ -69,6 +70,8 @@ export function mountWatch(section, app) {
   });
   $(".canvas").before(drawingToolbar(drawing));
   const scene = new SceneView($("[data-scene]"));
+  // A crowd's agents, when the run is one (agents.js).
+  const agents = mountAgents($(".watch-side"));
   const tickEl = $("[data-tick]");
   const shown = [];
   let socket = null;
@@ -168,6 +171,7 @@ export function mountWatch(section, app) {
       return;
     }
     $(".run-name").textContent = msg.run.name || "";
+    agents.refresh();
     const signature = msg.tree.nodes.map((n) => n.path).join("\n");
     const same = state.tree && state.signature === signature;
     state.tree = msg.tree;

@@ -125,6 +125,9 @@ pub(crate) struct Inner {
     /// again and the edit applies (PROTOCOL.md, "edits").
     pub refused_edits: (u64, Vec<RefusedEdit>),
     pause_requested: bool,
+    /// A breakpoint met in a tick that did not wait there ([`Hub::defer_breaks`]): the run
+    /// stands still after the tick.
+    pub(super) broke: Option<Paused>,
     /// Stops between ticks to pass before a step pauses: 1 from a pause between ticks
     /// (tick once), 2 from a breakpoint inside a tick (finish it, tick the next).
     steps_owed: u8,
@@ -147,6 +150,7 @@ impl Default for Inner {
             refusal: (0, String::new()),
             refused_edits: (0, Vec::new()),
             pause_requested: false,
+            broke: None,
             steps_owed: 0,
             requests: Vec::new(),
         }
@@ -162,6 +166,11 @@ pub(crate) struct Hub {
     /// Breakpoints stop the run only while a page is attached.
     armed: AtomicBool,
     refused: AtomicU64,
+    /// A breakpoint does not hold the tick but stands the run still after it (a crowd's
+    /// frame, which the other members' ticks share, is not held for one member).
+    defer_breaks: AtomicBool,
+    /// The crowd whose agents the pages list, if one is watched.
+    pub(crate) desk: super::agents::Desk,
 }
 
 impl Hub {
@@ -173,6 +182,8 @@ impl Hub {
             pages: AtomicUsize::new(0),
             armed: AtomicBool::new(false),
             refused: AtomicU64::new(0),
+            defer_breaks: AtomicBool::new(false),
+            desk: Default::default(),
         })
     }
 
@@ -291,6 +302,7 @@ impl Hub {
         StudioObserver {
             hub: Arc::clone(self),
             cell,
+            broke: false,
         }
     }
 
@@ -300,7 +312,7 @@ impl Hub {
     }
 
     /// Publishes the blackboards and the failure chain, if a page is attached to read them.
-    pub fn publish<C>(&self, tree: &mut Tree<C>) {
+    pub fn publish<C>(&self, tree: &Tree<C>) {
         if self.pages() == 0 {
             return;
         }
@@ -342,21 +354,7 @@ impl Hub {
     ) {
         self.apply_edits(tree);
         self.publish(tree);
-        let why = {
-            let mut inner = self.lock();
-            if self.pages() == 0 {
-                return;
-            }
-            if inner.steps_owed > 0 {
-                inner.steps_owed -= 1;
-                (inner.steps_owed == 0).then_some("step")
-            } else if inner.pause_requested {
-                Some("pause")
-            } else {
-                None
-            }
-        };
-        if let Some(why) = why {
+        if let Some(why) = self.stop_reason() {
             // Told only when the run stands still, where pages use it: not a message every
             // tick.
             self.set_rewind(rewind);
@@ -379,9 +377,73 @@ impl Hub {
         }
     }
 
+    /// Why the run is to stop before its next tick (a step done, a pause asked for), if it
+    /// is; counts a step's tick.
+    fn stop_reason(&self) -> Option<&'static str> {
+        let mut inner = self.lock();
+        if self.pages() == 0 {
+            return None;
+        }
+        if inner.steps_owed > 0 {
+            inner.steps_owed -= 1;
+            (inner.steps_owed == 0).then_some("step")
+        } else if inner.pause_requested {
+            Some("pause")
+        } else {
+            None
+        }
+    }
+
+    /// Makes breakpoints stand the run still after the tick that met them, instead of
+    /// holding the tick there.
+    pub fn defer_breaks(&self) {
+        self.defer_breaks.store(true, Ordering::Release);
+    }
+
+    /// Between ticks, without waiting: whether the run is to stand still now. A run that
+    /// stood still goes on once a page continued or stepped it (or the last page left);
+    /// one that goes on stops where [`between_ticks`](Self::between_ticks) would hold it,
+    /// or after a tick that met a breakpoint. `standing` is what the last call returned.
+    pub fn stands(&self, standing: bool) -> bool {
+        if standing {
+            let mut inner = self.lock();
+            if inner.paused.is_some() && self.pages() > 0 {
+                return true;
+            }
+            if inner.paused.take().is_some() {
+                inner.paused_version += 1;
+                drop(inner);
+                self.bump();
+            }
+            // The tick a step or continue asked for.
+            return false;
+        }
+        let broke = self.lock().broke.take();
+        let paused = match (broke, self.stop_reason()) {
+            (Some(p), _) if self.pages() > 0 => p,
+            (_, Some(why)) => Paused {
+                why,
+                node: None,
+                status: None,
+            },
+            _ => return false,
+        };
+        let mut inner = self.lock();
+        inner.paused = Some(paused);
+        inner.paused_version += 1;
+        drop(inner);
+        self.bump();
+        true
+    }
+
+    /// `true` when pages sent edits (or travels) not yet applied.
+    pub fn has_requests(&self) -> bool {
+        !self.lock().requests.is_empty()
+    }
+
     /// Edits made while the run went on; a travel asked for then (the page saw the run
     /// paused, and it went on since) is dropped.
-    fn apply_edits<C>(&self, tree: &mut Tree<C>) {
+    pub fn apply_edits<C>(&self, tree: &mut Tree<C>) {
         let requests = std::mem::take(&mut self.lock().requests);
         for r in &requests {
             if let Request::Edit(e) = r {
@@ -461,7 +523,8 @@ impl Hub {
     /// met on the way ends the step there); a running one stops after its tick.
     pub fn step(&self) {
         let mut inner = self.lock();
-        let inside_a_tick = inner.paused.as_ref().is_some_and(|p| p.why == "breakpoint");
+        let inside_a_tick = inner.paused.as_ref().is_some_and(|p| p.why == "breakpoint")
+            && !self.defer_breaks.load(Ordering::Acquire);
         inner.steps_owed = if inside_a_tick { 2 } else { 1 };
         inner.pause_requested = true;
         inner.paused = None;
@@ -528,6 +591,9 @@ impl Hub {
 pub struct StudioObserver {
     hub: Arc<Hub>,
     cell: Arc<RunCell>,
+    /// A deferred breakpoint was met in this tick: the statuses shown stay as they were
+    /// there.
+    broke: bool,
 }
 
 impl std::fmt::Debug for StudioObserver {
@@ -537,8 +603,8 @@ impl std::fmt::Debug for StudioObserver {
 }
 
 impl StudioObserver {
-    fn breakpoint(&self, node: NodeId, byte: u8, status: Option<NodeStatus>) {
-        if !self.hub.armed.load(Ordering::Acquire) {
+    fn breakpoint(&mut self, node: NodeId, byte: u8, status: Option<NodeStatus>) {
+        if self.broke || !self.hub.armed.load(Ordering::Acquire) {
             return;
         }
         let Some(bp) = self.cell.breakpoints.get(node.index()) else {
@@ -549,14 +615,17 @@ impl StudioObserver {
             // ticks.
             self.cell.publish_shown();
             self.hub.bump();
-            self.hub.hold(
-                Paused {
-                    why: "breakpoint",
-                    node: Some(node.0),
-                    status: status.map(status_name),
-                },
-                None,
-            );
+            let paused = Paused {
+                why: "breakpoint",
+                node: Some(node.0),
+                status: status.map(status_name),
+            };
+            if self.hub.defer_breaks.load(Ordering::Acquire) {
+                self.broke = true;
+                self.hub.lock().broke = Some(paused);
+                return;
+            }
+            self.hub.hold(paused, None);
         }
     }
 }
@@ -570,6 +639,7 @@ impl Observer for StudioObserver {
             }
         }
         self.cell.tick.fetch_add(1, Ordering::Release);
+        self.broke = false;
         if self.hub.armed.load(Ordering::Acquire) {
             for t in &*self.cell.touched {
                 t.store(NodeStatus::Idle as u8, Ordering::Relaxed);
@@ -595,13 +665,19 @@ impl Observer for StudioObserver {
     }
 
     fn on_tick_end(&mut self, _status: NodeStatus, _now: Duration) {
-        if self.hub.armed.load(Ordering::Acquire) {
+        if self.hub.armed.load(Ordering::Acquire) && !self.broke {
             self.cell.publish_shown();
         }
         self.hub.bump();
     }
 
     fn on_failure_reason(&mut self, _node: NodeId, _reason: &Reason) {}
+
+    /// Only a crowd's agent is watched so ([`Hub::defer_breaks`]): a tree ticked on its
+    /// own is shown every tick, as before.
+    fn lets_tree_sleep(&self) -> bool {
+        self.hub.defer_breaks.load(Ordering::Relaxed)
+    }
 
     fn on_node_score(&mut self, node: NodeId, score: f64) {
         if let Some(s) = self.cell.scores.get(node.index()) {

@@ -11,6 +11,7 @@
 //! goes back and forth through the kept ticks, and a step or continue from a past tick
 //! forks the run there. What the tree acts on is kept and drawn by the run's [`World`].
 
+mod agents;
 mod hub;
 mod page;
 mod rewind;
@@ -22,6 +23,10 @@ use std::sync::Arc;
 use neurotree_core::{NodeId, Status, Tree};
 use neurotree_toolkit::scene::Scene;
 
+pub(crate) use agents::{
+    agents as agents_page, choose as choose_agent, together as agents_together,
+};
+pub use agents::{AgentEntry, Agents, CrowdWatch, MAX_AGENTS_PAGE};
 pub(crate) use hub::Hub;
 pub use hub::StudioObserver;
 pub(crate) use page::serve_page;
