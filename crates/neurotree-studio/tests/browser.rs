@@ -262,6 +262,10 @@ mod failure;
 /// Rewind and the scene panel.
 mod browser_rewind;
 
+/// One agent of a crowd watched.
+#[path = "browser/agents.rs"]
+mod agents;
+
 #[tokio::test(flavor = "multi_thread")]
 async fn a_nav2_tree_opens_with_every_node_found_by_its_path() {
     let _slot = browser_slot().await;
