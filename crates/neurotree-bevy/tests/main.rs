@@ -2,5 +2,6 @@
 //! module of it.
 
 mod example_crowd;
+mod example_village_studio;
 mod plugin;
 mod readme;
