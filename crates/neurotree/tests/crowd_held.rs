@@ -43,7 +43,7 @@ impl StatefulAction<Walker> for Leg {
         let w = h.ctx_mut();
         w.ticks += 1;
         w.trace = w.trace.wrapping_mul(31).wrapping_add(u64::from(w.ticks));
-        if w.ticks % self.legs == 0 {
+        if w.ticks.is_multiple_of(self.legs) {
             Status::Success
         } else {
             Status::Running
