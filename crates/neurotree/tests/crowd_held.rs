@@ -59,6 +59,15 @@ type Frames = Vec<Vec<(FrameStatus, Walker, Vec<NodeStatus>)>>;
 /// (released before it), woken every frame meanwhile. `observe`: member 5 carries an
 /// observer that records its status changes.
 fn run(hold: Option<(usize, usize, usize)>, observe: bool) -> (Frames, Vec<u64>, usize) {
+    run_with(hold, observe, false)
+}
+
+/// [`run`], its frames in place (as the Bevy plugin runs them) when `in_place`.
+fn run_with(
+    hold: Option<(usize, usize, usize)>,
+    observe: bool,
+    in_place: bool,
+) -> (Frames, Vec<u64>, usize) {
     let clock = ManualClock::new();
     let mut crowd = Crowd::new(clock.clone()).with_threads(2).unwrap();
     let ids: Vec<MemberId> = (0..12)
@@ -92,7 +101,17 @@ fn run(hold: Option<(usize, usize, usize)>, observe: bool) -> (Frames, Vec<u64>,
                     .unwrap();
             }
         }
-        let report = crowd.frame();
+        let report = if in_place {
+            let frame = crowd.frame_in_place().unwrap();
+            let mut visitor = frame.visitor();
+            for &id in ids.iter().rev() {
+                visitor.visit(id, |_| {});
+            }
+            drop(visitor);
+            frame.finish()
+        } else {
+            crowd.frame()
+        };
         ticked.push(report.ticked);
         frames.push(
             crowd
@@ -150,6 +169,24 @@ fn a_held_member_is_not_ticked_and_the_others_tick_as_without_the_hold() {
 }
 
 #[test]
+fn a_member_held_in_frames_in_place_is_not_ticked_either() {
+    let (free, _, _) = run_with(None, false, true);
+    let (held, _, _) = run_with(Some((7, 5, 25)), false, true);
+    for (f, (a, b)) in free.iter().zip(&held).enumerate() {
+        for m in (0..12).filter(|&m| m != 7) {
+            assert_eq!(a[m], b[m], "frame {f}, member {m}");
+        }
+    }
+    let before = held[4][7].1.clone();
+    for frame in &held[5..25] {
+        assert_eq!(frame[7].1, before);
+    }
+    assert!(held[59][7].1.ticks > before.ticks);
+    // In place or not, the same frames.
+    assert_eq!(run(None, false).0, free);
+}
+
+#[test]
 fn an_observed_member_ticks_as_an_unobserved_one() {
     let (plain, _, _) = run(None, false);
     let (observed, _, changes) = run(None, true);
@@ -180,4 +217,47 @@ fn membership_changes_with_each_join_and_leave_and_slots_name_members() {
     assert_ne!(c, a);
     assert!(!crowd.hold(a));
     assert!(crowd.set_observer(a, None).is_none());
+}
+
+/// The studio watching the crowd (its observer on one member, then on another, a page's
+/// view of them kept up to date): every member ticks as in a run nobody watches.
+#[test]
+fn a_crowd_watched_in_the_studio_ticks_as_one_unwatched() {
+    use neurotree::crowd_studio::watched_frame;
+    use neurotree::studio::{Studio, StudioOptions};
+
+    let (plain, _, _) = run(None, false);
+    let clock = ManualClock::new();
+    let mut crowd = Crowd::new(clock.clone()).with_threads(2).unwrap();
+    for i in 0..12 {
+        crowd.add(walk(i as u64), Walker::default());
+    }
+    let studio = Studio::serve(StudioOptions::default(), Registry::new).unwrap();
+    let mut watch = studio.watch_crowd("walkers");
+    let mut frames = Vec::new();
+    for f in 0..60 {
+        if f == 20 {
+            assert!(watch.watch(&mut crowd, "5"));
+        }
+        let report = watched_frame(&mut crowd, &mut watch).expect("no page stands it still");
+        assert_eq!(report.errors, 0);
+        frames.push(
+            crowd
+                .iter()
+                .map(|m| {
+                    (
+                        m.status(),
+                        m.context().clone(),
+                        m.tree().statuses().to_vec(),
+                    )
+                })
+                .collect::<Vec<_>>(),
+        );
+        clock.advance(Duration::from_millis(20));
+        if f == 0 {
+            assert_eq!(watch.watched(), Some("0"), "the first member watched");
+        }
+    }
+    assert_eq!(watch.watched(), Some("5"));
+    assert_eq!(frames, plain);
 }
