@@ -168,7 +168,7 @@ pub(crate) struct Hub {
     refused: AtomicU64,
     /// A breakpoint does not hold the tick but stands the run still after it (a crowd's
     /// frame, which the other members' ticks share, is not held for one member).
-    defer_breaks: AtomicBool,
+    pub(super) defer_breaks: AtomicBool,
     /// The crowd whose agents the pages list, if one is watched.
     pub(crate) desk: super::agents::Desk,
 }
@@ -379,7 +379,7 @@ impl Hub {
 
     /// Why the run is to stop before its next tick (a step done, a pause asked for), if it
     /// is; counts a step's tick.
-    fn stop_reason(&self) -> Option<&'static str> {
+    pub(super) fn stop_reason(&self) -> Option<&'static str> {
         let mut inner = self.lock();
         if self.pages() == 0 {
             return None;
@@ -392,53 +392,6 @@ impl Hub {
         } else {
             None
         }
-    }
-
-    /// Makes breakpoints stand the run still after the tick that met them, instead of
-    /// holding the tick there.
-    pub fn defer_breaks(&self) {
-        self.defer_breaks.store(true, Ordering::Release);
-    }
-
-    /// Between ticks, without waiting: whether the run is to stand still now. A run that
-    /// stood still goes on once a page continued or stepped it (or the last page left);
-    /// one that goes on stops where [`between_ticks`](Self::between_ticks) would hold it,
-    /// or after a tick that met a breakpoint. `standing` is what the last call returned.
-    pub fn stands(&self, standing: bool) -> bool {
-        if standing {
-            let mut inner = self.lock();
-            if inner.paused.is_some() && self.pages() > 0 {
-                return true;
-            }
-            if inner.paused.take().is_some() {
-                inner.paused_version += 1;
-                drop(inner);
-                self.bump();
-            }
-            // The tick a step or continue asked for.
-            return false;
-        }
-        let broke = self.lock().broke.take();
-        let paused = match (broke, self.stop_reason()) {
-            (Some(p), _) if self.pages() > 0 => p,
-            (_, Some(why)) => Paused {
-                why,
-                node: None,
-                status: None,
-            },
-            _ => return false,
-        };
-        let mut inner = self.lock();
-        inner.paused = Some(paused);
-        inner.paused_version += 1;
-        drop(inner);
-        self.bump();
-        true
-    }
-
-    /// `true` when pages sent edits (or travels) not yet applied.
-    pub fn has_requests(&self) -> bool {
-        !self.lock().requests.is_empty()
     }
 
     /// Edits made while the run went on; a travel asked for then (the page saw the run
@@ -673,8 +626,8 @@ impl Observer for StudioObserver {
 
     fn on_failure_reason(&mut self, _node: NodeId, _reason: &Reason) {}
 
-    /// Only a crowd's agent is watched so ([`Hub::defer_breaks`]): a tree ticked on its
-    /// own is shown every tick, as before.
+    /// A crowd's agent ([`CrowdWatch`](crate::CrowdWatch)) sleeps as it would unwatched; a
+    /// tree ticked on its own is shown every tick.
     fn lets_tree_sleep(&self) -> bool {
         self.hub.defer_breaks.load(Ordering::Relaxed)
     }

@@ -15,6 +15,7 @@ mod agents;
 mod hub;
 mod page;
 mod rewind;
+mod standing;
 mod travel;
 mod values;
 
