@@ -8,7 +8,8 @@
 //! - **watch** a running tree: statuses live, the blackboards (editable between ticks), the
 //!   failure chain, breakpoints, pause, step and continue; back and forth through the
 //!   last few hundred ticks, and a fork from any of them; the world the tree acts on drawn
-//!   beside it (a [`World`]'s [scene](neurotree_toolkit::scene));
+//!   beside it (a [`World`]'s [scene](neurotree_toolkit::scene)); or one agent of a crowd
+//!   at a time, the others running on ([`Studio::watch_crowd`], [`Agents`]);
 //! - **replay** a recorded run (`--jsonl`, `.btlog`, SQLite log) on a timeline.
 //!
 //! Every view draws the tree with the boxes of `neurotree show --format svg` (ports under
