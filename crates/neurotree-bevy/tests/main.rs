@@ -5,3 +5,4 @@ mod example_crowd;
 mod example_village_studio;
 mod plugin;
 mod readme;
+mod studio;

@@ -23,11 +23,12 @@ impl Hub {
             if inner.paused.is_some() && self.pages() > 0 {
                 return true;
             }
-            if inner.paused.take().is_some() {
-                inner.paused_version += 1;
-                drop(inner);
-                self.bump();
-            }
+            // A page's continue or step cleared `paused` already; the pages are told the
+            // run goes on now, as a held run tells them when it wakes.
+            inner.paused = None;
+            inner.paused_version += 1;
+            drop(inner);
+            self.bump();
             // The tick a step or continue asked for.
             return false;
         }

@@ -343,6 +343,11 @@ async fn an_edit_a_pause_and_a_breakpoint_touch_the_agent_watched_alone_or_the_w
         .await
         .unwrap();
     b.click("[data-action=continue]").await;
+    b.until(
+        "the page told the run goes on",
+        "document.querySelector('[data-run-state]').dataset.runState !== 'paused'",
+    )
+    .await;
     wait_for(|| run.ran.load(Ordering::Relaxed) >= ran + 10).await;
     assert!(!run.held(4));
     drop(run);
