@@ -4,9 +4,9 @@
 // (`[data-why-awake]`), and whether a pause or a breakpoint stands the whole crowd still
 // with it (`[data-agent-together]`) or that agent alone.
 //
-// The list is asked for (`GET /api/agents`) twice a second while the watch view is open,
-// and at once after a search or a choice; the server sends one page of it, never the
-// whole crowd. Hidden when the run watched is not a crowd.
+// The list is asked for (`GET /api/agents`) at each `hello`, then twice a second while a
+// crowd is watched and the view is open, and at once after a search or a choice; the server
+// sends one page of it, never the whole crowd. Hidden when the run watched is not a crowd.
 
 import * as api from "./api.js";
 
@@ -124,8 +124,10 @@ export function mountAgents(side) {
     api.post("/api/agents/together", { together: e.target.checked }).then(refresh, () => refresh());
   });
 
+  // Only while a crowd is watched and the view shown; a run that is not a crowd is asked
+  // again at its next `hello` (watch.js), which a crowd's first agent sends.
   setInterval(() => {
-    if (!panel.closest("[hidden]") || panel.hidden) refresh();
+    if (!panel.hidden && !panel.closest("[hidden]")) refresh();
   }, POLL_MS);
   refresh();
   return { refresh };
