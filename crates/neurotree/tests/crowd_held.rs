@@ -216,6 +216,10 @@ fn membership_changes_with_each_join_and_leave_and_slots_name_members() {
     assert_eq!(crowd.id_at(a.slot()), Some(c));
     assert_ne!(c, a);
     assert!(!crowd.hold(a));
+    // A held member that leaves is no longer held.
+    assert!(crowd.hold(b));
+    crowd.remove(b).unwrap();
+    assert!(!crowd.is_held(b));
     assert!(crowd.set_observer(a, None).is_none());
 }
 

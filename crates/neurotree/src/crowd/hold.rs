@@ -49,7 +49,8 @@ impl<C: Send> Crowd<C> {
 
     /// `true` while member `id` is held ([`hold`](Self::hold)).
     pub fn is_held(&self, id: MemberId) -> bool {
-        self.held.ids.contains(&id)
+        // A member that left is forgotten at the next frame; it is not held meanwhile.
+        self.held.ids.contains(&id) && self.get(id).is_some()
     }
 
     /// Puts the held members back to sleep if anything woke them, and forgets those that
