@@ -12,6 +12,10 @@
 //! every tenth of the run, how many villagers eat, sleep and work and how many trees were
 //! ticked, and at the end the villagers ticked per frame; `--reactive` senses through a
 //! ReactiveSequence instead, which keeps every tree awake, to compare.
+//!
+//! `--studio PORT` (0: a free port) serves the studio on the villagers instead, and runs in
+//! real time until it is killed: it prints `studio: http://127.0.0.1:PORT/`, whose page
+//! lists the villagers by entity and watches the first (click another to watch it).
 
 use std::sync::Arc;
 use std::time::Duration;
@@ -21,7 +25,9 @@ use bevy_ecs::prelude::*;
 use bevy_ecs::query::QueryItem;
 use neurotree::prelude::*;
 use neurotree::{Action, Handle, StatefulAction, UtilityBuilder};
-use neurotree_bevy::{AgentContext, AgentCrowd, AwakeAgents, NeuroTreePlugin, TreeAgent};
+use neurotree_bevy::{
+    AgentContext, AgentCrowd, AwakeAgents, NeuroTreePlugin, TreeAgent, TreeStudio,
+};
 
 /// A villager's needs, 0 (met) to 1 (urgent).
 #[derive(Component, Clone, Copy, PartialEq)]
@@ -170,22 +176,29 @@ fn needs_tree(service: bool) -> Arc<Blueprint<Villager>> {
     b.build_shared().expect("the needs tree is valid")
 }
 
-fn arg(name: &str, default: usize) -> usize {
+fn arg(name: &str) -> Option<usize> {
     let args: Vec<String> = std::env::args().collect();
     args.iter()
         .position(|a| a == name)
         .and_then(|i| args.get(i + 1))
         .and_then(|v| v.parse().ok())
-        .unwrap_or(default)
 }
 
 fn main() {
-    let agents = arg("--agents", 1000);
-    let frames = arg("--frames", 300);
+    let agents = arg("--agents").unwrap_or(1000);
+    let frames = arg("--frames").unwrap_or(300);
+    let studio = arg("--studio").and_then(|p| u16::try_from(p).ok());
     let service = !std::env::args().any(|a| a == "--reactive");
     let tree = needs_tree(service);
     let mut app = App::new();
-    app.add_plugins(NeuroTreePlugin::new(Registry::<Villager>::new()));
+    let plugin = NeuroTreePlugin::new(Registry::<Villager>::new());
+    match studio {
+        // In real time: the trees' clock follows Bevy's virtual time.
+        Some(port) => app
+            .add_plugins(bevy_time::TimePlugin)
+            .add_plugins(plugin.with_studio(port, "village")),
+        None => app.add_plugins(plugin),
+    };
     for i in 0..agents {
         // Needs spread over the village, so that all three activities go on at once.
         let needs = Needs {
@@ -207,6 +220,9 @@ fn main() {
         .set_report_finished(false);
     app.finish();
     app.cleanup();
+    if studio.is_some() {
+        watched(app);
+    }
     let every = (frames / 10).max(1);
     let mut ticked = 0;
     for frame in 0..frames {
@@ -245,4 +261,25 @@ fn main() {
         },
         ticked as f64 / frames.max(1) as f64
     );
+}
+
+/// Runs the village at 60 frames a second until the process is killed, its studio's address
+/// printed after the first frame (which chose the villager the page opens on).
+fn watched(mut app: App) -> ! {
+    app.update();
+    match app.world().get_resource::<TreeStudio<Villager>>() {
+        Some(studio) => println!("studio: {}", studio.url()),
+        None => {
+            eprintln!("village: the studio did not start");
+            std::process::exit(1);
+        }
+    }
+    let frame = Duration::from_secs(1) / 60;
+    loop {
+        let started = std::time::Instant::now();
+        app.update();
+        if let Some(rest) = frame.checked_sub(started.elapsed()) {
+            std::thread::sleep(rest);
+        }
+    }
 }

@@ -45,6 +45,8 @@ pub struct AgentCrowd<C: Send> {
     pub(crate) summaries: bool,
     /// The pool frames without a budget run on; `None`: Bevy's compute task pool.
     pub(crate) pool: Option<Arc<ThreadPool>>,
+    /// The studio's page stood the whole crowd still: no frame runs.
+    pub(crate) stands_still: bool,
 }
 
 impl<C: AgentContext> AgentCrowd<C> {
@@ -64,6 +66,7 @@ impl<C: AgentContext> AgentCrowd<C> {
             report_finished: true,
             summaries: cfg!(debug_assertions),
             pool,
+            stands_still: false,
         }
     }
 
@@ -148,6 +151,9 @@ impl<C: AgentContext> AgentCrowd<C> {
     /// Before a frame: `false` if none is to run (the virtual time is paused); else sets
     /// the clock to the virtual time, if it follows it.
     pub(crate) fn start_frame(&mut self, virtual_time: Option<(Duration, bool)>) -> bool {
+        if self.stands_still {
+            return false;
+        }
         match virtual_time {
             Some((_, true)) => false,
             Some((elapsed, false)) => {

@@ -87,6 +87,8 @@ mod context;
 mod crowd;
 mod events;
 mod plugin;
+#[cfg(feature = "studio")]
+mod studio;
 mod systems;
 
 pub use agent::{AgentSummary, TreeAgent};
@@ -96,3 +98,5 @@ pub use context::AgentContext;
 pub use crowd::AgentCrowd;
 pub use events::{FailureReason, TreeFailed, TreeFinished, TreeReloaded};
 pub use plugin::{task_pools, NeuroTreePlugin, TreeSystems};
+#[cfg(feature = "studio")]
+pub use studio::TreeStudio;

@@ -56,6 +56,9 @@ pub struct NeuroTreePlugin<C> {
     schedule: InternedScheduleLabel,
     /// The systems that wake agents, added with the others.
     wakes: Vec<AddWake>,
+    /// The studio's port and the crowd's name there.
+    #[cfg(feature = "studio")]
+    studio: Option<(u16, String)>,
     _context: PhantomData<fn(C)>,
 }
 
@@ -75,8 +78,24 @@ impl<C: AgentContext> NeuroTreePlugin<C> {
             step: None,
             schedule: Update.intern(),
             wakes: Vec::new(),
+            #[cfg(feature = "studio")]
+            studio: None,
             _context: PhantomData,
         }
+    }
+
+    /// Serves the studio on 127.0.0.1:`port` (0: a free port) when the plugin is added:
+    /// a browser page that lists the agents by entity and watches one at a time (the first
+    /// until another is chosen), with its statuses, blackboard, Utility scores and why it
+    /// is awake; a pause or a breakpoint holds that agent alone while the rest of the crowd
+    /// runs on, or the whole crowd, as the page chooses. The [`TreeStudio`](crate::TreeStudio)
+    /// resource says where the page is. Unwatched agents cost nothing. A port that cannot
+    /// be listened on is reported on standard error, and the app runs without the studio.
+    /// (Feature `studio`, on by default.)
+    #[cfg(feature = "studio")]
+    pub fn with_studio(mut self, port: u16, name: &str) -> Self {
+        self.studio = Some((port, name.to_string()));
+        self
     }
 
     /// Runs frames on a pool of `threads` threads of its own (0: rayon's default,
@@ -200,6 +219,23 @@ where
             .add_observer(systems::leave::<C>);
         for add in &self.wakes {
             add(app, self.schedule);
+        }
+        #[cfg(feature = "studio")]
+        if let Some((port, name)) = &self.studio {
+            match crate::studio::TreeStudio::<C>::serve(*port, name) {
+                Ok(studio) => {
+                    app.insert_resource(studio).add_systems(
+                        self.schedule,
+                        (
+                            crate::studio::before::<C>
+                                .after(TreeSystems::Wake)
+                                .before(TreeSystems::Tick),
+                            crate::studio::after::<C>.after(TreeSystems::Tick),
+                        ),
+                    );
+                }
+                Err(e) => eprintln!("neurotree: {e}"),
+            }
         }
         if app.world().contains_resource::<AssetServer>() {
             app.init_asset::<TreeAsset<C>>()

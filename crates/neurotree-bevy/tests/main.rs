@@ -2,5 +2,7 @@
 //! module of it.
 
 mod example_crowd;
+mod example_village_studio;
 mod plugin;
 mod readme;
+mod studio;

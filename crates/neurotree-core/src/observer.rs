@@ -57,6 +57,14 @@ pub trait Observer: Send {
     /// live view shows on the node. Called only where a node reports one
     /// ([`NodeCtx::report_child_score`](crate::NodeCtx::report_child_score)).
     fn on_node_score(&mut self, _node: NodeId, _score: f64) {}
+
+    /// `false` (the default): the tree it watches never [sleeps](crate::tree::sleep), so
+    /// that it sees every tick. `true` for an observer content to see the passes alone,
+    /// and the tree as it stands between them (a live view of one agent of a crowd): the
+    /// tree then sleeps as it would unobserved.
+    fn lets_tree_sleep(&self) -> bool {
+        false
+    }
 }
 
 /// Two observers side by side: both see every event, the first one first.
@@ -88,6 +96,9 @@ impl<A: Observer, B: Observer> Observer for (A, B) {
     fn on_node_score(&mut self, node: NodeId, score: f64) {
         self.0.on_node_score(node, score);
         self.1.on_node_score(node, score);
+    }
+    fn lets_tree_sleep(&self) -> bool {
+        self.0.lets_tree_sleep() && self.1.lets_tree_sleep()
     }
 }
 
@@ -127,5 +138,8 @@ impl Observer for alloc::vec::Vec<alloc::boxed::Box<dyn Observer>> {
         for o in self.iter_mut() {
             o.on_node_score(node, score);
         }
+    }
+    fn lets_tree_sleep(&self) -> bool {
+        self.iter().all(|o| o.lets_tree_sleep())
     }
 }

@@ -3,9 +3,11 @@
 # for those that need clicks), on the page as it is
 # now: docs/images/studio-rewind-scene.png and studio-nav2-watch.png (`neurotree demo
 # --studio`), studio-tree1111-folded.png (the editor on tree1111), and this folder's
-# studio-edit.png, studio-watch.png and studio-replay.png. Each but the rewind picture and
-# tree1111's is taken after "panels" and "fit" (fit_shot.py). Run from the repository root
-# with Debian's `chromium` and `chromedriver`; it builds the `neurotree` binary first.
+# studio-edit.png, studio-watch.png and studio-replay.png; docs/images/studio-crowd-agent.png
+# (one villager of the Bevy village example's `--studio`). Each but the rewind picture,
+# tree1111's and the villager's is taken after "panels" and "fit" (fit_shot.py). Run from the
+# repository root with Debian's `chromium` and `chromedriver`; it builds the `neurotree`
+# binary and the example first.
 set -eu
 cargo build --quiet -p neurotree-cli
 neurotree=${CARGO_TARGET_DIR:-target}/debug/neurotree
@@ -56,6 +58,20 @@ fitshot() {
 python3 "$here/rewind_shot.py" "$neurotree" "$images/studio-rewind-scene.png"
 serve demo --studio 0 --speed 1 --max-ticks 100000
 fitshot "${url}#view=watch" watch "$here/studio-watch.png"
+stop
+
+# One villager of the Bevy village example's thousand, watched.
+cargo build --quiet -p neurotree-bevy --example village
+: > "$log"
+"${CARGO_TARGET_DIR:-target}/debug/examples/village" --studio 0 >"$log" 2>/dev/null &
+server=$!
+for _ in $(seq 100); do
+  url=$(sed -n 's/^studio: \(http[^ ]*\).*/\1/p' "$log" | head -n 1)
+  [ -n "$url" ] && break
+  sleep 0.2
+done
+sleep 2
+shot "$url" "$images/studio-crowd-agent.png"
 stop
 
 # The navigator alone, two ticks into a dry run, following its path (the run lingers).

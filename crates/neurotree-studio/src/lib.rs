@@ -8,7 +8,8 @@
 //! - **watch** a running tree: statuses live, the blackboards (editable between ticks), the
 //!   failure chain, breakpoints, pause, step and continue; back and forth through the
 //!   last few hundred ticks, and a fork from any of them; the world the tree acts on drawn
-//!   beside it (a [`World`]'s [scene](neurotree_toolkit::scene));
+//!   beside it (a [`World`]'s [scene](neurotree_toolkit::scene)); or one agent of a crowd
+//!   at a time, the others running on ([`Studio::watch_crowd`], [`Agents`]);
 //! - **replay** a recorded run (`--jsonl`, `.btlog`, SQLite log) on a timeline.
 //!
 //! Every view draws the tree with the boxes of `neurotree show --format svg` (ports under
@@ -71,7 +72,10 @@ pub use palette::palette;
 pub use replay::{Replay, ReplayError, Step};
 pub use server::RegistryFactory;
 pub use view::{NodeView, TreeView};
-pub use watch::{Forced, StudioObserver, Watch, World, DEFAULT_REWIND_WINDOW, MAX_SCENE_BYTES};
+pub use watch::{
+    AgentEntry, Agents, CrowdWatch, Forced, StudioObserver, Watch, World, DEFAULT_REWIND_WINDOW,
+    MAX_AGENTS_PAGE, MAX_SCENE_BYTES,
+};
 pub use workspace::{FileEntry, FileKind, PathError, Workspace};
 
 /// How to serve the studio.
@@ -271,6 +275,14 @@ impl Studio {
         let (observer, watch) = self.attach(tree, name);
         tree.set_observer(observer);
         watch
+    }
+
+    /// Shows the agents of a crowd to the pages, which watch one of them at a time (the
+    /// first until a page chooses another); `name` names the crowd (its tree file, say).
+    /// Call the [`CrowdWatch`] around each frame. Watch one crowd, or one tree
+    /// ([`attach`](Self::attach)), per studio.
+    pub fn watch_crowd(&self, name: &str) -> CrowdWatch {
+        CrowdWatch::new(Arc::clone(&self.hub), name)
     }
 
     /// Messages refused from pages (malformed, oversized, flooding, foreign origin).

@@ -66,6 +66,9 @@ pub(crate) fn router(shared: Arc<Shared>) -> Router {
         .route("/api/replay", get(replay_of))
         .route("/api/coverage", get(coverage))
         .route("/api/stats", get(stats))
+        .route("/api/agents", get(crate::watch::agents_page))
+        .route("/api/agents/watch", post(crate::watch::choose_agent))
+        .route("/api/agents/together", post(crate::watch::agents_together))
         .route("/ws", get(ws))
         .layer(middleware::from_fn_with_state(Arc::clone(&shared), guard));
     Router::new()
@@ -176,7 +179,7 @@ async fn session(State(shared): App) -> Json<Value> {
     Json(json!({
         "version": env!("CARGO_PKG_VERSION"),
         "open": shared.open,
-        "watch": shared.hub.lock().run.is_some(),
+        "watch": shared.hub.lock().run.is_some() || shared.hub.desk.is_active(),
         "token": shared.token.is_some(),
     }))
 }

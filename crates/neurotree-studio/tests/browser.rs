@@ -266,6 +266,9 @@ mod failure;
 /// Rewind and the scene panel.
 mod browser_rewind;
 
+/// One agent of a crowd watched.
+#[path = "browser/agents.rs"]
+mod agents;
 /// Results forced by hand.
 #[path = "browser/force.rs"]
 mod force;

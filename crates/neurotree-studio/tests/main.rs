@@ -4,5 +4,6 @@
 
 mod common;
 
+mod agents;
 mod api;
 mod watch;

@@ -16,6 +16,7 @@ import * as api from "./api.js";
 import { TreeDrawing, drawingToolbar, nodesOfTreeView } from "./tree.js";
 import { SceneView } from "./scene.js";
 import { ForcePanel } from "./force.js";
+import { mountAgents } from "./agents.js";
 
 export function mountWatch(section, app) {
   const state = {
@@ -76,6 +77,8 @@ export function mountWatch(section, app) {
     nodes: () => state.tree?.nodes || [],
     changed: () => renderSelected(),
   });
+  // A crowd's agents, when the run is one (agents.js).
+  const agents = mountAgents($(".watch-side"));
   const tickEl = $("[data-tick]");
   const shown = [];
   let socket = null;
@@ -177,6 +180,7 @@ export function mountWatch(section, app) {
       return;
     }
     $(".run-name").textContent = msg.run.name || "";
+    agents.refresh();
     const signature = msg.tree.nodes.map((n) => n.path).join("\n");
     const same = state.tree && state.signature === signature;
     state.tree = msg.tree;

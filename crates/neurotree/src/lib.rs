@@ -162,6 +162,8 @@ pub use neurotree_studio as studio;
 
 #[cfg(feature = "crowd")]
 pub mod crowd;
+#[cfg(all(feature = "crowd", feature = "studio"))]
+pub mod crowd_studio;
 mod guide;
 mod readme;
 

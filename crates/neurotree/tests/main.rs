@@ -2,6 +2,7 @@
 //! of it.
 
 mod crowd;
+mod crowd_held;
 mod crowd_sleeping;
 mod example_drone_mission;
 mod example_navigation_recovery;

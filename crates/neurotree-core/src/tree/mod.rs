@@ -228,6 +228,12 @@ impl<C> Tree<C> {
         self.observer.replace(Box::new(observer))
     }
 
+    /// Attaches an observer already boxed (one given back by [`set_observer`](Self::set_observer)
+    /// or [`take_observer`](Self::take_observer), say), returning the one it replaces.
+    pub fn set_boxed_observer(&mut self, observer: Box<dyn Observer>) -> Option<Box<dyn Observer>> {
+        self.observer.replace(observer)
+    }
+
     /// Detaches the observer.
     pub fn take_observer(&mut self) -> Option<Box<dyn Observer>> {
         self.observer.take()

@@ -11,8 +11,9 @@
 //!
 //! - every stateful action that returned Running in the pass declared what it waits on;
 //! - no async action returned Running, and every custom node ticked declared;
-//! - no node asked for another pass, no halt waits for a slow halt, no observer is
-//!   attached, and the pass wrote nothing to the blackboard;
+//! - no node asked for another pass, no halt waits for a slow halt, no observer that
+//!   sees every tick is attached
+//!   ([`Observer::lets_tree_sleep`](crate::Observer::lets_tree_sleep)), and the pass wrote nothing to the blackboard;
 //! - every child a Running ReactiveSequence, ReactiveFallback or WhileDoElse re-checks
 //!   reads only what wakes the tree: a condition whose kind reads only the blackboard
 //!   ([`Condition::reads_only_blackboard`](crate::Condition::reads_only_blackboard), the
@@ -29,7 +30,7 @@
 //! [`tick_exactly_once`](crate::Tree::tick_exactly_once) return Running at once, without a
 //! pass, until it wakes: the clock reaches the earliest deadline declared, the blackboard is
 //! written (any entry: the tree does not tell entries apart), its [`WakeHandle`] or
-//! [`WakeSignal`] fires, a halt is requested, an observer is attached,
+//! [`WakeSignal`] fires, a halt is requested, an observer that sees every tick is attached,
 //! or the tree is halted, reloaded or restored. Since a sleeping tree skips only passes
 //! whose result would have been the same, statuses, halts and the blackboard are those of
 //! a tree ticked every frame; only the calls of the waiting leaves are saved.
@@ -274,7 +275,7 @@ impl<C> Tree<C> {
             Some(a) => {
                 duration_to_nanos(self.clock.now()) >= a.until
                     || self.blackboard.writes() != a.writes
-                    || self.observer.is_some()
+                    || self.keeps_awake_observer()
                     || self.wake.as_ref().is_some_and(|w| w.signal.is_woken())
             }
         }
@@ -292,6 +293,13 @@ impl<C> Tree<C> {
             return false;
         }
         true
+    }
+
+    /// `true` with an observer attached that sees every tick (most do: see
+    /// [`Observer::lets_tree_sleep`](crate::Observer::lets_tree_sleep)).
+    #[inline]
+    pub(crate) fn keeps_awake_observer(&self) -> bool {
+        self.observer.as_ref().is_some_and(|o| !o.lets_tree_sleep())
     }
 
     /// Wakes the tree if it sleeps: its next tick is a pass, whatever its nodes wait on.
@@ -315,7 +323,7 @@ impl<C> Tree<C> {
         let sleeps = !waits.awake
             && waits.any
             && self.sleep_allowed
-            && self.observer.is_none()
+            && !self.keeps_awake_observer()
             && self.out.halts.count == 0
             && self.out.is_quiet()
             && self.blackboard.writes() == writes;

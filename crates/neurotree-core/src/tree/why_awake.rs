@@ -155,7 +155,7 @@ impl<C> Tree<C> {
         if !self.sleep_allowed {
             return Some((AwakeReason::SleepOff, NodeId::ROOT));
         }
-        if self.observer.is_some() {
+        if self.keeps_awake_observer() {
             return Some((AwakeReason::Observed, NodeId::ROOT));
         }
         let waits = &self.out.waits;

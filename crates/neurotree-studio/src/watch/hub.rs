@@ -125,6 +125,9 @@ pub(crate) struct Inner {
     /// again and the edit applies (PROTOCOL.md, "edits").
     pub refused_edits: (u64, Vec<RefusedEdit>),
     pause_requested: bool,
+    /// A breakpoint met in a tick that did not wait there ([`Hub::defer_breaks`]): the run
+    /// stands still after the tick.
+    pub(super) broke: Option<Paused>,
     /// Stops between ticks to pass before a step pauses: 1 from a pause between ticks
     /// (tick once), 2 from a breakpoint inside a tick (finish it, tick the next).
     steps_owed: u8,
@@ -147,6 +150,7 @@ impl Default for Inner {
             refusal: (0, String::new()),
             refused_edits: (0, Vec::new()),
             pause_requested: false,
+            broke: None,
             steps_owed: 0,
             requests: Vec::new(),
         }
@@ -164,6 +168,11 @@ pub(crate) struct Hub {
     refused: AtomicU64,
     /// The results pages forced on nodes ([`super::force`]).
     pub(crate) forces: super::force::Forces,
+    /// A breakpoint does not hold the tick but stands the run still after it (a crowd's
+    /// frame, which the other members' ticks share, is not held for one member).
+    pub(super) defer_breaks: AtomicBool,
+    /// The crowd whose agents the pages list, if one is watched.
+    pub(crate) desk: super::agents::Desk,
 }
 
 impl Hub {
@@ -176,6 +185,8 @@ impl Hub {
             armed: AtomicBool::new(false),
             refused: AtomicU64::new(0),
             forces: Default::default(),
+            defer_breaks: AtomicBool::new(false),
+            desk: Default::default(),
         })
     }
 
@@ -295,6 +306,7 @@ impl Hub {
         StudioObserver {
             hub: Arc::clone(self),
             cell,
+            broke: false,
         }
     }
 
@@ -304,7 +316,7 @@ impl Hub {
     }
 
     /// Publishes the blackboards and the failure chain, if a page is attached to read them.
-    pub fn publish<C>(&self, tree: &mut Tree<C>) {
+    pub fn publish<C>(&self, tree: &Tree<C>) {
         if self.pages() == 0 {
             return;
         }
@@ -346,21 +358,7 @@ impl Hub {
     ) {
         self.apply_edits(tree);
         self.publish(tree);
-        let why = {
-            let mut inner = self.lock();
-            if self.pages() == 0 {
-                return;
-            }
-            if inner.steps_owed > 0 {
-                inner.steps_owed -= 1;
-                (inner.steps_owed == 0).then_some("step")
-            } else if inner.pause_requested {
-                Some("pause")
-            } else {
-                None
-            }
-        };
-        if let Some(why) = why {
+        if let Some(why) = self.stop_reason() {
             // Told only when the run stands still, where pages use it: not a message every
             // tick.
             self.set_rewind(rewind);
@@ -383,9 +381,26 @@ impl Hub {
         }
     }
 
+    /// Why the run is to stop before its next tick (a step done, a pause asked for), if it
+    /// is; counts a step's tick.
+    pub(super) fn stop_reason(&self) -> Option<&'static str> {
+        let mut inner = self.lock();
+        if self.pages() == 0 {
+            return None;
+        }
+        if inner.steps_owed > 0 {
+            inner.steps_owed -= 1;
+            (inner.steps_owed == 0).then_some("step")
+        } else if inner.pause_requested {
+            Some("pause")
+        } else {
+            None
+        }
+    }
+
     /// Edits made while the run went on; a travel asked for then (the page saw the run
     /// paused, and it went on since) is dropped.
-    fn apply_edits<C>(&self, tree: &mut Tree<C>) {
+    pub fn apply_edits<C>(&self, tree: &mut Tree<C>) {
         let requests = std::mem::take(&mut self.lock().requests);
         for r in &requests {
             if let Request::Edit(e) = r {
@@ -465,7 +480,8 @@ impl Hub {
     /// met on the way ends the step there); a running one stops after its tick.
     pub fn step(&self) {
         let mut inner = self.lock();
-        let inside_a_tick = inner.paused.as_ref().is_some_and(|p| p.why == "breakpoint");
+        let inside_a_tick = inner.paused.as_ref().is_some_and(|p| p.why == "breakpoint")
+            && !self.defer_breaks.load(Ordering::Acquire);
         inner.steps_owed = if inside_a_tick { 2 } else { 1 };
         inner.pause_requested = true;
         inner.paused = None;
@@ -532,6 +548,9 @@ impl Hub {
 pub struct StudioObserver {
     hub: Arc<Hub>,
     cell: Arc<RunCell>,
+    /// A deferred breakpoint was met in this tick: the statuses shown stay as they were
+    /// there.
+    broke: bool,
 }
 
 impl std::fmt::Debug for StudioObserver {
@@ -541,8 +560,8 @@ impl std::fmt::Debug for StudioObserver {
 }
 
 impl StudioObserver {
-    fn breakpoint(&self, node: NodeId, byte: u8, status: Option<NodeStatus>) {
-        if !self.hub.armed.load(Ordering::Acquire) {
+    fn breakpoint(&mut self, node: NodeId, byte: u8, status: Option<NodeStatus>) {
+        if self.broke || !self.hub.armed.load(Ordering::Acquire) {
             return;
         }
         let Some(bp) = self.cell.breakpoints.get(node.index()) else {
@@ -553,14 +572,17 @@ impl StudioObserver {
             // ticks.
             self.cell.publish_shown();
             self.hub.bump();
-            self.hub.hold(
-                Paused {
-                    why: "breakpoint",
-                    node: Some(node.0),
-                    status: status.map(status_name),
-                },
-                None,
-            );
+            let paused = Paused {
+                why: "breakpoint",
+                node: Some(node.0),
+                status: status.map(status_name),
+            };
+            if self.hub.defer_breaks.load(Ordering::Acquire) {
+                self.broke = true;
+                self.hub.lock().broke = Some(paused);
+                return;
+            }
+            self.hub.hold(paused, None);
         }
     }
 }
@@ -574,6 +596,7 @@ impl Observer for StudioObserver {
             }
         }
         self.cell.tick.fetch_add(1, Ordering::Release);
+        self.broke = false;
         if self.hub.armed.load(Ordering::Acquire) {
             for t in &*self.cell.touched {
                 t.store(NodeStatus::Idle as u8, Ordering::Relaxed);
@@ -599,13 +622,19 @@ impl Observer for StudioObserver {
     }
 
     fn on_tick_end(&mut self, _status: NodeStatus, _now: Duration) {
-        if self.hub.armed.load(Ordering::Acquire) {
+        if self.hub.armed.load(Ordering::Acquire) && !self.broke {
             self.cell.publish_shown();
         }
         self.hub.bump();
     }
 
     fn on_failure_reason(&mut self, _node: NodeId, _reason: &Reason) {}
+
+    /// A crowd's agent ([`CrowdWatch`](crate::CrowdWatch)) sleeps as it would unwatched; a
+    /// tree ticked on its own is shown every tick.
+    fn lets_tree_sleep(&self) -> bool {
+        self.hub.defer_breaks.load(Ordering::Relaxed)
+    }
 
     fn on_node_score(&mut self, node: NodeId, score: f64) {
         if let Some(s) = self.cell.scores.get(node.index()) {

@@ -11,10 +11,12 @@
 //! goes back and forth through the kept ticks, and a step or continue from a past tick
 //! forks the run there. What the tree acts on is kept and drawn by the run's [`World`].
 
+mod agents;
 mod force;
 mod hub;
 mod page;
 mod rewind;
+mod standing;
 mod travel;
 mod values;
 
@@ -23,6 +25,10 @@ use std::sync::Arc;
 use neurotree_core::{NodeId, Status, Tree};
 use neurotree_toolkit::scene::Scene;
 
+pub(crate) use agents::{
+    agents as agents_page, choose as choose_agent, together as agents_together,
+};
+pub use agents::{AgentEntry, Agents, CrowdWatch, MAX_AGENTS_PAGE};
 pub use force::Forced;
 pub(crate) use hub::Hub;
 pub use hub::StudioObserver;

@@ -87,6 +87,7 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+mod hold;
 mod in_place;
 mod member;
 mod schedule;
@@ -141,6 +142,8 @@ pub struct Crowd<C> {
     awake: sleep::Awake,
     /// When sleeping members wake on their own.
     timers: sleep::Timers,
+    /// Members no frame ticks until released ([`Crowd::hold`]).
+    held: hold::Held,
 }
 
 /// What one frame did.
@@ -205,6 +208,7 @@ impl<C: Send> Crowd<C> {
             waker: CrowdWaker::default(),
             awake: sleep::Awake::default(),
             timers: sleep::Timers::default(),
+            held: hold::Held::default(),
         }
     }
 

@@ -348,7 +348,8 @@ impl<C: Send> Crowd<C> {
         if timers.fallen.len() < chunks {
             timers.fallen.resize_with(chunks, Vec::new);
         }
-        awake.sleeping() as u64
+        self.keep_held();
+        self.awake.sleeping() as u64
     }
 }
 
