@@ -228,6 +228,13 @@ impl Blackboard {
     }
 
     /// [`entry`](Self::entry), with the reason when there is none.
+    /// Asks the processor to start loading the blackboard's tables of entries (see
+    /// [`hint`](crate::hint)).
+    #[inline]
+    pub(crate) fn prefetch(&self) {
+        crate::hint::prefetch(self.entries.as_slice());
+    }
+
     fn entry_or_err(&self, scope: ScopeId, key: &str) -> Result<&Entry, BlackboardError> {
         self.entry(scope, key)
             .ok_or_else(|| self.missing(scope, key))

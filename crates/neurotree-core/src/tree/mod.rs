@@ -292,6 +292,19 @@ impl<C> Tree<C> {
         self.out.reserve();
     }
 
+    /// Asks the processor to start loading the node state a tick of this tree reads (its
+    /// statuses, slots, objects and blackboard's tables), for a runner that ticks many trees
+    /// and knows which comes next: see [`hint`](crate::hint). Changes nothing.
+    #[inline]
+    pub fn prefetch_state(&self) {
+        use crate::hint::prefetch;
+        prefetch(&*self.statuses);
+        prefetch(&*self.failed);
+        prefetch(&*self.aux);
+        prefetch(&*self.objects);
+        self.blackboard.prefetch();
+    }
+
     /// Bytes this instance keeps on the heap for node state (statuses, slots, object
     /// pointers, and the failure reasons' record once a node has given a reason), not
     /// counting the stateful leaves' own objects or blackboard entries.
