@@ -399,7 +399,7 @@ impl<C> Tree<C> {
         }
         if let Some(fault) = t.out.fault.take() {
             t.halt_node(NodeId::ROOT);
-            return Err(fault);
+            return Err(*fault);
         }
         let (wake, rested) = (t.wake, t.rested);
         if status == NodeStatus::Running && wake.is_none() {
