@@ -305,6 +305,14 @@ impl<C> Tree<C> {
         self.blackboard.prefetch();
     }
 
+    /// Asks the processor to start loading the blackboard entries of the tree's root scope,
+    /// whose address is among what [`prefetch_state`](Self::prefetch_state) loads: call it
+    /// a little later than that. Changes nothing.
+    #[inline]
+    pub fn prefetch_entries(&self) {
+        self.blackboard.prefetch_entries();
+    }
+
     /// Bytes this instance keeps on the heap for node state (statuses, slots, object
     /// pointers, and the failure reasons' record once a node has given a reason), not
     /// counting the stateful leaves' own objects or blackboard entries.

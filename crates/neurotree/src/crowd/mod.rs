@@ -621,6 +621,12 @@ impl<C: Send> Crowd<C> {
                             }
                             return true;
                         }
+                        sleep::Ahead::Next => {
+                            if let Some(body) = &bodies[i] {
+                                body.tree.prefetch_entries();
+                            }
+                            return true;
+                        }
                         sleep::Ahead::Tick => {}
                     }
                     let plan = &mut plans[i];

@@ -179,6 +179,9 @@ pub(super) enum Ahead {
     /// The member comes [`NEAR`] members later, its tree's bytes loaded by now: start
     /// loading the node state they point to.
     Near,
+    /// The member comes next: start loading its blackboard's entries, whose address came
+    /// in with its node state.
+    Next,
     /// Tick the member (if due): `false` when it fell asleep, which clears its bit.
     Tick,
 }
@@ -217,6 +220,9 @@ pub(super) fn for_each_awake_ahead(
         }
         if let Some(&near) = slots.get(k + NEAR) {
             visit(usize::from(near), Ahead::Near);
+        }
+        if let Some(&next) = slots.get(k + 1) {
+            visit(usize::from(next), Ahead::Next);
         }
         let i = usize::from(slot);
         if !visit(i, Ahead::Tick) {
