@@ -70,6 +70,7 @@ impl Entries {
         self.0.clear();
     }
 
+    #[cfg(test)]
     pub(super) fn len(&self) -> usize {
         self.0.len()
     }
