@@ -129,6 +129,9 @@ pub struct CrowdResult {
     pub frames: u32,
     /// Mean milliseconds per frame.
     pub ms_per_frame: f64,
+    /// The median frame's milliseconds: on a shared machine, less moved by the frames in
+    /// which another process held the core.
+    pub ms_per_frame_median: f64,
     /// Bytes per member: its slot in the crowd and its tree's node state.
     pub bytes_per_member: usize,
 }
@@ -138,6 +141,19 @@ impl CrowdResult {
     pub fn ns_per_member(&self) -> f64 {
         self.ms_per_frame * 1e6 / self.agents.max(1) as f64
     }
+
+    /// Nanoseconds the median frame spends per member.
+    pub fn ns_per_member_median(&self) -> f64 {
+        self.ms_per_frame_median * 1e6 / self.agents.max(1) as f64
+    }
+}
+
+/// The median of `times`, in milliseconds.
+fn median_ms(mut times: Vec<Duration>) -> f64 {
+    times.sort_unstable();
+    times
+        .get(times.len() / 2)
+        .map_or(0.0, |t| t.as_secs_f64() * 1e3)
 }
 
 /// Ticks tree1111 (`blueprint`, reported as `name`) for about a second (a fifth with
@@ -240,9 +256,12 @@ pub fn crowd_bench(opts: &BenchArgs) -> CrowdResult {
     for _ in 0..2 {
         frame();
     }
+    let mut times = Vec::with_capacity(frames as usize);
     let start = Instant::now();
     for _ in 0..frames {
+        let at = Instant::now();
         frame();
+        times.push(at.elapsed());
     }
     let elapsed = start.elapsed();
     CrowdResult {
@@ -250,6 +269,7 @@ pub fn crowd_bench(opts: &BenchArgs) -> CrowdResult {
         threads: crowd.threads(),
         frames,
         ms_per_frame: elapsed.as_secs_f64() * 1e3 / f64::from(frames),
+        ms_per_frame_median: median_ms(times),
         bytes_per_member: crowd_bytes_per_member(&crowd),
     }
 }
@@ -267,6 +287,8 @@ pub struct CrowdSleepingResult {
     pub awake_per_frame: f64,
     /// Mean milliseconds per frame, the alerts' writes included.
     pub ms_per_frame: f64,
+    /// The median frame's milliseconds, the alerts' writes included.
+    pub ms_per_frame_median: f64,
     /// Bytes per member: its slot in the crowd and its tree's node state.
     pub bytes_per_member: usize,
 }
@@ -276,6 +298,11 @@ impl CrowdSleepingResult {
     /// costs in a crowd that mostly sleeps, beside [`CrowdResult::ns_per_member`].
     pub fn ns_per_awake(&self) -> f64 {
         self.ms_per_frame * 1e6 / self.awake_per_frame.max(1.0)
+    }
+
+    /// Nanoseconds the median frame spends per member awake in it.
+    pub fn ns_per_awake_median(&self) -> f64 {
+        self.ms_per_frame_median * 1e6 / self.awake_per_frame.max(1.0)
     }
 
     /// Per cent of the members awake per frame.
@@ -312,9 +339,12 @@ pub fn crowd_sleeping_bench(opts: &BenchArgs, alert_percent: f64) -> CrowdSleepi
         frame(&mut crowd);
     }
     let mut ticked = 0;
+    let mut times = Vec::with_capacity(frames as usize);
     let start = Instant::now();
     for _ in 0..frames {
+        let at = Instant::now();
         ticked += frame(&mut crowd).ticked;
+        times.push(at.elapsed());
     }
     let elapsed = start.elapsed();
     CrowdSleepingResult {
@@ -323,6 +353,7 @@ pub fn crowd_sleeping_bench(opts: &BenchArgs, alert_percent: f64) -> CrowdSleepi
         alert_percent,
         awake_per_frame: ticked as f64 / f64::from(frames),
         ms_per_frame: elapsed.as_secs_f64() * 1e3 / f64::from(frames),
+        ms_per_frame_median: median_ms(times),
         bytes_per_member: crowd_bytes_per_member(&crowd),
     }
 }
@@ -515,7 +546,12 @@ fn crowd_awake_lines(
 ) -> io::Result<()> {
     for percent in AWAKE_PERCENTS {
         let s = crowd_sleeping_bench(opts, percent / AWAKE_FRAMES_PER_ALERT);
-        let ratio = crowd.map(|c| s.ns_per_awake() / c.ns_per_member());
+        let ratio = crowd.map(|c| {
+            (
+                s.ns_per_awake() / c.ns_per_member(),
+                s.ns_per_awake_median() / c.ns_per_member_median(),
+            )
+        });
         if opts.json {
             writeln!(out, "{}", crowd_awake_json(&s, ratio))?;
         } else {
@@ -529,8 +565,9 @@ fn crowd_awake_lines(
                 "ns per awake member",
                 format!("{:.1}", s.ns_per_awake()),
             )?;
-            if let Some(ratio) = ratio {
-                row(out, "", "/ crowd's per member", format!("{ratio:.2}"))?;
+            if let Some((mean, median)) = ratio {
+                row(out, "", "/ crowd's per member", format!("{mean:.2}"))?;
+                row(out, "", "the same, medians", format!("{median:.2}"))?;
             }
         }
         out.flush()?;
@@ -600,30 +637,38 @@ fn crowd_sleeping_json(s: &CrowdSleepingResult) -> String {
     )
 }
 
-fn crowd_awake_json(s: &CrowdSleepingResult, ratio: Option<f64>) -> String {
-    let ratio = ratio.map_or(String::new(), |r| format!(r#","awake_cost_ratio":{r:.2}"#));
+/// A `crowd_awake` line; `ratio`: its cost per awake member over the crowd's per member,
+/// from the means and from the medians.
+fn crowd_awake_json(s: &CrowdSleepingResult, ratio: Option<(f64, f64)>) -> String {
+    let ratio = ratio.map_or(String::new(), |(mean, median)| {
+        format!(r#","awake_cost_ratio":{mean:.2},"awake_cost_ratio_median":{median:.2}"#)
+    });
     format!(
-        r#"{{"name":"crowd_awake","agents":{},"threads":{},"alert_percent":{:.3},"awake_percent":{:.2},"awake_per_frame":{:.1},"ms_per_frame":{:.4},"ns_per_awake":{:.1},"bytes_per_member":{}{ratio}}}"#,
+        r#"{{"name":"crowd_awake","agents":{},"threads":{},"alert_percent":{:.3},"awake_percent":{:.2},"awake_per_frame":{:.1},"ms_per_frame":{:.4},"ms_per_frame_median":{:.4},"ns_per_awake":{:.1},"ns_per_awake_median":{:.1},"bytes_per_member":{}{ratio}}}"#,
         s.agents,
         s.threads,
         s.alert_percent,
         s.awake_percent(),
         s.awake_per_frame,
         s.ms_per_frame,
+        s.ms_per_frame_median,
         s.ns_per_awake(),
+        s.ns_per_awake_median(),
         s.bytes_per_member
     )
 }
 
 fn crowd_json(c: &CrowdResult) -> String {
     format!(
-        r#"{{"name":"crowd","agents":{},"threads":{},"ms_per_frame":{:.4},"frames":{},"bytes_per_member":{},"ns_per_member":{:.1}}}"#,
+        r#"{{"name":"crowd","agents":{},"threads":{},"ms_per_frame":{:.4},"frames":{},"bytes_per_member":{},"ns_per_member":{:.1},"ms_per_frame_median":{:.4},"ns_per_member_median":{:.1}}}"#,
         c.agents,
         c.threads,
         c.ms_per_frame,
         c.frames,
         c.bytes_per_member,
-        c.ns_per_member()
+        c.ns_per_member(),
+        c.ms_per_frame_median,
+        c.ns_per_member_median()
     )
 }
 
@@ -660,11 +705,12 @@ mod tests {
             threads: 2,
             frames: 20,
             ms_per_frame: 4.5,
+            ms_per_frame_median: 4.0,
             bytes_per_member: 600,
         };
         assert_eq!(
             crowd_json(&c),
-            r#"{"name":"crowd","agents":100000,"threads":2,"ms_per_frame":4.5000,"frames":20,"bytes_per_member":600,"ns_per_member":45.0}"#
+            r#"{"name":"crowd","agents":100000,"threads":2,"ms_per_frame":4.5000,"frames":20,"bytes_per_member":600,"ns_per_member":45.0,"ms_per_frame_median":4.0000,"ns_per_member_median":40.0}"#
         );
         let s = CrowdSleepingResult {
             agents: 100_000,
@@ -672,6 +718,7 @@ mod tests {
             alert_percent: 1.0,
             awake_per_frame: 1000.0,
             ms_per_frame: 0.25,
+            ms_per_frame_median: 0.2,
             bytes_per_member: 640,
         };
         assert_eq!(
@@ -679,8 +726,8 @@ mod tests {
             r#"{"name":"crowd_sleeping","agents":100000,"awake_per_frame":1000.0,"ms_per_frame":0.2500,"ns_per_awake":250.0,"bytes_per_member":640}"#
         );
         assert_eq!(
-            crowd_awake_json(&s, Some(250.0 / 45.0)),
-            r#"{"name":"crowd_awake","agents":100000,"threads":1,"alert_percent":1.000,"awake_percent":1.00,"awake_per_frame":1000.0,"ms_per_frame":0.2500,"ns_per_awake":250.0,"bytes_per_member":640,"awake_cost_ratio":5.56}"#
+            crowd_awake_json(&s, Some((250.0 / 45.0, 200.0 / 40.0))),
+            r#"{"name":"crowd_awake","agents":100000,"threads":1,"alert_percent":1.000,"awake_percent":1.00,"awake_per_frame":1000.0,"ms_per_frame":0.2500,"ms_per_frame_median":0.2000,"ns_per_awake":250.0,"ns_per_awake_median":200.0,"bytes_per_member":640,"awake_cost_ratio":5.56,"awake_cost_ratio_median":5.00}"#
         );
         let t = TickTimesResult {
             tree: "tree1111_xml",
