@@ -31,6 +31,7 @@ mod new_blackboard;
 mod objects;
 mod params;
 mod persist;
+mod prefetch;
 mod reload;
 mod rest;
 mod root;
@@ -290,27 +291,6 @@ impl<C> Tree<C> {
     /// bytes.
     pub fn reserve_failure_record(&mut self) {
         self.out.reserve();
-    }
-
-    /// Asks the processor to start loading the node state a tick of this tree reads (its
-    /// statuses, slots, objects and blackboard's tables), for a runner that ticks many trees
-    /// and knows which comes next: see [`hint`](crate::hint). Changes nothing.
-    #[inline]
-    pub fn prefetch_state(&self) {
-        use crate::hint::prefetch;
-        prefetch(&*self.statuses);
-        prefetch(&*self.failed);
-        prefetch(&*self.aux);
-        prefetch(&*self.objects);
-        self.blackboard.prefetch();
-    }
-
-    /// Asks the processor to start loading the blackboard entries of the tree's root scope,
-    /// whose address is among what [`prefetch_state`](Self::prefetch_state) loads: call it
-    /// a little later than that. Changes nothing.
-    #[inline]
-    pub fn prefetch_entries(&self) {
-        self.blackboard.prefetch_entries();
     }
 
     /// Bytes this instance keeps on the heap for node state (statuses, slots, object
