@@ -13,6 +13,10 @@
 //! - `crowd_sleeping`: the same agents behind a leaf that sleeps until an alert, 1% of them
 //!   alerted each frame (a blackboard write through the crowd): the members awake per
 //!   frame and milliseconds per frame, which follow the agents awake rather than the crowd.
+//! - `crowd_awake`: the sleeping crowd again with about 1 %, 3.7 % and 20 % of it awake in
+//!   each frame: nanoseconds per awake member, and their ratio to the `crowd` line's
+//!   nanoseconds per member (what an agent that acts costs in a crowd that mostly sleeps,
+//!   against one in a crowd all awake).
 //!
 //! - `tick_times`: each tick timed alone, at least 100,000 of them (10,000 with `--quick`), for tree1111 loaded from
 //!   XML and for Nav2's navigator driving the demo's simulated robot (one navigation after
@@ -56,7 +60,33 @@ pub struct BenchArgs {
     /// few frames).
     #[arg(long, default_value_t = 1.0)]
     pub alert_percent: f64,
+    /// Frames timed in the crowd benchmarks (default 20, 5 with `--quick`).
+    #[arg(long)]
+    pub frames: Option<u32>,
+    /// Runs only these benchmarks (comma-separated: tree1111, many_agents, crowd,
+    /// crowd_sleeping, crowd_awake, tick_times).
+    #[arg(long, value_delimiter = ',')]
+    pub only: Vec<String>,
 }
+
+impl BenchArgs {
+    /// `true` if benchmark `name` is to run.
+    fn runs(&self, name: &str) -> bool {
+        self.only.is_empty() || self.only.iter().any(|o| o == name)
+    }
+
+    /// Frames timed in the crowd benchmarks.
+    fn crowd_frames(&self) -> u32 {
+        self.frames.unwrap_or(if self.quick { 5 } else { 20 })
+    }
+}
+
+/// Frames an alerted sleepy agent stays awake, on average (its agent tree's Delay, Sleep and
+/// dodge): the sleeping crowd has this many times its alert rate awake.
+pub const AWAKE_FRAMES_PER_ALERT: f64 = 3.7137;
+
+/// The shares of the sleeping crowd awake per frame that `crowd_awake` measures, in per cent.
+pub const AWAKE_PERCENTS: [f64; 3] = [1.0, 3.7, 20.0];
 
 /// Result of the tree1111 benchmark.
 #[derive(Clone, Debug)]
@@ -99,6 +129,9 @@ pub struct CrowdResult {
     pub frames: u32,
     /// Mean milliseconds per frame.
     pub ms_per_frame: f64,
+    /// The median frame's milliseconds: on a shared machine, less moved by the frames in
+    /// which another process held the core.
+    pub ms_per_frame_median: f64,
     /// Bytes per member: its slot in the crowd and its tree's node state.
     pub bytes_per_member: usize,
 }
@@ -108,6 +141,19 @@ impl CrowdResult {
     pub fn ns_per_member(&self) -> f64 {
         self.ms_per_frame * 1e6 / self.agents.max(1) as f64
     }
+
+    /// Nanoseconds the median frame spends per member.
+    pub fn ns_per_member_median(&self) -> f64 {
+        self.ms_per_frame_median * 1e6 / self.agents.max(1) as f64
+    }
+}
+
+/// The median of `times`, in milliseconds.
+fn median_ms(mut times: Vec<Duration>) -> f64 {
+    times.sort_unstable();
+    times
+        .get(times.len() / 2)
+        .map_or(0.0, |t| t.as_secs_f64() * 1e3)
 }
 
 /// Ticks tree1111 (`blueprint`, reported as `name`) for about a second (a fifth with
@@ -200,7 +246,7 @@ pub fn many_agents_bench(opts: &BenchArgs) -> ManyAgentsResult {
 /// frame.
 pub fn crowd_bench(opts: &BenchArgs) -> CrowdResult {
     const FRAME: Duration = Duration::from_millis(16);
-    let frames = if opts.quick { 5 } else { 20 };
+    let frames = opts.crowd_frames();
     let clock = ManualClock::new();
     let mut crowd = agent_crowd(opts.agents, opts.threads, clock.clone());
     let mut frame = || {
@@ -210,9 +256,12 @@ pub fn crowd_bench(opts: &BenchArgs) -> CrowdResult {
     for _ in 0..2 {
         frame();
     }
+    let mut times = Vec::with_capacity(frames as usize);
     let start = Instant::now();
     for _ in 0..frames {
+        let at = Instant::now();
         frame();
+        times.push(at.elapsed());
     }
     let elapsed = start.elapsed();
     CrowdResult {
@@ -220,6 +269,7 @@ pub fn crowd_bench(opts: &BenchArgs) -> CrowdResult {
         threads: crowd.threads(),
         frames,
         ms_per_frame: elapsed.as_secs_f64() * 1e3 / f64::from(frames),
+        ms_per_frame_median: median_ms(times),
         bytes_per_member: crowd_bytes_per_member(&crowd),
     }
 }
@@ -229,10 +279,16 @@ pub fn crowd_bench(opts: &BenchArgs) -> CrowdResult {
 pub struct CrowdSleepingResult {
     /// Members.
     pub agents: usize,
+    /// Threads the frames ran on.
+    pub threads: usize,
+    /// Per cent of the crowd alerted before each frame.
+    pub alert_percent: f64,
     /// Members ticked per frame, on average over the frames timed.
     pub awake_per_frame: f64,
     /// Mean milliseconds per frame, the alerts' writes included.
     pub ms_per_frame: f64,
+    /// The median frame's milliseconds, the alerts' writes included.
+    pub ms_per_frame_median: f64,
     /// Bytes per member: its slot in the crowd and its tree's node state.
     pub bytes_per_member: usize,
 }
@@ -243,18 +299,28 @@ impl CrowdSleepingResult {
     pub fn ns_per_awake(&self) -> f64 {
         self.ms_per_frame * 1e6 / self.awake_per_frame.max(1.0)
     }
+
+    /// Nanoseconds the median frame spends per member awake in it.
+    pub fn ns_per_awake_median(&self) -> f64 {
+        self.ms_per_frame_median * 1e6 / self.awake_per_frame.max(1.0)
+    }
+
+    /// Per cent of the members awake per frame.
+    pub fn awake_percent(&self) -> f64 {
+        self.awake_per_frame * 100.0 / self.agents.max(1) as f64
+    }
 }
 
-/// Runs `opts.agents` sleepy agents as a crowd, alerting `opts.alert_percent` of them (at
+/// Runs `opts.agents` sleepy agents as a crowd, alerting `alert_percent` of them (at
 /// least one) before each frame, in turn: 20 frames (5 with `quick`) after ten warm-up frames in which all
 /// fall asleep, the clock advancing 16 ms per frame.
-pub fn crowd_sleeping_bench(opts: &BenchArgs) -> CrowdSleepingResult {
+pub fn crowd_sleeping_bench(opts: &BenchArgs, alert_percent: f64) -> CrowdSleepingResult {
     const FRAME: Duration = Duration::from_millis(16);
-    let frames: u32 = if opts.quick { 5 } else { 20 };
+    let frames = opts.crowd_frames();
     let clock = ManualClock::new();
     let mut crowd = sleepy_agent_crowd(opts.agents, opts.threads, clock.clone());
     let ids: Vec<_> = crowd.iter().map(|m| m.id()).collect();
-    let per_frame = ((ids.len() as f64 * opts.alert_percent / 100.0) as usize)
+    let per_frame = ((ids.len() as f64 * alert_percent / 100.0) as usize)
         .max(1)
         .min(ids.len());
     let mut next = 0;
@@ -273,15 +339,21 @@ pub fn crowd_sleeping_bench(opts: &BenchArgs) -> CrowdSleepingResult {
         frame(&mut crowd);
     }
     let mut ticked = 0;
+    let mut times = Vec::with_capacity(frames as usize);
     let start = Instant::now();
     for _ in 0..frames {
+        let at = Instant::now();
         ticked += frame(&mut crowd).ticked;
+        times.push(at.elapsed());
     }
     let elapsed = start.elapsed();
     CrowdSleepingResult {
         agents: opts.agents,
+        threads: crowd.threads(),
+        alert_percent,
         awake_per_frame: ticked as f64 / f64::from(frames),
         ms_per_frame: elapsed.as_secs_f64() * 1e3 / f64::from(frames),
+        ms_per_frame_median: median_ms(times),
         bytes_per_member: crowd_bytes_per_member(&crowd),
     }
 }
@@ -366,6 +438,9 @@ pub fn execute(opts: &BenchArgs, out: &mut impl Write) -> io::Result<Outcome> {
         writeln!(out, "{:<12} {:<20} {:>14}", "benchmark", "measure", "value")?;
     }
     for (name, blueprint) in [("tree1111", tree1111()), ("tree1111_xml", tree1111_xml())] {
+        if !opts.runs("tree1111") {
+            break;
+        }
         let t = tree1111_bench(opts, name, blueprint);
         if json {
             writeln!(out, "{}", tree1111_json(&t))?;
@@ -378,6 +453,27 @@ pub fn execute(opts: &BenchArgs, out: &mut impl Write) -> io::Result<Outcome> {
         }
         out.flush()?;
     }
+    if opts.runs("many_agents") {
+        many_agents_lines(opts, out)?;
+    }
+    let crowd = opts
+        .runs("crowd")
+        .then(|| crowd_lines(opts, out))
+        .transpose()?;
+    if opts.runs("crowd_sleeping") {
+        crowd_sleeping_lines(opts, out)?;
+    }
+    if opts.runs("crowd_awake") {
+        crowd_awake_lines(opts, crowd.as_ref(), out)?;
+    }
+    if opts.runs("tick_times") {
+        tick_times_lines(opts, out)?;
+    }
+    Ok(Outcome::Done)
+}
+
+fn many_agents_lines(opts: &BenchArgs, out: &mut impl Write) -> io::Result<()> {
+    let json = opts.json;
     let m = many_agents_bench(opts);
     if json {
         writeln!(out, "{}", many_agents_json(&m))?;
@@ -392,7 +488,11 @@ pub fn execute(opts: &BenchArgs, out: &mut impl Write) -> io::Result<Outcome> {
             m.bytes_per_instance.to_string(),
         )?;
     }
-    out.flush()?;
+    out.flush()
+}
+
+fn crowd_lines(opts: &BenchArgs, out: &mut impl Write) -> io::Result<CrowdResult> {
+    let json = opts.json;
     let c = crowd_bench(opts);
     if json {
         writeln!(out, "{}", crowd_json(&c))?;
@@ -410,7 +510,12 @@ pub fn execute(opts: &BenchArgs, out: &mut impl Write) -> io::Result<Outcome> {
         )?;
     }
     out.flush()?;
-    let s = crowd_sleeping_bench(opts);
+    Ok(c)
+}
+
+fn crowd_sleeping_lines(opts: &BenchArgs, out: &mut impl Write) -> io::Result<()> {
+    let json = opts.json;
+    let s = crowd_sleeping_bench(opts, opts.alert_percent);
     if json {
         writeln!(out, "{}", crowd_sleeping_json(&s))?;
     } else {
@@ -430,7 +535,48 @@ pub fn execute(opts: &BenchArgs, out: &mut impl Write) -> io::Result<Outcome> {
         )?;
         row(out, "", "bytes per member", s.bytes_per_member.to_string())?;
     }
-    out.flush()?;
+    out.flush()
+}
+
+/// The sleeping crowd at each of [`AWAKE_PERCENTS`], beside `crowd`'s line when it ran.
+fn crowd_awake_lines(
+    opts: &BenchArgs,
+    crowd: Option<&CrowdResult>,
+    out: &mut impl Write,
+) -> io::Result<()> {
+    for percent in AWAKE_PERCENTS {
+        let s = crowd_sleeping_bench(opts, percent / AWAKE_FRAMES_PER_ALERT);
+        let ratio = crowd.map(|c| {
+            (
+                s.ns_per_awake() / c.ns_per_member(),
+                s.ns_per_awake_median() / c.ns_per_member_median(),
+            )
+        });
+        if opts.json {
+            writeln!(out, "{}", crowd_awake_json(&s, ratio))?;
+        } else {
+            row(out, "crowd_awake", "agents", s.agents.to_string())?;
+            row(out, "", "threads", s.threads.to_string())?;
+            row(out, "", "awake %", format!("{:.2}", s.awake_percent()))?;
+            row(out, "", "ms per frame", format!("{:.3}", s.ms_per_frame))?;
+            row(
+                out,
+                "",
+                "ns per awake member",
+                format!("{:.1}", s.ns_per_awake()),
+            )?;
+            if let Some((mean, median)) = ratio {
+                row(out, "", "/ crowd's per member", format!("{mean:.2}"))?;
+                row(out, "", "the same, medians", format!("{median:.2}"))?;
+            }
+        }
+        out.flush()?;
+    }
+    Ok(())
+}
+
+fn tick_times_lines(opts: &BenchArgs, out: &mut impl Write) -> io::Result<()> {
+    let json = opts.json;
     let timed = if opts.quick {
         TIMED_TICKS / 10
     } else {
@@ -451,7 +597,7 @@ pub fn execute(opts: &BenchArgs, out: &mut impl Write) -> io::Result<Outcome> {
         }
         out.flush()?;
     }
-    Ok(Outcome::Done)
+    Ok(())
 }
 
 fn tick_times_json(t: &TickTimesResult) -> String {
@@ -491,15 +637,38 @@ fn crowd_sleeping_json(s: &CrowdSleepingResult) -> String {
     )
 }
 
+/// A `crowd_awake` line; `ratio`: its cost per awake member over the crowd's per member,
+/// from the means and from the medians.
+fn crowd_awake_json(s: &CrowdSleepingResult, ratio: Option<(f64, f64)>) -> String {
+    let ratio = ratio.map_or(String::new(), |(mean, median)| {
+        format!(r#","awake_cost_ratio":{mean:.2},"awake_cost_ratio_median":{median:.2}"#)
+    });
+    format!(
+        r#"{{"name":"crowd_awake","agents":{},"threads":{},"alert_percent":{:.3},"awake_percent":{:.2},"awake_per_frame":{:.1},"ms_per_frame":{:.4},"ms_per_frame_median":{:.4},"ns_per_awake":{:.1},"ns_per_awake_median":{:.1},"bytes_per_member":{}{ratio}}}"#,
+        s.agents,
+        s.threads,
+        s.alert_percent,
+        s.awake_percent(),
+        s.awake_per_frame,
+        s.ms_per_frame,
+        s.ms_per_frame_median,
+        s.ns_per_awake(),
+        s.ns_per_awake_median(),
+        s.bytes_per_member
+    )
+}
+
 fn crowd_json(c: &CrowdResult) -> String {
     format!(
-        r#"{{"name":"crowd","agents":{},"threads":{},"ms_per_frame":{:.4},"frames":{},"bytes_per_member":{},"ns_per_member":{:.1}}}"#,
+        r#"{{"name":"crowd","agents":{},"threads":{},"ms_per_frame":{:.4},"frames":{},"bytes_per_member":{},"ns_per_member":{:.1},"ms_per_frame_median":{:.4},"ns_per_member_median":{:.1}}}"#,
         c.agents,
         c.threads,
         c.ms_per_frame,
         c.frames,
         c.bytes_per_member,
-        c.ns_per_member()
+        c.ns_per_member(),
+        c.ms_per_frame_median,
+        c.ns_per_member_median()
     )
 }
 
@@ -536,21 +705,29 @@ mod tests {
             threads: 2,
             frames: 20,
             ms_per_frame: 4.5,
+            ms_per_frame_median: 4.0,
             bytes_per_member: 600,
         };
         assert_eq!(
             crowd_json(&c),
-            r#"{"name":"crowd","agents":100000,"threads":2,"ms_per_frame":4.5000,"frames":20,"bytes_per_member":600,"ns_per_member":45.0}"#
+            r#"{"name":"crowd","agents":100000,"threads":2,"ms_per_frame":4.5000,"frames":20,"bytes_per_member":600,"ns_per_member":45.0,"ms_per_frame_median":4.0000,"ns_per_member_median":40.0}"#
         );
         let s = CrowdSleepingResult {
             agents: 100_000,
+            threads: 1,
+            alert_percent: 1.0,
             awake_per_frame: 1000.0,
             ms_per_frame: 0.25,
+            ms_per_frame_median: 0.2,
             bytes_per_member: 640,
         };
         assert_eq!(
             crowd_sleeping_json(&s),
             r#"{"name":"crowd_sleeping","agents":100000,"awake_per_frame":1000.0,"ms_per_frame":0.2500,"ns_per_awake":250.0,"bytes_per_member":640}"#
+        );
+        assert_eq!(
+            crowd_awake_json(&s, Some((250.0 / 45.0, 200.0 / 40.0))),
+            r#"{"name":"crowd_awake","agents":100000,"threads":1,"alert_percent":1.000,"awake_percent":1.00,"awake_per_frame":1000.0,"ms_per_frame":0.2500,"ms_per_frame_median":0.2000,"ns_per_awake":250.0,"ns_per_awake_median":200.0,"bytes_per_member":640,"awake_cost_ratio":5.56,"awake_cost_ratio_median":5.00}"#
         );
         let t = TickTimesResult {
             tree: "tree1111_xml",

@@ -57,6 +57,7 @@ pub mod blackboard;
 pub mod blueprint;
 pub mod clock;
 mod error_debug;
+pub mod hint;
 mod macros;
 pub mod nodes;
 pub mod observer;

@@ -3,7 +3,7 @@
 
 use alloc::borrow::ToOwned;
 use alloc::boxed::Box;
-use alloc::string::{String, ToString};
+use alloc::string::String;
 use alloc::sync::Arc;
 use core::any::Any;
 use core::time::Duration;
@@ -189,7 +189,7 @@ impl Blackboard {
             return Err(JsonWriteError::NoSuchScope { scope: scope.0 });
         };
         let entries = entries_mut(&mut self.entries, s);
-        let entry = entries.entry(k.to_string()).or_insert_with(|| {
+        let entry = entries.get_or_insert_with(k, || {
             let mut e = Entry::new(Unwritten, stamp);
             e.info.sequence = 0;
             e

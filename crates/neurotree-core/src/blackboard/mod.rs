@@ -91,6 +91,7 @@
 //! assert_eq!(bb.keys().collect::<Vec<_>>(), ["battery", "laps", "mode"]);
 //! ```
 
+mod entries;
 mod error;
 mod json;
 mod raw;
@@ -151,7 +152,7 @@ pub struct Blackboard {
 /// function, so that it can run while a key resolved from `links` is still borrowed.
 fn entries_mut(entries: &mut Vec<Entries>, s: usize) -> &mut Entries {
     if entries.len() <= s {
-        entries.resize_with(s + 1, BTreeMap::new);
+        entries.resize_with(s + 1, Entries::default);
     }
     &mut entries[s]
 }
@@ -228,6 +229,22 @@ impl Blackboard {
     }
 
     /// [`entry`](Self::entry), with the reason when there is none.
+    /// Asks the processor to start loading the blackboard's table of scopes (see
+    /// [`hint`](crate::hint)).
+    #[inline]
+    pub(crate) fn prefetch(&self) {
+        crate::hint::prefetch(self.entries.as_slice());
+    }
+
+    /// Asks the processor to start loading the root scope's entries, whose address sits in
+    /// the table [`prefetch`](Self::prefetch) loads.
+    #[inline]
+    pub(crate) fn prefetch_entries(&self) {
+        if let Some(root) = self.entries.first() {
+            root.prefetch();
+        }
+    }
+
     fn entry_or_err(&self, scope: ScopeId, key: &str) -> Result<&Entry, BlackboardError> {
         self.entry(scope, key)
             .ok_or_else(|| self.missing(scope, key))
@@ -638,7 +655,7 @@ impl fmt::Debug for Blackboard {
         impl fmt::Debug for ScopeView<'_> {
             fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
                 let mut map = f.debug_map();
-                for (key, e) in self.0.into_iter().flatten() {
+                for (key, e) in self.0.into_iter().flat_map(Entries::iter) {
                     map.entry(
                         key,
                         &format_args!("{} #{}", e.info.type_name, e.info.sequence),

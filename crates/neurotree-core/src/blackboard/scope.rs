@@ -38,9 +38,7 @@ impl Entry {
     }
 }
 
-/// The entries stored directly in one scope, by key (sorted, and searchable by `&str`, so a
-/// lookup allocates nothing).
-pub(super) type Entries = BTreeMap<String, Entry>;
+pub(super) use super::entries::Entries;
 
 /// How a child scope reaches its parent. The root has none, which is why it needs no
 /// `Links` of its own: `links[i]` belongs to scope `i + 1`.

@@ -43,6 +43,7 @@
 //! [`Handle::fail_with`]: crate::Handle::fail_with
 
 use alloc::borrow::Cow;
+use alloc::boxed::Box;
 use alloc::string::String;
 use alloc::vec::Vec;
 use core::fmt;
@@ -213,8 +214,9 @@ impl fmt::Display for Span {
 /// pointer, and the ticker carries no other for halts (which keeps their cost out of every
 /// pass of a tree that never halts slowly).
 pub(crate) struct Outcome {
-    /// The first error of this pass.
-    pub(crate) fault: Option<TickError>,
+    /// The first error of this pass; boxed, since errors are rare and every tree would
+    /// otherwise carry their size.
+    pub(crate) fault: Option<Box<TickError>>,
     /// Halts that take ticks (see [`slow_halt`](super::slow_halt)).
     pub(crate) halts: super::slow_halt::Halts,
     /// What the nodes ticked in this pass wait on (see [`sleep`](super::sleep)).

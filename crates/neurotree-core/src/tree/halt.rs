@@ -187,7 +187,7 @@ impl<C> Tree<C> {
         let mut t = self.ticker(ctx);
         let left = t.continue_halts(waiter);
         match t.out.fault.take() {
-            Some(fault) => Err(fault),
+            Some(fault) => Err(*fault),
             None => Ok(left),
         }
     }

@@ -31,6 +31,7 @@ mod new_blackboard;
 mod objects;
 mod params;
 mod persist;
+mod prefetch;
 mod reload;
 mod rest;
 mod root;
@@ -392,7 +393,7 @@ impl<C> Tree<C> {
         }
         if let Some(fault) = t.out.fault.take() {
             t.halt_node(NodeId::ROOT);
-            return Err(fault);
+            return Err(*fault);
         }
         let (wake, rested) = (t.wake, t.rested);
         if status == NodeStatus::Running && wake.is_none() {

@@ -135,10 +135,10 @@ impl<'t, C> Ticker<'t, C> {
         }
         if status == NodeStatus::Idle {
             if self.out.fault.is_none() {
-                self.out.fault = Some(TickError::ReturnedIdle {
+                self.out.fault = Some(alloc::boxed::Box::new(TickError::ReturnedIdle {
                     node: id,
                     path: self.bp.path(id),
-                });
+                }));
             }
             return NodeStatus::Failure;
         }

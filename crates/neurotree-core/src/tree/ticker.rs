@@ -457,11 +457,11 @@ impl<'t, C> Ticker<'t, C> {
     pub(crate) fn sync_result(&mut self, id: NodeId, s: Status, kind: &'static str) -> NodeStatus {
         if s == Status::Running {
             if self.out.fault.is_none() {
-                self.out.fault = Some(TickError::LeafRunning {
+                self.out.fault = Some(alloc::boxed::Box::new(TickError::LeafRunning {
                     node: id,
                     path: self.bp.path(id),
                     kind,
-                });
+                }));
             }
             return NodeStatus::Failure;
         }
@@ -471,11 +471,11 @@ impl<'t, C> Ticker<'t, C> {
     /// Records a node's own error; the first error of a pass wins.
     pub(crate) fn fault_node(&mut self, id: NodeId, message: alloc::string::String) {
         if self.out.fault.is_none() {
-            self.out.fault = Some(TickError::Node {
+            self.out.fault = Some(alloc::boxed::Box::new(TickError::Node {
                 node: id,
                 path: self.bp.path(id),
                 message,
-            });
+            }));
         }
     }
 

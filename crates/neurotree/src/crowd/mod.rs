@@ -96,6 +96,7 @@ mod sleep;
 use std::collections::VecDeque;
 use std::sync::Arc;
 
+use neurotree_core::hint::prefetch;
 use rayon::prelude::*;
 
 use crate::{Blueprint, Clock, Tree};
@@ -610,7 +611,28 @@ impl<C: Send> Crowd<C> {
             .enumerate()
             .map(|(c, ((((plans, bodies), contexts), words), fallen))| {
                 let mut tally = Tally::default();
-                sleep::for_each_awake(words, |i| {
+                sleep::for_each_awake_ahead(words, |i, step| {
+                    match step {
+                        sleep::Ahead::Far => {
+                            prefetch(&plans[i]);
+                            prefetch(&bodies[i]);
+                            prefetch(&contexts[i]);
+                            return true;
+                        }
+                        sleep::Ahead::Near => {
+                            if let Some(body) = &bodies[i] {
+                                body.tree.prefetch_state();
+                            }
+                            return true;
+                        }
+                        sleep::Ahead::Next => {
+                            if let Some(body) = &bodies[i] {
+                                body.tree.prefetch_entries();
+                            }
+                            return true;
+                        }
+                        sleep::Ahead::Tick => {}
+                    }
                     let plan = &mut plans[i];
                     if !plan.present {
                         return false;

@@ -177,6 +177,67 @@ pub(super) fn for_each_awake(words: &mut [AtomicU64], mut tick: impl FnMut(usize
     }
 }
 
+/// What [`for_each_awake_ahead`] asks of its visitor for a member.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Ahead {
+    /// The member comes [`FAR`] members later: start loading its schedule, its tree's own
+    /// bytes and its context.
+    Far,
+    /// The member comes [`NEAR`] members later, its tree's bytes loaded by now: start
+    /// loading the node state they point to.
+    Near,
+    /// The member comes next: start loading its blackboard's entries, whose address came
+    /// in with its node state.
+    Next,
+    /// Tick the member (if due): `false` when it fell asleep, which clears its bit.
+    Tick,
+}
+
+/// How many awake members ahead of the one ticked a frame asks for their schedules, trees
+/// and contexts; a trip to memory takes about as long as a few ticks.
+pub(super) const FAR: usize = 4;
+
+/// How many members ahead a frame asks for their node state, whose address it reads in
+/// their tree, asked for [`FAR`] members ahead.
+pub(super) const NEAR: usize = 2;
+
+/// As [`for_each_awake`] over at most [`CHUNK`](super::schedule::CHUNK) slots, but asking
+/// `visit` to start loading each member's memory before its turn ([`Ahead`]): the awake
+/// members of a crowd that mostly sleeps lie far apart, and each would otherwise wait
+/// for memory, one after another.
+#[inline]
+pub(super) fn for_each_awake_ahead(
+    words: &mut [AtomicU64],
+    mut visit: impl FnMut(usize, Ahead) -> bool,
+) {
+    let mut slots = [0u16; super::schedule::CHUNK];
+    let mut n = 0;
+    for (w, word) in words.iter_mut().enumerate() {
+        let mut left = *word.get_mut();
+        while left != 0 {
+            slots[n] = (w * BITS + left.trailing_zeros() as usize) as u16;
+            n += 1;
+            left &= left - 1;
+        }
+    }
+    let slots = &slots[..n];
+    for (k, &slot) in slots.iter().enumerate() {
+        if let Some(&far) = slots.get(k + FAR) {
+            visit(usize::from(far), Ahead::Far);
+        }
+        if let Some(&near) = slots.get(k + NEAR) {
+            visit(usize::from(near), Ahead::Near);
+        }
+        if let Some(&next) = slots.get(k + 1) {
+            visit(usize::from(next), Ahead::Next);
+        }
+        let i = usize::from(slot);
+        if !visit(i, Ahead::Tick) {
+            *words[i / BITS].get_mut() &= !(1u64 << (i % BITS));
+        }
+    }
+}
+
 /// The timers of sleeping members, and those that fell asleep in the last frame.
 #[derive(Debug, Default)]
 pub(super) struct Timers {

@@ -230,11 +230,11 @@ impl<'a, C> Handle<'a, C> {
     /// tree is halted. Return Failure after calling it.
     pub fn fail(&mut self, message: impl Into<String>) {
         if self.out.fault.is_none() {
-            self.out.fault = Some(crate::TickError::Node {
+            self.out.fault = Some(alloc::boxed::Box::new(crate::TickError::Node {
                 node: self.node,
                 path: self.bp.path(self.node),
                 message: message.into(),
-            });
+            }));
         }
     }
 }

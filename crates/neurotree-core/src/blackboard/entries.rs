@@ -1,0 +1,142 @@
+//! The entries of one scope: a vector sorted by key.
+//!
+//! A tree's scope holds a handful of entries, read far more often than added. Kept in a
+//! sorted vector, a lookup is a binary search over keys that sit together, and a scope of
+//! one entry takes one small block; a `BTreeMap` gave every scope a node of eleven slots
+//! (about a kilobyte), a cost each member of a large crowd paid, and a trip to memory per
+//! level when a tick read its blackboard. A new key shifts the keys after it: a scope
+//! of thousands of keys pays for its first writes what it saves on its reads.
+
+use alloc::string::String;
+use alloc::vec::Vec;
+
+use super::scope::Entry;
+
+/// The entries stored directly in one scope, sorted by key (searchable by `&str`, so a
+/// lookup allocates nothing).
+#[derive(Default)]
+pub(super) struct Entries(Vec<(String, Entry)>);
+
+impl Entries {
+    /// Where `key` is, or where it would go.
+    #[inline]
+    fn find(&self, key: &str) -> Result<usize, usize> {
+        self.0.binary_search_by(|(k, _)| k.as_str().cmp(key))
+    }
+
+    pub(super) fn get(&self, key: &str) -> Option<&Entry> {
+        self.find(key).ok().map(|i| &self.0[i].1)
+    }
+
+    pub(super) fn get_mut(&mut self, key: &str) -> Option<&mut Entry> {
+        self.find(key).ok().map(|i| &mut self.0[i].1)
+    }
+
+    pub(super) fn contains_key(&self, key: &str) -> bool {
+        self.find(key).is_ok()
+    }
+
+    /// Puts `entry` under `key`, giving back the one it replaces.
+    pub(super) fn insert(&mut self, key: String, entry: Entry) -> Option<Entry> {
+        match self.find(&key) {
+            Ok(i) => Some(core::mem::replace(&mut self.0[i].1, entry)),
+            Err(i) => {
+                self.0.insert(i, (key, entry));
+                None
+            }
+        }
+    }
+
+    /// The entry under `key`, made by `make` if there is none.
+    pub(super) fn get_or_insert_with(
+        &mut self,
+        key: &str,
+        make: impl FnOnce() -> Entry,
+    ) -> &mut Entry {
+        let i = match self.find(key) {
+            Ok(i) => i,
+            Err(i) => {
+                self.0.insert(i, (String::from(key), make()));
+                i
+            }
+        };
+        &mut self.0[i].1
+    }
+
+    pub(super) fn remove(&mut self, key: &str) -> Option<Entry> {
+        self.find(key).ok().map(|i| self.0.remove(i).1)
+    }
+
+    pub(super) fn clear(&mut self) {
+        self.0.clear();
+    }
+
+    #[cfg(test)]
+    pub(super) fn len(&self) -> usize {
+        self.0.len()
+    }
+
+    /// The entries, by key.
+    pub(super) fn iter(&self) -> impl Iterator<Item = (&String, &Entry)> {
+        self.0.iter().map(|(k, e)| (k, e))
+    }
+
+    /// The keys, sorted.
+    pub(super) fn keys(&self) -> impl Iterator<Item = &String> {
+        self.0.iter().map(|(k, _)| k)
+    }
+
+    /// Asks the processor to start loading the entries (see [`hint`](crate::hint)).
+    #[inline]
+    pub(super) fn prefetch(&self) {
+        crate::hint::prefetch(self.0.as_slice());
+    }
+}
+
+impl IntoIterator for Entries {
+    type Item = (String, Entry);
+    type IntoIter = alloc::vec::IntoIter<(String, Entry)>;
+
+    fn into_iter(self) -> Self::IntoIter {
+        self.0.into_iter()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use core::time::Duration;
+
+    fn keys(e: &Entries) -> Vec<&str> {
+        e.keys().map(String::as_str).collect()
+    }
+
+    #[test]
+    fn entries_stay_sorted_and_are_found_replaced_and_removed_by_key() {
+        let mut e = Entries::default();
+        for (k, v) in [("b", 2u8), ("a", 1), ("c", 3)] {
+            assert!(e
+                .insert(String::from(k), Entry::new(v, Duration::ZERO))
+                .is_none());
+        }
+        assert_eq!(keys(&e), ["a", "b", "c"]);
+        let old = e.insert(String::from("b"), Entry::new(20u8, Duration::ZERO));
+        assert_eq!(
+            old.and_then(|o| o.value.downcast_ref::<u8>().copied()),
+            Some(2)
+        );
+        assert_eq!(
+            e.get("b")
+                .and_then(|b| b.value.downcast_ref::<u8>().copied()),
+            Some(20)
+        );
+        assert!(e.get("d").is_none() && !e.contains_key("d") && e.contains_key("a"));
+        e.get_or_insert_with("ab", || Entry::new(5u8, Duration::ZERO));
+        e.get_or_insert_with("ab", || unreachable!("the entry exists"));
+        assert_eq!(keys(&e), ["a", "ab", "b", "c"]);
+        assert!(e.remove("a").is_some() && e.remove("a").is_none());
+        assert_eq!((e.len(), keys(&e)), (3, ["ab", "b", "c"].to_vec()));
+        let owned: Vec<String> = e.into_iter().map(|(k, _)| k).collect();
+        assert_eq!(owned, ["ab", "b", "c"]);
+    }
+}

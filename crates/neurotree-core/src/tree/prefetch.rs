@@ -1,0 +1,27 @@
+//! Asking the processor ahead for what a tick of a tree reads: for runners that tick many
+//! trees in an order they know, such as a crowd's awake members (see [`hint`](crate::hint)).
+
+use super::Tree;
+
+impl<C> Tree<C> {
+    /// Asks the processor to start loading the node state a tick of this tree reads (its
+    /// statuses, slots, objects and blackboard's tables), for a runner that ticks many trees
+    /// and knows which comes next: see [`hint`](crate::hint). Changes nothing.
+    #[inline]
+    pub fn prefetch_state(&self) {
+        use crate::hint::prefetch;
+        prefetch(&*self.statuses);
+        prefetch(&*self.failed);
+        prefetch(&*self.aux);
+        prefetch(&*self.objects);
+        self.blackboard.prefetch();
+    }
+
+    /// Asks the processor to start loading the blackboard entries of the tree's root scope,
+    /// whose address is among what [`prefetch_state`](Self::prefetch_state) loads: call it
+    /// a little later than that. Changes nothing.
+    #[inline]
+    pub fn prefetch_entries(&self) {
+        self.blackboard.prefetch_entries();
+    }
+}
