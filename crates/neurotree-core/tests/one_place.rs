@@ -17,7 +17,11 @@ fn sources(dir: &Path, out: &mut Vec<PathBuf>) {
         if path.is_dir() {
             sources(&path, out);
         } else if path.extension().is_some_and(|e| e == "rs") {
-            out.push(path);
+            // A module of tests of its own (`#[cfg(test)] mod tests;`) is tests.
+            let stem = path.file_stem().and_then(|s| s.to_str()).unwrap_or_default();
+            if stem != "tests" && !stem.starts_with("tests_") {
+                out.push(path);
+            }
         }
     }
 }

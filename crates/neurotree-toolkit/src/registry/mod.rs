@@ -27,7 +27,7 @@ use neurotree_core::nodes::semantics::{Order, Semantics, Statuses};
 use neurotree_core::state::StateCodecs;
 use neurotree_core::{Category, Handle, NodeKind, StatefulAction, Status};
 
-mod aliases;
+pub(crate) mod aliases;
 mod builtins;
 mod enums;
 mod lookup;

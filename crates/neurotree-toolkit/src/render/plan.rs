@@ -510,21 +510,37 @@ mod tests {
     }
 
     #[test]
-    fn the_marked_families_by_name_are_those_the_nodes_declare() {
-        for (name, shape) in super::super::style::FAMILIES {
+    fn a_built_in_known_by_name_has_the_shape_its_node_has() {
+        for decl in neurotree_core::nodes::BUILT_INS {
+            let name = decl.name;
+            let children = match decl.arity {
+                neurotree_core::Arity::Leaf => String::new(),
+                neurotree_core::Arity::One => "<AlwaysSuccess/>".to_string(),
+                _ => "<AlwaysSuccess/><AlwaysSuccess/>".to_string(),
+            };
+            let ports: String = decl
+                .ports
+                .iter()
+                .filter(|p| p.default.is_none())
+                .map(|p| format!(r#" {}="1""#, p.name))
+                .collect();
             let xml = format!(
                 r#"<root BTCPP_format="4" main_tree_to_execute="M"><BehaviorTree ID="M">
-                <{name}><AlwaysSuccess/></{name}></BehaviorTree></root>"#
+                <{name}{ports}>{children}</{name}></BehaviorTree></root>"#
             );
             let bp = load(&xml);
             assert_eq!(
+                Shape::of_type(name, "action"),
                 Shape::of(bp.kind(neurotree_core::NodeId(0))),
-                shape,
                 "{name}"
             );
-            assert_eq!(Shape::of_type(name, "control"), shape);
         }
+        assert_eq!(Shape::of_type("Sequence", "control"), Shape::Sequential);
+        assert_eq!(Shape::of_type("SequenceStar", "control"), Shape::Sequential);
+        assert_eq!(Shape::of_type("ReactiveFallback", ""), Shape::Alternative);
+        assert_eq!(Shape::of_type("ParallelAll", ""), Shape::Concurrent);
         assert_eq!(Shape::of_type("Inverter", "Decorator"), Shape::Decorator);
+        assert_eq!(Shape::of_type("MoveBase", "Condition"), Shape::Condition);
         assert_eq!(Shape::of_type("Unknown", ""), Shape::Action);
     }
 }

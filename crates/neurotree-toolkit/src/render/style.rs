@@ -4,7 +4,9 @@
 
 use std::borrow::Cow;
 
+use neurotree_core::blueprint::PortBinding;
 use neurotree_core::nodes::built_in::Family;
+use neurotree_core::nodes::BUILT_INS;
 use neurotree_core::{Blueprint, Category, NodeId, NodeKind, NodeStatus};
 
 /// The drawn family of a node.
@@ -37,12 +39,22 @@ impl Shape {
     }
 
     /// The shape of a node known by its type's name and category (`control`, `decorator`,
-    /// `condition`, `action`, `subtree`) alone, as a file being edited gives it: the built-in
-    /// controls of the three marked families by name, any other by category (an action
-    /// when the category is unknown).
+    /// `condition`, `action`, `subtree`) alone, as a file being edited gives it: a built-in
+    /// (or an alias of one) as its own declaration makes it, any other by category (an
+    /// action when the category is unknown).
     pub(crate) fn of_type(type_name: &str, category: &str) -> Self {
-        if let Some((_, shape)) = FAMILIES.iter().find(|(name, _)| *name == type_name) {
-            return *shape;
+        let name = crate::registry::aliases::ALIASES
+            .iter()
+            .find(|alias| alias.name == type_name)
+            .map_or(type_name, |alias| alias.target);
+        // Every port read from the blackboard, so that no literal can refuse the node.
+        let built_in = BUILT_INS
+            .iter()
+            .find(|decl| decl.name == name)
+            .and_then(|decl| NodeKind::<()>::from_declared(decl, &|_| PortBinding::Entry))
+            .and_then(Result::ok);
+        if let Some(kind) = built_in {
+            return Shape::of(&kind);
         }
         match category.to_ascii_lowercase().as_str() {
             "control" => Shape::Control,
@@ -86,21 +98,6 @@ impl Shape {
         }
     }
 }
-
-/// The built-in controls of the marked families, by the name files give them; a test
-/// checks each against the family its node declares.
-pub(crate) const FAMILIES: [(&str, Shape); 10] = [
-    ("Sequence", Shape::Sequential),
-    ("ReactiveSequence", Shape::Sequential),
-    ("SequenceWithMemory", Shape::Sequential),
-    ("AsyncSequence", Shape::Sequential),
-    ("SequenceStar", Shape::Sequential),
-    ("Fallback", Shape::Alternative),
-    ("ReactiveFallback", Shape::Alternative),
-    ("AsyncFallback", Shape::Alternative),
-    ("Parallel", Shape::Concurrent),
-    ("ParallelAll", Shape::Concurrent),
-];
 
 /// The colours of a node.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
