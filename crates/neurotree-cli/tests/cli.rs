@@ -199,7 +199,7 @@ fn bench_json_prints_one_line_per_benchmark() {
         "2",
     ]));
     let lines: Vec<&str> = out.lines().collect();
-    assert_eq!(lines.len(), 8, "{out}");
+    assert_eq!(lines.len(), 11, "{out}");
     for line in &lines {
         assert!(line.starts_with('{') && line.ends_with('}'), "{line}");
     }
@@ -246,6 +246,26 @@ fn bench_json_prints_one_line_per_benchmark() {
     );
     positive(sleeping, "bytes_per_member");
 
+    // The sleeping crowd with about 1 %, 3.7 % and 20 % of it awake, each awake member's
+    // cost beside a member's of the crowd all awake.
+    let per_member = positive(crowd, "ns_per_member");
+    let mut shares = Vec::new();
+    for line in &lines[5..8] {
+        assert_eq!(field(line, "name"), "\"crowd_awake\"");
+        assert_eq!(field(line, "agents"), "1000");
+        let awake = positive(line, "awake_per_frame");
+        let per_awake = positive(line, "ns_per_awake");
+        let expected = positive(line, "ms_per_frame") * 1e6 / awake;
+        assert!((per_awake - expected).abs() <= expected * 0.01, "{line}");
+        let ratio = positive(line, "awake_cost_ratio");
+        assert!(
+            (ratio - per_awake / per_member).abs() <= 0.01 + ratio * 0.01,
+            "{line}"
+        );
+        shares.push(positive(line, "awake_percent"));
+    }
+    assert!(shares.windows(2).all(|w| w[0] < w[1]), "{shares:?}");
+
     // Ticks timed one by one: tree1111, the navigator, and the navigator's planning ticks
     // (some of its ticks), each with ordered percentiles.
     let trees = [
@@ -253,7 +273,7 @@ fn bench_json_prints_one_line_per_benchmark() {
         "\"nav2_navigator\"",
         "\"nav2_navigator_planning\"",
     ];
-    for (line, tree) in lines[5..].iter().zip(trees) {
+    for (line, tree) in lines[8..].iter().zip(trees) {
         assert_eq!(field(line, "name"), "\"tick_times\"");
         assert_eq!(field(line, "tree"), tree);
         let p: Vec<f64> = ["p50_ns", "p99_ns", "p999_ns", "max_ns"]
@@ -263,8 +283,8 @@ fn bench_json_prints_one_line_per_benchmark() {
         assert!(p.windows(2).all(|w| w[0] <= w[1]), "{line}");
     }
     let timed = |line: &str| positive(line, "ticks");
-    assert_eq!(timed(lines[5]), 10_000.0, "--quick times 10,000 ticks");
-    assert!(timed(lines[6]) >= 10_000.0 && timed(lines[7]) < timed(lines[6]));
+    assert_eq!(timed(lines[8]), 10_000.0, "--quick times 10,000 ticks");
+    assert!(timed(lines[9]) >= 10_000.0 && timed(lines[10]) < timed(lines[9]));
 }
 
 #[test]

@@ -18,7 +18,10 @@ fn sources(dir: &Path, out: &mut Vec<PathBuf>) {
             sources(&path, out);
         } else if path.extension().is_some_and(|e| e == "rs") {
             // A module of tests of its own (`#[cfg(test)] mod tests;`) is tests.
-            let stem = path.file_stem().and_then(|s| s.to_str()).unwrap_or_default();
+            let stem = path
+                .file_stem()
+                .and_then(|s| s.to_str())
+                .unwrap_or_default();
             if stem != "tests" && !stem.starts_with("tests_") {
                 out.push(path);
             }
