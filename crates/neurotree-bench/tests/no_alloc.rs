@@ -129,11 +129,11 @@ impl CustomNode<World> for MySequence {
 
 fn every_node() -> Arc<neurotree::Blueprint<World>> {
     let ms = Duration::from_millis;
-    let custom = CustomSpec {
-        type_name: "MySequence".into(),
-        arity: Arity::AtLeast(1),
-        factory: Box::new(|| Box::new(MySequence)),
-    };
+    let custom = CustomSpec::new(
+        "MySequence",
+        Arity::AtLeast(1),
+        Box::new(|| Box::new(MySequence)),
+    );
     let scope = SubTreeScope {
         remap: vec![("inner_count".into(), "count".into())],
         autoremap: true,

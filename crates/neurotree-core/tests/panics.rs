@@ -178,11 +178,11 @@ fn a_custom_node_that_panics_is_made_anew() {
     let bp = Blueprint::<Log>::builder()
         .custom(
             "count",
-            CustomSpec {
-                type_name: "Counting".into(),
-                arity: Arity::One,
-                factory: Box::new(|| Box::new(Counting { ticks: 0 })),
-            },
+            CustomSpec::new(
+                "Counting",
+                Arity::One,
+                Box::new(|| Box::new(Counting { ticks: 0 })),
+            ),
             |c| c.always_success("ok"),
         )
         .build_shared()

@@ -47,11 +47,11 @@ pub struct DistanceController {
 impl DistanceController {
     /// The node kind for a [`Builder`](neurotree_toolkit::Builder).
     pub fn spec<C>() -> CustomSpec<C> {
-        CustomSpec {
-            type_name: "DistanceController".into(),
-            arity: Arity::One,
-            factory: Box::new(|| Box::new(DistanceController::default())),
-        }
+        CustomSpec::new(
+            "DistanceController",
+            Arity::One,
+            Box::new(|| Box::new(DistanceController::default())),
+        )
     }
 }
 

@@ -1,7 +1,7 @@
 //! GlobalUpdatedGoal: a condition that succeeds when the goal changed since it last looked,
 //! however its parents reset it in between.
 
-use neurotree_core::{Arity, CustomNode, CustomSpec, NodeCtx, NodeStatus};
+use neurotree_core::{Arity, Category, CustomNode, CustomSpec, NodeCtx, NodeStatus};
 
 use super::goals::SeenGoals;
 
@@ -37,11 +37,12 @@ impl GlobalUpdatedGoal {
     /// The node kind for a [`Builder`](neurotree_toolkit::Builder), a leaf:
     /// `builder.custom("new_goal", GlobalUpdatedGoal::spec(), |c| c)`.
     pub fn spec<C>() -> CustomSpec<C> {
-        CustomSpec {
-            type_name: "GlobalUpdatedGoal".into(),
-            arity: Arity::Leaf,
-            factory: Box::new(|| Box::new(GlobalUpdatedGoal::default())),
-        }
+        CustomSpec::new(
+            "GlobalUpdatedGoal",
+            Arity::Leaf,
+            Box::new(|| Box::new(GlobalUpdatedGoal::default())),
+        )
+        .in_category(Category::Condition)
     }
 }
 

@@ -1,6 +1,6 @@
 //! GoalUpdated: a condition that succeeds when the goal changed while its parent ran.
 
-use neurotree_core::{Arity, CustomNode, CustomSpec, NodeCtx, NodeStatus};
+use neurotree_core::{Arity, Category, CustomNode, CustomSpec, NodeCtx, NodeStatus};
 
 use super::goals::SeenGoals;
 
@@ -28,11 +28,12 @@ impl GoalUpdated {
     /// The node kind for a [`Builder`](neurotree_toolkit::Builder), a leaf:
     /// `builder.custom("new_goal", GoalUpdated::spec(), |c| c)`.
     pub fn spec<C>() -> CustomSpec<C> {
-        CustomSpec {
-            type_name: "GoalUpdated".into(),
-            arity: Arity::Leaf,
-            factory: Box::new(|| Box::new(GoalUpdated::default())),
-        }
+        CustomSpec::new(
+            "GoalUpdated",
+            Arity::Leaf,
+            Box::new(|| Box::new(GoalUpdated::default())),
+        )
+        .in_category(Category::Condition)
     }
 }
 

@@ -36,11 +36,11 @@ impl GoalUpdatedController {
     /// The node kind for a [`Builder`](neurotree_toolkit::Builder):
     /// `builder.custom("plan_once_per_goal", GoalUpdatedController::spec(), |c| ...)`.
     pub fn spec<C>() -> CustomSpec<C> {
-        CustomSpec {
-            type_name: "GoalUpdatedController".into(),
-            arity: Arity::One,
-            factory: Box::new(|| Box::new(GoalUpdatedController::default())),
-        }
+        CustomSpec::new(
+            "GoalUpdatedController",
+            Arity::One,
+            Box::new(|| Box::new(GoalUpdatedController::default())),
+        )
     }
 
     /// Looks at the goals: remembers them on a new run, compares them later.

@@ -44,11 +44,11 @@ pub struct GoalUpdater;
 impl GoalUpdater {
     /// The node kind for a [`Builder`](neurotree_toolkit::Builder).
     pub fn spec<C>() -> CustomSpec<C> {
-        CustomSpec {
-            type_name: "GoalUpdater".into(),
-            arity: Arity::One,
-            factory: Box::new(|| Box::new(GoalUpdater)),
-        }
+        CustomSpec::new(
+            "GoalUpdater",
+            Arity::One,
+            Box::new(|| Box::new(GoalUpdater)),
+        )
     }
 }
 

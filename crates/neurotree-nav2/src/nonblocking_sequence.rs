@@ -48,11 +48,11 @@ pub struct NonblockingSequence;
 impl NonblockingSequence {
     /// The node kind for a [`Builder`](neurotree_toolkit::Builder).
     pub fn spec<C>() -> CustomSpec<C> {
-        CustomSpec {
-            type_name: "NonblockingSequence".into(),
-            arity: Arity::AtLeast(1),
-            factory: Box::new(|| Box::new(NonblockingSequence)),
-        }
+        CustomSpec::new(
+            "NonblockingSequence",
+            Arity::AtLeast(1),
+            Box::new(|| Box::new(NonblockingSequence)),
+        )
     }
 }
 

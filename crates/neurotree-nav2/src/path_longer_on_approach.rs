@@ -48,11 +48,11 @@ impl Default for PathLongerOnApproach {
 impl PathLongerOnApproach {
     /// The node kind for a [`Builder`](neurotree_toolkit::Builder).
     pub fn spec<C>() -> CustomSpec<C> {
-        CustomSpec {
-            type_name: "PathLongerOnApproach".into(),
-            arity: Arity::One,
-            factory: Box::new(|| Box::new(PathLongerOnApproach::default())),
-        }
+        CustomSpec::new(
+            "PathLongerOnApproach",
+            Arity::One,
+            Box::new(|| Box::new(PathLongerOnApproach::default())),
+        )
     }
 }
 

@@ -83,11 +83,11 @@ pub struct PauseResumeController {
 impl PauseResumeController {
     /// The node kind for a [`Builder`](neurotree_toolkit::Builder).
     pub fn spec<C>() -> CustomSpec<C> {
-        CustomSpec {
-            type_name: "PauseResumeController".into(),
-            arity: Arity::Range { min: 1, max: 4 },
-            factory: Box::new(|| Box::new(PauseResumeController::default())),
-        }
+        CustomSpec::new(
+            "PauseResumeController",
+            Arity::Range { min: 1, max: 4 },
+            Box::new(|| Box::new(PauseResumeController::default())),
+        )
     }
 
     /// The state the node is in, as Nav2's `getState`.

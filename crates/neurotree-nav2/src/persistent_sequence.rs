@@ -35,11 +35,11 @@ impl PersistentSequence {
     /// The node kind for a [`Builder`](neurotree_toolkit::Builder); bind
     /// `current_child_idx` to an entry with `.ports(..)`.
     pub fn spec<C>() -> CustomSpec<C> {
-        CustomSpec {
-            type_name: "PersistentSequence".into(),
-            arity: Arity::AtLeast(1),
-            factory: Box::new(|| Box::new(PersistentSequence)),
-        }
+        CustomSpec::new(
+            "PersistentSequence",
+            Arity::AtLeast(1),
+            Box::new(|| Box::new(PersistentSequence)),
+        )
     }
 }
 

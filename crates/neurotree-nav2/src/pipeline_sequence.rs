@@ -35,11 +35,11 @@ impl PipelineSequence {
     /// The node kind for a [`Builder`](neurotree_toolkit::Builder):
     /// `builder.custom("navigate", PipelineSequence::spec(), |c| ...)`.
     pub fn spec<C>() -> CustomSpec<C> {
-        CustomSpec {
-            type_name: "PipelineSequence".into(),
-            arity: Arity::AtLeast(1),
-            factory: Box::new(|| Box::new(PipelineSequence::default())),
-        }
+        CustomSpec::new(
+            "PipelineSequence",
+            Arity::AtLeast(1),
+            Box::new(|| Box::new(PipelineSequence::default())),
+        )
     }
 
     fn finish<C>(&mut self, node: &mut NodeCtx<'_, '_, C>, status: NodeStatus) -> NodeStatus {

@@ -47,11 +47,11 @@ impl RateController {
     /// The node kind for a [`Builder`](neurotree_toolkit::Builder); bind `hz` with `.ports(..)`
     /// first thing in the child closure (10 when left out).
     pub fn spec<C>() -> CustomSpec<C> {
-        CustomSpec {
-            type_name: "RateController".into(),
-            arity: Arity::One,
-            factory: Box::new(|| Box::new(RateController::default())),
-        }
+        CustomSpec::new(
+            "RateController",
+            Arity::One,
+            Box::new(|| Box::new(RateController::default())),
+        )
     }
 }
 

@@ -58,11 +58,11 @@ impl RecoveryNode {
     /// The node kind for a [`Builder`](neurotree_toolkit::Builder); bind `number_of_retries` with
     /// `.ports(..)` first thing in the children closure (1 when left out).
     pub fn spec<C>() -> CustomSpec<C> {
-        CustomSpec {
-            type_name: "RecoveryNode".into(),
-            arity: Arity::Range { min: 2, max: 2 },
-            factory: Box::new(|| Box::new(RecoveryNode::default())),
-        }
+        CustomSpec::new(
+            "RecoveryNode",
+            Arity::Range { min: 2, max: 2 },
+            Box::new(|| Box::new(RecoveryNode::default())),
+        )
     }
 
     fn finish<C>(&mut self, node: &mut NodeCtx<'_, '_, C>, status: NodeStatus) -> NodeStatus {

@@ -43,11 +43,11 @@ impl RoundRobin {
     /// The node kind for a [`Builder`](neurotree_toolkit::Builder); bind `wrap_around` with
     /// `.ports(..)` first thing in the children closure (false when left out).
     pub fn spec<C>() -> CustomSpec<C> {
-        CustomSpec {
-            type_name: "RoundRobin".into(),
-            arity: Arity::AtLeast(1),
-            factory: Box::new(|| Box::new(RoundRobin::default())),
-        }
+        CustomSpec::new(
+            "RoundRobin",
+            Arity::AtLeast(1),
+            Box::new(|| Box::new(RoundRobin::default())),
+        )
     }
 
     fn restart(&mut self) {

@@ -29,11 +29,11 @@ pub struct SingleTrigger {
 impl SingleTrigger {
     /// The node kind for a [`Builder`](neurotree_toolkit::Builder).
     pub fn spec<C>() -> CustomSpec<C> {
-        CustomSpec {
-            type_name: "SingleTrigger".into(),
-            arity: Arity::One,
-            factory: Box::new(|| Box::new(SingleTrigger::default())),
-        }
+        CustomSpec::new(
+            "SingleTrigger",
+            Arity::One,
+            Box::new(|| Box::new(SingleTrigger::default())),
+        )
     }
 }
 

@@ -69,11 +69,11 @@ impl Rates {
 impl SpeedController {
     /// The node kind for a [`Builder`](neurotree_toolkit::Builder).
     pub fn spec<C>() -> CustomSpec<C> {
-        CustomSpec {
-            type_name: "SpeedController".into(),
-            arity: Arity::One,
-            factory: Box::new(|| Box::new(SpeedController::default())),
-        }
+        CustomSpec::new(
+            "SpeedController",
+            Arity::One,
+            Box::new(|| Box::new(SpeedController::default())),
+        )
     }
 
     fn read_rates<C>(node: &mut NodeCtx<'_, '_, C>) -> Option<Rates> {

@@ -133,11 +133,11 @@ impl ScriptedExt for Builder<Lab> {
         self.action_node(&format!("L{i}"), Check(i))
     }
     fn skippable(self, i: usize) -> Self {
-        let spec = CustomSpec {
-            type_name: "Skippable".into(),
-            arity: Arity::Leaf,
-            factory: Box::new(move || Box::new(Skippable(i))),
-        };
+        let spec = CustomSpec::new(
+            "Skippable",
+            Arity::Leaf,
+            Box::new(move || Box::new(Skippable(i))),
+        );
         self.custom(&format!("L{i}"), spec, |c| c)
     }
 }

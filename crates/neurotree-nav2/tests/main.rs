@@ -10,6 +10,7 @@ mod support;
 
 mod coverage;
 mod distance_controller;
+mod drawn;
 mod goal_updated_controller;
 mod goal_updater;
 mod lint_nav2;

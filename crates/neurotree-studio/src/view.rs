@@ -320,6 +320,29 @@ mod tests {
     }
 
     #[test]
+    fn nav2s_runnable_conditions_are_conditions_in_the_watch_views_tree() {
+        let xml = r#"<root BTCPP_format="4" main_tree_to_execute="Main">
+  <BehaviorTree ID="Main">
+    <ReactiveFallback>
+      <GoalUpdated/>
+      <GlobalUpdatedGoal/>
+      <RateController hz="1.0"><AlwaysSuccess/></RateController>
+    </ReactiveFallback>
+  </BehaviorTree>
+</root>"#;
+        let mut registry = neurotree_toolkit::Registry::<()>::new();
+        neurotree_nav2::register_controls(&mut registry).unwrap();
+        let mut loader = neurotree_toolkit::XmlLoader::new(&registry);
+        loader.load_str(xml, "t.xml").unwrap();
+        let view = TreeView::of_blueprint(&loader.build_main().unwrap(), "Main");
+        let categories: Vec<&str> = view.nodes.iter().map(|n| n.category).collect();
+        assert_eq!(
+            categories,
+            ["control", "condition", "condition", "decorator", "action"]
+        );
+    }
+
+    #[test]
     fn a_blueprint_view_carries_the_ports_nodes_draw() {
         let xml = r#"<root BTCPP_format="4" main_tree_to_execute="Main">
   <BehaviorTree ID="Main">

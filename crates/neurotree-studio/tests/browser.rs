@@ -272,6 +272,9 @@ mod agents;
 /// Results forced by hand.
 #[path = "browser/force.rs"]
 mod force;
+/// The layout asked without blocking the page.
+#[path = "browser/layout_requests.rs"]
+mod layout_requests;
 
 #[tokio::test(flavor = "multi_thread")]
 async fn a_nav2_tree_opens_with_every_node_found_by_its_path() {

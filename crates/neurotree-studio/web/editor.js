@@ -142,9 +142,12 @@ export function mountEditor(section, app) {
       render({ fit: true });
       showCheck(answer.check);
       setStatus(answer.check?.ok === false ? "opened, with errors" : "opened");
-      section.dataset.loaded = path;
-      // For the time-to-drawn measurement: the frame after the tree is in the DOM.
-      requestAnimationFrame(() => setTimeout(() => performance.mark(`studio:edit-drawn:${path}`), 0));
+      // Loaded once drawn (the layout comes from the server); for the time-to-drawn
+      // measurement, the frame after the tree is in the DOM.
+      drawing.drawn.then(() => {
+        section.dataset.loaded = path;
+        requestAnimationFrame(() => setTimeout(() => performance.mark(`studio:edit-drawn:${path}`), 0));
+      });
     },
 
     openTab(id, prefix = "") {

@@ -80,7 +80,7 @@ export function mountReplay(section, app) {
       state.replay = replay;
       state.keyframes = keyframes(replay);
       state.position = 0;
-      drawing.setTree(nodesOfTreeView(replay.tree), { key: state.treePath || path });
+      const drawn = drawing.setTree(nodesOfTreeView(replay.tree), { key: state.treePath || path });
       drawing.setStatuses(statusesAt(0));
       if (state.coverage) applyCoverage();
       const scrub = $(".scrub");
@@ -88,7 +88,8 @@ export function mountReplay(section, app) {
       scrub.value = "0";
       $(".replay-status").textContent = `${replay.source}: ${replay.tree.nodes.length} nodes, ${replay.steps.length} steps`;
       app.remember({ view: "replay", file: path, tree: treePath || undefined });
-      section.dataset.loaded = path;
+      // Loaded once drawn (the layout comes from the server).
+      drawn.then(() => (section.dataset.loaded = path));
       $(".log-select").value = path;
       if (treePath) $(".tree-select").value = treePath;
       showTreeFor();

@@ -49,10 +49,13 @@ export function drawingToolbar(drawing, { onJump } = {}) {
   showOrientation();
   const jump = (step) => {
     const i = drawing.nextMatch(step);
-    if (i != null) {
-      count.textContent = `${drawing.matchAt + 1}/${drawing.matches.length}`;
+    if (i == null) return;
+    // Counted once the match is shown (its branch unfolded may wait for its layout).
+    const text = `${drawing.matchAt + 1}/${drawing.matches.length}`;
+    drawing.settled().then(() => {
+      count.textContent = text;
       onJump?.(i);
-    }
+    });
   };
   input.addEventListener("input", () => {
     const n = drawing.search(input.value);

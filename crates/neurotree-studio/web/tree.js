@@ -11,6 +11,12 @@
 // fit, the compact detail (names only; the rest on hover, on selection and zoomed in). A
 // tree of more than FOLD_OVER nodes opens folded to the depth that fits the view.
 //
+// The layouts come asynchronously (`fetch`): `setTree` returns a promise of the drawing,
+// and whatever is asked of the drawing before its tree is drawn (select, mark, statuses,
+// fit, fold...) is done, in order, once it is; the answer to a tree a later `setTree`
+// replaced is dropped. A fold, a turn or a fit whose layout is not known yet waits for it,
+// the others after it in order; the layouts "fit" and a turn need are asked with the tree.
+//
 // A drawing is given its nodes in pre-order, each `{name, type, category, path, id, ports,
 // directions, children: [index]}`; index 0 is the root. A node's element is an SVG group carrying
 // `data-node-path` and, for nodes of a TreeView, `data-node-id`; statuses are set as
@@ -82,6 +88,16 @@ export class TreeDrawing {
     this.overview = true;
     // Whether the view is still as the last fit left it.
     this.untouched = true;
+    // Which `setTree` is the latest (answers to earlier ones are dropped), whether its tree
+    // is still being laid out (`pending`, and its number of nodes), what was asked of the
+    // drawing meanwhile (`later`), the layout asked for last (`busy`, a promise, or null)
+    // and the promise of the latest tree drawn (`drawn`).
+    this.generation = 0;
+    this.pending = false;
+    this.pendingSize = 0;
+    this.later = nothingLater();
+    this.busy = null;
+    this.drawn = Promise.resolve();
     container.classList.add("tree-drawing");
     container.innerHTML = "";
     // For scripts and tests, which reach a drawing from its element.
@@ -121,20 +137,24 @@ export class TreeDrawing {
       const box = this.svg.getBoundingClientRect();
       const changed = box.width !== this.size.width || box.height !== this.size.height;
       this.size = { width: box.width, height: box.height };
+      // A tree being laid out is fitted to the size it finds when it is drawn.
+      if (this.pending) return;
       if (changed && this.untouched && box.width && this.fitMode === "whole") {
         this.fitWhole(box);
       } else if (changed && this.untouched && box.width) {
-        if (this.folded) {
-          const before = [this.orientation, ...this.collapsed].join();
-          this.foldToFit();
-          if ([this.orientation, ...this.collapsed].join() !== before) {
-            this.placeToggles();
-            this.layout();
-          } else {
-            this.place();
+        this.whenLaid(this.folded ? this.foldCandidates() : [], () => {
+          if (this.folded) {
+            const before = [this.orientation, ...this.collapsed].join();
+            this.foldToFit();
+            if ([this.orientation, ...this.collapsed].join() !== before) {
+              this.placeToggles();
+              this.layout();
+            } else {
+              this.place();
+            }
           }
-        }
-        this.fit(box);
+          this.fit(box);
+        });
       } else {
         this.minimap.frame();
       }
@@ -142,28 +162,112 @@ export class TreeDrawing {
   }
 
   /**
-   * Draws `nodes` (see the class comment). `keepView` keeps the zoom and what is folded
-   * (by path); `collapsed` gives the folded nodes; `key` names the file, under which the
-   * orientation is remembered (default: the root's name).
+   * Draws `nodes` (see the class comment), once the server has laid them out; returns a
+   * promise that settles then (or when a later `setTree` replaced this one). `keepView`
+   * keeps the zoom and what is folded (by path); `collapsed` gives the folded nodes; `key`
+   * names the file, under which the orientation is remembered (default: the root's name).
    */
   setTree(nodes, { keepView = false, collapsed = null, key = null } = {}) {
-    const previous = keepView ? new Set([...this.collapsed].map((i) => this.nodes[i]?.path)) : null;
-    this.layouts = new Map();
-    this.lastLayout = null;
-    this.wire = JSON.stringify(nodes.map((n) => ({
+    const generation = ++this.generation;
+    // What was asked of the tree this one replaces is moot: it is drawn no more.
+    this.later = nothingLater();
+    this.busy = null;
+    const wire = JSON.stringify(nodes.map((n) => ({
       name: n.name, type: n.type, category: n.category, ports: Object.entries(n.ports || {}),
       directions: n.directions || {}, children: n.children,
     })));
-    let boxes = [];
-    try {
-      if (nodes.length) boxes = this.ask([], true).boxes;
+    const previous = keepView ? new Set([...this.collapsed].map((i) => this.nodes[i]?.path)) : null;
+    const options = { keepView, collapsed, key, previous };
+    if (!nodes.length) {
+      this.pending = false;
       delete this.container.dataset.layoutError;
-    } catch (e) {
-      // The studio is gone or refused: nothing drawn, and why on the container.
-      this.container.dataset.layoutError = e.message;
-      nodes = [];
-      this.wire = "[]";
+      this.draw([], "[]", [], new Map(), options);
+      this.drawn = Promise.resolve();
+      return this.drawn;
     }
+    this.pending = true;
+    this.pendingSize = nodes.length;
+    const wanted = this.wantedWith(nodes, options);
+    this.drawn = this.request(wire, wanted, true).then(
+      (answer) => {
+        if (generation !== this.generation) return;
+        const layouts = new Map();
+        wanted.forEach(([o, d, f], k) => layouts.set(this.layoutKey(o, d, f), answer.layouts[k]));
+        delete this.container.dataset.layoutError;
+        this.landed(() => this.draw(nodes, wire, answer.boxes, layouts, options));
+      },
+      (e) => {
+        if (generation !== this.generation) return;
+        // The studio is gone or refused: nothing drawn, and why on the container.
+        this.container.dataset.layoutError = e.message;
+        this.landed(() => this.draw([], "[]", [], new Map(), options));
+      },
+    );
+    return this.drawn;
+  }
+
+  /** A promise that settles when what was asked of the drawing so far is done. */
+  settled() {
+    return this.drawn.then(() => this.busy);
+  }
+
+  /** Draws the tree that was laid out, then does what was asked of it meanwhile. */
+  landed(draw) {
+    this.pending = false;
+    draw();
+    const later = this.later;
+    this.later = nothingLater();
+    for (const [i, status] of later.statuses) this.setStatus(i, status);
+    for (const [i, score] of later.scores) this.setScore(i, score);
+    for (const [i, name, value] of later.marks.values()) this.mark(i, name, value);
+    if (later.hot) this.drawHot(...later.hot);
+    if (later.select) this.select(later.select.i, { reveal: later.select.reveal });
+    for (const act of later.acts) act();
+  }
+
+  /**
+   * Whether the drawing's tree is still being laid out: then `act` is kept for when it is
+   * drawn (and true returned).
+   */
+  deferred(act) {
+    if (!this.pending) return false;
+    this.later.acts.push(act);
+    return true;
+  }
+
+  /**
+   * The layouts a new tree of `nodes` is drawn with, and those "fit", a turn and a zoom
+   * into a compact drawing ask for next: asked in the same request.
+   */
+  wantedWith(nodes, { keepView, collapsed, key, previous }) {
+    const k = key ?? `tree:${nodes[0].path}`;
+    const { orientation, chosen } = k === this.key
+      ? { orientation: this.orientation, chosen: this.orientationChosen }
+      : this.storedOrientation(k);
+    const detail = keepView ? this.detail : "full";
+    let folded = new Set();
+    if (collapsed) folded = new Set(collapsed);
+    else if (previous) nodes.forEach((n, i) => previous.has(n.path) && n.children.length && folded.add(i));
+    const none = new Set();
+    const other = orientation === "LR" ? "TB" : "LR";
+    const wanted = [[orientation, detail, folded], [other, detail, folded]];
+    if (nodes.length > FOLD_OVER) {
+      if (!keepView && !collapsed) wanted.push(...this.foldCandidates(chosen ? [orientation] : ORIENTATIONS, nodes, "full"));
+    } else {
+      for (const o of ORIENTATIONS) wanted.push([o, "full", none], [o, "compact", none]);
+    }
+    const seen = new Set();
+    return wanted.filter(([o, d, f]) => {
+      const at = this.layoutKey(o, d, f);
+      return !seen.has(at) && seen.add(at);
+    });
+  }
+
+  /** Draws `nodes` laid out: `boxes` by index, `layouts` by `layoutKey`. */
+  draw(nodes, wire, boxes, layouts, { keepView, collapsed, key, previous }) {
+    this.layouts = layouts;
+    this.lastLayout = null;
+    this.wire = wire;
     this.nodes = nodes;
     this.parent = new Array(nodes.length).fill(-1);
     nodes.forEach((n, i) => n.children.forEach((c) => (this.parent[c] = i)));
@@ -215,20 +319,32 @@ export class TreeDrawing {
   useKey(key) {
     if (key === this.key) return;
     this.key = key;
+    const { orientation, chosen } = this.storedOrientation(key);
+    this.orientationChosen = chosen;
+    this.orientation = orientation;
+    this.container.dataset.orientation = this.orientation;
+  }
+
+  /** The orientation remembered for `key` (top-down if none), and whether one was. */
+  storedOrientation(key) {
     let stored = null;
     try {
       stored = key && localStorage.getItem(`neurotree.orientation:${key}`);
     } catch {
       // Storage refused (a private window): the default orientation.
     }
-    this.orientationChosen = ORIENTATIONS.includes(stored);
-    this.orientation = this.orientationChosen ? stored : "TB";
-    this.container.dataset.orientation = this.orientation;
+    const chosen = ORIENTATIONS.includes(stored);
+    return { orientation: chosen ? stored : "TB", chosen };
   }
 
   /** Switches between top-down and left-to-right, remembered for the file. */
   setOrientation(orientation) {
-    if (!ORIENTATIONS.includes(orientation)) return;
+    if (!ORIENTATIONS.includes(orientation)) return Promise.resolve();
+    if (this.deferred(() => this.setOrientation(orientation))) return this.drawn;
+    return this.whenLaid([[orientation, this.detail, this.collapsed]], () => this.turn(orientation));
+  }
+
+  turn(orientation) {
     this.orientation = orientation;
     this.orientationChosen = true;
     try {
@@ -251,6 +367,18 @@ export class TreeDrawing {
   }
 
   /**
+   * The layouts `foldToFit` tries: `nodes` folded at each depth, in `orientations`, at
+   * `detail`.
+   */
+  foldCandidates(orientations = this.orientationChosen ? [this.orientation] : ORIENTATIONS, nodes = this.nodes, detail = this.detail) {
+    const depth = new Array(nodes.length).fill(0);
+    nodes.forEach((n, i) => n.children.forEach((c) => (depth[c] = depth[i] + 1)));
+    const deepest = Math.max(0, ...depth);
+    const foldedAt = (d) => new Set(nodes.flatMap((n, i) => (depth[i] === d && n.children.length ? [i] : [])));
+    return orientations.flatMap((o) => Array.from({ length: Math.max(0, deepest - 1) }, (_, k) => [o, detail, foldedAt(k + 1)]));
+  }
+
+  /**
    * Folds the tree at the deepest depth whose drawing is no wider (left to right: no
    * taller) than the view at a legible zoom, in the file's orientation, or, for a file
    * with none remembered, in whichever fits deeper (top-down when both do as well);
@@ -266,9 +394,6 @@ export class TreeDrawing {
       nodes.forEach((n, i) => depth[i] === d && n.children.length && this.collapsed.add(i));
     };
     let best = { orientation: this.orientation, depth: 1 };
-    const tried = this.orientationChosen ? [this.orientation] : ORIENTATIONS;
-    const foldedAt = (d) => new Set(nodes.flatMap((n, i) => (depth[i] === d && n.children.length ? [i] : [])));
-    this.prefetch(tried.flatMap((o) => Array.from({ length: Math.max(0, deepest - 1) }, (_, k) => [o, this.detail, foldedAt(k + 1)])));
     for (const orientation of this.orientationChosen ? [this.orientation] : ORIENTATIONS) {
       this.orientation = orientation;
       const room = (orientation === "LR" ? this.size.height : this.size.width) / LEGIBLE || 1500;
@@ -291,53 +416,74 @@ export class TreeDrawing {
   }
 
   /**
-   * Asks the server for `layouts` (each `{orientation, detail, folded: [index]}`) of the
-   * drawn nodes, and their boxes with `boxes`. Synchronous: the layout is a few
-   * milliseconds of the local studio's time, and the drawing's callers select, mark and
-   * colour its nodes as soon as it is drawn.
+   * Asks the server for `wanted` (each `[orientation, detail, folded]`) of the nodes
+   * `wire`, and their boxes with `boxes`; resolves to `{boxes, layouts}` (the layouts in the
+   * order asked), rejects with why the layout was refused.
    */
-  ask(layouts, boxes = false) {
-    const xhr = new XMLHttpRequest();
-    xhr.open("POST", url("/api/layout"), false);
-    xhr.setRequestHeader("content-type", "application/json");
-    xhr.send(`{"nodes":${this.wire},"boxes":${boxes},"layouts":${JSON.stringify(layouts)}}`);
-    let answer = null;
-    try {
-      answer = JSON.parse(xhr.responseText);
-    } catch {
-      // Not JSON: said below.
+  async request(wire, wanted, boxes = false) {
+    const ask = async (part, withBoxes) => {
+      const layouts = part.map(([orientation, detail, folded]) => ({ orientation, detail, folded: [...folded] }));
+      const res = await fetch(url("/api/layout"), {
+        method: "POST",
+        headers: { "content-type": "application/json" },
+        body: `{"nodes":${wire},"boxes":${withBoxes},"layouts":${JSON.stringify(layouts)}}`,
+      });
+      const answer = await res.json().catch(() => null);
+      if (!res.ok || !answer) throw new Error(`the layout was refused: ${answer?.error || res.status}`);
+      return answer;
+    };
+    // The server answers at most MOST_LAYOUTS a request (a very deep tree tries more folds).
+    const parts = [];
+    for (let at = 0; at < wanted.length || (boxes && !parts.length); at += MOST_LAYOUTS) {
+      parts.push(wanted.slice(at, at + MOST_LAYOUTS));
     }
-    if (xhr.status !== 200 || !answer) throw new Error(`the layout was refused: ${answer?.error || xhr.status}`);
-    return answer;
+    const answers = await Promise.all(parts.map((part, k) => ask(part, boxes && k === 0)));
+    return { boxes: answers[0]?.boxes, layouts: answers.flatMap((a) => a.layouts) };
   }
 
   layoutKey(orientation, detail, folded) {
     return `${orientation}|${detail}|${[...folded].sort((a, b) => a - b).join(",")}`;
   }
 
-  /** Asks in one request for those of `wanted` (`[orientation, detail, folded]`) not yet
-   * known. */
-  prefetch(wanted) {
-    const missing = wanted.filter(([o, d, f]) => !this.layouts.has(this.layoutKey(o, d, f)));
-    if (!this.nodes.length) return;
-    // The server answers at most MOST_LAYOUTS a request (a very deep tree tries more folds).
-    for (let at = 0; at < missing.length; at += MOST_LAYOUTS) {
-      const part = missing.slice(at, at + MOST_LAYOUTS);
-      let answer;
-      try {
-        answer = this.ask(part.map(([orientation, detail, folded]) => ({ orientation, detail, folded: [...folded] })));
-      } catch (e) {
-        // The studio is gone: the drawing stays as it was laid out last.
-        this.container.dataset.layoutError = e.message;
-        return;
-      }
-      part.forEach(([o, d, f], k) => this.layouts.set(this.layoutKey(o, d, f), answer.layouts[k]));
+  /**
+   * Runs `apply` once the layouts it reads (`wanted`, each `[orientation, detail, folded]`)
+   * are known and what was asked before it is done: at once if they are; else after asking
+   * the server for those not known. Dropped if another tree is drawn meanwhile. Returns a
+   * promise that settles when it ran (or was dropped).
+   */
+  whenLaid(wanted, apply) {
+    const missing = () => wanted.filter(([o, d, f]) => !this.layouts.has(this.layoutKey(o, d, f)));
+    if (!this.busy && !missing().length) {
+      apply();
+      return Promise.resolve();
     }
+    const generation = this.generation;
+    const run = (this.busy ?? Promise.resolve()).then(async () => {
+      const need = missing();
+      if (generation !== this.generation) return;
+      if (need.length) {
+        try {
+          const answer = await this.request(this.wire, need);
+          if (generation !== this.generation) return;
+          need.forEach(([o, d, f], k) => this.layouts.set(this.layoutKey(o, d, f), answer.layouts[k]));
+        } catch (e) {
+          if (generation !== this.generation) return;
+          // The studio is gone: the drawing stays as it was laid out last.
+          this.container.dataset.layoutError = e.message;
+        }
+      }
+      apply();
+    });
+    const settled = run.catch(() => {});
+    this.busy = settled;
+    settled.then(() => {
+      if (this.busy === settled) this.busy = null;
+    });
+    return run;
   }
 
-  /** The layout in `orientation` at `detail` with `folded` folded. */
+  /** The layout in `orientation` at `detail` with `folded` folded (asked for before). */
   layoutFor(orientation, detail, folded) {
-    this.prefetch([[orientation, detail, folded]]);
     return this.layouts.get(this.layoutKey(orientation, detail, folded))
       ?? this.lastLayout ?? { nodes: [], width: 0, height: 0, level: M.level };
   }
@@ -478,6 +624,10 @@ export class TreeDrawing {
 
   /** Sets one node's status (null clears it); cheap: one attribute and the badge. */
   setStatus(i, status) {
+    if (this.pending) {
+      this.later.statuses.set(i, status);
+      return;
+    }
     if (this.statusOf[i] === status) return;
     const el = this.elements[i];
     if (!el) return;
@@ -511,6 +661,10 @@ export class TreeDrawing {
    * `null` takes it away.
    */
   setScore(i, score) {
+    if (this.pending) {
+      this.later.scores.set(i, score);
+      return;
+    }
     const el = this.elements[i];
     if (!el) return;
     if (score == null) {
@@ -534,6 +688,12 @@ export class TreeDrawing {
 
   /** Every node's status from an array by index (null: no statuses). */
   setStatuses(statuses) {
+    if (this.pending) {
+      this.later.statuses = new Map();
+      for (let i = 0; i < this.pendingSize; i++) this.later.statuses.set(i, statuses ? statuses[i] ?? "IDLE" : null);
+      this.later.hot = [null, null];
+      return;
+    }
     for (let i = 0; i < this.nodes.length; i++) this.setStatus(i, statuses ? statuses[i] ?? "IDLE" : null);
     this.drawHot();
   }
@@ -544,6 +704,10 @@ export class TreeDrawing {
    * is looked at.
    */
   drawHot(running = null, failed = null) {
+    if (this.pending) {
+      this.later.hot = [running, failed];
+      return;
+    }
     const hot = running ?? this.nodes.keys();
     const chain = failed ?? this.nodes.keys();
     let d = "";
@@ -562,6 +726,10 @@ export class TreeDrawing {
 
   /** Sets or clears (value null/false) a data attribute on a node. */
   mark(i, name, value) {
+    if (this.pending) {
+      this.later.marks.set(`${i} ${name}`, [i, name, value]);
+      return;
+    }
     const el = this.elements[i];
     if (!el) return;
     if (value == null || value === false) el.removeAttribute(name);
@@ -569,10 +737,19 @@ export class TreeDrawing {
   }
 
   clearMarks(name) {
+    if (this.pending) {
+      // The tree drawn will have no marks: those asked for meanwhile go.
+      for (const [at, [, n]] of this.later.marks) if (n === name) this.later.marks.delete(at);
+      return;
+    }
     for (const el of this.nodeLayer.querySelectorAll(`[${name}]`)) el.removeAttribute(name);
   }
 
   select(i, { reveal = false } = {}) {
+    if (this.pending) {
+      this.later.select = { i, reveal };
+      return;
+    }
     if (this.selected != null) this.elements[this.selected]?.classList.remove("selected");
     this.selected = i;
     if (i != null && this.elements[i]) {
@@ -583,7 +760,15 @@ export class TreeDrawing {
   }
 
   toggle(i, fold = !this.collapsed.has(i)) {
-    if (!this.nodes[i]?.children.length) return;
+    if (this.deferred(() => this.toggle(i, fold))) return this.drawn;
+    if (!this.nodes[i]?.children.length) return Promise.resolve();
+    const next = new Set(this.collapsed);
+    if (fold) next.add(i);
+    else next.delete(i);
+    return this.whenLaid([[this.orientation, this.detail, next]], () => this.fold(i, fold));
+  }
+
+  fold(i, fold) {
     if (fold) this.collapsed.add(i);
     else this.collapsed.delete(i);
     this.untouched = false;
@@ -599,11 +784,15 @@ export class TreeDrawing {
   }
 
   collapseAll(fold) {
-    this.folded = false;
-    this.collapsed.clear();
-    if (fold) this.nodes.forEach((n, i) => i !== 0 && n.children.length && this.collapsed.add(i));
-    this.layout();
-    this.fit();
+    if (this.deferred(() => this.collapseAll(fold))) return this.drawn;
+    const next = new Set();
+    if (fold) this.nodes.forEach((n, i) => i !== 0 && n.children.length && next.add(i));
+    return this.whenLaid([[this.orientation, this.detail, next]], () => {
+      this.folded = false;
+      this.collapsed = next;
+      this.layout();
+      this.fit();
+    });
   }
 
   /** The centre of node `i` in the drawing's coordinates. */
@@ -614,6 +803,13 @@ export class TreeDrawing {
 
   /** Expands the ancestors of `i` and centres the view on it, at a legible zoom. */
   reveal(i) {
+    if (this.deferred(() => this.reveal(i))) return this.drawn;
+    const next = new Set(this.collapsed);
+    for (let p = this.parent[i]; p >= 0; p = this.parent[p]) next.delete(p);
+    return this.whenLaid([[this.orientation, this.detail, next]], () => this.centreOnNode(i));
+  }
+
+  centreOnNode(i) {
     let changed = false;
     for (let p = this.parent[i]; p >= 0; p = this.parent[p]) {
       if (this.collapsed.delete(p)) changed = true;
@@ -631,6 +827,7 @@ export class TreeDrawing {
 
   /** Marks the nodes whose name or type contains `query`; returns how many. */
   search(query) {
+    if (this.deferred(() => this.search(query))) return 0;
     this.clearMarks("data-match");
     this.matches = [];
     this.matchAt = -1;
@@ -647,6 +844,7 @@ export class TreeDrawing {
 
   /** Jumps to the next match (or the previous, with `step` -1); returns its index. */
   nextMatch(step = 1) {
+    if (this.pending) return null;
     if (!this.matches.length) return null;
     this.matchAt = (this.matchAt + step + this.matches.length) % this.matches.length;
     const i = this.matches[this.matchAt];
@@ -660,6 +858,7 @@ export class TreeDrawing {
    * the rest reached by scrolling, dragging or the overview.
    */
   fit(box = this.svg.getBoundingClientRect()) {
+    if (this.deferred(() => this.fit())) return;
     if (box.width) this.size = { width: box.width, height: box.height };
     this.untouched = true;
     if (!this.bounds || !box.width || !box.height) {
@@ -702,8 +901,17 @@ export class TreeDrawing {
    * `data-fit`: "whole", or "partial" when even that is too large to show whole).
    */
   fitWhole(box = this.svg.getBoundingClientRect()) {
+    if (this.deferred(() => this.fitWhole())) return this.drawn;
     if (box.width) this.size = { width: box.width, height: box.height };
-    if (!this.nodes.length || !box.width || !box.height) return;
+    if (!this.nodes.length || !box.width || !box.height) return Promise.resolve();
+    const none = new Set();
+    const wanted = this.nodes.length > FOLD_OVER
+      ? this.foldCandidates(undefined, this.nodes, "full")
+      : ORIENTATIONS.flatMap((o) => [[o, "full", none], [o, "compact", none]]);
+    return this.whenLaid(wanted, () => this.fitWholeNow(box));
+  }
+
+  fitWholeNow(box) {
     this.fitMode = "whole";
     if (this.nodes.length > FOLD_OVER) {
       this.setDetail("full");
@@ -718,7 +926,6 @@ export class TreeDrawing {
     }
     const none = new Set();
     const room = (l) => Math.min(MOST_FIT, (box.width - 2 * MARGIN) / l.width, (box.height - 2 * MARGIN) / l.height);
-    this.prefetch([[this.orientation, "full", none], ["TB", "compact", none], ["LR", "compact", none]]);
     let choice = [this.orientation, "full"];
     if (room(this.layoutFor(this.orientation, "full", none)) < LEGIBLE) {
       const tb = room(this.layoutFor("TB", "compact", none));
@@ -773,8 +980,14 @@ export class TreeDrawing {
     this.view.x = cx - ((cx - this.view.x) * k) / this.view.k;
     this.view.y = cy - ((cy - this.view.y) * k) / this.view.k;
     this.view.k = k;
-    if (this.detail === "compact" && k >= FULL_AT) this.detailKeeping("full", cx, cy);
     this.applyView();
+    if (this.detail === "compact" && k >= FULL_AT && !this.pending) {
+      this.whenLaid([[this.orientation, "full", this.collapsed]], () => {
+        if (this.detail !== "compact") return;
+        this.detailKeeping("full", cx, cy);
+        this.applyView();
+      });
+    }
   }
 
   /** Turns to `detail`, the node nearest the point (cx, cy) of the view kept where it is. */
@@ -804,6 +1017,7 @@ export class TreeDrawing {
 
   /** Zooms around the selected node (brought into view first), else the view's centre. */
   zoomAtSelection(factor) {
+    if (this.deferred(() => this.zoomAtSelection(factor))) return;
     const i = this.selected;
     const c = i != null && !this.hidden(i) ? this.centreOf(i) : null;
     if (!c) {
@@ -961,6 +1175,15 @@ export class TreeDrawing {
     this.clearMarks("data-drop");
     this.clearMarks("data-dragging");
   }
+}
+
+/**
+ * What was asked of a drawing whose tree is still being laid out, done once it is drawn:
+ * each node's last status, score and marks, the last lines drawn hot and selection (kept
+ * one each, however many ticks come meanwhile), and the other requests in order.
+ */
+function nothingLater() {
+  return { statuses: new Map(), scores: new Map(), marks: new Map(), hot: null, select: null, acts: [] };
 }
 
 /** The nodes of a protocol TreeView, ready for a drawing (same order, same indices). */

@@ -186,8 +186,8 @@ export function mountWatch(section, app) {
     state.tree = msg.tree;
     state.signature = signature;
     if (!same) {
-      drawing.setTree(nodesOfTreeView(msg.tree), { keepView: false, key: msg.run.name || null });
-      requestAnimationFrame(() => setTimeout(() => performance.mark("studio:watch-drawn"), 0));
+      drawing.setTree(nodesOfTreeView(msg.tree), { keepView: false, key: msg.run.name || null })
+        .then(() => requestAnimationFrame(() => setTimeout(() => performance.mark("studio:watch-drawn"), 0)));
     }
     state.statuses = msg.statuses.slice();
     state.running = new Set();

@@ -149,14 +149,45 @@ pub struct SubTreeScope {
     pub values: Vec<(String, String)>,
 }
 
-/// A user-defined control or decorator: its arity, its type name and how to make it.
+/// A user-defined node (a control, a decorator, or a leaf that keeps state in `self`): its
+/// arity, its type name, its family and how to make it.
 pub struct CustomSpec<C> {
     /// The type name shown in paths and pictures (e.g. `ManualSelector`).
     pub type_name: String,
     /// How many children it accepts.
     pub arity: Arity,
+    /// The family it is listed, drawn and saved as ([`NodeKind::category`]): what
+    /// [`CustomSpec::new`] derives from the arity, or a leaf's [`Category::Condition`].
+    pub category: Category,
     /// Makes the per-instance object.
     pub factory: CustomFactory<C>,
+}
+
+impl<C> CustomSpec<C> {
+    /// A node of `arity` children, of the family that arity implies: a leaf is an
+    /// [`Action`](Category::Action), one child a [`Decorator`](Category::Decorator), more a
+    /// [`Control`](Category::Control). A leaf that only checks is made a condition with
+    /// [`in_category`](Self::in_category).
+    pub fn new(type_name: impl Into<String>, arity: Arity, factory: CustomFactory<C>) -> Self {
+        let category = match arity {
+            Arity::Leaf => Category::Action,
+            Arity::One => Category::Decorator,
+            Arity::Range { .. } | Arity::AtLeast(_) => Category::Control,
+        };
+        CustomSpec {
+            type_name: type_name.into(),
+            arity,
+            category,
+            factory,
+        }
+    }
+
+    /// The same node listed, drawn and saved as `category` (a leaf that only checks as a
+    /// [`Condition`](Category::Condition), as BehaviorTree.CPP's model of it says).
+    pub fn in_category(mut self, category: Category) -> Self {
+        self.category = category;
+        self
+    }
 }
 
 /// Which of its blueprint's shared [`Condition`] objects a
@@ -273,11 +304,7 @@ macro_rules! node_kinds {
                     | NodeKind::Action(_)
                     | NodeKind::Stateful(_)
                     | NodeKind::Async(_) => Category::Action,
-                    NodeKind::Custom(spec) => match spec.arity {
-                        Arity::Leaf => Category::Action,
-                        Arity::One => Category::Decorator,
-                        Arity::Range { .. } | Arity::AtLeast(_) => Category::Control,
-                    },
+                    NodeKind::Custom(spec) => spec.category,
                 }
             }
 

@@ -43,11 +43,11 @@ use crate::{FromPortStr, NodeId, NodeStatus, PortError};
 ///     }
 /// }
 ///
-/// let spec = CustomSpec::<Vec<&str>> {
-///     type_name: "ReverseSequence".into(),
-///     arity: Arity::AtLeast(1),
-///     factory: Box::new(|| Box::new(ReverseSequence)),
-/// };
+/// let spec = CustomSpec::<Vec<&str>>::new(
+///     "ReverseSequence",
+///     Arity::AtLeast(1),
+///     Box::new(|| Box::new(ReverseSequence)),
+/// );
 /// let bp = Blueprint::builder()
 ///     .custom("rev", spec, |c| {
 ///         c.action("a", |log: &mut Vec<&str>| { log.push("a"); Status::Success })
@@ -335,11 +335,11 @@ mod tests {
 
     fn probe(log: &Log) -> CustomSpec<Lab> {
         let log = Arc::clone(log);
-        CustomSpec {
-            type_name: "Probe".into(),
-            arity: Arity::One,
-            factory: Box::new(move || Box::new(Probe(Arc::clone(&log)))),
-        }
+        CustomSpec::new(
+            "Probe",
+            Arity::One,
+            Box::new(move || Box::new(Probe(Arc::clone(&log)))),
+        )
     }
 
     fn seen(log: &Log) -> Vec<(&'static str, NodeStatus)> {
@@ -411,11 +411,11 @@ mod tests {
     }
 
     fn plain(mark: bool) -> CustomSpec<Lab> {
-        CustomSpec {
-            type_name: "Plain".into(),
-            arity: if mark { Arity::One } else { Arity::Leaf },
-            factory: Box::new(move || Box::new(Plain { mark })),
-        }
+        CustomSpec::new(
+            "Plain",
+            if mark { Arity::One } else { Arity::Leaf },
+            Box::new(move || Box::new(Plain { mark })),
+        )
     }
 
     /// Records every status change as (node, from, to).
@@ -476,11 +476,7 @@ mod tests {
     }
 
     fn after() -> CustomSpec<Lab> {
-        CustomSpec {
-            type_name: "After".into(),
-            arity: Arity::One,
-            factory: Box::new(|| Box::new(After)),
-        }
+        CustomSpec::new("After", Arity::One, Box::new(|| Box::new(After)))
     }
 
     #[test]

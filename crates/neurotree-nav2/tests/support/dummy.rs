@@ -101,11 +101,11 @@ pub trait DummyExt {
 
 impl DummyExt for Builder<Bench> {
     fn dummy(self, i: usize) -> Self {
-        let spec = CustomSpec {
-            type_name: "DummyNode".into(),
-            arity: Arity::Leaf,
-            factory: Box::new(move || Box::new(Dummy(i))),
-        };
+        let spec = CustomSpec::new(
+            "DummyNode",
+            Arity::Leaf,
+            Box::new(move || Box::new(Dummy(i))),
+        );
         self.custom(&format!("dummy{i}"), spec, |c| c)
     }
 }
@@ -116,11 +116,7 @@ pub fn tree(
     clock: &ManualClock,
     node: impl FnOnce(Builder<Bench>) -> Builder<Bench>,
 ) -> Tree<Bench> {
-    let holder = CustomSpec {
-        type_name: "Holder".into(),
-        arity: Arity::One,
-        factory: Box::new(|| Box::new(Holder)),
-    };
+    let holder = CustomSpec::new("Holder", Arity::One, Box::new(|| Box::new(Holder)));
     let bp = Builder::new()
         .custom("holder", holder, node)
         .build_shared()

@@ -42,18 +42,11 @@ fn nav2_defaults() -> Vec<String> {
 }
 
 /// The registry `neurotree show --nav2` draws with: Nav2's controls, and for each type its
-/// model only describes a stand-in of its category, which keeps its name and ports. Nav2's
-/// conditions that run here (GoalUpdated, GlobalUpdatedGoal) are custom leaves, which a
-/// blueprint knows as actions; they are drawn as the conditions their type declares, as
-/// the editor lists them.
+/// model only describes a stand-in of its category, which keeps its name and ports.
 fn drawing_registry() -> Registry<()> {
     let declared = registry();
     let mut drawn = registry();
-    let condition = neurotree_toolkit::Category::Condition;
-    for t in declared
-        .types()
-        .filter(|t| t.is_model_only() || (t.category == condition && !t.is_builtin()))
-    {
+    for t in declared.types().filter(|t| t.is_model_only()) {
         drawn.remove(&t.name);
         let ports = t.ports.clone();
         let done = match t.category {

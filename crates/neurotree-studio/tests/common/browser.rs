@@ -231,7 +231,7 @@ impl Browser {
                  if (!g || !box) return;
                  const r = g.getBoundingClientRect(), v = box.getBoundingClientRect();
                  const inside = r.left >= v.left && r.top >= v.top && r.right <= v.right && r.bottom <= v.bottom;
-                 if (!inside) box.treeDrawing.reveal(Number(g.dataset.index));",
+                 if (!inside) return box.treeDrawing.reveal(Number(g.dataset.index));",
                 vec![json!(css)],
             )
             .await

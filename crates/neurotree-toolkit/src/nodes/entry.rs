@@ -150,18 +150,22 @@ fn register_watch<C: 'static>(
         decl,
         Arc::new(move |ports, _| {
             let key = entry_key(ports)?;
-            Ok(NodeKind::Custom(Box::new(CustomSpec {
-                type_name: decl.name.into(),
-                arity: decl.arity,
-                factory: Box::new(move || {
-                    Box::new(Watch {
-                        key: key.clone(),
-                        seen: 0,
-                        not_updated,
-                        child_running: false,
-                    })
-                }),
-            })))
+            Ok(NodeKind::Custom(Box::new(
+                CustomSpec::new(
+                    decl.name,
+                    decl.arity,
+                    Box::new(move || {
+                        Box::new(Watch {
+                            key: key.clone(),
+                            seen: 0,
+                            not_updated,
+                            child_running: false,
+                        })
+                    }),
+                )
+                // WasEntryUpdated is a condition, the two others decorators.
+                .in_category(decl.category),
+            )))
         }),
     );
 }

@@ -355,10 +355,10 @@ where
                 Some(PortValue::Entry(_)) => None,
                 None => Some(NodeStatus::Success),
             };
-            Ok(NodeKind::Custom(Box::new(CustomSpec {
-                type_name: name.into(),
-                arity: Arity::One,
-                factory: Box::new(move || {
+            Ok(NodeKind::Custom(Box::new(CustomSpec::new(
+                name,
+                Arity::One,
+                Box::new(move || {
                     Box::new(Loop::<T> {
                         literal: literal.clone(),
                         queue_key: queue_key.clone(),
@@ -369,7 +369,7 @@ where
                         child_running: false,
                     })
                 }),
-            })))
+            ))))
         }),
     );
 }

@@ -382,10 +382,10 @@ fn precondition_kind<C>(ports: &[Port], enums: &Arc<Enums>) -> Result<NodeKind<C
     } else {
         Some(status_of(literal(ports, "else")?)?)
     };
-    Ok(NodeKind::Custom(Box::new(CustomSpec {
-        type_name: PRECONDITION.name.into(),
-        arity: Arity::One,
-        factory: Box::new(move || {
+    Ok(NodeKind::Custom(Box::new(CustomSpec::new(
+        PRECONDITION.name,
+        Arity::One,
+        Box::new(move || {
             Box::new(Precondition {
                 script: script.clone(),
                 script_from_entry,
@@ -394,7 +394,7 @@ fn precondition_kind<C>(ports: &[Port], enums: &Arc<Enums>) -> Result<NodeKind<C
                 child_running: false,
             })
         }),
-    })))
+    ))))
 }
 
 /// Adds the nodes of this module to `registry`.

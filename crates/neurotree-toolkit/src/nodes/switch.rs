@@ -289,10 +289,10 @@ pub(crate) fn register<C: 'static>(registry: &mut Registry<C>) {
                 let cases: Vec<Option<Source>> = (1..=n)
                     .map(|i| source(ports, &format!("case_{i}")))
                     .collect();
-                Ok(NodeKind::Custom(Box::new(CustomSpec {
-                    type_name: decl.name.into(),
-                    arity: decl.arity,
-                    factory: Box::new(move || {
+                Ok(NodeKind::Custom(Box::new(CustomSpec::new(
+                    decl.name,
+                    decl.arity,
+                    Box::new(move || {
                         Box::new(Switch {
                             variable: variable.clone(),
                             cases: cases.clone(),
@@ -300,7 +300,7 @@ pub(crate) fn register<C: 'static>(registry: &mut Registry<C>) {
                             running: None,
                         })
                     }),
-                })))
+                ))))
             }),
         );
     }

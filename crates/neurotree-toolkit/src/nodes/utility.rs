@@ -92,11 +92,7 @@ pub(crate) fn make<C: 'static>(ports: &[Port]) -> Result<NodeKind<C>, MakerError
 
 /// A Utility's kind, for a builder: its score is the `score` port bound beside it.
 pub fn spec<C: 'static>() -> CustomSpec<C> {
-    CustomSpec {
-        type_name: UTILITY.name.into(),
-        arity: Arity::One,
-        factory: Box::new(|| Box::new(Utility)),
-    }
+    CustomSpec::new(UTILITY.name, Arity::One, Box::new(|| Box::new(Utility)))
 }
 
 /// Adds Utility to `registry`.

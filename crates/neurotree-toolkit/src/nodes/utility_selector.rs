@@ -228,10 +228,10 @@ fn evaluate<C>(
 /// A UtilitySelector's kind; `hysteresis` is `None` when read from an entry.
 fn kind<C: 'static>(hysteresis: Option<f64>, enums: Arc<Enums>) -> CustomSpec<C> {
     let scores: Scores = Arc::new(OnceLock::new());
-    CustomSpec {
-        type_name: UTILITY_SELECTOR.name.into(),
-        arity: UTILITY_SELECTOR.arity,
-        factory: Box::new(move || {
+    CustomSpec::new(
+        UTILITY_SELECTOR.name,
+        UTILITY_SELECTOR.arity,
+        Box::new(move || {
             Box::new(UtilitySelector {
                 scores: Arc::clone(&scores),
                 enums: Arc::clone(&enums),
@@ -240,7 +240,7 @@ fn kind<C: 'static>(hysteresis: Option<f64>, enums: Arc<Enums>) -> CustomSpec<C>
                 last: Vec::new(),
             })
         }),
-    }
+    )
 }
 
 /// A UtilitySelector's kind for a builder, with a literal `hysteresis` (see

@@ -364,11 +364,10 @@ impl<C: 'static> Registry<C> {
         let type_name = shown_as.to_string();
         let leaf: LeafMaker<C> = Arc::new(move |_, _| {
             let make = Arc::clone(&make);
-            Ok(NodeKind::Custom(Box::new(neurotree_core::CustomSpec {
-                type_name: type_name.clone(),
-                arity,
-                factory: Box::new(move || make()),
-            })))
+            Ok(NodeKind::Custom(Box::new(
+                neurotree_core::CustomSpec::new(type_name.clone(), arity, Box::new(move || make()))
+                    .in_category(category),
+            )))
         });
         self.register_leaf(name, category, ports, leaf)
     }

@@ -239,10 +239,10 @@ impl<C> CustomNode<C> for Mock {
 pub(crate) fn mock_kind<C>(outcomes: &Outcomes) -> NodeKind<C> {
     let runs = outcomes.runs.clone();
     let outputs = outcomes.outputs.clone();
-    NodeKind::Custom(Box::new(CustomSpec {
-        type_name: "Mock".into(),
-        arity: Arity::Leaf,
-        factory: Box::new(move || {
+    NodeKind::Custom(Box::new(CustomSpec::new(
+        "Mock",
+        Arity::Leaf,
+        Box::new(move || {
             Box::new(Mock {
                 runs: runs.clone(),
                 outputs: outputs.clone(),
@@ -250,7 +250,7 @@ pub(crate) fn mock_kind<C>(outcomes: &Outcomes) -> NodeKind<C> {
                 played: 0,
             })
         }),
-    }))
+    )))
 }
 
 /// The ports a mock of `outcomes` writes, bound as the node's attributes `attr` bind them

@@ -406,10 +406,10 @@ pub(crate) fn test_kind<C>(config: &Arc<TestNodeConfig>, enums: &Arc<Enums>) -> 
         with_status.insert(name, status);
     }
     let status_enums = Arc::new(with_status);
-    NodeKind::Custom(Box::new(CustomSpec {
-        type_name: "TestNode".into(),
-        arity: Arity::Leaf,
-        factory: Box::new(move || {
+    NodeKind::Custom(Box::new(CustomSpec::new(
+        "TestNode",
+        Arity::Leaf,
+        Box::new(move || {
             Box::new(TestNode {
                 config: Arc::clone(&config),
                 enums: Arc::clone(&enums),
@@ -417,7 +417,7 @@ pub(crate) fn test_kind<C>(config: &Arc<TestNodeConfig>, enums: &Arc<Enums>) -> 
                 started: None,
             })
         }),
-    }))
+    )))
 }
 
 #[cfg(test)]

@@ -181,11 +181,11 @@ mod tests {
         // with no new sleep, until the parent resets it.
         let seen = Arc::new(Mutex::new(Vec::new()));
         let log = Arc::clone(&seen);
-        let hold = CustomSpec {
-            type_name: "Hold".into(),
-            arity: Arity::One,
-            factory: Box::new(move || Box::new(Hold(Arc::clone(&log)))),
-        };
+        let hold = CustomSpec::new(
+            "Hold",
+            Arity::One,
+            Box::new(move || Box::new(Hold(Arc::clone(&log)))),
+        );
         let (mut tree, clock) = build(|b| b.custom("hold", hold, |h| h.sleep("nap", ms(10))));
         assert_eq!(tick(&mut tree), Ok(Status::Running));
         clock.advance(ms(10));
