@@ -558,3 +558,54 @@ fn a_force_is_checked_before_it_is_listed() {
     page.send(r#"{"type":"force","node":1,"status":"off"}"#);
     assert_eq!(page.expect("forces")["forces"], json!([]));
 }
+
+#[test]
+fn a_scene_shown_by_hand_stays_through_the_ticks() {
+    use neurotree_toolkit::scene::{Scene, Style};
+
+    let (studio, dir) = studio();
+    let mut tree = Tree::with_clock(blueprint(TREE), ManualClock::new());
+    tree.blackboard_mut().set("count", 0i64).unwrap();
+    let mut watch = studio.watch(&mut tree, "main.xml");
+    let stop = Arc::new(AtomicBool::new(false));
+    let running = Arc::clone(&stop);
+    let thread = thread::spawn(move || {
+        let mut scene = Scene::new([0.0, 0.0], [4.0, 4.0]);
+        scene.circle("robot", [1.0, 1.0], 0.5, Style::fill("#36c"));
+        while !running.load(Ordering::Acquire) {
+            watch.between_ticks(&mut tree);
+            watch.show_scene(Some(&scene));
+            tree.tick_once(&mut ()).unwrap();
+            thread::sleep(Duration::from_millis(2));
+        }
+    });
+    let mut page = Page::connect(studio.addr());
+    let hello = page.expect("hello");
+    let mut shown = !hello["scene"].is_null();
+    let first = hello["tick"].as_u64().unwrap();
+    // A run without a world shows what it was last told: the scene never blanks between
+    // ticks, which a page would draw as the panel closing and opening again.
+    let mut last = first;
+    let until = Instant::now() + Duration::from_secs(180);
+    while last < first + 60 {
+        assert!(
+            Instant::now() < until,
+            "the run stands still at tick {last}"
+        );
+        let Some(m) = page.next(Duration::from_millis(200)) else {
+            continue;
+        };
+        match m["type"].as_str() {
+            Some("scene") => {
+                assert!(!m["scene"].is_null(), "the scene blanked at {m}");
+                shown = true;
+            }
+            Some("tick") => last = m["tick"].as_u64().unwrap(),
+            _ => {}
+        }
+    }
+    assert!(shown, "the scene was never shown");
+    stop.store(true, Ordering::Release);
+    thread.join().unwrap();
+    drop(dir);
+}

@@ -80,8 +80,9 @@ impl Watch {
     /// (a simulator, a game) calls [`between_ticks_with`](Self::between_ticks_with) instead.
     /// Returns the tick the run goes on from when a page went back to it and stepped or
     /// continued from there (see [`between_ticks_with`](Self::between_ticks_with)).
+    /// The scene is left as [`show_scene`](Self::show_scene) last set it.
     pub fn between_ticks<C>(&mut self, tree: &mut Tree<C>) -> Option<u64> {
-        self.between_ticks_with(tree, &mut ())
+        self.between(tree, &mut (), false)
     }
 
     /// [`between_ticks`](Self::between_ticks) for a run whose tree acts on `world`: the
@@ -97,6 +98,17 @@ impl Watch {
         tree: &mut Tree<C>,
         world: &mut W,
     ) -> Option<u64> {
+        self.between(tree, world, true)
+    }
+
+    /// Both of the above: `scenes` says whether the world's scene is shown, so that a run
+    /// without a world keeps the scene it shows by hand rather than blanking it each tick.
+    fn between<C, W: World<C>>(
+        &mut self,
+        tree: &mut Tree<C>,
+        world: &mut W,
+        scenes: bool,
+    ) -> Option<u64> {
         let keep = self.keep;
         let window = self
             .window
@@ -104,7 +116,7 @@ impl Watch {
         if let Some(shown) = self.hub.shown_now() {
             window.keep(tree, world, shown);
         }
-        if self.hub.pages() > 0 {
+        if scenes && self.hub.pages() > 0 {
             show_scene(&self.hub, world.scene(tree).as_ref());
         }
         let hub = Arc::clone(&self.hub);
@@ -126,7 +138,9 @@ impl Watch {
                 // The tick first: the scene goes out tagged with the tick shown.
                 hub.show_kept(tree, shown);
                 hub.set_rewind(window.describe());
-                show_scene(&hub, world.scene(tree).as_ref());
+                if scenes {
+                    show_scene(&hub, world.scene(tree).as_ref());
+                }
             });
         let fork = window.go_on(tree, world);
         if let Some(tick) = fork {
