@@ -7,6 +7,7 @@
 //! its table here. A once-force remembers the tick it applied at: when a page goes back
 //! before that tick and the run forks there, the force is due again.
 
+use std::collections::VecDeque;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::{Mutex, MutexGuard};
 
@@ -60,11 +61,17 @@ fn until(cleared: bool) -> &'static str {
     }
 }
 
+/// The most applications kept for the run to read: a force until cleared applies at every
+/// tick, and a program that never reads them ([`crate::Watch::forced`]) must not grow
+/// without end; past it, the oldest are forgotten.
+const MOST_LOGGED: usize = 4096;
+
 #[derive(Default)]
 struct Table {
     forces: Vec<Force>,
-    /// Applied since the run last read them ([`crate::Watch::forced`]).
-    log: Vec<Forced>,
+    /// Applied since the run last read them ([`crate::Watch::forced`]), the last
+    /// [`MOST_LOGGED`] of them.
+    log: VecDeque<Forced>,
 }
 
 /// The forces of the run watched, read by the nodes' hooks at each tick.
@@ -162,9 +169,9 @@ impl Forces {
         }
     }
 
-    /// The forces that applied since the last call.
+    /// The forces that applied since the last call (the last [`MOST_LOGGED`] of them).
     pub fn take_log(&self) -> Vec<Forced> {
-        std::mem::take(&mut self.lock().log)
+        Vec::from(std::mem::take(&mut self.lock().log))
     }
 
     /// The status `node` returns at tick `tick`, if a force applies; logs it.
@@ -184,7 +191,10 @@ impl Forces {
             until_cleared: force.until_cleared,
         };
         let once = !forced.until_cleared;
-        table.log.push(forced.clone());
+        if table.log.len() == MOST_LOGGED {
+            table.log.pop_front();
+        }
+        table.log.push_back(forced.clone());
         if once {
             // The list shows where it applied.
             self.changed(&table);
@@ -290,5 +300,20 @@ mod tests {
         assert_eq!(forces.apply(0, "r".into(), 4), None);
         assert!(!forces.any.load(Ordering::Acquire));
         assert_eq!(forces.take_log().len(), 3);
+    }
+
+    #[test]
+    fn a_run_that_never_reads_its_forces_keeps_the_last_few_thousand() {
+        let forces = Forces::default();
+        forces.set(0, Some((Status::Failure, true)));
+        let ticks = MOST_LOGGED as u64 + 10;
+        for tick in 1..=ticks {
+            assert_eq!(forces.apply(0, "r".into(), tick), Some(Status::Failure));
+        }
+        let log = forces.take_log();
+        assert_eq!(log.len(), MOST_LOGGED);
+        assert_eq!(log[0].tick, 11, "the oldest forgotten first");
+        assert_eq!(log[MOST_LOGGED - 1].tick, ticks);
+        assert!(forces.take_log().is_empty());
     }
 }
