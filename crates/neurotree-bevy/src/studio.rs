@@ -81,7 +81,7 @@ impl<C: Send> Agents for ByEntity<'_, C> {
                 None => format!("member {slot}"),
             };
             AgentEntry {
-                key: slot as u64,
+                key: neurotree::crowd_studio::agent_key(m.id()),
                 id,
                 label: String::new(),
             }
