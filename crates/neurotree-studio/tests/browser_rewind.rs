@@ -27,7 +27,7 @@ use crate::browser_slot;
 
 /// Counts its ticks in `n` and walks: `walk` is RUNNING for two ticks and SUCCESS on the
 /// third, so at tick t it shows SUCCESS exactly when t is a multiple of 3.
-const PATROL: &str = r#"<root BTCPP_format="4" main_tree_to_execute="Patrol">
+pub(crate) const PATROL: &str = r#"<root BTCPP_format="4" main_tree_to_execute="Patrol">
   <BehaviorTree ID="Patrol">
     <ReactiveSequence name="patrol">
       <Script name="count" code="n += 1"/>
@@ -38,8 +38,8 @@ const PATROL: &str = r#"<root BTCPP_format="4" main_tree_to_execute="Patrol">
 "#;
 
 /// Runs for two ticks, then succeeds; its state is saved with the tree's.
-struct Walk {
-    left: u32,
+pub(crate) struct Walk {
+    pub(crate) left: u32,
 }
 
 impl StatefulAction<()> for Walk {

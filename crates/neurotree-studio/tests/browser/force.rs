@@ -9,47 +9,11 @@ use std::thread::JoinHandle;
 use std::time::Duration;
 
 use neurotree_studio::{Studio, StudioOptions};
-use neurotree_toolkit::state::{decode, encode};
-use neurotree_toolkit::{Handle, Registry, StatefulAction, Status, Tree, XmlLoader};
+use neurotree_toolkit::{Registry, Tree, XmlLoader};
 
 use super::driver::Browser;
 use super::{browser_slot, css_path};
-
-/// Counts its ticks in `n` and walks: `walk` is RUNNING for two ticks, SUCCESS on the third.
-const PATROL: &str = r#"<root BTCPP_format="4" main_tree_to_execute="Patrol">
-  <BehaviorTree ID="Patrol">
-    <ReactiveSequence name="patrol">
-      <Script name="count" code="n += 1"/>
-      <Walk name="walk"/>
-    </ReactiveSequence>
-  </BehaviorTree>
-</root>
-"#;
-
-/// Runs for two ticks, then succeeds; its state is kept with the tree's.
-struct Walk {
-    left: u32,
-}
-
-impl StatefulAction<()> for Walk {
-    fn on_start(&mut self, h: &mut Handle<'_, ()>) -> Status {
-        self.left = 2;
-        self.on_running(h)
-    }
-    fn on_running(&mut self, _: &mut Handle<'_, ()>) -> Status {
-        if self.left == 0 {
-            return Status::Success;
-        }
-        self.left -= 1;
-        Status::Running
-    }
-    fn save_state(&self) -> Option<Vec<u8>> {
-        Some(encode(&self.left))
-    }
-    fn restore_state(&mut self, state: &[u8]) -> bool {
-        decode(state).map(|left| self.left = left).is_some()
-    }
-}
+use crate::browser_rewind::{Walk, PATROL};
 
 fn registry() -> Registry<()> {
     let mut registry = Registry::new();
