@@ -29,11 +29,13 @@
 
 use std::collections::BTreeMap;
 
-use neurotree_core::PortDirection;
+use neurotree_core::{Blueprint, PortDirection};
 use serde::Serialize;
 
 use super::layout::{tidy, Size, Spacing};
-use super::node_box::{box_size, direction_mark, direction_name, port_line, MIN_WIDTH, NAME_SIZE};
+use super::node_box::{
+    box_size, direction_mark, direction_name, node_ports, port_line, MIN_WIDTH, NAME_SIZE,
+};
 use super::node_box::{GLYPH_WIDTH, PADDING, SLANT};
 use super::style::{printable, NodeView, Shape};
 use super::text_width::{text_width, thousandths};
@@ -182,6 +184,24 @@ pub struct PlannedLayout {
     /// The gap between one row (column) and the next, which the lines to the children
     /// cross.
     pub level: f64,
+}
+
+/// A blueprint's nodes as a page that read its file gives them: to plan the drawing of a
+/// tree already built.
+pub fn plan_nodes<C>(bp: &Blueprint<C>) -> Vec<PlanNode> {
+    bp.ids()
+        .map(|id| PlanNode {
+            name: bp.name(id).to_string(),
+            type_name: bp.type_id(id).to_string(),
+            category: bp.kind(id).category().as_str().to_string(),
+            ports: node_ports(bp, id),
+            directions: node_ports(bp, id)
+                .into_iter()
+                .filter_map(|(p, _)| Some((p.clone(), bp.port_direction(id, &p)?)))
+                .collect(),
+            children: bp.children(id).iter().map(|c| c.index()).collect(),
+        })
+        .collect()
 }
 
 /// Each node's box, as the SVG draws it in full and in compact.
@@ -430,25 +450,6 @@ pub fn plan_layout(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::render::node_box::node_ports;
-    use neurotree_core::Blueprint;
-
-    /// A blueprint's nodes as a page that read its file gives them.
-    fn plan_nodes<C>(bp: &Blueprint<C>) -> Vec<PlanNode> {
-        bp.ids()
-            .map(|id| PlanNode {
-                name: bp.name(id).to_string(),
-                type_name: bp.type_id(id).to_string(),
-                category: bp.kind(id).category().as_str().to_string(),
-                ports: node_ports(bp, id),
-                directions: node_ports(bp, id)
-                    .into_iter()
-                    .filter_map(|(p, _)| Some((p.clone(), bp.port_direction(id, &p)?)))
-                    .collect(),
-                children: bp.children(id).iter().map(|c| c.index()).collect(),
-            })
-            .collect()
-    }
 
     fn load(xml: &str) -> Blueprint<()> {
         let registry = crate::Registry::<()>::new();
