@@ -267,8 +267,9 @@ impl StatefulAction<()> for Endless {
     }
 }
 
-#[test]
-fn a_result_forced_on_a_running_node_halts_it_and_a_forced_running_is_never_ticked() {
+/// A tree of `body` whose `Endless` leaves count into the counts given back, built with
+/// the hooks through which the source given back forces results.
+fn forced_by_hand(body: &str) -> (Counts, Arc<ByHand>, Tree<()>) {
     let counts = Counts::default();
     let mut registry = Registry::<()>::new();
     let c = counts.clone();
@@ -279,20 +280,25 @@ fn a_result_forced_on_a_running_node_halts_it_and_a_forced_running_is_never_tick
     let source: Arc<dyn neurotree::fault::LiveFaults> = live.clone();
     let mut loader =
         XmlLoader::new(&registry).wrap_hooks(neurotree::fault::live_wrapper(source, None));
-    loader
-        .load_str(
-            r#"<root BTCPP_format="4"><BehaviorTree ID="Main">
-                <Inverter><Endless name="work"/></Inverter>
-            </BehaviorTree></root>"#,
-            "work.xml",
-        )
-        .unwrap();
+    let xml =
+        format!(r#"<root BTCPP_format="4"><BehaviorTree ID="Main">{body}</BehaviorTree></root>"#);
+    loader.load_str(&xml, "work.xml").unwrap();
     let blueprint = Arc::new(loader.build_main().unwrap());
+    (
+        counts,
+        live,
+        Tree::with_clock(blueprint, ManualClock::new()),
+    )
+}
+
+#[test]
+fn a_result_forced_on_a_running_node_halts_it_and_a_forced_running_is_never_ticked() {
+    let (counts, live, mut tree) = forced_by_hand("<Inverter><Endless name=\"work\"/></Inverter>");
+    let blueprint = tree.blueprint();
     let work = blueprint
         .ids()
         .find(|id| blueprint.name(*id) == "work")
         .unwrap();
-    let mut tree = Tree::with_clock(blueprint, ManualClock::new());
     let tick = |tree: &mut Tree<()>| tree.tick_once(&mut ()).unwrap();
     assert_eq!(tick(&mut tree), Status::Running);
     assert_eq!(tick(&mut tree), Status::Running);
@@ -317,26 +323,7 @@ fn a_result_forced_on_a_running_node_halts_it_and_a_forced_running_is_never_tick
 
 #[test]
 fn a_forced_running_does_not_outlive_a_rewind_to_before_it() {
-    let counts = Counts::default();
-    let mut registry = Registry::<()>::new();
-    let c = counts.clone();
-    registry
-        .register_stateful("Endless", vec![], move || Endless(c.clone()))
-        .unwrap();
-    let live = Arc::new(ByHand::default());
-    let source: Arc<dyn neurotree::fault::LiveFaults> = live.clone();
-    let mut loader =
-        XmlLoader::new(&registry).wrap_hooks(neurotree::fault::live_wrapper(source, None));
-    loader
-        .load_str(
-            r#"<root BTCPP_format="4"><BehaviorTree ID="Main">
-                <Endless name="work"/>
-            </BehaviorTree></root>"#,
-            "work.xml",
-        )
-        .unwrap();
-    let blueprint = Arc::new(loader.build_main().unwrap());
-    let mut tree = Tree::with_clock(blueprint, ManualClock::new());
+    let (counts, live, mut tree) = forced_by_hand("<Endless name=\"work\"/>");
     let tick = |tree: &mut Tree<()>| tree.tick_once(&mut ()).unwrap();
     assert_eq!(tick(&mut tree), Status::Running);
     assert_eq!(counts.get(), (1, 0, 0));
