@@ -81,7 +81,7 @@ impl<C: Send> Agents for ByEntity<'_, C> {
                 None => format!("member {slot}"),
             };
             AgentEntry {
-                key: slot as u64,
+                key: neurotree::crowd_studio::agent_key(m.id()),
                 id,
                 label: String::new(),
             }
@@ -109,20 +109,34 @@ impl<C: Send> Agents for ByEntity<'_, C> {
     }
 }
 
+/// `frame` with the studio's watch and the crowd as the studio sees it.
+fn with_watch<C: AgentContext, R>(
+    studio: &mut TreeStudio<C>,
+    crowd: &mut AgentCrowd<C>,
+    frame: impl FnOnce(&mut CrowdWatch, &mut ByEntity<'_, C>) -> R,
+) -> R {
+    let watch = studio
+        .watch
+        .get_mut()
+        .unwrap_or_else(PoisonError::into_inner);
+    let (members, entities) = crowd.crowd_and_entities();
+    frame(
+        watch,
+        &mut ByEntity {
+            crowd: members,
+            entities,
+        },
+    )
+}
+
 /// Before the tick: the page's choices applied; the frame skipped while the page stands
 /// the whole crowd still.
 pub(crate) fn before<C: AgentContext>(
     mut studio: ResMut<TreeStudio<C>>,
     mut crowd: ResMut<AgentCrowd<C>>,
 ) {
-    let watch = studio
-        .watch
-        .get_mut()
-        .unwrap_or_else(PoisonError::into_inner);
-    let (members, entities) = crowd.crowd_and_entities();
-    let go = watch.before_frame(&mut ByEntity {
-        crowd: members,
-        entities,
+    let go = with_watch(&mut studio, &mut crowd, |watch, agents| {
+        watch.before_frame(agents)
     });
     crowd.stands_still = !go;
 }
@@ -132,13 +146,7 @@ pub(crate) fn after<C: AgentContext>(
     mut studio: ResMut<TreeStudio<C>>,
     mut crowd: ResMut<AgentCrowd<C>>,
 ) {
-    let watch = studio
-        .watch
-        .get_mut()
-        .unwrap_or_else(PoisonError::into_inner);
-    let (members, entities) = crowd.crowd_and_entities();
-    watch.after_frame(&ByEntity {
-        crowd: members,
-        entities,
+    with_watch(&mut studio, &mut crowd, |watch, agents| {
+        watch.after_frame(&*agents)
     });
 }

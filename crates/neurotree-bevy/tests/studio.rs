@@ -48,9 +48,10 @@ fn walk() -> std::sync::Arc<Blueprint<Walker>> {
 /// The page's socket.
 type Socket = tungstenite::WebSocket<tungstenite::stream::MaybeTlsStream<TcpStream>>;
 
-/// The messages of `socket` until one of `kind`, updating the app between reads.
+/// The messages of `socket` until one of `kind`, updating the app between reads; failing
+/// only after minutes, a catch for a page never told, not a bound on how long it takes.
 fn until_message(app: &mut App, socket: &mut Socket, kind: &str) {
-    let deadline = Instant::now() + Duration::from_secs(20);
+    let deadline = Instant::now() + Duration::from_secs(180);
     loop {
         assert!(Instant::now() < deadline, "no `{kind}` message");
         app.update();

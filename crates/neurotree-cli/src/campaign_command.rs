@@ -386,7 +386,18 @@ fn write_scenario(campaign: &Campaign, row: &VariantRow, file: &Path) -> Result<
             let beside = dir.join(format!("{stem}.xml"));
             if beside == file {
                 return Err(format!(
-                    "--scenario {shown}: the navigator is written beside it as {stem}.xml;                      give the scenario another name (such as {stem}.toml)"
+                    "--scenario {shown}: the navigator is written beside it as {stem}.xml; \
+                     give the scenario another name (such as {stem}.toml)"
+                ));
+            }
+            // A file of that name that is not the navigator is someone's own tree.
+            if std::fs::read(&beside)
+                .is_ok_and(|b| b != neurotree_cli::demo::NAVIGATE_TO_POSE_XML.as_bytes())
+            {
+                return Err(format!(
+                    "--scenario {shown}: the navigator is written beside it as {stem}.xml, \
+                     and {} is another file; give the scenario another name",
+                    beside.display()
                 ));
             }
             std::fs::write(&beside, neurotree_cli::demo::NAVIGATE_TO_POSE_XML)

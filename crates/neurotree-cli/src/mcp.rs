@@ -10,7 +10,9 @@
 //! error, and the server goes on serving.
 //!
 //! Everything is bounded: a message longer than [`MAX_MESSAGE_BYTES`] is refused (and
-//! skipped, never held whole), as is a tree longer than [`tools::MAX_XML_BYTES`]; runs are
+//! skipped, never held whole), as is a tree longer than [`tools::MAX_XML_BYTES`]; a client
+//! that sends without reading its answers is read no further than a few messages ahead
+//! ([`lines::QUEUED`]); runs are
 //! capped in ticks, and every call in wall time ([`CALL_TIME_LIMIT`] unless `--time-limit`
 //! says otherwise). A call past its time, or one the client cancels
 //! (`notifications/cancelled`), has its trees halted through their halt handles
@@ -126,7 +128,7 @@ pub fn serve_with(
     scratch: &Path,
     limits: Limits,
 ) -> io::Result<()> {
-    let (outgoing, answers) = mpsc::channel::<lines::Out>();
+    let (outgoing, answers) = mpsc::sync_channel::<lines::Out>(lines::QUEUED);
     let (transport, incoming) = lines::transport(outgoing.clone());
     let server = Server {
         scratch: scratch.to_path_buf(),

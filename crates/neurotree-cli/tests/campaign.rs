@@ -664,4 +664,24 @@ fn a_variant_written_as_a_scenario_passes_neurotree_test_and_an_edited_outcome_f
         text(&out.stderr)
     );
     assert!(!scenario.exists());
+
+    // Beside a file of its own of the navigator's name, no scenario is written over it.
+    let mine = dir.path().join("mine.xml");
+    std::fs::write(&mine, "<root/>").unwrap();
+    let out = neurotree(&[
+        "campaign",
+        "replay",
+        db_text,
+        "1",
+        "--scenario",
+        dir.path().join("mine.toml").to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(
+        text(&out.stderr).contains("mine.xml is another file; give the scenario another name"),
+        "{}",
+        text(&out.stderr)
+    );
+    assert_eq!(std::fs::read_to_string(&mine).unwrap(), "<root/>");
+    assert!(!dir.path().join("mine.toml").exists());
 }

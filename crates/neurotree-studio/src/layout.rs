@@ -21,6 +21,12 @@ use crate::server::Refusal;
 /// both orientations.
 const MOST_LAYOUTS: usize = 128;
 
+/// The most places one answer may hold, its layouts times its nodes: 128 layouts of a
+/// tree of 16,384 nodes. Each place costs some eighty bytes of answer, so that without it
+/// a body of a few megabytes of bare nodes, asked for 128 times, would be answered with
+/// gigabytes.
+const MOST_PLACES: usize = 1 << 21;
+
 /// One node as the page sends it.
 #[derive(Deserialize)]
 pub(crate) struct NodeIn {
@@ -84,6 +90,19 @@ pub(crate) fn answer(body: LayoutBody) -> Result<LayoutAnswer, Refusal> {
             format!(
                 "{} layouts asked for at once; ask for at most {MOST_LAYOUTS}",
                 body.layouts.len()
+            ),
+        ));
+    }
+    let places = body.layouts.len().saturating_mul(body.nodes.len());
+    if places > MOST_PLACES {
+        let most = (MOST_PLACES / body.nodes.len()).max(1);
+        return Err(Refusal(
+            StatusCode::BAD_REQUEST,
+            format!(
+                "{} layouts of {} nodes asked for at once; ask for at most {most} layouts of \
+                 a tree this size a request",
+                body.layouts.len(),
+                body.nodes.len()
             ),
         ));
     }

@@ -97,3 +97,27 @@ fn a_crowd_of_100000_is_listed_a_page_at_a_time_searched_and_one_chosen() {
     watched_frame(&mut crowd, &mut watch).unwrap();
     assert_eq!(watch.watched(), Some("64242"));
 }
+
+#[test]
+fn an_agent_watched_that_leaves_an_empty_crowd_is_no_longer_shown_watched() {
+    let idle = Blueprint::<()>::builder()
+        .always_success("idle")
+        .build_shared()
+        .unwrap();
+    let mut crowd = Crowd::new(ManualClock::new());
+    let only = crowd.add(idle, ());
+    let studio = Studio::serve(StudioOptions::default(), Registry::new).unwrap();
+    let mut watch = studio.watch_crowd("one");
+    watched_frame(&mut crowd, &mut watch).unwrap();
+    assert_eq!(
+        get(studio.addr(), "/api/agents").json()["watched"]["id"],
+        "0"
+    );
+    crowd.remove(only).unwrap();
+    watched_frame(&mut crowd, &mut watch).unwrap();
+    assert_eq!(watch.watched(), None);
+    let page = get(studio.addr(), "/api/agents").json();
+    assert_eq!(page["total"], 0);
+    assert_eq!(page["watched"], Value::Null, "{page}");
+    assert_eq!(page["awake"], Value::Null, "{page}");
+}

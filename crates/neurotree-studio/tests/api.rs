@@ -334,3 +334,43 @@ fn a_tree_is_laid_out_as_the_svg_lays_it_out_and_a_bad_request_is_refused_with_t
         bad.body
     );
 }
+
+#[test]
+fn layouts_of_a_huge_tree_are_refused_past_the_places_an_answer_holds() {
+    let dir = tempfile::tempdir().unwrap();
+    let studio = studio(dir.path());
+    // 17,000 bare nodes under one root: a body of a few hundred kilobytes.
+    let mut nodes = vec![json!({"name": "root", "children": (1..17_000).collect::<Vec<_>>()})];
+    nodes.extend((1..17_000).map(|_| json!({"name": "a"})));
+    let wanted = |n: usize| vec![json!({"orientation": "TB", "detail": "compact"}); n];
+    let refused = post(
+        studio.addr(),
+        "/api/layout",
+        &json!({"nodes": nodes, "layouts": wanted(128)}),
+    );
+    assert_eq!(
+        refused.status,
+        400,
+        "{}",
+        &refused.body[..200.min(refused.body.len())]
+    );
+    assert!(
+        refused
+            .body
+            .contains("128 layouts of 17000 nodes asked for at once; ask for at most 123 layouts"),
+        "{}",
+        refused.body
+    );
+    let answered = post(
+        studio.addr(),
+        "/api/layout",
+        &json!({"nodes": nodes, "layouts": wanted(2)}),
+    );
+    assert_eq!(answered.status, 200);
+    let answer = answered.json();
+    assert_eq!(answer["layouts"].as_array().unwrap().len(), 2);
+    assert_eq!(
+        answer["layouts"][1]["nodes"].as_array().unwrap().len(),
+        17_000
+    );
+}

@@ -27,7 +27,7 @@ use crate::browser_slot;
 
 /// Counts its ticks in `n` and walks: `walk` is RUNNING for two ticks and SUCCESS on the
 /// third, so at tick t it shows SUCCESS exactly when t is a multiple of 3.
-const PATROL: &str = r#"<root BTCPP_format="4" main_tree_to_execute="Patrol">
+pub(crate) const PATROL: &str = r#"<root BTCPP_format="4" main_tree_to_execute="Patrol">
   <BehaviorTree ID="Patrol">
     <ReactiveSequence name="patrol">
       <Script name="count" code="n += 1"/>
@@ -38,8 +38,8 @@ const PATROL: &str = r#"<root BTCPP_format="4" main_tree_to_execute="Patrol">
 "#;
 
 /// Runs for two ticks, then succeeds; its state is saved with the tree's.
-struct Walk {
-    left: u32,
+pub(crate) struct Walk {
+    pub(crate) left: u32,
 }
 
 impl StatefulAction<()> for Walk {
@@ -99,15 +99,26 @@ fn registry() -> Registry<()> {
 }
 
 fn load(xml: &str) -> Tree<()> {
+    load_hooked(xml, None)
+}
+
+/// The tree of `xml`, built with `hooks` (the studio's force hooks, say) when given.
+pub(crate) fn load_hooked(
+    xml: &str,
+    hooks: Option<neurotree_toolkit::xml::SharedHookWrapper<()>>,
+) -> Tree<()> {
     let registry = registry();
     let mut loader = XmlLoader::new(&registry);
+    if let Some(hooks) = hooks {
+        loader = loader.wrap_hooks(hooks);
+    }
     loader.load_str(xml, "patrol.xml").expect("the tree loads");
     let mut tree = Tree::new(Arc::new(loader.build_main().expect("the tree builds")));
     tree.blackboard_mut().set("n", 0i64).expect("n is free");
     tree
 }
 
-fn serve(root: &std::path::Path) -> Studio {
+pub(crate) fn serve(root: &std::path::Path) -> Studio {
     let options = StudioOptions {
         root: root.to_path_buf(),
         ..StudioOptions::default()
@@ -117,14 +128,14 @@ fn serve(root: &std::path::Path) -> Studio {
 
 /// A watched run on a thread of its own, a tick every `pace`, the robot moving a metre a
 /// tick; the ticks it forked at, as the watch returned them.
-struct Run {
+pub(crate) struct Run {
     stop: Arc<AtomicBool>,
-    forks: Arc<Mutex<Vec<u64>>>,
+    pub(crate) forks: Arc<Mutex<Vec<u64>>>,
     thread: Option<JoinHandle<()>>,
 }
 
 impl Run {
-    fn start(studio: &Studio, mut tree: Tree<()>, pace: Duration) -> Run {
+    pub(crate) fn start(studio: &Studio, mut tree: Tree<()>, pace: Duration) -> Run {
         let mut watch = studio.watch(&mut tree, "patrol.xml").rewind_window(50);
         let stop = Arc::new(AtomicBool::new(false));
         let forks = Arc::new(Mutex::new(Vec::new()));

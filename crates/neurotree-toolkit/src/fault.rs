@@ -345,6 +345,16 @@ pub trait LiveFaults: Send + Sync {
     /// SUCCESS or FAILURE forced on a Running node halts it first; a RUNNING is a call
     /// never answered, as a fault's: the node stays Running, not ticked, until halted.
     fn forced(&self, node: NodeId) -> Option<Status>;
+
+    /// Whether `node` is Running under a RUNNING forced on it, not ticked until halted.
+    /// The source keeps this, not the hooks (which a blueprint's trees share, and which a
+    /// restored state does not reach), so that a run gone back to before the force finds
+    /// the node as it was then.
+    fn hanging(&self, node: NodeId) -> bool;
+
+    /// `node` began hanging (`true`, a RUNNING was forced on it) or stopped (`false`, it
+    /// was halted).
+    fn set_hanging(&self, node: NodeId, hanging: bool);
 }
 
 /// The hook wrapper that lets `live` decide the result of any node of the tree when it
@@ -392,10 +402,27 @@ enum Plan {
 struct FaultHooks<C> {
     inner: Option<Box<dyn NodeHooks<C>>>,
     plan: Plan,
+    /// Under a plan of calls, the node hangs under a RUNNING fault (a live source keeps
+    /// its own, [`LiveFaults::hanging`]).
     hanging: AtomicBool,
 }
 
 impl<C> FaultHooks<C> {
+    /// Whether the node is Running under a RUNNING its plan gave, not to be ticked.
+    fn is_hanging(&self) -> bool {
+        match &self.plan {
+            Plan::Live { node, live } => live.hanging(*node),
+            Plan::Calls { .. } => self.hanging.load(Ordering::Relaxed),
+        }
+    }
+
+    fn hang(&self, hanging: bool) {
+        match &self.plan {
+            Plan::Live { node, live } => live.set_hanging(*node, hanging),
+            Plan::Calls { .. } => self.hanging.store(hanging, Ordering::Relaxed),
+        }
+    }
+
     /// The status and error code the plan gives this tick, if any.
     fn decide(&self, stored: NodeStatus) -> Option<(Status, Option<u16>, String)> {
         match &self.plan {
@@ -432,7 +459,7 @@ impl<C> FaultHooks<C> {
 impl<C> NodeHooks<C> for FaultHooks<C> {
     fn before(&self, h: &mut Handle<'_, C>, stored: NodeStatus) -> Option<NodeStatus> {
         let Some((status, code, message)) = self.decide(stored) else {
-            if stored == NodeStatus::Running && self.hanging.load(Ordering::Relaxed) {
+            if stored == NodeStatus::Running && self.is_hanging() {
                 return Some(NodeStatus::Running);
             }
             return self.inner.as_ref().and_then(|i| i.before(h, stored));
@@ -443,7 +470,7 @@ impl<C> NodeHooks<C> for FaultHooks<C> {
             let _ = h.output::<String>("error_msg", message);
         }
         if status == Status::Running {
-            self.hanging.store(true, Ordering::Relaxed);
+            self.hang(true);
         }
         Some(NodeStatus::from(status))
     }
@@ -455,7 +482,7 @@ impl<C> NodeHooks<C> for FaultHooks<C> {
     }
 
     fn halted(&self, h: &mut Handle<'_, C>) {
-        self.hanging.store(false, Ordering::Relaxed);
+        self.hang(false);
         if let Some(inner) = &self.inner {
             inner.halted(h);
         }

@@ -199,13 +199,19 @@ fn faults_read_and_write_back() {
     }
 }
 
-/// A result forced by hand on one node: what `LiveFaults` answers, set between ticks.
+/// A result forced by hand on one node: what `LiveFaults` answers, set between ticks; and
+/// the nodes hanging under a forced RUNNING.
 #[derive(Default)]
-struct ByHand(Mutex<Option<(u32, Status)>>);
+struct ByHand(Mutex<Option<(u32, Status)>>, Mutex<Vec<u32>>);
 
 impl ByHand {
     fn force(&self, force: Option<(u32, Status)>) {
         *self.0.lock().unwrap() = force;
+    }
+
+    /// The run went back to before any node hung (as a studio's rewind does).
+    fn go_back(&self) {
+        self.1.lock().unwrap().clear();
     }
 }
 
@@ -216,6 +222,18 @@ impl neurotree::fault::LiveFaults for ByHand {
             .unwrap()
             .filter(|(at, _)| *at == node.0)
             .map(|(_, s)| s)
+    }
+
+    fn hanging(&self, node: neurotree::NodeId) -> bool {
+        self.1.lock().unwrap().contains(&node.0)
+    }
+
+    fn set_hanging(&self, node: neurotree::NodeId, hanging: bool) {
+        let mut hangs = self.1.lock().unwrap();
+        hangs.retain(|n| *n != node.0);
+        if hanging {
+            hangs.push(node.0);
+        }
     }
 }
 
@@ -243,10 +261,15 @@ impl StatefulAction<()> for Endless {
     fn on_halted(&mut self, _h: &mut Handle<'_, ()>) {
         self.0 .0.lock().unwrap().2 += 1;
     }
+    // Its counts are the test's, not the tree's: nothing to save.
+    fn save_state(&self) -> Option<Vec<u8>> {
+        Some(Vec::new())
+    }
 }
 
-#[test]
-fn a_result_forced_on_a_running_node_halts_it_and_a_forced_running_is_never_ticked() {
+/// A tree of `body` whose `Endless` leaves count into the counts given back, built with
+/// the hooks through which the source given back forces results.
+fn forced_by_hand(body: &str) -> (Counts, Arc<ByHand>, Tree<()>) {
     let counts = Counts::default();
     let mut registry = Registry::<()>::new();
     let c = counts.clone();
@@ -257,20 +280,25 @@ fn a_result_forced_on_a_running_node_halts_it_and_a_forced_running_is_never_tick
     let source: Arc<dyn neurotree::fault::LiveFaults> = live.clone();
     let mut loader =
         XmlLoader::new(&registry).wrap_hooks(neurotree::fault::live_wrapper(source, None));
-    loader
-        .load_str(
-            r#"<root BTCPP_format="4"><BehaviorTree ID="Main">
-                <Inverter><Endless name="work"/></Inverter>
-            </BehaviorTree></root>"#,
-            "work.xml",
-        )
-        .unwrap();
+    let xml =
+        format!(r#"<root BTCPP_format="4"><BehaviorTree ID="Main">{body}</BehaviorTree></root>"#);
+    loader.load_str(&xml, "work.xml").unwrap();
     let blueprint = Arc::new(loader.build_main().unwrap());
+    (
+        counts,
+        live,
+        Tree::with_clock(blueprint, ManualClock::new()),
+    )
+}
+
+#[test]
+fn a_result_forced_on_a_running_node_halts_it_and_a_forced_running_is_never_ticked() {
+    let (counts, live, mut tree) = forced_by_hand("<Inverter><Endless name=\"work\"/></Inverter>");
+    let blueprint = tree.blueprint();
     let work = blueprint
         .ids()
         .find(|id| blueprint.name(*id) == "work")
         .unwrap();
-    let mut tree = Tree::with_clock(blueprint, ManualClock::new());
     let tick = |tree: &mut Tree<()>| tree.tick_once(&mut ()).unwrap();
     assert_eq!(tick(&mut tree), Status::Running);
     assert_eq!(tick(&mut tree), Status::Running);
@@ -291,4 +319,29 @@ fn a_result_forced_on_a_running_node_halts_it_and_a_forced_running_is_never_tick
     tree.halt(&mut ());
     assert_eq!(tick(&mut tree), Status::Running);
     assert_eq!(counts.get(), (3, 1, 2), "halted, then started afresh");
+}
+
+#[test]
+fn a_forced_running_does_not_outlive_a_rewind_to_before_it() {
+    let (counts, live, mut tree) = forced_by_hand("<Endless name=\"work\"/>");
+    let tick = |tree: &mut Tree<()>| tree.tick_once(&mut ()).unwrap();
+    assert_eq!(tick(&mut tree), Status::Running);
+    assert_eq!(counts.get(), (1, 0, 0));
+    let before = tree.save_state().unwrap();
+    // Forced RUNNING, then cleared: a call never answered, the leaf not ticked.
+    live.force(Some((0, Status::Running)));
+    assert_eq!(tick(&mut tree), Status::Running);
+    live.force(None);
+    assert_eq!(tick(&mut tree), Status::Running);
+    assert_eq!(counts.get(), (1, 0, 0));
+    assert!(
+        neurotree::fault::LiveFaults::hanging(&*live, neurotree::NodeId(0)),
+        "the source knows it hangs"
+    );
+    // Back before the force: the run goes on as it did then, the leaf ticked. The hooks
+    // ask the source, which the rewind reached, not a flag of their own, which it did not.
+    tree.restore_state(&before).unwrap();
+    live.go_back();
+    assert_eq!(tick(&mut tree), Status::Running);
+    assert_eq!(counts.get(), (1, 1, 0), "ticked as before the force");
 }

@@ -3,8 +3,8 @@
 //! orientation, at either detail, with any nodes folded, it places exactly the nodes no
 //! folded node hides, and no two of their boxes overlap.
 
-use neurotree::render::plan::{plan_boxes, plan_layout, Detail, Orientation, PlanNode};
-use neurotree::render::{node_ports, render_svg};
+use neurotree::render::plan::{plan_boxes, plan_layout, plan_nodes, Detail, Orientation};
+use neurotree::render::render_svg;
 use neurotree::{Blueprint, Registry, XmlLoader};
 use proptest::prelude::*;
 
@@ -81,23 +81,6 @@ fn load(xml: &str) -> Blueprint<()> {
     let mut loader = XmlLoader::new(&registry);
     loader.load_str(xml, "random.xml").expect("the tree loads");
     loader.build_main().expect("the tree builds")
-}
-
-/// The blueprint's nodes as a page that read their file gives them.
-fn plan_nodes(bp: &Blueprint<()>) -> Vec<PlanNode> {
-    bp.ids()
-        .map(|id| PlanNode {
-            name: bp.name(id).to_string(),
-            type_name: bp.type_id(id).to_string(),
-            category: bp.kind(id).category().as_str().to_string(),
-            ports: node_ports(bp, id),
-            directions: node_ports(bp, id)
-                .into_iter()
-                .filter_map(|(p, _)| Some((p.clone(), bp.port_direction(id, &p)?)))
-                .collect(),
-            children: bp.children(id).iter().map(|c| c.index()).collect(),
-        })
-        .collect()
 }
 
 /// Each node's box in the SVG, by node id: `(left, top, width, height)`.

@@ -26,14 +26,17 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 //!
-//! A member's id in the studio is its slot ([`MemberId::slot`]).
+//! A member's id in the studio is its slot ([`MemberId::slot`]). The studio keys it by its
+//! slot and generation, so that a member that takes the slot of one that left is another
+//! agent to the studio: the observer and the hold it set on the one that left are not
+//! thought to be on the newcomer.
 
 use neurotree_studio::{AgentEntry, Agents, CrowdWatch};
 
 use crate::crowd::{Crowd, FrameReport, MemberId};
 use crate::{Observer, Tree};
 
-/// The studio reaches a crowd's members by slot, through the crowd's hooks for one member
+/// The studio reaches a crowd's members by slot and generation, through the crowd's hooks for one member
 /// ([`Crowd::set_observer`], [`Crowd::hold`], [`Crowd::membership`]).
 impl<C: Send> Agents for Crowd<C> {
     type Context = C;
@@ -44,7 +47,7 @@ impl<C: Send> Agents for Crowd<C> {
 
     fn list(&self, out: &mut Vec<AgentEntry>) {
         out.extend(self.iter().map(|m| AgentEntry {
-            key: m.id().slot() as u64,
+            key: agent_key(m.id()),
             id: m.id().slot().to_string(),
             label: String::new(),
         }));
@@ -79,9 +82,17 @@ impl<C: Send> Agents for Crowd<C> {
     }
 }
 
+/// The key the studio finds member `id` by ([`AgentEntry::key`]): its slot and its
+/// generation, so that a later member of the same slot has another. A program that lists
+/// a crowd's members under ids of its own (the Bevy plugin, by entity) keys them so.
+pub fn agent_key(id: MemberId) -> u64 {
+    id.bits()
+}
+
 impl<C: Send> Crowd<C> {
     fn id_of(&self, key: u64) -> Option<MemberId> {
-        self.id_at(usize::try_from(key).ok()?)
+        let id = self.id_at(usize::try_from(key >> 32).ok()?)?;
+        (id.bits() == key).then_some(id)
     }
 }
 

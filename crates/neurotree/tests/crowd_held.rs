@@ -265,3 +265,35 @@ fn a_crowd_watched_in_the_studio_ticks_as_one_unwatched() {
     assert_eq!(watch.watched(), Some("5"));
     assert_eq!(frames, plain);
 }
+
+/// The member the studio watches leaves and another takes its slot: the newcomer is
+/// another agent, so the studio watches the first member again, with its observer there,
+/// and none is left thought to be on the newcomer.
+#[test]
+fn a_member_taking_the_slot_of_the_one_watched_is_not_taken_for_it() {
+    use neurotree::crowd_studio::watched_frame;
+    use neurotree::studio::{Studio, StudioOptions};
+
+    let mut crowd = Crowd::new(ManualClock::new());
+    let ids: Vec<MemberId> = (0..3)
+        .map(|i| crowd.add(walk(i), Walker::default()))
+        .collect();
+    let studio = Studio::serve(StudioOptions::default(), Registry::new).unwrap();
+    let mut watch = studio.watch_crowd("walkers");
+    watched_frame(&mut crowd, &mut watch).unwrap();
+    assert!(watch.watch(&mut crowd, "1"));
+    watched_frame(&mut crowd, &mut watch).unwrap();
+    crowd.remove(ids[1]).unwrap();
+    let newcomer = crowd.add(walk(7), Walker::default());
+    assert_eq!(newcomer.slot(), 1);
+    watched_frame(&mut crowd, &mut watch).unwrap();
+    assert_eq!(watch.watched(), Some("0"));
+    assert!(
+        crowd.set_observer(newcomer, None).is_none(),
+        "no observer on the newcomer"
+    );
+    assert!(
+        crowd.set_observer(ids[0], None).is_some(),
+        "the studio's observer on the member watched"
+    );
+}

@@ -16,7 +16,7 @@ use rmcp::service::{RxJsonRpcMessage, TxJsonRpcMessage};
 use rmcp::transport::Transport;
 use rmcp::RoleServer;
 use serde_json::{json, Value};
-use tokio::sync::mpsc::{unbounded_channel, UnboundedReceiver, UnboundedSender};
+use tokio::sync::mpsc::{channel, Receiver, Sender};
 
 use super::MAX_MESSAGE_BYTES;
 
@@ -27,17 +27,23 @@ const INVALID_REQUEST: i64 = -32600;
 /// A line to write, or `None`: the server is done, the writer stops.
 pub(super) type Out = Option<String>;
 
+/// The most messages read and not yet taken by the SDK, and the most lines not yet
+/// written: a client that sends without reading its answers is then no longer read from,
+/// rather than having them pile up in memory (a message is at most
+/// [`MAX_MESSAGE_BYTES`]).
+pub(super) const QUEUED: usize = 16;
+
 /// The SDK's side of the transport: the messages read, and where answers go.
 pub(super) struct Lines {
-    incoming: UnboundedReceiver<RxJsonRpcMessage<RoleServer>>,
-    outgoing: mpsc::Sender<Out>,
+    incoming: Receiver<RxJsonRpcMessage<RoleServer>>,
+    outgoing: mpsc::SyncSender<Out>,
 }
 
 /// The transport writing to `outgoing`, and where [`read`] puts the messages it reads.
 pub(super) fn transport(
-    outgoing: mpsc::Sender<Out>,
-) -> (Lines, UnboundedSender<RxJsonRpcMessage<RoleServer>>) {
-    let (messages, incoming) = unbounded_channel();
+    outgoing: mpsc::SyncSender<Out>,
+) -> (Lines, Sender<RxJsonRpcMessage<RoleServer>>) {
+    let (messages, incoming) = channel(QUEUED);
     (Lines { incoming, outgoing }, messages)
 }
 
@@ -72,8 +78,8 @@ impl Transport<RoleServer> for Lines {
 /// one is answered on `outgoing`.
 pub(super) fn read(
     mut input: impl BufRead,
-    messages: UnboundedSender<RxJsonRpcMessage<RoleServer>>,
-    outgoing: mpsc::Sender<Out>,
+    messages: Sender<RxJsonRpcMessage<RoleServer>>,
+    outgoing: mpsc::SyncSender<Out>,
 ) {
     let mut line = Vec::new();
     let mut started = false;
@@ -94,7 +100,7 @@ pub(super) fn read(
                             Kind::AsksNothing => continue,
                         }
                     }
-                    if messages.send(message).is_err() {
+                    if messages.blocking_send(message).is_err() {
                         return;
                     }
                     continue;

@@ -431,3 +431,47 @@ fn calls_past_the_most_at_once_are_refused_and_a_cancelled_call_is_halted_unansw
     assert_eq!(client.next(), pong(9));
     assert!(client.close().iter().all(|a| a["id"] != 1));
 }
+
+/// Junk lines, one a read, counted as they are read.
+struct Junk {
+    read: Arc<AtomicUsize>,
+    left: usize,
+}
+
+impl Read for Junk {
+    fn read(&mut self, buf: &mut [u8]) -> io::Result<usize> {
+        if self.left == 0 {
+            return Ok(0);
+        }
+        self.left -= 1;
+        self.read.fetch_add(1, Ordering::SeqCst);
+        buf[..2].copy_from_slice(b"x\n");
+        Ok(2)
+    }
+}
+
+#[test]
+fn a_client_that_does_not_read_its_answers_is_read_no_further_ahead() {
+    let read = Arc::new(AtomicUsize::new(0));
+    let input = io::BufReader::new(Junk {
+        read: Arc::clone(&read),
+        left: 1000,
+    });
+    let (messages, _incoming) = tokio::sync::mpsc::channel(lines::QUEUED);
+    let (outgoing, answers) = mpsc::sync_channel(lines::QUEUED);
+    let reader = thread::spawn(move || lines::read(input, messages, outgoing));
+    for taken in 1..=1000 {
+        let answer = answers
+            .recv_timeout(HANG)
+            .expect("an answer")
+            .expect("a line");
+        assert!(answer.contains("not JSON"), "{answer}");
+        // Each line read waits for the answer to the one before to find room.
+        let ahead = read.load(Ordering::SeqCst);
+        assert!(
+            ahead <= taken + lines::QUEUED + 1,
+            "{ahead} lines read with {taken} answers taken"
+        );
+    }
+    reader.join().unwrap();
+}

@@ -250,10 +250,14 @@ impl CrowdWatch {
             self.hub.desk.lock().list = Arc::clone(&self.list);
             if let Some(key) = self.watched {
                 if crowd.tree(key).is_none() {
-                    // It left, with the observer.
+                    // It left, with the observer; pages no longer show it, whether or
+                    // not another is left to watch.
                     self.watched = None;
                     self.prior = None;
                     self.held = false;
+                    let mut desk = self.hub.desk.lock();
+                    desk.watched = None;
+                    desk.awake = None;
                 }
             }
         }

@@ -7,6 +7,7 @@
 //! its table here. A once-force remembers the tick it applied at: when a page goes back
 //! before that tick and the run forks there, the force is due again.
 
+use std::collections::VecDeque;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::{Mutex, MutexGuard};
 
@@ -60,11 +61,29 @@ fn until(cleared: bool) -> &'static str {
     }
 }
 
+/// The most applications kept for the run to read: a force until cleared applies at every
+/// tick, and a program that never reads them ([`crate::Watch::forced`]) must not grow
+/// without end; past it, the oldest are forgotten.
+const MOST_LOGGED: usize = 4096;
+
+/// A node Running under a forced RUNNING, from the tick it was forced to the tick it was
+/// halted: kept after it ends, so that a run gone back to inside it finds the node hanging
+/// again, and forgotten when the run goes back to before it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct Hang {
+    node: u32,
+    from: u64,
+    until: Option<u64>,
+}
+
 #[derive(Default)]
 struct Table {
     forces: Vec<Force>,
-    /// Applied since the run last read them ([`crate::Watch::forced`]).
-    log: Vec<Forced>,
+    /// In the order they began; the last [`MOST_LOGGED`] that ended, and those under way.
+    hangs: Vec<Hang>,
+    /// Applied since the run last read them ([`crate::Watch::forced`]), the last
+    /// [`MOST_LOGGED`] of them.
+    log: VecDeque<Forced>,
 }
 
 /// The forces of the run watched, read by the nodes' hooks at each tick.
@@ -73,6 +92,8 @@ pub(crate) struct Forces {
     table: Mutex<Table>,
     /// Whether any force is set: the hooks of a tree without one read no lock.
     any: AtomicBool,
+    /// Whether any node hangs: the hooks of a running node read no lock otherwise.
+    any_hanging: AtomicBool,
     /// Bumped when the list pages are shown changes.
     version: AtomicU64,
     /// The hooks that apply forces were handed out ([`crate::Studio::force_hooks`]): a
@@ -100,6 +121,8 @@ impl Forces {
         self.hooked.load(Ordering::Acquire)
     }
 
+    /// A count that grows each time the list pages are shown changes: a page is sent the
+    /// list again only when it grew.
     pub fn version(&self) -> u64 {
         self.version.load(Ordering::Acquire)
     }
@@ -143,6 +166,8 @@ impl Forces {
         let mut table = self.lock();
         table.forces.clear();
         table.log.clear();
+        table.hangs.clear();
+        self.any_hanging.store(false, Ordering::Release);
         self.changed(&table);
     }
 
@@ -157,14 +182,66 @@ impl Forces {
             }
         }
         table.log.retain(|f| f.tick <= tick);
+        // A hang begun after the tick gone back to is undone; one ended after it is
+        // under way again.
+        table.hangs.retain(|h| h.from <= tick);
+        for hang in &mut table.hangs {
+            if hang.until.is_some_and(|t| t > tick) {
+                hang.until = None;
+            }
+        }
+        self.hung(&table);
         if any {
             self.changed(&table);
         }
     }
 
-    /// The forces that applied since the last call.
+    /// Whether `node` hangs now under a forced RUNNING.
+    fn hanging(&self, node: u32) -> bool {
+        self.any_hanging.load(Ordering::Acquire)
+            && self
+                .lock()
+                .hangs
+                .iter()
+                .any(|h| h.node == node && h.until.is_none())
+    }
+
+    /// `node` began (at tick `tick`) or stopped hanging.
+    fn set_hanging(&self, node: u32, tick: u64, hanging: bool) {
+        let mut table = self.lock();
+        let open = table
+            .hangs
+            .iter()
+            .position(|h| h.node == node && h.until.is_none());
+        match (open, hanging) {
+            (None, true) => table.hangs.push(Hang {
+                node,
+                from: tick,
+                until: None,
+            }),
+            (Some(at), false) => {
+                table.hangs[at].until = Some(tick);
+                let ended = table.hangs.iter().filter(|h| h.until.is_some()).count();
+                if ended > MOST_LOGGED {
+                    let oldest = table.hangs.iter().position(|h| h.until.is_some());
+                    if let Some(oldest) = oldest {
+                        table.hangs.remove(oldest);
+                    }
+                }
+            }
+            _ => {}
+        }
+        self.hung(&table);
+    }
+
+    fn hung(&self, table: &Table) {
+        let any = table.hangs.iter().any(|h| h.until.is_none());
+        self.any_hanging.store(any, Ordering::Release);
+    }
+
+    /// The forces that applied since the last call (the last [`MOST_LOGGED`] of them).
     pub fn take_log(&self) -> Vec<Forced> {
-        std::mem::take(&mut self.lock().log)
+        Vec::from(std::mem::take(&mut self.lock().log))
     }
 
     /// The status `node` returns at tick `tick`, if a force applies; logs it.
@@ -184,7 +261,10 @@ impl Forces {
             until_cleared: force.until_cleared,
         };
         let once = !forced.until_cleared;
-        table.log.push(forced.clone());
+        if table.log.len() == MOST_LOGGED {
+            table.log.pop_front();
+        }
+        table.log.push_back(forced.clone());
         if once {
             // The list shows where it applied.
             self.changed(&table);
@@ -211,6 +291,19 @@ impl LiveFaults for Hub {
             self.bump();
         }
         status
+    }
+
+    fn hanging(&self, node: NodeId) -> bool {
+        self.forces.hanging(node.0)
+    }
+
+    fn set_hanging(&self, node: NodeId, hanging: bool) {
+        let tick = self
+            .lock()
+            .run
+            .as_ref()
+            .map_or(0, |run| run.cell.tick.load(Ordering::Acquire));
+        self.forces.set_hanging(node.0, tick, hanging);
     }
 }
 
@@ -290,5 +383,36 @@ mod tests {
         assert_eq!(forces.apply(0, "r".into(), 4), None);
         assert!(!forces.any.load(Ordering::Acquire));
         assert_eq!(forces.take_log().len(), 3);
+    }
+
+    #[test]
+    fn a_run_that_never_reads_its_forces_keeps_the_last_few_thousand() {
+        let forces = Forces::default();
+        forces.set(0, Some((Status::Failure, true)));
+        let ticks = MOST_LOGGED as u64 + 10;
+        for tick in 1..=ticks {
+            assert_eq!(forces.apply(0, "r".into(), tick), Some(Status::Failure));
+        }
+        let log = forces.take_log();
+        assert_eq!(log.len(), MOST_LOGGED);
+        assert_eq!(log[0].tick, 11, "the oldest forgotten first");
+        assert_eq!(log[MOST_LOGGED - 1].tick, ticks);
+        assert!(forces.take_log().is_empty());
+    }
+
+    #[test]
+    fn a_hang_is_undone_by_going_back_before_it_and_resumed_by_going_back_inside_it() {
+        let forces = Forces::default();
+        forces.set_hanging(3, 10, true);
+        assert!(forces.hanging(3) && !forces.hanging(4));
+        forces.set_hanging(3, 14, false);
+        assert!(!forces.hanging(3));
+        forces.fork(12);
+        assert!(forces.hanging(3), "hanging at tick 12, halted at 14");
+        forces.fork(9);
+        assert!(!forces.hanging(3), "not yet forced at tick 9");
+        forces.set_hanging(3, 11, true);
+        forces.clear();
+        assert!(!forces.hanging(3), "another tree watched");
     }
 }

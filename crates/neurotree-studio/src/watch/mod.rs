@@ -150,8 +150,8 @@ impl Watch {
     }
 
     /// The results forced by hand that applied since the last call, in order (a run
-    /// logs them, as `neurotree run` prints `{"force":…}`); a fork forgets those after
-    /// the tick it went back to.
+    /// logs them, as `neurotree run` prints `{"force":…}`), the last 4,096 of them; a
+    /// fork forgets those after the tick it went back to.
     pub fn forced(&mut self) -> Vec<Forced> {
         self.hub.forces.take_log()
     }

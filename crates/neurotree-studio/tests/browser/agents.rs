@@ -354,9 +354,10 @@ async fn an_edit_a_pause_and_a_breakpoint_touch_the_agent_watched_alone_or_the_w
     b.close().await;
 }
 
-/// Waits (at most 20 s) until `done`.
+/// Waits until `done`, failing only after minutes: a catch for a crowd that hangs, far
+/// longer than any wait on a loaded machine.
 async fn wait_for(done: impl Fn() -> bool) {
-    let deadline = std::time::Instant::now() + Duration::from_secs(20);
+    let deadline = std::time::Instant::now() + Duration::from_secs(180);
     while !done() {
         assert!(
             std::time::Instant::now() < deadline,

@@ -3,114 +3,11 @@
 //! node return it, finds the force listed and drawn on the node, clears it, and goes back
 //! before a forced tick to see it forced again when the run forks there.
 
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::{Arc, Mutex};
-use std::thread::JoinHandle;
 use std::time::Duration;
-
-use neurotree_studio::{Studio, StudioOptions};
-use neurotree_toolkit::state::{decode, encode};
-use neurotree_toolkit::{Handle, Registry, StatefulAction, Status, Tree, XmlLoader};
 
 use super::driver::Browser;
 use super::{browser_slot, css_path};
-
-/// Counts its ticks in `n` and walks: `walk` is RUNNING for two ticks, SUCCESS on the third.
-const PATROL: &str = r#"<root BTCPP_format="4" main_tree_to_execute="Patrol">
-  <BehaviorTree ID="Patrol">
-    <ReactiveSequence name="patrol">
-      <Script name="count" code="n += 1"/>
-      <Walk name="walk"/>
-    </ReactiveSequence>
-  </BehaviorTree>
-</root>
-"#;
-
-/// Runs for two ticks, then succeeds; its state is kept with the tree's.
-struct Walk {
-    left: u32,
-}
-
-impl StatefulAction<()> for Walk {
-    fn on_start(&mut self, h: &mut Handle<'_, ()>) -> Status {
-        self.left = 2;
-        self.on_running(h)
-    }
-    fn on_running(&mut self, _: &mut Handle<'_, ()>) -> Status {
-        if self.left == 0 {
-            return Status::Success;
-        }
-        self.left -= 1;
-        Status::Running
-    }
-    fn save_state(&self) -> Option<Vec<u8>> {
-        Some(encode(&self.left))
-    }
-    fn restore_state(&mut self, state: &[u8]) -> bool {
-        decode(state).map(|left| self.left = left).is_some()
-    }
-}
-
-fn registry() -> Registry<()> {
-    let mut registry = Registry::new();
-    registry
-        .register_stateful("Walk", vec![], || Walk { left: 0 })
-        .expect("Walk is free");
-    registry
-}
-
-/// A watched run on a thread of its own, its tree built with the studio's force hooks;
-/// the ticks it forked at.
-struct Run {
-    stop: Arc<AtomicBool>,
-    forks: Arc<Mutex<Vec<u64>>>,
-    thread: Option<JoinHandle<()>>,
-}
-
-impl Run {
-    fn start(studio: &Studio) -> Run {
-        let registry = registry();
-        let mut loader = XmlLoader::new(&registry).wrap_hooks(studio.force_hooks(None));
-        loader
-            .load_str(PATROL, "patrol.xml")
-            .expect("the tree loads");
-        let mut tree = Tree::new(Arc::new(loader.build_main().expect("the tree builds")));
-        tree.blackboard_mut().set("n", 0i64).expect("n is free");
-        let mut watch = studio.watch(&mut tree, "patrol.xml").rewind_window(50);
-        let stop = Arc::new(AtomicBool::new(false));
-        let forks = Arc::new(Mutex::new(Vec::new()));
-        let (stop2, forks2) = (Arc::clone(&stop), Arc::clone(&forks));
-        let thread = std::thread::spawn(move || {
-            while !stop2.load(Ordering::Relaxed) {
-                if let Some(to) = watch.between_ticks(&mut tree) {
-                    forks2.lock().expect("not poisoned").push(to);
-                }
-                tree.tick_once(&mut ()).expect("the tree ticks");
-                std::thread::sleep(Duration::from_millis(30));
-            }
-        });
-        Run {
-            stop,
-            forks,
-            thread: Some(thread),
-        }
-    }
-}
-
-impl Drop for Run {
-    fn drop(&mut self) {
-        self.stop.store(true, Ordering::Relaxed);
-        if let Some(t) = self.thread.take() {
-            let deadline = std::time::Instant::now() + Duration::from_secs(2);
-            while !t.is_finished() && std::time::Instant::now() < deadline {
-                std::thread::sleep(Duration::from_millis(10));
-            }
-            if t.is_finished() {
-                let _ = t.join();
-            }
-        }
-    }
-}
+use crate::browser_rewind::{load_hooked, serve, Run, PATROL};
 
 const WALK: &str = "patrol/walk";
 
@@ -194,15 +91,9 @@ async fn a_forced_result_applies_is_listed_and_cleared_and_applies_again_after_g
         return;
     };
     let dir = tempfile::tempdir().expect("a folder");
-    let studio = Studio::serve(
-        StudioOptions {
-            root: dir.path().to_path_buf(),
-            ..StudioOptions::default()
-        },
-        registry,
-    )
-    .expect("the studio serves");
-    let run = Run::start(&studio);
+    let studio = serve(dir.path());
+    let tree = load_hooked(PATROL, Some(studio.force_hooks(None)));
+    let run = Run::start(&studio, tree, Duration::from_millis(30));
     b.goto(&format!("{}#view=watch", studio.url())).await;
     b.until(
         "a few ticks",

@@ -18,7 +18,7 @@ use serde::Serialize;
 
 use super::layout::{Size, Spacing};
 use super::style::{printable, NodeView, Shape};
-use super::text_width::{text_width, BOLD, OTHER, REGULAR, WIDE, WIDE_RANGES};
+use super::text_width::{scaled, text_width, thousandths, BOLD, OTHER, REGULAR, WIDE, WIDE_RANGES};
 use crate::registry::built_in_ports;
 
 /// The height of a node with one or two lines.
@@ -167,27 +167,38 @@ impl PortLine {
 /// `name` and `value` cut so that `{mark}name: value` fits [`PORT_WIDTH`], the cut marked
 /// `…`: the value is cut first, then the name.
 fn shorten(mark: &str, name: &str, value: &str) -> (String, String) {
-    let fits =
-        |n: &str, v: &str| text_width(&format!("{mark}{n}: {v}"), PORT_SIZE, false) <= PORT_WIDTH;
-    if fits(name, value) {
+    // Widths are summed along the text rather than measured again for each cut, so that a
+    // value of megabytes costs its length, not its square.
+    let width = |s: &str| s.chars().map(|c| thousandths(c, false)).sum::<u64>();
+    let fits = |w: u64| scaled(w, PORT_SIZE) <= PORT_WIDTH;
+    let ellipsis = thousandths(ELLIPSIS, false);
+    let head = width(mark) + width(name) + width(": ");
+    if fits(head + width(value)) {
         return (name.to_string(), value.to_string());
     }
-    let mut cut: Vec<char> = value.chars().collect();
-    while !cut.is_empty() {
-        cut.pop();
-        let v: String = cut.iter().chain([&ELLIPSIS]).collect();
-        if fits(name, &v) {
-            return (name.to_string(), v);
+    // The byte length of the longest prefix of `text` that fits after `fixed` with the
+    // ellipsis after it; `whole`: the whole text may be that prefix.
+    let longest = |text: &str, fixed: u64, whole: bool| {
+        let mut used = fixed + ellipsis;
+        let mut cut = None;
+        let mut chars = text.char_indices().peekable();
+        loop {
+            let at = chars.peek().map_or(text.len(), |&(at, _)| at);
+            if !fits(used) || (!whole && at == text.len()) {
+                return cut;
+            }
+            cut = Some(at);
+            let Some((_, c)) = chars.next() else {
+                return cut;
+            };
+            used += thousandths(c, false);
         }
+    };
+    if let Some(at) = longest(value, head, false) {
+        return (name.to_string(), format!("{}{ELLIPSIS}", &value[..at]));
     }
-    let mut cut: Vec<char> = name.chars().collect();
-    loop {
-        let n: String = cut.iter().chain([&ELLIPSIS]).collect();
-        if cut.is_empty() || fits(&n, "") {
-            return (n, String::new());
-        }
-        cut.pop();
-    }
+    let at = longest(name, width(mark) + width(": "), true).unwrap_or(0);
+    (format!("{}{ELLIPSIS}", &name[..at]), String::new())
 }
 
 /// The box a node needs for its lines (with the reason it gave, on the path that failed)
@@ -345,6 +356,58 @@ mod tests {
         assert!(text_width(&format!("inout code: {marked}"), PORT_SIZE, false) <= PORT_WIDTH);
         let (name, value) = shorten("", &"n".repeat(200), "1");
         assert!(name.ends_with('…') && value.is_empty());
+    }
+
+    /// Cutting one character at a time and measuring the whole line again, as a person
+    /// would: what [`shorten`] must give, at any length.
+    fn shorten_by_hand(mark: &str, name: &str, value: &str) -> (String, String) {
+        let fits = |n: &str, v: &str| {
+            text_width(&format!("{mark}{n}: {v}"), PORT_SIZE, false) <= PORT_WIDTH
+        };
+        if fits(name, value) {
+            return (name.to_string(), value.to_string());
+        }
+        let value: Vec<char> = value.chars().collect();
+        for k in (0..value.len()).rev() {
+            let v: String = value[..k].iter().chain([&ELLIPSIS]).collect();
+            if fits(name, &v) {
+                return (name.to_string(), v);
+            }
+        }
+        let name: Vec<char> = name.chars().collect();
+        for k in (0..=name.len()).rev() {
+            let n: String = name[..k].iter().chain([&ELLIPSIS]).collect();
+            if k == 0 || fits(&n, "") {
+                return (n, String::new());
+            }
+        }
+        unreachable!("k == 0 returns")
+    }
+
+    proptest::proptest! {
+        #[test]
+        fn a_line_is_cut_where_cutting_one_character_at_a_time_cuts_it(
+            mark in proptest::sample::select(vec!["", "in ", "out ", "inout "]),
+            name in "[a-zA-Z_界é ]{0,60}",
+            value in "[a-zA-Z0-9{}:; 界é]{0,80}",
+        ) {
+            proptest::prop_assert_eq!(
+                shorten(mark, &name, &value),
+                shorten_by_hand(mark, &name, &value)
+            );
+        }
+    }
+
+    #[test]
+    fn a_value_of_megabytes_is_cut_as_a_short_one_is() {
+        // Measured again at each cut, this took hours: a page may send such a value.
+        let value = "x := 1; ".repeat(1 << 18);
+        let (name, cut) = shorten("", "code", &value);
+        assert_eq!(name, "code");
+        assert_eq!(cut, shorten("", "code", &value[..400]).1);
+        let name = "n".repeat(1 << 21);
+        let (cut, value) = shorten("out ", &name, "1");
+        assert_eq!((cut, value), shorten("out ", &name[..400], "1"));
     }
 
     #[test]

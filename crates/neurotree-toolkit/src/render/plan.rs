@@ -29,14 +29,16 @@
 
 use std::collections::BTreeMap;
 
-use neurotree_core::PortDirection;
+use neurotree_core::{Blueprint, PortDirection};
 use serde::Serialize;
 
 use super::layout::{tidy, Size, Spacing};
-use super::node_box::{box_size, direction_mark, direction_name, port_line, MIN_WIDTH, NAME_SIZE};
+use super::node_box::{
+    box_size, direction_mark, direction_name, node_ports, port_line, MIN_WIDTH, NAME_SIZE,
+};
 use super::node_box::{GLYPH_WIDTH, PADDING, SLANT};
 use super::style::{printable, NodeView, Shape};
-use super::text_width::text_width;
+use super::text_width::{text_width, thousandths};
 
 /// The widest a compact box's name line is drawn before the name is wrapped.
 pub const COMPACT_WRAP: f64 = 118.0;
@@ -184,6 +186,24 @@ pub struct PlannedLayout {
     pub level: f64,
 }
 
+/// A blueprint's nodes as a page that read its file gives them: to plan the drawing of a
+/// tree already built.
+pub fn plan_nodes<C>(bp: &Blueprint<C>) -> Vec<PlanNode> {
+    bp.ids()
+        .map(|id| PlanNode {
+            name: bp.name(id).to_string(),
+            type_name: bp.type_id(id).to_string(),
+            category: bp.kind(id).category().as_str().to_string(),
+            ports: node_ports(bp, id),
+            directions: node_ports(bp, id)
+                .into_iter()
+                .filter_map(|(p, _)| Some((p.clone(), bp.port_direction(id, &p)?)))
+                .collect(),
+            children: bp.children(id).iter().map(|c| c.index()).collect(),
+        })
+        .collect()
+}
+
 /// Each node's box, as the SVG draws it in full and in compact.
 pub fn plan_boxes(nodes: &[PlanNode]) -> Vec<PlannedBox> {
     nodes.iter().map(plan_box).collect()
@@ -240,19 +260,12 @@ fn plan_box(node: &PlanNode) -> PlannedBox {
 fn compact_box(shape: Shape, name: &str) -> CompactBox {
     let width = |s: &str| text_width(s, NAME_SIZE, true);
     let mut lines = vec![name.to_string()];
-    if width(name) > COMPACT_WRAP {
-        let chars: Vec<char> = name.chars().collect();
-        let best = (1..chars.len())
-            .filter(|&i| breaks_at(&chars, i))
-            .map(|i| {
-                let (a, b): (String, String) =
-                    (chars[..i].iter().collect(), chars[i..].iter().collect());
-                (width(a.trim_end()).max(width(b.trim_start())), a, b)
-            })
-            .min_by(|x, y| x.0.total_cmp(&y.0));
-        if let Some((_, a, b)) = best {
-            lines = vec![a.trim_end().to_string(), b.trim_start().to_string()];
-        }
+    if let Some(at) = (width(name) > COMPACT_WRAP)
+        .then(|| best_break(name))
+        .flatten()
+    {
+        let (a, b) = name.split_at(at);
+        lines = vec![a.trim_end().to_string(), b.trim_start().to_string()];
     }
     let text = lines.iter().map(|l| width(l)).fold(0.0, f64::max);
     let extra = match shape {
@@ -274,8 +287,44 @@ fn compact_box(shape: Shape, name: &str) -> CompactBox {
     }
 }
 
-fn breaks_at(chars: &[char], i: usize) -> bool {
-    let (a, b) = (chars[i - 1], chars[i]);
+/// The byte offset where `name` breaks best: of the places it may break, the one whose
+/// wider line is narrowest, the first of equals. Each line's width comes from sums along
+/// the name, so that a name of megabytes costs its length rather than its square.
+fn best_break(name: &str) -> Option<usize> {
+    let chars: Vec<(usize, char)> = name.char_indices().collect();
+    let n = chars.len();
+    // `before[i]`: the width of the first `i` characters.
+    let mut before = Vec::with_capacity(n + 1);
+    before.push(0u64);
+    for &(_, c) in &chars {
+        before.push(before[before.len() - 1] + thousandths(c, true));
+    }
+    // Where the line ending before `i` ends once trimmed, and where the one starting at
+    // `i` starts.
+    let mut end = vec![0usize; n + 1];
+    for i in 0..=n {
+        end[i] = if i > 0 && chars[i - 1].1.is_whitespace() {
+            end[i - 1]
+        } else {
+            i
+        };
+    }
+    let mut start = vec![n; n + 1];
+    for i in (0..n).rev() {
+        start[i] = if chars[i].1.is_whitespace() {
+            start[i + 1]
+        } else {
+            i
+        };
+    }
+    (1..n)
+        .filter(|&i| breaks_at(chars[i - 1].1, chars[i].1))
+        .map(|i| (before[end[i]].max(before[n] - before[start[i]]), i))
+        .min_by_key(|&(wider, _)| wider)
+        .map(|(_, i)| chars[i].0)
+}
+
+fn breaks_at(a: char, b: char) -> bool {
     matches!(a, '_' | '-' | ' ' | '/' | '.')
         || (a.is_lowercase() && (b.is_uppercase() || b.is_ascii_digit()))
 }
@@ -401,25 +450,6 @@ pub fn plan_layout(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::render::node_box::node_ports;
-    use neurotree_core::Blueprint;
-
-    /// A blueprint's nodes as a page that read its file gives them.
-    fn plan_nodes<C>(bp: &Blueprint<C>) -> Vec<PlanNode> {
-        bp.ids()
-            .map(|id| PlanNode {
-                name: bp.name(id).to_string(),
-                type_name: bp.type_id(id).to_string(),
-                category: bp.kind(id).category().as_str().to_string(),
-                ports: node_ports(bp, id),
-                directions: node_ports(bp, id)
-                    .into_iter()
-                    .filter_map(|(p, _)| Some((p.clone(), bp.port_direction(id, &p)?)))
-                    .collect(),
-                children: bp.children(id).iter().map(|c| c.index()).collect(),
-            })
-            .collect()
-    }
 
     fn load(xml: &str) -> Blueprint<()> {
         let registry = crate::Registry::<()>::new();
@@ -495,6 +525,44 @@ mod tests {
         let folded = plan_layout(&nodes, &boxes, Orientation::TopDown, Detail::Full, &[2]);
         assert_eq!(folded.nodes.iter().filter(|p| p.is_some()).count(), 3);
         assert!(folded.nodes[2].is_some() && folded.nodes[3].is_none());
+    }
+
+    /// Every place the name may break tried, each line measured whole: where
+    /// [`best_break`] must break it.
+    fn best_break_by_hand(name: &str) -> Option<usize> {
+        let width = |s: &str| text_width(s, NAME_SIZE, true);
+        let chars: Vec<(usize, char)> = name.char_indices().collect();
+        (1..chars.len())
+            .filter(|&i| breaks_at(chars[i - 1].1, chars[i].1))
+            .map(|i| {
+                let (a, b) = name.split_at(chars[i].0);
+                (width(a.trim_end()).max(width(b.trim_start())), chars[i].0)
+            })
+            .min_by(|x, y| x.0.total_cmp(&y.0))
+            .map(|(_, at)| at)
+    }
+
+    proptest::proptest! {
+        #[test]
+        fn a_name_breaks_where_trying_every_break_breaks_it(name in "[a-zA-Z0-9_./ \t\u{3000}界é-]{0,40}") {
+            proptest::prop_assert_eq!(best_break(&name), best_break_by_hand(&name));
+        }
+    }
+
+    #[test]
+    fn a_name_of_megabytes_is_wrapped_in_one_pass() {
+        // Each break measured whole, this took hours: a page may send such a name.
+        let name = "aB_".repeat(1 << 19);
+        let compact = compact_box(Shape::Action, &name);
+        assert_eq!(compact.lines.len(), 2);
+        let (a, b) = (&compact.lines[0], &compact.lines[1]);
+        assert!(
+            a.len().abs_diff(b.len()) <= 3,
+            "{} and {}",
+            a.len(),
+            b.len()
+        );
+        assert_eq!(format!("{a}{b}"), name);
     }
 
     #[test]

@@ -26,9 +26,19 @@ pub(crate) const BOLD: [u16; 95] = [
 
 /// The width of `text` drawn at `font_size`, in the same unit as `font_size`.
 pub(crate) fn text_width(text: &str, font_size: f64, bold: bool) -> f64 {
-    let table = if bold { &BOLD } else { &REGULAR };
-    let thousandths: u32 = text.chars().map(|c| char_width(c, table)).sum();
-    f64::from(thousandths) * font_size / 1000.0
+    scaled(text.chars().map(|c| thousandths(c, bold)).sum(), font_size)
+}
+
+/// One character's width in thousandths of the font size: summed along a label, so that
+/// a long one is measured once rather than once per place it could be cut.
+pub(crate) fn thousandths(c: char, bold: bool) -> u64 {
+    u64::from(char_width(c, if bold { &BOLD } else { &REGULAR }))
+}
+
+/// A width of `thousandths` of the font size, at `font_size`.
+pub(crate) fn scaled(thousandths: u64, font_size: f64) -> f64 {
+    // Exact below 2^53 thousandths, far past any label a page can send.
+    thousandths as f64 * font_size / 1000.0
 }
 
 /// Code points of wide scripts (CJK, Hangul, full-width forms, pictographs), inclusive:

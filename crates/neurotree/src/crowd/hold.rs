@@ -116,6 +116,15 @@ impl<C: Send> Crowd<C> {
     }
 }
 
+#[cfg(feature = "studio")]
+impl MemberId {
+    /// The id as one number, its slot above its generation: ordered by slot, and naming
+    /// no later member of the same slot, as a debugger that keys members by number needs.
+    pub(crate) fn bits(self) -> u64 {
+        (u64::from(self.index) << 32) | u64::from(self.generation)
+    }
+}
+
 impl<C: Send> Crowd<C> {
     /// Member `id`'s tree, to write between frames (a blackboard entry, say); wakes it, as
     /// [`MemberMut::tree_mut`](super::MemberMut::tree_mut) does. `None` if `id` names no
