@@ -6,8 +6,15 @@
 // The view's state is one object, `state`, changed only by the functions of `actions`.
 // Every edit is a named action that records the file's text before it: undo and redo swap
 // those texts, so every edit, however made, undoes the same way.
+//
+// This file holds the state, the actions and the drawing of the view; the side panel
+// (editor_panel.js), the problem list (editor_problems.js) and the keyboard
+// (editor_keys.js) are modules of their own, given the view's parts as `view`.
 
 import * as api from "./api.js";
+import { bindKeys } from "./editor_keys.js";
+import { renderSidePanel } from "./editor_panel.js";
+import * as problems from "./editor_problems.js";
 import { mountPalette } from "./palette.js";
 import { TreeDrawing, drawingToolbar } from "./tree.js";
 import * as xml from "./xmldoc.js";
@@ -99,6 +106,19 @@ export function mountEditor(section, app) {
     $('[data-action="redo"]').disabled = !state.redo.length;
     app.setTitle(state.path ? `${dirty ? "● " : ""}${state.path}` : "");
   }
+
+  // What the side panel, the problem list and the keyboard read and call; `drawn` and
+  // `actions` read when they are used (the one is replaced at every drawing, the other
+  // defined below).
+  const view = {
+    section, app, state, drawing, palette, $, selectedElement, indexOfElement, subtreeEntry, setStatus, renderPanel,
+    get drawn() {
+      return drawn;
+    },
+    get actions() {
+      return actions;
+    },
+  };
 
   // --- the actions: the only functions that change `state` -----------------------------
   const actions = {
@@ -454,65 +474,11 @@ export function mountEditor(section, app) {
   }
 
   function showCheck(check) {
-    state.check = check;
-    const list = $(".problem-list");
-    list.innerHTML = "";
-    const problems = [];
-    if (state.file?.error) problems.push({ severity: "error", message: `not well-formed XML: ${state.file.error}`, tree: null, element: null });
-    if (state.file?.repaired) {
-      problems.push({ severity: "warning", message: "this file has a bare & or < inside an attribute, which XML forbids (BehaviorTree.CPP reads it); the editor saves it escaped (&amp; &lt;), which loads the same", tree: null, element: null });
-    }
-    for (const e of check?.errors || []) problems.push({ severity: "error", ...e });
-    for (const w of check?.warnings || []) problems.push({ severity: "warning", ...w });
-    for (const l of check?.lint || []) problems.push(l);
-    for (const p of problems.slice(0, 200)) {
-      const li = document.createElement("li");
-      li.dataset.severity = p.severity;
-      li.textContent = p.message;
-      if (p.tree && p.element) {
-        li.classList.add("located");
-        li.addEventListener("click", () => {
-          if (p.tree !== state.treeId) actions.openTab(p.tree);
-          actions.select(p.element, true);
-        });
-      }
-      list.append(li);
-    }
-    if (problems.length > 200) {
-      const li = document.createElement("li");
-      li.textContent = `… and ${problems.length - 200} more`;
-      list.append(li);
-    }
-    const count = (severity, one, many) => {
-      const n = problems.filter((p) => p.severity === severity).length;
-      return `${n} ${n === 1 ? one : many}`;
-    };
-    const errors = problems.filter((p) => p.severity === "error").length;
-    const notes = problems.some((p) => p.severity === "note") ? `, ${count("note", "note", "notes")}` : "";
-    $(".problem-count").textContent = problems.length
-      ? `(${count("error", "error", "errors")}, ${count("warning", "warning", "warnings")}${notes})`
-      : "none";
-    section.dataset.check = errors ? "errors" : "ok";
-    markProblems();
+    problems.showCheck(view, check);
   }
 
   function markProblems() {
-    drawing.clearMarks("data-error");
-    drawing.clearMarks("data-warning");
-    const check = state.check;
-    if (!check) return;
-    const put = (items, attr) => {
-      for (const p of items || []) {
-        if (p.tree !== state.treeId || !p.element) continue;
-        const i = indexOfElement(p.element);
-        if (i >= 0) drawing.mark(i, attr, p.message);
-      }
-    };
-    put(check.warnings, "data-warning");
-    put((check.lint || []).filter((p) => p.severity !== "error"), "data-warning");
-    put(check.errors, "data-error");
-    put((check.lint || []).filter((p) => p.severity === "error"), "data-error");
-    renderPanel();
+    problems.markProblems(view);
   }
 
   // --- drawing -------------------------------------------------------------------------
@@ -582,52 +548,7 @@ export function mountEditor(section, app) {
   }
 
   function renderPanel() {
-    const panel = section.querySelector(".side-panel");
-    const el = selectedElement();
-    if (!el) {
-      panel.innerHTML = '<p class="hint">Click a node to see its name and ports. Drag nodes to move them; Alt+←/→ reorders, Alt+↑ moves out, Delete deletes, Insert adds the palette\'s type, Ctrl+C / Ctrl+X / Ctrl+V / Ctrl+D copy, cut, paste and duplicate.</p>';
-      return;
-    }
-    const type = xml.typeOf(el);
-    const entry = state.palette.get(type) || subtreeEntry(type);
-    const i = indexOfElement(state.selected);
-    const node = drawn[i];
-    const errors = [...(state.check?.errors || []), ...(state.check?.warnings || []), ...(state.check?.lint || [])]
-      .filter((p) => p.tree === state.treeId && p.element && p.element.join() === state.selected.join());
-    const ports = entry?.ports || [];
-    const known = new Set(["name", "ID", ...ports.map((p) => p.name)]);
-    const extra = Array.from(el.attributes).map((a) => a.name).filter((n) => !known.has(n));
-    let html = `<h2>${esc(xml.nameOf(el))}</h2><p class="node-type">${esc(type)} <small>${esc(entry?.category || "unknown type")}</small></p>`;
-    html += `<p class="node-path">${esc(node?.path || "")}</p>`;
-    if (errors.length) html += `<ul class="node-problems">${errors.map((p) => `<li>${esc(p.message)}</li>`).join("")}</ul>`;
-    html += `<label class="field">name<input data-attr="name" value="${esc(el.getAttribute("name") || "")}" placeholder="${esc(type)}"></label>`;
-    if (el.tagName === "SubTree") {
-      html += `<button data-action="open-subtree">open tree ${esc(el.getAttribute("ID") || "")}</button>`;
-    }
-    if (ports.length) html += "<h3>Ports</h3>";
-    for (const p of ports) {
-      const value = el.getAttribute(p.name);
-      html += `<label class="field" title="${esc(p.description || "")}"><span>${esc(p.name)} <small>${esc(p.direction)} ${esc(p.type || "")}</small></span>
-        <input data-port="${esc(p.name)}" value="${esc(value ?? "")}" placeholder="${esc(p.default ?? "")}"></label>`;
-      if (p.description) html += `<small class="port-doc">${esc(p.description)}</small>`;
-    }
-    if (extra.length) html += "<h3>Other attributes</h3>";
-    for (const name of extra) {
-      html += `<label class="field"><span>${esc(name)}</span><input data-port="${esc(name)}" value="${esc(el.getAttribute(name))}"></label>`;
-    }
-    html += `<h3>Add an attribute</h3><div class="add-attr"><input class="new-attr-name" placeholder="name"><input class="new-attr-value" placeholder="value"><button data-action="add-attribute">set</button></div>`;
-    html += `<h3>Move</h3><div class="moves"><button data-action="move-earlier" title="Alt+←">← earlier</button><button data-action="move-later" title="Alt+→">later →</button><button data-action="move-out" title="Alt+↑">out ↑</button></div>`;
-    const focused = document.activeElement && panel.contains(document.activeElement) ? document.activeElement : null;
-    const focusKey = focused && (focused.dataset.port ? `[data-port="${CSS.escape(focused.dataset.port)}"]` : focused.dataset.attr ? `[data-attr="${focused.dataset.attr}"]` : null);
-    const caret = focused?.selectionStart;
-    panel.innerHTML = html;
-    if (focusKey) {
-      const again = panel.querySelector(focusKey);
-      if (again) {
-        again.focus();
-        if (caret != null) again.setSelectionRange(caret, caret);
-      }
-    }
+    renderSidePanel(view);
   }
 
   function showBanner(message, buttons) {
@@ -688,72 +609,11 @@ export function mountEditor(section, app) {
 
   $(".raw-text").addEventListener("change", (e) => actions.applyRawText(e.target.value));
 
-  function onKey(e) {
-    if (!app.isShown("edit")) return;
-    const inField = /^(INPUT|TEXTAREA|SELECT)$/.test(document.activeElement?.tagName || "");
-    const ctrl = e.ctrlKey || e.metaKey;
-    const key = e.key.toLowerCase();
-    if (ctrl && key === "s") {
-      e.preventDefault();
-      actions.save();
-    } else if (ctrl && key === "z" && !inField) {
-      e.preventDefault();
-      e.shiftKey ? actions.redo() : actions.undo();
-    } else if (ctrl && key === "y" && !inField) {
-      e.preventDefault();
-      actions.redo();
-    } else if (inField) {
-      return;
-    } else if (ctrl && (key === "c" || key === "x")) {
-      e.preventDefault();
-      actions.copy(state.selected);
-      if (key === "x") actions.remove(state.selected);
-    } else if (ctrl && key === "v") {
-      e.preventDefault();
-      actions.paste(state.selected);
-    } else if (ctrl && key === "d") {
-      e.preventDefault();
-      actions.duplicate(state.selected);
-    } else if (e.key === "Delete" || e.key === "Backspace") {
-      e.preventDefault();
-      actions.remove(state.selected);
-    } else if (e.key === "Insert" || (key === "a" && !ctrl)) {
-      e.preventDefault();
-      if (state.paletteType && e.key === "Insert") actions.add(state.paletteType, state.selected, "into");
-      else palette.focus();
-    } else if (e.altKey && (e.key === "ArrowLeft" || e.key === "ArrowDown")) {
-      e.preventDefault();
-      actions.shift(e.key === "ArrowLeft" ? -1 : 1);
-    } else if (e.altKey && e.key === "ArrowRight") {
-      e.preventDefault();
-      actions.shift(1);
-    } else if (e.altKey && e.key === "ArrowUp") {
-      e.preventDefault();
-      actions.shift(0);
-    } else if (e.key.startsWith("Arrow") && state.selected) {
-      e.preventDefault();
-      navigate(e.key);
-    } else if (e.key === "Enter" && state.selected) {
-      const el = selectedElement();
-      if (el?.tagName === "SubTree") actions.openTab(el.getAttribute("ID"), drawn[indexOfElement(state.selected)]?.path || "");
-    }
-  }
-  document.addEventListener("keydown", onKey);
+  bindKeys(view);
   // Leaving the page with edits not saved asks first.
   window.addEventListener("beforeunload", (e) => {
     if (isDirty()) e.preventDefault();
   });
-
-  // Arrow keys walk the tree: up to the parent, down to the first child, sideways to siblings.
-  function navigate(key) {
-    const p = state.selected;
-    let next = null;
-    if (key === "ArrowUp" && p.length > 1) next = p.slice(0, -1);
-    else if (key === "ArrowDown") next = [...p, 0];
-    else if (key === "ArrowLeft" && p[p.length - 1] > 0) next = [...p.slice(0, -1), p[p.length - 1] - 1];
-    else if (key === "ArrowRight") next = [...p.slice(0, -1), p[p.length - 1] + 1];
-    if (next && indexOfElement(next) >= 0) actions.select(next, true);
-  }
 
   // The file on disk: noticed when it changes, offered for reload.
   setInterval(async () => {
@@ -786,8 +646,4 @@ export function mountEditor(section, app) {
   listFiles();
 
   return { actions, state, drawing, show: () => drawing.fit() };
-}
-
-function esc(text) {
-  return String(text).replace(/[&<>"']/g, (c) => ({ "&": "&amp;", "<": "&lt;", ">": "&gt;", '"': "&quot;", "'": "&#39;" })[c]);
 }
