@@ -12,7 +12,7 @@ import subprocess
 import sys
 import time
 
-from rewind_shot import call
+from rewind_shot import call, clicker, open_session
 
 PORT = 9634
 
@@ -24,16 +24,9 @@ def main(url, view, out, wait=6.0):
     try:
         time.sleep(1)
         base = f"http://127.0.0.1:{PORT}"
-        options = ["--headless=new", "--no-sandbox", "--disable-gpu", "--hide-scrollbars",
-                   "--window-size=1500,950"]
-        caps = {"capabilities": {"alwaysMatch": {"goog:chromeOptions": {"args": options}}}}
-        session = base + "/session/" + call("POST", base + "/session", caps)["sessionId"]
+        session = open_session(base)
         try:
-            def click(action):
-                call("POST", session + "/execute/sync", {
-                    "script": f"document.querySelector('#{view}-view [data-action={action}]').click()",
-                    "args": [],
-                })
+            click = clicker(session, view)
 
             # The page 1500×950, the window that much larger than what the browser takes.
             inner = call("POST", session + "/execute/sync", {

@@ -23,6 +23,24 @@ def call(method, url, body=None):
     return json.loads(urllib.request.urlopen(request, timeout=60).read())["value"]
 
 
+def open_session(base):
+    """A session of headless Chromium at 1500×950 through the ChromeDriver at `base`."""
+    options = ["--headless=new", "--no-sandbox", "--disable-gpu", "--hide-scrollbars",
+               "--window-size=1500,950"]
+    caps = {"capabilities": {"alwaysMatch": {"goog:chromeOptions": {"args": options}}}}
+    return base + "/session/" + call("POST", base + "/session", caps)["sessionId"]
+
+
+def clicker(session, view):
+    """Clicks the button `[data-action=ACTION]` of VIEW's toolbar, as a person would."""
+    def click(action):
+        call("POST", session + "/execute/sync", {
+            "script": f"document.querySelector('#{view}-view [data-action={action}]').click()",
+            "args": [],
+        })
+    return click
+
+
 def main(neurotree, out):
     driver = subprocess.Popen(
         ["chromedriver", f"--port={PORT}"], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL
@@ -43,16 +61,9 @@ def main(neurotree, out):
             url = found and found.group(1)
         time.sleep(1)
         base = f"http://127.0.0.1:{PORT}"
-        options = ["--headless=new", "--no-sandbox", "--disable-gpu", "--hide-scrollbars",
-                   "--window-size=1500,950"]
-        caps = {"capabilities": {"alwaysMatch": {"goog:chromeOptions": {"args": options}}}}
-        session = base + "/session/" + call("POST", base + "/session", caps)["sessionId"]
+        session = open_session(base)
         try:
-            def click(action):
-                call("POST", session + "/execute/sync", {
-                    "script": f"document.querySelector('#watch-view [data-action={action}]').click()",
-                    "args": [],
-                })
+            click = clicker(session, "watch")
 
             call("POST", session + "/url", {"url": url + "#view=watch"})
             time.sleep(12)
