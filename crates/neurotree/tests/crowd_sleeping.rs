@@ -372,6 +372,21 @@ mod random {
         /// [`HaltHandle`](neurotree::HaltHandle): made before it joined for even members,
         /// through the crowd at the first request for odd ones.
         HaltHandle,
+        /// In the sleeping crowd only, an observer that lets its tree sleep (as the
+        /// studio's, watching one agent) is set on it, or taken off if it has one.
+        Observe,
+    }
+
+    /// An observer that counts what it is told and lets its tree sleep.
+    struct Watcher(usize);
+
+    impl neurotree::Observer for Watcher {
+        fn on_status_change(&mut self, _: neurotree::StatusChange) {
+            self.0 += 1;
+        }
+        fn lets_tree_sleep(&self) -> bool {
+            true
+        }
     }
 
     fn touch() -> impl Strategy<Value = Touch> {
@@ -384,6 +399,7 @@ mod random {
             1 => Just(Touch::Swap),
             1 => Just(Touch::Rejoin),
             1 => Just(Touch::HaltHandle),
+            1 => Just(Touch::Observe),
         ]
     }
 
@@ -512,6 +528,13 @@ mod random {
                         });
                         handle.request();
                     }
+                    // The reference is not observed: what it gives, the watched crowd must.
+                    Touch::Observe if sleeps => {
+                        if crowd.set_observer(id, None).is_none() {
+                            crowd.set_observer(id, Some(Box::new(Watcher(0))));
+                        }
+                    }
+                    Touch::Observe => {}
                 }
             }
             let report = if setup.in_place {
