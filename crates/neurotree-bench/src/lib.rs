@@ -228,7 +228,9 @@ impl neurotree::StatefulAction<Agent> for WaitForAlert {
 }
 
 /// A crowd of `agents` instances of [`sleepy_agent_tree`], as [`agent_crowd`] makes one of
-/// [`agent_tree`].
+/// [`agent_tree`]. Each blackboard holds `alert` (false) from the start, as an entry a port
+/// names is declared when its tree is made: an alert then writes an entry that exists, as
+/// every alert after a member's first does in a crowd that runs for longer than a bench.
 pub fn sleepy_agent_crowd(
     agents: usize,
     threads: usize,
@@ -239,7 +241,12 @@ pub fn sleepy_agent_crowd(
         .with_threads(threads)
         .expect("rayon starts its threads");
     for i in 0..agents {
-        crowd.add(Arc::clone(&blueprint), Agent::new(i as u32));
+        let clock = Arc::clone(crowd.clock());
+        let mut tree = neurotree::Tree::with_shared_clock(Arc::clone(&blueprint), clock);
+        tree.blackboard_mut()
+            .set("alert", false)
+            .expect("a fresh blackboard takes any entry");
+        crowd.add_tree(tree, Agent::new(i as u32));
     }
     crowd
 }

@@ -416,6 +416,16 @@ impl Blackboard {
         };
         let entries = entries_mut(&mut self.entries, s);
         match entries.get_mut(k) {
+            // The same type: written in place, so that a value rewritten every tick (a
+            // flag a leaf clears) costs no allocation.
+            Some(entry) if entry.value.is::<T>() => {
+                if let Some(slot) = entry.value.downcast_mut::<T>() {
+                    *slot = value;
+                }
+                entry.untyped = false;
+                entry.info.type_name = type_name::<T>();
+                entry.touch(stamp);
+            }
             Some(entry) => {
                 let sequence = entry.info.sequence;
                 *entry = Entry::new(value, stamp);
