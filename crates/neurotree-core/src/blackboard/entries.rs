@@ -6,16 +6,23 @@
 //! (about a kilobyte), a cost each member of a large crowd paid, and a trip to memory per
 //! level when a tick read its blackboard. A new key shifts the keys after it: a scope
 //! of thousands of keys pays for its first writes what it saves on its reads.
+//!
+//! A key of up to 23 bytes (most are) is stored in the entry itself ([`SmolStr`]), so that
+//! comparing keys reads the entries' own cache lines: a `String` key sent every comparison
+//! to memory a second time, to the key's own allocation, which in a large crowd is
+//! elsewhere and seldom cached.
 
 use alloc::string::String;
 use alloc::vec::Vec;
+
+use smol_str::SmolStr;
 
 use super::scope::Entry;
 
 /// The entries stored directly in one scope, sorted by key (searchable by `&str`, so a
 /// lookup allocates nothing).
 #[derive(Default)]
-pub(super) struct Entries(Vec<(String, Entry)>);
+pub(super) struct Entries(Vec<(SmolStr, Entry)>);
 
 impl Entries {
     /// Where `key` is, or where it would go.
@@ -37,11 +44,11 @@ impl Entries {
     }
 
     /// Puts `entry` under `key`, giving back the one it replaces.
-    pub(super) fn insert(&mut self, key: String, entry: Entry) -> Option<Entry> {
-        match self.find(&key) {
+    pub(super) fn insert(&mut self, key: &str, entry: Entry) -> Option<Entry> {
+        match self.find(key) {
             Ok(i) => Some(core::mem::replace(&mut self.0[i].1, entry)),
             Err(i) => {
-                self.0.insert(i, (key, entry));
+                self.0.insert(i, (SmolStr::new(key), entry));
                 None
             }
         }
@@ -56,7 +63,7 @@ impl Entries {
         let i = match self.find(key) {
             Ok(i) => i,
             Err(i) => {
-                self.0.insert(i, (String::from(key), make()));
+                self.0.insert(i, (SmolStr::new(key), make()));
                 i
             }
         };
@@ -77,13 +84,13 @@ impl Entries {
     }
 
     /// The entries, by key.
-    pub(super) fn iter(&self) -> impl Iterator<Item = (&String, &Entry)> {
-        self.0.iter().map(|(k, e)| (k, e))
+    pub(super) fn iter(&self) -> impl Iterator<Item = (&str, &Entry)> {
+        self.0.iter().map(|(k, e)| (k.as_str(), e))
     }
 
     /// The keys, sorted.
-    pub(super) fn keys(&self) -> impl Iterator<Item = &String> {
-        self.0.iter().map(|(k, _)| k)
+    pub(super) fn keys(&self) -> impl Iterator<Item = &str> {
+        self.0.iter().map(|(k, _)| k.as_str())
     }
 
     /// Asks the processor to start loading the entries (see [`hint`](crate::hint)).
@@ -93,12 +100,12 @@ impl Entries {
     }
 }
 
-impl IntoIterator for Entries {
-    type Item = (String, Entry);
-    type IntoIter = alloc::vec::IntoIter<(String, Entry)>;
-
-    fn into_iter(self) -> Self::IntoIter {
-        self.0.into_iter()
+impl Entries {
+    /// Takes the entries out, by key.
+    pub(super) fn into_pairs(self) -> impl Iterator<Item = (String, Entry)> {
+        self.0
+            .into_iter()
+            .map(|(k, e)| (String::from(k.as_str()), e))
     }
 }
 
@@ -108,19 +115,17 @@ mod tests {
     use core::time::Duration;
 
     fn keys(e: &Entries) -> Vec<&str> {
-        e.keys().map(String::as_str).collect()
+        e.keys().collect()
     }
 
     #[test]
     fn entries_stay_sorted_and_are_found_replaced_and_removed_by_key() {
         let mut e = Entries::default();
         for (k, v) in [("b", 2u8), ("a", 1), ("c", 3)] {
-            assert!(e
-                .insert(String::from(k), Entry::new(v, Duration::ZERO))
-                .is_none());
+            assert!(e.insert(k, Entry::new(v, Duration::ZERO)).is_none());
         }
         assert_eq!(keys(&e), ["a", "b", "c"]);
-        let old = e.insert(String::from("b"), Entry::new(20u8, Duration::ZERO));
+        let old = e.insert("b", Entry::new(20u8, Duration::ZERO));
         assert_eq!(
             old.and_then(|o| o.value.downcast_ref::<u8>().copied()),
             Some(2)
@@ -136,7 +141,7 @@ mod tests {
         assert_eq!(keys(&e), ["a", "ab", "b", "c"]);
         assert!(e.remove("a").is_some() && e.remove("a").is_none());
         assert_eq!((e.len(), keys(&e)), (3, ["ab", "b", "c"].to_vec()));
-        let owned: Vec<String> = e.into_iter().map(|(k, _)| k).collect();
+        let owned: Vec<String> = e.into_pairs().map(|(k, _)| k).collect();
         assert_eq!(owned, ["ab", "b", "c"]);
     }
 }

@@ -274,7 +274,7 @@ impl Blackboard {
             let mut entry = Entry::new(Unwritten, Duration::ZERO);
             entry.info.sequence = 0;
             entry.info.type_name = UNWRITTEN;
-            entries.insert(String::from(k), entry);
+            entries.insert(k, entry);
         }
     }
 
@@ -366,7 +366,7 @@ impl Blackboard {
                 entry.touch(stamp);
             }
             None => {
-                entries.insert(String::from(k), Entry::new(value, stamp));
+                entries.insert(k, Entry::new(value, stamp));
             }
         }
         self.last_stamp = self.last_stamp.max(stamp);
@@ -432,7 +432,7 @@ impl Blackboard {
                 entry.info.sequence = sequence.wrapping_add(1);
             }
             None => {
-                entries.insert(String::from(k), Entry::new(value, stamp));
+                entries.insert(k, Entry::new(value, stamp));
             }
         }
         self.last_stamp = self.last_stamp.max(stamp);
@@ -476,7 +476,7 @@ impl Blackboard {
             None => {
                 let mut entry = Entry::new(value, stamp);
                 entry.untyped = true;
-                entries.insert(String::from(k), entry);
+                entries.insert(k, entry);
             }
         }
         self.last_stamp = self.last_stamp.max(stamp);
@@ -512,7 +512,7 @@ impl Blackboard {
                 entry.info.sequence = sequence.wrapping_add(1);
             }
             None => {
-                entries.insert(String::from(key), Entry::new(value, stamp));
+                entries.insert(key, Entry::new(value, stamp));
             }
         }
         self.last_stamp = self.last_stamp.max(stamp);
@@ -546,7 +546,7 @@ impl Blackboard {
         self.entries
             .get(scope.0 as usize)
             .into_iter()
-            .flat_map(|e| e.keys().map(String::as_str))
+            .flat_map(Entries::keys)
     }
 
     /// Reads a copy of `key` in the root scope, numbers, `bool` and text converted as ports
@@ -667,7 +667,7 @@ impl fmt::Debug for Blackboard {
                 let mut map = f.debug_map();
                 for (key, e) in self.0.into_iter().flat_map(Entries::iter) {
                     map.entry(
-                        key,
+                        &key,
                         &format_args!("{} #{}", e.info.type_name, e.info.sequence),
                     );
                 }

@@ -28,7 +28,7 @@ impl Blackboard {
         self.entries.iter().enumerate().flat_map(|(s, entries)| {
             entries.iter().map(move |(key, e)| {
                 let value = (!e.value.is::<Unwritten>()).then_some(&*e.value);
-                (s as u32, key.as_str(), &e.info, e.untyped, value)
+                (s as u32, key, &e.info, e.untyped, value)
             })
         })
     }
@@ -47,7 +47,7 @@ impl Blackboard {
     )> {
         let mut out = Vec::new();
         for (s, entries) in core::mem::take(&mut self.entries).into_iter().enumerate() {
-            for (key, e) in entries {
+            for (key, e) in entries.into_pairs() {
                 let value = (!e.value.is::<Unwritten>()).then_some(e.value);
                 out.push((s as u32, key, e.info, e.untyped, value));
             }
@@ -80,7 +80,7 @@ impl Blackboard {
             info,
             untyped,
         };
-        entries_mut(&mut self.entries, scope as usize).insert(key, entry);
+        entries_mut(&mut self.entries, scope as usize).insert(&key, entry);
         true
     }
 

@@ -57,14 +57,20 @@ fn wrong_type_reads_and_writes_are_errors() {
     let later = Duration::from_secs(9);
     bb.replace_in(ScopeId::ROOT, "n", 2.5_f64, later);
     let info = bb.info("n").unwrap();
-    assert_eq!((bb.get::<f64>("n"), info.sequence, info.stamp), (Ok(2.5), 3, later));
+    assert_eq!(
+        (bb.get::<f64>("n"), info.sequence, info.stamp),
+        (Ok(2.5), 3, later)
+    );
     assert_eq!(info.type_name, "f64");
     // An untyped entry holding the same type becomes typed, as with any other type.
     bb.set_untyped_in(ScopeId::ROOT, "s", 1_i64, T1).unwrap();
     assert!(bb.is_untyped_in(ScopeId::ROOT, "s"));
     bb.replace_in(ScopeId::ROOT, "s", 2_i64, T1);
     assert!(!bb.is_untyped_in(ScopeId::ROOT, "s"));
-    assert_eq!((bb.get::<i64>("s"), bb.info("s").unwrap().sequence), (Ok(2), 2));
+    assert_eq!(
+        (bb.get::<i64>("s"), bb.info("s").unwrap().sequence),
+        (Ok(2), 2)
+    );
 }
 
 #[test]
