@@ -11,7 +11,8 @@
 //!   every thread of a rayon pool (`--threads`, or `RAYON_NUM_THREADS`, or every core):
 //!   milliseconds per frame and bytes per member.
 //! - `crowd_sleeping`: the same agents behind a leaf that sleeps until an alert, 1% of them
-//!   alerted each frame (a blackboard write through the crowd): the members awake per
+//!   alerted each frame (a blackboard write, through `Crowd::for_each_mut` on the crowd's
+//!   threads): the members awake per
 //!   frame and milliseconds per frame, which follow the agents awake rather than the crowd.
 //! - `crowd_awake`: the sleeping crowd again with about 1 %, 3.7 % and 20 % of it awake in
 //!   each frame: nanoseconds per awake member, and their ratio to the `crowd` line's
@@ -324,14 +325,17 @@ pub fn crowd_sleeping_bench(opts: &BenchArgs, alert_percent: f64) -> CrowdSleepi
         .max(1)
         .min(ids.len());
     let mut next = 0;
+    let mut alerted = Vec::with_capacity(per_frame);
     let mut frame = |crowd: &mut neurotree::crowd::Crowd<Agent>| {
+        alerted.clear();
         for _ in 0..per_frame {
-            let id = ids[next % ids.len()];
+            alerted.push(ids[next % ids.len()]);
             next += 1;
-            if let Some(mut m) = crowd.get_mut(id) {
-                let _ = m.tree_mut().blackboard_mut().set("alert", true);
-            }
         }
+        // On the crowd's threads, as a game delivers a frame's events to its agents.
+        crowd.for_each_mut(&alerted, |mut m| {
+            let _ = m.tree_mut().blackboard_mut().set("alert", true);
+        });
         clock.advance(FRAME);
         black_box(crowd.frame())
     };

@@ -72,7 +72,6 @@ impl<C: Send> Crowd<C> {
             }
             if plan.sleeps_until == AWAKE {
                 awake.clear(slot);
-                awake.fell(1);
             }
             // Only a wake wakes it; its own deadline, if it had one, is forgotten: the
             // release wakes it, and its tree says again when it sleeps.

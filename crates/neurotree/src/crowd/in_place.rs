@@ -16,7 +16,7 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Mutex, MutexGuard, PoisonError};
 
 use super::member::{Body, FrameStatus, Plan, Tally, TickMode, NOT_OWED};
-use super::sleep::{stays_awake, Awake, Timer, BITS};
+use super::sleep::{stays_awake, Awake, BITS};
 use super::{Crowd, FrameReport, Lod, MemberId};
 
 /// Slots behind one lock of an [`InPlaceFrame`].
@@ -38,7 +38,6 @@ pub struct InPlaceFrame<'c, C> {
     len: usize,
     /// Members asleep through the frame.
     asleep: u64,
-    awake: &'c Awake,
 }
 
 /// One lock's share of the crowd's tables.
@@ -48,8 +47,8 @@ struct Part<'c, C> {
     contexts: &'c mut [Option<C>],
     /// The part's words of the awake set.
     words: &'c [AtomicU64],
-    /// Its members that fell asleep in this frame.
-    fallen: &'c mut Vec<Timer>,
+    /// A bit per slot of its members that fell asleep in this frame.
+    fallen: &'c mut [u64],
     tally: Tally,
     visited: u64,
 }
@@ -90,7 +89,7 @@ impl<C: Send> Crowd<C> {
             return None;
         }
         self.backlog.clear();
-        let asleep = self.start_sleep_frame();
+        let asleep = self.in_pool(Self::start_sleep_frame);
         let Self {
             plans,
             bodies,
@@ -108,7 +107,7 @@ impl<C: Send> Crowd<C> {
             .zip(bodies.chunks_mut(PART))
             .zip(contexts.chunks_mut(PART))
             .zip(awake.bits.chunks(PART / BITS))
-            .zip(timers.fallen.iter_mut())
+            .zip(timers.fallen.chunks_mut(PART / BITS))
             .map(|((((plans, bodies), contexts), words), fallen)| {
                 Mutex::new(Part {
                     plans,
@@ -129,7 +128,6 @@ impl<C: Send> Crowd<C> {
             frames,
             len: *len,
             asleep,
-            awake,
         })
     }
 }
@@ -210,7 +208,6 @@ impl<'c, C> InPlaceFrame<'c, C> {
                 }
             }
         }
-        self.awake.fell(tally.fell);
         *self.frames += 1;
         FrameReport {
             frame: self.frame,
@@ -285,7 +282,7 @@ impl<'f, 'c, C> Visitor<'f, 'c, C> {
             ..plan.tick(body, ctx, self.frame.mode)
         };
         part.tally = part.tally.add(tally);
-        if !stays_awake(plan, slot, part.fallen) {
+        if !stays_awake(plan, i, part.fallen) {
             Awake::clear_in(part.words, i);
             part.tally.fell += 1;
         }

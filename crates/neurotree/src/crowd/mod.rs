@@ -90,18 +90,20 @@
 mod hold;
 mod in_place;
 mod member;
+mod run;
 mod schedule;
 mod sleep;
+mod span;
+mod visit;
 
 use std::collections::VecDeque;
 use std::sync::Arc;
 
-use neurotree_core::hint::prefetch;
 use rayon::prelude::*;
 
 use crate::{Blueprint, Clock, Tree};
 pub use in_place::{InPlaceFrame, Visit, Visitor, PART};
-use member::{Body, Plan, Tally, NOT_OWED};
+use member::{Body, Plan, NOT_OWED};
 pub use member::{Contexts, FrameStatus, Member, MemberId, MemberMut, TickMode};
 pub use rayon::{ThreadPool, ThreadPoolBuildError, ThreadPoolBuilder};
 pub use sleep::CrowdWaker;
@@ -145,6 +147,10 @@ pub struct Crowd<C> {
     timers: sleep::Timers,
     /// Members no frame ticks until released ([`Crowd::hold`]).
     held: hold::Held,
+    /// The ids [`Crowd::for_each_mut`] visits, sorted by word of slots.
+    visits: visit::Visits,
+    /// The awake members before each word of slots, by which a frame's threads share them.
+    work: Vec<u32>,
 }
 
 /// What one frame did.
@@ -210,6 +216,8 @@ impl<C: Send> Crowd<C> {
             awake: sleep::Awake::default(),
             timers: sleep::Timers::default(),
             held: hold::Held::default(),
+            visits: visit::Visits::default(),
+            work: Vec::new(),
         }
     }
 
@@ -305,9 +313,6 @@ impl<C: Send> Crowd<C> {
         let mut ctx = self.contexts[i].take()?;
         let plan = &mut self.plans[i];
         let owed = plan.owed_since != NOT_OWED;
-        if plan.sleeps_until != sleep::AWAKE {
-            self.awake.left_asleep();
-        }
         *plan = Plan::new(plan.generation.wrapping_add(1));
         self.awake.clear(i);
         self.free.push(id.index);
@@ -548,19 +553,15 @@ impl<C: Send> Crowd<C> {
     pub fn frame(&mut self) -> FrameReport {
         let frame = self.frames;
         let budget = self.budget;
-        let asleep = self.start_sleep_frame();
-        let run = |crowd: &mut Self| {
+        let (asleep, tally) = self.in_pool(|crowd| {
+            let asleep = crowd.start_sleep_frame();
             crowd.choose_intervals();
-            match budget {
+            let tally = match budget {
                 Some(budget) => crowd.run_budgeted(frame, budget),
                 None => crowd.run_all(frame),
-            }
-        };
-        let tally = match self.pool.clone() {
-            Some(pool) => pool.install(|| run(self)),
-            None => run(self),
-        };
-        self.awake.fell(tally.fell);
+            };
+            (asleep, tally)
+        });
         self.frames += 1;
         FrameReport {
             frame,
@@ -572,6 +573,14 @@ impl<C: Send> Crowd<C> {
             errors: tally.errors,
             awake: tally.awake,
             behind: self.behind(),
+        }
+    }
+
+    /// Runs `f` on the crowd's threads: in its own pool if it has one.
+    fn in_pool<R: Send>(&mut self, f: impl FnOnce(&mut Self) -> R + Send) -> R {
+        match self.pool.clone() {
+            Some(pool) => pool.install(|| f(self)),
+            None => f(self),
         }
     }
 
@@ -587,73 +596,6 @@ impl<C: Send> Crowd<C> {
             .zip(self.contexts.par_iter_mut())
             .with_min_len(1024)
             .for_each(|(plan, ctx)| plan.choose_interval(ctx.as_ref(), Some(lod)));
-    }
-
-    /// Ticks every awake member due in `frame`, and every member owed from earlier frames;
-    /// sleeping members are not visited.
-    fn run_all(&mut self, frame: u64) -> Tally {
-        self.backlog.clear();
-        let mode = self.mode;
-        let Self {
-            plans,
-            bodies,
-            contexts,
-            awake,
-            timers,
-            ..
-        } = self;
-        plans
-            .par_chunks_mut(schedule::CHUNK)
-            .zip(bodies.par_chunks_mut(schedule::CHUNK))
-            .zip(contexts.par_chunks_mut(schedule::CHUNK))
-            .zip(awake.bits.par_chunks_mut(schedule::CHUNK / sleep::BITS))
-            .zip(timers.fallen.par_iter_mut())
-            .enumerate()
-            .map(|(c, ((((plans, bodies), contexts), words), fallen))| {
-                let mut tally = Tally::default();
-                sleep::for_each_awake_ahead(words, |i, step| {
-                    match step {
-                        sleep::Ahead::Far => {
-                            prefetch(&plans[i]);
-                            prefetch(&bodies[i]);
-                            prefetch(&contexts[i]);
-                            return true;
-                        }
-                        sleep::Ahead::Near => {
-                            if let Some(body) = &bodies[i] {
-                                body.tree.prefetch_state();
-                            }
-                            return true;
-                        }
-                        sleep::Ahead::Next => {
-                            if let Some(body) = &bodies[i] {
-                                body.tree.prefetch_entries();
-                            }
-                            return true;
-                        }
-                        sleep::Ahead::Tick => {}
-                    }
-                    let plan = &mut plans[i];
-                    if !plan.present {
-                        return false;
-                    }
-                    let due = plan.plan(frame) || plan.owed_since != NOT_OWED;
-                    // The body is touched only when due.
-                    let (true, Some(body), Some(ctx)) = (due, &mut bodies[i], &mut contexts[i])
-                    else {
-                        return true;
-                    };
-                    tally = tally.add(Tally {
-                        due: 1,
-                        ..plan.tick(body, ctx, mode)
-                    });
-                    let stays = sleep::stays_awake(plan, c * schedule::CHUNK + i, fallen);
-                    tally.fell += u64::from(!stays);
-                    stays
-                });
-                tally
-            })
-            .reduce(Tally::default, Tally::add)
     }
 }
 

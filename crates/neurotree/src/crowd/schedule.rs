@@ -77,30 +77,30 @@ impl<C: Send> Crowd<C> {
             .zip(self.contexts.par_chunks_mut(CHUNK))
             .zip(self.awake.bits.par_chunks_mut(CHUNK / BITS))
             .zip(self.chunks.par_iter())
-            .zip(self.timers.fallen.par_iter_mut())
-            .enumerate()
-            .map(
-                |(c, (((((plans, bodies), contexts), words), chunk), fallen))| {
-                    let mut tally = Tally::default();
-                    if chunk.fresh == 0 && !chunk.owed {
-                        return tally;
-                    }
-                    for_each_awake(words, |i| {
-                        let plan = &mut plans[i];
-                        let go = plan.picked || (chunk.all && plan.owed_since == frame);
-                        // The body is touched only when picked.
-                        let (true, Some(body), Some(ctx)) = (go, &mut bodies[i], &mut contexts[i])
-                        else {
-                            return true;
-                        };
-                        tally = tally.add(plan.tick(body, ctx, mode));
-                        let stays = stays_awake(plan, c * CHUNK + i, fallen);
-                        tally.fell += u64::from(!stays);
-                        stays
-                    });
-                    tally
-                },
-            )
+            .zip(self.timers.fallen.par_chunks_mut(CHUNK / BITS))
+            // One chunk per job: awake members bunch (those alerted together), and only
+            // jobs this small let the threads share a bunch.
+            .with_max_len(1)
+            .map(|(((((plans, bodies), contexts), words), chunk), fallen)| {
+                let mut tally = Tally::default();
+                if chunk.fresh == 0 && !chunk.owed {
+                    return tally;
+                }
+                for_each_awake(words, |i| {
+                    let plan = &mut plans[i];
+                    let go = plan.picked || (chunk.all && plan.owed_since == frame);
+                    // The body is touched only when picked.
+                    let (true, Some(body), Some(ctx)) = (go, &mut bodies[i], &mut contexts[i])
+                    else {
+                        return true;
+                    };
+                    tally = tally.add(plan.tick(body, ctx, mode));
+                    let stays = stays_awake(plan, i, fallen);
+                    tally.fell += u64::from(!stays);
+                    stays
+                });
+                tally
+            })
             .reduce(Tally::default, Tally::add);
         Tally { due, ..tally }
     }

@@ -12,6 +12,12 @@
 //! longer sleeps until that moment), and the heap is compacted when stale timers outnumber
 //! the slots.
 //!
+//! Each chunk of [`CHUNK`](super::schedule::CHUNK) slots has a heap of its own, and the
+//! members that fell asleep in a frame are noted in a second set of bits by the thread
+//! that ticked them: the start of the next frame marks them asleep, times them and pops the
+//! deadlines chunk by chunk on all the crowd's threads, so that a crowd that mostly sleeps
+//! keeps every core busy rather than waiting on one.
+//!
 //! A sleeping member wakes when the crowd's clock reaches its deadline, or earlier when:
 //!
 //! - the program changes its tree between frames ([`MemberMut::tree_mut`] and
@@ -42,12 +48,15 @@
 
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
-use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex, PoisonError};
 use std::task::{Wake, Waker};
 use std::time::Duration;
 
+use rayon::prelude::*;
+
 use super::member::{FrameStatus, Plan};
+use super::schedule::CHUNK;
 use super::{Crowd, MemberId};
 use crate::Tree;
 
@@ -91,20 +100,20 @@ impl Timer {
         }
     }
 
-    /// `true` if the member still sleeps as it did when the timer was set.
-    fn holds(&self, plans: &[Plan]) -> bool {
-        plans.get(self.slot as usize).is_some_and(|p| {
-            p.present && p.generation == self.generation && p.sleeps_until == self.until
-        })
+    /// `true` if the member `plan` schedules (in the timer's slot) still sleeps as it did
+    /// when the timer was set.
+    fn holds(&self, plan: &Plan) -> bool {
+        plan.present && plan.generation == self.generation && plan.sleeps_until == self.until
     }
 }
 
-/// Which members are awake: a bit per slot, and how many members sleep. Atomic, so that
-/// members handed out together by [`Crowd::iter_mut`] can each wake their own.
+/// Which members are awake: a bit per slot. Atomic, so that members handed out together by
+/// [`Crowd::iter_mut`] or [`Crowd::for_each_mut`] can each wake their own. The members
+/// asleep are those present whose bit is clear, counted when asked rather than kept in a
+/// count that every thread waking a member would write.
 #[derive(Debug, Default)]
 pub(super) struct Awake {
     pub(super) bits: Vec<AtomicU64>,
-    sleeping: AtomicUsize,
 }
 
 impl Awake {
@@ -133,30 +142,21 @@ impl Awake {
         words[slot / BITS].fetch_and(!bit, Ordering::Relaxed);
     }
 
-    /// Wakes the sleeping member `plan` schedules in `slot`: sets its bit, counts it awake.
+    /// Wakes the sleeping member `plan` schedules in `slot`: sets its bit.
     pub(super) fn wake(&self, plan: &mut Plan, slot: usize) {
         if plan.sleeps_until == AWAKE {
             return;
         }
         plan.sleeps_until = AWAKE;
-        if self.set(slot) {
-            self.sleeping.fetch_sub(1, Ordering::Relaxed);
-        }
+        self.set(slot);
     }
 
-    /// Counts `n` more members asleep, whose bits the frame cleared.
-    pub(super) fn fell(&self, n: u64) {
-        self.sleeping.fetch_add(n as usize, Ordering::Relaxed);
-    }
-
-    /// Counts a member that left while asleep.
-    pub(super) fn left_asleep(&self) {
-        self.sleeping.fetch_sub(1, Ordering::Relaxed);
-    }
-
-    /// Members asleep.
-    pub(super) fn sleeping(&self) -> usize {
-        self.sleeping.load(Ordering::Relaxed)
+    /// Members awake: the bits set.
+    pub(super) fn count(&self) -> usize {
+        self.bits
+            .iter()
+            .map(|w| w.load(Ordering::Relaxed).count_ones() as usize)
+            .sum()
     }
 }
 
@@ -241,10 +241,14 @@ pub(super) fn for_each_awake_ahead(
 /// The timers of sleeping members, and those that fell asleep in the last frame.
 #[derive(Debug, Default)]
 pub(super) struct Timers {
-    heap: BinaryHeap<Reverse<Timer>>,
-    /// Per chunk of slots, members that fell asleep in the last frame, noted by the
-    /// frame's threads and handled at the start of the next.
-    pub(super) fallen: Vec<Vec<Timer>>,
+    /// Per chunk of slots, the deadlines of its sleepers.
+    heaps: Vec<BinaryHeap<Reverse<Timer>>>,
+    /// A bit per slot, set for a member that fell asleep in the last frame, by the
+    /// frame's threads; the start of the next frame handles and clears them.
+    pub(super) fallen: Vec<u64>,
+    /// Per chunk of slots, members just marked asleep whose tree has a halt handle, whose
+    /// wake signal the crowd is to watch (see [`watch_signal`]).
+    watch: Vec<Vec<Timer>>,
     /// The waker's queue, swapped out at the start of a frame, kept for its room.
     woken: Vec<MemberId>,
     /// Per slot, the waker registered on its sleeping tree's wake signal (see
@@ -337,16 +341,28 @@ impl<C: Send> Crowd<C> {
         }
     }
 
-    /// Members whose tree sleeps now.
+    /// Members whose tree sleeps now (or that are [held](Self::hold)).
     pub fn asleep(&self) -> usize {
-        self.awake.sleeping()
+        self.len - self.awake.count()
     }
 
-    /// Readies the frame's sleepers: the members that fell asleep in the last frame are
-    /// marked asleep and their deadlines set; the wakes queued through [`CrowdWaker`]s
-    /// and the deadlines the clock reached wake their members. Returns how many members
-    /// sleep through the frame.
+    /// Readies the frame's sleepers: the wakes queued through [`CrowdWaker`]s wake their
+    /// members; the members that fell asleep in the last frame are marked asleep and their
+    /// deadlines set; the deadlines the clock reached wake their members. Returns how many
+    /// members sleep through the frame. Runs on the frame's threads (call it in the pool).
     pub(super) fn start_sleep_frame(&mut self) -> u64 {
+        let chunks = self.plans.len().div_ceil(CHUNK);
+        let timers = &mut self.timers;
+        if timers.fallen.len() < self.awake.bits.len() {
+            timers.fallen.resize(self.awake.bits.len(), 0);
+        }
+        if timers.watch.len() < chunks {
+            timers.watch.resize_with(chunks, Vec::new);
+        }
+        if timers.heaps.len() < chunks {
+            timers.heaps.resize_with(chunks, BinaryHeap::new);
+        }
+        self.apply_wakes();
         let Self {
             plans,
             bodies,
@@ -356,25 +372,75 @@ impl<C: Send> Crowd<C> {
             clock,
             ..
         } = self;
-        for fallen in &mut timers.fallen {
-            for timer in fallen.drain(..) {
-                if timer.holds(plans) {
-                    plans[timer.slot as usize].status = FrameStatus::Asleep;
-                    if let Some(body) = &mut bodies[timer.slot as usize]
-                        && body.tree.has_halt_handle()
-                    {
-                        let id = MemberId {
-                            index: timer.slot,
-                            generation: timer.generation,
-                        };
-                        watch_signal(&mut timers.signals, waker, id, &mut body.tree);
-                    }
-                    if timer.until != u64::MAX {
-                        timers.heap.push(Reverse(timer));
+        let now = nanos(clock.now());
+        plans
+            .par_chunks_mut(CHUNK)
+            .zip(bodies.par_chunks_mut(CHUNK))
+            .zip(awake.bits.par_chunks_mut(CHUNK / BITS))
+            .zip(timers.fallen.par_chunks_mut(CHUNK / BITS))
+            .zip(timers.heaps.par_iter_mut())
+            .zip(timers.watch.par_iter_mut())
+            .enumerate()
+            // One chunk per job: awake members bunch (those alerted together), and only
+            // jobs this small let the threads share a bunch.
+            .with_max_len(1)
+            .for_each(|(c, (((((plans, bodies), words), fallen), heap), watch))| {
+                let base = c * CHUNK;
+                for (w, word) in fallen.iter_mut().enumerate() {
+                    let mut left = std::mem::take(word);
+                    while left != 0 {
+                        let i = w * BITS + left.trailing_zeros() as usize;
+                        left &= left - 1;
+                        fell_asleep(&mut plans[i], &bodies[i], base + i, heap, watch);
                     }
                 }
+                while let Some(&Reverse(timer)) = heap.peek() {
+                    if timer.until > now {
+                        break;
+                    }
+                    heap.pop();
+                    let i = timer.slot as usize - base;
+                    if timer.holds(&plans[i]) {
+                        plans[i].sleeps_until = AWAKE;
+                        *words[i / BITS].get_mut() |= 1u64 << (i % BITS);
+                    }
+                }
+                // Each sleeper holds one timer at most: past twice the slots, most are stale.
+                if heap.len() > 2 * plans.len() + 64 {
+                    heap.retain(|Reverse(t)| t.holds(&plans[t.slot as usize - base]));
+                }
+            });
+        let mut watched = false;
+        for timer in timers.watch.iter_mut().flat_map(|w| w.drain(..)) {
+            if let Some(body) = &mut bodies[timer.slot as usize] {
+                let id = MemberId {
+                    index: timer.slot,
+                    generation: timer.generation,
+                };
+                watch_signal(&mut timers.signals, waker, id, &mut body.tree);
+                watched = true;
             }
         }
+        if watched {
+            // A halt asked for before its signal was watched queued a wake just now.
+            self.apply_wakes();
+        }
+        self.keep_held();
+        self.asleep() as u64
+    }
+
+    /// Wakes the members the [`CrowdWaker`]s named since the last frame. A member that fell
+    /// asleep in the last frame is marked asleep first, as the frame's start would have
+    /// marked it, so that its status does not depend on whether it was woken.
+    fn apply_wakes(&mut self) {
+        let Self {
+            plans,
+            bodies,
+            awake,
+            timers,
+            waker,
+            ..
+        } = self;
         std::mem::swap(
             &mut *waker.queue.lock().unwrap_or_else(PoisonError::into_inner),
             &mut timers.woken,
@@ -385,44 +451,50 @@ impl<C: Send> Crowd<C> {
                 && plan.present
                 && plan.generation == id.generation
             {
+                if plan.sleeps_until != AWAKE {
+                    plan.status = FrameStatus::Asleep;
+                }
                 awake.wake(plan, slot);
                 if let Some(body) = &mut bodies[slot] {
                     body.tree.wake_up();
                 }
             }
         }
-        let now = nanos(clock.now());
-        while let Some(&Reverse(timer)) = timers.heap.peek() {
-            if timer.until > now {
-                break;
-            }
-            timers.heap.pop();
-            if timer.holds(plans) {
-                awake.wake(&mut plans[timer.slot as usize], timer.slot as usize);
-            }
-        }
-        // Each sleeper holds one timer at most: past twice the slots, most are stale.
-        if timers.heap.len() > 2 * plans.len() + 64 {
-            timers.heap.retain(|Reverse(t)| t.holds(plans));
-        }
-        let chunks = plans.len().div_ceil(super::schedule::CHUNK);
-        if timers.fallen.len() < chunks {
-            timers.fallen.resize_with(chunks, Vec::new);
-        }
-        self.keep_held();
-        self.awake.sleeping() as u64
     }
 }
 
-/// After a member's tick: `true` if it is still awake, else it is noted in `fallen`, for
-/// the next frame to mark and to time.
+/// After a member's tick: `true` if it is still awake, else its bit is set in `fallen`
+/// (the words of the slots `i` counts from), for the next frame to mark and to time.
 #[inline]
-pub(super) fn stays_awake(plan: &Plan, slot: usize, fallen: &mut Vec<Timer>) -> bool {
+pub(super) fn stays_awake(plan: &Plan, i: usize, fallen: &mut [u64]) -> bool {
     if plan.sleeps_until == AWAKE {
         return true;
     }
-    fallen.push(Timer::of(plan, slot));
+    fallen[i / BITS] |= 1 << (i % BITS);
     false
+}
+
+/// At the start of the frame after its member (in `slot`) fell asleep: unless something
+/// woke it or took it away since, marks it asleep, times it in `heap`, and notes in
+/// `watch` a tree whose halt handle is to wake it.
+fn fell_asleep<C>(
+    plan: &mut Plan,
+    body: &Option<super::member::Body<C>>,
+    slot: usize,
+    heap: &mut BinaryHeap<Reverse<Timer>>,
+    watch: &mut Vec<Timer>,
+) {
+    if !plan.present || plan.sleeps_until == AWAKE {
+        return;
+    }
+    plan.status = FrameStatus::Asleep;
+    let timer = Timer::of(plan, slot);
+    if body.as_ref().is_some_and(|b| b.tree.has_halt_handle()) {
+        watch.push(timer);
+    }
+    if timer.until != u64::MAX {
+        heap.push(Reverse(timer));
+    }
 }
 
 #[cfg(test)]
@@ -475,7 +547,7 @@ mod tests {
             let report = crowd.frame();
             let expected = if woken { (5, 5) } else { (0, 10) };
             assert_eq!((report.ticked, report.asleep), expected, "{report:?}");
-            most = most.max(crowd.timers.heap.len());
+            most = most.max(crowd.timers.heaps.iter().map(|h| h.len()).sum());
             clock.advance(Duration::from_millis(20));
         }
         assert!(most <= 2 * 10 + 64 + 5, "{most} timers for 10 members");

@@ -1,0 +1,200 @@
+//! A run of slots and their tables, shared among the crowd's threads by the work in it
+//! rather than by its length.
+//!
+//! The members a frame ticks often bunch: those alerted together sit in neighbouring slots,
+//! and a crowd cut into equal runs of slots would hand one thread all of them. A [`Span`]
+//! splits where half its work lies, from a count of the work before each word of 64 slots
+//! (the awake members, or the ids a caller named), so that whenever rayon gives work to an
+//! idle thread it gives half of what is left.
+
+use std::ops::Range;
+use std::sync::atomic::AtomicU64;
+
+use rayon::iter::ParallelIterator;
+
+use super::member::{Body, Plan};
+use super::sleep::BITS;
+
+/// A span with less work than this is not split: a split costs about what a few ticks do.
+const LEAST_WORK: u32 = 16;
+
+/// Slots `first..` of a crowd and their tables, with the crowd's count of work.
+pub(super) struct Span<'a, C> {
+    /// The crowd's index of the first slot, a multiple of [`BITS`].
+    pub(super) first: usize,
+    pub(super) plans: &'a mut [Plan],
+    pub(super) bodies: &'a mut [Option<Body<C>>],
+    pub(super) contexts: &'a mut [Option<C>],
+    /// The slots' words of the awake set and of the fell-asleep set, for a frame's ticks.
+    pub(super) bits: Option<Bits<'a>>,
+    /// For the whole crowd, the work before each word: `work[w + 1] - work[w]` is word
+    /// `w`'s.
+    work: &'a [u32],
+}
+
+/// The words of a span's slots in the awake set and in the fell-asleep set.
+pub(super) struct Bits<'a> {
+    pub(super) awake: &'a mut [AtomicU64],
+    pub(super) fallen: &'a mut [u64],
+}
+
+impl<'a, C: Send> Span<'a, C> {
+    /// The whole crowd, its work counted in `work` (see [`count_awake`]): a word's work
+    /// for each word of its slots, and one more entry.
+    pub(super) fn whole(
+        plans: &'a mut [Plan],
+        bodies: &'a mut [Option<Body<C>>],
+        contexts: &'a mut [Option<C>],
+        bits: Option<Bits<'a>>,
+        work: &'a [u32],
+    ) -> Self {
+        let words = plans.len().div_ceil(BITS);
+        debug_assert_eq!(work.len(), words + 1);
+        Self {
+            first: 0,
+            plans,
+            bodies,
+            contexts,
+            bits: bits.map(|b| Bits {
+                awake: &mut b.awake[..words],
+                fallen: &mut b.fallen[..words],
+            }),
+            work,
+        }
+    }
+
+    /// The leaves rayon hands the threads, split by work as threads fall idle.
+    pub(super) fn par_leaves(self) -> impl ParallelIterator<Item = Self> {
+        rayon::iter::split(self, Self::halve)
+    }
+
+    /// The span's words in the crowd's count.
+    fn words(&self) -> Range<usize> {
+        let w0 = self.first / BITS;
+        w0..w0 + self.plans.len().div_ceil(BITS)
+    }
+
+    /// Where the span's work lies in the order it was counted: for the ids of
+    /// [`Visits`](super::visit::Visits), the span's ids.
+    pub(super) fn work_range(&self) -> Range<usize> {
+        let words = self.words();
+        self.work[words.start] as usize..self.work[words.end] as usize
+    }
+
+    /// Splits off the second half of the span's work, at a word boundary; `None` for a
+    /// span too small to split.
+    fn halve(self) -> (Self, Option<Self>) {
+        let Range { start, end } = self.words();
+        let (before, after) = (self.work[start], self.work[end]);
+        if after - before < LEAST_WORK || end - start < 2 {
+            return (self, None);
+        }
+        let half = before + (after - before) / 2;
+        // The first word past the start at which half the work is done, leaving a word or
+        // more on each side.
+        let at = start + 1 + self.work[start + 1..end].partition_point(|&w| w < half);
+        let at = at.min(end - 1);
+        let slots = (at - start) * BITS;
+        let (plans, plans2) = self.plans.split_at_mut(slots);
+        let (bodies, bodies2) = self.bodies.split_at_mut(slots);
+        let (contexts, contexts2) = self.contexts.split_at_mut(slots);
+        let (bits, bits2) = match self.bits {
+            Some(b) => {
+                let (awake, awake2) = b.awake.split_at_mut(at - start);
+                let (fallen, fallen2) = b.fallen.split_at_mut(at - start);
+                (
+                    Some(Bits { awake, fallen }),
+                    Some(Bits {
+                        awake: awake2,
+                        fallen: fallen2,
+                    }),
+                )
+            }
+            None => (None, None),
+        };
+        let first = self.first;
+        let work = self.work;
+        (
+            Self {
+                first,
+                plans,
+                bodies,
+                contexts,
+                bits,
+                work,
+            },
+            Some(Self {
+                first: first + slots,
+                plans: plans2,
+                bodies: bodies2,
+                contexts: contexts2,
+                bits: bits2,
+                work,
+            }),
+        )
+    }
+}
+
+/// Counts the awake members before each word of `awake` into `work` (one more entry than
+/// words), kept between frames for its room.
+pub(super) fn count_awake(awake: &mut [AtomicU64], work: &mut Vec<u32>) {
+    work.clear();
+    work.push(0);
+    let mut sum = 0u32;
+    for word in awake {
+        sum += word.get_mut().count_ones();
+        work.push(sum);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Splits `span` as far as it goes, giving each leaf's first slot and slot count.
+    fn leaves(span: Span<'_, ()>, out: &mut Vec<(usize, usize)>) {
+        match span.halve() {
+            (left, Some(right)) => {
+                leaves(left, out);
+                leaves(right, out);
+            }
+            (leaf, None) => out.push((leaf.first, leaf.plans.len())),
+        }
+    }
+
+    #[test]
+    fn spans_split_where_the_work_is_and_cover_every_slot_once() {
+        let slots: usize = 64 * 40 + 10;
+        let words = slots.div_ceil(BITS);
+        let mut plans: Vec<Plan> = (0..slots).map(|_| Plan::new(0)).collect();
+        let mut bodies: Vec<Option<Body<()>>> = (0..slots).map(|_| None).collect();
+        let mut contexts: Vec<Option<()>> = vec![None; slots];
+        // A bunch of awake members in words 30 to 33, nothing elsewhere.
+        let mut awake: Vec<AtomicU64> = (0..words)
+            .map(|w| AtomicU64::new(if (30..34).contains(&w) { u64::MAX } else { 0 }))
+            .collect();
+        let mut fallen = vec![0u64; words];
+        let mut work = Vec::new();
+        count_awake(&mut awake, &mut work);
+        assert_eq!((work.len(), work[words]), (words + 1, 4 * 64));
+        let bits = Bits {
+            awake: &mut awake,
+            fallen: &mut fallen,
+        };
+        let span = Span::whole(&mut plans, &mut bodies, &mut contexts, Some(bits), &work);
+        let mut out = Vec::new();
+        leaves(span, &mut out);
+        // Every slot once, in order.
+        let mut next = 0;
+        for &(first, len) in &out {
+            assert_eq!(first, next);
+            next += len;
+        }
+        assert_eq!(next, slots);
+        // The bunch is split word by word: each of its words is a leaf of its own, whatever
+        // the length of the idle runs beside it.
+        for w in 30..34 {
+            assert!(out.contains(&(w * 64, 64)), "{out:?}");
+        }
+    }
+}

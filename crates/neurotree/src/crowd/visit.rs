@@ -1,0 +1,145 @@
+//! The ids a caller names for [`Crowd::for_each_mut`](super::Crowd::for_each_mut), sorted
+//! by the word of 64 slots they fall in, so that the crowd's threads can share them out by
+//! [`Span`](super::span::Span)s.
+//!
+//! A counting sort: two passes over the ids and one over the words, so that naming a few
+//! members of a large crowd costs little more than the few. Within a word the ids keep the
+//! caller's order, so that a member named twice is visited in that order.
+
+use rayon::prelude::*;
+
+use super::sleep::BITS;
+use super::span::Span;
+use super::{Crowd, MemberId, MemberMut};
+
+impl<C: Send> Crowd<C> {
+    /// Calls `f` on each member `ids` names, in parallel on the crowd's threads: to deliver
+    /// what happened to many members between frames (an alert written to each one's
+    /// blackboard, which wakes it), where [`get_mut`](Self::get_mut) one by one would do it
+    /// on one thread. Ids of members that left are skipped; a member named twice is visited
+    /// twice, one visit after the other, in the order of `ids`. The members are visited in
+    /// slot order, so that each thread walks its share of memory in order.
+    pub fn for_each_mut(&mut self, ids: &[MemberId], f: impl Fn(MemberMut<'_, C>) + Send + Sync) {
+        self.in_pool(|crowd| {
+            let Self {
+                plans,
+                bodies,
+                contexts,
+                awake,
+                clock,
+                visits,
+                ..
+            } = crowd;
+            visits.sort(ids, plans.len());
+            let (awake, clock, named) = (&*awake, &*clock, &visits.ids);
+            let whole = Span::whole(plans, bodies, contexts, None, &visits.starts);
+            whole.par_leaves().for_each(|span| {
+                for &id in &named[span.work_range()] {
+                    let i = id.index as usize - span.first;
+                    let (plan, Some(body), Some(ctx)) = (
+                        &mut span.plans[i],
+                        &mut span.bodies[i],
+                        &mut span.contexts[i],
+                    ) else {
+                        continue;
+                    };
+                    if plan.generation != id.generation {
+                        continue;
+                    }
+                    f(MemberMut {
+                        id,
+                        body,
+                        ctx,
+                        plan,
+                        awake,
+                        clock,
+                    });
+                }
+            });
+        });
+    }
+}
+
+/// Ids sorted by word, and where each word's begin; kept between calls for their room.
+#[derive(Debug, Default)]
+pub(super) struct Visits {
+    pub(super) ids: Vec<MemberId>,
+    /// `starts[w]..starts[w + 1]`: word `w`'s ids in `ids`, which is also the count of ids
+    /// before each word that a [`Span`](super::span::Span) splits by.
+    pub(super) starts: Vec<u32>,
+}
+
+impl Visits {
+    /// Sorts `ids` by word, for a crowd of `slots` slots; ids past them are dropped.
+    pub(super) fn sort(&mut self, ids: &[MemberId], slots: usize) {
+        let words = slots.div_ceil(BITS);
+        self.starts.clear();
+        self.starts.resize(words + 1, 0);
+        for id in ids {
+            if (id.index as usize) < slots {
+                self.starts[id.index as usize / BITS + 1] += 1;
+            }
+        }
+        for c in 0..words {
+            self.starts[c + 1] += self.starts[c];
+        }
+        self.ids.clear();
+        let blank = MemberId {
+            index: 0,
+            generation: 0,
+        };
+        self.ids.resize(self.starts[words] as usize, blank);
+        // `starts[c]` moves along chunk `c`'s share as it is filled, ending where chunk
+        // `c + 1`'s begins; one shift puts them back.
+        for &id in ids {
+            if (id.index as usize) < slots {
+                let at = &mut self.starts[id.index as usize / BITS];
+                self.ids[*at as usize] = id;
+                *at += 1;
+            }
+        }
+        self.starts.copy_within(0..words, 1);
+        self.starts[0] = 0;
+    }
+
+    /// Each word's ids, in word order.
+    #[cfg(test)]
+    fn parts(&self) -> Vec<Vec<MemberId>> {
+        self.starts
+            .windows(2)
+            .map(|w| self.ids[w[0] as usize..w[1] as usize].to_vec())
+            .filter(|part| !part.is_empty())
+            .collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn id(index: u32) -> MemberId {
+        MemberId {
+            index,
+            generation: index % 3,
+        }
+    }
+
+    #[test]
+    fn ids_are_grouped_by_word_keeping_their_order_within_one() {
+        let mut visits = Visits::default();
+        let named = [id(130), id(5), id(70), id(3), id(5), id(9000), id(129)];
+        visits.sort(&named, 140);
+        assert_eq!(visits.starts, [0, 3, 4, 6]);
+        assert_eq!(
+            visits.parts(),
+            [
+                vec![id(5), id(3), id(5)],
+                vec![id(70)],
+                vec![id(130), id(129)]
+            ]
+        );
+        // Sorted again, the room is reused and nothing of the last call is left.
+        visits.sort(&[id(7)], 10);
+        assert_eq!(visits.parts(), [vec![id(7)]]);
+    }
+}
