@@ -112,9 +112,10 @@ fn crowd_frames_allocate_nothing_in_steady_state() {
         let ids: Vec<_> = crowd.iter().map(|m| m.id()).collect();
         let waker = crowd.waker();
         let mut next = 0;
-        let mut alerted = Vec::with_capacity(20);
+        let mut alerted = Vec::new();
         // The frames' allocations and those of the alerts written on the crowd's threads
-        // (the writes themselves find their entry, declared when the crowd was made).
+        // (the writes themselves find their entry, declared when the crowd was made): 20
+        // agents, each named again and again, enough names to be shared among threads.
         let mut run = |frames: usize| {
             let mut n = 0;
             for _ in 0..frames {
@@ -122,6 +123,9 @@ fn crowd_frames_allocate_nothing_in_steady_state() {
                 for _ in 0..20 {
                     alerted.push(ids[next % ids.len()]);
                     next += 7;
+                }
+                while alerted.len() < neurotree::crowd::SHARED_VISITS {
+                    alerted.extend_from_within(..20);
                 }
                 n += allocations(|| {
                     crowd.for_each_mut(&alerted, |mut member| {

@@ -205,61 +205,71 @@ fn a_sleeping_member_is_called_only_when_something_it_waits_on_happens() {
     assert_eq!(crowd.get(id).unwrap().context().legs, 2);
 }
 
-/// Alerts written on the crowd's threads: each named member is visited once per naming,
-/// in the order named, a member that left is skipped, and exactly the members alerted wake
-/// and are ticked in the next frame, whatever the threads and however the named members
-/// bunch in the slots.
+/// Alerts written through `for_each_mut`, shared among the crowd's threads or on the
+/// caller's: each named member is visited once per naming, a member that left is skipped,
+/// and exactly the members alerted wake and are ticked in the next frame, whatever the
+/// threads and however the named members bunch in the slots.
 #[test]
 fn alerts_written_on_the_crowds_threads_wake_exactly_the_members_named() {
+    let members = 6000;
+    // A bunch of neighbours too small to share out, and one large enough.
+    let bunches = [
+        1000..1400,
+        1000..1000 + neurotree::crowd::SHARED_VISITS + 100,
+    ];
     for threads in [1, 2] {
-        let clock = ManualClock::new();
-        let mut crowd = Crowd::new(clock.clone()).with_threads(threads).unwrap();
-        // 3000 guards: three chunks of slots and part of a fourth.
-        let ids: Vec<MemberId> = (0..3000)
-            .map(|i| crowd.add(patrol(i), Guard::default()))
-            .collect();
-        assert_eq!(crowd.frame().ticked, 3000);
-        clock.advance(Duration::from_millis(50));
-        assert_eq!(crowd.frame().asleep, 3000);
-        let gone = ids[7];
-        crowd.remove(gone).unwrap();
-        // A bunch of neighbours, a few far apart, one named twice, one that left.
-        let mut named: Vec<MemberId> = ids[1000..1400].to_vec();
-        named.extend([ids[2999], ids[3], ids[1200], gone]);
-        let order = std::sync::Mutex::new(Vec::new());
-        crowd.for_each_mut(&named, |mut m| {
-            order.lock().unwrap().push(m.id());
-            m.context_mut().trace += 1;
-            m.tree_mut().blackboard_mut().set("alarm", true).unwrap();
-        });
-        let mut order = order.into_inner().unwrap();
-        // Named twice, visited twice, the first naming first within its word of slots.
-        let twice: Vec<usize> = (0..order.len())
-            .filter(|&k| order[k] == ids[1200])
-            .collect();
-        assert_eq!(twice.len(), 2, "{threads} threads");
-        order.sort();
-        order.dedup();
-        assert_eq!(order.len(), 402, "{threads} threads");
-        assert!(!order.contains(&gone));
-        let visits = |i: usize| crowd.get(ids[i]).unwrap().context().trace;
-        assert_eq!(
-            (visits(1200), visits(1201), visits(3), visits(4)),
-            (2, 1, 1, 0)
-        );
-        clock.advance(Duration::from_millis(50));
-        let report = crowd.frame();
-        assert_eq!(
-            (report.ticked, report.asleep),
-            (402, 2999 - 402),
-            "{threads} threads"
-        );
-        let legs: Vec<usize> = (0..3000)
-            .filter(|&i| i != 7 && crowd.get(ids[i]).unwrap().context().legs == 1)
-            .collect();
-        let mut expected: Vec<usize> = (1000..1400).chain([3, 2999]).collect();
-        expected.sort();
-        assert_eq!(legs, expected, "{threads} threads");
+        for bunch in bunches.clone() {
+            let clock = ManualClock::new();
+            let mut crowd = Crowd::new(clock.clone()).with_threads(threads).unwrap();
+            let ids: Vec<MemberId> = (0..members)
+                .map(|i| crowd.add(patrol(i as u64), Guard::default()))
+                .collect();
+            assert_eq!(crowd.frame().ticked, members as u64);
+            clock.advance(Duration::from_millis(50));
+            assert_eq!(crowd.frame().asleep, members as u64);
+            let gone = ids[7];
+            crowd.remove(gone).unwrap();
+            // The bunch, a few far apart, one named twice, one that left.
+            let mut named: Vec<MemberId> = ids[bunch.clone()].to_vec();
+            named.extend([ids[members - 1], ids[3], ids[1200], gone]);
+            let seen = std::sync::Mutex::new(Vec::new());
+            crowd.for_each_mut(&named, |mut m| {
+                seen.lock().unwrap().push(m.id());
+                m.context_mut().trace += 1;
+                m.tree_mut().blackboard_mut().set("alarm", true).unwrap();
+            });
+            let mut seen = seen.into_inner().unwrap();
+            let case = format!("{threads} threads, {} named", named.len());
+            assert_eq!(
+                seen.iter().filter(|&&id| id == ids[1200]).count(),
+                2,
+                "{case}"
+            );
+            seen.sort();
+            seen.dedup();
+            let woken = bunch.len() + 2;
+            assert_eq!(seen.len(), woken, "{case}");
+            assert!(!seen.contains(&gone), "{case}");
+            let visits = |i: usize| crowd.get(ids[i]).unwrap().context().trace;
+            assert_eq!(
+                (visits(1200), visits(1201), visits(3), visits(4)),
+                (2, 1, 1, 0)
+            );
+            clock.advance(Duration::from_millis(50));
+            let report = crowd.frame();
+            let asleep = (members - 1 - woken) as u64;
+            assert_eq!(
+                (report.ticked, report.asleep),
+                (woken as u64, asleep),
+                "{case}"
+            );
+            let legs: Vec<usize> = (0..members)
+                .filter(|&i| i != 7 && crowd.get(ids[i]).unwrap().context().legs == 1)
+                .collect();
+            let mut expected: Vec<usize> = bunch.clone().chain([3, members - 1]).collect();
+            expected.sort();
+            assert_eq!(legs, expected, "{case}");
+        }
     }
 }
 

@@ -107,6 +107,7 @@ use member::{Body, Plan, NOT_OWED};
 pub use member::{Contexts, FrameStatus, Member, MemberId, MemberMut, TickMode};
 pub use rayon::{ThreadPool, ThreadPoolBuildError, ThreadPoolBuilder};
 pub use sleep::CrowdWaker;
+pub use visit::SHARED_VISITS;
 
 /// A level-of-detail hook: a member's interval, from its context.
 type Lod<C> = dyn Fn(&C) -> u32 + Send + Sync;

@@ -17,9 +17,20 @@ impl<C: Send> Crowd<C> {
     /// what happened to many members between frames (an alert written to each one's
     /// blackboard, which wakes it), where [`get_mut`](Self::get_mut) one by one would do it
     /// on one thread. Ids of members that left are skipped; a member named twice is visited
-    /// twice, one visit after the other, in the order of `ids`. The members are visited in
-    /// slot order, so that each thread walks its share of memory in order.
+    /// twice, one visit after the other, in the order of `ids`. Shared among threads, the
+    /// members are visited in slot order, so that each thread walks its share of memory in
+    /// order; fewer than [`SHARED_VISITS`] ids, or a crowd on one thread, are visited on the
+    /// calling thread in the order of `ids`, since handing them to the pool would cost more
+    /// than the visits.
     pub fn for_each_mut(&mut self, ids: &[MemberId], f: impl Fn(MemberMut<'_, C>) + Send + Sync) {
+        if ids.len() < SHARED_VISITS || self.threads() == 1 {
+            for &id in ids {
+                if let Some(member) = self.get_mut(id) {
+                    f(member);
+                }
+            }
+            return;
+        }
         self.in_pool(|crowd| {
             let Self {
                 plans,
@@ -59,6 +70,10 @@ impl<C: Send> Crowd<C> {
         });
     }
 }
+
+/// The fewest ids [`Crowd::for_each_mut`] shares among the crowd's threads: a few thousand
+/// visits take about as long as waking a thread of the pool.
+pub const SHARED_VISITS: usize = 4096;
 
 /// Ids sorted by word, and where each word's begin; kept between calls for their room.
 #[derive(Debug, Default)]
