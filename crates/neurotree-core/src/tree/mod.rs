@@ -77,12 +77,10 @@ pub struct Tree<C> {
     objects: Box<[Object<C>]>,
     blackboard: Blackboard,
     clock: Arc<dyn Clock>,
-    observer: Option<Box<dyn Observer>>,
-    /// Made when the blueprint has async actions, or when a runner asks for the signal;
-    /// boxed, so that the many trees without async actions pay one pointer for it.
-    wake: Option<Box<TreeWake>>,
-    /// The most passes one [`tick_once`](Self::tick_once) makes.
-    max_passes: u32,
+    /// What few trees use (an observer, a wake signal, a pass bound of their own, a reload
+    /// in progress): boxed, made on first use, so that the many trees of a crowd pay one
+    /// pointer for all of it.
+    rare: Option<Box<Rare<C>>>,
     /// The passes the last `tick_once` made.
     last_passes: u32,
     /// A second Running child of a reactive control is an error
@@ -92,17 +90,40 @@ pub struct Tree<C> {
     out: failure::Outcome,
     /// What the root returned on the last tick (Idle after an error).
     last_root: NodeStatus,
-    /// A reload that waits for the halts it started (see [`Tree::reload`]).
-    pending_reload: Option<Box<reload::Pending<C>>>,
     /// The stateful action the last pass rested in: it returned Running under a chain of
     /// nodes up to the root that pass a Running child's tick straight through, and which
     /// all returned Running. The next pass starts at it rather than at the root
     /// ([`resting_answer`](Self::resting_answer)).
     resting: Option<NodeId>,
-    /// Set while the tree sleeps (see [`sleep`]).
-    asleep: Option<sleep::Asleep>,
+    /// While the tree sleeps (see [`sleep`]), what wakes it; apart from its flag, so that
+    /// the two fit in 17 bytes rather than 24.
+    asleep: sleep::Asleep,
+    /// The tree sleeps.
+    sleeping: bool,
     /// The tree may sleep ([`Tree::set_sleep_allowed`]).
     sleep_allowed: bool,
+}
+
+/// The fields of a [`Tree`] that few trees set.
+struct Rare<C> {
+    observer: Option<Box<dyn Observer>>,
+    /// Made when the blueprint has async actions, or when a runner asks for the signal.
+    wake: Option<Box<TreeWake>>,
+    /// The most passes one [`Tree::tick_once`] makes.
+    max_passes: u32,
+    /// A reload that waits for the halts it started (see [`Tree::reload`]).
+    pending_reload: Option<Box<reload::Pending<C>>>,
+}
+
+impl<C> Rare<C> {
+    fn new() -> Self {
+        Self {
+            observer: None,
+            wake: None,
+            max_passes: DEFAULT_MAX_PASSES,
+            pending_reload: None,
+        }
+    }
 }
 
 /// Passes one [`Tree::tick_once`] makes at most, unless [`Tree::set_max_passes`] says
@@ -145,6 +166,12 @@ impl<C> Tree<C> {
             }
         }
         let blackboard = new_blackboard(&blueprint);
+        let rare = wake.map(|wake| {
+            Box::new(Rare {
+                wake: Some(wake),
+                ..Rare::new()
+            })
+        });
         Self {
             statuses: vec![NodeStatus::Idle; blueprint.len()].into_boxed_slice(),
             failed: failure::bits_for(blueprint.len()),
@@ -152,16 +179,14 @@ impl<C> Tree<C> {
             objects: objects.into_boxed_slice(),
             blackboard,
             clock,
-            observer: None,
-            wake,
-            max_passes: DEFAULT_MAX_PASSES,
+            rare,
             last_passes: 0,
             reject_multiple_running: false,
             out: failure::Outcome::new(),
             last_root: NodeStatus::Idle,
-            pending_reload: None,
             resting: None,
-            asleep: None,
+            asleep: sleep::Asleep::NONE,
+            sleeping: false,
             sleep_allowed: true,
             blueprint,
         }
@@ -226,23 +251,40 @@ impl<C> Tree<C> {
 
     /// Attaches an observer, returning the one it replaces.
     pub fn set_observer(&mut self, observer: impl Observer + 'static) -> Option<Box<dyn Observer>> {
-        self.observer.replace(Box::new(observer))
+        self.set_boxed_observer(Box::new(observer))
     }
 
     /// Attaches an observer already boxed (one given back by [`set_observer`](Self::set_observer)
     /// or [`take_observer`](Self::take_observer), say), returning the one it replaces.
     pub fn set_boxed_observer(&mut self, observer: Box<dyn Observer>) -> Option<Box<dyn Observer>> {
-        self.observer.replace(observer)
+        self.rare_mut().observer.replace(observer)
     }
 
     /// Detaches the observer.
     pub fn take_observer(&mut self) -> Option<Box<dyn Observer>> {
-        self.observer.take()
+        self.rare.as_deref_mut()?.observer.take()
     }
 
     /// The attached observer.
     pub fn observer_mut(&mut self) -> Option<&mut (dyn Observer + 'static)> {
-        self.observer.as_deref_mut()
+        self.rare.as_deref_mut()?.observer.as_deref_mut()
+    }
+
+    /// The attached observer, to read.
+    #[inline]
+    fn observer(&self) -> Option<&dyn Observer> {
+        self.rare.as_deref()?.observer.as_deref()
+    }
+
+    /// The rare fields, made now if the tree had none.
+    fn rare_mut(&mut self) -> &mut Rare<C> {
+        self.rare.get_or_insert_with(|| Box::new(Rare::new()))
+    }
+
+    /// The tree's wake signal and waker, if it has them.
+    #[inline]
+    fn wake(&self) -> Option<&TreeWake> {
+        self.rare.as_deref()?.wake.as_deref()
     }
 
     /// The signal the futures of the tree's async actions set when they wake, for a runner
@@ -250,6 +292,7 @@ impl<C> Tree<C> {
     /// use when the blueprint has no async action (such a tree never sets it).
     pub fn wake_signal(&mut self) -> &WakeSignal {
         &self
+            .rare_mut()
             .wake
             .get_or_insert_with(|| Box::new(TreeWake::new()))
             .signal
@@ -259,7 +302,10 @@ impl<C> Tree<C> {
     /// [`halt`]). The first call makes the tree's [`WakeSignal`] if it had none; a tree that
     /// never makes a handle pays one branch per tick call for the feature.
     pub fn halt_handle(&mut self) -> HaltHandle {
-        let wake = self.wake.get_or_insert_with(|| Box::new(TreeWake::new()));
+        let wake = self
+            .rare_mut()
+            .wake
+            .get_or_insert_with(|| Box::new(TreeWake::new()));
         wake.halt_handle = true;
         HaltHandle::new(wake.signal.clone())
     }
@@ -267,14 +313,14 @@ impl<C> Tree<C> {
     /// `true` if the tree has a [`HaltHandle`]; its waits between ticks then watch for
     /// requests (see [`HALT_POLL_PERIOD`]).
     pub fn has_halt_handle(&self) -> bool {
-        self.wake.as_ref().is_some_and(|w| w.halt_handle)
+        self.wake().is_some_and(|w| w.halt_handle)
     }
 
     /// `true` while a [`HaltHandle`]'s request waits to be served by the next tick call; a
     /// runner waiting between ticks reads it to stop waiting.
     #[inline]
     pub fn halt_requested(&self) -> bool {
-        match &self.wake {
+        match self.wake() {
             Some(w) => w.signal.halt_requested(),
             None => false,
         }
@@ -283,7 +329,7 @@ impl<C> Tree<C> {
     /// Serves a pending halt request: clears it, halts the tree, and names why.
     #[cold]
     fn serve_halt_request(&mut self, ctx: &mut C) -> TickError {
-        if let Some(w) = &self.wake {
+        if let Some(w) = self.wake() {
             w.signal.take_halt();
         }
         // A halt that takes ticks goes on in the next tick calls (see `slow_halt`).
@@ -311,7 +357,14 @@ impl<C> Tree<C> {
     }
 
     fn ticker<'t>(&'t mut self, ctx: &'t mut C) -> Ticker<'t, C> {
-        let watching = !self.out.is_quiet() && self.observer.is_none();
+        let watching = !self.out.is_quiet() && self.observer().is_none();
+        let (observer, waker) = match self.rare.as_deref_mut() {
+            Some(rare) => (
+                rare.observer.as_deref_mut(),
+                rare.wake.as_ref().map(|w| &w.waker),
+            ),
+            None => (None, None),
+        };
         Ticker {
             bp: &self.blueprint,
             statuses: &mut self.statuses,
@@ -321,7 +374,7 @@ impl<C> Tree<C> {
             ctx,
             bb: &mut self.blackboard,
             clock: &*self.clock,
-            observer: match self.observer.as_deref_mut() {
+            observer: match observer {
                 Some(o) => Some(o),
                 // A reason given in an earlier pass of this tick: keep noting failures.
                 None if watching => Some(failure::stand_in()),
@@ -329,7 +382,7 @@ impl<C> Tree<C> {
             },
             watching,
             wake: None,
-            waker: self.wake.as_ref().map(|w| &w.waker),
+            waker,
             out: &mut self.out,
             current: NodeId::ROOT,
             reject_multiple_running: self.reject_multiple_running,
@@ -348,11 +401,11 @@ impl<C> Tree<C> {
         given: Option<(NodeId, NodeStatus)>,
     ) -> Result<(NodeStatus, Option<Waker>), TickError> {
         // The pass polls every future still running, so earlier wakes are answered by it.
-        if let Some(w) = &self.wake {
+        if let Some(w) = self.wake() {
             w.signal.take();
         }
         let (status, asked) = self.pass_inner(ctx, given)?;
-        let woken = self.wake.as_ref().is_some_and(|w| w.signal.is_woken());
+        let woken = self.wake().is_some_and(|w| w.signal.is_woken());
         let waker = match asked {
             Some(node) => Some(Waker::Node(node)),
             None => woken.then_some(Waker::Future),
@@ -420,7 +473,7 @@ impl<C> Tree<C> {
             return Ok(Status::Running);
         }
         let mut given = None;
-        if self.wake.is_none() {
+        if self.wake().is_none() {
             let writes = self.start_waits();
             match self.rest(ctx, writes) {
                 Rest::Running => {
@@ -553,7 +606,7 @@ impl<C> Tree<C> {
                 Some(waker) if status == NodeStatus::Running => {
                     // A request that came during the pass is served at the top of the loop,
                     // even at the bound: the halt is what its maker asked for.
-                    if self.last_passes >= self.max_passes && !self.halt_requested() {
+                    if self.last_passes >= self.max_passes() && !self.halt_requested() {
                         return Err(self.too_many_passes(ctx, waker));
                     }
                 }
@@ -580,7 +633,17 @@ impl<C> Tree<C> {
 
     /// Sets the most passes one [`tick_once`](Self::tick_once) makes (at least 1).
     pub fn set_max_passes(&mut self, passes: u32) {
-        self.max_passes = passes.max(1);
+        let passes = passes.max(1);
+        if passes != DEFAULT_MAX_PASSES || self.rare.is_some() {
+            self.rare_mut().max_passes = passes;
+        }
+    }
+
+    /// The most passes one [`tick_once`](Self::tick_once) makes.
+    fn max_passes(&self) -> u32 {
+        self.rare
+            .as_deref()
+            .map_or(DEFAULT_MAX_PASSES, |r| r.max_passes)
     }
 
     /// How many passes of the root the last [`tick_once`](Self::tick_once) made: 1 unless

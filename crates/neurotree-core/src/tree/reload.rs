@@ -169,7 +169,12 @@ impl<C> Tree<C> {
         blueprint: Arc<Blueprint<C>>,
         ctx: &mut C,
     ) -> Result<ReloadReport, ReloadError> {
-        if self.is_halting() || self.pending_reload.is_some() {
+        if self.is_halting()
+            || self
+                .rare
+                .as_ref()
+                .is_some_and(|r| r.pending_reload.is_some())
+        {
             return Err(ReloadError::Halting);
         }
         let kept_from = match_nodes(&self.blueprint, &blueprint);
@@ -208,7 +213,7 @@ impl<C> Tree<C> {
             kept_from,
         };
         if report.waiting {
-            self.pending_reload = Some(Box::new(pending));
+            self.rare_mut().pending_reload = Some(Box::new(pending));
         } else {
             self.swap(pending);
         }
@@ -217,7 +222,11 @@ impl<C> Tree<C> {
 
     /// Takes over a reload that waited for halts, once they are done.
     pub(super) fn finish_reload(&mut self) {
-        if let Some(pending) = self.pending_reload.take() {
+        if let Some(pending) = self
+            .rare
+            .as_deref_mut()
+            .and_then(|r| r.pending_reload.take())
+        {
             self.swap(*pending);
         }
     }
@@ -288,8 +297,8 @@ impl<C> Tree<C> {
         let has_async = new
             .ids()
             .any(|id| matches!(new.kind(id), NodeKind::Async(_)));
-        if has_async && self.wake.is_none() {
-            self.wake = Some(Box::new(TreeWake::new()));
+        if has_async && self.wake().is_none() {
+            self.rare_mut().wake = Some(Box::new(TreeWake::new()));
         }
         self.forget_notes();
     }

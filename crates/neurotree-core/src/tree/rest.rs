@@ -28,7 +28,7 @@ impl<C> Tree<C> {
         let Some(leaf) = self.resting else {
             return Rest::No;
         };
-        let rests = self.observer.is_none()
+        let rests = self.observer().is_none()
             && self.out.is_quiet()
             && self.out.halts.count == 0
             && self.statuses[leaf.index()] == NodeStatus::Running;
