@@ -32,6 +32,7 @@ mod objects;
 mod params;
 mod persist;
 mod prefetch;
+mod rare;
 mod reload;
 mod rest;
 mod root;
@@ -59,9 +60,9 @@ use core::time::Duration;
 
 use crate::blackboard::{Blackboard, ScopeId};
 use crate::blueprint::{Blueprint, NodeKind};
-use crate::observer::Observer;
 use crate::{Clock, NodeId, NodeStatus, Status};
 use new_blackboard::new_blackboard;
+use rare::Rare;
 use rest::Rest;
 use root::{recover, tick_root, to_result};
 use ticker::Object;
@@ -102,28 +103,6 @@ pub struct Tree<C> {
     sleeping: bool,
     /// The tree may sleep ([`Tree::set_sleep_allowed`]).
     sleep_allowed: bool,
-}
-
-/// The fields of a [`Tree`] that few trees set.
-struct Rare<C> {
-    observer: Option<Box<dyn Observer>>,
-    /// Made when the blueprint has async actions, or when a runner asks for the signal.
-    wake: Option<Box<TreeWake>>,
-    /// The most passes one [`Tree::tick_once`] makes.
-    max_passes: u32,
-    /// A reload that waits for the halts it started (see [`Tree::reload`]).
-    pending_reload: Option<Box<reload::Pending<C>>>,
-}
-
-impl<C> Rare<C> {
-    fn new() -> Self {
-        Self {
-            observer: None,
-            wake: None,
-            max_passes: DEFAULT_MAX_PASSES,
-            pending_reload: None,
-        }
-    }
 }
 
 /// Passes one [`Tree::tick_once`] makes at most, unless [`Tree::set_max_passes`] says
@@ -247,73 +226,6 @@ impl<C> Tree<C> {
     pub fn set_shared_clock(&mut self, clock: Arc<dyn Clock>) {
         self.clock = clock;
         self.wake_up();
-    }
-
-    /// Attaches an observer, returning the one it replaces.
-    pub fn set_observer(&mut self, observer: impl Observer + 'static) -> Option<Box<dyn Observer>> {
-        self.set_boxed_observer(Box::new(observer))
-    }
-
-    /// Attaches an observer already boxed (one given back by [`set_observer`](Self::set_observer)
-    /// or [`take_observer`](Self::take_observer), say), returning the one it replaces.
-    pub fn set_boxed_observer(&mut self, observer: Box<dyn Observer>) -> Option<Box<dyn Observer>> {
-        self.rare_mut().observer.replace(observer)
-    }
-
-    /// Detaches the observer.
-    pub fn take_observer(&mut self) -> Option<Box<dyn Observer>> {
-        self.rare.as_deref_mut()?.observer.take()
-    }
-
-    /// The attached observer.
-    pub fn observer_mut(&mut self) -> Option<&mut (dyn Observer + 'static)> {
-        self.rare.as_deref_mut()?.observer.as_deref_mut()
-    }
-
-    /// The attached observer, to read.
-    #[inline]
-    fn observer(&self) -> Option<&dyn Observer> {
-        self.rare.as_deref()?.observer.as_deref()
-    }
-
-    /// The rare fields, made now if the tree had none.
-    fn rare_mut(&mut self) -> &mut Rare<C> {
-        self.rare.get_or_insert_with(|| Box::new(Rare::new()))
-    }
-
-    /// The tree's wake signal and waker, if it has them.
-    #[inline]
-    fn wake(&self) -> Option<&TreeWake> {
-        self.rare.as_deref()?.wake.as_deref()
-    }
-
-    /// The signal the futures of the tree's async actions set when they wake, for a runner
-    /// that ticks early on a wake rather than waiting for its next period. Made on first
-    /// use when the blueprint has no async action (such a tree never sets it).
-    pub fn wake_signal(&mut self) -> &WakeSignal {
-        &self
-            .rare_mut()
-            .wake
-            .get_or_insert_with(|| Box::new(TreeWake::new()))
-            .signal
-    }
-
-    /// A handle that asks this tree to halt at its next tick boundary, from any thread (see
-    /// [`halt`]). The first call makes the tree's [`WakeSignal`] if it had none; a tree that
-    /// never makes a handle pays one branch per tick call for the feature.
-    pub fn halt_handle(&mut self) -> HaltHandle {
-        let wake = self
-            .rare_mut()
-            .wake
-            .get_or_insert_with(|| Box::new(TreeWake::new()));
-        wake.halt_handle = true;
-        HaltHandle::new(wake.signal.clone())
-    }
-
-    /// `true` if the tree has a [`HaltHandle`]; its waits between ticks then watch for
-    /// requests (see [`HALT_POLL_PERIOD`]).
-    pub fn has_halt_handle(&self) -> bool {
-        self.wake().is_some_and(|w| w.halt_handle)
     }
 
     /// `true` while a [`HaltHandle`]'s request waits to be served by the next tick call; a
@@ -629,21 +541,6 @@ impl<C> Tree<C> {
     /// last started from Idle or was halted; the same child returning Running again is fine.
     pub fn reject_multiple_running(&mut self, reject: bool) {
         self.reject_multiple_running = reject;
-    }
-
-    /// Sets the most passes one [`tick_once`](Self::tick_once) makes (at least 1).
-    pub fn set_max_passes(&mut self, passes: u32) {
-        let passes = passes.max(1);
-        if passes != DEFAULT_MAX_PASSES || self.rare.is_some() {
-            self.rare_mut().max_passes = passes;
-        }
-    }
-
-    /// The most passes one [`tick_once`](Self::tick_once) makes.
-    fn max_passes(&self) -> u32 {
-        self.rare
-            .as_deref()
-            .map_or(DEFAULT_MAX_PASSES, |r| r.max_passes)
     }
 
     /// How many passes of the root the last [`tick_once`](Self::tick_once) made: 1 unless
