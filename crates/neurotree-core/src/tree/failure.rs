@@ -433,11 +433,6 @@ fn write_chain(
     Ok(())
 }
 
-/// Bits for `nodes` nodes, one a node, all clear.
-pub(crate) fn bits_for(nodes: usize) -> alloc::boxed::Box<[u64]> {
-    alloc::vec![0; nodes.div_ceil(64)].into_boxed_slice()
-}
-
 fn is_marked(failed: &[u64], node: NodeId) -> bool {
     let i = node.index();
     failed.get(i / 64).is_some_and(|w| w & (1 << (i % 64)) != 0)

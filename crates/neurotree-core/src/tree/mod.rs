@@ -38,6 +38,7 @@ mod rest;
 mod root;
 pub mod sleep;
 pub mod slow_halt;
+mod state;
 pub(crate) mod ticker;
 mod ticker_sleep;
 mod wake;
@@ -54,7 +55,6 @@ pub use why_awake::{AwakeCounts, AwakeReason, WhyAwake};
 
 use alloc::boxed::Box;
 use alloc::sync::Arc;
-use alloc::vec;
 use alloc::vec::Vec;
 use core::time::Duration;
 
@@ -65,16 +65,16 @@ use new_blackboard::new_blackboard;
 use rare::Rare;
 use rest::Rest;
 use root::{recover, tick_root, to_result};
+use state::NodeState;
 use ticker::Object;
 use wake::TreeWake;
 
 /// A running instance of a [`Blueprint`], ticked with a user context `C`.
 pub struct Tree<C> {
     blueprint: Arc<Blueprint<C>>,
-    statuses: Box<[NodeStatus]>,
-    /// One bit per node: its status was written Failure in the last tick (see [`failure`]).
-    failed: Box<[u64]>,
-    aux: Box<[u64]>,
+    /// The nodes' statuses and slots, and a bit per node: its status was written Failure in
+    /// the last tick (see [`failure`]).
+    state: NodeState,
     objects: Box<[Object<C>]>,
     blackboard: Blackboard,
     clock: Arc<dyn Clock>,
@@ -152,9 +152,7 @@ impl<C> Tree<C> {
             })
         });
         Self {
-            statuses: vec![NodeStatus::Idle; blueprint.len()].into_boxed_slice(),
-            failed: failure::bits_for(blueprint.len()),
-            aux: vec![0; blueprint.aux_slots as usize].into_boxed_slice(),
+            state: NodeState::new(blueprint.len(), blueprint.aux_slots as usize),
             objects: objects.into_boxed_slice(),
             blackboard,
             clock,
@@ -184,12 +182,12 @@ impl<C> Tree<C> {
 
     /// The stored status of a node.
     pub fn status(&self, id: NodeId) -> NodeStatus {
-        self.statuses[id.index()]
+        self.state.statuses()[id.index()]
     }
 
     /// The stored status of every node, indexed by [`NodeId`].
     pub fn statuses(&self) -> &[NodeStatus] {
-        &self.statuses
+        self.state.statuses()
     }
 
     /// The tree's blackboard.
@@ -261,9 +259,7 @@ impl<C> Tree<C> {
     /// pointers, and the failure reasons' record once a node has given a reason), not
     /// counting the stateful leaves' own objects or blackboard entries.
     pub fn state_bytes(&self) -> usize {
-        self.statuses.len() * core::mem::size_of::<NodeStatus>()
-            + self.failed.len() * core::mem::size_of::<u64>()
-            + self.aux.len() * core::mem::size_of::<u64>()
+        self.state.bytes()
             + self.objects.len() * core::mem::size_of::<Object<C>>()
             + self.out.record_bytes()
     }
@@ -277,11 +273,12 @@ impl<C> Tree<C> {
             ),
             None => (None, None),
         };
+        let state = self.state.parts();
         Ticker {
             bp: &self.blueprint,
-            statuses: &mut self.statuses,
-            failed: &mut self.failed,
-            aux: &mut self.aux,
+            statuses: state.statuses,
+            failed: state.failed,
+            aux: state.aux,
             objects: &mut self.objects,
             ctx,
             bb: &mut self.blackboard,
@@ -433,7 +430,7 @@ impl<C> Tree<C> {
         if !self.out.is_quiet() {
             self.forget_notes();
         }
-        self.failed.fill(0);
+        self.state.parts().failed.fill(0);
         self.last_root = NodeStatus::Idle;
     }
 
@@ -471,7 +468,7 @@ impl<C> Tree<C> {
     /// ```
     pub fn last_failure(&self) -> Option<Failure> {
         (self.last_root == NodeStatus::Failure)
-            .then(|| failure::build(&self.blueprint, &self.failed, self.out.notes()))
+            .then(|| failure::build(&self.blueprint, self.state.failed(), self.out.notes()))
     }
 
     /// Ticks the root, and again at once while it is Running and a node asked to be woken or
@@ -646,7 +643,7 @@ impl<C> core::fmt::Debug for Tree<C> {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
         f.debug_struct("Tree")
             .field("nodes", &self.blueprint.len())
-            .field("root", &self.statuses[0])
+            .field("root", &self.state.statuses()[0])
             .finish_non_exhaustive()
     }
 }
@@ -936,9 +933,10 @@ mod tests {
             .unwrap();
         let a = Tree::with_clock(Arc::clone(&bp), ManualClock::new());
         let b = Tree::with_clock(Arc::clone(&bp), ManualClock::new());
-        // One status byte per node, one slot for the sequence's cursor, and a bit per node
-        // for the tick's failures (two words).
-        assert_eq!(a.state_bytes(), 101 + 8 + 16);
+        // One word saying where the parts end, a bit per node for the tick's failures (two
+        // words), one slot for the sequence's cursor, and one status byte per node (in 13
+        // words).
+        assert_eq!(a.state_bytes(), 8 + 16 + 8 + 13 * 8);
         assert!(Arc::ptr_eq(a.blueprint(), b.blueprint()));
         assert_eq!(Arc::strong_count(&bp), 3);
     }

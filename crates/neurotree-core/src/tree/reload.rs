@@ -25,6 +25,7 @@ use alloc::string::String;
 use alloc::sync::Arc;
 use alloc::vec::Vec;
 
+use super::state::NodeState;
 use super::ticker::Object;
 use super::wake::TreeWake;
 use super::{new_blackboard::new_blackboard, Tree};
@@ -183,7 +184,8 @@ impl<C> Tree<C> {
             survives[o.index()] = true;
         }
         let running: Vec<bool> = self
-            .statuses
+            .state
+            .statuses()
             .iter()
             .map(|s| *s == NodeStatus::Running)
             .collect();
@@ -198,7 +200,7 @@ impl<C> Tree<C> {
         }
         let halted = running
             .iter()
-            .zip(self.statuses.iter())
+            .zip(self.state.statuses().iter())
             .filter(|(was, now)| **was && **now != NodeStatus::Running)
             .count();
         let kept = kept_from.iter().filter(|o| o.is_some()).count();
@@ -238,8 +240,9 @@ impl<C> Tree<C> {
             kept_from,
         } = pending;
         let old = core::mem::replace(&mut self.blueprint, Arc::clone(&new));
-        let mut statuses = alloc::vec![NodeStatus::Idle; new.len()];
-        let mut aux = alloc::vec![0; new.aux_slots as usize];
+        let mut state = NodeState::new(new.len(), new.aux_slots as usize);
+        let parts = state.parts();
+        let (statuses, aux) = (parts.statuses, parts.aux);
         let mut old_objects: Vec<Option<Object<C>>> = core::mem::take(&mut self.objects)
             .into_vec()
             .into_iter()
@@ -249,14 +252,14 @@ impl<C> Tree<C> {
         for id in new.ids() {
             let from = kept_from[id.index()];
             if let Some(o) = from {
-                statuses[id.index()] = self.statuses[o.index()];
+                statuses[id.index()] = self.state.statuses()[o.index()];
             }
             let kind = new.kind(id);
             let slots = kind.aux_slots() as usize;
             if slots > 0 {
                 if let Some(o) = from {
                     let (to, at) = (new.slot(id), old.slot(o));
-                    aux[to..to + slots].copy_from_slice(&self.aux[at..at + slots]);
+                    aux[to..to + slots].copy_from_slice(&self.state.aux()[at..at + slots]);
                 }
             }
             if kind.has_object() {
@@ -288,11 +291,9 @@ impl<C> Tree<C> {
         }
         blackboard.set_last_stamp(self.blackboard.last_stamp());
         self.blackboard = blackboard;
-        self.statuses = statuses.into_boxed_slice();
-        self.failed = super::failure::bits_for(self.statuses.len());
+        self.state = state;
         self.resting = None;
         self.wake_up();
-        self.aux = aux.into_boxed_slice();
         self.objects = objects.into_boxed_slice();
         let has_async = new
             .ids()
