@@ -269,8 +269,18 @@ pub fn agent_crowd(
     crowd
 }
 
-/// Bytes one member of [`agent_crowd`] takes: its slot in the crowd (the `Tree` struct, the
-/// [`Agent`] and its schedule) and its tree's node state.
+/// Bytes one member of [`agent_crowd`] takes: its slot in the crowd
+/// ([`Crowd::slot_bytes`](neurotree::crowd::Crowd::slot_bytes): the `Tree` struct with its
+/// blackboard's tables, the [`Agent`], its schedule and its error box) and its tree's node
+/// state on the heap ([`Tree::state_bytes`](neurotree::Tree::state_bytes): statuses, slots and
+/// failure bits in one block, the stateful leaves' object pointers, and the failure record
+/// once a node gave a reason).
+///
+/// Every byte a member holds that grows with the crowd and that these members allocate is
+/// counted, but two: the stateful leaves' own objects and the blackboard's entries, which
+/// depend on the leaves and on what the program writes. The fields a member leaves unset (an
+/// observer, a wake signal, its own pass bound, a reload in progress) take one pointer
+/// between them until one is set, and so count as that pointer.
 pub fn crowd_bytes_per_member(crowd: &neurotree::crowd::Crowd<Agent>) -> usize {
     crowd.slot_bytes() + crowd.iter().next().map_or(0, |m| m.tree().state_bytes())
 }
@@ -354,6 +364,18 @@ mod tests {
             left_idle.load(Ordering::Relaxed),
             2 * TREE1111_NODES_PER_TICK
         );
+    }
+
+    #[test]
+    fn a_crowd_member_takes_at_most_536_bytes() {
+        let crowd = agent_crowd(4, 1, ManualClock::new());
+        let bytes = crowd_bytes_per_member(&crowd);
+        assert!(bytes <= 536, "{bytes} bytes per member");
+        // The node state is counted: at least a status byte and a failure bit per node,
+        // and a slot per control.
+        let state = crowd.iter().next().unwrap().tree().state_bytes();
+        assert!(state >= 50 + 8 + 8 * 17, "{state} bytes of node state");
+        assert_eq!(bytes, crowd.slot_bytes() + state);
     }
 
     #[test]

@@ -223,14 +223,20 @@ pub(crate) struct Outcome {
     pub(crate) waits: super::sleep::Waits,
     /// What the leaf being ticked declared through a shared handle.
     pub(crate) reads: super::sleep::Reads,
-    /// The tick's record, in order: empty until a node gives a reason (see the module docs).
-    notes: Vec<(NodeId, Note)>,
+    /// The tick's record: none until a node gives a reason (see the module docs); boxed,
+    /// so that a tree without one pays a pointer for it.
+    record: Option<Box<Record>>,
+    /// The entries of `record` in use, oldest first.
+    noted: u8,
 }
 
 /// Entries the record holds before it drops its older half; made at the tree's first
 /// reason, once. The chain needs only the tick's last failures: a full record keeps its
 /// newer half.
 const RECORD: usize = 32;
+
+/// The entries of a tick's record; those past the ones in use are spent ([`Note::Failed`]).
+type Record = [(NodeId, Note); RECORD];
 
 impl Outcome {
     /// The outcome of a fresh tree: no record until a reason is given.
@@ -240,53 +246,74 @@ impl Outcome {
             halts: super::slow_halt::Halts::default(),
             waits: super::sleep::Waits::new(),
             reads: super::sleep::Reads::default(),
-            notes: Vec::new(),
+            record: None,
+            noted: 0,
         }
     }
 
     /// Makes the record now, if it is not made yet.
     pub(crate) fn reserve(&mut self) {
-        if self.notes.capacity() == 0 {
-            self.notes.reserve_exact(RECORD);
-        }
+        self.record_mut();
+    }
+
+    /// The record, made now if it is not made yet.
+    fn record_mut(&mut self) -> &mut Record {
+        self.record
+            .get_or_insert_with(|| Box::new(core::array::from_fn(|_| (NodeId::ROOT, Note::Failed))))
     }
 
     /// Bytes the record takes (none until the tree's first reason).
     pub(crate) fn record_bytes(&self) -> usize {
-        self.notes.capacity() * core::mem::size_of::<(NodeId, Note)>()
+        self.record
+            .as_ref()
+            .map_or(0, |_| core::mem::size_of::<Record>())
     }
 
     /// The tick's record, oldest first.
     pub(crate) fn notes(&self) -> &[(NodeId, Note)] {
-        &self.notes
+        match &self.record {
+            Some(record) => &record[..usize::from(self.noted)],
+            None => &[],
+        }
     }
 
     /// `true` when no reason was given in this tick.
     #[inline(always)]
     pub(crate) fn is_quiet(&self) -> bool {
-        self.notes.is_empty()
+        self.noted == 0
     }
 
-    /// Empties the record.
+    /// Empties the record, dropping the reasons it held.
     pub(crate) fn forget(&mut self) {
-        self.notes.clear();
+        let noted = usize::from(core::mem::take(&mut self.noted));
+        if let Some(record) = &mut self.record {
+            for (_, note) in &mut record[..noted] {
+                *note = Note::Failed;
+            }
+        }
     }
 
     /// Adds to the record. Full, it drops its older half rather than grow, so that ticking
     /// allocates nothing: the chain is built from the newest entries (the root's failure is
     /// the last), so only a chain longer than half the record loses its far end.
     pub(crate) fn push(&mut self, node: NodeId, note: Note) {
-        if self.notes.capacity() == 0 {
-            self.reserve();
-        } else if self.notes.len() == self.notes.capacity() {
-            self.notes.drain(..self.notes.len() / 2);
+        let mut noted = usize::from(self.noted);
+        let record = self.record_mut();
+        if noted == RECORD {
+            for (_, older) in &mut record[..RECORD / 2] {
+                *older = Note::Failed;
+            }
+            record.rotate_left(RECORD / 2);
+            noted = RECORD / 2;
         }
-        self.notes.push((node, note));
+        record[noted] = (node, note);
+        // At most `RECORD`, which fits.
+        self.noted = (noted + 1) as u8;
     }
 
     /// The last entry.
     pub(crate) fn last(&self) -> Option<&(NodeId, Note)> {
-        self.notes.last()
+        self.notes().last()
     }
 }
 
@@ -404,11 +431,6 @@ fn write_chain(
         }
     }
     Ok(())
-}
-
-/// Bits for `nodes` nodes, one a node, all clear.
-pub(crate) fn bits_for(nodes: usize) -> alloc::boxed::Box<[u64]> {
-    alloc::vec![0; nodes.div_ceil(64)].into_boxed_slice()
 }
 
 fn is_marked(failed: &[u64], node: NodeId) -> bool {

@@ -181,7 +181,7 @@ impl<C> Tree<C> {
     ) -> Result<bool, TickError> {
         // As a pass does: this call polls every halt future it continues, so earlier wakes
         // are answered by it.
-        if let Some(w) = &self.wake {
+        if let Some(w) = self.wake() {
             w.signal.take();
         }
         let mut t = self.ticker(ctx);

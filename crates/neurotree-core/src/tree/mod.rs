@@ -32,11 +32,13 @@ mod objects;
 mod params;
 mod persist;
 mod prefetch;
+mod rare;
 mod reload;
 mod rest;
 mod root;
 pub mod sleep;
 pub mod slow_halt;
+mod state;
 pub(crate) mod ticker;
 mod ticker_sleep;
 mod wake;
@@ -53,36 +55,33 @@ pub use why_awake::{AwakeCounts, AwakeReason, WhyAwake};
 
 use alloc::boxed::Box;
 use alloc::sync::Arc;
-use alloc::vec;
 use alloc::vec::Vec;
 use core::time::Duration;
 
 use crate::blackboard::{Blackboard, ScopeId};
 use crate::blueprint::{Blueprint, NodeKind};
-use crate::observer::Observer;
 use crate::{Clock, NodeId, NodeStatus, Status};
 use new_blackboard::new_blackboard;
+use rare::Rare;
 use rest::Rest;
 use root::{recover, tick_root, to_result};
+use state::NodeState;
 use ticker::Object;
 use wake::TreeWake;
 
 /// A running instance of a [`Blueprint`], ticked with a user context `C`.
 pub struct Tree<C> {
     blueprint: Arc<Blueprint<C>>,
-    statuses: Box<[NodeStatus]>,
-    /// One bit per node: its status was written Failure in the last tick (see [`failure`]).
-    failed: Box<[u64]>,
-    aux: Box<[u64]>,
+    /// The nodes' statuses and slots, and a bit per node: its status was written Failure in
+    /// the last tick (see [`failure`]).
+    state: NodeState,
     objects: Box<[Object<C>]>,
     blackboard: Blackboard,
     clock: Arc<dyn Clock>,
-    observer: Option<Box<dyn Observer>>,
-    /// Made when the blueprint has async actions, or when a runner asks for the signal;
-    /// boxed, so that the many trees without async actions pay one pointer for it.
-    wake: Option<Box<TreeWake>>,
-    /// The most passes one [`tick_once`](Self::tick_once) makes.
-    max_passes: u32,
+    /// What few trees use (an observer, a wake signal, a pass bound of their own, a reload
+    /// in progress): boxed, made on first use, so that the many trees of a crowd pay one
+    /// pointer for all of it.
+    rare: Option<Box<Rare<C>>>,
     /// The passes the last `tick_once` made.
     last_passes: u32,
     /// A second Running child of a reactive control is an error
@@ -92,15 +91,16 @@ pub struct Tree<C> {
     out: failure::Outcome,
     /// What the root returned on the last tick (Idle after an error).
     last_root: NodeStatus,
-    /// A reload that waits for the halts it started (see [`Tree::reload`]).
-    pending_reload: Option<Box<reload::Pending<C>>>,
     /// The stateful action the last pass rested in: it returned Running under a chain of
     /// nodes up to the root that pass a Running child's tick straight through, and which
     /// all returned Running. The next pass starts at it rather than at the root
     /// ([`resting_answer`](Self::resting_answer)).
     resting: Option<NodeId>,
-    /// Set while the tree sleeps (see [`sleep`]).
-    asleep: Option<sleep::Asleep>,
+    /// While the tree sleeps (see [`sleep`]), what wakes it; apart from its flag, so that
+    /// the two fit in 17 bytes rather than 24.
+    asleep: sleep::Asleep,
+    /// The tree sleeps.
+    sleeping: bool,
     /// The tree may sleep ([`Tree::set_sleep_allowed`]).
     sleep_allowed: bool,
 }
@@ -145,23 +145,25 @@ impl<C> Tree<C> {
             }
         }
         let blackboard = new_blackboard(&blueprint);
+        let rare = wake.map(|wake| {
+            Box::new(Rare {
+                wake: Some(wake),
+                ..Rare::new()
+            })
+        });
         Self {
-            statuses: vec![NodeStatus::Idle; blueprint.len()].into_boxed_slice(),
-            failed: failure::bits_for(blueprint.len()),
-            aux: vec![0; blueprint.aux_slots as usize].into_boxed_slice(),
+            state: NodeState::new(blueprint.len(), blueprint.aux_slots as usize),
             objects: objects.into_boxed_slice(),
             blackboard,
             clock,
-            observer: None,
-            wake,
-            max_passes: DEFAULT_MAX_PASSES,
+            rare,
             last_passes: 0,
             reject_multiple_running: false,
             out: failure::Outcome::new(),
             last_root: NodeStatus::Idle,
-            pending_reload: None,
             resting: None,
-            asleep: None,
+            asleep: sleep::Asleep::NONE,
+            sleeping: false,
             sleep_allowed: true,
             blueprint,
         }
@@ -180,12 +182,12 @@ impl<C> Tree<C> {
 
     /// The stored status of a node.
     pub fn status(&self, id: NodeId) -> NodeStatus {
-        self.statuses[id.index()]
+        self.state.statuses()[id.index()]
     }
 
     /// The stored status of every node, indexed by [`NodeId`].
     pub fn statuses(&self) -> &[NodeStatus] {
-        &self.statuses
+        self.state.statuses()
     }
 
     /// The tree's blackboard.
@@ -224,57 +226,11 @@ impl<C> Tree<C> {
         self.wake_up();
     }
 
-    /// Attaches an observer, returning the one it replaces.
-    pub fn set_observer(&mut self, observer: impl Observer + 'static) -> Option<Box<dyn Observer>> {
-        self.observer.replace(Box::new(observer))
-    }
-
-    /// Attaches an observer already boxed (one given back by [`set_observer`](Self::set_observer)
-    /// or [`take_observer`](Self::take_observer), say), returning the one it replaces.
-    pub fn set_boxed_observer(&mut self, observer: Box<dyn Observer>) -> Option<Box<dyn Observer>> {
-        self.observer.replace(observer)
-    }
-
-    /// Detaches the observer.
-    pub fn take_observer(&mut self) -> Option<Box<dyn Observer>> {
-        self.observer.take()
-    }
-
-    /// The attached observer.
-    pub fn observer_mut(&mut self) -> Option<&mut (dyn Observer + 'static)> {
-        self.observer.as_deref_mut()
-    }
-
-    /// The signal the futures of the tree's async actions set when they wake, for a runner
-    /// that ticks early on a wake rather than waiting for its next period. Made on first
-    /// use when the blueprint has no async action (such a tree never sets it).
-    pub fn wake_signal(&mut self) -> &WakeSignal {
-        &self
-            .wake
-            .get_or_insert_with(|| Box::new(TreeWake::new()))
-            .signal
-    }
-
-    /// A handle that asks this tree to halt at its next tick boundary, from any thread (see
-    /// [`halt`]). The first call makes the tree's [`WakeSignal`] if it had none; a tree that
-    /// never makes a handle pays one branch per tick call for the feature.
-    pub fn halt_handle(&mut self) -> HaltHandle {
-        let wake = self.wake.get_or_insert_with(|| Box::new(TreeWake::new()));
-        wake.halt_handle = true;
-        HaltHandle::new(wake.signal.clone())
-    }
-
-    /// `true` if the tree has a [`HaltHandle`]; its waits between ticks then watch for
-    /// requests (see [`HALT_POLL_PERIOD`]).
-    pub fn has_halt_handle(&self) -> bool {
-        self.wake.as_ref().is_some_and(|w| w.halt_handle)
-    }
-
     /// `true` while a [`HaltHandle`]'s request waits to be served by the next tick call; a
     /// runner waiting between ticks reads it to stop waiting.
     #[inline]
     pub fn halt_requested(&self) -> bool {
-        match &self.wake {
+        match self.wake() {
             Some(w) => w.signal.halt_requested(),
             None => false,
         }
@@ -283,7 +239,7 @@ impl<C> Tree<C> {
     /// Serves a pending halt request: clears it, halts the tree, and names why.
     #[cold]
     fn serve_halt_request(&mut self, ctx: &mut C) -> TickError {
-        if let Some(w) = &self.wake {
+        if let Some(w) = self.wake() {
             w.signal.take_halt();
         }
         // A halt that takes ticks goes on in the next tick calls (see `slow_halt`).
@@ -303,25 +259,31 @@ impl<C> Tree<C> {
     /// pointers, and the failure reasons' record once a node has given a reason), not
     /// counting the stateful leaves' own objects or blackboard entries.
     pub fn state_bytes(&self) -> usize {
-        self.statuses.len() * core::mem::size_of::<NodeStatus>()
-            + self.failed.len() * core::mem::size_of::<u64>()
-            + self.aux.len() * core::mem::size_of::<u64>()
+        self.state.bytes()
             + self.objects.len() * core::mem::size_of::<Object<C>>()
             + self.out.record_bytes()
     }
 
     fn ticker<'t>(&'t mut self, ctx: &'t mut C) -> Ticker<'t, C> {
-        let watching = !self.out.is_quiet() && self.observer.is_none();
+        let watching = !self.out.is_quiet() && self.observer().is_none();
+        let (observer, waker) = match self.rare.as_deref_mut() {
+            Some(rare) => (
+                rare.observer.as_deref_mut(),
+                rare.wake.as_ref().map(|w| &w.waker),
+            ),
+            None => (None, None),
+        };
+        let state = self.state.parts();
         Ticker {
             bp: &self.blueprint,
-            statuses: &mut self.statuses,
-            failed: &mut self.failed,
-            aux: &mut self.aux,
+            statuses: state.statuses,
+            failed: state.failed,
+            aux: state.aux,
             objects: &mut self.objects,
             ctx,
             bb: &mut self.blackboard,
             clock: &*self.clock,
-            observer: match self.observer.as_deref_mut() {
+            observer: match observer {
                 Some(o) => Some(o),
                 // A reason given in an earlier pass of this tick: keep noting failures.
                 None if watching => Some(failure::stand_in()),
@@ -329,7 +291,7 @@ impl<C> Tree<C> {
             },
             watching,
             wake: None,
-            waker: self.wake.as_ref().map(|w| &w.waker),
+            waker,
             out: &mut self.out,
             current: NodeId::ROOT,
             reject_multiple_running: self.reject_multiple_running,
@@ -348,11 +310,11 @@ impl<C> Tree<C> {
         given: Option<(NodeId, NodeStatus)>,
     ) -> Result<(NodeStatus, Option<Waker>), TickError> {
         // The pass polls every future still running, so earlier wakes are answered by it.
-        if let Some(w) = &self.wake {
+        if let Some(w) = self.wake() {
             w.signal.take();
         }
         let (status, asked) = self.pass_inner(ctx, given)?;
-        let woken = self.wake.as_ref().is_some_and(|w| w.signal.is_woken());
+        let woken = self.wake().is_some_and(|w| w.signal.is_woken());
         let waker = match asked {
             Some(node) => Some(Waker::Node(node)),
             None => woken.then_some(Waker::Future),
@@ -420,7 +382,7 @@ impl<C> Tree<C> {
             return Ok(Status::Running);
         }
         let mut given = None;
-        if self.wake.is_none() {
+        if self.wake().is_none() {
             let writes = self.start_waits();
             match self.rest(ctx, writes) {
                 Rest::Running => {
@@ -468,7 +430,7 @@ impl<C> Tree<C> {
         if !self.out.is_quiet() {
             self.forget_notes();
         }
-        self.failed.fill(0);
+        self.state.parts().failed.fill(0);
         self.last_root = NodeStatus::Idle;
     }
 
@@ -506,7 +468,7 @@ impl<C> Tree<C> {
     /// ```
     pub fn last_failure(&self) -> Option<Failure> {
         (self.last_root == NodeStatus::Failure)
-            .then(|| failure::build(&self.blueprint, &self.failed, self.out.notes()))
+            .then(|| failure::build(&self.blueprint, self.state.failed(), self.out.notes()))
     }
 
     /// Ticks the root, and again at once while it is Running and a node asked to be woken or
@@ -553,7 +515,7 @@ impl<C> Tree<C> {
                 Some(waker) if status == NodeStatus::Running => {
                     // A request that came during the pass is served at the top of the loop,
                     // even at the bound: the halt is what its maker asked for.
-                    if self.last_passes >= self.max_passes && !self.halt_requested() {
+                    if self.last_passes >= self.max_passes() && !self.halt_requested() {
                         return Err(self.too_many_passes(ctx, waker));
                     }
                 }
@@ -576,11 +538,6 @@ impl<C> Tree<C> {
     /// last started from Idle or was halted; the same child returning Running again is fine.
     pub fn reject_multiple_running(&mut self, reject: bool) {
         self.reject_multiple_running = reject;
-    }
-
-    /// Sets the most passes one [`tick_once`](Self::tick_once) makes (at least 1).
-    pub fn set_max_passes(&mut self, passes: u32) {
-        self.max_passes = passes.max(1);
     }
 
     /// How many passes of the root the last [`tick_once`](Self::tick_once) made: 1 unless
@@ -686,7 +643,7 @@ impl<C> core::fmt::Debug for Tree<C> {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
         f.debug_struct("Tree")
             .field("nodes", &self.blueprint.len())
-            .field("root", &self.statuses[0])
+            .field("root", &self.state.statuses()[0])
             .finish_non_exhaustive()
     }
 }
@@ -976,9 +933,10 @@ mod tests {
             .unwrap();
         let a = Tree::with_clock(Arc::clone(&bp), ManualClock::new());
         let b = Tree::with_clock(Arc::clone(&bp), ManualClock::new());
-        // One status byte per node, one slot for the sequence's cursor, and a bit per node
-        // for the tick's failures (two words).
-        assert_eq!(a.state_bytes(), 101 + 8 + 16);
+        // One word saying where the parts end, a bit per node for the tick's failures (two
+        // words), one slot for the sequence's cursor, and one status byte per node (in 13
+        // words).
+        assert_eq!(a.state_bytes(), 8 + 16 + 8 + 13 * 8);
         assert!(Arc::ptr_eq(a.blueprint(), b.blueprint()));
         assert_eq!(Arc::strong_count(&bp), 3);
     }

@@ -54,8 +54,8 @@ impl<C> Tree<C> {
             });
         }
         let mut saved = SavedTree::new(bp.structure_hash(), duration_to_nanos(self.clock.now()));
-        saved.statuses = self.statuses.iter().map(|s| *s as u8).collect();
-        saved.aux = self.aux.to_vec();
+        saved.statuses = self.state.statuses().iter().map(|s| *s as u8).collect();
+        saved.aux = self.state.aux().to_vec();
         for id in bp.ids() {
             if !bp.kind(id).has_object() {
                 continue;
@@ -147,10 +147,10 @@ impl<C> Tree<C> {
         }
         let corrupt =
             |what: &str| RestoreError::Corrupt(alloc::format!("{what} do not match its tree"));
-        if saved.statuses.len() != self.statuses.len() {
+        if saved.statuses.len() != self.state.statuses().len() {
             return Err(corrupt("its node statuses"));
         }
-        if saved.aux.len() != self.aux.len() {
+        if saved.aux.len() != self.state.aux().len() {
             return Err(corrupt("its state slots"));
         }
         if saved.objects.len() != self.objects.len() {
@@ -234,8 +234,9 @@ impl<C> Tree<C> {
         }
         self.blackboard
             .set_last_stamp(Duration::from_nanos(saved.last_stamp_nanos));
-        self.statuses.copy_from_slice(&statuses);
-        self.aux.copy_from_slice(&aux);
+        let state = self.state.parts();
+        state.statuses.copy_from_slice(&statuses);
+        state.aux.copy_from_slice(&aux);
         self.objects = objects.into_boxed_slice();
         self.last_root = last_root;
         self.resting = None;

@@ -10,9 +10,7 @@ impl<C> Tree<C> {
     #[inline]
     pub fn prefetch_state(&self) {
         use crate::hint::prefetch;
-        prefetch(&*self.statuses);
-        prefetch(&*self.failed);
-        prefetch(&*self.aux);
+        prefetch(self.state.words());
         prefetch(&*self.objects);
         self.blackboard.prefetch();
     }

@@ -25,6 +25,7 @@ use alloc::string::String;
 use alloc::sync::Arc;
 use alloc::vec::Vec;
 
+use super::state::NodeState;
 use super::ticker::Object;
 use super::wake::TreeWake;
 use super::{new_blackboard::new_blackboard, Tree};
@@ -169,7 +170,12 @@ impl<C> Tree<C> {
         blueprint: Arc<Blueprint<C>>,
         ctx: &mut C,
     ) -> Result<ReloadReport, ReloadError> {
-        if self.is_halting() || self.pending_reload.is_some() {
+        if self.is_halting()
+            || self
+                .rare
+                .as_ref()
+                .is_some_and(|r| r.pending_reload.is_some())
+        {
             return Err(ReloadError::Halting);
         }
         let kept_from = match_nodes(&self.blueprint, &blueprint);
@@ -178,7 +184,8 @@ impl<C> Tree<C> {
             survives[o.index()] = true;
         }
         let running: Vec<bool> = self
-            .statuses
+            .state
+            .statuses()
             .iter()
             .map(|s| *s == NodeStatus::Running)
             .collect();
@@ -193,7 +200,7 @@ impl<C> Tree<C> {
         }
         let halted = running
             .iter()
-            .zip(self.statuses.iter())
+            .zip(self.state.statuses().iter())
             .filter(|(was, now)| **was && **now != NodeStatus::Running)
             .count();
         let kept = kept_from.iter().filter(|o| o.is_some()).count();
@@ -208,7 +215,7 @@ impl<C> Tree<C> {
             kept_from,
         };
         if report.waiting {
-            self.pending_reload = Some(Box::new(pending));
+            self.rare_mut().pending_reload = Some(Box::new(pending));
         } else {
             self.swap(pending);
         }
@@ -217,7 +224,11 @@ impl<C> Tree<C> {
 
     /// Takes over a reload that waited for halts, once they are done.
     pub(super) fn finish_reload(&mut self) {
-        if let Some(pending) = self.pending_reload.take() {
+        if let Some(pending) = self
+            .rare
+            .as_deref_mut()
+            .and_then(|r| r.pending_reload.take())
+        {
             self.swap(*pending);
         }
     }
@@ -229,8 +240,9 @@ impl<C> Tree<C> {
             kept_from,
         } = pending;
         let old = core::mem::replace(&mut self.blueprint, Arc::clone(&new));
-        let mut statuses = alloc::vec![NodeStatus::Idle; new.len()];
-        let mut aux = alloc::vec![0; new.aux_slots as usize];
+        let mut state = NodeState::new(new.len(), new.aux_slots as usize);
+        let parts = state.parts();
+        let (statuses, aux) = (parts.statuses, parts.aux);
         let mut old_objects: Vec<Option<Object<C>>> = core::mem::take(&mut self.objects)
             .into_vec()
             .into_iter()
@@ -240,14 +252,14 @@ impl<C> Tree<C> {
         for id in new.ids() {
             let from = kept_from[id.index()];
             if let Some(o) = from {
-                statuses[id.index()] = self.statuses[o.index()];
+                statuses[id.index()] = self.state.statuses()[o.index()];
             }
             let kind = new.kind(id);
             let slots = kind.aux_slots() as usize;
             if slots > 0 {
                 if let Some(o) = from {
                     let (to, at) = (new.slot(id), old.slot(o));
-                    aux[to..to + slots].copy_from_slice(&self.aux[at..at + slots]);
+                    aux[to..to + slots].copy_from_slice(&self.state.aux()[at..at + slots]);
                 }
             }
             if kind.has_object() {
@@ -279,17 +291,15 @@ impl<C> Tree<C> {
         }
         blackboard.set_last_stamp(self.blackboard.last_stamp());
         self.blackboard = blackboard;
-        self.statuses = statuses.into_boxed_slice();
-        self.failed = super::failure::bits_for(self.statuses.len());
+        self.state = state;
         self.resting = None;
         self.wake_up();
-        self.aux = aux.into_boxed_slice();
         self.objects = objects.into_boxed_slice();
         let has_async = new
             .ids()
             .any(|id| matches!(new.kind(id), NodeKind::Async(_)));
-        if has_async && self.wake.is_none() {
-            self.wake = Some(Box::new(TreeWake::new()));
+        if has_async && self.wake().is_none() {
+            self.rare_mut().wake = Some(Box::new(TreeWake::new()));
         }
         self.forget_notes();
     }

@@ -28,10 +28,10 @@ impl<C> Tree<C> {
         let Some(leaf) = self.resting else {
             return Rest::No;
         };
-        let rests = self.observer.is_none()
+        let rests = self.observer().is_none()
             && self.out.is_quiet()
             && self.out.halts.count == 0
-            && self.statuses[leaf.index()] == NodeStatus::Running;
+            && self.state.statuses()[leaf.index()] == NodeStatus::Running;
         if !rests {
             self.resting = None;
             return Rest::No;

@@ -192,6 +192,14 @@ pub(crate) struct Asleep {
     writes: u64,
 }
 
+impl Asleep {
+    /// What an awake tree keeps in the place.
+    pub(crate) const NONE: Self = Self {
+        until: u64::MAX,
+        writes: 0,
+    };
+}
+
 /// Wakes a sleeping tree from anywhere (another thread, a game event): the tree's next
 /// tick is a pass. Clones wake the same tree.
 ///
@@ -250,19 +258,32 @@ impl<C> Tree<C> {
     pub fn set_sleep_allowed(&mut self, allowed: bool) {
         self.sleep_allowed = allowed;
         if !allowed {
-            self.asleep = None;
+            self.set_asleep(None);
         }
     }
 
     /// `true` while the tree sleeps: its ticks return Running without a pass until it wakes.
     pub fn is_asleep(&self) -> bool {
-        self.asleep.is_some()
+        self.sleeping
+    }
+
+    /// What wakes the tree, while it sleeps.
+    #[inline]
+    pub(crate) fn asleep(&self) -> Option<Asleep> {
+        self.sleeping.then_some(self.asleep)
+    }
+
+    /// Puts the tree to sleep until `asleep`, or wakes it (`None`).
+    #[inline]
+    fn set_asleep(&mut self, asleep: Option<Asleep>) {
+        self.sleeping = asleep.is_some();
+        self.asleep = asleep.unwrap_or(Asleep::NONE);
     }
 
     /// When the sleeping tree wakes on its own: the earliest deadline its nodes declared.
     /// `None` if it is awake, or waits only for a write or a wake.
     pub fn wakes_at(&self) -> Option<Duration> {
-        self.asleep
+        self.asleep()
             .filter(|a| a.until != u64::MAX)
             .map(|a| Duration::from_nanos(a.until))
     }
@@ -270,13 +291,13 @@ impl<C> Tree<C> {
     /// `true` if the tree is awake, or sleeps and something it waits on happened: its next
     /// tick will be a pass. A runner ticking many trees asks this to skip the others.
     pub fn is_due(&self) -> bool {
-        match &self.asleep {
+        match self.asleep() {
             None => true,
             Some(a) => {
                 duration_to_nanos(self.clock.now()) >= a.until
                     || self.blackboard.writes() != a.writes
                     || self.keeps_awake_observer()
-                    || self.wake.as_ref().is_some_and(|w| w.signal.is_woken())
+                    || self.wake().is_some_and(|w| w.signal.is_woken())
             }
         }
     }
@@ -285,11 +306,11 @@ impl<C> Tree<C> {
     /// no pass), else it is awake from now on.
     #[inline]
     pub(crate) fn sleeps_on(&mut self) -> bool {
-        if self.asleep.is_none() {
+        if !self.sleeping {
             return false;
         }
         if self.is_due() {
-            self.asleep = None;
+            self.set_asleep(None);
             return false;
         }
         true
@@ -299,12 +320,12 @@ impl<C> Tree<C> {
     /// [`Observer::lets_tree_sleep`](crate::Observer::lets_tree_sleep)).
     #[inline]
     pub(crate) fn keeps_awake_observer(&self) -> bool {
-        self.observer.as_ref().is_some_and(|o| !o.lets_tree_sleep())
+        self.observer().is_some_and(|o| !o.lets_tree_sleep())
     }
 
     /// Wakes the tree if it sleeps: its next tick is a pass, whatever its nodes wait on.
     pub fn wake_up(&mut self) {
-        self.asleep = None;
+        self.set_asleep(None);
     }
 
     /// Before a pass: nothing declared yet. Returns the blackboard's write count, for
@@ -328,10 +349,10 @@ impl<C> Tree<C> {
             && self.out.is_quiet()
             && self.blackboard.writes() == writes;
         if sleeps {
-            self.asleep = Some(Asleep {
+            self.set_asleep(Some(Asleep {
                 until: waits.deadline,
                 writes,
-            });
+            }));
         } else if waits.reason.is_none() {
             self.out.waits.reason = Some((self.awake_for(writes), NodeId::ROOT));
         }

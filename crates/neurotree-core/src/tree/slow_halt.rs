@@ -87,16 +87,39 @@ use super::ticker::{contain, Object, Ticker};
 
 /// The tree's count of halting actions, and on whose behalf the engine halts now: one
 /// pointer for the ticker to carry, so that a pass pays one store for the feature.
-#[derive(Default)]
 pub(crate) struct Halts {
     /// How many halts are in progress: halting actions, and TryCatch nodes whose catch
     /// waits.
     pub(crate) count: u32,
-    /// The node on whose behalf the engine halts now (`None`: the tree); set only within
-    /// [`Ticker::halting_for`].
-    pub(crate) halter: Option<NodeId>,
+    /// The node on whose behalf the engine halts now (the tree, but within
+    /// [`Ticker::halting_for`]).
+    halter: Owner,
     /// A halt since `halter` was set left an action halting.
     pub(crate) left: bool,
+}
+
+impl Default for Halts {
+    fn default() -> Self {
+        Self {
+            count: 0,
+            halter: Owner::of(None),
+            left: false,
+        }
+    }
+}
+
+impl Halts {
+    /// The node on whose behalf the engine halts now (`None`: the tree).
+    #[inline]
+    pub(crate) fn halter(&self) -> Option<NodeId> {
+        self.halter.get()
+    }
+
+    /// Halts from now on behalf of `halter` (`None`: the tree); returns the one before.
+    #[inline]
+    pub(crate) fn set_halter(&mut self, halter: Option<NodeId>) -> Option<NodeId> {
+        mem::replace(&mut self.halter, Owner::of(halter)).get()
+    }
 }
 
 /// Whom a halt in progress waits for, in four bytes (a node's id, or the tree), so that
@@ -134,7 +157,7 @@ impl<'t, C> Ticker<'t, C> {
     /// Asks the Running stateful action `id` to halt; one that answers Halting now waits
     /// for the node on whose behalf the engine halts (see [`halting_for`](Self::halting_for)).
     pub(crate) fn request_halt(&mut self, id: NodeId) {
-        let halter = self.out.halts.halter;
+        let halter = self.out.halts.halter();
         let (Some(object), mut h) = self.split(id) else {
             return;
         };
@@ -164,11 +187,11 @@ impl<'t, C> Ticker<'t, C> {
     /// `owner`. Returns `true` if any did.
     #[inline]
     pub(crate) fn halting_for(&mut self, owner: NodeId, halt: impl FnOnce(&mut Self)) -> bool {
-        let outer_halter = self.out.halts.halter.replace(owner);
+        let outer_halter = self.out.halts.set_halter(Some(owner));
         let outer_left = mem::replace(&mut self.out.halts.left, false);
         halt(self);
         let left = self.out.halts.left;
-        self.out.halts.halter = outer_halter;
+        self.out.halts.set_halter(outer_halter);
         self.out.halts.left = outer_left;
         left
     }
@@ -177,7 +200,7 @@ impl<'t, C> Ticker<'t, C> {
     #[cold]
     #[inline(never)]
     pub(crate) fn pass_on_halts_of(&mut self, id: NodeId) {
-        let halter = self.out.halts.halter;
+        let halter = self.out.halts.halter();
         let mut passed = false;
         for object in self.objects.iter_mut() {
             if let Some(owner) = object.halt_owner() {
@@ -326,7 +349,7 @@ impl<'t, C> Ticker<'t, C> {
             }
             self.aux[slot] = 0;
             self.out.halts.count -= 1;
-            let outer_halter = mem::replace(&mut self.out.halts.halter, owner);
+            let outer_halter = self.out.halts.set_halter(owner);
             let outer_left = mem::replace(&mut self.out.halts.left, false);
             let catch = self.child(def, def.child_count - 1);
             contain(self, tc, |t| {
@@ -343,7 +366,7 @@ impl<'t, C> Ticker<'t, C> {
                 }
             }
             left |= self.out.halts.left;
-            self.out.halts.halter = outer_halter;
+            self.out.halts.set_halter(outer_halter);
             self.out.halts.left = outer_left;
         }
         left

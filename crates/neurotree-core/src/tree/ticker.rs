@@ -88,7 +88,7 @@ impl<'t, C> Ticker<'t, C> {
         let i = id.index();
         debug_assert!(i / 64 < self.failed.len());
         // SAFETY: `failed` holds a bit for each of this blueprint's nodes
-        // (`failure::bits_for`), and `id` is one of them (as in `status`).
+        // (`NodeState::new`), and `id` is one of them (as in `status`).
         unsafe { *self.failed.get_unchecked_mut(i / 64) |= 1 << (i % 64) };
     }
 

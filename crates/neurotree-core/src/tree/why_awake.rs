@@ -146,7 +146,7 @@ impl<C> Tree<C> {
     /// [`why_awake`](Self::why_awake) without the path: what a runner counting reasons
     /// over many trees asks.
     pub fn awake_reason(&self) -> Option<(AwakeReason, NodeId)> {
-        if self.asleep.is_some() {
+        if self.sleeping {
             return None;
         }
         if self.last_root != NodeStatus::Running {
