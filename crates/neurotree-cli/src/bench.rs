@@ -61,7 +61,8 @@ pub struct BenchArgs {
     /// few frames).
     #[arg(long, default_value_t = 1.0)]
     pub alert_percent: f64,
-    /// Frames timed in the crowd benchmarks (default 20, 5 with `--quick`).
+    /// Frames timed in the crowd benchmarks, at least (default 20, 5 with `--quick`); more
+    /// are timed until 0.3 s of frames have run (0.03 s with `--quick`).
     #[arg(long)]
     pub frames: Option<u32>,
     /// Runs only these benchmarks (comma-separated: tree1111, many_agents, crowd,
@@ -243,8 +244,8 @@ pub fn many_agents_bench(opts: &BenchArgs) -> ManyAgentsResult {
 }
 
 /// Runs `opts.agents` agents as a crowd on `opts.threads` threads, every agent due every
-/// frame: 20 frames (5 with `quick`) after two warm-up frames, the clock advancing 16 ms per
-/// frame.
+/// frame: at least 20 frames (5 with `quick`) and [`LEAST_TIMED`] timed after two warm-up
+/// frames, the clock advancing 16 ms per frame.
 pub fn crowd_bench(opts: &BenchArgs) -> CrowdResult {
     const FRAME: Duration = Duration::from_millis(16);
     let frames = opts.crowd_frames();
@@ -257,14 +258,10 @@ pub fn crowd_bench(opts: &BenchArgs) -> CrowdResult {
     for _ in 0..2 {
         frame();
     }
-    let mut times = Vec::with_capacity(frames as usize);
-    let start = Instant::now();
-    for _ in 0..frames {
-        let at = Instant::now();
+    let (frames, times, elapsed) = time_frames(frames, opts.quick, || {
         frame();
-        times.push(at.elapsed());
-    }
-    let elapsed = start.elapsed();
+        0
+    });
     CrowdResult {
         agents: opts.agents,
         threads: crowd.threads(),
@@ -313,8 +310,9 @@ impl CrowdSleepingResult {
 }
 
 /// Runs `opts.agents` sleepy agents as a crowd, alerting `alert_percent` of them (at
-/// least one) before each frame, in turn: 20 frames (5 with `quick`) after ten warm-up frames in which all
-/// fall asleep, the clock advancing 16 ms per frame.
+/// least one) before each frame, in turn: at least 20 frames (5 with `quick`) and
+/// [`LEAST_TIMED`] timed after ten warm-up frames in which all fall asleep, the clock
+/// advancing 16 ms per frame.
 pub fn crowd_sleeping_bench(opts: &BenchArgs, alert_percent: f64) -> CrowdSleepingResult {
     const FRAME: Duration = Duration::from_millis(16);
     let frames = opts.crowd_frames();
@@ -343,14 +341,10 @@ pub fn crowd_sleeping_bench(opts: &BenchArgs, alert_percent: f64) -> CrowdSleepi
         frame(&mut crowd);
     }
     let mut ticked = 0;
-    let mut times = Vec::with_capacity(frames as usize);
-    let start = Instant::now();
-    for _ in 0..frames {
-        let at = Instant::now();
+    let (frames, times, elapsed) = time_frames(frames, opts.quick, || {
         ticked += frame(&mut crowd).ticked;
-        times.push(at.elapsed());
-    }
-    let elapsed = start.elapsed();
+        0
+    });
     CrowdSleepingResult {
         agents: opts.agents,
         threads: crowd.threads(),
@@ -360,6 +354,32 @@ pub fn crowd_sleeping_bench(opts: &BenchArgs, alert_percent: f64) -> CrowdSleepi
         ms_per_frame_median: median_ms(times),
         bytes_per_member: crowd_bytes_per_member(&crowd),
     }
+}
+
+/// The least time the crowd benchmarks spend in timed frames (a tenth with `--quick`): a
+/// frame of a mostly sleeping crowd lasts a fraction of a millisecond, and twenty of them
+/// would measure little but the machine's hiccups.
+pub const LEAST_TIMED: Duration = Duration::from_millis(300);
+
+/// Times `frame` at least `frames` times and for at least [`LEAST_TIMED`] (at most a
+/// hundred times `frames`): the frames timed, each one's time, and their total.
+fn time_frames(
+    frames: u32,
+    quick: bool,
+    mut frame: impl FnMut() -> u64,
+) -> (u32, Vec<Duration>, Duration) {
+    let least = if quick { LEAST_TIMED / 10 } else { LEAST_TIMED };
+    let most = frames.saturating_mul(100);
+    let mut times = Vec::with_capacity(frames as usize);
+    let start = Instant::now();
+    let mut timed = 0;
+    while timed < frames || (start.elapsed() < least && timed < most) {
+        let at = Instant::now();
+        black_box(frame());
+        times.push(at.elapsed());
+        timed += 1;
+    }
+    (timed, times, start.elapsed())
 }
 
 /// Ticks timed one by one in the tick-time benchmarks, at least (a tenth with `--quick`).
