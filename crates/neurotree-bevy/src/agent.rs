@@ -22,14 +22,14 @@ use crate::context::AgentContext;
 /// loaded for an asset), and leaves it when the component is removed or replaced or the
 /// entity despawned, which halts its running actions once.
 ///
-/// It implements `Reflect` (registered by the plugin), so that Bevy's inspectors show its
-/// [`summary`](Self::summary): the tree's name, what it did last frame, whether it sleeps
-/// and why not.
+/// It implements `Reflect` (registered by the plugin), and brings an [`AgentSummary`]
+/// component along, which Bevy's inspectors show: the tree's name, what it did last frame,
+/// whether it sleeps and why not. The summary is a component of its own, so that the frame's
+/// pass over the agents, which reads this component, does not carry it through the caches.
 #[derive(Component, Reflect)]
 #[reflect(Component, type_path = false, from_reflect = false)]
+#[require(AgentSummary)]
 pub struct TreeAgent<C: AgentContext> {
-    /// The tree, what it did and whether it sleeps, as of the last frame.
-    pub summary: AgentSummary,
     #[reflect(ignore)]
     source: TreeSource<C>,
     /// The context until the agent joins; the crowd holds it from then on.
@@ -72,11 +72,13 @@ impl<C: AgentContext> TypePath for TreeAgent<C> {
     }
 }
 
-/// What an agent's tree is and did, for Bevy's inspectors: kept up to date after each
-/// frame by [`TreeSystems::Tick`](crate::TreeSystems::Tick) while
+/// What an agent's tree is and did, for Bevy's inspectors: a component every
+/// [`TreeAgent`] brings along, kept up to date after each frame by
+/// [`TreeSystems::Tick`](crate::TreeSystems::Tick) while
 /// [`AgentCrowd::set_summaries`](crate::AgentCrowd::set_summaries) is on (by default in
 /// debug builds only); left at its default otherwise.
-#[derive(Reflect, Clone, Debug, Default, PartialEq, Eq)]
+#[derive(Component, Reflect, Clone, Debug, Default, PartialEq, Eq)]
+#[reflect(Component)]
 pub struct AgentSummary {
     /// The name of the tree's root node (its `name` attribute in a tree file, else its
     /// type); empty until the agent joins the crowd.
@@ -143,7 +145,6 @@ impl<C: AgentContext> TreeAgent<C> {
     fn with_source(source: TreeSource<C>, context: C) -> Self {
         Self {
             source,
-            summary: AgentSummary::default(),
             context: Some(context),
             interval: 1,
             member: None,

@@ -21,7 +21,7 @@ use neurotree::{ReloadError, Status};
 use bevy_diagnostic::Diagnostics;
 use bevy_time::{Time, Virtual};
 
-use crate::agent::{TreeAgent, TreeSource};
+use crate::agent::{AgentSummary, TreeAgent, TreeSource};
 use crate::asset::TreeAsset;
 use crate::awake::AwakeAgents;
 use crate::context::AgentContext;
@@ -222,9 +222,10 @@ where
     frame.finish()
 }
 
-/// Visits every agent, in the order Bevy stores them, on `pool`'s threads (each a run of
-/// agents, several runs per thread so that a slow run does not hold a frame back), and
-/// ends the frame.
+/// Visits every agent, in the order Bevy stores them, on `pool`'s threads, and ends the
+/// frame. The agents are handed out in runs of [`RUN`], taken from the query as the threads
+/// tick the runs before: a list of every agent's components, made afresh each frame, cost a
+/// crowd of a million agents more than its ticks (its pages were the system's to clear).
 fn visit_all_on<'g, C: AgentContext>(
     pool: &ThreadPool,
     frame: InPlaceFrame<'_, C>,
@@ -237,39 +238,38 @@ where
     for<'w, 's> SystemParamItem<'w, 's, C::Shared>: Sync,
     for<'w, 's> QueryItem<'w, 's, C::Components>: Send,
 {
-    let mut items: Vec<_> = agents.iter_mut().collect();
-    let runs = pool.current_num_threads() * RUNS_PER_THREAD;
-    let run = items.len().div_ceil(runs).max(MIN_RUN);
     let open = &frame;
-    pool.scope(|scope| {
-        for chunk in items.chunks_mut(run) {
-            scope.spawn(move |_| {
-                let mut visitor = open.visitor();
-                let mut gathered = gather();
-                for (entity, agent, components) in chunk {
-                    let Some(member) = agent.member() else {
-                        continue;
-                    };
-                    let status = match visitor.visit(member, |c| c.load(components, shared)) {
-                        Visit::NotDue => continue,
-                        Visit::Ticked(context, status) => {
-                            context.store(components);
-                            status
-                        }
-                    };
-                    gathered.note(member, *entity, status, report_finished);
-                }
-            });
+    let mut items = agents.iter_mut();
+    pool.in_place_scope(|scope| loop {
+        let mut run: Vec<_> = items.by_ref().take(RUN).collect();
+        if run.is_empty() {
+            break;
         }
+        scope.spawn(move |_| {
+            let mut visitor = open.visitor();
+            let mut gathered = gather();
+            for (entity, agent, components) in &mut run {
+                let Some(member) = agent.member() else {
+                    continue;
+                };
+                let status = match visitor.visit(member, |c| c.load(components, shared)) {
+                    Visit::NotDue => continue,
+                    Visit::Ticked(context, status) => {
+                        context.store(components);
+                        status
+                    }
+                };
+                gathered.note(member, *entity, status, report_finished);
+            }
+        });
     });
-    drop(items);
     frame.finish()
 }
 
-/// Runs of agents per thread of a frame on the plugin's pool.
-const RUNS_PER_THREAD: usize = 4;
-/// Fewest agents in a run: below, handing a run to a thread costs more than ticking it.
-const MIN_RUN: usize = 64;
+/// Agents in a run of a frame on the plugin's pool: enough that handing a run to a thread
+/// costs little beside ticking it, few enough that the threads share a frame evenly and a
+/// run's list stays in the cache.
+const RUN: usize = 2048;
 
 /// Visits the agents awake in `frame` by their entity, on this thread, and ends the frame:
 /// when most agents sleep, cheaper than walking every agent's components. `awake` is room
@@ -388,20 +388,20 @@ fn report<C: AgentContext>(
 /// look at its member; only a new reason to be awake allocates.
 pub(crate) fn summarize<C: AgentContext>(
     mut crowd: ResMut<AgentCrowd<C>>,
-    mut agents: Query<&mut TreeAgent<C>>,
+    mut agents: Query<(&TreeAgent<C>, &mut AgentSummary)>,
 ) {
     if !crowd.summaries {
         return;
     }
     let members = crowd.crowd_mut();
-    for mut agent in &mut agents {
+    for (agent, mut summary) in &mut agents {
         let Some(member) = agent.member().and_then(|id| members.get(id)) else {
             continue;
         };
         let tree = member.tree();
         let asleep = tree.is_asleep();
-        // Not a change of the component: `Changed<TreeAgent<C>>` keeps meaning the app's.
-        let summary = &mut agent.bypass_change_detection().summary;
+        // Not marked changed: a frame would otherwise mark every agent's summary.
+        let summary = summary.bypass_change_detection();
         if summary.tree.is_empty() {
             let blueprint = tree.blueprint();
             if let Some(root) = blueprint.ids().next() {

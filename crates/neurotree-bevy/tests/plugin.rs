@@ -970,15 +970,19 @@ fn agents_and_the_awake_counts_show_through_reflection() {
     app.update();
     let registry = app.world().resource::<AppTypeRegistry>().clone();
     let registry = registry.read();
-    let agents = registry
-        .get_type_data::<ReflectComponent>(std::any::TypeId::of::<TreeAgent<Guard>>())
-        .expect("TreeAgent<Guard> is registered as a reflected component");
+    assert!(
+        registry
+            .get_type_data::<ReflectComponent>(std::any::TypeId::of::<TreeAgent<Guard>>())
+            .is_some(),
+        "TreeAgent<Guard> is registered as a reflected component"
+    );
+    let summaries = registry
+        .get_type_data::<ReflectComponent>(std::any::TypeId::of::<AgentSummary>())
+        .expect("AgentSummary is registered as a reflected component");
     let summary = |entity: Entity| {
-        let agent = agents
+        let reflected = summaries
             .reflect(app.world().entity(entity))
-            .expect("the agent has the component");
-        let summary = field::<AgentSummary>(agent, "summary");
-        let reflected = summary as &dyn bevy_reflect::Reflect;
+            .expect("an agent brings its summary along");
         (
             field::<String>(reflected, "tree").clone(),
             *field::<&'static str>(reflected, "status"),
@@ -1012,7 +1016,7 @@ fn agents_and_the_awake_counts_show_through_reflection() {
             crowd.member_mut(agent).unwrap().wake();
         });
     app.update();
-    let summary = &app.world().get::<TreeAgent<Guard>>(waits).unwrap().summary;
+    let summary = app.world().get::<AgentSummary>(waits).unwrap();
     assert_eq!(
         (summary.status, summary.asleep, summary.awake_reason),
         ("success", false, "not_running")
