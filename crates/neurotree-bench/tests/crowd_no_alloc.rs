@@ -127,8 +127,10 @@ fn crowd_frames_allocate_nothing_in_steady_state() {
                 while alerted.len() < neurotree::crowd::SHARED_VISITS {
                     alerted.extend_from_within(..20);
                 }
+                let calls = AtomicUsize::new(0);
                 n += allocations(|| {
                     crowd.for_each_mut(&alerted, |mut member| {
+                        calls.fetch_add(1, Ordering::Relaxed);
                         member
                             .tree_mut()
                             .blackboard_mut()
@@ -136,6 +138,7 @@ fn crowd_frames_allocate_nothing_in_steady_state() {
                             .unwrap();
                     })
                 });
+                assert_eq!(calls.into_inner(), alerted.len());
                 waker.wake(ids[next % ids.len()]);
                 crowd.wake(ids[(next + 3) % ids.len()]);
                 clock.advance(Duration::from_millis(16));
@@ -144,6 +147,7 @@ fn crowd_frames_allocate_nothing_in_steady_state() {
                 let report = report.unwrap();
                 assert_eq!(report.errors, 0);
                 assert!(report.frame == 0 || report.asleep > 1000, "{report:?}");
+                assert!(report.ticked >= 20, "the 20 alerted tick: {report:?}");
             }
             n
         };

@@ -240,6 +240,8 @@ fn alerts_written_on_the_crowds_threads_wake_exactly_the_members_named() {
             });
             let mut seen = seen.into_inner().unwrap();
             let case = format!("{threads} threads, {} named", named.len());
+            // One visit per naming but the one of the member that left.
+            assert_eq!(seen.len(), named.len() - 1, "{case}");
             assert_eq!(
                 seen.iter().filter(|&&id| id == ids[1200]).count(),
                 2,
@@ -251,6 +253,10 @@ fn alerts_written_on_the_crowds_threads_wake_exactly_the_members_named() {
             assert_eq!(seen.len(), woken, "{case}");
             assert!(!seen.contains(&gone), "{case}");
             let visits = |i: usize| crowd.get(ids[i]).unwrap().context().trace;
+            for i in (0..members).filter(|&i| i != 7) {
+                let named_times = named.iter().filter(|&&id| id == ids[i]).count();
+                assert_eq!(visits(i), named_times as u64, "member {i}, {case}");
+            }
             assert_eq!(
                 (visits(1200), visits(1201), visits(3), visits(4)),
                 (2, 1, 1, 0)
@@ -550,11 +556,13 @@ mod random {
             for (m, t) in touches {
                 let id = ids[*m];
                 match t {
-                    // The sleeping crowd is written on its threads, each member twice
-                    // (the same value: one write seen), the reference one by one.
+                    // The sleeping crowd is written through `for_each_mut`, the member named
+                    // enough times to be shared among threads (the same value: one write
+                    // seen), the reference one by one.
                     Touch::Write(k, v) if sleeps => {
                         let key = format!("k{k}");
-                        crowd.for_each_mut(&[id, id], |mut member| {
+                        let named = vec![id; neurotree::crowd::SHARED_VISITS];
+                        crowd.for_each_mut(&named, |mut member| {
                             member.tree_mut().blackboard_mut().set(&key, *v).unwrap();
                         });
                     }

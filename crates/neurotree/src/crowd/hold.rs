@@ -60,7 +60,11 @@ impl<C: Send> Crowd<C> {
             return;
         }
         let Self {
-            plans, held, awake, ..
+            plans,
+            held,
+            awake,
+            timers,
+            ..
         } = self;
         held.ids.retain(|id| {
             let slot = id.index as usize;
@@ -74,8 +78,10 @@ impl<C: Send> Crowd<C> {
                 awake.clear(slot);
             }
             // Only a wake wakes it; its own deadline, if it had one, is forgotten: the
-            // release wakes it, and its tree says again when it sleeps.
+            // release wakes it, and its tree says again when it sleeps. Fallen asleep in the
+            // last frame, it is not handled as a sleeper at the next frame's start either.
             plan.sleeps_until = u64::MAX;
+            timers.forget_fallen(slot);
             plan.status = FrameStatus::Asleep;
             true
         });

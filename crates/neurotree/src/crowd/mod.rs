@@ -319,6 +319,7 @@ impl<C: Send> Crowd<C> {
         let owed = plan.owed_since != NOT_OWED;
         *plan = Plan::new(plan.generation.wrapping_add(1));
         self.awake.clear(i);
+        self.timers.forget_fallen(i);
         self.free.push(id.index);
         self.len -= 1;
         if owed {

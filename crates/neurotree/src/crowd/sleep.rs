@@ -257,6 +257,16 @@ pub(super) struct Timers {
     signals: Vec<Option<(u32, Waker)>>,
 }
 
+impl Timers {
+    /// Forgets that the member in `slot` fell asleep in the last frame: it was held, or it
+    /// left.
+    pub(super) fn forget_fallen(&mut self, slot: usize) {
+        if let Some(word) = self.fallen.get_mut(slot / BITS) {
+            *word &= !(1 << (slot % BITS));
+        }
+    }
+}
+
 /// Queues its member's wake on the crowd's [`CrowdWaker`] when woken: registered on the
 /// wake signal of a sleeping tree with a [`HaltHandle`](crate::HaltHandle), so that a
 /// request wakes the member.

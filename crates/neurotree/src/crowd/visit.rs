@@ -18,10 +18,11 @@ impl<C: Send> Crowd<C> {
     /// blackboard, which wakes it), where [`get_mut`](Self::get_mut) one by one would do it
     /// on one thread. Ids of members that left are skipped; a member named twice is visited
     /// twice, one visit after the other, in the order of `ids`. Shared among threads, the
-    /// members are visited in slot order, so that each thread walks its share of memory in
-    /// order; fewer than [`SHARED_VISITS`] ids, or a crowd on one thread, are visited on the
-    /// calling thread in the order of `ids`, since handing them to the pool would cost more
-    /// than the visits.
+    /// members are visited by words of 64 slots in slot order, and within a word in the
+    /// order of `ids`, so that each thread walks its share of memory in order: `f` must not
+    /// depend on the order of members far apart. Fewer than [`SHARED_VISITS`] ids, or a
+    /// crowd on one thread, are visited on the calling thread in the order of `ids`, since
+    /// handing them to the pool would cost more than the visits.
     pub fn for_each_mut(&mut self, ids: &[MemberId], f: impl Fn(MemberMut<'_, C>) + Send + Sync) {
         if ids.len() < SHARED_VISITS || self.threads() == 1 {
             for &id in ids {
