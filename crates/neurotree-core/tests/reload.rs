@@ -188,3 +188,44 @@ fn blackboard_entries_and_waits_are_kept() {
     clock.advance(Duration::from_millis(100));
     assert_eq!(tree.tick_once(&mut ()), Ok(Status::Success));
 }
+
+/// A stateful leaf whose factory panics.
+struct Unmakeable;
+
+impl neurotree_core::StatefulAction<()> for Unmakeable {
+    fn on_start(&mut self, _: &mut neurotree_core::Handle<'_, ()>) -> Status {
+        Status::Success
+    }
+    fn on_running(&mut self, _: &mut neurotree_core::Handle<'_, ()>) -> Status {
+        Status::Success
+    }
+}
+
+/// A reload whose new leaf's factory panics leaves the tree on its old blueprint and its
+/// old node state together, never the new blueprint over the old state (which the ticks
+/// read by the blueprint's indices): caught, the panic leaves a tree that ticks as before.
+#[test]
+fn a_factory_that_panics_in_a_reload_leaves_blueprint_and_state_together() {
+    let v1 = Blueprint::<()>::builder()
+        .sequence("main", |s| s.action("a", |_| Status::Success))
+        .build_shared()
+        .unwrap();
+    let mut tree = Tree::with_clock(v1, ManualClock::new());
+    assert_eq!(tree.tick_once(&mut ()), Ok(Status::Success));
+    let v2 = Blueprint::<()>::builder()
+        .sequence("main", |s| {
+            s.action("a", |_| Status::Success)
+                .action("b", |_| Status::Success)
+                .action("c", |_| Status::Success)
+                .stateful("new", || -> Unmakeable { panic!("no such leaf") })
+        })
+        .build_shared()
+        .unwrap();
+    let caught = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+        let _ = tree.reload(v2, &mut ());
+    }));
+    assert!(caught.is_err());
+    // The old tree, whole: it ticks as before.
+    assert_eq!(tree.blueprint().len(), 2);
+    assert_eq!(tree.tick_once(&mut ()), Ok(Status::Success));
+}

@@ -239,7 +239,10 @@ impl<C> Tree<C> {
             blueprint: new,
             kept_from,
         } = pending;
-        let old = core::mem::replace(&mut self.blueprint, Arc::clone(&new));
+        // The tree keeps its old blueprint until its new state is in: the ticks read the
+        // state by the blueprint's node indices unchecked, and a stateful leaf's factory or
+        // an old object's drop below may panic, into a caller that keeps the tree.
+        let old = Arc::clone(&self.blueprint);
         let mut state = NodeState::new(new.len(), new.aux_slots as usize);
         let parts = state.parts();
         let (statuses, aux) = (parts.statuses, parts.aux);
@@ -291,6 +294,7 @@ impl<C> Tree<C> {
         }
         blackboard.set_last_stamp(self.blackboard.last_stamp());
         self.blackboard = blackboard;
+        self.blueprint = Arc::clone(&new);
         self.state = state;
         self.resting = None;
         self.wake_up();
