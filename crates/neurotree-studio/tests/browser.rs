@@ -771,12 +771,8 @@ async fn a_watched_run_shows_its_statuses_change() {
 /// select what is there, type, press Enter.
 async fn type_into_entry(b: &Browser, key: &str, text: &str) {
     let field = format!("#watch-view input[data-entry={key}][data-scope='0']");
-    b.click(&field).await;
-    b.element(&field)
-        .await
-        .send_keys(&format!("\u{e009}a\u{e009}{text}\u{e007}"))
-        .await
-        .unwrap();
+    b.type_into(&field, &format!("\u{e009}a\u{e009}{text}\u{e007}"))
+        .await;
 }
 
 #[tokio::test(flavor = "multi_thread")]

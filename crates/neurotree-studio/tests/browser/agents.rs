@@ -280,12 +280,7 @@ async fn an_edit_a_pause_and_a_breakpoint_touch_the_agent_watched_alone_or_the_w
         &format!("document.querySelector(\"{field}\")?.value === '1'"),
     )
     .await;
-    b.click(field).await;
-    b.element(field)
-        .await
-        .send_keys("\u{e009}a\u{e009}9\u{e007}")
-        .await
-        .unwrap();
+    b.type_into(field, "\u{e009}a\u{e009}9\u{e007}").await;
     b.until(
         "the edit shown",
         "studio.views.watch.state.blackboards[0].entries.find(e => e.key === 'a').value === 9",

@@ -238,6 +238,30 @@ impl Browser {
             .unwrap_or_else(|e| panic!("bring {css} into view: {e}"));
     }
 
+    /// Clicks the field `css` and types `keys` into it, as a person does. A page that
+    /// redraws the field between the click and the keys (a live view refreshing) leaves the
+    /// typing nowhere; the person then clicks the new field and types again, and so does
+    /// this, a few times at most.
+    pub async fn type_into(&self, css: &str, keys: &str) {
+        let mut last = None;
+        for _ in 0..5 {
+            self.until(
+                &format!("{css} shown"),
+                &format!(
+                    "(f => !!f && f.getClientRects().length > 0 && !f.disabled)(document.querySelector({}))",
+                    json!(css)
+                ),
+            )
+            .await;
+            self.click(css).await;
+            match self.element(css).await.send_keys(keys).await {
+                Ok(()) => return,
+                Err(e) => last = Some(e),
+            }
+        }
+        panic!("typing into {css}: {last:?}");
+    }
+
     pub async fn element(&self, css: &str) -> fantoccini::elements::Element {
         self.client
             .wait()
