@@ -391,9 +391,10 @@ impl<C: Send> Crowd<C> {
             .zip(timers.heaps.par_iter_mut())
             .zip(timers.watch.par_iter_mut())
             .enumerate()
-            // One chunk per job: awake members bunch (those alerted together), and only
-            // jobs this small let the threads share a bunch.
-            .with_max_len(1)
+            // At most 8 chunks per job: the members that fell asleep bunch (those alerted
+            // together) and the threads must share a bunch, but a job per chunk cost a crowd
+            // that mostly sleeps more in handing out a thousand jobs than their work.
+            .with_max_len(8)
             .for_each(|(c, (((((plans, bodies), words), fallen), heap), watch))| {
                 let base = c * CHUNK;
                 for (w, word) in fallen.iter_mut().enumerate() {
