@@ -101,17 +101,7 @@ fn run_with(
                     .unwrap();
             }
         }
-        let report = if in_place {
-            let frame = crowd.frame_in_place().unwrap();
-            let mut visitor = frame.visitor();
-            for &id in ids.iter().rev() {
-                visitor.visit(id, |_| {});
-            }
-            drop(visitor);
-            frame.finish()
-        } else {
-            crowd.frame()
-        };
+        let report = crate::crowd_sleeping::frame(&mut crowd, &ids, in_place);
         ticked.push(report.ticked);
         frames.push(
             crowd

@@ -5,7 +5,7 @@
 use std::sync::Arc;
 use std::time::Duration;
 
-use neurotree::crowd::{Crowd, FrameStatus, MemberId};
+use neurotree::crowd::{Crowd, FrameReport, FrameStatus, MemberId};
 use neurotree::prelude::*;
 use neurotree::{AwakeReason, NodeStatus, ScriptBuilder};
 
@@ -114,17 +114,7 @@ fn run(threads: usize, sleeps: bool, in_place: bool) -> Seen {
         if f % 11 == 5 {
             waker.wake(ids[(f * 7) % 30]);
         }
-        let report = if in_place {
-            let frame = crowd.frame_in_place().unwrap();
-            let mut visitor = frame.visitor();
-            for &id in ids.iter().rev() {
-                visitor.visit(id, |_| {});
-            }
-            drop(visitor);
-            frame.finish()
-        } else {
-            crowd.frame()
-        };
+        let report = frame(&mut crowd, &ids, in_place);
         assert_eq!(report.errors, 0);
         asleep += report.asleep;
         // Without sleeping, none is ever skipped.
@@ -277,6 +267,25 @@ fn alerts_written_on_the_crowds_threads_wake_exactly_the_members_named() {
             assert_eq!(legs, expected, "{case}");
         }
     }
+}
+
+/// Runs a frame of `crowd`: in place, visiting `ids` in reverse (not the crowd's order),
+/// or by `Crowd::frame`.
+pub(crate) fn frame<C: Send>(
+    crowd: &mut Crowd<C>,
+    ids: &[MemberId],
+    in_place: bool,
+) -> FrameReport {
+    if !in_place {
+        return crowd.frame();
+    }
+    let frame = crowd.frame_in_place().unwrap();
+    let mut visitor = frame.visitor();
+    for &id in ids.iter().rev() {
+        visitor.visit(id, |_| {});
+    }
+    drop(visitor);
+    frame.finish()
 }
 
 /// A hundred sleeping guards, halted through the crowd: the next frame ticks every one,

@@ -284,7 +284,6 @@ impl<'f, 'c, C> Visitor<'f, 'c, C> {
         part.tally = part.tally.add(tally);
         if !stays_awake(plan, i, part.fallen) {
             Awake::clear_in(part.words, i);
-            part.tally.fell += 1;
         }
         Visit::Ticked(ctx, plan.status)
     }

@@ -384,8 +384,6 @@ impl<C> core::fmt::Debug for MemberMut<'_, C> {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub(super) struct Tally {
     pub(super) due: u64,
-    /// Members that fell asleep in their tick.
-    pub(super) fell: u64,
     pub(super) ticked: u64,
     pub(super) visits: u64,
     pub(super) failures: u64,
@@ -398,7 +396,6 @@ impl Tally {
     pub(super) fn add(self, o: Tally) -> Tally {
         Tally {
             due: self.due + o.due,
-            fell: self.fell + o.fell,
             ticked: self.ticked + o.ticked,
             visits: self.visits + o.visits,
             failures: self.failures + o.failures,

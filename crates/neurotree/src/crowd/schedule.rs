@@ -95,9 +95,7 @@ impl<C: Send> Crowd<C> {
                         return true;
                     };
                     tally = tally.add(plan.tick(body, ctx, mode));
-                    let stays = stays_awake(plan, i, fallen);
-                    tally.fell += u64::from(!stays);
-                    stays
+                    stays_awake(plan, i, fallen)
                 });
                 tally
             })

@@ -126,9 +126,9 @@ impl Awake {
     }
 
     /// Marks the member in `slot` awake (a member that joins, or one woken).
-    pub(super) fn set(&self, slot: usize) -> bool {
+    pub(super) fn set(&self, slot: usize) {
         let bit = 1u64 << (slot % BITS);
-        self.bits[slot / BITS].fetch_or(bit, Ordering::Relaxed) & bit == 0
+        self.bits[slot / BITS].fetch_or(bit, Ordering::Relaxed);
     }
 
     /// Marks the member in `slot` asleep, or no longer there.
