@@ -148,6 +148,21 @@ async fn until_watching(b: &Browser, id: &str) {
     .await;
 }
 
+/// Serves a crowd of [`AGENTS`] running in the studio and opens the address it prints, until
+/// every agent is listed: the folder, the studio and the run, to drop in the reverse order.
+async fn open_crowd(b: &Browser) -> (tempfile::TempDir, Studio, CrowdRun) {
+    let dir = workspace();
+    let studio = serve(dir.path());
+    let run = CrowdRun::start(&studio);
+    b.goto(&studio.url()).await;
+    b.until(
+        "the agents listed",
+        &format!("document.querySelectorAll('#watch-view [data-agent]').length === {AGENTS}"),
+    )
+    .await;
+    (dir, studio, run)
+}
+
 /// The status the page shows on the node at `path`.
 async fn shown(b: &Browser, path: &str) -> Option<String> {
     b.attr(&format!("#watch-view {}", css_path(path)), "data-status")
@@ -160,16 +175,8 @@ async fn a_crowds_agents_are_listed_searched_and_each_watched_at_once() {
     let Some(b) = Browser::start().await else {
         return;
     };
-    let dir = workspace();
-    let studio = serve(dir.path());
-    let run = CrowdRun::start(&studio);
     // The address the program prints opens the watch view on the first agent.
-    b.goto(&studio.url()).await;
-    b.until(
-        "the agents listed",
-        &format!("document.querySelectorAll('#watch-view [data-agent]').length === {AGENTS}"),
-    )
-    .await;
+    let (_dir, _studio, run) = open_crowd(&b).await;
     until_watching(&b, "0").await;
     let all = listed(&b).await;
     assert_eq!(all, (0..AGENTS).map(|i| i.to_string()).collect::<Vec<_>>());
@@ -261,15 +268,7 @@ async fn an_edit_a_pause_and_a_breakpoint_touch_the_agent_watched_alone_or_the_w
     let Some(b) = Browser::start().await else {
         return;
     };
-    let dir = workspace();
-    let studio = serve(dir.path());
-    let run = CrowdRun::start(&studio);
-    b.goto(&studio.url()).await;
-    b.until(
-        "the agents listed",
-        "document.querySelectorAll('#watch-view [data-agent]').length > 0",
-    )
-    .await;
+    let (_dir, _studio, run) = open_crowd(&b).await;
     b.click("[data-agent='4']").await;
     until_watching(&b, "4").await;
 
