@@ -560,3 +560,35 @@ fn an_in_place_frame_ticks_the_due_members_it_visits_once_and_loads_only_them() 
     crowd.set_budget(Some(10));
     assert!(crowd.frame_in_place().is_none());
 }
+
+#[test]
+fn a_crowd_of_one_thread_ticks_on_the_callers_thread_and_one_of_two_on_its_pool() {
+    // Which thread ticked the member, as a tree cannot name it otherwise.
+    type Ticked = Option<std::thread::ThreadId>;
+    let bp = Blueprint::<Ticked>::builder()
+        .action("note", |t: &mut Ticked| {
+            *t = Some(std::thread::current().id());
+            Status::Success
+        })
+        .build_shared()
+        .unwrap();
+    let here = std::thread::current().id();
+    for (threads, on_caller) in [(1, true), (2, false)] {
+        for budget in [None, Some(100)] {
+            let mut crowd = Crowd::new(ManualClock::new())
+                .with_threads(threads)
+                .unwrap();
+            crowd.set_budget(budget);
+            let id = crowd.add(Arc::clone(&bp), None);
+            assert_eq!(crowd.frame().ticked, 1);
+            let ticked = crowd.get(id).unwrap().context().unwrap();
+            // A budget picks members over the whole crowd first, in the pool.
+            let inline = on_caller && budget.is_none();
+            assert_eq!(
+                ticked == here,
+                inline,
+                "{threads} threads, budget {budget:?}"
+            );
+        }
+    }
+}

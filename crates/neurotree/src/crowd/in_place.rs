@@ -89,7 +89,11 @@ impl<C: Send> Crowd<C> {
             return None;
         }
         self.backlog.clear();
-        let asleep = self.in_pool(Self::start_sleep_frame);
+        let asleep = if self.runs_inline() {
+            self.start_sleep_frame(true)
+        } else {
+            self.in_pool(|crowd| crowd.start_sleep_frame(false))
+        };
         let Self {
             plans,
             bodies,

@@ -7,7 +7,9 @@
 //!
 //! - **Threads.** Frames run in rayon's global pool, whose size follows `RAYON_NUM_THREADS`
 //!   (all cores by default), or in a pool of the crowd's own ([`Crowd::with_threads`],
-//!   [`Crowd::with_pool`]).
+//!   [`Crowd::with_pool`]). A crowd of one thread runs its frames on the caller's thread
+//!   (unless it has a budget): handing a frame to the pool's one worker would cost a
+//!   thread's wake-up and gain nothing.
 //! - **Same results on any number of threads.** A member's tick touches only its tree and
 //!   its context, and every choice the crowd makes (who is due, who the budget picks) is
 //!   made from the members alone, in slot order: one thread or many give the same statuses,
@@ -558,15 +560,17 @@ impl<C: Send> Crowd<C> {
     pub fn frame(&mut self) -> FrameReport {
         let frame = self.frames;
         let budget = self.budget;
-        let (asleep, tally) = self.in_pool(|crowd| {
-            let asleep = crowd.start_sleep_frame();
-            crowd.choose_intervals();
+        let inline = self.runs_inline();
+        let run = move |crowd: &mut Self| {
+            let asleep = crowd.start_sleep_frame(inline);
+            crowd.choose_intervals(inline);
             let tally = match budget {
                 Some(budget) => crowd.run_budgeted(frame, budget),
-                None => crowd.run_all(frame),
+                None => crowd.run_all(frame, inline),
             };
             (asleep, tally)
-        });
+        };
+        let (asleep, tally) = if inline { run(self) } else { self.in_pool(run) };
         self.frames += 1;
         FrameReport {
             frame,
@@ -581,6 +585,15 @@ impl<C: Send> Crowd<C> {
         }
     }
 
+    /// A frame runs on the caller's thread, without the pool: the crowd has one thread and
+    /// no budget. Handing a frame to a pool's one worker and waiting for it costs as much
+    /// as waking that worker, tens of microseconds, which is the whole of a frame of a
+    /// crowd that mostly sleeps; on the caller's thread the frame ticks the same members in
+    /// the same order.
+    pub(super) fn runs_inline(&self) -> bool {
+        self.budget.is_none() && self.threads() == 1
+    }
+
     /// Runs `f` on the crowd's threads: in its own pool if it has one.
     fn in_pool<R: Send>(&mut self, f: impl FnOnce(&mut Self) -> R + Send) -> R {
         match self.pool.clone() {
@@ -591,10 +604,16 @@ impl<C: Send> Crowd<C> {
 
     /// Has the level-of-detail hook, if any, choose every member's interval from its
     /// context, sleeping members' too (the hook reads every context anyway).
-    fn choose_intervals(&mut self) {
+    fn choose_intervals(&mut self, inline: bool) {
         let Some(lod) = self.lod.as_deref() else {
             return;
         };
+        if inline {
+            for (plan, ctx) in self.plans.iter_mut().zip(&self.contexts) {
+                plan.choose_interval(ctx.as_ref(), Some(lod));
+            }
+            return;
+        }
         self.plans
             .par_iter_mut()
             // `_mut` though only read: contexts need not be `Sync`.

@@ -13,8 +13,8 @@ use super::{Crowd, TickMode};
 
 impl<C: Send> Crowd<C> {
     /// Ticks every awake member due in `frame`, and every member owed from earlier frames;
-    /// sleeping members are not visited.
-    pub(super) fn run_all(&mut self, frame: u64) -> Tally {
+    /// sleeping members are not visited. With `inline`, on the caller's thread alone.
+    pub(super) fn run_all(&mut self, frame: u64, inline: bool) -> Tally {
         self.backlog.clear();
         let mode = self.mode;
         let Self {
@@ -31,7 +31,11 @@ impl<C: Send> Crowd<C> {
             awake: &mut awake.bits,
             fallen: &mut timers.fallen,
         };
-        Span::whole(plans, bodies, contexts, Some(bits), work)
+        let whole = Span::whole(plans, bodies, contexts, Some(bits), work);
+        if inline {
+            return tick_span(whole, frame, mode);
+        }
+        whole
             .par_leaves()
             .map(|span| tick_span(span, frame, mode))
             .reduce(Tally::default, Tally::add)

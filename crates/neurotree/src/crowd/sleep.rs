@@ -359,8 +359,9 @@ impl<C: Send> Crowd<C> {
     /// Readies the frame's sleepers: the wakes queued through [`CrowdWaker`]s wake their
     /// members; the members that fell asleep in the last frame are marked asleep and their
     /// deadlines set; the deadlines the clock reached wake their members. Returns how many
-    /// members sleep through the frame. Runs on the frame's threads (call it in the pool).
-    pub(super) fn start_sleep_frame(&mut self) -> u64 {
+    /// members sleep through the frame. Runs on the frame's threads (call it in the pool),
+    /// or with `inline` on the caller's alone (see [`Crowd::runs_inline`]).
+    pub(super) fn start_sleep_frame(&mut self, inline: bool) -> u64 {
         let chunks = self.plans.len().div_ceil(CHUNK);
         let timers = &mut self.timers;
         if timers.fallen.len() < self.awake.bits.len() {
@@ -383,44 +384,31 @@ impl<C: Send> Crowd<C> {
             ..
         } = self;
         let now = nanos(clock.now());
-        plans
-            .par_chunks_mut(CHUNK)
-            .zip(bodies.par_chunks_mut(CHUNK))
-            .zip(awake.bits.par_chunks_mut(CHUNK / BITS))
-            .zip(timers.fallen.par_chunks_mut(CHUNK / BITS))
-            .zip(timers.heaps.par_iter_mut())
-            .zip(timers.watch.par_iter_mut())
-            .enumerate()
-            // At most 8 chunks per job: the members that fell asleep bunch (those alerted
-            // together) and the threads must share a bunch, but a job per chunk cost a crowd
-            // that mostly sleeps more in handing out a thousand jobs than their work.
-            .with_max_len(8)
-            .for_each(|(c, (((((plans, bodies), words), fallen), heap), watch))| {
-                let base = c * CHUNK;
-                for (w, word) in fallen.iter_mut().enumerate() {
-                    let mut left = std::mem::take(word);
-                    while left != 0 {
-                        let i = w * BITS + left.trailing_zeros() as usize;
-                        left &= left - 1;
-                        fell_asleep(&mut plans[i], &bodies[i], base + i, heap, watch);
-                    }
-                }
-                while let Some(&Reverse(timer)) = heap.peek() {
-                    if timer.until > now {
-                        break;
-                    }
-                    heap.pop();
-                    let i = timer.slot as usize - base;
-                    if timer.holds(&plans[i]) {
-                        plans[i].sleeps_until = AWAKE;
-                        *words[i / BITS].get_mut() |= 1u64 << (i % BITS);
-                    }
-                }
-                // Each sleeper holds one timer at most: past twice the slots, most are stale.
-                if heap.len() > 2 * plans.len() + 64 {
-                    heap.retain(|Reverse(t)| t.holds(&plans[t.slot as usize - base]));
-                }
-            });
+        if inline {
+            plans
+                .chunks_mut(CHUNK)
+                .zip(bodies.chunks_mut(CHUNK))
+                .zip(awake.bits.chunks_mut(CHUNK / BITS))
+                .zip(timers.fallen.chunks_mut(CHUNK / BITS))
+                .zip(timers.heaps.iter_mut())
+                .zip(timers.watch.iter_mut())
+                .enumerate()
+                .for_each(|(c, chunk)| ready_chunk(c, chunk, now));
+        } else {
+            plans
+                .par_chunks_mut(CHUNK)
+                .zip(bodies.par_chunks_mut(CHUNK))
+                .zip(awake.bits.par_chunks_mut(CHUNK / BITS))
+                .zip(timers.fallen.par_chunks_mut(CHUNK / BITS))
+                .zip(timers.heaps.par_iter_mut())
+                .zip(timers.watch.par_iter_mut())
+                .enumerate()
+                // At most 8 chunks per job: the members that fell asleep bunch (those alerted
+                // together) and the threads must share a bunch, but a job per chunk cost a
+                // crowd that mostly sleeps more in handing out a thousand jobs than their work.
+                .with_max_len(8)
+                .for_each(|(c, chunk)| ready_chunk(c, chunk, now));
+        }
         let mut watched = false;
         for timer in timers.watch.iter_mut().flat_map(|w| w.drain(..)) {
             if let Some(body) = &mut bodies[timer.slot as usize] {
@@ -483,6 +471,51 @@ pub(super) fn stays_awake(plan: &Plan, i: usize, fallen: &mut [u64]) -> bool {
     }
     fallen[i / BITS] |= 1 << (i % BITS);
     false
+}
+
+/// The slots of one chunk, `c`, and its timers, as the start of a frame readies them.
+type Chunk<'a, C> = (
+    (
+        (
+            (
+                (&'a mut [Plan], &'a mut [Option<super::member::Body<C>>]),
+                &'a mut [AtomicU64],
+            ),
+            &'a mut [u64],
+        ),
+        &'a mut BinaryHeap<Reverse<Timer>>,
+    ),
+    &'a mut Vec<Timer>,
+);
+
+/// Readies chunk `c` for a frame at `now`: its members that fell asleep in the last frame
+/// are marked asleep and timed, and the deadlines `now` reached wake their members.
+fn ready_chunk<C>(c: usize, chunk: Chunk<'_, C>, now: u64) {
+    let (((((plans, bodies), words), fallen), heap), watch) = chunk;
+    let base = c * CHUNK;
+    for (w, word) in fallen.iter_mut().enumerate() {
+        let mut left = std::mem::take(word);
+        while left != 0 {
+            let i = w * BITS + left.trailing_zeros() as usize;
+            left &= left - 1;
+            fell_asleep(&mut plans[i], &bodies[i], base + i, heap, watch);
+        }
+    }
+    while let Some(&Reverse(timer)) = heap.peek() {
+        if timer.until > now {
+            break;
+        }
+        heap.pop();
+        let i = timer.slot as usize - base;
+        if timer.holds(&plans[i]) {
+            plans[i].sleeps_until = AWAKE;
+            *words[i / BITS].get_mut() |= 1u64 << (i % BITS);
+        }
+    }
+    // Each sleeper holds one timer at most: past twice the slots, most are stale.
+    if heap.len() > 2 * plans.len() + 64 {
+        heap.retain(|Reverse(t)| t.holds(&plans[t.slot as usize - base]));
+    }
 }
 
 /// At the start of the frame after its member (in `slot`) fell asleep: unless something
