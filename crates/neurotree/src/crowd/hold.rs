@@ -71,7 +71,7 @@ impl<C: Send> Crowd<C> {
             let Some(plan) = plans.get_mut(slot) else {
                 return false;
             };
-            if !plan.present || plan.generation != id.generation {
+            if !plan.present() || plan.generation != id.generation {
                 return false;
             }
             if plan.sleeps_until == AWAKE {
@@ -90,7 +90,7 @@ impl<C: Send> Crowd<C> {
     /// The member in slot `slot` now, if any ([`MemberId::slot`]).
     pub fn id_at(&self, slot: usize) -> Option<MemberId> {
         let plan = self.plans.get(slot)?;
-        (plan.present).then_some(MemberId {
+        plan.present().then_some(MemberId {
             index: slot as u32,
             generation: plan.generation,
         })

@@ -15,7 +15,7 @@
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Mutex, MutexGuard, PoisonError};
 
-use super::member::{Body, FrameStatus, Plan, Tally, TickMode, NOT_OWED};
+use super::member::{Body, FrameStatus, Plan, Tally, TickMode};
 use super::sleep::{stays_awake, Awake, BITS};
 use super::{Crowd, FrameReport, Lod, MemberId};
 
@@ -49,6 +49,8 @@ struct Part<'c, C> {
     words: &'c [AtomicU64],
     /// A bit per slot of its members that fell asleep in this frame.
     fallen: &'c mut [u64],
+    /// A bit per slot of its members visited in this frame: a member is ticked once.
+    seen: &'c mut [u64],
     tally: Tally,
     visited: u64,
 }
@@ -69,12 +71,6 @@ pub enum Visit<'v, C> {
     /// The member was ticked: its context after the tick, and what the tick returned
     /// ([`FrameStatus::Ticked`] or [`FrameStatus::Error`]).
     Ticked(&'v C, FrameStatus),
-}
-
-/// The stamp of a member visited in `frame`, never 0 (a fresh plan's).
-#[inline(always)]
-fn stamp(frame: u64) -> u32 {
-    (frame as u32).wrapping_add(1).max(1)
 }
 
 impl<C: Send> Crowd<C> {
@@ -104,21 +100,27 @@ impl<C: Send> Crowd<C> {
             len,
             awake,
             timers,
+            seen,
             ..
         } = self;
+        // No member seen yet in this frame: a bit per slot, cleared a word per 64 members.
+        seen.clear();
+        seen.resize(awake.bits.len(), 0);
         let parts = plans
             .chunks_mut(PART)
             .zip(bodies.chunks_mut(PART))
             .zip(contexts.chunks_mut(PART))
             .zip(awake.bits.chunks(PART / BITS))
             .zip(timers.fallen.chunks_mut(PART / BITS))
-            .map(|((((plans, bodies), contexts), words), fallen)| {
+            .zip(seen.chunks_mut(PART / BITS))
+            .map(|(((((plans, bodies), contexts), words), fallen), seen)| {
                 Mutex::new(Part {
                     plans,
                     bodies,
                     contexts,
                     words,
                     fallen,
+                    seen,
                     tally: Tally::default(),
                     visited: 0,
                 })
@@ -174,7 +176,7 @@ impl<'c, C> InPlaceFrame<'c, C> {
                     let i = w * BITS + left.trailing_zeros() as usize;
                     left &= left - 1;
                     let plan = &part.plans[i];
-                    if plan.present {
+                    if plan.present() {
                         out.push(MemberId {
                             index: (p * PART + i) as u32,
                             generation: plan.generation,
@@ -187,7 +189,6 @@ impl<'c, C> InPlaceFrame<'c, C> {
 
     /// Ends the frame: members not visited are marked not due, and the frame is reported.
     pub fn finish(self) -> FrameReport {
-        let stamp = stamp(self.frame);
         let mut tally = Tally::default();
         let mut visited = 0;
         let mut parts = Vec::new();
@@ -195,17 +196,17 @@ impl<'c, C> InPlaceFrame<'c, C> {
             let part = part.into_inner().unwrap_or_else(PoisonError::into_inner);
             tally = tally.add(part.tally);
             visited += part.visited;
-            parts.push((part.plans, part.words));
+            parts.push((part.plans, part.words, part.seen));
         }
         // Awake members not visited were not due; sleeping ones keep their status.
         if visited < self.len as u64 {
-            for (plans, words) in parts {
+            for (plans, words, seen) in parts {
                 for (w, word) in words.iter().enumerate() {
-                    let mut left = word.load(Ordering::Relaxed);
+                    let mut left = word.load(Ordering::Relaxed) & !seen[w];
                     while left != 0 {
                         let plan = &mut plans[w * BITS + left.trailing_zeros() as usize];
                         left &= left - 1;
-                        if plan.present && plan.seen != stamp {
+                        if plan.present() {
                             plan.status = FrameStatus::NotDue;
                         }
                     }
@@ -253,10 +254,11 @@ impl<'f, 'c, C> Visitor<'f, 'c, C> {
         let i = slot % PART;
         let frame = self.frame.frame;
         let plan = &mut part.plans[i];
-        if !plan.present || plan.generation != id.generation || plan.seen == stamp(frame) {
+        let bit = 1u64 << (i % BITS);
+        if !plan.present() || plan.generation != id.generation || part.seen[i / BITS] & bit != 0 {
             return Visit::NotDue;
         }
-        plan.seen = stamp(frame);
+        part.seen[i / BITS] |= bit;
         part.visited += 1;
         let (Some(body), Some(ctx)) = (&mut part.bodies[i], &mut part.contexts[i]) else {
             return Visit::NotDue;
@@ -274,7 +276,7 @@ impl<'f, 'c, C> Visitor<'f, 'c, C> {
         if plan.sleeps_through() {
             return Visit::NotDue;
         }
-        let due = plan.plan(frame) || plan.owed_since != NOT_OWED;
+        let due = plan.plan(frame) || plan.is_owed();
         if !due {
             return Visit::NotDue;
         }

@@ -8,9 +8,6 @@ use std::sync::Arc;
 
 use crate::{Clock, Status, TickError, Tree};
 
-/// `owed_since` of a member that is owed no tick.
-pub(super) const NOT_OWED: u64 = u64::MAX;
-
 /// Names a member of a [`Crowd`](super::Crowd) for as long as it stays in it: the id of a
 /// removed member never names the member that takes its place.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -62,43 +59,105 @@ pub(super) struct Body<C> {
     pub(super) error: Option<Box<TickError>>,
 }
 
-/// A slot's schedule.
+/// A slot's schedule, in 32 bytes: two to a cache line, as a frame reads the schedule of
+/// every awake member.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Plan {
-    /// The frame since which the member is owed a tick the budget held back, or [`NOT_OWED`].
-    pub(super) owed_since: u64,
+    /// When its sleeping tree wakes, in clock nanoseconds; [`AWAKE`](super::sleep::AWAKE)
+    /// while it is awake, `u64::MAX` while it waits only for a wake (see [`super::sleep`]).
+    pub(super) sleeps_until: u64,
     pub(super) interval: u32,
     pub(super) phase: u32,
     /// Visits its next tick is expected to cost: what its last one cost.
     pub(super) cost: u32,
     /// Tells the ids of the slot's successive members apart.
     pub(super) generation: u32,
+    /// While [`OWED`] is set, the frame since which the member is owed a tick the budget
+    /// held back, its low 32 bits: a member owed for fewer than 2^32 frames (two years at
+    /// 60 frames a second) is told apart exactly, and the schedule keeps 4 bytes.
+    owed_since: u32,
     pub(super) status: FrameStatus,
-    /// The slot holds a member.
-    pub(super) present: bool,
-    /// Picked by the budget for this frame's tick.
-    pub(super) picked: bool,
-    /// The last [in-place frame](super::InPlaceFrame) that visited the member, as a stamp
-    /// (the frame's number plus one, 0 for none).
-    pub(super) seen: u32,
-    /// When its sleeping tree wakes, in clock nanoseconds; [`AWAKE`](super::sleep::AWAKE)
-    /// while it is awake, `u64::MAX` while it waits only for a wake (see [`super::sleep`]).
-    pub(super) sleeps_until: u64,
+    /// [`PRESENT`], [`PICKED`] and [`OWED`].
+    flags: u8,
 }
+
+// Two schedules to a cache line.
+const _: () = assert!(std::mem::size_of::<Plan>() == 32);
+
+/// The slot holds a member.
+const PRESENT: u8 = 1;
+/// Picked by the budget for this frame's tick.
+const PICKED: u8 = 2;
+/// Owed a tick the budget held back.
+const OWED: u8 = 4;
 
 impl Plan {
     pub(super) fn new(generation: u32) -> Self {
         Self {
-            owed_since: NOT_OWED,
+            sleeps_until: super::sleep::AWAKE,
             interval: 1,
             phase: 0,
             cost: 0,
             generation,
+            owed_since: 0,
             status: FrameStatus::NotDue,
-            present: false,
-            picked: false,
-            seen: 0,
-            sleeps_until: super::sleep::AWAKE,
+            flags: 0,
+        }
+    }
+
+    /// A schedule for a member joining the slot, due as its phase says.
+    pub(super) fn joining(generation: u32, phase: u32, cost: u32) -> Self {
+        Self {
+            phase,
+            cost,
+            flags: PRESENT,
+            ..Self::new(generation)
+        }
+    }
+
+    /// The slot holds a member.
+    #[inline]
+    pub(super) fn present(&self) -> bool {
+        self.flags & PRESENT != 0
+    }
+
+    /// Picked by the budget for this frame's tick.
+    #[inline]
+    pub(super) fn picked(&self) -> bool {
+        self.flags & PICKED != 0
+    }
+
+    /// Picks the member for this frame's tick.
+    #[inline]
+    pub(super) fn pick(&mut self) {
+        self.flags |= PICKED;
+    }
+
+    /// Owed a tick the budget held back.
+    #[inline]
+    pub(super) fn is_owed(&self) -> bool {
+        self.flags & OWED != 0
+    }
+
+    /// Owed a tick since `frame` exactly: it fell due in `frame`.
+    #[inline]
+    pub(super) fn owed_since_frame(&self, frame: u64) -> bool {
+        self.is_owed() && self.owed_since == frame as u32
+    }
+
+    /// Marks the member owed a tick since `frame`.
+    #[inline]
+    pub(super) fn owe(&mut self, frame: u64) {
+        self.flags |= OWED;
+        self.owed_since = frame as u32;
+    }
+
+    /// Frames it has been owed a tick by `frame` (0 if it is owed none).
+    pub(super) fn owed_for(&self, frame: u64) -> u64 {
+        if self.is_owed() {
+            u64::from((frame as u32).wrapping_sub(self.owed_since))
+        } else {
+            0
         }
     }
 
@@ -125,7 +184,7 @@ impl Plan {
     /// status.
     #[inline]
     pub(super) fn plan(&mut self, frame: u64) -> bool {
-        self.picked = false;
+        self.flags &= !PICKED;
         self.status = FrameStatus::NotDue;
         let at = frame.wrapping_add(u64::from(self.phase));
         let interval = u64::from(self.interval);
@@ -152,8 +211,7 @@ impl Plan {
         let visits = nodes(&body.tree).saturating_mul(passes);
         self.cost = visits;
         self.sleeps_until = super::sleep::sleeps_until(&body.tree);
-        self.owed_since = NOT_OWED;
-        self.picked = false;
+        self.flags &= !(OWED | PICKED);
         let mut tally = Tally {
             ticked: 1,
             visits: u64::from(visits),
@@ -242,7 +300,7 @@ impl<'a, C> Member<'a, C> {
 
     /// `true` while it waits for a tick the budget held back.
     pub fn is_owed(&self) -> bool {
-        self.plan.owed_since != NOT_OWED
+        self.plan.is_owed()
     }
 }
 
@@ -342,7 +400,7 @@ impl<'a, C> Contexts<'a, C> {
     /// What the member `id` names did in the last frame.
     pub fn status(&self, id: MemberId) -> Option<FrameStatus> {
         let plan = self.plans.get(id.index as usize)?;
-        (plan.generation == id.generation && plan.present).then_some(plan.status)
+        (plan.generation == id.generation && plan.present()).then_some(plan.status)
     }
 }
 

@@ -108,7 +108,7 @@ use rayon::prelude::*;
 
 use crate::{Blueprint, Clock, Tree};
 pub use in_place::{InPlaceFrame, Visit, Visitor, PART};
-use member::{Body, Plan, NOT_OWED};
+use member::{Body, Plan};
 pub use member::{Contexts, FrameStatus, Member, MemberId, MemberMut, TickMode};
 pub use rayon::{ThreadPool, ThreadPoolBuildError, ThreadPoolBuilder};
 pub use sleep::CrowdWaker;
@@ -157,6 +157,9 @@ pub struct Crowd<C> {
     visits: visit::Visits,
     /// The awake members before each word of slots, by which a frame's threads share them.
     work: Vec<u32>,
+    /// A bit per slot of the members an [`InPlaceFrame`] visited, kept between frames for
+    /// its room.
+    seen: Vec<u64>,
 }
 
 /// What one frame did.
@@ -224,6 +227,7 @@ impl<C: Send> Crowd<C> {
             held: hold::Held::default(),
             visits: visit::Visits::default(),
             work: Vec::new(),
+            seen: Vec::new(),
         }
     }
 
@@ -292,12 +296,7 @@ impl<C: Send> Crowd<C> {
             }
         };
         let plan = &mut self.plans[index as usize];
-        *plan = Plan {
-            phase,
-            cost: member::nodes(&tree),
-            present: true,
-            ..Plan::new(plan.generation)
-        };
+        *plan = Plan::joining(plan.generation, phase, member::nodes(&tree));
         self.bodies[index as usize] = Some(Body { tree, error: None });
         self.contexts[index as usize] = Some(ctx);
         self.awake.set(index as usize);
@@ -318,7 +317,7 @@ impl<C: Send> Crowd<C> {
         let mut body = self.bodies[i].take()?;
         let mut ctx = self.contexts[i].take()?;
         let plan = &mut self.plans[i];
-        let owed = plan.owed_since != NOT_OWED;
+        let owed = plan.is_owed();
         *plan = Plan::new(plan.generation.wrapping_add(1));
         self.awake.clear(i);
         self.timers.forget_fallen(i);
@@ -336,7 +335,7 @@ impl<C: Send> Crowd<C> {
     /// in which it is due ticks it, as a fresh member.
     pub fn halt_all(&mut self) {
         for (slot, plan) in self.plans.iter_mut().enumerate() {
-            if plan.present {
+            if plan.present() {
                 self.awake.wake(plan, slot);
             }
         }
@@ -546,10 +545,10 @@ impl<C: Send> Crowd<C> {
 
     /// How far behind the budget has left the crowd.
     pub fn behind(&self) -> Behind {
-        let frames = self.backlog.front().map_or(0, |&slot| {
-            let since = self.plans[slot as usize].owed_since;
-            self.frames.saturating_sub(since)
-        });
+        let frames = self
+            .backlog
+            .front()
+            .map_or(0, |&slot| self.plans[slot as usize].owed_for(self.frames));
         Behind {
             overdue: self.backlog.len() as u64,
             frames,

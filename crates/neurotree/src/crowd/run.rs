@@ -5,7 +5,7 @@
 use neurotree_core::hint::prefetch;
 use rayon::prelude::*;
 
-use super::member::{Tally, NOT_OWED};
+use super::member::Tally;
 use super::schedule::CHUNK;
 use super::sleep::{self, Ahead, BITS};
 use super::span::{self, Bits, Span};
@@ -79,10 +79,10 @@ fn tick_span<C: Send>(span: Span<'_, C>, frame: u64, mode: TickMode) -> Tally {
                 Ahead::Tick => {}
             }
             let plan = &mut plans[i];
-            if !plan.present {
+            if !plan.present() {
                 return false;
             }
-            let due = plan.plan(frame) || plan.owed_since != NOT_OWED;
+            let due = plan.plan(frame) || plan.is_owed();
             // The body is touched only when due.
             let (true, Some(body), Some(ctx)) = (due, &mut bodies[i], &mut contexts[i]) else {
                 return true;

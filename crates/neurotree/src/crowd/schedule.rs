@@ -16,7 +16,7 @@
 
 use rayon::prelude::*;
 
-use super::member::{FrameStatus, Tally, NOT_OWED};
+use super::member::{FrameStatus, Tally};
 use super::sleep::{for_each_awake, stays_awake, BITS};
 use super::Crowd;
 
@@ -52,14 +52,14 @@ impl<C: Send> Crowd<C> {
                 *chunk = Chunk::default();
                 for_each_awake(words, |i| {
                     let plan = &mut plans[i];
-                    if !plan.present {
+                    if !plan.present() {
                         return false;
                     }
                     let due = plan.plan(frame);
-                    if plan.owed_since != NOT_OWED {
+                    if plan.is_owed() {
                         plan.status = FrameStatus::Deferred;
                     } else if due {
-                        plan.owed_since = frame;
+                        plan.owe(frame);
                         chunk.cost += u64::from(plan.cost);
                         chunk.fresh += 1;
                     }
@@ -88,7 +88,7 @@ impl<C: Send> Crowd<C> {
                 }
                 for_each_awake(words, |i| {
                     let plan = &mut plans[i];
-                    let go = plan.picked || (chunk.all && plan.owed_since == frame);
+                    let go = plan.picked() || (chunk.all && plan.owed_since_frame(frame));
                     // The body is touched only when picked.
                     let (true, Some(body), Some(ctx)) = (go, &mut bodies[i], &mut contexts[i])
                     else {
@@ -123,7 +123,7 @@ impl<C: Send> Crowd<C> {
             }
             left = left.saturating_sub(cost);
             any = true;
-            plan.picked = true;
+            plan.pick();
             chunks[slot as usize / CHUNK].owed = true;
             backlog.pop_front();
         }
@@ -143,14 +143,14 @@ impl<C: Send> Crowd<C> {
             let start = c * CHUNK;
             let end = (start + CHUNK).min(plans.len());
             for (i, plan) in plans[start..end].iter_mut().enumerate() {
-                if !plan.present || plan.owed_since != frame {
+                if !plan.present() || !plan.owed_since_frame(frame) {
                     continue;
                 }
                 let cost = u64::from(plan.cost);
                 if open && (cost <= left || !any) {
                     left = left.saturating_sub(cost);
                     any = true;
-                    plan.picked = true;
+                    plan.pick();
                 } else {
                     open = false;
                     plan.status = FrameStatus::Deferred;

@@ -103,7 +103,7 @@ impl Timer {
     /// `true` if the member `plan` schedules (in the timer's slot) still sleeps as it did
     /// when the timer was set.
     fn holds(&self, plan: &Plan) -> bool {
-        plan.present && plan.generation == self.generation && plan.sleeps_until == self.until
+        plan.present() && plan.generation == self.generation && plan.sleeps_until == self.until
     }
 }
 
@@ -447,7 +447,7 @@ impl<C: Send> Crowd<C> {
         for id in timers.woken.drain(..) {
             let slot = id.index as usize;
             if let Some(plan) = plans.get_mut(slot)
-                && plan.present
+                && plan.present()
                 && plan.generation == id.generation
             {
                 if plan.sleeps_until != AWAKE {
@@ -528,7 +528,7 @@ fn fell_asleep<C>(
     heap: &mut BinaryHeap<Reverse<Timer>>,
     watch: &mut Vec<Timer>,
 ) {
-    if !plan.present || plan.sleeps_until == AWAKE {
+    if !plan.present() || plan.sleeps_until == AWAKE {
         return;
     }
     plan.status = FrameStatus::Asleep;
