@@ -144,7 +144,8 @@ impl ScopeId {
 pub struct EntryInfo {
     /// Grows by one on every write; 1 after the first.
     pub sequence: u64,
-    /// The time of the last write, as given by the writer (a node writes its tree's clock).
+    /// The time of the last write, as given by the writer (a node writes its tree's clock),
+    /// to the nanosecond; a stamp past `u64::MAX` nanoseconds (584 years) is kept as that.
     pub stamp: Duration,
     /// The Rust type of the value, as [`core::any::type_name`] spells it.
     pub type_name: &'static str,
