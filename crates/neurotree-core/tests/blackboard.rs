@@ -131,11 +131,22 @@ fn the_counter_sees_allocations() {
     // Guards the guard: without this, a broken counter would make the tests above and below
     // pass whatever the blackboard does.
     let mut bb = Blackboard::new();
-    let (n, _) = allocations(|| bb.set("fresh", 1_u8));
+    let (n, _) = allocations(|| bb.set("fresh", [1_u8; 3]));
     assert!(
         n >= 2,
-        "a first write allocates its key and its value, counted {n}"
+        "a first write of a boxed type allocates the scope's entries and the value, \
+         counted {n}"
     );
+    // A small plain value is held in its entry: only the scope's block of entries is new
+    // (the key is short enough to sit in the entry too).
+    let mut bb = Blackboard::new();
+    let (n, _) = allocations(|| bb.set("fresh", 1_u8));
+    assert_eq!(
+        n, 1,
+        "a first write of a `u8` allocates its scope's block only"
+    );
+    let (n, _) = allocations(|| bb.set("second", true));
+    assert_eq!(n, 0, "a second key fits in the block the first made");
 }
 
 #[test]

@@ -1,4 +1,7 @@
-//! The entries of one scope: a vector sorted by key.
+//! The entries of one scope: a vector sorted by key. The root scope's is held in the
+//! [`Blackboard`](super::Blackboard) itself, so that a read of a root entry starts from the
+//! tree; each entry holds a value of a small plain type itself (see [`entry`](super::entry)),
+//! so that the read ends in this vector's block.
 //!
 //! A tree's scope holds a handful of entries, read far more often than added. Kept in a
 //! sorted vector, a lookup is a binary search over keys that sit together, and a scope of
@@ -17,14 +20,24 @@ use alloc::vec::Vec;
 
 use smol_str::SmolStr;
 
-use super::scope::Entry;
+use super::entry::Entry;
 
 /// The entries stored directly in one scope, sorted by key (searchable by `&str`, so a
 /// lookup allocates nothing).
 #[derive(Default)]
 pub(super) struct Entries(Vec<(SmolStr, Entry)>);
 
+/// How many of a scope's first entries [`Entries::prefetch_values`] loads the values of:
+/// about as many as the lines [`hint::prefetch`](crate::hint::prefetch) loads of the
+/// entries themselves hold, since a value whose entry is not loaded would cost its own trip.
+const PREFETCHED_VALUES: usize = 6;
+
 impl Entries {
+    /// No entries; allocates nothing.
+    pub(super) const fn new() -> Self {
+        Self(Vec::new())
+    }
+
     /// Where `key` is, or where it would go.
     #[inline]
     fn find(&self, key: &str) -> Result<usize, usize> {
@@ -97,6 +110,15 @@ impl Entries {
     #[inline]
     pub(super) fn prefetch(&self) {
         crate::hint::prefetch(self.0.as_slice());
+    }
+
+    /// Asks the processor to start loading the boxed values of the first entries: the
+    /// last trip a read of them makes. Values held inline have none to load.
+    #[inline]
+    pub(super) fn prefetch_values(&self) {
+        for (_, e) in self.0.iter().take(PREFETCHED_VALUES) {
+            e.value.prefetch();
+        }
     }
 }
 

@@ -10,8 +10,8 @@ use core::time::Duration;
 
 use serde_json::Value;
 
-use super::scope::{resolve, Entry};
-use super::{entries_mut, Blackboard, ScopeId, Unwritten};
+use super::entry::{Entry, Stored};
+use super::{Blackboard, ScopeId};
 use crate::state::StateCodecs;
 
 /// Why a JSON value could not be written to an entry.
@@ -78,19 +78,19 @@ impl Blackboard {
     /// The value codecs this blackboard was given ([`set_codecs`](Self::set_codecs)), which
     /// saved states and JSON views use for its values.
     pub fn codecs(&self) -> Option<&StateCodecs> {
-        self.codecs.as_deref()
+        self.rare.as_deref()?.codecs.as_deref()
     }
 
     /// Shares `codecs` with this blackboard; a tree's blackboard gets its blueprint's.
     pub fn set_codecs(&mut self, codecs: Arc<StateCodecs>) {
-        self.codecs = Some(codecs);
+        self.rare_mut().codecs = Some(codecs);
     }
 
     /// `key` as seen from `scope`, as JSON: `None` when the key holds no value yet or its
     /// type has no codec (neither this blackboard's nor [`StateCodecs::new`]'s types).
     pub fn json_in(&self, scope: ScopeId, key: &str) -> Option<Value> {
         let value = self.get_any_in(scope, key)?;
-        match &self.codecs {
+        match self.codecs() {
             Some(codecs) => codecs.to_json(value),
             None => StateCodecs::new().to_json(value),
         }
@@ -129,8 +129,8 @@ impl Blackboard {
             return self.set_json_natural(scope, key, json, stamp);
         };
         let default;
-        let codecs = match &self.codecs {
-            Some(codecs) => &**codecs,
+        let codecs = match self.codecs() {
+            Some(codecs) => codecs,
             None => {
                 default = StateCodecs::new();
                 &default
@@ -185,19 +185,14 @@ impl Blackboard {
         type_name: &'static str,
         stamp: Duration,
     ) -> Result<(), JsonWriteError> {
-        let Some((s, k)) = resolve(&self.links, &self.entries, scope, key) else {
+        let Some((entries, k)) = self.place(scope, key) else {
             return Err(JsonWriteError::NoSuchScope { scope: scope.0 });
         };
-        let entries = entries_mut(&mut self.entries, s);
-        let entry = entries.get_or_insert_with(k, || {
-            let mut e = Entry::new(Unwritten, stamp);
-            e.info.sequence = 0;
-            e
-        });
-        entry.value = value;
-        entry.info.type_name = type_name;
+        let entry = entries.get_or_insert_with(k, Entry::unwritten);
+        entry.value = Stored::from_box(value);
+        entry.type_name = type_name;
         entry.touch(stamp);
-        self.last_stamp = self.last_stamp.max(stamp);
+        self.saw(stamp);
         // A write like any other: a tree asleep on the blackboard wakes.
         self.writes = self.writes.wrapping_add(1);
         Ok(())

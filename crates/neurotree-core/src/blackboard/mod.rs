@@ -45,11 +45,26 @@
 //! # Costs and failures
 //!
 //! Reads never allocate, and neither does a write to an existing entry of the same type: the
-//! value is replaced in place. Only the first write of a key allocates (the key and the boxed
-//! value). A missing key, a wrong type or an unknown scope is a [`BlackboardError`]; nothing
-//! panics. Building the error allocates its key, so code that probes for an entry on every
-//! tick should use [`contains_in`](Blackboard::contains_in) or
-//! [`info_in`](Blackboard::info_in), which never do.
+//! value is replaced in place. Only the first write of a key may allocate: room for one more
+//! entry in its scope, a key longer than 23 bytes, a value not held inline (see below). A
+//! missing key, a wrong type or an unknown scope is a [`BlackboardError`]; nothing panics.
+//! Building the error allocates its key, so code that probes for an entry on every tick
+//! should use [`contains_in`](Blackboard::contains_in) or [`info_in`](Blackboard::info_in),
+//! which never do.
+//!
+//! # Layout
+//!
+//! A crowd ticks up to a million trees a frame, each a few reads and writes of its root
+//! scope, and each on memory no cache holds: a read pays every block it goes through, one
+//! trip to memory after another. The layout keeps that chain short. The [`Blackboard`]
+//! (48 bytes, inside its tree) holds the root scope's entries itself, a vector sorted by key
+//! whose entries carry their keys; a value of a small plain type (`bool`, the integers up to
+//! 64 bits, `f32`, `f64`, [`Duration`]) sits in its entry, and only other types are boxed.
+//! Reading the root's `bool` thus goes from the tree to the entries' block and no further.
+//! What a plain tree does not use (the scopes SubTrees open, their links and entries, the
+//! value codecs) waits behind one pointer, made on first use. How a value is held shows
+//! nowhere in the API: [`get_any_in`](Blackboard::get_any_in) lends a `&dyn Any` to an
+//! inline value as to a boxed one.
 //!
 //! # Example
 //!
@@ -92,24 +107,27 @@
 //! ```
 
 mod entries;
+mod entry;
 mod error;
 mod json;
+mod rare;
 mod raw;
 mod scope;
 
 use crate::blueprint::FromPortStr;
-use crate::state::StateCodecs;
+use crate::clock::duration_to_nanos;
+use alloc::boxed::Box;
 use alloc::collections::BTreeMap;
 use alloc::string::String;
-use alloc::sync::Arc;
-use alloc::vec::Vec;
 use core::any::{type_name, Any, TypeId};
 use core::fmt;
 use core::time::Duration;
 
+use entry::Entry;
 pub use error::BlackboardError;
 pub use json::{short_type_name, JsonWriteError};
-use scope::{resolve, Entries, Entry, Links};
+use rare::Rare;
+use scope::{Entries, Links};
 
 /// Index of a scope in a [`Blackboard`], in creation order; [`ScopeId::ROOT`] is the tree's
 /// own.
@@ -126,47 +144,47 @@ impl ScopeId {
 pub struct EntryInfo {
     /// Grows by one on every write; 1 after the first.
     pub sequence: u64,
-    /// The time of the last write, as given by the writer (a node writes its tree's clock).
+    /// The time of the last write, as given by the writer (a node writes its tree's clock),
+    /// to the nanosecond; a stamp past `u64::MAX` nanoseconds (584 years) is kept as that.
     pub stamp: Duration,
     /// The Rust type of the value, as [`core::any::type_name`] spells it.
     pub type_name: &'static str,
 }
 
 /// Typed, scoped entries shared by the nodes of a tree (see the [module docs](self)).
+///
+/// 48 bytes, laid out for the tree that reads its root scope's entries and little else:
+/// those entries are held here, so reading one goes from this struct to the entries' block
+/// and no further; the rest waits behind one pointer.
 #[derive(Default)]
 pub struct Blackboard {
-    /// `links[i]` belongs to scope `i + 1`; the root has no links.
-    links: Vec<Links>,
-    /// `entries[i]` belongs to scope `i`. Grown on demand, so that `new` allocates nothing
-    /// and a tree that never writes its blackboard never pays for it.
-    entries: Vec<Entries>,
-    /// The latest stamp written, for the shorthands that take none.
-    last_stamp: Duration,
-    /// The value types this blackboard's values are saved, shown and edited with.
-    codecs: Option<Arc<StateCodecs>>,
+    /// The root scope's entries: an empty vector until the first write, so that `new`
+    /// allocates nothing and a tree that never writes its blackboard never pays for it.
+    root: Entries,
+    /// The other scopes, their links and the value codecs: made on first use.
+    rare: Option<Box<Rare>>,
+    /// The latest stamp written, in nanoseconds (saturating), for the shorthands that take
+    /// none.
+    last_stamp: u64,
     /// Writes so far (see [`writes`](Self::writes)).
     writes: u64,
-}
-
-/// The entries of scope `s`, created if the vector has not grown that far yet. A free
-/// function, so that it can run while a key resolved from `links` is still borrowed.
-fn entries_mut(entries: &mut Vec<Entries>, s: usize) -> &mut Entries {
-    if entries.len() <= s {
-        entries.resize_with(s + 1, Entries::default);
-    }
-    &mut entries[s]
 }
 
 impl Blackboard {
     /// An empty blackboard with only its root scope. Allocates nothing.
     pub const fn new() -> Self {
         Self {
-            links: Vec::new(),
-            entries: Vec::new(),
-            last_stamp: Duration::ZERO,
-            codecs: None,
+            root: Entries::new(),
+            rare: None,
+            last_stamp: 0,
             writes: 0,
         }
+    }
+
+    /// Records `stamp` as written, for the shorthands that take none.
+    #[inline]
+    fn saw(&mut self, stamp: Duration) {
+        self.last_stamp = self.last_stamp.max(duration_to_nanos(stamp));
     }
 
     /// How many times the blackboard was written (a value set, changed, removed, a key
@@ -182,17 +200,18 @@ impl Blackboard {
     /// A parent that does not exist is taken to be the root. Every scope's parent is thus an
     /// earlier scope, which is what guarantees that resolving a key always ends.
     pub fn add_scope(&mut self, parent: ScopeId, autoremap: bool) -> ScopeId {
-        let parent = if parent.0 as usize <= self.links.len() {
+        let links = &mut self.rare_mut().links;
+        let parent = if parent.0 as usize <= links.len() {
             parent
         } else {
             ScopeId::ROOT
         };
-        self.links.push(Links {
+        links.push(Links {
             parent,
             autoremap,
             remap: BTreeMap::new(),
         });
-        ScopeId(u32::try_from(self.links.len()).unwrap_or(u32::MAX))
+        ScopeId(u32::try_from(links.len()).unwrap_or(u32::MAX))
     }
 
     /// In `scope`, makes `child_key` an alias of `parent_key` in the parent scope. The parent
@@ -205,7 +224,8 @@ impl Blackboard {
         let Some(i) = (scope.0 as usize).checked_sub(1) else {
             return;
         };
-        if let Some(l) = self.links.get_mut(i) {
+        let links = self.rare.as_deref_mut().map(|r| &mut r.links);
+        if let Some(l) = links.and_then(|l| l.get_mut(i)) {
             l.remap
                 .insert(String::from(child_key), String::from(parent_key));
         }
@@ -214,44 +234,45 @@ impl Blackboard {
     /// The parent of a scope; `None` for the root or an unknown scope.
     pub fn parent(&self, scope: ScopeId) -> Option<ScopeId> {
         let i = (scope.0 as usize).checked_sub(1)?;
-        self.links.get(i).map(|l| l.parent)
+        self.links().get(i).map(|l| l.parent)
     }
 
     /// Number of scopes, the root included.
     pub fn scope_count(&self) -> usize {
-        self.links.len() + 1
+        self.links().len() + 1
     }
 
     /// The entry `key` resolves to from `scope`, if any.
     fn entry(&self, scope: ScopeId, key: &str) -> Option<&Entry> {
-        let (s, k) = resolve(&self.links, &self.entries, scope, key)?;
-        self.entries.get(s)?.get(k)
-    }
-
-    /// [`entry`](Self::entry), with the reason when there is none.
-    /// Asks the processor to start loading the blackboard's table of scopes (see
-    /// [`hint`](crate::hint)).
-    #[inline]
-    pub(crate) fn prefetch(&self) {
-        crate::hint::prefetch(self.entries.as_slice());
+        let (s, k) = self.resolve(scope, key)?;
+        self.entries_at(s)?.get(k)
     }
 
     /// Asks the processor to start loading the root scope's entries, whose address sits in
-    /// the table [`prefetch`](Self::prefetch) loads.
+    /// this struct (see [`hint`](crate::hint)): with the inline values, all that reading a
+    /// root entry of a small plain type touches beyond the tree itself.
     #[inline]
-    pub(crate) fn prefetch_entries(&self) {
-        if let Some(root) = self.entries.first() {
-            root.prefetch();
-        }
+    pub(crate) fn prefetch(&self) {
+        self.root.prefetch();
     }
 
+    /// Asks the processor to start loading the boxed values of the root scope's first
+    /// entries (those of small plain types have no box: they were in the entries
+    /// [`prefetch`](Self::prefetch) loads, whose block this reads, so call it a little
+    /// later than that).
+    #[inline]
+    pub(crate) fn prefetch_entries(&self) {
+        self.root.prefetch_values();
+    }
+
+    /// [`entry`](Self::entry), with the reason when there is none.
     fn entry_or_err(&self, scope: ScopeId, key: &str) -> Result<&Entry, BlackboardError> {
         self.entry(scope, key)
             .ok_or_else(|| self.missing(scope, key))
     }
 
     fn missing(&self, scope: ScopeId, key: &str) -> BlackboardError {
-        if scope.0 as usize > self.links.len() {
+        if scope.0 as usize > self.links().len() {
             BlackboardError::NoSuchScope { scope: scope.0 }
         } else {
             BlackboardError::NotFound {
@@ -266,15 +287,11 @@ impl Blackboard {
     /// type fixes the entry's type. An existing entry is left as it is.
     pub fn declare_in(&mut self, scope: ScopeId, key: &str) {
         self.writes = self.writes.wrapping_add(1);
-        let Some((s, k)) = resolve(&self.links, &self.entries, scope, key) else {
+        let Some((entries, k)) = self.place(scope, key) else {
             return;
         };
-        let entries = entries_mut(&mut self.entries, s);
         if !entries.contains_key(k) {
-            let mut entry = Entry::new(Unwritten, Duration::ZERO);
-            entry.info.sequence = 0;
-            entry.info.type_name = UNWRITTEN;
-            entries.insert(k, entry);
+            entries.insert(k, Entry::unwritten());
         }
     }
 
@@ -288,19 +305,19 @@ impl Blackboard {
     /// `i32` it works with should not have to know which wrote the entry.
     pub fn get_in<T: Any + Clone>(&self, scope: ScopeId, key: &str) -> Result<T, BlackboardError> {
         let entry = self.entry_or_err(scope, key)?;
-        if entry.value.is::<Unwritten>() {
-            return Err(self.missing(scope, key));
-        }
         if let Some(value) = entry.value.downcast_ref::<T>() {
             return Ok(value.clone());
         }
-        match convert::<T>(&*entry.value) {
+        let Some(value) = entry.value.as_any() else {
+            return Err(self.missing(scope, key));
+        };
+        match convert::<T>(value) {
             Some(Ok(value)) => Ok(value),
             Some(Err(value)) => Err(BlackboardError::NotConvertible {
                 key: String::from(key),
                 value,
                 expected: type_name::<T>(),
-                found: entry.info.type_name,
+                found: entry.type_name,
             }),
             None => Err(wrong_type::<T>(key, entry)),
         }
@@ -319,7 +336,7 @@ impl Blackboard {
     /// Borrows `key` as seen from `scope`.
     pub fn get_ref_in<T: Any>(&self, scope: ScopeId, key: &str) -> Result<&T, BlackboardError> {
         let entry = self.entry_or_err(scope, key)?;
-        if entry.value.is::<Unwritten>() {
+        if !entry.value.is_written() {
             return Err(self.missing(scope, key));
         }
         entry
@@ -331,9 +348,7 @@ impl Blackboard {
     /// Borrows `key` as seen from `scope`, whatever its type (for loggers and for code that
     /// tries several types).
     pub fn get_any_in(&self, scope: ScopeId, key: &str) -> Option<&(dyn Any + Send + Sync)> {
-        self.entry(scope, key)
-            .filter(|e| !e.value.is::<Unwritten>())
-            .map(|e| &*e.value)
+        self.entry(scope, key)?.value.as_any()
     }
 
     /// Writes `key` as seen from `scope`, stamped `stamp`.
@@ -352,12 +367,11 @@ impl Blackboard {
         stamp: Duration,
     ) -> Result<(), BlackboardError> {
         self.writes = self.writes.wrapping_add(1);
-        let Some((s, k)) = resolve(&self.links, &self.entries, scope, key) else {
+        let Some((entries, k)) = self.place(scope, key) else {
             return Err(BlackboardError::NoSuchScope { scope: scope.0 });
         };
-        let entries = entries_mut(&mut self.entries, s);
         match entries.get_mut(k) {
-            Some(entry) if entry.value.is::<Unwritten>() => *entry = Entry::new(value, stamp),
+            Some(entry) if !entry.value.is_written() => *entry = Entry::new(value, stamp),
             Some(entry) => {
                 let Some(slot) = entry.value.downcast_mut::<T>() else {
                     return Err(wrong_type::<T>(key, entry));
@@ -369,7 +383,7 @@ impl Blackboard {
                 entries.insert(k, Entry::new(value, stamp));
             }
         }
-        self.last_stamp = self.last_stamp.max(stamp);
+        self.saw(stamp);
         Ok(())
     }
 
@@ -385,10 +399,7 @@ impl Blackboard {
         change: impl FnOnce(&mut T),
     ) -> bool {
         self.writes = self.writes.wrapping_add(1);
-        let Some((s, k)) = resolve(&self.links, &self.entries, scope, key) else {
-            return false;
-        };
-        let Some(entry) = entries_mut(&mut self.entries, s).get_mut(k) else {
+        let Some(entry) = self.place(scope, key).and_then(|(e, k)| e.get_mut(k)) else {
             return false;
         };
         let Some(value) = entry.value.downcast_mut::<T>() else {
@@ -396,7 +407,7 @@ impl Blackboard {
         };
         change(value);
         entry.touch(stamp);
-        self.last_stamp = self.last_stamp.max(stamp);
+        self.saw(stamp);
         true
     }
 
@@ -411,10 +422,9 @@ impl Blackboard {
         stamp: Duration,
     ) {
         self.writes = self.writes.wrapping_add(1);
-        let Some((s, k)) = resolve(&self.links, &self.entries, scope, key) else {
+        let Some((entries, k)) = self.place(scope, key) else {
             return;
         };
-        let entries = entries_mut(&mut self.entries, s);
         match entries.get_mut(k) {
             // The same type: written in place, so that a value rewritten every tick (a
             // flag a leaf clears) costs no allocation.
@@ -423,19 +433,15 @@ impl Blackboard {
                     *slot = value;
                 }
                 entry.untyped = false;
-                entry.info.type_name = type_name::<T>();
+                entry.type_name = type_name::<T>();
                 entry.touch(stamp);
             }
-            Some(entry) => {
-                let sequence = entry.info.sequence;
-                *entry = Entry::new(value, stamp);
-                entry.info.sequence = sequence.wrapping_add(1);
-            }
+            Some(entry) => entry.retype(value, stamp),
             None => {
                 entries.insert(k, Entry::new(value, stamp));
             }
         }
-        self.last_stamp = self.last_stamp.max(stamp);
+        self.saw(stamp);
     }
 
     /// Writes `key` as seen from `scope` as a script's assignment does: an entry this call
@@ -455,10 +461,9 @@ impl Blackboard {
         stamp: Duration,
     ) -> Result<(), BlackboardError> {
         self.writes = self.writes.wrapping_add(1);
-        let Some((s, k)) = resolve(&self.links, &self.entries, scope, key) else {
+        let Some((entries, k)) = self.place(scope, key) else {
             return Err(BlackboardError::NoSuchScope { scope: scope.0 });
         };
-        let entries = entries_mut(&mut self.entries, s);
         match entries.get_mut(k) {
             Some(entry) if entry.untyped => match entry.value.downcast_mut::<T>() {
                 Some(slot) => {
@@ -466,9 +471,7 @@ impl Blackboard {
                     entry.touch(stamp);
                 }
                 None => {
-                    let sequence = entry.info.sequence;
-                    *entry = Entry::new(value, stamp);
-                    entry.info.sequence = sequence.wrapping_add(1);
+                    entry.retype(value, stamp);
                     entry.untyped = true;
                 }
             },
@@ -479,7 +482,7 @@ impl Blackboard {
                 entries.insert(k, entry);
             }
         }
-        self.last_stamp = self.last_stamp.max(stamp);
+        self.saw(stamp);
         Ok(())
     }
 
@@ -501,33 +504,24 @@ impl Blackboard {
         stamp: Duration,
     ) {
         self.writes = self.writes.wrapping_add(1);
-        if scope.0 as usize > self.links.len() {
+        let Some(entries) = self.entries_at_mut(scope.0 as usize) else {
             return;
-        }
-        let entries = entries_mut(&mut self.entries, scope.0 as usize);
+        };
         match entries.get_mut(key) {
-            Some(entry) => {
-                let sequence = entry.info.sequence;
-                *entry = Entry::new(value, stamp);
-                entry.info.sequence = sequence.wrapping_add(1);
-            }
+            Some(entry) => entry.retype(value, stamp),
             None => {
                 entries.insert(key, Entry::new(value, stamp));
             }
         }
-        self.last_stamp = self.last_stamp.max(stamp);
+        self.saw(stamp);
     }
 
     /// Removes the entry `key` resolves to from `scope` (a remapped key removes the parent's
     /// entry); `true` if there was one. Remaps stay.
     pub fn unset_in(&mut self, scope: ScopeId, key: &str) -> bool {
         self.writes = self.writes.wrapping_add(1);
-        let Some((s, k)) = resolve(&self.links, &self.entries, scope, key) else {
-            return false;
-        };
-        self.entries
-            .get_mut(s)
-            .is_some_and(|e| e.remove(k).is_some())
+        self.place(scope, key)
+            .is_some_and(|(e, k)| e.remove(k).is_some())
     }
 
     /// `true` if `key` resolves to an entry from `scope`.
@@ -537,14 +531,13 @@ impl Blackboard {
 
     /// Sequence number, stamp and type of the entry `key` resolves to from `scope`.
     pub fn info_in(&self, scope: ScopeId, key: &str) -> Option<EntryInfo> {
-        self.entry(scope, key).map(|e| e.info)
+        self.entry(scope, key).map(Entry::info)
     }
 
     /// The keys stored in `scope` itself (not those it remaps or reaches by autoremap),
     /// sorted.
     pub fn keys_in(&self, scope: ScopeId) -> impl Iterator<Item = &str> + '_ {
-        self.entries
-            .get(scope.0 as usize)
+        self.entries_at(scope.0 as usize)
             .into_iter()
             .flat_map(Entries::keys)
     }
@@ -574,7 +567,7 @@ impl Blackboard {
         key: &str,
         value: T,
     ) -> Result<(), BlackboardError> {
-        let stamp = self.last_stamp;
+        let stamp = Duration::from_nanos(self.last_stamp);
         self.set_in(ScopeId::ROOT, key, value, stamp)
     }
 
@@ -602,7 +595,8 @@ impl Blackboard {
     /// start a new run on the same wiring.
     pub fn clear(&mut self) {
         self.writes = self.writes.wrapping_add(1);
-        for e in &mut self.entries {
+        self.root.clear();
+        for e in self.rare.iter_mut().flat_map(|r| &mut r.scopes) {
             e.clear();
         }
     }
@@ -610,9 +604,6 @@ impl Blackboard {
 
 /// The type name of an entry declared and not written yet.
 pub(crate) const UNWRITTEN: &str = "(not written yet)";
-
-/// The value of a declared entry that nothing has written yet.
-struct Unwritten;
 
 /// `value` read as `T` by the rules an input port reads an entry with, when `T` is one of
 /// the types those rules cover (the numbers, `bool`, `String`): text through
@@ -653,7 +644,7 @@ fn wrong_type<T: Any>(key: &str, entry: &Entry) -> BlackboardError {
     BlackboardError::WrongType {
         key: String::from(key),
         expected: type_name::<T>(),
-        found: entry.info.type_name,
+        found: entry.type_name,
     }
 }
 
@@ -666,10 +657,7 @@ impl fmt::Debug for Blackboard {
             fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
                 let mut map = f.debug_map();
                 for (key, e) in self.0.into_iter().flat_map(Entries::iter) {
-                    map.entry(
-                        &key,
-                        &format_args!("{} #{}", e.info.type_name, e.info.sequence),
-                    );
+                    map.entry(&key, &format_args!("{} #{}", e.type_name, e.sequence));
                 }
                 for (child, parent) in self.1.into_iter().flat_map(|l| &l.remap) {
                     map.entry(child, &format_args!("-> {parent:?}"));
@@ -679,8 +667,8 @@ impl fmt::Debug for Blackboard {
         }
         let mut map = f.debug_map();
         for s in 0..self.scope_count() {
-            let links = s.checked_sub(1).map(|i| &self.links[i]);
-            map.entry(&s, &ScopeView(self.entries.get(s), links));
+            let links = s.checked_sub(1).map(|i| &self.links()[i]);
+            map.entry(&s, &ScopeView(self.entries_at(s), links));
         }
         map.finish()
     }

@@ -7,8 +7,9 @@ use alloc::vec::Vec;
 use core::any::Any;
 use core::time::Duration;
 
-use super::scope::Entry;
-use super::{entries_mut, Blackboard, EntryInfo, Unwritten};
+use super::entry::Entry;
+use super::scope::Entries;
+use super::{Blackboard, EntryInfo};
 
 /// What saving and restoring a tree's state sees of a blackboard: its entries, raw.
 impl Blackboard {
@@ -16,21 +17,17 @@ impl Blackboard {
     /// value)`; `value` is `None` for an entry declared and not written yet.
     pub(crate) fn raw_entries(
         &self,
-    ) -> impl Iterator<
-        Item = (
-            u32,
-            &str,
-            &EntryInfo,
-            bool,
-            Option<&(dyn Any + Send + Sync)>,
-        ),
-    > + '_ {
-        self.entries.iter().enumerate().flat_map(|(s, entries)| {
-            entries.iter().map(move |(key, e)| {
-                let value = (!e.value.is::<Unwritten>()).then_some(&*e.value);
-                (s as u32, key, &e.info, e.untyped, value)
+    ) -> impl Iterator<Item = (u32, &str, EntryInfo, bool, Option<&(dyn Any + Send + Sync)>)> + '_
+    {
+        let scopes = self.rare.iter().flat_map(|r| &r.scopes);
+        core::iter::once(&self.root)
+            .chain(scopes)
+            .enumerate()
+            .flat_map(|(s, entries)| {
+                entries
+                    .iter()
+                    .map(move |(key, e)| (s as u32, key, e.info(), e.untyped, e.value.as_any()))
             })
-        })
     }
 
     /// Takes every entry out, in scope then key order: `(scope, key, info, untyped,
@@ -46,10 +43,16 @@ impl Blackboard {
         Option<Box<dyn Any + Send + Sync>>,
     )> {
         let mut out = Vec::new();
-        for (s, entries) in core::mem::take(&mut self.entries).into_iter().enumerate() {
+        let root = core::mem::take(&mut self.root);
+        let scopes = self
+            .rare
+            .as_deref_mut()
+            .map(|r| core::mem::take(&mut r.scopes));
+        let all = core::iter::once(root).chain(scopes.into_iter().flatten());
+        for (s, entries) in all.enumerate() {
             for (key, e) in entries.into_pairs() {
-                let value = (!e.value.is::<Unwritten>()).then_some(e.value);
-                out.push((s as u32, key, e.info, e.untyped, value));
+                let info = e.info();
+                out.push((s as u32, key, info, e.untyped, e.value.into_box()));
             }
         }
         out
@@ -58,7 +61,10 @@ impl Blackboard {
     /// Forgets every entry, keeping the scopes and their links.
     pub(crate) fn clear_entries(&mut self) {
         self.writes = self.writes.wrapping_add(1);
-        self.entries.clear();
+        self.root = Entries::new();
+        if let Some(rare) = self.rare.as_deref_mut() {
+            rare.scopes.clear();
+        }
     }
 
     /// Puts back an entry [`raw_entries`](Self::raw_entries) gave, `None` for one not
@@ -71,26 +77,20 @@ impl Blackboard {
         untyped: bool,
         value: Option<Box<dyn Any + Send + Sync>>,
     ) -> bool {
-        if scope as usize >= self.scope_count() {
+        let Some(entries) = self.entries_at_mut(scope as usize) else {
             return false;
-        }
-        let value = value.unwrap_or_else(|| alloc::boxed::Box::new(Unwritten));
-        let entry = Entry {
-            value,
-            info,
-            untyped,
         };
-        entries_mut(&mut self.entries, scope as usize).insert(&key, entry);
+        entries.insert(&key, Entry::from_raw(info, untyped, value));
         true
     }
 
     /// The latest stamp written.
     pub(crate) fn last_stamp(&self) -> Duration {
-        self.last_stamp
+        Duration::from_nanos(self.last_stamp)
     }
 
     /// Sets the latest stamp written, as a saved state had it.
     pub(crate) fn set_last_stamp(&mut self, stamp: Duration) {
-        self.last_stamp = stamp;
+        self.last_stamp = crate::clock::duration_to_nanos(stamp);
     }
 }

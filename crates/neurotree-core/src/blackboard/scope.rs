@@ -1,42 +1,9 @@
 //! How scopes link to each other, and how a key finds its entry through them.
 
-use alloc::boxed::Box;
 use alloc::collections::BTreeMap;
 use alloc::string::String;
-use core::any::Any;
-use core::time::Duration;
 
-use super::{EntryInfo, ScopeId};
-
-/// One value and what is known about it.
-pub(super) struct Entry {
-    pub(super) value: Box<dyn Any + Send + Sync>,
-    pub(super) info: EntryInfo,
-    /// Created by [`Blackboard::set_untyped_in`](super::Blackboard::set_untyped_in): its
-    /// type is not fixed, as a BehaviorTree.CPP entry a script created is not.
-    pub(super) untyped: bool,
-}
-
-impl Entry {
-    pub(super) fn new<T: Any + Send + Sync>(value: T, stamp: Duration) -> Self {
-        Self {
-            value: Box::new(value),
-            info: EntryInfo {
-                sequence: 1,
-                stamp,
-                type_name: core::any::type_name::<T>(),
-            },
-            untyped: false,
-        }
-    }
-
-    /// Records a write. Wrapping, because a counter that cannot overflow in practice must
-    /// still not be able to panic.
-    pub(super) fn touch(&mut self, stamp: Duration) {
-        self.info.sequence = self.info.sequence.wrapping_add(1);
-        self.info.stamp = stamp;
-    }
-}
+use super::ScopeId;
 
 pub(super) use super::entries::Entries;
 
@@ -53,15 +20,16 @@ pub(super) struct Links {
 /// Where `key`, asked in `scope`, lives: the scope and the key's name there (the entry may
 /// not exist yet; this is then where a write creates it). `None` if `scope` does not exist.
 ///
-/// The name borrows from `links` or from `key` only, never from `entries`, so that a caller
-/// can resolve and then change `entries` without copying the name.
+/// `scopes[i]` holds the entries of scope `i + 1` (shorter when the later scopes have none
+/// yet); the root's are not needed, since a key that reaches the root lives there. The name borrows from `links` or from `key` only, never from
+/// the entries, so that a caller can resolve and then change them without copying the name.
 ///
 /// In each scope, in this order: `@key` goes to the root; a remapped key goes to its parent
 /// key in the parent scope; an entry stored here is the answer; with autoremap, a key not
 /// starting with `_` goes on to the parent; otherwise the key lives (or would live) here.
 pub(super) fn resolve<'k>(
     links: &'k [Links],
-    entries: &[Entries],
+    scopes: &[Entries],
     scope: ScopeId,
     key: &'k str,
 ) -> Option<(usize, &'k str)> {
@@ -76,10 +44,11 @@ pub(super) fn resolve<'k>(
     // Every step that does not return moves to a strictly earlier scope, so this ends even
     // if the remaps form a cycle by name.
     loop {
-        let Some(l) = at.checked_sub(1).map(|i| &links[i]) else {
+        let Some(i) = at.checked_sub(1) else {
             // The root: no remaps, no parent.
             return Some((0, key));
         };
+        let l = &links[i];
         if let Some(target) = l.remap.get(key) {
             (at, key) = match target.strip_prefix('@') {
                 Some(rooted) => (0, rooted),
@@ -87,7 +56,7 @@ pub(super) fn resolve<'k>(
             };
             continue;
         }
-        if entries.get(at).is_some_and(|e| e.contains_key(key)) {
+        if scopes.get(i).is_some_and(|e| e.contains_key(key)) {
             return Some((at, key));
         }
         if l.autoremap && !key.starts_with('_') {

@@ -1,6 +1,7 @@
 use super::*;
 use alloc::string::ToString;
 use alloc::vec;
+use alloc::vec::Vec;
 
 const T1: Duration = Duration::from_millis(1);
 const T2: Duration = Duration::from_millis(2);
@@ -300,7 +301,11 @@ fn set_and_unset_cycles_do_not_grow_the_store() {
         assert!(bb.unset_in(sub, "k"));
     }
     bb.set_in(sub, "k", 7_u32, T1).unwrap();
-    assert_eq!(bb.entries.iter().map(|e| e.len()).sum::<usize>(), 1);
+    let scopes = bb
+        .rare
+        .as_deref()
+        .map_or(0, |r| r.scopes.iter().map(Entries::len).sum());
+    assert_eq!(bb.root.len() + scopes, 1);
     // A key created again starts a new life: its sequence restarts at 1.
     assert_eq!(bb.info_in(sub, "k").map(|i| i.sequence), Some(1));
 }
@@ -396,4 +401,135 @@ fn declared_entries_exist_but_read_only_after_a_write() {
     // Declaring an existing entry changes nothing.
     bb.declare_in(ScopeId::ROOT, "target");
     assert_eq!(bb.get::<f64>("target"), Ok(1.5));
+}
+
+#[test]
+fn a_blackboard_takes_48_bytes_and_a_plain_tree_s_no_box_of_rare_parts() {
+    assert!(core::mem::size_of::<Blackboard>() <= 48);
+    let mut bb = Blackboard::new();
+    bb.set("alert", true).unwrap();
+    bb.declare_in(ScopeId::ROOT, "goal");
+    bb.set_json_in(ScopeId::ROOT, "n", serde_json::json!(3), T1)
+        .unwrap();
+    assert!(bb.rare.is_none(), "root entries alone made the rare box");
+    bb.set_codecs(alloc::sync::Arc::new(crate::state::StateCodecs::new()));
+    assert!(bb.rare.is_some() && bb.codecs().is_some());
+    let mut bb = Blackboard::new();
+    let sub = bb.add_scope(ScopeId::ROOT, false);
+    assert!(bb.rare.is_some() && bb.codecs().is_none());
+    assert_eq!(bb.scope_count(), 2);
+    bb.set_in(sub, "k", 1_u8, T1).unwrap();
+    assert_eq!((bb.root.len(), bb.get_in::<u8>(sub, "k")), (0, Ok(1)));
+}
+
+/// A newtype around a value, so that it is boxed where the value itself is held inline.
+#[derive(Clone, Debug, PartialEq)]
+struct Boxed<T>(T);
+
+/// What a run of every kind of write and read leaves of an entry: `(value read, sequence,
+/// stamp)` after each step; `wrap` puts a value in the type under test.
+fn writes_and_reads<T, W>(wrap: impl Fn(T) -> W, a: T, b: T) -> Vec<(Option<W>, u64, Duration)>
+where
+    T: Clone,
+    W: Any + Send + Sync + Clone + PartialEq + core::fmt::Debug,
+{
+    let mut bb = Blackboard::new();
+    let mut log = Vec::new();
+    let mut note = |bb: &Blackboard| {
+        let info = bb.info("k").unwrap();
+        log.push((bb.get_exact::<W>("k").ok(), info.sequence, info.stamp));
+    };
+    bb.declare_in(ScopeId::ROOT, "k");
+    note(&bb);
+    bb.set_in(ScopeId::ROOT, "k", wrap(a.clone()), T1).unwrap();
+    note(&bb);
+    assert_eq!(bb.get_ref::<W>("k"), Ok(&wrap(a.clone())));
+    let any = bb.get_any_in(ScopeId::ROOT, "k").unwrap();
+    assert_eq!(any.downcast_ref::<W>(), Some(&wrap(a.clone())));
+    assert!(bb.set("k", 1_i128).is_err(), "the type is fixed");
+    note(&bb);
+    bb.set("k", wrap(b.clone())).unwrap();
+    note(&bb);
+    let b2 = wrap(b.clone());
+    assert!(bb.modify_in::<W>(ScopeId::ROOT, "k", T2, |v| *v = b2));
+    assert!(!bb.modify_in::<i128>(ScopeId::ROOT, "k", T2, |_| ()));
+    note(&bb);
+    bb.replace_in(ScopeId::ROOT, "k", wrap(a.clone()), T1);
+    note(&bb);
+    // Retyped to text and back.
+    bb.replace_in(ScopeId::ROOT, "k", String::from("text"), T2);
+    note(&bb);
+    assert_eq!(bb.get_ref::<String>("k").map(String::as_str), Ok("text"));
+    bb.replace_in(ScopeId::ROOT, "k", wrap(b.clone()), T2);
+    note(&bb);
+    // Out, boxed, and back in, as saving and restoring a tree's state do.
+    let raw = bb.take_raw_entries();
+    assert!(!bb.contains("k"));
+    for (scope, key, info, untyped, value) in raw {
+        let value = value.unwrap();
+        assert_eq!(value.downcast_ref::<W>(), Some(&wrap(b.clone())));
+        assert!(bb.put_raw_entry(scope, key, info, untyped, Some(value)));
+    }
+    note(&bb);
+    bb.set("k", wrap(a)).unwrap();
+    note(&bb);
+    assert!(bb.unset("k") && !bb.contains("k"));
+    log
+}
+
+#[test]
+fn values_held_inline_read_and_write_as_boxed_ones_do() {
+    fn unwrap<T: Clone>(
+        log: Vec<(Option<Boxed<T>>, u64, Duration)>,
+    ) -> Vec<(Option<T>, u64, Duration)> {
+        log.into_iter()
+            .map(|(v, s, t)| (v.map(|b| b.0), s, t))
+            .collect()
+    }
+    let inline = writes_and_reads(|v| v, true, false);
+    assert_eq!(inline, unwrap(writes_and_reads(Boxed, true, false)));
+    assert_eq!(
+        inline.iter().map(|e| e.1).collect::<Vec<_>>(),
+        [0, 1, 1, 2, 3, 4, 5, 6, 6, 7]
+    );
+    assert_eq!(inline[4], (Some(false), 3, T2));
+    assert_eq!(inline[6], (None, 5, T2), "text read as a `bool`");
+    let inline = writes_and_reads(|v| v, -7_i64, 1 << 40);
+    assert_eq!(inline, unwrap(writes_and_reads(Boxed, -7_i64, 1 << 40)));
+    let inline = writes_and_reads(|v| v, 0.25_f32, -1.5);
+    assert_eq!(inline, unwrap(writes_and_reads(Boxed, 0.25_f32, -1.5)));
+    let inline = writes_and_reads(|v| v, T1, Duration::from_secs(3));
+    assert_eq!(
+        inline,
+        unwrap(writes_and_reads(Boxed, T1, Duration::from_secs(3)))
+    );
+}
+
+#[test]
+fn an_untyped_entry_held_inline_takes_any_type_as_a_boxed_one_does() {
+    let mut bb = Blackboard::new();
+    bb.set_untyped_in(ScopeId::ROOT, "x", 1_i64, T1).unwrap();
+    bb.set_untyped_in(ScopeId::ROOT, "x", 2_i64, T1).unwrap();
+    assert_eq!(bb.get_exact::<i64>("x"), Ok(2));
+    bb.set_untyped_in(ScopeId::ROOT, "x", String::from("two"), T2)
+        .unwrap();
+    assert_eq!(bb.get_exact::<String>("x"), Ok(String::from("two")));
+    bb.set_untyped_in(ScopeId::ROOT, "x", 2.5_f64, T2).unwrap();
+    assert_eq!(bb.get_exact::<f64>("x"), Ok(2.5));
+    let info = bb.info("x").unwrap();
+    assert_eq!((info.sequence, info.type_name), (4, "f64"));
+    assert!(bb.is_untyped_in(ScopeId::ROOT, "x"));
+    // Reads convert an inline number as they convert a boxed one.
+    assert_eq!(bb.get::<String>("x"), Ok(String::from("2.5")));
+    assert!(matches!(
+        bb.get::<i32>("x"),
+        Err(BlackboardError::NotConvertible { .. })
+    ));
+    // JSON sees and edits it, and a value from JSON is held as a write holds it.
+    assert_eq!(bb.json_in(ScopeId::ROOT, "x"), Some(serde_json::json!(2.5)));
+    bb.set_json_in(ScopeId::ROOT, "x", serde_json::json!(-1), T2)
+        .unwrap();
+    assert_eq!(bb.get_exact::<f64>("x"), Ok(-1.0));
+    let entry = bb.root.get("x").unwrap();
+    assert!(matches!(entry.value, entry::Stored::F64(_)));
 }

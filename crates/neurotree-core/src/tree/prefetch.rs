@@ -5,8 +5,9 @@ use super::Tree;
 
 impl<C> Tree<C> {
     /// Asks the processor to start loading the node state a tick of this tree reads (its
-    /// statuses, slots, objects and blackboard's tables), for a runner that ticks many trees
-    /// and knows which comes next: see [`hint`](crate::hint). Changes nothing.
+    /// statuses, slots, objects and its blackboard's root entries, values of small plain
+    /// types included), for a runner that ticks many trees and knows which comes next: see
+    /// [`hint`](crate::hint). Changes nothing.
     #[inline]
     pub fn prefetch_state(&self) {
         use crate::hint::prefetch;
@@ -15,9 +16,11 @@ impl<C> Tree<C> {
         self.blackboard.prefetch();
     }
 
-    /// Asks the processor to start loading the blackboard entries of the tree's root scope,
-    /// whose address is among what [`prefetch_state`](Self::prefetch_state) loads: call it
-    /// a little later than that. Changes nothing.
+    /// Asks the processor to start loading the boxed values of the first blackboard entries
+    /// of the tree's root scope (values of other types than `bool`, numbers and `Duration`),
+    /// whose addresses are in the entries [`prefetch_state`](Self::prefetch_state) loads:
+    /// call it a little later than that. A tree whose root values are all held inline has
+    /// nothing more to load. Changes nothing.
     #[inline]
     pub fn prefetch_entries(&self) {
         self.blackboard.prefetch_entries();

@@ -184,10 +184,11 @@ pub(super) enum Ahead {
     /// bytes and its context.
     Far,
     /// The member comes [`NEAR`] members later, its tree's bytes loaded by now: start
-    /// loading the node state they point to.
+    /// loading the node state and the blackboard's root entries they point to.
     Near,
-    /// The member comes next: start loading its blackboard's entries, whose address came
-    /// in with its node state.
+    /// The member comes next: start loading the boxed values of its blackboard's root
+    /// entries (values of small plain types have none), whose addresses came in with the
+    /// entries.
     Next,
     /// Tick the member (if due): `false` when it fell asleep, which clears its bit.
     Tick,
