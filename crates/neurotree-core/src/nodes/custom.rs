@@ -234,7 +234,7 @@ impl<'t, C> NodeCtx<'_, 't, C> {
     pub fn wake_on(&mut self, key: &str) {
         let _ = key;
         self.declared = true;
-        self.t.out.waits.any = true;
+        self.t.waits.any = true;
     }
 
     /// Says that this node's result may also change at `at` on the tree's clock: a

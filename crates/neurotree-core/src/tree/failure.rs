@@ -219,8 +219,12 @@ pub(crate) struct Outcome {
     pub(crate) fault: Option<Box<TickError>>,
     /// Halts that take ticks (see [`slow_halt`](super::slow_halt)).
     pub(crate) halts: super::slow_halt::Halts,
-    /// What the nodes ticked in this pass wait on (see [`sleep`](super::sleep)).
-    pub(crate) waits: super::sleep::Waits,
+    /// Why the tree stayed awake after its last pass, and the node it is about (see
+    /// [`why_awake`](super::why_awake)); what the nodes waited on in the pass is the
+    /// pass's own ([`Waits`](super::sleep::Waits)), not kept.
+    pub(crate) reason: Option<(super::why_awake::AwakeReason, NodeId)>,
+    /// The stateful action ticked last in the last pass declared a wait.
+    pub(crate) declared: bool,
     /// What the leaf being ticked declared through a shared handle.
     pub(crate) reads: super::sleep::Reads,
     /// The tick's record: none until a node gives a reason (see the module docs); boxed,
@@ -244,11 +248,19 @@ impl Outcome {
         Self {
             fault: None,
             halts: super::slow_halt::Halts::default(),
-            waits: super::sleep::Waits::new(),
+            reason: None,
+            declared: false,
             reads: super::sleep::Reads::default(),
             record: None,
             noted: 0,
         }
+    }
+
+    /// Keeps what the pass that waited on `waits` says of why the tree stays awake.
+    #[inline]
+    pub(crate) fn keep(&mut self, waits: &super::sleep::Waits) {
+        self.reason = waits.reason;
+        self.declared = waits.declared;
     }
 
     /// Makes the record now, if it is not made yet.

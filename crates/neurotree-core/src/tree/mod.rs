@@ -293,6 +293,7 @@ impl<C> Tree<C> {
             wake: None,
             waker,
             out: &mut self.out,
+            waits: sleep::Waits::new(),
             current: NodeId::ROOT,
             reject_multiple_running: self.reject_multiple_running,
             rested: None,
@@ -345,7 +346,10 @@ impl<C> Tree<C> {
         }
         let status = match tick_root(&mut t) {
             Ok(status) => status,
-            Err(panicked) => return Err(recover(&mut t, panicked)),
+            Err(panicked) => {
+                t.out.keep(&t.waits);
+                return Err(recover(&mut t, panicked));
+            }
         };
         if status.is_completed() {
             t.set_status(NodeId::ROOT, NodeStatus::Idle);
@@ -353,16 +357,17 @@ impl<C> Tree<C> {
         if let Some(o) = t.observer.as_deref_mut() {
             o.on_tick_end(status, t.clock.now());
         }
+        t.out.keep(&t.waits);
         if let Some(fault) = t.out.fault.take() {
             t.halt_node(NodeId::ROOT);
             return Err(*fault);
         }
-        let (wake, rested) = (t.wake, t.rested);
+        let (wake, rested, waits) = (t.wake, t.rested, t.waits);
         if status == NodeStatus::Running && wake.is_none() {
             self.resting = rested.filter(|leaf| self.blueprint.resting[leaf.index()]);
-            self.fall_asleep(writes);
-        } else if wake.is_some() && self.out.waits.reason.is_none() {
-            self.out.waits.reason = Some((why_awake::AwakeReason::AnotherPass, NodeId::ROOT));
+            self.fall_asleep(writes, &waits);
+        } else if wake.is_some() && self.out.reason.is_none() {
+            self.out.reason = Some((why_awake::AwakeReason::AnotherPass, NodeId::ROOT));
         }
         Ok((status, wake))
     }

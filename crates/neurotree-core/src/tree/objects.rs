@@ -81,6 +81,7 @@ impl<'t, C> Ticker<'t, C> {
             node: id,
             bp,
             out: &mut *self.out,
+            waits: &mut self.waits,
         };
         (object, handle)
     }
@@ -121,7 +122,7 @@ impl<'t, C> Ticker<'t, C> {
         let reset_completed = node_ctx.reset_completed;
         if !node_ctx.declared {
             self.stay_awake(crate::AwakeReason::UndeclaredCustom, id);
-            self.out.waits.opaque(id);
+            self.waits.opaque(id);
         }
         self.objects[slot] = Object::Custom(node);
         if reset_completed {

@@ -2,6 +2,7 @@
 //! that pass a Running child's tick straight through above it, starts its next pass at
 //! that action rather than at the root.
 
+use super::sleep::Waits;
 use super::ticker::Object;
 use super::{root::recover, TickError, Tree};
 use crate::{NodeId, NodeStatus};
@@ -36,13 +37,15 @@ impl<C> Tree<C> {
             self.resting = None;
             return Rest::No;
         }
-        let answer = self.resting_answer(leaf, ctx);
+        let mut waits = Waits::new();
+        let answer = self.resting_answer(leaf, ctx, &mut waits);
         if self.out.reads.event() {
-            self.out.waits.on_event();
+            waits.on_event();
         }
+        self.out.keep(&waits);
         match answer {
             Some(Ok(NodeStatus::Running)) if self.out.fault.is_none() => {
-                self.rest_asleep(leaf, writes);
+                self.rest_asleep(leaf, writes, &waits);
                 Rest::Running
             }
             // The pass from the root, with the answer; a fault ends it.
@@ -67,18 +70,19 @@ impl<C> Tree<C> {
     /// from the root would call it: its ancestors up to the root pass a Running child's
     /// tick straight through, so such a pass would tick it and nothing else, and, if it
     /// returns Running, change nothing else. `None` if its object is not at hand (an
-    /// action still halting); `Err` for a panic, caught and named as a pass names it.
+    /// action still halting); `Err` for a panic, caught and named as a pass names it. What
+    /// the action says it waits on goes in `waits`, fresh.
     #[inline]
     fn resting_answer(
         &mut self,
         leaf: NodeId,
         ctx: &mut C,
+        waits: &mut Waits,
     ) -> Option<Result<NodeStatus, TickError>> {
         let bp = &*self.blueprint;
         let Some(Object::Stateful(action)) = self.objects.get_mut(bp.slot(leaf)) else {
             return None;
         };
-        self.out.waits.declared = false;
         self.out.reads.declare(false);
         let mut h = crate::Handle {
             ctx,
@@ -87,6 +91,7 @@ impl<C> Tree<C> {
             node: leaf,
             bp,
             out: &mut self.out,
+            waits,
         };
         #[cfg(feature = "std")]
         {

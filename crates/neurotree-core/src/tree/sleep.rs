@@ -332,15 +332,14 @@ impl<C> Tree<C> {
     /// [`fall_asleep`](Self::fall_asleep).
     #[inline]
     pub(crate) fn start_waits(&mut self) -> u64 {
-        self.out.waits = Waits::new();
+        self.out.keep(&Waits::new());
         self.blackboard.writes()
     }
 
-    /// After a pass that left the root Running with no node asking for another: falls
-    /// asleep if everything ticked waits (see the [module docs](self)). `writes`: the
-    /// blackboard's write count before the pass.
-    pub(crate) fn fall_asleep(&mut self, writes: u64) {
-        let waits = self.out.waits;
+    /// After a pass that left the root Running with no node asking for another, its nodes
+    /// waiting on `waits`: falls asleep if everything ticked waits (see the
+    /// [module docs](self)). `writes`: the blackboard's write count before the pass.
+    pub(crate) fn fall_asleep(&mut self, writes: u64, waits: &Waits) {
         let sleeps = !waits.awake
             && waits.any
             && self.sleep_allowed
@@ -354,7 +353,7 @@ impl<C> Tree<C> {
                 writes,
             }));
         } else if waits.reason.is_none() {
-            self.out.waits.reason = Some((self.awake_for(writes), NodeId::ROOT));
+            self.out.reason = Some((self.awake_for(writes), NodeId::ROOT));
         }
     }
 
@@ -371,12 +370,12 @@ impl<C> Tree<C> {
         }
     }
 
-    /// After the action the tree rests in answered Running again without a pass: the tree
-    /// falls asleep if the action declared a wait.
-    pub(crate) fn rest_asleep(&mut self, leaf: NodeId, writes: u64) {
+    /// After the action the tree rests in answered Running again without a pass, waiting
+    /// on `waits`: the tree falls asleep if the action declared a wait.
+    pub(crate) fn rest_asleep(&mut self, leaf: NodeId, writes: u64, waits: &Waits) {
         let _ = leaf;
-        if self.out.waits.declared {
-            self.fall_asleep(writes);
+        if waits.declared {
+            self.fall_asleep(writes, waits);
         }
     }
 }

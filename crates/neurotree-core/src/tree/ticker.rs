@@ -17,6 +17,8 @@ use crate::nodes::{control, decorator, leaf};
 use crate::observer::{Observer, StatusChange};
 use crate::{Clock, NodeId, NodeStatus, Status, TickError};
 
+use super::sleep::Waits;
+
 pub(crate) use super::contain::contain;
 #[cfg(feature = "std")]
 pub(crate) use super::contain::panic_message;
@@ -42,6 +44,9 @@ pub(crate) struct Ticker<'t, C> {
     pub(crate) waker: Option<&'t core::task::Waker>,
     /// The pass's error and the tick's record of reasons, kept in the tree.
     pub(crate) out: &'t mut Outcome,
+    /// What the nodes ticked in this pass wait on (see [`sleep`](super::sleep)): the
+    /// pass's alone, so that a tree does not carry it between passes.
+    pub(crate) waits: Waits,
     /// The observer is the engine's stand-in, attached when a reason was given so that the
     /// rest of the tick notes every Failure (see [`failure`](super::failure)).
     pub(crate) watching: bool,
@@ -192,7 +197,7 @@ impl<'t, C> Ticker<'t, C> {
         if let (NodeKind::ConditionFn(f), None) = (&def.kind, self.bp.hooks(id)) {
             self.current = id;
             self.note_tick(id);
-            self.out.waits.opaque(id);
+            self.waits.opaque(id);
             let status = if f(self.ctx) {
                 NodeStatus::Success
             } else {
@@ -297,7 +302,7 @@ impl<'t, C> Ticker<'t, C> {
         if !hooks.reads_only_blackboard() {
             // Checked again next tick (by a reactive parent, or `_while` while Running), it
             // could answer otherwise with no write to wake the tree.
-            self.out.waits.opaque(id);
+            self.waits.opaque(id);
             if status == NodeStatus::Running {
                 self.stay_awake(crate::AwakeReason::ReactiveCondition, id);
             }
@@ -330,7 +335,7 @@ impl<'t, C> Ticker<'t, C> {
     pub(crate) fn check(&mut self, child: &Child, closure: bool, tracked: bool) -> bool {
         let (answer, panic) = if closure {
             // A closure of the context: it may read anything.
-            self.out.waits.opaque(child.id);
+            self.waits.opaque(child.id);
             let mut args = Args::new(&raw const *self.ctx);
             // SAFETY: a closure condition of this blueprint's `C`, with the context; the
             // answer asked about once.
@@ -346,7 +351,7 @@ impl<'t, C> Ticker<'t, C> {
                 (answer, args.panicked(answer))
             };
             if tracked && self.out.reads.take_opaque() {
-                self.out.waits.opaque(child.id);
+                self.waits.opaque(child.id);
             }
             answered
         };
@@ -489,6 +494,7 @@ impl<'t, C> Ticker<'t, C> {
             node: id,
             bp: self.bp,
             out: &mut *self.out,
+            waits: &mut self.waits,
         }
     }
 
@@ -573,7 +579,7 @@ macro_rules! dispatch {
                 match &def.kind {
                     NodeKind::ConditionFn(f) => {
                         // A closure of the context: it may read anything.
-                        self.out.waits.opaque(id);
+                        self.waits.opaque(id);
                         Status::from(f(self.ctx)).into()
                     }
                     $(NodeKind::$name(node) => node.tick(self, id, def),)*
@@ -595,7 +601,7 @@ macro_rules! dispatch {
                         s.into()
                     }
                     NodeKind::ActionFn(f) => {
-                        self.out.waits.opaque(id);
+                        self.waits.opaque(id);
                         let s = f(self.ctx);
                         self.sync_result(id, s, "Action")
                     }
@@ -614,22 +620,22 @@ macro_rules! dispatch {
                                 return answer;
                             }
                         }
-                        self.out.waits.declared = false;
+                        self.waits.declared = false;
                         self.out.reads.declare(false);
                         let s = self.tick_stateful(id);
                         if self.out.reads.event() {
-                            self.out.waits.on_event();
+                            self.waits.on_event();
                         }
                         self.watch_if_noted();
                         if s == NodeStatus::Running {
                             self.rested = Some(id);
-                            if !self.out.waits.declared {
+                            if !self.waits.declared {
                                 self.stay_awake(crate::AwakeReason::UndeclaredLeaf, id);
                             }
                         } else {
                             // Completed, it answered from its context: re-checked, it
                             // could answer otherwise.
-                            self.out.waits.opaque(id);
+                            self.waits.opaque(id);
                         }
                         s
                     }
@@ -640,7 +646,7 @@ macro_rules! dispatch {
                         if s == NodeStatus::Running {
                             self.stay_awake(crate::AwakeReason::AsyncLeaf, id);
                         } else {
-                            self.out.waits.opaque(id);
+                            self.waits.opaque(id);
                         }
                         s
                     }

@@ -8,7 +8,7 @@ impl<C> Ticker<'_, C> {
     /// on the clock): the time-based built-ins call it while they wait.
     #[inline]
     pub(crate) fn wake_at(&mut self, at: u64) {
-        let waits = &mut self.out.waits;
+        let waits = &mut self.waits;
         waits.deadline = waits.deadline.min(at);
         waits.any = true;
     }
@@ -18,7 +18,7 @@ impl<C> Ticker<'_, C> {
     /// children every tick (the reactive controls).
     #[inline]
     pub(crate) fn stay_awake(&mut self, reason: crate::AwakeReason, node: NodeId) {
-        self.out.waits.keep_awake(reason, node);
+        self.waits.keep_awake(reason, node);
     }
 
     /// After a sync leaf's call: unless its kind reads only the blackboard or it declared
@@ -26,7 +26,7 @@ impl<C> Ticker<'_, C> {
     #[inline(always)]
     pub(super) fn note_reads(&mut self, id: NodeId) {
         if !self.out.reads.known() {
-            self.out.waits.opaque(id);
+            self.waits.opaque(id);
         }
     }
 
@@ -35,6 +35,6 @@ impl<C> Ticker<'_, C> {
     /// keeps the tree awake.
     #[inline]
     pub(crate) fn answers_otherwise_next(&mut self, id: NodeId) {
-        self.out.waits.opaque(id);
+        self.waits.opaque(id);
     }
 }

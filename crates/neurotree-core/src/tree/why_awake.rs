@@ -158,11 +158,10 @@ impl<C> Tree<C> {
         if self.keeps_awake_observer() {
             return Some((AwakeReason::Observed, NodeId::ROOT));
         }
-        let waits = &self.out.waits;
-        if let Some(reason) = waits.reason {
+        if let Some(reason) = self.out.reason {
             return Some(reason);
         }
-        if let Some(leaf) = self.resting.filter(|_| !waits.declared) {
+        if let Some(leaf) = self.resting.filter(|_| !self.out.declared) {
             return Some((AwakeReason::UndeclaredLeaf, leaf));
         }
         Some((AwakeReason::AnotherPass, NodeId::ROOT))

@@ -154,7 +154,7 @@ fn guard<C, const SEQUENCE: bool, const CLOSURES: bool>(
     debug_assert!(!calls.is_empty());
     let decided = if CLOSURES {
         // Closures of the context: they may read anything.
-        t.out.waits.opaque(id);
+        t.waits.opaque(id);
         let mut args = Args::new(&raw const *t.ctx);
         // SAFETY: a guard of closures' children are closure conditions of `C`
         // (`Child::new`), called with the context, which nothing else borrows meanwhile;
@@ -168,7 +168,7 @@ fn guard<C, const SEQUENCE: bool, const CLOSURES: bool>(
         let decided = unsafe { calls::until::<_, SEQUENCE>(calls, &mut args) }
             .map(|(call, answer)| (call.id, unsafe { args.panicked(answer) }));
         if tracked && t.out.reads.take_opaque() {
-            t.out.waits.opaque(id);
+            t.waits.opaque(id);
         }
         decided
     };

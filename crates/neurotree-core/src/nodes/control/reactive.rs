@@ -88,7 +88,7 @@ pub(crate) fn tick<C>(
         let child = hot_child.id;
         // Whether a child ticked before this one may read more than the blackboard: if
         // this one runs, they are re-checked next tick.
-        let rechecks_opaque = t.out.waits.opaque;
+        let rechecks_opaque = t.waits.opaque;
         let status = t.tick_child::<true>(hot_child);
         all_skipped &= status == NodeStatus::Skipped;
         if status == NodeStatus::Running {
@@ -100,7 +100,7 @@ pub(crate) fn tick<C>(
                 }
             });
             if rechecks_opaque {
-                let node = t.out.waits.opaque_node;
+                let node = t.waits.opaque_node;
                 t.stay_awake(crate::AwakeReason::ReactiveCondition, node);
             }
             let running = index as u64 + 1;
@@ -156,12 +156,12 @@ pub(crate) fn rechecking<C>(
     t: &mut Ticker<'_, C>,
     tick: impl FnOnce(&mut Ticker<'_, C>) -> NodeStatus,
 ) -> NodeStatus {
-    let outer = (t.out.waits.opaque, t.out.waits.opaque_node);
-    t.out.waits.opaque = false;
+    let outer = (t.waits.opaque, t.waits.opaque_node);
+    t.waits.opaque = false;
     let status = tick(t);
     if outer.0 {
-        t.out.waits.opaque = true;
-        t.out.waits.opaque_node = outer.1;
+        t.waits.opaque = true;
+        t.waits.opaque_node = outer.1;
     }
     status
 }

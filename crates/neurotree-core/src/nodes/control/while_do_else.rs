@@ -100,8 +100,8 @@ impl Tick for WhileDoElse {
         // cost every tick).
         super::reactive::rechecking(t, |t| {
             let status = tick(t, id, def);
-            if status == NodeStatus::Running && t.out.waits.opaque {
-                let node = t.out.waits.opaque_node;
+            if status == NodeStatus::Running && t.waits.opaque {
+                let node = t.waits.opaque_node;
                 t.stay_awake(crate::AwakeReason::ReactiveCondition, node);
             }
             status

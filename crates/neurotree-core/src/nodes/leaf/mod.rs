@@ -49,6 +49,8 @@ pub struct Handle<'a, C> {
     pub(crate) bp: &'a crate::Blueprint<C>,
     /// The pass's error and the tick's record of reasons.
     pub(crate) out: &'a mut crate::tree::failure::Outcome,
+    /// What the nodes ticked in the pass wait on.
+    pub(crate) waits: &'a mut crate::tree::sleep::Waits,
 }
 
 impl<'a, C> Handle<'a, C> {
@@ -90,7 +92,7 @@ impl<'a, C> Handle<'a, C> {
     /// assert_eq!(asked, 2); // at the start, and when the two seconds were up
     /// ```
     pub fn sleep_until(&mut self, at: Duration) {
-        self.out.waits.until(at);
+        self.waits.until(at);
     }
 
     /// Says, when returning Running, that nothing changes for this action until the
