@@ -367,10 +367,10 @@ mod tests {
     }
 
     #[test]
-    fn a_crowd_member_takes_at_most_480_bytes() {
+    fn a_crowd_member_takes_at_most_472_bytes() {
         let crowd = agent_crowd(4, 1, ManualClock::new());
         let bytes = crowd_bytes_per_member(&crowd);
-        assert!(bytes <= 480, "{bytes} bytes per member");
+        assert!(bytes <= 472, "{bytes} bytes per member");
         // The node state is counted: at least a status byte and a failure bit per node,
         // and a slot per control.
         let state = crowd.iter().next().unwrap().tree().state_bytes();

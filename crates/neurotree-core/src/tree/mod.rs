@@ -294,6 +294,7 @@ impl<C> Tree<C> {
             waker,
             out: &mut self.out,
             waits: sleep::Waits::new(),
+            halter: slow_halt::Halter::TREE,
             current: NodeId::ROOT,
             reject_multiple_running: self.reject_multiple_running,
             rested: None,

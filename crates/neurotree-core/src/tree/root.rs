@@ -32,7 +32,7 @@ pub(super) fn recover<C>(t: &mut ticker::Ticker<'_, C>, panicked: TickError) -> 
     #[cfg(feature = "std")]
     t.replace_vacant_objects();
     // The halt below waits for the tree, whatever was halting when the panic came.
-    t.out.halts.set_halter(None);
+    t.halter.set_halter(None);
     t.halt_node(NodeId::ROOT);
     for id in t.bp.ids() {
         t.halt_node(id);

@@ -85,12 +85,17 @@ use crate::{NodeId, NodeStatus};
 
 use super::ticker::{contain, Object, Ticker};
 
-/// The tree's count of halting actions, and on whose behalf the engine halts now: one
-/// pointer for the ticker to carry, so that a pass pays one store for the feature.
+/// The tree's count of halting actions, kept between ticks.
+#[derive(Default)]
 pub(crate) struct Halts {
     /// How many halts are in progress: halting actions, and TryCatch nodes whose catch
     /// waits.
     pub(crate) count: u32,
+}
+
+/// On whose behalf the engine halts now: the ticker's alone, since it is the tree's at
+/// the start of every pass and of every halt, so that a tree does not carry it.
+pub(crate) struct Halter {
     /// The node on whose behalf the engine halts now (the tree, but within
     /// [`Ticker::halting_for`]).
     halter: Owner,
@@ -98,17 +103,13 @@ pub(crate) struct Halts {
     pub(crate) left: bool,
 }
 
-impl Default for Halts {
-    fn default() -> Self {
-        Self {
-            count: 0,
-            halter: Owner::of(None),
-            left: false,
-        }
-    }
-}
+impl Halter {
+    /// Halts on behalf of the tree.
+    pub(crate) const TREE: Self = Self {
+        halter: Owner(Owner::TREE),
+        left: false,
+    };
 
-impl Halts {
     /// The node on whose behalf the engine halts now (`None`: the tree).
     #[inline]
     pub(crate) fn halter(&self) -> Option<NodeId> {
@@ -157,7 +158,7 @@ impl<'t, C> Ticker<'t, C> {
     /// Asks the Running stateful action `id` to halt; one that answers Halting now waits
     /// for the node on whose behalf the engine halts (see [`halting_for`](Self::halting_for)).
     pub(crate) fn request_halt(&mut self, id: NodeId) {
-        let halter = self.out.halts.halter();
+        let halter = self.halter.halter();
         let (Some(object), mut h) = self.split(id) else {
             return;
         };
@@ -180,19 +181,19 @@ impl<'t, C> Ticker<'t, C> {
     #[inline]
     pub(crate) fn started_halting(&mut self) {
         self.out.halts.count += 1;
-        self.out.halts.left = true;
+        self.halter.left = true;
     }
 
     /// Runs `halt` on behalf of node `owner`: the actions it leaves halting wait for
     /// `owner`. Returns `true` if any did.
     #[inline]
     pub(crate) fn halting_for(&mut self, owner: NodeId, halt: impl FnOnce(&mut Self)) -> bool {
-        let outer_halter = self.out.halts.set_halter(Some(owner));
-        let outer_left = mem::replace(&mut self.out.halts.left, false);
+        let outer_halter = self.halter.set_halter(Some(owner));
+        let outer_left = mem::replace(&mut self.halter.left, false);
         halt(self);
-        let left = self.out.halts.left;
-        self.out.halts.set_halter(outer_halter);
-        self.out.halts.left = outer_left;
+        let left = self.halter.left;
+        self.halter.set_halter(outer_halter);
+        self.halter.left = outer_left;
         left
     }
 
@@ -200,7 +201,7 @@ impl<'t, C> Ticker<'t, C> {
     #[cold]
     #[inline(never)]
     pub(crate) fn pass_on_halts_of(&mut self, id: NodeId) {
-        let halter = self.out.halts.halter();
+        let halter = self.halter.halter();
         let mut passed = false;
         for object in self.objects.iter_mut() {
             if let Some(owner) = object.halt_owner() {
@@ -220,7 +221,7 @@ impl<'t, C> Ticker<'t, C> {
                 }
             }
         }
-        self.out.halts.left |= passed;
+        self.halter.left |= passed;
     }
 
     /// If halts wait for node `id`, continues them: `true` while any is left, and the node
@@ -349,8 +350,8 @@ impl<'t, C> Ticker<'t, C> {
             }
             self.aux[slot] = 0;
             self.out.halts.count -= 1;
-            let outer_halter = self.out.halts.set_halter(owner);
-            let outer_left = mem::replace(&mut self.out.halts.left, false);
+            let outer_halter = self.halter.set_halter(owner);
+            let outer_left = mem::replace(&mut self.halter.left, false);
             let catch = self.child(def, def.child_count - 1);
             contain(self, tc, |t| {
                 t.tick(catch);
@@ -365,9 +366,9 @@ impl<'t, C> Ticker<'t, C> {
                     self.halt_node(id);
                 }
             }
-            left |= self.out.halts.left;
-            self.out.halts.set_halter(outer_halter);
-            self.out.halts.left = outer_left;
+            left |= self.halter.left;
+            self.halter.set_halter(outer_halter);
+            self.halter.left = outer_left;
         }
         left
     }

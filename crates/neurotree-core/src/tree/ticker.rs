@@ -47,6 +47,8 @@ pub(crate) struct Ticker<'t, C> {
     /// What the nodes ticked in this pass wait on (see [`sleep`](super::sleep)): the
     /// pass's alone, so that a tree does not carry it between passes.
     pub(crate) waits: Waits,
+    /// On whose behalf the engine halts now (see [`slow_halt`](super::slow_halt)).
+    pub(crate) halter: super::slow_halt::Halter,
     /// The observer is the engine's stand-in, attached when a reason was given so that the
     /// rest of the tick notes every Failure (see [`failure`](super::failure)).
     pub(crate) watching: bool,

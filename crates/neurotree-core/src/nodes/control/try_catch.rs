@@ -159,7 +159,7 @@ pub(crate) fn halt<C>(t: &mut Ticker<'_, C>, id: NodeId, def: &NodeDef<C>, catch
         if t.out.halts.count != 0 && t.halting_below(id) {
             // The catch conflicts with the try block: it runs once the try block has
             // stopped, as the end of this halt (see `slow_halt`).
-            t.aux[slot] = pending(t.out.halts.halter());
+            t.aux[slot] = pending(t.halter.halter());
             t.started_halting();
             t.reset_children(id);
             return;

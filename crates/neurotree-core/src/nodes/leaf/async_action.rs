@@ -207,7 +207,7 @@ pub(crate) fn halt<C>(t: &mut Ticker<'_, C>, id: NodeId, action: &dyn AsyncActio
     if t.status(id) != NodeStatus::Running {
         return;
     }
-    let halter = t.out.halts.halter();
+    let halter = t.halter.halter();
     let waker = t.waker;
     let (Some(object), mut h) = t.split(id) else {
         return;
