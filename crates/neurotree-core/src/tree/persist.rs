@@ -55,7 +55,16 @@ impl<C> Tree<C> {
         }
         let mut saved = SavedTree::new(bp.structure_hash(), duration_to_nanos(self.clock.now()));
         saved.statuses = self.state.statuses().iter().map(|s| *s as u8).collect();
-        saved.aux = self.state.aux().to_vec();
+        // One `u64` per node that keeps state, as when slots were 64 bits.
+        let aux = self.state.aux();
+        for id in bp.ids() {
+            let def = bp.def(id);
+            let slots = def.kind.aux_slots(def.child_count) as usize;
+            if slots > 0 {
+                let value = read_slots(&aux[bp.slot(id)..][..slots]);
+                saved.aux.push(def.kind.saved_aux(value, def.child_count));
+            }
+        }
         for id in bp.ids() {
             if !bp.kind(id).has_object() {
                 continue;
@@ -65,7 +74,7 @@ impl<C> Tree<C> {
                 path: bp.path(id),
                 kind,
             };
-            let object = match &self.objects[bp.slot(id)] {
+            let object = match &self.state.objects()[bp.slot(id)] {
                 Object::Stateful(action) => {
                     action.save_state().ok_or(unsaveable("stateful action"))?
                 }
@@ -150,10 +159,10 @@ impl<C> Tree<C> {
         if saved.statuses.len() != self.state.statuses().len() {
             return Err(corrupt("its node statuses"));
         }
-        if saved.aux.len() != self.state.aux().len() {
+        if saved.aux.len() != bp.ids().filter(|id| bp.aux_slots_of(*id) > 0).count() {
             return Err(corrupt("its state slots"));
         }
-        if saved.objects.len() != self.objects.len() {
+        if saved.objects.len() != self.state.objects().len() {
             return Err(corrupt("its objects"));
         }
         let mut statuses = Vec::with_capacity(saved.statuses.len());
@@ -162,14 +171,23 @@ impl<C> Tree<C> {
         }
         let last_root = status_of(saved.last_root).ok_or_else(|| corrupt("its root status"))?;
         let now = duration_to_nanos(self.clock.now());
-        let mut aux = saved.aux.clone();
-        let mut objects = Vec::with_capacity(self.objects.len());
+        let mut aux = alloc::vec![0; self.state.aux().len()];
+        let mut saved_aux = saved.aux.iter();
+        let mut objects = Vec::with_capacity(self.state.objects().len());
         let mut saved_objects = saved.objects.into_iter();
         for id in bp.ids() {
             let kind = bp.kind(id);
-            if kind.aux_slots() > 0 {
-                let slot = bp.slot(id);
-                aux[slot] = kind.shift_aux(aux[slot], saved.clock_nanos, now);
+            let children = bp.def(id).child_count;
+            let slots = kind.aux_slots(children) as usize;
+            if slots > 0 {
+                let value = saved_aux
+                    .next()
+                    .and_then(|saved| kind.restored_aux(*saved, children))
+                    .map(|value| kind.shift_aux(value, saved.clock_nanos, now));
+                let Some(()) = value.and_then(|v| write_slots(&mut aux[bp.slot(id)..][..slots], v))
+                else {
+                    return Err(corrupt("its state slots"));
+                };
             }
             if !kind.has_object() {
                 continue;
@@ -237,12 +255,34 @@ impl<C> Tree<C> {
         let state = self.state.parts();
         state.statuses.copy_from_slice(&statuses);
         state.aux.copy_from_slice(&aux);
-        self.objects = objects.into_boxed_slice();
+        for (object, restored) in state.objects.iter_mut().zip(objects) {
+            *object = restored;
+        }
         self.last_root = last_root;
         self.resting = None;
         self.forget_notes();
         Ok(())
     }
+}
+
+/// A node's state slots read as one value: one slot, or two, low first.
+fn read_slots(slots: &[u32]) -> u64 {
+    match slots {
+        [low, high] => u64::from(*low) | (u64::from(*high) << 32),
+        _ => slots.first().copied().map_or(0, u64::from),
+    }
+}
+
+/// The inverse of [`read_slots`]; `None` if one slot cannot hold the value.
+fn write_slots(slots: &mut [u32], value: u64) -> Option<()> {
+    match slots {
+        [low, high] => {
+            (*low, *high) = (value as u32, (value >> 32) as u32);
+        }
+        [one] => *one = u32::try_from(value).ok()?,
+        _ => {}
+    }
+    Some(())
 }
 
 /// The status a saved byte stands for.

@@ -75,7 +75,7 @@ impl<C> Tree<C> {
         ctx: &mut C,
     ) -> Option<Result<NodeStatus, TickError>> {
         let bp = &*self.blueprint;
-        let Some(Object::Stateful(action)) = self.objects.get_mut(bp.slot(leaf)) else {
+        let Some(Object::Stateful(action)) = self.state.objects_mut().get_mut(bp.slot(leaf)) else {
             return None;
         };
         self.out.waits.declared = false;

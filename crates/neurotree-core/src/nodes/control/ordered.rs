@@ -53,7 +53,7 @@ fn run<C, const SEQUENCE: bool, const FLAVOR: Flavor, const OBSERVED: bool>(
     let hot = bp.hot_children_of(def);
     let slot = t.bp.slot(id);
     let n = children.len() as u32;
-    let (mut cursor, mut skipped) = unpack(t.aux[slot]);
+    let (mut cursor, mut skipped) = unpack(t.aux, slot, children.len());
     if !t.status(id).is_active() {
         skipped = 0;
     }
@@ -71,11 +71,11 @@ fn run<C, const SEQUENCE: bool, const FLAVOR: Flavor, const OBSERVED: bool>(
             cursor += 1;
             if FLAVOR != PLAIN && prev == NodeStatus::Idle && cursor < n {
                 t.wake = Some(id);
-                t.aux[slot] = pack(cursor, skipped);
+                pack(t.aux, slot, children.len(), cursor, skipped);
                 return NodeStatus::Running;
             }
         } else if status == NodeStatus::Running {
-            t.aux[slot] = pack(cursor, skipped);
+            pack(t.aux, slot, children.len(), cursor, skipped);
             return NodeStatus::Running;
         } else if status == NodeStatus::Skipped {
             cursor += 1;
@@ -89,7 +89,7 @@ fn run<C, const SEQUENCE: bool, const FLAVOR: Flavor, const OBSERVED: bool>(
                 t.reset_completed(&children[..=cursor as usize]);
                 cursor = 0;
             }
-            t.aux[slot] = pack(cursor, skipped);
+            pack(t.aux, slot, children.len(), cursor, skipped);
             if FLAVOR != PLAIN {
                 // Ticked again, it would yield between its children.
                 t.answers_otherwise_next(id);
@@ -102,7 +102,7 @@ fn run<C, const SEQUENCE: bool, const FLAVOR: Flavor, const OBSERVED: bool>(
     }
     let all_skipped = skipped == n;
     t.reset_completed(children);
-    t.aux[slot] = 0;
+    pack(t.aux, slot, children.len(), 0, 0);
     if all_skipped {
         NodeStatus::Skipped
     } else {
@@ -216,7 +216,7 @@ fn run_quiet<C, const SEQUENCE: bool>(
     let children = bp.children_of(def);
     let hot = bp.hot_children_of(def);
     let slot = bp.slot(id);
-    let (start, mut skipped) = unpack(t.aux[slot]);
+    let (start, mut skipped) = unpack(t.aux, slot, children.len());
     if !t.status(id).is_active() {
         skipped = 0;
     }
@@ -284,7 +284,7 @@ fn run_quiet<C, const SEQUENCE: bool>(
                 }
             }
             t.reset_completed(&children[..ticked]);
-            t.aux[slot] = 0;
+            pack(t.aux, slot, children.len(), 0, 0);
             if skipped as usize == hot.len() {
                 NodeStatus::Skipped
             } else {
@@ -304,13 +304,13 @@ fn run_quiet<C, const SEQUENCE: bool>(
                     }
                 }
             }
-            t.aux[slot] = pack(cursor as u32, skipped);
+            pack(t.aux, slot, children.len(), cursor as u32, skipped);
             NodeStatus::Running
         }
         Some(stop) => {
             // Children past the one that stopped the node are Idle already.
             t.reset_completed(&children[..ticked]);
-            t.aux[slot] = pack(0, skipped);
+            pack(t.aux, slot, children.len(), 0, skipped);
             stop
         }
     }
