@@ -1,8 +1,9 @@
 //! An instance of a blueprint: the per-run state, and the ways to tick it.
 //!
 //! A [`Tree`] holds only what changes while ticking: one status byte per node, a 32-bit slot
-//! for each node whose kind keeps a cursor, a counter or a flag (two for a time), the
-//! stateful leaves' objects, and its blackboard. The structure stays in the shared [`Blueprint`].
+//! for each node whose kind keeps a cursor, a counter or a flag (two for a moment), the
+//! stateful leaves' objects (all of it in one block behind one pointer), and its blackboard.
+//! The structure stays in the shared [`Blueprint`].
 //!
 //! Two ways to tick, as in BehaviorTree.CPP:
 //! - [`Tree::tick_exactly_once`]: one pass of the root;

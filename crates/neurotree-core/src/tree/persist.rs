@@ -296,3 +296,55 @@ fn status_of(byte: u8) -> Option<NodeStatus> {
         _ => return None,
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use crate::clock::moment;
+    use crate::state::SavedTree;
+    use crate::testing::*;
+
+    #[test]
+    fn a_saved_state_keeps_a_u64_per_node_as_when_slots_were_64_bits() {
+        let (mut tree, clock) = build(|b| {
+            b.sequence("s", |s| {
+                s.run_once("once", true, |o| o.always_success("a"))
+                    .sleep("nap", ms(1000))
+            })
+        });
+        assert_eq!(tick(&mut tree), Ok(R));
+        clock.advance(ms(1000));
+        assert_eq!(tick(&mut tree), Ok(S));
+        // The run-once child is skipped now, and the nap begins at 1 s.
+        assert_eq!(tick(&mut tree), Ok(R));
+        let bytes = tree.save_state().unwrap();
+        let saved = SavedTree::read(&bytes).unwrap();
+        // The Sequence: cursor 1 and one child skipped; the RunOnce: its child succeeded;
+        // the Sleep: the moment it began, in its two slots.
+        assert_eq!(saved.aux, [1 | (1 << 32), 1, moment::at(1_000_000_000)]);
+        assert_eq!(tree.state.aux().len(), 1 + 1 + 2);
+
+        let mut resumed = Tree::with_clock(Arc::clone(tree.blueprint()), clock.clone());
+        resumed.restore_state(&bytes).unwrap();
+        assert_eq!(resumed.state.aux(), tree.state.aux());
+        assert_eq!(resumed.statuses(), tree.statuses());
+        clock.advance(ms(999));
+        assert_eq!(tick(&mut resumed), Ok(R));
+        clock.advance(ms(1));
+        assert_eq!(tick(&mut resumed), Ok(S));
+    }
+
+    #[test]
+    fn a_saved_value_one_slot_cannot_hold_is_refused() {
+        let (mut tree, _) = build(|b| b.repeat("r", 3, |r| r.sleep("nap", ms(10))));
+        assert_eq!(tick(&mut tree), Ok(R));
+        let mut saved = SavedTree::read(&tree.save_state().unwrap()).unwrap();
+        saved.aux[0] = 1 << 32;
+        let damaged = crate::state::encode(&saved);
+        let before = tree.state.aux().to_vec();
+        assert!(matches!(
+            tree.restore_state(&damaged),
+            Err(crate::state::RestoreError::Corrupt(_))
+        ));
+        assert_eq!(tree.state.aux(), &before[..]);
+    }
+}

@@ -301,9 +301,6 @@ impl<C> NodeState<C> {
             )
         }
     }
-}
-
-impl<C> NodeState<C> {
     /// The per-instance objects, to change.
     #[inline]
     pub(crate) fn objects_mut(&mut self) -> &mut [Object<C>] {
@@ -350,6 +347,20 @@ pub(crate) fn get64(aux: &[u32], slot: usize) -> u64 {
 pub(crate) fn set64(aux: &mut [u32], slot: usize, value: u64) {
     aux[slot] = value as u32;
     aux[slot + 1] = (value >> 32) as u32;
+}
+
+impl<C> super::Ticker<'_, C> {
+    /// The 64-bit value a node keeps in the two state slots from `slot`.
+    #[inline(always)]
+    pub(crate) fn aux64(&self, slot: usize) -> u64 {
+        get64(self.aux, slot)
+    }
+
+    /// Writes the 64-bit value a node keeps in the two state slots from `slot`.
+    #[inline(always)]
+    pub(crate) fn set_aux64(&mut self, slot: usize, value: u64) {
+        set64(self.aux, slot, value);
+    }
 }
 
 #[cfg(test)]

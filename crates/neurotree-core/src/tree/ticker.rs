@@ -503,18 +503,6 @@ impl<'t, C> Ticker<'t, C> {
         self.reset_children(id);
     }
 
-    /// The 64-bit value a node keeps in the two state slots from `slot`.
-    #[inline(always)]
-    pub(crate) fn aux64(&self, slot: usize) -> u64 {
-        super::state::get64(self.aux, slot)
-    }
-
-    /// Writes the 64-bit value a node keeps in the two state slots from `slot`.
-    #[inline(always)]
-    pub(crate) fn set_aux64(&mut self, slot: usize, value: u64) {
-        super::state::set64(self.aux, slot, value);
-    }
-
     /// BehaviorTree.CPP's `haltChild`: halt if Running, then reset to Idle.
     #[inline]
     pub(crate) fn halt_child(&mut self, child: NodeId) {

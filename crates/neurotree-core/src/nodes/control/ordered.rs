@@ -336,6 +336,57 @@ mod tests {
     }
 
     #[test]
+    fn a_node_of_more_children_than_a_narrow_slot_counts_resumes_at_its_cursor() {
+        use crate::nodes::control::{ordered_slots, NARROW_CHILDREN};
+        // Past 65,534 children the cursor takes a slot of its own: the Sequence resumes at
+        // child 69,999, not at that index cut to 16 bits (4,463).
+        let n = 70_000;
+        assert_eq!(ordered_slots(n as u32), 2);
+        assert_eq!(ordered_slots(NARROW_CHILDREN), 1);
+        let mut lab = Lab::new(&[]);
+        lab.scripts = vec![vec![S]; n];
+        lab.scripts[n - 1] = vec![R, S];
+        lab.ticks = vec![0; n];
+        lab.halts = vec![0; n];
+        lab.logs = vec![Vec::new(); n];
+        let mut tree = lab.tree(|b| b.sequence("s", |s| (0..n).fold(s, |s, i| s.scripted(i))));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Running));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Success));
+        assert!(lab.ticks[..n - 1].iter().all(|t| *t == 1));
+        assert_eq!(lab.ticks[n - 1], 2);
+    }
+
+    #[test]
+    fn a_narrow_slot_keeps_a_cursor_and_a_count_and_saves_them_as_before() {
+        use crate::nodes::control::{pack, restored_ordered, saved_ordered, unpack};
+        let mut aux = [0u32; 3];
+        pack(&mut aux, 1, 65_534, 65_534, 17);
+        assert_eq!(aux, [0, 65_534 | (17 << 16), 0]);
+        assert_eq!(unpack(&aux, 1, 65_534), (65_534, 17));
+        // A count past the children (which it is only compared with) stays past them.
+        pack(&mut aux, 1, 9, 0, 70_000);
+        assert_eq!(unpack(&aux, 1, 9), (0, 0xFFFF));
+        // Wide: two slots.
+        pack(&mut aux, 1, 70_000, 69_999, 70_000);
+        assert_eq!(aux, [0, 69_999, 70_000]);
+        assert_eq!(unpack(&aux, 1, 70_000), (69_999, 70_000));
+        // Saved as a cursor and a count of 32 bits each, both ways, and a cursor past the
+        // children is no state of the node.
+        let value: u64 = 3 | (2 << 16);
+        assert_eq!(saved_ordered(value, 5), 3 | (2 << 32));
+        assert_eq!(restored_ordered(3 | (2 << 32), 5), Some(value));
+        assert_eq!(restored_ordered(6, 5), None);
+        assert_eq!(
+            saved_ordered(69_999 | (7 << 32), 70_000),
+            69_999 | (7 << 32)
+        );
+        assert_eq!(
+            restored_ordered(69_999 | (7 << 32), 70_000),
+            Some(69_999 | (7 << 32))
+        );
+    }
+
+    #[test]
     fn conditions_before_a_running_child_keep_their_success_until_completion() {
         // A closure condition and a condition object move the Sequence on, the scripted
         // child runs: the two conditions hold Success between the ticks, not Idle.
