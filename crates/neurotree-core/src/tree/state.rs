@@ -501,6 +501,16 @@ mod tests {
     }
 
     #[test]
+    fn the_state_and_its_tree_go_to_other_threads_as_their_objects_do() {
+        // Both `Send`, as the objects are; neither `Sync`, as they are not (a stateful
+        // leaf need not be).
+        fn send<T: Send>() {}
+        send::<Object<()>>();
+        send::<NodeState<()>>();
+        send::<crate::Tree<()>>();
+    }
+
+    #[test]
     fn a_wide_value_takes_two_slots_and_keeps_all_its_bits() {
         let mut state = NodeState::<()>::new(3, 5, Vec::new());
         let aux = state.parts().aux;
