@@ -5,6 +5,7 @@ use alloc::string::String;
 use alloc::vec::Vec;
 use core::time::Duration;
 
+use super::state::{get64, set64};
 use super::ticker::Object;
 use super::Tree;
 use crate::clock::duration_to_nanos;
@@ -265,21 +266,19 @@ impl<C> Tree<C> {
     }
 }
 
-/// A node's state slots read as one value: one slot, or two, low first.
+/// A node's state slots read as one value: one slot, or two (see [`get64`]).
 fn read_slots(slots: &[u32]) -> u64 {
-    match slots {
-        [low, high] => u64::from(*low) | (u64::from(*high) << 32),
+    match slots.len() {
+        2 => get64(slots, 0),
         _ => slots.first().copied().map_or(0, u64::from),
     }
 }
 
 /// The inverse of [`read_slots`]; `None` if one slot cannot hold the value.
 fn write_slots(slots: &mut [u32], value: u64) -> Option<()> {
-    match slots {
-        [low, high] => {
-            (*low, *high) = (value as u32, (value >> 32) as u32);
-        }
-        [one] => *one = u32::try_from(value).ok()?,
+    match slots.len() {
+        2 => set64(slots, 0, value),
+        1 => slots[0] = u32::try_from(value).ok()?,
         _ => {}
     }
     Some(())
