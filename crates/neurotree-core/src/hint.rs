@@ -27,8 +27,17 @@ fn line(address: *const u8) {
 /// Asks the processor to load `value`'s bytes (its first 512 at most) into its caches.
 #[inline(always)]
 pub fn prefetch<T: ?Sized>(value: &T) {
-    let start = (value as *const T).cast::<u8>();
-    let bytes = core::mem::size_of_val(value).min(LINE * MOST_LINES);
+    prefetch_bytes(
+        (value as *const T).cast::<u8>(),
+        core::mem::size_of_val(value),
+    );
+}
+
+/// Asks the processor to load the `bytes` bytes from `start` (the first 512 at most) into
+/// its caches: for memory no single value spans, such as a tree's node state.
+#[inline(always)]
+pub(crate) fn prefetch_bytes(start: *const u8, bytes: usize) {
+    let bytes = bytes.min(LINE * MOST_LINES);
     let mut offset = 0;
     while offset < bytes {
         line(start.wrapping_add(offset));

@@ -18,3 +18,4 @@ mod reload;
 mod resume;
 mod sleeping;
 mod slow_halt;
+mod wide_slots;

@@ -335,11 +335,31 @@ macro_rules! node_kinds {
                 }
             }
 
-            /// Per-instance state slots (`u64`) the kind needs: a cursor, a counter or a time.
-            pub(crate) fn aux_slots(&self) -> u32 {
+            /// Per-instance 32-bit state slots a node of this kind with `children` children
+            /// takes: one for a cursor, a counter or a flag, two for a 64-bit value (see
+            /// [`Tick::aux_slots`]).
+            pub(crate) fn aux_slots(&self, children: u32) -> u32 {
                 match self {
-                    $(NodeKind::$name(_) => <crate::nodes::$($module::)+$name as Tick>::AUX_SLOTS,)*
+                    $(NodeKind::$name(_) => <crate::nodes::$($module::)+$name as Tick>::aux_slots(children),)*
                     doors!() => 0,
+                }
+            }
+
+            /// A node's state, its slots read as one value, as a saved state stores it (see
+            /// [`Tick::saved_aux`]).
+            pub(crate) fn saved_aux(&self, value: u64, children: u32) -> u64 {
+                match self {
+                    $(NodeKind::$name(_) => <crate::nodes::$($module::)+$name as Tick>::saved_aux(value, children),)*
+                    doors!() => value,
+                }
+            }
+
+            /// The inverse of [`saved_aux`](Self::saved_aux); `None` for a value no node of
+            /// the kind keeps (see [`Tick::restored_aux`]).
+            pub(crate) fn restored_aux(&self, saved: u64, children: u32) -> Option<u64> {
+                match self {
+                    $(NodeKind::$name(_) => <crate::nodes::$($module::)+$name as Tick>::restored_aux(saved, children),)*
+                    doors!() => Some(saved),
                 }
             }
 

@@ -427,7 +427,9 @@ pub struct Blueprint<C> {
     pub(crate) scopes: Box<[(ScopeId, SubTreeScope)]>,
     /// The `Condition` objects of its [`NodeKind::SharedCondition`] nodes, each once.
     pub(crate) shared: Box<[Arc<dyn Condition<C>>]>,
+    /// The 32-bit state slots of a tree of it (see [`NodeKind::aux_slots`]).
     pub(crate) aux_slots: u32,
+    /// The per-instance objects of a tree of it (its stateful leaves and custom nodes).
     pub(crate) objects: u32,
     pub(crate) max_depth: u32,
     /// Per node: it is a stateful action without hooks whose ancestors all pass a Running
@@ -636,6 +638,12 @@ impl<C> Blueprint<C> {
         (unsafe { *self.slots.get_unchecked(id.index()) }) as usize
     }
 
+    /// The 32-bit state slots node `id` takes from [`slot`](Self::slot) on.
+    pub(crate) fn aux_slots_of(&self, id: NodeId) -> usize {
+        let def = self.def(id);
+        def.kind.aux_slots(def.child_count) as usize
+    }
+
     /// The depth limit this blueprint was validated against.
     pub fn max_depth(&self) -> u32 {
         self.max_depth
@@ -694,13 +702,16 @@ impl<C> Blueprint<C> {
         self.ids().find(|id| self.path(*id) == path)
     }
 
-    /// Bytes of per-instance state a [`Tree`](crate::Tree) of this blueprint keeps on the
-    /// heap, not counting stateful leaves' own objects or blackboard entries.
+    /// Bytes of per-instance node state a [`Tree`](crate::Tree) of this blueprint keeps on
+    /// the heap: its block of slots, statuses, failure bits and object pointers, what a
+    /// fresh tree's [`state_bytes`](crate::Tree::state_bytes) says; not counting what the
+    /// stateful leaves' objects point to, or blackboard entries.
     pub fn instance_state_bytes(&self) -> usize {
-        self.nodes.len() * core::mem::size_of::<crate::NodeStatus>()
-            + self.nodes.len().div_ceil(64) * core::mem::size_of::<u64>()
-            + self.aux_slots as usize * core::mem::size_of::<u64>()
-            + self.objects as usize * core::mem::size_of::<usize>() * 2
+        crate::tree::node_state_bytes::<C>(
+            self.nodes.len(),
+            self.aux_slots as usize,
+            self.objects as usize,
+        )
     }
 }
 

@@ -62,7 +62,8 @@ pub trait BuiltIn: fmt::Debug + Send + Sync + 'static {
 pub(crate) trait Tick: BuiltIn + Sized {
     /// Its declaration.
     const DECL: &'static NodeDecl;
-    /// Per-instance state slots (`u64`): a cursor, a counter or a time.
+    /// Per-instance state slots, of 32 bits: one for a cursor, a counter or a flag; two for
+    /// a 64-bit value (a moment), read through [`Ticker::aux64`](crate::tree::Ticker::aux64).
     const AUX_SLOTS: u32 = 0;
     /// `Some(true)` for the plain Sequence, `Some(false)` for the plain Fallback: controls a
     /// parent's loop ticks without the dispatcher (`ordered`'s fast paths).
@@ -96,6 +97,28 @@ pub(crate) trait Tick: BuiltIn + Sized {
 
     /// One tick of node `id`; the ticker stores what it returns.
     fn tick<C>(&self, t: &mut Ticker<'_, C>, id: NodeId, def: &NodeDef<C>) -> NodeStatus;
+
+    /// The state slots a node of `children` children takes: [`AUX_SLOTS`](Self::AUX_SLOTS)
+    /// unless the number depends on the children.
+    fn aux_slots(children: u32) -> u32 {
+        let _ = children;
+        Self::AUX_SLOTS
+    }
+
+    /// A node's state (its slot, or its two slots as one value, low first) as a saved state
+    /// stores it: a saved state keeps one `u64` per node, in the form it had when slots were
+    /// 64 bits, so that states saved then are read now.
+    fn saved_aux(value: u64, children: u32) -> u64 {
+        let _ = children;
+        value
+    }
+
+    /// The inverse of [`saved_aux`](Self::saved_aux); `None` for a saved value no node of the
+    /// kind keeps.
+    fn restored_aux(saved: u64, children: u32) -> Option<u64> {
+        let _ = children;
+        Some(saved)
+    }
 
     /// Node `id`'s state slot saved when the clock read `saved` (nanoseconds), as it reads
     /// on a clock at `now`: a slot that holds a moment keeps the time elapsed since it

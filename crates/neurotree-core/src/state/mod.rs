@@ -100,7 +100,8 @@ pub(crate) struct SavedTree {
     pub(crate) clock_nanos: u64,
     /// Every node's status (`NodeStatus as u8`), by node id.
     pub(crate) statuses: Vec<u8>,
-    /// The state slots, as the blueprint lays them out.
+    /// Per node that keeps state, in node order, its slots as one `u64`, in the form it had
+    /// when slots were 64 bits (see `Tick::saved_aux`), so that states saved then read now.
     pub(crate) aux: Vec<u64>,
     /// The per-instance objects, in slot order.
     pub(crate) objects: Vec<SavedObject>,

@@ -1,8 +1,9 @@
 //! An instance of a blueprint: the per-run state, and the ways to tick it.
 //!
-//! A [`Tree`] holds only what changes while ticking: one status byte per node, a `u64` slot
-//! for each node whose kind keeps a cursor, a counter or a time, the stateful leaves'
-//! objects, and its blackboard. The structure stays in the shared [`Blueprint`].
+//! A [`Tree`] holds only what changes while ticking: one status byte per node, a 32-bit slot
+//! for each node whose kind keeps a cursor, a counter or a flag (two for a moment), the
+//! stateful leaves' objects (all of it in one block behind one pointer), and its blackboard.
+//! The structure stays in the shared [`Blueprint`].
 //!
 //! Two ways to tick, as in BehaviorTree.CPP:
 //! - [`Tree::tick_exactly_once`]: one pass of the root;
@@ -72,10 +73,10 @@ use wake::TreeWake;
 /// A running instance of a [`Blueprint`], ticked with a user context `C`.
 pub struct Tree<C> {
     blueprint: Arc<Blueprint<C>>,
-    /// The nodes' statuses and slots, and a bit per node: its status was written Failure in
-    /// the last tick (see [`failure`]).
-    state: NodeState,
-    objects: Box<[Object<C>]>,
+    /// The nodes' statuses and slots, a bit per node (its status was written Failure in the
+    /// last tick, see [`failure`]), and the stateful leaves' objects: one block behind one
+    /// pointer (see [`state`]).
+    state: NodeState<C>,
     blackboard: Blackboard,
     clock: Arc<dyn Clock>,
     /// What few trees use (an observer, a wake signal, a pass bound of their own, a reload
@@ -103,6 +104,12 @@ pub struct Tree<C> {
     sleeping: bool,
     /// The tree may sleep ([`Tree::set_sleep_allowed`]).
     sleep_allowed: bool,
+}
+
+/// Bytes of the node state block of a tree of `nodes` nodes, `slots` slots and `objects`
+/// objects (see [`state`]).
+pub(crate) fn node_state_bytes<C>(nodes: usize, slots: usize, objects: usize) -> usize {
+    NodeState::<C>::bytes_for(nodes, slots, objects)
 }
 
 /// Passes one [`Tree::tick_once`] makes at most, unless [`Tree::set_max_passes`] says
@@ -152,8 +159,7 @@ impl<C> Tree<C> {
             })
         });
         Self {
-            state: NodeState::new(blueprint.len(), blueprint.aux_slots as usize),
-            objects: objects.into_boxed_slice(),
+            state: NodeState::new(blueprint.len(), blueprint.aux_slots as usize, objects),
             blackboard,
             clock,
             rare,
@@ -255,13 +261,12 @@ impl<C> Tree<C> {
         self.out.reserve();
     }
 
-    /// Bytes this instance keeps on the heap for node state (statuses, slots, object
-    /// pointers, and the failure reasons' record once a node has given a reason), not
-    /// counting the stateful leaves' own objects or blackboard entries.
+    /// Bytes this instance keeps on the heap for node state: the block of its nodes' slots,
+    /// statuses, failure bits and object pointers ([`Blueprint::instance_state_bytes`]),
+    /// and the failure reasons' record once a node has given a reason; not counting what
+    /// the stateful leaves' objects point to, or blackboard entries.
     pub fn state_bytes(&self) -> usize {
-        self.state.bytes()
-            + self.objects.len() * core::mem::size_of::<Object<C>>()
-            + self.out.record_bytes()
+        self.state.bytes() + self.out.record_bytes()
     }
 
     fn ticker<'t>(&'t mut self, ctx: &'t mut C) -> Ticker<'t, C> {
@@ -279,7 +284,7 @@ impl<C> Tree<C> {
             statuses: state.statuses,
             failed: state.failed,
             aux: state.aux,
-            objects: &mut self.objects,
+            objects: state.objects,
             ctx,
             bb: &mut self.blackboard,
             clock: &*self.clock,

@@ -5,6 +5,7 @@ use alloc::string::String;
 use alloc::vec::Vec;
 use core::time::Duration;
 
+use super::state::{get64, set64};
 use super::ticker::Object;
 use super::Tree;
 use crate::clock::duration_to_nanos;
@@ -55,7 +56,16 @@ impl<C> Tree<C> {
         }
         let mut saved = SavedTree::new(bp.structure_hash(), duration_to_nanos(self.clock.now()));
         saved.statuses = self.state.statuses().iter().map(|s| *s as u8).collect();
-        saved.aux = self.state.aux().to_vec();
+        // One `u64` per node that keeps state, as when slots were 64 bits.
+        let aux = self.state.aux();
+        for id in bp.ids() {
+            let def = bp.def(id);
+            let slots = def.kind.aux_slots(def.child_count) as usize;
+            if slots > 0 {
+                let value = read_slots(&aux[bp.slot(id)..][..slots]);
+                saved.aux.push(def.kind.saved_aux(value, def.child_count));
+            }
+        }
         for id in bp.ids() {
             if !bp.kind(id).has_object() {
                 continue;
@@ -65,7 +75,7 @@ impl<C> Tree<C> {
                 path: bp.path(id),
                 kind,
             };
-            let object = match &self.objects[bp.slot(id)] {
+            let object = match &self.state.objects()[bp.slot(id)] {
                 Object::Stateful(action) => {
                     action.save_state().ok_or(unsaveable("stateful action"))?
                 }
@@ -150,10 +160,10 @@ impl<C> Tree<C> {
         if saved.statuses.len() != self.state.statuses().len() {
             return Err(corrupt("its node statuses"));
         }
-        if saved.aux.len() != self.state.aux().len() {
+        if saved.aux.len() != bp.ids().filter(|id| bp.aux_slots_of(*id) > 0).count() {
             return Err(corrupt("its state slots"));
         }
-        if saved.objects.len() != self.objects.len() {
+        if saved.objects.len() != self.state.objects().len() {
             return Err(corrupt("its objects"));
         }
         let mut statuses = Vec::with_capacity(saved.statuses.len());
@@ -162,14 +172,23 @@ impl<C> Tree<C> {
         }
         let last_root = status_of(saved.last_root).ok_or_else(|| corrupt("its root status"))?;
         let now = duration_to_nanos(self.clock.now());
-        let mut aux = saved.aux.clone();
-        let mut objects = Vec::with_capacity(self.objects.len());
+        let mut aux = alloc::vec![0; self.state.aux().len()];
+        let mut saved_aux = saved.aux.iter();
+        let mut objects = Vec::with_capacity(self.state.objects().len());
         let mut saved_objects = saved.objects.into_iter();
         for id in bp.ids() {
             let kind = bp.kind(id);
-            if kind.aux_slots() > 0 {
-                let slot = bp.slot(id);
-                aux[slot] = kind.shift_aux(aux[slot], saved.clock_nanos, now);
+            let children = bp.def(id).child_count;
+            let slots = kind.aux_slots(children) as usize;
+            if slots > 0 {
+                let value = saved_aux
+                    .next()
+                    .and_then(|saved| kind.restored_aux(*saved, children))
+                    .map(|value| kind.shift_aux(value, saved.clock_nanos, now));
+                let Some(()) = value.and_then(|v| write_slots(&mut aux[bp.slot(id)..][..slots], v))
+                else {
+                    return Err(corrupt("its state slots"));
+                };
             }
             if !kind.has_object() {
                 continue;
@@ -237,12 +256,32 @@ impl<C> Tree<C> {
         let state = self.state.parts();
         state.statuses.copy_from_slice(&statuses);
         state.aux.copy_from_slice(&aux);
-        self.objects = objects.into_boxed_slice();
+        for (object, restored) in state.objects.iter_mut().zip(objects) {
+            *object = restored;
+        }
         self.last_root = last_root;
         self.resting = None;
         self.forget_notes();
         Ok(())
     }
+}
+
+/// A node's state slots read as one value: one slot, or two (see [`get64`]).
+fn read_slots(slots: &[u32]) -> u64 {
+    match slots.len() {
+        2 => get64(slots, 0),
+        _ => slots.first().copied().map_or(0, u64::from),
+    }
+}
+
+/// The inverse of [`read_slots`]; `None` if one slot cannot hold the value.
+fn write_slots(slots: &mut [u32], value: u64) -> Option<()> {
+    match slots.len() {
+        2 => set64(slots, 0, value),
+        1 => slots[0] = u32::try_from(value).ok()?,
+        _ => {}
+    }
+    Some(())
 }
 
 /// The status a saved byte stands for.
@@ -255,4 +294,56 @@ fn status_of(byte: u8) -> Option<NodeStatus> {
         4 => NodeStatus::Skipped,
         _ => return None,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::clock::moment;
+    use crate::state::SavedTree;
+    use crate::testing::*;
+
+    #[test]
+    fn a_saved_state_keeps_a_u64_per_node_as_when_slots_were_64_bits() {
+        let (mut tree, clock) = build(|b| {
+            b.sequence("s", |s| {
+                s.run_once("once", true, |o| o.always_success("a"))
+                    .sleep("nap", ms(1000))
+            })
+        });
+        assert_eq!(tick(&mut tree), Ok(R));
+        clock.advance(ms(1000));
+        assert_eq!(tick(&mut tree), Ok(S));
+        // The run-once child is skipped now, and the nap begins at 1 s.
+        assert_eq!(tick(&mut tree), Ok(R));
+        let bytes = tree.save_state().unwrap();
+        let saved = SavedTree::read(&bytes).unwrap();
+        // The Sequence: cursor 1 and one child skipped; the RunOnce: its child succeeded;
+        // the Sleep: the moment it began, in its two slots.
+        assert_eq!(saved.aux, [1 | (1 << 32), 1, moment::at(1_000_000_000)]);
+        assert_eq!(tree.state.aux().len(), 1 + 1 + 2);
+
+        let mut resumed = Tree::with_clock(Arc::clone(tree.blueprint()), clock.clone());
+        resumed.restore_state(&bytes).unwrap();
+        assert_eq!(resumed.state.aux(), tree.state.aux());
+        assert_eq!(resumed.statuses(), tree.statuses());
+        clock.advance(ms(999));
+        assert_eq!(tick(&mut resumed), Ok(R));
+        clock.advance(ms(1));
+        assert_eq!(tick(&mut resumed), Ok(S));
+    }
+
+    #[test]
+    fn a_saved_value_one_slot_cannot_hold_is_refused() {
+        let (mut tree, _) = build(|b| b.repeat("r", 3, |r| r.sleep("nap", ms(10))));
+        assert_eq!(tick(&mut tree), Ok(R));
+        let mut saved = SavedTree::read(&tree.save_state().unwrap()).unwrap();
+        saved.aux[0] = 1 << 32;
+        let damaged = crate::state::encode(&saved);
+        let before = tree.state.aux().to_vec();
+        assert!(matches!(
+            tree.restore_state(&damaged),
+            Err(crate::state::RestoreError::Corrupt(_))
+        ));
+        assert_eq!(tree.state.aux(), &before[..]);
+    }
 }

@@ -10,9 +10,8 @@ impl<C> Tree<C> {
     /// [`hint`](crate::hint). Changes nothing.
     #[inline]
     pub fn prefetch_state(&self) {
-        use crate::hint::prefetch;
-        prefetch(self.state.words());
-        prefetch(&*self.objects);
+        let (block, bytes) = self.state.block();
+        crate::hint::prefetch_bytes(block, bytes);
         self.blackboard.prefetch();
     }
 

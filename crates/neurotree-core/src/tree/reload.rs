@@ -243,36 +243,34 @@ impl<C> Tree<C> {
         // state by the blueprint's node indices unchecked, and a stateful leaf's factory or
         // an old object's drop below may panic, into a caller that keeps the tree.
         let old = Arc::clone(&self.blueprint);
-        let mut state = NodeState::new(new.len(), new.aux_slots as usize);
-        let parts = state.parts();
-        let (statuses, aux) = (parts.statuses, parts.aux);
-        let mut old_objects: Vec<Option<Object<C>>> = core::mem::take(&mut self.objects)
-            .into_vec()
-            .into_iter()
-            .map(Some)
-            .collect();
+        // The kept objects are taken out of the old block (a vacant object left in their
+        // place); the others stay there, to be dropped with it.
+        let old_objects = self.state.parts().objects;
         let mut objects = Vec::with_capacity(new.objects as usize);
         for id in new.ids() {
-            let from = kept_from[id.index()];
-            if let Some(o) = from {
-                statuses[id.index()] = self.state.statuses()[o.index()];
-            }
             let kind = new.kind(id);
-            let slots = kind.aux_slots() as usize;
-            if slots > 0 {
-                if let Some(o) = from {
-                    let (to, at) = (new.slot(id), old.slot(o));
-                    aux[to..to + slots].copy_from_slice(&self.state.aux()[at..at + slots]);
-                }
-            }
             if kind.has_object() {
-                let kept = from.and_then(|o| old_objects.get_mut(old.slot(o))?.take());
+                let kept = kept_from[id.index()]
+                    .and_then(|o| old_objects.get_mut(old.slot(o)))
+                    .map(|o| core::mem::replace(o, Object::Vacant));
                 objects.push(kept.unwrap_or_else(|| fresh_object(kind)));
             }
         }
-        // The halts are done, so the objects left behind are at rest; dropping them is all
-        // a removed node's object gets.
-        drop(old_objects);
+        let mut state = NodeState::new(new.len(), new.aux_slots as usize, objects);
+        let parts = state.parts();
+        let (statuses, aux) = (parts.statuses, parts.aux);
+        for id in new.ids() {
+            let Some(o) = kept_from[id.index()] else {
+                continue;
+            };
+            statuses[id.index()] = self.state.statuses()[o.index()];
+            // A kept node has the kind and children it had: its slots are as many.
+            let slots = new.aux_slots_of(id);
+            if slots > 0 {
+                let (to, at) = (new.slot(id), old.slot(o));
+                aux[to..to + slots].copy_from_slice(&self.state.aux()[at..at + slots]);
+            }
+        }
         let mut blackboard = new_blackboard(&new);
         let scope_of = |bp: &Blueprint<C>, id: NodeId| match bp.kind(id) {
             NodeKind::SubTree(_) => bp.children(id).first().map(|c| bp.scope(*c)),
@@ -295,10 +293,12 @@ impl<C> Tree<C> {
         blackboard.set_last_stamp(self.blackboard.last_stamp());
         self.blackboard = blackboard;
         self.blueprint = Arc::clone(&new);
-        self.state = state;
+        let old_state = core::mem::replace(&mut self.state, state);
         self.resting = None;
         self.wake_up();
-        self.objects = objects.into_boxed_slice();
+        // The halts are done, so the objects left behind are at rest; dropping them is all
+        // a removed node's object gets. Last, once the tree is whole: a drop may panic.
+        drop(old_state);
         let has_async = new
             .ids()
             .any(|id| matches!(new.kind(id), NodeKind::Async(_)));

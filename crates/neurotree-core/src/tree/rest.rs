@@ -80,7 +80,7 @@ impl<C> Tree<C> {
         waits: &mut Waits,
     ) -> Option<Result<NodeStatus, TickError>> {
         let bp = &*self.blueprint;
-        let Some(Object::Stateful(action)) = self.objects.get_mut(bp.slot(leaf)) else {
+        let Some(Object::Stateful(action)) = self.state.objects_mut().get_mut(bp.slot(leaf)) else {
             return None;
         };
         self.out.reads.declare(false);

@@ -215,8 +215,8 @@ impl<'t, C> Ticker<'t, C> {
         for tc in bp.ids() {
             if bp.def(tc).kind.waits_on_halts() {
                 let slot = bp.slot(tc);
-                if try_catch::pending_owner(self.aux[slot]) == Some(Some(id)) {
-                    self.aux[slot] = try_catch::pending(halter);
+                if try_catch::pending_owner(self.aux64(slot)) == Some(Some(id)) {
+                    self.set_aux64(slot, try_catch::pending(halter));
                     passed = true;
                 }
             }
@@ -243,7 +243,7 @@ impl<'t, C> Ticker<'t, C> {
                 )
             }
             kind if kind.waits_on_halts() => {
-                try_catch::pending_owner(self.aux[bp.slot(id)]).is_some()
+                try_catch::pending_owner(self.aux64(bp.slot(id))).is_some()
             }
             _ => false,
         }
@@ -285,7 +285,7 @@ impl<'t, C> Ticker<'t, C> {
             match kind {
                 NodeKind::Stateful(_) | NodeKind::Async(_) => {}
                 kind if kind.waits_on_halts() => {
-                    catches |= try_catch::pending_owner(self.aux[bp.slot(id)]).is_some();
+                    catches |= try_catch::pending_owner(self.aux64(bp.slot(id))).is_some();
                     continue;
                 }
                 _ => continue,
@@ -338,7 +338,7 @@ impl<'t, C> Ticker<'t, C> {
                 continue;
             }
             let slot = bp.slot(tc);
-            let Some(owner) = try_catch::pending_owner(self.aux[slot]) else {
+            let Some(owner) = try_catch::pending_owner(self.aux64(slot)) else {
                 continue;
             };
             if waiter != Waiter::Any && waiter != Waiter::Owner(owner) {
@@ -348,7 +348,7 @@ impl<'t, C> Ticker<'t, C> {
                 left = true;
                 continue;
             }
-            self.aux[slot] = 0;
+            self.set_aux64(slot, 0);
             self.out.halts.count -= 1;
             let outer_halter = self.halter.set_halter(owner);
             let outer_left = mem::replace(&mut self.halter.left, false);

@@ -32,7 +32,9 @@ pub(crate) struct Ticker<'t, C> {
     /// One bit per node, set when its status is written Failure in this tick: what
     /// [`Tree::last_failure`](crate::Tree::last_failure) explains the root's failure from.
     pub(crate) failed: &'t mut [u64],
-    pub(crate) aux: &'t mut [u64],
+    /// The nodes' 32-bit state slots (see [`state`](super::state)); a 64-bit value takes two,
+    /// read through [`aux64`](Self::aux64).
+    pub(crate) aux: &'t mut [u32],
     pub(crate) objects: &'t mut [Object<C>],
     pub(crate) ctx: &'t mut C,
     pub(crate) bb: &'t mut Blackboard,
@@ -504,7 +506,8 @@ impl<'t, C> Ticker<'t, C> {
     /// afresh after it.
     pub(crate) fn halt_afresh(&mut self, id: NodeId) {
         let slot = self.bp.slot(id);
-        self.aux[slot] = 0;
+        let slots = self.bp.aux_slots_of(id);
+        self.aux[slot..slot + slots].fill(0);
         self.reset_children(id);
     }
 

@@ -91,10 +91,14 @@ impl<C> State<C> {
                 }
                 _ => 0,
             };
-            let own_slots = def.kind.aux_slots();
+            let own_slots = def.kind.aux_slots(def.child_count);
             slots.push(if own_slots > 0 { aux } else { object });
             node_scopes.push(scope);
-            aux += own_slots;
+            // Two slots a node at most, fewer than 2^32 nodes: the sum stays below 2^33,
+            // and a block of more than 2^32 slots is beyond memory.
+            aux = aux
+                .checked_add(own_slots)
+                .expect("a blueprint has fewer than 2^32 state slots");
         }
         let nodes = nodes.into_boxed_slice();
         let shared = self.shared.into_boxed_slice();

@@ -66,7 +66,7 @@ impl Tick for Fallback {
     }
 
     const DECL: &'static NodeDecl = &FALLBACK;
-    const AUX_SLOTS: u32 = 1;
+    super::ordered_state!();
     const PLAIN_ORDER: Option<bool> = Some(false);
 
     fn from_ports(_: &dyn Fn(&str) -> PortBinding) -> Result<Self, PortBindingError> {
@@ -108,7 +108,7 @@ impl BuiltIn for AsyncFallback {
 
 impl Tick for AsyncFallback {
     const DECL: &'static NodeDecl = &ASYNC_FALLBACK;
-    const AUX_SLOTS: u32 = 1;
+    super::ordered_state!();
 
     fn from_ports(_: &dyn Fn(&str) -> PortBinding) -> Result<Self, PortBindingError> {
         Ok(AsyncFallback)

@@ -53,7 +53,7 @@ pub(crate) fn tick<C>(t: &mut Ticker<'_, C>, id: NodeId, def: &NodeDef<C>) -> No
             NodeStatus::Skipped => return NodeStatus::Skipped,
         }
     }
-    let branch = t.child(def, t.aux[slot] as u32);
+    let branch = t.child(def, t.aux[slot]);
     let status = t.tick(branch);
     if status != NodeStatus::Running {
         t.reset_children(id);

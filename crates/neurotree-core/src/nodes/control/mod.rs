@@ -49,14 +49,79 @@ pub mod service;
 pub mod try_catch;
 pub mod while_do_else;
 
-/// A cursor and a count of skipped children, packed in one state slot.
+/// The most children an ordered node (a Sequence, a Fallback and their kin) may have and
+/// keep its state, a cursor and a count of skipped children, in one 32-bit slot, 16 bits
+/// each; a node with more takes two slots, 32 bits each. 0xFFFF stands for any count past
+/// the children, which is all a count is compared with (it ends the node Skipped only when
+/// it equals their number).
+pub(crate) const NARROW_CHILDREN: u32 = 0xFFFE;
+
+/// The state slots an ordered node of `children` children takes.
+pub(crate) const fn ordered_slots(children: u32) -> u32 {
+    if children <= NARROW_CHILDREN {
+        1
+    } else {
+        2
+    }
+}
+
+/// An ordered node's cursor and count of skipped children, from its slots.
 #[inline(always)]
-pub(crate) fn unpack(slot: u64) -> (u32, u32) {
-    (slot as u32, (slot >> 32) as u32)
+pub(crate) fn unpack(aux: &[u32], slot: usize, children: usize) -> (u32, u32) {
+    if children <= NARROW_CHILDREN as usize {
+        let packed = aux[slot];
+        (packed & 0xFFFF, packed >> 16)
+    } else {
+        (aux[slot], aux[slot + 1])
+    }
 }
 
 /// The inverse of [`unpack`].
 #[inline(always)]
-pub(crate) fn pack(cursor: u32, skipped: u32) -> u64 {
-    u64::from(cursor) | (u64::from(skipped) << 32)
+pub(crate) fn pack(aux: &mut [u32], slot: usize, children: usize, cursor: u32, skipped: u32) {
+    if children <= NARROW_CHILDREN as usize {
+        aux[slot] = cursor | (skipped.min(0xFFFF) << 16);
+    } else {
+        aux[slot] = cursor;
+        aux[slot + 1] = skipped;
+    }
 }
+
+/// An ordered node's state as a saved state stores it: the cursor in the low 32 bits, the
+/// count in the high.
+pub(crate) fn saved_ordered(value: u64, children: u32) -> u64 {
+    if children <= NARROW_CHILDREN {
+        (value & 0xFFFF) | ((value >> 16 & 0xFFFF) << 32)
+    } else {
+        value
+    }
+}
+
+/// The inverse of [`saved_ordered`]; `None` for a cursor past the children.
+pub(crate) fn restored_ordered(saved: u64, children: u32) -> Option<u64> {
+    let (cursor, skipped) = (saved as u32, (saved >> 32) as u32);
+    if cursor > children {
+        return None;
+    }
+    Some(if children <= NARROW_CHILDREN {
+        u64::from(cursor) | (u64::from(skipped.min(0xFFFF)) << 16)
+    } else {
+        saved
+    })
+}
+
+/// The state an ordered kind keeps: [`ordered_slots`], saved through [`saved_ordered`].
+macro_rules! ordered_state {
+    () => {
+        fn aux_slots(children: u32) -> u32 {
+            super::ordered_slots(children)
+        }
+        fn saved_aux(value: u64, children: u32) -> u64 {
+            super::saved_ordered(value, children)
+        }
+        fn restored_aux(saved: u64, children: u32) -> Option<u64> {
+            super::restored_ordered(saved, children)
+        }
+    };
+}
+pub(crate) use ordered_state;

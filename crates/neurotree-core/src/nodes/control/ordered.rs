@@ -53,7 +53,7 @@ fn run<C, const SEQUENCE: bool, const FLAVOR: Flavor, const OBSERVED: bool>(
     let hot = bp.hot_children_of(def);
     let slot = t.bp.slot(id);
     let n = children.len() as u32;
-    let (mut cursor, mut skipped) = unpack(t.aux[slot]);
+    let (mut cursor, mut skipped) = unpack(t.aux, slot, children.len());
     if !t.status(id).is_active() {
         skipped = 0;
     }
@@ -71,11 +71,11 @@ fn run<C, const SEQUENCE: bool, const FLAVOR: Flavor, const OBSERVED: bool>(
             cursor += 1;
             if FLAVOR != PLAIN && prev == NodeStatus::Idle && cursor < n {
                 t.wake = Some(id);
-                t.aux[slot] = pack(cursor, skipped);
+                pack(t.aux, slot, children.len(), cursor, skipped);
                 return NodeStatus::Running;
             }
         } else if status == NodeStatus::Running {
-            t.aux[slot] = pack(cursor, skipped);
+            pack(t.aux, slot, children.len(), cursor, skipped);
             return NodeStatus::Running;
         } else if status == NodeStatus::Skipped {
             cursor += 1;
@@ -89,7 +89,7 @@ fn run<C, const SEQUENCE: bool, const FLAVOR: Flavor, const OBSERVED: bool>(
                 t.reset_completed(&children[..=cursor as usize]);
                 cursor = 0;
             }
-            t.aux[slot] = pack(cursor, skipped);
+            pack(t.aux, slot, children.len(), cursor, skipped);
             if FLAVOR != PLAIN {
                 // Ticked again, it would yield between its children.
                 t.answers_otherwise_next(id);
@@ -102,7 +102,7 @@ fn run<C, const SEQUENCE: bool, const FLAVOR: Flavor, const OBSERVED: bool>(
     }
     let all_skipped = skipped == n;
     t.reset_completed(children);
-    t.aux[slot] = 0;
+    pack(t.aux, slot, children.len(), 0, 0);
     if all_skipped {
         NodeStatus::Skipped
     } else {
@@ -216,7 +216,7 @@ fn run_quiet<C, const SEQUENCE: bool>(
     let children = bp.children_of(def);
     let hot = bp.hot_children_of(def);
     let slot = bp.slot(id);
-    let (start, mut skipped) = unpack(t.aux[slot]);
+    let (start, mut skipped) = unpack(t.aux, slot, children.len());
     if !t.status(id).is_active() {
         skipped = 0;
     }
@@ -284,7 +284,7 @@ fn run_quiet<C, const SEQUENCE: bool>(
                 }
             }
             t.reset_completed(&children[..ticked]);
-            t.aux[slot] = 0;
+            pack(t.aux, slot, children.len(), 0, 0);
             if skipped as usize == hot.len() {
                 NodeStatus::Skipped
             } else {
@@ -304,13 +304,13 @@ fn run_quiet<C, const SEQUENCE: bool>(
                     }
                 }
             }
-            t.aux[slot] = pack(cursor as u32, skipped);
+            pack(t.aux, slot, children.len(), cursor as u32, skipped);
             NodeStatus::Running
         }
         Some(stop) => {
             // Children past the one that stopped the node are Idle already.
             t.reset_completed(&children[..ticked]);
-            t.aux[slot] = pack(0, skipped);
+            pack(t.aux, slot, children.len(), 0, skipped);
             stop
         }
     }
@@ -333,6 +333,57 @@ mod tests {
     /// Ids in builder order: 0 the control, then its children.
     fn statuses(tree: &Tree<Lab>) -> Vec<NodeStatus> {
         tree.statuses().to_vec()
+    }
+
+    #[test]
+    fn a_node_of_more_children_than_a_narrow_slot_counts_resumes_at_its_cursor() {
+        use crate::nodes::control::{ordered_slots, NARROW_CHILDREN};
+        // Past 65,534 children the cursor takes a slot of its own: the Sequence resumes at
+        // child 69,999, not at that index cut to 16 bits (4,463).
+        let n = 70_000;
+        assert_eq!(ordered_slots(n as u32), 2);
+        assert_eq!(ordered_slots(NARROW_CHILDREN), 1);
+        let mut lab = Lab::new(&[]);
+        lab.scripts = vec![vec![S]; n];
+        lab.scripts[n - 1] = vec![R, S];
+        lab.ticks = vec![0; n];
+        lab.halts = vec![0; n];
+        lab.logs = vec![Vec::new(); n];
+        let mut tree = lab.tree(|b| b.sequence("s", |s| (0..n).fold(s, |s, i| s.scripted(i))));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Running));
+        assert_eq!(lab.tick(&mut tree), Ok(Status::Success));
+        assert!(lab.ticks[..n - 1].iter().all(|t| *t == 1));
+        assert_eq!(lab.ticks[n - 1], 2);
+    }
+
+    #[test]
+    fn a_narrow_slot_keeps_a_cursor_and_a_count_and_saves_them_as_before() {
+        use crate::nodes::control::{pack, restored_ordered, saved_ordered, unpack};
+        let mut aux = [0u32; 3];
+        pack(&mut aux, 1, 65_534, 65_534, 17);
+        assert_eq!(aux, [0, 65_534 | (17 << 16), 0]);
+        assert_eq!(unpack(&aux, 1, 65_534), (65_534, 17));
+        // A count past the children (which it is only compared with) stays past them.
+        pack(&mut aux, 1, 9, 0, 70_000);
+        assert_eq!(unpack(&aux, 1, 9), (0, 0xFFFF));
+        // Wide: two slots.
+        pack(&mut aux, 1, 70_000, 69_999, 70_000);
+        assert_eq!(aux, [0, 69_999, 70_000]);
+        assert_eq!(unpack(&aux, 1, 70_000), (69_999, 70_000));
+        // Saved as a cursor and a count of 32 bits each, both ways, and a cursor past the
+        // children is no state of the node.
+        let value: u64 = 3 | (2 << 16);
+        assert_eq!(saved_ordered(value, 5), 3 | (2 << 32));
+        assert_eq!(restored_ordered(3 | (2 << 32), 5), Some(value));
+        assert_eq!(restored_ordered(6, 5), None);
+        assert_eq!(
+            saved_ordered(69_999 | (7 << 32), 70_000),
+            69_999 | (7 << 32)
+        );
+        assert_eq!(
+            restored_ordered(69_999 | (7 << 32), 70_000),
+            Some(69_999 | (7 << 32))
+        );
     }
 
     #[test]

@@ -133,7 +133,7 @@ pub(crate) fn tick<C>(
 #[inline(always)]
 fn complete<C>(t: &mut Ticker<'_, C>, id: NodeId, slot: usize, outcome: NodeStatus) -> NodeStatus {
     if t.halting_for(id, |t| t.reset_children(id)) {
-        t.aux[slot] = outcome as u64;
+        t.aux[slot] = outcome as u32;
         return NodeStatus::Running;
     }
     outcome
@@ -147,7 +147,7 @@ fn finish_halt<C>(t: &mut Ticker<'_, C>, id: NodeId, slot: usize) -> NodeStatus 
     if t.waits_for_halts(id) {
         return NodeStatus::Running;
     }
-    let outcome = if t.aux[slot] == NodeStatus::Success as u64 {
+    let outcome = if t.aux[slot] == NodeStatus::Success as u32 {
         NodeStatus::Success
     } else {
         NodeStatus::Failure

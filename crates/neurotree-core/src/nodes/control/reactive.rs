@@ -103,7 +103,7 @@ pub(crate) fn tick<C>(
                 let node = t.waits.opaque_node;
                 t.stay_awake(crate::AwakeReason::ReactiveCondition, node);
             }
-            let running = index as u64 + 1;
+            let running = index as u32 + 1;
             if t.aux[slot] == 0 {
                 t.aux[slot] = running;
             } else if t.reject_multiple_running && t.aux[slot] != running {

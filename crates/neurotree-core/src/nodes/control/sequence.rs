@@ -82,7 +82,7 @@ impl Tick for Sequence {
     }
 
     const DECL: &'static NodeDecl = &SEQUENCE;
-    const AUX_SLOTS: u32 = 1;
+    super::ordered_state!();
     const PLAIN_ORDER: Option<bool> = Some(true);
 
     fn from_ports(_: &dyn Fn(&str) -> PortBinding) -> Result<Self, PortBindingError> {
@@ -116,7 +116,7 @@ impl BuiltIn for SequenceWithMemory {
 
 impl Tick for SequenceWithMemory {
     const DECL: &'static NodeDecl = &SEQUENCE_WITH_MEMORY;
-    const AUX_SLOTS: u32 = 1;
+    super::ordered_state!();
 
     fn from_ports(_: &dyn Fn(&str) -> PortBinding) -> Result<Self, PortBindingError> {
         Ok(SequenceWithMemory)
@@ -150,7 +150,7 @@ impl BuiltIn for AsyncSequence {
 
 impl Tick for AsyncSequence {
     const DECL: &'static NodeDecl = &ASYNC_SEQUENCE;
-    const AUX_SLOTS: u32 = 1;
+    super::ordered_state!();
 
     fn from_ports(_: &dyn Fn(&str) -> PortBinding) -> Result<Self, PortBindingError> {
         Ok(AsyncSequence)

@@ -67,12 +67,12 @@ pub(crate) fn tick<C>(
     let interval = duration_to_nanos(interval);
     t.set_status(id, NodeStatus::Running);
     let service = t.child(def, 0);
-    let due = match moment::elapsed(t.aux[slot], now) {
+    let due = match moment::elapsed(t.aux64(slot), now) {
         None => true,
         Some(since) => since >= interval,
     };
     if due {
-        t.aux[slot] = moment::at(now);
+        t.set_aux64(slot, moment::at(now));
         if t.status(service) != NodeStatus::Running {
             t.set_status(service, NodeStatus::Idle);
         }
@@ -87,13 +87,13 @@ pub(crate) fn tick<C>(
     let branch = t.child(def, 1);
     let status = t.tick(branch);
     if status == NodeStatus::Running {
-        let since = moment::elapsed(t.aux[slot], now).unwrap_or(0);
+        let since = moment::elapsed(t.aux64(slot), now).unwrap_or(0);
         // A sleeping tree wakes for the next service.
         t.wake_at(now.saturating_add(interval.saturating_sub(since)));
         return NodeStatus::Running;
     }
     t.reset_children(id);
-    t.aux[slot] = 0;
+    t.set_aux64(slot, 0);
     status
 }
 
@@ -112,7 +112,8 @@ impl BuiltIn for Service {
 
 impl Tick for Service {
     const DECL: &'static NodeDecl = &SERVICE;
-    const AUX_SLOTS: u32 = 1;
+    /// A moment: 64 bits.
+    const AUX_SLOTS: u32 = 2;
 
     fn shift_aux(aux: u64, saved: u64, now: u64) -> u64 {
         crate::clock::moment::shift(aux, saved, now)

@@ -78,24 +78,26 @@ pub(crate) fn pending_owner(slot: u64) -> Option<Option<NodeId>> {
     (slot & CATCH_PENDING != 0).then(|| (slot & FOR_NODE != 0).then_some(NodeId(slot as u32)))
 }
 
+/// The cursor (the low 32 bits), the count of skipped children (the next 30) and whether
+/// the catch runs, from the node's 64-bit state.
 fn unpack(slot: u64) -> (u32, u32, bool) {
-    let (cursor, skipped) = super::unpack(slot & !IN_CATCH);
-    (cursor, skipped, slot & IN_CATCH != 0)
+    let skipped = (slot & !IN_CATCH) >> 32;
+    (slot as u32, skipped as u32, slot & IN_CATCH != 0)
 }
 
 fn pack(cursor: u32, skipped: u32, in_catch: bool) -> u64 {
-    super::pack(cursor, skipped) | if in_catch { IN_CATCH } else { 0 }
+    u64::from(cursor) | (u64::from(skipped) << 32) | if in_catch { IN_CATCH } else { 0 }
 }
 
 #[inline(never)]
 pub(crate) fn tick<C>(t: &mut Ticker<'_, C>, id: NodeId, def: &NodeDef<C>) -> NodeStatus {
     let slot = t.bp.slot(id);
-    if t.aux[slot] & CATCH_PENDING != 0 {
+    if t.aux64(slot) & CATCH_PENDING != 0 {
         // Only a custom control ticks a node whose halt is in progress; it fails, as a
         // halting action does, so that it is not taken for Running.
         return NodeStatus::Failure;
     }
-    let (mut cursor, mut skipped, mut in_catch) = unpack(t.aux[slot]);
+    let (mut cursor, mut skipped, mut in_catch) = unpack(t.aux64(slot));
     if !t.status(id).is_active() {
         skipped = 0;
         in_catch = false;
@@ -106,7 +108,7 @@ pub(crate) fn tick<C>(t: &mut Ticker<'_, C>, id: NodeId, def: &NodeDef<C>) -> No
         let child = t.child(def, cursor);
         match t.tick(child) {
             NodeStatus::Running => {
-                t.aux[slot] = pack(cursor, skipped, false);
+                t.set_aux64(slot, pack(cursor, skipped, false));
                 return NodeStatus::Running;
             }
             NodeStatus::Failure | NodeStatus::Idle => {
@@ -124,16 +126,16 @@ pub(crate) fn tick<C>(t: &mut Ticker<'_, C>, id: NodeId, def: &NodeDef<C>) -> No
     if in_catch {
         let catch = t.child(def, tries);
         if t.tick(catch) == NodeStatus::Running {
-            t.aux[slot] = pack(cursor, skipped, true);
+            t.set_aux64(slot, pack(cursor, skipped, true));
             return NodeStatus::Running;
         }
         t.reset_children(id);
-        t.aux[slot] = pack(0, skipped, false);
+        t.set_aux64(slot, pack(0, skipped, false));
         return NodeStatus::Failure;
     }
     let all_skipped = skipped == tries;
     t.reset_children(id);
-    t.aux[slot] = 0;
+    t.set_aux64(slot, 0);
     if all_skipped {
         NodeStatus::Skipped
     } else {
@@ -143,13 +145,13 @@ pub(crate) fn tick<C>(t: &mut Ticker<'_, C>, id: NodeId, def: &NodeDef<C>) -> No
 
 pub(crate) fn halt<C>(t: &mut Ticker<'_, C>, id: NodeId, def: &NodeDef<C>, catch_on_halt: bool) {
     let slot = t.bp.slot(id);
-    if t.aux[slot] & CATCH_PENDING != 0 {
+    if t.aux64(slot) & CATCH_PENDING != 0 {
         // Halted again while its catch waits (by `Tree::halt`'s sweep): the catch still
         // runs once the halts below are done.
         t.reset_children(id);
         return;
     }
-    let (_, _, in_catch) = unpack(t.aux[slot]);
+    let (_, _, in_catch) = unpack(t.aux64(slot));
     if catch_on_halt && !in_catch && t.status(id).is_active() {
         let catch = t.child(def, def.child_count - 1);
         for i in 0..def.child_count - 1 {
@@ -159,7 +161,7 @@ pub(crate) fn halt<C>(t: &mut Ticker<'_, C>, id: NodeId, def: &NodeDef<C>, catch
         if t.out.halts.count != 0 && t.halting_below(id) {
             // The catch conflicts with the try block: it runs once the try block has
             // stopped, as the end of this halt (see `slow_halt`).
-            t.aux[slot] = pending(t.halter.halter());
+            t.set_aux64(slot, pending(t.halter.halter()));
             t.started_halting();
             t.reset_children(id);
             return;
@@ -168,7 +170,7 @@ pub(crate) fn halt<C>(t: &mut Ticker<'_, C>, id: NodeId, def: &NodeDef<C>, catch
             t.halt_child(catch);
         }
     }
-    t.aux[slot] = 0;
+    t.set_aux64(slot, 0);
     t.reset_children(id);
 }
 
@@ -187,7 +189,8 @@ impl BuiltIn for TryCatch {
 
 impl Tick for TryCatch {
     const DECL: &'static NodeDecl = &TRY_CATCH;
-    const AUX_SLOTS: u32 = 1;
+    /// Its state (a cursor, a count and flags, or whom its catch waits for) takes 64 bits.
+    const AUX_SLOTS: u32 = 2;
     const WAITS_ON_HALTS: bool = true;
 
     fn from_ports(port: &dyn Fn(&str) -> PortBinding) -> Result<Self, PortBindingError> {

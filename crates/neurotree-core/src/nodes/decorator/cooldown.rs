@@ -47,7 +47,7 @@ pub(crate) fn tick<C>(
     let slot = t.bp.slot(id);
     let now = t.now_nanos();
     let period = duration_to_nanos(period);
-    if let Some(rested) = moment::elapsed(t.aux[slot], now).filter(|&rested| rested < period) {
+    if let Some(rested) = moment::elapsed(t.aux64(slot), now).filter(|&rested| rested < period) {
         // Its answer changes when the period is over: a reactive node re-checking it may
         // let the tree sleep until then.
         t.wake_at(now.saturating_add(period - rested));
@@ -57,7 +57,7 @@ pub(crate) fn tick<C>(
     let child = t.child(def, 0);
     let status = t.tick(child);
     if status.is_completed() {
-        t.aux[slot] = moment::at(now);
+        t.set_aux64(slot, moment::at(now));
         t.halt_child(child);
         // Next tick it fails, cooling down, whatever the child answered now.
         t.answers_otherwise_next(id);
@@ -80,7 +80,8 @@ impl BuiltIn for Cooldown {
 
 impl Tick for Cooldown {
     const DECL: &'static NodeDecl = &COOLDOWN;
-    const AUX_SLOTS: u32 = 1;
+    /// A moment: 64 bits.
+    const AUX_SLOTS: u32 = 2;
 
     fn shift_aux(aux: u64, saved: u64, now: u64) -> u64 {
         crate::clock::moment::shift(aux, saved, now)

@@ -47,10 +47,10 @@ pub(crate) fn tick<C>(
 ) -> NodeStatus {
     let slot = t.bp.slot(id);
     let now = t.now_nanos();
-    let waited = match moment::elapsed(t.aux[slot], now) {
+    let waited = match moment::elapsed(t.aux64(slot), now) {
         Some(waited) => waited,
         None => {
-            t.aux[slot] = moment::at(now);
+            t.set_aux64(slot, moment::at(now));
             t.set_status(id, NodeStatus::Running);
             0
         }
@@ -64,7 +64,7 @@ pub(crate) fn tick<C>(
     let child = t.child(def, 0);
     let status = t.tick(child);
     if status.is_completed() {
-        t.aux[slot] = 0;
+        t.set_aux64(slot, 0);
         t.halt_child(child);
         if wait != 0 {
             t.answers_otherwise_next(id);
@@ -88,7 +88,8 @@ impl BuiltIn for Delay {
 
 impl Tick for Delay {
     const DECL: &'static NodeDecl = &DELAY;
-    const AUX_SLOTS: u32 = 1;
+    /// A moment: 64 bits.
+    const AUX_SLOTS: u32 = 2;
 
     fn shift_aux(aux: u64, saved: u64, now: u64) -> u64 {
         crate::clock::moment::shift(aux, saved, now)

@@ -81,7 +81,9 @@ pub(crate) fn tick<C, const REPEAT: bool>(
     let child = t.child(def, 0);
     // BehaviorTree.CPP's `count < n || n == -1`: only -1 is "forever"; any other negative
     // limit, like 0, allows no cycle at all.
-    let more = |count: u64| limit == -1 || (limit >= 0 && count < limit as u64);
+    // A count stays below `limit` (an `i32`, as BehaviorTree.CPP's `int`) but forever, where it
+    // saturates at `u32::MAX` and is never read.
+    let more = |count: u32| limit == -1 || (limit >= 0 && count < limit as u32);
     t.set_status(id, NodeStatus::Running);
     while more(t.aux[slot]) {
         let prev = t.status(child);
@@ -100,7 +102,7 @@ pub(crate) fn tick<C, const REPEAT: bool>(
             t.aux[slot] = 0;
             return stop;
         }
-        t.aux[slot] += 1;
+        t.aux[slot] = t.aux[slot].saturating_add(1);
         if prev == NodeStatus::Idle && more(t.aux[slot]) {
             t.wake = Some(id);
             return NodeStatus::Running;
@@ -108,7 +110,7 @@ pub(crate) fn tick<C, const REPEAT: bool>(
     }
     if !REPEAT {
         // Ran out of attempts: the Retry's own reason for its Failure.
-        t.note(id, Note::Gave(Reason::gave_up(t.aux[slot])));
+        t.note(id, Note::Gave(Reason::gave_up(u64::from(t.aux[slot]))));
     }
     t.aux[slot] = 0;
     again

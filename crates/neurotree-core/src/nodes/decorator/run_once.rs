@@ -32,8 +32,8 @@ pub const RUN_ONCE: NodeDecl = NodeDecl {
     }),
 };
 
-const SUCCEEDED: u64 = 1;
-const FAILED: u64 = 2;
+const SUCCEEDED: u32 = 1;
+const FAILED: u32 = 2;
 
 #[inline(never)]
 pub(crate) fn tick<C>(

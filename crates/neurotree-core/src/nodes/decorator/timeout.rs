@@ -55,14 +55,14 @@ pub(crate) fn tick<C>(
     limit: Duration,
 ) -> NodeStatus {
     let slot = t.bp.slot(id);
-    if t.aux[slot] == TIMED_OUT {
+    if t.aux64(slot) == TIMED_OUT {
         return finish_halt(t, id, limit);
     }
     let now = t.now_nanos();
     let child = t.child(def, 0);
-    let ran = match moment::elapsed(t.aux[slot], now) {
+    let ran = match moment::elapsed(t.aux64(slot), now) {
         None => {
-            t.aux[slot] = moment::at(now);
+            t.set_aux64(slot, moment::at(now));
             t.set_status(id, NodeStatus::Running);
             0
         }
@@ -72,10 +72,10 @@ pub(crate) fn tick<C>(
                 && t.status(child) == NodeStatus::Running
             {
                 if t.halting_for(id, |t| t.halt_child(child)) {
-                    t.aux[slot] = TIMED_OUT;
+                    t.set_aux64(slot, TIMED_OUT);
                     return NodeStatus::Running;
                 }
-                t.aux[slot] = moment::NONE;
+                t.set_aux64(slot, moment::NONE);
                 t.note(id, Note::Gave(Reason::timed_out(limit)));
                 t.answers_otherwise_next(id);
                 return NodeStatus::Failure;
@@ -85,7 +85,7 @@ pub(crate) fn tick<C>(
     };
     let status = t.tick(child);
     if status.is_completed() {
-        t.aux[slot] = moment::NONE;
+        t.set_aux64(slot, moment::NONE);
         t.halt_child(child);
     } else if status == NodeStatus::Running && !limit.is_zero() {
         // A sleeping tree wakes when the time is up.
@@ -107,7 +107,7 @@ fn finish_halt<C>(t: &mut Ticker<'_, C>, id: NodeId, limit: Duration) -> NodeSta
     if t.waits_for_halts(id) {
         return NodeStatus::Running;
     }
-    t.aux[t.bp.slot(id)] = moment::NONE;
+    t.set_aux64(t.bp.slot(id), moment::NONE);
     t.note(id, Note::Gave(Reason::timed_out(limit)));
     t.answers_otherwise_next(id);
     NodeStatus::Failure
@@ -128,7 +128,8 @@ impl BuiltIn for Timeout {
 
 impl Tick for Timeout {
     const DECL: &'static NodeDecl = &TIMEOUT;
-    const AUX_SLOTS: u32 = 1;
+    /// A moment: 64 bits.
+    const AUX_SLOTS: u32 = 2;
 
     fn shift_aux(aux: u64, saved: u64, now: u64) -> u64 {
         if aux == TIMED_OUT {

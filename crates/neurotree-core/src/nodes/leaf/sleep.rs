@@ -57,7 +57,7 @@ pub(crate) fn tick<C>(
             if wait.is_zero() {
                 return NodeStatus::Success;
             }
-            t.aux[slot] = moment::at(now);
+            t.set_aux64(slot, moment::at(now));
             t.wake_at(now.saturating_add(duration_to_nanos(wait)));
             return NodeStatus::Running;
         }
@@ -66,7 +66,7 @@ pub(crate) fn tick<C>(
         done => return done,
     }
     let wait = duration_to_nanos(wait);
-    let slept = moment::elapsed(t.aux[slot], now).unwrap_or(u64::MAX);
+    let slept = moment::elapsed(t.aux64(slot), now).unwrap_or(u64::MAX);
     if slept >= wait {
         t.answers_otherwise_next(id);
         NodeStatus::Success
@@ -91,7 +91,8 @@ impl BuiltIn for Sleep {
 
 impl Tick for Sleep {
     const DECL: &'static NodeDecl = &SLEEP;
-    const AUX_SLOTS: u32 = 1;
+    /// A moment: 64 bits.
+    const AUX_SLOTS: u32 = 2;
 
     fn shift_aux(aux: u64, saved: u64, now: u64) -> u64 {
         moment::shift(aux, saved, now)
