@@ -271,10 +271,10 @@ pub fn agent_crowd(
 
 /// Bytes one member of [`agent_crowd`] takes: its slot in the crowd
 /// ([`Crowd::slot_bytes`](neurotree::crowd::Crowd::slot_bytes): the `Tree` struct with its
-/// blackboard's tables, the [`Agent`], its schedule and its error box) and its tree's node
-/// state on the heap ([`Tree::state_bytes`](neurotree::Tree::state_bytes): statuses, slots and
-/// failure bits in one block, the stateful leaves' object pointers, and the failure record
-/// once a node gave a reason).
+/// blackboard, the [`Agent`], its schedule and its error box) and its tree's node state on
+/// the heap ([`Tree::state_bytes`](neurotree::Tree::state_bytes): statuses, slots, failure
+/// bits and the stateful leaves' object pointers in one block, and the failure record once
+/// a node gave a reason).
 ///
 /// Every byte a member holds that grows with the crowd and that these members allocate is
 /// counted, but two: the stateful leaves' own objects and the blackboard's entries, which

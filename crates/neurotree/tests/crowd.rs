@@ -562,7 +562,7 @@ fn an_in_place_frame_ticks_the_due_members_it_visits_once_and_loads_only_them() 
 }
 
 #[test]
-fn a_crowd_of_one_thread_ticks_on_the_callers_thread_and_one_of_two_on_its_pool() {
+fn a_crowd_of_one_thread_of_its_own_ticks_on_the_callers_thread_others_on_their_pool() {
     // Which thread ticked the member, as a tree cannot name it otherwise.
     type Ticked = Option<std::thread::ThreadId>;
     let bp = Blueprint::<Ticked>::builder()
@@ -573,11 +573,20 @@ fn a_crowd_of_one_thread_ticks_on_the_callers_thread_and_one_of_two_on_its_pool(
         .build_shared()
         .unwrap();
     let here = std::thread::current().id();
-    for (threads, on_caller) in [(1, true), (2, false)] {
+    // A pool given to the crowd is used whatever its size: its threads' settings apply.
+    let given = Arc::new(
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(1)
+            .build()
+            .unwrap(),
+    );
+    for (threads, on_caller) in [(1, true), (2, false), (0, false)] {
         for budget in [None, Some(100)] {
-            let mut crowd = Crowd::new(ManualClock::new())
-                .with_threads(threads)
-                .unwrap();
+            let crowd = Crowd::new(ManualClock::new());
+            let mut crowd = match threads {
+                0 => crowd.with_pool(Arc::clone(&given)),
+                n => crowd.with_threads(n).unwrap(),
+            };
             crowd.set_budget(budget);
             let id = crowd.add(Arc::clone(&bp), None);
             assert_eq!(crowd.frame().ticked, 1);

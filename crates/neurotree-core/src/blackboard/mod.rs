@@ -520,8 +520,12 @@ impl Blackboard {
     /// entry); `true` if there was one. Remaps stay.
     pub fn unset_in(&mut self, scope: ScopeId, key: &str) -> bool {
         self.writes = self.writes.wrapping_add(1);
-        self.place(scope, key)
-            .is_some_and(|(e, k)| e.remove(k).is_some())
+        // A key that resolves to no entry has none to remove: looked up first, so that
+        // unsetting it does not make the tables of a scope that holds nothing yet.
+        self.contains_in(scope, key)
+            && self
+                .place(scope, key)
+                .is_some_and(|(e, k)| e.remove(k).is_some())
     }
 
     /// `true` if `key` resolves to an entry from `scope`.

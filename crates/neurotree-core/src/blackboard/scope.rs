@@ -21,8 +21,9 @@ pub(super) struct Links {
 /// not exist yet; this is then where a write creates it). `None` if `scope` does not exist.
 ///
 /// `scopes[i]` holds the entries of scope `i + 1` (shorter when the later scopes have none
-/// yet); the root's are not needed, since a key that reaches the root lives there. The name borrows from `links` or from `key` only, never from
-/// the entries, so that a caller can resolve and then change them without copying the name.
+/// yet); the root's are not needed, since a key that reaches the root lives there. The name
+/// borrows from `links` or from `key` only, never from the entries, so that a caller can
+/// resolve and then change them without copying the name.
 ///
 /// In each scope, in this order: `@key` goes to the root; a remapped key goes to its parent
 /// key in the parent scope; an entry stored here is the answer; with autoremap, a key not

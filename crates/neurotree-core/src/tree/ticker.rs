@@ -133,52 +133,6 @@ impl<'t, C> Ticker<'t, C> {
         }
     }
 
-    /// Records why node `id` fails (a reason it gave, or a built-in's own cause), and
-    /// notes every Failure for the rest of the tick (see [`failure`](super::failure)).
-    #[cold]
-    #[inline(never)]
-    pub(crate) fn note(&mut self, id: NodeId, note: Note) {
-        self.out.push(id, note);
-        self.watch();
-    }
-
-    /// After a leaf that held a handle: if it gave a reason, note every Failure from now
-    /// on. A leaf that gave none pays a load and a branch.
-    #[inline(always)]
-    pub(crate) fn watch_if_noted(&mut self) {
-        if self.observer.is_none() && !self.out.is_quiet() {
-            self.watch();
-        }
-    }
-
-    /// Attaches the engine's stand-in observer, unless one is attached: status writes then
-    /// go through [`set_status_observed`](Self::set_status_observed), which notes failures.
-    #[cold]
-    #[inline(never)]
-    pub(crate) fn watch(&mut self) {
-        if self.observer.is_none() {
-            self.observer = Some(super::failure::stand_in());
-            self.watching = true;
-        }
-    }
-
-    /// Notes node `id`'s Failure, telling the user's observer first of the reason the node
-    /// gave for it, if it gave one just before.
-    #[cold]
-    #[inline(never)]
-    fn note_failed(&mut self, id: NodeId) {
-        if !self.watching {
-            if let Some((node, note)) = self.out.last() {
-                if *node == id {
-                    if let (Some(reason), Some(o)) = (note.reason(), self.observer.as_deref_mut()) {
-                        o.on_failure_reason(id, reason);
-                    }
-                }
-            }
-        }
-        self.out.push(id, Note::Failed);
-    }
-
     /// The clock in nanoseconds, the unit of time-based nodes' state slots.
     #[inline]
     pub(crate) fn now_nanos(&self) -> u64 {

@@ -7,9 +7,9 @@
 //!
 //! - **Threads.** Frames run in rayon's global pool, whose size follows `RAYON_NUM_THREADS`
 //!   (all cores by default), or in a pool of the crowd's own ([`Crowd::with_threads`],
-//!   [`Crowd::with_pool`]). A crowd of one thread runs its frames on the caller's thread
-//!   (unless it has a budget): handing a frame to the pool's one worker would cost a
-//!   thread's wake-up and gain nothing.
+//!   [`Crowd::with_pool`]). A crowd made with one thread of its own runs its frames on the
+//!   caller's thread (unless it has a budget): handing a frame to the pool's one worker
+//!   would cost a thread's wake-up and gain nothing.
 //! - **Same results on any number of threads.** A member's tick touches only its tree and
 //!   its context, and every choice the crowd makes (who is due, who the budget picks) is
 //!   made from the members alone, in slot order: one thread or many give the same statuses,
@@ -160,6 +160,9 @@ pub struct Crowd<C> {
     /// A bit per slot of the members an [`InPlaceFrame`] visited, kept between frames for
     /// its room.
     seen: Vec<u64>,
+    /// Frames without a budget run on the caller's thread (see
+    /// [`runs_inline`](Self::runs_inline)).
+    on_caller: bool,
 }
 
 /// What one frame did.
@@ -228,19 +231,27 @@ impl<C: Send> Crowd<C> {
             visits: visit::Visits::default(),
             work: Vec::new(),
             seen: Vec::new(),
+            on_caller: false,
         }
     }
 
     /// Runs frames in a pool of `threads` threads of its own (0: as many as rayon's
-    /// default, `RAYON_NUM_THREADS` or the cores).
+    /// default, `RAYON_NUM_THREADS` or the cores). With one thread, a frame without a
+    /// budget runs on the caller's thread rather than in the pool (the same ticks, in the
+    /// same order, without waking the pool's thread).
     pub fn with_threads(self, threads: usize) -> Result<Self, ThreadPoolBuildError> {
         let pool = ThreadPoolBuilder::new().num_threads(threads).build()?;
-        Ok(self.with_pool(Arc::new(pool)))
+        let one = pool.current_num_threads() == 1;
+        let mut crowd = self.with_pool(Arc::new(pool));
+        crowd.on_caller = one;
+        Ok(crowd)
     }
 
-    /// Runs frames in `pool`, which other crowds or work may share.
+    /// Runs frames in `pool`, which other crowds or work may share: every frame runs in
+    /// it, whatever its size, so that its threads' settings apply to the ticks.
     pub fn with_pool(mut self, pool: Arc<ThreadPool>) -> Self {
         self.pool = Some(pool);
+        self.on_caller = false;
         self
     }
 
@@ -584,13 +595,13 @@ impl<C: Send> Crowd<C> {
         }
     }
 
-    /// A frame runs on the caller's thread, without the pool: the crowd has one thread and
-    /// no budget. Handing a frame to a pool's one worker and waiting for it costs as much
-    /// as waking that worker, tens of microseconds, which is the whole of a frame of a
-    /// crowd that mostly sleeps; on the caller's thread the frame ticks the same members in
-    /// the same order.
+    /// A frame runs on the caller's thread, without the pool: the crowd's own pool has one
+    /// thread ([`with_threads`](Self::with_threads)) and there is no budget. Handing a
+    /// frame to a pool's one worker and waiting for it costs as much as waking that
+    /// worker, tens of microseconds, which is the whole of a frame of a crowd that mostly
+    /// sleeps; on the caller's thread the frame ticks the same members in the same order.
     pub(super) fn runs_inline(&self) -> bool {
-        self.budget.is_none() && self.threads() == 1
+        self.on_caller && self.budget.is_none()
     }
 
     /// Runs `f` on the crowd's threads: in its own pool if it has one.
