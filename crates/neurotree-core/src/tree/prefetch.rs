@@ -10,8 +10,10 @@ impl<C> Tree<C> {
     /// [`hint`](crate::hint). Changes nothing.
     #[inline]
     pub fn prefetch_state(&self) {
-        let (block, bytes) = self.state.block();
-        crate::hint::prefetch_bytes(block, bytes);
+        // The block's size from the blueprint, which every member shares and the cache
+        // holds, not from the block's own head, which is what is being asked for.
+        let bytes = self.blueprint.instance_state_bytes();
+        crate::hint::prefetch_bytes(self.state.block(), bytes);
         self.blackboard.prefetch();
     }
 

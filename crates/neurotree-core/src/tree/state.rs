@@ -212,10 +212,12 @@ impl<C> NodeState<C> {
         self.shape().offsets::<C>().size
     }
 
-    /// The block's start and length in bytes, for [`prefetch`](crate::hint::prefetch_bytes).
+    /// The block's start, for [`prefetch`](crate::hint::prefetch_bytes): its length is
+    /// the blueprint's to say, since reading it here would wait for the very memory a
+    /// prefetch asks for.
     #[inline]
-    pub(crate) fn block(&self) -> (*const u8, usize) {
-        (self.block.as_ptr(), self.bytes())
+    pub(crate) fn block(&self) -> *const u8 {
+        self.block.as_ptr()
     }
 
     /// The parts, to change.
