@@ -142,7 +142,8 @@ pub(crate) fn duration_to_nanos(d: Duration) -> u64 {
     u64::try_from(d.as_nanos()).unwrap_or(u64::MAX)
 }
 
-/// A moment kept in a node's `u64` state slot, where 0 must mean "none".
+/// A moment kept in two of a node's 32-bit state slots, as one `u64`, where 0 must mean
+/// "none".
 ///
 /// A moment is stored as its nanoseconds plus [`EPOCH`](moment::EPOCH): a state restored on a
 /// clock that began later than the wait (a new process's system clock, a manual clock at 0)

@@ -262,9 +262,10 @@ impl<C> Tree<C> {
     }
 
     /// Bytes this instance keeps on the heap for node state: the block of its nodes' slots,
-    /// statuses, failure bits and object pointers ([`Blueprint::instance_state_bytes`]),
-    /// and the failure reasons' record once a node has given a reason; not counting what
-    /// the stateful leaves' objects point to, or blackboard entries.
+    /// statuses, failure bits and stateful leaves' objects
+    /// ([`Blueprint::instance_state_bytes`]), and the failure reasons' record once a node
+    /// has given a reason; not counting what the stateful leaves' objects point to, or
+    /// blackboard entries.
     pub fn state_bytes(&self) -> usize {
         self.state.bytes() + self.out.record_bytes()
     }

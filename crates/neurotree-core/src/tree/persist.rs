@@ -332,18 +332,93 @@ mod tests {
         assert_eq!(tick(&mut resumed), Ok(S));
     }
 
-    #[test]
-    fn a_saved_value_one_slot_cannot_hold_is_refused() {
-        let (mut tree, _) = build(|b| b.repeat("r", 3, |r| r.sleep("nap", ms(10))));
-        assert_eq!(tick(&mut tree), Ok(R));
+    /// `tree` with its first node's saved state replaced by `value`, restored.
+    fn restored_with(tree: &mut Tree<()>, value: u64) -> Result<(), crate::state::RestoreError> {
         let mut saved = SavedTree::read(&tree.save_state().unwrap()).unwrap();
-        saved.aux[0] = 1 << 32;
-        let damaged = crate::state::encode(&saved);
-        let before = tree.state.aux().to_vec();
-        assert!(matches!(
-            tree.restore_state(&damaged),
-            Err(crate::state::RestoreError::Corrupt(_))
-        ));
-        assert_eq!(tree.state.aux(), &before[..]);
+        saved.aux[0] = value;
+        tree.restore_state(&crate::state::encode(&saved))
+    }
+
+    #[test]
+    fn a_saved_count_past_what_one_slot_holds_saturates() {
+        let (mut tree, clock) = build(|b| b.repeat("r", 3, |r| r.sleep("nap", ms(10))));
+        assert_eq!(tick(&mut tree), Ok(R));
+        // A count saved when slots were 64 bits, past 2^32: only a Repeat of -1 reaches it.
+        restored_with(&mut tree, 1 << 40).unwrap();
+        assert_eq!(tree.state.aux()[0], u32::MAX);
+        clock.advance(ms(10));
+        assert_eq!(tick(&mut tree), Ok(S));
+    }
+
+    #[test]
+    fn saved_states_no_node_keeps_are_refused_and_the_tree_is_left_as_it_was() {
+        type Make = fn(Builder<()>) -> Builder<()>;
+        let cases: [(&str, Make, u64); 6] = [
+            (
+                "an IfThenElse of two children on its else branch",
+                |b| b.if_then_else("ite", |c| c.always_success("if").sleep("then", ms(10))),
+                2,
+            ),
+            (
+                "an IfThenElse on a branch past the children",
+                |b| b.if_then_else("ite", |c| c.always_success("if").sleep("then", ms(10))),
+                7,
+            ),
+            (
+                "a ReactiveSequence running a child it does not have",
+                |b| b.reactive_sequence("rs", |c| c.always_success("a").sleep("nap", ms(10))),
+                3,
+            ),
+            (
+                "a Parallel keeping a Running outcome",
+                |b| {
+                    b.parallel_policy("p", crate::ParallelPolicy::RequireAll, |c| {
+                        c.sleep("nap", ms(10))
+                    })
+                },
+                NodeStatus::Running as u64,
+            ),
+            (
+                "a RunOnce with a third outcome",
+                |b| {
+                    b.sequence("s", |s| {
+                        s.run_once("once", true, |o| o.always_success("a"))
+                            .sleep("nap", ms(10))
+                    })
+                },
+                3,
+            ),
+            (
+                "a TryCatch whose catch waits for a halt",
+                |b| {
+                    b.try_catch("tc", true, |c| {
+                        c.sleep("try", ms(10)).always_success("catch")
+                    })
+                },
+                1 << 62,
+            ),
+        ];
+        for (what, make, value) in cases {
+            let (mut tree, _) = build(make);
+            assert_eq!(tick(&mut tree), Ok(R), "{what}");
+            let before = (tree.state.aux().to_vec(), tree.statuses().to_vec());
+            let slot = usize::from(what.contains("RunOnce"));
+            let mut saved = SavedTree::read(&tree.save_state().unwrap()).unwrap();
+            saved.aux[slot] = value;
+            assert!(
+                matches!(
+                    tree.restore_state(&crate::state::encode(&saved)),
+                    Err(crate::state::RestoreError::Corrupt(_))
+                ),
+                "{what}"
+            );
+            assert_eq!(
+                (tree.state.aux().to_vec(), tree.statuses().to_vec()),
+                before,
+                "{what}"
+            );
+            // The tree still ticks.
+            assert_eq!(tick(&mut tree), Ok(R), "{what}");
+        }
     }
 }

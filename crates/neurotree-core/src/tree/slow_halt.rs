@@ -72,8 +72,8 @@
 //! allocation for a stateful action: its box moves between two variants of its slot, which
 //! is no larger for it (the node it waits for is kept in 4 bytes). An async action's halt
 //! allocates only if the action returns a halt future (its box); the default allocates
-//! nothing. A Parallel keeps one state slot (8 bytes) for the outcome it holds while it
-//! waits, a TryCatch its waiting catch in the state slot it has. While halts are in
+//! nothing. A Parallel keeps one state slot (4 bytes) for the outcome it holds while it
+//! waits, a TryCatch its waiting catch in the state slots it has. While halts are in
 //! progress, every node that waits, and the tree, look over the nodes once per tick.
 
 use core::mem;

@@ -456,7 +456,7 @@ impl<'t, C> Ticker<'t, C> {
         }
     }
 
-    /// Clears node `id`'s state slot and halts its children: the halt of a node that starts
+    /// Clears node `id`'s state slots and halts its children: the halt of a node that starts
     /// afresh after it.
     pub(crate) fn halt_afresh(&mut self, id: NodeId) {
         let slot = self.bp.slot(id);

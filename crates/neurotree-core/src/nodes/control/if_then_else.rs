@@ -72,6 +72,12 @@ impl Tick for IfThenElse {
     const DECL: &'static NodeDecl = &IF_THEN_ELSE;
     const AUX_SLOTS: u32 = 1;
 
+    /// The branch a saved state names: the condition (0), then (1) or else (2), one the
+    /// node has.
+    fn restored_aux(saved: u64, children: u32) -> Option<u64> {
+        (saved <= 2 && saved < u64::from(children)).then_some(saved)
+    }
+
     fn from_ports(_: &dyn Fn(&str) -> PortBinding) -> Result<Self, PortBindingError> {
         Ok(IfThenElse)
     }

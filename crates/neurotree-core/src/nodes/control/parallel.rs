@@ -190,6 +190,13 @@ impl Tick for Parallel {
     const DECL: &'static NodeDecl = &PARALLEL;
     const AUX_SLOTS: u32 = 1;
 
+    /// The outcome a saved state keeps: none, Success or Failure.
+    fn restored_aux(saved: u64, children: u32) -> Option<u64> {
+        let _ = children;
+        let kept = [0, NodeStatus::Success as u64, NodeStatus::Failure as u64];
+        kept.contains(&saved).then_some(saved)
+    }
+
     fn from_ports(port: &dyn Fn(&str) -> PortBinding) -> Result<Self, PortBindingError> {
         let success = built_in::param::<i32>(port, "success_count")?;
         let failure = built_in::param::<i32>(port, "failure_count")?;

@@ -181,6 +181,12 @@ impl Tick for ReactiveSequence {
     const RECHECKS: bool = true;
     const AUX_SLOTS: u32 = 1;
 
+    /// The running child a saved state names (its index plus one, 0 for none), one the node
+    /// has.
+    fn restored_aux(saved: u64, children: u32) -> Option<u64> {
+        (saved <= u64::from(children)).then_some(saved)
+    }
+
     fn from_ports(_: &dyn Fn(&str) -> PortBinding) -> Result<Self, PortBindingError> {
         Ok(ReactiveSequence)
     }
@@ -215,6 +221,12 @@ impl Tick for ReactiveFallback {
     const DECL: &'static NodeDecl = &REACTIVE_FALLBACK;
     const RECHECKS: bool = true;
     const AUX_SLOTS: u32 = 1;
+
+    /// The running child a saved state names (its index plus one, 0 for none), one the node
+    /// has.
+    fn restored_aux(saved: u64, children: u32) -> Option<u64> {
+        (saved <= u64::from(children)).then_some(saved)
+    }
 
     fn from_ports(_: &dyn Fn(&str) -> PortBinding) -> Result<Self, PortBindingError> {
         Ok(ReactiveFallback)

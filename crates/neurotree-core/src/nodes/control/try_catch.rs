@@ -191,6 +191,14 @@ impl Tick for TryCatch {
     const DECL: &'static NodeDecl = &TRY_CATCH;
     /// Its state (a cursor, a count and flags, or whom its catch waits for) takes 64 bits.
     const AUX_SLOTS: u32 = 2;
+
+    /// Where the tries are and whether the catch runs: a saved tree is never halting, so a
+    /// state whose catch waits for a halt, or whose cursor or count is past the children,
+    /// is none a TryCatch keeps.
+    fn restored_aux(saved: u64, children: u32) -> Option<u64> {
+        let (cursor, skipped, _) = unpack(saved);
+        (saved & CATCH_PENDING == 0 && cursor <= children && skipped <= children).then_some(saved)
+    }
     const WAITS_ON_HALTS: bool = true;
 
     fn from_ports(port: &dyn Fn(&str) -> PortBinding) -> Result<Self, PortBindingError> {

@@ -82,7 +82,8 @@ pub(crate) fn tick<C, const REPEAT: bool>(
     // BehaviorTree.CPP's `count < n || n == -1`: only -1 is "forever"; any other negative
     // limit, like 0, allows no cycle at all.
     // A count stays below `limit` (an `i32`, as BehaviorTree.CPP's `int`) but forever, where it
-    // saturates at `u32::MAX` and is never read.
+    // saturates at `u32::MAX`: read again only if a limit bound to the blackboard changes, when
+    // the saturated count is past any limit.
     let more = |count: u32| limit == -1 || (limit >= 0 && count < limit as u32);
     t.set_status(id, NodeStatus::Running);
     while more(t.aux[slot]) {
@@ -139,6 +140,13 @@ impl Tick for Repeat {
 
     const DECL: &'static NodeDecl = &REPEAT;
     const AUX_SLOTS: u32 = 1;
+
+    /// The cycles done: a count saved when slots were 64 bits, past 2^32 (only a Repeat of
+    /// `-1`, which never reads it), saturates as the count does now.
+    fn restored_aux(saved: u64, children: u32) -> Option<u64> {
+        let _ = children;
+        Some(saved.min(u64::from(u32::MAX)))
+    }
 
     fn from_ports(port: &dyn Fn(&str) -> PortBinding) -> Result<Self, PortBindingError> {
         Ok(Repeat {

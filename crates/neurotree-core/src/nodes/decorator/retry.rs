@@ -69,6 +69,12 @@ impl Tick for RetryUntilSuccessful {
     const DECL: &'static NodeDecl = &RETRY_UNTIL_SUCCESSFUL;
     const AUX_SLOTS: u32 = 1;
 
+    /// The attempts made, saturating as [`Repeat`](super::repeat)'s count does.
+    fn restored_aux(saved: u64, children: u32) -> Option<u64> {
+        let _ = children;
+        Some(saved.min(u64::from(u32::MAX)))
+    }
+
     fn from_ports(port: &dyn Fn(&str) -> PortBinding) -> Result<Self, PortBindingError> {
         Ok(RetryUntilSuccessful {
             num_attempts: built_in::param(port, "num_attempts")?,

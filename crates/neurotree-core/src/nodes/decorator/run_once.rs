@@ -81,6 +81,12 @@ impl Tick for RunOnce {
     const DECL: &'static NodeDecl = &RUN_ONCE;
     const AUX_SLOTS: u32 = 1;
 
+    /// Not run yet (0), succeeded or failed.
+    fn restored_aux(saved: u64, children: u32) -> Option<u64> {
+        let _ = children;
+        (saved <= u64::from(FAILED)).then_some(saved)
+    }
+
     fn from_ports(port: &dyn Fn(&str) -> PortBinding) -> Result<Self, PortBindingError> {
         Ok(RunOnce {
             then_skip: built_in::param(port, "then_skip")?,
