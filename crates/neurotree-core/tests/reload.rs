@@ -229,3 +229,51 @@ fn a_factory_that_panics_in_a_reload_leaves_blueprint_and_state_together() {
     assert_eq!(tree.blueprint().len(), 2);
     assert_eq!(tree.tick_once(&mut ()), Ok(Status::Success));
 }
+
+/// Counts its calls in a shared counter, running until halted.
+struct Counting(std::sync::Arc<std::sync::atomic::AtomicU32>);
+
+impl neurotree_core::StatefulAction<()> for Counting {
+    fn on_start(&mut self, _: &mut neurotree_core::Handle<'_, ()>) -> Status {
+        self.0.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        Status::Running
+    }
+    fn on_running(&mut self, _: &mut neurotree_core::Handle<'_, ()>) -> Status {
+        self.0.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        Status::Running
+    }
+}
+
+/// The new leaves' objects are made before a kept leaf's object leaves the old tree: a
+/// factory's panic leaves the kept leaf running on its own object, not on a vacant place.
+#[test]
+fn a_factory_that_panics_in_a_reload_leaves_the_kept_leaves_objects_in_place() {
+    use std::sync::atomic::{AtomicU32, Ordering};
+    use std::sync::Arc;
+    let calls = Arc::new(AtomicU32::new(0));
+    let count = {
+        let calls = Arc::clone(&calls);
+        move || Counting(Arc::clone(&calls))
+    };
+    let v1 = Blueprint::<()>::builder()
+        .sequence("main", |s| s.stateful("count", count.clone()))
+        .build_shared()
+        .unwrap();
+    let mut tree = Tree::with_clock(v1, ManualClock::new());
+    assert_eq!(tree.tick_exactly_once(&mut ()), Ok(Status::Running));
+    let v2 = Blueprint::<()>::builder()
+        .sequence("main", |s| {
+            s.stateful("count", count)
+                .stateful("new", || -> Unmakeable { panic!("no such leaf") })
+        })
+        .build_shared()
+        .unwrap();
+    let caught = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+        let _ = tree.reload(v2, &mut ());
+    }));
+    assert!(caught.is_err());
+    assert_eq!(calls.load(Ordering::Relaxed), 1);
+    // The kept leaf's own object answers: Running, counted.
+    assert_eq!(tree.tick_exactly_once(&mut ()), Ok(Status::Running));
+    assert_eq!(calls.load(Ordering::Relaxed), 2);
+}

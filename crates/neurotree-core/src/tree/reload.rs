@@ -243,17 +243,30 @@ impl<C> Tree<C> {
         // state by the blueprint's node indices unchecked, and a stateful leaf's factory or
         // an old object's drop below may panic, into a caller that keeps the tree.
         let old = Arc::clone(&self.blueprint);
-        // The kept objects are taken out of the old block (a vacant object left in their
-        // place); the others stay there, to be dropped with it.
+        // The new nodes' objects are made first, while every kept one is still in the old
+        // block: a factory that panics leaves the tree as it was. The kept objects are then
+        // taken out of the old block (a vacant object left in their place), which cannot
+        // panic; the others stay there, to be dropped with it.
         let old_objects = self.state.parts().objects;
+        let old_len = old_objects.len();
+        let kept = |id: NodeId| kept_from[id.index()].filter(|o| old.slot(*o) < old_len);
         let mut objects = Vec::with_capacity(new.objects as usize);
         for id in new.ids() {
             let kind = new.kind(id);
             if kind.has_object() {
-                let kept = kept_from[id.index()]
-                    .and_then(|o| old_objects.get_mut(old.slot(o)))
-                    .map(|o| core::mem::replace(o, Object::Vacant));
-                objects.push(kept.unwrap_or_else(|| fresh_object(kind)));
+                objects.push(match kept(id) {
+                    Some(_) => Object::Vacant,
+                    None => fresh_object(kind),
+                });
+            }
+        }
+        let mut at = 0;
+        for id in new.ids() {
+            if new.kind(id).has_object() {
+                if let Some(o) = kept(id) {
+                    objects[at] = core::mem::replace(&mut old_objects[old.slot(o)], Object::Vacant);
+                }
+                at += 1;
             }
         }
         let mut state = NodeState::new(new.len(), new.aux_slots as usize, objects);
