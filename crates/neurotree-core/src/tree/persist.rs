@@ -256,12 +256,16 @@ impl<C> Tree<C> {
         let state = self.state.parts();
         state.statuses.copy_from_slice(&statuses);
         state.aux.copy_from_slice(&aux);
-        for (object, restored) in state.objects.iter_mut().zip(objects) {
-            *object = restored;
+        // The old objects are swapped out and dropped once the tree is whole: a drop may
+        // panic.
+        let mut old = objects;
+        for (object, restored) in state.objects.iter_mut().zip(old.iter_mut()) {
+            core::mem::swap(object, restored);
         }
         self.last_root = last_root;
         self.resting = None;
         self.forget_notes();
+        drop(old);
         Ok(())
     }
 }
