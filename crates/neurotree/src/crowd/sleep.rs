@@ -385,6 +385,8 @@ impl<C: Send> Crowd<C> {
             ..
         } = self;
         let now = nanos(clock.now());
+        // The same chunks either way; rayon's parallel iterators and the standard ones are
+        // different types, so the walk is written out for each.
         if inline {
             plans
                 .chunks_mut(CHUNK)
