@@ -11,8 +11,8 @@
 //!   every thread of a rayon pool (`--threads`, or `RAYON_NUM_THREADS`, or every core):
 //!   milliseconds per frame and bytes per member.
 //! - `crowd_sleeping`: the same agents behind a leaf that sleeps until an alert, 1% of them
-//!   alerted each frame (a blackboard write, through `Crowd::for_each_mut` on the crowd's
-//!   threads): the members awake per
+//!   alerted each frame (a blackboard write, delivered by `Crowd::frame_with` on the
+//!   frame's threads): the members awake per
 //!   frame and milliseconds per frame, which follow the agents awake rather than the crowd.
 //! - `crowd_awake`: the sleeping crowd again with about 1 %, 3.7 % and 20 % of it awake in
 //!   each frame: nanoseconds per awake member, and their ratio to the `crowd` line's
@@ -330,12 +330,11 @@ pub fn crowd_sleeping_bench(opts: &BenchArgs, alert_percent: f64) -> CrowdSleepi
             alerted.push(ids[next % ids.len()]);
             next += 1;
         }
-        // On the crowd's threads, as a game delivers a frame's events to its agents.
-        crowd.for_each_mut(&alerted, |mut m| {
-            let _ = m.tree_mut().blackboard_mut().set("alert", true);
-        });
         clock.advance(FRAME);
-        black_box(crowd.frame())
+        // On the frame's threads, as a game delivers a frame's events to its agents.
+        black_box(crowd.frame_with(&alerted, |mut m| {
+            let _ = m.tree_mut().blackboard_mut().set("alert", true);
+        }))
     };
     for _ in 0..10 {
         frame(&mut crowd);

@@ -426,7 +426,7 @@ mod random {
     use std::sync::Arc;
     use std::time::Duration;
 
-    use neurotree::crowd::{Crowd, FrameStatus, MemberId};
+    use neurotree::crowd::{Crowd, FrameStatus, MemberId, MemberMut};
     use neurotree::prelude::*;
     use neurotree::{HaltHandle, NodeStatus};
     use proptest::prelude::*;
@@ -495,6 +495,9 @@ mod random {
         awake_only: bool,
         /// A level-of-detail hook, from the member's context.
         lod: bool,
+        /// The sleeping crowd's writes that no other touch follows in their frame are
+        /// delivered by [`Crowd::frame_with`](neurotree::crowd::Crowd::frame_with).
+        deliver: bool,
     }
 
     /// A frame's events: how far the clock moves (from the core property's events), and
@@ -535,6 +538,28 @@ mod random {
             .collect()
     }
 
+    /// The ids to name and the visit that delivers `pending` writes: each member named
+    /// enough times to be shared among the frame's threads, each visit making every write
+    /// held for its member, in order (the same writes again: those seen).
+    fn deliver(
+        pending: &[(MemberId, String, bool)],
+    ) -> (
+        Vec<MemberId>,
+        impl Fn(MemberMut<'_, Log>) + Send + Sync + '_,
+    ) {
+        let named = pending
+            .iter()
+            .flat_map(|p| std::iter::repeat_n(p.0, neurotree::crowd::SHARED_IN_FRAME))
+            .collect();
+        let write = move |mut member: MemberMut<'_, Log>| {
+            let id = member.id();
+            for (_, key, v) in pending.iter().filter(|p| p.0 == id) {
+                member.tree_mut().blackboard_mut().set(key, *v).unwrap();
+            }
+        };
+        (named, write)
+    }
+
     /// 16 members of `roots`' trees, intervals 1 to 3, under `frames`.
     fn run(roots: &[Node], frames: &[Frame], setup: Setup, sleeps: bool) -> Seen {
         let clock = ManualClock::new();
@@ -561,9 +586,20 @@ mod random {
         }
         let waker = crowd.waker();
         let mut seen = Vec::new();
+        // Writes held for `frame_with`, in order.
+        let mut pending: Vec<(MemberId, String, bool)> = Vec::new();
         for (ms, touches) in frames {
             for (m, t) in touches {
                 let id = ids[*m];
+                if setup.deliver && sleeps {
+                    if let Touch::Write(k, v) = t {
+                        pending.push((id, format!("k{k}"), *v));
+                        continue;
+                    }
+                    let (named, write) = deliver(&pending);
+                    crowd.for_each_mut(&named, write);
+                    pending.clear();
+                }
                 match t {
                     // The sleeping crowd is written through `for_each_mut`, the member named
                     // enough times to be shared among threads (the same value: one write
@@ -630,7 +666,12 @@ mod random {
                     Touch::Observe => {}
                 }
             }
-            let report = if setup.in_place {
+            let report = if !pending.is_empty() {
+                let (named, write) = deliver(&pending);
+                let report = crowd.frame_with(&named, write);
+                pending.clear();
+                report
+            } else if setup.in_place {
                 let frame = crowd.frame_in_place().unwrap();
                 let mut visit = ids.clone();
                 if setup.awake_only {
@@ -713,8 +754,9 @@ mod random {
             in_place in any::<bool>(),
             awake_only in any::<bool>(),
             lod in any::<bool>(),
+            deliver in any::<bool>(),
         ) {
-            compare(&roots, &frames, Setup { threads, in_place, awake_only, lod })?;
+            compare(&roots, &frames, Setup { threads, in_place, awake_only, lod, deliver })?;
         }
     }
 
@@ -753,12 +795,18 @@ mod random {
             })
             .collect();
         for threads in [1, 3] {
-            for (in_place, awake_only) in [(false, false), (true, false), (true, true)] {
+            for (in_place, awake_only, deliver) in [
+                (false, false, false),
+                (true, false, false),
+                (true, true, false),
+                (false, false, true),
+            ] {
                 let setup = Setup {
                     threads,
                     in_place,
                     awake_only,
                     lod: false,
+                    deliver,
                 };
                 let asleep = compare(std::slice::from_ref(&root), &frames, setup).unwrap();
                 assert!(asleep > 16 * 40 / 2, "{asleep} member-frames asleep");

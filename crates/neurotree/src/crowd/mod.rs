@@ -112,7 +112,7 @@ use member::{Body, Plan};
 pub use member::{Contexts, FrameStatus, Member, MemberId, MemberMut, TickMode};
 pub use rayon::{ThreadPool, ThreadPoolBuildError, ThreadPoolBuilder};
 pub use sleep::CrowdWaker;
-pub use visit::SHARED_VISITS;
+pub use visit::{SHARED_IN_FRAME, SHARED_VISITS};
 
 /// A level-of-detail hook: a member's interval, from its context.
 type Lod<C> = dyn Fn(&C) -> u32 + Send + Sync;
@@ -568,10 +568,17 @@ impl<C: Send> Crowd<C> {
 
     /// Runs one frame: ticks the members due in it, in parallel, and reports.
     pub fn frame(&mut self) -> FrameReport {
+        self.frame_after(|_: &mut Self, _: bool| {})
+    }
+
+    /// Runs one frame after `first` (given whether the frame runs on the caller's thread),
+    /// on the frame's threads.
+    fn frame_after(&mut self, first: impl FnOnce(&mut Self, bool) + Send) -> FrameReport {
         let frame = self.frames;
         let budget = self.budget;
         let inline = self.runs_inline();
         let run = move |crowd: &mut Self| {
+            first(crowd, inline);
             let asleep = crowd.start_sleep_frame(inline);
             crowd.choose_intervals(inline);
             let tally = match budget {

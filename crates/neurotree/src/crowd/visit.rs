@@ -5,12 +5,18 @@
 //! A counting sort: two passes over the ids and one over the words, so that naming a few
 //! members of a large crowd costs little more than the few. Within a word the ids keep the
 //! caller's order, so that a member named twice is visited in that order.
+//!
+//! Members named are far apart in memory as often as not: each visit asks for the memory
+//! of the member [`FAR`] ids later, and for the node state and blackboard of the one
+//! [`NEAR`] ids later, so that the visits' trips to memory overlap.
 
+use neurotree_core::hint::prefetch;
 use rayon::prelude::*;
 
-use super::sleep::BITS;
+use super::member::{Body, Plan};
+use super::sleep::{BITS, FAR, NEAR};
 use super::span::Span;
-use super::{Crowd, MemberId, MemberMut};
+use super::{Crowd, FrameReport, MemberId, MemberMut};
 
 impl<C: Send> Crowd<C> {
     /// Calls `f` on each member `ids` names, in parallel on the crowd's threads: to deliver
@@ -23,54 +29,169 @@ impl<C: Send> Crowd<C> {
     /// depend on the order of members far apart. Fewer than [`SHARED_VISITS`] ids, or a
     /// crowd on one thread, are visited on the calling thread in the order of `ids`, since
     /// handing them to the pool would cost more than the visits.
+    ///
+    /// To deliver a frame's events and then run the frame, [`frame_with`](Self::frame_with)
+    /// does both in one trip to the crowd's threads.
     pub fn for_each_mut(&mut self, ids: &[MemberId], f: impl Fn(MemberMut<'_, C>) + Send + Sync) {
         if ids.len() < SHARED_VISITS || self.threads() == 1 {
-            for &id in ids {
-                if let Some(member) = self.get_mut(id) {
-                    f(member);
-                }
-            }
+            self.visit_in_order(ids, &f);
             return;
         }
-        self.in_pool(|crowd| {
-            let Self {
-                plans,
-                bodies,
-                contexts,
+        self.in_pool(|crowd| crowd.visit_shared(ids, &f));
+    }
+
+    /// Calls `f` on each member `ids` names, then runs a frame: the same visits, ticks and
+    /// report as [`for_each_mut`](Self::for_each_mut) followed by [`frame`](Self::frame),
+    /// in one trip to the crowd's threads rather than two. As a game delivers a frame's
+    /// events (a blackboard write that wakes a sleeping agent) just before the frame.
+    ///
+    /// The visits follow `for_each_mut`'s order, except that on a crowd with more than one
+    /// thread they are shared among its threads from [`SHARED_IN_FRAME`] ids on (the
+    /// frame's threads are at work already), visited by words of 64 slots in slot order:
+    /// `f` must not depend on the order of members far apart.
+    pub fn frame_with(
+        &mut self,
+        ids: &[MemberId],
+        f: impl Fn(MemberMut<'_, C>) + Send + Sync,
+    ) -> FrameReport {
+        let shared = ids.len() >= SHARED_IN_FRAME && self.threads() > 1;
+        self.frame_after(move |crowd: &mut Self, inline: bool| {
+            if shared && !inline {
+                crowd.visit_shared(ids, &f);
+            } else {
+                crowd.visit_in_order(ids, &f);
+            }
+        })
+    }
+
+    /// Visits the members `ids` names on this thread, in the order of `ids`.
+    fn visit_in_order(&mut self, ids: &[MemberId], f: &(impl Fn(MemberMut<'_, C>) + Sync)) {
+        let Self {
+            plans,
+            bodies,
+            contexts,
+            awake,
+            clock,
+            ..
+        } = self;
+        for (k, &id) in ids.iter().enumerate() {
+            ahead(plans, bodies, contexts, ids, k);
+            let i = id.index as usize;
+            let Some(plan) = plans.get_mut(i) else {
+                continue;
+            };
+            let (Some(body), Some(ctx)) = (&mut bodies[i], &mut contexts[i]) else {
+                continue;
+            };
+            if plan.generation != id.generation {
+                continue;
+            }
+            f(MemberMut {
+                id,
+                body,
+                ctx,
+                plan,
                 awake,
                 clock,
-                visits,
-                ..
-            } = crowd;
-            visits.sort(ids, plans.len());
-            let (awake, clock, named) = (&*awake, &*clock, &visits.ids);
-            let whole = Span::whole(plans, bodies, contexts, None, &visits.starts);
-            whole.par_leaves().for_each(|span| {
-                for &id in &named[span.work_range()] {
-                    let i = id.index as usize - span.first;
-                    let (plan, Some(body), Some(ctx)) = (
-                        &mut span.plans[i],
-                        &mut span.bodies[i],
-                        &mut span.contexts[i],
-                    ) else {
-                        continue;
-                    };
-                    if plan.generation != id.generation {
-                        continue;
-                    }
-                    f(MemberMut {
-                        id,
-                        body,
-                        ctx,
-                        plan,
-                        awake,
-                        clock,
-                    });
-                }
             });
+        }
+    }
+
+    /// Visits the members `ids` names on the crowd's threads (call it in the pool), by
+    /// words in slot order.
+    fn visit_shared(&mut self, ids: &[MemberId], f: &(impl Fn(MemberMut<'_, C>) + Sync)) {
+        let Self {
+            plans,
+            bodies,
+            contexts,
+            awake,
+            clock,
+            visits,
+            ..
+        } = self;
+        visits.sort(ids, plans.len());
+        let (awake, clock, named) = (&*awake, &*clock, &visits.ids);
+        let whole = Span::whole(plans, bodies, contexts, None, &visits.starts);
+        whole.par_leaves().for_each(|span| {
+            let first = span.first;
+            let named = &named[span.work_range()];
+            for (k, &id) in named.iter().enumerate() {
+                // The span's own slots, counted from its first.
+                let local = |id: MemberId| MemberId {
+                    index: id.index - first as u32,
+                    ..id
+                };
+                if let Some(&far) = named.get(k + FAR) {
+                    ask_far(span.plans, span.bodies, span.contexts, local(far));
+                }
+                if let Some(&near) = named.get(k + NEAR) {
+                    ask_near(span.bodies, local(near));
+                }
+                let i = id.index as usize - first;
+                let (plan, Some(body), Some(ctx)) = (
+                    &mut span.plans[i],
+                    &mut span.bodies[i],
+                    &mut span.contexts[i],
+                ) else {
+                    continue;
+                };
+                if plan.generation != id.generation {
+                    continue;
+                }
+                f(MemberMut {
+                    id,
+                    body,
+                    ctx,
+                    plan,
+                    awake,
+                    clock,
+                });
+            }
         });
     }
 }
+
+/// Before the visit of `ids[k]`, asks for the memory of the members visited a little later.
+#[inline]
+fn ahead<C>(
+    plans: &[Plan],
+    bodies: &[Option<Body<C>>],
+    contexts: &[Option<C>],
+    ids: &[MemberId],
+    k: usize,
+) {
+    if let Some(&far) = ids.get(k + FAR) {
+        ask_far(plans, bodies, contexts, far);
+    }
+    if let Some(&near) = ids.get(k + NEAR) {
+        ask_near(bodies, near);
+    }
+}
+
+/// Starts loading the schedule, the tree's own bytes and the context of member `id` (its
+/// slot counted in the tables given); nothing for a slot past them.
+#[inline]
+fn ask_far<C>(plans: &[Plan], bodies: &[Option<Body<C>>], contexts: &[Option<C>], id: MemberId) {
+    let i = id.index as usize;
+    if let (Some(plan), Some(body), Some(ctx)) = (plans.get(i), bodies.get(i), contexts.get(i)) {
+        prefetch(plan);
+        prefetch(body);
+        prefetch(ctx);
+    }
+}
+
+/// Starts loading the node state and the blackboard's root entries of member `id`, whose
+/// tree [`ask_far`] asked for.
+#[inline]
+fn ask_near<C>(bodies: &[Option<Body<C>>], id: MemberId) {
+    if let Some(Some(body)) = bodies.get(id.index as usize) {
+        body.tree.prefetch_state();
+    }
+}
+
+/// The fewest ids [`Crowd::frame_with`] shares among the crowd's threads: a split costs
+/// about what a few visits do once the frame's threads are at work.
+pub const SHARED_IN_FRAME: usize = 64;
 
 /// The fewest ids [`Crowd::for_each_mut`] shares among the crowd's threads: a few thousand
 /// visits take about as long as waking a thread of the pool.
