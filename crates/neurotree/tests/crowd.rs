@@ -192,6 +192,88 @@ fn a_budget_defers_the_rest_oldest_first_and_reports_the_lag() {
     assert_eq!(statuses(&crowd)[..3], [D, T, D]);
 }
 
+/// Ticks so far, member by member.
+fn ticks(crowd: &Crowd<Walker>) -> Vec<u32> {
+    crowd.iter().map(|m| m.context().ticks).collect()
+}
+
+#[test]
+fn members_owed_a_tick_and_not_visited_in_place_are_owed_it_under_the_next_budget() {
+    let mut crowd = Crowd::new(ManualClock::new()).with_threads(2).unwrap();
+    let bp = counter();
+    let ids: Vec<MemberId> = (0..10)
+        .map(|i| crowd.add(bp.clone(), Walker::new(i)))
+        .collect();
+    crowd.set_budget(Some(4));
+    crowd.frame();
+    assert_eq!(statuses(&crowd), [T, T, T, T, D, D, D, D, D, D]);
+    // Without a budget, a frame in place visits members 0 to 5: 4 and 5, owed since
+    // frame 0, tick; 6 to 9 are not visited and are still owed a tick.
+    crowd.set_budget(None);
+    let frame = crowd.frame_in_place().unwrap();
+    let mut visitor = frame.visitor();
+    for &id in &ids[..6] {
+        assert!(matches!(visitor.visit(id, |_| {}), Visit::Ticked(..)));
+    }
+    drop(visitor);
+    let report = frame.finish();
+    assert_eq!(report.ticked, 6);
+    assert_eq!(
+        report.behind,
+        Behind {
+            overdue: 4,
+            frames: 2
+        }
+    );
+    assert_eq!(crowd.behind(), report.behind);
+    assert_eq!(ticks(&crowd), [2, 2, 2, 2, 1, 1, 0, 0, 0, 0]);
+    // Under a budget again, those four go first, before the members due in this frame.
+    crowd.set_budget(Some(4));
+    let report = crowd.frame();
+    assert_eq!((report.due, report.ticked), (10, 4));
+    assert_eq!(statuses(&crowd), [D, D, D, D, D, D, T, T, T, T]);
+    assert_eq!(ticks(&crowd), [2, 2, 2, 2, 1, 1, 1, 1, 1, 1]);
+    crowd.frame();
+    assert_eq!(statuses(&crowd), [T, T, T, T, D, D, D, D, D, D]);
+}
+
+#[test]
+fn a_held_member_owed_a_tick_takes_no_share_of_the_budget_and_ticks_once_released() {
+    let mut crowd = Crowd::new(ManualClock::new()).with_threads(2).unwrap();
+    let bp = counter();
+    let ids: Vec<MemberId> = (0..10)
+        .map(|i| crowd.add(bp.clone(), Walker::new(i)))
+        .collect();
+    crowd.set_budget(Some(4));
+    crowd.frame();
+    // Member 4 heads the queue of those owed a tick; held, it is not ticked, and the
+    // budget goes to the four after it.
+    assert!(crowd.hold(ids[4]));
+    assert!(!crowd.get(ids[4]).unwrap().is_owed());
+    let report = crowd.frame();
+    assert_eq!(report.ticked, 4);
+    const A: FrameStatus = FrameStatus::Asleep;
+    assert_eq!(statuses(&crowd), [D, D, D, D, A, T, T, T, T, D]);
+    assert_eq!(
+        report.behind,
+        Behind {
+            overdue: 5,
+            frames: 2
+        }
+    );
+    // Released, it is due again as a fresh member, queued behind those owed from before.
+    assert!(crowd.release(ids[4]));
+    let mut frames = 0;
+    while crowd.get(ids[4]).unwrap().context().ticks == 0 {
+        crowd.frame();
+        frames += 1;
+        assert!(frames <= 3, "{:?}", statuses(&crowd));
+    }
+    // Frame 2 ticks 9 and 0 to 2, frame 3 ticks 3 and the fresh ones from frame 2, 4 first.
+    assert_eq!(frames, 2);
+    assert!(crowd.iter().all(|m| !m.is_owed() || m.status() == D));
+}
+
 #[test]
 fn a_budget_that_covers_the_frame_ticks_everyone_due() {
     let mut crowd = Crowd::new(ManualClock::new()).with_threads(2).unwrap();

@@ -22,8 +22,9 @@ pub(super) struct Held {
 impl<C: Send> Crowd<C> {
     /// Holds member `id` still: no frame ticks it until [`release`](Self::release), even
     /// if it is woken; the other members are ticked exactly as they would be without it.
-    /// A held member counts as asleep in [`FrameReport::asleep`](super::FrameReport).
-    /// `false` if `id` names no member.
+    /// A held member counts as asleep in [`FrameReport::asleep`](super::FrameReport); a
+    /// tick a [budget](Self::set_budget) owed it is forgotten (it is due again once
+    /// released). `false` if `id` names no member.
     pub fn hold(&mut self, id: MemberId) -> bool {
         if self.get(id).is_none() {
             return false;
@@ -64,6 +65,7 @@ impl<C: Send> Crowd<C> {
             held,
             awake,
             timers,
+            backlog,
             ..
         } = self;
         held.ids.retain(|id| {
@@ -83,6 +85,13 @@ impl<C: Send> Crowd<C> {
             plan.sleeps_until = u64::MAX;
             timers.forget_fallen(slot);
             plan.status = FrameStatus::Asleep;
+            // A tick a budget owed it is forgotten: picked from the queue, it would take a
+            // share of the budget no frame spends on it, and the queue would not hold it
+            // once released.
+            if plan.is_owed() || plan.picked() {
+                plan.forgive();
+                backlog.retain(|&s| s as usize != slot);
+            }
             true
         });
     }

@@ -12,6 +12,7 @@
 //! member of another: walked in (about) slot order, a thread takes a lock per
 //! [`PART`] members, and two threads meet only at the edges of their shares.
 
+use std::collections::VecDeque;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Mutex, MutexGuard, PoisonError};
 
@@ -36,6 +37,9 @@ pub struct InPlaceFrame<'c, C> {
     parts: Vec<Mutex<Part<'c, C>>>,
     frames: &'c mut u64,
     len: usize,
+    /// The queue of members a budget owes a tick, when it holds any: those the caller does
+    /// not visit are still owed one after the frame.
+    backlog: Option<&'c mut VecDeque<u32>>,
     /// Members asleep through the frame.
     asleep: u64,
 }
@@ -79,12 +83,12 @@ impl<C: Send> Crowd<C> {
     /// oldest first over the whole crowd before any is ticked: use [`frame`](Self::frame).
     ///
     /// Members owed a tick from frames under a budget are due, as in [`frame`](Self::frame)
-    /// without one.
+    /// without one; those the caller does not visit stay owed, first in line at the next
+    /// frame under a budget.
     pub fn frame_in_place(&mut self) -> Option<InPlaceFrame<'_, C>> {
         if self.budget.is_some() {
             return None;
         }
-        self.backlog.clear();
         let asleep = if self.runs_inline() {
             self.start_sleep_frame(true)
         } else {
@@ -101,6 +105,7 @@ impl<C: Send> Crowd<C> {
             awake,
             timers,
             seen,
+            backlog,
             ..
         } = self;
         // No member seen yet in this frame: a bit per slot, cleared a word per 64 members.
@@ -133,6 +138,7 @@ impl<C: Send> Crowd<C> {
             parts,
             frames,
             len: *len,
+            backlog: (!backlog.is_empty()).then_some(backlog),
             asleep,
         })
     }
@@ -200,7 +206,7 @@ impl<'c, C> InPlaceFrame<'c, C> {
         }
         // Awake members not visited were not due; sleeping ones keep their status.
         if visited < self.len as u64 {
-            for (plans, words, seen) in parts {
+            for (plans, words, seen) in &mut parts {
                 for (w, word) in words.iter().enumerate() {
                     let mut left = word.load(Ordering::Relaxed) & !seen[w];
                     while left != 0 {
@@ -214,6 +220,19 @@ impl<'c, C> InPlaceFrame<'c, C> {
             }
         }
         *self.frames += 1;
+        // A member a budget owed a tick is ticked when visited; those not visited stay
+        // owed, in the order they fell due, for the next frame under a budget.
+        let mut behind = super::Behind::default();
+        if let Some(backlog) = self.backlog {
+            let plan = |slot: u32| &parts[slot as usize / PART].0[slot as usize % PART];
+            backlog.retain(|&slot| plan(slot).is_owed());
+            behind = super::Behind {
+                overdue: backlog.len() as u64,
+                frames: backlog
+                    .front()
+                    .map_or(0, |&slot| plan(slot).owed_for(*self.frames)),
+            };
+        }
         FrameReport {
             frame: self.frame,
             due: tally.due,
@@ -223,8 +242,7 @@ impl<'c, C> InPlaceFrame<'c, C> {
             failures: tally.failures,
             errors: tally.errors,
             awake: tally.awake,
-            // Without a budget, no member is left owed.
-            behind: super::Behind::default(),
+            behind,
         }
     }
 }

@@ -152,6 +152,13 @@ impl Plan {
         self.owed_since = frame as u32;
     }
 
+    /// Forgets the tick it was owed, and its pick: it is held, and ticks as a fresh member
+    /// once released.
+    #[inline]
+    pub(super) fn forgive(&mut self) {
+        self.flags &= !(OWED | PICKED);
+    }
+
     /// Frames it has been owed a tick by `frame` (0 if it is owed none).
     pub(super) fn owed_for(&self, frame: u64) -> u64 {
         if self.is_owed() {
