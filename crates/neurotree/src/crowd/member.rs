@@ -90,6 +90,10 @@ const PRESENT: u8 = 1;
 const PICKED: u8 = 2;
 /// Owed a tick the budget held back.
 const OWED: u8 = 4;
+/// Its tree had a halt handle when it last fell asleep: the crowd watches the tree's wake
+/// signal while it sleeps. Kept here so that the frame after, which marks the member
+/// asleep, need not read the tree, elsewhere in memory.
+const HALT_HANDLE: u8 = 8;
 
 impl Plan {
     pub(super) fn new(generation: u32) -> Self {
@@ -137,6 +141,12 @@ impl Plan {
     #[inline]
     pub(super) fn is_owed(&self) -> bool {
         self.flags & OWED != 0
+    }
+
+    /// Its tree had a halt handle when it fell asleep in its last tick.
+    #[inline]
+    pub(super) fn fell_asleep_with_halt_handle(&self) -> bool {
+        self.flags & HALT_HANDLE != 0
     }
 
     /// Owed a tick since `frame` exactly: it fell due in `frame`.
@@ -218,7 +228,10 @@ impl Plan {
         let visits = nodes(&body.tree).saturating_mul(passes);
         self.cost = visits;
         self.sleeps_until = super::sleep::sleeps_until(&body.tree);
-        self.flags &= !(OWED | PICKED);
+        self.flags &= !(OWED | PICKED | HALT_HANDLE);
+        if self.sleeps_until != super::sleep::AWAKE && body.tree.has_halt_handle() {
+            self.flags |= HALT_HANDLE;
+        }
         let mut tally = Tally {
             ticked: 1,
             visits: u64::from(visits),

@@ -385,12 +385,13 @@ impl<C: Send> Crowd<C> {
             ..
         } = self;
         let now = nanos(clock.now());
+        // The members that fell asleep are marked from their schedules alone: their trees,
+        // elsewhere in memory, are read only for those to watch (below).
         // The same chunks either way; rayon's parallel iterators and the standard ones are
         // different types, so the walk is written out for each.
         if inline {
             plans
                 .chunks_mut(CHUNK)
-                .zip(bodies.chunks_mut(CHUNK))
                 .zip(awake.bits.chunks_mut(CHUNK / BITS))
                 .zip(timers.fallen.chunks_mut(CHUNK / BITS))
                 .zip(timers.heaps.iter_mut())
@@ -400,7 +401,6 @@ impl<C: Send> Crowd<C> {
         } else {
             plans
                 .par_chunks_mut(CHUNK)
-                .zip(bodies.par_chunks_mut(CHUNK))
                 .zip(awake.bits.par_chunks_mut(CHUNK / BITS))
                 .zip(timers.fallen.par_chunks_mut(CHUNK / BITS))
                 .zip(timers.heaps.par_iter_mut())
@@ -477,15 +477,9 @@ pub(super) fn stays_awake(plan: &Plan, i: usize, fallen: &mut [u64]) -> bool {
 }
 
 /// The slots of one chunk, `c`, and its timers, as the start of a frame readies them.
-type Chunk<'a, C> = (
+type Chunk<'a> = (
     (
-        (
-            (
-                (&'a mut [Plan], &'a mut [Option<super::member::Body<C>>]),
-                &'a mut [AtomicU64],
-            ),
-            &'a mut [u64],
-        ),
+        ((&'a mut [Plan], &'a mut [AtomicU64]), &'a mut [u64]),
         &'a mut BinaryHeap<Reverse<Timer>>,
     ),
     &'a mut Vec<Timer>,
@@ -493,15 +487,15 @@ type Chunk<'a, C> = (
 
 /// Readies chunk `c` for a frame at `now`: its members that fell asleep in the last frame
 /// are marked asleep and timed, and the deadlines `now` reached wake their members.
-fn ready_chunk<C>(c: usize, chunk: Chunk<'_, C>, now: u64) {
-    let (((((plans, bodies), words), fallen), heap), watch) = chunk;
+fn ready_chunk(c: usize, chunk: Chunk<'_>, now: u64) {
+    let ((((plans, words), fallen), heap), watch) = chunk;
     let base = c * CHUNK;
     for (w, word) in fallen.iter_mut().enumerate() {
         let mut left = std::mem::take(word);
         while left != 0 {
             let i = w * BITS + left.trailing_zeros() as usize;
             left &= left - 1;
-            fell_asleep(&mut plans[i], &bodies[i], base + i, heap, watch);
+            fell_asleep(&mut plans[i], base + i, heap, watch);
         }
     }
     while let Some(&Reverse(timer)) = heap.peek() {
@@ -524,9 +518,8 @@ fn ready_chunk<C>(c: usize, chunk: Chunk<'_, C>, now: u64) {
 /// At the start of the frame after its member (in `slot`) fell asleep: unless something
 /// woke it or took it away since, marks it asleep, times it in `heap`, and notes in
 /// `watch` a tree whose halt handle is to wake it.
-fn fell_asleep<C>(
+fn fell_asleep(
     plan: &mut Plan,
-    body: &Option<super::member::Body<C>>,
     slot: usize,
     heap: &mut BinaryHeap<Reverse<Timer>>,
     watch: &mut Vec<Timer>,
@@ -536,7 +529,7 @@ fn fell_asleep<C>(
     }
     plan.status = FrameStatus::Asleep;
     let timer = Timer::of(plan, slot);
-    if body.as_ref().is_some_and(|b| b.tree.has_halt_handle()) {
+    if plan.fell_asleep_with_halt_handle() {
         watch.push(timer);
     }
     if timer.until != u64::MAX {
