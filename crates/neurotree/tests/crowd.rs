@@ -238,6 +238,64 @@ fn members_owed_a_tick_and_not_visited_in_place_are_owed_it_under_the_next_budge
 }
 
 #[test]
+fn a_frame_in_place_dropped_unfinished_leaves_no_member_it_ticked_owed() {
+    let mut crowd = Crowd::new(ManualClock::new()).with_threads(2).unwrap();
+    let bp = counter();
+    let ids: Vec<MemberId> = (0..10)
+        .map(|i| crowd.add(bp.clone(), Walker::new(i)))
+        .collect();
+    crowd.set_budget(Some(4));
+    crowd.frame();
+    crowd.set_budget(None);
+    let frame = crowd.frame_in_place().unwrap();
+    let mut visitor = frame.visitor();
+    for &id in &ids[4..6] {
+        assert!(matches!(visitor.visit(id, |_| {}), Visit::Ticked(..)));
+    }
+    drop(visitor);
+    drop(frame);
+    assert_eq!(crowd.behind().overdue, 4);
+    // 4 and 5 had their tick: the budget goes to 6 to 9, and no member ticks twice.
+    crowd.set_budget(Some(4));
+    crowd.frame();
+    assert_eq!(statuses(&crowd), [D, D, D, D, D, D, T, T, T, T]);
+    assert_eq!(ticks(&crowd), [1, 1, 1, 1, 1, 1, 1, 1, 1, 1]);
+}
+
+#[test]
+fn members_owed_past_the_first_part_of_a_frame_in_place_keep_their_turn() {
+    let mut crowd = Crowd::new(ManualClock::new()).with_threads(2).unwrap();
+    let bp = counter();
+    let ids: Vec<MemberId> = (0..1100)
+        .map(|i| crowd.add(bp.clone(), Walker::new(i)))
+        .collect();
+    crowd.set_budget(Some(1050));
+    crowd.frame();
+    crowd.set_budget(None);
+    let frame = crowd.frame_in_place().unwrap();
+    let mut visitor = frame.visitor();
+    for &id in &ids[1050..1075] {
+        assert!(matches!(visitor.visit(id, |_| {}), Visit::Ticked(..)));
+    }
+    drop(visitor);
+    let report = frame.finish();
+    assert_eq!((report.ticked, report.behind.overdue), (25, 25));
+    crowd.set_budget(Some(1050));
+    let report = crowd.frame();
+    assert_eq!(report.ticked, 1050);
+    let ticks = ticks(&crowd);
+    // The 25 still owed went first, then the members due in slot order.
+    assert!(
+        ticks[1075..].iter().all(|&t| t == 1),
+        "{:?}",
+        &ticks[1075..]
+    );
+    assert!(ticks[1050..1075].iter().all(|&t| t == 1));
+    assert!(ticks[..1025].iter().all(|&t| t == 2));
+    assert!(ticks[1025..1050].iter().all(|&t| t == 1));
+}
+
+#[test]
 fn a_held_member_owed_a_tick_takes_no_share_of_the_budget_and_ticks_once_released() {
     let mut crowd = Crowd::new(ManualClock::new()).with_threads(2).unwrap();
     let bp = counter();

@@ -195,19 +195,20 @@ fn a_sleeping_member_is_called_only_when_something_it_waits_on_happens() {
     assert_eq!(crowd.get(id).unwrap().context().legs, 2);
 }
 
-/// Alerts written through `for_each_mut`, shared among the crowd's threads or on the
-/// caller's: each named member is visited once per naming, a member that left is skipped,
-/// and exactly the members alerted wake and are ticked in the next frame, whatever the
-/// threads and however the named members bunch in the slots.
+/// Alerts written through `for_each_mut` or with the frame by `frame_with`, shared among
+/// the crowd's threads or on the caller's: each named member is visited once per naming, a
+/// member that left is skipped, and exactly the members alerted wake and are ticked in the
+/// next frame, whatever the threads and however the named members bunch in the slots.
 #[test]
 fn alerts_written_on_the_crowds_threads_wake_exactly_the_members_named() {
     let members = 6000;
-    // A bunch of neighbours too small to share out, and one large enough.
+    // A bunch of neighbours too small to share out (but for `frame_with`), and one large
+    // enough.
     let bunches = [
         1000..1400,
         1000..1000 + neurotree::crowd::SHARED_VISITS + 100,
     ];
-    for threads in [1, 2] {
+    for (threads, with_frame) in [(1, false), (2, false), (1, true), (2, true)] {
         for bunch in bunches.clone() {
             let clock = ManualClock::new();
             let mut crowd = Crowd::new(clock.clone()).with_threads(threads).unwrap();
@@ -223,13 +224,23 @@ fn alerts_written_on_the_crowds_threads_wake_exactly_the_members_named() {
             let mut named: Vec<MemberId> = ids[bunch.clone()].to_vec();
             named.extend([ids[members - 1], ids[3], ids[1200], gone]);
             let seen = std::sync::Mutex::new(Vec::new());
-            crowd.for_each_mut(&named, |mut m| {
+            let alert = |mut m: neurotree::crowd::MemberMut<'_, Guard>| {
                 seen.lock().unwrap().push(m.id());
                 m.context_mut().trace += 1;
                 m.tree_mut().blackboard_mut().set("alarm", true).unwrap();
-            });
+            };
+            let report = if with_frame {
+                clock.advance(Duration::from_millis(50));
+                Some(crowd.frame_with(&named, alert))
+            } else {
+                crowd.for_each_mut(&named, alert);
+                None
+            };
             let mut seen = seen.into_inner().unwrap();
-            let case = format!("{threads} threads, {} named", named.len());
+            let case = format!(
+                "{threads} threads, {} named, with the frame: {with_frame}",
+                named.len()
+            );
             // One visit per naming but the one of the member that left.
             assert_eq!(seen.len(), named.len() - 1, "{case}");
             assert_eq!(
@@ -238,21 +249,34 @@ fn alerts_written_on_the_crowds_threads_wake_exactly_the_members_named() {
                 "{case}"
             );
             seen.sort();
-            seen.dedup();
-            let woken = bunch.len() + 2;
-            assert_eq!(seen.len(), woken, "{case}");
-            assert!(!seen.contains(&gone), "{case}");
-            let visits = |i: usize| crowd.get(ids[i]).unwrap().context().trace;
-            for i in (0..members).filter(|&i| i != 7) {
-                let named_times = named.iter().filter(|&&id| id == ids[i]).count();
-                assert_eq!(visits(i), named_times as u64, "member {i}, {case}");
+            // Each member's visits: as often as it was named (the context counts them too,
+            // until the frame's ticks write it).
+            let mut times = std::collections::HashMap::new();
+            for id in &seen {
+                *times.entry(*id).or_insert(0u64) += 1;
             }
+            for i in (0..members).filter(|&i| i != 7) {
+                let named_times = named.iter().filter(|&&id| id == ids[i]).count() as u64;
+                let visits = times.get(&ids[i]).copied().unwrap_or(0);
+                assert_eq!(visits, named_times, "member {i}, {case}");
+                if !with_frame {
+                    let trace = crowd.get(ids[i]).unwrap().context().trace;
+                    assert_eq!(trace, named_times, "member {i}, {case}");
+                }
+            }
+            let visits = |i: usize| times.get(&ids[i]).copied().unwrap_or(0);
             assert_eq!(
                 (visits(1200), visits(1201), visits(3), visits(4)),
                 (2, 1, 1, 0)
             );
-            clock.advance(Duration::from_millis(50));
-            let report = crowd.frame();
+            seen.dedup();
+            let woken = bunch.len() + 2;
+            assert_eq!(seen.len(), woken, "{case}");
+            assert!(!seen.contains(&gone), "{case}");
+            let report = report.unwrap_or_else(|| {
+                clock.advance(Duration::from_millis(50));
+                crowd.frame()
+            });
             let asleep = (members - 1 - woken) as u64;
             assert_eq!(
                 (report.ticked, report.asleep),

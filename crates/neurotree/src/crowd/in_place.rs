@@ -194,11 +194,11 @@ impl<'c, C> InPlaceFrame<'c, C> {
     }
 
     /// Ends the frame: members not visited are marked not due, and the frame is reported.
-    pub fn finish(self) -> FrameReport {
+    pub fn finish(mut self) -> FrameReport {
         let mut tally = Tally::default();
         let mut visited = 0;
         let mut parts = Vec::new();
-        for part in self.parts {
+        for part in std::mem::take(&mut self.parts) {
             let part = part.into_inner().unwrap_or_else(PoisonError::into_inner);
             tally = tally.add(part.tally);
             visited += part.visited;
@@ -223,7 +223,7 @@ impl<'c, C> InPlaceFrame<'c, C> {
         // A member a budget owed a tick is ticked when visited; those not visited stay
         // owed, in the order they fell due, for the next frame under a budget.
         let mut behind = super::Behind::default();
-        if let Some(backlog) = self.backlog {
+        if let Some(backlog) = self.backlog.take() {
             let plan = |slot: u32| &parts[slot as usize / PART].0[slot as usize % PART];
             backlog.retain(|&slot| plan(slot).is_owed());
             behind = super::Behind {
@@ -244,6 +244,24 @@ impl<'c, C> InPlaceFrame<'c, C> {
             awake: tally.awake,
             behind,
         }
+    }
+}
+
+impl<C> Drop for InPlaceFrame<'_, C> {
+    /// A frame dropped before [`finish`](InPlaceFrame::finish) still leaves in the
+    /// budget's queue only the members owed a tick: one visited was ticked, and a queue
+    /// naming it would have a later budget pick it again.
+    fn drop(&mut self) {
+        let Some(backlog) = self.backlog.take() else {
+            return;
+        };
+        let parts = &mut self.parts;
+        backlog.retain(|&slot| {
+            let part = parts[slot as usize / PART]
+                .get_mut()
+                .unwrap_or_else(PoisonError::into_inner);
+            part.plans[slot as usize % PART].is_owed()
+        });
     }
 }
 
