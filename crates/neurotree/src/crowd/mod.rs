@@ -28,7 +28,8 @@
 //!   the running actions of the member's tree once) between frames.
 //! - **Many at once.** [`Crowd::for_each_mut`] changes the members a list of ids names (a
 //!   frame's events, each written into a member's blackboard, which wakes it) on the
-//!   crowd's threads, between frames.
+//!   crowd's threads, between frames; [`Crowd::frame_with`] does the same and then runs
+//!   the frame, in one trip to the crowd's threads.
 //! - **In the caller's order.** [`Crowd::frame_in_place`] opens a frame whose members the
 //!   caller visits one by one, from its own threads and in the order of its own data
 //!   ([`InPlaceFrame`]): a game engine fills each context, has it ticked and reads it back
