@@ -560,6 +560,55 @@ mod tests {
         }
     }
 
+    /// Every awake slot is ticked once, in slot order, across words; each is asked for
+    /// FAR, NEAR and one member ahead of its tick, in that order, when that many come
+    /// before it; a tick that returns `false` clears the slot's bit and no other.
+    #[test]
+    fn awake_slots_are_ticked_in_order_each_asked_for_ahead_of_its_tick() {
+        use super::{for_each_awake_ahead, Ahead, FAR, NEAR};
+        use std::sync::atomic::AtomicU64;
+        let set = [0usize, 3, 63, 64, 65, 200, 201, 255, 700, 1023];
+        for n in 0..=set.len() {
+            let slots = &set[..n];
+            let mut words: Vec<AtomicU64> = (0..16).map(|_| AtomicU64::new(0)).collect();
+            for &s in slots {
+                *words[s / 64].get_mut() |= 1 << (s % 64);
+            }
+            let mut seen = Vec::new();
+            // Odd slots fall asleep.
+            for_each_awake_ahead(&mut words, |i, step| {
+                seen.push((i, step));
+                step != Ahead::Tick || i % 2 == 0
+            });
+            let ticks: Vec<usize> = seen
+                .iter()
+                .filter(|(_, s)| *s == Ahead::Tick)
+                .map(|(i, _)| *i)
+                .collect();
+            assert_eq!(ticks, slots);
+            for (k, &slot) in slots.iter().enumerate() {
+                let at = |step: Ahead| seen.iter().position(|&e| e == (slot, step));
+                let tick = at(Ahead::Tick).unwrap();
+                for (ahead, step) in [(FAR, Ahead::Far), (NEAR, Ahead::Near), (1, Ahead::Next)] {
+                    // Asked for when the member `ahead` before it was ticked, not otherwise.
+                    match k.checked_sub(ahead) {
+                        Some(before) => {
+                            let asked = at(step).expect("asked for");
+                            let prior =
+                                seen.iter().position(|&e| e == (slots[before], Ahead::Tick));
+                            assert!(asked < prior.unwrap() && asked < tick, "{slot} {step:?}");
+                        }
+                        None => assert_eq!(at(step), None, "{slot} {step:?}"),
+                    }
+                }
+            }
+            for s in 0..1024 {
+                let bit = *words[s / 64].get_mut() >> (s % 64) & 1 == 1;
+                assert_eq!(bit, slots.contains(&s) && s % 2 == 0, "slot {s}");
+            }
+        }
+    }
+
     /// Members woken early leave a stale timer each time: the heap is compacted
     /// before it passes twice the slots, and the timers that hold still wake their members
     /// exactly at their deadlines.
