@@ -549,6 +549,15 @@ fn run(threads: usize, budget: Option<u64>) -> Run {
     run_driven(threads, budget, false)
 }
 
+/// How a run's frames deliver their events: not at all, through `for_each_mut` before the
+/// frame, or with it through `frame_with`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Deliver {
+    None,
+    Before,
+    With,
+}
+
 /// A frame whose members are visited one by one ([`Crowd::frame_in_place`]): the
 /// second half of the slots, then the first, each backwards, on two threads at once.
 fn frame_in_place(crowd: &mut Crowd<Walker>) -> FrameReport {
@@ -570,6 +579,10 @@ fn frame_in_place(crowd: &mut Crowd<Walker>) -> FrameReport {
 }
 
 fn run_driven(threads: usize, budget: Option<u64>, in_place: bool) -> Run {
+    run_delivering(threads, budget, in_place, Deliver::None)
+}
+
+fn run_delivering(threads: usize, budget: Option<u64>, in_place: bool, deliver: Deliver) -> Run {
     let clock = ManualClock::new();
     let mut crowd = Crowd::new(clock.clone()).with_threads(threads).unwrap();
     assert_eq!(crowd.threads(), threads);
@@ -596,10 +609,26 @@ fn run_driven(threads: usize, budget: Option<u64>, in_place: bool) -> Run {
                 ids.push(add(&mut crowd, 10_000 + f * 100 + k));
             }
         }
-        let report = if in_place {
-            frame_in_place(&mut crowd)
-        } else {
-            crowd.frame()
+        // Every seventh member, a different seventh each frame, moves near or far (which
+        // the level-of-detail hook reads) and has a meal written on its blackboard.
+        let named: Vec<MemberId> = ids
+            .iter()
+            .copied()
+            .filter(|id| id.slot() % 7 == f as usize % 7)
+            .collect();
+        let event = |mut m: neurotree::crowd::MemberMut<'_, Walker>| {
+            let walker = m.context_mut();
+            walker.far = !walker.far;
+            m.tree_mut().blackboard_mut().set("meals", f).unwrap();
+        };
+        let report = match deliver {
+            Deliver::None if in_place => frame_in_place(&mut crowd),
+            Deliver::None => crowd.frame(),
+            Deliver::Before => {
+                crowd.for_each_mut(&named, event);
+                crowd.frame()
+            }
+            Deliver::With => crowd.frame_with(&named, event),
         };
         frames.push((report, statuses(&crowd)));
         clock.advance(Duration::from_millis(10));
@@ -641,6 +670,21 @@ fn one_thread_or_several_give_the_same_results() {
                 assert_eq!(a, b, "frame {f} with {threads} threads, budget {budget:?}");
             }
             assert_eq!(one.1, many.1, "{threads} threads, budget {budget:?}");
+        }
+    }
+}
+
+#[test]
+fn events_delivered_with_the_frame_give_what_events_delivered_before_it_give() {
+    for budget in [None, Some(20_000)] {
+        let before = run_delivering(1, budget, false, Deliver::Before);
+        assert!(before.1.iter().any(|e| e.contains("meals=Ok(119)")));
+        for threads in [1, 2, 3] {
+            let with = run_delivering(threads, budget, false, Deliver::With);
+            for (f, (a, b)) in before.0.iter().zip(&with.0).enumerate() {
+                assert_eq!(a, b, "frame {f}, {threads} threads, budget {budget:?}");
+            }
+            assert_eq!(before.1, with.1, "{threads} threads, budget {budget:?}");
         }
     }
 }
