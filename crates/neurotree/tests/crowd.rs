@@ -254,12 +254,24 @@ fn a_frame_in_place_dropped_unfinished_leaves_no_member_it_ticked_owed() {
     }
     drop(visitor);
     drop(frame);
-    assert_eq!(crowd.behind().overdue, 4);
     // 4 and 5 had their tick: the budget goes to 6 to 9, and no member ticks twice.
     crowd.set_budget(Some(4));
-    crowd.frame();
+    let report = crowd.frame();
     assert_eq!(statuses(&crowd), [D, D, D, D, D, D, T, T, T, T]);
     assert_eq!(ticks(&crowd), [1, 1, 1, 1, 1, 1, 1, 1, 1, 1]);
+    assert_eq!(
+        report.behind,
+        Behind {
+            overdue: 6,
+            frames: 1
+        }
+    );
+    // The six due in frame 2 come next, each once.
+    crowd.frame();
+    assert_eq!(statuses(&crowd), [T, T, T, T, D, D, D, D, D, D]);
+    crowd.frame();
+    assert_eq!(statuses(&crowd), [D, D, D, D, T, T, T, T, D, D]);
+    assert_eq!(ticks(&crowd), [2, 2, 2, 2, 2, 2, 2, 2, 1, 1]);
 }
 
 #[test]

@@ -38,7 +38,8 @@ pub struct InPlaceFrame<'c, C> {
     frames: &'c mut u64,
     len: usize,
     /// The queue of members a budget owes a tick, when it holds any: those the caller does
-    /// not visit are still owed one after the frame.
+    /// not visit are still owed one after the frame. A frame dropped unfinished leaves the
+    /// queue as it was, naming members it ticked, which the next budget's pick passes over.
     backlog: Option<&'c mut VecDeque<u32>>,
     /// Members asleep through the frame.
     asleep: u64,
@@ -194,11 +195,11 @@ impl<'c, C> InPlaceFrame<'c, C> {
     }
 
     /// Ends the frame: members not visited are marked not due, and the frame is reported.
-    pub fn finish(mut self) -> FrameReport {
+    pub fn finish(self) -> FrameReport {
         let mut tally = Tally::default();
         let mut visited = 0;
         let mut parts = Vec::new();
-        for part in std::mem::take(&mut self.parts) {
+        for part in self.parts {
             let part = part.into_inner().unwrap_or_else(PoisonError::into_inner);
             tally = tally.add(part.tally);
             visited += part.visited;
@@ -223,7 +224,7 @@ impl<'c, C> InPlaceFrame<'c, C> {
         // A member a budget owed a tick is ticked when visited; those not visited stay
         // owed, in the order they fell due, for the next frame under a budget.
         let mut behind = super::Behind::default();
-        if let Some(backlog) = self.backlog.take() {
+        if let Some(backlog) = self.backlog {
             let plan = |slot: u32| &parts[slot as usize / PART].0[slot as usize % PART];
             backlog.retain(|&slot| plan(slot).is_owed());
             behind = super::Behind {
@@ -244,24 +245,6 @@ impl<'c, C> InPlaceFrame<'c, C> {
             awake: tally.awake,
             behind,
         }
-    }
-}
-
-impl<C> Drop for InPlaceFrame<'_, C> {
-    /// A frame dropped before [`finish`](InPlaceFrame::finish) still leaves in the
-    /// budget's queue only the members owed a tick: one visited was ticked, and a queue
-    /// naming it would have a later budget pick it again.
-    fn drop(&mut self) {
-        let Some(backlog) = self.backlog.take() else {
-            return;
-        };
-        let parts = &mut self.parts;
-        backlog.retain(|&slot| {
-            let part = parts[slot as usize / PART]
-                .get_mut()
-                .unwrap_or_else(PoisonError::into_inner);
-            part.plans[slot as usize % PART].is_owed()
-        });
     }
 }
 

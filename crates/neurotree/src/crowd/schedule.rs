@@ -117,6 +117,13 @@ impl<C: Send> Crowd<C> {
         } = self;
         while let Some(&slot) = backlog.front() {
             let plan = &mut plans[slot as usize];
+            // A slot named by a frame in place dropped unfinished (see `InPlaceFrame`): its
+            // member was ticked, or left, or fell due afresh in this frame, or comes up a
+            // second time. Only a member owed since an earlier frame is the queue's.
+            if !plan.present() || !plan.is_owed() || plan.owed_since_frame(frame) || plan.picked() {
+                backlog.pop_front();
+                continue;
+            }
             let cost = u64::from(plan.cost);
             if cost > left && any {
                 break;
