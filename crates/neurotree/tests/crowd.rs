@@ -197,6 +197,20 @@ fn ticks(crowd: &Crowd<Walker>) -> Vec<u32> {
     crowd.iter().map(|m| m.context().ticks).collect()
 }
 
+/// A frame in place whose visits tick `ids`, each of them due; not finished.
+fn ticked_in_place<'c>(
+    crowd: &'c mut Crowd<Walker>,
+    ids: &[MemberId],
+) -> neurotree::crowd::InPlaceFrame<'c, Walker> {
+    let frame = crowd.frame_in_place().unwrap();
+    let mut visitor = frame.visitor();
+    for &id in ids {
+        assert!(matches!(visitor.visit(id, |_| {}), Visit::Ticked(..)));
+    }
+    drop(visitor);
+    frame
+}
+
 #[test]
 fn members_owed_a_tick_and_not_visited_in_place_are_owed_it_under_the_next_budget() {
     let mut crowd = Crowd::new(ManualClock::new()).with_threads(2).unwrap();
@@ -210,13 +224,7 @@ fn members_owed_a_tick_and_not_visited_in_place_are_owed_it_under_the_next_budge
     // Without a budget, a frame in place visits members 0 to 5: 4 and 5, owed since
     // frame 0, tick; 6 to 9 are not visited and are still owed a tick.
     crowd.set_budget(None);
-    let frame = crowd.frame_in_place().unwrap();
-    let mut visitor = frame.visitor();
-    for &id in &ids[..6] {
-        assert!(matches!(visitor.visit(id, |_| {}), Visit::Ticked(..)));
-    }
-    drop(visitor);
-    let report = frame.finish();
+    let report = ticked_in_place(&mut crowd, &ids[..6]).finish();
     assert_eq!(report.ticked, 6);
     assert_eq!(
         report.behind,
@@ -247,13 +255,7 @@ fn a_frame_in_place_dropped_unfinished_leaves_no_member_it_ticked_owed() {
     crowd.set_budget(Some(4));
     crowd.frame();
     crowd.set_budget(None);
-    let frame = crowd.frame_in_place().unwrap();
-    let mut visitor = frame.visitor();
-    for &id in &ids[4..6] {
-        assert!(matches!(visitor.visit(id, |_| {}), Visit::Ticked(..)));
-    }
-    drop(visitor);
-    drop(frame);
+    drop(ticked_in_place(&mut crowd, &ids[4..6]));
     // 4 and 5 had their tick: the budget goes to 6 to 9, and no member ticks twice.
     crowd.set_budget(Some(4));
     let report = crowd.frame();
@@ -284,13 +286,7 @@ fn members_owed_past_the_first_part_of_a_frame_in_place_keep_their_turn() {
     crowd.set_budget(Some(1050));
     crowd.frame();
     crowd.set_budget(None);
-    let frame = crowd.frame_in_place().unwrap();
-    let mut visitor = frame.visitor();
-    for &id in &ids[1050..1075] {
-        assert!(matches!(visitor.visit(id, |_| {}), Visit::Ticked(..)));
-    }
-    drop(visitor);
-    let report = frame.finish();
+    let report = ticked_in_place(&mut crowd, &ids[1050..1075]).finish();
     assert_eq!((report.ticked, report.behind.overdue), (25, 25));
     crowd.set_budget(Some(1050));
     let report = crowd.frame();

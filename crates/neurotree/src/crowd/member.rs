@@ -281,6 +281,31 @@ pub struct MemberMut<'a, C> {
     pub(super) clock: &'a Arc<dyn Clock>,
 }
 
+impl<'a, C> MemberMut<'a, C> {
+    /// Member `id` in its slot's tables, if it is still the one there.
+    #[inline]
+    pub(super) fn of(
+        id: MemberId,
+        plan: &'a mut Plan,
+        body: &'a mut Option<Body<C>>,
+        ctx: &'a mut Option<C>,
+        awake: &'a super::sleep::Awake,
+        clock: &'a Arc<dyn Clock>,
+    ) -> Option<Self> {
+        if plan.generation != id.generation {
+            return None;
+        }
+        Some(Self {
+            id,
+            body: body.as_mut()?,
+            ctx: ctx.as_mut()?,
+            plan,
+            awake,
+            clock,
+        })
+    }
+}
+
 impl<'a, C> Member<'a, C> {
     /// Its id in the crowd.
     pub fn id(&self) -> MemberId {

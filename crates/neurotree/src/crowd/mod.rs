@@ -385,20 +385,15 @@ impl<C: Send> Crowd<C> {
 
     /// The member `id` names, to change between frames.
     pub fn get_mut(&mut self, id: MemberId) -> Option<MemberMut<'_, C>> {
-        let plan = self.plans.get_mut(id.index as usize)?;
-        if plan.generation != id.generation {
-            return None;
-        }
-        let body = self.bodies[id.index as usize].as_mut()?;
-        let ctx = self.contexts[id.index as usize].as_mut()?;
-        Some(MemberMut {
+        let i = id.index as usize;
+        MemberMut::of(
             id,
-            body,
-            ctx,
-            plan,
-            awake: &self.awake,
-            clock: &self.clock,
-        })
+            self.plans.get_mut(i)?,
+            &mut self.bodies[i],
+            &mut self.contexts[i],
+            &self.awake,
+            &self.clock,
+        )
     }
 
     /// The members, in slot order.

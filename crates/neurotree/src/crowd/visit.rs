@@ -66,34 +66,11 @@ impl<C: Send> Crowd<C> {
 
     /// Visits the members `ids` names on this thread, in the order of `ids`.
     fn visit_in_order(&mut self, ids: &[MemberId], f: &(impl Fn(MemberMut<'_, C>) + Sync)) {
-        let Self {
-            plans,
-            bodies,
-            contexts,
-            awake,
-            clock,
-            ..
-        } = self;
         for (k, &id) in ids.iter().enumerate() {
-            ahead(plans, bodies, contexts, ids, k);
-            let i = id.index as usize;
-            let Some(plan) = plans.get_mut(i) else {
-                continue;
-            };
-            let (Some(body), Some(ctx)) = (&mut bodies[i], &mut contexts[i]) else {
-                continue;
-            };
-            if plan.generation != id.generation {
-                continue;
+            ahead(&self.plans, &self.bodies, &self.contexts, ids, k);
+            if let Some(member) = self.get_mut(id) {
+                f(member);
             }
-            f(MemberMut {
-                id,
-                body,
-                ctx,
-                plan,
-                awake,
-                clock,
-            });
         }
     }
 
@@ -128,24 +105,14 @@ impl<C: Send> Crowd<C> {
                     ask_near(span.bodies, local(near));
                 }
                 let i = id.index as usize - first;
-                let (plan, Some(body), Some(ctx)) = (
+                let (plan, body, ctx) = (
                     &mut span.plans[i],
                     &mut span.bodies[i],
                     &mut span.contexts[i],
-                ) else {
-                    continue;
-                };
-                if plan.generation != id.generation {
-                    continue;
+                );
+                if let Some(member) = MemberMut::of(id, plan, body, ctx, awake, clock) {
+                    f(member);
                 }
-                f(MemberMut {
-                    id,
-                    body,
-                    ctx,
-                    plan,
-                    awake,
-                    clock,
-                });
             }
         });
     }
