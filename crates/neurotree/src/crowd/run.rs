@@ -3,7 +3,6 @@
 //! evenly as members spread over the crowd.
 
 use neurotree_core::hint::prefetch;
-use rayon::prelude::*;
 
 use super::member::Tally;
 use super::schedule::CHUNK;
@@ -35,10 +34,7 @@ impl<C: Send> Crowd<C> {
         if inline {
             return tick_span(whole, frame, mode);
         }
-        whole
-            .par_leaves()
-            .map(|span| tick_span(span, frame, mode))
-            .reduce(Tally::default, Tally::add)
+        whole.fold_leaves(&|span| tick_span(span, frame, mode), &Tally::add)
     }
 }
 

@@ -4,19 +4,24 @@
 //! The members a frame ticks often bunch: those alerted together sit in neighbouring slots,
 //! and a crowd cut into equal runs of slots would hand one thread all of them. A [`Span`]
 //! splits where half its work lies, from a count of the work before each word of 64 slots
-//! (the awake members, or the ids a caller named), so that whenever rayon gives work to an
-//! idle thread it gives half of what is left.
+//! (the awake members, or the ids a caller named), down to leaves of at most
+//! [`MOST_WORK`]: a thread held up in a leaf (its core taken by another process, or a
+//! slower core) holds up that leaf alone, and the other threads take the rest.
 
 use std::ops::Range;
 use std::sync::atomic::AtomicU64;
-
-use rayon::iter::ParallelIterator;
 
 use super::member::{Body, Plan};
 use super::sleep::BITS;
 
 /// A span with less work than this is not split: a split costs about what a few ticks do.
 const LEAST_WORK: u32 = 16;
+
+/// A span with more work than this is always split. rayon's own splitting stops at a few
+/// leaves per thread, and a thread whose core was taken for a millisecond in a leaf of a
+/// quarter of the crowd held up the frame by that millisecond while the others waited; a
+/// split not taken by another thread costs a few nanoseconds.
+const MOST_WORK: u32 = 256;
 
 /// Slots `first..` of a crowd and their tables, with the crowd's count of work.
 pub(super) struct Span<'a, C> {
@@ -63,9 +68,27 @@ impl<'a, C: Send> Span<'a, C> {
         }
     }
 
-    /// The leaves rayon hands the threads, split by work as threads fall idle.
-    pub(super) fn par_leaves(self) -> impl ParallelIterator<Item = Self> {
-        rayon::iter::split(self, Self::halve)
+    /// Runs `leaf` on each leaf of the span, on the threads of the pool it is called in,
+    /// and sums the results with `add`.
+    pub(super) fn fold_leaves<R: Send>(
+        self,
+        leaf: &(impl Fn(Self) -> R + Sync),
+        add: &(impl Fn(R, R) -> R + Sync),
+    ) -> R {
+        let Range { start, end } = self.words();
+        if self.work[end] - self.work[start] <= MOST_WORK {
+            return leaf(self);
+        }
+        match self.halve() {
+            (left, Some(right)) => {
+                let (a, b) = rayon::join(
+                    || left.fold_leaves(leaf, add),
+                    || right.fold_leaves(leaf, add),
+                );
+                add(a, b)
+            }
+            (whole, None) => leaf(whole),
+        }
     }
 
     /// The span's words in the crowd's count.
@@ -196,5 +219,62 @@ mod tests {
         for w in 30..34 {
             assert!(out.contains(&(w * 64, 64)), "{out:?}");
         }
+    }
+
+    #[test]
+    fn leaves_hold_at_most_the_most_work_and_their_sums_add_up() {
+        let slots: usize = 64 * 200 + 7;
+        let words = slots.div_ceil(BITS);
+        let mut plans: Vec<Plan> = (0..slots).map(|_| Plan::new(0)).collect();
+        let mut bodies: Vec<Option<Body<()>>> = (0..slots).map(|_| None).collect();
+        let mut contexts: Vec<Option<()>> = vec![None; slots];
+        // Every slot of words 0 to 99 awake, one in two of words 100 to 149, none after.
+        let mut awake: Vec<AtomicU64> = (0..words)
+            .map(|w| {
+                AtomicU64::new(match w {
+                    0..100 => u64::MAX,
+                    100..150 => 0x5555_5555_5555_5555,
+                    _ => 0,
+                })
+            })
+            .collect();
+        let mut fallen = vec![0u64; words];
+        let mut work = Vec::new();
+        count_awake(&mut awake, &mut work);
+        let total = 100 * 64 + 50 * 32;
+        assert_eq!(work[words], total);
+        let bits = Bits {
+            awake: &mut awake,
+            fallen: &mut fallen,
+        };
+        let span = Span::whole(&mut plans, &mut bodies, &mut contexts, Some(bits), &work);
+        let seen = std::sync::Mutex::new(Vec::new());
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(2)
+            .build()
+            .unwrap();
+        let summed = pool.install(|| {
+            span.fold_leaves(
+                &|leaf: Span<'_, ()>| {
+                    let work = leaf.work_range().len() as u32;
+                    seen.lock()
+                        .unwrap()
+                        .push((leaf.first, leaf.plans.len(), work));
+                    work
+                },
+                &|a, b| a + b,
+            )
+        });
+        assert_eq!(summed, total);
+        let mut seen = seen.into_inner().unwrap();
+        seen.sort_unstable();
+        let mut next = 0;
+        for &(first, len, work) in &seen {
+            assert_eq!(first, next, "{seen:?}");
+            next += len;
+            assert!(work <= MOST_WORK || len <= BITS, "{seen:?}");
+        }
+        assert_eq!(next, slots);
+        assert!(seen.len() >= (total / MOST_WORK) as usize, "{seen:?}");
     }
 }

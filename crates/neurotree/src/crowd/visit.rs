@@ -11,7 +11,6 @@
 //! [`NEAR`] ids later, so that the visits' trips to memory overlap.
 
 use neurotree_core::hint::prefetch;
-use rayon::prelude::*;
 
 use super::member::{Body, Plan};
 use super::sleep::{BITS, FAR, NEAR};
@@ -89,7 +88,7 @@ impl<C: Send> Crowd<C> {
         visits.sort(ids, plans.len());
         let (awake, clock, named) = (&*awake, &*clock, &visits.ids);
         let whole = Span::whole(plans, bodies, contexts, None, &visits.starts);
-        whole.par_leaves().for_each(|span| {
+        let visit = |span: Span<'_, C>| {
             let first = span.first;
             let named = &named[span.work_range()];
             for (k, &id) in named.iter().enumerate() {
@@ -114,7 +113,8 @@ impl<C: Send> Crowd<C> {
                     f(member);
                 }
             }
-        });
+        };
+        whole.fold_leaves(&visit, &|(), ()| ());
     }
 }
 
