@@ -243,9 +243,15 @@ pub fn many_agents_bench(opts: &BenchArgs) -> ManyAgentsResult {
     }
 }
 
+/// Frames the crowd all awake runs before it is timed. A tree makes its failure record the
+/// first time one of its nodes gives a reason, and in the first frames most of the agents'
+/// trees do: frames of up to three times the others', which a mean over twenty frames
+/// would carry.
+pub const WARM_FRAMES: u32 = 10;
+
 /// Runs `opts.agents` agents as a crowd on `opts.threads` threads, every agent due every
-/// frame: at least 20 frames (5 with `quick`) and [`LEAST_TIMED`] timed after two warm-up
-/// frames, the clock advancing 16 ms per frame.
+/// frame: at least 20 frames (5 with `quick`) and [`LEAST_TIMED`] timed after
+/// [`WARM_FRAMES`], the clock advancing 16 ms per frame.
 pub fn crowd_bench(opts: &BenchArgs) -> CrowdResult {
     const FRAME: Duration = Duration::from_millis(16);
     let frames = opts.crowd_frames();
@@ -255,7 +261,7 @@ pub fn crowd_bench(opts: &BenchArgs) -> CrowdResult {
         clock.advance(FRAME);
         black_box(crowd.frame());
     };
-    for _ in 0..2 {
+    for _ in 0..WARM_FRAMES {
         frame();
     }
     let (frames, times, elapsed) = time_frames(frames, opts.quick, || {
