@@ -65,6 +65,11 @@ pub struct BenchArgs {
     /// are timed until 0.3 s of frames have run (0.03 s with `--quick`).
     #[arg(long)]
     pub frames: Option<u32>,
+    /// Microseconds the calling thread spends on other work (a busy wait, not timed) before
+    /// each timed crowd frame, as a game's frame does between its crowd's: the crowd's
+    /// threads fall idle meanwhile and must wake for the frame. 0: frames back to back.
+    #[arg(long, default_value_t = 0)]
+    pub idle_us: u64,
     /// Runs only these benchmarks (comma-separated: tree1111, many_agents, crowd,
     /// crowd_sleeping, crowd_awake, tick_times).
     #[arg(long, value_delimiter = ',')]
@@ -136,6 +141,8 @@ pub struct CrowdResult {
     pub ms_per_frame_median: f64,
     /// Bytes per member: its slot in the crowd and its tree's node state.
     pub bytes_per_member: usize,
+    /// Microseconds of other work before each timed frame (`--idle-us`).
+    pub idle_us: u64,
 }
 
 impl CrowdResult {
@@ -254,7 +261,6 @@ pub const WARM_FRAMES: u32 = 10;
 /// [`WARM_FRAMES`], the clock advancing 16 ms per frame.
 pub fn crowd_bench(opts: &BenchArgs) -> CrowdResult {
     const FRAME: Duration = Duration::from_millis(16);
-    let frames = opts.crowd_frames();
     let clock = ManualClock::new();
     let mut crowd = agent_crowd(opts.agents, opts.threads, clock.clone());
     let mut frame = || {
@@ -264,7 +270,7 @@ pub fn crowd_bench(opts: &BenchArgs) -> CrowdResult {
     for _ in 0..WARM_FRAMES {
         frame();
     }
-    let (frames, times, elapsed) = time_frames(frames, opts.quick, || {
+    let (frames, times, elapsed) = time_frames(opts, || {
         frame();
         0
     });
@@ -275,6 +281,7 @@ pub fn crowd_bench(opts: &BenchArgs) -> CrowdResult {
         ms_per_frame: elapsed.as_secs_f64() * 1e3 / f64::from(frames),
         ms_per_frame_median: median_ms(times),
         bytes_per_member: crowd_bytes_per_member(&crowd),
+        idle_us: opts.idle_us,
     }
 }
 
@@ -295,6 +302,8 @@ pub struct CrowdSleepingResult {
     pub ms_per_frame_median: f64,
     /// Bytes per member: its slot in the crowd and its tree's node state.
     pub bytes_per_member: usize,
+    /// Microseconds of other work before each timed frame (`--idle-us`).
+    pub idle_us: u64,
 }
 
 impl CrowdSleepingResult {
@@ -321,7 +330,6 @@ impl CrowdSleepingResult {
 /// advancing 16 ms per frame.
 pub fn crowd_sleeping_bench(opts: &BenchArgs, alert_percent: f64) -> CrowdSleepingResult {
     const FRAME: Duration = Duration::from_millis(16);
-    let frames = opts.crowd_frames();
     let clock = ManualClock::new();
     let mut crowd = sleepy_agent_crowd(opts.agents, opts.threads, clock.clone());
     let ids: Vec<_> = crowd.iter().map(|m| m.id()).collect();
@@ -346,7 +354,7 @@ pub fn crowd_sleeping_bench(opts: &BenchArgs, alert_percent: f64) -> CrowdSleepi
         frame(&mut crowd);
     }
     let mut ticked = 0;
-    let (frames, times, elapsed) = time_frames(frames, opts.quick, || {
+    let (frames, times, elapsed) = time_frames(opts, || {
         ticked += frame(&mut crowd).ticked;
         0
     });
@@ -358,6 +366,7 @@ pub fn crowd_sleeping_bench(opts: &BenchArgs, alert_percent: f64) -> CrowdSleepi
         ms_per_frame: elapsed.as_secs_f64() * 1e3 / f64::from(frames),
         ms_per_frame_median: median_ms(times),
         bytes_per_member: crowd_bytes_per_member(&crowd),
+        idle_us: opts.idle_us,
     }
 }
 
@@ -366,25 +375,36 @@ pub fn crowd_sleeping_bench(opts: &BenchArgs, alert_percent: f64) -> CrowdSleepi
 /// would measure little but the machine's hiccups.
 pub const LEAST_TIMED: Duration = Duration::from_millis(300);
 
-/// Times `frame` at least `frames` times and for at least [`LEAST_TIMED`] (at most a
-/// hundred times `frames`): the frames timed, each one's time, and their total.
-fn time_frames(
-    frames: u32,
-    quick: bool,
-    mut frame: impl FnMut() -> u64,
-) -> (u32, Vec<Duration>, Duration) {
-    let least = if quick { LEAST_TIMED / 10 } else { LEAST_TIMED };
+/// Times `frame` at least `frames` times and for at least [`LEAST_TIMED`] of frames (at
+/// most a hundred times `frames`), each after `opts.idle_us` of other work: the frames
+/// timed, each one's time, and their total.
+fn time_frames(opts: &BenchArgs, mut frame: impl FnMut() -> u64) -> (u32, Vec<Duration>, Duration) {
+    let frames = opts.crowd_frames();
+    let least = if opts.quick {
+        LEAST_TIMED / 10
+    } else {
+        LEAST_TIMED
+    };
     let most = frames.saturating_mul(100);
+    let idle = Duration::from_micros(opts.idle_us);
     let mut times = Vec::with_capacity(frames as usize);
-    let start = Instant::now();
+    let mut total = Duration::ZERO;
     let mut timed = 0;
-    while timed < frames || (start.elapsed() < least && timed < most) {
+    while timed < frames || (total < least && timed < most) {
+        if !idle.is_zero() {
+            let at = Instant::now();
+            while at.elapsed() < idle {
+                std::hint::spin_loop();
+            }
+        }
         let at = Instant::now();
         black_box(frame());
-        times.push(at.elapsed());
+        let took = at.elapsed();
+        times.push(took);
+        total += took;
         timed += 1;
     }
-    (timed, times, start.elapsed())
+    (timed, times, total)
 }
 
 /// Ticks timed one by one in the tick-time benchmarks, at least (a tenth with `--quick`).
@@ -655,14 +675,25 @@ fn many_agents_json(m: &ManyAgentsResult) -> String {
     )
 }
 
+/// `,"idle_us":N` when the frames were timed after other work, else nothing: the lines of
+/// frames back to back keep their shape.
+fn idle_field(idle_us: u64) -> String {
+    if idle_us == 0 {
+        String::new()
+    } else {
+        format!(r#","idle_us":{idle_us}"#)
+    }
+}
+
 fn crowd_sleeping_json(s: &CrowdSleepingResult) -> String {
     format!(
-        r#"{{"name":"crowd_sleeping","agents":{},"awake_per_frame":{:.1},"ms_per_frame":{:.4},"ns_per_awake":{:.1},"bytes_per_member":{}}}"#,
+        r#"{{"name":"crowd_sleeping","agents":{},"awake_per_frame":{:.1},"ms_per_frame":{:.4},"ns_per_awake":{:.1},"bytes_per_member":{}{}}}"#,
         s.agents,
         s.awake_per_frame,
         s.ms_per_frame,
         s.ns_per_awake(),
-        s.bytes_per_member
+        s.bytes_per_member,
+        idle_field(s.idle_us)
     )
 }
 
@@ -673,7 +704,7 @@ fn crowd_awake_json(s: &CrowdSleepingResult, ratio: Option<(f64, f64)>) -> Strin
         format!(r#","awake_cost_ratio":{mean:.2},"awake_cost_ratio_median":{median:.2}"#)
     });
     format!(
-        r#"{{"name":"crowd_awake","agents":{},"threads":{},"alert_percent":{:.3},"awake_percent":{:.2},"awake_per_frame":{:.1},"ms_per_frame":{:.4},"ms_per_frame_median":{:.4},"ns_per_awake":{:.1},"ns_per_awake_median":{:.1},"bytes_per_member":{}{ratio}}}"#,
+        r#"{{"name":"crowd_awake","agents":{},"threads":{},"alert_percent":{:.3},"awake_percent":{:.2},"awake_per_frame":{:.1},"ms_per_frame":{:.4},"ms_per_frame_median":{:.4},"ns_per_awake":{:.1},"ns_per_awake_median":{:.1},"bytes_per_member":{}{ratio}{}}}"#,
         s.agents,
         s.threads,
         s.alert_percent,
@@ -683,13 +714,14 @@ fn crowd_awake_json(s: &CrowdSleepingResult, ratio: Option<(f64, f64)>) -> Strin
         s.ms_per_frame_median,
         s.ns_per_awake(),
         s.ns_per_awake_median(),
-        s.bytes_per_member
+        s.bytes_per_member,
+        idle_field(s.idle_us)
     )
 }
 
 fn crowd_json(c: &CrowdResult) -> String {
     format!(
-        r#"{{"name":"crowd","agents":{},"threads":{},"ms_per_frame":{:.4},"frames":{},"bytes_per_member":{},"ns_per_member":{:.1},"ms_per_frame_median":{:.4},"ns_per_member_median":{:.1}}}"#,
+        r#"{{"name":"crowd","agents":{},"threads":{},"ms_per_frame":{:.4},"frames":{},"bytes_per_member":{},"ns_per_member":{:.1},"ms_per_frame_median":{:.4},"ns_per_member_median":{:.1}{}}}"#,
         c.agents,
         c.threads,
         c.ms_per_frame,
@@ -697,7 +729,8 @@ fn crowd_json(c: &CrowdResult) -> String {
         c.bytes_per_member,
         c.ns_per_member(),
         c.ms_per_frame_median,
-        c.ns_per_member_median()
+        c.ns_per_member_median(),
+        idle_field(c.idle_us)
     )
 }
 
@@ -736,6 +769,7 @@ mod tests {
             ms_per_frame: 4.5,
             ms_per_frame_median: 4.0,
             bytes_per_member: 600,
+            idle_us: 0,
         };
         assert_eq!(
             crowd_json(&c),
@@ -749,6 +783,7 @@ mod tests {
             ms_per_frame: 0.25,
             ms_per_frame_median: 0.2,
             bytes_per_member: 640,
+            idle_us: 0,
         };
         assert_eq!(
             crowd_sleeping_json(&s),
@@ -758,6 +793,14 @@ mod tests {
             crowd_awake_json(&s, Some((250.0 / 45.0, 200.0 / 40.0))),
             r#"{"name":"crowd_awake","agents":100000,"threads":1,"alert_percent":1.000,"awake_percent":1.00,"awake_per_frame":1000.0,"ms_per_frame":0.2500,"ms_per_frame_median":0.2000,"ns_per_awake":250.0,"ns_per_awake_median":200.0,"bytes_per_member":640,"awake_cost_ratio":5.56,"awake_cost_ratio_median":5.00}"#
         );
+        // Frames timed after other work say so; frames back to back, as before.
+        let idle = CrowdSleepingResult { idle_us: 900, ..s };
+        assert_eq!(
+            crowd_sleeping_json(&idle),
+            r#"{"name":"crowd_sleeping","agents":100000,"awake_per_frame":1000.0,"ms_per_frame":0.2500,"ns_per_awake":250.0,"bytes_per_member":640,"idle_us":900}"#
+        );
+        let idle = CrowdResult { idle_us: 900, ..c };
+        assert!(crowd_json(&idle).ends_with(r#""ns_per_member_median":40.0,"idle_us":900}"#));
         let t = TickTimesResult {
             tree: "tree1111_xml",
             percentiles: TickPercentiles {
@@ -772,6 +815,33 @@ mod tests {
             tick_times_json(&t),
             r#"{"name":"tick_times","tree":"tree1111_xml","ticks":100000,"p50_ns":900,"p99_ns":1100,"p999_ns":2500,"max_ns":40000}"#
         );
+    }
+
+    #[test]
+    fn the_other_work_before_each_frame_is_not_timed() {
+        let opts = BenchArgs {
+            json: true,
+            quick: true,
+            agents: 1,
+            threads: 1,
+            alert_percent: 1.0,
+            frames: Some(2),
+            idle_us: 1_000,
+            only: Vec::new(),
+        };
+        let start = Instant::now();
+        let mut calls = 0;
+        let (frames, times, total) = time_frames(&opts, || {
+            calls += 1;
+            0
+        });
+        let wall = start.elapsed();
+        assert_eq!((frames, times.len(), calls), (calls, calls as usize, calls));
+        assert!(frames >= 2, "{frames} frames timed");
+        // Each frame came after 1 ms of other work, none of which was timed.
+        assert!(wall >= Duration::from_millis(1) * frames, "{wall:?}");
+        assert_eq!(total, times.iter().sum::<Duration>());
+        assert!(total < Duration::from_millis(1), "{total:?} timed");
     }
 
     #[test]
