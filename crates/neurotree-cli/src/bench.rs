@@ -25,6 +25,10 @@
 //!   for the navigator's ticks in which a path was planned. A robot's loop misses its period
 //!   on its worst tick, which a mean hides.
 //!
+//! The crowd frames run back to back, unless `--idle-us N` puts N microseconds of other
+//! work on the calling thread before each, as a game's frame does: the crowd's threads then
+//! idle between frames and wake for each, as they do in a game.
+//!
 //! These are wall-clock figures from [`Instant`], good for a first look on a new machine;
 //! the criterion benchmarks (`cargo bench -p neurotree-bench --bench tick`) are the careful ones.
 
