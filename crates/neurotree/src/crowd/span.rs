@@ -4,12 +4,16 @@
 //! The members a frame ticks often bunch: those alerted together sit in neighbouring slots,
 //! and a crowd cut into equal runs of slots would hand one thread all of them. A [`Span`]
 //! splits where half its work lies, from a count of the work before each word of 64 slots
-//! (the awake members, or the ids a caller named), down to leaves of at most
-//! [`MOST_WORK`]: a thread held up in a leaf (its core taken by another process, or a
-//! slower core) holds up that leaf alone, and the other threads take the rest.
+//! (the awake members, or the ids a caller named): always down to spans of at most
+//! [`MOST_WORK`] (or a single word), so that a thread held up in one (its core taken by
+//! another process, or a slower core) holds up that span alone while the other threads take
+//! the rest; below that, whenever rayon gives work to an idle thread, down to
+//! [`LEAST_WORK`], so that a few members with costly trees are still shared.
 
 use std::ops::Range;
 use std::sync::atomic::AtomicU64;
+
+use rayon::iter::ParallelIterator;
 
 use super::member::{Body, Plan};
 use super::sleep::BITS;
@@ -69,15 +73,17 @@ impl<'a, C: Send> Span<'a, C> {
     }
 
     /// Runs `leaf` on each leaf of the span, on the threads of the pool it is called in,
-    /// and sums the results with `add`.
-    pub(super) fn fold_leaves<R: Send>(
+    /// and sums the results with `add` (from `R::default()` where rayon splits on its own).
+    pub(super) fn fold_leaves<R: Send + Default>(
         self,
         leaf: &(impl Fn(Self) -> R + Sync),
         add: &(impl Fn(R, R) -> R + Sync),
     ) -> R {
         let Range { start, end } = self.words();
         if self.work[end] - self.work[start] <= MOST_WORK {
-            return leaf(self);
+            return rayon::iter::split(self, Self::halve)
+                .map(leaf)
+                .reduce(R::default, add);
         }
         match self.halve() {
             (left, Some(right)) => {
@@ -221,33 +227,14 @@ mod tests {
         }
     }
 
-    #[test]
-    fn leaves_hold_at_most_the_most_work_and_their_sums_add_up() {
-        let slots: usize = 64 * 200 + 7;
-        let words = slots.div_ceil(BITS);
+    /// Folds `work` (the work before each word, one more entry than words) over a crowd
+    /// of `slots` empty slots on two threads: the sum, and each leaf's first slot, slot
+    /// count and work, in slot order.
+    fn fold(slots: usize, work: &[u32]) -> (u32, Vec<(usize, usize, u32)>) {
         let mut plans: Vec<Plan> = (0..slots).map(|_| Plan::new(0)).collect();
         let mut bodies: Vec<Option<Body<()>>> = (0..slots).map(|_| None).collect();
         let mut contexts: Vec<Option<()>> = vec![None; slots];
-        // Every slot of words 0 to 99 awake, one in two of words 100 to 149, none after.
-        let mut awake: Vec<AtomicU64> = (0..words)
-            .map(|w| {
-                AtomicU64::new(match w {
-                    0..100 => u64::MAX,
-                    100..150 => 0x5555_5555_5555_5555,
-                    _ => 0,
-                })
-            })
-            .collect();
-        let mut fallen = vec![0u64; words];
-        let mut work = Vec::new();
-        count_awake(&mut awake, &mut work);
-        let total = 100 * 64 + 50 * 32;
-        assert_eq!(work[words], total);
-        let bits = Bits {
-            awake: &mut awake,
-            fallen: &mut fallen,
-        };
-        let span = Span::whole(&mut plans, &mut bodies, &mut contexts, Some(bits), &work);
+        let span = Span::whole(&mut plans, &mut bodies, &mut contexts, None, work);
         let seen = std::sync::Mutex::new(Vec::new());
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(2)
@@ -265,16 +252,51 @@ mod tests {
                 &|a, b| a + b,
             )
         });
-        assert_eq!(summed, total);
         let mut seen = seen.into_inner().unwrap();
         seen.sort_unstable();
+        // Every slot once, in order.
         let mut next = 0;
-        for &(first, len, work) in &seen {
+        for &(first, len, _) in &seen {
             assert_eq!(first, next, "{seen:?}");
             next += len;
-            assert!(work <= MOST_WORK || len <= BITS, "{seen:?}");
         }
         assert_eq!(next, slots);
+        (summed, seen)
+    }
+
+    #[test]
+    fn leaves_hold_at_most_the_most_work_and_their_sums_add_up() {
+        let slots: usize = 64 * 200 + 7;
+        let words = slots.div_ceil(BITS);
+        // Every slot of words 0 to 99 awake, one in two of words 100 to 149, none after.
+        let mut awake: Vec<AtomicU64> = (0..words)
+            .map(|w| {
+                AtomicU64::new(match w {
+                    0..100 => u64::MAX,
+                    100..150 => 0x5555_5555_5555_5555,
+                    _ => 0,
+                })
+            })
+            .collect();
+        let mut work = Vec::new();
+        count_awake(&mut awake, &mut work);
+        let total = 100 * 64 + 50 * 32;
+        assert_eq!(work[words], total);
+        let (summed, seen) = fold(slots, &work);
+        assert_eq!(summed, total);
+        for &(_, len, work) in &seen {
+            assert!(work <= MOST_WORK || len <= BITS, "{seen:?}");
+        }
         assert!(seen.len() >= (total / MOST_WORK) as usize, "{seen:?}");
+
+        // One word with more than the most work (ids named many times over): a leaf of its
+        // own, whatever its work.
+        let (summed, seen) = fold(3 * 64, &[0, 300, 300, 300]);
+        assert_eq!(summed, 300);
+        assert!(seen.contains(&(0, 64, 300)), "{seen:?}");
+
+        // Little work in all: the sum is the same however rayon splits it.
+        let (summed, seen) = fold(8 * 64, &[0, 10, 30, 30, 60, 100, 100, 140, 200]);
+        assert_eq!((summed, seen.iter().map(|l| l.2).sum::<u32>()), (200, 200));
     }
 }
