@@ -380,8 +380,9 @@ pub fn crowd_sleeping_bench(opts: &BenchArgs, alert_percent: f64) -> CrowdSleepi
 pub const LEAST_TIMED: Duration = Duration::from_millis(300);
 
 /// Times `frame` at least `frames` times and for at least [`LEAST_TIMED`] of frames (at
-/// most a hundred times `frames`), each after `opts.idle_us` of other work: the frames
-/// timed, each one's time, and their total.
+/// most a hundred times `frames`, and past `frames` for at most ten times
+/// [`LEAST_TIMED`] of the clock, the other work included), each after `opts.idle_us` of
+/// other work: the frames timed, each one's time, and their total.
 fn time_frames(opts: &BenchArgs, mut frame: impl FnMut() -> u64) -> (u32, Vec<Duration>, Duration) {
     let frames = opts.crowd_frames();
     let least = if opts.quick {
@@ -394,7 +395,8 @@ fn time_frames(opts: &BenchArgs, mut frame: impl FnMut() -> u64) -> (u32, Vec<Du
     let mut times = Vec::with_capacity(frames as usize);
     let mut total = Duration::ZERO;
     let mut timed = 0;
-    while timed < frames || (total < least && timed < most) {
+    let start = Instant::now();
+    while timed < frames || (total < least && timed < most && start.elapsed() < least * 10) {
         if !idle.is_zero() {
             let at = Instant::now();
             while at.elapsed() < idle {
@@ -555,6 +557,9 @@ fn crowd_lines(opts: &BenchArgs, out: &mut impl Write) -> io::Result<CrowdResult
         row(out, "", "frames", c.frames.to_string())?;
         row(out, "", "ms per frame", format!("{:.3}", c.ms_per_frame))?;
         row(out, "", "bytes per member", c.bytes_per_member.to_string())?;
+        if c.idle_us > 0 {
+            row(out, "", "idle us before", c.idle_us.to_string())?;
+        }
         row(
             out,
             "",
@@ -587,6 +592,9 @@ fn crowd_sleeping_lines(opts: &BenchArgs, out: &mut impl Write) -> io::Result<()
             format!("{:.1}", s.ns_per_awake()),
         )?;
         row(out, "", "bytes per member", s.bytes_per_member.to_string())?;
+        if s.idle_us > 0 {
+            row(out, "", "idle us before", s.idle_us.to_string())?;
+        }
     }
     out.flush()
 }
@@ -830,7 +838,7 @@ mod tests {
             threads: 1,
             alert_percent: 1.0,
             frames: Some(2),
-            idle_us: 1_000,
+            idle_us: 5_000,
             only: Vec::new(),
         };
         let start = Instant::now();
@@ -841,11 +849,14 @@ mod tests {
         });
         let wall = start.elapsed();
         assert_eq!((frames, times.len(), calls), (calls, calls as usize, calls));
-        assert!(frames >= 2, "{frames} frames timed");
-        // Each frame came after 1 ms of other work, none of which was timed.
-        assert!(wall >= Duration::from_millis(1) * frames, "{wall:?}");
+        // Each frame came after 5 ms of other work, none of which was timed.
+        assert!(wall >= Duration::from_millis(5) * frames, "{wall:?}");
         assert_eq!(total, times.iter().sum::<Duration>());
-        assert!(total < Duration::from_millis(1), "{total:?} timed");
+        assert!(total < wall / 10, "{total:?} timed of {wall:?}");
+        // Past the frames asked for, the other work counts towards the clock's limit: ten
+        // times the least timed (a tenth of it with `--quick`: 0.3 s), not the hundred
+        // frames of 5 ms (1 s) that the least timed alone would run.
+        assert!(wall < LEAST_TIMED * 2, "{wall:?}");
     }
 
     #[test]
