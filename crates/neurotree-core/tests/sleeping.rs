@@ -144,6 +144,35 @@ fn a_tree_of_waiting_leaves_sleeps() {
     assert!(slept > 30, "slept {slept} of 40 ticks");
 }
 
+/// A Running action that its own branch halts in the pass (a Service whose branch failed
+/// resets it) starts again when a reactive node re-checks that branch: the tree stays awake
+/// for it, and starts and halts it on every tick as a tree ticked every frame does.
+#[test]
+fn an_action_halted_in_a_branch_a_reactive_node_rechecks_keeps_the_tree_awake() {
+    let waiter = || Node::Waiter {
+        key: 0,
+        ms: 100,
+        declare: true,
+    };
+    // ReactiveFallback [Service [w0, pure k0], Timeout [w1]].
+    let root = Node::Control(
+        6,
+        vec![
+            Node::Control(8, vec![waiter(), Node::Pure(0)]),
+            Node::Decorator(0, 100, Box::new(waiter())),
+        ],
+    );
+    let events = vec![Event::Time(0); 4];
+    let slept = compare(&root, &events, false).unwrap();
+    assert_eq!(slept, 0);
+    let mut run = Run::new(&blueprint(&root), true);
+    for e in &events {
+        run.step(e, false);
+    }
+    let of_w0 = |what: &str| run.log.0.iter().filter(|l| (l.0, l.1) == (0, what)).count();
+    assert_eq!((of_w0("start"), of_w0("halted")), (4, 4));
+}
+
 /// The trees of the property, ticked on N threads side by side, agree with one thread.
 #[test]
 fn sleeping_trees_on_several_threads_agree_with_one() {

@@ -22,7 +22,9 @@
 //!   [`Handle::wake_on_handle`](crate::Handle::wake_on_handle)); a closure of the
 //!   context, a node that would answer otherwise when ticked again (a Sleep that just
 //!   completed), and every other leaf keep it awake (as does KeepRunningUntilFailure after
-//!   its child succeeded: its next tick starts it again).
+//!   its child succeeded: its next tick starts it again), and so does an action halted in
+//!   the pass while Running (its branch failed under it), which the re-check would start
+//!   again.
 //!
 //! [`Tree::why_awake`] names the first thing that kept the tree awake.
 //!

@@ -628,15 +628,26 @@ macro_rules! dispatch {
                     $(NodeKind::$name(node) => node.halt(self, id, def),)*
                     NodeKind::Stateful(_) => {
                         if self.status(id) == NodeStatus::Running {
+                            // Halted in a pass, it starts afresh when its branch is ticked
+                            // again: a reactive node re-checking that branch would call it.
+                            self.waits.opaque(id);
                             self.current = id;
                             contain(self, id, |t| t.request_halt(id));
                         }
                     }
                     NodeKind::Async(action) => {
+                        if self.status(id) == NodeStatus::Running {
+                            self.waits.opaque(id);
+                        }
                         self.current = id;
                         contain(self, id, |t| leaf::async_action::halt(t, id, &**action));
                     }
-                    NodeKind::Custom(_) => self.halt_custom(id),
+                    NodeKind::Custom(_) => {
+                        if self.status(id) == NodeStatus::Running {
+                            self.waits.opaque(id);
+                        }
+                        self.halt_custom(id)
+                    }
                     NodeKind::SubTree(_)
                     | NodeKind::ConditionFn(_)
                     | NodeKind::Condition(_)
