@@ -235,6 +235,8 @@ fn members_owed_a_tick_and_not_visited_in_place_are_owed_it_under_the_next_budge
     );
     assert_eq!(crowd.behind(), report.behind);
     assert_eq!(ticks(&crowd), [2, 2, 2, 2, 1, 1, 0, 0, 0, 0]);
+    // Still owed, they say so: deferred, not "not due".
+    assert_eq!(statuses(&crowd), [T, T, T, T, T, T, D, D, D, D]);
     // Under a budget again, those four go first, before the members due in this frame.
     crowd.set_budget(Some(4));
     let report = crowd.frame();

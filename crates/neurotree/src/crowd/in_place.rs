@@ -27,7 +27,8 @@ pub const PART: usize = 1024;
 /// ([`Crowd::frame_in_place`]), from any number of threads, in any order.
 ///
 /// Each member is visited at most once per frame; a member not visited is not ticked (its
-/// status is [`FrameStatus::NotDue`]). The frame ends with [`finish`](Self::finish), which
+/// status is [`FrameStatus::NotDue`], or [`FrameStatus::Deferred`] while a budget's deferred
+/// tick is still owed to it). The frame ends with [`finish`](Self::finish), which
 /// reports as [`Crowd::frame`] does. Since a member's tick touches only its tree and its
 /// context, the results do not depend on the order of the visits nor on the threads.
 pub struct InPlaceFrame<'c, C> {
@@ -194,7 +195,8 @@ impl<'c, C> InPlaceFrame<'c, C> {
         }
     }
 
-    /// Ends the frame: members not visited are marked not due, and the frame is reported.
+    /// Ends the frame: members not visited are marked not due (deferred, if still owed a
+    /// tick), and the frame is reported.
     pub fn finish(self) -> FrameReport {
         let mut tally = Tally::default();
         let mut visited = 0;
@@ -205,7 +207,8 @@ impl<'c, C> InPlaceFrame<'c, C> {
             visited += part.visited;
             parts.push((part.plans, part.words, part.seen));
         }
-        // Awake members not visited were not due; sleeping ones keep their status.
+        // Awake members not visited were not due, or stay owed the tick a budget deferred
+        // (and are deferred again); sleeping ones keep their status.
         if visited < self.len as u64 {
             for (plans, words, seen) in &mut parts {
                 for (w, word) in words.iter().enumerate() {
@@ -214,7 +217,11 @@ impl<'c, C> InPlaceFrame<'c, C> {
                         let plan = &mut plans[w * BITS + left.trailing_zeros() as usize];
                         left &= left - 1;
                         if plan.present() {
-                            plan.status = FrameStatus::NotDue;
+                            plan.status = if plan.is_owed() {
+                                FrameStatus::Deferred
+                            } else {
+                                FrameStatus::NotDue
+                            };
                         }
                     }
                 }
