@@ -212,23 +212,35 @@ impl Browser {
             .unwrap_or_else(|e| panic!("script `{script}`: {e}"))
     }
 
+    /// Clicks the element, brought into view first. A panel that is still filling in can
+    /// move it between the two, so that the click lands on what took its place: the element
+    /// is then brought into view and clicked again, as a person would, a few times.
     pub async fn click(&self, css: &str) {
-        let element = self.element(css).await;
-        self.bring_into_view(css).await;
-        element
-            .click()
-            .await
-            .unwrap_or_else(|e| panic!("click {css}: {e}"));
+        let mut tries = 0;
+        loop {
+            let element = self.element(css).await;
+            self.bring_into_view(css).await;
+            match element.click().await {
+                Ok(()) => return,
+                Err(e) if tries < 5 && moved(&e) => {
+                    tries += 1;
+                    tokio::time::sleep(Duration::from_millis(100)).await;
+                }
+                Err(e) => panic!("click {css}: {e}"),
+            }
+        }
     }
 
     /// A node of a tree drawing outside its view is brought into it, as a person pans to
-    /// a node before clicking it (a drawing at a legible zoom is larger than its view).
+    /// a node before clicking it (a drawing at a legible zoom is larger than its view); any
+    /// other element is scrolled into its panel's view, as a person scrolls to it.
     pub async fn bring_into_view(&self, css: &str) {
         self.client
             .execute(
-                "const g = document.querySelector(arguments[0])?.closest('g.node');
+                "const el = document.querySelector(arguments[0]);
+                 const g = el?.closest('g.node');
                  const box = g?.closest('.tree-drawing');
-                 if (!g || !box) return;
+                 if (!g || !box) return el?.scrollIntoView({block: 'nearest', inline: 'nearest'});
                  const r = g.getBoundingClientRect(), v = box.getBoundingClientRect();
                  const inside = r.left >= v.left && r.top >= v.top && r.right <= v.right && r.bottom <= v.bottom;
                  if (!inside) return box.treeDrawing.reveal(Number(g.dataset.index));",
@@ -339,4 +351,10 @@ fn free_port() -> u16 {
         .and_then(|l| l.local_addr())
         .map(|a| a.port())
         .expect("a free port")
+}
+
+/// The click landed elsewhere because the element moved or was drawn anew in between.
+fn moved(e: &fantoccini::error::CmdError) -> bool {
+    let text = e.to_string();
+    text.contains("click intercepted") || text.contains("stale element")
 }
