@@ -279,6 +279,15 @@ async fn an_edit_a_pause_and_a_breakpoint_touch_the_agent_watched_alone_or_the_w
         &format!("document.querySelector(\"{field}\")?.value === '1'"),
     )
     .await;
+    // The field stays where it is while the run ticks and the panels above it (why the
+    // agent is awake, what runs, the last failure) change: a click aimed at it lands on it.
+    let top = format!("document.querySelector(\"{field}\").getBoundingClientRect().top");
+    let first = b.js(&format!("return {top}")).await;
+    for _ in 0..10 {
+        tokio::time::sleep(std::time::Duration::from_millis(50)).await;
+        let now = b.js(&format!("return {top}")).await;
+        assert_eq!(now, first, "the field moved");
+    }
     b.type_into(field, "\u{e009}a\u{e009}9\u{e007}").await;
     b.until(
         "the edit shown",

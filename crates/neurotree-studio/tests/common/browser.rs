@@ -226,9 +226,35 @@ impl Browser {
                     tries += 1;
                     tokio::time::sleep(Duration::from_millis(100)).await;
                 }
-                Err(e) => panic!("click {css}: {e}"),
+                Err(e) => {
+                    let seen = self.describe(css).await;
+                    panic!("click {css}: {e}; the element: {seen}")
+                }
             }
         }
+    }
+
+    /// Where the element is and what hides it, for a click that failed.
+    async fn describe(&self, css: &str) -> Value {
+        self.client
+            .execute(
+                "const el = document.querySelector(arguments[0]);
+                 if (!el) return 'gone';
+                 const r = el.getBoundingClientRect(), s = getComputedStyle(el);
+                 const hidden = [];
+                 for (let p = el; p; p = p.parentElement) {
+                   const ps = getComputedStyle(p);
+                   if (ps.display === 'none' || ps.visibility === 'hidden' || p.hidden || (p.tagName === 'DETAILS' && !p.open))
+                     hidden.push(p.tagName + '.' + p.className + '#' + p.id);
+                 }
+                 const at = document.elementFromPoint(r.left + r.width / 2, r.top + r.height / 2);
+                 return {rect: [r.left, r.top, r.width, r.height], display: s.display, visibility: s.visibility,
+                         disabled: el.disabled, hidden, at: at && (at.tagName + '.' + at.className),
+                         view: [innerWidth, innerHeight]};",
+                vec![json!(css)],
+            )
+            .await
+            .unwrap_or(Value::Null)
     }
 
     /// A node of a tree drawing outside its view is brought into it, as a person pans to
@@ -240,7 +266,7 @@ impl Browser {
                 "const el = document.querySelector(arguments[0]);
                  const g = el?.closest('g.node');
                  const box = g?.closest('.tree-drawing');
-                 if (!g || !box) return el?.scrollIntoView({block: 'nearest', inline: 'nearest'});
+                 if (!g || !box) return el?.scrollIntoView({block: 'center', inline: 'nearest'});
                  const r = g.getBoundingClientRect(), v = box.getBoundingClientRect();
                  const inside = r.left >= v.left && r.top >= v.top && r.right <= v.right && r.bottom <= v.bottom;
                  if (!inside) return box.treeDrawing.reveal(Number(g.dataset.index));",
@@ -353,8 +379,11 @@ fn free_port() -> u16 {
         .expect("a free port")
 }
 
-/// The click landed elsewhere because the element moved or was drawn anew in between.
+/// The click landed elsewhere, or found no element to land on, because the element moved
+/// or was drawn anew in between.
 fn moved(e: &fantoccini::error::CmdError) -> bool {
     let text = e.to_string();
-    text.contains("click intercepted") || text.contains("stale element")
+    text.contains("click intercepted")
+        || text.contains("stale element")
+        || text.contains("not interactable")
 }
