@@ -63,6 +63,16 @@ fn counter() -> Arc<Blueprint<Walker>> {
         .unwrap()
 }
 
+/// A crowd on two threads of `n` members of [`counter`], and their ids.
+fn counters(n: i64) -> (Crowd<Walker>, Vec<MemberId>) {
+    let mut crowd = Crowd::new(ManualClock::new()).with_threads(2).unwrap();
+    let bp = counter();
+    let ids = (0..n)
+        .map(|i| crowd.add(bp.clone(), Walker::new(i)))
+        .collect();
+    (crowd, ids)
+}
+
 /// Each member's status in the last frame, in slot order.
 fn statuses(crowd: &Crowd<Walker>) -> Vec<FrameStatus> {
     crowd.iter().map(|m| m.status()).collect()
@@ -74,11 +84,7 @@ const D: FrameStatus = FrameStatus::Deferred;
 
 #[test]
 fn intervals_and_phases_spread_members_over_the_frames() {
-    let mut crowd = Crowd::new(ManualClock::new()).with_threads(2).unwrap();
-    let bp = counter();
-    let ids: Vec<MemberId> = (0..8)
-        .map(|i| crowd.add(bp.clone(), Walker::new(i)))
-        .collect();
+    let (mut crowd, ids) = counters(8);
     for id in &ids {
         crowd.get_mut(*id).unwrap().set_interval(4);
     }
@@ -213,11 +219,7 @@ fn ticked_in_place<'c>(
 
 #[test]
 fn members_owed_a_tick_and_not_visited_in_place_are_owed_it_under_the_next_budget() {
-    let mut crowd = Crowd::new(ManualClock::new()).with_threads(2).unwrap();
-    let bp = counter();
-    let ids: Vec<MemberId> = (0..10)
-        .map(|i| crowd.add(bp.clone(), Walker::new(i)))
-        .collect();
+    let (mut crowd, ids) = counters(10);
     crowd.set_budget(Some(4));
     crowd.frame();
     assert_eq!(statuses(&crowd), [T, T, T, T, D, D, D, D, D, D]);
@@ -249,11 +251,7 @@ fn members_owed_a_tick_and_not_visited_in_place_are_owed_it_under_the_next_budge
 
 #[test]
 fn a_frame_in_place_dropped_unfinished_leaves_no_member_it_ticked_owed() {
-    let mut crowd = Crowd::new(ManualClock::new()).with_threads(2).unwrap();
-    let bp = counter();
-    let ids: Vec<MemberId> = (0..10)
-        .map(|i| crowd.add(bp.clone(), Walker::new(i)))
-        .collect();
+    let (mut crowd, ids) = counters(10);
     crowd.set_budget(Some(4));
     crowd.frame();
     crowd.set_budget(None);
@@ -280,11 +278,7 @@ fn a_frame_in_place_dropped_unfinished_leaves_no_member_it_ticked_owed() {
 
 #[test]
 fn members_owed_past_the_first_part_of_a_frame_in_place_keep_their_turn() {
-    let mut crowd = Crowd::new(ManualClock::new()).with_threads(2).unwrap();
-    let bp = counter();
-    let ids: Vec<MemberId> = (0..1100)
-        .map(|i| crowd.add(bp.clone(), Walker::new(i)))
-        .collect();
+    let (mut crowd, ids) = counters(1100);
     crowd.set_budget(Some(1050));
     crowd.frame();
     crowd.set_budget(None);
@@ -307,11 +301,7 @@ fn members_owed_past_the_first_part_of_a_frame_in_place_keep_their_turn() {
 
 #[test]
 fn a_held_member_owed_a_tick_takes_no_share_of_the_budget_and_ticks_once_released() {
-    let mut crowd = Crowd::new(ManualClock::new()).with_threads(2).unwrap();
-    let bp = counter();
-    let ids: Vec<MemberId> = (0..10)
-        .map(|i| crowd.add(bp.clone(), Walker::new(i)))
-        .collect();
+    let (mut crowd, ids) = counters(10);
     crowd.set_budget(Some(4));
     crowd.frame();
     // Member 4 heads the queue of those owed a tick; held, it is not ticked, and the
@@ -411,11 +401,7 @@ fn removing_a_member_halts_its_running_action_once() {
 
 #[test]
 fn a_removed_member_owed_a_tick_leaves_the_queue() {
-    let mut crowd = Crowd::new(ManualClock::new()).with_threads(2).unwrap();
-    let bp = counter();
-    let ids: Vec<MemberId> = (0..4)
-        .map(|i| crowd.add(bp.clone(), Walker::new(i)))
-        .collect();
+    let (mut crowd, ids) = counters(4);
     crowd.set_budget(Some(1));
     crowd.frame();
     assert_eq!(crowd.behind().overdue, 3);
