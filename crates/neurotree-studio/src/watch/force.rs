@@ -318,7 +318,10 @@ impl Hub {
                     .into(),
             );
         }
-        let len = self.lock().run.as_ref().map_or(0, |r| r.paths.len());
+        // Held until the force is set: an attach of another tree, which clears the forces,
+        // waits for it, so that a force checked against one tree never lands on the next.
+        let hub = self.lock();
+        let len = hub.run.as_ref().map_or(0, |r| r.paths.len());
         let Some(id) = super::node_in(node, len) else {
             return Err(format!("no node {node} in the tree watched"));
         };
@@ -339,9 +342,20 @@ impl Hub {
             };
             Some((status, until_cleared))
         };
+        #[cfg(test)]
+        tests::between_check_and_set();
         self.forces.set(id.0, force);
+        drop(hub);
         self.bump();
         Ok(())
+    }
+}
+
+#[cfg(test)]
+impl Forces {
+    /// The nodes with a force set.
+    fn nodes(&self) -> Vec<u32> {
+        self.lock().forces.iter().map(|f| f.node).collect()
     }
 }
 
@@ -398,6 +412,64 @@ mod tests {
         assert_eq!(log[0].tick, 11, "the oldest forgotten first");
         assert_eq!(log[MOST_LOGGED - 1].tick, ticks);
         assert!(forces.take_log().is_empty());
+    }
+
+    std::thread_local! {
+        /// Run by [`Hub::force`] between its check of the node and the force's setting.
+        static BETWEEN: std::cell::Cell<Option<Box<dyn FnOnce()>>> =
+            const { std::cell::Cell::new(None) };
+    }
+
+    /// Called by [`Hub::force`] between its check and its setting.
+    pub(super) fn between_check_and_set() {
+        if let Some(f) = BETWEEN.take() {
+            f();
+        }
+    }
+
+    /// A page forces node 40 of a 60-node tree while another thread attaches a tree of
+    /// 2 nodes, just after the check that node 40 exists: the force lands on the tree it
+    /// was checked against, and the attach clears it, rather than the force standing on a
+    /// node the tree watched lacks.
+    #[test]
+    fn a_force_checked_against_one_tree_never_lands_on_the_next() {
+        use neurotree_core::{Blueprint, ManualClock, Tree};
+        use std::sync::{mpsc, Arc};
+        let tree = |leaves: usize| {
+            let blueprint = Blueprint::<()>::builder()
+                .sequence("s", |mut s| {
+                    for i in 0..leaves {
+                        s = s.always_success(&format!("leaf{i}"));
+                    }
+                    s
+                })
+                .build_shared()
+                .unwrap();
+            Tree::with_clock(blueprint, ManualClock::new())
+        };
+        let (small, large) = (tree(1), tree(59));
+        let hub = Hub::new();
+        hub.forces.hand_out();
+        let _watched = hub.attach(&large, "t");
+        let (attached, done) = mpsc::channel();
+        let attacher = Arc::clone(&hub);
+        BETWEEN.set(Some(Box::new(move || {
+            std::thread::spawn(move || {
+                drop(attacher.attach(&small, "t"));
+                attached.send(()).unwrap();
+            });
+            // Time for the attach to end, unless the force holds it back.
+            std::thread::sleep(std::time::Duration::from_millis(100));
+        })));
+        hub.force(40, "FAILURE", Some("cleared")).unwrap();
+        done.recv().unwrap();
+        let len = hub.lock().run.as_ref().map_or(0, |r| r.paths.len());
+        assert_eq!(len, 2, "the small tree is watched");
+        assert_eq!(
+            hub.forces.nodes(),
+            Vec::<u32>::new(),
+            "no force on a node it lacks"
+        );
     }
 
     #[test]
