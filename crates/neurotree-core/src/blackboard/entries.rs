@@ -27,11 +27,6 @@ use super::entry::Entry;
 #[derive(Default)]
 pub(super) struct Entries(Vec<(SmolStr, Entry)>);
 
-/// How many of a scope's first entries [`Entries::prefetch_values`] loads the values of:
-/// about as many as the lines [`hint::prefetch`](crate::hint::prefetch) loads of the
-/// entries themselves hold, since a value whose entry is not loaded would cost its own trip.
-const PREFETCHED_VALUES: usize = 6;
-
 impl Entries {
     /// No entries; allocates nothing.
     pub(super) const fn new() -> Self {
@@ -110,15 +105,6 @@ impl Entries {
     #[inline]
     pub(super) fn prefetch(&self) {
         crate::hint::prefetch(self.0.as_slice());
-    }
-
-    /// Asks the processor to start loading the boxed values of the first entries: the
-    /// last trip a read of them makes. Values held inline have none to load.
-    #[inline]
-    pub(super) fn prefetch_values(&self) {
-        for (_, e) in self.0.iter().take(PREFETCHED_VALUES) {
-            e.value.prefetch();
-        }
     }
 }
 

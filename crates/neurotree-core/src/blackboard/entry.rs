@@ -140,15 +140,6 @@ impl Stored {
     pub(super) fn is_written(&self) -> bool {
         !matches!(self, Self::Unwritten)
     }
-
-    /// Asks the processor to start loading the value's box, if it has one (see
-    /// [`hint`](crate::hint)).
-    #[inline]
-    pub(super) fn prefetch(&self) {
-        if let Self::Boxed(b) = self {
-            crate::hint::prefetch(&**b);
-        }
-    }
 }
 
 /// One value and what is known about it.

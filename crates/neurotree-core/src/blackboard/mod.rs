@@ -256,15 +256,6 @@ impl Blackboard {
         self.root.prefetch();
     }
 
-    /// Asks the processor to start loading the boxed values of the root scope's first
-    /// entries (those of small plain types have no box: they were in the entries
-    /// [`prefetch`](Self::prefetch) loads, whose block this reads, so call it a little
-    /// later than that).
-    #[inline]
-    pub(crate) fn prefetch_entries(&self) {
-        self.root.prefetch_values();
-    }
-
     /// [`entry`](Self::entry), with the reason when there is none.
     fn entry_or_err(&self, scope: ScopeId, key: &str) -> Result<&Entry, BlackboardError> {
         self.entry(scope, key)

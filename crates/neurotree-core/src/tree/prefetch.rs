@@ -8,6 +8,11 @@ impl<C> Tree<C> {
     /// statuses, slots, objects and its blackboard's root entries, values of small plain
     /// types included), for a runner that ticks many trees and knows which comes next: see
     /// [`hint`](crate::hint). Changes nothing.
+    ///
+    /// Boxed values (of types other than `bool`, numbers and `Duration`) are not asked for:
+    /// their addresses are in the entries asked for here, and reading them a member later
+    /// waited for those entries to arrive, which cost a crowd's frames more than the ticks
+    /// that read a boxed value then waited for it (BENCHMARKS.md, "Crowds at memory speed").
     #[inline]
     pub fn prefetch_state(&self) {
         // The block's size from the blueprint, which every member shares and the cache
@@ -15,15 +20,5 @@ impl<C> Tree<C> {
         let bytes = self.blueprint.instance_state_bytes();
         crate::hint::prefetch_bytes(self.state.block(), bytes);
         self.blackboard.prefetch();
-    }
-
-    /// Asks the processor to start loading the boxed values of the first blackboard entries
-    /// of the tree's root scope (values of other types than `bool`, numbers and `Duration`),
-    /// whose addresses are in the entries [`prefetch_state`](Self::prefetch_state) loads:
-    /// call it a little later than that. A tree whose root values are all held inline has
-    /// nothing more to load. Changes nothing.
-    #[inline]
-    pub fn prefetch_entries(&self) {
-        self.blackboard.prefetch_entries();
     }
 }

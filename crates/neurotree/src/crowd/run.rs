@@ -66,12 +66,6 @@ fn tick_span<C: Send>(span: Span<'_, C>, frame: u64, mode: TickMode) -> Tally {
                     }
                     return true;
                 }
-                Ahead::Next => {
-                    if let Some(body) = &bodies[i] {
-                        body.tree.prefetch_entries();
-                    }
-                    return true;
-                }
                 Ahead::Tick => {}
             }
             let plan = &mut plans[i];

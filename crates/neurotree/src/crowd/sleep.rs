@@ -186,10 +186,6 @@ pub(super) enum Ahead {
     /// The member comes [`NEAR`] members later, its tree's bytes loaded by now: start
     /// loading the node state and the blackboard's root entries they point to.
     Near,
-    /// The member comes next: start loading the boxed values of its blackboard's root
-    /// entries (values of small plain types have none), whose addresses came in with the
-    /// entries.
-    Next,
     /// Tick the member (if due): `false` when it fell asleep, which clears its bit.
     Tick,
 }
@@ -228,9 +224,6 @@ pub(super) fn for_each_awake_ahead(
         }
         if let Some(&near) = slots.get(k + NEAR) {
             visit(usize::from(near), Ahead::Near);
-        }
-        if let Some(&next) = slots.get(k + 1) {
-            visit(usize::from(next), Ahead::Next);
         }
         let i = usize::from(slot);
         if !visit(i, Ahead::Tick) {
@@ -561,7 +554,7 @@ mod tests {
     }
 
     /// Every awake slot is ticked once, in slot order, across words; each is asked for
-    /// FAR, NEAR and one member ahead of its tick, in that order, when that many come
+    /// FAR and NEAR members ahead of its tick, in that order, when that many come
     /// before it; a tick that returns `false` clears the slot's bit and no other.
     #[test]
     fn awake_slots_are_ticked_in_order_each_asked_for_ahead_of_its_tick() {
@@ -589,7 +582,7 @@ mod tests {
             for (k, &slot) in slots.iter().enumerate() {
                 let at = |step: Ahead| seen.iter().position(|&e| e == (slot, step));
                 let tick = at(Ahead::Tick).unwrap();
-                for (ahead, step) in [(FAR, Ahead::Far), (NEAR, Ahead::Near), (1, Ahead::Next)] {
+                for (ahead, step) in [(FAR, Ahead::Far), (NEAR, Ahead::Near)] {
                     // Asked for when the member `ahead` before it was ticked, not otherwise.
                     match k.checked_sub(ahead) {
                         Some(before) => {
