@@ -309,11 +309,8 @@ impl<'f, 'c, C> Visitor<'f, 'c, C> {
         if let Some(load) = load {
             load(ctx);
         }
-        let tally = Tally {
-            due: 1,
-            ..plan.tick(body, ctx, self.frame.mode)
-        };
-        part.tally = part.tally.add(tally);
+        part.tally.due += 1;
+        plan.tick(body, ctx, self.frame.mode, &mut part.tally);
         if !stays_awake(plan, i, part.fallen) {
             Awake::clear_in(part.words, i);
         }

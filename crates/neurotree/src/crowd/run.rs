@@ -77,10 +77,8 @@ fn tick_span<C: Send>(span: Span<'_, C>, frame: u64, mode: TickMode) -> Tally {
             let (true, Some(body), Some(ctx)) = (due, &mut bodies[i], &mut contexts[i]) else {
                 return true;
             };
-            tally = tally.add(Tally {
-                due: 1,
-                ..plan.tick(body, ctx, mode)
-            });
+            tally.due += 1;
+            plan.tick(body, ctx, mode, &mut tally);
             sleep::stays_awake(plan, i, fallen)
         });
     }

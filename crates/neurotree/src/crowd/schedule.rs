@@ -94,7 +94,7 @@ impl<C: Send> Crowd<C> {
                     else {
                         return true;
                     };
-                    tally = tally.add(plan.tick(body, ctx, mode));
+                    plan.tick(body, ctx, mode, &mut tally);
                     stays_awake(plan, i, fallen)
                 });
                 tally
