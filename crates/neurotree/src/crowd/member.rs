@@ -215,7 +215,7 @@ impl Plan {
 
     /// Ticks the member and counts it in `tally`, charging it the blueprint's nodes for
     /// each pass of the root (the most a pass can visit). Counted in place: a tally is
-    /// 80 bytes, which a tally returned and added copied twice per tick.
+    /// 88 bytes, which a tally returned and added copied twice per tick.
     #[inline]
     pub(super) fn tick<C>(
         &mut self,
