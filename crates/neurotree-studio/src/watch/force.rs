@@ -459,7 +459,7 @@ mod tests {
                 attached.send(()).unwrap();
             });
             // Time for the attach to end, unless the force holds it back.
-            std::thread::sleep(std::time::Duration::from_millis(100));
+            std::thread::sleep(std::time::Duration::from_millis(250));
         })));
         hub.force(40, "FAILURE", Some("cleared")).unwrap();
         done.recv().unwrap();
