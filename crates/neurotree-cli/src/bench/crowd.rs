@@ -257,19 +257,24 @@ pub(super) fn crowd_sleeping_lines(opts: &BenchArgs, out: &mut impl Write) -> io
             "awake per frame",
             format!("{:.1}", s.awake_per_frame),
         )?;
-        row(out, "", "ms per frame", format!("{:.3}", s.ms_per_frame))?;
-        row(
-            out,
-            "",
-            "ns per awake member",
-            format!("{:.1}", s.ns_per_awake()),
-        )?;
+        frame_rows(out, &s)?;
         row(out, "", "bytes per member", s.bytes_per_member.to_string())?;
         if s.idle_us > 0 {
             row(out, "", "idle us before", s.idle_us.to_string())?;
         }
     }
     out.flush()
+}
+
+/// A sleeping crowd's time per frame and per awake member, as text rows.
+fn frame_rows(out: &mut impl Write, s: &CrowdSleepingResult) -> io::Result<()> {
+    row(out, "", "ms per frame", format!("{:.3}", s.ms_per_frame))?;
+    row(
+        out,
+        "",
+        "ns per awake member",
+        format!("{:.1}", s.ns_per_awake()),
+    )
 }
 
 /// The sleeping crowd at each of [`AWAKE_PERCENTS`], beside `crowd`'s line when it ran.
@@ -292,13 +297,7 @@ pub(super) fn crowd_awake_lines(
             row(out, "crowd_awake", "agents", s.agents.to_string())?;
             row(out, "", "threads", s.threads.to_string())?;
             row(out, "", "awake %", format!("{:.2}", s.awake_percent()))?;
-            row(out, "", "ms per frame", format!("{:.3}", s.ms_per_frame))?;
-            row(
-                out,
-                "",
-                "ns per awake member",
-                format!("{:.1}", s.ns_per_awake()),
-            )?;
+            frame_rows(out, &s)?;
             if let Some((mean, median)) = ratio {
                 row(out, "", "/ crowd's per member", format!("{mean:.2}"))?;
                 row(out, "", "the same, medians", format!("{median:.2}"))?;
