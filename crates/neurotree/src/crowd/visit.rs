@@ -7,8 +7,8 @@
 //! caller's order, so that a member named twice is visited in that order.
 //!
 //! Members named are far apart in memory as often as not: each visit asks for the memory
-//! of the member [`FAR`] ids later, and for the node state and blackboard of the one
-//! [`NEAR`] ids later, so that the visits' trips to memory overlap.
+//! of the member [`FAR`] ids later, and for the blackboard of the one [`NEAR`] ids later,
+//! so that the visits' trips to memory overlap.
 
 use neurotree_core::hint::prefetch;
 
@@ -147,12 +147,14 @@ fn ask_far<C>(plans: &[Plan], bodies: &[Option<Body<C>>], contexts: &[Option<C>]
     }
 }
 
-/// Starts loading the node state and the blackboard's root entries of member `id`, whose
-/// tree [`ask_far`] asked for.
+/// Starts loading the blackboard's root entries of member `id`, whose tree [`ask_far`]
+/// asked for. Not its node state: a visit that writes the blackboard does not read it,
+/// and the frame's ticks ask for it in time; asked for here too, it crowded the trips to
+/// memory of the visits that came next (BENCHMARKS.md, "Visits ask for less").
 #[inline]
 fn ask_near<C>(bodies: &[Option<Body<C>>], id: MemberId) {
     if let Some(Some(body)) = bodies.get(id.index as usize) {
-        body.tree.prefetch_state();
+        body.tree.prefetch_blackboard();
     }
 }
 
