@@ -120,8 +120,8 @@ impl<'t, C> Ticker<'t, C> {
             self.note_failed(id);
         }
         let from = mem::replace(self.status_mut(id), to);
-        // Watching, the observer is the engine's stand-in, which hears nothing: neither
-        // the clock nor the call are worth their cost on every change of a tick.
+        // When watching, the observer is the engine's stand-in, which hears nothing:
+        // neither the clock nor the call is worth its cost on every change of a tick.
         if from != to && !self.watching {
             let at = self.clock.now();
             if let Some(observer) = self.observer.as_deref_mut() {
