@@ -442,7 +442,12 @@ impl<C> Tree<C> {
         if !self.out.is_quiet() {
             self.forget_notes();
         }
-        self.state.parts().failed.fill(0);
+        // A tree of up to 64 nodes has one word of bits: one store, where `fill` of a
+        // length known only at run time is a call to `memset`.
+        match self.state.parts().failed {
+            [word] => *word = 0,
+            words => words.fill(0),
+        }
         self.last_root = NodeStatus::Idle;
     }
 
