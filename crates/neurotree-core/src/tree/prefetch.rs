@@ -12,7 +12,8 @@ impl<C> Tree<C> {
     /// Boxed values (of types other than `bool`, numbers and `Duration`) are not asked for:
     /// their addresses are in the entries asked for here, and reading them a member later
     /// waited for those entries to arrive, which cost a crowd's frames more than the ticks
-    /// that read a boxed value then waited for it (BENCHMARKS.md, "The tally in place, no values asked ahead").
+    /// that read a boxed value then waited for it (BENCHMARKS.md, "The tally in place, no
+    /// values asked ahead").
     #[inline]
     pub fn prefetch_state(&self) {
         // The block's size from the blueprint, which every member shares and the cache
