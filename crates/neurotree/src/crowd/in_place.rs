@@ -91,11 +91,12 @@ impl<C: Send> Crowd<C> {
         if self.budget.is_some() {
             return None;
         }
-        let asleep = if self.runs_inline() {
-            self.start_sleep_frame(true)
+        if self.runs_inline() {
+            self.start_sleep_frame(true);
         } else {
-            self.in_pool(|crowd| crowd.start_sleep_frame(false))
-        };
+            self.in_pool(|crowd| crowd.start_sleep_frame(false));
+        }
+        let asleep = self.asleep() as u64;
         let Self {
             plans,
             bodies,

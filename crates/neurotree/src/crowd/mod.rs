@@ -575,13 +575,17 @@ impl<C: Send> Crowd<C> {
         let inline = self.runs_inline();
         let run = move |crowd: &mut Self| {
             first(crowd, inline);
-            let asleep = crowd.start_sleep_frame(inline);
+            crowd.start_sleep_frame(inline);
             crowd.choose_intervals(inline);
-            let tally = match budget {
-                Some(budget) => crowd.run_budgeted(frame, budget),
-                None => crowd.run_all(frame, inline),
-            };
-            (asleep, tally)
+            match budget {
+                Some(budget) => (crowd.asleep() as u64, crowd.run_budgeted(frame, budget)),
+                None => {
+                    // The count of awake members that shares the frame out, made before any
+                    // tick, says who sleeps through it without another pass over the bits.
+                    let (awake, tally) = crowd.run_all(frame, inline);
+                    ((crowd.len - awake) as u64, tally)
+                }
+            }
         };
         let (asleep, tally) = if inline { run(self) } else { self.in_pool(run) };
         self.frames += 1;

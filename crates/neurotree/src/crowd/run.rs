@@ -13,7 +13,8 @@ use super::{Crowd, TickMode};
 impl<C: Send> Crowd<C> {
     /// Ticks every awake member due in `frame`, and every member owed from earlier frames;
     /// sleeping members are not visited. With `inline`, on the caller's thread alone.
-    pub(super) fn run_all(&mut self, frame: u64, inline: bool) -> Tally {
+    /// Returns the members awake before the frame's ticks, beside the tally.
+    pub(super) fn run_all(&mut self, frame: u64, inline: bool) -> (usize, Tally) {
         self.backlog.clear();
         let mode = self.mode;
         let Self {
@@ -26,15 +27,18 @@ impl<C: Send> Crowd<C> {
             ..
         } = self;
         span::count_awake(&mut awake.bits[..plans.len().div_ceil(BITS)], work);
+        let before = work.last().map_or(0, |&n| n as usize);
         let bits = Bits {
             awake: &mut awake.bits,
             fallen: &mut timers.fallen,
         };
         let whole = Span::whole(plans, bodies, contexts, Some(bits), work);
-        if inline {
-            return tick_span(whole, frame, mode);
-        }
-        whole.fold_leaves(&|span| tick_span(span, frame, mode), &Tally::add)
+        let tally = if inline {
+            tick_span(whole, frame, mode)
+        } else {
+            whole.fold_leaves(&|span| tick_span(span, frame, mode), &Tally::add)
+        };
+        (before, tally)
     }
 }
 
@@ -51,8 +55,10 @@ fn tick_span<C: Send>(span: Span<'_, C>, frame: u64, mode: TickMode) -> Tally {
         .zip(span.contexts.chunks_mut(CHUNK))
         .zip(bits.awake.chunks_mut(CHUNK / BITS))
         .zip(bits.fallen.chunks_mut(CHUNK / BITS));
+    // Written before read: cleared once per span, not per chunk.
+    let mut slots = [0u16; CHUNK];
     for ((((plans, bodies), contexts), words), fallen) in pieces {
-        sleep::for_each_awake_ahead(words, |i, step| {
+        sleep::for_each_awake_ahead(words, &mut slots, |i, step| {
             match step {
                 Ahead::Far => {
                     prefetch(&plans[i]);
