@@ -7,8 +7,9 @@
 //! (the awake members, or the ids a caller named): always down to spans of at most
 //! [`MOST_WORK`] (or a single word), so that a thread held up in one (its core taken by
 //! another process, or a slower core) holds up that span alone while the other threads take
-//! the rest; below that, whenever rayon gives work to an idle thread, down to
-//! [`LEAST_WORK`], so that a few members with costly trees are still shared.
+//! the rest; below that, as rayon splits (a few leaves a span, and more whenever it gives
+//! work to an idle thread), down to [`LEAST_WORK`], so that a few members with costly trees
+//! are still shared.
 
 use std::ops::Range;
 use std::sync::atomic::AtomicU64;
@@ -23,9 +24,13 @@ const LEAST_WORK: u32 = 16;
 
 /// A span with more work than this is always split. rayon's own splitting stops at a few
 /// leaves per thread, and a thread whose core was taken for a millisecond in a leaf of a
-/// quarter of the crowd held up the frame by that millisecond while the others waited; a
-/// split not taken by another thread costs a few nanoseconds.
-const MOST_WORK: u32 = 256;
+/// quarter of the crowd held up the frame by that millisecond while the others waited.
+/// Below it, rayon still cuts a span into four leaves or more on two threads; each leaf
+/// costs a few hundred nanoseconds (the split, and its first members ticked before their
+/// memory was asked for), and with 256 a frame of 100,000 members all awake had 1,562
+/// leaves where 2,048 gives 258 and a frame 1-3 % shorter on two threads (BENCHMARKS.md,
+/// "Fewer leaves").
+const MOST_WORK: u32 = 2048;
 
 /// Slots `first..` of a crowd and their tables, with the crowd's count of work.
 pub(super) struct Span<'a, C> {
@@ -291,9 +296,10 @@ mod tests {
 
         // One word with more than the most work (ids named many times over): a leaf of its
         // own, whatever its work.
-        let (summed, seen) = fold(3 * 64, &[0, 300, 300, 300]);
-        assert_eq!(summed, 300);
-        assert!(seen.contains(&(0, 64, 300)), "{seen:?}");
+        let much = MOST_WORK + 44;
+        let (summed, seen) = fold(3 * 64, &[0, much, much, much]);
+        assert_eq!(summed, much);
+        assert!(seen.contains(&(0, 64, much)), "{seen:?}");
 
         // Little work in all: the sum is the same however rayon splits it.
         let (summed, seen) = fold(8 * 64, &[0, 10, 30, 30, 60, 100, 100, 140, 200]);
