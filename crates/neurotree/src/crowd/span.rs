@@ -27,10 +27,22 @@ const LEAST_WORK: u32 = 16;
 /// quarter of the crowd held up the frame by that millisecond while the others waited.
 /// Below it, rayon still cuts a span into four leaves or more on two threads; each leaf
 /// costs a few hundred nanoseconds (the split, and its first members ticked before their
-/// memory was asked for), and with 256 a frame of 100,000 members all awake had 1,562
-/// leaves where 2,048 gives 258 and a frame 1-3 % shorter on two threads (BENCHMARKS.md,
-/// "Fewer leaves").
+/// memory was asked for), and with spans of 256 a frame of 100,000 members all awake had
+/// 1,562 leaves where 2,048 gives 258 and a frame 1-3 % shorter on two threads
+/// (BENCHMARKS.md, "Fewer leaves").
 const MOST_WORK: u32 = 2048;
+
+/// The most work a span of a frame with `work` in all holds on `threads` threads: at least
+/// sixteen spans a thread, so that the last leaves, which the threads cannot share, are a
+/// small part of a short frame (spans of 2,048 made a frame of 3,500 awake members 4 %
+/// longer on two threads than spans of 256); from [`FEWEST_MOST_WORK`] to [`MOST_WORK`].
+pub(super) fn most_work(work: u32, threads: usize) -> u32 {
+    let spans = u32::try_from(threads.max(1) * 16).unwrap_or(u32::MAX);
+    (work / spans).clamp(FEWEST_MOST_WORK, MOST_WORK)
+}
+
+/// The least [`most_work`] gives.
+const FEWEST_MOST_WORK: u32 = 256;
 
 /// Slots `first..` of a crowd and their tables, with the crowd's count of work.
 pub(super) struct Span<'a, C> {
@@ -84,8 +96,18 @@ impl<'a, C: Send> Span<'a, C> {
         leaf: &(impl Fn(Self) -> R + Sync),
         add: &(impl Fn(R, R) -> R + Sync),
     ) -> R {
-        let Range { start, end } = self.words();
-        if self.work[end] - self.work[start] <= MOST_WORK {
+        let most = most_work(self.total_work(), rayon::current_num_threads());
+        self.fold_within(most, leaf, add)
+    }
+
+    /// [`fold_leaves`](Self::fold_leaves), splitting spans of more than `most` work.
+    fn fold_within<R: Send + Default>(
+        self,
+        most: u32,
+        leaf: &(impl Fn(Self) -> R + Sync),
+        add: &(impl Fn(R, R) -> R + Sync),
+    ) -> R {
+        if self.total_work() <= most {
             return rayon::iter::split(self, Self::halve)
                 .map(leaf)
                 .reduce(R::default, add);
@@ -93,13 +115,19 @@ impl<'a, C: Send> Span<'a, C> {
         match self.halve() {
             (left, Some(right)) => {
                 let (a, b) = rayon::join(
-                    || left.fold_leaves(leaf, add),
-                    || right.fold_leaves(leaf, add),
+                    || left.fold_within(most, leaf, add),
+                    || right.fold_within(most, leaf, add),
                 );
                 add(a, b)
             }
             (whole, None) => leaf(whole),
         }
+    }
+
+    /// The work in the span.
+    fn total_work(&self) -> u32 {
+        let Range { start, end } = self.words();
+        self.work[end] - self.work[start]
     }
 
     /// The span's words in the crowd's count.
@@ -271,28 +299,37 @@ mod tests {
 
     #[test]
     fn leaves_hold_at_most_the_most_work_and_their_sums_add_up() {
-        let slots: usize = 64 * 200 + 7;
+        let slots: usize = 64 * 400 + 7;
         let words = slots.div_ceil(BITS);
-        // Every slot of words 0 to 99 awake, one in two of words 100 to 149, none after.
+        // Every slot of words 0 to 199 awake, one in two of words 200 to 299, none after.
         let mut awake: Vec<AtomicU64> = (0..words)
             .map(|w| {
                 AtomicU64::new(match w {
-                    0..100 => u64::MAX,
-                    100..150 => 0x5555_5555_5555_5555,
+                    0..200 => u64::MAX,
+                    200..300 => 0x5555_5555_5555_5555,
                     _ => 0,
                 })
             })
             .collect();
         let mut work = Vec::new();
         count_awake(&mut awake, &mut work);
-        let total = 100 * 64 + 50 * 32;
+        let total = 200 * 64 + 100 * 32;
         assert_eq!(work[words], total);
         let (summed, seen) = fold(slots, &work);
         assert_eq!(summed, total);
+        let most = most_work(total, 2);
+        assert_eq!(most, total / 32);
         for &(_, len, work) in &seen {
-            assert!(work <= MOST_WORK || len <= BITS, "{seen:?}");
+            assert!(work <= most || len <= BITS, "{seen:?}");
         }
-        assert!(seen.len() >= (total / MOST_WORK) as usize, "{seen:?}");
+        assert!(seen.len() >= 32, "{seen:?}");
+
+        // The most work a span holds, from 256 to 2,048.
+        assert_eq!(
+            [0, 3_500, 100_000, 1_000_000].map(|w| most_work(w, 2)),
+            [256, 256, 2048, 2048]
+        );
+        assert_eq!(most_work(1_000_000, 64), 976);
 
         // One word with more than the most work (ids named many times over): a leaf of its
         // own, whatever its work.
