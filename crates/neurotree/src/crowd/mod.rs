@@ -583,7 +583,7 @@ impl<C: Send> Crowd<C> {
                     // The count of awake members that shares the frame out, made before any
                     // tick, says who sleeps through it without another pass over the bits.
                     let (awake, tally) = crowd.run_all(frame, inline);
-                    ((crowd.len - awake) as u64, tally)
+                    (crowd.len.saturating_sub(awake) as u64, tally)
                 }
             }
         };

@@ -5,7 +5,7 @@
 //! and a crowd cut into equal runs of slots would hand one thread all of them. A [`Span`]
 //! splits where half its work lies, from a count of the work before each word of 64 slots
 //! (the awake members, or the ids a caller named): always down to spans of at most
-//! [`MOST_WORK`] (or a single word), so that a thread held up in one (its core taken by
+//! [`most_work`] (or a single word), so that a thread held up in one (its core taken by
 //! another process, or a slower core) holds up that span alone while the other threads take
 //! the rest; below that, as rayon splits (a few leaves a span, and more whenever it gives
 //! work to an idle thread), down to [`LEAST_WORK`], so that a few members with costly trees
@@ -36,7 +36,7 @@ const MOST_WORK: u32 = 2048;
 /// sixteen spans a thread, so that the last leaves, which the threads cannot share, are a
 /// small part of a short frame (spans of 2,048 made a frame of 3,500 awake members 4 %
 /// longer on two threads than spans of 256); from [`FEWEST_MOST_WORK`] to [`MOST_WORK`].
-pub(super) fn most_work(work: u32, threads: usize) -> u32 {
+fn most_work(work: u32, threads: usize) -> u32 {
     let spans = u32::try_from(threads.max(1) * 16).unwrap_or(u32::MAX);
     (work / spans).clamp(FEWEST_MOST_WORK, MOST_WORK)
 }
