@@ -221,8 +221,9 @@ pub(super) fn for_each_awake_ahead(
         }
     }
     let slots = &slots[..n];
-    // The first members are asked for at once: a leaf of a frame on two threads holds a
-    // few hundred members, and its first ones would otherwise each wait for memory.
+    // The first members are asked for at once: the loop asks for each member a few ahead
+    // of its turn, and the first ones of every chunk (and of every leaf of a frame on two
+    // threads, which starts a chunk of its own) would otherwise each wait for memory.
     for &first in &slots[..FAR.min(n)] {
         visit(usize::from(first), Ahead::Far);
     }

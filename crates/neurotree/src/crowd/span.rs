@@ -28,14 +28,15 @@ const LEAST_WORK: u32 = 16;
 /// Below it, rayon still cuts a span into four leaves or more on two threads; each leaf
 /// costs a few hundred nanoseconds (the split, and its first members ticked before their
 /// memory was asked for), and with spans of 256 a frame of 100,000 members all awake had
-/// 1,562 leaves where 2,048 gives 258 and a frame 1-3 % shorter on two threads
+/// 1,562 leaves where 1,024 gives 514 and a frame 1-2 % shorter on two threads, 2,048 258
 /// (BENCHMARKS.md, "Fewer leaves").
 const MOST_WORK: u32 = 2048;
 
-/// The most work a span of a frame with `work` in all holds on `threads` threads: at least
-/// sixteen spans a thread, so that the last leaves, which the threads cannot share, are a
-/// small part of a short frame (spans of 2,048 made a frame of 3,500 awake members 4 %
-/// longer on two threads than spans of 256); from [`FEWEST_MOST_WORK`] to [`MOST_WORK`].
+/// The most work a span of a frame with `work` in all holds on `threads` threads: a
+/// sixteenth of a thread's share, so that the last leaves, which the threads cannot share,
+/// are a small part of a short frame (spans of 2,048 made a frame of 3,500 awake members on
+/// two threads 2-6 % longer than spans of 256); kept from [`FEWEST_MOST_WORK`] to
+/// [`MOST_WORK`].
 fn most_work(work: u32, threads: usize) -> u32 {
     let spans = u32::try_from(threads.max(1) * 16).unwrap_or(u32::MAX);
     (work / spans).clamp(FEWEST_MOST_WORK, MOST_WORK)
