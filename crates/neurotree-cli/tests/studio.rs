@@ -210,6 +210,8 @@ fn until(
     test: impl Fn(&serde_json::Value) -> bool,
 ) -> serde_json::Value {
     let deadline = std::time::Instant::now() + Duration::from_secs(20);
+    // The last messages seen, for the failure's message.
+    let mut seen = std::collections::VecDeque::new();
     while std::time::Instant::now() < deadline {
         if let Ok(tungstenite::Message::Text(t)) = socket.read() {
             let m: serde_json::Value = serde_json::from_str(&t).unwrap();
@@ -219,9 +221,15 @@ fn until(
             if test(&m) {
                 return m;
             }
+            if seen.len() == 12 {
+                seen.pop_front();
+            }
+            let mut brief = m.to_string();
+            brief.truncate(300);
+            seen.push_back(brief);
         }
     }
-    panic!("no {what} within 20 s");
+    panic!("no {what} within 20 s; the last messages: {seen:#?}");
 }
 
 /// A page's WebSocket to the studio at `addr`, read a little at a time.
@@ -730,9 +738,12 @@ fn a_result_forced_from_a_page_is_a_line_of_the_run_and_ends_the_node_running() 
 #[test]
 fn demo_builds_its_tree_so_that_a_page_forces_a_result() {
     let dir = tempfile::tempdir().unwrap();
+    // Served on after the run: on a loaded machine the page's pause can come late, the
+    // forced failure can then end the run, and without a linger the demo would exit
+    // before the page is sent the forced tick.
     let (mut child, addr) = start(
         dir.path(),
-        &["demo", "--fast", "--studio", "0", "--studio-linger", "0"],
+        &["demo", "--fast", "--studio", "0", "--studio-linger", "2"],
     );
     let mut socket = page(&addr);
     let hello = until(&mut socket, "the run", |m| {
