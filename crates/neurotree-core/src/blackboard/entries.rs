@@ -4,7 +4,8 @@
 //! so that the read ends in this vector's block.
 //!
 //! A tree's scope holds a handful of entries, read far more often than added. Kept in a
-//! sorted vector, a lookup is a binary search over keys that sit together, and a scope of
+//! sorted vector, a lookup is a binary search over keys that sit together (in a scope of
+//! up to [`FEW`] entries, a scan that compares lengths before bytes), and a scope of
 //! one entry takes one small block; a `BTreeMap` gave every scope a node of eleven slots
 //! (about a kilobyte), a cost each member of a large crowd paid, and a trip to memory per
 //! level when a tick read its blackboard. A new key shifts the keys after it: a scope
@@ -21,6 +22,9 @@ use alloc::vec::Vec;
 use smol_str::SmolStr;
 
 use super::entry::Entry;
+
+/// Scopes of at most this many entries are searched one entry after another.
+const FEW: usize = 8;
 
 /// The entries stored directly in one scope, sorted by key (searchable by `&str`, so a
 /// lookup allocates nothing).
@@ -39,12 +43,23 @@ impl Entries {
         self.0.binary_search_by(|(k, _)| k.as_str().cmp(key))
     }
 
+    /// Where `key` is, if it is: among a few entries, by their lengths and then their
+    /// bytes, one after another, where a binary search orders each key it meets.
+    #[inline]
+    fn position(&self, key: &str) -> Option<usize> {
+        if self.0.len() <= FEW {
+            self.0.iter().position(|(k, _)| k.as_str() == key)
+        } else {
+            self.find(key).ok()
+        }
+    }
+
     pub(super) fn get(&self, key: &str) -> Option<&Entry> {
-        self.find(key).ok().map(|i| &self.0[i].1)
+        self.position(key).map(|i| &self.0[i].1)
     }
 
     pub(super) fn get_mut(&mut self, key: &str) -> Option<&mut Entry> {
-        self.find(key).ok().map(|i| &mut self.0[i].1)
+        self.position(key).map(|i| &mut self.0[i].1)
     }
 
     pub(super) fn contains_key(&self, key: &str) -> bool {
@@ -151,5 +166,43 @@ mod tests {
         assert_eq!((e.len(), keys(&e)), (3, ["ab", "b", "c"].to_vec()));
         let owned: Vec<String> = e.into_pairs().map(|(k, _)| k).collect();
         assert_eq!(owned, ["ab", "b", "c"]);
+    }
+
+    proptest::proptest! {
+        /// Scopes of a few entries are searched one by one, larger ones by halves: either
+        /// way every lookup finds what a map of the same writes holds, as the scope grows
+        /// past `FEW` and shrinks back (keys longer than `SmolStr`'s inline 23 bytes too).
+        #[test]
+        fn lookups_agree_with_a_map_at_every_size(
+            ops in proptest::collection::vec((0u8..24, proptest::bool::ANY, 0u8..3), 0..80),
+        ) {
+            let key = |k: u8, long: u8| match long {
+                0 => alloc::format!("k{k}"),
+                1 => alloc::format!("{k}"),
+                _ => alloc::format!("{k:0>30}"),
+            };
+            let mut e = Entries::default();
+            let mut model = alloc::collections::BTreeMap::new();
+            for (n, &(k, write, long)) in ops.iter().enumerate() {
+                let k = key(k, long);
+                if write {
+                    e.insert(&k, Entry::new(n as u32, Duration::ZERO));
+                    model.insert(k, n as u32);
+                } else {
+                    proptest::prop_assert_eq!(e.remove(&k).is_some(), model.remove(&k).is_some());
+                }
+                for probe in 0..24u8 {
+                    for long in 0..3 {
+                        let p = key(probe, long);
+                        let found = e.get(&p).and_then(|x| x.value.downcast_ref::<u32>().copied());
+                        proptest::prop_assert_eq!(found, model.get(&p).copied());
+                        let found_mut = e.get_mut(&p).is_some();
+                        proptest::prop_assert_eq!(found_mut, model.contains_key(&p));
+                    }
+                }
+            }
+            let sorted: Vec<&str> = model.keys().map(String::as_str).collect();
+            proptest::prop_assert_eq!(keys(&e), sorted);
+        }
     }
 }

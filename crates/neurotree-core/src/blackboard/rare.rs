@@ -54,7 +54,11 @@ impl Blackboard {
     /// [`resolve`]).
     #[inline]
     pub(super) fn resolve<'k>(&'k self, scope: ScopeId, key: &'k str) -> Option<(usize, &'k str)> {
-        resolve(self.links(), self.scopes(), scope, key)
+        match self.rare.as_deref() {
+            // Only the root: what `resolve` finds with no links, without its loop.
+            None => (scope == ScopeId::ROOT).then(|| (0, key.strip_prefix('@').unwrap_or(key))),
+            Some(r) => resolve(&r.links, &r.scopes, scope, key),
+        }
     }
 
     /// The entries stored in scope `s` itself, if it has any.

@@ -272,6 +272,13 @@ fn unknown_scopes_are_errors() {
         Err(BlackboardError::NoSuchScope { scope: 7 })
     );
     assert!(bb.set_in(ScopeId(7), "k", 1_u8, T1).is_err());
+    // With only its root scope, `@` names the root, and scope 1 is not there yet.
+    bb.set("k", 3_u8).unwrap();
+    assert_eq!(bb.get::<u8>("@k"), Ok(3));
+    assert_eq!(
+        bb.get_in::<u8>(ScopeId(1), "k"),
+        Err(BlackboardError::NoSuchScope { scope: 1 })
+    );
     // A scope with an unknown parent hangs off the root.
     let s = bb.add_scope(ScopeId(99), true);
     assert_eq!(bb.parent(s), Some(ScopeId::ROOT));
