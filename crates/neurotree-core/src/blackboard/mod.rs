@@ -243,6 +243,7 @@ impl Blackboard {
     }
 
     /// The entry `key` resolves to from `scope`, if any.
+    #[inline]
     fn entry(&self, scope: ScopeId, key: &str) -> Option<&Entry> {
         let (s, k) = self.resolve(scope, key)?;
         self.entries_at(s)?.get(k)
@@ -257,11 +258,13 @@ impl Blackboard {
     }
 
     /// [`entry`](Self::entry), with the reason when there is none.
+    #[inline]
     fn entry_or_err(&self, scope: ScopeId, key: &str) -> Result<&Entry, BlackboardError> {
         self.entry(scope, key)
             .ok_or_else(|| self.missing(scope, key))
     }
 
+    #[cold]
     fn missing(&self, scope: ScopeId, key: &str) -> BlackboardError {
         if scope.0 as usize > self.links().len() {
             BlackboardError::NoSuchScope { scope: scope.0 }
