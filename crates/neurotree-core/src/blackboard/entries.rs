@@ -47,8 +47,7 @@ impl Entries {
         self.0.binary_search_by(|(k, _)| k.as_str().cmp(key))
     }
 
-    /// Where `key` is, if it is: among a few entries, by their lengths and then their
-    /// bytes, one after another, where a binary search orders each key it meets.
+    /// Where `key` is, if it is: entry by entry in a scope of at most [`FEW`].
     #[inline]
     fn position(&self, key: &str) -> Option<usize> {
         if self.0.len() <= FEW {
