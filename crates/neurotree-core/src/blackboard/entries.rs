@@ -74,6 +74,7 @@ impl Entries {
         match self.find(key) {
             Ok(i) => Some(core::mem::replace(&mut self.0[i].1, entry)),
             Err(i) => {
+                self.room_for_one();
                 self.0.insert(i, (SmolStr::new(key), entry));
                 None
             }
@@ -89,11 +90,22 @@ impl Entries {
         let i = match self.find(key) {
             Ok(i) => i,
             Err(i) => {
+                self.room_for_one();
                 self.0.insert(i, (SmolStr::new(key), make()));
                 i
             }
         };
         &mut self.0[i].1
+    }
+
+    /// Makes room for one more entry, doubling from one. `Vec` makes room for four at its
+    /// first insert: 352 bytes for a blackboard that holds one flag (88), which a sleeping
+    /// crowd of a million agents with one entry each paid 264 MB for (its resident memory
+    /// from 849 to 585 bytes a member; BENCHMARKS.md, "A scope's first entry").
+    fn room_for_one(&mut self) {
+        if self.0.len() == self.0.capacity() {
+            self.0.reserve_exact(self.0.len().max(1));
+        }
     }
 
     pub(super) fn remove(&mut self, key: &str) -> Option<Entry> {
@@ -107,6 +119,11 @@ impl Entries {
     #[cfg(test)]
     pub(super) fn len(&self) -> usize {
         self.0.len()
+    }
+
+    #[cfg(test)]
+    fn capacity(&self) -> usize {
+        self.0.capacity()
     }
 
     /// The entries, by key.
@@ -169,6 +186,30 @@ mod tests {
         assert_eq!((e.len(), keys(&e)), (3, ["ab", "b", "c"].to_vec()));
         let owned: Vec<String> = e.into_pairs().map(|(k, _)| k).collect();
         assert_eq!(owned, ["ab", "b", "c"]);
+    }
+
+    #[test]
+    fn a_scope_holds_room_for_its_entries_and_at_most_as_many_again() {
+        let mut e = Entries::default();
+        assert_eq!(e.capacity(), 0);
+        e.insert("alert", Entry::new(false, Duration::ZERO));
+        assert_eq!(e.capacity(), 1);
+        e.get_or_insert_with("target", || Entry::new(3u8, Duration::ZERO));
+        assert_eq!(e.capacity(), 2);
+        // Replacing an entry makes no room.
+        e.insert("alert", Entry::new(true, Duration::ZERO));
+        assert_eq!((e.len(), e.capacity()), (2, 2));
+        for n in 3..=40usize {
+            e.insert(&alloc::format!("k{n}"), Entry::new(n, Duration::ZERO));
+            assert_eq!(e.len(), n);
+            // Doubling: room for at most twice the entries, and a new block only when full.
+            assert!(
+                e.capacity() >= n && e.capacity() < 2 * n,
+                "{n}: {}",
+                e.capacity()
+            );
+        }
+        assert_eq!(e.capacity(), 64);
     }
 
     proptest::proptest! {
