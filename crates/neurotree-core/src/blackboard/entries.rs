@@ -101,7 +101,7 @@ impl Entries {
     /// Makes room for one more entry, doubling from one. `Vec` makes room for four at its
     /// first insert: 352 bytes for a blackboard that holds one flag (88), which a sleeping
     /// crowd of a million agents with one entry each paid 264 MB for (its resident memory
-    /// from 849 to 585 bytes a member; BENCHMARKS.md, "A scope's first entry").
+    /// from 853 to 586 bytes a member; BENCHMARKS.md, "A scope's first entry").
     fn room_for_one(&mut self) {
         if self.0.len() == self.0.capacity() {
             self.0.reserve_exact(self.0.len().max(1));
