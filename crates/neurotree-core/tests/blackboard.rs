@@ -145,8 +145,14 @@ fn the_counter_sees_allocations() {
         n, 1,
         "a first write of a `u8` allocates its scope's block only"
     );
+    // The block holds one entry, then doubles: a second and a third key each make a new
+    // one, a fourth fits in the room the third made.
     let (n, _) = allocations(|| bb.set("second", true));
-    assert_eq!(n, 0, "a second key fits in the block the first made");
+    assert_eq!(n, 1, "a second key moves the scope to a block of two");
+    let (n, _) = allocations(|| bb.set("third", 3_i64));
+    assert_eq!(n, 1, "a third key moves the scope to a block of four");
+    let (n, _) = allocations(|| bb.set("fourth", 4.0_f64));
+    assert_eq!(n, 0, "a fourth key fits in the block the third made");
 }
 
 #[test]
