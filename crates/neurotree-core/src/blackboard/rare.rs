@@ -104,3 +104,25 @@ impl Blackboard {
         Some((entries, k))
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    proptest::proptest! {
+        /// A blackboard with only its root takes a shortcut past the walk over scopes: it
+        /// must find what the walk finds with no links, for any scope and any key, `@` or
+        /// not.
+        #[test]
+        fn the_root_only_shortcut_finds_what_the_walk_finds(
+            scope in 0u32..4,
+            key in "@{0,2}[a-z_]{0,3}",
+        ) {
+            let bb = Blackboard::new();
+            proptest::prop_assert_eq!(
+                bb.resolve(ScopeId(scope), &key),
+                resolve(&[], &[], ScopeId(scope), &key)
+            );
+        }
+    }
+}
