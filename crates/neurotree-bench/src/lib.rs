@@ -269,20 +269,63 @@ pub fn agent_crowd(
     crowd
 }
 
-/// Bytes one member of [`agent_crowd`] takes: its slot in the crowd
+/// Bytes the first member of [`agent_crowd`] takes: its slot in the crowd
 /// ([`Crowd::slot_bytes`](neurotree::crowd::Crowd::slot_bytes): the `Tree` struct with its
 /// blackboard, the [`Agent`], its schedule and its error box) and its tree's node state on
 /// the heap ([`Tree::state_bytes`](neurotree::Tree::state_bytes): statuses, slots, failure
 /// bits and the stateful leaves' object pointers in one block, and the failure record once
-/// a node gave a reason).
+/// a node gave a reason). The first member's tree gives no reason in the benchmarks, so
+/// this is what every member takes at least; [`crowd_bytes_per_member_mean`] counts the
+/// records the others made.
 ///
-/// Every byte a member holds that grows with the crowd and that these members allocate is
-/// counted, but two: the stateful leaves' own objects and the blackboard's entries, which
-/// depend on the leaves and on what the program writes. The fields a member leaves unset (an
-/// observer, a wake signal, its own pass bound, a reload in progress) take one pointer
-/// between them until one is set, and so count as that pointer.
+/// Every byte such a member holds that grows with the crowd and that these members
+/// allocate is counted, but two: the stateful leaves' own objects and the blackboard's
+/// entries, which depend on the leaves and on what the program writes. The fields a member
+/// leaves unset (an observer, a wake signal, its own pass bound, a reload in progress) take
+/// one pointer between them until one is set, and so count as that pointer.
 pub fn crowd_bytes_per_member(crowd: &neurotree::crowd::Crowd<Agent>) -> usize {
     crowd.slot_bytes() + crowd.iter().next().map_or(0, |m| m.tree().state_bytes())
+}
+
+/// What [`crowd_bytes_per_member`] counts, over every member, divided by their number:
+/// with the failure record (1,280 bytes) of each member whose tree has given a reason, which
+/// about one member in eight of [`agent_crowd`] has after its first frames. Rounded up.
+pub fn crowd_bytes_per_member_mean(crowd: &neurotree::crowd::Crowd<Agent>) -> usize {
+    let state: usize = crowd.iter().map(|m| m.tree().state_bytes()).sum();
+    crowd.slot_bytes() + state.div_ceil(crowd.len().max(1))
+}
+
+/// Frames [`wake_each_once`] runs at most for the members to fall asleep again: an
+/// alerted sleepy agent stays awake for a few frames.
+pub const WAKE_EACH_ONCE_FRAMES: u32 = 64;
+
+/// Alerts every member of a [`sleepy_agent_crowd`] once (a write of `alert`, delivered
+/// with [`frame_with`](neurotree::crowd::Crowd::frame_with)), then runs frames, the
+/// clock advancing `frame` before each, until every member sleeps again (at most
+/// [`WAKE_EACH_ONCE_FRAMES`]). Returns the frames run, the first included.
+///
+/// What a member's first wake costs is paid once: its tree's first reason for a failure
+/// makes the tree's record of reasons, on fresh memory. A crowd that has run for a while
+/// has paid it for every member it woke; a benchmark that times the frames after this
+/// measures what each later wake costs, as at 100,000 members its alerts, cycling through
+/// every member in a few hundred frames, would reach by themselves.
+pub fn wake_each_once(
+    crowd: &mut neurotree::crowd::Crowd<Agent>,
+    clock: &neurotree::ManualClock,
+    frame: std::time::Duration,
+) -> u32 {
+    let ids: Vec<_> = crowd.iter().map(|m| m.id()).collect();
+    clock.advance(frame);
+    crowd.frame_with(&ids, |mut m| {
+        let _ = m.tree_mut().blackboard_mut().set("alert", true);
+    });
+    let mut frames = 1;
+    while crowd.asleep() < crowd.len() && frames < WAKE_EACH_ONCE_FRAMES {
+        clock.advance(frame);
+        crowd.frame();
+        frames += 1;
+    }
+    frames
 }
 
 /// The world state of one agent in [`agent_tree`].
@@ -364,6 +407,41 @@ mod tests {
             left_idle.load(Ordering::Relaxed),
             2 * TREE1111_NODES_PER_TICK
         );
+    }
+
+    #[test]
+    fn waking_each_member_once_runs_every_agent_and_all_sleep_again() {
+        const FRAME: std::time::Duration = std::time::Duration::from_millis(16);
+        let clock = ManualClock::new();
+        // More than a word of 64 slots, on two threads: the alerts are shared out.
+        let mut crowd = sleepy_agent_crowd(300, 2, clock.clone());
+        for _ in 0..3 {
+            clock.advance(FRAME);
+            crowd.frame();
+        }
+        assert_eq!(crowd.asleep(), 300);
+        let writes: Vec<u64> = crowd
+            .iter()
+            .map(|m| m.tree().blackboard().writes())
+            .collect();
+        let mean_before = crowd_bytes_per_member_mean(&crowd);
+        let frames = wake_each_once(&mut crowd, &clock, FRAME);
+        assert!(
+            frames > 1 && frames < WAKE_EACH_ONCE_FRAMES,
+            "{frames} frames"
+        );
+        assert_eq!(crowd.asleep(), 300);
+        // Each blackboard written twice: the alert, and the waiting leaf clearing it once
+        // it saw it (the agent tree ran after it).
+        for (m, before) in crowd.iter().zip(writes) {
+            assert_eq!(m.tree().blackboard().writes(), before + 2);
+            assert_eq!(m.tree().blackboard().get::<bool>("alert"), Ok(false));
+        }
+        // Some agents' trees gave a failure reason and made their record; the first did not.
+        let least = crowd_bytes_per_member(&crowd);
+        let mean = crowd_bytes_per_member_mean(&crowd);
+        assert_eq!(mean_before, least);
+        assert!(mean > least, "{mean} against {least}");
     }
 
     #[test]

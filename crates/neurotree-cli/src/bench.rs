@@ -426,11 +426,12 @@ mod tests {
             ms_per_frame: 4.5,
             ms_per_frame_median: 4.0,
             bytes_per_member: 600,
+            bytes_per_member_mean: 760,
             idle_us: 0,
         };
         assert_eq!(
             crowd_json(&c),
-            r#"{"name":"crowd","agents":100000,"threads":2,"ms_per_frame":4.5000,"frames":20,"bytes_per_member":600,"ns_per_member":45.0,"ms_per_frame_median":4.0000,"ns_per_member_median":40.0}"#
+            r#"{"name":"crowd","agents":100000,"threads":2,"ms_per_frame":4.5000,"frames":20,"bytes_per_member":600,"bytes_per_member_mean":760,"ns_per_member":45.0,"ms_per_frame_median":4.0000,"ns_per_member_median":40.0}"#
         );
         let s = CrowdSleepingResult {
             agents: 100_000,
@@ -440,21 +441,22 @@ mod tests {
             ms_per_frame: 0.25,
             ms_per_frame_median: 0.2,
             bytes_per_member: 640,
+            bytes_per_member_mean: 700,
             idle_us: 0,
         };
         assert_eq!(
             crowd_sleeping_json(&s),
-            r#"{"name":"crowd_sleeping","agents":100000,"awake_per_frame":1000.0,"ms_per_frame":0.2500,"ns_per_awake":250.0,"bytes_per_member":640}"#
+            r#"{"name":"crowd_sleeping","agents":100000,"awake_per_frame":1000.0,"ms_per_frame":0.2500,"ns_per_awake":250.0,"bytes_per_member":640,"bytes_per_member_mean":700}"#
         );
         assert_eq!(
             crowd_awake_json(&s, Some((250.0 / 45.0, 200.0 / 40.0))),
-            r#"{"name":"crowd_awake","agents":100000,"threads":1,"alert_percent":1.000,"awake_percent":1.00,"awake_per_frame":1000.0,"ms_per_frame":0.2500,"ms_per_frame_median":0.2000,"ns_per_awake":250.0,"ns_per_awake_median":200.0,"bytes_per_member":640,"awake_cost_ratio":5.56,"awake_cost_ratio_median":5.00}"#
+            r#"{"name":"crowd_awake","agents":100000,"threads":1,"alert_percent":1.000,"awake_percent":1.00,"awake_per_frame":1000.0,"ms_per_frame":0.2500,"ms_per_frame_median":0.2000,"ns_per_awake":250.0,"ns_per_awake_median":200.0,"bytes_per_member":640,"bytes_per_member_mean":700,"awake_cost_ratio":5.56,"awake_cost_ratio_median":5.00}"#
         );
         // Frames timed after other work say so; frames back to back, as before.
         let idle = CrowdSleepingResult { idle_us: 900, ..s };
         assert_eq!(
             crowd_sleeping_json(&idle),
-            r#"{"name":"crowd_sleeping","agents":100000,"awake_per_frame":1000.0,"ms_per_frame":0.2500,"ns_per_awake":250.0,"bytes_per_member":640,"idle_us":900}"#
+            r#"{"name":"crowd_sleeping","agents":100000,"awake_per_frame":1000.0,"ms_per_frame":0.2500,"ns_per_awake":250.0,"bytes_per_member":640,"bytes_per_member_mean":700,"idle_us":900}"#
         );
         let idle = CrowdResult { idle_us: 900, ..c };
         assert!(crowd_json(&idle).ends_with(r#""ns_per_member_median":40.0,"idle_us":900}"#));

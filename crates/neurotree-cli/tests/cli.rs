@@ -229,6 +229,11 @@ fn bench_json_prints_one_line_per_benchmark() {
     for key in ["frames", "ms_per_frame", "bytes_per_member"] {
         positive(crowd, key);
     }
+    // The mean over the members counts the failure records some made in their frames.
+    assert!(
+        positive(crowd, "bytes_per_member_mean") > positive(crowd, "bytes_per_member"),
+        "{crowd}"
+    );
 
     // 1% of the sleepy agents alerted each frame: 10 a frame, each awake until its agent
     // tree completes, a few frames.
@@ -244,7 +249,11 @@ fn bench_json_prints_one_line_per_benchmark() {
         (per_awake - expected).abs() <= expected * 0.01,
         "{sleeping}"
     );
-    positive(sleeping, "bytes_per_member");
+    // Every member was woken once before the frames timed, and some made their records.
+    assert!(
+        positive(sleeping, "bytes_per_member_mean") > positive(sleeping, "bytes_per_member"),
+        "{sleeping}"
+    );
 
     // The sleeping crowd with about 1 %, 3.7 % and 20 % of it awake, each awake member's
     // cost beside a member's of the crowd all awake.
@@ -298,6 +307,7 @@ fn bench_table_names_every_measure() {
         "ms per frame",
         "bytes per instance",
         "bytes per member",
+        "bytes per member, mean",
         "threads",
         "crowd_sleeping",
         "awake per frame",

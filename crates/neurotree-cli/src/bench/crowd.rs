@@ -6,7 +6,10 @@ use std::io::{self, Write};
 use std::time::{Duration, Instant};
 
 use neurotree::ManualClock;
-use neurotree_bench::{agent_crowd, crowd_bytes_per_member, sleepy_agent_crowd, Agent};
+use neurotree_bench::{
+    agent_crowd, crowd_bytes_per_member, crowd_bytes_per_member_mean, sleepy_agent_crowd,
+    wake_each_once, Agent,
+};
 
 use super::{row, BenchArgs};
 
@@ -31,8 +34,12 @@ pub struct CrowdResult {
     /// The median frame's milliseconds: on a shared machine, less moved by the frames in
     /// which another process held the core.
     pub ms_per_frame_median: f64,
-    /// Bytes per member: its slot in the crowd and its tree's node state.
+    /// Bytes per member: its slot in the crowd and its tree's node state, for a member
+    /// whose tree has made no failure record ([`crowd_bytes_per_member`]).
     pub bytes_per_member: usize,
+    /// The same over every member after the timed frames, failure records included
+    /// ([`crowd_bytes_per_member_mean`]).
+    pub bytes_per_member_mean: usize,
     /// Microseconds of other work before each timed frame (`--idle-us`).
     pub idle_us: u64,
 }
@@ -88,6 +95,7 @@ pub fn crowd_bench(opts: &BenchArgs) -> CrowdResult {
         ms_per_frame: elapsed.as_secs_f64() * 1e3 / f64::from(frames),
         ms_per_frame_median: median_ms(times),
         bytes_per_member: crowd_bytes_per_member(&crowd),
+        bytes_per_member_mean: crowd_bytes_per_member_mean(&crowd),
         idle_us: opts.idle_us,
     }
 }
@@ -107,8 +115,12 @@ pub struct CrowdSleepingResult {
     pub ms_per_frame: f64,
     /// The median frame's milliseconds, the alerts' writes included.
     pub ms_per_frame_median: f64,
-    /// Bytes per member: its slot in the crowd and its tree's node state.
+    /// Bytes per member: its slot in the crowd and its tree's node state, for a member
+    /// whose tree has made no failure record ([`crowd_bytes_per_member`]).
     pub bytes_per_member: usize,
+    /// The same over every member after the timed frames, failure records included
+    /// ([`crowd_bytes_per_member_mean`]).
+    pub bytes_per_member_mean: usize,
     /// Microseconds of other work before each timed frame (`--idle-us`).
     pub idle_us: u64,
 }
@@ -133,12 +145,15 @@ impl CrowdSleepingResult {
 
 /// Runs `opts.agents` sleepy agents as a crowd, alerting `alert_percent` of them (at
 /// least one) before each frame, in turn: at least 20 frames (5 with `quick`) and
-/// [`LEAST_TIMED`] timed after ten warm-up frames in which all fall asleep, the clock
-/// advancing 16 ms per frame.
+/// [`LEAST_TIMED`] timed after every member was woken once ([`wake_each_once`]: a
+/// member's first wake may make its failure record, which a crowd pays once, and a million
+/// members' timed frames would otherwise be made of first wakes) and ten more frames, the
+/// clock advancing 16 ms per frame.
 pub fn crowd_sleeping_bench(opts: &BenchArgs, alert_percent: f64) -> CrowdSleepingResult {
     const FRAME: Duration = Duration::from_millis(16);
     let clock = ManualClock::new();
     let mut crowd = sleepy_agent_crowd(opts.agents, opts.threads, clock.clone());
+    wake_each_once(&mut crowd, &clock, FRAME);
     let ids: Vec<_> = crowd.iter().map(|m| m.id()).collect();
     let per_frame = ((ids.len() as f64 * alert_percent / 100.0) as usize)
         .max(1)
@@ -173,6 +188,7 @@ pub fn crowd_sleeping_bench(opts: &BenchArgs, alert_percent: f64) -> CrowdSleepi
         ms_per_frame: elapsed.as_secs_f64() * 1e3 / f64::from(frames),
         ms_per_frame_median: median_ms(times),
         bytes_per_member: crowd_bytes_per_member(&crowd),
+        bytes_per_member_mean: crowd_bytes_per_member_mean(&crowd),
         idle_us: opts.idle_us,
     }
 }
@@ -230,6 +246,12 @@ pub(super) fn crowd_lines(opts: &BenchArgs, out: &mut impl Write) -> io::Result<
         row(out, "", "frames", c.frames.to_string())?;
         row(out, "", "ms per frame", format!("{:.3}", c.ms_per_frame))?;
         row(out, "", "bytes per member", c.bytes_per_member.to_string())?;
+        row(
+            out,
+            "",
+            "bytes per member, mean",
+            c.bytes_per_member_mean.to_string(),
+        )?;
         if c.idle_us > 0 {
             row(out, "", "idle us before", c.idle_us.to_string())?;
         }
@@ -259,6 +281,12 @@ pub(super) fn crowd_sleeping_lines(opts: &BenchArgs, out: &mut impl Write) -> io
         )?;
         frame_rows(out, &s)?;
         row(out, "", "bytes per member", s.bytes_per_member.to_string())?;
+        row(
+            out,
+            "",
+            "bytes per member, mean",
+            s.bytes_per_member_mean.to_string(),
+        )?;
         if s.idle_us > 0 {
             row(out, "", "idle us before", s.idle_us.to_string())?;
         }
@@ -320,12 +348,13 @@ pub(super) fn idle_field(idle_us: u64) -> String {
 
 pub(super) fn crowd_sleeping_json(s: &CrowdSleepingResult) -> String {
     format!(
-        r#"{{"name":"crowd_sleeping","agents":{},"awake_per_frame":{:.1},"ms_per_frame":{:.4},"ns_per_awake":{:.1},"bytes_per_member":{}{}}}"#,
+        r#"{{"name":"crowd_sleeping","agents":{},"awake_per_frame":{:.1},"ms_per_frame":{:.4},"ns_per_awake":{:.1},"bytes_per_member":{},"bytes_per_member_mean":{}{}}}"#,
         s.agents,
         s.awake_per_frame,
         s.ms_per_frame,
         s.ns_per_awake(),
         s.bytes_per_member,
+        s.bytes_per_member_mean,
         idle_field(s.idle_us)
     )
 }
@@ -337,7 +366,7 @@ pub(super) fn crowd_awake_json(s: &CrowdSleepingResult, ratio: Option<(f64, f64)
         format!(r#","awake_cost_ratio":{mean:.2},"awake_cost_ratio_median":{median:.2}"#)
     });
     format!(
-        r#"{{"name":"crowd_awake","agents":{},"threads":{},"alert_percent":{:.3},"awake_percent":{:.2},"awake_per_frame":{:.1},"ms_per_frame":{:.4},"ms_per_frame_median":{:.4},"ns_per_awake":{:.1},"ns_per_awake_median":{:.1},"bytes_per_member":{}{ratio}{}}}"#,
+        r#"{{"name":"crowd_awake","agents":{},"threads":{},"alert_percent":{:.3},"awake_percent":{:.2},"awake_per_frame":{:.1},"ms_per_frame":{:.4},"ms_per_frame_median":{:.4},"ns_per_awake":{:.1},"ns_per_awake_median":{:.1},"bytes_per_member":{},"bytes_per_member_mean":{}{ratio}{}}}"#,
         s.agents,
         s.threads,
         s.alert_percent,
@@ -348,18 +377,20 @@ pub(super) fn crowd_awake_json(s: &CrowdSleepingResult, ratio: Option<(f64, f64)
         s.ns_per_awake(),
         s.ns_per_awake_median(),
         s.bytes_per_member,
+        s.bytes_per_member_mean,
         idle_field(s.idle_us)
     )
 }
 
 pub(super) fn crowd_json(c: &CrowdResult) -> String {
     format!(
-        r#"{{"name":"crowd","agents":{},"threads":{},"ms_per_frame":{:.4},"frames":{},"bytes_per_member":{},"ns_per_member":{:.1},"ms_per_frame_median":{:.4},"ns_per_member_median":{:.1}{}}}"#,
+        r#"{{"name":"crowd","agents":{},"threads":{},"ms_per_frame":{:.4},"frames":{},"bytes_per_member":{},"bytes_per_member_mean":{},"ns_per_member":{:.1},"ms_per_frame_median":{:.4},"ns_per_member_median":{:.1}{}}}"#,
         c.agents,
         c.threads,
         c.ms_per_frame,
         c.frames,
         c.bytes_per_member,
+        c.bytes_per_member_mean,
         c.ns_per_member(),
         c.ms_per_frame_median,
         c.ns_per_member_median(),
