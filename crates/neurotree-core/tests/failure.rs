@@ -269,13 +269,14 @@ fn a_full_record_drops_its_older_half_and_keeps_the_chain() {
             r.action_node("dock", FailWith(7, "no dock"))
         })
     }));
-    // The tree has no record until its first reason: that tick makes it, once; 40
-    // attempts note 80 entries, more than it holds, and it never grows.
+    // The tree has no record until its first reason: that tick makes it with room for 16
+    // entries and doubles it once; 40 attempts note 80 entries, more than it holds, and it
+    // grows no further.
     let fresh = t.state_bytes();
     let n = allocations(|| assert_eq!(t.tick_once(&mut ()), Ok(Status::Failure)));
-    assert_eq!(n, 1);
+    assert_eq!(n, 2);
     let with_record = t.state_bytes();
-    assert_eq!(with_record, fresh + 32 * 40);
+    assert_eq!(with_record, fresh + 16 + 32 * 40);
     for _ in 0..3 {
         let n = allocations(|| assert_eq!(t.tick_once(&mut ()), Ok(Status::Failure)));
         assert_eq!(n, 0);
@@ -285,6 +286,34 @@ fn a_full_record_drops_its_older_half_and_keeps_the_chain() {
             [
                 "root",
                 "root/retry: gave up after 40 attempts",
+                "root/retry/dock: no dock (error 7)",
+            ]
+        );
+    }
+}
+
+#[test]
+fn a_record_keeps_room_for_16_until_a_tick_notes_more() {
+    // Three attempts note six entries: the record made by the first tick keeps its room
+    // for 16, and no tick after allocates.
+    let (mut t, _) = tree(Blueprint::builder().sequence("root", |s| {
+        s.retry("retry", 3, |r| {
+            r.action_node("dock", FailWith(7, "no dock"))
+        })
+    }));
+    let fresh = t.state_bytes();
+    let n = allocations(|| assert_eq!(t.tick_once(&mut ()), Ok(Status::Failure)));
+    assert_eq!(n, 1);
+    assert_eq!(t.state_bytes(), fresh + 16 + 16 * 40);
+    for _ in 0..3 {
+        let n = allocations(|| assert_eq!(t.tick_once(&mut ()), Ok(Status::Failure)));
+        assert_eq!(n, 0);
+        assert_eq!(t.state_bytes(), fresh + 16 + 16 * 40);
+        assert_eq!(
+            lines(&t.last_failure().unwrap()),
+            [
+                "root",
+                "root/retry: gave up after 3 attempts",
                 "root/retry/dock: no dock (error 7)",
             ]
         );
@@ -319,7 +348,7 @@ fn a_reserved_record_makes_even_the_first_reason_allocate_nothing() {
     }));
     let fresh = t.state_bytes();
     t.reserve_failure_record();
-    assert_eq!(t.state_bytes(), fresh + 32 * 40);
+    assert_eq!(t.state_bytes(), fresh + 16 + 32 * 40);
     let n = allocations(|| assert_eq!(t.tick_once(&mut ()), Ok(Status::Failure)));
     assert_eq!(n, 0);
     assert_eq!(

@@ -14,12 +14,15 @@
 //! emptied when the next call starts; a static reason allocates nothing.
 //!
 //! A tree has no record until one of its nodes first gives a reason: that tick makes it,
-//! once (32 entries of 40 bytes, counted in [`Tree::state_bytes`](crate::Tree::state_bytes)),
-//! and no tick allocates for it again. So a tree that never fails with a reason carries
-//! nothing, and 100,000 game agents keep their state together in memory (a record made
-//! with each tree spread it out and made a frame of them 2.7 times as long). A program
-//! that must not allocate even once while ticking makes it up front with
-//! [`Tree::reserve_failure_record`](crate::Tree::reserve_failure_record).
+//! with room for 16 entries of 40 bytes (counted in
+//! [`Tree::state_bytes`](crate::Tree::state_bytes)), and the first tick that notes more
+//! doubles it to 32, the most it holds: at most two allocations in a tree's life. So a tree
+//! that never fails with a reason carries nothing, and 100,000 game agents keep their state
+//! together in memory (a record made with each tree spread it out and made a frame of them
+//! 2.7 times as long); most trees' ticks note fewer than 16 entries, and their records stay
+//! at 16 (a quarter of the benchmark's 50-node agents make one, BENCHMARKS.md). A program
+//! that must not allocate even once while ticking makes it up front, with room for 32,
+//! with [`Tree::reserve_failure_record`](crate::Tree::reserve_failure_record).
 //!
 //! Apart from reasons, every write of Failure to a node's status in a tick sets that node's
 //! bit in a set the tree keeps (one bit a node, cleared when the next tick starts): one
@@ -48,6 +51,8 @@ use alloc::string::String;
 use alloc::vec::Vec;
 use core::fmt;
 use core::time::Duration;
+
+use thin_vec::ThinVec;
 
 use crate::blueprint::Blueprint;
 use crate::nodes::built_in::Family;
@@ -227,20 +232,26 @@ pub(crate) struct Outcome {
     pub(crate) declared: bool,
     /// What the leaf being ticked declared through a shared handle.
     pub(crate) reads: super::sleep::Reads,
-    /// The tick's record: none until a node gives a reason (see the module docs); boxed,
-    /// so that a tree without one pays a pointer for it.
-    record: Option<Box<Record>>,
-    /// The entries of `record` in use, oldest first.
+    /// The tick's record, oldest first: no room until a node gives a reason (see the
+    /// module docs); a pointer, its length and room beside its entries.
+    record: ThinVec<(NodeId, Note)>,
+    /// The entries in `record`: read without following its pointer, as every tick asks
+    /// whether a reason was given.
     noted: u8,
 }
 
-/// Entries the record holds before it drops its older half; made at the tree's first
-/// reason, once. The chain needs only the tick's last failures: a full record keeps its
-/// newer half.
+/// Entries the record holds before it drops its older half. The chain needs only the
+/// tick's last failures: a full record keeps its newer half.
 const RECORD: usize = 32;
 
-/// The entries of a tick's record; those past the ones in use are spent ([`Note::Failed`]).
-type Record = [(NodeId, Note); RECORD];
+/// Entries the record has room for when the tree's first reason makes it: a tick of the
+/// benchmark's agent notes at most 12, and a crowd of them holds a quarter as many bytes
+/// of records per member as with room for [`RECORD`].
+const FIRST_ROOM: usize = 16;
+
+/// The record's length and room, at the head of its allocation (`thin-vec` keeps them as two
+/// `usize`s when not built for Gecko).
+const RECORD_HEAD: usize = 2 * core::mem::size_of::<usize>();
 
 impl Outcome {
     /// The outcome of a fresh tree: no record until a reason is given.
@@ -251,7 +262,7 @@ impl Outcome {
             reason: None,
             declared: false,
             reads: super::sleep::Reads::default(),
-            record: None,
+            record: ThinVec::new(),
             noted: 0,
         }
     }
@@ -263,30 +274,23 @@ impl Outcome {
         self.declared = waits.declared;
     }
 
-    /// Makes the record now, if it is not made yet.
+    /// Makes the record now with room for the most it holds, if it has not that room yet.
     pub(crate) fn reserve(&mut self) {
-        self.record_mut();
+        self.record.reserve_exact(RECORD - self.record.len());
     }
 
-    /// The record, made now if it is not made yet.
-    fn record_mut(&mut self) -> &mut Record {
-        self.record
-            .get_or_insert_with(|| Box::new(core::array::from_fn(|_| (NodeId::ROOT, Note::Failed))))
-    }
-
-    /// Bytes the record takes (none until the tree's first reason).
+    /// Bytes the record takes (none until the tree's first reason): its head and its
+    /// room.
     pub(crate) fn record_bytes(&self) -> usize {
-        self.record
-            .as_ref()
-            .map_or(0, |_| core::mem::size_of::<Record>())
+        match self.record.capacity() {
+            0 => 0,
+            room => RECORD_HEAD + room * core::mem::size_of::<(NodeId, Note)>(),
+        }
     }
 
     /// The tick's record, oldest first.
     pub(crate) fn notes(&self) -> &[(NodeId, Note)] {
-        match &self.record {
-            Some(record) => &record[..usize::from(self.noted)],
-            None => &[],
-        }
+        &self.record
     }
 
     /// `true` when no reason was given in this tick.
@@ -295,32 +299,30 @@ impl Outcome {
         self.noted == 0
     }
 
-    /// Empties the record, dropping the reasons it held.
+    /// Empties the record, dropping the reasons it held and keeping its room.
     pub(crate) fn forget(&mut self) {
-        let noted = usize::from(core::mem::take(&mut self.noted));
-        if let Some(record) = &mut self.record {
-            for (_, note) in &mut record[..noted] {
-                *note = Note::Failed;
-            }
+        // A quiet tick leaves the record's memory untouched.
+        if core::mem::take(&mut self.noted) == 0 {
+            return;
         }
+        self.record.clear();
     }
 
-    /// Adds to the record. Full, it drops its older half rather than grow, so that ticking
-    /// allocates nothing: the chain is built from the newest entries (the root's failure is
-    /// the last), so only a chain longer than half the record loses its far end.
+    /// Adds to the record. Holding [`RECORD`] entries, it drops its older half rather than
+    /// grow, so that ticking allocates at most twice in a tree's life (see the module docs):
+    /// the chain is built from the newest entries (the root's failure is the last), so only
+    /// a chain longer than half the record loses its far end.
     pub(crate) fn push(&mut self, node: NodeId, note: Note) {
-        let mut noted = usize::from(self.noted);
-        let record = self.record_mut();
-        if noted == RECORD {
-            for (_, older) in &mut record[..RECORD / 2] {
-                *older = Note::Failed;
-            }
-            record.rotate_left(RECORD / 2);
-            noted = RECORD / 2;
+        let record = &mut self.record;
+        if record.capacity() == 0 {
+            record.reserve_exact(FIRST_ROOM);
+        } else if record.len() == RECORD {
+            record.drain(..RECORD / 2);
         }
-        record[noted] = (node, note);
+        // Past `FIRST_ROOM`, the record doubles to `RECORD`, once.
+        record.push((node, note));
         // At most `RECORD`, which fits.
-        self.noted = (noted + 1) as u8;
+        self.noted = record.len() as u8;
     }
 
     /// The last entry.

@@ -253,10 +253,11 @@ impl<C> Tree<C> {
         TickError::HaltRequested
     }
 
-    /// Makes the record of failure reasons now rather than in the first tick in which a node
-    /// gives a reason (see [`failure`]): after it, no tick of this tree allocates for
-    /// reasons. For programs that must not allocate while ticking at all; it costs 1,280
-    /// bytes.
+    /// Makes the record of failure reasons now, with room for the most it holds, rather than
+    /// in the first tick in which a node gives a reason (see [`failure`]): after it, no tick
+    /// of this tree allocates for reasons. For programs that must not allocate while ticking
+    /// at all; it costs 1,296 bytes (a record made by a tick has room for half as many
+    /// entries until a tick needs more).
     pub fn reserve_failure_record(&mut self) {
         self.out.reserve();
     }
