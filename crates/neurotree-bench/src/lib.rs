@@ -269,14 +269,13 @@ pub fn agent_crowd(
     crowd
 }
 
-/// Bytes the first member of [`agent_crowd`] takes: its slot in the crowd
+/// Bytes a member of [`agent_crowd`] takes: its slot in the crowd
 /// ([`Crowd::slot_bytes`](neurotree::crowd::Crowd::slot_bytes): the `Tree` struct with its
 /// blackboard, the [`Agent`], its schedule and its error box) and its tree's node state on
 /// the heap ([`Tree::state_bytes`](neurotree::Tree::state_bytes): statuses, slots, failure
 /// bits and the stateful leaves' object pointers in one block, and the failure record once
-/// a node gave a reason). The first member's tree gives no reason in the benchmarks, so
-/// this is what every member takes at least; [`crowd_bytes_per_member_mean`] counts the
-/// records the others made.
+/// a node gave a reason), for the member that takes the least: what every member takes,
+/// whatever its tree did; [`crowd_bytes_per_member_mean`] counts the records others made.
 ///
 /// Every byte such a member holds that grows with the crowd and that these members
 /// allocate is counted, but two: the stateful leaves' own objects and the blackboard's
@@ -284,12 +283,15 @@ pub fn agent_crowd(
 /// leaves unset (an observer, a wake signal, its own pass bound, a reload in progress) take
 /// one pointer between them until one is set, and so count as that pointer.
 pub fn crowd_bytes_per_member(crowd: &neurotree::crowd::Crowd<Agent>) -> usize {
-    crowd.slot_bytes() + crowd.iter().next().map_or(0, |m| m.tree().state_bytes())
+    let least = crowd.iter().map(|m| m.tree().state_bytes()).min();
+    crowd.slot_bytes() + least.unwrap_or(0)
 }
 
 /// What [`crowd_bytes_per_member`] counts, over every member, divided by their number:
-/// with the failure record (1,280 bytes) of each member whose tree has given a reason, which
-/// about one member in eight of [`agent_crowd`] has after its first frames. Rounded up.
+/// with the record of failure reasons (656 bytes, 1,296 once a tick noted more than 16) of
+/// each member whose tree has given a reason, which about one member in eight of
+/// [`agent_crowd`] has after its first twelve frames and one in four after a few hundred.
+/// Rounded up.
 pub fn crowd_bytes_per_member_mean(crowd: &neurotree::crowd::Crowd<Agent>) -> usize {
     let state: usize = crowd.iter().map(|m| m.tree().state_bytes()).sum();
     crowd.slot_bytes() + state.div_ceil(crowd.len().max(1))

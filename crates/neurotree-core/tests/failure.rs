@@ -294,8 +294,8 @@ fn a_full_record_drops_its_older_half_and_keeps_the_chain() {
 
 #[test]
 fn a_record_keeps_room_for_16_until_a_tick_notes_more() {
-    // Three attempts note six entries: the record made by the first tick keeps its room
-    // for 16, and no tick after allocates.
+    // Three attempts note fewer than 16 entries (the leaf's, the Retry's and the root's):
+    // the record made by the first tick keeps its room for 16, and no tick after allocates.
     let (mut t, _) = tree(Blueprint::builder().sequence("root", |s| {
         s.retry("retry", 3, |r| {
             r.action_node("dock", FailWith(7, "no dock"))

@@ -19,8 +19,8 @@
 //! doubles it to 32, the most it holds: at most two allocations in a tree's life. So a tree
 //! that never fails with a reason carries nothing, and 100,000 game agents keep their state
 //! together in memory (a record made with each tree spread it out and made a frame of them
-//! 2.7 times as long); most trees' ticks note fewer than 16 entries, and their records stay
-//! at 16 (a quarter of the benchmark's 50-node agents make one, BENCHMARKS.md). A program
+//! 2.7 times as long); a tick of the benchmark's 50-node agent notes at most 12 entries,
+//! and its record stays at 16 (a quarter of those agents make one, BENCHMARKS.md). A program
 //! that must not allocate even once while ticking makes it up front, with room for 32,
 //! with [`Tree::reserve_failure_record`](crate::Tree::reserve_failure_record).
 //!
@@ -245,12 +245,15 @@ pub(crate) struct Outcome {
 const RECORD: usize = 32;
 
 /// Entries the record has room for when the tree's first reason makes it: a tick of the
-/// benchmark's agent notes at most 12, and a crowd of them holds a quarter as many bytes
-/// of records per member as with room for [`RECORD`].
+/// benchmark's 50-node agent notes at most 12, and a crowd of them holds about half as many
+/// bytes of records per member as with room for [`RECORD`] (BENCHMARKS.md).
 const FIRST_ROOM: usize = 16;
 
-/// The record's length and room, at the head of its allocation (`thin-vec` keeps them as two
-/// `usize`s when not built for Gecko).
+// A record grows once, from `FIRST_ROOM` straight to `RECORD`.
+const _: () = assert!(FIRST_ROOM < RECORD);
+
+/// The record's length and room, at the head of its allocation: `thin-vec` keeps them as
+/// two `usize`s (unless built with its `gecko-ffi` feature, which nothing here asks for).
 const RECORD_HEAD: usize = 2 * core::mem::size_of::<usize>();
 
 impl Outcome {
@@ -314,12 +317,18 @@ impl Outcome {
     /// a chain longer than half the record loses its far end.
     pub(crate) fn push(&mut self, node: NodeId, note: Note) {
         let record = &mut self.record;
-        if record.capacity() == 0 {
-            record.reserve_exact(FIRST_ROOM);
-        } else if record.len() == RECORD {
+        if record.len() == RECORD {
             record.drain(..RECORD / 2);
+        } else if record.len() == record.capacity() {
+            // Room asked for exactly, rather than by the vector's own growth, so that a
+            // record is made once and grown once: no tick allocates for it after.
+            let room = if record.capacity() == 0 {
+                FIRST_ROOM
+            } else {
+                RECORD
+            };
+            record.reserve_exact(room - record.len());
         }
-        // Past `FIRST_ROOM`, the record doubles to `RECORD`, once.
         record.push((node, note));
         // At most `RECORD`, which fits.
         self.noted = record.len() as u8;
@@ -607,5 +616,50 @@ impl<C> super::ticker::Ticker<'_, C> {
             }
         }
         self.out.push(id, Note::Failed);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Pushes `n` entries noting failures of node 1.
+    fn push(out: &mut Outcome, n: usize) {
+        for _ in 0..n {
+            out.push(NodeId(1), Note::Failed);
+        }
+    }
+
+    #[test]
+    fn a_record_has_room_for_16_then_32_and_never_more() {
+        let mut out = Outcome::new();
+        assert_eq!((out.record.capacity(), out.record_bytes()), (0, 0));
+        push(&mut out, 16);
+        assert_eq!((out.record.capacity(), out.notes().len()), (16, 16));
+        assert_eq!(out.record_bytes(), 16 + 16 * 40);
+        push(&mut out, 1);
+        assert_eq!((out.record.capacity(), out.notes().len()), (32, 17));
+        assert_eq!(out.record_bytes(), 16 + 32 * 40);
+        // Full, it keeps its newer half and its room.
+        push(&mut out, 15);
+        assert_eq!(out.notes().len(), 32);
+        out.push(NodeId(2), Note::Failed);
+        assert_eq!((out.record.capacity(), out.notes().len()), (32, 17));
+        assert_eq!(out.last().map(|e| e.0), Some(NodeId(2)));
+        // A new tick starts empty, with the room kept.
+        out.forget();
+        assert_eq!((out.record.capacity(), out.notes().len()), (32, 0));
+        assert!(out.is_quiet());
+    }
+
+    #[test]
+    fn reserving_a_record_made_with_room_for_16_gives_room_for_32() {
+        let mut out = Outcome::new();
+        push(&mut out, 3);
+        out.reserve();
+        assert_eq!((out.record.capacity(), out.notes().len()), (32, 3));
+        assert_eq!(out.record_bytes(), 1_296);
+        push(&mut out, 40);
+        assert_eq!(out.record.capacity(), 32);
     }
 }
