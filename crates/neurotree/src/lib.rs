@@ -3,8 +3,9 @@
 //! Behavior trees for robots and game AI. Nodes behave as BehaviorTree.CPP 4's do, tick for
 //! tick and halt for halt, so its XML files (hand-written, saved by Groot2, shipped with
 //! Nav2) run unchanged. A tree is built once as an immutable [`Blueprint`] and shared by any
-//! number of [`Tree`] instances, whose ticks never allocate; time comes from a [`Clock`] you
-//! choose, so runs can be deterministic.
+//! number of [`Tree`] instances, whose ticks do not allocate (but for a tree's record of
+//! failure reasons, made in its first ticks that give one, or up front); time comes from a
+//! [`Clock`] you choose, so runs can be deterministic.
 //!
 //! # Quick start
 //!
