@@ -290,7 +290,7 @@ pub fn crowd_bytes_per_member(crowd: &neurotree::crowd::Crowd<Agent>) -> usize {
 /// What [`crowd_bytes_per_member`] counts, over every member, divided by their number:
 /// with the record of failure reasons (656 bytes, 1,296 once a tick noted more than 16) of
 /// each member whose tree has given a reason, which about one member in eight of
-/// [`agent_crowd`] has after its first twelve frames and one in four after 900.
+/// [`agent_crowd`] has after its first twelve frames and one in four after 900 frames.
 /// Rounded up.
 pub fn crowd_bytes_per_member_mean(crowd: &neurotree::crowd::Crowd<Agent>) -> usize {
     let state: usize = crowd.iter().map(|m| m.tree().state_bytes()).sum();

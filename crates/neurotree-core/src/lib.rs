@@ -8,8 +8,9 @@
 //!   or (in the `neurotree` crate) from BehaviorTree.CPP XML. It is validated once and
 //!   shared through `Arc`.
 //! - A [`Tree`] is one running instance: a status byte per node and a few state slots,
-//!   nothing more. Ticking it does not allocate, but for its record of failure reasons,
-//!   made in its first ticks that give one (or up front, see
+//!   nothing more. Ticking it does not allocate, but for its record of failure reasons:
+//!   made in the first tick in which a node gives a reason, and grown once, in the first
+//!   tick that notes more than 16 (or made whole up front with
 //!   [`Tree::reserve_failure_record`]).
 //! - Leaves are closures or traits ([`Condition`], [`Action`], [`StatefulAction`],
 //!   [`AsyncAction`]) that receive the user's own context `C`, so they reach the robot or

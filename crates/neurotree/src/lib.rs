@@ -4,8 +4,9 @@
 //! tick and halt for halt, so its XML files (hand-written, saved by Groot2, shipped with
 //! Nav2) run unchanged. A tree is built once as an immutable [`Blueprint`] and shared by any
 //! number of [`Tree`] instances, whose ticks do not allocate (but for a tree's record of
-//! failure reasons, made in its first ticks that give one, or up front); time comes from a
-//! [`Clock`] you choose, so runs can be deterministic.
+//! failure reasons, made by the first tick in which a node gives one and grown at most
+//! once, or made up front); time comes from a [`Clock`] you choose, so runs can be
+//! deterministic.
 //!
 //! # Quick start
 //!
