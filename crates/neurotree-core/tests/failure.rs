@@ -121,20 +121,9 @@ fn the_last_child_of_a_failed_fallback_decides_even_without_a_reason() {
 
 #[test]
 fn a_retry_that_ran_out_counts_its_attempts() {
-    let (mut t, _) = tree(Blueprint::builder().sequence("root", |s| {
-        s.retry("retry", 3, |r| {
-            r.action_node("dock", FailWith(7, "no dock"))
-        })
-    }));
+    let mut t = docking(3);
     assert_eq!(t.tick_once(&mut ()), Ok(Status::Failure));
-    assert_eq!(
-        lines(&t.last_failure().unwrap()),
-        [
-            "root",
-            "root/retry: gave up after 3 attempts",
-            "root/retry/dock: no dock (error 7)",
-        ]
-    );
+    assert_eq!(lines(&t.last_failure().unwrap()), docking_chain(3));
     // One attempt per call: the attempts span calls, the count is the Retry's.
     for _ in 0..2 {
         assert_eq!(t.tick_exactly_once(&mut ()), Ok(Status::Running));
@@ -262,13 +251,29 @@ fn a_static_reason_allocates_nothing() {
     assert_eq!(t.last_failure().unwrap().leaf().path, "root/r/c");
 }
 
-#[test]
-fn a_full_record_drops_its_older_half_and_keeps_the_chain() {
-    let (mut t, _) = tree(Blueprint::builder().sequence("root", |s| {
-        s.retry("retry", 40, |r| {
+/// A Retry of `attempts` around a leaf that fails with a reason each time: each tick of the
+/// tree notes two entries an attempt, and a few more above.
+fn docking(attempts: i32) -> Tree<()> {
+    tree(Blueprint::builder().sequence("root", |s| {
+        s.retry("retry", attempts, |r| {
             r.action_node("dock", FailWith(7, "no dock"))
         })
-    }));
+    }))
+    .0
+}
+
+/// The chain of every failing tick of [`docking`].
+fn docking_chain(attempts: i32) -> [String; 3] {
+    [
+        "root".to_string(),
+        format!("root/retry: gave up after {attempts} attempts"),
+        "root/retry/dock: no dock (error 7)".to_string(),
+    ]
+}
+
+#[test]
+fn a_full_record_drops_its_older_half_and_keeps_the_chain() {
+    let mut t = docking(40);
     // The tree has no record until its first reason: that tick makes it with room for 16
     // entries and doubles it once; 40 attempts note 80 entries, more than it holds, and it
     // grows no further.
@@ -281,14 +286,7 @@ fn a_full_record_drops_its_older_half_and_keeps_the_chain() {
         let n = allocations(|| assert_eq!(t.tick_once(&mut ()), Ok(Status::Failure)));
         assert_eq!(n, 0);
         assert_eq!(t.state_bytes(), with_record);
-        assert_eq!(
-            lines(&t.last_failure().unwrap()),
-            [
-                "root",
-                "root/retry: gave up after 40 attempts",
-                "root/retry/dock: no dock (error 7)",
-            ]
-        );
+        assert_eq!(lines(&t.last_failure().unwrap()), docking_chain(40));
     }
 }
 
@@ -296,11 +294,7 @@ fn a_full_record_drops_its_older_half_and_keeps_the_chain() {
 fn a_record_keeps_room_for_16_until_a_tick_notes_more() {
     // Three attempts note fewer than 16 entries (the leaf's, the Retry's and the root's):
     // the record made by the first tick keeps its room for 16, and no tick after allocates.
-    let (mut t, _) = tree(Blueprint::builder().sequence("root", |s| {
-        s.retry("retry", 3, |r| {
-            r.action_node("dock", FailWith(7, "no dock"))
-        })
-    }));
+    let mut t = docking(3);
     let fresh = t.state_bytes();
     let n = allocations(|| assert_eq!(t.tick_once(&mut ()), Ok(Status::Failure)));
     assert_eq!(n, 1);
@@ -309,14 +303,7 @@ fn a_record_keeps_room_for_16_until_a_tick_notes_more() {
         let n = allocations(|| assert_eq!(t.tick_once(&mut ()), Ok(Status::Failure)));
         assert_eq!(n, 0);
         assert_eq!(t.state_bytes(), fresh + 16 + 16 * 40);
-        assert_eq!(
-            lines(&t.last_failure().unwrap()),
-            [
-                "root",
-                "root/retry: gave up after 3 attempts",
-                "root/retry/dock: no dock (error 7)",
-            ]
-        );
+        assert_eq!(lines(&t.last_failure().unwrap()), docking_chain(3));
     }
 }
 
@@ -341,24 +328,13 @@ fn a_tree_whose_nodes_give_no_reason_carries_no_record() {
 
 #[test]
 fn a_reserved_record_makes_even_the_first_reason_allocate_nothing() {
-    let (mut t, _) = tree(Blueprint::builder().sequence("root", |s| {
-        s.retry("retry", 3, |r| {
-            r.action_node("dock", FailWith(7, "no dock"))
-        })
-    }));
+    let mut t = docking(3);
     let fresh = t.state_bytes();
     t.reserve_failure_record();
     assert_eq!(t.state_bytes(), fresh + 16 + 32 * 40);
     let n = allocations(|| assert_eq!(t.tick_once(&mut ()), Ok(Status::Failure)));
     assert_eq!(n, 0);
-    assert_eq!(
-        lines(&t.last_failure().unwrap()),
-        [
-            "root",
-            "root/retry: gave up after 3 attempts",
-            "root/retry/dock: no dock (error 7)",
-        ]
-    );
+    assert_eq!(lines(&t.last_failure().unwrap()), docking_chain(3));
 }
 
 #[test]

@@ -67,8 +67,8 @@ pub(super) fn median_ms(mut times: Vec<Duration>) -> f64 {
 /// Frames the crowd all awake runs before it is timed. A tree makes its failure record the
 /// first time one of its nodes gives a reason: an eighth of the agents' trees do in their
 /// first twelve frames, and when records took 1,280 bytes those frames took up to three
-/// times as long as later ones, which a mean over twenty frames would carry. A few more make theirs in
-/// the frames timed (one in five or six has a record by the end of them).
+/// times as long as later ones, which a mean over twenty frames would carry. A few more
+/// make theirs in the frames timed (one in five or six has a record by the end of them).
 pub const WARM_FRAMES: u32 = 10;
 
 /// Runs `opts.agents` agents as a crowd on `opts.threads` threads, every agent due every
