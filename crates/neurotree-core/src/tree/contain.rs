@@ -16,13 +16,12 @@ pub(crate) fn contain<'t, C>(
 ) {
     let caught = std::panic::catch_unwind(core::panic::AssertUnwindSafe(|| halt(&mut *t)));
     if let Err(payload) = caught {
-        if t.out.fault.is_none() {
-            t.out.fault = Some(alloc::boxed::Box::new(TickError::Panicked {
-                node: id,
-                path: t.bp.path(id),
-                message: panic_message(&*payload),
-            }));
-        }
+        let bp = t.bp;
+        t.out.fault(|| TickError::Panicked {
+            node: id,
+            path: bp.path(id),
+            message: panic_message(&*payload),
+        });
     }
 }
 

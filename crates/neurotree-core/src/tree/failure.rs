@@ -11,18 +11,26 @@
 //! before. The first reason of a tick is written to the tree's record and from then on, for
 //! the rest of that [`Tree::tick_once`](crate::Tree::tick_once) call, the engine notes
 //! every status write to Failure (it ticks as if an observer were attached). The record is
-//! emptied when the next call starts; a static reason allocates nothing.
+//! emptied when the next call starts; a static reason allocates nothing once there is room
+//! for it.
+//!
+//! An entry of the record takes 8 bytes: the node, and what it noted, a Failure or a
+//! reason. The built-ins' reasons fit in it (a Retry's attempts, a Timeout's whole
+//! milliseconds, a precondition), so a record of them is entries alone; any other reason (a
+//! leaf's) is kept apart, in one box with the pass's error, and its entry holds its place.
 //!
 //! A tree has no record until one of its nodes first gives a reason: that tick makes it,
-//! with room for 16 entries of 40 bytes (counted in
+//! with room for 16 entries (144 bytes with its head, counted in
 //! [`Tree::state_bytes`](crate::Tree::state_bytes)), and the first tick that notes more
-//! doubles it to 32, the most it holds: at most two allocations in a tree's life. So a tree
-//! that never fails with a reason carries nothing, and 100,000 game agents keep their state
+//! doubles it to 32, the most it holds: at most two allocations in a tree's life. Reasons
+//! kept apart take three more at most: the box, room for 4, then for 32. So a tree that
+//! never fails with a reason carries nothing, and 100,000 game agents keep their state
 //! together in memory (a record made with each tree spread it out and made a frame of them
 //! 2.7 times as long); a tick of the benchmark's 50-node agent notes at most 12 entries,
-//! and its record stays at 16 (a quarter of those agents make one, BENCHMARKS.md). A program
-//! that must not allocate even once while ticking makes it up front, with room for 32,
-//! with [`Tree::reserve_failure_record`](crate::Tree::reserve_failure_record).
+//! all a Retry's, and its record stays at 144 bytes (a quarter of those agents make one,
+//! BENCHMARKS.md). A program that must not allocate even once while ticking makes it up
+//! front, with room for 32 entries and 32 reasons kept apart, with
+//! [`Tree::reserve_failure_record`](crate::Tree::reserve_failure_record).
 //!
 //! Apart from reasons, every write of Failure to a node's status in a tick sets that node's
 //! bit in a set the tree keeps (one bit a node, cleared when the next tick starts): one
@@ -87,6 +95,8 @@ enum Message {
     TimedOut(Duration),
     /// A RetryUntilSuccessful ran out after this many attempts.
     GaveUp(u64),
+    /// A `_failureIf` precondition held.
+    Precondition,
 }
 
 impl Reason {
@@ -123,7 +133,10 @@ impl Reason {
     }
 
     /// The reason of a `_failureIf` precondition that held.
-    pub(crate) const PRECONDITION: Reason = Reason::new(0, "failed by its precondition");
+    pub(crate) const PRECONDITION: Reason = Reason {
+        code: 0,
+        message: Message::Precondition,
+    };
 
     /// The code (0: none).
     pub fn code(&self) -> u32 {
@@ -135,6 +148,7 @@ impl Reason {
         match &self.message {
             Message::Static(text) => Cow::Borrowed(text),
             Message::Owned(text) => Cow::Borrowed(text),
+            Message::Precondition => Cow::Borrowed(HELD_WORDS),
             _ => Cow::Owned(alloc::format!("{}", Words(&self.message))),
         }
     }
@@ -149,6 +163,9 @@ impl PartialEq for Reason {
 
 impl Eq for Reason {}
 
+/// A precondition's reason in words.
+const HELD_WORDS: &str = "failed by its precondition";
+
 /// A message in words.
 struct Words<'a>(&'a Message);
 
@@ -157,6 +174,7 @@ impl fmt::Display for Words<'_> {
         match self.0 {
             Message::Static(text) => f.write_str(text),
             Message::Owned(text) => f.write_str(text),
+            Message::Precondition => f.write_str(HELD_WORDS),
             Message::TimedOut(after) => write!(f, "timed out after {}", Span(*after)),
             Message::GaveUp(n) => {
                 write!(
@@ -179,25 +197,6 @@ impl fmt::Display for Reason {
     }
 }
 
-/// One entry of a tick's record.
-#[derive(Debug)]
-pub(crate) enum Note {
-    /// A node gave this reason for its coming Failure (a leaf's, or a built-in's own).
-    Gave(Reason),
-    /// The node's status was written Failure.
-    Failed,
-}
-
-impl Note {
-    /// The reason this note gives, `None` for [`Note::Failed`].
-    pub(crate) fn reason(&self) -> Option<&Reason> {
-        match self {
-            Note::Gave(reason) => Some(reason),
-            Note::Failed => None,
-        }
-    }
-}
-
 /// A duration as people write it: whole seconds as `2 s`, anything else in milliseconds.
 struct Span(Duration);
 
@@ -212,6 +211,79 @@ impl fmt::Display for Span {
     }
 }
 
+/// What a node gives the record: a reason for its coming Failure, or the Failure itself.
+#[derive(Debug)]
+pub(crate) enum Note {
+    /// A node gave this reason for its coming Failure (a leaf's, or a built-in's own).
+    Gave(Reason),
+    /// The node's status was written Failure.
+    Failed,
+}
+
+/// One entry of a tick's record, in 8 bytes: the node, and what it noted, packed in 32
+/// bits. The built-ins' reasons (a Retry's attempts, a Timeout's whole milliseconds, a
+/// precondition) fit in those bits, so a record of them is all entries; any other reason
+/// is kept apart, in the record's [`Spill`], and the entry holds its place there.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct Entry {
+    node: NodeId,
+    what: u32,
+}
+
+/// `Entry::what` of a Failure.
+const FAILED: u32 = 0;
+/// `Entry::what` of a `_failureIf` precondition's reason.
+const HELD: u32 = 1;
+/// The top two bits of `Entry::what` say which reason the low 30 carry.
+const KIND: u32 = 3 << 30;
+/// A Retry gave up after the low bits' attempts.
+const GAVE_UP: u32 = 1 << 30;
+/// A Timeout fired after the low bits' milliseconds.
+const TIMED_OUT: u32 = 2 << 30;
+/// The low bits are the reason's place among the spilled ones.
+const SPILLED: u32 = 3 << 30;
+/// The largest value the low bits carry.
+const LOW: u32 = !KIND;
+
+impl Entry {
+    /// The node the entry is about.
+    pub(crate) fn node(self) -> NodeId {
+        self.node
+    }
+
+    /// `true` for a Failure, `false` for a reason.
+    pub(crate) fn failed(self) -> bool {
+        self.what == FAILED
+    }
+
+    /// The entry's `what` for a built-in's reason, `None` for one kept apart.
+    fn packed(reason: &Reason) -> Option<u32> {
+        if reason.code != 0 {
+            return None;
+        }
+        let low = |n: u128| u32::try_from(n).ok().filter(|&n| n <= LOW);
+        match reason.message {
+            Message::Precondition => Some(HELD),
+            Message::GaveUp(n) => low(u128::from(n)).map(|n| GAVE_UP | n),
+            Message::TimedOut(after) if after.subsec_nanos() % 1_000_000 == 0 => {
+                low(after.as_millis()).map(|ms| TIMED_OUT | ms)
+            }
+            _ => None,
+        }
+    }
+}
+
+/// What a tree with a record keeps apart from it: the pass's error and the reasons that
+/// do not fit an entry. Boxed together, behind the one pointer a tree had for its error
+/// alone, made on the first of either.
+#[derive(Default)]
+struct Spill {
+    /// The first error of this pass.
+    fault: Option<TickError>,
+    /// The reasons whose places the record's entries hold, oldest first.
+    reasons: ThinVec<Reason>,
+}
+
 /// What a pass leaves behind in the tree: its error, the tick's record of reasons, and the
 /// halts still in progress.
 ///
@@ -219,9 +291,9 @@ impl fmt::Display for Span {
 /// pointer, and the ticker carries no other for halts (which keeps their cost out of every
 /// pass of a tree that never halts slowly).
 pub(crate) struct Outcome {
-    /// The first error of this pass; boxed, since errors are rare and every tree would
-    /// otherwise carry their size.
-    pub(crate) fault: Option<Box<TickError>>,
+    /// The pass's error and the reasons kept apart from the record: boxed, since both are
+    /// rare and every tree would otherwise carry their size.
+    spill: Option<Box<Spill>>,
     /// Halts that take ticks (see [`slow_halt`](super::slow_halt)).
     pub(crate) halts: super::slow_halt::Halts,
     /// Why the tree stayed awake after its last pass, and the node it is about (see
@@ -234,7 +306,7 @@ pub(crate) struct Outcome {
     pub(crate) reads: super::sleep::Reads,
     /// The tick's record, oldest first: no room until a node gives a reason (see the
     /// module docs); a pointer, its length and room beside its entries.
-    record: ThinVec<(NodeId, Note)>,
+    record: ThinVec<Entry>,
     /// The entries in `record`: read without following its pointer, as every tick asks
     /// whether a reason was given.
     noted: u8,
@@ -245,22 +317,44 @@ pub(crate) struct Outcome {
 const RECORD: usize = 32;
 
 /// Entries the record has room for when the tree's first reason makes it: a tick of the
-/// benchmark's 50-node agent notes at most 12, and a crowd of them holds about half as many
-/// bytes of records per member as with room for [`RECORD`] (BENCHMARKS.md).
+/// benchmark's 50-node agent notes at most 12.
 const FIRST_ROOM: usize = 16;
 
-// A record grows once, from `FIRST_ROOM` straight to `RECORD`.
-const _: () = assert!(FIRST_ROOM < RECORD);
+/// Reasons kept apart a tree first has room for; then [`RECORD`], as many as its entries.
+const FIRST_SPILLED: usize = 4;
 
-/// The record's length and room, at the head of its allocation: `thin-vec` keeps them as
-/// two `usize`s (unless built with its `gecko-ffi` feature, which nothing here asks for).
-const RECORD_HEAD: usize = 2 * core::mem::size_of::<usize>();
+// A record grows once, from `FIRST_ROOM` straight to `RECORD`; so do the spilled reasons.
+const _: () = assert!(FIRST_ROOM < RECORD && FIRST_SPILLED < RECORD);
+
+/// The length and room of a `ThinVec`, at the head of its allocation: `thin-vec` keeps
+/// them as two `usize`s (unless built with its `gecko-ffi` feature, which nothing here asks
+/// for).
+const THIN_HEAD: usize = 2 * core::mem::size_of::<usize>();
+
+/// Bytes of a `ThinVec` with room for `room` items of `T`: none without room.
+fn thin_bytes<T>(room: usize) -> usize {
+    match room {
+        0 => 0,
+        room => THIN_HEAD + room * core::mem::size_of::<T>(),
+    }
+}
+
+/// Gives `list` room for `first`, then for `most`, when it is full: two allocations at
+/// most in its life.
+fn make_room<T>(list: &mut ThinVec<T>, first: usize, most: usize) {
+    if list.len() == list.capacity() {
+        // Room asked for exactly, rather than by the vector's own growth, so that a list
+        // is made once and grown once: no tick allocates for it after.
+        let room = if list.capacity() == 0 { first } else { most };
+        list.reserve_exact(room.saturating_sub(list.len()));
+    }
+}
 
 impl Outcome {
     /// The outcome of a fresh tree: no record until a reason is given.
     pub(crate) fn new() -> Self {
         Self {
-            fault: None,
+            spill: None,
             halts: super::slow_halt::Halts::default(),
             reason: None,
             declared: false,
@@ -277,23 +371,54 @@ impl Outcome {
         self.declared = waits.declared;
     }
 
-    /// Makes the record now with room for the most it holds, if it has not that room yet.
-    pub(crate) fn reserve(&mut self) {
-        self.record.reserve_exact(RECORD - self.record.len());
+    /// `true` once the pass has an error.
+    #[inline]
+    pub(crate) fn faulted(&self) -> bool {
+        self.spill.as_ref().is_some_and(|s| s.fault.is_some())
     }
 
-    /// Bytes the record takes (none until the tree's first reason): its head and its
-    /// room.
-    pub(crate) fn record_bytes(&self) -> usize {
-        match self.record.capacity() {
-            0 => 0,
-            room => RECORD_HEAD + room * core::mem::size_of::<(NodeId, Note)>(),
+    /// Records the pass's error made by `error`, unless it has one: the first wins.
+    #[cold]
+    pub(crate) fn fault(&mut self, error: impl FnOnce() -> TickError) {
+        let spill = self.spill.get_or_insert_with(Box::default);
+        if spill.fault.is_none() {
+            spill.fault = Some(error());
         }
     }
 
+    /// Takes the pass's error, freeing what held it unless reasons are kept there.
+    pub(crate) fn take_fault(&mut self) -> Option<TickError> {
+        let spill = self.spill.as_deref_mut()?;
+        let fault = spill.fault.take();
+        if spill.reasons.capacity() == 0 {
+            self.spill = None;
+        }
+        fault
+    }
+
+    /// Makes the record now with room for the most it holds, and for as many reasons kept
+    /// apart, if it has not that room yet.
+    pub(crate) fn reserve(&mut self) {
+        self.record.reserve_exact(RECORD - self.record.len());
+        let reasons = &mut self.spill.get_or_insert_with(Box::default).reasons;
+        reasons.reserve_exact(RECORD - reasons.len());
+    }
+
+    /// Bytes the record takes (none until the tree's first reason): its head and its
+    /// room, and what holds the reasons kept apart, if any is.
+    pub(crate) fn record_bytes(&self) -> usize {
+        let spilled = self.spill.as_ref().map_or(0, |s| {
+            core::mem::size_of::<Spill>() + thin_bytes::<Reason>(s.reasons.capacity())
+        });
+        thin_bytes::<Entry>(self.record.capacity()) + spilled
+    }
+
     /// The tick's record, oldest first.
-    pub(crate) fn notes(&self) -> &[(NodeId, Note)] {
-        &self.record
+    pub(crate) fn notes(&self) -> Notes<'_> {
+        Notes {
+            entries: &self.record,
+            spilled: self.spill.as_ref().map_or(&[], |s| &s.reasons[..]),
+        }
     }
 
     /// `true` when no reason was given in this tick.
@@ -309,34 +434,94 @@ impl Outcome {
             return;
         }
         self.record.clear();
+        if let Some(spill) = self.spill.as_deref_mut() {
+            spill.reasons.clear();
+        }
     }
 
     /// Adds to the record. Holding [`RECORD`] entries, it drops its older half rather than
-    /// grow, so that ticking allocates at most twice in a tree's life (see the module docs):
-    /// the chain is built from the newest entries (the root's failure is the last), so only
-    /// a chain longer than half the record loses its far end.
+    /// grow, so that ticking allocates at most twice in a tree's life for the record, and
+    /// twice for reasons kept apart (see the module docs): the chain is built from the
+    /// newest entries (the root's failure is the last), so only a chain longer than half
+    /// the record loses its far end.
     pub(crate) fn push(&mut self, node: NodeId, note: Note) {
-        let record = &mut self.record;
-        if record.len() == RECORD {
-            record.drain(..RECORD / 2);
-        } else if record.len() == record.capacity() {
-            // Room asked for exactly, rather than by the vector's own growth, so that a
-            // record is made once and grown once: no tick allocates for it after.
-            let room = if record.capacity() == 0 {
-                FIRST_ROOM
-            } else {
-                RECORD
-            };
-            record.reserve_exact(room - record.len());
+        if self.record.len() == RECORD {
+            self.drop_older_half();
         }
-        record.push((node, note));
+        let what = match note {
+            Note::Failed => FAILED,
+            Note::Gave(reason) => match Entry::packed(&reason) {
+                Some(what) => what,
+                None => {
+                    let reasons = &mut self.spill.get_or_insert_with(Box::default).reasons;
+                    make_room(reasons, FIRST_SPILLED, RECORD);
+                    // Fewer than `RECORD` (one per entry, the record not full), which fit
+                    // the low bits.
+                    let place = reasons.len() as u32;
+                    reasons.push(reason);
+                    SPILLED | place
+                }
+            },
+        };
+        make_room(&mut self.record, FIRST_ROOM, RECORD);
+        self.record.push(Entry { node, what });
         // At most `RECORD`, which fits.
-        self.noted = record.len() as u8;
+        self.noted = self.record.len() as u8;
     }
 
-    /// The last entry.
-    pub(crate) fn last(&self) -> Option<&(NodeId, Note)> {
-        self.notes().last()
+    /// Drops the record's older half, and the reasons kept apart only it held.
+    fn drop_older_half(&mut self) {
+        self.record.drain(..RECORD / 2);
+        let Some(spill) = self.spill.as_deref_mut() else {
+            return;
+        };
+        // The places left rise with the entries, and none is below its new place: each
+        // reason moves down to its new place, and those of dropped entries fall off the end.
+        let mut kept = 0;
+        for entry in self.record.iter_mut() {
+            if entry.what & KIND == SPILLED {
+                spill.reasons.swap(kept, (entry.what & LOW) as usize);
+                entry.what = SPILLED | kept as u32;
+                kept += 1;
+            }
+        }
+        spill.reasons.truncate(kept);
+    }
+
+    /// The reason the newest entry gives, if it is a reason given by `node`.
+    pub(crate) fn last_reason_of(&self, node: NodeId) -> Option<Cow<'_, Reason>> {
+        let notes = self.notes();
+        let last = *notes.entries.last()?;
+        (last.node == node).then(|| notes.reason(last)).flatten()
+    }
+}
+
+/// A tick's record as the chain reads it: its entries, oldest first, and the reasons kept
+/// apart from them.
+#[derive(Clone, Copy)]
+pub(crate) struct Notes<'a> {
+    entries: &'a [Entry],
+    spilled: &'a [Reason],
+}
+
+impl<'a> Notes<'a> {
+    /// The entries, oldest first.
+    pub(crate) fn entries(&self) -> &'a [Entry] {
+        self.entries
+    }
+
+    /// The reason `entry` gives, `None` for a Failure. A built-in's is made anew (no
+    /// allocation); another is borrowed from where it was kept.
+    pub(crate) fn reason(&self, entry: Entry) -> Option<Cow<'a, Reason>> {
+        let low = entry.what & LOW;
+        Some(match entry.what & KIND {
+            _ if entry.what == FAILED => return None,
+            _ if entry.what == HELD => Cow::Owned(Reason::PRECONDITION),
+            GAVE_UP => Cow::Owned(Reason::gave_up(u64::from(low))),
+            TIMED_OUT => Cow::Owned(Reason::timed_out(Duration::from_millis(u64::from(low)))),
+            // Invariant: a spilled entry's place is among the reasons kept (`push`).
+            _ => Cow::Borrowed(&self.spilled[low as usize]),
+        })
     }
 }
 
@@ -463,19 +648,14 @@ fn is_marked(failed: &[u64], node: NodeId) -> bool {
 
 /// Builds the chain of a tick whose root failed, from the nodes marked failed in the tick
 /// and the tick's record of reasons.
-pub(crate) fn build<C>(bp: &Blueprint<C>, failed: &[u64], notes: &[(NodeId, Note)]) -> Failure {
+pub(crate) fn build<C>(bp: &Blueprint<C>, failed: &[u64], notes: Notes<'_>) -> Failure {
     Failure {
         links: chain(bp, failed, notes, NodeId::ROOT),
     }
 }
 
 /// The chain from `node`, which failed in the tick, down to the node that decided it.
-fn chain<C>(
-    bp: &Blueprint<C>,
-    failed: &[u64],
-    notes: &[(NodeId, Note)],
-    node: NodeId,
-) -> Vec<FailureLink> {
+fn chain<C>(bp: &Blueprint<C>, failed: &[u64], notes: Notes<'_>, node: NodeId) -> Vec<FailureLink> {
     let mut links = Vec::new();
     let mut node = Some(node);
     while let Some(at) = node {
@@ -491,7 +671,7 @@ fn chain<C>(
 fn explain<C>(
     bp: &Blueprint<C>,
     failed: &[u64],
-    notes: &[(NodeId, Note)],
+    notes: Notes<'_>,
     node: NodeId,
 ) -> (FailureLink, Option<NodeId>) {
     let children = bp.children(node);
@@ -518,10 +698,10 @@ fn explain<C>(
         // Several children failed in one tick when the node ran more than once in it (a
         // Retry's attempts, a reactive control's passes): the one whose Failure was
         // noted last decided it; unnoted, the last in order.
-        failing
-            .iter()
-            .copied()
-            .max_by_key(|&c| (last_failed(notes, c, notes.len()), c.index()))
+        failing.iter().copied().max_by_key(|&c| {
+            let entries = notes.entries();
+            (last_failed(entries, c, entries.len()), c.index())
+        })
     };
     let mut reason = own_reason(notes, node);
     if reason.is_none() && next.is_none() && !children.is_empty() {
@@ -541,21 +721,23 @@ fn explain<C>(
 }
 
 /// The reason `node` gave during the run that ended in its last noted Failure.
-fn own_reason(notes: &[(NodeId, Note)], node: NodeId) -> Option<Reason> {
-    let end = last_failed(notes, node, notes.len())?;
-    let start = last_failed(notes, node, end).map_or(0, |i| i + 1);
-    notes[start..end]
+fn own_reason(notes: Notes<'_>, node: NodeId) -> Option<Reason> {
+    let entries = notes.entries();
+    let end = last_failed(entries, node, entries.len())?;
+    let start = last_failed(entries, node, end).map_or(0, |i| i + 1);
+    entries[start..end]
         .iter()
         .rev()
-        .filter(|(n, _)| *n == node)
-        .find_map(|(_, note)| note.reason().cloned())
+        .filter(|e| e.node() == node)
+        .find_map(|&e| notes.reason(e))
+        .map(Cow::into_owned)
 }
 
 /// The index of the last Failure of `node` among `notes[..before]`.
-fn last_failed(notes: &[(NodeId, Note)], node: NodeId, before: usize) -> Option<usize> {
-    notes[..before]
+fn last_failed(entries: &[Entry], node: NodeId, before: usize) -> Option<usize> {
+    entries[..before]
         .iter()
-        .rposition(|(n, note)| *n == node && matches!(note, Note::Failed))
+        .rposition(|e| e.node() == node && e.failed())
 }
 
 /// The observer the engine attaches to a tick once a reason was given, when the user
@@ -607,12 +789,10 @@ impl<C> super::ticker::Ticker<'_, C> {
     #[inline(never)]
     pub(super) fn note_failed(&mut self, id: NodeId) {
         if !self.watching {
-            if let Some((node, note)) = self.out.last() {
-                if *node == id {
-                    if let (Some(reason), Some(o)) = (note.reason(), self.observer.as_deref_mut()) {
-                        o.on_failure_reason(id, reason);
-                    }
-                }
+            if let (Some(reason), Some(o)) =
+                (self.out.last_reason_of(id), self.observer.as_deref_mut())
+            {
+                o.on_failure_reason(id, &reason);
             }
         }
         self.out.push(id, Note::Failed);
@@ -622,6 +802,7 @@ impl<C> super::ticker::Ticker<'_, C> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use alloc::string::ToString;
 
     /// Pushes `n` entries noting failures of node 1.
     fn push(out: &mut Outcome, n: usize) {
@@ -630,26 +811,153 @@ mod tests {
         }
     }
 
+    /// The entries' nodes, oldest first.
+    fn nodes(out: &Outcome) -> Vec<u32> {
+        out.notes().entries().iter().map(|e| e.node().0).collect()
+    }
+
     #[test]
     fn a_record_has_room_for_16_then_32_and_never_more() {
         let mut out = Outcome::new();
         assert_eq!((out.record.capacity(), out.record_bytes()), (0, 0));
         push(&mut out, 16);
-        assert_eq!((out.record.capacity(), out.notes().len()), (16, 16));
-        assert_eq!(out.record_bytes(), 16 + 16 * 40);
+        assert_eq!((out.record.capacity(), out.record.len()), (16, 16));
+        assert_eq!(out.record_bytes(), 16 + 16 * 8);
         push(&mut out, 1);
-        assert_eq!((out.record.capacity(), out.notes().len()), (32, 17));
-        assert_eq!(out.record_bytes(), 16 + 32 * 40);
+        assert_eq!((out.record.capacity(), out.record.len()), (32, 17));
+        assert_eq!(out.record_bytes(), 16 + 32 * 8);
         // Full, it keeps its newer half and its room.
         push(&mut out, 15);
-        assert_eq!(out.notes().len(), 32);
+        assert_eq!(out.record.len(), 32);
         out.push(NodeId(2), Note::Failed);
-        assert_eq!((out.record.capacity(), out.notes().len()), (32, 17));
-        assert_eq!(out.last().map(|e| e.0), Some(NodeId(2)));
+        assert_eq!((out.record.capacity(), out.record.len()), (32, 17));
+        assert_eq!(nodes(&out).last(), Some(&2));
         // A new tick starts empty, with the room kept.
         out.forget();
-        assert_eq!((out.record.capacity(), out.notes().len()), (32, 0));
+        assert_eq!((out.record.capacity(), out.record.len()), (32, 0));
         assert!(out.is_quiet());
+    }
+
+    #[test]
+    fn the_built_ins_reasons_take_an_entry_each_and_read_back_the_same() {
+        let mut out = Outcome::new();
+        let given = [
+            Reason::gave_up(3),
+            Reason::gave_up(u64::from(LOW)),
+            Reason::timed_out(Duration::from_millis(100)),
+            Reason::timed_out(Duration::from_secs(2)),
+            Reason::PRECONDITION,
+        ];
+        for (i, reason) in given.iter().enumerate() {
+            out.push(NodeId(i as u32), Note::Gave(reason.clone()));
+        }
+        assert!(out.spill.is_none(), "nothing kept apart");
+        assert_eq!(out.record_bytes(), 16 + 16 * 8);
+        let notes = out.notes();
+        let back: Vec<String> = notes
+            .entries()
+            .iter()
+            .map(|&e| notes.reason(e).unwrap().to_string())
+            .collect();
+        assert_eq!(
+            back,
+            [
+                "gave up after 3 attempts",
+                "gave up after 1073741823 attempts",
+                "timed out after 100 ms",
+                "timed out after 2 s",
+                "failed by its precondition",
+            ]
+        );
+        assert_eq!(
+            *notes.reason(notes.entries()[4]).unwrap(),
+            Reason::PRECONDITION
+        );
+    }
+
+    #[test]
+    fn other_reasons_are_kept_apart_and_read_back_the_same() {
+        let mut out = Outcome::new();
+        let given = [
+            Reason::new(106, "blocked"),
+            Reason::owned(0, "2 m short"),
+            // Too many attempts, or a part of a millisecond, for an entry's bits.
+            Reason::gave_up(u64::from(LOW) + 1),
+            Reason::timed_out(Duration::from_micros(1_500)),
+            // A built-in's words with a code: not a built-in's.
+            Reason::new(7, "failed by its precondition"),
+        ];
+        for reason in &given {
+            out.push(NodeId(1), Note::Gave(reason.clone()));
+            out.push(NodeId(1), Note::Failed);
+        }
+        let notes = out.notes();
+        let back: Vec<Reason> = notes
+            .entries()
+            .iter()
+            .filter_map(|&e| notes.reason(e).map(Cow::into_owned))
+            .collect();
+        assert_eq!(back, given);
+        assert_eq!(back[3].message(), "timed out after 1 ms");
+        assert_eq!(out.spill.as_ref().unwrap().reasons.len(), 5);
+        // Room for 16 entries, and for 32 reasons kept apart once 4 were not enough.
+        assert_eq!(
+            out.record_bytes(),
+            16 + 16 * 8 + core::mem::size_of::<Spill>() + 16 + 32 * 32
+        );
+        // The next tick drops them and keeps the room.
+        out.forget();
+        assert!(out.spill.as_ref().unwrap().reasons.is_empty());
+        assert_eq!(out.spill.as_ref().unwrap().reasons.capacity(), RECORD);
+    }
+
+    #[test]
+    fn a_full_record_keeps_the_reasons_its_newer_half_gives_and_no_more() {
+        let mut out = Outcome::new();
+        // 40 entries: each node gives a reason of its own, then fails.
+        for i in 0..20u32 {
+            out.push(
+                NodeId(i),
+                Note::Gave(Reason::owned(i, alloc::format!("reason {i}"))),
+            );
+            out.push(NodeId(i), Note::Failed);
+        }
+        // The record dropped its older half once at 32 entries: 16 were left, and 8 came.
+        assert_eq!(out.record.len(), 24);
+        let spill = out.spill.as_ref().unwrap();
+        assert_eq!(spill.reasons.len(), 12);
+        let notes = out.notes();
+        let kept: Vec<(u32, u32)> = notes
+            .entries()
+            .iter()
+            .filter_map(|&e| notes.reason(e).map(|r| (e.node().0, r.code())))
+            .collect();
+        let want: Vec<(u32, u32)> = (8..20).map(|i| (i, i)).collect();
+        assert_eq!(kept, want);
+        assert_eq!(
+            out.last_reason_of(NodeId(19)),
+            None,
+            "the newest is a Failure"
+        );
+        out.push(NodeId(20), Note::Gave(Reason::new(20, "last")));
+        assert_eq!(out.last_reason_of(NodeId(20)).unwrap().code(), 20);
+        assert_eq!(out.last_reason_of(NodeId(19)), None);
+    }
+
+    #[test]
+    fn an_error_is_taken_once_and_what_held_it_is_freed_unless_reasons_are_kept_there() {
+        let mut out = Outcome::new();
+        assert!(!out.faulted());
+        out.fault(|| TickError::HaltRequested);
+        out.fault(|| unreachable!("the first error wins"));
+        assert!(out.faulted());
+        assert_eq!(out.take_fault(), Some(TickError::HaltRequested));
+        assert!(out.spill.is_none());
+        assert_eq!(out.take_fault(), None);
+        out.push(NodeId(1), Note::Gave(Reason::new(1, "kept apart")));
+        out.fault(|| TickError::HaltRequested);
+        assert_eq!(out.take_fault(), Some(TickError::HaltRequested));
+        assert_eq!(out.spill.as_ref().unwrap().reasons.len(), 1);
     }
 
     #[test]
@@ -657,9 +965,15 @@ mod tests {
         let mut out = Outcome::new();
         push(&mut out, 3);
         out.reserve();
-        assert_eq!((out.record.capacity(), out.notes().len()), (32, 3));
-        assert_eq!(out.record_bytes(), 1_296);
+        assert_eq!((out.record.capacity(), out.record.len()), (32, 3));
+        let spill = core::mem::size_of::<Spill>() + 16 + 32 * 32;
+        assert_eq!(out.record_bytes(), 16 + 32 * 8 + spill);
         push(&mut out, 40);
+        for i in 0..40 {
+            out.push(NodeId(i), Note::Gave(Reason::new(i, "kept apart")));
+        }
         assert_eq!(out.record.capacity(), 32);
+        assert_eq!(out.spill.as_ref().unwrap().reasons.capacity(), 32);
+        assert_eq!(out.record_bytes(), 16 + 32 * 8 + spill);
     }
 }

@@ -186,8 +186,8 @@ impl<C> Tree<C> {
         }
         let mut t = self.ticker(ctx);
         let left = t.continue_halts(waiter);
-        match t.out.fault.take() {
-            Some(fault) => Err(*fault),
+        match t.out.take_fault() {
+            Some(fault) => Err(fault),
             None => Ok(left),
         }
     }

@@ -256,8 +256,9 @@ impl<C> Tree<C> {
     /// Makes the record of failure reasons now, with room for the most it holds, rather than
     /// in the first tick in which a node gives a reason (see [`failure`]): after it, no tick
     /// of this tree allocates for reasons. For programs that must not allocate while ticking
-    /// at all; it costs 1,296 bytes (a record made by a tick has room for half as many
-    /// entries until a tick needs more).
+    /// at all; it costs 1,376 bytes (a record made by a tick has room for half as many
+    /// entries until a tick needs more, and no room for reasons other than the built-ins'
+    /// until a node gives one).
     pub fn reserve_failure_record(&mut self) {
         self.out.reserve();
     }
@@ -366,9 +367,9 @@ impl<C> Tree<C> {
             o.on_tick_end(status, t.clock.now());
         }
         t.out.keep(&t.waits);
-        if let Some(fault) = t.out.fault.take() {
+        if let Some(fault) = t.out.take_fault() {
             t.halt_node(NodeId::ROOT);
-            return Err(*fault);
+            return Err(fault);
         }
         let (wake, rested, waits) = (t.wake, t.rested, t.waits);
         if status == NodeStatus::Running && wake.is_none() {

@@ -135,12 +135,11 @@ impl<'t, C> Ticker<'t, C> {
             }
         }
         if status == NodeStatus::Idle {
-            if self.out.fault.is_none() {
-                self.out.fault = Some(alloc::boxed::Box::new(TickError::ReturnedIdle {
-                    node: id,
-                    path: self.bp.path(id),
-                }));
-            }
+            let bp = self.bp;
+            self.out.fault(|| TickError::ReturnedIdle {
+                node: id,
+                path: bp.path(id),
+            });
             return NodeStatus::Failure;
         }
         status

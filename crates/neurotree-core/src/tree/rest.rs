@@ -44,7 +44,7 @@ impl<C> Tree<C> {
         }
         self.out.keep(&waits);
         match answer {
-            Some(Ok(NodeStatus::Running)) if self.out.fault.is_none() => {
+            Some(Ok(NodeStatus::Running)) if !self.out.faulted() => {
                 self.rest_asleep(leaf, writes, &waits);
                 Rest::Running
             }

@@ -41,7 +41,7 @@ pub(super) fn recover<C>(t: &mut ticker::Ticker<'_, C>, panicked: TickError) -> 
         o.on_tick_end(NodeStatus::Idle, t.clock.now());
     }
     // A panic while halting is already in the halt's own error; the first panic is news.
-    t.out.fault = None;
+    t.out.take_fault();
     panicked
 }
 

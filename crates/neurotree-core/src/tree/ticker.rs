@@ -421,13 +421,12 @@ impl<'t, C> Ticker<'t, C> {
     #[inline]
     pub(crate) fn sync_result(&mut self, id: NodeId, s: Status, kind: &'static str) -> NodeStatus {
         if s == Status::Running {
-            if self.out.fault.is_none() {
-                self.out.fault = Some(alloc::boxed::Box::new(TickError::LeafRunning {
-                    node: id,
-                    path: self.bp.path(id),
-                    kind,
-                }));
-            }
+            let bp = self.bp;
+            self.out.fault(|| TickError::LeafRunning {
+                node: id,
+                path: bp.path(id),
+                kind,
+            });
             return NodeStatus::Failure;
         }
         s.into()
@@ -435,13 +434,12 @@ impl<'t, C> Ticker<'t, C> {
 
     /// Records a node's own error; the first error of a pass wins.
     pub(crate) fn fault_node(&mut self, id: NodeId, message: alloc::string::String) {
-        if self.out.fault.is_none() {
-            self.out.fault = Some(alloc::boxed::Box::new(TickError::Node {
-                node: id,
-                path: self.bp.path(id),
-                message,
-            }));
-        }
+        let bp = self.bp;
+        self.out.fault(|| TickError::Node {
+            node: id,
+            path: bp.path(id),
+            message,
+        });
     }
 
     /// A handle for node `id`, to the pass's context, blackboard and clock.

@@ -231,13 +231,12 @@ impl<'a, C> Handle<'a, C> {
     /// [`TickError::Node`](crate::TickError::Node) (the first error of a tick wins) after the
     /// tree is halted. Return Failure after calling it.
     pub fn fail(&mut self, message: impl Into<String>) {
-        if self.out.fault.is_none() {
-            self.out.fault = Some(alloc::boxed::Box::new(crate::TickError::Node {
-                node: self.node,
-                path: self.bp.path(self.node),
-                message: message.into(),
-            }));
-        }
+        let (bp, node) = (self.bp, self.node);
+        self.out.fault(|| crate::TickError::Node {
+            node,
+            path: bp.path(node),
+            message: message.into(),
+        });
     }
 }
 
