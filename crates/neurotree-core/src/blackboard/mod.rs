@@ -57,8 +57,9 @@
 //! A crowd ticks up to a million trees a frame, each a few reads and writes of its root
 //! scope, and each on memory no cache holds: a read pays every block it goes through, one
 //! trip to memory after another. The layout keeps that chain short. The [`Blackboard`]
-//! (48 bytes, inside its tree) holds the root scope's entries itself, a vector sorted by key
-//! whose entries carry their keys; a value of a small plain type (`bool`, the integers up to
+//! (32 bytes, inside its tree) holds the root scope's entries itself, a thin vector (one
+//! pointer, its length at the head of its block) sorted by key whose entries carry their
+//! keys; a value of a small plain type (`bool`, the integers up to
 //! 64 bits, `f32`, `f64`, [`Duration`]) sits in its entry, and only other types are boxed.
 //! Reading the root's `bool` thus goes from the tree to the entries' block and no further.
 //! What a plain tree does not use (the scopes SubTrees open, their links and entries, the
@@ -153,7 +154,7 @@ pub struct EntryInfo {
 
 /// Typed, scoped entries shared by the nodes of a tree (see the [module docs](self)).
 ///
-/// 48 bytes, laid out for the tree that reads its root scope's entries and little else:
+/// 32 bytes, laid out for the tree that reads its root scope's entries and little else:
 /// those entries are held here, so reading one goes from this struct to the entries' block
 /// and no further; the rest waits behind one pointer.
 #[derive(Default)]

@@ -411,8 +411,8 @@ fn declared_entries_exist_but_read_only_after_a_write() {
 }
 
 #[test]
-fn a_blackboard_takes_48_bytes_and_a_plain_tree_s_no_box_of_rare_parts() {
-    assert!(core::mem::size_of::<Blackboard>() <= 48);
+fn a_blackboard_takes_32_bytes_and_a_plain_tree_s_no_box_of_rare_parts() {
+    assert!(core::mem::size_of::<Blackboard>() <= 32);
     let mut bb = Blackboard::new();
     bb.set("alert", true).unwrap();
     bb.declare_in(ScopeId::ROOT, "goal");
