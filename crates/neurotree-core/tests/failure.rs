@@ -273,11 +273,13 @@ fn docking_chain(attempts: i32) -> [String; 3] {
 
 /// Bytes of a record with room for `entries` entries of 8 bytes, and, beside it, room for
 /// `kept` reasons of 32 bytes kept apart (a static or owned one): a `ThinVec` head of 16
-/// bytes each, and the box holding the pass's error and the reasons kept apart.
+/// bytes each, and the box holding the pass's error, the last call's and the reasons
+/// kept apart.
 fn record_bytes(entries: usize, kept: usize) -> usize {
     let apart = match kept {
         0 => 0,
-        kept => core::mem::size_of::<Option<neurotree_core::TickError>>() + 8 + 16 + kept * 32,
+        // The pass's error, the last call's, and the reasons' pointer.
+        kept => 2 * core::mem::size_of::<Option<neurotree_core::TickError>>() + 8 + 16 + kept * 32,
     };
     16 + entries * 8 + apart
 }
@@ -374,7 +376,7 @@ fn a_reserved_record_makes_even_the_first_reason_allocate_nothing() {
     t.reserve_failure_record();
     assert_eq!(t.state_bytes(), fresh + record_bytes(32, 32));
     // What `Tree::reserve_failure_record` says it costs.
-    assert_eq!(record_bytes(32, 32), 1_376);
+    assert_eq!(record_bytes(32, 32), 1_432);
     let n = allocations(|| assert_eq!(t.tick_once(&mut ()), Ok(Status::Failure)));
     assert_eq!(n, 0);
     assert_eq!(lines(&t.last_failure().unwrap()), docking_chain(3));
@@ -449,4 +451,58 @@ fn marking_failures_allocates_nothing() {
     });
     assert_eq!(n, 0);
     assert_eq!(t.state_bytes(), bytes);
+}
+
+/// Errs on the first tick (a runtime error), fails with a static reason on the second,
+/// succeeds on the third, then again: the context counts the ticks.
+struct Moody;
+impl Action<u32> for Moody {
+    fn tick(&self, h: &mut Handle<'_, u32>) -> Status {
+        let step = *h.ctx();
+        *h.ctx_mut() += 1;
+        match step % 3 {
+            0 => {
+                h.fail("broken");
+                Status::Failure
+            }
+            1 => h.fail_with(3, "no"),
+            _ => Status::Success,
+        }
+    }
+}
+
+#[test]
+fn the_last_tick_calls_error_is_kept_until_the_next_tick_call_and_a_halt_leaves_it() {
+    let bp = Blueprint::<u32>::builder()
+        .sequence("root", |s| s.action_node("moody", Moody))
+        .build_shared()
+        .unwrap();
+    let mut t = Tree::with_clock(bp, ManualClock::new());
+    let mut step = 0;
+    let fresh = t.state_bytes();
+    assert_eq!(t.last_error(), None);
+    for tick_once in [true, false] {
+        let tick = |t: &mut Tree<u32>, step: &mut u32| match tick_once {
+            true => t.tick_once(step),
+            false => t.tick_exactly_once(step),
+        };
+        let error = tick(&mut t, &mut step).unwrap_err();
+        assert!(
+            matches!(&error, neurotree_core::TickError::Node { message, .. } if message == "broken")
+        );
+        assert_eq!(t.last_error(), Some(&error));
+        // A halt is not a tick call: the error stays.
+        t.halt(&mut step);
+        assert_eq!(t.last_error(), Some(&error));
+        assert_eq!(tick(&mut t, &mut step), Ok(Status::Failure));
+        assert_eq!(t.last_error(), None);
+        assert_eq!(
+            lines(&t.last_failure().unwrap())[1],
+            "root/moody: no (error 3)"
+        );
+        // The box that kept the error also keeps the static reason, with room for 4.
+        assert_eq!(t.state_bytes(), fresh + record_bytes(16, 4));
+        assert_eq!(tick(&mut t, &mut step), Ok(Status::Success));
+        assert_eq!(t.last_error(), None);
+    }
 }

@@ -437,7 +437,10 @@ fn ticking_allocates_nothing_with_or_without_a_handle() {
     let mut handled = tree(ManualClock::new(), two_forever);
     let handle = handled.halt_handle();
     assert!(handled.has_halt_handle());
+    // The tree's first error makes the box that keeps a tick call's error: once.
     handled.tick_once(&mut lab).unwrap();
+    handle.request();
+    assert_eq!(handled.tick_once(&mut lab), Err(TickError::HaltRequested));
     let n = counting_alloc::allocations(|| {
         for _ in 0..100 {
             assert_eq!(handled.tick_once(&mut lab), Ok(Status::Running));
@@ -446,7 +449,7 @@ fn ticking_allocates_nothing_with_or_without_a_handle() {
         }
     });
     assert_eq!(n, 0);
-    assert_eq!(lab.halts(), [100, 100]);
+    assert_eq!(lab.halts(), [101, 101]);
 }
 
 #[test]

@@ -273,13 +273,16 @@ impl Entry {
     }
 }
 
-/// What a tree with a record keeps apart from it: the pass's error and the reasons that
-/// do not fit an entry. Boxed together, behind the one pointer a tree had for its error
-/// alone, made on the first of either.
+/// What a tree keeps apart from its record: the pass's error, the last tick's, and the
+/// reasons that do not fit an entry. Boxed together, behind the one pointer a tree had for
+/// its error alone, made on the first of them and kept: no later error or reason allocates
+/// for it.
 #[derive(Default)]
 struct Spill {
     /// The first error of this pass.
     fault: Option<TickError>,
+    /// The error the last tick call returned ([`Tree::last_error`](crate::Tree::last_error)).
+    last: Option<TickError>,
     /// The reasons whose places the record's entries hold, oldest first.
     reasons: ThinVec<Reason>,
 }
@@ -386,14 +389,37 @@ impl Outcome {
         }
     }
 
-    /// Takes the pass's error, freeing what held it unless reasons are kept there.
+    /// Takes the pass's error.
     pub(crate) fn take_fault(&mut self) -> Option<TickError> {
-        let spill = self.spill.as_deref_mut()?;
-        let fault = spill.fault.take();
-        if spill.reasons.capacity() == 0 {
-            self.spill = None;
+        self.spill.as_deref_mut()?.fault.take()
+    }
+
+    /// `true` once the box that keeps the last tick call's error is made: one load and a
+    /// branch, for the tick calls to begin with, on the tree's own line.
+    #[inline(always)]
+    pub(crate) fn holds_error(&self) -> bool {
+        self.spill.is_some()
+    }
+
+    /// Keeps a copy of the error a tick call returns, until the next call.
+    #[cold]
+    #[inline(never)]
+    pub(crate) fn keep_error(&mut self, error: &TickError) {
+        self.spill.get_or_insert_with(Box::default).last = Some(error.clone());
+    }
+
+    /// Forgets the last tick call's error, at the start of the next.
+    #[cold]
+    #[inline(never)]
+    pub(crate) fn forget_error(&mut self) {
+        if let Some(spill) = self.spill.as_deref_mut() {
+            spill.last = None;
         }
-        fault
+    }
+
+    /// The error the last tick call returned.
+    pub(crate) fn last_error(&self) -> Option<&TickError> {
+        self.spill.as_ref().and_then(|s| s.last.as_ref())
     }
 
     /// Makes the record now with room for the most it holds, and for as many reasons kept
@@ -945,19 +971,24 @@ mod tests {
     }
 
     #[test]
-    fn an_error_is_taken_once_and_what_held_it_is_freed_unless_reasons_are_kept_there() {
+    fn an_error_is_taken_once_and_kept_until_the_next_call_in_a_box_made_once() {
         let mut out = Outcome::new();
-        assert!(!out.faulted());
+        assert!(!out.faulted() && !out.holds_error());
         out.fault(|| TickError::HaltRequested);
         out.fault(|| unreachable!("the first error wins"));
         assert!(out.faulted());
-        assert_eq!(out.take_fault(), Some(TickError::HaltRequested));
-        assert!(out.spill.is_none());
+        let error = out.take_fault().unwrap();
+        assert_eq!(error, TickError::HaltRequested);
         assert_eq!(out.take_fault(), None);
-        out.push(NodeId(1), Note::Gave(Reason::new(1, "kept apart")));
-        out.fault(|| TickError::HaltRequested);
-        assert_eq!(out.take_fault(), Some(TickError::HaltRequested));
-        assert_eq!(out.spill.as_ref().unwrap().reasons.len(), 1);
+        assert!(!out.faulted());
+        out.keep_error(&error);
+        assert_eq!(out.last_error(), Some(&TickError::HaltRequested));
+        // The next call forgets it; the box stays, for the next error.
+        assert!(out.holds_error());
+        out.forget_error();
+        assert_eq!(out.last_error(), None);
+        assert!(out.holds_error());
+        assert_eq!(out.record_bytes(), core::mem::size_of::<Spill>());
     }
 
     #[test]

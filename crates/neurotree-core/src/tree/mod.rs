@@ -256,7 +256,7 @@ impl<C> Tree<C> {
     /// Makes the record of failure reasons now, with room for the most it holds, rather than
     /// in the first tick in which a node gives a reason (see [`failure`]): after it, no tick
     /// of this tree allocates for reasons. For programs that must not allocate while ticking
-    /// at all; it costs 1,376 bytes (a record made by a tick has room for half as many
+    /// at all; it costs 1,432 bytes (a record made by a tick has room for half as many
     /// entries until a tick needs more, and no room for reasons other than the built-ins'
     /// until a node gives one).
     pub fn reserve_failure_record(&mut self) {
@@ -390,6 +390,19 @@ impl<C> Tree<C> {
     // case without a call or a result passed through memory; the rest is out of line.
     #[inline]
     pub fn tick_exactly_once(&mut self, ctx: &mut C) -> Result<Status, TickError> {
+        if self.out.holds_error() {
+            self.out.forget_error();
+        }
+        let result = self.tick_exactly_once_call(ctx);
+        if let Err(error) = &result {
+            self.out.keep_error(error);
+        }
+        result
+    }
+
+    /// [`tick_exactly_once`](Self::tick_exactly_once), but for the error it keeps.
+    #[inline(always)]
+    fn tick_exactly_once_call(&mut self, ctx: &mut C) -> Result<Status, TickError> {
         // Resting, with no future to poll (nor a halt request to serve): nothing else in
         // this call could run before the action.
         if self.sleeps_on() {
@@ -490,6 +503,27 @@ impl<C> Tree<C> {
             .then(|| failure::build(&self.blueprint, self.state.failed(), self.out.notes()))
     }
 
+    /// The error the last [`tick_once`](Self::tick_once) or
+    /// [`tick_exactly_once`](Self::tick_exactly_once) returned, kept until the next of
+    /// them starts; `None` when it returned a status. Other calls (a halt) leave it as it
+    /// is.
+    ///
+    /// ```
+    /// use neurotree_core::{Blueprint, ManualClock, Status, TickError, Tree};
+    ///
+    /// // A sync action may not return Running.
+    /// let bp = Blueprint::<()>::builder()
+    ///     .action("bad", |_: &mut ()| Status::Running)
+    ///     .build_shared()
+    ///     .unwrap();
+    /// let mut tree = Tree::with_clock(bp, ManualClock::new());
+    /// assert!(tree.tick_once(&mut ()).is_err());
+    /// assert!(matches!(tree.last_error(), Some(TickError::LeafRunning { .. })));
+    /// ```
+    pub fn last_error(&self) -> Option<&TickError> {
+        self.out.last_error()
+    }
+
     /// Ticks the root, and again at once while it is Running and a node asked to be woken or
     /// the future of an async action woke during the pass (a future that wakes itself on
     /// every poll therefore keeps this call ticking until it completes).
@@ -513,6 +547,18 @@ impl<C> Tree<C> {
     /// Running is therefore served in the same call; one made during a pass that completes
     /// the root waits for the next call. See [`halt`].
     pub fn tick_once(&mut self, ctx: &mut C) -> Result<Status, TickError> {
+        if self.out.holds_error() {
+            self.out.forget_error();
+        }
+        let result = self.tick_once_call(ctx);
+        if let Err(error) = &result {
+            self.out.keep_error(error);
+        }
+        result
+    }
+
+    /// [`tick_once`](Self::tick_once), but for the error it keeps.
+    fn tick_once_call(&mut self, ctx: &mut C) -> Result<Status, TickError> {
         self.last_passes = 0;
         if self.sleeps_on() {
             return Ok(Status::Running);

@@ -52,11 +52,10 @@ pub enum TickMode {
     Once,
 }
 
-/// What a member owns besides its context: its tree.
+/// What a member owns besides its context: its tree, which also keeps the error of its
+/// last tick ([`Tree::last_error`]), so that a member pays nothing for errors it never had.
 pub(super) struct Body<C> {
     pub(super) tree: Tree<C>,
-    /// Boxed: errors are rare, and most members should not pay their size.
-    pub(super) error: Option<Box<TickError>>,
 }
 
 /// A slot's schedule, in 32 bytes: two to a cache line, as a frame reads the schedule of
@@ -246,13 +245,10 @@ impl Plan {
             Ok(status) => {
                 self.status = FrameStatus::Ticked(status);
                 tally.failures += u64::from(status == Status::Failure);
-                if body.error.is_some() {
-                    body.error = None;
-                }
             }
-            Err(error) => {
+            // The tree keeps the error until its next tick.
+            Err(_) => {
                 self.status = FrameStatus::Error;
-                body.error = Some(Box::new(error));
                 tally.errors += 1;
             }
         }
@@ -332,7 +328,7 @@ impl<'a, C> Member<'a, C> {
 
     /// The error its last tick ended with, kept until its next tick.
     pub fn error(&self) -> Option<&'a TickError> {
-        self.body.error.as_deref()
+        self.body.tree.last_error()
     }
 
     /// It is due every `interval`-th frame (1: every frame).
@@ -385,7 +381,6 @@ impl<C> MemberMut<'_, C> {
         tree.set_shared_clock(Arc::clone(self.clock));
         let mut old = std::mem::replace(&mut self.body.tree, tree);
         old.halt(self.ctx);
-        self.body.error = None;
         self.plan.cost = nodes(&self.body.tree);
         old
     }

@@ -40,7 +40,7 @@
 //!
 //! A frame allocates nothing once the crowd has run a few frames (the queue of deferred
 //! members has reached its size), beyond what rayon does to share the work out, and an
-//! error, which is boxed.
+//! error, which the member's tree keeps ([`Tree::last_error`]).
 //!
 //! # Budget
 //!
@@ -309,7 +309,7 @@ impl<C: Send> Crowd<C> {
         };
         let plan = &mut self.plans[index as usize];
         *plan = Plan::joining(plan.generation, phase, member::nodes(&tree));
-        self.bodies[index as usize] = Some(Body { tree, error: None });
+        self.bodies[index as usize] = Some(Body { tree });
         self.contexts[index as usize] = Some(ctx);
         self.awake.set(index as usize);
         self.len += 1;
