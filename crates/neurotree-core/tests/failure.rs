@@ -271,30 +271,31 @@ fn docking_chain(attempts: i32) -> [String; 3] {
     ]
 }
 
-/// Bytes of a record with room for `entries` entries of 8 bytes, and, beside it, room for
-/// `kept` reasons of 32 bytes kept apart (a static or owned one): a `ThinVec` head of 16
-/// bytes each, and the box holding the pass's error, the last call's and the reasons
-/// kept apart.
-fn record_bytes(entries: usize, kept: usize) -> usize {
+/// Bytes of a record with room for `words` words of 4 bytes (a failure takes one, a reason
+/// two), and, beside it, room for `kept` reasons of 32 bytes kept apart (a static or owned
+/// one): a `ThinVec` head of 16 bytes each, and the box holding the pass's error, the last
+/// call's and the reasons kept apart.
+fn record_bytes(words: usize, kept: usize) -> usize {
     let apart = match kept {
         0 => 0,
         // The pass's error, the last call's, and the reasons' pointer.
         kept => 2 * core::mem::size_of::<Option<neurotree_core::TickError>>() + 8 + 16 + kept * 32,
     };
-    16 + entries * 8 + apart
+    16 + words * 4 + apart
 }
 
 #[test]
 fn a_full_record_drops_its_older_half_and_keeps_the_chain() {
     let mut t = docking(40);
     // The tree has no record until its first reason: that tick makes it with room for 16
-    // entries and doubles it once; 40 attempts note 80 entries, more than it holds, and it
-    // grows no further. The leaf's static reasons are kept apart: room for 4, then 32.
+    // words and doubles it once; 40 attempts note 80 entries (120 words), more than it
+    // holds, and it grows no further. The leaf's static reasons are kept apart: room for 4,
+    // then 16, as many as 32 words hold.
     let fresh = t.state_bytes();
     let n = allocations(|| assert_eq!(t.tick_once(&mut ()), Ok(Status::Failure)));
     assert_eq!(n, 5);
     let with_record = t.state_bytes();
-    assert_eq!(with_record, fresh + record_bytes(32, 32));
+    assert_eq!(with_record, fresh + record_bytes(32, 16));
     for _ in 0..3 {
         let n = allocations(|| assert_eq!(t.tick_once(&mut ()), Ok(Status::Failure)));
         assert_eq!(n, 0);
@@ -305,9 +306,9 @@ fn a_full_record_drops_its_older_half_and_keeps_the_chain() {
 
 #[test]
 fn a_record_keeps_room_for_16_until_a_tick_notes_more() {
-    // Three attempts note fewer than 16 entries (the leaf's, the Retry's and the root's):
-    // the record made by the first tick keeps its room for 16, the three static reasons
-    // their room for 4, and no tick after allocates.
+    // Three attempts note 13 words (the leaf's reason and failure each time, the Retry's
+    // and the root's): the record made by the first tick keeps its room for 16, the three
+    // static reasons their room for 4, and no tick after allocates.
     let mut t = docking(3);
     let fresh = t.state_bytes();
     let n = allocations(|| assert_eq!(t.tick_once(&mut ()), Ok(Status::Failure)));
@@ -324,7 +325,7 @@ fn a_record_keeps_room_for_16_until_a_tick_notes_more() {
 #[test]
 fn a_record_of_built_in_reasons_is_entries_alone() {
     // A Retry that gives up and a Timeout that fires give reasons that fit an entry: the
-    // first tick makes the record (one allocation, 144 bytes), and no tick allocates after.
+    // first tick makes the record (one allocation, 80 bytes), and no tick allocates after.
     let (mut t, clock) = tree(Blueprint::builder().fallback("root", |f| {
         f.retry("retry", 3, |r| r.condition("seen", |_: &()| false))
             .timeout("limit", Duration::from_millis(100), |d| {
@@ -374,9 +375,9 @@ fn a_reserved_record_makes_even_the_first_reason_allocate_nothing() {
     let mut t = docking(3);
     let fresh = t.state_bytes();
     t.reserve_failure_record();
-    assert_eq!(t.state_bytes(), fresh + record_bytes(32, 32));
+    assert_eq!(t.state_bytes(), fresh + record_bytes(32, 16));
     // What `Tree::reserve_failure_record` says it costs.
-    assert_eq!(record_bytes(32, 32), 1_432);
+    assert_eq!(record_bytes(32, 16), 792);
     let n = allocations(|| assert_eq!(t.tick_once(&mut ()), Ok(Status::Failure)));
     assert_eq!(n, 0);
     assert_eq!(lines(&t.last_failure().unwrap()), docking_chain(3));

@@ -14,22 +14,22 @@
 //! emptied when the next call starts; a static reason allocates nothing once there is room
 //! for it.
 //!
-//! An entry of the record takes 8 bytes: the node, and what it noted, a Failure or a
-//! reason. The built-ins' reasons fit in it (a Retry's attempts, a Timeout's whole
-//! milliseconds, a precondition), so a record of them is entries alone; any other reason (a
-//! leaf's) is kept apart, in one box with the pass's error, and its entry holds its place.
+//! The record is a list of 32-bit words: a Failure takes one (the node), a reason two (the
+//! node, and the reason packed in 32 bits). The built-ins' reasons fit those bits (a
+//! Retry's attempts, a Timeout's whole milliseconds, a precondition); any other reason (a
+//! leaf's) is kept apart, in one box with the pass's error, and its word holds its place.
 //!
 //! A tree has no record until one of its nodes first gives a reason: that tick makes it,
-//! with room for 16 entries (144 bytes with its head, counted in
+//! with room for 16 words (80 bytes with its head, counted in
 //! [`Tree::state_bytes`](crate::Tree::state_bytes)), and the first tick that notes more
 //! doubles it to 32, the most it holds: at most two allocations in a tree's life. Reasons
-//! kept apart take three more at most: the box, room for 4, then for 32. So a tree that
+//! kept apart take three more at most: the box, room for 4, then for 16. So a tree that
 //! never fails with a reason carries nothing, and 100,000 game agents keep their state
 //! together in memory (a record made with each tree spread it out and made a frame of them
-//! 2.7 times as long); a tick of the benchmark's 50-node agent notes at most 12 entries,
-//! all a Retry's, and its record stays at 144 bytes (a quarter of those agents make one,
-//! BENCHMARKS.md). A program that must not allocate even once while ticking makes it up
-//! front, with room for 32 entries and 32 reasons kept apart, with
+//! 2.7 times as long); a tick of the benchmark's 50-node agent notes at most 13 words, a
+//! Retry's reason and the failures after it, and its record stays at 80 bytes (a quarter
+//! of those agents make one, BENCHMARKS.md). A program that must not allocate even once
+//! while ticking makes it up front, with room for 32 words and 16 reasons kept apart, with
 //! [`Tree::reserve_failure_record`](crate::Tree::reserve_failure_record).
 //!
 //! Apart from reasons, every write of Failure to a node's status in a tick sets that node's
@@ -220,10 +220,15 @@ pub(crate) enum Note {
     Failed,
 }
 
-/// One entry of a tick's record, in 8 bytes: the node, and what it noted, packed in 32
-/// bits. The built-ins' reasons (a Retry's attempts, a Timeout's whole milliseconds, a
-/// precondition) fit in those bits, so a record of them is all entries; any other reason
-/// is kept apart, in the record's [`Spill`], and the entry holds its place there.
+/// One entry of a tick's record: the node, and what it noted, packed in 32 bits. The
+/// built-ins' reasons (a Retry's attempts, a Timeout's whole milliseconds, a precondition)
+/// fit in those bits; any other reason is kept apart, in the record's [`Spill`], and the
+/// entry holds its place there.
+///
+/// The record holds an entry in one word, a Failure's (the node), or two, a reason's
+/// (what it noted, then the node marked with [`MARK`]): a tick of failures notes many
+/// failures and few reasons. It is read from its newest word back, where a marked word says
+/// that the word before it belongs to it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) struct Entry {
     node: NodeId,
@@ -244,6 +249,10 @@ const TIMED_OUT: u32 = 2 << 30;
 const SPILLED: u32 = 3 << 30;
 /// The largest value the low bits carry.
 const LOW: u32 = !KIND;
+/// Marks a record's word as a reason's node, the word before it being what the reason is.
+/// A failure's word is its node alone: node ids stay below it (a blueprint's nodes take far
+/// more memory than there is before 2^31 of them).
+const MARK: u32 = 1 << 31;
 
 impl Entry {
     /// The node the entry is about.
@@ -307,27 +316,31 @@ pub(crate) struct Outcome {
     pub(crate) declared: bool,
     /// What the leaf being ticked declared through a shared handle.
     pub(crate) reads: super::sleep::Reads,
-    /// The tick's record, oldest first: no room until a node gives a reason (see the
-    /// module docs); a pointer, its length and room beside its entries.
-    record: ThinVec<Entry>,
-    /// The entries in `record`: read without following its pointer, as every tick asks
+    /// The tick's record, oldest first, one or two words an entry ([`Entry`]): no room
+    /// until a node gives a reason (see the module docs); a pointer, its length and room
+    /// beside its words.
+    record: ThinVec<u32>,
+    /// The words in `record`: read without following its pointer, as every tick asks
     /// whether a reason was given.
     noted: u8,
 }
 
-/// Entries the record holds before it drops its older half. The chain needs only the
+/// Words the record holds before it drops its older half. The chain needs only the
 /// tick's last failures: a full record keeps its newer half.
 const RECORD: usize = 32;
 
-/// Entries the record has room for when the tree's first reason makes it: a tick of the
-/// benchmark's 50-node agent notes at most 12.
+/// Words the record has room for when the tree's first reason makes it: a tick of the
+/// benchmark's 50-node agent notes at most 13 (a Retry's reason and 11 failures).
 const FIRST_ROOM: usize = 16;
 
-/// Reasons kept apart a tree first has room for; then [`RECORD`], as many as its entries.
+/// Reasons kept apart a tree first has room for.
 const FIRST_SPILLED: usize = 4;
 
+/// Reasons kept apart the record can hold: one an entry of two words.
+const SPILLED_MOST: usize = RECORD / 2;
+
 // A record grows once, from `FIRST_ROOM` straight to `RECORD`; so do the spilled reasons.
-const _: () = assert!(FIRST_ROOM < RECORD && FIRST_SPILLED < RECORD);
+const _: () = assert!(FIRST_ROOM < RECORD && FIRST_SPILLED < SPILLED_MOST);
 
 /// The length and room of a `ThinVec`, at the head of its allocation: `thin-vec` keeps
 /// them as two `usize`s (unless built with its `gecko-ffi` feature, which nothing here asks
@@ -342,10 +355,10 @@ fn thin_bytes<T>(room: usize) -> usize {
     }
 }
 
-/// Gives `list` room for `first`, then for `most`, when it is full: two allocations at
-/// most in its life.
-fn make_room<T>(list: &mut ThinVec<T>, first: usize, most: usize) {
-    if list.len() == list.capacity() {
+/// Gives `list` room for `first`, then for `most`, when it has no room for `more`: two
+/// allocations at most in its life, as long as it never holds more than `most`.
+fn make_room<T>(list: &mut ThinVec<T>, more: usize, first: usize, most: usize) {
+    if list.capacity() - list.len() < more {
         // Room asked for exactly, rather than by the vector's own growth, so that a list
         // is made once and grown once: no tick allocates for it after.
         let room = if list.capacity() == 0 { first } else { most };
@@ -427,7 +440,7 @@ impl Outcome {
     pub(crate) fn reserve(&mut self) {
         self.record.reserve_exact(RECORD - self.record.len());
         let reasons = &mut self.spill.get_or_insert_with(Box::default).reasons;
-        reasons.reserve_exact(RECORD - reasons.len());
+        reasons.reserve_exact(SPILLED_MOST - reasons.len());
     }
 
     /// Bytes the record takes (none until the tree's first reason): its head and its
@@ -436,13 +449,16 @@ impl Outcome {
         let spilled = self.spill.as_ref().map_or(0, |s| {
             core::mem::size_of::<Spill>() + thin_bytes::<Reason>(s.reasons.capacity())
         });
-        thin_bytes::<Entry>(self.record.capacity()) + spilled
+        thin_bytes::<u32>(self.record.capacity()) + spilled
     }
 
-    /// The tick's record, oldest first.
+    /// The tick's record, oldest first, read out of its words: for the chain, built
+    /// after the tick.
     pub(crate) fn notes(&self) -> Notes<'_> {
+        let mut entries: Vec<Entry> = Entries(&self.record).collect();
+        entries.reverse();
         Notes {
-            entries: &self.record,
+            entries,
             spilled: self.spill.as_ref().map_or(&[], |s| &s.reasons[..]),
         }
     }
@@ -471,83 +487,136 @@ impl Outcome {
     /// newest entries (the root's failure is the last), so only a chain longer than half
     /// the record loses its far end.
     pub(crate) fn push(&mut self, node: NodeId, note: Note) {
-        if self.record.len() == RECORD {
+        debug_assert!(node.0 < MARK, "node ids stay below MARK");
+        let words = if matches!(note, Note::Failed) { 1 } else { 2 };
+        // First, so that the reasons kept apart are those of the entries kept.
+        if self.record.len() + words > RECORD {
             self.drop_older_half();
         }
         let what = match note {
-            Note::Failed => FAILED,
-            Note::Gave(reason) => match Entry::packed(&reason) {
+            Note::Failed => None,
+            Note::Gave(reason) => Some(match Entry::packed(&reason) {
                 Some(what) => what,
                 None => {
                     let reasons = &mut self.spill.get_or_insert_with(Box::default).reasons;
-                    make_room(reasons, FIRST_SPILLED, RECORD);
-                    // Fewer than `RECORD` (one per entry, the record not full), which fit
-                    // the low bits.
+                    make_room(reasons, 1, FIRST_SPILLED, SPILLED_MOST);
+                    // Fewer than `SPILLED_MOST` (one per entry of two words), which fit the
+                    // low bits.
                     let place = reasons.len() as u32;
                     reasons.push(reason);
                     SPILLED | place
                 }
-            },
+            }),
         };
-        make_room(&mut self.record, FIRST_ROOM, RECORD);
-        self.record.push(Entry { node, what });
+        make_room(&mut self.record, words, FIRST_ROOM, RECORD);
+        match what {
+            None => self.record.push(node.0),
+            Some(what) => {
+                self.record.push(what);
+                self.record.push(MARK | node.0);
+            }
+        }
         // At most `RECORD`, which fits.
         self.noted = self.record.len() as u8;
     }
 
-    /// Drops the record's older half, and the reasons kept apart only it held.
+    /// Drops the record's older entries, keeping the newest that fit in half of it, and
+    /// the reasons kept apart only they held.
     fn drop_older_half(&mut self) {
-        self.record.drain(..RECORD / 2);
+        let len = self.record.len();
+        let mut start = len;
+        let mut places = [0usize; RECORD / 2];
+        let mut spilled = 0;
+        for entry in Entries(&self.record) {
+            let words = if entry.failed() { 1 } else { 2 };
+            if len - (start - words) > RECORD / 2 {
+                break;
+            }
+            start -= words;
+            if entry.what & KIND == SPILLED {
+                // The reason's word, from the newest back.
+                places[spilled] = start;
+                spilled += 1;
+            }
+        }
+        self.record.drain(..start);
         let Some(spill) = self.spill.as_deref_mut() else {
             return;
         };
         // The places left rise with the entries, and none is below its new place: each
-        // reason moves down to its new place, and those of dropped entries fall off the end.
-        let mut kept = 0;
-        for entry in self.record.iter_mut() {
-            if entry.what & KIND == SPILLED {
-                spill.reasons.swap(kept, (entry.what & LOW) as usize);
-                entry.what = SPILLED | kept as u32;
-                kept += 1;
-            }
+        // reason moves down to its new place, oldest first, and those of dropped entries
+        // fall off the end.
+        for (kept, &at) in places[..spilled].iter().rev().enumerate() {
+            let what = &mut self.record[at - start];
+            spill.reasons.swap(kept, (*what & LOW) as usize);
+            *what = SPILLED | kept as u32;
         }
-        spill.reasons.truncate(kept);
+        spill.reasons.truncate(spilled);
     }
 
     /// The reason the newest entry gives, if it is a reason given by `node`.
     pub(crate) fn last_reason_of(&self, node: NodeId) -> Option<Cow<'_, Reason>> {
-        let notes = self.notes();
-        let last = *notes.entries.last()?;
-        (last.node == node).then(|| notes.reason(last)).flatten()
+        let last = Entries(&self.record).next()?;
+        let spilled = self.spill.as_ref().map_or(&[][..], |s| &s.reasons[..]);
+        (last.node == node).then(|| reason(last, spilled)).flatten()
     }
+}
+
+/// A record's entries, read from its newest word back.
+struct Entries<'a>(&'a [u32]);
+
+impl Iterator for Entries<'_> {
+    type Item = Entry;
+
+    fn next(&mut self) -> Option<Entry> {
+        let (&last, rest) = self.0.split_last()?;
+        if last & MARK == 0 {
+            self.0 = rest;
+            return Some(Entry {
+                node: NodeId(last),
+                what: FAILED,
+            });
+        }
+        // Invariant: a marked word follows the word of what its reason is (`push`).
+        let (&what, rest) = rest.split_last()?;
+        self.0 = rest;
+        Some(Entry {
+            node: NodeId(last & !MARK),
+            what,
+        })
+    }
+}
+
+/// The reason `entry` gives, `None` for a Failure, with `spilled` the reasons kept apart.
+/// A built-in's is made anew (no allocation); another is borrowed from where it was kept.
+fn reason(entry: Entry, spilled: &[Reason]) -> Option<Cow<'_, Reason>> {
+    let low = entry.what & LOW;
+    Some(match entry.what & KIND {
+        _ if entry.what == FAILED => return None,
+        _ if entry.what == HELD => Cow::Owned(Reason::PRECONDITION),
+        GAVE_UP => Cow::Owned(Reason::gave_up(u64::from(low))),
+        TIMED_OUT => Cow::Owned(Reason::timed_out(Duration::from_millis(u64::from(low)))),
+        // Invariant: a spilled entry's place is among the reasons kept (`push`).
+        _ => Cow::Borrowed(&spilled[low as usize]),
+    })
 }
 
 /// A tick's record as the chain reads it: its entries, oldest first, and the reasons kept
 /// apart from them.
-#[derive(Clone, Copy)]
 pub(crate) struct Notes<'a> {
-    entries: &'a [Entry],
+    entries: Vec<Entry>,
     spilled: &'a [Reason],
 }
 
 impl<'a> Notes<'a> {
     /// The entries, oldest first.
-    pub(crate) fn entries(&self) -> &'a [Entry] {
-        self.entries
+    pub(crate) fn entries(&self) -> &[Entry] {
+        &self.entries
     }
 
-    /// The reason `entry` gives, `None` for a Failure. A built-in's is made anew (no
-    /// allocation); another is borrowed from where it was kept.
+    /// The reason `entry` gives, `None` for a Failure (see [`reason`]).
     pub(crate) fn reason(&self, entry: Entry) -> Option<Cow<'a, Reason>> {
-        let low = entry.what & LOW;
-        Some(match entry.what & KIND {
-            _ if entry.what == FAILED => return None,
-            _ if entry.what == HELD => Cow::Owned(Reason::PRECONDITION),
-            GAVE_UP => Cow::Owned(Reason::gave_up(u64::from(low))),
-            TIMED_OUT => Cow::Owned(Reason::timed_out(Duration::from_millis(u64::from(low)))),
-            // Invariant: a spilled entry's place is among the reasons kept (`push`).
-            _ => Cow::Borrowed(&self.spilled[low as usize]),
-        })
+        reason(entry, self.spilled)
     }
 }
 
@@ -676,12 +745,17 @@ fn is_marked(failed: &[u64], node: NodeId) -> bool {
 /// and the tick's record of reasons.
 pub(crate) fn build<C>(bp: &Blueprint<C>, failed: &[u64], notes: Notes<'_>) -> Failure {
     Failure {
-        links: chain(bp, failed, notes, NodeId::ROOT),
+        links: chain(bp, failed, &notes, NodeId::ROOT),
     }
 }
 
 /// The chain from `node`, which failed in the tick, down to the node that decided it.
-fn chain<C>(bp: &Blueprint<C>, failed: &[u64], notes: Notes<'_>, node: NodeId) -> Vec<FailureLink> {
+fn chain<C>(
+    bp: &Blueprint<C>,
+    failed: &[u64],
+    notes: &Notes<'_>,
+    node: NodeId,
+) -> Vec<FailureLink> {
     let mut links = Vec::new();
     let mut node = Some(node);
     while let Some(at) = node {
@@ -697,7 +771,7 @@ fn chain<C>(bp: &Blueprint<C>, failed: &[u64], notes: Notes<'_>, node: NodeId) -
 fn explain<C>(
     bp: &Blueprint<C>,
     failed: &[u64],
-    notes: Notes<'_>,
+    notes: &Notes<'_>,
     node: NodeId,
 ) -> (FailureLink, Option<NodeId>) {
     let children = bp.children(node);
@@ -747,7 +821,7 @@ fn explain<C>(
 }
 
 /// The reason `node` gave during the run that ended in its last noted Failure.
-fn own_reason(notes: Notes<'_>, node: NodeId) -> Option<Reason> {
+fn own_reason(notes: &Notes<'_>, node: NodeId) -> Option<Reason> {
     let entries = notes.entries();
     let end = last_failed(entries, node, entries.len())?;
     let start = last_failed(entries, node, end).map_or(0, |i| i + 1);
@@ -842,16 +916,29 @@ mod tests {
         out.notes().entries().iter().map(|e| e.node().0).collect()
     }
 
+    /// The entries as `node` for a Failure and `node: reason` for a reason, oldest first.
+    fn read(out: &Outcome) -> Vec<String> {
+        let notes = out.notes();
+        notes
+            .entries()
+            .iter()
+            .map(|&e| match notes.reason(e) {
+                Some(reason) => alloc::format!("{}: {reason}", e.node().0),
+                None => alloc::format!("{}", e.node().0),
+            })
+            .collect()
+    }
+
     #[test]
-    fn a_record_has_room_for_16_then_32_and_never_more() {
+    fn a_record_has_room_for_16_words_then_32_and_never_more() {
         let mut out = Outcome::new();
         assert_eq!((out.record.capacity(), out.record_bytes()), (0, 0));
         push(&mut out, 16);
         assert_eq!((out.record.capacity(), out.record.len()), (16, 16));
-        assert_eq!(out.record_bytes(), 16 + 16 * 8);
+        assert_eq!(out.record_bytes(), 16 + 16 * 4);
         push(&mut out, 1);
         assert_eq!((out.record.capacity(), out.record.len()), (32, 17));
-        assert_eq!(out.record_bytes(), 16 + 32 * 8);
+        assert_eq!(out.record_bytes(), 16 + 32 * 4);
         // Full, it keeps its newer half and its room.
         push(&mut out, 15);
         assert_eq!(out.record.len(), 32);
@@ -865,7 +952,48 @@ mod tests {
     }
 
     #[test]
-    fn the_built_ins_reasons_take_an_entry_each_and_read_back_the_same() {
+    fn a_reason_takes_two_words_and_a_failure_one() {
+        let mut out = Outcome::new();
+        out.push(NodeId(5), Note::Gave(Reason::gave_up(3)));
+        out.push(NodeId(5), Note::Failed);
+        out.push(NodeId(4), Note::Failed);
+        assert_eq!(out.record.len(), 4);
+        assert_eq!(read(&out), ["5: gave up after 3 attempts", "5", "4"]);
+        // A reason that would not fit the room left makes the room at once: 15 words, then
+        // two more.
+        push(&mut out, 11);
+        assert_eq!((out.record.capacity(), out.record.len()), (16, 15));
+        out.push(NodeId(6), Note::Gave(Reason::PRECONDITION));
+        assert_eq!((out.record.capacity(), out.record.len()), (32, 17));
+        assert_eq!(
+            out.last_reason_of(NodeId(6)).unwrap().to_string(),
+            "failed by its precondition"
+        );
+        assert_eq!(out.last_reason_of(NodeId(1)), None);
+    }
+
+    #[test]
+    fn a_full_record_never_keeps_half_an_entry() {
+        let mut out = Outcome::new();
+        // 15 reasons and a failure, 31 words, then a reason of two: the newest 16 words
+        // would begin with the node word of a reason, without the word of what it is, so
+        // the newest 15 are kept.
+        for i in 0..15 {
+            out.push(NodeId(10 + i), Note::Gave(Reason::gave_up(u64::from(i))));
+        }
+        push(&mut out, 1);
+        assert_eq!(out.record.len(), 31);
+        out.push(NodeId(99), Note::Gave(Reason::gave_up(99)));
+        assert_eq!(out.record.len(), 15 + 2);
+        let kept = read(&out);
+        assert_eq!(kept.len(), 9);
+        assert_eq!(kept[0], "18: gave up after 8 attempts");
+        assert_eq!(kept[6], "24: gave up after 14 attempts");
+        assert_eq!(kept[7..], ["1", "99: gave up after 99 attempts"]);
+    }
+
+    #[test]
+    fn the_built_ins_reasons_are_packed_and_read_back_the_same() {
         let mut out = Outcome::new();
         let given = [
             Reason::gave_up(3),
@@ -878,23 +1006,18 @@ mod tests {
             out.push(NodeId(i as u32), Note::Gave(reason.clone()));
         }
         assert!(out.spill.is_none(), "nothing kept apart");
-        assert_eq!(out.record_bytes(), 16 + 16 * 8);
-        let notes = out.notes();
-        let back: Vec<String> = notes
-            .entries()
-            .iter()
-            .map(|&e| notes.reason(e).unwrap().to_string())
-            .collect();
+        assert_eq!(out.record_bytes(), 16 + 16 * 4);
         assert_eq!(
-            back,
+            read(&out),
             [
-                "gave up after 3 attempts",
-                "gave up after 1073741823 attempts",
-                "timed out after 100 ms",
-                "timed out after 2 s",
-                "failed by its precondition",
+                "0: gave up after 3 attempts",
+                "1: gave up after 1073741823 attempts",
+                "2: timed out after 100 ms",
+                "3: timed out after 2 s",
+                "4: failed by its precondition",
             ]
         );
+        let notes = out.notes();
         assert_eq!(
             *notes.reason(notes.entries()[4]).unwrap(),
             Reason::PRECONDITION
@@ -926,21 +1049,21 @@ mod tests {
         assert_eq!(back, given);
         assert_eq!(back[3].message(), "timed out after 1 ms");
         assert_eq!(out.spill.as_ref().unwrap().reasons.len(), 5);
-        // Room for 16 entries, and for 32 reasons kept apart once 4 were not enough.
+        // Room for 16 words, and for 16 reasons kept apart once 4 were not enough.
         assert_eq!(
             out.record_bytes(),
-            16 + 16 * 8 + core::mem::size_of::<Spill>() + 16 + 32 * 32
+            16 + 16 * 4 + core::mem::size_of::<Spill>() + 16 + 16 * 32
         );
         // The next tick drops them and keeps the room.
         out.forget();
         assert!(out.spill.as_ref().unwrap().reasons.is_empty());
-        assert_eq!(out.spill.as_ref().unwrap().reasons.capacity(), RECORD);
+        assert_eq!(out.spill.as_ref().unwrap().reasons.capacity(), SPILLED_MOST);
     }
 
     #[test]
     fn a_full_record_keeps_the_reasons_its_newer_half_gives_and_no_more() {
         let mut out = Outcome::new();
-        // 40 entries: each node gives a reason of its own, then fails.
+        // 60 words: each node gives a reason of its own (two words), then fails (one).
         for i in 0..20u32 {
             out.push(
                 NodeId(i),
@@ -948,18 +1071,34 @@ mod tests {
             );
             out.push(NodeId(i), Note::Failed);
         }
-        // The record dropped its older half once at 32 entries: 16 were left, and 8 came.
-        assert_eq!(out.record.len(), 24);
-        let spill = out.spill.as_ref().unwrap();
-        assert_eq!(spill.reasons.len(), 12);
-        let notes = out.notes();
-        let kept: Vec<(u32, u32)> = notes
-            .entries()
-            .iter()
-            .filter_map(|&e| notes.reason(e).map(|r| (e.node().0, r.code())))
-            .collect();
-        let want: Vec<(u32, u32)> = (8..20).map(|i| (i, i)).collect();
+        // Each drop keeps the newest five nodes' entries (15 words), and the reasons they
+        // hold.
+        let kept: Vec<(u32, u32)> = {
+            let notes = out.notes();
+            notes
+                .entries()
+                .iter()
+                .filter_map(|&e| notes.reason(e).map(|r| (e.node().0, r.code())))
+                .collect()
+        };
+        let first = kept[0].0;
+        let want: Vec<(u32, u32)> = (first..20).map(|i| (i, i)).collect();
         assert_eq!(kept, want);
+        assert!(out.record.len() <= RECORD);
+        assert_eq!(out.spill.as_ref().unwrap().reasons.len(), kept.len());
+        // Every entry whole: each reason followed by its node's failure, the newest last,
+        // after, at most, the failure of the node before (whose reason was dropped).
+        let all = read(&out);
+        assert_eq!(all.last().map(String::as_str), Some("19"));
+        let lone = all.len() - 2 * kept.len();
+        assert!(lone <= 1, "{all:?}");
+        if lone == 1 {
+            assert_eq!(all[0], (first - 1).to_string());
+        }
+        assert_eq!(
+            all[lone],
+            alloc::format!("{first}: reason {first} (error {first})")
+        );
         assert_eq!(
             out.last_reason_of(NodeId(19)),
             None,
@@ -997,14 +1136,14 @@ mod tests {
         push(&mut out, 3);
         out.reserve();
         assert_eq!((out.record.capacity(), out.record.len()), (32, 3));
-        let spill = core::mem::size_of::<Spill>() + 16 + 32 * 32;
-        assert_eq!(out.record_bytes(), 16 + 32 * 8 + spill);
+        let spill = core::mem::size_of::<Spill>() + 16 + 16 * 32;
+        assert_eq!(out.record_bytes(), 16 + 32 * 4 + spill);
         push(&mut out, 40);
         for i in 0..40 {
             out.push(NodeId(i), Note::Gave(Reason::new(i, "kept apart")));
         }
         assert_eq!(out.record.capacity(), 32);
-        assert_eq!(out.spill.as_ref().unwrap().reasons.capacity(), 32);
-        assert_eq!(out.record_bytes(), 16 + 32 * 8 + spill);
+        assert_eq!(out.spill.as_ref().unwrap().reasons.capacity(), 16);
+        assert_eq!(out.record_bytes(), 16 + 32 * 4 + spill);
     }
 }

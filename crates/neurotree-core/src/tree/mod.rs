@@ -256,7 +256,7 @@ impl<C> Tree<C> {
     /// Makes the record of failure reasons now, with room for the most it holds, rather than
     /// in the first tick in which a node gives a reason (see [`failure`]): after it, no tick
     /// of this tree allocates for reasons. For programs that must not allocate while ticking
-    /// at all; it costs 1,432 bytes (a record made by a tick has room for half as many
+    /// at all; it costs 792 bytes (a record made by a tick has room for half as many
     /// entries until a tick needs more, and no room for reasons other than the built-ins'
     /// until a node gives one).
     pub fn reserve_failure_record(&mut self) {
