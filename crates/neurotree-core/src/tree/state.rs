@@ -89,6 +89,9 @@ struct Shape {
     nodes: usize,
     slots: usize,
     objects: usize,
+    /// The words of the block's head: one packed, or three. Kept, as the tick reads the
+    /// shape of its block at every start.
+    head: usize,
 }
 
 /// Where each part of a block begins (bytes from its start), and the block's size.
@@ -108,6 +111,20 @@ const fn align_up(at: usize, align: usize) -> usize {
 }
 
 impl Shape {
+    /// The shape of a block of `nodes` nodes, `slots` slots and `objects` objects.
+    fn new(nodes: usize, slots: usize, objects: usize) -> Self {
+        let mut shape = Self {
+            nodes,
+            slots,
+            objects,
+            head: 3,
+        };
+        if shape.pack().is_some() {
+            shape.head = 1;
+        }
+        shape
+    }
+
     /// The shape as one word, if its counts fit a packed head's bits.
     fn pack(self) -> Option<u32> {
         let fits = |n: usize, bits: u32| u32::try_from(n).ok().filter(|&n| n < 1 << bits);
@@ -117,20 +134,10 @@ impl Shape {
         Some(PACKED | nodes | slots << NODE_BITS | objects << (NODE_BITS + SLOT_BITS))
     }
 
-    /// The words of the block's head: one packed, or three.
-    #[inline(always)]
-    fn head(self) -> usize {
-        if self.pack().is_some() {
-            1
-        } else {
-            3
-        }
-    }
-
     /// The block's layout and parts, computed with overflow checks: `None` for a shape no
     /// block can hold.
     fn layout<C>(self) -> Option<(Layout, Offsets)> {
-        let head = Layout::array::<u32>(self.head().checked_add(self.slots)?).ok()?;
+        let head = Layout::array::<u32>(self.head.checked_add(self.slots)?).ok()?;
         let (block, statuses) = head
             .extend(Layout::array::<NodeStatus>(self.nodes).ok()?)
             .ok()?;
@@ -155,7 +162,7 @@ impl Shape {
     /// was made for, whose layout was checked then.
     #[inline(always)]
     fn offsets<C>(self) -> Offsets {
-        let statuses = (self.head() + self.slots) * size_of::<u32>();
+        let statuses = (self.head + self.slots) * size_of::<u32>();
         let failed = align_up(statuses + self.nodes, align_of::<u64>());
         let objects = align_up(
             failed + self.nodes.div_ceil(64) * size_of::<u64>(),
@@ -166,7 +173,7 @@ impl Shape {
             .max(align_of::<Object<C>>());
         let size = align_up(objects + self.objects * size_of::<Object<C>>(), align);
         Offsets {
-            aux: self.head() * size_of::<u32>(),
+            aux: self.head * size_of::<u32>(),
             statuses,
             failed,
             objects,
@@ -179,11 +186,7 @@ impl<C> NodeState<C> {
     /// The state of `nodes` nodes with `slots` slots and `objects`: every node Idle, every
     /// slot and bit 0.
     pub(crate) fn new(nodes: usize, slots: usize, objects: Vec<Object<C>>) -> Self {
-        let shape = Shape {
-            nodes,
-            slots,
-            objects: objects.len(),
-        };
+        let shape = Shape::new(nodes, slots, objects.len());
         let (Some((layout, at)), Ok(n), Ok(s), Ok(o)) = (
             shape.layout::<C>(),
             u32::try_from(nodes).ok().filter(|&n| n < PACKED).ok_or(()),
@@ -223,12 +226,7 @@ impl<C> NodeState<C> {
 
     /// Bytes a block of this shape takes: what [`NodeState::bytes`] will say of it.
     pub(crate) fn bytes_for(nodes: usize, slots: usize, objects: usize) -> usize {
-        let shape = Shape {
-            nodes,
-            slots,
-            objects,
-        };
-        shape.offsets::<C>().size
+        Shape::new(nodes, slots, objects).offsets::<C>().size
     }
 
     /// The block's shape, from its head.
@@ -244,6 +242,7 @@ impl<C> NodeState<C> {
                 nodes: bits(0, NODE_BITS),
                 slots: bits(NODE_BITS, SLOT_BITS),
                 objects: bits(NODE_BITS + SLOT_BITS, OBJECT_BITS),
+                head: 1,
             };
         }
         // SAFETY: as above: an unmarked first word is followed by two more.
@@ -252,6 +251,7 @@ impl<C> NodeState<C> {
             nodes: first as usize,
             slots: slots as usize,
             objects: objects as usize,
+            head: 3,
         }
     }
 
@@ -477,14 +477,7 @@ mod tests {
                 .map(|i| Object::Stateful(Box::new(Counted(i, Arc::clone(&drops)))))
                 .collect();
             let mut state = NodeState::<()>::new(nodes, slots, made);
-            let at = Shape {
-                nodes,
-                slots,
-                objects,
-            }
-            .layout::<()>()
-            .unwrap()
-            .1;
+            let at = Shape::new(nodes, slots, objects).layout::<()>().unwrap().1;
             assert_eq!(state.bytes(), at.size);
             assert_eq!(
                 state.bytes(),
@@ -549,14 +542,7 @@ mod tests {
                 .map(|i| Some(if i == 0 { 100 } else { i }))
                 .collect();
             assert_eq!(kept, expected);
-            assert_eq!(
-                state.shape(),
-                Shape {
-                    nodes,
-                    slots,
-                    objects
-                }
-            );
+            assert_eq!(state.shape(), Shape::new(nodes, slots, objects));
             let replaced = objects.min(1);
             drop(state);
             assert_eq!(drops.load(Ordering::Relaxed), objects + replaced);
