@@ -998,10 +998,10 @@ mod tests {
             .unwrap();
         let a = Tree::with_clock(Arc::clone(&bp), ManualClock::new());
         let b = Tree::with_clock(Arc::clone(&bp), ManualClock::new());
-        // The block's shape packed in one word and one slot for the sequence's cursor, a
-        // status byte per node (101, padded to 104), and a bit per node for the tick's
-        // failures (two words).
-        assert_eq!(a.state_bytes(), 4 + 4 + 104 + 16);
+        // One word saying where the parts end, a bit per node for the tick's failures (two
+        // words), one slot for the sequence's cursor, and one status byte per node (in 13
+        // words).
+        assert_eq!(a.state_bytes(), 8 + 16 + 8 + 13 * 8);
         assert!(Arc::ptr_eq(a.blueprint(), b.blueprint()));
         assert_eq!(Arc::strong_count(&bp), 3);
     }

@@ -6,17 +6,16 @@
 //! block and every trip to memory its tick makes. So the parts share one allocation (one
 //! allocator header, one trip to memory for a tick, one stretch for a runner that knows
 //! which tree comes next to prefetch), the tree holds one 8-byte pointer to it rather than
-//! a 16-byte slice per part (the block's head gives its shape), and each part is as narrow
-//! as its values allow:
+//! a 16-byte slice per part (the block's first words give its shape), and each part is as
+//! narrow as its values allow:
 //!
 //! ```text
-//! [head | slot × slots | status × nodes | pad | failure bits | object × objects]
-//!  u32    u32            u8                     u64 × ⌈nodes/64⌉   Object
+//! [nodes | slots | objects | slot × slots | status × nodes | pad | failure bits | object × objects]
+//!  u32     u32     u32       u32            u8                     u64 × ⌈nodes/64⌉   Object
 //! ```
 //!
-//! - The head gives the block's shape, so the block alone says how to read it (and how
-//!   to drop it): one word, marked, holding the counts of nodes (12 bits), slots (12) and
-//!   objects (7) of a tree small enough, as a crowd's are; else three words, one a count.
+//! - The first three words give the block's shape, so the block alone says how to read
+//!   it (and how to drop it).
 //! - A slot is 32 bits: the cursors, counters and flags nodes keep fit. A kind that keeps a
 //!   64-bit value (the moment a wait began) takes two slots, read through [`get64`] and
 //!   written through [`set64`]; a kind says how many it takes ([`aux_slots`]).
@@ -30,9 +29,9 @@
 //!   objects are written once, by `new`, replaced in place, and dropped with it.
 //!
 //! For the bench's 50-node agent tree (21 slots: 13 controls and decorators of one, 4
-//! waits of two; one stateful leaf): 4 + 84 + 50 + 6 + 8 + 24 = 176 bytes, where a head of
-//! three words took 184, and slots of 64 bits, statuses in whole words and the objects
-//! apart took 208 + 24 and two 16-byte pointers.
+//! waits of two; one stateful leaf): 12 + 84 + 50 + 6 + 8 + 24 = 184 bytes, where slots of
+//! 64 bits, statuses in whole words and the objects apart took 208 + 24 and two 16-byte
+//! pointers.
 //!
 //! [`aux_slots`]: crate::blueprint::NodeKind::aux_slots
 
@@ -46,18 +45,8 @@ use core::ptr::NonNull;
 use super::objects::Object;
 use crate::NodeStatus;
 
-/// Marks a block's first word as its whole head: the shape of a small tree, packed (see
-/// [`Shape::pack`]). Unmarked, the first word is the count of nodes, and two more words
-/// follow, the slots and the objects.
-const PACKED: u32 = 1 << 31;
-
-/// Bits of a packed head for the nodes, the slots and the objects.
-const NODE_BITS: u32 = 12;
-const SLOT_BITS: u32 = 12;
-const OBJECT_BITS: u32 = 7;
-
-// A packed head is one word, its mark included.
-const _: () = assert!(NODE_BITS + SLOT_BITS + OBJECT_BITS < 32);
+/// The `u32` words the block begins with: its nodes, slots and objects.
+const HEAD: usize = 3;
 
 /// The failure bits, slots, statuses and objects of a tree's nodes (see the
 /// [module docs](self)).
@@ -89,15 +78,11 @@ struct Shape {
     nodes: usize,
     slots: usize,
     objects: usize,
-    /// The words of the block's head: one packed, or three. Kept, as the tick reads the
-    /// shape of its block at every start.
-    head: usize,
 }
 
 /// Where each part of a block begins (bytes from its start), and the block's size.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 struct Offsets {
-    aux: usize,
     statuses: usize,
     failed: usize,
     objects: usize,
@@ -111,33 +96,10 @@ const fn align_up(at: usize, align: usize) -> usize {
 }
 
 impl Shape {
-    /// The shape of a block of `nodes` nodes, `slots` slots and `objects` objects.
-    fn new(nodes: usize, slots: usize, objects: usize) -> Self {
-        let mut shape = Self {
-            nodes,
-            slots,
-            objects,
-            head: 3,
-        };
-        if shape.pack().is_some() {
-            shape.head = 1;
-        }
-        shape
-    }
-
-    /// The shape as one word, if its counts fit a packed head's bits.
-    fn pack(self) -> Option<u32> {
-        let fits = |n: usize, bits: u32| u32::try_from(n).ok().filter(|&n| n < 1 << bits);
-        let nodes = fits(self.nodes, NODE_BITS)?;
-        let slots = fits(self.slots, SLOT_BITS)?;
-        let objects = fits(self.objects, OBJECT_BITS)?;
-        Some(PACKED | nodes | slots << NODE_BITS | objects << (NODE_BITS + SLOT_BITS))
-    }
-
     /// The block's layout and parts, computed with overflow checks: `None` for a shape no
     /// block can hold.
     fn layout<C>(self) -> Option<(Layout, Offsets)> {
-        let head = Layout::array::<u32>(self.head.checked_add(self.slots)?).ok()?;
+        let head = Layout::array::<u32>(HEAD.checked_add(self.slots)?).ok()?;
         let (block, statuses) = head
             .extend(Layout::array::<NodeStatus>(self.nodes).ok()?)
             .ok()?;
@@ -149,7 +111,6 @@ impl Shape {
             .ok()?;
         let block = block.pad_to_align();
         let offsets = Offsets {
-            aux: head.size() - self.slots * size_of::<u32>(),
             statuses,
             failed,
             objects,
@@ -162,7 +123,7 @@ impl Shape {
     /// was made for, whose layout was checked then.
     #[inline(always)]
     fn offsets<C>(self) -> Offsets {
-        let statuses = (self.head + self.slots) * size_of::<u32>();
+        let statuses = (HEAD + self.slots) * size_of::<u32>();
         let failed = align_up(statuses + self.nodes, align_of::<u64>());
         let objects = align_up(
             failed + self.nodes.div_ceil(64) * size_of::<u64>(),
@@ -173,7 +134,6 @@ impl Shape {
             .max(align_of::<Object<C>>());
         let size = align_up(objects + self.objects * size_of::<Object<C>>(), align);
         Offsets {
-            aux: self.head * size_of::<u32>(),
             statuses,
             failed,
             objects,
@@ -186,10 +146,14 @@ impl<C> NodeState<C> {
     /// The state of `nodes` nodes with `slots` slots and `objects`: every node Idle, every
     /// slot and bit 0.
     pub(crate) fn new(nodes: usize, slots: usize, objects: Vec<Object<C>>) -> Self {
-        let shape = Shape::new(nodes, slots, objects.len());
+        let shape = Shape {
+            nodes,
+            slots,
+            objects: objects.len(),
+        };
         let (Some((layout, at)), Ok(n), Ok(s), Ok(o)) = (
             shape.layout::<C>(),
-            u32::try_from(nodes).ok().filter(|&n| n < PACKED).ok_or(()),
+            u32::try_from(nodes),
             u32::try_from(slots),
             u32::try_from(objects.len()),
         ) else {
@@ -198,7 +162,7 @@ impl<C> NodeState<C> {
             panic!("node state beyond memory");
         };
         debug_assert_eq!(at, shape.offsets::<C>());
-        // SAFETY: the layout is not zero-sized: it holds the shape's head.
+        // SAFETY: the layout is not zero-sized: it holds the shape's words.
         let raw = unsafe { alloc_zeroed(layout) };
         let Some(block) = NonNull::new(raw) else {
             handle_alloc_error(layout)
@@ -209,10 +173,7 @@ impl<C> NodeState<C> {
         // it. The zeroed bytes are the slots 0, the statuses Idle (`NodeStatus` is
         // `repr(u8)` with `Idle = 0`) and the failure bits 0.
         unsafe {
-            match shape.pack() {
-                Some(packed) => block.cast::<u32>().as_ptr().write(packed),
-                None => block.cast::<[u32; 3]>().as_ptr().write([n, s, o]),
-            }
+            block.cast::<[u32; HEAD]>().as_ptr().write([n, s, o]);
             let first = block.as_ptr().add(at.objects).cast::<Object<C>>();
             for (i, object) in objects.into_iter().enumerate() {
                 first.add(i).write(object);
@@ -226,32 +187,23 @@ impl<C> NodeState<C> {
 
     /// Bytes a block of this shape takes: what [`NodeState::bytes`] will say of it.
     pub(crate) fn bytes_for(nodes: usize, slots: usize, objects: usize) -> usize {
-        Shape::new(nodes, slots, objects).offsets::<C>().size
+        let shape = Shape {
+            nodes,
+            slots,
+            objects,
+        };
+        shape.offsets::<C>().size
     }
 
-    /// The block's shape, from its head.
+    /// The block's shape, from its first words.
     #[inline(always)]
     fn shape(&self) -> Shape {
-        let word = self.block.cast::<u32>().as_ptr();
-        // SAFETY: the block begins with its head (`new`), aligned, never written after: a
-        // packed word, or three words of which the first is unmarked.
-        let first = unsafe { word.read() };
-        if first & PACKED != 0 {
-            let bits = |at: u32, n: u32| ((first >> at) & ((1 << n) - 1)) as usize;
-            return Shape {
-                nodes: bits(0, NODE_BITS),
-                slots: bits(NODE_BITS, SLOT_BITS),
-                objects: bits(NODE_BITS + SLOT_BITS, OBJECT_BITS),
-                head: 1,
-            };
-        }
-        // SAFETY: as above: an unmarked first word is followed by two more.
-        let [slots, objects] = unsafe { word.add(1).cast::<[u32; 2]>().read() };
+        // SAFETY: the block begins with `HEAD` `u32`s (`new`), aligned, never written after.
+        let [nodes, slots, objects] = unsafe { self.block.cast::<[u32; HEAD]>().as_ptr().read() };
         Shape {
-            nodes: first as usize,
+            nodes: nodes as usize,
             slots: slots as usize,
             objects: objects as usize,
-            head: 3,
         }
     }
 
@@ -284,7 +236,10 @@ impl<C> NodeState<C> {
         // mutably, apart from each other, for as long as `self`.
         unsafe {
             Parts {
-                aux: core::slice::from_raw_parts_mut(base.add(at.aux).cast::<u32>(), shape.slots),
+                aux: core::slice::from_raw_parts_mut(
+                    base.add(HEAD * size_of::<u32>()).cast::<u32>(),
+                    shape.slots,
+                ),
                 statuses: core::slice::from_raw_parts_mut(
                     base.add(at.statuses).cast::<NodeStatus>(),
                     shape.nodes,
@@ -333,10 +288,15 @@ impl<C> NodeState<C> {
     #[inline]
     pub(crate) fn aux(&self) -> &[u32] {
         let shape = self.shape();
-        let at = shape.offsets::<C>();
         // SAFETY: as in `parts`, shared.
         unsafe {
-            core::slice::from_raw_parts(self.block.as_ptr().add(at.aux).cast::<u32>(), shape.slots)
+            core::slice::from_raw_parts(
+                self.block
+                    .as_ptr()
+                    .add(HEAD * size_of::<u32>())
+                    .cast::<u32>(),
+                shape.slots,
+            )
         }
     }
 
@@ -465,19 +425,20 @@ mod tests {
             (64, 0, 0),
             (65, 5, 4),
             (130, 17, 7),
-            // The largest shape a packed head holds, and one more of each count: a head of
-            // three words.
-            (4095, 4095, 127),
-            (4096, 3, 1),
-            (10, 4096, 0),
-            (10, 2, 128),
         ] {
             let drops = Arc::new(AtomicUsize::new(0));
             let made = (0..objects)
                 .map(|i| Object::Stateful(Box::new(Counted(i, Arc::clone(&drops)))))
                 .collect();
             let mut state = NodeState::<()>::new(nodes, slots, made);
-            let at = Shape::new(nodes, slots, objects).layout::<()>().unwrap().1;
+            let at = Shape {
+                nodes,
+                slots,
+                objects,
+            }
+            .layout::<()>()
+            .unwrap()
+            .1;
             assert_eq!(state.bytes(), at.size);
             assert_eq!(
                 state.bytes(),
@@ -485,12 +446,7 @@ mod tests {
             );
             // The hot parts lie together, a byte per status, and nothing is wasted but
             // alignment.
-            let head = if nodes < 4096 && slots < 4096 && objects < 128 {
-                1
-            } else {
-                3
-            };
-            assert_eq!((at.aux, at.statuses), (4 * head, 4 * (head + slots)));
+            assert_eq!(at.statuses, 4 * (3 + slots));
             assert!(at.failed - (at.statuses + nodes) < 8);
             let p = state.parts();
             assert_eq!(
@@ -542,7 +498,14 @@ mod tests {
                 .map(|i| Some(if i == 0 { 100 } else { i }))
                 .collect();
             assert_eq!(kept, expected);
-            assert_eq!(state.shape(), Shape::new(nodes, slots, objects));
+            assert_eq!(
+                state.shape(),
+                Shape {
+                    nodes,
+                    slots,
+                    objects
+                }
+            );
             let replaced = objects.min(1);
             drop(state);
             assert_eq!(drops.load(Ordering::Relaxed), objects + replaced);
