@@ -51,7 +51,7 @@ fn main() {
     println!("agents {agents} threads {threads} interval {interval}{block}: {ms:.3} ms per frame");
     let state = crowd.iter().next().map_or(0, |m| m.tree().state_bytes());
     println!(
-        "bytes per member: {} = slot {} (Tree {}, Agent {}, schedule and error) + node state {}",
+        "bytes per member: {} = slot {} (Tree {}, Agent {}, schedule) + node state {}",
         neurotree_bench::crowd_bytes_per_member(&crowd),
         crowd.slot_bytes(),
         std::mem::size_of::<neurotree::Tree<neurotree_bench::Agent>>(),

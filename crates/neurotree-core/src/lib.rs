@@ -10,8 +10,8 @@
 //! - A [`Tree`] is one running instance: a status byte per node and a few state slots,
 //!   nothing more. Ticking it does not allocate, but for its record of failure reasons:
 //!   made in the first tick in which a node gives a reason, and grown once, in the first
-//!   tick that notes more than 16 (or made whole up front with
-//!   [`Tree::reserve_failure_record`]).
+//!   tick that notes more than 16 words (a failure takes one, a reason two), or made whole
+//!   up front with [`Tree::reserve_failure_record`].
 //! - Leaves are closures or traits ([`Condition`], [`Action`], [`StatefulAction`],
 //!   [`AsyncAction`]) that receive the user's own context `C`, so they reach the robot or
 //!   the game world directly. An async action runs a Rust future, polled once per tick and
