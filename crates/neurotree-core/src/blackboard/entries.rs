@@ -30,8 +30,12 @@ use super::entry::Entry;
 /// blackboard").
 const FEW: usize = 8;
 
-/// Bytes of a scope's entries a prefetch asks for: two cache lines, the first entries.
-const PREFETCHED: usize = 128;
+/// Bytes of a scope's block a prefetch asks for: its head and its first entry.
+const PREFETCHED: usize = THIN_HEAD + core::mem::size_of::<(SmolStr, Entry)>();
+
+/// The length and room of a `ThinVec`, at the head of its block: two `usize`s (unless
+/// `thin-vec` is built with its `gecko-ffi` feature, which nothing here asks for).
+const THIN_HEAD: usize = 2 * core::mem::size_of::<usize>();
 
 /// The entries stored directly in one scope, sorted by key (searchable by `&str`, so a
 /// lookup allocates nothing). A thin vector, whose length and room sit at the head of its
@@ -145,9 +149,11 @@ impl Entries {
     /// Asks the processor to start loading the entries (see [`hint`](crate::hint)).
     #[inline]
     pub(super) fn prefetch(&self) {
-        // From the block's start, which asks nothing of the block itself: its length is
-        // in the block, the very memory asked for. Its head and first entries.
-        crate::hint::prefetch_bytes(self.0.as_ptr().cast(), PREFETCHED);
+        // From the block's head, found from where its entries begin without reading the
+        // block (its length is in it, the very memory asked for): the head and the first
+        // entry, most scopes' all.
+        let head = self.0.as_ptr().cast::<u8>().wrapping_sub(THIN_HEAD);
+        crate::hint::prefetch_bytes(head, PREFETCHED);
     }
 }
 
