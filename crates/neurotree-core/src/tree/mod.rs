@@ -390,22 +390,12 @@ impl<C> Tree<C> {
     // case without a call or a result passed through memory; the rest is out of line.
     #[inline]
     pub fn tick_exactly_once(&mut self, ctx: &mut C) -> Result<Status, TickError> {
-        if self.out.holds_error() {
-            self.out.forget_error();
-        }
-        let result = self.tick_exactly_once_call(ctx);
-        if let Err(error) = &result {
-            self.out.keep_error(error);
-        }
-        result
-    }
-
-    /// [`tick_exactly_once`](Self::tick_exactly_once), but for the error it keeps.
-    #[inline(always)]
-    fn tick_exactly_once_call(&mut self, ctx: &mut C) -> Result<Status, TickError> {
         // Resting, with no future to poll (nor a halt request to serve): nothing else in
-        // this call could run before the action.
+        // this call could run before the action. A tree falls asleep and comes to rest
+        // only in a call that returned a status, so it has no error to forget here, and
+        // the error this call may end with is kept in the paths out of line.
         if self.sleeps_on() {
+            debug_assert!(self.last_error().is_none());
             return Ok(Status::Running);
         }
         let mut given = None;
@@ -413,6 +403,7 @@ impl<C> Tree<C> {
             let writes = self.start_waits();
             match self.rest(ctx, writes) {
                 Rest::Running => {
+                    debug_assert!(self.last_error().is_none());
                     if self.last_root != NodeStatus::Running {
                         self.last_root = NodeStatus::Running;
                     }
@@ -421,6 +412,7 @@ impl<C> Tree<C> {
                 Rest::Answered(leaf, answer) => given = Some((leaf, answer)),
                 Rest::Failed(error) => {
                     self.last_root = NodeStatus::Idle;
+                    self.out.keep_error(&error);
                     return Err(error);
                 }
                 Rest::No => {}
@@ -430,9 +422,28 @@ impl<C> Tree<C> {
     }
 
     /// [`tick_exactly_once`](Self::tick_exactly_once) past the resting case: a pass from
-    /// the root, given the answer of the action the tree rested in, if it gave one.
+    /// the root, given the answer of the action the tree rested in, if it gave one; keeps
+    /// the error it ends with, forgetting the last call's.
     #[inline(never)]
     fn tick_exactly_once_from_root(
+        &mut self,
+        ctx: &mut C,
+        given: Option<(NodeId, NodeStatus)>,
+    ) -> Result<Status, TickError> {
+        if self.out.holds_error() {
+            self.out.forget_error();
+        }
+        let result = self.tick_exactly_once_passes(ctx, given);
+        if let Err(error) = &result {
+            self.out.keep_error(error);
+        }
+        result
+    }
+
+    /// [`tick_exactly_once_from_root`](Self::tick_exactly_once_from_root), but for the
+    /// error it keeps.
+    #[inline(always)]
+    fn tick_exactly_once_passes(
         &mut self,
         ctx: &mut C,
         given: Option<(NodeId, NodeStatus)>,
