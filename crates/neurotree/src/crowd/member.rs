@@ -247,12 +247,21 @@ impl Plan {
                 tally.failures += u64::from(status == Status::Failure);
             }
             // The tree keeps the error until its next tick.
-            Err(_) => {
+            Err(error) => {
                 self.status = FrameStatus::Error;
                 tally.errors += 1;
+                let_go(error);
             }
         }
     }
+}
+
+/// Drops the error a tick returned, which its tree keeps a copy of: out of line, so that
+/// the tick's code, inlined in every frame's loop, holds no drop of an error.
+#[cold]
+#[inline(never)]
+fn let_go(error: TickError) {
+    drop(error);
 }
 
 /// The nodes of a tree's blueprint, as visits.
