@@ -421,6 +421,14 @@ impl Outcome {
         self.spill.get_or_insert_with(Box::default).last = Some(error.clone());
     }
 
+    /// Keeps a copy of `error`, which a tick call returns, and gives it back.
+    #[cold]
+    #[inline(never)]
+    pub(crate) fn kept(&mut self, error: TickError) -> TickError {
+        self.keep_error(&error);
+        error
+    }
+
     /// Forgets the last tick call's error, at the start of the next.
     #[cold]
     #[inline(never)]

@@ -393,9 +393,9 @@ impl<C> Tree<C> {
         // Resting, with no future to poll (nor a halt request to serve): nothing else in
         // this call could run before the action. A tree falls asleep and comes to rest
         // only in a call that returned a status, so it has no error to forget here, and
-        // the error this call may end with is kept in the paths out of line.
+        // the error this call may end with is kept in the paths out of line (`rest`'s,
+        // and the pass from the root).
         if self.sleeps_on() {
-            debug_assert!(self.last_error().is_none());
             return Ok(Status::Running);
         }
         let mut given = None;
@@ -403,7 +403,6 @@ impl<C> Tree<C> {
             let writes = self.start_waits();
             match self.rest(ctx, writes) {
                 Rest::Running => {
-                    debug_assert!(self.last_error().is_none());
                     if self.last_root != NodeStatus::Running {
                         self.last_root = NodeStatus::Running;
                     }
@@ -412,7 +411,6 @@ impl<C> Tree<C> {
                 Rest::Answered(leaf, answer) => given = Some((leaf, answer)),
                 Rest::Failed(error) => {
                     self.last_root = NodeStatus::Idle;
-                    self.out.keep_error(&error);
                     return Err(error);
                 }
                 Rest::No => {}
@@ -433,11 +431,10 @@ impl<C> Tree<C> {
         if self.out.holds_error() {
             self.out.forget_error();
         }
-        let result = self.tick_exactly_once_passes(ctx, given);
-        if let Err(error) = &result {
-            self.out.keep_error(error);
+        match self.tick_exactly_once_passes(ctx, given) {
+            Ok(status) => Ok(status),
+            Err(error) => Err(self.out.kept(error)),
         }
-        result
     }
 
     /// [`tick_exactly_once_from_root`](Self::tick_exactly_once_from_root), but for the
@@ -561,11 +558,10 @@ impl<C> Tree<C> {
         if self.out.holds_error() {
             self.out.forget_error();
         }
-        let result = self.tick_once_call(ctx);
-        if let Err(error) = &result {
-            self.out.keep_error(error);
+        match self.tick_once_call(ctx) {
+            Ok(status) => Ok(status),
+            Err(error) => Err(self.out.kept(error)),
         }
-        result
     }
 
     /// [`tick_once`](Self::tick_once), but for the error it keeps.

@@ -57,7 +57,9 @@ impl<C> Tree<C> {
                 self.resting = None;
                 let mut t = self.ticker(ctx);
                 t.current = leaf;
-                Rest::Failed(recover(&mut t, panicked))
+                let error = recover(&mut t, panicked);
+                // Kept here, out of the line of `tick_exactly_once`, which this ends.
+                Rest::Failed(self.out.kept(error))
             }
             None => {
                 self.resting = None;
