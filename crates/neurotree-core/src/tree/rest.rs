@@ -53,19 +53,25 @@ impl<C> Tree<C> {
                 self.resting = None;
                 Rest::Answered(leaf, answer)
             }
-            Some(Err(panicked)) => {
-                self.resting = None;
-                let mut t = self.ticker(ctx);
-                t.current = leaf;
-                let error = recover(&mut t, panicked);
-                // Kept here, out of the line of `tick_exactly_once`, which this ends.
-                Rest::Failed(self.out.kept(error))
-            }
+            Some(Err(panicked)) => Rest::Failed(self.rest_panicked(ctx, leaf, panicked)),
             None => {
                 self.resting = None;
                 Rest::No
             }
         }
+    }
+
+    /// After `leaf`, the action the tree rested in, panicked: the tree recovered as from a
+    /// pass's panic, and the error kept (out of the line of `tick_exactly_once`, which
+    /// this ends).
+    #[cold]
+    #[inline(never)]
+    fn rest_panicked(&mut self, ctx: &mut C, leaf: NodeId, panicked: TickError) -> TickError {
+        self.resting = None;
+        let mut t = self.ticker(ctx);
+        t.current = leaf;
+        let error = recover(&mut t, panicked);
+        self.out.kept(error)
     }
 
     /// The answer of `leaf`, the stateful action the last pass rested in, called as a pass
