@@ -402,9 +402,14 @@ impl Outcome {
         }
     }
 
-    /// Takes the pass's error.
+    /// Takes the pass's error: for a tree that never had one, a load and a branch, inlined
+    /// at the end of every pass.
+    #[inline(always)]
     pub(crate) fn take_fault(&mut self) -> Option<TickError> {
-        self.spill.as_deref_mut()?.fault.take()
+        match self.spill.as_deref_mut() {
+            None => None,
+            Some(spill) => spill.fault.take(),
+        }
     }
 
     /// `true` once the box that keeps the last tick call's error is made: one load and a
