@@ -257,7 +257,7 @@ impl Plan {
 }
 
 /// Drops the error a tick returned, which its tree keeps a copy of: out of line, so that
-/// the tick's code, inlined in every frame's loop, holds no drop of an error.
+/// the code of a member's tick, run for every awake member, holds no drop of an error.
 #[cold]
 #[inline(never)]
 fn let_go(error: TickError) {
