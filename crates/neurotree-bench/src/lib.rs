@@ -475,7 +475,10 @@ mod tests {
         // About a quarter of the members have given a reason and keep their record.
         assert!((400..600).contains(&with_record), "{with_record} records");
         let mean = crowd_bytes_per_member_mean(&crowd);
-        assert!(mean > least && mean <= 400, "{mean} bytes per member on average");
+        assert!(
+            mean > least && mean <= 400,
+            "{mean} bytes per member on average"
+        );
     }
 
     #[test]
