@@ -271,7 +271,7 @@ pub fn agent_crowd(
 
 /// Bytes a member of [`agent_crowd`] takes: its slot in the crowd
 /// ([`Crowd::slot_bytes`](neurotree::crowd::Crowd::slot_bytes): the `Tree` struct with its
-/// blackboard, the [`Agent`], its schedule and its error box) and its tree's node state on
+/// blackboard, the [`Agent`] and its schedule) and its tree's node state on
 /// the heap ([`Tree::state_bytes`](neurotree::Tree::state_bytes): statuses, slots, failure
 /// bits and the stateful leaves' object pointers in one block, and the failure record once
 /// a node gave a reason), for the member that takes the least: what every member takes,

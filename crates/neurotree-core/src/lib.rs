@@ -11,7 +11,8 @@
 //!   nothing more. Ticking it does not allocate, but for its record of failure reasons:
 //!   made in the first tick in which a node gives a reason, and grown once, in the first
 //!   tick that notes more than 16 words (a failure takes one, a reason two), or made whole
-//!   up front with [`Tree::reserve_failure_record`].
+//!   up front with [`Tree::reserve_failure_record`]; and for an error a tick returns, of
+//!   which the tree keeps a copy ([`Tree::last_error`]).
 //! - Leaves are closures or traits ([`Condition`], [`Action`], [`StatefulAction`],
 //!   [`AsyncAction`]) that receive the user's own context `C`, so they reach the robot or
 //!   the game world directly. An async action runs a Rust future, polled once per tick and
@@ -61,6 +62,11 @@ pub mod blueprint;
 pub mod clock;
 mod error_debug;
 pub mod hint;
+
+/// The length and room of a `thin_vec::ThinVec`, at the head of its block: two `usize`s
+/// (unless `thin-vec` is built with its `gecko-ffi` feature, which nothing here asks for).
+/// A tree's record of reasons and its blackboard's root scope are such vectors.
+pub(crate) const THIN_HEAD: usize = 2 * core::mem::size_of::<usize>();
 mod macros;
 pub mod nodes;
 pub mod observer;

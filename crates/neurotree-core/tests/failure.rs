@@ -278,10 +278,15 @@ fn docking_chain(attempts: i32) -> [String; 3] {
 fn record_bytes(words: usize, kept: usize) -> usize {
     let apart = match kept {
         0 => 0,
-        // The pass's error, the last call's, and the reasons' pointer.
-        kept => 2 * core::mem::size_of::<Option<neurotree_core::TickError>>() + 8 + 16 + kept * 32,
+        kept => box_bytes() + 16 + kept * 32,
     };
     16 + words * 4 + apart
+}
+
+/// Bytes of the box that keeps a tree's errors and the reasons kept apart: the pass's
+/// error, the last call's, and the reasons' pointer.
+fn box_bytes() -> usize {
+    2 * core::mem::size_of::<Option<neurotree_core::TickError>>() + 8
 }
 
 #[test]
@@ -505,5 +510,69 @@ fn the_last_tick_calls_error_is_kept_until_the_next_tick_call_and_a_halt_leaves_
         assert_eq!(t.state_bytes(), fresh + record_bytes(16, 4));
         assert_eq!(tick(&mut t, &mut step), Ok(Status::Success));
         assert_eq!(t.last_error(), None);
+    }
+}
+
+/// Runs in its first tick and panics in its next.
+struct PanicsWhenResumed;
+impl<C> StatefulAction<C> for PanicsWhenResumed {
+    fn on_start(&mut self, _h: &mut Handle<'_, C>) -> Status {
+        Status::Running
+    }
+    fn on_running(&mut self, _h: &mut Handle<'_, C>) -> Status {
+        panic!("lost the map")
+    }
+}
+
+#[test]
+fn the_error_of_a_resumed_action_and_of_a_halt_request_is_kept_and_the_first_makes_its_box() {
+    let (mut t, _) =
+        tree(Blueprint::builder().sequence("root", |s| s.stateful("drive", || PanicsWhenResumed)));
+    let fresh = t.state_bytes();
+    assert_eq!(t.tick_exactly_once(&mut ()), Ok(Status::Running));
+    // Resumed where it rested, without a pass from the root, it panics.
+    let error = t.tick_exactly_once(&mut ()).unwrap_err();
+    assert!(
+        matches!(&error, neurotree_core::TickError::Panicked { message, .. } if message == "lost the map")
+    );
+    assert_eq!(t.last_error(), Some(&error));
+    // The box that keeps the tree's errors: made by its first, kept.
+    let kept = t.state_bytes() - fresh;
+    assert_eq!(kept, box_bytes());
+    assert_eq!(t.tick_exactly_once(&mut ()), Ok(Status::Running));
+    assert_eq!(t.last_error(), None);
+    // A halt request served: its error is kept too, and allocates nothing now.
+    let handle = t.halt_handle();
+    handle.request();
+    let n = allocations(|| {
+        assert_eq!(
+            t.tick_exactly_once(&mut ()),
+            Err(neurotree_core::TickError::HaltRequested)
+        )
+    });
+    assert_eq!(n, 0);
+    assert_eq!(
+        t.last_error(),
+        Some(&neurotree_core::TickError::HaltRequested)
+    );
+    assert_eq!(t.state_bytes() - fresh, kept);
+}
+
+#[test]
+fn a_trees_first_error_allocates_its_box_once() {
+    let (mut t, _) =
+        tree(Blueprint::builder().sequence("root", |s| s.stateful("drive", || Forever)));
+    let handle = t.halt_handle();
+    for first in [true, false] {
+        assert_eq!(t.tick_once(&mut ()), Ok(Status::Running));
+        handle.request();
+        // A halt request's error has no text: only the box is made, by the first.
+        let n = allocations(|| {
+            assert_eq!(
+                t.tick_once(&mut ()),
+                Err(neurotree_core::TickError::HaltRequested)
+            )
+        });
+        assert_eq!(n, usize::from(first));
     }
 }

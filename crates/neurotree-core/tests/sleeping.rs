@@ -387,3 +387,59 @@ fn an_undeclared_condition_object_keeps_awake_only_a_reactive_node_above_it() {
     let plain = Node::Control(0, vec![guarded(Node::Ebb(1_000_000)), waiter()]);
     assert_eq!(awake_for(&plain), None);
 }
+
+/// The context of [`WakesItself`]: its tree's wake handle, and the action's starts.
+struct SelfWaking {
+    handle: Option<neurotree_core::tree::WakeHandle>,
+    starts: u32,
+}
+
+/// Starts by saying it waits for the program's wake, and wakes its own tree at once (as
+/// another thread might during the pass); succeeds when ticked again.
+struct WakesItself;
+
+impl neurotree_core::StatefulAction<SelfWaking> for WakesItself {
+    fn on_start(
+        &mut self,
+        h: &mut neurotree_core::Handle<'_, SelfWaking>,
+    ) -> neurotree_core::Status {
+        h.wake_on_handle();
+        h.ctx_mut().starts += 1;
+        if let Some(handle) = &h.ctx().handle {
+            handle.wake();
+        }
+        neurotree_core::Status::Running
+    }
+    fn on_running(
+        &mut self,
+        _: &mut neurotree_core::Handle<'_, SelfWaking>,
+    ) -> neurotree_core::Status {
+        neurotree_core::Status::Success
+    }
+}
+
+#[test]
+fn a_tick_call_whose_next_pass_completes_the_root_leaves_the_tree_awake() {
+    let bp = neurotree_core::Builder::<SelfWaking>::new()
+        .sequence("root", |s| s.stateful("w", || WakesItself))
+        .build_shared()
+        .unwrap();
+    let mut tree = Tree::with_clock(bp, ManualClock::new());
+    let handle = tree.wake_handle();
+    let mut ctx = SelfWaking {
+        handle: Some(handle),
+        starts: 0,
+    };
+    // The first pass leaves the root Running with the action waiting, so the tree falls
+    // asleep; the wake during it makes the call pass again, and that pass completes.
+    for starts in 1..=3 {
+        assert_eq!(
+            tree.tick_once(&mut ctx),
+            Ok(neurotree_core::Status::Success)
+        );
+        assert_eq!(tree.last_passes(), 2);
+        assert!(!tree.is_asleep());
+        // Each call is a new run of the action, not a sleep.
+        assert_eq!(ctx.starts, starts);
+    }
+}

@@ -21,6 +21,8 @@ use alloc::string::String;
 use smol_str::SmolStr;
 use thin_vec::ThinVec;
 
+use crate::THIN_HEAD;
+
 use super::entry::Entry;
 
 /// Scopes of at most this many entries are searched one entry after another: a key of
@@ -33,15 +35,15 @@ const FEW: usize = 8;
 /// Bytes of a scope's block a prefetch asks for: its head and its first entry.
 const PREFETCHED: usize = THIN_HEAD + core::mem::size_of::<(SmolStr, Entry)>();
 
-/// The length and room of a `ThinVec`, at the head of its block: two `usize`s (unless
-/// `thin-vec` is built with its `gecko-ffi` feature, which nothing here asks for).
-const THIN_HEAD: usize = 2 * core::mem::size_of::<usize>();
+// The entries follow the block's head with no padding (`prefetch` finds the head from
+// them): `thin-vec` pads only for items aligned more than its head.
+const _: () = assert!(core::mem::align_of::<(SmolStr, Entry)>() <= core::mem::align_of::<usize>());
 
 /// The entries stored directly in one scope, sorted by key (searchable by `&str`, so a
 /// lookup allocates nothing). A thin vector, whose length and room sit at the head of its
-/// block: every tree holds its root scope's, and one pointer rather than three is 16
-/// bytes less for each member of a crowd, where the length is read from the line the
-/// first entries are on.
+/// block: every tree holds its root scope's, one pointer rather than three, so a tree with
+/// no entries, as a crowd's members often are, takes 16 bytes less; one with entries keeps
+/// those 16 bytes at the head of their block, on the line its first entries are on.
 #[derive(Default)]
 pub(super) struct Entries(ThinVec<(SmolStr, Entry)>);
 

@@ -15,7 +15,7 @@
 //! for it.
 //!
 //! The record is a list of 32-bit words: a Failure takes one (the node), a reason two (the
-//! node, and the reason packed in 32 bits). The built-ins' reasons fit those bits (a
+//! reason packed in 32 bits, then the node). The built-ins' reasons fit those bits (a
 //! Retry's attempts, a Timeout's whole milliseconds, a precondition); any other reason (a
 //! leaf's) is kept apart, in one box with the pass's error, and its word holds its place.
 //!
@@ -23,8 +23,11 @@
 //! with room for 16 words (80 bytes with its head, counted in
 //! [`Tree::state_bytes`](crate::Tree::state_bytes)), and the first tick that notes more
 //! doubles it to 32, the most it holds: at most two allocations in a tree's life. Reasons
-//! kept apart take three more at most: the box, room for 4, then for 16. So a tree that
-//! never fails with a reason carries nothing, and 100,000 game agents keep their state
+//! kept apart take three more at most: the box, room for 4, then for 16. The same box keeps
+//! a tick call's error ([`Tree::last_error`](crate::Tree::last_error)): made by a tree's
+//! first error (120 bytes, counted in `state_bytes` too) and kept, and each error returned
+//! is copied into it (its text allocated again). So a tree that never fails with a reason
+//! and never errs carries nothing, and 100,000 game agents keep their state
 //! together in memory (a record made with each tree spread it out and made a frame of them
 //! 2.7 times as long); a tick of the benchmark's 50-node agent notes at most 13 words, a
 //! Retry's reason and the failures after it, and its record stays at 80 bytes (a quarter
@@ -64,11 +67,12 @@ use thin_vec::ThinVec;
 
 use crate::blueprint::Blueprint;
 use crate::nodes::built_in::Family;
-use crate::{NodeId, TickError};
+use crate::{NodeId, TickError, THIN_HEAD};
 
 /// Why a node failed: a small code and a message.
 ///
-/// A static message costs nothing to give; [`Reason::owned`] carries text made at run time
+/// A static message costs nothing to give once its tree has given one (the first makes the
+/// room the tree keeps such reasons in); [`Reason::owned`] carries text made at run time
 /// (and allocates for it). The built-ins' own reasons keep their numbers and are put into
 /// words only when shown, so they allocate nothing either. Code 0 means "no code": the
 /// built-ins' reasons use it, and the [`Display`](fmt::Display) form then shows the
@@ -225,10 +229,10 @@ pub(crate) enum Note {
 /// fit in those bits; any other reason is kept apart, in the record's [`Spill`], and the
 /// entry holds its place there.
 ///
-/// The record holds an entry in one word, a Failure's (the node), or two, a reason's
-/// (what it noted, then the node marked with [`MARK`]): a tick of failures notes many
+/// The record holds an entry in one word, a Failure's (the node), or two, a reason's (the
+/// reason packed, then the node marked with [`MARK`]): a tick of failures notes many
 /// failures and few reasons. It is read from its newest word back, where a marked word says
-/// that the word before it belongs to it.
+/// that the word before it is its reason.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) struct Entry {
     node: NodeId,
@@ -250,9 +254,12 @@ const SPILLED: u32 = 3 << 30;
 /// The largest value the low bits carry.
 const LOW: u32 = !KIND;
 /// Marks a record's word as a reason's node, the word before it being what the reason is.
-/// A failure's word is its node alone: node ids stay below it (a blueprint's nodes take far
-/// more memory than there is before 2^31 of them).
+/// A failure's word is its node alone: node ids stay below it (a blueprint holds at most
+/// [`MAX_NODES`](crate::blueprint::MAX_NODES)).
 const MARK: u32 = 1 << 31;
+
+// Every node id leaves the mark free.
+const _: () = assert!(crate::blueprint::MAX_NODES <= MARK);
 
 impl Entry {
     /// The node the entry is about.
@@ -341,11 +348,6 @@ const SPILLED_MOST: usize = RECORD / 2;
 
 // A record grows once, from `FIRST_ROOM` straight to `RECORD`; so do the spilled reasons.
 const _: () = assert!(FIRST_ROOM < RECORD && FIRST_SPILLED < SPILLED_MOST);
-
-/// The length and room of a `ThinVec`, at the head of its allocation: `thin-vec` keeps
-/// them as two `usize`s (unless built with its `gecko-ffi` feature, which nothing here asks
-/// for).
-const THIN_HEAD: usize = 2 * core::mem::size_of::<usize>();
 
 /// Bytes of a `ThinVec` with room for `room` items of `T`: none without room.
 fn thin_bytes<T>(room: usize) -> usize {
@@ -494,13 +496,15 @@ impl Outcome {
         }
     }
 
-    /// Adds to the record. Holding [`RECORD`] entries, it drops its older half rather than
-    /// grow, so that ticking allocates at most twice in a tree's life for the record, and
-    /// twice for reasons kept apart (see the module docs): the chain is built from the
-    /// newest entries (the root's failure is the last), so only a chain longer than half
-    /// the record loses its far end.
+    /// Adds to the record. When the entry's words would not fit in [`RECORD`], it first
+    /// drops its older entries, keeping the newest that fit in half of it, rather than grow:
+    /// ticking allocates at most twice in a tree's life for the record, and three times for
+    /// the reasons kept apart (the box, room for 4, room for 16; see the module docs). The
+    /// chain is built from the newest entries (the root's failure is the last), so only a
+    /// chain longer than half the record loses its far end.
     pub(crate) fn push(&mut self, node: NodeId, note: Note) {
-        debug_assert!(node.0 < MARK, "node ids stay below MARK");
+        // Node ids stay below `MARK`: a blueprint holds at most `MAX_NODES`.
+        debug_assert!(node.0 < MARK);
         let words = if matches!(note, Note::Failed) { 1 } else { 2 };
         // First, so that the reasons kept apart are those of the entries kept.
         if self.record.len() + words > RECORD {
@@ -1097,7 +1101,6 @@ mod tests {
         let first = kept[0].0;
         let want: Vec<(u32, u32)> = (first..20).map(|i| (i, i)).collect();
         assert_eq!(kept, want);
-        assert!(out.record.len() <= RECORD);
         assert_eq!(out.spill.as_ref().unwrap().reasons.len(), kept.len());
         // Every entry whole: each reason followed by its node's failure, the newest last,
         // after, at most, the failure of the node before (whose reason was dropped).
@@ -1120,6 +1123,71 @@ mod tests {
         out.push(NodeId(20), Note::Gave(Reason::new(20, "last")));
         assert_eq!(out.last_reason_of(NodeId(20)).unwrap().code(), 20);
         assert_eq!(out.last_reason_of(NodeId(19)), None);
+    }
+
+    /// What a record holds after `entries` are pushed, worked out apart: each entry takes
+    /// its words; one that would not fit in `RECORD` first drops the oldest entries until
+    /// the rest fit in half of it.
+    fn kept_by_a_model(entries: &[(u32, usize)]) -> Vec<(u32, usize)> {
+        let mut kept: Vec<(u32, usize)> = Vec::new();
+        for &entry in entries {
+            let words = |k: &[(u32, usize)]| k.iter().map(|e| e.1).sum::<usize>();
+            if words(&kept) + entry.1 > RECORD {
+                while words(&kept) > RECORD / 2 {
+                    kept.remove(0);
+                }
+            }
+            kept.push(entry);
+        }
+        kept
+    }
+
+    #[test]
+    fn a_full_record_of_packed_kept_apart_and_failure_entries_keeps_what_a_model_keeps() {
+        let mut out = Outcome::new();
+        let mut pushed = Vec::new();
+        // Each node: a reason kept apart, a Retry's, and its failure: 5 words; 60 in all.
+        for i in 0..12u32 {
+            out.push(
+                NodeId(i),
+                Note::Gave(Reason::owned(100 + i, alloc::format!("r{i}"))),
+            );
+            out.push(NodeId(i), Note::Gave(Reason::gave_up(u64::from(i))));
+            out.push(NodeId(i), Note::Failed);
+            pushed.extend([(i, 2), (i, 2), (i, 1)]);
+            let model = kept_by_a_model(&pushed);
+            let words: usize = model.iter().map(|e| e.1).sum();
+            assert_eq!(out.record.len(), words);
+            let want: Vec<String> = model
+                .iter()
+                .enumerate()
+                .map(|(k, &(node, w))| {
+                    let at = pushed.len() - model.len() + k;
+                    match (w, at % 3) {
+                        (1, _) => alloc::format!("{node}"),
+                        (_, 0) => alloc::format!("{node}: r{node} (error {})", 100 + node),
+                        _ => alloc::format!(
+                            "{node}: gave up after {node} attempt{}",
+                            if node == 1 { "" } else { "s" }
+                        ),
+                    }
+                })
+                .collect();
+            assert_eq!(read(&out), want, "after node {i}");
+            // One reason kept apart for each such entry left, no more.
+            let apart = model
+                .iter()
+                .enumerate()
+                .filter(|&(k, e)| e.1 == 2 && (pushed.len() - model.len() + k) % 3 == 0);
+            assert_eq!(out.spill.as_ref().unwrap().reasons.len(), apart.count());
+        }
+    }
+
+    #[test]
+    #[cfg(target_pointer_width = "64")]
+    fn the_box_of_errors_and_reasons_takes_120_bytes() {
+        // Two errors of 56 bytes and a pointer: what the docs and `state_bytes` say.
+        assert_eq!(core::mem::size_of::<Spill>(), 120);
     }
 
     #[test]

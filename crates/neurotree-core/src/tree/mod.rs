@@ -256,18 +256,19 @@ impl<C> Tree<C> {
     /// Makes the record of failure reasons now, with room for the most it holds, rather than
     /// in the first tick in which a node gives a reason (see [`failure`]): after it, no tick
     /// of this tree allocates for reasons. For programs that must not allocate while ticking
-    /// at all; it costs 792 bytes (a record made by a tick has room for half as many
-    /// entries until a tick needs more, and no room for reasons other than the built-ins'
-    /// until a node gives one).
+    /// at all; it costs 792 bytes (a record made by a tick has room for half as many words
+    /// until a tick needs more, and no room for reasons other than the built-ins' until a
+    /// node gives one). The tree's first error still makes the box that keeps its errors.
     pub fn reserve_failure_record(&mut self) {
         self.out.reserve();
     }
 
     /// Bytes this instance keeps on the heap for node state: the block of its nodes' slots,
     /// statuses, failure bits and stateful leaves' objects
-    /// ([`Blueprint::instance_state_bytes`]), and the failure reasons' record once a node
-    /// has given a reason; not counting what the stateful leaves' objects point to, or
-    /// blackboard entries.
+    /// ([`Blueprint::instance_state_bytes`]), the failure reasons' record once a node has
+    /// given a reason, and the box that keeps the reasons that do not fit it and the tick's
+    /// error once the tree has needed it; not counting what the stateful leaves' objects
+    /// point to, an error's own text, or blackboard entries.
     pub fn state_bytes(&self) -> usize {
         self.state.bytes() + self.out.record_bytes()
     }
@@ -393,8 +394,8 @@ impl<C> Tree<C> {
         // Resting, with no future to poll (nor a halt request to serve): nothing else in
         // this call could run before the action. A tree falls asleep and comes to rest
         // only in a call that returned a status, so it has no error to forget here, and
-        // the error this call may end with is kept in the paths out of line (`rest`'s,
-        // and the pass from the root).
+        // the error this call may end with is kept out of line (`kept`, and the pass from
+        // the root).
         if self.sleeps_on() {
             return Ok(Status::Running);
         }
@@ -411,7 +412,7 @@ impl<C> Tree<C> {
                 Rest::Answered(leaf, answer) => given = Some((leaf, answer)),
                 Rest::Failed(error) => {
                     self.last_root = NodeStatus::Idle;
-                    return Err(error);
+                    return Err(self.out.kept(error));
                 }
                 Rest::No => {}
             }
@@ -1011,6 +1012,10 @@ mod tests {
         assert_eq!(a.state_bytes(), 8 + 16 + 8 + 13 * 8);
         assert!(Arc::ptr_eq(a.blueprint(), b.blueprint()));
         assert_eq!(Arc::strong_count(&bp), 3);
+        // The tree itself, which a crowd keeps one of per member (its blackboard 32 bytes
+        // of it).
+        #[cfg(target_pointer_width = "64")]
+        assert_eq!(core::mem::size_of::<Tree<()>>(), 136);
     }
 
     #[cfg(feature = "std")]

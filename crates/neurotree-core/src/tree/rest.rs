@@ -64,16 +64,14 @@ impl<C> Tree<C> {
     }
 
     /// After `leaf`, the action the tree rested in, panicked: the tree recovered as from a
-    /// pass's panic, and the error kept (out of the line of `tick_exactly_once`, which
-    /// this ends).
+    /// pass's panic. Out of line, so that the inlined resting path stays short.
     #[cold]
     #[inline(never)]
     fn rest_panicked(&mut self, ctx: &mut C, leaf: NodeId, panicked: TickError) -> TickError {
         self.resting = None;
         let mut t = self.ticker(ctx);
         t.current = leaf;
-        let error = recover(&mut t, panicked);
-        self.out.kept(error)
+        recover(&mut t, panicked)
     }
 
     /// The answer of `leaf`, the stateful action the last pass rested in, called as a pass

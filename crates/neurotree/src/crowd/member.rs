@@ -384,7 +384,8 @@ impl<C> MemberMut<'_, C> {
     /// Puts `tree` in place of its tree, which is halted (each Running stateful action gets
     /// its `on_halted`) and given back. The new tree is moved onto the crowd's clock, as
     /// [`Crowd::add_tree`](super::Crowd::add_tree) does, and the member is scheduled as a
-    /// fresh one: awake, expected to cost one pass, its last error forgotten.
+    /// fresh one: awake, expected to cost one pass. Its last error is now the new tree's
+    /// ([`Tree::last_error`]): none for a tree not ticked yet.
     pub fn replace_tree(&mut self, mut tree: Tree<C>) -> Tree<C> {
         self.wake();
         tree.set_shared_clock(Arc::clone(self.clock));

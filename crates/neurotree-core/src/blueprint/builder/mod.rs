@@ -191,9 +191,13 @@ impl<C> Builder<C> {
             self.s.ignored += 1;
             return self;
         }
-        if self.s.defs.len() >= u32::MAX as usize {
-            self.s
-                .fail(parent, BuildErrorKind::TooManyNodes { max: u32::MAX });
+        if self.s.defs.len() >= crate::blueprint::MAX_NODES as usize {
+            self.s.fail(
+                parent,
+                BuildErrorKind::TooManyNodes {
+                    max: crate::blueprint::MAX_NODES,
+                },
+            );
             self.s.ignored += 1;
             return self;
         }
