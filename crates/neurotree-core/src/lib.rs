@@ -62,11 +62,6 @@ pub mod blueprint;
 pub mod clock;
 mod error_debug;
 pub mod hint;
-
-/// The length and room of a `thin_vec::ThinVec`, at the head of its block: two `usize`s
-/// (unless `thin-vec` is built with its `gecko-ffi` feature, which nothing here asks for).
-/// A tree's record of reasons and its blackboard's root scope are such vectors.
-pub(crate) const THIN_HEAD: usize = 2 * core::mem::size_of::<usize>();
 mod macros;
 pub mod nodes;
 pub mod observer;
@@ -100,3 +95,8 @@ pub use tree::{
     AwakeCounts, AwakeReason, Failure, FailureLink, HaltHandle, Reason, ReloadError, ReloadReport,
     TickError, Tree, Tried, WakeSignal, WhyAwake, Woken, DEFAULT_MAX_PASSES, HALT_POLL_PERIOD,
 };
+
+/// The length and room of a `thin_vec::ThinVec`, at the head of its block: two `usize`s
+/// (unless `thin-vec` is built with its `gecko-ffi` feature, which nothing here asks for).
+/// A tree's record of reasons and its blackboard's root scope are such vectors.
+pub(crate) const THIN_HEAD: usize = 2 * core::mem::size_of::<usize>();

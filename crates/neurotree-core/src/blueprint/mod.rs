@@ -32,13 +32,13 @@ use alloc::vec::Vec;
 use core::fmt;
 
 use crate::blackboard::ScopeId;
+use crate::nodes::hooks::NodeHooks;
+use crate::nodes::leaf::Condition;
 
 /// The most nodes a blueprint holds: 2^31 - 1, so that a node's id leaves the top bit of a
 /// 32-bit word free (a tree's record of failure reasons marks a word with it). A tree that
 /// large would take hundreds of gigabytes.
 pub(crate) const MAX_NODES: u32 = i32::MAX as u32;
-use crate::nodes::hooks::NodeHooks;
-use crate::nodes::leaf::Condition;
 
 /// The deepest tree a blueprint accepts unless told otherwise (BehaviorTree.CPP uses 256).
 pub const DEFAULT_MAX_DEPTH: u32 = 256;

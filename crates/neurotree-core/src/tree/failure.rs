@@ -24,9 +24,10 @@
 //! [`Tree::state_bytes`](crate::Tree::state_bytes)), and the first tick that notes more
 //! doubles it to 32, the most it holds: at most two allocations in a tree's life. Reasons
 //! kept apart take three more at most: the box, room for 4, then for 16. The same box keeps
-//! a tick call's error ([`Tree::last_error`](crate::Tree::last_error)): made by a tree's
-//! first error (120 bytes, counted in `state_bytes` too) and kept, and each error returned
-//! is copied into it (its text allocated again). So a tree that never fails with a reason
+//! a tick call's error ([`Tree::last_error`](crate::Tree::last_error)): made by the first
+//! of an error, a reason kept apart and `reserve_failure_record` (120 bytes, counted in
+//! `state_bytes` too) and kept, and each error returned is copied into it (its text
+//! allocated again). So a tree that never fails with a reason
 //! and never errs carries nothing, and 100,000 game agents keep their state
 //! together in memory (a record made with each tree spread it out and made a frame of them
 //! 2.7 times as long); a tick of the benchmark's 50-node agent notes at most 13 words, a
@@ -71,8 +72,8 @@ use crate::{NodeId, TickError, THIN_HEAD};
 
 /// Why a node failed: a small code and a message.
 ///
-/// A static message costs nothing to give once its tree has given one (the first makes the
-/// room the tree keeps such reasons in); [`Reason::owned`] carries text made at run time
+/// A static message allocates nothing once its tree has room for it (the first makes room
+/// for 4 a tick, a tick with more room for 16: see the [module docs](self)); [`Reason::owned`] carries text made at run time
 /// (and allocates for it). The built-ins' own reasons keep their numbers and are put into
 /// words only when shown, so they allocate nothing either. Code 0 means "no code": the
 /// built-ins' reasons use it, and the [`Display`](fmt::Display) form then shows the

@@ -258,7 +258,8 @@ impl<C> Tree<C> {
     /// of this tree allocates for reasons. For programs that must not allocate while ticking
     /// at all; it costs 792 bytes (a record made by a tick has room for half as many words
     /// until a tick needs more, and no room for reasons other than the built-ins' until a
-    /// node gives one). The tree's first error still makes the box that keeps its errors.
+    /// node gives one). It makes the box that keeps the tree's errors and the reasons kept
+    /// apart too, so that an error then allocates only for its own text.
     pub fn reserve_failure_record(&mut self) {
         self.out.reserve();
     }
@@ -338,6 +339,10 @@ impl<C> Tree<C> {
         ctx: &mut C,
         given: Option<(NodeId, NodeStatus)>,
     ) -> Result<(NodeStatus, Option<NodeId>), TickError> {
+        // Awake, whatever the last pass of the same call left: it may have fallen asleep,
+        // then a future or a `WakeHandle` woke the tree during it and asked for this pass.
+        // A store rather than a branch: `asleep` is read only while `sleeping` is set.
+        self.sleeping = false;
         let writes = self.start_waits();
         let replay = match given {
             Some(given) => Some(given),
@@ -412,7 +417,7 @@ impl<C> Tree<C> {
                 Rest::Answered(leaf, answer) => given = Some((leaf, answer)),
                 Rest::Failed(error) => {
                     self.last_root = NodeStatus::Idle;
-                    return Err(self.out.kept(error));
+                    return Err(self.kept(error));
                 }
                 Rest::No => {}
             }
@@ -434,8 +439,18 @@ impl<C> Tree<C> {
         }
         match self.tick_exactly_once_passes(ctx, given) {
             Ok(status) => Ok(status),
-            Err(error) => Err(self.out.kept(error)),
+            Err(error) => Err(self.kept(error)),
         }
+    }
+
+    /// Keeps a copy of the error a tick call returns, and gives it back. The tree rests
+    /// nowhere after an error: it was halted, and the next call's pass starts at the root
+    /// (the calls' paths for a resting tree keep and forget no error).
+    #[cold]
+    #[inline(never)]
+    fn kept(&mut self, error: TickError) -> TickError {
+        self.resting = None;
+        self.out.kept(error)
     }
 
     /// [`tick_exactly_once_from_root`](Self::tick_exactly_once_from_root), but for the
@@ -561,7 +576,7 @@ impl<C> Tree<C> {
         }
         match self.tick_once_call(ctx) {
             Ok(status) => Ok(status),
-            Err(error) => Err(self.out.kept(error)),
+            Err(error) => Err(self.kept(error)),
         }
     }
 

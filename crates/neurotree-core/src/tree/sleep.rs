@@ -330,15 +330,10 @@ impl<C> Tree<C> {
         self.set_asleep(None);
     }
 
-    /// Before a pass: nothing declared yet, and the tree awake, whatever the last pass of
-    /// the same call left (it may have fallen asleep, then a future or a `WakeHandle` woke
-    /// it during the pass and asked for this one). Returns the blackboard's write count,
-    /// for [`fall_asleep`](Self::fall_asleep).
+    /// Before a pass: nothing declared yet. Returns the blackboard's write count, for
+    /// [`fall_asleep`](Self::fall_asleep).
     #[inline]
     pub(crate) fn start_waits(&mut self) -> u64 {
-        if self.sleeping {
-            self.set_asleep(None);
-        }
         self.out.keep(&Waits::new());
         self.blackboard.writes()
     }

@@ -215,7 +215,8 @@ impl<'a, C> Handle<'a, C> {
     /// `return h.fail_with(106, "blocked")`. The reason is not an error: the tick goes on as
     /// for any Failure, and [`Tree::last_failure`](crate::Tree::last_failure) tells it if
     /// this failure decided the root. A static message allocates nothing once the tree has
-    /// room for it (its first such reason makes it).
+    /// room for it (see [`failure`](crate::tree::failure): the first makes room for 4 a
+    /// tick).
     pub fn fail_with(&mut self, code: u32, message: &'static str) -> Status {
         self.fail_because(crate::Reason::new(code, message))
     }
