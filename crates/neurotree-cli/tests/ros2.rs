@@ -24,9 +24,10 @@ fn the_ros2_demo_reaches_the_goal_after_a_recovery() {
     let (domain, _claim) = free_domain();
     // The navigator replans while the robot drives. On a loaded machine a new path around
     // the obstacle (the costmaps learn it when the robot bumps into it) can reach FollowPath
-    // before the controller's "blocked" abort does. The robot then goes around with no
-    // recovery, as Nav2 would. So a run without a recovery is tried again, up to three
-    // times; every run must arrive.
+    // before the controller's "blocked" abort does, or the robot, timed against a slower
+    // simulator, passes before the obstacle stands: it then arrives with no recovery, as
+    // Nav2 would. So a run without a recovery is tried again, up to three times; every run
+    // must arrive, and one with a recovery must have met the obstacle.
     let mut last = String::new();
     for _ in 0..3 {
         let output = Command::new(env!("CARGO_BIN_EXE_neurotree"))
@@ -37,16 +38,16 @@ fn the_ros2_demo_reaches_the_goal_after_a_recovery() {
         let stdout = String::from_utf8_lossy(&output.stdout).into_owned();
         assert!(output.status.success(), "{stdout}");
         assert!(stdout.contains("  outcome     SUCCESS"), "{stdout}");
-        assert!(
-            stdout.contains("FollowPath failed: blocked (error 106)"),
-            "the simulator reported the obstacle: {stdout}"
-        );
         let recoveries: u32 = stdout
             .lines()
             .find_map(|l| l.strip_prefix("  recoveries  "))
             .and_then(|n| n.trim().parse().ok())
             .unwrap_or_else(|| panic!("no recoveries line: {stdout}"));
         if recoveries >= 1 {
+            assert!(
+                stdout.contains("FollowPath failed: blocked (error 106)"),
+                "the simulator reported the obstacle: {stdout}"
+            );
             return;
         }
         last = stdout;
