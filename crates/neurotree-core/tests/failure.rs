@@ -576,3 +576,34 @@ fn a_trees_first_error_allocates_its_box_once() {
         assert_eq!(n, usize::from(first));
     }
 }
+
+/// Runs in its first tick and fails with a reason in its next.
+struct GivesUpWhenResumed;
+impl<C> StatefulAction<C> for GivesUpWhenResumed {
+    fn on_start(&mut self, _h: &mut Handle<'_, C>) -> Status {
+        Status::Running
+    }
+    fn on_running(&mut self, h: &mut Handle<'_, C>) -> Status {
+        h.fail_with(7, "no dock")
+    }
+}
+
+#[test]
+fn a_resumed_action_s_reason_is_in_the_chain_whichever_tick_call_resumed_it() {
+    for exactly_once in [false, true] {
+        let (mut t, _) = tree(
+            Blueprint::builder().sequence("root", |s| s.stateful("dock", || GivesUpWhenResumed)),
+        );
+        let mut tick = |t: &mut Tree<()>| match exactly_once {
+            true => t.tick_exactly_once(&mut ()),
+            false => t.tick_once(&mut ()),
+        };
+        assert_eq!(tick(&mut t), Ok(Status::Running));
+        assert_eq!(tick(&mut t), Ok(Status::Failure));
+        assert_eq!(
+            lines(&t.last_failure().unwrap()),
+            ["root", "root/dock: no dock (error 7)"],
+            "exactly once: {exactly_once}"
+        );
+    }
+}

@@ -464,7 +464,10 @@ impl<C> Tree<C> {
         if self.halt_requested() {
             return Err(self.serve_halt_request(ctx));
         }
-        self.start_tick();
+        // The reasons noted now are the resting action's, given in this call with its
+        // answer (`rest` runs only with the record empty): the pass that replays the answer
+        // keeps them, as a pass from the root would.
+        self.start_tick(given.is_none());
         if self.out.halts.count != 0 {
             if let Some(waiting) = self.tree_waits(ctx) {
                 return waiting;
@@ -475,10 +478,11 @@ impl<C> Tree<C> {
         to_result(status)
     }
 
-    /// Forgets the last tick's outcome. The record is empty unless a reason was given.
+    /// Forgets the last tick's outcome, and with `forget_notes` its record (empty unless a
+    /// reason was given).
     #[inline(always)]
-    fn start_tick(&mut self) {
-        if !self.out.is_quiet() {
+    fn start_tick(&mut self, forget_notes: bool) {
+        if forget_notes && !self.out.is_quiet() {
             self.forget_notes();
         }
         // A tree of up to 64 nodes has one word of bits: one store, where `fill` of a
@@ -586,7 +590,7 @@ impl<C> Tree<C> {
         if self.sleeps_on() {
             return Ok(Status::Running);
         }
-        self.start_tick();
+        self.start_tick(true);
         loop {
             if self.halt_requested() {
                 return Err(self.serve_halt_request(ctx));
