@@ -594,7 +594,7 @@ fn a_resumed_action_s_reason_is_in_the_chain_whichever_tick_call_resumed_it() {
         let (mut t, _) = tree(
             Blueprint::builder().sequence("root", |s| s.stateful("dock", || GivesUpWhenResumed)),
         );
-        let mut tick = |t: &mut Tree<()>| match exactly_once {
+        let tick = |t: &mut Tree<()>| match exactly_once {
             true => t.tick_exactly_once(&mut ()),
             false => t.tick_once(&mut ()),
         };
