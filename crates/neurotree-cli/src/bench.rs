@@ -66,7 +66,9 @@ pub struct BenchArgs {
     #[arg(long, default_value_t = 1.0)]
     pub alert_percent: f64,
     /// Frames timed in the crowd benchmarks, at least (default 20, 5 with `--quick`); more
-    /// are timed until 0.3 s of frames have run (0.03 s with `--quick`).
+    /// are timed until 0.3 s of frames have run (0.03 s with `--quick`), but for the
+    /// sleeping crowd's lines, which time as many frames as 30,000,000 divided by the
+    /// agents (3,000,000 with `--quick`), the same on any number of threads.
     #[arg(long)]
     pub frames: Option<u32>,
     /// Microseconds the calling thread spends on other work (a busy wait, not timed) before
@@ -477,6 +479,37 @@ mod tests {
     }
 
     #[test]
+    fn a_sleeping_crowd_s_lines_time_the_same_frames_on_any_threads() {
+        let opts = |agents, threads, quick, frames| BenchArgs {
+            json: true,
+            quick,
+            agents,
+            threads,
+            alert_percent: 1.0,
+            frames,
+            idle_us: 0,
+            only: Vec::new(),
+        };
+        for threads in [1, 2] {
+            assert_eq!(sleeping_frames(&opts(100_000, threads, false, None)), 300);
+            assert_eq!(sleeping_frames(&opts(1_000_000, threads, false, None)), 30);
+            assert_eq!(sleeping_frames(&opts(1_000_000, threads, true, None)), 5);
+            assert_eq!(sleeping_frames(&opts(100, threads, false, None)), 2_000);
+            assert_eq!(
+                sleeping_frames(&opts(100_000, threads, false, Some(500))),
+                500
+            );
+        }
+        // Exactly that many, however quick the frames.
+        let mut calls = 0;
+        let (frames, times, _) = time_frames(&opts(1, 1, true, None), Some(7), || {
+            calls += 1;
+            0
+        });
+        assert_eq!((frames, times.len(), calls), (7, 7, 7));
+    }
+
+    #[test]
     fn the_other_work_before_each_frame_is_not_timed() {
         let opts = BenchArgs {
             json: true,
@@ -490,7 +523,7 @@ mod tests {
         };
         let start = Instant::now();
         let mut calls = 0;
-        let (frames, times, total) = time_frames(&opts, || {
+        let (frames, times, total) = time_frames(&opts, None, || {
             calls += 1;
             0
         });

@@ -85,7 +85,7 @@ pub fn crowd_bench(opts: &BenchArgs) -> CrowdResult {
     for _ in 0..WARM_FRAMES {
         frame();
     }
-    let (frames, times, elapsed) = time_frames(opts, || {
+    let (frames, times, elapsed) = time_frames(opts, None, || {
         frame();
         0
     });
@@ -177,7 +177,7 @@ pub fn crowd_sleeping_bench(opts: &BenchArgs, alert_percent: f64) -> CrowdSleepi
         frame(&mut crowd);
     }
     let mut ticked = 0;
-    let (frames, times, elapsed) = time_frames(opts, || {
+    let (frames, times, elapsed) = time_frames(opts, Some(sleeping_frames(opts)), || {
         ticked += frame(&mut crowd).ticked;
         0
     });
@@ -199,15 +199,36 @@ pub fn crowd_sleeping_bench(opts: &BenchArgs, alert_percent: f64) -> CrowdSleepi
 /// would measure little but the machine's hiccups.
 pub const LEAST_TIMED: Duration = Duration::from_millis(300);
 
-/// Times `frame` at least `frames` times and for at least [`LEAST_TIMED`] of frames (at
-/// most a hundred times `frames`, and past `frames` for at most ten times
-/// [`LEAST_TIMED`] of the clock, the other work included), each after `opts.idle_us` of
-/// other work: the frames timed, each one's time, and their total.
+/// Member-frames a sleeping crowd's line times at least: frames of it divided by its
+/// members (300 frames of 100,000, 30 of a million; a tenth with `--quick`).
+pub const SLEEPING_MEMBER_FRAMES: u64 = 30_000_000;
+
+/// The frames a sleeping crowd's line times, whatever its threads: as many as its members
+/// divide [`SLEEPING_MEMBER_FRAMES`] into, at most 2,000, or `--frames` if more. The same
+/// on any number of threads, since its share awake is still falling over the first
+/// hundreds of frames after the warm-up: a line timed until enough time had passed timed
+/// twice as many frames on two threads as on one, later ones, with a tenth fewer members
+/// awake at 100,000 (BENCHMARKS.md, "Against the goals", 10:19 UTC).
+pub fn sleeping_frames(opts: &BenchArgs) -> u32 {
+    let member_frames = if opts.quick {
+        SLEEPING_MEMBER_FRAMES / 10
+    } else {
+        SLEEPING_MEMBER_FRAMES
+    };
+    let by_members = (member_frames / opts.agents.max(1) as u64).min(2_000) as u32;
+    by_members.max(opts.crowd_frames())
+}
+
+/// Times `frame` `fixed` times if given, else at least `frames` times and for at least
+/// [`LEAST_TIMED`] of frames (at most a hundred times `frames`, and past `frames` for at
+/// most ten times [`LEAST_TIMED`] of the clock, the other work included), each after
+/// `opts.idle_us` of other work: the frames timed, each one's time, and their total.
 pub(super) fn time_frames(
     opts: &BenchArgs,
+    fixed: Option<u32>,
     mut frame: impl FnMut() -> u64,
 ) -> (u32, Vec<Duration>, Duration) {
-    let frames = opts.crowd_frames();
+    let frames = fixed.unwrap_or(opts.crowd_frames());
     let least = if opts.quick {
         LEAST_TIMED / 10
     } else {
@@ -219,7 +240,10 @@ pub(super) fn time_frames(
     let mut total = Duration::ZERO;
     let mut timed = 0;
     let start = Instant::now();
-    while timed < frames || (total < least && timed < most && start.elapsed() < least * 10) {
+    let more = |total: Duration, timed: u32, start: Instant| {
+        fixed.is_none() && total < least && timed < most && start.elapsed() < least * 10
+    };
+    while timed < frames || more(total, timed, start) {
         if !idle.is_zero() {
             let at = Instant::now();
             while at.elapsed() < idle {
