@@ -253,17 +253,6 @@ impl<C> Tree<C> {
         TickError::HaltRequested
     }
 
-    /// Makes the record of failure reasons now, with room for the most it holds, rather than
-    /// in the first tick in which a node gives a reason (see [`failure`]): after it, no tick
-    /// of this tree allocates for reasons. For programs that must not allocate while ticking
-    /// at all; it costs 792 bytes (a record made by a tick has room for half as many words
-    /// until a tick needs more, and no room for reasons other than the built-ins' until a
-    /// node gives one). It makes the box that keeps the tree's errors and the reasons kept
-    /// apart too, so that an error then allocates only for its own text.
-    pub fn reserve_failure_record(&mut self) {
-        self.out.reserve();
-    }
-
     /// Bytes this instance keeps on the heap for node state: the block of its nodes' slots,
     /// statuses, failure bits and stateful leaves' objects
     /// ([`Blueprint::instance_state_bytes`]), the failure reasons' record once a node has
@@ -443,16 +432,6 @@ impl<C> Tree<C> {
         }
     }
 
-    /// Keeps a copy of the error a tick call returns, and gives it back. The tree rests
-    /// nowhere after an error: it was halted, and the next call's pass starts at the root
-    /// (the calls' paths for a resting tree keep and forget no error).
-    #[cold]
-    #[inline(never)]
-    fn kept(&mut self, error: TickError) -> TickError {
-        self.resting = None;
-        self.out.kept(error)
-    }
-
     /// [`tick_exactly_once_from_root`](Self::tick_exactly_once_from_root), but for the
     /// error it keeps.
     #[inline(always)]
@@ -498,58 +477,6 @@ impl<C> Tree<C> {
     #[inline(never)]
     fn forget_notes(&mut self) {
         self.out.forget();
-    }
-
-    /// Why the root failed on the last tick: the chain from the root to the node whose
-    /// failure decided it, with the reasons nodes gave on the way; `None` unless the last
-    /// [`tick_once`](Self::tick_once) or [`tick_exactly_once`](Self::tick_exactly_once)
-    /// returned Failure. Built now, from the tick's record; see [`failure`] for which
-    /// failure "decided" the root. When no node gave a reason during the tick, the chain
-    /// is the root alone, with no reason.
-    ///
-    /// ```
-    /// use neurotree_core::{Action, Blueprint, Handle, ManualClock, Status, Tree};
-    ///
-    /// struct FollowPath;
-    /// impl Action<()> for FollowPath {
-    ///     fn tick(&self, h: &mut Handle<'_, ()>) -> Status {
-    ///         h.fail_with(106, "blocked")
-    ///     }
-    /// }
-    /// let bp = Blueprint::<()>::builder()
-    ///     .sequence("go", |s| s.action_node("follow_path", FollowPath))
-    ///     .build_shared()
-    ///     .unwrap();
-    /// let mut tree = Tree::with_clock(bp, ManualClock::new());
-    /// assert_eq!(tree.tick_once(&mut ()), Ok(Status::Failure));
-    /// let failure = tree.last_failure().unwrap();
-    /// assert_eq!(failure.leaf().path, "go/follow_path");
-    /// assert_eq!(failure.reason().unwrap().to_string(), "blocked (error 106)");
-    /// ```
-    pub fn last_failure(&self) -> Option<Failure> {
-        (self.last_root == NodeStatus::Failure)
-            .then(|| failure::build(&self.blueprint, self.state.failed(), self.out.notes()))
-    }
-
-    /// The error the last [`tick_once`](Self::tick_once) or
-    /// [`tick_exactly_once`](Self::tick_exactly_once) returned, kept until the next of
-    /// them starts; `None` when it returned a status. Other calls (a halt) leave it as it
-    /// is.
-    ///
-    /// ```
-    /// use neurotree_core::{Blueprint, ManualClock, Status, TickError, Tree};
-    ///
-    /// // A sync action may not return Running.
-    /// let bp = Blueprint::<()>::builder()
-    ///     .action("bad", |_: &mut ()| Status::Running)
-    ///     .build_shared()
-    ///     .unwrap();
-    /// let mut tree = Tree::with_clock(bp, ManualClock::new());
-    /// assert!(tree.tick_once(&mut ()).is_err());
-    /// assert!(matches!(tree.last_error(), Some(TickError::LeafRunning { .. })));
-    /// ```
-    pub fn last_error(&self) -> Option<&TickError> {
-        self.out.last_error()
     }
 
     /// Ticks the root, and again at once while it is Running and a node asked to be woken or
