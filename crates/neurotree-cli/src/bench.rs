@@ -19,6 +19,9 @@
 //!   nanoseconds per member (what an agent that acts costs in a crowd that mostly sleeps,
 //!   against one in a crowd all awake).
 //!
+//! - `cores`: a value bounced between two threads through one atomic, before the crowd
+//!   lines and after them: nanoseconds per round trip, which say whether the host placed
+//!   the two cores beside each other or apart (a crowd's two-thread figures follow it).
 //! - `tick_times`: each tick timed alone, at least 100,000 of them (10,000 with `--quick`), for tree1111 loaded from
 //!   XML and for Nav2's navigator driving the demo's simulated robot (one navigation after
 //!   another, seeds 0, 1, 2, ...): the median, p99, p99.9 and the slowest tick, and the same
@@ -43,7 +46,9 @@ use neurotree_bench::{agent_tree, tree1111, tree1111_xml, Agent, TREE1111_NODES_
 
 use crate::Outcome;
 
+mod cores;
 mod crowd;
+pub use cores::*;
 pub use crowd::*;
 
 /// What `neurotree bench` was asked to do.
@@ -76,7 +81,7 @@ pub struct BenchArgs {
     /// threads fall idle meanwhile and must wake for the frame. 0: frames back to back.
     #[arg(long, default_value_t = 0)]
     pub idle_us: u64,
-    /// Runs only these benchmarks (comma-separated: tree1111, many_agents, crowd,
+    /// Runs only these benchmarks (comma-separated: tree1111, many_agents, cores, crowd,
     /// crowd_sleeping, crowd_awake, tick_times).
     #[arg(long, value_delimiter = ',')]
     pub only: Vec<String>,
@@ -307,6 +312,7 @@ pub fn execute(opts: &BenchArgs, out: &mut impl Write) -> io::Result<Outcome> {
     if opts.runs("many_agents") {
         many_agents_lines(opts, out)?;
     }
+    cores_line(opts, "start", out)?;
     let crowd = opts
         .runs("crowd")
         .then(|| crowd_lines(opts, out))
@@ -317,10 +323,29 @@ pub fn execute(opts: &BenchArgs, out: &mut impl Write) -> io::Result<Outcome> {
     if opts.runs("crowd_awake") {
         crowd_awake_lines(opts, crowd.as_ref(), out)?;
     }
+    cores_line(opts, "end", out)?;
     if opts.runs("tick_times") {
         tick_times_lines(opts, out)?;
     }
     Ok(Outcome::Done)
+}
+
+/// The `cores` line, before the crowd lines and after them: the host may move the cores
+/// between the two.
+fn cores_line(opts: &BenchArgs, at: &'static str, out: &mut impl Write) -> io::Result<()> {
+    if !opts.runs("cores") {
+        return Ok(());
+    }
+    let Some(c) = cores_bench(at) else {
+        return Ok(());
+    };
+    if opts.json {
+        writeln!(out, "{}", cores_json(&c))?;
+    } else {
+        row(out, "cores", "at", at.to_string())?;
+        row(out, "", "round trip ns", format!("{:.1}", c.round_trip_ns))?;
+    }
+    out.flush()
 }
 
 fn many_agents_lines(opts: &BenchArgs, out: &mut impl Write) -> io::Result<()> {

@@ -198,10 +198,24 @@ fn bench_json_prints_one_line_per_benchmark() {
         "--threads",
         "2",
     ]));
-    let lines: Vec<&str> = out.lines().collect();
+    let (cores, lines): (Vec<&str>, Vec<&str>) = out
+        .lines()
+        .partition(|line| line.starts_with(r#"{"name":"cores""#));
     assert_eq!(lines.len(), 11, "{out}");
-    for line in &lines {
+    for line in out.lines() {
         assert!(line.starts_with('{') && line.ends_with('}'), "{line}");
+    }
+    // Two threads' round trip, before the crowd lines and after them, on a machine whose
+    // two threads can run at once.
+    if std::thread::available_parallelism().map_or(1, |n| n.get()) >= 2 {
+        assert_eq!(cores.len(), 2, "{out}");
+        let (first, last) = (out.find(cores[0]).unwrap(), out.find(cores[1]).unwrap());
+        assert!(first < out.find(lines[3]).unwrap() && last > out.find(lines[7]).unwrap());
+        for (line, at) in cores.iter().zip(["\"start\"", "\"end\""]) {
+            assert_eq!(field(line, "at"), at);
+            positive(line, "round_trips");
+            positive(line, "round_trip_ns");
+        }
     }
 
     // The builder's tree, then the same loaded from tree1111.xml.
@@ -316,6 +330,9 @@ fn bench_table_names_every_measure() {
         "p99.9 ns",
     ] {
         assert!(out.contains(measure), "{measure} missing from\n{out}");
+    }
+    if std::thread::available_parallelism().map_or(1, |n| n.get()) >= 2 {
+        assert!(out.contains("round trip ns"), "{out}");
     }
 }
 

@@ -1,0 +1,122 @@
+//! The `cores` line of `neurotree bench`: how long a cache line written by one thread takes
+//! to reach another and come back.
+//!
+//! A crowd's two-thread figures follow it. On a virtual machine the host may place its two
+//! cores beside each other (one shared cache, a round trip of about 60 ns on the machine of
+//! BENCHMARKS.md) or apart (about 340 ns), and changes its mind within seconds; a frame of a
+//! crowd that mostly sleeps took as long on two threads as on one while they were apart,
+//! where a crowd all awake, and two one-thread runs side by side, did not. The line, printed
+//! before and after the crowd lines, says which of the two a run met.
+
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::time::{Duration, Instant};
+
+/// Round trips timed at most.
+const MOST_TRIPS: u32 = 100_000;
+
+/// Time spent on round trips at most, beyond the warm-up.
+const MOST_TIME: Duration = Duration::from_millis(50);
+
+/// Round trips before the timing, which start the second thread and bring the line in.
+const WARM_UP: u32 = 1_000;
+
+/// Result of the `cores` benchmark.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CoresResult {
+    /// When in the run it was measured: `"start"` (before the crowd lines) or `"end"`.
+    pub at: &'static str,
+    /// Round trips timed.
+    pub round_trips: u32,
+    /// Mean nanoseconds per round trip.
+    pub round_trip_ns: f64,
+}
+
+/// Bounces a value between this thread and another through one atomic: each thread waits
+/// for the other's write before writing its own. `None` on a machine with one core, where
+/// the two threads would take turns on it rather than run at once.
+pub fn cores_bench(at: &'static str) -> Option<CoresResult> {
+    if std::thread::available_parallelism().map_or(1, |n| n.get()) < 2 {
+        return None;
+    }
+    // Odd values are this thread's, even ones the other's; `STOP` ends the other.
+    const STOP: u64 = u64::MAX;
+    let line = AtomicU64::new(0);
+    let wait_for = |value: u64| {
+        while line.load(Ordering::Acquire) != value {
+            std::hint::spin_loop();
+        }
+    };
+    std::thread::scope(|s| {
+        s.spawn(|| {
+            let mut seen = 0;
+            loop {
+                let value = line.load(Ordering::Acquire);
+                if value == STOP {
+                    return;
+                }
+                if value != seen && value % 2 == 1 {
+                    seen = value + 1;
+                    line.store(seen, Ordering::Release);
+                }
+                std::hint::spin_loop();
+            }
+        });
+        let mut value = 0;
+        let trip = |value: &mut u64| {
+            *value += 1;
+            line.store(*value, Ordering::Release);
+            *value += 1;
+            wait_for(*value);
+        };
+        for _ in 0..WARM_UP {
+            trip(&mut value);
+        }
+        let start = Instant::now();
+        let mut trips = 0;
+        while trips < MOST_TRIPS && (trips % 1024 != 0 || start.elapsed() < MOST_TIME) {
+            trip(&mut value);
+            trips += 1;
+        }
+        let took = start.elapsed();
+        line.store(STOP, Ordering::Release);
+        Some(CoresResult {
+            at,
+            round_trips: trips,
+            round_trip_ns: took.as_secs_f64() * 1e9 / f64::from(trips.max(1)),
+        })
+    })
+}
+
+/// A `cores` line.
+pub(super) fn cores_json(c: &CoresResult) -> String {
+    format!(
+        r#"{{"name":"cores","at":"{}","round_trips":{},"round_trip_ns":{:.1}}}"#,
+        c.at, c.round_trips, c.round_trip_ns
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_round_trip_is_timed_between_two_running_threads() {
+        let Some(c) = cores_bench("start") else {
+            assert_eq!(std::thread::available_parallelism().unwrap().get(), 1);
+            return;
+        };
+        assert_eq!(c.at, "start");
+        assert!((1024..=MOST_TRIPS).contains(&c.round_trips), "{c:?}");
+        // Two stores and two loads that cross between the threads: more than a nanosecond,
+        // and on any machine that runs both threads at once, far less than a millisecond.
+        assert!(c.round_trip_ns > 1.0 && c.round_trip_ns < 1e6, "{c:?}");
+        assert_eq!(
+            cores_json(&CoresResult {
+                at: "end",
+                round_trips: 100_000,
+                round_trip_ns: 61.27
+            }),
+            r#"{"name":"cores","at":"end","round_trips":100000,"round_trip_ns":61.3}"#
+        );
+    }
+}
