@@ -215,6 +215,7 @@ fn bench_json_prints_one_line_per_benchmark() {
             assert_eq!(field(line, "at"), at);
             positive(line, "round_trips");
             positive(line, "round_trip_ns");
+            positive(line, "arithmetic_speedup");
         }
     }
 

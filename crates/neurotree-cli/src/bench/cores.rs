@@ -7,8 +7,15 @@
 //! crowd that mostly sleeps took as long on two threads as on one while they were apart,
 //! where a crowd all awake, and two one-thread runs side by side, did not. The line, printed
 //! before and after the crowd lines, says which of the two a run met.
+//!
+//! It also times a loop of arithmetic on one thread, then on two at once, each thread its
+//! own: what two threads that share no memory gain on the machine at that moment (1.99–2.01
+//! times as fast as one on that machine, near or apart), beside which a crowd's speed-up
+//! shows what its memory costs.
 
+use std::hint::black_box;
 use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::Barrier;
 use std::time::{Duration, Instant};
 
 /// Round trips timed at most.
@@ -29,6 +36,53 @@ pub struct CoresResult {
     pub round_trips: u32,
     /// Mean nanoseconds per round trip.
     pub round_trip_ns: f64,
+    /// How many times as fast two threads ran a loop of arithmetic, each its own, as one
+    /// thread ran it alone (2.0: no loss), the best of a few tries of each.
+    pub arithmetic_speedup: f64,
+}
+
+/// Steps of the arithmetic loop per thread: about 40 ms on the machine of BENCHMARKS.md.
+const ARITHMETIC_STEPS: u64 = 25_000_000;
+
+/// Tries of the arithmetic on one thread and on two.
+const ARITHMETIC_TRIES: usize = 3;
+
+/// A chain of shifts, exclusive ors and multiplications, each step waiting for the last
+/// and none that the compiler can fold into fewer: the core's own speed, with no memory
+/// to share.
+fn arithmetic(steps: u64) -> u64 {
+    let mut x = black_box(0x9e37_79b9_7f4a_7c15_u64);
+    for _ in 0..steps {
+        x ^= x >> 29;
+        x = x.wrapping_mul(0xbf58_476d_1ce4_e5b9);
+    }
+    black_box(x)
+}
+
+/// [`CoresResult::arithmetic_speedup`], for `steps` steps a thread: each thread's steps are
+/// timed from a barrier both have passed, so that a thread's start is not counted.
+fn arithmetic_speedup(steps: u64) -> f64 {
+    let mut one = Duration::MAX;
+    let mut two = Duration::MAX;
+    for _ in 0..ARITHMETIC_TRIES {
+        let start = Instant::now();
+        arithmetic(steps);
+        one = one.min(start.elapsed());
+        let barrier = Barrier::new(2);
+        let run = || {
+            barrier.wait();
+            let start = Instant::now();
+            arithmetic(steps);
+            start.elapsed()
+        };
+        let both = std::thread::scope(|s| {
+            let other = s.spawn(run);
+            let mine = run();
+            mine.max(other.join().unwrap_or(Duration::MAX))
+        });
+        two = two.min(both);
+    }
+    2.0 * one.as_secs_f64() / two.as_secs_f64().max(f64::MIN_POSITIVE)
 }
 
 /// Bounces a value between this thread and another through one atomic: each thread waits
@@ -46,7 +100,7 @@ pub fn cores_bench(at: &'static str) -> Option<CoresResult> {
             std::hint::spin_loop();
         }
     };
-    std::thread::scope(|s| {
+    let trips = std::thread::scope(|s| {
         s.spawn(|| {
             let mut seen = 0;
             loop {
@@ -79,19 +133,22 @@ pub fn cores_bench(at: &'static str) -> Option<CoresResult> {
         }
         let took = start.elapsed();
         line.store(STOP, Ordering::Release);
-        Some(CoresResult {
-            at,
-            round_trips: trips,
-            round_trip_ns: took.as_secs_f64() * 1e9 / f64::from(trips.max(1)),
-        })
+        (trips, took)
+    });
+    let (trips, took) = trips;
+    Some(CoresResult {
+        at,
+        round_trips: trips,
+        round_trip_ns: took.as_secs_f64() * 1e9 / f64::from(trips.max(1)),
+        arithmetic_speedup: arithmetic_speedup(ARITHMETIC_STEPS),
     })
 }
 
 /// A `cores` line.
 pub(super) fn cores_json(c: &CoresResult) -> String {
     format!(
-        r#"{{"name":"cores","at":"{}","round_trips":{},"round_trip_ns":{:.1}}}"#,
-        c.at, c.round_trips, c.round_trip_ns
+        r#"{{"name":"cores","at":"{}","round_trips":{},"round_trip_ns":{:.1},"arithmetic_speedup":{:.3}}}"#,
+        c.at, c.round_trips, c.round_trip_ns, c.arithmetic_speedup
     )
 }
 
@@ -114,9 +171,10 @@ mod tests {
             cores_json(&CoresResult {
                 at: "end",
                 round_trips: 100_000,
-                round_trip_ns: 61.27
+                round_trip_ns: 61.27,
+                arithmetic_speedup: 1.9312,
             }),
-            r#"{"name":"cores","at":"end","round_trips":100000,"round_trip_ns":61.3}"#
+            r#"{"name":"cores","at":"end","round_trips":100000,"round_trip_ns":61.3,"arithmetic_speedup":1.931}"#
         );
     }
 }
