@@ -21,7 +21,8 @@
 //!
 //! - `cores`: a value bounced between two threads through one atomic, before the crowd
 //!   lines and after them: nanoseconds per round trip, which say whether the host placed
-//!   the two cores beside each other or apart (a crowd's two-thread figures follow it).
+//!   the two cores beside each other or apart (a crowd's two-thread figures follow it), and
+//!   how many times as fast two threads ran a loop of arithmetic as one.
 //! - `tick_times`: each tick timed alone, at least 100,000 of them (10,000 with `--quick`), for tree1111 loaded from
 //!   XML and for Nav2's navigator driving the demo's simulated robot (one navigation after
 //!   another, seeds 0, 1, 2, ...): the median, p99, p99.9 and the slowest tick, and the same
@@ -336,7 +337,7 @@ fn cores_line(opts: &BenchArgs, at: &'static str, out: &mut impl Write) -> io::R
     if !opts.runs("cores") {
         return Ok(());
     }
-    let Some(c) = cores_bench(at) else {
+    let Some(c) = cores_bench(at, opts.quick) else {
         return Ok(());
     };
     if opts.json {
@@ -344,6 +345,12 @@ fn cores_line(opts: &BenchArgs, at: &'static str, out: &mut impl Write) -> io::R
     } else {
         row(out, "cores", "at", at.to_string())?;
         row(out, "", "round trip ns", format!("{:.1}", c.round_trip_ns))?;
+        row(
+            out,
+            "",
+            "arithmetic speed-up",
+            format!("{:.3}", c.arithmetic_speedup),
+        )?;
     }
     out.flush()
 }

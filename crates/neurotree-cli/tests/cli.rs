@@ -210,7 +210,10 @@ fn bench_json_prints_one_line_per_benchmark() {
     if std::thread::available_parallelism().map_or(1, |n| n.get()) >= 2 {
         assert_eq!(cores.len(), 2, "{out}");
         let (first, last) = (out.find(cores[0]).unwrap(), out.find(cores[1]).unwrap());
-        assert!(first < out.find(lines[3]).unwrap() && last > out.find(lines[7]).unwrap());
+        assert!(
+            first < out.find(lines[3]).unwrap() && last > out.find(lines[7]).unwrap(),
+            "{out}"
+        );
         for (line, at) in cores.iter().zip(["\"start\"", "\"end\""]) {
             assert_eq!(field(line, "at"), at);
             positive(line, "round_trips");
@@ -334,6 +337,7 @@ fn bench_table_names_every_measure() {
     }
     if std::thread::available_parallelism().map_or(1, |n| n.get()) >= 2 {
         assert!(out.contains("round trip ns"), "{out}");
+        assert!(out.contains("arithmetic speed-up"), "{out}");
     }
 }
 
