@@ -108,24 +108,14 @@ pub fn cores_bench(at: &'static str, quick: bool) -> Option<CoresResult> {
     const STOP: u64 = u64::MAX;
     let line = Line(AtomicU64::new(0));
     let line = &line.0;
-    let wait_for = |value: u64| {
-        while line.load(Ordering::Acquire) != value {
-            std::hint::spin_loop();
-        }
-    };
-    let trips = std::thread::scope(|s| {
-        s.spawn(|| {
-            let mut seen = 0;
-            loop {
-                let value = line.load(Ordering::Acquire);
-                if value == STOP {
-                    return;
-                }
-                if value % 2 == 1 && value != seen {
-                    seen = value + 1;
-                    line.store(seen, Ordering::Release);
-                }
-                std::hint::spin_loop();
+    let (trips, took) = std::thread::scope(|s| {
+        s.spawn(|| loop {
+            // An odd value is this thread's write, not yet answered: the answer is even, so
+            // the thread does not answer it twice.
+            match line.load(Ordering::Acquire) {
+                STOP => return,
+                value if value % 2 == 1 => line.store(value + 1, Ordering::Release),
+                _ => std::hint::spin_loop(),
             }
         });
         let mut value = 0;
@@ -133,7 +123,9 @@ pub fn cores_bench(at: &'static str, quick: bool) -> Option<CoresResult> {
             *value += 1;
             line.store(*value, Ordering::Release);
             *value += 1;
-            wait_for(*value);
+            while line.load(Ordering::Acquire) != *value {
+                std::hint::spin_loop();
+            }
         };
         for _ in 0..WARM_UP {
             trip(&mut value);
@@ -148,7 +140,6 @@ pub fn cores_bench(at: &'static str, quick: bool) -> Option<CoresResult> {
         line.store(STOP, Ordering::Release);
         (trips, took)
     });
-    let (trips, took) = trips;
     Some(CoresResult {
         at,
         round_trips: trips,
